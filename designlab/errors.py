@@ -1,0 +1,129 @@
+"""Exceptions raised by designlab.
+
+Every error designlab raises on purpose derives from :class:`DesignlabError`.
+Errors about bad input are also :class:`ValueError` so that generic callers
+can catch them the usual way.
+
+Examples
+--------
+>>> import designlab as dl
+>>> try:
+...     dl.impact.HeadNeck(mass=-1.0, stiffness=3e3, damping=46.0)
+... except dl.errors.InvalidParameterError as exc:
+...     print(exc)
+HeadNeck.mass = -1.0 kg is not allowed: must be a finite number > 0
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+__all__ = [
+    "DesignlabError",
+    "InvalidParameterError",
+    "ModelError",
+    "SolverError",
+    "StudyError",
+    "check_positive",
+    "check_nonnegative",
+    "check_finite",
+]
+
+
+class DesignlabError(Exception):
+    """Base class of every error raised by designlab."""
+
+
+class InvalidParameterError(DesignlabError, ValueError):
+    """A parameter is outside its allowed range.
+
+    Parameters
+    ----------
+    name
+        Qualified parameter name, e.g. ``"Foam.stiffness"``.
+    value
+        The offending value.
+    allowed
+        Human-readable description of what is allowed.
+    unit
+        SI unit of the parameter (optional).
+    """
+
+    def __init__(self, name: str, value: Any, allowed: str, unit: str = "") -> None:
+        self.name = name
+        self.value = value
+        self.allowed = allowed
+        self.unit = unit
+        shown = f"{value!r} {unit}".rstrip()
+        super().__init__(f"{name} = {shown} is not allowed: {allowed}")
+
+
+class ModelError(DesignlabError, ValueError):
+    """A model cannot be evaluated for the given combination of parameters."""
+
+
+class SolverError(DesignlabError, RuntimeError):
+    """A solver failed in a way that cannot be reported in its result object."""
+
+
+class StudyError(DesignlabError, ValueError):
+    """A study file is missing, malformed or inconsistent.
+
+    The message names the file, the field path and, where known, the line.
+    """
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        file: str | None = None,
+        field: str | None = None,
+        line: int | None = None,
+    ) -> None:
+        self.file = file
+        self.field = field
+        self.line = line
+        where = ""
+        if file is not None:
+            where = str(file)
+            if line is not None:
+                where += f":{line}"
+            where += ": "
+        if field:
+            where += f"{field}: "
+        super().__init__(where + message)
+
+
+def _as_float(name: str, value: Any, unit: str) -> float:
+    if isinstance(value, bool):
+        raise InvalidParameterError(name, value, "must be a real number", unit)
+    try:
+        out = float(value)
+    except (TypeError, ValueError):
+        raise InvalidParameterError(name, value, "must be a real number", unit) from None
+    return out
+
+
+def check_finite(name: str, value: Any, unit: str = "") -> float:
+    """Return ``value`` as float, or raise if it is not a finite real number."""
+    out = _as_float(name, value, unit)
+    if not math.isfinite(out):
+        raise InvalidParameterError(name, value, "must be a finite number", unit)
+    return out
+
+
+def check_positive(name: str, value: Any, unit: str = "") -> float:
+    """Return ``value`` as float, or raise unless it is finite and > 0."""
+    out = _as_float(name, value, unit)
+    if not (math.isfinite(out) and out > 0.0):
+        raise InvalidParameterError(name, value, "must be a finite number > 0", unit)
+    return out
+
+
+def check_nonnegative(name: str, value: Any, unit: str = "") -> float:
+    """Return ``value`` as float, or raise unless it is finite and >= 0."""
+    out = _as_float(name, value, unit)
+    if not (math.isfinite(out) and out >= 0.0):
+        raise InvalidParameterError(name, value, "must be a finite number >= 0", unit)
+    return out

@@ -1,0 +1,1 @@
+"""following (to be filled by later issues)."""

@@ -1,0 +1,254 @@
+"""Parameter sets of the impact model (Zeng 2011, Ch. 3-4).
+
+All fields are SI: kg, N/m, N s/m, m. The presets reproduce the thesis's
+Tables 3.1-3.3, the head-neck design sets of Sec. 3.6 and the Ch. 4 head
+apparatus (DECISIONS I3).
+
+Examples
+--------
+>>> from designlab.impact import MANIPULATOR_1, FOAM_1, HEAD_MIN
+>>> MANIPULATOR_1.mass, FOAM_1.stiffness, HEAD_MIN.damping
+(9.6, 24250.0, 46.0)
+>>> round(FOAM_1.damping_ratio(HEAD_MIN.mass), 3)
+0.111
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, replace
+from typing import Any
+
+from designlab.errors import InvalidParameterError, check_nonnegative, check_positive
+
+__all__ = [
+    "HeadNeck",
+    "Foam",
+    "ContactDynamics",
+    "MANIPULATOR_1",
+    "MANIPULATOR_2",
+    "FOAM_1",
+    "FOAM_2",
+    "FOAM_2_MEASURED",
+    "FOAM_3",
+    "HEAD_MIN",
+    "HEAD_MAX",
+    "TEST_HEAD",
+    "TABLE_3_2_HEADS",
+]
+
+
+class _Params:
+    """Shared helpers of the frozen parameter dataclasses."""
+
+    def as_dict(self) -> dict[str, Any]:
+        """Return the fields as a plain ``dict`` (picklable, YAML-friendly)."""
+        return asdict(self)  # type: ignore[call-overload]
+
+    def replace(self, **changes: Any) -> Any:
+        """Return a copy with some fields changed (validated again)."""
+        return replace(self, **changes)  # type: ignore[type-var]
+
+
+@dataclass(frozen=True)
+class HeadNeck(_Params):
+    """Human head on a neck spring-damper; the torso is infinitely massive.
+
+    Parameters
+    ----------
+    mass
+        Head mass M_h in kg (> 0). The thesis range is 4.4-5.3 kg.
+    stiffness
+        Neck stiffness K_h in N/m (>= 0). The thesis range is 3-5 kN/m.
+    damping
+        Neck damping C_h in N s/m (>= 0). The thesis range is 46-130 N s/m.
+    name
+        Optional label used in reports.
+
+    Examples
+    --------
+    >>> HeadNeck(mass=4.4, stiffness=3e3, damping=46.0).natural_frequency
+    26.111648393354674
+    """
+
+    mass: float
+    stiffness: float
+    damping: float
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "mass", check_positive("HeadNeck.mass", self.mass, "kg"))
+        object.__setattr__(
+            self, "stiffness", check_nonnegative("HeadNeck.stiffness", self.stiffness, "N/m")
+        )
+        object.__setattr__(
+            self, "damping", check_nonnegative("HeadNeck.damping", self.damping, "N s/m")
+        )
+
+    @property
+    def natural_frequency(self) -> float:
+        """Undamped natural frequency of the head on its neck, rad/s."""
+        return math.sqrt(self.stiffness / self.mass)
+
+
+@dataclass(frozen=True)
+class ContactDynamics(_Params):
+    """Effective single-DOF manipulator at the impact point (Sec. 3.4).
+
+    Parameters
+    ----------
+    mass
+        Effective mass M_r in kg (> 0).
+    stiffness
+        Effective (joint + controller) stiffness K_r in N/m (>= 0).
+    damping
+        Effective damping C_r in N s/m (>= 0).
+    lever_arm
+        Distance l_1 from the joint axis to the impact point in m, if known
+        (Table 3.1); used to go back to joint level. ``None`` if not known.
+    name
+        Optional label used in reports.
+
+    Examples
+    --------
+    >>> ContactDynamics(mass=9.6, stiffness=20e3, damping=250.0).stiffness
+    20000.0
+    """
+
+    mass: float
+    stiffness: float
+    damping: float
+    lever_arm: float | None = None
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "mass", check_positive("ContactDynamics.mass", self.mass, "kg"))
+        object.__setattr__(
+            self,
+            "stiffness",
+            check_nonnegative("ContactDynamics.stiffness", self.stiffness, "N/m"),
+        )
+        object.__setattr__(
+            self, "damping", check_nonnegative("ContactDynamics.damping", self.damping, "N s/m")
+        )
+        if self.lever_arm is not None:
+            object.__setattr__(
+                self,
+                "lever_arm",
+                check_positive("ContactDynamics.lever_arm", self.lever_arm, "m"),
+            )
+
+
+@dataclass(frozen=True)
+class Foam(_Params):
+    """Elastomeric foam covering: linear Kelvin-Voigt spring and damper.
+
+    Parameters
+    ----------
+    stiffness
+        Foam stiffness K_c in N/m (> 0).
+    damping
+        Foam damping C_c in N s/m (>= 0).
+    linear_depth
+        lambda, the compression up to which the foam is linear, in m (> 0).
+        Results with a larger compression are flagged as bottoming
+        (DECISIONS I7).
+    thickness
+        Uncompressed thickness T_u in m (>= linear_depth). Defaults to the
+        Ch. 4 foam, 0.0254 m, scaled with ``linear_depth``.
+    name
+        Optional label used in reports.
+
+    Examples
+    --------
+    >>> Foam.from_damping_ratio(24.25e3, 0.11, head_mass=4.4).damping
+    71.86612552...
+    """
+
+    stiffness: float
+    damping: float
+    linear_depth: float = 0.02
+    thickness: float | None = None
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        object.__setattr__(
+            self, "stiffness", check_positive("Foam.stiffness", self.stiffness, "N/m")
+        )
+        object.__setattr__(
+            self, "damping", check_nonnegative("Foam.damping", self.damping, "N s/m")
+        )
+        object.__setattr__(
+            self, "linear_depth", check_positive("Foam.linear_depth", self.linear_depth, "m")
+        )
+        if self.thickness is None:
+            object.__setattr__(self, "thickness", self.linear_depth * 0.0254 / 0.02)
+        else:
+            t = check_positive("Foam.thickness", self.thickness, "m")
+            if t < self.linear_depth:
+                raise InvalidParameterError(
+                    "Foam.thickness",
+                    self.thickness,
+                    f"must be >= Foam.linear_depth = {self.linear_depth} m",
+                    "m",
+                )
+            object.__setattr__(self, "thickness", t)
+
+    @classmethod
+    def from_damping_ratio(
+        cls,
+        stiffness: float,
+        damping_ratio: float,
+        *,
+        head_mass: float = 4.4,
+        linear_depth: float = 0.02,
+        thickness: float | None = None,
+        name: str = "",
+    ) -> Foam:
+        """Build a foam from xi_c, defined with the head mass: C_c = 2 xi_c sqrt(M_h K_c).
+
+        Examples
+        --------
+        >>> round(Foam.from_damping_ratio(60.6e3, 0.11).damping, 1)
+        113.6
+        """
+        k = check_positive("Foam.stiffness", stiffness, "N/m")
+        xi = check_nonnegative("damping_ratio", damping_ratio)
+        m = check_positive("head_mass", head_mass, "kg")
+        return cls(k, 2.0 * xi * math.sqrt(m * k), linear_depth, thickness, name)
+
+    def damping_ratio(self, head_mass: float = 4.4) -> float:
+        """xi_c = C_c / (2 sqrt(M_h K_c)) with the head mass (thesis convention)."""
+        return self.damping / (2.0 * math.sqrt(head_mass * self.stiffness))
+
+
+# --- presets (Zeng 2011) ---------------------------------------------------
+
+#: Table 3.1, Manipulator 1: the custom direct-drive arm (App. A.2).
+MANIPULATOR_1 = ContactDynamics(9.6, 20.0e3, 250.0, lever_arm=0.078, name="Manipulator 1")
+#: Table 3.1, Manipulator 2: Puma 560 joint 1.
+MANIPULATOR_2 = ContactDynamics(49.4, 14.4e3, 111.0, lever_arm=0.5, name="Manipulator 2")
+
+#: Foam 1 as identified in App. A.1 and used in the Fig. 3.10-3.12/3.16 captions.
+FOAM_1 = Foam(24.25e3, 71.9, name="Foam 1")
+#: Foam 2 as printed in Table 3.3.
+FOAM_2 = Foam(13.8e3, 43.8, name="Foam 2")
+#: Foam 2 with the App. A.1 measured stiffness, used for Ch. 4 (DECISIONS I3).
+FOAM_2_MEASURED = Foam(13.48e3, 43.8, name="Foam 2 (measured)")
+#: Foam 3 of Table 3.3.
+FOAM_3 = Foam(60.6e3, 113.6, name="Foam 3")
+
+#: Minimum head-neck parameters (Sec. 3.6): conservative for head acceleration.
+HEAD_MIN = HeadNeck(4.4, 3.0e3, 46.0, name="minimum head-neck")
+#: Maximum head-neck parameters (Sec. 3.6): conservative for force and compression.
+HEAD_MAX = HeadNeck(5.3, 5.0e3, 130.2, name="maximum head-neck")
+#: Ch. 4 head apparatus: 4.4 kg head, 4 kN/m neck springs, no damper (DECISIONS I3).
+TEST_HEAD = HeadNeck(4.4, 4.0e3, 0.0, name="Ch. 4 test head")
+
+#: Table 3.2 simulations 1-4 as (manipulator, head) pairs.
+TABLE_3_2_HEADS: dict[int, tuple[ContactDynamics, HeadNeck]] = {
+    1: (MANIPULATOR_1, HeadNeck(4.4, 5.0e3, 130.0, name="Table 3.2 sim 1")),
+    2: (MANIPULATOR_2, HeadNeck(4.4, 5.0e3, 130.0, name="Table 3.2 sim 2")),
+    3: (MANIPULATOR_1, HeadNeck(4.4, 3.0e3, 46.0, name="Table 3.2 sim 3")),
+    4: (MANIPULATOR_2, HeadNeck(5.3, 5.0e3, 130.0, name="Table 3.2 sim 4")),
+}

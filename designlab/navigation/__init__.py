@@ -1,0 +1,1 @@
+"""navigation (to be filled by later issues)."""
