@@ -1,0 +1,196 @@
+"""Atomic file and directory writes.
+
+Every file designlab writes goes through :func:`atomic_write_bytes`: the data
+are written to a temporary file in the destination directory, flushed to disk
+(``fsync``) and moved over the destination with :func:`os.replace`, so a
+reader sees either the old file or the new one, never half of one.
+
+A report directory is built with :func:`report_directory`: files are written
+into a hidden temporary sibling directory, which replaces the previous
+report only when everything has been written. An exception (or Ctrl-C)
+while writing removes the temporary directory and leaves the previous
+report untouched.
+
+Examples
+--------
+>>> import tempfile, pathlib
+>>> root = pathlib.Path(tempfile.mkdtemp())
+>>> with report_directory(root / "demo") as tmp:
+...     _ = atomic_write_text(tmp / "a.txt", "hello")
+>>> sorted(p.name for p in root.iterdir())
+['demo']
+>>> (root / "demo" / "a.txt").read_text()
+'hello'
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import os
+import shutil
+import tempfile
+import uuid
+from collections.abc import Iterator
+from pathlib import Path
+
+from designlab.errors import DesignlabError
+
+__all__ = [
+    "ReportError",
+    "atomic_write_bytes",
+    "atomic_write_text",
+    "report_directory",
+]
+
+logger = logging.getLogger(__name__)
+
+
+class ReportError(DesignlabError, OSError):
+    """A report could not be written (permissions, disk full, a file in the way)."""
+
+
+def _fsync_dir(path: Path) -> None:
+    """Flush a directory entry to disk (best effort; not all systems allow it)."""
+    try:
+        fd = os.open(path, os.O_RDONLY)
+    except OSError:  # pragma: no cover - e.g. Windows
+        return
+    try:
+        os.fsync(fd)
+    except OSError:  # pragma: no cover
+        pass
+    finally:
+        os.close(fd)
+
+
+def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:
+    """Write ``data`` to ``path`` atomically; return the path.
+
+    Parameters
+    ----------
+    path
+        Destination file. Its directory must exist.
+    data
+        The complete new content.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> p = pathlib.Path(tempfile.mkdtemp()) / "x.bin"
+    >>> atomic_write_bytes(p, b"abc").read_bytes()
+    b'abc'
+    """
+    target = Path(path)
+    fd, tmp_name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+    tmp = Path(tmp_name)
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, target)
+    except BaseException:
+        with contextlib.suppress(FileNotFoundError):
+            tmp.unlink()
+        raise
+    _fsync_dir(target.parent)
+    return target
+
+
+def atomic_write_text(path: str | os.PathLike[str], text: str, encoding: str = "utf-8") -> Path:
+    """Write ``text`` to ``path`` atomically (see :func:`atomic_write_bytes`).
+
+    Line endings are written as given (``\\n``), on every platform.
+    """
+    return atomic_write_bytes(path, text.encode(encoding))
+
+
+def _pid_alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # pragma: no cover - someone else's process
+        return True
+    return True
+
+
+def _recover(final: Path) -> None:
+    """Tidy up after a run that was killed (SIGKILL, power loss) mid-swap."""
+    parent = final.parent
+    for stale in parent.glob(f".{final.name}.tmp-*"):
+        # .<name>.tmp-<pid>-<random>: remove it only if its writer is gone
+        try:
+            pid = int(stale.name.rsplit(".tmp-", 1)[1].split("-", 1)[0])
+        except (IndexError, ValueError):
+            continue
+        if pid != os.getpid() and not _pid_alive(pid):
+            logger.info("removing stale temporary report directory %s", stale)
+            shutil.rmtree(stale, ignore_errors=True)
+    if not final.exists():
+        olds = sorted(parent.glob(f".{final.name}.old-*"), key=lambda p: p.stat().st_mtime)
+        if olds:
+            logger.warning("restoring the previous report %s from %s", final, olds[-1])
+            os.rename(olds[-1], final)
+
+
+def _swap_into_place(new: Path, final: Path) -> None:
+    if not final.exists():
+        os.rename(new, final)
+        return
+    if not final.is_dir() or final.is_symlink():
+        raise ReportError(f"{final} exists and is not a report directory; remove it first")
+    old = final.parent / f".{final.name}.old-{uuid.uuid4().hex[:8]}"
+    os.rename(final, old)
+    try:
+        os.rename(new, final)
+    except BaseException:
+        os.rename(old, final)
+        raise
+    shutil.rmtree(old, ignore_errors=True)
+
+
+@contextlib.contextmanager
+def report_directory(final: str | os.PathLike[str]) -> Iterator[Path]:
+    """Build a report directory atomically.
+
+    Yields a temporary directory next to ``final``; write every file of the
+    report into it. When the ``with`` block ends normally, the temporary
+    directory replaces ``final`` (the previous report, if any, is removed).
+    If the block raises, the temporary directory is deleted and ``final`` is
+    left as it was.
+
+    Parameters
+    ----------
+    final
+        The report directory, e.g. ``reports/zeng_ch4_validation``. Its
+        parent is created if needed.
+
+    Raises
+    ------
+    ReportError
+        If the directory cannot be created or replaced.
+    """
+    final = Path(final)
+    try:
+        final.parent.mkdir(parents=True, exist_ok=True)
+        _recover(final)
+        tmp = Path(tempfile.mkdtemp(prefix=f".{final.name}.tmp-{os.getpid()}-", dir=final.parent))
+        os.chmod(tmp, 0o755)
+    except OSError as exc:
+        raise ReportError(f"cannot create the report directory {final}: {exc}") from exc
+    try:
+        yield tmp
+        _fsync_dir(tmp)
+        try:
+            _swap_into_place(tmp, final)
+        except ReportError:
+            raise
+        except OSError as exc:
+            raise ReportError(f"cannot move the new report into {final}: {exc}") from exc
+        _fsync_dir(final.parent)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise

@@ -1,0 +1,63 @@
+"""CSV, Markdown and PNG writers (all atomic).
+
+Examples
+--------
+>>> import tempfile, pathlib, pandas as pd
+>>> d = pathlib.Path(tempfile.mkdtemp())
+>>> frame = pd.DataFrame({"case": ["a"], "a_h_max_g": [6.5712345]})
+>>> print(write_csv(frame, d / "m.csv").read_text(), end="")
+case,a_h_max_g
+a,6.571235
+>>> print(markdown_table(frame, floatfmt=".2f"))
+| case   |   a_h_max_g |
+|:-------|------------:|
+| a      |        6.57 |
+"""
+
+from __future__ import annotations
+
+import io
+import os
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+
+from designlab.report.atomic import atomic_write_bytes, atomic_write_text
+
+__all__ = ["markdown_table", "write_csv", "write_markdown", "write_png"]
+
+#: Significant digits of floats in CSV files: enough for any comparison, and
+#: stable across platforms so regenerated reports diff cleanly.
+CSV_FLOAT_FORMAT = "%.7g"
+
+
+def write_csv(frame: pd.DataFrame, path: str | os.PathLike[str]) -> Path:
+    """Write a data frame as CSV (no index, ``\\n`` line endings, 7 significant digits)."""
+    text = frame.to_csv(index=False, float_format=CSV_FLOAT_FORMAT, lineterminator="\n")
+    return atomic_write_text(path, text)
+
+
+def write_markdown(text: str, path: str | os.PathLike[str]) -> Path:
+    """Write Markdown text, ending it with exactly one newline."""
+    return atomic_write_text(path, text.rstrip("\n") + "\n")
+
+
+def write_png(fig: Figure, path: str | os.PathLike[str], *, dpi: int = 110) -> Path:
+    """Render a matplotlib figure with the Agg backend and write it as PNG.
+
+    The PNG carries no software/version metadata, so the bytes depend only on
+    the figure.
+    """
+    FigureCanvasAgg(fig)
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=dpi, metadata={"Software": None})
+    return atomic_write_bytes(path, buf.getvalue())
+
+
+def markdown_table(frame: pd.DataFrame, **kwargs: Any) -> str:
+    """A GitHub-style Markdown table of ``frame`` (no index), via tabulate."""
+    kwargs.setdefault("index", False)
+    return str(frame.to_markdown(**kwargs))

@@ -1,0 +1,289 @@
+"""Load and validate study files, with errors that point at the line.
+
+Every problem with a study file - a missing file, a YAML syntax error, an
+unknown or misspelt field, a wrong type or an out-of-range value - raises
+:class:`designlab.errors.StudyError`. Its message starts with
+``<file>:<line>: <field path>:`` and, for unknown fields and preset names,
+suggests the closest valid name.
+
+Examples
+--------
+>>> from designlab.study import parse_study
+>>> text = '''
+... designlab: 1
+... kind: impact_cases
+... name: demo
+... cases:
+...   - robot: {mass: 9.6, stifness: 20e3, damping: 250}
+...     foam: FOAM_1
+...     head: TEST_HEAD
+...     impact_velocity: 1.25
+... '''
+>>> parse_study(text, file="demo.yaml")
+Traceback (most recent call last):
+...
+designlab.errors.StudyError: demo.yaml:6: cases[0].robot.stifness: unknown field;
+    did you mean 'stiffness'? (allowed: preset, mass, stiffness, damping)
+"""
+
+from __future__ import annotations
+
+import difflib
+import types
+from collections.abc import Hashable, Sequence
+from os import PathLike
+from pathlib import Path
+from typing import Annotated, Any, Union, get_args, get_origin
+
+from pydantic import BaseModel, ValidationError
+
+from designlab.errors import StudyError
+from designlab.study.schema import FORMAT_VERSION, STUDY_KINDS, StudyBase, did_you_mean
+from designlab.study.yamlio import YamlPath, YamlSyntaxError, load_yaml_with_lines
+
+__all__ = ["format_path", "load_study", "parse_study"]
+
+
+def format_path(path: Sequence[Hashable]) -> str:
+    """Format a data path as ``cases[0].robot.mass``.
+
+    Examples
+    --------
+    >>> format_path(("cases", 0, "robot", "mass"))
+    'cases[0].robot.mass'
+    """
+    out = ""
+    for part in path:
+        if isinstance(part, int):
+            out += f"[{part}]"
+        else:
+            out += f".{part}" if out else str(part)
+    return out
+
+
+def load_study(path: str | PathLike[str]) -> StudyBase:
+    """Read and validate a study file.
+
+    Parameters
+    ----------
+    path
+        The YAML file.
+
+    Returns
+    -------
+    StudyBase
+        The validated study, an instance of the model for its ``kind``
+        (e.g. :class:`~designlab.study.schema.ImpactCasesStudy`).
+
+    Raises
+    ------
+    StudyError
+        If the file cannot be read or is not a valid study.
+
+    Examples
+    --------
+    >>> load_study("no/such/study.yaml")
+    Traceback (most recent call last):
+    ...
+    designlab.errors.StudyError: no/such/study.yaml: study file not found
+    """
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise StudyError("study file not found", file=str(path)) from None
+    except IsADirectoryError:
+        raise StudyError("is a directory, not a study file", file=str(path)) from None
+    except UnicodeDecodeError as exc:
+        raise StudyError(f"study file is not UTF-8 text ({exc.reason})", file=str(path)) from None
+    except OSError as exc:
+        raise StudyError(f"cannot read study file: {exc.strerror}", file=str(path)) from None
+    return parse_study(text, file=str(path))
+
+
+def parse_study(text: str, file: str = "<string>") -> StudyBase:
+    """Validate study YAML text; ``file`` is only used in error messages.
+
+    See :func:`load_study`.
+
+    Examples
+    --------
+    >>> parse_study("designlab: 1\\nkind: impact_case\\nname: x\\n", file="s.yaml")
+    Traceback (most recent call last):
+    ...
+    designlab.errors.StudyError: s.yaml:2: kind: unknown study kind 'impact_case';
+        did you mean 'impact_cases'? (known: impact_cases)
+    """
+    try:
+        data, lines = load_yaml_with_lines(text)
+    except YamlSyntaxError as exc:
+        raise StudyError(
+            str(exc), file=file, line=exc.line, field=format_path(exc.path) or None
+        ) from None
+
+    if not isinstance(data, dict):
+        raise StudyError(
+            "a study must be a YAML mapping with the keys designlab, kind, name, ...",
+            file=file,
+            line=1,
+        )
+    version = data.get("designlab")
+    if "designlab" not in data:
+        raise StudyError(
+            f"missing the format key; add 'designlab: {FORMAT_VERSION}' at the top",
+            file=file,
+            field="designlab",
+            line=1,
+        )
+    if version != FORMAT_VERSION or isinstance(version, bool):
+        raise StudyError(
+            f"study format {version!r} is not supported; this designlab reads "
+            f"format {FORMAT_VERSION}",
+            file=file,
+            field="designlab",
+            line=lines.get(("designlab",)),
+        )
+    kind = data.get("kind")
+    known = ", ".join(STUDY_KINDS)
+    if kind is None:
+        raise StudyError(
+            f"missing required field (the study kind, one of: {known})",
+            file=file,
+            field="kind",
+            line=1,
+        )
+    if not isinstance(kind, str) or kind not in STUDY_KINDS:
+        hint = did_you_mean(kind, list(STUDY_KINDS)) if isinstance(kind, str) else ""
+        raise StudyError(
+            f"unknown study kind {kind!r}{hint} (known: {known})",
+            file=file,
+            field="kind",
+            line=lines.get(("kind",)),
+        )
+    model = STUDY_KINDS[kind]
+    try:
+        return model.model_validate(data)
+    except ValidationError as exc:
+        raise _to_study_error(exc, data, lines, file, model) from None
+
+
+# --- mapping pydantic errors back to the file ---------------------------------
+
+
+def _data_path(loc: tuple[int | str, ...], data: Any) -> YamlPath:
+    """Follow a pydantic error location through the data, dropping union tags."""
+    path: list[Hashable] = []
+    current = data
+    for i, part in enumerate(loc):
+        last = i == len(loc) - 1
+        if isinstance(current, dict) and part in current:
+            current = current[part]
+        elif isinstance(current, list) and isinstance(part, int) and 0 <= part < len(current):
+            current = current[part]
+        elif last:
+            # a missing field, or ``preset`` of the ``robot: NAME`` shorthand
+            if not (part == "preset" and isinstance(current, str)):
+                path.append(part)
+            break
+        else:
+            continue  # a tag added by pydantic (union member, validator), not data
+        path.append(part)
+    return tuple(path)
+
+
+def _line_for(path: YamlPath, lines: dict[YamlPath, int]) -> int:
+    for n in range(len(path), 0, -1):
+        if path[:n] in lines:
+            return lines[path[:n]]
+    return 1
+
+
+def _unwrap(tp: Any) -> Any:
+    """Strip Annotated/Optional/list wrappers down to a model class (or give up)."""
+    for _ in range(10):
+        origin = get_origin(tp)
+        if origin is Annotated:
+            tp = get_args(tp)[0]
+        elif origin in (Union, types.UnionType):
+            args = [a for a in get_args(tp) if a is not type(None)]
+            models = [a for a in args if isinstance(a, type) and issubclass(a, BaseModel)]
+            if len(args) == 1:
+                tp = args[0]
+            elif len(models) == 1:
+                tp = models[0]
+            else:
+                return None
+        else:
+            return tp
+    return None  # pragma: no cover
+
+
+def _model_at(model: type[BaseModel], path: YamlPath) -> type[BaseModel] | None:
+    """The model class that validates the mapping at ``path`` (None if unknown)."""
+    current: Any = model
+    for part in path:
+        current = _unwrap(current)
+        if isinstance(part, int):
+            if get_origin(current) in (list, tuple):
+                current = get_args(current)[0]
+                continue
+            return None
+        if isinstance(current, type) and issubclass(current, BaseModel):
+            field = current.model_fields.get(str(part))
+            if field is None:
+                return None
+            current = field.annotation
+        else:
+            return None
+    current = _unwrap(current)
+    return current if isinstance(current, type) and issubclass(current, BaseModel) else None
+
+
+def _message(err: dict[str, Any], path: YamlPath, model: type[BaseModel]) -> str:
+    kind = err["type"]
+    if kind == "extra_forbidden":
+        parent = _model_at(model, path[:-1])
+        if parent is None:
+            return "unknown field"
+        allowed = list(parent.model_fields)
+        return (
+            f"unknown field{did_you_mean(str(path[-1]), allowed)} (allowed: {', '.join(allowed)})"
+        )
+    if kind == "missing":
+        return "missing required field"
+    msg: str = err["msg"]
+    if msg.startswith("Value error, "):
+        return msg[len("Value error, ") :]
+    value = err.get("input")
+    if isinstance(value, dict | list):
+        return msg
+    return f"{msg} (got {value!r})"
+
+
+def _to_study_error(
+    exc: ValidationError,
+    data: Any,
+    lines: dict[YamlPath, int],
+    file: str,
+    model: type[BaseModel],
+) -> StudyError:
+    errors = [(err, _data_path(tuple(err["loc"]), data)) for err in exc.errors(include_url=False)]
+    # A misspelt field also shows up as a missing one; report only the misspelling.
+    suggested = set()
+    for err, path in errors:
+        if err["type"] == "extra_forbidden":
+            parent = _model_at(model, path[:-1])
+            if parent is not None:
+                for name in difflib.get_close_matches(str(path[-1]), list(parent.model_fields), 1):
+                    suggested.add((*path[:-1], name))
+    found = [
+        (_line_for(path, lines), format_path(path), _message(err, path, model))
+        for err, path in errors
+        if not (err["type"] == "missing" and path in suggested)
+    ]
+    found.sort(key=lambda item: item[0])
+    line, field, message = found[0]
+    if len(found) > 1:
+        more = "\n".join(f"  {file}:{ln}: {fld}: {msg}" for ln, fld, msg in found[1:])
+        message += f"\nand {len(found) - 1} more:\n{more}"
+    return StudyError(message, file=file, field=field or None, line=line)

@@ -1,0 +1,386 @@
+"""The YAML study schema (pydantic v2).
+
+A study file is a mapping with a format version, a ``kind`` that selects the
+study type, a ``name`` (also the report directory name) and kind-specific
+fields. Every model forbids unknown fields, so a typo is an error rather than
+a silently ignored setting.
+
+Study kinds form a discriminated union on ``kind``; today there is one:
+
+``impact_cases``
+    A list of single impacts (manipulator, foam, head, closing speed), each
+    simulated with :func:`designlab.impact.simulate` and compared with
+    optional reference values (for example a thesis table).
+
+Later kinds (foam envelopes, navigation, sensitivity sweeps) subclass
+:class:`StudyBase`, fix ``kind`` to their own literal and are added to
+:data:`Study`.
+
+Units are SI throughout: kg, N/m, N s/m, m, m/s, s.
+
+Examples
+--------
+>>> from designlab.study.schema import STUDY_ADAPTER
+>>> study = STUDY_ADAPTER.validate_python({
+...     "designlab": 1, "kind": "impact_cases", "name": "demo",
+...     "cases": [{"robot": "MANIPULATOR_1", "foam": "FOAM_1",
+...                "head": "TEST_HEAD", "v_r": 0.25, "v_h": -1.0}]})
+>>> study.cases[0].closing_velocity
+1.25
+>>> study.cases[0].robot.build().mass
+9.6
+"""
+
+from __future__ import annotations
+
+import difflib
+from typing import Annotated, Any, ClassVar, Literal
+
+from pydantic import (
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Field,
+    TypeAdapter,
+    field_validator,
+    model_validator,
+)
+
+from designlab.impact.parameters import (
+    FOAM_1,
+    FOAM_2,
+    FOAM_2_MEASURED,
+    FOAM_3,
+    HEAD_MAX,
+    HEAD_MIN,
+    MANIPULATOR_1,
+    MANIPULATOR_2,
+    TEST_HEAD,
+    ContactDynamics,
+    Foam,
+    HeadNeck,
+)
+
+__all__ = [
+    "FORMAT_VERSION",
+    "STUDY_ADAPTER",
+    "STUDY_KINDS",
+    "FoamSpec",
+    "HeadSpec",
+    "ImpactCase",
+    "ImpactCasesStudy",
+    "ImpactReference",
+    "ImpactTolerance",
+    "RobotSpec",
+    "Study",
+    "StudyBase",
+    "did_you_mean",
+]
+
+#: The study file format this version of designlab reads (the ``designlab:`` key).
+FORMAT_VERSION = 1
+
+
+def did_you_mean(word: str, choices: list[str] | tuple[str, ...] | set[str]) -> str:
+    """Return ``"; did you mean 'x'?"`` for the closest choice, or ``""``.
+
+    Examples
+    --------
+    >>> did_you_mean("stifness", ["mass", "stiffness", "damping"])
+    "; did you mean 'stiffness'?"
+    >>> did_you_mean("zzz", ["mass"])
+    ''
+    """
+    close = difflib.get_close_matches(str(word), sorted(choices), n=1, cutoff=0.6)
+    return f"; did you mean {close[0]!r}?" if close else ""
+
+
+def _reject_bool(value: Any) -> Any:
+    # YAML ``yes``/``true`` would otherwise be accepted as 1.0 by pydantic's lax mode.
+    if isinstance(value, bool):
+        raise ValueError("must be a number, not a boolean")
+    return value
+
+
+_Number = Annotated[float, BeforeValidator(_reject_bool)]
+Positive = Annotated[_Number, Field(gt=0, allow_inf_nan=False)]
+NonNegative = Annotated[_Number, Field(ge=0, allow_inf_nan=False)]
+Finite = Annotated[_Number, Field(allow_inf_nan=False)]
+#: Speeds are limited to a sanity range; human-robot impacts are a few m/s.
+Speed = Annotated[_Number, Field(ge=-20.0, le=20.0, allow_inf_nan=False)]
+
+
+class _Model(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+# --- physical components ----------------------------------------------------
+
+
+class _ComponentSpec(_Model):
+    """A preset name, or explicit values, or a preset with some values replaced."""
+
+    PRESETS: ClassVar[dict[str, Any]] = {}
+    REQUIRED: ClassVar[tuple[str, ...]] = ()
+    WHAT: ClassVar[str] = "component"
+
+    preset: str | None = Field(None, description="name of a preset to start from")
+
+    @model_validator(mode="before")
+    @classmethod
+    def _preset_shorthand(cls, data: Any) -> Any:
+        # ``robot: MANIPULATOR_1`` is short for ``robot: {preset: MANIPULATOR_1}``
+        return {"preset": data} if isinstance(data, str) else data
+
+    @field_validator("preset")
+    @classmethod
+    def _known_preset(cls, value: str | None) -> str | None:
+        if value is not None and value not in cls.PRESETS:
+            known = ", ".join(cls.PRESETS)
+            raise ValueError(
+                f"unknown {cls.WHAT} preset {value!r}{did_you_mean(value, list(cls.PRESETS))} "
+                f"(known: {known})"
+            )
+        return value
+
+    @model_validator(mode="after")
+    def _complete(self) -> _ComponentSpec:
+        if self.preset is None:
+            missing = [f for f in self.REQUIRED if getattr(self, f) is None]
+            if missing:
+                raise ValueError(
+                    f"give a preset ({', '.join(self.PRESETS)}) or all of "
+                    f"{', '.join(self.REQUIRED)}; missing: {', '.join(missing)}"
+                )
+        return self
+
+    def _overrides(self) -> dict[str, Any]:
+        return {k: v for k, v in self.model_dump(exclude={"preset"}).items() if v is not None}
+
+    def build(self) -> Any:
+        """Return the designlab parameter object (validated by its constructor)."""
+        overrides = self._overrides()
+        if self.preset is None:
+            return self._cls()(**overrides)
+        base = self.PRESETS[self.preset]
+        return base.replace(**overrides) if overrides else base
+
+    @classmethod
+    def _cls(cls) -> type:
+        raise NotImplementedError
+
+
+class RobotSpec(_ComponentSpec):
+    """Effective manipulator at the impact point (:class:`~designlab.impact.ContactDynamics`).
+
+    Presets: ``MANIPULATOR_1`` (direct-drive arm), ``MANIPULATOR_2`` (Puma 560).
+    """
+
+    PRESETS: ClassVar[dict[str, Any]] = {
+        "MANIPULATOR_1": MANIPULATOR_1,
+        "MANIPULATOR_2": MANIPULATOR_2,
+    }
+    REQUIRED: ClassVar[tuple[str, ...]] = ("mass", "stiffness", "damping")
+    WHAT: ClassVar[str] = "robot"
+
+    mass: Positive | None = Field(None, description="effective mass M_r, kg")
+    stiffness: NonNegative | None = Field(None, description="stiffness K_r, N/m")
+    damping: NonNegative | None = Field(None, description="damping C_r, N s/m")
+
+    @classmethod
+    def _cls(cls) -> type:
+        return ContactDynamics
+
+    def build(self) -> ContactDynamics:
+        """Return the :class:`~designlab.impact.ContactDynamics`."""
+        return super().build()  # type: ignore[no-any-return]
+
+
+class FoamSpec(_ComponentSpec):
+    """Foam covering (:class:`~designlab.impact.Foam`).
+
+    Presets: ``FOAM_1``, ``FOAM_2`` (Table 3.3), ``FOAM_2_MEASURED`` (App. A.1,
+    used for Ch. 4), ``FOAM_3``.
+    """
+
+    PRESETS: ClassVar[dict[str, Any]] = {
+        "FOAM_1": FOAM_1,
+        "FOAM_2": FOAM_2,
+        "FOAM_2_MEASURED": FOAM_2_MEASURED,
+        "FOAM_3": FOAM_3,
+    }
+    REQUIRED: ClassVar[tuple[str, ...]] = ("stiffness", "damping")
+    WHAT: ClassVar[str] = "foam"
+
+    stiffness: Positive | None = Field(None, description="stiffness K_c, N/m")
+    damping: NonNegative | None = Field(None, description="damping C_c, N s/m")
+    linear_depth: Positive | None = Field(
+        None, description="lambda, end of the linear range, m (default 0.02)"
+    )
+    thickness: Positive | None = Field(None, description="uncompressed thickness T_u, m")
+
+    @classmethod
+    def _cls(cls) -> type:
+        return Foam
+
+    def build(self) -> Foam:
+        """Return the :class:`~designlab.impact.Foam`."""
+        return super().build()  # type: ignore[no-any-return]
+
+
+class HeadSpec(_ComponentSpec):
+    """Head on a neck (:class:`~designlab.impact.HeadNeck`).
+
+    Presets: ``HEAD_MIN``, ``HEAD_MAX`` (Sec. 3.6), ``TEST_HEAD`` (Ch. 4 apparatus).
+    """
+
+    PRESETS: ClassVar[dict[str, Any]] = {
+        "HEAD_MIN": HEAD_MIN,
+        "HEAD_MAX": HEAD_MAX,
+        "TEST_HEAD": TEST_HEAD,
+    }
+    REQUIRED: ClassVar[tuple[str, ...]] = ("mass", "stiffness", "damping")
+    WHAT: ClassVar[str] = "head"
+
+    mass: Positive | None = Field(None, description="head mass M_h, kg")
+    stiffness: NonNegative | None = Field(None, description="neck stiffness K_h, N/m")
+    damping: NonNegative | None = Field(None, description="neck damping C_h, N s/m")
+
+    @classmethod
+    def _cls(cls) -> type:
+        return HeadNeck
+
+    def build(self) -> HeadNeck:
+        """Return the :class:`~designlab.impact.HeadNeck`."""
+        return super().build()  # type: ignore[no-any-return]
+
+
+# --- impact cases -------------------------------------------------------------
+
+
+class ImpactTolerance(_Model):
+    """Acceptance band of the model against the reference (reported, not enforced)."""
+
+    a_h_max_rel: Positive | None = Field(None, description="relative, e.g. 0.02 for 2 %")
+    t_imp_abs_s: Positive | None = Field(None, description="absolute, s")
+    eps_max_rel: Positive | None = Field(None, description="relative")
+
+
+class ImpactReference(_Model):
+    """Reference values a case is compared with (e.g. a thesis table).
+
+    ``a_h_max_g``, ``t_imp_s`` and ``eps_max_m`` are the reference *simulation*
+    (the source's model); ``exp_*`` are experimental means.
+    """
+
+    source: str | None = Field(None, description="where the numbers come from")
+    a_h_max_g: Positive | None = None
+    t_imp_s: Positive | None = None
+    eps_max_m: Positive | None = None
+    peak_force_N: Positive | None = None
+    exp_a_h_max_g: Positive | None = None
+    exp_t_imp_s: Positive | None = None
+    exp_eps_max_m: Positive | None = None
+    exp_trials: Annotated[int, Field(ge=1)] | None = None
+    tolerance: ImpactTolerance | None = None
+
+
+class ImpactCase(_Model):
+    """One impact: manipulator, foam and head meeting at a closing speed.
+
+    Give either ``impact_velocity`` (the closing speed v_c, m/s) or both
+    ``v_r`` and ``v_h`` (manipulator and head velocities; v_c = v_r - v_h,
+    a negative v_h moves the head toward the robot, DECISIONS I5).
+    """
+
+    label: str | None = Field(None, min_length=1, max_length=80)
+    group: str | None = Field(
+        None, min_length=1, max_length=80, description="cases of a group share a figure"
+    )
+    robot: RobotSpec
+    foam: FoamSpec
+    head: HeadSpec
+    impact_velocity: Annotated[_Number, Field(gt=0, le=20.0, allow_inf_nan=False)] | None = None
+    v_r: Speed | None = None
+    v_h: Speed | None = None
+    reference: ImpactReference | None = None
+
+    @model_validator(mode="after")
+    def _one_velocity(self) -> ImpactCase:
+        pair = (self.v_r is not None, self.v_h is not None)
+        if self.impact_velocity is not None and any(pair):
+            raise ValueError("give either impact_velocity or v_r and v_h, not both")
+        if self.impact_velocity is None:
+            if pair != (True, True):
+                raise ValueError("give impact_velocity (m/s) or both v_r and v_h (m/s)")
+            v_c = float(self.v_r) - float(self.v_h)  # type: ignore[arg-type]
+            if not v_c > 0.0:
+                raise ValueError(
+                    f"v_r - v_h = {v_c:g} m/s must be > 0 for an impact "
+                    "(a negative v_h moves the head toward the robot)"
+                )
+        return self
+
+    @property
+    def closing_velocity(self) -> float:
+        """v_c in m/s."""
+        if self.impact_velocity is not None:
+            return float(self.impact_velocity)
+        return round(float(self.v_r) - float(self.v_h), 12)  # type: ignore[arg-type]
+
+    def title(self, index: int) -> str:
+        """The label, or ``"case <index+1>"``."""
+        return self.label or f"case {index + 1}"
+
+
+# --- studies ------------------------------------------------------------------
+
+
+class StudyBase(_Model):
+    """Fields common to every study kind."""
+
+    designlab: Literal[1] = Field(description="study file format version")
+    kind: str
+    name: str = Field(
+        pattern=r"^[A-Za-z0-9][A-Za-z0-9_.-]*$",
+        max_length=100,
+        description="identifier; the report goes to <output-dir>/<name>/",
+    )
+    description: str = ""
+
+    #: Files (glob patterns) the report of this kind contains, for ``designlab list``.
+    PRODUCES: ClassVar[tuple[str, ...]] = ()
+
+
+class ImpactCasesStudy(StudyBase):
+    """Simulate a list of impacts and compare them with reference values."""
+
+    kind: Literal["impact_cases"]
+    cases: list[ImpactCase] = Field(min_length=1)
+
+    PRODUCES: ClassVar[tuple[str, ...]] = (
+        "summary.md",
+        "metrics.csv",
+        "time_histories*.png",
+        "study.yaml",
+    )
+
+    @model_validator(mode="after")
+    def _unique_labels(self) -> ImpactCasesStudy:
+        seen: set[str] = set()
+        for i, case in enumerate(self.cases):
+            title = case.title(i)
+            if title in seen:
+                raise ValueError(f"case label {title!r} is used twice; labels must be unique")
+            seen.add(title)
+        return self
+
+
+#: Every study kind, keyed by its ``kind`` value.
+STUDY_KINDS: dict[str, type[StudyBase]] = {"impact_cases": ImpactCasesStudy}
+
+#: A study of any kind (discriminated on ``kind``).
+Study = Annotated[ImpactCasesStudy, Field(discriminator="kind")]
+
+#: Validates a plain dict into the right study model.
+STUDY_ADAPTER: TypeAdapter[ImpactCasesStudy] = TypeAdapter(Study)
