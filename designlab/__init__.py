@@ -17,6 +17,6 @@ from __future__ import annotations
 
 from designlab import errors, impact
 
-__all__ = ["errors", "impact", "__version__"]
+__all__ = ["__version__", "errors", "impact"]
 
 __version__ = "0.1.0"

@@ -25,9 +25,9 @@ __all__ = [
     "ModelError",
     "SolverError",
     "StudyError",
-    "check_positive",
-    "check_nonnegative",
     "check_finite",
+    "check_nonnegative",
+    "check_positive",
 ]
 
 

@@ -10,7 +10,7 @@ Examples
 >>> MANIPULATOR_1.mass, FOAM_1.stiffness, HEAD_MIN.damping
 (9.6, 24250.0, 46.0)
 >>> round(FOAM_1.damping_ratio(HEAD_MIN.mass), 3)
-0.111
+0.11
 """
 
 from __future__ import annotations
@@ -22,19 +22,19 @@ from typing import Any
 from designlab.errors import InvalidParameterError, check_nonnegative, check_positive
 
 __all__ = [
-    "HeadNeck",
-    "Foam",
-    "ContactDynamics",
-    "MANIPULATOR_1",
-    "MANIPULATOR_2",
     "FOAM_1",
     "FOAM_2",
     "FOAM_2_MEASURED",
     "FOAM_3",
-    "HEAD_MIN",
     "HEAD_MAX",
-    "TEST_HEAD",
+    "HEAD_MIN",
+    "MANIPULATOR_1",
+    "MANIPULATOR_2",
     "TABLE_3_2_HEADS",
+    "TEST_HEAD",
+    "ContactDynamics",
+    "Foam",
+    "HeadNeck",
 ]
 
 
@@ -162,7 +162,7 @@ class Foam(_Params):
     Examples
     --------
     >>> Foam.from_damping_ratio(24.25e3, 0.11, head_mass=4.4).damping
-    71.86612552...
+    71.8629...
     """
 
     stiffness: float
