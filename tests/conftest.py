@@ -33,12 +33,12 @@ cases:
 """
 
 
-@pytest.fixture
+@pytest.fixture(scope="session")
 def repo_root() -> Path:
     return REPO_ROOT
 
 
-@pytest.fixture
+@pytest.fixture(scope="session")
 def tiny_study_text() -> str:
     return TINY_STUDY
 

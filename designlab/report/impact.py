@@ -102,7 +102,7 @@ def impact_figure(cases: Sequence[ImpactCaseResult], title: str = "") -> Figure:
     finite = [d for d in durations if math.isfinite(d) and d > 0]
     t_end = 1.3 * max(finite) if finite else None
 
-    fig = Figure(figsize=(10.5, 8.5), layout="constrained")
+    fig = Figure(figsize=(10, 10), layout="constrained")
     axes = fig.subplots(3, 1, sharex=True)
     colours = [f"C{i % 10}" for i in range(len(configs))]
     for c in cases:
@@ -148,7 +148,7 @@ def impact_figure(cases: Sequence[ImpactCaseResult], title: str = "") -> Figure:
             fontsize=8,
             color="firebrick",
         )
-    fig.legend(loc="outside right upper", fontsize=8, title="case", title_fontsize=9)
+    fig.legend(loc="outside lower center", ncols=2, fontsize=8.5, frameon=False)
     suptitle = title or "Impact time histories"
     fig.suptitle(
         f"{suptitle}\n(colour: parameter set, line style: closing speed, "
@@ -239,15 +239,13 @@ def _tolerance_text(result: ImpactCasesResult) -> str:
                 parts.append(f"t_imp within {1e3 * t.t_imp_abs_s:g} ms")
             if t.eps_max_rel is not None:
                 parts.append(f"eps_max within {100 * t.eps_max_rel:g} %")
-            tols.setdefault(", ".join(parts), []).append(c.title)
+            tols.setdefault(", ".join(parts), []).append(c.group or c.title)
     if not tols:
         return ""
     lines = ["Tolerances of the model against the reference simulation:", ""]
-    for text, titles in tols.items():
-        if len(tols) == 1:
-            lines.append(f"- {text} (all cases with a tolerance)")
-        else:
-            lines.append(f"- {text}: {', '.join(titles)}")
+    for text, names in tols.items():
+        where = "; ".join(dict.fromkeys(names))  # unique, in order
+        lines.append(f"- {where}: {text}")
     return "\n".join(lines)
 
 
