@@ -218,6 +218,11 @@ def _unwrap(tp: Any) -> Any:
     return None  # pragma: no cover
 
 
+def _fields_by_name(model: type[BaseModel]) -> dict[str, Any]:
+    """A model's fields by the name used in the file (the alias, if any)."""
+    return {(f.alias or name): f for name, f in model.model_fields.items()}
+
+
 def _model_at(model: type[BaseModel], path: YamlPath) -> type[BaseModel] | None:
     """The model class that validates the mapping at ``path`` (None if unknown)."""
     current: Any = model
@@ -229,7 +234,8 @@ def _model_at(model: type[BaseModel], path: YamlPath) -> type[BaseModel] | None:
                 continue
             return None
         if isinstance(current, type) and issubclass(current, BaseModel):
-            field = current.model_fields.get(str(part))
+            fields = _fields_by_name(current)
+            field = fields.get(str(part))
             if field is None:
                 return None
             current = field.annotation
@@ -245,12 +251,17 @@ def _message(err: dict[str, Any], path: YamlPath, model: type[BaseModel]) -> str
         parent = _model_at(model, path[:-1])
         if parent is None:
             return "unknown field"
-        allowed = list(parent.model_fields)
+        allowed = list(_fields_by_name(parent))
         return (
             f"unknown field{did_you_mean(str(path[-1]), allowed)} (allowed: {', '.join(allowed)})"
         )
     if kind == "missing":
         return "missing required field"
+    if kind == "literal_error" and isinstance(err.get("input"), str):
+        expected = err.get("ctx", {}).get("expected", "")
+        choices = [c.strip().strip("'") for c in expected.replace(" or ", ", ").split(",")]
+        hint = did_you_mean(err["input"], [c for c in choices if c])
+        return f"{err['msg']} (got {err['input']!r}{hint})"
     msg: str = err["msg"]
     if msg.startswith("Value error, "):
         return msg[len("Value error, ") :]
@@ -274,7 +285,8 @@ def _to_study_error(
         if err["type"] == "extra_forbidden":
             parent = _model_at(model, path[:-1])
             if parent is not None:
-                for name in difflib.get_close_matches(str(path[-1]), list(parent.model_fields), 1):
+                names = list(_fields_by_name(parent))
+                for name in difflib.get_close_matches(str(path[-1]), names, 1):
                     suggested.add((*path[:-1], name))
     found = [
         (_line_for(path, lines), format_path(path), _message(err, path, model))

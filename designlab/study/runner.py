@@ -26,6 +26,7 @@ import math
 import sys
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import pandas as pd
@@ -33,8 +34,15 @@ from tqdm.auto import tqdm
 
 from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
 from designlab.study.schema import ImpactCase, ImpactCasesStudy, StudyBase
+from designlab.study.sweep_runner import SweepStudyResult, run_sweep_study
 
-__all__ = ["ImpactCaseResult", "ImpactCasesResult", "StudyResult", "run_study"]
+__all__ = [
+    "ImpactCaseResult",
+    "ImpactCasesResult",
+    "StudyResult",
+    "SweepStudyResult",
+    "run_study",
+]
 
 logger = logging.getLogger(__name__)
 
@@ -187,10 +195,11 @@ class ImpactCasesResult:
 
 
 #: The result of any study kind.
-StudyResult = ImpactCasesResult
+StudyResult = ImpactCasesResult | SweepStudyResult
 
 
-def _run_impact_cases(study: ImpactCasesStudy, progress: bool) -> ImpactCasesResult:
+def _run_impact_cases(study: ImpactCasesStudy, progress: bool, **_: Any) -> ImpactCasesResult:
+    # a handful of simulations: run in process, not cached (``cache_only`` recomputes)
     from designlab.impact import simulate  # the physics; imported when needed
 
     results = []
@@ -213,10 +222,21 @@ def _run_impact_cases(study: ImpactCasesStudy, progress: bool) -> ImpactCasesRes
     return ImpactCasesResult(study, tuple(results))
 
 
-_RUNNERS: dict[str, Callable[[Any, bool], Any]] = {"impact_cases": _run_impact_cases}
+_RUNNERS: dict[str, Callable[..., Any]] = {
+    "impact_cases": _run_impact_cases,
+    "impact_sweep": run_sweep_study,
+}
 
 
-def run_study(study: StudyBase, *, progress: bool = False) -> StudyResult:
+def run_study(
+    study: StudyBase,
+    *,
+    progress: bool = False,
+    executor: Any = None,
+    cache_dir: str | Path | None = None,
+    resume: bool = False,
+    cache_only: bool = False,
+) -> StudyResult:
     """Compute every result of a study.
 
     Parameters
@@ -226,14 +246,35 @@ def run_study(study: StudyBase, *, progress: bool = False) -> StudyResult:
     progress
         Show a tqdm progress bar on stderr (the CLI turns it on only when
         stderr is a terminal).
+    executor
+        Sweep kinds: an executor from
+        :func:`designlab.analysis.executors.make_executor` (default: serial,
+        in this process). The caller closes it.
+    cache_dir
+        Sweep kinds: keep every finished point in ``<cache_dir>/<name>/``.
+    resume
+        Sweep kinds: reuse cached points; compute only the missing ones.
+    cache_only
+        Sweep kinds: compute nothing; raise
+        :class:`~designlab.analysis.sweep.CacheIncompleteError` if a point is
+        missing (``designlab report``). ``impact_cases`` studies are not
+        cached and are recomputed (they take well under a second).
 
     Returns
     -------
     StudyResult
-        The result object of the study's kind, e.g. :class:`ImpactCasesResult`.
+        The result object of the study's kind: :class:`ImpactCasesResult` or
+        :class:`~designlab.study.sweep_runner.SweepStudyResult`.
     """
     try:
         runner = _RUNNERS[study.kind]
     except KeyError:  # pragma: no cover - the schema only admits known kinds
         raise NotImplementedError(f"no runner for study kind {study.kind!r}") from None
-    return runner(study, progress)  # type: ignore[no-any-return]
+    return runner(  # type: ignore[no-any-return]
+        study,
+        progress=progress,
+        executor=executor,
+        cache_dir=cache_dir,
+        resume=resume,
+        cache_only=cache_only,
+    )

@@ -60,21 +60,36 @@ from designlab.impact.parameters import (
     Foam,
     HeadNeck,
 )
+from designlab.study.sweeps import (
+    OneAtATimeSpec,
+    ParameterInfo,
+    SobolSpec,
+    SweepSpec,
+    parameter_model,
+)
 
 __all__ = [
     "FORMAT_VERSION",
+    "IMPACT_METRICS",
+    "IMPACT_PARAMETERS",
     "STUDY_ADAPTER",
     "STUDY_KINDS",
     "FoamSpec",
     "HeadSpec",
     "ImpactCase",
     "ImpactCasesStudy",
+    "ImpactDesign",
     "ImpactReference",
+    "ImpactSensitivitySpec",
+    "ImpactSweepSpec",
+    "ImpactSweepStudy",
     "ImpactTolerance",
     "RobotSpec",
     "Study",
     "StudyBase",
+    "SweepStudyBase",
     "did_you_mean",
+    "study_json_schema",
 ]
 
 #: The study file format this version of designlab reads (the ``designlab:`` key).
@@ -376,11 +391,202 @@ class ImpactCasesStudy(StudyBase):
         return self
 
 
-#: Every study kind, keyed by its ``kind`` value.
-STUDY_KINDS: dict[str, type[StudyBase]] = {"impact_cases": ImpactCasesStudy}
+# --- sweeps ---------------------------------------------------------------------
+
+#: Parameters of the impact model a sweep can vary: dotted path -> (point key, info).
+IMPACT_PARAMETERS: dict[str, tuple[str, ParameterInfo]] = {
+    "robot.mass": ("M_r", ParameterInfo("effective manipulator mass M_r", "kg", gt=0)),
+    "robot.stiffness": ("K_r", ParameterInfo("manipulator stiffness K_r", "N/m", ge=0)),
+    "robot.damping": ("C_r", ParameterInfo("manipulator damping C_r", "N s/m", ge=0)),
+    "foam.stiffness": ("K_c", ParameterInfo("foam stiffness K_c", "N/m", gt=0)),
+    "foam.damping": ("C_c", ParameterInfo("foam damping C_c", "N s/m", ge=0)),
+    "foam.linear_depth": ("lambda", ParameterInfo("foam linear depth lambda", "m", gt=0)),
+    "head.mass": ("M_h", ParameterInfo("head mass M_h", "kg", gt=0)),
+    "head.stiffness": ("K_h", ParameterInfo("neck stiffness K_h", "N/m", ge=0)),
+    "head.damping": ("C_h", ParameterInfo("neck damping C_h", "N s/m", ge=0)),
+    "impact_velocity": ("v_c", ParameterInfo("closing velocity v_c", "m/s", gt=0, le=20)),
+}
+
+#: Metrics of an ``impact_sweep`` point (column name -> description with unit).
+IMPACT_METRICS: dict[str, str] = {
+    "a_h_max_g": "peak head acceleration a_h,max, g",
+    "eps_max_m": "maximum foam compression eps_max, m",
+    "f_c_max_N": "peak contact force, N",
+    "t_imp_s": "impact period, s",
+}
+
+ImpactSweepParameters = parameter_model(
+    "ImpactSweepParameters", {path: info for path, (_, info) in IMPACT_PARAMETERS.items()}
+)
+ImpactMetricName = Literal["a_h_max_g", "eps_max_m", "f_c_max_N", "t_imp_s"]
+
+
+class ImpactDesign(_Model):
+    """The nominal design of an impact sweep: manipulator, foam, head, closing speed."""
+
+    robot: RobotSpec
+    foam: FoamSpec
+    head: HeadSpec
+    impact_velocity: Annotated[_Number, Field(gt=0, le=20.0, allow_inf_nan=False)] = Field(
+        description="closing velocity v_c, m/s"
+    )
+
+
+class ImpactSweepSpec(SweepSpec):
+    """Design points of an ``impact_sweep`` (see :mod:`designlab.study.sweeps`)."""
+
+    parameters: ImpactSweepParameters  # type: ignore[valid-type]
+
+
+class ImpactSensitivitySpec(_Model):
+    """Sensitivity tables of an ``impact_sweep``."""
+
+    metrics: list[ImpactMetricName] = Field(
+        default_factory=lambda: list(IMPACT_METRICS),
+        min_length=1,
+        description="metrics to analyse: " + ", ".join(IMPACT_METRICS),
+    )
+    local: bool = Field(
+        True, description="elasticities d ln(metric) / d ln(parameter) at the base (CasADi AD)"
+    )
+    one_at_a_time: OneAtATimeSpec | None = Field(
+        None, description="percentage perturbation table (Zeng 2011 App. C form)"
+    )
+    sobol: SobolSpec | None = Field(None, description="global Sobol indices (SALib)")
+    tornado: bool = Field(
+        True, description="metric at each sweep parameter's low and high (others at base)"
+    )
+
+
+class SweepStudyBase(StudyBase):
+    """Fields and hooks common to the sweep kinds (``impact_sweep``, ...).
+
+    A kind says how a dotted parameter path maps to a key of its plain point
+    dictionary (``PARAMETERS``), which worker-side evaluator computes a point
+    (``EVALUATOR``, see :mod:`designlab.analysis.sweep`) and which metrics it
+    returns (``METRICS``).
+    """
+
+    PARAMETERS: ClassVar[dict[str, tuple[str, ParameterInfo]]] = {}
+    METRICS: ClassVar[dict[str, str]] = {}
+    EVALUATOR: ClassVar[str] = ""
+    LOCAL_EVALUATOR: ClassVar[str | None] = None
+    PRODUCES: ClassVar[tuple[str, ...]] = (
+        "summary.md",
+        "results.csv",
+        "sensitivity_*.csv",
+        "*.png",
+        "study.yaml",
+    )
+
+    def base_point(self) -> dict[str, float]:  # pragma: no cover - overridden
+        """The base design as a plain point dictionary."""
+        raise NotImplementedError
+
+    def evaluator_options(self) -> dict[str, Any]:
+        """Settings of the evaluator that are the same for every point."""
+        return {}
+
+    def _check_paths(self) -> None:
+        sens = getattr(self, "sensitivity", None)
+        sweep = getattr(self, "sweep", None)
+        swept = [p for p, _ in sweep.parameters.items()] if sweep is not None else []
+        if sens is None:
+            return
+        known = list(self.PARAMETERS)
+        for block, label in ((sens.one_at_a_time, "one_at_a_time"), (sens.sobol, "sobol")):
+            if block is None:
+                continue
+            paths = block.parameters if block.parameters is not None else swept
+            if not paths:
+                raise ValueError(
+                    f"sensitivity.{label}: give parameters: [...] or a sweep with parameters"
+                )
+            for path in paths:
+                if path not in known:
+                    raise ValueError(
+                        f"sensitivity.{label}.parameters: unknown parameter {path!r}"
+                        f"{did_you_mean(path, known)} (known: {', '.join(known)})"
+                    )
+            if label == "sobol":
+                ranged = {p for p, r in sweep.parameters.items()} if sweep is not None else set()
+                missing = [p for p in paths if p not in ranged]
+                if missing:
+                    raise ValueError(
+                        f"sensitivity.sobol: {', '.join(missing)} need a range in "
+                        "sweep.parameters (low/high or values)"
+                    )
+                if len(paths) < 2:
+                    raise ValueError("sensitivity.sobol needs at least two parameters")
+
+
+class ImpactSweepStudy(SweepStudyBase):
+    """Impact metrics over a sweep of designs, with sensitivity tables.
+
+    Every point is one impact of the linear coupled model
+    (:func:`designlab.impact.impact_metrics`): a_h,max, eps_max, peak force,
+    impact period, status and ``bottoming`` (eps_max > lambda).
+    """
+
+    kind: Literal["impact_sweep"]
+    base: ImpactDesign = Field(description="nominal design; the sweep varies some of it")
+    sweep: ImpactSweepSpec | None = None
+    sensitivity: ImpactSensitivitySpec | None = None
+
+    PARAMETERS: ClassVar[dict[str, tuple[str, ParameterInfo]]] = IMPACT_PARAMETERS
+    METRICS: ClassVar[dict[str, str]] = IMPACT_METRICS
+    EVALUATOR: ClassVar[str] = "impact_metrics"
+    LOCAL_EVALUATOR: ClassVar[str] = "impact_elasticities"
+
+    @model_validator(mode="after")
+    def _paths(self) -> ImpactSweepStudy:
+        if self.sweep is None and self.sensitivity is None:
+            raise ValueError("give a sweep, a sensitivity block, or both")
+        self._check_paths()
+        return self
+
+    def base_point(self) -> dict[str, float]:
+        """The base design as ``{M_r, C_r, K_r, K_c, C_c, lambda, M_h, C_h, K_h, v_c}``."""
+        r, f, h = self.base.robot.build(), self.base.foam.build(), self.base.head.build()
+        return {
+            "M_r": float(r.mass),
+            "C_r": float(r.damping),
+            "K_r": float(r.stiffness),
+            "K_c": float(f.stiffness),
+            "C_c": float(f.damping),
+            "lambda": float(f.linear_depth),
+            "M_h": float(h.mass),
+            "C_h": float(h.damping),
+            "K_h": float(h.stiffness),
+            "v_c": float(self.base.impact_velocity),
+        }
+
+
+#: Every study kind, keyed by its ``kind`` value. To add a kind: subclass
+#: :class:`StudyBase` (or :class:`SweepStudyBase`) with ``kind: Literal["new"]``,
+#: add it here and to :data:`Study`, and register a runner and a report writer.
+STUDY_KINDS: dict[str, type[StudyBase]] = {
+    "impact_cases": ImpactCasesStudy,
+    "impact_sweep": ImpactSweepStudy,
+}
 
 #: A study of any kind (discriminated on ``kind``).
-Study = Annotated[ImpactCasesStudy, Field(discriminator="kind")]
+Study = Annotated[ImpactCasesStudy | ImpactSweepStudy, Field(discriminator="kind")]
 
 #: Validates a plain dict into the right study model.
-STUDY_ADAPTER: TypeAdapter[ImpactCasesStudy] = TypeAdapter(Study)
+STUDY_ADAPTER: TypeAdapter[Any] = TypeAdapter(Study)
+
+
+def study_json_schema() -> dict[str, Any]:
+    """The JSON Schema of a study file (every kind), for editors and CI.
+
+    Examples
+    --------
+    >>> schema = study_json_schema()
+    >>> sorted(schema["discriminator"]["mapping"])
+    ['impact_cases', 'impact_sweep']
+    """
+    schema = STUDY_ADAPTER.json_schema(by_alias=True)
+    schema["$schema"] = "https://json-schema.org/draft/2020-12/schema"
+    schema["title"] = f"designlab study (format {FORMAT_VERSION})"
+    return schema

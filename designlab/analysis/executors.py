@@ -1,0 +1,252 @@
+"""Executors: run plain-dict tasks serially, in local processes or on Dask.
+
+An executor maps a picklable top-level function over a list of tasks (plain
+dictionaries) and yields ``(index, result)`` pairs as tasks finish, in
+completion order. The function must build its models inside the worker:
+CasADi objects with free symbols do not pickle.
+
+``serial``
+    In this process, in order (the default; no start-up cost).
+``processes``
+    A :class:`concurrent.futures.ProcessPoolExecutor` of ``workers`` local
+    processes (``forkserver`` start on POSIX, with designlab preloaded).
+``dask``
+    A :class:`distributed.Client` connected to ``scheduler`` (e.g.
+    ``tcp://host:8786``) or, without an address, to a new
+    :class:`distributed.LocalCluster` of ``workers`` single-threaded
+    processes. An unreachable scheduler raises :class:`ExecutorError` after
+    ``timeout`` seconds.
+
+Examples
+--------
+>>> with make_executor("serial") as ex:
+...     sorted(ex.map_unordered(abs, [-1, -2]))
+[(0, 1), (1, 2)]
+"""
+
+from __future__ import annotations
+
+import logging
+import multiprocessing
+import os
+import sys
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from types import TracebackType
+from typing import Any
+
+from designlab.errors import DesignlabError
+
+__all__ = [
+    "EXECUTORS",
+    "DaskExecutor",
+    "Executor",
+    "ExecutorError",
+    "ProcessExecutor",
+    "SerialExecutor",
+    "make_executor",
+]
+
+logger = logging.getLogger(__name__)
+
+#: Names accepted by :func:`make_executor` (and ``designlab run --executor``).
+EXECUTORS = ("serial", "processes", "dask")
+
+
+class ExecutorError(DesignlabError, RuntimeError):
+    """An executor cannot start (no Dask installed, scheduler unreachable, ...)."""
+
+
+class Executor:
+    """Base class: a context manager with :meth:`map_unordered`."""
+
+    name = "executor"
+    workers = 1
+
+    def __enter__(self) -> Executor:
+        return self
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        self.close()
+
+    def close(self) -> None:
+        """Release workers (idempotent)."""
+
+    def map_unordered(
+        self, fn: Callable[[Any], Any], tasks: Sequence[Any]
+    ) -> Iterator[tuple[int, Any]]:  # pragma: no cover - abstract
+        """Yield ``(index, fn(tasks[index]))`` as tasks finish."""
+        raise NotImplementedError
+
+    def describe(self) -> str:
+        """A short description for logs and reports."""
+        return f"{self.name} ({self.workers} worker{'s' if self.workers != 1 else ''})"
+
+
+class SerialExecutor(Executor):
+    """Run tasks one after another in this process."""
+
+    name = "serial"
+
+    def map_unordered(
+        self, fn: Callable[[Any], Any], tasks: Sequence[Any]
+    ) -> Iterator[tuple[int, Any]]:
+        for i, task in enumerate(tasks):
+            yield i, fn(task)
+
+
+def _yield_futures(futures: dict[Future[Any], int]) -> Iterator[tuple[int, Any]]:
+    pending = set(futures)
+    try:
+        while pending:
+            done, pending = wait(pending, return_when=FIRST_COMPLETED)
+            for fut in done:
+                yield futures[fut], fut.result()
+    finally:
+        for fut in pending:
+            fut.cancel()
+
+
+class ProcessExecutor(Executor):
+    """A pool of local worker processes."""
+
+    name = "processes"
+
+    def __init__(self, workers: int | None = None) -> None:
+        self.workers = workers or os.cpu_count() or 1
+        if sys.platform != "win32":
+            ctx = multiprocessing.get_context("forkserver")
+            ctx.set_forkserver_preload(["designlab.analysis.sweep"])
+        else:  # pragma: no cover
+            ctx = multiprocessing.get_context("spawn")
+        self._pool = ProcessPoolExecutor(max_workers=self.workers, mp_context=ctx)
+
+    def close(self) -> None:
+        self._pool.shutdown(wait=True, cancel_futures=True)
+
+    def map_unordered(
+        self, fn: Callable[[Any], Any], tasks: Sequence[Any]
+    ) -> Iterator[tuple[int, Any]]:
+        futures = {self._pool.submit(fn, task): i for i, task in enumerate(tasks)}
+        yield from _yield_futures(futures)
+
+
+class DaskExecutor(Executor):
+    """Tasks on a Dask distributed cluster (a new LocalCluster without ``scheduler``)."""
+
+    name = "dask"
+
+    def __init__(
+        self,
+        scheduler: str | None = None,
+        workers: int | None = None,
+        *,
+        timeout: float = 5.0,
+        processes: bool = True,
+    ) -> None:
+        try:
+            from distributed import Client, LocalCluster
+        except ImportError as exc:
+            raise ExecutorError(
+                "the dask executor needs dask[distributed]: pip install 'designlab[dask]'"
+            ) from exc
+        self.scheduler = scheduler
+        self._cluster = None
+        try:
+            if scheduler is None:
+                self.workers = workers or os.cpu_count() or 1
+                self._cluster = LocalCluster(
+                    n_workers=self.workers,
+                    threads_per_worker=1,
+                    processes=processes,
+                    dashboard_address=None,
+                    silence_logs=logging.ERROR,
+                )
+                self._client = Client(self._cluster, timeout=timeout)
+            else:
+                self._client = Client(scheduler, timeout=timeout)
+                self.workers = len(self._client.scheduler_info().get("workers", {})) or 1
+        except (OSError, TimeoutError) as exc:
+            self.close()
+            where = f"the Dask scheduler at {scheduler}" if scheduler else "a local Dask cluster"
+            raise ExecutorError(
+                f"cannot reach {where} within {timeout:g} s ({type(exc).__name__}: {exc}); "
+                "check the address and that `dask scheduler` is running"
+            ) from None
+
+    def describe(self) -> str:
+        where = self.scheduler or "LocalCluster"
+        return f"dask {where} ({self.workers} worker{'s' if self.workers != 1 else ''})"
+
+    def close(self) -> None:
+        client = getattr(self, "_client", None)
+        if client is not None:
+            client.close()
+            self._client = None
+        if self._cluster is not None:
+            self._cluster.close()
+            self._cluster = None
+
+    def map_unordered(
+        self, fn: Callable[[Any], Any], tasks: Sequence[Any]
+    ) -> Iterator[tuple[int, Any]]:
+        from distributed import as_completed
+
+        futures = self._client.map(fn, list(tasks), pure=False)
+        index = {f.key: i for i, f in enumerate(futures)}
+        ac = as_completed(futures)
+        try:
+            for fut in ac:
+                yield index[fut.key], fut.result()
+        finally:
+            for fut in futures:
+                if not fut.done():
+                    fut.cancel()
+
+
+def make_executor(
+    name: str = "serial",
+    *,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    timeout: float = 5.0,
+    processes: bool = True,
+) -> Executor:
+    """Create an executor by name (``serial``, ``processes`` or ``dask``).
+
+    Parameters
+    ----------
+    name
+        One of :data:`EXECUTORS`.
+    workers
+        Worker processes (default: the number of CPUs). Ignored by ``serial``
+        and by ``dask`` with a scheduler address.
+    scheduler
+        Dask scheduler address; only with ``dask``.
+    timeout
+        Seconds to wait for the Dask scheduler.
+    processes
+        ``dask`` LocalCluster only: worker processes (``False``: threads in
+        this process, for tests).
+
+    Raises
+    ------
+    ExecutorError
+        Unknown name, an option that does not apply, or a cluster that cannot start.
+    """
+    if workers is not None and workers < 1:
+        raise ExecutorError(f"workers = {workers} is not allowed: must be >= 1")
+    if scheduler is not None and name != "dask":
+        raise ExecutorError(f"--scheduler is only used by the dask executor, not {name!r}")
+    if name == "serial":
+        return SerialExecutor()
+    if name == "processes":
+        return ProcessExecutor(workers)
+    if name == "dask":
+        return DaskExecutor(scheduler, workers, timeout=timeout, processes=processes)
+    raise ExecutorError(f"unknown executor {name!r} (known: {', '.join(EXECUTORS)})")

@@ -1,0 +1,320 @@
+"""Sensitivity tables: local elasticities, one-at-a-time percentages, Sobol indices.
+
+Three views of how a metric depends on the design parameters, each a
+:class:`SensitivityTable` (a long pandas frame with ranked CSV/Markdown
+output in the manner of GPkit's sensitivity tables):
+
+* :func:`elasticity_table` - local elasticities ``d ln(metric) / d ln(p)``
+  at the base design (for smooth metrics; the impact metrics get them
+  exactly by CasADi automatic differentiation). An elasticity of +0.5 means
+  a 1 % larger parameter gives a 0.5 % larger metric.
+* :func:`one_at_a_time_table` - the metric when each parameter alone is
+  changed by a list of percentages, with the relative sensitivity
+  ``S = (Δm / m0) / (Δp / p0)`` in % (Zeng 2011, App. C, eqs. C.3.1-C.3.4).
+* :func:`sobol_table` - first-order and total Sobol indices from SALib
+  (variance-based, global; for metrics that are not smooth or not monotone).
+
+:func:`range_table` and :func:`tornado_figure` give the tornado plot: the
+metric with each parameter at the low and the high end of its range.
+
+Examples
+--------
+>>> t = elasticity_table({"a_h_max_g": {"M_r": 0.21, "K_c": 0.45, "v_c": 1.0}})
+>>> print(t.to_markdown("a_h_max_g"))
+| parameter   |   elasticity |
+|:------------|-------------:|
+| v_c         |         1    |
+| K_c         |         0.45 |
+| M_r         |         0.21 |
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+from numpy.typing import ArrayLike
+
+__all__ = [
+    "SensitivityTable",
+    "elasticity_table",
+    "one_at_a_time_table",
+    "range_table",
+    "sobol_table",
+    "tornado_figure",
+]
+
+
+@dataclass(frozen=True)
+class SensitivityTable:
+    """A sensitivity table: one row per (metric, parameter[, perturbation]).
+
+    Attributes
+    ----------
+    kind
+        ``"elasticity"``, ``"one_at_a_time"``, ``"sobol"`` or ``"range"``.
+    frame
+        Long table with columns ``metric``, ``parameter`` and the values.
+    rank_by
+        The column whose absolute value orders the ranked tables.
+    columns
+        The value columns shown in Markdown.
+    descriptions
+        Parameter -> description (with unit), shown when given.
+    """
+
+    kind: str
+    frame: pd.DataFrame
+    rank_by: str
+    columns: tuple[str, ...]
+    descriptions: dict[str, str] = field(default_factory=dict)
+
+    @property
+    def metrics(self) -> list[str]:
+        """Metrics in the table, in order."""
+        return list(dict.fromkeys(self.frame["metric"]))
+
+    def to_frame(self) -> pd.DataFrame:
+        """The long table (a copy)."""
+        return self.frame.copy()
+
+    def ranked(self, metric: str) -> pd.DataFrame:
+        """Rows of ``metric``, most influential parameter first (by ``|rank_by|``)."""
+        rows = self.frame[self.frame["metric"] == metric].copy()
+        order = rows[self.rank_by].abs().fillna(-1.0).sort_values(ascending=False, kind="stable")
+        rows = rows.loc[order.index]
+        cols = ["parameter", *self.columns]
+        if self.descriptions:
+            rows["description"] = [self.descriptions.get(p, "") for p in rows["parameter"]]
+            cols.append("description")
+        return rows[cols].reset_index(drop=True)
+
+    def to_markdown(self, metric: str | None = None, floatfmt: str = ".4g") -> str:
+        """Ranked Markdown table(s); one section per metric unless ``metric`` is given."""
+        if metric is not None:
+            return str(self.ranked(metric).to_markdown(index=False, floatfmt=floatfmt))
+        parts = []
+        for m in self.metrics:
+            parts += [f"**{m}**", "", self.to_markdown(m, floatfmt), ""]
+        return "\n".join(parts).rstrip()
+
+    def to_csv(self) -> str:
+        """The long table as CSV text (7 significant digits)."""
+        return str(self.frame.to_csv(index=False, float_format="%.7g", lineterminator="\n"))
+
+
+def elasticity_table(
+    elasticities: Mapping[str, Mapping[str, float]],
+    descriptions: Mapping[str, str] | None = None,
+) -> SensitivityTable:
+    """Local elasticities, ``{metric: {parameter: d ln m / d ln p}}``."""
+    rows = [
+        {"metric": m, "parameter": p, "elasticity": float(v)}
+        for m, per in elasticities.items()
+        for p, v in per.items()
+    ]
+    return SensitivityTable(
+        "elasticity", pd.DataFrame(rows), "elasticity", ("elasticity",), dict(descriptions or {})
+    )
+
+
+def one_at_a_time_table(
+    base: Mapping[str, float],
+    rows: Sequence[tuple[str, float, float, Mapping[str, float]]],
+    descriptions: Mapping[str, str] | None = None,
+) -> SensitivityTable:
+    """The Appendix-C table: metrics and relative sensitivities per perturbation.
+
+    Parameters
+    ----------
+    base
+        Metric values at the base design.
+    rows
+        ``(parameter, delta_pct, parameter_value, {metric: value})``: the
+        metrics with one parameter changed by ``delta_pct`` % (NaN if the
+        point failed).
+    descriptions
+        Parameter descriptions.
+
+    Returns
+    -------
+    SensitivityTable
+        Columns ``delta_pct``, ``value`` (the parameter), ``metric_value``,
+        ``change_pct`` = 100 Δm/m0 and ``S_pct`` = 100 (Δm/m0)/(Δp/p0); the
+        ranked view lists, per parameter, the largest ``|S_pct|``.
+
+    Examples
+    --------
+    >>> t = one_at_a_time_table({"y": 2.0}, [("k", 10.0, 1.1, {"y": 2.1}),
+    ...                                      ("k", -10.0, 0.9, {"y": 1.92})])
+    >>> t.frame[["delta_pct", "change_pct", "S_pct"]].round(3).values.tolist()
+    [[-10.0, -4.0, 40.0], [10.0, 5.0, 50.0]]
+    >>> t.summary()[["parameter", "S_max_pct", "S_mean_pct"]].values.tolist()
+    [['k', 50.0, 45.0]]
+    """
+    out = []
+    for param, delta, value, metrics in rows:
+        for m, y in metrics.items():
+            y0 = base.get(m, np.nan)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                change = 100.0 * (y - y0) / y0 if y0 else np.nan
+            s = change / delta * 100.0 if delta else np.nan
+            out.append(
+                {
+                    "metric": m,
+                    "parameter": param,
+                    "delta_pct": float(delta),
+                    "value": float(value),
+                    "metric_value": float(y),
+                    "change_pct": float(change),
+                    "S_pct": float(s),
+                }
+            )
+    frame = pd.DataFrame(out)
+    if len(frame):
+        frame = frame.sort_values(["metric", "parameter", "delta_pct"], kind="stable")
+        frame = frame.reset_index(drop=True)
+    return _OATTable(
+        "one_at_a_time",
+        frame,
+        "S_max_pct",
+        ("S_max_pct", "S_mean_pct"),
+        dict(descriptions or {}),
+    )
+
+
+@dataclass(frozen=True)
+class _OATTable(SensitivityTable):
+    """One-at-a-time table; ranked by the largest |S| over the perturbations."""
+
+    def summary(self) -> pd.DataFrame:
+        """Per metric and parameter: max and mean of ``|S_pct|`` (App. C.3 style)."""
+        f = self.frame.assign(abs_S=self.frame["S_pct"].abs())
+        g = f.groupby(["metric", "parameter"], sort=False)["abs_S"]
+        return pd.DataFrame({"S_max_pct": g.max(), "S_mean_pct": g.mean()}).reset_index()
+
+    def ranked(self, metric: str) -> pd.DataFrame:
+        s = self.summary()
+        rows = s[s["metric"] == metric]
+        rows = rows.iloc[np.argsort(-rows["S_max_pct"].fillna(-1.0).to_numpy(), kind="stable")]
+        cols = ["parameter", *self.columns]
+        rows = rows.copy()
+        if self.descriptions:
+            rows["description"] = [self.descriptions.get(p, "") for p in rows["parameter"]]
+            cols.append("description")
+        return rows[cols].reset_index(drop=True)
+
+    def percentage_table(self, metric: str) -> pd.DataFrame:
+        """Wide App.-C form for one metric: rows Δ%, a value and S column per parameter."""
+        f = self.frame[self.frame["metric"] == metric]
+        wide = f.pivot_table(
+            index="delta_pct", columns="parameter", values=["metric_value", "S_pct"], sort=False
+        )
+        wide.columns = [f"{p} {'S %' if v == 'S_pct' else metric}" for v, p in wide.columns]
+        params = list(dict.fromkeys(f["parameter"]))
+        cols = [c for p in params for c in (f"{p} {metric}", f"{p} S %") if c in wide.columns]
+        return wide[cols].reset_index()
+
+
+def sobol_table(
+    names: Sequence[str],
+    bounds: Sequence[tuple[float, float]],
+    outputs: Mapping[str, ArrayLike],
+    *,
+    seed: int = 0,
+    descriptions: Mapping[str, str] | None = None,
+) -> SensitivityTable:
+    """First-order (S1) and total (ST) Sobol indices with 95 % confidence half-widths.
+
+    ``outputs[metric]`` are the model outputs at the points of
+    :func:`designlab.analysis.sampling.saltelli` (same names, bounds and
+    order). Points that failed (NaN) make the indices of that metric NaN.
+    """
+    from SALib.analyze import sobol
+
+    problem = {"num_vars": len(names), "names": list(names), "bounds": [list(b) for b in bounds]}
+    rows = []
+    for metric, y in outputs.items():
+        y = np.asarray(y, dtype=float)
+        if np.all(np.isfinite(y)) and np.ptp(y) > 0:
+            res = sobol.analyze(problem, y, calc_second_order=False, seed=seed)
+            vals = {k: res[k] for k in ("S1", "S1_conf", "ST", "ST_conf")}
+        else:
+            vals = {k: np.full(len(names), np.nan) for k in ("S1", "S1_conf", "ST", "ST_conf")}
+        for j, name in enumerate(names):
+            rows.append(
+                {"metric": metric, "parameter": name} | {k: float(v[j]) for k, v in vals.items()}
+            )
+    return SensitivityTable(
+        "sobol",
+        pd.DataFrame(rows),
+        "ST",
+        ("S1", "S1_conf", "ST", "ST_conf"),
+        dict(descriptions or {}),
+    )
+
+
+def range_table(
+    base: Mapping[str, float],
+    rows: Sequence[tuple[str, float, float, Mapping[str, float], Mapping[str, float]]],
+    descriptions: Mapping[str, str] | None = None,
+) -> SensitivityTable:
+    """Metric at each parameter's low and high end (others at base): the tornado data.
+
+    ``rows`` are ``(parameter, low, high, metrics_at_low, metrics_at_high)``;
+    ``swing`` = metric(high) - metric(low), ranked by ``|swing|``.
+    """
+    out = []
+    for param, lo, hi, at_lo, at_hi in rows:
+        for m in at_lo:
+            out.append(
+                {
+                    "metric": m,
+                    "parameter": param,
+                    "low": float(lo),
+                    "high": float(hi),
+                    "base_metric": float(base.get(m, np.nan)),
+                    "metric_at_low": float(at_lo[m]),
+                    "metric_at_high": float(at_hi[m]),
+                    "swing": float(at_hi[m] - at_lo[m]),
+                }
+            )
+    return SensitivityTable(
+        "range",
+        pd.DataFrame(out),
+        "swing",
+        ("low", "high", "metric_at_low", "metric_at_high", "swing"),
+        dict(descriptions or {}),
+    )
+
+
+def tornado_figure(table: SensitivityTable, metric: str, *, title: str | None = None):  # type: ignore[no-untyped-def]
+    """Tornado plot of a :func:`range_table`: bars from the base value to each end.
+
+    Returns a :class:`matplotlib.figure.Figure` (not shown, not saved).
+    """
+    from matplotlib.figure import Figure
+
+    rows = table.ranked(metric).iloc[::-1]
+    full = table.frame[table.frame["metric"] == metric]
+    base = float(full["base_metric"].iloc[0]) if len(full) else np.nan
+    fig = Figure(figsize=(7.0, 0.45 * max(len(rows), 3) + 1.4))
+    ax = fig.add_subplot()
+    y = np.arange(len(rows))
+    lo = rows["metric_at_low"].to_numpy() - base
+    hi = rows["metric_at_high"].to_numpy() - base
+    ax.barh(y, lo, left=base, color="#4c72b0", label="parameter at low end")
+    ax.barh(y, hi, left=base, color="#dd8452", label="parameter at high end")
+    ax.axvline(base, color="k", lw=0.8)
+    labels = [
+        f"{p}  [{a:.4g}, {b:.4g}]"
+        for p, a, b in zip(rows["parameter"], rows["low"], rows["high"], strict=True)
+    ]
+    ax.set_yticks(y, labels)
+    ax.set_xlabel(metric)
+    ax.set_title(title or f"Tornado: {metric} (base {base:.4g})")
+    ax.legend(loc="best", fontsize="small")
+    fig.tight_layout()
+    return fig

@@ -1,0 +1,301 @@
+"""Schema building blocks shared by every sweep study kind.
+
+A sweep study has a ``base`` design, an optional ``sweep`` (the design points
+of its results table) and an optional ``sensitivity`` block. The parameters a
+kind can sweep are fields of a kind-specific model built by
+:func:`parameter_model`, one field per dotted path (``foam.stiffness``), each
+with its unit and allowed range, so that a misspelt path is reported with a
+"did you mean" and an out-of-range value with the allowed range and unit.
+
+Sampling methods (``sweep.method``):
+
+``list``
+    Every parameter gives ``values`` of the same length; point i takes the
+    i-th value of each (a table of designs).
+``grid``
+    The Cartesian product of each parameter's ``values`` (or of ``num``
+    points between ``low`` and ``high``, ``scale: linear | log``).
+``lhs``
+    ``samples`` seeded Latin-hypercube points in the box ``low``-``high``
+    (:class:`scipy.stats.qmc.LatinHypercube`).
+``sobol``
+    ``samples`` (a power of two) seeded scrambled Sobol points
+    (:class:`scipy.stats.qmc.Sobol`).
+
+Examples
+--------
+>>> info = ParameterInfo("foam stiffness K_c", "N/m", gt=0)
+>>> Params = parameter_model("Demo", {"foam.stiffness": info})
+>>> p = Params.model_validate({"foam.stiffness": {"low": 1e4, "high": 6e4, "num": 3}})
+>>> [(path, rng.grid()) for path, rng in p.items()]
+[('foam.stiffness', [10000.0, 35000.0, 60000.0])]
+>>> Params.model_validate({"foam.stiffness": {"values": [-1]}})
+Traceback (most recent call last):
+...
+pydantic_core._pydantic_core.ValidationError: 1 validation error for Demo
+foam.stiffness
+  Value error, -1 N/m is out of range for foam stiffness K_c: allowed > 0 N/m ...
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Annotated, Any, ClassVar, Literal
+
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, create_model, model_validator
+
+__all__ = [
+    "OneAtATimeSpec",
+    "ParameterInfo",
+    "ParameterRange",
+    "SobolSpec",
+    "SweepSpec",
+    "parameter_model",
+]
+
+
+def _reject_bool(value: Any) -> Any:
+    if isinstance(value, bool):
+        raise ValueError("must be a number, not a boolean")
+    return value
+
+
+_Number = Annotated[float, BeforeValidator(_reject_bool)]
+_Finite = Annotated[_Number, Field(allow_inf_nan=False)]
+
+
+class _Model(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+@dataclass(frozen=True)
+class ParameterInfo:
+    """What a sweepable parameter is: description, SI unit and allowed range."""
+
+    description: str
+    unit: str
+    gt: float | None = None
+    ge: float | None = None
+    le: float | None = None
+
+    def allowed(self) -> str:
+        """The allowed range as text, e.g. ``"> 0 N/m"``."""
+        parts = []
+        if self.gt is not None:
+            parts.append(f"> {self.gt:g}")
+        if self.ge is not None:
+            parts.append(f">= {self.ge:g}")
+        if self.le is not None:
+            parts.append(f"<= {self.le:g}")
+        text = " and ".join(parts) or "any finite value"
+        return f"{text} {self.unit}".rstrip()
+
+    def check(self, value: float) -> bool:
+        """Whether ``value`` is allowed."""
+        return (
+            math.isfinite(value)
+            and (self.gt is None or value > self.gt)
+            and (self.ge is None or value >= self.ge)
+            and (self.le is None or value <= self.le)
+        )
+
+
+class ParameterRange(_Model):
+    """How one parameter varies: explicit ``values``, or ``low``/``high`` (and ``num``).
+
+    Units are those of the parameter (SI; see its description).
+    """
+
+    INFO: ClassVar[ParameterInfo | None] = None
+
+    values: list[_Finite] | None = Field(
+        None, min_length=1, description="explicit values (methods list and grid)"
+    )
+    low: _Finite | None = Field(None, description="lower bound of the range")
+    high: _Finite | None = Field(None, description="upper bound of the range")
+    num: Annotated[int, Field(ge=2, le=100_000)] | None = Field(
+        None, description="grid: number of points from low to high"
+    )
+    scale: Literal["linear", "log"] = Field(
+        "linear", description="spacing of grid points / sampling density"
+    )
+
+    @model_validator(mode="after")
+    def _consistent(self) -> ParameterRange:
+        has_range = self.low is not None or self.high is not None
+        if self.values is not None and (has_range or self.num is not None):
+            raise ValueError("give either values or low/high (and num), not both")
+        if self.values is None:
+            if self.low is None or self.high is None:
+                raise ValueError("give values: [...] or both low and high")
+            if not self.low < self.high:
+                raise ValueError(f"low = {self.low:g} must be < high = {self.high:g}")
+        if self.scale == "log" and min(self.bounds_or_values()) <= 0:
+            raise ValueError("scale: log needs positive values")
+        info = self.INFO
+        if info is not None:
+            for v in self.bounds_or_values():
+                if not info.check(v):
+                    raise ValueError(
+                        f"{v:g} {info.unit} is out of range for {info.description}: "
+                        f"allowed {info.allowed()}".replace("  ", " ")
+                    )
+        return self
+
+    def bounds_or_values(self) -> list[float]:
+        """The values given (``values``, or ``[low, high]``)."""
+        if self.values is not None:
+            return list(self.values)
+        return [float(self.low), float(self.high)]  # type: ignore[arg-type]
+
+    @property
+    def has_range(self) -> bool:
+        """Whether ``low`` and ``high`` are given."""
+        return self.low is not None
+
+    def grid(self) -> list[float]:
+        """Grid values: ``values``, or ``num`` points from low to high."""
+        import numpy as np
+
+        if self.values is not None:
+            return list(self.values)
+        if self.num is None:
+            raise ValueError("a grid needs values or num")
+        if self.scale == "log":
+            return [float(x) for x in np.geomspace(self.low, self.high, self.num)]
+        return [float(x) for x in np.linspace(self.low, self.high, self.num)]
+
+    def span(self) -> tuple[float, float]:
+        """``(low, high)``, or the min and max of ``values``."""
+        vals = self.bounds_or_values()
+        return min(vals), max(vals)
+
+
+def parameter_model(name: str, parameters: dict[str, ParameterInfo]) -> type[BaseModel]:
+    """Build the model of a kind's ``sweep.parameters`` mapping.
+
+    One optional field per dotted path (the YAML key), each validated against
+    its :class:`ParameterInfo`. The model has ``items()`` (the given
+    parameters in file order) and ``INFO`` (path -> info).
+    """
+    fields: dict[str, Any] = {}
+    for path, info in parameters.items():
+        rng = type(
+            f"{name}_{path.replace('.', '_')}",
+            (ParameterRange,),
+            {"INFO": info, "__doc__": f"{info.description}, {info.unit}; allowed {info.allowed()}"},
+        )
+        fields[path.replace(".", "__")] = (
+            rng | None,
+            Field(None, alias=path, description=f"{info.description}, {info.unit}"),
+        )
+
+    def items(self: BaseModel) -> list[tuple[str, ParameterRange]]:
+        out = []
+        for key, field in type(self).model_fields.items():
+            value = getattr(self, key)
+            if value is not None:
+                out.append((field.alias or key, value))
+        return out
+
+    def _at_least_one(self: BaseModel) -> BaseModel:
+        if not self.model_fields_set:
+            raise ValueError(f"give at least one parameter (known: {', '.join(parameters)})")
+        return self
+
+    model = create_model(  # type: ignore[call-overload]
+        name,
+        __base__=_Model,
+        __validators__={"_at_least_one": model_validator(mode="after")(_at_least_one)},
+        **fields,
+    )
+    model.items = items
+    model.INFO = dict(parameters)
+    model.__doc__ = "Parameters to vary, by dotted path. " + "; ".join(
+        f"``{p}``: {i.description}, {i.unit}" for p, i in parameters.items()
+    )
+    return model  # type: ignore[no-any-return]
+
+
+def _power_of_two(n: int) -> bool:
+    return n > 0 and (n & (n - 1)) == 0
+
+
+class SweepSpec(_Model):
+    """The design points of a sweep (subclassed per kind with its ``parameters``)."""
+
+    method: Literal["list", "grid", "lhs", "sobol"] = Field(
+        "grid", description="list | grid | lhs (Latin hypercube) | sobol (quasi-random)"
+    )
+    samples: Annotated[int, Field(ge=1, le=1_000_000)] | None = Field(
+        None, description="number of points (lhs, sobol: a power of two)"
+    )
+    seed: Annotated[int, Field(ge=0)] = Field(0, description="seed of lhs/sobol sampling")
+    parameters: Any
+
+    @model_validator(mode="after")
+    def _method_fits(self) -> SweepSpec:
+        items = self.parameters.items()
+        if self.method in ("lhs", "sobol"):
+            if self.samples is None:
+                raise ValueError(f"method {self.method} needs samples: N")
+            if self.method == "sobol" and not _power_of_two(self.samples):
+                raise ValueError(
+                    f"method sobol needs samples to be a power of two (got {self.samples}; "
+                    f"try {1 << max(self.samples - 1, 1).bit_length()})"
+                )
+            for path, rng in items:
+                if not rng.has_range:
+                    raise ValueError(f"method {self.method}: {path} needs low and high")
+        else:
+            if self.samples is not None:
+                raise ValueError(
+                    f"samples is only used by methods lhs and sobol, not {self.method}"
+                )
+        if self.method == "list":
+            lengths = {path: len(rng.values or ()) for path, rng in items}
+            if any(rng.values is None for _, rng in items) or len(set(lengths.values())) != 1:
+                raise ValueError(
+                    "method list needs values of the same length for every parameter "
+                    f"(got {lengths})"
+                )
+        if self.method == "grid":
+            for path, rng in items:
+                if rng.values is None and rng.num is None:
+                    raise ValueError(f"method grid: {path} needs values or low, high and num")
+        return self
+
+
+class OneAtATimeSpec(_Model):
+    """One-at-a-time perturbations of the base design (the Appendix-C table form)."""
+
+    deltas_pct: list[Annotated[_Finite, Field(ge=-100, le=1000)]] = Field(
+        default_factory=lambda: [-50.0, -20.0, -10.0, -5.0, -2.0, 2.0, 5.0, 10.0, 20.0, 50.0],
+        min_length=1,
+        description="perturbations of each parameter, % of its base value",
+    )
+    parameters: list[str] | None = Field(
+        None, description="dotted paths (default: the sweep parameters)"
+    )
+
+
+class SobolSpec(_Model):
+    """Variance-based Sobol indices (SALib: Saltelli sampling, Sobol analysis)."""
+
+    samples: Annotated[int, Field(ge=2, le=1 << 20)] = Field(
+        256, description="base sample N (a power of two); N (D + 2) model runs"
+    )
+    seed: Annotated[int, Field(ge=0)] = Field(0, description="seed of sampling and bootstrap")
+    parameters: list[str] | None = Field(
+        None, description="dotted paths, ranges from the sweep (default: all with a range)"
+    )
+
+    @model_validator(mode="after")
+    def _pow2(self) -> SobolSpec:
+        if not _power_of_two(self.samples):
+            raise ValueError(
+                f"samples must be a power of two (got {self.samples}; "
+                f"try {1 << max(self.samples - 1, 1).bit_length()})"
+            )
+        return self
