@@ -1,18 +1,27 @@
 """The ``designlab`` command.
 
-``designlab run STUDY.yaml``
+``designlab run STUDY.yaml [--executor serial|processes|dask] [--resume]``
     Validate and run a study and write its report to
-    ``<output-dir>/<study name>/`` (default output dir: ``reports``).
+    ``<output-dir>/<study name>/`` (default output dir: ``reports``) and
+    ``<output-dir>/index.md``. Sweep points are cached in
+    ``<cache-dir>/<study name>/`` as they finish.
+``designlab report STUDY.yaml``
+    Rebuild a report from the cache, computing nothing.
 ``designlab validate STUDY.yaml ...``
     Check study files against the schema without running them.
 ``designlab list``
     List the studies in ``./studies`` and what each produces.
+``designlab schema``
+    Print the JSON Schema of study files.
 ``designlab --version``
     Print the version.
 
-Exit codes: 0 success; 1 a designlab error other than a bad study (a model
-or solver failure, a report that cannot be written); 2 an invalid study file
-or bad command-line usage.
+Exit codes: 0 success (failed sweep points are listed in the report and as
+warnings); 1 a designlab error other than a bad study (a model or solver
+failure, a report or cache that cannot be written); 2 an invalid study file
+or bad command-line usage; 3 the executor cannot start (e.g. an unreachable
+Dask scheduler); 4 ``report``: points missing from the cache; 130
+interrupted (finished points stay cached: rerun with ``--resume``).
 """
 
 from __future__ import annotations
@@ -28,11 +37,26 @@ import typer
 from designlab import __version__
 from designlab.errors import DesignlabError, StudyError
 
-__all__ = ["EXIT_DESIGNLAB_ERROR", "EXIT_OK", "EXIT_STUDY_ERROR", "app", "main"]
+__all__ = [
+    "EXIT_CACHE_INCOMPLETE",
+    "EXIT_DESIGNLAB_ERROR",
+    "EXIT_EXECUTOR_ERROR",
+    "EXIT_INTERRUPTED",
+    "EXIT_OK",
+    "EXIT_STUDY_ERROR",
+    "app",
+    "main",
+]
 
 EXIT_OK = 0
 EXIT_DESIGNLAB_ERROR = 1
 EXIT_STUDY_ERROR = 2
+EXIT_EXECUTOR_ERROR = 3
+EXIT_CACHE_INCOMPLETE = 4
+EXIT_INTERRUPTED = 130
+
+#: Where sweep points are cached unless ``--cache-dir`` says otherwise.
+DEFAULT_CACHE_DIR = Path(".designlab-cache")
 
 app = typer.Typer(
     name="designlab",
@@ -45,7 +69,16 @@ app = typer.Typer(
 
 
 def _fail(exc: DesignlabError) -> NoReturn:
-    code = EXIT_STUDY_ERROR if isinstance(exc, StudyError) else EXIT_DESIGNLAB_ERROR
+    from designlab.analysis.executors import ExecutorError
+    from designlab.analysis.sweep import CacheIncompleteError
+
+    code = EXIT_DESIGNLAB_ERROR
+    if isinstance(exc, StudyError):
+        code = EXIT_STUDY_ERROR
+    elif isinstance(exc, ExecutorError):
+        code = EXIT_EXECUTOR_ERROR
+    elif isinstance(exc, CacheIncompleteError):
+        code = EXIT_CACHE_INCOMPLETE
     typer.echo(f"error: {exc}", err=True)
     raise typer.Exit(code)
 
@@ -77,30 +110,145 @@ def _main(
     )
 
 
+_CacheDir = Annotated[
+    Path,
+    typer.Option("--cache-dir", help="Sweep points are cached in CACHE_DIR/<study name>/."),
+]
+_OutputDir = Annotated[
+    Path,
+    typer.Option("--output-dir", "-o", help="Reports go to OUTPUT_DIR/<study name>/."),
+]
+
+
+def _write(result: object, study: Path, output_dir: Path, command: list[str]) -> None:
+    from designlab.report import write_report
+
+    text = study.read_text(encoding="utf-8")
+    out = write_report(result, output_dir, command=shlex.join(command), study_text=text)
+    for warning in getattr(result, "warnings", []):
+        typer.echo(f"warning: {warning}", err=True)
+    files = sorted(p.name for p in out.iterdir())
+    shown = ", ".join(files) if len(files) <= 6 else ", ".join(files[:5]) + ", ..."
+    typer.echo(f"wrote {out}/ ({shown})")
+    stats = getattr(result, "stats", None)
+    if stats:
+        typer.echo(
+            f"points: {stats['points']} ({stats['computed']} computed, {stats['cached']} "
+            f"from the cache, {stats['failed']} failed) on {stats['executor']}"
+        )
+
+
 @app.command()
 def run(
     study: Annotated[Path, typer.Argument(help="The study file (YAML).", show_default=False)],
-    output_dir: Annotated[
-        Path,
-        typer.Option("--output-dir", "-o", help="Reports go to OUTPUT_DIR/<study name>/."),
-    ] = Path("reports"),
+    output_dir: _OutputDir = Path("reports"),
+    executor: Annotated[
+        str,
+        typer.Option("--executor", "-e", help="serial, processes or dask (sweep studies)."),
+    ] = "serial",
+    workers: Annotated[
+        int | None,
+        typer.Option("--workers", "-j", min=1, help="Worker processes (default: CPU count)."),
+    ] = None,
+    scheduler: Annotated[
+        str | None,
+        typer.Option(
+            "--scheduler",
+            help="Dask scheduler address, e.g. tcp://host:8786 (default: a LocalCluster).",
+        ),
+    ] = None,
+    resume: Annotated[
+        bool, typer.Option("--resume", help="Reuse cached points; compute only missing ones.")
+    ] = False,
+    cache_dir: _CacheDir = DEFAULT_CACHE_DIR,
+    timeout: Annotated[
+        float, typer.Option("--timeout", help="Seconds to wait for the Dask scheduler.")
+    ] = 5.0,
 ) -> None:
     """Run a study and write its report (CSV, Markdown, PNG)."""
-    from designlab.report import write_report
+    from designlab.analysis.executors import EXECUTORS, make_executor
     from designlab.study import load_study, run_study
+    from designlab.study.schema import did_you_mean
 
+    if executor not in EXECUTORS:
+        typer.echo(
+            f"error: --executor {executor!r} is not known{did_you_mean(executor, EXECUTORS)} "
+            f"(known: {', '.join(EXECUTORS)})",
+            err=True,
+        )
+        raise typer.Exit(EXIT_STUDY_ERROR)
+    command = ["designlab", "run", str(study), "--output-dir", str(output_dir)]
+    if executor != "serial":
+        command += ["--executor", executor]
     try:
         spec = load_study(study)
-        text = study.read_text(encoding="utf-8")
-        result = run_study(spec, progress=sys.stderr.isatty())
-        command = shlex.join(["designlab", "run", str(study), "--output-dir", str(output_dir)])
-        out = write_report(result, output_dir, command=command, study_text=text)
+        ex = None
+        if executor != "serial" or scheduler is not None or workers is not None:
+            ex = make_executor(executor, workers=workers, scheduler=scheduler, timeout=timeout)
+        try:
+            result = run_study(
+                spec,
+                progress=sys.stderr.isatty(),
+                executor=ex,
+                cache_dir=cache_dir,
+                resume=resume,
+            )
+        finally:
+            if ex is not None:
+                ex.close()
+        _write(result, study, output_dir, command)
     except DesignlabError as exc:
         _fail(exc)
-    for warning in getattr(result, "warnings", []):
-        typer.echo(f"warning: {warning}", err=True)
-    files = ", ".join(sorted(p.name for p in out.iterdir()))
-    typer.echo(f"wrote {out}/ ({files})")
+    except KeyboardInterrupt:
+        typer.echo(
+            f"interrupted: finished points are cached in {cache_dir}/; no report was "
+            "written. Run the same command with --resume to finish.",
+            err=True,
+        )
+        raise typer.Exit(EXIT_INTERRUPTED) from None
+
+
+@app.command()
+def report(
+    study: Annotated[Path, typer.Argument(help="The study file (YAML).", show_default=False)],
+    output_dir: _OutputDir = Path("reports"),
+    cache_dir: _CacheDir = DEFAULT_CACHE_DIR,
+) -> None:
+    """Rebuild a study's report from the cache, without computing any point."""
+    from designlab.study import load_study, run_study
+
+    command = ["designlab", "report", str(study), "--output-dir", str(output_dir)]
+    try:
+        spec = load_study(study)
+        result = run_study(spec, cache_dir=cache_dir, cache_only=True)
+        _write(result, study, output_dir, command)
+    except DesignlabError as exc:
+        _fail(exc)
+
+
+@app.command()
+def schema(
+    output: Annotated[
+        Path | None, typer.Option("--output", "-o", help="Write to a file instead of stdout.")
+    ] = None,
+) -> None:
+    """Print the JSON Schema of study files (for editors and CI)."""
+    import json
+
+    from designlab.study.schema import study_json_schema
+
+    text = json.dumps(study_json_schema(), indent=2) + "\n"
+    if output is None:
+        typer.echo(text, nl=False)
+        return
+    from designlab.report import atomic_write_text
+
+    try:
+        atomic_write_text(output, text)
+    except OSError as exc:
+        typer.echo(f"error: cannot write {output}: {exc}", err=True)
+        raise typer.Exit(EXIT_DESIGNLAB_ERROR) from None
+    typer.echo(f"wrote {output}")
 
 
 @app.command()
@@ -122,6 +270,10 @@ def validate(
             continue
         n = len(getattr(spec, "cases", ()))
         detail = f", {n} case{'s' if n != 1 else ''}" if n else ""
+        if hasattr(spec, "base_point"):
+            from designlab.study.sweep_runner import count_points
+
+            detail = f", {count_points(spec)} points"
         typer.echo(f"ok: {path} (kind {spec.kind}{detail})")
     if failed:
         raise typer.Exit(EXIT_STUDY_ERROR)

@@ -124,6 +124,86 @@ def _impact_elasticities(points: list[Point], options: dict[str, Any]) -> list[d
     return out
 
 
+def _envelopes(pt: Point, damping: list[float]) -> tuple[Any, Any]:
+    from designlab.impact import ContactDynamics, HeadAcceleration, foam_envelope
+
+    robot = ContactDynamics(mass=pt["M_r"], stiffness=pt["K_r"], damping=pt["C_r"])
+    kw = {
+        "impact_velocity": pt["v_c"],
+        "criteria": [HeadAcceleration(max_g=pt["max_g"])],
+        "max_compression": pt["lambda"],
+    }
+    grid = foam_envelope(robot, damping=np.asarray(damping, dtype=float), **kw)
+    at_foam = foam_envelope(robot, damping=np.array([pt["C_c"]]), **kw)
+    return grid, at_foam
+
+
+@register_evaluator("foam_envelope")
+def _foam_envelope(points: list[Point], options: dict[str, Any]) -> list[dict[str, Any]]:
+    """Foam envelope over the damping grid; boundaries and margin at the point's foam."""
+    out = []
+    for pt in points:
+        grid, at = _envelopes(pt, options["damping"])
+        kmax = _f(at.stiffness_max[0])
+        kmin = _f(at.stiffness_min[0])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            margin = min(math.log10(kmax / pt["K_c"]), math.log10(pt["K_c"] / kmin))
+        out.append(
+            {
+                "k_c_max_N_per_m": kmax,
+                "k_c_min_N_per_m": kmin,
+                "margin_decades": margin if math.isfinite(margin) else math.nan,
+                "area_log": _f(grid.area(log=True)),
+                "feasible": bool(np.isfinite(margin) and margin > 0),
+                "empty": bool(grid.is_empty),
+                "status": "ok"
+                if not grid.warnings and not grid.is_empty
+                else ("empty" if grid.is_empty else "warning"),
+                "error": None,
+                "warnings": "; ".join(grid.warnings) or None,
+            }
+        )
+    return out
+
+
+@register_evaluator("envelope_elasticities")
+def _envelope_elasticities(points: list[Point], options: dict[str, Any]) -> list[dict[str, Any]]:
+    """Elasticities of the boundaries at the foam's damping (AD + implicit functions).
+
+    On the upper boundary a_h,max(K*, p) = limit, so
+    e(K*, p) = -e(a_h,max, p) / e(a_h,max, K_c) and e(K*, max_g) = 1 / e(a_h,max, K_c);
+    likewise for the lower boundary with eps_max = lambda.
+    """
+    from designlab.impact import HEAD_MAX, HEAD_MIN
+    from designlab.impact.derivatives import metric_gradients
+
+    out = []
+    for pt in points:
+        _, at = _envelopes(pt, [pt["C_c"]])
+        res: dict[str, Any] = {"status": "ok", "error": None}
+        for column, k, head, metric, limit_key in (
+            ("k_c_max_N_per_m", at.stiffness_max[0], HEAD_MIN, "peak_head_acceleration", "max_g"),
+            ("k_c_min_N_per_m", at.stiffness_min[0], HEAD_MAX, "max_compression", "lambda"),
+        ):
+            if not np.isfinite(k):
+                res[column] = {}
+                continue
+            p = [pt["M_r"], pt["C_r"], pt["K_r"], k, pt["C_c"],
+                 head.mass, head.damping, head.stiffness]  # fmt: skip
+            el = metric_gradients(p, pt["v_c"]).elasticities(metric)
+            e_k = _f(el["K_c"][0])
+            res[column] = {
+                "M_r": -_f(el["M_r"][0]) / e_k,
+                "C_r": -_f(el["C_r"][0]) / e_k,
+                "K_r": -_f(el["K_r"][0]) / e_k,
+                "C_c": -_f(el["C_c"][0]) / e_k,
+                "v_c": -_f(el["v_c"][0]) / e_k,
+                limit_key: 1.0 / e_k,
+            }
+        out.append(res)
+    return out
+
+
 def evaluate_task(task: dict[str, Any]) -> list[dict[str, Any]]:
     """Evaluate one chunk: ``{"evaluator": name, "options": {...}, "points": [...]}``.
 

@@ -225,6 +225,7 @@ def _run_impact_cases(study: ImpactCasesStudy, progress: bool, **_: Any) -> Impa
 _RUNNERS: dict[str, Callable[..., Any]] = {
     "impact_cases": _run_impact_cases,
     "impact_sweep": run_sweep_study,
+    "foam_envelope": run_sweep_study,
 }
 
 

@@ -69,11 +69,14 @@ from designlab.study.sweeps import (
 )
 
 __all__ = [
+    "ENVELOPE_METRICS",
+    "ENVELOPE_PARAMETERS",
     "FORMAT_VERSION",
     "IMPACT_METRICS",
     "IMPACT_PARAMETERS",
     "STUDY_ADAPTER",
     "STUDY_KINDS",
+    "FoamEnvelopeStudy",
     "FoamSpec",
     "HeadSpec",
     "ImpactCase",
@@ -562,16 +565,149 @@ class ImpactSweepStudy(SweepStudyBase):
         }
 
 
+# --- foam envelope sweeps ---------------------------------------------------------
+
+#: Parameters of a foam-envelope sweep: dotted path -> (point key, info).
+ENVELOPE_PARAMETERS: dict[str, tuple[str, ParameterInfo]] = {
+    "robot.mass": ("M_r", ParameterInfo("effective manipulator mass M_r", "kg", gt=0)),
+    "robot.stiffness": ("K_r", ParameterInfo("manipulator stiffness K_r", "N/m", ge=0)),
+    "robot.damping": ("C_r", ParameterInfo("manipulator damping C_r", "N s/m", ge=0)),
+    "impact_velocity": ("v_c", ParameterInfo("worst closing velocity v_c", "m/s", gt=0, le=20)),
+    "max_g": ("max_g", ParameterInfo("head acceleration limit a_h,max", "g", gt=0, le=1000)),
+    "foam.linear_depth": (
+        "lambda",
+        ParameterInfo("foam linear depth lambda (compression limit)", "m", gt=0, le=1),
+    ),
+    "foam.stiffness": ("K_c", ParameterInfo("stiffness K_c of the checked foam", "N/m", gt=0)),
+    "foam.damping": ("C_c", ParameterInfo("damping C_c of the checked foam", "N s/m", ge=0)),
+}
+
+#: Metrics of a ``foam_envelope`` point.
+ENVELOPE_METRICS: dict[str, str] = {
+    "k_c_max_N_per_m": "upper (safety) boundary K_c,max at the foam's damping, N/m",
+    "k_c_min_N_per_m": "lower (thickness) boundary K_c,min at the foam's damping, N/m",
+    "margin_decades": "margin of the foam to the nearest boundary, decades of K_c",
+    "area_log": "feasible area over the damping grid, decades x N s/m",
+}
+
+EnvelopeSweepParameters = parameter_model(
+    "EnvelopeSweepParameters", {path: info for path, (_, info) in ENVELOPE_PARAMETERS.items()}
+)
+EnvelopeMetricName = Literal["k_c_max_N_per_m", "k_c_min_N_per_m", "margin_decades", "area_log"]
+
+
+class EnvelopeDesign(_Model):
+    """The nominal design question of a foam envelope (Zeng 2011, Sec. 3.9).
+
+    The upper boundary uses the minimum head-neck set and a_h,max <= ``max_g``;
+    the lower boundary the maximum head-neck set and eps_max <= the foam's
+    ``linear_depth`` (both as in the thesis).
+    """
+
+    robot: RobotSpec
+    foam: FoamSpec = Field(description="the foam checked against the envelope (margin)")
+    impact_velocity: Annotated[_Number, Field(gt=0, le=20.0, allow_inf_nan=False)] = Field(
+        1.25, description="worst closing velocity v_c, m/s"
+    )
+    max_g: Annotated[_Number, Field(gt=0, le=1000, allow_inf_nan=False)] = Field(
+        10.0, description="head acceleration limit, g"
+    )
+
+
+class DampingGrid(_Model):
+    """The C_c grid of the envelope, N s/m."""
+
+    low: Annotated[_Number, Field(ge=0, allow_inf_nan=False)] = 0.0
+    high: Annotated[_Number, Field(gt=0, le=1e5, allow_inf_nan=False)] = 200.0
+    num: Annotated[int, Field(ge=2, le=2001)] = 21
+
+    @model_validator(mode="after")
+    def _order(self) -> DampingGrid:
+        if not self.low < self.high:
+            raise ValueError(f"low = {self.low:g} N s/m must be < high = {self.high:g} N s/m")
+        return self
+
+    def values(self) -> list[float]:
+        """The grid."""
+        step = (self.high - self.low) / (self.num - 1)
+        return [round(self.low + i * step, 12) for i in range(self.num)]
+
+
+class EnvelopeSweepSpec(SweepSpec):
+    """Design points of a ``foam_envelope`` study."""
+
+    parameters: EnvelopeSweepParameters  # type: ignore[valid-type]
+
+
+class EnvelopeSensitivitySpec(ImpactSensitivitySpec):
+    """Sensitivity tables of a ``foam_envelope`` study.
+
+    ``local`` elasticities are those of the boundaries K_c,max and K_c,min at
+    the foam's damping, exact by AD and the implicit function theorem.
+    """
+
+    metrics: list[EnvelopeMetricName] = Field(  # type: ignore[assignment]
+        default_factory=lambda: ["k_c_max_N_per_m", "k_c_min_N_per_m", "margin_decades"],
+        min_length=1,
+        description="metrics to analyse: " + ", ".join(ENVELOPE_METRICS),
+    )
+
+
+class FoamEnvelopeStudy(SweepStudyBase):
+    """Feasible foam region (Zeng 2011, Sec. 3.9) and how it moves with the design.
+
+    Every point solves a :func:`designlab.impact.foam_envelope` over the
+    damping grid and checks the base foam against it.
+    """
+
+    kind: Literal["foam_envelope"]
+    base: EnvelopeDesign
+    damping: DampingGrid = Field(default_factory=DampingGrid)
+    sweep: EnvelopeSweepSpec | None = None
+    sensitivity: EnvelopeSensitivitySpec | None = None
+
+    PARAMETERS: ClassVar[dict[str, tuple[str, ParameterInfo]]] = ENVELOPE_PARAMETERS
+    METRICS: ClassVar[dict[str, str]] = ENVELOPE_METRICS
+    EVALUATOR: ClassVar[str] = "foam_envelope"
+    LOCAL_EVALUATOR: ClassVar[str] = "envelope_elasticities"
+
+    @model_validator(mode="after")
+    def _paths(self) -> FoamEnvelopeStudy:
+        self._check_paths()
+        return self
+
+    def base_point(self) -> dict[str, float]:
+        """``{M_r, C_r, K_r, v_c, max_g, lambda, K_c, C_c}``."""
+        r, f = self.base.robot.build(), self.base.foam.build()
+        return {
+            "M_r": float(r.mass),
+            "C_r": float(r.damping),
+            "K_r": float(r.stiffness),
+            "v_c": float(self.base.impact_velocity),
+            "max_g": float(self.base.max_g),
+            "lambda": float(f.linear_depth),
+            "K_c": float(f.stiffness),
+            "C_c": float(f.damping),
+        }
+
+    def evaluator_options(self) -> dict[str, Any]:
+        """The damping grid."""
+        return {"damping": self.damping.values()}
+
+
 #: Every study kind, keyed by its ``kind`` value. To add a kind: subclass
 #: :class:`StudyBase` (or :class:`SweepStudyBase`) with ``kind: Literal["new"]``,
 #: add it here and to :data:`Study`, and register a runner and a report writer.
 STUDY_KINDS: dict[str, type[StudyBase]] = {
     "impact_cases": ImpactCasesStudy,
     "impact_sweep": ImpactSweepStudy,
+    "foam_envelope": FoamEnvelopeStudy,
 }
 
 #: A study of any kind (discriminated on ``kind``).
-Study = Annotated[ImpactCasesStudy | ImpactSweepStudy, Field(discriminator="kind")]
+Study = Annotated[
+    ImpactCasesStudy | ImpactSweepStudy | FoamEnvelopeStudy, Field(discriminator="kind")
+]
 
 #: Validates a plain dict into the right study model.
 STUDY_ADAPTER: TypeAdapter[Any] = TypeAdapter(Study)
@@ -584,7 +720,7 @@ def study_json_schema() -> dict[str, Any]:
     --------
     >>> schema = study_json_schema()
     >>> sorted(schema["discriminator"]["mapping"])
-    ['impact_cases', 'impact_sweep']
+    ['foam_envelope', 'impact_cases', 'impact_sweep']
     """
     schema = STUDY_ADAPTER.json_schema(by_alias=True)
     schema["$schema"] = "https://json-schema.org/draft/2020-12/schema"

@@ -42,7 +42,7 @@ from designlab.analysis.sensitivity import (
 from designlab.analysis.sweep import STATUS_ERROR, SweepRun, run_points
 from designlab.study.schema import SweepStudyBase
 
-__all__ = ["SweepStudyResult", "run_sweep_study", "unit_slug"]
+__all__ = ["SweepStudyResult", "count_points", "run_sweep_study", "unit_slug"]
 
 logger = logging.getLogger(__name__)
 
@@ -85,6 +85,12 @@ class SweepStudyResult:
     base: dict[str, Any]
     sensitivity: dict[str, SensitivityTable]
     stats: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def metrics(self) -> list[str]:
+        """The metrics analysed (``sensitivity.metrics``, or all of the kind's)."""
+        sens = getattr(self.study, "sensitivity", None)
+        return list(sens.metrics) if sens is not None else list(self.study.METRICS)
 
     def to_frame(self) -> pd.DataFrame:
         """The sweep points (a copy)."""
@@ -138,21 +144,20 @@ def _metrics_of(result: dict[str, Any], metrics: list[str]) -> dict[str, float]:
     }
 
 
-def run_sweep_study(
-    study: SweepStudyBase,
-    *,
-    progress: bool = False,
-    executor: Any = None,
-    cache_dir: str | Path | None = None,
-    resume: bool = False,
-    cache_only: bool = False,
-) -> SweepStudyResult:
-    """Evaluate every point of a sweep study and build its tables.
+@dataclass
+class _Plan:
+    base: dict[str, float]
+    metrics: list[str]
+    sets: dict[str, list[dict[str, float]]]
+    oat_meta: list[tuple[str, float, float]]
+    range_meta: list[tuple[str, float, float]]
+    sobol_names: list[str]
+    sobol_bounds: list[tuple[float, float]]
+    path_of: dict[str, str]
+    describe: dict[str, str]
 
-    See :func:`designlab.study.run_study` for the parameters.
-    """
-    from designlab.report.cache import PointCache
 
+def _plan(study: SweepStudyBase) -> _Plan:
     params = study.PARAMETERS
     key_of = {path: key for path, (key, _) in params.items()}
     path_of = {key: path for path, key in key_of.items()}
@@ -203,6 +208,40 @@ def run_sweep_study(
         )
         sets["sobol"] = [design(v) for v in sample]
 
+    return _Plan(
+        base, metrics, sets, oat_meta, range_meta, sobol_names, sobol_bounds, path_of, describe
+    )
+
+
+def count_points(study: SweepStudyBase) -> int:
+    """How many points a sweep study evaluates (all sets, plus the local derivatives)."""
+    plan = _plan(study)
+    sens = getattr(study, "sensitivity", None)
+    local = int(bool(sens is not None and sens.local and getattr(study, "LOCAL_EVALUATOR", None)))
+    return sum(len(v) for v in plan.sets.values()) + local
+
+
+def run_sweep_study(
+    study: SweepStudyBase,
+    *,
+    progress: bool = False,
+    executor: Any = None,
+    cache_dir: str | Path | None = None,
+    resume: bool = False,
+    cache_only: bool = False,
+) -> SweepStudyResult:
+    """Evaluate every point of a sweep study and build its tables.
+
+    See :func:`designlab.study.run_study` for the parameters.
+    """
+    from designlab.report.cache import PointCache
+
+    plan = _plan(study)
+    base, metrics, sets = plan.base, plan.metrics, plan.sets
+    oat_meta, range_meta = plan.oat_meta, plan.range_meta
+    sobol_names, sobol_bounds = plan.sobol_names, plan.sobol_bounds
+    path_of, describe = plan.path_of, plan.describe
+    sens = getattr(study, "sensitivity", None)
     all_points = [p for pts in sets.values() for p in pts]
     cache = PointCache(Path(cache_dir) / study.name) if cache_dir is not None else None
     common = dict(
