@@ -2,6 +2,14 @@
 
 from __future__ import annotations
 
+from designlab.impact.criteria import (
+    ISO_TS_15066_QUASI_STATIC_FORCE,
+    Criterion,
+    HeadAcceleration,
+    HeadInjuryCriterion,
+    ImpactForce,
+    IsoTransientForce,
+)
 from designlab.impact.effective import (
     EffectiveContact,
     ImpactPointSweep,
@@ -11,6 +19,18 @@ from designlab.impact.effective import (
     scenario_two_link,
     single_joint_from_contact,
     two_link_mass_matrix,
+)
+from designlab.impact.envelope import (
+    THESIS_HEAD_RANGE,
+    FoamEnvelope,
+    FoamThickness,
+    HeadRange,
+    SafeVelocity,
+    WorstCaseCheck,
+    check_worst_case,
+    foam_envelope,
+    max_safe_velocity,
+    min_foam_thickness,
 )
 from designlab.impact.joint import (
     JointFit,
@@ -29,6 +49,7 @@ from designlab.impact.model import (
     transfer_functions,
     unconstrained_model,
 )
+from designlab.impact.optimal import OptimalFoam, optimal_foam
 from designlab.impact.parameters import (
     FOAM_1,
     FOAM_2,
@@ -43,6 +64,7 @@ from designlab.impact.parameters import (
     ContactDynamics,
     Foam,
     HeadNeck,
+    LinkImpact,
 )
 from designlab.impact.simulate import ImpactResponse, VelocityProfile, hic, simulate
 
@@ -53,29 +75,48 @@ __all__ = [
     "FOAM_3",
     "HEAD_MAX",
     "HEAD_MIN",
+    "ISO_TS_15066_QUASI_STATIC_FORCE",
     "MANIPULATOR_1",
     "MANIPULATOR_2",
     "PARAM_NAMES",
     "TABLE_3_2_HEADS",
     "TEST_HEAD",
+    "THESIS_HEAD_RANGE",
     "ContactDynamics",
+    "Criterion",
     "EffectiveContact",
     "Foam",
+    "FoamEnvelope",
+    "FoamThickness",
+    "HeadAcceleration",
+    "HeadInjuryCriterion",
     "HeadNeck",
+    "HeadRange",
+    "ImpactForce",
     "ImpactMetrics",
     "ImpactPointSweep",
     "ImpactResponse",
+    "IsoTransientForce",
     "JointFit",
+    "LinkImpact",
+    "OptimalFoam",
+    "SafeVelocity",
     "VelocityProfile",
+    "WorstCaseCheck",
+    "check_worst_case",
     "constrained_model",
     "effective_contact",
     "fit_joint_band",
+    "foam_envelope",
     "full_joint_tf",
     "hic",
     "impact_metrics",
     "impact_point_sweep",
     "joint_error_tf",
     "joint_from_pd_gains",
+    "max_safe_velocity",
+    "min_foam_thickness",
+    "optimal_foam",
     "pd_gains_for",
     "reduced_joint",
     "reduced_joint_tf",

@@ -252,3 +252,111 @@ TABLE_3_2_HEADS: dict[int, tuple[ContactDynamics, HeadNeck]] = {
     3: (MANIPULATOR_1, HeadNeck(4.4, 3.0e3, 46.0, name="Table 3.2 sim 3")),
     4: (MANIPULATOR_2, HeadNeck(5.3, 5.0e3, 130.0, name="Table 3.2 sim 4")),
 }
+
+
+@dataclass(frozen=True)
+class LinkImpact(_Params):
+    """A revolute joint whose link can be struck anywhere in a range of lever arms.
+
+    Scenarios 1 and 2 of Zeng 2011 (Sec. 3.4.3): at lever arm ``l`` the effective
+    manipulator is M_r = m_ii/l^2, K_r = K_J/l^2, C_r = C_J/l^2 (3.4.17) and its
+    speed is v_r = theta_dot l (3.4.11). Near the joint the manipulator is heavy
+    and stiff but slow, far from it light and fast, so the worst impact point
+    has to be searched (Sec. 3.7.3).
+
+    Parameters
+    ----------
+    inertia
+        m_ii, kg m^2 (> 0).
+    joint_stiffness, joint_damping
+        K_J (N m/rad, >= 0) and C_J (N m s/rad, >= 0) of the reduced joint.
+    joint_speed
+        theta_dot, rad/s (>= 0).
+    lever_arm_min, lever_arm_max
+        Range of the impact point along the link, m (0 < min <= max).
+
+    Examples
+    --------
+    >>> link = LinkImpact.from_contact(MANIPULATOR_1, joint_speed=0.25 / 0.078,
+    ...                                lever_arm_min=0.01, lever_arm_max=0.078)
+    >>> round(link.contact(0.078).mass, 3), round(link.speed(0.078), 3)
+    (9.6, 0.25)
+    """
+
+    inertia: float
+    joint_stiffness: float
+    joint_damping: float
+    joint_speed: float
+    lever_arm_min: float
+    lever_arm_max: float
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        object.__setattr__(
+            self, "inertia", check_positive("LinkImpact.inertia", self.inertia, "kg m^2")
+        )
+        object.__setattr__(
+            self,
+            "joint_stiffness",
+            check_nonnegative("LinkImpact.joint_stiffness", self.joint_stiffness, "N m/rad"),
+        )
+        object.__setattr__(
+            self,
+            "joint_damping",
+            check_nonnegative("LinkImpact.joint_damping", self.joint_damping, "N m s/rad"),
+        )
+        object.__setattr__(
+            self,
+            "joint_speed",
+            check_nonnegative("LinkImpact.joint_speed", self.joint_speed, "rad/s"),
+        )
+        lo = check_positive("LinkImpact.lever_arm_min", self.lever_arm_min, "m")
+        hi = check_positive("LinkImpact.lever_arm_max", self.lever_arm_max, "m")
+        if hi < lo:
+            raise InvalidParameterError(
+                "LinkImpact.lever_arm_max", hi, f"must be >= lever_arm_min = {lo} m", "m"
+            )
+        object.__setattr__(self, "lever_arm_min", lo)
+        object.__setattr__(self, "lever_arm_max", hi)
+
+    @classmethod
+    def from_contact(
+        cls,
+        contact: ContactDynamics,
+        *,
+        joint_speed: float,
+        lever_arm_min: float,
+        lever_arm_max: float,
+        lever_arm: float | None = None,
+    ) -> LinkImpact:
+        """Recover joint-level values from an effective manipulator by (3.4.17)."""
+        arm = lever_arm if lever_arm is not None else contact.lever_arm
+        if arm is None:
+            raise InvalidParameterError(
+                "lever_arm", None, "is needed: the ContactDynamics has no lever_arm", "m"
+            )
+        arm = check_positive("lever_arm", arm, "m")
+        return cls(
+            contact.mass * arm**2,
+            contact.stiffness * arm**2,
+            contact.damping * arm**2,
+            joint_speed,
+            lever_arm_min,
+            lever_arm_max,
+            name=contact.name,
+        )
+
+    def contact(self, lever_arm: float) -> ContactDynamics:
+        """Effective manipulator at ``lever_arm`` (3.4.17)."""
+        l2 = lever_arm**2
+        return ContactDynamics(
+            self.inertia / l2,
+            self.joint_stiffness / l2,
+            self.joint_damping / l2,
+            lever_arm=lever_arm,
+            name=self.name,
+        )
+
+    def speed(self, lever_arm: float) -> float:
+        """Manipulator speed at ``lever_arm``, m/s (3.4.11)."""
+        return self.joint_speed * lever_arm

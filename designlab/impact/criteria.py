@@ -1,0 +1,311 @@
+"""Safety criteria for a head impact, sharing one interface.
+
+A criterion maps the first-lobe response of an impact to one scalar, compares
+it with a limit, and knows which head-neck parameter set is conservative for it
+(Zeng 2011, Sec. 3.6 and 3.9): the *minimum* set (light head, soft neck) gives
+the largest head acceleration; the *maximum* set gives the largest force and
+compression.
+
+=====================  ===============================  ======================
+criterion              metric                           conservative head set
+=====================  ===============================  ======================
+HeadAcceleration       a_h,max (thesis: 10 g)           HEAD_MIN
+ImpactForce            peak f_c                         HEAD_MAX
+HeadInjuryCriterion    HIC15 / HIC36 (standard, I4)     HEAD_MIN
+IsoTransientForce      peak f_c vs ISO/TS 15066 Annex A HEAD_MAX
+=====================  ===============================  ======================
+
+Examples
+--------
+>>> from designlab.impact.criteria import HeadAcceleration, IsoTransientForce
+>>> HeadAcceleration(max_g=10).limit
+98.1
+>>> IsoTransientForce("face").limit      # 2 x 65 N quasi-static
+130.0
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import ClassVar
+
+import numpy as np
+from numpy.typing import NDArray
+
+from designlab.errors import InvalidParameterError, check_positive
+from designlab.impact.metrics import G, hic_batch, impact_metrics
+from designlab.impact.parameters import HEAD_MAX, HEAD_MIN, HeadNeck
+
+__all__ = [
+    "ISO_TS_15066_QUASI_STATIC_FORCE",
+    "Criterion",
+    "HeadAcceleration",
+    "HeadInjuryCriterion",
+    "ImpactForce",
+    "IsoTransientForce",
+    "evaluate_criteria",
+]
+
+#: ISO/TS 15066:2016, Annex A, Table A.2: maximum permissible quasi-static contact
+#: force per body region, N. Transient-contact limits are twice these values
+#: (Annex A.3.2). The standard asks that contact with the head regions (skull and
+#: forehead, face) be avoided altogether in collaborative operation; the values
+#: are given for assessing accidental contact. Check them against your copy of
+#: the standard before relying on them.
+ISO_TS_15066_QUASI_STATIC_FORCE = MappingProxyType(
+    {
+        "skull_forehead": 130.0,
+        "face": 65.0,
+        "neck": 150.0,
+        "back_shoulders": 210.0,
+        "chest": 140.0,
+        "abdomen": 110.0,
+        "pelvis": 180.0,
+        "upper_arm_elbow": 150.0,
+        "lower_arm_wrist": 160.0,
+        "hand_finger": 140.0,
+        "thigh_knee": 220.0,
+        "lower_leg": 130.0,
+    }
+)
+_TRANSIENT_FACTOR = 2.0
+_HEAD_REGIONS = ("skull_forehead", "face")
+
+
+@dataclass(frozen=True)
+class Criterion:
+    """Base class: a limit on one first-lobe metric of the impact.
+
+    Subclasses set ``metric`` (``"head_acceleration"``, ``"force"`` or ``"hic"``),
+    ``limit`` (SI) and ``conservative_head``.
+    """
+
+    metric: ClassVar[str] = ""
+    #: how the metric scales with the impact velocity (metric ~ v_c ** exponent)
+    velocity_exponent: ClassVar[float] = 1.0
+    unit: ClassVar[str] = ""
+
+    @property
+    def limit(self) -> float:  # pragma: no cover - overridden
+        """The limit in SI units."""
+        raise NotImplementedError
+
+    @property
+    def conservative_head(self) -> HeadNeck:  # pragma: no cover - overridden
+        """Head-neck set that maximises this metric (Sec. 3.9)."""
+        raise NotImplementedError
+
+    @property
+    def name(self) -> str:
+        """Short label with the limit, e.g. ``a_h <= 10 g``."""
+        return f"{self.metric} <= {self.limit:g} {self.unit}"
+
+    @property
+    def needs_force(self) -> bool:
+        """Whether the metric needs the peak force."""
+        return self.metric == "force"
+
+    def values(
+        self,
+        params: NDArray[np.float64],
+        impact_velocity: NDArray[np.float64],
+        *,
+        constrained: bool = False,
+    ) -> NDArray[np.float64]:
+        """The metric for a batch of designs (``(N, 8)`` params, ``(N,)`` v_c), SI."""
+        m = impact_metrics(
+            params, impact_velocity, constrained=constrained, with_force=self.needs_force
+        )
+        return self.from_metrics(m)
+
+    def from_metrics(self, m) -> NDArray[np.float64]:  # type: ignore[no-untyped-def]
+        """Extract the metric from an :class:`~designlab.impact.metrics.ImpactMetrics`."""
+        if self.metric == "head_acceleration":
+            return m.peak_head_acceleration
+        if self.metric == "force":
+            return m.peak_force
+        raise NotImplementedError(self.metric)
+
+    def describe(self) -> str:
+        """One sentence for reports."""
+        return self.name
+
+
+@dataclass(frozen=True)
+class HeadAcceleration(Criterion):
+    """Peak head acceleration over the impact period below ``max_g`` (thesis: 10 g).
+
+    Examples
+    --------
+    >>> HeadAcceleration(max_g=10).name
+    'a_h,max <= 10 g'
+    """
+
+    max_g: float = 10.0
+    metric: ClassVar[str] = "head_acceleration"
+    unit: ClassVar[str] = "g"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "max_g", check_positive("HeadAcceleration.max_g", self.max_g, "g"))
+
+    @property
+    def limit(self) -> float:
+        """Limit in m/s^2."""
+        return self.max_g * G
+
+    @property
+    def conservative_head(self) -> HeadNeck:
+        """The minimum head-neck set (Sec. 3.6)."""
+        return HEAD_MIN
+
+    @property
+    def name(self) -> str:
+        return f"a_h,max <= {self.max_g:g} g"
+
+
+@dataclass(frozen=True)
+class ImpactForce(Criterion):
+    """Peak contact force f_c over the impact period below ``max_force`` (N).
+
+    Examples
+    --------
+    >>> ImpactForce(max_force=660.0).name      # maxilla fracture (Haddadin et al. 2008)
+    'f_c,max <= 660 N'
+    """
+
+    max_force: float = 660.0
+    metric: ClassVar[str] = "force"
+    unit: ClassVar[str] = "N"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(
+            self, "max_force", check_positive("ImpactForce.max_force", self.max_force, "N")
+        )
+
+    @property
+    def limit(self) -> float:
+        """Limit in N."""
+        return self.max_force
+
+    @property
+    def conservative_head(self) -> HeadNeck:
+        """The maximum head-neck set (Sec. 3.6)."""
+        return HEAD_MAX
+
+    @property
+    def name(self) -> str:
+        return f"f_c,max <= {self.max_force:g} N"
+
+
+@dataclass(frozen=True)
+class IsoTransientForce(ImpactForce):
+    """ISO/TS 15066 transient-contact force limit for a body region.
+
+    ``limit = 2 x`` the quasi-static maximum permissible force of Annex A,
+    Table A.2 (:data:`ISO_TS_15066_QUASI_STATIC_FORCE`).
+
+    Examples
+    --------
+    >>> IsoTransientForce("skull_forehead").limit
+    260.0
+    """
+
+    body_region: str = "skull_forehead"
+    max_force: float = field(default=0.0, init=False)
+
+    def __post_init__(self) -> None:
+        if self.body_region not in ISO_TS_15066_QUASI_STATIC_FORCE:
+            raise InvalidParameterError(
+                "IsoTransientForce.body_region",
+                self.body_region,
+                f"must be one of {sorted(ISO_TS_15066_QUASI_STATIC_FORCE)}",
+            )
+        object.__setattr__(
+            self,
+            "max_force",
+            _TRANSIENT_FACTOR * ISO_TS_15066_QUASI_STATIC_FORCE[self.body_region],
+        )
+
+    @property
+    def name(self) -> str:
+        return f"f_c,max <= {self.max_force:g} N (ISO/TS 15066 transient, {self.body_region})"
+
+    def describe(self) -> str:
+        note = (
+            "; ISO/TS 15066 asks that contact with this region be avoided"
+            if self.body_region in _HEAD_REGIONS
+            else ""
+        )
+        return self.name + note
+
+
+@dataclass(frozen=True)
+class HeadInjuryCriterion(Criterion):
+    """HIC over the first lobe below ``max_hic`` (standard definition, DECISIONS I4).
+
+    ``window`` is 0.015 s (HIC15) or 0.036 s (HIC36). HIC < 650 corresponds to
+    AIS < 3 (EuroNCAP 2004, quoted by the thesis). HIC scales as v_c ** 2.5.
+
+    Examples
+    --------
+    >>> HeadInjuryCriterion(max_hic=650, window=0.015).name
+    'HIC15 <= 650'
+    """
+
+    max_hic: float = 650.0
+    window: float = 0.015
+    samples: int = 400
+    metric: ClassVar[str] = "hic"
+    velocity_exponent: ClassVar[float] = 2.5
+    unit: ClassVar[str] = ""
+
+    def __post_init__(self) -> None:
+        object.__setattr__(
+            self, "max_hic", check_positive("HeadInjuryCriterion.max_hic", self.max_hic)
+        )
+        object.__setattr__(
+            self, "window", check_positive("HeadInjuryCriterion.window", self.window, "s")
+        )
+
+    @property
+    def limit(self) -> float:
+        """Limit (dimensionless HIC)."""
+        return self.max_hic
+
+    @property
+    def conservative_head(self) -> HeadNeck:
+        """The minimum head-neck set, as for the head acceleration."""
+        return HEAD_MIN
+
+    @property
+    def name(self) -> str:
+        return f"HIC{round(self.window * 1000):d} <= {self.max_hic:g}"
+
+    def values(
+        self,
+        params: NDArray[np.float64],
+        impact_velocity: NDArray[np.float64],
+        *,
+        constrained: bool = False,
+    ) -> NDArray[np.float64]:
+        if constrained:
+            return np.zeros(np.atleast_2d(params).shape[0])
+        m = impact_metrics(params, impact_velocity, with_force=False)
+        return hic_batch(m, self.window, self.samples)
+
+    def from_metrics(self, m) -> NDArray[np.float64]:  # type: ignore[no-untyped-def]
+        return hic_batch(m, self.window, self.samples)
+
+
+def evaluate_criteria(
+    criteria: tuple[Criterion, ...] | list[Criterion],
+    params: NDArray[np.float64],
+    impact_velocity: NDArray[np.float64],
+    *,
+    constrained: bool = False,
+) -> dict[str, NDArray[np.float64]]:
+    """Evaluate several criteria on the same designs with one metrics pass."""
+    need_force = any(c.needs_force for c in criteria)
+    m = impact_metrics(params, impact_velocity, constrained=constrained, with_force=need_force)
+    return {c.name: c.from_metrics(m) for c in criteria}
