@@ -6,7 +6,13 @@ import pytest
 from typer.testing import CliRunner
 
 import designlab
-from designlab.cli import EXIT_DESIGNLAB_ERROR, EXIT_STUDY_ERROR, app
+from designlab.cli import (
+    EXIT_CACHE_INCOMPLETE,
+    EXIT_DESIGNLAB_ERROR,
+    EXIT_EXECUTOR_ERROR,
+    EXIT_STUDY_ERROR,
+    app,
+)
 from designlab.report import ReportError
 
 runner = CliRunner()
@@ -97,3 +103,87 @@ def test_list_repository_studies(repo_root, monkeypatch):
 @pytest.mark.parametrize("args", [[], ["run"], ["frobnicate"]])
 def test_usage_errors_exit_2(args):
     assert runner.invoke(app, args).exit_code == 2
+
+
+SWEEP_STUDY = """\
+designlab: 1
+kind: impact_sweep
+name: cli_sweep
+description: Foam stiffness against head acceleration.
+base: {robot: MANIPULATOR_1, foam: FOAM_1, head: HEAD_MIN, impact_velocity: 1.25}
+sweep:
+  method: grid
+  parameters:
+    foam.stiffness: {low: 10e3, high: 60e3, num: 4}
+sensitivity: {metrics: [a_h_max_g], one_at_a_time: {deltas_pct: [-10, 10]}}
+"""
+
+
+def test_sweep_run_report_and_index(write_study, tmp_path):
+    study = write_study(SWEEP_STUDY, "sweep.yaml")
+    out, cache = tmp_path / "out", tmp_path / "cache"
+    result = runner.invoke(app, ["validate", str(study)])
+    assert f"ok: {study} (kind impact_sweep, 10 points)" in result.stdout
+    args = ["run", str(study), "-o", str(out), "--cache-dir", str(cache)]
+    result = runner.invoke(app, args)
+    assert result.exit_code == 0, result.output
+    assert "points: 10 (8 computed, 0 from the cache, 0 failed) on serial" in result.stdout
+    summary = (out / "cli_sweep" / "summary.md").read_text()
+    assert f"`designlab run {study} --output-dir {out}` with designlab" in summary
+    assert "### Local elasticities at the base design" in summary
+    assert (out / "cli_sweep" / "tornado_a_h_max_g.png").is_file()
+    index = (out / "index.md").read_text()
+    assert (
+        "| [cli_sweep](cli_sweep/summary.md) | Foam stiffness against head acceleration. |" in index
+    )
+    before = (out / "cli_sweep" / "results.csv").read_text()
+    # rebuild from the cache: nothing computed, same numbers
+    result = runner.invoke(app, ["report", str(study), "-o", str(out), "--cache-dir", str(cache)])
+    assert result.exit_code == 0, result.output
+    assert "(0 computed, 8 from the cache, 0 failed)" in result.stdout
+    assert (out / "cli_sweep" / "results.csv").read_text() == before
+    # an empty cache: exit 4, report left as it was
+    result = runner.invoke(
+        app, ["report", str(study), "-o", str(out), "--cache-dir", str(tmp_path)]
+    )
+    assert result.exit_code == EXIT_CACHE_INCOMPLETE
+    assert "7 points of cli_sweep are not in the cache" in result.stderr
+    assert (out / "cli_sweep" / "results.csv").read_text() == before
+
+
+def test_run_executor_errors(write_study, tmp_path):
+    study = write_study(SWEEP_STUDY, "sweep.yaml")
+    result = runner.invoke(app, ["run", str(study), "-o", str(tmp_path), "-e", "proceses"])
+    assert result.exit_code == EXIT_STUDY_ERROR
+    assert "--executor 'proceses' is not known; did you mean 'processes'?" in result.stderr
+    pytest.importorskip("distributed", reason="dask[distributed] is not installed")
+    args = ["run", str(study), "-o", str(tmp_path), "--executor", "dask",
+            "--scheduler", "tcp://127.0.0.1:9", "--timeout", "1"]  # fmt: skip
+    result = runner.invoke(app, args)
+    assert result.exit_code == EXIT_EXECUTOR_ERROR
+    assert "error: cannot reach the Dask scheduler at tcp://127.0.0.1:9 within 1 s" in result.stderr
+    assert not (tmp_path / "cli_sweep").exists()
+
+
+def test_schema_export(tmp_path):
+    import json
+
+    result = runner.invoke(app, ["schema"])
+    assert result.exit_code == 0
+    schema = json.loads(result.stdout)
+    assert set(schema["discriminator"]["mapping"]) == {
+        "impact_cases",
+        "impact_sweep",
+        "foam_envelope",
+    }
+    params = schema["$defs"]["ImpactSweepParameters"]
+    assert params["additionalProperties"] is False
+    assert params["properties"]["foam.stiffness"]["description"] == "foam stiffness K_c, N/m"
+    result = runner.invoke(app, ["schema", "-o", str(tmp_path / "s.json")])
+    assert json.loads((tmp_path / "s.json").read_text()) == schema
+
+
+def test_every_example_study_validates(repo_root):
+    studies = sorted((repo_root / "studies").glob("*.yaml"))
+    result = runner.invoke(app, ["validate", *map(str, studies)])
+    assert result.exit_code == 0, result.output

@@ -329,9 +329,10 @@ def run_points(
         todo[ident] = [i]
     if cache_only and todo:
         raise CacheIncompleteError(
-            f"{len(todo)} of {len(points)} {desc} are not in the cache {cache.root}"
-            if cache is not None
-            else "no cache given"
+            f"{len(todo)} point{'s' if len(todo) != 1 else ''} of {desc} "
+            f"{'are' if len(todo) != 1 else 'is'} not in the cache "
+            f"{cache.root if cache is not None else '(none given)'}; run the study "
+            "(designlab run ... --resume) to compute them"
         )
 
     order = list(todo)

@@ -112,6 +112,13 @@ class SweepStudyResult:
             if "bottoming" in self.frame and self.frame["bottoming"].fillna(False).any():
                 n = int(self.frame["bottoming"].fillna(False).sum())
                 out.append(f"{n} of {len(self.frame)} points bottom the foam (eps_max > lambda)")
+            if "warnings" in self.frame:
+                n = int(self.frame["warnings"].notna().sum())
+                if n:
+                    first = self.frame["warnings"].dropna().iloc[0]
+                    out.append(
+                        f"{n} of {len(self.frame)} points have solver warnings, e.g.: {first}"
+                    )
         if self.stats.get("corrupt"):
             out.append(f"{self.stats['corrupt']} corrupt cache entries were recomputed")
         if self.base.get("status") not in (None, "ok"):
@@ -321,6 +328,8 @@ def _points_frame(
         for c in ("status", "error"):
             if c not in frame:
                 frame[c] = None
-        lead = [c for c in frame.columns if c not in ("status", "error")]
-        frame = frame[[*lead, "status", "error"]]
+        inputs = [c for c in cols.values() if c in frame]
+        metrics = [m for m in study.METRICS if m in frame]
+        rest = sorted(set(frame.columns) - {*inputs, *metrics, "status", "error"})
+        frame = frame[[*inputs, *metrics, *rest, "status", "error"]]
     return frame

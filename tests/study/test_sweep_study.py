@@ -1,0 +1,246 @@
+"""Sweep studies: schema errors, sampling, cache, resume after a kill, corrupt entries."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+
+import numpy as np
+import pytest
+
+from designlab.analysis.sweep import CacheIncompleteError
+from designlab.errors import StudyError
+from designlab.report.cache import PointCache
+from designlab.study import load_study, parse_study, run_study
+
+SWEEP = """\
+designlab: 1
+kind: impact_sweep
+name: sweep_demo
+base: {robot: MANIPULATOR_1, foam: FOAM_1, head: HEAD_MIN, impact_velocity: 1.25}
+sweep:
+  method: grid
+  parameters:
+    foam.stiffness: {low: 10e3, high: 60e3, num: 6}
+    head.mass: {values: [4.4, 5.3]}
+sensitivity:
+  metrics: [a_h_max_g, eps_max_m]
+  one_at_a_time: {deltas_pct: [-10, 10]}
+"""
+
+
+def _error(text: str) -> str:
+    with pytest.raises(StudyError) as info:
+        parse_study(text, file="s.yaml")
+    return str(info.value)
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "message"),
+    [
+        ("foam.stiffness:", "foam.stifness:",
+         "s.yaml:8: sweep.parameters.foam.stifness: unknown field; did you mean 'foam.stiffness'?"),
+        ("values: [4.4, 5.3]", "values: [-4.4, 5.3]",
+         "s.yaml:9: sweep.parameters.head.mass: -4.4 kg is out of range for head mass M_h: "
+         "allowed > 0 kg"),
+        ("method: grid", "method: gird",
+         "s.yaml:6: sweep.method: Input should be 'list', 'grid', 'lhs' or 'sobol' (got 'gird'; "
+         "did you mean 'grid'?)"),
+        ("method: grid", "method: lhs",
+         "s.yaml:5: sweep: method lhs needs samples: N"),
+        ("metrics: [a_h_max_g, eps_max_m]", "metrics: [a_h_max]",
+         "s.yaml:11: sensitivity.metrics[0]: Input should be 'a_h_max_g', 'eps_max_m', 'f_c_max_N' or 't_imp_s' (got 'a_h_max'; did you mean 'a_h_max_g'?)"),
+        ("one_at_a_time: {deltas_pct: [-10, 10]}", "sobol: {samples: 100}",
+         "s.yaml:12: sensitivity.sobol: samples must be a power of two (got 100; try 128)"),
+        ("designlab: 1", "designlab: 2", "s.yaml:1: designlab: study format 2 is not supported"),
+    ],
+)  # fmt: skip
+def test_schema_errors_point_at_the_line(old, new, message):
+    assert message in _error(SWEEP.replace(old, new, 1))
+
+
+def test_grid_points_and_tables():
+    study = parse_study(SWEEP)
+    result = run_study(study)
+    frame = result.frame
+    assert len(frame) == 12
+    assert sorted(set(frame["K_c_N_per_m"])) == [10e3, 20e3, 30e3, 40e3, 50e3, 60e3]
+    # a_h,max grows with foam stiffness and falls with head mass (Sec. 3.6-3.7 trends)
+    light = frame[frame["M_h_kg"] == 4.4].sort_values("K_c_N_per_m")["a_h_max_g"].to_numpy()
+    heavy = frame[frame["M_h_kg"] == 5.3].sort_values("K_c_N_per_m")["a_h_max_g"].to_numpy()
+    assert np.all(np.diff(light) > 0) and np.all(heavy < light)
+    # AD elasticity agrees with the one-at-a-time sensitivity at +-10 % to first order
+    el = result.sensitivity["elasticity"].frame.set_index(["metric", "parameter"])["elasticity"]
+    oat = result.sensitivity["one_at_a_time"].frame
+    s = oat[(oat.metric == "a_h_max_g") & (oat.parameter == "foam.stiffness")]["S_pct"].mean()
+    assert s / 100 == pytest.approx(el["a_h_max_g", "foam.stiffness"], rel=0.05)
+    assert el["a_h_max_g", "impact_velocity"] == pytest.approx(1.0, abs=1e-9)  # linear in v_c
+
+
+def test_seeded_samples_are_reproducible():
+    text = SWEEP.replace("method: grid", "method: sobol\n  samples: 8").replace(
+        "{low: 10e3, high: 60e3, num: 6}", "{low: 10e3, high: 60e3}").replace(
+        "{values: [4.4, 5.3]}", "{low: 4.4, high: 5.3}")  # fmt: skip
+    a = run_study(parse_study(text)).frame
+    b = run_study(parse_study(text)).frame
+    assert len(a) == 8 and a.equals(b)
+    c = run_study(parse_study(text.replace("samples: 8", "samples: 8\n  seed: 1"))).frame
+    assert not np.allclose(a["K_c_N_per_m"], c["K_c_N_per_m"])
+
+
+def test_sobol_indices_rank_the_dominant_parameter():
+    text = SWEEP.replace("{low: 10e3, high: 60e3, num: 6}", "{low: 10e3, high: 60e3, num: 2}")
+    text = text.replace("one_at_a_time: {deltas_pct: [-10, 10]}", "sobol: {samples: 64}")
+    result = run_study(parse_study(text))
+    table = result.sensitivity["sobol"].ranked("a_h_max_g")
+    # foam stiffness 10-60 kN/m dominates head mass 4.4-5.3 kg
+    assert table["parameter"].tolist() == ["foam.stiffness", "head.mass"]
+    assert table["ST"].iloc[0] > 0.8 and table["ST"].iloc[1] < 0.1
+
+
+def test_cache_resume_and_corrupt_entry(tmp_path, caplog):
+    study = parse_study(SWEEP)
+    first = run_study(study, cache_dir=tmp_path)
+    n = first.stats["points"]
+    # 22 points, 3 of them repeats (the base, two tornado ends on the grid): computed once
+    assert (n, first.stats["computed"], first.stats["cached"]) == (22, 19, 0)
+    again = run_study(study, cache_dir=tmp_path, resume=True)
+    assert again.stats["computed"] == 0
+    assert again.frame.equals(first.frame)
+    # damage one entry: detected, reported, recomputed
+    cache = PointCache(tmp_path / "sweep_demo")
+    victim = sorted((tmp_path / "sweep_demo").glob("??/*.json"))[3]
+    entry = json.loads(victim.read_text())
+    entry["result"]["a_h_max_g"] = 99.0
+    victim.write_text(json.dumps(entry))
+    with caplog.at_level("WARNING"):
+        fixed = run_study(study, cache_dir=tmp_path, resume=True)
+    assert fixed.stats["corrupt"] == 1 and fixed.stats["computed"] == 1
+    assert "corrupt cache entry" in caplog.text and victim.name in caplog.text
+    assert fixed.frame.equals(first.frame)
+    assert "1 corrupt cache entries were recomputed" in fixed.warnings
+    assert cache.get(victim.stem)[0] == "ok"
+    # rebuilding from the cache only
+    victim.write_text("{truncated")
+    with pytest.raises(CacheIncompleteError, match="1 point of sweep_demo is not in the cache"):
+        run_study(study, cache_dir=tmp_path, cache_only=True)
+
+
+SLOW_RUNNER = """\
+import sys, time
+import designlab.analysis.sweep as sweep
+
+fast = sweep.EVALUATORS["impact_metrics"]
+
+def slow(points, options):
+    time.sleep(0.02 * len(points))
+    return fast(points, options)
+
+sweep.EVALUATORS["impact_metrics"] = slow
+from designlab.cli import app
+app(sys.argv[1:], prog_name="designlab")
+"""
+
+
+def test_killed_sweep_resumes_with_only_the_missing_points(tmp_path, write_study):
+    study = write_study(
+        SWEEP.replace("num: 6", "num: 40").replace("{values: [4.4, 5.3]}", "{values: [4.4, 5.3]}")
+        .replace("one_at_a_time: {deltas_pct: [-10, 10]}", "local: false"),
+        "killme.yaml",
+    )  # fmt: skip
+    script = tmp_path / "slow_designlab.py"
+    script.write_text(SLOW_RUNNER)
+    cache, out = tmp_path / "cache", tmp_path / "reports"
+    args = [
+        sys.executable,
+        str(script),
+        "run",
+        str(study),
+        "-o",
+        str(out),
+        "--cache-dir",
+        str(cache),
+    ]
+    proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    entries = cache / "sweep_demo"
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and len(list(entries.glob("??/*.json"))) < 10:
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGKILL)
+    proc.wait(timeout=30)
+    done = len(list(entries.glob("??/*.json")))
+    total = 1 + 80 + 4
+    assert 10 <= done < total, done
+    assert not (out / "sweep_demo").exists()  # no half-written report
+
+    resumed = subprocess.run([*args, "--resume"], capture_output=True, text=True, timeout=120)
+    assert resumed.returncode == 0, resumed.stderr
+    import re
+
+    found = re.search(r"points: (\d+) \((\d+) computed, (\d+) from the cache, 0 failed\)",
+                      resumed.stdout)  # fmt: skip
+    assert found, resumed.stdout
+    points, computed, cached = map(int, found.groups())
+    # every point finished before the kill is reused; only the rest is computed
+    # (3 of the 85 points repeat others: the base and two tornado ends on the grid)
+    assert (points, cached, computed) == (total, done, total - 3 - done)
+    fresh = run_study(load_study(study))
+    import pandas as pd
+
+    got = pd.read_csv(out / "sweep_demo" / "results.csv")
+    assert np.allclose(got["a_h_max_g"], fresh.frame["a_h_max_g"], rtol=1e-6)
+
+
+def test_sigint_leaves_cache_and_exit_code_130(tmp_path, write_study):
+    study = write_study(SWEEP.replace("num: 6", "num: 40"), "intr.yaml")
+    script = tmp_path / "slow_designlab.py"
+    script.write_text(SLOW_RUNNER)
+    cache = tmp_path / "cache"
+    args = [sys.executable, str(script), "run", str(study), "-o", str(tmp_path / "r"),
+            "--cache-dir", str(cache)]  # fmt: skip
+    proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            env={**os.environ, "PYTHONUNBUFFERED": "1"})  # fmt: skip
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and len(list(cache.glob("*/??/*.json"))) < 5:
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=30)
+    assert proc.returncode == 130, err
+    assert "interrupted: finished points are cached in" in err and "--resume" in err
+    assert not (tmp_path / "r" / "sweep_demo").exists()
+
+
+def test_foam_envelope_study_runs_and_explains(write_study):
+    study = load_study(
+        write_study(
+            textwrap.dedent(
+                """\
+                designlab: 1
+                kind: foam_envelope
+                name: env
+                base: {robot: MANIPULATOR_1, foam: FOAM_1, impact_velocity: 1.25, max_g: 10}
+                damping: {low: 0, high: 200, num: 5}
+                sweep:
+                  method: list
+                  parameters:
+                    robot.mass: {values: [9.6, 49.4]}
+                sensitivity: {metrics: [k_c_max_N_per_m], one_at_a_time: {deltas_pct: [1]}}
+                """
+            )
+        )
+    )
+    result = run_study(study)
+    # Foam 1 is inside the Manipulator 1 envelope (Sec. 3.9); the heavier arm shrinks it
+    assert result.base["feasible"] is True and result.base["margin_decades"] > 0
+    f = result.frame
+    assert f["area_log"].iloc[1] < f["area_log"].iloc[0]
+    el = result.sensitivity["elasticity"].frame.set_index("parameter")["elasticity"]
+    # a_h,max is linear in v_c, so K_max responds to v_c and to the limit equally and oppositely
+    assert el["impact_velocity"] == pytest.approx(-el["max_g"], rel=1e-9)
+    s = result.sensitivity["one_at_a_time"].frame.set_index("parameter")["S_pct"]
+    assert s["robot.mass"] / 100 == pytest.approx(el["robot.mass"], rel=0.05)
