@@ -54,7 +54,8 @@ def _error(text: str) -> str:
         ("method: grid", "method: lhs",
          "s.yaml:5: sweep: method lhs needs samples: N"),
         ("metrics: [a_h_max_g, eps_max_m]", "metrics: [a_h_max]",
-         "s.yaml:11: sensitivity.metrics[0]: Input should be 'a_h_max_g', 'eps_max_m', 'f_c_max_N' or 't_imp_s' (got 'a_h_max'; did you mean 'a_h_max_g'?)"),
+         "s.yaml:11: sensitivity.metrics[0]: Input should be 'a_h_max_g', 'eps_max_m', "
+         "'f_c_max_N' or 't_imp_s' (got 'a_h_max'; did you mean 'a_h_max_g'?)"),
         ("one_at_a_time: {deltas_pct: [-10, 10]}", "sobol: {samples: 100}",
          "s.yaml:12: sensitivity.sobol: samples must be a power of two (got 100; try 128)"),
         ("designlab: 1", "designlab: 2", "s.yaml:1: designlab: study format 2 is not supported"),
