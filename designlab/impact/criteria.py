@@ -115,7 +115,11 @@ class Criterion:
     ) -> NDArray[np.float64]:
         """The metric for a batch of designs (``(N, 8)`` params, ``(N,)`` v_c), SI."""
         m = impact_metrics(
-            params, impact_velocity, constrained=constrained, with_force=self.needs_force
+            params,
+            impact_velocity,
+            constrained=constrained,
+            with_force=self.needs_force,
+            with_compression=False,
         )
         return self.from_metrics(m)
 
@@ -291,7 +295,7 @@ class HeadInjuryCriterion(Criterion):
     ) -> NDArray[np.float64]:
         if constrained:
             return np.zeros(np.atleast_2d(params).shape[0])
-        m = impact_metrics(params, impact_velocity, with_force=False)
+        m = impact_metrics(params, impact_velocity, with_force=False, with_compression=False)
         return hic_batch(m, self.window, self.samples)
 
     def from_metrics(self, m) -> NDArray[np.float64]:  # type: ignore[no-untyped-def]

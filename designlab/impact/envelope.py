@@ -292,7 +292,9 @@ def _illinois(
         fb[act] = fx
         side[act] = np.where(same, 1, -1)
         x[act] = xx
-        done = (np.abs(b[act] - a[act]) <= tol) | (fx == 0)
+        # converged when the bracket is small or the residual (a log-ratio of the
+        # metric to its limit) is far below the requested relative accuracy
+        done = (np.abs(b[act] - a[act]) <= tol) | (np.abs(fx) <= 1e-3 * tol)
         act = act[~done]
     return x
 
@@ -525,7 +527,7 @@ def _solve(
     delicate = np.zeros(damping.size, dtype=bool)
     worst_l = np.full(damping.size, np.nan)
     first = prob.criteria[0] if prob.criteria else None
-    if first is not None and np.any(np.isfinite(kmax)):
+    if first is not None and np.any(np.isfinite(kmax)) and isinstance(prob.robot, LinkImpact):
         ok = np.isfinite(kmax)
         _, worst_l[ok] = prob.worst(first, kmax[ok], damping[ok])
     if not prob.constrained:

@@ -322,6 +322,7 @@ def impact_metrics(
     max_lobe_steps: int = 4096,
     with_force: bool = True,
     lobe_diagnostics: bool = False,
+    with_compression: bool = True,
 ) -> ImpactMetrics:
     """First-lobe metrics for a batch of designs (vectorised; the sweep engine).
 
@@ -341,6 +342,9 @@ def impact_metrics(
         Window length for the constrained impact, s.
     max_lobe_steps
         Give up looking for the end of the first lobe after this many grid steps.
+    with_compression
+        Also compute eps_max (``False`` leaves it NaN; the constrained model
+        always computes it).
     lobe_diagnostics
         Also measure how long a_h lingers near zero before the lobe ends
         (``lobe_tail``, :attr:`ImpactMetrics.delicate_lobe`); costs ~15 %.
@@ -441,16 +445,18 @@ def impact_metrics(
     def _z(arr: NDArray) -> NDArray:
         return np.where(none, 0.0, arr)
 
+    nan = np.full(n, np.nan)
+
     return ImpactMetrics(
         params=p,
         impact_velocity=v,
         peak_head_acceleration=_z(a_max * scale),
-        max_compression=_z(out["compression"][1] * scale),
-        peak_force=_z(out["force"][1] * scale) if "force" in out else np.full(n, np.nan),
+        max_compression=_z(out["compression"][1] * scale) if "compression" in out else nan,
+        peak_force=_z(out["force"][1] * scale) if "force" in out else nan,
         impact_duration=t_imp_out,
         time_of_peak_acceleration=_z(t_a),
-        time_of_max_compression=_z(out["compression"][0]),
-        time_of_peak_force=_z(out["force"][0]) if "force" in out else np.full(n, np.nan),
+        time_of_max_compression=_z(out["compression"][0]) if "compression" in out else nan,
+        time_of_peak_force=_z(out["force"][0]) if "force" in out else nan,
         status=status.astype(str),
         constrained=constrained,
         lobe_tail=np.where(none | constrained, np.nan, tail) if lobe_diagnostics else None,
