@@ -156,9 +156,7 @@ def _foam_envelope(points: list[Point], options: dict[str, Any]) -> list[dict[st
                 "area_log": _f(grid.area(log=True)),
                 "feasible": bool(np.isfinite(margin) and margin > 0),
                 "empty": bool(grid.is_empty),
-                "status": "ok"
-                if not grid.warnings and not grid.is_empty
-                else ("empty" if grid.is_empty else "warning"),
+                "status": "empty" if grid.is_empty else "ok",
                 "error": None,
                 "warnings": "; ".join(grid.warnings) or None,
             }
