@@ -41,7 +41,7 @@ from designlab.errors import (
     check_nonnegative,
     check_positive,
 )
-from designlab.impact.parameters import ContactDynamics
+from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
 
 __all__ = [
     "EffectiveContact",
@@ -153,6 +153,37 @@ class ImpactPointSweep:
                 self.lever_arm, self.mass, self.stiffness, self.damping, strict=True
             )
         ]
+
+    def evaluate(self, foam: Foam, head: HeadNeck | None, human_speed: float = 1.0) -> pd.DataFrame:
+        """First-lobe impact metrics at every impact point (Sec. 3.7.3, Fig. 3.16).
+
+        The head moves toward the link at ``human_speed`` (m/s), so
+        v_c = v_r(0) + human_speed at each lever arm. Returns :meth:`to_frame`
+        with the metric columns of :class:`~designlab.impact.metrics.ImpactMetrics`.
+
+        Examples
+        --------
+        >>> from designlab.impact import FOAM_1, HEAD_MIN
+        >>> sweep = impact_point_sweep(0.059, 121.68, 1.521, 0.5, [0.01, 0.078])
+        >>> sweep.evaluate(FOAM_1, HEAD_MIN)["a_h_max_g"].round(2).tolist()
+        [5.78, 5.09]
+        """
+        from designlab.impact.metrics import impact_metrics
+        from designlab.impact.model import param_vector
+
+        n = len(self)
+        head_row = param_vector(self.contacts()[0], foam, head)[5:]
+        params = np.column_stack(
+            [self.mass, self.damping, self.stiffness, np.full(n, foam.stiffness),
+             np.full(n, foam.damping), np.tile(head_row, (n, 1))]
+        )  # fmt: skip
+        v = self.velocity + check_finite("human_speed", human_speed, "m/s")
+        m = impact_metrics(params, v, constrained=head is None)
+        out = self.to_frame()
+        metrics = m.to_frame()
+        for col in ("v_c_m_per_s", "a_h_max_g", "eps_max_m", "f_c_max_N", "t_imp_s", "status"):
+            out[col] = metrics[col].to_numpy()
+        return out
 
     def to_frame(self) -> pd.DataFrame:
         """One row per lever arm.

@@ -320,3 +320,23 @@ def test_bad_envelope_input() -> None:
         dl.impact.foam_envelope(MANIPULATOR_1, 1.25, max_compression=0.0)
     with pytest.raises(dl.errors.InvalidParameterError, match="body_region"):
         dl.impact.IsoTransientForce("elbow")
+
+
+def test_impact_point_sweep_fig_3_16() -> None:
+    """Fig. 3.16 (Foam 1, minimum head set), one reading of the unstated speeds
+    (impact.md Sec. 7 item 12): joint speed 0.5 rad/s, head speed 1 m/s.
+
+    Manipulator 1: the worst impact is close to the joint (l ~ 0.01 m) and a_h,max
+    decreases farther out; Manipulator 2: the worst impact is at the distal end.
+    """
+    m11 = 9.6 * 0.078**2
+    l1 = np.array([1e-4, 0.005, 0.01, 0.02, 0.04, 0.078])
+    s1 = dl.impact.impact_point_sweep(m11, 20e3 * 0.078**2, 250 * 0.078**2, 0.5, l1)
+    a1 = s1.evaluate(FOAM_1, HEAD_MIN)["a_h_max_g"].to_numpy()
+    j = int(np.argmax(a1))
+    assert l1[j] == pytest.approx(0.01)
+    assert np.all(np.diff(a1[j:]) < 0)
+    l2 = np.linspace(0.05, 0.5, 10)
+    s2 = dl.impact.impact_point_sweep(49.4 * 0.25, 14.4e3 * 0.25, 111 * 0.25, 0.5, l2)
+    a2 = s2.evaluate(FOAM_1, HEAD_MIN)["a_h_max_g"].to_numpy()
+    assert int(np.argmax(a2)) == l2.size - 1 and np.all(np.diff(a2) > 0)
