@@ -138,7 +138,7 @@ def write_index(output_dir: str | os.PathLike[str]) -> Path:
     --------
     >>> import tempfile, pathlib
     >>> d = pathlib.Path(tempfile.mkdtemp())
-    >>> (d / "a").mkdir(); _ = (d / "a" / "summary.md").write_text("# a\n\nAsks X.\n")
+    >>> (d / "a").mkdir(); _ = (d / "a" / "summary.md").write_text("# a\\n\\nAsks X.\\n")
     >>> print(write_index(d).read_text())
     # Reports
     <BLANKLINE>

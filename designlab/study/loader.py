@@ -112,7 +112,7 @@ def parse_study(text: str, file: str = "<string>") -> StudyBase:
     Traceback (most recent call last):
     ...
     designlab.errors.StudyError: s.yaml:2: kind: unknown study kind 'impact_case';
-        did you mean 'impact_cases'? (known: impact_cases)
+        did you mean 'impact_cases'? (known: impact_cases, ...)
     """
     try:
         data, lines = load_yaml_with_lines(text)

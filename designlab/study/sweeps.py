@@ -29,12 +29,12 @@ Examples
 >>> p = Params.model_validate({"foam.stiffness": {"low": 1e4, "high": 6e4, "num": 3}})
 >>> [(path, rng.grid()) for path, rng in p.items()]
 [('foam.stiffness', [10000.0, 35000.0, 60000.0])]
->>> Params.model_validate({"foam.stiffness": {"values": [-1]}})
-Traceback (most recent call last):
-...
-pydantic_core._pydantic_core.ValidationError: 1 validation error for Demo
-foam.stiffness
-  Value error, -1 N/m is out of range for foam stiffness K_c: allowed > 0 N/m ...
+>>> from pydantic import ValidationError
+>>> try:
+...     Params.model_validate({"foam.stiffness": {"values": [-1]}})
+... except ValidationError as exc:
+...     print(exc.errors()[0]["msg"])
+Value error, -1 N/m is out of range for foam stiffness K_c: allowed > 0 N/m
 """
 
 from __future__ import annotations

@@ -86,4 +86,5 @@ def test_write_report_failure_mid_report_keeps_previous(tmp_path, tiny_study_tex
     with pytest.raises(ReportError, match="No space left"):
         write_report(result, tmp_path, command="second run")
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before
-    assert [p.name for p in tmp_path.iterdir()] == ["tiny"]
+    # nothing left behind but the report and the index of the first run
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["index.md", "tiny"]
