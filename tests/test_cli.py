@@ -175,6 +175,7 @@ def test_schema_export(tmp_path):
         "impact_cases",
         "impact_sweep",
         "foam_envelope",
+        "foam_design",
     }
     params = schema["$defs"]["ImpactSweepParameters"]
     assert params["additionalProperties"] is False

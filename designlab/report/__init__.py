@@ -86,8 +86,10 @@ def write_report(
         If the report cannot be written.
     """
     from designlab import __version__
+    from designlab.report.envelope import write_envelope_report
     from designlab.report.impact import write_impact_report
     from designlab.report.sweep import write_sweep_report
+    from designlab.study.foam_design import FoamDesignResult
     from designlab.study.runner import ImpactCasesResult, SweepStudyResult
 
     final = Path(output_dir) / result.study.name
@@ -95,6 +97,10 @@ def write_report(
         try:
             if isinstance(result, ImpactCasesResult):
                 write_impact_report(
+                    result, tmp, command=command, version=__version__, study_text=study_text
+                )
+            elif isinstance(result, FoamDesignResult):
+                write_envelope_report(
                     result, tmp, command=command, version=__version__, study_text=study_text
                 )
             elif isinstance(result, SweepStudyResult):

@@ -222,10 +222,17 @@ def _run_impact_cases(study: ImpactCasesStudy, progress: bool, **_: Any) -> Impa
     return ImpactCasesResult(study, tuple(results))
 
 
+def _run_foam_design(study: Any, **_: Any) -> Any:
+    from designlab.study.foam_design import run_foam_design
+
+    return run_foam_design(study)
+
+
 _RUNNERS: dict[str, Callable[..., Any]] = {
     "impact_cases": _run_impact_cases,
     "impact_sweep": run_sweep_study,
     "foam_envelope": run_sweep_study,
+    "foam_design": _run_foam_design,
 }
 
 

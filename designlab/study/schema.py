@@ -5,16 +5,22 @@ study type, a ``name`` (also the report directory name) and kind-specific
 fields. Every model forbids unknown fields, so a typo is an error rather than
 a silently ignored setting.
 
-Study kinds form a discriminated union on ``kind``; today there is one:
+Study kinds form a discriminated union on ``kind``:
 
 ``impact_cases``
     A list of single impacts (manipulator, foam, head, closing speed), each
     simulated with :func:`designlab.impact.simulate` and compared with
     optional reference values (for example a thesis table).
+``impact_sweep``
+    A parameter sweep of the impact metrics with sensitivity tables.
+``foam_envelope``
+    A parameter sweep of the feasible foam region with sensitivity tables.
+``foam_design``
+    The foam covering design report: envelopes for several robots, foam
+    verdicts, safe speeds, thickness and the optimal foam.
 
-Later kinds (foam envelopes, navigation, sensitivity sweeps) subclass
-:class:`StudyBase`, fix ``kind`` to their own literal and are added to
-:data:`Study`.
+Later kinds (navigation, following) subclass :class:`StudyBase`, fix ``kind``
+to their own literal and are added to :data:`Study`.
 
 Units are SI throughout: kg, N/m, N s/m, m, m/s, s.
 
@@ -46,6 +52,15 @@ from pydantic import (
     model_validator,
 )
 
+from designlab.impact.criteria import (
+    ISO_TS_15066_QUASI_STATIC_FORCE,
+    Criterion,
+    HeadAcceleration,
+    HeadInjuryCriterion,
+    ImpactForce,
+    IsoTransientForce,
+)
+from designlab.impact.envelope import HeadRange
 from designlab.impact.parameters import (
     FOAM_1,
     FOAM_2,
@@ -695,6 +710,112 @@ class FoamEnvelopeStudy(SweepStudyBase):
         return {"damping": self.damping.values()}
 
 
+# --- foam design report (Zeng 2011, Sec. 3.9) ---------------------------------
+
+_Pos = Annotated[float, Field(gt=0, allow_inf_nan=False)]
+
+
+class HeadAccelerationSpec(_Model):
+    """a_h,max <= ``max_g`` (thesis: 10 g); conservative head set: minimum."""
+
+    type: Literal["head_acceleration"]
+    max_g: _Pos = 10.0
+
+    def build(self) -> Criterion:
+        return HeadAcceleration(max_g=self.max_g)
+
+
+class ImpactForceSpec(_Model):
+    """Peak contact force <= ``max_force`` N; conservative head set: maximum."""
+
+    type: Literal["force"]
+    max_force: _Pos = 660.0
+
+    def build(self) -> Criterion:
+        return ImpactForce(max_force=self.max_force)
+
+
+class HicSpec(_Model):
+    """HIC over the first lobe <= ``max_hic`` with window 0.015 s or 0.036 s."""
+
+    type: Literal["hic"]
+    max_hic: _Pos = 650.0
+    window: Literal[0.015, 0.036] = 0.015
+
+    def build(self) -> Criterion:
+        return HeadInjuryCriterion(max_hic=self.max_hic, window=self.window)
+
+
+class IsoSpec(_Model):
+    """ISO/TS 15066 transient-contact force limit for a body region."""
+
+    type: Literal["iso_ts_15066"]
+    body_region: Literal[tuple(ISO_TS_15066_QUASI_STATIC_FORCE)] = "skull_forehead"  # type: ignore[valid-type]
+
+    def build(self) -> Criterion:
+        return IsoTransientForce(self.body_region)
+
+
+CriterionSpec = Annotated[
+    HeadAccelerationSpec | ImpactForceSpec | HicSpec | IsoSpec, Field(discriminator="type")
+]
+
+
+class HeadRangeSpec(_Model):
+    """Head-neck ranges ``[low, high]``: the envelope takes the worst case over them."""
+
+    mass: tuple[_Pos, _Pos] = (4.4, 5.3)
+    stiffness: tuple[float, float] = (3.0e3, 5.0e3)
+    damping: tuple[float, float] = (46.0, 130.2)
+
+    def build(self) -> HeadRange:
+        return HeadRange(self.mass, self.stiffness, self.damping)
+
+
+class FoamDesignStudy(StudyBase):
+    """Feasible foam region, foam verdicts, safe speed and optimal foam for each robot."""
+
+    kind: Literal["foam_design"]
+    robots: list[RobotSpec] = Field(min_length=1, description="effective manipulators")
+    foams: list[FoamSpec] = Field(default_factory=list, description="foams to check")
+    criteria: list[CriterionSpec] = Field(  # type: ignore[valid-type]
+        default_factory=lambda: [HeadAccelerationSpec(type="head_acceleration", max_g=10.0)],
+        min_length=1,
+        description="safety criteria of the upper boundary",
+    )
+    impact_velocity: Annotated[float, Field(gt=0, le=20, allow_inf_nan=False)] = Field(
+        1.25, description="worst closing velocity v_c, m/s"
+    )
+    human_speed: Annotated[float, Field(ge=0, le=20, allow_inf_nan=False)] = Field(
+        1.0, description="head speed toward the robot, m/s (for the safe manipulator speed)"
+    )
+    max_compression: _Pos = Field(0.02, description="lambda, linear depth of the foam, m")
+    damping: DampingGrid = Field(default_factory=lambda: DampingGrid(low=0, high=200, num=41))
+    head_range: HeadRangeSpec | None = Field(
+        None, description="worst case over these ranges instead of the thesis's sets"
+    )
+    optimal: bool = Field(True, description="also find the foam with the best margin")
+    worst_case_samples: Annotated[int, Field(ge=0, le=10000)] = Field(
+        64, description="samples per boundary point of the worst-case check (0: skip)"
+    )
+
+    PRODUCES: ClassVar[tuple[str, ...]] = (
+        "envelope.md",
+        "envelope.csv",
+        "envelope.png",
+        "study.yaml",
+    )
+
+    @model_validator(mode="after")
+    def _distinct(self) -> FoamDesignStudy:
+        names = [r.build().name or f"robot {i + 1}" for i, r in enumerate(self.robots)]
+        if len(set(names)) != len(names):
+            raise ValueError(
+                "robots must be distinct (give each explicit robot a different preset)"
+            )
+        return self
+
+
 #: Every study kind, keyed by its ``kind`` value. To add a kind: subclass
 #: :class:`StudyBase` (or :class:`SweepStudyBase`) with ``kind: Literal["new"]``,
 #: add it here and to :data:`Study`, and register a runner and a report writer.
@@ -702,11 +823,13 @@ STUDY_KINDS: dict[str, type[StudyBase]] = {
     "impact_cases": ImpactCasesStudy,
     "impact_sweep": ImpactSweepStudy,
     "foam_envelope": FoamEnvelopeStudy,
+    "foam_design": FoamDesignStudy,
 }
 
 #: A study of any kind (discriminated on ``kind``).
 Study = Annotated[
-    ImpactCasesStudy | ImpactSweepStudy | FoamEnvelopeStudy, Field(discriminator="kind")
+    ImpactCasesStudy | ImpactSweepStudy | FoamEnvelopeStudy | FoamDesignStudy,
+    Field(discriminator="kind"),
 ]
 
 #: Validates a plain dict into the right study model.
@@ -720,7 +843,7 @@ def study_json_schema() -> dict[str, Any]:
     --------
     >>> schema = study_json_schema()
     >>> sorted(schema["discriminator"]["mapping"])
-    ['foam_envelope', 'impact_cases', 'impact_sweep']
+    ['foam_design', 'foam_envelope', 'impact_cases', 'impact_sweep']
     """
     schema = STUDY_ADAPTER.json_schema(by_alias=True)
     schema["$schema"] = "https://json-schema.org/draft/2020-12/schema"
