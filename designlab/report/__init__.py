@@ -118,10 +118,24 @@ def write_report(
     return final
 
 
+#: The main Markdown file of a report, by preference.
+_MAIN_MD = ("summary.md", "envelope.md")
+
+
+def _main_md(directory: Path) -> Path | None:
+    for name in _MAIN_MD:
+        if (directory / name).is_file():
+            return directory / name
+    return None
+
+
 def _report_title(directory: Path) -> tuple[str, str]:
-    """``(title, first line of the description)`` of a report's summary.md."""
+    """``(title, first line of the description)`` of a report's main Markdown file."""
+    main = _main_md(directory)
+    if main is None:
+        return directory.name, ""
     try:
-        lines = (directory / "summary.md").read_text(encoding="utf-8").splitlines()
+        lines = main.read_text(encoding="utf-8").splitlines()
     except OSError:
         return directory.name, ""
     title = directory.name
@@ -158,13 +172,15 @@ def write_index(output_dir: str | os.PathLike[str]) -> Path:
     root = Path(output_dir)
     rows = ["| study | what it asks | files |", "|---|---|---|"]
     for d in sorted(p for p in root.iterdir() if p.is_dir() and not p.name.startswith(".")):
-        if not (d / "summary.md").is_file():
+        main = _main_md(d)
+        if main is None:
             continue
         _, desc = _report_title(d)
         names = sorted(f.name for f in d.iterdir() if f.is_file() and not f.name.startswith("."))
         kinds = sorted({n.rsplit(".", 1)[-1] for n in names})
         files = f"{len(names)} ({', '.join(kinds)})"
-        rows.append(f"| [{d.name}]({d.name}/summary.md) | {desc.replace('|', '/')} | {files} |")
+        link = f"{d.name}/{main.name}"
+        rows.append(f"| [{d.name}]({link}) | {desc.replace('|', '/')} | {files} |")
     text = "\n".join(
         [
             "# Reports",
