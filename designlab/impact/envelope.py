@@ -177,15 +177,36 @@ class _Problem:
         r = self.robot
         return np.array([[r.mass, r.damping, r.stiffness]]), np.array([self.impact_velocity])
 
+    def designs(
+        self, key: str | Criterion, k: NDArray, c: NDArray, levers: NDArray | None = None
+    ) -> tuple[NDArray, NDArray, int]:
+        """Every head (and the robot at ``levers``) for foams ``(k, c)``.
+
+        Returns ``(N * n_heads, 8)`` parameters, their velocities and ``n_heads``;
+        rows ``i * n_heads ... (i + 1) * n_heads - 1`` belong to foam ``i``.
+        """
+        n = k.size
+        if isinstance(self.robot, LinkImpact):
+            rows, v = self._robot_rows(levers)
+        else:
+            rows, v = self._robot_rows(None)
+            rows, v = np.repeat(rows, n, axis=0), np.repeat(v, n)
+        return self._expand(key, k, c, rows, v)
+
+    def _expand(
+        self, key: str | Criterion, k: NDArray, c: NDArray, rows: NDArray, v: NDArray
+    ) -> tuple[NDArray, NDArray, int]:
+        heads = self.heads_for(key)
+        n, nh = k.size, heads.shape[0]
+        params = np.column_stack([rows, k, c])
+        full = np.column_stack([np.repeat(params, nh, axis=0), np.tile(heads, (n, 1))])
+        return full, np.repeat(v, nh), nh
+
     def _values(
         self, key: str | Criterion, k: NDArray, c: NDArray, rows: NDArray, v: NDArray
     ) -> NDArray:
         """Metric for designs ``i`` x robot rows ``j`` (paired arrays, all length n)."""
-        params = np.column_stack([rows[:, 0], rows[:, 1], rows[:, 2], k, c])
-        heads = self.heads_for(key)
-        n, nh = k.size, heads.shape[0]
-        full = np.column_stack([np.repeat(params, nh, axis=0), np.tile(heads, (n, 1))])
-        vv = np.repeat(v, nh)
+        full, vv, nh = self._expand(key, k, c, rows, v)
         if key == COMPRESSION:
             m = impact_metrics(
                 full, vv, constrained=self.constrained, with_force=False, stop_time=self.stop_time
@@ -193,7 +214,7 @@ class _Problem:
             vals = m.max_compression
         else:
             vals = key.values(full, vv, constrained=self.constrained)  # type: ignore[union-attr]
-        return vals.reshape(n, nh).max(axis=1)
+        return vals.reshape(k.size, nh).max(axis=1)
 
     def worst(self, key: str | Criterion, k: NDArray, c: NDArray) -> tuple[NDArray, NDArray]:
         """Worst-case metric over heads (and impact points) for foams ``(k, c)``.
@@ -537,19 +558,8 @@ def _solve(
             if key is None or not np.any(ok):
                 continue
             _, lev = prob.worst(key, kb[ok], damping[ok])
-            if isinstance(prob.robot, LinkImpact):
-                rows, v = prob._robot_rows(lev)
-            else:
-                rows, v = prob._robot_rows(None)
-                rows = np.repeat(rows, int(ok.sum()), axis=0)
-                v = np.repeat(v, int(ok.sum()))
-            heads = prob.heads_for(key)
-            nh = heads.shape[0]
-            params = np.column_stack(
-                [np.repeat(rows, nh, axis=0), np.repeat(kb[ok], nh), np.repeat(damping[ok], nh),
-                 np.tile(heads, (int(ok.sum()), 1))]
-            )  # fmt: skip
-            m = impact_metrics(params, np.repeat(v, nh), with_force=False, lobe_diagnostics=True)
+            params, v, nh = prob.designs(key, kb[ok], damping[ok], lev)
+            m = impact_metrics(params, v, with_force=False, lobe_diagnostics=True)
             pac = (m.status == "peak_at_contact").reshape(-1, nh).any(axis=1)
             dl_ = m.delicate_lobe.reshape(-1, nh).any(axis=1)
             if key is first:

@@ -70,16 +70,7 @@ def _exponent(key: str | Criterion) -> float:
 def _worst_design(prob: _Problem, key: str | Criterion, k: float, c: float):
     """Parameters and velocity of the worst case of ``key`` for foam ``(k, c)``."""
     vals, lev = prob.worst(key, np.array([k]), np.array([c]))
-    if isinstance(prob.robot, LinkImpact):
-        rows, v = prob._robot_rows(lev)
-    else:
-        rows, v = prob._robot_rows(None)
-    heads = prob.heads_for(key)
-    params = np.column_stack(
-        [np.repeat(rows, heads.shape[0], axis=0), np.full(heads.shape[0], k),
-         np.full(heads.shape[0], c), heads]
-    )  # fmt: skip
-    vv = np.repeat(v, heads.shape[0])
+    params, vv, _ = prob.designs(key, np.array([k]), np.array([c]), lev)
     if key == COMPRESSION:
         m = impact_metrics(params, vv, constrained=prob.constrained, with_force=False)
         each = m.max_compression
