@@ -48,7 +48,15 @@ from designlab.impact.model import (
     unconstrained_model,
 )
 
-__all__ = ["STATUS_OK", "G", "ImpactMetrics", "hic_batch", "impact_metrics", "ramp_responses"]
+__all__ = [
+    "STATUS_OK",
+    "G",
+    "ImpactMetrics",
+    "hic_batch",
+    "impact_metrics",
+    "metrics_from_responses",
+    "ramp_responses",
+]
 
 #: Standard gravity used to express accelerations in g (the project convention).
 G = 9.81
@@ -381,12 +389,41 @@ def impact_metrics(
         raise InvalidParameterError("stop_time", stop_time, "must be a finite number > 0", "s")
 
     model = constrained_model() if constrained else unconstrained_model()
-    names: tuple[str, ...] = (
-        ("compression",) if constrained else ("head_acceleration", "compression")
-    )
+    names: tuple[str, ...] = ("compression",) if constrained else ("head_acceleration",)
+    if with_compression and not constrained:
+        names = (*names, "compression")
     if with_force or constrained:
         names = ("force", *names)
     resp = ramp_responses(model, p, names, q2=q2)
+    return metrics_from_responses(
+        resp,
+        p,
+        v,
+        constrained=constrained,
+        stop_time=stop_time,
+        max_lobe_steps=max_lobe_steps,
+        lobe_diagnostics=lobe_diagnostics,
+    )
+
+
+def metrics_from_responses(
+    resp: dict[str, ModalResponse],
+    p: NDArray[np.float64],
+    v: NDArray[np.float64],
+    *,
+    constrained: bool = False,
+    stop_time: float = 0.05,
+    max_lobe_steps: int = 4096,
+    lobe_diagnostics: bool = False,
+) -> ImpactMetrics:
+    """First-lobe metrics from unit-velocity responses already built (see :func:`impact_metrics`).
+
+    ``resp`` maps output names (``head_acceleration`` unless constrained, and any of
+    ``compression`` and ``force``) to the responses to v_c = 1 m/s of the designs
+    ``p`` (``(N, 8)``); ``v`` is ``(N,)``. Inputs are not validated here.
+    """
+    n = p.shape[0]
+    names = tuple(k for k in ("force", "head_acceleration", "compression") if k in resp)
     status = np.full(n, STATUS_OK, dtype=object)
 
     pol = resp[names[0]].poles

@@ -196,6 +196,32 @@ class ModalResponse:
         """Sub-batch."""
         return ModalResponse(self.poles[index], self.residues[index], self.poly[index])
 
+    @staticmethod
+    def evaluate_family(
+        family: dict[str, ModalResponse], t: NDArray, derivative: int = 0
+    ) -> dict[str, NDArray[np.float64]]:
+        """Evaluate responses that share their poles (one :meth:`family`) at once.
+
+        The exponentials are computed once for all of them. ``t`` as in :meth:`evaluate`.
+        """
+        first = next(iter(family.values()))
+        t = np.asarray(t, dtype=float)
+        if t.ndim == 1:
+            t = np.broadcast_to(t, (first.batch_size, t.shape[0]))
+        out = {}
+        e = None
+        for name, r in family.items():
+            if r.poles.shape != first.poles.shape or not np.array_equal(r.poles, first.poles):
+                out[name] = r.evaluate(t, derivative)
+                continue
+            if e is None:
+                e = np.exp(first.poles[:, :, None] * t[:, None, :])
+            coef = r.residues * r.poles**derivative if derivative else r.residues
+            out[name] = np.real(np.einsum("nk,nkt->nt", coef, e)) + _poly_part(
+                r.poly, t, derivative
+            )
+        return out
+
     def evaluate(self, t: NDArray, derivative: int = 0) -> NDArray[np.float64]:
         """Evaluate ``d^k y / dt^k`` at times ``t``.
 
@@ -216,6 +242,18 @@ class ModalResponse:
             fac = factorial(power) / factorial(power - derivative)
             out = out + (self.poly[:, idx] * fac)[:, None] * t ** (power - derivative)
         return out
+
+
+def _poly_part(poly: NDArray, t: NDArray, derivative: int) -> NDArray:
+    m = poly.shape[1]
+    out = np.zeros(t.shape)
+    for idx in range(m):
+        power = m - 1 - idx
+        if power - derivative < 0:
+            continue
+        fac = factorial(power) / factorial(power - derivative)
+        out = out + (poly[:, idx] * fac)[:, None] * t ** (power - derivative)
+    return out
 
 
 def point_values(

@@ -40,7 +40,7 @@ from designlab.impact.metrics import (
     STATUS_OK,
     STATUS_PEAK_AT_CONTACT,
     G,
-    impact_metrics,
+    metrics_from_responses,
 )
 from designlab.impact.modal import ModalResponse, poles_of
 from designlab.impact.model import (
@@ -54,6 +54,7 @@ from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
 __all__ = ["ImpactResponse", "VelocityProfile", "hic", "simulate"]
 
 _OUTPUTS = ("force", "head_acceleration", "compression", "head_velocity", "robot_deflection")
+_METRIC_OUTPUTS = ("force", "head_acceleration", "compression")
 
 
 @dataclass(frozen=True)
@@ -303,9 +304,9 @@ def _superpose(
             on = tau >= 0 if delay > 0 else np.ones(t.shape, dtype=bool)
             if not np.any(on):
                 continue
+            vals = ModalResponse.evaluate_family(families[key], tau[on], derivative)
             for name in _OUTPUTS:
-                vals = families[key][name].evaluate(tau[on], derivative)[0]
-                out[name][on] += gain * vals
+                out[name][on] += gain * vals[name][0]
         return out
 
     return evaluate
@@ -395,8 +396,15 @@ def simulate(
 
     # metrics: the batch engine for the constant-velocity impact, a dense
     # exact evaluation with Newton polishing for profiles
-    p = param_vector(robot, foam, head)
-    base = impact_metrics(p, v_c, constrained=constrained, q2=q2, stop_time=stop_time)
+    p = param_vector(robot, foam, head)[None, :]
+    wanted = ("force", "compression") if constrained else _METRIC_OUTPUTS
+    base = metrics_from_responses(
+        {k: families["ramp"][k] for k in wanted},
+        p,
+        np.array([v_c]),
+        constrained=constrained,
+        stop_time=check_positive("stop_time", stop_time, "s"),
+    )
     status = str(base.status[0])
     t_imp = float(base.impact_duration[0])
     metrics = {
