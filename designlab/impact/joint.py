@@ -31,14 +31,16 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import control
 import numpy as np
 import numpy.typing as npt
 import pandas as pd
 
 from designlab.errors import InvalidParameterError, check_nonnegative, check_positive
+
+if TYPE_CHECKING:  # python-control is imported when a transfer function is built
+    import control
 
 __all__ = [
     "JointFit",
@@ -186,6 +188,8 @@ def full_joint_tf(
     km, cm, kc, cc = _scalar_joint_args(k_mech, c_mech, k_cont, c_cont)
     num = [cm * cc, km * cc + cm * kc, km * kc]
     den = [cm + cc, km + kc]
+    import control
+
     return control.tf(num, den)
 
 
@@ -215,6 +219,8 @@ def reduced_joint_tf(
     """
     km, cm, kc, cc = _scalar_joint_args(k_mech, c_mech, k_cont, c_cont)
     k_j, c_j = _taylor(km, cm, kc, cc)
+    import control
+
     return control.tf([c_j, k_j], [1.0])
 
 
@@ -247,6 +253,8 @@ def joint_error_tf(
     km, cm, kc, cc = _scalar_joint_args(k_mech, c_mech, k_cont, c_cont)
     _, c_j = _taylor(km, cm, kc, cc)
     a = cm * cc - (cm + cc) * c_j
+    import control
+
     return control.tf([a, 0.0, 0.0], [cm + cc, km + kc])
 
 
