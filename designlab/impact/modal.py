@@ -212,7 +212,7 @@ class ModalResponse:
         e = None
         for name, r in family.items():
             if r.poles.shape != first.poles.shape or not np.array_equal(r.poles, first.poles):
-                out[name] = r.evaluate(t, derivative)
+                out.update(ModalResponse.evaluate_family({name: r}, t, derivative))
                 continue
             if e is None:
                 e = np.exp(first.poles[:, :, None] * t[:, None, :])
@@ -231,17 +231,7 @@ class ModalResponse:
         t = np.asarray(t, dtype=float)
         if t.ndim == 1:
             t = np.broadcast_to(t, (self.batch_size, t.shape[0]))
-        e = np.exp(self.poles[:, :, None] * t[:, None, :])
-        coef = self.residues * self.poles**derivative if derivative else self.residues
-        out = np.real(np.einsum("nk,nkt->nt", coef, e))
-        m = self.poly.shape[1]
-        for idx in range(m):
-            power = m - 1 - idx
-            if power - derivative < 0:
-                continue
-            fac = factorial(power) / factorial(power - derivative)
-            out = out + (self.poly[:, idx] * fac)[:, None] * t ** (power - derivative)
-        return out
+        return ModalResponse.evaluate_family({"y": self}, t, derivative)["y"]
 
 
 def _poly_part(poly: NDArray, t: NDArray, derivative: int) -> NDArray:
@@ -264,17 +254,10 @@ def point_values(
     Returns one ``(N,)`` array per requested derivative order.
     """
     e = np.exp(resp.poles * t[:, None])
-    m = resp.poly.shape[1]
     out = []
     for d in derivatives:
         coef = resp.residues * resp.poles**d if d else resp.residues
-        val = np.real((coef * e).sum(axis=1))
-        for idx in range(m):
-            power = m - 1 - idx
-            if power - d < 0:
-                continue
-            fac = factorial(power) / factorial(power - d)
-            val = val + resp.poly[:, idx] * fac * t ** (power - d)
+        val = np.real((coef * e).sum(axis=1)) + _poly_part(resp.poly, t[:, None], d)[:, 0]
         out.append(val)
     return out
 
