@@ -253,11 +253,18 @@ def point_values(
 
     Returns one ``(N,)`` array per requested derivative order.
     """
+    # hot path of the Newton iterations: 1-D arrays, no temporaries beyond need
     e = np.exp(resp.poles * t[:, None])
+    m = resp.poly.shape[1]
     out = []
     for d in derivatives:
         coef = resp.residues * resp.poles**d if d else resp.residues
-        val = np.real((coef * e).sum(axis=1)) + _poly_part(resp.poly, t[:, None], d)[:, 0]
+        val = np.real((coef * e).sum(axis=1))
+        for idx in range(m - d):
+            power = m - 1 - idx
+            val = val + resp.poly[:, idx] * (factorial(power) / factorial(power - d)) * t ** (
+                power - d
+            )
         out.append(val)
     return out
 
