@@ -440,9 +440,6 @@ def simulate(
     t = np.linspace(0.0, t_end, int(samples))
     y = evaluate(t)
 
-    def lobe_eval(tt: NDArray) -> dict[str, NDArray]:
-        return evaluate(tt)
-
     return ImpactResponse(
         robot=robot,
         foam=foam,
@@ -465,7 +462,7 @@ def simulate(
         warnings=tuple(warnings),
         profile=profile,
         q2=q2,
-        _lobe={"evaluate": lobe_eval},
+        _lobe={"evaluate": evaluate},
     )
 
 
