@@ -281,6 +281,8 @@ def run_sweep_study(
         stats["points"] += 1
         stats["computed"] += local.computed
         stats["cached"] += local.cached
+        stats["corrupt"] += len(local.corrupt)
+        stats["failed"] += len(local.failed)
         res = local.results[0]
         if res.get("status") == STATUS_ERROR:
             logger.warning("local elasticities failed: %s", res.get("error"))

@@ -115,7 +115,12 @@ def test_cache_resume_and_corrupt_entry(tmp_path, caplog):
     assert again.frame.equals(first.frame)
     # damage one entry: detected, reported, recomputed
     cache = PointCache(tmp_path / "sweep_demo")
-    victim = sorted((tmp_path / "sweep_demo").glob("??/*.json"))[3]
+    # a sweep point's entry (not the elasticity entry, whose metrics are dicts)
+    victim = [
+        f
+        for f in sorted((tmp_path / "sweep_demo").glob("??/*.json"))
+        if isinstance(json.loads(f.read_text())["result"].get("a_h_max_g"), float)
+    ][3]
     entry = json.loads(victim.read_text())
     entry["result"]["a_h_max_g"] = 99.0
     victim.write_text(json.dumps(entry))
