@@ -1,0 +1,5 @@
+"""``python -m designlab``: the same as the ``designlab`` command."""
+
+from designlab.cli import app
+
+app()

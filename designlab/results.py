@@ -1,0 +1,110 @@
+"""The result contract shared by every solver in designlab.
+
+Every public result object (impact, navigation, following, studies) has
+
+* ``status`` -- a short string; ``"ok"`` when the solver did what was asked,
+  otherwise a word saying what happened (``"empty"``, ``"infeasible"``,
+  ``"not_converged"``, ``"failed"``, ...);
+* ``warnings`` -- a tuple of human-readable strings (model used outside its
+  valid range, solver fallbacks, ...), empty when there is nothing to say;
+* ``to_frame()`` -- the numbers as a :class:`pandas.DataFrame` with unit-carrying
+  column names;
+* ``summary()`` -- a few lines of text for a terminal or a log.
+
+This is the manner of python-control's ``TimeResponseData`` and scipy's
+``OptimizeResult``. Results are frozen dataclasses that inherit
+:class:`Result`; the mixin declares no fields, so each result keeps its own
+field order.
+
+Examples
+--------
+>>> from dataclasses import dataclass
+>>> import pandas as pd
+>>> @dataclass(frozen=True)
+... class Demo(Result):
+...     value: float
+...     status: str = "ok"
+...     warnings: tuple[str, ...] = ()
+...     def to_frame(self) -> pd.DataFrame:
+...         return pd.DataFrame({"value_m": [self.value]})
+>>> d = Demo(1.5)
+>>> d.ok, d.summary().splitlines()[0]
+(True, 'Demo: status ok, no warnings')
+>>> check_result(d)
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import pandas as pd
+
+__all__ = ["OK", "Result", "check_result"]
+
+#: The status of a result whose solver did what was asked.
+OK = "ok"
+
+
+class Result:
+    """Mixin of every designlab result: ``status``, ``warnings``, ``to_frame``, ``summary``.
+
+    Subclasses are frozen dataclasses declaring ``status: str`` and
+    ``warnings: tuple[str, ...]`` (fields or properties) and implementing
+    :meth:`to_frame`.
+    """
+
+    status: str
+    warnings: tuple[str, ...]
+
+    @property
+    def ok(self) -> bool:
+        """True when ``status`` is ``"ok"``."""
+        return self.status == OK
+
+    def to_frame(self) -> pd.DataFrame:  # pragma: no cover - every subclass overrides it
+        """The result's numbers as a DataFrame (column names carry units)."""
+        raise NotImplementedError
+
+    def summary(self, max_rows: int = 10) -> str:
+        """A short text: the status, the warnings and the first rows of :meth:`to_frame`.
+
+        Parameters
+        ----------
+        max_rows
+            Rows of the frame shown (the rest are counted).
+        """
+        n_warn = len(self.warnings)
+        head = f"{type(self).__name__}: status {self.status}, " + (
+            "no warnings" if n_warn == 0 else f"{n_warn} warning{'s' if n_warn > 1 else ''}"
+        )
+        lines = [head]
+        lines.extend(f"  warning: {w}" for w in self.warnings[:5])
+        if n_warn > 5:
+            lines.append(f"  ... and {n_warn - 5} more warnings")
+        frame = self.to_frame()
+        if len(frame):
+            with pd.option_context("display.width", 120, "display.max_columns", 12):
+                lines.append(frame.head(max_rows).to_string())
+            if len(frame) > max_rows:
+                lines.append(f"... {len(frame) - max_rows} more rows")
+        return "\n".join(lines)
+
+
+def check_result(obj: Any) -> None:
+    """Raise ``AssertionError`` unless ``obj`` honours the result contract.
+
+    Used by the tests of every domain: ``status`` is a non-empty string,
+    ``warnings`` a tuple of strings, ``to_frame()`` a DataFrame and
+    ``summary()`` a string.
+
+    Parameters
+    ----------
+    obj
+        The result to check.
+    """
+    assert isinstance(obj, Result), f"{type(obj).__name__} does not inherit designlab.results.Result"
+    assert isinstance(obj.status, str) and obj.status, f"bad status {obj.status!r}"
+    assert isinstance(obj.warnings, tuple), f"warnings must be a tuple, got {type(obj.warnings)}"
+    assert all(isinstance(w, str) for w in obj.warnings), "every warning must be a string"
+    assert isinstance(obj.to_frame(), pd.DataFrame), "to_frame() must return a DataFrame"
+    assert isinstance(obj.summary(), str), "summary() must return a string"
