@@ -56,6 +56,7 @@ __all__ = [
     "impact_metrics",
     "metrics_from_responses",
     "ramp_responses",
+    "response_model",
 ]
 
 #: Standard gravity used to express accelerations in g (the project convention).
@@ -78,40 +79,72 @@ _UNITS = {
     "M_h": "kg",
     "C_h": "N s/m",
     "K_h": "N/m",
+    "C_mech": "N s/m",
+    "K_mech": "N/m",
+    "C_cont": "N s/m",
+    "K_cont": "N/m",
 }
 
 
+def _param_names(width: int | None = None, keys: object = None) -> tuple[str, ...]:
+    """Names of the reduced (8) or full-joint (10, :mod:`designlab.impact.full_joint`) rows."""
+    from designlab.impact.full_joint import FULL_PARAM_NAMES
+
+    if width == len(FULL_PARAM_NAMES) or (keys is not None and "K_mech" in keys):  # type: ignore[operator]
+        return FULL_PARAM_NAMES
+    return PARAM_NAMES
+
+
+def response_model(p: NDArray, constrained: bool) -> LinearImpactModel:
+    """The model of parameter rows ``p``: reduced for 8 columns, full joint for 10."""
+    if p.shape[-1] == len(PARAM_NAMES):
+        return constrained_model() if constrained else unconstrained_model()
+    from designlab.impact.full_joint import full_joint_model
+
+    return full_joint_model(constrained)
+
+
 def _param_matrix(params: Mapping[str, ArrayLike] | ArrayLike, n: int | None = None) -> NDArray:
-    """Validate and stack parameters into an ``(N, 8)`` array."""
+    """Validate and stack parameters into an ``(N, 8)`` (or full-joint ``(N, 10)``) array."""
     if isinstance(params, Mapping):
-        missing = [k for k in PARAM_NAMES if k not in params]
-        unknown = [k for k in params if k not in PARAM_NAMES]
+        names = _param_names(keys=params)
+        missing = [k for k in names if k not in params]
+        unknown = [k for k in params if k not in names]
         if missing or unknown:
             raise InvalidParameterError(
                 "params",
                 sorted(params),
-                f"needs exactly the keys {list(PARAM_NAMES)}"
+                f"needs exactly the keys {list(names)}"
                 + (f"; missing {missing}" if missing else "")
                 + (f"; unknown {unknown}" if unknown else ""),
             )
-        cols = np.broadcast_arrays(*[np.asarray(params[k], dtype=float) for k in PARAM_NAMES])
+        cols = np.broadcast_arrays(*[np.asarray(params[k], dtype=float) for k in names])
         p = np.stack([c.ravel() for c in cols], axis=1)
     else:
         p = np.atleast_2d(np.asarray(params, dtype=float))
-        if p.shape[-1] != len(PARAM_NAMES):
+        names = _param_names(p.shape[-1])
+        if p.shape[-1] != len(names):
             raise InvalidParameterError(
-                "params", p.shape, f"needs shape (N, {len(PARAM_NAMES)}) ordered {PARAM_NAMES}"
+                "params",
+                p.shape,
+                f"needs shape (N, {len(PARAM_NAMES)}) ordered {PARAM_NAMES} "
+                f"(or (N, {len(names)}) ordered {names} for the full joint)",
             )
     if n is not None and p.shape[0] == 1 and n > 1:
         p = np.repeat(p, n, axis=0)
-    positive = {"M_r", "K_c", "M_h"}
-    for i, name in enumerate(PARAM_NAMES):
+    positive = {"M_r", "K_c", "M_h", "K_mech", "K_cont"}
+    for i, name in enumerate(names):
         col = p[:, i]
         bad = ~np.isfinite(col) | ((col <= 0) if name in positive else (col < 0))
         if np.any(bad):
             j = int(np.flatnonzero(bad)[0])
             allowed = "must be a finite number " + ("> 0" if name in positive else ">= 0")
-            raise InvalidParameterError(f"{name}[{j}]", float(col[j]), allowed, _UNITS[name])
+            raise InvalidParameterError(f"{name}[{j}]", float(col[j]), allowed, _UNITS.get(name))
+    if len(names) != len(PARAM_NAMES) and np.any(p[:, 1] + p[:, 8] <= 0):
+        j = int(np.flatnonzero(p[:, 1] + p[:, 8] <= 0)[0])
+        raise InvalidParameterError(
+            f"C_mech[{j}] + C_cont[{j}]", 0.0, "must be > 0 for the full joint", "N s/m"
+        )
     return p
 
 
@@ -135,6 +168,14 @@ def ramp_responses(
     q2
         ``"correct"`` or ``"printed"`` (DECISIONS I1; unconstrained model only).
     """
+    if model.name.startswith("full_joint"):
+        if q2 != "correct":
+            raise InvalidParameterError(
+                "q2", q2, "the printed q2 of (3.5.14) belongs to the reduced joint; use 'correct'"
+            )
+        from designlab.impact.full_joint import modal_families
+
+        return modal_families(model, params, outputs)["ramp"]
     den, num = model.ramp_coefficients(params)
     if q2 == "printed" and model.name == "unconstrained":
         den = den.copy()
@@ -214,7 +255,7 @@ class ImpactMetrics:
 
     def to_frame(self) -> pd.DataFrame:
         """One row per design, columns with units."""
-        df = pd.DataFrame(self.params, columns=[f"{k}" for k in PARAM_NAMES])
+        df = pd.DataFrame(self.params, columns=list(_param_names(self.params.shape[1])))
         df["v_c_m_per_s"] = self.impact_velocity
         df["a_h_max_m_per_s2"] = self.peak_head_acceleration
         df["a_h_max_g"] = self.peak_head_acceleration_g
@@ -388,13 +429,18 @@ def impact_metrics(
     if stop_time <= 0 or not np.isfinite(stop_time):
         raise InvalidParameterError("stop_time", stop_time, "must be a finite number > 0", "s")
 
-    model = constrained_model() if constrained else unconstrained_model()
+    model = response_model(p, constrained)
     names: tuple[str, ...] = ("compression",) if constrained else ("head_acceleration",)
     if with_compression and not constrained:
         names = (*names, "compression")
     if with_force or constrained:
         names = ("force", *names)
     resp = ramp_responses(model, p, names, q2=q2)
+    rate = None
+    if model.name.startswith("full_joint"):
+        from designlab.impact.full_joint import grid_rate
+
+        rate = grid_rate(resp[names[0]].poles)
     return metrics_from_responses(
         resp,
         p,
@@ -403,6 +449,7 @@ def impact_metrics(
         stop_time=stop_time,
         max_lobe_steps=max_lobe_steps,
         lobe_diagnostics=lobe_diagnostics,
+        rate=rate,
     )
 
 
@@ -415,19 +462,22 @@ def metrics_from_responses(
     stop_time: float = 0.05,
     max_lobe_steps: int = 4096,
     lobe_diagnostics: bool = False,
+    rate: NDArray[np.float64] | None = None,
 ) -> ImpactMetrics:
     """First-lobe metrics from unit-velocity responses already built (see :func:`impact_metrics`).
 
     ``resp`` maps output names (``head_acceleration`` unless constrained, and any of
     ``compression`` and ``force``) to the responses to v_c = 1 m/s of the designs
-    ``p`` (``(N, 8)``); ``v`` is ``(N,)``. Inputs are not validated here.
+    ``p`` (``(N, 8)``); ``v`` is ``(N,)``. Inputs are not validated here. ``rate``
+    (1/s, ``(N,)``) is the fastest rate the search grid resolves; default the
+    largest pole modulus (see :func:`designlab.impact.full_joint.grid_rate`).
     """
     n = p.shape[0]
     names = tuple(k for k in ("force", "head_acceleration", "compression") if k in resp)
     status = np.full(n, STATUS_OK, dtype=object)
 
     pol = resp[names[0]].poles
-    h = 0.4 / np.abs(pol).max(axis=1)  # <= 1/15 of the fastest mode's period
+    h = 0.4 / (np.abs(pol).max(axis=1) if rate is None else rate)  # <= 1/15 of the fastest period
     horizon = np.full(n, float(stop_time))
     if constrained:
         h = np.minimum(h, stop_time / 64.0)
@@ -522,7 +572,9 @@ def hic_batch(metrics: ImpactMetrics, window: float = 0.015, samples: int = 400)
     idx = np.flatnonzero((metrics.impact_velocity > 0) & np.isfinite(t_imp) & (t_imp > 0))
     if metrics.constrained or idx.size == 0:
         return out
-    resp = ramp_responses(unconstrained_model(), metrics.params[idx], ("head_velocity",))
+    resp = ramp_responses(
+        response_model(metrics.params, False), metrics.params[idx], ("head_velocity",)
+    )
     rel = np.linspace(0.0, 1.0, samples)
     t = t_imp[idx, None] * rel[None, :]
     v = resp["head_velocity"].evaluate(t) * metrics.impact_velocity[idx, None]

@@ -59,6 +59,7 @@ __all__ = [
     "PARAM_NAMES",
     "LinearImpactModel",
     "constrained_model",
+    "derive_model",
     "param_vector",
     "transfer_functions",
     "unconstrained_model",
@@ -199,6 +200,17 @@ class LinearImpactModel:
         res = self.state_space(np.asarray(params, dtype=float))
         return tuple(np.asarray(r, dtype=float) for r in res)
 
+    def matrices_batch(self, params: ArrayLike) -> tuple[NDArray[np.float64], ...]:
+        """Numeric ``(A, B, C, D)`` for a batch ``(N, n_p)``: arrays ``(N, rows, cols)``."""
+        p = np.atleast_2d(np.asarray(params, dtype=float))
+        res = _evaluate(self.state_space, p)
+        n_x, n_u, n_y = self.n_states, len(self.input_names), len(self.output_names)
+        shapes = ((n_x, n_x), (n_x, n_u), (n_y, n_x), (n_y, n_u))
+        return tuple(
+            np.moveaxis(r.reshape(*shape, p.shape[0], order="F"), 2, 0)
+            for r, shape in zip(res, shapes, strict=True)
+        )
+
 
 def _build(name: str, constrained: bool) -> LinearImpactModel:
     p = ca.SX.sym("p", len(PARAM_NAMES))
@@ -235,7 +247,29 @@ def _build(name: str, constrained: bool) -> LinearImpactModel:
         "robot_deflection",
     )
     y = ca.vertcat(f_c, a_h, compression, compression_rate, d_h_dot, d_r)
+    return derive_model(name, x, u, p, xdot, y, state_names, output_names)
 
+
+def derive_model(
+    name: str,
+    x: ca.SX,
+    u: ca.SX,
+    p: ca.SX,
+    xdot: ca.SX,
+    y: ca.SX,
+    state_names: tuple[str, ...],
+    output_names: tuple[str, ...],
+    param_names: tuple[str, ...] = PARAM_NAMES,
+    input_names: tuple[str, ...] = INPUT_NAMES,
+) -> LinearImpactModel:
+    """Derive the functions, state space and transfer functions of a linear model.
+
+    ``xdot = f(x, u, p)`` and ``y = g(x, u, p)`` must be linear in ``x`` and ``u``.
+    The first two inputs must be the closing displacement and speed (``s_c``,
+    ``v_c``) so that the constant-velocity impact is ``u = v_c [t, 1, 0, ...]``.
+    Used for the reduced model here and the full series joint of
+    :mod:`designlab.impact.full_joint`.
+    """
     ode = ca.Function(f"impact_{name}_ode", [x, u, p], [xdot], ["x", "u", "p"], ["xdot"])
     outputs = ca.Function(f"impact_{name}_outputs", [x, u, p], [y], ["x", "u", "p"], ["y"])
     a_mat = ca.jacobian(xdot, x)
@@ -253,7 +287,7 @@ def _build(name: str, constrained: bool) -> LinearImpactModel:
     nums = []
     for k in range(len(output_names)):
         rows = []
-        for j in range(len(INPUT_NAMES)):
+        for j in range(len(input_names)):
             # numerator coefficients, descending powers s^n ... s^0
             poly = [d_mat[k, j] * coeffs[0]]
             for i in range(1, n + 1):
@@ -289,6 +323,8 @@ def _build(name: str, constrained: bool) -> LinearImpactModel:
         ramp_tf=ramp_tf,
         state_names=state_names,
         output_names=output_names,
+        param_names=param_names,
+        input_names=input_names,
     )
 
 

@@ -1,0 +1,925 @@
+"""Impact with the full series joint (Zeng 2011, eq. 3.4.6) and the error of its reductions.
+
+The thesis replaces a position-controlled joint -- transmission (K_mech, C_mech)
+in series with the PD controller (K_cont, C_cont) -- by one spring-damper
+(K_J, C_J), the first two Taylor terms of (3.4.6) about s = 0, (3.4.9). This
+module keeps the series joint in the impact model, so that a designer can see
+how wrong a_h,max, eps_max, the peak force and the impact period are when the
+reduced joint is used, and on which side (see ``docs/impact_joint.md``).
+
+**Model.** Scenarios 1 and 2 (one free joint, (3.4.17)): every joint quantity is
+divided by l^2 to act along the impact normal. The motor side of the transmission
+(the encoder node, theta_enc of (3.4.3)-(3.4.5)) is massless, as in (3.4.6), so
+the series joint adds one first-order state, the node's deflection delta_e from
+the desired motion::
+
+    p = [M_r, C_mech, K_mech, K_c, C_c, M_h, C_h, K_h, C_cont, K_cont]   (effective, per l^2)
+    x = [delta_r, delta_r_dot, delta_e, delta_h, delta_h_dot]
+    u = [s_c, v_c, a_d, a_ff]
+
+    f_c = K_c (delta_r - delta_h + s_c) + C_c (delta_r_dot - delta_h_dot + v_c)   (3.5.1)
+    f_t = K_mech (delta_r - delta_e) + C_mech (delta_r_dot - delta_e_dot)      transmission
+        = K_cont delta_e + C_cont delta_e_dot - M_r a_ff                     controller (3.4.5)
+    M_r delta_r_dd = -f_c - f_t - M_r (a_d + a_ff)                                (3.5.2)
+    M_h delta_h_dd =  f_c - C_h delta_h_dot - K_h delta_h                         (3.5.3)
+
+``a_ff`` is a desired acceleration compensated by a feed-forward force at the
+motor, ``a_d`` one that is not (as in :mod:`designlab.impact.model`). As
+K_mech -> infinity, delta_e -> delta_r and the model becomes the reduced one
+with K_r = K_cont, C_r = C_cont; for finite K_mech its joint impedance is
+exactly (3.4.6). The model is written once in CasADi; the state space, the
+transfer functions and the exact modal responses follow as for the reduced
+model, and :func:`~designlab.impact.simulate.simulate`,
+:func:`~designlab.impact.metrics.impact_metrics` and
+:func:`~designlab.impact.envelope.foam_envelope` accept a
+:class:`FullJointContact` (or ``(N, 10)`` parameter rows) wherever they accept
+the reduced manipulator.
+
+**Comparison.** :func:`compare_joint_reductions` evaluates the full joint, the
+Taylor reduction (3.4.9) and the frequency-band fit
+(:func:`~designlab.impact.joint.fit_joint_band`, an extension of the thesis,
+which has only the Taylor truncation) on the same arm, foam and head, and
+reports each metric's relative error and whether the reduction is conservative
+(overestimates the harm). :func:`joint_reduction_sweep` does the same over the
+transmission/controller stiffness ratio K_mech/K_cont.
+
+Units: SI, effective (prismatic) values in N/m and N s/m; joint values in
+N m/rad and N m s/rad.
+
+Examples
+--------
+>>> import designlab as dl
+>>> arm = dl.impact.FullJointContact.from_joint(0.059, 2e3, 2.0, 1.5e3, 30.0, lever_arm=0.2)
+>>> cmp = dl.impact.compare_joint_reductions(arm, dl.impact.FOAM_1, dl.impact.HEAD_MIN, 1.25)
+>>> round(100 * cmp.relative_error("taylor", "a_h_max"), 1)
+12.5
+>>> cmp.conservative("taylor", "a_h_max")
+True
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from functools import cache
+from typing import Any
+
+import casadi as ca
+import numpy as np
+import pandas as pd
+from numpy.typing import ArrayLike, NDArray
+
+from designlab.errors import InvalidParameterError, check_finite, check_positive
+from designlab.impact.joint import JointFit, fit_joint_band, reduced_joint
+from designlab.impact.modal import ModalResponse, poles_of, refine_extremum
+from designlab.impact.model import INPUT_NAMES, PARAM_NAMES, LinearImpactModel, derive_model
+from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck, _Params
+from designlab.results import Result
+from designlab.units import STANDARD_GRAVITY
+
+__all__ = [
+    "FULL_INPUT_NAMES",
+    "FULL_PARAM_NAMES",
+    "REDUCTIONS",
+    "FullJointContact",
+    "JointReductionComparison",
+    "JointReductionSweep",
+    "compare_joint_reductions",
+    "first_local_maximum",
+    "full_joint_model",
+    "full_joint_params",
+    "grid_rate",
+    "modal_families",
+    "joint_reduction_sweep",
+]
+
+#: Parameters of the full-joint model: those of the reduced model, with C_r, K_r
+#: replaced by the transmission's C_mech, K_mech, then the controller's C_cont, K_cont.
+FULL_PARAM_NAMES: tuple[str, ...] = (
+    "M_r",
+    "C_mech",
+    "K_mech",
+    "K_c",
+    "C_c",
+    "M_h",
+    "C_h",
+    "K_h",
+    "C_cont",
+    "K_cont",
+)
+#: Inputs of the full-joint model: those of the reduced model and the
+#: feed-forward-compensated desired acceleration ``a_ff``.
+FULL_INPUT_NAMES: tuple[str, ...] = (*INPUT_NAMES, "a_ff")
+
+#: The reductions compared with the full joint.
+REDUCTIONS: tuple[str, ...] = ("taylor", "band_fit")
+
+#: Metrics compared: name -> (column of the comparison, unit). "f_c_first_peak"
+#: is the first local maximum of the force (the thesis's "peak", Sec. 3.6),
+#: "f_c_max" the maximum over the first lobe (DECISIONS I2).
+METRICS: dict[str, str] = {
+    "a_h_max": "g",
+    "eps_max": "m",
+    "f_c_max": "N",
+    "f_c_first_peak": "N",
+    "t_imp": "s",
+}
+#: Metrics for which a larger value is the worse (harm) side.
+HARM_METRICS: tuple[str, ...] = ("a_h_max", "eps_max", "f_c_max", "f_c_first_peak")
+
+_UNITS = {
+    "mass": "kg",
+    "transmission_stiffness": "N/m",
+    "transmission_damping": "N s/m",
+    "control_stiffness": "N/m",
+    "control_damping": "N s/m",
+}
+
+
+# --- the parameter object --------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class FullJointContact(_Params):
+    """A single-joint manipulator with the full series joint (3.4.6), at the impact point.
+
+    All values are effective (prismatic, along the impact normal): joint values
+    divided by l^2, (3.4.17). Use :meth:`from_joint` for joint-level data.
+
+    Parameters
+    ----------
+    mass
+        M_r = m_ii / l^2 in kg (> 0).
+    transmission_stiffness, transmission_damping
+        K_mech / l^2 (N/m, > 0) and C_mech / l^2 (N s/m, >= 0).
+    control_stiffness, control_damping
+        K_cont / l^2 (N/m, > 0) and C_cont / l^2 (N s/m, >= 0): the P and D gains
+        in torque units. The two dampings must not both be zero (the massless
+        motor node then has no dynamics of its own).
+    lever_arm
+        l in m, if known.
+    name
+        Optional label.
+
+    Examples
+    --------
+    >>> arm = FullJointContact.from_joint(0.059, 2e3, 2.0, 1.5e3, 30.0, lever_arm=0.2)
+    >>> round(arm.mass, 3), round(arm.taylor().stiffness, 1), round(arm.taylor().damping, 1)
+    (1.475, 21428.6, 254.1)
+    """
+
+    mass: float
+    transmission_stiffness: float
+    transmission_damping: float
+    control_stiffness: float
+    control_damping: float
+    lever_arm: float | None = None
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        from designlab.errors import check_nonnegative
+
+        for f in ("mass", "transmission_stiffness", "control_stiffness"):
+            value = check_positive(f"FullJointContact.{f}", getattr(self, f), _UNITS[f])
+            object.__setattr__(self, f, value)
+        for f in ("transmission_damping", "control_damping"):
+            value = check_nonnegative(f"FullJointContact.{f}", getattr(self, f), _UNITS[f])
+            object.__setattr__(self, f, value)
+        if self.transmission_damping + self.control_damping <= 0.0:
+            raise InvalidParameterError(
+                "FullJointContact.control_damping",
+                self.control_damping,
+                "transmission_damping + control_damping must be > 0 (a massless motor "
+                "node between two undamped springs has no dynamics)",
+                "N s/m",
+            )
+        if self.lever_arm is not None:
+            object.__setattr__(
+                self,
+                "lever_arm",
+                check_positive("FullJointContact.lever_arm", self.lever_arm, "m"),
+            )
+
+    @classmethod
+    def from_joint(
+        cls,
+        inertia: float,
+        k_mech: float,
+        c_mech: float,
+        k_cont: float,
+        c_cont: float,
+        *,
+        lever_arm: float,
+        name: str = "",
+    ) -> FullJointContact:
+        """Build from joint-level values (kg m^2, N m/rad, N m s/rad) at lever arm ``l`` (m).
+
+        Scenario 1/2 reduction (3.4.17): every value is divided by ``l^2``.
+        """
+        arm = check_positive("lever_arm", lever_arm, "m")
+        l2 = arm * arm
+        return cls(
+            check_positive("inertia", inertia, "kg m^2") / l2,
+            check_positive("k_mech", k_mech, "N m/rad") / l2,
+            _nonneg("c_mech", c_mech, "N m s/rad") / l2,
+            check_positive("k_cont", k_cont, "N m/rad") / l2,
+            _nonneg("c_cont", c_cont, "N m s/rad") / l2,
+            lever_arm=arm,
+            name=name,
+        )
+
+    @property
+    def stiffness_ratio(self) -> float:
+        """K_mech / K_cont: large for a direct drive, where the reduction is exact in the limit."""
+        return self.transmission_stiffness / self.control_stiffness
+
+    @property
+    def corner_frequency(self) -> float:
+        """(K_mech + K_cont) / (C_mech + C_cont), rad/s: the pole of (3.4.6)."""
+        return (self.transmission_stiffness + self.control_stiffness) / (
+            self.transmission_damping + self.control_damping
+        )
+
+    def joint_values(self) -> tuple[float, float, float, float]:
+        """``(K_mech, C_mech, K_cont, C_cont)`` at the impact point (N/m, N s/m)."""
+        return (
+            self.transmission_stiffness,
+            self.transmission_damping,
+            self.control_stiffness,
+            self.control_damping,
+        )
+
+    def taylor(self) -> ContactDynamics:
+        """The reduced manipulator of the thesis: K_r, C_r from (3.4.9) (Taylor truncation)."""
+        k, c = reduced_joint(*self.joint_values())
+        return ContactDynamics(self.mass, k, c, lever_arm=self.lever_arm, name=self.name)
+
+    def band_fit(self, omega_max: float, **kwargs: Any) -> tuple[ContactDynamics, JointFit]:
+        """The reduced manipulator fitted over ``[omega_max/1000, omega_max]`` rad/s.
+
+        An extension of the thesis (:func:`~designlab.impact.joint.fit_joint_band`).
+        Returns the manipulator and the fit (check ``fit.success``).
+        """
+        fit = fit_joint_band(*self.joint_values(), omega_max=omega_max, **kwargs)
+        contact = None
+        if fit.success:
+            contact = ContactDynamics(
+                self.mass, fit.stiffness, fit.damping, lever_arm=self.lever_arm, name=self.name
+            )
+        return contact, fit  # type: ignore[return-value]
+
+
+def _nonneg(name: str, value: float, unit: str) -> float:
+    from designlab.errors import check_nonnegative
+
+    return check_nonnegative(name, value, unit)
+
+
+# --- the model, written once ---------------------------------------------------------------
+
+
+def _build(constrained: bool) -> LinearImpactModel:
+    p = ca.SX.sym("p", len(FULL_PARAM_NAMES))
+    m_r, c_m, k_m, k_c, c_c, m_h, c_h, k_h, c_q, k_q = (p[i] for i in range(p.shape[0]))
+    u = ca.SX.sym("u", len(FULL_INPUT_NAMES))
+    s_c, v_c, a_d, a_ff = u[0], u[1], u[2], u[3]
+    if constrained:
+        x = ca.SX.sym("x", 3)
+        d_r, d_r_dot, d_e = x[0], x[1], x[2]
+        d_h = d_h_dot = ca.SX(0.0)
+        state_names: tuple[str, ...] = ("delta_r", "delta_r_dot", "delta_e")
+    else:
+        x = ca.SX.sym("x", 5)
+        d_r, d_r_dot, d_e, d_h, d_h_dot = (x[i] for i in range(5))
+        state_names = ("delta_r", "delta_r_dot", "delta_e", "delta_h", "delta_h_dot")
+
+    compression = d_r - d_h + s_c
+    compression_rate = d_r_dot - d_h_dot + v_c
+    f_c = k_c * compression + c_c * compression_rate  # (3.5.1)
+    # massless motor node: transmission force = controller force - feed-forward (3.4.5)
+    d_e_dot = (k_m * (d_r - d_e) + c_m * d_r_dot - k_q * d_e + m_r * a_ff) / (c_m + c_q)
+    f_t = k_q * d_e + c_q * d_e_dot - m_r * a_ff
+    d_r_ddot = (-f_c - f_t) / m_r - a_d - a_ff  # (3.5.2) with the series joint
+    if constrained:
+        a_h = ca.SX(0.0)
+        xdot = ca.vertcat(d_r_dot, d_r_ddot, d_e_dot)
+    else:
+        a_h = (f_c - c_h * d_h_dot - k_h * d_h) / m_h  # (3.5.3)
+        xdot = ca.vertcat(d_r_dot, d_r_ddot, d_e_dot, d_h_dot, a_h)
+    output_names = (
+        "force",
+        "head_acceleration",
+        "compression",
+        "compression_rate",
+        "head_velocity",
+        "robot_deflection",
+        "transmission_force",
+    )
+    y = ca.vertcat(f_c, a_h, compression, compression_rate, d_h_dot, d_r, f_t)
+    name = "full_joint_" + ("constrained" if constrained else "unconstrained")
+    return derive_model(
+        name, x, u, p, xdot, y, state_names, output_names, FULL_PARAM_NAMES, FULL_INPUT_NAMES
+    )
+
+
+@cache
+def full_joint_model(constrained: bool = False) -> LinearImpactModel:
+    """The impact model with the full series joint (built once, cached).
+
+    Examples
+    --------
+    >>> m = full_joint_model()
+    >>> m.n_states, m.param_names[-2:]
+    (5, ('C_cont', 'K_cont'))
+    """
+    return _build(bool(constrained))
+
+
+def full_joint_params(
+    robot: FullJointContact, foam: Foam, head: HeadNeck | None
+) -> NDArray[np.float64]:
+    """Parameter vector :data:`FULL_PARAM_NAMES` of one design (head ``None``: 1, 0, 0).
+
+    Examples
+    --------
+    >>> from designlab.impact import FOAM_1, HEAD_MIN
+    >>> arm = FullJointContact(10.0, 1e5, 10.0, 2e4, 250.0)
+    >>> full_joint_params(arm, FOAM_1, HEAD_MIN).tolist()
+    [10.0, 10.0, 100000.0, 24250.0, 71.9, 4.4, 46.0, 3000.0, 250.0, 20000.0]
+    """
+    hm, hc, hk = (1.0, 0.0, 0.0) if head is None else (head.mass, head.damping, head.stiffness)
+    return np.array(
+        [
+            robot.mass,
+            robot.transmission_damping,
+            robot.transmission_stiffness,
+            foam.stiffness,
+            foam.damping,
+            hm,
+            hc,
+            hk,
+            robot.control_damping,
+            robot.control_stiffness,
+        ],
+        dtype=float,
+    )
+
+
+def grid_rate(poles: NDArray[np.complex128]) -> NDArray[np.float64]:
+    """The fastest rate (1/s) a search grid must resolve, per design (``(N, n)`` poles).
+
+    A stiff transmission gives a very fast real pole (the motor node's
+    ``-(K_mech + K_cont)/(C_mech + C_cont)``) whose transient is over long
+    before any maximum of the first lobe; resolving it would cost millions of
+    grid steps. Real poles faster than ten times the fastest oscillatory (or,
+    without one, the slowest) pole are therefore left out of the rate.
+    """
+    mod = np.abs(poles)
+    osc = np.abs(poles.imag) > 1e-9 * np.maximum(mod, 1e-300)
+    base = np.where(osc.any(axis=1), np.where(osc, mod, 0.0).max(axis=1), mod.min(axis=1))
+    keep = osc | (mod <= 10.0 * base[:, None])
+    return np.where(keep, mod, 0.0).max(axis=1)
+
+
+# --- exact responses from the state space -----------------------------------------------------
+
+#: Input families of an impact: name -> ({input: power of s}, order m of the pole at 0).
+#: ``y = (sum_j s^e_j G_j(s)) / s^m``: the constant-velocity ramp (v_c = 1), the
+#: ramp of the closing speed (v_c = t), and steps of a_d and a_ff.
+FAMILIES: dict[str, tuple[dict[str, int], int]] = {
+    "ramp": ({"s_c": 0, "v_c": 1}, 2),
+    "accel": ({"s_c": 0, "v_c": 1}, 3),
+    "a_d": ({"a_d": 0}, 1),
+    "a_ff": ({"a_ff": 0}, 1),
+}
+
+
+def modal_families(
+    model: LinearImpactModel,
+    params: NDArray[np.float64],
+    outputs: Sequence[str],
+    families: Sequence[str] = ("ramp",),
+) -> dict[str, dict[str, ModalResponse]]:
+    """Exact responses of the full-joint model from its state space (eigen-decomposition).
+
+    A stiff transmission puts the motor node's pole many decades above the
+    impact modes; the roots of the characteristic *polynomial* then lose all
+    accuracy, while the eigenvalues of ``A`` keep it. With ``A = V diag(l) V^-1``
+    each transfer function is ``G_j(s) = D_j + sum_i (C v_i)(w_i B_j)/(s - l_i)``,
+    so the response ``y = (sum_j s^e_j G_j) / s^m`` has the residues
+    ``(C v_i) sum_j l_i^e_j (w_i B_j) / l_i^m`` and a polynomial part from the
+    Taylor coefficients ``G_j^(k)(0)/k! = [k=0] D_j - C A^-(k+1) B_j``.
+
+    Parameters
+    ----------
+    model
+        A model of :func:`full_joint_model` (any linear model works).
+    params
+        ``(N, n_p)`` parameters.
+    outputs
+        Output names.
+    families
+        Keys of :data:`FAMILIES`.
+
+    Returns
+    -------
+    dict
+        ``{family: {output: ModalResponse}}`` (unit input).
+    """
+    from designlab.impact.modal import _fold, _fold_plan
+
+    a, b, c, d = model.matrices_batch(params)
+    lam, vec = np.linalg.eig(a)
+    w = np.linalg.inv(vec)
+    cv = np.einsum("nyx,nxi->nyi", c, vec)  # (N, n_y, n)
+    wb = np.einsum("nix,nxu->niu", w, b)  # (N, n, n_u)
+    a_inv = np.linalg.inv(a)
+    plan = _fold_plan(lam)
+    out: dict[str, dict[str, ModalResponse]] = {}
+    for fam in families:
+        powers, m = FAMILIES[fam]
+        idx = {model.input_names.index(k): e for k, e in powers.items()}
+        # residues of (sum_j s^e_j G_j) / s^m at the eigenvalues
+        gain = sum(lam**e * wb[:, :, j] for j, e in idx.items()) / lam**m  # (N, n)
+        # Taylor coefficients of H(s) = sum_j s^e_j G_j(s), orders 0..m-1
+        taylor = np.zeros((params.shape[0], len(model.output_names), m))
+        a_pow = np.broadcast_to(np.eye(a.shape[1]), a.shape).copy()
+        g_k = []
+        for k in range(m):
+            a_pow = a_pow @ a_inv  # A^-(k+1)
+            g = -np.einsum("nyx,nxz,nzu->nyu", c, a_pow, b)
+            if k == 0:
+                g = g + d
+            g_k.append(g)
+        for lag in range(m):
+            for j, e in idx.items():
+                if lag - e >= 0:
+                    taylor[:, :, lag] += g_k[lag - e][:, :, j]
+        from math import factorial
+
+        fam_out = {}
+        for name in outputs:
+            y = model.output_names.index(name)
+            res = cv[:, y, :] * gain
+            p_f, r_f = _fold(lam, res, plan)
+            poly = np.stack(
+                [taylor[:, y, lag] / factorial(m - 1 - lag) for lag in range(m)], axis=1
+            )
+            fam_out[name] = ModalResponse(p_f, r_f, poly)
+        out[fam] = fam_out
+    return out
+
+
+# --- first local maximum ---------------------------------------------------------------------
+
+
+def _first_peak_index(y: NDArray[np.float64]) -> NDArray[np.intp]:
+    """Index of the first interior local maximum of each row (the last index if none)."""
+    rise = np.diff(y, axis=1)
+    peak = (rise[:, :-1] > 0) & (rise[:, 1:] <= 0)
+    has = peak.any(axis=1)
+    first = np.where(has, peak.argmax(axis=1) + 1, y.shape[1] - 1)
+    # a response that falls from t = 0 has its first maximum at the start
+    return np.where(~has & (rise[:, 0] <= 0), 0, first)
+
+
+def first_local_maximum(
+    resp: ModalResponse, t_end: ArrayLike, samples: int = 801
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """First local maximum of each response on ``[0, t_end]`` (exact, batch).
+
+    The thesis's "peak" of the force (Sec. 3.6) is the first local maximum
+    after the step f_c(0+) = C_c v_c; the first-lobe maximum of DECISIONS I2
+    can be later and larger when the force keeps rising into its ramp. The
+    responses are sampled on ``samples`` points and the first rise-fall
+    bracket is polished by Newton iterations on the closed form. Where there
+    is no interior maximum the larger end point is returned.
+
+    Parameters
+    ----------
+    resp
+        Batch of ``N`` responses (:mod:`designlab.impact.modal`).
+    t_end
+        ``(N,)`` or scalar end of the window, s (e.g. the impact period).
+    samples
+        Grid points of the bracketing search.
+
+    Returns
+    -------
+    tuple of arrays
+        Times (s) and values, ``(N,)`` each.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> # y = L^-1[1/(s (s^2 + 1))] = 1 - cos t: first maximum at pi
+    >>> r = ModalResponse.from_polynomials(np.array([[1.0]]), np.array([[1.0, 0.0, 1.0]]), 1)
+    >>> t, y = first_local_maximum(r, 10.0)
+    >>> round(float(t[0]), 9), round(float(y[0]), 12)
+    (3.141592654, 2.0)
+    """
+    n = resp.batch_size
+    t_end = np.broadcast_to(np.asarray(t_end, dtype=float), (n,)).copy()
+    if int(samples) < 3:
+        raise InvalidParameterError("samples", samples, "must be an integer >= 3")
+    rel = np.linspace(0.0, 1.0, int(samples))
+    t = t_end[:, None] * rel[None, :]
+    y = resp.evaluate(t)
+    j = _first_peak_index(y)
+    step = t_end / (int(samples) - 1)
+    t_j = t[np.arange(n), j]
+    lo = np.maximum(t_j - step, 0.0)
+    hi = np.minimum(t_j + step, t_end)
+    return refine_extremum(resp, lo, hi, guess=t_j)
+
+
+# --- comparison of the reductions -------------------------------------------------------------
+
+
+def _default_band(robot: FullJointContact, foam: Foam, head: HeadNeck | None) -> float:
+    """Default band of the fit: up to the fastest mode of the Taylor-reduced impact, rad/s."""
+    from designlab.impact.model import constrained_model, param_vector, unconstrained_model
+
+    model = constrained_model() if head is None else unconstrained_model()
+    den = model.denominator(param_vector(robot.taylor(), foam, head))
+    return float(np.abs(poles_of(den)).max())
+
+
+def _metric_rows(
+    params: NDArray[np.float64], v_c: float, constrained: bool, stop_time: float
+) -> dict[str, NDArray[np.float64]]:
+    """The compared metrics for designs ``params`` (rows of 8 or 10 parameters)."""
+    from designlab.impact.metrics import impact_metrics, ramp_responses, response_model
+
+    m = impact_metrics(params, v_c, constrained=constrained, stop_time=stop_time)
+    model = response_model(params, constrained)
+    resp = ramp_responses(model, params, ("force",))["force"]
+    t_end = m.impact_duration
+    ok = np.isfinite(t_end) & (t_end > 0)
+    _, f1 = first_local_maximum(resp.take(np.flatnonzero(ok)), t_end[ok])
+    first = np.full(len(m), np.nan)
+    first[ok] = f1 * max(v_c, 0.0)
+    return {
+        "a_h_max": m.peak_head_acceleration / STANDARD_GRAVITY,
+        "eps_max": m.max_compression,
+        "f_c_max": m.peak_force,
+        "f_c_first_peak": first,
+        "t_imp": m.impact_duration,
+        "status": m.status,
+    }
+
+
+def _long_rows(
+    key: dict[str, Any],
+    full: dict[str, NDArray],
+    reduced: dict[str, dict[str, NDArray]],
+    index: int,
+) -> list[dict[str, Any]]:
+    rows = []
+    for red, vals in reduced.items():
+        for metric, unit in METRICS.items():
+            f = float(full[metric][index])
+            r = float(vals[metric][index])
+            err = (r - f) / f if f != 0 and np.isfinite(f) else math.nan
+            cons: Any = pd.NA
+            if metric in HARM_METRICS and np.isfinite(err):
+                cons = bool(r >= f)
+            rows.append(
+                {
+                    **key,
+                    "reduction": red,
+                    "metric": metric,
+                    "unit": unit,
+                    "full": f,
+                    "reduced": r,
+                    "relative_error": err,
+                    "conservative": cons,
+                }
+            )
+    return rows
+
+
+@dataclass(frozen=True, eq=False)
+class JointReductionComparison(Result):
+    """Full joint vs its reductions on one arm, foam and head (:func:`compare_joint_reductions`).
+
+    Attributes
+    ----------
+    robot
+        The full-joint manipulator.
+    reduced
+        The reduced manipulators by name (``"taylor"``, ``"band_fit"``).
+    band
+        The band fit (:class:`~designlab.impact.joint.JointFit`) and its
+        ``omega_max`` in :attr:`band_omega_max`.
+    impact_velocity
+        v_c, m/s.
+    status
+        ``"ok"``, or ``"band_fit_failed"`` (the band-fit rows are missing) or
+        the first metric status that is not ``"ok"``.
+    """
+
+    robot: FullJointContact
+    foam: Foam
+    head: HeadNeck | None
+    impact_velocity: float
+    reduced: dict[str, ContactDynamics]
+    band: JointFit
+    band_omega_max: float
+    status: str
+    warnings: tuple[str, ...]
+    _frame: pd.DataFrame = field(repr=False)
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row per (reduction, metric): full and reduced values, relative error, side.
+
+        ``relative_error = (reduced - full) / full``; ``conservative`` is True when
+        the reduction overestimates a harm metric (a_h_max, eps_max, the force
+        peaks) and missing for t_imp.
+        """
+        return self._frame.copy()
+
+    def relative_error(self, reduction: str, metric: str) -> float:
+        """``(reduced - full) / full`` of ``metric`` for ``reduction``."""
+        return float(self._row(reduction, metric)["relative_error"])
+
+    def conservative(self, reduction: str, metric: str) -> bool:
+        """Whether ``reduction`` overestimates the harm metric ``metric``."""
+        if metric not in HARM_METRICS:
+            raise InvalidParameterError("metric", metric, f"must be one of {HARM_METRICS}")
+        return bool(self._row(reduction, metric)["conservative"])
+
+    def value(self, model: str, metric: str) -> float:
+        """A metric of ``"full"`` or of a reduction, in the unit of :data:`METRICS`."""
+        row = self._row("taylor" if model == "full" else model, metric)
+        return float(row["full" if model == "full" else "reduced"])
+
+    def _row(self, reduction: str, metric: str) -> pd.Series:
+        if metric not in METRICS:
+            raise InvalidParameterError("metric", metric, f"must be one of {tuple(METRICS)}")
+        sel = self._frame[(self._frame.reduction == reduction) & (self._frame.metric == metric)]
+        if sel.empty:
+            raise InvalidParameterError(
+                "reduction", reduction, f"must be one of {sorted(self.reduced)}"
+            )
+        return sel.iloc[0]
+
+
+def _check_inputs(robot: Any, foam: Any, head: Any) -> None:
+    if not isinstance(robot, FullJointContact):
+        raise InvalidParameterError("robot", robot, "must be a FullJointContact")
+    if not isinstance(foam, Foam):
+        raise InvalidParameterError("foam", foam, "must be a Foam")
+    if head is not None and not isinstance(head, HeadNeck):
+        raise InvalidParameterError("head", head, "must be a HeadNeck or None")
+
+
+def _reduced_rows(
+    robots: Sequence[FullJointContact],
+    foam: Foam,
+    head: HeadNeck | None,
+    omega_max: float | None,
+) -> tuple[dict[str, list[ContactDynamics | None]], list[JointFit], list[float]]:
+    """Taylor and band-fit manipulators for each robot (``None`` where the fit failed)."""
+    taylor, band, fits, omegas = [], [], [], []
+    for r in robots:
+        w = omega_max if omega_max is not None else _default_band(r, foam, head)
+        contact, fit = r.band_fit(w)
+        taylor.append(r.taylor())
+        band.append(contact)
+        fits.append(fit)
+        omegas.append(w)
+    return {"taylor": taylor, "band_fit": band}, fits, omegas
+
+
+def _evaluate_all(
+    robots: Sequence[FullJointContact],
+    reduced: dict[str, list[ContactDynamics | None]],
+    foam: Foam,
+    head: HeadNeck | None,
+    v_c: float,
+    stop_time: float,
+) -> tuple[dict[str, NDArray], dict[str, dict[str, NDArray]]]:
+    from designlab.impact.model import param_vector
+
+    constrained = head is None
+    full = _metric_rows(
+        np.array([full_joint_params(r, foam, head) for r in robots]), v_c, constrained, stop_time
+    )
+    out: dict[str, dict[str, NDArray]] = {}
+    for name, contacts in reduced.items():
+        ok = [i for i, c in enumerate(contacts) if c is not None]
+        vals = {k: np.full(len(robots), np.nan) for k in METRICS}
+        if ok:
+            rows = np.array([param_vector(contacts[i], foam, head) for i in ok])
+            got = _metric_rows(rows, v_c, constrained, stop_time)
+            for k in METRICS:
+                vals[k][ok] = got[k]
+        out[name] = vals
+    return full, out
+
+
+def compare_joint_reductions(
+    robot: FullJointContact,
+    foam: Foam,
+    head: HeadNeck | None,
+    impact_velocity: float,
+    *,
+    omega_max: float | None = None,
+    stop_time: float = 0.05,
+) -> JointReductionComparison:
+    """Error of the reduced joint on the safety metrics, against the full joint (3.4.6).
+
+    Evaluates the full series joint, the Taylor reduction (3.4.9) and the band
+    fit on the same arm, foam, head and v_c, and reports for each reduction
+    and metric (a_h,max, eps_max, the lobe maximum and the first local maximum
+    of the force, the impact period) the relative error and its sign.
+
+    Parameters
+    ----------
+    robot
+        The manipulator with its full joint.
+    foam, head
+        The covering and the head (``None``: constrained impact, head against a wall).
+    impact_velocity
+        v_c, m/s (> 0).
+    omega_max
+        Upper end of the band fit, rad/s. Default: three times the fastest
+        mode of the Taylor-reduced impact model, so the band covers the impact.
+    stop_time
+        Window of the constrained impact, s.
+
+    Returns
+    -------
+    JointReductionComparison
+
+    Examples
+    --------
+    >>> import designlab as dl
+    >>> arm = dl.impact.FullJointContact.from_joint(0.059, 2e3, 2.0, 1.5e3, 30.0, lever_arm=0.2)
+    >>> c = compare_joint_reductions(arm, dl.impact.FOAM_1, dl.impact.HEAD_MIN, 1.25)
+    >>> f = c.to_frame()
+    >>> f[f.metric == "a_h_max"].relative_error.round(3).tolist()   # Taylor, band fit
+    [0.125, 0.044]
+    """
+    _check_inputs(robot, foam, head)
+    v_c = check_positive("impact_velocity", impact_velocity, "m/s")
+    stop = check_positive("stop_time", stop_time, "s")
+    if omega_max is not None:
+        omega_max = check_positive("omega_max", omega_max, "rad/s")
+    reduced, fits, omegas = _reduced_rows([robot], foam, head, omega_max)
+    full, vals = _evaluate_all([robot], reduced, foam, head, v_c, stop)
+    rows = _long_rows({}, full, {k: v for k, v in vals.items() if reduced[k][0]}, 0)
+    warnings: list[str] = []
+    status = "ok"
+    if reduced["band_fit"][0] is None:
+        status = "band_fit_failed"
+        warnings.append(f"the band fit failed ({fits[0].status}); only the Taylor rows are given")
+    statuses = [str(full["status"][0])]
+    if status == "ok" and statuses[0] != "ok":
+        status = statuses[0]
+        warnings.append(f"full-joint metrics status: {statuses[0]}")
+    return JointReductionComparison(
+        robot=robot,
+        foam=foam,
+        head=head,
+        impact_velocity=v_c,
+        reduced={k: v[0] for k, v in reduced.items() if v[0] is not None},
+        band=fits[0],
+        band_omega_max=omegas[0],
+        status=status,
+        warnings=tuple(warnings),
+        _frame=pd.DataFrame(rows),
+    )
+
+
+# --- sweep over the stiffness ratio ----------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class JointReductionSweep(Result):
+    """Errors of the reductions over the stiffness ratio K_mech/K_cont (:func:`joint_reduction_sweep`).
+
+    Attributes
+    ----------
+    ratio
+        K_mech / K_cont of each point.
+    base
+        The manipulator the sweep was built from (its controller, mass and
+        transmission damping are kept; K_mech = ratio * K_cont).
+    """
+
+    base: FullJointContact
+    foam: Foam
+    head: HeadNeck | None
+    impact_velocity: float
+    ratio: NDArray[np.float64]
+    status: str
+    warnings: tuple[str, ...]
+    _frame: pd.DataFrame = field(repr=False)
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row per (ratio, reduction, metric), columns as in :class:`JointReductionComparison`."""
+        return self._frame.copy()
+
+    def errors(self, reduction: str, metric: str) -> NDArray[np.float64]:
+        """Relative errors of ``reduction`` on ``metric`` along :attr:`ratio`."""
+        f = self._frame
+        sel = f[(f.reduction == reduction) & (f.metric == metric)]
+        if sel.empty:
+            raise InvalidParameterError("reduction/metric", (reduction, metric), "not in the sweep")
+        return sel.relative_error.to_numpy(dtype=float)
+
+    def conservative_region(self, reduction: str, metric: str) -> NDArray[np.bool_]:
+        """Where ``reduction`` overestimates ``metric`` (a harm metric), along :attr:`ratio`."""
+        if metric not in HARM_METRICS:
+            raise InvalidParameterError("metric", metric, f"must be one of {HARM_METRICS}")
+        return self.errors(reduction, metric) >= 0.0
+
+
+def joint_reduction_sweep(
+    robot: FullJointContact,
+    foam: Foam,
+    head: HeadNeck | None,
+    impact_velocity: float,
+    ratios: ArrayLike,
+    *,
+    omega_max: float | None = None,
+    stop_time: float = 0.05,
+) -> JointReductionSweep:
+    """Errors of the Taylor and band-fit reductions over K_mech/K_cont.
+
+    The controller (K_cont, C_cont), the mass and the transmission damping of
+    ``robot`` are kept; the transmission stiffness is ``ratio * K_cont``. A large
+    ratio is a direct drive (the reduction tends to exact), a ratio near or
+    below one a compliant transmission.
+
+    Parameters
+    ----------
+    robot, foam, head, impact_velocity, omega_max, stop_time
+        As in :func:`compare_joint_reductions` (``omega_max`` per point by default).
+    ratios
+        K_mech / K_cont values (each > 0).
+
+    Returns
+    -------
+    JointReductionSweep
+
+    Examples
+    --------
+    >>> import designlab as dl
+    >>> arm = dl.impact.FullJointContact.from_joint(0.059, 2e3, 2.0, 1.5e3, 30.0, lever_arm=0.2)
+    >>> s = joint_reduction_sweep(arm, dl.impact.FOAM_1, dl.impact.HEAD_MIN, 1.25, [0.5, 1e3])
+    >>> err = s.errors("taylor", "a_h_max")
+    >>> bool(abs(err[1]) < 1e-3 < abs(err[0]))
+    True
+    """
+    _check_inputs(robot, foam, head)
+    v_c = check_positive("impact_velocity", impact_velocity, "m/s")
+    stop = check_positive("stop_time", stop_time, "s")
+    r = np.atleast_1d(np.asarray(ratios, dtype=float))
+    if r.ndim != 1 or r.size == 0 or not np.all(np.isfinite(r)) or np.any(r <= 0):
+        raise InvalidParameterError("ratios", r.tolist(), "must be a non-empty 1-D array of finite numbers > 0")
+    if omega_max is not None:
+        omega_max = check_positive("omega_max", omega_max, "rad/s")
+    robots = [
+        FullJointContact(
+            robot.mass,
+            float(x) * robot.control_stiffness,
+            robot.transmission_damping,
+            robot.control_stiffness,
+            robot.control_damping,
+            robot.lever_arm,
+            robot.name,
+        )
+        for x in r
+    ]
+    reduced, fits, omegas = _reduced_rows(robots, foam, head, omega_max)
+    full, vals = _evaluate_all(robots, reduced, foam, head, v_c, stop)
+    rows: list[dict[str, Any]] = []
+    for i, x in enumerate(r):
+        key = {
+            "ratio": float(x),
+            "k_mech_N_per_m": robots[i].transmission_stiffness,
+            "band_omega_max_rad_per_s": omegas[i],
+        }
+        avail = {k: v for k, v in vals.items() if reduced[k][i] is not None}
+        rows.extend(_long_rows(key, full, avail, i))
+    failed = [float(x) for i, x in enumerate(r) if reduced["band_fit"][i] is None]
+    warnings = []
+    if failed:
+        warnings.append(f"the band fit failed at ratios {failed}; those rows are missing")
+    bad = sorted({str(s) for s in full["status"] if str(s) != "ok"})
+    if bad:
+        warnings.append(f"full-joint metric statuses other than ok: {bad}")
+    return JointReductionSweep(
+        base=robot,
+        foam=foam,
+        head=head,
+        impact_velocity=v_c,
+        ratio=r,
+        status="ok" if not failed else "band_fit_failed",
+        warnings=tuple(warnings),
+        _frame=pd.DataFrame(rows),
+    )
