@@ -52,6 +52,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from designlab.errors import InvalidParameterError, check_positive
 from designlab.impact.criteria import Criterion, HeadAcceleration
+from designlab.impact.full_joint import FullJointContact, full_joint_params
 from designlab.impact.metrics import impact_metrics
 from designlab.impact.parameters import (
     HEAD_MAX,
@@ -175,6 +176,9 @@ class _Problem:
             )
             return rows, lr.joint_speed * np.sqrt(l2) + self.human_speed
         r = self.robot
+        if isinstance(r, FullJointContact):  # full series joint: 5 robot columns
+            p = full_joint_params(r, Foam(1.0, 0.0), None)
+            return p[None, [0, 1, 2, 8, 9]], np.array([self.impact_velocity])
         return np.array([[r.mass, r.damping, r.stiffness]]), np.array([self.impact_velocity])
 
     def designs(
@@ -198,8 +202,10 @@ class _Problem:
     ) -> tuple[NDArray, NDArray, int]:
         heads = self.heads_for(key)
         n, nh = k.size, heads.shape[0]
-        params = np.column_stack([rows, k, c])
-        full = np.column_stack([np.repeat(params, nh, axis=0), np.tile(heads, (n, 1))])
+        params = np.column_stack([rows[:, :3], k, c])
+        full = np.column_stack(
+            [np.repeat(params, nh, axis=0), np.tile(heads, (n, 1)), np.repeat(rows[:, 3:], nh, axis=0)]
+        )
         return full, np.repeat(v, nh), nh
 
     def _values(
@@ -627,12 +633,14 @@ def _make_problem(
         v = float("nan")
         if human_speed < 0 or not np.isfinite(human_speed):
             raise InvalidParameterError("human_speed", human_speed, "must be >= 0", "m/s")
-    elif isinstance(robot, ContactDynamics):
+    elif isinstance(robot, (ContactDynamics, FullJointContact)):
         v = check_positive(
             "impact_velocity", 1.25 if impact_velocity is None else impact_velocity, "m/s"
         )
     else:
-        raise InvalidParameterError("robot", robot, "must be a ContactDynamics or a LinkImpact")
+        raise InvalidParameterError(
+            "robot", robot, "must be a ContactDynamics, a FullJointContact or a LinkImpact"
+        )
     crit = tuple(criteria) if criteria is not None else (HeadAcceleration(10.0),)
     for c in crit:
         if not isinstance(c, Criterion):
