@@ -72,7 +72,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from designlab.errors import InvalidParameterError, check_finite, check_positive
 from designlab.impact.joint import JointFit, fit_joint_band, reduced_joint
-from designlab.impact.modal import ModalResponse, poles_of, refine_extremum
+from designlab.impact.modal import ModalResponse, poles_of
+from designlab.impact.peaks import first_local_maximum
 from designlab.impact.model import INPUT_NAMES, PARAM_NAMES, LinearImpactModel, derive_model
 from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck, _Params
 from designlab.results import Result
@@ -86,7 +87,6 @@ __all__ = [
     "JointReductionComparison",
     "JointReductionSweep",
     "compare_joint_reductions",
-    "first_local_maximum",
     "full_joint_model",
     "full_joint_params",
     "grid_rate",
@@ -469,69 +469,6 @@ def modal_families(
             fam_out[name] = ModalResponse(p_f, r_f, poly)
         out[fam] = fam_out
     return out
-
-
-# --- first local maximum ---------------------------------------------------------------------
-
-
-def _first_peak_index(y: NDArray[np.float64]) -> NDArray[np.intp]:
-    """Index of the first interior local maximum of each row (the last index if none)."""
-    rise = np.diff(y, axis=1)
-    peak = (rise[:, :-1] > 0) & (rise[:, 1:] <= 0)
-    has = peak.any(axis=1)
-    first = np.where(has, peak.argmax(axis=1) + 1, y.shape[1] - 1)
-    # a response that falls from t = 0 has its first maximum at the start
-    return np.where(~has & (rise[:, 0] <= 0), 0, first)
-
-
-def first_local_maximum(
-    resp: ModalResponse, t_end: ArrayLike, samples: int = 801
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """First local maximum of each response on ``[0, t_end]`` (exact, batch).
-
-    The thesis's "peak" of the force (Sec. 3.6) is the first local maximum
-    after the step f_c(0+) = C_c v_c; the first-lobe maximum of DECISIONS I2
-    can be later and larger when the force keeps rising into its ramp. The
-    responses are sampled on ``samples`` points and the first rise-fall
-    bracket is polished by Newton iterations on the closed form. Where there
-    is no interior maximum the larger end point is returned.
-
-    Parameters
-    ----------
-    resp
-        Batch of ``N`` responses (:mod:`designlab.impact.modal`).
-    t_end
-        ``(N,)`` or scalar end of the window, s (e.g. the impact period).
-    samples
-        Grid points of the bracketing search.
-
-    Returns
-    -------
-    tuple of arrays
-        Times (s) and values, ``(N,)`` each.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> # y = L^-1[1/(s (s^2 + 1))] = 1 - cos t: first maximum at pi
-    >>> r = ModalResponse.from_polynomials(np.array([[1.0]]), np.array([[1.0, 0.0, 1.0]]), 1)
-    >>> t, y = first_local_maximum(r, 10.0)
-    >>> round(float(t[0]), 9), round(float(y[0]), 12)
-    (3.141592654, 2.0)
-    """
-    n = resp.batch_size
-    t_end = np.broadcast_to(np.asarray(t_end, dtype=float), (n,)).copy()
-    if int(samples) < 3:
-        raise InvalidParameterError("samples", samples, "must be an integer >= 3")
-    rel = np.linspace(0.0, 1.0, int(samples))
-    t = t_end[:, None] * rel[None, :]
-    y = resp.evaluate(t)
-    j = _first_peak_index(y)
-    step = t_end / (int(samples) - 1)
-    t_j = t[np.arange(n), j]
-    lo = np.maximum(t_j - step, 0.0)
-    hi = np.minimum(t_j + step, t_end)
-    return refine_extremum(resp, lo, hi, guess=t_j)
 
 
 # --- comparison of the reductions -------------------------------------------------------------
