@@ -73,6 +73,14 @@ from designlab.impact.parameters import (
     HeadNeck,
     LinkImpact,
 )
+from designlab.impact.peaks import first_peak
+from designlab.impact.planes import (
+    ClosingSpeed,
+    CombinedImpact,
+    ImpactPlane,
+    closing_speed,
+    combined_impact,
+)
 from designlab.impact.simulate import ImpactResponse, VelocityProfile, hic, simulate
 
 __all__ = [
@@ -89,19 +97,22 @@ __all__ = [
     "TABLE_3_2_HEADS",
     "TEST_HEAD",
     "THESIS_HEAD_RANGE",
+    "ClosingSpeed",
+    "CombinedImpact",
     "ContactDynamics",
     "Criterion",
     "EffectiveContact",
     "Foam",
-    "FullJointContact",
     "FoamEnvelope",
     "FoamThickness",
+    "FullJointContact",
     "HeadAcceleration",
     "HeadInjuryCriterion",
     "HeadNeck",
     "HeadRange",
     "ImpactForce",
     "ImpactMetrics",
+    "ImpactPlane",
     "ImpactPointSweep",
     "ImpactResponse",
     "IsoTransientForce",
@@ -114,9 +125,12 @@ __all__ = [
     "VelocityProfile",
     "WorstCaseCheck",
     "check_worst_case",
+    "closing_speed",
+    "combined_impact",
     "compare_joint_reductions",
     "constrained_model",
     "effective_contact",
+    "first_peak",
     "fit_joint_band",
     "foam_envelope",
     "full_joint_tf",
