@@ -396,7 +396,11 @@ def transfer_functions(
         v_c in m/s.
     q2
         ``"correct"`` (default, DECISIONS I1) or ``"printed"`` to reproduce the
-        thesis's q2 without the C_r C_h/(M_r M_h) term.
+        thesis's q2 without the C_r C_h/(M_r M_h) term. The printed option
+        changes the common denominator, so the force and eps change too,
+        although Fig. 3.10 cites (3.5.11), whose form has no q2: that the
+        thesis's force curves used the printed q2 is an inference from its
+        Sec. 3.6 percentages, not something the text states.
 
     Examples
     --------
