@@ -203,9 +203,8 @@ class _Problem:
         heads = self.heads_for(key)
         n, nh = k.size, heads.shape[0]
         params = np.column_stack([rows[:, :3], k, c])
-        full = np.column_stack(
-            [np.repeat(params, nh, axis=0), np.tile(heads, (n, 1)), np.repeat(rows[:, 3:], nh, axis=0)]
-        )
+        extra = np.repeat(rows[:, 3:], nh, axis=0)  # full-joint controller columns, if any
+        full = np.column_stack([np.repeat(params, nh, axis=0), np.tile(heads, (n, 1)), extra])
         return full, np.repeat(v, nh), nh
 
     def _values(

@@ -70,12 +70,12 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
-from designlab.errors import InvalidParameterError, check_finite, check_positive
+from designlab.errors import InvalidParameterError, check_positive
 from designlab.impact.joint import JointFit, fit_joint_band, reduced_joint
 from designlab.impact.modal import ModalResponse, poles_of
-from designlab.impact.peaks import first_local_maximum
-from designlab.impact.model import INPUT_NAMES, PARAM_NAMES, LinearImpactModel, derive_model
+from designlab.impact.model import INPUT_NAMES, LinearImpactModel, derive_model
 from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck, _Params
+from designlab.impact.peaks import first_local_maximum
 from designlab.results import Result
 from designlab.units import STANDARD_GRAVITY
 
@@ -90,8 +90,8 @@ __all__ = [
     "full_joint_model",
     "full_joint_params",
     "grid_rate",
-    "modal_families",
     "joint_reduction_sweep",
+    "modal_families",
 ]
 
 #: Parameters of the full-joint model: those of the reduced model, with C_r, K_r
@@ -736,7 +736,7 @@ def compare_joint_reductions(
 
 @dataclass(frozen=True, eq=False)
 class JointReductionSweep(Result):
-    """Errors of the reductions over the stiffness ratio K_mech/K_cont (:func:`joint_reduction_sweep`).
+    """Errors of the reductions over K_mech/K_cont (:func:`joint_reduction_sweep`).
 
     Attributes
     ----------
@@ -757,7 +757,7 @@ class JointReductionSweep(Result):
     _frame: pd.DataFrame = field(repr=False)
 
     def to_frame(self) -> pd.DataFrame:
-        """One row per (ratio, reduction, metric), columns as in :class:`JointReductionComparison`."""
+        """One row per (ratio, reduction, metric); columns of :class:`JointReductionComparison`."""
         return self._frame.copy()
 
     def errors(self, reduction: str, metric: str) -> NDArray[np.float64]:
@@ -817,7 +817,9 @@ def joint_reduction_sweep(
     stop = check_positive("stop_time", stop_time, "s")
     r = np.atleast_1d(np.asarray(ratios, dtype=float))
     if r.ndim != 1 or r.size == 0 or not np.all(np.isfinite(r)) or np.any(r <= 0):
-        raise InvalidParameterError("ratios", r.tolist(), "must be a non-empty 1-D array of finite numbers > 0")
+        raise InvalidParameterError(
+            "ratios", r.tolist(), "must be a non-empty 1-D array of finite numbers > 0"
+        )
     if omega_max is not None:
         omega_max = check_positive("omega_max", omega_max, "rad/s")
     robots = [
@@ -832,7 +834,7 @@ def joint_reduction_sweep(
         )
         for x in r
     ]
-    reduced, fits, omegas = _reduced_rows(robots, foam, head, omega_max)
+    reduced, _, omegas = _reduced_rows(robots, foam, head, omega_max)
     full, vals = _evaluate_all(robots, reduced, foam, head, v_c, stop)
     rows: list[dict[str, Any]] = []
     for i, x in enumerate(r):

@@ -303,7 +303,9 @@ def combined_impact(
     for p in planes:
         if len(p.normal) != v_r.size:
             raise InvalidParameterError(
-                "planes", p.name or p.normal, f"normals must have the length {v_r.size} of the velocities"
+                "planes",
+                p.name or p.normal,
+                f"normals must have the length {v_r.size} of the velocities",
             )
     if int(samples) < 2:
         raise InvalidParameterError("samples", samples, "must be an integer >= 2")
@@ -359,7 +361,9 @@ def combined_impact(
     )
 
 
-def _vector_peak(planes: tuple[ImpactPlane, ...], responses: tuple[Any, ...], samples: int) -> float:
+def _vector_peak(
+    planes: tuple[ImpactPlane, ...], responses: tuple[Any, ...], samples: int
+) -> float:
     """max_t |sum_i a_i(t) n_i| with a_i = 0 after plane i's first lobe."""
     ends = [r.impact_duration for r in responses if r is not None]
     if not ends or not np.all(np.isfinite(ends)):

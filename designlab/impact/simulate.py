@@ -35,19 +35,19 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError, check_finite, check_positive
-from designlab.impact.metrics import (
-    STATUS_NO_IMPACT,
-    STATUS_OK,
-    STATUS_PEAK_AT_CONTACT,
-    G,
-    metrics_from_responses,
-)
 from designlab.impact.full_joint import (
     FullJointContact,
     full_joint_model,
     full_joint_params,
     grid_rate,
     modal_families,
+)
+from designlab.impact.metrics import (
+    STATUS_NO_IMPACT,
+    STATUS_OK,
+    STATUS_PEAK_AT_CONTACT,
+    G,
+    metrics_from_responses,
 )
 from designlab.impact.modal import ModalResponse, poles_of
 from designlab.impact.model import (

@@ -107,7 +107,11 @@ def _rhs_full(p, v_c, acc=0.0, dur=0.05, feedforward=True):
 
 @pytest.mark.parametrize(
     "profile",
-    [None, dl.impact.VelocityProfile(5.0, 0.02, True), dl.impact.VelocityProfile(-5.0, 0.02, False)],
+    [
+        None,
+        dl.impact.VelocityProfile(5.0, 0.02, True),
+        dl.impact.VelocityProfile(-5.0, 0.02, False),
+    ],
 )
 def test_full_joint_response_equals_dop853(profile) -> None:
     p = full_joint_params(ARM, FOAM_1, HEAD_MIN)
@@ -142,7 +146,7 @@ def test_full_joint_impedance_is_equation_3_4_6() -> None:
     """With the arm held (x_r given), the joint's force is (3.4.6) divided by l^2."""
     model = full_joint_model(constrained=True)
     p = full_joint_params(ARM, FOAM_1, None)
-    a, b, c, d = model.matrices(p)
+    a, _, c, _ = model.matrices(p)
     # transmission force f_t responds to delta_r through the node state only:
     # f_t = K_m (d_r - d_e) + C_m (d_r' - d_e'), C d_e' = K_m d_r + C_m d_r' - (K_m + K_q) d_e
     km, cm, kq, cq = (
