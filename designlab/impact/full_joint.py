@@ -766,13 +766,52 @@ class JointReductionSweep(Result):
         sel = f[(f.reduction == reduction) & (f.metric == metric)]
         if sel.empty:
             raise InvalidParameterError("reduction/metric", (reduction, metric), "not in the sweep")
-        return sel.relative_error.to_numpy(dtype=float)
+        by_point = sel.set_index("point").relative_error
+        return by_point.reindex(range(self.ratio.size)).to_numpy(dtype=float)
 
     def conservative_region(self, reduction: str, metric: str) -> NDArray[np.bool_]:
-        """Where ``reduction`` overestimates ``metric`` (a harm metric), along :attr:`ratio`."""
+        """Where ``reduction`` overestimates ``metric`` (a harm metric), along :attr:`ratio`.
+
+        False where the reduction is missing (a failed band fit).
+        """
         if metric not in HARM_METRICS:
             raise InvalidParameterError("metric", metric, f"must be one of {HARM_METRICS}")
-        return self.errors(reduction, metric) >= 0.0
+        err = self.errors(reduction, metric)
+        return np.isfinite(err) & (err >= 0.0)
+
+    def conservative_intervals(
+        self, reduction: str, metrics: Sequence[str] = ("a_h_max", "eps_max", "f_c_max")
+    ) -> list[tuple[float, float]]:
+        """Ratio intervals (of the sampled points) where ``reduction`` overestimates every metric.
+
+        Returns ``[(first ratio, last ratio), ...]`` of the runs of consecutive
+        sampled ratios at which the reduction is conservative on all ``metrics``.
+
+        Examples
+        --------
+        >>> import designlab as dl
+        >>> arm = dl.impact.FullJointContact.from_joint(0.059, 2e3, 2.0, 1.5e3, 30.0,
+        ...                                              lever_arm=0.2)
+        >>> s = dl.impact.joint_reduction_sweep(arm, dl.impact.FOAM_1, dl.impact.HEAD_MIN,
+        ...                                     1.25, [0.03, 0.1, 1.0, 10.0])
+        >>> s.conservative_intervals("taylor")
+        [(0.03, 0.1)]
+        >>> s.conservative_intervals("taylor", ["a_h_max"])
+        [(0.03, 10.0)]
+        """
+        ok = np.ones(self.ratio.size, dtype=bool)
+        for m in metrics:
+            ok &= self.conservative_region(reduction, m)
+        out: list[tuple[float, float]] = []
+        start = None
+        for i, flag in enumerate(ok):
+            if flag and start is None:
+                start = i
+            if start is not None and (not flag or i == ok.size - 1):
+                end = i if flag else i - 1
+                out.append((float(self.ratio[start]), float(self.ratio[end])))
+                start = None
+        return out
 
 
 def joint_reduction_sweep(
@@ -839,6 +878,7 @@ def joint_reduction_sweep(
     rows: list[dict[str, Any]] = []
     for i, x in enumerate(r):
         key = {
+            "point": i,
             "ratio": float(x),
             "k_mech_N_per_m": robots[i].transmission_stiffness,
             "band_omega_max_rad_per_s": omegas[i],

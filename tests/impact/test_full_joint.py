@@ -245,6 +245,9 @@ def test_sweep_tends_to_exact_for_a_direct_drive() -> None:
     assert set(frame.reduction) == {"taylor", "band_fit"}
     assert len(frame) == 3 * 2 * 5
     assert s.conservative_region("taylor", "a_h_max").dtype == bool
+    # Taylor: conservative on a_h,max everywhere, but not on eps_max near K_mech ~ K_cont
+    assert s.conservative_intervals("taylor", ["a_h_max"]) == [(0.3, 1e4)]
+    assert s.conservative_intervals("taylor") == []
     # the full model at ratio 1 agrees with compare_joint_reductions on that arm
     arm1 = FullJointContact(ARM.mass, ARM.control_stiffness, ARM.transmission_damping,
                             ARM.control_stiffness, ARM.control_damping)  # fmt: skip
