@@ -87,6 +87,7 @@ __all__ = [
     "JointReductionComparison",
     "JointReductionSweep",
     "compare_joint_reductions",
+    "default_band",
     "full_joint_model",
     "full_joint_params",
     "grid_rate",
@@ -474,8 +475,11 @@ def modal_families(
 # --- comparison of the reductions -------------------------------------------------------------
 
 
-def _default_band(robot: FullJointContact, foam: Foam, head: HeadNeck | None) -> float:
-    """Default band of the fit: up to the fastest mode of the Taylor-reduced impact, rad/s."""
+def default_band(robot: FullJointContact, foam: Foam, head: HeadNeck | None) -> float:
+    """The fastest mode of the Taylor-reduced impact (largest pole modulus), rad/s.
+
+    The default upper end of the band fit: the band then covers the impact's modes.
+    """
     from designlab.impact.model import constrained_model, param_vector, unconstrained_model
 
     model = constrained_model() if head is None else unconstrained_model()
@@ -621,7 +625,7 @@ def _reduced_rows(
     """Taylor and band-fit manipulators for each robot (``None`` where the fit failed)."""
     taylor, band, fits, omegas = [], [], [], []
     for r in robots:
-        w = omega_max if omega_max is not None else _default_band(r, foam, head)
+        w = omega_max if omega_max is not None else default_band(r, foam, head)
         contact, fit = r.band_fit(w)
         taylor.append(r.taylor())
         band.append(contact)
