@@ -836,7 +836,7 @@ def check_worst_case(
             rows = np.repeat(rows, n, axis=0)
             vmax = np.repeat(vmax, n)
         v = vmax * np.where(frac < 0.25, 1.0, frac)  # a quarter at the maximum speed
-        params = np.column_stack([rows, k, c, heads])
+        params = np.column_stack([rows[:, :3], k, c, heads, rows[:, 3:]])  # full joint: +2
         need_force = key != COMPRESSION and key.needs_force  # type: ignore[union-attr]
         m = impact_metrics(
             params,

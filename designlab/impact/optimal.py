@@ -275,6 +275,13 @@ def optimal_foam(
     -------
     OptimalFoam
     """
+    if not isinstance(robot, (ContactDynamics, LinkImpact)):
+        raise InvalidParameterError(
+            "robot",
+            robot,
+            "must be a ContactDynamics or a LinkImpact (exact gradients exist for the reduced "
+            "joint only; for a FullJointContact use its foam_envelope, or robot.taylor())",
+        )
     if objective not in ("margin", "thinnest"):
         raise InvalidParameterError("objective", objective, "must be 'margin' or 'thinnest'")
     if objective == "thinnest" and thickness_bounds is None:

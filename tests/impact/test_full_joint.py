@@ -268,6 +268,11 @@ def test_envelope_accepts_the_full_joint() -> None:
     e_arm = dl.impact.foam_envelope(ARM, 1.25, damping=damping)
     e_tay = dl.impact.foam_envelope(ARM.taylor(), 1.25, damping=damping)
     assert np.all(e_arm.stiffness_min > e_tay.stiffness_min)
+    # the sampled worst-case check runs the full joint too, and confirms the envelope
+    assert dl.impact.check_worst_case(e_arm, samples=16).holds
+    # the optimiser needs exact gradients, which exist for the reduced joint only
+    with pytest.raises(InvalidParameterError, match="taylor"):
+        dl.impact.optimal_foam(ARM, 1.25)
 
 
 # --- bad input ------------------------------------------------------------------------------
