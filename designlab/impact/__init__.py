@@ -33,9 +33,11 @@ from designlab.impact.envelope import (
     min_foam_thickness,
 )
 from designlab.impact.full_joint import (
+    BandFitSweep,
     FullJointContact,
     JointReductionComparison,
     JointReductionSweep,
+    band_fit_sweep,
     compare_joint_reductions,
     joint_reduction_sweep,
 )
@@ -97,6 +99,7 @@ __all__ = [
     "TABLE_3_2_HEADS",
     "TEST_HEAD",
     "THESIS_HEAD_RANGE",
+    "BandFitSweep",
     "ClosingSpeed",
     "CombinedImpact",
     "ContactDynamics",
@@ -124,6 +127,7 @@ __all__ = [
     "SafeVelocity",
     "VelocityProfile",
     "WorstCaseCheck",
+    "band_fit_sweep",
     "check_worst_case",
     "closing_speed",
     "combined_impact",

@@ -83,9 +83,11 @@ __all__ = [
     "FULL_INPUT_NAMES",
     "FULL_PARAM_NAMES",
     "REDUCTIONS",
+    "BandFitSweep",
     "FullJointContact",
     "JointReductionComparison",
     "JointReductionSweep",
+    "band_fit_sweep",
     "compare_joint_reductions",
     "default_band",
     "full_joint_model",
@@ -905,4 +907,122 @@ def joint_reduction_sweep(
         status="ok" if not failed else "band_fit_failed",
         warnings=tuple(warnings),
         _frame=pd.DataFrame(rows),
+    )
+
+
+# --- sweep over the band of the fit ---------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class BandFitSweep(Result):
+    """The band fit's errors as its band changes (:func:`band_fit_sweep`).
+
+    Attributes
+    ----------
+    omega_max
+        Upper ends of the bands, rad/s.
+    rms_ratio
+        Frequency-domain rms relative error of the fit divided by the Taylor
+        truncation's, over each band (< 1: the fit is better *in frequency*).
+    """
+
+    robot: FullJointContact
+    foam: Foam
+    head: HeadNeck | None
+    impact_velocity: float
+    omega_max: NDArray[np.float64]
+    rms_ratio: NDArray[np.float64]
+    status: str
+    warnings: tuple[str, ...]
+    _frame: pd.DataFrame = field(repr=False)
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row per band: the fit, the rms ratio and the relative error of each metric
+        (``err_<metric>``), with the Taylor reduction's error (``taylor_err_<metric>``)."""
+        return self._frame.copy()
+
+    def errors(self, metric: str) -> NDArray[np.float64]:
+        """The band fit's relative error on ``metric`` along :attr:`omega_max`."""
+        if metric not in METRICS:
+            raise InvalidParameterError("metric", metric, f"must be one of {tuple(METRICS)}")
+        return self._frame[f"err_{metric}"].to_numpy(dtype=float)
+
+
+def band_fit_sweep(
+    robot: FullJointContact,
+    foam: Foam,
+    head: HeadNeck | None,
+    impact_velocity: float,
+    omega_max: ArrayLike,
+    *,
+    stop_time: float = 0.05,
+) -> BandFitSweep:
+    """How the band fit's errors on the impact metrics follow its band, against the Taylor's.
+
+    A smaller frequency-domain error (``rms_ratio`` < 1) does not mean a smaller
+    error on the safety metrics, nor one on the safe side: this puts the two
+    side by side for each band ``[omega_max/1000, omega_max]``.
+
+    Parameters
+    ----------
+    robot, foam, head, impact_velocity, stop_time
+        As in :func:`compare_joint_reductions`.
+    omega_max
+        Upper ends of the bands, rad/s (each > 0).
+
+    Returns
+    -------
+    BandFitSweep
+
+    Examples
+    --------
+    >>> import designlab as dl
+    >>> arm = dl.impact.FullJointContact.from_joint(0.059, 2e3, 2.0, 1.5e3, 30.0, lever_arm=0.2)
+    >>> b = dl.impact.band_fit_sweep(arm, dl.impact.FOAM_1, dl.impact.HEAD_MIN, 1.25, [89.6, 200])
+    >>> b.rms_ratio.round(2).tolist(), b.errors("a_h_max").round(3).tolist()
+    ([0.84, 0.67], [0.089, 0.037])
+    """
+    from designlab.impact.model import param_vector
+
+    _check_inputs(robot, foam, head)
+    v_c = check_positive("impact_velocity", impact_velocity, "m/s")
+    stop = check_positive("stop_time", stop_time, "s")
+    w = np.atleast_1d(np.asarray(omega_max, dtype=float))
+    if w.ndim != 1 or w.size == 0 or not np.all(np.isfinite(w)) or np.any(w <= 0):
+        raise InvalidParameterError(
+            "omega_max", w.tolist(), "must be a non-empty 1-D array of finite numbers > 0", "rad/s"
+        )
+    constrained = head is None
+    full = _metric_rows(full_joint_params(robot, foam, head)[None, :], v_c, constrained, stop)
+    taylor = _metric_rows(param_vector(robot.taylor(), foam, head)[None, :], v_c, constrained, stop)
+    fits = [robot.band_fit(float(x)) for x in w]
+    ok = [i for i, (c, _) in enumerate(fits) if c is not None]
+    rows_p = np.array([param_vector(fits[i][0], foam, head) for i in ok]).reshape(len(ok), -1)
+    band = _metric_rows(rows_p, v_c, constrained, stop) if ok else {}
+    frame: dict[str, Any] = {
+        "omega_max_rad_per_s": w,
+        "K_fit_N_per_m": [f.stiffness for _, f in fits],
+        "C_fit_N_s_per_m": [f.damping for _, f in fits],
+        "rms_ratio": [f.rms_error / f.taylor_rms_error for _, f in fits],
+        "fit_status": [f.status for _, f in fits],
+    }
+    for metric in METRICS:
+        ref = float(full[metric][0])
+        err = np.full(w.size, np.nan)
+        if ok:
+            err[ok] = (band[metric] - ref) / ref
+        frame[f"err_{metric}"] = err
+        frame[f"taylor_err_{metric}"] = (float(taylor[metric][0]) - ref) / ref
+    failed = [float(w[i]) for i in range(w.size) if i not in ok]
+    warnings = (f"the band fit failed for omega_max = {failed} rad/s",) if failed else ()
+    return BandFitSweep(
+        robot=robot,
+        foam=foam,
+        head=head,
+        impact_velocity=v_c,
+        omega_max=w,
+        rms_ratio=np.asarray(frame["rms_ratio"], dtype=float),
+        status="band_fit_failed" if failed else "ok",
+        warnings=warnings,
+        _frame=pd.DataFrame(frame),
     )

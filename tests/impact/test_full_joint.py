@@ -230,6 +230,15 @@ def test_illustrative_joint_band_fit() -> None:
     assert c200.relative_error("band_fit", "a_h_max") == pytest.approx(0.0369, abs=5e-4)
     c90 = compare_joint_reductions(ARM, FOAM_1, HEAD_MIN, 1.25, omega_max=89.6)
     assert c90.relative_error("band_fit", "a_h_max") == pytest.approx(0.089, abs=5e-4)
+    # the band sweep puts the frequency-domain and the metric errors side by side
+    sweep = dl.impact.band_fit_sweep(ARM, FOAM_1, HEAD_MIN, 1.25, [89.6, 200.0, 541.7])
+    check_result(sweep)
+    assert sweep.errors("a_h_max")[1] == pytest.approx(
+        c200.relative_error("band_fit", "a_h_max"), rel=1e-9
+    )
+    assert sweep.to_frame()["taylor_err_a_h_max"].iloc[0] == pytest.approx(0.1253, abs=5e-4)
+    assert np.all(np.diff(sweep.rms_ratio) < 0)  # a wider band: "better" in frequency ...
+    assert np.all(np.diff(sweep.errors("a_h_max")) < 0)  # ... and down to non-conservative
     # a wide band (3x the fastest impact mode) makes the fit NON-conservative on a_h,max
     wide = compare_joint_reductions(ARM, FOAM_1, HEAD_MIN, 1.25, omega_max=541.7)
     assert wide.relative_error("band_fit", "a_h_max") < 0
@@ -312,6 +321,8 @@ def test_bad_calls() -> None:
         joint_reduction_sweep(ARM, FOAM_1, HEAD_MIN, 1.25, [1.0, -2.0])
     with pytest.raises(InvalidParameterError, match="ratios"):
         joint_reduction_sweep(ARM, FOAM_1, HEAD_MIN, 1.25, [np.nan])
+    with pytest.raises(InvalidParameterError, match="omega_max"):
+        dl.impact.band_fit_sweep(ARM, FOAM_1, HEAD_MIN, 1.25, [0.0])
     with pytest.raises(InvalidParameterError, match="q2"):
         dl.impact.simulate(ARM, FOAM_1, HEAD_MIN, 1.25, q2="printed")
     with pytest.raises(InvalidParameterError, match="metric"):
