@@ -281,6 +281,16 @@ def test_illustrative_joint_band_fit() -> None:
     assert not wide.conservative("band_fit", "a_h_max")
 
 
+def test_constrained_comparison() -> None:
+    """Head against a wall (K_h -> infinity): a_h = 0, so only eps_max and the force compare."""
+    c = compare_joint_reductions(ARM, FOAM_1, None, 0.25)
+    check_result(c)
+    assert math.isnan(c.relative_error("taylor", "a_h_max"))
+    full = dl.impact.simulate(ARM, FOAM_1, None, 0.25)
+    assert c.value("full", "f_c_max") == pytest.approx(full.peak_force, rel=1e-9)
+    assert c.value("full", "t_imp") == 0.05  # the constrained window (stop_time)
+
+
 def test_sweep_tends_to_exact_for_a_direct_drive() -> None:
     s = joint_reduction_sweep(ARM, FOAM_1, HEAD_MIN, 1.25, [0.3, 1.0, 1e4])
     check_result(s)
