@@ -245,7 +245,13 @@ class FullJointContact(_Params):
         )
 
     def joint_values(self) -> tuple[float, float, float, float]:
-        """``(K_mech, C_mech, K_cont, C_cont)`` at the impact point (N/m, N s/m)."""
+        """The joint's values at the impact point.
+
+        Returns
+        -------
+        tuple of float
+            ``(K_mech, C_mech, K_cont, C_cont)`` in N/m and N s/m.
+        """
         return (
             self.transmission_stiffness,
             self.transmission_damping,
@@ -254,7 +260,13 @@ class FullJointContact(_Params):
         )
 
     def taylor(self) -> ContactDynamics:
-        """The reduced manipulator of the thesis: K_r, C_r from (3.4.9) (Taylor truncation)."""
+        """The reduced manipulator of the thesis: K_r, C_r from (3.4.9) (Taylor truncation).
+
+        Returns
+        -------
+        ContactDynamics
+            M_r of this arm with the Taylor K_J, C_J (effective values).
+        """
         k, c = reduced_joint(*self.joint_values())
         return ContactDynamics(self.mass, k, c, lever_arm=self.lever_arm, name=self.name)
 
@@ -262,7 +274,20 @@ class FullJointContact(_Params):
         """The reduced manipulator fitted over ``[omega_max/1000, omega_max]`` rad/s.
 
         An extension of the thesis (:func:`~designlab.impact.joint.fit_joint_band`).
-        Returns the manipulator and the fit (check ``fit.success``).
+
+        Parameters
+        ----------
+        omega_max
+            Upper end of the band, rad/s (> 0).
+        **kwargs
+            Further arguments of :func:`~designlab.impact.joint.fit_joint_band`
+            (``n``, ``omega_min``, ``weights``).
+
+        Returns
+        -------
+        tuple
+            The manipulator (``None`` if the fit failed) and the
+            :class:`~designlab.impact.joint.JointFit` (check ``fit.success``).
         """
         fit = fit_joint_band(*self.joint_values(), omega_max=omega_max, **kwargs)
         contact = None
@@ -342,7 +367,21 @@ def full_joint_model(constrained: bool = False) -> LinearImpactModel:
 def full_joint_params(
     robot: FullJointContact, foam: Foam, head: HeadNeck | None
 ) -> NDArray[np.float64]:
-    """Parameter vector :data:`FULL_PARAM_NAMES` of one design (head ``None``: 1, 0, 0).
+    """Parameter vector :data:`FULL_PARAM_NAMES` of one design.
+
+    Parameters
+    ----------
+    robot
+        The full-joint manipulator.
+    foam
+        The covering.
+    head
+        The head on its neck; ``None`` (constrained impact) gives 1, 0, 0.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(10,)`` parameters in SI units.
 
     Examples
     --------
@@ -377,6 +416,16 @@ def grid_rate(poles: NDArray[np.complex128]) -> NDArray[np.float64]:
     before any maximum of the first lobe; resolving it would cost millions of
     grid steps. Real poles faster than ten times the fastest oscillatory (or,
     without one, the slowest) pole are therefore left out of the rate.
+
+    Parameters
+    ----------
+    poles
+        ``(N, n)`` poles of each design (one per conjugate pair is enough).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N,)`` rates in 1/s.
     """
     mod = np.abs(poles)
     osc = np.abs(poles.imag) > 1e-9 * np.maximum(mod, 1e-300)
@@ -481,6 +530,16 @@ def default_band(robot: FullJointContact, foam: Foam, head: HeadNeck | None) -> 
     """The fastest mode of the Taylor-reduced impact (largest pole modulus), rad/s.
 
     The default upper end of the band fit: the band then covers the impact's modes.
+
+    Parameters
+    ----------
+    robot, foam, head
+        The full-joint manipulator, the covering and the head (``None``: constrained).
+
+    Returns
+    -------
+    float
+        The largest pole modulus, rad/s.
     """
     from designlab.impact.model import constrained_model, param_vector, unconstrained_model
 
@@ -580,21 +639,67 @@ class JointReductionComparison(Result):
         ``relative_error = (reduced - full) / full``; ``conservative`` is True when
         the reduction overestimates a harm metric (a_h_max, eps_max, the force
         peaks) and missing for t_imp.
+
+        Returns
+        -------
+        pandas.DataFrame
+            Columns ``reduction, metric, unit, full, reduced, relative_error,
+            conservative``.
         """
         return self._frame.copy()
 
     def relative_error(self, reduction: str, metric: str) -> float:
-        """``(reduced - full) / full`` of ``metric`` for ``reduction``."""
+        """``(reduced - full) / full`` of ``metric`` for ``reduction``.
+
+        Parameters
+        ----------
+        reduction
+            ``"taylor"`` or ``"band_fit"``.
+        metric
+            A key of :data:`METRICS` (``a_h_max``, ``eps_max``, ``f_c_max``,
+            ``f_c_first_peak``, ``t_imp``).
+
+        Returns
+        -------
+        float
+            The relative error (NaN where the full value is zero).
+        """
         return float(self._row(reduction, metric)["relative_error"])
 
     def conservative(self, reduction: str, metric: str) -> bool:
-        """Whether ``reduction`` overestimates the harm metric ``metric``."""
+        """Whether ``reduction`` overestimates the harm metric ``metric``.
+
+        Parameters
+        ----------
+        reduction
+            ``"taylor"`` or ``"band_fit"``.
+        metric
+            A harm metric: ``a_h_max``, ``eps_max``, ``f_c_max`` or ``f_c_first_peak``.
+
+        Returns
+        -------
+        bool
+            True when the reduced value is at least the full one.
+        """
         if metric not in HARM_METRICS:
             raise InvalidParameterError("metric", metric, f"must be one of {HARM_METRICS}")
         return bool(self._row(reduction, metric)["conservative"])
 
     def value(self, model: str, metric: str) -> float:
-        """A metric of ``"full"`` or of a reduction, in the unit of :data:`METRICS`."""
+        """A metric of the full joint or of a reduction.
+
+        Parameters
+        ----------
+        model
+            ``"full"``, ``"taylor"`` or ``"band_fit"``.
+        metric
+            A key of :data:`METRICS`.
+
+        Returns
+        -------
+        float
+            The value in the unit of :data:`METRICS` (g, m, N, s).
+        """
         row = self._row("taylor" if model == "full" else model, metric)
         return float(row["full" if model == "full" else "reduced"])
 
@@ -763,11 +868,31 @@ class JointReductionSweep(Result):
     _frame: pd.DataFrame = field(repr=False)
 
     def to_frame(self) -> pd.DataFrame:
-        """One row per (ratio, reduction, metric); columns of :class:`JointReductionComparison`."""
+        """One row per (ratio, reduction, metric).
+
+        Returns
+        -------
+        pandas.DataFrame
+            ``point, ratio, k_mech_N_per_m, band_omega_max_rad_per_s`` and the
+            columns of :meth:`JointReductionComparison.to_frame`.
+        """
         return self._frame.copy()
 
     def errors(self, reduction: str, metric: str) -> NDArray[np.float64]:
-        """Relative errors of ``reduction`` on ``metric`` along :attr:`ratio`."""
+        """Relative errors of ``reduction`` on ``metric`` along :attr:`ratio`.
+
+        Parameters
+        ----------
+        reduction
+            ``"taylor"`` or ``"band_fit"``.
+        metric
+            A key of :data:`METRICS`.
+
+        Returns
+        -------
+        numpy.ndarray
+            One error per ratio (NaN where the reduction is missing).
+        """
         f = self._frame
         sel = f[(f.reduction == reduction) & (f.metric == metric)]
         if sel.empty:
@@ -778,7 +903,17 @@ class JointReductionSweep(Result):
     def conservative_region(self, reduction: str, metric: str) -> NDArray[np.bool_]:
         """Where ``reduction`` overestimates ``metric`` (a harm metric), along :attr:`ratio`.
 
-        False where the reduction is missing (a failed band fit).
+        Parameters
+        ----------
+        reduction
+            ``"taylor"`` or ``"band_fit"``.
+        metric
+            A harm metric: ``a_h_max``, ``eps_max``, ``f_c_max`` or ``f_c_first_peak``.
+
+        Returns
+        -------
+        numpy.ndarray
+            Booleans, one per ratio; False where the reduction is missing.
         """
         if metric not in HARM_METRICS:
             raise InvalidParameterError("metric", metric, f"must be one of {HARM_METRICS}")
@@ -790,8 +925,18 @@ class JointReductionSweep(Result):
     ) -> list[tuple[float, float]]:
         """Ratio intervals (of the sampled points) where ``reduction`` overestimates every metric.
 
-        Returns ``[(first ratio, last ratio), ...]`` of the runs of consecutive
-        sampled ratios at which the reduction is conservative on all ``metrics``.
+        Parameters
+        ----------
+        reduction
+            ``"taylor"`` or ``"band_fit"``.
+        metrics
+            Harm metrics that must all be overestimated.
+
+        Returns
+        -------
+        list of tuple
+            ``[(first ratio, last ratio), ...]`` of the runs of consecutive
+            sampled ratios at which the reduction is conservative on all ``metrics``.
 
         Examples
         --------
@@ -937,12 +1082,29 @@ class BandFitSweep(Result):
     _frame: pd.DataFrame = field(repr=False)
 
     def to_frame(self) -> pd.DataFrame:
-        """One row per band: the fit, the rms ratio and the relative error of each metric
-        (``err_<metric>``), with the Taylor reduction's error (``taylor_err_<metric>``)."""
+        """One row per band.
+
+        Returns
+        -------
+        pandas.DataFrame
+            The fit, the rms ratio and the relative error of each metric
+            (``err_<metric>``), with the Taylor reduction's (``taylor_err_<metric>``).
+        """
         return self._frame.copy()
 
     def errors(self, metric: str) -> NDArray[np.float64]:
-        """The band fit's relative error on ``metric`` along :attr:`omega_max`."""
+        """The band fit's relative error on ``metric`` along :attr:`omega_max`.
+
+        Parameters
+        ----------
+        metric
+            A key of :data:`METRICS`.
+
+        Returns
+        -------
+        numpy.ndarray
+            One error per band (NaN where the fit failed).
+        """
         if metric not in METRICS:
             raise InvalidParameterError("metric", metric, f"must be one of {tuple(METRICS)}")
         return self._frame[f"err_{metric}"].to_numpy(dtype=float)

@@ -116,7 +116,13 @@ class ClosingSpeed(Result):
         return self.closing_speed > 0.0
 
     def to_frame(self) -> pd.DataFrame:
-        """One row: v_c, the speeds and the angles in degrees."""
+        """One row: v_c, the speeds and the angles.
+
+        Returns
+        -------
+        pandas.DataFrame
+            ``v_c_m_per_s, v_r_m_per_s, v_h_m_per_s, gamma_r_deg, gamma_c_deg``.
+        """
         return pd.DataFrame(
             {
                 "v_c_m_per_s": [self.closing_speed],
@@ -256,7 +262,15 @@ class CombinedImpact(Result):
         return self.a_h_max_vector / STANDARD_GRAVITY
 
     def to_frame(self) -> pd.DataFrame:
-        """One row per plane and a last row ``combined`` (a_h,max sum and vector)."""
+        """One row per plane and a last row ``combined``.
+
+        Returns
+        -------
+        pandas.DataFrame
+            Per plane: closing speed, angles and the metrics (a_h,max in g, eps_max,
+            the lobe and first-peak forces, t_imp, status); ``combined``: the
+            thesis's sum ``a_h_max_g`` and the vector ``a_h_max_vector_g``.
+        """
         return pd.DataFrame(self._rows)
 
 

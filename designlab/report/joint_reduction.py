@@ -65,7 +65,18 @@ def _intervals(pairs: list[tuple[float, float]]) -> str:
 
 
 def joint_reduction_figure(result: JointReductionResult) -> Figure:
-    """Relative error (%) against K_mech/K_cont: rows joints, columns reductions."""
+    """Relative error (%) against K_mech/K_cont: rows joints, columns reductions.
+
+    Parameters
+    ----------
+    result
+        The study's result.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Conservative ratios (on a_h,max, eps_max and force) shaded.
+    """
     n = len(result.joints)
     fig, axes = plt.subplots(n, 2, figsize=(11.5, 3.9 * n), squeeze=False, sharex=True)
     for row, j in zip(axes, result.joints, strict=True):
@@ -158,7 +169,22 @@ def _fastest_mode(j) -> float:  # type: ignore[no-untyped-def]
 def joint_reduction_markdown(
     result: JointReductionResult, *, command: str | None = None, version: str | None = None
 ) -> str:
-    """The Markdown summary."""
+    """The Markdown summary.
+
+    Parameters
+    ----------
+    result
+        The study's result.
+    command
+        The command line that produced it, quoted at the end.
+    version
+        designlab's version, quoted at the end.
+
+    Returns
+    -------
+    str
+        The text of ``summary.md``.
+    """
     st = result.study
     foam = st.foam.build()
     head = st.head.build() if st.head is not None else None
@@ -291,7 +317,24 @@ def write_joint_reduction_report(
     version: str | None = None,
     study_text: str | None = None,
 ) -> list[Path]:
-    """Write summary.md, joint_reduction.csv/.png, nominal.csv (and study.yaml)."""
+    """Write summary.md, joint_reduction.csv/.png, nominal.csv (and study.yaml).
+
+    Parameters
+    ----------
+    result
+        The study's result.
+    directory
+        A fresh directory to fill (made atomic by the caller).
+    command, version
+        Quoted at the end of the summary.
+    study_text
+        The study file's text, copied to ``study.yaml`` if given.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written.
+    """
     written = [write_csv(result.to_frame(), directory / "joint_reduction.csv")]
     written.append(write_csv(result.nominal_frame(), directory / "nominal.csv"))
     fig = joint_reduction_figure(result)

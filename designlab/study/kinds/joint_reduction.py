@@ -66,7 +66,18 @@ class JointSpec(Model):
         return self
 
     def build(self, index: int = 0) -> FullJointContact:
-        """The :class:`~designlab.impact.FullJointContact` of this joint."""
+        """The :class:`~designlab.impact.FullJointContact` of this joint.
+
+        Parameters
+        ----------
+        index
+            Position in the study, for the default name ``joint <index + 1>``.
+
+        Returns
+        -------
+        FullJointContact
+            Effective values at the impact point (divided by ``lever_arm**2``).
+        """
         return FullJointContact.from_joint(
             self.inertia, self.k_mech, self.c_mech, self.k_cont, self.c_cont,
             lever_arm=self.lever_arm, name=self.name or f"joint {index + 1}",
@@ -128,7 +139,13 @@ class JointReductionStudy(StudyBase):
         return self
 
     def size(self) -> str:
-        """Joints x ratios."""
+        """Joints x ratios.
+
+        Returns
+        -------
+        str
+            E.g. ``2 joint(s) x 41 stiffness ratios``.
+        """
         return f"{len(self.joints)} joint(s) x {self.ratios.num} stiffness ratios"
 
 
@@ -167,7 +184,13 @@ class JointReductionResult(Result):
         return tuple(dict.fromkeys(out))
 
     def nominal_frame(self) -> pd.DataFrame:
-        """Each joint as given: one row per (joint, reduction, metric)."""
+        """Each joint as given.
+
+        Returns
+        -------
+        pandas.DataFrame
+            One row per (joint, reduction, metric), with the joint's K_mech/K_cont.
+        """
         frames = []
         for j in self.joints:
             df = j.nominal.to_frame()
@@ -177,7 +200,13 @@ class JointReductionResult(Result):
         return pd.concat(frames, ignore_index=True)
 
     def to_frame(self) -> pd.DataFrame:
-        """The sweeps: one row per (joint, ratio, reduction, metric)."""
+        """The sweeps.
+
+        Returns
+        -------
+        pandas.DataFrame
+            One row per (joint, ratio, reduction, metric).
+        """
         frames = []
         for j in self.joints:
             df = j.sweep.to_frame()
@@ -187,7 +216,21 @@ class JointReductionResult(Result):
 
 
 def run(study: JointReductionStudy, context: RunContext) -> JointReductionResult:
-    """Compute the ``joint_reduction`` study (in this process; nothing is stored)."""
+    """Compute the ``joint_reduction`` study (in this process; nothing is stored).
+
+    Parameters
+    ----------
+    study
+        The validated study.
+    context
+        How to run (this kind computes in the calling process and ignores the
+        executor and the store).
+
+    Returns
+    -------
+    JointReductionResult
+        Per joint, the comparison as given and the sweep over the ratios.
+    """
     foam = study.foam.build()
     head = study.head.build() if study.head is not None else None
     ratios = study.ratios.values()
