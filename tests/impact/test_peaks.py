@@ -41,7 +41,7 @@ def test_first_peak_of_a_simulation_is_a_stationary_point() -> None:
     ev = r._lobe["evaluate"]
     assert abs(ev(np.array([t]), 1)["force"][0]) < 1e-6 * f  # df/dt = 0
     assert f >= ev(np.array([t - 1e-4, t + 1e-4]))["force"].max()
-    ta, a = first_peak(r, "head_acceleration")
+    _, a = first_peak(r, "head_acceleration")
     assert a == pytest.approx(r.peak_head_acceleration, rel=1e-9)
 
 
