@@ -274,10 +274,7 @@ def joint_reduction_markdown(
                     "on a_h,max": _intervals(s.conservative_intervals(red, ["a_h_max"])),
                     "on eps_max": _intervals(s.conservative_intervals(red, ["eps_max"])),
                     "largest |error| on harm metrics": "{:.2f} %".format(
-                        100
-                        * max(
-                            float(np.nanmax(np.abs(s.errors(red, m)))) for m in _HARM
-                        )
+                        100 * max(float(np.nanmax(np.abs(s.errors(red, m)))) for m in _HARM)
                     ),
                 }
             )
