@@ -281,6 +281,26 @@ def test_illustrative_joint_band_fit() -> None:
     assert not wide.conservative("band_fit", "a_h_max")
 
 
+@settings(max_examples=12, deadline=None)
+@given(
+    inertia=st.floats(0.01, 1.0),
+    lever=st.floats(0.05, 0.6),
+    k_cont=st.floats(50.0, 5e3),
+    zeta=st.floats(0.01, 0.5),
+    c_mech=st.floats(0.0, 5.0),
+)
+def test_reductions_become_exact_for_a_stiff_transmission(inertia, lever, k_cont, zeta, c_mech):
+    """For any arm and controller: at K_mech = 1e5 K_cont both reductions are within 1e-3
+    on every metric; the comparison's status is ok."""
+    c_cont = 2 * zeta * math.sqrt(k_cont * inertia)
+    arm = FullJointContact.from_joint(inertia, 1e5 * k_cont, c_mech, k_cont, c_cont,
+                                      lever_arm=lever)  # fmt: skip
+    c = compare_joint_reductions(arm, FOAM_1, HEAD_MIN, 1.25)
+    assert c.status == "ok"
+    err = c.to_frame().relative_error.to_numpy(dtype=float)
+    assert np.all(np.abs(err) < 1e-3)
+
+
 def test_constrained_comparison() -> None:
     """Head against a wall (K_h -> infinity): a_h = 0, so only eps_max and the force compare."""
     c = compare_joint_reductions(ARM, FOAM_1, None, 0.25)
