@@ -478,7 +478,77 @@ def modal_families(
     -------
     dict
         ``{family: {output: ModalResponse}}`` (unit input).
+
+    Notes
+    -----
+    Where ``A`` is nearly defective (two modes coincide, condition number of
+    the eigenvector matrix above ``1e8``) the design's responses come from the
+    transfer-function route instead, whose partial fractions separate nearly
+    repeated poles (:mod:`designlab.impact.modal`).
     """
+    out = _eigen_families(model, params, outputs, families)
+    a = model.matrices_batch(params)[0]
+    with np.errstate(all="ignore"):
+        cond = np.linalg.cond(np.linalg.eig(a)[1])
+    bad = np.flatnonzero(~np.isfinite(cond) | (cond > _MAX_EIGVEC_CONDITION))
+    if bad.size:
+        fallback = _polynomial_families(model, params[bad], outputs, families)
+        for fam in families:
+            for name in outputs:
+                out[fam][name] = _splice(out[fam][name], fallback[fam][name], bad)
+    return out
+
+
+#: Condition number of the eigenvector matrix above which a design's responses
+#: are built from its transfer functions instead (nearly coincident modes).
+_MAX_EIGVEC_CONDITION = 1e8
+
+
+def _splice(base: ModalResponse, part: ModalResponse, rows: NDArray[np.intp]) -> ModalResponse:
+    """``base`` with the designs ``rows`` replaced by ``part`` (columns padded with zeros)."""
+    width = max(base.poles.shape[1], part.poles.shape[1])
+
+    def pad(x: NDArray) -> NDArray:
+        return np.pad(x, ((0, 0), (0, width - x.shape[1])))
+
+    poles, residues = pad(base.poles), pad(base.residues)
+    poles[rows], residues[rows] = pad(part.poles), pad(part.residues)
+    poly = base.poly.copy()
+    poly[rows] = part.poly
+    return ModalResponse(poles, residues, poly)
+
+
+def _polynomial_families(
+    model: LinearImpactModel,
+    params: NDArray[np.float64],
+    outputs: Sequence[str],
+    families: Sequence[str],
+) -> dict[str, dict[str, ModalResponse]]:
+    """The same responses from the model's transfer-function coefficients."""
+    den, num = model.tf_coefficients(params)
+    poles = poles_of(den)
+    out: dict[str, dict[str, ModalResponse]] = {}
+    for fam in families:
+        powers, m = FAMILIES[fam]
+        nums = {}
+        for name in outputs:
+            total = np.zeros((params.shape[0], den.shape[1] + 1))
+            for k, e in powers.items():
+                coef = num[name][:, model.input_names.index(k), :]
+                shifted = np.concatenate([coef, np.zeros((coef.shape[0], e))], axis=1)
+                total[:, total.shape[1] - shifted.shape[1] :] += shifted
+            nums[name] = total
+        out[fam] = ModalResponse.family(nums, den, m, poles)
+    return out
+
+
+def _eigen_families(
+    model: LinearImpactModel,
+    params: NDArray[np.float64],
+    outputs: Sequence[str],
+    families: Sequence[str],
+) -> dict[str, dict[str, ModalResponse]]:
+    """:func:`modal_families` by the eigen-decomposition of ``A``."""
     from designlab.impact.modal import _fold, _fold_plan
 
     a, b, c, d = model.matrices_batch(params)

@@ -231,6 +231,27 @@ def test_state_space_responses_equal_the_matrix_exponential(ratio, c_m, c_q, mas
             assert got == pytest.approx(y[k], rel=1e-7, abs=1e-9 * (1 + abs(y[k])))
 
 
+def test_nearly_defective_designs_fall_back_to_the_transfer_functions(monkeypatch) -> None:
+    """Designs whose eigenvectors are ill-conditioned use the polynomial route; the
+    splice keeps the other designs of the batch as they were."""
+    import designlab.impact.full_joint as fj
+
+    other = ARM.replace(control_damping=300.0)
+    rows = np.array([full_joint_params(a, FOAM_1, HEAD_MIN) for a in (ARM, other)])
+    ref = impact_metrics(rows, 1.25)
+    monkeypatch.setattr(fj, "_MAX_EIGVEC_CONDITION", 0.0)  # every design "defective"
+    got = impact_metrics(rows, 1.25)
+    for attr in ("peak_head_acceleration", "max_compression", "peak_force", "impact_duration"):
+        np.testing.assert_allclose(getattr(got, attr), getattr(ref, attr), rtol=1e-9)
+    t = np.linspace(0.0, 0.05, 11)
+    fam = fj.modal_families(full_joint_model(), rows, ("force",), ("ramp", "a_ff"))
+    monkeypatch.setattr(fj, "_MAX_EIGVEC_CONDITION", 1e8)
+    eig = fj.modal_families(full_joint_model(), rows, ("force",), ("ramp", "a_ff"))
+    for key in ("ramp", "a_ff"):
+        a, b = fam[key]["force"].evaluate(t), eig[key]["force"].evaluate(t)
+        assert np.max(np.abs(a - b)) < 1e-9 * np.abs(b).max()
+
+
 # --- the error of the reductions ----------------------------------------------------------
 
 
