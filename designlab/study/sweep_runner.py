@@ -24,6 +24,7 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -111,7 +112,7 @@ class SweepStudyResult(Result):
         """The sweep points (a copy)."""
         return self.frame.copy()
 
-    @property
+    @cached_property
     def warnings(self) -> tuple[str, ...]:  # type: ignore[override]
         """Failed points, non-``ok`` statuses and recomputed store chunks."""
         out: list[str] = []
