@@ -161,7 +161,7 @@ class ImpactResponse:
         Human-readable notes on the validity of the result.
     """
 
-    robot: ContactDynamics
+    robot: ContactDynamics | FullJointContact
     foam: Foam
     head: HeadNeck | None
     impact_velocity: float
@@ -242,7 +242,7 @@ class ImpactResponse:
 
 
 def _responses(
-    robot: ContactDynamics,
+    robot: ContactDynamics | FullJointContact,
     foam: Foam,
     head: HeadNeck | None,
     q2: str,
@@ -337,7 +337,7 @@ def _superpose(
 
 
 def simulate(
-    robot: ContactDynamics,
+    robot: ContactDynamics | FullJointContact,
     foam: Foam,
     head: HeadNeck | None,
     impact_velocity: float,
@@ -353,7 +353,9 @@ def simulate(
     Parameters
     ----------
     robot
-        Effective manipulator at the impact point.
+        Effective manipulator at the impact point: the reduced joint
+        (:class:`ContactDynamics`) or the full series joint of (3.4.6)
+        (:class:`~designlab.impact.full_joint.FullJointContact`).
     foam
         Foam covering.
     head
