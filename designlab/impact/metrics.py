@@ -379,7 +379,10 @@ def impact_metrics(
     ----------
     params
         Mapping of :data:`PARAM_NAMES` to scalars or arrays (broadcast together),
-        or an ``(N, 8)`` array in that order. SI units: kg, N s/m, N/m.
+        or an ``(N, 8)`` array in that order. SI units: kg, N s/m, N/m. With the
+        keys or ``(N, 10)`` columns of
+        :data:`~designlab.impact.full_joint.FULL_PARAM_NAMES` the full series
+        joint (3.4.6) is used (``docs/impact_joint.md``).
     impact_velocity
         v_c in m/s, scalar or ``(N,)``. The response is linear in v_c and zero
         for v_c <= 0 (DECISIONS I5).
