@@ -424,6 +424,18 @@ def test_bad_calls() -> None:
         impact_metrics(rows, 1.25)
 
 
+def test_full_joint_rows_by_name() -> None:
+    from designlab.impact.full_joint import FULL_PARAM_NAMES
+
+    row = full_joint_params(ARM, FOAM_1, HEAD_MIN)
+    by_name = impact_metrics(dict(zip(FULL_PARAM_NAMES, row, strict=True)), 1.25)
+    by_row = impact_metrics(row, 1.25)
+    assert by_name.peak_force[0] == by_row.peak_force[0]
+    assert list(by_row.to_frame().columns[:10]) == list(FULL_PARAM_NAMES)
+    with pytest.raises(InvalidParameterError, match="missing"):
+        impact_metrics({k: v for k, v in zip(FULL_PARAM_NAMES[:-1], row, strict=False)}, 1.25)
+
+
 def test_reduced_rows_are_unchanged() -> None:
     """Eight-column rows still use the reduced model (same numbers as simulate)."""
     m = impact_metrics(param_vector(MANIPULATOR_1, FOAM_1, TEST_HEAD), 1.25)
