@@ -59,6 +59,11 @@ def test_stiff_transmission_gives_the_reduced_model(head) -> None:
     rows = np.array([full_joint_params(full, FOAM_1, head)])
     mb = impact_metrics(rows, 1.25, constrained=head is None)
     assert abs(_rel(float(mb.max_compression[0]), b.max_compression)) < 1e-6
+    if head is not None:  # HIC of the batch engine, on full-joint rows
+        from designlab.impact.metrics import hic_batch
+
+        reduced = impact_metrics(param_vector(m, FOAM_1, head)[None, :], 1.25)
+        assert abs(_rel(float(hic_batch(mb)[0]), float(hic_batch(reduced)[0]))) < 1e-5
     # and the error shrinks like 1/K_mech
     errs = []
     for ratio in (1e2, 1e3, 1e4):
