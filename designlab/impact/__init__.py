@@ -35,6 +35,7 @@ from designlab.impact.envelope import (
 from designlab.impact.full_joint import (
     BandFitSweep,
     FullJointContact,
+    FullJointLink,
     JointReductionComparison,
     JointReductionSweep,
     band_fit_sweep,
@@ -109,6 +110,7 @@ __all__ = [
     "FoamEnvelope",
     "FoamThickness",
     "FullJointContact",
+    "FullJointLink",
     "HeadAcceleration",
     "HeadInjuryCriterion",
     "HeadNeck",

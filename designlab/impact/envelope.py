@@ -52,7 +52,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from designlab.errors import InvalidParameterError, check_positive
 from designlab.impact.criteria import Criterion, HeadAcceleration
-from designlab.impact.full_joint import FullJointContact, full_joint_params
+from designlab.impact.full_joint import FullJointContact, FullJointLink, full_joint_params
 from designlab.impact.metrics import impact_metrics
 from designlab.impact.parameters import (
     HEAD_MAX,
@@ -174,6 +174,8 @@ class _Problem:
             rows = np.column_stack(
                 [lr.inertia / l2, lr.joint_damping / l2, lr.joint_stiffness / l2]
             )
+            if isinstance(lr, FullJointLink):  # the full series joint: 5 robot columns
+                rows = lr.effective_rows(np.sqrt(l2))
             return rows, lr.joint_speed * np.sqrt(l2) + self.human_speed
         r = self.robot
         if isinstance(r, FullJointContact):  # full series joint: 5 robot columns

@@ -74,7 +74,7 @@ from designlab.errors import InvalidParameterError, check_positive
 from designlab.impact.joint import JointFit, fit_joint_band, reduced_joint
 from designlab.impact.modal import ModalResponse, poles_of
 from designlab.impact.model import INPUT_NAMES, LinearImpactModel, derive_model
-from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck, _Params
+from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck, LinkImpact, _Params
 from designlab.impact.peaks import first_local_maximum
 from designlab.results import Result
 from designlab.units import STANDARD_GRAVITY
@@ -85,6 +85,7 @@ __all__ = [
     "REDUCTIONS",
     "BandFitSweep",
     "FullJointContact",
+    "FullJointLink",
     "JointReductionComparison",
     "JointReductionSweep",
     "band_fit_sweep",
@@ -296,6 +297,110 @@ class FullJointContact(_Params):
                 self.mass, fit.stiffness, fit.damping, lever_arm=self.lever_arm, name=self.name
             )
         return contact, fit  # type: ignore[return-value]
+
+
+@dataclass(frozen=True)
+class FullJointLink(LinkImpact):
+    """A joint with its full series joint (3.4.6), struck anywhere along its link (Sec. 3.7.3).
+
+    The :class:`~designlab.impact.parameters.LinkImpact` of the thesis's
+    scenarios 1 and 2, with the transmission kept: ``joint_stiffness`` and
+    ``joint_damping`` are the controller's K_cont and C_cont (N m/rad,
+    N m s/rad), ``transmission_stiffness`` and ``transmission_damping`` the
+    transmission's K_mech and C_mech. At lever arm ``l`` the manipulator is
+    :meth:`contact` ``(l)``, every value divided by ``l^2`` (3.4.17).
+    :func:`~designlab.impact.envelope.foam_envelope` searches the worst impact
+    point with the full joint.
+
+    Parameters
+    ----------
+    inertia, joint_stiffness, joint_damping, joint_speed, lever_arm_min, lever_arm_max, name
+        As in :class:`~designlab.impact.parameters.LinkImpact` (the joint
+        stiffness and damping being the controller's; K_cont > 0).
+    transmission_stiffness
+        K_mech in N m/rad (> 0, required).
+    transmission_damping
+        C_mech in N m s/rad (>= 0).
+
+    Examples
+    --------
+    >>> link = FullJointLink(0.059, 1.5e3, 30.0, 1.0, 0.05, 0.3,
+    ...                      transmission_stiffness=2e3, transmission_damping=2.0)
+    >>> arm = link.contact(0.2)
+    >>> round(arm.mass, 3), round(arm.stiffness_ratio, 3)
+    (1.475, 1.333)
+    """
+
+    transmission_stiffness: float | None = None
+    transmission_damping: float = 0.0
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.transmission_stiffness is None:
+            raise InvalidParameterError(
+                "FullJointLink.transmission_stiffness", None, "is required (K_mech > 0)", "N m/rad"
+            )
+        k = check_positive(
+            "FullJointLink.transmission_stiffness", self.transmission_stiffness, "N m/rad"
+        )
+        c = _nonneg("FullJointLink.transmission_damping", self.transmission_damping, "N m s/rad")
+        check_positive("FullJointLink.joint_stiffness", self.joint_stiffness, "N m/rad")
+        if c + self.joint_damping <= 0:
+            raise InvalidParameterError(
+                "FullJointLink.joint_damping",
+                self.joint_damping,
+                "transmission_damping + joint_damping must be > 0",
+                "N m s/rad",
+            )
+        object.__setattr__(self, "transmission_stiffness", k)
+        object.__setattr__(self, "transmission_damping", c)
+
+    def contact(self, lever_arm: float) -> FullJointContact:  # type: ignore[override]
+        """The full-joint manipulator at ``lever_arm`` (m), (3.4.17).
+
+        Parameters
+        ----------
+        lever_arm
+            l, m (> 0).
+
+        Returns
+        -------
+        FullJointContact
+            Every value divided by ``l^2``.
+        """
+        return FullJointContact.from_joint(
+            self.inertia,
+            float(self.transmission_stiffness),  # type: ignore[arg-type]
+            self.transmission_damping,
+            self.joint_stiffness,
+            self.joint_damping,
+            lever_arm=lever_arm,
+            name=self.name,
+        )
+
+    def effective_rows(self, levers: ArrayLike) -> NDArray[np.float64]:
+        """``(n, 5)`` rows ``[M_r, C_mech, K_mech, C_cont, K_cont]`` at the lever arms.
+
+        Parameters
+        ----------
+        levers
+            Lever arms, m.
+
+        Returns
+        -------
+        numpy.ndarray
+            Effective values (joint values divided by ``l^2``), SI units.
+        """
+        l2 = np.asarray(levers, dtype=float) ** 2
+        return np.column_stack(
+            [
+                self.inertia / l2,
+                self.transmission_damping / l2,
+                float(self.transmission_stiffness) / l2,  # type: ignore[arg-type]
+                self.joint_damping / l2,
+                self.joint_stiffness / l2,
+            ]
+        )
 
 
 def _nonneg(name: str, value: float, unit: str) -> float:

@@ -275,7 +275,9 @@ def optimal_foam(
     -------
     OptimalFoam
     """
-    if not isinstance(robot, (ContactDynamics, LinkImpact)):
+    from designlab.impact.full_joint import FullJointLink
+
+    if not isinstance(robot, (ContactDynamics, LinkImpact)) or isinstance(robot, FullJointLink):
         raise InvalidParameterError(
             "robot",
             robot,

@@ -376,6 +376,31 @@ def test_envelope_accepts_the_full_joint() -> None:
         dl.impact.optimal_foam(ARM, 1.25)
 
 
+def test_full_joint_link_worst_impact_point() -> None:
+    """A joint struck along its link (Sec. 3.7.3): with a stiff transmission the envelope and
+    its worst impact point are those of the reduced LinkImpact."""
+    reduced = dl.impact.LinkImpact(0.059, 121.68, 1.521, 3.0, 0.01, 0.3)
+    stiff = dl.impact.FullJointLink(0.059, 121.68, 1.521, 3.0, 0.01, 0.3,
+                                    transmission_stiffness=121.68e7)  # fmt: skip
+    damping = np.array([50.0])
+    a = dl.impact.foam_envelope(reduced, None, damping=damping, rtol=1e-9)
+    b = dl.impact.foam_envelope(stiff, None, damping=damping, rtol=1e-9)
+    np.testing.assert_allclose(b.stiffness_min, a.stiffness_min, rtol=1e-6)
+    np.testing.assert_allclose(b.stiffness_max, a.stiffness_max, rtol=1e-6)
+    np.testing.assert_allclose(b.worst_lever_arm, a.worst_lever_arm, rtol=1e-3)
+    # the manipulator at one lever arm is the FullJointContact of that arm
+    arm = stiff.contact(0.1)
+    assert isinstance(arm, FullJointContact)
+    assert arm.mass == pytest.approx(0.059 / 0.01)
+    assert arm.control_stiffness == pytest.approx(121.68 / 0.01)
+    with pytest.raises(InvalidParameterError, match="transmission_stiffness"):
+        dl.impact.FullJointLink(0.059, 121.68, 1.521, 3.0, 0.01, 0.3)
+    with pytest.raises(InvalidParameterError, match="joint_damping"):
+        dl.impact.FullJointLink(0.059, 121.68, 0.0, 3.0, 0.01, 0.3, transmission_stiffness=1e3)
+    with pytest.raises(InvalidParameterError, match="robot"):
+        dl.impact.optimal_foam(stiff, None)
+
+
 # --- bad input ------------------------------------------------------------------------------
 
 
