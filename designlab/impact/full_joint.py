@@ -129,6 +129,10 @@ METRICS: dict[str, str] = {
     "f_c_first_peak": "N",
     "t_imp": "s",
 }
+#: Relative difference below which a reduced metric counts as equal to the full one
+#: (and so as conservative): rounding of two exact evaluations.
+EQUAL_TOLERANCE = 1e-9
+
 #: Metrics for which a larger value is the worse (harm) side.
 HARM_METRICS: tuple[str, ...] = ("a_h_max", "eps_max", "f_c_max", "f_c_first_peak")
 
@@ -761,7 +765,7 @@ def _long_rows(
             err = (r - f) / f if f != 0 and np.isfinite(f) else math.nan
             cons: Any = pd.NA
             if metric in HARM_METRICS and np.isfinite(err):
-                cons = bool(r >= f)
+                cons = bool(err >= -EQUAL_TOLERANCE)
             rows.append(
                 {
                     **key,
@@ -854,7 +858,8 @@ class JointReductionComparison(Result):
         Returns
         -------
         bool
-            True when the reduced value is at least the full one.
+            True when the reduced value is at least the full one (within a
+            relative :data:`EQUAL_TOLERANCE`).
         """
         if metric not in HARM_METRICS:
             raise InvalidParameterError("metric", metric, f"must be one of {HARM_METRICS}")
@@ -1093,7 +1098,7 @@ class JointReductionSweep(Result):
         if metric not in HARM_METRICS:
             raise InvalidParameterError("metric", metric, f"must be one of {HARM_METRICS}")
         err = self.errors(reduction, metric)
-        return np.isfinite(err) & (err >= 0.0)
+        return np.isfinite(err) & (err >= -EQUAL_TOLERANCE)
 
     def conservative_intervals(
         self, reduction: str, metrics: Sequence[str] = ("a_h_max", "eps_max", "f_c_max")

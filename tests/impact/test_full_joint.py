@@ -317,12 +317,13 @@ def test_illustrative_joint_band_fit() -> None:
 )
 def test_reductions_become_exact_for_a_stiff_transmission(inertia, lever, k_cont, zeta, c_mech):
     """For any arm and controller: at K_mech = 1e5 K_cont both reductions are within 1e-3
-    on every metric; the comparison's status is ok."""
+    on every metric. (A light, soft arm can give an overdamped pulse whose a_h peaks at
+    contact: the status says so, and the metrics still agree.)"""
     c_cont = 2 * zeta * math.sqrt(k_cont * inertia)
     arm = FullJointContact.from_joint(inertia, 1e5 * k_cont, c_mech, k_cont, c_cont,
                                       lever_arm=lever)  # fmt: skip
     c = compare_joint_reductions(arm, FOAM_1, HEAD_MIN, 1.25)
-    assert c.status == "ok"
+    assert c.status in ("ok", "peak_at_contact")
     err = c.to_frame().relative_error.to_numpy(dtype=float)
     assert np.all(np.abs(err) < 1e-3)
 
