@@ -24,7 +24,7 @@ Examples
 >>> round(task.distance, 2), task.target_position
 (1.95, (0.095, 0.418))
 >>> round(task.walk_stop - task.walk_start, 2)
-4.4
+4.93
 >>> sorted(TASK_NAMES)[:3]
 ['backward', 'circle_ccw', 'circle_cw']
 """
