@@ -38,6 +38,8 @@ from dataclasses import asdict, dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from designlab.following.user_frame import robot_in_user_frame
+
 __all__ = ["AccompanyMetrics", "accompany_metrics"]
 
 
@@ -111,15 +113,6 @@ class AccompanyMetrics:
         return out
 
 
-def _pose_in_user(user: NDArray, robot: NDArray) -> tuple[NDArray, NDArray, NDArray]:
-    dx, dy = robot[0] - user[0], robot[1] - user[1]
-    ps = user[2]
-    xc = np.sin(ps) * dx - np.cos(ps) * dy
-    yc = np.cos(ps) * dx + np.sin(ps) * dy
-    g = np.arctan2(np.sin(robot[2] - ps), np.cos(robot[2] - ps))
-    return xc, yc, g
-
-
 def _circ_mean_sd(a: NDArray) -> tuple[float, float]:
     if a.size == 0:
         return math.nan, math.nan
@@ -164,7 +157,8 @@ def accompany_metrics(
     t = np.asarray(time, dtype=float)
     u = np.asarray(user_pose, dtype=float)
     r = np.asarray(robot_pose, dtype=float)
-    xc, yc, g = _pose_in_user(u, r)
+    p_c, g = robot_in_user_frame(u, r)
+    xc, yc = p_c[0], p_c[1]
     tx, ty = target_position
     err = np.hypot(tx - xc, ty - yc)
     bearing = -np.arctan2(xc, yc)
@@ -185,10 +179,8 @@ def accompany_metrics(
     lag = math.nan
     if moved:
         shifts = np.arange(0, int(round(max_lag / dt)) + 1)
-        costs = []
-        for s in shifts:
-            k = np.clip(idx - s, 0, None)
-            costs.append(np.mean((r[0, idx] - twx[k]) ** 2 + (r[1, idx] - twy[k]) ** 2))
+        k = np.clip(idx[None, :] - shifts[:, None], 0, None)
+        costs = np.mean((r[0, idx] - twx[k]) ** 2 + (r[1, idx] - twy[k]) ** 2, axis=1)
         lag = float(shifts[int(np.argmin(costs))] * dt)
     # overshoot along the target's last direction of motion
     overshoot = math.nan

@@ -212,6 +212,10 @@ class StringPotSensor(_Params):
     down-sampling to ``sample_rate``; the paper: 2000 samples/s, median filter,
     50 samples/s, window not stated).
 
+    With ``median_window = 1`` the samples between control instants would be
+    discarded by the down-sampling, so only the sample at each control
+    instant is simulated.
+
     A raw distance outside ``[min_range, max_range]`` (SHARP GP2Y0A02YK0F,
     0.20-1.50 m) is flagged and *not* used: the last valid distance is held in
     its place and the simulation result counts the flagged samples.

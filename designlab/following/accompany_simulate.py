@@ -72,7 +72,7 @@ def _state_size(window: int) -> int:
 
 @lru_cache(maxsize=32)
 def period_function(
-    substeps: int, window: int, limit_mode: str, wheel_level: bool
+    substeps: int, window: int, limit_mode: str, wheel_level: bool, quantize: bool = False
 ) -> ca.Function:
     """The CasADi function of one control period: ``(x, user, noise, p) -> (x_next, y)``.
 
@@ -86,13 +86,18 @@ def period_function(
         ``"norm"`` or ``"per_axis"`` linear limits.
     wheel_level
         Apply the eq. (10) wheel-speed limit to the command.
+    quantize
+        Round the encoder angles to the resolution in ``p``.
 
     Notes
     -----
     State ``x`` (``16 + 3 (window - 1)``): robot world pose (3), body
     velocity (3), PID integrators (3), derivative states (3), previous errors
     (3), last valid distance (1), then the median buffers of d, theta_U,
-    theta_R. Input ``user`` (3 substeps): user world pose at each raw instant;
+    theta_R. Raw samples between control instants feed only the median filter;
+    with ``window == 1`` only the sample at the control instant is taken (the
+    others would be discarded by the down-sampling), and only it is checked
+    against the range. Input ``user`` (3 substeps): user world pose at each raw instant;
     ``noise`` (3 substeps): additive noise on (d, theta_U, theta_R); ``p``
     (28): gains (K_p, K_i, K_d, T_f) x 3, tau, tau_yaw, v_max, a_max,
     omega_max, alpha_max, target (X_T, Y_T, gamma_T), range (min, max), wheel
@@ -125,20 +130,23 @@ def period_function(
     cmd = None
     y_err = y_read = None
     for j in range(s_n):
-        uj = user[3 * j : 3 * j + 3]
-        xc, yc, gc = sx_robot_in_user_frame(uj, pose)
-        d, tu, tr = sx_string_pot(xc, yc, gc)
-        d = d + noise[3 * j]
-        tu = tu + noise[3 * j + 1]
-        tr = tr + noise[3 * j + 2]
-        q = ca.fmax(res, 1e-12)
-        tu = ca.if_else(res > 0, ca.floor(tu / q + 0.5) * q, tu)
-        tr = ca.if_else(res > 0, ca.floor(tr / q + 0.5) * q, tr)
-        valid = ca.logic_and(d >= rmin, d <= rmax)
-        d_used = ca.if_else(valid, d, d_last)
-        flags = flags + (1 - valid)
-        d_last = d_used
-        windows = [bufs[0] + [d_used], bufs[1] + [tu], bufs[2] + [tr]]
+        if window == 1 and j > 0:
+            windows = [[], [], []]
+        else:
+            uj = user[3 * j : 3 * j + 3]
+            xc, yc, gc = sx_robot_in_user_frame(uj, pose)
+            d, tu, tr = sx_string_pot(xc, yc, gc)
+            d = d + noise[3 * j]
+            tu = tu + noise[3 * j + 1]
+            tr = tr + noise[3 * j + 2]
+            if quantize:
+                tu = ca.floor(tu / res + 0.5) * res
+                tr = ca.floor(tr / res + 0.5) * res
+            valid = ca.logic_and(d >= rmin, d <= rmax)
+            d_used = ca.if_else(valid, d, d_last)
+            flags = flags + (1 - valid)
+            d_last = d_used
+            windows = [bufs[0] + [d_used], bufs[1] + [tu], bufs[2] + [tr]]
         if j == 0:
             d_f = _median(windows[0])
             filt = [d_f]
@@ -187,7 +195,8 @@ def period_function(
                 cmd = [sc_w * c for c in cmd]
             y_err = err
             y_read = filt
-        bufs = [w[1:] for w in windows]
+        if window > 1:
+            bufs = [w[1:] for w in windows]
         # platform: exact first-order lag per axis over h, then acceleration limit
         a_lin = ca.exp(-h / tau)
         a_yaw = ca.exp(-h / tau_yaw)
@@ -216,8 +225,11 @@ def period_function(
 
 
 @lru_cache(maxsize=64)
-def _run_function(substeps: int, window: int, limit_mode: str, wheel_level: bool, n: int):
-    return period_function(substeps, window, limit_mode, wheel_level).mapaccum("accompany_run", n)
+def _run_function(
+    substeps: int, window: int, limit_mode: str, wheel_level: bool, quantize: bool, n: int
+) -> ca.Function:
+    f = period_function(substeps, window, limit_mode, wheel_level, quantize)
+    return f.mapaccum("accompany_run", n)
 
 
 def _param_vector(
@@ -458,11 +470,16 @@ def accompany(
     )
     p = _param_vector(controller, platform, sensor, task)
     run = _run_function(
-        s_n, sensor.median_window, platform.limit_mode, platform.max_wheel_speed is not None, n
+        s_n,
+        sensor.median_window,
+        platform.limit_mode,
+        platform.max_wheel_speed is not None,
+        sensor.angle_resolution > 0,
+        n,
     )
     xs, ys = run(x0, user_in, noise, p)
-    xs = np.asarray(xs)
-    ys = np.asarray(ys)
+    xs = xs.full()
+    ys = ys.full()
     robot = np.hstack([r0[:, None], xs[:3]])
     user = task.pose(t_ctrl)
     pc, gc = robot_in_user_frame(user, robot)
@@ -475,9 +492,10 @@ def accompany(
         warnings.append("the closed loop diverged (error > 10 m or non-finite)")
     flagged = ys[9]
     nflag = int(flagged.sum())
+    n_samples = n * (s_n if sensor.median_window > 1 else 1)
     if nflag:
         warnings.append(
-            f"{nflag} of {n * s_n} raw distance samples fell outside the sensor range "
+            f"{nflag} of {n_samples} raw distance samples fell outside the sensor range "
             f"{sensor.min_range}-{sensor.max_range} m and were replaced by the last valid value"
         )
     cmd = ys[3:6]

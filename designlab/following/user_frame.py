@@ -38,6 +38,8 @@ import casadi as ca
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from designlab.symbolic import vectorize
+
 __all__ = [
     "robot_frame_error",
     "robot_in_user_frame",
@@ -98,7 +100,7 @@ def sx_robot_frame_error(target_x, target_y, target_gamma, d, tu, tr):
 
 
 @lru_cache(maxsize=1)
-def _functions() -> tuple[ca.Function, ca.Function, ca.Function]:
+def _functions() -> tuple:
     u = ca.SX.sym("user", 3)
     r = ca.SX.sym("robot", 3)
     xc, yc, g = sx_robot_in_user_frame(u, r)
@@ -112,14 +114,8 @@ def _functions() -> tuple[ca.Function, ca.Function, ca.Function]:
         [t, m],
         [ca.vertcat(*sx_robot_frame_error(t[0], t[1], t[2], m[0], m[1], m[2]))],
     )
-    return f_pose, f_pot, f_err
-
-
-def _cols(a: ArrayLike, n: int, name: str) -> NDArray[np.float64]:
-    arr = np.asarray(a, dtype=float)
-    if arr.shape[0] != n:
-        raise ValueError(f"{name} must have {n} rows (components first), got shape {arr.shape}")
-    return arr.reshape(n, -1)
+    # numpy replays of the SX functions, vectorised over columns
+    return vectorize(f_pose), vectorize(f_pot), vectorize(f_err)
 
 
 def robot_in_user_frame(
@@ -137,12 +133,13 @@ def robot_in_user_frame(
     p_c, gamma_c
         Shape (2,) / scalar, or (2, n) / (n,).
     """
-    shape = np.shape(user_pose)
-    n = int(np.prod(shape[1:])) if len(shape) > 1 else 1
-    f = _functions()[0].map(n) if n > 1 else _functions()[0]
-    res = np.asarray(f(_cols(user_pose, 3, "user_pose"), _cols(robot_pose, 3, "robot_pose")))
-    if len(shape) == 1:
-        return res[:2, 0], res[2, 0]
+    u = np.asarray(user_pose, dtype=float)
+    r = np.asarray(robot_pose, dtype=float)
+    if u.shape[0] != 3 or r.shape[0] != 3:
+        raise ValueError("user_pose and robot_pose need 3 rows (x, y, psi)")
+    res = _functions()[0](u.reshape(3, -1), r.reshape(3, -1))[0]
+    if u.ndim == 1 and r.ndim == 1:
+        return res[:2, 0], float(res[2, 0])
     return res[:2], res[2]
 
 
@@ -160,11 +157,9 @@ def string_pot_readings(
     """
     pc = np.asarray(p_c, dtype=float)
     pose = np.vstack([pc.reshape(2, -1), np.asarray(gamma_c, dtype=float).reshape(1, -1)])
-    n = pose.shape[1]
-    f = _functions()[1].map(n) if n > 1 else _functions()[1]
-    res = np.asarray(f(pose))
+    res = _functions()[1](pose)[0]
     if pc.ndim == 1:
-        return res[0, 0], res[1, 0], res[2, 0]
+        return float(res[0, 0]), float(res[1, 0]), float(res[2, 0])
     return res[0], res[1], res[2]
 
 
@@ -184,7 +179,5 @@ def robot_frame_error(
     """
     m = np.vstack([np.atleast_1d(np.asarray(v, dtype=float)) for v in (d, theta_u, theta_r)])
     t = np.array([float(target[0]), float(target[1]), float(target_gamma)])  # type: ignore[index]
-    n = m.shape[1]
-    f = _functions()[2].map(n) if n > 1 else _functions()[2]
-    res = np.asarray(f(t, m))
+    res = _functions()[2](t, m)[0]
     return res[:, 0] if np.ndim(d) == 0 else res

@@ -203,8 +203,11 @@ def test_wheel_level_limit_slows_the_robot():
 def test_sensor_range_flags_and_holds():
     # a target closer than the distance sensor's 0.20 m minimum: every raw sample is flagged
     res = fol.accompany(_still_task(target=(0.0, 0.18)))
-    n_raw = res.command.shape[1] * res.sensor.oversampling
-    assert int(res.flagged.sum()) == n_raw
+    assert int(res.flagged.sum()) == res.command.shape[1]  # window 1: one sample per period
+    filtered = fol.accompany(
+        _still_task(target=(0.0, 0.18)), sensor=fol.StringPotSensor(median_window=3)
+    )
+    assert int(filtered.flagged.sum()) == 4 * res.command.shape[1]  # every raw sample
     assert any("outside the sensor range" in w for w in res.warnings)
     # the held distance is the target's, so the robot does not move (and does not run away)
     assert np.ptp(res.robot_pose[1]) < 1e-9
