@@ -38,7 +38,7 @@ def baseline_run(task, pid, platform, sensor):
     ts = sensor.period
     s_n = sensor.oversampling
     h = ts / s_n
-    n = int(math.ceil(task.duration / ts - 1e-9))
+    n = math.ceil(task.duration / ts - 1e-9)
     t_raw = (np.arange(n)[:, None] * ts + np.arange(s_n)[None, :] * h).ravel()
     users = task.pose(t_raw).T
     tx, ty = task.target_position
@@ -125,14 +125,27 @@ def main(argv: list[str] | None = None) -> int:
 
     task = fol.walking_task("rectangle", settle_time=6.0)
     task = fol.WalkingTask(
-        "rectangle_28s", task.time, task.x, task.y, task.heading, task.walk_start,
-        min(task.walk_stop, 28.0), task.target_position, task.target_heading,
+        "rectangle_28s",
+        task.time,
+        task.x,
+        task.y,
+        task.heading,
+        task.walk_start,
+        min(task.walk_stop, 28.0),
+        task.target_position,
+        task.target_heading,
     )
     trimmed = task.time <= 28.0 + 1e-9
     task = fol.WalkingTask(
-        "rectangle_28s", task.time[trimmed], task.x[trimmed], task.y[trimmed],
-        task.heading[trimmed], task.walk_start, min(task.walk_stop, 28.0),
-        task.target_position, task.target_heading,
+        "rectangle_28s",
+        task.time[trimmed],
+        task.x[trimmed],
+        task.y[trimmed],
+        task.heading[trimmed],
+        task.walk_start,
+        min(task.walk_stop, 28.0),
+        task.target_position,
+        task.target_heading,
     )
     pid = fol.UserFramePID()
     platform = fol.MecanumPlatform()
@@ -150,13 +163,19 @@ def main(argv: list[str] | None = None) -> int:
     base = baseline_run(task, pid, platform, sensor)
     t_base = time.perf_counter() - t0
     diff = float(np.max(np.abs(base[:2] - res.robot_pose[:2])))
-    print(f"1. simulation: {task.duration:.1f} s task, {res.command.shape[1]} periods at 50 Hz, "
-          f"{sensor.oversampling} raw samples each")
-    print(f"   designlab accompany (median of {args.repeats}): {1e3 * t_dl:7.1f} ms "
-          f"(first call, building the CasADi run: {1e3 * first:.1f} ms)")
+    print(
+        f"1. simulation: {task.duration:.1f} s task, {res.command.shape[1]} periods at 50 Hz, "
+        f"{sensor.oversampling} raw samples each"
+    )
+    print(
+        f"   designlab accompany (median of {args.repeats}): {1e3 * t_dl:7.1f} ms "
+        f"(first call, building the CasADi run: {1e3 * first:.1f} ms)"
+    )
     print(f"   per-step Python loop baseline:            {1e3 * t_base:7.1f} ms")
-    print(f"   speed-up {t_base / t_dl:5.1f}x; paths agree to {diff:.1e} m; "
-          f"target < 50 ms: {'met' if t_dl < 0.05 else 'NOT met'}")
+    print(
+        f"   speed-up {t_base / t_dl:5.1f}x; paths agree to {diff:.1e} m; "
+        f"target < 50 ms: {'met' if t_dl < 0.05 else 'NOT met'}"
+    )
     ok &= diff < 1e-9 and t_dl < 0.05
 
     tune_tasks = [fol.walking_task(n) for n in ("forward", "left_lateral", "circle_cw")]
@@ -173,10 +192,12 @@ def main(argv: list[str] | None = None) -> int:
     print(f"   default gains: mean RMS over the nine tasks {1e3 * mean_default:.1f} mm")
     for method, r, total, mean_all in rows:
         c = r.controller
-        print(f"   {method:10s}: {total:6.2f} s total ({r.elapsed:6.2f} s tuning, "
-              f"{r.simulations} simulations, {r.iterations} iterations), "
-              f"Kp {c.kp:.3g} Ki {c.ki:.3g} Kd {c.kd:.3g}, Ms {r.margins['Ms'].max():.3f}, "
-              f"mean RMS nine tasks {1e3 * mean_all:.1f} mm, status {r.status}")
+        print(
+            f"   {method:10s}: {total:6.2f} s total ({r.elapsed:6.2f} s tuning, "
+            f"{r.simulations} simulations, {r.iterations} iterations), "
+            f"Kp {c.kp:.3g} Ki {c.ki:.3g} Kd {c.kd:.3g}, Ms {r.margins['Ms'].max():.3f}, "
+            f"mean RMS nine tasks {1e3 * mean_all:.1f} mm, status {r.status}"
+        )
         ok &= total < 60.0
     return 0 if ok else 1
 

@@ -15,6 +15,8 @@ True
 
 from __future__ import annotations
 
+__all__: list[str] = []
+
 # --- accompanying robot (Wu et al. 2021) ---
 from designlab.following.accompany_linear import LoopAnalysis, loop_analysis
 from designlab.following.accompany_metrics import AccompanyMetrics, accompany_metrics
@@ -36,7 +38,7 @@ from designlab.following.walking_tasks import (
     walking_task_from_csv,
 )
 
-_ACCOMPANY_ALL = [
+__all__ += [
     "TASK_NAMES",
     "AccompanyMetrics",
     "AccompanyResult",
@@ -60,5 +62,3 @@ _ACCOMPANY_ALL = [
     "walking_task_from_csv",
 ]
 # --- end accompanying robot ---
-
-__all__ = [*_ACCOMPANY_ALL]

@@ -52,7 +52,7 @@ def frequency_grid(sample_time: float, n: int = 400, w_min: float = 1e-2) -> NDA
 
 
 def _delay_periods(sensor: StringPotSensor) -> int:
-    return int(round((sensor.median_window - 1) / 2 / sensor.oversampling))
+    return round((sensor.median_window - 1) / 2 / sensor.oversampling)
 
 
 def plant_response(tau: float, sample_time: float, omega: NDArray, delay: int = 0) -> NDArray:
@@ -83,7 +83,7 @@ def axis_loop(
     sensor: StringPotSensor,
     axis: str,
 ) -> Any:
-    """The discrete loop transfer function L(z) of one axis as a python-control ``TransferFunction``.
+    """The discrete loop L(z) of one axis as a python-control ``TransferFunction``.
 
     Parameters
     ----------
@@ -208,8 +208,10 @@ def loop_analysis(
         loop = axis_loop(controller, platform, sensor, axis)
         kp, ki, kd, tf = controller.gains(axis)
         # factored response (accurate near z = 1, where the polynomial form cancels)
-        lw = pid_basis(tf, ts, omega) @ np.array([kp, ki, kd]) * plant_response(
-            tau, ts, omega, _delay_periods(sensor)
+        lw = (
+            pid_basis(tf, ts, omega)
+            @ np.array([kp, ki, kd])
+            * plant_response(tau, ts, omega, _delay_periods(sensor))
         )
         s = 1.0 / (1.0 + lw)
         t = lw * s
@@ -230,7 +232,9 @@ def loop_analysis(
                 "ki": controller.gains(axis)[1],
                 "kd": controller.gains(axis)[2],
                 "gain_margin": float(gm),
-                "gain_margin_dB": float(20 * np.log10(gm)) if np.isfinite(gm) and gm > 0 else math.inf,
+                "gain_margin_dB": float(20 * np.log10(gm))
+                if np.isfinite(gm) and gm > 0
+                else math.inf,
                 "phase_margin_deg": float(pm),
                 "crossover_rad_s": float(wgc),
                 "phase_crossover_rad_s": float(wpc),

@@ -178,7 +178,7 @@ def accompany_metrics(
     moved = np.hypot(np.ptp(twx[idx]), np.ptp(twy[idx])) > 1e-3
     lag = math.nan
     if moved:
-        shifts = np.arange(0, int(round(max_lag / dt)) + 1)
+        shifts = np.arange(0, round(max_lag / dt) + 1)
         k = np.clip(idx[None, :] - shifts[:, None], 0, None)
         costs = np.mean((r[0, idx] - twx[k]) ** 2 + (r[1, idx] - twy[k]) ** 2, axis=1)
         lag = float(shifts[int(np.argmin(costs))] * dt)

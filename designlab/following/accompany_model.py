@@ -133,7 +133,7 @@ class MecanumPlatform(_Params):
     >>> MecanumPlatform(time_constant=-1.0)
     Traceback (most recent call last):
     ...
-    designlab.errors.InvalidParameterError: MecanumPlatform.time_constant = -1.0 s is not allowed: must be a finite number > 0
+    designlab.errors.InvalidParameterError: MecanumPlatform.time_constant = -1.0 s ...
     """
 
     time_constant: float = 0.15
@@ -161,9 +161,7 @@ class MecanumPlatform(_Params):
             object.__setattr__(self, name, check_positive(c + name, getattr(self, name), unit))
         for name, unit in (("yaw_time_constant", "s"), ("max_wheel_speed", "rad/s")):
             if getattr(self, name) is not None:
-                object.__setattr__(
-                    self, name, check_positive(c + name, getattr(self, name), unit)
-                )
+                object.__setattr__(self, name, check_positive(c + name, getattr(self, name), unit))
         if self.limit_mode not in LIMIT_MODES:
             raise InvalidParameterError(c + "limit_mode", self.limit_mode, f"one of {LIMIT_MODES}")
 
@@ -245,7 +243,7 @@ class StringPotSensor(_Params):
     >>> StringPotSensor(min_range=1.0, max_range=0.5)
     Traceback (most recent call last):
     ...
-    designlab.errors.InvalidParameterError: StringPotSensor.max_range = 0.5 m is not allowed: must be > min_range = 1.0 m
+    designlab.errors.InvalidParameterError: StringPotSensor.max_range = 0.5 m ...> min_range ...
     """
 
     sample_rate: float = 50.0
@@ -299,4 +297,3 @@ class StringPotSensor(_Params):
     def noisy(self) -> bool:
         """True if any noise is switched on."""
         return self.distance_noise > 0.0 or self.angle_noise > 0.0
-

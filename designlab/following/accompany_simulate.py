@@ -189,8 +189,10 @@ def period_function(
                     (-ux + uy - ll * uw) / wheel_r,
                     (ux + uy + ll * uw) / wheel_r,
                 ]
-                wm = ca.fmax(ca.fmax(ca.fabs(wheels[0]), ca.fabs(wheels[1])),
-                             ca.fmax(ca.fabs(wheels[2]), ca.fabs(wheels[3])))
+                wm = ca.fmax(
+                    ca.fmax(ca.fabs(wheels[0]), ca.fabs(wheels[1])),
+                    ca.fmax(ca.fabs(wheels[2]), ca.fabs(wheels[3])),
+                )
                 sc_w = wheel_max / ca.fmax(wm, wheel_max)
                 cmd = [sc_w * c for c in cmd]
             y_err = err
@@ -426,7 +428,7 @@ def accompany(
 
     ts = sensor.period
     s_n = sensor.oversampling
-    n = int(math.ceil(task.duration / ts - 1e-9))
+    n = math.ceil(task.duration / ts - 1e-9)
     t_ctrl = np.arange(n + 1) * ts
     t_raw = (t_ctrl[:-1, None] + np.arange(s_n)[None, :] * (ts / s_n)).ravel()
     user_raw = task.pose(t_raw)  # (3, n*S)
@@ -518,7 +520,8 @@ def accompany(
     )
     if task.duration < task.walk_stop + 10.0 - 1e-9:
         warnings.append(
-            "the task ends less than 10 s after the user stops; the settled error is taken at the end"
+            "the task ends less than 10 s after the user stops; "
+            "the settled error is taken at the end"
         )
     return AccompanyResult(
         task=task,

@@ -54,7 +54,7 @@ from designlab.following.user_frame_pid import UserFramePID
 from designlab.following.walking_tasks import WalkingTask
 from designlab.results import OK, Result
 
-__all__ = ["PIDTuningResult", "TUNING_METHODS", "convex_concave_pid", "tune_pid"]
+__all__ = ["TUNING_METHODS", "PIDTuningResult", "convex_concave_pid", "tune_pid"]
 
 log = logging.getLogger(__name__)
 
@@ -117,9 +117,10 @@ def convex_concave_pid(
     import cvxpy as cp
 
     omega = frequency_grid(sample_time, n_frequencies, 1e-2)
-    a = pid_basis(derivative_filter_time, sample_time, omega) * plant_response(
-        tau, sample_time, omega, delay
-    )[:, None]
+    a = (
+        pid_basis(derivative_filter_time, sample_time, omega)
+        * plant_response(tau, sample_time, omega, delay)[:, None]
+    )
     ar, ai = a.real, a.imag
     k = cp.Variable(3)
     ur = cp.Parameter(omega.size)
@@ -349,9 +350,10 @@ def tune_pid(
         from scipy.optimize import minimize
 
         omega = frequency_grid(ts, 600, 1e-2)
-        basis = pid_basis(tf, ts, omega) * plant_response(
-            platform.time_constant, ts, omega, delay
-        )[:, None]
+        basis = (
+            pid_basis(tf, ts, omega)
+            * plant_response(platform.time_constant, ts, omega, delay)[:, None]
+        )
 
         def objective(logk: np.ndarray) -> float:
             nonlocal simulations
@@ -369,9 +371,7 @@ def tune_pid(
                 return 1e3
             return float(np.mean([r.rms_error for r in res])) + penalty
 
-        start = np.log(
-            [max(baseline.kp, 1e-3), max(baseline.ki, 1e-3), max(baseline.kd, 1e-3)]
-        )
+        start = np.log([max(baseline.kp, 1e-3), max(baseline.ki, 1e-3), max(baseline.kd, 1e-3)])
         opt = minimize(
             objective,
             start,
@@ -424,7 +424,9 @@ def tune_pid(
     if any(r.status != OK for r in tuned_runs):
         status = "failed"
         warnings.append("a simulation with the tuned gains diverged")
-    log.info("tune_pid %s: %s, improvement %.3f in %.2f s", method, controller, improvement, elapsed)
+    log.info(
+        "tune_pid %s: %s, improvement %.3f in %.2f s", method, controller, improvement, elapsed
+    )
     return PIDTuningResult(
         controller=controller,
         baseline=baseline,

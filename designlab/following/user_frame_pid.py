@@ -63,7 +63,7 @@ class UserFramePID:
     >>> UserFramePID(kp=-1.0)
     Traceback (most recent call last):
     ...
-    designlab.errors.InvalidParameterError: UserFramePID.kp = -1.0 1/s is not allowed: must be a finite number >= 0
+    designlab.errors.InvalidParameterError: UserFramePID.kp = -1.0 1/s is not allowed: ...
     """
 
     kp: float = 2.0

@@ -226,7 +226,9 @@ class WalkingTask:
         object.__setattr__(self, "target_position", (tx, ty))
         g = float(self.target_heading)
         if not math.isfinite(g):
-            raise InvalidParameterError(c + "target_heading", self.target_heading, "must be finite", "rad")
+            raise InvalidParameterError(
+                c + "target_heading", self.target_heading, "must be finite", "rad"
+            )
         object.__setattr__(self, "target_heading", g)
 
     @property
@@ -323,7 +325,7 @@ def _integrate(
         t0 += dur + (pause if k < len(moves) - 1 else 0.0)
     walk_stop = t0
     t_end = walk_stop + settle_time
-    n = int(round(t_end * _DENSE_RATE)) + 1
+    n = round(t_end * _DENSE_RATE) + 1
     t = np.linspace(0.0, t_end, n)
     vl = np.zeros(n)
     vf = np.zeros(n)
@@ -431,7 +433,7 @@ def walking_task(
     >>> walking_task("sideways")
     Traceback (most recent call last):
     ...
-    designlab.errors.InvalidParameterError: name = 'sideways' is not allowed: one of ('forward', 'backward', 'left_lateral', 'right_lateral', 'left_pivot', 'right_pivot', 'rectangle', 'circle_cw', 'circle_ccw')
+    designlab.errors.InvalidParameterError: name = 'sideways' is not allowed: ...
     """
     if name not in TASK_NAMES:
         raise InvalidParameterError("name", name, f"one of {TASK_NAMES}")
@@ -453,8 +455,10 @@ def walking_task(
     f_step = check_positive("step_frequency", step_frequency, "Hz")
     sway_lat = check_nonnegative("sway[0]", sway[0], "m")
     sway_yaw = check_nonnegative("sway[1]", sway[1], "rad")
-    rect = (check_positive("rectangle[0]", rectangle[0], "m"),
-            check_positive("rectangle[1]", rectangle[1], "m"))
+    rect = (
+        check_positive("rectangle[0]", rectangle[0], "m"),
+        check_positive("rectangle[1]", rectangle[1], "m"),
+    )
     default_dist = {"forward": 1.95, "backward": 1.98, "left_lateral": 1.52, "right_lateral": 1.56}
     if distance is not None:
         dist = check_positive("distance", distance, "m")

@@ -62,7 +62,7 @@ def test_robot_frame_error_is_the_rotated_user_frame_error(tx, ty, tg, d, tu, tr
 
 
 def test_user_translation_and_rotation_eqs_2_to_4():
-    """Eq. (4): after the user moves by dp (own frame) and turns by alpha, p_C1 = R(alpha)^T (p_C0 - dp)."""
+    """Eq. (4): user moves by dp (own frame), turns by alpha: p_C1 = R(alpha)^T (p_C0 - dp)."""
     p0 = np.array([0.1, 0.5])
     dp = np.array([0.2, 0.3])
     alpha = 0.4

@@ -58,17 +58,28 @@ def test_run_and_report(tmp_path):
     assert tuning.set_index("method").loc["tuned", "improvement_all_tasks"] > 0.5
     out = write_report(result, tmp_path, index=False)
     files = {p.name for p in out.iterdir()}
-    assert {"summary.md", "metrics.csv", "table1.csv", "table2.csv", "tuning.csv",
-            "margins.csv", "errors.png", "bode.png", "nyquist.png",
-            "trajectories_default.png", "trajectories_tuned.png"} <= files
+    assert {
+        "summary.md",
+        "metrics.csv",
+        "table1.csv",
+        "table2.csv",
+        "tuning.csv",
+        "margins.csv",
+        "errors.png",
+        "bode.png",
+        "nyquist.png",
+        "trajectories_default.png",
+        "trajectories_tuned.png",
+    } <= files
     t2 = pd.read_csv(out / "table2.csv")
     paper = t2[(t2["task"] == "forward") & (t2["source"] == "paper")].iloc[0]
     assert (paper["target_X_mm"], paper["target_Y_mm"]) == (95, 418)
     sim = t2[(t2["task"] == "forward") & (t2["source"] == "default")].iloc[0]
     assert sim["target_X_mm"] == pytest.approx(95.0) and sim["avg_Y_mm"] < 418
     t1 = pd.read_csv(out / "table1.csv")
-    fwd_user = t1[(t1["task"] == "forward") & (t1["source"] == "paper")
-                  & (t1["subject"] == "user")].iloc[0]
+    fwd_user = t1[
+        (t1["task"] == "forward") & (t1["source"] == "paper") & (t1["subject"] == "user")
+    ].iloc[0]
     assert fwd_user["disp_Y_mm"] == 1914  # the text's value, not the printed 914
     text = (out / "summary.md").read_text()
     assert "Table 2" in text and "anomaly" in text

@@ -110,8 +110,9 @@ def test_csv_walk(tmp_path):
 
 
 def test_csv_bad_points(tmp_path):
-    frame = pd.DataFrame({"time_s": [0.0, 0.1, 0.2], "x_m": [0.0, np.nan, 0.0], "y_m": 0.0,
-                          "heading_deg": 90.0})
+    frame = pd.DataFrame(
+        {"time_s": [0.0, 0.1, 0.2], "x_m": [0.0, np.nan, 0.0], "y_m": 0.0, "heading_deg": 90.0}
+    )
     path = tmp_path / "bad.csv"
     frame.to_csv(path, index=False)
     with pytest.raises(InvalidParameterError, match=r"x_m\[1\]"):

@@ -73,7 +73,8 @@ def test_p_only_gain_margin_is_the_critical_gain():
 )
 def test_sensitivity_peaks_invariants(kp, ki, kd, tau):
     la = fol.loop_analysis(
-        fol.UserFramePID(kp=kp, ki=ki, kd=kd), fol.MecanumPlatform(time_constant=tau),
+        fol.UserFramePID(kp=kp, ki=ki, kd=kd),
+        fol.MecanumPlatform(time_constant=tau),
         n_frequencies=300,
     )
     for row in la.rows:

@@ -1,4 +1,4 @@
-"""Validation of the accompanying robot against physics and Wu et al. 2021, Tables 1-2 (issue item 7)."""
+"""Validation of the accompanying robot: physics and Wu et al. 2021, Tables 1-2 (issue item 7)."""
 
 from __future__ import annotations
 
@@ -123,7 +123,7 @@ def test_table1_displacements_follow_the_user(default_runs):
         u0, u1 = np.array(m.user_start), np.array(m.user_stop)
         p0, p1 = math.radians(u0[2]), math.radians(u1[2])
 
-        def world(pu, psi):
+        def world(pu, psi, tx=tx, ty=ty):
             return pu + np.array(
                 [math.sin(psi) * tx + math.cos(psi) * ty, -math.cos(psi) * tx + math.sin(psi) * ty]
             )
@@ -146,7 +146,9 @@ def test_lag_and_overshoot_of_the_default_pid(default_runs):
 @pytest.mark.slow
 def test_tuned_pid_lowers_the_mean_rms_error_over_the_nine_tasks(default_runs):
     """Issue item 7: tuned on three tasks, better on all nine, with Ms <= 1.6."""
-    pid = fol.tune_pid(tasks=[fol.walking_task(n) for n in ("forward", "left_lateral", "circle_cw")])
+    pid = fol.tune_pid(
+        tasks=[fol.walking_task(n) for n in ("forward", "left_lateral", "circle_cw")]
+    )
     assert pid.status == "ok", pid.warnings
     assert pid.margins["Ms"].max() <= 1.6 * 1.002
     tuned = [fol.accompany(fol.walking_task(n), pid.controller) for n in fol.TASK_NAMES]
