@@ -131,7 +131,7 @@ class LoopAnalysis(Result):
     warnings: tuple[str, ...] = field(default=())
 
     def to_frame(self) -> pd.DataFrame:
-        """Per axis: gain margin (-, dB), phase margin (deg), crossover (rad/s), Ms, Mt, stable."""
+        """Per axis: gain and phase margins, crossover (rad/s), Ms, Mt, max |C S| (1/s), stable."""
         return pd.DataFrame(list(self.rows))
 
     def axis(self, name: str) -> dict[str, Any]:
@@ -240,6 +240,9 @@ def loop_analysis(
                 "phase_crossover_rad_s": float(wpc),
                 "Ms": float(np.max(np.abs(s))),
                 "Mt": float(np.max(np.abs(t))),
+                "noise_gain_1_s": float(
+                    np.max(np.abs(pid_basis(tf, ts, omega) @ np.array([kp, ki, kd]) * s))
+                ),
                 "stable": stable,
             }
         )

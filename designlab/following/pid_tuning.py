@@ -82,6 +82,7 @@ def convex_concave_pid(
     ms_max: float = 1.6,
     mt_max: float = 1.3,
     kd_max: float = 5.0,
+    max_noise_gain: float | None = None,
     delay: int = 0,
     n_frequencies: int = 300,
     max_iterations: int = 60,
@@ -101,6 +102,10 @@ def convex_concave_pid(
         Limits of |S| and |T| (>= 1).
     kd_max
         Upper bound of K_d (a practical limit on noise amplification).
+    max_noise_gain
+        Optional limit of |C S|, the gain from measurement noise to the
+        command, in (m/s)/m = 1/s (Hast et al. 2013's noise-sensitivity
+        constraint); ``None``: no limit.
     delay
         Extra delay in control periods.
     n_frequencies
@@ -122,6 +127,8 @@ def convex_concave_pid(
         * plant_response(tau, sample_time, omega, delay)[:, None]
     )
     ar, ai = a.real, a.imag
+    basis = pid_basis(derivative_filter_time, sample_time, omega)
+    br, bi = basis.real, basis.imag
     k = cp.Variable(3)
     ur = cp.Parameter(omega.size)
     ui = cp.Parameter(omega.size)
@@ -132,6 +139,11 @@ def convex_concave_pid(
         k >= 0,
         k[2] <= kd_max,
     ]
+    if max_noise_gain is not None:
+        # |C| <= ks |1 + L|, with |1 + L| replaced by its linearisation (inner approximation)
+        constraints.append(
+            cp.norm(cp.vstack([br @ k, bi @ k]), 2, axis=0) <= max_noise_gain * lin
+        )
     problem = cp.Problem(cp.Maximize(k[1]), constraints)
     k0 = np.array([0.05, 0.0, 0.0])
     converged = False
@@ -255,6 +267,7 @@ def tune_pid(
     mt_max: float = 1.3,
     derivative_filter_time: float = 0.05,
     kd_max: float = 5.0,
+    max_noise_gain: float | None = None,
     max_evaluations: int = 150,
 ) -> PIDTuningResult:
     """Tune the three PIDs; verify with python-control margins and by simulating ``tasks``.
@@ -278,6 +291,10 @@ def tune_pid(
         T_f of the derivative filters in s (>= 0).
     kd_max
         Upper bound of K_d.
+    max_noise_gain
+        Optional limit of |C S| (noise to command) in 1/s, for both methods;
+        ``None``: none. Without it the convex tuner puts K_d near 2 and passes
+        measurement noise to the command about 40 times (see ``docs/following.md``).
     max_evaluations
         Objective evaluations of ``method="simulation"``.
 
@@ -309,6 +326,8 @@ def tune_pid(
             raise InvalidParameterError(name, v, "must be >= 1")
     tf = check_nonnegative("derivative_filter_time", derivative_filter_time, "s")
     kd_max = check_nonnegative("kd_max", kd_max)
+    if max_noise_gain is not None:
+        max_noise_gain = check_positive("max_noise_gain", max_noise_gain, "1/s")
     ts = sensor.period
     delay = _delay_periods(sensor)
     warnings: list[str] = []
@@ -322,7 +341,14 @@ def tune_pid(
                 sols[axis] = sols["linear"]
                 continue
             sols[axis] = convex_concave_pid(
-                tau, ts, tf, ms_max=ms_max, mt_max=mt_max, kd_max=kd_max, delay=delay
+                tau,
+                ts,
+                tf,
+                ms_max=ms_max,
+                mt_max=mt_max,
+                kd_max=kd_max,
+                max_noise_gain=max_noise_gain,
+                delay=delay,
             )
         iterations = sum(s.iterations for s in {id(s): s for s in sols.values()}.values())
         for axis, s in sols.items():
@@ -359,10 +385,16 @@ def tune_pid(
             nonlocal simulations
             kp, ki, kd = np.exp(logk)
             c = UserFramePID(kp=kp, ki=ki, kd=kd, derivative_filter_time=tf)
-            ms = float(np.max(1.0 / np.abs(1.0 + basis @ np.array([kp, ki, kd]))))
+            gains = np.array([kp, ki, kd])
+            sens = 1.0 / np.abs(1.0 + basis @ gains)
+            ms = float(np.max(sens))
             penalty = 0.0
             if ms > ms_max:
                 penalty = 10.0 * (ms - ms_max)
+            if max_noise_gain is not None:
+                ku = float(np.max(np.abs(c_basis @ gains) * sens))
+                if ku > max_noise_gain:
+                    penalty += 0.01 * (ku - max_noise_gain)
             if kd > kd_max:
                 penalty += kd - kd_max
             res = _evaluate(c, tasks, platform, sensor)

@@ -18,6 +18,8 @@ Files written into the report directory:
     User and robot paths in the world, one panel per task.
 ``errors.png``
     Position error in the user's frame against time, every controller.
+``readings.png``
+    String-pot readings d, theta_U, theta_R of the default PID (Fig. 7).
 ``bode.png``, ``nyquist.png``
     Loop transfer functions of the default and tuned PIDs (forward axis).
 ``study.yaml``
@@ -44,6 +46,7 @@ __all__ = [
     "bode_figure",
     "errors_figure",
     "nyquist_figure",
+    "readings_figure",
     "table1_frame",
     "table2_frame",
     "trajectory_figure",
@@ -241,6 +244,30 @@ def errors_figure(result: AccompanyingResult) -> Figure:
         ax.set_visible(False)
     axes.flat[0].legend(fontsize=8)
     fig.suptitle("Position error in the user's frame (grey: user walking; dotted: 20 mm)")
+    return fig
+
+
+def readings_figure(result: AccompanyingResult, label: str = "default") -> Figure:
+    """String-pot readings d, theta_U, theta_R against time (as Wu et al. 2021, Fig. 7)."""
+    runs = result.runs[label]
+    names = [n for n in result.study.tasks if n in runs][:6]
+    fig = Figure(figsize=(11.0, 2.3 * len(names)), layout="constrained")
+    axes = fig.subplots(len(names), 2, squeeze=False)
+    for row, name in zip(axes, names, strict=True):
+        r = runs[name]
+        t = r.time[:-1]
+        row[0].plot(t, 1e3 * r.readings[0], color="k")
+        row[0].set_ylabel(f"{name}\nd (mm)")
+        row[1].plot(t, np.degrees(r.readings[1]), label="theta_U")
+        row[1].plot(t, np.degrees(r.readings[2]), label="theta_R")
+        row[1].set_ylabel("deg")
+        for ax in row:
+            ax.axvspan(r.task.walk_start, r.task.walk_stop, color="0.92")
+            ax.grid(alpha=0.3)
+    axes[0, 1].legend(fontsize=8)
+    axes[-1, 0].set_xlabel("time (s)")
+    axes[-1, 1].set_xlabel("time (s)")
+    fig.suptitle(f"String-pot readings, {label} PID (grey: user walking)")
     return fig
 
 
@@ -446,6 +473,7 @@ def write_accompanying_report(
         figures.append(name)
     for name, fig in (
         ("errors.png", errors_figure(result)),
+        ("readings.png", readings_figure(result)),
         ("bode.png", bode_figure(result)),
         ("nyquist.png", nyquist_figure(result)),
     ):

@@ -100,6 +100,20 @@ def test_convex_concave_solution_satisfies_constraints_on_a_dense_grid():
     assert slow.ki < sol.ki
 
 
+def test_noise_gain_limit():
+    """Hast et al.'s noise-sensitivity constraint |C S| <= ks trades K_i for noise rejection."""
+    free = fol.pid_tuning.convex_concave_pid(0.15, 0.02, 0.05)
+    lim = fol.pid_tuning.convex_concave_pid(0.15, 0.02, 0.05, max_noise_gain=10.0)
+    assert lim.converged and lim.ki < free.ki and lim.kd < free.kd
+    w = np.logspace(-3, math.log10(math.pi / 0.02 * 0.9999), 20000)
+    lw = _hand_loop(lim.kp, lim.ki, lim.kd, 0.05, 0.15, 0.02, w)
+    z = np.exp(1j * w * 0.02)
+    c = lim.kp + lim.ki * 0.02 * z / (z - 1) + lim.kd * (z - 1) / (0.07 * z - 0.05)
+    assert np.max(np.abs(c / (1 + lw))) <= 10.0 * 1.003
+    r = fol.tune_pid(tasks=[fol.walking_task("forward")], max_noise_gain=10.0)
+    assert r.margins["noise_gain_1_s"].max() <= 10.0 * 1.003
+
+
 def test_tune_pid_result():
     tasks = [fol.walking_task("right_lateral")]
     r = fol.tune_pid(tasks=tasks)
@@ -138,6 +152,7 @@ def test_derivative_free_tuner_improves_but_is_costlier():
         ({"ms_max": 0.9}, "ms_max"),
         ({"mt_max": float("nan")}, "mt_max"),
         ({"derivative_filter_time": -1.0}, "derivative_filter_time"),
+        ({"max_noise_gain": 0.0}, "max_noise_gain"),
     ],
 )
 def test_tune_pid_bad_input(kwargs, name):

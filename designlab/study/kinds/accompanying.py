@@ -139,6 +139,9 @@ class TuningSpec(Model):
     )
     ms_max: Annotated[float, Field(ge=1.0, le=3.0)] = 1.6
     mt_max: Annotated[float, Field(ge=1.0, le=3.0)] = 1.3
+    max_noise_gain: Positive | None = Field(
+        None, description="limit of |C S|, noise to command, 1/s (none by default)"
+    )
     derivative_free: bool = Field(True, description="also run the Nelder-Mead tuner")
     max_evaluations: Annotated[int, Field(ge=5, le=1000)] = 150
 
@@ -164,6 +167,7 @@ class AccompanyingStudy(StudyBase):
         "margins.csv",
         "trajectories_*.png",
         "errors.png",
+        "readings.png",
         "bode.png",
         "nyquist.png",
         "study.yaml",
@@ -299,6 +303,7 @@ def run(study: AccompanyingStudy, context: RunContext) -> AccompanyingResult:
             "ms_max": study.tuning.ms_max,
             "mt_max": study.tuning.mt_max,
             "derivative_filter_time": baseline.derivative_filter_time,
+            "max_noise_gain": study.tuning.max_noise_gain,
         }
         tunings["tuned"] = tune_pid(tune_tasks, method="convex", **common)
         controllers["tuned"] = tunings["tuned"].controller
