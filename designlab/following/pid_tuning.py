@@ -376,10 +376,8 @@ def tune_pid(
         from scipy.optimize import minimize
 
         omega = frequency_grid(ts, 600, 1e-2)
-        basis = (
-            pid_basis(tf, ts, omega)
-            * plant_response(platform.time_constant, ts, omega, delay)[:, None]
-        )
+        c_basis = pid_basis(tf, ts, omega)
+        basis = c_basis * plant_response(platform.time_constant, ts, omega, delay)[:, None]
 
         def objective(logk: np.ndarray) -> float:
             nonlocal simulations

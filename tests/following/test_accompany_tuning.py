@@ -165,3 +165,14 @@ def test_tune_pid_needs_tasks():
     with pytest.raises(InvalidParameterError) as exc:
         fol.tune_pid(tasks=[])
     assert exc.value.name == "tasks"
+
+
+def test_derivative_free_with_noise_limit_runs():
+    r = fol.tune_pid(
+        tasks=[fol.walking_task("left_pivot")],
+        method="simulation",
+        max_noise_gain=8.0,
+        max_evaluations=12,
+    )
+    assert r.simulations >= 10 and np.isfinite(r.improvement)
+    assert r.status in ("ok", "not_converged")
