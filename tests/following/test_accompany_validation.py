@@ -6,6 +6,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import designlab as dl
 
@@ -156,3 +158,33 @@ def test_tuned_pid_lowers_the_mean_rms_error_over_the_nine_tasks(default_runs):
     mean_default = np.mean([r.rms_error for r in default_runs.values()])
     assert mean_tuned < 0.5 * mean_default
     assert all(r.settled_error < 0.02 for r in tuned)
+
+
+@settings(max_examples=6, deadline=None)
+@given(
+    st.floats(-math.pi, math.pi),
+    st.floats(-5.0, 5.0),
+    st.floats(-5.0, 5.0),
+    st.sampled_from(["forward", "right_pivot", "circle_ccw"]),
+)
+def test_world_pose_does_not_matter(psi0, dx, dy, name):
+    """The user-frame loop is invariant to where the user starts and which way they face."""
+    ref = fol.accompany(fol.walking_task(name))
+    task = fol.walking_task(name, start_heading=math.pi / 2 + psi0)
+    moved = fol.WalkingTask(
+        name, task.time, task.x + dx, task.y + dy, task.heading, task.walk_start,
+        task.walk_stop, task.target_position, task.target_heading,
+    )  # fmt: skip
+    res = fol.accompany(moved)
+    assert np.allclose(res.robot_in_user, ref.robot_in_user, atol=1e-7)
+    assert res.rms_error == pytest.approx(ref.rms_error, abs=1e-8)
+
+
+def test_mirror_symmetry_of_the_pivots():
+    """Left and right pivots with a target straight ahead are mirror images (X -> -X)."""
+    kw = {"target_position": (0.0, 0.5), "target_heading": 0.0}
+    left = fol.accompany(fol.walking_task("left_pivot", **kw))
+    right = fol.accompany(fol.walking_task("right_pivot", **kw))
+    assert np.allclose(left.robot_in_user[0], -right.robot_in_user[0], atol=1e-9)
+    assert np.allclose(left.robot_in_user[1], right.robot_in_user[1], atol=1e-9)
+    assert left.metrics.mean_x > 0 > right.metrics.mean_x
