@@ -331,11 +331,18 @@ def nyquist_figure(result: AccompanyingResult) -> Figure:
     return fig
 
 
+def _fmt_number(value: float, digits: int) -> str:
+    if pd.isna(value):
+        return ""
+    text = f"{value:.{digits}f}"
+    return f"{0.0:.{digits}f}" if float(text) == 0.0 else text  # no "-0"
+
+
 def _fmt_frame(frame: pd.DataFrame, digits: int = 0) -> pd.DataFrame:
     out = frame.copy()
     for c in out.columns:
         if out[c].dtype.kind == "f":
-            out[c] = out[c].map(lambda v, d=digits: "" if pd.isna(v) else f"{v:.{d}f}")
+            out[c] = out[c].map(lambda v, d=digits: _fmt_number(v, d))
     return out
 
 
@@ -426,6 +433,9 @@ def _markdown(
         "",
         markdown_table(_fmt_frame(_sign_table(result), 0)),
         "",
+        "The tests check the components each task drives (forward and backward: Y; right "
+        "lateral and the pivots: X; the circles: X and Y); the other offsets in the paper come "
+        "from heading changes and pelvis motion that the synthetic walks do not have. "
         "Left lateral walking is the paper's own anomaly (Sec. 6: at reset the distance "
         "sensor saw the user's forearm, so the target distance was too short); a lagging "
         "robot ends up to the user's right (+X) when the user walks left.",
