@@ -401,8 +401,9 @@ def _markdown(
             f"on the sampled loop, a sequence of second-order cone programs (cvxpy/Clarabel); "
             f"checked with python-control margins. `derivative_free`: Nelder-Mead on the "
             f"simulated mean RMS error of the tuning tasks ({', '.join(s.tuning.tune_on)}) "
-            f"with the same Ms and Mt limits as penalties. `improvement_all_tasks` is 1 - mean RMS / mean RMS of "
-            "the default over every task of the study; `elapsed_s` is the tuner's wall time.",
+            "with the same Ms and Mt limits as penalties. `improvement_all_tasks` is "
+            "1 - mean RMS / mean RMS of the default over every task of the study; "
+            "`elapsed_s` is the tuner's wall time.",
             "",
         ]
     metrics = result.to_frame()
