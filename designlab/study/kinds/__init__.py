@@ -12,4 +12,5 @@ MODULES: tuple[str, ...] = (
     "foam_envelope",
     "foam_design",
     "joint_reduction",
+    "accompanying",
 )
