@@ -264,6 +264,7 @@ def joint_reduction_markdown(
     for j in result.joints:
         for red, title in _REDUCTIONS.items():
             s = j.sweep
+            worst = max(float(np.nanmax(np.abs(s.errors(red, m)))) for m in _HARM)
             rows.append(
                 {
                     "joint": j.robot.name,
@@ -273,9 +274,7 @@ def joint_reduction_markdown(
                     ),
                     "on a_h,max": _intervals(s.conservative_intervals(red, ["a_h_max"])),
                     "on eps_max": _intervals(s.conservative_intervals(red, ["eps_max"])),
-                    "largest |error| on harm metrics": "{:.2f} %".format(
-                        100 * max(float(np.nanmax(np.abs(s.errors(red, m)))) for m in _HARM)
-                    ),
+                    "largest |error| on harm metrics": f"{100 * worst:.2f} %",
                 }
             )
     out += [
