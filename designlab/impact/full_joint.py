@@ -747,7 +747,8 @@ def _metric_rows(
         "f_c_max": m.peak_force,
         "f_c_first_peak": first,
         "t_imp": m.impact_duration,
-        "status": m.status,
+        # per-design statuses (``design_status`` once ImpactMetrics is a Result)
+        "status": np.broadcast_to(getattr(m, "design_status", m.status), (len(m),)),
     }
 
 
