@@ -10,7 +10,15 @@ import pytest
 from scipy.optimize import minimize_scalar
 
 import designlab as dl
-from designlab.impact import FOAM_1, HEAD_MIN, MANIPULATOR_1, TABLE_3_2_HEADS, VelocityProfile
+from designlab.impact import (
+    FOAM_1,
+    HEAD_MIN,
+    MANIPULATOR_1,
+    TABLE_3_2_HEADS,
+    VelocityProfile,
+    ch3_claims,
+)
+from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
 from designlab.impact.peaks import first_peak
 
 SIM3_HEAD = TABLE_3_2_HEADS[3][1]
@@ -138,3 +146,102 @@ def test_table_3_1_manipulator_1_recomputed() -> None:
     assert round(e.stiffness / 1e3, 1) == 20.0
     assert round(e.damping) == 250
     assert MANIPULATOR_1.mass == 9.6  # printed value kept
+
+
+# --- designlab.impact.ch3_claims: the same statements as library functions ------------------
+
+
+@pytest.mark.parametrize(
+    "v_c,acc,ff,d_first,d_acc",
+    [(0.25, +ACC, False, 4.96, 3.38), (0.25, -ACC, False, -3.99, -2.91),
+     (1.25, +ACC, True, 4.69, 3.97), (1.25, -ACC, True, -4.41, -3.77)],
+)  # fmt: skip
+def test_profile_change_matches_the_readings(v_c, acc, ff, d_first, d_acc) -> None:
+    c = ch3_claims.profile_change(MANIPULATOR_1, FOAM_1, SIM3_HEAD, v_c, acc, feedforward=ff)
+    assert c.force_first_peak_pct == pytest.approx(d_first, abs=0.01)
+    assert c.a_h_max_pct == pytest.approx(d_acc, abs=0.01)
+    assert c.ok and c.warnings == ()
+    row = c.to_frame().iloc[0]
+    assert row["d_f_c_first_peak_pct"] == pytest.approx(d_first, abs=0.01)
+    assert row["acceleration_g"] == pytest.approx(acc / 9.80665)
+
+
+def test_profile_change_zero_acceleration_changes_nothing() -> None:
+    c = ch3_claims.profile_change(MANIPULATOR_1, FOAM_1, HEAD_MIN, 0.7, 0.0)
+    assert c.a_h_max_pct == pytest.approx(0.0, abs=1e-7)
+    assert c.force_first_peak_pct == pytest.approx(0.0, abs=1e-7)
+    assert c.force_lobe_max_pct == pytest.approx(0.0, abs=1e-7)
+
+
+@pytest.mark.parametrize("ratio", [0.5, 1.0, 2.3])
+def test_worst_impact_point_equals_the_independent_search(ratio) -> None:
+    w = ch3_claims.worst_impact_point(M11, K_J, C_J, ratio, FOAM_1, HEAD_MIN)
+    l_w, a_w = _worst(ratio)
+    assert w.lever_arm == pytest.approx(l_w, abs=2e-5)
+    assert w.a_h_max_g == pytest.approx(a_w, rel=1e-7)
+    a0, a01 = _a_h(ratio, 1.0, np.array([1e-7, 0.01]))
+    assert w.change_at_zero_pct == pytest.approx(_pct(a0, a01), abs=1e-9)
+    assert w.ok and w.grid_a_h_max_g.max() <= w.a_h_max_g + 1e-12
+
+
+def test_worst_impact_point_scales_with_head_speed_and_flags_bounds() -> None:
+    w1 = ch3_claims.worst_impact_point(M11, K_J, C_J, 1.0, FOAM_1, HEAD_MIN)
+    w2 = ch3_claims.worst_impact_point(M11, K_J, C_J, 1.0, FOAM_1, HEAD_MIN, head_speed=0.3)
+    assert w2.lever_arm == pytest.approx(w1.lever_arm, abs=1e-5)
+    assert w2.a_h_max_g == pytest.approx(0.3 * w1.a_h_max_g, rel=1e-6)
+    # a range that stops short of the worst point: the worst is its upper end
+    w = ch3_claims.worst_impact_point(
+        M11, K_J, C_J, 1.0, FOAM_1, HEAD_MIN, lever_range=(1e-3, 5e-3)
+    )
+    assert w.status == "at_bound" and w.lever_arm == pytest.approx(5e-3) and w.warnings
+
+
+@pytest.mark.parametrize(
+    "kwargs",
+    [{"speed_ratio": -1.0}, {"speed_ratio": float("nan")}, {"head_speed": 0.0},
+     {"lever_range": (0.1, 0.01)}, {"lever_range": "x"}, {"samples": 2}, {"samples": True},
+     {"reference_lever_arm": -0.01}, {"inertia": float("inf")}],
+)  # fmt: skip
+def test_worst_impact_point_rejects_bad_input(kwargs) -> None:
+    args = {"inertia": M11, "joint_stiffness": K_J, "joint_damping": C_J, "speed_ratio": 1.0,
+            "foam": FOAM_1, "head": HEAD_MIN} | kwargs  # fmt: skip
+    with pytest.raises(dl.errors.InvalidParameterError):
+        ch3_claims.worst_impact_point(**args)
+
+
+def test_q2_effect_vanishes_without_the_missing_term() -> None:
+    """The printed q2 lacks C_r C_h / (M_r M_h): with C_h = 0 or C_r = 0 both forms agree."""
+    for robot, head in (
+        (MANIPULATOR_1, HeadNeck(4.4, 4e3, 0.0)),
+        (ContactDynamics(9.6, 20e3, 0.0), HEAD_MIN),
+    ):
+        df = ch3_claims.q2_effect(robot, FOAM_1, head, 1.25).to_frame()
+        assert np.abs(df["change_pct"]).max() < 1e-9
+    # with both dampings the force and eps change too, not only a_h (Table 3.2 sim 1)
+    robot, head = TABLE_3_2_HEADS[1]
+    df = ch3_claims.q2_effect(robot, FOAM_1, head, 1.25).to_frame().set_index("metric")
+    assert (df["change_pct"] > 1.0).all()
+
+
+def test_profile_and_q2_reject_bad_input() -> None:
+    err = dl.errors.InvalidParameterError
+    with pytest.raises(err, match="head"):
+        ch3_claims.profile_change(MANIPULATOR_1, FOAM_1, None, 1.0, 1.0)
+    with pytest.raises(err, match="impact_velocity"):
+        ch3_claims.profile_change(MANIPULATOR_1, FOAM_1, HEAD_MIN, -1.0, 1.0)
+    with pytest.raises(err, match="feedforward"):
+        ch3_claims.profile_change(MANIPULATOR_1, FOAM_1, HEAD_MIN, 1.0, 1.0, feedforward=1)
+    with pytest.raises(err, match="robot"):
+        ch3_claims.q2_effect("arm", FOAM_1, HEAD_MIN, 1.0)
+    with pytest.raises(err, match="foam"):
+        ch3_claims.q2_effect(MANIPULATOR_1, Foam, HEAD_MIN, 1.0)
+
+
+def test_manipulator_1_recomputed_from_the_appendix_data() -> None:
+    """Independent arithmetic: m_11 / l^2, K_t K_amp K_p / l^2, (K_t K_amp K_d + B) / l^2."""
+    r = ch3_claims.manipulator_1_recomputed()
+    l2 = 0.078**2
+    assert r.mass == pytest.approx(0.059 / l2, rel=1e-12)
+    assert r.stiffness == pytest.approx(0.2807 * 433.8 / l2, rel=1e-12)
+    assert r.damping == pytest.approx((0.2807 * 5.4 + 0.0079) / l2, rel=1e-12)
+    assert r.mass / MANIPULATOR_1.mass - 1 == pytest.approx(0.0103, abs=5e-4)  # printed 1 % low
