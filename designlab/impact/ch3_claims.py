@@ -105,6 +105,8 @@ class ProfileChange(Result):
         Whether the controller compensates the acceleration by feed-forward.
     force_first_peak
         ``(base, profiled)`` first local maxima of the force, N (:func:`first_peak`).
+    force_first_peak_time
+        ``(base, profiled)`` times of those maxima, s.
     """
 
     base: ImpactResponse = field(repr=False)
@@ -112,6 +114,7 @@ class ProfileChange(Result):
     acceleration: float
     feedforward: bool
     force_first_peak: tuple[float, float]
+    force_first_peak_time: tuple[float, float]
 
     @property
     def status(self) -> str:
@@ -219,8 +222,8 @@ def profile_change(
         raise InvalidParameterError("feedforward", feedforward, "must be True or False")
     base = simulate(robot, foam, head, v_c)
     prof = simulate(robot, foam, head, v_c, profile=VelocityProfile(a, d, feedforward))
-    peaks = (first_peak(base)[1], first_peak(prof)[1])
-    return ProfileChange(base, prof, a, feedforward, peaks)
+    (t0, f0), (t1, f1) = first_peak(base), first_peak(prof)
+    return ProfileChange(base, prof, a, feedforward, (f0, f1), (t0, t1))
 
 
 # --- Fig. 3.16: the worst impact point -----------------------------------------------------

@@ -12,5 +12,6 @@ MODULES: tuple[str, ...] = (
     "foam_envelope",
     "foam_design",
     "joint_reduction",
+    "zeng_ch3_claims",
     "accompanying",
 )
