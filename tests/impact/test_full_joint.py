@@ -19,6 +19,7 @@ from designlab.impact.full_joint import (
     full_joint_model,
     full_joint_params,
     joint_reduction_sweep,
+    matrix_metrics,
 )
 from designlab.impact.metrics import impact_metrics
 from designlab.impact.model import param_vector
@@ -57,12 +58,12 @@ def test_stiff_transmission_gives_the_reduced_model(head) -> None:
         assert abs(_rel(x, y)) < 1e-6
     # the batch engine, for (N, 10) rows, agrees as well
     rows = np.array([full_joint_params(full, FOAM_1, head)])
-    mb = impact_metrics(rows, 1.25, constrained=head is None)
+    mb = matrix_metrics(rows, 1.25, constrained=head is None)
     assert abs(_rel(float(mb.max_compression[0]), b.max_compression)) < 1e-6
     if head is not None:  # HIC of the batch engine, on full-joint rows
         from designlab.impact.metrics import hic_batch
 
-        reduced = impact_metrics(param_vector(m, FOAM_1, head)[None, :], 1.25)
+        reduced = matrix_metrics(param_vector(m, FOAM_1, head)[None, :], 1.25)
         assert abs(_rel(float(hic_batch(mb)[0]), float(hic_batch(reduced)[0]))) < 1e-5
     # and the error shrinks like 1/K_mech
     errs = []
@@ -243,9 +244,9 @@ def test_nearly_defective_designs_fall_back_to_the_transfer_functions(monkeypatc
 
     other = ARM.replace(control_damping=300.0)
     rows = np.array([full_joint_params(a, FOAM_1, HEAD_MIN) for a in (ARM, other)])
-    ref = impact_metrics(rows, 1.25)
+    ref = matrix_metrics(rows, 1.25)
     monkeypatch.setattr(fj, "_MAX_EIGVEC_CONDITION", 0.0)  # every design "defective"
-    got = impact_metrics(rows, 1.25)
+    got = matrix_metrics(rows, 1.25)
     for attr in ("peak_head_acceleration", "max_compression", "peak_force", "impact_duration"):
         np.testing.assert_allclose(getattr(got, attr), getattr(ref, attr), rtol=1e-9)
     t = np.linspace(0.0, 0.05, 11)
@@ -448,11 +449,11 @@ def test_bad_calls() -> None:
     rows = full_joint_params(ARM, FOAM_1, HEAD_MIN)[None, :].copy()
     rows[0, 1] = rows[0, 8] = 0.0
     with pytest.raises(InvalidParameterError, match="C_mech"):
-        impact_metrics(rows, 1.25)
+        matrix_metrics(rows, 1.25)
     rows = full_joint_params(ARM, FOAM_1, HEAD_MIN)[None, :].copy()
     rows[0, 9] = -1.0
     with pytest.raises(InvalidParameterError, match="K_cont"):
-        impact_metrics(rows, 1.25)
+        matrix_metrics(rows, 1.25)
 
 
 def test_full_joint_rows_by_name() -> None:
@@ -460,7 +461,7 @@ def test_full_joint_rows_by_name() -> None:
 
     row = full_joint_params(ARM, FOAM_1, HEAD_MIN)
     by_name = impact_metrics(dict(zip(FULL_PARAM_NAMES, row, strict=True)), 1.25)
-    by_row = impact_metrics(row, 1.25)
+    by_row = matrix_metrics(row, 1.25)
     assert by_name.peak_force[0] == by_row.peak_force[0]
     assert list(by_row.to_frame().columns[:10]) == list(FULL_PARAM_NAMES)
     with pytest.raises(InvalidParameterError, match="missing"):
@@ -469,7 +470,7 @@ def test_full_joint_rows_by_name() -> None:
 
 def test_reduced_rows_are_unchanged() -> None:
     """Eight-column rows still use the reduced model (same numbers as simulate)."""
-    m = impact_metrics(param_vector(MANIPULATOR_1, FOAM_1, TEST_HEAD), 1.25)
+    m = matrix_metrics(param_vector(MANIPULATOR_1, FOAM_1, TEST_HEAD), 1.25)
     r = dl.impact.simulate(MANIPULATOR_1, FOAM_1, TEST_HEAD, 1.25)
     assert float(m.peak_head_acceleration[0]) == pytest.approx(r.peak_head_acceleration, rel=1e-12)
     assert list(m.to_frame().columns[:8]) == list(dl.impact.PARAM_NAMES)
