@@ -6,13 +6,13 @@ Four statements of Ch. 3 need restating (``docs/impact_joint.md``, Sec. 5):
   0.51 g changes the "peak" force by about +5/-4 % and a_h,max by +4/-3 %. The
   head speed and the feed-forward are not stated. :func:`profile_change` gives
   the changes of a_h,max, of the force's first local maximum (the thesis's
-  "peak", Sec. 3.6) and of its first-lobe maximum (DECISIONS I2) for any
+  "peak", Sec. 3.6) and of its first-lobe maximum (docs/impact.md, "Metrics") for any
   reading.
 * **Fig. 3.16.** The worst impact point along Manipulator 1's link and the
   change of a_h,max as l -> 0. Since v_c = v_h (1 + (theta_dot / v_h) l) and the
   model is linear in v_c, both depend only on the joint-speed/head-speed ratio:
   :func:`worst_impact_point` searches the worst point continuously.
-* **The printed q2 (DECISIONS I1).** :func:`q2_effect` shows that the printed
+* **The printed q2 (docs/impact.md, "q2").** :func:`q2_effect` shows that the printed
   q2 changes the common denominator, so the force and the compression change as
   well as a_h.
 * **Table 3.1, Manipulator 1**, recomputed from its joint data (App. A.2) by
@@ -141,7 +141,7 @@ class ProfileChange(Result):
 
     @property
     def force_lobe_max_pct(self) -> float:
-        """Change of the force's first-lobe maximum (DECISIONS I2), %."""
+        """Change of the force's first-lobe maximum (docs/impact.md, "Metrics"), %."""
         return _pct(self.profiled.peak_force, self.base.peak_force)
 
     def to_frame(self) -> pd.DataFrame:
@@ -180,7 +180,7 @@ def profile_change(
     The manipulator accelerates at ``acceleration`` for ``duration`` from the
     moment of contact (:class:`~designlab.impact.simulate.VelocityProfile`). The
     force is compared both at its first local maximum (the thesis's "peak",
-    Sec. 3.6) and at its first-lobe maximum (DECISIONS I2): under acceleration
+    Sec. 3.6) and at its first-lobe maximum (docs/impact.md, "Metrics"): under acceleration
     the force can keep rising into its ramp after its peak, and the two differ.
 
     Parameters
@@ -406,12 +406,12 @@ def worst_impact_point(
     )  # fmt: skip
 
 
-# --- DECISIONS I1: the printed q2 ----------------------------------------------------------
+# --- the printed q2 of (3.5.14) ----------------------------------------------------------
 
 
 @dataclass(frozen=True)
 class Q2Effect(Result):
-    """The impact with the correct and with the printed q2 of (3.5.14) (DECISIONS I1).
+    """The impact with the correct and with the printed q2 of (3.5.14) (docs/impact.md, "q2").
 
     Attributes
     ----------
@@ -453,7 +453,7 @@ class Q2Effect(Result):
 def q2_effect(
     robot: ContactDynamics, foam: Foam, head: HeadNeck, impact_velocity: float
 ) -> Q2Effect:
-    """Simulate one impact with the correct and with the printed q2 (DECISIONS I1).
+    """Simulate one impact with the correct and with the printed q2 (docs/impact.md, "q2").
 
     The printed q2 of (3.5.14) lacks C_r C_h / (M_r M_h). It sits in the common
     denominator of every response, so the force and the compression change as

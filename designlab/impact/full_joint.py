@@ -122,7 +122,7 @@ REDUCTIONS: tuple[str, ...] = ("taylor", "band_fit")
 
 #: Metrics compared: name -> (column of the comparison, unit). "f_c_first_peak"
 #: is the first local maximum of the force (the thesis's "peak", Sec. 3.6),
-#: "f_c_max" the maximum over the first lobe (DECISIONS I2).
+#: "f_c_max" the maximum over the first lobe (docs/impact.md, "Metrics").
 METRICS: dict[str, str] = {
     "a_h_max": "g",
     "eps_max": "m",

@@ -1,8 +1,8 @@
 """The first local maximum of an impact response: the thesis's "peak" (Zeng 2011, Sec. 3.6).
 
-DECISIONS I2 takes a_h,max, eps_max and the peak force as maxima over the first
-impact lobe (t = 0 to the first zero of a_h). The thesis's Sec. 3.6 and 3.8
-comparisons of the force use its *first local maximum* after the step
+The project (docs/impact.md, "Metrics") takes a_h,max, eps_max and the peak
+force as maxima over the first impact lobe (t = 0 to the first zero of a_h).
+The thesis's Sec. 3.6 and 3.8 comparisons of the force use its *first local maximum* after the step
 f_c(0+) = C_c v_c. The two agree when the force falls after its first peak,
 but where the force keeps rising into its ramp before the lobe closes -- a slow
 closing speed, or a manipulator that keeps accelerating (Sec. 3.8) -- the lobe
@@ -114,7 +114,7 @@ def first_local_maximum(
     """First local maximum of each response on ``[0, t_end]`` (exact, batch).
 
     The thesis's "peak" of the force (Sec. 3.6) is the first local maximum
-    after the step f_c(0+) = C_c v_c; the first-lobe maximum of DECISIONS I2
+    after the step f_c(0+) = C_c v_c; the first-lobe maximum (docs/impact.md, "Metrics")
     can be later and larger when the force keeps rising into its ramp. The
     responses are sampled on ``samples`` points and the first rise-fall
     bracket is polished by Newton iterations on the closed form. Where there

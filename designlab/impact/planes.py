@@ -22,8 +22,8 @@ combines the metrics:
   head's acceleration vector ``sum_i a_i(t) n_i``, with every plane's contact
   starting at t = 0 and each plane's a_h taken as zero after its first lobe.
 
-Velocity sign convention (DECISIONS I5 in vector form): the normal ``n`` points
-from the manipulator towards the head; ``v_c = (v_r - v_h) . n``, and a plane
+Velocity sign convention (docs/impact.md, "Impact velocity", in vector form): the
+normal ``n`` points from the manipulator towards the head; ``v_c = (v_r - v_h) . n``, and a plane
 with ``v_c <= 0`` has no impact.
 
 Examples
@@ -112,7 +112,7 @@ class ClosingSpeed(Result):
 
     @property
     def impact(self) -> bool:
-        """Whether the bodies close in along the normal (v_c > 0, DECISIONS I5)."""
+        """Whether the bodies close in along the normal (v_c > 0; docs/impact.md)."""
         return self.closing_speed > 0.0
 
     def to_frame(self) -> pd.DataFrame:
@@ -164,7 +164,8 @@ def closing_speed(
         pointing back at the manipulator (``-n``), so that v_c = |v_r| cos gamma_r
         + |v_h| cos gamma_c with the head moving towards the manipulator. The
         thesis writes the head term as ``- v_h(0) cos gamma_c`` with a signed
-        v_h(0) along the normal (negative towards the manipulator, DECISIONS I5).
+        v_h(0) along the normal (negative towards the manipulator; docs/impact.md,
+        "Impact velocity").
 
     Examples
     --------

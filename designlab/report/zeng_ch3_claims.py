@@ -144,8 +144,9 @@ def ch3_claims_markdown(
         "Manipulator 1, Foam 1, Table 3.2 head set 3. The thesis does not state the head "
         "speed or whether the controller has feed-forward; each reading is one choice. "
         "The force change is given at the force's first local maximum (the thesis's "
-        '"peak", Sec. 3.6) and at its first-lobe maximum (DECISIONS I2). g is standard '
-        "gravity, 9.80665 m/s^2 (with 9.81 m/s^2 reading (b) gives +4.96 % and -3.99 %).",
+        '"peak", Sec. 3.6) and at its first-lobe maximum (docs/impact.md, "Metrics"). '
+        "g is standard gravity, 9.80665 m/s^2 (with 9.81 m/s^2 reading (b) gives +4.96 % "
+        "and -3.99 %).",
         "",
         markdown_table(prof_table, index=False, disable_numparse=True),
         "",
@@ -169,7 +170,7 @@ def ch3_claims_markdown(
         "point is near 0.037 m. Both cannot hold for one pair of speeds, whatever the "
         "(unstated) speeds were.",
         "",
-        "## The printed q2 of (3.5.14) (DECISIONS I1)",
+        '## The printed q2 of (3.5.14) (docs/impact.md, "q2")',
         "",
         f"Change of each metric with the printed q2 against the correct one, Foam 1, "
         f"v_c = {s.q2_impact_velocity:g} m/s. The printed q2 sits in the common denominator, "

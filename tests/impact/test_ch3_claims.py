@@ -46,9 +46,10 @@ def test_section_3_8_reading_b_first_force_peak(acc, d_first, d_acc, d_lobe) -> 
     With the force's first local maximum -- the thesis's "peak" (Sec. 3.6) -- reading (b)
     gives +4.96 % / +3.38 % and -3.99 % / -2.91 %: as close to the printed +5/+4 and -4/-3
     as reading (a) (+4.69/+3.97, -4.41/-3.77, tests/impact/test_simulate.py). Reading (b)
-    can therefore give +5 %. Only the first-LOBE maximum of the force (DECISIONS I2) is far
-    off under acceleration (+89.8 %): the accelerating arm drives the force up its ramp
-    before a_h returns to zero, so the lobe maximum is reached at 85 ms, not at the peak.
+    can therefore give +5 %. Only the first-LOBE maximum of the force (docs/impact.md,
+    "Metrics") is far off under acceleration (+89.8 %): the accelerating arm drives the
+    force up its ramp before a_h returns to zero, so the lobe maximum is reached at 85 ms,
+    not at the peak.
     """
     base = dl.impact.simulate(MANIPULATOR_1, FOAM_1, SIM3_HEAD, 0.25)
     prof = dl.impact.simulate(

@@ -5,7 +5,7 @@ It recomputes four statements of Ch. 3 with :mod:`designlab.impact.ch3_claims`
 +/-0.51 g for each reading of the unstated head speed and feed-forward, with the
 force's first local maximum (the thesis's "peak") and its first-lobe maximum;
 the worst impact point of Fig. 3.16 and the l -> 0 change for each
-joint-speed/head-speed ratio; the effect of the printed q2 (DECISIONS I1) on
+joint-speed/head-speed ratio; the effect of the printed q2 (docs/impact.md, "q2") on
 every metric of the Table 3.2 simulations; and Manipulator 1 of Table 3.1
 recomputed from its joint data (App. A.2).
 
@@ -81,7 +81,7 @@ def _default_readings() -> list[Reading]:
 
 
 class Ch3ClaimsStudy(StudyBase):
-    """Zeng 2011 Ch. 3 statements recomputed (Sec. 3.8, Fig. 3.16, DECISIONS I1, Table 3.1)."""
+    """Zeng 2011 Ch. 3 statements recomputed (Sec. 3.8, Fig. 3.16, the printed q2, Table 3.1)."""
 
     kind: Literal["zeng_ch3_claims"]
     acceleration_g: Annotated[Positive, Field(le=10)] = Field(
@@ -194,7 +194,7 @@ class Ch3ClaimsResult(Result):
         return pd.concat([w.to_frame() for w in self.worst_points], ignore_index=True)
 
     def q2_frame(self) -> pd.DataFrame:
-        """DECISIONS I1: one row per Table 3.2 simulation and metric.
+        """The printed q2 (docs/impact.md, "q2"): one row per Table 3.2 simulation and metric.
 
         Returns
         -------
