@@ -1172,6 +1172,59 @@ class JointReductionSweep(Result):
         ok = np.ones(self.ratio.size, dtype=bool)
         for m in metrics:
             ok &= self.conservative_region(reduction, m)
+        return self._runs(ok)
+
+    def usable_intervals(
+        self,
+        reduction: str,
+        tolerance: float = 0.01,
+        metrics: Sequence[str] = ("a_h_max", "eps_max", "f_c_max"),
+    ) -> list[tuple[float, float]]:
+        """Ratio intervals where ``reduction`` may stand in for the full joint on ``metrics``.
+
+        A reduction may be used where, on every metric, it either overestimates
+        the harm (conservative) or underestimates it by at most ``tolerance``.
+
+        Parameters
+        ----------
+        reduction
+            ``"taylor"`` or ``"band_fit"``.
+        tolerance
+            Largest accepted underestimate, relative (0.01: 1 %), in ``[0, 1)``.
+        metrics
+            Harm metrics checked.
+
+        Returns
+        -------
+        list of tuple
+            ``[(first ratio, last ratio), ...]`` runs of consecutive sampled ratios.
+
+        Examples
+        --------
+        >>> import designlab as dl
+        >>> arm = dl.impact.FullJointContact.from_joint(0.059, 2e3, 2.0, 1.5e3, 30.0,
+        ...                                              lever_arm=0.2)
+        >>> s = dl.impact.joint_reduction_sweep(arm, dl.impact.FOAM_1, dl.impact.HEAD_MIN,
+        ...                                     1.25, [0.03, 0.1, 1.0, 10.0, 100.0])
+        >>> s.usable_intervals("taylor")          # within 1 % from K_mech = 10 K_cont on
+        [(0.03, 0.1), (10.0, 100.0)]
+        >>> s.usable_intervals("taylor", tolerance=0.005)
+        [(0.03, 0.1), (100.0, 100.0)]
+        """
+        if isinstance(tolerance, bool) or not (
+            isinstance(tolerance, (int, float)) and 0 <= tolerance < 1
+        ):
+            raise InvalidParameterError("tolerance", tolerance, "must be a number in [0, 1)")
+        ok = np.ones(self.ratio.size, dtype=bool)
+        for m in metrics:
+            if m not in HARM_METRICS:
+                raise InvalidParameterError("metric", m, f"must be one of {HARM_METRICS}")
+            err = self.errors(reduction, m)
+            ok &= np.isfinite(err) & (err >= -(tolerance + EQUAL_TOLERANCE))
+        return self._runs(ok)
+
+    def _runs(self, ok: NDArray[np.bool_]) -> list[tuple[float, float]]:
+        """``(first, last)`` ratios of the runs of consecutive True entries of ``ok``."""
         out: list[tuple[float, float]] = []
         start = None
         for i, flag in enumerate(ok):

@@ -474,3 +474,29 @@ def test_reduced_rows_are_unchanged() -> None:
     r = dl.impact.simulate(MANIPULATOR_1, FOAM_1, TEST_HEAD, 1.25)
     assert float(m.peak_head_acceleration[0]) == pytest.approx(r.peak_head_acceleration, rel=1e-12)
     assert list(m.to_frame().columns[:8]) == list(dl.impact.PARAM_NAMES)
+
+
+def test_usable_intervals_agree_with_single_comparisons() -> None:
+    """Usable = on every harm metric conservative or underestimating by <= tolerance; each
+    sampled ratio is checked against its own compare_joint_reductions."""
+    ratios = [0.03, 0.3, 1.0, 3.0, 10.0, 30.0, 100.0]
+    s = joint_reduction_sweep(ARM, FOAM_1, HEAD_MIN, 1.25, ratios)
+    assert s.usable_intervals("taylor", 0.0) == s.conservative_intervals("taylor")
+    assert s.usable_intervals("taylor", 0.5) == [(0.03, 100.0)]
+    singles = {}
+    for r in ratios:
+        arm = FullJointContact(ARM.mass, r * ARM.control_stiffness, ARM.transmission_damping,
+                               ARM.control_stiffness, ARM.control_damping)  # fmt: skip
+        singles[r] = compare_joint_reductions(arm, FOAM_1, HEAD_MIN, 1.25)
+    for tol in (0.01, 0.05):
+        iv = s.usable_intervals("taylor", tol)
+        for r, c in singles.items():
+            ok = all(
+                c.relative_error("taylor", m) >= -tol for m in ("a_h_max", "eps_max", "f_c_max")
+            )
+            assert any(lo <= r <= hi for lo, hi in iv) == ok, (tol, r)
+    for bad in (-0.1, 1.0, True, "1 %"):
+        with pytest.raises(InvalidParameterError, match="tolerance"):
+            s.usable_intervals("taylor", bad)
+    with pytest.raises(InvalidParameterError, match="metric"):
+        s.usable_intervals("taylor", 0.01, ["t_imp"])

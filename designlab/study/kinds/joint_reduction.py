@@ -117,6 +117,11 @@ class JointReductionStudy(StudyBase):
         1.25, description="closing velocity v_c, m/s"
     )
     ratios: RatioGrid = Field(default_factory=RatioGrid)
+    usable_tolerance: Annotated[float, Field(ge=0, lt=0.5, allow_inf_nan=False)] = Field(
+        0.01,
+        description="largest accepted underestimate of a harm metric where a reduction is "
+        "still usable (relative; 0.01 = 1 %)",
+    )
     omega_max: Positive | None = Field(
         None,
         description="upper end of the band fit, rad/s (default: the fastest mode of the "
