@@ -46,6 +46,7 @@ def test_run_and_report(tmp_path: Path) -> None:
                      "joint_reduction.png"}  # fmt: skip
     md = (out / "summary.md").read_text()
     assert "## Where the reduction is conservative" in md and "**-10.15 %**" in md
+    assert "usable (conservative or within 1 %)" in md
     nominal = pd.read_csv(out / "nominal.csv")
     assert set(nominal.reduction) == {"taylor", "band_fit"}
 
@@ -60,6 +61,8 @@ def test_run_and_report(tmp_path: Path) -> None:
         ("lever_arm: 0.2", "lever_arm: .nan", "lever_arm"),
         ("name: geared, ", "name: joint 2, ", "distinct"),  # clashes with the unnamed 2nd joint
         ("lever_arm: 0.2}", "lever_arm: 0.2, gear: 3}", "gear"),
+        ("ratios: {low", "usable_tolerance: 0.7\nratios: {low", "usable_tolerance"),
+        ("ratios: {low", "usable_tolerance: .nan\nratios: {low", "usable_tolerance"),
     ],
 )
 def test_schema_errors(tmp_path: Path, old: str, new: str, field: str) -> None:
