@@ -196,7 +196,13 @@ def _yield_futures(
 
 
 class ProcessExecutor(Executor):
-    """A pool of local worker processes."""
+    """A pool of local worker processes.
+
+    Parameters
+    ----------
+    workers
+        Worker processes (default: the CPU count).
+    """
 
     name = "processes"
 
@@ -229,7 +235,19 @@ class ProcessExecutor(Executor):
 
 
 class DaskExecutor(Executor):
-    """Tasks on a Dask distributed cluster (a new LocalCluster without ``scheduler``)."""
+    """Tasks on a Dask distributed cluster (a new LocalCluster without ``scheduler``).
+
+    Parameters
+    ----------
+    scheduler
+        Scheduler address (``tcp://host:8786``); ``None`` starts a LocalCluster.
+    workers
+        LocalCluster worker processes (default: the CPU count); ignored with ``scheduler``.
+    timeout
+        Seconds to wait for the scheduler before raising :class:`ExecutorError`.
+    processes
+        LocalCluster only: worker processes (``False``: threads in this process).
+    """
 
     name = "dask"
 
