@@ -180,6 +180,14 @@ def first_peak(response: Any, output: str = "force", samples: int = 4001) -> tup
     tuple of float
         ``(t, value)`` in s and the output's SI unit; ``(nan, nan)`` when the
         first lobe did not close, ``(0, 0)`` for no impact.
+
+    Examples
+    --------
+    >>> import designlab as dl
+    >>> r = dl.impact.simulate(dl.impact.MANIPULATOR_1, dl.impact.FOAM_1, dl.impact.HEAD_MIN, 1.25)
+    >>> t, f = first_peak(r)
+    >>> bool(abs(f - r.peak_force) < 1e-6 * r.peak_force)   # the force falls after its peak
+    True
     """
     from scipy.optimize import minimize_scalar
 

@@ -305,6 +305,16 @@ def combined_impact(
     ------
     InvalidParameterError
         For no planes, vectors of different lengths, a zero normal.
+
+    Examples
+    --------
+    >>> import designlab as dl
+    >>> h = ImpactPlane(dl.impact.MANIPULATOR_1, normal=(1, 0, 0), name="horizontal")
+    >>> v = ImpactPlane(dl.impact.MANIPULATOR_2, normal=(0, 0, -1), name="vertical")
+    >>> c = combined_impact([h, v], dl.impact.FOAM_1, dl.impact.HEAD_MIN,
+    ...                     robot_velocity=(0.25, 0, -0.2), head_velocity=(-1, 0, 0))
+    >>> bool(c.a_h_max_vector_g <= c.a_h_max_sum_g)
+    True
     """
     planes = tuple(planes)
     if not planes or not all(isinstance(p, ImpactPlane) for p in planes):
