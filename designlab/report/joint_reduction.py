@@ -76,6 +76,21 @@ def joint_reduction_figure(result: JointReductionResult) -> Figure:
     -------
     matplotlib.figure.Figure
         Conservative ratios (on a_h,max, eps_max and force) shaded.
+
+    Examples
+    --------
+    >>> from designlab.study import parse_study, run_study
+    >>> result = run_study(parse_study('''
+    ... designlab: 1
+    ... kind: joint_reduction
+    ... name: demo
+    ... joints: [{name: g, inertia: 0.059, k_mech: 2000, c_mech: 2.0, k_cont: 1500,
+    ...           c_cont: 30, lever_arm: 0.2}]
+    ... ratios: {low: 0.1, high: 10, num: 3}
+    ... '''))
+    >>> fig = joint_reduction_figure(result)
+    >>> len(fig.axes)
+    2
     """
     n = len(result.joints)
     fig, axes = plt.subplots(n, 2, figsize=(11.5, 3.9 * n), squeeze=False, sharex=True)
@@ -184,6 +199,20 @@ def joint_reduction_markdown(
     -------
     str
         The text of ``summary.md``.
+
+    Examples
+    --------
+    >>> from designlab.study import parse_study, run_study
+    >>> result = run_study(parse_study('''
+    ... designlab: 1
+    ... kind: joint_reduction
+    ... name: demo
+    ... joints: [{name: g, inertia: 0.059, k_mech: 2000, c_mech: 2.0, k_cont: 1500,
+    ...           c_cont: 30, lever_arm: 0.2}]
+    ... ratios: {low: 0.1, high: 10, num: 3}
+    ... '''))
+    >>> "## Where the reduction is conservative" in joint_reduction_markdown(result)
+    True
     """
     st = result.study
     foam = st.foam.build()
@@ -336,6 +365,22 @@ def write_joint_reduction_report(
     -------
     list of pathlib.Path
         The files written.
+
+    Examples
+    --------
+    >>> from designlab.study import parse_study, run_study
+    >>> result = run_study(parse_study('''
+    ... designlab: 1
+    ... kind: joint_reduction
+    ... name: demo
+    ... joints: [{name: g, inertia: 0.059, k_mech: 2000, c_mech: 2.0, k_cont: 1500,
+    ...           c_cont: 30, lever_arm: 0.2}]
+    ... ratios: {low: 0.1, high: 10, num: 3}
+    ... '''))
+    >>> import tempfile, pathlib
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     sorted(p.name for p in write_joint_reduction_report(result, pathlib.Path(d)))
+    ['joint_reduction.csv', 'joint_reduction.png', 'nominal.csv', 'summary.md']
     """
     written = [write_csv(result.to_frame(), directory / "joint_reduction.csv")]
     written.append(write_csv(result.nominal_frame(), directory / "nominal.csv"))

@@ -37,6 +37,19 @@ def ch3_claims_figure(result: Ch3ClaimsResult) -> Figure:
     -------
     matplotlib.figure.Figure
         Two panels.
+
+    Examples
+    --------
+    >>> from designlab.study import parse_study, run_study
+    >>> result = run_study(parse_study('''
+    ... designlab: 1
+    ... kind: zeng_ch3_claims
+    ... name: demo
+    ... readings: [{name: b, impact_velocity: 0.25, feedforward: false}]
+    ... speed_ratios: [1.0]
+    ... '''))
+    >>> len(ch3_claims_figure(result).axes)
+    2
     """
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12, 4.6))
     for w in result.worst_points:
@@ -94,6 +107,19 @@ def ch3_claims_markdown(
     -------
     str
         Markdown.
+
+    Examples
+    --------
+    >>> from designlab.study import parse_study, run_study
+    >>> result = run_study(parse_study('''
+    ... designlab: 1
+    ... kind: zeng_ch3_claims
+    ... name: demo
+    ... readings: [{name: b, impact_velocity: 0.25, feedforward: false}]
+    ... speed_ratios: [1.0]
+    ... '''))
+    >>> "## Fig. 3.16" in ch3_claims_markdown(result)
+    True
     """
     s = result.study
     prof = result.profiles_frame()
@@ -233,6 +259,21 @@ def write_ch3_claims_report(
     -------
     list of pathlib.Path
         The files written.
+
+    Examples
+    --------
+    >>> from designlab.study import parse_study, run_study
+    >>> result = run_study(parse_study('''
+    ... designlab: 1
+    ... kind: zeng_ch3_claims
+    ... name: demo
+    ... readings: [{name: b, impact_velocity: 0.25, feedforward: false}]
+    ... speed_ratios: [1.0]
+    ... '''))
+    >>> import tempfile, pathlib
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     len(write_ch3_claims_report(result, pathlib.Path(d)))
+    6
     """
     written = [
         write_csv(result.profiles_frame(), directory / "sec_3_8.csv"),
