@@ -1,0 +1,305 @@
+"""Differential-drive follower with a tether sensor (Allan 2015, Sec. 2.2-2.3, App. C).
+
+The robot is kinematic (Allan 2015 gives no masses, motor or friction data;
+Sec. 2.4.1): two driven wheels of radius ``r`` on a track ``b``. Wheel speeds
+map to body velocities by eq. (2.6)-(2.8), ``V = r(w_L + w_R)/2``,
+``Omega = r(w_R - w_L)/b``, and the pose is integrated exactly over a control
+period on the arc of constant curvature (App. C ``dead_reckon``).
+
+The tether runs from a winch (optionally offset from the robot centre, at a
+height below the leader's tether tip) to the leader. The sensor returns the
+tether length ``l_m`` (3-D, as the V-REP sensor of App. C) and the angle
+``theta_m`` between the tether and the robot heading, wrapped to (-pi, pi]
+(eqs. 2.12-2.14). Gaussian noise on both and a control rate are parameters.
+
+The physics is written once in CasADi symbols (:func:`kinematics_function`,
+:func:`sensor_function`, :func:`tip_function`) and compiled to numpy/float
+code for the closed-loop simulation (:mod:`designlab.following.tether_codegen`).
+
+Examples
+--------
+>>> robot = FollowerRobot()
+>>> robot.wheel_track, robot.wheel_radius, robot.sample_time
+(0.28, 0.125, 0.01)
+>>> step = kinematics_step()
+>>> x, y, g = step(0.0, 0.0, 0.0, 4.0, 4.0, 0.28, 0.125, 1.0)[:3]   # 0.5 m/s for 1 s
+>>> round(x, 6), round(y, 6), g
+(0.5, 0.0, 0.0)
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, replace
+from functools import cache
+from typing import Any
+
+import casadi as ca
+
+from designlab.errors import InvalidParameterError, check_nonnegative, check_positive
+from designlab.following.tether_codegen import compile_sx
+
+__all__ = [
+    "OXYDOG",
+    "FollowerRobot",
+    "drive_function",
+    "drive_step",
+    "kinematics_function",
+    "kinematics_step",
+    "sensor_function",
+    "sensor_step",
+    "tip_function",
+    "tip_step",
+    "wrap_angle",
+]
+
+
+def wrap_angle(a: Any) -> Any:
+    """Wrap an angle (CasADi symbol or number) to (-pi, pi] as ``atan2(sin a, cos a)``."""
+    if isinstance(a, (ca.SX, ca.MX)):
+        return ca.atan2(ca.sin(a), ca.cos(a))
+    return math.atan2(math.sin(a), math.cos(a))
+
+
+@dataclass(frozen=True)
+class FollowerRobot:
+    """Differential-drive tether follower: geometry, limits, sensing and control rate.
+
+    Parameters
+    ----------
+    wheel_track
+        Distance b between the wheel centres in m (Allan 2015 Table 3.1: 0.28 m).
+    wheel_radius
+        Wheel radius r in m (Table 3.1: 0.125 m).
+    body_length
+        Overall length in m (Table 3.1: 0.67 m); the desired tether length
+        must exceed half of it (the tether tip would be inside the robot).
+    max_wheel_speed
+        Wheel angular speed limit in rad/s (> 0, may be ``inf``). The App. C
+        code has no limit (the default); the hardware's 1.0 m/s (Table 3.1)
+        is 8 rad/s (:data:`OXYDOG`).
+    max_wheel_acceleration
+        Wheel angular acceleration limit in rad/s^2 (> 0, may be ``inf``; no
+        limit in the thesis).
+    winch_offset_x, winch_offset_y
+        Winch position in the robot frame in m (x forward, y left; App. C
+        offsets, default 0). The offset is rotated properly (the App. C
+        listing's ``off_y`` terms are not a rotation; Allan 2015 App. C).
+    tip_height
+        Height of the tether tip above the winch in m (>= 0). The sensor
+        measures the 3-D length while the controllers treat it as planar, as
+        the thesis does (0 by default: the planar model).
+    length_noise_std, angle_noise_std
+        Standard deviations of Gaussian noise on ``l_m`` (m) and ``theta_m``
+        (rad), >= 0.
+    sample_time
+        Control (and simulation) period in s (> 0); 0.01 s is 100 Hz. The
+        thesis does not state its period (Allan 2015 Sec. 2.4.1).
+
+    Examples
+    --------
+    >>> FollowerRobot(max_wheel_speed=8.0).max_speed
+    1.0
+    >>> FollowerRobot(wheel_track=-1.0)
+    Traceback (most recent call last):
+    ...
+    designlab.errors.InvalidParameterError: FollowerRobot.wheel_track = -1.0 m is not allowed: must be a finite number > 0
+    """
+
+    wheel_track: float = 0.28
+    wheel_radius: float = 0.125
+    body_length: float = 0.67
+    max_wheel_speed: float = math.inf
+    max_wheel_acceleration: float = math.inf
+    winch_offset_x: float = 0.0
+    winch_offset_y: float = 0.0
+    tip_height: float = 0.0
+    length_noise_std: float = 0.0
+    angle_noise_std: float = 0.0
+    sample_time: float = 0.01
+
+    def __post_init__(self) -> None:
+        for name, unit in (
+            ("wheel_track", "m"),
+            ("wheel_radius", "m"),
+            ("body_length", "m"),
+            ("sample_time", "s"),
+        ):
+            object.__setattr__(
+                self, name, check_positive(f"FollowerRobot.{name}", getattr(self, name), unit)
+            )
+        for name, unit in (("max_wheel_speed", "rad/s"), ("max_wheel_acceleration", "rad/s^2")):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not (v > 0):
+                raise InvalidParameterError(
+                    f"FollowerRobot.{name}", v, "must be a number > 0 (inf for no limit)", unit
+                )
+            object.__setattr__(self, name, float(v))
+        for name in ("winch_offset_x", "winch_offset_y"):
+            v = getattr(self, name)
+            try:
+                ok = not isinstance(v, bool) and math.isfinite(float(v))
+            except (TypeError, ValueError):
+                ok = False
+            if not ok:
+                raise InvalidParameterError(f"FollowerRobot.{name}", v, "must be a finite number", "m")
+            object.__setattr__(self, name, float(v))
+        for name, unit in (
+            ("tip_height", "m"),
+            ("length_noise_std", "m"),
+            ("angle_noise_std", "rad"),
+        ):
+            object.__setattr__(
+                self, name, check_nonnegative(f"FollowerRobot.{name}", getattr(self, name), unit)
+            )
+
+    @property
+    def max_speed(self) -> float:
+        """Forward speed in m/s with both wheels at ``max_wheel_speed``."""
+        return self.max_wheel_speed * self.wheel_radius
+
+    @property
+    def noisy(self) -> bool:
+        """True when the tether sensor has noise."""
+        return self.length_noise_std > 0.0 or self.angle_noise_std > 0.0
+
+    def as_dict(self) -> dict[str, Any]:
+        """The fields as a plain dict (picklable, YAML-friendly)."""
+        return asdict(self)
+
+    def replace(self, **changes: Any) -> FollowerRobot:
+        """A copy with some fields changed (validated again)."""
+        return replace(self, **changes)
+
+
+#: OxyDog hardware (Allan 2015 Table 3.1): b = 0.28 m, r = 0.125 m, 1.0 m/s top speed.
+OXYDOG = FollowerRobot(max_wheel_speed=1.0 / 0.125)
+
+
+@cache
+def kinematics_function() -> ca.Function:
+    """CasADi function of one control period of the differential drive.
+
+    Inputs ``x, y, heading, omega_L, omega_R, b, r, dt``; outputs
+    ``x, y, heading, ds`` (new pose and the chord travelled, App. C
+    ``dead_reckon``). The exact arc is written with
+    ``sin(Gamma) - sin(Gamma_0) = 2 cos(Gamma_0 + h) sin(h)`` (h = Omega dt/2)
+    so that the straight-line limit needs no branch.
+    """
+    x, y, g, wl, wr, b, r, dt = (ca.SX.sym(n) for n in ("x", "y", "g", "wl", "wr", "b", "r", "dt"))
+    v = 0.5 * r * (wl + wr)  # eq. 2.6
+    om = r * (wr - wl) / b
+    h = 0.5 * om * dt
+    small = ca.fabs(h) < 1e-6
+    h_safe = ca.if_else(small, 1.0, h)
+    sinc = ca.if_else(small, 1.0 - h * h / 6.0, ca.sin(h_safe) / h_safe)
+    chord = v * dt * sinc
+    dx = chord * ca.cos(g + h)
+    dy = chord * ca.sin(g + h)
+    return ca.Function(
+        "follower_kinematics",
+        [x, y, g, wl, wr, b, r, dt],
+        [x + dx, y + dy, g + 2.0 * h, ca.fabs(chord)],
+        ["x", "y", "heading", "omega_L", "omega_R", "b", "r", "dt"],
+        ["x_next", "y_next", "heading_next", "ds"],
+    )
+
+
+@cache
+def sensor_function() -> ca.Function:
+    """CasADi function of the tether sensor (Allan 2015 eqs. 2.12-2.14, App. C).
+
+    Inputs ``x, y, heading, tip_x, tip_y, off_x, off_y, h``; outputs the
+    measured length ``l_m`` (3-D, winch to tip) and angle ``theta_m`` (tether
+    direction minus heading, wrapped).
+    """
+    x, y, g, tx, ty, ox, oy, hh = (
+        ca.SX.sym(n) for n in ("x", "y", "g", "tx", "ty", "ox", "oy", "h")
+    )
+    wx = x + ox * ca.cos(g) - oy * ca.sin(g)
+    wy = y + ox * ca.sin(g) + oy * ca.cos(g)
+    dx, dy = tx - wx, ty - wy
+    length = ca.sqrt(dx * dx + dy * dy + hh * hh)
+    theta = wrap_angle(ca.atan2(dy, dx) - g)
+    return ca.Function(
+        "tether_sensor",
+        [x, y, g, tx, ty, ox, oy, hh],
+        [length, theta],
+        ["x", "y", "heading", "tip_x", "tip_y", "off_x", "off_y", "h"],
+        ["l_m", "theta_m"],
+    )
+
+
+@cache
+def tip_function() -> ca.Function:
+    """CasADi function of the robot's estimate of the tether tip (eq. 2.14, App. C).
+
+    Inputs ``x, y, heading, l_m, theta_m, off_x, off_y``; outputs ``T_x, T_y``
+    (the measured length taken as planar, as the thesis does).
+    """
+    x, y, g, lm, th, ox, oy = (ca.SX.sym(n) for n in ("x", "y", "g", "l", "th", "ox", "oy"))
+    tx = x + ox * ca.cos(g) - oy * ca.sin(g) + lm * ca.cos(g + th)
+    ty = y + ox * ca.sin(g) + oy * ca.cos(g) + lm * ca.sin(g + th)
+    return ca.Function(
+        "tether_tip",
+        [x, y, g, lm, th, ox, oy],
+        [tx, ty],
+        ["x", "y", "heading", "l_m", "theta_m", "off_x", "off_y"],
+        ["tip_x", "tip_y"],
+    )
+
+
+@cache
+def kinematics_step(batch: bool = False) -> Any:
+    """Compiled :func:`kinematics_function` (floats, or numpy arrays if ``batch``)."""
+    return compile_sx(kinematics_function(), batch=batch)
+
+
+@cache
+def sensor_step(batch: bool = False) -> Any:
+    """Compiled :func:`sensor_function` (floats, or numpy arrays if ``batch``)."""
+    return compile_sx(sensor_function(), batch=batch)
+
+
+@cache
+def tip_step(batch: bool = False) -> Any:
+    """Compiled :func:`tip_function` (floats, or numpy arrays if ``batch``)."""
+    return compile_sx(tip_function(), batch=batch)
+
+
+@cache
+def drive_function(law: ca.Function, steer_to_target: bool, limits: bool = True) -> ca.Function:
+    """CasADi function of one control period after sensing: law, wheel limits, motion.
+
+    Inputs ``x, y, heading, target_x, target_y, l_m, theta_m, omega_L_prev,
+    omega_R_prev, b, r, dt, max_wheel_speed, max_wheel_step`` and the law's
+    own parameters; outputs ``x, y, heading, omega_L, omega_R, V, Omega``.
+    The steering angle is ``theta_m`` (Pseudo-Joystick, eq. 2.3) or, with
+    ``steer_to_target``, ``phi = wrap(atan2(T - P) - Gamma)`` (eqs. 2.16, 2.19).
+    The commanded wheel speeds (eq. 2.4 as coded: ``(V -+ b Omega/2)/r``)
+    change by at most ``max_wheel_step`` per period and are clipped to
+    ``max_wheel_speed`` (``limits=False`` leaves out these operations for a
+    robot without limits, as in App. C; the inputs are then ignored).
+    """
+    names = ("x", "y", "g", "jx", "jy", "l", "th", "wlp", "wrp", "b", "r", "dt", "wmax", "astep")
+    x, y, g, jx, jy, lm, th, wlp, wrp, b, r, dt, wmax, astep = (ca.SX.sym(n) for n in names)
+    extra = [ca.SX.sym(law.name_in(i)) for i in range(3, law.n_in())]
+    phi = wrap_angle(ca.atan2(jy - y, jx - x) - g) if steer_to_target else th
+    v, om = law(lm, phi, b, *extra)
+    wl = (v - 0.5 * b * om) / r
+    wr = (v + 0.5 * b * om) / r
+    if limits:
+        wl = ca.fmin(ca.fmax(ca.fmin(ca.fmax(wl, wlp - astep), wlp + astep), -wmax), wmax)
+        wr = ca.fmin(ca.fmax(ca.fmin(ca.fmax(wr, wrp - astep), wrp + astep), -wmax), wmax)
+    xn, yn, gn, _ = kinematics_function()(x, y, g, wl, wr, b, r, dt)
+    return ca.Function(
+        f"drive_{law.name()}",
+        [x, y, g, jx, jy, lm, th, wlp, wrp, b, r, dt, wmax, astep, *extra],
+        [xn, yn, gn, wl, wr, 0.5 * r * (wl + wr), r * (wr - wl) / b],
+    )
+
+
+@cache
+def drive_step(law: ca.Function, steer_to_target: bool, batch: bool = False, limits: bool = True) -> Any:
+    """Compiled :func:`drive_function` (floats, or numpy arrays if ``batch``)."""
+    return compile_sx(drive_function(law, steer_to_target, limits), batch=batch)
