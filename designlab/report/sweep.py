@@ -27,7 +27,9 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from designlab.analysis.sensitivity import tornado_figure
+from designlab.report import register_writer
 from designlab.report.atomic import atomic_write_text
+from designlab.study.sweep_runner import SweepStudyResult
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 
 __all__ = ["sweep_markdown", "write_sweep_report"]
@@ -211,6 +213,7 @@ def sweep_markdown(
     return "\n".join(out)
 
 
+@register_writer(SweepStudyResult)
 def write_sweep_report(
     result: Any,
     directory: Path,
