@@ -63,11 +63,14 @@ class LeaderPath:
         Label used in reports.
     obstacles
         Optional (K, 2) cone/obstacle positions in m (for plots).
+    initial_heading
+        Exact tangent direction at the start in rad (default: the first chord).
     """
 
     points: NDArray[np.float64]
     name: str = "path"
     obstacles: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 2)))
+    initial_heading: float | None = None
 
     def __post_init__(self) -> None:
         try:
@@ -107,7 +110,9 @@ class LeaderPath:
 
     @property
     def start_heading(self) -> float:
-        """Direction of the first segment in rad."""
+        """Tangent direction at the start in rad (``initial_heading`` or the first chord)."""
+        if self.initial_heading is not None:
+            return float(self.initial_heading)
         d = self.points[1] - self.points[0]
         return float(math.atan2(d[1], d[0]))
 
@@ -164,7 +169,7 @@ def figure_eight(a: float = 2.0, points: int = 2001) -> LeaderPath:
     t = np.linspace(0.0, 2.0 * math.pi, points)
     d = 1.0 + np.sin(t) ** 2
     xy = np.column_stack([a * np.cos(t) / d, a * np.sin(t) * np.cos(t) / d])
-    return LeaderPath(xy, name=f"figure_eight_a{a:g}")
+    return LeaderPath(xy, name=f"figure_eight_a{a:g}", initial_heading=math.pi / 2)
 
 
 def square_s(side: float = 2.0) -> LeaderPath:
@@ -204,7 +209,7 @@ def slalom(
     Examples
     --------
     >>> round(slalom().length, 2), round(slalom(out_and_back=True).length, 2)
-    (7.3, 16.17)
+    (7.41, 16.38)
     """
     spacing = check_positive("slalom.spacing", spacing, "m")
     amplitude = check_positive("slalom.amplitude", amplitude, "m")
@@ -225,7 +230,7 @@ def slalom(
         xy = np.vstack([xy, arc, back])
     cone_xy = np.column_stack([spacing * np.arange(1, cones + 1), np.zeros(cones)])
     name = "slalom_out_and_back" if out_and_back else "slalom"
-    return LeaderPath(xy, name=name, obstacles=cone_xy)
+    return LeaderPath(xy, name=name, obstacles=cone_xy, initial_heading=0.0)
 
 
 def corridor_corner(width: float = 1.0, leg: float = 3.0, radius: float | None = None) -> LeaderPath:
@@ -273,7 +278,11 @@ def circle(radius: float = 2.0, turns: float = 1.0, points_per_turn: int = 720) 
     turns = check_positive("circle.turns", turns, "")
     n = max(int(points_per_turn * turns), 8) + 1
     t = np.linspace(0.0, 2.0 * math.pi * turns, n)
-    return LeaderPath(np.column_stack([radius * np.cos(t), radius * np.sin(t)]), name=f"circle_r{radius:g}")
+    return LeaderPath(
+        np.column_stack([radius * np.cos(t), radius * np.sin(t)]),
+        name=f"circle_r{radius:g}",
+        initial_heading=math.pi / 2,
+    )
 
 
 def from_array(xy: Any, name: str = "recorded") -> LeaderPath:
@@ -288,7 +297,7 @@ def from_array(xy: Any, name: str = "recorded") -> LeaderPath:
     ...
     designlab.errors.InvalidParameterError: path.points[1] = [nan, 1.0] m is not allowed: finite coordinates
     """
-    return LeaderPath(np.asarray(xy, dtype=float) if not isinstance(xy, LeaderPath) else xy.points, name=name)
+    return LeaderPath(xy.points if isinstance(xy, LeaderPath) else xy, name=name)
 
 
 def from_csv(file: str | Path, x: str = "x_m", y: str = "y_m", name: str | None = None) -> LeaderPath:
@@ -323,8 +332,8 @@ PATHS = {
 }
 
 
-def make_path(spec: str | dict[str, Any] | LeaderPath) -> LeaderPath:
-    """A path from a name, ``{"type": name, **arguments}`` or ``{"points": [[x, y], ...]}``.
+def make_path(spec: Any) -> LeaderPath:
+    """A path from a name, ``{"type": name, **arguments}``, ``{"points": [[x, y], ...]}`` or an (N, 2) array.
 
     Examples
     --------
@@ -333,6 +342,8 @@ def make_path(spec: str | dict[str, Any] | LeaderPath) -> LeaderPath:
     """
     if isinstance(spec, LeaderPath):
         return spec
+    if isinstance(spec, (list, tuple, np.ndarray)):
+        return from_array(spec)
     if isinstance(spec, str):
         spec = {"type": spec}
     spec = dict(spec)
