@@ -42,8 +42,9 @@ from designlab.following.tether_codegen import compile_sx
 __all__ = [
     "OXYDOG",
     "FollowerRobot",
-    "drive_function",
-    "drive_step",
+    "STEP_INPUTS",
+    "step_compiled",
+    "step_function",
     "kinematics_function",
     "kinematics_step",
     "sensor_function",
@@ -176,30 +177,35 @@ class FollowerRobot:
 OXYDOG = FollowerRobot(max_wheel_speed=1.0 / 0.125)
 
 
+def _arc_step(x: ca.SX, y: ca.SX, g: ca.SX, v: ca.SX, om: ca.SX, dt: ca.SX) -> tuple[ca.SX, ...]:
+    """Exact arc of constant (V, Omega) over dt, written without a branch on Omega.
+
+    ``sin(G) - sin(G0) = 2 cos(G0 + h) sin(h)`` with h = Omega dt / 2, so the
+    App. C formulas become a chord ``V dt sin(h)/h`` along ``G0 + h``;
+    ``sin(h)/h`` is even and is evaluated at ``max(|h|, 1e-300)`` (exactly 1 at h = 0).
+    """
+    h = 0.5 * om * dt
+    hs = ca.fmax(ca.fabs(h), 1e-300)
+    chord = v * dt * (ca.sin(hs) / hs)
+    return x + chord * ca.cos(g + h), y + chord * ca.sin(g + h), g + 2.0 * h, chord
+
+
 @cache
 def kinematics_function() -> ca.Function:
     """CasADi function of one control period of the differential drive.
 
     Inputs ``x, y, heading, omega_L, omega_R, b, r, dt``; outputs
     ``x, y, heading, ds`` (new pose and the chord travelled, App. C
-    ``dead_reckon``). The exact arc is written with
-    ``sin(Gamma) - sin(Gamma_0) = 2 cos(Gamma_0 + h) sin(h)`` (h = Omega dt/2)
-    so that the straight-line limit needs no branch.
+    ``dead_reckon``; body velocities by eq. 2.6).
     """
     x, y, g, wl, wr, b, r, dt = (ca.SX.sym(n) for n in ("x", "y", "g", "wl", "wr", "b", "r", "dt"))
     v = 0.5 * r * (wl + wr)  # eq. 2.6
     om = r * (wr - wl) / b
-    h = 0.5 * om * dt
-    small = ca.fabs(h) < 1e-6
-    h_safe = ca.if_else(small, 1.0, h)
-    sinc = ca.if_else(small, 1.0 - h * h / 6.0, ca.sin(h_safe) / h_safe)
-    chord = v * dt * sinc
-    dx = chord * ca.cos(g + h)
-    dy = chord * ca.sin(g + h)
+    xn, yn, gn, chord = _arc_step(x, y, g, v, om, dt)
     return ca.Function(
         "follower_kinematics",
         [x, y, g, wl, wr, b, r, dt],
-        [x + dx, y + dy, g + 2.0 * h, ca.fabs(chord)],
+        [xn, yn, gn, ca.fabs(chord)],
         ["x", "y", "heading", "omega_L", "omega_R", "b", "r", "dt"],
         ["x_next", "y_next", "heading_next", "ds"],
     )
@@ -267,39 +273,89 @@ def tip_step(batch: bool = False) -> Any:
     return compile_sx(tip_function(), batch=batch)
 
 
-@cache
-def drive_function(law: ca.Function, steer_to_target: bool, limits: bool = True) -> ca.Function:
-    """CasADi function of one control period after sensing: law, wheel limits, motion.
+#: Inputs of :func:`step_function` before the law's own parameters.
+STEP_INPUTS = (
+    "x", "y", "heading", "tip_x", "tip_y", "target_x", "target_y", "omega_L_prev", "omega_R_prev",
+    "length_noise", "angle_noise", "b", "r", "dt", "max_wheel_speed", "max_wheel_step",
+    "off_x", "off_y", "h",
+)  # fmt: skip
 
-    Inputs ``x, y, heading, target_x, target_y, l_m, theta_m, omega_L_prev,
-    omega_R_prev, b, r, dt, max_wheel_speed, max_wheel_step`` and the law's
-    own parameters; outputs ``x, y, heading, omega_L, omega_R, V, Omega``.
-    The steering angle is ``theta_m`` (Pseudo-Joystick, eq. 2.3) or, with
-    ``steer_to_target``, ``phi = wrap(atan2(T - P) - Gamma)`` (eqs. 2.16, 2.19).
-    The commanded wheel speeds (eq. 2.4 as coded: ``(V -+ b Omega/2)/r``)
-    change by at most ``max_wheel_step`` per period and are clipped to
-    ``max_wheel_speed`` (``limits=False`` leaves out these operations for a
-    robot without limits, as in App. C; the inputs are then ignored).
+
+@cache
+def step_function(
+    law: ca.Function,
+    steer_to_target: bool,
+    limits: bool = False,
+    offsets: bool = False,
+    noisy: bool = False,
+) -> ca.Function:
+    """CasADi function of one closed-loop control period: sense, law, wheels, motion.
+
+    Inputs: :data:`STEP_INPUTS` followed by the law's own parameters
+    (``l_d`` and the gains). Outputs: ``x, y, heading`` after the period, the
+    applied ``V, Omega`` and wheel speeds ``omega_L, omega_R``.
+
+    The tether sensor (:func:`sensor_function`) gives ``l_m, theta_m``, plus the
+    noise inputs; the steering angle is ``theta_m`` (Pseudo-Joystick, eq. 2.3)
+    or, with ``steer_to_target``, ``phi = wrap(atan2(target - P) - Gamma)``
+    (eqs. 2.16, 2.19); the law gives ``(V, Omega)``; with ``limits`` the
+    wheel speeds ``(V -+ b Omega/2)/r`` (eq. 2.4) change by at most
+    ``max_wheel_step`` per period and are clipped to ``max_wheel_speed``;
+    the pose moves on the exact arc (App. C ``dead_reckon``).
+
+    The flags leave out operations whose inputs are zero or infinite (no
+    limits, no winch offset or tip height, no noise), so that the compiled
+    step does only the work the model needs; the inputs are then ignored.
     """
-    names = ("x", "y", "g", "jx", "jy", "l", "th", "wlp", "wrp", "b", "r", "dt", "wmax", "astep")
-    x, y, g, jx, jy, lm, th, wlp, wrp, b, r, dt, wmax, astep = (ca.SX.sym(n) for n in names)
+    syms = {n: ca.SX.sym(n) for n in STEP_INPUTS}
+    x, y, g = syms["x"], syms["y"], syms["heading"]
+    b, r, dt = syms["b"], syms["r"], syms["dt"]
     extra = [ca.SX.sym(law.name_in(i)) for i in range(3, law.n_in())]
-    phi = wrap_angle(ca.atan2(jy - y, jx - x) - g) if steer_to_target else th
+    if offsets:
+        lm, th = sensor_function()(x, y, g, syms["tip_x"], syms["tip_y"], syms["off_x"], syms["off_y"], syms["h"])
+    else:
+        dx, dy = syms["tip_x"] - x, syms["tip_y"] - y
+        lm = ca.sqrt(dx * dx + dy * dy)
+        th = wrap_angle(ca.atan2(dy, dx) - g) if not steer_to_target else None
+    if noisy:
+        lm = lm + syms["length_noise"]
+        if th is None:
+            th = sensor_function()(x, y, g, syms["tip_x"], syms["tip_y"], 0.0, 0.0, 0.0)[1]
+        th = th + syms["angle_noise"]
+    if steer_to_target:
+        phi = wrap_angle(ca.atan2(syms["target_y"] - y, syms["target_x"] - x) - g)
+    else:
+        phi = th
     v, om = law(lm, phi, b, *extra)
-    wl = (v - 0.5 * b * om) / r
-    wr = (v + 0.5 * b * om) / r
     if limits:
+        wlp, wrp = syms["omega_L_prev"], syms["omega_R_prev"]
+        wmax, astep = syms["max_wheel_speed"], syms["max_wheel_step"]
+        wl = (v - 0.5 * b * om) / r
+        wr = (v + 0.5 * b * om) / r
         wl = ca.fmin(ca.fmax(ca.fmin(ca.fmax(wl, wlp - astep), wlp + astep), -wmax), wmax)
         wr = ca.fmin(ca.fmax(ca.fmin(ca.fmax(wr, wrp - astep), wrp + astep), -wmax), wmax)
-    xn, yn, gn, _ = kinematics_function()(x, y, g, wl, wr, b, r, dt)
+        v = 0.5 * r * (wl + wr)  # eq. 2.6
+        om = r * (wr - wl) / b
+    else:
+        wl = wr = ca.SX(0.0)
+    xn, yn, gn, _ = _arc_step(x, y, g, v, om, dt)
     return ca.Function(
-        f"drive_{law.name()}",
-        [x, y, g, jx, jy, lm, th, wlp, wrp, b, r, dt, wmax, astep, *extra],
-        [xn, yn, gn, wl, wr, 0.5 * r * (wl + wr), r * (wr - wl) / b],
+        f"step_{law.name()}",
+        [*syms.values(), *extra],
+        [xn, yn, gn, v, om, wl, wr],
+        [*STEP_INPUTS, *(e.name() for e in extra)],
+        ["x_next", "y_next", "heading_next", "V", "Omega", "omega_L", "omega_R"],
     )
 
 
 @cache
-def drive_step(law: ca.Function, steer_to_target: bool, batch: bool = False, limits: bool = True) -> Any:
-    """Compiled :func:`drive_function` (floats, or numpy arrays if ``batch``)."""
-    return compile_sx(drive_function(law, steer_to_target, limits), batch=batch)
+def step_compiled(
+    law: ca.Function,
+    steer_to_target: bool,
+    limits: bool = False,
+    offsets: bool = False,
+    noisy: bool = False,
+    batch: bool = False,
+) -> Any:
+    """Compiled :func:`step_function` (floats, or numpy arrays if ``batch``)."""
+    return compile_sx(step_function(law, steer_to_target, limits, offsets, noisy), batch=batch)

@@ -36,7 +36,7 @@ from numpy.typing import NDArray
 from designlab.errors import InvalidParameterError, check_nonnegative, check_positive
 from designlab.following.paths import LeaderPath, make_path
 from designlab.following.tether_controllers import TetherController
-from designlab.following.tether_model import FollowerRobot, drive_step, sensor_step, tip_step
+from designlab.following.tether_model import FollowerRobot, sensor_step, step_compiled, tip_step
 from designlab.results import Result
 
 __all__ = ["FollowerBatch", "FollowerRun", "simulate", "simulate_batch"]
@@ -196,6 +196,22 @@ def _record_shared(tips: NDArray[np.float64], min_step: float, prefill: NDArray[
     return np.array(rec, dtype=float), np.array(s_rec, dtype=float), counts
 
 
+def _sensed(
+    hist: dict[str, NDArray[np.float64]], leader: NDArray[np.float64], robot: FollowerRobot,
+    noise: tuple[NDArray[np.float64], NDArray[np.float64]] | None,
+) -> None:
+    """Add the measured tether length and angle (one vectorised call over the run)."""
+    lm, th = sensor_step(True)(
+        hist["x"], hist["y"], hist["g"], leader[None, :, 0], leader[None, :, 1],
+        robot.winch_offset_x, robot.winch_offset_y, robot.tip_height,
+    )
+    if noise is not None:
+        lm = lm + noise[0]
+        th = th + noise[1]
+    hist["l"] = np.asarray(lm, dtype=float)
+    hist["th"] = np.asarray(th, dtype=float)
+
+
 def _loop_single(
     c: TetherController,
     leader: NDArray[np.float64],
@@ -209,9 +225,9 @@ def _loop_single(
 ) -> dict[str, NDArray[np.float64]]:
     """One noise-free run on Python floats (the fast path of :func:`simulate`)."""
     target = type(c).target
-    sense = sensor_step(False)
     limited = robot.max_wheel_speed < math.inf or robot.max_wheel_acceleration < math.inf
-    drive = drive_step(law_fn, target != "tether", False, limited)
+    offsets = robot.winch_offset_x != 0.0 or robot.winch_offset_y != 0.0
+    step = step_compiled(law_fn, target != "tether", limited, offsets, False, False)
     b, r, dt = robot.wheel_track, robot.wheel_radius, robot.sample_time
     wmax, astep = robot.max_wheel_speed, robot.max_wheel_acceleration * dt
     ox, oy = robot.winch_offset_x, robot.winch_offset_y
@@ -219,7 +235,7 @@ def _loop_single(
     x, y, g = pose
     wl = wr = 0.0
     n = len(leader)
-    out = np.empty((n, 7))
+    out = np.empty((n, 5))
     txs, tys = leader[:, 0].tolist(), leader[:, 1].tolist()
     jx = jy = 0.0
     if target != "tether":
@@ -229,16 +245,14 @@ def _loop_single(
         rx, ry = rec[:, 0].tolist(), rec[:, 1].tolist()
         cnt = counts.tolist()
         p3 = np.ones(3)
-        if target == "lookahead":
-            delta = c.lookahead - 1e-12  # type: ignore[attr-defined]
-        else:
-            ld = c.desired_length
-            ld2 = ld * ld
-            last_hi = -1
+        delta = getattr(c, "lookahead", 0.0) - 1e-12
+        ld = c.desired_length
+        ld2 = ld * ld
+        last_hi = -1
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         for k in range(n):
-            lm, th = sense(x, y, g, txs[k], tys[k], ox, oy, 0.0)
             if target == "lookahead":
+                # App. C find_closest_point (nearest recorded point) + find_lookahead_point
                 hi = cnt[k]
                 lo = hi - window if hi > window else 0
                 if hi - lo < 2:
@@ -254,8 +268,8 @@ def _loop_single(
             elif target == "constant_distance":
                 hi = cnt[k]
                 if hi != last_hi:
-                    # newest point >= l_d (Euclidean) from the newest; a point
-                    # closer than l_d along the path is closer in space too.
+                    # App. C find_const_dist_target: the newest point >= l_d (Euclidean) from the
+                    # newest; a point closer than l_d along the path is closer in space too.
                     lo = hi - window if hi > window else 0
                     nx, ny = rx[hi - 1], ry[hi - 1]
                     j = bisect_right(s_list, s_list[hi - 1] - ld, lo, hi) - 1
@@ -265,12 +279,14 @@ def _loop_single(
                         j = hi - 1
                     last_hi = hi
                     jx, jy = rx[j], ry[j]
-            xn, yn, gn, wl, wr, v, om = drive(
-                x, y, g, jx, jy, lm, th, wl, wr, b, r, dt, wmax, astep, *params
+            xn, yn, gn, v, om, wl, wr = step(
+                x, y, g, txs[k], tys[k], jx, jy, wl, wr, 0.0, 0.0, b, r, dt, wmax, astep, ox, oy, 0.0, *params
             )
-            out[k] = (x, y, g, lm, th, v, om)
+            out[k] = (x, y, g, v, om)
             x, y, g = xn, yn, gn
-    return {k: out[:, i][None, :] for i, k in enumerate(("x", "y", "g", "l", "th", "v", "om"))}
+    hist = {k: out[:, i][None, :] for i, k in enumerate(("x", "y", "g", "v", "om"))}
+    _sensed(hist, leader, robot, None)
+    return hist
 
 
 def _loop_batch(
@@ -292,21 +308,27 @@ def _loop_batch(
     target = cls.target
     nb = len(controllers)
     n = len(leader)
-    sense = sensor_step(True)
-    tip = tip_step(True)
     limited = robot.max_wheel_speed < math.inf or robot.max_wheel_acceleration < math.inf
-    drive = drive_step(law_fn, target != "tether", True, limited)
+    offsets = robot.winch_offset_x != 0.0 or robot.winch_offset_y != 0.0 or robot.tip_height != 0.0
+    noisy = robot.noisy
+    step = step_compiled(law_fn, target != "tether", limited, offsets, noisy, True)
     b, r, dt = robot.wheel_track, robot.wheel_radius, robot.sample_time
     wmax, astep = robot.max_wheel_speed, robot.max_wheel_acceleration * dt
     ox, oy, hh = robot.winch_offset_x, robot.winch_offset_y, robot.tip_height
-    noisy = robot.noisy
+    noise = None
+    if noisy:
+        noise = (
+            rng.normal(0.0, 1.0, (nb, n)) * robot.length_noise_std,
+            rng.normal(0.0, 1.0, (nb, n)) * robot.angle_noise_std,
+        )
     params = [np.array(v) for v in zip(*(c.law_values() for c in controllers), strict=True)]
     x, y, g = (np.array(v, dtype=float) for v in pose)
     wl = np.zeros(nb)
     wr = np.zeros(nb)
     rows = np.arange(nb)
     jx = jy = np.zeros(nb)
-    out = np.empty((n, 7, nb))
+    nl = nth = 0.0
+    out = np.empty((n, 5, nb))
     shared = rec is not None
     if target == "lookahead":
         delta = np.array([c.lookahead for c in controllers]) - 1e-12  # type: ignore[attr-defined]
@@ -317,6 +339,8 @@ def _loop_batch(
         p3 = np.ones((nb, 3))
         last_hi = -1
     elif target != "tether":
+        sense = sensor_step(True)
+        tip = tip_step(True)
         cap = n + len(prefill) + 1
         bx = np.full((nb, cap), np.nan)
         by = np.full((nb, cap), np.nan)
@@ -333,12 +357,8 @@ def _loop_batch(
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         for k in range(n):
             tx, ty = leader[k]
-            lm, th = sense(x, y, g, tx, ty, ox, oy, hh)
-            if noisy:
-                if robot.length_noise_std > 0:
-                    lm = lm + rng.normal(0.0, robot.length_noise_std, nb)
-                if robot.angle_noise_std > 0:
-                    th = th + rng.normal(0.0, robot.angle_noise_std, nb)
+            if noise is not None:
+                nl, nth = noise[0][:, k], noise[1][:, k]
             if target != "tether" and shared:
                 hi = counts[k]  # type: ignore[index]
                 lo = max(0, hi - window)
@@ -360,8 +380,9 @@ def _loop_batch(
                     jx, jy = rec[last + lo, 0], rec[last + lo, 1]  # type: ignore[index]
                     last_hi = hi
             elif target != "tether":
-                # per-member buffers: the estimated tip differs between members
-                tx_e, ty_e = tip(x, y, g, lm, th, ox, oy)
+                # per-member buffers of the estimated tip (noise, tip height)
+                lm, th = sense(x, y, g, tx, ty, ox, oy, hh)
+                tx_e, ty_e = tip(x, y, g, lm + nl, th + nth, ox, oy)
                 has = cnt > 0
                 last_i = np.maximum(cnt - 1, 0)
                 dd = np.hypot(tx_e - bx[rows, last_i], ty_e - by[rows, last_i])
@@ -387,13 +408,15 @@ def _loop_batch(
                     ok = valid & ((wxs - nx[:, None]) ** 2 + (wys - ny[:, None]) ** 2 >= ld2[:, None])
                     jj = np.where(ok.any(axis=1), window - 1 - np.argmax(ok[:, ::-1], axis=1), window - 1)
                 jx, jy = wxs[rows, jj], wys[rows, jj]
-            xn, yn, gn, wl, wr, v, om = drive(
-                x, y, g, jx, jy, lm, th, wl, wr, b, r, dt, wmax, astep, *params
+            xn, yn, gn, v, om, wl, wr = step(
+                x, y, g, tx, ty, jx, jy, wl, wr, nl, nth, b, r, dt, wmax, astep, ox, oy, hh, *params
             )
             o = out[k]
-            o[0], o[1], o[2], o[3], o[4], o[5], o[6] = x, y, g, lm, th, v, om
+            o[0], o[1], o[2], o[3], o[4] = x, y, g, v, om
             x, y, g = xn, yn, gn
-    return {k: out[:, i, :].T.copy() for i, k in enumerate(("x", "y", "g", "l", "th", "v", "om"))}
+    hist = {k: out[:, i, :].T.copy() for i, k in enumerate(("x", "y", "g", "v", "om"))}
+    _sensed(hist, leader, robot, noise)
+    return hist
 
 
 def simulate_batch(

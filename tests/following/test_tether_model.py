@@ -14,10 +14,11 @@ import designlab as dl
 from designlab.errors import InvalidParameterError
 from designlab.following.tether_codegen import compile_sx
 from designlab.following.tether_model import (
-    drive_function,
+    STEP_INPUTS,
     kinematics_function,
     kinematics_step,
     sensor_step,
+    step_function,
     tip_step,
 )
 
@@ -90,9 +91,12 @@ def test_compiled_functions_equal_casadi():
     batch = kinematics_step(True)(*(np.full(3, a) for a in args))
     assert [float(v[1]) for v in batch] == pytest.approx(ref, abs=1e-14)
     law = fol.FollowTheLeaderConstDistance.law_function("")
-    d = drive_function(law, True)
-    inp = (0.0, 0.0, 0.2, 1.0, 0.5, 1.5, 0.1, 0.0, 0.0, B, R, 0.01, 8.0, 0.5, 1.2, 2.0, 0.5, 2.0)
-    assert compile_sx(d)(*inp) == pytest.approx([float(v) for v in d(*inp)], abs=1e-14)
+    for flags in [(True, False, False, False), (True, True, True, True)]:
+        d = step_function(law, *flags)
+        inp = (0.0, 0.0, 0.2, 1.5, 0.3, 1.0, 0.5, 0.0, 0.0, 0.01, -0.02, B, R, 0.01, 8.0, 0.5, 0.1, 0.0, 0.1)
+        inp = (*inp, 1.2, 2.0, 0.5, 2.0)
+        assert len(inp) == len(STEP_INPUTS) + 4
+        assert compile_sx(d)(*inp) == pytest.approx([float(v) for v in d(*inp)], abs=1e-14)
     x = ca.SX.sym("x")
     with pytest.raises(TypeError):
         compile_sx(ca.Function("v", [ca.SX.sym("v", 2)], [x * 0 + 1]))
@@ -100,12 +104,16 @@ def test_compiled_functions_equal_casadi():
 
 def test_wheel_limits_in_drive():
     law = fol.PseudoJoystick.law_function("coded")
-    d = compile_sx(drive_function(law, False))
-    # l error 1 m -> V = 5 m/s demanded; wheels limited to 8 rad/s (1 m/s), step 0.05 rad/s
-    out = d(0.0, 0.0, 0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, B, R, 0.01, 8.0, 0.05, 1.0, 5.0, 12.0)
-    assert out[3] == pytest.approx(0.05) and out[4] == pytest.approx(0.05)
-    out = d(0.0, 0.0, 0.0, 0.0, 0.0, 2.0, 0.0, 7.99, 7.99, B, R, 0.01, 8.0, 1.0, 1.0, 5.0, 12.0)
-    assert out[3] == pytest.approx(8.0) and out[5] == pytest.approx(1.0)
+    d = compile_sx(step_function(law, False, True))
+    # leader 2 m ahead: l error 1 m -> V = 5 m/s demanded; wheels limited to 8 rad/s (1 m/s),
+    # and to a change of 0.05 rad/s per period
+    common = (0.0, 0.0, B, R, 0.01, 8.0)
+    out = d(0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 0.0, 0.0, *common, 0.05, 0.0, 0.0, 0.0, 1.0, 5.0, 12.0)
+    assert out[5] == pytest.approx(0.05) and out[6] == pytest.approx(0.05)
+    assert out[3] == pytest.approx(0.05 * R)
+    out = d(0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 7.99, 7.99, *common, 1.0, 0.0, 0.0, 0.0, 1.0, 5.0, 12.0)
+    assert out[5] == pytest.approx(8.0) and out[3] == pytest.approx(1.0)
+    assert out[0] == pytest.approx(0.01)  # 1 m/s for 0.01 s
 
 
 def test_robot_validation():
