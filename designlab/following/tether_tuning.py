@@ -75,10 +75,15 @@ class TuningResult(Result):
     cost, default_cost
         Mean cost over the tuning scenarios (tuned, default).
     improvement
-        ``1 - cost/default_cost`` over the validation scenarios (paths not
-        tuned on); positive is better.
+        ``1 - J/J_default`` over the validation scenarios (paths not tuned
+        on), with J the weighted deviation + length + smoothness cost
+        without the constraint penalties (so that one scenario where the
+        defaults leave the tether range does not dominate); positive is better.
     training_improvement
-        The same over the tuning scenarios.
+        ``1 - cost/default_cost`` over the tuning scenarios (penalties included).
+    violations
+        Scenarios where the default and the tuned gains leave the tether range
+        or saturate a wheel (``{"default": n, "tuned": n}`` per set).
     npd_improvement
         ``1 - mean NPD (tuned)/mean NPD (default)`` over the validation scenarios.
     scenarios
@@ -100,6 +105,7 @@ class TuningResult(Result):
     improvement: float
     training_improvement: float
     npd_improvement: float
+    violations: dict[str, dict[str, int]]
     scenarios: pd.DataFrame
     damping_ratios: dict[float, float]
     history: tuple[float, ...]
@@ -356,6 +362,7 @@ def tune(
                         "speed_m_per_s": t["speed"],
                         "controller": who,
                         "cost": float(p["cost"][j]),
+                        "cost_unpenalised": float(p["cost"][j] - p["penalty"][j]),
                         "npd_mean_over_b": float(p["deviation"][j]),
                         "npd_mean_m": float(p["npd_m"][j]),
                         "length_error_rms_over_ld": float(p["length"][j]),
@@ -371,7 +378,16 @@ def tune(
 
     def_cost = mean_of("tuning", "default", "cost") + float(damping_penalty([default_gains])[0])
     tuned_cost = mean_of("tuning", "tuned", "cost") + float(damping_penalty([tuned_gains])[0])
-    improvement = 1.0 - mean_of("validation", "tuned", "cost") / mean_of("validation", "default", "cost")
+    improvement = 1.0 - mean_of("validation", "tuned", "cost_unpenalised") / mean_of(
+        "validation", "default", "cost_unpenalised"
+    )
+    violations = {
+        set_name: {
+            who: int(((table["set"] == set_name) & (table["controller"] == who) & (table["penalty"] > 1e-3)).sum())
+            for who in ("default", "tuned")
+        }
+        for set_name in ("tuning", "validation")
+    }
     npd_impr = 1.0 - mean_of("validation", "tuned", "npd_mean_m") / mean_of("validation", "default", "npd_mean_m")
     zetas = {v: damping_ratio(tuned, v, robot.wheel_track) for v in speeds_l}
     warns = []
@@ -394,6 +410,7 @@ def tune(
         improvement=improvement,
         training_improvement=1.0 - tuned_cost / def_cost,
         npd_improvement=npd_impr,
+        violations=violations,
         scenarios=table,
         damping_ratios=zetas,
         history=tuple(history),
