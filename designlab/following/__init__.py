@@ -37,6 +37,7 @@ from designlab.following.tether_controllers import (
 from designlab.following.tether_linear import LinearLoop, linear_analysis
 from designlab.following.tether_metrics import FollowerMetrics, follower_metrics
 from designlab.following.tether_model import OXYDOG, FollowerRobot
+from designlab.following.tether_reference import allan_tables, measured_ratio
 from designlab.following.tether_simulate import FollowerBatch, FollowerRun, simulate, simulate_batch
 from designlab.following.tether_tuning import TuningResult, tune
 
@@ -54,6 +55,7 @@ _TETHER = [
     "PseudoJoystick",
     "TetherController",
     "TuningResult",
+    "allan_tables",
     "circle",
     "controller_from_dict",
     "corridor_corner",
@@ -63,6 +65,7 @@ _TETHER = [
     "from_csv",
     "linear_analysis",
     "make_path",
+    "measured_ratio",
     "normal_path_deviation",
     "simulate",
     "simulate_batch",

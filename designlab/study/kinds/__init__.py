@@ -11,4 +11,6 @@ MODULES: tuple[str, ...] = (
     "impact_sweep",
     "foam_envelope",
     "foam_design",
+    "follower_comparison",
+    "follower_tuning",
 )
