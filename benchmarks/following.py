@@ -31,16 +31,15 @@ import math
 import sys
 import time
 from collections.abc import Callable
-from typing import Any
-
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this checkout's designlab
 
-import designlab as dl  # noqa: E402
-from designlab.following.tether_model import kinematics_function, sensor_function  # noqa: E402
+import designlab as dl
+from designlab.following.tether_model import kinematics_function, sensor_function
 
 fol = dl.following
 DURATION = 40.0
@@ -91,7 +90,9 @@ def baseline(ctrl: Any, path: Any, speed: float, robot: Any) -> np.ndarray:
                 ok = np.flatnonzero(w[i0:, 2] - w[i0, 2] >= ctrl.lookahead - 1e-12)
                 j = i0 + int(ok[0]) if len(ok) else len(w) - 1
             else:
-                ok = np.flatnonzero((w[:, 0] - w[-1, 0]) ** 2 + (w[:, 1] - w[-1, 1]) ** 2 >= ctrl.desired_length**2)
+                ok = np.flatnonzero(
+                    (w[:, 0] - w[-1, 0]) ** 2 + (w[:, 1] - w[-1, 1]) ** 2 >= ctrl.desired_length**2
+                )
                 j = int(ok[-1]) if len(ok) else len(w) - 1
             phi = math.atan2(math.sin(math.atan2(w[j, 1] - y, w[j, 0] - x) - g),
                              math.cos(math.atan2(w[j, 1] - y, w[j, 0] - x) - g))  # fmt: skip
@@ -114,11 +115,19 @@ def main(argv: list[str] | None = None) -> int:
     robot = fol.FollowerRobot()
     speed = 0.5
     rng = np.random.default_rng(0)
-    print(f"40 s on the a = 4 m figure-eight at {speed} m/s, control at {1 / robot.sample_time:.0f} Hz")
-    print(f"{'law':<30}{'simulate':>12}{'baseline':>12}{'ratio':>9}{'max |dxy| m':>14}{'batch of ' + str(args.batch):>16}")
+    print(
+        f"40 s on the a = 4 m figure-eight at {speed} m/s, "
+        f"control at {1 / robot.sample_time:.0f} Hz"
+    )
+    print(
+        f"{'law':<30}{'simulate':>12}{'baseline':>12}{'ratio':>9}{'max |dxy| m':>14}"
+        f"{'batch of ' + str(args.batch):>16}"
+    )
     ok = True
     for ctrl in (fol.PseudoJoystick(), fol.FollowTheLeader(), fol.FollowTheLeaderConstDistance()):
-        t_sim, run = best_time(lambda c=ctrl: fol.simulate(c, path, speed=speed, duration=DURATION), args.repeat)
+        t_sim, run = best_time(
+            lambda c=ctrl: fol.simulate(c, path, speed=speed, duration=DURATION), args.repeat
+        )
         t0 = time.perf_counter()
         ref = baseline(ctrl, path, speed, robot)
         t_base = time.perf_counter() - t0
@@ -129,16 +138,22 @@ def main(argv: list[str] | None = None) -> int:
             if "angle_gain" in g:
                 g["angle_gain"] = min(g["angle_gain"], 1 / math.pi)
             gains.append(ctrl.replace(**g))
-        t_batch, _ = best_time(lambda gs=gains: fol.simulate_batch(gs, path, speed=speed, duration=DURATION), args.repeat)
+        t_batch, _ = best_time(
+            lambda gs=gains: fol.simulate_batch(gs, path, speed=speed, duration=DURATION),
+            args.repeat,
+        )
         rt, rb, agg = DURATION / t_sim, DURATION / t_base, args.batch * DURATION / t_batch
         ok &= rt >= 1000 and agg >= 10_000
         print(
-            f"{type(ctrl).__name__:<30}{rt:>11.0f}x{rb:>11.0f}x{rt / rb:>8.1f}x{diff:>14.1e}{agg:>15.0f}x"
+            f"{type(ctrl).__name__:<30}{rt:>11.0f}x{rb:>11.0f}x{rt / rb:>8.1f}x"
+            f"{diff:>14.1e}{agg:>15.0f}x"
         )
     print("targets: simulate >= 1000x real time, batch >= 10 000x in aggregate")
 
     run = fol.simulate(fol.FollowTheLeaderConstDistance(), path, speed=speed, duration=DURATION)
-    t_npd, npd = best_time(lambda: fol.normal_path_deviation(run.leader_xy, run.robot_xy), max(args.repeat, 5))
+    t_npd, npd = best_time(
+        lambda: fol.normal_path_deviation(run.leader_xy, run.robot_xy), max(args.repeat, 5)
+    )
     ok &= t_npd < 0.02
     print(
         f"normal path deviation of a 40 s run: {1e3 * t_npd:.1f} ms (target < 20 ms); "
@@ -151,12 +166,16 @@ def main(argv: list[str] | None = None) -> int:
         with make_executor("processes", workers=args.workers) as ex:
             t0 = time.perf_counter()
             res = fol.tune(
-                fol.FollowTheLeader, paths=[fol.figure_eight(a=4.0), fol.slalom()], speeds=[0.3, 0.5, 0.8], executor=ex
+                fol.FollowTheLeader,
+                paths=[fol.figure_eight(a=4.0), fol.slalom()],
+                speeds=[0.3, 0.5, 0.8],
+                executor=ex,
             )
             t_tune = time.perf_counter() - t0
         ok &= t_tune < 120
         print(
-            f"tune(FollowTheLeader, 2 paths x 3 speeds): {t_tune:.1f} s with {args.workers} processes "
+            f"tune(FollowTheLeader, 2 paths x 3 speeds): {t_tune:.1f} s "
+            f"with {args.workers} processes "
             f"(target < 120 s); {res.evaluations} gain sets, status {res.status}, "
             f"improvement on unseen paths {100 * res.improvement:.0f} %"
         )

@@ -1,4 +1,4 @@
-"""Person-following robots: the tether follower (Allan 2015) and the accompanying robot (Wu et al. 2021).
+"""Person-following robots: the tether follower (Allan 2015), the accompanying robot (Wu 2021).
 
 Examples
 --------
@@ -12,6 +12,8 @@ True
 """
 
 from __future__ import annotations
+
+__all__: list[str] = []
 
 # --- tether follower (Allan 2015) ---
 from designlab.following.path_deviation import PathDeviation, normal_path_deviation
@@ -41,7 +43,7 @@ from designlab.following.tether_reference import allan_tables, measured_ratio
 from designlab.following.tether_simulate import FollowerBatch, FollowerRun, simulate, simulate_batch
 from designlab.following.tether_tuning import TuningResult, tune
 
-_TETHER = [
+__all__ += [
     "OXYDOG",
     "FollowTheLeader",
     "FollowTheLeaderConstDistance",
@@ -75,5 +77,3 @@ _TETHER = [
     "tune",
 ]
 # --- end tether follower ---
-
-__all__ = [*_TETHER]

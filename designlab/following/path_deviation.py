@@ -40,8 +40,8 @@ Examples
 from __future__ import annotations
 
 import math
-from itertools import chain
 from dataclasses import dataclass
+from itertools import chain
 from typing import Any
 
 import numpy as np
@@ -164,7 +164,9 @@ def _as_path(name: str, xy: Any) -> NDArray[np.float64]:
     try:
         pts = np.array(xy, dtype=float)
     except (TypeError, ValueError):
-        raise InvalidParameterError(name, type(xy).__name__, "an (N, 2) array of numbers", "m") from None
+        raise InvalidParameterError(
+            name, type(xy).__name__, "an (N, 2) array of numbers", "m"
+        ) from None
     if pts.ndim != 2 or pts.shape[1] != 2:
         raise InvalidParameterError(name, f"shape {pts.shape}", "shape (N, 2)", "m")
     if pts.shape[0] < 2:
@@ -175,7 +177,9 @@ def _as_path(name: str, xy: Any) -> NDArray[np.float64]:
     return pts
 
 
-def resegment(points: Any, min_segment: float = 0.01, max_segment: float = 0.05) -> NDArray[np.float64]:
+def resegment(
+    points: Any, min_segment: float = 0.01, max_segment: float = 0.05
+) -> NDArray[np.float64]:
     """Re-segment a polyline as App. A (Figs. A.3, A.4): merge short, split long segments.
 
     Parameters
@@ -195,7 +199,9 @@ def resegment(points: Any, min_segment: float = 0.01, max_segment: float = 0.05)
     """
     pts = _as_path("points", points)
     if max_segment < min_segment:
-        raise InvalidParameterError("max_segment", max_segment, f">= min_segment ({min_segment})", "m")
+        raise InvalidParameterError(
+            "max_segment", max_segment, f">= min_segment ({min_segment})", "m"
+        )
     xs, ys = pts[:, 0].tolist(), pts[:, 1].tolist()
     keep = [0]
     lx, ly = xs[0], ys[0]
@@ -220,13 +226,13 @@ def resegment(points: Any, min_segment: float = 0.01, max_segment: float = 0.05)
     return np.vstack([start + k[:, None] * step, nodes[-1:]])
 
 
-def _insert_intersections(p1: NDArray, p2: NDArray, max_segment: float) -> tuple[NDArray, NDArray, int]:
+def _insert_intersections(
+    p1: NDArray, p2: NDArray, max_segment: float
+) -> tuple[NDArray, NDArray, int]:
     """Insert the proper intersections of the two polylines into both (eq. A.2-A.3)."""
     a, b = p1[:-1], p1[1:]
     c, d = p2[:-1], p2[1:]
-    r = max(
-        float(np.max(np.hypot(*(b - a).T))), float(np.max(np.hypot(*(d - c).T)))
-    )
+    r = max(float(np.max(np.hypot(*(b - a).T))), float(np.max(np.hypot(*(d - c).T))))
     tree1 = cKDTree(0.5 * (a + b))
     tree2 = cKDTree(0.5 * (c + d))
     pairs = tree1.query_ball_tree(tree2, r=r + 1e-12)
@@ -252,7 +258,7 @@ def _insert_intersections(p1: NDArray, p2: NDArray, max_segment: float) -> tuple
         order = np.lexsort((par, seg))
         return np.insert(p, seg[order] + 1, xpt[order], axis=0)
 
-    return insert(p1, i, m), insert(p2, j, n), int(len(i))
+    return insert(p1, i, m), insert(p2, j, n), len(i)
 
 
 def _flatten(lists: Any) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
@@ -396,7 +402,9 @@ def normal_path_deviation(
     if comparison not in ("ordered", "literal"):
         raise InvalidParameterError("comparison", comparison, "'ordered' or 'literal'")
     if max_segment < min_segment:
-        raise InvalidParameterError("max_segment", max_segment, f">= min_segment ({min_segment:g} m)", "m")
+        raise InvalidParameterError(
+            "max_segment", max_segment, f">= min_segment ({min_segment:g} m)", "m"
+        )
     warns: list[str] = []
     q1 = resegment(p1, min_segment, max_segment)
     q2 = resegment(p2, min_segment, max_segment)
@@ -416,9 +424,13 @@ def normal_path_deviation(
     else:
         half2 = np.arange(len(mid2))
         half1 = np.arange(len(mid1))
-    _, js, _ = _normal_deviation(mid1[:1], nrm1[:1], c2[half2], d2[half2], max_search, max_hit_ratio)
+    _, js, _ = _normal_deviation(
+        mid1[:1], nrm1[:1], c2[half2], d2[half2], max_search, max_hit_ratio
+    )
     j_start = int(half2[js[0]])
-    _, ie, _ = _normal_deviation(mid2[-1:], nrm2[-1:], c1[half1], d1[half1], max_search, max_hit_ratio)
+    _, ie, _ = _normal_deviation(
+        mid2[-1:], nrm2[-1:], c1[half1], d1[half1], max_search, max_hit_ratio
+    )
     i_end = int(half1[ie[0]])
     status = "ok"
     sel1 = np.arange(0, i_end + 1)
@@ -432,16 +444,16 @@ def normal_path_deviation(
         dev = np.zeros(0)
         fb = np.zeros(0, bool)
         status = "empty"
-        warns.append("the two paths have no comparison range (App. A.6: the paths are too dissimilar)")
+        warns.append(
+            "the two paths have no comparison range (App. A.6: the paths are too dissimilar)"
+        )
     if len(fb) and fb.mean() > 0.2:
         warns.append(
             f"{100 * fb.mean():.0f} % of the segments used the point-to-polyline fallback; "
             "the paths may be too dissimilar for the normal deviation (Allan 2015 App. A.6)"
         )
     if len(sel1) and len(sel1) < 0.25 * len(mid1):
-        warns.append(
-            f"only {len(sel1)} of {len(mid1)} leader segments are in the comparison range"
-        )
+        warns.append(f"only {len(sel1)} of {len(mid1)} leader segments are in the comparison range")
     del n_x
     return PathDeviation(
         profile=dev,

@@ -76,19 +76,27 @@ class LeaderPath:
         try:
             pts = np.array(self.points, dtype=float)
         except (TypeError, ValueError):
-            raise InvalidParameterError("path.points", self.points, "an (N, 2) array of numbers", "m") from None
+            raise InvalidParameterError(
+                "path.points", self.points, "an (N, 2) array of numbers", "m"
+            ) from None
         if pts.ndim != 2 or pts.shape[1] != 2:
             raise InvalidParameterError("path.points", f"shape {pts.shape}", "shape (N, 2)", "m")
         if pts.shape[0] < 2:
-            raise InvalidParameterError("path.points", f"{pts.shape[0]} point(s)", "at least 2 points", "m")
+            raise InvalidParameterError(
+                "path.points", f"{pts.shape[0]} point(s)", "at least 2 points", "m"
+            )
         if not np.all(np.isfinite(pts)):
             bad = int(np.argwhere(~np.isfinite(pts))[0, 0])
-            raise InvalidParameterError(f"path.points[{bad}]", pts[bad].tolist(), "finite coordinates", "m")
+            raise InvalidParameterError(
+                f"path.points[{bad}]", pts[bad].tolist(), "finite coordinates", "m"
+            )
         keep = np.ones(len(pts), bool)
         keep[1:] = np.any(np.diff(pts, axis=0) != 0.0, axis=1)
         pts = pts[keep]
         if len(pts) < 2:
-            raise InvalidParameterError("path.points", "all points equal", "a path of non-zero length", "m")
+            raise InvalidParameterError(
+                "path.points", "all points equal", "a path of non-zero length", "m"
+            )
         pts.setflags(write=False)
         obs = np.array(self.obstacles, dtype=float).reshape(-1, 2)
         obs.setflags(write=False)
@@ -120,31 +128,38 @@ class LeaderPath:
         """Points at arc length(s) ``s`` in m (clipped to the path), shape (..., 2)."""
         s = np.clip(np.asarray(s, dtype=float), 0.0, self.length)
         return np.stack(
-            [np.interp(s, self.arc_length, self.points[:, 0]), np.interp(s, self.arc_length, self.points[:, 1])],
+            [
+                np.interp(s, self.arc_length, self.points[:, 0]),
+                np.interp(s, self.arc_length, self.points[:, 1]),
+            ],
             axis=-1,
         )
 
-    def leader_positions(self, speed: float, sample_time: float, duration: float) -> NDArray[np.float64]:
+    def leader_positions(
+        self, speed: float, sample_time: float, duration: float
+    ) -> NDArray[np.float64]:
         """Leader positions at ``t = k * sample_time`` for ``0 <= t <= duration``.
 
         The leader walks at ``speed`` (m/s) from the first point and stops at
         the last (Allan 2015 Sec. 2.4.1: a constant-speed leader).
         """
-        n = int(math.floor(duration / sample_time + 1e-9)) + 1
+        n = math.floor(duration / sample_time + 1e-9) + 1
         return self.position_at(speed * sample_time * np.arange(n))
 
     def to_frame(self) -> Any:
         """The nodes as a DataFrame (``x_m``, ``y_m``, ``s_m``)."""
         import pandas as pd
 
-        return pd.DataFrame({"x_m": self.points[:, 0], "y_m": self.points[:, 1], "s_m": self.arc_length})
+        return pd.DataFrame(
+            {"x_m": self.points[:, 0], "y_m": self.points[:, 1], "s_m": self.arc_length}
+        )
 
     def __repr__(self) -> str:
         return f"LeaderPath({self.name!r}, {len(self.points)} points, {self.length:.2f} m)"
 
 
 def figure_eight(a: float = 2.0, points: int = 2001) -> LeaderPath:
-    """Bernoulli lemniscate figure-eight of loop parameter ``a`` (DECISIONS of ``docs/following.md``).
+    """Bernoulli lemniscate figure-eight of loop parameter ``a`` (see ``docs/following.md``).
 
     Starts at the right tip (a, 0) heading +y; the right lobe is walked
     counter-clockwise first. The length is 5.2441 a (10.49 m for a = 2 m,
@@ -233,7 +248,9 @@ def slalom(
     return LeaderPath(xy, name=name, obstacles=cone_xy, initial_heading=0.0)
 
 
-def corridor_corner(width: float = 1.0, leg: float = 3.0, radius: float | None = None) -> LeaderPath:
+def corridor_corner(
+    width: float = 1.0, leg: float = 3.0, radius: float | None = None
+) -> LeaderPath:
     """Centre line of a corridor with one 90-degree left corner (Allan 2015 Sec. 4.5).
 
     Straight ``leg`` along +x, an arc of ``radius`` (default 0.5 ``width``,
@@ -295,12 +312,14 @@ def from_array(xy: Any, name: str = "recorded") -> LeaderPath:
     >>> from_array([[0, 0], [float("nan"), 1]])
     Traceback (most recent call last):
     ...
-    designlab.errors.InvalidParameterError: path.points[1] = [nan, 1.0] m is not allowed: finite coordinates
+    designlab.errors.InvalidParameterError: path.points[1] = [nan, 1.0] m is not allowed: ...
     """
     return LeaderPath(xy.points if isinstance(xy, LeaderPath) else xy, name=name)
 
 
-def from_csv(file: str | Path, x: str = "x_m", y: str = "y_m", name: str | None = None) -> LeaderPath:
+def from_csv(
+    file: str | Path, x: str = "x_m", y: str = "y_m", name: str | None = None
+) -> LeaderPath:
     """A user path from a CSV of a recorded walk (columns ``x`` and ``y`` in m).
 
     Parameters
@@ -333,7 +352,7 @@ PATHS = {
 
 
 def make_path(spec: Any) -> LeaderPath:
-    """A path from a name, ``{"type": name, **arguments}``, ``{"points": [[x, y], ...]}`` or an (N, 2) array.
+    """A path from a name, ``{"type": name, **args}``, ``{"points": [...]}`` or (N, 2) points.
 
     Examples
     --------

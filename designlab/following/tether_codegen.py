@@ -132,6 +132,6 @@ def compile_sx(f: ca.Function, *, batch: bool = False) -> Callable[..., tuple[An
     lines.append(f"    return ({', '.join(outputs)},)")
     source = "\n".join(lines).replace("inf", "_inf")
     namespace: dict[str, Any] = {"_np": np, "_m": math, "_sign": _sign, "_inf": math.inf}
-    exec(compile(source, f"<compile_sx {f.name()}>", "exec"), namespace)  # noqa: S102
+    exec(compile(source, f"<compile_sx {f.name()}>", "exec"), namespace)
     fn: Callable[..., tuple[Any, ...]] = namespace["_f"]
     return fn

@@ -32,7 +32,7 @@ Examples
 >>> PseudoJoystick(turn_gain=-1.0)
 Traceback (most recent call last):
 ...
-designlab.errors.InvalidParameterError: PseudoJoystick.turn_gain = -1.0 1/s is not allowed: must be a finite number > 0
+designlab.errors.InvalidParameterError: PseudoJoystick.turn_gain = -1.0 1/s is not allowed: ...
 """
 
 from __future__ import annotations

@@ -50,10 +50,18 @@ from designlab.following.tether_controllers import (
 from designlab.following.tether_model import FollowerRobot
 from designlab.results import Result
 
-__all__ = ["LinearLoop", "effective_loop", "fit_damping", "lateral_step_response", "linear_analysis"]
+__all__ = [
+    "LinearLoop",
+    "effective_loop",
+    "fit_damping",
+    "lateral_step_response",
+    "linear_analysis",
+]
 
 
-def effective_loop(controller: TetherController, speed: float, wheel_track: float = 0.28) -> tuple[Any, Any, Any]:
+def effective_loop(
+    controller: TetherController, speed: float, wheel_track: float = 0.28
+) -> tuple[Any, Any, Any]:
     """Turn gain K (1/s), effective look-ahead L (m) and steady tether length (m).
 
     Works on numbers or numpy arrays of gains (for batches of gain sets).

@@ -41,14 +41,14 @@ from designlab.following.tether_codegen import compile_sx
 
 __all__ = [
     "OXYDOG",
-    "FollowerRobot",
     "STEP_INPUTS",
-    "step_compiled",
-    "step_function",
+    "FollowerRobot",
     "kinematics_function",
     "kinematics_step",
     "sensor_function",
     "sensor_step",
+    "step_compiled",
+    "step_function",
     "tip_function",
     "tip_step",
     "wrap_angle",
@@ -104,7 +104,7 @@ class FollowerRobot:
     >>> FollowerRobot(wheel_track=-1.0)
     Traceback (most recent call last):
     ...
-    designlab.errors.InvalidParameterError: FollowerRobot.wheel_track = -1.0 m is not allowed: must be a finite number > 0
+    designlab.errors.InvalidParameterError: FollowerRobot.wheel_track = -1.0 m is not allowed: ...
     """
 
     wheel_track: float = 0.28
@@ -143,7 +143,9 @@ class FollowerRobot:
             except (TypeError, ValueError):
                 ok = False
             if not ok:
-                raise InvalidParameterError(f"FollowerRobot.{name}", v, "must be a finite number", "m")
+                raise InvalidParameterError(
+                    f"FollowerRobot.{name}", v, "must be a finite number", "m"
+                )
             object.__setattr__(self, name, float(v))
         for name, unit in (
             ("tip_height", "m"),
@@ -312,7 +314,9 @@ def step_function(
     b, r, dt = syms["b"], syms["r"], syms["dt"]
     extra = [ca.SX.sym(law.name_in(i)) for i in range(3, law.n_in())]
     if offsets:
-        lm, th = sensor_function()(x, y, g, syms["tip_x"], syms["tip_y"], syms["off_x"], syms["off_y"], syms["h"])
+        lm, th = sensor_function()(
+            x, y, g, syms["tip_x"], syms["tip_y"], syms["off_x"], syms["off_y"], syms["h"]
+        )
     else:
         dx, dy = syms["tip_x"] - x, syms["tip_y"] - y
         lm = ca.sqrt(dx * dx + dy * dy)

@@ -28,8 +28,14 @@ __all__ = ["TABLES", "allan_tables", "measured_ratio"]
 
 #: Table name -> (CSV in designlab/data, caption).
 TABLES = {
-    "table_3_2": ("following_mocap_table3_2.csv", "Allan 2015 Table 3.2: motion capture, healthy leaders"),
-    "table_3_3": ("following_patients_table3_3.csv", "Allan 2015 Table 3.3: home oxygen therapy patients"),
+    "table_3_2": (
+        "following_mocap_table3_2.csv",
+        "Allan 2015 Table 3.2: motion capture, healthy leaders",
+    ),
+    "table_3_3": (
+        "following_patients_table3_3.csv",
+        "Allan 2015 Table 3.3: home oxygen therapy patients",
+    ),
 }
 
 

@@ -163,7 +163,9 @@ class FollowerBatch(Result):
         return pd.DataFrame(rows)
 
 
-def _record_shared(tips: NDArray[np.float64], min_step: float, prefill: NDArray[np.float64]) -> tuple:
+def _record_shared(
+    tips: NDArray[np.float64], min_step: float, prefill: NDArray[np.float64]
+) -> tuple:
     """Record a tip sequence with the App. C ``point_tracker`` rule (shared buffer).
 
     Returns the recorded points (M, 2), their path distance (M,), and for
@@ -197,13 +199,21 @@ def _record_shared(tips: NDArray[np.float64], min_step: float, prefill: NDArray[
 
 
 def _sensed(
-    hist: dict[str, NDArray[np.float64]], leader: NDArray[np.float64], robot: FollowerRobot,
+    hist: dict[str, NDArray[np.float64]],
+    leader: NDArray[np.float64],
+    robot: FollowerRobot,
     noise: tuple[NDArray[np.float64], NDArray[np.float64]] | None,
 ) -> None:
     """Add the measured tether length and angle (one vectorised call over the run)."""
     lm, th = sensor_step(True)(
-        hist["x"], hist["y"], hist["g"], leader[None, :, 0], leader[None, :, 1],
-        robot.winch_offset_x, robot.winch_offset_y, robot.tip_height,
+        hist["x"],
+        hist["y"],
+        hist["g"],
+        leader[None, :, 0],
+        leader[None, :, 1],
+        robot.winch_offset_x,
+        robot.winch_offset_y,
+        robot.tip_height,
     )
     if noise is not None:
         lm = lm + noise[0]
@@ -280,7 +290,26 @@ def _loop_single(
                     last_hi = hi
                     jx, jy = rx[j], ry[j]
             xn, yn, gn, v, om, wl, wr = step(
-                x, y, g, txs[k], tys[k], jx, jy, wl, wr, 0.0, 0.0, b, r, dt, wmax, astep, ox, oy, 0.0, *params
+                x,
+                y,
+                g,
+                txs[k],
+                tys[k],
+                jx,
+                jy,
+                wl,
+                wr,
+                0.0,
+                0.0,
+                b,
+                r,
+                dt,
+                wmax,
+                astep,
+                ox,
+                oy,
+                0.0,
+                *params,
             )
             out[k] = (x, y, g, v, om)
             x, y, g = xn, yn, gn
@@ -335,7 +364,9 @@ def _loop_batch(
     ld2 = np.array([c.desired_length for c in controllers]) ** 2
     if target != "tether" and shared:
         assert rec is not None and s_rec is not None and counts is not None
-        aug_t = np.ascontiguousarray(np.column_stack([rec, -0.5 * np.einsum("ij,ij->i", rec, rec)]).T)
+        aug_t = np.ascontiguousarray(
+            np.column_stack([rec, -0.5 * np.einsum("ij,ij->i", rec, rec)]).T
+        )
         p3 = np.ones((nb, 3))
         last_hi = -1
     elif target != "tether":
@@ -376,7 +407,9 @@ def _loop_batch(
                     w = rec[lo:hi]  # type: ignore[index]
                     dd = ((w - w[-1]) ** 2).sum(axis=1)
                     ok = dd[None, :] >= ld2[:, None]
-                    last = np.where(ok.any(axis=1), (hi - lo - 1) - np.argmax(ok[:, ::-1], axis=1), hi - lo - 1)
+                    last = np.where(
+                        ok.any(axis=1), (hi - lo - 1) - np.argmax(ok[:, ::-1], axis=1), hi - lo - 1
+                    )
                     jx, jy = rec[last + lo, 0], rec[last + lo, 1]  # type: ignore[index]
                     last_hi = hi
             elif target != "tether":
@@ -401,12 +434,20 @@ def _loop_batch(
                     d2 = np.where(valid, (wxs - x[:, None]) ** 2 + (wys - y[:, None]) ** 2, np.inf)
                     i0 = np.where(np.minimum(cnt, window) < 2, window - 1, np.argmin(d2, axis=1))
                     ws = bs[rows[:, None], widx]
-                    ok = valid & (ws - ws[rows, i0][:, None] >= delta[:, None]) & (ar[None, :] >= i0[:, None])
+                    ok = (
+                        valid
+                        & (ws - ws[rows, i0][:, None] >= delta[:, None])
+                        & (ar[None, :] >= i0[:, None])
+                    )
                     jj = np.where(ok.any(axis=1), np.argmax(ok, axis=1), window - 1)
                 else:
                     nx, ny = wxs[:, -1], wys[:, -1]
-                    ok = valid & ((wxs - nx[:, None]) ** 2 + (wys - ny[:, None]) ** 2 >= ld2[:, None])
-                    jj = np.where(ok.any(axis=1), window - 1 - np.argmax(ok[:, ::-1], axis=1), window - 1)
+                    ok = valid & (
+                        (wxs - nx[:, None]) ** 2 + (wys - ny[:, None]) ** 2 >= ld2[:, None]
+                    )
+                    jj = np.where(
+                        ok.any(axis=1), window - 1 - np.argmax(ok[:, ::-1], axis=1), window - 1
+                    )
                 jx, jy = wxs[rows, jj], wys[rows, jj]
             xn, yn, gn, v, om, wl, wr = step(
                 x, y, g, tx, ty, jx, jy, wl, wr, nl, nth, b, r, dt, wmax, astep, ox, oy, hh, *params
@@ -471,7 +512,9 @@ def simulate_batch(
     cls = type(controllers[0])
     for c in controllers:
         if type(c) is not cls or not isinstance(c, TetherController):
-            raise InvalidParameterError("controllers", type(c).__name__, f"all of one law ({cls.__name__})")
+            raise InvalidParameterError(
+                "controllers", type(c).__name__, f"all of one law ({cls.__name__})"
+            )
     key = controllers[0].law_key()
     if any(c.law_key() != key for c in controllers):
         raise InvalidParameterError("controllers", "mixed law variants", "one variant per batch")
@@ -495,7 +538,9 @@ def simulate_batch(
         ms = {c.min_step for c in controllers}  # type: ignore[attr-defined]
         bs = {c.buffer_size for c in controllers}  # type: ignore[attr-defined]
         if len(ms) > 1 or len(bs) > 1:
-            raise InvalidParameterError("controllers", "different min_step/buffer_size", "one value per batch")
+            raise InvalidParameterError(
+                "controllers", "different min_step/buffer_size", "one value per batch"
+            )
     dt = robot.sample_time
     if duration is None:
         duration = path.length / speed + settle_time
@@ -518,8 +563,7 @@ def simulate_batch(
         x, y, g = np.full(nb, x0), np.full(nb, y0), np.full(nb, h0)
 
     b, r = robot.wheel_track, robot.wheel_radius
-    wmax, astep = robot.max_wheel_speed, robot.max_wheel_acceleration * dt
-    ox, oy, hh = robot.winch_offset_x, robot.winch_offset_y, robot.tip_height
+    wmax, hh = robot.max_wheel_speed, robot.tip_height
     law_fn = cls.law_function(key)
     buffered = cls.target != "tether"
     noisy = robot.noisy
@@ -531,20 +575,37 @@ def simulate_batch(
         min_step = controllers[0].min_step  # type: ignore[attr-defined]
         window = controllers[0].buffer_size - 1  # type: ignore[attr-defined]
         if lead_in > 0:
-            m = int(math.floor(lead_in / min_step))
+            m = math.floor(lead_in / min_step)
             prefill = path.points[0] - np.outer(np.arange(m, 0, -1) * min_step, u0)
     rec = s_rec = counts = None
     if buffered and shared:
         rec, s_rec, counts = _record_shared(leader, min_step, prefill)
     if nb == 1 and shared:
         hist = _loop_single(
-            controllers[0], leader, (float(x[0]), float(y[0]), float(g[0])), robot, law_fn,
-            rec, s_rec, counts, window,
+            controllers[0],
+            leader,
+            (float(x[0]), float(y[0]), float(g[0])),
+            robot,
+            law_fn,
+            rec,
+            s_rec,
+            counts,
+            window,
         )
     else:
         hist = _loop_batch(
-            controllers, leader, (x, y, g), robot, law_fn, rec, s_rec, counts, window,
-            min_step, prefill, np.random.default_rng(seed),
+            controllers,
+            leader,
+            (x, y, g),
+            robot,
+            law_fn,
+            rec,
+            s_rec,
+            counts,
+            window,
+            min_step,
+            prefill,
+            np.random.default_rng(seed),
         )
 
     t = dt * np.arange(n)
@@ -559,10 +620,19 @@ def simulate_batch(
             continue
         member_status.append("ok")
         if wmax < math.inf:
-            wsat = np.abs(hist["v"][i]) / r + 0.5 * b * np.abs(hist["om"][i]) / r >= wmax * (1 - 1e-9)
+            wsat = np.abs(hist["v"][i]) / r + 0.5 * b * np.abs(hist["om"][i]) / r >= wmax * (
+                1 - 1e-9
+            )
             if wsat.mean() > 0.05:
-                warns.append(f"member {i}: a wheel is at its speed limit {100 * wsat.mean():.0f} % of the time")
-    status = "ok" if all(s == "ok" for s in member_status) else ("failed" if not any(finite) else "partial")
+                warns.append(
+                    f"member {i}: a wheel is at its speed limit "
+                    f"{100 * wsat.mean():.0f} % of the time"
+                )
+    status = (
+        "ok"
+        if all(s == "ok" for s in member_status)
+        else ("failed" if not any(finite) else "partial")
+    )
     return FollowerBatch(
         t=t,
         leader_xy=leader,
@@ -605,12 +675,15 @@ def simulate(
     Examples
     --------
     >>> from designlab.following import FollowTheLeaderConstDistance, figure_eight
-    >>> sim = simulate(FollowTheLeaderConstDistance(desired_length=1.0), figure_eight(a=4.0), speed=0.5)
+    >>> ctrl = FollowTheLeaderConstDistance(desired_length=1.0)
+    >>> sim = simulate(ctrl, figure_eight(a=4.0), speed=0.5)
     >>> sim.robot_xy.shape == sim.leader_xy.shape, sim.status
     (True, 'ok')
     """
     if not isinstance(controller, TetherController):
-        raise InvalidParameterError("controller", controller, "a tether controller (e.g. FollowTheLeader())")
+        raise InvalidParameterError(
+            "controller", controller, "a tether controller (e.g. FollowTheLeader())"
+        )
     batch = simulate_batch(
         [controller],
         path,

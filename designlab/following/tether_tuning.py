@@ -142,9 +142,13 @@ def scenario_costs(task: dict[str, Any]) -> dict[str, Any]:
     speed = float(task["speed"])
     w = task["weights"]
     lo, hi = task["tether_range"]
-    batch = simulate_batch(ctrls, path, speed=speed, robot=robot, settle_time=task.get("settle_time", 4.0))
+    batch = simulate_batch(
+        ctrls, path, speed=speed, robot=robot, settle_time=task.get("settle_time", 4.0)
+    )
     nb = len(ctrls)
-    out = {k: np.zeros(nb) for k in ("cost", "deviation", "npd_m", "length", "smoothness", "penalty")}
+    out = {
+        k: np.zeros(nb) for k in ("cost", "deviation", "npd_m", "length", "smoothness", "penalty")
+    }
     dt = robot.sample_time
     b = robot.wheel_track
     for i in range(nb):
@@ -162,20 +166,30 @@ def scenario_costs(task: dict[str, Any]) -> dict[str, Any]:
         )
         pen = 10.0 * (max(0.0, lo - float(lm.min())) + max(0.0, float(lm.max()) - hi)) / ld
         if robot.max_wheel_speed < math.inf:
-            wsat = (np.abs(batch.speed[i]) + 0.5 * b * np.abs(batch.turn_rate[i])) / robot.wheel_radius
+            wsat = (
+                np.abs(batch.speed[i]) + 0.5 * b * np.abs(batch.turn_rate[i])
+            ) / robot.wheel_radius
             pen += float(np.mean(wsat >= robot.max_wheel_speed * (1 - 1e-9)))
         out["deviation"][i] = dev
         out["npd_m"][i] = npd.mean
         out["length"][i] = length
         out["smoothness"][i] = smooth
         out["penalty"][i] = pen
-        out["cost"][i] = w["deviation"] * dev + w["length"] * length + w["smoothness"] * smooth + pen
+        out["cost"][i] = (
+            w["deviation"] * dev + w["length"] * length + w["smoothness"] * smooth + pen
+        )
     return out
 
 
 def _default_validation(paths: Sequence[LeaderPath]) -> list[LeaderPath]:
     names = {p.name for p in paths}
-    cands = [figure_eight(a=2.0), figure_eight(a=4.0), square_s(), slalom(), slalom(out_and_back=True)]
+    cands = [
+        figure_eight(a=2.0),
+        figure_eight(a=4.0),
+        square_s(),
+        slalom(),
+        slalom(out_and_back=True),
+    ]
     return [p for p in cands if p.name not in names][:3]
 
 
@@ -244,7 +258,9 @@ def tune(
     elif isinstance(controller, TetherController):
         base = controller
     else:
-        raise InvalidParameterError("controller", controller, "a tether controller class or instance")
+        raise InvalidParameterError(
+            "controller", controller, "a tether controller class or instance"
+        )
     cls = type(base)
     paths_l = [make_path(p) for p in paths]
     if not paths_l:
@@ -272,12 +288,18 @@ def tune(
         bnds[k] = (lo, hi)
     names = list(cls.GAINS)
     de_bounds = [bnds[k] for k in names]
-    val_l = [make_path(p) for p in validation_paths] if validation_paths is not None else _default_validation(paths_l)
+    val_l = (
+        [make_path(p) for p in validation_paths]
+        if validation_paths is not None
+        else _default_validation(paths_l)
+    )
     base_fields = base.as_dict()
     robot_fields = robot.as_dict()
     weights_t = dict(w)
 
-    def tasks_for(gain_sets: list[dict[str, float]], plist: list[LeaderPath]) -> list[dict[str, Any]]:
+    def tasks_for(
+        gain_sets: list[dict[str, float]], plist: list[LeaderPath]
+    ) -> list[dict[str, Any]]:
         return [
             {
                 "law": cls.__name__,
@@ -383,12 +405,20 @@ def tune(
     )
     violations = {
         set_name: {
-            who: int(((table["set"] == set_name) & (table["controller"] == who) & (table["penalty"] > 1e-3)).sum())
+            who: int(
+                (
+                    (table["set"] == set_name)
+                    & (table["controller"] == who)
+                    & (table["penalty"] > 1e-3)
+                ).sum()
+            )
             for who in ("default", "tuned")
         }
         for set_name in ("tuning", "validation")
     }
-    npd_impr = 1.0 - mean_of("validation", "tuned", "npd_mean_m") / mean_of("validation", "default", "npd_mean_m")
+    npd_impr = 1.0 - mean_of("validation", "tuned", "npd_mean_m") / mean_of(
+        "validation", "default", "npd_mean_m"
+    )
     zetas = {v: damping_ratio(tuned, v, robot.wheel_track) for v in speeds_l}
     warns = []
     status = "ok"

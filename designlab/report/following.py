@@ -39,6 +39,33 @@ from designlab.study.kinds.follower_tuning import FollowerTuningResult
 
 __all__ = ["comparison_markdown", "write_comparison_report", "write_tuning_report"]
 
+_DISCUSSION = """
+The simulation ranks the laws as the people did: FTL-CD (and FTL) deviate less than
+Pseudo-Joystick on every path here, by a factor {lo:.2f}-{hi:.2f} (PJ / FTL-CD), against
+{t32:.2f} (healthy leaders, Table 3.2) and {t33:.2f} (patients, Table 3.3) measured. The
+simulated factor is larger because the simulation has none of the error sources Allan 2015
+Sec. 3.4 lists for FTL-CD: wheel slip corrupts its dead reckoning and therefore its recorded
+path, and the tether tip (hand or waist belt) is offset from the walking line measured by the
+markers, while PJ needs neither. Human leaders also adapt (PJ subjects were told to look
+back), and the patient paths were digitised at foot strikes only (about +-40 mm, Sec. 3.5),
+which adds the same noise floor to both laws and pulls the ratio toward 1. Larger tether
+lengths widen the gap for PJ (Sec. 2.5.2: PJ cuts corners by about the tether length), while
+FTL is nearly independent of l_d (Sec. 2.5.3) as long as its 300-point buffer (3 m at 0.01 m)
+still holds the path behind the robot. Where it does not, or where the leader's path comes
+back within about a tether length of itself (the out-and-back slalom with l_d >= 1 m, the
+a = 2 m figure-eight with l_d = 2 m), the nearest recorded point jumps to the newer leg, FTL
+and FTL-CD cut across like PJ, and the factor falls toward 1: the buffer length
+(N x Delta s_min) must cover the tether length plus the path's detours.
+"""
+
+_TUNING_INTRO = """
+Status: **{status}**. Tuning paths: {paths}; validation paths (not tuned on): {val}; leader
+speeds {speeds} m/s. Seeded differential evolution (seed {s.seed}, population {s.popsize} x
+gains, {s.maxiter} generations), the thesis defaults in the initial population; damping-ratio
+floor {s.damping_floor:g} from the linear lateral loop at every speed; tether range
+{lo:g}-{hi:g} m; cost weights {w} (`docs/following.md`).
+"""
+
 _COLOURS = ("tab:red", "tab:blue", "tab:green", "tab:orange", "tab:purple", "tab:brown")
 
 
@@ -49,7 +76,9 @@ def _slug(text: str) -> str:
 def _footer(command: str | None, version: str | None) -> list[str]:
     lines = ["", "---", ""]
     if command:
-        lines.append(f"Produced by `{command}`" + (f" with designlab {version}." if version else "."))
+        lines.append(
+            f"Produced by `{command}`" + (f" with designlab {version}." if version else ".")
+        )
     elif version:
         lines.append(f"Produced with designlab {version}.")
     return lines
@@ -65,9 +94,13 @@ def _pivot(frame: pd.DataFrame, controllers: list[str]) -> pd.DataFrame:
                 row[f"{c} mean/b"] = round(float(by.loc[c, "npd_mean_over_b"]), 3)
                 row[f"{c} std/b"] = round(float(by.loc[c, "npd_std_over_b"]), 3)
         if "PJ" in by.index and "FTL-CD" in by.index:
-            row["PJ / FTL-CD"] = round(float(by.loc["PJ", "npd_mean_m"] / by.loc["FTL-CD", "npd_mean_m"]), 2)
+            row["PJ / FTL-CD"] = round(
+                float(by.loc["PJ", "npd_mean_m"] / by.loc["FTL-CD", "npd_mean_m"]), 2
+            )
         if "PJ" in by.index and "FTL" in by.index:
-            row["PJ / FTL"] = round(float(by.loc["PJ", "npd_mean_m"] / by.loc["FTL", "npd_mean_m"]), 2)
+            row["PJ / FTL"] = round(
+                float(by.loc["PJ", "npd_mean_m"] / by.loc["FTL", "npd_mean_m"]), 2
+            )
         rows.append(row)
     return pd.DataFrame(rows)
 
@@ -97,7 +130,8 @@ def comparison_markdown(
         )
         + "Normal path deviation (NPD) as Allan 2015 App. A with the project's settings "
         "(segments 0.01-0.05 m, unsigned, ordered comparison range, 2 m search, "
-        "point-to-polyline fallback; `docs/following.md`), in wheel tracks b = 0.28 m as Tables 3.2/3.3.",
+        "point-to-polyline fallback; `docs/following.md`), in wheel tracks b = 0.28 m as "
+        "Tables 3.2/3.3.",
         "",
         "## Mean normal path deviation (simulation)",
         "",
@@ -116,32 +150,19 @@ def comparison_markdown(
                 "ftlcd_std_dev_over_b": "FTL-CD std/b",
             }
         )
-        lines += [f"{caption} (PJ / FTL-CD of the averages: {measured_ratio(key):.2f})", "", markdown_table(t), ""]
+        lines += [
+            f"{caption} (PJ / FTL-CD of the averages: {measured_ratio(key):.2f})",
+            "",
+            markdown_table(t),
+            "",
+        ]
     ratios = _pivot(frame, controllers).get("PJ / FTL-CD")
     if ratios is not None and len(ratios.dropna()):
         lo, hi = float(ratios.min()), float(ratios.max())
-        lines += [
-            "## Discussion",
-            "",
-            f"The simulation ranks the laws as the people did: FTL-CD (and FTL) deviate less than "
-            f"Pseudo-Joystick on every path here, by a factor {lo:.2f}-{hi:.2f} (PJ / FTL-CD), against "
-            f"{measured_ratio('table_3_2'):.2f} (healthy leaders, Table 3.2) and "
-            f"{measured_ratio('table_3_3'):.2f} (patients, Table 3.3) measured. The simulated factor "
-            "is larger because the simulation has none of the error sources Allan 2015 Sec. 3.4 lists "
-            "for FTL-CD: wheel slip corrupts its dead reckoning and therefore its recorded path, and the "
-            "tether tip (hand or waist belt) is offset from the walking line measured by the markers, "
-            "while PJ needs neither. Human leaders also adapt (PJ subjects were told to look back), and "
-            "the patient paths were digitised at foot strikes only (about +-40 mm, Sec. 3.5), which adds "
-            "the same noise floor to both laws and pulls the ratio toward 1. Larger tether lengths widen "
-            "the gap for PJ (Sec. 2.5.2: PJ cuts corners by about the tether length), while FTL is nearly "
-            "independent of l_d (Sec. 2.5.3) as long as its 300-point buffer (3 m at 0.01 m) still "
-            "holds the path behind the robot. Where it does not, or where the leader's path comes back "
-            "within about a tether length of itself (the out-and-back slalom with l_d >= 1 m, the "
-            "a = 2 m figure-eight with l_d = 2 m), the nearest recorded point jumps to the newer leg, "
-            "FTL and FTL-CD cut across like PJ, and the factor falls toward 1: the buffer length "
-            "(N x Delta s_min) must cover the tether length plus the path's detours.",
-            "",
-        ]
+        text = _DISCUSSION.format(
+            lo=lo, hi=hi, t32=measured_ratio("table_3_2"), t33=measured_ratio("table_3_3")
+        )
+        lines += ["## Discussion", "", " ".join(text.split()), ""]
     other = frame[
         [
             "path",
@@ -160,8 +181,8 @@ def comparison_markdown(
         "## Other figures (Allan 2015 Sec. 2.5.1)",
         "",
         "Tether-length error (l_m - l_d), smoothness (RMS of dV/dt and dOmega/dt), stops while the "
-        "leader walks, and robot over leader distance. The maximum NPD is dominated by end-of-range "
-        "artefacts on simulated runs; compare means.",
+        "leader walks, and robot over leader distance. The maximum NPD is dominated by "
+        "end-of-range artefacts on simulated runs; compare means.",
         "",
         markdown_table(other.round(3)),
         "",
@@ -169,7 +190,12 @@ def comparison_markdown(
         "",
     ]
     for path, (traj, prof) in figures.items():
-        lines += [f"![trajectories on {path}]({traj})", "", f"![NPD profiles on {path}]({prof})", ""]
+        lines += [
+            f"![trajectories on {path}]({traj})",
+            "",
+            f"![NPD profiles on {path}]({prof})",
+            "",
+        ]
     if result.warnings:
         lines += ["## Warnings", ""] + [f"- {w}" for w in result.warnings] + [""]
     lines += _footer(command, version)
@@ -196,9 +222,13 @@ def _comparison_figures(result: FollowerComparisonResult, path: str) -> tuple[Fi
             ax_t.plot(obs[:, 0], obs[:, 1], "k^", ms=8, label="cones")
         for c in sel:
             col = _COLOURS[titles.index(c.controller) % len(_COLOURS)]
-            ax_t.plot(c.run.robot_xy[:, 0], c.run.robot_xy[:, 1], color=col, lw=1.2, label=c.controller)
+            ax_t.plot(
+                c.run.robot_xy[:, 0], c.run.robot_xy[:, 1], color=col, lw=1.2, label=c.controller
+            )
             npd = c.metrics.npd
-            ax_p.plot(npd.distance, npd.profile / npd.wheel_track, color=col, lw=1.0, label=c.controller)
+            ax_p.plot(
+                npd.distance, npd.profile / npd.wheel_track, color=col, lw=1.0, label=c.controller
+            )
         ax_t.set_aspect("equal", adjustable="datalim")
         ax_t.set_title(f"{path}, l_d = {ld:g} m")
         ax_t.set_xlabel("x [m]")
@@ -243,12 +273,18 @@ def _tuning_figure(r: Any) -> Figure:
     fig = Figure(figsize=(11, 3.8), layout="constrained")
     ax1, ax2 = fig.subplots(1, 2, width_ratios=[3, 1])
     tab = r.scenarios
-    keys = tab[tab["controller"] == "default"][["set", "path", "speed_m_per_s"]].reset_index(drop=True)
+    keys = tab[tab["controller"] == "default"][["set", "path", "speed_m_per_s"]].reset_index(
+        drop=True
+    )
     x = np.arange(len(keys))
     for j, who in enumerate(("default", "tuned")):
         vals = tab[tab["controller"] == who]["npd_mean_over_b"].to_numpy()
-        ax1.bar(x + (j - 0.5) * 0.38, vals, width=0.38, label=who, color=("tab:gray", "tab:blue")[j])
-    ax1.set_xticks(x, [f"{p}\n{v:g} m/s\n({s})" for s, p, v in keys.itertuples(index=False)], fontsize=6)
+        ax1.bar(
+            x + (j - 0.5) * 0.38, vals, width=0.38, label=who, color=("tab:gray", "tab:blue")[j]
+        )
+    ax1.set_xticks(
+        x, [f"{p}\n{v:g} m/s\n({s})" for s, p, v in keys.itertuples(index=False)], fontsize=6
+    )
     ax1.set_ylabel("mean normal deviation / b")
     ax1.set_title(f"{type(r.controller).__name__}: default vs tuned")
     ax1.legend()
@@ -272,20 +308,26 @@ def write_tuning_report(
     study = result.study
     written = [write_csv(result.to_frame(), directory / "gains.csv")]
     scen = pd.concat(
-        [r.scenarios.assign(law=type(r.controller).__name__) for r in result.results], ignore_index=True
+        [r.scenarios.assign(law=type(r.controller).__name__) for r in result.results],
+        ignore_index=True,
     )
     written.append(write_csv(scen, directory / "scenarios.csv"))
     lines = [f"# {study.name}", ""]
     if study.description:
         lines += [study.description.strip(), ""]
     lines += [
-        f"Status: **{result.status}**. Tuning paths: {', '.join(p.build().name for p in study.paths)}; "
-        f"validation paths (not tuned on): {', '.join(p.build().name for p in study.validation_paths)}; "
-        f"leader speeds {', '.join(f'{v:g}' for v in study.speeds)} m/s. Seeded differential evolution "
-        f"(seed {study.seed}, population {study.popsize} x gains, {study.maxiter} generations), the thesis "
-        f"defaults in the initial population; damping-ratio floor {study.damping_floor:g} from the linear "
-        f"lateral loop at every speed; tether range {study.tether_range[0]:g}-{study.tether_range[1]:g} m; "
-        f"cost weights {study.weights.model_dump()} (`docs/following.md`).",
+        " ".join(
+            _TUNING_INTRO.format(
+                status=result.status,
+                paths=", ".join(p.build().name for p in study.paths),
+                val=", ".join(p.build().name for p in study.validation_paths),
+                speeds=", ".join(f"{v:g}" for v in study.speeds),
+                s=study,
+                lo=study.tether_range[0],
+                hi=study.tether_range[1],
+                w=study.weights.model_dump(),
+            ).split()
+        ),
         "",
         "## Gains",
         "",
@@ -308,8 +350,12 @@ def write_tuning_report(
                 "cost improvement, unseen paths": f"{100 * r.improvement:.0f} %",
                 "NPD improvement, unseen paths": f"{100 * r.npd_improvement:.0f} %",
                 "cost improvement, tuning paths": f"{100 * r.training_improvement:.0f} %",
-                "constraint violations default/tuned (tuning)": f"{r.violations['tuning']['default']}/{r.violations['tuning']['tuned']}",
-                "constraint violations default/tuned (unseen)": f"{r.violations['validation']['default']}/{r.violations['validation']['tuned']}",
+                "violations default/tuned (tuning)": "{default}/{tuned}".format(
+                    **r.violations["tuning"]
+                ),
+                "violations default/tuned (unseen)": "{default}/{tuned}".format(
+                    **r.violations["validation"]
+                ),
                 "min damping ratio (tuned)": round(min(r.damping_ratios.values()), 3),
                 "gain sets": r.evaluations,
                 "wall time [s]": round(r.wall_time, 1),
@@ -326,8 +372,20 @@ def write_tuning_report(
         "## Per scenario",
         "",
         markdown_table(
-            scen[["law", "set", "path", "speed_m_per_s", "controller", "npd_mean_over_b",
-                  "length_error_rms_over_ld", "smoothness", "penalty", "cost"]].round(3)  # fmt: skip
+            scen[
+                [
+                    "law",
+                    "set",
+                    "path",
+                    "speed_m_per_s",
+                    "controller",
+                    "npd_mean_over_b",
+                    "length_error_rms_over_ld",
+                    "smoothness",
+                    "penalty",
+                    "cost",
+                ]
+            ].round(3)
         ),
         "",
         "## Figures",

@@ -21,7 +21,9 @@ TOL = 1e-4  # m
 def test_parallel_lines():
     x = np.linspace(0.0, 6.0, 301)
     # the robot starts 0.3 m behind the leader and ends 0.3 m behind it
-    d = fol.normal_path_deviation(np.column_stack([x, 0 * x]), np.column_stack([x - 0.3, 0.25 + 0 * x]))
+    d = fol.normal_path_deviation(
+        np.column_stack([x, 0 * x]), np.column_stack([x - 0.3, 0.25 + 0 * x])
+    )
     check_result(d)
     assert d.mean == pytest.approx(0.25, abs=TOL)
     assert d.max == pytest.approx(0.25, abs=TOL)
@@ -80,10 +82,24 @@ def _dist_to_offset_square_s(pts: np.ndarray, dd: float) -> np.ndarray:
 def test_square_s_against_its_exact_offset_with_corner_fallback():
     dd = 0.3
     leader = fol.square_s().points
-    arc1 = [(2 + dd * math.cos(a), 2 + dd * math.sin(a)) for a in np.linspace(-math.pi / 2, -math.pi, 400)]
-    arc2 = [(2 + dd * math.cos(a), 4 + dd * math.sin(a)) for a in np.linspace(math.pi, math.pi / 2, 400)]
+    arc1 = [
+        (2 + dd * math.cos(a), 2 + dd * math.sin(a))
+        for a in np.linspace(-math.pi / 2, -math.pi, 400)
+    ]
+    arc2 = [
+        (2 + dd * math.cos(a), 4 + dd * math.sin(a)) for a in np.linspace(math.pi, math.pi / 2, 400)
+    ]
     robot = np.array(
-        [(0.0, dd), (4 - dd, dd), (4 - dd, 2 - dd), (2.0, 2 - dd), *arc1, (2 - dd, 4.0), *arc2, (4.0, 4 + dd)]
+        [
+            (0.0, dd),
+            (4 - dd, dd),
+            (4 - dd, 2 - dd),
+            (2.0, 2 - dd),
+            *arc1,
+            (2 - dd, 4.0),
+            *arc2,
+            (4.0, 4 + dd),
+        ]
     )
     d = fol.normal_path_deviation(leader, robot)
     expected = _dist_to_offset_square_s(d.midpoints, dd)
@@ -119,12 +135,17 @@ def test_crossing_paths_intersections_are_nodes():
 
 
 def test_ordered_and_literal_comparison_range_on_an_out_and_back_path():
-    """The literal App. A rule can match the robot's end to the leader's start (docs/following.md)."""
+    """The literal App. A rule can match the robot's end to the leader's start."""
     ang = np.linspace(-math.pi / 2, math.pi / 2, 30)
     leader = np.vstack(
-        [[[0.0, 0.0], [5.0, 0.0]], np.column_stack([5 + 0.2 * np.cos(ang), 0.2 + 0.2 * np.sin(ang)]), [[0.0, 0.4]]]
+        [
+            [[0.0, 0.0], [5.0, 0.0]],
+            np.column_stack([5 + 0.2 * np.cos(ang), 0.2 + 0.2 * np.sin(ang)]),
+            [[0.0, 0.4]],
+        ]
     )
-    # the robot cuts the hairpin: out 0.05 m beside the leader, back 0.25 m inside; it stops at x = 1
+    # the robot cuts the hairpin: out 0.05 m beside the leader, back 0.25 m inside;
+    # it stops at x = 1
     robot = np.array([[-0.5, 0.05], [4.8, 0.05], [4.8, 0.15], [1.0, 0.15]])
     ordered = fol.normal_path_deviation(leader, robot)
     literal = fol.normal_path_deviation(leader, robot, comparison="literal")
@@ -137,7 +158,9 @@ def test_ordered_and_literal_comparison_range_on_an_out_and_back_path():
 
 
 def test_resegment_minimum_and_maximum_passes():
-    nodes = resegment([[0, 0], [0.003, 0], [0.006, 0], [0.011, 0], [0.2, 0], [0.205, 0]], 0.01, 0.05)
+    nodes = resegment(
+        [[0, 0], [0.003, 0], [0.006, 0], [0.011, 0], [0.2, 0], [0.205, 0]], 0.01, 0.05
+    )
     seg = np.hypot(*np.diff(nodes, axis=0).T)
     assert np.all(seg >= 0.01 - 1e-12) and np.all(seg <= 0.05 + 1e-12)
     assert nodes[0].tolist() == [0, 0] and nodes[-1].tolist() == [0.205, 0]

@@ -97,16 +97,16 @@ def test_user_paths(tmp_path):
     ],
 )
 def test_bad_paths(bad):
-    with pytest.raises(InvalidParameterError, match="path.points"):
+    with pytest.raises(InvalidParameterError, match=r"path\.points"):
         fol.from_array(bad)
 
 
 def test_bad_shape_arguments(tmp_path):
-    with pytest.raises(InvalidParameterError, match="figure_eight.a"):
+    with pytest.raises(InvalidParameterError, match=r"figure_eight\.a"):
         fol.figure_eight(a=-2.0)
-    with pytest.raises(InvalidParameterError, match="slalom.cones"):
+    with pytest.raises(InvalidParameterError, match=r"slalom\.cones"):
         fol.slalom(cones=0)
-    with pytest.raises(InvalidParameterError, match="path.type"):
+    with pytest.raises(InvalidParameterError, match=r"path\.type"):
         fol.make_path({"type": "spiral"})
     f = tmp_path / "w.csv"
     f.write_text("a,b\n0,0\n1,1\n")

@@ -19,12 +19,27 @@ fol = dl.following
     ("ctrl", "speed", "zeta", "wn"),
     [
         # FTL: s^2 + K s + K v / delta
-        (fol.FollowTheLeader(lookahead=0.5), 0.5, 0.5 * math.sqrt(3 * 0.5 / 0.5), math.sqrt(3 * 0.5 / 0.5)),
-        (fol.FollowTheLeader(lookahead=0.1), 0.8, 0.5 * math.sqrt(3 * 0.1 / 0.8), math.sqrt(3 * 0.8 / 0.1)),
+        (
+            fol.FollowTheLeader(lookahead=0.5),
+            0.5,
+            0.5 * math.sqrt(3 * 0.5 / 0.5),
+            math.sqrt(3 * 0.5 / 0.5),
+        ),
+        (
+            fol.FollowTheLeader(lookahead=0.1),
+            0.8,
+            0.5 * math.sqrt(3 * 0.1 / 0.8),
+            math.sqrt(3 * 0.8 / 0.1),
+        ),
         # PJ coded: L = l_d + v/k_V = 1.1 m, K = 12
         (fol.PseudoJoystick(), 0.5, 0.5 * math.sqrt(12 * 1.1 / 0.5), math.sqrt(12 * 0.5 / 1.1)),
         # PJ printed: K = 2v/b -> zeta = sqrt(2 l / b)/2 whatever the speed
-        (fol.PseudoJoystick(law="printed"), 0.5, 0.5 * math.sqrt(2 * 1.1 / 0.28), math.sqrt((2 * 0.5 / 0.28) * 0.5 / 1.1)),
+        (
+            fol.PseudoJoystick(law="printed"),
+            0.5,
+            0.5 * math.sqrt(2 * 1.1 / 0.28),
+            math.sqrt((2 * 0.5 / 0.28) * 0.5 / 1.1),
+        ),
         # FTL-CD: s^2 + K_b s + K_b K_p, independent of speed
         (fol.FollowTheLeaderConstDistance(), 0.8, 0.5, 2.0),
     ],
@@ -40,7 +55,8 @@ def test_damping_and_frequency_formulas(ctrl, speed, zeta, wn):
 
 
 def test_phase_margin_of_ftl_loop():
-    # L(j w) = K (j w + v/d) / (j w)^2; |L| = 1 at w_c; PM = atan(w_c d / v) (independent derivation)
+    # L(j w) = K (j w + v/d) / (j w)^2; |L| = 1 at w_c; PM = atan(w_c d / v)
+    # (an independent derivation)
     k, d, v = 3.0, 0.5, 0.5
     a = v / d
     wc = math.sqrt((k**2 + math.sqrt(k**4 + 4 * k**2 * a**2)) / 2)
@@ -51,7 +67,9 @@ def test_phase_margin_of_ftl_loop():
 
 def test_sampled_loop_unstable_for_huge_gain():
     robot = fol.FollowerRobot(sample_time=0.05)
-    lin = fol.linear_analysis(fol.FollowTheLeader(turn_gain=60.0, lookahead=0.5), speed=0.5, robot=robot)
+    lin = fol.linear_analysis(
+        fol.FollowTheLeader(turn_gain=60.0, lookahead=0.5), speed=0.5, robot=robot
+    )
     assert not lin.discrete_stable and lin.status == "unstable" and lin.warnings
 
 

@@ -93,7 +93,27 @@ def test_compiled_functions_equal_casadi():
     law = fol.FollowTheLeaderConstDistance.law_function("")
     for flags in [(True, False, False, False), (True, True, True, True)]:
         d = step_function(law, *flags)
-        inp = (0.0, 0.0, 0.2, 1.5, 0.3, 1.0, 0.5, 0.0, 0.0, 0.01, -0.02, B, R, 0.01, 8.0, 0.5, 0.1, 0.0, 0.1)
+        inp = (
+            0.0,
+            0.0,
+            0.2,
+            1.5,
+            0.3,
+            1.0,
+            0.5,
+            0.0,
+            0.0,
+            0.01,
+            -0.02,
+            B,
+            R,
+            0.01,
+            8.0,
+            0.5,
+            0.1,
+            0.0,
+            0.1,
+        )
         inp = (*inp, 1.2, 2.0, 0.5, 2.0)
         assert len(inp) == len(STEP_INPUTS) + 4
         assert compile_sx(d)(*inp) == pytest.approx([float(v) for v in d(*inp)], abs=1e-14)
@@ -108,10 +128,14 @@ def test_wheel_limits_in_drive():
     # leader 2 m ahead: l error 1 m -> V = 5 m/s demanded; wheels limited to 8 rad/s (1 m/s),
     # and to a change of 0.05 rad/s per period
     common = (0.0, 0.0, B, R, 0.01, 8.0)
-    out = d(0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 0.0, 0.0, *common, 0.05, 0.0, 0.0, 0.0, 1.0, 5.0, 12.0)
+    out = d(
+        0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 0.0, 0.0, *common, 0.05, 0.0, 0.0, 0.0, 1.0, 5.0, 12.0
+    )
     assert out[5] == pytest.approx(0.05) and out[6] == pytest.approx(0.05)
     assert out[3] == pytest.approx(0.05 * R)
-    out = d(0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 7.99, 7.99, *common, 1.0, 0.0, 0.0, 0.0, 1.0, 5.0, 12.0)
+    out = d(
+        0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 7.99, 7.99, *common, 1.0, 0.0, 0.0, 0.0, 1.0, 5.0, 12.0
+    )
     assert out[5] == pytest.approx(8.0) and out[3] == pytest.approx(1.0)
     assert out[0] == pytest.approx(0.01)  # 1 m/s for 0.01 s
 
@@ -150,7 +174,11 @@ def test_pseudo_joystick_coded_and_printed():
 def test_follow_the_leader_laws():
     ftl = fol.FollowTheLeader()
     assert (ftl.speed_gain, ftl.turn_gain, ftl.lookahead, ftl.min_step, ftl.buffer_size) == (
-        1.0, 3.0, 0.5, 0.01, 300,
+        1.0,
+        3.0,
+        0.5,
+        0.01,
+        300,
     )
     assert ftl.command(0.8, 0.2) == pytest.approx((-0.2, 0.6))  # no clip (App. C)
     cd = fol.FollowTheLeaderConstDistance()
@@ -173,7 +201,7 @@ def test_follow_the_leader_laws():
     ],
 )
 def test_bad_gains_name_the_field(cls, field, value):
-    with pytest.raises(InvalidParameterError, match=f"{cls.__name__}.{field}"):
+    with pytest.raises(InvalidParameterError, match=rf"{cls.__name__}\.{field}"):
         cls(**{field: value})
 
 
@@ -187,5 +215,5 @@ def test_bad_buffer_and_law():
 def test_controller_roundtrip():
     c = fol.FollowTheLeader(lookahead=0.3, desired_length=0.6)
     assert fol.controller_from_dict(c.as_dict()) == c
-    with pytest.raises(InvalidParameterError, match="controller.type"):
+    with pytest.raises(InvalidParameterError, match=r"controller\.type"):
         fol.controller_from_dict({"type": "Joystick"})

@@ -15,10 +15,16 @@ fol = dl.following
 
 
 def test_issue_example_api():
-    sim = fol.simulate(fol.FollowTheLeaderConstDistance(desired_length=1.0), fol.figure_eight(a=4.0), speed=0.5)
+    sim = fol.simulate(
+        fol.FollowTheLeaderConstDistance(desired_length=1.0), fol.figure_eight(a=4.0), speed=0.5
+    )
     check_result(sim)
     n = len(sim.t)
-    assert sim.leader_xy.shape == (n, 2) and sim.robot_xy.shape == (n, 2) and sim.tether_length.shape == (n,)
+    assert (
+        sim.leader_xy.shape == (n, 2)
+        and sim.robot_xy.shape == (n, 2)
+        and sim.tether_length.shape == (n,)
+    )
     # F4: the robot starts l_d behind the start point on the initial tangent (+y), at rest
     assert sim.robot_xy[0] == pytest.approx([4.0, -1.0])
     assert sim.tether_length[0] == pytest.approx(1.0)
@@ -50,7 +56,9 @@ def test_per_member_buffers_match_the_shared_buffer():
     ctrl = [fol.FollowTheLeader(), fol.FollowTheLeaderConstDistance()]
     for c in ctrl:
         shared = fol.simulate(c, fol.slalom(), speed=0.5)
-        own = fol.simulate_batch([c, c], fol.slalom(), speed=0.5, robot=fol.FollowerRobot(tip_height=1e-7))
+        own = fol.simulate_batch(
+            [c, c], fol.slalom(), speed=0.5, robot=fol.FollowerRobot(tip_height=1e-7)
+        )
         # the leader moves exactly ds_min every 2 steps, so the ds >= ds_min test sits on a tie
         # that rounding flips: buffers may differ by one 5 mm step, the paths by a few mm
         assert np.max(np.abs(own.robot_xy[1] - shared.robot_xy)) < 5e-3
@@ -69,7 +77,9 @@ def test_noise_is_seeded():
 
 def test_wheel_speed_and_acceleration_limits():
     robot = fol.FollowerRobot(max_wheel_speed=4.0, max_wheel_acceleration=20.0)
-    run = fol.simulate(fol.PseudoJoystick(), fol.straight_line(20.0), speed=0.8, robot=robot, duration=20.0)
+    run = fol.simulate(
+        fol.PseudoJoystick(), fol.straight_line(20.0), speed=0.8, robot=robot, duration=20.0
+    )
     wl = (run.speed - 0.5 * robot.wheel_track * run.turn_rate) / robot.wheel_radius
     wr = (run.speed + 0.5 * robot.wheel_track * run.turn_rate) / robot.wheel_radius
     assert np.max(np.abs(wl)) <= 4.0 + 1e-12 and np.max(np.abs(wr)) <= 4.0 + 1e-12
@@ -82,7 +92,10 @@ def test_wheel_speed_and_acceleration_limits():
 def test_rotates_in_place_when_slack():
     """App. C PJ: V = 0 but Omega = k_O theta when l_m < l_d (Allan 2015 Sec. 4.4.2's creep)."""
     run = fol.simulate(
-        fol.PseudoJoystick(), fol.straight_line(0.5), speed=0.5, duration=3.0,
+        fol.PseudoJoystick(),
+        fol.straight_line(0.5),
+        speed=0.5,
+        duration=3.0,
         initial_pose=(0.0, -0.5, 0.0),  # leader 0.5 m to the left, tether slack, 90 deg off
     )
     assert np.max(np.abs(run.speed)) == 0.0  # the tether (<= 0.71 m) never exceeds l_d = 1 m
@@ -114,7 +127,7 @@ def test_tether_shorter_than_the_robot():
 
 
 def test_bad_paths_and_controllers():
-    with pytest.raises(InvalidParameterError, match="path.points"):
+    with pytest.raises(InvalidParameterError, match=r"path\.points"):
         fol.simulate(fol.FollowTheLeader(), [[0.0, 0.0]])
     with pytest.raises(InvalidParameterError, match="path"):
         fol.simulate(fol.FollowTheLeader(), {"points": [[0.0, 0.0], [float("nan"), 1.0]]})
@@ -123,7 +136,9 @@ def test_bad_paths_and_controllers():
     with pytest.raises(InvalidParameterError, match="one law"):
         fol.simulate_batch([fol.FollowTheLeader(), fol.PseudoJoystick()], fol.straight_line(2.0))
     with pytest.raises(InvalidParameterError, match="min_step"):
-        fol.simulate_batch([fol.FollowTheLeader(), fol.FollowTheLeader(min_step=0.02)], fol.straight_line(2.0))
+        fol.simulate_batch(
+            [fol.FollowTheLeader(), fol.FollowTheLeader(min_step=0.02)], fol.straight_line(2.0)
+        )
 
 
 def test_metrics_of_a_run():
@@ -135,5 +150,7 @@ def test_metrics_of_a_run():
     assert m.path_length_ratio == pytest.approx(1.0, abs=0.02)
     assert m.tether_max == pytest.approx(1.5, abs=0.05)  # l_d + v/K_V
     assert m.stops == 0
-    pj = fol.follower_metrics(fol.simulate(fol.PseudoJoystick(desired_length=2.0), fol.figure_eight(a=4.0)))
+    pj = fol.follower_metrics(
+        fol.simulate(fol.PseudoJoystick(desired_length=2.0), fol.figure_eight(a=4.0))
+    )
     assert pj.path_length_ratio < 0.9  # Sec. 2.5.2: PJ with a long tether drives a shorter path

@@ -97,14 +97,24 @@ def test_tuning_runs_and_reports(tmp_path):
     assert r.cost <= r.default_cost + 1e-12
     out = write_report(result, tmp_path)
     names = {p.name for p in out.iterdir()}
-    assert {"summary.md", "gains.csv", "scenarios.csv", "tuning_followtheleaderconstdistance.png"} <= names
+    assert {
+        "summary.md",
+        "gains.csv",
+        "scenarios.csv",
+        "tuning_followtheleaderconstdistance.png",
+    } <= names
     gains = pd.read_csv(out / "gains.csv")
     assert set(gains["gain"]) == {"speed_gain", "angle_gain", "turn_gain"}
 
 
 def test_tuning_schema_errors():
     with pytest.raises(StudyError, match="validation paths must differ"):
-        parse_study(TUNING.replace("validation_paths: [{type: slalom}]", "validation_paths: [{type: figure_eight, a: 2.0}]"))
+        parse_study(
+            TUNING.replace(
+                "validation_paths: [{type: slalom}]",
+                "validation_paths: [{type: figure_eight, a: 2.0}]",
+            )
+        )
     with pytest.raises(StudyError, match="tether_range"):
         parse_study(TUNING + "tether_range: [1.0, 0.5]\n")
     with pytest.raises(StudyError, match="laws"):

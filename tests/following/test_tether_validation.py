@@ -1,4 +1,4 @@
-"""Validation of the tether follower against analysis and Allan 2015 (Sec. 2.4-2.5, Tables 3.2/3.3)."""
+"""Validation of the tether follower against analysis and Allan 2015 (Sec. 2.4-2.5, 3.3-3.5)."""
 
 from __future__ import annotations
 
@@ -29,16 +29,20 @@ DATA = Path(__file__).resolve().parents[1] / "data"
 def test_straight_line_steady_tether_length(ctrl, gain, speed):
     """l = l_d + v/K on a straight line (velocity loop l' = v - K (l - l_d)) to 1e-6 m."""
     duration = 25.0
-    run = fol.simulate(ctrl, fol.straight_line(speed * duration + 5.0), speed=speed, duration=duration)
+    run = fol.simulate(
+        ctrl, fol.straight_line(speed * duration + 5.0), speed=speed, duration=duration
+    )
     expected = ctrl.desired_length + speed / gain
     assert run.tether_length[-1] == pytest.approx(expected, abs=1e-6)
     assert abs(run.robot_xy[-1, 1]) < 1e-9 and run.speed[-1] == pytest.approx(speed, abs=1e-6)
 
 
 def test_pseudo_joystick_on_a_circle_settles_inside():
-    """Tractrix limit: a leader on radius R with tether l drives PJ onto sqrt(R^2 - l^2), slightly above."""
+    """Tractrix limit: leader on radius R, tether l: PJ settles just outside sqrt(R^2 - l^2)."""
     big_r = 2.0
-    run = fol.simulate(fol.PseudoJoystick(), fol.circle(big_r, turns=3.0), speed=0.5, settle_time=0.0)
+    run = fol.simulate(
+        fol.PseudoJoystick(), fol.circle(big_r, turns=3.0), speed=0.5, settle_time=0.0
+    )
     last = slice(-1500, None)  # the last 3/4 turn, long settled
     radius = np.hypot(*run.robot_xy[last].T)
     ell = np.mean(run.tether_length[last])
@@ -66,7 +70,10 @@ def _npd(ctrl, path):
 @pytest.mark.parametrize(
     ("path", "lengths"),
     [
-        ("figure_eight_a4", (0.5, 0.6, 1.0, 2.0)),  # Sec. 2.5's 4 m loops; 0.5 and 2.0 m are its l_d
+        (
+            "figure_eight_a4",
+            (0.5, 0.6, 1.0, 2.0),
+        ),  # Sec. 2.5's 4 m loops; 0.5 and 2.0 m are its l_d
         # On the 2 m loops a 2 m tether is longer than FTL's 3 m buffer can bridge (300 x 0.01 m
         # along a curved path): FTL/FTL-CD lose the path too (NPD ratio 1.4), see docs/following.md.
         ("figure_eight_a2", (0.5, 0.6, 1.0)),
@@ -102,7 +109,7 @@ def test_small_lookahead_weaves():
     """Sec. 2.5.4: delta = 0.1 m (0.2 normalised) weaves; 0.5 m does not."""
     from designlab.following.tether_linear import lateral_step_response
 
-    t, e_small = lateral_step_response(fol.FollowTheLeader(lookahead=0.1), offset=0.05)
+    _, e_small = lateral_step_response(fol.FollowTheLeader(lookahead=0.1), offset=0.05)
     _, e_large = lateral_step_response(fol.FollowTheLeader(lookahead=0.5), offset=0.05)
     overshoot_small = -np.min(e_small) / 0.05
     overshoot_large = -np.min(e_large) / 0.05
@@ -113,7 +120,9 @@ def test_small_lookahead_weaves():
     assert crossings >= 2
 
 
-@pytest.mark.parametrize("table", ["following_mocap_table3_2.csv", "following_patients_table3_3.csv"])
+@pytest.mark.parametrize(
+    "table", ["following_mocap_table3_2.csv", "following_patients_table3_3.csv"]
+)
 def test_source_tables_average_rows(table):
     """Tables 3.2/3.3: the 'Average' row is the arithmetic mean of the subjects (also for std)."""
     df = pd.read_csv(DATA / table)

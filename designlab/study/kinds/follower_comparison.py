@@ -147,7 +147,9 @@ def run(study: FollowerComparisonStudy, context: RunContext) -> FollowerComparis
                 ctrl = cs.build() if ld is None else cs.build(desired_length=float(ld))
                 jobs.append((path, cs.title, ctrl))
     cases = []
-    for path, title, ctrl in tqdm(jobs, desc=study.name, unit="run", file=sys.stderr, disable=not context.progress):
+    for path, title, ctrl in tqdm(
+        jobs, desc=study.name, unit="run", file=sys.stderr, disable=not context.progress
+    ):
         r = simulate(ctrl, path, speed=study.speed, robot=robot, settle_time=study.settle_time)
         cases.append(FollowerCase(path.name, title, r, follower_metrics(r)))
     return FollowerComparisonResult(study, tuple(cases))

@@ -47,7 +47,9 @@ class FollowerRobotSpec(_ComponentSpec):
     wheel_track: Positive | None = Field(None, description="wheel track b, m")
     wheel_radius: Positive | None = Field(None, description="wheel radius r, m")
     body_length: Positive | None = Field(None, description="robot length, m")
-    max_wheel_speed: WheelLimit | None = Field(None, description="wheel speed limit, rad/s (.inf: none)")
+    max_wheel_speed: WheelLimit | None = Field(
+        None, description="wheel speed limit, rad/s (.inf: none)"
+    )
     max_wheel_acceleration: WheelLimit | None = Field(None, description="rad/s^2 (.inf: none)")
     winch_offset_x: Number | None = Field(None, description="winch ahead of the centre, m")
     winch_offset_y: Number | None = Field(None, description="winch left of the centre, m")
@@ -96,7 +98,11 @@ class ControllerSpec(Model):
     @property
     def title(self) -> str:
         """The label, or a short name of the law."""
-        short = {"PseudoJoystick": "PJ", "FollowTheLeader": "FTL", "FollowTheLeaderConstDistance": "FTL-CD"}
+        short = {
+            "PseudoJoystick": "PJ",
+            "FollowTheLeader": "FTL",
+            "FollowTheLeaderConstDistance": "FTL-CD",
+        }
         return self.label or short[self.type]
 
 
@@ -133,12 +139,21 @@ class PathSpec(Model):
         args = {k: v for k, v in self.model_dump(exclude={"type", "name"}).items() if v is not None}
         if self.type == "points":
             if "points" not in args:
-                raise InvalidParameterError("path.points", None, "give points for type: points", "m")
+                raise InvalidParameterError(
+                    "path.points", None, "give points for type: points", "m"
+                )
             path = make_path({"points": args["points"], "name": self.name or "recorded"})
         else:
             if "points" in args:
-                raise InvalidParameterError("path.points", "...", f"only with type: points, not {self.type}")
+                raise InvalidParameterError(
+                    "path.points", "...", f"only with type: points, not {self.type}"
+                )
             path = make_path({"type": self.type, **args})
         if self.name:
-            path = LeaderPath(path.points, name=self.name, obstacles=path.obstacles, initial_heading=path.initial_heading)
+            path = LeaderPath(
+                path.points,
+                name=self.name,
+                obstacles=path.obstacles,
+                initial_heading=path.initial_heading,
+            )
         return path

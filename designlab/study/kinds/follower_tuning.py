@@ -60,7 +60,9 @@ class FollowerTuningStudy(StudyBase):
     desired_length: Positive | None = Field(None, le=10.0, description="l_d for every law, m")
     robot: FollowerRobotSpec = Field(default_factory=lambda: FollowerRobotSpec(preset="OXYDOG"))
     paths: list[PathSpec] = Field(min_length=1)
-    speeds: list[Annotated[float, Field(gt=0, le=5.0, allow_inf_nan=False)]] = Field([0.5], min_length=1)
+    speeds: list[Annotated[float, Field(gt=0, le=5.0, allow_inf_nan=False)]] = Field(
+        [0.5], min_length=1
+    )
     validation_paths: list[PathSpec] = Field(min_length=1)
     weights: CostWeights = Field(default_factory=CostWeights)
     damping_floor: NonNegative = Field(0.5, le=5.0)
@@ -79,7 +81,8 @@ class FollowerTuningStudy(StudyBase):
 
     def size(self) -> str:
         n_l, n_p, n_s = len(self.laws), len(self.paths), len(self.speeds)
-        return f"{n_l} law{'s' * (n_l > 1)} x {n_p} path{'s' * (n_p > 1)} x {n_s} speed{'s' * (n_s > 1)}"
+        laws, paths = f"{n_l} law{'s' * (n_l > 1)}", f"{n_p} path{'s' * (n_p > 1)}"
+        return f"{laws} x {paths} x {n_s} speed{'s' * (n_s > 1)}"
 
     @model_validator(mode="after")
     def _check(self) -> FollowerTuningStudy:
@@ -88,7 +91,9 @@ class FollowerTuningStudy(StudyBase):
         train = {p.build().name for p in self.paths}
         overlap = train & {p.build().name for p in self.validation_paths}
         if overlap:
-            raise ValueError(f"validation paths must differ from the tuning paths: {sorted(overlap)}")
+            raise ValueError(
+                f"validation paths must differ from the tuning paths: {sorted(overlap)}"
+            )
         return self
 
 
@@ -108,7 +113,9 @@ class FollowerTuningResult(Result):
 
     @property
     def warnings(self) -> tuple[str, ...]:  # type: ignore[override]
-        return tuple(f"{type(r.controller).__name__}: {w}" for r in self.results for w in r.warnings)
+        return tuple(
+            f"{type(r.controller).__name__}: {w}" for r in self.results for w in r.warnings
+        )
 
     def to_frame(self) -> pd.DataFrame:
         """One row per law and gain: default and tuned values, and the improvements."""
@@ -138,7 +145,9 @@ def run(study: FollowerTuningStudy, context: RunContext) -> FollowerTuningResult
     paths = [p.build() for p in study.paths]
     val = [p.build() for p in study.validation_paths]
     out = []
-    for law in tqdm(study.laws, desc=study.name, unit="law", file=sys.stderr, disable=not context.progress):
+    for law in tqdm(
+        study.laws, desc=study.name, unit="law", file=sys.stderr, disable=not context.progress
+    ):
         base = {"type": law}
         if study.desired_length is not None:
             base["desired_length"] = study.desired_length  # type: ignore[assignment]
