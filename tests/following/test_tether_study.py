@@ -119,3 +119,40 @@ def test_tuning_schema_errors():
         parse_study(TUNING + "tether_range: [1.0, 0.5]\n")
     with pytest.raises(StudyError, match="laws"):
         parse_study(TUNING.replace("[FollowTheLeaderConstDistance]", "[Joystick]"))
+
+
+SWEEP = """\
+designlab: 1
+kind: follower_sweep
+name: sw
+base: {controller: {type: FollowTheLeader}, path: {type: slalom}, speed: 0.5}
+sweep:
+  method: grid
+  parameters:
+    controller.lookahead: {values: [0.1, 0.28, 0.5]}
+    speed: {values: [0.4, 0.8]}
+"""
+
+
+def test_follower_sweep_grid_matches_single_runs():
+    import math
+
+    from designlab.following import FollowTheLeader, simulate, slalom
+    from designlab.following.tether_linear import damping_ratio
+
+    frame = run_study(parse_study(SWEEP)).to_frame()
+    assert len(frame) == 6 and (frame["status"] == "ok").all()
+    for _, row in frame.iterrows():
+        delta, v = row["delta_m"], row["v_m_per_s"]
+        zeta = damping_ratio(FollowTheLeader(lookahead=delta), v)
+        assert row["damping_ratio"] == pytest.approx(zeta)
+        assert row["damping_ratio"] == pytest.approx(0.5 * math.sqrt(3.0 * delta / v))
+    run = simulate(FollowTheLeader(lookahead=0.28), slalom(), speed=0.8)
+    one = frame[(frame["delta_m"] == 0.28) & (frame["v_m_per_s"] == 0.8)].iloc[0]
+    assert one["tether_max_m"] == pytest.approx(run.tether_length.max(), abs=1e-9)
+
+
+def test_follower_sweep_rejects_parameters_of_other_laws():
+    text = SWEEP.replace("{type: FollowTheLeader}", "{type: PseudoJoystick}")
+    with pytest.raises(StudyError, match=r"PseudoJoystick has no controller\.lookahead"):
+        parse_study(text)

@@ -13,4 +13,5 @@ MODULES: tuple[str, ...] = (
     "foam_design",
     "follower_comparison",
     "follower_tuning",
+    "follower_sweep",
 )
