@@ -40,8 +40,8 @@ Value error, -1 N/m is out of range for foam stiffness K_c: allowed > 0 N/m
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Annotated, Any, ClassVar, Generic, Literal, TypeVar
 
 from pydantic import BaseModel, Field, create_model, model_validator
@@ -53,12 +53,12 @@ from designlab.study.base import StudyBase, did_you_mean
 __all__ = [
     "MAX_POINTS",
     "OneAtATimeSpec",
-    "SensitivitySpec",
-    "SweepStudyBase",
     "ParameterInfo",
     "ParameterRange",
+    "SensitivitySpec",
     "SobolSpec",
     "SweepSpec",
+    "SweepStudyBase",
     "parameter_model",
 ]
 
@@ -101,7 +101,13 @@ class ParameterInfo:
         return out
 
     def check(self, value: float) -> bool:
-        """Whether ``value`` is allowed."""
+        """Whether ``value`` is allowed.
+
+        Parameters
+        ----------
+        value
+            A value in the parameter's unit.
+        """
         return (
             math.isfinite(value)
             and (self.gt is None or value > self.gt)
@@ -187,6 +193,13 @@ def parameter_model(name: str, parameters: dict[str, ParameterInfo]) -> type[Bas
     One optional field per dotted path (the YAML key), each validated against
     its :class:`ParameterInfo`. The model has ``items()`` (the given
     parameters in file order) and ``INFO`` (path -> info).
+
+    Parameters
+    ----------
+    name
+        Name of the generated model (shown in the JSON Schema).
+    parameters
+        Dotted path -> :class:`ParameterInfo`.
     """
     fields: dict[str, Any] = {}
     for path, info in parameters.items():
@@ -349,9 +362,7 @@ class SensitivitySpec(_Model, Generic[MetricT]):
     metrics: list[MetricT] | None = Field(
         None, min_length=1, description="metrics to analyse (default: the kind's default metrics)"
     )
-    local: bool = Field(
-        True, description="elasticities d ln(metric) / d ln(parameter) at the base"
-    )
+    local: bool = Field(True, description="elasticities d ln(metric) / d ln(parameter) at the base")
     one_at_a_time: OneAtATimeSpec | None = Field(
         None, description="percentage perturbation table (Zeng 2011 App. C form)"
     )

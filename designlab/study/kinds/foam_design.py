@@ -57,8 +57,8 @@ from designlab.impact.criteria import (
 from designlab.impact.parameters import ContactDynamics, Foam
 from designlab.results import OK, Result
 from designlab.study.base import Model, StudyBase
-from designlab.study.kinds.impact_specs import FoamSpec, RobotSpec
 from designlab.study.kinds.foam_envelope import DampingGrid
+from designlab.study.kinds.impact_specs import FoamSpec, RobotSpec
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
 
@@ -168,8 +168,6 @@ class FoamDesignStudy(StudyBase):
         return self
 
 
-
-
 @dataclass(frozen=True)
 class RobotDesign:
     """Everything the study computed for one robot."""
@@ -245,7 +243,15 @@ class FoamDesignResult(Result):
 
 
 def run(study: FoamDesignStudy, context: RunContext) -> FoamDesignResult:
-    """Compute the ``foam_design`` study (in this process; nothing is stored)."""
+    """Compute the ``foam_design`` study (in this process; nothing is stored).
+
+    Parameters
+    ----------
+    study
+        The validated study.
+    context
+        How to run it (nothing of this kind is stored).
+    """
     criteria = [c.build() for c in study.criteria]
     foams = []
     for i, spec in enumerate(study.foams):
