@@ -76,8 +76,8 @@ class TetherController:
     GAINS
         Field names a tuner may change (besides ``desired_length``).
     BOUNDS
-        Default tuning bounds per gain (Allan 2015 has none; see
-        ``docs/following.md``).
+        Widest tuning bounds per gain (Allan 2015 has none; ``tune`` keeps the
+        FTL look-ahead within b-2b unless told otherwise; ``docs/following.md``).
     """
 
     target: ClassVar[str] = "tether"

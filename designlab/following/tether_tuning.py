@@ -225,8 +225,9 @@ def tune(
     robot
         The robot (default :data:`OXYDOG`: the 1.0 m/s wheel limit of Table 3.1).
     bounds
-        Gain bounds (default: the law's ``BOUNDS``: gains 0.1-20 1/s, look-ahead
-        0.05-1.0 m, K_a 0-1/pi).
+        Gain bounds (default: the law's ``BOUNDS``: gains 0.1-20 1/s, K_a 0-1/pi;
+        the look-ahead within the thesis's rule b-2b, Sec. 2.3.2.2; pass
+        ``{"lookahead": (0.05, 1.0)}`` to explore beyond it).
     weights
         Cost weights ``deviation``, ``length``, ``smoothness`` (see the module notes).
     damping_floor
@@ -279,6 +280,9 @@ def tune(
     if hi_l <= lo_l:
         raise InvalidParameterError("tether_range", tether_range, "(min, max) with min < max", "m")
     bnds = dict(cls.BOUNDS)
+    if "lookahead" in bnds:
+        # the thesis's rule b < delta < 2b (Allan 2015 Sec. 2.3.2.2)
+        bnds["lookahead"] = (robot.wheel_track, 2.0 * robot.wheel_track)
     for k, v in (bounds or {}).items():
         if k not in cls.GAINS:
             raise InvalidParameterError(f"bounds.{k}", v, f"one of {list(cls.GAINS)}")

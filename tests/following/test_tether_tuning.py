@@ -48,6 +48,7 @@ def test_damping_floor_holds(tuned):
 def test_bounds_are_respected(tuned):
     for k, (lo, hi) in fol.FollowTheLeader.BOUNDS.items():
         assert lo <= tuned.controller.gains[k] <= hi
+    assert 0.28 <= tuned.controller.lookahead <= 0.56  # the thesis rule b < delta < 2b
 
 
 def test_seeded_and_executor_independent(tuned):
