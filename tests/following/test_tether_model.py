@@ -217,3 +217,38 @@ def test_controller_roundtrip():
     assert fol.controller_from_dict(c.as_dict()) == c
     with pytest.raises(InvalidParameterError, match=r"controller\.type"):
         fol.controller_from_dict({"type": "Joystick"})
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    lm=st.floats(0.0, 5.0),
+    phi=st.floats(-math.pi, math.pi),
+    kv=st.floats(0.1, 20.0),
+    ko=st.floats(0.1, 20.0),
+    ka=st.floats(0.0, 1.0 / math.pi),
+)
+def test_law_invariants(lm, phi, kv, ko, ka):
+    """Forward-only laws never reverse; every law turns toward phi (counter-clockwise +)."""
+    v, om = fol.PseudoJoystick(speed_gain=kv, turn_gain=ko).command(lm, phi)
+    assert v >= 0.0 and om * phi >= 0.0
+    v, om = fol.FollowTheLeaderConstDistance(speed_gain=kv, angle_gain=ka, turn_gain=ko).command(
+        lm, phi
+    )
+    assert v >= 0.0 and om * phi >= 0.0
+    assert v <= kv * max(lm - 1.2, 0.0) + 1e-12  # (1 - K_a |phi|) <= 1
+    v, om = fol.PseudoJoystick(speed_gain=kv, law="printed").command(lm, phi)
+    assert om * phi * v >= -1e-12  # toward the tether when driving forward
+
+
+@settings(max_examples=6, deadline=None)
+@given(angle=st.floats(-math.pi, math.pi), dx=st.floats(-20, 20), dy=st.floats(-20, 20))
+def test_simulation_is_equivariant_under_rigid_motion(angle, dx, dy):
+    """Rotating and shifting the leader path rotates and shifts the robot's path."""
+    rot = np.array([[math.cos(angle), -math.sin(angle)], [math.sin(angle), math.cos(angle)]])
+    base = fol.square_s()
+    moved = fol.from_array(base.points @ rot.T + [dx, dy])
+    for ctrl, tol in ((fol.PseudoJoystick(), 1e-8), (fol.FollowTheLeaderConstDistance(), 5e-3)):
+        a = fol.simulate(ctrl, base, duration=12.0)
+        b = fol.simulate(ctrl, moved, duration=12.0)
+        assert np.max(np.abs(a.robot_xy @ rot.T + [dx, dy] - b.robot_xy)) < tol
+        assert np.max(np.abs(a.tether_length - b.tether_length)) < tol
