@@ -14,4 +14,5 @@ MODULES: tuple[str, ...] = (
     "follower_comparison",
     "follower_tuning",
     "follower_sweep",
+    "accompanying",
 )
