@@ -78,7 +78,9 @@ class FollowerRobot:
     max_wheel_speed
         Wheel angular speed limit in rad/s (> 0, may be ``inf``). The App. C
         code has no limit (the default); the hardware's 1.0 m/s (Table 3.1)
-        is 8 rad/s (:data:`OXYDOG`).
+        is 8 rad/s (:data:`OXYDOG`). A demand beyond it scales both wheels by
+        the same factor, keeping the demanded curvature (the thesis does not
+        say how its firmware saturates; a project choice, ``docs/following.md``).
     max_wheel_acceleration
         Wheel angular acceleration limit in rad/s^2 (> 0, may be ``inf``; no
         limit in the thesis).
@@ -301,8 +303,9 @@ def step_function(
     noise inputs; the steering angle is ``theta_m`` (Pseudo-Joystick, eq. 2.3)
     or, with ``steer_to_target``, ``phi = wrap(atan2(target - P) - Gamma)``
     (eqs. 2.16, 2.19); the law gives ``(V, Omega)``; with ``limits`` the
-    wheel speeds ``(V -+ b Omega/2)/r`` (eq. 2.4) change by at most
-    ``max_wheel_step`` per period and are clipped to ``max_wheel_speed``;
+    wheel speeds ``(V -+ b Omega/2)/r`` (eq. 2.4) are scaled by one common
+    factor so that neither exceeds ``max_wheel_speed`` (the demanded
+    curvature is kept), then change by at most ``max_wheel_step`` per period;
     the pose moves on the exact arc (App. C ``dead_reckon``).
 
     The flags leave out operations whose inputs are zero or infinite (no
@@ -336,6 +339,11 @@ def step_function(
         wmax, astep = syms["max_wheel_speed"], syms["max_wheel_step"]
         wl = (v - 0.5 * b * om) / r
         wr = (v + 0.5 * b * om) / r
+        # speed limit: both wheels scaled by the same factor, which keeps the demanded
+        # curvature Omega/V (clipping each wheel alone would drop the turn when V saturates,
+        # and a robot far behind its leader would then drive straight on and lose it)
+        scale = 1.0 / ca.fmax(1.0, ca.fmax(ca.fabs(wl), ca.fabs(wr)) / wmax)  # wmax may be inf
+        wl, wr = wl * scale, wr * scale
         wl = ca.fmin(ca.fmax(ca.fmin(ca.fmax(wl, wlp - astep), wlp + astep), -wmax), wmax)
         wr = ca.fmin(ca.fmax(ca.fmin(ca.fmax(wr, wrp - astep), wrp + astep), -wmax), wmax)
         v = 0.5 * r * (wl + wr)  # eq. 2.6

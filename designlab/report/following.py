@@ -5,6 +5,11 @@
 ``metrics.csv``
     One row per (path, l_d, law): normal path deviation (m and wheel tracks),
     tether-length error and range, smoothness, stops, path-length ratio.
+``linear.csv``
+    Per (law, l_d): the linearised lateral loop (python-control: poles as
+    damping ratio and natural frequency, phase margin, crossover, tether-length
+    pole, steady length, sampled stability) and the damping ratio and natural
+    frequency fitted to a simulated lateral step.
 ``allan_tables.csv``
     Allan 2015 Tables 3.2 and 3.3 (measured, per subject).
 ``summary.md``
@@ -163,6 +168,8 @@ def comparison_markdown(
             lo=lo, hi=hi, t32=measured_ratio("table_3_2"), t33=measured_ratio("table_3_3")
         )
         lines += ["## Discussion", "", " ".join(text.split()), ""]
+    if result.linear is not None and len(result.linear):
+        lines += _linear_section(result.linear, study.speed)
     other = frame[
         [
             "path",
@@ -200,6 +207,46 @@ def comparison_markdown(
         lines += ["## Warnings", ""] + [f"- {w}" for w in result.warnings] + [""]
     lines += _footer(command, version)
     return "\n".join(lines)
+
+
+_LINEAR_TEXT = """
+The lateral-error loop of each law on a straight path at {v:g} m/s, linearised (e' = v psi,
+psi' = Omega, Omega = K (psi + e/L); `docs/following.md`, Allan 2015 Sec. 2.3): K is the turn
+gain, L the effective look-ahead (PJ: the tether length; FTL: delta; FTL-CD: v/K_p), zeta and
+omega_n from the closed-loop poles, the phase margin of the loop broken at Omega. "sim" columns
+are fitted to the full nonlinear simulation (buffers, saturations, sampling) after a
+{off:g} m sideways start: the linear prediction holds to |zeta error| <= {err:.3f}. A small
+look-ahead weaves (zeta < 0.5, Sec. 2.5.4); the defaults do not.
+"""
+
+
+def _linear_section(linear: pd.DataFrame, speed: float) -> list[str]:
+    from designlab.study.kinds.follower_comparison import STEP_OFFSET
+
+    cols = {
+        "controller": "law",
+        "desired_length_m": "l_d [m]",
+        "turn_gain_per_s": "K [1/s]",
+        "lookahead_m": "L [m]",
+        "damping_ratio": "zeta",
+        "sim_damping_ratio": "zeta sim",
+        "natural_frequency_rad_per_s": "omega_n [rad/s]",
+        "sim_natural_frequency_rad_per_s": "omega_n sim",
+        "phase_margin_deg": "PM [deg]",
+        "steady_length_m": "l_ss [m]",
+        "discrete_stable": "sampled stable",
+    }
+    table = linear[list(cols)].rename(columns=cols).round(3)
+    err = float(np.max(np.abs(linear["damping_ratio_error"])))
+    text = _LINEAR_TEXT.format(v=speed, off=STEP_OFFSET, err=err)
+    return [
+        "## Linear lateral loop (python-control) vs simulation",
+        "",
+        " ".join(text.split()),
+        "",
+        markdown_table(table),
+        "",
+    ]
 
 
 def _comparison_figures(result: FollowerComparisonResult, path: str) -> tuple[Figure, Figure]:
@@ -252,6 +299,8 @@ def write_comparison_report(
 ) -> list[Path]:
     """Write the ``follower_comparison`` report into ``directory`` (see the module notes)."""
     written = [write_csv(result.to_frame(), directory / "metrics.csv")]
+    if result.linear is not None:
+        written.append(write_csv(result.linear, directory / "linear.csv"))
     tables = allan_tables()
     both = pd.concat([t.assign(table=k) for k, t in tables.items()], ignore_index=True)
     written.append(write_csv(both, directory / "allan_tables.csv"))

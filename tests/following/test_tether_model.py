@@ -138,6 +138,15 @@ def test_wheel_limits_in_drive():
     )
     assert out[5] == pytest.approx(8.0) and out[3] == pytest.approx(1.0)
     assert out[0] == pytest.approx(0.01)  # 1 m/s for 0.01 s
+    # a turning demand beyond the limit: both wheels scaled alike, so the curvature is kept
+    lm, th = math.hypot(2.0, 0.5), math.atan2(0.5, 2.0)
+    v, om = 5.0 * (lm - 1.0), 12.0 * th  # App. C mode 10, demanded
+    out = d(
+        0.0, 0.0, 0.0, 2.0, 0.5, 0.0, 0.0, 8.0, 8.0, *common, 1e9, 0.0, 0.0, 0.0, 1.0, 5.0, 12.0
+    )
+    assert out[6] == pytest.approx(8.0) and out[5] < 8.0
+    assert out[4] / out[3] == pytest.approx(om / v, rel=1e-12)
+    assert out[3] == pytest.approx(8.0 * R * v / (v + 0.5 * B * om), rel=1e-12)
 
 
 def test_robot_validation():

@@ -46,6 +46,19 @@ def test_comparison_runs_and_reports(tmp_path):
     assert "Table 3.2" in text and "1.53" in text and "PJ / FTL-CD" in text
     tables = pd.read_csv(out / "allan_tables.csv")
     assert len(tables) == 12
+    # linear lateral loop per (law, l_d), against the closed forms of the characteristic
+    # equations (PJ: zeta = sqrt(k_O l / v)/2 with l = l_d + v/k_V; FTL: sqrt(K delta / v)/2;
+    # FTL-CD: sqrt(K_b / K_p)/2) and against the simulated step
+    lin = pd.read_csv(out / "linear.csv").set_index(["desired_length_m", "controller"])
+    assert len(lin) == 2 * 3 and "Linear lateral loop" in text
+    v = 0.5
+    for ld in (0.6, 1.0):
+        l_pj = ld + v / 5.0
+        assert lin.loc[(ld, "PJ"), "damping_ratio"] == pytest.approx(0.5 * (12 * l_pj / v) ** 0.5)
+        assert lin.loc[(ld, "FTL"), "damping_ratio"] == pytest.approx(0.5 * (3 * 0.3 / v) ** 0.5)
+        assert lin.loc[(ld, "FTL-CD"), "damping_ratio"] == pytest.approx(0.5)
+    assert (lin["sim_damping_ratio"] - lin["damping_ratio"]).abs().max() < 0.1
+    assert lin["discrete_stable"].all()
 
 
 @pytest.mark.parametrize(

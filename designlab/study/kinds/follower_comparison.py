@@ -4,7 +4,12 @@ Every (path, law, desired tether length) is simulated
 (:func:`designlab.following.simulate`) and scored with the normal path
 deviation of App. A and the other figures of Sec. 2.5.1
 (:func:`designlab.following.follower_metrics`). The report puts the mean
-deviation in wheel tracks next to the measured Tables 3.2/3.3.
+deviation in wheel tracks next to the measured Tables 3.2/3.3. For every
+(law, l_d) it also linearises the lateral loop (python-control,
+:func:`designlab.following.linear_analysis`) and fits the damping ratio and
+natural frequency of a simulated lateral step of the full nonlinear loop
+(:func:`designlab.following.tether_linear.lateral_step_response`), so that the
+report shows the linear prediction next to the simulation.
 
 Examples
 --------
@@ -32,7 +37,14 @@ import pandas as pd
 from pydantic import Field, model_validator
 from tqdm.auto import tqdm
 
-from designlab.following import FollowerMetrics, FollowerRun, follower_metrics, simulate
+from designlab.following import (
+    FollowerMetrics,
+    FollowerRun,
+    follower_metrics,
+    linear_analysis,
+    simulate,
+)
+from designlab.following.tether_linear import fit_damping, lateral_step_response
 from designlab.results import OK, Result
 from designlab.study.base import Positive, StudyBase
 from designlab.study.kinds.follower_specs import ControllerSpec, FollowerRobotSpec, PathSpec
@@ -66,6 +78,7 @@ class FollowerComparisonStudy(StudyBase):
     PRODUCES: ClassVar[tuple[str, ...]] = (
         "summary.md",
         "metrics.csv",
+        "linear.csv",
         "allan_tables.csv",
         "trajectories_*.png",
         "npd_profiles_*.png",
@@ -115,6 +128,7 @@ class FollowerComparisonResult(Result):
 
     study: FollowerComparisonStudy
     cases: tuple[FollowerCase, ...]
+    linear: pd.DataFrame | None = None
 
     @property
     def status(self) -> str:  # type: ignore[override]
@@ -152,7 +166,45 @@ def run(study: FollowerComparisonStudy, context: RunContext) -> FollowerComparis
     ):
         r = simulate(ctrl, path, speed=study.speed, robot=robot, settle_time=study.settle_time)
         cases.append(FollowerCase(path.name, title, r, follower_metrics(r)))
-    return FollowerComparisonResult(study, tuple(cases))
+    return FollowerComparisonResult(study, tuple(cases), linear_table(study, robot))
+
+
+#: Lateral offset (m) and fitted window (s) of the simulated step in :func:`linear_table`.
+STEP_OFFSET = 0.05
+STEP_WINDOW = 10.0
+
+
+def linear_table(study: FollowerComparisonStudy, robot: Any) -> pd.DataFrame:
+    """Linear lateral loop of every (law, l_d) next to a simulated lateral step.
+
+    The linear columns come from :func:`designlab.following.linear_analysis`;
+    ``sim_damping_ratio`` and ``sim_natural_frequency_rad_per_s`` are fitted
+    (:func:`designlab.following.tether_linear.fit_damping`) to the robot's
+    lateral offset after a ``STEP_OFFSET`` m sideways start on a straight path
+    at the study's leader speed (the full nonlinear loop with its buffers).
+    """
+    rows = []
+    n_fit = round(STEP_WINDOW / robot.sample_time)
+    for ld in study.desired_lengths or [None]:
+        for cs in study.controllers:
+            ctrl = cs.build() if ld is None else cs.build(desired_length=float(ld))
+            lin = linear_analysis(ctrl, speed=study.speed, robot=robot)
+            row = {"controller": cs.title, "desired_length_m": ctrl.desired_length}
+            row.update(lin.to_frame().iloc[0].to_dict())
+            t, e = lateral_step_response(
+                ctrl,
+                offset=STEP_OFFSET,
+                speed=study.speed,
+                duration=STEP_WINDOW + 2.0,
+                robot=robot,
+            )
+            zeta, wn = fit_damping(t[:n_fit], e[:n_fit])
+            row["sim_damping_ratio"] = zeta
+            row["sim_natural_frequency_rad_per_s"] = wn
+            row["damping_ratio_error"] = zeta - lin.damping_ratio
+            row["overshoot"] = max(0.0, -float(e.min()) / STEP_OFFSET)
+            rows.append(row)
+    return pd.DataFrame(rows)
 
 
 KIND = StudyKind(
