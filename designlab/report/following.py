@@ -215,8 +215,9 @@ psi' = Omega, Omega = K (psi + e/L); `docs/following.md`, Allan 2015 Sec. 2.3): 
 gain, L the effective look-ahead (PJ: the tether length; FTL: delta; FTL-CD: v/K_p), zeta and
 omega_n from the closed-loop poles, the phase margin of the loop broken at Omega. "sim" columns
 are fitted to the full nonlinear simulation (buffers, saturations, sampling) after a
-{off:g} m sideways start: the linear prediction holds to |zeta error| <= {err:.3f}. A small
-look-ahead weaves (zeta < 0.5, Sec. 2.5.4); the defaults do not.
+{off:g} m sideways start. Largest |zeta sim - zeta| per law: {err} (an overdamped loop, zeta >
+1, is hard to fit: its two real poles trade off). A small look-ahead weaves (zeta < 0.5, Sec.
+2.5.4).
 """
 
 
@@ -237,7 +238,10 @@ def _linear_section(linear: pd.DataFrame, speed: float) -> list[str]:
         "discrete_stable": "sampled stable",
     }
     table = linear[list(cols)].rename(columns=cols).round(3)
-    err = float(np.max(np.abs(linear["damping_ratio_error"])))
+    err = ", ".join(
+        f"{law} {float(np.max(np.abs(g['damping_ratio_error']))):.3f}"
+        for law, g in linear.groupby("controller", sort=False)
+    )
     text = _LINEAR_TEXT.format(v=speed, off=STEP_OFFSET, err=err)
     return [
         "## Linear lateral loop (python-control) vs simulation",
