@@ -420,7 +420,12 @@ def write_tuning_report(
         "",
         "Cost improvement: 1 - J_tuned/J_default with J the weighted deviation, tether-length and "
         "smoothness cost (penalties for leaving the tether range or saturating a wheel are counted "
-        "separately as violations). NPD improvement: 1 - mean NPD tuned/default.",
+        "separately as violations). NPD improvement: 1 - mean NPD tuned/default. A violation is "
+        "a scenario whose penalty exceeds 0.001: the tether left its range (10 x the excess / "
+        "l_d) or a wheel ran at its speed limit (the fraction of the run at it); the penalty "
+        "column below gives the size. Status `not_converged` means that differential evolution "
+        "used all its generations; the tuned cost on the tuning paths is still never above the "
+        "defaults' (they are in the initial population).",
         "",
         "## Per scenario",
         "",
