@@ -53,7 +53,7 @@ import importlib
 import json
 import logging
 import sys
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
@@ -383,6 +383,10 @@ class SweepRun:
         Keys of store chunks found corrupt (and recomputed).
     chunks
         Chunks evaluated or read.
+    digest
+        A hash of what determines the results: the evaluator, its code
+        version, its options and every point in order. Two runs with the
+        same digest have the same results.
     """
 
     frame: pd.DataFrame
@@ -392,6 +396,7 @@ class SweepRun:
     cached: int = 0
     corrupt: list[str] = field(default_factory=list)
     chunks: int = 0
+    digest: str = ""
 
     @property
     def duplicates(self) -> int:
@@ -414,23 +419,116 @@ class SweepRun:
 def _distinct(cols: Columns) -> tuple[np.ndarray, np.ndarray]:
     """``(first, inverse)``: rows of the distinct points, and each point's distinct index.
 
-    Rows are hashed (pandas, 64 bit) and the grouping is then verified value by
-    value, so a hash collision can never merge two different points.
+    Rows are hashed column by column (pandas, 64 bit, no copy of the table);
+    when rows share a hash the grouping is verified value by value, so a hash
+    collision can never merge two different points.
     """
     n = _length(cols)
     if n == 0:
         return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
-    frame = pd.DataFrame({k: cols[k] for k in sorted(cols)})
-    hashes = pd.util.hash_pandas_object(frame, index=False).to_numpy()
+    hashes = np.zeros(n, dtype=np.uint64)
+    for name in sorted(cols):
+        column = np.ascontiguousarray(cols[name], dtype=float)
+        with np.errstate(over="ignore"):
+            hashes = hashes * np.uint64(0x100000001B3) ^ pd.util.hash_array(column)
     codes, _ = pd.factorize(hashes)
     first = np.flatnonzero(~pd.Series(codes).duplicated().to_numpy())
-    values = frame.to_numpy()
-    rep = values[first[codes]]
-    same = (rep == values) | (np.isnan(rep) & np.isnan(values))
-    if not bool(same.all()):  # pragma: no cover - a 64-bit hash collision
-        codes = frame.groupby(list(frame.columns), sort=False, dropna=False).ngroup().to_numpy()
-        first = np.flatnonzero(~pd.Series(codes).duplicated().to_numpy())
+    if len(first) == n:  # nothing merged: no collision can matter
+        return first, np.asarray(codes, dtype=np.intp)
+    for name in cols:
+        values = np.asarray(cols[name], dtype=float)
+        rep = values[first[codes]]
+        if not bool(((rep == values) | (np.isnan(rep) & np.isnan(values))).all()):
+            frame = pd.DataFrame({k: cols[k] for k in sorted(cols)})
+            codes = frame.groupby(list(frame.columns), sort=False, dropna=False).ngroup()
+            codes = codes.to_numpy()  # a 64-bit hash collision (tested by forcing one)
+            first = np.flatnonzero(~pd.Series(codes).duplicated().to_numpy())
+            break
     return first, np.asarray(codes, dtype=np.intp)
+
+
+def _digest(
+    evaluator: Evaluator,
+    options: Mapping[str, Any],
+    cols: Columns,
+    keys: Sequence[str | None],
+    inverse: np.ndarray | None,
+) -> str:
+    """A hash of the evaluator, its code, its options and every point in order.
+
+    With a store, the chunk keys already hash every distinct point (and the
+    evaluator, code and options): the digest combines them with the order of
+    the points instead of hashing the points again.
+    """
+    if not keys or any(k is None for k in keys):
+        return chunk_key(evaluator, options, cols)
+    h = hashlib.sha256(b"chunks")
+    for key in keys:
+        h.update(key.encode())  # type: ignore[union-attr]
+    if inverse is not None:
+        h.update(np.ascontiguousarray(inverse, dtype="<i8").tobytes())
+    return h.hexdigest()
+
+
+class _Assembler:
+    """Result columns of ``n`` distinct points, filled chunk by chunk in place.
+
+    The same column typing as :func:`_concat` (numbers -> float with NaN where
+    a chunk lacks the column; booleans stay boolean unless some chunk lacks
+    them; anything else -> object with ``None``), without holding the chunks:
+    memory is the result table itself plus one chunk.
+    """
+
+    def __init__(self, n: int) -> None:
+        self.n = n
+        self.cols: dict[str, np.ndarray] = {}
+        self.present: dict[str, np.ndarray] = {}
+
+    def _allocate(self, name: str, kind: str) -> None:
+        if kind in "fiu":
+            self.cols[name] = np.full(self.n, np.nan)
+        elif kind == "b":
+            self.cols[name] = np.zeros(self.n, dtype=bool)
+        else:
+            self.cols[name] = np.full(self.n, None, dtype=object)
+        self.present[name] = np.zeros(self.n, dtype=bool)
+
+    def _widen(self, name: str) -> None:
+        """A column seen with two incompatible types becomes object (``None`` where absent)."""
+        old, mask = self.cols[name], self.present[name]
+        new = np.full(self.n, None, dtype=object)
+        new[mask] = old[mask].astype(object)
+        self.cols[name] = new
+
+    def put(self, start: int, part: Columns) -> None:
+        """Write a chunk's columns at rows ``start:start + len(chunk)``."""
+        k = _length(part)
+        rows = slice(start, start + k)
+        for name, values in part.items():
+            a = np.asarray(values)
+            if name not in self.cols:
+                self._allocate(name, a.dtype.kind)
+            have = self.cols[name].dtype.kind
+            if have == "f" and a.dtype.kind not in "fiu":
+                self._widen(name)
+            elif have == "b" and a.dtype.kind != "b":
+                self._widen(name)
+            target = self.cols[name]
+            target[rows] = a.astype(float) if target.dtype.kind == "f" else a
+            self.present[name][rows] = True
+
+    def frame(self, inverse: np.ndarray | None) -> pd.DataFrame:
+        """The table, one row per point (``inverse`` maps points to distinct rows)."""
+        if self.n == 0:
+            return pd.DataFrame()
+        out: dict[str, np.ndarray] = {}
+        for name, col in self.cols.items():
+            if col.dtype.kind == "b" and not self.present[name].all():
+                self._widen(name)
+                col = self.cols[name]
+            out[name] = col if inverse is None else col[inverse]
+        self.cols, self.present = {}, {}
+        return pd.DataFrame(out, copy=False)
 
 
 def _bar(total: int, desc: str, progress: bool) -> Any:
@@ -498,12 +596,12 @@ def run_points(
     if size < 1:
         raise ValueError(f"chunk_size = {size} is not allowed: must be >= 1")
     first, inverse = _distinct(cols)
-    distinct = _take(cols, first)
     m = len(first)
+    distinct = cols if m == n else _take(cols, first)
     run = SweepRun(pd.DataFrame(), points=n, distinct=m)
     bounds = [(s, min(s + size, m)) for s in range(0, m, size)]
     run.chunks = len(bounds)
-    parts: list[Columns | None] = [None] * len(bounds)
+    assembled = _Assembler(m)
     keys: list[str | None] = [None] * len(bounds)
     todo: list[int] = []
     for c, (s, e) in enumerate(bounds):
@@ -513,7 +611,7 @@ def run_points(
             if resume or cache_only:
                 state, value = store.get_chunk(keys[c])  # type: ignore[arg-type]
                 if state == "ok" and _length(value) == e - s:
-                    parts[c] = value
+                    assembled.put(s, value)
                     run.cached += e - s
                     continue
                 if state in ("corrupt", "ok"):
@@ -536,25 +634,28 @@ def run_points(
     )  # fmt: skip
     if todo:
         ex = executor if executor is not None else SerialExecutor()
-        tasks = [
-            {"evaluator": evaluator, "options": options,
-             "points": _take(distinct, slice(*bounds[c]))}
+        tasks = (
+            {
+                "evaluator": evaluator,
+                "options": options,
+                "points": _take(distinct, slice(*bounds[c])),
+            }
             for c in todo
-        ]  # fmt: skip
+        )  # fmt: skip  (a generator: only the chunks in flight exist as tasks)
         bar = _bar(m - run.cached, desc, progress)
         try:
             for t, out in _as_completed(ex, tasks):
                 c = todo[t]
                 if store is not None:
                     store.put_chunk(keys[c], out)  # type: ignore[arg-type]
-                parts[c] = out
+                assembled.put(bounds[c][0], out)
                 k = bounds[c][1] - bounds[c][0]
                 run.computed += k
                 bar.update(k)
         finally:
             bar.close()
-    merged = _concat([p for p in parts if p is not None]) if m else {}
-    frame = pd.DataFrame({k: v[inverse] for k, v in merged.items()}) if m else pd.DataFrame()
+    run.digest = _digest(evaluator, options, cols, keys, None if m == n else inverse)
+    frame = assembled.frame(None if m == n else inverse)
     if len(frame):
         for c in ("status", "error"):
             if c not in frame:
@@ -569,5 +670,5 @@ def run_points(
     return run
 
 
-def _as_completed(ex: Any, tasks: list[dict[str, Any]]) -> Iterator[tuple[int, Columns]]:
+def _as_completed(ex: Any, tasks: Iterable[dict[str, Any]]) -> Iterator[tuple[int, Columns]]:
     yield from ex.map_unordered(evaluate_chunk, tasks)
