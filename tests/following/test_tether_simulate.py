@@ -89,6 +89,22 @@ def test_wheel_speed_and_acceleration_limits():
     assert any("speed limit" in w for w in run.warnings)
 
 
+def test_saturated_robot_keeps_turning_toward_its_leader():
+    """Regression: stiff FTL gains at the OxyDog wheel limit on the out-and-back slalom.
+
+    With each wheel clipped alone, a large speed demand saturated both wheels equally, the
+    turn was lost at the turnaround and the robot drove on straight (tether 16 m). Scaling
+    both wheels keeps the curvature, so the robot turns and the tether stays short.
+    """
+    ctrl = fol.FollowTheLeader(speed_gain=5.26, turn_gain=14.9, lookahead=0.284)
+    run = fol.simulate(ctrl, fol.slalom(out_and_back=True), speed=0.5, robot=fol.OXYDOG)
+    wl = (run.speed - 0.5 * fol.OXYDOG.wheel_track * run.turn_rate) / fol.OXYDOG.wheel_radius
+    wr = (run.speed + 0.5 * fol.OXYDOG.wheel_track * run.turn_rate) / fol.OXYDOG.wheel_radius
+    assert np.max(np.maximum(np.abs(wl), np.abs(wr))) == pytest.approx(8.0)  # it saturates
+    assert run.tether_length.max() < 1.5
+    assert fol.normal_path_deviation(run.leader_xy, run.robot_xy).mean < 0.3
+
+
 def test_rotates_in_place_when_slack():
     """App. C PJ: V = 0 but Omega = k_O theta when l_m < l_d (Allan 2015 Sec. 4.4.2's creep)."""
     run = fol.simulate(
