@@ -15,8 +15,8 @@ Examples
 
 from __future__ import annotations
 
-from designlab import errors, impact
+from designlab import errors, impact, navigation
 
-__all__ = ["__version__", "errors", "impact"]
+__all__ = ["__version__", "errors", "impact", "navigation"]
 
 __version__ = "0.1.0"
