@@ -15,12 +15,42 @@ from designlab.navigation.parameters import (
     RectangularObstacle,
     VFFGains,
 )
+from designlab.navigation.criteria import Criteria, criteria
+from designlab.navigation.lyapunov import StabilityAudit, omega_closed_form, omega_printed
 from designlab.navigation.regions import RegionSizes, region_sizes
+from designlab.navigation.scenarios import (
+    ConstantVelocity,
+    Disc,
+    Rectangle,
+    SampledPath,
+    Scenario,
+    Stationary,
+    Walk,
+    configuration,
+)
+from designlab.navigation.simulate import BatchResult, NavigationResult, simulate, simulate_batch
 
 __all__ = [
     "EXPERIMENT_GAINS",
     "OPTIMAL_GAINS",
+    "BatchResult",
     "CircularObstacle",
+    "ConstantVelocity",
+    "Criteria",
+    "Disc",
+    "NavigationResult",
+    "Rectangle",
+    "SampledPath",
+    "Scenario",
+    "StabilityAudit",
+    "Stationary",
+    "Walk",
+    "configuration",
+    "criteria",
+    "omega_closed_form",
+    "omega_printed",
+    "simulate",
+    "simulate_batch",
     "GeCuiGains",
     "HolonomicRobot",
     "Human",

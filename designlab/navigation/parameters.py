@@ -115,7 +115,9 @@ class NonholonomicRobot(_Params):
     max_angular_accel
         Maximum angular acceleration in rad/s^2 (the thesis's "omega bar", about 70).
     mass
-        Mass of the reference holonomic robot in kg (3.7 kg, Sec. 7.2).
+        Mass of the virtual holonomic reference robot that the force field drives, kg.
+        The thesis leaves it open (the physical robot weighs 3.7 kg, Sec. 7.2); the
+        default is the holonomic robot's 4.4 kg, the mass the gains were tuned for.
     wheel_radius, track
         Wheel radius r_w,nh and wheel span l_nh in m (0.025 m, 0.28 m).
     xi, k
@@ -131,7 +133,7 @@ class NonholonomicRobot(_Params):
     max_speed: float = 0.7
     max_accel: float = 10.0
     max_angular_accel: float = 70.0
-    mass: float = 3.7
+    mass: float = 4.4
     wheel_radius: float = 0.025
     track: float = 0.28
     xi: float = 0.95

@@ -1,0 +1,323 @@
+"""The simulation engine shared by single runs and batches (internal).
+
+Per navigation period one compiled CasADi function evaluates the field (or a
+baseline), integrates the robot over the hold and measures the distances at every
+dynamics step. It is called through CasADi's buffer interface with preallocated
+numpy arrays, and mapped over a batch of gain sets with ``Function.map``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Any
+
+import casadi as ca
+import numpy as np
+from numpy.typing import NDArray
+
+from designlab.errors import InvalidParameterError, check_positive
+from designlab.navigation.dynamics import build_hold, state_size
+from designlab.navigation.field import ObstacleGeometry, build_cbf_rows, build_distance, build_field
+from designlab.navigation.parameters import HolonomicRobot, NonholonomicRobot
+from designlab.navigation.scenarios import Scenario
+
+Array = NDArray[np.float64]
+
+_STEP_OUT = ("X", "power", "D", "F", "critical", "V", "Vdot0", "Omega", "vL2", "FL", "g", "active", "d",
+             "sigma")
+
+
+def _field_velocity(robot: HolonomicRobot | NonholonomicRobot, x0: ca.SX) -> ca.SX:
+    if isinstance(robot, HolonomicRobot):
+        return x0[0:4]
+    return ca.vertcat(x0[0], x0[1], x0[3] * ca.cos(x0[2]), x0[3] * ca.sin(x0[2]))
+
+
+@lru_cache(maxsize=64)
+def build_step(geometries: tuple[ObstacleGeometry, ...], robot: HolonomicRobot | NonholonomicRobot,
+               method: str, n_sub: int, dt: float) -> ca.Function:
+    """Field + hold + distances for one navigation period, as one SX function."""
+    n = len(geometries)
+    nx = state_size(robot)
+    x0 = ca.SX.sym("x0", nx)
+    goal = ca.SX.sym("goal", 2)
+    obs = ca.SX.sym("obs", 6 * n)
+    gains = ca.SX.sym("gains", 4)
+    params = ca.SX.sym("params", 4)
+    osub = ca.SX.sym("osub", 2 * n, n_sub)
+    fforce = ca.SX.sym("fforce", 3)  # (use_override, Fx, Fy): the CBF filter's force
+    field = build_field(geometries, method)
+    hold = build_hold(robot, n_sub, dt)
+    dist = build_distance(geometries)
+    out = field(x=_field_velocity(robot, x0), goal=goal, obs=obs, gains=gains, params=params)
+    F = ca.if_else(fforce[0], fforce[1:3], out["F"])
+    ho = hold(x0=x0, F=F, brake=out["critical"])
+    X = ho["X"]
+    if n:
+        D = ca.horzcat(*[dist(X[0:2, k], osub[:, k]) for k in range(n_sub)])
+    else:
+        D = ca.SX(0, n_sub)
+    outs = [X, ho["power"], D, F] + [out[k] for k in _STEP_OUT[4:]]
+    return ca.Function(f"step_{method}_{robot.kind}_{n}", [x0, goal, obs, gains, params, osub, fforce], outs,
+                       ["x0", "goal", "obs", "gains", "params", "osub", "fforce"], list(_STEP_OUT))
+
+
+@lru_cache(maxsize=64)
+def _compiled(geometries: tuple[ObstacleGeometry, ...], robot: HolonomicRobot | NonholonomicRobot, method: str,
+              n_sub: int, dt: float, n_batch: int, jit: bool) -> ca.Function:
+    f = build_step(geometries, robot, method, n_sub, dt)
+    if n_batch > 1:
+        # goal, obs, params, osub, fforce are shared by the batch (not repeated)
+        f = f.map(f"{f.name()}_map{n_batch}", "serial", n_batch, [1, 2, 4, 5, 6], [])
+    if jit:
+        f = _jit(f)
+    return f
+
+
+def _jit(f: ca.Function) -> ca.Function:
+    """Compile ``f`` to machine code with the system C compiler (CasADi's JIT)."""
+    sx = f.expand() if f.is_a("MXFunction") else f
+    return ca.Function(sx.name(), sx.sx_in(), sx.call(sx.sx_in()), sx.name_in(), sx.name_out(),
+                       {"jit": True, "compiler": "shell", "jit_options": {"flags": ["-O1"], "verbose": False}})
+
+
+class _Buffered:
+    """A casadi.Function evaluated through its buffer interface on preallocated numpy arrays."""
+
+    def __init__(self, f: ca.Function) -> None:
+        self.f = f
+        self._buf, self._trigger = f.buffer()
+        self.inp = [np.zeros(f.nnz_in(i)) for i in range(f.n_in())]
+        self.out = [np.zeros(f.nnz_out(i)) for i in range(f.n_out())]
+        for i, a in enumerate(self.inp):
+            self._buf.set_arg(i, memoryview(a))
+        for i, a in enumerate(self.out):
+            self._buf.set_res(i, memoryview(a))
+        self.shape_in = [(f.size1_in(i), f.size2_in(i)) for i in range(f.n_in())]
+        self.shape_out = [(f.size1_out(i), f.size2_out(i)) for i in range(f.n_out())]
+
+    def view_in(self, i: int) -> Array:
+        r, c = self.shape_in[i]
+        return self.inp[i].reshape((c, r)).T  # column-major view
+
+    def view_out(self, i: int) -> Array:
+        r, c = self.shape_out[i]
+        return self.out[i].reshape((c, r)).T
+
+    def __call__(self) -> None:
+        self._trigger()
+
+
+@dataclass
+class RawRun:
+    """Arrays of a (batched) run; the public results are built from it."""
+
+    arrival_time: Array  # (N,)
+    min_distance: Array  # (N, n_obs)
+    energy: Array  # (N,)
+    critical_time: Array  # (N,)
+    t_end: float
+    record: dict[str, Any] | None
+
+
+def obstacle_tracks(scenario: Scenario, times: Array) -> tuple[Array, Array, Array]:
+    """Positions, velocities, accelerations of every obstacle at ``times``: (n_obs, len(times), 2)."""
+    if not scenario.obstacles:
+        z = np.zeros((0, times.size, 2))
+        return z, z, z
+    ps, vs, accs = zip(*(o.state(times) for o in scenario.obstacles), strict=True)
+    return np.stack(ps), np.stack(vs), np.stack(accs)
+
+
+def initial_state(scenario: Scenario) -> Array:
+    if isinstance(scenario.robot, HolonomicRobot):
+        return np.array([*scenario.start, 0.0, 0.0])
+    return np.array([*scenario.start, scenario.heading0, 0.0, 0.0])
+
+
+def run(
+    scenario: Scenario,
+    gains: Array,
+    *,
+    method: str = "vff",
+    stabilising: bool = True,
+    tie: int = 1,
+    arrival_tolerance: float = 0.15,
+    dynamics_step: float = 1e-3,
+    force_every_step: bool = False,
+    record: bool = False,
+    jit: bool = False,
+    cbf_gains: tuple[float, float] = (4.0, 4.0),
+) -> RawRun:
+    """Simulate ``scenario`` for each row of ``gains`` (N, 4) together."""
+    tol = check_positive("arrival_tolerance", arrival_tolerance, "m")
+    dt = check_positive("dynamics_step", dynamics_step, "s")
+    ts = scenario.sample_time
+    ratio = ts / dt
+    if abs(ratio - round(ratio)) > 1e-6 or round(ratio) < 1:
+        raise InvalidParameterError("dynamics_step", dynamics_step,
+                                    f"must divide the sample time {ts} s into whole steps", "s")
+    n_sub = 1 if force_every_step else int(round(ratio))
+    period = n_sub * dt
+    gains = np.atleast_2d(np.asarray(gains, dtype=float))
+    N = gains.shape[0]
+    if method == "cbf" and N != 1:
+        raise InvalidParameterError("method", method, "'cbf' solves one QP per step and is not batched")
+    geos = tuple(ObstacleGeometry.of(o) for o in scenario.obstacles)
+    n_obs = len(geos)
+    robot = scenario.robot
+    f = _Buffered(_compiled(geos, robot, method, n_sub, dt, N, jit))
+    n_samples = int(math.ceil(scenario.horizon / period - 1e-9))
+    t_grid = np.arange(n_samples * n_sub + 1) * dt
+    P, Vo, Ao = obstacle_tracks(scenario, t_grid)
+    nx = state_size(robot)
+    # inputs
+    x_in, goal_in, obs_in, gains_in, params_in, osub_in, ff_in = (f.view_in(i) for i in range(7))
+    X = np.tile(initial_state(scenario)[:, None], (1, N))
+    goal_in[:, 0] = scenario.goal
+    gains_in[:, :] = gains.T
+    params_in[:, 0] = (robot.mass, float(tie), 1.0 if stabilising else 0.0, robot.max_accel)
+    ff_in[:, 0] = 0.0
+    outX, outP, outD = f.view_out(0), f.view_out(1), f.view_out(2)
+    goal = np.asarray(scenario.goal)
+    arrival = np.full(N, np.inf)
+    dmin = np.full((N, n_obs), np.inf)
+    energy = np.zeros(N)
+    crit_time = np.zeros(N)
+    start_d = np.array([float(o.contour_distance(np.array([scenario.start]))[0]) for o in scenario.obstacles])
+    dmin[:] = start_d[None, :] if n_obs else dmin
+    rec: dict[str, list[Any]] | None = None
+    if record:
+        rec = {k: [] for k in ("X", "D", "power", "F", "critical", "V", "Vdot0", "Omega", "vL2", "FL", "g",
+                               "active", "sigma", "x_sample", "qp_status")}
+    cbf = _CBF(geos, robot, cbf_gains) if method == "cbf" else None
+    obs_flat = np.empty(6 * n_obs)
+    k_done = 0
+    for k in range(n_samples):
+        i0 = k * n_sub
+        if n_obs:
+            obs_flat[:] = np.concatenate([P[:, i0, :], Vo[:, i0, :], Ao[:, i0, :]], axis=1).ravel()
+            obs_in[:, 0] = obs_flat
+            osub_in[:, :] = P[:, i0 + 1:i0 + 1 + n_sub, :].transpose(1, 0, 2).reshape(n_sub, 2 * n_obs).T
+        x_in[:, :] = X.reshape(nx, N) if N > 1 else X
+        if cbf is not None:
+            ff_in[:, 0] = cbf.force(X[:, 0], goal, gains[0], obs_flat, robot, scenario)
+        f()
+        # mapped layout: columns are [member 0 steps..., member 1 steps..., ...]
+        if N > 1:
+            Xs = outX.reshape(nx, N, n_sub).transpose(0, 2, 1)
+            Ds = outD.reshape(n_obs, N, n_sub).transpose(0, 2, 1)
+            Pw = outP.reshape(N, n_sub).T
+        else:
+            Xs = outX[:, :, None]
+            Ds = outD[:, :, None]
+            Pw = outP.reshape(n_sub, 1)
+        gd = np.hypot(Xs[0] - goal[0], Xs[1] - goal[1])  # (n_sub, N)
+        hit = gd <= tol
+        first = np.where(hit.any(axis=0), hit.argmax(axis=0), n_sub)  # steps counted before arrival
+        live = np.isinf(arrival)
+        upto = np.where(live, np.minimum(first + 1, n_sub), 0)
+        mask = np.arange(n_sub)[:, None] < upto[None, :]  # (n_sub, N)
+        if n_obs:
+            dm = np.where(mask[None, :, :], Ds, np.inf).min(axis=1)  # (n_obs, N)
+            dmin = np.minimum(dmin, dm.T)
+        energy += np.where(mask, Pw, 0.0).sum(axis=0) * dt
+        crit_out = f.view_out(4)
+        crit = crit_out.reshape(-1) if N > 1 else crit_out[:, 0]
+        crit_time += np.where(live, crit * period, 0.0)
+        newly = live & (first < n_sub)
+        arrival[newly] = (k * n_sub + first[newly] + 1) * dt
+        if rec is not None:
+            rec["x_sample"].append(X[:, 0].copy())
+            rec["X"].append(Xs[:, :, 0].copy())
+            rec["D"].append(Ds[:, :, 0].copy())
+            rec["power"].append(Pw[:, 0].copy())
+            for name, idx in (("F", 3), ("critical", 4), ("V", 5), ("Vdot0", 6), ("Omega", 7), ("vL2", 8),
+                              ("FL", 9), ("g", 10), ("active", 11), ("sigma", 13)):
+                rec[name].append(f.view_out(idx)[:, 0].copy())
+            rec["qp_status"].append(cbf.last_status if cbf is not None else "")
+        X = Xs[:, -1, :].copy()
+        k_done = k + 1
+        if not np.isinf(arrival).any():
+            break
+    t_end = k_done * period
+    record_out = None
+    if rec is not None:
+        record_out = _assemble(rec, n_sub, period, dt, P, nx)
+        record_out["stab"] = 1.0 if stabilising else 0.0
+        record_out["period"] = period
+    return RawRun(arrival, dmin, energy, crit_time, t_end, record_out)
+
+
+def _assemble(rec: dict[str, list[Any]], n_sub: int, period: float, dt: float, P: Array, nx: int) -> dict[str, Any]:
+    K = len(rec["X"])
+    X = np.concatenate(rec["X"], axis=1)  # (nx, K*n_sub)
+    t = np.arange(1, K * n_sub + 1) * dt
+    out: dict[str, Any] = {
+        "t": np.concatenate([[0.0], t]),
+        "X": np.concatenate([rec["x_sample"][0][:, None], X], axis=1),
+        "D": np.concatenate(rec["D"], axis=1) if rec["D"] and rec["D"][0].size else np.zeros((0, K * n_sub)),
+        "power": np.concatenate(rec["power"]),
+        "t_sample": np.arange(K) * period,
+        "x_sample": np.array(rec["x_sample"]),
+        "obstacle_positions": P[:, : K * n_sub + 1, :],
+        "qp_status": rec["qp_status"],
+    }
+    for k in ("F", "critical", "V", "Vdot0", "Omega", "vL2", "FL", "g", "active", "sigma"):
+        out[k] = np.array(rec[k])
+    return out
+
+
+class _CBF:
+    """Exponential control-barrier-function filter of the attractive field, one OSQP QP per step."""
+
+    def __init__(self, geos: tuple[ObstacleGeometry, ...], robot: HolonomicRobot | NonholonomicRobot,
+                 k: tuple[float, float]) -> None:
+        import osqp
+        import scipy.sparse as sp
+
+        self.rows = build_cbf_rows(geos, "critical")
+        self.field = build_field(geos, "cbf")
+        self.n = len(geos)
+        self.k = np.asarray(k, dtype=float)
+        amax = robot.max_accel
+        ang = np.arange(8) * np.pi / 4
+        self.poly = np.stack([np.cos(ang), np.sin(ang)], axis=1)  # |a| <= amax as an octagon
+        self.amax = amax * math.cos(math.pi / 8)  # inscribed octagon
+        A = np.vstack([np.ones((self.n, 2)), self.poly])
+        self.A = sp.csc_matrix(A)
+        self.solver = osqp.OSQP()
+        m = A.shape[0]
+        self.solver.setup(P=sp.csc_matrix(np.eye(2)), q=np.zeros(2), A=self.A, l=-np.inf * np.ones(m),
+                          u=np.inf * np.ones(m), verbose=False, warm_start=True, polish=False,
+                          eps_abs=1e-6, eps_rel=1e-6)
+        self.last_status = ""
+        self.mass = robot.mass
+
+    def force(self, x: Array, goal: Array, gains: Array, obs: Array, robot: Any, scenario: Scenario) -> Array:
+        if x.size == 5:
+            x4 = np.array([x[0], x[1], x[3] * math.cos(x[2]), x[3] * math.sin(x[2])])
+        else:
+            x4 = x[:4]
+        F = np.array(self.field(x=x4, goal=goal, obs=obs, gains=gains,
+                                params=[self.mass, 1.0, 0.0, robot.max_accel])["F"]).ravel()
+        a_nom = F / self.mass
+        rows = self.rows(x=x4, obs=obs, k=self.k)
+        Ab = np.array(rows["A"]).reshape(self.n, 2)
+        lb = np.array(rows["lb"]).ravel()
+        A = np.vstack([Ab, self.poly])
+        l = np.concatenate([lb, -np.inf * np.ones(8)])
+        u = np.concatenate([np.inf * np.ones(self.n), self.amax * np.ones(8)])
+        self.solver.update(q=-a_nom, Ax=A.ravel(order="F"), l=l, u=u)
+        res = self.solver.solve()
+        self.last_status = str(res.info.status)
+        if res.info.status_val not in (1, 2) or res.x is None or not np.all(np.isfinite(res.x)):
+            # infeasible: brake along the velocity (the safest fallback), recorded in qp_status
+            v = x4[2:4]
+            sp_ = float(np.hypot(*v))
+            a = -v / sp_ * robot.max_accel if sp_ > 1e-9 else np.zeros(2)
+        else:
+            a = res.x
+        return np.array([1.0, *(self.mass * a)])
