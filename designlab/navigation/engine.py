@@ -286,13 +286,16 @@ class _CBF:
         ang = np.arange(8) * np.pi / 4
         self.poly = np.stack([np.cos(ang), np.sin(ang)], axis=1)  # |a| <= amax as an octagon
         self.amax = amax * math.cos(math.pi / 8)  # inscribed octagon
-        A = np.vstack([np.ones((self.n, 2)), self.poly])
+        A = np.ones((self.n + 8, 2))  # dense pattern: every entry is stored and updated
         self.A = sp.csc_matrix(A)
         self.solver = osqp.OSQP()
         m = A.shape[0]
+        opts = dict(verbose=False, eps_abs=1e-6, eps_rel=1e-6)
+        new_api = int(osqp.__version__.split(".")[0]) >= 1
+        opts.update(dict(warm_starting=True, polishing=False) if new_api else dict(warm_start=True, polish=False))
+        self.solve_kw = {"raise_error": False} if new_api else {}
         self.solver.setup(P=sp.csc_matrix(np.eye(2)), q=np.zeros(2), A=self.A, l=-np.inf * np.ones(m),
-                          u=np.inf * np.ones(m), verbose=False, warm_start=True, polish=False,
-                          eps_abs=1e-6, eps_rel=1e-6)
+                          u=np.inf * np.ones(m), **opts)
         self.last_status = ""
         self.mass = robot.mass
 
@@ -311,7 +314,7 @@ class _CBF:
         l = np.concatenate([lb, -np.inf * np.ones(8)])
         u = np.concatenate([np.inf * np.ones(self.n), self.amax * np.ones(8)])
         self.solver.update(q=-a_nom, Ax=A.ravel(order="F"), l=l, u=u)
-        res = self.solver.solve()
+        res = self.solver.solve(**self.solve_kw)
         self.last_status = str(res.info.status)
         if res.info.status_val not in (1, 2) or res.x is None or not np.all(np.isfinite(res.x)):
             # infeasible: brake along the velocity (the safest fallback), recorded in qp_status
