@@ -123,7 +123,7 @@ class Walk:
     3.9
     >>> p, v, a = w.state([0.0, 2.0, 10.0])
     >>> p[:, 0].round(3).tolist(), v[:, 0].round(3).tolist()
-    [[0.6, 2.35, 4.0], [0.0, 1.0, 0.0]]
+    ([0.6, 2.35, 4.0], [0.0, 1.0, 0.0])
     """
 
     start: tuple[float, float]
