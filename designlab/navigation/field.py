@@ -31,7 +31,7 @@ Examples
 >>> obs = np.array([2.45, 0.595, 0, 0, 0, 0])
 >>> out = f(x=x, goal=[0.0, 0.6], obs=obs, gains=[3.0, 0.25, 20.0, 17.0], params=[4.4, 1.0, 0.0, 10.0])
 >>> np.round(np.array(out["F"]).ravel(), 2)        # stabilising force off
-array([-8.35,  1.95])
+array([6.62, 3.46])
 """
 
 from __future__ import annotations

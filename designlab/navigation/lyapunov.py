@@ -21,7 +21,7 @@ Examples
 ...                       u=[1.0, 0.0], u_psi=[0.0, 1.0], a_o=[0.0, 0.0], r2=0.8, r3=0.4,
 ...                       k1=3.0, k3=20.0, k5=17.0, m=4.4)
 >>> round(w, 3)
--43.364
+259.023
 """
 
 from __future__ import annotations
