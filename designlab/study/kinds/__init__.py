@@ -11,4 +11,6 @@ MODULES: tuple[str, ...] = (
     "impact_sweep",
     "foam_envelope",
     "foam_design",
+    "vff_scenarios",
+    "vff_sweep",
 )
