@@ -146,3 +146,12 @@ def test_cbf_keeps_static_obstacles_outside_their_critical_regions() -> None:
     # a head-on walker faster than the robot defeats a safety filter on the attractive field
     head_on = nav.simulate(nav.configuration(2), method="cbf")
     assert head_on.collided
+
+
+def test_three_obstacle_case_of_sec_7_5_5() -> None:
+    # Start and goal appear only in Fig. 7.12 (assumed here, docs/navigation.md); the thesis's
+    # nonholonomic robot is trapped 3.1-5.3 s with every d > r3 and arrives at 15 s.
+    sc = nav.configuration("multi", chapter=7)
+    res = nav.simulate(sc, EXP, stabilising="lyapunov")
+    assert res.arrived and not res.entered_critical and not res.collided
+    assert set(res.min_distance) == {"circle", "human", "robot"}
