@@ -104,14 +104,25 @@ def build_hold(robot: HolonomicRobot | NonholonomicRobot, n_sub: int = 60, dt: f
         rows = ((-s3, -0.5), (s3, -0.5), (0.0, 1.0))  # (D.1.2) with phi = 0, phi' = 0
         del lw  # no rotation is commanded: the l_w column multiplies phi' = 0
         p, v = x0[0:2], x0[2:4]
-        for _ in range(n_sub):
-            a = ca.if_else(brake, _brake(v, amax, dt), a_cmd)
-            v_new = _clip_norm(v + a * dt, vmax)
-            acc = (v_new - v) / dt
+        # braking keeps the direction of the velocity: speed(t) = max(0, s0 - a t)
+        s0 = ca.sqrt(ca.sumsqr(v) + 1e-30)
+        v_hat = v / s0
+        # wheel speeds w_i = R_i . v (D.1.2); feed-forward u_i = J/K w_i' + B/K w_i + tau/K sgn(w_i)
+        R = [(r[0] / rw, r[1] / rw) for r in rows]
+        w_prev = [Ri[0] * v[0] + Ri[1] * v[1] for Ri in R]
+        for j in range(n_sub):
+            v_brake = v_hat * ca.fmax(0.0, s0 - amax * dt * (j + 1))
+            v_new = ca.if_else(brake, v_brake, _clip_norm(v + a_cmd * dt, vmax))
             p = p + v_new * dt
-            rate = [(r[0] * v_new[0] + r[1] * v_new[1]) / rw for r in rows]
-            wacc = [(r[0] * acc[0] + r[1] * acc[1]) / rw for r in rows]
-            pows.append(_ff_power(HOLONOMIC_FEEDFORWARD, rate, wacc))
+            pw = ca.SX(0)
+            w_now = []
+            for Ri, w_old, (jk, bk, tk) in zip(R, w_prev, HOLONOMIC_FEEDFORWARD, strict=True):
+                w = Ri[0] * v_new[0] + Ri[1] * v_new[1]
+                u = (jk / dt + bk) * w - (jk / dt) * w_old + tk * ca.sign(w)
+                pw = pw + u * u
+                w_now.append(w)
+            w_prev = w_now
+            pows.append(pw)
             v = v_new
             cols.append(ca.vertcat(p, v))
     else:
