@@ -229,6 +229,12 @@ def run(
     cbf = _CBF(geos, robot, cbf_gains) if method == "cbf" else None
     live = np.ones(N, bool)
     k_done = 0
+    dmin0 = dmin[0]
+    e_sum = 0.0
+    c_sum = 0.0
+    x_flat = f.inp[0]
+    o_x_flat = f.out[0] if lean else None
+    x_in[:, :] = X
     chunk = max(1, int(round(2.0 / period)))  # obstacle tracks are computed 2 s at a time
     P_all: list[Array] = []
     for k in range(n_samples):
@@ -246,10 +252,23 @@ def run(
         if n_obs:
             obs_in[:, 0] = OBS[kc]
             f.inp[5][:] = OSUB[kc]
-        x_in[:, :] = X
+        if not (lean and N == 1):
+            x_in[:, :] = X
         if cbf is not None:
-            ff_in[:, 0] = cbf.force(X[:, 0], goal, gains[0], OBS[kc], robot, scenario)
+            ff_in[:, 0] = cbf.force(x_in[:, 0].copy(), goal, gains[0], OBS[kc], robot, scenario)
         f()
+        if lean and N == 1:  # scalar bookkeeping: a single run spends its time in the step
+            if n_obs:
+                np.minimum(dmin0, o_dmin[:, 0], out=dmin0)
+            e_sum += float(o_esum[0])
+            c_sum += float(o_crit[0])
+            k_done = k + 1
+            if o_hit[0] > 0.5:
+                arrival[0] = (k * n_sub + float(o_count[0])) * dt
+                live[0] = False
+                break
+            np.copyto(x_flat, o_x_flat)
+            continue
         if lean:
             if n_obs:
                 dmin[live] = np.minimum(dmin[live], o_dmin.T[live])
@@ -302,6 +321,9 @@ def run(
         k_done = k + 1
         if not live.any():
             break
+    if lean and N == 1:
+        energy[0] += e_sum * dt
+        crit_time[0] += c_sum * period
     t_end = k_done * period
     record_out = None
     if rec is not None:

@@ -188,6 +188,7 @@ def simulate(
     force_every_step: bool = False,
     tie_side: str = "+y",
     cbf_gains: tuple[float, float] = (4.0, 4.0),
+    jit: bool = False,
 ) -> NavigationResult:
     """Simulate one scenario.
 
@@ -217,6 +218,9 @@ def simulate(
         ``"+y"`` counter-clockwise.
     cbf_gains
         (k_0, k_1) of the CBF constraint h'' + k_1 h' + k_0 h >= 0.
+    jit
+        Compile the step with CasADi's JIT (a few seconds once per scenario structure,
+        then several times faster; worth it for many runs of one scenario).
 
     Returns
     -------
@@ -243,7 +247,8 @@ def simulate(
         tie = gains.direction
     stab = stabilising == "lyapunov" and method == "vff"
     kw: dict[str, Any] = dict(method=method, stabilising=stab, tie=tie, arrival_tolerance=arrival_tolerance,
-                              dynamics_step=dynamics_step, force_every_step=force_every_step, cbf_gains=cbf_gains)
+                              dynamics_step=dynamics_step, force_every_step=force_every_step, cbf_gains=cbf_gains,
+                              jit=jit)
     raw = engine.run(scenario, row[None, :], record=True, **kw)
     nominal = engine.run(scenario.without_obstacles(), row[None, :], record=False, **kw)
     rec = raw.record
