@@ -32,7 +32,9 @@ from designlab.navigation.field import ObstacleGeometry, build_field
 nav = dl.navigation
 
 
-def baseline(sc: nav.Scenario, gains: np.ndarray, stab: bool, tol: float = 0.15) -> tuple[float, list[float], float]:
+def baseline(
+    sc: nav.Scenario, gains: np.ndarray, stab: bool, tol: float = 0.15
+) -> tuple[float, list[float], float]:
     """Per-step Python loop: returns (arrival time, min distances, simulated time)."""
     geos = tuple(ObstacleGeometry.of(o) for o in sc.obstacles)
     field = build_field(geos, "vff")
@@ -49,8 +51,13 @@ def baseline(sc: nav.Scenario, gains: np.ndarray, stab: bool, tol: float = 0.15)
     for k in range(n_steps):
         if k % n_sub == 0:
             obs = np.concatenate([P[:, k], V[:, k], A[:, k]], axis=1).ravel()
-            out = field(x=np.array([*p, *v]), goal=np.array(sc.goal), obs=obs, gains=gains,
-                        params=[r.mass, 1.0, 1.0 if stab else 0.0, r.max_accel])
+            out = field(
+                x=np.array([*p, *v]),
+                goal=np.array(sc.goal),
+                obs=obs,
+                gains=gains,
+                params=[r.mass, 1.0, 1.0 if stab else 0.0, r.max_accel],
+            )
             F = np.array(out["F"]).ravel()
             brake = float(out["critical"]) > 0.5
             ax, ay = F[0] / r.mass, F[1] / r.mass
@@ -69,8 +76,11 @@ def baseline(sc: nav.Scenario, gains: np.ndarray, stab: bool, tol: float = 0.15)
         v = [vx * s, vy * s]
         p = [p[0] + v[0] * dt, p[1] + v[1] * dt]
         for i, o in enumerate(sc.obstacles):
-            d = float(o.contour_distance(np.array([p]), 0.0)[0]) if o.kind == "rectangle" else math.hypot(
-                p[0] - P[i, k + 1, 0], p[1] - P[i, k + 1, 1])
+            d = (
+                float(o.contour_distance(np.array([p]), 0.0)[0])
+                if o.kind == "rectangle"
+                else math.hypot(p[0] - P[i, k + 1, 0], p[1] - P[i, k + 1, 1])
+            )
             dmin[i] = min(dmin[i], d)
         if math.hypot(p[0] - sc.goal[0], p[1] - sc.goal[1]) <= tol:
             t = (k + 1) * dt
@@ -122,19 +132,27 @@ def main(argv: list[str] | None = None) -> int:
         sim = float(np.minimum(rawb.arrival_time, rawb.t_end).sum())
         batch_rates[label] = (sim / wall, wall, build)
 
-    print(f"Configuration 4, 1 ms dynamics step, 60 ms force hold, stabilising force on")
-    print(f"baseline per-step Python loop: {sim_b:.2f} s simulated in {t_base:.3f} s "
-          f"-> {sim_b / t_base:8.0f} x real time")
-    print(f"designlab one run            : {sim_one:.2f} s simulated in {t_one * 1e3:.1f} ms "
-          f"-> {sim_one / t_one:8.0f} x real time  ({(sim_one / t_one) / (sim_b / t_base):.0f}x the baseline)"
-          f"  [target >= 1000x real time]")
+    print("Configuration 4, 1 ms dynamics step, 60 ms force hold, stabilising force on")
+    print(
+        f"baseline per-step Python loop: {sim_b:.2f} s simulated in {t_base:.3f} s "
+        f"-> {sim_b / t_base:8.0f} x real time"
+    )
+    print(
+        f"designlab one run            : {sim_one:.2f} s simulated in {t_one * 1e3:.1f} ms "
+        f"-> {sim_one / t_one:8.0f} x real time  ({(sim_one / t_one) / (sim_b / t_base):.0f}x the baseline)"
+        f"  [target >= 1000x real time]"
+    )
     if one_jit is not None:
-        print(f"designlab one run (JIT)      : {sim_one:.2f} s simulated in {one_jit * 1e3:.1f} ms "
-              f"-> {sim_one / one_jit:8.0f} x real time  ({(sim_one / one_jit) / (sim_b / t_base):.0f}x the baseline)")
+        print(
+            f"designlab one run (JIT)      : {sim_one:.2f} s simulated in {one_jit * 1e3:.1f} ms "
+            f"-> {sim_one / one_jit:8.0f} x real time  ({(sim_one / one_jit) / (sim_b / t_base):.0f}x the baseline)"
+        )
     for label, (rate, wall, build) in batch_rates.items():
-        print(f"designlab batch of {args.batch} ({label:3s}) : {wall:.3f} s wall (+{build:.1f} s build) "
-              f"-> {rate:8.0f} x real time aggregate ({rate / (sim_b / t_base):.0f}x the baseline)"
-              f"  [target >= 10000x]")
+        print(
+            f"designlab batch of {args.batch} ({label:3s}) : {wall:.3f} s wall (+{build:.1f} s build) "
+            f"-> {rate:8.0f} x real time aggregate ({rate / (sim_b / t_base):.0f}x the baseline)"
+            f"  [target >= 10000x]"
+        )
     print(f"baseline agrees with designlab (arrival time, distances): {ok}")
     return 0 if ok else 1
 

@@ -68,7 +68,9 @@ def _ff_power(ff: tuple[tuple[float, float, float], ...], rate: list, acc: list)
 
 
 @lru_cache(maxsize=32)
-def build_hold(robot: HolonomicRobot | NonholonomicRobot, n_sub: int = 60, dt: float = 1e-3) -> ca.Function:
+def build_hold(
+    robot: HolonomicRobot | NonholonomicRobot, n_sub: int = 60, dt: float = 1e-3
+) -> ca.Function:
     """Integrate one hold interval of ``n_sub`` dynamics steps of ``dt`` seconds.
 
     Parameters
@@ -156,12 +158,21 @@ def build_hold(robot: HolonomicRobot | NonholonomicRobot, n_sub: int = 60, dt: f
             phi = phi + om_new * dt
             p = p + vs_new * ca.vertcat(ca.cos(phi), ca.sin(phi)) * dt
             half = 0.5 * rb.track
-            rate = [(vs_new + half * om_new) / rb.wheel_radius, (vs_new - half * om_new) / rb.wheel_radius]
-            wacc = [(dv / dt + half * dw / dt) / rb.wheel_radius, (dv / dt - half * dw / dt) / rb.wheel_radius]
+            rate = [
+                (vs_new + half * om_new) / rb.wheel_radius,
+                (vs_new - half * om_new) / rb.wheel_radius,
+            ]
+            wacc = [
+                (dv / dt + half * dw / dt) / rb.wheel_radius,
+                (dv / dt - half * dw / dt) / rb.wheel_radius,
+            ]
             pows.append(_ff_power(NONHOLONOMIC_FEEDFORWARD, rate, wacc))
             vs, om = vs_new, om_new
             cols.append(ca.vertcat(p, phi, vs, om))
     return ca.Function(
-        f"hold_{robot.kind}_{n_sub}", [x0, F, brake], [ca.horzcat(*cols), ca.horzcat(*pows)],
-        ["x0", "F", "brake"], ["X", "power"],
+        f"hold_{robot.kind}_{n_sub}",
+        [x0, F, brake],
+        [ca.horzcat(*cols), ca.horzcat(*pows)],
+        ["x0", "F", "brake"],
+        ["X", "power"],
     )

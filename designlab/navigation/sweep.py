@@ -82,7 +82,9 @@ def vff_metrics_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) ->
         out["critical_entries"][idx] = res.entered_critical.sum(axis=0)
         out["collisions"][idx] = res.collided.sum(axis=0)
         not_arrived = np.isinf(res.arrival_time).any(axis=0)
-        status[idx] = np.where(res.collided.any(axis=0), "collision", np.where(not_arrived, "not_arrived", "ok"))
+        status[idx] = np.where(
+            res.collided.any(axis=0), "collision", np.where(not_arrived, "not_arrived", "ok")
+        )
     out_any: dict[str, Any] = dict(out)
     out_any["status"] = status
     return out_any

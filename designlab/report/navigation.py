@@ -43,7 +43,9 @@ def _slug(text: str) -> str:
 def _region_patch(o: Any, r: float, **kw: Any) -> Any:
     if o.kind == "rectangle":
         x0, y0 = o.center[0] - o.length / 2, o.center[1] - o.width / 2
-        return FancyBboxPatch((x0, y0), o.length, o.width, boxstyle=f"round,pad={r}", fill=False, **kw)
+        return FancyBboxPatch(
+            (x0, y0), o.length, o.width, boxstyle=f"round,pad={r}", fill=False, **kw
+        )
     return Circle((0.0, 0.0), r, fill=False, **kw)
 
 
@@ -56,8 +58,15 @@ def trajectory_figure(runs: list[Any], title: str) -> Figure:
         p0 = runs[0].result.obstacle_positions[i, 0]
         p1 = runs[0].result.obstacle_positions[i, -1]
         if o.kind == "rectangle":
-            ax.add_patch(Rectangle((o.center[0] - o.length / 2, o.center[1] - o.width / 2), o.length, o.width,
-                                   color="0.4", alpha=0.6))
+            ax.add_patch(
+                Rectangle(
+                    (o.center[0] - o.length / 2, o.center[1] - o.width / 2),
+                    o.length,
+                    o.width,
+                    color="0.4",
+                    alpha=0.6,
+                )
+            )
             for r, ls in ((o.r3, "-"), (o.r2, "--")):
                 ax.add_patch(_region_patch(o, r, ec="0.3", ls=ls, lw=0.8))
         else:
@@ -99,7 +108,9 @@ def distance_figure(runs: list[Any], title: str) -> Figure:
             r = run.result
             ax.plot(r.t, r.distance[i], lw=1.2, label=run.method)
         ax.axhline(o.r3, color="r", lw=0.8, label="r3")
-        ax.axhline(o.collision_distance(sc.robot.radius), color="k", lw=0.8, ls=":", label="contact")
+        ax.axhline(
+            o.collision_distance(sc.robot.radius), color="k", lw=0.8, ls=":", label="contact"
+        )
         ax.set_ylabel(f"d {o.name} (m)")
         ax.grid(alpha=0.3)
         if i == 0:
@@ -116,8 +127,13 @@ def _fmt(v: Any) -> Any:
     return v
 
 
-def navigation_markdown(result: VffScenariosResult, *, figures: dict[str, tuple[str, str]], command: str | None,
-                        version: str | None) -> str:
+def navigation_markdown(
+    result: VffScenariosResult,
+    *,
+    figures: dict[str, tuple[str, str]],
+    command: str | None,
+    version: str | None,
+) -> str:
     """The Markdown summary."""
     study = result.study
     frame = result.to_frame()
@@ -146,7 +162,9 @@ def navigation_markdown(result: VffScenariosResult, *, figures: dict[str, tuple[
         cols = ["method", "T_arrive_s", "ref_T_arrive_s"]
         for c in dist_cols:
             if sub[c].notna().any():
-                cols += [c] + ([f"ref_{c}"] if f"ref_{c}" in sub and sub[f"ref_{c}"].notna().any() else [])
+                cols += [c] + (
+                    [f"ref_{c}"] if f"ref_{c}" in sub and sub[f"ref_{c}"].notna().any() else []
+                )
         cols += ["entered_critical", "collided", "H_T", "H_D", "H_E", "H"]
         if sub["ref_H"].notna().any():
             cols.append("ref_H")
@@ -155,19 +173,30 @@ def navigation_markdown(result: VffScenariosResult, *, figures: dict[str, tuple[
         table = table.map(_fmt)
         out += [markdown_table(table, floatfmt=".3g"), ""]
     stab = result.stability_frame()
-    out += ["## Lyapunov audit of the new-VFF runs", "",
-            "Share of the samples in an active region (no critical region) where the realised dV/dt <= "
-            "-b |v_L|^2 holds (Zeng 2011, (5.5.12)), and the time the run spent where the proof's assumptions "
-            "break (force or speed saturation, critical-region braking, a detour-side switch). With the "
-            "stabilising force on, every violation lies in such an interval; with it off, the thesis's own "
-            "field violates the bound in free active-region motion too.", ""]
+    out += [
+        "## Lyapunov audit of the new-VFF runs",
+        "",
+        "Share of the samples in an active region (no critical region) where the realised dV/dt <= "
+        "-b |v_L|^2 holds (Zeng 2011, (5.5.12)), and the time the run spent where the proof's assumptions "
+        "break (force or speed saturation, critical-region braking, a detour-side switch). With the "
+        "stabilising force on, every violation lies in such an interval; with it off, the thesis's own "
+        "field violates the bound in free active-region motion too.",
+        "",
+    ]
     out += [markdown_table(stab, floatfmt=".3g") if len(stab) else "No new-VFF runs.", ""]
     out += ["## Warnings", ""]
     warnings = result.warnings
     out += [f"- {w}" for w in warnings] if warnings else ["None."]
     out += ["", "## Figures", ""]
     for scen, (traj, dist) in figures.items():
-        out += [f"### {scen}", "", f"![{scen} paths]({traj})", "", f"![{scen} distances]({dist})", ""]
+        out += [
+            f"### {scen}",
+            "",
+            f"![{scen} paths]({traj})",
+            "",
+            f"![{scen} distances]({dist})",
+            "",
+        ]
     return "\n".join(out)
 
 
@@ -187,8 +216,10 @@ def write_navigation_report(
     list of Path
         The files written.
     """
-    written = [write_csv(result.to_frame(), directory / "results.csv"),
-               write_csv(result.stability_frame(), directory / "stability.csv")]
+    written = [
+        write_csv(result.to_frame(), directory / "results.csv"),
+        write_csv(result.stability_frame(), directory / "stability.csv"),
+    ]
     by_scen: dict[str, list[Any]] = {}
     for r in result.runs:
         by_scen.setdefault(r.scenario, []).append(r)
@@ -199,11 +230,14 @@ def write_navigation_report(
         written.append(write_png(trajectory_figure(runs, scen), directory / traj))
         written.append(write_png(distance_figure(runs, scen), directory / dist))
         figures[scen] = (traj, dist)
-    written.append(write_markdown(navigation_markdown(result, figures=figures, command=command, version=version),
-                                  directory / "summary.md"))
+    written.append(
+        write_markdown(
+            navigation_markdown(result, figures=figures, command=command, version=version),
+            directory / "summary.md",
+        )
+    )
     if study_text is not None:
         from designlab.report.atomic import atomic_write_text
 
         written.append(atomic_write_text(directory / "study.yaml", study_text))
     return written
-

@@ -43,8 +43,14 @@ def test_vff_scenarios_runs_and_reports(tmp_path) -> None:  # type: ignore[no-un
     assert math.isnan(frame[frame.method == "Masoud*"].ref_H.iloc[0])
     out = write_report(result, tmp_path, study_text=SCEN, index=False)
     names = {p.name for p in out.iterdir()}
-    assert {"summary.md", "results.csv", "stability.csv", "study.yaml",
-            "trajectories_ch6_config1.png", "distances_corridor.png"} <= names
+    assert {
+        "summary.md",
+        "results.csv",
+        "stability.csv",
+        "study.yaml",
+        "trajectories_ch6_config1.png",
+        "distances_corridor.png",
+    } <= names
     text = (out / "summary.md").read_text()
     assert "Lyapunov audit" in text and "ref_T_arrive_s" in text
 
@@ -55,8 +61,8 @@ def test_vff_scenarios_runs_and_reports(tmp_path) -> None:  # type: ignore[no-un
         ("  - {configuration: 1}\n", "  - {configuration: 9}\n"),
         ("  - {configuration: 1}\n", "  - {configuration: 1, start: [0, 0]}\n"),
         ("gains: {k1: 4.3, b: 0.68", "gains: {k1: -4.3, b: 0.68"),
-        ("method: \"New VFF*\", T_arrive_s", "method: \"Nope\", T_arrive_s"),
-        ("stabilising: \"off\"", "stabilising: \"maybe\""),
+        ('method: "New VFF*", T_arrive_s', 'method: "Nope", T_arrive_s'),
+        ('stabilising: "off"', 'stabilising: "maybe"'),
         ("kind: disc, radius: 0.4,", "kind: disc,"),
     ],
 )

@@ -82,7 +82,10 @@ class VffScenariosStudy(StudyBase):
 
     @model_validator(mode="after")
     def _unique(self) -> VffScenariosStudy:
-        for what, names in (("scenario", [s.title for s in self.scenarios]), ("method", [m.label for m in self.methods])):
+        for what, names in (
+            ("scenario", [s.title for s in self.scenarios]),
+            ("method", [m.label for m in self.methods]),
+        ):
             if len(set(names)) != len(names):
                 raise ValueError(f"{what} labels must be unique, got {names}")
         sc = {s.title for s in self.scenarios}
@@ -107,13 +110,28 @@ class VffRun:
     def row(self) -> dict[str, Any]:
         """Model metrics and reference values, one row."""
         r = self.result
-        row: dict[str, Any] = {"scenario": self.scenario, "method": self.method, "algorithm": r.method,
-                               "stabilising": r.stabilising, "status": r.status, "T_arrive_s": r.arrival_time}
+        row: dict[str, Any] = {
+            "scenario": self.scenario,
+            "method": self.method,
+            "algorithm": r.method,
+            "stabilising": r.stabilising,
+            "status": r.status,
+            "T_arrive_s": r.arrival_time,
+        }
         for name, d in r.min_distance.items():
             row[f"d_{name}_min_m"] = d
         c = r.criteria
-        row.update({"entered_critical": r.entered_critical, "collided": r.collided, "H_T": c.H_T, "H_D": c.H_D,
-                    "H_E": c.H_E, "H": c.H, "L_energy_J_per_ohm": r.energy})
+        row.update(
+            {
+                "entered_critical": r.entered_critical,
+                "collided": r.collided,
+                "H_T": c.H_T,
+                "H_D": c.H_D,
+                "H_E": c.H_E,
+                "H": c.H,
+                "L_energy_J_per_ohm": r.energy,
+            }
+        )
         a = r.stability
         row["lyapunov_share"] = a.share_satisfied if a is not None else math.nan
         ref = self.reference
@@ -141,7 +159,9 @@ class VffScenariosResult(Result):
     @property
     def warnings(self) -> tuple[str, ...]:  # type: ignore[override]
         """Every run's warnings, prefixed with scenario and method."""
-        return tuple(f"{r.scenario} / {r.method}: {w}" for r in self.runs for w in r.result.warnings)
+        return tuple(
+            f"{r.scenario} / {r.method}: {w}" for r in self.runs for w in r.result.warnings
+        )
 
     def to_frame(self) -> pd.DataFrame:
         """One row per run (``ref_*`` columns: the source's values, nan if none)."""
@@ -157,10 +177,17 @@ class VffScenariosResult(Result):
             reasons: dict[str, float] = {}
             for reason, t0, t1 in a.intervals:
                 reasons[reason] = reasons.get(reason, 0.0) + (t1 - t0)
-            rows.append({"scenario": r.scenario, "method": r.method, "stabilising": r.result.stabilising,
-                         "share_satisfied": a.share_satisfied, "share_satisfied_hold": a.share_satisfied_hold,
-                         "active_samples": int(a.active.sum()),
-                         **{f"time_{k.replace(' ', '_')}_s": v for k, v in sorted(reasons.items())}})
+            rows.append(
+                {
+                    "scenario": r.scenario,
+                    "method": r.method,
+                    "stabilising": r.result.stabilising,
+                    "share_satisfied": a.share_satisfied,
+                    "share_satisfied_hold": a.share_satisfied_hold,
+                    "active_samples": int(a.active.sum()),
+                    **{f"time_{k.replace(' ', '_')}_s": v for k, v in sorted(reasons.items())},
+                }
+            )
         return pd.DataFrame(rows)
 
 
@@ -179,12 +206,23 @@ def run(study: VffScenariosStudy, context: RunContext) -> VffScenariosResult:
     refs = {(r.scenario, r.method): r for r in study.references}
     pairs = [(s, m) for s in study.scenarios for m in study.methods]
     runs = []
-    for spec, method in tqdm(pairs, desc=study.name, unit="run", file=sys.stderr, disable=not context.progress,
-                             leave=False):
+    for spec, method in tqdm(
+        pairs,
+        desc=study.name,
+        unit="run",
+        file=sys.stderr,
+        disable=not context.progress,
+        leave=False,
+    ):
         scenario = spec.build()
         gains = method.gains.build() if method.gains is not None else None
-        res = simulate(scenario, gains, method=method.method, stabilising=method.stabilising,
-                       arrival_tolerance=study.arrival_tolerance)
+        res = simulate(
+            scenario,
+            gains,
+            method=method.method,
+            stabilising=method.stabilising,
+            arrival_tolerance=study.arrival_tolerance,
+        )
         for w in res.warnings:
             logger.info("%s / %s: %s", spec.title, method.label, w)
         runs.append(VffRun(spec.title, method.label, res, refs.get((spec.title, method.label))))

@@ -53,7 +53,11 @@ class RobotSpec(Model):
     def build(self) -> HolonomicRobot | NonholonomicRobot:
         """The robot object."""
         cls = HolonomicRobot if self.type == "holonomic" else NonholonomicRobot
-        kw = {k: getattr(self, k) for k in ("radius", "max_speed", "max_accel", "mass") if getattr(self, k) is not None}
+        kw = {
+            k: getattr(self, k)
+            for k in ("radius", "max_speed", "max_accel", "mass")
+            if getattr(self, k) is not None
+        }
         return cls(**kw)
 
 
@@ -73,7 +77,9 @@ class ObstacleSpec(Model):
 
     name: str = Field(min_length=1, max_length=40)
     kind: Literal["disc", "rectangle"]
-    r2: Positive = Field(description="active radius (disc: centre distance; rectangle: from the contour), m")
+    r2: Positive = Field(
+        description="active radius (disc: centre distance; rectangle: from the contour), m"
+    )
     r3: Positive = Field(description="critical radius, m")
     radius: Positive | None = None
     position: Point | None = Field(None, description="disc: start (or fixed) position, m")
@@ -90,7 +96,9 @@ class ObstacleSpec(Model):
             if self.radius is None:
                 raise ValueError(f"disc {self.name!r}: give radius (m)")
             if (self.walk is None) == (self.position is None):
-                raise ValueError(f"disc {self.name!r}: give either position (and optionally velocity) or walk")
+                raise ValueError(
+                    f"disc {self.name!r}: give either position (and optionally velocity) or walk"
+                )
         elif self.center is None or self.length is None or self.width is None:
             raise ValueError(f"rectangle {self.name!r}: give center, length and width (m)")
         return self
@@ -98,12 +106,24 @@ class ObstacleSpec(Model):
     def build(self) -> Disc | Rectangle:
         """The obstacle object."""
         if self.kind == "rectangle":
-            return Rectangle(self.name, tuple(self.center), self.length, self.width, self.r2, self.r3,  # type: ignore[arg-type]
-                             self.angle)
+            return Rectangle(
+                self.name,
+                tuple(self.center),
+                self.length,
+                self.width,
+                self.r2,
+                self.r3,  # type: ignore[arg-type]
+                self.angle,
+            )
         if self.walk is not None:
             w = self.walk
-            motion: Walk | ConstantVelocity | Stationary = Walk(tuple(w.start), tuple(w.end), w.speed,  # type: ignore[arg-type]
-                                                                w.ramp_time, w.start_time)
+            motion: Walk | ConstantVelocity | Stationary = Walk(
+                tuple(w.start),
+                tuple(w.end),
+                w.speed,  # type: ignore[arg-type]
+                w.ramp_time,
+                w.start_time,
+            )
         elif self.velocity is not None:
             motion = ConstantVelocity(tuple(self.position), tuple(self.velocity))  # type: ignore[arg-type]
         else:
@@ -131,7 +151,9 @@ class ScenarioSpec(Model):
             if self.start is not None or self.goal is not None or self.obstacles:
                 raise ValueError("give either configuration or start/goal/obstacles, not both")
             if isinstance(self.configuration, int) and not 1 <= self.configuration <= 4:
-                raise ValueError("configuration must be 1-4, 'parallel', 'unpredictable' or 'multi'")
+                raise ValueError(
+                    "configuration must be 1-4, 'parallel', 'unpredictable' or 'multi'"
+                )
         elif self.start is None or self.goal is None or self.name is None:
             raise ValueError("give configuration, or name, start and goal (and obstacles)")
         return self
@@ -142,20 +164,33 @@ class ScenarioSpec(Model):
         if self.label:
             return self.label
         if self.configuration is not None:
-            return f"ch{self.chapter}_config{self.configuration}" if isinstance(self.configuration, int) \
+            return (
+                f"ch{self.chapter}_config{self.configuration}"
+                if isinstance(self.configuration, int)
                 else f"ch{self.chapter}_{self.configuration}"
+            )
         return str(self.name)
 
     def build(self) -> Scenario:
         """The :class:`~designlab.navigation.Scenario`."""
         robot = self.robot.build() if self.robot is not None else None
         if self.configuration is not None:
-            sc = configuration(self.configuration, self.chapter, robot=robot, human_speed=self.human_speed,
-                               horizon=self.horizon)
+            sc = configuration(
+                self.configuration,
+                self.chapter,
+                robot=robot,
+                human_speed=self.human_speed,
+                horizon=self.horizon,
+            )
             return sc.replace(name=self.title)
-        return Scenario(self.title, tuple(self.start), tuple(self.goal),  # type: ignore[arg-type]
-                        tuple(o.build() for o in self.obstacles),
-                        robot if robot is not None else HolonomicRobot(), self.horizon)
+        return Scenario(
+            self.title,
+            tuple(self.start),
+            tuple(self.goal),  # type: ignore[arg-type]
+            tuple(o.build() for o in self.obstacles),
+            robot if robot is not None else HolonomicRobot(),
+            self.horizon,
+        )
 
 
 class GainsSpec(Model):
@@ -176,11 +211,15 @@ class MethodSpec(Model):
 
     label: str = Field(min_length=1, max_length=60)
     method: Literal["vff", "masoud", "ge_cui", "cbf"] = "vff"
-    gains: GainsSpec | None = Field(None, description="new-VFF gains (vff, cbf); baselines use Table C.1")
+    gains: GainsSpec | None = Field(
+        None, description="new-VFF gains (vff, cbf); baselines use Table C.1"
+    )
     stabilising: Literal["lyapunov", "off"] = "lyapunov"
 
     @model_validator(mode="after")
     def _gains(self) -> MethodSpec:
         if self.method == "vff" and self.gains is None:
-            raise ValueError(f"method {self.label!r}: the vff method needs gains: {{k1, b, k3, k5}}")
+            raise ValueError(
+                f"method {self.label!r}: the vff method needs gains: {{k1, b, k3, k5}}"
+            )
         return self

@@ -47,7 +47,10 @@ VFF_PARAMETERS: dict[str, tuple[str, ParameterInfo]] = {
     "gains.k5": ("k5", ParameterInfo("detour gain K5", "N/m^2", gt=0)),
     "robot.max_speed": ("v_max", ParameterInfo("robot speed limit", "m/s", gt=0, le=5)),
     "robot.max_accel": ("a_max", ParameterInfo("robot acceleration limit", "m/s^2", gt=0, le=100)),
-    "human_speed": ("v_h", ParameterInfo("cruise speed of the synthetic human walk", "m/s", gt=0, le=3)),
+    "human_speed": (
+        "v_h",
+        ParameterInfo("cruise speed of the synthetic human walk", "m/s", gt=0, le=3),
+    ),
 }
 
 VffSweepParameters = parameter_model(
@@ -77,7 +80,9 @@ class VffDesign(Model):
             raise ValueError("give at least one scenario")
         for which, chapter in v:
             if isinstance(which, int) and not 1 <= which <= 4:
-                raise ValueError(f"configuration {which} must be 1-4, 'parallel' or 'unpredictable'")
+                raise ValueError(
+                    f"configuration {which} must be 1-4, 'parallel' or 'unpredictable'"
+                )
             if chapter == 7 and not isinstance(which, int):
                 raise ValueError(f"configuration {which!r} exists only in chapter 6")
         return v
@@ -87,7 +92,9 @@ class VffSweepStudy(SweepStudyBase[VffSweepParameters, VffMetricName]):  # type:
     """VFF criteria over a sweep of gains and robot limits, with sensitivity tables."""
 
     kind: Literal["vff_sweep"]
-    base: VffDesign = Field(description="nominal gains, limits and scenarios; the sweep varies some of them")
+    base: VffDesign = Field(
+        description="nominal gains, limits and scenarios; the sweep varies some of them"
+    )
 
     PARAMETERS: ClassVar[dict[str, tuple[str, ParameterInfo]]] = VFF_PARAMETERS
     METRICS: ClassVar[dict[str, str]] = VFF_METRICS
@@ -98,13 +105,23 @@ class VffSweepStudy(SweepStudyBase[VffSweepParameters, VffMetricName]):  # type:
     def base_point(self) -> dict[str, float]:
         """The base design as ``{k1, b, k3, k5, v_max, a_max, v_h}``."""
         g = self.base.gains
-        return {"k1": g.k1, "b": g.b, "k3": g.k3, "k5": g.k5, "v_max": self.base.max_speed,
-                "a_max": self.base.max_accel, "v_h": self.base.human_speed}
+        return {
+            "k1": g.k1,
+            "b": g.b,
+            "k3": g.k3,
+            "k5": g.k5,
+            "v_max": self.base.max_speed,
+            "a_max": self.base.max_accel,
+            "v_h": self.base.human_speed,
+        }
 
     def evaluator_options(self) -> dict[str, Any]:
         """Scenarios, stabilising mode and arrival tolerance (plain, picklable)."""
-        return {"scenarios": [list(s) for s in self.base.scenarios], "stabilising": self.base.stabilising,
-                "arrival_tolerance": self.base.arrival_tolerance}
+        return {
+            "scenarios": [list(s) for s in self.base.scenarios],
+            "stabilising": self.base.stabilising,
+            "arrival_tolerance": self.base.arrival_tolerance,
+        }
 
 
 KIND = StudyKind(
