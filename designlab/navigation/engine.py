@@ -9,6 +9,7 @@ numpy arrays, and mapped over a batch of gain sets with ``Function.map``.
 from __future__ import annotations
 
 import math
+import tempfile
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any
@@ -157,14 +158,23 @@ def _jit_step(
 ) -> ca.Function:
     """The one-period step compiled to machine code (CasADi JIT with the system C compiler)."""
     f = build_step(geometries, robot, method, n_sub, dt, lean)
-    return ca.Function(
+    # CasADi writes the C source and the shared object next to ``jit_name`` and removes them
+    # when the function is destroyed: keep them in a private temporary directory
+    tmp = tempfile.mkdtemp(prefix="designlab_jit_")
+    jitted = ca.Function(
         f.name() + "_jit",
         f.sx_in(),
         f.call(f.sx_in()),
         f.name_in(),
         f.name_out(),
-        {"jit": True, "compiler": "shell", "jit_options": {"flags": ["-O1"], "verbose": False}},
+        {
+            "jit": True,
+            "compiler": "shell",
+            "jit_name": "step",
+            "jit_options": {"flags": ["-O1"], "verbose": False, "directory": tmp},
+        },
     )
+    return jitted
 
 
 class _Buffered:
