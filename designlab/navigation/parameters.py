@@ -390,7 +390,10 @@ class MasoudGains(_Params):
 
 @dataclass(frozen=True)
 class GeCuiGains(_Params):
-    """Gains of Ge & Cui (2002) as used in Zeng 2011, Sec. 2.2.4 (Table C.1: 1.0, 0.75, 14.2, 14.2)."""
+    """Gains of Ge & Cui (2002) as used in Zeng 2011, Sec. 2.2.4.
+
+    Defaults are Table C.1's: 1.0, 0.75, 14.2, 14.2.
+    """
 
     k1: float = 1.0
     b: float = 0.75

@@ -489,7 +489,8 @@ class Scenario:
                     raise InvalidParameterError(
                         "Scenario.goal",
                         self.goal,
-                        f"lies inside the critical region of {o.name!r} (distance {d_goal:.3f} m <= r3 = {o.r3} m)",
+                        f"lies inside the critical region of {o.name!r} "
+                        f"(distance {d_goal:.3f} m <= r3 = {o.r3} m)",
                         "m",
                     )
 

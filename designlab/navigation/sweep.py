@@ -11,8 +11,8 @@ Examples
 --------
 >>> import numpy as np
 >>> pts = {"k1": np.array([4.3, 3.0]), "b": np.array([0.68, 0.25]), "k3": np.array([20.3, 20.0]),
-...        "k5": np.array([240.7, 17.0]), "v_max": np.array([0.7, 0.7]), "a_max": np.array([10.0, 10.0]),
-...        "v_h": np.array([1.0, 1.0])}
+...        "k5": np.array([240.7, 17.0]), "v_max": np.array([0.7, 0.7]),
+...        "a_max": np.array([10.0, 10.0]), "v_h": np.array([1.0, 1.0])}
 >>> out = vff_metrics_chunk(pts, {"scenarios": [[1, 6]], "stabilising": "off"})
 >>> np.round(out["T_mean_s"], 2).tolist(), out["status"].tolist()
 ([5.98, 6.48], ['ok', 'ok'])

@@ -21,8 +21,10 @@ scenarios:
     start: [4.0, 0.5]
     goal: [0.0, 0.5]
     obstacles:
-      - {name: table, kind: rectangle, center: [2.0, -0.6], length: 1.0, width: 0.5, r2: 0.8, r3: 0.4}
-      - {name: visitor, kind: disc, radius: 0.4, r2: 2.1, r3: 0.8, walk: {start: [0, 2], end: [4, 2], speed: 0.8}}
+      - {name: table, kind: rectangle, center: [2.0, -0.6], length: 1.0, width: 0.5,
+         r2: 0.8, r3: 0.4}
+      - {name: visitor, kind: disc, radius: 0.4, r2: 2.1, r3: 0.8,
+         walk: {start: [0, 2], end: [4, 2], speed: 0.8}}
 methods:
   - {label: "New VFF*", gains: {k1: 4.3, b: 0.68, k3: 20.3, k5: 240.7}, stabilising: "off"}
   - {label: "Masoud*", method: masoud}
@@ -74,7 +76,7 @@ def test_bad_studies_are_rejected(patch: str, message: str) -> None:
 def test_goal_inside_an_obstacle_is_reported_with_the_parameter() -> None:
     bad = SCEN.replace("center: [2.0, -0.6]", "center: [0.0, 0.5]")
     study = parse_study(bad)
-    with pytest.raises(ValueError, match="goal|obstacles"):
+    with pytest.raises(ValueError, match=r"goal|obstacles"):
         run_study(study)
 
 

@@ -61,6 +61,25 @@ def test_new_vff_star_tables_6_2_and_6_4(config: int) -> None:
     assert not res.entered_critical and not res.collided
 
 
+def test_new_vff_star_rows_within_7_percent_with_a_5_cm_first_passage() -> None:
+    # The thesis does not state its arrival tolerance (docs/navigation.md, "Arrival"). With a
+    # 0.05 m first passage both New VFF* rows of Tables 6.2 and 6.4 come within 7 % (measured
+    # 6.15 vs 6.3 s and 5.86 vs 6.2 s); the default 0.15 m is kept because with the
+    # experiment gains the robot passes the goal of Configuration 3 at 0.1-0.15 m and
+    # circles it, which the 0.05 m tolerance turns from a 5.9 s run into a 17 s one.
+    for config in (1, 3):
+        res = nav.simulate(
+            nav.configuration(config), OPT, stabilising="off", arrival_tolerance=0.05
+        )
+        row = _row(CH6, configuration=config, method="New VFF*", sim_or_exp="sim")
+        assert res.arrival_time == pytest.approx(row.T_arrive_s, rel=0.07), config
+        for name, d in res.min_distance.items():
+            assert d == pytest.approx(row[COLS[name]], abs=0.03), name
+    orbit = nav.simulate(nav.configuration(3), EXP, stabilising="off", arrival_tolerance=0.05)
+    first = nav.simulate(nav.configuration(3), EXP, stabilising="off", arrival_tolerance=0.15)
+    assert orbit.arrival_time > 2 * first.arrival_time
+
+
 @pytest.mark.parametrize("config", [1, 2, 3, 4])
 def test_chapter_7_holonomic_rows(config: int) -> None:
     sc = nav.configuration(config, chapter=7, robot=nav.HolonomicRobot())
