@@ -13,4 +13,5 @@ MODULES: tuple[str, ...] = (
     "foam_design",
     "vff_scenarios",
     "vff_sweep",
+    "accompanying",
 )
