@@ -100,6 +100,38 @@ def omega_closed_form(
             + m K3 K'_Lambda d'^2 / 2 + m K5 (r2-d)^2 d' Phi'^2 / 2 - m K5 d (r2-d) d' Phi'^2.
 
     The terms are those of ``docs/navigation.md`` (Stability); all arguments SI.
+
+    Parameters
+    ----------
+    E, Edot
+        Robot-to-goal vector E = P_g - P_r (m) and its rate (m/s).
+    d, d_rate
+        Obstacle-to-robot distance (m) and its rate (m/s).
+    phi, phi_rate
+        Detour angle Phi in the chosen direction (rad, in [0, 2 pi)) and its rate (rad/s).
+    u, u_psi
+        Unit vectors u_Lambda (away from the obstacle) and u_psi (detour direction).
+    a_o
+        Obstacle acceleration, m/s^2.
+    r2, r3
+        Active and critical radii, m (r3 < d < r2).
+    k1, k3, k5
+        Attractive, repulsive and detour gains.
+    m
+        Robot mass M_r = m_mr, kg.
+
+    Returns
+    -------
+    float
+        Omega in W (J/s), the residual of dV2/dt = -b |v_L|^2 - v_L^T F_L + Omega.
+
+    Examples
+    --------
+    >>> kw = dict(E=(-2.0, 0.0), Edot=(0.5, 0.0), d=1.5, d_rate=-0.5, phi=0.3, phi_rate=0.1,
+    ...           u=(1.0, 0.0), u_psi=(0.0, 1.0), r2=2.1, r3=0.8, k1=3.0, k3=20.0, k5=17.0,
+    ...           m=4.4)
+    >>> round(omega_closed_form(a_o=(0.0, 0.5), **kw), 3)
+    237.228
     """
     t = _terms(E, Edot, d, d_rate, phi, phi_rate, u, u_psi, r2, r3)
     a_o = np.asarray(a_o, dtype=float)
@@ -138,6 +170,38 @@ def omega_printed(
     """Omega as printed in Zeng 2011 (5.5.8), typos included.
 
     The print has no M_r on a_o and ends with -K5^2 (r2-d) d' Phi^2.
+
+    Parameters
+    ----------
+    E, Edot
+        Robot-to-goal vector E = P_g - P_r (m) and its rate (m/s).
+    d, d_rate
+        Obstacle-to-robot distance (m) and its rate (m/s).
+    phi, phi_rate
+        Detour angle Phi in the chosen direction (rad, in [0, 2 pi)) and its rate (rad/s).
+    u, u_psi
+        Unit vectors u_Lambda (away from the obstacle) and u_psi (detour direction).
+    a_o
+        Obstacle acceleration, m/s^2.
+    r2, r3
+        Active and critical radii, m (r3 < d < r2).
+    k1, k3, k5
+        Attractive, repulsive and detour gains.
+    m
+        Robot mass M_r = m_mr, kg.
+
+    Returns
+    -------
+    float
+        The printed expression's value (its units are inconsistent when a_o != 0).
+
+    Examples
+    --------
+    >>> kw = dict(E=(-2.0, 0.0), Edot=(0.5, 0.0), d=1.5, d_rate=-0.5, phi=0.3, phi_rate=0.1,
+    ...           u=(1.0, 0.0), u_psi=(0.0, 1.0), r2=2.1, r3=0.8, k1=3.0, k3=20.0, k5=17.0,
+    ...           m=4.4)
+    >>> round(omega_printed(a_o=(0.0, 0.5), **kw), 3)   # corrected form: 237.228
+    238.372
     """
     t = _terms(E, Edot, d, d_rate, phi, phi_rate, u, u_psi, r2, r3)
     a_o = np.asarray(a_o, dtype=float)

@@ -249,6 +249,18 @@ def simulate(
     ------
     InvalidParameterError
         For an unknown method or mode, or gains of the wrong kind.
+
+    Examples
+    --------
+    >>> import designlab as dl
+    >>> nav = dl.navigation
+    >>> res = nav.simulate(nav.configuration(1), nav.EXPERIMENT_GAINS, stabilising="off")
+    >>> round(res.arrival_time, 2), round(res.min_distance["circle"], 3), res.collided
+    (6.48, 0.486, False)
+    >>> nav.simulate(nav.configuration(1), nav.EXPERIMENT_GAINS, method="bug")
+    Traceback (most recent call last):
+    ...
+    designlab.errors.InvalidParameterError: method = 'bug' is not allowed: ...
     """
     if stabilising not in _STABILISING:
         raise InvalidParameterError("stabilising", stabilising, f"must be one of {_STABILISING}")
@@ -504,6 +516,16 @@ def simulate_batch(
     BatchResult
         Arrival times, minimum distances, critical entries, collisions and H per
         (scenario, gain set); ``H_mean`` averages over the scenarios.
+
+    Examples
+    --------
+    >>> import designlab as dl
+    >>> nav = dl.navigation
+    >>> b = nav.simulate_batch([nav.configuration(1), nav.configuration(3)],
+    ...                        [[3.0, 0.25, 20.0, 17.0]], stabilising="off")
+    >>> b.arrival_time.round(2)
+    array([[6.48],
+           [5.94]])
     """
     if stabilising not in _STABILISING:
         raise InvalidParameterError("stabilising", stabilising, f"must be one of {_STABILISING}")
