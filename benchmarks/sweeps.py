@@ -37,6 +37,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from designlab.study.points_table import BLOCK_ROWS
+
 STUDY = """\
 designlab: 1
 kind: impact_sweep
@@ -169,6 +171,31 @@ def impact_sweep(n: int, tmp: Path) -> None:
         "(target < 100)"
     )
     print(f"  report files: {', '.join(files)}")
+    if n >= 10_000:
+        _memory_scaling(n, tmp)
+
+
+def _memory_scaling(n: int, tmp: Path) -> None:
+    """Peak memory of run and resume at n / 10 and n points: what each extra point costs."""
+    small = n // 10
+    peaks = {}
+    for size in (small, n):
+        d = tmp / f"scale_{size}"
+        d.mkdir()
+        study = d / "bench_sweep.yaml"
+        study.write_text(STUDY.format(n=size))
+        args = ["run", str(study), "-o", str(d / "reports"), "--cache-dir", str(d / "cache")]
+        peaks[size] = (_bench(CLI, *args)["rss_mb"], _bench(CLI, *args, "--resume")["rss_mb"])
+    (run_s, res_s), (run_n, res_n) = peaks[small], peaks[n]
+    per_point = [(big - little) * 2**20 / (n - small) for big, little in
+                 ((run_n, run_s), (res_n, res_s))]  # fmt: skip
+    print(
+        f"  memory: peak RSS run {run_s:.0f} MB at {small:,} points, {run_n:.0f} MB at {n:,} "
+        f"({per_point[0]:.0f} bytes per extra point); resume {res_s:.0f} / {res_n:.0f} MB "
+        f"({per_point[1]:.0f} bytes per extra point). The results stay in the store "
+        f"(read back in blocks of {BLOCK_ROWS:,} rows); what grows with the points is the "
+        "sample itself and its row hashes."
+    )
 
 
 def envelope_sweep(n: int, workers: int, tmp: Path) -> None:

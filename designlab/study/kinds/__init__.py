@@ -13,5 +13,10 @@ MODULES: tuple[str, ...] = (
     "foam_design",
     "joint_reduction",
     "zeng_ch3_claims",
+    "follower_comparison",
+    "follower_tuning",
+    "follower_sweep",
+    "vff_scenarios",
+    "vff_sweep",
     "accompanying",
 )
