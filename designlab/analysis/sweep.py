@@ -434,35 +434,61 @@ class SweepRun:
         return self.frame.to_dict("records")
 
 
-def _distinct(cols: Columns) -> tuple[np.ndarray, np.ndarray]:
+def _distinct(cols: Columns) -> tuple[np.ndarray | None, np.ndarray | None]:
     """``(first, inverse)``: rows of the distinct points, and each point's distinct index.
 
-    Rows are hashed column by column (pandas, 64 bit, no copy of the table);
-    when rows share a hash the grouping is verified value by value, so a hash
-    collision can never merge two different points.
+    ``(None, None)`` when every point is distinct (the common case of a random
+    sample), without building any per-point index. Rows are hashed column by
+    column (pandas, 64 bit) and sorted by hash, which needs a few bytes per
+    point and no hash table; when rows share a hash the grouping is verified
+    value by value, so a hash collision can never merge two different points.
     """
     n = _length(cols)
     if n == 0:
-        return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
+        return None, None
     hashes = np.zeros(n, dtype=np.uint64)
     for name in sorted(cols):
         column = np.ascontiguousarray(cols[name], dtype=float)
         with np.errstate(over="ignore"):
-            hashes = hashes * np.uint64(0x100000001B3) ^ pd.util.hash_array(column)
-    codes, _ = pd.factorize(hashes)
-    first = np.flatnonzero(~pd.Series(codes).duplicated().to_numpy())
-    if len(first) == n:  # nothing merged: no collision can matter
-        return first, np.asarray(codes, dtype=np.intp)
+            hashes *= np.uint64(0x100000001B3)
+            hashes ^= pd.util.hash_array(column)
+        del column
+    order = np.argsort(hashes, kind="stable")
+    ordered = hashes[order]
+    del hashes
+    same = ordered[1:] == ordered[:-1]
+    if not same.any():  # no two rows hash alike: all distinct, nothing to verify
+        return None, None
+    first, inverse = _groups(order, np.flatnonzero(np.r_[True, ~same]))
     for name in cols:
         values = np.asarray(cols[name], dtype=float)
-        rep = values[first[codes]]
+        rep = values[first[inverse]]
         if not bool(((rep == values) | (np.isnan(rep) & np.isnan(values))).all()):
+            # a 64-bit hash collision merged different points: group by value instead
             frame = pd.DataFrame({k: cols[k] for k in sorted(cols)})
             codes = frame.groupby(list(frame.columns), sort=False, dropna=False).ngroup()
-            codes = codes.to_numpy()  # a 64-bit hash collision (tested by forcing one)
+            codes = codes.to_numpy()
             first = np.flatnonzero(~pd.Series(codes).duplicated().to_numpy())
-            break
-    return first, np.asarray(codes, dtype=np.intp)
+            return first, np.asarray(codes, dtype=np.intp)
+    return first, inverse
+
+
+def _groups(order: np.ndarray, starts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Distinct rows and codes, numbered in order of first appearance (as ``pd.factorize``).
+
+    ``order`` sorts the rows by hash (stably); ``starts`` are the positions in
+    that order where a new hash begins.
+    """
+    n = len(order)
+    sizes = np.diff(np.r_[starts, n])
+    group_of_sorted = np.repeat(np.arange(len(starts)), sizes)
+    earliest = order[starts]  # stable sort: the first row of each group
+    rank = np.empty(len(starts), dtype=np.intp)
+    rank[np.argsort(earliest, kind="stable")] = np.arange(len(starts))
+    inverse = np.empty(n, dtype=np.intp)
+    inverse[order] = rank[group_of_sorted]
+    first = np.sort(earliest)
+    return first, inverse
 
 
 class _StatusCounter:
@@ -777,13 +803,13 @@ def run_points(
     if not collect and store is None:
         raise ValueError("collect=False keeps the results in the store: give a store")
     first, inverse = _distinct(cols)
-    m = len(first)
-    distinct = cols if m == n else _take(cols, first)
+    m = n if first is None else len(first)
+    distinct = cols if first is None else _take(cols, first)
     run = SweepRun(pd.DataFrame(), points=n, distinct=m)
     bounds = [(s, min(s + size, m)) for s in range(0, m, size)]
     run.chunks = len(bounds)
     assembled = _Assembler(m) if collect else None
-    counter = _StatusCounter(None if m == n else np.bincount(inverse, minlength=m))
+    counter = _StatusCounter(None if inverse is None else np.bincount(inverse, minlength=m))
     keys: list[str | None] = [None] * len(bounds)
     todo: list[int] = []
     for c, (s, e) in enumerate(bounds):
@@ -840,7 +866,7 @@ def run_points(
                 bar.update(k)
         finally:
             bar.close()
-    run.digest = _digest(evaluator, options, cols, keys, None if m == n else inverse)
+    run.digest = _digest(evaluator, options, cols, keys, inverse)
     run.status_counts = counter.counts
     if assembled is None:
         run.rows = StoredRows(
@@ -848,14 +874,14 @@ def run_points(
             keys,
             size,
             m,
-            None if m == n else inverse,
+            inverse,
             kinds=counter.kinds,
             partial=counter.partial(),  # type: ignore[arg-type]
         )
         if run.failed_count:
             logger.warning("%s: %d of %d points failed", desc, run.failed_count, n)
         return run
-    frame = assembled.frame(None if m == n else inverse)
+    frame = assembled.frame(inverse)
     if len(frame):
         for c in ("status", "error"):
             if c not in frame:
