@@ -171,3 +171,18 @@ def test_blocks_read_back_have_every_column_typed_alike():
     assert first["y"].isna().all() and list(first["positive"]) == [None, None]
     assert later["positive"].dtype == object
     assert list(later["positive"]) == [True, True, False, True]
+
+
+def doubling_in_place(points, options):
+    """An evaluator that reuses its input arrays (allowed: they are its own copies)."""
+    x = points["x"]
+    x *= 2.0
+    return {"y": x + points["c"]}
+
+
+def test_evaluators_get_writable_copies_of_broadcast_points():
+    x = np.arange(5.0)
+    c = np.broadcast_to(np.float64(1.0), (5,))  # a constant column, as sweeps build them
+    run = run_points({"x": x, "c": c}, doubling_in_place, chunk_size=2)
+    assert list(run.frame["y"]) == [1.0, 3.0, 5.0, 7.0, 9.0]
+    assert list(x) == [0.0, 1.0, 2.0, 3.0, 4.0]  # the caller's points are untouched
