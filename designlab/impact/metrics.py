@@ -19,7 +19,7 @@ Examples
 ...                     "C_c": 71.9, "M_h": 4.4, "C_h": 0.0, "K_h": 4e3},
 ...                    impact_velocity=np.array([0.4, 1.25]))
 >>> np.round(m.peak_head_acceleration_g, 3)
-array([2.101, 6.566])
+array([2.102, 6.568])
 >>> np.round(m.impact_duration * 1e3, 2)           # ms
 array([33.22, 33.22])
 """
@@ -35,10 +35,12 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from designlab.errors import InvalidParameterError, ModelError
+from designlab.units import STANDARD_GRAVITY
 from designlab.impact.modal import (
     ModalResponse,
+    certified_first_crossing,
+    certified_maximum,
     first_crossing,
-    refine_extremum,
 )
 from designlab.impact.model import (
     PARAM_NAMES,
@@ -50,7 +52,6 @@ from designlab.impact.model import (
 
 __all__ = [
     "STATUS_OK",
-    "G",
     "ImpactMetrics",
     "hic_batch",
     "impact_metrics",
@@ -58,8 +59,6 @@ __all__ = [
     "ramp_responses",
 ]
 
-#: Standard gravity used to express accelerations in g (the project convention).
-G = 9.81
 
 STATUS_OK = "ok"
 STATUS_NO_IMPACT = "no_impact"
@@ -206,8 +205,8 @@ class ImpactMetrics:
 
     @property
     def peak_head_acceleration_g(self) -> NDArray[np.float64]:
-        """a_h,max in g (9.81 m/s^2)."""
-        return self.peak_head_acceleration / G
+        """a_h,max in g (standard gravity, 9.80665 m/s^2)."""
+        return self.peak_head_acceleration / STANDARD_GRAVITY
 
     def __len__(self) -> int:
         return self.params.shape[0]
@@ -428,27 +427,30 @@ def metrics_from_responses(
 
     pol = resp[names[0]].poles
     h = 0.4 / np.abs(pol).max(axis=1)  # <= 1/15 of the fastest mode's period
-    horizon = np.full(n, float(stop_time))
+    t_low = np.full(n, np.nan)
     if constrained:
         h = np.minimum(h, stop_time / 64.0)
-    lo, hi, found, best, guess, t_low = _march(
-        resp,
-        None if constrained else "head_acceleration",
-        h,
-        horizon,
-        block=12,
-        max_steps=max_lobe_steps,
-        diagnose=lobe_diagnostics,
-    )
-    if constrained:
-        t_imp = horizon.copy()
+        t_imp = np.full(n, float(stop_time))
     else:
+        lobe = {"head_acceleration": resp["head_acceleration"]}
+        lo, hi, found, _, guess, t_low = _march(
+            lobe,
+            "head_acceleration",
+            h,
+            np.full(n, float(stop_time)),
+            block=12,
+            max_steps=max_lobe_steps,
+            diagnose=lobe_diagnostics,
+        )
         t_imp = np.full(n, np.nan)
         if np.any(found):
             idx = np.flatnonzero(found)
-            t_imp[idx] = first_crossing(
-                resp["head_acceleration"].take(idx), lo[idx], hi[idx], guess=guess[idx]
-            )
+            a_resp = resp["head_acceleration"].take(idx)
+            # a dip below zero between two grid nodes ends the lobe earlier
+            lo_c, hi_c = certified_first_crossing(a_resp, hi[idx], h[idx])
+            moved = hi_c < hi[idx]
+            g = np.where(moved, 0.5 * (lo_c + hi_c), guess[idx])
+            t_imp[idx] = first_crossing(a_resp, lo_c, hi_c, guess=g)
         status[~found] = STATUS_LOBE_OPEN
 
     idx = np.flatnonzero(np.isfinite(t_imp))
@@ -457,10 +459,9 @@ def metrics_from_responses(
         tt = np.full(n, np.nan)
         yy = np.full(n, np.nan)
         if idx.size:
-            tb = best[name][0][idx]
-            lo_b = np.maximum(tb - h[idx], 0.0)
-            hi_b = np.minimum(tb + h[idx], t_imp[idx])
-            t_s, y_s = refine_extremum(resp[name].take(idx), lo_b, hi_b, guess=tb)
+            t_s, y_s = certified_maximum(
+                resp[name].take(idx), np.zeros(idx.size), t_imp[idx], h[idx]
+            )
             tt[idx], yy[idx] = t_s, y_s
             if name == "head_acceleration":
                 status[idx[t_s <= 0.0]] = STATUS_PEAK_AT_CONTACT
@@ -523,19 +524,78 @@ def hic_batch(metrics: ImpactMetrics, window: float = 0.015, samples: int = 400)
     if metrics.constrained or idx.size == 0:
         return out
     resp = ramp_responses(unconstrained_model(), metrics.params[idx], ("head_velocity",))
+    vel = resp["head_velocity"]
+    scale = metrics.impact_velocity[idx]
+    t_end = t_imp[idx]
     rel = np.linspace(0.0, 1.0, samples)
-    t = t_imp[idx, None] * rel[None, :]
-    v = resp["head_velocity"].evaluate(t) * metrics.impact_velocity[idx, None]
-    dt = t_imp[idx] / (samples - 1)
+    t = t_end[:, None] * rel[None, :]
+    v = vel.evaluate(t) * scale[:, None]
+    dt = t_end / (samples - 1)
     best = np.zeros(idx.size)
+    arg = np.zeros((idx.size, 2))
     max_lag = int(min(samples - 1, np.ceil(window / dt.min())))
+    rows = np.arange(idx.size)
     for lag in range(1, max_lag + 1):
         dur = lag * dt
         ok = dur <= window * (1 + 1e-12)
         if not np.any(ok):
             break
-        mean_g = (v[:, lag:] - v[:, :-lag]).max(axis=1) / (dur * G)
+        dv = v[:, lag:] - v[:, :-lag]
+        j = dv.argmax(axis=1)
+        mean_g = dv[rows, j] / (dur * STANDARD_GRAVITY)
         val = np.where(ok & (mean_g > 0), dur * np.maximum(mean_g, 0.0) ** 2.5, 0.0)
-        best = np.maximum(best, val)
-    out[idx] = best
+        better = val > best
+        best = np.where(better, val, best)
+        arg[better, 0] = t[better, j[better]]
+        arg[better, 1] = t[better, j[better] + lag]
+    out[idx] = _zoom_hic(vel, scale, t_end, window, best, arg, dt)
     return out
+
+
+def _zoom_hic(
+    vel: ModalResponse,
+    scale: NDArray,
+    t_end: NDArray,
+    window: float,
+    best: NDArray,
+    arg: NDArray,
+    step: NDArray,
+    points: int = 21,
+    rounds: int = 14,
+) -> NDArray[np.float64]:
+    """Refine the best HIC window ``arg`` (t1, t2) by zooming grids around it.
+
+    Each round evaluates ``points x points`` windows in a box of half-width
+    ``2 step`` centred on the best window (which is one of them), keeps the best
+    feasible one (``0 <= t1 < t2 <= t_end``, ``t2 - t1 <= window``) and shrinks
+    the box by ``points / 4``. The value never decreases.
+    """
+    n = best.size
+    k = np.linspace(-1.0, 1.0, points)
+    best = best.copy()
+    arg = arg.copy()
+    step = np.asarray(step, dtype=float).copy()
+    rows = np.arange(n)
+    for _ in range(rounds):
+        t1 = np.clip(arg[:, :1] + 2.0 * step[:, None] * k[None, :], 0.0, t_end[:, None])
+        t2 = np.clip(arg[:, 1:] + 2.0 * step[:, None] * k[None, :], 0.0, t_end[:, None])
+        v1 = vel.evaluate(t1) * scale[:, None]
+        v2 = vel.evaluate(t2) * scale[:, None]
+        dur = t2[:, None, :] - t1[:, :, None]
+        dv = v2[:, None, :] - v1[:, :, None]
+        ok = (dur > 0) & (dur <= window) & (dv > 0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            val = np.where(
+                ok, np.abs(dur) ** -1.5 * np.abs(dv) ** 2.5 / STANDARD_GRAVITY**2.5, 0.0
+            )
+        flat = val.reshape(n, -1)
+        j = flat.argmax(axis=1)
+        cand = flat[rows, j]
+        better = cand > best
+        i1, i2 = np.unravel_index(j, (points, points))
+        arg[better, 0] = t1[better, i1[better]]
+        arg[better, 1] = t2[better, i2[better]]
+        best = np.where(better, cand, best)
+        step = step * 4.0 / points
+    return best
+

@@ -39,7 +39,6 @@ from designlab.impact.metrics import (
     STATUS_NO_IMPACT,
     STATUS_OK,
     STATUS_PEAK_AT_CONTACT,
-    G,
     metrics_from_responses,
 )
 from designlab.impact.modal import ModalResponse, poles_of
@@ -50,6 +49,7 @@ from designlab.impact.model import (
     unconstrained_model,
 )
 from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
+from designlab.units import STANDARD_GRAVITY
 
 __all__ = ["ImpactResponse", "VelocityProfile", "hic", "simulate"]
 
@@ -66,8 +66,8 @@ class VelocityProfile:
 
     Examples
     --------
-    >>> VelocityProfile(acceleration=0.51 * 9.81, duration=0.05).delta_v
-    0.250155
+    >>> round(VelocityProfile(acceleration=0.51 * 9.80665, duration=0.05).delta_v, 4)
+    0.25
     """
 
     acceleration: float
@@ -102,12 +102,12 @@ def hic(t: NDArray, head_acceleration: NDArray, window: float = 0.015) -> float:
     --------
     >>> import numpy as np
     >>> t = np.linspace(0, 0.03, 3001)
-    >>> a = np.full_like(t, 10 * 9.81)      # 10 g held for 30 ms
+    >>> a = np.full_like(t, 10 * 9.80665)   # 10 g held for 30 ms
     >>> round(hic(t, a, 0.015), 2)          # 0.015 * 10**2.5
     4.74
     """
     t = np.asarray(t, dtype=float)
-    a = np.asarray(head_acceleration, dtype=float) / G
+    a = np.asarray(head_acceleration, dtype=float) / STANDARD_GRAVITY
     if t.ndim != 1 or t.shape != a.shape or t.size < 2:
         raise InvalidParameterError("t", t.shape, "t and head_acceleration need the same 1-D shape")
     if not window > 0:
@@ -179,8 +179,8 @@ class ImpactResponse:
 
     @property
     def peak_head_acceleration_g(self) -> float:
-        """a_h,max in g (9.81 m/s^2)."""
-        return self.peak_head_acceleration / G
+        """a_h,max in g (standard gravity, 9.80665 m/s^2)."""
+        return self.peak_head_acceleration / STANDARD_GRAVITY
 
     @property
     def bottoming(self) -> bool:
@@ -226,7 +226,7 @@ class ImpactResponse:
                 "t_s": self.t,
                 "f_c_N": self.force,
                 "a_h_m_per_s2": self.head_acceleration,
-                "a_h_g": self.head_acceleration / G,
+                "a_h_g": self.head_acceleration / STANDARD_GRAVITY,
                 "eps_m": self.compression,
                 "v_h_rel_m_per_s": self.head_velocity,
                 "delta_r_m": self.robot_deflection,

@@ -275,7 +275,7 @@ def test_optimal_foam_matches_dense_grid_search() -> None:
         [np.tile([9.6, 250, 20e3], (n, 1)), kk, cc, np.tile([5.3, 130.2, 5e3], (n, 1))]
     )
     ga = np.log(
-        10 * 9.81 / dl.impact.impact_metrics(pa, 1.25, with_force=False).peak_head_acceleration
+        10 * 9.80665 / dl.impact.impact_metrics(pa, 1.25, with_force=False).peak_head_acceleration
     )
     ge = np.log(0.02 / dl.impact.impact_metrics(pe, 1.25, with_force=False).max_compression)
     best = np.max(np.minimum(ga, ge))
