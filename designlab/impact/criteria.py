@@ -39,7 +39,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError, check_positive
-from designlab.impact.metrics import ImpactMetrics, hic_batch, impact_metrics
+from designlab.impact.metrics import ImpactMetrics, hic_batch, metrics_of_matrix
 from designlab.impact.parameters import HEAD_MAX, HEAD_MIN, HeadNeck
 from designlab.units import STANDARD_GRAVITY
 
@@ -133,12 +133,17 @@ class Criterion:
         impact_velocity: NDArray[np.float64],
         *,
         constrained: bool = False,
+        stop_time: float = 0.05,
     ) -> NDArray[np.float64]:
-        """The metric for a batch of designs (``(N, 8)`` params, ``(N,)`` v_c), SI."""
-        m = impact_metrics(
+        """The metric for a batch of designs (``(N, 8)`` params, ``(N,)`` v_c), SI.
+
+        ``stop_time`` is the window of the constrained impact's metrics, s.
+        """
+        m = metrics_of_matrix(
             params,
             impact_velocity,
             constrained=constrained,
+            stop_time=stop_time,
             with_force=self.needs_force,
             with_compression=self.metric == "compression",
         )
@@ -419,10 +424,11 @@ class HeadInjuryCriterion(Criterion):
         impact_velocity: NDArray[np.float64],
         *,
         constrained: bool = False,
+        stop_time: float = 0.05,
     ) -> NDArray[np.float64]:
         if constrained:
             return np.zeros(np.atleast_2d(params).shape[0])
-        m = impact_metrics(params, impact_velocity, with_force=False, with_compression=False)
+        m = metrics_of_matrix(params, impact_velocity, with_force=False, with_compression=False)
         return hic_batch(m, self.window, self.samples)
 
     def from_metrics(self, m: ImpactMetrics) -> NDArray[np.float64]:

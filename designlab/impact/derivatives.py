@@ -34,7 +34,7 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
-from designlab.impact.metrics import ImpactMetrics, impact_metrics
+from designlab.impact.metrics import ImpactMetrics, metrics_of_matrix
 from designlab.impact.model import PARAM_NAMES, constrained_model, unconstrained_model
 
 __all__ = ["VARIABLE_NAMES", "MetricGradients", "metric_gradients", "response_function"]
@@ -179,7 +179,7 @@ def metric_gradients(
     -------
     MetricGradients
     """
-    m = metrics or impact_metrics(params, impact_velocity, constrained=constrained)
+    m = metrics or metrics_of_matrix(params, impact_velocity, constrained=constrained)
     p = m.params
     v = m.impact_velocity
     n = p.shape[0]

@@ -168,7 +168,7 @@ class ImpactPointSweep:
         >>> sweep.evaluate(FOAM_1, HEAD_MIN)["a_h_max_g"].round(2).tolist()
         [5.78, 5.09]
         """
-        from designlab.impact.metrics import impact_metrics
+        from designlab.impact.metrics import metrics_of_matrix
         from designlab.impact.model import param_vector
 
         n = len(self)
@@ -178,10 +178,10 @@ class ImpactPointSweep:
              np.full(n, foam.damping), np.tile(head_row, (n, 1))]
         )  # fmt: skip
         v = self.velocity + check_finite("human_speed", human_speed, "m/s")
-        m = impact_metrics(params, v, constrained=head is None)
+        m = metrics_of_matrix(params, v, constrained=head is None)
         out = self.to_frame()
         metrics = m.to_frame()
-        for col in ("v_c_m_per_s", "a_h_max_g", "eps_max_m", "f_c_max_N", "t_imp_s", "status"):
+        for col in ("v_c_m_per_s", "a_h_max_g", "eps_max_m", "peak_force_N", "t_imp_s", "status"):
             out[col] = metrics[col].to_numpy()
         return out
 

@@ -405,7 +405,7 @@ def simulate(
         constrained=constrained,
         stop_time=check_positive("stop_time", stop_time, "s"),
     )
-    status = str(base.status[0])
+    status = str(base.design_status[0])
     t_imp = float(base.impact_duration[0])
     metrics = {
         "head_acceleration": (
