@@ -282,7 +282,10 @@ def _illinois(
     tol: float,
     max_iter: int = 100,
 ) -> NDArray:
-    """Vectorised Illinois (modified regula falsi) on brackets with ``fa * fb < 0``."""
+    """Vectorised Illinois (modified regula falsi) on brackets with ``fa * fb < 0``.
+
+    Returns the end of the final bracket where ``f <= 0`` (the feasible side).
+    """
     a, b, fa, fb = a.copy(), b.copy(), fa.copy(), fb.copy()
     x = 0.5 * (a + b)
     act = np.flatnonzero(np.abs(b - a) > tol)
@@ -308,7 +311,12 @@ def _illinois(
         # metric to its limit) is far below the requested relative accuracy
         done = (np.abs(b[act] - a[act]) <= tol) | (np.abs(fx) <= 1e-3 * tol)
         act = act[~done]
-    return x
+    # the end of the final bracket on the feasible side (excess <= 0): where the metric
+    # jumps (a delicate first lobe), the root is the jump and the boundary must not be
+    # reported on its violated side. A point converged on its residual (|excess| far
+    # below the accuracy) is the root itself, even if its bracket is still wide.
+    small = np.abs(b - a) <= tol
+    return np.where(fb <= 0, b, np.where(small & (fa <= 0), a, x))
 
 
 def _boundary(

@@ -39,8 +39,8 @@ def test_gradients_match_central_differences(metric: str) -> None:
         up[j] += h
         dn[j] -= h
         fd = (
-            getattr(dl.impact.impact_metrics(up, 1.25), metric)[0]
-            - getattr(dl.impact.impact_metrics(dn, 1.25), metric)[0]
+            getattr(dl.impact.impact_metrics(up, 1.25, columns=dl.impact.PARAM_NAMES), metric)[0]
+            - getattr(dl.impact.impact_metrics(dn, 1.25, columns=dl.impact.PARAM_NAMES), metric)[0]
         ) / (2 * h)
         assert g[j] == pytest.approx(fd, rel=1e-4, abs=1e-12 * max(1.0, abs(fd)))
 

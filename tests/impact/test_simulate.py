@@ -136,7 +136,7 @@ def test_batch_equals_dense_reference() -> None:
             rng.uniform(3e3, 5e3, n),
         ]
     )
-    m = dl.impact.impact_metrics(p, 1.25)
+    m = dl.impact.impact_metrics(p, 1.25, columns=dl.impact.PARAM_NAMES)
     for i in range(n):
         robot = dl.impact.ContactDynamics(p[i, 0], p[i, 2], p[i, 1])
         foam = dl.impact.Foam(p[i, 3], p[i, 4])
@@ -187,5 +187,6 @@ def test_to_frame_and_summary() -> None:
     assert len(df) == 101
     s = r.summary()
     assert s["a_h_max_g"] == pytest.approx(r.peak_head_acceleration / 9.80665)
-    m = dl.impact.impact_metrics([9.6, 250, 20e3, 24.25e3, 71.9, 4.4, 0, 4e3], [0.4, 1.25])
+    m = dl.impact.impact_metrics([9.6, 250, 20e3, 24.25e3, 71.9, 4.4, 0, 4e3], [0.4, 1.25],
+                                 columns=dl.impact.PARAM_NAMES)
     assert m.to_frame()["a_h_max_g"].round(2).tolist() == [2.10, 6.57]
