@@ -15,8 +15,8 @@ Examples
 
 from __future__ import annotations
 
-from designlab import errors, impact
+from designlab import errors, following, impact
+from designlab._version import __version__
 
-__all__ = ["__version__", "errors", "impact"]
+__all__ = ["__version__", "errors", "following", "impact"]
 
-__version__ = "0.1.0"

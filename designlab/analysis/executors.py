@@ -44,6 +44,7 @@ __all__ = [
     "ExecutorError",
     "ProcessExecutor",
     "SerialExecutor",
+    "check_scheduler_address",
     "make_executor",
 ]
 
@@ -51,6 +52,44 @@ logger = logging.getLogger(__name__)
 
 #: Names accepted by :func:`make_executor` (and ``designlab run --executor``).
 EXECUTORS = ("serial", "processes", "dask")
+
+
+def check_scheduler_address(address: str) -> str:
+    """``""`` if ``address`` looks like a Dask scheduler address, else what is wrong.
+
+    Parameters
+    ----------
+    address
+        For example ``tcp://10.0.0.5:8786`` or ``scheduler:8786``.
+
+    Examples
+    --------
+    >>> check_scheduler_address("tcp://127.0.0.1:8786")
+    ''
+    >>> check_scheduler_address("nonsense")
+    'give PROTOCOL://HOST:PORT, e.g. tcp://127.0.0.1:8786'
+    >>> check_scheduler_address("tcp://host:99999")
+    'the port must be 1-65535'
+    """
+    from urllib.parse import urlsplit
+
+    text = address.strip()
+    if "://" not in text:
+        text = "tcp://" + text
+    try:
+        parts = urlsplit(text)
+        port = parts.port
+    except ValueError:
+        return "the port must be 1-65535"
+    if parts.scheme == "inproc":
+        return ""
+    if parts.scheme not in ("tcp", "tls", "ucx", "ws", "wss"):
+        return f"unknown protocol {parts.scheme!r} (tcp, tls, ucx, ws, wss)"
+    if not parts.hostname or port is None:
+        return "give PROTOCOL://HOST:PORT, e.g. tcp://127.0.0.1:8786"
+    if not 0 < port < 65536:
+        return "the port must be 1-65535"
+    return ""
 
 
 class ExecutorError(DesignlabError, RuntimeError):
@@ -80,7 +119,15 @@ class Executor:
     def map_unordered(
         self, fn: Callable[[Any], Any], tasks: Sequence[Any]
     ) -> Iterator[tuple[int, Any]]:  # pragma: no cover - abstract
-        """Yield ``(index, fn(tasks[index]))`` as tasks finish."""
+        """Yield ``(index, fn(tasks[index]))`` as tasks finish.
+
+        Parameters
+        ----------
+        fn
+            A picklable top-level function of one task.
+        tasks
+            The tasks (plain, picklable values).
+        """
         raise NotImplementedError
 
     def describe(self) -> str:
@@ -96,6 +143,15 @@ class SerialExecutor(Executor):
     def map_unordered(
         self, fn: Callable[[Any], Any], tasks: Sequence[Any]
     ) -> Iterator[tuple[int, Any]]:
+        """Yield ``(index, fn(tasks[index]))`` as tasks finish.
+
+        Parameters
+        ----------
+        fn
+            A picklable top-level function of one task.
+        tasks
+            The tasks (plain, picklable values).
+        """
         for i, task in enumerate(tasks):
             yield i, fn(task)
 
@@ -132,6 +188,15 @@ class ProcessExecutor(Executor):
     def map_unordered(
         self, fn: Callable[[Any], Any], tasks: Sequence[Any]
     ) -> Iterator[tuple[int, Any]]:
+        """Yield ``(index, fn(tasks[index]))`` as tasks finish.
+
+        Parameters
+        ----------
+        fn
+            A picklable top-level function of one task.
+        tasks
+            The tasks (plain, picklable values).
+        """
         futures = {self._pool.submit(fn, task): i for i, task in enumerate(tasks)}
         yield from _yield_futures(futures)
 
@@ -195,6 +260,15 @@ class DaskExecutor(Executor):
     def map_unordered(
         self, fn: Callable[[Any], Any], tasks: Sequence[Any]
     ) -> Iterator[tuple[int, Any]]:
+        """Yield ``(index, fn(tasks[index]))`` as tasks finish.
+
+        Parameters
+        ----------
+        fn
+            A picklable top-level function of one task.
+        tasks
+            The tasks (plain, picklable values).
+        """
         from distributed import as_completed
 
         futures = self._client.map(fn, list(tasks), pure=False)
