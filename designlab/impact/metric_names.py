@@ -21,6 +21,7 @@ from dataclasses import dataclass
 from types import MappingProxyType
 
 __all__ = [
+    "ENVELOPE_COLUMNS",
     "LIMITS",
     "METRICS",
     "PARAMETERS",
@@ -80,11 +81,21 @@ METRICS = MappingProxyType(
     }
 )
 
+#: Metrics of a foam envelope evaluated at one foam (the ``foam_envelope`` sweeps).
+ENVELOPE_COLUMNS = MappingProxyType(
+    {
+        "k_c_max_N_per_m": ColumnInfo("K_c,max", "upper (safety) boundary at the foam's damping", "N/m"),
+        "k_c_min_N_per_m": ColumnInfo("K_c,min", "lower (thickness) boundary at the foam's damping", "N/m"),
+        "margin_decades": ColumnInfo("", "margin of the foam to the nearest boundary", "decades of K_c"),
+        "area_log": ColumnInfo("", "feasible area over the damping grid", "decades x N s/m"),
+    }
+)
+
 #: The thesis's design limits on the metrics (Zeng 2011, Sec. 3.9): 10 g and 20 mm.
 LIMITS = MappingProxyType({"a_h_max_g": 10.0, "eps_max_m": 0.02})
 
 
 def label(column: str) -> str:
     """Readable axis label of a parameter or metric column (the column itself if unknown)."""
-    info = PARAMETERS.get(column) or METRICS.get(column)
+    info = PARAMETERS.get(column) or METRICS.get(column) or ENVELOPE_COLUMNS.get(column)
     return info.label if info is not None else column

@@ -89,7 +89,9 @@ def _gradient_kc(prob: _Problem, key: Criterion, k: float, c: float) -> tuple[fl
             fd = key.values(dn[None, :], np.array([v]))[0]
             grads.append((fu - fd) / (2 * h))
         return val, np.array(grads)
-    g = metric_gradients(p, v, constrained=prob.constrained).gradients[_METRIC_ATTR[key.metric]][0]
+    g = metric_gradients(
+        np.atleast_2d(p), v, columns=PARAM_NAMES, constrained=prob.constrained
+    ).gradients[_METRIC_ATTR[key.metric]][0]
     return val, g[[3, 4]]
 
 

@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from designlab.impact.derivatives import VARIABLE_NAMES, metric_gradients
+from designlab.impact.metric_names import ENVELOPE_COLUMNS, METRICS
 from designlab.impact.metrics import PARAM_NAMES, impact_metrics
 
 __all__ = [
@@ -38,29 +39,20 @@ __all__ = [
     "impact_metrics_chunk",
 ]
 
-#: Metrics of one impact (column -> description with unit).
-IMPACT_METRICS: dict[str, str] = {
-    "a_h_max_g": "peak head acceleration a_h,max, g",
-    "eps_max_m": "maximum foam compression eps_max, m",
-    "peak_force_N": "peak contact force F_c,max, N",
-    "t_imp_s": "impact period t_imp, s",
-}
-
-#: Metrics of a foam envelope (column -> description with unit).
-ENVELOPE_METRICS: dict[str, str] = {
-    "k_c_max_N_per_m": "upper (safety) boundary K_c,max at the foam's damping, N/m",
-    "k_c_min_N_per_m": "lower (thickness) boundary K_c,min at the foam's damping, N/m",
-    "margin_decades": "margin of the foam to the nearest boundary, decades of K_c",
-    "area_log": "feasible area over the damping grid, decades x N s/m",
-}
-
-#: The model quantity behind each impact metric column.
+#: The model quantity behind each impact metric column (names from
+#: :mod:`designlab.impact.metric_names`).
 _METRIC_ATTR = {
     "a_h_max_g": "peak_head_acceleration",
     "eps_max_m": "max_compression",
     "peak_force_N": "peak_force",
     "t_imp_s": "impact_duration",
 }
+
+#: Metrics of one impact (column -> description with unit), from the one table.
+IMPACT_METRICS: dict[str, str] = {c: METRICS[c].label for c in _METRIC_ATTR}
+
+#: Metrics of a foam envelope (column -> description with unit), from the one table.
+ENVELOPE_METRICS: dict[str, str] = {c: info.label for c, info in ENVELOPE_COLUMNS.items()}
 
 
 def _params(points: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
@@ -81,14 +73,11 @@ def impact_metrics_chunk(points: dict[str, np.ndarray], options: dict[str, Any])
     m = impact_metrics(_params(points), np.asarray(points["v_c"], dtype=float))
     eps = np.asarray(m.max_compression, dtype=float)
     depth = np.asarray(points.get("lambda", np.full(len(eps), np.inf)), dtype=float)
-    return {
-        "a_h_max_g": np.asarray(m.peak_head_acceleration_g, dtype=float),
-        "eps_max_m": eps,
-        "peak_force_N": np.asarray(m.peak_force, dtype=float),
-        "t_imp_s": np.asarray(m.impact_duration, dtype=float),
-        "bottoming": eps > depth,
-        "status": np.asarray(m.status, dtype=object),
-    }
+    out: dict[str, Any] = {c: np.asarray(getattr(m, a), dtype=float) for c, a in _METRIC_ATTR.items()}
+    out["a_h_max_g"] = np.asarray(m.peak_head_acceleration_g, dtype=float)
+    out["bottoming"] = eps > depth
+    out["status"] = np.asarray(m.design_status, dtype=object)
+    return out
 
 
 impact_metrics_chunk.chunk_size = 4096  # type: ignore[attr-defined]
@@ -110,7 +99,7 @@ def impact_elasticities_chunk(
         Unused.
     """
     g = metric_gradients(_params(points), np.asarray(points["v_c"], dtype=float))
-    out: dict[str, Any] = {"status": np.asarray(g.metrics.status, dtype=object)}
+    out: dict[str, Any] = {"status": np.asarray(g.metrics.design_status, dtype=object)}
     for column, attr in _METRIC_ATTR.items():
         el = g.elasticities(attr)
         for var in VARIABLE_NAMES:
@@ -211,7 +200,7 @@ def envelope_elasticities_chunk(
             if np.isfinite(k):
                 p = [pt["M_r"], pt["C_r"], pt["K_r"], k, pt["C_c"],
                      head.mass, head.damping, head.stiffness]  # fmt: skip
-                el = metric_gradients(p, pt["v_c"]).elasticities(metric)
+                el = metric_gradients([p], pt["v_c"], columns=PARAM_NAMES).elasticities(metric)
                 e_k = float(el["K_c"][0])
                 for var in ("M_r", "C_r", "K_r", "C_c", "v_c"):
                     values[var] = -float(el[var][0]) / e_k
