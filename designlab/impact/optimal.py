@@ -53,6 +53,7 @@ from designlab.impact.criteria import Criterion
 from designlab.impact.derivatives import metric_gradients
 from designlab.impact.envelope import HeadRange, _make_problem, _Problem
 from designlab.impact.metric_names import PARAMETERS
+from designlab.impact.model import PARAM_NAMES
 from designlab.impact.parameters import ContactDynamics, LinkImpact
 from designlab.results import OK, Result
 from designlab.validation import check_choice, check_int

@@ -20,7 +20,7 @@ Examples
 'on the boundary'
 >>> v = dl.impact.foam_verdict(env, dl.impact.FOAM_3)
 >>> v.verdict, v.statement
-('not feasible', 'exceeds the upper (safety) boundary by 0.9 % (a_h,max <= 10 g)')
+('not feasible', 'exceeds the upper (safety) boundary by 1.0 % (a_h,max <= 10 g)')
 """
 
 from __future__ import annotations
