@@ -84,6 +84,10 @@ class ImpactReference(Model):
     exp_eps_max_m: Positive | None = None
     exp_trials: Annotated[int, Field(ge=1)] | None = None
     tolerance: ImpactTolerance | None = None
+    note: str | None = Field(
+        None,
+        description="why a comparison fails or what a reader should know; shown with the row",
+    )
 
 
 class ImpactCase(Model):
