@@ -124,7 +124,8 @@ class FoamVerdict(Result):
 
 
 def _pct(x: float) -> str:
-    return f"{100 * abs(x):.1f} %"
+    """``|x|`` in percent: one decimal, two below 1 % (so "0.0 %" never hides a distance)."""
+    return f"{100 * abs(x):.2f} %" if abs(x) < 0.01 else f"{100 * abs(x):.1f} %"
 
 
 def foam_verdict(env: FoamEnvelope, foam: Foam, *, tolerance: float = 0.01) -> FoamVerdict:

@@ -75,6 +75,14 @@ def _panel(ax: Axes, result: FoamDesignResult, d: RobotDesign) -> None:
     if np.any(env.delicate):
         ax.plot(c[env.delicate], env.stiffness_min[env.delicate] / 1e3, "x", color="gray",
                 ms=5, label="delicate first lobe")  # fmt: skip
+    if d.check is not None:
+        for name, ratio in d.check.ratio_by_point.items():
+            bad = np.nan_to_num(ratio, nan=0.0) > 1 + d.check.tolerance
+            if not np.any(bad):
+                continue
+            kb = env.stiffness_min if d.check.boundary[name] == "lower" else env.upper[name]
+            ax.plot(c[bad], kb[bad] / 1e3, "o", ms=7, mfc="none", mec="tab:red",
+                    label=f"worst case exceeds {name}")  # fmt: skip
     for j, (foam, fv) in enumerate(zip(result.foams, d.verdicts, strict=True)):
         ax.plot(
             foam.damping, foam.stiffness / 1e3, _MARKERS[j % len(_MARKERS)], ms=8,
@@ -84,7 +92,7 @@ def _panel(ax: Axes, result: FoamDesignResult, d: RobotDesign) -> None:
         ax.plot(d.optimal.damping, d.optimal.stiffness / 1e3, "*", ms=14, color="gold",
                 mec="black", label=f"optimal foam ({d.optimal.status})")  # fmt: skip
     ax.set_yscale("log")
-    ax.yaxis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
+    ax.yaxis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 3.0, 5.0)))
     ax.yaxis.set_major_formatter(FuncFormatter(_kn_per_m))
     ax.yaxis.set_minor_locator(LogLocator(base=10, subs=np.arange(1.0, 10.0)))
     ax.yaxis.set_minor_formatter(NullFormatter())
