@@ -3,7 +3,7 @@
 The impact model sees the manipulator as one mass ``M_r`` on a spring ``K_r``
 and damper ``C_r``, moving at ``v_r(0)`` along the impact normal. With
 ``j = n^T J_v(q)`` the 1 x n row mapping the rates of the free (compliant)
-joints to the normal velocity of the impact point (DECISIONS I6):
+joints to the normal velocity of the impact point (docs/impact.md, "The model"):
 
 .. math::
 
@@ -316,7 +316,7 @@ def effective_contact(
     jacobian_row: npt.ArrayLike,
     joint_velocity: npt.ArrayLike | None = None,
 ) -> EffectiveContact:
-    """Reduce a manipulator to a single-DOF contact at the impact point (DECISIONS I6).
+    """Reduce a manipulator to a single-DOF contact at the impact point (docs/impact.md, "The model").
 
     ``M_r = 1/(j M^-1 j^T)``, ``K_r = 1/(j K_J^-1 j^T)``,
     ``C_r = 1/(j C_J^-1 j^T)`` and ``v_r(0) = j q_dot``.
@@ -485,7 +485,7 @@ def two_link_mass_matrix(
 
     ``m22 = (1/3) m2 a2^2 + m3 a2^2 + (1/3) m3 a3^2 + m3 a2 a3 cos th3``,
     ``m23 = m32 = (1/3) m3 a3^2 + (1/2) m3 a2 a3 cos th3`` (uniform-rod
-    result, DECISIONS I6), ``m33 = (1/3) m3 a3^2``.
+    result, docs/impact.md, "The model"), ``m33 = (1/3) m3 a3^2``.
 
     Parameters
     ----------

@@ -329,7 +329,7 @@ def param_vector(robot: object, foam: object, head: object | None) -> NDArray[np
 
 
 def printed_q2_correction(params: NDArray[np.float64]) -> NDArray[np.float64]:
-    """The term C_r C_h/(M_r M_h) that the thesis's printed q2 omits (DECISIONS I1).
+    """The term C_r C_h/(M_r M_h) that the thesis's printed q2 omits (docs/impact.md, "q2").
 
     The *printed* denominator is the physical one minus this term on s^2.
     """
@@ -359,7 +359,7 @@ def transfer_functions(
     impact_velocity
         v_c in m/s.
     q2
-        ``"correct"`` (default, DECISIONS I1) or ``"printed"`` to reproduce the
+        ``"correct"`` (default, docs/impact.md, "q2") or ``"printed"`` to reproduce the
         thesis's q2 without the C_r C_h/(M_r M_h) term.
 
     Examples

@@ -91,7 +91,7 @@ class VelocityProfile:
 
 
 def hic(t: NDArray, head_acceleration: NDArray, window: float = 0.015) -> float:
-    """Head Injury Criterion by the standard definition (DECISIONS I4).
+    """Head Injury Criterion by the standard definition (docs/impact.md, "HIC").
 
     ``HIC = max (t2 - t1) [ (1/(t2 - t1)) int_{t1}^{t2} a dt ]^2.5`` over
     ``0 < t2 - t1 <= window``, with ``a`` in g. The integral is taken with the
@@ -143,7 +143,7 @@ class ImpactResponse:
         Head velocity relative to the torso (m/s) and manipulator deflection
         x_r - x_d (m) at ``t``.
     peak_head_acceleration, max_compression, peak_force, impact_duration
-        First-lobe metrics (DECISIONS I2) in m/s^2, m, N, s.
+        First-lobe metrics (docs/impact.md, "Metrics") in m/s^2, m, N, s.
     bottoming
         ``max_compression > foam.linear_depth``: the linear foam model is used
         outside its valid range and the numbers are not to be trusted (I7).
@@ -345,7 +345,7 @@ def simulate(
     samples
         Number of samples of the time histories.
     q2
-        ``"correct"`` (default) or ``"printed"`` q2 of (3.5.14) (DECISIONS I1).
+        ``"correct"`` (default) or ``"printed"`` q2 of (3.5.14) (docs/impact.md, "q2").
     stop_time
         Window of the constrained impact's metrics, s.
 
@@ -430,7 +430,7 @@ def simulate(
         warnings.append(
             f"eps_max = {metrics['compression'][1]:.4g} m exceeds the foam's linear depth "
             f"lambda = {foam.linear_depth:.4g} m: the foam bottoms out and the linear model "
-            "is not valid (DECISIONS I7)"
+            "is not valid (docs/impact.md, "Foam bottoming")"
         )
         if status == STATUS_OK:
             status = "bottoming"
