@@ -40,6 +40,8 @@ Examples
 
 from __future__ import annotations
 
+from typing import Any
+
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cache
@@ -49,7 +51,7 @@ import casadi as ca
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from designlab.symbolic import vectorize
+from designlab.symbolic import evaluate_batch
 
 if TYPE_CHECKING:  # pragma: no cover
     import control
@@ -68,25 +70,9 @@ PARAM_NAMES: tuple[str, ...] = ("M_r", "C_r", "K_r", "K_c", "C_c", "M_h", "C_h",
 INPUT_NAMES: tuple[str, ...] = ("s_c", "v_c", "a_d")
 
 
-@cache
-def _vectorized(f: ca.Function) -> Callable[..., list[NDArray[np.float64]]]:
-    return vectorize(f)
-
-
 def _evaluate(f: ca.Function, p: NDArray[np.float64]) -> list[NDArray[np.float64]]:
-    """Evaluate ``f`` for each row of ``p``: dense outputs of shape ``(numel, N)``.
-
-    Small batches call CasADi directly; large ones replay the SX instructions
-    with numpy on the whole batch (:func:`designlab.symbolic.vectorize`).
-    """
-    if p.shape[0] > 8:
-        return _vectorized(f)(p.T)
-    rows = [f(row) for row in p]
-    rows = [r if isinstance(r, (list, tuple)) else [r] for r in rows]
-    return [
-        np.stack([np.asarray(r[k], dtype=float).ravel(order="F") for r in rows], axis=1)
-        for k in range(f.n_out())
-    ]
+    """Evaluate ``f`` for each row of ``p`` (:func:`designlab.symbolic.evaluate_batch`)."""
+    return evaluate_batch(f, p)
 
 
 def _faddeev_leverrier(a: ca.SX) -> tuple[list[ca.SX], list[ca.SX]]:
@@ -390,6 +376,24 @@ def transfer_functions(
         nm = num[name][0]
         # ramp input u = v_c [1/s^2, 1/s, 0]: N(s) = N_sc(s) + s N_vc(s)
         combined = np.polyadd(nm[0], np.polymul(nm[1], [1.0, 0.0])) * impact_velocity
-        tf = control.tf(np.trim_zeros(combined, "f") if np.any(combined) else [0.0], s2den)
-        out[name] = tf.minreal(tol=1e-9) if np.any(combined) else tf
+        out[name] = _cancel_ramp_poles(control, combined, s2den)
     return out
+
+
+def _cancel_ramp_poles(control: Any, num: NDArray, s2den: NDArray) -> Any:
+    """``num / s2den`` with the removable poles at s = 0 cancelled exactly.
+
+    The ramp input puts a double pole at the origin (``s2den = s^2 den``);
+    wherever the numerator has zeros at the origin (trailing zero
+    coefficients, zero up to the round-off of the coefficient evaluation,
+    1e-10 of the largest), the same powers of s are removed from both
+    polynomials. No other pole-zero pair is touched (no numerical ``minreal``).
+    """
+    num = np.trim_zeros(np.asarray(num, dtype=float), "f")
+    if num.size == 0 or not np.any(num):
+        return control.tf([0.0], [1.0])
+    scale = float(np.max(np.abs(num)))
+    k = 0
+    while k < 2 and num.size - k > 1 and abs(num[num.size - 1 - k]) <= 1e-10 * scale:
+        k += 1
+    return control.tf(num[: num.size - k], s2den[: s2den.size - k])

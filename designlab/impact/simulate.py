@@ -182,6 +182,15 @@ class ImpactResponse:
         """a_h,max in g (standard gravity, 9.80665 m/s^2)."""
         return self.peak_head_acceleration / STANDARD_GRAVITY
 
+    def __repr__(self) -> str:
+        return (
+            f"ImpactResponse(v_c={self.impact_velocity:g} m/s, "
+            f"a_h,max={self.peak_head_acceleration_g:.4g} g, "
+            f"eps_max={1e3 * self.max_compression:.4g} mm, f_c,max={self.peak_force:.4g} N, "
+            f"t_imp={1e3 * self.impact_duration:.4g} ms, status={self.status!r}, "
+            f"{self.t.size} samples)"
+        )
+
     @property
     def bottoming(self) -> bool:
         """Whether the foam is compressed beyond its linear depth lambda (I7)."""
@@ -212,7 +221,7 @@ class ImpactResponse:
             "a_h_max_m_per_s2": self.peak_head_acceleration,
             "t_imp_s": self.impact_duration,
             "eps_max_m": self.max_compression,
-            "f_c_max_N": self.peak_force,
+            "peak_force_N": self.peak_force,
             "hic15": self.hic(0.015),
             "hic36": self.hic(0.036),
             "bottoming": self.bottoming,

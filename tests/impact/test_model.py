@@ -159,3 +159,20 @@ def test_linear_in_vc_and_zero_without_closing_speed(mr, kr, cr, kc, xi, mh, kh,
         -v,
     )
     assert r.status == "no_impact" and not np.any(r.force)
+
+
+def test_transfer_functions_cancel_the_ramp_poles_exactly() -> None:
+    """a_h tends to 0 under the ramp (the neck carries the load): no pole at the origin;
+    the force and the compression keep growing (the double pole stays)."""
+    tfs = dl.impact.transfer_functions(MANIPULATOR_1, FOAM_1, HEAD_MIN, 1.25)
+    origin = {k: int(np.sum(np.abs(v.poles()) < 1e-9)) for k, v in tfs.items()}
+    assert origin == {"force": 2, "head_acceleration": 0, "compression": 2}
+    # the other poles are the model's four, untouched
+    assert all(np.sum(np.abs(v.poles()) >= 1e-9) == 4 for v in tfs.values())
+
+
+def test_impact_response_repr_is_short() -> None:
+    r = dl.impact.simulate(MANIPULATOR_1, FOAM_1, HEAD_MIN, impact_velocity=1.0)
+    text = repr(r)
+    assert len(text) < 200 and "a_h,max=" in text and "status='ok'" in text
+    assert r.summary()["peak_force_N"] == pytest.approx(r.peak_force)
