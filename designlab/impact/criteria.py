@@ -287,7 +287,8 @@ class IsoTransientForce(ImpactForce):
     >>> IsoTransientForce("face")
     Traceback (most recent call last):
     ...
-    designlab.errors.InvalidParameterError: IsoTransientForce.transient_factor = None is not allowed: ISO/TS 15066 Table A.2 gives no transient-contact multiplier for 'face' (transient contact with the head is not permissible); give transient_factor explicitly or use IsoQuasiStaticForce
+    designlab.errors.InvalidParameterError: IsoTransientForce.transient_factor = None ...
+    gives no transient-contact multiplier for 'face' ...
     >>> IsoTransientForce("face", transient_factor=1.0).limit
     65.0
     """

@@ -42,6 +42,7 @@ from designlab.errors import (
     check_positive,
 )
 from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
+from designlab.validation import frozen_array, real_array
 
 __all__ = [
     "EffectiveContact",
@@ -112,12 +113,6 @@ class EffectiveContact:
                 "v_r_m_per_s": [math.nan if self.velocity is None else self.velocity],
             }
         )
-
-
-def _frozen(a: Any) -> np.ndarray:
-    out = np.array(a, dtype=float, copy=True)
-    out.setflags(write=False)
-    return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -210,18 +205,8 @@ class ImpactPointSweep:
 # --- validation helpers ------------------------------------------------------------
 
 
-def _real_array(name: str, value: Any, unit: str = "") -> np.ndarray:
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InvalidParameterError(name, value, "must be an array of real numbers", unit) from None
-    if not np.all(np.isfinite(arr)):
-        raise InvalidParameterError(name, value, "must contain only finite numbers", unit)
-    return arr
-
-
 def _mass_matrix(value: Any) -> np.ndarray:
-    m = _real_array("mass_matrix", value, _M_UNIT)
+    m = real_array("mass_matrix", value, _M_UNIT)
     if m.ndim == 0:
         m = m.reshape(1, 1)
     if m.ndim != 2 or m.shape[0] != m.shape[1] or m.shape[0] == 0:
@@ -245,7 +230,7 @@ def _mass_matrix(value: Any) -> np.ndarray:
 
 
 def _jacobian_row(value: Any, n: int) -> np.ndarray:
-    j = _real_array("jacobian_row", value, "m")
+    j = real_array("jacobian_row", value, "m")
     if j.ndim == 2 and j.shape[0] == 1:
         j = j[0]
     j = np.atleast_1d(j)
@@ -270,7 +255,7 @@ def _jacobian_row(value: Any, n: int) -> np.ndarray:
 def _series(name: str, value: Any, j: np.ndarray, unit: str) -> float:
     """1/(j X^-1 j^T) for a diagonal (1-D or diagonal matrix) or SPD matrix X."""
     n = j.size
-    x = _real_array(name, value, unit)
+    x = real_array(name, value, unit)
     if x.ndim == 0 and n == 1:
         x = x.reshape(1)
     if x.ndim == 2 and x.shape == (n, n) and np.count_nonzero(x - np.diag(np.diag(x))) == 0:
@@ -316,7 +301,9 @@ def effective_contact(
     jacobian_row: npt.ArrayLike,
     joint_velocity: npt.ArrayLike | None = None,
 ) -> EffectiveContact:
-    """Reduce a manipulator to a single-DOF contact at the impact point (docs/impact.md, "The model").
+    """Reduce a manipulator to a single-DOF contact at the impact point.
+
+    See docs/impact.md, "The model".
 
     ``M_r = 1/(j M^-1 j^T)``, ``K_r = 1/(j K_J^-1 j^T)``,
     ``C_r = 1/(j C_J^-1 j^T)`` and ``v_r(0) = j q_dot``.
@@ -379,7 +366,7 @@ def effective_contact(
     m_r = float(1.0 / (j @ x))
     v_r: float | None = None
     if joint_velocity is not None:
-        qd = np.atleast_1d(_real_array("joint_velocity", joint_velocity, "rad/s"))
+        qd = np.atleast_1d(real_array("joint_velocity", joint_velocity, "rad/s"))
         if qd.shape != (n,):
             raise InvalidParameterError(
                 "joint_velocity", f"array of shape {qd.shape}", f"must have length {n}", "rad/s"
@@ -642,7 +629,7 @@ def impact_point_sweep(
     k = check_nonnegative("joint_stiffness", joint_stiffness, _K_UNIT)
     c = check_nonnegative("joint_damping", joint_damping, _C_UNIT)
     w = check_finite("joint_speed", joint_speed, "rad/s")
-    arms = np.atleast_1d(_real_array("lever_arms", lever_arms, "m"))
+    arms = np.atleast_1d(real_array("lever_arms", lever_arms, "m"))
     if arms.ndim != 1 or arms.size == 0:
         raise InvalidParameterError(
             "lever_arms", f"array of shape {arms.shape}", "must be a non-empty 1-D array", "m"
@@ -653,9 +640,9 @@ def impact_point_sweep(
         )
     l2 = arms**2
     return ImpactPointSweep(
-        lever_arm=_frozen(arms),
-        mass=_frozen(m / l2),
-        stiffness=_frozen(k / l2),
-        damping=_frozen(c / l2),
-        velocity=_frozen(w * arms),
+        lever_arm=frozen_array(arms),
+        mass=frozen_array(m / l2),
+        stiffness=frozen_array(k / l2),
+        damping=frozen_array(c / l2),
+        velocity=frozen_array(w * arms),
     )

@@ -53,14 +53,12 @@ from numpy.typing import ArrayLike, NDArray
 from designlab.errors import InvalidParameterError, check_nonnegative, check_positive
 from designlab.impact.criteria import CompressionLimit, Criterion, HeadAcceleration
 from designlab.impact.metrics import metrics_of_matrix
-from designlab.results import OK, Result
 from designlab.impact.parameters import (
-    HEAD_MAX,
     ContactDynamics,
-    Foam,
     HeadNeck,
     LinkImpact,
 )
+from designlab.results import OK, Result
 
 __all__ = [
     "THESIS_HEAD_RANGE",
@@ -198,9 +196,7 @@ class _Problem:
         full = np.column_stack([np.repeat(params, nh, axis=0), np.tile(heads, (n, 1))])
         return full, np.repeat(v, nh), nh
 
-    def _values(
-        self, key: Criterion, k: NDArray, c: NDArray, rows: NDArray, v: NDArray
-    ) -> NDArray:
+    def _values(self, key: Criterion, k: NDArray, c: NDArray, rows: NDArray, v: NDArray) -> NDArray:
         """Metric for designs ``i`` x robot rows ``j`` (paired arrays, all length n)."""
         full, vv, nh = self._expand(key, k, c, rows, v)
         vals = key.values(full, vv, constrained=self.constrained, stop_time=self.stop_time)
@@ -570,7 +566,8 @@ def _solve(
     for name in upper:
         st = upper_status[name]
         kmax_eff = np.minimum(
-            kmax_eff, np.where(st == "bounded", upper[name], np.where(st == "unbounded", hi_b, -np.inf))
+            kmax_eff,
+            np.where(st == "bounded", upper[name], np.where(st == "unbounded", hi_b, -np.inf)),
         )
     kmin_eff = np.where(
         lower_status == "bounded", kmin, np.where(lower_status == "unbounded", lo_b, np.inf)
@@ -579,7 +576,7 @@ def _solve(
     if np.all(kmin_eff > kmax_eff):
         warnings.append(
             "the feasible region is empty at every damping value of the grid: reduce the "
-            "impact velocity (docs/impact.md, \"Foam design\")"
+            'impact velocity (docs/impact.md, "Foam design")'
         )
     if np.any(multiple):
         warnings.append(
@@ -591,7 +588,7 @@ def _solve(
         warnings.append(
             f"{int((delicate & ~overdamped).sum())} boundary point(s) have a delicate first lobe "
             "(a_h lingers near zero before the lobe ends), so eps_max and the impact period "
-            "can jump with small parameter changes (docs/impact.md, \"Metrics\")"
+            'can jump with small parameter changes (docs/impact.md, "Metrics")'
         )
     if np.any(overdamped):
         warnings.append(
@@ -653,7 +650,9 @@ def _make_problem(
         raise InvalidParameterError("constrained", constrained, "must be True or False")
     if head_range is not None and not isinstance(head_range, HeadRange):
         raise InvalidParameterError("head_range", head_range, "must be a HeadRange or None")
-    if criteria is not None and (isinstance(criteria, (str, Criterion)) or not hasattr(criteria, "__iter__")):
+    if criteria is not None and (
+        isinstance(criteria, (str, Criterion)) or not hasattr(criteria, "__iter__")
+    ):
         raise InvalidParameterError("criteria", criteria, "must be a sequence of Criterion objects")
     crit = tuple(criteria) if criteria is not None else (HeadAcceleration(10.0),)
     for c in crit:

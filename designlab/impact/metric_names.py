@@ -84,9 +84,15 @@ METRICS = MappingProxyType(
 #: Metrics of a foam envelope evaluated at one foam (the ``foam_envelope`` sweeps).
 ENVELOPE_COLUMNS = MappingProxyType(
     {
-        "k_c_max_N_per_m": ColumnInfo("K_c,max", "upper (safety) boundary at the foam's damping", "N/m"),
-        "k_c_min_N_per_m": ColumnInfo("K_c,min", "lower (thickness) boundary at the foam's damping", "N/m"),
-        "margin_decades": ColumnInfo("", "margin of the foam to the nearest boundary", "decades of K_c"),
+        "k_c_max_N_per_m": ColumnInfo(
+            "K_c,max", "upper (safety) boundary at the foam's damping", "N/m"
+        ),
+        "k_c_min_N_per_m": ColumnInfo(
+            "K_c,min", "lower (thickness) boundary at the foam's damping", "N/m"
+        ),
+        "margin_decades": ColumnInfo(
+            "", "margin of the foam to the nearest boundary", "decades of K_c"
+        ),
         "area_log": ColumnInfo("", "feasible area over the damping grid", "decades x N s/m"),
     }
 )

@@ -1,9 +1,9 @@
 """Design metrics of the impact model for many designs at once.
 
-The metrics follow Zeng 2011, Sec. 3.6 (docs/impact.md, "Metrics"): the impact period runs from t = 0 to the first
-t > 0 at which the head acceleration is <= 0, and a_h,max, eps_max and the peak
-force are the maxima over that first lobe. For the constrained impact (head
-against a wall) there is no lobe end; the window is ``[0, stop_time]``, the
+The metrics follow Zeng 2011, Sec. 3.6 (docs/impact.md, "Metrics"): the impact
+period runs from t = 0 to the first t > 0 at which the head acceleration is
+<= 0, and a_h,max, eps_max and the peak force are the maxima over that first
+lobe. For the constrained impact (head against a wall) there is no lobe end; the window is ``[0, stop_time]``, the
 time within which the thesis recommends stopping the manipulator (0.05 s).
 
 Every response is exact: poles and residues of the model's transfer functions
@@ -39,9 +39,6 @@ from numpy.typing import ArrayLike, NDArray
 
 from designlab.errors import InvalidParameterError, ModelError, check_positive
 from designlab.impact.metric_names import PARAMETERS
-from designlab.results import OK, Result
-from designlab.units import STANDARD_GRAVITY
-from designlab.validation import check_int, check_q2, named_columns, real_array
 from designlab.impact.modal import (
     ModalResponse,
     certified_first_crossing,
@@ -55,6 +52,9 @@ from designlab.impact.model import (
     printed_q2_correction,
     unconstrained_model,
 )
+from designlab.results import OK, Result
+from designlab.units import STANDARD_GRAVITY
+from designlab.validation import check_int, check_q2, named_columns, real_array
 
 __all__ = [
     "STATUS_OK",
@@ -362,7 +362,8 @@ def impact_metrics(
     >>> impact_metrics([[9.6, 250, 20e3, 24.25e3, 71.9, 4.4, 46.0, 3e3]], 1.25)
     Traceback (most recent call last):
     ...
-    designlab.errors.InvalidParameterError: params = 'array of shape (1, 8)' is not allowed: an array needs explicit column names (columns=...) for ['M_r', 'C_r', 'K_r', 'K_c', 'C_c', 'M_h', 'C_h', 'K_h']; or pass a mapping or a DataFrame
+    designlab.errors.InvalidParameterError: params = 'array of shape (1, 8)' is not allowed:
+    an array needs explicit column names (columns=...) ...
     """
     p = named_columns("params", params, PARAM_NAMES, columns=columns)
     return metrics_of_matrix(
@@ -406,7 +407,9 @@ def metrics_of_matrix(
         raise InvalidParameterError("params", p.shape, f"must have shape (N, {len(PARAM_NAMES)})")
     v = np.atleast_1d(real_array("impact_velocity", impact_velocity, "m/s")).ravel()
     if v.size == 0:
-        raise InvalidParameterError("impact_velocity", v.tolist(), "needs at least one value", "m/s")
+        raise InvalidParameterError(
+            "impact_velocity", v.tolist(), "needs at least one value", "m/s"
+        )
     n = max(p.shape[0], v.shape[0])
     if p.shape[0] not in (1, n) or v.shape[0] not in (1, n):
         raise InvalidParameterError(
@@ -466,7 +469,7 @@ def metrics_from_responses(
         t_imp = np.full(n, float(stop_time))
     else:
         lobe = {"head_acceleration": resp["head_acceleration"]}
-        lo, hi, found, _, guess, t_low = _march(
+        _lo, hi, found, _, guess, t_low = _march(
             lobe,
             "head_acceleration",
             h,
@@ -545,7 +548,7 @@ def _batch_warnings(status: NDArray) -> tuple[str, ...]:
     if n_pac:
         out.append(
             f"{n_pac} design(s): a_h peaks at contact (overdamped pulse, xi_c far above "
-            "0.05-0.2); the impact period is delicate (docs/impact.md, \"Metrics\")"
+            '0.05-0.2); the impact period is delicate (docs/impact.md, "Metrics")'
         )
     return tuple(out)
 
@@ -639,9 +642,7 @@ def _zoom_hic(
         dv = v2[:, None, :] - v1[:, :, None]
         ok = (dur > 0) & (dur <= window) & (dv > 0)
         with np.errstate(divide="ignore", invalid="ignore"):
-            val = np.where(
-                ok, np.abs(dur) ** -1.5 * np.abs(dv) ** 2.5 / STANDARD_GRAVITY**2.5, 0.0
-            )
+            val = np.where(ok, np.abs(dur) ** -1.5 * np.abs(dv) ** 2.5 / STANDARD_GRAVITY**2.5, 0.0)
         flat = val.reshape(n, -1)
         j = flat.argmax(axis=1)
         cand = flat[rows, j]
@@ -652,4 +653,3 @@ def _zoom_hic(
         best = np.where(better, cand, best)
         step = step * 4.0 / points
     return best
-

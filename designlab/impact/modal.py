@@ -378,7 +378,9 @@ class _Cells:
     dr: NDArray[np.float64]
 
     def take(self, keep: NDArray) -> _Cells:
-        return _Cells(*(getattr(self, f)[keep] for f in ("row", "tl", "tr", "yl", "yr", "dl", "dr")))
+        return _Cells(
+            *(getattr(self, f)[keep] for f in ("row", "tl", "tr", "yl", "yr", "dl", "dr"))
+        )
 
     def split(self, resp: ModalResponse, parts: int) -> tuple[_Cells, NDArray, NDArray, NDArray]:
         """Split every cell into ``parts`` equal cells; also return the new interior nodes."""
@@ -488,9 +490,10 @@ def certified_maximum(
         if level == levels or cells.row.size == 0:
             break
         width = cells.tr - cells.tl
-        bound = np.maximum(cells.yl, cells.yr) + _curvature_bound(
-            resp.take(cells.row), cells.tl, cells.tr
-        ) * width**2 / 8.0
+        bound = (
+            np.maximum(cells.yl, cells.yr)
+            + _curvature_bound(resp.take(cells.row), cells.tl, cells.tr) * width**2 / 8.0
+        )
         tol = rtol * np.maximum(np.abs(best_y[cells.row]), 1e-300)
         open_ = np.flatnonzero((bound > best_y[cells.row] + tol) & ~sign & (width > 0))
         if open_.size == 0:
@@ -566,9 +569,10 @@ def certified_first_crossing(
         if level == levels:
             break
         width = cells.tr - cells.tl
-        bound = np.minimum(cells.yl, cells.yr) - _curvature_bound(
-            resp.take(cells.row), cells.tl, cells.tr
-        ) * width**2 / 8.0
+        bound = (
+            np.minimum(cells.yl, cells.yr)
+            - _curvature_bound(resp.take(cells.row), cells.tl, cells.tr) * width**2 / 8.0
+        )
         open_ = np.flatnonzero(
             (bound <= 0) & (cells.yl > 0) & (cells.yr > 0) & (cells.tl < hi[cells.row])
         )

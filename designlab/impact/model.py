@@ -40,12 +40,9 @@ Examples
 
 from __future__ import annotations
 
-from typing import Any
-
-from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cache
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import casadi as ca
 import numpy as np

@@ -67,7 +67,9 @@ _METRIC_ATTR = {
 }
 
 
-def _worst_design(prob: _Problem, key: Criterion, k: float, c: float) -> tuple[NDArray, float, float]:
+def _worst_design(
+    prob: _Problem, key: Criterion, k: float, c: float
+) -> tuple[NDArray, float, float]:
     """Parameters and velocity of the worst case of ``key`` for foam ``(k, c)``."""
     vals, lev = prob.worst(key, np.array([k]), np.array([c]))
     params, vv, _ = prob.designs(key, np.array([k]), np.array([c]), lev)
@@ -257,7 +259,9 @@ class _Start:
         return np.where(self.allowed, out, -np.inf)
 
 
-def _check_range(name: str, bounds: object, unit: str, *, low_zero: bool = False) -> tuple[float, float]:
+def _check_range(
+    name: str, bounds: object, unit: str, *, low_zero: bool = False
+) -> tuple[float, float]:
     try:
         lo, hi = bounds  # type: ignore[misc]
     except (TypeError, ValueError):
@@ -432,9 +436,14 @@ def optimal_foam(
     c_range = _check_range("damping_bounds", damping_bounds, "N s/m", low_zero=True)
     if thickness_bounds is not None:
         tlo, thi = thickness_bounds
-        tlo, thi = check_positive("thickness_bounds", tlo, "m"), check_positive("thickness_bounds", thi, "m")
+        tlo, thi = (
+            check_positive("thickness_bounds", tlo, "m"),
+            check_positive("thickness_bounds", thi, "m"),
+        )
         if tlo > thi:
-            raise InvalidParameterError("thickness_bounds", thickness_bounds, "need low <= high", "m")
+            raise InvalidParameterError(
+                "thickness_bounds", thickness_bounds, "need low <= high", "m"
+            )
     else:
         tlo = thi = check_positive("max_compression", max_compression, "m")
     xi_range = None

@@ -242,7 +242,8 @@ FOAM_3 = Foam(60.6e3, 113.6, name="Foam 3")
 HEAD_MIN = HeadNeck(4.4, 3.0e3, 46.0, name="minimum head-neck")
 #: Maximum head-neck parameters (Sec. 3.6): conservative for force and compression.
 HEAD_MAX = HeadNeck(5.3, 5.0e3, 130.2, name="maximum head-neck")
-#: Ch. 4 head apparatus: 4.4 kg head, 4 kN/m neck springs, no damper (docs/impact.md, "Unstated inputs").
+#: Ch. 4 head apparatus: 4.4 kg head, 4 kN/m neck springs, no damper
+#: (docs/impact.md, "Unstated inputs").
 TEST_HEAD = HeadNeck(4.4, 4.0e3, 0.0, name="Ch. 4 test head")
 
 #: Table 3.2 simulations 1-4 as (manipulator, head) pairs.

@@ -439,7 +439,7 @@ def simulate(
         warnings.append(
             f"eps_max = {metrics['compression'][1]:.4g} m exceeds the foam's linear depth "
             f"lambda = {foam.linear_depth:.4g} m: the foam bottoms out and the linear model "
-            "is not valid (docs/impact.md, \"Foam bottoming\")"
+            'is not valid (docs/impact.md, "Foam bottoming")'
         )
         if status == STATUS_OK:
             status = "bottoming"

@@ -73,7 +73,9 @@ def impact_metrics_chunk(points: dict[str, np.ndarray], options: dict[str, Any])
     m = impact_metrics(_params(points), np.asarray(points["v_c"], dtype=float))
     eps = np.asarray(m.max_compression, dtype=float)
     depth = np.asarray(points.get("lambda", np.full(len(eps), np.inf)), dtype=float)
-    out: dict[str, Any] = {c: np.asarray(getattr(m, a), dtype=float) for c, a in _METRIC_ATTR.items()}
+    out: dict[str, Any] = {
+        c: np.asarray(getattr(m, a), dtype=float) for c, a in _METRIC_ATTR.items()
+    }
     out["a_h_max_g"] = np.asarray(m.peak_head_acceleration_g, dtype=float)
     out["bottoming"] = eps > depth
     out["status"] = np.asarray(m.design_status, dtype=object)

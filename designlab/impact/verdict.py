@@ -165,10 +165,16 @@ def foam_verdict(env: FoamEnvelope, foam: Foam, *, tolerance: float = 0.01) -> F
             kmax, limiting_upper = bound, name
     lst = str(one.lower_status[0])
     kmin = (
-        float(one.stiffness_min[0]) if lst == "bounded" else (0.0 if lst == "unbounded" else math.inf)
+        float(one.stiffness_min[0])
+        if lst == "bounded"
+        else (0.0 if lst == "unbounded" else math.inf)
     )
     up = k / kmax - 1.0 if kmax > 0 else math.inf
-    low = 1.0 - k / kmin if math.isfinite(kmin) and kmin > 0 else (-math.inf if kmin == 0 else math.inf)
+    low = (
+        1.0 - k / kmin
+        if math.isfinite(kmin) and kmin > 0
+        else (-math.inf if kmin == 0 else math.inf)
+    )
     lower_name = prob.compression.name
     # the deciding boundary: the violated one, else the nearest
     d_up = math.log(kmax / k) if kmax > 0 else -math.inf
@@ -203,9 +209,8 @@ def foam_verdict(env: FoamEnvelope, foam: Foam, *, tolerance: float = 0.01) -> F
         )
     else:
         verdict = FEASIBLE
-        statement = (
-            f"inside the region: {_pct(up)} below the upper (safety) boundary"
-            + (f" and {_pct(low)} above the lower (thickness) boundary" if kmin > 0 else "")
+        statement = f"inside the region: {_pct(up)} below the upper (safety) boundary" + (
+            f" and {_pct(low)} above the lower (thickness) boundary" if kmin > 0 else ""
         )
     if not lo_b <= k <= hi_b:
         warnings.append(

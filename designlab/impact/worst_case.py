@@ -132,7 +132,9 @@ class WorstCaseCheck(Result):
                 "n_points_violated": [
                     int(np.sum(self.ratio_by_point[n] > 1 + self.tolerance)) for n in names
                 ],
-                "n_points_delicate_violation": [int(self.delicate_by_point[n].sum()) for n in names],
+                "n_points_delicate_violation": [
+                    int(self.delicate_by_point[n].sum()) for n in names
+                ],
                 "onset_C_c_N_s_per_m": [self.onset_damping[n] for n in names],
                 "onset_xi_c": [self.onset_damping_ratio[n] for n in names],
             }
@@ -221,9 +223,7 @@ def _sampled_ratio(
 ) -> tuple[NDArray, NDArray, NDArray]:
     """Largest sampled ratio per point, whether a delicate sample exceeds 1, the worst case."""
     n = k.size * samples
-    heads = (
-        np.tile([1.0, 0.0, 0.0], (n, 1)) if prob.constrained else head_range.sample(n, rng)
-    )
+    heads = np.tile([1.0, 0.0, 0.0], (n, 1)) if prob.constrained else head_range.sample(n, rng)
     frac = rng.random(n)
     if isinstance(prob.robot, LinkImpact):
         lr = prob.robot
@@ -371,11 +371,7 @@ def check_worst_case(
                 + f": a case exceeds the limit by {100 * (np.nanmax(full) - 1):.2f} % "
                 f"(M_h {w['M_h']:.3g} kg, K_h {w['K_h']:.4g} N/m, C_h {w['C_h']:.4g} N s/m, "
                 f"v_c {w['v_c']:.3g} m/s at C_c {w['C_c']:.4g} N s/m)"
-                + (
-                    "; delicate first lobes exceed it too"
-                    if np.any(delicate[name])
-                    else ""
-                )
+                + ("; delicate first lobes exceed it too" if np.any(delicate[name]) else "")
             )
     return WorstCaseCheck(
         damping=env.damping,

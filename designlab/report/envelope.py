@@ -248,9 +248,7 @@ _THESIS_STATEMENTS: tuple[tuple[str, str, str, tuple[str, ...], str], ...] = (
 
 def _thesis_section(result: FoamDesignResult) -> list[str]:
     """The thesis's statements about its foams, where the study holds them."""
-    by_key = {
-        (d.label, fv.foam.name): fv for d in result.designs for fv in d.verdicts
-    }
+    by_key = {(d.label, fv.foam.name): fv for d in result.designs for fv in d.verdicts}
     rows = []
     for robot, foam, source, expected, text in _THESIS_STATEMENTS:
         fv = by_key.get((robot, foam))
@@ -327,7 +325,10 @@ def _boundaries_section(result: FoamDesignResult) -> list[str]:
         idx.append(env0.damping.size - 1)
     bt = pd.DataFrame({"C_c (N s/m)": [_fmt(float(env0.damping[i]), ".0f") for i in idx]})
     for d in result.designs:
-        for col, k in (("K_c,min", d.envelope.stiffness_min), ("K_c,max", d.envelope.stiffness_max)):
+        for col, k in (
+            ("K_c,min", d.envelope.stiffness_min),
+            ("K_c,max", d.envelope.stiffness_max),
+        ):
             bt[f"{d.label} {col}"] = [_fmt(float(k[i]) / 1e3, ".2f") for i in idx]
     out += [markdown_table(bt, index=False), ""]
     out += [
@@ -375,9 +376,7 @@ def _worst_case_section(result: FoamDesignResult) -> list[str]:
                     "onset xi_c": _fmt(float(r["onset_xi_c"]), ".3f"),
                     "delicate lobes above the limit (C_c)": ", ".join(f"{x:g}" for x in delicate)
                     or "none",
-                    "verdict": "holds"
-                    if int(r["n_points_violated"]) == 0
-                    else "**violated**",
+                    "verdict": "holds" if int(r["n_points_violated"]) == 0 else "**violated**",
                 }
             )
     out += [markdown_table(pd.DataFrame(rows), index=False), ""]

@@ -14,7 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq, minimize, minimize_scalar
+from scipy.optimize import brentq, minimize_scalar
 
 
 @dataclass(frozen=True)
@@ -37,7 +37,7 @@ class ExactModel:
     Parameters are ``M_r, C_r, K_r, K_c, C_c, M_h, C_h, K_h`` and the closing speed v.
     """
 
-    def __init__(self, m_r, c_r, k_r, k_c, c_c, m_h, c_h, k_h, v):  # noqa: PLR0913
+    def __init__(self, m_r, c_r, k_r, k_c, c_c, m_h, c_h, k_h, v):
         self.p = (m_r, c_r, k_r, k_c, c_c, m_h, c_h, k_h)
         self.v = v
         # x = [d_r, d_r', d_h, d_h'];  eps = d_r - d_h + v t;  f = K_c eps + C_c eps'
@@ -71,7 +71,7 @@ class ExactModel:
         return x, dx
 
     def outputs(self, t: np.ndarray) -> dict[str, np.ndarray]:
-        m_r, c_r, k_r, k_c, c_c, m_h, c_h, k_h = self.p
+        _, _, _, k_c, c_c, m_h, c_h, k_h = self.p
         t = np.atleast_1d(np.asarray(t, dtype=float))
         x, _ = self.states(t)
         eps = x[0] - x[2] + self.v * t

@@ -206,7 +206,9 @@ def test_impact_point_along_the_link_worst_case_interior() -> None:
             [link.inertia / l2, link.joint_damping / l2, link.joint_stiffness / l2]
             + [np.full(n, x) for x in (env.stiffness_max[i], c, 4.4, 46.0, 3e3)]
         )
-        a = dl.impact.impact_metrics(p, link.joint_speed * ls + 1.0, columns=dl.impact.PARAM_NAMES).peak_head_acceleration_g
+        a = dl.impact.impact_metrics(
+            p, link.joint_speed * ls + 1.0, columns=dl.impact.PARAM_NAMES
+        ).peak_head_acceleration_g
         assert a.max() <= 10 * (1 + 1e-6)
     assert dl.impact.check_worst_case(env, samples=32).holds
 
@@ -284,16 +286,27 @@ def test_optimal_foam_matches_dense_grid_search() -> None:
         [np.tile([9.6, 250, 20e3], (n, 1)), kk, cc, np.tile([5.3, 130.2, 5e3], (n, 1))]
     )
     ga = np.log(
-        10 * 9.80665 / dl.impact.impact_metrics(pa, 1.25, with_force=False, columns=dl.impact.PARAM_NAMES).peak_head_acceleration
+        10
+        * 9.80665
+        / dl.impact.impact_metrics(
+            pa, 1.25, with_force=False, columns=dl.impact.PARAM_NAMES
+        ).peak_head_acceleration
     )
-    ge = np.log(0.02 / dl.impact.impact_metrics(pe, 1.25, with_force=False, columns=dl.impact.PARAM_NAMES).max_compression)
+    ge = np.log(
+        0.02
+        / dl.impact.impact_metrics(
+            pe, 1.25, with_force=False, columns=dl.impact.PARAM_NAMES
+        ).max_compression
+    )
     best = np.max(np.minimum(ga, ge))
     assert opt.margin >= best - 1e-6
     assert opt.margin <= best + 0.01  # the grid is fine: the optimum cannot be much better
     j = np.argmax(np.minimum(ga, ge))
     assert opt.stiffness == pytest.approx(kk[j], rel=0.05)
     assert opt.damping == pytest.approx(cc[j], abs=5.0)
-    assert opt.margins["eps_max <= 20 mm"] == pytest.approx(opt.margins["a_h,max <= 10 g"], abs=1e-6)
+    assert opt.margins["eps_max <= 20 mm"] == pytest.approx(
+        opt.margins["a_h,max <= 10 g"], abs=1e-6
+    )
 
 
 def test_optimal_foam_reports_empty_region_and_reopening_velocity() -> None:

@@ -90,7 +90,9 @@ def test_iso_spec_contacts() -> None:
     with pytest.raises(StudyError, match="transient_factor"):
         parse_study(base.replace("skull_forehead}", "skull_forehead, transient_factor: 2}"))
     study = parse_study(
-        base.replace("skull_forehead}", "skull_forehead, contact: transient, transient_factor: 1.5}")
+        base.replace(
+            "skull_forehead}", "skull_forehead, contact: transient, transient_factor: 1.5}"
+        )
     )
     assert study.criteria[1].build().limit == pytest.approx(195.0)
 

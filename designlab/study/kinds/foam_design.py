@@ -259,9 +259,7 @@ class FoamDesignResult(Result):
         thickness (all computed by :func:`run`; nothing is solved here)."""
         rows = []
         for d in self.designs:
-            for foam, fv, sv, th in zip(
-                self.foams, d.verdicts, d.safe, d.thickness, strict=True
-            ):
+            for foam, fv, sv, th in zip(self.foams, d.verdicts, d.safe, d.thickness, strict=True):
                 margin = fv.margin_decades
                 rows.append(
                     {
