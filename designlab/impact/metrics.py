@@ -4,7 +4,8 @@ The metrics follow Zeng 2011, Sec. 3.6 (docs/impact.md, "Metrics"): the impact
 period runs from t = 0 to the first t > 0 at which the head acceleration is
 <= 0, and a_h,max, eps_max and the peak force are the maxima over that first
 lobe. For the constrained impact (head against a wall) there is no lobe end;
-the window is ``[0, stop_time]``, the time within which the thesis recommends stopping the manipulator (0.05 s).
+the window is ``[0, stop_time]``, the time within which the thesis recommends
+stopping the manipulator (0.05 s).
 
 Every response is exact: poles and residues of the model's transfer functions
 (:mod:`designlab.impact.model`) evaluated by :mod:`designlab.impact.modal`, with
