@@ -122,6 +122,8 @@ def _scatter_figure(result: Any) -> Figure | None:
     metrics = [m for m in result.metrics if m in frame][:4]
     if not params or not metrics:
         return None
+    # a kind may declare design limits of its metrics (drawn as dashed red lines)
+    limits: dict[str, float] = dict(getattr(study, "LIMITS", {}) or {})
     fig = Figure(figsize=(2.6 * len(params) + 0.6, 2.2 * len(metrics) + 0.6))
     axes = fig.subplots(len(metrics), len(params), squeeze=False)
     ok = frame["status"] != "error"
@@ -131,10 +133,13 @@ def _scatter_figure(result: Any) -> Figure | None:
             col = f"{key}_{unit_slug(info.unit)}"
             ax = axes[r][c]
             _points_or_density(ax, frame.loc[ok, col], frame.loc[ok, m])
+            limit = limits.get(m)
+            if limit is not None:
+                ax.axhline(limit, color="tab:red", lw=1, ls="--")
             if r == len(metrics) - 1:
-                ax.set_xlabel(f"{p} ({info.unit})", fontsize="small")
+                ax.set_xlabel(f"{info.description} ({info.unit})", fontsize="small")
             if c == 0:
-                ax.set_ylabel(m, fontsize="small")
+                ax.set_ylabel(study.METRICS.get(m, m), fontsize="small")
             ax.tick_params(labelsize="x-small")
     fig.suptitle(f"{study.name}: {len(frame)} points ({sweep.method})")
     fig.tight_layout()
@@ -317,7 +322,8 @@ def write_sweep_report(
     if rng is not None:
         for m in rng.metrics:
             name = f"tornado_{m}.png"
-            written.append(write_png(tornado_figure(rng, m), directory / name))
+            title = result.study.METRICS.get(m, m)
+            written.append(write_png(tornado_figure(rng, m, title=title), directory / name))
             figures[f"tornado: {m}"] = name
     fig = _scatter_figure(result)
     if fig is not None:
