@@ -44,7 +44,7 @@ from __future__ import annotations
 import logging
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import pandas as pd
@@ -516,11 +516,10 @@ class FoamEnvelope(Result):
         return self._problem
 
 
-def _solve(
-    prob: _Problem, damping: NDArray, bounds: tuple[float, float], rtol: float, n_scan: int = 48
-) -> FoamEnvelope:
-    u_grid = np.linspace(math.log(bounds[0]), math.log(bounds[1]), n_scan)
-    tol = math.log1p(rtol)
+def _upper_bounds(
+    prob: _Problem, damping: NDArray, u_grid: NDArray, tol: float
+) -> tuple[dict[str, NDArray], dict[str, NDArray], NDArray, NDArray]:
+    """Every criterion's upper boundary and status, and their minimum (NaN if none bounded)."""
     upper: dict[str, NDArray] = {}
     upper_status: dict[str, NDArray] = {}
     multiple = np.zeros(damping.size, dtype=bool)
@@ -529,17 +528,22 @@ def _solve(
         upper[crit.name] = k
         upper_status[crit.name] = st
         multiple |= mult
-    kmin, lower_status, mult = _boundary(prob, prob.compression, damping, u_grid, tol)
-    multiple |= mult
     kmax = np.full(damping.size, np.inf)
     any_bounded = np.zeros(damping.size, dtype=bool)
     for name in upper:
         bounded = upper_status[name] == "bounded"
         kmax = np.where(bounded, np.minimum(kmax, upper[name]), kmax)
         any_bounded |= bounded
-    kmax = np.where(any_bounded, kmax, np.nan)
-    kmin = np.where(lower_status == "bounded", kmin, np.nan)
+    return upper, upper_status, np.where(any_bounded, kmax, np.nan), multiple
 
+
+def _flag_boundary_designs(
+    prob: _Problem, damping: NDArray, kmax: NDArray, kmin: NDArray
+) -> tuple[NDArray, NDArray, NDArray]:
+    """Overdamped and delicate flags of the boundary designs, and the worst lever arm.
+
+    The boundary designs themselves are evaluated (worst head, worst impact point).
+    """
     overdamped = np.zeros(damping.size, dtype=bool)
     delicate = np.zeros(damping.size, dtype=bool)
     worst_l = np.full(damping.size, np.nan)
@@ -547,33 +551,27 @@ def _solve(
     if first is not None and np.any(np.isfinite(kmax)) and isinstance(prob.robot, LinkImpact):
         ok = np.isfinite(kmax)
         _, worst_l[ok] = prob.worst(first, kmax[ok], damping[ok])
-    if not prob.constrained:
-        # flag the boundary designs themselves (worst head, worst impact point)
-        for key, kb in ((first, kmax), (prob.compression, kmin)):
-            ok = np.isfinite(kb)
-            if key is None or not np.any(ok):
-                continue
-            _, lev = prob.worst(key, kb[ok], damping[ok])
-            params, v, nh = prob.designs(key, kb[ok], damping[ok], lev)
-            m = metrics_of_matrix(params, v, with_force=False, lobe_diagnostics=True)
-            pac = (m.design_status == "peak_at_contact").reshape(-1, nh).any(axis=1)
-            dl_ = m.delicate_lobe.reshape(-1, nh).any(axis=1)
-            if key is first:
-                overdamped[ok] |= pac
-            delicate[ok] |= dl_
-    lo_b, hi_b = bounds
-    kmax_eff = np.full(damping.size, hi_b)
-    for name in upper:
-        st = upper_status[name]
-        kmax_eff = np.minimum(
-            kmax_eff,
-            np.where(st == "bounded", upper[name], np.where(st == "unbounded", hi_b, -np.inf)),
-        )
-    kmin_eff = np.where(
-        lower_status == "bounded", kmin, np.where(lower_status == "unbounded", lo_b, np.inf)
-    )
+    if prob.constrained:
+        return overdamped, delicate, worst_l
+    for key, kb in ((first, kmax), (prob.compression, kmin)):
+        ok = np.isfinite(kb)
+        if key is None or not np.any(ok):
+            continue
+        _, lev = prob.worst(key, kb[ok], damping[ok])
+        params, v, nh = prob.designs(key, kb[ok], damping[ok], lev)
+        m = metrics_of_matrix(params, v, with_force=False, lobe_diagnostics=True)
+        pac = (m.design_status == "peak_at_contact").reshape(-1, nh).any(axis=1)
+        if key is first:
+            overdamped[ok] |= pac
+        delicate[ok] |= m.delicate_lobe.reshape(-1, nh).any(axis=1)
+    return overdamped, delicate, worst_l
+
+
+def _envelope_warnings(
+    empty: bool, multiple: NDArray, overdamped: NDArray, delicate: NDArray
+) -> list[str]:
     warnings = []
-    if np.all(kmin_eff > kmax_eff):
+    if empty:
         warnings.append(
             "the feasible region is empty at every damping value of the grid: reduce the "
             'impact velocity (docs/impact.md, "Foam design")'
@@ -595,7 +593,21 @@ def _solve(
             f"{int(overdamped.sum())} upper-boundary point(s) are overdamped pulses (a_h peaks "
             "at contact, a_h,max = C_c v_c / M_h): outside the thesis's foam range xi_c 0.05-0.2"
         )
-    return FoamEnvelope(
+    return warnings
+
+
+def _solve(
+    prob: _Problem, damping: NDArray, bounds: tuple[float, float], rtol: float, n_scan: int = 48
+) -> FoamEnvelope:
+    """Both boundaries over ``damping`` (scan of ``n_scan`` log-spaced K_c, then Illinois)."""
+    u_grid = np.linspace(math.log(bounds[0]), math.log(bounds[1]), n_scan)
+    tol = math.log1p(rtol)
+    upper, upper_status, kmax, multiple = _upper_bounds(prob, damping, u_grid, tol)
+    kmin, lower_status, mult = _boundary(prob, prob.compression, damping, u_grid, tol)
+    multiple = multiple | mult
+    kmin = np.where(lower_status == "bounded", kmin, np.nan)
+    overdamped, delicate, worst_l = _flag_boundary_designs(prob, damping, kmax, kmin)
+    env = FoamEnvelope(
         robot=prob.robot,
         impact_velocity=prob.impact_velocity,
         criteria=prob.criteria,
@@ -613,10 +625,11 @@ def _solve(
         stiffness_bounds=bounds,
         constrained=prob.constrained,
         head_range=prob.head_range,
-        warnings=tuple(warnings),
-        status="empty" if np.all(kmin_eff > kmax_eff) else OK,
         _problem=prob,
     )
+    empty = env.is_empty
+    warnings = _envelope_warnings(empty, multiple, overdamped, delicate)
+    return replace(env, warnings=tuple(warnings), status="empty" if empty else OK)
 
 
 def _make_problem(
