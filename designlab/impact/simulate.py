@@ -28,6 +28,7 @@ Examples
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -50,6 +51,7 @@ from designlab.impact.model import (
 )
 from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
 from designlab.units import STANDARD_GRAVITY
+from designlab.validation import check_int
 
 __all__ = ["ImpactResponse", "VelocityProfile", "hic", "simulate"]
 
@@ -369,22 +371,7 @@ def simulate(
     >>> r.constrained, round(r.peak_force, 1)
     (True, 158.3)
     """
-    if not isinstance(robot, ContactDynamics):
-        raise InvalidParameterError("robot", robot, "must be a ContactDynamics")
-    if not isinstance(foam, Foam):
-        raise InvalidParameterError("foam", foam, "must be a Foam")
-    if head is not None and not isinstance(head, HeadNeck):
-        raise InvalidParameterError("head", head, "must be a HeadNeck or None")
-    v_c = check_finite("impact_velocity", impact_velocity, "m/s")
-    if q2 not in ("correct", "printed"):
-        raise InvalidParameterError("q2", q2, "must be 'correct' or 'printed'")
-    if int(samples) < 2:
-        raise InvalidParameterError("samples", samples, "must be an integer >= 2")
-    if profile is not None and not isinstance(profile, VelocityProfile):
-        raise InvalidParameterError("profile", profile, "must be a VelocityProfile or None")
-
-    constrained = head is None
-    warnings: list[str] = []
+    v_c = _check_inputs(robot, foam, head, impact_velocity, profile, samples, q2)
     keys = ("ramp",) if profile is None else ("ramp", "accel", "a_d")
     families = _responses(robot, foam, head, q2, keys)
     evaluate = _superpose(families, max(v_c, 0.0), profile)
@@ -403,46 +390,10 @@ def simulate(
             "impact_velocity", v_c, "must be > 0 when a velocity profile is given", "m/s"
         )
 
-    # metrics: the batch engine for the constant-velocity impact, a dense
-    # exact evaluation with Newton polishing for profiles
-    p = param_vector(robot, foam, head)[None, :]
-    wanted = ("force", "compression") if constrained else _METRIC_OUTPUTS
-    base = metrics_from_responses(
-        {k: families["ramp"][k] for k in wanted},
-        p,
-        np.array([v_c]),
-        constrained=constrained,
-        stop_time=check_positive("stop_time", stop_time, "s"),
+    t_imp, metrics, status = _lobe_metrics(
+        families, evaluate, robot, foam, head, v_c, profile, stop_time
     )
-    status = str(base.design_status[0])
-    t_imp = float(base.impact_duration[0])
-    metrics = {
-        "head_acceleration": (
-            float(base.time_of_peak_acceleration[0]),
-            float(base.peak_head_acceleration[0]),
-        ),
-        "compression": (float(base.time_of_max_compression[0]), float(base.max_compression[0])),
-        "force": (float(base.time_of_peak_force[0]), float(base.peak_force[0])),
-    }
-    if profile is not None:
-        t_imp, metrics, status = _profile_metrics(evaluate, t_imp, constrained, stop_time)
-
-    if status == STATUS_PEAK_AT_CONTACT:
-        warnings.append(
-            "a_h peaks at t = 0+ (overdamped pulse, foam damping far above xi_c ~ 0.05-0.2): "
-            "a_h,max = C_c v_c / M_h and the impact period is delicate"
-        )
-    if not np.isfinite(t_imp):
-        warnings.append("the first impact lobe did not close; metrics are NaN")
-    bottoming = metrics["compression"][1] > foam.linear_depth
-    if bottoming:
-        warnings.append(
-            f"eps_max = {metrics['compression'][1]:.4g} m exceeds the foam's linear depth "
-            f"lambda = {foam.linear_depth:.4g} m: the foam bottoms out and the linear model "
-            'is not valid (docs/impact.md, "Foam bottoming")'
-        )
-        if status == STATUS_OK:
-            status = "bottoming"
+    warnings, status = _response_warnings(status, t_imp, metrics, foam)
 
     t_end = duration if duration is not None else (2.0 * t_imp if np.isfinite(t_imp) else 0.1)
     t_end = check_positive("duration", t_end, "s")
@@ -473,6 +424,94 @@ def simulate(
         q2=q2,
         _lobe={"evaluate": evaluate},
     )
+
+
+def _check_inputs(
+    robot: object,
+    foam: object,
+    head: object,
+    impact_velocity: object,
+    profile: object,
+    samples: object,
+    q2: object,
+) -> float:
+    """Validate the arguments of :func:`simulate`; returns v_c."""
+    if not isinstance(robot, ContactDynamics):
+        raise InvalidParameterError("robot", robot, "must be a ContactDynamics")
+    if not isinstance(foam, Foam):
+        raise InvalidParameterError("foam", foam, "must be a Foam")
+    if head is not None and not isinstance(head, HeadNeck):
+        raise InvalidParameterError("head", head, "must be a HeadNeck or None")
+    v_c = check_finite("impact_velocity", impact_velocity, "m/s")
+    if q2 not in ("correct", "printed"):
+        raise InvalidParameterError("q2", q2, "must be 'correct' or 'printed'")
+    check_int("samples", samples, minimum=2)
+    if profile is not None and not isinstance(profile, VelocityProfile):
+        raise InvalidParameterError("profile", profile, "must be a VelocityProfile or None")
+    return v_c
+
+
+def _lobe_metrics(
+    families: dict,
+    evaluate: Callable,
+    robot: ContactDynamics,
+    foam: Foam,
+    head: HeadNeck | None,
+    v_c: float,
+    profile: VelocityProfile | None,
+    stop_time: float,
+) -> tuple[float, dict[str, tuple[float, float]], str]:
+    """Impact period, ``{output: (time, value)}`` of the maxima, and the design status.
+
+    The batch engine for the constant-velocity impact; a dense exact
+    evaluation with Newton polishing for a velocity profile.
+    """
+    constrained = head is None
+    p = param_vector(robot, foam, head)[None, :]
+    wanted = ("force", "compression") if constrained else _METRIC_OUTPUTS
+    base = metrics_from_responses(
+        {k: families["ramp"][k] for k in wanted},
+        p,
+        np.array([v_c]),
+        constrained=constrained,
+        stop_time=check_positive("stop_time", stop_time, "s"),
+    )
+    status = str(base.design_status[0])
+    t_imp = float(base.impact_duration[0])
+    metrics = {
+        "head_acceleration": (
+            float(base.time_of_peak_acceleration[0]),
+            float(base.peak_head_acceleration[0]),
+        ),
+        "compression": (float(base.time_of_max_compression[0]), float(base.max_compression[0])),
+        "force": (float(base.time_of_peak_force[0]), float(base.peak_force[0])),
+    }
+    if profile is not None:
+        t_imp, metrics, status = _profile_metrics(evaluate, t_imp, constrained, stop_time)
+    return t_imp, metrics, status
+
+
+def _response_warnings(
+    status: str, t_imp: float, metrics: dict[str, tuple[float, float]], foam: Foam
+) -> tuple[list[str], str]:
+    """Warnings of one response, and its status (``bottoming`` if the foam bottoms out)."""
+    warnings: list[str] = []
+    if status == STATUS_PEAK_AT_CONTACT:
+        warnings.append(
+            "a_h peaks at t = 0+ (overdamped pulse, foam damping far above xi_c ~ 0.05-0.2): "
+            "a_h,max = C_c v_c / M_h and the impact period is delicate"
+        )
+    if not np.isfinite(t_imp):
+        warnings.append("the first impact lobe did not close; metrics are NaN")
+    if metrics["compression"][1] > foam.linear_depth:
+        warnings.append(
+            f"eps_max = {metrics['compression'][1]:.4g} m exceeds the foam's linear depth "
+            f"lambda = {foam.linear_depth:.4g} m: the foam bottoms out and the linear model "
+            'is not valid (docs/impact.md, "Foam bottoming")'
+        )
+        if status == STATUS_OK:
+            status = "bottoming"
+    return warnings, status
 
 
 def _profile_metrics(evaluate, t_guess: float, constrained: bool, stop_time: float):
