@@ -183,7 +183,19 @@ class LinearImpactModel:
         return tuple(np.asarray(r, dtype=float) for r in res)
 
 
-def _build(name: str, constrained: bool) -> LinearImpactModel:
+#: Outputs of both models, in the order of ``y``.
+OUTPUT_NAMES: tuple[str, ...] = (
+    "force",
+    "head_acceleration",
+    "compression",
+    "compression_rate",
+    "head_velocity",
+    "robot_deflection",
+)
+
+
+def _equations(constrained: bool) -> tuple[ca.SX, ca.SX, ca.SX, ca.SX, ca.SX, tuple[str, ...]]:
+    """The model in symbols: ``(x, u, p, xdot, y, state_names)``, (3.5.1)-(3.5.3)."""
     p = ca.SX.sym("p", len(PARAM_NAMES))
     m_r, c_r, k_r, k_c, c_c, m_h, c_h, k_h = (p[i] for i in range(len(PARAM_NAMES)))
     u = ca.SX.sym("u", len(INPUT_NAMES))
@@ -208,60 +220,54 @@ def _build(name: str, constrained: bool) -> LinearImpactModel:
     else:
         a_h = (f_c - c_h * d_h_dot - k_h * d_h) / m_h  # (3.5.3); torso acceleration is 0
         xdot = ca.vertcat(d_r_dot, d_r_ddot, d_h_dot, a_h)
-
-    output_names = (
-        "force",
-        "head_acceleration",
-        "compression",
-        "compression_rate",
-        "head_velocity",
-        "robot_deflection",
-    )
     y = ca.vertcat(f_c, a_h, compression, compression_rate, d_h_dot, d_r)
+    return x, u, p, xdot, y, state_names
 
-    ode = ca.Function(f"impact_{name}_ode", [x, u, p], [xdot], ["x", "u", "p"], ["xdot"])
-    outputs = ca.Function(f"impact_{name}_outputs", [x, u, p], [y], ["x", "u", "p"], ["y"])
-    a_mat = ca.jacobian(xdot, x)
-    b_mat = ca.jacobian(xdot, u)
-    c_mat = ca.jacobian(y, x)
-    d_mat = ca.jacobian(y, u)
-    state_space = ca.Function(
-        f"impact_{name}_ss", [p], [a_mat, b_mat, c_mat, d_mat], ["p"], ["A", "B", "C", "D"]
-    )
 
-    # Transfer functions: G(s) = (C adj(sI-A) B + D det(sI-A)) / det(sI-A).
-    n = x.shape[0]
+def _tf_numerators(a_mat: ca.SX, b_mat: ca.SX, c_mat: ca.SX, d_mat: ca.SX) -> tuple[ca.SX, list]:
+    """``den`` and one numerator matrix per output (rows: inputs; descending powers of s).
+
+    G(s) = (C adj(sI-A) B + D det(sI-A)) / det(sI-A), by Faddeev-LeVerrier.
+    """
+    n = a_mat.shape[0]
     coeffs, adj = _faddeev_leverrier(a_mat)
     den = ca.vertcat(*coeffs)  # descending powers, length n+1
     nums = []
-    for k in range(len(output_names)):
+    for k in range(len(OUTPUT_NAMES)):
         rows = []
         for j in range(len(INPUT_NAMES)):
-            # numerator coefficients, descending powers s^n ... s^0
             poly = [d_mat[k, j] * coeffs[0]]
             for i in range(1, n + 1):
                 poly.append(c_mat[k, :] @ adj[i - 1] @ b_mat[:, j] + d_mat[k, j] * coeffs[i])
             rows.append(ca.horzcat(*poly))
         nums.append(ca.simplify(ca.vertcat(*rows)))
+    return den, nums
+
+
+def _build(name: str, constrained: bool) -> LinearImpactModel:
+    """Both numerical faces of one model: ODE, outputs, state space, transfer functions."""
+    x, u, p, xdot, y, state_names = _equations(constrained)
+    ode = ca.Function(f"impact_{name}_ode", [x, u, p], [xdot], ["x", "u", "p"], ["xdot"])
+    outputs = ca.Function(f"impact_{name}_outputs", [x, u, p], [y], ["x", "u", "p"], ["y"])
+    a_mat, b_mat = ca.jacobian(xdot, x), ca.jacobian(xdot, u)
+    c_mat, d_mat = ca.jacobian(y, x), ca.jacobian(y, u)
+    state_space = ca.Function(
+        f"impact_{name}_ss", [p], [a_mat, b_mat, c_mat, d_mat], ["p"], ["A", "B", "C", "D"]
+    )
+    den, nums = _tf_numerators(a_mat, b_mat, c_mat, d_mat)
+    num_names = [f"num_{o}" for o in OUTPUT_NAMES]
     tf = ca.Function(
-        f"impact_{name}_tf",
-        [p],
-        [ca.simplify(den), *nums],
-        ["p"],
-        ["den", *[f"num_{o}" for o in output_names]],
+        f"impact_{name}_tf", [p], [ca.simplify(den), *nums], ["p"], ["den", *num_names]
     )
     # Constant-velocity impact, u = v_c [1/s^2, 1/s, 0]: Y(s) = v_c (N_sc + s N_vc) / (s^2 den)
-    ramps = []
-    for k in range(len(output_names)):
-        n_sc = ca.horzcat(ca.SX(0.0), nums[k][0, :])
-        n_vc = ca.horzcat(nums[k][1, :], ca.SX(0.0))
-        ramps.append(ca.simplify(n_sc + n_vc))
+    ramps = [
+        ca.simplify(
+            ca.horzcat(ca.SX(0.0), nums[k][0, :]) + ca.horzcat(nums[k][1, :], ca.SX(0.0))
+        )
+        for k in range(len(OUTPUT_NAMES))
+    ]
     ramp_tf = ca.Function(
-        f"impact_{name}_ramp_tf",
-        [p],
-        [ca.simplify(den), *ramps],
-        ["p"],
-        ["den", *[f"num_{o}" for o in output_names]],
+        f"impact_{name}_ramp_tf", [p], [ca.simplify(den), *ramps], ["p"], ["den", *num_names]
     )
     return LinearImpactModel(
         name=name,
@@ -271,7 +277,7 @@ def _build(name: str, constrained: bool) -> LinearImpactModel:
         tf=tf,
         ramp_tf=ramp_tf,
         state_names=state_names,
-        output_names=output_names,
+        output_names=OUTPUT_NAMES,
     )
 
 
