@@ -736,6 +736,13 @@ def foam_envelope(
     Returns
     -------
     FoamEnvelope
+
+    Examples
+    --------
+    >>> import designlab as dl
+    >>> env = dl.impact.foam_envelope(dl.impact.MANIPULATOR_1, 1.25, [0.0, 100.0])
+    >>> (env.stiffness_max / 1e3).round(2).tolist(), (env.stiffness_min / 1e3).round(2).tolist()
+    ([46.04, 58.77], [16.67, 11.92])
     """
     c = (
         np.linspace(0.0, 200.0, 41)

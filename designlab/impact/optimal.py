@@ -418,6 +418,11 @@ def optimal_foam(
         convention, ``head_mass_for_ratio`` = 4.4 kg). The default keeps to
         elastomeric foams, xi_c = 0.05-0.2 (Rivin 2003, quoted by the thesis);
         ``None`` lifts it.
+    min_margin
+        Smallest worst-case margin, ``min_i ln(limit_i / metric_i)``, that the
+        ``"thinnest"`` objective must keep (0.05 ~ 5 % headroom).
+    head_mass_for_ratio
+        Head mass of the damping-ratio convention, kg (thesis: 4.4 kg).
     grid
         Points per axis of the starting grid search.
     ipopt_options
@@ -426,6 +431,13 @@ def optimal_foam(
     Returns
     -------
     OptimalFoam
+
+    Examples
+    --------
+    >>> import designlab as dl
+    >>> opt = dl.impact.optimal_foam(dl.impact.MANIPULATOR_1, 1.25)
+    >>> opt.status, round(opt.stiffness / 1e3, 1), round(opt.damping_ratio(), 2)
+    ('ok', 25.2, 0.2)
     """
     objective = check_choice("objective", objective, ("margin", "thinnest"))
     if objective == "thinnest" and thickness_bounds is None:

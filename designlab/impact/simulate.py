@@ -100,6 +100,19 @@ def hic(t: NDArray, head_acceleration: NDArray, window: float = 0.015) -> float:
     trapezoid rule on the samples given; segments with a non-positive mean are
     skipped.
 
+    Parameters
+    ----------
+    t
+        Sample times, s (1-D, increasing).
+    head_acceleration
+        Head acceleration at ``t``, m/s^2 (converted to g with standard gravity).
+    window
+        Largest window t2 - t1, s: 0.015 (HIC15) or 0.036 (HIC36).
+
+    Returns
+    -------
+    float
+
     Examples
     --------
     >>> import numpy as np

@@ -144,6 +144,14 @@ def foam_verdict(env: FoamEnvelope, foam: Foam, *, tolerance: float = 0.01) -> F
     Returns
     -------
     FoamVerdict
+
+    Examples
+    --------
+    >>> import numpy as np, designlab as dl
+    >>> env = dl.impact.foam_envelope(dl.impact.MANIPULATOR_2, 1.25, np.linspace(0, 200, 5))
+    >>> v = dl.impact.foam_verdict(env, dl.impact.FOAM_2)
+    >>> v.verdict, v.statement.split(":")[0]
+    ('not feasible', 'is 28.1 % below the lower (thickness) boundary (eps_max <= 20 mm)')
     """
     if not isinstance(env, FoamEnvelope):
         raise InvalidParameterError("env", env, "must be a FoamEnvelope from foam_envelope()")
@@ -289,8 +297,27 @@ def max_safe_velocity(
 
     The metrics scale as v_c ** exponent (1 for a_h,max, force and eps_max, 2.5
     for HIC), so the answer is exact: ``v_i = v_0 (limit_i / metric_i(v_0))^(1/e_i)``.
-    ``max_compression`` defaults to the foam's linear depth; ``human_speed``
-    (m/s, >= 0) is the head's speed toward the robot.
+    Parameters
+    ----------
+    robot
+        Effective manipulator at the impact point.
+    foam
+        The foam.
+    criteria
+        Safety criteria (default: a_h,max <= 10 g).
+    max_compression
+        lambda, m; defaults to the foam's linear depth.
+    human_speed
+        The head's speed toward the robot, m/s (>= 0).
+    head_range
+        ``None``: each criterion's conservative head-neck set; a
+        :class:`~designlab.impact.envelope.HeadRange`: the worst of its corners.
+    constrained
+        Constrained impact (head against a wall); force criteria only.
+
+    Returns
+    -------
+    SafeVelocity
 
     Examples
     --------
@@ -357,6 +384,24 @@ def min_foam_thickness(
     constrained: bool = False,
 ) -> FoamThickness:
     """Smallest linear depth (and total thickness) for ``foam`` at ``impact_velocity``.
+
+    Parameters
+    ----------
+    robot
+        Effective manipulator at the impact point.
+    foam
+        The foam (its stiffness and damping; its thickness ratio T_u / lambda).
+    impact_velocity
+        v_c, m/s.
+    head_range
+        ``None``: the maximum head-neck set; a
+        :class:`~designlab.impact.envelope.HeadRange`: the worst of its corners.
+    constrained
+        Constrained impact (head against a wall).
+
+    Returns
+    -------
+    FoamThickness
 
     Examples
     --------

@@ -306,6 +306,14 @@ def check_worst_case(
     Returns
     -------
     WorstCaseCheck
+
+    Examples
+    --------
+    >>> import numpy as np, designlab as dl
+    >>> env = dl.impact.foam_envelope(dl.impact.MANIPULATOR_1, 1.25, [60.0, 150.0])
+    >>> check = dl.impact.check_worst_case(env, samples=0)     # corners only
+    >>> check.status, round(check.onset_damping["eps_max <= 20 mm"], 1)
+    ('violated', 107.3)
     """
     if not isinstance(env, FoamEnvelope):
         raise InvalidParameterError("env", env, "must be a FoamEnvelope from foam_envelope()")

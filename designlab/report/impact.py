@@ -34,6 +34,17 @@ from designlab.units import STANDARD_GRAVITY
 
 __all__ = ["impact_figure", "impact_markdown", "write_impact_report"]
 
+#: A two-case study used by the examples below.
+_EXAMPLE = """
+designlab: 1
+kind: impact_cases
+name: demo
+cases:
+  - {label: slow, robot: MANIPULATOR_1, foam: FOAM_1, head: TEST_HEAD, impact_velocity: 0.4,
+     reference: {source: Zeng 2011 Table 4.1, a_h_max_g: 2.1, t_imp_s: 0.033}}
+  - {label: fast, robot: MANIPULATOR_1, foam: FOAM_1, head: TEST_HEAD, impact_velocity: 1.25}
+"""
+
 G = STANDARD_GRAVITY
 
 
@@ -91,6 +102,13 @@ def impact_figure(cases: Sequence[ImpactCaseResult], title: str = "") -> Figure:
     matplotlib.figure.Figure
         A figure not attached to pyplot (no global state); write it with
         :func:`designlab.report.writers.write_png`.
+
+    Examples
+    --------
+    >>> from designlab.study import parse_study, run_study
+    >>> r = run_study(parse_study(_EXAMPLE))
+    >>> len(impact_figure(r.cases).axes)
+    3
     """
     configs: list[tuple[Any, ...]] = []
     speeds: list[float] = []
@@ -284,6 +302,18 @@ def impact_markdown(
         The command that produced the report (recorded for reproduction).
     version
         designlab version.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> from designlab.study import parse_study, run_study
+    >>> r = run_study(parse_study(_EXAMPLE))
+    >>> text = impact_markdown(r, figures={"": "time_histories.png"})
+    >>> "## Model vs reference simulation" in text
+    True
     """
     study = result.study
     frame = result.to_frame()
@@ -378,6 +408,15 @@ def write_impact_report(
     -------
     list of Path
         The files written.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from designlab.study import parse_study, run_study
+    >>> r = run_study(parse_study(_EXAMPLE))
+    >>> with tempfile.TemporaryDirectory() as tmp:
+    ...     sorted(p.name for p in write_impact_report(r, pathlib.Path(tmp)))
+    ['metrics.csv', 'summary.md', 'time_histories.png']
     """
     written = [write_csv(result.to_frame(), directory / "metrics.csv")]
     names = figure_names(result)
