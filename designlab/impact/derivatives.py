@@ -40,6 +40,7 @@ from numpy.typing import ArrayLike, NDArray
 from designlab.impact.metrics import ImpactMetrics, metrics_of_matrix
 from designlab.impact.model import PARAM_NAMES, constrained_model, unconstrained_model
 from designlab.validation import named_columns
+from designlab.results import Result
 
 __all__ = ["VARIABLE_NAMES", "MetricGradients", "metric_gradients", "response_function"]
 
@@ -117,7 +118,7 @@ def _jacobian_function(constrained: bool) -> ca.Function:
 
 
 @dataclass(frozen=True)
-class MetricGradients:
+class MetricGradients(Result):
     """Gradients of the first-lobe metrics with respect to :data:`VARIABLE_NAMES`.
 
     Attributes
@@ -132,6 +133,16 @@ class MetricGradients:
 
     metrics: ImpactMetrics
     gradients: dict[str, NDArray[np.float64]]
+
+    @property
+    def status(self) -> str:  # type: ignore[override]
+        """The status of the metrics the gradients belong to."""
+        return self.metrics.status
+
+    @property
+    def warnings(self) -> tuple[str, ...]:  # type: ignore[override]
+        """The warnings of the metrics the gradients belong to."""
+        return self.metrics.warnings
 
     def elasticities(self, metric: str) -> dict[str, NDArray[np.float64]]:
         """``d ln(metric) / d ln(x)`` for every variable ``x`` (NaN where the metric is 0)."""

@@ -43,6 +43,7 @@ from designlab.errors import (
 )
 from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
 from designlab.validation import frozen_array, real_array
+from designlab.results import OK, Result
 
 __all__ = [
     "EffectiveContact",
@@ -64,7 +65,7 @@ _M_UNIT = "kg m^2"
 
 
 @dataclass(frozen=True)
-class EffectiveContact:
+class EffectiveContact(Result):
     """Effective manipulator at the impact point (:func:`effective_contact`).
 
     Attributes
@@ -84,6 +85,8 @@ class EffectiveContact:
     stiffness: float
     damping: float
     velocity: float | None = None
+    status: str = OK
+    warnings: tuple[str, ...] = ()
 
     @property
     def contact(self) -> ContactDynamics:
@@ -116,7 +119,7 @@ class EffectiveContact:
 
 
 @dataclass(frozen=True, eq=False)
-class ImpactPointSweep:
+class ImpactPointSweep(Result):
     """Effective single-joint manipulator along a link (:func:`impact_point_sweep`).
 
     All arrays have the length of ``lever_arm`` and are read-only.
@@ -136,6 +139,8 @@ class ImpactPointSweep:
     stiffness: np.ndarray
     damping: np.ndarray
     velocity: np.ndarray
+    status: str = OK
+    warnings: tuple[str, ...] = ()
 
     def __len__(self) -> int:
         return int(self.lever_arm.size)

@@ -39,6 +39,7 @@ import pandas as pd
 
 from designlab.errors import InvalidParameterError, check_nonnegative, check_positive
 from designlab.validation import check_array, frozen_array
+from designlab.results import Result
 
 if TYPE_CHECKING:  # python-control is imported when a transfer function is built
     import control
@@ -246,7 +247,7 @@ def joint_error_tf(
 
 
 @dataclass(frozen=True, eq=False)
-class JointFit:
+class JointFit(Result):
     """Frequency-band least-squares spring-damper fit of a joint (:func:`fit_joint_band`).
 
     Attributes
@@ -283,6 +284,7 @@ class JointFit:
     rms_error: float
     taylor_rms_error: float
     status: str
+    warnings: tuple[str, ...] = ()
 
     @property
     def success(self) -> bool:

@@ -50,6 +50,7 @@ from designlab.impact.model import (
     unconstrained_model,
 )
 from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
+from designlab.results import Result
 from designlab.units import STANDARD_GRAVITY
 from designlab.validation import check_int
 
@@ -145,7 +146,7 @@ def hic(t: NDArray, head_acceleration: NDArray, window: float = 0.015) -> float:
 
 
 @dataclass(frozen=True)
-class ImpactResponse:
+class ImpactResponse(Result):
     """Time histories and first-lobe metrics of one impact (SI units).
 
     Attributes
@@ -228,8 +229,24 @@ class ImpactResponse:
         a = self._lobe["evaluate"](t)["head_acceleration"]
         return hic(t, a, window)
 
-    def summary(self) -> dict[str, float | str | bool]:
-        """The scalar metrics as a flat dict (units in the keys)."""
+    def summary(self, max_rows: int = 10) -> str:
+        """A short text: status, warnings and the scalar metrics (:meth:`metrics`).
+
+        Parameters
+        ----------
+        max_rows
+            Unused (the scalar metrics are always shown); kept for the
+            :class:`~designlab.results.Result` interface.
+        """
+        head = f"ImpactResponse: status {self.status}, {len(self.warnings)} warning(s)"
+        lines = [head, *(f"  warning: {w}" for w in self.warnings)]
+        for key, value in self.metrics().items():
+            text = f"{value:.6g}" if isinstance(value, float) else str(value)
+            lines.append(f"  {key}: {text}")
+        return "\n".join(lines)
+
+    def metrics(self) -> dict[str, float | str | bool]:
+        """The scalar metrics as a flat dict (column names of :mod:`.metric_names`)."""
         return {
             "v_c_m_per_s": self.impact_velocity,
             "a_h_max_g": self.peak_head_acceleration_g,

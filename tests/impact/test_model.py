@@ -175,4 +175,29 @@ def test_impact_response_repr_is_short() -> None:
     r = dl.impact.simulate(MANIPULATOR_1, FOAM_1, HEAD_MIN, impact_velocity=1.0)
     text = repr(r)
     assert len(text) < 200 and "a_h,max=" in text and "status='ok'" in text
-    assert r.summary()["peak_force_N"] == pytest.approx(r.peak_force)
+    assert r.metrics()["peak_force_N"] == pytest.approx(r.peak_force)
+    dl.results.check_result(r)
+    assert "a_h_max_g" in r.summary()
+
+
+def test_every_impact_result_honours_the_result_contract() -> None:
+    import numpy as np
+
+    from designlab.impact.derivatives import metric_gradients
+
+    env = dl.impact.foam_envelope(MANIPULATOR_1, 1.25, [50.0])
+    p = [[9.6, 250, 20e3, 24.25e3, 71.9, 4.4, 46.0, 3e3]]
+    results = [
+        env,
+        dl.impact.foam_verdict(env, FOAM_1),
+        dl.impact.check_worst_case(env, samples=0),
+        dl.impact.max_safe_velocity(MANIPULATOR_1, FOAM_1),
+        dl.impact.min_foam_thickness(MANIPULATOR_1, FOAM_1),
+        dl.impact.impact_metrics(p, 1.25, columns=dl.impact.PARAM_NAMES),
+        metric_gradients(p, 1.25, columns=dl.impact.PARAM_NAMES),
+        dl.impact.simulate(MANIPULATOR_1, FOAM_1, HEAD_MIN, impact_velocity=1.0),
+        dl.impact.effective_contact([[0.059]], [121.68], [1.521], [0.078]),
+        dl.impact.impact_point_sweep(0.059, 121.68, 1.521, 0.5, [0.01, 0.078]),
+    ]
+    for r in results:
+        dl.results.check_result(r)

@@ -185,7 +185,7 @@ def test_to_frame_and_summary() -> None:
     df = r.to_frame()
     assert list(df.columns)[:4] == ["t_s", "f_c_N", "a_h_m_per_s2", "a_h_g"]
     assert len(df) == 101
-    s = r.summary()
+    s = r.metrics()
     assert s["a_h_max_g"] == pytest.approx(r.peak_head_acceleration / 9.80665)
     m = dl.impact.impact_metrics([9.6, 250, 20e3, 24.25e3, 71.9, 4.4, 0, 4e3], [0.4, 1.25],
                                  columns=dl.impact.PARAM_NAMES)
