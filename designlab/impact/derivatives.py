@@ -39,8 +39,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from designlab.impact.metrics import ImpactMetrics, metrics_of_matrix
 from designlab.impact.model import PARAM_NAMES, constrained_model, unconstrained_model
-from designlab.validation import named_columns
 from designlab.results import Result
+from designlab.validation import named_columns
 
 __all__ = ["VARIABLE_NAMES", "MetricGradients", "metric_gradients", "response_function"]
 

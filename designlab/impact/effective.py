@@ -42,8 +42,8 @@ from designlab.errors import (
     check_positive,
 )
 from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
-from designlab.validation import frozen_array, real_array
 from designlab.results import OK, Result
+from designlab.validation import frozen_array, real_array
 
 __all__ = [
     "EffectiveContact",

@@ -38,8 +38,8 @@ import numpy.typing as npt
 import pandas as pd
 
 from designlab.errors import InvalidParameterError, check_nonnegative, check_positive
-from designlab.validation import check_array, frozen_array
 from designlab.results import Result
+from designlab.validation import check_array, frozen_array
 
 if TYPE_CHECKING:  # python-control is imported when a transfer function is built
     import control

@@ -181,7 +181,6 @@ def test_impact_response_repr_is_short() -> None:
 
 
 def test_every_impact_result_honours_the_result_contract() -> None:
-    import numpy as np
 
     from designlab.impact.derivatives import metric_gradients
 
