@@ -110,6 +110,30 @@ def _write_table(frame: pd.DataFrame, directory: Path) -> list[Path]:
     ]
 
 
+def _readable_tornado(fig: Figure, study: Any, metric: str) -> Figure:
+    """Name the metric and the parameters with their units, and draw the metric's limit."""
+    ax = fig.axes[0]
+    label = study.METRICS.get(metric, metric)
+    ax.set_xlabel(label)
+    ax.set_title(label, fontsize="medium")
+    limit = dict(getattr(study, "LIMITS", {}) or {}).get(metric)
+    if limit is not None:
+        ax.axvline(limit, color="tab:red", lw=1, ls="--", label="design limit")
+        ax.legend(fontsize="small", loc="lower right")
+    names = []
+    for tick in ax.get_yticklabels():
+        text = tick.get_text()
+        path, _, rest = text.partition("  ")
+        entry = study.PARAMETERS.get(path)
+        if entry is not None:
+            _, info = entry
+            text = f"{info.description} {rest} {info.unit}".strip()
+        names.append(text)
+    ax.set_yticks(ax.get_yticks(), names)
+    fig.tight_layout()
+    return fig
+
+
 def _scatter_figure(result: Any) -> Figure | None:
     study = result.study
     sweep = getattr(study, "sweep", None)
@@ -322,8 +346,8 @@ def write_sweep_report(
     if rng is not None:
         for m in rng.metrics:
             name = f"tornado_{m}.png"
-            title = result.study.METRICS.get(m, m)
-            written.append(write_png(tornado_figure(rng, m, title=title), directory / name))
+            fig = _readable_tornado(tornado_figure(rng, m), result.study, m)
+            written.append(write_png(fig, directory / name))
             figures[f"tornado: {m}"] = name
     fig = _scatter_figure(result)
     if fig is not None:
