@@ -128,6 +128,65 @@ def _pct(x: float) -> str:
     return f"{100 * abs(x):.2f} %" if abs(x) < 0.01 else f"{100 * abs(x):.1f} %"
 
 
+def _boundaries_at(one: FoamEnvelope) -> tuple[float, str, float]:
+    """K_c,max, its limiting criterion and K_c,min of a one-point envelope.
+
+    Unbounded sides become ``inf`` (upper) or ``0`` (lower); a constraint that
+    holds nowhere becomes ``0`` (upper) or ``inf`` (lower).
+    """
+    kmax, limiting = math.inf, ""
+    for name, kk in one.upper.items():
+        st = str(one.upper_status[name][0])
+        bound = float(kk[0]) if st == "bounded" else (math.inf if st == "unbounded" else 0.0)
+        if bound < kmax:
+            kmax, limiting = bound, name
+    lst = str(one.lower_status[0])
+    kmin = (
+        float(one.stiffness_min[0])
+        if lst == "bounded"
+        else (0.0 if lst == "unbounded" else math.inf)
+    )
+    return kmax, limiting, kmin
+
+
+def _judge(
+    foam: Foam,
+    kmax: float,
+    kmin: float,
+    up: float,
+    low: float,
+    nearest: str,
+    limiting: str,
+    tol: float,
+) -> tuple[str, str]:
+    """The three-way verdict and the sentence that states it."""
+    rel = up if nearest == "upper" else low  # > 0: violated
+    if kmin > kmax:
+        return NOT_FEASIBLE, (
+            f"no stiffness is feasible at C_c = {foam.damping:g} N s/m: the lower (thickness) "
+            f"boundary {kmin / 1e3:.4g} kN/m is above the upper (safety) boundary "
+            f"{kmax / 1e3:.4g} kN/m"
+        )
+    if abs(rel) <= tol:
+        where = "above" if (rel > 0) == (nearest == "upper") else "below"
+        side = "upper (safety)" if nearest == "upper" else "lower (thickness)"
+        return ON_BOUNDARY, (
+            f"on the {side} boundary: {_pct(rel)} {where} it, within the {100 * tol:g} % "
+            f"tolerance ({limiting})"
+        )
+    if rel > 0:
+        return NOT_FEASIBLE, (
+            f"exceeds the upper (safety) boundary by {_pct(up)} ({limiting})"
+            if nearest == "upper"
+            else f"is {_pct(low)} below the lower (thickness) boundary ({limiting}): it "
+            "compresses beyond its linear depth"
+        )
+    return FEASIBLE, (
+        f"inside the region: {_pct(up)} below the upper (safety) boundary"
+        + (f" and {_pct(low)} above the lower (thickness) boundary" if kmin > 0 else "")
+    )
+
+
 def foam_verdict(env: FoamEnvelope, foam: Foam, *, tolerance: float = 0.01) -> FoamVerdict:
     """Three-way verdict of ``foam`` against the envelope ``env`` (see the module text).
 
@@ -164,62 +223,21 @@ def foam_verdict(env: FoamEnvelope, foam: Foam, *, tolerance: float = 0.01) -> F
     one = _solve(prob, np.array([foam.damping]), env.stiffness_bounds, 1e-9)
     lo_b, hi_b = env.stiffness_bounds
     k = foam.stiffness
-    # upper boundary: the tightest criterion
-    kmax, limiting_upper = math.inf, ""
-    for name, kk in one.upper.items():
-        st = str(one.upper_status[name][0])
-        bound = float(kk[0]) if st == "bounded" else (math.inf if st == "unbounded" else 0.0)
-        if bound < kmax:
-            kmax, limiting_upper = bound, name
-    lst = str(one.lower_status[0])
-    kmin = (
-        float(one.stiffness_min[0])
-        if lst == "bounded"
-        else (0.0 if lst == "unbounded" else math.inf)
-    )
+    kmax, limiting_upper, kmin = _boundaries_at(one)
     up = k / kmax - 1.0 if kmax > 0 else math.inf
     low = (
         1.0 - k / kmin
         if math.isfinite(kmin) and kmin > 0
         else (-math.inf if kmin == 0 else math.inf)
     )
-    lower_name = prob.compression.name
     # the deciding boundary: the violated one, else the nearest
     d_up = math.log(kmax / k) if kmax > 0 else -math.inf
     d_low = math.log(k / kmin) if 0 < kmin < math.inf else (math.inf if kmin == 0 else -math.inf)
     nearest = "upper" if d_up <= d_low else "lower"
     margin = min(d_up, d_low) / math.log(10.0)
-    limiting = limiting_upper if nearest == "upper" else lower_name
-    rel = up if nearest == "upper" else low  # > 0: violated
+    limiting = limiting_upper if nearest == "upper" else prob.compression.name
+    verdict, statement = _judge(foam, kmax, kmin, up, low, nearest, limiting, tol)
     warnings: list[str] = []
-    if kmin > kmax:
-        verdict = NOT_FEASIBLE
-        statement = (
-            f"no stiffness is feasible at C_c = {foam.damping:g} N s/m: the lower (thickness) "
-            f"boundary {kmin / 1e3:.4g} kN/m is above the upper (safety) boundary "
-            f"{kmax / 1e3:.4g} kN/m"
-        )
-    elif abs(rel) <= tol:
-        verdict = ON_BOUNDARY
-        where = "above" if (rel > 0) == (nearest == "upper") else "below"
-        side = "upper (safety)" if nearest == "upper" else "lower (thickness)"
-        statement = (
-            f"on the {side} boundary: {_pct(rel)} {where} it, within the {100 * tol:g} % "
-            f"tolerance ({limiting})"
-        )
-    elif rel > 0:
-        verdict = NOT_FEASIBLE
-        statement = (
-            f"exceeds the upper (safety) boundary by {_pct(up)} ({limiting})"
-            if nearest == "upper"
-            else f"is {_pct(low)} below the lower (thickness) boundary ({limiting}): it "
-            "compresses beyond its linear depth"
-        )
-    else:
-        verdict = FEASIBLE
-        statement = f"inside the region: {_pct(up)} below the upper (safety) boundary" + (
-            f" and {_pct(low)} above the lower (thickness) boundary" if kmin > 0 else ""
-        )
     if not lo_b <= k <= hi_b:
         warnings.append(
             f"K_c = {k:g} N/m is outside the envelope's stiffness range {env.stiffness_bounds}"
