@@ -74,8 +74,11 @@ def test_thesis_foams_three_way(envs) -> None:
     assert dl.impact.foam_verdict(m2, FOAM_3).upper_excess == pytest.approx(0.276, abs=5e-3)
 
 
-@pytest.mark.parametrize(("factor", "expected"), [(0.98, "feasible"), (0.995, "on the boundary"),
-                                                  (1.005, "on the boundary"), (1.02, "not feasible")])  # fmt: skip
+BAND = [(0.98, "feasible"), (0.995, "on the boundary"), (1.005, "on the boundary"),
+        (1.02, "not feasible")]  # fmt: skip
+
+
+@pytest.mark.parametrize(("factor", "expected"), BAND)
 def test_tolerance_band_around_the_upper_boundary(envs, factor, expected) -> None:
     c = 60.0
     k = _upper(MANIPULATOR_1, c) * factor
