@@ -281,6 +281,70 @@ def _onset(
     return c_hi, c_hi / (2.0 * math.sqrt(_XI_HEAD_MASS * k_hi))
 
 
+def _check_constraint(
+    prob: _Problem,
+    env: FoamEnvelope,
+    key: Criterion,
+    heads: NDArray,
+    head_range: HeadRange,
+    samples: int,
+    rng: np.random.Generator,
+    tolerance: float,
+) -> tuple[NDArray, NDArray, NDArray, dict[str, float], float, float]:
+    """One constraint: ratios (all cases, corners), delicate flags, worst case, onset."""
+    n = env.damping.size
+    ratio_all, corner_all = np.full(n, np.nan), np.full(n, np.nan)
+    flag_all = np.zeros(n, dtype=bool)
+    kb = env.stiffness_min if key.boundary == "lower" else env.upper[key.name]
+    ok = np.isfinite(kb)
+    if not np.any(ok):
+        return ratio_all, corner_all, flag_all, {}, float("nan"), float("nan")
+    k, c = kb[ok], env.damping[ok]
+    r_c, d_c, case_c = _corner_ratio(prob, key, heads, k, c)
+    ratio, flag, case = r_c, d_c & (r_c > 1), case_c
+    if samples:
+        r_s, d_s, case_s = _sampled_ratio(prob, key, head_range, k, c, samples, rng)
+        take = r_s > r_c
+        ratio = np.where(take, r_s, r_c)
+        case = np.where(take[:, None], case_s, case_c)
+        flag = flag | d_s
+    ratio_all[ok], corner_all[ok], flag_all[ok] = ratio, r_c, flag
+    j = int(np.argmax(ratio))
+    names = ("M_r", "C_r", "K_r", "K_c", "C_c", "M_h", "C_h", "K_h", "v_c")
+    worst = dict(zip(names, case[j].tolist(), strict=True))
+    onset_c, onset_xi = _onset(prob, env, key, heads, ratio_all, tolerance)
+    return ratio_all, corner_all, flag_all, worst, onset_c, onset_xi
+
+
+def _violation_warning(
+    prob: _Problem,
+    key: Criterion,
+    ratio: NDArray,
+    w: dict[str, float],
+    onset_c: float,
+    onset_xi: float,
+    delicate: bool,
+) -> str:
+    """One sentence: which head set fails, from where, by how much, with which case."""
+    head_set = (
+        "the head-neck range's worst corner"
+        if prob.head_range
+        else f"the conservative head-neck set (M_h {key.conservative_head.mass:g} kg)"
+    )
+    return (
+        f"{key.name}: {head_set} is not the worst case on the {key.boundary} boundary"
+        + (
+            f" from C_c = {onset_c:.1f} N s/m (xi_c = {onset_xi:.3f})"
+            if np.isfinite(onset_c)
+            else ""
+        )
+        + f": a case exceeds the limit by {100 * (np.nanmax(ratio) - 1):.2f} % "
+        f"(M_h {w['M_h']:.3g} kg, K_h {w['K_h']:.4g} N/m, C_h {w['C_h']:.4g} N s/m, "
+        f"v_c {w['v_c']:.3g} m/s at C_c {w['C_c']:.4g} N s/m)"
+        + ("; delicate first lobes exceed it too" if delicate else "")
+    )
+
+
 def check_worst_case(
     env: FoamEnvelope,
     head_range: HeadRange = THESIS_HEAD_RANGE,
@@ -328,59 +392,19 @@ def check_worst_case(
     prob = env._require_problem()
     rng = np.random.default_rng(seed)
     heads = _corner_heads(prob, head_range)
-    names, side, by_point, corners, delicate, worst, onset_c, onset_xi = (
-        [], {}, {}, {}, {}, {}, {}, {}
-    )  # fmt: skip
+    side, by_point, corners, delicate, worst, onset_c, onset_xi = {}, {}, {}, {}, {}, {}, {}
     warnings: list[str] = []
     for key in prob.keys():
         name = key.name
-        names.append(name)
         side[name] = key.boundary
-        kb = env.stiffness_min if key.boundary == "lower" else env.upper[key.name]
-        ok = np.isfinite(kb)
-        by_point[name] = np.full(env.damping.size, np.nan)
-        corners[name] = np.full(env.damping.size, np.nan)
-        delicate[name] = np.zeros(env.damping.size, dtype=bool)
-        worst[name] = {}
-        if not np.any(ok):
-            onset_c[name] = onset_xi[name] = float("nan")
-            continue
-        k, c = kb[ok], env.damping[ok]
-        r_c, d_c, case_c = _corner_ratio(prob, key, heads, k, c)
-        ratio, flag, case = r_c, d_c & (r_c > 1), case_c
-        if samples:
-            r_s, d_s, case_s = _sampled_ratio(prob, key, head_range, k, c, samples, rng)
-            take = r_s > r_c
-            ratio = np.where(take, r_s, r_c)
-            case = np.where(take[:, None], case_s, case_c)
-            flag = flag | d_s
-        by_point[name][ok] = ratio
-        corners[name][ok] = r_c
-        delicate[name][ok] = flag
-        j = int(np.argmax(ratio))
-        worst[name] = dict(
-            zip(("M_r", "C_r", "K_r", "K_c", "C_c", "M_h", "C_h", "K_h", "v_c"), case[j].tolist(),
-                strict=True)
-        )  # fmt: skip
-        full = by_point[name]
-        onset_c[name], onset_xi[name] = _onset(prob, env, key, heads, full, tolerance)
-        if np.nanmax(full) > 1 + tolerance:
-            w = worst[name]
-            head_set = "the head-neck range's worst corner" if prob.head_range else (
-                f"the conservative head-neck set (M_h {key.conservative_head.mass:g} kg)"
-            )  # fmt: skip
+        one = _check_constraint(prob, env, key, heads, head_range, samples, rng, tolerance)
+        by_point[name], corners[name], delicate[name], worst[name] = one[:4]
+        onset_c[name], onset_xi[name] = one[4], one[5]
+        if np.any(np.isfinite(by_point[name])) and np.nanmax(by_point[name]) > 1 + tolerance:
             warnings.append(
-                f"{name}: {head_set} is not the worst case on the {key.boundary} boundary"
-                + (
-                    f" from C_c = {onset_c[name]:.1f} N s/m (xi_c = {onset_xi[name]:.3f})"
-                    if np.isfinite(onset_c[name])
-                    else ""
-                )
-                + f": a case exceeds the limit by {100 * (np.nanmax(full) - 1):.2f} % "
-                f"(M_h {w['M_h']:.3g} kg, K_h {w['K_h']:.4g} N/m, C_h {w['C_h']:.4g} N s/m, "
-                f"v_c {w['v_c']:.3g} m/s at C_c {w['C_c']:.4g} N s/m)"
-                + ("; delicate first lobes exceed it too" if np.any(delicate[name]) else "")
-            )
+                _violation_warning(prob, key, by_point[name], worst[name], onset_c[name],
+                                   onset_xi[name], bool(np.any(delicate[name])))
+            )  # fmt: skip
     return WorstCaseCheck(
         damping=env.damping,
         boundary=side,
