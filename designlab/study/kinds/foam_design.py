@@ -26,6 +26,8 @@ Examples
 
 from __future__ import annotations
 
+import logging
+import time
 from dataclasses import dataclass
 from typing import Annotated, ClassVar, Literal
 
@@ -66,6 +68,8 @@ from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
 
 __all__ = ["KIND", "FoamDesignResult", "FoamDesignStudy", "run"]
+
+log = logging.getLogger(__name__)
 
 _Pos = Annotated[float, Field(gt=0, allow_inf_nan=False)]
 
@@ -309,6 +313,11 @@ def run(study: FoamDesignStudy, context: RunContext) -> FoamDesignResult:
     for i, spec in enumerate(study.robots):
         robot = spec.build()
         label = robot.name or f"robot {i + 1}"
+        t0 = time.perf_counter()
+        log.info(
+            "%s: %s: envelope over %d damping values, %d criteria, %d foams",
+            study.name, label, damping.size, len(criteria), len(foams),
+        )  # fmt: skip
         env = foam_envelope(
             robot,
             study.impact_velocity,
@@ -350,6 +359,18 @@ def run(study: FoamDesignStudy, context: RunContext) -> FoamDesignResult:
             if study.worst_case_check
             else None
         )
+        for f, v in zip(foams, verdicts, strict=True):
+            log.info("%s: %s: %s: %s (%s)", study.name, label, f.name, v.verdict, v.statement)
+        if opt is not None:
+            log.info("%s: %s: optimal foam: status %s", study.name, label, opt.status)
+        if check is not None:
+            log.info(
+                "%s: %s: worst-case check (8 corners + %d samples per point): %s",
+                study.name, label, study.worst_case_samples, check.status,
+            )  # fmt: skip
+        for w in env.warnings:
+            log.info("%s: %s: envelope: %s", study.name, label, w)
+        log.info("%s: %s: done in %.1f s", study.name, label, time.perf_counter() - t0)
         designs.append(RobotDesign(robot, label, env, verdicts, safe, thick, opt, check))
     return FoamDesignResult(study, foams, designs)
 
