@@ -353,6 +353,23 @@ def _curvature_bound(resp: ModalResponse, tl: NDArray, tr: NDArray) -> NDArray[n
     return bound
 
 
+def _grid_values(
+    resp: ModalResponse, t: NDArray
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``y`` and ``y'`` of each response (batch ``N``) at its own times ``t`` ``(N, T)``."""
+    e = np.exp(resp.poles[:, :, None] * t[:, None, :])
+    y = np.real(np.einsum("nk,nkt->nt", resp.residues, e))
+    dy = np.real(np.einsum("nk,nkt->nt", resp.residues * resp.poles, e))
+    m = resp.poly.shape[1]
+    for idx in range(m):
+        power = m - 1 - idx
+        c = resp.poly[:, idx][:, None]
+        y = y + c * t**power
+        if power >= 1:
+            dy = dy + c * power * t ** (power - 1)
+    return y, dy
+
+
 def _evaluate_nodes(
     resp: ModalResponse, rows: NDArray, t: NDArray, chunk: int = 65536
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -389,13 +406,15 @@ class _Cells:
         t = self.tl[:, None] + (self.tr - self.tl)[:, None] * frac[None, :]
         t[:, -1] = self.tr
         rows = np.repeat(self.row, parts - 1)
-        ti = t[:, 1:-1].ravel()
-        yi, di = _evaluate_nodes(resp, rows, ti)
         y = np.empty((n, parts + 1))
         d = np.empty((n, parts + 1))
         y[:, 0], y[:, -1], d[:, 0], d[:, -1] = self.yl, self.yr, self.dl, self.dr
-        y[:, 1:-1] = yi.reshape(n, parts - 1)
-        d[:, 1:-1] = di.reshape(n, parts - 1)
+        chunk = max(1, 65536 // max(parts - 1, 1))
+        for s0 in range(0, n, chunk):
+            sl = slice(s0, s0 + chunk)
+            y[sl, 1:-1], d[sl, 1:-1] = _grid_values(resp.take(self.row[sl]), t[sl, 1:-1])
+        ti = t[:, 1:-1].ravel()
+        yi = y[:, 1:-1].ravel()
         cells = _Cells(
             np.repeat(self.row, parts),
             t[:, :-1].ravel(),
@@ -416,7 +435,34 @@ def _grid_cells(
     with np.errstate(invalid="ignore", divide="ignore"):
         count = np.ceil((hi - lo) / h)
     count = np.clip(np.nan_to_num(count, nan=1.0), 1, max_cells).astype(int)
-    rows = np.repeat(np.arange(n), count + 1)
+    width = int(count.max()) + 1 if n else 1
+    if n * width > 4 * int(np.sum(count + 1)) + 1024:
+        return _grid_cells_flat(resp, lo, hi, count)
+    j = np.arange(width)[None, :]
+    t = lo[:, None] + (hi - lo)[:, None] * (np.minimum(j, count[:, None]) / count[:, None])
+    t[np.arange(n), count] = hi  # the last node exactly at the window end
+    y = np.empty((n, width))
+    dy = np.empty((n, width))
+    chunk = max(1, 65536 // width)
+    for s0 in range(0, n, chunk):
+        sl = slice(s0, s0 + chunk)
+        y[sl], dy[sl] = _grid_values(resp.take(np.arange(s0, min(s0 + chunk, n))), t[sl])
+    valid = j[:, :-1] < count[:, None]  # cells [j, j + 1] with j < count
+    rows = np.broadcast_to(np.arange(n)[:, None], valid.shape)[valid]
+    return _Cells(
+        rows,
+        t[:, :-1][valid],
+        t[:, 1:][valid],
+        y[:, :-1][valid],
+        y[:, 1:][valid],
+        dy[:, :-1][valid],
+        dy[:, 1:][valid],
+    )
+
+
+def _grid_cells_flat(resp: ModalResponse, lo: NDArray, hi: NDArray, count: NDArray) -> _Cells:
+    """:func:`_grid_cells` for very uneven cell counts (no padding to the largest)."""
+    rows = np.repeat(np.arange(lo.size), count + 1)
     start = np.repeat(np.cumsum(count + 1) - (count + 1), count + 1)
     j = np.arange(rows.size) - start
     t = lo[rows] + (hi - lo)[rows] * (j / count[rows])
@@ -426,6 +472,38 @@ def _grid_cells(
     left = ~last
     right = np.roll(left, 1)  # the node after each left node
     return _Cells(rows[left], t[left], t[right], y[left], y[right], dy[left], dy[right])
+
+
+def _cell_bound(cells: _Cells, curvature: NDArray) -> NDArray[np.float64]:
+    """Upper bound of ``y`` over each cell from its end values, end slopes and ``|y''| <= M``.
+
+    ``y(tl + s) <= L(s) = yl + dl s + M s^2 / 2`` and
+    ``y(tr - u) <= R(u) = yr - dr u + M u^2 / 2``; the maximum over the cell of
+    ``min(L, R)`` is at an end or where ``L = R`` (``L - R`` is linear in s).
+    Never above the interpolation bound ``max(yl, yr) + M w^2 / 8``.
+    """
+    w = cells.tr - cells.tl
+    m = curvature
+    yl, yr, dl, dr = cells.yl, cells.yr, cells.dl, cells.dr
+
+    def left(x: NDArray) -> NDArray:
+        return yl + dl * x + 0.5 * m * x * x
+
+    def right(x: NDArray) -> NDArray:
+        u = w - x
+        return yr - dr * u + 0.5 * m * u * u
+
+    zero = np.zeros_like(w)
+    ends = np.maximum(np.minimum(yl, right(zero)), np.minimum(left(w), yr))
+    slope = dl - dr + m * w
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = -(yl - yr + dr * w - 0.5 * m * w * w) / slope
+    inside = np.isfinite(x) & (x > 0) & (x < w)
+    xs = np.where(inside, x, 0.0)
+    cross = np.where(inside, np.minimum(left(xs), right(xs)), -np.inf)
+    taylor = np.maximum(ends, cross)
+    interp = np.maximum(yl, yr) + m * w * w / 8.0
+    return np.minimum(taylor, interp)
 
 
 def _keep_worst(cells: _Cells, score: NDArray, n_rows: int, cap: int) -> NDArray[np.intp]:
@@ -443,7 +521,7 @@ def certified_maximum(
     hi: NDArray,
     h: NDArray,
     *,
-    rtol: float = 1e-10,
+    rtol: float = 1e-8,
     parts: int = 16,
     levels: int = 8,
     cap: int = 64,
@@ -470,9 +548,17 @@ def certified_maximum(
     def offer(rows: NDArray, t: NDArray, y: NDArray) -> None:
         if rows.size == 0:
             return
-        order = np.lexsort((-y, rows))
-        r, first = np.unique(rows[order], return_index=True)
-        cand_y, cand_t = y[order][first], t[order][first]
+        y = np.where(np.isnan(y), -np.inf, y)
+        if rows.size > 1 and np.any(rows[1:] < rows[:-1]):  # pragma: no cover - defensive
+            order = np.argsort(rows, kind="stable")
+            rows, t, y = rows[order], t[order], y[order]
+        start = np.flatnonzero(np.r_[True, rows[1:] != rows[:-1]])
+        r = rows[start]
+        cand_y = np.maximum.reduceat(y, start)
+        at_max = y == np.repeat(cand_y, np.diff(np.r_[start, rows.size]))
+        pos = np.arange(rows.size)
+        first = np.minimum.reduceat(np.where(at_max, pos, rows.size), start)
+        cand_t = t[np.minimum(first, rows.size - 1)]
         better = cand_y > best_y[r]
         best_y[r[better]] = cand_y[better]
         best_t[r[better]] = cand_t[better]
@@ -490,10 +576,7 @@ def certified_maximum(
         if level == levels or cells.row.size == 0:
             break
         width = cells.tr - cells.tl
-        bound = (
-            np.maximum(cells.yl, cells.yr)
-            + _curvature_bound(resp.take(cells.row), cells.tl, cells.tr) * width**2 / 8.0
-        )
+        bound = _cell_bound(cells, _curvature_bound(resp.take(cells.row), cells.tl, cells.tr))
         tol = rtol * np.maximum(np.abs(best_y[cells.row]), 1e-300)
         open_ = np.flatnonzero((bound > best_y[cells.row] + tol) & ~sign & (width > 0))
         if open_.size == 0:
