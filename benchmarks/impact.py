@@ -200,7 +200,7 @@ def batch_all(P: np.ndarray, with_force: bool = True) -> tuple[np.ndarray, np.nd
     vals = np.stack(
         [m.peak_head_acceleration, m.max_compression, m.impact_duration, m.peak_force], axis=1
     )
-    return vals, m.status
+    return vals, m.design_status
 
 
 def rel_err(a: np.ndarray, ref: np.ndarray) -> np.ndarray:
