@@ -53,7 +53,7 @@ import importlib
 import json
 import logging
 import sys
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
@@ -71,6 +71,7 @@ __all__ = [
     "Columns",
     "Evaluator",
     "ResultStore",
+    "StoredRows",
     "SweepRun",
     "as_columns",
     "chunk_key",
@@ -280,6 +281,11 @@ def _take(cols: Columns, idx: np.ndarray | slice) -> Columns:
     return {k: v[idx] for k, v in cols.items()}
 
 
+def _own(cols: Columns) -> Columns:
+    """Writable, contiguous copies of (views of) point columns, for an evaluator to use."""
+    return {k: np.array(v, dtype=float) for k, v in cols.items()}
+
+
 def _normalise(out: Mapping[str, Any], n: int, where: str) -> Columns:
     cols: Columns = {}
     for k, v in out.items():
@@ -383,6 +389,15 @@ class SweepRun:
         Keys of store chunks found corrupt (and recomputed).
     chunks
         Chunks evaluated or read.
+    digest
+        A hash of what determines the results: the evaluator, its code
+        version, its options and every point in order. Two runs with the
+        same digest have the same results.
+    status_counts
+        Points per ``status`` value (every point, duplicates included).
+    rows
+        With ``collect=False``: the results, left in the store and read back
+        block by block (:class:`StoredRows`); ``frame`` is then empty.
     """
 
     frame: pd.DataFrame
@@ -392,6 +407,9 @@ class SweepRun:
     cached: int = 0
     corrupt: list[str] = field(default_factory=list)
     chunks: int = 0
+    digest: str = ""
+    status_counts: dict[str, int] = field(default_factory=dict)
+    rows: StoredRows | None = None
 
     @property
     def duplicates(self) -> int:
@@ -399,8 +417,13 @@ class SweepRun:
         return self.points - self.distinct
 
     @property
+    def failed_count(self) -> int:
+        """How many points failed (``status == "error"``)."""
+        return int(self.status_counts.get(STATUS_ERROR, 0))
+
+    @property
     def failed(self) -> list[int]:
-        """Row positions of points whose evaluation raised."""
+        """Row positions of points whose evaluation raised (collected runs only)."""
         if "status" not in self.frame:
             return []
         return list(np.flatnonzero(self.frame["status"].to_numpy() == STATUS_ERROR))
@@ -414,23 +437,271 @@ class SweepRun:
 def _distinct(cols: Columns) -> tuple[np.ndarray, np.ndarray]:
     """``(first, inverse)``: rows of the distinct points, and each point's distinct index.
 
-    Rows are hashed (pandas, 64 bit) and the grouping is then verified value by
-    value, so a hash collision can never merge two different points.
+    Rows are hashed column by column (pandas, 64 bit, no copy of the table);
+    when rows share a hash the grouping is verified value by value, so a hash
+    collision can never merge two different points.
     """
     n = _length(cols)
     if n == 0:
         return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
-    frame = pd.DataFrame({k: cols[k] for k in sorted(cols)})
-    hashes = pd.util.hash_pandas_object(frame, index=False).to_numpy()
+    hashes = np.zeros(n, dtype=np.uint64)
+    for name in sorted(cols):
+        column = np.ascontiguousarray(cols[name], dtype=float)
+        with np.errstate(over="ignore"):
+            hashes = hashes * np.uint64(0x100000001B3) ^ pd.util.hash_array(column)
     codes, _ = pd.factorize(hashes)
     first = np.flatnonzero(~pd.Series(codes).duplicated().to_numpy())
-    values = frame.to_numpy()
-    rep = values[first[codes]]
-    same = (rep == values) | (np.isnan(rep) & np.isnan(values))
-    if not bool(same.all()):  # pragma: no cover - a 64-bit hash collision
-        codes = frame.groupby(list(frame.columns), sort=False, dropna=False).ngroup().to_numpy()
-        first = np.flatnonzero(~pd.Series(codes).duplicated().to_numpy())
+    if len(first) == n:  # nothing merged: no collision can matter
+        return first, np.asarray(codes, dtype=np.intp)
+    for name in cols:
+        values = np.asarray(cols[name], dtype=float)
+        rep = values[first[codes]]
+        if not bool(((rep == values) | (np.isnan(rep) & np.isnan(values))).all()):
+            frame = pd.DataFrame({k: cols[k] for k in sorted(cols)})
+            codes = frame.groupby(list(frame.columns), sort=False, dropna=False).ngroup()
+            codes = codes.to_numpy()  # a 64-bit hash collision (tested by forcing one)
+            first = np.flatnonzero(~pd.Series(codes).duplicated().to_numpy())
+            break
     return first, np.asarray(codes, dtype=np.intp)
+
+
+class _StatusCounter:
+    """Points per status, chunk by chunk (weighted by how often each distinct point occurs)."""
+
+    def __init__(self, multiplicity: np.ndarray | None) -> None:
+        self.multiplicity = multiplicity
+        self.counts: dict[str, int] = {}
+        #: Every result column seen, with its dtype kind ("O" when chunks disagree).
+        self.kinds: dict[str, str] = {}
+        self.chunks = 0
+        self.seen: dict[str, int] = {}
+
+    def partial(self) -> set[str]:
+        """Columns that some chunk lacks (NaN or ``None`` there)."""
+        return {k for k in self.kinds if self.seen.get(k, 0) < self.chunks}
+
+    def add(self, start: int, part: Columns) -> None:
+        self.chunks += 1
+        for name, values in part.items():
+            self.seen[name] = self.seen.get(name, 0) + 1
+            kind = np.asarray(values).dtype.kind
+            kind = "f" if kind in "fiu" else kind if kind == "b" else "O"
+            if self.kinds.setdefault(name, kind) != kind:
+                self.kinds[name] = "O"
+        status = np.asarray(part.get("status", ()), dtype=object)
+        if not len(status):
+            return
+        values, inverse = np.unique(status.astype(str), return_inverse=True)
+        weights = (
+            None if self.multiplicity is None else self.multiplicity[start : start + len(status)]
+        )
+        totals = np.bincount(inverse.ravel(), weights=weights, minlength=len(values))
+        for v, t in zip(values, totals, strict=True):
+            self.counts[str(v)] = self.counts.get(str(v), 0) + round(float(t))
+
+
+def _digest(
+    evaluator: Evaluator,
+    options: Mapping[str, Any],
+    cols: Columns,
+    keys: Sequence[str | None],
+    inverse: np.ndarray | None,
+) -> str:
+    """A hash of the evaluator, its code, its options and every point in order.
+
+    With a store, the chunk keys already hash every distinct point (and the
+    evaluator, code and options): the digest combines them with the order of
+    the points instead of hashing the points again.
+    """
+    if not keys or any(k is None for k in keys):
+        return chunk_key(evaluator, options, cols)
+    h = hashlib.sha256(b"chunks")
+    for key in keys:
+        h.update(key.encode())  # type: ignore[union-attr]
+    if inverse is not None:
+        h.update(np.ascontiguousarray(inverse, dtype="<i8").tobytes())
+    return h.hexdigest()
+
+
+class StoredRows:
+    """Results of a run left in the store, read back in point order a block at a time.
+
+    What :func:`run_points` returns (as :attr:`SweepRun.rows`) with
+    ``collect=False``: memory stays at a block and one chunk, whatever the
+    number of points. Reading a chunk that has gone from the store (or is
+    damaged) raises :class:`CacheIncompleteError`.
+
+    Parameters
+    ----------
+    store
+        The store holding the chunks.
+    keys
+        Chunk keys, in order of the distinct points.
+    size
+        Points per chunk.
+    distinct
+        Number of distinct points.
+    inverse
+        For each point, its distinct index (``None``: the points are distinct).
+    kinds
+        Every result column of the run with its dtype kind (``f`` numbers,
+        ``b`` booleans, ``O`` anything else): a block read back has all of
+        them, typed alike in every block.
+    partial
+        Columns that some chunk lacks: NaN (numbers) or ``None`` there, and
+        booleans among them are of object dtype in every block.
+    """
+
+    def __init__(
+        self,
+        store: ResultStore,
+        keys: Sequence[str],
+        size: int,
+        distinct: int,
+        inverse: np.ndarray | None,
+        *,
+        kinds: Mapping[str, str] | None = None,
+        partial: set[str] | None = None,
+    ) -> None:
+        self.store, self.keys, self.size, self.distinct = store, list(keys), size, distinct
+        self.inverse = inverse
+        self.kinds = dict(kinds or {})
+        self.partial = set(partial or ())
+        self._last: tuple[int, Columns] | None = None
+
+    def __len__(self) -> int:
+        return self.distinct if self.inverse is None else len(self.inverse)
+
+    def _chunk(self, c: int) -> Columns:
+        if self._last is not None and self._last[0] == c:
+            return self._last[1]
+        state, value = self.store.get_chunk(self.keys[c])
+        expected = min(self.size, self.distinct - c * self.size)
+        if state != "ok" or _length(value) != expected:
+            raise CacheIncompleteError(
+                f"stored chunk {self.keys[c][:12]}... is {state if state != 'ok' else 'damaged'}"
+                " since it was written; run the study again with --resume"
+            )
+        self._last = (c, value)
+        return value
+
+    def _distinct_rows(self, index: np.ndarray) -> Columns:
+        """Result columns of the distinct points ``index`` (any order)."""
+        assembled = _Assembler(len(index))
+        chunk_of = index // self.size
+        for c in np.unique(chunk_of):
+            at = np.flatnonzero(chunk_of == c)
+            part = self._chunk(int(c))
+            offsets = index[at] - int(c) * self.size
+            assembled.put_rows(at, {k: np.asarray(v)[offsets] for k, v in part.items()})
+        return assembled.columns()
+
+    def read(self, rows: slice, columns: Sequence[str] | None = None) -> pd.DataFrame:
+        """The results of points ``rows`` (a slice in point order), optionally some columns.
+
+        Parameters
+        ----------
+        rows
+            Which points, e.g. ``slice(0, 1000)``.
+        columns
+            Only these result columns (missing ones are left out).
+        """
+        start, stop, _ = rows.indices(len(self))
+        positions = np.arange(start, stop)
+        index = positions if self.inverse is None else self.inverse[positions]
+        got = self._distinct_rows(np.asarray(index, dtype=np.intp))
+        n = len(positions)
+        cols: Columns = {}
+        for name, kind in (self.kinds or {k: "O" for k in got}).items():
+            if columns is not None and name not in columns:
+                continue
+            v = got.get(name)
+            if v is None:
+                v = np.full(n, np.nan) if kind == "f" else np.full(n, None, dtype=object)
+            elif (kind == "O" or (kind == "b" and name in self.partial)) and v.dtype != object:
+                v = v.astype(object)
+            cols[name] = v
+        return pd.DataFrame(cols, copy=False)
+
+    def blocks(self, rows: slice, block: int) -> Iterator[tuple[int, pd.DataFrame]]:
+        """``(start, frame)`` for consecutive blocks of ``block`` points within ``rows``.
+
+        Parameters
+        ----------
+        rows
+            The range of points to read.
+        block
+            Points per block.
+        """
+        start, stop, _ = rows.indices(len(self))
+        for s in range(start, stop, block):
+            yield s, self.read(slice(s, min(s + block, stop)))
+
+
+class _Assembler:
+    """Result columns of ``n`` distinct points, filled chunk by chunk in place.
+
+    The same column typing as :func:`_concat` (numbers -> float with NaN where
+    a chunk lacks the column; booleans stay boolean unless some chunk lacks
+    them; anything else -> object with ``None``), without holding the chunks:
+    memory is the result table itself plus one chunk.
+    """
+
+    def __init__(self, n: int) -> None:
+        self.n = n
+        self.cols: dict[str, np.ndarray] = {}
+        self.present: dict[str, np.ndarray] = {}
+
+    def _allocate(self, name: str, kind: str) -> None:
+        if kind in "fiu":
+            self.cols[name] = np.full(self.n, np.nan)
+        elif kind == "b":
+            self.cols[name] = np.zeros(self.n, dtype=bool)
+        else:
+            self.cols[name] = np.full(self.n, None, dtype=object)
+        self.present[name] = np.zeros(self.n, dtype=bool)
+
+    def _widen(self, name: str) -> None:
+        """A column seen with two incompatible types becomes object (``None`` where absent)."""
+        old, mask = self.cols[name], self.present[name]
+        new = np.full(self.n, None, dtype=object)
+        new[mask] = old[mask].astype(object)
+        self.cols[name] = new
+
+    def put(self, start: int, part: Columns) -> None:
+        """Write a chunk's columns at rows ``start:start + len(chunk)``."""
+        self.put_rows(slice(start, start + _length(part)), part)
+
+    def put_rows(self, rows: slice | np.ndarray, part: Columns) -> None:
+        """Write columns at ``rows`` (a slice or an index array)."""
+        for name, values in part.items():
+            a = np.asarray(values)
+            if name not in self.cols:
+                self._allocate(name, a.dtype.kind)
+            have = self.cols[name].dtype.kind
+            if have == "f" and a.dtype.kind not in "fiu":
+                self._widen(name)
+            elif have == "b" and a.dtype.kind != "b":
+                self._widen(name)
+            target = self.cols[name]
+            target[rows] = a.astype(float) if target.dtype.kind == "f" else a
+            self.present[name][rows] = True
+
+    def columns(self) -> Columns:
+        """The assembled columns (booleans missing somewhere become object with ``None``)."""
+        for name, col in list(self.cols.items()):
+            if col.dtype.kind == "b" and not self.present[name].all():
+                self._widen(name)
+        out, self.cols, self.present = self.cols, {}, {}
+        return out
+
+    def frame(self, inverse: np.ndarray | None) -> pd.DataFrame:
+        """The table, one row per point (``inverse`` maps points to distinct rows)."""
+        if self.n == 0:
+            return pd.DataFrame()
+        cols = self.columns()
+        out = cols if inverse is None else {k: v[inverse] for k, v in cols.items()}
+        return pd.DataFrame(out, copy=False)
 
 
 def _bar(total: int, desc: str, progress: bool) -> Any:
@@ -453,6 +724,7 @@ def run_points(
     progress: bool = False,
     chunk_size: int | None = None,
     desc: str = "points",
+    collect: bool = True,
 ) -> SweepRun:
     """Evaluate ``points`` with ``evaluator`` in chunks.
 
@@ -482,6 +754,11 @@ def run_points(
         resume: chunk keys depend on it.
     desc
         Label of the progress bar and of messages.
+    collect
+        Assemble the results in memory (:attr:`SweepRun.frame`). With
+        ``False`` (needs a ``store``) they stay in the store and
+        :attr:`SweepRun.rows` reads them back block by block: memory is then
+        bounded by the chunks in flight, not by the number of points.
 
     Returns
     -------
@@ -497,13 +774,16 @@ def run_points(
     size = int(chunk_size or getattr(evaluator, "chunk_size", DEFAULT_CHUNK_SIZE))
     if size < 1:
         raise ValueError(f"chunk_size = {size} is not allowed: must be >= 1")
+    if not collect and store is None:
+        raise ValueError("collect=False keeps the results in the store: give a store")
     first, inverse = _distinct(cols)
-    distinct = _take(cols, first)
     m = len(first)
+    distinct = cols if m == n else _take(cols, first)
     run = SweepRun(pd.DataFrame(), points=n, distinct=m)
     bounds = [(s, min(s + size, m)) for s in range(0, m, size)]
     run.chunks = len(bounds)
-    parts: list[Columns | None] = [None] * len(bounds)
+    assembled = _Assembler(m) if collect else None
+    counter = _StatusCounter(None if m == n else np.bincount(inverse, minlength=m))
     keys: list[str | None] = [None] * len(bounds)
     todo: list[int] = []
     for c, (s, e) in enumerate(bounds):
@@ -513,7 +793,9 @@ def run_points(
             if resume or cache_only:
                 state, value = store.get_chunk(keys[c])  # type: ignore[arg-type]
                 if state == "ok" and _length(value) == e - s:
-                    parts[c] = value
+                    if assembled is not None:
+                        assembled.put(s, value)
+                    counter.add(s, value)
                     run.cached += e - s
                     continue
                 if state in ("corrupt", "ok"):
@@ -536,25 +818,44 @@ def run_points(
     )  # fmt: skip
     if todo:
         ex = executor if executor is not None else SerialExecutor()
-        tasks = [
-            {"evaluator": evaluator, "options": options,
-             "points": _take(distinct, slice(*bounds[c]))}
+        tasks = (
+            {
+                "evaluator": evaluator,
+                "options": options,
+                "points": _take(distinct, slice(*bounds[c])),
+            }
             for c in todo
-        ]  # fmt: skip
+        )  # fmt: skip  (a generator: only the chunks in flight exist as tasks)
         bar = _bar(m - run.cached, desc, progress)
         try:
             for t, out in _as_completed(ex, tasks):
                 c = todo[t]
                 if store is not None:
                     store.put_chunk(keys[c], out)  # type: ignore[arg-type]
-                parts[c] = out
+                if assembled is not None:
+                    assembled.put(bounds[c][0], out)
+                counter.add(bounds[c][0], out)
                 k = bounds[c][1] - bounds[c][0]
                 run.computed += k
                 bar.update(k)
         finally:
             bar.close()
-    merged = _concat([p for p in parts if p is not None]) if m else {}
-    frame = pd.DataFrame({k: v[inverse] for k, v in merged.items()}) if m else pd.DataFrame()
+    run.digest = _digest(evaluator, options, cols, keys, None if m == n else inverse)
+    run.status_counts = counter.counts
+    if assembled is None:
+        run.rows = StoredRows(
+            store,
+            keys,
+            size,
+            m,
+            None if m == n else inverse,
+            kinds=counter.kinds,
+            partial=counter.partial(),  # type: ignore[arg-type]
+        )
+        if run.failed_count:
+            logger.warning("%s: %d of %d points failed", desc, run.failed_count, n)
+        return run
+    frame = assembled.frame(None if m == n else inverse)
     if len(frame):
         for c in ("status", "error"):
             if c not in frame:
@@ -569,5 +870,5 @@ def run_points(
     return run
 
 
-def _as_completed(ex: Any, tasks: list[dict[str, Any]]) -> Iterator[tuple[int, Columns]]:
+def _as_completed(ex: Any, tasks: Iterable[dict[str, Any]]) -> Iterator[tuple[int, Columns]]:
     yield from ex.map_unordered(evaluate_chunk, tasks)

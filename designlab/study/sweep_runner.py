@@ -21,6 +21,8 @@ Point sets (all evaluated in one pass, through one store):
 
 from __future__ import annotations
 
+import hashlib
+import json
 import logging
 import math
 from dataclasses import dataclass, field
@@ -40,10 +42,16 @@ from designlab.analysis.sensitivity import (
 )
 from designlab.analysis.sweep import STATUS_ERROR, SweepRun, run_points
 from designlab.results import OK, Result
+from designlab.study.points_table import FrameTable, PointsTable, StoredTable
 from designlab.study.runner import RunContext
 from designlab.study.sweeps import SweepStudyBase
 
-__all__ = ["SweepStudyResult", "count_points", "run_sweep_study", "unit_slug"]
+__all__ = ["STREAM_FROM", "SweepStudyResult", "count_points", "run_sweep_study", "unit_slug"]
+
+#: A sweep of more than this many points, run with a result store, leaves its
+#: results in the store and reads them back block by block (memory bounded by
+#: the chunk and block sizes, not by the number of points).
+STREAM_FROM = 50_000
 
 logger = logging.getLogger(__name__)
 
@@ -76,23 +84,33 @@ class SweepStudyResult(Result):
     ----------
     study
         The study.
-    frame
-        The sweep points: one row per point, inputs (point keys with units,
-        e.g. ``K_c_N_per_m``), metrics, ``status`` and ``error``.
+    table
+        The sweep points (:class:`~designlab.study.points_table.PointsTable`):
+        one row per point, inputs (point keys with units, e.g.
+        ``K_c_N_per_m``), metrics, ``status`` and ``error``. In memory, or, for
+        a sweep of more than :data:`STREAM_FROM` points run with a result
+        store, read back from the store block by block.
     base
         Metrics at the base design.
     sensitivity
         Tables by kind (``elasticity``, ``one_at_a_time``, ``sobol``, ``range``).
     stats
         Points asked for, distinct, computed now, read from the store, corrupt
-        chunks recomputed, failed; chunks; and the executor.
+        chunks recomputed, failed; chunks; the executor; and ``digest``, a
+        hash of every evaluated point with the evaluator's code version (equal
+        digests, equal results).
     """
 
     study: SweepStudyBase
-    frame: pd.DataFrame
+    table: PointsTable
     base: dict[str, Any]
     sensitivity: dict[str, SensitivityTable]
     stats: dict[str, Any] = field(default_factory=dict)
+
+    @cached_property
+    def frame(self) -> pd.DataFrame:
+        """The sweep points as one data frame (for a stored table: read in full, once)."""
+        return self.table.frame()
 
     @property
     def metrics(self) -> list[str]:
@@ -110,32 +128,39 @@ class SweepStudyResult(Result):
 
     def to_frame(self) -> pd.DataFrame:
         """The sweep points (a copy)."""
-        return self.frame.copy()
+        return self.table.frame().copy()
+
+    @property
+    def fingerprint(self) -> str:
+        """What the results depend on: a hash of every point and the evaluator's code.
+
+        A report written from a result with the same fingerprint, the same
+        study text and the same designlab holds the same numbers (see
+        ``designlab run --resume``, which then leaves it as it is).
+        """
+        return str(self.stats.get("digest", ""))
 
     @cached_property
     def warnings(self) -> tuple[str, ...]:  # type: ignore[override]
         """Failed points, non-``ok`` statuses and recomputed store chunks."""
         out: list[str] = []
-        f = self.frame
-        if len(f):
-            status = f["status"].astype(object)
-            failed = f[(status == STATUS_ERROR).to_numpy()]
-            for i, row in failed.head(10).iterrows():
-                out.append(f"point {i}: failed: {row['error']}")
-            if len(failed) > 10:
-                out.append(f"... and {len(failed) - 10} more failed points")
-            counts = status.value_counts()
-            for name in sorted(str(k) for k in counts.index if k not in (OK, STATUS_ERROR)):
-                out.append(f"{int(counts[name])} of {len(f)} points have status {name}")
-            if "bottoming" in f:
-                n = int(pd.Series(f["bottoming"]).fillna(False).astype(bool).sum())
-                if n:
-                    out.append(f"{n} of {len(f)} points bottom the foam (eps_max > lambda)")
-            if "warnings" in f:
-                n = int(f["warnings"].notna().sum())
-                if n:
-                    first = f["warnings"].dropna().iloc[0]
-                    out.append(f"{n} of {len(f)} points have solver warnings, e.g.: {first}")
+        n = len(self.table)
+        if n:
+            scan = self.table.scan()
+            for i, error in scan.failed:
+                out.append(f"point {i}: failed: {error}")
+            failed = scan.status_counts.get(STATUS_ERROR, 0)
+            if failed > len(scan.failed):
+                out.append(f"... and {failed - len(scan.failed)} more failed points")
+            for name in sorted(k for k in scan.status_counts if k not in (OK, STATUS_ERROR)):
+                out.append(f"{scan.status_counts[name]} of {n} points have status {name}")
+            if scan.flags.get("bottoming"):
+                out.append(
+                    f"{scan.flags['bottoming']} of {n} points bottom the foam (eps_max > lambda)"
+                )
+            notes, first = scan.notes
+            if notes:
+                out.append(f"{notes} of {n} points have solver warnings, e.g.: {first}")
         if self.stats.get("corrupt"):
             out.append(f"{self.stats['corrupt']} corrupt stored chunks were recomputed")
         if self.base.get("status") not in (None, OK):
@@ -148,7 +173,8 @@ class SweepStudyResult(Result):
 # --- the plan: which points, in which sets ------------------------------------------
 
 
-def _sweep_columns(study: SweepStudyBase) -> dict[str, np.ndarray]:
+def _sweep_columns(study: SweepStudyBase, store: Any = None) -> dict[str, np.ndarray]:
+    """The sweep block's points; random samples are kept in (and reread from) the store."""
     sweep = study.sweep
     if sweep is None:
         return {}
@@ -157,11 +183,35 @@ def _sweep_columns(study: SweepStudyBase) -> dict[str, np.ndarray]:
         return sampling.list_points({p: r.values for p, r in items})
     if sweep.method == "grid":
         return sampling.grid({p: r.grid() for p, r in items})
+    key = _sample_key(sweep) if store is not None and hasattr(store, "get_sample") else None
+    if key is not None:
+        kept = store.get_sample(key)
+        if kept is not None and list(kept) == [p for p, _ in items]:
+            return kept
     bounds = {p: (float(r.low), float(r.high)) for p, r in items}
     log = {p: r.scale == "log" for p, r in items}
     if sweep.method == "lhs":
-        return sampling.latin_hypercube(bounds, sweep.samples, seed=sweep.seed, log=log)
-    return sampling.sobol_sequence(bounds, sweep.samples, seed=sweep.seed, log=log)
+        cols = sampling.latin_hypercube(bounds, sweep.samples, seed=sweep.seed, log=log)
+    else:
+        cols = sampling.sobol_sequence(bounds, sweep.samples, seed=sweep.seed, log=log)
+    if key is not None:
+        store.put_sample(key, cols)
+    return cols
+
+
+def _sample_key(sweep: Any) -> str:
+    """A hash of a random sampling: method, size, seed, ranges and the sampler's version."""
+    from importlib.metadata import version
+
+    spec = {
+        "method": sweep.method,
+        "samples": sweep.samples,
+        "seed": sweep.seed,
+        "parameters": [[p, r.low, r.high, r.scale] for p, r in sweep.parameters.items()],
+        "scipy": version("scipy"),
+        "numpy": np.__version__,
+    }
+    return hashlib.sha256(json.dumps(spec, sort_keys=True, default=float).encode()).hexdigest()
 
 
 @dataclass
@@ -184,14 +234,18 @@ def _n(cols: Columns) -> int:
 
 
 def _designs(base: dict[str, float], key_of: dict[str, str], values: Columns, n: int) -> Columns:
-    """``n`` copies of the base point with the columns of ``values`` (by path) replaced."""
-    out = {k: np.full(n, v, dtype=float) for k, v in base.items()}
+    """``n`` copies of the base point with the columns of ``values`` (by path) replaced.
+
+    Unchanged parameters are read-only broadcast views of their base value:
+    a million-point sweep over three parameters holds three columns, not ten.
+    """
+    out = {k: np.broadcast_to(np.float64(v), (n,)) for k, v in base.items()}
     for path, v in values.items():
         out[key_of[path]] = np.asarray(v, dtype=float)
     return out
 
 
-def _plan(study: SweepStudyBase) -> _Plan:
+def _plan(study: SweepStudyBase, store: Any = None) -> _Plan:
     params = study.PARAMETERS
     key_of = {path: key for path, (key, _) in params.items()}
     path_of = {key: path for path, key in key_of.items()}
@@ -202,7 +256,7 @@ def _plan(study: SweepStudyBase) -> _Plan:
     swept = dict(sweep.parameters.items()) if sweep is not None else {}
 
     sets: dict[str, Columns] = {"base": _designs(base, key_of, {}, 1)}
-    values = _sweep_columns(study)
+    values = _sweep_columns(study, store)
     sets["sweep"] = _designs(base, key_of, values, _n(values)) if values else {}
     oat_meta: list[tuple[str, float, float]] = []
     range_meta: list[tuple[str, float, float]] = []
@@ -230,6 +284,16 @@ def _plan(study: SweepStudyBase) -> _Plan:
         )
         sets["sobol"] = _designs(base, key_of, sample, _n(sample))
     return _Plan(base, sets, oat_meta, range_meta, sobol_names, sobol_bounds, path_of, describe)
+
+
+def _concat_column(parts: list[np.ndarray]) -> np.ndarray:
+    """Concatenate a column of several point sets; constant everywhere stays a broadcast view."""
+    first = float(parts[0][0]) if len(parts[0]) else None
+    if all(p.strides == (0,) or len(p) <= 1 for p in parts) and all(
+        float(p[0]) == first for p in parts if len(p)
+    ):
+        return np.broadcast_to(np.float64(first), (sum(len(p) for p in parts),))
+    return np.concatenate(parts)
 
 
 def _one_each(base: dict[str, float], key_of: dict[str, str], changes: list[Any]) -> Columns:
@@ -274,9 +338,10 @@ def _stats(run: SweepRun, context: RunContext) -> dict[str, Any]:
         "computed": run.computed,
         "cached": run.cached,
         "corrupt": len(run.corrupt),
-        "failed": len(run.failed),
+        "failed": run.failed_count,
         "chunks": run.chunks,
         "executor": ex.describe() if ex is not None else "serial",
+        "digest": run.digest,
     }
 
 
@@ -292,7 +357,9 @@ def _elasticities(
         desc=f"{study.name}: elasticities", **common,
     )  # fmt: skip
     for k, v in _stats(local, context).items():
-        if k != "executor":
+        if k == "digest":
+            stats[k] = hashlib.sha256(f"{stats[k]}+{v}".encode()).hexdigest()
+        elif k != "executor":
             stats[k] += v
     row = local.frame.iloc[0].to_dict()
     if row.get("status") == STATUS_ERROR:
@@ -319,21 +386,30 @@ def run_sweep_study(study: SweepStudyBase, context: RunContext) -> SweepStudyRes
         How to run it (executor, store, resume; see
         :class:`~designlab.study.runner.RunContext`).
     """
-    plan = _plan(study)
+    plan = _plan(study, context.store)
     metrics = study.metrics
     names = [name for name, cols in plan.sets.items() if _n(cols)]
-    all_points = {k: np.concatenate([plan.sets[s][k] for s in names]) for k in plan.sets["base"]}
+    all_points = {k: _concat_column([plan.sets[s][k] for s in names]) for k in plan.sets["base"]}
     logger.info("%s: %s", study.name, ", ".join(f"{s} {_n(plan.sets[s])}" for s in names))
+    stream = context.store is not None and _n(plan.sets["sweep"]) > STREAM_FROM
     run = run_points(
         all_points, type(study).EVALUATOR, study.evaluator_options(),  # type: ignore[arg-type]
         executor=context.executor, store=context.store, resume=context.resume,
         cache_only=context.cache_only, progress=context.progress, desc=study.name,
+        collect=not stream,
     )  # fmt: skip
+    del all_points
     results: dict[str, pd.DataFrame] = {}
+    offsets: dict[str, int] = {}
     i = 0
     for s in names:
         n = _n(plan.sets[s])
-        results[s] = run.frame.iloc[i : i + n].reset_index(drop=True)
+        offsets[s] = i
+        if run.rows is None:
+            results[s] = run.frame.iloc[i : i + n].reset_index(drop=True)
+        elif s != "sweep":  # small sets (and the Sobol outputs) are read back now
+            wanted = None if s == "base" else [*metrics, "status"]
+            results[s] = run.rows.read(slice(i, i + n), columns=wanted)
         i += n
     base_result = {
         k: (v.item() if isinstance(v, np.generic) else v)
@@ -373,28 +449,39 @@ def run_sweep_study(study: SweepStudyBase, context: RunContext) -> SweepStudyRes
             plan.sobol_names, plan.sobol_bounds, outputs, seed=sens.sobol.seed,  # type: ignore[union-attr]
             descriptions=plan.describe,
         )  # fmt: skip
-    frame = _points_frame(study, plan.sets["sweep"], results.get("sweep"))
+    if run.rows is None:
+        sweep_frame = _points_frame(study, plan.sets["sweep"], results.get("sweep"))
+        table: PointsTable = FrameTable(sweep_frame)
+    else:
+        table = StoredTable(
+            plan.sets["sweep"], run.rows, offsets["sweep"],
+            lambda points, res: _points_frame(study, points, res),
+        )  # fmt: skip
     logger.info(
         "%s: %d points (%d distinct), %d computed, %d from the store, %d failed",
         study.name, stats["points"], stats["distinct"], stats["computed"], stats["cached"],
         stats["failed"],
     )  # fmt: skip
-    return SweepStudyResult(study, frame, base_result, tables, stats)
+    return SweepStudyResult(study, table, base_result, tables, stats)
 
 
 def _points_frame(
     study: SweepStudyBase, points: Columns, results: pd.DataFrame | None
 ) -> pd.DataFrame:
+    """Inputs (with units in the names), metrics, other columns, ``status``, ``error``.
+
+    Built once, in its final column order, from the arrays as they are (no
+    copy of a million-row table).
+    """
     if not points or results is None:
         return pd.DataFrame()
-    cols = {key: f"{key}_{unit_slug(info.unit)}" for _, (key, info) in study.PARAMETERS.items()}
-    frame = pd.DataFrame({cols.get(k, k): v for k, v in points.items()})
-    for c in results.columns:
-        frame[c] = results[c].to_numpy()
+    names = {key: f"{key}_{unit_slug(info.unit)}" for _, (key, info) in study.PARAMETERS.items()}
+    columns: dict[str, Any] = {names.get(k, k): np.array(v) for k, v in points.items()}
+    n = len(results)
+    out = {c: columns[c] for c in names.values() if c in columns}
+    out |= {m: results[m].to_numpy() for m in study.METRICS if m in results}
+    rest = sorted((set(columns) | set(results.columns)) - set(out) - {"status", "error"})
+    out |= {c: columns[c] if c in columns else results[c].to_numpy() for c in rest}
     for c in ("status", "error"):
-        if c not in frame:
-            frame[c] = None
-    inputs = [c for c in cols.values() if c in frame]
-    metrics = [m for m in study.METRICS if m in frame]
-    rest = sorted(set(frame.columns) - {*inputs, *metrics, "status", "error"})
-    return frame[[*inputs, *metrics, *rest, "status", "error"]]
+        out[c] = results[c].to_numpy() if c in results else np.full(n, None, dtype=object)
+    return pd.DataFrame(out, copy=False)

@@ -11,5 +11,8 @@ MODULES: tuple[str, ...] = (
     "impact_sweep",
     "foam_envelope",
     "foam_design",
+    "follower_comparison",
+    "follower_tuning",
+    "follower_sweep",
     "accompanying",
 )
