@@ -629,6 +629,12 @@ def _solve(
     )
     empty = env.is_empty
     warnings = _envelope_warnings(empty, multiple, overdamped, delicate)
+    log.info(
+        "foam_envelope: %d damping values, %d-point scan in K_c: upper bounded at %d, "
+        "lower bounded at %d, %d delicate, %d with several roots",
+        damping.size, n_scan, int(np.isfinite(kmax).sum()), int(np.isfinite(kmin).sum()),
+        int(delicate.sum()), int(multiple.sum()),
+    )  # fmt: skip
     return replace(env, warnings=tuple(warnings), status="empty" if empty else OK)
 
 

@@ -34,6 +34,7 @@ True
 
 from __future__ import annotations
 
+import logging
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -59,6 +60,8 @@ from designlab.results import OK, Result
 from designlab.validation import check_choice, check_int
 
 __all__ = ["OptimalFoam", "optimal_foam"]
+
+log = logging.getLogger(__name__)
 
 _METRIC_ATTR = {
     "head_acceleration": "peak_head_acceleration",
@@ -480,6 +483,10 @@ def optimal_foam(
     gvals = np.asarray(cb(ca.DM(xs[:3].tolist()))).ravel()
     warnings: list[str] = []
     status = OK
+    log.info(
+        "optimal_foam: grid start margin %+.4f; IPOPT %s after %s iterations",
+        start.margin, message, stats.get("iter_count", "?"),
+    )  # fmt: skip
     if not ok:
         status = "solver_failed"
         warnings.append(f"IPOPT did not converge ({message})")
@@ -488,6 +495,7 @@ def optimal_foam(
             xs = np.array([*start.x0, 0.0])
             gvals = g0
             warnings.append("the grid start is returned: it has the better margin")
+        log.warning("optimal_foam: %s", "; ".join(warnings))
     margins = {key.name: float(gvals[i]) for i, key in enumerate(keys)}
     margin = float(min(margins.values()))
     factor = 1.0
