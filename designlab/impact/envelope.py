@@ -629,7 +629,9 @@ def _solve(
     )
     empty = env.is_empty
     warnings = _envelope_warnings(empty, multiple, overdamped, delicate)
-    log.info(
+    # one-point solves (verdicts, margins, the worst-case onset) are debug detail
+    log.log(
+        logging.INFO if damping.size > 1 else logging.DEBUG,
         "foam_envelope: %d damping values, %d-point scan in K_c: upper bounded at %d, "
         "lower bounded at %d, %d delicate, %d with several roots",
         damping.size, n_scan, int(np.isfinite(kmax).sum()), int(np.isfinite(kmin).sum()),
