@@ -280,7 +280,7 @@ def main(argv: list[str] | None = None) -> int:
     print("  batch status counts: " + ", ".join(f"{s}={c}" for s, c in zip(st, cnt, strict=True)))
     print("  thesis cases (designlab batch / reference), a_h,max in g, t_imp in ms:")
     for i, lab in enumerate(labels):
-        print(f"    {lab:<22} a_h,max {bat[i, 0] / 9.81:8.4f} / {ref[i, 0] / 9.81:8.4f}"
+        print(f"    {lab:<22} a_h,max {bat[i, 0] / 9.80665:8.4f} / {ref[i, 0] / 9.80665:8.4f}"
               f"   eps_max {bat[i, 1] * 1e3:7.4f} / {ref[i, 1] * 1e3:7.4f} mm"
               f"   t_imp {bat[i, 2] * 1e3:7.4f} / {ref[i, 2] * 1e3:7.4f}")  # fmt: skip
 
