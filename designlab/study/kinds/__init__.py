@@ -14,5 +14,7 @@ MODULES: tuple[str, ...] = (
     "follower_comparison",
     "follower_tuning",
     "follower_sweep",
+    "vff_scenarios",
+    "vff_sweep",
     "accompanying",
 )

@@ -1,0 +1,157 @@
+"""Performance criteria H_T, H_D, H_E and H (Zeng 2011, Sec. 5.6).
+
+H = k (H_T + H_D + H_E) / 3 with H_T = T*_arrive / T_arrive (5.6.1), H_D the mean
+over obstacles of d_s,min / (r2 - rho_r - rho_o) capped at 1 (5.6.3), H_E =
+L*_energy / L_energy (5.6.5), k = 0 on collision (5.6.6). The starred values come
+from the nominal run: same robot, gains, start and goal, no obstacles.
+
+Examples
+--------
+>>> c = criteria(arrival_time=8.0, nominal_arrival_time=6.0, energy=2.0, nominal_energy=1.5,
+...              surface_clearance={"human": 0.5}, nominal_clearance={"human": 1.5})
+>>> round(c.H_T, 3), round(c.H_D, 3), round(c.H_E, 3), round(c.H, 3)
+(0.75, 0.333, 0.75, 0.611)
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import pandas as pd
+
+from designlab.errors import InvalidParameterError
+from designlab.results import OK, Result
+
+__all__ = ["Criteria", "criteria"]
+
+
+@dataclass(frozen=True)
+class Criteria(Result):
+    """The Sec. 5.6 criteria of one run.
+
+    Attributes
+    ----------
+    H_T, H_D, H_E, H
+        Arrival-time, avoidance and energy criteria and their weighted total.
+    k
+        1, or 0 if any surface distance reached 0 (collision).
+    arrival_time, nominal_arrival_time
+        T_arrive and T*_arrive (s).
+    energy, nominal_energy
+        L_energy and L*_energy as the integral of the squared feed-forward wheel
+        currents (A^2 s = J per ohm of winding resistance).
+    status
+        ``"ok"``, or why a criterion could not be computed (e.g. the robot never arrived).
+    warnings
+        What a user should know about the scores.
+    """
+
+    H_T: float
+    H_D: float
+    H_E: float
+    H: float
+    k: int
+    arrival_time: float
+    nominal_arrival_time: float
+    energy: float
+    nominal_energy: float
+    status: str = OK
+    warnings: tuple[str, ...] = ()
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row: the criteria and their inputs (units in the column names)."""
+        return pd.DataFrame(
+            [
+                {
+                    "H_T": self.H_T,
+                    "H_D": self.H_D,
+                    "H_E": self.H_E,
+                    "H": self.H,
+                    "k": self.k,
+                    "T_arrive_s": self.arrival_time,
+                    "T_star_s": self.nominal_arrival_time,
+                    "L_energy_J_per_ohm": self.energy,
+                    "L_star_J_per_ohm": self.nominal_energy,
+                }
+            ]
+        )
+
+
+def criteria(
+    *,
+    arrival_time: float,
+    nominal_arrival_time: float,
+    energy: float,
+    nominal_energy: float,
+    surface_clearance: Mapping[str, float],
+    nominal_clearance: Mapping[str, float],
+    weights: tuple[float, float, float] = (1 / 3, 1 / 3, 1 / 3),
+) -> Criteria:
+    """Compute H from a run and its nominal run (Zeng 2011, (5.6.1)-(5.6.6)).
+
+    Parameters
+    ----------
+    arrival_time, nominal_arrival_time
+        T_arrive and T*_arrive in s (``inf`` if never arrived: H_T = 0).
+    energy, nominal_energy
+        L_energy and L*_energy (same units).
+    surface_clearance
+        d_s,min per obstacle (m): surface-to-surface minimum distance.
+    nominal_clearance
+        d*_s,min per obstacle: r2 - rho_r - rho_o (discs) or r2 - rho_r (rectangles).
+    weights
+        w1, w2, w3 (non-negative, sum 1).
+
+    Returns
+    -------
+    Criteria
+        H_T, H_D, H_E, H and the collision indicator k.
+
+    Examples
+    --------
+    >>> c = criteria(arrival_time=6.0, nominal_arrival_time=5.4, energy=2.0,
+    ...              nominal_energy=1.0, surface_clearance={"circle": 0.25},
+    ...              nominal_clearance={"circle": 0.5})
+    >>> round(c.H_T, 3), c.H_D, c.H_E, round(c.H, 3)
+    (0.9, 0.5, 0.5, 0.633)
+    """
+    try:
+        w = tuple(float(x) for x in weights)
+    except (TypeError, ValueError):
+        w = ()
+    if len(w) != 3 or not all(math.isfinite(x) and x >= 0 for x in w) or abs(sum(w) - 1) > 1e-9:
+        raise InvalidParameterError(
+            "weights", weights, "must be three finite non-negative numbers summing to 1"
+        )
+    warnings: list[str] = []
+    h_t = 0.0 if not math.isfinite(arrival_time) else nominal_arrival_time / arrival_time
+    if not math.isfinite(arrival_time):
+        warnings.append("the robot never arrived: H_T = 0")
+    if surface_clearance:
+        ratios = [
+            min(1.0, max(0.0, surface_clearance[n]) / nominal_clearance[n])
+            for n in surface_clearance
+        ]
+        h_d = sum(ratios) / len(ratios)
+    else:
+        h_d = 1.0
+    h_e = nominal_energy / energy if energy > 0 else 1.0
+    k = 0 if any(v <= 0.0 for v in surface_clearance.values()) else 1
+    if k == 0:
+        warnings.append("collision: k = 0, H = 0")
+    w1, w2, w3 = w
+    h = k * (w1 * h_t + w2 * h_d + w3 * h_e)
+    return Criteria(
+        h_t,
+        h_d,
+        h_e,
+        h,
+        k,
+        float(arrival_time),
+        float(nominal_arrival_time),
+        float(energy),
+        float(nominal_energy),
+        warnings=tuple(warnings),
+    )

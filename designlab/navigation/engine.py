@@ -1,0 +1,675 @@
+"""The simulation engine shared by single runs and batches (internal).
+
+Per navigation period one compiled CasADi function evaluates the field (or a
+baseline), integrates the robot over the hold and measures the distances at every
+dynamics step. It is called through CasADi's buffer interface with preallocated
+numpy arrays, and mapped over a batch of gain sets with ``Function.map``.
+"""
+
+from __future__ import annotations
+
+import math
+import tempfile
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Any
+
+import casadi as ca
+import numpy as np
+from numpy.typing import NDArray
+
+from designlab.errors import InvalidParameterError, check_positive
+from designlab.navigation.dynamics import build_hold, state_size
+from designlab.navigation.field import (
+    _EPS,
+    ObstacleGeometry,
+    build_cbf_rows,
+    build_distance,
+    build_field,
+)
+from designlab.navigation.parameters import HolonomicRobot, NonholonomicRobot
+from designlab.navigation.scenarios import Scenario
+
+Array = NDArray[np.float64]
+
+_STEP_OUT = (
+    "X",
+    "power",
+    "D",
+    "F",
+    "critical",
+    "V",
+    "Vdot0",
+    "Omega",
+    "vL2",
+    "FL",
+    "g",
+    "active",
+    "d",
+    "sigma",
+    "Dmin",
+    "gmin",
+    "Esum",
+)
+
+
+def _field_velocity(robot: HolonomicRobot | NonholonomicRobot, x0: ca.SX) -> ca.SX:
+    if isinstance(robot, HolonomicRobot):
+        return x0[0:4]
+    return ca.vertcat(x0[0], x0[1], x0[3] * ca.cos(x0[2]), x0[3] * ca.sin(x0[2]))
+
+
+_EPS2 = _EPS**2  # the eps**2 of the field's norm, so lean minima equal the recorded ones
+# common subexpressions are evaluated once (exact: the same operation on the same operands)
+_CSE = {"cse": True}
+_LEAN_OUT = ("Xend", "critical", "Dmin", "Esum", "hit")
+_SHARED = [1, 2, 4, 5, 6, 7]  # inputs common to a batch: goal, obs, params, osub, fforce, tol
+
+
+@lru_cache(maxsize=64)
+def build_step(
+    geometries: tuple[ObstacleGeometry, ...],
+    robot: HolonomicRobot | NonholonomicRobot,
+    method: str,
+    n_sub: int,
+    dt: float,
+    lean: bool = False,
+    stabilising: bool | None = None,
+) -> ca.Function:
+    """Field + hold + distances for one navigation period, as one SX function.
+
+    ``stabilising`` True / False bakes the stabilising-force switch into the function
+    (``params[2]`` is then ignored), so that with the force off its automatic-differentiation
+    terms are not evaluated at all; ``None`` reads the switch from ``params[2]``.
+
+    The full variant returns every dynamics step (for recorded runs); the lean one
+    only what a batch needs: the final state, the period's minimum distances and
+    energy, and whether the robot came within ``tol`` of the goal (``hit``). The
+    simulator recomputes the one period of a run where ``hit`` is set with the full
+    variant, to stop its minima and energy at the first passage.
+    """
+    n = len(geometries)
+    nx = state_size(robot)
+    x0 = ca.SX.sym("x0", nx)
+    goal = ca.SX.sym("goal", 2)
+    obs = ca.SX.sym("obs", 6 * n)
+    gains = ca.SX.sym("gains", 4)
+    params = ca.SX.sym("params", 4)
+    osub = ca.SX.sym("osub", 2 * n, n_sub)
+    fforce = ca.SX.sym("fforce", 3)  # (use_override, Fx, Fy): the CBF filter's force
+    tol = ca.SX.sym("tol")
+    field = build_field(geometries, method)
+    hold = build_hold(robot, n_sub, dt)
+    dist = build_distance(geometries)
+    fparams = params
+    if stabilising is not None:
+        fparams = ca.vertcat(params[0], params[1], ca.SX(1.0 if stabilising else 0.0), params[3])
+    out = field(x=_field_velocity(robot, x0), goal=goal, obs=obs, gains=gains, params=fparams)
+    F = ca.if_else(fforce[0], fforce[1:3], out["F"])
+    ho = hold(x0=x0, F=F, brake=out["critical"])
+    X = ho["X"]
+    if n and not lean:
+        D = ca.horzcat(*[dist(X[0:2, k], osub[:, k]) for k in range(n_sub)])
+    else:
+        D = ca.SX(0, n_sub)
+    gd = ca.sqrt((X[0, :] - goal[0]) ** 2 + (X[1, :] - goal[1]) ** 2)
+    names_in = ["x0", "goal", "obs", "gains", "params", "osub", "fforce", "tol"]
+    ins = [x0, goal, obs, gains, params, osub, fforce, tol]
+    if not lean:
+        dmin = ca.vertcat(*[ca.mmin(D[i, :]) for i in range(n)]) if n else ca.SX(0, 1)
+        outs = (
+            [X, ho["power"], D, F]
+            + [out[k] for k in _STEP_OUT[4:14]]
+            + [dmin, ca.mmin(gd), ca.sum2(ho["power"])]
+        )
+        return ca.Function(
+            f"step_{method}_{robot.kind}_{n}", ins, outs, names_in, list(_STEP_OUT), _CSE
+        )
+    # Minima over the whole period, taken on the squared distances and rooted once
+    # (bit-identical to the minimum of the roots, the root being monotone).
+    dist2 = build_distance(geometries, squared=True)
+    if n:
+        D2 = ca.horzcat(*[dist2(X[0:2, k], osub[:, k]) for k in range(n_sub)])
+        dmins = ca.vertcat(*[ca.sqrt(ca.mmin(D2[i, :]) + _EPS2) for i in range(n)])
+    else:
+        dmins = ca.SX(0, 1)
+    outs = [X[:, -1], out["critical"], dmins, ca.sum2(ho["power"]), ca.mmin(gd) <= tol]
+    return ca.Function(
+        f"lean_{method}_{robot.kind}_{n}", ins, outs, names_in, list(_LEAN_OUT), _CSE
+    )
+
+
+@lru_cache(maxsize=64)
+def _compiled(
+    geometries: tuple[ObstacleGeometry, ...],
+    robot: HolonomicRobot | NonholonomicRobot,
+    method: str,
+    n_sub: int,
+    dt: float,
+    n_batch: int,
+    jit: bool,
+    lean: bool,
+    stabilising: bool | None = None,
+) -> ca.Function:
+    f = (
+        _jit_step(geometries, robot, method, n_sub, dt, lean, stabilising)
+        if jit
+        else build_step(geometries, robot, method, n_sub, dt, lean, stabilising)
+    )
+    if n_batch > 1:
+        f = f.map(f"{f.name()}_map{n_batch}", "serial", n_batch, _SHARED, [])
+    return f
+
+
+@lru_cache(maxsize=16)
+def _jit_step(
+    geometries: tuple[ObstacleGeometry, ...],
+    robot: HolonomicRobot | NonholonomicRobot,
+    method: str,
+    n_sub: int,
+    dt: float,
+    lean: bool,
+    stabilising: bool | None = None,
+) -> ca.Function:
+    """The one-period step compiled to machine code (CasADi JIT with the system C compiler)."""
+    f = build_step(geometries, robot, method, n_sub, dt, lean, stabilising)
+    # CasADi writes the C source and the shared object next to ``jit_name`` and removes them
+    # when the function is destroyed: keep them in a private temporary directory
+    tmp = tempfile.mkdtemp(prefix="designlab_jit_")
+    jitted = ca.Function(
+        f.name() + "_jit",
+        f.sx_in(),
+        f.call(f.sx_in()),
+        f.name_in(),
+        f.name_out(),
+        {
+            **_CSE,
+            "jit": True,
+            "compiler": "shell",
+            "jit_name": "step",
+            "jit_options": {"flags": ["-O1"], "verbose": False, "directory": tmp},
+        },
+    )
+    return jitted
+
+
+class _Buffered:
+    """A casadi.Function evaluated through its buffer interface on preallocated numpy arrays."""
+
+    def __init__(self, f: ca.Function) -> None:
+        self.f = f
+        self._buf, self._trigger = f.buffer()
+        self.inp = [np.zeros(f.nnz_in(i)) for i in range(f.n_in())]
+        self.out = [np.zeros(f.nnz_out(i)) for i in range(f.n_out())]
+        for i, a in enumerate(self.inp):
+            self._buf.set_arg(i, memoryview(a))
+        for i, a in enumerate(self.out):
+            self._buf.set_res(i, memoryview(a))
+        self.shape_in = [(f.size1_in(i), f.size2_in(i)) for i in range(f.n_in())]
+        self.shape_out = [(f.size1_out(i), f.size2_out(i)) for i in range(f.n_out())]
+
+    def view_in(self, i: int) -> Array:
+        r, c = self.shape_in[i]
+        return self.inp[i].reshape((c, r)).T  # column-major view
+
+    def view_out(self, i: int) -> Array:
+        r, c = self.shape_out[i]
+        return self.out[i].reshape((c, r)).T
+
+    def __call__(self) -> None:
+        self._trigger()
+
+
+@dataclass
+class RawRun:
+    """Arrays of a (batched) run; the public results are built from it.
+
+    Attributes
+    ----------
+    arrival_time
+        First arrival time of each gain set in s (inf if it never arrives), (N,).
+    min_distance
+        Minimum distance to each obstacle in m (as in :class:`NavigationResult`), (N, n_obs).
+    energy
+        Control energy of each run (Sec. 5.6), (N,).
+    critical_time
+        Time spent inside a critical region in s, (N,).
+    t_end
+        Simulated time in s.
+    record
+        Time histories (with ``record=True``), else ``None``.
+    """
+
+    arrival_time: Array  # (N,)
+    min_distance: Array  # (N, n_obs)
+    energy: Array  # (N,)
+    critical_time: Array  # (N,)
+    t_end: float
+    record: dict[str, Any] | None
+
+
+def obstacle_tracks(scenario: Scenario, times: Array) -> tuple[Array, Array, Array]:
+    """Positions, velocities, accelerations of every obstacle at ``times``.
+
+    Each array has the shape (n_obs, len(times), 2).
+
+    Parameters
+    ----------
+    scenario
+        The scenario.
+    times
+        Times in s.
+    """
+    if not scenario.obstacles:
+        z = np.zeros((0, times.size, 2))
+        return z, z, z
+    ps, vs, accs = zip(*(o.state(times) for o in scenario.obstacles), strict=True)
+    return np.stack(ps), np.stack(vs), np.stack(accs)
+
+
+def initial_state(scenario: Scenario) -> Array:
+    """The robot's start state for ``scenario`` (its start pose, at rest).
+
+    Parameters
+    ----------
+    scenario
+        The scenario.
+    """
+    if isinstance(scenario.robot, HolonomicRobot):
+        return np.array([*scenario.start, 0.0, 0.0])
+    return np.array([*scenario.start, scenario.heading0, 0.0, 0.0])
+
+
+def run(
+    scenario: Scenario,
+    gains: Array,
+    *,
+    method: str = "vff",
+    stabilising: bool = True,
+    tie: int = 1,
+    arrival_tolerance: float = 0.15,
+    dynamics_step: float = 1e-3,
+    force_every_step: bool = False,
+    record: bool = False,
+    jit: bool = False,
+    cbf_gains: tuple[float, float] = (4.0, 4.0),
+) -> RawRun:
+    """Simulate ``scenario`` for each row of ``gains`` (N, 4) together.
+
+    Parameters
+    ----------
+    scenario
+        The scenario.
+    gains
+        (N, 4) rows of (K1, b, K3, K5), simulated together.
+    method
+        ``"vff"``, ``"masoud"``, ``"ge_cui"`` or ``"cbf"``.
+    stabilising
+        Whether the Lyapunov stabilising force F_L of (5.4.6) is on.
+    tie
+        Detour side (+1 or -1) when the direction rules leave it open.
+    arrival_tolerance
+        Arrival radius around the goal in m.
+    dynamics_step
+        Integration step in s (must divide the sample time).
+    force_every_step
+        Recompute the force at every dynamics step instead of holding it for T_s.
+    record
+        Keep the time histories (for plots and the stability audit).
+    jit
+        Compile the step with CasADi's JIT.
+    cbf_gains
+        (k_0, k_1) of the CBF constraint (``method="cbf"``).
+    """
+    tol = check_positive("arrival_tolerance", arrival_tolerance, "m")
+    dt = check_positive("dynamics_step", dynamics_step, "s")
+    ts = scenario.sample_time
+    ratio = ts / dt
+    if abs(ratio - round(ratio)) > 1e-6 or round(ratio) < 1:
+        raise InvalidParameterError(
+            "dynamics_step",
+            dynamics_step,
+            f"must divide the sample time {ts} s into whole steps",
+            "s",
+        )
+    n_sub = 1 if force_every_step else round(ratio)
+    period = n_sub * dt
+    gains = np.atleast_2d(np.asarray(gains, dtype=float))
+    N = gains.shape[0]
+    if method == "cbf" and N != 1:
+        raise InvalidParameterError(
+            "method", method, "'cbf' solves one QP per step and is not batched"
+        )
+    geos = tuple(ObstacleGeometry.of(o) for o in scenario.obstacles)
+    n_obs = len(geos)
+    robot = scenario.robot
+    lean = not record
+    # batched (lean) steps bake the stabilising switch in: with the force off, its AD terms drop
+    f = _Buffered(
+        _compiled(geos, robot, method, n_sub, dt, N, jit, lean, bool(stabilising) if lean else None)
+    )
+    n_samples = math.ceil(scenario.horizon / period - 1e-9)
+    nx = state_size(robot)
+    x_in, goal_in, obs_in, gains_in, params_in, _osub_in, ff_in, tol_in = (
+        f.view_in(i) for i in range(8)
+    )
+    tol_in[:, 0] = tol
+    X = np.tile(initial_state(scenario)[:, None], (1, N))
+    goal_in[:, 0] = scenario.goal
+    gains_in[:, :] = gains.T
+    params_in[:, 0] = (robot.mass, float(tie), 1.0 if stabilising else 0.0, robot.max_accel)
+    ff_in[:, 0] = 0.0
+    if lean:
+        o_x, o_crit, o_dmin, o_esum, o_hit = (f.view_out(i) for i in range(5))
+        o_crit, o_esum, o_hit = (a.reshape(-1) for a in (o_crit, o_esum, o_hit))
+        arrival_period = _ArrivalPeriod(f, geos, robot, method, n_sub, dt, tol)
+    else:
+        outX, outP, outD = f.view_out(0), f.view_out(1), f.view_out(2)
+        out_crit = f.view_out(4).reshape(-1)
+        out_gmin = f.view_out(15).reshape(-1)
+    goal = np.asarray(scenario.goal)
+    arrival = np.full(N, np.inf)
+    dmin = np.full((N, n_obs), np.inf)
+    energy = np.zeros(N)
+    crit_time = np.zeros(N)
+    if n_obs:
+        start_d = np.array(
+            [float(o.contour_distance(np.array([scenario.start]))[0]) for o in scenario.obstacles]
+        )
+        dmin[:] = start_d[None, :]
+    rec: dict[str, list[Any]] | None = None
+    if record:
+        rec = {
+            k: []
+            for k in (
+                "X",
+                "D",
+                "power",
+                "F",
+                "critical",
+                "V",
+                "Vdot0",
+                "Omega",
+                "vL2",
+                "FL",
+                "g",
+                "active",
+                "sigma",
+                "x_sample",
+                "qp_status",
+            )
+        }
+    cbf = _CBF(geos, robot, cbf_gains) if method == "cbf" else None
+    live = np.ones(N, bool)
+    k_done = 0
+    dmin0 = dmin[0]
+    e_sum = 0.0
+    c_sum = 0.0
+    x_flat = f.inp[0]
+    o_x_flat = f.out[0] if lean else None
+    x_in[:, :] = X
+    chunk = max(1, round(2.0 / period))  # obstacle tracks are computed 2 s at a time
+    P_all: list[Array] = []
+    for k in range(n_samples):
+        kc = k % chunk
+        if kc == 0:
+            t_grid = (k * n_sub + np.arange(chunk * n_sub + 1)) * dt
+            P, Vo, Ao = obstacle_tracks(scenario, t_grid)
+            if record:
+                P_all.append(P[:, :-1] if k + chunk < n_samples else P)
+            starts = np.arange(chunk) * n_sub
+            OBS = np.concatenate(
+                [P[:, starts], Vo[:, starts], Ao[:, starts]], axis=2
+            )  # (n, chunk, 6)
+            OBS = OBS.transpose(1, 0, 2).reshape(chunk, 6 * n_obs)
+            idx = starts[:, None] + 1 + np.arange(n_sub)[None, :]  # (chunk, n_sub)
+            OSUB = P[:, idx, :].transpose(1, 2, 0, 3).reshape(chunk, n_sub * 2 * n_obs)
+        if n_obs:
+            obs_in[:, 0] = OBS[kc]
+            f.inp[5][:] = OSUB[kc]
+        if not (lean and N == 1):
+            x_in[:, :] = X
+        if cbf is not None:
+            ff_in[:, 0] = cbf.force(x_in[:, 0].copy(), goal, gains[0], OBS[kc], robot, scenario)
+        f()
+        if lean and N == 1:  # scalar bookkeeping: a single run spends its time in the step
+            c_sum += float(o_crit[0])
+            k_done = k + 1
+            first = arrival_period(0) if o_hit[0] > 0.5 else None
+            if first is not None:  # stop the minima and the energy at the first passage
+                count, dm, es = first
+                if n_obs:
+                    np.minimum(dmin0, dm, out=dmin0)
+                e_sum += es
+                arrival[0] = (k * n_sub + count) * dt
+                live[0] = False
+                break
+            if n_obs:
+                np.minimum(dmin0, o_dmin[:, 0], out=dmin0)
+            e_sum += float(o_esum[0])
+            np.copyto(x_flat, o_x_flat)
+            continue
+        if lean:
+            crit_time[live] += o_crit[live] * period
+            hit = live & (o_hit > 0.5)
+            for i in np.flatnonzero(hit):
+                first = arrival_period(i)
+                if first is None:  # (a last-bit disagreement: keep going)
+                    hit[i] = False
+                    continue
+                count, dm, es = first
+                if n_obs:
+                    dmin[i] = np.minimum(dmin[i], dm)
+                energy[i] += es * dt
+                arrival[i] = (k * n_sub + count) * dt
+            rest = live & ~hit
+            if n_obs:
+                dmin[rest] = np.minimum(dmin[rest], o_dmin.T[rest])
+            energy[rest] += o_esum[rest] * dt
+            live &= ~hit
+            X = o_x.copy()
+            k_done = k + 1
+            if not live.any():
+                break
+            continue
+        if N > 1:  # mapped layout: columns are [member 0 steps..., member 1 steps..., ...]
+            Xs = outX.reshape(nx, N, n_sub).transpose(0, 2, 1)
+            Ds = outD.reshape(n_obs, N, n_sub).transpose(0, 2, 1)
+            Pw = outP.reshape(N, n_sub).T
+        else:
+            Xs = outX[:, :, None]
+            Ds = outD[:, :, None]
+            Pw = outP.reshape(n_sub, 1)
+        arriving = live & (out_gmin <= tol)
+        if arriving.any():
+            gx, gy = Xs[0] - goal[0], Xs[1] - goal[1]
+            gd = np.sqrt(gx * gx + gy * gy)  # (n_sub, N), the same operations as the step's
+            hit = gd <= tol
+            first = np.where(hit.any(axis=0), hit.argmax(axis=0), n_sub)
+            upto = np.where(live, np.minimum(first + 1, n_sub), 0)
+            mask = np.arange(n_sub)[:, None] < upto[None, :]  # (n_sub, N)
+            if n_obs:
+                dm = np.where(mask[None, :, :], Ds, np.inf).min(axis=1)
+                dmin = np.minimum(dmin, dm.T)
+            energy += np.where(mask, Pw, 0.0).sum(axis=0) * dt
+            arrival[arriving] = (k * n_sub + first[arriving] + 1) * dt
+        else:
+            if n_obs:
+                dmin[live] = np.minimum(dmin[live], Ds.min(axis=1).T[live])
+            energy[live] += Pw.sum(axis=0)[live] * dt
+        crit_time[live] += out_crit[live] * period
+        live &= ~arriving
+        if rec is not None:
+            rec["x_sample"].append(X[:, 0].copy())
+            rec["X"].append(Xs[:, :, 0].copy())
+            rec["D"].append(Ds[:, :, 0].copy())
+            rec["power"].append(Pw[:, 0].copy())
+            for name, idx_out in (
+                ("F", 3),
+                ("critical", 4),
+                ("V", 5),
+                ("Vdot0", 6),
+                ("Omega", 7),
+                ("vL2", 8),
+                ("FL", 9),
+                ("g", 10),
+                ("active", 11),
+                ("sigma", 13),
+            ):
+                rec[name].append(f.view_out(idx_out)[:, 0].copy())
+            rec["qp_status"].append(cbf.last_status if cbf is not None else "")
+        X = Xs[:, -1, :].copy()
+        k_done = k + 1
+        if not live.any():
+            break
+    if lean and N == 1:
+        energy[0] += e_sum * dt
+        crit_time[0] += c_sum * period
+    t_end = k_done * period
+    record_out = None
+    if rec is not None:
+        record_out = _assemble(rec, n_sub, period, dt, np.concatenate(P_all, axis=1), nx)
+        record_out["stab"] = 1.0 if stabilising else 0.0
+        record_out["period"] = period
+    return RawRun(arrival, dmin, energy, crit_time, t_end, record_out)
+
+
+def _assemble(
+    rec: dict[str, list[Any]], n_sub: int, period: float, dt: float, P: Array, nx: int
+) -> dict[str, Any]:
+    K = len(rec["X"])
+    X = np.concatenate(rec["X"], axis=1)  # (nx, K*n_sub)
+    t = np.arange(1, K * n_sub + 1) * dt
+    out: dict[str, Any] = {
+        "t": np.concatenate([[0.0], t]),
+        "X": np.concatenate([rec["x_sample"][0][:, None], X], axis=1),
+        "D": np.concatenate(rec["D"], axis=1)
+        if rec["D"] and rec["D"][0].size
+        else np.zeros((0, K * n_sub)),
+        "power": np.concatenate(rec["power"]),
+        "t_sample": np.arange(K) * period,
+        "x_sample": np.array(rec["x_sample"]),
+        "obstacle_positions": P[:, : K * n_sub + 1, :],
+        "qp_status": rec["qp_status"],
+    }
+    for k in ("F", "critical", "V", "Vdot0", "Omega", "vL2", "FL", "g", "active", "sigma"):
+        out[k] = np.array(rec[k])
+    return out
+
+
+class _ArrivalPeriod:
+    """Recompute the period in which a member reaches the goal with the full step function.
+
+    The lean step reports minima and energy over a whole period and only whether the
+    goal was reached in it; for that one period per run, the full step gives every
+    dynamics step, so the minima and the energy stop at the first passage exactly.
+    """
+
+    def __init__(
+        self,
+        lean: _Buffered,
+        geos: tuple[ObstacleGeometry, ...],
+        robot: HolonomicRobot | NonholonomicRobot,
+        method: str,
+        n_sub: int,
+        dt: float,
+        tol: float,
+    ) -> None:
+        self.lean = lean
+        self.full = _Buffered(_compiled(geos, robot, method, n_sub, dt, 1, False, False))
+        self.nx = state_size(robot)
+        self.tol = tol
+        self.n_obs = len(geos)
+
+    def __call__(self, i: int) -> tuple[int, Array, float] | None:
+        """(steps up to and including the first passage, minima, energy sum) or None."""
+        full, lean, nx = self.full, self.lean, self.nx
+        full.inp[0][:] = lean.inp[0][nx * i : nx * (i + 1)]  # the member's state
+        full.inp[3][:] = lean.inp[3][4 * i : 4 * (i + 1)]  # its gains
+        for j in _SHARED:
+            full.inp[j][:] = lean.inp[j]
+        full()
+        X = full.view_out(0)
+        gx, gy = X[0] - lean.inp[1][0], X[1] - lean.inp[1][1]
+        hits = np.flatnonzero(np.sqrt(gx * gx + gy * gy) <= self.tol)
+        if not hits.size:
+            return None
+        count = int(hits[0]) + 1
+        power = full.view_out(1).reshape(-1)
+        dm = full.view_out(2)[:, :count].min(axis=1) if self.n_obs else np.zeros(0)
+        return count, dm, float(power[:count].sum())
+
+
+class _CBF:
+    """Exponential control-barrier-function filter of the attractive field, one OSQP QP per step."""
+
+    def __init__(
+        self,
+        geos: tuple[ObstacleGeometry, ...],
+        robot: HolonomicRobot | NonholonomicRobot,
+        k: tuple[float, float],
+    ) -> None:
+        import osqp
+        import scipy.sparse as sp
+
+        self.rows = build_cbf_rows(geos, "critical")
+        self.field = build_field(geos, "cbf")
+        self.n = len(geos)
+        self.k = np.asarray(k, dtype=float)
+        amax = robot.max_accel
+        ang = np.arange(8) * np.pi / 4
+        self.poly = np.stack([np.cos(ang), np.sin(ang)], axis=1)  # |a| <= amax as an octagon
+        self.amax = amax * math.cos(math.pi / 8)  # inscribed octagon
+        A = np.ones((self.n + 8, 2))  # dense pattern: every entry is stored and updated
+        self.A = sp.csc_matrix(A)
+        self.solver = osqp.OSQP()
+        m = A.shape[0]
+        opts = dict(verbose=False, eps_abs=1e-6, eps_rel=1e-6)
+        new_api = int(osqp.__version__.split(".")[0]) >= 1
+        opts.update(
+            dict(warm_starting=True, polishing=False)
+            if new_api
+            else dict(warm_start=True, polish=False)
+        )
+        self.solve_kw = {"raise_error": False} if new_api else {}
+        self.solver.setup(
+            P=sp.csc_matrix(np.eye(2)),
+            q=np.zeros(2),
+            A=self.A,
+            l=-np.inf * np.ones(m),
+            u=np.inf * np.ones(m),
+            **opts,
+        )
+        self.last_status = ""
+        self.mass = robot.mass
+
+    def force(
+        self, x: Array, goal: Array, gains: Array, obs: Array, robot: Any, scenario: Scenario
+    ) -> Array:
+        if x.size == 5:
+            x4 = np.array([x[0], x[1], x[3] * math.cos(x[2]), x[3] * math.sin(x[2])])
+        else:
+            x4 = x[:4]
+        F = np.array(
+            self.field(
+                x=x4, goal=goal, obs=obs, gains=gains, params=[self.mass, 1.0, 0.0, robot.max_accel]
+            )["F"]
+        ).ravel()
+        a_nom = F / self.mass
+        rows = self.rows(x=x4, obs=obs, k=self.k)
+        Ab = np.array(rows["A"]).reshape(self.n, 2)
+        lb = np.array(rows["lb"]).ravel()
+        A = np.vstack([Ab, self.poly])
+        lower = np.concatenate([lb, -np.inf * np.ones(8)])
+        upper = np.concatenate([np.inf * np.ones(self.n), self.amax * np.ones(8)])
+        self.solver.update(q=-a_nom, Ax=A.ravel(order="F"), l=lower, u=upper)
+        res = self.solver.solve(**self.solve_kw)
+        self.last_status = str(res.info.status)
+        if res.info.status_val not in (1, 2) or res.x is None or not np.all(np.isfinite(res.x)):
+            # infeasible: brake along the velocity (the safest fallback), recorded in qp_status
+            v = x4[2:4]
+            sp_ = float(np.hypot(*v))
+            a = -v / sp_ * robot.max_accel if sp_ > 1e-9 else np.zeros(2)
+        else:
+            a = res.x
+        return np.array([1.0, *(self.mass * a)])

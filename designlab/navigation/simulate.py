@@ -1,0 +1,662 @@
+"""Simulate a scenario with the new VFF or a baseline, one run or a batch of gain sets.
+
+:func:`simulate` runs one scenario with one gain set and returns a
+:class:`NavigationResult` (arrival time, minimum distances, critical-region
+entries, collisions, the Sec. 5.6 criteria, the Lyapunov audit and the
+trajectories). :func:`simulate_batch` runs many gain sets over several
+scenarios together (one CasADi call per navigation period for the whole batch)
+and returns a :class:`BatchResult`: the function a gain optimiser calls.
+
+Timing (``docs/navigation.md``): the force is recomputed every T_s = 0.06 s and
+held; the robot is integrated with a 1 ms step; arrival is the first time the
+robot is within ``arrival_tolerance`` (0.15 m) of the goal.
+
+Examples
+--------
+>>> import designlab as dl
+>>> nav = dl.navigation
+>>> res = nav.simulate(nav.configuration(1), nav.VFFGains(k1=4.3, b=0.68, k3=20.3, k5=240.7),
+...                    stabilising="off")
+>>> round(res.arrival_time, 2), round(res.min_distance["circle"], 3)
+(5.98, 0.55)
+>>> res.entered_critical, res.collided
+(False, False)
+>>> batch = nav.simulate_batch([nav.configuration(1)],
+...                            [[4.3, 0.68, 20.3, 240.7], [3, 0.25, 20, 17]],
+...                            stabilising="off")
+>>> batch.arrival_time.round(2)
+array([[5.98, 6.48]])
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import pandas as pd
+from numpy.typing import ArrayLike, NDArray
+
+from designlab.errors import InvalidParameterError
+from designlab.navigation import engine
+from designlab.navigation.criteria import Criteria, criteria
+from designlab.navigation.lyapunov import StabilityAudit, audit_run
+from designlab.navigation.parameters import GeCuiGains, HolonomicRobot, MasoudGains, VFFGains
+from designlab.navigation.scenarios import Disc, Scenario
+from designlab.results import OK, Result
+
+__all__ = ["BatchResult", "NavigationResult", "simulate", "simulate_batch"]
+
+Array = NDArray[np.float64]
+_STABILISING = ("lyapunov", "off")
+_METHODS = ("vff", "masoud", "ge_cui", "cbf")
+
+
+def _gain_row(method: str, gains: Any) -> Array:
+    if method in ("vff", "cbf"):
+        if gains is None and method == "cbf":
+            gains = VFFGains(k1=3.0, b=0.25, k3=20.0, k5=17.0)
+        if not isinstance(gains, VFFGains):
+            raise InvalidParameterError("gains", gains, f"must be a VFFGains for method {method!r}")
+        return gains.as_array()
+    if method == "masoud":
+        g = MasoudGains() if gains is None else gains
+        if not isinstance(g, MasoudGains):
+            raise InvalidParameterError("gains", gains, "must be a MasoudGains for method 'masoud'")
+        return np.array([g.k1, 0.0, g.k3, g.k5])
+    g = GeCuiGains() if gains is None else gains
+    if not isinstance(g, GeCuiGains):
+        raise InvalidParameterError("gains", gains, "must be a GeCuiGains for method 'ge_cui'")
+    return np.array([g.k1, g.b, g.k3, g.k5])
+
+
+def _nominal_clearance(scenario: Scenario) -> dict[str, float]:
+    rho_r = scenario.robot.radius
+    return {
+        o.name: (o.r2 - rho_r - o.radius) if isinstance(o, Disc) else (o.r2 - rho_r)
+        for o in scenario.obstacles
+    }
+
+
+def _surface(scenario: Scenario, dmin: Array) -> Array:
+    """Surface distances d_s = d - rho_r - rho_o (discs), d_rect - rho_r (rectangles)."""
+    rho_r = scenario.robot.radius
+    off = np.array([o.collision_distance(rho_r) for o in scenario.obstacles])
+    return dmin - off
+
+
+@dataclass(frozen=True)
+class NavigationResult(Result):
+    """One simulated run.
+
+    Attributes
+    ----------
+    scenario
+        The :class:`Scenario` simulated.
+    method, stabilising
+        Navigation method and stabilising-force mode.
+    gains
+        The gains used (a dict).
+    arrival_time
+        First time within ``arrival_tolerance`` of the goal (s); ``inf`` if never.
+    min_distance
+        Minimum centre distance per obstacle (contour distance for rectangles), m,
+        before arrival.
+    min_surface_distance
+        d_s,min per obstacle: ``min_distance`` minus rho_r (+ rho_o for discs), m.
+    entered_critical, collided
+        Whether the robot entered any critical region (d <= r3) / touched any
+        obstacle (d_s <= 0). ``critical_entries`` and ``collisions`` give them per
+        obstacle.
+    criteria
+        H_T, H_D, H_E, H (:class:`~designlab.navigation.criteria.Criteria`).
+    stability
+        The Lyapunov audit (:class:`~designlab.navigation.lyapunov.StabilityAudit`);
+        ``None`` for the baselines, whose fields have no Lyapunov function.
+    energy
+        L_energy per ohm of winding resistance (A^2 s).
+    t, position, velocity, heading, distance, obstacle_positions
+        Trajectories at every dynamics step: times (s), robot position and
+        velocity (m, m/s), heading (rad; constant for the holonomic robot), the
+        distance to each obstacle (``n_obs x len(t)``; the first column repeats the
+        start) and the obstacle positions (``n_obs x len(t) x 2``).
+    critical_entries
+        Obstacle name -> whether the robot entered its critical region.
+    collisions
+        Obstacle name -> whether the robot touched it.
+    critical_time
+        Time spent inside a critical region in s.
+    status
+        ``"ok"``, or ``"not_arrived"`` (collisions and critical-region entries are warnings).
+    warnings
+        What a user should know about the run (collisions, critical-region entries).
+    """
+
+    scenario: Scenario
+    method: str
+    stabilising: str
+    gains: dict[str, float]
+    arrival_time: float
+    min_distance: dict[str, float]
+    min_surface_distance: dict[str, float]
+    critical_entries: dict[str, bool]
+    collisions: dict[str, bool]
+    criteria: Criteria
+    stability: StabilityAudit | None
+    energy: float
+    t: Array = field(repr=False)
+    position: Array = field(repr=False)
+    velocity: Array = field(repr=False)
+    heading: Array = field(repr=False)
+    distance: Array = field(repr=False)
+    obstacle_positions: Array = field(repr=False)
+    critical_time: float = 0.0
+    status: str = OK
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def entered_critical(self) -> bool:
+        return any(self.critical_entries.values())
+
+    @property
+    def collided(self) -> bool:
+        return any(self.collisions.values())
+
+    @property
+    def arrived(self) -> bool:
+        return math.isfinite(self.arrival_time)
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row: scenario, method, arrival time, distances per obstacle, flags, criteria."""
+        row: dict[str, Any] = {
+            "scenario": self.scenario.name,
+            "method": self.method,
+            "stabilising": self.stabilising,
+            "T_arrive_s": self.arrival_time,
+        }
+        for name, d in self.min_distance.items():
+            row[f"d_{name}_min_m"] = d
+        row["entered_critical"] = self.entered_critical
+        row["collided"] = self.collided
+        c = self.criteria
+        row.update(
+            {"H_T": c.H_T, "H_D": c.H_D, "H_E": c.H_E, "H": c.H, "L_energy_J_per_ohm": self.energy}
+        )
+        if self.stability is not None:
+            row["lyapunov_share"] = self.stability.share_satisfied
+        return pd.DataFrame([row])
+
+    def trajectory_frame(self) -> pd.DataFrame:
+        """The run at every dynamics step.
+
+        Columns ``t_s``, ``x_m``, ``y_m``, ``vx_m_per_s``, ... ``d_<name>_m``.
+        """
+        data: dict[str, Any] = {
+            "t_s": self.t,
+            "x_m": self.position[:, 0],
+            "y_m": self.position[:, 1],
+            "vx_m_per_s": self.velocity[:, 0],
+            "vy_m_per_s": self.velocity[:, 1],
+            "heading_rad": self.heading,
+        }
+        for i, name in enumerate(self.scenario.obstacle_names):
+            data[f"d_{name}_m"] = self.distance[i]
+        return pd.DataFrame(data)
+
+
+def simulate(
+    scenario: Scenario,
+    gains: VFFGains | MasoudGains | GeCuiGains | None = None,
+    *,
+    stabilising: str = "lyapunov",
+    method: str = "vff",
+    arrival_tolerance: float = 0.15,
+    dynamics_step: float = 1e-3,
+    force_every_step: bool = False,
+    tie_side: str = "+y",
+    cbf_gains: tuple[float, float] = (4.0, 4.0),
+    jit: bool = False,
+) -> NavigationResult:
+    """Simulate one scenario.
+
+    Parameters
+    ----------
+    scenario
+        From :func:`configuration` or built by hand.
+    gains
+        :class:`VFFGains` for ``"vff"`` (required) and ``"cbf"`` (its attractive part;
+        default the experiment gains); :class:`MasoudGains` / :class:`GeCuiGains`
+        for the baselines (default: Table C.1).
+    stabilising
+        ``"lyapunov"``: the stabilising force F_L of (5.4.6) is on; ``"off"``: it is
+        left out (how the thesis's tables come back, ``docs/navigation.md``).
+    method
+        ``"vff"``, ``"masoud"``, ``"ge_cui"`` or ``"cbf"`` (exponential CBF safety filter
+        keeping d >= r3 on the attractive PD field, one OSQP QP per period).
+    arrival_tolerance
+        Arrival radius around the goal, m (first passage).
+    dynamics_step
+        Integration step in s (must divide the sample time).
+    force_every_step
+        Recompute the force at every dynamics step instead of holding it for T_s.
+    tie_side
+        ``"+y"`` or ``"-y"``: the detour side when the rules leave it open (exactly
+        collinear robot, obstacle and goal). For Masoud, the rotational sense:
+        ``"+y"`` counter-clockwise.
+    cbf_gains
+        (k_0, k_1) of the CBF constraint h'' + k_1 h' + k_0 h >= 0.
+    jit
+        Compile the step with CasADi's JIT (a few seconds once per scenario structure,
+        then several times faster; worth it for many runs of one scenario).
+
+    Returns
+    -------
+    NavigationResult
+
+    Raises
+    ------
+    InvalidParameterError
+        For an unknown method or mode, or gains of the wrong kind.
+
+    Examples
+    --------
+    >>> import designlab as dl
+    >>> nav = dl.navigation
+    >>> res = nav.simulate(nav.configuration(1), nav.EXPERIMENT_GAINS, stabilising="off")
+    >>> round(res.arrival_time, 2), round(res.min_distance["circle"], 3), res.collided
+    (6.48, 0.486, False)
+    >>> nav.simulate(nav.configuration(1), nav.EXPERIMENT_GAINS, method="bug")
+    Traceback (most recent call last):
+    ...
+    designlab.errors.InvalidParameterError: method = 'bug' is not allowed: ...
+    """
+    if stabilising not in _STABILISING:
+        raise InvalidParameterError("stabilising", stabilising, f"must be one of {_STABILISING}")
+    if method not in _METHODS:
+        raise InvalidParameterError("method", method, f"must be one of {_METHODS}")
+    if tie_side not in ("+y", "-y"):
+        raise InvalidParameterError("tie_side", tie_side, "must be '+y' or '-y'")
+    _check_flags(force_every_step=force_every_step, jit=jit)
+    cbf_gains = _check_cbf_gains(cbf_gains)
+    if not isinstance(scenario, Scenario):
+        raise InvalidParameterError(
+            "scenario", scenario, "must be a Scenario (see configuration())"
+        )
+    if method == "vff" and not isinstance(gains, VFFGains):
+        raise InvalidParameterError("gains", gains, "must be a VFFGains for method 'vff'")
+    row = _gain_row(method, gains)
+    tie = 1 if tie_side == "+y" else -1
+    if method == "masoud" and isinstance(gains, MasoudGains):
+        tie = gains.direction
+    stab = stabilising == "lyapunov" and method == "vff"
+    kw: dict[str, Any] = dict(
+        method=method,
+        stabilising=stab,
+        tie=tie,
+        arrival_tolerance=arrival_tolerance,
+        dynamics_step=dynamics_step,
+        force_every_step=force_every_step,
+        cbf_gains=cbf_gains,
+        jit=jit,
+    )
+    raw = engine.run(scenario, row[None, :], record=True, **kw)
+    nominal = engine.run(scenario.without_obstacles(), row[None, :], record=False, **kw)
+    rec = raw.record
+    assert rec is not None
+    names = scenario.obstacle_names
+    dmin = raw.min_distance[0]
+    surf = _surface(scenario, dmin) if names else np.zeros(0)
+    min_distance = {n: float(v) for n, v in zip(names, dmin, strict=True)}
+    min_surface = {n: float(v) for n, v in zip(names, surf, strict=True)}
+    crit = {o.name: bool(dmin[i] <= o.r3) for i, o in enumerate(scenario.obstacles)}
+    coll = {n: bool(surf[i] <= 0.0) for i, n in enumerate(names)}
+    arrival = float(raw.arrival_time[0])
+    crit_res = criteria(
+        arrival_time=arrival,
+        nominal_arrival_time=float(nominal.arrival_time[0]),
+        energy=float(raw.energy[0]),
+        nominal_energy=float(nominal.energy[0]),
+        surface_clearance=min_surface,
+        nominal_clearance=_nominal_clearance(scenario),
+    )
+    X = rec["X"]
+    holo = isinstance(scenario.robot, HolonomicRobot)
+    if holo:
+        pos, vel, heading = X[0:2].T, X[2:4].T, np.zeros(X.shape[1])
+    else:
+        pos, heading = X[0:2].T, X[2]
+        vel = (X[3] * np.stack([np.cos(X[2]), np.sin(X[2])])).T
+    n_t = X.shape[1]
+    dist = (
+        np.concatenate(
+            [
+                np.array(
+                    [
+                        [float(o.contour_distance(np.array([scenario.start]))[0])]
+                        for o in scenario.obstacles
+                    ]
+                ).reshape(len(names), 1),
+                rec["D"],
+            ],
+            axis=1,
+        )
+        if names
+        else np.zeros((0, n_t))
+    )
+    audit = None
+    if method == "vff":
+        audit = audit_run(
+            rec,
+            b=float(row[1]),
+            mass=scenario.robot.mass,
+            max_accel=scenario.robot.max_accel,
+            max_speed=scenario.robot.max_speed,
+            period=rec["period"],
+            holonomic=holo,
+        )
+    warnings: list[str] = []
+    status = OK
+    if not math.isfinite(arrival):
+        status = "not_arrived"
+        warnings.append(f"the robot did not reach the goal within {scenario.horizon} s")
+    for n in names:
+        if coll[n]:
+            warnings.append(f"collision with {n!r}: surface distance {min_surface[n]:.3f} m")
+        elif crit[n]:
+            warnings.append(
+                f"entered the critical region of {n!r}: distance {min_distance[n]:.3f} m"
+            )
+    for a, b, overlap in scenario.intersecting_critical_regions():
+        warnings.append(
+            f"the critical regions of {a!r} and {b!r} overlap by {overlap:.3f} m: no path "
+            "between them stays outside both (Zeng 2011, Sec. 6.4.3 merges such obstacles)"
+        )
+    if method == "cbf":
+        bad = sum(1 for s in rec["qp_status"] if s not in ("solved", "solved inaccurate"))
+        if bad:
+            warnings.append(f"the CBF QP was not solved at {bad} steps; the robot braked there")
+    gains_dict = (
+        {"k1": row[0], "b": row[1], "k3": row[2], "k5": row[3]}
+        if method != "masoud"
+        else {"k1": row[0], "k3": row[2], "k5": row[3]}
+    )
+    return NavigationResult(
+        scenario=scenario,
+        method=method,
+        stabilising=stabilising if method == "vff" else "off",
+        gains={k: float(v) for k, v in gains_dict.items()},
+        arrival_time=arrival,
+        min_distance=min_distance,
+        min_surface_distance=min_surface,
+        critical_entries=crit,
+        collisions=coll,
+        criteria=crit_res,
+        stability=audit,
+        energy=float(raw.energy[0]),
+        t=rec["t"],
+        position=pos,
+        velocity=vel,
+        heading=heading,
+        distance=dist,
+        obstacle_positions=rec["obstacle_positions"],
+        critical_time=float(raw.critical_time[0]),
+        status=status,
+        warnings=tuple(warnings),
+    )
+
+
+@dataclass(frozen=True)
+class BatchResult(Result):
+    """Many gain sets over several scenarios.
+
+    Arrays are indexed ``[scenario, gain set]``; ``min_distance`` adds a last axis
+    over the scenario's obstacles (padded with ``nan`` to the largest count).
+
+    Attributes
+    ----------
+    scenario_names, obstacle_names
+        Names of the scenarios and, per scenario, of its obstacles.
+    gains
+        The ``(N, 4)`` array of (k1, b, k3, k5) simulated.
+    arrival_time, nominal_arrival_time
+        T_arrive and T*_arrive (s; inf if never).
+    min_distance
+        Minimum centre/contour distance (m), ``(S, N, max_obs)``.
+    entered_critical, collided
+        ``(S, N)`` booleans (any obstacle).
+    energy, nominal_energy
+        L_energy and L*_energy per ohm (A^2 s).
+    H, H_T, H_D, H_E
+        Sec. 5.6 criteria, ``(S, N)``.
+    status
+        Status of the batch (``"ok"``; see :class:`designlab.results.Result`).
+    warnings
+        What a user should know about the runs.
+    """
+
+    scenario_names: tuple[str, ...]
+    obstacle_names: tuple[tuple[str, ...], ...]
+    gains: Array
+    arrival_time: Array
+    nominal_arrival_time: Array
+    min_distance: Array
+    entered_critical: NDArray[np.bool_]
+    collided: NDArray[np.bool_]
+    energy: Array
+    nominal_energy: Array
+    H: Array
+    H_T: Array
+    H_D: Array
+    H_E: Array
+    status: str = OK
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def H_mean(self) -> Array:
+        """Mean H over the scenarios for each gain set, ``(N,)`` (App. C's H_mean)."""
+        return self.H.mean(axis=0)
+
+    def to_frame(self) -> pd.DataFrame:
+        """Long format: one row per (scenario, gain set)."""
+        rows = []
+        for s, name in enumerate(self.scenario_names):
+            for j in range(self.gains.shape[0]):
+                r: dict[str, Any] = {
+                    "scenario": name,
+                    "set": j,
+                    "k1": self.gains[j, 0],
+                    "b": self.gains[j, 1],
+                    "k3": self.gains[j, 2],
+                    "k5": self.gains[j, 3],
+                    "T_arrive_s": self.arrival_time[s, j],
+                }
+                for i, on in enumerate(self.obstacle_names[s]):
+                    r[f"d_{on}_min_m"] = self.min_distance[s, j, i]
+                r.update(
+                    {
+                        "entered_critical": bool(self.entered_critical[s, j]),
+                        "collided": bool(self.collided[s, j]),
+                        "H_T": self.H_T[s, j],
+                        "H_D": self.H_D[s, j],
+                        "H_E": self.H_E[s, j],
+                        "H": self.H[s, j],
+                    }
+                )
+                rows.append(r)
+        return pd.DataFrame(rows)
+
+
+def _check_flags(**flags: object) -> None:
+    for name, value in flags.items():
+        if not isinstance(value, bool | np.bool_):
+            raise InvalidParameterError(name, value, "must be True or False")
+
+
+def _check_cbf_gains(k: object) -> tuple[float, float]:
+    try:
+        k0, k1 = (float(v) for v in k)  # type: ignore[attr-defined]
+        ok = all(not isinstance(v, bool) for v in k)  # type: ignore[attr-defined]
+    except (TypeError, ValueError):
+        ok = False
+    if not ok or not (math.isfinite(k0) and math.isfinite(k1) and k0 > 0 and k1 > 0):
+        raise InvalidParameterError(
+            "cbf_gains", k, "must be two finite numbers (k_0, k_1) > 0 (1/s^2, 1/s)"
+        )
+    return (k0, k1)
+
+
+def _check_gain_array(gains: ArrayLike) -> Array:
+    if isinstance(gains, np.ndarray):
+        has_bool = gains.dtype == bool or (
+            gains.dtype == object and any(isinstance(v, bool | np.bool_) for v in gains.ravel())
+        )
+    else:
+        raw = np.asarray(gains, dtype=object)
+        has_bool = any(isinstance(v, bool | np.bool_) for v in raw.ravel())
+    if has_bool:
+        raise InvalidParameterError("gains", gains, "must be numbers, not booleans")
+    try:
+        g = np.asarray(gains, dtype=float)
+    except (TypeError, ValueError):
+        raise InvalidParameterError(
+            "gains", gains, "must be an (N, 4) array of numbers (k1, b, k3, k5)"
+        ) from None
+    if g.ndim == 1:
+        g = g[None, :]
+    if g.ndim != 2 or g.shape[1] != 4 or g.shape[0] < 1:
+        raise InvalidParameterError(
+            "gains", getattr(g, "shape", gains), "must be an (N, 4) array of (k1, b, k3, k5)"
+        )
+    bad = ~(np.isfinite(g) & (g > 0))
+    if bad.any():
+        i, j = np.argwhere(bad)[0]
+        raise InvalidParameterError(
+            f"gains[{i}, {j}]",
+            g[i, j],
+            "every gain must be finite and > 0 (the structure of Zeng 2011 (5.5.7))",
+        )
+    return g
+
+
+def simulate_batch(
+    scenarios: Sequence[Scenario],
+    gains: ArrayLike,
+    *,
+    stabilising: str = "lyapunov",
+    arrival_tolerance: float = 0.15,
+    dynamics_step: float = 1e-3,
+    tie_side: str = "+y",
+    jit: bool = False,
+) -> BatchResult:
+    """Simulate every gain set on every scenario with the new VFF, vectorised over the gain sets.
+
+    Parameters
+    ----------
+    scenarios
+        The scenarios (e.g. ``[configuration(i) for i in (1, 2, 3)]``).
+    gains
+        ``(N, 4)`` array of (k1, b, k3, k5); K2 = b K1, K4 = b K3, K6 = b K5.
+    stabilising, arrival_tolerance, dynamics_step, tie_side
+        As in :func:`simulate`.
+    jit
+        Compile the batched step to machine code with CasADi's JIT and the system C
+        compiler (a few seconds once per scenario structure and batch size, then
+        several times faster: worth it for long optimisations).
+
+    Returns
+    -------
+    BatchResult
+        Arrival times, minimum distances, critical entries, collisions and H per
+        (scenario, gain set); ``H_mean`` averages over the scenarios.
+
+    Examples
+    --------
+    >>> import designlab as dl
+    >>> nav = dl.navigation
+    >>> b = nav.simulate_batch([nav.configuration(1), nav.configuration(3)],
+    ...                        [[3.0, 0.25, 20.0, 17.0]], stabilising="off")
+    >>> b.arrival_time.round(2)
+    array([[6.48],
+           [5.94]])
+    """
+    if stabilising not in _STABILISING:
+        raise InvalidParameterError("stabilising", stabilising, f"must be one of {_STABILISING}")
+    if tie_side not in ("+y", "-y"):
+        raise InvalidParameterError("tie_side", tie_side, "must be '+y' or '-y'")
+    _check_flags(jit=jit)
+    if isinstance(scenarios, Scenario):
+        scenarios = [scenarios]
+    try:
+        scenarios = list(scenarios)
+    except TypeError:
+        raise InvalidParameterError(
+            "scenarios", scenarios, "must be a non-empty sequence of Scenario"
+        ) from None
+    if not scenarios or not all(isinstance(s, Scenario) for s in scenarios):
+        raise InvalidParameterError(
+            "scenarios", scenarios, "must be a non-empty sequence of Scenario"
+        )
+    g = _check_gain_array(gains)
+    S, N = len(scenarios), g.shape[0]
+    max_obs = max(len(s.obstacles) for s in scenarios)
+    out = {k: np.zeros((S, N)) for k in ("T", "T0", "L", "L0", "H", "HT", "HD", "HE")}
+    dmin = np.full((S, N, max_obs), np.nan)
+    crit = np.zeros((S, N), bool)
+    coll = np.zeros((S, N), bool)
+    kw: dict[str, Any] = dict(
+        method="vff",
+        stabilising=stabilising == "lyapunov",
+        tie=1 if tie_side == "+y" else -1,
+        arrival_tolerance=arrival_tolerance,
+        dynamics_step=dynamics_step,
+        jit=jit,
+    )
+    for s, sc in enumerate(scenarios):
+        raw = engine.run(sc, g, **kw)
+        nom = engine.run(sc.without_obstacles(), g, **kw)
+        n_obs = len(sc.obstacles)
+        dmin[s, :, :n_obs] = raw.min_distance
+        r3 = np.array([o.r3 for o in sc.obstacles])
+        surf = _surface(sc, raw.min_distance) if n_obs else np.zeros((N, 0))
+        crit[s] = (raw.min_distance <= r3[None, :]).any(axis=1) if n_obs else False
+        coll[s] = (surf <= 0).any(axis=1) if n_obs else False
+        dstar = np.array(list(_nominal_clearance(sc).values()))
+        h_t = np.where(np.isfinite(raw.arrival_time), nom.arrival_time / raw.arrival_time, 0.0)
+        h_d = (
+            np.minimum(1.0, np.maximum(surf, 0) / dstar[None, :]).mean(axis=1)
+            if n_obs
+            else np.ones(N)
+        )
+        h_e = np.where(raw.energy > 0, nom.energy / np.where(raw.energy > 0, raw.energy, 1.0), 1.0)
+        k = (~coll[s]).astype(float)
+        out["T"][s], out["T0"][s], out["L"][s], out["L0"][s] = (
+            raw.arrival_time,
+            nom.arrival_time,
+            raw.energy,
+            nom.energy,
+        )
+        out["HT"][s], out["HD"][s], out["HE"][s] = h_t, h_d, h_e
+        out["H"][s] = k * (h_t + h_d + h_e) / 3.0
+    warnings = []
+    n_not = int(np.isinf(out["T"]).sum())
+    if n_not:
+        warnings.append(f"{n_not} of {S * N} runs did not arrive within their horizon")
+    return BatchResult(
+        tuple(s.name for s in scenarios),
+        tuple(s.obstacle_names for s in scenarios),
+        g,
+        out["T"],
+        out["T0"],
+        dmin,
+        crit,
+        coll,
+        out["L"],
+        out["L0"],
+        out["H"],
+        out["HT"],
+        out["HD"],
+        out["HE"],
+        warnings=tuple(warnings),
+    )
