@@ -83,6 +83,11 @@ def vectorize(f: ca.Function) -> Callable[..., list[NDArray[np.float64]]]:
     returns one array per output of shape ``(output.numel(), N)`` (dense,
     column-major like CasADi). Inputs with a single column broadcast.
 
+    Parameters
+    ----------
+    f
+        A CasADi SX function.
+
     Raises
     ------
     TypeError

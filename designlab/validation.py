@@ -46,6 +46,11 @@ def reject_bool(value: Any) -> Any:
     """Refuse booleans where a number is expected (pydantic ``BeforeValidator``).
 
     YAML ``yes``/``true`` would otherwise be read as 1.0 by pydantic's lax mode.
+
+    Parameters
+    ----------
+    value
+        The value given.
     """
     if isinstance(value, (bool, np.bool_)):
         raise ValueError("must be a number, not a boolean")
@@ -53,14 +58,34 @@ def reject_bool(value: Any) -> Any:
 
 
 def frozen_array(value: Any, dtype: Any = float) -> NDArray:
-    """A read-only copy of ``value`` (for fields of frozen result dataclasses)."""
+    """A read-only copy of ``value`` (for fields of frozen result dataclasses).
+
+    Parameters
+    ----------
+    value
+        Array-like values.
+    dtype
+        The dtype of the copy.
+    """
     out = np.array(value, dtype=dtype, copy=True)
     out.setflags(write=False)
     return out
 
 
 def check_int(name: str, value: Any, *, minimum: int | None = None, unit: str = "") -> int:
-    """Return ``value`` as int, or raise unless it is an integer (not a bool) >= ``minimum``."""
+    """Return ``value`` as int, or raise unless it is an integer (not a bool) >= ``minimum``.
+
+    Parameters
+    ----------
+    name
+        Parameter name for the error message.
+    value
+        The value given.
+    minimum
+        Smallest allowed value, if any.
+    unit
+        Its unit, for the error message.
+    """
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
         allowed = "must be an integer" + (f" >= {minimum}" if minimum is not None else "")
         raise InvalidParameterError(name, value, allowed, unit)
@@ -71,19 +96,45 @@ def check_int(name: str, value: Any, *, minimum: int | None = None, unit: str = 
 
 
 def check_choice(name: str, value: Any, choices: Sequence[str]) -> str:
-    """Return ``value`` if it is one of ``choices`` (strings), else raise."""
+    """Return ``value`` if it is one of ``choices`` (strings), else raise.
+
+    Parameters
+    ----------
+    name
+        Parameter name for the error message.
+    value
+        The value given.
+    choices
+        The allowed strings.
+    """
     if not isinstance(value, str) or value not in choices:
         raise InvalidParameterError(name, value, f"must be one of {list(choices)}")
     return value
 
 
 def check_q2(q2: Any) -> str:
-    """The q2 option of the impact model: ``"correct"`` or ``"printed"`` (docs/impact.md)."""
+    """The q2 option of the impact model: ``"correct"`` or ``"printed"`` (docs/impact.md).
+
+    Parameters
+    ----------
+    q2
+        ``"correct"`` or ``"printed"``.
+    """
     return check_choice("q2", q2, ("correct", "printed"))
 
 
 def real_array(name: str, value: Any, unit: str = "") -> NDArray[np.float64]:
-    """``value`` as a float array of finite real numbers (booleans refused)."""
+    """``value`` as a float array of finite real numbers (booleans refused).
+
+    Parameters
+    ----------
+    name
+        Parameter name for the error message.
+    value
+        Array-like values.
+    unit
+        Its SI unit, for the error message.
+    """
     if isinstance(value, (bool, np.bool_)) or (
         isinstance(value, np.ndarray) and value.dtype == bool
     ):
@@ -101,6 +152,17 @@ def check_array(name: str, value: Any, unit: str = "", *, positive: bool = False
     """Validate a scalar (returned as float) or an array (returned as ndarray).
 
     Every element must be finite and ``> 0`` (``positive``) or ``>= 0``.
+
+    Parameters
+    ----------
+    name
+        Parameter name for the error message.
+    value
+        A number or an array.
+    unit
+        Its SI unit, for the error message.
+    positive
+        Also require every value > 0.
     """
     if np.ndim(value) == 0:
         check = check_positive if positive else check_nonnegative

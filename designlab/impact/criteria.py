@@ -168,6 +168,11 @@ class Criterion:
 class HeadAcceleration(Criterion):
     """Peak head acceleration over the impact period below ``max_g`` (thesis: 10 g).
 
+    Attributes
+    ----------
+    max_g
+        Largest allowed peak head acceleration in g (9.80665 m/s^2).
+
     Examples
     --------
     >>> HeadAcceleration(max_g=10).name
@@ -199,6 +204,11 @@ class HeadAcceleration(Criterion):
 @dataclass(frozen=True)
 class ImpactForce(Criterion):
     """Peak contact force f_c over the impact period below ``max_force`` (N).
+
+    Attributes
+    ----------
+    max_force
+        Largest allowed peak contact force in N.
 
     Examples
     --------
@@ -243,6 +253,11 @@ def _check_region(owner: str, region: str) -> None:
 class IsoQuasiStaticForce(ImpactForce):
     """ISO/TS 15066 quasi-static contact force limit of a body region (Table A.2).
 
+    Attributes
+    ----------
+    body_region
+        ISO/TS 15066 Table A.2 body region (e.g. ``"skull_forehead"``).
+
     Examples
     --------
     >>> IsoQuasiStaticForce("skull_forehead").limit
@@ -279,6 +294,14 @@ class IsoTransientForce(ImpactForce):
     table gives one). The table gives no multiplier for the skull/forehead and
     the face: for them ``transient_factor`` must be given explicitly (or use
     :class:`IsoQuasiStaticForce`); the project does not invent one.
+
+    Attributes
+    ----------
+    body_region
+        ISO/TS 15066 Table A.2 body region (e.g. ``"lower_arm_wrist"``).
+    transient_factor
+        Factor on the quasi-static limit for transient contact; required for
+        the skull/forehead and face, which Table A.2 gives no factor for.
 
     Examples
     --------
@@ -344,6 +367,11 @@ class CompressionLimit(Criterion):
     docs/impact.md, "Foam bottoming"). Unlike the safety criteria it bounds the
     foam stiffness from *below* (a softer foam compresses more).
 
+    Attributes
+    ----------
+    max_compression
+        Largest allowed foam compression eps_max in m (the linear depth lambda).
+
     Examples
     --------
     >>> CompressionLimit(0.02).name
@@ -383,6 +411,15 @@ class HeadInjuryCriterion(Criterion):
 
     ``window`` is 0.015 s (HIC15) or 0.036 s (HIC36). HIC < 650 corresponds to
     AIS < 3 (EuroNCAP 2004, quoted by the thesis). HIC scales as v_c ** 2.5.
+
+    Attributes
+    ----------
+    max_hic
+        Largest allowed HIC.
+    window
+        Longest HIC window t2 - t1 in s (15 ms: HIC15).
+    samples
+        Grid points over the first lobe before the window search is refined.
 
     Examples
     --------

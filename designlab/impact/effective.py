@@ -79,6 +79,10 @@ class EffectiveContact(Result):
     velocity
         Normal velocity v_r(0) of the impact point in m/s, or ``None`` if no
         joint velocity was given.
+    status
+        Status of the reduction (``"ok"``; see :class:`designlab.results.Result`).
+    warnings
+        What a user should know about the reduction.
     """
 
     mass: float
@@ -132,6 +136,10 @@ class ImpactPointSweep(Result):
         M_r (kg), K_r (N/m), C_r (N s/m) at each lever arm, (3.4.17).
     velocity
         v_r(0) = theta_dot l in m/s, (3.4.11).
+    status
+        Status of the sweep (``"ok"``; see :class:`designlab.results.Result`).
+    warnings
+        What a user should know about the sweep.
     """
 
     lever_arm: np.ndarray

@@ -74,6 +74,15 @@ log = logging.getLogger(__name__)
 class HeadRange:
     """Ranges of the head-neck parameters (Sec. 3.5): ``(low, high)`` pairs, SI.
 
+    Attributes
+    ----------
+    mass
+        ``(low, high)`` head mass M_h in kg.
+    stiffness
+        ``(low, high)`` neck stiffness K_h in N/m.
+    damping
+        ``(low, high)`` neck damping C_h in N s/m.
+
     Examples
     --------
     >>> len(THESIS_HEAD_RANGE.corners())
@@ -385,6 +394,24 @@ class FoamEnvelope(Result):
     worst_lever_arm
         For a robot at joint level, the worst impact point on the upper
         boundary of the first criterion (NaN otherwise).
+    robot
+        The manipulator (effective contact dynamics or a link struck anywhere).
+    impact_velocity
+        Closing speed v_c in m/s.
+    criteria
+        The safety criteria of the upper boundary.
+    max_compression
+        Usable foam depth lambda in m (the lower boundary).
+    stiffness_bounds
+        ``(low, high)`` K_c search range in N/m.
+    constrained
+        Whether the head is constrained (no neck; Sec. 3.4).
+    head_range
+        The head-neck ranges the boundaries hold for (``None``: one head).
+    warnings
+        What a user should know (several roots, delicate lobes, ...).
+    status
+        ``"ok"``, or ``"empty"`` when no foam is feasible.
     """
 
     robot: ContactDynamics | LinkImpact

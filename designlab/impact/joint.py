@@ -271,6 +271,8 @@ class JointFit(Result):
     status
         cvxpy status (``"optimal"``, ``"optimal_inaccurate"``) or a
         description of the failure.
+    warnings
+        What a user should know about the fit.
     """
 
     stiffness: float

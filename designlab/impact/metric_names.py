@@ -32,7 +32,17 @@ __all__ = [
 
 @dataclass(frozen=True)
 class ColumnInfo:
-    """A column: its symbol, a readable name and its unit."""
+    """A column: its symbol, a readable name and its unit.
+
+    Attributes
+    ----------
+    symbol
+        The symbol (e.g. ``"a_h,max"``).
+    name
+        A readable name.
+    unit
+        Its SI unit (or ``g``).
+    """
 
     symbol: str
     name: str
@@ -102,6 +112,12 @@ LIMITS = MappingProxyType({"a_h_max_g": 10.0, "eps_max_m": 0.02})
 
 
 def label(column: str) -> str:
-    """Readable axis label of a parameter or metric column (the column itself if unknown)."""
+    """Readable axis label of a parameter or metric column (the column itself if unknown).
+
+    Parameters
+    ----------
+    column
+        A parameter or metric column name (e.g. ``"K_c_N_per_m"``).
+    """
     info = PARAMETERS.get(column) or METRICS.get(column) or ENVELOPE_COLUMNS.get(column)
     return info.label if info is not None else column

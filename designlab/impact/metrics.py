@@ -457,6 +457,23 @@ def metrics_from_responses(
     ``resp`` maps output names (``head_acceleration`` unless constrained, and any of
     ``compression`` and ``force``) to the responses to v_c = 1 m/s of the designs
     ``p`` (``(N, 8)``); ``v`` is ``(N,)``. Inputs are not validated here.
+
+    Parameters
+    ----------
+    resp
+        Output name -> response to v_c = 1 m/s of every design.
+    p
+        ``(N, 8)`` model parameters of the designs.
+    v
+        ``(N,)`` impact velocities in m/s.
+    constrained
+        Whether the head is constrained (no head acceleration).
+    stop_time
+        Longest impact considered in s.
+    max_lobe_steps
+        Most grid steps of the march to the end of the first lobe.
+    lobe_diagnostics
+        Also return the lobe-search diagnostics.
     """
     n = p.shape[0]
     names = tuple(k for k in ("force", "head_acceleration", "compression") if k in resp)
@@ -563,6 +580,15 @@ def hic_batch(metrics: ImpactMetrics, window: float = 0.015, samples: int = 400)
     it is evaluated exactly on ``samples`` points of ``[0, t_imp]``, the windows
     with ``t2 - t1 <= window`` are searched on that grid, and the best window is
     refined by zooming grids around it (never below the grid value).
+
+    Parameters
+    ----------
+    metrics
+        First-lobe metrics of the designs (:func:`impact_metrics`).
+    window
+        Longest HIC window in s.
+    samples
+        Grid points over the first lobe before the window search is refined.
 
     Examples
     --------

@@ -48,6 +48,11 @@ def poles_of(den: NDArray[np.float64]) -> NDArray[np.complex128]:
 
     Roots closer than a relative 1e-6 are moved apart symmetrically so that
     partial fractions stay finite.
+
+    Parameters
+    ----------
+    den
+        ``(N, n+1)`` monic polynomial coefficients, highest power first.
     """
     den = np.atleast_2d(den)
     n = den.shape[1] - 1
@@ -324,7 +329,23 @@ def first_crossing(
     rtol: float = 1e-11,
     guess: NDArray | None = None,
 ) -> NDArray[np.float64]:
-    """Root of ``y`` in ``[lo, hi]`` with ``y(lo) > 0 >= y(hi)``, per response."""
+    """Root of ``y`` in ``[lo, hi]`` with ``y(lo) > 0 >= y(hi)``, per response.
+
+    Parameters
+    ----------
+    resp
+        Responses of N designs.
+    lo
+        ``(N,)`` bracket starts in s (``y > 0``).
+    hi
+        ``(N,)`` bracket ends in s (``y <= 0``).
+    iterations
+        Most safeguarded Newton / bisection steps.
+    rtol
+        Relative tolerance on the root.
+    guess
+        Optional ``(N,)`` starting points inside the brackets.
+    """
     return _safeguarded_newton(resp, lo, hi, 0, iterations, rtol, guess)
 
 
@@ -537,6 +558,27 @@ def certified_maximum(
     never below the best sampled value; it is within ``rtol`` of the exact
     maximum unless more than ``cap`` cells of a response stay open at a level
     (a loose bound: only the ``cap`` most promising are kept).
+
+    Parameters
+    ----------
+    resp
+        Responses of N designs.
+    lo
+        ``(N,)`` window starts in s.
+    hi
+        ``(N,)`` window ends in s.
+    h
+        ``(N,)`` initial cell widths in s.
+    rtol
+        Relative tolerance of the maximum.
+    parts
+        Cells a cell is split into.
+    levels
+        Most splitting levels.
+    cap
+        Most open cells per response and level.
+    max_cells
+        Most open cells over all responses at a level.
     """
     lo = np.asarray(lo, dtype=float)
     hi = np.asarray(hi, dtype=float)
@@ -607,6 +649,23 @@ def certified_first_crossing(
     ``cap`` lowest bounds per response and level), and a cell where ``y'`` goes
     from - to + is checked at its local minimum (Newton on ``y'``). Returns
     ``(lo, hi)`` with ``y(lo) > 0 >= y(hi)`` and no crossing resolved before ``lo``.
+
+    Parameters
+    ----------
+    resp
+        Responses of N designs.
+    hi
+        ``(N,)`` times in s where ``y <= 0``.
+    h
+        ``(N,)`` grid steps in s of the march that found ``hi``.
+    parts
+        Cells a cell is split into.
+    levels
+        Most splitting levels.
+    cap
+        Most open cells per response and level.
+    max_cells
+        Most open cells over all responses at a level.
     """
     hi = np.asarray(hi, dtype=float).copy()
     n = hi.size

@@ -112,6 +112,14 @@ class LinearImpactModel:
     ramp_tf
         ``casadi.Function`` ``p -> (den, num_0, ...)`` of the constant-velocity
         impact: ``Y(s) = v_c num(s) / (s^2 den(s))``, numerators of length ``n+2``.
+    state_names
+        Names of the states, in order.
+    output_names
+        Names of the outputs, in order.
+    param_names
+        Names of the parameters, in order (:data:`PARAM_NAMES`).
+    input_names
+        Names of the inputs, in order.
     """
 
     name: str
@@ -261,9 +269,7 @@ def _build(name: str, constrained: bool) -> LinearImpactModel:
     )
     # Constant-velocity impact, u = v_c [1/s^2, 1/s, 0]: Y(s) = v_c (N_sc + s N_vc) / (s^2 den)
     ramps = [
-        ca.simplify(
-            ca.horzcat(ca.SX(0.0), nums[k][0, :]) + ca.horzcat(nums[k][1, :], ca.SX(0.0))
-        )
+        ca.simplify(ca.horzcat(ca.SX(0.0), nums[k][0, :]) + ca.horzcat(nums[k][1, :], ca.SX(0.0)))
         for k in range(len(OUTPUT_NAMES))
     ]
     ramp_tf = ca.Function(
@@ -297,6 +303,15 @@ def param_vector(robot: object, foam: object, head: object | None) -> NDArray[np
     """Stack parameter objects into the model's parameter vector :data:`PARAM_NAMES`.
 
     ``head`` may be ``None`` for the constrained model (its entries are then 1, 0, 0).
+
+    Parameters
+    ----------
+    robot
+        Effective manipulator (mass, stiffness, damping).
+    foam
+        The foam (stiffness, damping).
+    head
+        The head-neck (``None``: a constrained head; its entries are NaN).
     """
     if head is None:
         hm, hc, hk = 1.0, 0.0, 0.0

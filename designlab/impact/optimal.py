@@ -198,6 +198,16 @@ class OptimalFoam(Result):
         ``reopen_velocity_factor * impact_velocity`` (NaN for a LinkImpact robot).
     grid_margin
         Best margin found by the starting grid search (for comparison).
+    impact_velocity
+        Closing speed v_c in m/s the foam was optimised for.
+    iterations
+        IPOPT iterations.
+    objective
+        ``"margin"`` or ``"thinnest"``.
+    warnings
+        What a user should know (solver fallbacks, constraints active).
+    stats
+        IPOPT's statistics.
     """
 
     stiffness: float

@@ -67,6 +67,15 @@ class VelocityProfile:
     The desired manipulator speed changes at ``acceleration`` (m/s^2, negative to
     decelerate) for ``duration`` s from the instant of contact, then stays constant.
 
+    Attributes
+    ----------
+    acceleration
+        Manipulator acceleration during the impact in m/s^2 (negative: braking).
+    duration
+        How long the acceleration lasts in s.
+    feedforward
+        Whether the controller feeds the acceleration forward (Sec. 3.8).
+
     Examples
     --------
     >>> round(VelocityProfile(acceleration=0.51 * 9.80665, duration=0.05).delta_v, 4)
@@ -168,6 +177,24 @@ class ImpactResponse(Result):
         ``"bottoming"`` or ``"lobe_not_closed"``.
     warnings
         Human-readable notes on the validity of the result.
+    robot
+        The effective manipulator.
+    foam
+        The foam.
+    head
+        The head-neck (``None``: constrained head).
+    impact_velocity
+        Closing speed v_c in m/s.
+    time_of_peak_acceleration
+        Time of the peak head acceleration in s.
+    time_of_max_compression
+        Time of the largest compression in s.
+    time_of_peak_force
+        Time of the peak contact force in s.
+    profile
+        The manipulator's velocity profile during the impact, if any (Sec. 3.8).
+    q2
+        The q2 option of the model (``"correct"`` or ``"printed"``; docs/impact.md).
     """
 
     robot: ContactDynamics

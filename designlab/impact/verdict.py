@@ -82,6 +82,10 @@ class FoamVerdict(Result):
         Name of the constraint of that boundary.
     margin_decades
         Signed distance to the nearest boundary in log10(K_c) (> 0 inside).
+    status
+        ``"ok"``, or why the verdict is incomplete.
+    warnings
+        What a user should know about the verdict.
     """
 
     foam: Foam
@@ -274,6 +278,12 @@ class SafeVelocity(Result):
         Largest v_c allowed by each constraint alone.
     limiting
         Name of the constraint that sets the answer.
+    human_speed
+        Speed of the person toward the robot in m/s, subtracted to get the manipulator speed.
+    status
+        ``"ok"``, or why no velocity is safe.
+    warnings
+        What a user should know.
     """
 
     impact_velocity: float
@@ -315,6 +325,7 @@ def max_safe_velocity(
 
     The metrics scale as v_c ** exponent (1 for a_h,max, force and eps_max, 2.5
     for HIC), so the answer is exact: ``v_i = v_0 (limit_i / metric_i(v_0))^(1/e_i)``.
+
     Parameters
     ----------
     robot
@@ -374,6 +385,19 @@ class FoamThickness(Result):
 
     ``linear_depth`` (lambda) is the worst-case eps_max; ``thickness`` scales it by the
     foam's ratio T_u / lambda (0.0254/0.02 for the thesis's foam).
+
+    Attributes
+    ----------
+    linear_depth
+        Linear depth lambda the foam needs in m.
+    thickness
+        Total thickness in m (lambda over the linear fraction).
+    impact_velocity
+        Closing speed v_c in m/s.
+    status
+        ``"ok"``, or why no thickness suffices.
+    warnings
+        What a user should know.
     """
 
     linear_depth: float

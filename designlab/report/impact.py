@@ -329,7 +329,7 @@ def impact_markdown(
         "it with the same command.",
         "",
         "Model: linear coupled manipulator-foam-head impact (Zeng 2011, Sec. 3.5); "
-        "metrics over the first impact lobe (docs/impact.md, \"Metrics\"); g is standard "
+        'metrics over the first impact lobe (docs/impact.md, "Metrics"); g is standard '
         "gravity, 9.80665 m/s^2. "
         "`ref` = reference simulation, `exp` = experimental mean; errors are "
         "(model − reference) / reference. Full precision in `metrics.csv`.",

@@ -187,6 +187,7 @@ def test_to_frame_and_summary() -> None:
     assert len(df) == 101
     s = r.metrics()
     assert s["a_h_max_g"] == pytest.approx(r.peak_head_acceleration / 9.80665)
-    m = dl.impact.impact_metrics([9.6, 250, 20e3, 24.25e3, 71.9, 4.4, 0, 4e3], [0.4, 1.25],
-                                 columns=dl.impact.PARAM_NAMES)
+    m = dl.impact.impact_metrics(
+        [9.6, 250, 20e3, 24.25e3, 71.9, 4.4, 0, 4e3], [0.4, 1.25], columns=dl.impact.PARAM_NAMES
+    )
     assert m.to_frame()["a_h_max_g"].round(2).tolist() == [2.10, 6.57]
