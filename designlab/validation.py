@@ -31,6 +31,7 @@ from numpy.typing import NDArray
 from designlab.errors import InvalidParameterError, check_nonnegative, check_positive
 
 __all__ = [
+    "ParamsMixin",
     "check_array",
     "check_choice",
     "check_int",
@@ -251,3 +252,35 @@ def named_columns(
         )
     order = [columns.index(k) for k in names]
     return arr[:, order]
+
+
+class ParamsMixin:
+    """``as_dict`` and ``replace`` for the frozen parameter dataclasses of every domain.
+
+    Examples
+    --------
+    >>> from dataclasses import dataclass
+    >>> @dataclass(frozen=True)
+    ... class Spring(ParamsMixin):
+    ...     stiffness: float = 1.0
+    >>> Spring().replace(stiffness=2.0).as_dict()
+    {'stiffness': 2.0}
+    """
+
+    def as_dict(self) -> dict[str, Any]:
+        """Return the fields as a plain ``dict`` (picklable, YAML-friendly)."""
+        from dataclasses import asdict
+
+        return asdict(self)  # type: ignore[call-overload]
+
+    def replace(self, **changes: Any) -> Any:
+        """Return a copy with some fields changed (validated again).
+
+        Parameters
+        ----------
+        **changes
+            Field name -> new value.
+        """
+        from dataclasses import replace
+
+        return replace(self, **changes)  # type: ignore[type-var]

@@ -16,10 +16,10 @@ Examples
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, replace
-from typing import Any
+from dataclasses import dataclass
 
 from designlab.errors import InvalidParameterError, check_nonnegative, check_positive
+from designlab.validation import ParamsMixin
 
 __all__ = [
     "FOAM_1",
@@ -38,20 +38,8 @@ __all__ = [
 ]
 
 
-class _Params:
-    """Shared helpers of the frozen parameter dataclasses."""
-
-    def as_dict(self) -> dict[str, Any]:
-        """Return the fields as a plain ``dict`` (picklable, YAML-friendly)."""
-        return asdict(self)  # type: ignore[call-overload]
-
-    def replace(self, **changes: Any) -> Any:
-        """Return a copy with some fields changed (validated again)."""
-        return replace(self, **changes)  # type: ignore[type-var]
-
-
 @dataclass(frozen=True)
-class HeadNeck(_Params):
+class HeadNeck(ParamsMixin):
     """Human head on a neck spring-damper; the torso is infinitely massive.
 
     Parameters
@@ -92,7 +80,7 @@ class HeadNeck(_Params):
 
 
 @dataclass(frozen=True)
-class ContactDynamics(_Params):
+class ContactDynamics(ParamsMixin):
     """Effective single-DOF manipulator at the impact point (Sec. 3.4).
 
     Parameters
@@ -140,7 +128,7 @@ class ContactDynamics(_Params):
 
 
 @dataclass(frozen=True)
-class Foam(_Params):
+class Foam(ParamsMixin):
     """Elastomeric foam covering: linear Kelvin-Voigt spring and damper.
 
     Parameters
@@ -256,7 +244,7 @@ TABLE_3_2_HEADS: dict[int, tuple[ContactDynamics, HeadNeck]] = {
 
 
 @dataclass(frozen=True)
-class LinkImpact(_Params):
+class LinkImpact(ParamsMixin):
     """A revolute joint whose link can be struck anywhere in a range of lever arms.
 
     Scenarios 1 and 2 of Zeng 2011 (Sec. 3.4.3): at lever arm ``l`` the effective
