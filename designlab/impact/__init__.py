@@ -4,10 +4,13 @@ from __future__ import annotations
 
 from designlab.impact.criteria import (
     ISO_TS_15066_QUASI_STATIC_FORCE,
+    ISO_TS_15066_TRANSIENT_FACTOR,
+    CompressionLimit,
     Criterion,
     HeadAcceleration,
     HeadInjuryCriterion,
     ImpactForce,
+    IsoQuasiStaticForce,
     IsoTransientForce,
 )
 from designlab.impact.effective import (
@@ -23,14 +26,8 @@ from designlab.impact.effective import (
 from designlab.impact.envelope import (
     THESIS_HEAD_RANGE,
     FoamEnvelope,
-    FoamThickness,
     HeadRange,
-    SafeVelocity,
-    WorstCaseCheck,
-    check_worst_case,
     foam_envelope,
-    max_safe_velocity,
-    min_foam_thickness,
 )
 from designlab.impact.full_joint import (
     BandFitSweep,
@@ -85,6 +82,15 @@ from designlab.impact.planes import (
     combined_impact,
 )
 from designlab.impact.simulate import ImpactResponse, VelocityProfile, hic, simulate
+from designlab.impact.verdict import (
+    FoamThickness,
+    FoamVerdict,
+    SafeVelocity,
+    foam_verdict,
+    max_safe_velocity,
+    min_foam_thickness,
+)
+from designlab.impact.worst_case import WorstCaseCheck, check_worst_case
 
 __all__ = [
     "FOAM_1",
@@ -94,6 +100,7 @@ __all__ = [
     "HEAD_MAX",
     "HEAD_MIN",
     "ISO_TS_15066_QUASI_STATIC_FORCE",
+    "ISO_TS_15066_TRANSIENT_FACTOR",
     "MANIPULATOR_1",
     "MANIPULATOR_2",
     "PARAM_NAMES",
@@ -103,12 +110,14 @@ __all__ = [
     "BandFitSweep",
     "ClosingSpeed",
     "CombinedImpact",
+    "CompressionLimit",
     "ContactDynamics",
     "Criterion",
     "EffectiveContact",
     "Foam",
     "FoamEnvelope",
     "FoamThickness",
+    "FoamVerdict",
     "FullJointContact",
     "FullJointLink",
     "HeadAcceleration",
@@ -120,6 +129,7 @@ __all__ = [
     "ImpactPlane",
     "ImpactPointSweep",
     "ImpactResponse",
+    "IsoQuasiStaticForce",
     "IsoTransientForce",
     "JointFit",
     "JointReductionComparison",
@@ -139,6 +149,7 @@ __all__ = [
     "first_peak",
     "fit_joint_band",
     "foam_envelope",
+    "foam_verdict",
     "full_joint_tf",
     "hic",
     "impact_metrics",

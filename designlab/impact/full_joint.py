@@ -74,10 +74,11 @@ from designlab.errors import InvalidParameterError, check_positive
 from designlab.impact.joint import JointFit, fit_joint_band, reduced_joint
 from designlab.impact.modal import ModalResponse, poles_of
 from designlab.impact.model import INPUT_NAMES, LinearImpactModel, derive_model
-from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck, LinkImpact, _Params
+from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck, LinkImpact
 from designlab.impact.peaks import first_local_maximum
 from designlab.results import Result
 from designlab.units import STANDARD_GRAVITY
+from designlab.validation import ParamsMixin
 
 __all__ = [
     "FULL_INPUT_NAMES",
@@ -150,7 +151,7 @@ _UNITS = {
 
 
 @dataclass(frozen=True)
-class FullJointContact(_Params):
+class FullJointContact(ParamsMixin):
     """A single-joint manipulator with the full series joint (3.4.6), at the impact point.
 
     All values are effective (prismatic, along the impact normal): joint values

@@ -12,7 +12,7 @@ from scipy.integrate import solve_ivp
 
 import designlab as dl
 from designlab.errors import InvalidParameterError
-from designlab.impact import FOAM_1, HEAD_MIN, MANIPULATOR_1, TEST_HEAD
+from designlab.impact import FOAM_1, HEAD_MAX, HEAD_MIN, MANIPULATOR_1, TEST_HEAD
 from designlab.impact.full_joint import (
     FullJointContact,
     compare_joint_reductions,
@@ -500,3 +500,26 @@ def test_usable_intervals_agree_with_single_comparisons() -> None:
             s.usable_intervals("taylor", bad)
     with pytest.raises(InvalidParameterError, match="metric"):
         s.usable_intervals("taylor", 0.01, ["t_imp"])
+
+
+def test_safe_velocity_and_thickness_take_the_full_joint() -> None:
+    """The metrics are linear in v_c: at the largest safe speed the limiting metric of the
+    full joint, computed directly, sits on its limit; the needed linear depth is eps_max."""
+    from designlab.impact.full_joint import FULL_PARAM_NAMES
+    from designlab.impact.full_joint import full_joint_params as fjp
+
+    s = dl.impact.max_safe_velocity(ARM, FOAM_1)
+    assert s.ok
+    row = dict(zip(FULL_PARAM_NAMES, fjp(ARM, FOAM_1, HEAD_MAX), strict=True))
+    m = impact_metrics(row, s.impact_velocity)
+    limits = {"a_h,max <= 10 g": float(m.peak_head_acceleration_g[0]) / 10.0,
+              "eps_max <= 20 mm": float(m.max_compression[0]) / 0.020}  # fmt: skip
+    # HEAD_MAX is the compression design set; a_h,max uses HEAD_MIN
+    row_min = dict(zip(FULL_PARAM_NAMES, fjp(ARM, FOAM_1, HEAD_MIN), strict=True))
+    limits["a_h,max <= 10 g"] = float(impact_metrics(row_min, s.impact_velocity)
+                                      .peak_head_acceleration_g[0]) / 10.0  # fmt: skip
+    assert limits[s.limiting] == pytest.approx(1.0, rel=1e-6)
+    assert max(limits.values()) == pytest.approx(1.0, rel=1e-6)
+    t = dl.impact.min_foam_thickness(ARM, FOAM_1, 1.25)
+    eps = impact_metrics(row, 1.25).max_compression[0]
+    assert t.linear_depth == pytest.approx(float(eps), rel=1e-6)
