@@ -249,6 +249,10 @@ class WorstImpactPoint(Result):
         a_h,max as l -> 0 (v_c -> head speed, M_r, K_r, C_r -> infinity), g.
     grid, grid_a_h_max_g
         The search grid, m, and a_h,max on it, g.
+    status
+        ``"ok"``, or ``"at_bound"`` when the worst point is an end of the range.
+    warnings
+        Notes (a worst point at an end of the range).
     """
 
     speed_ratio: float

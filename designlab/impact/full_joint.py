@@ -834,11 +834,17 @@ class JointReductionComparison(Result):
     band
         The band fit (:class:`~designlab.impact.joint.JointFit`) and its
         ``omega_max`` in :attr:`band_omega_max`.
+    foam, head
+        The foam and the head-neck set (``None``: constrained impact).
+    band_omega_max
+        Upper end of the band fit's band, rad/s.
     impact_velocity
         v_c, m/s.
     status
         ``"ok"``, or ``"band_fit_failed"`` (the band-fit rows are missing) or
         the first metric status that is not ``"ok"``.
+    warnings
+        Notes on the result (a failed band fit, metric warnings).
     """
 
     robot: FullJointContact
@@ -1076,6 +1082,14 @@ class JointReductionSweep(Result):
     base
         The manipulator the sweep was built from (its controller, mass and
         transmission damping are kept; K_mech = ratio * K_cont).
+    foam, head
+        The foam and the head-neck set (``None``: constrained impact).
+    impact_velocity
+        v_c, m/s.
+    status
+        ``"ok"``, or what went wrong.
+    warnings
+        Notes on the result (fallbacks, failed fits).
     """
 
     base: FullJointContact
@@ -1342,6 +1356,16 @@ class BandFitSweep(Result):
     rms_ratio
         Frequency-domain rms relative error of the fit divided by the Taylor
         truncation's, over each band (< 1: the fit is better *in frequency*).
+    robot
+        The full-joint manipulator.
+    foam, head
+        The foam and the head-neck set (``None``: constrained impact).
+    impact_velocity
+        v_c, m/s.
+    status
+        ``"ok"``, or what went wrong.
+    warnings
+        Notes on the result (fallbacks, failed fits).
     """
 
     robot: FullJointContact

@@ -89,7 +89,28 @@ def _param_names(width: int | None = None, keys: object = None) -> tuple[str, ..
 
 
 def response_model(p: NDArray, constrained: bool) -> LinearImpactModel:
-    """The model of parameter rows ``p``: reduced for 8 columns, full joint for 10."""
+    """The model of parameter rows ``p``: reduced for 8 columns, full joint for 10.
+
+    Parameters
+    ----------
+    p
+        ``(N, 8)`` rows ordered as :data:`PARAM_NAMES` or ``(N, 10)`` rows ordered as
+        :data:`designlab.impact.full_joint.FULL_PARAM_NAMES`.
+    constrained
+        The constrained impact (head against a wall).
+
+    Returns
+    -------
+    LinearImpactModel
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> response_model(np.zeros((1, 8)), False).name
+    'unconstrained'
+    >>> response_model(np.zeros((1, 10)), True).name.startswith("full_joint")
+    True
+    """
     if p.shape[-1] == len(PARAM_NAMES):
         return constrained_model() if constrained else unconstrained_model()
     from designlab.impact.full_joint import full_joint_model
@@ -522,6 +543,11 @@ def metrics_from_responses(
         Most grid steps of the march to the end of the first lobe.
     lobe_diagnostics
         Also return the lobe-search diagnostics.
+    rate
+        Fastest rate (1/s, ``(N,)``) the search grid must resolve; default the
+        largest pole modulus. The full joint passes
+        :func:`designlab.impact.full_joint.grid_rate` (its stiff motor node is
+        not resolved).
     """
     n = p.shape[0]
     names = tuple(k for k in ("force", "head_acceleration", "compression") if k in resp)

@@ -289,6 +289,32 @@ def derive_model(
     ``v_c``) so that the constant-velocity impact is ``u = v_c [t, 1, 0, ...]``.
     Used for the reduced model here and the full series joint of
     :mod:`designlab.impact.full_joint`.
+
+    Parameters
+    ----------
+    name
+        Model name (``LinearImpactModel.name``; prefixes the CasADi functions).
+    x, u, p
+        Symbols of the states, the inputs and the parameters.
+    xdot, y
+        State derivatives and outputs, expressions in ``x``, ``u``, ``p``.
+    state_names, output_names
+        Names of the entries of ``x`` and ``y``.
+    param_names, input_names
+        Names of the entries of ``p`` and ``u``.
+
+    Returns
+    -------
+    LinearImpactModel
+
+    Examples
+    --------
+    >>> import casadi as ca
+    >>> x, u, p = ca.SX.sym("x", 1), ca.SX.sym("u", 3), ca.SX.sym("p", 1)
+    >>> m = derive_model("demo", x, u, p, -p[0] * x + u[1], x, ("x",), ("force",),
+    ...                  param_names=("k",))
+    >>> m.n_states, m.output_names
+    (1, ('force',))
     """
     ode = ca.Function(f"impact_{name}_ode", [x, u, p], [xdot], ["x", "u", "p"], ["xdot"])
     outputs = ca.Function(f"impact_{name}_outputs", [x, u, p], [y], ["x", "u", "p"], ["y"])

@@ -100,6 +100,10 @@ class ClosingSpeed(Result):
     gamma_r, gamma_c
         Angles (rad) between the manipulator's (head's) velocity and the normal;
         NaN for a zero velocity.
+    status
+        ``"ok"`` (a closing speed is always defined).
+    warnings
+        Empty.
     """
 
     closing_speed: float
@@ -241,6 +245,10 @@ class CombinedImpact(Result):
     a_h_max_vector
         The largest magnitude of the head's acceleration vector over time, m/s^2
         (an extension; <= ``a_h_max_sum``).
+    status
+        ``"ok"``, or the first status of a plane's impact that is not.
+    warnings
+        The planes' warnings.
     """
 
     planes: tuple[ImpactPlane, ...]

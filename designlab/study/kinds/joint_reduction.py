@@ -165,7 +165,15 @@ class JointStudy:
 
 @dataclass(frozen=True)
 class JointReductionResult(Result):
-    """Result of a ``joint_reduction`` study."""
+    """Result of a ``joint_reduction`` study.
+
+    Attributes
+    ----------
+    study
+        The validated study.
+    joints
+        Per joint, the comparison as given and the sweep over the ratios.
+    """
 
     study: JointReductionStudy
     joints: list[JointStudy]

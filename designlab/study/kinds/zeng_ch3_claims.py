@@ -143,7 +143,21 @@ class ReadingChange:
 
 @dataclass(frozen=True)
 class Ch3ClaimsResult(Result):
-    """Result of a ``zeng_ch3_claims`` study."""
+    """Result of a ``zeng_ch3_claims`` study.
+
+    Attributes
+    ----------
+    study
+        The validated study.
+    profiles
+        Sec. 3.8: one :class:`ReadingChange` per reading and sign of the acceleration.
+    worst_points
+        Fig. 3.16: one :class:`~designlab.impact.ch3_claims.WorstImpactPoint` per ratio.
+    q2
+        ``(case, Q2Effect)`` for each Table 3.2 simulation.
+    recomputed, printed
+        Table 3.1's Manipulator 1 recomputed from its joint data, and as printed.
+    """
 
     study: Ch3ClaimsStudy
     profiles: list[ReadingChange]
