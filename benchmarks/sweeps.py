@@ -1,114 +1,179 @@
-"""Sweep executors: a 2000-point foam-envelope sensitivity sweep, serial vs processes vs Dask.
+"""Sweeps at scale: a million-point impact sweep end to end, against the bare kernel.
 
-Every point solves a full foam envelope (Zeng 2011, Sec. 3.9: upper and lower
-K_c boundaries over an 11-value damping grid, plus the boundaries at Foam 1's
-damping) for a Latin-hypercube design of the manipulator (M_r, K_r, C_r), the
-closing speed and the two limits (max_g, lambda). The same points run, in
-this one process, through
+Measured in one run on this machine, each phase in a fresh subprocess (so that
+its peak memory is its own):
 
-* the serial executor (the baseline),
-* local processes (``--workers``, default 2), and
-* a Dask LocalCluster of the same number of single-threaded worker processes,
+``kernel``
+    :func:`designlab.impact.impact_metrics` on the same designs, in slices of
+    65 536, on one core: the bare vectorised computation (the baseline).
+``run``
+    ``designlab run`` of an ``impact_sweep`` study (LHS over head mass, foam
+    stiffness and damping): sampling, chunked evaluation, the SQLite result
+    store, the report (Parquet table, summary CSV, density figures).
+``resume``
+    The same command with ``--resume`` once everything is stored.
 
-without the cache (pure compute + transport). The script checks that the three
-give identical results and prints wall times, speed-ups against serial, and
-the per-point overhead of each executor: (wall time x workers - serial
-time) / points, i.e. the time a worker spends on a point beyond the
-computation itself. A second, small run measures the cache write cost per
-point.
+It prints the ratios (targets: run <= 2x kernel, resume <= 0.25x kernel), the
+store's bytes per point (target < 100) and each phase's peak resident memory.
+``--envelope-points N`` adds a foam-envelope sweep on the serial and process
+executors (every point solves an envelope, ~40 ms: 100 000 points take about
+an hour on two cores, so the default is 2 000).
 
-Run:  python benchmarks/sweeps.py [--points 2000] [--workers 2]
+Run:  python benchmarks/sweeps.py [--points 1000000] [--envelope-points 2000] [--workers 2]
 """
 
 from __future__ import annotations
 
 import argparse
 import json
-import os
+import subprocess
+import sys
 import tempfile
 import time
+from pathlib import Path
 
-from designlab.analysis.executors import make_executor
+STUDY = """\
+designlab: 1
+kind: impact_sweep
+name: bench_sweep
+base: {{robot: MANIPULATOR_1, foam: FOAM_1, head: HEAD_MIN, impact_velocity: 1.25}}
+sweep:
+  method: lhs
+  samples: {n}
+  seed: 1
+  parameters:
+    head.mass: {{low: 4.4, high: 5.3}}
+    foam.stiffness: {{low: 13.48e3, high: 60.6e3, scale: log}}
+    foam.damping: {{low: 30, high: 120}}
+"""
+
+ENVELOPE_STUDY = """\
+designlab: 1
+kind: foam_envelope
+name: bench_envelope
+base: {{robot: MANIPULATOR_1, foam: FOAM_1}}
+damping: {{low: 0, high: 200, num: 11}}
+sweep:
+  method: lhs
+  samples: {n}
+  seed: 2011
+  parameters:
+    robot.mass: {{low: 5, high: 50}}
+    robot.stiffness: {{low: 10e3, high: 30e3}}
+    impact_velocity: {{low: 0.5, high: 1.5}}
+    max_g: {{low: 8, high: 12}}
+"""
+
+KERNEL = """\
+import json, resource, sys, time
+import numpy as np
 from designlab.analysis.sampling import latin_hypercube
-from designlab.analysis.sweep import run_points
-from designlab.report.cache import PointCache
+from designlab.impact import HEAD_MIN, MANIPULATOR_1, FOAM_1
+from designlab.impact.metrics import impact_metrics
+n = int(sys.argv[1])
+cols = latin_hypercube({"head.mass": (4.4, 5.3), "foam.stiffness": (13.48e3, 60.6e3),
+                        "foam.damping": (30.0, 120.0)}, n, seed=1,
+                       log={"foam.stiffness": True})
+r, h = MANIPULATOR_1, HEAD_MIN
+t0 = time.perf_counter()
+step = 65536
+total = 0.0
+for s in range(0, n, step):
+    e = min(s + step, n)
+    m = impact_metrics({"M_r": r.mass, "C_r": r.damping, "K_r": r.stiffness,
+                        "K_c": cols["foam.stiffness"][s:e], "C_c": cols["foam.damping"][s:e],
+                        "M_h": cols["head.mass"][s:e], "C_h": h.damping, "K_h": h.stiffness},
+                       1.25)
+    total += float(np.nansum(m.peak_head_acceleration_g))
+wall = time.perf_counter() - t0
+rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+print(json.dumps({"wall": wall, "rss_mb": rss, "check": total}))
+"""
 
-DAMPING = [float(c) for c in range(0, 201, 20)]  # N s/m, 11 values
-BOX = {
-    "M_r": (5.0, 50.0),
-    "K_r": (10e3, 30e3),
-    "C_r": (100.0, 400.0),
-    "v_c": (0.5, 1.5),
-    "max_g": (8.0, 12.0),
-    "lambda": (0.015, 0.025),
-}
-FOAM_1 = {"K_c": 24.25e3, "C_c": 71.9}
+CLI = """\
+import json, resource, sys, time
+from designlab.cli import app
+t0 = time.perf_counter()
+try:
+    app(sys.argv[1:], prog_name="designlab", standalone_mode=False)
+finally:
+    wall = time.perf_counter() - t0
+    rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    print("BENCH " + json.dumps({"wall": wall, "rss_mb": rss}), file=sys.stderr)
+"""
 
 
-def points(n: int) -> list[dict[str, float]]:
-    return [dict(p, **FOAM_1) for p in latin_hypercube(BOX, n, seed=2011)]
+def _bench(code: str, *args: str) -> dict[str, float]:
+    out = subprocess.run([sys.executable, "-c", code, *args], capture_output=True, text=True)
+    if out.returncode != 0:
+        raise SystemExit(f"benchmark phase failed:\n{out.stdout}\n{out.stderr}")
+    for line in (out.stdout + "\n" + out.stderr).splitlines():
+        if line.startswith("BENCH "):
+            return json.loads(line[6:])
+        if line.startswith("{"):
+            return json.loads(line)
+    raise SystemExit(f"no measurement:\n{out.stdout}\n{out.stderr}")
 
 
-def same(a: list[dict], b: list[dict]) -> bool:
-    """Equal results, NaN equal to NaN (a NaN from another process is another object)."""
-    norm = [json.dumps(r, sort_keys=True) for r in a]
-    return norm == [json.dumps(r, sort_keys=True) for r in b]
+def _store_bytes(cache: Path) -> int:
+    return sum(p.stat().st_size for p in cache.glob("*.sqlite*"))
 
 
-def timed(name: str, pts: list[dict[str, float]], workers: int) -> tuple[float, list]:
-    opts = {"damping": DAMPING}
-    t0 = time.perf_counter()
-    ex = make_executor(name, workers=workers) if name != "serial" else make_executor("serial")
-    start = time.perf_counter() - t0
-    with ex:
-        t1 = time.perf_counter()
-        run = run_points(pts, "foam_envelope", opts, executor=ex)
-        wall = time.perf_counter() - t1
-    print(f"  {name:<9s} start-up {start:6.2f} s   sweep {wall:7.2f} s   ({ex.describe()})")
-    return wall, run.results
+def impact_sweep(n: int, tmp: Path) -> None:
+    study = tmp / "bench_sweep.yaml"
+    study.write_text(STUDY.format(n=n))
+    cache, out = tmp / "cache", tmp / "reports"
+    kernel = _bench(KERNEL, str(n))
+    args = ["run", str(study), "-o", str(out), "--cache-dir", str(cache)]
+    run = _bench(CLI, *args)
+    resume = _bench(CLI, *args, "--resume")
+    size = _store_bytes(cache)
+    files = sorted(p.name for p in (out / "bench_sweep").iterdir())
+    print(f"impact_sweep, {n:,} points (LHS over M_h, K_c, C_c), one core:")
+    print(f"  bare kernel (impact_metrics)   {kernel['wall']:8.2f} s   peak RSS {kernel['rss_mb']:7.0f} MB")
+    print(f"  designlab run (store, report)  {run['wall']:8.2f} s   peak RSS {run['rss_mb']:7.0f} MB"
+          f"   ratio {run['wall'] / kernel['wall']:.2f}x (target <= 2x)")
+    print(f"  designlab run --resume         {resume['wall']:8.2f} s   peak RSS {resume['rss_mb']:7.0f} MB"
+          f"   ratio {resume['wall'] / kernel['wall']:.2f}x (target <= 0.25x)")
+    print(f"  result store on disk           {size / 1e6:8.1f} MB = {size / n:.1f} bytes/point "
+          "(target < 100)")
+    print(f"  report files: {', '.join(files)}")
+
+
+def envelope_sweep(n: int, workers: int, tmp: Path) -> None:
+    study = tmp / "bench_envelope.yaml"
+    study.write_text(ENVELOPE_STUDY.format(n=n))
+    walls = {}
+    for ex in ("serial", "processes"):
+        cache = tmp / f"cache_{ex}"
+        args = ["run", str(study), "-o", str(tmp / f"out_{ex}"), "--cache-dir", str(cache),
+                "--executor", ex]
+        if ex != "serial":
+            args += ["--workers", str(workers)]
+        walls[ex] = _bench(CLI, *args)
+        size = _store_bytes(cache)
+        print(f"  {ex:10s} {walls[ex]['wall']:8.2f} s  peak RSS {walls[ex]['rss_mb']:6.0f} MB  "
+              f"store {size / n:6.1f} bytes/point")
+    a = (tmp / "out_serial" / "bench_envelope" / "results.csv").read_bytes()
+    b = (tmp / "out_processes" / "bench_envelope" / "results.csv").read_bytes()
+    print(f"  processes speed-up {walls['serial']['wall'] / walls['processes']['wall']:.2f}x "
+          f"on {workers} workers; identical tables: {a == b}")
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--points", type=int, default=2000)
-    ap.add_argument("--workers", type=int, default=2)
-    args = ap.parse_args()
-    pts = points(args.points)
-    n, w = len(pts), args.workers
-    print(f"{n}-point foam-envelope sweep, {len(DAMPING)} damping values per envelope, "
-          f"{w} workers, {os.cpu_count()} CPUs")  # fmt: skip
-    serial, ref = timed("serial", pts, 1)
-    rows = [("serial", serial)]
-    for name in ("processes", "dask"):
-        try:
-            wall, res = timed(name, pts, w)
-        except Exception as exc:  # e.g. dask not installed
-            print(f"  {name}: skipped ({exc})")
-            continue
-        assert same(res, ref), f"{name} results differ from serial"
-        rows.append((name, wall))
-    print("\nexecutor   wall (s)  speed-up  per-point (ms)  overhead/point (ms)")
-    for name, wall in rows:
-        k = 1 if name == "serial" else w
-        over = (wall * k - serial) / n * 1e3
-        print(f"{name:<9s} {wall:9.2f} {serial / wall:9.2f}x {wall / n * 1e3:14.2f} {over:20.2f}")
-    print("identical results across executors: yes")
-
-    # cache write cost per point (serial, small run)
-    few = pts[:100]
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--points", type=int, default=1_000_000)
+    parser.add_argument("--envelope-points", type=int, default=2000)
+    parser.add_argument("--workers", type=int, default=2)
+    args = parser.parse_args()
     with tempfile.TemporaryDirectory() as d:
+        tmp = Path(d)
         t0 = time.perf_counter()
-        run_points(few, "foam_envelope", {"damping": DAMPING})
-        bare = time.perf_counter() - t0
-        t0 = time.perf_counter()
-        run_points(few, "foam_envelope", {"damping": DAMPING}, cache=PointCache(d))
-        cached = time.perf_counter() - t0
-        t0 = time.perf_counter()
-        run_points(few, "foam_envelope", {"damping": DAMPING}, cache=PointCache(d), resume=True)
-        resumed = time.perf_counter() - t0
-    print(f"\ncache: {(cached - bare) / len(few) * 1e3:.2f} ms/point to write, "
-          f"{resumed / len(few) * 1e3:.2f} ms/point to resume from it "
-          f"(vs {bare / len(few) * 1e3:.1f} ms/point to compute)")  # fmt: skip
+        impact_sweep(args.points, tmp)
+        if args.envelope_points:
+            print(f"foam_envelope, {args.envelope_points:,} points (11-value damping grid):")
+            envelope_sweep(args.envelope_points, args.workers, tmp)
+        print(f"(benchmark wall time {time.perf_counter() - t0:.0f} s)")
 
 
 if __name__ == "__main__":

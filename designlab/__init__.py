@@ -16,7 +16,7 @@ Examples
 from __future__ import annotations
 
 from designlab import errors, impact, navigation
+from designlab._version import __version__
 
 __all__ = ["__version__", "errors", "impact", "navigation"]
 
-__version__ = "0.1.0"

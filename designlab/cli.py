@@ -3,10 +3,10 @@
 ``designlab run STUDY.yaml [--executor serial|processes|dask] [--resume]``
     Validate and run a study and write its report to
     ``<output-dir>/<study name>/`` (default output dir: ``reports``) and
-    ``<output-dir>/index.md``. Sweep points are cached in
-    ``<cache-dir>/<study name>/`` as they finish.
+    ``<output-dir>/index.md``. Finished chunks of sweep points are kept in
+    the result store ``<cache-dir>/<study name>.sqlite`` as they finish.
 ``designlab report STUDY.yaml``
-    Rebuild a report from the cache, computing nothing.
+    Rebuild a report from the result store, computing nothing.
 ``designlab validate STUDY.yaml ...``
     Check study files against the schema without running them.
 ``designlab list``
@@ -83,6 +83,11 @@ def _fail(exc: DesignlabError) -> NoReturn:
     raise typer.Exit(code)
 
 
+def _usage(message: str) -> NoReturn:
+    typer.echo(f"error: {message}", err=True)
+    raise typer.Exit(EXIT_STUDY_ERROR)
+
+
 def _version(value: bool) -> None:
     if value:
         typer.echo(f"designlab {__version__}")
@@ -112,7 +117,9 @@ def _main(
 
 _CacheDir = Annotated[
     Path,
-    typer.Option("--cache-dir", help="Sweep points are cached in CACHE_DIR/<study name>/."),
+    typer.Option(
+        "--cache-dir", help="Finished sweep points are kept in CACHE_DIR/<study name>.sqlite."
+    ),
 ]
 _OutputDir = Annotated[
     Path,
@@ -125,16 +132,21 @@ def _write(result: object, study: Path, output_dir: Path, command: list[str]) ->
 
     text = study.read_text(encoding="utf-8")
     out = write_report(result, output_dir, command=shlex.join(command), study_text=text)
-    for warning in getattr(result, "warnings", []):
+    for warning in result.warnings:  # type: ignore[attr-defined]
         typer.echo(f"warning: {warning}", err=True)
+    status = result.status  # type: ignore[attr-defined]
+    if status != "ok":
+        typer.echo(f"status: {status} (see the report)", err=True)
     files = sorted(p.name for p in out.iterdir())
     shown = ", ".join(files) if len(files) <= 6 else ", ".join(files[:5]) + ", ..."
     typer.echo(f"wrote {out}/ ({shown})")
     stats = getattr(result, "stats", None)
     if stats:
+        merged = stats["points"] - stats.get("distinct", stats["points"])
+        dup = f", {merged} duplicates merged" if merged else ""
         typer.echo(
             f"points: {stats['points']} ({stats['computed']} computed, {stats['cached']} "
-            f"from the cache, {stats['failed']} failed) on {stats['executor']}"
+            f"from the store, {stats['failed']} failed{dup}) on {stats['executor']}"
         )
 
 
@@ -162,21 +174,28 @@ def run(
     ] = False,
     cache_dir: _CacheDir = DEFAULT_CACHE_DIR,
     timeout: Annotated[
-        float, typer.Option("--timeout", help="Seconds to wait for the Dask scheduler.")
+        float,
+        typer.Option("--timeout", help="Seconds (> 0) to wait for the Dask scheduler."),
     ] = 5.0,
 ) -> None:
     """Run a study and write its report (CSV, Markdown, PNG)."""
-    from designlab.analysis.executors import EXECUTORS, make_executor
-    from designlab.study import load_study, run_study
-    from designlab.study.schema import did_you_mean
+    from designlab.analysis.executors import EXECUTORS, check_scheduler_address, make_executor
+    from designlab.report.store import open_store
+    from designlab.study import RunContext, did_you_mean, load_study, run_study
 
     if executor not in EXECUTORS:
-        typer.echo(
-            f"error: --executor {executor!r} is not known{did_you_mean(executor, EXECUTORS)} "
-            f"(known: {', '.join(EXECUTORS)})",
-            err=True,
+        _usage(
+            f"--executor {executor!r} is not known{did_you_mean(executor, EXECUTORS)} "
+            f"(known: {', '.join(EXECUTORS)})"
         )
-        raise typer.Exit(EXIT_STUDY_ERROR)
+    if not (timeout > 0 and timeout < 86400):
+        _usage(f"--timeout {timeout!r} is not allowed: give seconds > 0 (and < 86400)")
+    if scheduler is not None:
+        if executor != "dask":
+            _usage("--scheduler is only used with --executor dask")
+        problem = check_scheduler_address(scheduler)
+        if problem:
+            _usage(f"--scheduler {scheduler!r} is not a scheduler address: {problem}")
     command = ["designlab", "run", str(study), "--output-dir", str(output_dir)]
     if executor != "serial":
         command += ["--executor", executor]
@@ -185,15 +204,19 @@ def run(
         ex = None
         if executor != "serial" or scheduler is not None or workers is not None:
             ex = make_executor(executor, workers=workers, scheduler=scheduler, timeout=timeout)
+        logging.getLogger("designlab").info(
+            "study %s (kind %s) on %s; store %s/%s.sqlite%s", spec.name, spec.kind,
+            ex.describe() if ex is not None else "serial", cache_dir, spec.name,
+            " (resume)" if resume else "",
+        )  # fmt: skip
+        store = open_store(cache_dir, spec.name)
         try:
-            result = run_study(
-                spec,
-                progress=sys.stderr.isatty(),
-                executor=ex,
-                cache_dir=cache_dir,
-                resume=resume,
+            context = RunContext(
+                progress=sys.stderr.isatty(), executor=ex, store=store, resume=resume
             )
+            result = run_study(spec, context)
         finally:
+            store.close()
             if ex is not None:
                 ex.close()
         _write(result, study, output_dir, command)
@@ -201,7 +224,7 @@ def run(
         _fail(exc)
     except KeyboardInterrupt:
         typer.echo(
-            f"interrupted: finished points are cached in {cache_dir}/; no report was "
+            f"interrupted: finished points are kept in {cache_dir}/; no report was "
             "written. Run the same command with --resume to finish.",
             err=True,
         )
@@ -214,13 +237,24 @@ def report(
     output_dir: _OutputDir = Path("reports"),
     cache_dir: _CacheDir = DEFAULT_CACHE_DIR,
 ) -> None:
-    """Rebuild a study's report from the cache, without computing any point."""
-    from designlab.study import load_study, run_study
+    """Rebuild a study's report from the result store, without computing any point."""
+    from designlab.report.store import open_store
+    from designlab.study import RunContext, load_study, run_study
 
     command = ["designlab", "report", str(study), "--output-dir", str(output_dir)]
     try:
         spec = load_study(study)
-        result = run_study(spec, cache_dir=cache_dir, cache_only=True)
+        store = open_store(cache_dir, spec.name)
+        if not store.path.exists():
+            from designlab.analysis.sweep import CacheIncompleteError
+
+            raise CacheIncompleteError(
+                f"no result store {store.path}; run the study first (designlab run {study})"
+            )
+        try:
+            result = run_study(spec, RunContext(store=store, cache_only=True))
+        finally:
+            store.close()
         _write(result, study, output_dir, command)
     except DesignlabError as exc:
         _fail(exc)
@@ -235,7 +269,7 @@ def schema(
     """Print the JSON Schema of study files (for editors and CI)."""
     import json
 
-    from designlab.study.schema import study_json_schema
+    from designlab.study import study_json_schema
 
     text = json.dumps(study_json_schema(), indent=2) + "\n"
     if output is None:
@@ -268,13 +302,8 @@ def validate(
             failed.append(exc)
             typer.echo(f"error: {exc}", err=True)
             continue
-        n = len(getattr(spec, "cases", ()))
-        detail = f", {n} case{'s' if n != 1 else ''}" if n else ""
-        if hasattr(spec, "base_point"):
-            from designlab.study.sweep_runner import count_points
-
-            detail = f", {count_points(spec)} points"
-        typer.echo(f"ok: {path} (kind {spec.kind}{detail})")
+        size = spec.size()
+        typer.echo(f"ok: {path} (kind {spec.kind}{', ' + size if size else ''})")
     if failed:
         raise typer.Exit(EXIT_STUDY_ERROR)
 

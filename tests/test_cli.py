@@ -127,7 +127,10 @@ def test_sweep_run_report_and_index(write_study, tmp_path):
     args = ["run", str(study), "-o", str(out), "--cache-dir", str(cache)]
     result = runner.invoke(app, args)
     assert result.exit_code == 0, result.output
-    assert "points: 10 (8 computed, 0 from the cache, 0 failed) on serial" in result.stdout
+    assert (
+        "points: 10 (8 computed, 0 from the store, 0 failed, 2 duplicates merged) on serial"
+        in result.stdout
+    )
     summary = (out / "cli_sweep" / "summary.md").read_text()
     assert f"`designlab run {study} --output-dir {out}` with designlab" in summary
     assert "### Local elasticities at the base design" in summary
@@ -140,14 +143,14 @@ def test_sweep_run_report_and_index(write_study, tmp_path):
     # rebuild from the cache: nothing computed, same numbers
     result = runner.invoke(app, ["report", str(study), "-o", str(out), "--cache-dir", str(cache)])
     assert result.exit_code == 0, result.output
-    assert "(0 computed, 8 from the cache, 0 failed)" in result.stdout
+    assert "(0 computed, 8 from the store, 0 failed, 2 duplicates merged)" in result.stdout
     assert (out / "cli_sweep" / "results.csv").read_text() == before
     # an empty cache: exit 4, report left as it was
     result = runner.invoke(
         app, ["report", str(study), "-o", str(out), "--cache-dir", str(tmp_path)]
     )
     assert result.exit_code == EXIT_CACHE_INCOMPLETE
-    assert "7 points of cli_sweep are not in the cache" in result.stderr
+    assert "no result store" in result.stderr and "run the study first" in result.stderr
     assert (out / "cli_sweep" / "results.csv").read_text() == before
 
 
@@ -171,12 +174,9 @@ def test_schema_export(tmp_path):
     result = runner.invoke(app, ["schema"])
     assert result.exit_code == 0
     schema = json.loads(result.stdout)
-    assert set(schema["discriminator"]["mapping"]) == {
-        "impact_cases",
-        "impact_sweep",
-        "foam_envelope",
-        "foam_design",
-    }
+    assert {"impact_cases", "impact_sweep", "foam_envelope", "foam_design"} <= set(
+        schema["discriminator"]["mapping"]
+    )
     params = schema["$defs"]["ImpactSweepParameters"]
     assert params["additionalProperties"] is False
     assert params["properties"]["foam.stiffness"]["description"] == "foam stiffness K_c, N/m"
@@ -188,3 +188,22 @@ def test_every_example_study_validates(repo_root):
     studies = sorted((repo_root / "studies").glob("*.yaml"))
     result = runner.invoke(app, ["validate", *map(str, studies)])
     assert result.exit_code == 0, result.output
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (["--executor", "dask", "--scheduler", "nonsense"],
+         "--scheduler 'nonsense' is not a scheduler address: give PROTOCOL://HOST:PORT"),
+        (["--executor", "dask", "--scheduler", "tcp://h:99999"], "the port must be 1-65535"),
+        (["--scheduler", "tcp://h:8786"], "--scheduler is only used with --executor dask"),
+        (["--timeout", "-5"], "--timeout -5.0 is not allowed: give seconds > 0"),
+        (["--timeout", "nan"], "--timeout nan is not allowed"),
+    ],
+)  # fmt: skip
+def test_run_rejects_bad_executor_options_cleanly(write_study, tmp_path, extra, message):
+    study = write_study(SWEEP_STUDY, "sweep.yaml")
+    result = runner.invoke(app, ["run", str(study), "-o", str(tmp_path), *extra])
+    assert result.exit_code == EXIT_STUDY_ERROR, result.output
+    assert message in result.stderr
+    assert "Traceback" not in result.output

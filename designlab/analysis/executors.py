@@ -44,6 +44,7 @@ __all__ = [
     "ExecutorError",
     "ProcessExecutor",
     "SerialExecutor",
+    "check_scheduler_address",
     "make_executor",
 ]
 
@@ -51,6 +52,44 @@ logger = logging.getLogger(__name__)
 
 #: Names accepted by :func:`make_executor` (and ``designlab run --executor``).
 EXECUTORS = ("serial", "processes", "dask")
+
+
+def check_scheduler_address(address: str) -> str:
+    """``""`` if ``address`` looks like a Dask scheduler address, else what is wrong.
+
+    Parameters
+    ----------
+    address
+        For example ``tcp://10.0.0.5:8786`` or ``scheduler:8786``.
+
+    Examples
+    --------
+    >>> check_scheduler_address("tcp://127.0.0.1:8786")
+    ''
+    >>> check_scheduler_address("nonsense")
+    'give PROTOCOL://HOST:PORT, e.g. tcp://127.0.0.1:8786'
+    >>> check_scheduler_address("tcp://host:99999")
+    'the port must be 1-65535'
+    """
+    from urllib.parse import urlsplit
+
+    text = address.strip()
+    if "://" not in text:
+        text = "tcp://" + text
+    try:
+        parts = urlsplit(text)
+        port = parts.port
+    except ValueError:
+        return "the port must be 1-65535"
+    if parts.scheme == "inproc":
+        return ""
+    if parts.scheme not in ("tcp", "tls", "ucx", "ws", "wss"):
+        return f"unknown protocol {parts.scheme!r} (tcp, tls, ucx, ws, wss)"
+    if not parts.hostname or port is None:
+        return "give PROTOCOL://HOST:PORT, e.g. tcp://127.0.0.1:8786"
+    if not 0 < port < 65536:
+        return "the port must be 1-65535"
+    return ""
 
 
 class ExecutorError(DesignlabError, RuntimeError):

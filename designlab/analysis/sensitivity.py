@@ -30,7 +30,7 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -38,10 +38,14 @@ import pandas as pd
 from numpy.typing import ArrayLike
 
 __all__ = [
+    "MetricFunction",
     "SensitivityTable",
+    "elasticities",
     "elasticity_table",
+    "one_at_a_time",
     "one_at_a_time_table",
     "range_table",
+    "sobol_indices",
     "sobol_table",
     "tornado_figure",
 ]
@@ -318,3 +322,172 @@ def tornado_figure(table: SensitivityTable, metric: str, *, title: str | None = 
     ax.legend(loc="best", fontsize="small")
     fig.tight_layout()
     return fig
+
+
+# --- the same tables for any callable metric --------------------------------------------
+
+#: ``metric(points) -> {metric name: values}``: points are columns (name -> array), one
+#: value per point; a failed point is NaN. Navigation gains, follower and PID gains and the
+#: impact models all fit this shape.
+MetricFunction = Callable[[dict[str, np.ndarray]], Mapping[str, ArrayLike]]
+
+
+def _call(metric: MetricFunction, points: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    out = metric(points)
+    n = len(next(iter(points.values())))
+    res = {str(k): np.asarray(v, dtype=float).reshape(-1) for k, v in out.items()}
+    for k, v in res.items():
+        if v.shape != (n,):
+            raise ValueError(f"metric {k!r} returned {v.shape[0]} values for {n} points")
+    return res
+
+
+def _replicate(base: Mapping[str, float], n: int) -> dict[str, np.ndarray]:
+    return {k: np.full(n, float(v)) for k, v in base.items()}
+
+
+def one_at_a_time(
+    metric: MetricFunction,
+    base: Mapping[str, float],
+    parameters: Sequence[str],
+    deltas_pct: Sequence[float] = (-50, -20, -10, -5, -2, 2, 5, 10, 20, 50),
+    descriptions: Mapping[str, str] | None = None,
+) -> SensitivityTable:
+    """The Appendix-C table (Zeng 2011, eqs. C.3.1-C.3.4) of any vectorised metric.
+
+    Each parameter alone is changed by each percentage; all the points are
+    evaluated in one call of ``metric``.
+
+    Parameters
+    ----------
+    metric
+        ``metric(points) -> {name: values}`` (see :data:`MetricFunction`).
+    base
+        The base point (every parameter the metric needs).
+    parameters
+        Names in ``base`` to perturb.
+    deltas_pct
+        Perturbations, % of the base value (-100 sets the parameter to zero).
+    descriptions
+        Parameter -> description, shown in the tables.
+
+    Examples
+    --------
+    >>> def power(p):
+    ...     return {"y": p["a"] ** 2 * p["b"]}
+    >>> t = one_at_a_time(power, {"a": 2.0, "b": 3.0}, ["a", "b"], [10])
+    >>> t.frame.set_index("parameter")["S_pct"].round(1).to_dict()
+    {'a': 210.0, 'b': 100.0}
+    """
+    names = list(parameters)
+    unknown = [p for p in names if p not in base]
+    if unknown:
+        raise ValueError(f"parameters {unknown} are not in the base point {sorted(base)}")
+    changes = [(p, float(d), float(base[p]) * (1 + float(d) / 100)) for p in names for d in deltas_pct]
+    pts = _replicate(base, len(changes) + 1)
+    for i, (p, _, x) in enumerate(changes, start=1):
+        pts[p][i] = x
+    values = _call(metric, pts)
+    at_base = {m: float(v[0]) for m, v in values.items()}
+    rows = [(p, d, x, {m: float(v[i]) for m, v in values.items()})
+            for i, (p, d, x) in enumerate(changes, start=1)]  # fmt: skip
+    return one_at_a_time_table(at_base, rows, descriptions)
+
+
+def elasticities(
+    metric: MetricFunction,
+    base: Mapping[str, float],
+    parameters: Sequence[str],
+    *,
+    relative_step: float = 1e-4,
+    descriptions: Mapping[str, str] | None = None,
+) -> SensitivityTable:
+    """Local elasticities ``d ln m / d ln p`` of any metric by central differences.
+
+    For models with exact derivatives (the impact domain: CasADi AD) prefer
+    those; this serves metrics without them (simulated navigation or
+    follower runs, where the step must stay above the simulation's noise).
+
+    Parameters
+    ----------
+    metric
+        ``metric(points) -> {name: values}``.
+    base
+        The base point.
+    parameters
+        Names in ``base`` to differentiate against (their base values must be
+        non-zero).
+    relative_step
+        Relative step of the central difference.
+    descriptions
+        Parameter -> description.
+
+    Examples
+    --------
+    >>> t = elasticities(lambda p: {"y": p["a"] ** 2 * p["b"] ** -0.5}, {"a": 2.0, "b": 3.0},
+    ...                  ["a", "b"])
+    >>> t.frame.set_index("parameter")["elasticity"].round(6).to_dict()
+    {'a': 2.0, 'b': -0.5}
+    """
+    if not relative_step > 0:
+        raise ValueError(f"relative_step = {relative_step!r} must be > 0")
+    names = list(parameters)
+    pts = _replicate(base, 2 * len(names) + 1)
+    for j, p in enumerate(names):
+        if float(base[p]) == 0:
+            raise ValueError(f"parameter {p!r} is 0 at the base: no elasticity")
+        pts[p][1 + 2 * j] *= 1 + relative_step
+        pts[p][2 + 2 * j] *= 1 - relative_step
+    values = _call(metric, pts)
+    out: dict[str, dict[str, float]] = {}
+    for m, v in values.items():
+        for j, p in enumerate(names):
+            up, down, mid = v[1 + 2 * j], v[2 + 2 * j], v[0]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                out.setdefault(m, {})[p] = float((up - down) / (2 * relative_step * mid))
+    return elasticity_table(out, descriptions)
+
+
+def sobol_indices(
+    metric: MetricFunction,
+    base: Mapping[str, float],
+    bounds: Mapping[str, tuple[float, float]],
+    samples: int = 256,
+    *,
+    seed: int = 0,
+    descriptions: Mapping[str, str] | None = None,
+) -> SensitivityTable:
+    """First-order and total Sobol indices of any metric over a box (SALib).
+
+    Parameters
+    ----------
+    metric
+        ``metric(points) -> {name: values}``, called once on the whole sample.
+    base
+        Values of the parameters that are not varied.
+    bounds
+        Name -> (low, high) of the varied parameters (at least two).
+    samples
+        Base sample size N, a power of two; ``N (D + 2)`` evaluations.
+    seed
+        Seed of the sample and the bootstrap.
+    descriptions
+        Parameter -> description.
+
+    Examples
+    --------
+    >>> t = sobol_indices(lambda p: {"y": 10 * p["a"] + p["b"]}, {}, {"a": (0, 1), "b": (0, 1)}, 512)
+    >>> t.ranked("y")["parameter"].tolist()
+    ['a', 'b']
+    """
+    from designlab.analysis.sampling import saltelli
+
+    if len(bounds) < 2:
+        raise ValueError("Sobol indices need at least two varied parameters")
+    sample = saltelli(bounds, samples, seed=seed)
+    n = len(next(iter(sample.values())))
+    pts = _replicate(base, n)
+    pts.update(sample)
+    values = _call(metric, pts)
+    return sobol_table(list(bounds), list(bounds.values()), values, seed=seed,
+                       descriptions=descriptions)  # fmt: skip

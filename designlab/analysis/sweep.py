@@ -1,365 +1,522 @@
-"""Evaluate many design points through an executor, with an on-disk cache.
+"""Evaluate many design points in vectorised chunks, through an executor and a result store.
 
-A *point* is a plain dictionary of floats (for the impact model
-``{M_r, C_r, K_r, K_c, C_c, lambda, M_h, C_h, K_h, v_c}``). An *evaluator* is
-a function registered in :data:`EVALUATORS` that takes a list of points and
-the options shared by all of them and returns one result dictionary per
-point; it runs inside the worker and builds its models there. Points are
-sent in chunks (vectorised evaluation), each result is cached as soon as its
-chunk finishes, and a point that fails is recorded with ``status: error``
-and its error message while the sweep goes on.
+Points are *columns*: a mapping from point key (``"M_r"``, ``"K_c"``, ...) to a
+1-D float array, one entry per point. An *evaluator* is a plain module-level
+function of the domain that owns the physics,
+
+``evaluator(points: dict[str, ndarray], options: dict) -> dict[str, ndarray]``
+
+which computes a whole chunk at once and returns result columns of the same
+length (numbers, booleans or strings; a ``status`` column says ``"ok"`` or what
+happened). The engine hands evaluators to the workers *by reference* (pickled
+by qualified name), so nothing is registered through import side effects and
+the serial, process and Dask executors run exactly the same code.
+
+The engine
+
+* merges identical points (they are evaluated once; :attr:`SweepRun.duplicates`
+  says how many were merged),
+* cuts the distinct points into chunks of a fixed size (the evaluator's
+  ``chunk_size`` attribute, default :data:`DEFAULT_CHUNK_SIZE`), so that the
+  chunks, and their keys, do not depend on the executor or the worker count,
+* keys each chunk by a hash of its points, the evaluator's qualified name, its
+  options and the *source* of the package that holds the evaluator
+  (:func:`code_version`): editing navigation code invalidates navigation points
+  and nothing else,
+* reads finished chunks from the store (``resume``), and writes each chunk to
+  the store as soon as it comes back (the client is the only writer),
+* records a point that fails on its own: when a chunk raises, it is split in
+  halves until the failing points are isolated; they get ``status: error`` and
+  the exception in ``error``, the rest of the chunk is kept.
 
 Examples
 --------
->>> from designlab.analysis.sweep import run_points
->>> point = {"M_r": 9.6, "C_r": 250.0, "K_r": 20e3, "K_c": 24.25e3, "C_c": 71.9,
-...          "lambda": 0.02, "M_h": 4.4, "C_h": 0.0, "K_h": 4e3, "v_c": 1.25}
->>> bad = dict(point, M_r=0.0)
->>> run = run_points([point, bad], "impact_metrics")
->>> round(run.results[0]["a_h_max_g"], 2), run.results[0]["status"]
-(6.57, 'ok')
->>> run.results[1]["status"], run.results[1]["error"]
-('error', 'InvalidParameterError: M_r[0] = 0.0 kg is not allowed: must be a finite number > 0')
+>>> import numpy as np
+>>> def square(points, options):
+...     x = points["x"]
+...     if np.any(x < 0):
+...         raise ValueError("x must be >= 0")
+...     return {"y": x**2 + options["c"], "status": np.full(len(x), "ok")}
+>>> run = run_points({"x": np.array([1.0, -1.0, 2.0, 1.0])}, square, {"c": 0.5})
+>>> run.frame[["y", "status"]].to_dict("list")
+{'y': [1.5, nan, 4.5, 1.5], 'status': ['ok', 'error', 'ok', 'ok']}
+>>> run.frame["error"][1]
+'ValueError: x must be >= 0'
+>>> run.computed, run.duplicates
+(3, 1)
 """
 
 from __future__ import annotations
 
+import hashlib
+import importlib
+import json
 import logging
-import math
 import sys
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from functools import cache
+from pathlib import Path
+from typing import Any, Protocol
 
 import numpy as np
+import pandas as pd
 
 from designlab.errors import DesignlabError
 
 __all__ = [
-    "EVALUATORS",
+    "DEFAULT_CHUNK_SIZE",
+    "STATUS_ERROR",
     "CacheIncompleteError",
+    "Columns",
+    "Evaluator",
+    "ResultStore",
     "SweepRun",
-    "evaluate_task",
-    "register_evaluator",
+    "as_columns",
+    "chunk_key",
+    "code_version",
+    "evaluate_chunk",
+    "evaluator_id",
     "run_points",
 ]
 
 logger = logging.getLogger(__name__)
 
-Point = dict[str, float]
-Evaluator = Callable[[list[Point], dict[str, Any]], list[dict[str, Any]]]
+#: Point or result columns: key -> 1-D array (all of one length).
+Columns = dict[str, np.ndarray]
+#: ``evaluator(points, options) -> results``, vectorised over the chunk.
+Evaluator = Callable[[Columns, dict[str, Any]], Mapping[str, Any]]
 
-#: Evaluators by name. Each takes ``(points, options)`` and returns one result
-#: dict per point (JSON-compatible values; include ``status``).
-EVALUATORS: dict[str, Evaluator] = {}
-
+#: Status of a point whose evaluation raised.
 STATUS_ERROR = "error"
+#: Points per chunk unless the evaluator sets ``chunk_size``.
+DEFAULT_CHUNK_SIZE = 2048
+#: Version of the chunk key layout; part of every key.
+KEY_FORMAT = 2
 
 
 class CacheIncompleteError(DesignlabError, LookupError):
-    """Rebuilding from the cache only, but some points are not in it."""
+    """Rebuilding from the store only, but some points are not in it."""
 
 
-def register_evaluator(name: str) -> Callable[[Evaluator], Evaluator]:
-    """Decorator: register an evaluator under ``name``."""
+class ResultStore(Protocol):
+    """What the engine needs of a result store (see :mod:`designlab.report.store`)."""
 
-    def deco(fn: Evaluator) -> Evaluator:
-        EVALUATORS[name] = fn
-        return fn
+    def get_chunk(self, key: str) -> tuple[str, Any]:
+        """``("ok", columns)``, ``("missing", None)`` or ``("corrupt", reason)``."""
 
-    return deco
+    def put_chunk(self, key: str, columns: Columns) -> None:
+        """Store a finished chunk."""
 
-
-_IMPACT_KEYS = ("M_r", "C_r", "K_r", "K_c", "C_c", "M_h", "C_h", "K_h")
-
-
-def _f(x: Any) -> float:
-    return float(x)
+    def discard(self, key: str) -> None:
+        """Remove a chunk (e.g. a corrupt one)."""
 
 
-@register_evaluator("impact_metrics")
-def _impact_metrics(points: list[Point], options: dict[str, Any]) -> list[dict[str, Any]]:
-    """First-lobe impact metrics (:func:`designlab.impact.impact_metrics`)."""
-    from designlab.impact.metrics import impact_metrics
-
-    p = np.array([[pt[k] for k in _IMPACT_KEYS] for pt in points], dtype=float)
-    v = np.array([pt["v_c"] for pt in points], dtype=float)
-    m = impact_metrics(p, v)
-    out = []
-    for i, pt in enumerate(points):
-        eps = _f(m.max_compression[i])
-        out.append(
-            {
-                "a_h_max_g": _f(m.peak_head_acceleration_g[i]),
-                "eps_max_m": eps,
-                "f_c_max_N": _f(m.peak_force[i]),
-                "t_imp_s": _f(m.impact_duration[i]),
-                "bottoming": bool(eps > pt.get("lambda", math.inf)),
-                "status": str(m.status[i]),
-                "error": None,
-            }
-        )
-    return out
+# --- identity of evaluators and chunks ---------------------------------------------
 
 
-@register_evaluator("impact_elasticities")
-def _impact_elasticities(points: list[Point], options: dict[str, Any]) -> list[dict[str, Any]]:
-    """Elasticities of the impact metrics by CasADi AD (:mod:`designlab.impact.derivatives`)."""
-    from designlab.impact.derivatives import VARIABLE_NAMES, metric_gradients
+def evaluator_id(fn: Callable[..., Any]) -> str:
+    """The qualified name ``module.function`` by which workers find an evaluator.
 
-    p = np.array([[pt[k] for k in _IMPACT_KEYS] for pt in points], dtype=float)
-    v = np.array([pt["v_c"] for pt in points], dtype=float)
-    g = metric_gradients(p, v)
-    names = {
-        "peak_head_acceleration": "a_h_max_g",
-        "max_compression": "eps_max_m",
-        "peak_force": "f_c_max_N",
-        "impact_duration": "t_imp_s",
-    }
-    out: list[dict[str, Any]] = [{"status": str(s), "error": None} for s in g.metrics.status]
-    for metric, column in names.items():
-        el = g.elasticities(metric)
-        for i in range(len(points)):
-            out[i][column] = {k: _f(el[k][i]) for k in VARIABLE_NAMES}
-    return out
-
-
-def _envelopes(pt: Point, damping: list[float]) -> tuple[Any, Any]:
-    from designlab.impact import ContactDynamics, HeadAcceleration, foam_envelope
-
-    robot = ContactDynamics(mass=pt["M_r"], stiffness=pt["K_r"], damping=pt["C_r"])
-    kw = {
-        "impact_velocity": pt["v_c"],
-        "criteria": [HeadAcceleration(max_g=pt["max_g"])],
-        "max_compression": pt["lambda"],
-    }
-    grid = foam_envelope(robot, damping=np.asarray(damping, dtype=float), **kw)
-    at_foam = foam_envelope(robot, damping=np.array([pt["C_c"]]), **kw)
-    return grid, at_foam
-
-
-@register_evaluator("foam_envelope")
-def _foam_envelope(points: list[Point], options: dict[str, Any]) -> list[dict[str, Any]]:
-    """Foam envelope over the damping grid; boundaries and margin at the point's foam."""
-    out = []
-    for pt in points:
-        grid, at = _envelopes(pt, options["damping"])
-        kmax = _f(at.stiffness_max[0])
-        kmin = _f(at.stiffness_min[0])
-        with np.errstate(divide="ignore", invalid="ignore"):
-            margin = min(math.log10(kmax / pt["K_c"]), math.log10(pt["K_c"] / kmin))
-        out.append(
-            {
-                "k_c_max_N_per_m": kmax,
-                "k_c_min_N_per_m": kmin,
-                "margin_decades": margin if math.isfinite(margin) else math.nan,
-                "area_log": _f(grid.area(log=True)),
-                "feasible": bool(np.isfinite(margin) and margin > 0),
-                "empty": bool(grid.is_empty),
-                "status": "empty" if grid.is_empty else "ok",
-                "error": None,
-                "warnings": "; ".join(grid.warnings) or None,
-            }
-        )
-    return out
-
-
-@register_evaluator("envelope_elasticities")
-def _envelope_elasticities(points: list[Point], options: dict[str, Any]) -> list[dict[str, Any]]:
-    """Elasticities of the boundaries at the foam's damping (AD + implicit functions).
-
-    On the upper boundary a_h,max(K*, p) = limit, so
-    e(K*, p) = -e(a_h,max, p) / e(a_h,max, K_c) and e(K*, max_g) = 1 / e(a_h,max, K_c);
-    likewise for the lower boundary with eps_max = lambda.
+    Examples
+    --------
+    >>> evaluator_id(evaluator_id)
+    'designlab.analysis.sweep.evaluator_id'
     """
-    from designlab.impact import HEAD_MAX, HEAD_MIN
-    from designlab.impact.derivatives import metric_gradients
+    module, qualname = getattr(fn, "__module__", None), getattr(fn, "__qualname__", None)
+    if not module or not qualname or "<" in qualname:
+        raise TypeError(
+            f"an evaluator must be a module-level function (got {fn!r}): workers import it "
+            "by its qualified name"
+        )
+    return f"{module}.{qualname}"
 
-    out = []
-    for pt in points:
-        _, at = _envelopes(pt, [pt["C_c"]])
-        res: dict[str, Any] = {"status": "ok", "error": None}
-        for column, k, head, metric, limit_key in (
-            ("k_c_max_N_per_m", at.stiffness_max[0], HEAD_MIN, "peak_head_acceleration", "max_g"),
-            ("k_c_min_N_per_m", at.stiffness_min[0], HEAD_MAX, "max_compression", "lambda"),
-        ):
-            if not np.isfinite(k):
-                res[column] = {}
-                continue
-            p = [pt["M_r"], pt["C_r"], pt["K_r"], k, pt["C_c"],
-                 head.mass, head.damping, head.stiffness]  # fmt: skip
-            el = metric_gradients(p, pt["v_c"]).elasticities(metric)
-            e_k = _f(el["K_c"][0])
-            res[column] = {
-                "M_r": -_f(el["M_r"][0]) / e_k,
-                "C_r": -_f(el["C_r"][0]) / e_k,
-                "K_r": -_f(el["K_r"][0]) / e_k,
-                "C_c": -_f(el["C_c"][0]) / e_k,
-                "v_c": -_f(el["v_c"][0]) / e_k,
-                limit_key: 1.0 / e_k,
-            }
-        out.append(res)
+
+def _source_files(module_name: str) -> list[Path]:
+    """The sources that define a module's results: its whole domain package."""
+    module = sys.modules.get(module_name) or importlib.import_module(module_name)
+    parts = module_name.split(".")
+    if len(parts) >= 2 and parts[0] == "designlab":
+        package = importlib.import_module(".".join(parts[:2]))
+        root = Path(getattr(package, "__file__", "") or "")
+        if root.name == "__init__.py":
+            return sorted(root.parent.rglob("*.py"))
+    path = getattr(module, "__file__", None)
+    return [Path(path)] if path else []
+
+
+@cache
+def _package_hash(module_name: str) -> str:
+    h = hashlib.sha256()
+    files = _source_files(module_name)
+    base = files[0].parent if files else Path()
+    for path in files:
+        try:
+            rel = path.relative_to(base).as_posix()
+        except ValueError:
+            rel = path.name
+        h.update(rel.encode())
+        h.update(path.read_bytes())
+    return h.hexdigest()[:16]
+
+
+def code_version(fn: Callable[..., Any]) -> str:
+    """designlab's version and a hash of the source of the package holding ``fn``.
+
+    For an evaluator in ``designlab.impact.sweep`` the hash covers every module
+    of ``designlab/impact/``; for one defined elsewhere (a user's module, a
+    test), that module's file.
+    """
+    from designlab._version import __version__
+
+    return f"{__version__}+{_package_hash(fn.__module__)}"
+
+
+def _canonical(obj: Any) -> str:
+    return json.dumps(obj, sort_keys=True, separators=(",", ":"), allow_nan=True, default=float)
+
+
+def chunk_key(fn: Callable[..., Any], options: Mapping[str, Any], points: Columns) -> str:
+    """The content hash of a chunk: evaluator, its code, options and the point values.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> a = chunk_key(evaluator_id, {}, {"x": np.array([1.0, 2.0])})
+    >>> b = chunk_key(evaluator_id, {}, {"x": np.array([1.0, 2.0 + 1e-15])})
+    >>> len(a), a == b
+    (64, False)
+    """
+    h = hashlib.sha256()
+    header = {
+        "format": KEY_FORMAT,
+        "evaluator": evaluator_id(fn),
+        "code": code_version(fn),
+        "options": options,
+        "columns": sorted(points),
+    }
+    h.update(_canonical(header).encode())
+    for name in sorted(points):
+        h.update(np.ascontiguousarray(points[name], dtype="<f8").tobytes())
+    return h.hexdigest()
+
+
+# --- points as columns ---------------------------------------------------------------
+
+
+def as_columns(points: Columns | Sequence[Mapping[str, float]] | pd.DataFrame) -> Columns:
+    """Points as float columns, from columns, a list of dicts or a DataFrame.
+
+    Examples
+    --------
+    >>> as_columns([{"a": 1, "b": 2.5}, {"a": 3, "b": 4}])
+    {'a': array([1., 3.]), 'b': array([2.5, 4. ])}
+    """
+    if isinstance(points, pd.DataFrame):
+        return {str(c): points[c].to_numpy(dtype=float) for c in points.columns}
+    if isinstance(points, Mapping):
+        cols = {str(k): np.atleast_1d(np.asarray(v, dtype=float)) for k, v in points.items()}
+    else:
+        rows = list(points)
+        names = list(dict.fromkeys(k for r in rows for k in r))
+        cols = {k: np.array([float(r[k]) for r in rows], dtype=float) for k in names}
+    lengths = {len(v) for v in cols.values()}
+    if len(lengths) > 1:
+        raise ValueError(f"point columns differ in length: { {k: len(v) for k, v in cols.items()} }")
+    return cols
+
+
+def _length(cols: Mapping[str, Any]) -> int:
+    return len(next(iter(cols.values()))) if cols else 0
+
+
+def _take(cols: Columns, idx: np.ndarray | slice) -> Columns:
+    return {k: v[idx] for k, v in cols.items()}
+
+
+def _normalise(out: Mapping[str, Any], n: int, where: str) -> Columns:
+    cols: Columns = {}
+    for k, v in out.items():
+        arr = np.asarray(v)
+        if arr.ndim == 0:
+            arr = np.full(n, arr.item(), dtype=arr.dtype if arr.dtype != object else object)
+        if arr.shape != (n,):
+            raise ValueError(f"{where}: result column {k!r} has shape {arr.shape}, expected ({n},)")
+        cols[str(k)] = arr
+    if "status" not in cols:
+        cols["status"] = np.full(n, "ok", dtype=object)
+    cols["status"] = cols["status"].astype(object)
+    if "error" not in cols:
+        cols["error"] = np.full(n, None, dtype=object)
+    return cols
+
+
+def _error_columns(n: int, message: str) -> Columns:
+    return {
+        "status": np.full(n, STATUS_ERROR, dtype=object),
+        "error": np.full(n, message, dtype=object),
+    }
+
+
+def _concat(parts: Sequence[Columns]) -> Columns:
+    """Concatenate result columns; a column missing from a part is NaN (numbers) or None."""
+    names = list(dict.fromkeys(k for p in parts for k in p))
+    out: Columns = {}
+    for name in names:
+        present = [np.asarray(p[name]) for p in parts if name in p]
+        numeric = all(a.dtype.kind in "fiu" for a in present)
+        boolean = all(a.dtype.kind == "b" for a in present)
+        pieces = []
+        for p in parts:
+            k = _length(p)
+            if name in p:
+                a = np.asarray(p[name])
+                pieces.append(a.astype(float) if numeric else a if boolean else a.astype(object))
+            elif numeric:
+                pieces.append(np.full(k, np.nan))
+            else:
+                pieces.append(np.full(k, None, dtype=object))
+        if boolean and any(name not in p for p in parts):
+            pieces = [a.astype(object) for a in pieces]
+        out[name] = np.concatenate(pieces) if pieces else np.array([], dtype=object)
     return out
 
 
-def evaluate_task(task: dict[str, Any]) -> list[dict[str, Any]]:
-    """Evaluate one chunk: ``{"evaluator": name, "options": {...}, "points": [...]}``.
+# --- the worker side ------------------------------------------------------------------
 
-    Runs in the worker. If the vectorised evaluation of the chunk fails, each
-    point is evaluated on its own so that only the failing ones are marked
-    ``status: error`` (with the exception's type and message).
+
+def evaluate_chunk(task: dict[str, Any]) -> Columns:
+    """Evaluate one chunk in a worker: ``{"evaluator": fn, "options": {...}, "points": cols}``.
+
+    If the vectorised evaluation raises, the chunk is split in halves until
+    the failing points are isolated: they get ``status: error`` and the
+    exception's type and message, every other point keeps its result.
     """
-    fn = EVALUATORS[task["evaluator"]]
-    points = task["points"]
+    fn: Evaluator = task["evaluator"]
     options = task.get("options", {})
+    points: Columns = task["points"]
+    n = _length(points)
+    if n == 0:
+        return {}
     try:
-        return fn(points, options)
-    except Exception as exc:
-        if len(points) == 1:
-            return [{"status": STATUS_ERROR, "error": f"{type(exc).__name__}: {exc}"}]
-    out = []
-    for pt in points:
-        out.extend(evaluate_task({**task, "points": [pt]}))
-    return out
+        return _normalise(fn(dict(points), dict(options)), n, evaluator_id(fn))
+    except Exception as exc:  # noqa: BLE001 - recorded per point, never swallowed silently
+        if n == 1:
+            return _error_columns(1, f"{type(exc).__name__}: {exc}")
+    half = n // 2
+    parts = [
+        evaluate_chunk({**task, "points": _take(points, slice(0, half))}),
+        evaluate_chunk({**task, "points": _take(points, slice(half, n))}),
+    ]
+    return _concat(parts)
+
+
+# --- the client side --------------------------------------------------------------------
 
 
 @dataclass
 class SweepRun:
-    """Results of :func:`run_points`, in the order of the points.
+    """Results of :func:`run_points`, one row per point in the order given.
 
     Attributes
     ----------
-    points, results
-        Equal-length lists of plain dicts.
+    frame
+        Result columns (and ``status``, ``error``), one row per point.
+    points
+        How many points were asked for.
+    distinct
+        How many distinct points there were (identical points are merged).
     computed, cached
-        How many distinct points were computed now / read from the cache.
+        Distinct points computed now / read from the store.
     corrupt
-        Keys of cache entries found corrupt (and recomputed).
+        Keys of store chunks found corrupt (and recomputed).
+    chunks
+        Chunks evaluated or read.
     """
 
-    points: list[Point]
-    results: list[dict[str, Any]]
+    frame: pd.DataFrame
+    points: int = 0
+    distinct: int = 0
     computed: int = 0
     cached: int = 0
     corrupt: list[str] = field(default_factory=list)
+    chunks: int = 0
+
+    @property
+    def duplicates(self) -> int:
+        """Points merged with an identical earlier point."""
+        return self.points - self.distinct
 
     @property
     def failed(self) -> list[int]:
-        """Indices of points whose evaluation raised."""
-        return [i for i, r in enumerate(self.results) if r.get("status") == STATUS_ERROR]
+        """Row positions of points whose evaluation raised."""
+        if "status" not in self.frame:
+            return []
+        return list(np.flatnonzero(self.frame["status"].to_numpy() == STATUS_ERROR))
+
+    @property
+    def results(self) -> list[dict[str, Any]]:
+        """The rows as dicts (convenient for a handful of points)."""
+        return self.frame.to_dict("records")
 
 
-def _chunks(items: list[Any], size: int) -> list[list[Any]]:
-    return [items[i : i + size] for i in range(0, len(items), size)]
+def _distinct(cols: Columns) -> tuple[np.ndarray, np.ndarray]:
+    """``(first, inverse)``: rows of the distinct points, and each point's distinct index.
+
+    Rows are hashed (pandas, 64 bit) and the grouping is then verified value by
+    value, so a hash collision can never merge two different points.
+    """
+    n = _length(cols)
+    if n == 0:
+        return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
+    frame = pd.DataFrame({k: cols[k] for k in sorted(cols)})
+    hashes = pd.util.hash_pandas_object(frame, index=False).to_numpy()
+    codes, _ = pd.factorize(hashes)
+    first = np.flatnonzero(~pd.Series(codes).duplicated().to_numpy())
+    values = frame.to_numpy()
+    rep = values[first[codes]]
+    same = (rep == values) | (np.isnan(rep) & np.isnan(values))
+    if not bool(same.all()):  # pragma: no cover - a 64-bit hash collision
+        codes = frame.groupby(list(frame.columns), sort=False, dropna=False).ngroup().to_numpy()
+        first = np.flatnonzero(~pd.Series(codes).duplicated().to_numpy())
+    return first, np.asarray(codes, dtype=np.intp)
+
+
+def _bar(total: int, desc: str, progress: bool) -> Any:
+    from tqdm.auto import tqdm
+
+    return tqdm(
+        total=total, desc=desc, unit="pt", file=sys.stderr, disable=not progress, leave=False
+    )
 
 
 def run_points(
-    points: Sequence[Point],
-    evaluator: str,
-    options: dict[str, Any] | None = None,
+    points: Columns | Sequence[Mapping[str, float]] | pd.DataFrame,
+    evaluator: Evaluator,
+    options: Mapping[str, Any] | None = None,
     *,
     executor: Any = None,
-    cache: Any = None,
+    store: ResultStore | None = None,
     resume: bool = False,
     cache_only: bool = False,
     progress: bool = False,
     chunk_size: int | None = None,
     desc: str = "points",
 ) -> SweepRun:
-    """Evaluate ``points`` with a registered evaluator.
+    """Evaluate ``points`` with ``evaluator`` in chunks.
 
     Parameters
     ----------
     points
-        Plain point dictionaries.
+        Point columns (key -> array), a list of point dicts or a DataFrame.
     evaluator
-        Name in :data:`EVALUATORS`.
+        A module-level function ``(points, options) -> result columns``.
     options
-        Evaluator settings shared by all points (part of the cache key).
+        Evaluator settings shared by all points (part of the chunk key).
     executor
         An :class:`~designlab.analysis.executors.Executor` (default: serial).
-    cache
-        A :class:`~designlab.report.cache.PointCache`; every finished point
-        is stored in it.
+    store
+        Where finished chunks are kept (see :mod:`designlab.report.store`);
+        each chunk is written as soon as it comes back.
     resume
-        Reuse cached points (only the missing ones are computed).
+        Reuse chunks found in the store; compute only the missing ones.
     cache_only
-        Do not compute anything; raise :class:`CacheIncompleteError` if a
-        point is not cached.
+        Compute nothing; raise :class:`CacheIncompleteError` if a chunk is
+        not in the store.
     progress
         Show a tqdm bar on stderr.
     chunk_size
-        Points per task (default: about 8 tasks per worker, at most 64).
-    """
-    from tqdm.auto import tqdm
+        Points per chunk (default: ``evaluator.chunk_size`` or
+        :data:`DEFAULT_CHUNK_SIZE`). Keep it fixed between a run and its
+        resume: chunk keys depend on it.
+    desc
+        Label of the progress bar and of messages.
 
+    Returns
+    -------
+    SweepRun
+        One result row per point, and the counts.
+    """
     from designlab.analysis.executors import SerialExecutor
 
-    if evaluator not in EVALUATORS:
-        raise KeyError(f"unknown evaluator {evaluator!r} (known: {', '.join(EVALUATORS)})")
+    evaluator_id(evaluator)  # a clear error for lambdas and closures
     options = dict(options or {})
-    points = [dict(p) for p in points]
-    keys = [cache.key(evaluator, options, p) if cache is not None else None for p in points]
-    results: list[dict[str, Any] | None] = [None] * len(points)
-    run = SweepRun(points, [])
-
-    # distinct points still to compute (identical points share one evaluation)
-    todo: dict[Any, list[int]] = {}
-    done: dict[Any, dict[str, Any]] = {}
-    for i, (_p, key) in enumerate(zip(points, keys, strict=True)):
-        ident = key if key is not None else i
-        if ident in todo:
-            todo[ident].append(i)
-            continue
-        if ident in done:
-            results[i] = done[ident]
-            continue
-        if cache is not None and (resume or cache_only):
-            state, value = cache.get(key)
-            if state == "ok":
-                results[i] = done[ident] = value
-                run.cached += 1
-                continue
-            if state == "corrupt":
-                logger.warning("corrupt cache entry %s (%s): recomputing", cache.path(key), value)
-                run.corrupt.append(key)
-                cache.discard(key)
-        todo[ident] = [i]
+    cols = as_columns(points)
+    n = _length(cols)
+    size = int(chunk_size or getattr(evaluator, "chunk_size", DEFAULT_CHUNK_SIZE))
+    if size < 1:
+        raise ValueError(f"chunk_size = {size} is not allowed: must be >= 1")
+    first, inverse = _distinct(cols)
+    distinct = _take(cols, first)
+    m = len(first)
+    run = SweepRun(pd.DataFrame(), points=n, distinct=m)
+    bounds = [(s, min(s + size, m)) for s in range(0, m, size)]
+    run.chunks = len(bounds)
+    parts: list[Columns | None] = [None] * len(bounds)
+    keys: list[str | None] = [None] * len(bounds)
+    todo: list[int] = []
+    for c, (s, e) in enumerate(bounds):
+        chunk = _take(distinct, slice(s, e))
+        if store is not None:
+            keys[c] = chunk_key(evaluator, options, chunk)
+            if resume or cache_only:
+                state, value = store.get_chunk(keys[c])  # type: ignore[arg-type]
+                if state == "ok" and _length(value) == e - s:
+                    parts[c] = value
+                    run.cached += e - s
+                    continue
+                if state in ("corrupt", "ok"):
+                    reason = value if state == "corrupt" else "wrong length"
+                    logger.warning("corrupt stored chunk %s (%s): recomputing", keys[c], reason)
+                    run.corrupt.append(keys[c])  # type: ignore[arg-type]
+                    store.discard(keys[c])  # type: ignore[arg-type]
+        todo.append(c)
     if cache_only and todo:
+        missing = sum(bounds[c][1] - bounds[c][0] for c in todo)
         raise CacheIncompleteError(
-            f"{len(todo)} point{'s' if len(todo) != 1 else ''} of {desc} "
-            f"{'are' if len(todo) != 1 else 'is'} not in the cache "
-            f"{cache.root if cache is not None else '(none given)'}; run the study "
+            f"{missing} point{'s' if missing != 1 else ''} of {desc} "
+            f"{'are' if missing != 1 else 'is'} not in the store; run the study "
             "(designlab run ... --resume) to compute them"
         )
-
-    order = list(todo)
-    if order:
+    logger.info(
+        "%s: %d points (%d distinct, %d merged duplicates) in %d chunks of <= %d; "
+        "%d points from the store, %d to compute",
+        desc, n, m, n - m, len(bounds), size, run.cached, m - run.cached,
+    )  # fmt: skip
+    if todo:
         ex = executor if executor is not None else SerialExecutor()
-        workers = max(1, getattr(ex, "workers", 1))
-        size = chunk_size or max(1, min(64, math.ceil(len(order) / (8 * workers))))
-        groups = _chunks(order, size)
         tasks = [
-            {"evaluator": evaluator, "options": options, "points": [points[todo[k][0]] for k in g]}
-            for g in groups
-        ]
-        bar = tqdm(
-            total=len(order), desc=desc, unit="pt", file=sys.stderr, disable=not progress,
-            leave=False,
-        )  # fmt: skip
+            {"evaluator": evaluator, "options": options,
+             "points": _take(distinct, slice(*bounds[c]))}
+            for c in todo
+        ]  # fmt: skip
+        bar = _bar(m - run.cached, desc, progress)
         try:
-            for t, out in ex.map_unordered(evaluate_task, tasks):
-                for ident, res in zip(groups[t], out, strict=True):
-                    idx = todo[ident]
-                    if cache is not None:
-                        cache.put(keys[idx[0]], points[idx[0]], res)
-                    for i in idx:
-                        results[i] = res
-                run.computed += len(out)
-                bar.update(len(out))
+            for t, out in _as_completed(ex, tasks):
+                c = todo[t]
+                if store is not None:
+                    store.put_chunk(keys[c], out)  # type: ignore[arg-type]
+                parts[c] = out
+                k = bounds[c][1] - bounds[c][0]
+                run.computed += k
+                bar.update(k)
         finally:
             bar.close()
-    run.results = [r if r is not None else {} for r in results]
-    for i in run.failed:
-        logger.warning("point %d failed: %s", i, run.results[i].get("error"))
+    merged = _concat([p for p in parts if p is not None]) if m else {}
+    frame = pd.DataFrame({k: v[inverse] for k, v in merged.items()}) if m else pd.DataFrame()
+    if len(frame):
+        for c in ("status", "error"):
+            if c not in frame:
+                frame[c] = None
+    run.frame = frame
+    failed = run.failed
+    if failed:
+        logger.warning(
+            "%s: %d of %d points failed, e.g. point %d: %s",
+            desc, len(failed), n, failed[0], frame["error"].iloc[failed[0]],
+        )  # fmt: skip
     return run
+
+
+def _as_completed(ex: Any, tasks: list[dict[str, Any]]) -> Iterator[tuple[int, Columns]]:
+    yield from ex.map_unordered(evaluate_chunk, tasks)

@@ -23,7 +23,9 @@ Examples
 
 from __future__ import annotations
 
+import importlib
 import os
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -40,6 +42,7 @@ __all__ = [
     "atomic_write_bytes",
     "atomic_write_text",
     "markdown_table",
+    "register_writer",
     "report_directory",
     "write_csv",
     "write_index",
@@ -47,6 +50,53 @@ __all__ = [
     "write_png",
     "write_report",
 ]
+
+
+#: A report writer: ``writer(result, directory, *, command, version, study_text)``.
+Writer = Callable[..., Any]
+
+_WRITERS: dict[type, Writer] = {}
+
+
+def register_writer(result_type: type) -> Callable[[Writer], Writer]:
+    """Decorator: register the report writer of a result type.
+
+    The writer receives the result and a fresh directory to fill, and the
+    keywords ``command``, ``version`` and ``study_text``.
+
+    Parameters
+    ----------
+    result_type
+        The result class (subclasses use it too unless they register their own).
+    """
+
+    def deco(fn: Writer) -> Writer:
+        _WRITERS[result_type] = fn
+        return fn
+
+    return deco
+
+
+def writer_for(result: Any) -> Writer:
+    """The registered writer of ``result``'s type (imports its kind's report module).
+
+    Parameters
+    ----------
+    result
+        A study result (it has ``study.kind``).
+    """
+    study = getattr(result, "study", None)
+    if study is not None:
+        from designlab.study.registry import kind_of
+
+        try:
+            importlib.import_module(kind_of(study.kind).report)
+        except KeyError:
+            pass
+    for cls in type(result).__mro__:
+        if cls in _WRITERS:
+            return _WRITERS[cls]
+    raise TypeError(f"no report writer is registered for {type(result).__name__}")
 
 
 def write_report(
@@ -86,29 +136,12 @@ def write_report(
         If the report cannot be written.
     """
     from designlab import __version__
-    from designlab.report.envelope import write_envelope_report
-    from designlab.report.impact import write_impact_report
-    from designlab.report.sweep import write_sweep_report
-    from designlab.study.foam_design import FoamDesignResult
-    from designlab.study.runner import ImpactCasesResult, SweepStudyResult
 
+    writer = writer_for(result)
     final = Path(output_dir) / result.study.name
     with report_directory(final) as tmp:
         try:
-            if isinstance(result, ImpactCasesResult):
-                write_impact_report(
-                    result, tmp, command=command, version=__version__, study_text=study_text
-                )
-            elif isinstance(result, FoamDesignResult):
-                write_envelope_report(
-                    result, tmp, command=command, version=__version__, study_text=study_text
-                )
-            elif isinstance(result, SweepStudyResult):
-                write_sweep_report(
-                    result, tmp, command=command, version=__version__, study_text=study_text
-                )
-            else:  # pragma: no cover - every kind has a writer
-                raise TypeError(f"no report writer for {type(result).__name__}")
+            writer(result, tmp, command=command, version=__version__, study_text=study_text)
         except OSError as exc:
             if isinstance(exc, ReportError):
                 raise

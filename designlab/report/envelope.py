@@ -20,7 +20,8 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import NullFormatter, ScalarFormatter
 
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
-from designlab.study.foam_design import FoamDesignResult
+from designlab.report import register_writer
+from designlab.study.kinds.foam_design import FoamDesignResult
 
 __all__ = ["envelope_figure", "envelope_markdown", "write_envelope_report"]
 
@@ -260,6 +261,7 @@ def envelope_markdown(
     return "\n".join(out)
 
 
+@register_writer(FoamDesignResult)
 def write_envelope_report(
     result: FoamDesignResult,
     directory: Path,

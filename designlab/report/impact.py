@@ -28,7 +28,8 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
-from designlab.study.runner import ImpactCaseResult, ImpactCasesResult
+from designlab.report import register_writer
+from designlab.study.kinds.impact_cases import ImpactCaseResult, ImpactCasesResult
 
 __all__ = ["impact_figure", "impact_markdown", "write_impact_report"]
 
@@ -320,6 +321,7 @@ def impact_markdown(
     return "\n".join(out)
 
 
+@register_writer(ImpactCasesResult)
 def write_impact_report(
     result: ImpactCasesResult,
     directory: Path,

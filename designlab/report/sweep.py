@@ -27,7 +27,9 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from designlab.analysis.sensitivity import tornado_figure
+from designlab.report import register_writer
 from designlab.report.atomic import atomic_write_text
+from designlab.study.sweep_runner import SweepStudyResult
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 
 __all__ = ["sweep_markdown", "write_sweep_report"]
@@ -53,6 +55,56 @@ _EXPLAIN = {
 }
 
 
+#: Above this many points a sweep's tables go to Parquet and its figures show densities.
+LARGE_SWEEP = 50_000
+#: Above this many points a scatter becomes a hexbin density plot.
+DENSITY_FROM = 5_000
+
+
+def _points_or_density(ax: Any, x: Any, y: Any) -> None:
+    """A scatter for a few thousand points, a hexbin density (log counts) beyond."""
+    x = pd.to_numeric(x, errors="coerce").to_numpy()
+    y = pd.to_numeric(y, errors="coerce").to_numpy()
+    keep = np.isfinite(x) & np.isfinite(y)
+    if keep.sum() > DENSITY_FROM:
+        ax.hexbin(x[keep], y[keep], gridsize=40, bins="log", mincnt=1, cmap="viridis",
+                  linewidths=0)  # fmt: skip
+    else:
+        ax.plot(x[keep], y[keep], ".", ms=3, alpha=0.6)
+
+
+def _summary_frame(frame: pd.DataFrame) -> pd.DataFrame:
+    """Per numeric column: count, mean, std, min, quantiles, max; and the status counts."""
+    numeric = frame.select_dtypes(include=["number"])
+    table = numeric.describe(percentiles=[0.01, 0.05, 0.25, 0.5, 0.75, 0.95, 0.99]).T
+    table.insert(0, "column", table.index)
+    counts = frame["status"].value_counts() if "status" in frame else pd.Series(dtype=int)
+    extra = pd.DataFrame({"column": [f"status={k}" for k in counts.index],
+                          "count": counts.to_numpy(dtype=float)})  # fmt: skip
+    return pd.concat([table.reset_index(drop=True), extra], ignore_index=True)
+
+
+def _write_table(frame: pd.DataFrame, directory: Path) -> list[Path]:
+    """``results.csv``; for a large sweep ``results.parquet`` and ``results_summary.csv``."""
+    if len(frame) <= LARGE_SWEEP:
+        return [write_csv(frame, directory / "results.csv")]
+    import io
+
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    from designlab.report.atomic import atomic_write_bytes
+
+    table = pa.Table.from_pandas(frame.astype({c: "string" for c in ("status", "error")
+                                               if c in frame}), preserve_index=False)  # fmt: skip
+    buf = io.BytesIO()
+    pq.write_table(table, buf, compression="zstd", row_group_size=262_144)
+    return [
+        atomic_write_bytes(directory / "results.parquet", buf.getvalue()),
+        write_csv(_summary_frame(frame), directory / "results_summary.csv"),
+    ]
+
+
 def _scatter_figure(result: Any) -> Figure | None:
     study = result.study
     sweep = getattr(study, "sweep", None)
@@ -73,7 +125,7 @@ def _scatter_figure(result: Any) -> Figure | None:
             key, info = study.PARAMETERS[p]
             col = f"{key}_{unit_slug(info.unit)}"
             ax = axes[r][c]
-            ax.plot(frame.loc[ok, col], frame.loc[ok, m], ".", ms=3, alpha=0.6)
+            _points_or_density(ax, frame.loc[ok, col], frame.loc[ok, m])
             if r == len(metrics) - 1:
                 ax.set_xlabel(f"{p} ({info.unit})", fontsize="small")
             if c == 0:
@@ -151,7 +203,10 @@ def _results_md(result: Any) -> list[str]:
         n_ok = int((frame["status"] == "ok").sum())
         out += [
             f"{len(frame)} sweep points, {n_ok} with status `ok`. Every point, with full "
-            "precision, is in `results.csv`.",
+            "precision, is in "
+            + ("`results.csv`." if len(frame) <= LARGE_SWEEP else
+               "`results.parquet` (columnar; `pandas.read_parquet`), summarised in "
+               "`results_summary.csv`."),
             "",
         ]
     return out
@@ -211,6 +266,7 @@ def sweep_markdown(
     return "\n".join(out)
 
 
+@register_writer(SweepStudyResult)
 def write_sweep_report(
     result: Any,
     directory: Path,
@@ -222,7 +278,7 @@ def write_sweep_report(
     """Write every file of a sweep report into ``directory`` (which must exist)."""
     written = []
     if len(result.frame):
-        written.append(write_csv(result.frame, directory / "results.csv"))
+        written += _write_table(result.frame, directory)
     figures: dict[str, str] = {}
     for kind, table in result.sensitivity.items():
         written.append(atomic_write_text(directory / f"sensitivity_{kind}.csv", table.to_csv()))

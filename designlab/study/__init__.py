@@ -1,9 +1,10 @@
-"""YAML studies: schema, loading with line-accurate errors, and the runner.
+"""YAML studies: the shared schema, the kind registry, loading and running.
 
 A study is a YAML file that asks one design question and names the source
 result it reproduces. ``designlab run STUDY.yaml`` loads it with
 :func:`load_study`, computes it with :func:`run_study` and hands the result
-to :mod:`designlab.report`.
+to :mod:`designlab.report`. Each study kind is one module of
+:mod:`designlab.study.kinds`; :mod:`designlab.study.registry` lists them.
 
 Examples
 --------
@@ -24,29 +25,33 @@ Examples
 
 from __future__ import annotations
 
+from designlab.study.base import FORMAT_VERSION, StudyBase, did_you_mean
 from designlab.study.loader import format_path, load_study, parse_study
-from designlab.study.runner import ImpactCaseResult, ImpactCasesResult, StudyResult, run_study
-from designlab.study.schema import (
-    STUDY_ADAPTER,
-    STUDY_KINDS,
-    ImpactCase,
-    ImpactCasesStudy,
-    Study,
-    StudyBase,
+from designlab.study.registry import (
+    StudyKind,
+    kind_of,
+    study_kinds,
+    register_kind,
+    study_adapter,
+    study_json_schema,
+    unregister_kind,
 )
+from designlab.study.runner import RunContext, run_study
 
 __all__ = [
-    "STUDY_ADAPTER",
-    "STUDY_KINDS",
-    "ImpactCase",
-    "ImpactCaseResult",
-    "ImpactCasesResult",
-    "ImpactCasesStudy",
-    "Study",
+    "FORMAT_VERSION",
+    "RunContext",
     "StudyBase",
-    "StudyResult",
+    "StudyKind",
+    "did_you_mean",
     "format_path",
+    "kind_of",
+    "study_kinds",
     "load_study",
     "parse_study",
+    "register_kind",
     "run_study",
+    "study_adapter",
+    "study_json_schema",
+    "unregister_kind",
 ]

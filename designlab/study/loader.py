@@ -38,7 +38,8 @@ from typing import Annotated, Any, Union, get_args, get_origin
 from pydantic import BaseModel, ValidationError
 
 from designlab.errors import StudyError
-from designlab.study.schema import FORMAT_VERSION, STUDY_KINDS, StudyBase, did_you_mean
+from designlab.study.base import FORMAT_VERSION, StudyBase, did_you_mean
+from designlab.study.registry import study_kinds
 from designlab.study.yamlio import YamlPath, YamlSyntaxError, load_yaml_with_lines
 
 __all__ = ["format_path", "load_study", "parse_study"]
@@ -73,7 +74,7 @@ def load_study(path: str | PathLike[str]) -> StudyBase:
     -------
     StudyBase
         The validated study, an instance of the model for its ``kind``
-        (e.g. :class:`~designlab.study.schema.ImpactCasesStudy`).
+        (e.g. :class:`~designlab.study.kinds.impact_cases.ImpactCasesStudy`).
 
     Raises
     ------
@@ -144,7 +145,8 @@ def parse_study(text: str, file: str = "<string>") -> StudyBase:
             line=lines.get(("designlab",)),
         )
     kind = data.get("kind")
-    known = ", ".join(STUDY_KINDS)
+    registry = study_kinds()
+    known = ", ".join(registry)
     if kind is None:
         raise StudyError(
             f"missing required field (the study kind, one of: {known})",
@@ -152,15 +154,15 @@ def parse_study(text: str, file: str = "<string>") -> StudyBase:
             field="kind",
             line=1,
         )
-    if not isinstance(kind, str) or kind not in STUDY_KINDS:
-        hint = did_you_mean(kind, list(STUDY_KINDS)) if isinstance(kind, str) else ""
+    if not isinstance(kind, str) or kind not in registry:
+        hint = did_you_mean(kind, list(registry)) if isinstance(kind, str) else ""
         raise StudyError(
             f"unknown study kind {kind!r}{hint} (known: {known})",
             file=file,
             field="kind",
             line=lines.get(("kind",)),
         )
-    model = STUDY_KINDS[kind]
+    model = registry[kind].schema
     try:
         return model.model_validate(data)
     except ValidationError as exc:

@@ -1,11 +1,11 @@
-"""Run a sweep study: expand its points, evaluate them, build the sensitivity tables.
+"""Run a sweep study: expand its points, evaluate them in chunks, build the sensitivity tables.
 
 The kind-specific parts come from the study model (``PARAMETERS``,
 ``METRICS``, ``EVALUATOR``, ``LOCAL_EVALUATOR``, :meth:`base_point`); the
-rest - sampling, executors, the cache, the tables - is shared by every sweep
-kind.
+rest - sampling, executors, the result store, the tables - is shared by every
+sweep kind.
 
-Point sets (all evaluated in one pass, through one cache):
+Point sets (all evaluated in one pass, through one store):
 
 ``base``
     The base design.
@@ -25,7 +25,6 @@ import logging
 import math
 from collections import Counter
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -40,7 +39,9 @@ from designlab.analysis.sensitivity import (
     sobol_table,
 )
 from designlab.analysis.sweep import STATUS_ERROR, SweepRun, run_points
-from designlab.study.schema import SweepStudyBase
+from designlab.results import OK, Result
+from designlab.study.runner import RunContext
+from designlab.study.sweeps import SweepStudyBase
 
 __all__ = ["SweepStudyResult", "count_points", "run_sweep_study", "unit_slug"]
 
@@ -48,9 +49,16 @@ logger = logging.getLogger(__name__)
 
 _UNIT_SLUGS = {"N s/m": "N_s_per_m", "N/m": "N_per_m", "m/s": "m_per_s", "": ""}
 
+Columns = dict[str, np.ndarray]
+
 
 def unit_slug(unit: str) -> str:
     """A unit as a column-name suffix: ``"N s/m"`` -> ``"N_s_per_m"``.
+
+    Parameters
+    ----------
+    unit
+        An SI unit as written in the docs.
 
     Examples
     --------
@@ -61,7 +69,7 @@ def unit_slug(unit: str) -> str:
 
 
 @dataclass(frozen=True)
-class SweepStudyResult:
+class SweepStudyResult(Result):
     """Results of a sweep study.
 
     Attributes
@@ -76,8 +84,8 @@ class SweepStudyResult:
     sensitivity
         Tables by kind (``elasticity``, ``one_at_a_time``, ``sobol``, ``range``).
     stats
-        Points in total, computed now, read from the cache, corrupt entries
-        recomputed, failed; and the executor.
+        Points asked for, distinct, computed now, read from the store, corrupt
+        chunks recomputed, failed; chunks; and the executor.
     """
 
     study: SweepStudyBase
@@ -88,50 +96,61 @@ class SweepStudyResult:
 
     @property
     def metrics(self) -> list[str]:
-        """The metrics analysed (``sensitivity.metrics``, or all of the kind's)."""
-        sens = getattr(self.study, "sensitivity", None)
-        return list(sens.metrics) if sens is not None else list(self.study.METRICS)
+        """The metrics analysed (``sensitivity.metrics``, or the kind's defaults)."""
+        return self.study.metrics
+
+    @property
+    def status(self) -> str:
+        """``"ok"``; ``"partial"`` when some points failed; ``"failed"`` when the base did."""
+        if self.base.get("status") == STATUS_ERROR:
+            return "failed"
+        if self.stats.get("failed"):
+            return "partial"
+        return OK
 
     def to_frame(self) -> pd.DataFrame:
         """The sweep points (a copy)."""
         return self.frame.copy()
 
     @property
-    def warnings(self) -> list[str]:
-        """Failed points, non-``ok`` statuses and recomputed cache entries."""
-        out = []
-        if len(self.frame):
-            failed = self.frame[self.frame["status"] == STATUS_ERROR]
+    def warnings(self) -> tuple[str, ...]:  # type: ignore[override]
+        """Failed points, non-``ok`` statuses and recomputed store chunks."""
+        out: list[str] = []
+        f = self.frame
+        if len(f):
+            failed = f[f["status"] == STATUS_ERROR]
             for i, row in failed.head(10).iterrows():
                 out.append(f"point {i}: failed: {row['error']}")
             if len(failed) > 10:
                 out.append(f"... and {len(failed) - 10} more failed points")
-            counts = Counter(s for s in self.frame["status"] if s not in ("ok", STATUS_ERROR))
+            counts = Counter(s for s in f["status"] if s not in (OK, STATUS_ERROR))
             for status, n in sorted(counts.items()):
-                out.append(f"{n} of {len(self.frame)} points have status {status}")
-            if "bottoming" in self.frame and self.frame["bottoming"].fillna(False).any():
-                n = int(self.frame["bottoming"].fillna(False).sum())
-                out.append(f"{n} of {len(self.frame)} points bottom the foam (eps_max > lambda)")
-            if "warnings" in self.frame:
-                n = int(self.frame["warnings"].notna().sum())
+                out.append(f"{n} of {len(f)} points have status {status}")
+            if "bottoming" in f:
+                n = int(pd.Series(f["bottoming"]).fillna(False).astype(bool).sum())
                 if n:
-                    first = self.frame["warnings"].dropna().iloc[0]
-                    out.append(
-                        f"{n} of {len(self.frame)} points have solver warnings, e.g.: {first}"
-                    )
+                    out.append(f"{n} of {len(f)} points bottom the foam (eps_max > lambda)")
+            if "warnings" in f:
+                n = int(f["warnings"].notna().sum())
+                if n:
+                    first = f["warnings"].dropna().iloc[0]
+                    out.append(f"{n} of {len(f)} points have solver warnings, e.g.: {first}")
         if self.stats.get("corrupt"):
-            out.append(f"{self.stats['corrupt']} corrupt cache entries were recomputed")
-        if self.base.get("status") not in (None, "ok"):
+            out.append(f"{self.stats['corrupt']} corrupt stored chunks were recomputed")
+        if self.base.get("status") not in (None, OK):
             out.append(
                 f"base design: status {self.base.get('status')} {self.base.get('error') or ''}"
             )
-        return out
+        return tuple(out)
 
 
-def _sweep_points(study: SweepStudyBase) -> list[dict[str, float]]:
-    sweep = getattr(study, "sweep", None)
+# --- the plan: which points, in which sets ------------------------------------------
+
+
+def _sweep_columns(study: SweepStudyBase) -> dict[str, np.ndarray]:
+    sweep = study.sweep
     if sweep is None:
-        return []
+        return {}
     items = sweep.parameters.items()
     if sweep.method == "list":
         return sampling.list_points({p: r.values for p, r in items})
@@ -144,24 +163,31 @@ def _sweep_points(study: SweepStudyBase) -> list[dict[str, float]]:
     return sampling.sobol_sequence(bounds, sweep.samples, seed=sweep.seed, log=log)
 
 
-def _metrics_of(result: dict[str, Any], metrics: list[str]) -> dict[str, float]:
-    return {
-        m: float(result.get(m, math.nan)) if result.get(m) is not None else math.nan
-        for m in metrics
-    }
-
-
 @dataclass
 class _Plan:
     base: dict[str, float]
-    metrics: list[str]
-    sets: dict[str, list[dict[str, float]]]
+    sets: dict[str, Columns]
     oat_meta: list[tuple[str, float, float]]
     range_meta: list[tuple[str, float, float]]
     sobol_names: list[str]
     sobol_bounds: list[tuple[float, float]]
     path_of: dict[str, str]
     describe: dict[str, str]
+
+    def count(self) -> int:
+        return sum(_n(c) for c in self.sets.values())
+
+
+def _n(cols: Columns) -> int:
+    return len(next(iter(cols.values()))) if cols else 0
+
+
+def _designs(base: dict[str, float], key_of: dict[str, str], values: Columns, n: int) -> Columns:
+    """``n`` copies of the base point with the columns of ``values`` (by path) replaced."""
+    out = {k: np.full(n, v, dtype=float) for k, v in base.items()}
+    for path, v in values.items():
+        out[key_of[path]] = np.asarray(v, dtype=float)
+    return out
 
 
 def _plan(study: SweepStudyBase) -> _Plan:
@@ -170,168 +196,208 @@ def _plan(study: SweepStudyBase) -> _Plan:
     path_of = {key: path for path, key in key_of.items()}
     describe = {path: f"{info.description}, {info.unit}" for path, (_, info) in params.items()}
     base = study.base_point()
-    sens = getattr(study, "sensitivity", None)
-    metrics = list(sens.metrics) if sens is not None else list(study.METRICS)
+    sens = study.sensitivity
+    sweep = study.sweep
+    swept = dict(sweep.parameters.items()) if sweep is not None else {}
 
-    def design(values: dict[str, float]) -> dict[str, float]:
-        p = dict(base)
-        for path, v in values.items():
-            p[key_of[path]] = float(v)
-        return p
-
-    sets: dict[str, list[dict[str, float]]] = {"base": [base]}
-    sweep_values = _sweep_points(study)
-    sets["sweep"] = [design(v) for v in sweep_values]
+    sets: dict[str, Columns] = {"base": _designs(base, key_of, {}, 1)}
+    values = _sweep_columns(study)
+    sets["sweep"] = _designs(base, key_of, values, _n(values)) if values else {}
     oat_meta: list[tuple[str, float, float]] = []
     range_meta: list[tuple[str, float, float]] = []
     sobol_names: list[str] = []
     sobol_bounds: list[tuple[float, float]] = []
-    sweep = getattr(study, "sweep", None)
-    swept = dict(sweep.parameters.items()) if sweep is not None else {}
     if sens is not None and sens.one_at_a_time is not None:
         oat = sens.one_at_a_time
-        pts = []
         for path in oat.parameters or list(swept):
             x0 = base[key_of[path]]
-            for d in oat.deltas_pct:
-                x = x0 * (1.0 + d / 100.0)
-                oat_meta.append((path, float(d), x))
-                pts.append(design({path: x}))
-        sets["one_at_a_time"] = pts
+            oat_meta += [(path, float(d), x0 * (1.0 + d / 100.0)) for d in oat.deltas_pct]
+        sets["one_at_a_time"] = _one_each(base, key_of, oat_meta)
     if sens is not None and sens.tornado and swept:
-        pts = []
         for path, rng in swept.items():
             lo, hi = rng.span()
             range_meta.append((path, lo, hi))
-            pts += [design({path: lo}), design({path: hi})]
-        sets["range"] = pts
+        ends = [(p, 0.0, x) for p, lo, hi in range_meta for x in (lo, hi)]
+        sets["range"] = _one_each(base, key_of, ends)
     if sens is not None and sens.sobol is not None:
-        sobol_names = list(sens.sobol.parameters or [p for p, r in swept.items()])
+        sobol_names = list(sens.sobol.parameters or list(swept))
         sobol_bounds = [swept[p].span() for p in sobol_names]
         sample = sampling.saltelli(
             dict(zip(sobol_names, sobol_bounds, strict=True)),
             sens.sobol.samples,
             seed=sens.sobol.seed,
         )
-        sets["sobol"] = [design(v) for v in sample]
+        sets["sobol"] = _designs(base, key_of, sample, _n(sample))
+    return _Plan(base, sets, oat_meta, range_meta, sobol_names, sobol_bounds, path_of, describe)
 
-    return _Plan(
-        base, metrics, sets, oat_meta, range_meta, sobol_names, sobol_bounds, path_of, describe
-    )
+
+def _one_each(base: dict[str, float], key_of: dict[str, str], changes: list[Any]) -> Columns:
+    """One point per change ``(path, _, value)``: the base with that one value replaced."""
+    n = len(changes)
+    out = {k: np.full(n, v, dtype=float) for k, v in base.items()}
+    for i, (path, _, x) in enumerate(changes):
+        out[key_of[path]][i] = x
+    return out
 
 
 def count_points(study: SweepStudyBase) -> int:
-    """How many points a sweep study evaluates (all sets, plus the local derivatives)."""
-    plan = _plan(study)
-    sens = getattr(study, "sensitivity", None)
-    local = int(bool(sens is not None and sens.local and getattr(study, "LOCAL_EVALUATOR", None)))
-    return sum(len(v) for v in plan.sets.values()) + local
+    """How many points a sweep study evaluates (all sets, plus the local derivatives).
 
-
-def run_sweep_study(
-    study: SweepStudyBase,
-    *,
-    progress: bool = False,
-    executor: Any = None,
-    cache_dir: str | Path | None = None,
-    resume: bool = False,
-    cache_only: bool = False,
-) -> SweepStudyResult:
-    """Evaluate every point of a sweep study and build its tables.
-
-    See :func:`designlab.study.run_study` for the parameters.
+    Parameters
+    ----------
+    study
+        A sweep study.
     """
-    from designlab.report.cache import PointCache
-
     plan = _plan(study)
-    base, metrics, sets = plan.base, plan.metrics, plan.sets
-    oat_meta, range_meta = plan.oat_meta, plan.range_meta
-    sobol_names, sobol_bounds = plan.sobol_names, plan.sobol_bounds
-    path_of, describe = plan.path_of, plan.describe
-    sens = getattr(study, "sensitivity", None)
-    all_points = [p for pts in sets.values() for p in pts]
-    cache = PointCache(Path(cache_dir) / study.name) if cache_dir is not None else None
-    common = dict(
-        executor=executor, cache=cache, resume=resume, cache_only=cache_only, progress=progress
-    )
-    run: SweepRun = run_points(
-        all_points, study.EVALUATOR, study.evaluator_options(), desc=study.name, **common
-    )
-    results: dict[str, list[dict[str, Any]]] = {}
-    i = 0
-    for name, pts in sets.items():
-        results[name] = run.results[i : i + len(pts)]
-        i += len(pts)
-    base_result = results["base"][0]
-    base_metrics = _metrics_of(base_result, metrics)
+    sens = study.sensitivity
+    local = int(bool(sens is not None and sens.local and study.LOCAL_EVALUATOR is not None))
+    return plan.count() + local
 
-    tables: dict[str, SensitivityTable] = {}
-    stats = {
-        "points": len(all_points),
+
+# --- running -----------------------------------------------------------------------------
+
+
+def _metric_values(frame: pd.DataFrame, metrics: list[str]) -> list[dict[str, float]]:
+    cols = {m: frame[m].to_numpy(dtype=float) if m in frame else None for m in metrics}
+    return [
+        {m: (float(c[i]) if c is not None else math.nan) for m, c in cols.items()}
+        for i in range(len(frame))
+    ]
+
+
+def _stats(run: SweepRun, context: RunContext) -> dict[str, Any]:
+    ex = context.executor
+    return {
+        "points": run.points,
+        "distinct": run.distinct,
         "computed": run.computed,
         "cached": run.cached,
         "corrupt": len(run.corrupt),
         "failed": len(run.failed),
-        "executor": executor.describe() if executor is not None else "serial",
+        "chunks": run.chunks,
+        "executor": ex.describe() if ex is not None else "serial",
     }
-    if sens is not None and sens.local and getattr(study, "LOCAL_EVALUATOR", None):
-        local = run_points(
-            [base], study.LOCAL_EVALUATOR, study.evaluator_options(), desc="elasticities", **common
-        )
-        stats["points"] += 1
-        stats["computed"] += local.computed
-        stats["cached"] += local.cached
-        stats["corrupt"] += len(local.corrupt)
-        stats["failed"] += len(local.failed)
-        res = local.results[0]
-        if res.get("status") == STATUS_ERROR:
-            logger.warning("local elasticities failed: %s", res.get("error"))
-        else:
-            el = {
-                m: {path_of.get(k, k): v for k, v in res[m].items() if k in path_of}
-                for m in metrics
-                if m in res
-            }
-            tables["elasticity"] = elasticity_table(el, describe)
-    if oat_meta:
-        rows = [
-            (path, d, x, _metrics_of(r, metrics))
-            for (path, d, x), r in zip(oat_meta, results["one_at_a_time"], strict=True)
-        ]
-        tables["one_at_a_time"] = one_at_a_time_table(base_metrics, rows, describe)
-    if range_meta:
-        rr = results["range"]
-        rows = [
-            (path, lo, hi, _metrics_of(rr[2 * k], metrics), _metrics_of(rr[2 * k + 1], metrics))
-            for k, (path, lo, hi) in enumerate(range_meta)
-        ]
-        tables["range"] = range_table(base_metrics, rows, describe)
-    if sobol_names:
-        outputs = {m: np.array([_metrics_of(r, [m])[m] for r in results["sobol"]]) for m in metrics}
-        tables["sobol"] = sobol_table(
-            sobol_names, sobol_bounds, outputs, seed=sens.sobol.seed, descriptions=describe
-        )
 
-    frame = _points_frame(study, sets["sweep"], results["sweep"])
+
+def _elasticities(
+    study: SweepStudyBase, plan: _Plan, context: RunContext, stats: dict[str, Any]
+) -> SensitivityTable | None:
+    common = dict(
+        executor=context.executor, store=context.store, resume=context.resume,
+        cache_only=context.cache_only, progress=context.progress,
+    )  # fmt: skip
+    local = run_points(
+        plan.sets["base"], type(study).LOCAL_EVALUATOR, study.evaluator_options(),  # type: ignore[arg-type]
+        desc=f"{study.name}: elasticities", **common,
+    )  # fmt: skip
+    for k, v in _stats(local, context).items():
+        if k != "executor":
+            stats[k] += v
+    row = local.frame.iloc[0].to_dict()
+    if row.get("status") == STATUS_ERROR:
+        logger.warning("local elasticities failed: %s", row.get("error"))
+        return None
+    el: dict[str, dict[str, float]] = {}
+    for col, value in row.items():
+        if ":" not in str(col):
+            continue
+        metric, key = str(col).split(":", 1)
+        if metric in study.metrics and key in plan.path_of:
+            el.setdefault(metric, {})[plan.path_of[key]] = float(value)
+    return elasticity_table(el, plan.describe)
+
+
+def run_sweep_study(study: SweepStudyBase, context: RunContext) -> SweepStudyResult:
+    """Evaluate every point of a sweep study and build its tables.
+
+    Parameters
+    ----------
+    study
+        A sweep study (a :class:`~designlab.study.sweeps.SweepStudyBase`).
+    context
+        How to run it (executor, store, resume; see
+        :class:`~designlab.study.runner.RunContext`).
+    """
+    plan = _plan(study)
+    metrics = study.metrics
+    names = [name for name, cols in plan.sets.items() if _n(cols)]
+    all_points = {
+        k: np.concatenate([plan.sets[s][k] for s in names]) for k in plan.sets["base"]
+    }
+    logger.info(
+        "%s: %s", study.name, ", ".join(f"{s} {_n(plan.sets[s])}" for s in names)
+    )
+    run = run_points(
+        all_points, type(study).EVALUATOR, study.evaluator_options(),  # type: ignore[arg-type]
+        executor=context.executor, store=context.store, resume=context.resume,
+        cache_only=context.cache_only, progress=context.progress, desc=study.name,
+    )  # fmt: skip
+    results: dict[str, pd.DataFrame] = {}
+    i = 0
+    for s in names:
+        n = _n(plan.sets[s])
+        results[s] = run.frame.iloc[i : i + n].reset_index(drop=True)
+        i += n
+    base_result = {
+        k: (v.item() if isinstance(v, np.generic) else v)
+        for k, v in results["base"].iloc[0].to_dict().items()
+    }
+    base_metrics = _metric_values(results["base"], metrics)[0]
+    stats = _stats(run, context)
+
+    tables: dict[str, SensitivityTable] = {}
+    sens = study.sensitivity
+    if sens is not None and sens.local and study.LOCAL_EVALUATOR is not None:
+        table = _elasticities(study, plan, context, stats)
+        if table is not None:
+            tables["elasticity"] = table
+    if plan.oat_meta:
+        rows = [
+            (path, d, x, m)
+            for (path, d, x), m in zip(
+                plan.oat_meta, _metric_values(results["one_at_a_time"], metrics), strict=True
+            )
+        ]
+        tables["one_at_a_time"] = one_at_a_time_table(base_metrics, rows, plan.describe)
+    if plan.range_meta:
+        rr = _metric_values(results["range"], metrics)
+        rows = [
+            (path, lo, hi, rr[2 * k], rr[2 * k + 1])
+            for k, (path, lo, hi) in enumerate(plan.range_meta)
+        ]
+        tables["range"] = range_table(base_metrics, rows, plan.describe)
+    if plan.sobol_names:
+        frame = results["sobol"]
+        outputs = {
+            m: frame[m].to_numpy(dtype=float) if m in frame else np.full(len(frame), np.nan)
+            for m in metrics
+        }
+        tables["sobol"] = sobol_table(
+            plan.sobol_names, plan.sobol_bounds, outputs, seed=sens.sobol.seed,  # type: ignore[union-attr]
+            descriptions=plan.describe,
+        )  # fmt: skip
+    frame = _points_frame(study, plan.sets["sweep"], results.get("sweep"))
+    logger.info(
+        "%s: %d points (%d distinct), %d computed, %d from the store, %d failed",
+        study.name, stats["points"], stats["distinct"], stats["computed"], stats["cached"],
+        stats["failed"],
+    )  # fmt: skip
     return SweepStudyResult(study, frame, base_result, tables, stats)
 
 
 def _points_frame(
-    study: SweepStudyBase, points: list[dict[str, float]], results: list[dict[str, Any]]
+    study: SweepStudyBase, points: Columns, results: pd.DataFrame | None
 ) -> pd.DataFrame:
+    if not points or results is None:
+        return pd.DataFrame()
     cols = {key: f"{key}_{unit_slug(info.unit)}" for _, (key, info) in study.PARAMETERS.items()}
-    rows = []
-    for p, r in zip(points, results, strict=True):
-        row: dict[str, Any] = {cols.get(k, k): v for k, v in p.items()}
-        row.update({k: v for k, v in r.items() if not isinstance(v, dict)})
-        rows.append(row)
-    frame = pd.DataFrame(rows)
-    if len(frame):
-        for c in ("status", "error"):
-            if c not in frame:
-                frame[c] = None
-        inputs = [c for c in cols.values() if c in frame]
-        metrics = [m for m in study.METRICS if m in frame]
-        rest = sorted(set(frame.columns) - {*inputs, *metrics, "status", "error"})
-        frame = frame[[*inputs, *metrics, *rest, "status", "error"]]
-    return frame
+    frame = pd.DataFrame({cols.get(k, k): v for k, v in points.items()})
+    for c in results.columns:
+        frame[c] = results[c].to_numpy()
+    for c in ("status", "error"):
+        if c not in frame:
+            frame[c] = None
+    inputs = [c for c in cols.values() if c in frame]
+    metrics = [m for m in study.METRICS if m in frame]
+    rest = sorted(set(frame.columns) - {*inputs, *metrics, "status", "error"})
+    return frame[[*inputs, *metrics, *rest, "status", "error"]]

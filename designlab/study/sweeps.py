@@ -41,12 +41,20 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Annotated, Any, ClassVar, Literal
+from collections.abc import Callable
+from typing import Annotated, Any, ClassVar, Generic, Literal, TypeVar
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, create_model, model_validator
+from pydantic import BaseModel, Field, create_model, model_validator
+
+from designlab.study.base import Finite as _Finite
+from designlab.study.base import Model as _Model
+from designlab.study.base import StudyBase, did_you_mean
 
 __all__ = [
+    "MAX_POINTS",
     "OneAtATimeSpec",
+    "SensitivitySpec",
+    "SweepStudyBase",
     "ParameterInfo",
     "ParameterRange",
     "SobolSpec",
@@ -55,18 +63,8 @@ __all__ = [
 ]
 
 
-def _reject_bool(value: Any) -> Any:
-    if isinstance(value, bool):
-        raise ValueError("must be a number, not a boolean")
-    return value
-
-
-_Number = Annotated[float, BeforeValidator(_reject_bool)]
-_Finite = Annotated[_Number, Field(allow_inf_nan=False)]
-
-
-class _Model(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+#: The most points a sweep (or a sensitivity block) may have.
+MAX_POINTS = 2_000_000
 
 
 @dataclass(frozen=True)
@@ -90,6 +88,17 @@ class ParameterInfo:
             parts.append(f"<= {self.le:g}")
         text = " and ".join(parts) or "any finite value"
         return f"{text} {self.unit}".rstrip()
+
+    def json_bounds(self) -> dict[str, float]:
+        """The range as JSON Schema keywords (``exclusiveMinimum``, ``minimum``, ``maximum``)."""
+        out: dict[str, float] = {}
+        if self.gt is not None:
+            out["exclusiveMinimum"] = self.gt
+        if self.ge is not None:
+            out["minimum"] = self.ge
+        if self.le is not None:
+            out["maximum"] = self.le
+        return out
 
     def check(self, value: float) -> bool:
         """Whether ``value`` is allowed."""
@@ -181,11 +190,16 @@ def parameter_model(name: str, parameters: dict[str, ParameterInfo]) -> type[Bas
     """
     fields: dict[str, Any] = {}
     for path, info in parameters.items():
-        rng = type(
+        bounded = Annotated[_Finite, Field(json_schema_extra=info.json_bounds())]  # type: ignore[arg-type]
+        rng = create_model(  # type: ignore[call-overload]
             f"{name}_{path.replace('.', '_')}",
-            (ParameterRange,),
-            {"INFO": info, "__doc__": f"{info.description}, {info.unit}; allowed {info.allowed()}"},
+            __base__=ParameterRange,
+            __doc__=f"{info.description}, {info.unit}; allowed {info.allowed()}",
+            values=(list[bounded] | None, Field(None, min_length=1, description="explicit values")),
+            low=(bounded | None, Field(None, description="lower bound of the range")),
+            high=(bounded | None, Field(None, description="upper bound of the range")),
         )
+        rng.INFO = info
         fields[path.replace(".", "__")] = (
             rng | None,
             Field(None, alias=path, description=f"{info.description}, {info.unit}"),
@@ -264,7 +278,25 @@ class SweepSpec(_Model):
             for path, rng in items:
                 if rng.values is None and rng.num is None:
                     raise ValueError(f"method grid: {path} needs values or low, high and num")
+        n = self.count()
+        if n > MAX_POINTS:
+            raise ValueError(
+                f"the {self.method} has {n:,} points; at most {MAX_POINTS:,} are allowed "
+                "(use lhs or sobol sampling, or fewer values per parameter)"
+            )
         return self
+
+    def count(self) -> int:
+        """How many points the sweep has (computed without building them)."""
+        items = self.parameters.items()
+        if self.method in ("lhs", "sobol"):
+            return int(self.samples or 0)
+        if self.method == "list":
+            return len(items[0][1].values or ()) if items else 0
+        n = 1
+        for _, rng in items:
+            n *= len(rng.values) if rng.values is not None else int(rng.num or 0)
+        return n
 
 
 class OneAtATimeSpec(_Model):
@@ -298,4 +330,135 @@ class SobolSpec(_Model):
                 f"samples must be a power of two (got {self.samples}; "
                 f"try {1 << max(self.samples - 1, 1).bit_length()})"
             )
+        return self
+
+
+ParametersT = TypeVar("ParametersT", bound=BaseModel)
+MetricT = TypeVar("MetricT")
+
+
+class SweepOf(SweepSpec, Generic[ParametersT]):
+    """The ``sweep`` block of a kind whose parameters model is ``ParametersT``."""
+
+    parameters: ParametersT
+
+
+class SensitivitySpec(_Model, Generic[MetricT]):
+    """The ``sensitivity`` block: which tables to compute, for which metrics."""
+
+    metrics: list[MetricT] | None = Field(
+        None, min_length=1, description="metrics to analyse (default: the kind's default metrics)"
+    )
+    local: bool = Field(
+        True, description="elasticities d ln(metric) / d ln(parameter) at the base"
+    )
+    one_at_a_time: OneAtATimeSpec | None = Field(
+        None, description="percentage perturbation table (Zeng 2011 App. C form)"
+    )
+    sobol: SobolSpec | None = Field(None, description="global Sobol indices (SALib)")
+    tornado: bool = Field(
+        True, description="metric at each sweep parameter's low and high (others at base)"
+    )
+
+
+class SweepStudyBase(StudyBase, Generic[ParametersT, MetricT]):
+    """A study kind that sweeps a design: ``base``, ``sweep`` and ``sensitivity``.
+
+    ``sweep`` and ``sensitivity`` are declared here once; a kind subclasses
+    ``SweepStudyBase[ItsParameters, ItsMetricLiteral]``, declares its ``base``
+    and sets the class attributes:
+
+    ``PARAMETERS``
+        dotted path -> (point key, :class:`ParameterInfo`): what can be swept.
+    ``METRICS``
+        result column -> description with unit (one table per domain).
+    ``DEFAULT_METRICS``
+        the metrics analysed when the study does not list them.
+    ``EVALUATOR``
+        the domain's module-level evaluator ``(points, options) -> columns``
+        (see :mod:`designlab.analysis.sweep`), sent to workers by reference.
+    ``LOCAL_EVALUATOR``
+        optional: evaluator of exact elasticities at the base (else the
+        elasticities are not computed).
+    """
+
+    sweep: SweepOf[ParametersT] | None = None
+    sensitivity: SensitivitySpec[MetricT] | None = None
+
+    PARAMETERS: ClassVar[dict[str, tuple[str, ParameterInfo]]] = {}
+    METRICS: ClassVar[dict[str, str]] = {}
+    DEFAULT_METRICS: ClassVar[tuple[str, ...]] = ()
+    EVALUATOR: ClassVar[Callable[..., Any] | None] = None
+    LOCAL_EVALUATOR: ClassVar[Callable[..., Any] | None] = None
+    NEEDS_SWEEP_OR_SENSITIVITY: ClassVar[bool] = False
+    PRODUCES: ClassVar[tuple[str, ...]] = (
+        "summary.md",
+        "results.csv",
+        "sensitivity_*.csv",
+        "*.png",
+        "study.yaml",
+    )
+
+    def base_point(self) -> dict[str, float]:  # pragma: no cover - every kind overrides it
+        """The base design as a plain point dictionary."""
+        raise NotImplementedError
+
+    def evaluator_options(self) -> dict[str, Any]:
+        """Settings of the evaluator that are the same for every point."""
+        return {}
+
+    @property
+    def metrics(self) -> list[str]:
+        """The metrics analysed."""
+        sens = self.sensitivity
+        if sens is None:
+            return list(self.METRICS)
+        if sens.metrics:
+            return [str(m) for m in sens.metrics]
+        return list(self.DEFAULT_METRICS or self.METRICS)
+
+    def size(self) -> str:
+        """The number of points, for ``designlab validate``."""
+        from designlab.study.sweep_runner import count_points
+
+        return f"{count_points(self)} points"
+
+    @model_validator(mode="after")
+    def _check_paths(self) -> SweepStudyBase[ParametersT, MetricT]:
+        sens, sweep = self.sensitivity, self.sweep
+        if self.NEEDS_SWEEP_OR_SENSITIVITY and sweep is None and sens is None:
+            raise ValueError("give a sweep, a sensitivity block, or both")
+        if sens is None:
+            return self
+        swept = [p for p, _ in sweep.parameters.items()] if sweep is not None else []
+        known = list(self.PARAMETERS)
+        for block, label in ((sens.one_at_a_time, "one_at_a_time"), (sens.sobol, "sobol")):
+            if block is None:
+                continue
+            paths = block.parameters if block.parameters is not None else swept
+            if not paths:
+                raise ValueError(
+                    f"sensitivity.{label}: give parameters: [...] or a sweep with parameters"
+                )
+            for path in paths:
+                if path not in known:
+                    raise ValueError(
+                        f"sensitivity.{label}.parameters: unknown parameter {path!r}"
+                        f"{did_you_mean(path, known)} (known: {', '.join(known)})"
+                    )
+            if label == "sobol":
+                ranged = {p for p, _ in sweep.parameters.items()} if sweep is not None else set()
+                missing = [p for p in paths if p not in ranged]
+                if missing:
+                    raise ValueError(
+                        f"sensitivity.sobol: {', '.join(missing)} need a range in "
+                        "sweep.parameters (low/high or values)"
+                    )
+                if len(paths) < 2:
+                    raise ValueError("sensitivity.sobol needs at least two parameters")
+                n = sens.sobol.samples * (len(paths) + 2)  # type: ignore[union-attr]
+                if n > MAX_POINTS:
+                    raise ValueError(
+                        f"sensitivity.sobol needs {n:,} points; at most {MAX_POINTS:,} are allowed"
+                    )
         return self

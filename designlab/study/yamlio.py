@@ -67,6 +67,57 @@ _Loader.add_implicit_resolver(
 )
 
 
+#: The most nodes a study document may expand to (aliases counted at every use).
+MAX_NODES = 200_000
+#: The largest study text accepted, in characters.
+MAX_CHARS = 5_000_000
+
+
+def _check_size(root: yaml.Node) -> None:
+    """Refuse documents whose aliases expand to more than :data:`MAX_NODES` nodes.
+
+    A "billion laughs" document (anchors nesting aliases of aliases) is tiny as
+    text but exponential once expanded; it is measured on the node graph with
+    memoisation, so the check itself is linear in the text.
+    """
+    sizes: dict[int, int] = {}
+    active: set[int] = set()
+
+    def size(node: yaml.Node) -> int:
+        key = id(node)
+        if key in sizes:
+            return sizes[key]
+        if key in active:
+            raise YamlSyntaxError(
+                "the document refers to itself through an alias (a recursive structure); "
+                "studies must be plain trees",
+                line=node.start_mark.line + 1,
+            )
+        active.add(key)
+        total = 1
+        if isinstance(node, yaml.MappingNode):
+            for k, v in node.value:
+                total += size(k) + size(v)
+                if total > MAX_NODES:
+                    break
+        elif isinstance(node, yaml.SequenceNode):
+            for item in node.value:
+                total += size(item)
+                if total > MAX_NODES:
+                    break
+        active.discard(key)
+        sizes[key] = total
+        if total > MAX_NODES:
+            raise YamlSyntaxError(
+                f"the document expands to more than {MAX_NODES:,} values (nested anchors and "
+                "aliases?); studies must be small",
+                line=node.start_mark.line + 1,
+            )
+        return total
+
+    size(root)
+
+
 def _record(node: yaml.Node, path: YamlPath, lines: dict[YamlPath, int]) -> None:
     """Walk the composed node tree and record the line of each key and item."""
     if isinstance(node, yaml.MappingNode):
@@ -122,11 +173,16 @@ def load_yaml_with_lines(text: str) -> tuple[Any, dict[YamlPath, int]]:
     ...
     designlab.study.yamlio.YamlSyntaxError: ...
     """
+    if len(text) > MAX_CHARS:
+        raise YamlSyntaxError(
+            f"the study is {len(text):,} characters long; at most {MAX_CHARS:,} are allowed"
+        )
     loader = _Loader(text)
     try:
         node = loader.get_single_node()
         if node is None:
             return None, {}
+        _check_size(node)
         lines: dict[YamlPath, int] = {}
         _record(node, (), lines)
         data = loader.construct_document(node)

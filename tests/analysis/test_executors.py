@@ -9,6 +9,7 @@ import pytest
 from designlab.analysis.executors import ExecutorError, make_executor
 from designlab.analysis.sampling import latin_hypercube
 from designlab.analysis.sweep import run_points
+from designlab.impact.sweep import impact_metrics_chunk
 
 BASE = {"M_r": 9.6, "C_r": 250.0, "K_r": 20e3, "K_c": 24.25e3, "C_c": 71.9,
         "lambda": 0.02, "M_h": 4.4, "C_h": 46.0, "K_h": 3e3, "v_c": 1.25}  # fmt: skip
@@ -16,7 +17,8 @@ BASE = {"M_r": 9.6, "C_r": 250.0, "K_r": 20e3, "K_c": 24.25e3, "C_c": 71.9,
 
 def _points(n: int = 40) -> list[dict[str, float]]:
     box = {"K_c": (5e3, 60e3), "C_c": (10.0, 150.0), "M_h": (4.4, 5.3), "v_c": (0.4, 2.0)}
-    pts = [dict(BASE, **p) for p in latin_hypercube(box, n, seed=3)]
+    cols = latin_hypercube(box, n, seed=3)
+    pts = [dict(BASE, **{k: float(v[i]) for k, v in cols.items()}) for i in range(n)]
     pts[7] = dict(pts[7], K_r=0.0, K_h=0.0)  # no restoring stiffness: the model refuses it
     return pts
 
@@ -25,7 +27,8 @@ def _check_failure_recorded(run) -> None:
     assert run.failed == [7]
     bad = run.results[7]
     assert bad["status"] == "error"
-    assert bad["error"].startswith("ModelError: design 0: the model has a pole at s = 0")
+    assert bad["error"].startswith("ModelError: design 0: the model has a pole at s = 0"), bad
+    assert math.isnan(bad["a_h_max_g"])
     assert all(
         r["status"] in ("ok", "peak_at_contact") for i, r in enumerate(run.results) if i != 7
     )
@@ -33,25 +36,25 @@ def _check_failure_recorded(run) -> None:
 
 @pytest.fixture(scope="module")
 def serial_run():
-    run = run_points(_points(), "impact_metrics", chunk_size=8)
+    run = run_points(_points(), impact_metrics_chunk, chunk_size=8)
     _check_failure_recorded(run)
     return run
 
 
 def test_processes_match_serial(serial_run):
     with make_executor("processes", workers=2) as ex:
-        run = run_points(_points(), "impact_metrics", executor=ex, chunk_size=5)
+        run = run_points(_points(), impact_metrics_chunk, executor=ex, chunk_size=5)
     _check_failure_recorded(run)
-    assert run.results == serial_run.results  # bit for bit, whatever the chunking
+    assert run.frame.equals(serial_run.frame)  # bit for bit, whatever the chunking
 
 
 def test_dask_local_cluster_matches_serial(serial_run):
     pytest.importorskip("distributed", reason="dask[distributed] is not installed")
     with make_executor("dask", workers=2, processes=False) as ex:
         assert ex.describe() == "dask LocalCluster (2 workers)"
-        run = run_points(_points(), "impact_metrics", executor=ex, chunk_size=3)
+        run = run_points(_points(), impact_metrics_chunk, executor=ex, chunk_size=3)
     _check_failure_recorded(run)
-    assert run.results == serial_run.results
+    assert run.frame.equals(serial_run.frame)
 
 
 def test_unreachable_dask_scheduler_fails_fast():

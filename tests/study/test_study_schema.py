@@ -10,7 +10,8 @@ import pytest
 
 from designlab.errors import DesignlabError, StudyError
 from designlab.impact.parameters import FOAM_1, FOAM_2_MEASURED, MANIPULATOR_1, TEST_HEAD
-from designlab.study import STUDY_ADAPTER, ImpactCasesStudy, load_study, parse_study
+from designlab.study import load_study, parse_study, study_adapter
+from designlab.study.kinds.impact_cases import ImpactCasesStudy
 
 HEADER = "designlab: 1\nkind: impact_cases\nname: s\n"
 
@@ -60,7 +61,7 @@ def test_discriminated_union_on_kind():
             {"robot": "MANIPULATOR_2", "foam": "FOAM_3", "head": "HEAD_MAX", "impact_velocity": 1.0}
         ],
     }
-    assert isinstance(STUDY_ADAPTER.validate_python(data), ImpactCasesStudy)
+    assert isinstance(study_adapter().validate_python(data), ImpactCasesStudy)
 
 
 # (yaml text, field path, line, words the message must contain)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import os
 import signal
 import subprocess
@@ -15,8 +14,8 @@ import pytest
 
 from designlab.analysis.sweep import CacheIncompleteError
 from designlab.errors import StudyError
-from designlab.report.cache import PointCache
-from designlab.study import load_study, parse_study, run_study
+from designlab.report.store import ChunkStore, open_store
+from designlab.study import RunContext, load_study, parse_study, run_study
 
 SWEEP = """\
 designlab: 1
@@ -55,7 +54,7 @@ def _error(text: str) -> str:
          "s.yaml:5: sweep: method lhs needs samples: N"),
         ("metrics: [a_h_max_g, eps_max_m]", "metrics: [a_h_max]",
          "s.yaml:11: sensitivity.metrics[0]: Input should be 'a_h_max_g', 'eps_max_m', "
-         "'f_c_max_N' or 't_imp_s' (got 'a_h_max'; did you mean 'a_h_max_g'?)"),
+         "'peak_force_N' or 't_imp_s' (got 'a_h_max'; did you mean 'a_h_max_g'?)"),
         ("one_at_a_time: {deltas_pct: [-10, 10]}", "sobol: {samples: 100}",
          "s.yaml:12: sensitivity.sobol: samples must be a power of two (got 100; try 128)"),
         ("designlab: 1", "designlab: 2", "s.yaml:1: designlab: study format 2 is not supported"),
@@ -104,105 +103,171 @@ def test_sobol_indices_rank_the_dominant_parameter():
     assert table["ST"].iloc[0] > 0.8 and table["ST"].iloc[1] < 0.1
 
 
-def test_cache_resume_and_corrupt_entry(tmp_path, caplog):
+def test_store_resume_and_corrupt_chunk(tmp_path, caplog):
     study = parse_study(SWEEP)
-    first = run_study(study, cache_dir=tmp_path)
-    n = first.stats["points"]
-    # 22 points, 3 of them repeats (the base, two tornado ends on the grid): computed once
-    assert (n, first.stats["computed"], first.stats["cached"]) == (22, 19, 0)
-    again = run_study(study, cache_dir=tmp_path, resume=True)
-    assert again.stats["computed"] == 0
+    with open_store(tmp_path, study.name) as store:
+        first = run_study(study, RunContext(store=store))
+    st = first.stats
+    # 21 points + the elasticity point; 3 repeats (the base, two tornado ends on the grid)
+    assert (st["points"], st["distinct"], st["computed"], st["cached"]) == (22, 19, 19, 0)
+    with open_store(tmp_path, study.name) as store:
+        again = run_study(study, RunContext(store=store, resume=True))
+    assert again.stats["computed"] == 0 and again.stats["cached"] == 19
     assert again.frame.equals(first.frame)
-    # damage one entry: detected, reported, recomputed
-    cache = PointCache(tmp_path / "sweep_demo")
-    # a sweep point's entry (not the elasticity entry, whose metrics are dicts)
-    victim = [
-        f
-        for f in sorted((tmp_path / "sweep_demo").glob("??/*.json"))
-        if isinstance(json.loads(f.read_text())["result"].get("a_h_max_g"), float)
-    ][3]
-    entry = json.loads(victim.read_text())
-    entry["result"]["a_h_max_g"] = 99.0
-    victim.write_text(json.dumps(entry))
-    with caplog.at_level("WARNING"):
-        fixed = run_study(study, cache_dir=tmp_path, resume=True)
-    assert fixed.stats["corrupt"] == 1 and fixed.stats["computed"] == 1
-    assert "corrupt cache entry" in caplog.text and victim.name in caplog.text
+    # damage the sweep chunk's bytes: detected by its checksum, reported, recomputed
+    import sqlite3
+
+    path = tmp_path / "sweep_demo.sqlite"
+    db = sqlite3.connect(path)
+    key, n, data = max(db.execute("SELECT key, n, data FROM chunks"), key=lambda r: r[1])
+    db.execute("UPDATE chunks SET data = ? WHERE key = ?", (data[:-3] + b"xyz", key))
+    db.commit()
+    db.close()
+    with caplog.at_level("WARNING"), open_store(tmp_path, study.name) as store:
+        fixed = run_study(study, RunContext(store=store, resume=True))
+    assert fixed.stats["corrupt"] == 1 and fixed.stats["computed"] == n
+    assert "corrupt stored chunk" in caplog.text and key in caplog.text
     assert fixed.frame.equals(first.frame)
-    assert "1 corrupt cache entries were recomputed" in fixed.warnings
-    assert cache.get(victim.stem)[0] == "ok"
-    # rebuilding from the cache only
-    victim.write_text("{truncated")
-    with pytest.raises(CacheIncompleteError, match="1 point of sweep_demo is not in the cache"):
-        run_study(study, cache_dir=tmp_path, cache_only=True)
+    assert "1 corrupt stored chunks were recomputed" in fixed.warnings
+    with ChunkStore(path) as store:
+        assert store.get_chunk(key)[0] == "ok"
+    # rebuilding from the store only: a missing chunk is an error, not a recomputation
+    db = sqlite3.connect(path)
+    db.execute("DELETE FROM chunks WHERE key = ?", (key,))
+    db.commit()
+    db.close()
+    with pytest.raises(CacheIncompleteError, match=f"{n} points of sweep_demo are not in the store"):
+        with open_store(tmp_path, study.name) as store:
+            run_study(study, RunContext(store=store, cache_only=True))
+
+
+def test_store_refuses_foreign_and_other_study_files(tmp_path):
+    from designlab.report.atomic import ReportError
+
+    (tmp_path / "x.sqlite").write_bytes(b"not a database at all" * 10)
+    with pytest.raises(ReportError, match="is not a designlab result store"):
+        ChunkStore(tmp_path / "x.sqlite").get_chunk("k")
+    import sqlite3
+
+    db = sqlite3.connect(tmp_path / "y.sqlite")
+    db.execute("CREATE TABLE other (a)")
+    db.commit()
+    db.close()
+    with pytest.raises(ReportError, match="is not a designlab result store"):
+        ChunkStore(tmp_path / "y.sqlite").get_chunk("k")
+    with ChunkStore(tmp_path / "z.sqlite", study="a") as store:
+        store.put_chunk("k", {"y": np.array([1.0])})
+    with pytest.raises(ReportError, match="holds the results of study 'a', not 'b'"):
+        ChunkStore(tmp_path / "z.sqlite", study="b").get_chunk("k")
+
+
+def test_two_runs_at_once_share_the_store(tmp_path):
+    """Two processes writing the same study's store at once: no corruption, same results."""
+    script = tmp_path / "twice.py"
+    script.write_text(textwrap.dedent(f"""\
+        import sys
+        from designlab.study import RunContext, parse_study, run_study
+        from designlab.report.store import open_store
+        study = parse_study({SWEEP!r})
+        with open_store(sys.argv[1], study.name) as store:
+            r = run_study(study, RunContext(store=store, resume=True))
+        print(r.frame["a_h_max_g"].sum())
+        """))
+    procs = [subprocess.Popen([sys.executable, str(script), str(tmp_path)],
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+             for _ in range(2)]  # fmt: skip
+    outs = [p.communicate(timeout=120) for p in procs]
+    assert all(p.returncode == 0 for p in procs), outs
+    assert outs[0][0] == outs[1][0]
+    with open_store(tmp_path, "sweep_demo") as store:
+        assert store.points() == 18 + 1  # the distinct sweep points and the elasticity point
+        for key, in store._connect().execute("SELECT key FROM chunks"):
+            assert store.get_chunk(key)[0] == "ok"
 
 
 SLOW_RUNNER = """\
 import sys, time
-import designlab.analysis.sweep as sweep
+import numpy as np
+from designlab.impact.sweep import impact_metrics_chunk
+from designlab.study.kinds.impact_sweep import ImpactSweepStudy
 
-fast = sweep.EVALUATORS["impact_metrics"]
 
 def slow(points, options):
-    time.sleep(0.02 * len(points))
-    return fast(points, options)
+    time.sleep(0.02 * len(points["v_c"]))
+    return impact_metrics_chunk(points, options)
 
-sweep.EVALUATORS["impact_metrics"] = slow
+
+slow.chunk_size = 2
+ImpactSweepStudy.EVALUATOR = slow
 from designlab.cli import app
 app(sys.argv[1:], prog_name="designlab")
 """
 
 
+def _stored_points(path):
+    import sqlite3
+
+    if not path.exists():
+        return 0
+    try:
+        db = sqlite3.connect(f"file:{path}?mode=ro", uri=True, timeout=5)
+        try:
+            return int(db.execute("SELECT COALESCE(SUM(n), 0) FROM chunks").fetchone()[0])
+        finally:
+            db.close()
+    except sqlite3.Error:
+        return 0
+
+
 def test_killed_sweep_resumes_with_only_the_missing_points(tmp_path, write_study):
     study = write_study(
-        SWEEP.replace("num: 6", "num: 40").replace("{values: [4.4, 5.3]}", "{values: [4.4, 5.3]}")
+        SWEEP.replace("num: 6", "num: 40")
         .replace("one_at_a_time: {deltas_pct: [-10, 10]}", "local: false"),
         "killme.yaml",
     )  # fmt: skip
     script = tmp_path / "slow_designlab.py"
     script.write_text(SLOW_RUNNER)
     cache, out = tmp_path / "cache", tmp_path / "reports"
-    args = [
-        sys.executable,
-        str(script),
-        "run",
-        str(study),
-        "-o",
-        str(out),
-        "--cache-dir",
-        str(cache),
-    ]
+    args = [sys.executable, str(script), "run", str(study), "-o", str(out),
+            "--cache-dir", str(cache)]  # fmt: skip
     proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
-    entries = cache / "sweep_demo"
+    store = cache / "sweep_demo.sqlite"
     deadline = time.monotonic() + 60
-    while time.monotonic() < deadline and len(list(entries.glob("??/*.json"))) < 10:
+    while time.monotonic() < deadline and _stored_points(store) < 10:
         time.sleep(0.05)
     proc.send_signal(signal.SIGKILL)
     proc.wait(timeout=30)
-    done = len(list(entries.glob("??/*.json")))
+    done = _stored_points(store)
     total = 1 + 80 + 4
-    assert 10 <= done < total, done
+    distinct = total - 3  # the base and two tornado ends repeat grid points
+    assert 10 <= done < distinct, done
     assert not (out / "sweep_demo").exists()  # no half-written report
 
     resumed = subprocess.run([*args, "--resume"], capture_output=True, text=True, timeout=120)
     assert resumed.returncode == 0, resumed.stderr
     import re
 
-    found = re.search(r"points: (\d+) \((\d+) computed, (\d+) from the cache, 0 failed\)",
-                      resumed.stdout)  # fmt: skip
+    found = re.search(r"points: (\d+) \((\d+) computed, (\d+) from the store, 0 failed, "
+                      r"3 duplicates merged\)", resumed.stdout)  # fmt: skip
     assert found, resumed.stdout
     points, computed, cached = map(int, found.groups())
-    # every point finished before the kill is reused; only the rest is computed
-    # (3 of the 85 points repeat others: the base and two tornado ends on the grid)
-    assert (points, cached, computed) == (total, done, total - 3 - done)
-    fresh = run_study(load_study(study))
+    # every chunk finished before the kill is reused; only the rest is computed
+    assert (points, cached, computed) == (total, done, distinct - done)
     import pandas as pd
 
+    fresh = run_study(load_study(study))
     got = pd.read_csv(out / "sweep_demo" / "results.csv")
     assert np.allclose(got["a_h_max_g"], fresh.frame["a_h_max_g"], rtol=1e-6)
+    # a resumed run writes the same tables as a fresh one, byte for byte
+    fresh_out = tmp_path / "fresh"
+    clean = subprocess.run([*args[:4], "-o", str(fresh_out), "--cache-dir",
+                            str(tmp_path / "cache2")], capture_output=True, text=True, timeout=120)  # fmt: skip
+    assert clean.returncode == 0, clean.stderr
+    for name in ("results.csv", "sensitivity_range.csv"):
+        assert (out / "sweep_demo" / name).read_bytes() == (fresh_out / "sweep_demo" / name).read_bytes()
 
 
-def test_sigint_leaves_cache_and_exit_code_130(tmp_path, write_study):
+def test_sigint_leaves_store_and_exit_code_130(tmp_path, write_study):
     study = write_study(SWEEP.replace("num: 6", "num: 40"), "intr.yaml")
     script = tmp_path / "slow_designlab.py"
     script.write_text(SLOW_RUNNER)
@@ -212,13 +277,14 @@ def test_sigint_leaves_cache_and_exit_code_130(tmp_path, write_study):
     proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             env={**os.environ, "PYTHONUNBUFFERED": "1"})  # fmt: skip
     deadline = time.monotonic() + 60
-    while time.monotonic() < deadline and len(list(cache.glob("*/??/*.json"))) < 5:
+    while time.monotonic() < deadline and _stored_points(cache / "sweep_demo.sqlite") < 5:
         time.sleep(0.05)
     proc.send_signal(signal.SIGINT)
     _, err = proc.communicate(timeout=30)
     assert proc.returncode == 130, err
-    assert "interrupted: finished points are cached in" in err and "--resume" in err
+    assert "interrupted: finished points are kept in" in err and "--resume" in err
     assert not (tmp_path / "r" / "sweep_demo").exists()
+    assert _stored_points(cache / "sweep_demo.sqlite") >= 5
 
 
 def test_foam_envelope_study_runs_and_explains(write_study):

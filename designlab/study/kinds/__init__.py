@@ -1,0 +1,14 @@
+"""The study kinds shipped with designlab: one module per kind.
+
+Each module defines its schema (a :class:`~designlab.study.base.StudyBase`
+subclass), its runner and ``KIND = StudyKind(...)``. To add a kind, write the
+module and add its name to :data:`MODULES`.
+"""
+
+#: Kind modules, in the order ``designlab list`` and the JSON Schema show them.
+MODULES: tuple[str, ...] = (
+    "impact_cases",
+    "impact_sweep",
+    "foam_envelope",
+    "foam_design",
+)
