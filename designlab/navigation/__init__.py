@@ -29,8 +29,16 @@ from designlab.navigation.scenarios import (
     configuration,
 )
 from designlab.navigation.simulate import BatchResult, NavigationResult, simulate, simulate_batch
+from designlab.navigation.tuning import GainOptimum, RandomWalks, evaluate_gains, optimise_gains
+from designlab.navigation.sensitivity import GainSensitivity, gain_sensitivity
 
 __all__ = [
+    "GainOptimum",
+    "GainSensitivity",
+    "RandomWalks",
+    "evaluate_gains",
+    "gain_sensitivity",
+    "optimise_gains",
     "EXPERIMENT_GAINS",
     "OPTIMAL_GAINS",
     "BatchResult",
