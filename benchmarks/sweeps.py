@@ -76,6 +76,7 @@ cols = latin_hypercube({"head.mass": (4.4, 5.3), "foam.stiffness": (13.48e3, 60.
                        log={"foam.stiffness": True})
 r, h = MANIPULATOR_1, HEAD_MIN
 t0 = time.perf_counter()
+c0 = time.process_time()
 step = 65536
 total = 0.0
 for s in range(0, n, step):
@@ -86,20 +87,23 @@ for s in range(0, n, step):
                        1.25)
     total += float(np.nansum(m.peak_head_acceleration_g))
 wall = time.perf_counter() - t0
+cpu = time.process_time() - c0
 rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-print(json.dumps({"wall": wall, "rss_mb": rss, "check": total}))
+print(json.dumps({"wall": wall, "cpu": cpu, "rss_mb": rss, "check": total}))
 """
 
 CLI = """\
 import json, resource, sys, time
 from designlab.cli import app
 t0 = time.perf_counter()
+c0 = time.process_time()
 try:
     app(sys.argv[1:], prog_name="designlab", standalone_mode=False)
 finally:
     wall = time.perf_counter() - t0
+    cpu = time.process_time() - c0
     rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-    print("BENCH " + json.dumps({"wall": wall, "rss_mb": rss}), file=sys.stderr)
+    print("BENCH " + json.dumps({"wall": wall, "cpu": cpu, "rss_mb": rss}), file=sys.stderr)
 """
 
 
@@ -129,12 +133,16 @@ def impact_sweep(n: int, tmp: Path) -> None:
     resume = _bench(CLI, *args, "--resume")
     size = _store_bytes(cache)
     files = sorted(p.name for p in (out / "bench_sweep").iterdir())
-    print(f"impact_sweep, {n:,} points (LHS over M_h, K_c, C_c), one core:")
-    print(f"  bare kernel (impact_metrics)   {kernel['wall']:8.2f} s   peak RSS {kernel['rss_mb']:7.0f} MB")
-    print(f"  designlab run (store, report)  {run['wall']:8.2f} s   peak RSS {run['rss_mb']:7.0f} MB"
-          f"   ratio {run['wall'] / kernel['wall']:.2f}x (target <= 2x)")
-    print(f"  designlab run --resume         {resume['wall']:8.2f} s   peak RSS {resume['rss_mb']:7.0f} MB"
-          f"   ratio {resume['wall'] / kernel['wall']:.2f}x (target <= 0.25x)")
+    print(f"impact_sweep, {n:,} points (LHS over M_h, K_c, C_c), one core "
+          "(CPU seconds are robust to a busy machine; wall seconds shown too):")
+    for label, m, target in (("bare kernel (impact_metrics)", kernel, None),
+                             ("designlab run (store, report)", run, 2.0),
+                             ("designlab run --resume", resume, 0.25)):
+        ratio = "" if target is None else (
+            f"   ratio cpu {m['cpu'] / kernel['cpu']:.2f}x, wall {m['wall'] / kernel['wall']:.2f}x"
+            f" (target <= {target:g}x)")
+        print(f"  {label:30s} cpu {m['cpu']:7.2f} s  wall {m['wall']:7.2f} s  "
+              f"peak RSS {m['rss_mb']:5.0f} MB{ratio}")
     print(f"  result store on disk           {size / 1e6:8.1f} MB = {size / n:.1f} bytes/point "
           "(target < 100)")
     print(f"  report files: {', '.join(files)}")

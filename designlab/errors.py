@@ -106,7 +106,17 @@ def _as_float(name: str, value: Any, unit: str) -> float:
 
 
 def check_finite(name: str, value: Any, unit: str = "") -> float:
-    """Return ``value`` as float, or raise if it is not a finite real number."""
+    """Return ``value`` as float, or raise if it is not a finite real number.
+
+    Parameters
+    ----------
+    name
+        Qualified parameter name for the message.
+    value
+        The value to check.
+    unit
+        SI unit for the message.
+    """
     out = _as_float(name, value, unit)
     if not math.isfinite(out):
         raise InvalidParameterError(name, value, "must be a finite number", unit)
@@ -114,7 +124,17 @@ def check_finite(name: str, value: Any, unit: str = "") -> float:
 
 
 def check_positive(name: str, value: Any, unit: str = "") -> float:
-    """Return ``value`` as float, or raise unless it is finite and > 0."""
+    """Return ``value`` as float, or raise unless it is finite and > 0.
+
+    Parameters
+    ----------
+    name
+        Qualified parameter name for the message.
+    value
+        The value to check.
+    unit
+        SI unit for the message.
+    """
     out = _as_float(name, value, unit)
     if not (math.isfinite(out) and out > 0.0):
         raise InvalidParameterError(name, value, "must be a finite number > 0", unit)
@@ -122,7 +142,17 @@ def check_positive(name: str, value: Any, unit: str = "") -> float:
 
 
 def check_nonnegative(name: str, value: Any, unit: str = "") -> float:
-    """Return ``value`` as float, or raise unless it is finite and >= 0."""
+    """Return ``value`` as float, or raise unless it is finite and >= 0.
+
+    Parameters
+    ----------
+    name
+        Qualified parameter name for the message.
+    value
+        The value to check.
+    unit
+        SI unit for the message.
+    """
     out = _as_float(name, value, unit)
     if not (math.isfinite(out) and out >= 0.0):
         raise InvalidParameterError(name, value, "must be a finite number >= 0", unit)

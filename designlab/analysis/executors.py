@@ -119,7 +119,15 @@ class Executor:
     def map_unordered(
         self, fn: Callable[[Any], Any], tasks: Sequence[Any]
     ) -> Iterator[tuple[int, Any]]:  # pragma: no cover - abstract
-        """Yield ``(index, fn(tasks[index]))`` as tasks finish."""
+        """Yield ``(index, fn(tasks[index]))`` as tasks finish.
+
+        Parameters
+        ----------
+        fn
+            A picklable top-level function of one task.
+        tasks
+            The tasks (plain, picklable values).
+        """
         raise NotImplementedError
 
     def describe(self) -> str:
@@ -135,6 +143,15 @@ class SerialExecutor(Executor):
     def map_unordered(
         self, fn: Callable[[Any], Any], tasks: Sequence[Any]
     ) -> Iterator[tuple[int, Any]]:
+        """Yield ``(index, fn(tasks[index]))`` as tasks finish.
+
+        Parameters
+        ----------
+        fn
+            A picklable top-level function of one task.
+        tasks
+            The tasks (plain, picklable values).
+        """
         for i, task in enumerate(tasks):
             yield i, fn(task)
 
@@ -171,6 +188,15 @@ class ProcessExecutor(Executor):
     def map_unordered(
         self, fn: Callable[[Any], Any], tasks: Sequence[Any]
     ) -> Iterator[tuple[int, Any]]:
+        """Yield ``(index, fn(tasks[index]))`` as tasks finish.
+
+        Parameters
+        ----------
+        fn
+            A picklable top-level function of one task.
+        tasks
+            The tasks (plain, picklable values).
+        """
         futures = {self._pool.submit(fn, task): i for i, task in enumerate(tasks)}
         yield from _yield_futures(futures)
 
@@ -234,6 +260,15 @@ class DaskExecutor(Executor):
     def map_unordered(
         self, fn: Callable[[Any], Any], tasks: Sequence[Any]
     ) -> Iterator[tuple[int, Any]]:
+        """Yield ``(index, fn(tasks[index]))`` as tasks finish.
+
+        Parameters
+        ----------
+        fn
+            A picklable top-level function of one task.
+        tasks
+            The tasks (plain, picklable values).
+        """
         from distributed import as_completed
 
         futures = self._client.map(fn, list(tasks), pure=False)

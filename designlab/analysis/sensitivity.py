@@ -85,7 +85,13 @@ class SensitivityTable:
         return self.frame.copy()
 
     def ranked(self, metric: str) -> pd.DataFrame:
-        """Rows of ``metric``, most influential parameter first (by ``|rank_by|``)."""
+        """Rows of ``metric``, most influential parameter first (by ``|rank_by|``).
+
+        Parameters
+        ----------
+        metric
+            The metric whose table to rank.
+        """
         rows = self.frame[self.frame["metric"] == metric].copy()
         order = rows[self.rank_by].abs().fillna(-1.0).sort_values(ascending=False, kind="stable")
         rows = rows.loc[order.index]
@@ -96,7 +102,15 @@ class SensitivityTable:
         return rows[cols].reset_index(drop=True)
 
     def to_markdown(self, metric: str | None = None, floatfmt: str = ".4g") -> str:
-        """Ranked Markdown table(s); one section per metric unless ``metric`` is given."""
+        """Ranked Markdown table(s); one section per metric unless ``metric`` is given.
+
+        Parameters
+        ----------
+        metric
+            The metric whose table to show.
+        floatfmt
+            Number format of the values.
+        """
         if metric is not None:
             return str(self.ranked(metric).to_markdown(index=False, floatfmt=floatfmt))
         parts = []
@@ -113,7 +127,15 @@ def elasticity_table(
     elasticities: Mapping[str, Mapping[str, float]],
     descriptions: Mapping[str, str] | None = None,
 ) -> SensitivityTable:
-    """Local elasticities, ``{metric: {parameter: d ln m / d ln p}}``."""
+    """Local elasticities, ``{metric: {parameter: d ln m / d ln p}}``.
+
+    Parameters
+    ----------
+    elasticities
+        ``{metric: {parameter: d ln m / d ln p}}``.
+    descriptions
+        Parameter -> description (with unit), shown in the tables.
+    """
     rows = [
         {"metric": m, "parameter": p, "elasticity": float(v)}
         for m, per in elasticities.items()
@@ -235,6 +257,19 @@ def sobol_table(
     ``outputs[metric]`` are the model outputs at the points of
     :func:`designlab.analysis.sampling.saltelli` (same names, bounds and
     order). Points that failed (NaN) make the indices of that metric NaN.
+
+    Parameters
+    ----------
+    names
+        Parameter names, in the order of the sample.
+    bounds
+        ``(low, high)`` of each parameter.
+    outputs
+        Metric -> outputs at the points of :func:`designlab.analysis.sampling.saltelli`.
+    seed
+        Seed of the bootstrap confidence intervals.
+    descriptions
+        Parameter -> description (with unit).
     """
     from SALib.analyze import sobol
 
@@ -269,6 +304,15 @@ def range_table(
 
     ``rows`` are ``(parameter, low, high, metrics_at_low, metrics_at_high)``;
     ``swing`` = metric(high) - metric(low), ranked by ``|swing|``.
+
+    Parameters
+    ----------
+    base
+        Metric values at the base design.
+    rows
+        ``(parameter, low, high, metrics_at_low, metrics_at_high)``.
+    descriptions
+        Parameter -> description (with unit).
     """
     out = []
     for param, lo, hi, at_lo, at_hi in rows:
@@ -298,6 +342,15 @@ def tornado_figure(table: SensitivityTable, metric: str, *, title: str | None = 
     """Tornado plot of a :func:`range_table`: bars from the base value to each end.
 
     Returns a :class:`matplotlib.figure.Figure` (not shown, not saved).
+
+    Parameters
+    ----------
+    table
+        A ``range`` table (:func:`range_table`).
+    metric
+        The metric to plot.
+    title
+        Figure title (default: the metric).
     """
     from matplotlib.figure import Figure
 

@@ -103,13 +103,33 @@ class ResultStore(Protocol):
     """What the engine needs of a result store (see :mod:`designlab.report.store`)."""
 
     def get_chunk(self, key: str) -> tuple[str, Any]:
-        """``("ok", columns)``, ``("missing", None)`` or ``("corrupt", reason)``."""
+        """``("ok", columns)``, ``("missing", None)`` or ``("corrupt", reason)``.
+
+        Parameters
+        ----------
+        key
+            The chunk key (:func:`chunk_key`).
+        """
 
     def put_chunk(self, key: str, columns: Columns) -> None:
-        """Store a finished chunk."""
+        """Store a finished chunk.
+
+        Parameters
+        ----------
+        key
+            The chunk key (:func:`chunk_key`).
+        columns
+            The chunk's result columns.
+        """
 
     def discard(self, key: str) -> None:
-        """Remove a chunk (e.g. a corrupt one)."""
+        """Remove a chunk (e.g. a corrupt one).
+
+        Parameters
+        ----------
+        key
+            The chunk key.
+        """
 
 
 # --- identity of evaluators and chunks ---------------------------------------------
@@ -117,6 +137,11 @@ class ResultStore(Protocol):
 
 def evaluator_id(fn: Callable[..., Any]) -> str:
     """The qualified name ``module.function`` by which workers find an evaluator.
+
+    Parameters
+    ----------
+    fn
+        A module-level function.
 
     Examples
     --------
@@ -166,6 +191,11 @@ def code_version(fn: Callable[..., Any]) -> str:
     For an evaluator in ``designlab.impact.sweep`` the hash covers every module
     of ``designlab/impact/``; for one defined elsewhere (a user's module, a
     test), that module's file.
+
+    Parameters
+    ----------
+    fn
+        The evaluator.
     """
     from designlab._version import __version__
 
@@ -178,6 +208,15 @@ def _canonical(obj: Any) -> str:
 
 def chunk_key(fn: Callable[..., Any], options: Mapping[str, Any], points: Columns) -> str:
     """The content hash of a chunk: evaluator, its code, options and the point values.
+
+    Parameters
+    ----------
+    fn
+        The evaluator.
+    options
+        The evaluator options.
+    points
+        The chunk's point columns.
 
     Examples
     --------
@@ -206,6 +245,11 @@ def chunk_key(fn: Callable[..., Any], options: Mapping[str, Any], points: Column
 
 def as_columns(points: Columns | Sequence[Mapping[str, float]] | pd.DataFrame) -> Columns:
     """Points as float columns, from columns, a list of dicts or a DataFrame.
+
+    Parameters
+    ----------
+    points
+        Columns (name -> array), a list of point dicts or a DataFrame.
 
     Examples
     --------
@@ -291,6 +335,11 @@ def evaluate_chunk(task: dict[str, Any]) -> Columns:
     If the vectorised evaluation raises, the chunk is split in halves until
     the failing points are isolated: they get ``status: error`` and the
     exception's type and message, every other point keeps its result.
+
+    Parameters
+    ----------
+    task
+        ``{"evaluator": fn, "options": {...}, "points": columns}``.
     """
     fn: Evaluator = task["evaluator"]
     options = task.get("options", {})

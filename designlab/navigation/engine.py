@@ -26,7 +26,7 @@ from designlab.navigation.scenarios import Scenario
 Array = NDArray[np.float64]
 
 _STEP_OUT = ("X", "power", "D", "F", "critical", "V", "Vdot0", "Omega", "vL2", "FL", "g", "active", "d",
-             "sigma")
+             "sigma", "Dmin", "gmin", "Esum")
 
 
 def _field_velocity(robot: HolonomicRobot | NonholonomicRobot, x0: ca.SX) -> ca.SX:
@@ -35,10 +35,19 @@ def _field_velocity(robot: HolonomicRobot | NonholonomicRobot, x0: ca.SX) -> ca.
     return ca.vertcat(x0[0], x0[1], x0[3] * ca.cos(x0[2]), x0[3] * ca.sin(x0[2]))
 
 
+_LEAN_OUT = ("Xend", "critical", "Dmin", "Esum", "count", "hit")
+_SHARED = [1, 2, 4, 5, 6, 7]  # inputs common to a batch: goal, obs, params, osub, fforce, tol
+
+
 @lru_cache(maxsize=64)
 def build_step(geometries: tuple[ObstacleGeometry, ...], robot: HolonomicRobot | NonholonomicRobot,
-               method: str, n_sub: int, dt: float) -> ca.Function:
-    """Field + hold + distances for one navigation period, as one SX function."""
+               method: str, n_sub: int, dt: float, lean: bool = False) -> ca.Function:
+    """Field + hold + distances for one navigation period, as one SX function.
+
+    The full variant returns every dynamics step (for recorded runs); the lean one
+    only what a batch needs: the final state, and the minimum distances, energy and
+    step count up to the first passage within ``tol`` of the goal (``hit``).
+    """
     n = len(geometries)
     nx = state_size(robot)
     x0 = ca.SX.sym("x0", nx)
@@ -48,6 +57,7 @@ def build_step(geometries: tuple[ObstacleGeometry, ...], robot: HolonomicRobot |
     params = ca.SX.sym("params", 4)
     osub = ca.SX.sym("osub", 2 * n, n_sub)
     fforce = ca.SX.sym("fforce", 3)  # (use_override, Fx, Fy): the CBF filter's force
+    tol = ca.SX.sym("tol")
     field = build_field(geometries, method)
     hold = build_hold(robot, n_sub, dt)
     dist = build_distance(geometries)
@@ -59,27 +69,45 @@ def build_step(geometries: tuple[ObstacleGeometry, ...], robot: HolonomicRobot |
         D = ca.horzcat(*[dist(X[0:2, k], osub[:, k]) for k in range(n_sub)])
     else:
         D = ca.SX(0, n_sub)
-    outs = [X, ho["power"], D, F] + [out[k] for k in _STEP_OUT[4:]]
-    return ca.Function(f"step_{method}_{robot.kind}_{n}", [x0, goal, obs, gains, params, osub, fforce], outs,
-                       ["x0", "goal", "obs", "gains", "params", "osub", "fforce"], list(_STEP_OUT))
+    gd = ca.sqrt((X[0, :] - goal[0]) ** 2 + (X[1, :] - goal[1]) ** 2)
+    names_in = ["x0", "goal", "obs", "gains", "params", "osub", "fforce", "tol"]
+    ins = [x0, goal, obs, gains, params, osub, fforce, tol]
+    if not lean:
+        dmin = ca.vertcat(*[ca.mmin(D[i, :]) for i in range(n)]) if n else ca.SX(0, 1)
+        outs = [X, ho["power"], D, F] + [out[k] for k in _STEP_OUT[4:14]] + [dmin, ca.mmin(gd),
+                                                                               ca.sum2(ho["power"])]
+        return ca.Function(f"step_{method}_{robot.kind}_{n}", ins, outs, names_in, list(_STEP_OUT))
+    # steps up to and including the first passage: before_j = 1 until the goal has been hit
+    before = ca.SX(1)
+    count = ca.SX(0)
+    esum = ca.SX(0)
+    dmins = [ca.SX(np.inf)] * n
+    for j in range(n_sub):
+        count = count + before
+        esum = esum + before * ho["power"][j]
+        for i in range(n):
+            dmins[i] = ca.if_else(before, ca.fmin(dmins[i], D[i, j]), dmins[i])
+        before = before * (gd[j] > tol)
+    outs = [X[:, -1], out["critical"], ca.vertcat(*dmins) if n else ca.SX(0, 1), esum, count, 1 - before]
+    return ca.Function(f"lean_{method}_{robot.kind}_{n}", ins, outs, names_in, list(_LEAN_OUT))
 
 
 @lru_cache(maxsize=64)
 def _compiled(geometries: tuple[ObstacleGeometry, ...], robot: HolonomicRobot | NonholonomicRobot, method: str,
-              n_sub: int, dt: float, n_batch: int, jit: bool) -> ca.Function:
-    f = build_step(geometries, robot, method, n_sub, dt)
+              n_sub: int, dt: float, n_batch: int, jit: bool, lean: bool) -> ca.Function:
+    f = (_jit_step(geometries, robot, method, n_sub, dt, lean) if jit
+         else build_step(geometries, robot, method, n_sub, dt, lean))
     if n_batch > 1:
-        # goal, obs, params, osub, fforce are shared by the batch (not repeated)
-        f = f.map(f"{f.name()}_map{n_batch}", "serial", n_batch, [1, 2, 4, 5, 6], [])
-    if jit:
-        f = _jit(f)
+        f = f.map(f"{f.name()}_map{n_batch}", "serial", n_batch, _SHARED, [])
     return f
 
 
-def _jit(f: ca.Function) -> ca.Function:
-    """Compile ``f`` to machine code with the system C compiler (CasADi's JIT)."""
-    sx = f.expand() if f.is_a("MXFunction") else f
-    return ca.Function(sx.name(), sx.sx_in(), sx.call(sx.sx_in()), sx.name_in(), sx.name_out(),
+@lru_cache(maxsize=16)
+def _jit_step(geometries: tuple[ObstacleGeometry, ...], robot: HolonomicRobot | NonholonomicRobot, method: str,
+              n_sub: int, dt: float, lean: bool) -> ca.Function:
+    """The one-period step compiled to machine code (CasADi JIT with the system C compiler)."""
+    f = build_step(geometries, robot, method, n_sub, dt, lean)
+    return ca.Function(f.name() + "_jit", f.sx_in(), f.call(f.sx_in()), f.name_in(), f.name_out(),
                        {"jit": True, "compiler": "shell", "jit_options": {"flags": ["-O1"], "verbose": False}})
 
 
@@ -168,45 +196,74 @@ def run(
     geos = tuple(ObstacleGeometry.of(o) for o in scenario.obstacles)
     n_obs = len(geos)
     robot = scenario.robot
-    f = _Buffered(_compiled(geos, robot, method, n_sub, dt, N, jit))
+    lean = not record
+    f = _Buffered(_compiled(geos, robot, method, n_sub, dt, N, jit, lean))
     n_samples = int(math.ceil(scenario.horizon / period - 1e-9))
-    t_grid = np.arange(n_samples * n_sub + 1) * dt
-    P, Vo, Ao = obstacle_tracks(scenario, t_grid)
     nx = state_size(robot)
-    # inputs
-    x_in, goal_in, obs_in, gains_in, params_in, osub_in, ff_in = (f.view_in(i) for i in range(7))
+    x_in, goal_in, obs_in, gains_in, params_in, osub_in, ff_in, tol_in = (f.view_in(i) for i in range(8))
+    tol_in[:, 0] = tol
     X = np.tile(initial_state(scenario)[:, None], (1, N))
     goal_in[:, 0] = scenario.goal
     gains_in[:, :] = gains.T
     params_in[:, 0] = (robot.mass, float(tie), 1.0 if stabilising else 0.0, robot.max_accel)
     ff_in[:, 0] = 0.0
-    outX, outP, outD = f.view_out(0), f.view_out(1), f.view_out(2)
+    if lean:
+        o_x, o_crit, o_dmin, o_esum, o_count, o_hit = (f.view_out(i) for i in range(6))
+        o_crit, o_esum, o_count, o_hit = (a.reshape(-1) for a in (o_crit, o_esum, o_count, o_hit))
+    else:
+        outX, outP, outD = f.view_out(0), f.view_out(1), f.view_out(2)
+        out_crit = f.view_out(4).reshape(-1)
+        out_gmin = f.view_out(15).reshape(-1)
     goal = np.asarray(scenario.goal)
     arrival = np.full(N, np.inf)
     dmin = np.full((N, n_obs), np.inf)
     energy = np.zeros(N)
     crit_time = np.zeros(N)
-    start_d = np.array([float(o.contour_distance(np.array([scenario.start]))[0]) for o in scenario.obstacles])
-    dmin[:] = start_d[None, :] if n_obs else dmin
+    if n_obs:
+        start_d = np.array([float(o.contour_distance(np.array([scenario.start]))[0]) for o in scenario.obstacles])
+        dmin[:] = start_d[None, :]
     rec: dict[str, list[Any]] | None = None
     if record:
         rec = {k: [] for k in ("X", "D", "power", "F", "critical", "V", "Vdot0", "Omega", "vL2", "FL", "g",
                                "active", "sigma", "x_sample", "qp_status")}
     cbf = _CBF(geos, robot, cbf_gains) if method == "cbf" else None
-    obs_flat = np.empty(6 * n_obs)
+    live = np.ones(N, bool)
     k_done = 0
+    chunk = max(1, int(round(2.0 / period)))  # obstacle tracks are computed 2 s at a time
+    P_all: list[Array] = []
     for k in range(n_samples):
-        i0 = k * n_sub
+        kc = k % chunk
+        if kc == 0:
+            t_grid = (k * n_sub + np.arange(chunk * n_sub + 1)) * dt
+            P, Vo, Ao = obstacle_tracks(scenario, t_grid)
+            if record:
+                P_all.append(P[:, :-1] if k + chunk < n_samples else P)
+            starts = np.arange(chunk) * n_sub
+            OBS = np.concatenate([P[:, starts], Vo[:, starts], Ao[:, starts]], axis=2)  # (n, chunk, 6)
+            OBS = OBS.transpose(1, 0, 2).reshape(chunk, 6 * n_obs)
+            idx = starts[:, None] + 1 + np.arange(n_sub)[None, :]  # (chunk, n_sub)
+            OSUB = P[:, idx, :].transpose(1, 2, 0, 3).reshape(chunk, n_sub * 2 * n_obs)
         if n_obs:
-            obs_flat[:] = np.concatenate([P[:, i0, :], Vo[:, i0, :], Ao[:, i0, :]], axis=1).ravel()
-            obs_in[:, 0] = obs_flat
-            osub_in[:, :] = P[:, i0 + 1:i0 + 1 + n_sub, :].transpose(1, 0, 2).reshape(n_sub, 2 * n_obs).T
-        x_in[:, :] = X.reshape(nx, N) if N > 1 else X
+            obs_in[:, 0] = OBS[kc]
+            f.inp[5][:] = OSUB[kc]
+        x_in[:, :] = X
         if cbf is not None:
-            ff_in[:, 0] = cbf.force(X[:, 0], goal, gains[0], obs_flat, robot, scenario)
+            ff_in[:, 0] = cbf.force(X[:, 0], goal, gains[0], OBS[kc], robot, scenario)
         f()
-        # mapped layout: columns are [member 0 steps..., member 1 steps..., ...]
-        if N > 1:
+        if lean:
+            if n_obs:
+                dmin[live] = np.minimum(dmin[live], o_dmin.T[live])
+            energy[live] += o_esum[live] * dt
+            crit_time[live] += o_crit[live] * period
+            hit = live & (o_hit > 0.5)
+            arrival[hit] = (k * n_sub + o_count[hit]) * dt
+            live &= ~hit
+            X = o_x.copy()
+            k_done = k + 1
+            if not live.any():
+                break
+            continue
+        if N > 1:  # mapped layout: columns are [member 0 steps..., member 1 steps..., ...]
             Xs = outX.reshape(nx, N, n_sub).transpose(0, 2, 1)
             Ds = outD.reshape(n_obs, N, n_sub).transpose(0, 2, 1)
             Pw = outP.reshape(N, n_sub).T
@@ -214,38 +271,41 @@ def run(
             Xs = outX[:, :, None]
             Ds = outD[:, :, None]
             Pw = outP.reshape(n_sub, 1)
-        gd = np.hypot(Xs[0] - goal[0], Xs[1] - goal[1])  # (n_sub, N)
-        hit = gd <= tol
-        first = np.where(hit.any(axis=0), hit.argmax(axis=0), n_sub)  # steps counted before arrival
-        live = np.isinf(arrival)
-        upto = np.where(live, np.minimum(first + 1, n_sub), 0)
-        mask = np.arange(n_sub)[:, None] < upto[None, :]  # (n_sub, N)
-        if n_obs:
-            dm = np.where(mask[None, :, :], Ds, np.inf).min(axis=1)  # (n_obs, N)
-            dmin = np.minimum(dmin, dm.T)
-        energy += np.where(mask, Pw, 0.0).sum(axis=0) * dt
-        crit_out = f.view_out(4)
-        crit = crit_out.reshape(-1) if N > 1 else crit_out[:, 0]
-        crit_time += np.where(live, crit * period, 0.0)
-        newly = live & (first < n_sub)
-        arrival[newly] = (k * n_sub + first[newly] + 1) * dt
+        arriving = live & (out_gmin <= tol)
+        if arriving.any():
+            gd = np.hypot(Xs[0] - goal[0], Xs[1] - goal[1])  # (n_sub, N)
+            hit = gd <= tol
+            first = np.where(hit.any(axis=0), hit.argmax(axis=0), n_sub)
+            upto = np.where(live, np.minimum(first + 1, n_sub), 0)
+            mask = np.arange(n_sub)[:, None] < upto[None, :]  # (n_sub, N)
+            if n_obs:
+                dm = np.where(mask[None, :, :], Ds, np.inf).min(axis=1)
+                dmin = np.minimum(dmin, dm.T)
+            energy += np.where(mask, Pw, 0.0).sum(axis=0) * dt
+            arrival[arriving] = (k * n_sub + first[arriving] + 1) * dt
+        else:
+            if n_obs:
+                dmin[live] = np.minimum(dmin[live], Ds.min(axis=1).T[live])
+            energy[live] += Pw.sum(axis=0)[live] * dt
+        crit_time[live] += out_crit[live] * period
+        live &= ~arriving
         if rec is not None:
             rec["x_sample"].append(X[:, 0].copy())
             rec["X"].append(Xs[:, :, 0].copy())
             rec["D"].append(Ds[:, :, 0].copy())
             rec["power"].append(Pw[:, 0].copy())
-            for name, idx in (("F", 3), ("critical", 4), ("V", 5), ("Vdot0", 6), ("Omega", 7), ("vL2", 8),
-                              ("FL", 9), ("g", 10), ("active", 11), ("sigma", 13)):
-                rec[name].append(f.view_out(idx)[:, 0].copy())
+            for name, idx_out in (("F", 3), ("critical", 4), ("V", 5), ("Vdot0", 6), ("Omega", 7), ("vL2", 8),
+                                  ("FL", 9), ("g", 10), ("active", 11), ("sigma", 13)):
+                rec[name].append(f.view_out(idx_out)[:, 0].copy())
             rec["qp_status"].append(cbf.last_status if cbf is not None else "")
         X = Xs[:, -1, :].copy()
         k_done = k + 1
-        if not np.isinf(arrival).any():
+        if not live.any():
             break
     t_end = k_done * period
     record_out = None
     if rec is not None:
-        record_out = _assemble(rec, n_sub, period, dt, P, nx)
+        record_out = _assemble(rec, n_sub, period, dt, np.concatenate(P_all, axis=1), nx)
         record_out["stab"] = 1.0 if stabilising else 0.0
         record_out["period"] = period
     return RawRun(arrival, dmin, energy, crit_time, t_end, record_out)

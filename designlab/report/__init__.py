@@ -187,6 +187,11 @@ def _report_title(directory: Path) -> tuple[str, str]:
 def write_index(output_dir: str | os.PathLike[str]) -> Path:
     """Write ``<output_dir>/index.md``: every report directory with its summary line.
 
+    Parameters
+    ----------
+    output_dir
+        The directory holding one report directory per study.
+
     Examples
     --------
     >>> import tempfile, pathlib

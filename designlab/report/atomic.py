@@ -103,6 +103,15 @@ def atomic_write_text(path: str | os.PathLike[str], text: str, encoding: str = "
     """Write ``text`` to ``path`` atomically (see :func:`atomic_write_bytes`).
 
     Line endings are written as given (``\\n``), on every platform.
+
+    Parameters
+    ----------
+    path
+        The file.
+    text
+        Its new content.
+    encoding
+        Text encoding.
     """
     return atomic_write_bytes(path, text.encode(encoding))
 

@@ -205,7 +205,13 @@ class ChunkStore:
     # -- chunks -----------------------------------------------------------------------
 
     def get_chunk(self, key: str) -> tuple[str, Any]:
-        """``("ok", columns)``, ``("missing", None)`` or ``("corrupt", reason)``."""
+        """``("ok", columns)``, ``("missing", None)`` or ``("corrupt", reason)``.
+
+        Parameters
+        ----------
+        key
+            The chunk key.
+        """
         row = self._connect().execute(
             "SELECT n, data, sha256 FROM chunks WHERE key = ?", (key,)
         ).fetchone()
@@ -223,7 +229,15 @@ class ChunkStore:
         return "ok", cols
 
     def put_chunk(self, key: str, columns: dict[str, Any]) -> None:
-        """Store a finished chunk in its own transaction."""
+        """Store a finished chunk in its own transaction.
+
+        Parameters
+        ----------
+        key
+            The chunk key.
+        columns
+            The chunk's result columns (numbers, booleans or strings).
+        """
         n, data = _pack(columns)
         digest = hashlib.sha256(data).digest()
         db = self._connect()
@@ -239,7 +253,13 @@ class ChunkStore:
             raise ReportError(f"cannot write the result store {self.path}: {exc}") from exc
 
     def discard(self, key: str) -> None:
-        """Remove a chunk (e.g. a corrupt one)."""
+        """Remove a chunk (e.g. a corrupt one).
+
+        Parameters
+        ----------
+        key
+            The chunk key.
+        """
         db = self._connect()
         db.execute("DELETE FROM chunks WHERE key = ?", (key,))
 
@@ -271,5 +291,13 @@ class ChunkStore:
 
 
 def open_store(cache_dir: str | os.PathLike[str], study: str) -> ChunkStore:
-    """The store of ``study`` under ``cache_dir``: ``<cache_dir>/<study>.sqlite``."""
+    """The store of ``study`` under ``cache_dir``: ``<cache_dir>/<study>.sqlite``.
+
+    Parameters
+    ----------
+    cache_dir
+        The directory of stores (``--cache-dir``).
+    study
+        The study name.
+    """
     return ChunkStore(Path(cache_dir) / f"{study}.sqlite", study=study)

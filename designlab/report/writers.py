@@ -35,13 +35,29 @@ CSV_FLOAT_FORMAT = "%.7g"
 
 
 def write_csv(frame: pd.DataFrame, path: str | os.PathLike[str]) -> Path:
-    """Write a data frame as CSV (no index, ``\\n`` line endings, 7 significant digits)."""
+    """Write a data frame as CSV (no index, ``\\n`` line endings, 7 significant digits).
+
+    Parameters
+    ----------
+    frame
+        The table.
+    path
+        The CSV file.
+    """
     text = frame.to_csv(index=False, float_format=CSV_FLOAT_FORMAT, lineterminator="\n")
     return atomic_write_text(path, text)
 
 
 def write_markdown(text: str, path: str | os.PathLike[str]) -> Path:
-    """Write Markdown text, ending it with exactly one newline."""
+    """Write Markdown text, ending it with exactly one newline.
+
+    Parameters
+    ----------
+    text
+        Markdown text.
+    path
+        The file.
+    """
     return atomic_write_text(path, text.rstrip("\n") + "\n")
 
 
@@ -50,6 +66,15 @@ def write_png(fig: Figure, path: str | os.PathLike[str], *, dpi: int = 110) -> P
 
     The PNG carries no software/version metadata, so the bytes depend only on
     the figure.
+
+    Parameters
+    ----------
+    fig
+        A matplotlib figure.
+    path
+        The PNG file.
+    dpi
+        Resolution, dots per inch.
     """
     FigureCanvasAgg(fig)
     buf = io.BytesIO()
@@ -58,6 +83,14 @@ def write_png(fig: Figure, path: str | os.PathLike[str], *, dpi: int = 110) -> P
 
 
 def markdown_table(frame: pd.DataFrame, **kwargs: Any) -> str:
-    """A GitHub-style Markdown table of ``frame`` (no index), via tabulate."""
+    """A GitHub-style Markdown table of ``frame`` (no index), via tabulate.
+
+    Parameters
+    ----------
+    frame
+        The table.
+    **kwargs
+        Passed to :meth:`pandas.DataFrame.to_markdown` (e.g. ``floatfmt``).
+    """
     kwargs.setdefault("index", False)
     return str(frame.to_markdown(**kwargs))

@@ -48,6 +48,11 @@ __all__ = ["format_path", "load_study", "parse_study"]
 def format_path(path: Sequence[Hashable]) -> str:
     """Format a data path as ``cases[0].robot.mass``.
 
+    Parameters
+    ----------
+    path
+        Keys and indices from the root of the study.
+
     Examples
     --------
     >>> format_path(("cases", 0, "robot", "mass"))
@@ -106,6 +111,13 @@ def parse_study(text: str, file: str = "<string>") -> StudyBase:
     """Validate study YAML text; ``file`` is only used in error messages.
 
     See :func:`load_study`.
+
+    Parameters
+    ----------
+    text
+        The YAML text.
+    file
+        Name of the file, for error messages.
 
     Examples
     --------

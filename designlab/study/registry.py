@@ -75,7 +75,13 @@ _ADAPTER: TypeAdapter[Any] | None = None
 
 
 def register_kind(kind: StudyKind) -> StudyKind:
-    """Add a kind (replacing one of the same name); returns it."""
+    """Add a kind (replacing one of the same name); returns it.
+
+    Parameters
+    ----------
+    kind
+        The kind to add.
+    """
     global _ADAPTER
     _KINDS[kind.name] = kind
     _ADAPTER = None
@@ -83,7 +89,13 @@ def register_kind(kind: StudyKind) -> StudyKind:
 
 
 def unregister_kind(name: str) -> None:
-    """Remove a kind added with :func:`register_kind` (for tests)."""
+    """Remove a kind added with :func:`register_kind` (for tests).
+
+    Parameters
+    ----------
+    name
+        The kind's name.
+    """
     global _ADAPTER
     _KINDS.pop(name, None)
     _ADAPTER = None
@@ -108,7 +120,13 @@ def study_kinds() -> dict[str, StudyKind]:
 
 
 def kind_of(name: str) -> StudyKind:
-    """The kind called ``name`` (``KeyError`` if there is none)."""
+    """The kind called ``name`` (``KeyError`` if there is none).
+
+    Parameters
+    ----------
+    name
+        The ``kind:`` value.
+    """
     _load()
     return _KINDS[name]
 

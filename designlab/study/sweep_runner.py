@@ -23,8 +23,8 @@ from __future__ import annotations
 
 import logging
 import math
-from collections import Counter
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -112,20 +112,21 @@ class SweepStudyResult(Result):
         """The sweep points (a copy)."""
         return self.frame.copy()
 
-    @property
+    @cached_property
     def warnings(self) -> tuple[str, ...]:  # type: ignore[override]
         """Failed points, non-``ok`` statuses and recomputed store chunks."""
         out: list[str] = []
         f = self.frame
         if len(f):
-            failed = f[f["status"] == STATUS_ERROR]
+            status = f["status"].astype(object)
+            failed = f[(status == STATUS_ERROR).to_numpy()]
             for i, row in failed.head(10).iterrows():
                 out.append(f"point {i}: failed: {row['error']}")
             if len(failed) > 10:
                 out.append(f"... and {len(failed) - 10} more failed points")
-            counts = Counter(s for s in f["status"] if s not in (OK, STATUS_ERROR))
-            for status, n in sorted(counts.items()):
-                out.append(f"{n} of {len(f)} points have status {status}")
+            counts = status.value_counts()
+            for name in sorted(str(k) for k in counts.index if k not in (OK, STATUS_ERROR)):
+                out.append(f"{int(counts[name])} of {len(f)} points have status {name}")
             if "bottoming" in f:
                 n = int(pd.Series(f["bottoming"]).fillna(False).astype(bool).sum())
                 if n:

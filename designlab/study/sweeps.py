@@ -101,7 +101,13 @@ class ParameterInfo:
         return out
 
     def check(self, value: float) -> bool:
-        """Whether ``value`` is allowed."""
+        """Whether ``value`` is allowed.
+
+        Parameters
+        ----------
+        value
+            A value in the parameter's unit.
+        """
         return (
             math.isfinite(value)
             and (self.gt is None or value > self.gt)
@@ -187,6 +193,13 @@ def parameter_model(name: str, parameters: dict[str, ParameterInfo]) -> type[Bas
     One optional field per dotted path (the YAML key), each validated against
     its :class:`ParameterInfo`. The model has ``items()`` (the given
     parameters in file order) and ``INFO`` (path -> info).
+
+    Parameters
+    ----------
+    name
+        Name of the generated model (shown in the JSON Schema).
+    parameters
+        Dotted path -> :class:`ParameterInfo`.
     """
     fields: dict[str, Any] = {}
     for path, info in parameters.items():

@@ -193,7 +193,7 @@ from designlab.study.kinds.impact_sweep import ImpactSweepStudy
 
 
 def slow(points, options):
-    time.sleep(0.02 * len(points["v_c"]))
+    time.sleep(0.1 * len(points["v_c"]))
     return impact_metrics_chunk(points, options)
 
 

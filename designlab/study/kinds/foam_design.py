@@ -245,7 +245,15 @@ class FoamDesignResult(Result):
 
 
 def run(study: FoamDesignStudy, context: RunContext) -> FoamDesignResult:
-    """Compute the ``foam_design`` study (in this process; nothing is stored)."""
+    """Compute the ``foam_design`` study (in this process; nothing is stored).
+
+    Parameters
+    ----------
+    study
+        The validated study.
+    context
+        How to run it (nothing of this kind is stored).
+    """
     criteria = [c.build() for c in study.criteria]
     foams = []
     for i, spec in enumerate(study.foams):

@@ -130,7 +130,13 @@ class ImpactCase(Model):
         return round(float(self.v_r) - float(self.v_h), 12)  # type: ignore[arg-type]
 
     def title(self, index: int) -> str:
-        """The label, or ``"case <index+1>"``."""
+        """The label, or ``"case <index+1>"``.
+
+        Parameters
+        ----------
+        index
+            Position of the case in the study (0-based).
+        """
         return self.label or f"case {index + 1}"
 
 
@@ -239,7 +245,13 @@ class ImpactCaseResult:
         return row
 
     def within_tolerance(self, row: dict[str, Any] | None = None) -> bool | None:
-        """Whether the model is within the case's reference tolerance (None if none set)."""
+        """Whether the model is within the case's reference tolerance (None if none set).
+
+        Parameters
+        ----------
+        row
+            The case's :meth:`metrics` row (computed when not given).
+        """
         ref = self.case.reference
         tol = ref.tolerance if ref is not None else None
         if tol is None:
@@ -315,7 +327,15 @@ class ImpactCasesResult(Result):
 
 
 def run(study: ImpactCasesStudy, context: RunContext) -> ImpactCasesResult:
-    """Simulate every case (a handful: in this process, never stored)."""
+    """Simulate every case (a handful: in this process, never stored).
+
+    Parameters
+    ----------
+    study
+        The validated study.
+    context
+        How to run it (cases are never stored).
+    """
     from designlab.impact import simulate  # the physics; imported when needed
 
     results = []

@@ -1,0 +1,132 @@
+"""Benchmark: VFF simulation speed, one run and a batch of 64 gain sets (Configuration 4).
+
+Run with ``python benchmarks/navigation.py [--batch 64] [--no-jit]``. In one process it times
+
+* designlab, one run: Zeng 2011 Configuration 4 (circle, rectangle, walking human) with the
+  1 ms dynamics step and the 60 ms force hold, stabilising force on (one compiled CasADi call
+  per navigation period through the buffer interface);
+* designlab, a batch: the same scenario with 64 gain sets simulated together (one mapped
+  call per period), on CasADi's virtual machine and, unless ``--no-jit``, JIT-compiled;
+* the baseline: a plain per-step Python loop of the same model (the same CasADi field called
+  every 60 ms, the point-mass update, norm clipping, braking and the distances written out in
+  Python at every 1 ms step).
+
+It checks that the baseline and designlab agree (arrival time to 1 ms, distances to 1e-9 m)
+and prints simulated seconds per wall second and the ratios. Targets (issue 9): one run at
+least 1000x faster than real time, the batch at least 10 000x in aggregate.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+import time
+
+import numpy as np
+
+import designlab as dl
+from designlab.navigation import engine
+from designlab.navigation.field import ObstacleGeometry, build_field
+
+nav = dl.navigation
+
+
+def baseline(sc: nav.Scenario, gains: np.ndarray, stab: bool, tol: float = 0.15) -> tuple[float, list[float], float]:
+    """Per-step Python loop: returns (arrival time, min distances, simulated time)."""
+    geos = tuple(ObstacleGeometry.of(o) for o in sc.obstacles)
+    field = build_field(geos, "vff")
+    r = sc.robot
+    dt, n_sub = 1e-3, 60
+    n_steps = int(round(sc.horizon / dt))
+    t_grid = np.arange(n_steps + 1) * dt
+    P, V, A = engine.obstacle_tracks(sc, t_grid)
+    p = list(sc.start)
+    v = [0.0, 0.0]
+    dmin = [float(o.contour_distance(np.array([sc.start]))[0]) for o in sc.obstacles]
+    a = [0.0, 0.0]
+    brake = False
+    for k in range(n_steps):
+        if k % n_sub == 0:
+            obs = np.concatenate([P[:, k], V[:, k], A[:, k]], axis=1).ravel()
+            out = field(x=np.array([*p, *v]), goal=np.array(sc.goal), obs=obs, gains=gains,
+                        params=[r.mass, 1.0, 1.0 if stab else 0.0, r.max_accel])
+            F = np.array(out["F"]).ravel()
+            brake = float(out["critical"]) > 0.5
+            ax, ay = F[0] / r.mass, F[1] / r.mass
+            na = math.sqrt(ax * ax + ay * ay + 1e-30)
+            s = min(1.0, r.max_accel / na)
+            a = [ax * s, ay * s]
+        if brake:
+            nv = math.sqrt(v[0] ** 2 + v[1] ** 2 + 1e-30)
+            m = min(r.max_accel, nv / dt)
+            ax, ay = -v[0] / nv * m, -v[1] / nv * m
+        else:
+            ax, ay = a
+        vx, vy = v[0] + ax * dt, v[1] + ay * dt
+        nv = math.sqrt(vx * vx + vy * vy + 1e-30)
+        s = min(1.0, r.max_speed / nv)
+        v = [vx * s, vy * s]
+        p = [p[0] + v[0] * dt, p[1] + v[1] * dt]
+        for i, o in enumerate(sc.obstacles):
+            d = float(o.contour_distance(np.array([p]), 0.0)[0]) if o.kind == "rectangle" else math.hypot(
+                p[0] - P[i, k + 1, 0], p[1] - P[i, k + 1, 1])
+            dmin[i] = min(dmin[i], d)
+        if math.hypot(p[0] - sc.goal[0], p[1] - sc.goal[1]) <= tol:
+            t = (k + 1) * dt
+            return t, dmin, t
+    return math.inf, dmin, sc.horizon
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--batch", type=int, default=64)
+    ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--no-jit", action="store_true")
+    args = ap.parse_args(argv)
+    sc = nav.configuration(4)
+    g = nav.OPTIMAL_GAINS.as_array()
+
+    engine.run(sc, g[None, :])  # build and cache the compiled step
+    t0 = time.perf_counter()
+    for _ in range(args.repeat):
+        raw = engine.run(sc, g[None, :])
+    t_one = (time.perf_counter() - t0) / args.repeat
+    sim_one = raw.t_end
+
+    t0 = time.perf_counter()
+    tb, db, sim_b = baseline(sc, g, True)
+    t_base = time.perf_counter() - t0
+    ok = abs(tb - raw.arrival_time[0]) < 1e-9 and np.allclose(db, raw.min_distance[0], atol=1e-9)
+
+    rng = np.random.default_rng(0)
+    G = g[None, :] * rng.uniform(0.7, 1.3, size=(args.batch, 4))
+    modes = [("VM", False)] + ([] if args.no_jit else [("JIT", True)])
+    batch_rates = {}
+    for label, jit in modes:
+        t0 = time.perf_counter()
+        engine.run(sc, G, jit=jit)  # build (and compile) once
+        build = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        rawb = engine.run(sc, G, jit=jit)
+        wall = time.perf_counter() - t0
+        # aggregate simulated time: each member counted up to its own arrival (or the batch end)
+        sim = float(np.minimum(rawb.arrival_time, rawb.t_end).sum())
+        batch_rates[label] = (sim / wall, wall, build)
+
+    print(f"Configuration 4, 1 ms dynamics step, 60 ms force hold, stabilising force on")
+    print(f"baseline per-step Python loop: {sim_b:.2f} s simulated in {t_base:.3f} s "
+          f"-> {sim_b / t_base:8.0f} x real time")
+    print(f"designlab one run            : {sim_one:.2f} s simulated in {t_one * 1e3:.1f} ms "
+          f"-> {sim_one / t_one:8.0f} x real time  ({(sim_one / t_one) / (sim_b / t_base):.0f}x the baseline)"
+          f"  [target >= 1000x real time]")
+    for label, (rate, wall, build) in batch_rates.items():
+        print(f"designlab batch of {args.batch} ({label:3s}) : {wall:.3f} s wall (+{build:.1f} s build) "
+              f"-> {rate:8.0f} x real time aggregate ({rate / (sim_b / t_base):.0f}x the baseline)"
+              f"  [target >= 10000x]")
+    print(f"baseline agrees with designlab (arrival time, distances): {ok}")
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
