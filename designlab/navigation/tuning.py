@@ -547,7 +547,11 @@ def optimise_gains(
             "maxfevals": int(max_evaluations), "tolfun": 1e-5, "tolx": 1e-4, "tolflatfitness": 10}
     es = cma.CMAEvolutionStrategy(u0.tolist(), float(sigma0), opts)
     it = 0
+    budget_hit = False
     while not es.stop():
+        if ev.evaluations + int(popsize) > max_evaluations:
+            budget_hit = True
+            break
         U = np.array(es.ask())
         e = ev(to_gains(U))
         consider(U, e)
@@ -557,7 +561,9 @@ def optimise_gains(
         it += 1
         record("cma", it, e, float(es.sigma))
     stop = dict(es.stop())
-    global_converged = not any(k in stop for k in ("maxfevals", "maxiter"))
+    if budget_hit:
+        stop["max_evaluations"] = int(max_evaluations)
+    global_converged = not budget_hit and not any(k in stop for k in ("maxfevals", "maxiter"))
     logger.info("CMA-ES stopped after %d generations (%s)", it, stop)
 
     # ---- local stage: batched compass search in normalised log-gain space
