@@ -54,8 +54,12 @@ APPENDIX_C_DELTAS = (-100, -50, -20, -10, -5, -2, 2, 5, 10, 20, 50, 100)
 #: requires every gain > 0 (the structure of Zeng 2011, (5.5.7)).
 ZERO_GAIN = 1e-9
 _GAINS = ("k1", "b", "k3", "k5")
-_DESCRIPTIONS = {"k1": "attractive gain K1 (N/m)", "b": "gain ratio b = K2/K1 = K4/K3 = K6/K5 (s)",
-                 "k3": "repulsive gain K3 (N/m)", "k5": "detour gain K5 (N/m^2)"}
+_DESCRIPTIONS = {
+    "k1": "attractive gain K1 (N/m)",
+    "b": "gain ratio b = K2/K1 = K4/K3 = K6/K5 (s)",
+    "k3": "repulsive gain K3 (N/m)",
+    "k5": "detour gain K5 (N/m^2)",
+}
 
 
 def classify_run(res: NavigationResult, *, moving_speed: float = 0.05, reversals: int = 4) -> str:
@@ -84,8 +88,14 @@ def classify_run(res: NavigationResult, *, moving_speed: float = 0.05, reversals
     v = res.velocity[half]
     if v.shape[0] > 2:
         speed = float(np.hypot(v[:, 0], v[:, 1]).mean())
-        flips = max(int(np.count_nonzero(np.diff(np.sign(np.where(np.abs(c) > 1e-3, c, 0.0))[
-            np.abs(c) > 1e-3]) != 0)) for c in v.T)
+        flips = max(
+            int(
+                np.count_nonzero(
+                    np.diff(np.sign(np.where(np.abs(c) > 1e-3, c, 0.0))[np.abs(c) > 1e-3]) != 0
+                )
+            )
+            for c in v.T
+        )
         if speed > moving_speed and flips >= reversals:
             return "oscillation"
     return "no arrival"
@@ -95,14 +105,22 @@ def _settles(scenario: Scenario, gains: VFFGains, stabilising: str, tolerance: f
     """Whether the robot ends the horizon at rest near the goal (first-passage arrival switched off)."""
     res = simulate(scenario, gains, stabilising=stabilising, arrival_tolerance=1e-9)
     end = res.position[-1]
-    return bool(math.dist(end, scenario.goal) <= tolerance and float(np.hypot(*res.velocity[-1])) < 0.05)
+    return bool(
+        math.dist(end, scenario.goal) <= tolerance and float(np.hypot(*res.velocity[-1])) < 0.05
+    )
 
 
 def _metric_factory(scenarios: list[Scenario], stabilising: str, arrival_tolerance: float):
     def metric(points: dict[str, Array]) -> dict[str, Array]:
-        g = np.column_stack([np.maximum(np.asarray(points[n], dtype=float), ZERO_GAIN) for n in _GAINS])
-        with np.errstate(invalid="ignore", divide="ignore"):  # a gain at zero: T* = inf in the criteria
-            r = simulate_batch(scenarios, g, stabilising=stabilising, arrival_tolerance=arrival_tolerance)
+        g = np.column_stack(
+            [np.maximum(np.asarray(points[n], dtype=float), ZERO_GAIN) for n in _GAINS]
+        )
+        with np.errstate(
+            invalid="ignore", divide="ignore"
+        ):  # a gain at zero: T* = inf in the criteria
+            r = simulate_batch(
+                scenarios, g, stabilising=stabilising, arrival_tolerance=arrival_tolerance
+            )
         out: dict[str, Array] = {}
         for s, sc in enumerate(scenarios):
             out[f"{sc.name} T_arrive_s"] = r.arrival_time[s]
@@ -157,10 +175,15 @@ class GainSensitivity(Result):
         if delta_pct == 0:
             return float(self.base_metrics[metric])
         f = self.table.frame
-        row = f[(f["metric"] == metric) & (f["parameter"] == parameter) & (f["delta_pct"] == float(delta_pct))]
+        row = f[
+            (f["metric"] == metric)
+            & (f["parameter"] == parameter)
+            & (f["delta_pct"] == float(delta_pct))
+        ]
         if row.empty:
-            raise InvalidParameterError("metric/parameter/delta_pct", (metric, parameter, delta_pct),
-                                        "is not in the table")
+            raise InvalidParameterError(
+                "metric/parameter/delta_pct", (metric, parameter, delta_pct), "is not in the table"
+            )
         return float(row["metric_value"].iloc[0])
 
     def appendix_c(self, parameter: str) -> tuple[pd.DataFrame, pd.DataFrame]:
@@ -182,22 +205,50 @@ class GainSensitivity(Result):
         base = self.base_metrics
         metrics = list(dict.fromkeys(f["metric"]))
         deltas = sorted(set(f["delta_pct"].tolist()) | {0.0})
-        wide = {m: {d: (base[m] if d == 0 else float(f[(f["metric"] == m) & (f["delta_pct"] == d)]
-                                                      ["metric_value"].iloc[0])) for d in deltas} for m in metrics}
-        perf_cols = [f"{n} {q}" for n in self.scenario_names for q in ("T_arrive_s", "L_energy_J_per_ohm")]
+        wide = {
+            m: {
+                d: (
+                    base[m]
+                    if d == 0
+                    else float(
+                        f[(f["metric"] == m) & (f["delta_pct"] == d)]["metric_value"].iloc[0]
+                    )
+                )
+                for d in deltas
+            }
+            for m in metrics
+        }
+        perf_cols = [
+            f"{n} {q}" for n in self.scenario_names for q in ("T_arrive_s", "L_energy_J_per_ohm")
+        ]
         perf_cols += [m for m in metrics if " d_" in m]
-        perf_cols = sorted((m for m in perf_cols if m in metrics),
-                           key=lambda m: (self.scenario_names.index(m.split(" ")[0]), "TLd".index(m.split(" ")[1][0])))
-        perf = pd.DataFrame({"delta_pct": deltas, **{m: [wide[m][d] for d in deltas] for m in perf_cols}})
+        perf_cols = sorted(
+            (m for m in perf_cols if m in metrics),
+            key=lambda m: (
+                self.scenario_names.index(m.split(" ")[0]),
+                "TLd".index(m.split(" ")[1][0]),
+            ),
+        )
+        perf = pd.DataFrame(
+            {"delta_pct": deltas, **{m: [wide[m][d] for d in deltas] for m in perf_cols}}
+        )
         s = f[f["metric"] == "H_mean"].set_index("delta_pct")["S_pct"]
-        crit = pd.DataFrame({"delta_pct": deltas, "S_pct": [0.0 if d == 0 else float(s.get(d, math.nan))
-                                                             for d in deltas]})
+        crit = pd.DataFrame(
+            {
+                "delta_pct": deltas,
+                "S_pct": [0.0 if d == 0 else float(s.get(d, math.nan)) for d in deltas],
+            }
+        )
         for m in [m for m in metrics if m.endswith(" H")] + ["H_mean"]:
             crit[m] = [wide[m][d] for d in deltas]
         o = self.outcomes[self.outcomes["parameter"] == parameter]
         crit["outcome"] = [
-            "; ".join(f"{r.scenario}: {r.outcome}" for r in o[o["delta_pct"] == d].itertuples()
-                      if r.outcome != "arrives") or ("" if d != -100 else "arrives everywhere")
+            "; ".join(
+                f"{r.scenario}: {r.outcome}"
+                for r in o[o["delta_pct"] == d].itertuples()
+                if r.outcome != "arrives"
+            )
+            or ("" if d != -100 else "arrives everywhere")
             for d in deltas
         ]
         return perf, crit
@@ -243,7 +294,9 @@ def gain_sensitivity(
     """
     sc = [configuration(i) for i in (1, 2, 3)] if scenarios is None else list(scenarios)
     if not sc or not all(isinstance(s, Scenario) for s in sc):
-        raise InvalidParameterError("scenarios", scenarios, "must be a non-empty sequence of Scenario")
+        raise InvalidParameterError(
+            "scenarios", scenarios, "must be a non-empty sequence of Scenario"
+        )
     b0 = VFFGains(4.3, 0.68, 20.3, 240.7) if base is None else base
     if not isinstance(b0, VFFGains):
         raise InvalidParameterError("base", base, "must be a VFFGains")
@@ -252,14 +305,20 @@ def gain_sensitivity(
     params = list(parameters)
     bad = [p for p in params if p not in _GAINS]
     if bad or not params:
-        raise InvalidParameterError("parameters", parameters, f"must be a non-empty subset of {_GAINS}")
+        raise InvalidParameterError(
+            "parameters", parameters, f"must be a non-empty subset of {_GAINS}"
+        )
     deltas = [float(d) for d in deltas_pct]
     if not deltas or any(not math.isfinite(d) or d < -100 or d == 0 for d in deltas):
-        raise InvalidParameterError("deltas_pct", deltas_pct, "must be finite, non-zero and >= -100", "%")
+        raise InvalidParameterError(
+            "deltas_pct", deltas_pct, "must be finite, non-zero and >= -100", "%"
+        )
     metric = _metric_factory(sc, stabilising, arrival_tolerance)
     base = dict(zip(_GAINS, b0.as_array().tolist(), strict=True))
     table = one_at_a_time(metric, base, params, deltas, _DESCRIPTIONS)
-    base_vals = {m: float(v[0]) for m, v in metric({k: np.array([x]) for k, x in base.items()}).items()}
+    base_vals = {
+        m: float(v[0]) for m, v in metric({k: np.array([x]) for k, x in base.items()}).items()
+    }
     rows = []
     f = table.frame
     for p in params:
@@ -268,22 +327,46 @@ def gain_sensitivity(
                 if d == -100:
                     g = dict(base)
                     g[p] = ZERO_GAIN
-                    res = simulate(sc_i, VFFGains(**g), stabilising=stabilising, arrival_tolerance=arrival_tolerance)
+                    res = simulate(
+                        sc_i,
+                        VFFGains(**g),
+                        stabilising=stabilising,
+                        arrival_tolerance=arrival_tolerance,
+                    )
                     outcome = classify_run(res)
-                    if outcome == "arrives" and not _settles(sc_i, VFFGains(**g), stabilising, arrival_tolerance):
+                    if outcome == "arrives" and not _settles(
+                        sc_i, VFFGains(**g), stabilising, arrival_tolerance
+                    ):
                         outcome = "oscillation (passes the goal, never settles)"
                 else:
-                    sel = f[(f["parameter"] == p) & (f["delta_pct"] == d)].set_index("metric")["metric_value"]
+                    sel = f[(f["parameter"] == p) & (f["delta_pct"] == d)].set_index("metric")[
+                        "metric_value"
+                    ]
                     arrived = math.isfinite(float(sel[f"{sc_i.name} T_arrive_s"]))
                     dm = [(float(sel[f"{sc_i.name} d_{o.name}_min_m"]), o) for o in sc_i.obstacles]
-                    outcome = ("collision" if any(x <= o.collision_distance(sc_i.robot.radius) for x, o in dm) else
-                               "critical region" if any(x <= o.r3 for x, o in dm) else
-                               "arrives" if arrived else "no arrival")
-                rows.append({"parameter": p, "delta_pct": d, "scenario": sc_i.name, "outcome": outcome})
+                    outcome = (
+                        "collision"
+                        if any(x <= o.collision_distance(sc_i.robot.radius) for x, o in dm)
+                        else "critical region"
+                        if any(x <= o.r3 for x, o in dm)
+                        else "arrives"
+                        if arrived
+                        else "no arrival"
+                    )
+                rows.append(
+                    {"parameter": p, "delta_pct": d, "scenario": sc_i.name, "outcome": outcome}
+                )
     outcomes = pd.DataFrame(rows)
     warnings = []
     bad_base = [s.name for s in sc if not math.isfinite(base_vals[f"{s.name} T_arrive_s"])]
     if bad_base:
         warnings.append(f"the base gains do not arrive in {bad_base}")
-    return GainSensitivity(b0, stabilising, tuple(s.name for s in sc), table, outcomes, base_vals,
-                           warnings=tuple(warnings))
+    return GainSensitivity(
+        b0,
+        stabilising,
+        tuple(s.name for s in sc),
+        table,
+        outcomes,
+        base_vals,
+        warnings=tuple(warnings),
+    )

@@ -57,7 +57,14 @@ from designlab.navigation.scenarios import Disc, Scenario, Walk
 from designlab.navigation.simulate import simulate_batch
 from designlab.results import OK, Result
 
-__all__ = ["DEFAULT_BOUNDS", "GAIN_NAMES", "GainOptimum", "RandomWalks", "evaluate_gains", "optimise_gains"]
+__all__ = [
+    "DEFAULT_BOUNDS",
+    "GAIN_NAMES",
+    "GainOptimum",
+    "RandomWalks",
+    "evaluate_gains",
+    "optimise_gains",
+]
 
 logger = logging.getLogger(__name__)
 
@@ -67,8 +74,12 @@ Array = NDArray[np.float64]
 GAIN_NAMES = ("k1", "b", "k3", "k5")
 #: The thesis's search box (Zeng 2011, App. C.2: K1 <= 50, b <= 3, K3 <= 200, K5 <= 500),
 #: with lower bounds kept away from zero as the Lyapunov structure requires.
-DEFAULT_BOUNDS: dict[str, tuple[float, float]] = {"k1": (0.5, 50.0), "b": (0.05, 3.0), "k3": (0.5, 200.0),
-                                                  "k5": (0.5, 500.0)}
+DEFAULT_BOUNDS: dict[str, tuple[float, float]] = {
+    "k1": (0.5, 50.0),
+    "b": (0.05, 3.0),
+    "k3": (0.5, 200.0),
+    "k5": (0.5, 500.0),
+}
 _UNITS = {"k1": "N/m", "b": "s", "k3": "N/m", "k5": "N/m^2"}
 
 
@@ -116,22 +127,35 @@ class RandomWalks:
     def __post_init__(self) -> None:
         if isinstance(self.n, bool) or not isinstance(self.n, int | np.integer) or self.n < 1:
             raise InvalidParameterError("RandomWalks.n", self.n, "must be an integer >= 1")
-        for name, unit, lo_min in (("speed", "m/s", 1e-9), ("start_time", "s", 0.0),
-                                   ("lateral_offset", "m", -math.inf)):
+        for name, unit, lo_min in (
+            ("speed", "m/s", 1e-9),
+            ("start_time", "s", 0.0),
+            ("lateral_offset", "m", -math.inf),
+        ):
             rng = getattr(self, name)
             try:
                 lo, hi = (float(v) for v in rng)
             except (TypeError, ValueError):
-                raise InvalidParameterError(f"RandomWalks.{name}", rng, "must be a pair (low, high)", unit) from None
+                raise InvalidParameterError(
+                    f"RandomWalks.{name}", rng, "must be a pair (low, high)", unit
+                ) from None
             if not (math.isfinite(lo) and math.isfinite(hi) and lo <= hi and lo >= lo_min):
-                raise InvalidParameterError(f"RandomWalks.{name}", rng,
-                                            f"must be finite with low <= high{' and low > 0' if lo_min > 0 else ''}"
-                                            f"{' and low >= 0' if lo_min == 0 else ''}", unit)
+                raise InvalidParameterError(
+                    f"RandomWalks.{name}",
+                    rng,
+                    f"must be finite with low <= high{' and low > 0' if lo_min > 0 else ''}"
+                    f"{' and low >= 0' if lo_min == 0 else ''}",
+                    unit,
+                )
             object.__setattr__(self, name, (lo, hi))
 
     def expand(self, scenario: Scenario) -> list[Scenario]:
         """The scenario with its walks randomised (``[scenario]`` if nothing walks)."""
-        walking = [i for i, o in enumerate(scenario.obstacles) if isinstance(o, Disc) and isinstance(o.motion, Walk)]
+        walking = [
+            i
+            for i, o in enumerate(scenario.obstacles)
+            if isinstance(o, Disc) and isinstance(o.motion, Walk)
+        ]
         if not walking:
             return [scenario]
         rng = np.random.default_rng(self.seed)
@@ -148,8 +172,13 @@ class RandomWalks:
                 d = np.subtract(w.end, w.start) / w.length
                 n = np.array([-d[1], d[0]]) * off
                 ramp = min(w.ramp_time, w.length / speed)
-                walk = Walk(tuple(np.add(w.start, n)), tuple(np.add(w.end, n)), speed=speed, ramp_time=ramp,
-                            start_time=t0)
+                walk = Walk(
+                    tuple(np.add(w.start, n)),
+                    tuple(np.add(w.end, n)),
+                    speed=speed,
+                    ramp_time=ramp,
+                    start_time=t0,
+                )
                 obs[i] = replace(o, motion=walk)
             out.append(scenario.replace(obstacles=tuple(obs), name=f"{scenario.name}_walk{k}"))
         return out
@@ -170,11 +199,20 @@ class _Evaluation:
 
 def _batch_task(task: Mapping[str, Any]) -> dict[str, Array]:
     """Executor task: simulate one chunk of gain sets (top level so that it pickles)."""
-    r = simulate_batch(task["scenarios"], task["gains"], stabilising=task["stabilising"],
-                       arrival_tolerance=task["arrival_tolerance"])
+    r = simulate_batch(
+        task["scenarios"],
+        task["gains"],
+        stabilising=task["stabilising"],
+        arrival_tolerance=task["arrival_tolerance"],
+    )
     n_obs = [len(n) for n in r.obstacle_names]
-    return {"H": r.H, "arrival_time": r.arrival_time, "entered_critical": r.entered_critical,
-            "min_distance": r.min_distance, "n_obs": np.array(n_obs)}
+    return {
+        "H": r.H,
+        "arrival_time": r.arrival_time,
+        "entered_critical": r.entered_critical,
+        "min_distance": r.min_distance,
+        "n_obs": np.array(n_obs),
+    }
 
 
 def _check_stabilising(stabilising: str) -> str:
@@ -186,8 +224,16 @@ def _check_stabilising(stabilising: str) -> str:
 class _Evaluator:
     """Simulates a population of gain sets over the (expanded) scenarios."""
 
-    def __init__(self, scenarios: Sequence[Scenario], stabilising: str, robust: RandomWalks | None,
-                 robust_mode: str, arrival_tolerance: float, executor: Any, chunks: int) -> None:
+    def __init__(
+        self,
+        scenarios: Sequence[Scenario],
+        stabilising: str,
+        robust: RandomWalks | None,
+        robust_mode: str,
+        arrival_tolerance: float,
+        executor: Any,
+        chunks: int,
+    ) -> None:
         self.groups: list[list[Scenario]] = [robust.expand(s) if robust else [s] for s in scenarios]
         self.flat = [s for g in self.groups for s in g]
         self.owner = np.concatenate([[i] * len(g) for i, g in enumerate(self.groups)]).astype(int)
@@ -201,7 +247,11 @@ class _Evaluator:
         self.simulations = 0
 
     def _simulate(self, gains: Array) -> dict[str, Array]:
-        base = {"scenarios": self.flat, "stabilising": self.stabilising, "arrival_tolerance": self.tol}
+        base = {
+            "scenarios": self.flat,
+            "stabilising": self.stabilising,
+            "arrival_tolerance": self.tol,
+        }
         if self.executor is None or self.chunks <= 1 or gains.shape[0] < 2:
             return _batch_task({**base, "gains": gains})
         parts = np.array_split(np.arange(gains.shape[0]), min(self.chunks, gains.shape[0]))
@@ -210,7 +260,10 @@ class _Evaluator:
         for i, res in self.executor.map_unordered(_batch_task, tasks):
             results[i] = res
         done = [r for r in results if r is not None]
-        return {k: np.concatenate([r[k] for r in done], axis=1) if k != "n_obs" else done[0][k] for k in done[0]}
+        return {
+            k: np.concatenate([r[k] for r in done], axis=1) if k != "n_obs" else done[0][k]
+            for k in done[0]
+        }
 
     def __call__(self, gains: Array) -> _Evaluation:
         gains = np.atleast_2d(gains)
@@ -273,8 +326,15 @@ def evaluate_gains(
     (0.695, True)
     """
     g = _gain_matrix(gains)
-    ev = _Evaluator(_check_scenarios(scenarios), _check_stabilising(stabilising), _check_robust(robust),
-                    _check_mode(robust_mode), arrival_tolerance, None, 1)
+    ev = _Evaluator(
+        _check_scenarios(scenarios),
+        _check_stabilising(stabilising),
+        _check_robust(robust),
+        _check_mode(robust_mode),
+        arrival_tolerance,
+        None,
+        1,
+    )
     e = ev(g)
     frame = pd.DataFrame(g, columns=list(GAIN_NAMES))
     for s, sc in enumerate(scenarios):
@@ -293,14 +353,18 @@ def _gain_matrix(gains: Any) -> Array:
         return np.array([g.as_array() for g in gains])
     g = np.atleast_2d(np.asarray(gains, dtype=float))
     if g.ndim != 2 or g.shape[1] != 4:
-        raise InvalidParameterError("gains", gains, "must be VFFGains or an (N, 4) array of (k1, b, k3, k5)")
+        raise InvalidParameterError(
+            "gains", gains, "must be VFFGains or an (N, 4) array of (k1, b, k3, k5)"
+        )
     return g
 
 
 def _check_scenarios(scenarios: Sequence[Scenario]) -> list[Scenario]:
     sc = list(scenarios) if isinstance(scenarios, Sequence) else []
     if not sc or not all(isinstance(s, Scenario) for s in sc):
-        raise InvalidParameterError("scenarios", scenarios, "must be a non-empty sequence of Scenario")
+        raise InvalidParameterError(
+            "scenarios", scenarios, "must be a non-empty sequence of Scenario"
+        )
     names = [s.name for s in sc]
     if len(set(names)) != len(names):
         raise InvalidParameterError("scenarios", names, "scenario names must be unique")
@@ -323,22 +387,31 @@ def _check_bounds(bounds: Mapping[str, tuple[float, float]] | None) -> tuple[Arr
     b = dict(DEFAULT_BOUNDS)
     if bounds is not None:
         if not isinstance(bounds, Mapping):
-            raise InvalidParameterError("bounds", bounds, f"must be a mapping of {GAIN_NAMES} to (low, high)")
+            raise InvalidParameterError(
+                "bounds", bounds, f"must be a mapping of {GAIN_NAMES} to (low, high)"
+            )
         unknown = set(bounds) - set(GAIN_NAMES)
         if unknown:
-            raise InvalidParameterError("bounds", sorted(unknown), f"keys must be among {GAIN_NAMES}")
+            raise InvalidParameterError(
+                "bounds", sorted(unknown), f"keys must be among {GAIN_NAMES}"
+            )
         b.update(bounds)
     lo, hi = np.zeros(4), np.zeros(4)
     for j, name in enumerate(GAIN_NAMES):
         try:
             low, high = (float(v) for v in b[name])
         except (TypeError, ValueError):
-            raise InvalidParameterError(f"bounds[{name!r}]", b[name], "must be a pair (low, high)",
-                                        _UNITS[name]) from None
+            raise InvalidParameterError(
+                f"bounds[{name!r}]", b[name], "must be a pair (low, high)", _UNITS[name]
+            ) from None
         if not (math.isfinite(low) and math.isfinite(high) and 0 < low < high):
-            raise InvalidParameterError(f"bounds[{name!r}]", b[name],
-                                        "must be finite with 0 < low < high (gains bounded away from zero, "
-                                        "Zeng 2011 (5.5.7))", _UNITS[name])
+            raise InvalidParameterError(
+                f"bounds[{name!r}]",
+                b[name],
+                "must be finite with 0 < low < high (gains bounded away from zero, "
+                "Zeng 2011 (5.5.7))",
+                _UNITS[name],
+            )
         lo[j], hi[j] = low, high
     return lo, hi
 
@@ -404,8 +477,15 @@ class GainOptimum(Result):
         row.update({n: (getattr(g, n) if g is not None else math.nan) for n in GAIN_NAMES})
         for name, h in zip(self.scenario_names, self.scenario_H, strict=True):
             row[f"H_{name}"] = float(h)
-        row.update({"H_mean": self.objective, "evaluations": self.evaluations, "wall_time_s": self.wall_time,
-                    "robust_mode": self.robust_mode if self.walks else "", "walks": self.walks})
+        row.update(
+            {
+                "H_mean": self.objective,
+                "evaluations": self.evaluations,
+                "wall_time_s": self.wall_time,
+                "robust_mode": self.robust_mode if self.walks else "",
+                "walks": self.walks,
+            }
+        )
         return pd.DataFrame([row])
 
 
@@ -421,7 +501,7 @@ def optimise_gains(
     x0: VFFGains | None = None,
     sigma0: float = 0.25,
     popsize: int = 16,
-    max_evaluations: int = 1200,
+    max_evaluations: int = 1600,
     refine: bool = True,
     refine_evaluations: int = 400,
     robust: RandomWalks | None = None,
@@ -496,9 +576,14 @@ def optimise_gains(
         raise InvalidParameterError("seed", seed, "must be an integer >= 0")
     if isinstance(popsize, bool) or not isinstance(popsize, int | np.integer) or popsize < 4:
         raise InvalidParameterError("popsize", popsize, "must be an integer >= 4")
-    if isinstance(max_evaluations, bool) or not isinstance(max_evaluations, int | np.integer) or \
-            max_evaluations < popsize:
-        raise InvalidParameterError("max_evaluations", max_evaluations, f"must be an integer >= popsize = {popsize}")
+    if (
+        isinstance(max_evaluations, bool)
+        or not isinstance(max_evaluations, int | np.integer)
+        or max_evaluations < popsize
+    ):
+        raise InvalidParameterError(
+            "max_evaluations", max_evaluations, f"must be an integer >= popsize = {popsize}"
+        )
     check_nonnegative("refine_evaluations", refine_evaluations)
     if not (isinstance(sigma0, float | int) and 0 < sigma0 <= 0.5):
         raise InvalidParameterError("sigma0", sigma0, "must be in (0, 0.5] (normalised log units)")
@@ -524,10 +609,15 @@ def optimise_gains(
     def record(phase: str, it: int, e: _Evaluation, step: float) -> None:
         feas_H = np.where(e.feasible, e.H_mean, -np.inf)
         j = int(np.argmax(feas_H))
-        row = {"phase": phase, "iteration": it, "evaluations": ev.evaluations,
-               "best_H_mean": best["H"] if math.isfinite(best["H"]) else math.nan,
-               "iteration_best_H_mean": float(feas_H[j]) if math.isfinite(feas_H[j]) else math.nan,
-               "feasible_share": float(e.feasible.mean()), "step": float(step)}
+        row = {
+            "phase": phase,
+            "iteration": it,
+            "evaluations": ev.evaluations,
+            "best_H_mean": best["H"] if math.isfinite(best["H"]) else math.nan,
+            "iteration_best_H_mean": float(feas_H[j]) if math.isfinite(feas_H[j]) else math.nan,
+            "feasible_share": float(e.feasible.mean()),
+            "step": float(step),
+        }
         if best["u"] is not None:
             row.update(dict(zip(GAIN_NAMES, to_gains(best["u"]).tolist(), strict=True)))
         history.append(row)
@@ -543,8 +633,16 @@ def optimise_gains(
         return False
 
     # ---- global stage: CMA-ES, infeasible candidates ranked below every feasible one
-    opts = {"bounds": [0.0, 1.0], "popsize": int(popsize), "seed": int(seed) + 1, "verbose": -9,
-            "maxfevals": int(max_evaluations), "tolfun": 1e-5, "tolx": 1e-4, "tolflatfitness": 10}
+    opts = {
+        "bounds": [0.0, 1.0],
+        "popsize": int(popsize),
+        "seed": int(seed) + 1,
+        "verbose": -9,
+        "maxfevals": int(max_evaluations),
+        "tolfun": 1e-4,
+        "tolx": 1e-3,
+        "tolflatfitness": 10,
+    }
     es = cma.CMAEvolutionStrategy(u0.tolist(), float(sigma0), opts)
     it = 0
     budget_hit = False
@@ -589,8 +687,10 @@ def optimise_gains(
     warnings: list[str] = []
     if best["u"] is None:
         status = "infeasible"
-        warnings.append(f"no candidate among {ev.evaluations} arrived and stayed out of every critical region "
-                        "in all scenarios")
+        warnings.append(
+            f"no candidate among {ev.evaluations} arrived and stayed out of every critical region "
+            "in all scenarios"
+        )
         gains = None
         H_s = np.full(len(sc), math.nan)
     else:
@@ -601,16 +701,30 @@ def optimise_gains(
         if not global_converged:
             warnings.append(f"CMA-ES stopped on its budget ({stop}), not on convergence")
         if refine and not local_converged:
-            warnings.append("the compass refinement stopped on its budget before its step fell below 1e-3")
-        at_bound = [n for j, n in enumerate(GAIN_NAMES) if best["u"][j] < 1e-3 or best["u"][j] > 1 - 1e-3]
+            warnings.append(
+                "the compass refinement stopped on its budget before its step fell below 1e-3"
+            )
+        at_bound = [
+            n for j, n in enumerate(GAIN_NAMES) if best["u"][j] < 1e-3 or best["u"][j] > 1 - 1e-3
+        ]
         if at_bound:
-            warnings.append(f"the optimum lies on the bound of {at_bound}: widen the bounds to check")
+            warnings.append(
+                f"the optimum lies on the bound of {at_bound}: widen the bounds to check"
+            )
     return GainOptimum(
-        gains=gains, objective=float(best["H"]) if best["u"] is not None else math.nan,
-        scenario_names=tuple(s.name for s in sc), scenario_H=np.asarray(H_s, dtype=float),
-        history=pd.DataFrame(history), evaluations=ev.evaluations, simulations=ev.simulations,
-        wall_time=time.perf_counter() - t_start, stabilising=stab, robust_mode=mode,
-        walks=rob.n if rob is not None else 0, bounds={n: (float(lo[j]), float(hi[j])) for j, n in
-                                                        enumerate(GAIN_NAMES)},
-        seed=int(seed), status=status, warnings=tuple(warnings),
+        gains=gains,
+        objective=float(best["H"]) if best["u"] is not None else math.nan,
+        scenario_names=tuple(s.name for s in sc),
+        scenario_H=np.asarray(H_s, dtype=float),
+        history=pd.DataFrame(history),
+        evaluations=ev.evaluations,
+        simulations=ev.simulations,
+        wall_time=time.perf_counter() - t_start,
+        stabilising=stab,
+        robust_mode=mode,
+        walks=rob.n if rob is not None else 0,
+        bounds={n: (float(lo[j]), float(hi[j])) for j, n in enumerate(GAIN_NAMES)},
+        seed=int(seed),
+        status=status,
+        warnings=tuple(warnings),
     )

@@ -25,8 +25,12 @@ DATA = Path(__file__).resolve().parents[1] / "data" / "nav_sensitivity_appendixC
 GAIN = {"K1": "k1", "K3": "k3", "K5": "k5", "b": "b"}
 # The thesis's Config 3 "cir"/"rect" columns are swapped relative to its Table 6.4
 # (navigation reference, Sec. 11.4 caveats): its "d_s_min_cir" is the rectangle.
-COLUMN = {(1, "d_s_min_cir"): "ch6_config1 d_circle_min_m", (2, "d_s_min_h"): "ch6_config2 d_human_min_m",
-          (3, "d_s_min_cir"): "ch6_config3 d_rectangle_min_m", (3, "d_s_min_rect"): "ch6_config3 d_circle_min_m"}
+COLUMN = {
+    (1, "d_s_min_cir"): "ch6_config1 d_circle_min_m",
+    (2, "d_s_min_h"): "ch6_config2 d_human_min_m",
+    (3, "d_s_min_cir"): "ch6_config3 d_rectangle_min_m",
+    (3, "d_s_min_rect"): "ch6_config3 d_circle_min_m",
+}
 
 
 @pytest.fixture(scope="module")
@@ -48,23 +52,38 @@ def test_result_contract_and_layout(sens):
     check_result(sens)
     perf, crit = sens.appendix_c("k1")
     assert perf["delta_pct"].tolist() == [-100, -50, -20, -10, -5, -2, 0, 2, 5, 10, 20, 50, 100]
-    assert list(perf.columns[1:4]) == ["ch6_config1 T_arrive_s", "ch6_config1 L_energy_J_per_ohm",
-                                       "ch6_config1 d_circle_min_m"]
-    assert list(crit.columns) == ["delta_pct", "S_pct", "ch6_config1 H", "ch6_config2 H", "ch6_config3 H",
-                                  "H_mean", "outcome"]
+    assert list(perf.columns[1:4]) == [
+        "ch6_config1 T_arrive_s",
+        "ch6_config1 L_energy_J_per_ohm",
+        "ch6_config1 d_circle_min_m",
+    ]
+    assert list(crit.columns) == [
+        "delta_pct",
+        "S_pct",
+        "ch6_config1 H",
+        "ch6_config2 H",
+        "ch6_config3 H",
+        "H_mean",
+        "outcome",
+    ]
     # S_K = (1 - H/H_opt)/(1 - K/K_opt) in %, written out independently
     h0 = crit.loc[crit["delta_pct"] == 0, "H_mean"].iloc[0]
     row = crit[crit["delta_pct"] == 50].iloc[0]
     assert math.isclose(row["S_pct"], 100 * (1 - row["H_mean"] / h0) / (1 - 1.5), rel_tol=1e-9)
-    assert math.isclose(crit["H_mean"].iloc[3], crit[["ch6_config1 H", "ch6_config2 H", "ch6_config3 H"]]
-                        .iloc[3].mean(), rel_tol=1e-12)
+    assert math.isclose(
+        crit["H_mean"].iloc[3],
+        crit[["ch6_config1 H", "ch6_config2 H", "ch6_config3 H"]].iloc[3].mean(),
+        rel_tol=1e-12,
+    )
 
 
 @pytest.mark.slow
 def test_minimum_distances_match_appendix_c_configs_1_and_3(sens, thesis):
     errors = []
     for r in thesis[thesis["configuration"].isin([1, 3])].itertuples():
-        ours = sens.value(COLUMN[(r.configuration, r.quantity)], GAIN[r.varied_gain], r.delta_percent)
+        ours = sens.value(
+            COLUMN[(r.configuration, r.quantity)], GAIN[r.varied_gain], r.delta_percent
+        )
         errors.append(abs(ours - r.value))
     assert len(errors) == 4 * 12 * 3
     assert max(errors) <= 0.03, max(errors)
@@ -84,7 +103,9 @@ def test_configuration_2_distance_trends(sens, thesis):
 
 @pytest.mark.slow
 def test_failure_modes_at_minus_100(sens):
-    o = sens.outcomes[sens.outcomes["delta_pct"] == -100].set_index(["parameter", "scenario"])["outcome"]
+    o = sens.outcomes[sens.outcomes["delta_pct"] == -100].set_index(["parameter", "scenario"])[
+        "outcome"
+    ]
     names = ("ch6_config1", "ch6_config2", "ch6_config3")
     # K1 = 0: the robot avoids the obstacles but never reaches the goal (all configurations)
     assert all(o["k1", n] == "no arrival" for n in names)
@@ -119,7 +140,9 @@ def test_thesis_trends(sens):
     # a larger K1 lowers T_arrive and d_s,min; raises L_energy (Configuration 1)
     assert v("ch6_config1 T_arrive_s", "k1", 100) < v("ch6_config1 T_arrive_s", "k1", -50)
     assert v("ch6_config1 d_circle_min_m", "k1", 100) < v("ch6_config1 d_circle_min_m", "k1", -50)
-    assert v("ch6_config1 L_energy_J_per_ohm", "k1", 100) > v("ch6_config1 L_energy_J_per_ohm", "k1", -50)
+    assert v("ch6_config1 L_energy_J_per_ohm", "k1", 100) > v(
+        "ch6_config1 L_energy_J_per_ohm", "k1", -50
+    )
     # a larger K3 raises the distances, T_arrive and L_energy
     for q in ("d_circle_min_m", "T_arrive_s", "L_energy_J_per_ohm"):
         assert v(f"ch6_config1 {q}", "k3", 100) > v(f"ch6_config1 {q}", "k3", -50)

@@ -20,7 +20,9 @@ THESIS = nav.VFFGains(4.3, 0.68, 20.3, 240.7)
 @pytest.fixture(scope="module")
 def tiny():
     kw = dict(stabilising="off", seed=3, popsize=6, max_evaluations=12, refine_evaluations=16)
-    return nav.optimise_gains([nav.configuration(1)], **kw), nav.optimise_gains([nav.configuration(1)], **kw)
+    return nav.optimise_gains([nav.configuration(1)], **kw), nav.optimise_gains(
+        [nav.configuration(1)], **kw
+    )
 
 
 def test_tiny_run_is_reproducible_and_consistent(tiny):
@@ -46,30 +48,43 @@ def test_tiny_run_is_reproducible_and_consistent(tiny):
 def test_a_violating_candidate_is_infeasible_not_scored():
     # K3 -> 0 in Configuration 2: the robot enters the human's critical region
     # (Zeng 2011, App. C.3) yet its H is well above zero: it must not count.
-    f = nav.evaluate_gains([nav.configuration(2)], [[4.3, 0.68, 1e-6, 240.7], THESIS.as_array()],
-                           stabilising="off")
+    f = nav.evaluate_gains(
+        [nav.configuration(2)], [[4.3, 0.68, 1e-6, 240.7], THESIS.as_array()], stabilising="off"
+    )
     assert not f["feasible"][0] and not f["critical_free"][0] and f["H_mean"][0] > 0.3
     assert f["feasible"][1]
 
 
 def test_no_feasible_point_gives_status_infeasible():
-    opt = nav.optimise_gains([nav.configuration(2)], stabilising="off", seed=0, popsize=4, max_evaluations=4,
-                             bounds=dict(k3=(1e-6, 2e-6), k5=(1e-6, 2e-6)), refine=False)
+    opt = nav.optimise_gains(
+        [nav.configuration(2)],
+        stabilising="off",
+        seed=0,
+        popsize=4,
+        max_evaluations=4,
+        bounds=dict(k3=(1e-6, 2e-6), k5=(1e-6, 2e-6)),
+        refine=False,
+    )
     check_result(opt)
     assert opt.status == "infeasible" and opt.gains is None and math.isnan(opt.objective)
     assert opt.history["feasible_share"].max() == 0.0 and opt.warnings
 
 
 def test_random_walks_draws_and_worst_case():
-    rw = nav.RandomWalks(n=3, speed=(0.8, 1.2), start_time=(0.0, 0.5), lateral_offset=(-0.1, 0.1), seed=4)
+    rw = nav.RandomWalks(
+        n=3, speed=(0.8, 1.2), start_time=(0.0, 0.5), lateral_offset=(-0.1, 0.1), seed=4
+    )
     walks = rw.expand(nav.configuration(2))
     assert [s.name for s in walks] == [f"ch6_config2_walk{k}" for k in range(3)]
     for s in walks:
         w = s.obstacles[0].motion
         assert 0.8 <= w.speed <= 1.2 and 0.0 <= w.start_time <= 0.5
-        assert abs(w.start[1] - 0.6) <= 0.1 + 1e-12 and w.start[1] == w.end[1]  # lateral to an x-walk
-    assert [s.obstacles[0].motion for s in rw.expand(nav.configuration(2))] == [s.obstacles[0].motion
-                                                                                for s in walks]
+        assert (
+            abs(w.start[1] - 0.6) <= 0.1 + 1e-12 and w.start[1] == w.end[1]
+        )  # lateral to an x-walk
+    assert [s.obstacles[0].motion for s in rw.expand(nav.configuration(2))] == [
+        s.obstacles[0].motion for s in walks
+    ]
     assert rw.expand(nav.configuration(3)) == [nav.configuration(3)]  # nothing walks
     sc = [nav.configuration(2)]
     mean = nav.evaluate_gains(sc, THESIS, stabilising="off", robust=rw, robust_mode="mean")
@@ -77,19 +92,41 @@ def test_random_walks_draws_and_worst_case():
     assert worst["H_mean"][0] <= mean["H_mean"][0]
 
 
-@pytest.mark.parametrize("kw", [
-    dict(bounds={"k1": (0.0, 5.0)}), dict(bounds={"k1": (5.0, 1.0)}), dict(bounds={"k1": (math.nan, 5.0)}),
-    dict(bounds={"k2": (1.0, 2.0)}), dict(bounds={"b": 3.0}), dict(stabilising="on"), dict(robust_mode="median"),
-    dict(popsize=2), dict(max_evaluations=3), dict(seed=-1), dict(sigma0=0.0), dict(robust="walks"),
-    dict(x0=nav.VFFGains(100.0, 0.5, 10.0, 10.0)), dict(executor=object()),
-])
+@pytest.mark.parametrize(
+    "kw",
+    [
+        dict(bounds={"k1": (0.0, 5.0)}),
+        dict(bounds={"k1": (5.0, 1.0)}),
+        dict(bounds={"k1": (math.nan, 5.0)}),
+        dict(bounds={"k2": (1.0, 2.0)}),
+        dict(bounds={"b": 3.0}),
+        dict(stabilising="on"),
+        dict(robust_mode="median"),
+        dict(popsize=2),
+        dict(max_evaluations=3),
+        dict(seed=-1),
+        dict(sigma0=0.0),
+        dict(robust="walks"),
+        dict(x0=nav.VFFGains(100.0, 0.5, 10.0, 10.0)),
+        dict(executor=object()),
+    ],
+)
 def test_bad_input_is_rejected(kw):
     with pytest.raises(InvalidParameterError):
         nav.optimise_gains([nav.configuration(1)], **kw)
 
 
-@pytest.mark.parametrize("kw", [dict(n=0), dict(speed=(0.0, 1.0)), dict(start_time=(-1.0, 0.0)),
-                                dict(lateral_offset=(0.2, 0.1)), dict(speed=(math.inf, 1.0)), dict(n=2.5)])
+@pytest.mark.parametrize(
+    "kw",
+    [
+        dict(n=0),
+        dict(speed=(0.0, 1.0)),
+        dict(start_time=(-1.0, 0.0)),
+        dict(lateral_offset=(0.2, 0.1)),
+        dict(speed=(math.inf, 1.0)),
+        dict(n=2.5),
+    ],
+)
 def test_bad_random_walks(kw):
     with pytest.raises(InvalidParameterError):
         nav.RandomWalks(**kw)

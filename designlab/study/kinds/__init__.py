@@ -11,4 +11,5 @@ MODULES: tuple[str, ...] = (
     "impact_sweep",
     "foam_envelope",
     "foam_design",
+    "vff_gains",
 )

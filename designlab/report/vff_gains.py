@@ -1,0 +1,347 @@
+"""Report of a ``vff_gains`` study: summary.md, gains.csv, convergence and trajectory plots,
+the Appendix-C sensitivity tables (Zeng 2011, App. C)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+import pandas as pd
+from matplotlib.figure import Figure
+from matplotlib.patches import Circle
+from matplotlib.patches import Rectangle as RectPatch
+
+from designlab.navigation import Disc, NavigationResult
+from designlab.report import register_writer
+from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
+from designlab.study.kinds.vff_gains import VffGainsResult
+
+__all__ = [
+    "convergence_figure",
+    "trajectory_figure",
+    "vff_gains_markdown",
+    "write_vff_gains_report",
+]
+
+WEEK_S = 7 * 24 * 3600.0
+_COLOURS = {"off": "tab:blue", "lyapunov": "tab:red", "robust": "tab:green"}
+
+
+def convergence_figure(result: VffGainsResult) -> Figure:
+    """Best feasible H_mean against evaluations, per optimisation, with the references."""
+    fig, ax = plt.subplots(figsize=(7.5, 4.6))
+    comp = result.comparison
+    for mode, opt in result.optima.items():
+        h = opt.history
+        c = _COLOURS.get(mode, "k")
+        label = mode if mode != "robust" else f"robust ({opt.robust_mode}, {opt.walks} walks)"
+        ax.plot(
+            h["evaluations"],
+            h["best_H_mean"],
+            color=c,
+            lw=2,
+            label=f"designlab, stabilising {label}",
+        )
+        ref_mode = opt.stabilising
+        block = comp[
+            (comp["stabilising"] == ref_mode) & ((comp["robust"] != "") == (mode == "robust"))
+        ]
+        for lab, ls in (("thesis_optimum", "--"), ("experimental", ":")):
+            v = block.loc[block["gains"] == lab, "H_mean"]
+            if len(v):
+                ax.axhline(
+                    float(v.iloc[0]),
+                    color=c,
+                    ls=ls,
+                    lw=1,
+                    label=f"{lab.replace('_', ' ')} gains ({label})",
+                )
+        refine = h[h["phase"] == "refine"]
+        if len(refine):
+            ax.axvline(float(refine["evaluations"].iloc[0]), color=c, lw=0.6, alpha=0.4)
+    ax.set_xlabel("gain sets evaluated")
+    ax.set_ylabel("best feasible H_mean")
+    ax.set_title("CMA-ES then compass refinement (vertical line: start of refinement)")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=7, loc="lower right")
+    fig.tight_layout()
+    return fig
+
+
+def _draw_scenario(ax, res: NavigationResult) -> None:  # type: ignore[no-untyped-def]
+    sc = res.scenario
+    for i, o in enumerate(sc.obstacles):
+        if isinstance(o, Disc):
+            track = res.obstacle_positions[i]
+            moving = np.ptp(track[:, 0]) + np.ptp(track[:, 1]) > 1e-9
+            c = (
+                track[0]
+                if not moving
+                else track[np.argmin(res.distance[i][1:])]
+                if res.distance.shape[1] > 1
+                else track[0]
+            )
+            ax.add_patch(Circle(c, o.radius, color="0.4", alpha=0.5))
+            ax.add_patch(Circle(c, o.r3, fill=False, ls="--", color="0.3", lw=0.8))
+            ax.add_patch(Circle(c, o.r2, fill=False, ls=":", color="0.5", lw=0.8))
+            if moving:
+                ax.plot(track[:, 0], track[:, 1], color="0.5", lw=1, ls="-.")
+        else:
+            x0, y0 = o.center[0] - o.length / 2, o.center[1] - o.width / 2
+            ax.add_patch(RectPatch((x0, y0), o.length, o.width, color="0.4", alpha=0.5))
+            ax.add_patch(
+                RectPatch(
+                    (x0 - o.r3, y0 - o.r3),
+                    o.length + 2 * o.r3,
+                    o.width + 2 * o.r3,
+                    fill=False,
+                    ls="--",
+                    color="0.3",
+                    lw=0.8,
+                )
+            )
+    ax.plot(*sc.start, "ko", ms=4)
+    ax.plot(*sc.goal, "k*", ms=9)
+
+
+def trajectory_figure(result: VffGainsResult, mode: str) -> Figure:
+    """One panel per configuration: the thesis's optimum and ours, stabilising ``mode``."""
+    confs = sorted({k[2] for k in result.runs if k[0] == mode})
+    n = len(confs)
+    cols = 2 if n > 1 else 1
+    rows = -(-n // cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(6.2 * cols, 3.6 * rows), squeeze=False)
+    for ax, i in zip(axes.ravel(), confs, strict=False):
+        first = True
+        for label, colour in (("thesis_optimum", "tab:orange"), ("designlab_optimum", "tab:blue")):
+            res = result.runs.get((mode, label, i))
+            if res is None:
+                continue
+            if first:
+                _draw_scenario(ax, res)
+                first = False
+            g = res.gains
+            ax.plot(
+                res.position[:, 0],
+                res.position[:, 1],
+                color=colour,
+                lw=1.8,
+                label=f"{label.replace('_', ' ')} ({g['k1']:.3g}, {g['b']:.3g}, {g['k3']:.3g}, {g['k5']:.4g}): "
+                f"T = {res.arrival_time:.2f} s, H = {res.criteria.H:.3f}",
+            )
+        ax.set_xlim(-0.3, 4.4)
+        ax.set_ylim(-1.0, 2.3)
+        ax.set_aspect("equal")
+        ax.set_title(
+            f"Configuration {i}"
+            + (" (not optimised)" if i not in result.study.configurations else "")
+        )
+        ax.set_xlabel("x (m)")
+        ax.set_ylabel("y (m)")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=6.5, loc="upper center", bbox_to_anchor=(0.5, -0.18))
+    for ax in axes.ravel()[n:]:
+        ax.set_visible(False)
+    fig.suptitle(
+        f"Paths with the thesis's optimum and designlab's optimum, stabilising force {mode} "
+        "(grey: obstacle; dashed: r3; dotted: r2; dash-dot: human path, drawn at closest approach)",
+        fontsize=9,
+    )
+    fig.tight_layout()
+    return fig
+
+
+def _fmt(x: object, spec: str = ".4f") -> str:
+    if isinstance(x, float | np.floating):
+        if math.isnan(x):
+            return "—"
+        if math.isinf(x):
+            return "∞"
+        return format(float(x), spec)
+    return str(x)
+
+
+def vff_gains_markdown(
+    result: VffGainsResult, *, command: str | None = None, version: str | None = None
+) -> str:
+    """The Markdown summary."""
+    st = result.study
+    comp = result.comparison
+    out = [f"# Optimal VFF gains: {st.name}", ""]
+    if st.description:
+        out += [st.description.strip(), ""]
+    b = st.bounds
+    out += [
+        "## Problem (Zeng 2011, Sec. 5.6 and App. C; docs/navigation_gains.md)",
+        "",
+        f"- maximise H_mean, the mean of H (5.6.6) over Ch. 6 Configurations {st.configurations}; "
+        f"checked on {st.validation} (not optimised)",
+        f"- decision (K1, b, K3, K5) with K2 = b K1, K4 = b K3, K6 = b K5 (5.5.7); bounds K1 {b.k1} N/m, "
+        f"b {b.b} s, K3 {b.k3} N/m, K5 {b.k5} N/m^2",
+        "- hard constraints: arrival (within 0.15 m of the goal, 30 s horizon) and no entry into any "
+        "critical region in every configuration; a violating candidate is infeasible (ranked below "
+        "every feasible one), never scored",
+        f"- CMA-ES (population {st.popsize}, budget {st.max_evaluations} gain sets, seed {st.seed}), each "
+        "generation simulated as one batch, then a batched compass search"
+        + ("" if st.refine else " (off)"),
+        "",
+        "## Gains and H_mean",
+        "",
+    ]
+    show = comp.copy()
+    out += [
+        markdown_table(
+            show.map(lambda v: _fmt(v, ".4g") if isinstance(v, float) else v), index=False
+        ),
+        "",
+    ]
+    for mode in st.modes:
+        block = comp[(comp["stabilising"] == mode) & (comp["robust"] == "")].set_index("gains")
+        if "designlab_optimum" not in block.index:
+            out.append(f"- stabilising {mode}: no feasible optimum found")
+            continue
+        ours = block.loc["designlab_optimum"]
+        line = (
+            f"- stabilising **{mode}**: H_mean {ours['H_mean']:.4f} against {block.loc['experimental', 'H_mean']:.4f} "
+            f"(experimental gains, {ours['vs_experimental_pct']:+.1f} %) and "
+            f"{block.loc['thesis_optimum', 'H_mean']:.4f} (thesis optimum, {ours['vs_thesis_optimum_pct']:+.1f} %)."
+        )
+        for n in [c for c in block.columns if c.startswith("H_ch6_config")]:
+            i = int(n.rsplit("config", 1)[1])
+            if i in st.validation and i not in st.configurations:
+                vals = ", ".join(
+                    f"{lab.replace('_', ' ')} {block.loc[lab, n]:.4f}" for lab in block.index
+                )
+                best = block[n].idxmax()
+                safe = ""
+                if "validation_feasible" in block.columns:
+                    safe = (
+                        "; ours arrives and stays out of every critical region there"
+                        if bool(block.loc["designlab_optimum", "validation_feasible"])
+                        else "; ours **enters a critical region or does not arrive** there"
+                    )
+                line += (
+                    f" Configuration {i} (not optimised): {vals}; best: {best.replace('_', ' ')}{safe}"
+                    + (
+                        " - the optimum generalises."
+                        if best == "designlab_optimum"
+                        else " - the optimum does not carry over to it."
+                    )
+                )
+        out.append(line)
+    out += ["", "## Search effort", ""]
+    eff = []
+    for mode, o in result.optima.items():
+        eff.append(
+            {
+                "optimisation": mode
+                if mode != "robust"
+                else f"robust ({o.robust_mode}, {o.walks} walks, stabilising {o.stabilising})",
+                "status": o.status,
+                "gain sets": o.evaluations,
+                "closed-loop runs": o.simulations,
+                "wall time (s)": f"{o.wall_time:.1f}",
+                "per gain set (ms)": f"{1e3 * o.wall_time / o.evaluations:.1f}",
+                "vs one week": f"{WEEK_S / o.wall_time:,.0f}x",
+            }
+        )
+    out += [
+        markdown_table(pd.DataFrame(eff), index=False),
+        "",
+        "The thesis's grid search and fmincon took one week (App. C.2). Wall times are those of the run "
+        "that produced this report (shared 2-core machine).",
+        "",
+        "![convergence](convergence.png)",
+        "",
+    ]
+    for mode in st.modes:
+        out += [f"![trajectories, stabilising {mode}](trajectories_{mode}.png)", ""]
+    if result.sensitivities:
+        out += [
+            "## Sensitivity tables (Zeng 2011, App. C.3)",
+            "",
+            "S_K = (1 - H_mean/H_opt)/(1 - K/K_opt) in %. Distances are centre distances (contour for the "
+            "rectangle), L_energy is per ohm of winding resistance (the thesis's R_a is unknown). "
+            "-100 % rows: the gain at zero, classified from the run (no arrival, oscillation, critical "
+            "region, collision). Long tables: sensitivity_<base>.csv.",
+            "",
+        ]
+        for label, s in result.sensitivities.items():
+            g = s.base
+            out += [
+                f"### Around {label.replace('_', ' ')}: K1 = {g.k1:.4g}, b = {g.b:.4g}, K3 = {g.k3:.4g}, "
+                f"K5 = {g.k5:.4g} (stabilising {s.stabilising})",
+                "",
+                markdown_table(
+                    s.s_summary().map(lambda v: _fmt(v, ".2f") if isinstance(v, float) else v),
+                    index=False,
+                ),
+                "",
+            ]
+            for p in ("k1", "b", "k3", "k5"):
+                perf, crit = s.appendix_c(p)
+                out += [
+                    f"**{p}**",
+                    "",
+                    markdown_table(
+                        perf.map(lambda v: _fmt(v, ".3f") if isinstance(v, float) else v),
+                        index=False,
+                    ),
+                    "",
+                    markdown_table(
+                        crit.map(lambda v: _fmt(v, ".4f") if isinstance(v, float) else v),
+                        index=False,
+                    ),
+                    "",
+                ]
+    if result.warnings:
+        out += ["## Warnings", ""] + [f"- {w}" for w in result.warnings] + [""]
+    out += ["---", ""]
+    if command:
+        out.append(f"Produced by `{command}`")
+    out.append(f"designlab {version or ''}".rstrip())
+    out.append("")
+    return "\n".join(out)
+
+
+@register_writer(VffGainsResult)
+def write_vff_gains_report(
+    result: VffGainsResult,
+    directory: Path,
+    *,
+    command: str | None = None,
+    version: str | None = None,
+    study_text: str | None = None,
+) -> list[Path]:
+    """Write summary.md, gains.csv, history.csv, the figures and the sensitivity CSVs."""
+    written = [write_csv(result.comparison, directory / "gains.csv")]
+    hist = pd.concat(
+        [o.history.assign(optimisation=m) for m, o in result.optima.items()], ignore_index=True
+    )
+    written.append(write_csv(hist, directory / "history.csv"))
+    fig = convergence_figure(result)
+    written.append(write_png(fig, directory / "convergence.png"))
+    plt.close(fig)
+    for mode in result.study.modes:
+        fig = trajectory_figure(result, mode)
+        written.append(write_png(fig, directory / f"trajectories_{mode}.png"))
+        plt.close(fig)
+    for label, s in result.sensitivities.items():
+        frame = s.to_frame()
+        written.append(write_csv(frame, directory / f"sensitivity_{label}.csv"))
+        written.append(write_csv(s.outcomes, directory / f"sensitivity_{label}_outcomes.csv"))
+    written.append(
+        write_markdown(
+            vff_gains_markdown(result, command=command, version=version), directory / "summary.md"
+        )
+    )
+    if study_text is not None:
+        from designlab.report.atomic import atomic_write_text
+
+        written.append(atomic_write_text(directory / "study.yaml", study_text))
+    return written
