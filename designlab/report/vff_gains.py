@@ -116,6 +116,17 @@ def trajectory_figure(result: VffGainsResult, mode: str) -> Figure:
     cols = 2 if n > 1 else 1
     rows = -(-n // cols)
     fig, axes = plt.subplots(rows, cols, figsize=(6.2 * cols, 3.6 * rows), squeeze=False)
+    pts = []
+    for (m, _, _), res in result.runs.items():
+        if m == mode:
+            pts.append(res.position)
+            for k, o in enumerate(res.scenario.obstacles):
+                r = o.r3 if isinstance(o, Disc) else o.r3 + max(o.length, o.width) / 2
+                pts.append(res.obstacle_positions[k][[0, -1]] + r)
+                pts.append(res.obstacle_positions[k][[0, -1]] - r)
+    allp = np.vstack(pts)
+    lo, hi = allp.min(axis=0) - 0.2, allp.max(axis=0) + 0.2
+    lims = ((float(lo[0]), float(hi[0])), (float(lo[1]), float(hi[1])))
     for ax, i in zip(axes.ravel(), confs, strict=False):
         first = True
         for label, colour in (("thesis_optimum", "tab:orange"), ("designlab_optimum", "tab:blue")):
@@ -134,8 +145,8 @@ def trajectory_figure(result: VffGainsResult, mode: str) -> Figure:
                 label=f"{label.replace('_', ' ')} ({g['k1']:.3g}, {g['b']:.3g}, {g['k3']:.3g}, {g['k5']:.4g}): "
                 f"T = {res.arrival_time:.2f} s, H = {res.criteria.H:.3f}",
             )
-        ax.set_xlim(-0.3, 4.4)
-        ax.set_ylim(-1.0, 2.3)
+        ax.set_xlim(*lims[0])
+        ax.set_ylim(*lims[1])
         ax.set_aspect("equal")
         ax.set_title(
             f"Configuration {i}"
@@ -225,12 +236,18 @@ def vff_gains_markdown(
                         if bool(block.loc["designlab_optimum", "validation_feasible"])
                         else "; ours **enters a critical region or does not arrive** there"
                     )
+                ours_v = float(block.loc["designlab_optimum", n])
+                rel = ", ".join(
+                    f"{100 * (ours_v / float(block.loc[lab, n]) - 1):+.1f} % vs {lab.replace('_', ' ')}"
+                    for lab in block.index
+                    if lab != "designlab_optimum"
+                )
                 line += (
-                    f" Configuration {i} (not optimised): {vals}; best: {best.replace('_', ' ')}{safe}"
+                    f" Configuration {i} (not optimised): {vals} (ours {rel}){safe}; "
                     + (
-                        " - the optimum generalises."
+                        "the optimum generalises."
                         if best == "designlab_optimum"
-                        else " - the optimum does not carry over to it."
+                        else f"the best set there is the {best.replace('_', ' ')} one."
                     )
                 )
         out.append(line)
