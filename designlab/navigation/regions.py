@@ -105,14 +105,27 @@ class RegionSizes(Result):
     def to_frame(self) -> pd.DataFrame:
         """One row per quantity: ``quantity``, ``value``, ``unit``."""
         units = {
-            "sample_time": "s", "stopping_time": "s", "accel_time": "s",
-            "robot_stopping_distance": "m", "obstacle_advance": "m", "r3_hat": "m",
-            "r3_min": "m", "r3": "m", "offset": "m", "sidestep_time": "s", "turn_time": "s",
-            "robot_sidestep_travel": "m", "obstacle_sidestep_travel": "m", "r2": "m",
+            "sample_time": "s",
+            "stopping_time": "s",
+            "accel_time": "s",
+            "robot_stopping_distance": "m",
+            "obstacle_advance": "m",
+            "r3_hat": "m",
+            "r3_min": "m",
+            "r3": "m",
+            "offset": "m",
+            "sidestep_time": "s",
+            "turn_time": "s",
+            "robot_sidestep_travel": "m",
+            "obstacle_sidestep_travel": "m",
+            "r2": "m",
         }
         return pd.DataFrame(
-            {"quantity": list(units), "value": [getattr(self, k) for k in units],
-             "unit": list(units.values())}
+            {
+                "quantity": list(units),
+                "value": [getattr(self, k) for k in units],
+                "unit": list(units.values()),
+            }
         )
 
 
@@ -169,12 +182,11 @@ def region_sizes(
     """
     ts = check_positive("sample_time", sample_time, "s")
     if not isinstance(robot, HolonomicRobot | NonholonomicRobot):
-        raise InvalidParameterError(
-            "robot", robot, "must be a HolonomicRobot or NonholonomicRobot"
-        )
+        raise InvalidParameterError("robot", robot, "must be a HolonomicRobot or NonholonomicRobot")
     if not isinstance(obstacle, Human | CircularObstacle | ObstacleRobot | RectangularObstacle):
         raise InvalidParameterError(
-            "obstacle", obstacle,
+            "obstacle",
+            obstacle,
             "must be a Human, CircularObstacle, ObstacleRobot or RectangularObstacle",
         )
     v, a = robot.max_speed, robot.max_accel
@@ -191,7 +203,10 @@ def region_sizes(
         r3 = check_positive("critical_radius", critical_radius, "m")
         if r3 < r3_min - 1e-12:
             raise InvalidParameterError(
-                "critical_radius", critical_radius, f"must be >= the minimum r3 = {r3_min:.4f} m", "m"
+                "critical_radius",
+                critical_radius,
+                f"must be >= the minimum r3 = {r3_min:.4f} m",
+                "m",
             )
     offset = obstacle.effective_offset if rect else 0.0
     dt2_min = (r3 + offset - 0.5 * a * t_a**2) / v + t_a
@@ -203,10 +218,14 @@ def region_sizes(
                 "sidestep_time", sidestep_time, f"must be >= the minimum {dt2_min:.4f} s", "s"
             )
     if isinstance(robot, NonholonomicRobot):
-        t_turn = robot.turn_time if turn_time is None else check_positive("turn_time", turn_time, "s")
+        t_turn = (
+            robot.turn_time if turn_time is None else check_positive("turn_time", turn_time, "s")
+        )
     else:
         if turn_time is not None:
-            raise InvalidParameterError("turn_time", turn_time, "applies only to a NonholonomicRobot", "s")
+            raise InvalidParameterError(
+                "turn_time", turn_time, "applies only to a NonholonomicRobot", "s"
+            )
         t_turn = 0.0
     horizon = dt2 + t_turn + ts
     d_rx2 = v * horizon

@@ -47,7 +47,9 @@ def _point(name: str, value: Any) -> tuple[float, float]:
     try:
         x, y = value
     except (TypeError, ValueError):
-        raise InvalidParameterError(name, value, "must be a pair (x, y) of finite numbers", "m") from None
+        raise InvalidParameterError(
+            name, value, "must be a pair (x, y) of finite numbers", "m"
+        ) from None
     return (check_finite(f"{name}[0]", x, "m"), check_finite(f"{name}[1]", y, "m"))
 
 
@@ -123,7 +125,7 @@ class Walk:
     3.9
     >>> p, v, a = w.state([0.0, 2.0, 10.0])
     >>> p[:, 0].round(3).tolist(), v[:, 0].round(3).tolist()
-    [[0.6, 2.35, 4.0], [0.0, 1.0, 0.0]]
+    ([0.6, 2.35, 4.0], [0.0, 1.0, 0.0])
     """
 
     start: tuple[float, float]
@@ -136,12 +138,18 @@ class Walk:
         object.__setattr__(self, "start", _point("Walk.start", self.start))
         object.__setattr__(self, "end", _point("Walk.end", self.end))
         object.__setattr__(self, "speed", check_positive("Walk.speed", self.speed, "m/s"))
-        object.__setattr__(self, "ramp_time", check_nonnegative("Walk.ramp_time", self.ramp_time, "s"))
-        object.__setattr__(self, "start_time", check_nonnegative("Walk.start_time", self.start_time, "s"))
+        object.__setattr__(
+            self, "ramp_time", check_nonnegative("Walk.ramp_time", self.ramp_time, "s")
+        )
+        object.__setattr__(
+            self, "start_time", check_nonnegative("Walk.start_time", self.start_time, "s")
+        )
         if self.length < self.speed * self.ramp_time:
             raise InvalidParameterError(
-                "Walk.ramp_time", self.ramp_time,
-                f"must leave a cruise: speed * ramp_time <= walk length {self.length:.3f} m", "s",
+                "Walk.ramp_time",
+                self.ramp_time,
+                f"must leave a cruise: speed * ramp_time <= walk length {self.length:.3f} m",
+                "s",
             )
 
     @property
@@ -211,10 +219,15 @@ class SampledPath:
         t = np.asarray(self.times, dtype=float)
         p = np.asarray(self.positions, dtype=float)
         if t.ndim != 1 or t.size < 2 or not np.all(np.isfinite(t)) or np.any(np.diff(t) <= 0):
-            raise InvalidParameterError("SampledPath.times", self.times, "must be >= 2 increasing finite times", "s")
+            raise InvalidParameterError(
+                "SampledPath.times", self.times, "must be >= 2 increasing finite times", "s"
+            )
         if p.shape != (t.size, 2) or not np.all(np.isfinite(p)):
             raise InvalidParameterError(
-                "SampledPath.positions", self.positions, "must be finite, shape (len(times), 2)", "m"
+                "SampledPath.positions",
+                self.positions,
+                "must be finite, shape (len(times), 2)",
+                "m",
             )
         object.__setattr__(self, "times", tuple(t.tolist()))
         object.__setattr__(self, "positions", tuple(map(tuple, p.tolist())))
@@ -271,7 +284,9 @@ class Disc:
         _check_regions(self)
         object.__setattr__(self, "radius", check_positive(f"{self.name}.radius", self.radius, "m"))
         if not isinstance(self.motion, Stationary | ConstantVelocity | Walk | SampledPath):
-            raise InvalidParameterError(f"{self.name}.motion", self.motion, "must be a motion object")
+            raise InvalidParameterError(
+                f"{self.name}.motion", self.motion, "must be a motion object"
+            )
 
     @property
     def kind(self) -> str:
@@ -330,14 +345,24 @@ class Rectangle:
         object.__setattr__(self, "angle", check_finite(f"{self.name}.angle", self.angle, "rad"))
 
     @classmethod
-    def from_corners(cls, name: str, corners: Sequence[Sequence[float]], *, r2: float, r3: float) -> Rectangle:
+    def from_corners(
+        cls, name: str, corners: Sequence[Sequence[float]], *, r2: float, r3: float
+    ) -> Rectangle:
         """Axis-aligned rectangle from its corner points (m)."""
         c = np.asarray(corners, dtype=float)
         if c.ndim != 2 or c.shape[1] != 2 or not np.all(np.isfinite(c)):
-            raise InvalidParameterError(f"{name}.corners", corners, "must be finite (x, y) points", "m")
+            raise InvalidParameterError(
+                f"{name}.corners", corners, "must be finite (x, y) points", "m"
+            )
         lo, hi = c.min(axis=0), c.max(axis=0)
-        return cls(name, (round(float(lo[0] + hi[0]) / 2, 12), round(float(lo[1] + hi[1]) / 2, 12)),
-                   round(float(hi[0] - lo[0]), 12), round(float(hi[1] - lo[1]), 12), r2=r2, r3=r3)
+        return cls(
+            name,
+            (round(float(lo[0] + hi[0]) / 2, 12), round(float(lo[1] + hi[1]) / 2, 12)),
+            round(float(hi[0] - lo[0]), 12),
+            round(float(hi[1] - lo[1]), 12),
+            r2=r2,
+            r3=r3,
+        )
 
     @property
     def kind(self) -> str:
@@ -427,23 +452,34 @@ class Scenario:
         object.__setattr__(self, "goal", _point("Scenario.goal", self.goal))
         object.__setattr__(self, "obstacles", tuple(self.obstacles))
         object.__setattr__(self, "horizon", check_positive("Scenario.horizon", self.horizon, "s"))
-        object.__setattr__(self, "sample_time", check_positive("Scenario.sample_time", self.sample_time, "s"))
+        object.__setattr__(
+            self, "sample_time", check_positive("Scenario.sample_time", self.sample_time, "s")
+        )
         if not isinstance(self.robot, HolonomicRobot | NonholonomicRobot):
-            raise InvalidParameterError("Scenario.robot", self.robot, "must be a HolonomicRobot or NonholonomicRobot")
+            raise InvalidParameterError(
+                "Scenario.robot", self.robot, "must be a HolonomicRobot or NonholonomicRobot"
+            )
         if self.initial_heading is not None:
             object.__setattr__(
-                self, "initial_heading", check_finite("Scenario.initial_heading", self.initial_heading, "rad")
+                self,
+                "initial_heading",
+                check_finite("Scenario.initial_heading", self.initial_heading, "rad"),
             )
         names = [o.name for o in self.obstacles]
         if len(set(names)) != len(names):
-            raise InvalidParameterError("Scenario.obstacles", names, "obstacle names must be unique")
+            raise InvalidParameterError(
+                "Scenario.obstacles", names, "obstacle names must be unique"
+            )
         for o in self.obstacles:
             if not isinstance(o, Disc | Rectangle):
-                raise InvalidParameterError("Scenario.obstacles", o, "must contain Disc or Rectangle objects")
+                raise InvalidParameterError(
+                    "Scenario.obstacles", o, "must contain Disc or Rectangle objects"
+                )
             d_start = float(o.contour_distance(np.array([self.start]), 0.0)[0])
             if d_start <= o.collision_distance(self.robot.radius):
                 raise InvalidParameterError(
-                    f"Scenario.obstacles[{o.name}]", o.name,
+                    f"Scenario.obstacles[{o.name}]",
+                    o.name,
                     f"overlaps the robot at the start (distance {d_start:.3f} m <= "
                     f"{o.collision_distance(self.robot.radius):.3f} m)",
                 )
@@ -451,7 +487,8 @@ class Scenario:
                 d_goal = float(o.contour_distance(np.array([self.goal]), 0.0)[0])
                 if d_goal <= o.r3:
                     raise InvalidParameterError(
-                        "Scenario.goal", self.goal,
+                        "Scenario.goal",
+                        self.goal,
                         f"lies inside the critical region of {o.name!r} (distance {d_goal:.3f} m <= r3 = {o.r3} m)",
                         "m",
                     )
@@ -549,57 +586,104 @@ def configuration(
     if chapter not in (6, 7):
         raise InvalidParameterError("chapter", chapter, "must be 6 or 7")
     reg = _CH6 if chapter == 6 else _CH7
-    default_robot: HolonomicRobot | NonholonomicRobot = HolonomicRobot() if chapter == 6 else NonholonomicRobot()
+    default_robot: HolonomicRobot | NonholonomicRobot = (
+        HolonomicRobot() if chapter == 6 else NonholonomicRobot()
+    )
     rb = default_robot if robot is None else robot
     key = str(which)
     y0 = 0.6
     if chapter == 6:
         start, goal = (3.9, 0.6), (0.0, 0.6)
         walk = Walk((0.6, y0), (4.0, y0), speed=human_speed, ramp_time=human_ramp_time)
-        rect = Rectangle.from_corners("rectangle", [(1.6, -0.3), (3, -0.3), (3, 0.3), (1.6, 0.3)], r2=0.8, r3=0.4)
+        rect = Rectangle.from_corners(
+            "rectangle", [(1.6, -0.3), (3, -0.3), (3, 0.3), (1.6, 0.3)], r2=0.8, r3=0.4
+        )
         circle3 = _circle(reg, (2.45, 1.4))
         builds: dict[str, tuple[tuple[Obstacle, ...], str]] = {
             "1": ((_circle(reg, (2.45, 0.595)),), "Sec. 6.4.1: a near-collinear circular obstacle"),
             "2": ((_human(reg, walk),), "Sec. 6.4.2: a human walking head-on (synthetic walk)"),
             "3": ((circle3, rect), "Sec. 6.4.3: a passage between a circle and a rectangle"),
-            "4": ((circle3, rect, _human(reg, walk)), "Sec. 6.4.4: Configuration 3 plus the walking human"),
+            "4": (
+                (circle3, rect, _human(reg, walk)),
+                "Sec. 6.4.4: Configuration 3 plus the walking human",
+            ),
             "parallel": (
-                (_human(reg, Walk((0.6, 1.2), (4.0, 1.2), speed=human_speed, ramp_time=human_ramp_time)),),
+                (
+                    _human(
+                        reg,
+                        Walk((0.6, 1.2), (4.0, 1.2), speed=human_speed, ramp_time=human_ramp_time),
+                    ),
+                ),
                 "Sec. 6.4.5: a human walking parallel to the robot, 0.6 m to the side",
             ),
         }
         if key == "unpredictable":
             return Scenario(
-                "unpredictable", (4.0, 0.0), (0.0, 0.0),
-                (_human(reg, unpredictable_human_path(horizon)),), rb, horizon,
+                "unpredictable",
+                (4.0, 0.0),
+                (0.0, 0.0),
+                (_human(reg, unpredictable_human_path(horizon)),),
+                rb,
+                horizon,
                 description="Sec. 5.7: a human who stops and turns",
             )
     else:
         start, goal = (3.99, 0.6), (0.0, 0.6)
         walk = Walk((0.2, y0), (3.9, y0), speed=human_speed, ramp_time=human_ramp_time)
         rect = Rectangle.from_corners(
-            "rectangle", [(1.6, -0.1), (1.6, 0.5), (3.0, 0.5), (3.0, -0.1)], r2=reg["rectangle"][0],
+            "rectangle",
+            [(1.6, -0.1), (1.6, 0.5), (3.0, 0.5), (3.0, -0.1)],
+            r2=reg["rectangle"][0],
             r3=reg["rectangle"][1],
         )
         circle3 = _circle(reg, (2.16, 1.5))
         builds = {
-            "1": ((_circle(reg, (2.16, 0.6)),), "Sec. 7.5.1: an exactly collinear circular obstacle"),
-            "2": ((_human(reg, Walk((0.2, y0), (4.0, y0), speed=human_speed, ramp_time=human_ramp_time)),),
-                  "Sec. 7.5.2: a human walking head-on (synthetic walk)"),
+            "1": (
+                (_circle(reg, (2.16, 0.6)),),
+                "Sec. 7.5.1: an exactly collinear circular obstacle",
+            ),
+            "2": (
+                (
+                    _human(
+                        reg,
+                        Walk((0.2, y0), (4.0, y0), speed=human_speed, ramp_time=human_ramp_time),
+                    ),
+                ),
+                "Sec. 7.5.2: a human walking head-on (synthetic walk)",
+            ),
             "3": ((circle3, rect), "Sec. 7.5.3: circle and rectangle"),
-            "4": ((circle3, rect, _human(reg, walk)), "Sec. 7.5.4: Configuration 3 plus the walking human"),
+            "4": (
+                (circle3, rect, _human(reg, walk)),
+                "Sec. 7.5.4: Configuration 3 plus the walking human",
+            ),
         }
         if key == "multi":
             obstacles = (
                 Disc("circle", RHO_CIR, *reg["circle"], motion=Stationary((4.1, 2.0))),
                 _human(reg, ConstantVelocity((0.0, 0.6), (1.0, 0.0))),
-                Disc("robot", RHO_MOB, *reg["robot"], motion=ConstantVelocity((3.0, 4.0), (0.0, -0.5))),
+                Disc(
+                    "robot",
+                    RHO_MOB,
+                    *reg["robot"],
+                    motion=ConstantVelocity((3.0, 4.0), (0.0, -0.5)),
+                ),
             )
-            return Scenario("multi", (5.5, 0.2), (1.0, 3.5), obstacles, rb, horizon,
-                            description="Sec. 7.5.5: human, circle and an obstacle robot (start/goal assumed)")
+            return Scenario(
+                "multi",
+                (5.5, 0.2),
+                (1.0, 3.5),
+                obstacles,
+                rb,
+                horizon,
+                description="Sec. 7.5.5: human, circle and an obstacle robot (start/goal assumed)",
+            )
     if key not in builds:
-        allowed = "1, 2, 3, 4, 'parallel', 'unpredictable'" if chapter == 6 else "1, 2, 3, 4, 'multi'"
-        raise InvalidParameterError("configuration", which, f"must be one of {allowed} for chapter {chapter}")
+        allowed = (
+            "1, 2, 3, 4, 'parallel', 'unpredictable'" if chapter == 6 else "1, 2, 3, 4, 'multi'"
+        )
+        raise InvalidParameterError(
+            "configuration", which, f"must be one of {allowed} for chapter {chapter}"
+        )
     obstacles, text = builds[key]
     name = f"ch{chapter}_config{key}" if key.isdigit() else f"ch{chapter}_{key}"
     return Scenario(name, start, goal, obstacles, rb, horizon, description=text)

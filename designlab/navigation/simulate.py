@@ -71,8 +71,10 @@ def _gain_row(method: str, gains: Any) -> Array:
 
 def _nominal_clearance(scenario: Scenario) -> dict[str, float]:
     rho_r = scenario.robot.radius
-    return {o.name: (o.r2 - rho_r - o.radius) if isinstance(o, Disc) else (o.r2 - rho_r)
-            for o in scenario.obstacles}
+    return {
+        o.name: (o.r2 - rho_r - o.radius) if isinstance(o, Disc) else (o.r2 - rho_r)
+        for o in scenario.obstacles
+    }
 
 
 def _surface(scenario: Scenario, dmin: Array) -> Array:
@@ -155,23 +157,34 @@ class NavigationResult(Result):
 
     def to_frame(self) -> pd.DataFrame:
         """One row: scenario, method, arrival time, distances per obstacle, flags, criteria."""
-        row: dict[str, Any] = {"scenario": self.scenario.name, "method": self.method,
-                               "stabilising": self.stabilising, "T_arrive_s": self.arrival_time}
+        row: dict[str, Any] = {
+            "scenario": self.scenario.name,
+            "method": self.method,
+            "stabilising": self.stabilising,
+            "T_arrive_s": self.arrival_time,
+        }
         for name, d in self.min_distance.items():
             row[f"d_{name}_min_m"] = d
         row["entered_critical"] = self.entered_critical
         row["collided"] = self.collided
         c = self.criteria
-        row.update({"H_T": c.H_T, "H_D": c.H_D, "H_E": c.H_E, "H": c.H, "L_energy_J_per_ohm": self.energy})
+        row.update(
+            {"H_T": c.H_T, "H_D": c.H_D, "H_E": c.H_E, "H": c.H, "L_energy_J_per_ohm": self.energy}
+        )
         if self.stability is not None:
             row["lyapunov_share"] = self.stability.share_satisfied
         return pd.DataFrame([row])
 
     def trajectory_frame(self) -> pd.DataFrame:
         """The run at every dynamics step: ``t_s``, ``x_m``, ``y_m``, ``vx_m_per_s``, ... ``d_<name>_m``."""
-        data: dict[str, Any] = {"t_s": self.t, "x_m": self.position[:, 0], "y_m": self.position[:, 1],
-                                "vx_m_per_s": self.velocity[:, 0], "vy_m_per_s": self.velocity[:, 1],
-                                "heading_rad": self.heading}
+        data: dict[str, Any] = {
+            "t_s": self.t,
+            "x_m": self.position[:, 0],
+            "y_m": self.position[:, 1],
+            "vx_m_per_s": self.velocity[:, 0],
+            "vy_m_per_s": self.velocity[:, 1],
+            "heading_rad": self.heading,
+        }
         for i, name in enumerate(self.scenario.obstacle_names):
             data[f"d_{name}_m"] = self.distance[i]
         return pd.DataFrame(data)
@@ -188,6 +201,7 @@ def simulate(
     force_every_step: bool = False,
     tie_side: str = "+y",
     cbf_gains: tuple[float, float] = (4.0, 4.0),
+    jit: bool = False,
 ) -> NavigationResult:
     """Simulate one scenario.
 
@@ -217,6 +231,9 @@ def simulate(
         ``"+y"`` counter-clockwise.
     cbf_gains
         (k_0, k_1) of the CBF constraint h'' + k_1 h' + k_0 h >= 0.
+    jit
+        Compile the step with CasADi's JIT (a few seconds once per scenario structure,
+        then several times faster; worth it for many runs of one scenario).
 
     Returns
     -------
@@ -234,7 +251,9 @@ def simulate(
     if tie_side not in ("+y", "-y"):
         raise InvalidParameterError("tie_side", tie_side, "must be '+y' or '-y'")
     if not isinstance(scenario, Scenario):
-        raise InvalidParameterError("scenario", scenario, "must be a Scenario (see configuration())")
+        raise InvalidParameterError(
+            "scenario", scenario, "must be a Scenario (see configuration())"
+        )
     if method == "vff" and not isinstance(gains, VFFGains):
         raise InvalidParameterError("gains", gains, "must be a VFFGains for method 'vff'")
     row = _gain_row(method, gains)
@@ -242,8 +261,16 @@ def simulate(
     if method == "masoud" and isinstance(gains, MasoudGains):
         tie = gains.direction
     stab = stabilising == "lyapunov" and method == "vff"
-    kw: dict[str, Any] = dict(method=method, stabilising=stab, tie=tie, arrival_tolerance=arrival_tolerance,
-                              dynamics_step=dynamics_step, force_every_step=force_every_step, cbf_gains=cbf_gains)
+    kw: dict[str, Any] = dict(
+        method=method,
+        stabilising=stab,
+        tie=tie,
+        arrival_tolerance=arrival_tolerance,
+        dynamics_step=dynamics_step,
+        force_every_step=force_every_step,
+        cbf_gains=cbf_gains,
+        jit=jit,
+    )
     raw = engine.run(scenario, row[None, :], record=True, **kw)
     nominal = engine.run(scenario.without_obstacles(), row[None, :], record=False, **kw)
     rec = raw.record
@@ -256,9 +283,14 @@ def simulate(
     crit = {o.name: bool(dmin[i] <= o.r3) for i, o in enumerate(scenario.obstacles)}
     coll = {n: bool(surf[i] <= 0.0) for i, n in enumerate(names)}
     arrival = float(raw.arrival_time[0])
-    crit_res = criteria(arrival_time=arrival, nominal_arrival_time=float(nominal.arrival_time[0]),
-                        energy=float(raw.energy[0]), nominal_energy=float(nominal.energy[0]),
-                        surface_clearance=min_surface, nominal_clearance=_nominal_clearance(scenario))
+    crit_res = criteria(
+        arrival_time=arrival,
+        nominal_arrival_time=float(nominal.arrival_time[0]),
+        energy=float(raw.energy[0]),
+        nominal_energy=float(nominal.energy[0]),
+        surface_clearance=min_surface,
+        nominal_clearance=_nominal_clearance(scenario),
+    )
     X = rec["X"]
     holo = isinstance(scenario.robot, HolonomicRobot)
     if holo:
@@ -267,13 +299,33 @@ def simulate(
         pos, heading = X[0:2].T, X[2]
         vel = (X[3] * np.stack([np.cos(X[2]), np.sin(X[2])])).T
     n_t = X.shape[1]
-    dist = np.concatenate([np.array([[float(o.contour_distance(np.array([scenario.start]))[0])]
-                                     for o in scenario.obstacles]).reshape(len(names), 1), rec["D"]], axis=1) \
-        if names else np.zeros((0, n_t))
+    dist = (
+        np.concatenate(
+            [
+                np.array(
+                    [
+                        [float(o.contour_distance(np.array([scenario.start]))[0])]
+                        for o in scenario.obstacles
+                    ]
+                ).reshape(len(names), 1),
+                rec["D"],
+            ],
+            axis=1,
+        )
+        if names
+        else np.zeros((0, n_t))
+    )
     audit = None
     if method == "vff":
-        audit = audit_run(rec, b=float(row[1]), mass=scenario.robot.mass, max_accel=scenario.robot.max_accel,
-                          max_speed=scenario.robot.max_speed, period=rec["period"], holonomic=holo)
+        audit = audit_run(
+            rec,
+            b=float(row[1]),
+            mass=scenario.robot.mass,
+            max_accel=scenario.robot.max_accel,
+            max_speed=scenario.robot.max_speed,
+            period=rec["period"],
+            holonomic=holo,
+        )
     warnings: list[str] = []
     status = OK
     if not math.isfinite(arrival):
@@ -283,20 +335,40 @@ def simulate(
         if coll[n]:
             warnings.append(f"collision with {n!r}: surface distance {min_surface[n]:.3f} m")
         elif crit[n]:
-            warnings.append(f"entered the critical region of {n!r}: distance {min_distance[n]:.3f} m")
+            warnings.append(
+                f"entered the critical region of {n!r}: distance {min_distance[n]:.3f} m"
+            )
     if method == "cbf":
         bad = sum(1 for s in rec["qp_status"] if s not in ("solved", "solved inaccurate"))
         if bad:
             warnings.append(f"the CBF QP was not solved at {bad} steps; the robot braked there")
-    gains_dict = ({"k1": row[0], "b": row[1], "k3": row[2], "k5": row[3]} if method != "masoud"
-                  else {"k1": row[0], "k3": row[2], "k5": row[3]})
+    gains_dict = (
+        {"k1": row[0], "b": row[1], "k3": row[2], "k5": row[3]}
+        if method != "masoud"
+        else {"k1": row[0], "k3": row[2], "k5": row[3]}
+    )
     return NavigationResult(
-        scenario=scenario, method=method, stabilising=stabilising if method == "vff" else "off",
-        gains={k: float(v) for k, v in gains_dict.items()}, arrival_time=arrival, min_distance=min_distance,
-        min_surface_distance=min_surface, critical_entries=crit, collisions=coll, criteria=crit_res,
-        stability=audit, energy=float(raw.energy[0]), t=rec["t"], position=pos, velocity=vel, heading=heading,
-        distance=dist, obstacle_positions=rec["obstacle_positions"], critical_time=float(raw.critical_time[0]),
-        status=status, warnings=tuple(warnings),
+        scenario=scenario,
+        method=method,
+        stabilising=stabilising if method == "vff" else "off",
+        gains={k: float(v) for k, v in gains_dict.items()},
+        arrival_time=arrival,
+        min_distance=min_distance,
+        min_surface_distance=min_surface,
+        critical_entries=crit,
+        collisions=coll,
+        criteria=crit_res,
+        stability=audit,
+        energy=float(raw.energy[0]),
+        t=rec["t"],
+        position=pos,
+        velocity=vel,
+        heading=heading,
+        distance=dist,
+        obstacle_positions=rec["obstacle_positions"],
+        critical_time=float(raw.critical_time[0]),
+        status=status,
+        warnings=tuple(warnings),
     )
 
 
@@ -352,14 +424,27 @@ class BatchResult(Result):
         rows = []
         for s, name in enumerate(self.scenario_names):
             for j in range(self.gains.shape[0]):
-                r: dict[str, Any] = {"scenario": name, "set": j, "k1": self.gains[j, 0], "b": self.gains[j, 1],
-                                     "k3": self.gains[j, 2], "k5": self.gains[j, 3],
-                                     "T_arrive_s": self.arrival_time[s, j]}
+                r: dict[str, Any] = {
+                    "scenario": name,
+                    "set": j,
+                    "k1": self.gains[j, 0],
+                    "b": self.gains[j, 1],
+                    "k3": self.gains[j, 2],
+                    "k5": self.gains[j, 3],
+                    "T_arrive_s": self.arrival_time[s, j],
+                }
                 for i, on in enumerate(self.obstacle_names[s]):
                     r[f"d_{on}_min_m"] = self.min_distance[s, j, i]
-                r.update({"entered_critical": bool(self.entered_critical[s, j]),
-                          "collided": bool(self.collided[s, j]), "H_T": self.H_T[s, j], "H_D": self.H_D[s, j],
-                          "H_E": self.H_E[s, j], "H": self.H[s, j]})
+                r.update(
+                    {
+                        "entered_critical": bool(self.entered_critical[s, j]),
+                        "collided": bool(self.collided[s, j]),
+                        "H_T": self.H_T[s, j],
+                        "H_D": self.H_D[s, j],
+                        "H_E": self.H_E[s, j],
+                        "H": self.H[s, j],
+                    }
+                )
                 rows.append(r)
         return pd.DataFrame(rows)
 
@@ -369,12 +454,17 @@ def _check_gain_array(gains: ArrayLike) -> Array:
     if g.ndim == 1:
         g = g[None, :]
     if g.ndim != 2 or g.shape[1] != 4 or g.shape[0] < 1:
-        raise InvalidParameterError("gains", getattr(g, "shape", gains), "must be an (N, 4) array of (k1, b, k3, k5)")
+        raise InvalidParameterError(
+            "gains", getattr(g, "shape", gains), "must be an (N, 4) array of (k1, b, k3, k5)"
+        )
     bad = ~(np.isfinite(g) & (g > 0))
     if bad.any():
         i, j = np.argwhere(bad)[0]
-        raise InvalidParameterError(f"gains[{i}, {j}]", g[i, j],
-                                    "every gain must be finite and > 0 (the structure of Zeng 2011 (5.5.7))")
+        raise InvalidParameterError(
+            f"gains[{i}, {j}]",
+            g[i, j],
+            "every gain must be finite and > 0 (the structure of Zeng 2011 (5.5.7))",
+        )
     return g
 
 
@@ -415,7 +505,9 @@ def simulate_batch(
         raise InvalidParameterError("tie_side", tie_side, "must be '+y' or '-y'")
     scenarios = list(scenarios)
     if not scenarios or not all(isinstance(s, Scenario) for s in scenarios):
-        raise InvalidParameterError("scenarios", scenarios, "must be a non-empty sequence of Scenario")
+        raise InvalidParameterError(
+            "scenarios", scenarios, "must be a non-empty sequence of Scenario"
+        )
     g = _check_gain_array(gains)
     S, N = len(scenarios), g.shape[0]
     max_obs = max(len(s.obstacles) for s in scenarios)
@@ -423,8 +515,14 @@ def simulate_batch(
     dmin = np.full((S, N, max_obs), np.nan)
     crit = np.zeros((S, N), bool)
     coll = np.zeros((S, N), bool)
-    kw: dict[str, Any] = dict(method="vff", stabilising=stabilising == "lyapunov", tie=1 if tie_side == "+y" else -1,
-                              arrival_tolerance=arrival_tolerance, dynamics_step=dynamics_step, jit=jit)
+    kw: dict[str, Any] = dict(
+        method="vff",
+        stabilising=stabilising == "lyapunov",
+        tie=1 if tie_side == "+y" else -1,
+        arrival_tolerance=arrival_tolerance,
+        dynamics_step=dynamics_step,
+        jit=jit,
+    )
     for s, sc in enumerate(scenarios):
         raw = engine.run(sc, g, **kw)
         nom = engine.run(sc.without_obstacles(), g, **kw)
@@ -436,16 +534,39 @@ def simulate_batch(
         coll[s] = (surf <= 0).any(axis=1) if n_obs else False
         dstar = np.array(list(_nominal_clearance(sc).values()))
         h_t = np.where(np.isfinite(raw.arrival_time), nom.arrival_time / raw.arrival_time, 0.0)
-        h_d = np.minimum(1.0, np.maximum(surf, 0) / dstar[None, :]).mean(axis=1) if n_obs else np.ones(N)
+        h_d = (
+            np.minimum(1.0, np.maximum(surf, 0) / dstar[None, :]).mean(axis=1)
+            if n_obs
+            else np.ones(N)
+        )
         h_e = np.where(raw.energy > 0, nom.energy / np.where(raw.energy > 0, raw.energy, 1.0), 1.0)
         k = (~coll[s]).astype(float)
-        out["T"][s], out["T0"][s], out["L"][s], out["L0"][s] = raw.arrival_time, nom.arrival_time, raw.energy, nom.energy
+        out["T"][s], out["T0"][s], out["L"][s], out["L0"][s] = (
+            raw.arrival_time,
+            nom.arrival_time,
+            raw.energy,
+            nom.energy,
+        )
         out["HT"][s], out["HD"][s], out["HE"][s] = h_t, h_d, h_e
         out["H"][s] = k * (h_t + h_d + h_e) / 3.0
     warnings = []
     n_not = int(np.isinf(out["T"]).sum())
     if n_not:
         warnings.append(f"{n_not} of {S * N} runs did not arrive within their horizon")
-    return BatchResult(tuple(s.name for s in scenarios), tuple(s.obstacle_names for s in scenarios), g,
-                       out["T"], out["T0"], dmin, crit, coll, out["L"], out["L0"], out["H"], out["HT"], out["HD"],
-                       out["HE"], warnings=tuple(warnings))
+    return BatchResult(
+        tuple(s.name for s in scenarios),
+        tuple(s.obstacle_names for s in scenarios),
+        g,
+        out["T"],
+        out["T0"],
+        dmin,
+        crit,
+        coll,
+        out["L"],
+        out["L0"],
+        out["H"],
+        out["HT"],
+        out["HD"],
+        out["HE"],
+        warnings=tuple(warnings),
+    )

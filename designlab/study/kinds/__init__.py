@@ -11,5 +11,7 @@ MODULES: tuple[str, ...] = (
     "impact_sweep",
     "foam_envelope",
     "foam_design",
+    "vff_scenarios",
+    "vff_sweep",
     "vff_gains",
 )

@@ -21,8 +21,12 @@ CH6 = pd.read_csv(DATA / "nav_results_ch6.csv")
 CH7 = pd.read_csv(DATA / "nav_results_ch7.csv")
 GAINS = pd.read_csv(DATA / "nav_gains.csv")
 C1 = GAINS[GAINS.table == "C.1"].set_index("source")
-OPT = nav.VFFGains(k1=C1.loc["New VFF", "attractive_gain"], b=C1.loc["New VFF", "b_s"],
-                   k3=C1.loc["New VFF", "repulsive_gain"], k5=C1.loc["New VFF", "detour_gain"])
+OPT = nav.VFFGains(
+    k1=C1.loc["New VFF", "attractive_gain"],
+    b=C1.loc["New VFF", "b_s"],
+    k3=C1.loc["New VFF", "repulsive_gain"],
+    k5=C1.loc["New VFF", "detour_gain"],
+)
 EXP = nav.VFFGains(k1=3.0, b=0.25, k3=20.0, k5=17.0)  # Sec. 6.2.4 / 7.3.2
 COLS = {"circle": "d_cir_min_m", "rectangle": "d_rect_min_m", "human": "d_h_min_m"}
 
@@ -51,8 +55,9 @@ def test_new_vff_star_tables_6_2_and_6_4(config: int) -> None:
         # by the K1 trend; the experiment-gain row (6.1 s) is within 7 %.
         assert res.arrival_time == pytest.approx(row.T_arrive_s, rel=0.10)
         slow = nav.simulate(nav.configuration(3), EXP, stabilising="off")
-        assert slow.arrival_time == pytest.approx(_row(CH6, configuration=3, method="New VFF",
-                                                       sim_or_exp="sim").T_arrive_s, rel=0.07)
+        assert slow.arrival_time == pytest.approx(
+            _row(CH6, configuration=3, method="New VFF", sim_or_exp="sim").T_arrive_s, rel=0.07
+        )
     assert not res.entered_critical and not res.collided
 
 
@@ -133,7 +138,9 @@ def test_masoud_reproduces_its_rows_of_tables_6_2_and_6_4() -> None:
 @pytest.mark.parametrize("config", [1, 2, 3, 4])
 def test_nonholonomic_is_slower_than_holonomic(config: int) -> None:
     nh = nav.simulate(nav.configuration(config, chapter=7), EXP, stabilising="off")
-    ho = nav.simulate(nav.configuration(config, chapter=7, robot=nav.HolonomicRobot()), EXP, stabilising="off")
+    ho = nav.simulate(
+        nav.configuration(config, chapter=7, robot=nav.HolonomicRobot()), EXP, stabilising="off"
+    )
     assert nh.arrived and ho.arrived
     assert nh.arrival_time > ho.arrival_time
     assert not nh.collided
@@ -146,3 +153,12 @@ def test_cbf_keeps_static_obstacles_outside_their_critical_regions() -> None:
     # a head-on walker faster than the robot defeats a safety filter on the attractive field
     head_on = nav.simulate(nav.configuration(2), method="cbf")
     assert head_on.collided
+
+
+def test_three_obstacle_case_of_sec_7_5_5() -> None:
+    # Start and goal appear only in Fig. 7.12 (assumed here, docs/navigation.md); the thesis's
+    # nonholonomic robot is trapped 3.1-5.3 s with every d > r3 and arrives at 15 s.
+    sc = nav.configuration("multi", chapter=7)
+    res = nav.simulate(sc, EXP, stabilising="lyapunov")
+    assert res.arrived and not res.entered_critical and not res.collided
+    assert set(res.min_distance) == {"circle", "human", "robot"}

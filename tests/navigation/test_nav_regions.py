@@ -167,8 +167,11 @@ def test_rectangle_worst_case_offset_is_half_length() -> None:
 
 @settings(max_examples=60, deadline=None)
 @given(
-    v=st.floats(0.05, 3.0), a=st.floats(0.5, 50.0), vh=st.floats(0.0, 3.0),
-    ts=st.floats(1e-3, 0.5), rho=st.floats(0.01, 1.0),
+    v=st.floats(0.05, 3.0),
+    a=st.floats(0.5, 50.0),
+    vh=st.floats(0.0, 3.0),
+    ts=st.floats(1e-3, 0.5),
+    rho=st.floats(0.01, 1.0),
 )
 def test_invariants(v: float, a: float, vh: float, ts: float, rho: float) -> None:
     robot = nav.HolonomicRobot(radius=0.2, max_speed=v, max_accel=a)

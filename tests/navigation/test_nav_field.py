@@ -21,8 +21,13 @@ M = 4.4
 
 def _eval(geos, x, goal, obs, stab=0.0, tie=1.0, method="vff", gains=GAINS):  # type: ignore[no-untyped-def]
     f = build_field(tuple(geos), method)
-    out = f(x=np.asarray(x, float), goal=np.asarray(goal, float), obs=np.asarray(obs, float), gains=gains,
-            params=[M, tie, stab, 10.0])
+    out = f(
+        x=np.asarray(x, float),
+        goal=np.asarray(goal, float),
+        obs=np.asarray(obs, float),
+        gains=gains,
+        params=[M, tie, stab, 10.0],
+    )
     return {k: np.array(v).ravel() for k, v in out.items()}
 
 
@@ -83,11 +88,16 @@ def _pairs_across(geo: ObstacleGeometry, eps: float):  # type: ignore[no-untyped
         if geo.kind == "disc":
             base = np.zeros(2)
         else:  # a point on the rectangle contour (sides and corners)
-            base = np.clip(n * 2.0, [-geo.half_length, -geo.half_width], [geo.half_length, geo.half_width])
-            n = n if abs(base[0]) < geo.half_length and abs(base[1]) < geo.half_width else n
-            q = base
-            # outward direction from the closest point
-            out = np.array([np.sign(q[0]) * (abs(q[0]) >= geo.half_length), np.sign(q[1]) * (abs(q[1]) >= geo.half_width)])
+            base = np.clip(
+                n * 2.0, [-geo.half_length, -geo.half_width], [geo.half_length, geo.half_width]
+            )
+            # outward direction from the contour point (the diagonal at a corner)
+            out = np.array(
+                [
+                    np.sign(base[0]) * (abs(base[0]) >= geo.half_length),
+                    np.sign(base[1]) * (abs(base[1]) >= geo.half_width),
+                ]
+            )
             n = out / np.linalg.norm(out) if np.linalg.norm(out) else n
         v = rng.normal(size=2) * 0.4
         vo = rng.normal(size=2) * 0.5 if geo.moving else np.zeros(2)
@@ -97,7 +107,9 @@ def _pairs_across(geo: ObstacleGeometry, eps: float):  # type: ignore[no-untyped
 
 @pytest.mark.parametrize("geo", [DISC, HUMAN, RECT], ids=["disc", "human", "rectangle"])
 @pytest.mark.parametrize("stab", [0.0, 1.0], ids=["off", "lyapunov"])
-def test_field_is_continuous_across_every_active_boundary(geo: ObstacleGeometry, stab: float) -> None:
+def test_field_is_continuous_across_every_active_boundary(
+    geo: ObstacleGeometry, stab: float
+) -> None:
     # (5.4.9)-(5.4.15): Lambda, Lambda'*, psi, psi'* and F_L vanish at d = r2
     for eps in (1e-4, 1e-6):
         for p_in, p_out, v, vo, goal in _pairs_across(geo, eps):
@@ -176,8 +188,22 @@ def test_rectangle_distance_is_the_contour_distance(x: float, y: float) -> None:
 
 def test_masoud_field_is_discontinuous_at_r2() -> None:
     # Sec. 2.2.4: F_Lambda = K D jumps at r2 (the new VFF does not)
-    inside = _eval([DISC], [0.8 - 1e-6, 0, 0, 0], [-3, 0.3], _obs([0, 0]), method="masoud", gains=[5, 0, 24, 36])
-    outside = _eval([DISC], [0.8 + 1e-6, 0, 0, 0], [-3, 0.3], _obs([0, 0]), method="masoud", gains=[5, 0, 24, 36])
+    inside = _eval(
+        [DISC],
+        [0.8 - 1e-6, 0, 0, 0],
+        [-3, 0.3],
+        _obs([0, 0]),
+        method="masoud",
+        gains=[5, 0, 24, 36],
+    )
+    outside = _eval(
+        [DISC],
+        [0.8 + 1e-6, 0, 0, 0],
+        [-3, 0.3],
+        _obs([0, 0]),
+        method="masoud",
+        gains=[5, 0, 24, 36],
+    )
     assert np.linalg.norm(inside["F"] - outside["F"]) > 10.0
 
 

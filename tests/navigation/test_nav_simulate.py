@@ -20,8 +20,11 @@ OPT = nav.OPTIMAL_GAINS
 
 
 def test_public_api_of_the_issue() -> None:
-    sizes = nav.region_sizes(obstacle=nav.Human(radius=0.4, max_speed=1.0),
-                             robot=nav.HolonomicRobot(radius=0.2, max_speed=0.7, max_accel=10.0), sample_time=0.06)
+    sizes = nav.region_sizes(
+        obstacle=nav.Human(radius=0.4, max_speed=1.0),
+        robot=nav.HolonomicRobot(radius=0.2, max_speed=0.7, max_accel=10.0),
+        sample_time=0.06,
+    )
     assert sizes.r2 > sizes.r3 > 0
     sc = nav.configuration(1)
     res = nav.simulate(sc, nav.VFFGains(k1=4.3, b=0.68, k3=20.3, k5=240.7))
@@ -71,7 +74,9 @@ def test_speed_and_acceleration_limits_hold_along_a_run() -> None:
 
 def test_critical_region_braking_stops_the_robot() -> None:
     # a human walking straight at a robot that cannot escape in time (tiny active region)
-    human = nav.Disc("human", 0.4, r2=0.85, r3=0.8, motion=nav.ConstantVelocity((0.0, 0.0), (1.0, 0.0)))
+    human = nav.Disc(
+        "human", 0.4, r2=0.85, r3=0.8, motion=nav.ConstantVelocity((0.0, 0.0), (1.0, 0.0))
+    )
     sc = nav.Scenario("trap", (2.0, 0.0), (-3.0, 0.0), (human,), horizon=3.0)
     res = nav.simulate(sc, EXP, stabilising="off")
     assert res.entered_critical
@@ -98,9 +103,13 @@ def test_tie_side_mirrors_the_collinear_detour() -> None:
 def test_user_built_scenario() -> None:
     walk = nav.Walk((0.0, 2.0), (4.0, 2.0), speed=0.8)
     sc = nav.Scenario(
-        "corridor", (4.0, 0.5), (0.0, 0.5),
-        (nav.Disc("visitor", 0.4, r2=2.1, r3=0.8, motion=walk),
-         nav.Rectangle("table", (2.0, -0.6), 1.0, 0.5, r2=0.8, r3=0.4)),
+        "corridor",
+        (4.0, 0.5),
+        (0.0, 0.5),
+        (
+            nav.Disc("visitor", 0.4, r2=2.1, r3=0.8, motion=walk),
+            nav.Rectangle("table", (2.0, -0.6), 1.0, 0.5, r2=0.8, r3=0.4),
+        ),
     )
     res = nav.simulate(sc, EXP, stabilising="lyapunov")
     assert set(res.min_distance) == {"visitor", "table"}
@@ -110,15 +119,32 @@ def test_user_built_scenario() -> None:
 @pytest.mark.parametrize(
     "make, name",
     [
-        (lambda: nav.Scenario("x", (0.0, 0.0), (3.0, 0.0),
-                              (nav.Disc("c", 0.1, 0.8, 0.4, nav.Stationary((3.1, 0.0))),)), "Scenario.goal"),
-        (lambda: nav.Scenario("x", (0.0, 0.0), (3.0, 0.0),
-                              (nav.Disc("c", 0.1, 0.8, 0.4, nav.Stationary((0.2, 0.0))),)), "Scenario.obstacles"),
+        (
+            lambda: nav.Scenario(
+                "x",
+                (0.0, 0.0),
+                (3.0, 0.0),
+                (nav.Disc("c", 0.1, 0.8, 0.4, nav.Stationary((3.1, 0.0))),),
+            ),
+            "Scenario.goal",
+        ),
+        (
+            lambda: nav.Scenario(
+                "x",
+                (0.0, 0.0),
+                (3.0, 0.0),
+                (nav.Disc("c", 0.1, 0.8, 0.4, nav.Stationary((0.2, 0.0))),),
+            ),
+            "Scenario.obstacles",
+        ),
         (lambda: nav.Disc("c", 0.1, r2=0.4, r3=0.8, motion=nav.Stationary((0, 0))), "c.r2"),
         (lambda: nav.Disc("c", -0.1, r2=0.8, r3=0.4, motion=nav.Stationary((0, 0))), "c.radius"),
         (lambda: nav.Scenario("x", (math.nan, 0.0), (3.0, 0.0)), "Scenario.start"),
         (lambda: nav.Scenario("x", (0.0, 0.0), (3.0, 0.0), horizon=0.0), "Scenario.horizon"),
-        (lambda: nav.Scenario("x", (0.0, 0.0), (3.0, 0.0), sample_time=-0.06), "Scenario.sample_time"),
+        (
+            lambda: nav.Scenario("x", (0.0, 0.0), (3.0, 0.0), sample_time=-0.06),
+            "Scenario.sample_time",
+        ),
         (lambda: nav.configuration(5), "configuration"),
         (lambda: nav.configuration(1, chapter=8), "chapter"),
         (lambda: nav.Walk((0, 0), (0.1, 0), speed=1.0, ramp_time=0.5), "Walk.ramp_time"),
@@ -126,9 +152,15 @@ def test_user_built_scenario() -> None:
         (lambda: nav.simulate(nav.configuration(1), EXP, stabilising="on"), "stabilising"),
         (lambda: nav.simulate(nav.configuration(1), None), "gains"),
         (lambda: nav.simulate(nav.configuration(1), nav.MasoudGains(), method="vff"), "gains"),
-        (lambda: nav.simulate(nav.configuration(1), EXP, arrival_tolerance=0.0), "arrival_tolerance"),
+        (
+            lambda: nav.simulate(nav.configuration(1), EXP, arrival_tolerance=0.0),
+            "arrival_tolerance",
+        ),
         (lambda: nav.simulate(nav.configuration(1), EXP, dynamics_step=0.007), "dynamics_step"),
-        (lambda: nav.simulate_batch([nav.configuration(1)], [[3, 0.25, 20, -17]]), r"gains\[0, 3\]"),
+        (
+            lambda: nav.simulate_batch([nav.configuration(1)], [[3, 0.25, 20, -17]]),
+            r"gains\[0, 3\]",
+        ),
         (lambda: nav.simulate_batch([nav.configuration(1)], [[3, 0.25, 20]]), "gains"),
         (lambda: nav.simulate_batch([nav.configuration(1)], [[3, math.nan, 20, 17]]), "gains"),
         (lambda: nav.simulate_batch([], [[3, 0.25, 20, 17]]), "scenarios"),
@@ -152,8 +184,11 @@ def test_batch_equals_single_runs() -> None:
             for j, g in enumerate(gains):
                 one = nav.simulate(sc, nav.VFFGains(*g), stabilising=mode)
                 assert batch.arrival_time[s, j] == pytest.approx(one.arrival_time, abs=1e-9)
-                np.testing.assert_allclose(batch.min_distance[s, j, :len(sc.obstacles)],
-                                           list(one.min_distance.values()), atol=1e-9)
+                np.testing.assert_allclose(
+                    batch.min_distance[s, j, : len(sc.obstacles)],
+                    list(one.min_distance.values()),
+                    atol=1e-9,
+                )
                 assert batch.H[s, j] == pytest.approx(one.criteria.H, abs=1e-9)
                 assert batch.entered_critical[s, j] == one.entered_critical
         assert batch.H_mean.shape == (3,)
@@ -161,9 +196,16 @@ def test_batch_equals_single_runs() -> None:
 
 
 @settings(max_examples=15, deadline=None)
-@given(fx=st.floats(-200, 200), fy=st.floats(-200, 200), vx=st.floats(-0.5, 0.5), vy=st.floats(-0.5, 0.5),
-       brake=st.booleans())
-def test_hold_respects_limits_and_braking(fx: float, fy: float, vx: float, vy: float, brake: bool) -> None:
+@given(
+    fx=st.floats(-200, 200),
+    fy=st.floats(-200, 200),
+    vx=st.floats(-0.5, 0.5),
+    vy=st.floats(-0.5, 0.5),
+    brake=st.booleans(),
+)
+def test_hold_respects_limits_and_braking(
+    fx: float, fy: float, vx: float, vy: float, brake: bool
+) -> None:
     assume(math.hypot(vx, vy) <= 0.7)
     hold = build_hold(nav.HolonomicRobot(), 60, 1e-3)
     out = hold(x0=[0, 0, vx, vy], F=[fx, fy], brake=float(brake))
@@ -176,7 +218,9 @@ def test_hold_respects_limits_and_braking(fx: float, fy: float, vx: float, vy: f
 
 
 def test_nonholonomic_robot_turns_before_moving_sideways() -> None:
-    sc = nav.Scenario("side", (0.0, 0.0), (0.0, 3.0), robot=nav.NonholonomicRobot(), initial_heading=0.0)
+    sc = nav.Scenario(
+        "side", (0.0, 0.0), (0.0, 3.0), robot=nav.NonholonomicRobot(), initial_heading=0.0
+    )
     res = nav.simulate(sc, EXP, stabilising="off")
     assert res.arrived
     assert abs(res.heading[-1] - math.pi / 2) < 0.3
@@ -185,13 +229,25 @@ def test_nonholonomic_robot_turns_before_moving_sideways() -> None:
 
 
 def test_criteria_formulas() -> None:
-    c = nav.criteria(arrival_time=math.inf, nominal_arrival_time=5.0, energy=4.0, nominal_energy=2.0,
-                     surface_clearance={"a": 0.2, "b": -0.01}, nominal_clearance={"a": 0.4, "b": 0.4})
+    c = nav.criteria(
+        arrival_time=math.inf,
+        nominal_arrival_time=5.0,
+        energy=4.0,
+        nominal_energy=2.0,
+        surface_clearance={"a": 0.2, "b": -0.01},
+        nominal_clearance={"a": 0.4, "b": 0.4},
+    )
     assert c.H_T == 0 and c.k == 0 and c.H == 0
     assert c.H_D == pytest.approx((0.5 + 0.0) / 2)
     assert len(c.warnings) == 2
-    c2 = nav.criteria(arrival_time=10.0, nominal_arrival_time=5.0, energy=4.0, nominal_energy=2.0,
-                      surface_clearance={"a": 2.0}, nominal_clearance={"a": 0.4})
+    c2 = nav.criteria(
+        arrival_time=10.0,
+        nominal_arrival_time=5.0,
+        energy=4.0,
+        nominal_energy=2.0,
+        surface_clearance={"a": 2.0},
+        nominal_clearance={"a": 0.4},
+    )
     assert c2.H_D == 1.0 and c2.H == pytest.approx((0.5 + 1.0 + 0.5) / 3)
 
 

@@ -1,0 +1,243 @@
+"""Report of a ``vff_scenarios`` study: CSV tables, Markdown summary, trajectory and distance plots.
+
+Files written into the report directory:
+
+``results.csv``
+    One row per (scenario, method): arrival time, minimum distances, flags, H_T, H_D,
+    H_E, H, the Lyapunov share, and the source's values (``ref_*``).
+``stability.csv``
+    The Lyapunov audit of each new-VFF run (share of active-region samples where
+    dV/dt <= -b |v_L|^2, time spent in each assumption break).
+``summary.md``
+    The tables next to the source's, the audit, the warnings and the figures.
+``trajectories_<scenario>.png``
+    The robot's path for each method, the obstacles with their active (dashed) and
+    critical (solid) regions.
+``distances_<scenario>.png``
+    Distance to each obstacle against time, with its critical radius.
+``study.yaml``
+    The study file as it was run (when given).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from pathlib import Path
+from typing import Any
+
+from matplotlib.figure import Figure
+from matplotlib.patches import Circle, FancyBboxPatch, Rectangle
+
+from designlab.report import register_writer
+from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
+from designlab.study.kinds.vff_scenarios import VffScenariosResult
+
+__all__ = ["distance_figure", "navigation_markdown", "trajectory_figure", "write_navigation_report"]
+
+
+def _slug(text: str) -> str:
+    return re.sub(r"[^a-z0-9]+", "_", text.lower()).strip("_") or "scenario"
+
+
+def _region_patch(o: Any, r: float, **kw: Any) -> Any:
+    if o.kind == "rectangle":
+        x0, y0 = o.center[0] - o.length / 2, o.center[1] - o.width / 2
+        return FancyBboxPatch(
+            (x0, y0), o.length, o.width, boxstyle=f"round,pad={r}", fill=False, **kw
+        )
+    return Circle((0.0, 0.0), r, fill=False, **kw)
+
+
+def trajectory_figure(runs: list[Any], title: str) -> Figure:
+    """Paths of every method in one scenario, obstacles and regions at the start."""
+    fig = Figure(figsize=(7.5, 5.0))
+    ax = fig.add_subplot(1, 1, 1)
+    sc = runs[0].result.scenario
+    for i, o in enumerate(sc.obstacles):
+        p0 = runs[0].result.obstacle_positions[i, 0]
+        p1 = runs[0].result.obstacle_positions[i, -1]
+        if o.kind == "rectangle":
+            ax.add_patch(
+                Rectangle(
+                    (o.center[0] - o.length / 2, o.center[1] - o.width / 2),
+                    o.length,
+                    o.width,
+                    color="0.4",
+                    alpha=0.6,
+                )
+            )
+            for r, ls in ((o.r3, "-"), (o.r2, "--")):
+                ax.add_patch(_region_patch(o, r, ec="0.3", ls=ls, lw=0.8))
+        else:
+            ax.add_patch(Circle(tuple(p0), o.radius, color="0.4", alpha=0.6))
+            for r, ls in ((o.r3, "-"), (o.r2, "--")):
+                c = Circle(tuple(p0), r, fill=False, ec="0.3", ls=ls, lw=0.8)
+                ax.add_patch(c)
+            if o.motion.moving:
+                track = runs[0].result.obstacle_positions[i]
+                ax.plot(track[:, 0], track[:, 1], ":", color="0.3", lw=1)
+                ax.annotate(o.name, tuple(p1), fontsize=8, color="0.3")
+        ax.annotate(o.name, tuple(p0), fontsize=8, color="0.2", ha="center")
+    for run in runs:
+        r = run.result
+        ax.plot(r.position[:, 0], r.position[:, 1], lw=1.5, label=run.method)
+    ax.plot(*sc.start, "ko", ms=4)
+    ax.plot(*sc.goal, "k*", ms=9)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.set_title(f"{title}: paths; regions at t = 0 (solid r3, dashed r2)", fontsize=9)
+    ax.legend(fontsize=7, loc="best")
+    ax.grid(alpha=0.3)
+    return fig
+
+
+def distance_figure(runs: list[Any], title: str) -> Figure:
+    """Distance to each obstacle against time for every method, with r3."""
+    sc = runs[0].result.scenario
+    n = max(1, len(sc.obstacles))
+    fig = Figure(figsize=(7.5, 2.2 * n + 0.6))
+    for i in range(n):
+        ax = fig.add_subplot(n, 1, i + 1)
+        if not sc.obstacles:
+            ax.text(0.5, 0.5, "no obstacles", ha="center", transform=ax.transAxes)
+            continue
+        o = sc.obstacles[i]
+        for run in runs:
+            r = run.result
+            ax.plot(r.t, r.distance[i], lw=1.2, label=run.method)
+        ax.axhline(o.r3, color="r", lw=0.8, label="r3")
+        ax.axhline(
+            o.collision_distance(sc.robot.radius), color="k", lw=0.8, ls=":", label="contact"
+        )
+        ax.set_ylabel(f"d {o.name} (m)")
+        ax.grid(alpha=0.3)
+        if i == 0:
+            ax.set_title(f"{title}: distances", fontsize=9)
+            ax.legend(fontsize=7, ncol=3)
+    fig.axes[-1].set_xlabel("t (s)")
+    fig.tight_layout()
+    return fig
+
+
+def _fmt(v: Any) -> Any:
+    if isinstance(v, float) and math.isinf(v):
+        return "never"
+    return v
+
+
+def navigation_markdown(
+    result: VffScenariosResult,
+    *,
+    figures: dict[str, tuple[str, str]],
+    command: str | None,
+    version: str | None,
+) -> str:
+    """The Markdown summary."""
+    study = result.study
+    frame = result.to_frame()
+    out = [f"# {study.name}", ""]
+    if study.description:
+        out += [study.description.strip(), ""]
+    produced = "Produced by " + (f"`{command}`" if command else "designlab")
+    if version:
+        produced += f" with designlab {version}"
+    out += [
+        f"{produced}. Generated file: edit the study, not this report, and regenerate it with the same command.",
+        "",
+        "Model: VFF navigation among humans (Zeng 2011, Ch. 5-7; `docs/navigation.md`): force recomputed "
+        "every T_s = 0.06 s and held, 1 ms dynamics, speed 0.7 m/s and acceleration 10 m/s^2 norm-clipped, "
+        f"arrival at the first passage within {study.arrival_tolerance} m of the goal. Distances are centre "
+        "distances (contour distance for rectangles). `ref_*` = the thesis's simulation. "
+        "Energy is the feed-forward copper loss per ohm, so only H_E is comparable with the thesis. "
+        "Full precision in `results.csv`.",
+        "",
+        "## Results next to the thesis",
+        "",
+    ]
+    dist_cols = [c for c in frame.columns if c.startswith("d_") and c.endswith("_min_m")]
+    for scen, sub in frame.groupby("scenario", sort=False):
+        out += [f"### {scen}", ""]
+        cols = ["method", "T_arrive_s", "ref_T_arrive_s"]
+        for c in dist_cols:
+            if sub[c].notna().any():
+                cols += [c] + (
+                    [f"ref_{c}"] if f"ref_{c}" in sub and sub[f"ref_{c}"].notna().any() else []
+                )
+        cols += ["entered_critical", "collided", "H_T", "H_D", "H_E", "H"]
+        if sub["ref_H"].notna().any():
+            cols.append("ref_H")
+        table = sub[cols].copy()
+        table = table.drop(columns=[c for c in ("ref_T_arrive_s",) if table[c].isna().all()])
+        table = table.map(_fmt)
+        out += [markdown_table(table, floatfmt=".3g"), ""]
+    stab = result.stability_frame()
+    out += [
+        "## Lyapunov audit of the new-VFF runs",
+        "",
+        "Share of the samples in an active region (no critical region) where the realised dV/dt <= "
+        "-b |v_L|^2 holds (Zeng 2011, (5.5.12)), and the time the run spent where the proof's assumptions "
+        "break (force or speed saturation, critical-region braking, a detour-side switch). With the "
+        "stabilising force on, every violation lies in such an interval; with it off, the thesis's own "
+        "field violates the bound in free active-region motion too.",
+        "",
+    ]
+    out += [markdown_table(stab, floatfmt=".3g") if len(stab) else "No new-VFF runs.", ""]
+    out += ["## Warnings", ""]
+    warnings = result.warnings
+    out += [f"- {w}" for w in warnings] if warnings else ["None."]
+    out += ["", "## Figures", ""]
+    for scen, (traj, dist) in figures.items():
+        out += [
+            f"### {scen}",
+            "",
+            f"![{scen} paths]({traj})",
+            "",
+            f"![{scen} distances]({dist})",
+            "",
+        ]
+    return "\n".join(out)
+
+
+@register_writer(VffScenariosResult)
+def write_navigation_report(
+    result: VffScenariosResult,
+    directory: Path,
+    *,
+    command: str | None = None,
+    version: str | None = None,
+    study_text: str | None = None,
+) -> list[Path]:
+    """Write every file of the report into ``directory`` (which must exist).
+
+    Returns
+    -------
+    list of Path
+        The files written.
+    """
+    written = [
+        write_csv(result.to_frame(), directory / "results.csv"),
+        write_csv(result.stability_frame(), directory / "stability.csv"),
+    ]
+    by_scen: dict[str, list[Any]] = {}
+    for r in result.runs:
+        by_scen.setdefault(r.scenario, []).append(r)
+    figures: dict[str, tuple[str, str]] = {}
+    for scen, runs in by_scen.items():
+        slug = _slug(scen)
+        traj, dist = f"trajectories_{slug}.png", f"distances_{slug}.png"
+        written.append(write_png(trajectory_figure(runs, scen), directory / traj))
+        written.append(write_png(distance_figure(runs, scen), directory / dist))
+        figures[scen] = (traj, dist)
+    written.append(
+        write_markdown(
+            navigation_markdown(result, figures=figures, command=command, version=version),
+            directory / "summary.md",
+        )
+    )
+    if study_text is not None:
+        from designlab.report.atomic import atomic_write_text
+
+        written.append(atomic_write_text(directory / "study.yaml", study_text))
+    return written

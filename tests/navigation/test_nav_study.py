@@ -1,0 +1,111 @@
+"""The vff_scenarios and vff_sweep study kinds: schema, runs, reports."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from designlab.errors import StudyError
+from designlab.report import write_report
+from designlab.results import check_result
+from designlab.study import parse_study, run_study
+
+SCEN = """\
+designlab: 1
+kind: vff_scenarios
+name: tiny_nav
+scenarios:
+  - {configuration: 1}
+  - name: corridor
+    start: [4.0, 0.5]
+    goal: [0.0, 0.5]
+    obstacles:
+      - {name: table, kind: rectangle, center: [2.0, -0.6], length: 1.0, width: 0.5, r2: 0.8, r3: 0.4}
+      - {name: visitor, kind: disc, radius: 0.4, r2: 2.1, r3: 0.8, walk: {start: [0, 2], end: [4, 2], speed: 0.8}}
+methods:
+  - {label: "New VFF*", gains: {k1: 4.3, b: 0.68, k3: 20.3, k5: 240.7}, stabilising: "off"}
+  - {label: "Masoud*", method: masoud}
+references:
+  - {scenario: ch6_config1, method: "New VFF*", T_arrive_s: 6.3, d_circle_min_m: 0.55, H: 0.74}
+"""
+
+
+def test_vff_scenarios_runs_and_reports(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    study = parse_study(SCEN)
+    result = run_study(study)
+    check_result(result)
+    frame = result.to_frame()
+    assert len(frame) == 4
+    row = frame[(frame.scenario == "ch6_config1") & (frame.method == "New VFF*")].iloc[0]
+    assert row.d_circle_min_m == pytest.approx(0.55, abs=0.03)
+    assert row.ref_T_arrive_s == 6.3
+    assert math.isnan(frame[frame.method == "Masoud*"].ref_H.iloc[0])
+    out = write_report(result, tmp_path, study_text=SCEN, index=False)
+    names = {p.name for p in out.iterdir()}
+    assert {
+        "summary.md",
+        "results.csv",
+        "stability.csv",
+        "study.yaml",
+        "trajectories_ch6_config1.png",
+        "distances_corridor.png",
+    } <= names
+    text = (out / "summary.md").read_text()
+    assert "Lyapunov audit" in text and "ref_T_arrive_s" in text
+
+
+@pytest.mark.parametrize(
+    "patch, message",
+    [
+        ("  - {configuration: 1}\n", "  - {configuration: 9}\n"),
+        ("  - {configuration: 1}\n", "  - {configuration: 1, start: [0, 0]}\n"),
+        ("gains: {k1: 4.3, b: 0.68", "gains: {k1: -4.3, b: 0.68"),
+        ('method: "New VFF*", T_arrive_s', 'method: "Nope", T_arrive_s'),
+        ('stabilising: "off"', 'stabilising: "maybe"'),
+        ("kind: disc, radius: 0.4,", "kind: disc,"),
+    ],
+)
+def test_bad_studies_are_rejected(patch: str, message: str) -> None:
+    with pytest.raises(StudyError):
+        parse_study(SCEN.replace(patch, message))
+
+
+def test_goal_inside_an_obstacle_is_reported_with_the_parameter() -> None:
+    bad = SCEN.replace("center: [2.0, -0.6]", "center: [0.0, 0.5]")
+    study = parse_study(bad)
+    with pytest.raises(ValueError, match="goal|obstacles"):
+        run_study(study)
+
+
+SWEEP = """\
+designlab: 1
+kind: vff_sweep
+name: tiny_sweep
+base:
+  gains: {k1: 4.3, b: 0.68, k3: 20.3, k5: 240.7}
+  scenarios: [[1, 6], [3, 6]]
+  stabilising: "off"
+sweep:
+  method: grid
+  parameters:
+    gains.k5: {values: [120.0, 240.7]}
+    robot.max_speed: {values: [0.5, 0.7]}
+sensitivity:
+  metrics: [H_mean, T_mean_s]
+  one_at_a_time: {deltas_pct: [-20, 20], parameters: [gains.k1, gains.b]}
+"""
+
+
+def test_vff_sweep_runs_through_the_shared_machinery(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    study = parse_study(SWEEP)
+    result = run_study(study)
+    check_result(result)
+    frame = result.to_frame()
+    assert len(frame) == 4
+    assert (frame["collisions"] == 0).all()
+    slow = frame[frame["v_max_m_per_s"] == 0.5] if "v_max_m_per_s" in frame else frame.iloc[:2]
+    fast = frame[frame["v_max_m_per_s"] == 0.7] if "v_max_m_per_s" in frame else frame.iloc[2:]
+    assert slow["T_mean_s"].min() > fast["T_mean_s"].max()  # a slower robot arrives later
+    out = write_report(result, tmp_path, study_text=SWEEP, index=False)
+    assert (out / "summary.md").exists()
