@@ -133,18 +133,32 @@ def impact_sweep(n: int, tmp: Path) -> None:
     resume = _bench(CLI, *args, "--resume")
     size = _store_bytes(cache)
     files = sorted(p.name for p in (out / "bench_sweep").iterdir())
-    print(f"impact_sweep, {n:,} points (LHS over M_h, K_c, C_c), one core "
-          "(CPU seconds are robust to a busy machine; wall seconds shown too):")
-    for label, m, target in (("bare kernel (impact_metrics)", kernel, None),
-                             ("designlab run (store, report)", run, 2.0),
-                             ("designlab run --resume", resume, 0.25)):
-        ratio = "" if target is None else (
-            f"   ratio cpu {m['cpu'] / kernel['cpu']:.2f}x, wall {m['wall'] / kernel['wall']:.2f}x"
-            f" (target <= {target:g}x)")
-        print(f"  {label:30s} cpu {m['cpu']:7.2f} s  wall {m['wall']:7.2f} s  "
-              f"peak RSS {m['rss_mb']:5.0f} MB{ratio}")
-    print(f"  result store on disk           {size / 1e6:8.1f} MB = {size / n:.1f} bytes/point "
-          "(target < 100)")
+    print(
+        f"impact_sweep, {n:,} points (LHS over M_h, K_c, C_c), one core "
+        "(CPU seconds are robust to a busy machine; wall seconds shown too):"
+    )
+    for label, m, target in (
+        ("bare kernel (impact_metrics)", kernel, None),
+        ("designlab run (store, report)", run, 2.0),
+        ("designlab run --resume", resume, 0.25),
+    ):
+        ratio = (
+            ""
+            if target is None
+            else (
+                f"   ratio cpu {m['cpu'] / kernel['cpu']:.2f}x,"
+                f" wall {m['wall'] / kernel['wall']:.2f}x"
+                f" (target <= {target:g}x)"
+            )
+        )
+        print(
+            f"  {label:30s} cpu {m['cpu']:7.2f} s  wall {m['wall']:7.2f} s  "
+            f"peak RSS {m['rss_mb']:5.0f} MB{ratio}"
+        )
+    print(
+        f"  result store on disk           {size / 1e6:8.1f} MB = {size / n:.1f} bytes/point "
+        "(target < 100)"
+    )
     print(f"  report files: {', '.join(files)}")
 
 
@@ -154,18 +168,30 @@ def envelope_sweep(n: int, workers: int, tmp: Path) -> None:
     walls = {}
     for ex in ("serial", "processes"):
         cache = tmp / f"cache_{ex}"
-        args = ["run", str(study), "-o", str(tmp / f"out_{ex}"), "--cache-dir", str(cache),
-                "--executor", ex]
+        args = [
+            "run",
+            str(study),
+            "-o",
+            str(tmp / f"out_{ex}"),
+            "--cache-dir",
+            str(cache),
+            "--executor",
+            ex,
+        ]
         if ex != "serial":
             args += ["--workers", str(workers)]
         walls[ex] = _bench(CLI, *args)
         size = _store_bytes(cache)
-        print(f"  {ex:10s} {walls[ex]['wall']:8.2f} s  peak RSS {walls[ex]['rss_mb']:6.0f} MB  "
-              f"store {size / n:6.1f} bytes/point")
+        print(
+            f"  {ex:10s} {walls[ex]['wall']:8.2f} s  peak RSS {walls[ex]['rss_mb']:6.0f} MB  "
+            f"store {size / n:6.1f} bytes/point"
+        )
     a = (tmp / "out_serial" / "bench_envelope" / "results.csv").read_bytes()
     b = (tmp / "out_processes" / "bench_envelope" / "results.csv").read_bytes()
-    print(f"  processes speed-up {walls['serial']['wall'] / walls['processes']['wall']:.2f}x "
-          f"on {workers} workers; identical tables: {a == b}")
+    print(
+        f"  processes speed-up {walls['serial']['wall'] / walls['processes']['wall']:.2f}x "
+        f"on {workers} workers; identical tables: {a == b}"
+    )
 
 
 def main() -> None:

@@ -102,7 +102,8 @@ def check_result(obj: Any) -> None:
     obj
         The result to check.
     """
-    assert isinstance(obj, Result), f"{type(obj).__name__} does not inherit designlab.results.Result"
+    name = type(obj).__name__
+    assert isinstance(obj, Result), f"{name} does not inherit designlab.results.Result"
     assert isinstance(obj.status, str) and obj.status, f"bad status {obj.status!r}"
     assert isinstance(obj.warnings, tuple), f"warnings must be a tuple, got {type(obj.warnings)}"
     assert all(isinstance(w, str) for w in obj.warnings), "every warning must be a string"

@@ -436,7 +436,9 @@ def one_at_a_time(
     unknown = [p for p in names if p not in base]
     if unknown:
         raise ValueError(f"parameters {unknown} are not in the base point {sorted(base)}")
-    changes = [(p, float(d), float(base[p]) * (1 + float(d) / 100)) for p in names for d in deltas_pct]
+    changes = [
+        (p, float(d), float(base[p]) * (1 + float(d) / 100)) for p in names for d in deltas_pct
+    ]
     pts = _replicate(base, len(changes) + 1)
     for i, (p, _, x) in enumerate(changes, start=1):
         pts[p][i] = x
@@ -529,7 +531,8 @@ def sobol_indices(
 
     Examples
     --------
-    >>> t = sobol_indices(lambda p: {"y": 10 * p["a"] + p["b"]}, {}, {"a": (0, 1), "b": (0, 1)}, 512)
+    >>> box = {"a": (0, 1), "b": (0, 1)}
+    >>> t = sobol_indices(lambda p: {"y": 10 * p["a"] + p["b"]}, {}, box, 512)
     >>> t.ranked("y")["parameter"].tolist()
     ['a', 'b']
     """

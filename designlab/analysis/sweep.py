@@ -266,7 +266,9 @@ def as_columns(points: Columns | Sequence[Mapping[str, float]] | pd.DataFrame) -
         cols = {k: np.array([float(r[k]) for r in rows], dtype=float) for k in names}
     lengths = {len(v) for v in cols.values()}
     if len(lengths) > 1:
-        raise ValueError(f"point columns differ in length: { {k: len(v) for k, v in cols.items()} }")
+        raise ValueError(
+            f"point columns differ in length: { {k: len(v) for k, v in cols.items()} }"
+        )
     return cols
 
 
@@ -349,7 +351,7 @@ def evaluate_chunk(task: dict[str, Any]) -> Columns:
         return {}
     try:
         return _normalise(fn(dict(points), dict(options)), n, evaluator_id(fn))
-    except Exception as exc:  # noqa: BLE001 - recorded per point, never swallowed silently
+    except Exception as exc:
         if n == 1:
             return _error_columns(1, f"{type(exc).__name__}: {exc}")
     half = n // 2

@@ -19,8 +19,8 @@ import pandas as pd
 from matplotlib.figure import Figure
 from matplotlib.ticker import NullFormatter, ScalarFormatter
 
-from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.report import register_writer
+from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.kinds.foam_design import FoamDesignResult
 
 __all__ = ["envelope_figure", "envelope_markdown", "write_envelope_report"]

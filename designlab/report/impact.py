@@ -27,8 +27,8 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.report import register_writer
+from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.kinds.impact_cases import ImpactCaseResult, ImpactCasesResult
 
 __all__ = ["impact_figure", "impact_markdown", "write_impact_report"]

@@ -23,7 +23,8 @@ Examples
 >>> store = ChunkStore(pathlib.Path(tempfile.mkdtemp()) / "demo.sqlite")
 >>> store.get_chunk("k")
 ('missing', None)
->>> store.put_chunk("k", {"y": np.array([1.0, 2.0]), "status": np.array(["ok", "ok"], dtype=object)})
+>>> ok = np.array(["ok", "ok"], dtype=object)
+>>> store.put_chunk("k", {"y": np.array([1.0, 2.0]), "status": ok})
 >>> state, cols = store.get_chunk("k")
 >>> state, cols["y"].tolist(), cols["status"].tolist()
 ('ok', [1.0, 2.0], ['ok', 'ok'])
@@ -53,8 +54,8 @@ __all__ = ["STORE_FORMAT", "ChunkStore", "open_store"]
 STORE_FORMAT = "designlab-chunk-store-1"
 
 _SCHEMA = """
-CREATE TABLE IF NOT EXISTS meta (name TEXT PRIMARY KEY, value TEXT NOT NULL);
-CREATE TABLE IF NOT EXISTS chunks (
+CREATE TABLE meta (name TEXT PRIMARY KEY, value TEXT NOT NULL);
+CREATE TABLE chunks (
     key TEXT PRIMARY KEY,
     n INTEGER NOT NULL,
     data BLOB NOT NULL,
@@ -137,22 +138,25 @@ class ChunkStore:
             return self._db
         try:
             self.path.parent.mkdir(parents=True, exist_ok=True)
-            fresh = not self.path.exists() or self.path.stat().st_size == 0
             db = sqlite3.connect(self.path, timeout=60.0, isolation_level=None)
         except (OSError, sqlite3.Error) as exc:
             raise ReportError(f"cannot open the result store {self.path}: {exc}") from exc
         try:
             db.execute("PRAGMA busy_timeout = 60000")
-            if fresh:
-                db.execute("PRAGMA journal_mode = WAL")
-                db.executescript(_SCHEMA)
-                db.execute("BEGIN IMMEDIATE")
-                db.execute(
-                    "INSERT OR IGNORE INTO meta VALUES ('format', ?)", (STORE_FORMAT,)
-                )
+            # set up a new store in one exclusive step, so that a second run starting at the
+            # same moment sees either nothing or a complete store
+            db.execute("BEGIN IMMEDIATE")
+            tables = {r[0] for r in db.execute("SELECT name FROM sqlite_master")}
+            if not tables:
+                for statement in _SCHEMA.split(";"):
+                    if statement.strip():
+                        db.execute(statement)
+                db.execute("INSERT INTO meta VALUES ('format', ?)", (STORE_FORMAT,))
                 if self.study is not None:
-                    db.execute("INSERT OR IGNORE INTO meta VALUES ('study', ?)", (self.study,))
-                db.execute("COMMIT")
+                    db.execute("INSERT INTO meta VALUES ('study', ?)", (self.study,))
+            db.execute("COMMIT")
+            if db.execute("PRAGMA journal_mode").fetchone()[0] != "wal":
+                db.execute("PRAGMA journal_mode = WAL")
             self._check(db)
             db.execute("PRAGMA synchronous = NORMAL")
         except sqlite3.DatabaseError as exc:
@@ -212,9 +216,11 @@ class ChunkStore:
         key
             The chunk key.
         """
-        row = self._connect().execute(
-            "SELECT n, data, sha256 FROM chunks WHERE key = ?", (key,)
-        ).fetchone()
+        row = (
+            self._connect()
+            .execute("SELECT n, data, sha256 FROM chunks WHERE key = ?", (key,))
+            .fetchone()
+        )
         if row is None:
             return "missing", None
         n, data, digest = row
@@ -243,9 +249,7 @@ class ChunkStore:
         db = self._connect()
         try:
             db.execute("BEGIN IMMEDIATE")
-            db.execute(
-                "INSERT OR REPLACE INTO chunks VALUES (?, ?, ?, ?)", (key, n, data, digest)
-            )
+            db.execute("INSERT OR REPLACE INTO chunks VALUES (?, ?, ?, ?)", (key, n, data, digest))
             db.execute("COMMIT")
         except sqlite3.Error as exc:
             if db.in_transaction:

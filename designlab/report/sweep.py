@@ -29,8 +29,8 @@ from matplotlib.figure import Figure
 from designlab.analysis.sensitivity import tornado_figure
 from designlab.report import register_writer
 from designlab.report.atomic import atomic_write_text
-from designlab.study.sweep_runner import SweepStudyResult
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
+from designlab.study.sweep_runner import SweepStudyResult
 
 __all__ = ["sweep_markdown", "write_sweep_report"]
 

@@ -30,10 +30,10 @@ from designlab.study.loader import format_path, load_study, parse_study
 from designlab.study.registry import (
     StudyKind,
     kind_of,
-    study_kinds,
     register_kind,
     study_adapter,
     study_json_schema,
+    study_kinds,
     unregister_kind,
 )
 from designlab.study.runner import RunContext, run_study
@@ -46,12 +46,12 @@ __all__ = [
     "did_you_mean",
     "format_path",
     "kind_of",
-    "study_kinds",
     "load_study",
     "parse_study",
     "register_kind",
     "run_study",
     "study_adapter",
     "study_json_schema",
+    "study_kinds",
     "unregister_kind",
 ]

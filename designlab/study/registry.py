@@ -27,10 +27,10 @@ from designlab.study.base import FORMAT_VERSION, StudyBase
 __all__ = [
     "StudyKind",
     "kind_of",
-    "study_kinds",
     "register_kind",
     "study_adapter",
     "study_json_schema",
+    "study_kinds",
     "unregister_kind",
 ]
 

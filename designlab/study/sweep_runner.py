@@ -322,12 +322,8 @@ def run_sweep_study(study: SweepStudyBase, context: RunContext) -> SweepStudyRes
     plan = _plan(study)
     metrics = study.metrics
     names = [name for name, cols in plan.sets.items() if _n(cols)]
-    all_points = {
-        k: np.concatenate([plan.sets[s][k] for s in names]) for k in plan.sets["base"]
-    }
-    logger.info(
-        "%s: %s", study.name, ", ".join(f"{s} {_n(plan.sets[s])}" for s in names)
-    )
+    all_points = {k: np.concatenate([plan.sets[s][k] for s in names]) for k in plan.sets["base"]}
+    logger.info("%s: %s", study.name, ", ".join(f"{s} {_n(plan.sets[s])}" for s in names))
     run = run_points(
         all_points, type(study).EVALUATOR, study.evaluator_options(),  # type: ignore[arg-type]
         executor=context.executor, store=context.store, resume=context.resume,

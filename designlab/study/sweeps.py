@@ -40,8 +40,8 @@ Value error, -1 N/m is out of range for foam stiffness K_c: allowed > 0 N/m
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Annotated, Any, ClassVar, Generic, Literal, TypeVar
 
 from pydantic import BaseModel, Field, create_model, model_validator
@@ -53,12 +53,12 @@ from designlab.study.base import StudyBase, did_you_mean
 __all__ = [
     "MAX_POINTS",
     "OneAtATimeSpec",
-    "SensitivitySpec",
-    "SweepStudyBase",
     "ParameterInfo",
     "ParameterRange",
+    "SensitivitySpec",
     "SobolSpec",
     "SweepSpec",
+    "SweepStudyBase",
     "parameter_model",
 ]
 
@@ -362,9 +362,7 @@ class SensitivitySpec(_Model, Generic[MetricT]):
     metrics: list[MetricT] | None = Field(
         None, min_length=1, description="metrics to analyse (default: the kind's default metrics)"
     )
-    local: bool = Field(
-        True, description="elasticities d ln(metric) / d ln(parameter) at the base"
-    )
+    local: bool = Field(True, description="elasticities d ln(metric) / d ln(parameter) at the base")
     one_at_a_time: OneAtATimeSpec | None = Field(
         None, description="percentage perturbation table (Zeng 2011 App. C form)"
     )

@@ -210,3 +210,23 @@ def test_masoud_field_is_discontinuous_at_r2() -> None:
 def test_unknown_method_is_rejected() -> None:
     with pytest.raises(InvalidParameterError, match="method"):
         build_field((DISC,), "potential")
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    d=st.floats(0.41, 0.79), ang=st.floats(-math.pi, math.pi), speed=st.floats(-0.7, 0.0),
+)
+def test_repulsion_pushes_away_and_grows_towards_r3(d: float, ang: float, speed: float) -> None:
+    """Radial part of F - F_a: positive (away) for a robot approaching at rest-or-closing speed,
+    and larger closer to r3 (5.4.3)."""
+    u = np.array([math.cos(ang), math.sin(ang)])
+    goal = -4.0 * u + np.array([0.0, 1e-3])
+
+    def radial(dist: float) -> float:
+        x = [*(dist * u), *(speed * u)]
+        out = _eval([DISC], x, goal, _obs([0.0, 0.0]))
+        F_a = 3.0 * (goal - dist * u) - 0.75 * speed * u
+        return float((out["F"] - F_a) @ u)
+
+    assert radial(d) > 0
+    assert radial(max(0.405, d - 0.02)) > radial(d)

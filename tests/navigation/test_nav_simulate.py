@@ -266,3 +266,15 @@ def test_unpredictable_human_follows_sec_5_7() -> None:
     p, v, _ = h.state(np.array([0.0, 1.0, 2.0, 3.0, 5.0]))
     np.testing.assert_allclose(p[:, 0], [0.6, 1.6, 2.1, 2.1, 2.1], atol=1e-6)
     np.testing.assert_allclose(p[:, 1], [0.0, 0.0, 0.0, 0.5, 2.5], atol=1e-6)
+
+
+@pytest.mark.slow
+def test_jit_compiled_batch_equals_the_virtual_machine() -> None:
+    # the gain optimiser's fast path: same CasADi step, compiled by the C compiler
+    sc = [nav.configuration(3)]
+    gains = np.array([[4.3, 0.68, 20.3, 240.7], [3.0, 0.25, 20.0, 17.0]])
+    vm = nav.simulate_batch(sc, gains, stabilising="lyapunov")
+    jit = nav.simulate_batch(sc, gains, stabilising="lyapunov", jit=True)
+    np.testing.assert_allclose(jit.arrival_time, vm.arrival_time, atol=1e-9)
+    np.testing.assert_allclose(jit.min_distance, vm.min_distance, atol=1e-9)
+    np.testing.assert_allclose(jit.H, vm.H, atol=1e-9)

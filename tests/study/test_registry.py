@@ -24,15 +24,14 @@ from pydantic import Field
 from designlab.analysis.sweep import _package_hash, _source_files, chunk_key, code_version
 from designlab.report import register_writer, write_report
 from designlab.report.store import open_store
-from designlab.report.writers import write_csv
 from designlab.study import (
     RunContext,
     StudyKind,
-    study_kinds,
     parse_study,
     register_kind,
     run_study,
     study_json_schema,
+    study_kinds,
     unregister_kind,
 )
 from designlab.study.base import Model, Positive
@@ -194,7 +193,7 @@ def test_exported_schema_enforces_sweep_ranges(schema):
         jsonschema.validate(data, schema)
     # against the kind's own schema the message names the value and the bound
     kind_schema = {"$ref": "#/$defs/ImpactSweepStudy", "$defs": schema["$defs"]}
-    with pytest.raises(jsonschema.ValidationError, match="-4.4 is less than or equal to .*0"):
+    with pytest.raises(jsonschema.ValidationError, match=r"-4\.4 is less than or equal to .*0"):
         jsonschema.validate(data, kind_schema)
 
 
@@ -241,7 +240,8 @@ def test_editing_a_domain_invalidates_only_its_points(tmp_path):
 
     def versions() -> list[str]:
         out = subprocess.run([sys.executable, "-c", probe], cwd=copy, capture_output=True,
-                             text=True, check=True, env={"PYTHONPATH": str(copy), "PATH": ""})  # fmt: skip
+                             text=True, check=True,
+                             env={"PYTHONPATH": str(copy), "PATH": ""})  # fmt: skip
         return out.stdout.split()
 
     impact0, analysis0 = versions()

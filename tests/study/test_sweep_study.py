@@ -136,7 +136,9 @@ def test_store_resume_and_corrupt_chunk(tmp_path, caplog):
     db.execute("DELETE FROM chunks WHERE key = ?", (key,))
     db.commit()
     db.close()
-    with pytest.raises(CacheIncompleteError, match=f"{n} points of sweep_demo are not in the store"):
+    with pytest.raises(
+        CacheIncompleteError, match=f"{n} points of sweep_demo are not in the store"
+    ):
         with open_store(tmp_path, study.name) as store:
             run_study(study, RunContext(store=store, cache_only=True))
 
@@ -164,7 +166,8 @@ def test_store_refuses_foreign_and_other_study_files(tmp_path):
 def test_two_runs_at_once_share_the_store(tmp_path):
     """Two processes writing the same study's store at once: no corruption, same results."""
     script = tmp_path / "twice.py"
-    script.write_text(textwrap.dedent(f"""\
+    script.write_text(
+        textwrap.dedent(f"""\
         import sys
         from designlab.study import RunContext, parse_study, run_study
         from designlab.report.store import open_store
@@ -172,16 +175,17 @@ def test_two_runs_at_once_share_the_store(tmp_path):
         with open_store(sys.argv[1], study.name) as store:
             r = run_study(study, RunContext(store=store, resume=True))
         print(r.frame["a_h_max_g"].sum())
-        """))
+        """)
+    )
     procs = [subprocess.Popen([sys.executable, str(script), str(tmp_path)],
                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-             for _ in range(2)]  # fmt: skip
+             for _ in range(3)]  # fmt: skip
     outs = [p.communicate(timeout=120) for p in procs]
     assert all(p.returncode == 0 for p in procs), outs
-    assert outs[0][0] == outs[1][0]
+    assert outs[0][0] == outs[1][0] == outs[2][0]
     with open_store(tmp_path, "sweep_demo") as store:
         assert store.points() == 18 + 1  # the distinct sweep points and the elasticity point
-        for key, in store._connect().execute("SELECT key FROM chunks"):
+        for (key,) in store._connect().execute("SELECT key FROM chunks"):
             assert store.get_chunk(key)[0] == "ok"
 
 
@@ -261,10 +265,13 @@ def test_killed_sweep_resumes_with_only_the_missing_points(tmp_path, write_study
     # a resumed run writes the same tables as a fresh one, byte for byte
     fresh_out = tmp_path / "fresh"
     clean = subprocess.run([*args[:4], "-o", str(fresh_out), "--cache-dir",
-                            str(tmp_path / "cache2")], capture_output=True, text=True, timeout=120)  # fmt: skip
+                            str(tmp_path / "cache2")],
+                           capture_output=True, text=True, timeout=120)  # fmt: skip
     assert clean.returncode == 0, clean.stderr
     for name in ("results.csv", "sensitivity_range.csv"):
-        assert (out / "sweep_demo" / name).read_bytes() == (fresh_out / "sweep_demo" / name).read_bytes()
+        assert (out / "sweep_demo" / name).read_bytes() == (
+            fresh_out / "sweep_demo" / name
+        ).read_bytes()
 
 
 def test_sigint_leaves_store_and_exit_code_130(tmp_path, write_study):

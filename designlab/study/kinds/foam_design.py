@@ -57,8 +57,8 @@ from designlab.impact.criteria import (
 from designlab.impact.parameters import ContactDynamics, Foam
 from designlab.results import OK, Result
 from designlab.study.base import Model, StudyBase
-from designlab.study.kinds.impact_specs import FoamSpec, RobotSpec
 from designlab.study.kinds.foam_envelope import DampingGrid
+from designlab.study.kinds.impact_specs import FoamSpec, RobotSpec
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
 
@@ -166,8 +166,6 @@ class FoamDesignStudy(StudyBase):
                 "robots must be distinct (give each explicit robot a different preset)"
             )
         return self
-
-
 
 
 @dataclass(frozen=True)

@@ -89,9 +89,7 @@ class _ComponentSpec(Model):
 
     def build(self) -> Any:
         """Return the designlab parameter object (validated by its constructor)."""
-        overrides = {
-            k: v for k, v in self.model_dump(exclude={"preset"}).items() if v is not None
-        }
+        overrides = {k: v for k, v in self.model_dump(exclude={"preset"}).items() if v is not None}
         if self.preset is None:
             return self.BUILDS(**overrides)
         base = self.PRESETS[self.preset]
