@@ -71,7 +71,8 @@ def main() -> None:
             f"H_mean={opt.objective:.4f}"
         )
         print(
-            f"  H_mean   experimental {ref['H_mean'][0]:.4f}   thesis optimum {ref['H_mean'][1]:.4f}   "
+            f"  H_mean   experimental {ref['H_mean'][0]:.4f}   "
+            f"thesis optimum {ref['H_mean'][1]:.4f}   "
             f"designlab {ref['H_mean'][2]:.4f}"
         )
         print(
@@ -79,7 +80,8 @@ def main() -> None:
             f"({opt.simulations} closed-loop runs + as many nominal runs)"
         )
         print(
-            f"  cost per evaluation {1e3 * per:.1f} ms (batched) vs {1e3 * base:.1f} ms one at a time: "
+            f"  cost per evaluation {1e3 * per:.1f} ms (batched) vs {1e3 * base:.1f} ms "
+            "one at a time: "
             f"{base / per:.1f}x;  vs one week: {WEEK / opt.wall_time:,.0f}x"
         )
         print(f"  target < 180 s: {'met' if opt.wall_time < 180 else 'MISSED'}")
@@ -96,14 +98,17 @@ def main() -> None:
         )
         print(f"\nrobust mode (stabilising=off, {args.walks} walks, mean): status {opt.status}")
         print(
-            f"  optimum  K1={g.k1:.3f}  b={g.b:.3f}  K3={g.k3:.2f}  K5={g.k5:.1f}  robust H_mean={opt.objective:.4f}"
+            f"  optimum  K1={g.k1:.3f}  b={g.b:.3f}  K3={g.k3:.2f}  K5={g.k5:.1f}  "
+            f"robust H_mean={opt.objective:.4f}"
         )
         print(
-            f"  robust H_mean   experimental {ref['H_mean'][0]:.4f}   thesis optimum {ref['H_mean'][1]:.4f}"
+            f"  robust H_mean   experimental {ref['H_mean'][0]:.4f}   "
+            f"thesis optimum {ref['H_mean'][1]:.4f}"
         )
         print(
             f"  wall time {opt.wall_time:.1f} s   evaluations {opt.evaluations}   closed-loop runs "
-            f"{opt.simulations}   cost per evaluation {1e3 * opt.wall_time / opt.evaluations:.1f} ms"
+            f"{opt.simulations}   "
+            f"cost per evaluation {1e3 * opt.wall_time / opt.evaluations:.1f} ms"
         )
         print(f"  target < 900 s: {'met' if opt.wall_time < 900 else 'MISSED'}")
         for w in opt.warnings:

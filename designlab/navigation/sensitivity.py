@@ -21,8 +21,9 @@ Examples
 >>> nav = dl.navigation
 >>> sens = nav.gain_sensitivity([nav.configuration(1)], deltas_pct=(-10, 10), parameters=("k1",),
 ...                             stabilising="off")
->>> sens.appendix_c("k1")[0].columns.tolist()[:4]
-['delta_pct', 'ch6_config1 T_arrive_s', 'ch6_config1 L_energy_J_per_ohm', 'ch6_config1 d_circle_min_m']
+>>> sens.appendix_c("k1")[0].columns.tolist()[:4]  # doctest: +NORMALIZE_WHITESPACE
+['delta_pct', 'ch6_config1 T_arrive_s', 'ch6_config1 L_energy_J_per_ohm',
+ 'ch6_config1 d_circle_min_m']
 >>> bool(abs(sens.s_summary().set_index("parameter").loc["k1", "S_max_pct"]) < 5)
 True
 """
@@ -37,14 +38,27 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from designlab.analysis.sensitivity import SensitivityTable, one_at_a_time
+from designlab.analysis.sensitivity import (
+    SensitivityTable,
+    elasticities,
+    one_at_a_time,
+    sobol_indices,
+)
 from designlab.errors import InvalidParameterError
 from designlab.navigation.parameters import VFFGains
 from designlab.navigation.scenarios import Scenario, configuration
 from designlab.navigation.simulate import NavigationResult, simulate, simulate_batch
 from designlab.results import OK, Result
 
-__all__ = ["APPENDIX_C_DELTAS", "GainSensitivity", "classify_run", "gain_sensitivity"]
+__all__ = [
+    "APPENDIX_C_DELTAS",
+    "GainGlobalSensitivity",
+    "GainSensitivity",
+    "appendix_c_reference",
+    "classify_run",
+    "gain_global_sensitivity",
+    "gain_sensitivity",
+]
 
 Array = NDArray[np.float64]
 
@@ -60,6 +74,47 @@ _DESCRIPTIONS = {
     "k3": "repulsive gain K3 (N/m)",
     "k5": "detour gain K5 (N/m^2)",
 }
+
+
+#: Our metric for each (configuration, quantity) of Tables C.2-C.9. The thesis's
+#: Configuration 3 "cir"/"rect" columns are swapped relative to its Table 6.4 (its
+#: "d_s_min_cir" values are the rectangle's), and its "d_s" are centre (contour) distances.
+_APPENDIX_C_METRICS = {
+    ("1", "T_arrive"): "ch6_config1 T_arrive_s",
+    ("2", "T_arrive"): "ch6_config2 T_arrive_s",
+    ("3", "T_arrive"): "ch6_config3 T_arrive_s",
+    ("1", "d_s_min_cir"): "ch6_config1 d_circle_min_m",
+    ("2", "d_s_min_h"): "ch6_config2 d_human_min_m",
+    ("3", "d_s_min_cir"): "ch6_config3 d_rectangle_min_m",
+    ("3", "d_s_min_rect"): "ch6_config3 d_circle_min_m",
+    ("1", "H"): "ch6_config1 H",
+    ("2", "H"): "ch6_config2 H",
+    ("3", "H"): "ch6_config3 H",
+    ("mean", "H_mean"): "H_mean",
+    ("mean", "S_relative_sensitivity"): "S_pct",
+}
+_THESIS_GAIN = {"K1": "k1", "K3": "k3", "K5": "k5", "b": "b"}
+
+
+def appendix_c_reference() -> pd.DataFrame:
+    """Zeng 2011, Tables C.2-C.9 in long form (shipped with designlab).
+
+    Columns ``table``, ``varied_gain`` (K1, K3, K5, b), ``delta_percent``,
+    ``configuration`` (1, 2, 3, ``mean`` or ``all``), ``quantity`` (T_arrive, L_energy,
+    d_s_min_cir, d_s_min_h, d_s_min_rect, H, H_mean, S_relative_sensitivity, outcome),
+    ``value`` (text; ``-`` where the thesis prints none), ``unit`` and ``note`` (the
+    thesis's words for the -100 % rows).
+
+    Examples
+    --------
+    >>> t = appendix_c_reference()
+    >>> t[(t.table == "C.2") & (t.delta_percent == 0) & (t.configuration == "1")].value.tolist()
+    ['6.31', '3.64', '0.552']
+    """
+    from importlib.resources import files
+
+    with (files("designlab") / "data" / "nav_sensitivity_appendixC.csv").open() as fh:
+        return pd.read_csv(fh, dtype={"configuration": str, "value": str})
 
 
 def classify_run(res: NavigationResult, *, moving_speed: float = 0.05, reversals: int = 4) -> str:
@@ -102,7 +157,7 @@ def classify_run(res: NavigationResult, *, moving_speed: float = 0.05, reversals
 
 
 def _settles(scenario: Scenario, gains: VFFGains, stabilising: str, tolerance: float) -> bool:
-    """Whether the robot ends the horizon at rest near the goal (first-passage arrival switched off)."""
+    """Whether the robot ends the horizon at rest near the goal (first-passage arrival off)."""
     res = simulate(scenario, gains, stabilising=stabilising, arrival_tolerance=1e-9)
     end = res.position[-1]
     return bool(
@@ -129,6 +184,11 @@ def _metric_factory(scenarios: list[Scenario], stabilising: str, arrival_toleran
                 out[f"{sc.name} d_{name}_min_m"] = r.min_distance[s, :, i]
             out[f"{sc.name} H"] = r.H[s]
         out["H_mean"] = r.H_mean
+        margin = np.full(r.H_mean.shape, np.inf)
+        for s, sc in enumerate(scenarios):
+            for i, o in enumerate(sc.obstacles):
+                margin = np.minimum(margin, r.min_distance[s, :, i] - o.r3)
+        out["critical_margin_min_m"] = margin
         return out
 
     return metric
@@ -253,6 +313,89 @@ class GainSensitivity(Result):
         ]
         return perf, crit
 
+    def compare_appendix_c(self) -> pd.DataFrame:
+        """Our table against Zeng 2011, Tables C.2-C.9, entry by entry.
+
+        Only for Configurations 1-3 of Ch. 6 (the thesis's set). L_energy is left out
+        (its absolute value depends on the unknown winding resistance); the -100 % rows
+        are compared in words by :meth:`appendix_c_outcomes`.
+
+        Returns
+        -------
+        pandas.DataFrame
+            ``table``, ``parameter``, ``delta_pct``, ``configuration``, ``quantity``,
+            ``thesis``, ``designlab``, ``error`` (designlab - thesis) and ``unit``.
+        """
+        ref = appendix_c_reference()
+        rows = []
+        for r in ref.itertuples():
+            key = (r.configuration, r.quantity)
+            gain = _THESIS_GAIN.get(r.varied_gain)
+            if key not in _APPENDIX_C_METRICS or r.delta_percent == -100 or gain is None:
+                continue
+            try:
+                thesis = float(r.value)
+            except (TypeError, ValueError):
+                continue
+            metric = _APPENDIX_C_METRICS[key]
+            try:
+                if metric == "S_pct":
+                    if r.delta_percent == 0:
+                        continue
+                    f = self.table.frame
+                    sel = f[
+                        (f["metric"] == "H_mean")
+                        & (f["parameter"] == gain)
+                        & (f["delta_pct"] == float(r.delta_percent))
+                    ]
+                    if sel.empty:
+                        continue
+                    ours = abs(float(sel["S_pct"].iloc[0]))  # the thesis prints |S_K|
+                else:
+                    ours = self.value(metric, gain, float(r.delta_percent))
+            except (InvalidParameterError, KeyError):
+                continue
+            rows.append(
+                {
+                    "table": r.table,
+                    "parameter": gain,
+                    "delta_pct": float(r.delta_percent),
+                    "configuration": r.configuration,
+                    "quantity": r.quantity,
+                    "thesis": thesis,
+                    "designlab": ours,
+                    "error": ours - thesis,
+                    "unit": r.unit,
+                }
+            )
+        return pd.DataFrame(
+            rows,
+            columns=[
+                "table", "parameter", "delta_pct", "configuration", "quantity", "thesis",
+                "designlab", "error", "unit",
+            ],
+        )  # fmt: skip
+
+    def appendix_c_outcomes(self) -> pd.DataFrame:
+        """The -100 % rows: the thesis's words (Tables C.3/C.5/C.7/C.9) next to our outcomes."""
+        ref = appendix_c_reference()
+        ref = ref[ref["quantity"] == "outcome"]
+        o = self.outcomes[self.outcomes["delta_pct"] == -100]
+        rows = []
+        for r in ref.itertuples():
+            gain = _THESIS_GAIN[r.varied_gain]
+            ours = o[o["parameter"] == gain]
+            if ours.empty:
+                continue
+            rows.append(
+                {
+                    "parameter": gain,
+                    "thesis": r.note,
+                    "designlab": "; ".join(f"{x.scenario}: {x.outcome}" for x in ours.itertuples()),
+                }
+            )
+        return pd.DataFrame(rows, columns=["parameter", "thesis", "designlab"])
+
     def s_summary(self) -> pd.DataFrame:
         """Max and mean |S_K| of H_mean per gain in % (App. C.3's summary), -100 % rows excluded."""
         f = self.table.frame
@@ -368,5 +511,194 @@ def gain_sensitivity(
         table,
         outcomes,
         base_vals,
+        warnings=tuple(warnings),
+    )
+
+
+@dataclass(frozen=True)
+class GainGlobalSensitivity(Result):
+    """Local elasticities and Sobol indices of the VFF performance to its gains.
+
+    Both tables come from the shared generators of :mod:`designlab.analysis.sensitivity`
+    (:func:`~designlab.analysis.sensitivity.elasticities` and
+    :func:`~designlab.analysis.sensitivity.sobol_indices`) with the batched simulator as
+    the metric, so they read like every other sensitivity table of the project.
+
+    Attributes
+    ----------
+    base
+        The gains the box is centred on.
+    stabilising
+        ``"off"`` or ``"lyapunov"``.
+    scenario_names
+        The configurations.
+    spread_pct
+        Half-width of the Sobol box, % of each base gain.
+    samples
+        Base sample size N of the Saltelli sample (``N (4 + 2)`` gain sets).
+    elasticity
+        ``d ln m / d ln K`` at the base by central differences of ``relative_step``.
+    sobol
+        First-order (S1) and total (ST) indices over the box, with 95 % half-widths.
+    infeasible_share
+        Share of the Sobol sample that does not arrive or enters a critical region in
+        some configuration (the optimiser would reject those points).
+    """
+
+    base: VFFGains
+    stabilising: str
+    scenario_names: tuple[str, ...]
+    spread_pct: float
+    samples: int
+    elasticity: SensitivityTable = field(repr=False)
+    sobol: SensitivityTable = field(repr=False)
+    infeasible_share: float
+    status: str = OK
+    warnings: tuple[str, ...] = ()
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row per (metric, gain): the elasticity, S1, ST and their half-widths."""
+        e = self.elasticity.frame[["metric", "parameter", "elasticity"]]
+        s = self.sobol.frame[["metric", "parameter", "S1", "S1_conf", "ST", "ST_conf"]]
+        return e.merge(s, on=["metric", "parameter"], how="outer", sort=False)
+
+
+def gain_global_sensitivity(
+    scenarios: Sequence[Scenario] | None = None,
+    base: VFFGains | None = None,
+    *,
+    spread_pct: float = 50.0,
+    samples: int = 128,
+    seed: int = 0,
+    relative_step: float = 0.02,
+    stabilising: str = "off",
+    arrival_tolerance: float = 0.15,
+) -> GainGlobalSensitivity:
+    """Elasticities at ``base`` and Sobol indices over a box around it, of H and the safety margin.
+
+    Complements the one-at-a-time tables of :func:`gain_sensitivity` (Zeng 2011, App. C.3,
+    which vary one gain at a time) with the variance-based view a controls engineer uses
+    to see which gains matter when all move together: which gain drives H_mean, H per
+    configuration and the smallest margin to a critical region (``critical_margin_min_m``,
+    m: the smallest centre/contour distance minus r3 over all obstacles and configurations).
+
+    Parameters
+    ----------
+    scenarios
+        Default: Configurations 1, 2 and 3 of Ch. 6.
+    base
+        Centre of the box; default the thesis's optimum (Table C.1).
+    spread_pct
+        Each gain varies uniformly within ``base * (1 -+ spread_pct/100)``, in (0, 100).
+    samples
+        Base sample size N of the Saltelli sample, a power of two >= 8 (``6 N`` gain
+        sets, simulated as one batch).
+    seed
+        Seed of the sample and of the bootstrap confidence intervals.
+    relative_step
+        Relative step of the central differences of the elasticities, in (0, 0.5]. The
+        simulated metrics are piecewise smooth (first passage, minima), so keep it well
+        above the simulator's resolution.
+    stabilising
+        ``"off"`` (default) or ``"lyapunov"``.
+    arrival_tolerance
+        Arrival radius (m).
+
+    Returns
+    -------
+    GainGlobalSensitivity
+
+    Examples
+    --------
+    >>> import designlab as dl
+    >>> nav = dl.navigation
+    >>> g = nav.gain_global_sensitivity([nav.configuration(1)], samples=8)
+    >>> g.sobol.ranked("H_mean")["parameter"].tolist()[0] in ("k1", "b", "k3", "k5")
+    True
+    >>> sorted(g.to_frame().columns)[:3]
+    ['ST', 'ST_conf', 'S1']
+    """
+    sc = [configuration(i) for i in (1, 2, 3)] if scenarios is None else list(scenarios)
+    if not sc or not all(isinstance(s, Scenario) for s in sc):
+        raise InvalidParameterError(
+            "scenarios", scenarios, "must be a non-empty sequence of Scenario"
+        )
+    b0 = VFFGains(4.3, 0.68, 20.3, 240.7) if base is None else base
+    if not isinstance(b0, VFFGains):
+        raise InvalidParameterError("base", base, "must be a VFFGains")
+    if stabilising not in ("off", "lyapunov"):
+        raise InvalidParameterError("stabilising", stabilising, "must be 'off' or 'lyapunov'")
+    if isinstance(spread_pct, bool) or not (
+        isinstance(spread_pct, int | float) and 0 < spread_pct < 100
+    ):
+        raise InvalidParameterError("spread_pct", spread_pct, "must be in (0, 100)", "%")
+    if (
+        isinstance(samples, bool)
+        or not isinstance(samples, int | np.integer)
+        or samples < 8
+        or samples & (samples - 1)
+    ):
+        raise InvalidParameterError("samples", samples, "must be a power of two >= 8")
+    if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
+        raise InvalidParameterError("seed", seed, "must be an integer >= 0")
+    if isinstance(relative_step, bool) or not (
+        isinstance(relative_step, int | float) and 0 < relative_step <= 0.5
+    ):
+        raise InvalidParameterError("relative_step", relative_step, "must be in (0, 0.5]")
+    inner = _metric_factory(sc, stabilising, arrival_tolerance)
+    has_obstacles = any(s.obstacles for s in sc)
+
+    def metric(points: dict[str, Array]) -> dict[str, Array]:
+        out = inner(points)
+        keep = {k: v for k, v in out.items() if k == "H_mean" or k.endswith(" H")}
+        if has_obstacles:
+            keep["critical_margin_min_m"] = out["critical_margin_min_m"]
+        arrived = np.ones_like(out["H_mean"], dtype=bool)
+        for s in sc:
+            arrived &= np.isfinite(out[f"{s.name} T_arrive_s"])
+        keep["_feasible"] = (arrived & (out["critical_margin_min_m"] > 0)).astype(float)
+        return keep
+
+    base_pt = dict(zip(_GAINS, b0.as_array().tolist(), strict=True))
+    f = spread_pct / 100
+    box = {k: (v * (1 - f), v * (1 + f)) for k, v in base_pt.items()}
+    feasible: list[float] = []
+
+    def sobol_metric(points: dict[str, Array]) -> dict[str, Array]:
+        out = metric(points)
+        feasible.extend(out.pop("_feasible").tolist())
+        return out
+
+    def local_metric(points: dict[str, Array]) -> dict[str, Array]:
+        out = metric(points)
+        out.pop("_feasible")
+        return out
+
+    el = elasticities(
+        local_metric, base_pt, list(_GAINS), relative_step=float(relative_step),
+        descriptions=_DESCRIPTIONS,
+    )  # fmt: skip
+    sob = sobol_indices(
+        sobol_metric, base_pt, box, int(samples), seed=int(seed), descriptions=_DESCRIPTIONS
+    )
+    share = 1.0 - float(np.mean(feasible))
+    warnings = []
+    if share > 0:
+        warnings.append(
+            f"{100 * share:.1f} % of the Sobol sample does not arrive or enters a critical region "
+            "in some configuration; their H still enters the indices"
+        )
+    bad = sob.frame[sob.frame["ST"].isna()]["metric"].unique().tolist()
+    if bad:
+        warnings.append(f"no Sobol indices for {bad} (non-finite or constant over the box)")
+    return GainGlobalSensitivity(
+        b0,
+        stabilising,
+        tuple(s.name for s in sc),
+        float(spread_pct),
+        int(samples),
+        el,
+        sob,
+        share,
         warnings=tuple(warnings),
     )

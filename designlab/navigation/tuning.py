@@ -195,6 +195,8 @@ class _Evaluation:
     violation: Array  # (P,) >= 0, 0 iff feasible
     arrived: NDArray[np.bool_]  # (S, P) all walks arrived
     safe: NDArray[np.bool_]  # (S, P) no walk entered a critical region
+    T: Array  # (S, P) arrival time, s (mean over the walks; inf if one did not arrive)
+    margin: Array  # (S, P) smallest distance minus r3 over obstacles and walks, m
 
 
 def _batch_task(task: Mapping[str, Any]) -> dict[str, Array]:
@@ -274,22 +276,30 @@ class _Evaluator:
         arrived_run = np.isfinite(raw["arrival_time"])  # (R, P)
         safe_run = ~raw["entered_critical"]
         depth = np.zeros(raw["H"].shape)
+        margin_run = np.full(raw["H"].shape, math.inf)
         for r, r3 in enumerate(self.r3):
             if r3.size:
                 d = raw["min_distance"][r, :, : r3.size]
                 depth[r] = (np.maximum(r3[None, :] - d, 0.0) / r3[None, :]).sum(axis=1)
+                margin_run[r] = (d - r3[None, :]).min(axis=1)
         S = len(self.groups)
         H = np.zeros((S, P))
         arrived = np.zeros((S, P), bool)
         safe = np.zeros((S, P), bool)
+        T = np.zeros((S, P))
+        margin = np.zeros((S, P))
         for s in range(S):
             m = self.owner == s
+            T[s] = raw["arrival_time"][m].mean(axis=0)
+            margin[s] = margin_run[m].min(axis=0)
             H[s] = raw["H"][m].min(axis=0) if self.mode == "worst" else raw["H"][m].mean(axis=0)
             arrived[s] = arrived_run[m].all(axis=0)
             safe[s] = safe_run[m].all(axis=0)
         violation = (~arrived_run).sum(axis=0) + (~safe_run).sum(axis=0) + depth.sum(axis=0)
         feasible = arrived.all(axis=0) & safe.all(axis=0)
-        return _Evaluation(H.mean(axis=0), H, feasible, violation.astype(float), arrived, safe)
+        return _Evaluation(
+            H.mean(axis=0), H, feasible, violation.astype(float), arrived, safe, T, margin
+        )
 
 
 def evaluate_gains(
@@ -316,7 +326,11 @@ def evaluate_gains(
     -------
     pandas.DataFrame
         One row per gain set: ``k1``, ``b``, ``k3``, ``k5``, ``H_<scenario>``,
-        ``H_mean``, ``feasible``, ``arrived_all``, ``critical_free``.
+        ``H_mean``, ``feasible``, ``arrived_all``, ``critical_free``, then per scenario
+        ``T_arrive_s_<scenario>`` (s; the mean over the walks in robust mode, inf if a
+        run did not arrive) and ``critical_margin_m_<scenario>`` (the smallest
+        centre/contour distance minus the obstacle's r3 over obstacles and walks, m;
+        negative: the robot entered a critical region; inf without obstacles).
 
     Examples
     --------
@@ -343,6 +357,10 @@ def evaluate_gains(
     frame["feasible"] = e.feasible
     frame["arrived_all"] = e.arrived.all(axis=0)
     frame["critical_free"] = e.safe.all(axis=0)
+    for s, sc in enumerate(scenarios):
+        frame[f"T_arrive_s_{sc.name}"] = e.T[s]
+    for s, sc in enumerate(scenarios):
+        frame[f"critical_margin_m_{sc.name}"] = e.margin[s]
     return frame
 
 

@@ -33,42 +33,45 @@ _COLOURS = {"off": "tab:blue", "lyapunov": "tab:red", "robust": "tab:green"}
 
 
 def convergence_figure(result: VffGainsResult) -> Figure:
-    """Best feasible H_mean against evaluations, per optimisation, with the references."""
-    fig, ax = plt.subplots(figsize=(7.5, 4.6))
+    """Best feasible H_mean against evaluations, one panel per stabilising mode, with references."""
     comp = result.comparison
-    for mode, opt in result.optima.items():
-        h = opt.history
-        c = _COLOURS.get(mode, "k")
-        label = mode if mode != "robust" else f"robust ({opt.robust_mode}, {opt.walks} walks)"
-        ax.plot(
-            h["evaluations"],
-            h["best_H_mean"],
-            color=c,
-            lw=2,
-            label=f"designlab, stabilising {label}",
-        )
-        ref_mode = opt.stabilising
-        block = comp[
-            (comp["stabilising"] == ref_mode) & ((comp["robust"] != "") == (mode == "robust"))
-        ]
-        for lab, ls in (("thesis_optimum", "--"), ("experimental", ":")):
-            v = block.loc[block["gains"] == lab, "H_mean"]
-            if len(v):
-                ax.axhline(
-                    float(v.iloc[0]),
-                    color=c,
-                    ls=ls,
-                    lw=1,
-                    label=f"{lab.replace('_', ' ')} gains ({label})",
-                )
-        refine = h[h["phase"] == "refine"]
-        if len(refine):
-            ax.axvline(float(refine["evaluations"].iloc[0]), color=c, lw=0.6, alpha=0.4)
-    ax.set_xlabel("gain sets evaluated")
-    ax.set_ylabel("best feasible H_mean")
-    ax.set_title("CMA-ES then compass refinement (vertical line: start of refinement)")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=7, loc="lower right")
+    panels = list(dict.fromkeys(o.stabilising for o in result.optima.values()))
+    fig, axes = plt.subplots(
+        1, len(panels), figsize=(6.0 * len(panels), 4.6), squeeze=False, sharex=True
+    )
+    for ax, stab in zip(axes.ravel(), panels, strict=True):
+        for mode, opt in result.optima.items():
+            if opt.stabilising != stab:
+                continue
+            h = opt.history
+            c = _COLOURS.get(mode, "k")
+            robust = mode == "robust"
+            label = (
+                f"robust ({opt.robust_mode} over {opt.walks} walks)" if robust else "nominal walk"
+            )
+            ax.plot(h["evaluations"], h["best_H_mean"], color=c, lw=2, label=f"designlab, {label}")
+            block = comp[(comp["stabilising"] == stab) & ((comp["robust"] != "") == robust)]
+            for lab, ls in (("thesis_optimum", "--"), ("experimental", ":")):
+                v = block.loc[block["gains"] == lab, "H_mean"]
+                if len(v):
+                    ax.axhline(
+                        float(v.iloc[0]),
+                        color=c,
+                        ls=ls,
+                        lw=1,
+                        label=f"{lab.replace('_', ' ')} gains, {label}: {float(v.iloc[0]):.4f}",
+                    )
+            refine = h[h["phase"] == "refine"]
+            if len(refine):
+                ax.axvline(float(refine["evaluations"].iloc[0]), color=c, lw=0.6, alpha=0.4)
+        ax.set_xlabel("gain sets evaluated")
+        ax.set_ylabel("best feasible H_mean")
+        ax.set_title(f"stabilising force {stab}")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7, loc="lower right")
+    fig.suptitle(
+        "CMA-ES, then compass refinement (thin vertical line: start of the refinement)", fontsize=10
+    )
     fig.tight_layout()
     return fig
 
@@ -142,7 +145,8 @@ def trajectory_figure(result: VffGainsResult, mode: str) -> Figure:
                 res.position[:, 1],
                 color=colour,
                 lw=1.8,
-                label=f"{label.replace('_', ' ')} ({g['k1']:.3g}, {g['b']:.3g}, {g['k3']:.3g}, {g['k5']:.4g}): "
+                label=f"{label.replace('_', ' ')} "
+                f"({g['k1']:.3g}, {g['b']:.3g}, {g['k3']:.3g}, {g['k5']:.4g}): "
                 f"T = {res.arrival_time:.2f} s, H = {res.criteria.H:.3f}",
             )
         ax.set_xlim(*lims[0])
@@ -192,25 +196,43 @@ def vff_gains_markdown(
         "",
         f"- maximise H_mean, the mean of H (5.6.6) over Ch. 6 Configurations {st.configurations}; "
         f"checked on {st.validation} (not optimised)",
-        f"- decision (K1, b, K3, K5) with K2 = b K1, K4 = b K3, K6 = b K5 (5.5.7); bounds K1 {b.k1} N/m, "
+        "- decision (K1, b, K3, K5) with K2 = b K1, K4 = b K3, K6 = b K5 (5.5.7); "
+        f"bounds K1 {b.k1} N/m, "
         f"b {b.b} s, K3 {b.k3} N/m, K5 {b.k5} N/m^2",
-        "- hard constraints: arrival (within 0.15 m of the goal, 30 s horizon) and no entry into any "
+        "- hard constraints: arrival (within 0.15 m of the goal, 30 s horizon) and no entry "
+        "into any "
         "critical region in every configuration; a violating candidate is infeasible (ranked below "
         "every feasible one), never scored",
-        f"- CMA-ES (population {st.popsize}, budget {st.max_evaluations} gain sets, seed {st.seed}), each "
+        f"- CMA-ES (population {st.popsize}, budget {st.max_evaluations} gain sets, "
+        f"seed {st.seed}), each "
         "generation simulated as one batch, then a batched compass search"
         + ("" if st.refine else " (off)"),
         "",
         "## Gains and H_mean",
         "",
     ]
-    show = comp.copy()
+    extra = [c for c in comp.columns if c.startswith(("T_arrive_s_", "critical_margin_m_"))]
+    main = comp[[c for c in comp.columns if c not in extra]]
     out += [
         markdown_table(
-            show.map(lambda v: _fmt(v, ".4g") if isinstance(v, float) else v), index=False
+            main.map(lambda v: _fmt(v, ".4g") if isinstance(v, float) else v), index=False
         ),
         "",
     ]
+    if extra:
+        key = ["gains", "stabilising", "robust"]
+        out += [
+            "Arrival times (s; mean over the walks in robust mode) and the smallest margin to a "
+            "critical region (m: centre/contour distance minus r3, over obstacles and walks):",
+            "",
+            markdown_table(
+                comp[key + extra]
+                .rename(columns=lambda c: c.replace("_ch6_config", " C"))
+                .map(lambda v: _fmt(v, ".3f") if isinstance(v, float) else v),
+                index=False,
+            ),
+            "",
+        ]
     for mode in st.modes:
         block = comp[(comp["stabilising"] == mode) & (comp["robust"] == "")].set_index("gains")
         if "designlab_optimum" not in block.index:
@@ -218,10 +240,22 @@ def vff_gains_markdown(
             continue
         ours = block.loc["designlab_optimum"]
         line = (
-            f"- stabilising **{mode}**: H_mean {ours['H_mean']:.4f} against {block.loc['experimental', 'H_mean']:.4f} "
+            f"- stabilising **{mode}**: H_mean {ours['H_mean']:.4f} against "
+            f"{block.loc['experimental', 'H_mean']:.4f} "
             f"(experimental gains, {ours['vs_experimental_pct']:+.1f} %) and "
-            f"{block.loc['thesis_optimum', 'H_mean']:.4f} (thesis optimum, {ours['vs_thesis_optimum_pct']:+.1f} %)."
+            f"{block.loc['thesis_optimum', 'H_mean']:.4f} "
+            f"(thesis optimum, {ours['vs_thesis_optimum_pct']:+.1f} %)."
         )
+        worse = [
+            lab.replace("_", " ")
+            for lab in ("experimental", "thesis_optimum")
+            if ours["H_mean"] < block.loc[lab, "H_mean"]
+        ]
+        if worse:
+            line += (
+                f" **Ours is below the {' and the '.join(worse)} gains: the search missed a better "
+                "point (raise max_evaluations or change the seed).**"
+            )
         for n in [c for c in block.columns if c.startswith("H_ch6_config")]:
             i = int(n.rsplit("config", 1)[1])
             if i in st.validation and i not in st.configurations:
@@ -238,17 +272,15 @@ def vff_gains_markdown(
                     )
                 ours_v = float(block.loc["designlab_optimum", n])
                 rel = ", ".join(
-                    f"{100 * (ours_v / float(block.loc[lab, n]) - 1):+.1f} % vs {lab.replace('_', ' ')}"
+                    f"{100 * (ours_v / float(block.loc[lab, n]) - 1):+.1f} % "
+                    f"vs {lab.replace('_', ' ')}"
                     for lab in block.index
                     if lab != "designlab_optimum"
                 )
-                line += (
-                    f" Configuration {i} (not optimised): {vals} (ours {rel}){safe}; "
-                    + (
-                        "the optimum generalises."
-                        if best == "designlab_optimum"
-                        else f"the best set there is the {best.replace('_', ' ')} one."
-                    )
+                line += f" Configuration {i} (not optimised): {vals} (ours {rel}){safe}; " + (
+                    "the optimum generalises."
+                    if best == "designlab_optimum"
+                    else f"the best set there is the {best.replace('_', ' ')} one."
                 )
         out.append(line)
     out += ["", "## Search effort", ""]
@@ -270,7 +302,8 @@ def vff_gains_markdown(
     out += [
         markdown_table(pd.DataFrame(eff), index=False),
         "",
-        "The thesis's grid search and fmincon took one week (App. C.2). Wall times are those of the run "
+        "The thesis's grid search and fmincon took one week (App. C.2). "
+        "Wall times are those of the run "
         "that produced this report (shared 2-core machine).",
         "",
         "![convergence](convergence.png)",
@@ -282,16 +315,19 @@ def vff_gains_markdown(
         out += [
             "## Sensitivity tables (Zeng 2011, App. C.3)",
             "",
-            "S_K = (1 - H_mean/H_opt)/(1 - K/K_opt) in %. Distances are centre distances (contour for the "
+            "S_K = (1 - H_mean/H_opt)/(1 - K/K_opt) in %. "
+            "Distances are centre distances (contour for the "
             "rectangle), L_energy is per ohm of winding resistance (the thesis's R_a is unknown). "
-            "-100 % rows: the gain at zero, classified from the run (no arrival, oscillation, critical "
+            "-100 % rows: the gain at zero, classified from the run "
+            "(no arrival, oscillation, critical "
             "region, collision). Long tables: sensitivity_<base>.csv.",
             "",
         ]
         for label, s in result.sensitivities.items():
             g = s.base
             out += [
-                f"### Around {label.replace('_', ' ')}: K1 = {g.k1:.4g}, b = {g.b:.4g}, K3 = {g.k3:.4g}, "
+                f"### Around {label.replace('_', ' ')}: K1 = {g.k1:.4g}, b = {g.b:.4g}, "
+                f"K3 = {g.k3:.4g}, "
                 f"K5 = {g.k5:.4g} (stabilising {s.stabilising})",
                 "",
                 markdown_table(
@@ -316,6 +352,8 @@ def vff_gains_markdown(
                     ),
                     "",
                 ]
+    out += _appendix_c_section(result)
+    out += _global_section(result)
     if result.warnings:
         out += ["## Warnings", ""] + [f"- {w}" for w in result.warnings] + [""]
     out += ["---", ""]
@@ -324,6 +362,97 @@ def vff_gains_markdown(
     out.append(f"designlab {version or ''}".rstrip())
     out.append("")
     return "\n".join(out)
+
+
+_QUANTITY = {
+    "T_arrive": "T_arrive (s)",
+    "d_s_min_cir": "d_min circle column (m)",
+    "d_s_min_h": "d_min human (m)",
+    "d_s_min_rect": "d_min rectangle column (m)",
+    "H": "H",
+    "H_mean": "H_mean",
+    "S_relative_sensitivity": "|S_K| (%)",
+}
+
+
+def _appendix_c_section(result: VffGainsResult) -> list[str]:
+    a = result.appendix_c
+    if a.empty:
+        return []
+    g = a.assign(abs_error=a["error"].abs()).groupby(["quantity", "configuration"], sort=False)
+    summ = pd.DataFrame(
+        {
+            "entries": g.size(),
+            "thesis range": g["thesis"].agg(lambda v: f"{v.min():.4g} - {v.max():.4g}"),
+            "designlab range": g["designlab"].agg(lambda v: f"{v.min():.4g} - {v.max():.4g}"),
+            "mean error": g["error"].mean(),
+            "max |error|": g["abs_error"].max(),
+        }
+    ).reset_index()
+    summ["quantity"] = summ["quantity"].map(lambda q: _QUANTITY.get(q, q))
+    out = [
+        "## Against the thesis's Appendix C (Tables C.2-C.9)",
+        "",
+        "Our sensitivity table around the thesis's optimum, stabilising force off, entry by entry "
+        "against Zeng 2011, Tables C.2-C.9 (-50 ... +100 %; error = designlab - thesis; "
+        "every entry "
+        "in appendix_c_comparison.csv). The thesis's Configuration 3 'cir'/'rect' columns are "
+        "matched swapped (its 'cir' values are the rectangle's, as its Table 6.4 shows). "
+        "Configuration 2 replays a synthetic human walk (the measured walk is not published), so "
+        "its distances, times and H are not expected to match; L_energy depends on the unknown "
+        "winding resistance and is left out. The thesis's H values are loosely consistent among "
+        "its own tables (baseline H_mean 0.665 here, H_opt 0.69 in Table C.1).",
+        "",
+        markdown_table(
+            summ.map(lambda v: _fmt(v, ".4f") if isinstance(v, float) else v), index=False
+        ),
+        "",
+    ]
+    if not result.appendix_c_outcomes.empty:
+        out += [
+            "The -100 % rows (a gain at zero):",
+            "",
+            markdown_table(result.appendix_c_outcomes, index=False),
+            "",
+        ]
+    return out
+
+
+def _global_section(result: VffGainsResult) -> list[str]:
+    if not result.global_sensitivities:
+        return []
+    out = [
+        "## Which gains matter when all move together",
+        "",
+        "Local elasticities d ln m / d ln K at the base (central differences of 2 %) and Sobol "
+        "indices (first order S1, total ST, with 95 % half-widths) with every gain uniform within "
+        "the box around the base, from the shared generators of designlab.analysis.sensitivity. "
+        "critical_margin_min_m is the smallest centre/contour distance minus r3 over all obstacles "
+        "and configurations (m). Long tables: global_sensitivity_<base>.csv.",
+        "",
+    ]
+    for label, gs in result.global_sensitivities.items():
+        f = gs.to_frame()
+        out += [
+            f"### Around {label.replace('_', ' ')} (stabilising {gs.stabilising}; box "
+            f"+-{gs.spread_pct:g} %, N = {gs.samples}, {6 * gs.samples} gain sets; "
+            f"{100 * gs.infeasible_share:.0f} % of them infeasible)",
+            "",
+        ]
+        for m in ("H_mean", "critical_margin_min_m"):
+            t = f[f["metric"] == m].drop(columns="metric")
+            if t.empty:
+                continue
+            t = t.iloc[np.argsort(-t["ST"].fillna(-1).to_numpy(), kind="stable")]
+            out += [
+                f"**{m}**",
+                "",
+                markdown_table(
+                    t.map(lambda v: _fmt(v, ".3f") if isinstance(v, float) else v), index=False
+                ),
+                "",
+            ]
+    return out
 
 
 @register_writer(VffGainsResult)
@@ -352,6 +481,11 @@ def write_vff_gains_report(
         frame = s.to_frame()
         written.append(write_csv(frame, directory / f"sensitivity_{label}.csv"))
         written.append(write_csv(s.outcomes, directory / f"sensitivity_{label}_outcomes.csv"))
+    for label, gs in result.global_sensitivities.items():
+        written.append(write_csv(gs.to_frame(), directory / f"global_sensitivity_{label}.csv"))
+    if not result.appendix_c.empty:
+        written.append(write_csv(result.appendix_c, directory / "appendix_c_comparison.csv"))
+        written.append(write_csv(result.appendix_c_outcomes, directory / "appendix_c_outcomes.csv"))
     written.append(
         write_markdown(
             vff_gains_markdown(result, command=command, version=version), directory / "summary.md"

@@ -112,11 +112,13 @@ def test_failure_modes_at_minus_100(sens):
     # b = 0: no damping; with first-passage arrival (docs/navigation.md) the robot passes the goal
     # region but never comes to rest there: "fails to reach the goal" in the thesis's words
     assert all(o["b", n].startswith("oscillation") for n in names)
-    # K3 = 0: Configurations 1 and 3 fine, Configuration 2 fails (enters the human's critical region)
+    # K3 = 0: Configurations 1 and 3 fine, Configuration 2 fails (enters the human's
+    # critical region)
     assert o["k3", "ch6_config1"] == o["k3", "ch6_config3"] == "arrives"
     assert o["k3", "ch6_config2"] in ("critical region", "collision")
     # K5 = 0: fails to avoid the human in Configuration 2. (The thesis also reports no arrival in
-    # Configurations 1 and 3; our Config 1 circle is off the line by 5 mm and the robot gets past it.)
+    # Configurations 1 and 3; our Config 1 circle is off the line by 5 mm and the robot gets
+    # past it.)
     assert o["k5", "ch6_config2"] == "collision"
     assert sens.value("H_mean", "k5", -100) < 0.9 * sens.value("H_mean", "k5", 0)
 

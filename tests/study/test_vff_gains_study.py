@@ -62,7 +62,7 @@ def test_schema_errors(tmp_path: Path) -> None:
 
 
 def test_committed_report_matches_the_study() -> None:
-    """reports/vff_gains is the output of studies/vff_gains.yaml: ours at least as good as (a) and (b)."""
+    """reports/vff_gains comes from studies/vff_gains.yaml: ours at least as good as (a), (b)."""
     g = pd.read_csv(ROOT / "reports" / "vff_gains" / "gains.csv", keep_default_na=False)
     for mode in ("off", "lyapunov"):
         block = g[(g["stabilising"] == mode) & (g["robust"] == "")].set_index("gains")

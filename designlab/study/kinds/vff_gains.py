@@ -124,6 +124,14 @@ class VffGainsStudy(StudyBase):
         default_factory=lambda: [-100, -50, -20, -10, -5, -2, 2, 5, 10, 20, 50, 100],
         description="perturbations of the sensitivity tables, %",
     )
+    sobol_samples: Annotated[int, Field(ge=0, le=4096)] = Field(
+        128,
+        description="base sample N of the Sobol indices around each optimum (6 N gain sets; "
+        "0: no Sobol indices or elasticities)",
+    )
+    sobol_spread_pct: Annotated[float, Field(gt=0, lt=100, allow_inf_nan=False)] = Field(
+        50.0, description="half-width of the Sobol box, % of each gain"
+    )
 
     PRODUCES: ClassVar[tuple[str, ...]] = (
         "summary.md",
@@ -131,6 +139,8 @@ class VffGainsStudy(StudyBase):
         "history.csv",
         "convergence.png",
         "sensitivity_*.csv",
+        "global_sensitivity_*.csv",
+        "appendix_c_comparison.csv",
         "trajectories_*.png",
         "study.yaml",
     )
@@ -147,11 +157,17 @@ class VffGainsStudy(StudyBase):
             )
         if any(d == 0 for d in self.deltas_pct):
             raise ValueError("deltas_pct must not contain 0 (the base row is always there)")
+        n = self.sobol_samples
+        if n and (n < 8 or n & (n - 1)):
+            raise ValueError(f"sobol_samples = {n} must be 0 or a power of two >= 8")
         return self
 
     def size(self) -> str:
         runs = len(self.modes) * (1 + (self.robust is not None))
-        return f"{runs} optimisation(s) of up to {self.max_evaluations} gain sets x {len(self.configurations)} configs"
+        return (
+            f"{runs} optimisation(s) of up to {self.max_evaluations} gain sets x "
+            f"{len(self.configurations)} configs"
+        )
 
 
 @dataclass(frozen=True)
@@ -170,6 +186,15 @@ class VffGainsResult(Result):
         ``{label: GainSensitivity}`` (``thesis_optimum_off``, ``designlab_optimum_<mode>``).
     runs
         ``{(mode, gains label, configuration): NavigationResult}`` for the trajectory plots.
+    global_sensitivities
+        ``{label: GainGlobalSensitivity}``: elasticities and Sobol indices around the
+        same bases as ``sensitivities``.
+    appendix_c
+        Our table around the thesis's optimum (stabilising off) against Zeng 2011,
+        Tables C.2-C.9, entry by entry (empty unless the study optimises
+        Configurations 1-3 with sensitivity on).
+    appendix_c_outcomes
+        The -100 % rows: the thesis's words next to ours.
     """
 
     study: VffGainsStudy
@@ -177,6 +202,11 @@ class VffGainsResult(Result):
     comparison: pd.DataFrame
     sensitivities: dict[str, nav.GainSensitivity] = field(repr=False)
     runs: dict[tuple[str, str, int], nav.NavigationResult] = field(repr=False)
+    global_sensitivities: dict[str, nav.GainGlobalSensitivity] = field(
+        default_factory=dict, repr=False
+    )
+    appendix_c: pd.DataFrame = field(default_factory=pd.DataFrame, repr=False)
+    appendix_c_outcomes: pd.DataFrame = field(default_factory=pd.DataFrame, repr=False)
 
     @property
     def status(self) -> str:
@@ -188,6 +218,11 @@ class VffGainsResult(Result):
     def warnings(self) -> tuple[str, ...]:  # type: ignore[override]
         out = [f"{m}: {w}" for m, o in self.optima.items() for w in o.warnings]
         out += [f"sensitivity {k}: {w}" for k, s in self.sensitivities.items() for w in s.warnings]
+        out += [
+            f"global sensitivity {k}: {w}"
+            for k, s in self.global_sensitivities.items()
+            for w in s.warnings
+        ]
         return tuple(out)
 
     def to_frame(self) -> pd.DataFrame:
@@ -222,6 +257,10 @@ def _rows(
             for n in val_names:
                 r[f"H_{n}"] = float(f_val[f"H_{n}"].iloc[j])
             r["validation_feasible"] = bool(f_val["feasible"].iloc[j])
+        for frame, names in ((f_opt, opt_names), (f_val, val_names)):
+            for q in ("T_arrive_s", "critical_margin_m"):
+                for n in names if frame is not None else []:
+                    r[f"{q}_{n}"] = float(frame[f"{q}_{n}"].iloc[j])
         out.append(r)
     return out
 
@@ -321,6 +360,22 @@ def run(study: VffGainsStudy, context: RunContext) -> VffGainsResult:
                 sens[f"designlab_optimum_{mode}"] = nav.gain_sensitivity(
                     scen, opt.gains, deltas_pct=study.deltas_pct, stabilising=mode
                 )
+    glob: dict[str, nav.GainGlobalSensitivity] = {}
+    if study.sensitivity and study.sobol_samples:
+        for label, s in sens.items():
+            glob[label] = nav.gain_global_sensitivity(
+                scen,
+                s.base,
+                spread_pct=study.sobol_spread_pct,
+                samples=study.sobol_samples,
+                seed=study.seed,
+                stabilising=s.stabilising,
+            )
+    appc = pd.DataFrame()
+    appc_out = pd.DataFrame()
+    if "thesis_optimum_off" in sens and sorted(study.configurations) == [1, 2, 3]:
+        appc = sens["thesis_optimum_off"].compare_appendix_c()
+        appc_out = sens["thesis_optimum_off"].appendix_c_outcomes()
     runs: dict[tuple[str, str, int], nav.NavigationResult] = {}
     for mode in study.modes:
         opt = optima[mode]
@@ -330,7 +385,7 @@ def run(study: VffGainsStudy, context: RunContext) -> VffGainsResult:
         for i in sorted(set(study.configurations) | set(study.validation)):
             for label, g in sets:
                 runs[(mode, label, i)] = nav.simulate(nav.configuration(i), g, stabilising=mode)
-    return VffGainsResult(study, optima, comp, sens, runs)
+    return VffGainsResult(study, optima, comp, sens, runs, glob, appc, appc_out)
 
 
 KIND = StudyKind(
