@@ -164,3 +164,77 @@ def test_bad_input():
         nav.gain_sensitivity(stabilising="yes")
     with pytest.raises(InvalidParameterError):
         nav.gain_sensitivity(base=(4.3, 0.68, 20.3, 240.7))
+
+
+def test_packaged_appendix_c_is_the_tests_copy():
+    # designlab ships Tables C.2-C.9 for its reports; it must be the table the tests check
+    from designlab.navigation.sensitivity import appendix_c_reference
+
+    ref = appendix_c_reference()
+    mine = pd.read_csv(DATA, dtype={"configuration": str, "value": str})
+    pd.testing.assert_frame_equal(ref, mine)
+
+
+@pytest.mark.slow
+def test_compare_appendix_c_entries(sens, thesis):
+    cmp = sens.compare_appendix_c()
+    # each minimum-distance entry: error = ours - thesis, with the swapped Config 3 columns
+    d = cmp[cmp["quantity"].str.startswith("d_s_min")]
+    assert len(d) == len(thesis[thesis["delta_percent"] > -100])
+    for r in thesis[thesis["delta_percent"] > -100].itertuples():
+        row = d[
+            (d["parameter"] == GAIN[r.varied_gain])
+            & (d["delta_pct"] == r.delta_percent)
+            & (d["configuration"] == str(r.configuration))
+            & (d["quantity"] == r.quantity)
+        ]
+        ours = sens.value(
+            COLUMN[(r.configuration, r.quantity)], GAIN[r.varied_gain], r.delta_percent
+        )
+        assert len(row) == 1
+        assert row["error"].iloc[0] == pytest.approx(ours - r.value, abs=1e-12)
+    # the -100 % rows: the thesis's words next to ours, one row per gain
+    out = sens.appendix_c_outcomes()
+    assert sorted(out["parameter"]) == ["b", "k1", "k3", "k5"]
+    assert "fail to reach the goal" in out.set_index("parameter").loc["k1", "thesis"]
+    # absolute L_energy depends on the unknown winding resistance: never compared
+    assert "L_energy" not in set(cmp["quantity"])
+
+
+def test_global_sensitivity_uses_the_shared_generators():
+    sc = [nav.configuration(1)]
+    g = nav.gain_global_sensitivity(sc, samples=8, relative_step=0.05)
+    check_result(g)
+    # elasticity of H_mean to K1: central difference written out with the batch simulator
+    base = np.array([4.3, 0.68, 20.3, 240.7])
+    up, down = base.copy(), base.copy()
+    up[0] *= 1.05
+    down[0] *= 0.95
+    h = nav.simulate_batch(sc, np.vstack([base, up, down]), stabilising="off").H_mean
+    e = g.elasticity.frame.set_index(["metric", "parameter"])["elasticity"]
+    assert e["H_mean", "k1"] == pytest.approx((h[1] - h[2]) / (0.1 * h[0]), rel=1e-9)
+    s = g.sobol.frame
+    assert set(s["metric"]) == {"ch6_config1 H", "H_mean", "critical_margin_min_m"}
+    assert len(s) == 3 * 4 and 0.0 <= g.infeasible_share <= 1.0
+    f = g.to_frame()
+    assert {"elasticity", "S1", "ST"} <= set(f.columns) and len(f) == 12
+
+
+@pytest.mark.parametrize(
+    "kw",
+    [
+        dict(spread_pct=0.0),
+        dict(spread_pct=100.0),
+        dict(samples=12),
+        dict(samples=4),
+        dict(samples=True),
+        dict(relative_step=0.0),
+        dict(seed=-1),
+        dict(stabilising="on"),
+        dict(base=(4.3, 0.68, 20.3, 240.7)),
+        dict(scenarios=[]),
+    ],
+)
+def test_global_sensitivity_bad_input(kw):
+    with pytest.raises(InvalidParameterError):
+        nav.gain_global_sensitivity(**kw)

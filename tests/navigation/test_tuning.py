@@ -137,3 +137,22 @@ def test_bad_scenarios():
         nav.optimise_gains([])
     with pytest.raises(InvalidParameterError):
         nav.optimise_gains([nav.configuration(1), nav.configuration(1)])
+
+
+def test_arrival_times_and_margins_match_single_runs():
+    # T_arrive and the margin to the critical region, written out from single simulate() runs
+    sc = [nav.configuration(1), nav.configuration(3)]
+    gains = [THESIS, nav.VFFGains(3.0, 0.25, 20.0, 17.0)]
+    f = nav.evaluate_gains(sc, gains, stabilising="off")
+    for j, g in enumerate(gains):
+        for s in sc:
+            run = nav.simulate(s, g, stabilising="off")
+            assert f[f"T_arrive_s_{s.name}"][j] == pytest.approx(run.arrival_time, abs=1e-9)
+            margin = min(run.min_distance[o.name] - o.r3 for o in s.obstacles)
+            assert f[f"critical_margin_m_{s.name}"][j] == pytest.approx(margin, abs=1e-9)
+            assert (margin > 0) == (not run.entered_critical)
+
+
+def test_margin_is_negative_when_the_critical_region_is_entered():
+    f = nav.evaluate_gains([nav.configuration(2)], [[4.3, 0.68, 1e-6, 240.7]], stabilising="off")
+    assert not f["critical_free"][0] and f["critical_margin_m_ch6_config2"][0] < 0

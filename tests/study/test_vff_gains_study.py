@@ -71,3 +71,12 @@ def test_committed_report_matches_the_study() -> None:
         assert block.loc["designlab_optimum", "H_mean"] >= block.loc["thesis_optimum", "H_mean"]
     study = load_study(ROOT / "studies" / "vff_gains.yaml")
     assert study.kind == "vff_gains" and study.name == "vff_gains"
+
+
+def test_sobol_samples_must_be_a_power_of_two(tmp_path: Path) -> None:
+    f = tmp_path / "bad.yaml"
+    f.write_text(TINY + "sobol_samples: 12\n")
+    with pytest.raises(StudyError, match="sobol_samples"):
+        load_study(f)
+    f.write_text(TINY + "sobol_samples: 0\n")
+    assert load_study(f).sobol_samples == 0
