@@ -20,7 +20,13 @@ from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError, check_positive
 from designlab.navigation.dynamics import build_hold, state_size
-from designlab.navigation.field import ObstacleGeometry, build_cbf_rows, build_distance, build_field
+from designlab.navigation.field import (
+    _EPS,
+    ObstacleGeometry,
+    build_cbf_rows,
+    build_distance,
+    build_field,
+)
 from designlab.navigation.parameters import HolonomicRobot, NonholonomicRobot
 from designlab.navigation.scenarios import Scenario
 
@@ -53,6 +59,9 @@ def _field_velocity(robot: HolonomicRobot | NonholonomicRobot, x0: ca.SX) -> ca.
     return ca.vertcat(x0[0], x0[1], x0[3] * ca.cos(x0[2]), x0[3] * ca.sin(x0[2]))
 
 
+_EPS2 = _EPS**2  # the eps**2 of the field's norm, so lean minima equal the recorded ones
+# common subexpressions are evaluated once (exact: the same operation on the same operands)
+_CSE = {"cse": True}
 _LEAN_OUT = ("Xend", "critical", "Dmin", "Esum", "count", "hit")
 _SHARED = [1, 2, 4, 5, 6, 7]  # inputs common to a batch: goal, obs, params, osub, fforce, tol
 
@@ -89,7 +98,7 @@ def build_step(
     F = ca.if_else(fforce[0], fforce[1:3], out["F"])
     ho = hold(x0=x0, F=F, brake=out["critical"])
     X = ho["X"]
-    if n:
+    if n and not lean:
         D = ca.horzcat(*[dist(X[0:2, k], osub[:, k]) for k in range(n_sub)])
     else:
         D = ca.SX(0, n_sub)
@@ -103,8 +112,15 @@ def build_step(
             + [out[k] for k in _STEP_OUT[4:14]]
             + [dmin, ca.mmin(gd), ca.sum2(ho["power"])]
         )
-        return ca.Function(f"step_{method}_{robot.kind}_{n}", ins, outs, names_in, list(_STEP_OUT))
-    # steps up to and including the first passage: before_j = 1 until the goal has been hit
+        return ca.Function(
+            f"step_{method}_{robot.kind}_{n}", ins, outs, names_in, list(_STEP_OUT), _CSE
+        )
+    # steps up to and including the first passage: before_j = 1 until the goal has been hit.
+    # Minima are taken on the squared distances and rooted once (bit-identical to the
+    # minimum of the roots, the root being monotone), which saves a root per obstacle-step.
+    dist2 = build_distance(geometries, squared=True)
+    if n:
+        D2 = ca.horzcat(*[dist2(X[0:2, k], osub[:, k]) for k in range(n_sub)])
     before = ca.SX(1)
     count = ca.SX(0)
     esum = ca.SX(0)
@@ -113,17 +129,19 @@ def build_step(
         count = count + before
         esum = esum + before * ho["power"][j]
         for i in range(n):
-            dmins[i] = ca.if_else(before, ca.fmin(dmins[i], D[i, j]), dmins[i])
+            dmins[i] = ca.if_else(before, ca.fmin(dmins[i], D2[i, j]), dmins[i])
         before = before * (gd[j] > tol)
     outs = [
         X[:, -1],
         out["critical"],
-        ca.vertcat(*dmins) if n else ca.SX(0, 1),
+        ca.vertcat(*[ca.sqrt(m + _EPS2) for m in dmins]) if n else ca.SX(0, 1),
         esum,
         count,
         1 - before,
     ]
-    return ca.Function(f"lean_{method}_{robot.kind}_{n}", ins, outs, names_in, list(_LEAN_OUT))
+    return ca.Function(
+        f"lean_{method}_{robot.kind}_{n}", ins, outs, names_in, list(_LEAN_OUT), _CSE
+    )
 
 
 @lru_cache(maxsize=64)
@@ -168,6 +186,7 @@ def _jit_step(
         f.name_in(),
         f.name_out(),
         {
+            **_CSE,
             "jit": True,
             "compiler": "shell",
             "jit_name": "step",

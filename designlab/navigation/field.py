@@ -362,16 +362,21 @@ def build_field(geometries: tuple[ObstacleGeometry, ...], method: str = "vff") -
 
 
 @lru_cache(maxsize=64)
-def build_distance(geometries: tuple[ObstacleGeometry, ...]) -> ca.Function:
+def build_distance(
+    geometries: tuple[ObstacleGeometry, ...], squared: bool = False
+) -> ca.Function:
     """Distances from robot positions to each obstacle (centre or contour distance).
 
     Inputs ``p`` (2) and ``obs_p`` (2 per obstacle: position or centre); output
-    ``d`` (one per obstacle).
+    ``d`` (one per obstacle). With ``squared=True`` the output is the argument of the
+    square root, ``d**2 - eps**2``: minima over many steps are taken on it and the root
+    is drawn once (the root is monotone, so the minimum is the same to the last bit).
     """
     p = ca.SX.sym("p", 2)
     n = len(geometries)
     op = ca.SX.sym("obs_p", 2 * n)
-    d = [_norm(p - _reference_point(g, p, op[2 * i : 2 * i + 2])) for i, g in enumerate(geometries)]
+    rel = [p - _reference_point(g, p, op[2 * i : 2 * i + 2]) for i, g in enumerate(geometries)]
+    d = [ca.sumsqr(r) if squared else _norm(r) for r in rel]
     return ca.Function(
         "distance", [p, op], [ca.vertcat(*d) if n else ca.SX(0, 1)], ["p", "obs_p"], ["d"]
     )
