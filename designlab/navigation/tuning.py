@@ -488,6 +488,26 @@ class GainOptimum(Result):
     status: str = OK
     warnings: tuple[str, ...] = ()
 
+    def on_bounds(self, tolerance: float = 1e-3) -> dict[str, str]:
+        """Gains of the optimum that lie on a bound of the box: ``{gain: "low" | "high"}``.
+
+        Parameters
+        ----------
+        tolerance
+            Distance to the bound in normalised log-gain units (the box is [0, 1]^4).
+        """
+        if self.gains is None:
+            return {}
+        out = {}
+        for n in GAIN_NAMES:
+            lo, hi = self.bounds[n]
+            u = (math.log(getattr(self.gains, n)) - math.log(lo)) / (math.log(hi) - math.log(lo))
+            if u < tolerance:
+                out[n] = "low"
+            elif u > 1 - tolerance:
+                out[n] = "high"
+        return out
+
     def to_frame(self) -> pd.DataFrame:
         """One row: the gains, H per scenario, H_mean and the search effort."""
         row: dict[str, Any] = {"stabilising": self.stabilising}

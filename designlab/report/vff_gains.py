@@ -19,7 +19,7 @@ from matplotlib.patches import Rectangle as RectPatch
 from designlab.navigation import Disc, NavigationResult
 from designlab.report import register_writer
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
-from designlab.study.kinds.vff_gains import VffGainsResult
+from designlab.study.kinds.vff_gains import WIDER, VffGainsResult
 
 __all__ = [
     "convergence_figure",
@@ -29,7 +29,20 @@ __all__ = [
 ]
 
 WEEK_S = 7 * 24 * 3600.0
-_COLOURS = {"off": "tab:blue", "lyapunov": "tab:red", "robust": "tab:green"}
+_COLOURS = {"off": "tab:blue", "lyapunov": "tab:red", "robust": "tab:green", "wider": "tab:purple"}
+
+
+def _box_change(result: VffGainsResult, key: str) -> str:
+    """' (K5 <= 5000)': the bounds the bound check moved, against the study's box."""
+    o = result.optima[key]
+    box = result.study.bounds.as_dict()
+    parts = []
+    for n, (lo, hi) in o.bounds.items():
+        if lo < box[n][0]:
+            parts.append(f"{n.upper() if n != 'b' else n} >= {lo:.4g}")
+        if hi > box[n][1]:
+            parts.append(f"{n.upper() if n != 'b' else n} <= {hi:.4g}")
+    return f" ({', '.join(parts)})" if parts else ""
 
 
 def convergence_figure(result: VffGainsResult) -> Figure:
@@ -44,14 +57,19 @@ def convergence_figure(result: VffGainsResult) -> Figure:
             if opt.stabilising != stab:
                 continue
             h = opt.history
-            c = _COLOURS.get(mode, "k")
+            wider = mode.endswith(WIDER)
+            c = _COLOURS.get("wider" if wider else mode, "k")
             robust = mode == "robust"
             label = (
-                f"robust ({opt.robust_mode} over {opt.walks} walks)" if robust else "nominal walk"
+                f"robust ({opt.robust_mode} over {opt.walks} walks)"
+                if robust
+                else "wider box" + _box_change(result, mode)
+                if wider
+                else "nominal walk"
             )
             ax.plot(h["evaluations"], h["best_H_mean"], color=c, lw=2, label=f"designlab, {label}")
             block = comp[(comp["stabilising"] == stab) & ((comp["robust"] != "") == robust)]
-            for lab, ls in (("thesis_optimum", "--"), ("experimental", ":")):
+            for lab, ls in () if wider else (("thesis_optimum", "--"), ("experimental", ":")):
                 v = block.loc[block["gains"] == lab, "H_mean"]
                 if len(v):
                     ax.axhline(
@@ -282,13 +300,25 @@ def vff_gains_markdown(
                     if best == "designlab_optimum"
                     else f"the best set there is the {best.replace('_', ' ')} one."
                 )
+        if "designlab_optimum_wider_box" in block.index:
+            w = block.loc["designlab_optimum_wider_box"]
+            d = 100 * (w["H_mean"] / ours["H_mean"] - 1)
+            line += (
+                " Bound check: ours lies on the bound of "
+                f"{sorted(result.optima[mode].on_bounds())}; "
+                f"optimised again in a wider box{_box_change(result, mode + WIDER)}: "
+                f"K1 = {w['k1']:.3g}, b = {w['b']:.3g}, K3 = {w['k3']:.3g}, K5 = {w['k5']:.4g}, "
+                f"H_mean {w['H_mean']:.4f} ({d:+.2f} % against the optimum in the study's box)."
+            )
         out.append(line)
     out += ["", "## Search effort", ""]
     eff = []
     for mode, o in result.optima.items():
         eff.append(
             {
-                "optimisation": mode
+                "optimisation": f"{o.stabilising}, wider box{_box_change(result, mode)}"
+                if mode.endswith(WIDER)
+                else mode
                 if mode != "robust"
                 else f"robust ({o.robust_mode}, {o.walks} walks, stabilising {o.stabilising})",
                 "status": o.status,

@@ -156,3 +156,15 @@ def test_arrival_times_and_margins_match_single_runs():
 def test_margin_is_negative_when_the_critical_region_is_entered():
     f = nav.evaluate_gains([nav.configuration(2)], [[4.3, 0.68, 1e-6, 240.7]], stabilising="off")
     assert not f["critical_free"][0] and f["critical_margin_m_ch6_config2"][0] < 0
+
+
+def test_on_bounds_reads_the_box(tiny):
+    a, _ = tiny
+    g = a.gains
+    for n, side in a.on_bounds().items():
+        lo, hi = a.bounds[n]
+        assert math.isclose(getattr(g, n), lo if side == "low" else hi, rel_tol=0.01)
+    inside = [n for n in ("k1", "b", "k3", "k5") if n not in a.on_bounds()]
+    for n in inside:
+        lo, hi = a.bounds[n]
+        assert lo * 1.001 < getattr(g, n) < hi / 1.001

@@ -80,3 +80,22 @@ def test_sobol_samples_must_be_a_power_of_two(tmp_path: Path) -> None:
         load_study(f)
     f.write_text(TINY + "sobol_samples: 0\n")
     assert load_study(f).sobol_samples == 0
+
+
+@pytest.mark.slow
+def test_bound_check_adds_a_wider_box_row(tmp_path: Path) -> None:
+    # refined on Configuration 1 alone the optimum sits on the K3 and K5 bounds; the check
+    # moves them 10x out
+    text = TINY.replace("refine: false", "refine: true") + "bound_check: true\n"
+    text += "bounds: {k1: [1.5, 2.0]}\n"
+    result = run_study(parse_study(text))
+    hit = result.optima["off"].on_bounds()
+    assert hit, "this run's optimum lies on a bound"
+    wide = result.optima["off_wider_box"].bounds
+    for n, side in hit.items():
+        lo, hi = result.optima["off"].bounds[n]
+        assert wide[n] == ((lo / 10, hi) if side == "low" else (lo, hi * 10))
+    assert "designlab_optimum_wider_box" in list(result.comparison["gains"])
+    out = write_report(result, tmp_path, command="pytest", index=False)
+    md = (out / "summary.md").read_text()
+    assert "Bound check" in md and "wider box" in md
