@@ -15,8 +15,8 @@ Examples
 
 from __future__ import annotations
 
-from designlab import errors, impact, navigation
+from designlab import errors, following, impact, navigation
 from designlab._version import __version__
 
-__all__ = ["__version__", "errors", "impact", "navigation"]
+__all__ = ["__version__", "errors", "following", "impact", "navigation"]
 

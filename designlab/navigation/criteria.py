@@ -21,6 +21,7 @@ from dataclasses import dataclass
 
 import pandas as pd
 
+from designlab.errors import InvalidParameterError
 from designlab.results import OK, Result
 
 __all__ = ["Criteria", "criteria"]
@@ -97,8 +98,29 @@ def criteria(
     nominal_clearance
         d*_s,min per obstacle: r2 - rho_r - rho_o (discs) or r2 - rho_r (rectangles).
     weights
-        w1, w2, w3 (sum 1).
+        w1, w2, w3 (non-negative, sum 1).
+
+    Returns
+    -------
+    Criteria
+        H_T, H_D, H_E, H and the collision indicator k.
+
+    Examples
+    --------
+    >>> c = criteria(arrival_time=6.0, nominal_arrival_time=5.4, energy=2.0,
+    ...              nominal_energy=1.0, surface_clearance={"circle": 0.25},
+    ...              nominal_clearance={"circle": 0.5})
+    >>> round(c.H_T, 3), c.H_D, c.H_E, round(c.H, 3)
+    (0.9, 0.5, 0.5, 0.633)
     """
+    try:
+        w = tuple(float(x) for x in weights)
+    except (TypeError, ValueError):
+        w = ()
+    if len(w) != 3 or not all(math.isfinite(x) and x >= 0 for x in w) or abs(sum(w) - 1) > 1e-9:
+        raise InvalidParameterError(
+            "weights", weights, "must be three finite non-negative numbers summing to 1"
+        )
     warnings: list[str] = []
     h_t = 0.0 if not math.isfinite(arrival_time) else nominal_arrival_time / arrival_time
     if not math.isfinite(arrival_time):
@@ -115,7 +137,7 @@ def criteria(
     k = 0 if any(v <= 0.0 for v in surface_clearance.values()) else 1
     if k == 0:
         warnings.append("collision: k = 0, H = 0")
-    w1, w2, w3 = weights
+    w1, w2, w3 = w
     h = k * (w1 * h_t + w2 * h_d + w3 * h_e)
     return Criteria(
         h_t,

@@ -236,7 +236,10 @@ class RawRun:
 
 
 def obstacle_tracks(scenario: Scenario, times: Array) -> tuple[Array, Array, Array]:
-    """Positions, velocities, accelerations of every obstacle at ``times``: (n_obs, len(times), 2)."""
+    """Positions, velocities, accelerations of every obstacle at ``times``.
+
+    Each array has the shape (n_obs, len(times), 2).
+    """
     if not scenario.obstacles:
         z = np.zeros((0, times.size, 2))
         return z, z, z
@@ -276,7 +279,7 @@ def run(
             f"must divide the sample time {ts} s into whole steps",
             "s",
         )
-    n_sub = 1 if force_every_step else int(round(ratio))
+    n_sub = 1 if force_every_step else round(ratio)
     period = n_sub * dt
     gains = np.atleast_2d(np.asarray(gains, dtype=float))
     N = gains.shape[0]
@@ -289,9 +292,9 @@ def run(
     robot = scenario.robot
     lean = not record
     f = _Buffered(_compiled(geos, robot, method, n_sub, dt, N, jit, lean))
-    n_samples = int(math.ceil(scenario.horizon / period - 1e-9))
+    n_samples = math.ceil(scenario.horizon / period - 1e-9)
     nx = state_size(robot)
-    x_in, goal_in, obs_in, gains_in, params_in, osub_in, ff_in, tol_in = (
+    x_in, goal_in, obs_in, gains_in, params_in, _osub_in, ff_in, tol_in = (
         f.view_in(i) for i in range(8)
     )
     tol_in[:, 0] = tol
@@ -348,7 +351,7 @@ def run(
     x_flat = f.inp[0]
     o_x_flat = f.out[0] if lean else None
     x_in[:, :] = X
-    chunk = max(1, int(round(2.0 / period)))  # obstacle tracks are computed 2 s at a time
+    chunk = max(1, round(2.0 / period))  # obstacle tracks are computed 2 s at a time
     P_all: list[Array] = []
     for k in range(n_samples):
         kc = k % chunk

@@ -29,7 +29,8 @@ Examples
 >>> f = build_field(tuple(ObstacleGeometry.of(o) for o in sc.obstacles))
 >>> x = np.array([3.0, 0.6, -0.5, 0.0])           # inside the circle's active region
 >>> obs = np.array([2.45, 0.595, 0, 0, 0, 0])
->>> out = f(x=x, goal=[0.0, 0.6], obs=obs, gains=[3.0, 0.25, 20.0, 17.0], params=[4.4, 1.0, 0.0, 10.0])
+>>> out = f(x=x, goal=[0.0, 0.6], obs=obs, gains=[3.0, 0.25, 20.0, 17.0],
+...         params=[4.4, 1.0, 0.0, 10.0])
 >>> np.round(np.array(out["F"]).ravel(), 2)        # stabilising force off
 array([6.62, 3.46])
 """
@@ -222,9 +223,10 @@ def build_field(geometries: tuple[ObstacleGeometry, ...], method: str = "vff") -
         Inputs ``x`` (p_x, p_y, v_x, v_y), ``goal`` (2), ``obs`` (6 per obstacle:
         position or rectangle centre, velocity, acceleration), ``gains`` (k1, b, k3,
         k5; for Masoud k1, -, k3, k5), ``params`` (mass m, tie side +1/-1,
-        stabilising 1/0, acceleration limit a_mr used by Ge & Cui's (2.2.12)). Outputs ``F`` (2, the virtual force before the robot's
-        limits), ``critical`` (1 if the robot is in any critical region), ``V``,
-        ``Vdot0`` (dV/dt without F_L), ``Omega``, ``vL2`` (|v_L|^2), ``FL`` (2), ``g`` (dV/dV_mr, 2),
+        stabilising 1/0, acceleration limit a_mr used by Ge & Cui's (2.2.12)). Outputs
+        ``F`` (2, the virtual force before the robot's limits), ``critical`` (1 if the
+        robot is in any critical region), ``V``, ``Vdot0`` (dV/dt without F_L),
+        ``Omega``, ``vL2`` (|v_L|^2), ``FL`` (2), ``g`` (dV/dV_mr, 2),
         ``active`` (one flag per obstacle), ``d`` (distances), ``sigma`` (detour sides).
     """
     if method not in METHODS:
@@ -362,9 +364,7 @@ def build_field(geometries: tuple[ObstacleGeometry, ...], method: str = "vff") -
 
 
 @lru_cache(maxsize=64)
-def build_distance(
-    geometries: tuple[ObstacleGeometry, ...], squared: bool = False
-) -> ca.Function:
+def build_distance(geometries: tuple[ObstacleGeometry, ...], squared: bool = False) -> ca.Function:
     """Distances from robot positions to each obstacle (centre or contour distance).
 
     Inputs ``p`` (2) and ``obs_p`` (2 per obstacle: position or centre); output

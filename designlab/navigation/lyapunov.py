@@ -26,7 +26,7 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -94,11 +94,44 @@ def omega_closed_form(
     Phi'' = (a_o - a_mr)^T u_psi / d (B.2.4-B.2.5), with M_r = m:
 
     Omega = -K1 E'^T (K3 Lambda u_Lambda + K5 psi u_psi)
-            - K3 Lambda'* (K1 E^T u_Lambda - m a_o^T u_Lambda) - K5 psi'* (K1 E^T u_psi - m a_o^T u_psi)
+            - K3 Lambda'* (K1 E^T u_Lambda - m a_o^T u_Lambda)
+            - K5 psi'* (K1 E^T u_psi - m a_o^T u_psi)
             - 2 K3^2 (r2-d) d' Lambda/(d-r3) - 2 K5^2 (r2-d)^3 d' Phi^2
             + m K3 K'_Lambda d'^2 / 2 + m K5 (r2-d)^2 d' Phi'^2 / 2 - m K5 d (r2-d) d' Phi'^2.
 
     The terms are those of ``docs/navigation.md`` (Stability); all arguments SI.
+
+    Parameters
+    ----------
+    E, Edot
+        Robot-to-goal vector E = P_g - P_r (m) and its rate (m/s).
+    d, d_rate
+        Obstacle-to-robot distance (m) and its rate (m/s).
+    phi, phi_rate
+        Detour angle Phi in the chosen direction (rad, in [0, 2 pi)) and its rate (rad/s).
+    u, u_psi
+        Unit vectors u_Lambda (away from the obstacle) and u_psi (detour direction).
+    a_o
+        Obstacle acceleration, m/s^2.
+    r2, r3
+        Active and critical radii, m (r3 < d < r2).
+    k1, k3, k5
+        Attractive, repulsive and detour gains.
+    m
+        Robot mass M_r = m_mr, kg.
+
+    Returns
+    -------
+    float
+        Omega in W (J/s), the residual of dV2/dt = -b |v_L|^2 - v_L^T F_L + Omega.
+
+    Examples
+    --------
+    >>> kw = dict(E=(-2.0, 0.0), Edot=(0.5, 0.0), d=1.5, d_rate=-0.5, phi=0.3, phi_rate=0.1,
+    ...           u=(1.0, 0.0), u_psi=(0.0, 1.0), r2=2.1, r3=0.8, k1=3.0, k3=20.0, k5=17.0,
+    ...           m=4.4)
+    >>> round(omega_closed_form(a_o=(0.0, 0.5), **kw), 3)
+    237.228
     """
     t = _terms(E, Edot, d, d_rate, phi, phi_rate, u, u_psi, r2, r3)
     a_o = np.asarray(a_o, dtype=float)
@@ -134,7 +167,42 @@ def omega_printed(
     k5: float,
     m: float,
 ) -> float:
-    """Omega as printed in Zeng 2011 (5.5.8), typos included (no M_r on a_o; -K5^2 (r2-d) d' Phi^2)."""
+    """Omega as printed in Zeng 2011 (5.5.8), typos included.
+
+    The print has no M_r on a_o and ends with -K5^2 (r2-d) d' Phi^2.
+
+    Parameters
+    ----------
+    E, Edot
+        Robot-to-goal vector E = P_g - P_r (m) and its rate (m/s).
+    d, d_rate
+        Obstacle-to-robot distance (m) and its rate (m/s).
+    phi, phi_rate
+        Detour angle Phi in the chosen direction (rad, in [0, 2 pi)) and its rate (rad/s).
+    u, u_psi
+        Unit vectors u_Lambda (away from the obstacle) and u_psi (detour direction).
+    a_o
+        Obstacle acceleration, m/s^2.
+    r2, r3
+        Active and critical radii, m (r3 < d < r2).
+    k1, k3, k5
+        Attractive, repulsive and detour gains.
+    m
+        Robot mass M_r = m_mr, kg.
+
+    Returns
+    -------
+    float
+        The printed expression's value (its units are inconsistent when a_o != 0).
+
+    Examples
+    --------
+    >>> kw = dict(E=(-2.0, 0.0), Edot=(0.5, 0.0), d=1.5, d_rate=-0.5, phi=0.3, phi_rate=0.1,
+    ...           u=(1.0, 0.0), u_psi=(0.0, 1.0), r2=2.1, r3=0.8, k1=3.0, k3=20.0, k5=17.0,
+    ...           m=4.4)
+    >>> round(omega_printed(a_o=(0.0, 0.5), **kw), 3)   # corrected form: 237.228
+    238.372
+    """
     t = _terms(E, Edot, d, d_rate, phi, phi_rate, u, u_psi, r2, r3)
     a_o = np.asarray(a_o, dtype=float)
     E, Edot, u, u_psi = t["E"], t["Edot"], t["u"], t["u_psi"]
@@ -182,13 +250,13 @@ class StabilityAudit(Result):
         ``"critical region"`` (braking), ``"detour switch"`` (u_psi changed side).
     """
 
-    t: NDArray[np.float64]
-    V: NDArray[np.float64]
-    bound: NDArray[np.float64]
-    vdot: NDArray[np.float64]
-    vdot_hold: NDArray[np.float64]
-    active: NDArray[np.bool_]
-    satisfied: NDArray[np.bool_]
+    t: NDArray[np.float64] = field(repr=False)
+    V: NDArray[np.float64] = field(repr=False)
+    bound: NDArray[np.float64] = field(repr=False)
+    vdot: NDArray[np.float64] = field(repr=False)
+    vdot_hold: NDArray[np.float64] = field(repr=False)
+    active: NDArray[np.bool_] = field(repr=False)
+    satisfied: NDArray[np.bool_] = field(repr=False)
     share_satisfied: float
     share_satisfied_hold: float
     intervals: tuple[tuple[str, float, float], ...]
@@ -196,7 +264,8 @@ class StabilityAudit(Result):
     warnings: tuple[str, ...] = ()
 
     def to_frame(self) -> pd.DataFrame:
-        """One row per sample: ``t_s``, ``V``, ``bound``, ``vdot``, ``vdot_hold``, ``active``, ``satisfied``."""
+        """One row per sample: ``t_s``, ``V``, ``bound``, ``vdot``, ``vdot_hold``, ``active``,
+        ``satisfied``."""
         return pd.DataFrame(
             {
                 "t_s": self.t,
@@ -222,7 +291,8 @@ def _intervals(
     starts = np.flatnonzero(np.diff(f) == 1)
     ends = np.flatnonzero(np.diff(f) == -1)
     for s, e in zip(starts, ends, strict=True):
-        out.append((reason, float(t[s]), float(t[e - 1] + period)))
+        # rounded to the nanosecond: the sample grid, without float noise (1.1400000000000001)
+        out.append((reason, round(float(t[s]), 9), round(float(t[e - 1] + period), 9)))
     return out
 
 
@@ -297,7 +367,8 @@ def audit_run(
     warnings: list[str] = []
     if not holonomic:
         warnings.append(
-            "nonholonomic robot: the tracking layer is outside the Lyapunov proof (Zeng 2011, Sec. 5.5)"
+            "nonholonomic robot: the tracking layer is outside the Lyapunov proof "
+            "(Zeng 2011, Sec. 5.5)"
         )
     return StabilityAudit(
         t,

@@ -190,6 +190,11 @@ class Human(_Params):
         Model radius rho_h in m (0.4 m: half the average step length).
     max_speed
         Maximum walking speed in m/s (1.0 m/s).
+
+    Examples
+    --------
+    >>> Human().radius, Human(max_speed=1.4).max_speed
+    (0.4, 1.4)
     """
 
     radius: float = 0.4
@@ -204,7 +209,18 @@ class Human(_Params):
 
 @dataclass(frozen=True)
 class CircularObstacle(_Params):
-    """A stationary disc obstacle (Zeng 2011, Sec. 5.3.4); radius rho_circular in m."""
+    """A stationary disc obstacle (Zeng 2011, Sec. 5.3.4).
+
+    Parameters
+    ----------
+    radius
+        Model radius rho_circular in m (0.1 m in the thesis).
+
+    Examples
+    --------
+    >>> CircularObstacle(radius=0.1).max_speed
+    0.0
+    """
 
     radius: float = 0.1
 
@@ -220,7 +236,20 @@ class CircularObstacle(_Params):
 
 @dataclass(frozen=True)
 class ObstacleRobot(_Params):
-    """Another mobile robot, a moving disc (Zeng 2011, Sec. 7.5.5)."""
+    """Another mobile robot, a moving disc (Zeng 2011, Sec. 7.5.5).
+
+    Parameters
+    ----------
+    radius
+        Model radius rho_mobile in m (0.2 m).
+    max_speed
+        Its maximum speed V_mob in m/s (0.5 m/s).
+
+    Examples
+    --------
+    >>> ObstacleRobot().max_speed
+    0.5
+    """
 
     radius: float = 0.2
     max_speed: float = 0.5
@@ -244,6 +273,11 @@ class RectangularObstacle(_Params):
         B, the perpendicular offset of the robot's approach line from the rectangle's
         centre line in m (Fig. 5.4). ``None`` means the worst case, B = B_len / 2. The
         thesis's experiments use B = B_wid / 2 (the robot approaches the short side).
+
+    Examples
+    --------
+    >>> RectangularObstacle(length=1.4, width=0.6, offset=0.3).offset
+    0.3
     """
 
     length: float = 1.4
@@ -372,8 +406,22 @@ OPTIMAL_GAINS = VFFGains(k1=4.3, b=0.68, k3=20.3, k5=240.7)
 class MasoudGains(_Params):
     """Gains of Masoud (2007) as used in Zeng 2011, Sec. 2.2.4 (Table C.1: 5, 24, 36).
 
-    ``direction`` is the fixed rotational sense of the detour field: +1 counter-clockwise,
-    -1 clockwise (the thesis does not state it).
+    Parameters
+    ----------
+    k1
+        Attractive gain K_MM1 in N/m (F_a = K_MM1 E, no damping).
+    k3
+        Repulsive gain K_MM3 in N/m (F_Lambda = K_MM3 D in the active region).
+    k5
+        Detour gain K_MM5 in N/m (F_psi = K_MM5 |D| u_MMpsi).
+    direction
+        The fixed rotational sense of the detour field: +1 counter-clockwise, -1
+        clockwise (the thesis does not state it).
+
+    Examples
+    --------
+    >>> MasoudGains(direction=-1).k3
+    24.0
     """
 
     k1: float = 5.0
@@ -390,7 +438,26 @@ class MasoudGains(_Params):
 
 @dataclass(frozen=True)
 class GeCuiGains(_Params):
-    """Gains of Ge & Cui (2002) as used in Zeng 2011, Sec. 2.2.4 (Table C.1: 1.0, 0.75, 14.2, 14.2)."""
+    """Gains of Ge & Cui (2002) as used in Zeng 2011, Sec. 2.2.4.
+
+    Defaults are Table C.1's: 1.0, 0.75, 14.2, 14.2.
+
+    Parameters
+    ----------
+    k1
+        Attractive gain in N/m (PD attraction K1 E + b K1 E').
+    b
+        Attractive damping ratio K2/K1 in s.
+    k3
+        Repulsive gain K_G3 of (2.2.12).
+    k5
+        Detour gain of (2.2.13).
+
+    Examples
+    --------
+    >>> GeCuiGains().b
+    0.75
+    """
 
     k1: float = 1.0
     b: float = 0.75

@@ -58,7 +58,19 @@ def _point(name: str, value: Any) -> tuple[float, float]:
 
 @dataclass(frozen=True)
 class Stationary:
-    """An obstacle that does not move."""
+    """An obstacle that does not move.
+
+    Parameters
+    ----------
+    position
+        Position (x, y) in m.
+
+    Examples
+    --------
+    >>> p, v, a = Stationary((2.45, 0.595)).state([0.0, 1.0])
+    >>> p.tolist(), v.tolist()
+    ([[2.45, 0.595], [2.45, 0.595]], [[0.0, 0.0], [0.0, 0.0]])
+    """
 
     position: tuple[float, float]
 
@@ -78,7 +90,21 @@ class Stationary:
 
 @dataclass(frozen=True)
 class ConstantVelocity:
-    """Straight-line motion at a constant velocity (m/s) from ``start`` at t = 0."""
+    """Straight-line motion at a constant velocity from ``start`` at t = 0.
+
+    Parameters
+    ----------
+    start
+        Position (x, y) at t = 0 in m.
+    velocity
+        Velocity (v_x, v_y) in m/s.
+
+    Examples
+    --------
+    >>> p, v, a = ConstantVelocity((3.0, 4.0), (0.0, -0.5)).state([2.0])
+    >>> p.tolist(), v.tolist()
+    ([[3.0, 3.0]], [[0.0, -0.5]])
+    """
 
     start: tuple[float, float]
     velocity: tuple[float, float]
@@ -210,6 +236,12 @@ class SampledPath:
         Increasing sample times in s.
     positions
         ``(len(times), 2)`` positions in m.
+
+    Examples
+    --------
+    >>> path = SampledPath((0.0, 1.0, 2.0), ((0.0, 0.0), (1.0, 0.0), (1.0, 1.0)))
+    >>> path.state([0.5, 5.0])[0].tolist()
+    [[0.5, 0.0], [1.0, 1.0]]
     """
 
     times: tuple[float, ...]
@@ -272,6 +304,12 @@ class Disc:
     motion
         :class:`Stationary`, :class:`ConstantVelocity`, :class:`Walk` or
         :class:`SampledPath`.
+
+    Examples
+    --------
+    >>> h = Disc("human", 0.4, r2=2.1, r3=0.8, motion=Walk((0.6, 0.6), (4.0, 0.6)))
+    >>> h.name, h.r3
+    ('human', 0.8)
     """
 
     name: str
@@ -435,6 +473,18 @@ class Scenario:
     InvalidParameterError
         If the goal lies inside an obstacle's critical region, or an obstacle
         overlaps the robot at the start, or names repeat.
+
+    Examples
+    --------
+    >>> sc = Scenario("corridor", start=(4.0, 0.5), goal=(0.0, 0.5),
+    ...               obstacles=(Disc("pillar", 0.1, r2=0.8, r3=0.4,
+    ...                               motion=Stationary((2.0, 0.6))),))
+    >>> sc.obstacle_names
+    ('pillar',)
+    >>> Scenario("bad", start=(4.0, 0.5), goal=(2.0, 0.6), obstacles=sc.obstacles)
+    Traceback (most recent call last):
+    ...
+    designlab.errors.InvalidParameterError: Scenario.goal = (2.0, 0.6) m is not allowed: ...
     """
 
     name: str
@@ -489,7 +539,8 @@ class Scenario:
                     raise InvalidParameterError(
                         "Scenario.goal",
                         self.goal,
-                        f"lies inside the critical region of {o.name!r} (distance {d_goal:.3f} m <= r3 = {o.r3} m)",
+                        f"lies inside the critical region of {o.name!r} "
+                        f"(distance {d_goal:.3f} m <= r3 = {o.r3} m)",
                         "m",
                     )
 

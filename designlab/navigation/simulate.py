@@ -17,9 +17,12 @@ Examples
 >>> nav = dl.navigation
 >>> res = nav.simulate(nav.configuration(1), nav.VFFGains(k1=4.3, b=0.68, k3=20.3, k5=240.7),
 ...                    stabilising="off")
->>> round(res.arrival_time, 2), round(res.min_distance["circle"], 3), res.entered_critical, res.collided
-(5.98, 0.55, False, False)
->>> batch = nav.simulate_batch([nav.configuration(1)], [[4.3, 0.68, 20.3, 240.7], [3, 0.25, 20, 17]],
+>>> round(res.arrival_time, 2), round(res.min_distance["circle"], 3)
+(5.98, 0.55)
+>>> res.entered_critical, res.collided
+(False, False)
+>>> batch = nav.simulate_batch([nav.configuration(1)],
+...                            [[4.3, 0.68, 20.3, 240.7], [3, 0.25, 20, 17]],
 ...                            stabilising="off")
 >>> batch.arrival_time.round(2)
 array([[5.98, 6.48]])
@@ -176,7 +179,10 @@ class NavigationResult(Result):
         return pd.DataFrame([row])
 
     def trajectory_frame(self) -> pd.DataFrame:
-        """The run at every dynamics step: ``t_s``, ``x_m``, ``y_m``, ``vx_m_per_s``, ... ``d_<name>_m``."""
+        """The run at every dynamics step.
+
+        Columns ``t_s``, ``x_m``, ``y_m``, ``vx_m_per_s``, ... ``d_<name>_m``.
+        """
         data: dict[str, Any] = {
             "t_s": self.t,
             "x_m": self.position[:, 0],
@@ -243,6 +249,18 @@ def simulate(
     ------
     InvalidParameterError
         For an unknown method or mode, or gains of the wrong kind.
+
+    Examples
+    --------
+    >>> import designlab as dl
+    >>> nav = dl.navigation
+    >>> res = nav.simulate(nav.configuration(1), nav.EXPERIMENT_GAINS, stabilising="off")
+    >>> round(res.arrival_time, 2), round(res.min_distance["circle"], 3), res.collided
+    (6.48, 0.486, False)
+    >>> nav.simulate(nav.configuration(1), nav.EXPERIMENT_GAINS, method="bug")
+    Traceback (most recent call last):
+    ...
+    designlab.errors.InvalidParameterError: method = 'bug' is not allowed: ...
     """
     if stabilising not in _STABILISING:
         raise InvalidParameterError("stabilising", stabilising, f"must be one of {_STABILISING}")
@@ -498,6 +516,16 @@ def simulate_batch(
     BatchResult
         Arrival times, minimum distances, critical entries, collisions and H per
         (scenario, gain set); ``H_mean`` averages over the scenarios.
+
+    Examples
+    --------
+    >>> import designlab as dl
+    >>> nav = dl.navigation
+    >>> b = nav.simulate_batch([nav.configuration(1), nav.configuration(3)],
+    ...                        [[3.0, 0.25, 20.0, 17.0]], stabilising="off")
+    >>> b.arrival_time.round(2)
+    array([[6.48],
+           [5.94]])
     """
     if stabilising not in _STABILISING:
         raise InvalidParameterError("stabilising", stabilising, f"must be one of {_STABILISING}")

@@ -11,8 +11,8 @@ Examples
 --------
 >>> import numpy as np
 >>> pts = {"k1": np.array([4.3, 3.0]), "b": np.array([0.68, 0.25]), "k3": np.array([20.3, 20.0]),
-...        "k5": np.array([240.7, 17.0]), "v_max": np.array([0.7, 0.7]), "a_max": np.array([10.0, 10.0]),
-...        "v_h": np.array([1.0, 1.0])}
+...        "k5": np.array([240.7, 17.0]), "v_max": np.array([0.7, 0.7]),
+...        "a_max": np.array([10.0, 10.0]), "v_h": np.array([1.0, 1.0])}
 >>> out = vff_metrics_chunk(pts, {"scenarios": [[1, 6]], "stabilising": "off"})
 >>> np.round(out["T_mean_s"], 2).tolist(), out["status"].tolist()
 ([5.98, 6.48], ['ok', 'ok'])
@@ -39,8 +39,8 @@ VFF_METRICS: dict[str, str] = {
     "collisions": "number of scenarios with a collision",
 }
 
-#: The point keys of the evaluator.
-VFF_POINT_KEYS = ("k1", "b", "k3", "k5", "v_max", "a_max", "v_h")
+#: The point keys of the evaluator (the last two are optional: defaults from ``options``).
+VFF_POINT_KEYS = ("k1", "b", "k3", "k5", "v_max", "a_max", "v_h", "ramp", "tol")
 
 
 def vff_metrics_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) -> dict[str, Any]:
@@ -49,27 +49,38 @@ def vff_metrics_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) ->
     Parameters
     ----------
     points
-        Columns ``k1, b, k3, k5, v_max, a_max, v_h``.
+        Columns ``k1, b, k3, k5, v_max, a_max, v_h`` and optionally ``ramp`` (ramp time of
+        the synthetic walk, s; default 0.5) and ``tol`` (arrival tolerance, m; default
+        ``options["arrival_tolerance"]``).
     options
         ``scenarios``: list of ``[configuration, chapter]`` (thesis configurations);
         ``stabilising``: ``"lyapunov"`` or ``"off"``; ``arrival_tolerance`` (m).
     """
-    cols = {k: np.asarray(points[k], dtype=float) for k in VFF_POINT_KEYS}
-    n = cols["k1"].size
+    n = np.asarray(points["k1"]).size
+    defaults = {"ramp": 0.5, "tol": float(options.get("arrival_tolerance", 0.15))}
+    cols = {
+        k: np.asarray(points[k], dtype=float)
+        if k in points
+        else np.full(n, defaults[k], dtype=float)
+        for k in VFF_POINT_KEYS
+    }
     out = {k: np.zeros(n) for k in VFF_METRICS}
     status = np.full(n, "ok", dtype=object)
     specs = [tuple(s) for s in options.get("scenarios", [[1, 6], [2, 6], [3, 6]])]
     stab = options.get("stabilising", "off")
-    tol = float(options.get("arrival_tolerance", 0.15))
-    groups = np.stack([cols["v_max"], cols["a_max"], cols["v_h"]], axis=1)
+    groups = np.stack([cols[k] for k in ("v_max", "a_max", "v_h", "ramp", "tol")], axis=1)
     for key in np.unique(groups, axis=0):
         idx = np.flatnonzero(np.all(groups == key, axis=1))
-        v_max, a_max, v_h = (float(x) for x in key)
+        v_max, a_max, v_h, ramp, tol = (float(x) for x in key)
         scenarios = []
         for which, chapter in specs:
             cls = HolonomicRobot if int(chapter) == 6 else NonholonomicRobot
             robot = cls(max_speed=v_max, max_accel=a_max)
-            scenarios.append(configuration(which, int(chapter), robot=robot, human_speed=v_h))
+            scenarios.append(
+                configuration(
+                    which, int(chapter), robot=robot, human_speed=v_h, human_ramp_time=ramp
+                )
+            )
         gains = np.stack([cols[k][idx] for k in ("k1", "b", "k3", "k5")], axis=1)
         res = simulate_batch(scenarios, gains, stabilising=stab, arrival_tolerance=tol)
         surf = np.full(res.min_distance.shape, np.nan)

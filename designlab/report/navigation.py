@@ -144,13 +144,15 @@ def navigation_markdown(
     if version:
         produced += f" with designlab {version}"
     out += [
-        f"{produced}. Generated file: edit the study, not this report, and regenerate it with the same command.",
+        f"{produced}. Generated file: edit the study, not this report, and regenerate it "
+        "with the same command.",
         "",
-        "Model: VFF navigation among humans (Zeng 2011, Ch. 5-7; `docs/navigation.md`): force recomputed "
-        "every T_s = 0.06 s and held, 1 ms dynamics, speed 0.7 m/s and acceleration 10 m/s^2 norm-clipped, "
-        f"arrival at the first passage within {study.arrival_tolerance} m of the goal. Distances are centre "
-        "distances (contour distance for rectangles). `ref_*` = the thesis's simulation. "
-        "Energy is the feed-forward copper loss per ohm, so only H_E is comparable with the thesis. "
+        "Model: VFF navigation among humans (Zeng 2011, Ch. 5-7; `docs/navigation.md`): "
+        "force recomputed every T_s = 0.06 s and held, 1 ms dynamics, speed 0.7 m/s and "
+        "acceleration 10 m/s^2 norm-clipped, arrival at the first passage within "
+        f"{study.arrival_tolerance} m of the goal. Distances are centre distances (contour "
+        "distance for rectangles). `ref_*` = the thesis's simulation. Energy is the "
+        "feed-forward copper loss per ohm, so only H_E is comparable with the thesis. "
         "Full precision in `results.csv`.",
         "",
         "## Results next to the thesis",
@@ -176,11 +178,12 @@ def navigation_markdown(
     out += [
         "## Lyapunov audit of the new-VFF runs",
         "",
-        "Share of the samples in an active region (no critical region) where the realised dV/dt <= "
-        "-b |v_L|^2 holds (Zeng 2011, (5.5.12)), and the time the run spent where the proof's assumptions "
-        "break (force or speed saturation, critical-region braking, a detour-side switch). With the "
-        "stabilising force on, every violation lies in such an interval; with it off, the thesis's own "
-        "field violates the bound in free active-region motion too.",
+        "Share of the samples in an active region (no critical region) where the realised "
+        "dV/dt <= -b |v_L|^2 holds (Zeng 2011, (5.5.12)), and the time the run spent where "
+        "the proof's assumptions break (force or speed saturation, critical-region braking, "
+        "a detour-side switch). With the stabilising force on, every violation lies in such "
+        "an interval; with it off, the thesis's own field violates the bound in free "
+        "active-region motion too.",
         "",
     ]
     out += [markdown_table(stab, floatfmt=".3g") if len(stab) else "No new-VFF runs.", ""]

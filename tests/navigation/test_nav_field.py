@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -75,7 +76,7 @@ def test_repulsion_is_unbounded_at_the_critical_boundary() -> None:
     for gap in (1e-1, 1e-2, 1e-3, 1e-4):
         out = _eval([DISC], [0.4 + gap, 0.0, 0.0, 0.0], [-3.0, 0.001], _obs([0.0, 0.0]))
         mags.append(out["F"][0] - 3.0 * (-3.0 - 0.4 - gap))
-    assert all(b > 9 * a for a, b in zip(mags, mags[1:], strict=False))
+    assert all(b > 9 * a for a, b in itertools.pairwise(mags))
     out = _eval([DISC], [0.4, 0.0, 0.0, 0.0], [-3.0, 0.0], _obs([0.0, 0.0]))
     assert out["critical"][0] == 1
 
@@ -214,7 +215,9 @@ def test_unknown_method_is_rejected() -> None:
 
 @settings(max_examples=40, deadline=None)
 @given(
-    d=st.floats(0.41, 0.79), ang=st.floats(-math.pi, math.pi), speed=st.floats(-0.7, 0.0),
+    d=st.floats(0.41, 0.79),
+    ang=st.floats(-math.pi, math.pi),
+    speed=st.floats(-0.7, 0.0),
 )
 def test_repulsion_pushes_away_and_grows_towards_r3(d: float, ang: float, speed: float) -> None:
     """Radial part of F - F_a: positive (away) for a robot approaching at rest-or-closing speed,

@@ -1,4 +1,7 @@
-"""Lyapunov conditions of Zeng 2011, Sec. 5.5 / App. B: gain structure, Omega, dV/dt bound, audit."""
+"""Lyapunov conditions of Zeng 2011, Sec. 5.5 / App. B.
+
+Gain structure, Omega, the dV/dt bound and the stability audit.
+"""
 
 from __future__ import annotations
 
@@ -54,7 +57,7 @@ def test_gains_violating_the_structure_are_rejected(kw: dict) -> None:
 
 @pytest.mark.parametrize("bad", [0.0, -1.0, math.nan, math.inf, "x", None, True, [3.0]])
 def test_bad_gain_values(bad: object) -> None:
-    with pytest.raises(InvalidParameterError, match="VFFGains.k5"):
+    with pytest.raises(InvalidParameterError, match=r"VFFGains\.k5"):
         nav.VFFGains(k1=3, b=0.25, k3=20, k5=bad)  # type: ignore[arg-type]
 
 
@@ -202,7 +205,7 @@ def test_audit_of_a_stabilised_run_fails_only_where_the_proof_does_not_apply() -
     assert 0.0 < a.share_satisfied <= 1.0
     broken = np.zeros(a.t.size, bool)
     period = a.t[1] - a.t[0]
-    for reason, t0, t1 in a.intervals:
+    for _reason, t0, t1 in a.intervals:
         broken |= (a.t >= t0 - 1e-9) & (a.t < t1 - 1e-9)
     violations = a.active & ~a.satisfied
     assert violations.any()  # the saturation the proof ignores does occur

@@ -251,10 +251,36 @@ def test_criteria_formulas() -> None:
     assert c2.H_D == 1.0 and c2.H == pytest.approx((0.5 + 1.0 + 0.5) / 3)
 
 
+@pytest.mark.parametrize(
+    "w", [(0.5, 0.5, 0.5), (1.0, 0.0), (math.nan, 0.5, 0.5), (-0.1, 0.6, 0.5), "abc", None]
+)
+def test_criteria_weights_are_checked(w: object) -> None:
+    with pytest.raises(InvalidParameterError, match="weights"):
+        nav.criteria(
+            arrival_time=6.0,
+            nominal_arrival_time=5.0,
+            energy=1.0,
+            nominal_energy=1.0,
+            surface_clearance={},
+            nominal_clearance={},
+            weights=w,  # type: ignore[arg-type]
+        )
+    c = nav.criteria(
+        arrival_time=6.0,
+        nominal_arrival_time=3.0,
+        energy=1.0,
+        nominal_energy=1.0,
+        surface_clearance={},
+        nominal_clearance={},
+        weights=(1.0, 0.0, 0.0),
+    )
+    assert c.H == pytest.approx(0.5)
+
+
 def test_walk_is_smooth_and_ends_at_rest() -> None:
     w = nav.Walk((0.6, 0.6), (4.0, 0.6), speed=1.0, ramp_time=0.5)
     t = np.linspace(0, 6, 6001)
-    p, v, a = w.state(t)
+    p, v, _a = w.state(t)
     assert p[0, 0] == pytest.approx(0.6) and p[-1, 0] == pytest.approx(4.0)
     assert np.abs(np.diff(v[:, 0])).max() < 0.01  # continuous speed
     np.testing.assert_allclose(np.gradient(p[:, 0], t), v[:, 0], atol=2e-3)
@@ -263,7 +289,7 @@ def test_walk_is_smooth_and_ends_at_rest() -> None:
 
 def test_unpredictable_human_follows_sec_5_7() -> None:
     h = nav.configuration("unpredictable").obstacles[0]
-    p, v, _ = h.state(np.array([0.0, 1.0, 2.0, 3.0, 5.0]))
+    p, _v, _ = h.state(np.array([0.0, 1.0, 2.0, 3.0, 5.0]))
     np.testing.assert_allclose(p[:, 0], [0.6, 1.6, 2.1, 2.1, 2.1], atol=1e-6)
     np.testing.assert_allclose(p[:, 1], [0.0, 0.0, 0.0, 0.5, 2.5], atol=1e-6)
 

@@ -21,8 +21,10 @@ scenarios:
     start: [4.0, 0.5]
     goal: [0.0, 0.5]
     obstacles:
-      - {name: table, kind: rectangle, center: [2.0, -0.6], length: 1.0, width: 0.5, r2: 0.8, r3: 0.4}
-      - {name: visitor, kind: disc, radius: 0.4, r2: 2.1, r3: 0.8, walk: {start: [0, 2], end: [4, 2], speed: 0.8}}
+      - {name: table, kind: rectangle, center: [2.0, -0.6], length: 1.0, width: 0.5,
+         r2: 0.8, r3: 0.4}
+      - {name: visitor, kind: disc, radius: 0.4, r2: 2.1, r3: 0.8,
+         walk: {start: [0, 2], end: [4, 2], speed: 0.8}}
 methods:
   - {label: "New VFF*", gains: {k1: 4.3, b: 0.68, k3: 20.3, k5: 240.7}, stabilising: "off"}
   - {label: "Masoud*", method: masoud}
@@ -74,7 +76,7 @@ def test_bad_studies_are_rejected(patch: str, message: str) -> None:
 def test_goal_inside_an_obstacle_is_reported_with_the_parameter() -> None:
     bad = SCEN.replace("center: [2.0, -0.6]", "center: [0.0, 0.5]")
     study = parse_study(bad)
-    with pytest.raises(ValueError, match="goal|obstacles"):
+    with pytest.raises(ValueError, match=r"goal|obstacles"):
         run_study(study)
 
 
@@ -109,3 +111,40 @@ def test_vff_sweep_runs_through_the_shared_machinery(tmp_path) -> None:  # type:
     assert slow["T_mean_s"].min() > fast["T_mean_s"].max()  # a slower robot arrives later
     out = write_report(result, tmp_path, study_text=SWEEP, index=False)
     assert (out / "summary.md").exists()
+
+
+TOL_SWEEP = """
+designlab: 1
+kind: vff_sweep
+name: tolerance
+base: {gains: {k1: 3.0, b: 0.25, k3: 20.0, k5: 17.0}, scenarios: [[1, 6]]}
+sweep:
+  method: grid
+  parameters:
+    arrival_tolerance: {values: [0.05, 0.15]}
+"""
+
+
+def test_vff_sweep_varies_the_arrival_tolerance() -> None:
+    frame = run_study(parse_study(TOL_SWEEP)).to_frame()
+    t = dict(zip(frame.filter(like="tol").iloc[:, 0], frame["T_mean_s"], strict=True))
+    # the same run, first passage at 0.15 m then at 0.05 m of the goal (6.48 s and 6.63 s)
+    assert t[0.05] > t[0.15]
+    assert t[0.15] == pytest.approx(6.483, abs=1e-3)
+    with pytest.raises(ValueError, match="arrival_tolerance"):
+        parse_study(TOL_SWEEP.replace("[0.05, 0.15]", "[0.05, 2.0]"))
+
+
+def test_vff_metrics_take_the_walk_ramp_and_default_the_optional_keys() -> None:
+    import numpy as np
+
+    from designlab.navigation.sweep import vff_metrics_chunk
+
+    base = {k: np.array([v, v]) for k, v in dict(k1=3.0, b=0.25, k3=20.0, k5=17.0).items()}
+    base |= {"v_max": np.array([0.7, 0.7]), "a_max": np.array([10.0, 10.0])}
+    base |= {"v_h": np.array([1.0, 1.0])}
+    opts = {"scenarios": [[2, 6]], "stabilising": "off"}
+    plain = vff_metrics_chunk(base, opts)  # no ramp / tol columns: defaults 0.5 s, 0.15 m
+    ramps = vff_metrics_chunk(base | {"ramp": np.array([0.5, 2.0])}, opts)
+    assert plain["T_mean_s"][0] == ramps["T_mean_s"][0]
+    assert ramps["T_mean_s"][1] != ramps["T_mean_s"][0]  # a slower-starting walker

@@ -61,6 +61,25 @@ def test_new_vff_star_tables_6_2_and_6_4(config: int) -> None:
     assert not res.entered_critical and not res.collided
 
 
+def test_new_vff_star_rows_within_7_percent_with_a_5_cm_first_passage() -> None:
+    # The thesis does not state its arrival tolerance (docs/navigation.md, "Arrival"). With a
+    # 0.05 m first passage both New VFF* rows of Tables 6.2 and 6.4 come within 7 % (measured
+    # 6.15 vs 6.3 s and 5.86 vs 6.2 s); the default 0.15 m is kept because with the
+    # experiment gains the robot passes the goal of Configuration 3 at 0.1-0.15 m and
+    # circles it, which the 0.05 m tolerance turns from a 5.9 s run into a 17 s one.
+    for config in (1, 3):
+        res = nav.simulate(
+            nav.configuration(config), OPT, stabilising="off", arrival_tolerance=0.05
+        )
+        row = _row(CH6, configuration=config, method="New VFF*", sim_or_exp="sim")
+        assert res.arrival_time == pytest.approx(row.T_arrive_s, rel=0.07), config
+        for name, d in res.min_distance.items():
+            assert d == pytest.approx(row[COLS[name]], abs=0.03), name
+    orbit = nav.simulate(nav.configuration(3), EXP, stabilising="off", arrival_tolerance=0.05)
+    first = nav.simulate(nav.configuration(3), EXP, stabilising="off", arrival_tolerance=0.15)
+    assert orbit.arrival_time > 2 * first.arrival_time
+
+
 @pytest.mark.parametrize("config", [1, 2, 3, 4])
 def test_chapter_7_holonomic_rows(config: int) -> None:
     sc = nav.configuration(config, chapter=7, robot=nav.HolonomicRobot())
@@ -118,6 +137,11 @@ def test_masoud_enters_the_parallel_humans_critical_region_but_the_new_vff_does_
     sc = nav.configuration("parallel")
     masoud = nav.simulate(sc, method="masoud")
     assert masoud.entered_critical
+    # Sec. 6.4.5 / Fig. 6.20: its fixed detour sense drags the robot in front of the human,
+    # contact at t = 2.7 s; with the synthetic walk contact (d_h <= rho_h + rho_r) at 2.82 s
+    assert masoud.collided
+    contact = masoud.t[np.argmax(masoud.distance[0] <= 0.4 + 0.2)]
+    assert contact == pytest.approx(2.7, abs=0.2)
     new = nav.simulate(sc, OPT, stabilising="off")
     assert not new.entered_critical and not new.collided
     new_exp = nav.simulate(sc, EXP, stabilising="off")
@@ -162,3 +186,18 @@ def test_three_obstacle_case_of_sec_7_5_5() -> None:
     res = nav.simulate(sc, EXP, stabilising="lyapunov")
     assert res.arrived and not res.entered_critical and not res.collided
     assert set(res.min_distance) == {"circle", "human", "robot"}
+
+
+def test_ge_cui_distances_of_tables_6_2_and_6_4_and_its_slow_arrival() -> None:
+    # Distances come back within 0.01 m (0.752 vs 0.75; 0.745 / 0.762 vs 0.75 / 0.76). The
+    # arrival is slower than printed (19.9 / 26.1 s vs 13.5 / 13.3 s; the thesis's own text
+    # says 13.7 / 15.9 s). Its path oscillates around the obstacle (Sec. 6.4.1); the thesis
+    # does not say which r3 Ge & Cui used or how its output drove the robot, so the longer
+    # oscillation here is not pinned down. Checked: slower than the table, never colliding.
+    for config in (1, 3):
+        res = nav.simulate(nav.configuration(config), method="ge_cui")
+        row = _row(CH6, configuration=config, method="Ge & Cui*", sim_or_exp="sim")
+        for name, d in res.min_distance.items():
+            assert d == pytest.approx(row[COLS[name]], abs=0.03), name
+        assert res.arrived and res.arrival_time > row.T_arrive_s
+        assert not res.collided

@@ -14,4 +14,5 @@ MODULES: tuple[str, ...] = (
     "vff_scenarios",
     "vff_sweep",
     "vff_gains",
+    "accompanying",
 )

@@ -31,7 +31,7 @@ from typing import Any, ClassVar, Literal
 from pydantic import Field, field_validator
 
 from designlab.navigation.sweep import VFF_METRICS, vff_metrics_chunk
-from designlab.study.base import Model, Positive
+from designlab.study.base import Model, NonNegative, Positive
 from designlab.study.kinds.vff_specs import GainsSpec
 from designlab.study.registry import StudyKind
 from designlab.study.sweep_runner import run_sweep_study
@@ -51,6 +51,14 @@ VFF_PARAMETERS: dict[str, tuple[str, ParameterInfo]] = {
         "v_h",
         ParameterInfo("cruise speed of the synthetic human walk", "m/s", gt=0, le=3),
     ),
+    "human_ramp_time": (
+        "ramp",
+        ParameterInfo("speed-ramp time of the synthetic human walk", "s", ge=0, le=5),
+    ),
+    "arrival_tolerance": (
+        "tol",
+        ParameterInfo("arrival radius around the goal (first passage)", "m", gt=0, le=1),
+    ),
 }
 
 VffSweepParameters = parameter_model(
@@ -66,6 +74,7 @@ class VffDesign(Model):
     max_speed: Positive = Field(0.7, le=5, description="robot speed limit, m/s")
     max_accel: Positive = Field(10.0, le=100, description="robot acceleration limit, m/s^2")
     human_speed: Positive = Field(1.0, le=3, description="synthetic walk cruise speed, m/s")
+    human_ramp_time: NonNegative = Field(0.5, le=5, description="walk speed-ramp time, s")
     scenarios: list[tuple[int | Literal["parallel", "unpredictable"], Literal[6, 7]]] = Field(
         default_factory=lambda: [(1, 6), (2, 6), (3, 6)],
         description="thesis configurations as [configuration, chapter] (App. C uses 1-3 of Ch. 6)",
@@ -103,7 +112,7 @@ class VffSweepStudy(SweepStudyBase[VffSweepParameters, VffMetricName]):  # type:
     NEEDS_SWEEP_OR_SENSITIVITY: ClassVar[bool] = True
 
     def base_point(self) -> dict[str, float]:
-        """The base design as ``{k1, b, k3, k5, v_max, a_max, v_h}``."""
+        """The base design as ``{k1, b, k3, k5, v_max, a_max, v_h, ramp, tol}``."""
         g = self.base.gains
         return {
             "k1": g.k1,
@@ -113,6 +122,8 @@ class VffSweepStudy(SweepStudyBase[VffSweepParameters, VffMetricName]):  # type:
             "v_max": self.base.max_speed,
             "a_max": self.base.max_accel,
             "v_h": self.base.human_speed,
+            "ramp": self.base.human_ramp_time,
+            "tol": self.base.arrival_tolerance,
         }
 
     def evaluator_options(self) -> dict[str, Any]:

@@ -1,0 +1,239 @@
+"""Metrics of an accompanying run: Table 1 and Table 2 quantities, error, lag, overshoot.
+
+Definitions (Wu et al. 2021, Sec. 4; ``docs/following.md``):
+
+* Table 2: the robot's position (X_C, Y_C) in LCS_U and its bearing
+  ``-atan2(X_C, Y_C)`` (the paper's "gamma_C" column behaves as this bearing)
+  and relative orientation gamma_C at the target (t = 0), at the stop
+  (``settle_window`` s after the user stops, the robot having settled) and
+  their mean and standard deviation while the user walks;
+* Table 1: world start/stop positions and headings of user and robot and their
+  displacements (stop - start);
+* tracking: the position error ``e = p_T - p_C`` in LCS_U, its RMS while the
+  user walks, its maximum over the run and its norm ``settle_window`` s after
+  the stop (the settled error);
+* lag: the delay tau in [0, 3] s that best aligns the robot's world path with
+  the target point's path delayed by tau (least squares over the walk);
+* overshoot: after the stop, the largest travel of the robot beyond the
+  (now fixed) target point along the direction the target was moving;
+* settling time: time after the stop until the error stays within
+  ``settle_band`` (default 20 mm) to the end of the run.
+
+Examples
+--------
+>>> import numpy as np
+>>> t = np.linspace(0.0, 4.0, 201)
+>>> user = np.vstack([np.zeros_like(t), np.clip(t - 1, 0, 1), np.full_like(t, np.pi / 2)])
+>>> robot = user + np.array([[0.0], [0.5], [0.0]])            # rigidly on target
+>>> m = accompany_metrics(t, user, robot, (0.0, 0.5), 0.0, 1.0, 2.0, settle_window=2.0)
+>>> round(m.rms_error, 12), round(m.settled_error, 12), round(m.lag, 3)
+(0.0, 0.0, 0.0)
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from designlab.following.user_frame import robot_in_user_frame
+
+__all__ = ["AccompanyMetrics", "accompany_metrics"]
+
+
+@dataclass(frozen=True)
+class AccompanyMetrics:
+    """Scalar metrics of one accompanying run (SI; angles in degrees where named ``_deg``).
+
+    Attributes
+    ----------
+    target_x, target_y, target_bearing_deg, target_gamma_deg
+        Robot pose in LCS_U at t = 0 (Table 2 "Target").
+    stop_x, stop_y, stop_bearing_deg, stop_gamma_deg
+        Robot pose in LCS_U at the stop instant (Table 2 "Stop").
+    mean_x, sd_x, mean_y, sd_y, mean_bearing_deg, sd_bearing_deg, mean_gamma_deg, sd_gamma_deg
+        Mean and sd while walking (Table 2 "Average").
+    user_start, user_stop, robot_start, robot_stop
+        World (x m, y m, heading deg) (Table 1).
+    rms_error, max_error, settled_error
+        Position error norms in m.
+    lag
+        Delay in s; NaN if the user did not move.
+    overshoot
+        In m; NaN if the target did not move before the stop.
+    settling_time
+        In s after the stop; NaN if the error never stays within the band.
+    stop_time
+        The instant of the Table 2 stop values, s.
+    """
+
+    target_x: float
+    target_y: float
+    target_bearing_deg: float
+    target_gamma_deg: float
+    stop_x: float
+    stop_y: float
+    stop_bearing_deg: float
+    stop_gamma_deg: float
+    mean_x: float
+    sd_x: float
+    mean_y: float
+    sd_y: float
+    mean_bearing_deg: float
+    sd_bearing_deg: float
+    mean_gamma_deg: float
+    sd_gamma_deg: float
+    user_start: tuple[float, float, float]
+    user_stop: tuple[float, float, float]
+    robot_start: tuple[float, float, float]
+    robot_stop: tuple[float, float, float]
+    rms_error: float
+    max_error: float
+    settled_error: float
+    lag: float
+    overshoot: float
+    settling_time: float
+    stop_time: float
+
+    def as_dict(self) -> dict[str, float]:
+        """Flat dict with unit-carrying keys (tuples expanded)."""
+        out: dict[str, float] = {}
+        for k, v in asdict(self).items():
+            if isinstance(v, tuple):
+                for lab, val in zip(("x_m", "y_m", "heading_deg"), v, strict=True):
+                    out[f"{k}_{lab}"] = val
+            elif k.endswith("_deg"):
+                out[k] = v
+            elif k in ("lag", "settling_time", "stop_time"):
+                out[f"{k}_s"] = v
+            else:
+                out[f"{k}_m"] = v
+        return out
+
+
+def _circ_mean_sd(a: NDArray) -> tuple[float, float]:
+    if a.size == 0:
+        return math.nan, math.nan
+    m = math.atan2(float(np.mean(np.sin(a))), float(np.mean(np.cos(a))))
+    dev = np.arctan2(np.sin(a - m), np.cos(a - m))
+    return math.degrees(m), math.degrees(float(np.std(dev)))
+
+
+def accompany_metrics(
+    time: NDArray,
+    user_pose: NDArray,
+    robot_pose: NDArray,
+    target_position: tuple[float, float],
+    target_heading: float,
+    walk_start: float,
+    walk_stop: float,
+    *,
+    settle_window: float = 10.0,
+    settle_band: float = 0.02,
+    max_lag: float = 3.0,
+) -> AccompanyMetrics:
+    """Compute :class:`AccompanyMetrics` from world poses of user and robot.
+
+    Parameters
+    ----------
+    time
+        Sample times in s, shape (n,), uniformly spaced.
+    user_pose, robot_pose
+        World (x, y, psi) in m, m, rad, shape (3, n).
+    target_position, target_heading
+        Robot target pose in LCS_U (m, rad).
+    walk_start, walk_stop
+        When the user walks, s.
+    settle_window
+        Time after the stop at which the stop pose and the settled error are
+        taken, s (the end of the run if shorter).
+    settle_band
+        Error band of the settling time, m.
+    max_lag
+        Largest delay searched for the lag, s.
+    """
+    t = np.asarray(time, dtype=float)
+    u = np.asarray(user_pose, dtype=float)
+    r = np.asarray(robot_pose, dtype=float)
+    p_c, g = robot_in_user_frame(u, r)
+    xc, yc = p_c[0], p_c[1]
+    tx, ty = target_position
+    err = np.hypot(tx - xc, ty - yc)
+    bearing = -np.arctan2(xc, yc)
+    walking = (t >= walk_start) & (t <= walk_stop)
+    if not walking.any():
+        walking = t <= walk_stop
+    t_eval = min(walk_stop + settle_window, float(t[-1]))
+    k_stop = int(np.searchsorted(t, t_eval - 1e-9))
+    k_stop = min(k_stop, t.size - 1)
+
+    dt = float(t[1] - t[0])
+    # target point in the world
+    ps = u[2]
+    twx = u[0] + np.sin(ps) * tx + np.cos(ps) * ty
+    twy = u[1] - np.cos(ps) * tx + np.sin(ps) * ty
+    idx = np.flatnonzero(walking)
+    moved = np.hypot(np.ptp(twx[idx]), np.ptp(twy[idx])) > 1e-3
+    lag = math.nan
+    if moved:
+        shifts = np.arange(0, round(max_lag / dt) + 1)
+        k = np.clip(idx[None, :] - shifts[:, None], 0, None)
+        costs = np.mean((r[0, idx] - twx[k]) ** 2 + (r[1, idx] - twy[k]) ** 2, axis=1)
+        lag = float(shifts[int(np.argmin(costs))] * dt)
+    # overshoot along the target's last direction of motion
+    overshoot = math.nan
+    k_ws = int(np.searchsorted(t, walk_stop - 1e-9))
+    k0 = int(np.searchsorted(t, walk_stop - 0.5))
+    k_ws = min(k_ws, t.size - 1)
+    vx = twx[k_ws] - twx[max(k0 - 1, 0)]
+    vy = twy[k_ws] - twy[max(k0 - 1, 0)]
+    nv = math.hypot(vx, vy)
+    if nv > 1e-4:
+        after = slice(k_ws, t.size)
+        proj = ((r[0, after] - twx[after]) * vx + (r[1, after] - twy[after]) * vy) / nv
+        overshoot = max(0.0, float(np.max(proj)))
+    # settling time
+    outside = np.flatnonzero((err > settle_band) & (t >= walk_stop))
+    if outside.size == 0:
+        settling = 0.0
+    elif outside[-1] == t.size - 1:
+        settling = math.nan
+    else:
+        settling = float(t[outside[-1] + 1] - walk_stop)
+    gmean, gsd = _circ_mean_sd(g[walking])
+    bmean, bsd = _circ_mean_sd(bearing[walking])
+
+    def pose(a: NDArray, k: int) -> tuple[float, float, float]:
+        return (float(a[0, k]), float(a[1, k]), math.degrees(float(a[2, k])))
+
+    return AccompanyMetrics(
+        target_x=float(xc[0]),
+        target_y=float(yc[0]),
+        target_bearing_deg=math.degrees(float(bearing[0])),
+        target_gamma_deg=math.degrees(float(g[0])),
+        stop_x=float(xc[k_stop]),
+        stop_y=float(yc[k_stop]),
+        stop_bearing_deg=math.degrees(float(bearing[k_stop])),
+        stop_gamma_deg=math.degrees(float(g[k_stop])),
+        mean_x=float(np.mean(xc[walking])),
+        sd_x=float(np.std(xc[walking])),
+        mean_y=float(np.mean(yc[walking])),
+        sd_y=float(np.std(yc[walking])),
+        mean_bearing_deg=bmean,
+        sd_bearing_deg=bsd,
+        mean_gamma_deg=gmean,
+        sd_gamma_deg=gsd,
+        user_start=pose(u, 0),
+        user_stop=pose(u, k_stop),
+        robot_start=pose(r, 0),
+        robot_stop=pose(r, k_stop),
+        rms_error=float(np.sqrt(np.mean(err[walking] ** 2))),
+        max_error=float(np.max(err)),
+        settled_error=float(err[k_stop]),
+        lag=lag,
+        overshoot=overshoot,
+        settling_time=settling,
+        stop_time=float(t[k_stop]),
+    )
