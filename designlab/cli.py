@@ -127,17 +127,23 @@ _OutputDir = Annotated[
 ]
 
 
-def _write(result: object, study: Path, output_dir: Path, command: list[str]) -> None:
-    from designlab.report import write_report
+def _write(
+    result: object, study: Path, output_dir: Path, command: list[str], *, keep_current: bool = False
+) -> None:
+    from designlab.report import report_is_current, write_report
 
     text = study.read_text(encoding="utf-8")
-    out = write_report(result, output_dir, command=shlex.join(command), study_text=text)
+    if keep_current and report_is_current(result, output_dir, study_text=text):
+        out = output_dir / result.study.name  # type: ignore[attr-defined]
+        typer.echo(f"report up to date: {out}/ (same points, code and study; not rewritten)")
+    else:
+        out = write_report(result, output_dir, command=shlex.join(command), study_text=text)
     for warning in result.warnings:  # type: ignore[attr-defined]
         typer.echo(f"warning: {warning}", err=True)
     status = result.status  # type: ignore[attr-defined]
     if status != "ok":
         typer.echo(f"status: {status} (see the report)", err=True)
-    files = sorted(p.name for p in out.iterdir())
+    files = sorted(p.name for p in out.iterdir() if not p.name.startswith("."))
     shown = ", ".join(files) if len(files) <= 6 else ", ".join(files[:5]) + ", ..."
     typer.echo(f"wrote {out}/ ({shown})")
     stats = getattr(result, "stats", None)
@@ -219,7 +225,7 @@ def run(
             store.close()
             if ex is not None:
                 ex.close()
-        _write(result, study, output_dir, command)
+        _write(result, study, output_dir, command, keep_current=resume)
     except DesignlabError as exc:
         _fail(exc)
     except KeyboardInterrupt:

@@ -71,6 +71,17 @@ class StudyError(DesignlabError, ValueError):
     """A study file is missing, malformed or inconsistent.
 
     The message names the file, the field path and, where known, the line.
+
+    Parameters
+    ----------
+    message
+        What is wrong and what is allowed.
+    file
+        The study file, if known.
+    field
+        Dotted path of the offending field (``sweep.parameters.foam.stiffness``).
+    line
+        1-based line of the field in the file, if known.
     """
 
     def __init__(

@@ -3,7 +3,10 @@
 An executor maps a picklable top-level function over a list of tasks (plain
 dictionaries) and yields ``(index, result)`` pairs as tasks finish, in
 completion order. The function must build its models inside the worker:
-CasADi objects with free symbols do not pickle.
+CasADi objects with free symbols do not pickle. Tasks may be a lazy iterable:
+the process and Dask executors keep at most :attr:`Executor.window` tasks in
+flight and draw the next one as one finishes, so a million-point sweep holds
+only a few chunks in memory at a time.
 
 ``serial``
     In this process, in order (the default; no start-up cost).
@@ -30,8 +33,9 @@ import logging
 import multiprocessing
 import os
 import sys
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from itertools import islice
 from types import TracebackType
 from typing import Any
 
@@ -102,6 +106,11 @@ class Executor:
     name = "executor"
     workers = 1
 
+    @property
+    def window(self) -> int:
+        """Tasks kept in flight at once: four per worker (at least two)."""
+        return max(2, 4 * int(self.workers))
+
     def __enter__(self) -> Executor:
         return self
 
@@ -117,7 +126,7 @@ class Executor:
         """Release workers (idempotent)."""
 
     def map_unordered(
-        self, fn: Callable[[Any], Any], tasks: Sequence[Any]
+        self, fn: Callable[[Any], Any], tasks: Iterable[Any]
     ) -> Iterator[tuple[int, Any]]:  # pragma: no cover - abstract
         """Yield ``(index, fn(tasks[index]))`` as tasks finish.
 
@@ -126,7 +135,8 @@ class Executor:
         fn
             A picklable top-level function of one task.
         tasks
-            The tasks (plain, picklable values).
+            The tasks (plain, picklable values; a lazy iterable is drawn from
+            as workers become free).
         """
         raise NotImplementedError
 
@@ -141,7 +151,7 @@ class SerialExecutor(Executor):
     name = "serial"
 
     def map_unordered(
-        self, fn: Callable[[Any], Any], tasks: Sequence[Any]
+        self, fn: Callable[[Any], Any], tasks: Iterable[Any]
     ) -> Iterator[tuple[int, Any]]:
         """Yield ``(index, fn(tasks[index]))`` as tasks finish.
 
@@ -150,26 +160,49 @@ class SerialExecutor(Executor):
         fn
             A picklable top-level function of one task.
         tasks
-            The tasks (plain, picklable values).
+            The tasks (plain, picklable values; a lazy iterable is drawn from
+            as workers become free).
         """
         for i, task in enumerate(tasks):
             yield i, fn(task)
 
 
-def _yield_futures(futures: dict[Future[Any], int]) -> Iterator[tuple[int, Any]]:
-    pending = set(futures)
+def _yield_futures(
+    submit: Callable[[Any], Future[Any]], tasks: Iterable[Any], window: int
+) -> Iterator[tuple[int, Any]]:
+    """Submit ``tasks`` keeping at most ``window`` in flight; yield results as they finish."""
+    source = enumerate(tasks)
+    index: dict[Future[Any], int] = {}
+
+    def top_up(k: int) -> None:
+        for i, task in islice(source, k):
+            index[submit(task)] = i
+
+    top_up(window)
+    pending = set(index)
     try:
         while pending:
             done, pending = wait(pending, return_when=FIRST_COMPLETED)
             for fut in done:
-                yield futures[fut], fut.result()
+                i = index.pop(fut)
+                result = fut.result()
+                before = set(index)
+                top_up(1)
+                pending |= set(index) - before
+                yield i, result
     finally:
         for fut in pending:
             fut.cancel()
 
 
 class ProcessExecutor(Executor):
-    """A pool of local worker processes."""
+    """A pool of local worker processes.
+
+    Parameters
+    ----------
+    workers
+        Worker processes (default: the CPU count).
+    """
 
     name = "processes"
 
@@ -186,7 +219,7 @@ class ProcessExecutor(Executor):
         self._pool.shutdown(wait=True, cancel_futures=True)
 
     def map_unordered(
-        self, fn: Callable[[Any], Any], tasks: Sequence[Any]
+        self, fn: Callable[[Any], Any], tasks: Iterable[Any]
     ) -> Iterator[tuple[int, Any]]:
         """Yield ``(index, fn(tasks[index]))`` as tasks finish.
 
@@ -195,14 +228,26 @@ class ProcessExecutor(Executor):
         fn
             A picklable top-level function of one task.
         tasks
-            The tasks (plain, picklable values).
+            The tasks (plain, picklable values; a lazy iterable is drawn from
+            as workers become free).
         """
-        futures = {self._pool.submit(fn, task): i for i, task in enumerate(tasks)}
-        yield from _yield_futures(futures)
+        yield from _yield_futures(lambda task: self._pool.submit(fn, task), tasks, self.window)
 
 
 class DaskExecutor(Executor):
-    """Tasks on a Dask distributed cluster (a new LocalCluster without ``scheduler``)."""
+    """Tasks on a Dask distributed cluster (a new LocalCluster without ``scheduler``).
+
+    Parameters
+    ----------
+    scheduler
+        Scheduler address (``tcp://host:8786``); ``None`` starts a LocalCluster.
+    workers
+        LocalCluster worker processes (default: the CPU count); ignored with ``scheduler``.
+    timeout
+        Seconds to wait for the scheduler before raising :class:`ExecutorError`.
+    processes
+        LocalCluster only: worker processes (``False``: threads in this process).
+    """
 
     name = "dask"
 
@@ -258,7 +303,7 @@ class DaskExecutor(Executor):
             self._cluster = None
 
     def map_unordered(
-        self, fn: Callable[[Any], Any], tasks: Sequence[Any]
+        self, fn: Callable[[Any], Any], tasks: Iterable[Any]
     ) -> Iterator[tuple[int, Any]]:
         """Yield ``(index, fn(tasks[index]))`` as tasks finish.
 
@@ -267,18 +312,32 @@ class DaskExecutor(Executor):
         fn
             A picklable top-level function of one task.
         tasks
-            The tasks (plain, picklable values).
+            The tasks (plain, picklable values; a lazy iterable is drawn from
+            as workers become free).
         """
         from distributed import as_completed
 
-        futures = self._client.map(fn, list(tasks), pure=False)
-        index = {f.key: i for i, f in enumerate(futures)}
-        ac = as_completed(futures)
+        source = enumerate(tasks)
+        index: dict[Any, int] = {}
+        live: dict[Any, Any] = {}
+        ac = as_completed()
+
+        def top_up(k: int) -> None:
+            for i, task in islice(source, k):
+                fut = self._client.submit(fn, task, pure=False)
+                index[fut.key], live[fut.key] = i, fut
+                ac.add(fut)
+
+        top_up(self.window)
         try:
             for fut in ac:
-                yield index[fut.key], fut.result()
+                i = index.pop(fut.key)
+                live.pop(fut.key, None)
+                result = fut.result()
+                top_up(1)
+                yield i, result
         finally:
-            for fut in futures:
+            for fut in live.values():
                 if not fut.done():
                     fut.cancel()
 

@@ -53,7 +53,7 @@ import importlib
 import json
 import logging
 import sys
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
@@ -383,6 +383,10 @@ class SweepRun:
         Keys of store chunks found corrupt (and recomputed).
     chunks
         Chunks evaluated or read.
+    digest
+        A hash of what determines the results: the evaluator, its code
+        version, its options and every point in order. Two runs with the
+        same digest have the same results.
     """
 
     frame: pd.DataFrame
@@ -392,6 +396,7 @@ class SweepRun:
     cached: int = 0
     corrupt: list[str] = field(default_factory=list)
     chunks: int = 0
+    digest: str = ""
 
     @property
     def duplicates(self) -> int:
@@ -431,6 +436,67 @@ def _distinct(cols: Columns) -> tuple[np.ndarray, np.ndarray]:
         codes = frame.groupby(list(frame.columns), sort=False, dropna=False).ngroup().to_numpy()
         first = np.flatnonzero(~pd.Series(codes).duplicated().to_numpy())
     return first, np.asarray(codes, dtype=np.intp)
+
+
+class _Assembler:
+    """Result columns of ``n`` distinct points, filled chunk by chunk in place.
+
+    The same column typing as :func:`_concat` (numbers -> float with NaN where
+    a chunk lacks the column; booleans stay boolean unless some chunk lacks
+    them; anything else -> object with ``None``), without holding the chunks:
+    memory is the result table itself plus one chunk.
+    """
+
+    def __init__(self, n: int) -> None:
+        self.n = n
+        self.cols: dict[str, np.ndarray] = {}
+        self.present: dict[str, np.ndarray] = {}
+
+    def _allocate(self, name: str, kind: str) -> None:
+        if kind in "fiu":
+            self.cols[name] = np.full(self.n, np.nan)
+        elif kind == "b":
+            self.cols[name] = np.zeros(self.n, dtype=bool)
+        else:
+            self.cols[name] = np.full(self.n, None, dtype=object)
+        self.present[name] = np.zeros(self.n, dtype=bool)
+
+    def _widen(self, name: str) -> None:
+        """A column seen with two incompatible types becomes object (``None`` where absent)."""
+        old, mask = self.cols[name], self.present[name]
+        new = np.full(self.n, None, dtype=object)
+        new[mask] = old[mask].astype(object)
+        self.cols[name] = new
+
+    def put(self, start: int, part: Columns) -> None:
+        """Write a chunk's columns at rows ``start:start + len(chunk)``."""
+        k = _length(part)
+        rows = slice(start, start + k)
+        for name, values in part.items():
+            a = np.asarray(values)
+            if name not in self.cols:
+                self._allocate(name, a.dtype.kind)
+            have = self.cols[name].dtype.kind
+            if have == "f" and a.dtype.kind not in "fiu":
+                self._widen(name)
+            elif have == "b" and a.dtype.kind != "b":
+                self._widen(name)
+            target = self.cols[name]
+            target[rows] = a.astype(float) if target.dtype.kind == "f" else a
+            self.present[name][rows] = True
+
+    def frame(self, inverse: np.ndarray | None) -> pd.DataFrame:
+        """The table, one row per point (``inverse`` maps points to distinct rows)."""
+        if self.n == 0:
+            return pd.DataFrame()
+        out: dict[str, np.ndarray] = {}
+        for name, col in self.cols.items():
+            if col.dtype.kind == "b" and not self.present[name].all():
+                self._widen(name)
+                col = self.cols[name]
+            out[name] = col if inverse is None else col[inverse]
+        self.cols, self.present = {}, {}
+        return pd.DataFrame(out, copy=False)
 
 
 def _bar(total: int, desc: str, progress: bool) -> Any:
@@ -500,10 +566,10 @@ def run_points(
     first, inverse = _distinct(cols)
     distinct = _take(cols, first)
     m = len(first)
-    run = SweepRun(pd.DataFrame(), points=n, distinct=m)
+    run = SweepRun(pd.DataFrame(), points=n, distinct=m, digest=chunk_key(evaluator, options, cols))
     bounds = [(s, min(s + size, m)) for s in range(0, m, size)]
     run.chunks = len(bounds)
-    parts: list[Columns | None] = [None] * len(bounds)
+    assembled = _Assembler(m)
     keys: list[str | None] = [None] * len(bounds)
     todo: list[int] = []
     for c, (s, e) in enumerate(bounds):
@@ -513,7 +579,7 @@ def run_points(
             if resume or cache_only:
                 state, value = store.get_chunk(keys[c])  # type: ignore[arg-type]
                 if state == "ok" and _length(value) == e - s:
-                    parts[c] = value
+                    assembled.put(s, value)
                     run.cached += e - s
                     continue
                 if state in ("corrupt", "ok"):
@@ -536,25 +602,27 @@ def run_points(
     )  # fmt: skip
     if todo:
         ex = executor if executor is not None else SerialExecutor()
-        tasks = [
-            {"evaluator": evaluator, "options": options,
-             "points": _take(distinct, slice(*bounds[c]))}
+        tasks = (
+            {
+                "evaluator": evaluator,
+                "options": options,
+                "points": _take(distinct, slice(*bounds[c])),
+            }
             for c in todo
-        ]  # fmt: skip
+        )  # fmt: skip  (a generator: only the chunks in flight exist as tasks)
         bar = _bar(m - run.cached, desc, progress)
         try:
             for t, out in _as_completed(ex, tasks):
                 c = todo[t]
                 if store is not None:
                     store.put_chunk(keys[c], out)  # type: ignore[arg-type]
-                parts[c] = out
+                assembled.put(bounds[c][0], out)
                 k = bounds[c][1] - bounds[c][0]
                 run.computed += k
                 bar.update(k)
         finally:
             bar.close()
-    merged = _concat([p for p in parts if p is not None]) if m else {}
-    frame = pd.DataFrame({k: v[inverse] for k, v in merged.items()}) if m else pd.DataFrame()
+    frame = assembled.frame(None if m == n else inverse)
     if len(frame):
         for c in ("status", "error"):
             if c not in frame:
@@ -569,5 +637,5 @@ def run_points(
     return run
 
 
-def _as_completed(ex: Any, tasks: list[dict[str, Any]]) -> Iterator[tuple[int, Columns]]:
+def _as_completed(ex: Any, tasks: Iterable[dict[str, Any]]) -> Iterator[tuple[int, Columns]]:
     yield from ex.map_unordered(evaluate_chunk, tasks)

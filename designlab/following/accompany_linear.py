@@ -47,7 +47,17 @@ __all__ = ["LoopAnalysis", "axis_loop", "frequency_grid", "loop_analysis", "pid_
 
 
 def frequency_grid(sample_time: float, n: int = 400, w_min: float = 1e-2) -> NDArray[np.float64]:
-    """Log-spaced frequencies (rad/s) from ``w_min`` to just below the Nyquist frequency."""
+    """Log-spaced frequencies (rad/s) from ``w_min`` to just below the Nyquist frequency.
+
+    Parameters
+    ----------
+    sample_time
+        Controller sample time T_s (s); the grid ends just below pi / T_s.
+    n
+        Number of frequencies.
+    w_min
+        Lowest frequency (rad/s).
+    """
     return np.logspace(math.log10(w_min), math.log10(0.999 * math.pi / sample_time), n)
 
 
@@ -68,7 +78,17 @@ def plant_response(tau: float, sample_time: float, omega: NDArray, delay: int = 
 def pid_basis(
     derivative_filter_time: float, sample_time: float, omega: NDArray
 ) -> NDArray[np.complex128]:
-    """Columns [1, T_s z/(z-1), (z-1)/((T_f+T_s) z - T_f)] so that C = basis @ (K_p, K_i, K_d)."""
+    """Columns [1, T_s z/(z-1), (z-1)/((T_f+T_s) z - T_f)] so that C = basis @ (K_p, K_i, K_d).
+
+    Parameters
+    ----------
+    derivative_filter_time
+        Derivative filter time constant T_f (s).
+    sample_time
+        Controller sample time T_s (s).
+    omega
+        Frequencies (rad/s).
+    """
     z = np.exp(1j * omega * sample_time)
     tf = derivative_filter_time
     return np.stack(
@@ -121,6 +141,10 @@ class LoopAnalysis(Result):
         Axis -> complex L(e^{i omega T_s}) on ``omega``.
     transfer_functions
         Axis -> python-control ``TransferFunction`` L(z).
+    status
+        ``"ok"``, or why the analysis is incomplete (e.g. an unstable loop).
+    warnings
+        What a user should know about the margins (e.g. a loop below the margin targets).
     """
 
     rows: tuple[dict[str, Any], ...]

@@ -288,6 +288,10 @@ class AccompanyResult(Result):
         Raw distance samples outside the sensor's range, per period, (n,).
     metrics
         :class:`AccompanyMetrics`.
+    status
+        ``"ok"``, or what went wrong (e.g. the sensor left its valid range).
+    warnings
+        What a user should know about the run (flagged samples, saturation).
     """
 
     task: WalkingTask

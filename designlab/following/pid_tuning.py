@@ -141,9 +141,7 @@ def convex_concave_pid(
     ]
     if max_noise_gain is not None:
         # |C| <= ks |1 + L|, with |1 + L| replaced by its linearisation (inner approximation)
-        constraints.append(
-            cp.norm(cp.vstack([br @ k, bi @ k]), 2, axis=0) <= max_noise_gain * lin
-        )
+        constraints.append(cp.norm(cp.vstack([br @ k, bi @ k]), 2, axis=0) <= max_noise_gain * lin)
     problem = cp.Problem(cp.Maximize(k[1]), constraints)
     k0 = np.array([0.05, 0.0, 0.0])
     converged = False
@@ -198,6 +196,10 @@ class PIDTuningResult(Result):
         Closed-loop simulations run (for the tuning, not the final check).
     elapsed
         Wall time of the tuning in s (without the final check).
+    status
+        ``"ok"``, or the solver's failure (the default gains are then returned).
+    warnings
+        What a user should know about the tuning (e.g. a margin target not met).
     """
 
     controller: UserFramePID

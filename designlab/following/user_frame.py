@@ -54,6 +54,11 @@ __all__ = [
 def wrap_angle(a: ArrayLike) -> NDArray[np.float64]:
     """Wrap angles to (-pi, pi].
 
+    Parameters
+    ----------
+    a
+        Angles (rad).
+
     Examples
     --------
     >>> float(np.round(wrap_angle(3 * np.pi / 2), 6))
@@ -68,7 +73,15 @@ def _wrap(a):  # casadi or numpy
 
 
 def sx_robot_in_user_frame(user_pose, robot_pose):
-    """Robot position (X_C, Y_C) and orientation gamma_C in LCS_U (symbolic, eq. 4)."""
+    """Robot position (X_C, Y_C) and orientation gamma_C in LCS_U (symbolic, eq. 4).
+
+    Parameters
+    ----------
+    user_pose
+        User pose (x_U, y_U, psi_U) in the world frame (m, m, rad), CasADi symbols.
+    robot_pose
+        Robot pose (x_R, y_R, psi_R) in the world frame (m, m, rad), CasADi symbols.
+    """
     xu, yu, psu = user_pose[0], user_pose[1], user_pose[2]
     xr, yr, psr = robot_pose[0], robot_pose[1], robot_pose[2]
     dx, dy = xr - xu, yr - yu
@@ -81,7 +94,17 @@ def sx_robot_in_user_frame(user_pose, robot_pose):
 
 
 def sx_string_pot(xc, yc, gamma_c):
-    """String-pot readings (d, theta_U, theta_R) from the pose in LCS_U (eq. 7)."""
+    """String-pot readings (d, theta_U, theta_R) from the pose in LCS_U (eq. 7).
+
+    Parameters
+    ----------
+    xc
+        Robot position X_C in the user's frame LCS_U (m).
+    yc
+        Robot position Y_C in LCS_U (m).
+    gamma_c
+        Robot bearing gamma_C in LCS_U (rad).
+    """
     d = ca.sqrt(xc**2 + yc**2)
     tu = ca.atan2(yc, xc)
     tr = _wrap(gamma_c - tu)
@@ -89,7 +112,23 @@ def sx_string_pot(xc, yc, gamma_c):
 
 
 def sx_robot_frame_error(target_x, target_y, target_gamma, d, tu, tr):
-    """Error (e_x, e_y) in LCS_R and heading error e_theta from the readings (eq. 8)."""
+    """Error (e_x, e_y) in LCS_R and heading error e_theta from the readings (eq. 8).
+
+    Parameters
+    ----------
+    target_x
+        Desired robot position x in LCS_U (m).
+    target_y
+        Desired robot position y in LCS_U (m).
+    target_gamma
+        Desired robot heading in LCS_U (rad).
+    d
+        String-pot length reading (m).
+    tu
+        String-pot angle theta_U at the user (rad).
+    tr
+        String-pot angle theta_R at the robot (rad).
+    """
     g = tu + tr
     ex_u = target_x - d * ca.cos(tu)
     ey_u = target_y - d * ca.sin(tu)

@@ -128,6 +128,27 @@ def sx_pid_axis(e, e_prev, i_prev, d_prev, kp, ki, kd, tf, ts):
     ``u = K_p e + I + D`` with the backward-Euler integral and the filtered
     derivative described in the module docstring. The caller saturates ``u``
     and decides (anti-windup) whether to keep ``I_candidate``.
+
+    Parameters
+    ----------
+    e
+        Error at this sample.
+    e_prev
+        Error at the previous sample.
+    i_prev
+        Integral state at the previous sample.
+    d_prev
+        Filtered derivative at the previous sample.
+    kp
+        Proportional gain K_p.
+    ki
+        Integral gain K_i (1/s).
+    kd
+        Derivative gain K_d (s).
+    tf
+        Derivative filter time constant T_f (s).
+    ts
+        Sample time T_s (s).
     """
     i_new = i_prev + ki * ts * e
     d_new = (tf * d_prev + kd * (e - e_prev)) / (tf + ts)

@@ -560,6 +560,10 @@ def walking_task_from_csv(
     hold_after
         Standing time appended after the last sample in s (>= 0), so that the
         settled error 10 s after the stop is defined.
+    speed_threshold
+        The walk ends at the last sample faster than this (m/s).
+    yaw_rate_threshold
+        ... or turning faster than this (rad/s).
 
     Examples
     --------

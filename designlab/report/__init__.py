@@ -23,9 +23,12 @@ Examples
 
 from __future__ import annotations
 
+import hashlib
 import importlib
+import json
 import os
 from collections.abc import Callable
+from functools import cache
 from pathlib import Path
 from typing import Any
 
@@ -44,6 +47,7 @@ __all__ = [
     "markdown_table",
     "register_writer",
     "report_directory",
+    "report_is_current",
     "write_csv",
     "write_index",
     "write_markdown",
@@ -142,6 +146,9 @@ def write_report(
     with report_directory(final) as tmp:
         try:
             writer(result, tmp, command=command, version=__version__, study_text=study_text)
+            key = _report_key(result, study_text)
+            if key:
+                _write_manifest(tmp, key)
         except OSError as exc:
             if isinstance(exc, ReportError):
                 raise
@@ -149,6 +156,82 @@ def write_report(
     if index:
         write_index(Path(output_dir))
     return final
+
+
+#: Inside a report directory: what it was written from (results, study, code) and its files.
+MANIFEST = ".designlab-report.json"
+
+
+@cache
+def _report_code() -> str:
+    """A hash of the report writers' source (a changed writer makes every report stale)."""
+    h = hashlib.sha256()
+    root = Path(__file__).parent
+    for path in sorted(root.rglob("*.py")):
+        h.update(path.relative_to(root).as_posix().encode())
+        h.update(path.read_bytes())
+    return h.hexdigest()
+
+
+def _report_key(result: Any, study_text: str | None) -> str:
+    """``""`` unless the result has a ``fingerprint`` (a hash of its points and code)."""
+    from designlab import __version__
+
+    fingerprint = getattr(result, "fingerprint", "")
+    if not fingerprint:
+        return ""
+    parts = {
+        "result": fingerprint,
+        "study": study_text,
+        "designlab": __version__,
+        "report_code": _report_code(),
+    }
+    return hashlib.sha256(json.dumps(parts, sort_keys=True).encode()).hexdigest()
+
+
+def _write_manifest(directory: Path, key: str) -> None:
+    files = {
+        p.name: p.stat().st_size
+        for p in sorted(directory.iterdir())
+        if p.is_file() and p.name != MANIFEST
+    }
+    text = json.dumps({"key": key, "files": files}, indent=1, sort_keys=True) + "\n"
+    atomic_write_text(directory / MANIFEST, text)
+
+
+def report_is_current(
+    result: Any, output_dir: str | os.PathLike[str], *, study_text: str | None = None
+) -> bool:
+    """Whether ``<output_dir>/<study name>/`` already holds this result's report.
+
+    True only for results with a ``fingerprint`` (sweep studies) whose report
+    was written from the same points, evaluator code, study text, designlab
+    version and report code, with every file it wrote still there at its
+    size. ``designlab run --resume`` then leaves the report as it is;
+    ``designlab report`` always rewrites it.
+
+    Parameters
+    ----------
+    result
+        A study result.
+    output_dir
+        Parent directory of the report.
+    study_text
+        The study file's text (part of what the report depends on).
+    """
+    key = _report_key(result, study_text)
+    if not key:
+        return False
+    directory = Path(output_dir) / result.study.name
+    try:
+        manifest = json.loads((directory / MANIFEST).read_text(encoding="utf-8"))
+        if manifest.get("key") != key:
+            return False
+        return all(
+            (directory / name).stat().st_size == size for name, size in manifest["files"].items()
+        )
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        return False
 
 
 #: The main Markdown file of a report, by preference.

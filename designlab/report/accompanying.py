@@ -61,6 +61,11 @@ def table2_frame(result: AccompanyingResult) -> pd.DataFrame:
 
     The simulated "gamma" columns are the bearing -atan2(X_C, Y_C), which is
     what the paper's gamma_C column holds numerically (``docs/following.md``).
+
+    Parameters
+    ----------
+    result
+        An accompanying study result.
     """
     paper = paper_table2().set_index("test")
     rows = []
@@ -113,6 +118,11 @@ def table1_frame(result: AccompanyingResult) -> pd.DataFrame:
 
     The paper's forward-walking user Y displacement is printed 914 mm; its
     text gives 1914 mm (the value used here, flagged in ``note``).
+
+    Parameters
+    ----------
+    result
+        An accompanying study result.
     """
     paper = paper_table1()
     rows = []
@@ -181,7 +191,15 @@ def _grid(n: int) -> tuple[int, int]:
 
 
 def trajectory_figure(result: AccompanyingResult, label: str) -> Figure:
-    """World paths of the user's frame origin and the robot, one panel per task."""
+    """World paths of the user's frame origin and the robot, one panel per task.
+
+    Parameters
+    ----------
+    result
+        An accompanying study result.
+    label
+        Which controller's runs: ``"default"`` or ``"tuned"``.
+    """
     runs = result.runs[label]
     nr, nc = _grid(len(runs))
     fig = Figure(figsize=(4.0 * nc, 3.6 * nr), layout="constrained")
@@ -221,7 +239,13 @@ def trajectory_figure(result: AccompanyingResult, label: str) -> Figure:
 
 
 def errors_figure(result: AccompanyingResult) -> Figure:
-    """Position error |p_T - p_C| in the user's frame against time, every controller."""
+    """Position error |p_T - p_C| in the user's frame against time, every controller.
+
+    Parameters
+    ----------
+    result
+        An accompanying study result.
+    """
     names = list(result.study.tasks)
     nr, nc = _grid(len(names))
     fig = Figure(figsize=(4.0 * nc, 2.8 * nr), layout="constrained")
@@ -248,7 +272,15 @@ def errors_figure(result: AccompanyingResult) -> Figure:
 
 
 def readings_figure(result: AccompanyingResult, label: str = "default") -> Figure:
-    """String-pot readings d, theta_U, theta_R against time (as Wu et al. 2021, Fig. 7)."""
+    """String-pot readings d, theta_U, theta_R against time (as Wu et al. 2021, Fig. 7).
+
+    Parameters
+    ----------
+    result
+        An accompanying study result.
+    label
+        Which controller's runs: ``"default"`` or ``"tuned"``.
+    """
     runs = result.runs[label]
     names = [n for n in result.study.tasks if n in runs][:6]
     fig = Figure(figsize=(11.0, 2.3 * len(names)), layout="constrained")
@@ -272,7 +304,13 @@ def readings_figure(result: AccompanyingResult, label: str = "default") -> Figur
 
 
 def bode_figure(result: AccompanyingResult) -> Figure:
-    """|L|, arg L, |S| and |T| of the forward loop of each controller."""
+    """|L|, arg L, |S| and |T| of the forward loop of each controller.
+
+    Parameters
+    ----------
+    result
+        An accompanying study result.
+    """
     fig = Figure(figsize=(7.5, 7.0), layout="constrained")
     ax_m, ax_p, ax_s = fig.subplots(3, 1, sharex=True)
     for label, la in result.loops.items():
@@ -301,7 +339,13 @@ def bode_figure(result: AccompanyingResult) -> Figure:
 
 
 def nyquist_figure(result: AccompanyingResult) -> Figure:
-    """Nyquist curves of the forward loops with the Ms circle around -1."""
+    """Nyquist curves of the forward loops with the Ms circle around -1.
+
+    Parameters
+    ----------
+    result
+        An accompanying study result.
+    """
     fig = Figure(figsize=(6.0, 6.0), layout="constrained")
     ax = fig.subplots()
     for label, la in result.loops.items():
@@ -467,7 +511,21 @@ def write_accompanying_report(
     version: str | None = None,
     study_text: str | None = None,
 ) -> list[Path]:
-    """Write every file of the report into ``directory`` (which must exist)."""
+    """Write every file of the report into ``directory`` (which must exist).
+
+    Parameters
+    ----------
+    result
+        An accompanying study result.
+    directory
+        The (new, empty) report directory.
+    command
+        The command line that produced the result.
+    version
+        The designlab version.
+    study_text
+        The study file's text, copied as ``study.yaml``.
+    """
     written = [write_csv(result.to_frame(), directory / "metrics.csv")]
     written.append(write_csv(table1_frame(result), directory / "table1.csv"))
     written.append(write_csv(table2_frame(result), directory / "table2.csv"))

@@ -21,6 +21,7 @@ Point sets (all evaluated in one pass, through one store):
 
 from __future__ import annotations
 
+import hashlib
 import logging
 import math
 from dataclasses import dataclass, field
@@ -85,7 +86,9 @@ class SweepStudyResult(Result):
         Tables by kind (``elasticity``, ``one_at_a_time``, ``sobol``, ``range``).
     stats
         Points asked for, distinct, computed now, read from the store, corrupt
-        chunks recomputed, failed; chunks; and the executor.
+        chunks recomputed, failed; chunks; the executor; and ``digest``, a
+        hash of every evaluated point with the evaluator's code version (equal
+        digests, equal results).
     """
 
     study: SweepStudyBase
@@ -111,6 +114,16 @@ class SweepStudyResult(Result):
     def to_frame(self) -> pd.DataFrame:
         """The sweep points (a copy)."""
         return self.frame.copy()
+
+    @property
+    def fingerprint(self) -> str:
+        """What the results depend on: a hash of every point and the evaluator's code.
+
+        A report written from a result with the same fingerprint, the same
+        study text and the same designlab holds the same numbers (see
+        ``designlab run --resume``, which then leaves it as it is).
+        """
+        return str(self.stats.get("digest", ""))
 
     @cached_property
     def warnings(self) -> tuple[str, ...]:  # type: ignore[override]
@@ -277,6 +290,7 @@ def _stats(run: SweepRun, context: RunContext) -> dict[str, Any]:
         "failed": len(run.failed),
         "chunks": run.chunks,
         "executor": ex.describe() if ex is not None else "serial",
+        "digest": run.digest,
     }
 
 
@@ -292,7 +306,9 @@ def _elasticities(
         desc=f"{study.name}: elasticities", **common,
     )  # fmt: skip
     for k, v in _stats(local, context).items():
-        if k != "executor":
+        if k == "digest":
+            stats[k] = hashlib.sha256(f"{stats[k]}+{v}".encode()).hexdigest()
+        elif k != "executor":
             stats[k] += v
     row = local.frame.iloc[0].to_dict()
     if row.get("status") == STATUS_ERROR:

@@ -69,7 +69,21 @@ MAX_POINTS = 2_000_000
 
 @dataclass(frozen=True)
 class ParameterInfo:
-    """What a sweepable parameter is: description, SI unit and allowed range."""
+    """What a sweepable parameter is: description, SI unit and allowed range.
+
+    Attributes
+    ----------
+    description
+        What the parameter is (e.g. ``"head mass M_h"``).
+    unit
+        Its SI unit as written in the docs.
+    gt
+        Exclusive lower bound, if any.
+    ge
+        Inclusive lower bound, if any.
+    le
+        Inclusive upper bound, if any.
+    """
 
     description: str
     unit: str

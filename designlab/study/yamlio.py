@@ -44,6 +44,8 @@ class YamlSyntaxError(ValueError):
         1-based line of the problem, if known.
     path
         Location of a duplicated key, if that is the problem.
+    message
+        What is wrong.
     """
 
     def __init__(self, message: str, line: int | None = None, path: YamlPath = ()) -> None:

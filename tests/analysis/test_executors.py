@@ -77,3 +77,30 @@ def test_bad_executor_options():
 def test_failing_point_alone_in_its_chunk_and_nan_free_neighbours(serial_run):
     ok = [r for i, r in enumerate(serial_run.results) if i != 7]
     assert all(math.isfinite(r["a_h_max_g"]) for r in ok)
+
+
+def _square(x: float) -> float:
+    return x * x
+
+
+@pytest.mark.parametrize("name", ["serial", "processes", "dask"])
+def test_lazy_tasks_are_drawn_only_as_workers_free_up(name):
+    """At most ``window`` tasks exist at once: a million-point sweep never holds all chunks."""
+    if name == "dask":
+        pytest.importorskip("distributed", reason="dask[distributed] is not installed")
+    opts = {"processes": False} if name == "dask" else {}
+    drawn = 0
+
+    def tasks():
+        nonlocal drawn
+        for i in range(60):
+            drawn += 1
+            yield float(i)
+
+    with make_executor(name, **({"workers": 2} if name != "serial" else {}), **opts) as ex:
+        got = {}
+        for yielded, (i, value) in enumerate(ex.map_unordered(_square, tasks()), start=1):
+            assert drawn - yielded <= ex.window, (drawn, yielded, ex.window)
+            got[i] = value
+    assert got == {i: float(i) ** 2 for i in range(60)}
+    assert ex.window == (8 if name != "serial" else 4)

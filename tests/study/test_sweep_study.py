@@ -323,3 +323,39 @@ def test_foam_envelope_study_runs_and_explains(write_study):
     assert el["impact_velocity"] == pytest.approx(-el["max_g"], rel=1e-9)
     s = result.sensitivity["one_at_a_time"].frame.set_index("parameter")["S_pct"]
     assert s["robot.mass"] / 100 == pytest.approx(el["robot.mass"], rel=0.05)
+
+
+def test_resume_of_a_finished_study_leaves_its_report_alone(tmp_path, write_study):
+    """--resume with every point stored and an unchanged study: the report is kept as it is."""
+    from typer.testing import CliRunner
+
+    from designlab.cli import app
+
+    runner = CliRunner()
+    study = write_study(SWEEP.replace("one_at_a_time: {deltas_pct: [-10, 10]}", "local: false"))
+    out, cache = tmp_path / "reports", tmp_path / "cache"
+    args = ["run", str(study), "-o", str(out), "--cache-dir", str(cache)]
+    first = runner.invoke(app, args)
+    assert first.exit_code == 0, first.output
+    report = out / "sweep_demo"
+    before = {p.name: (p.read_bytes(), p.stat().st_mtime_ns) for p in report.iterdir()}
+    assert ".designlab-report.json" in before
+
+    again = runner.invoke(app, [*args, "--resume"])
+    assert again.exit_code == 0, again.output
+    assert "report up to date" in again.output
+    assert {p.name: (p.read_bytes(), p.stat().st_mtime_ns) for p in report.iterdir()} == before
+
+    (report / "results.csv").write_text("tampered")  # a damaged report is rewritten
+    fixed = runner.invoke(app, [*args, "--resume"])
+    assert "report up to date" not in fixed.output
+    assert (report / "results.csv").read_bytes() == before["results.csv"][0]
+
+    study.write_text(study.read_text().replace("name: sweep_demo", "name: sweep_demo\n"
+                                               "description: now described"))  # fmt: skip
+    edited = runner.invoke(app, [*args, "--resume"])
+    assert "report up to date" not in edited.output
+    assert "now described" in (report / "summary.md").read_text()
+
+    rebuilt = runner.invoke(app, ["report", str(study), "-o", str(out), "--cache-dir", str(cache)])
+    assert rebuilt.exit_code == 0 and "report up to date" not in rebuilt.output

@@ -287,7 +287,15 @@ class AccompanyingResult(Result):
 
 
 def run(study: AccompanyingStudy, context: RunContext) -> AccompanyingResult:
-    """Simulate the tasks with the default PID, tune, and simulate again (in this process)."""
+    """Simulate the tasks with the default PID, tune, and simulate again (in this process).
+
+    Parameters
+    ----------
+    study
+        The accompanying study.
+    context
+        How to run it (unused: the tasks are simulated in this process).
+    """
     platform = study.platform.build()
     sensor = study.sensor.build()
     baseline = study.controller.build()

@@ -183,7 +183,17 @@ class RobotDesign:
 
 @dataclass(frozen=True)
 class FoamDesignResult(Result):
-    """Result of a ``foam_design`` study."""
+    """Result of a ``foam_design`` study.
+
+    Attributes
+    ----------
+    study
+        The study.
+    foams
+        The candidate foams, in the study's order.
+    designs
+        One design (envelope, optimum, worst-case check) per robot.
+    """
 
     study: FoamDesignStudy
     foams: list[Foam]

@@ -269,7 +269,15 @@ class ImpactCaseResult:
 
 @dataclass(frozen=True)
 class ImpactCasesResult(Result):
-    """Results of an ``impact_cases`` study, in the study's case order."""
+    """Results of an ``impact_cases`` study, in the study's case order.
+
+    Attributes
+    ----------
+    study
+        The study.
+    cases
+        One result per case, in the study's order.
+    """
 
     study: ImpactCasesStudy
     cases: tuple[ImpactCaseResult, ...]
