@@ -325,6 +325,17 @@ class GainSensitivity(Result):
         pandas.DataFrame
             ``table``, ``parameter``, ``delta_pct``, ``configuration``, ``quantity``,
             ``thesis``, ``designlab``, ``error`` (designlab - thesis) and ``unit``.
+
+        Examples
+        --------
+        >>> import designlab as dl
+        >>> sens = dl.navigation.gain_sensitivity(parameters=("k1",), deltas_pct=(-50, 50))
+        >>> c = sens.compare_appendix_c()
+        >>> sorted(c.loc[c.quantity == "d_s_min_cir", "delta_pct"].unique().tolist())
+        [-50.0, 0.0, 50.0]
+        >>> d1 = c[(c.configuration == "1") & (c.quantity == "d_s_min_cir")]
+        >>> bool(d1.error.abs().max() < 0.03)
+        True
         """
         ref = appendix_c_reference()
         rows = []
@@ -377,7 +388,15 @@ class GainSensitivity(Result):
         )  # fmt: skip
 
     def appendix_c_outcomes(self) -> pd.DataFrame:
-        """The -100 % rows: the thesis's words (Tables C.3/C.5/C.7/C.9) next to our outcomes."""
+        """The -100 % rows: the thesis's words (Tables C.3/C.5/C.7/C.9) next to our outcomes.
+
+        Examples
+        --------
+        >>> import designlab as dl
+        >>> sens = dl.navigation.gain_sensitivity(parameters=("k1",), deltas_pct=(-100,))
+        >>> sens.appendix_c_outcomes().loc[0, "designlab"]
+        'ch6_config1: no arrival; ch6_config2: no arrival; ch6_config3: no arrival'
+        """
         ref = appendix_c_reference()
         ref = ref[ref["quantity"] == "outcome"]
         o = self.outcomes[self.outcomes["delta_pct"] == -100]
