@@ -7,6 +7,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import designlab as dl
 from designlab.errors import InvalidParameterError
@@ -168,3 +170,47 @@ def test_on_bounds_reads_the_box(tiny):
     for n in inside:
         lo, hi = a.bounds[n]
         assert lo * 1.001 < getattr(g, n) < hi / 1.001
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    n=st.integers(1, 6),
+    seed=st.integers(0, 2**31),
+    v=st.tuples(st.floats(0.1, 2.0), st.floats(0.0, 1.0)),
+    t0=st.tuples(st.floats(0.0, 2.0), st.floats(0.0, 2.0)),
+    off=st.tuples(st.floats(-0.5, 0.5), st.floats(0.0, 0.5)),
+)
+def test_random_walks_stay_in_their_ranges(n, seed, v, t0, off):
+    speed = (v[0], v[0] + v[1])
+    start = (t0[0], t0[0] + t0[1])
+    lateral = (off[0], off[0] + off[1])
+    rw = nav.RandomWalks(n=n, speed=speed, start_time=start, lateral_offset=lateral, seed=seed)
+    base = nav.configuration(2).obstacles[0].motion
+    walks = rw.expand(nav.configuration(2))
+    assert len(walks) == n
+    for s in walks:
+        w = s.obstacles[0].motion
+        assert speed[0] <= w.speed <= speed[1]
+        assert start[0] <= w.start_time <= start[1]
+        # the walk is shifted normal to its direction (+y for a walk along +x), unchanged in x
+        dy = w.start[1] - base.start[1]
+        assert lateral[0] - 1e-12 <= dy <= lateral[1] + 1e-12
+        assert w.end[1] - base.end[1] == pytest.approx(dy, abs=1e-12)
+        assert w.start[0] == pytest.approx(base.start[0]) and w.end[0] == pytest.approx(base.end[0])
+    assert [s.obstacles[0].motion for s in rw.expand(nav.configuration(2))] == [
+        s.obstacles[0].motion for s in walks
+    ]
+
+
+def test_robust_worst_case_optimum_is_scored_by_its_worst_walk():
+    rw = nav.RandomWalks(n=2, seed=1)
+    sc = [nav.configuration(2)]
+    kw = dict(stabilising="off", seed=2, popsize=4, max_evaluations=8, refine=False)
+    opt = nav.optimise_gains(sc, robust=rw, robust_mode="worst", **kw)
+    check_result(opt)
+    assert opt.walks == 2 and opt.robust_mode == "worst" and opt.simulations == 8 * 2
+    # the worst of the two walks, written out from the batch simulator
+    h = nav.simulate_batch(rw.expand(sc[0]), opt.gains.as_array()[None, :], stabilising="off").H
+    assert opt.objective == pytest.approx(float(h[:, 0].min()), rel=1e-12)
+    again = nav.optimise_gains(sc, robust=rw, robust_mode="worst", **kw)
+    assert again.gains == opt.gains
