@@ -148,6 +148,7 @@ class VffGainsStudy(StudyBase):
         "sensitivity_*.csv",
         "global_sensitivity_*.csv",
         "appendix_c_comparison.csv",
+        "appendix_c_outcomes.csv",
         "trajectories_*.png",
         "study.yaml",
     )
@@ -174,6 +175,7 @@ class VffGainsStudy(StudyBase):
         return (
             f"{runs} optimisation(s) of up to {self.max_evaluations} gain sets x "
             f"{len(self.configurations)} configs"
+            + (" (+1 per mode whose optimum lies on a bound)" if self.bound_check else "")
         )
 
 
