@@ -99,3 +99,18 @@ def test_bound_check_adds_a_wider_box_row(tmp_path: Path) -> None:
     out = write_report(result, tmp_path, command="pytest", index=False)
     md = (out / "summary.md").read_text()
     assert "Bound check" in md and "wider box" in md
+
+
+def test_committed_gains_table_matches_the_simulator() -> None:
+    """The H values in reports/vff_gains/gains.csv come back from today's simulator."""
+    import designlab as dl
+
+    nav = dl.navigation
+    g = pd.read_csv(ROOT / "reports" / "vff_gains" / "gains.csv", keep_default_na=False)
+    sc = [nav.configuration(i) for i in (1, 2, 3)]
+    for mode in ("off", "lyapunov"):
+        block = g[(g["stabilising"] == mode) & (g["robust"] == "")]
+        f = nav.evaluate_gains(sc, block[["k1", "b", "k3", "k5"]].to_numpy(), stabilising=mode)
+        for n in ("H_ch6_config1", "H_ch6_config2", "H_ch6_config3", "H_mean"):
+            assert f[n].to_numpy() == pytest.approx(block[n].astype(float).to_numpy(), abs=2e-3)
+        assert list(f["feasible"]) == [v in (True, "True") for v in block["feasible"]]
