@@ -3,7 +3,7 @@
 Three model families, from Zeng 2011 (impact safety of foam-covered
 manipulators; navigation among people), Allan 2015 and Wu et al. 2021
 (robots that follow or accompany a person). The domain packages are imported
-on first use (``dl.impact``, ``dl.following``), so that a command touching
+on first use (``dl.impact``, ``dl.navigation``, ``dl.following``), so that a command touching
 one domain does not pay for loading the others.
 
 Examples

@@ -62,7 +62,7 @@ def _field_velocity(robot: HolonomicRobot | NonholonomicRobot, x0: ca.SX) -> ca.
 _EPS2 = _EPS**2  # the eps**2 of the field's norm, so lean minima equal the recorded ones
 # common subexpressions are evaluated once (exact: the same operation on the same operands)
 _CSE = {"cse": True}
-_LEAN_OUT = ("Xend", "critical", "Dmin", "Esum", "count", "hit")
+_LEAN_OUT = ("Xend", "critical", "Dmin", "Esum", "hit")
 _SHARED = [1, 2, 4, 5, 6, 7]  # inputs common to a batch: goal, obs, params, osub, fforce, tol
 
 
@@ -78,8 +78,10 @@ def build_step(
     """Field + hold + distances for one navigation period, as one SX function.
 
     The full variant returns every dynamics step (for recorded runs); the lean one
-    only what a batch needs: the final state, and the minimum distances, energy and
-    step count up to the first passage within ``tol`` of the goal (``hit``).
+    only what a batch needs: the final state, the period's minimum distances and
+    energy, and whether the robot came within ``tol`` of the goal (``hit``). The
+    simulator recomputes the one period of a run where ``hit`` is set with the full
+    variant, to stop its minima and energy at the first passage.
     """
     n = len(geometries)
     nx = state_size(robot)
@@ -115,30 +117,15 @@ def build_step(
         return ca.Function(
             f"step_{method}_{robot.kind}_{n}", ins, outs, names_in, list(_STEP_OUT), _CSE
         )
-    # steps up to and including the first passage: before_j = 1 until the goal has been hit.
-    # Minima are taken on the squared distances and rooted once (bit-identical to the
-    # minimum of the roots, the root being monotone), which saves a root per obstacle-step.
+    # Minima over the whole period, taken on the squared distances and rooted once
+    # (bit-identical to the minimum of the roots, the root being monotone).
     dist2 = build_distance(geometries, squared=True)
     if n:
         D2 = ca.horzcat(*[dist2(X[0:2, k], osub[:, k]) for k in range(n_sub)])
-    before = ca.SX(1)
-    count = ca.SX(0)
-    esum = ca.SX(0)
-    dmins = [ca.SX(np.inf)] * n
-    for j in range(n_sub):
-        count = count + before
-        esum = esum + before * ho["power"][j]
-        for i in range(n):
-            dmins[i] = ca.if_else(before, ca.fmin(dmins[i], D2[i, j]), dmins[i])
-        before = before * (gd[j] > tol)
-    outs = [
-        X[:, -1],
-        out["critical"],
-        ca.vertcat(*[ca.sqrt(m + _EPS2) for m in dmins]) if n else ca.SX(0, 1),
-        esum,
-        count,
-        1 - before,
-    ]
+        dmins = ca.vertcat(*[ca.sqrt(ca.mmin(D2[i, :]) + _EPS2) for i in range(n)])
+    else:
+        dmins = ca.SX(0, 1)
+    outs = [X[:, -1], out["critical"], dmins, ca.sum2(ho["power"]), ca.mmin(gd) <= tol]
     return ca.Function(
         f"lean_{method}_{robot.kind}_{n}", ins, outs, names_in, list(_LEAN_OUT), _CSE
     )
@@ -304,8 +291,9 @@ def run(
     params_in[:, 0] = (robot.mass, float(tie), 1.0 if stabilising else 0.0, robot.max_accel)
     ff_in[:, 0] = 0.0
     if lean:
-        o_x, o_crit, o_dmin, o_esum, o_count, o_hit = (f.view_out(i) for i in range(6))
-        o_crit, o_esum, o_count, o_hit = (a.reshape(-1) for a in (o_crit, o_esum, o_count, o_hit))
+        o_x, o_crit, o_dmin, o_esum, o_hit = (f.view_out(i) for i in range(5))
+        o_crit, o_esum, o_hit = (a.reshape(-1) for a in (o_crit, o_esum, o_hit))
+        arrival_period = _ArrivalPeriod(f, geos, robot, method, n_sub, dt, tol)
     else:
         outX, outP, outD = f.view_out(0), f.view_out(1), f.view_out(2)
         out_crit = f.view_out(4).reshape(-1)
@@ -376,24 +364,39 @@ def run(
             ff_in[:, 0] = cbf.force(x_in[:, 0].copy(), goal, gains[0], OBS[kc], robot, scenario)
         f()
         if lean and N == 1:  # scalar bookkeeping: a single run spends its time in the step
+            c_sum += float(o_crit[0])
+            k_done = k + 1
+            first = arrival_period(0) if o_hit[0] > 0.5 else None
+            if first is not None:  # stop the minima and the energy at the first passage
+                count, dm, es = first
+                if n_obs:
+                    np.minimum(dmin0, dm, out=dmin0)
+                e_sum += es
+                arrival[0] = (k * n_sub + count) * dt
+                live[0] = False
+                break
             if n_obs:
                 np.minimum(dmin0, o_dmin[:, 0], out=dmin0)
             e_sum += float(o_esum[0])
-            c_sum += float(o_crit[0])
-            k_done = k + 1
-            if o_hit[0] > 0.5:
-                arrival[0] = (k * n_sub + float(o_count[0])) * dt
-                live[0] = False
-                break
             np.copyto(x_flat, o_x_flat)
             continue
         if lean:
-            if n_obs:
-                dmin[live] = np.minimum(dmin[live], o_dmin.T[live])
-            energy[live] += o_esum[live] * dt
             crit_time[live] += o_crit[live] * period
             hit = live & (o_hit > 0.5)
-            arrival[hit] = (k * n_sub + o_count[hit]) * dt
+            for i in np.flatnonzero(hit):
+                first = arrival_period(i)
+                if first is None:  # (a last-bit disagreement: keep going)
+                    hit[i] = False
+                    continue
+                count, dm, es = first
+                if n_obs:
+                    dmin[i] = np.minimum(dmin[i], dm)
+                energy[i] += es * dt
+                arrival[i] = (k * n_sub + count) * dt
+            rest = live & ~hit
+            if n_obs:
+                dmin[rest] = np.minimum(dmin[rest], o_dmin.T[rest])
+            energy[rest] += o_esum[rest] * dt
             live &= ~hit
             X = o_x.copy()
             k_done = k + 1
@@ -410,7 +413,8 @@ def run(
             Pw = outP.reshape(n_sub, 1)
         arriving = live & (out_gmin <= tol)
         if arriving.any():
-            gd = np.hypot(Xs[0] - goal[0], Xs[1] - goal[1])  # (n_sub, N)
+            gx, gy = Xs[0] - goal[0], Xs[1] - goal[1]
+            gd = np.sqrt(gx * gx + gy * gy)  # (n_sub, N), the same operations as the step's
             hit = gd <= tol
             first = np.where(hit.any(axis=0), hit.argmax(axis=0), n_sub)
             upto = np.where(live, np.minimum(first + 1, n_sub), 0)
@@ -482,6 +486,49 @@ def _assemble(
     for k in ("F", "critical", "V", "Vdot0", "Omega", "vL2", "FL", "g", "active", "sigma"):
         out[k] = np.array(rec[k])
     return out
+
+
+class _ArrivalPeriod:
+    """Recompute the period in which a member reaches the goal with the full step function.
+
+    The lean step reports minima and energy over a whole period and only whether the
+    goal was reached in it; for that one period per run, the full step gives every
+    dynamics step, so the minima and the energy stop at the first passage exactly.
+    """
+
+    def __init__(
+        self,
+        lean: _Buffered,
+        geos: tuple[ObstacleGeometry, ...],
+        robot: HolonomicRobot | NonholonomicRobot,
+        method: str,
+        n_sub: int,
+        dt: float,
+        tol: float,
+    ) -> None:
+        self.lean = lean
+        self.full = _Buffered(_compiled(geos, robot, method, n_sub, dt, 1, False, False))
+        self.nx = state_size(robot)
+        self.tol = tol
+        self.n_obs = len(geos)
+
+    def __call__(self, i: int) -> tuple[int, Array, float] | None:
+        """(steps up to and including the first passage, minima, energy sum) or None."""
+        full, lean, nx = self.full, self.lean, self.nx
+        full.inp[0][:] = lean.inp[0][nx * i : nx * (i + 1)]  # the member's state
+        full.inp[3][:] = lean.inp[3][4 * i : 4 * (i + 1)]  # its gains
+        for j in _SHARED:
+            full.inp[j][:] = lean.inp[j]
+        full()
+        X = full.view_out(0)
+        gx, gy = X[0] - lean.inp[1][0], X[1] - lean.inp[1][1]
+        hits = np.flatnonzero(np.sqrt(gx * gx + gy * gy) <= self.tol)
+        if not hits.size:
+            return None
+        count = int(hits[0]) + 1
+        power = full.view_out(1).reshape(-1)
+        dm = full.view_out(2)[:, :count].min(axis=1) if self.n_obs else np.zeros(0)
+        return count, dm, float(power[:count].sum())
 
 
 class _CBF:

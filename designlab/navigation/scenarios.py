@@ -426,8 +426,48 @@ class Rectangle:
     def collision_distance(self, robot_radius: float) -> float:
         return robot_radius
 
+    def corners(self) -> Array:
+        """The four corners, ``(4, 2)`` in m, counter-clockwise."""
+        c, s = math.cos(self.angle), math.sin(self.angle)
+        hl, hw = self.length / 2, self.width / 2
+        local = np.array([(-hl, -hw), (hl, -hw), (hl, hw), (-hl, hw)])
+        rot = np.array([[c, -s], [s, c]])
+        return np.asarray(self.center) + local @ rot.T
+
 
 Obstacle = Disc | Rectangle
+
+
+def _overlap(a: Rectangle, b: Rectangle) -> bool:
+    """Separating-axis test: True if the two rectangles intersect."""
+    ca, cb = a.corners(), b.corners()
+    for ang in (a.angle, b.angle):
+        for axis in ((math.cos(ang), math.sin(ang)), (-math.sin(ang), math.cos(ang))):
+            pa, pb = ca @ np.asarray(axis), cb @ np.asarray(axis)
+            if pa.max() < pb.min() or pb.max() < pa.min():
+                return False
+    return True
+
+
+def _static_gap(a: Obstacle, b: Obstacle) -> float:
+    """Distance between two static obstacles' reference sets minus r3_a + r3_b (< 0: the
+    critical regions intersect). Discs are their centres, rectangles their areas."""
+
+    def points(o: Obstacle) -> Array:
+        if isinstance(o, Rectangle):
+            return o.corners()
+        return np.asarray([o.motion.state(np.zeros(1))[0][0]])
+
+    if isinstance(a, Disc) and isinstance(b, Disc):
+        d = float(np.hypot(*(points(a)[0] - points(b)[0])))
+    else:
+        # disjoint convex sets are closest at a vertex of one of them (a disc is a point)
+        d = min(
+            float(b.contour_distance(points(a)).min()), float(a.contour_distance(points(b)).min())
+        )
+        if isinstance(a, Rectangle) and isinstance(b, Rectangle) and _overlap(a, b):
+            d = 0.0  # crossing edges with no vertex inside the other
+    return d - (a.r3 + b.r3)
 
 
 def _check_regions(o: Any) -> None:
@@ -547,6 +587,30 @@ class Scenario:
     @property
     def obstacle_names(self) -> tuple[str, ...]:
         return tuple(o.name for o in self.obstacles)
+
+    def intersecting_critical_regions(self) -> tuple[tuple[str, str, float], ...]:
+        """Pairs of static obstacles whose critical regions intersect, with the overlap (m).
+
+        Zeng 2011 (Sec. 6.4.3) merges such obstacles into one; designlab keeps them
+        apart, and :func:`~designlab.navigation.simulate` warns: no path between them
+        stays outside both critical regions.
+
+        Examples
+        --------
+        >>> pillar = lambda n, x: Disc(n, 0.1, r2=0.8, r3=0.4, motion=Stationary((x, 1.0)))
+        >>> sc = Scenario("gate", start=(4.0, 0.0), goal=(0.0, 0.0),
+        ...               obstacles=(pillar("a", 2.0), pillar("b", 2.7)))
+        >>> [(a, b, round(o, 3)) for a, b, o in sc.intersecting_critical_regions()]
+        [('a', 'b', 0.1)]
+        """
+        static = [o for o in self.obstacles if isinstance(o, Rectangle) or not o.motion.moving]
+        out = []
+        for i, a in enumerate(static):
+            for b in static[i + 1 :]:
+                gap = _static_gap(a, b)
+                if gap < 0:
+                    out.append((a.name, b.name, -gap))
+        return tuple(out)
 
     def with_robot(self, robot: HolonomicRobot | NonholonomicRobot) -> Scenario:
         """The same scenario with another robot."""

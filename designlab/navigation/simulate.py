@@ -356,6 +356,11 @@ def simulate(
             warnings.append(
                 f"entered the critical region of {n!r}: distance {min_distance[n]:.3f} m"
             )
+    for a, b, overlap in scenario.intersecting_critical_regions():
+        warnings.append(
+            f"the critical regions of {a!r} and {b!r} overlap by {overlap:.3f} m: no path "
+            "between them stays outside both (Zeng 2011, Sec. 6.4.3 merges such obstacles)"
+        )
     if method == "cbf":
         bad = sum(1 for s in rec["qp_status"] if s not in ("solved", "solved inaccurate"))
         if bad:

@@ -304,3 +304,32 @@ def test_jit_compiled_batch_equals_the_virtual_machine() -> None:
     np.testing.assert_allclose(jit.arrival_time, vm.arrival_time, atol=1e-9)
     np.testing.assert_allclose(jit.min_distance, vm.min_distance, atol=1e-9)
     np.testing.assert_allclose(jit.H, vm.H, atol=1e-9)
+
+
+def test_intersecting_critical_regions_are_found_and_warned_about() -> None:
+    def disc(name: str, x: float, y: float) -> nav.Disc:
+        return nav.Disc(name, 0.1, r2=0.8, r3=0.4, motion=nav.Stationary((x, y)))
+
+    bar = nav.Rectangle("bar", center=(2.0, -1.5), length=2.0, width=0.4, r2=0.8, r3=0.4)
+    cross = nav.Rectangle(
+        "cross", center=(2.0, -1.5), length=2.0, width=0.4, r2=0.8, r3=0.3, angle=math.pi / 2
+    )
+    sc = nav.Scenario(
+        "gates",
+        start=(4.0, 0.0),
+        goal=(0.0, 0.0),
+        obstacles=(disc("a", 2.0, 1.0), disc("b", 2.7, 1.0), disc("c", 2.0, -0.6), bar, cross),
+    )
+    found = {(a, b): o for a, b, o in sc.intersecting_critical_regions()}
+    # centres 0.7 m apart, r3 0.4 + 0.4: overlap 0.1 m
+    assert found[("a", "b")] == pytest.approx(0.1)
+    # disc 0.9 m above the bar's centre line, 0.7 m above its long edge (its corners are
+    # 1.22 m away): overlap 0.8 - 0.7 = 0.1 m
+    assert found[("c", "bar")] == pytest.approx(0.1)
+    # the two bars cross: overlap r3 + r3
+    assert found[("bar", "cross")] == pytest.approx(0.7)
+    assert ("a", "c") not in found and ("b", "c") not in found
+    for which, chapter in ((3, 6), (4, 6), (3, 7)):
+        assert nav.configuration(which, chapter).intersecting_critical_regions() == ()
+    res = nav.simulate(sc.replace(obstacles=sc.obstacles[:2]), EXP, stabilising="off")
+    assert any("overlap by 0.100 m" in w for w in res.warnings)
