@@ -114,3 +114,45 @@ def test_committed_gains_table_matches_the_simulator() -> None:
         for n in ("H_ch6_config1", "H_ch6_config2", "H_ch6_config3", "H_mean"):
             assert f[n].to_numpy() == pytest.approx(block[n].astype(float).to_numpy(), abs=2e-3)
         assert list(f["feasible"]) == [v in (True, "True") for v in block["feasible"]]
+
+
+@pytest.mark.slow
+def test_sensitivity_sections_end_to_end(tmp_path: Path) -> None:
+    text = """
+designlab: 1
+kind: vff_gains
+name: sens
+configurations: [1, 2, 3]
+validation: []
+modes: [off]
+popsize: 8
+max_evaluations: 16
+refine: false
+deltas_pct: [-100, 50]
+sobol_samples: 8
+"""
+    result = run_study(parse_study(text))
+    assert set(result.sensitivities) == {"thesis_optimum_off", "designlab_optimum_off"}
+    assert set(result.global_sensitivities) == set(result.sensitivities)
+    a = result.appendix_c
+    # only the +50 % and base rows exist here: 2 rows per (gain, quantity, configuration)
+    assert set(a["delta_pct"]) == {0.0, 50.0} and set(a["parameter"]) == {"k1", "b", "k3", "k5"}
+    assert (a["error"] == a["designlab"] - a["thesis"]).all()
+    g = result.comparison
+    assert {f"T_arrive_s_ch6_config{i}" for i in (1, 2, 3)} <= set(g.columns)
+    assert {f"critical_margin_m_ch6_config{i}" for i in (1, 2, 3)} <= set(g.columns)
+    out = write_report(result, tmp_path, command="pytest", index=False)
+    names = {p.name for p in out.iterdir()}
+    assert {
+        "appendix_c_comparison.csv",
+        "appendix_c_outcomes.csv",
+        "global_sensitivity_thesis_optimum_off.csv",
+        "sensitivity_designlab_optimum_off.csv",
+    } <= names
+    md = (out / "summary.md").read_text()
+    for heading in (
+        "## Sensitivity tables (Zeng 2011, App. C.3)",
+        "## Against the thesis's Appendix C (Tables C.2-C.9)",
+        "## Which gains matter when all move together",
+    ):
+        assert heading in md
