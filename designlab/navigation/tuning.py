@@ -235,7 +235,9 @@ class _Evaluator:
         arrival_tolerance: float,
         executor: Any,
         chunks: int,
+        critical_margin: float = 0.0,
     ) -> None:
+        self.margin = critical_margin
         self.groups: list[list[Scenario]] = [robust.expand(s) if robust else [s] for s in scenarios]
         self.flat = [s for g in self.groups for s in g]
         self.owner = np.concatenate([[i] * len(g) for i, g in enumerate(self.groups)]).astype(int)
@@ -277,11 +279,14 @@ class _Evaluator:
         safe_run = ~raw["entered_critical"]
         depth = np.zeros(raw["H"].shape)
         margin_run = np.full(raw["H"].shape, math.inf)
+        cm = self.margin
         for r, r3 in enumerate(self.r3):
             if r3.size:
                 d = raw["min_distance"][r, :, : r3.size]
-                depth[r] = (np.maximum(r3[None, :] - d, 0.0) / r3[None, :]).sum(axis=1)
+                depth[r] = (np.maximum(r3[None, :] + cm - d, 0.0) / r3[None, :]).sum(axis=1)
                 margin_run[r] = (d - r3[None, :]).min(axis=1)
+        if cm > 0:
+            safe_run = safe_run & (margin_run >= cm)
         S = len(self.groups)
         H = np.zeros((S, P))
         arrived = np.zeros((S, P), bool)
@@ -310,6 +315,7 @@ def evaluate_gains(
     robust: RandomWalks | None = None,
     robust_mode: str = "mean",
     arrival_tolerance: float = 0.15,
+    critical_margin: float = 0.0,
 ) -> pd.DataFrame:
     """Score gain sets as :func:`optimise_gains` does: H per scenario, H_mean and feasibility.
 
@@ -319,14 +325,15 @@ def evaluate_gains(
         The scenarios.
     gains
         A :class:`VFFGains`, a sequence of them, or an ``(N, 4)`` array of (k1, b, k3, k5).
-    stabilising, robust, robust_mode, arrival_tolerance
+    stabilising, robust, robust_mode, arrival_tolerance, critical_margin
         As in :func:`optimise_gains`.
 
     Returns
     -------
     pandas.DataFrame
         One row per gain set: ``k1``, ``b``, ``k3``, ``k5``, ``H_<scenario>``,
-        ``H_mean``, ``feasible``, ``arrived_all``, ``critical_free``, then per scenario
+        ``H_mean``, ``feasible``, ``arrived_all``, ``critical_free`` (every run stayed
+        ``critical_margin`` or more outside every critical region), then per scenario
         ``T_arrive_s_<scenario>`` (s; the mean over the walks in robust mode, inf if a
         run did not arrive) and ``critical_margin_m_<scenario>`` (the smallest
         centre/contour distance minus the obstacle's r3 over obstacles and walks, m;
@@ -348,6 +355,7 @@ def evaluate_gains(
         arrival_tolerance,
         None,
         1,
+        _check_margin(critical_margin),
     )
     e = ev(g)
     frame = pd.DataFrame(g, columns=list(GAIN_NAMES))
@@ -387,6 +395,16 @@ def _check_scenarios(scenarios: Sequence[Scenario]) -> list[Scenario]:
     if len(set(names)) != len(names):
         raise InvalidParameterError("scenarios", names, "scenario names must be unique")
     return sc
+
+
+def _check_margin(margin: float) -> float:
+    if (
+        isinstance(margin, bool)
+        or not isinstance(margin, int | float)
+        or not (math.isfinite(margin) and margin >= 0)
+    ):
+        raise InvalidParameterError("critical_margin", margin, "must be a finite number >= 0", "m")
+    return float(margin)
 
 
 def _check_robust(robust: RandomWalks | None) -> RandomWalks | None:
@@ -470,6 +488,8 @@ class GainOptimum(Result):
         ``{gain: (low, high)}`` searched.
     seed
         The seed.
+    critical_margin
+        The clearance (m) every run had to keep outside every critical region.
     """
 
     gains: VFFGains | None
@@ -485,6 +505,7 @@ class GainOptimum(Result):
     walks: int
     bounds: dict[str, tuple[float, float]]
     seed: int
+    critical_margin: float = 0.0
     status: str = OK
     warnings: tuple[str, ...] = ()
 
@@ -545,6 +566,7 @@ def optimise_gains(
     robust: RandomWalks | None = None,
     robust_mode: str = "mean",
     arrival_tolerance: float = 0.15,
+    critical_margin: float = 0.0,
     executor: Any = None,
     chunks: int = 1,
     callback: Callable[[dict[str, Any]], None] | None = None,
@@ -581,6 +603,11 @@ def optimise_gains(
         ``"mean"`` or ``"worst"``: the score of a scenario over its walks.
     arrival_tolerance
         Arrival radius (m).
+    critical_margin
+        Clearance (m, >= 0) the robot must keep outside every critical region: a
+        candidate is feasible only if, in every run, the smallest centre/contour
+        distance to each obstacle is at least its r3 plus this margin (0: never
+        enter a critical region, the issue's constraint).
     executor
         Optional executor with ``map_unordered(fn, tasks)`` (e.g. from
         ``designlab.analysis.executors.make_executor``) to split each population into
@@ -640,7 +667,8 @@ def optimise_gains(
         u0 = (np.log(x0.as_array()) - llo) / (lhi - llo)
         if np.any(u0 < 0) or np.any(u0 > 1):
             raise InvalidParameterError("x0", x0, "must lie inside the bounds")
-    ev = _Evaluator(sc, stab, rob, mode, arrival_tolerance, executor, int(chunks))
+    cm = _check_margin(critical_margin)
+    ev = _Evaluator(sc, stab, rob, mode, arrival_tolerance, executor, int(chunks), cm)
     history: list[dict[str, Any]] = []
     best: dict[str, Any] = {"u": None, "H": -math.inf, "H_s": None}
 
@@ -727,7 +755,8 @@ def optimise_gains(
         status = "infeasible"
         warnings.append(
             f"no candidate among {ev.evaluations} arrived and stayed out of every critical region "
-            "in all scenarios"
+            + (f"(by {cm} m or more) " if cm > 0 else "")
+            + "in all scenarios"
         )
         gains = None
         H_s = np.full(len(sc), math.nan)
@@ -763,6 +792,7 @@ def optimise_gains(
         walks=rob.n if rob is not None else 0,
         bounds={n: (float(lo[j]), float(hi[j])) for j, n in enumerate(GAIN_NAMES)},
         seed=int(seed),
+        critical_margin=cm,
         status=status,
         warnings=tuple(warnings),
     )

@@ -218,8 +218,9 @@ def vff_gains_markdown(
         f"bounds K1 {b.k1} N/m, "
         f"b {b.b} s, K3 {b.k3} N/m, K5 {b.k5} N/m^2",
         "- hard constraints: arrival (within 0.15 m of the goal, 30 s horizon) and no entry "
-        "into any "
-        "critical region in every configuration; a violating candidate is infeasible (ranked below "
+        "into any critical region"
+        + (f" (clearance of {st.critical_margin:g} m or more)" if st.critical_margin else "")
+        + " in every configuration; a violating candidate is infeasible (ranked below "
         "every feasible one), never scored",
         f"- CMA-ES (population {st.popsize}, budget {st.max_evaluations} gain sets, "
         f"seed {st.seed}), each "

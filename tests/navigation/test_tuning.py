@@ -214,3 +214,31 @@ def test_robust_worst_case_optimum_is_scored_by_its_worst_walk():
     assert opt.objective == pytest.approx(float(h[:, 0].min()), rel=1e-12)
     again = nav.optimise_gains(sc, robust=rw, robust_mode="worst", **kw)
     assert again.gains == opt.gains
+
+
+def test_a_clearance_margin_tightens_feasibility():
+    # Configuration 1 with the experimental gains: the robot passes the circle's critical
+    # region by about 0.086 m (reports/vff_gains); a 0.1 m clearance makes it infeasible
+    sc = [nav.configuration(1)]
+    g = nav.VFFGains(3.0, 0.25, 20.0, 17.0)
+    run = nav.simulate(sc[0], g, stabilising="off")
+    gap = min(run.min_distance[o.name] - o.r3 for o in sc[0].obstacles)
+    assert 0 < gap < 0.5
+    below = nav.evaluate_gains(sc, g, stabilising="off", critical_margin=gap * 0.9)
+    above = nav.evaluate_gains(sc, g, stabilising="off", critical_margin=gap * 1.1)
+    assert bool(below["feasible"][0]) and not bool(above["feasible"][0])
+    assert not bool(above["critical_free"][0]) and bool(above["arrived_all"][0])
+    # the optimiser then only returns points that keep the clearance
+    opt = nav.optimise_gains(
+        sc, stabilising="off", seed=0, popsize=6, max_evaluations=12, refine=False,
+        critical_margin=0.1,
+    )  # fmt: skip
+    assert opt.critical_margin == 0.1 and opt.gains is not None
+    f = nav.evaluate_gains(sc, opt.gains, stabilising="off")
+    assert f["critical_margin_m_ch6_config1"][0] >= 0.1
+
+
+@pytest.mark.parametrize("bad", [-0.1, math.nan, math.inf, True, "0.1"])
+def test_bad_critical_margin(bad):
+    with pytest.raises(InvalidParameterError, match="critical_margin"):
+        nav.evaluate_gains([nav.configuration(1)], THESIS, critical_margin=bad)

@@ -118,6 +118,11 @@ class VffGainsStudy(StudyBase):
     popsize: Annotated[int, Field(ge=4, le=256)] = 16
     max_evaluations: Annotated[int, Field(ge=4, le=100000)] = 1600
     refine: bool = True
+    critical_margin: Annotated[float, Field(ge=0, le=2, allow_inf_nan=False)] = Field(
+        0.0,
+        description="clearance (m) every run must keep outside every critical region "
+        "(0: never enter one)",
+    )
     bound_check: bool = Field(
         False,
         description="when an optimum lies on a bound, optimise again with that bound moved "
@@ -298,6 +303,7 @@ def run(study: VffGainsStudy, context: RunContext) -> VffGainsResult:
             scen,
             bounds=study.bounds.as_dict(),
             stabilising=mode,
+            critical_margin=study.critical_margin,
             seed=study.seed,
             popsize=study.popsize,
             max_evaluations=study.max_evaluations,
@@ -319,6 +325,7 @@ def run(study: VffGainsStudy, context: RunContext) -> VffGainsResult:
                 scen,
                 bounds=wide,
                 stabilising=mode,
+                critical_margin=study.critical_margin,
                 seed=study.seed,
                 popsize=study.popsize,
                 max_evaluations=study.max_evaluations,
@@ -330,8 +337,9 @@ def run(study: VffGainsStudy, context: RunContext) -> VffGainsResult:
             if opt_w.gains is not None:
                 cand.append(("designlab_optimum_wider_box", opt_w.gains))
         labels, gs = [c[0] for c in cand], [c[1] for c in cand]
-        f_opt = nav.evaluate_gains(scen, gs, stabilising=mode)
-        f_val = nav.evaluate_gains(val, gs, stabilising=mode) if val else None
+        cm = study.critical_margin
+        f_opt = nav.evaluate_gains(scen, gs, stabilising=mode, critical_margin=cm)
+        f_val = nav.evaluate_gains(val, gs, stabilising=mode, critical_margin=cm) if val else None
         rows += _rows(labels, mode, gs, f_opt, f_val, opt_names, val_names)
     if study.robust is not None:
         rs = study.robust
@@ -346,6 +354,7 @@ def run(study: VffGainsStudy, context: RunContext) -> VffGainsResult:
             scen,
             bounds=study.bounds.as_dict(),
             stabilising=rs.stabilising,
+            critical_margin=study.critical_margin,
             seed=study.seed,
             popsize=study.popsize,
             max_evaluations=study.max_evaluations,
@@ -360,7 +369,12 @@ def run(study: VffGainsStudy, context: RunContext) -> VffGainsResult:
         if opt.gains is not None:
             cand.append(("designlab_robust_optimum", opt.gains))
         labels, gs = [c[0] for c in cand], [c[1] for c in cand]
-        kw = dict(stabilising=rs.stabilising, robust=walks, robust_mode=rs.mode)
+        kw = dict(
+            stabilising=rs.stabilising,
+            robust=walks,
+            robust_mode=rs.mode,
+            critical_margin=study.critical_margin,
+        )
         f_opt = nav.evaluate_gains(scen, gs, **kw)
         f_val = nav.evaluate_gains(val, gs, **kw) if val else None
         for r in _rows(labels, rs.stabilising, gs, f_opt, f_val, opt_names, val_names):
