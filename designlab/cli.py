@@ -133,9 +133,9 @@ def _write(
     from designlab.report import report_is_current, write_report
 
     text = study.read_text(encoding="utf-8")
-    if keep_current and report_is_current(result, output_dir, study_text=text):
+    kept = keep_current and report_is_current(result, output_dir, study_text=text)
+    if kept:
         out = output_dir / result.study.name  # type: ignore[attr-defined]
-        typer.echo(f"report up to date: {out}/ (same points, code and study; not rewritten)")
     else:
         out = write_report(result, output_dir, command=shlex.join(command), study_text=text)
     for warning in result.warnings:  # type: ignore[attr-defined]
@@ -143,9 +143,12 @@ def _write(
     status = result.status  # type: ignore[attr-defined]
     if status != "ok":
         typer.echo(f"status: {status} (see the report)", err=True)
-    files = sorted(p.name for p in out.iterdir() if not p.name.startswith("."))
-    shown = ", ".join(files) if len(files) <= 6 else ", ".join(files[:5]) + ", ..."
-    typer.echo(f"wrote {out}/ ({shown})")
+    if kept:
+        typer.echo(f"report up to date: {out}/ (same points, code and study; not rewritten)")
+    else:
+        files = sorted(p.name for p in out.iterdir() if not p.name.startswith("."))
+        shown = ", ".join(files) if len(files) <= 6 else ", ".join(files[:5]) + ", ..."
+        typer.echo(f"wrote {out}/ ({shown})")
     stats = getattr(result, "stats", None)
     if stats:
         merged = stats["points"] - stats.get("distinct", stats["points"])

@@ -419,23 +419,55 @@ class SweepRun:
 def _distinct(cols: Columns) -> tuple[np.ndarray, np.ndarray]:
     """``(first, inverse)``: rows of the distinct points, and each point's distinct index.
 
-    Rows are hashed (pandas, 64 bit) and the grouping is then verified value by
-    value, so a hash collision can never merge two different points.
+    Rows are hashed column by column (pandas, 64 bit, no copy of the table);
+    when rows share a hash the grouping is verified value by value, so a hash
+    collision can never merge two different points.
     """
     n = _length(cols)
     if n == 0:
         return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
-    frame = pd.DataFrame({k: cols[k] for k in sorted(cols)})
-    hashes = pd.util.hash_pandas_object(frame, index=False).to_numpy()
+    hashes = np.zeros(n, dtype=np.uint64)
+    for name in sorted(cols):
+        column = np.ascontiguousarray(cols[name], dtype=float)
+        with np.errstate(over="ignore"):
+            hashes = hashes * np.uint64(0x100000001B3) ^ pd.util.hash_array(column)
     codes, _ = pd.factorize(hashes)
     first = np.flatnonzero(~pd.Series(codes).duplicated().to_numpy())
-    values = frame.to_numpy()
-    rep = values[first[codes]]
-    same = (rep == values) | (np.isnan(rep) & np.isnan(values))
-    if not bool(same.all()):  # pragma: no cover - a 64-bit hash collision
-        codes = frame.groupby(list(frame.columns), sort=False, dropna=False).ngroup().to_numpy()
-        first = np.flatnonzero(~pd.Series(codes).duplicated().to_numpy())
+    if len(first) == n:  # nothing merged: no collision can matter
+        return first, np.asarray(codes, dtype=np.intp)
+    for name in cols:
+        values = np.asarray(cols[name], dtype=float)
+        rep = values[first[codes]]
+        if not bool(((rep == values) | (np.isnan(rep) & np.isnan(values))).all()):
+            frame = pd.DataFrame({k: cols[k] for k in sorted(cols)})
+            codes = frame.groupby(list(frame.columns), sort=False, dropna=False).ngroup()
+            codes = codes.to_numpy()  # a 64-bit hash collision (tested by forcing one)
+            first = np.flatnonzero(~pd.Series(codes).duplicated().to_numpy())
+            break
     return first, np.asarray(codes, dtype=np.intp)
+
+
+def _digest(
+    evaluator: Evaluator,
+    options: Mapping[str, Any],
+    cols: Columns,
+    keys: Sequence[str | None],
+    inverse: np.ndarray | None,
+) -> str:
+    """A hash of the evaluator, its code, its options and every point in order.
+
+    With a store, the chunk keys already hash every distinct point (and the
+    evaluator, code and options): the digest combines them with the order of
+    the points instead of hashing the points again.
+    """
+    if not keys or any(k is None for k in keys):
+        return chunk_key(evaluator, options, cols)
+    h = hashlib.sha256(b"chunks")
+    for key in keys:
+        h.update(key.encode())  # type: ignore[union-attr]
+    if inverse is not None:
+        h.update(np.ascontiguousarray(inverse, dtype="<i8").tobytes())
+    return h.hexdigest()
 
 
 class _Assembler:
@@ -564,9 +596,9 @@ def run_points(
     if size < 1:
         raise ValueError(f"chunk_size = {size} is not allowed: must be >= 1")
     first, inverse = _distinct(cols)
-    distinct = _take(cols, first)
     m = len(first)
-    run = SweepRun(pd.DataFrame(), points=n, distinct=m, digest=chunk_key(evaluator, options, cols))
+    distinct = cols if m == n else _take(cols, first)
+    run = SweepRun(pd.DataFrame(), points=n, distinct=m)
     bounds = [(s, min(s + size, m)) for s in range(0, m, size)]
     run.chunks = len(bounds)
     assembled = _Assembler(m)
@@ -622,6 +654,7 @@ def run_points(
                 bar.update(k)
         finally:
             bar.close()
+    run.digest = _digest(evaluator, options, cols, keys, None if m == n else inverse)
     frame = assembled.frame(None if m == n else inverse)
     if len(frame):
         for c in ("status", "error"):

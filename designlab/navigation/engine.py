@@ -74,8 +74,13 @@ def build_step(
     n_sub: int,
     dt: float,
     lean: bool = False,
+    stabilising: bool | None = None,
 ) -> ca.Function:
     """Field + hold + distances for one navigation period, as one SX function.
+
+    ``stabilising`` True / False bakes the stabilising-force switch into the function
+    (``params[2]`` is then ignored), so that with the force off its automatic-differentiation
+    terms are not evaluated at all; ``None`` reads the switch from ``params[2]``.
 
     The full variant returns every dynamics step (for recorded runs); the lean one
     only what a batch needs: the final state, the period's minimum distances and
@@ -96,7 +101,10 @@ def build_step(
     field = build_field(geometries, method)
     hold = build_hold(robot, n_sub, dt)
     dist = build_distance(geometries)
-    out = field(x=_field_velocity(robot, x0), goal=goal, obs=obs, gains=gains, params=params)
+    fparams = params
+    if stabilising is not None:
+        fparams = ca.vertcat(params[0], params[1], ca.SX(1.0 if stabilising else 0.0), params[3])
+    out = field(x=_field_velocity(robot, x0), goal=goal, obs=obs, gains=gains, params=fparams)
     F = ca.if_else(fforce[0], fforce[1:3], out["F"])
     ho = hold(x0=x0, F=F, brake=out["critical"])
     X = ho["X"]
@@ -141,11 +149,12 @@ def _compiled(
     n_batch: int,
     jit: bool,
     lean: bool,
+    stabilising: bool | None = None,
 ) -> ca.Function:
     f = (
-        _jit_step(geometries, robot, method, n_sub, dt, lean)
+        _jit_step(geometries, robot, method, n_sub, dt, lean, stabilising)
         if jit
-        else build_step(geometries, robot, method, n_sub, dt, lean)
+        else build_step(geometries, robot, method, n_sub, dt, lean, stabilising)
     )
     if n_batch > 1:
         f = f.map(f"{f.name()}_map{n_batch}", "serial", n_batch, _SHARED, [])
@@ -160,9 +169,10 @@ def _jit_step(
     n_sub: int,
     dt: float,
     lean: bool,
+    stabilising: bool | None = None,
 ) -> ca.Function:
     """The one-period step compiled to machine code (CasADi JIT with the system C compiler)."""
-    f = build_step(geometries, robot, method, n_sub, dt, lean)
+    f = build_step(geometries, robot, method, n_sub, dt, lean, stabilising)
     # CasADi writes the C source and the shared object next to ``jit_name`` and removes them
     # when the function is destroyed: keep them in a private temporary directory
     tmp = tempfile.mkdtemp(prefix="designlab_jit_")
@@ -278,7 +288,10 @@ def run(
     n_obs = len(geos)
     robot = scenario.robot
     lean = not record
-    f = _Buffered(_compiled(geos, robot, method, n_sub, dt, N, jit, lean))
+    # batched (lean) steps bake the stabilising switch in: with the force off, its AD terms drop
+    f = _Buffered(
+        _compiled(geos, robot, method, n_sub, dt, N, jit, lean, bool(stabilising) if lean else None)
+    )
     n_samples = math.ceil(scenario.horizon / period - 1e-9)
     nx = state_size(robot)
     x_in, goal_in, obs_in, gains_in, params_in, _osub_in, ff_in, tol_in = (

@@ -473,7 +473,21 @@ class BatchResult(Result):
 
 
 def _check_gain_array(gains: ArrayLike) -> Array:
-    g = np.asarray(gains, dtype=float)
+    if isinstance(gains, np.ndarray):
+        has_bool = gains.dtype == bool or (
+            gains.dtype == object and any(isinstance(v, bool | np.bool_) for v in gains.ravel())
+        )
+    else:
+        raw = np.asarray(gains, dtype=object)
+        has_bool = any(isinstance(v, bool | np.bool_) for v in raw.ravel())
+    if has_bool:
+        raise InvalidParameterError("gains", gains, "must be numbers, not booleans")
+    try:
+        g = np.asarray(gains, dtype=float)
+    except (TypeError, ValueError):
+        raise InvalidParameterError(
+            "gains", gains, "must be an (N, 4) array of numbers (k1, b, k3, k5)"
+        ) from None
     if g.ndim == 1:
         g = g[None, :]
     if g.ndim != 2 or g.shape[1] != 4 or g.shape[0] < 1:
@@ -536,7 +550,14 @@ def simulate_batch(
         raise InvalidParameterError("stabilising", stabilising, f"must be one of {_STABILISING}")
     if tie_side not in ("+y", "-y"):
         raise InvalidParameterError("tie_side", tie_side, "must be '+y' or '-y'")
-    scenarios = list(scenarios)
+    if isinstance(scenarios, Scenario):
+        scenarios = [scenarios]
+    try:
+        scenarios = list(scenarios)
+    except TypeError:
+        raise InvalidParameterError(
+            "scenarios", scenarios, "must be a non-empty sequence of Scenario"
+        ) from None
     if not scenarios or not all(isinstance(s, Scenario) for s in scenarios):
         raise InvalidParameterError(
             "scenarios", scenarios, "must be a non-empty sequence of Scenario"

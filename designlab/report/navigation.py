@@ -24,14 +24,14 @@ from __future__ import annotations
 import math
 import re
 from pathlib import Path
-from typing import Any
-
-from matplotlib.figure import Figure
-from matplotlib.patches import Circle, FancyBboxPatch, Rectangle
+from typing import TYPE_CHECKING, Any
 
 from designlab.report import register_writer
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.kinds.vff_scenarios import VffScenariosResult
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 __all__ = ["distance_figure", "navigation_markdown", "trajectory_figure", "write_navigation_report"]
 
@@ -41,6 +41,8 @@ def _slug(text: str) -> str:
 
 
 def _region_patch(o: Any, r: float, **kw: Any) -> Any:
+    from matplotlib.patches import Circle, FancyBboxPatch  # matplotlib only when drawing
+
     if o.kind == "rectangle":
         x0, y0 = o.center[0] - o.length / 2, o.center[1] - o.width / 2
         return FancyBboxPatch(
@@ -51,6 +53,9 @@ def _region_patch(o: Any, r: float, **kw: Any) -> Any:
 
 def trajectory_figure(runs: list[Any], title: str) -> Figure:
     """Paths of every method in one scenario, obstacles and regions at the start."""
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Circle, Rectangle
+
     fig = Figure(figsize=(7.5, 5.0))
     ax = fig.add_subplot(1, 1, 1)
     sc = runs[0].result.scenario
@@ -95,6 +100,8 @@ def trajectory_figure(runs: list[Any], title: str) -> Figure:
 
 def distance_figure(runs: list[Any], title: str) -> Figure:
     """Distance to each obstacle against time for every method, with r3."""
+    from matplotlib.figure import Figure
+
     sc = runs[0].result.scenario
     n = max(1, len(sc.obstacles))
     fig = Figure(figsize=(7.5, 2.2 * n + 0.6))

@@ -63,6 +63,17 @@ CREATE TABLE chunks (
 ) WITHOUT ROWID;
 """
 
+#: Sampled design points (LHS, Sobol), so that a resumed study does not sample again.
+#: Added to a store on first use (older stores simply gain the table).
+_SAMPLES = """
+CREATE TABLE IF NOT EXISTS samples (
+    key TEXT PRIMARY KEY,
+    n INTEGER NOT NULL,
+    data BLOB NOT NULL,
+    sha256 BLOB NOT NULL
+) WITHOUT ROWID
+"""
+
 
 def _pack(columns: dict[str, Any]) -> tuple[int, bytes]:
     """Columns -> ``(n, compressed bytes)``."""
@@ -250,6 +261,51 @@ class ChunkStore:
         try:
             db.execute("BEGIN IMMEDIATE")
             db.execute("INSERT OR REPLACE INTO chunks VALUES (?, ?, ?, ?)", (key, n, data, digest))
+            db.execute("COMMIT")
+        except sqlite3.Error as exc:
+            if db.in_transaction:
+                db.execute("ROLLBACK")
+            raise ReportError(f"cannot write the result store {self.path}: {exc}") from exc
+
+    def get_sample(self, key: str) -> dict[str, np.ndarray] | None:
+        """Sampled point columns stored under ``key``, or ``None`` (missing or damaged).
+
+        Parameters
+        ----------
+        key
+            A hash of the sampling (method, size, seed, ranges, sampler version).
+        """
+        if not self.path.exists():
+            return None
+        db = self._connect()
+        if not db.execute("SELECT 1 FROM sqlite_master WHERE name = 'samples'").fetchone():
+            return None
+        row = db.execute("SELECT n, data, sha256 FROM samples WHERE key = ?", (key,)).fetchone()
+        if row is None or hashlib.sha256(row[1]).digest() != row[2]:
+            return None
+        try:
+            cols = _unpack(row[1])
+        except (ValueError, zlib.error, struct.error, KeyError, TypeError):
+            return None
+        return cols if all(len(v) == row[0] for v in cols.values()) else None
+
+    def put_sample(self, key: str, columns: dict[str, Any]) -> None:
+        """Keep sampled point columns under ``key`` (one transaction).
+
+        Parameters
+        ----------
+        key
+            A hash of the sampling.
+        columns
+            The sampled columns (floats).
+        """
+        n, data = _pack(columns)
+        digest = hashlib.sha256(data).digest()
+        db = self._connect()
+        try:
+            db.execute("BEGIN IMMEDIATE")
+            db.execute(_SAMPLES)
+            db.execute("INSERT OR REPLACE INTO samples VALUES (?, ?, ?, ?)", (key, n, data, digest))
             db.execute("COMMIT")
         except sqlite3.Error as exc:
             if db.in_transaction:

@@ -19,13 +19,14 @@ from __future__ import annotations
 import io
 import os
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import pandas as pd
-from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.figure import Figure
 
 from designlab.report.atomic import atomic_write_bytes, atomic_write_text
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 __all__ = ["markdown_table", "write_csv", "write_markdown", "write_png"]
 
@@ -76,6 +77,8 @@ def write_png(fig: Figure, path: str | os.PathLike[str], *, dpi: int = 110) -> P
     dpi
         Resolution, dots per inch.
     """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg  # only when drawing
+
     FigureCanvasAgg(fig)
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=dpi, metadata={"Software": None})

@@ -22,6 +22,7 @@ Point sets (all evaluated in one pass, through one store):
 from __future__ import annotations
 
 import hashlib
+import json
 import logging
 import math
 from dataclasses import dataclass, field
@@ -161,7 +162,8 @@ class SweepStudyResult(Result):
 # --- the plan: which points, in which sets ------------------------------------------
 
 
-def _sweep_columns(study: SweepStudyBase) -> dict[str, np.ndarray]:
+def _sweep_columns(study: SweepStudyBase, store: Any = None) -> dict[str, np.ndarray]:
+    """The sweep block's points; random samples are kept in (and reread from) the store."""
     sweep = study.sweep
     if sweep is None:
         return {}
@@ -170,11 +172,35 @@ def _sweep_columns(study: SweepStudyBase) -> dict[str, np.ndarray]:
         return sampling.list_points({p: r.values for p, r in items})
     if sweep.method == "grid":
         return sampling.grid({p: r.grid() for p, r in items})
+    key = _sample_key(sweep) if store is not None and hasattr(store, "get_sample") else None
+    if key is not None:
+        kept = store.get_sample(key)
+        if kept is not None and list(kept) == [p for p, _ in items]:
+            return kept
     bounds = {p: (float(r.low), float(r.high)) for p, r in items}
     log = {p: r.scale == "log" for p, r in items}
     if sweep.method == "lhs":
-        return sampling.latin_hypercube(bounds, sweep.samples, seed=sweep.seed, log=log)
-    return sampling.sobol_sequence(bounds, sweep.samples, seed=sweep.seed, log=log)
+        cols = sampling.latin_hypercube(bounds, sweep.samples, seed=sweep.seed, log=log)
+    else:
+        cols = sampling.sobol_sequence(bounds, sweep.samples, seed=sweep.seed, log=log)
+    if key is not None:
+        store.put_sample(key, cols)
+    return cols
+
+
+def _sample_key(sweep: Any) -> str:
+    """A hash of a random sampling: method, size, seed, ranges and the sampler's version."""
+    from importlib.metadata import version
+
+    spec = {
+        "method": sweep.method,
+        "samples": sweep.samples,
+        "seed": sweep.seed,
+        "parameters": [[p, r.low, r.high, r.scale] for p, r in sweep.parameters.items()],
+        "scipy": version("scipy"),
+        "numpy": np.__version__,
+    }
+    return hashlib.sha256(json.dumps(spec, sort_keys=True, default=float).encode()).hexdigest()
 
 
 @dataclass
@@ -204,7 +230,7 @@ def _designs(base: dict[str, float], key_of: dict[str, str], values: Columns, n:
     return out
 
 
-def _plan(study: SweepStudyBase) -> _Plan:
+def _plan(study: SweepStudyBase, store: Any = None) -> _Plan:
     params = study.PARAMETERS
     key_of = {path: key for path, (key, _) in params.items()}
     path_of = {key: path for path, key in key_of.items()}
@@ -215,7 +241,7 @@ def _plan(study: SweepStudyBase) -> _Plan:
     swept = dict(sweep.parameters.items()) if sweep is not None else {}
 
     sets: dict[str, Columns] = {"base": _designs(base, key_of, {}, 1)}
-    values = _sweep_columns(study)
+    values = _sweep_columns(study, store)
     sets["sweep"] = _designs(base, key_of, values, _n(values)) if values else {}
     oat_meta: list[tuple[str, float, float]] = []
     range_meta: list[tuple[str, float, float]] = []
@@ -335,7 +361,7 @@ def run_sweep_study(study: SweepStudyBase, context: RunContext) -> SweepStudyRes
         How to run it (executor, store, resume; see
         :class:`~designlab.study.runner.RunContext`).
     """
-    plan = _plan(study)
+    plan = _plan(study, context.store)
     metrics = study.metrics
     names = [name for name, cols in plan.sets.items() if _n(cols)]
     all_points = {k: np.concatenate([plan.sets[s][k] for s in names]) for k in plan.sets["base"]}
@@ -401,16 +427,20 @@ def run_sweep_study(study: SweepStudyBase, context: RunContext) -> SweepStudyRes
 def _points_frame(
     study: SweepStudyBase, points: Columns, results: pd.DataFrame | None
 ) -> pd.DataFrame:
+    """Inputs (with units in the names), metrics, other columns, ``status``, ``error``.
+
+    Built once, in its final column order, from the arrays as they are (no
+    copy of a million-row table).
+    """
     if not points or results is None:
         return pd.DataFrame()
-    cols = {key: f"{key}_{unit_slug(info.unit)}" for _, (key, info) in study.PARAMETERS.items()}
-    frame = pd.DataFrame({cols.get(k, k): v for k, v in points.items()})
-    for c in results.columns:
-        frame[c] = results[c].to_numpy()
+    names = {key: f"{key}_{unit_slug(info.unit)}" for _, (key, info) in study.PARAMETERS.items()}
+    columns: dict[str, Any] = {names.get(k, k): np.asarray(v) for k, v in points.items()}
+    n = len(results)
+    out = {c: columns[c] for c in names.values() if c in columns}
+    out |= {m: results[m].to_numpy() for m in study.METRICS if m in results}
+    rest = sorted((set(columns) | set(results.columns)) - set(out) - {"status", "error"})
+    out |= {c: columns[c] if c in columns else results[c].to_numpy() for c in rest}
     for c in ("status", "error"):
-        if c not in frame:
-            frame[c] = None
-    inputs = [c for c in cols.values() if c in frame]
-    metrics = [m for m in study.METRICS if m in frame]
-    rest = sorted(set(frame.columns) - {*inputs, *metrics, "status", "error"})
-    return frame[[*inputs, *metrics, *rest, "status", "error"]]
+        out[c] = results[c].to_numpy() if c in results else np.full(n, None, dtype=object)
+    return pd.DataFrame(out, copy=False)

@@ -63,3 +63,14 @@ def test_digest_follows_points_and_options():
     d = run_points({"x": np.array([1.0, 2.0])}, flaky, {"bad": [7.0]})
     assert a.digest == b.digest
     assert len({a.digest, c.digest, d.digest}) == 3
+
+
+def test_hash_collisions_never_merge_different_points(monkeypatch):
+    """With every row hashing alike, the value check still keeps distinct points apart."""
+    import designlab.analysis.sweep as sweep
+
+    monkeypatch.setattr(sweep.pd.util, "hash_array", lambda a: np.zeros(len(a), dtype=np.uint64))
+    xs = np.array([1.0, 2.0, 1.0, np.nan, np.nan, 3.0])
+    first, inverse = sweep._distinct({"x": xs, "z": np.zeros(6)})
+    assert list(first) == [0, 1, 3, 5]
+    assert list(inverse) == [0, 1, 0, 2, 2, 3]

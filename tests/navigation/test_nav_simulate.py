@@ -164,6 +164,10 @@ def test_user_built_scenario() -> None:
         (lambda: nav.simulate_batch([nav.configuration(1)], [[3, 0.25, 20]]), "gains"),
         (lambda: nav.simulate_batch([nav.configuration(1)], [[3, math.nan, 20, 17]]), "gains"),
         (lambda: nav.simulate_batch([], [[3, 0.25, 20, 17]]), "scenarios"),
+        (lambda: nav.simulate_batch(None, [[3, 0.25, 20, 17]]), "scenarios"),
+        (lambda: nav.simulate_batch([nav.configuration(1)], [[True, 0.25, 20, 17]]), "gains"),
+        (lambda: nav.simulate_batch([nav.configuration(1)], np.ones((1, 4), bool)), "gains"),
+        (lambda: nav.simulate_batch([nav.configuration(1)], "abc"), "gains"),
     ],
 )
 def test_bad_inputs_name_the_parameter(make, name: str) -> None:  # type: ignore[no-untyped-def]

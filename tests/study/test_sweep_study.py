@@ -343,7 +343,7 @@ def test_resume_of_a_finished_study_leaves_its_report_alone(tmp_path, write_stud
 
     again = runner.invoke(app, [*args, "--resume"])
     assert again.exit_code == 0, again.output
-    assert "report up to date" in again.output
+    assert "report up to date" in again.output and "wrote" not in again.output
     assert {p.name: (p.read_bytes(), p.stat().st_mtime_ns) for p in report.iterdir()} == before
 
     (report / "results.csv").write_text("tampered")  # a damaged report is rewritten
@@ -359,3 +359,34 @@ def test_resume_of_a_finished_study_leaves_its_report_alone(tmp_path, write_stud
 
     rebuilt = runner.invoke(app, ["report", str(study), "-o", str(out), "--cache-dir", str(cache)])
     assert rebuilt.exit_code == 0 and "report up to date" not in rebuilt.output
+
+
+def test_resume_rereads_the_random_sample_from_the_store(tmp_path, monkeypatch):
+    """An LHS sweep samples once; its resume reads the same points back from the store."""
+    from designlab.analysis import sampling
+
+    study = parse_study(
+        SWEEP.replace("method: grid", "method: lhs\n  samples: 50\n  seed: 4")
+        .replace("{low: 10e3, high: 60e3, num: 6}", "{low: 10e3, high: 60e3, scale: log}")
+        .replace("{values: [4.4, 5.3]}", "{low: 4.4, high: 5.3}")
+    )  # fmt: skip
+    with open_store(tmp_path, "sweep_demo") as store:
+        first = run_study(study, RunContext(store=store))
+
+    def no_sampling(*args, **kwargs):
+        raise AssertionError("sampled again")
+
+    monkeypatch.setattr(sampling, "latin_hypercube", no_sampling)
+    with open_store(tmp_path, "sweep_demo") as store:
+        again = run_study(study, RunContext(store=store, resume=True))
+        assert store.points() == first.stats["distinct"]  # kept samples are not counted as points
+    assert again.stats["computed"] == 0
+    assert again.frame.equals(first.frame)
+    assert again.fingerprint == first.fingerprint
+    reseeded = parse_study(
+        SWEEP.replace("method: grid", "method: lhs\n  samples: 50\n  seed: 5")
+        .replace("{low: 10e3, high: 60e3, num: 6}", "{low: 10e3, high: 60e3, scale: log}")
+        .replace("{values: [4.4, 5.3]}", "{low: 4.4, high: 5.3}")
+    )  # fmt: skip
+    with open_store(tmp_path, "sweep_demo") as store, pytest.raises(AssertionError, match="again"):
+        run_study(reseeded, RunContext(store=store, resume=True))  # a new seed samples anew
