@@ -71,6 +71,7 @@ __all__ = [
     "Columns",
     "Evaluator",
     "ResultStore",
+    "StoredRows",
     "SweepRun",
     "as_columns",
     "chunk_key",
@@ -387,6 +388,11 @@ class SweepRun:
         A hash of what determines the results: the evaluator, its code
         version, its options and every point in order. Two runs with the
         same digest have the same results.
+    status_counts
+        Points per ``status`` value (every point, duplicates included).
+    rows
+        With ``collect=False``: the results, left in the store and read back
+        block by block (:class:`StoredRows`); ``frame`` is then empty.
     """
 
     frame: pd.DataFrame
@@ -397,6 +403,8 @@ class SweepRun:
     corrupt: list[str] = field(default_factory=list)
     chunks: int = 0
     digest: str = ""
+    status_counts: dict[str, int] = field(default_factory=dict)
+    rows: StoredRows | None = None
 
     @property
     def duplicates(self) -> int:
@@ -404,8 +412,13 @@ class SweepRun:
         return self.points - self.distinct
 
     @property
+    def failed_count(self) -> int:
+        """How many points failed (``status == "error"``)."""
+        return int(self.status_counts.get(STATUS_ERROR, 0))
+
+    @property
     def failed(self) -> list[int]:
-        """Row positions of points whose evaluation raised."""
+        """Row positions of points whose evaluation raised (collected runs only)."""
         if "status" not in self.frame:
             return []
         return list(np.flatnonzero(self.frame["status"].to_numpy() == STATUS_ERROR))
@@ -447,6 +460,44 @@ def _distinct(cols: Columns) -> tuple[np.ndarray, np.ndarray]:
     return first, np.asarray(codes, dtype=np.intp)
 
 
+class _StatusCounter:
+    """Points per status, chunk by chunk (weighted by how often each distinct point occurs)."""
+
+    def __init__(self, multiplicity: np.ndarray | None) -> None:
+        self.multiplicity = multiplicity
+        self.counts: dict[str, int] = {}
+        #: Every result column seen, with its dtype kind ("O" when chunks disagree).
+        self.kinds: dict[str, str] = {}
+        self.chunks = 0
+        self.seen: dict[str, int] = {}
+
+    def final_kinds(self) -> dict[str, str]:
+        """Column kinds; a boolean column that some chunk lacks becomes ``O`` (with ``None``)."""
+        return {
+            k: "O" if v == "b" and self.seen.get(k, 0) < self.chunks else v
+            for k, v in self.kinds.items()
+        }
+
+    def add(self, start: int, part: Columns) -> None:
+        self.chunks += 1
+        for name, values in part.items():
+            self.seen[name] = self.seen.get(name, 0) + 1
+            kind = np.asarray(values).dtype.kind
+            kind = "f" if kind in "fiu" else kind if kind == "b" else "O"
+            if self.kinds.setdefault(name, kind) != kind:
+                self.kinds[name] = "O"
+        status = np.asarray(part.get("status", ()), dtype=object)
+        if not len(status):
+            return
+        values, inverse = np.unique(status.astype(str), return_inverse=True)
+        weights = (
+            None if self.multiplicity is None else self.multiplicity[start : start + len(status)]
+        )
+        totals = np.bincount(inverse.ravel(), weights=weights, minlength=len(values))
+        for v, t in zip(values, totals, strict=True):
+            self.counts[str(v)] = self.counts.get(str(v), 0) + round(float(t))
+
+
 def _digest(
     evaluator: Evaluator,
     options: Mapping[str, Any],
@@ -468,6 +519,116 @@ def _digest(
     if inverse is not None:
         h.update(np.ascontiguousarray(inverse, dtype="<i8").tobytes())
     return h.hexdigest()
+
+
+class StoredRows:
+    """Results of a run left in the store, read back in point order a block at a time.
+
+    What :func:`run_points` returns (as :attr:`SweepRun.rows`) with
+    ``collect=False``: memory stays at a block and one chunk, whatever the
+    number of points. Reading a chunk that has gone from the store (or is
+    damaged) raises :class:`CacheIncompleteError`.
+
+    Parameters
+    ----------
+    store
+        The store holding the chunks.
+    keys
+        Chunk keys, in order of the distinct points.
+    size
+        Points per chunk.
+    distinct
+        Number of distinct points.
+    inverse
+        For each point, its distinct index (``None``: the points are distinct).
+    kinds
+        Every result column of the run with its dtype kind (``f``, ``b``,
+        ``O``): a block read back has all of them, typed alike in every
+        block (a column that some chunk lacks is NaN or ``None`` there).
+    """
+
+    def __init__(
+        self,
+        store: ResultStore,
+        keys: Sequence[str],
+        size: int,
+        distinct: int,
+        inverse: np.ndarray | None,
+        *,
+        kinds: Mapping[str, str] | None = None,
+    ) -> None:
+        self.store, self.keys, self.size, self.distinct = store, list(keys), size, distinct
+        self.inverse = inverse
+        self.kinds = dict(kinds or {})
+        self._last: tuple[int, Columns] | None = None
+
+    def __len__(self) -> int:
+        return self.distinct if self.inverse is None else len(self.inverse)
+
+    def _chunk(self, c: int) -> Columns:
+        if self._last is not None and self._last[0] == c:
+            return self._last[1]
+        state, value = self.store.get_chunk(self.keys[c])
+        expected = min(self.size, self.distinct - c * self.size)
+        if state != "ok" or _length(value) != expected:
+            raise CacheIncompleteError(
+                f"stored chunk {self.keys[c][:12]}... is {state if state != 'ok' else 'damaged'}"
+                " since it was written; run the study again with --resume"
+            )
+        self._last = (c, value)
+        return value
+
+    def _distinct_rows(self, index: np.ndarray) -> Columns:
+        """Result columns of the distinct points ``index`` (any order)."""
+        assembled = _Assembler(len(index))
+        chunk_of = index // self.size
+        for c in np.unique(chunk_of):
+            at = np.flatnonzero(chunk_of == c)
+            part = self._chunk(int(c))
+            offsets = index[at] - int(c) * self.size
+            assembled.put_rows(at, {k: np.asarray(v)[offsets] for k, v in part.items()})
+        return assembled.columns()
+
+    def read(self, rows: slice, columns: Sequence[str] | None = None) -> pd.DataFrame:
+        """The results of points ``rows`` (a slice in point order), optionally some columns.
+
+        Parameters
+        ----------
+        rows
+            Which points, e.g. ``slice(0, 1000)``.
+        columns
+            Only these result columns (missing ones are left out).
+        """
+        start, stop, _ = rows.indices(len(self))
+        positions = np.arange(start, stop)
+        index = positions if self.inverse is None else self.inverse[positions]
+        got = self._distinct_rows(np.asarray(index, dtype=np.intp))
+        n = len(positions)
+        cols: Columns = {}
+        for name, kind in (self.kinds or {k: "O" for k in got}).items():
+            if columns is not None and name not in columns:
+                continue
+            v = got.get(name)
+            if v is None:
+                v = np.full(n, np.nan) if kind == "f" else np.full(n, None, dtype=object)
+            elif kind == "O" and v.dtype != object:
+                v = v.astype(object)
+            cols[name] = v
+        return pd.DataFrame(cols, copy=False)
+
+    def blocks(self, rows: slice, block: int) -> Iterator[tuple[int, pd.DataFrame]]:
+        """``(start, frame)`` for consecutive blocks of ``block`` points within ``rows``.
+
+        Parameters
+        ----------
+        rows
+            The range of points to read.
+        block
+            Points per block.
+        """
+        start, stop, _ = rows.indices(len(self))
+        for s in range(start, stop, block):
+            yield s, self.read(slice(s, min(s + block, stop)))
 
 
 class _Assembler:
@@ -502,8 +663,10 @@ class _Assembler:
 
     def put(self, start: int, part: Columns) -> None:
         """Write a chunk's columns at rows ``start:start + len(chunk)``."""
-        k = _length(part)
-        rows = slice(start, start + k)
+        self.put_rows(slice(start, start + _length(part)), part)
+
+    def put_rows(self, rows: slice | np.ndarray, part: Columns) -> None:
+        """Write columns at ``rows`` (a slice or an index array)."""
         for name, values in part.items():
             a = np.asarray(values)
             if name not in self.cols:
@@ -517,17 +680,20 @@ class _Assembler:
             target[rows] = a.astype(float) if target.dtype.kind == "f" else a
             self.present[name][rows] = True
 
+    def columns(self) -> Columns:
+        """The assembled columns (booleans missing somewhere become object with ``None``)."""
+        for name, col in list(self.cols.items()):
+            if col.dtype.kind == "b" and not self.present[name].all():
+                self._widen(name)
+        out, self.cols, self.present = self.cols, {}, {}
+        return out
+
     def frame(self, inverse: np.ndarray | None) -> pd.DataFrame:
         """The table, one row per point (``inverse`` maps points to distinct rows)."""
         if self.n == 0:
             return pd.DataFrame()
-        out: dict[str, np.ndarray] = {}
-        for name, col in self.cols.items():
-            if col.dtype.kind == "b" and not self.present[name].all():
-                self._widen(name)
-                col = self.cols[name]
-            out[name] = col if inverse is None else col[inverse]
-        self.cols, self.present = {}, {}
+        cols = self.columns()
+        out = cols if inverse is None else {k: v[inverse] for k, v in cols.items()}
         return pd.DataFrame(out, copy=False)
 
 
@@ -551,6 +717,7 @@ def run_points(
     progress: bool = False,
     chunk_size: int | None = None,
     desc: str = "points",
+    collect: bool = True,
 ) -> SweepRun:
     """Evaluate ``points`` with ``evaluator`` in chunks.
 
@@ -580,6 +747,11 @@ def run_points(
         resume: chunk keys depend on it.
     desc
         Label of the progress bar and of messages.
+    collect
+        Assemble the results in memory (:attr:`SweepRun.frame`). With
+        ``False`` (needs a ``store``) they stay in the store and
+        :attr:`SweepRun.rows` reads them back block by block: memory is then
+        bounded by the chunks in flight, not by the number of points.
 
     Returns
     -------
@@ -595,13 +767,16 @@ def run_points(
     size = int(chunk_size or getattr(evaluator, "chunk_size", DEFAULT_CHUNK_SIZE))
     if size < 1:
         raise ValueError(f"chunk_size = {size} is not allowed: must be >= 1")
+    if not collect and store is None:
+        raise ValueError("collect=False keeps the results in the store: give a store")
     first, inverse = _distinct(cols)
     m = len(first)
     distinct = cols if m == n else _take(cols, first)
     run = SweepRun(pd.DataFrame(), points=n, distinct=m)
     bounds = [(s, min(s + size, m)) for s in range(0, m, size)]
     run.chunks = len(bounds)
-    assembled = _Assembler(m)
+    assembled = _Assembler(m) if collect else None
+    counter = _StatusCounter(None if m == n else np.bincount(inverse, minlength=m))
     keys: list[str | None] = [None] * len(bounds)
     todo: list[int] = []
     for c, (s, e) in enumerate(bounds):
@@ -611,7 +786,9 @@ def run_points(
             if resume or cache_only:
                 state, value = store.get_chunk(keys[c])  # type: ignore[arg-type]
                 if state == "ok" and _length(value) == e - s:
-                    assembled.put(s, value)
+                    if assembled is not None:
+                        assembled.put(s, value)
+                    counter.add(s, value)
                     run.cached += e - s
                     continue
                 if state in ("corrupt", "ok"):
@@ -648,13 +825,28 @@ def run_points(
                 c = todo[t]
                 if store is not None:
                     store.put_chunk(keys[c], out)  # type: ignore[arg-type]
-                assembled.put(bounds[c][0], out)
+                if assembled is not None:
+                    assembled.put(bounds[c][0], out)
+                counter.add(bounds[c][0], out)
                 k = bounds[c][1] - bounds[c][0]
                 run.computed += k
                 bar.update(k)
         finally:
             bar.close()
     run.digest = _digest(evaluator, options, cols, keys, None if m == n else inverse)
+    run.status_counts = counter.counts
+    if assembled is None:
+        run.rows = StoredRows(
+            store,
+            keys,
+            size,
+            m,
+            None if m == n else inverse,
+            kinds=counter.final_kinds(),  # type: ignore[arg-type]
+        )
+        if run.failed_count:
+            logger.warning("%s: %d of %d points failed", desc, run.failed_count, n)
+        return run
     frame = assembled.frame(None if m == n else inverse)
     if len(frame):
         for c in ("status", "error"):

@@ -30,6 +30,7 @@ from designlab.analysis.sensitivity import tornado_figure
 from designlab.report import register_writer
 from designlab.report.atomic import atomic_write_text
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
+from designlab.study.points_table import FrameTable, PointsTable
 from designlab.study.sweep_runner import SweepStudyResult
 
 __all__ = ["sweep_markdown", "write_sweep_report"]
@@ -81,52 +82,68 @@ def _points_or_density(ax: Any, x: Any, y: Any) -> None:
         ax.plot(x[keep], y[keep], ".", ms=3, alpha=0.6)
 
 
-def _summary_frame(frame: pd.DataFrame) -> pd.DataFrame:
-    """Per numeric column: count, mean, std, min, quantiles, max; and the status counts."""
-    numeric = frame.select_dtypes(include=["number"])
-    table = numeric.describe(percentiles=[0.01, 0.05, 0.25, 0.5, 0.75, 0.95, 0.99]).T
-    table.insert(0, "column", table.index)
-    counts = frame["status"].value_counts() if "status" in frame else pd.Series(dtype=int)
-    extra = pd.DataFrame({"column": [f"status={k}" for k in counts.index],
-                          "count": counts.to_numpy(dtype=float)})  # fmt: skip
-    return pd.concat([table.reset_index(drop=True), extra], ignore_index=True)
+def _arrow_schema(table: PointsTable) -> Any:
+    """One Arrow schema for every row group: from the column dtypes and the scanned subset.
+
+    ``status`` and ``error`` are strings; an object column whose values are all
+    booleans (or missing) is boolean, any other object column is text.
+    """
+    import pyarrow as pa
+
+    subset = table.scan().subset
+    head = next(iter(table.blocks(1)))
+    fields = []
+    for c in table.columns:
+        dtype = head[c].dtype
+        if c in ("status", "error"):
+            fields.append(pa.field(c, pa.string()))
+        elif dtype.kind == "O":
+            values = subset[c].dropna() if c in subset else pd.Series([], dtype=object)
+            boolean = len(values) and values.map(lambda v: isinstance(v, (bool, np.bool_))).all()
+            fields.append(pa.field(c, pa.bool_() if boolean else pa.string()))
+        else:
+            fields.append(pa.field(c, pa.from_numpy_dtype(dtype)))
+    return pa.schema(fields)
 
 
-def _write_table(frame: pd.DataFrame, directory: Path) -> list[Path]:
+def _write_table(result: Any, directory: Path) -> list[Path]:
     """``results.csv``; for a large sweep ``results.parquet`` and ``results_summary.csv``."""
-    if len(frame) <= LARGE_SWEEP:
-        return [write_csv(frame, directory / "results.csv")]
+    table: PointsTable = result.table
+    if len(table) <= LARGE_SWEEP:
+        return [write_csv(table.frame(), directory / "results.csv")]
     import pyarrow as pa
     import pyarrow.parquet as pq
 
-    # Written in row groups straight from the frame: the Arrow copy is one row
-    # group at a time, not the whole table (the report directory itself is
-    # swapped into place atomically, so no partial file is ever visible).
+    # Written a row group at a time, straight from the table's blocks (read from the
+    # result store for a streamed sweep): the report never holds the whole table, and
+    # the report directory is swapped into place atomically, so no partial file shows.
     path = directory / "results.parquet"
-    text = [c for c in ("status", "error") if c in frame]
-    fields = []
-    for c in frame.columns:  # status and error always strings, even when all None
-        if c in text:
-            fields.append(pa.field(c, pa.string()))
-        elif frame[c].dtype == object:  # e.g. booleans with None: infer from the whole column
-            fields.append(pa.field(c, pa.array(frame[c], from_pandas=True).type))
-        else:
-            fields.append(pa.field(c, pa.from_numpy_dtype(frame[c].dtype)))
-    schema = pa.schema(fields)
+    schema = _arrow_schema(table)
+    text = {f.name for f in schema if f.type == pa.string()}
     with pq.ParquetWriter(path, schema, compression="snappy") as writer:
-        for start in range(0, len(frame), PARQUET_ROW_GROUP):
-            part = frame.iloc[start : start + PARQUET_ROW_GROUP]
-            writer.write_table(pa.Table.from_pandas(part, schema=schema, preserve_index=False))
+        for block in table.blocks(PARQUET_ROW_GROUP):
+            arrays = [
+                pa.array(
+                    block[c].map(lambda v: None if v is None or v is pd.NA or v != v else str(v))
+                    if c in text and block[c].dtype.kind == "O"
+                    else block[c],
+                    type=schema.field(c).type,
+                    from_pandas=True,
+                )
+                for c in table.columns
+            ]
+            writer.write_table(pa.Table.from_arrays(arrays, schema=schema))
+    exact = table.frame() if isinstance(table, FrameTable) else None
     return [
         path,
-        write_csv(_summary_frame(frame), directory / "results_summary.csv"),
+        write_csv(table.scan().summary_frame(quantiles=exact), directory / "results_summary.csv"),
     ]
 
 
 def _scatter_figure(result: Any) -> Figure | None:
     study = result.study
     sweep = getattr(study, "sweep", None)
-    frame = result.frame
+    frame = result.table.scan().subset  # every row up to SUBSET_ROWS, else evenly spread
     if sweep is None or not len(frame):
         return None
     from designlab.study.sweep_runner import unit_slug
@@ -149,7 +166,7 @@ def _scatter_figure(result: Any) -> Figure | None:
             if c == 0:
                 ax.set_ylabel(m, fontsize="small")
             ax.tick_params(labelsize="x-small")
-    fig.suptitle(f"{study.name}: {len(frame)} points ({sweep.method})")
+    fig.suptitle(f"{study.name}: {len(result.table)} points ({sweep.method})")
     fig.tight_layout()
     return fig
 
@@ -170,7 +187,7 @@ def _inputs_md(result: Any) -> list[str]:
         how = f"method `{sweep.method}`"
         if sweep.method in ("lhs", "sobol"):
             how += f", {sweep.samples} samples, seed {sweep.seed}"
-        out += [f"Sweep: {how}, {len(result.frame)} points.", ""]
+        out += [f"Sweep: {how}, {len(result.table)} points.", ""]
         rows = []
         for path, rng in sweep.parameters.items():
             info = study.PARAMETERS[path][1]
@@ -201,35 +218,53 @@ def _inputs_md(result: Any) -> list[str]:
     return out
 
 
+def _min_median_max(result: Any, metric: str) -> tuple[Any, Any, Any]:
+    """Exact from a table in memory; from a stored table, exact extremes, median of the subset."""
+    table = result.table
+    if isinstance(table, FrameTable):
+        frame = table.frame()
+        if metric not in frame:
+            return None, None, None
+        col = pd.to_numeric(frame[metric], errors="coerce")
+        return col.min(), col.median(), col.max()
+    scan = table.scan()
+    m = scan.moments.get(metric)
+    if m is None:
+        return None, None, None
+    return m["min"], pd.to_numeric(scan.subset[metric], errors="coerce").median(), m["max"]
+
+
 def _results_md(result: Any) -> list[str]:
-    frame = result.frame
+    table = result.table
     study = result.study
     out = ["## Results", ""]
     base = result.base
     brow = [{"metric": m, "description": study.METRICS.get(m, ""),
              "base design": _fmt(base.get(m))} for m in result.metrics]  # fmt: skip
-    if len(frame):
+    n = len(table)
+    if n:
         for row in brow:
-            col = pd.to_numeric(frame[row["metric"]], errors="coerce")
-            row |= {
-                "min": _fmt(col.min()),
-                "median": _fmt(col.median()),
-                "max": _fmt(col.max()),
-            }
+            lo, mid, hi = _min_median_max(result, row["metric"])
+            row |= {"min": _fmt(lo), "median": _fmt(mid), "max": _fmt(hi)}
     out += [markdown_table(pd.DataFrame(brow)), ""]
-    if len(frame):
-        n_ok = int((frame["status"] == "ok").sum())
-        out += [
-            f"{len(frame)} sweep points, {n_ok} with status `ok`. Every point, with full "
-            "precision, is in "
-            + (
-                "`results.csv`."
-                if len(frame) <= LARGE_SWEEP
-                else "`results.parquet` (columnar; `pandas.read_parquet`), summarised in "
-                "`results_summary.csv`."
-            ),
-            "",
-        ]
+    if n:
+        scan = table.scan()
+        n_ok = scan.status_counts.get("ok", 0)
+        where = (
+            "`results.csv`."
+            if n <= LARGE_SWEEP
+            else "`results.parquet` (columnar; `pandas.read_parquet`), summarised in "
+            "`results_summary.csv`."
+        )
+        out += [f"{n} sweep points, {n_ok} with status `ok`. Every point, with full "
+                f"precision, is in {where}", ""]  # fmt: skip
+        if scan.step > 1:
+            out += [
+                f"Medians, quantiles and figures use every {scan.step}th point "
+                f"({len(scan.subset)} points, evenly spread); counts, means, standard "
+                "deviations, minima and maxima use every point.",
+                "",
+            ]
     return out
 
 
@@ -324,8 +359,8 @@ def write_sweep_report(
         The study file's text, copied as ``study.yaml``.
     """
     written = []
-    if len(result.frame):
-        written += _write_table(result.frame, directory)
+    if len(result.table):
+        written += _write_table(result, directory)
     figures: dict[str, str] = {}
     for kind, table in result.sensitivity.items():
         written.append(atomic_write_text(directory / f"sensitivity_{kind}.csv", table.to_csv()))

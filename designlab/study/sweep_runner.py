@@ -42,10 +42,16 @@ from designlab.analysis.sensitivity import (
 )
 from designlab.analysis.sweep import STATUS_ERROR, SweepRun, run_points
 from designlab.results import OK, Result
+from designlab.study.points_table import FrameTable, PointsTable, StoredTable
 from designlab.study.runner import RunContext
 from designlab.study.sweeps import SweepStudyBase
 
-__all__ = ["SweepStudyResult", "count_points", "run_sweep_study", "unit_slug"]
+__all__ = ["STREAM_FROM", "SweepStudyResult", "count_points", "run_sweep_study", "unit_slug"]
+
+#: A sweep of more than this many points, run with a result store, leaves its
+#: results in the store and reads them back block by block (memory bounded by
+#: the chunk and block sizes, not by the number of points).
+STREAM_FROM = 50_000
 
 logger = logging.getLogger(__name__)
 
@@ -78,9 +84,12 @@ class SweepStudyResult(Result):
     ----------
     study
         The study.
-    frame
-        The sweep points: one row per point, inputs (point keys with units,
-        e.g. ``K_c_N_per_m``), metrics, ``status`` and ``error``.
+    table
+        The sweep points (:class:`~designlab.study.points_table.PointsTable`):
+        one row per point, inputs (point keys with units, e.g.
+        ``K_c_N_per_m``), metrics, ``status`` and ``error``. In memory, or, for
+        a sweep of more than :data:`STREAM_FROM` points run with a result
+        store, read back from the store block by block.
     base
         Metrics at the base design.
     sensitivity
@@ -93,10 +102,15 @@ class SweepStudyResult(Result):
     """
 
     study: SweepStudyBase
-    frame: pd.DataFrame
+    table: PointsTable
     base: dict[str, Any]
     sensitivity: dict[str, SensitivityTable]
     stats: dict[str, Any] = field(default_factory=dict)
+
+    @cached_property
+    def frame(self) -> pd.DataFrame:
+        """The sweep points as one data frame (for a stored table: read in full, once)."""
+        return self.table.frame()
 
     @property
     def metrics(self) -> list[str]:
@@ -114,7 +128,7 @@ class SweepStudyResult(Result):
 
     def to_frame(self) -> pd.DataFrame:
         """The sweep points (a copy)."""
-        return self.frame.copy()
+        return self.table.frame().copy()
 
     @property
     def fingerprint(self) -> str:
@@ -130,26 +144,23 @@ class SweepStudyResult(Result):
     def warnings(self) -> tuple[str, ...]:  # type: ignore[override]
         """Failed points, non-``ok`` statuses and recomputed store chunks."""
         out: list[str] = []
-        f = self.frame
-        if len(f):
-            status = f["status"].astype(object)
-            failed = f[(status == STATUS_ERROR).to_numpy()]
-            for i, row in failed.head(10).iterrows():
-                out.append(f"point {i}: failed: {row['error']}")
-            if len(failed) > 10:
-                out.append(f"... and {len(failed) - 10} more failed points")
-            counts = status.value_counts()
-            for name in sorted(str(k) for k in counts.index if k not in (OK, STATUS_ERROR)):
-                out.append(f"{int(counts[name])} of {len(f)} points have status {name}")
-            if "bottoming" in f:
-                n = int(pd.Series(f["bottoming"]).fillna(False).astype(bool).sum())
-                if n:
-                    out.append(f"{n} of {len(f)} points bottom the foam (eps_max > lambda)")
-            if "warnings" in f:
-                n = int(f["warnings"].notna().sum())
-                if n:
-                    first = f["warnings"].dropna().iloc[0]
-                    out.append(f"{n} of {len(f)} points have solver warnings, e.g.: {first}")
+        n = len(self.table)
+        if n:
+            scan = self.table.scan()
+            for i, error in scan.failed:
+                out.append(f"point {i}: failed: {error}")
+            failed = scan.status_counts.get(STATUS_ERROR, 0)
+            if failed > len(scan.failed):
+                out.append(f"... and {failed - len(scan.failed)} more failed points")
+            for name in sorted(k for k in scan.status_counts if k not in (OK, STATUS_ERROR)):
+                out.append(f"{scan.status_counts[name]} of {n} points have status {name}")
+            if scan.flags.get("bottoming"):
+                out.append(
+                    f"{scan.flags['bottoming']} of {n} points bottom the foam (eps_max > lambda)"
+                )
+            notes, first = scan.notes
+            if notes:
+                out.append(f"{notes} of {n} points have solver warnings, e.g.: {first}")
         if self.stats.get("corrupt"):
             out.append(f"{self.stats['corrupt']} corrupt stored chunks were recomputed")
         if self.base.get("status") not in (None, OK):
@@ -313,7 +324,7 @@ def _stats(run: SweepRun, context: RunContext) -> dict[str, Any]:
         "computed": run.computed,
         "cached": run.cached,
         "corrupt": len(run.corrupt),
-        "failed": len(run.failed),
+        "failed": run.failed_count,
         "chunks": run.chunks,
         "executor": ex.describe() if ex is not None else "serial",
         "digest": run.digest,
@@ -366,16 +377,25 @@ def run_sweep_study(study: SweepStudyBase, context: RunContext) -> SweepStudyRes
     names = [name for name, cols in plan.sets.items() if _n(cols)]
     all_points = {k: np.concatenate([plan.sets[s][k] for s in names]) for k in plan.sets["base"]}
     logger.info("%s: %s", study.name, ", ".join(f"{s} {_n(plan.sets[s])}" for s in names))
+    stream = context.store is not None and _n(plan.sets["sweep"]) > STREAM_FROM
     run = run_points(
         all_points, type(study).EVALUATOR, study.evaluator_options(),  # type: ignore[arg-type]
         executor=context.executor, store=context.store, resume=context.resume,
         cache_only=context.cache_only, progress=context.progress, desc=study.name,
+        collect=not stream,
     )  # fmt: skip
+    del all_points
     results: dict[str, pd.DataFrame] = {}
+    offsets: dict[str, int] = {}
     i = 0
     for s in names:
         n = _n(plan.sets[s])
-        results[s] = run.frame.iloc[i : i + n].reset_index(drop=True)
+        offsets[s] = i
+        if run.rows is None:
+            results[s] = run.frame.iloc[i : i + n].reset_index(drop=True)
+        elif s != "sweep":  # small sets (and the Sobol outputs) are read back now
+            wanted = None if s == "base" else [*metrics, "status"]
+            results[s] = run.rows.read(slice(i, i + n), columns=wanted)
         i += n
     base_result = {
         k: (v.item() if isinstance(v, np.generic) else v)
@@ -415,13 +435,20 @@ def run_sweep_study(study: SweepStudyBase, context: RunContext) -> SweepStudyRes
             plan.sobol_names, plan.sobol_bounds, outputs, seed=sens.sobol.seed,  # type: ignore[union-attr]
             descriptions=plan.describe,
         )  # fmt: skip
-    frame = _points_frame(study, plan.sets["sweep"], results.get("sweep"))
+    if run.rows is None:
+        sweep_frame = _points_frame(study, plan.sets["sweep"], results.get("sweep"))
+        table: PointsTable = FrameTable(sweep_frame)
+    else:
+        table = StoredTable(
+            plan.sets["sweep"], run.rows, offsets["sweep"],
+            lambda points, res: _points_frame(study, points, res),
+        )  # fmt: skip
     logger.info(
         "%s: %d points (%d distinct), %d computed, %d from the store, %d failed",
         study.name, stats["points"], stats["distinct"], stats["computed"], stats["cached"],
         stats["failed"],
     )  # fmt: skip
-    return SweepStudyResult(study, frame, base_result, tables, stats)
+    return SweepStudyResult(study, table, base_result, tables, stats)
 
 
 def _points_frame(

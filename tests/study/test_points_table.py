@@ -1,0 +1,114 @@
+"""Large sweeps left in the result store: the same table, summary and report as in memory."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
+
+from designlab.report import write_report
+from designlab.report.store import open_store
+from designlab.study import RunContext, parse_study, points_table, run_study, sweep_runner
+from designlab.study.points_table import FrameTable, StoredTable
+
+LHS = """\
+designlab: 1
+kind: impact_sweep
+name: big_sweep
+base: {robot: MANIPULATOR_1, foam: FOAM_1, head: HEAD_MIN, impact_velocity: 1.25}
+sweep:
+  method: lhs
+  samples: 700
+  seed: 3
+  parameters:
+    foam.stiffness: {low: 2e3, high: 60e3, scale: log}
+    foam.damping: {low: 0, high: 150}
+    head.mass: {low: 4.4, high: 5.3}
+sensitivity:
+  metrics: [a_h_max_g, eps_max_m]
+  tornado: true
+"""
+
+
+@settings(max_examples=50, deadline=None)
+@given(
+    values=arrays(
+        float, st.integers(1, 300), elements=st.one_of(st.floats(-1e6, 1e6), st.just(np.nan))
+    ),
+    block=st.integers(1, 50),
+)
+def test_block_moments_equal_numpy_on_the_whole_column(values, block):
+    frame = pd.DataFrame({"x": values, "status": "ok", "error": None})
+    table = FrameTable(frame)
+    table.blocks = (
+        lambda rows=block: (  # type: ignore[method-assign]
+            frame.iloc[s : s + block] for s in range(0, len(frame), block)
+        )
+    )
+    m = table.scan().moments["x"]
+    finite = values[~np.isnan(values)]
+    assert m["count"] == len(finite)
+    if len(finite):
+        assert m["min"] == finite.min() and m["max"] == finite.max()
+        assert m["mean"] == pytest.approx(finite.mean(), rel=1e-9, abs=1e-6)
+    if len(finite) > 1:
+        assert m["std"] == pytest.approx(finite.std(ddof=1), rel=1e-7, abs=1e-6)
+
+
+def _same(a: pd.DataFrame, b: pd.DataFrame) -> None:
+    """Equal values, missing as missing (None, NaN or NA alike), whatever the dtypes."""
+
+    def norm(f: pd.DataFrame) -> pd.DataFrame:
+        f = f.reset_index(drop=True).astype(object)
+        return f.where(f.notna(), None)
+
+    pd.testing.assert_frame_equal(norm(a), norm(b))
+
+
+@pytest.fixture
+def small_limits(monkeypatch):
+    """Stream from 100 points, Parquet from 100 rows, subsets of 64 rows, blocks of 50."""
+    from designlab.report import sweep as report_sweep
+
+    monkeypatch.setattr(sweep_runner, "STREAM_FROM", 100)
+    monkeypatch.setattr(report_sweep, "LARGE_SWEEP", 100)
+    monkeypatch.setattr(report_sweep, "PARQUET_ROW_GROUP", 128)
+    monkeypatch.setattr(points_table, "SUBSET_ROWS", 64)
+    monkeypatch.setattr(points_table, "BLOCK_ROWS", 50)
+
+
+def test_a_streamed_sweep_equals_the_one_in_memory(small_limits, tmp_path):
+    study = parse_study(LHS)
+    memory = run_study(study)
+    assert isinstance(memory.table, FrameTable)
+    with open_store(tmp_path / "cache", study.name) as store:
+        streamed = run_study(study, RunContext(store=store))
+        assert isinstance(streamed.table, StoredTable)
+        _same(streamed.frame, memory.frame)
+        assert streamed.warnings == memory.warnings
+        assert streamed.stats["failed"] == memory.stats["failed"]
+        for kind in memory.sensitivity:
+            pd.testing.assert_frame_equal(
+                streamed.sensitivity[kind].frame, memory.sensitivity[kind].frame
+            )
+        scan = streamed.table.scan()
+        assert scan.step == 11 and len(scan.subset) == 64  # every 11th of 700 rows
+        _same(scan.subset, memory.frame.iloc[::11])
+        out = write_report(streamed, tmp_path / "reports")
+    table = pd.read_parquet(out / "results.parquet")
+    _same(table, memory.frame)
+    summary = pd.read_csv(out / "results_summary.csv").set_index("column")
+    whole = memory.frame
+    for col in ("a_h_max_g", "K_c_N_per_m"):
+        assert summary.loc[col, "count"] == whole[col].notna().sum()
+        assert summary.loc[col, "max"] == pytest.approx(whole[col].max(), rel=1e-6)
+        assert summary.loc[col, "std"] == pytest.approx(whole[col].std(), rel=1e-6)
+        assert summary.loc[col, "50%"] == pytest.approx(whole[col].iloc[::11].median(), rel=1e-6)
+        assert summary.loc[col, "quantiles_of"] == 64
+    statuses = summary.loc[[i for i in summary.index if i.startswith("status=")], "count"]
+    assert statuses.sum() == 700
+    text = (out / "summary.md").read_text()
+    assert "use every 11th point (64 points, evenly spread)" in text
