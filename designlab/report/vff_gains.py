@@ -5,21 +5,18 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
-from matplotlib.figure import Figure
-from matplotlib.patches import Circle
-from matplotlib.patches import Rectangle as RectPatch
 
 from designlab.navigation import Disc, NavigationResult
 from designlab.report import register_writer
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.kinds.vff_gains import WIDER, VffGainsResult
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 __all__ = [
     "convergence_figure",
@@ -47,11 +44,12 @@ def _box_change(result: VffGainsResult, key: str) -> str:
 
 def convergence_figure(result: VffGainsResult) -> Figure:
     """Best feasible H_mean against evaluations, one panel per stabilising mode, with references."""
+    from matplotlib.figure import Figure  # matplotlib only when drawing
+
     comp = result.comparison
     panels = list(dict.fromkeys(o.stabilising for o in result.optima.values()))
-    fig, axes = plt.subplots(
-        1, len(panels), figsize=(6.0 * len(panels), 4.6), squeeze=False, sharex=True
-    )
+    fig = Figure(figsize=(6.0 * len(panels), 4.6))
+    axes = fig.subplots(1, len(panels), squeeze=False, sharex=True)
     for ax, stab in zip(axes.ravel(), panels, strict=True):
         for mode, opt in result.optima.items():
             if opt.stabilising != stab:
@@ -95,6 +93,9 @@ def convergence_figure(result: VffGainsResult) -> Figure:
 
 
 def _draw_scenario(ax, res: NavigationResult) -> None:  # type: ignore[no-untyped-def]
+    from matplotlib.patches import Circle
+    from matplotlib.patches import Rectangle as RectPatch
+
     sc = res.scenario
     for i, o in enumerate(sc.obstacles):
         if isinstance(o, Disc):
@@ -136,7 +137,10 @@ def trajectory_figure(result: VffGainsResult, mode: str) -> Figure:
     n = len(confs)
     cols = 2 if n > 1 else 1
     rows = -(-n // cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(6.2 * cols, 3.6 * rows), squeeze=False)
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(6.2 * cols, 3.6 * rows))
+    axes = fig.subplots(rows, cols, squeeze=False)
     pts = []
     for (m, _, _), res in result.runs.items():
         if m == mode:
@@ -503,11 +507,9 @@ def write_vff_gains_report(
     written.append(write_csv(hist, directory / "history.csv"))
     fig = convergence_figure(result)
     written.append(write_png(fig, directory / "convergence.png"))
-    plt.close(fig)
     for mode in result.study.modes:
         fig = trajectory_figure(result, mode)
         written.append(write_png(fig, directory / f"trajectories_{mode}.png"))
-        plt.close(fig)
     for label, s in result.sensitivities.items():
         frame = s.to_frame()
         written.append(write_csv(frame, directory / f"sensitivity_{label}.csv"))
