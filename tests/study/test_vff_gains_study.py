@@ -9,6 +9,7 @@ import pytest
 
 from designlab.errors import StudyError
 from designlab.report import write_report
+from designlab.results import check_result
 from designlab.study import load_study, parse_study, run_study
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -31,6 +32,7 @@ def test_tiny_study_end_to_end(tmp_path: Path) -> None:
     study = parse_study(TINY)
     assert study.modes == ["off"]  # YAML 1.1 reads a bare off as false: accepted as the mode
     result = run_study(study)
+    check_result(result)
     g = result.comparison
     assert list(g["gains"]) == ["experimental", "thesis_optimum", "designlab_optimum"]
     assert list(g.columns[:7]) == ["gains", "stabilising", "k1", "b", "k3", "k5", "H_mean"]
@@ -132,6 +134,9 @@ deltas_pct: [-100, 50]
 sobol_samples: 8
 """
     result = run_study(parse_study(text))
+    check_result(result)
+    for part in [*result.sensitivities.values(), *result.global_sensitivities.values()]:
+        check_result(part)
     assert set(result.sensitivities) == {"thesis_optimum_off", "designlab_optimum_off"}
     assert set(result.global_sensitivities) == set(result.sensitivities)
     a = result.appendix_c
