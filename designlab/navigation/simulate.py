@@ -268,6 +268,8 @@ def simulate(
         raise InvalidParameterError("method", method, f"must be one of {_METHODS}")
     if tie_side not in ("+y", "-y"):
         raise InvalidParameterError("tie_side", tie_side, "must be '+y' or '-y'")
+    _check_flags(force_every_step=force_every_step, jit=jit)
+    cbf_gains = _check_cbf_gains(cbf_gains)
     if not isinstance(scenario, Scenario):
         raise InvalidParameterError(
             "scenario", scenario, "must be a Scenario (see configuration())"
@@ -472,6 +474,25 @@ class BatchResult(Result):
         return pd.DataFrame(rows)
 
 
+def _check_flags(**flags: object) -> None:
+    for name, value in flags.items():
+        if not isinstance(value, bool | np.bool_):
+            raise InvalidParameterError(name, value, "must be True or False")
+
+
+def _check_cbf_gains(k: object) -> tuple[float, float]:
+    try:
+        k0, k1 = (float(v) for v in k)  # type: ignore[attr-defined]
+        ok = all(not isinstance(v, bool) for v in k)  # type: ignore[attr-defined]
+    except (TypeError, ValueError):
+        ok = False
+    if not ok or not (math.isfinite(k0) and math.isfinite(k1) and k0 > 0 and k1 > 0):
+        raise InvalidParameterError(
+            "cbf_gains", k, "must be two finite numbers (k_0, k_1) > 0 (1/s^2, 1/s)"
+        )
+    return (k0, k1)
+
+
 def _check_gain_array(gains: ArrayLike) -> Array:
     if isinstance(gains, np.ndarray):
         has_bool = gains.dtype == bool or (
@@ -550,6 +571,7 @@ def simulate_batch(
         raise InvalidParameterError("stabilising", stabilising, f"must be one of {_STABILISING}")
     if tie_side not in ("+y", "-y"):
         raise InvalidParameterError("tie_side", tie_side, "must be '+y' or '-y'")
+    _check_flags(jit=jit)
     if isinstance(scenarios, Scenario):
         scenarios = [scenarios]
     try:

@@ -168,6 +168,16 @@ def test_user_built_scenario() -> None:
         (lambda: nav.simulate_batch([nav.configuration(1)], [[True, 0.25, 20, 17]]), "gains"),
         (lambda: nav.simulate_batch([nav.configuration(1)], np.ones((1, 4), bool)), "gains"),
         (lambda: nav.simulate_batch([nav.configuration(1)], "abc"), "gains"),
+        (lambda: nav.simulate_batch([nav.configuration(1)], [[3, 0.25, 20, 17]], jit=1), "jit"),
+        (lambda: nav.simulate(nav.configuration(1), EXP, force_every_step="yes"), "force_every"),
+        (
+            lambda: nav.simulate(nav.configuration(1), method="cbf", cbf_gains=(-1.0, 4.0)),
+            "cbf_gains",
+        ),
+        (
+            lambda: nav.simulate(nav.configuration(1), method="cbf", cbf_gains=(math.nan, 4.0)),
+            "cbf_gains",
+        ),
     ],
 )
 def test_bad_inputs_name_the_parameter(make, name: str) -> None:  # type: ignore[no-untyped-def]

@@ -66,6 +66,11 @@ def test_vff_scenarios_runs_and_reports(tmp_path) -> None:  # type: ignore[no-un
         ('method: "New VFF*", T_arrive_s', 'method: "Nope", T_arrive_s'),
         ('stabilising: "off"', 'stabilising: "maybe"'),
         ("kind: disc, radius: 0.4,", "kind: disc,"),
+        ("method: masoud}", "method: masoud, gains: {k1: 5, b: 0.5}}"),
+        ("method: masoud}", "method: masoud, gains: {direction: 2}}"),
+        ("method: masoud}", "method: masoud, cbf_gains: [4, 4]}"),
+        ("method: masoud}", "method: masoud, tie_side: up}"),
+        ("method: masoud}", "method: cbf, cbf_gains: [-1, 4]}"),
     ],
 )
 def test_bad_studies_are_rejected(patch: str, message: str) -> None:
@@ -148,3 +153,17 @@ def test_vff_metrics_take_the_walk_ramp_and_default_the_optional_keys() -> None:
     ramps = vff_metrics_chunk(base | {"ramp": np.array([0.5, 2.0])}, opts)
     assert plain["T_mean_s"][0] == ramps["T_mean_s"][0]
     assert ramps["T_mean_s"][1] != ramps["T_mean_s"][0]  # a slower-starting walker
+
+
+def test_baseline_gains_tie_side_and_cbf_gains_from_yaml() -> None:
+    text = SCEN.replace(
+        "method: masoud}",
+        "method: masoud, gains: {direction: -1}}\n"
+        "  - {label: CBF soft, method: cbf, cbf_gains: [1.0, 2.0]}\n"
+        "  - {label: GC, method: ge_cui, gains: {k3: 20.0}}",
+    )
+    study = parse_study(text)
+    by = {m.label: m for m in study.methods}
+    assert by["Masoud*"].gains.build().direction == -1
+    assert by["CBF soft"].cbf_gains == (1.0, 2.0)
+    assert by["GC"].gains.build().k3 == 20.0 and by["GC"].gains.build().b == 0.75

@@ -222,6 +222,8 @@ def run(study: VffScenariosStudy, context: RunContext) -> VffScenariosResult:
             method=method.method,
             stabilising=method.stabilising,
             arrival_tolerance=study.arrival_tolerance,
+            tie_side=method.tie_side,
+            cbf_gains=method.cbf_gains,
         )
         for w in res.warnings:
             logger.info("%s / %s: %s", spec.title, method.label, w)

@@ -20,11 +20,17 @@ Examples
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
+from typing import Annotated, Any, Literal
 
 from pydantic import Field, model_validator
 
-from designlab.navigation.parameters import HolonomicRobot, NonholonomicRobot, VFFGains
+from designlab.navigation.parameters import (
+    GeCuiGains,
+    HolonomicRobot,
+    MasoudGains,
+    NonholonomicRobot,
+    VFFGains,
+)
 from designlab.navigation.scenarios import (
     ConstantVelocity,
     Disc,
@@ -36,7 +42,15 @@ from designlab.navigation.scenarios import (
 )
 from designlab.study.base import Finite, Model, NonNegative, Positive
 
-__all__ = ["GainsSpec", "MethodSpec", "ObstacleSpec", "RobotSpec", "ScenarioSpec"]
+__all__ = [
+    "GainsSpec",
+    "GeCuiGainsSpec",
+    "MasoudGainsSpec",
+    "MethodSpec",
+    "ObstacleSpec",
+    "RobotSpec",
+    "ScenarioSpec",
+]
 
 Point = Annotated[list[Finite], Field(min_length=2, max_length=2)]
 
@@ -206,15 +220,79 @@ class GainsSpec(Model):
         return VFFGains(self.k1, self.b, self.k3, self.k5)
 
 
+class MasoudGainsSpec(Model):
+    """Masoud (2007) gains K_MM1, K_MM3 (N/m), K_MM5 (N/m) and the fixed detour sense."""
+
+    k1: Positive = 5.0
+    k3: Positive = 24.0
+    k5: Positive = 36.0
+    direction: Literal[1, -1] = Field(1, description="+1 counter-clockwise, -1 clockwise")
+
+    def build(self) -> MasoudGains:
+        """The :class:`~designlab.navigation.MasoudGains`."""
+        return MasoudGains(self.k1, self.k3, self.k5, self.direction)
+
+
+class GeCuiGainsSpec(Model):
+    """Ge & Cui (2002) gains: attraction K1 (N/m) with ratio b (s), K3 and K5."""
+
+    k1: Positive = 1.0
+    b: Positive = 0.75
+    k3: Positive = 14.2
+    k5: Positive = 14.2
+
+    def build(self) -> GeCuiGains:
+        """The :class:`~designlab.navigation.GeCuiGains`."""
+        return GeCuiGains(self.k1, self.b, self.k3, self.k5)
+
+
+_GAIN_SPECS: dict[str, type[Model]] = {
+    "vff": GainsSpec,
+    "cbf": GainsSpec,
+    "masoud": MasoudGainsSpec,
+    "ge_cui": GeCuiGainsSpec,
+}
+
+
 class MethodSpec(Model):
-    """A navigation method with its gains and settings."""
+    """A navigation method with its gains and settings.
+
+    ``gains`` are read by the method: ``{k1, b, k3, k5}`` for ``vff`` and ``cbf`` (its
+    attractive part), ``{k1, k3, k5, direction}`` for ``masoud`` and ``{k1, b, k3, k5}``
+    for ``ge_cui`` (the baselines default to Zeng 2011, Table C.1).
+
+    Examples
+    --------
+    >>> m = MethodSpec.model_validate({"label": "Masoud, clockwise", "method": "masoud",
+    ...                                "gains": {"direction": -1}})
+    >>> m.gains.build().direction, m.gains.build().k3
+    (-1, 24.0)
+    """
 
     label: str = Field(min_length=1, max_length=60)
     method: Literal["vff", "masoud", "ge_cui", "cbf"] = "vff"
-    gains: GainsSpec | None = Field(
-        None, description="new-VFF gains (vff, cbf); baselines use Table C.1"
+    gains: GainsSpec | MasoudGainsSpec | GeCuiGainsSpec | None = Field(
+        None,
+        description="gains of the method (vff and cbf: required / optional {k1, b, k3, k5}; "
+        "masoud: {k1, k3, k5, direction}; ge_cui: {k1, b, k3, k5}; baselines default "
+        "to Table C.1)",
     )
     stabilising: Literal["lyapunov", "off"] = "lyapunov"
+    tie_side: Literal["+y", "-y"] = Field(
+        "+y", description="detour side where the rules leave it open (DECISIONS N2)"
+    )
+    cbf_gains: tuple[Positive, Positive] = Field(
+        (4.0, 4.0), description="cbf only: (k_0, k_1) of h'' + k_1 h' + k_0 h >= 0"
+    )
+
+    @model_validator(mode="before")
+    @classmethod
+    def _typed_gains(cls, data: Any) -> Any:
+        if isinstance(data, dict) and isinstance(data.get("gains"), dict):
+            spec = _GAIN_SPECS.get(str(data.get("method", "vff")))
+            if spec is not None:
+                data = {**data, "gains": spec.model_validate(data["gains"])}
+        return data
 
     @model_validator(mode="after")
     def _gains(self) -> MethodSpec:
@@ -222,4 +300,8 @@ class MethodSpec(Model):
             raise ValueError(
                 f"method {self.label!r}: the vff method needs gains: {{k1, b, k3, k5}}"
             )
+        if self.gains is not None and not isinstance(self.gains, _GAIN_SPECS[self.method]):
+            raise ValueError(f"method {self.label!r}: gains of the wrong kind for {self.method}")
+        if self.method != "cbf" and "cbf_gains" in self.model_fields_set:
+            raise ValueError(f"method {self.label!r}: cbf_gains apply to method cbf only")
         return self
