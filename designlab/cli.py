@@ -130,17 +130,19 @@ _OutputDir = Annotated[
 def _write(
     result: object, study: Path, output_dir: Path, command: list[str], *, keep_current: bool = False
 ) -> None:
-    from designlab.report import report_is_current, write_report
+    from designlab.report import current_report, write_report
 
     text = study.read_text(encoding="utf-8")
-    kept = keep_current and report_is_current(result, output_dir, study_text=text)
-    if kept:
+    record = current_report(result, output_dir, study_text=text) if keep_current else None
+    kept = record is not None
+    if record is not None:  # the report's own record: its warnings are not recomputed
         out = output_dir / result.study.name  # type: ignore[attr-defined]
+        warnings, status = record.get("warnings", []), record.get("status", "ok")
     else:
         out = write_report(result, output_dir, command=shlex.join(command), study_text=text)
-    for warning in result.warnings:  # type: ignore[attr-defined]
+        warnings, status = result.warnings, result.status  # type: ignore[attr-defined]
+    for warning in warnings:
         typer.echo(f"warning: {warning}", err=True)
-    status = result.status  # type: ignore[attr-defined]
     if status != "ok":
         typer.echo(f"status: {status} (see the report)", err=True)
     if kept:

@@ -281,6 +281,11 @@ def _take(cols: Columns, idx: np.ndarray | slice) -> Columns:
     return {k: v[idx] for k, v in cols.items()}
 
 
+def _own(cols: Columns) -> Columns:
+    """Writable, contiguous copies of (views of) point columns, for an evaluator to use."""
+    return {k: np.array(v, dtype=float) for k, v in cols.items()}
+
+
 def _normalise(out: Mapping[str, Any], n: int, where: str) -> Columns:
     cols: Columns = {}
     for k, v in out.items():
@@ -471,12 +476,9 @@ class _StatusCounter:
         self.chunks = 0
         self.seen: dict[str, int] = {}
 
-    def final_kinds(self) -> dict[str, str]:
-        """Column kinds; a boolean column that some chunk lacks becomes ``O`` (with ``None``)."""
-        return {
-            k: "O" if v == "b" and self.seen.get(k, 0) < self.chunks else v
-            for k, v in self.kinds.items()
-        }
+    def partial(self) -> set[str]:
+        """Columns that some chunk lacks (NaN or ``None`` there)."""
+        return {k for k in self.kinds if self.seen.get(k, 0) < self.chunks}
 
     def add(self, start: int, part: Columns) -> None:
         self.chunks += 1
@@ -542,9 +544,12 @@ class StoredRows:
     inverse
         For each point, its distinct index (``None``: the points are distinct).
     kinds
-        Every result column of the run with its dtype kind (``f``, ``b``,
-        ``O``): a block read back has all of them, typed alike in every
-        block (a column that some chunk lacks is NaN or ``None`` there).
+        Every result column of the run with its dtype kind (``f`` numbers,
+        ``b`` booleans, ``O`` anything else): a block read back has all of
+        them, typed alike in every block.
+    partial
+        Columns that some chunk lacks: NaN (numbers) or ``None`` there, and
+        booleans among them are of object dtype in every block.
     """
 
     def __init__(
@@ -556,10 +561,12 @@ class StoredRows:
         inverse: np.ndarray | None,
         *,
         kinds: Mapping[str, str] | None = None,
+        partial: set[str] | None = None,
     ) -> None:
         self.store, self.keys, self.size, self.distinct = store, list(keys), size, distinct
         self.inverse = inverse
         self.kinds = dict(kinds or {})
+        self.partial = set(partial or ())
         self._last: tuple[int, Columns] | None = None
 
     def __len__(self) -> int:
@@ -611,7 +618,7 @@ class StoredRows:
             v = got.get(name)
             if v is None:
                 v = np.full(n, np.nan) if kind == "f" else np.full(n, None, dtype=object)
-            elif kind == "O" and v.dtype != object:
+            elif (kind == "O" or (kind == "b" and name in self.partial)) and v.dtype != object:
                 v = v.astype(object)
             cols[name] = v
         return pd.DataFrame(cols, copy=False)
@@ -842,7 +849,8 @@ def run_points(
             size,
             m,
             None if m == n else inverse,
-            kinds=counter.final_kinds(),  # type: ignore[arg-type]
+            kinds=counter.kinds,
+            partial=counter.partial(),  # type: ignore[arg-type]
         )
         if run.failed_count:
             logger.warning("%s: %d of %d points failed", desc, run.failed_count, n)

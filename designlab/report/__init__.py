@@ -44,6 +44,7 @@ __all__ = [
     "ReportError",
     "atomic_write_bytes",
     "atomic_write_text",
+    "current_report",
     "markdown_table",
     "register_writer",
     "report_directory",
@@ -148,7 +149,7 @@ def write_report(
             writer(result, tmp, command=command, version=__version__, study_text=study_text)
             key = _report_key(result, study_text)
             if key:
-                _write_manifest(tmp, key)
+                _write_manifest(tmp, key, result)
         except OSError as exc:
             if isinstance(exc, ReportError):
                 raise
@@ -189,14 +190,53 @@ def _report_key(result: Any, study_text: str | None) -> str:
     return hashlib.sha256(json.dumps(parts, sort_keys=True).encode()).hexdigest()
 
 
-def _write_manifest(directory: Path, key: str) -> None:
+def _write_manifest(directory: Path, key: str, result: Any) -> None:
     files = {
         p.name: p.stat().st_size
         for p in sorted(directory.iterdir())
         if p.is_file() and p.name != MANIFEST
     }
-    text = json.dumps({"key": key, "files": files}, indent=1, sort_keys=True) + "\n"
-    atomic_write_text(directory / MANIFEST, text)
+    record = {
+        "key": key,
+        "files": files,
+        "status": str(getattr(result, "status", "")),
+        "warnings": list(getattr(result, "warnings", ())),
+    }
+    atomic_write_text(directory / MANIFEST, json.dumps(record, indent=1, sort_keys=True) + "\n")
+
+
+def current_report(
+    result: Any, output_dir: str | os.PathLike[str], *, study_text: str | None = None
+) -> dict[str, Any] | None:
+    """The record of ``<output_dir>/<study name>/`` if it already holds this result's report.
+
+    The record (``status``, ``warnings``, ``files``) is what the report was
+    written with, so a caller can repeat its warnings without recomputing
+    them. ``None`` unless :func:`report_is_current`.
+
+    Parameters
+    ----------
+    result
+        A study result.
+    output_dir
+        Parent directory of the report.
+    study_text
+        The study file's text (part of what the report depends on).
+    """
+    key = _report_key(result, study_text)
+    if not key:
+        return None
+    directory = Path(output_dir) / result.study.name
+    try:
+        record = json.loads((directory / MANIFEST).read_text(encoding="utf-8"))
+        if record.get("key") != key:
+            return None
+        for name, size in record["files"].items():
+            if (directory / name).stat().st_size != size:
+                return None
+        return dict(record)
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        return None
 
 
 def report_is_current(
@@ -219,19 +259,7 @@ def report_is_current(
     study_text
         The study file's text (part of what the report depends on).
     """
-    key = _report_key(result, study_text)
-    if not key:
-        return False
-    directory = Path(output_dir) / result.study.name
-    try:
-        manifest = json.loads((directory / MANIFEST).read_text(encoding="utf-8"))
-        if manifest.get("key") != key:
-            return False
-        return all(
-            (directory / name).stat().st_size == size for name, size in manifest["files"].items()
-        )
-    except (OSError, ValueError, KeyError, TypeError, AttributeError):
-        return False
+    return current_report(result, output_dir, study_text=study_text) is not None
 
 
 #: The main Markdown file of a report, by preference.

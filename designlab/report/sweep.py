@@ -63,8 +63,6 @@ DENSITY_FROM = 5_000
 #: At most this many (evenly spread) points are binned into a density plot: at
 #: 40 hexagons across, 50 000 points already fix every visible shade.
 DENSITY_SAMPLE = 50_000
-#: Rows per Parquet row group (and per Arrow conversion).
-PARQUET_ROW_GROUP = 131_072
 
 
 def _points_or_density(ax: Any, x: Any, y: Any) -> None:
@@ -82,25 +80,23 @@ def _points_or_density(ax: Any, x: Any, y: Any) -> None:
         ax.plot(x[keep], y[keep], ".", ms=3, alpha=0.6)
 
 
-def _arrow_schema(table: PointsTable) -> Any:
-    """One Arrow schema for every row group: from the column dtypes and the scanned subset.
+def _arrow_schema(table: PointsTable, head: pd.DataFrame) -> Any:
+    """One Arrow schema for every row group, from the first block and the column kinds.
 
-    ``status`` and ``error`` are strings; an object column whose values are all
-    booleans (or missing) is boolean, any other object column is text.
+    ``status`` and ``error`` are strings; booleans (possibly missing) are
+    boolean; any other object column is text.
     """
     import pyarrow as pa
 
-    subset = table.scan().subset
-    head = next(iter(table.blocks(1)))
     fields = []
     for c in table.columns:
         dtype = head[c].dtype
         if c in ("status", "error"):
             fields.append(pa.field(c, pa.string()))
+        elif table.is_flag(c):
+            fields.append(pa.field(c, pa.bool_()))
         elif dtype.kind == "O":
-            values = subset[c].dropna() if c in subset else pd.Series([], dtype=object)
-            boolean = len(values) and values.map(lambda v: isinstance(v, (bool, np.bool_))).all()
-            fields.append(pa.field(c, pa.bool_() if boolean else pa.string()))
+            fields.append(pa.field(c, pa.string()))
         else:
             fields.append(pa.field(c, pa.from_numpy_dtype(dtype)))
     return pa.schema(fields)
@@ -114,29 +110,34 @@ def _write_table(result: Any, directory: Path) -> list[Path]:
     import pyarrow as pa
     import pyarrow.parquet as pq
 
-    # Written a row group at a time, straight from the table's blocks (read from the
-    # result store for a streamed sweep): the report never holds the whole table, and
-    # the report directory is swapped into place atomically, so no partial file shows.
+    # Written block by block in the same pass over the table (read from the result store
+    # for a streamed sweep) as its scan: the report never holds the whole table, and the
+    # report directory is swapped into place atomically, so no partial file shows.
     path = directory / "results.parquet"
-    schema = _arrow_schema(table)
+    schema = _arrow_schema(table, next(iter(table.blocks(1))))
     text = {f.name for f in schema if f.type == pa.string()}
+
+    def as_text(v: Any) -> Any:
+        return None if v is None or v is pd.NA or v != v else str(v)
+
     with pq.ParquetWriter(path, schema, compression="snappy") as writer:
-        for block in table.blocks(PARQUET_ROW_GROUP):
+
+        def write(block: pd.DataFrame) -> None:
             arrays = [
                 pa.array(
-                    block[c].map(lambda v: None if v is None or v is pd.NA or v != v else str(v))
-                    if c in text and block[c].dtype.kind == "O"
-                    else block[c],
+                    block[c].map(as_text) if c in text and block[c].dtype.kind == "O" else block[c],
                     type=schema.field(c).type,
                     from_pandas=True,
                 )
                 for c in table.columns
             ]
             writer.write_table(pa.Table.from_arrays(arrays, schema=schema))
+
+        scan = table.scan(visit=write)
     exact = table.frame() if isinstance(table, FrameTable) else None
     return [
         path,
-        write_csv(table.scan().summary_frame(quantiles=exact), directory / "results_summary.csv"),
+        write_csv(scan.summary_frame(quantiles=exact), directory / "results_summary.csv"),
     ]
 
 

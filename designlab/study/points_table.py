@@ -186,10 +186,31 @@ class PointsTable:
         """The whole table as one data frame."""
         raise NotImplementedError
 
-    def scan(self) -> TableScan:
-        """One pass over the table (cached): statuses, failures, flags, moments, subset."""
+    def is_flag(self, column: str) -> bool:  # pragma: no cover - abstract
+        """Whether ``column`` holds booleans (possibly with missing values).
+
+        Parameters
+        ----------
+        column
+            A column name.
+        """
+        raise NotImplementedError
+
+    def scan(self, visit: Callable[[pd.DataFrame], None] | None = None) -> TableScan:
+        """One pass over the table (cached): statuses, failures, flags, moments, subset.
+
+        Parameters
+        ----------
+        visit
+            Also called with every block of the pass (e.g. to write it out), so
+            that one read of the table serves both. With a cached scan, the
+            blocks are read again for ``visit`` alone.
+        """
         cached = getattr(self, "_scan", None)
         if cached is not None:
+            if visit is not None:
+                for block in self.blocks():
+                    visit(block)
             return cached
         n = len(self)
         step = max(1, math.ceil(n / SUBSET_ROWS)) if n else 1
@@ -197,7 +218,10 @@ class PointsTable:
         moments: dict[str, _Moments] = {}
         subset: list[pd.DataFrame] = []
         notes, first_note = 0, None
+        flags = {c for c in self.columns if c not in ("status", "error") and self.is_flag(c)}
         for block in self.blocks():
+            if visit is not None:
+                visit(block)
             start = int(block.index[0]) if len(block) else 0
             status = block["status"].astype(object) if "status" in block else None
             if status is not None:
@@ -216,7 +240,7 @@ class PointsTable:
                     notes += int(present.sum())
                     if first_note is None and present.any():
                         first_note = str(col[present].iloc[0])
-                elif _is_flag(col):
+                elif name in flags:
                     hits = int(col.fillna(False).astype(bool).sum())
                     scan.flags[name] = scan.flags.get(name, 0) + hits
                 elif pd.api.types.is_numeric_dtype(col.dtype):
@@ -260,6 +284,16 @@ class FrameTable(PointsTable):
     def frame(self) -> pd.DataFrame:
         """The table itself."""
         return self._frame
+
+    def is_flag(self, column: str) -> bool:
+        """Whether ``column`` holds booleans (possibly with missing values).
+
+        Parameters
+        ----------
+        column
+            A column name.
+        """
+        return column in self._frame and _is_flag(self._frame[column])
 
 
 class StoredTable(PointsTable):
@@ -309,6 +343,16 @@ class StoredTable(PointsTable):
         """
         for s in range(0, self.n, rows):
             yield self._block(s, min(s + rows, self.n))
+
+    def is_flag(self, column: str) -> bool:
+        """Whether ``column`` holds booleans (a result column the store types as boolean).
+
+        Parameters
+        ----------
+        column
+            A column name.
+        """
+        return self.rows.kinds.get(column) == "b"
 
     def frame(self) -> pd.DataFrame:
         """The whole table (read from the store; memory grows with the points)."""

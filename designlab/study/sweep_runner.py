@@ -234,8 +234,12 @@ def _n(cols: Columns) -> int:
 
 
 def _designs(base: dict[str, float], key_of: dict[str, str], values: Columns, n: int) -> Columns:
-    """``n`` copies of the base point with the columns of ``values`` (by path) replaced."""
-    out = {k: np.full(n, v, dtype=float) for k, v in base.items()}
+    """``n`` copies of the base point with the columns of ``values`` (by path) replaced.
+
+    Unchanged parameters are read-only broadcast views of their base value:
+    a million-point sweep over three parameters holds three columns, not ten.
+    """
+    out = {k: np.broadcast_to(np.float64(v), (n,)) for k, v in base.items()}
     for path, v in values.items():
         out[key_of[path]] = np.asarray(v, dtype=float)
     return out
@@ -280,6 +284,16 @@ def _plan(study: SweepStudyBase, store: Any = None) -> _Plan:
         )
         sets["sobol"] = _designs(base, key_of, sample, _n(sample))
     return _Plan(base, sets, oat_meta, range_meta, sobol_names, sobol_bounds, path_of, describe)
+
+
+def _concat_column(parts: list[np.ndarray]) -> np.ndarray:
+    """Concatenate a column of several point sets; constant everywhere stays a broadcast view."""
+    first = float(parts[0][0]) if len(parts[0]) else None
+    if all(p.strides == (0,) or len(p) <= 1 for p in parts) and all(
+        float(p[0]) == first for p in parts if len(p)
+    ):
+        return np.broadcast_to(np.float64(first), (sum(len(p) for p in parts),))
+    return np.concatenate(parts)
 
 
 def _one_each(base: dict[str, float], key_of: dict[str, str], changes: list[Any]) -> Columns:
@@ -375,7 +389,7 @@ def run_sweep_study(study: SweepStudyBase, context: RunContext) -> SweepStudyRes
     plan = _plan(study, context.store)
     metrics = study.metrics
     names = [name for name, cols in plan.sets.items() if _n(cols)]
-    all_points = {k: np.concatenate([plan.sets[s][k] for s in names]) for k in plan.sets["base"]}
+    all_points = {k: _concat_column([plan.sets[s][k] for s in names]) for k in plan.sets["base"]}
     logger.info("%s: %s", study.name, ", ".join(f"{s} {_n(plan.sets[s])}" for s in names))
     stream = context.store is not None and _n(plan.sets["sweep"]) > STREAM_FROM
     run = run_points(
@@ -462,7 +476,7 @@ def _points_frame(
     if not points or results is None:
         return pd.DataFrame()
     names = {key: f"{key}_{unit_slug(info.unit)}" for _, (key, info) in study.PARAMETERS.items()}
-    columns: dict[str, Any] = {names.get(k, k): np.asarray(v) for k, v in points.items()}
+    columns: dict[str, Any] = {names.get(k, k): np.array(v) for k, v in points.items()}
     n = len(results)
     out = {c: columns[c] for c in names.values() if c in columns}
     out |= {m: results[m].to_numpy() for m in study.METRICS if m in results}

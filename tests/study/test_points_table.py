@@ -70,12 +70,11 @@ def _same(a: pd.DataFrame, b: pd.DataFrame) -> None:
 
 @pytest.fixture
 def small_limits(monkeypatch):
-    """Stream from 100 points, Parquet from 100 rows, subsets of 64 rows, blocks of 50."""
+    """Stream from 100 points, Parquet from 100 rows, subsets of 64 rows, blocks of 50 rows."""
     from designlab.report import sweep as report_sweep
 
     monkeypatch.setattr(sweep_runner, "STREAM_FROM", 100)
     monkeypatch.setattr(report_sweep, "LARGE_SWEEP", 100)
-    monkeypatch.setattr(report_sweep, "PARQUET_ROW_GROUP", 128)
     monkeypatch.setattr(points_table, "SUBSET_ROWS", 64)
     monkeypatch.setattr(points_table, "BLOCK_ROWS", 50)
 

@@ -14,5 +14,8 @@ MODULES: tuple[str, ...] = (
     "vff_scenarios",
     "vff_sweep",
     "vff_gains",
+    "follower_comparison",
+    "follower_tuning",
+    "follower_sweep",
     "accompanying",
 )

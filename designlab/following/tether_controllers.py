@@ -1,0 +1,351 @@
+"""Tether follower control laws (Allan 2015, Sec. 2.3, App. C).
+
+Three laws, each a small frozen dataclass whose gains and desired tether
+length are fields, so that tuning and sweeps can set them:
+
+* :class:`PseudoJoystick` (Sec. 2.3.1, App. C mode 10): drive along the
+  tether. The default is the App. C code, ``V = k_V max(0, l_m - l_d)``,
+  ``Omega = k_O theta``; ``law="printed"`` gives eqs. (2.1)-(2.2) with the
+  steering sign fixed to turn toward the tether, ``Omega = (2V/b) sin theta``.
+* :class:`FollowTheLeader` (Sec. 2.3.2, mode 20): record the tether tip in a
+  path buffer, take the recorded point nearest to the robot, look ahead
+  ``delta`` along the recorded path, ``V = k_V (l_m - l_d)`` (no clip),
+  ``Omega = k_O phi``.
+* :class:`FollowTheLeaderConstDistance` (Sec. 2.3.3, mode 21): steer to the
+  newest recorded point at least ``l_d`` (Euclidean) from the leader,
+  ``V = max(0, K_p (l_m - l_d)(1 - K_a |phi|))``, ``Omega = K_b phi`` with the
+  effective positive gains of the code (K_p = 2, K_a = 0.5, K_b = 2; the
+  printed signs of eqs. 2.20-2.21 would drive the robot backwards).
+
+Defaults are the App. C values (the thesis's only numerical gains); see
+``docs/following.md``. Each class writes its law once as a CasADi function
+(:meth:`law_function`).
+
+Examples
+--------
+>>> ftl = FollowTheLeader(lookahead=0.4)
+>>> ftl.gains
+{'speed_gain': 1.0, 'turn_gain': 3.0, 'lookahead': 0.4}
+>>> v, om = ftl.command(l_m=1.5, phi=0.1, wheel_track=0.28)
+>>> round(v, 3), round(om, 3)
+(0.5, 0.3)
+>>> PseudoJoystick(turn_gain=-1.0)
+Traceback (most recent call last):
+...
+designlab.errors.InvalidParameterError: PseudoJoystick.turn_gain = -1.0 1/s is not allowed: ...
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, fields, replace
+from functools import cache
+from typing import Any, ClassVar
+
+import casadi as ca
+
+from designlab.errors import InvalidParameterError, check_nonnegative, check_positive
+from designlab.following.tether_codegen import compile_sx
+
+__all__ = [
+    "CONTROLLERS",
+    "FollowTheLeader",
+    "FollowTheLeaderConstDistance",
+    "PseudoJoystick",
+    "TetherController",
+    "controller_from_dict",
+]
+
+_UNITS = {
+    "desired_length": "m",
+    "speed_gain": "1/s",
+    "turn_gain": "1/s",
+    "angle_gain": "1/rad",
+    "lookahead": "m",
+    "min_step": "m",
+}
+
+
+class TetherController:
+    """Shared behaviour of the tether follower laws.
+
+    Class attributes
+    ----------------
+    target
+        How the steering angle ``phi`` is obtained: ``"tether"`` (the tether
+        angle itself), ``"lookahead"`` (FTL) or ``"constant_distance"`` (FTL-CD).
+    GAINS
+        Field names a tuner may change (besides ``desired_length``).
+    BOUNDS
+        Widest tuning bounds per gain (Allan 2015 has none; ``tune`` keeps the
+        FTL look-ahead within b-2b unless told otherwise; ``docs/following.md``).
+    """
+
+    target: ClassVar[str] = "tether"
+    GAINS: ClassVar[tuple[str, ...]] = ()
+    BOUNDS: ClassVar[dict[str, tuple[float, float]]] = {}
+    LAW_PARAMS: ClassVar[tuple[str, ...]] = ()
+    desired_length: float
+
+    def _validate(self) -> None:
+        name = type(self).__name__
+        for f in fields(self):  # type: ignore[arg-type]
+            v = getattr(self, f.name)
+            if f.name in ("law", "buffer_size"):
+                continue
+            unit = _UNITS.get(f.name, "")
+            if f.name == "angle_gain":
+                object.__setattr__(self, f.name, check_nonnegative(f"{name}.{f.name}", v, unit))
+            else:
+                object.__setattr__(self, f.name, check_positive(f"{name}.{f.name}", v, unit))
+        if hasattr(self, "buffer_size"):
+            b = self.buffer_size  # type: ignore[attr-defined]
+            if isinstance(b, bool) or not isinstance(b, int) or b < 3:
+                raise InvalidParameterError(f"{name}.buffer_size", b, "must be an integer >= 3")
+
+    @property
+    def gains(self) -> dict[str, float]:
+        """The tunable gains as a dict."""
+        return {k: getattr(self, k) for k in self.GAINS}
+
+    def as_dict(self) -> dict[str, Any]:
+        """All fields as a plain dict, with the class name under ``"type"``."""
+        return {"type": type(self).__name__, **asdict(self)}  # type: ignore[call-overload]
+
+    def replace(self, **changes: Any) -> Any:
+        """A copy with some fields changed (validated again)."""
+        return replace(self, **changes)  # type: ignore[type-var]
+
+    def law_values(self) -> tuple[float, ...]:
+        """The numbers fed to :meth:`law_function` after ``l_m, phi, b``."""
+        return tuple(float(getattr(self, k)) for k in self.LAW_PARAMS)
+
+    @classmethod
+    def law_function(cls, variant: str = "") -> ca.Function:  # pragma: no cover - overridden
+        """CasADi function ``(l_m, phi, b, *LAW_PARAMS) -> (V, Omega)``."""
+        raise NotImplementedError
+
+    def law_key(self) -> str:
+        """Which variant of the law this instance uses."""
+        return ""
+
+    def command(self, l_m: float, phi: float, wheel_track: float = 0.28) -> tuple[float, float]:
+        """The commanded forward speed (m/s) and yaw rate (rad/s) for one reading.
+
+        Parameters
+        ----------
+        l_m
+            Measured tether length in m.
+        phi
+            Steering angle in rad: the tether angle (Pseudo-Joystick) or the
+            direction of the path target relative to the heading (FTL, FTL-CD).
+        wheel_track
+            Wheel track b in m (used by the printed Pseudo-Joystick law).
+        """
+        f = _compiled_law(type(self), self.law_key(), False)
+        v, om = f(float(l_m), float(phi), float(wheel_track), *self.law_values())
+        return float(v), float(om)
+
+
+@cache
+def _compiled_law(cls: type, key: str, batch: bool) -> Any:
+    return compile_sx(cls.law_function(key), batch=batch)  # type: ignore[attr-defined]
+
+
+def _sym(*names: str) -> list[ca.SX]:
+    return [ca.SX.sym(n) for n in names]
+
+
+@dataclass(frozen=True)
+class PseudoJoystick(TetherController):
+    """Pseudo-Joystick: drive along the tether (Allan 2015 Sec. 2.3.1, App. C mode 10).
+
+    Parameters
+    ----------
+    desired_length
+        l_d in m (App. C: 1.0 m).
+    speed_gain
+        k_V in 1/s (App. C: 5.0).
+    turn_gain
+        k_O in 1/s (App. C: 12.0); unused by ``law="printed"``.
+    law
+        ``"coded"`` (default): ``V = k_V max(0, l_m - l_d)``, ``Omega = k_O theta``.
+        ``"printed"``: eqs. (2.1)-(2.2), ``V = k_V (l_m - l_d)``,
+        ``Omega = (2V/b) sin theta`` (sign fixed to steer toward the tether).
+
+    Examples
+    --------
+    >>> pj = PseudoJoystick()
+    >>> pj.command(l_m=0.8, phi=0.5)       # tether slack: rotate in place
+    (0.0, 6.0)
+    >>> v, om = PseudoJoystick(law="printed").command(l_m=1.1, phi=0.5)
+    >>> round(v, 3), round(om, 4)
+    (0.5, 1.7122)
+    """
+
+    desired_length: float = 1.0
+    speed_gain: float = 5.0
+    turn_gain: float = 12.0
+    law: str = "coded"
+
+    target: ClassVar[str] = "tether"
+    GAINS: ClassVar[tuple[str, ...]] = ("speed_gain", "turn_gain")
+    BOUNDS: ClassVar[dict[str, tuple[float, float]]] = {
+        "speed_gain": (0.1, 20.0),
+        "turn_gain": (0.1, 20.0),
+    }
+    LAW_PARAMS: ClassVar[tuple[str, ...]] = ("desired_length", "speed_gain", "turn_gain")
+
+    def __post_init__(self) -> None:
+        if self.law not in ("coded", "printed"):
+            raise InvalidParameterError("PseudoJoystick.law", self.law, "'coded' or 'printed'")
+        self._validate()
+
+    def law_key(self) -> str:
+        return self.law
+
+    @classmethod
+    @cache
+    def law_function(cls, variant: str = "coded") -> ca.Function:
+        lm, phi, b, ld, kv, ko = _sym("l_m", "phi", "b", "l_d", "k_V", "k_O")
+        if variant == "printed":
+            v = kv * (lm - ld)  # eq. 2.1
+            om = 2.0 * v / b * ca.sin(phi)  # eq. 2.2 with phi = theta (2.3), sign fixed
+        else:
+            v = kv * ca.fmax(lm - ld, 0.0)  # App. C mode 10
+            om = ko * phi
+        return ca.Function(f"pj_{variant or 'coded'}", [lm, phi, b, ld, kv, ko], [v, om])
+
+
+@dataclass(frozen=True)
+class FollowTheLeader(TetherController):
+    """Follow the Leader: track the recorded leader path (Allan 2015 Sec. 2.3.2, App. C mode 20).
+
+    Parameters
+    ----------
+    desired_length
+        l_d in m (App. C: 1.0 m).
+    speed_gain
+        K_V in 1/s (App. C: 1.0), eq. (2.17).
+    turn_gain
+        K_Omega in 1/s (App. C: 3.0), eq. (2.18).
+    lookahead
+        delta in m, measured along the recorded path (App. C: 0.5 m; the
+        thesis's rule is b < delta < 2b).
+    min_step
+        Delta s_min in m: the minimum step between recorded points (0.01 m).
+    buffer_size
+        Buffer limit (300; at most ``buffer_size - 1`` points are kept, as coded).
+
+    Examples
+    --------
+    >>> FollowTheLeader().lookahead, FollowTheLeader().buffer_size
+    (0.5, 300)
+    """
+
+    desired_length: float = 1.0
+    speed_gain: float = 1.0
+    turn_gain: float = 3.0
+    lookahead: float = 0.5
+    min_step: float = 0.01
+    buffer_size: int = 300
+
+    target: ClassVar[str] = "lookahead"
+    GAINS: ClassVar[tuple[str, ...]] = ("speed_gain", "turn_gain", "lookahead")
+    BOUNDS: ClassVar[dict[str, tuple[float, float]]] = {
+        "speed_gain": (0.1, 20.0),
+        "turn_gain": (0.1, 20.0),
+        "lookahead": (0.05, 1.0),
+    }
+    LAW_PARAMS: ClassVar[tuple[str, ...]] = ("desired_length", "speed_gain", "turn_gain")
+
+    def __post_init__(self) -> None:
+        self._validate()
+
+    @classmethod
+    @cache
+    def law_function(cls, variant: str = "") -> ca.Function:
+        lm, phi, b, ld, kv, ko = _sym("l_m", "phi", "b", "l_d", "k_V", "k_O")
+        return ca.Function("ftl", [lm, phi, b, ld, kv, ko], [kv * (lm - ld), ko * phi + 0.0 * b])
+
+
+@dataclass(frozen=True)
+class FollowTheLeaderConstDistance(TetherController):
+    """Follow the Leader with Constant Distance (Allan 2015 Sec. 2.3.3, App. C mode 21).
+
+    Parameters
+    ----------
+    desired_length
+        l_d in m (App. C: 1.2 m); also the Euclidean distance from the leader
+        of the path target.
+    speed_gain
+        Effective K_p in 1/s (App. C: -2.0 with an extra minus sign, i.e. 2.0).
+    angle_gain
+        K_a in 1/rad (0.5); ``1 - K_a |phi|`` slows the robot when it is
+        turned away from the target.
+    turn_gain
+        Effective K_b in 1/s (App. C: -2.0 with ``Omega = -K_b phi``, i.e. 2.0).
+    min_step
+        Delta s_min in m (0.01).
+    buffer_size
+        Buffer limit (300).
+
+    Examples
+    --------
+    >>> v, om = FollowTheLeaderConstDistance().command(l_m=1.45, phi=0.2)
+    >>> round(v, 3), round(om, 3)
+    (0.45, 0.4)
+    """
+
+    desired_length: float = 1.2
+    speed_gain: float = 2.0
+    angle_gain: float = 0.5
+    turn_gain: float = 2.0
+    min_step: float = 0.01
+    buffer_size: int = 300
+
+    target: ClassVar[str] = "constant_distance"
+    GAINS: ClassVar[tuple[str, ...]] = ("speed_gain", "angle_gain", "turn_gain")
+    BOUNDS: ClassVar[dict[str, tuple[float, float]]] = {
+        "speed_gain": (0.1, 20.0),
+        "angle_gain": (0.0, 1.0 / 3.141592653589793),
+        "turn_gain": (0.1, 20.0),
+    }
+    LAW_PARAMS: ClassVar[tuple[str, ...]] = (
+        "desired_length",
+        "speed_gain",
+        "angle_gain",
+        "turn_gain",
+    )
+
+    def __post_init__(self) -> None:
+        self._validate()
+
+    @classmethod
+    @cache
+    def law_function(cls, variant: str = "") -> ca.Function:
+        lm, phi, b, ld, kp, ka, kb = _sym("l_m", "phi", "b", "l_d", "K_p", "K_a", "K_b")
+        v = ca.fmax(kp * (lm - ld) * (1.0 - ka * ca.fabs(phi)), 0.0)  # eq. 2.20, effective
+        return ca.Function("ftlcd", [lm, phi, b, ld, kp, ka, kb], [v, kb * phi + 0.0 * b])
+
+
+#: The laws by name (as used in study files).
+CONTROLLERS: dict[str, type[TetherController]] = {
+    "PseudoJoystick": PseudoJoystick,
+    "FollowTheLeader": FollowTheLeader,
+    "FollowTheLeaderConstDistance": FollowTheLeaderConstDistance,
+}
+
+
+def controller_from_dict(spec: dict[str, Any]) -> TetherController:
+    """Build a controller from ``{"type": name, **fields}`` (the inverse of ``as_dict``).
+
+    Examples
+    --------
+    >>> controller_from_dict({"type": "FollowTheLeader", "lookahead": 0.3}).lookahead
+    0.3
+    """
+    spec = dict(spec)
+    name = spec.pop("type", None)
+    if name not in CONTROLLERS:
+        raise InvalidParameterError("controller.type", name, f"one of {sorted(CONTROLLERS)}")
+    return CONTROLLERS[name](**spec)  # type: ignore[call-arg,no-any-return]

@@ -1,0 +1,277 @@
+"""Linearised lateral-error loop of the tether follower laws (python-control).
+
+On a straight leader path at speed v, with lateral offset e and heading
+error psi of the robot, ``e' = v psi`` and ``psi' = Omega``. Every law steers
+toward a point ahead at an effective distance L, ``phi ~ -psi - e/L``, with
+``Omega = K phi``:
+
+======================  ======================  =====================
+law                     K (1/s)                 L (m)
+======================  ======================  =====================
+Pseudo-Joystick coded   k_O                     l = l_d + v/k_V
+Pseudo-Joystick printed 2v/b (eq. 2.2)          l = l_d + v/k_V
+Follow the Leader       K_Omega                 delta
+FTL constant distance   K_b                     l - l_d = v/K_p
+======================  ======================  =====================
+
+so the loop ``L(s) = K (s + v/L)/s^2`` closes to ``s^2 + K s + K v/L``:
+``omega_n = sqrt(K v/L)``, ``zeta = sqrt(K L/v)/2`` (a small look-ahead
+weaves, Allan 2015 Sec. 2.5.4). The tether length obeys
+``l' = v - k_V (l - l_d)``: one real pole at ``-k_V`` and the steady state
+``l_d + v/k_V``. Poles, margins and the poles of the sampled loop (zero-order
+hold at the control period) come from python-control. See ``docs/following.md``.
+
+Examples
+--------
+>>> from designlab.following import FollowTheLeader
+>>> lin = linear_analysis(FollowTheLeader(lookahead=0.5), speed=0.5)
+>>> round(lin.damping_ratio, 4), round(lin.natural_frequency, 4)
+(0.866, 1.7321)
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import pandas as pd
+from numpy.typing import NDArray
+
+from designlab.errors import InvalidParameterError, check_positive
+from designlab.following.paths import straight_line
+from designlab.following.tether_controllers import (
+    FollowTheLeader,
+    FollowTheLeaderConstDistance,
+    PseudoJoystick,
+    TetherController,
+)
+from designlab.following.tether_model import FollowerRobot
+from designlab.results import Result
+
+__all__ = [
+    "LinearLoop",
+    "effective_loop",
+    "fit_damping",
+    "lateral_step_response",
+    "linear_analysis",
+]
+
+
+def effective_loop(
+    controller: TetherController, speed: float, wheel_track: float = 0.28
+) -> tuple[Any, Any, Any]:
+    """Turn gain K (1/s), effective look-ahead L (m) and steady tether length (m).
+
+    Works on numbers or numpy arrays of gains (for batches of gain sets).
+    """
+    c = controller
+    if isinstance(c, PseudoJoystick):
+        l_ss = c.desired_length + speed / c.speed_gain
+        k = 2.0 * speed / wheel_track if c.law == "printed" else c.turn_gain
+        return k, l_ss, l_ss
+    if isinstance(c, FollowTheLeader):
+        return c.turn_gain, c.lookahead, c.desired_length + speed / c.speed_gain
+    if isinstance(c, FollowTheLeaderConstDistance):
+        return c.turn_gain, speed / c.speed_gain, c.desired_length + speed / c.speed_gain
+    raise InvalidParameterError("controller", type(c).__name__, "a tether controller")
+
+
+def damping_ratio(controller: TetherController, speed: float, wheel_track: float = 0.28) -> float:
+    """Damping ratio ``sqrt(K L / v)/2`` of the lateral loop (see the module notes)."""
+    k, look, _ = effective_loop(controller, speed, wheel_track)
+    return 0.5 * math.sqrt(k * look / speed)
+
+
+@dataclass(frozen=True, eq=False)
+class LinearLoop(Result):
+    """Linearised lateral loop of one law at one speed.
+
+    Attributes
+    ----------
+    turn_gain, lookahead
+        K (1/s) and the effective look-ahead L (m).
+    poles
+        Closed-loop poles (1/s).
+    damping_ratio, natural_frequency
+        zeta and omega_n (rad/s) of ``s^2 + 2 zeta omega_n s + omega_n^2``
+        (zeta > 1: two real poles).
+    phase_margin, gain_margin
+        Of the loop broken at Omega (deg; the gain margin is infinite).
+    crossover_frequency
+        Gain-crossover frequency in rad/s.
+    length_pole
+        Pole of the tether-length loop (-k_V), 1/s.
+    steady_length
+        Steady tether length ``l_d + v/k_V`` in m.
+    discrete_poles
+        Poles of the loop sampled at the control period (zero-order hold).
+    discrete_stable
+        True when every sampled pole is inside the unit circle.
+    """
+
+    controller: TetherController
+    speed: float
+    sample_time: float
+    turn_gain: float
+    lookahead: float
+    poles: NDArray[np.complex128]
+    damping_ratio: float
+    natural_frequency: float
+    phase_margin: float
+    gain_margin: float
+    crossover_frequency: float
+    length_pole: float
+    steady_length: float
+    discrete_poles: NDArray[np.complex128]
+    discrete_stable: bool
+    system: Any
+    status: str = "ok"
+    warnings: tuple[str, ...] = ()
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row of the loop's figures."""
+        return pd.DataFrame(
+            [
+                {
+                    "law": type(self.controller).__name__,
+                    "speed_m_per_s": self.speed,
+                    "turn_gain_per_s": self.turn_gain,
+                    "lookahead_m": self.lookahead,
+                    "damping_ratio": self.damping_ratio,
+                    "natural_frequency_rad_per_s": self.natural_frequency,
+                    "phase_margin_deg": self.phase_margin,
+                    "crossover_rad_per_s": self.crossover_frequency,
+                    "length_pole_per_s": self.length_pole,
+                    "steady_length_m": self.steady_length,
+                    "discrete_stable": self.discrete_stable,
+                }
+            ]
+        )
+
+
+def linear_analysis(
+    controller: TetherController, speed: float = 0.5, robot: FollowerRobot | None = None
+) -> LinearLoop:
+    """Linearise the lateral-error loop of ``controller`` at leader speed ``speed``.
+
+    Parameters
+    ----------
+    controller
+        A :class:`PseudoJoystick`, :class:`FollowTheLeader` or
+        :class:`FollowTheLeaderConstDistance`.
+    speed
+        Leader (and steady robot) speed in m/s.
+    robot
+        Gives the wheel track (printed PJ law) and the control period.
+
+    Returns
+    -------
+    LinearLoop
+    """
+    import control  # lazily: python-control is slow to import
+
+    speed = check_positive("speed", speed, "m/s")
+    robot = robot or FollowerRobot()
+    if not isinstance(controller, TetherController):
+        raise InvalidParameterError("controller", controller, "a tether controller")
+    k, look, l_ss = effective_loop(controller, speed, robot.wheel_track)
+    # plant: states (psi, e), input Omega
+    a = np.array([[0.0, 0.0], [speed, 0.0]])
+    b = np.array([[1.0], [0.0]])
+    kx = np.array([[k, k / look]])
+    plant = control.ss(a, b, np.eye(2), np.zeros((2, 1)))
+    loop = control.ss(a, b, kx, np.zeros((1, 1)))  # Omega -> K(psi + e/L)
+    closed = control.ss(a - b @ kx, b, np.eye(2), np.zeros((2, 1)))
+    poles = np.sort_complex(control.poles(closed))
+    # s^2 + 2 zeta wn s + wn^2 from the poles (zeta > 1 when the poles are real)
+    wn = float(np.sqrt(np.real(np.prod(poles))))
+    zeta_min = float(-np.real(np.sum(poles)) / (2.0 * wn))
+    gm, pm, _, wcp = control.margin(loop)
+    sampled = control.sample_system(plant, robot.sample_time, method="zoh")
+    dpoles = np.linalg.eigvals(sampled.A - sampled.B @ kx)
+    warns = []
+    stable_d = bool(np.all(np.abs(dpoles) < 1.0))
+    if not stable_d:
+        warns.append(f"the sampled loop is unstable at dt = {robot.sample_time:g} s")
+    if zeta_min < 0.3:
+        warns.append(f"lightly damped lateral loop (zeta = {zeta_min:.2f}): the robot weaves")
+    kv = controller.speed_gain
+    return LinearLoop(
+        controller=controller,
+        speed=speed,
+        sample_time=robot.sample_time,
+        turn_gain=float(k),
+        lookahead=float(look),
+        poles=poles,
+        damping_ratio=zeta_min,
+        natural_frequency=wn,
+        phase_margin=float(pm),
+        gain_margin=float(gm) if gm is not None else math.inf,
+        crossover_frequency=float(wcp),
+        length_pole=-float(kv),
+        steady_length=float(l_ss),
+        discrete_poles=dpoles,
+        discrete_stable=stable_d,
+        system=closed,
+        status="ok" if stable_d else "unstable",
+        warnings=tuple(warns),
+    )
+
+
+def lateral_step_response(
+    controller: TetherController,
+    offset: float = 0.05,
+    speed: float = 0.5,
+    duration: float = 12.0,
+    robot: FollowerRobot | None = None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Simulated lateral response of the full nonlinear loop on a straight path.
+
+    The leader walks +x at ``speed``; the robot starts at the steady tether
+    length behind it, parallel, ``offset`` m to the side, with the leader's
+    earlier straight path already recorded. Returns ``(t, e)``: time (s) and
+    the robot's lateral offset (m).
+    """
+    from designlab.following.tether_simulate import simulate
+
+    robot = robot or FollowerRobot()
+    _, _, l_ss = effective_loop(controller, speed, robot.wheel_track)
+    run = simulate(
+        controller,
+        straight_line(speed * duration + 5.0),
+        speed=speed,
+        robot=robot,
+        duration=duration,
+        lead_in=l_ss + 2.0,
+        initial_pose=(-math.sqrt(max(l_ss**2 - offset**2, 0.0)), offset, 0.0),
+    )
+    return run.t, run.robot_xy[:, 1]
+
+
+def fit_damping(t: Any, e: Any) -> tuple[float, float]:
+    """Fit ``e'' + 2 zeta omega_n e' + omega_n^2 e = 0`` (e(0) given, e'(0) = 0) to a response.
+
+    Returns ``(zeta, omega_n)`` by least squares (scipy).
+    """
+    from scipy.linalg import expm
+    from scipy.optimize import least_squares
+
+    t = np.asarray(t, dtype=float)
+    e = np.asarray(e, dtype=float)
+    e0 = e[0]
+
+    def model(p: NDArray) -> NDArray:
+        zeta, wn = p
+        a = np.array([[0.0, 1.0], [-wn * wn, -2.0 * zeta * wn]])
+        step = expm(a * (t[1] - t[0]))
+        x = np.array([e0, 0.0])
+        out = np.empty_like(t)
+        for i in range(len(t)):
+            out[i] = x[0]
+            x = step @ x
+        return out
+
+    sol = least_squares(lambda p: model(p) - e, x0=[0.7, 1.0], bounds=([0.01, 0.01], [5.0, 50.0]))
+    return float(sol.x[0]), float(sol.x[1])

@@ -1,0 +1,373 @@
+"""Differential-drive follower with a tether sensor (Allan 2015, Sec. 2.2-2.3, App. C).
+
+The robot is kinematic (Allan 2015 gives no masses, motor or friction data;
+Sec. 2.4.1): two driven wheels of radius ``r`` on a track ``b``. Wheel speeds
+map to body velocities by eq. (2.6)-(2.8), ``V = r(w_L + w_R)/2``,
+``Omega = r(w_R - w_L)/b``, and the pose is integrated exactly over a control
+period on the arc of constant curvature (App. C ``dead_reckon``).
+
+The tether runs from a winch (optionally offset from the robot centre, at a
+height below the leader's tether tip) to the leader. The sensor returns the
+tether length ``l_m`` (3-D, as the V-REP sensor of App. C) and the angle
+``theta_m`` between the tether and the robot heading, wrapped to (-pi, pi]
+(eqs. 2.12-2.14). Gaussian noise on both and a control rate are parameters.
+
+The physics is written once in CasADi symbols (:func:`kinematics_function`,
+:func:`sensor_function`, :func:`tip_function`) and compiled to numpy/float
+code for the closed-loop simulation (:mod:`designlab.following.tether_codegen`).
+
+Examples
+--------
+>>> robot = FollowerRobot()
+>>> robot.wheel_track, robot.wheel_radius, robot.sample_time
+(0.28, 0.125, 0.01)
+>>> step = kinematics_step()
+>>> x, y, g = step(0.0, 0.0, 0.0, 4.0, 4.0, 0.28, 0.125, 1.0)[:3]   # 0.5 m/s for 1 s
+>>> round(x, 6), round(y, 6), g
+(0.5, 0.0, 0.0)
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, replace
+from functools import cache
+from typing import Any
+
+import casadi as ca
+
+from designlab.errors import InvalidParameterError, check_nonnegative, check_positive
+from designlab.following.tether_codegen import compile_sx
+
+__all__ = [
+    "OXYDOG",
+    "STEP_INPUTS",
+    "FollowerRobot",
+    "kinematics_function",
+    "kinematics_step",
+    "sensor_function",
+    "sensor_step",
+    "step_compiled",
+    "step_function",
+    "tip_function",
+    "tip_step",
+    "wrap_angle",
+]
+
+
+def wrap_angle(a: Any) -> Any:
+    """Wrap an angle (CasADi symbol or number) to (-pi, pi] as ``atan2(sin a, cos a)``."""
+    if isinstance(a, (ca.SX, ca.MX)):
+        return ca.atan2(ca.sin(a), ca.cos(a))
+    return math.atan2(math.sin(a), math.cos(a))
+
+
+@dataclass(frozen=True)
+class FollowerRobot:
+    """Differential-drive tether follower: geometry, limits, sensing and control rate.
+
+    Parameters
+    ----------
+    wheel_track
+        Distance b between the wheel centres in m (Allan 2015 Table 3.1: 0.28 m).
+    wheel_radius
+        Wheel radius r in m (Table 3.1: 0.125 m).
+    body_length
+        Overall length in m (Table 3.1: 0.67 m); the desired tether length
+        must exceed half of it (the tether tip would be inside the robot).
+    max_wheel_speed
+        Wheel angular speed limit in rad/s (> 0, may be ``inf``). The App. C
+        code has no limit (the default); the hardware's 1.0 m/s (Table 3.1)
+        is 8 rad/s (:data:`OXYDOG`). A demand beyond it scales both wheels by
+        the same factor, keeping the demanded curvature (the thesis does not
+        say how its firmware saturates; a project choice, ``docs/following.md``).
+    max_wheel_acceleration
+        Wheel angular acceleration limit in rad/s^2 (> 0, may be ``inf``; no
+        limit in the thesis).
+    winch_offset_x, winch_offset_y
+        Winch position in the robot frame in m (x forward, y left; App. C
+        offsets, default 0). The offset is rotated properly (the App. C
+        listing's ``off_y`` terms are not a rotation; Allan 2015 App. C).
+    tip_height
+        Height of the tether tip above the winch in m (>= 0). The sensor
+        measures the 3-D length while the controllers treat it as planar, as
+        the thesis does (0 by default: the planar model).
+    length_noise_std, angle_noise_std
+        Standard deviations of Gaussian noise on ``l_m`` (m) and ``theta_m``
+        (rad), >= 0.
+    sample_time
+        Control (and simulation) period in s (> 0); 0.01 s is 100 Hz. The
+        thesis does not state its period (Allan 2015 Sec. 2.4.1).
+
+    Examples
+    --------
+    >>> FollowerRobot(max_wheel_speed=8.0).max_speed
+    1.0
+    >>> FollowerRobot(wheel_track=-1.0)
+    Traceback (most recent call last):
+    ...
+    designlab.errors.InvalidParameterError: FollowerRobot.wheel_track = -1.0 m is not allowed: ...
+    """
+
+    wheel_track: float = 0.28
+    wheel_radius: float = 0.125
+    body_length: float = 0.67
+    max_wheel_speed: float = math.inf
+    max_wheel_acceleration: float = math.inf
+    winch_offset_x: float = 0.0
+    winch_offset_y: float = 0.0
+    tip_height: float = 0.0
+    length_noise_std: float = 0.0
+    angle_noise_std: float = 0.0
+    sample_time: float = 0.01
+
+    def __post_init__(self) -> None:
+        for name, unit in (
+            ("wheel_track", "m"),
+            ("wheel_radius", "m"),
+            ("body_length", "m"),
+            ("sample_time", "s"),
+        ):
+            object.__setattr__(
+                self, name, check_positive(f"FollowerRobot.{name}", getattr(self, name), unit)
+            )
+        for name, unit in (("max_wheel_speed", "rad/s"), ("max_wheel_acceleration", "rad/s^2")):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not (v > 0):
+                raise InvalidParameterError(
+                    f"FollowerRobot.{name}", v, "must be a number > 0 (inf for no limit)", unit
+                )
+            object.__setattr__(self, name, float(v))
+        for name in ("winch_offset_x", "winch_offset_y"):
+            v = getattr(self, name)
+            try:
+                ok = not isinstance(v, bool) and math.isfinite(float(v))
+            except (TypeError, ValueError):
+                ok = False
+            if not ok:
+                raise InvalidParameterError(
+                    f"FollowerRobot.{name}", v, "must be a finite number", "m"
+                )
+            object.__setattr__(self, name, float(v))
+        for name, unit in (
+            ("tip_height", "m"),
+            ("length_noise_std", "m"),
+            ("angle_noise_std", "rad"),
+        ):
+            object.__setattr__(
+                self, name, check_nonnegative(f"FollowerRobot.{name}", getattr(self, name), unit)
+            )
+
+    @property
+    def max_speed(self) -> float:
+        """Forward speed in m/s with both wheels at ``max_wheel_speed``."""
+        return self.max_wheel_speed * self.wheel_radius
+
+    @property
+    def noisy(self) -> bool:
+        """True when the tether sensor has noise."""
+        return self.length_noise_std > 0.0 or self.angle_noise_std > 0.0
+
+    def as_dict(self) -> dict[str, Any]:
+        """The fields as a plain dict (picklable, YAML-friendly)."""
+        return asdict(self)
+
+    def replace(self, **changes: Any) -> FollowerRobot:
+        """A copy with some fields changed (validated again)."""
+        return replace(self, **changes)
+
+
+#: OxyDog hardware (Allan 2015 Table 3.1): b = 0.28 m, r = 0.125 m, 1.0 m/s top speed.
+OXYDOG = FollowerRobot(max_wheel_speed=1.0 / 0.125)
+
+
+def _arc_step(x: ca.SX, y: ca.SX, g: ca.SX, v: ca.SX, om: ca.SX, dt: ca.SX) -> tuple[ca.SX, ...]:
+    """Exact arc of constant (V, Omega) over dt, written without a branch on Omega.
+
+    ``sin(G) - sin(G0) = 2 cos(G0 + h) sin(h)`` with h = Omega dt / 2, so the
+    App. C formulas become a chord ``V dt sin(h)/h`` along ``G0 + h``;
+    ``sin(h)/h`` is even and is evaluated at ``max(|h|, 1e-300)`` (exactly 1 at h = 0).
+    """
+    h = 0.5 * om * dt
+    hs = ca.fmax(ca.fabs(h), 1e-300)
+    chord = v * dt * (ca.sin(hs) / hs)
+    return x + chord * ca.cos(g + h), y + chord * ca.sin(g + h), g + 2.0 * h, chord
+
+
+@cache
+def kinematics_function() -> ca.Function:
+    """CasADi function of one control period of the differential drive.
+
+    Inputs ``x, y, heading, omega_L, omega_R, b, r, dt``; outputs
+    ``x, y, heading, ds`` (new pose and the chord travelled, App. C
+    ``dead_reckon``; body velocities by eq. 2.6).
+    """
+    x, y, g, wl, wr, b, r, dt = (ca.SX.sym(n) for n in ("x", "y", "g", "wl", "wr", "b", "r", "dt"))
+    v = 0.5 * r * (wl + wr)  # eq. 2.6
+    om = r * (wr - wl) / b
+    xn, yn, gn, chord = _arc_step(x, y, g, v, om, dt)
+    return ca.Function(
+        "follower_kinematics",
+        [x, y, g, wl, wr, b, r, dt],
+        [xn, yn, gn, ca.fabs(chord)],
+        ["x", "y", "heading", "omega_L", "omega_R", "b", "r", "dt"],
+        ["x_next", "y_next", "heading_next", "ds"],
+    )
+
+
+@cache
+def sensor_function() -> ca.Function:
+    """CasADi function of the tether sensor (Allan 2015 eqs. 2.12-2.14, App. C).
+
+    Inputs ``x, y, heading, tip_x, tip_y, off_x, off_y, h``; outputs the
+    measured length ``l_m`` (3-D, winch to tip) and angle ``theta_m`` (tether
+    direction minus heading, wrapped).
+    """
+    x, y, g, tx, ty, ox, oy, hh = (
+        ca.SX.sym(n) for n in ("x", "y", "g", "tx", "ty", "ox", "oy", "h")
+    )
+    wx = x + ox * ca.cos(g) - oy * ca.sin(g)
+    wy = y + ox * ca.sin(g) + oy * ca.cos(g)
+    dx, dy = tx - wx, ty - wy
+    length = ca.sqrt(dx * dx + dy * dy + hh * hh)
+    theta = wrap_angle(ca.atan2(dy, dx) - g)
+    return ca.Function(
+        "tether_sensor",
+        [x, y, g, tx, ty, ox, oy, hh],
+        [length, theta],
+        ["x", "y", "heading", "tip_x", "tip_y", "off_x", "off_y", "h"],
+        ["l_m", "theta_m"],
+    )
+
+
+@cache
+def tip_function() -> ca.Function:
+    """CasADi function of the robot's estimate of the tether tip (eq. 2.14, App. C).
+
+    Inputs ``x, y, heading, l_m, theta_m, off_x, off_y``; outputs ``T_x, T_y``
+    (the measured length taken as planar, as the thesis does).
+    """
+    x, y, g, lm, th, ox, oy = (ca.SX.sym(n) for n in ("x", "y", "g", "l", "th", "ox", "oy"))
+    tx = x + ox * ca.cos(g) - oy * ca.sin(g) + lm * ca.cos(g + th)
+    ty = y + ox * ca.sin(g) + oy * ca.cos(g) + lm * ca.sin(g + th)
+    return ca.Function(
+        "tether_tip",
+        [x, y, g, lm, th, ox, oy],
+        [tx, ty],
+        ["x", "y", "heading", "l_m", "theta_m", "off_x", "off_y"],
+        ["tip_x", "tip_y"],
+    )
+
+
+@cache
+def kinematics_step(batch: bool = False) -> Any:
+    """Compiled :func:`kinematics_function` (floats, or numpy arrays if ``batch``)."""
+    return compile_sx(kinematics_function(), batch=batch)
+
+
+@cache
+def sensor_step(batch: bool = False) -> Any:
+    """Compiled :func:`sensor_function` (floats, or numpy arrays if ``batch``)."""
+    return compile_sx(sensor_function(), batch=batch)
+
+
+@cache
+def tip_step(batch: bool = False) -> Any:
+    """Compiled :func:`tip_function` (floats, or numpy arrays if ``batch``)."""
+    return compile_sx(tip_function(), batch=batch)
+
+
+#: Inputs of :func:`step_function` before the law's own parameters.
+STEP_INPUTS = (
+    "x", "y", "heading", "tip_x", "tip_y", "target_x", "target_y", "omega_L_prev", "omega_R_prev",
+    "length_noise", "angle_noise", "b", "r", "dt", "max_wheel_speed", "max_wheel_step",
+    "off_x", "off_y", "h",
+)  # fmt: skip
+
+
+@cache
+def step_function(
+    law: ca.Function,
+    steer_to_target: bool,
+    limits: bool = False,
+    offsets: bool = False,
+    noisy: bool = False,
+) -> ca.Function:
+    """CasADi function of one closed-loop control period: sense, law, wheels, motion.
+
+    Inputs: :data:`STEP_INPUTS` followed by the law's own parameters
+    (``l_d`` and the gains). Outputs: ``x, y, heading`` after the period, the
+    applied ``V, Omega`` and wheel speeds ``omega_L, omega_R``.
+
+    The tether sensor (:func:`sensor_function`) gives ``l_m, theta_m``, plus the
+    noise inputs; the steering angle is ``theta_m`` (Pseudo-Joystick, eq. 2.3)
+    or, with ``steer_to_target``, ``phi = wrap(atan2(target - P) - Gamma)``
+    (eqs. 2.16, 2.19); the law gives ``(V, Omega)``; with ``limits`` the
+    wheel speeds ``(V -+ b Omega/2)/r`` (eq. 2.4) are scaled by one common
+    factor so that neither exceeds ``max_wheel_speed`` (the demanded
+    curvature is kept), then change by at most ``max_wheel_step`` per period;
+    the pose moves on the exact arc (App. C ``dead_reckon``).
+
+    The flags leave out operations whose inputs are zero or infinite (no
+    limits, no winch offset or tip height, no noise), so that the compiled
+    step does only the work the model needs; the inputs are then ignored.
+    """
+    syms = {n: ca.SX.sym(n) for n in STEP_INPUTS}
+    x, y, g = syms["x"], syms["y"], syms["heading"]
+    b, r, dt = syms["b"], syms["r"], syms["dt"]
+    extra = [ca.SX.sym(law.name_in(i)) for i in range(3, law.n_in())]
+    if offsets:
+        lm, th = sensor_function()(
+            x, y, g, syms["tip_x"], syms["tip_y"], syms["off_x"], syms["off_y"], syms["h"]
+        )
+    else:
+        dx, dy = syms["tip_x"] - x, syms["tip_y"] - y
+        lm = ca.sqrt(dx * dx + dy * dy)
+        th = wrap_angle(ca.atan2(dy, dx) - g) if not steer_to_target else None
+    if noisy:
+        lm = lm + syms["length_noise"]
+        if th is None:
+            th = sensor_function()(x, y, g, syms["tip_x"], syms["tip_y"], 0.0, 0.0, 0.0)[1]
+        th = th + syms["angle_noise"]
+    if steer_to_target:
+        phi = wrap_angle(ca.atan2(syms["target_y"] - y, syms["target_x"] - x) - g)
+    else:
+        phi = th
+    v, om = law(lm, phi, b, *extra)
+    if limits:
+        wlp, wrp = syms["omega_L_prev"], syms["omega_R_prev"]
+        wmax, astep = syms["max_wheel_speed"], syms["max_wheel_step"]
+        wl = (v - 0.5 * b * om) / r
+        wr = (v + 0.5 * b * om) / r
+        # speed limit: both wheels scaled by the same factor, which keeps the demanded
+        # curvature Omega/V (clipping each wheel alone would drop the turn when V saturates,
+        # and a robot far behind its leader would then drive straight on and lose it)
+        scale = 1.0 / ca.fmax(1.0, ca.fmax(ca.fabs(wl), ca.fabs(wr)) / wmax)  # wmax may be inf
+        wl, wr = wl * scale, wr * scale
+        wl = ca.fmin(ca.fmax(ca.fmin(ca.fmax(wl, wlp - astep), wlp + astep), -wmax), wmax)
+        wr = ca.fmin(ca.fmax(ca.fmin(ca.fmax(wr, wrp - astep), wrp + astep), -wmax), wmax)
+        v = 0.5 * r * (wl + wr)  # eq. 2.6
+        om = r * (wr - wl) / b
+    else:
+        wl = wr = ca.SX(0.0)
+    xn, yn, gn, _ = _arc_step(x, y, g, v, om, dt)
+    return ca.Function(
+        f"step_{law.name()}",
+        [*syms.values(), *extra],
+        [xn, yn, gn, v, om, wl, wr],
+        [*STEP_INPUTS, *(e.name() for e in extra)],
+        ["x_next", "y_next", "heading_next", "V", "Omega", "omega_L", "omega_R"],
+    )
+
+
+@cache
+def step_compiled(
+    law: ca.Function,
+    steer_to_target: bool,
+    limits: bool = False,
+    offsets: bool = False,
+    noisy: bool = False,
+    batch: bool = False,
+) -> Any:
+    """Compiled :func:`step_function` (floats, or numpy arrays if ``batch``)."""
+    return compile_sx(step_function(law, steer_to_target, limits, offsets, noisy), batch=batch)

@@ -1,0 +1,167 @@
+"""Sweep evaluator of the tether follower: a chunk of designs at once.
+
+A plain module-level function ``(points, options) -> columns`` for the shared
+sweep engine (:mod:`designlab.analysis.sweep`). Points are columns keyed
+``l_d, k_V, k_O, delta, K_a, v, w_max, dt, sigma_l, sigma_theta`` (SI units);
+the law, its fixed fields, the path and the rest of the robot are options.
+Points that share a leader speed and a robot are simulated as one batch
+(:func:`designlab.following.simulate_batch`).
+
+Examples
+--------
+>>> import numpy as np
+>>> from designlab.following import FollowTheLeader, slalom
+>>> opts = sweep_options(FollowTheLeader(), slalom())
+>>> pts = {"delta": np.array([0.1, 0.5]), "v": np.array([0.5, 0.5])}
+>>> out = follower_metrics_chunk(pts, opts)
+>>> out["status"].tolist(), bool(out["damping_ratio"][0] < out["damping_ratio"][1])
+(['ok', 'ok'], True)
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from designlab.following.path_deviation import normal_path_deviation
+from designlab.following.paths import LeaderPath
+from designlab.following.tether_controllers import TetherController, controller_from_dict
+from designlab.following.tether_linear import damping_ratio
+from designlab.following.tether_model import FollowerRobot
+from designlab.following.tether_simulate import simulate_batch
+
+__all__ = ["FOLLOWER_METRICS", "POINT_KEYS", "follower_metrics_chunk", "sweep_options"]
+
+#: Metrics of one run (column -> description with unit).
+FOLLOWER_METRICS: dict[str, str] = {
+    "npd_mean_m": "mean normal path deviation (Allan 2015 App. A), m",
+    "npd_mean_over_b": "mean normal path deviation in wheel tracks",
+    "npd_std_m": "standard deviation of the normal path deviation, m",
+    "length_error_rms_m": "RMS tether-length error l_m - l_d, m",
+    "tether_max_m": "longest measured tether, m",
+    "accel_rms_m_per_s2": "RMS of dV/dt, m/s^2",
+    "path_length_ratio": "robot distance over leader distance",
+    "damping_ratio": "damping ratio of the linear lateral loop",
+}
+
+#: Point key -> (what it sets, field name).
+POINT_KEYS: dict[str, tuple[str, str]] = {
+    "l_d": ("controller", "desired_length"),
+    "k_V": ("controller", "speed_gain"),
+    "k_O": ("controller", "turn_gain"),
+    "delta": ("controller", "lookahead"),
+    "K_a": ("controller", "angle_gain"),
+    "v": ("leader", "speed"),
+    "w_max": ("robot", "max_wheel_speed"),
+    "dt": ("robot", "sample_time"),
+    "sigma_l": ("robot", "length_noise_std"),
+    "sigma_theta": ("robot", "angle_noise_std"),
+}
+
+
+def sweep_options(
+    controller: TetherController,
+    path: LeaderPath,
+    robot: FollowerRobot | None = None,
+    seed: int = 0,
+) -> dict[str, Any]:
+    """Plain (picklable) options of :func:`follower_metrics_chunk`."""
+    return {
+        "controller": controller.as_dict(),
+        "path": np.asarray(path.points).tolist(),
+        "path_name": path.name,
+        "initial_heading": path.initial_heading,
+        "robot": (robot or FollowerRobot()).as_dict(),
+        "seed": seed,
+    }
+
+
+def follower_metrics_chunk(points: dict[str, Any], options: dict[str, Any]) -> dict[str, Any]:
+    """Simulate every point and return its metrics (:data:`FOLLOWER_METRICS`) and ``status``.
+
+    Parameters
+    ----------
+    points
+        Columns of :data:`POINT_KEYS` (any subset; the rest come from ``options``).
+    options
+        From :func:`sweep_options`: the base controller, path and robot.
+    """
+    cols = {k: np.asarray(v, dtype=float) for k, v in points.items() if k in POINT_KEYS}
+    n = len(next(iter(cols.values()))) if cols else 0
+    base_c = dict(options["controller"])
+    base_r = dict(options["robot"])
+    path = LeaderPath(
+        np.asarray(options["path"], dtype=float),
+        name=options.get("path_name", "path"),
+        initial_heading=options.get("initial_heading"),
+    )
+    out: dict[str, Any] = {k: np.full(n, math.nan) for k in FOLLOWER_METRICS}
+    status = np.full(n, "ok", dtype=object)
+    groups: dict[tuple[Any, ...], list[int]] = {}
+    ctrls: list[TetherController | None] = []
+    robots: list[FollowerRobot | None] = []
+    speeds = np.full(n, 0.5)
+    for i in range(n):
+        cfields, rfields, v = dict(base_c), dict(base_r), 0.5
+        for key, col in cols.items():
+            where, name = POINT_KEYS[key]
+            if where == "controller":
+                cfields[name] = float(col[i])
+            elif where == "robot":
+                rfields[name] = float(col[i])
+            else:
+                v = float(col[i])
+        try:
+            ctrl = controller_from_dict(cfields)
+            robot = FollowerRobot(**rfields)
+        except (ValueError, TypeError) as exc:
+            status[i] = f"invalid: {exc}"
+            ctrls.append(None)
+            robots.append(None)
+            continue
+        ctrls.append(ctrl)
+        robots.append(robot)
+        speeds[i] = v
+        groups.setdefault((v, tuple(sorted(rfields.items()))), []).append(i)
+    for members in groups.values():
+        robot = robots[members[0]]
+        v = float(speeds[members[0]])
+        batch = simulate_batch(
+            [ctrls[i] for i in members],
+            path,
+            speed=v,
+            robot=robot,
+            seed=int(options.get("seed", 0)),
+        )
+        dt = robot.sample_time  # type: ignore[union-attr]
+        for j, i in enumerate(members):
+            c = ctrls[i]
+            assert c is not None and robot is not None
+            if batch.member_status[j] != "ok":
+                status[i] = batch.member_status[j]
+                continue
+            npd = normal_path_deviation(
+                batch.leader_xy, batch.robot_xy[j], wheel_track=robot.wheel_track
+            )
+            lm = batch.tether_length[j]
+            step = np.hypot(*np.diff(batch.robot_xy[j], axis=0).T).sum()
+            lead = np.hypot(*np.diff(batch.leader_xy, axis=0).T).sum()
+            out["npd_mean_m"][i] = npd.mean
+            out["npd_mean_over_b"][i] = npd.mean_over_b
+            out["npd_std_m"][i] = npd.std
+            out["length_error_rms_m"][i] = float(np.sqrt(np.mean((lm - c.desired_length) ** 2)))
+            out["tether_max_m"][i] = float(lm.max())
+            out["accel_rms_m_per_s2"][i] = float(
+                np.sqrt(np.mean((np.diff(batch.speed[j]) / dt) ** 2))
+            )
+            out["path_length_ratio"][i] = float(step / lead)
+            out["damping_ratio"][i] = damping_ratio(c, v, robot.wheel_track)
+            if npd.status != "ok":
+                status[i] = npd.status
+    out["status"] = status
+    return out
+
+
+follower_metrics_chunk.chunk_size = 64  # type: ignore[attr-defined]

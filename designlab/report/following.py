@@ -1,0 +1,462 @@
+"""Reports of the tether-follower studies (Allan 2015): comparison and tuning.
+
+``follower_comparison`` files:
+
+``metrics.csv``
+    One row per (path, l_d, law): normal path deviation (m and wheel tracks),
+    tether-length error and range, smoothness, stops, path-length ratio.
+``linear.csv``
+    Per (law, l_d): the linearised lateral loop (python-control: poles as
+    damping ratio and natural frequency, phase margin, crossover, tether-length
+    pole, steady length, sampled stability) and the damping ratio and natural
+    frequency fitted to a simulated lateral step.
+``allan_tables.csv``
+    Allan 2015 Tables 3.2 and 3.3 (measured, per subject).
+``summary.md``
+    The simulated mean deviation next to Tables 3.2/3.3, the PJ/FTL-CD
+    factor, the other figures, the figures and the warnings.
+``trajectories_<path>.png`` / ``npd_profiles_<path>.png``
+    Leader and follower paths, and the per-segment deviation, per l_d.
+
+``follower_tuning`` files: ``gains.csv`` (default vs tuned gains),
+``scenarios.csv`` (cost parts per scenario), ``summary.md`` and
+``tuning_<law>.png`` (deviation per scenario, default vs tuned, and the
+optimiser's progress).
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+from matplotlib.figure import Figure
+
+from designlab.following import allan_tables, measured_ratio
+from designlab.following.tether_reference import TABLES
+from designlab.report import register_writer
+from designlab.report.atomic import atomic_write_text
+from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
+from designlab.study.kinds.follower_comparison import FollowerComparisonResult
+from designlab.study.kinds.follower_tuning import FollowerTuningResult
+
+__all__ = ["comparison_markdown", "write_comparison_report", "write_tuning_report"]
+
+_DISCUSSION = """
+The simulation ranks the laws as the people did: FTL-CD (and FTL) deviate less than
+Pseudo-Joystick on every path here, by a factor {lo:.2f}-{hi:.2f} (PJ / FTL-CD), against
+{t32:.2f} (healthy leaders, Table 3.2) and {t33:.2f} (patients, Table 3.3) measured. The
+simulated factor is larger because the simulation has none of the error sources Allan 2015
+Sec. 3.4 lists for FTL-CD: wheel slip corrupts its dead reckoning and therefore its recorded
+path, and the tether tip (hand or waist belt) is offset from the walking line measured by the
+markers, while PJ needs neither. Human leaders also adapt (PJ subjects were told to look
+back), and the patient paths were digitised at foot strikes only (about +-40 mm, Sec. 3.5),
+which adds the same noise floor to both laws and pulls the ratio toward 1. Larger tether
+lengths widen the gap for PJ (Sec. 2.5.2: PJ cuts corners by about the tether length), while
+FTL is nearly independent of l_d (Sec. 2.5.3) as long as its 300-point buffer (3 m at 0.01 m)
+still holds the path behind the robot. Where it does not, or where the leader's path comes
+back within about a tether length of itself (the out-and-back slalom with l_d >= 1 m, the
+a = 2 m figure-eight with l_d = 2 m), the nearest recorded point jumps to the newer leg, FTL
+and FTL-CD cut across like PJ, and the factor falls toward 1: the buffer length
+(N x Delta s_min) must cover the tether length plus the path's detours.
+"""
+
+_TUNING_INTRO = """
+Status: **{status}**. Tuning paths: {paths}; validation paths (not tuned on): {val}; leader
+speeds {speeds} m/s. Seeded differential evolution (seed {s.seed}, population {s.popsize} x
+gains, {s.maxiter} generations), the thesis defaults in the initial population; damping-ratio
+floor {s.damping_floor:g} from the linear lateral loop at every speed; tether range
+{lo:g}-{hi:g} m; cost weights {w} (`docs/following.md`).
+"""
+
+_COLOURS = ("tab:red", "tab:blue", "tab:green", "tab:orange", "tab:purple", "tab:brown")
+
+
+def _slug(text: str) -> str:
+    return re.sub(r"[^a-z0-9]+", "_", text.lower()).strip("_") or "path"
+
+
+def _footer(command: str | None, version: str | None) -> list[str]:
+    lines = ["", "---", ""]
+    if command:
+        lines.append(
+            f"Produced by `{command}`" + (f" with designlab {version}." if version else ".")
+        )
+    elif version:
+        lines.append(f"Produced with designlab {version}.")
+    return lines
+
+
+def _pivot(frame: pd.DataFrame, controllers: list[str]) -> pd.DataFrame:
+    rows = []
+    for (path, ld), grp in frame.groupby(["path", "desired_length_m"], sort=False):
+        row: dict[str, Any] = {"path": path, "l_d [m]": ld}
+        by = grp.set_index("controller")
+        for c in controllers:
+            if c in by.index:
+                row[f"{c} mean/b"] = round(float(by.loc[c, "npd_mean_over_b"]), 3)
+                row[f"{c} std/b"] = round(float(by.loc[c, "npd_std_over_b"]), 3)
+        if "PJ" in by.index and "FTL-CD" in by.index:
+            row["PJ / FTL-CD"] = round(
+                float(by.loc["PJ", "npd_mean_m"] / by.loc["FTL-CD", "npd_mean_m"]), 2
+            )
+        if "PJ" in by.index and "FTL" in by.index:
+            row["PJ / FTL"] = round(
+                float(by.loc["PJ", "npd_mean_m"] / by.loc["FTL", "npd_mean_m"]), 2
+            )
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def comparison_markdown(
+    result: FollowerComparisonResult,
+    *,
+    figures: dict[str, tuple[str, str]],
+    command: str | None = None,
+    version: str | None = None,
+) -> str:
+    """The summary of a ``follower_comparison`` study (Markdown)."""
+    study = result.study
+    frame = result.to_frame()
+    robot = result.cases[0].run.robot if result.cases else None
+    controllers = [c.title for c in study.controllers]
+    lines = [f"# {study.name}", ""]
+    if study.description:
+        lines += [study.description.strip(), ""]
+    lines += [
+        f"Status: **{result.status}**. Leader speed {study.speed:g} m/s; "
+        + (
+            f"robot b = {robot.wheel_track:g} m, r = {robot.wheel_radius:g} m, control period "
+            f"{robot.sample_time:g} s, wheel limit {robot.max_wheel_speed:g} rad/s. "
+            if robot
+            else ""
+        )
+        + "Normal path deviation (NPD) as Allan 2015 App. A with the project's settings "
+        "(segments 0.01-0.05 m, unsigned, ordered comparison range, 2 m search, "
+        "point-to-polyline fallback; `docs/following.md`), in wheel tracks b = 0.28 m as "
+        "Tables 3.2/3.3.",
+        "",
+        "## Mean normal path deviation (simulation)",
+        "",
+        markdown_table(_pivot(frame, controllers)),
+        "",
+        "## Measured: Allan 2015 Tables 3.2 and 3.3",
+        "",
+    ]
+    tables = allan_tables()
+    for key, (_, caption) in TABLES.items():
+        t = tables[key].rename(
+            columns={
+                "pj_mean_dev_over_b": "PJ mean/b",
+                "pj_std_dev_over_b": "PJ std/b",
+                "ftlcd_mean_dev_over_b": "FTL-CD mean/b",
+                "ftlcd_std_dev_over_b": "FTL-CD std/b",
+            }
+        )
+        lines += [
+            f"{caption} (PJ / FTL-CD of the averages: {measured_ratio(key):.2f})",
+            "",
+            markdown_table(t),
+            "",
+        ]
+    ratios = _pivot(frame, controllers).get("PJ / FTL-CD")
+    if ratios is not None and len(ratios.dropna()):
+        lo, hi = float(ratios.min()), float(ratios.max())
+        text = _DISCUSSION.format(
+            lo=lo, hi=hi, t32=measured_ratio("table_3_2"), t33=measured_ratio("table_3_3")
+        )
+        lines += ["## Discussion", "", " ".join(text.split()), ""]
+    if result.linear is not None and len(result.linear):
+        lines += _linear_section(result.linear, study.speed)
+    other = frame[
+        [
+            "path",
+            "controller",
+            "desired_length_m",
+            "npd_max_over_b",
+            "length_error_rms_m",
+            "tether_max_m",
+            "accel_rms_m_per_s2",
+            "yaw_accel_rms_rad_per_s2",
+            "stops",
+            "path_length_ratio",
+        ]
+    ]
+    lines += [
+        "## Other figures (Allan 2015 Sec. 2.5.1)",
+        "",
+        "Tether-length error (l_m - l_d), smoothness (RMS of dV/dt and dOmega/dt), stops while the "
+        "leader walks, and robot over leader distance. The maximum NPD is dominated by "
+        "end-of-range artefacts on simulated runs; compare means.",
+        "",
+        markdown_table(other.round(3)),
+        "",
+        "## Figures",
+        "",
+    ]
+    for path, (traj, prof) in figures.items():
+        lines += [
+            f"![trajectories on {path}]({traj})",
+            "",
+            f"![NPD profiles on {path}]({prof})",
+            "",
+        ]
+    if result.warnings:
+        lines += ["## Warnings", ""] + [f"- {w}" for w in result.warnings] + [""]
+    lines += _footer(command, version)
+    return "\n".join(lines)
+
+
+_LINEAR_TEXT = """
+The lateral-error loop of each law on a straight path at {v:g} m/s, linearised (e' = v psi,
+psi' = Omega, Omega = K (psi + e/L); `docs/following.md`, Allan 2015 Sec. 2.3): K is the turn
+gain, L the effective look-ahead (PJ: the tether length; FTL: delta; FTL-CD: v/K_p), zeta and
+omega_n from the closed-loop poles, the phase margin of the loop broken at Omega. "sim" columns
+are fitted to the full nonlinear simulation (buffers, saturations, sampling) after a
+{off:g} m sideways start. Largest |zeta sim - zeta| per law: {err} (an overdamped loop, zeta >
+1, is hard to fit: its two real poles trade off). A small look-ahead weaves (zeta < 0.5, Sec.
+2.5.4).
+"""
+
+
+def _linear_section(linear: pd.DataFrame, speed: float) -> list[str]:
+    from designlab.study.kinds.follower_comparison import STEP_OFFSET
+
+    cols = {
+        "controller": "law",
+        "desired_length_m": "l_d [m]",
+        "turn_gain_per_s": "K [1/s]",
+        "lookahead_m": "L [m]",
+        "damping_ratio": "zeta",
+        "sim_damping_ratio": "zeta sim",
+        "natural_frequency_rad_per_s": "omega_n [rad/s]",
+        "sim_natural_frequency_rad_per_s": "omega_n sim",
+        "phase_margin_deg": "PM [deg]",
+        "steady_length_m": "l_ss [m]",
+        "discrete_stable": "sampled stable",
+    }
+    table = linear[list(cols)].rename(columns=cols).round(3)
+    err = ", ".join(
+        f"{law} {float(np.max(np.abs(g['damping_ratio_error']))):.3f}"
+        for law, g in linear.groupby("controller", sort=False)
+    )
+    text = _LINEAR_TEXT.format(v=speed, off=STEP_OFFSET, err=err)
+    return [
+        "## Linear lateral loop (python-control) vs simulation",
+        "",
+        " ".join(text.split()),
+        "",
+        markdown_table(table),
+        "",
+    ]
+
+
+def _comparison_figures(result: FollowerComparisonResult, path: str) -> tuple[Figure, Figure]:
+    cases = [c for c in result.cases if c.path == path]
+    lengths = sorted({c.run.controller.desired_length for c in cases})
+    titles = list(dict.fromkeys(c.controller for c in cases))
+    ncol = len(lengths)
+    traj = Figure(figsize=(4.2 * ncol, 4.2), layout="constrained")
+    prof = Figure(figsize=(4.2 * ncol, 3.2), layout="constrained")
+    axs_t = traj.subplots(1, ncol, squeeze=False)[0]
+    axs_p = prof.subplots(1, ncol, squeeze=False)[0]
+    for ax_t, ax_p, ld in zip(axs_t, axs_p, lengths, strict=True):
+        sel = [c for c in cases if c.run.controller.desired_length == ld]
+        if not sel:
+            continue
+        leader = sel[0].run.leader_xy
+        ax_t.plot(leader[:, 0], leader[:, 1], "k-", lw=2.0, label="leader")
+        obs = sel[0].run.path.obstacles
+        if len(obs):
+            ax_t.plot(obs[:, 0], obs[:, 1], "k^", ms=8, label="cones")
+        for c in sel:
+            col = _COLOURS[titles.index(c.controller) % len(_COLOURS)]
+            ax_t.plot(
+                c.run.robot_xy[:, 0], c.run.robot_xy[:, 1], color=col, lw=1.2, label=c.controller
+            )
+            npd = c.metrics.npd
+            ax_p.plot(
+                npd.distance, npd.profile / npd.wheel_track, color=col, lw=1.0, label=c.controller
+            )
+        ax_t.set_aspect("equal", adjustable="datalim")
+        ax_t.set_title(f"{path}, l_d = {ld:g} m")
+        ax_t.set_xlabel("x [m]")
+        ax_t.set_ylabel("y [m]")
+        ax_t.legend(fontsize=7)
+        ax_p.set_title(f"{path}, l_d = {ld:g} m")
+        ax_p.set_xlabel("distance along the leader path [m]")
+        ax_p.set_ylabel("normal deviation / b")
+        ax_p.legend(fontsize=7)
+    return traj, prof
+
+
+@register_writer(FollowerComparisonResult)
+def write_comparison_report(
+    result: FollowerComparisonResult,
+    directory: Path,
+    *,
+    command: str | None = None,
+    version: str | None = None,
+    study_text: str | None = None,
+) -> list[Path]:
+    """Write the ``follower_comparison`` report into ``directory`` (see the module notes)."""
+    written = [write_csv(result.to_frame(), directory / "metrics.csv")]
+    if result.linear is not None:
+        written.append(write_csv(result.linear, directory / "linear.csv"))
+    tables = allan_tables()
+    both = pd.concat([t.assign(table=k) for k, t in tables.items()], ignore_index=True)
+    written.append(write_csv(both, directory / "allan_tables.csv"))
+    figures: dict[str, tuple[str, str]] = {}
+    for path in dict.fromkeys(c.path for c in result.cases):
+        traj, prof = _comparison_figures(result, path)
+        names = (f"trajectories_{_slug(path)}.png", f"npd_profiles_{_slug(path)}.png")
+        written.append(write_png(traj, directory / names[0]))
+        written.append(write_png(prof, directory / names[1]))
+        figures[path] = names
+    text = comparison_markdown(result, figures=figures, command=command, version=version)
+    written.append(write_markdown(text, directory / "summary.md"))
+    if study_text is not None:
+        written.append(atomic_write_text(directory / "study.yaml", study_text))
+    return written
+
+
+def _tuning_figure(r: Any) -> Figure:
+    fig = Figure(figsize=(11, 3.8), layout="constrained")
+    ax1, ax2 = fig.subplots(1, 2, width_ratios=[3, 1])
+    tab = r.scenarios
+    keys = tab[tab["controller"] == "default"][["set", "path", "speed_m_per_s"]].reset_index(
+        drop=True
+    )
+    x = np.arange(len(keys))
+    for j, who in enumerate(("default", "tuned")):
+        vals = tab[tab["controller"] == who]["npd_mean_over_b"].to_numpy()
+        ax1.bar(
+            x + (j - 0.5) * 0.38, vals, width=0.38, label=who, color=("tab:gray", "tab:blue")[j]
+        )
+    ax1.set_xticks(
+        x, [f"{p}\n{v:g} m/s\n({s})" for s, p, v in keys.itertuples(index=False)], fontsize=6
+    )
+    ax1.set_ylabel("mean normal deviation / b")
+    ax1.set_title(f"{type(r.controller).__name__}: default vs tuned")
+    ax1.legend()
+    ax2.plot(np.arange(1, len(r.history) + 1), r.history, "o-")
+    ax2.set_xlabel("generation")
+    ax2.set_ylabel("best cost")
+    ax2.set_title("differential evolution")
+    return fig
+
+
+@register_writer(FollowerTuningResult)
+def write_tuning_report(
+    result: FollowerTuningResult,
+    directory: Path,
+    *,
+    command: str | None = None,
+    version: str | None = None,
+    study_text: str | None = None,
+) -> list[Path]:
+    """Write the ``follower_tuning`` report into ``directory`` (see the module notes)."""
+    study = result.study
+    written = [write_csv(result.to_frame(), directory / "gains.csv")]
+    scen = pd.concat(
+        [r.scenarios.assign(law=type(r.controller).__name__) for r in result.results],
+        ignore_index=True,
+    )
+    written.append(write_csv(scen, directory / "scenarios.csv"))
+    lines = [f"# {study.name}", ""]
+    if study.description:
+        lines += [study.description.strip(), ""]
+    lines += [
+        " ".join(
+            _TUNING_INTRO.format(
+                status=result.status,
+                paths=", ".join(p.build().name for p in study.paths),
+                val=", ".join(p.build().name for p in study.validation_paths),
+                speeds=", ".join(f"{v:g}" for v in study.speeds),
+                s=study,
+                lo=study.tether_range[0],
+                hi=study.tether_range[1],
+                w=study.weights.model_dump(),
+            ).split()
+        ),
+        "",
+        "## Gains",
+        "",
+    ]
+    rows = []
+    for r in result.results:
+        rows.append(
+            {
+                "law": type(r.controller).__name__,
+                **{f"default {k}": round(v, 3) for k, v in r.default.gains.items()},
+                **{f"tuned {k}": round(v, 3) for k, v in r.controller.gains.items()},
+            }
+        )
+    lines += [markdown_table(pd.DataFrame(rows)), "", "## Improvement over the thesis defaults", ""]
+    imp = []
+    for r in result.results:
+        imp.append(
+            {
+                "law": type(r.controller).__name__,
+                "cost improvement, unseen paths": f"{100 * r.improvement:.0f} %",
+                "NPD improvement, unseen paths": f"{100 * r.npd_improvement:.0f} %",
+                "cost improvement, tuning paths": f"{100 * r.training_improvement:.0f} %",
+                "violations default/tuned (tuning)": "{default}/{tuned}".format(
+                    **r.violations["tuning"]
+                ),
+                "violations default/tuned (unseen)": "{default}/{tuned}".format(
+                    **r.violations["validation"]
+                ),
+                "min damping ratio (tuned)": round(min(r.damping_ratios.values()), 3),
+                "gain sets": r.evaluations,
+                "wall time [s]": round(r.wall_time, 1),
+                "status": r.status,
+            }
+        )
+    lines += [
+        markdown_table(pd.DataFrame(imp)),
+        "",
+        "Cost improvement: 1 - J_tuned/J_default with J the weighted deviation, tether-length and "
+        "smoothness cost (penalties for leaving the tether range or saturating a wheel are counted "
+        "separately as violations). NPD improvement: 1 - mean NPD tuned/default. A violation is "
+        "a scenario whose penalty exceeds 0.001: the tether left its range (10 x the excess / "
+        "l_d) or a wheel ran at its speed limit (the fraction of the run at it); the penalty "
+        "column below gives the size. Status `not_converged` means that differential evolution "
+        "used all its generations; the tuned cost on the tuning paths is still never above the "
+        "defaults' (they are in the initial population).",
+        "",
+        "## Per scenario",
+        "",
+        markdown_table(
+            scen[
+                [
+                    "law",
+                    "set",
+                    "path",
+                    "speed_m_per_s",
+                    "controller",
+                    "npd_mean_over_b",
+                    "length_error_rms_over_ld",
+                    "smoothness",
+                    "penalty",
+                    "cost",
+                ]
+            ].round(3)
+        ),
+        "",
+        "## Figures",
+        "",
+    ]
+    for r in result.results:
+        name = f"tuning_{_slug(type(r.controller).__name__)}.png"
+        written.append(write_png(_tuning_figure(r), directory / name))
+        lines += [f"![{type(r.controller).__name__}]({name})", ""]
+    if result.warnings:
+        lines += ["## Warnings", ""] + [f"- {w}" for w in result.warnings] + [""]
+    lines += _footer(command, version)
+    written.append(write_markdown("\n".join(lines), directory / "summary.md"))
+    if study_text is not None:
+        written.append(atomic_write_text(directory / "study.yaml", study_text))
+    return written

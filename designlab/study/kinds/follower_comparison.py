@@ -1,0 +1,215 @@
+"""The ``follower_comparison`` study kind: tether-follower laws side by side (Allan 2015).
+
+Every (path, law, desired tether length) is simulated
+(:func:`designlab.following.simulate`) and scored with the normal path
+deviation of App. A and the other figures of Sec. 2.5.1
+(:func:`designlab.following.follower_metrics`). The report puts the mean
+deviation in wheel tracks next to the measured Tables 3.2/3.3. For every
+(law, l_d) it also linearises the lateral loop (python-control,
+:func:`designlab.following.linear_analysis`) and fits the damping ratio and
+natural frequency of a simulated lateral step of the full nonlinear loop
+(:func:`designlab.following.tether_linear.lateral_step_response`), so that the
+report shows the linear prediction next to the simulation.
+
+Examples
+--------
+>>> from designlab.study import parse_study, run_study
+>>> study = parse_study('''
+... designlab: 1
+... kind: follower_comparison
+... name: demo
+... paths: [{type: slalom}]
+... controllers: [{type: PseudoJoystick}, {type: FollowTheLeaderConstDistance}]
+... desired_lengths: [0.6]
+... ''')
+>>> r = run_study(study)
+>>> r.status, r.to_frame()["controller"].tolist()
+('ok', ['PJ', 'FTL-CD'])
+"""
+
+from __future__ import annotations
+
+import sys
+from dataclasses import dataclass
+from typing import Any, ClassVar, Literal
+
+import pandas as pd
+from pydantic import Field, model_validator
+from tqdm.auto import tqdm
+
+from designlab.following import (
+    FollowerMetrics,
+    FollowerRun,
+    follower_metrics,
+    linear_analysis,
+    simulate,
+)
+from designlab.following.tether_linear import fit_damping, lateral_step_response
+from designlab.results import OK, Result
+from designlab.study.base import Positive, StudyBase
+from designlab.study.kinds.follower_specs import ControllerSpec, FollowerRobotSpec, PathSpec
+from designlab.study.registry import StudyKind
+from designlab.study.runner import RunContext
+
+__all__ = ["KIND", "FollowerCase", "FollowerComparisonResult", "FollowerComparisonStudy", "run"]
+
+
+def _default_controllers() -> list[ControllerSpec]:
+    return [
+        ControllerSpec(type="PseudoJoystick"),
+        ControllerSpec(type="FollowTheLeader"),
+        ControllerSpec(type="FollowTheLeaderConstDistance"),
+    ]
+
+
+class FollowerComparisonStudy(StudyBase):
+    """Simulate tether-follower laws on leader paths and compare their accuracy."""
+
+    kind: Literal["follower_comparison"]
+    robot: FollowerRobotSpec = Field(default_factory=lambda: FollowerRobotSpec(preset="DEFAULT"))
+    speed: Positive = Field(0.5, le=5.0, description="leader speed, m/s (Allan 2015: 0.5)")
+    settle_time: Positive = Field(5.0, le=600.0, description="time after the leader stops, s")
+    controllers: list[ControllerSpec] = Field(default_factory=_default_controllers, min_length=1)
+    paths: list[PathSpec] = Field(min_length=1)
+    desired_lengths: list[Positive] | None = Field(
+        None, description="l_d values (m) applied to every law; default: each law's own"
+    )
+
+    PRODUCES: ClassVar[tuple[str, ...]] = (
+        "summary.md",
+        "metrics.csv",
+        "linear.csv",
+        "allan_tables.csv",
+        "trajectories_*.png",
+        "npd_profiles_*.png",
+        "study.yaml",
+    )
+
+    def size(self) -> str:
+        n = len(self.paths) * len(self.controllers) * len(self.desired_lengths or [None])
+        return f"{n} runs"
+
+    @model_validator(mode="after")
+    def _unique(self) -> FollowerComparisonStudy:
+        titles = [c.title for c in self.controllers]
+        if len(set(titles)) != len(titles):
+            raise ValueError(f"controller labels must be unique, got {titles}")
+        names = [p.build().name for p in self.paths]
+        if len(set(names)) != len(names):
+            raise ValueError(f"path names must be unique (give `name:`), got {names}")
+        return self
+
+
+@dataclass(frozen=True)
+class FollowerCase:
+    """One simulated (path, law, l_d)."""
+
+    path: str
+    controller: str
+    run: FollowerRun
+    metrics: FollowerMetrics
+
+    def row(self) -> dict[str, Any]:
+        c = self.run.controller
+        return {
+            "path": self.path,
+            "controller": self.controller,
+            "law": type(c).__name__,
+            "desired_length_m": c.desired_length,
+            "speed_m_per_s": self.run.speed_leader,
+            **{k: v for k, v in self.metrics.as_dict().items()},
+            "status": self.metrics.status,
+        }
+
+
+@dataclass(frozen=True)
+class FollowerComparisonResult(Result):
+    """Results of a ``follower_comparison`` study, in path, l_d, law order."""
+
+    study: FollowerComparisonStudy
+    cases: tuple[FollowerCase, ...]
+    linear: pd.DataFrame | None = None
+
+    @property
+    def status(self) -> str:  # type: ignore[override]
+        for c in self.cases:
+            if c.metrics.status != OK:
+                return str(c.metrics.status)
+        return OK
+
+    @property
+    def warnings(self) -> tuple[str, ...]:  # type: ignore[override]
+        return tuple(
+            f"{c.path} / {c.controller} / l_d {c.run.controller.desired_length:g} m: {w}"
+            for c in self.cases
+            for w in c.metrics.warnings
+        )
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row per run: NPD statistics (m and /b), tether, smoothness, path-length ratio."""
+        return pd.DataFrame([c.row() for c in self.cases])
+
+
+def run(study: FollowerComparisonStudy, context: RunContext) -> FollowerComparisonResult:
+    """Simulate every (path, l_d, law) in this process (each run takes milliseconds)."""
+    robot = study.robot.build()
+    jobs = []
+    for ps in study.paths:
+        path = ps.build()
+        for ld in study.desired_lengths or [None]:
+            for cs in study.controllers:
+                ctrl = cs.build() if ld is None else cs.build(desired_length=float(ld))
+                jobs.append((path, cs.title, ctrl))
+    cases = []
+    for path, title, ctrl in tqdm(
+        jobs, desc=study.name, unit="run", file=sys.stderr, disable=not context.progress
+    ):
+        r = simulate(ctrl, path, speed=study.speed, robot=robot, settle_time=study.settle_time)
+        cases.append(FollowerCase(path.name, title, r, follower_metrics(r)))
+    return FollowerComparisonResult(study, tuple(cases), linear_table(study, robot))
+
+
+#: Lateral offset (m) and fitted window (s) of the simulated step in :func:`linear_table`.
+STEP_OFFSET = 0.05
+STEP_WINDOW = 10.0
+
+
+def linear_table(study: FollowerComparisonStudy, robot: Any) -> pd.DataFrame:
+    """Linear lateral loop of every (law, l_d) next to a simulated lateral step.
+
+    The linear columns come from :func:`designlab.following.linear_analysis`;
+    ``sim_damping_ratio`` and ``sim_natural_frequency_rad_per_s`` are fitted
+    (:func:`designlab.following.tether_linear.fit_damping`) to the robot's
+    lateral offset after a ``STEP_OFFSET`` m sideways start on a straight path
+    at the study's leader speed (the full nonlinear loop with its buffers).
+    """
+    rows = []
+    n_fit = round(STEP_WINDOW / robot.sample_time)
+    for ld in study.desired_lengths or [None]:
+        for cs in study.controllers:
+            ctrl = cs.build() if ld is None else cs.build(desired_length=float(ld))
+            lin = linear_analysis(ctrl, speed=study.speed, robot=robot)
+            row = {"controller": cs.title, "desired_length_m": ctrl.desired_length}
+            row.update(lin.to_frame().iloc[0].to_dict())
+            t, e = lateral_step_response(
+                ctrl,
+                offset=STEP_OFFSET,
+                speed=study.speed,
+                duration=STEP_WINDOW + 2.0,
+                robot=robot,
+            )
+            zeta, wn = fit_damping(t[:n_fit], e[:n_fit])
+            row["sim_damping_ratio"] = zeta
+            row["sim_natural_frequency_rad_per_s"] = wn
+            row["damping_ratio_error"] = zeta - lin.damping_ratio
+            row["overshoot"] = max(0.0, -float(e.min()) / STEP_OFFSET)
+            rows.append(row)
+    return pd.DataFrame(rows)
+
+
+KIND = StudyKind(
+    name="follower_comparison",
+    schema=FollowerComparisonStudy,
+    run=run,
+    report="designlab.report.following",
+)
