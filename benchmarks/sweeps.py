@@ -37,6 +37,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from designlab.study.points_table import BLOCK_ROWS
+
 STUDY = """\
 designlab: 1
 kind: impact_sweep
@@ -169,32 +171,85 @@ def impact_sweep(n: int, tmp: Path) -> None:
         "(target < 100)"
     )
     print(f"  report files: {', '.join(files)}")
+    if n >= 10_000:
+        _memory_scaling(n, tmp)
+
+
+def _memory_scaling(n: int, tmp: Path) -> None:
+    """Peak memory of run and resume at n / 10 and n points: what each extra point costs."""
+    small = n // 10
+    peaks = {}
+    for size in (small, n):
+        d = tmp / f"scale_{size}"
+        d.mkdir()
+        study = d / "bench_sweep.yaml"
+        study.write_text(STUDY.format(n=size))
+        args = ["run", str(study), "-o", str(d / "reports"), "--cache-dir", str(d / "cache")]
+        peaks[size] = (_bench(CLI, *args)["rss_mb"], _bench(CLI, *args, "--resume")["rss_mb"])
+    (run_s, res_s), (run_n, res_n) = peaks[small], peaks[n]
+    per_point = [(big - little) * 2**20 / (n - small) for big, little in
+                 ((run_n, run_s), (res_n, res_s))]  # fmt: skip
+    print(
+        f"  memory: peak RSS run {run_s:.0f} MB at {small:,} points, {run_n:.0f} MB at {n:,} "
+        f"({per_point[0]:.0f} bytes per extra point); resume {res_s:.0f} / {res_n:.0f} MB "
+        f"({per_point[1]:.0f} bytes per extra point). The results stay in the store "
+        f"(read back in blocks of {BLOCK_ROWS:,} rows); what grows with the points is the "
+        "sample itself and its row hashes."
+    )
+
+
+ENVELOPE_KERNEL = """\
+import json, resource, sys, time
+import numpy as np
+from designlab.analysis.sampling import latin_hypercube
+from designlab.impact import FOAM_1, MANIPULATOR_1
+from designlab.impact.sweep import foam_envelope_chunk
+n = int(sys.argv[1])
+cols = latin_hypercube({"robot.mass": (5.0, 50.0), "robot.stiffness": (10e3, 30e3),
+                        "impact_velocity": (0.5, 1.5), "max_g": (8.0, 12.0)}, n, seed=2011)
+r, f = MANIPULATOR_1, FOAM_1
+points = {"M_r": cols["robot.mass"], "C_r": np.full(n, r.damping),
+          "K_r": cols["robot.stiffness"], "v_c": cols["impact_velocity"],
+          "max_g": cols["max_g"], "lambda": np.full(n, f.linear_depth),
+          "K_c": np.full(n, f.stiffness), "C_c": np.full(n, f.damping)}
+t0, c0 = time.perf_counter(), time.process_time()
+out = foam_envelope_chunk(points, {"damping": list(np.linspace(0.0, 200.0, 11))})
+wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+print(json.dumps({"wall": wall, "cpu": cpu, "rss_mb": rss,
+                  "check": float(np.nansum(out["k_c_max_N_per_m"]))}))
+"""
 
 
 def envelope_sweep(n: int, workers: int, tmp: Path) -> None:
+    """A foam-envelope sweep: the evaluator called directly, then run, resume, processes."""
     study = tmp / "bench_envelope.yaml"
     study.write_text(ENVELOPE_STUDY.format(n=n))
+    kernel = _bench(ENVELOPE_KERNEL, str(n))
+    per_point = 1e3 * kernel["cpu"] / n
+    print(f"  {'bare evaluator (one process)':30s} cpu {kernel['cpu']:7.2f} s  "
+          f"wall {kernel['wall']:7.2f} s  ({per_point:.1f} ms per point)")  # fmt: skip
     walls = {}
     for ex in ("serial", "processes"):
         cache = tmp / f"cache_{ex}"
-        args = [
-            "run",
-            str(study),
-            "-o",
-            str(tmp / f"out_{ex}"),
-            "--cache-dir",
-            str(cache),
-            "--executor",
-            ex,
-        ]
+        args = ["run", str(study), "-o", str(tmp / f"out_{ex}"), "--cache-dir", str(cache),
+                "--executor", ex]  # fmt: skip
         if ex != "serial":
             args += ["--workers", str(workers)]
-        walls[ex] = _bench(CLI, *args)
+        walls[ex] = m = _bench(CLI, *args)
         size = _store_bytes(cache)
         print(
-            f"  {ex:10s} {walls[ex]['wall']:8.2f} s  peak RSS {walls[ex]['rss_mb']:6.0f} MB  "
-            f"store {size / n:6.1f} bytes/point"
+            f"  run, {ex:10s}              cpu {m['cpu']:7.2f} s  wall {m['wall']:7.2f} s  "
+            f"peak RSS {m['rss_mb']:5.0f} MB   ratio cpu {m['cpu'] / kernel['cpu']:.2f}x "
+            f"(target <= 2x; processes: this process only)  store {size / n:.1f} bytes/point"
         )
+        if ex == "serial":
+            again = _bench(CLI, *args, "--resume")
+            print(
+                f"  run --resume                   cpu {again['cpu']:7.2f} s  "
+                f"wall {again['wall']:7.2f} s  peak RSS {again['rss_mb']:5.0f} MB   "
+                f"ratio cpu {again['cpu'] / kernel['cpu']:.3f}x (target <= 0.25x)"
+            )
     a = (tmp / "out_serial" / "bench_envelope" / "results.csv").read_bytes()
     b = (tmp / "out_processes" / "bench_envelope" / "results.csv").read_bytes()
     print(

@@ -434,35 +434,61 @@ class SweepRun:
         return self.frame.to_dict("records")
 
 
-def _distinct(cols: Columns) -> tuple[np.ndarray, np.ndarray]:
+def _distinct(cols: Columns) -> tuple[np.ndarray | None, np.ndarray | None]:
     """``(first, inverse)``: rows of the distinct points, and each point's distinct index.
 
-    Rows are hashed column by column (pandas, 64 bit, no copy of the table);
-    when rows share a hash the grouping is verified value by value, so a hash
-    collision can never merge two different points.
+    ``(None, None)`` when every point is distinct (the common case of a random
+    sample), without building any per-point index. Rows are hashed column by
+    column (pandas, 64 bit) and sorted by hash, which needs a few bytes per
+    point and no hash table; when rows share a hash the grouping is verified
+    value by value, so a hash collision can never merge two different points.
     """
     n = _length(cols)
     if n == 0:
-        return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
+        return None, None
     hashes = np.zeros(n, dtype=np.uint64)
     for name in sorted(cols):
         column = np.ascontiguousarray(cols[name], dtype=float)
         with np.errstate(over="ignore"):
-            hashes = hashes * np.uint64(0x100000001B3) ^ pd.util.hash_array(column)
-    codes, _ = pd.factorize(hashes)
-    first = np.flatnonzero(~pd.Series(codes).duplicated().to_numpy())
-    if len(first) == n:  # nothing merged: no collision can matter
-        return first, np.asarray(codes, dtype=np.intp)
+            hashes *= np.uint64(0x100000001B3)
+            hashes ^= pd.util.hash_array(column)
+        del column
+    order = np.argsort(hashes, kind="stable")
+    ordered = hashes[order]
+    del hashes
+    same = ordered[1:] == ordered[:-1]
+    if not same.any():  # no two rows hash alike: all distinct, nothing to verify
+        return None, None
+    first, inverse = _groups(order, np.flatnonzero(np.r_[True, ~same]))
     for name in cols:
         values = np.asarray(cols[name], dtype=float)
-        rep = values[first[codes]]
+        rep = values[first[inverse]]
         if not bool(((rep == values) | (np.isnan(rep) & np.isnan(values))).all()):
+            # a 64-bit hash collision merged different points: group by value instead
             frame = pd.DataFrame({k: cols[k] for k in sorted(cols)})
             codes = frame.groupby(list(frame.columns), sort=False, dropna=False).ngroup()
-            codes = codes.to_numpy()  # a 64-bit hash collision (tested by forcing one)
+            codes = codes.to_numpy()
             first = np.flatnonzero(~pd.Series(codes).duplicated().to_numpy())
-            break
-    return first, np.asarray(codes, dtype=np.intp)
+            return first, np.asarray(codes, dtype=np.intp)
+    return first, inverse
+
+
+def _groups(order: np.ndarray, starts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Distinct rows and codes, numbered in order of first appearance (as ``pd.factorize``).
+
+    ``order`` sorts the rows by hash (stably); ``starts`` are the positions in
+    that order where a new hash begins.
+    """
+    n = len(order)
+    sizes = np.diff(np.r_[starts, n])
+    group_of_sorted = np.repeat(np.arange(len(starts)), sizes)
+    earliest = order[starts]  # stable sort: the first row of each group
+    rank = np.empty(len(starts), dtype=np.intp)
+    rank[np.argsort(earliest, kind="stable")] = np.arange(len(starts))
+    inverse = np.empty(n, dtype=np.intp)
+    inverse[order] = rank[group_of_sorted]
+    first = np.sort(earliest)
+    return first, inverse
 
 
 class _StatusCounter:
@@ -777,35 +803,15 @@ def run_points(
     if not collect and store is None:
         raise ValueError("collect=False keeps the results in the store: give a store")
     first, inverse = _distinct(cols)
-    m = len(first)
-    distinct = cols if m == n else _take(cols, first)
-    run = SweepRun(pd.DataFrame(), points=n, distinct=m)
-    bounds = [(s, min(s + size, m)) for s in range(0, m, size)]
-    run.chunks = len(bounds)
-    assembled = _Assembler(m) if collect else None
-    counter = _StatusCounter(None if m == n else np.bincount(inverse, minlength=m))
-    keys: list[str | None] = [None] * len(bounds)
-    todo: list[int] = []
-    for c, (s, e) in enumerate(bounds):
-        chunk = _take(distinct, slice(s, e))
-        if store is not None:
-            keys[c] = chunk_key(evaluator, options, chunk)
-            if resume or cache_only:
-                state, value = store.get_chunk(keys[c])  # type: ignore[arg-type]
-                if state == "ok" and _length(value) == e - s:
-                    if assembled is not None:
-                        assembled.put(s, value)
-                    counter.add(s, value)
-                    run.cached += e - s
-                    continue
-                if state in ("corrupt", "ok"):
-                    reason = value if state == "corrupt" else "wrong length"
-                    logger.warning("corrupt stored chunk %s (%s): recomputing", keys[c], reason)
-                    run.corrupt.append(keys[c])  # type: ignore[arg-type]
-                    store.discard(keys[c])  # type: ignore[arg-type]
-        todo.append(c)
+    m = n if first is None else len(first)
+    state = _Pass(
+        evaluator, options, cols if first is None else _take(cols, first), size, store, collect,
+        _StatusCounter(None if inverse is None else np.bincount(inverse, minlength=m)),
+    )  # fmt: skip
+    run = SweepRun(pd.DataFrame(), points=n, distinct=m, chunks=len(state.bounds))
+    todo = state.read_store(run, reuse=resume or cache_only)
     if cache_only and todo:
-        missing = sum(bounds[c][1] - bounds[c][0] for c in todo)
+        missing = sum(state.bounds[c][1] - state.bounds[c][0] for c in todo)
         raise CacheIncompleteError(
             f"{missing} point{'s' if missing != 1 else ''} of {desc} "
             f"{'are' if missing != 1 else 'is'} not in the store; run the study "
@@ -814,48 +820,27 @@ def run_points(
     logger.info(
         "%s: %d points (%d distinct, %d merged duplicates) in %d chunks of <= %d; "
         "%d points from the store, %d to compute",
-        desc, n, m, n - m, len(bounds), size, run.cached, m - run.cached,
+        desc, n, m, n - m, len(state.bounds), size, run.cached, m - run.cached,
     )  # fmt: skip
     if todo:
-        ex = executor if executor is not None else SerialExecutor()
-        tasks = (
-            {
-                "evaluator": evaluator,
-                "options": options,
-                "points": _take(distinct, slice(*bounds[c])),
-            }
-            for c in todo
-        )  # fmt: skip  (a generator: only the chunks in flight exist as tasks)
-        bar = _bar(m - run.cached, desc, progress)
-        try:
-            for t, out in _as_completed(ex, tasks):
-                c = todo[t]
-                if store is not None:
-                    store.put_chunk(keys[c], out)  # type: ignore[arg-type]
-                if assembled is not None:
-                    assembled.put(bounds[c][0], out)
-                counter.add(bounds[c][0], out)
-                k = bounds[c][1] - bounds[c][0]
-                run.computed += k
-                bar.update(k)
-        finally:
-            bar.close()
-    run.digest = _digest(evaluator, options, cols, keys, None if m == n else inverse)
+        state.compute(run, todo, executor or SerialExecutor(), _bar(m - run.cached, desc, progress))
+    counter, keys, assembled = state.counter, state.keys, state.assembled
+    run.digest = _digest(evaluator, options, cols, keys, inverse)
     run.status_counts = counter.counts
     if assembled is None:
         run.rows = StoredRows(
-            store,
-            keys,
+            store,  # type: ignore[arg-type]
+            keys,  # type: ignore[arg-type]
             size,
             m,
-            None if m == n else inverse,
+            inverse,
             kinds=counter.kinds,
             partial=counter.partial(),  # type: ignore[arg-type]
         )
         if run.failed_count:
             logger.warning("%s: %d of %d points failed", desc, run.failed_count, n)
         return run
-    frame = assembled.frame(None if m == n else inverse)
+    frame = assembled.frame(inverse)
     if len(frame):
         for c in ("status", "error"):
             if c not in frame:
@@ -868,6 +853,81 @@ def run_points(
             desc, len(failed), n, failed[0], frame["error"].iloc[failed[0]],
         )  # fmt: skip
     return run
+
+
+class _Pass:
+    """One pass of :func:`run_points` over the chunks of the distinct points."""
+
+    def __init__(
+        self,
+        evaluator: Evaluator,
+        options: dict[str, Any],
+        distinct: Columns,
+        size: int,
+        store: ResultStore | None,
+        collect: bool,
+        counter: _StatusCounter,
+    ) -> None:
+        m = _length(distinct)
+        self.evaluator, self.options, self.distinct, self.store = (
+            evaluator,
+            options,
+            distinct,
+            store,
+        )
+        self.bounds = [(s, min(s + size, m)) for s in range(0, m, size)]
+        self.keys: list[str | None] = [None] * len(self.bounds)
+        self.assembled = _Assembler(m) if collect else None
+        self.counter = counter
+
+    def _keep(self, c: int, columns: Columns) -> None:
+        start = self.bounds[c][0]
+        if self.assembled is not None:
+            self.assembled.put(start, columns)
+        self.counter.add(start, columns)
+
+    def read_store(self, run: SweepRun, *, reuse: bool) -> list[int]:
+        """Key every chunk; with ``reuse``, take finished ones from the store. The rest to do."""
+        todo: list[int] = []
+        for c, (s, e) in enumerate(self.bounds):
+            if self.store is None:
+                todo.append(c)
+                continue
+            key = self.keys[c] = chunk_key(
+                self.evaluator, self.options, _take(self.distinct, slice(s, e))
+            )
+            if reuse:
+                state, value = self.store.get_chunk(key)
+                if state == "ok" and _length(value) == e - s:
+                    self._keep(c, value)
+                    run.cached += e - s
+                    continue
+                if state in ("corrupt", "ok"):
+                    reason = value if state == "corrupt" else "wrong length"
+                    logger.warning("corrupt stored chunk %s (%s): recomputing", key, reason)
+                    run.corrupt.append(key)
+                    self.store.discard(key)
+            todo.append(c)
+        return todo
+
+    def compute(self, run: SweepRun, todo: list[int], executor: Any, bar: Any) -> None:
+        """Evaluate the chunks ``todo``; store and keep each as it comes back."""
+        tasks = (  # a generator: only the chunks in flight exist as tasks
+            {"evaluator": self.evaluator, "options": self.options,
+             "points": _own(_take(self.distinct, slice(*self.bounds[c])))}
+            for c in todo
+        )  # fmt: skip
+        try:
+            for t, out in _as_completed(executor, tasks):
+                c = todo[t]
+                if self.store is not None:
+                    self.store.put_chunk(self.keys[c], out)  # type: ignore[arg-type]
+                self._keep(c, out)
+                k = self.bounds[c][1] - self.bounds[c][0]
+                run.computed += k
+                bar.update(k)
+        finally:
+            bar.close()
 
 
 def _as_completed(ex: Any, tasks: Iterable[dict[str, Any]]) -> Iterator[tuple[int, Columns]]:

@@ -79,6 +79,10 @@ class PathDeviation(Result):
     range_start, range_end
         Index of the first compared follower segment and of the last compared
         leader segment.
+    status
+        ``"ok"``, or why the deviation could not be measured everywhere.
+    warnings
+        What a user should know (e.g. segments measured by the point-to-polyline fallback).
     """
 
     profile: NDArray[np.float64]

@@ -193,6 +193,11 @@ def square_s(side: float = 2.0) -> LeaderPath:
     A lead-in of one side plus five sides with 90-degree left and right
     corners, 12 m for ``side = 2`` (Allan 2015 Fig. 2.8: "around 12 m").
 
+    Parameters
+    ----------
+    side
+        Side of each square in m (> 0).
+
     Examples
     --------
     >>> square_s().points.tolist()[3]
@@ -220,6 +225,19 @@ def slalom(
     thesis's "from one end to the other and back"; about 16 m with the
     defaults, the patients' 16-18 m). The weave amplitude is not in the
     thesis; it is a scenario parameter.
+
+    Parameters
+    ----------
+    spacing
+        Distance between cones in m (> 0).
+    cones
+        Number of cones (>= 1).
+    amplitude
+        Lateral distance at which the leader passes each cone, m (> 0).
+    out_and_back
+        Turn around after the last cone and weave back.
+    points_per_metre
+        Polyline resolution.
 
     Examples
     --------
@@ -256,6 +274,15 @@ def corridor_corner(
     Straight ``leg`` along +x, an arc of ``radius`` (default 0.5 ``width``,
     Sec. 4.5.1) centred on the inner corner vertex, then ``leg`` along +y.
 
+    Parameters
+    ----------
+    width
+        Corridor width in m (> 0).
+    leg
+        Length of each straight leg in m (> 0).
+    radius
+        Radius of the corner arc in m (default: half the width).
+
     Examples
     --------
     >>> round(corridor_corner().length, 4)
@@ -274,6 +301,11 @@ def corridor_corner(
 def straight_line(length: float = 10.0) -> LeaderPath:
     """A straight line of ``length`` m along +x from the origin.
 
+    Parameters
+    ----------
+    length
+        Length in m (> 0).
+
     Examples
     --------
     >>> straight_line(5.0).length
@@ -285,6 +317,15 @@ def straight_line(length: float = 10.0) -> LeaderPath:
 
 def circle(radius: float = 2.0, turns: float = 1.0, points_per_turn: int = 720) -> LeaderPath:
     """A counter-clockwise circle of ``radius`` m about the origin, from (radius, 0), heading +y.
+
+    Parameters
+    ----------
+    radius
+        Circle radius in m (> 0).
+    turns
+        Number of turns (> 0).
+    points_per_turn
+        Polyline points per turn.
 
     Examples
     --------
@@ -304,6 +345,13 @@ def circle(radius: float = 2.0, turns: float = 1.0, points_per_turn: int = 720) 
 
 def from_array(xy: Any, name: str = "recorded") -> LeaderPath:
     """A user path from an (N, 2) array of points in m.
+
+    Parameters
+    ----------
+    xy
+        (N, 2) points in m (or a :class:`LeaderPath`).
+    name
+        Name of the path in reports.
 
     Examples
     --------
@@ -353,6 +401,12 @@ PATHS = {
 
 def make_path(spec: Any) -> LeaderPath:
     """A path from a name, ``{"type": name, **args}``, ``{"points": [...]}`` or (N, 2) points.
+
+    Parameters
+    ----------
+    spec
+        A path name, ``{"type": name, **args}``, ``{"points": [...]}``, (N, 2)
+        points or a :class:`LeaderPath`.
 
     Examples
     --------

@@ -339,6 +339,11 @@ CONTROLLERS: dict[str, type[TetherController]] = {
 def controller_from_dict(spec: dict[str, Any]) -> TetherController:
     """Build a controller from ``{"type": name, **fields}`` (the inverse of ``as_dict``).
 
+    Parameters
+    ----------
+    spec
+        ``{"type": class name, **fields}``, e.g. ``{"type": "FollowTheLeader", "lookahead": 0.3}``.
+
     Examples
     --------
     >>> controller_from_dict({"type": "FollowTheLeader", "lookahead": 0.3}).lookahead

@@ -65,6 +65,15 @@ def effective_loop(
     """Turn gain K (1/s), effective look-ahead L (m) and steady tether length (m).
 
     Works on numbers or numpy arrays of gains (for batches of gain sets).
+
+    Parameters
+    ----------
+    controller
+        The tether controller (its gains may be numpy arrays).
+    speed
+        Leader speed in m/s.
+    wheel_track
+        Wheel track b in m (the printed Pseudo-Joystick law uses it).
     """
     c = controller
     if isinstance(c, PseudoJoystick):
@@ -109,6 +118,18 @@ class LinearLoop(Result):
         Poles of the loop sampled at the control period (zero-order hold).
     discrete_stable
         True when every sampled pole is inside the unit circle.
+    controller
+        The law analysed.
+    speed
+        Leader speed in m/s.
+    sample_time
+        Control period in s (for the discrete poles).
+    system
+        The python-control state-space model of the lateral loop.
+    status
+        ``"ok"``, or ``"unstable"`` when a pole is in the right half-plane.
+    warnings
+        What a user should know about the loop.
     """
 
     controller: TetherController
@@ -233,6 +254,19 @@ def lateral_step_response(
     length behind it, parallel, ``offset`` m to the side, with the leader's
     earlier straight path already recorded. Returns ``(t, e)``: time (s) and
     the robot's lateral offset (m).
+
+    Parameters
+    ----------
+    controller
+        The tether controller.
+    offset
+        Initial lateral offset of the robot in m.
+    speed
+        Leader speed in m/s.
+    duration
+        Simulated time in s.
+    robot
+        The robot (default :class:`FollowerRobot`).
     """
     from designlab.following.tether_simulate import simulate
 
@@ -254,6 +288,13 @@ def fit_damping(t: Any, e: Any) -> tuple[float, float]:
     """Fit ``e'' + 2 zeta omega_n e' + omega_n^2 e = 0`` (e(0) given, e'(0) = 0) to a response.
 
     Returns ``(zeta, omega_n)`` by least squares (scipy).
+
+    Parameters
+    ----------
+    t
+        Times in s.
+    e
+        Lateral offset in m at those times (starting at rest).
     """
     from scipy.linalg import expm
     from scipy.optimize import least_squares

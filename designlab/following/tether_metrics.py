@@ -52,6 +52,12 @@ class FollowerMetrics(Result):
         least 0.2 s) while the leader was walking.
     path_length_ratio
         Robot distance over leader distance.
+    wheel_track
+        Wheel track b in m (the unit of the ``*_over_b`` figures).
+    status
+        ``"ok"``, or the run's status.
+    warnings
+        What a user should know about the figures.
     """
 
     npd: PathDeviation

@@ -56,7 +56,13 @@ __all__ = [
 
 
 def wrap_angle(a: Any) -> Any:
-    """Wrap an angle (CasADi symbol or number) to (-pi, pi] as ``atan2(sin a, cos a)``."""
+    """Wrap an angle (CasADi symbol or number) to (-pi, pi] as ``atan2(sin a, cos a)``.
+
+    Parameters
+    ----------
+    a
+        Angle in rad (number or CasADi symbol).
+    """
     if isinstance(a, (ca.SX, ca.MX)):
         return ca.atan2(ca.sin(a), ca.cos(a))
     return math.atan2(math.sin(a), math.cos(a))

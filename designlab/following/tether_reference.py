@@ -49,7 +49,13 @@ def allan_tables() -> dict[str, pd.DataFrame]:
 
 
 def measured_ratio(table: str) -> float:
-    """Average PJ deviation over average FTL-CD deviation of a table (1.53 and 1.27)."""
+    """Average PJ deviation over average FTL-CD deviation of a table (1.53 and 1.27).
+
+    Parameters
+    ----------
+    table
+        ``"3.2"`` or ``"3.3"`` (Allan 2015 Tables 3.2 and 3.3).
+    """
     if table not in TABLES:
         raise InvalidParameterError("table", table, f"one of {sorted(TABLES)}")
     avg = allan_tables()[table].set_index("subject").loc["Average"]

@@ -62,6 +62,12 @@ class FollowerRun(Result):
         Commanded V (m/s) and Omega (rad/s) after the wheel limits, shape (N,).
     controller, robot, path
         What was simulated; ``speed_leader`` is the leader speed in m/s.
+    speed_leader
+        Leader speed in m/s.
+    status
+        ``"ok"``, or what went wrong (e.g. the leader was lost).
+    warnings
+        What a user should know about the run.
     """
 
     t: NDArray[np.float64]
@@ -107,6 +113,39 @@ class FollowerBatch(Result):
     """Runs of one law with many gain sets on one path; arrays are (B, N[, 2]).
 
     ``run(i)`` returns member ``i`` as a :class:`FollowerRun`.
+
+    Attributes
+    ----------
+    t
+        Times in s, (N,).
+    leader_xy
+        Leader positions in m, (N, 2).
+    robot_xy
+        Robot positions in m, (B, N, 2).
+    heading
+        Robot headings in rad, (B, N).
+    tether_length
+        Tether lengths in m, (B, N).
+    tether_angle
+        Tether angles in rad, (B, N).
+    speed
+        Robot forward speeds in m/s, (B, N).
+    turn_rate
+        Robot turn rates in rad/s, (B, N).
+    controllers
+        The B controllers.
+    robot
+        The robot model.
+    path
+        The leader's path.
+    speed_leader
+        Leader speed in m/s.
+    member_status
+        Status of each member run.
+    status
+        ``"ok"`` when every member is ``ok``, else the first other status.
+    warnings
+        What a user should know about the runs (lost leader, wheel limits).
     """
 
     t: NDArray[np.float64]
@@ -666,6 +705,27 @@ def simulate(
     """Simulate one tether follower behind a leader walking ``path`` at ``speed``.
 
     Parameters are those of :func:`simulate_batch` with one controller.
+
+    Parameters
+    ----------
+    controller
+        The tether controller.
+    path
+        A :class:`LeaderPath` (or a name/dict for :func:`make_path`).
+    speed
+        Leader speed in m/s (> 0; Allan 2015 uses 0.5 m/s).
+    robot
+        The robot (default :class:`FollowerRobot`).
+    duration
+        Simulated time in s (default: the leader's walk plus ``settle_time``).
+    settle_time
+        Time in s after the leader stops (>= 0).
+    lead_in
+        Straight approach in m already walked (and recorded) before t = 0 (>= 0).
+    initial_pose
+        ``(x, y, heading)`` of the robot in m, m, rad (default: ``l_d`` behind the path start).
+    seed
+        Seed of the sensor noise (``None``: fresh randomness).
 
     Returns
     -------

@@ -67,7 +67,19 @@ def sweep_options(
     robot: FollowerRobot | None = None,
     seed: int = 0,
 ) -> dict[str, Any]:
-    """Plain (picklable) options of :func:`follower_metrics_chunk`."""
+    """Plain (picklable) options of :func:`follower_metrics_chunk`.
+
+    Parameters
+    ----------
+    controller
+        The base controller (swept gains replace its fields).
+    path
+        The leader's path.
+    robot
+        The robot (default :class:`FollowerRobot`).
+    seed
+        Seed of the sensor noise.
+    """
     return {
         "controller": controller.as_dict(),
         "path": np.asarray(path.points).tolist(),

@@ -96,6 +96,10 @@ class TuningResult(Result):
         Gain sets simulated (per scenario).
     wall_time
         Seconds.
+    status
+        ``"ok"``, or ``"not_converged"`` when the search used all its generations.
+    warnings
+        What a user should know about the tuning.
     """
 
     controller: TetherController
@@ -127,6 +131,11 @@ def scenario_costs(task: dict[str, Any]) -> dict[str, Any]:
     the base controller), ``gains`` (list of dicts), ``path`` ((N, 2) points),
     ``path_name``, ``speed``, ``robot`` (fields), ``weights`` and
     ``tether_range``.
+
+    Parameters
+    ----------
+    task
+        The scenario and the gain sets, as plain data (see above).
 
     Returns
     -------

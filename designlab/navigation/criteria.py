@@ -42,6 +42,10 @@ class Criteria(Result):
     energy, nominal_energy
         L_energy and L*_energy as the integral of the squared feed-forward wheel
         currents (A^2 s = J per ohm of winding resistance).
+    status
+        ``"ok"``, or why a criterion could not be computed (e.g. the robot never arrived).
+    warnings
+        What a user should know about the scores.
     """
 
     H_T: float

@@ -45,7 +45,13 @@ NONHOLONOMIC_FEEDFORWARD = ((0.0079, 0.0032, 0.18), (0.0057, 0.0030, 0.28))
 
 
 def state_size(robot: HolonomicRobot | NonholonomicRobot) -> int:
-    """4 (x, y, v_x, v_y) for a holonomic robot, 5 (x, y, phi, v, omega) for a nonholonomic one."""
+    """4 (x, y, v_x, v_y) for a holonomic robot, 5 (x, y, phi, v, omega) for a nonholonomic one.
+
+    Parameters
+    ----------
+    robot
+        A holonomic or nonholonomic robot.
+    """
     return 4 if isinstance(robot, HolonomicRobot) else 5
 
 

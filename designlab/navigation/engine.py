@@ -222,7 +222,23 @@ class _Buffered:
 
 @dataclass
 class RawRun:
-    """Arrays of a (batched) run; the public results are built from it."""
+    """Arrays of a (batched) run; the public results are built from it.
+
+    Attributes
+    ----------
+    arrival_time
+        First arrival time of each gain set in s (inf if it never arrives), (N,).
+    min_distance
+        Minimum distance to each obstacle in m (as in :class:`NavigationResult`), (N, n_obs).
+    energy
+        Control energy of each run (Sec. 5.6), (N,).
+    critical_time
+        Time spent inside a critical region in s, (N,).
+    t_end
+        Simulated time in s.
+    record
+        Time histories (with ``record=True``), else ``None``.
+    """
 
     arrival_time: Array  # (N,)
     min_distance: Array  # (N, n_obs)
@@ -236,6 +252,13 @@ def obstacle_tracks(scenario: Scenario, times: Array) -> tuple[Array, Array, Arr
     """Positions, velocities, accelerations of every obstacle at ``times``.
 
     Each array has the shape (n_obs, len(times), 2).
+
+    Parameters
+    ----------
+    scenario
+        The scenario.
+    times
+        Times in s.
     """
     if not scenario.obstacles:
         z = np.zeros((0, times.size, 2))
@@ -245,6 +268,13 @@ def obstacle_tracks(scenario: Scenario, times: Array) -> tuple[Array, Array, Arr
 
 
 def initial_state(scenario: Scenario) -> Array:
+    """The robot's start state for ``scenario`` (its start pose, at rest).
+
+    Parameters
+    ----------
+    scenario
+        The scenario.
+    """
     if isinstance(scenario.robot, HolonomicRobot):
         return np.array([*scenario.start, 0.0, 0.0])
     return np.array([*scenario.start, scenario.heading0, 0.0, 0.0])
@@ -264,7 +294,33 @@ def run(
     jit: bool = False,
     cbf_gains: tuple[float, float] = (4.0, 4.0),
 ) -> RawRun:
-    """Simulate ``scenario`` for each row of ``gains`` (N, 4) together."""
+    """Simulate ``scenario`` for each row of ``gains`` (N, 4) together.
+
+    Parameters
+    ----------
+    scenario
+        The scenario.
+    gains
+        (N, 4) rows of (K1, b, K3, K5), simulated together.
+    method
+        ``"vff"``, ``"masoud"``, ``"ge_cui"`` or ``"cbf"``.
+    stabilising
+        Whether the Lyapunov stabilising force F_L of (5.4.6) is on.
+    tie
+        Detour side (+1 or -1) when the direction rules leave it open.
+    arrival_tolerance
+        Arrival radius around the goal in m.
+    dynamics_step
+        Integration step in s (must divide the sample time).
+    force_every_step
+        Recompute the force at every dynamics step instead of holding it for T_s.
+    record
+        Keep the time histories (for plots and the stability audit).
+    jit
+        Compile the step with CasADi's JIT.
+    cbf_gains
+        (k_0, k_1) of the CBF constraint (``method="cbf"``).
+    """
     tol = check_positive("arrival_tolerance", arrival_tolerance, "m")
     dt = check_positive("dynamics_step", dynamics_step, "s")
     ts = scenario.sample_time

@@ -60,6 +60,23 @@ class ObstacleGeometry:
 
     ``kind`` is ``"disc"`` or ``"rectangle"``; rectangles carry half sizes and the
     rotation; ``moving`` switches on the walking-human direction rule.
+
+    Attributes
+    ----------
+    kind
+        ``"disc"`` or ``"rectangle"``.
+    r2
+        Active-region radius in m.
+    r3
+        Critical-region radius in m.
+    half_length
+        Rectangle half length in m.
+    half_width
+        Rectangle half width in m.
+    angle
+        Rectangle rotation in rad.
+    moving
+        Whether the walking-human direction rule applies.
     """
 
     kind: str

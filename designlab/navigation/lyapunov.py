@@ -248,6 +248,10 @@ class StabilityAudit(Result):
         ``(reason, t_start, t_end)`` where an assumption of the proof breaks:
         ``"force saturation"`` (|F| > m a_mr), ``"speed saturation"``,
         ``"critical region"`` (braking), ``"detour switch"`` (u_psi changed side).
+    status
+        Status of the audit (``"ok"``; see :class:`designlab.results.Result`).
+    warnings
+        What a user should know about the audit.
     """
 
     t: NDArray[np.float64] = field(repr=False)
@@ -306,7 +310,25 @@ def audit_run(
     period: float,
     holonomic: bool,
 ) -> StabilityAudit:
-    """Build the :class:`StabilityAudit` of a recorded run (internal to :func:`simulate`)."""
+    """Build the :class:`StabilityAudit` of a recorded run (internal to :func:`simulate`).
+
+    Parameters
+    ----------
+    record
+        The recorded run (time histories of the engine).
+    b
+        Gain b of the stabilising force.
+    mass
+        Robot mass in kg.
+    max_accel
+        Robot acceleration limit in m/s^2.
+    max_speed
+        Robot speed limit in m/s.
+    period
+        Sample time T_s in s.
+    holonomic
+        Whether the robot is holonomic.
+    """
     t = record["t_sample"]
     V = record["V"][:, 0]
     vL2 = record["vL2"][:, 0]

@@ -82,6 +82,12 @@ class RegionSizes(Result):
     r2
         Minimum active radius delta_ox2 + delta_rx2 (m) ((5.3.7), (5.3.8b), (5.3.12),
         (7.4.3)-(7.4.6), (7.5.3)).
+    sample_time
+        Sample time T_s in s used for the sizes.
+    status
+        Status of the sizing (``"ok"``; see :class:`designlab.results.Result`).
+    warnings
+        What a user should know (e.g. an adopted radius below its bound).
     """
 
     obstacle_kind: str

@@ -122,6 +122,16 @@ class NavigationResult(Result):
         velocity (m, m/s), heading (rad; constant for the holonomic robot), the
         distance to each obstacle (``n_obs x len(t)``; the first column repeats the
         start) and the obstacle positions (``n_obs x len(t) x 2``).
+    critical_entries
+        Obstacle name -> whether the robot entered its critical region.
+    collisions
+        Obstacle name -> whether the robot touched it.
+    critical_time
+        Time spent inside a critical region in s.
+    status
+        ``"ok"``, or ``"not_arrived"`` (collisions and critical-region entries are warnings).
+    warnings
+        What a user should know about the run (collisions, critical-region entries).
     """
 
     scenario: Scenario
@@ -420,6 +430,10 @@ class BatchResult(Result):
         L_energy and L*_energy per ohm (A^2 s).
     H, H_T, H_D, H_E
         Sec. 5.6 criteria, ``(S, N)``.
+    status
+        Status of the batch (``"ok"``; see :class:`designlab.results.Result`).
+    warnings
+        What a user should know about the runs.
     """
 
     scenario_names: tuple[str, ...]

@@ -117,7 +117,19 @@ def comparison_markdown(
     command: str | None = None,
     version: str | None = None,
 ) -> str:
-    """The summary of a ``follower_comparison`` study (Markdown)."""
+    """The summary of a ``follower_comparison`` study (Markdown).
+
+    Parameters
+    ----------
+    result
+        A follower comparison result.
+    figures
+        Caption -> (file name, description) of the figures to show.
+    command
+        The command line that produced the result.
+    version
+        The designlab version.
+    """
     study = result.study
     frame = result.to_frame()
     robot = result.cases[0].run.robot if result.cases else None
@@ -301,7 +313,21 @@ def write_comparison_report(
     version: str | None = None,
     study_text: str | None = None,
 ) -> list[Path]:
-    """Write the ``follower_comparison`` report into ``directory`` (see the module notes)."""
+    """Write the ``follower_comparison`` report into ``directory`` (see the module notes).
+
+    Parameters
+    ----------
+    result
+        A follower comparison result.
+    directory
+        The (new, empty) report directory.
+    command
+        The command line that produced the result.
+    version
+        The designlab version.
+    study_text
+        The study file's text, copied as ``study.yaml``.
+    """
     written = [write_csv(result.to_frame(), directory / "metrics.csv")]
     if result.linear is not None:
         written.append(write_csv(result.linear, directory / "linear.csv"))
@@ -357,7 +383,21 @@ def write_tuning_report(
     version: str | None = None,
     study_text: str | None = None,
 ) -> list[Path]:
-    """Write the ``follower_tuning`` report into ``directory`` (see the module notes)."""
+    """Write the ``follower_tuning`` report into ``directory`` (see the module notes).
+
+    Parameters
+    ----------
+    result
+        A follower tuning result.
+    directory
+        The (new, empty) report directory.
+    command
+        The command line that produced the result.
+    version
+        The designlab version.
+    study_text
+        The study file's text, copied as ``study.yaml``.
+    """
     study = result.study
     written = [write_csv(result.to_frame(), directory / "gains.csv")]
     scen = pd.concat(

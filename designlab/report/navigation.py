@@ -52,7 +52,15 @@ def _region_patch(o: Any, r: float, **kw: Any) -> Any:
 
 
 def trajectory_figure(runs: list[Any], title: str) -> Figure:
-    """Paths of every method in one scenario, obstacles and regions at the start."""
+    """Paths of every method in one scenario, obstacles and regions at the start.
+
+    Parameters
+    ----------
+    runs
+        The runs of one scenario (one per method).
+    title
+        Figure title.
+    """
     from matplotlib.figure import Figure
     from matplotlib.patches import Circle, Rectangle
 
@@ -99,7 +107,15 @@ def trajectory_figure(runs: list[Any], title: str) -> Figure:
 
 
 def distance_figure(runs: list[Any], title: str) -> Figure:
-    """Distance to each obstacle against time for every method, with r3."""
+    """Distance to each obstacle against time for every method, with r3.
+
+    Parameters
+    ----------
+    runs
+        The runs of one scenario (one per method).
+    title
+        Figure title.
+    """
     from matplotlib.figure import Figure
 
     sc = runs[0].result.scenario
@@ -141,7 +157,19 @@ def navigation_markdown(
     command: str | None,
     version: str | None,
 ) -> str:
-    """The Markdown summary."""
+    """The Markdown summary.
+
+    Parameters
+    ----------
+    result
+        A ``vff_scenarios`` result.
+    figures
+        Caption -> (file name, description) of the figures.
+    command
+        The command line that produced the result.
+    version
+        The designlab version.
+    """
     study = result.study
     frame = result.to_frame()
     out = [f"# {study.name}", ""]
@@ -220,6 +248,19 @@ def write_navigation_report(
     study_text: str | None = None,
 ) -> list[Path]:
     """Write every file of the report into ``directory`` (which must exist).
+
+    Parameters
+    ----------
+    result
+        A ``vff_scenarios`` result.
+    directory
+        The (new, empty) report directory.
+    command
+        The command line that produced the result.
+    version
+        The designlab version.
+    study_text
+        The study file's text, copied as ``study.yaml``.
 
     Returns
     -------

@@ -76,6 +76,30 @@ def test_hash_collisions_never_merge_different_points(monkeypatch):
     assert list(inverse) == [0, 1, 0, 2, 2, 3]
 
 
+@settings(max_examples=200, deadline=None)
+@given(
+    rows=st.lists(
+        st.tuples(st.sampled_from([0.0, 1.0, -2.5, np.nan]), st.sampled_from([3.0, 4.0])),
+        min_size=1,
+        max_size=30,
+    )
+)
+def test_distinct_points_numbered_in_order_of_first_appearance(rows):
+    """Against a dictionary of the rows, written here (NaN equal to NaN)."""
+    import designlab.analysis.sweep as sweep
+
+    keys = [tuple("nan" if v != v else v for v in r) for r in rows]
+    seen: dict = {}
+    want_inverse = [seen.setdefault(k, len(seen)) for k in keys]
+    want_first = [keys.index(k) for k in seen]
+    first, inverse = sweep._distinct({"a": np.array([r[0] for r in rows]),
+                                      "b": np.array([r[1] for r in rows])})  # fmt: skip
+    if len(seen) == len(rows):
+        assert first is None and inverse is None
+    else:
+        assert list(first) == want_first and list(inverse) == want_inverse
+
+
 class DictStore:
     """The store protocol over a dict (what the engine needs, nothing more)."""
 
@@ -147,3 +171,18 @@ def test_blocks_read_back_have_every_column_typed_alike():
     assert first["y"].isna().all() and list(first["positive"]) == [None, None]
     assert later["positive"].dtype == object
     assert list(later["positive"]) == [True, True, False, True]
+
+
+def doubling_in_place(points, options):
+    """An evaluator that reuses its input arrays (allowed: they are its own copies)."""
+    x = points["x"]
+    x *= 2.0
+    return {"y": x + points["c"]}
+
+
+def test_evaluators_get_writable_copies_of_broadcast_points():
+    x = np.arange(5.0)
+    c = np.broadcast_to(np.float64(1.0), (5,))  # a constant column, as sweeps build them
+    run = run_points({"x": x, "c": c}, doubling_in_place, chunk_size=2)
+    assert list(run.frame["y"]) == [1.0, 3.0, 5.0, 7.0, 9.0]
+    assert list(x) == [0.0, 1.0, 2.0, 3.0, 4.0]  # the caller's points are untouched

@@ -102,7 +102,19 @@ class FollowerComparisonStudy(StudyBase):
 
 @dataclass(frozen=True)
 class FollowerCase:
-    """One simulated (path, law, l_d)."""
+    """One simulated (path, law, l_d).
+
+    Attributes
+    ----------
+    path
+        Name of the leader's path.
+    controller
+        Name of the law and its desired length.
+    run
+        The simulated run.
+    metrics
+        Its figures (normal path deviation, tether error, ...).
+    """
 
     path: str
     controller: str
@@ -124,7 +136,17 @@ class FollowerCase:
 
 @dataclass(frozen=True)
 class FollowerComparisonResult(Result):
-    """Results of a ``follower_comparison`` study, in path, l_d, law order."""
+    """Results of a ``follower_comparison`` study, in path, l_d, law order.
+
+    Attributes
+    ----------
+    study
+        The study.
+    cases
+        One case per (path, l_d, law).
+    linear
+        Linearised loop next to the simulated step, per law and l_d (if asked for).
+    """
 
     study: FollowerComparisonStudy
     cases: tuple[FollowerCase, ...]
@@ -151,7 +173,15 @@ class FollowerComparisonResult(Result):
 
 
 def run(study: FollowerComparisonStudy, context: RunContext) -> FollowerComparisonResult:
-    """Simulate every (path, l_d, law) in this process (each run takes milliseconds)."""
+    """Simulate every (path, l_d, law) in this process (each run takes milliseconds).
+
+    Parameters
+    ----------
+    study
+        The follower comparison study.
+    context
+        How to run it (executor, store).
+    """
     robot = study.robot.build()
     jobs = []
     for ps in study.paths:

@@ -99,7 +99,15 @@ class FollowerTuningStudy(StudyBase):
 
 @dataclass(frozen=True)
 class FollowerTuningResult(Result):
-    """Results of a ``follower_tuning`` study: one :class:`TuningResult` per law."""
+    """Results of a ``follower_tuning`` study: one :class:`TuningResult` per law.
+
+    Attributes
+    ----------
+    study
+        The study.
+    results
+        One tuning result per law.
+    """
 
     study: FollowerTuningStudy
     results: tuple[TuningResult, ...]
@@ -140,7 +148,15 @@ class FollowerTuningResult(Result):
 
 
 def run(study: FollowerTuningStudy, context: RunContext) -> FollowerTuningResult:
-    """Tune each law (its scenarios through ``context.executor``)."""
+    """Tune each law (its scenarios through ``context.executor``).
+
+    Parameters
+    ----------
+    study
+        The follower tuning study.
+    context
+        How to run it (the executor evaluates the candidate gain sets).
+    """
     robot = study.robot.build()
     paths = [p.build() for p in study.paths]
     val = [p.build() for p in study.validation_paths]

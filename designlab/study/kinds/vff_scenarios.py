@@ -100,7 +100,19 @@ class VffScenariosStudy(StudyBase):
 
 @dataclass(frozen=True)
 class VffRun:
-    """One simulated (scenario, method) pair."""
+    """One simulated (scenario, method) pair.
+
+    Attributes
+    ----------
+    scenario
+        Scenario name.
+    method
+        Method and stabilising mode.
+    result
+        The simulation result.
+    reference
+        The thesis's published figures for this run, if any.
+    """
 
     scenario: str
     method: str
@@ -143,7 +155,15 @@ class VffRun:
 
 @dataclass(frozen=True)
 class VffScenariosResult(Result):
-    """Results of a ``vff_scenarios`` study, scenario-major."""
+    """Results of a ``vff_scenarios`` study, scenario-major.
+
+    Attributes
+    ----------
+    study
+        The study.
+    runs
+        One run per (scenario, method), scenario-major.
+    """
 
     study: VffScenariosStudy
     runs: tuple[VffRun, ...]
