@@ -25,7 +25,7 @@ from scipy.optimize import brentq, minimize_scalar
 
 import designlab as dl
 
-G = 9.81
+G = 9.80665  # standard gravity, as designlab (docs/impact.md, "Standard gravity")
 
 
 def baseline_metrics(p: list[float], v: float) -> tuple[float, float]:

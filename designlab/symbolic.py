@@ -22,12 +22,13 @@ array([[3.  , 7.  ],
 from __future__ import annotations
 
 from collections.abc import Callable
+from functools import cache
 
 import casadi as ca
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["vectorize"]
+__all__ = ["evaluate_batch", "vectorize"]
 
 _BINARY: dict[int, Callable[[NDArray, NDArray], NDArray]] = {
     ca.OP_ADD: np.add,
@@ -81,6 +82,11 @@ def vectorize(f: ca.Function) -> Callable[..., list[NDArray[np.float64]]]:
     ``(input.numel(), N)`` (or ``(input.numel(),)`` for a single design) and
     returns one array per output of shape ``(output.numel(), N)`` (dense,
     column-major like CasADi). Inputs with a single column broadcast.
+
+    Parameters
+    ----------
+    f
+        A CasADi SX function.
 
     Raises
     ------
@@ -136,3 +142,55 @@ def vectorize(f: ca.Function) -> Callable[..., list[NDArray[np.float64]]]:
         return dense
 
     return evaluate
+
+
+@cache
+def _vectorized(f: ca.Function) -> Callable[..., list[NDArray[np.float64]]]:
+    return vectorize(f)
+
+
+def evaluate_batch(
+    f: ca.Function, p: NDArray[np.float64], *, direct_below: int = 9
+) -> list[NDArray[np.float64]]:
+    """Evaluate a one-input CasADi function for each row of ``p``.
+
+    Small batches call CasADi directly (no set-up cost); batches of
+    ``direct_below`` rows or more replay the SX instruction list with numpy on
+    the whole batch (:func:`vectorize`, built once per function and cached).
+
+    Parameters
+    ----------
+    f
+        A ``casadi.Function`` of one (vector) input built from SX symbols.
+    p
+        ``(N, n_in)`` inputs, one row per evaluation.
+    direct_below
+        Batches smaller than this are evaluated by calling ``f`` per row.
+
+    Returns
+    -------
+    list of numpy.ndarray
+        One array per output of ``f``, of shape ``(numel, N)`` (column-major
+        flattening of each output, one column per row of ``p``).
+
+    Examples
+    --------
+    >>> import casadi as ca, numpy as np
+    >>> x = ca.SX.sym("x", 2)
+    >>> f = ca.Function("f", [x], [x[0] * x[1], ca.vertcat(x[0], 2 * x[1])])
+    >>> prod, pair = evaluate_batch(f, np.array([[1.0, 2.0], [3.0, 4.0]]))
+    >>> prod.tolist(), pair.tolist()
+    ([[2.0, 12.0]], [[1.0, 3.0], [4.0, 8.0]])
+    >>> big = evaluate_batch(f, np.ones((20, 2)))[0]
+    >>> big.shape
+    (1, 20)
+    """
+    p = np.atleast_2d(np.asarray(p, dtype=float))
+    if p.shape[0] >= direct_below:
+        return _vectorized(f)(p.T)
+    rows = [f(row) for row in p]
+    rows = [r if isinstance(r, (list, tuple)) else [r] for r in rows]
+    return [
+        np.stack([np.asarray(r[k], dtype=float).ravel(order="F") for r in rows], axis=1)
+        for k in range(f.n_out())
+    ]

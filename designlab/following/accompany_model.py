@@ -34,29 +34,19 @@ array([10., 10., 10., 10.])
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, replace
-from typing import Any
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from designlab.errors import InvalidParameterError, check_nonnegative, check_positive
+from designlab.validation import ParamsMixin
 
 __all__ = ["LIMIT_MODES", "MecanumPlatform", "StringPotSensor", "mecanum_matrix"]
 
 #: How the linear speed and acceleration limits act: on the norm of (V_x, V_y)
 #: (direction kept) or on each axis separately.
 LIMIT_MODES = ("norm", "per_axis")
-
-
-class _Params:
-    def as_dict(self) -> dict[str, Any]:
-        """Return the fields as a plain ``dict``."""
-        return asdict(self)  # type: ignore[call-overload]
-
-    def replace(self, **changes: Any) -> Any:
-        """Return a copy with some fields changed (validated again)."""
-        return replace(self, **changes)  # type: ignore[type-var]
 
 
 def mecanum_matrix(wheel_radius: float, half_length_sum: float) -> NDArray[np.float64]:
@@ -96,7 +86,7 @@ def mecanum_matrix(wheel_radius: float, half_length_sum: float) -> NDArray[np.fl
 
 
 @dataclass(frozen=True)
-class MecanumPlatform(_Params):
+class MecanumPlatform(ParamsMixin):
     """Mecanum base at body-velocity level: first-order lag and saturation per axis.
 
     Parameters
@@ -201,7 +191,7 @@ class MecanumPlatform(_Params):
 
 
 @dataclass(frozen=True)
-class StringPotSensor(_Params):
+class StringPotSensor(ParamsMixin):
     """String-pot sensor (d, theta_U, theta_R) of Wu et al. 2021, eqs. (7)-(8).
 
     Raw samples are taken at ``sample_rate * oversampling`` Hz, the last

@@ -4,10 +4,13 @@ from __future__ import annotations
 
 from designlab.impact.criteria import (
     ISO_TS_15066_QUASI_STATIC_FORCE,
+    ISO_TS_15066_TRANSIENT_FACTOR,
+    CompressionLimit,
     Criterion,
     HeadAcceleration,
     HeadInjuryCriterion,
     ImpactForce,
+    IsoQuasiStaticForce,
     IsoTransientForce,
 )
 from designlab.impact.effective import (
@@ -23,14 +26,8 @@ from designlab.impact.effective import (
 from designlab.impact.envelope import (
     THESIS_HEAD_RANGE,
     FoamEnvelope,
-    FoamThickness,
     HeadRange,
-    SafeVelocity,
-    WorstCaseCheck,
-    check_worst_case,
     foam_envelope,
-    max_safe_velocity,
-    min_foam_thickness,
 )
 from designlab.impact.joint import (
     JointFit,
@@ -67,6 +64,15 @@ from designlab.impact.parameters import (
     LinkImpact,
 )
 from designlab.impact.simulate import ImpactResponse, VelocityProfile, hic, simulate
+from designlab.impact.verdict import (
+    FoamThickness,
+    FoamVerdict,
+    SafeVelocity,
+    foam_verdict,
+    max_safe_velocity,
+    min_foam_thickness,
+)
+from designlab.impact.worst_case import WorstCaseCheck, check_worst_case
 
 __all__ = [
     "FOAM_1",
@@ -76,18 +82,21 @@ __all__ = [
     "HEAD_MAX",
     "HEAD_MIN",
     "ISO_TS_15066_QUASI_STATIC_FORCE",
+    "ISO_TS_15066_TRANSIENT_FACTOR",
     "MANIPULATOR_1",
     "MANIPULATOR_2",
     "PARAM_NAMES",
     "TABLE_3_2_HEADS",
     "TEST_HEAD",
     "THESIS_HEAD_RANGE",
+    "CompressionLimit",
     "ContactDynamics",
     "Criterion",
     "EffectiveContact",
     "Foam",
     "FoamEnvelope",
     "FoamThickness",
+    "FoamVerdict",
     "HeadAcceleration",
     "HeadInjuryCriterion",
     "HeadNeck",
@@ -96,6 +105,7 @@ __all__ = [
     "ImpactMetrics",
     "ImpactPointSweep",
     "ImpactResponse",
+    "IsoQuasiStaticForce",
     "IsoTransientForce",
     "JointFit",
     "LinkImpact",
@@ -108,6 +118,7 @@ __all__ = [
     "effective_contact",
     "fit_joint_band",
     "foam_envelope",
+    "foam_verdict",
     "full_joint_tf",
     "hic",
     "impact_metrics",

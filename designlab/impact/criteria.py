@@ -4,24 +4,29 @@ A criterion maps the first-lobe response of an impact to one scalar, compares
 it with a limit, and knows which head-neck parameter set is conservative for it
 (Zeng 2011, Sec. 3.6 and 3.9): the *minimum* set (light head, soft neck) gives
 the largest head acceleration; the *maximum* set gives the largest force and
-compression.
+compression. The foam's thickness constraint (3.9.3) is a criterion too; it is
+the only one that bounds the foam stiffness from *below*.
 
 =====================  ===============================  ======================
 criterion              metric                           conservative head set
 =====================  ===============================  ======================
 HeadAcceleration       a_h,max (thesis: 10 g)           HEAD_MIN
 ImpactForce            peak f_c                         HEAD_MAX
-HeadInjuryCriterion    HIC15 / HIC36 (standard, I4)     HEAD_MIN
-IsoTransientForce      peak f_c vs ISO/TS 15066 Annex A HEAD_MAX
+HeadInjuryCriterion    HIC15 / HIC36 (standard)         HEAD_MIN
+IsoQuasiStaticForce    peak f_c vs ISO/TS 15066 A.2     HEAD_MAX
+IsoTransientForce      peak f_c vs factor x A.2 value   HEAD_MAX
+CompressionLimit       eps_max <= lambda (3.9.3)        HEAD_MAX
 =====================  ===============================  ======================
+
+See ``docs/impact.md`` ("Safety criteria") for the sources of every limit.
 
 Examples
 --------
->>> from designlab.impact.criteria import HeadAcceleration, IsoTransientForce
+>>> from designlab.impact.criteria import HeadAcceleration, IsoQuasiStaticForce
 >>> HeadAcceleration(max_g=10).limit
-98.1
->>> IsoTransientForce("face").limit      # 2 x 65 N quasi-static
-130.0
+98.0665
+>>> IsoQuasiStaticForce("face").limit      # ISO/TS 15066, Table A.2
+65.0
 """
 
 from __future__ import annotations
@@ -34,25 +39,27 @@ import numpy as np
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError, check_positive
-from designlab.impact.metrics import G, hic_batch, impact_metrics
+from designlab.impact.metrics import ImpactMetrics, hic_batch, metrics_of_matrix
 from designlab.impact.parameters import HEAD_MAX, HEAD_MIN, HeadNeck
+from designlab.units import STANDARD_GRAVITY
 
 __all__ = [
     "ISO_TS_15066_QUASI_STATIC_FORCE",
+    "ISO_TS_15066_TRANSIENT_FACTOR",
+    "CompressionLimit",
     "Criterion",
     "HeadAcceleration",
     "HeadInjuryCriterion",
     "ImpactForce",
+    "IsoQuasiStaticForce",
     "IsoTransientForce",
-    "evaluate_criteria",
 ]
 
-#: ISO/TS 15066:2016, Annex A, Table A.2: maximum permissible quasi-static contact
-#: force per body region, N. Transient-contact limits are twice these values
-#: (Annex A.3.2). The standard asks that contact with the head regions (skull and
-#: forehead, face) be avoided altogether in collaborative operation; the values
-#: are given for assessing accidental contact. Check them against your copy of
-#: the standard before relying on them.
+#: ISO/TS 15066:2016, Annex A, Table A.2, "maximum permissible force" for
+#: quasi-static contact, per body region, N. Every value is taken from that
+#: table. The standard asks that contact with the head regions (skull and
+#: forehead, face) be avoided in collaborative operation; the values serve to
+#: assess accidental contact. Check them against your copy of the standard.
 ISO_TS_15066_QUASI_STATIC_FORCE = MappingProxyType(
     {
         "skull_forehead": 130.0,
@@ -69,7 +76,18 @@ ISO_TS_15066_QUASI_STATIC_FORCE = MappingProxyType(
         "lower_leg": 130.0,
     }
 )
-_TRANSIENT_FACTOR = 2.0
+
+#: ISO/TS 15066:2016, Annex A, Table A.2, force multiplier for transient contact.
+#: The table gives none for the head regions (transient contact with the skull,
+#: forehead or face is not permissible): they are absent here, and a transient
+#: criterion for them needs an explicit factor from the user.
+ISO_TS_15066_TRANSIENT_FACTOR = MappingProxyType(
+    {
+        region: 2.0
+        for region in ISO_TS_15066_QUASI_STATIC_FORCE
+        if region not in ("skull_forehead", "face")
+    }
+)
 _HEAD_REGIONS = ("skull_forehead", "face")
 
 
@@ -85,6 +103,9 @@ class Criterion:
     #: how the metric scales with the impact velocity (metric ~ v_c ** exponent)
     velocity_exponent: ClassVar[float] = 1.0
     unit: ClassVar[str] = ""
+    #: ``"upper"``: the criterion bounds the foam stiffness from above (safety);
+    #: ``"lower"``: from below (the thickness constraint)
+    boundary: ClassVar[str] = "upper"
 
     @property
     def limit(self) -> float:  # pragma: no cover - overridden
@@ -112,24 +133,31 @@ class Criterion:
         impact_velocity: NDArray[np.float64],
         *,
         constrained: bool = False,
+        stop_time: float = 0.05,
     ) -> NDArray[np.float64]:
-        """The metric for a batch of designs (``(N, 8)`` params, ``(N,)`` v_c), SI."""
-        m = impact_metrics(
+        """The metric for a batch of designs (``(N, 8)`` params, ``(N,)`` v_c), SI.
+
+        ``stop_time`` is the window of the constrained impact's metrics, s.
+        """
+        m = metrics_of_matrix(
             params,
             impact_velocity,
             constrained=constrained,
+            stop_time=stop_time,
             with_force=self.needs_force,
-            with_compression=False,
+            with_compression=self.metric == "compression",
         )
         return self.from_metrics(m)
 
-    def from_metrics(self, m) -> NDArray[np.float64]:  # type: ignore[no-untyped-def]
+    def from_metrics(self, m: ImpactMetrics) -> NDArray[np.float64]:
         """Extract the metric from an :class:`~designlab.impact.metrics.ImpactMetrics`."""
         if self.metric == "head_acceleration":
             return m.peak_head_acceleration
         if self.metric == "force":
             return m.peak_force
-        raise NotImplementedError(self.metric)
+        if self.metric == "compression":
+            return m.max_compression
+        raise NotImplementedError(self.metric)  # pragma: no cover - subclasses override
 
     def describe(self) -> str:
         """One sentence for reports."""
@@ -139,6 +167,11 @@ class Criterion:
 @dataclass(frozen=True)
 class HeadAcceleration(Criterion):
     """Peak head acceleration over the impact period below ``max_g`` (thesis: 10 g).
+
+    Attributes
+    ----------
+    max_g
+        Largest allowed peak head acceleration in g (9.80665 m/s^2).
 
     Examples
     --------
@@ -156,7 +189,7 @@ class HeadAcceleration(Criterion):
     @property
     def limit(self) -> float:
         """Limit in m/s^2."""
-        return self.max_g * G
+        return self.max_g * STANDARD_GRAVITY
 
     @property
     def conservative_head(self) -> HeadNeck:
@@ -171,6 +204,11 @@ class HeadAcceleration(Criterion):
 @dataclass(frozen=True)
 class ImpactForce(Criterion):
     """Peak contact force f_c over the impact period below ``max_force`` (N).
+
+    Attributes
+    ----------
+    max_force
+        Largest allowed peak contact force in N.
 
     Examples
     --------
@@ -202,38 +240,40 @@ class ImpactForce(Criterion):
         return f"f_c,max <= {self.max_force:g} N"
 
 
-@dataclass(frozen=True)
-class IsoTransientForce(ImpactForce):
-    """ISO/TS 15066 transient-contact force limit for a body region.
+def _check_region(owner: str, region: str) -> None:
+    if region not in ISO_TS_15066_QUASI_STATIC_FORCE:
+        raise InvalidParameterError(
+            f"{owner}.body_region",
+            region,
+            f"must be one of {sorted(ISO_TS_15066_QUASI_STATIC_FORCE)}",
+        )
 
-    ``limit = 2 x`` the quasi-static maximum permissible force of Annex A,
-    Table A.2 (:data:`ISO_TS_15066_QUASI_STATIC_FORCE`).
+
+@dataclass(frozen=True)
+class IsoQuasiStaticForce(ImpactForce):
+    """ISO/TS 15066 quasi-static contact force limit of a body region (Table A.2).
+
+    Attributes
+    ----------
+    body_region
+        ISO/TS 15066 Table A.2 body region (e.g. ``"skull_forehead"``).
 
     Examples
     --------
-    >>> IsoTransientForce("skull_forehead").limit
-    260.0
+    >>> IsoQuasiStaticForce("skull_forehead").limit
+    130.0
     """
 
     body_region: str = "skull_forehead"
     max_force: float = field(default=0.0, init=False)
 
     def __post_init__(self) -> None:
-        if self.body_region not in ISO_TS_15066_QUASI_STATIC_FORCE:
-            raise InvalidParameterError(
-                "IsoTransientForce.body_region",
-                self.body_region,
-                f"must be one of {sorted(ISO_TS_15066_QUASI_STATIC_FORCE)}",
-            )
-        object.__setattr__(
-            self,
-            "max_force",
-            _TRANSIENT_FACTOR * ISO_TS_15066_QUASI_STATIC_FORCE[self.body_region],
-        )
+        _check_region("IsoQuasiStaticForce", self.body_region)
+        object.__setattr__(self, "max_force", ISO_TS_15066_QUASI_STATIC_FORCE[self.body_region])
 
     @property
     def name(self) -> str:
-        return f"f_c,max <= {self.max_force:g} N (ISO/TS 15066 transient, {self.body_region})"
+        return f"f_c,max <= {self.max_force:g} N (ISO/TS 15066 quasi-static, {self.body_region})"
 
     def describe(self) -> str:
         note = (
@@ -241,15 +281,145 @@ class IsoTransientForce(ImpactForce):
             if self.body_region in _HEAD_REGIONS
             else ""
         )
-        return self.name + note
+        return self.name + " (ISO/TS 15066:2016, Table A.2)" + note
+
+
+@dataclass(frozen=True)
+class IsoTransientForce(ImpactForce):
+    """ISO/TS 15066 transient-contact force limit of a body region.
+
+    ``limit = factor x`` the quasi-static maximum permissible force of Annex A,
+    Table A.2 (:data:`ISO_TS_15066_QUASI_STATIC_FORCE`), with the table's
+    transient multiplier (:data:`ISO_TS_15066_TRANSIENT_FACTOR`, 2 where the
+    table gives one). The table gives no multiplier for the skull/forehead and
+    the face: for them ``transient_factor`` must be given explicitly (or use
+    :class:`IsoQuasiStaticForce`); the project does not invent one.
+
+    Attributes
+    ----------
+    body_region
+        ISO/TS 15066 Table A.2 body region (e.g. ``"lower_arm_wrist"``).
+    transient_factor
+        Factor on the quasi-static limit for transient contact; required for
+        the skull/forehead and face, which Table A.2 gives no factor for.
+
+    Examples
+    --------
+    >>> IsoTransientForce("chest").limit
+    280.0
+    >>> IsoTransientForce("face")
+    Traceback (most recent call last):
+    ...
+    designlab.errors.InvalidParameterError: IsoTransientForce.transient_factor = None ...
+    gives no transient-contact multiplier for 'face' ...
+    >>> IsoTransientForce("face", transient_factor=1.0).limit
+    65.0
+    """
+
+    body_region: str = "lower_arm_wrist"
+    transient_factor: float | None = None
+    max_force: float = field(default=0.0, init=False)
+
+    def __post_init__(self) -> None:
+        _check_region("IsoTransientForce", self.body_region)
+        factor = self.transient_factor
+        if factor is None:
+            if self.body_region not in ISO_TS_15066_TRANSIENT_FACTOR:
+                raise InvalidParameterError(
+                    "IsoTransientForce.transient_factor",
+                    None,
+                    "ISO/TS 15066 Table A.2 gives no transient-contact multiplier for "
+                    f"{self.body_region!r} (transient contact with the head is not "
+                    "permissible); give transient_factor explicitly or use IsoQuasiStaticForce",
+                )
+            factor = ISO_TS_15066_TRANSIENT_FACTOR[self.body_region]
+        else:
+            factor = check_positive("IsoTransientForce.transient_factor", factor)
+        object.__setattr__(self, "transient_factor", factor)
+        object.__setattr__(
+            self, "max_force", factor * ISO_TS_15066_QUASI_STATIC_FORCE[self.body_region]
+        )
+
+    @property
+    def name(self) -> str:
+        return f"f_c,max <= {self.max_force:g} N (ISO/TS 15066 transient, {self.body_region})"
+
+    def describe(self) -> str:
+        source = (
+            f"user factor {self.transient_factor:g} x Table A.2 quasi-static value"
+            if self.body_region not in ISO_TS_15066_TRANSIENT_FACTOR
+            or self.transient_factor != ISO_TS_15066_TRANSIENT_FACTOR[self.body_region]
+            else f"{self.transient_factor:g} x Table A.2 quasi-static value (Table A.2 multiplier)"
+        )
+        note = (
+            "; ISO/TS 15066 asks that contact with this region be avoided"
+            if self.body_region in _HEAD_REGIONS
+            else ""
+        )
+        return f"{self.name}: {source}{note}"
+
+
+@dataclass(frozen=True)
+class CompressionLimit(Criterion):
+    """The thickness constraint (3.9.3): eps_max below the foam's linear depth lambda.
+
+    The linear foam model holds only while eps <= lambda (Zeng 2011, Sec. 3.9.2;
+    docs/impact.md, "Foam bottoming"). Unlike the safety criteria it bounds the
+    foam stiffness from *below* (a softer foam compresses more).
+
+    Attributes
+    ----------
+    max_compression
+        Largest allowed foam compression eps_max in m (the linear depth lambda).
+
+    Examples
+    --------
+    >>> CompressionLimit(0.02).name
+    'eps_max <= 20 mm'
+    """
+
+    max_compression: float = 0.02
+    metric: ClassVar[str] = "compression"
+    unit: ClassVar[str] = "m"
+    boundary: ClassVar[str] = "lower"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(
+            self,
+            "max_compression",
+            check_positive("CompressionLimit.max_compression", self.max_compression, "m"),
+        )
+
+    @property
+    def limit(self) -> float:
+        """Limit (lambda) in m."""
+        return self.max_compression
+
+    @property
+    def conservative_head(self) -> HeadNeck:
+        """The maximum head-neck set (Sec. 3.9.2)."""
+        return HEAD_MAX
+
+    @property
+    def name(self) -> str:
+        return f"eps_max <= {self.max_compression * 1e3:g} mm"
 
 
 @dataclass(frozen=True)
 class HeadInjuryCriterion(Criterion):
-    """HIC over the first lobe below ``max_hic`` (standard definition, DECISIONS I4).
+    """HIC over the first lobe below ``max_hic`` (standard definition; docs/impact.md, "HIC").
 
     ``window`` is 0.015 s (HIC15) or 0.036 s (HIC36). HIC < 650 corresponds to
     AIS < 3 (EuroNCAP 2004, quoted by the thesis). HIC scales as v_c ** 2.5.
+
+    Attributes
+    ----------
+    max_hic
+        Largest allowed HIC.
+    window
+        Longest HIC window t2 - t1 in s (15 ms: HIC15).
+    samples
+        Grid points over the first lobe before the window search is refined.
 
     Examples
     --------
@@ -292,24 +462,12 @@ class HeadInjuryCriterion(Criterion):
         impact_velocity: NDArray[np.float64],
         *,
         constrained: bool = False,
+        stop_time: float = 0.05,
     ) -> NDArray[np.float64]:
         if constrained:
             return np.zeros(np.atleast_2d(params).shape[0])
-        m = impact_metrics(params, impact_velocity, with_force=False, with_compression=False)
+        m = metrics_of_matrix(params, impact_velocity, with_force=False, with_compression=False)
         return hic_batch(m, self.window, self.samples)
 
-    def from_metrics(self, m) -> NDArray[np.float64]:  # type: ignore[no-untyped-def]
+    def from_metrics(self, m: ImpactMetrics) -> NDArray[np.float64]:
         return hic_batch(m, self.window, self.samples)
-
-
-def evaluate_criteria(
-    criteria: tuple[Criterion, ...] | list[Criterion],
-    params: NDArray[np.float64],
-    impact_velocity: NDArray[np.float64],
-    *,
-    constrained: bool = False,
-) -> dict[str, NDArray[np.float64]]:
-    """Evaluate several criteria on the same designs with one metrics pass."""
-    need_force = any(c.needs_force for c in criteria)
-    m = impact_metrics(params, impact_velocity, constrained=constrained, with_force=need_force)
-    return {c.name: c.from_metrics(m) for c in criteria}

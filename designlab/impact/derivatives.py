@@ -16,7 +16,9 @@ Examples
 --------
 >>> import numpy as np
 >>> from designlab.impact.derivatives import metric_gradients
->>> g = metric_gradients([9.6, 250, 20e3, 24.25e3, 71.9, 4.4, 46.0, 3e3], 1.25)
+>>> from designlab.impact.model import PARAM_NAMES
+>>> g = metric_gradients([[9.6, 250, 20e3, 24.25e3, 71.9, 4.4, 46.0, 3e3]], 1.25,
+...                      columns=PARAM_NAMES)
 >>> e = g.elasticities("peak_head_acceleration")   # d ln a_h,max / d ln p
 >>> round(float(e["v_c"][0]), 6)                   # a_h,max is linear in v_c
 1.0
@@ -26,6 +28,7 @@ True
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from functools import cache
 
@@ -34,8 +37,10 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
-from designlab.impact.metrics import ImpactMetrics, impact_metrics
+from designlab.impact.metrics import ImpactMetrics, metrics_of_matrix
 from designlab.impact.model import PARAM_NAMES, constrained_model, unconstrained_model
+from designlab.results import Result
+from designlab.validation import named_columns
 
 __all__ = ["VARIABLE_NAMES", "MetricGradients", "metric_gradients", "response_function"]
 
@@ -113,7 +118,7 @@ def _jacobian_function(constrained: bool) -> ca.Function:
 
 
 @dataclass(frozen=True)
-class MetricGradients:
+class MetricGradients(Result):
     """Gradients of the first-lobe metrics with respect to :data:`VARIABLE_NAMES`.
 
     Attributes
@@ -128,6 +133,16 @@ class MetricGradients:
 
     metrics: ImpactMetrics
     gradients: dict[str, NDArray[np.float64]]
+
+    @property
+    def status(self) -> str:  # type: ignore[override]
+        """The status of the metrics the gradients belong to."""
+        return self.metrics.status
+
+    @property
+    def warnings(self) -> tuple[str, ...]:  # type: ignore[override]
+        """The warnings of the metrics the gradients belong to."""
+        return self.metrics.warnings
 
     def elasticities(self, metric: str) -> dict[str, NDArray[np.float64]]:
         """``d ln(metric) / d ln(x)`` for every variable ``x`` (NaN where the metric is 0)."""
@@ -155,9 +170,10 @@ _OUT = {"force": 0, "head_acceleration": 1, "compression": 2}
 
 
 def metric_gradients(
-    params: ArrayLike,
+    params: Mapping[str, ArrayLike] | pd.DataFrame | ArrayLike,
     impact_velocity: ArrayLike,
     *,
+    columns: Sequence[str] | None = None,
     constrained: bool = False,
     metrics: ImpactMetrics | None = None,
 ) -> MetricGradients:
@@ -166,10 +182,13 @@ def metric_gradients(
     Parameters
     ----------
     params
-        ``(8,)`` or ``(N, 8)`` parameters (or a mapping), as for
-        :func:`~designlab.impact.metrics.impact_metrics`.
+        The model parameters by name (a mapping or a DataFrame with the keys
+        :data:`~designlab.impact.model.PARAM_NAMES`), or an ``(N, 8)`` array
+        with ``columns``, as for :func:`~designlab.impact.metrics.impact_metrics`.
     impact_velocity
         v_c, m/s.
+    columns
+        Names of the columns of an array ``params`` (required for an array).
     constrained
         Constrained impact (head against a wall).
     metrics
@@ -179,7 +198,10 @@ def metric_gradients(
     -------
     MetricGradients
     """
-    m = metrics or impact_metrics(params, impact_velocity, constrained=constrained)
+    if metrics is None:
+        matrix = named_columns("params", params, PARAM_NAMES, columns=columns)
+        metrics = metrics_of_matrix(matrix, impact_velocity, constrained=constrained)
+    m = metrics
     p = m.params
     v = m.impact_velocity
     n = p.shape[0]

@@ -3,7 +3,7 @@
 The impact model sees the manipulator as one mass ``M_r`` on a spring ``K_r``
 and damper ``C_r``, moving at ``v_r(0)`` along the impact normal. With
 ``j = n^T J_v(q)`` the 1 x n row mapping the rates of the free (compliant)
-joints to the normal velocity of the impact point (DECISIONS I6):
+joints to the normal velocity of the impact point (docs/impact.md, "The model"):
 
 .. math::
 
@@ -42,6 +42,8 @@ from designlab.errors import (
     check_positive,
 )
 from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
+from designlab.results import OK, Result
+from designlab.validation import frozen_array, real_array
 
 __all__ = [
     "EffectiveContact",
@@ -63,7 +65,7 @@ _M_UNIT = "kg m^2"
 
 
 @dataclass(frozen=True)
-class EffectiveContact:
+class EffectiveContact(Result):
     """Effective manipulator at the impact point (:func:`effective_contact`).
 
     Attributes
@@ -77,12 +79,18 @@ class EffectiveContact:
     velocity
         Normal velocity v_r(0) of the impact point in m/s, or ``None`` if no
         joint velocity was given.
+    status
+        Status of the reduction (``"ok"``; see :class:`designlab.results.Result`).
+    warnings
+        What a user should know about the reduction.
     """
 
     mass: float
     stiffness: float
     damping: float
     velocity: float | None = None
+    status: str = OK
+    warnings: tuple[str, ...] = ()
 
     @property
     def contact(self) -> ContactDynamics:
@@ -114,14 +122,8 @@ class EffectiveContact:
         )
 
 
-def _frozen(a: Any) -> np.ndarray:
-    out = np.array(a, dtype=float, copy=True)
-    out.setflags(write=False)
-    return out
-
-
 @dataclass(frozen=True, eq=False)
-class ImpactPointSweep:
+class ImpactPointSweep(Result):
     """Effective single-joint manipulator along a link (:func:`impact_point_sweep`).
 
     All arrays have the length of ``lever_arm`` and are read-only.
@@ -134,6 +136,10 @@ class ImpactPointSweep:
         M_r (kg), K_r (N/m), C_r (N s/m) at each lever arm, (3.4.17).
     velocity
         v_r(0) = theta_dot l in m/s, (3.4.11).
+    status
+        Status of the sweep (``"ok"``; see :class:`designlab.results.Result`).
+    warnings
+        What a user should know about the sweep.
     """
 
     lever_arm: np.ndarray
@@ -141,6 +147,8 @@ class ImpactPointSweep:
     stiffness: np.ndarray
     damping: np.ndarray
     velocity: np.ndarray
+    status: str = OK
+    warnings: tuple[str, ...] = ()
 
     def __len__(self) -> int:
         return int(self.lever_arm.size)
@@ -168,7 +176,7 @@ class ImpactPointSweep:
         >>> sweep.evaluate(FOAM_1, HEAD_MIN)["a_h_max_g"].round(2).tolist()
         [5.78, 5.09]
         """
-        from designlab.impact.metrics import impact_metrics
+        from designlab.impact.metrics import metrics_of_matrix
         from designlab.impact.model import param_vector
 
         n = len(self)
@@ -178,10 +186,10 @@ class ImpactPointSweep:
              np.full(n, foam.damping), np.tile(head_row, (n, 1))]
         )  # fmt: skip
         v = self.velocity + check_finite("human_speed", human_speed, "m/s")
-        m = impact_metrics(params, v, constrained=head is None)
+        m = metrics_of_matrix(params, v, constrained=head is None)
         out = self.to_frame()
         metrics = m.to_frame()
-        for col in ("v_c_m_per_s", "a_h_max_g", "eps_max_m", "f_c_max_N", "t_imp_s", "status"):
+        for col in ("v_c_m_per_s", "a_h_max_g", "eps_max_m", "peak_force_N", "t_imp_s", "status"):
             out[col] = metrics[col].to_numpy()
         return out
 
@@ -210,18 +218,8 @@ class ImpactPointSweep:
 # --- validation helpers ------------------------------------------------------------
 
 
-def _real_array(name: str, value: Any, unit: str = "") -> np.ndarray:
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InvalidParameterError(name, value, "must be an array of real numbers", unit) from None
-    if not np.all(np.isfinite(arr)):
-        raise InvalidParameterError(name, value, "must contain only finite numbers", unit)
-    return arr
-
-
 def _mass_matrix(value: Any) -> np.ndarray:
-    m = _real_array("mass_matrix", value, _M_UNIT)
+    m = real_array("mass_matrix", value, _M_UNIT)
     if m.ndim == 0:
         m = m.reshape(1, 1)
     if m.ndim != 2 or m.shape[0] != m.shape[1] or m.shape[0] == 0:
@@ -245,7 +243,7 @@ def _mass_matrix(value: Any) -> np.ndarray:
 
 
 def _jacobian_row(value: Any, n: int) -> np.ndarray:
-    j = _real_array("jacobian_row", value, "m")
+    j = real_array("jacobian_row", value, "m")
     if j.ndim == 2 and j.shape[0] == 1:
         j = j[0]
     j = np.atleast_1d(j)
@@ -270,7 +268,7 @@ def _jacobian_row(value: Any, n: int) -> np.ndarray:
 def _series(name: str, value: Any, j: np.ndarray, unit: str) -> float:
     """1/(j X^-1 j^T) for a diagonal (1-D or diagonal matrix) or SPD matrix X."""
     n = j.size
-    x = _real_array(name, value, unit)
+    x = real_array(name, value, unit)
     if x.ndim == 0 and n == 1:
         x = x.reshape(1)
     if x.ndim == 2 and x.shape == (n, n) and np.count_nonzero(x - np.diag(np.diag(x))) == 0:
@@ -316,7 +314,9 @@ def effective_contact(
     jacobian_row: npt.ArrayLike,
     joint_velocity: npt.ArrayLike | None = None,
 ) -> EffectiveContact:
-    """Reduce a manipulator to a single-DOF contact at the impact point (DECISIONS I6).
+    """Reduce a manipulator to a single-DOF contact at the impact point.
+
+    See docs/impact.md, "The model".
 
     ``M_r = 1/(j M^-1 j^T)``, ``K_r = 1/(j K_J^-1 j^T)``,
     ``C_r = 1/(j C_J^-1 j^T)`` and ``v_r(0) = j q_dot``.
@@ -379,7 +379,7 @@ def effective_contact(
     m_r = float(1.0 / (j @ x))
     v_r: float | None = None
     if joint_velocity is not None:
-        qd = np.atleast_1d(_real_array("joint_velocity", joint_velocity, "rad/s"))
+        qd = np.atleast_1d(real_array("joint_velocity", joint_velocity, "rad/s"))
         if qd.shape != (n,):
             raise InvalidParameterError(
                 "joint_velocity", f"array of shape {qd.shape}", f"must have length {n}", "rad/s"
@@ -485,7 +485,7 @@ def two_link_mass_matrix(
 
     ``m22 = (1/3) m2 a2^2 + m3 a2^2 + (1/3) m3 a3^2 + m3 a2 a3 cos th3``,
     ``m23 = m32 = (1/3) m3 a3^2 + (1/2) m3 a2 a3 cos th3`` (uniform-rod
-    result, DECISIONS I6), ``m33 = (1/3) m3 a3^2``.
+    result, docs/impact.md, "The model"), ``m33 = (1/3) m3 a3^2``.
 
     Parameters
     ----------
@@ -642,7 +642,7 @@ def impact_point_sweep(
     k = check_nonnegative("joint_stiffness", joint_stiffness, _K_UNIT)
     c = check_nonnegative("joint_damping", joint_damping, _C_UNIT)
     w = check_finite("joint_speed", joint_speed, "rad/s")
-    arms = np.atleast_1d(_real_array("lever_arms", lever_arms, "m"))
+    arms = np.atleast_1d(real_array("lever_arms", lever_arms, "m"))
     if arms.ndim != 1 or arms.size == 0:
         raise InvalidParameterError(
             "lever_arms", f"array of shape {arms.shape}", "must be a non-empty 1-D array", "m"
@@ -653,9 +653,9 @@ def impact_point_sweep(
         )
     l2 = arms**2
     return ImpactPointSweep(
-        lever_arm=_frozen(arms),
-        mass=_frozen(m / l2),
-        stiffness=_frozen(k / l2),
-        damping=_frozen(c / l2),
-        velocity=_frozen(w * arms),
+        lever_arm=frozen_array(arms),
+        mass=frozen_array(m / l2),
+        stiffness=frozen_array(k / l2),
+        damping=frozen_array(c / l2),
+        velocity=frozen_array(w * arms),
     )

@@ -44,44 +44,44 @@ from __future__ import annotations
 import logging
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
-from designlab.errors import InvalidParameterError, check_positive
-from designlab.impact.criteria import Criterion, HeadAcceleration
-from designlab.impact.metrics import impact_metrics
+from designlab.errors import InvalidParameterError, check_nonnegative, check_positive
+from designlab.impact.criteria import CompressionLimit, Criterion, HeadAcceleration
+from designlab.impact.metrics import metrics_of_matrix
 from designlab.impact.parameters import (
-    HEAD_MAX,
     ContactDynamics,
-    Foam,
     HeadNeck,
     LinkImpact,
 )
+from designlab.results import OK, Result
 
 __all__ = [
     "THESIS_HEAD_RANGE",
     "FoamEnvelope",
-    "FoamThickness",
     "HeadRange",
-    "SafeVelocity",
-    "WorstCaseCheck",
-    "check_worst_case",
     "foam_envelope",
-    "max_safe_velocity",
-    "min_foam_thickness",
 ]
 
 log = logging.getLogger(__name__)
-
-COMPRESSION = "eps_max"
 
 
 @dataclass(frozen=True)
 class HeadRange:
     """Ranges of the head-neck parameters (Sec. 3.5): ``(low, high)`` pairs, SI.
+
+    Attributes
+    ----------
+    mass
+        ``(low, high)`` head mass M_h in kg.
+    stiffness
+        ``(low, high)`` neck stiffness K_h in N/m.
+    damping
+        ``(low, high)`` neck damping C_h in N s/m.
 
     Examples
     --------
@@ -156,14 +156,17 @@ class _Problem:
     lever_grid: int = 17
     golden_iterations: int = 24
 
-    def heads_for(self, key: str | Criterion) -> NDArray[np.float64]:
+    @property
+    def compression(self) -> CompressionLimit:
+        """The thickness constraint eps_max <= lambda (3.9.3) as a criterion."""
+        return CompressionLimit(self.max_compression)
+
+    def heads_for(self, key: Criterion) -> NDArray[np.float64]:
         if self.constrained:
             return np.array([[1.0, 0.0, 0.0]])
         if self.head_range is not None:
             return _head_rows(self.head_range.grid(self.head_levels))
-        if key == COMPRESSION:
-            return _head_rows([HEAD_MAX])
-        return _head_rows([key.conservative_head])  # type: ignore[union-attr]
+        return _head_rows([key.conservative_head])
 
     def _robot_rows(self, levers: NDArray | None) -> tuple[NDArray, NDArray]:
         """``(n_l, 3)`` [M_r, C_r, K_r] and ``(n_l,)`` v_c for lever arms (or the one robot)."""
@@ -178,7 +181,7 @@ class _Problem:
         return np.array([[r.mass, r.damping, r.stiffness]]), np.array([self.impact_velocity])
 
     def designs(
-        self, key: str | Criterion, k: NDArray, c: NDArray, levers: NDArray | None = None
+        self, key: Criterion, k: NDArray, c: NDArray, levers: NDArray | None = None
     ) -> tuple[NDArray, NDArray, int]:
         """Every head (and the robot at ``levers``) for foams ``(k, c)``.
 
@@ -194,7 +197,7 @@ class _Problem:
         return self._expand(key, k, c, rows, v)
 
     def _expand(
-        self, key: str | Criterion, k: NDArray, c: NDArray, rows: NDArray, v: NDArray
+        self, key: Criterion, k: NDArray, c: NDArray, rows: NDArray, v: NDArray
     ) -> tuple[NDArray, NDArray, int]:
         heads = self.heads_for(key)
         n, nh = k.size, heads.shape[0]
@@ -202,21 +205,13 @@ class _Problem:
         full = np.column_stack([np.repeat(params, nh, axis=0), np.tile(heads, (n, 1))])
         return full, np.repeat(v, nh), nh
 
-    def _values(
-        self, key: str | Criterion, k: NDArray, c: NDArray, rows: NDArray, v: NDArray
-    ) -> NDArray:
+    def _values(self, key: Criterion, k: NDArray, c: NDArray, rows: NDArray, v: NDArray) -> NDArray:
         """Metric for designs ``i`` x robot rows ``j`` (paired arrays, all length n)."""
         full, vv, nh = self._expand(key, k, c, rows, v)
-        if key == COMPRESSION:
-            m = impact_metrics(
-                full, vv, constrained=self.constrained, with_force=False, stop_time=self.stop_time
-            )
-            vals = m.max_compression
-        else:
-            vals = key.values(full, vv, constrained=self.constrained)  # type: ignore[union-attr]
+        vals = key.values(full, vv, constrained=self.constrained, stop_time=self.stop_time)
         return vals.reshape(k.size, nh).max(axis=1)
 
-    def worst(self, key: str | Criterion, k: NDArray, c: NDArray) -> tuple[NDArray, NDArray]:
+    def worst(self, key: Criterion, k: NDArray, c: NDArray) -> tuple[NDArray, NDArray]:
         """Worst-case metric over heads (and impact points) for foams ``(k, c)``.
 
         Returns the values and the worst lever arm (NaN for a fixed robot).
@@ -268,17 +263,18 @@ class _Problem:
         better = cand > best
         return np.where(better, cand, best), np.where(better, cand_l, best_l)
 
-    def limit(self, key: str | Criterion) -> float:
-        return self.max_compression if key == COMPRESSION else key.limit  # type: ignore[union-attr]
+    def limit(self, key: Criterion) -> float:
+        return key.limit
 
-    def log_excess(self, key: str | Criterion, u: NDArray, c: NDArray) -> NDArray:
+    def log_excess(self, key: Criterion, u: NDArray, c: NDArray) -> NDArray:
         """``log(metric / limit)`` at ``K_c = exp(u)``: > 0 means violated."""
         vals, _ = self.worst(key, np.exp(u), c)
         with np.errstate(divide="ignore"):
             return np.log(np.maximum(vals, 1e-300)) - math.log(self.limit(key))
 
-    def keys(self) -> list[str | Criterion]:
-        return [*self.criteria, COMPRESSION]
+    def keys(self) -> list[Criterion]:
+        """Every constraint: the criteria (upper boundary) and the thickness limit (lower)."""
+        return [*self.criteria, self.compression]
 
 
 def _illinois(
@@ -291,7 +287,10 @@ def _illinois(
     tol: float,
     max_iter: int = 100,
 ) -> NDArray:
-    """Vectorised Illinois (modified regula falsi) on brackets with ``fa * fb < 0``."""
+    """Vectorised Illinois (modified regula falsi) on brackets with ``fa * fb < 0``.
+
+    Returns the end of the final bracket where ``f <= 0`` (the feasible side).
+    """
     a, b, fa, fb = a.copy(), b.copy(), fa.copy(), fb.copy()
     x = 0.5 * (a + b)
     act = np.flatnonzero(np.abs(b - a) > tol)
@@ -317,11 +316,16 @@ def _illinois(
         # metric to its limit) is far below the requested relative accuracy
         done = (np.abs(b[act] - a[act]) <= tol) | (np.abs(fx) <= 1e-3 * tol)
         act = act[~done]
-    return x
+    # the end of the final bracket on the feasible side (excess <= 0): where the metric
+    # jumps (a delicate first lobe), the root is the jump and the boundary must not be
+    # reported on its violated side. A point converged on its residual (|excess| far
+    # below the accuracy) is the root itself, even if its bracket is still wide.
+    small = np.abs(b - a) <= tol
+    return np.where(fb <= 0, b, np.where(small & (fa <= 0), a, x))
 
 
 def _boundary(
-    prob: _Problem, key: str | Criterion, c: NDArray, u_grid: NDArray, tol: float
+    prob: _Problem, key: Criterion, c: NDArray, u_grid: NDArray, tol: float
 ) -> tuple[NDArray, NDArray, NDArray]:
     """One boundary for every damping value: (K, status, multiple-root flag).
 
@@ -333,7 +337,7 @@ def _boundary(
     viol = ex > 0
     changes = np.diff(viol.astype(int), axis=1) != 0
     n_changes = changes.sum(axis=1)
-    upper = key != COMPRESSION
+    upper = key.boundary == "upper"
     status = np.full(n, "bounded", dtype=object)
     k_out = np.full(n, np.nan)
     if upper:
@@ -360,7 +364,7 @@ def _boundary(
 
 
 @dataclass(frozen=True)
-class FoamEnvelope:
+class FoamEnvelope(Result):
     """Feasible foam region: boundaries in K_c over a damping grid (SI units).
 
     Attributes
@@ -386,10 +390,28 @@ class FoamEnvelope:
     delicate
         Points where a boundary design's first lobe is delicate (a_h lingers
         near zero before the lobe ends, or peaks at contact): the thesis's
-        first-lobe metrics can jump there (impact.md Sec. 2.10).
+        first-lobe metrics can jump there (docs/impact.md, "Metrics").
     worst_lever_arm
         For a robot at joint level, the worst impact point on the upper
         boundary of the first criterion (NaN otherwise).
+    robot
+        The manipulator (effective contact dynamics or a link struck anywhere).
+    impact_velocity
+        Closing speed v_c in m/s.
+    criteria
+        The safety criteria of the upper boundary.
+    max_compression
+        Usable foam depth lambda in m (the lower boundary).
+    stiffness_bounds
+        ``(low, high)`` K_c search range in N/m.
+    constrained
+        Whether the head is constrained (no neck; Sec. 3.4).
+    head_range
+        The head-neck ranges the boundaries hold for (``None``: one head).
+    warnings
+        What a user should know (several roots, delicate lobes, ...).
+    status
+        ``"ok"``, or ``"empty"`` when no foam is feasible.
     """
 
     robot: ContactDynamics | LinkImpact
@@ -410,6 +432,7 @@ class FoamEnvelope:
     constrained: bool
     head_range: HeadRange | None
     warnings: tuple[str, ...] = ()
+    status: str = OK
     _problem: _Problem | None = field(default=None, repr=False, compare=False)
 
     # -- effective bounds (unbounded sides clipped to the search range) ----------
@@ -520,11 +543,10 @@ class FoamEnvelope:
         return self._problem
 
 
-def _solve(
-    prob: _Problem, damping: NDArray, bounds: tuple[float, float], rtol: float, n_scan: int = 48
-) -> FoamEnvelope:
-    u_grid = np.linspace(math.log(bounds[0]), math.log(bounds[1]), n_scan)
-    tol = math.log1p(rtol)
+def _upper_bounds(
+    prob: _Problem, damping: NDArray, u_grid: NDArray, tol: float
+) -> tuple[dict[str, NDArray], dict[str, NDArray], NDArray, NDArray]:
+    """Every criterion's upper boundary and status, and their minimum (NaN if none bounded)."""
     upper: dict[str, NDArray] = {}
     upper_status: dict[str, NDArray] = {}
     multiple = np.zeros(damping.size, dtype=bool)
@@ -533,17 +555,22 @@ def _solve(
         upper[crit.name] = k
         upper_status[crit.name] = st
         multiple |= mult
-    kmin, lower_status, mult = _boundary(prob, COMPRESSION, damping, u_grid, tol)
-    multiple |= mult
     kmax = np.full(damping.size, np.inf)
     any_bounded = np.zeros(damping.size, dtype=bool)
     for name in upper:
         bounded = upper_status[name] == "bounded"
         kmax = np.where(bounded, np.minimum(kmax, upper[name]), kmax)
         any_bounded |= bounded
-    kmax = np.where(any_bounded, kmax, np.nan)
-    kmin = np.where(lower_status == "bounded", kmin, np.nan)
+    return upper, upper_status, np.where(any_bounded, kmax, np.nan), multiple
 
+
+def _flag_boundary_designs(
+    prob: _Problem, damping: NDArray, kmax: NDArray, kmin: NDArray
+) -> tuple[NDArray, NDArray, NDArray]:
+    """Overdamped and delicate flags of the boundary designs, and the worst lever arm.
+
+    The boundary designs themselves are evaluated (worst head, worst impact point).
+    """
     overdamped = np.zeros(damping.size, dtype=bool)
     delicate = np.zeros(damping.size, dtype=bool)
     worst_l = np.full(damping.size, np.nan)
@@ -551,21 +578,31 @@ def _solve(
     if first is not None and np.any(np.isfinite(kmax)) and isinstance(prob.robot, LinkImpact):
         ok = np.isfinite(kmax)
         _, worst_l[ok] = prob.worst(first, kmax[ok], damping[ok])
-    if not prob.constrained:
-        # flag the boundary designs themselves (worst head, worst impact point)
-        for key, kb in ((first, kmax), (COMPRESSION, kmin)):
-            ok = np.isfinite(kb)
-            if key is None or not np.any(ok):
-                continue
-            _, lev = prob.worst(key, kb[ok], damping[ok])
-            params, v, nh = prob.designs(key, kb[ok], damping[ok], lev)
-            m = impact_metrics(params, v, with_force=False, lobe_diagnostics=True)
-            pac = (m.status == "peak_at_contact").reshape(-1, nh).any(axis=1)
-            dl_ = m.delicate_lobe.reshape(-1, nh).any(axis=1)
-            if key is first:
-                overdamped[ok] |= pac
-            delicate[ok] |= dl_
+    if prob.constrained:
+        return overdamped, delicate, worst_l
+    for key, kb in ((first, kmax), (prob.compression, kmin)):
+        ok = np.isfinite(kb)
+        if key is None or not np.any(ok):
+            continue
+        _, lev = prob.worst(key, kb[ok], damping[ok])
+        params, v, nh = prob.designs(key, kb[ok], damping[ok], lev)
+        m = metrics_of_matrix(params, v, with_force=False, lobe_diagnostics=True)
+        pac = (m.design_status == "peak_at_contact").reshape(-1, nh).any(axis=1)
+        if key is first:
+            overdamped[ok] |= pac
+        delicate[ok] |= m.delicate_lobe.reshape(-1, nh).any(axis=1)
+    return overdamped, delicate, worst_l
+
+
+def _envelope_warnings(
+    empty: bool, multiple: NDArray, overdamped: NDArray, delicate: NDArray
+) -> list[str]:
     warnings = []
+    if empty:
+        warnings.append(
+            "the feasible region is empty at every damping value of the grid: reduce the "
+            'impact velocity (docs/impact.md, "Foam design")'
+        )
     if np.any(multiple):
         warnings.append(
             f"{int(multiple.sum())} damping value(s) have a constraint that changes sign more "
@@ -576,14 +613,28 @@ def _solve(
         warnings.append(
             f"{int((delicate & ~overdamped).sum())} boundary point(s) have a delicate first lobe "
             "(a_h lingers near zero before the lobe ends), so eps_max and the impact period "
-            "can jump with small parameter changes (impact.md Sec. 2.10)"
+            'can jump with small parameter changes (docs/impact.md, "Metrics")'
         )
     if np.any(overdamped):
         warnings.append(
             f"{int(overdamped.sum())} upper-boundary point(s) are overdamped pulses (a_h peaks "
             "at contact, a_h,max = C_c v_c / M_h): outside the thesis's foam range xi_c 0.05-0.2"
         )
-    return FoamEnvelope(
+    return warnings
+
+
+def _solve(
+    prob: _Problem, damping: NDArray, bounds: tuple[float, float], rtol: float, n_scan: int = 48
+) -> FoamEnvelope:
+    """Both boundaries over ``damping`` (scan of ``n_scan`` log-spaced K_c, then Illinois)."""
+    u_grid = np.linspace(math.log(bounds[0]), math.log(bounds[1]), n_scan)
+    tol = math.log1p(rtol)
+    upper, upper_status, kmax, multiple = _upper_bounds(prob, damping, u_grid, tol)
+    kmin, lower_status, mult = _boundary(prob, prob.compression, damping, u_grid, tol)
+    multiple = multiple | mult
+    kmin = np.where(lower_status == "bounded", kmin, np.nan)
+    overdamped, delicate, worst_l = _flag_boundary_designs(prob, damping, kmax, kmin)
+    env = FoamEnvelope(
         robot=prob.robot,
         impact_velocity=prob.impact_velocity,
         criteria=prob.criteria,
@@ -601,9 +652,19 @@ def _solve(
         stiffness_bounds=bounds,
         constrained=prob.constrained,
         head_range=prob.head_range,
-        warnings=tuple(warnings),
         _problem=prob,
     )
+    empty = env.is_empty
+    warnings = _envelope_warnings(empty, multiple, overdamped, delicate)
+    # one-point solves (verdicts, margins, the worst-case onset) are debug detail
+    log.log(
+        logging.INFO if damping.size > 1 else logging.DEBUG,
+        "foam_envelope: %d damping values, %d-point scan in K_c: upper bounded at %d, "
+        "lower bounded at %d, %d delicate, %d with several roots",
+        damping.size, n_scan, int(np.isfinite(kmax).sum()), int(np.isfinite(kmin).sum()),
+        int(delicate.sum()), int(multiple.sum()),
+    )  # fmt: skip
+    return replace(env, warnings=tuple(warnings), status="empty" if empty else OK)
 
 
 def _make_problem(
@@ -625,18 +686,32 @@ def _make_problem(
                 "m/s",
             )
         v = float("nan")
-        if human_speed < 0 or not np.isfinite(human_speed):
-            raise InvalidParameterError("human_speed", human_speed, "must be >= 0", "m/s")
     elif isinstance(robot, ContactDynamics):
         v = check_positive(
             "impact_velocity", 1.25 if impact_velocity is None else impact_velocity, "m/s"
         )
     else:
         raise InvalidParameterError("robot", robot, "must be a ContactDynamics or a LinkImpact")
+    human_speed = check_nonnegative("human_speed", human_speed, "m/s")
+    stop_time = check_positive("stop_time", stop_time, "s")
+    if not isinstance(constrained, (bool, np.bool_)):
+        raise InvalidParameterError("constrained", constrained, "must be True or False")
+    if head_range is not None and not isinstance(head_range, HeadRange):
+        raise InvalidParameterError("head_range", head_range, "must be a HeadRange or None")
+    if criteria is not None and (
+        isinstance(criteria, (str, Criterion)) or not hasattr(criteria, "__iter__")
+    ):
+        raise InvalidParameterError("criteria", criteria, "must be a sequence of Criterion objects")
     crit = tuple(criteria) if criteria is not None else (HeadAcceleration(10.0),)
     for c in crit:
         if not isinstance(c, Criterion):
             raise InvalidParameterError("criteria", c, "must contain Criterion objects")
+        if c.boundary != "upper":
+            raise InvalidParameterError(
+                "criteria",
+                c.name,
+                "holds safety criteria (upper boundary); the thickness limit is max_compression",
+            )
         if constrained and c.metric != "force":
             raise InvalidParameterError(
                 "criteria",
@@ -696,6 +771,13 @@ def foam_envelope(
     Returns
     -------
     FoamEnvelope
+
+    Examples
+    --------
+    >>> import designlab as dl
+    >>> env = dl.impact.foam_envelope(dl.impact.MANIPULATOR_1, 1.25, [0.0, 100.0])
+    >>> (env.stiffness_max / 1e3).round(2).tolist(), (env.stiffness_min / 1e3).round(2).tolist()
+    ([46.04, 58.77], [16.67, 11.92])
     """
     c = (
         np.linspace(0.0, 200.0, 41)
@@ -724,238 +806,3 @@ def foam_envelope(
         stop_time,
     )
     return _solve(prob, c, (float(lo), float(hi)), rtol)
-
-
-# -- checks and design answers ---------------------------------------------------
-
-
-@dataclass(frozen=True)
-class WorstCaseCheck:
-    """Result of sampling the ranges at the envelope's boundary points.
-
-    For each constraint, the sampled metric at the boundary stiffness divided by
-    the limit. A ratio above 1 means a sampled case is worse than the case the
-    envelope used. Samples whose first lobe is *delicate* (a_h dips close to
-    zero inside the lobe or peaks at contact, so the lobe end and eps_max jump
-    with small changes; impact.md Sec. 2.10) are reported apart.
-
-    Attributes
-    ----------
-    max_ratio
-        Largest ratio over the regular samples, per constraint.
-    max_ratio_delicate
-        Largest ratio over the delicate samples, per constraint (NaN if none).
-    ratio_by_point
-        Per constraint, the largest regular ratio at each damping value.
-    delicate_points
-        Per constraint, the damping values with a delicate sample above the limit.
-    """
-
-    max_ratio: dict[str, float]
-    max_ratio_delicate: dict[str, float]
-    ratio_by_point: dict[str, NDArray[np.float64]]
-    delicate_points: dict[str, NDArray[np.float64]]
-    samples: int
-    tolerance: float
-
-    @property
-    def holds(self) -> bool:
-        """Whether no regular sample exceeds the limit by more than the tolerance."""
-        return all(not np.isfinite(r) or r <= 1 + self.tolerance for r in self.max_ratio.values())
-
-    def to_frame(self) -> pd.DataFrame:
-        """One row per constraint."""
-        return pd.DataFrame(
-            {
-                "constraint": list(self.max_ratio),
-                "max_sampled_ratio": list(self.max_ratio.values()),
-                "max_sampled_ratio_delicate_lobes": list(self.max_ratio_delicate.values()),
-                "n_points_delicate_above_limit": [len(v) for v in self.delicate_points.values()],
-            }
-        )
-
-
-def check_worst_case(
-    env: FoamEnvelope,
-    head_range: HeadRange = THESIS_HEAD_RANGE,
-    samples: int = 64,
-    seed: int = 0,
-    tolerance: float = 1e-6,
-) -> WorstCaseCheck:
-    """Sample heads in ``head_range``, velocities up to the maximum and impact points.
-
-    At every bounded boundary point, no sampled case may exceed the limit that
-    the envelope's worst case meets there.
-
-    Examples
-    --------
-    >>> import numpy as np, designlab as dl
-    >>> env = dl.impact.foam_envelope(dl.impact.MANIPULATOR_1, 1.25, np.linspace(10, 90, 5))
-    >>> dl.impact.check_worst_case(env, samples=32).holds
-    True
-    """
-    prob = env._require_problem()
-    rng = np.random.default_rng(seed)
-    ratios: dict[str, float] = {}
-    ratios_d: dict[str, float] = {}
-    by_point: dict[str, NDArray] = {}
-    d_points: dict[str, NDArray] = {}
-    keys: list[tuple[str | Criterion, NDArray]] = [
-        (crit, env.upper[crit.name]) for crit in prob.criteria
-    ]
-    keys.append((COMPRESSION, env.stiffness_min))
-    for key, kb in keys:
-        ok = np.isfinite(kb)
-        name = COMPRESSION if key == COMPRESSION else key.name  # type: ignore[union-attr]
-        by_point[name] = np.full(env.damping.size, np.nan)
-        if not np.any(ok):
-            ratios[name] = ratios_d[name] = float("nan")
-            d_points[name] = np.array([])
-            continue
-        k = np.repeat(kb[ok], samples)
-        c = np.repeat(env.damping[ok], samples)
-        n = k.size
-        if prob.constrained:
-            heads = np.tile([1.0, 0.0, 0.0], (n, 1))
-        else:
-            heads = head_range.sample(n, rng)
-        frac = rng.random(n)
-        if isinstance(prob.robot, LinkImpact):
-            lr = prob.robot
-            lev = lr.lever_arm_min + (lr.lever_arm_max - lr.lever_arm_min) * rng.random(n)
-            rows, vmax = prob._robot_rows(lev)
-        else:
-            rows, vmax = prob._robot_rows(None)
-            rows = np.repeat(rows, n, axis=0)
-            vmax = np.repeat(vmax, n)
-        v = vmax * np.where(frac < 0.25, 1.0, frac)  # a quarter at the maximum speed
-        params = np.column_stack([rows, k, c, heads])
-        need_force = key != COMPRESSION and key.needs_force  # type: ignore[union-attr]
-        m = impact_metrics(
-            params,
-            v,
-            constrained=prob.constrained,
-            with_force=need_force,
-            stop_time=prob.stop_time,
-            lobe_diagnostics=True,
-        )
-        vals = m.max_compression if key == COMPRESSION else key.from_metrics(m)  # type: ignore[union-attr]
-        ratio = (vals / prob.limit(key)).reshape(-1, samples)
-        delicate = m.delicate_lobe.reshape(-1, samples)
-        regular = np.where(delicate, -np.inf, ratio).max(axis=1)
-        special = np.where(delicate, ratio, -np.inf).max(axis=1)
-        by_point[name][ok] = np.where(np.isfinite(regular), regular, np.nan)
-        ratios[name] = (
-            float(np.nanmax(by_point[name])) if np.any(np.isfinite(regular)) else float("nan")
-        )
-        ratios_d[name] = float(special.max()) if np.any(np.isfinite(special)) else float("nan")
-        d_points[name] = env.damping[ok][special > 1 + tolerance]
-    return WorstCaseCheck(ratios, ratios_d, by_point, d_points, samples, tolerance)
-
-
-@dataclass(frozen=True)
-class SafeVelocity:
-    """Largest impact velocity for which a foam satisfies every constraint.
-
-    Attributes
-    ----------
-    impact_velocity
-        Largest v_c, m/s.
-    manipulator_speed
-        ``impact_velocity - human_speed``: the largest manipulator speed when the
-        person moves toward it at ``human_speed`` (negative: unsafe even at rest).
-    per_constraint
-        Largest v_c allowed by each constraint alone.
-    limiting
-        Name of the constraint that sets the answer.
-    """
-
-    impact_velocity: float
-    manipulator_speed: float
-    human_speed: float
-    per_constraint: dict[str, float]
-    limiting: str
-
-    def to_frame(self) -> pd.DataFrame:
-        """One row per constraint."""
-        return pd.DataFrame(
-            {
-                "constraint": list(self.per_constraint),
-                "v_c_max_m_per_s": list(self.per_constraint.values()),
-            }
-        )
-
-
-def max_safe_velocity(
-    robot: ContactDynamics,
-    foam: Foam,
-    criteria: Sequence[Criterion] | None = None,
-    *,
-    max_compression: float | None = None,
-    human_speed: float = 1.0,
-    head_range: HeadRange | None = None,
-    constrained: bool = False,
-) -> SafeVelocity:
-    """Largest impact velocity (and manipulator speed) for which ``foam`` is safe.
-
-    The metrics scale as v_c ** exponent (1 for a_h,max, force and eps_max, 2.5
-    for HIC), so the answer is exact: ``v_i = v_0 (limit_i / metric_i(v_0))^(1/e_i)``.
-    ``max_compression`` defaults to the foam's linear depth.
-
-    Examples
-    --------
-    >>> import designlab as dl
-    >>> sv = dl.impact.max_safe_velocity(dl.impact.MANIPULATOR_1, dl.impact.FOAM_1)
-    >>> sv.limiting, round(sv.impact_velocity, 2)
-    ('eps_max', 1.81)
-    """
-    lam = foam.linear_depth if max_compression is None else max_compression
-    prob = _make_problem(robot, 1.0, criteria, lam, head_range, constrained, human_speed, 0.05)
-    k = np.array([foam.stiffness])
-    c = np.array([foam.damping])
-    per: dict[str, float] = {}
-    for key in prob.keys():
-        vals, _ = prob.worst(key, k, c)
-        expo = 1.0 if key == COMPRESSION else key.velocity_exponent  # type: ignore[union-attr]
-        name = COMPRESSION if key == COMPRESSION else key.name  # type: ignore[union-attr]
-        per[name] = float(np.inf if vals[0] <= 0 else (prob.limit(key) / vals[0]) ** (1 / expo))
-    limiting = min(per, key=lambda n: per[n])
-    v = per[limiting]
-    return SafeVelocity(v, v - human_speed, human_speed, per, limiting)
-
-
-@dataclass(frozen=True)
-class FoamThickness:
-    """Thickness a foam needs so that it does not bottom out.
-
-    ``linear_depth`` (lambda) is the worst-case eps_max; ``thickness`` scales it by the
-    foam's ratio T_u / lambda (0.0254/0.02 for the thesis's foam).
-    """
-
-    linear_depth: float
-    thickness: float
-    impact_velocity: float
-
-
-def min_foam_thickness(
-    robot: ContactDynamics,
-    foam: Foam,
-    impact_velocity: float = 1.25,
-    *,
-    head_range: HeadRange | None = None,
-    constrained: bool = False,
-) -> FoamThickness:
-    """Smallest linear depth (and total thickness) for ``foam`` at ``impact_velocity``.
-
-    Examples
-    --------
-    >>> import designlab as dl
-    >>> t = dl.impact.min_foam_thickness(dl.impact.MANIPULATOR_1, dl.impact.FOAM_1, 1.25)
-    >>> round(t.linear_depth * 1000, 1)     # mm, maximum head-neck set
-    13.8
-    """
-    prob = _make_problem(robot, impact_velocity, (), 1.0, head_range, constrained, 1.0, 0.05)
-    vals, _ = prob.worst(COMPRESSION, np.array([foam.stiffness]), np.array([foam.damping]))
-    lam = float(vals[0])
-    assert foam.thickness is not None
-    return FoamThickness(lam, lam * foam.thickness / foam.linear_depth, float(impact_velocity or 0))

@@ -38,6 +38,8 @@ import numpy.typing as npt
 import pandas as pd
 
 from designlab.errors import InvalidParameterError, check_nonnegative, check_positive
+from designlab.results import Result
+from designlab.validation import check_array, frozen_array
 
 if TYPE_CHECKING:  # python-control is imported when a transfer function is built
     import control
@@ -62,29 +64,12 @@ ArrayLike = npt.ArrayLike
 # --- validation helpers -----------------------------------------------------
 
 
-def _check_array(name: str, value: Any, unit: str, *, positive: bool) -> Any:
-    """Validate a scalar (returned as float) or an array (returned as ndarray)."""
-    if np.ndim(value) == 0:
-        check = check_positive if positive else check_nonnegative
-        return check(name, value, unit)
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InvalidParameterError(name, value, "must be an array of real numbers", unit) from None
-    bad = ~np.isfinite(arr) | ((arr <= 0.0) if positive else (arr < 0.0))
-    if np.any(bad):
-        first = arr[bad].flat[0]
-        allowed = "every element must be a finite number " + ("> 0" if positive else ">= 0")
-        raise InvalidParameterError(name, float(first), allowed, unit)
-    return arr
-
-
 def _joint_args(k_mech: Any, c_mech: Any, k_cont: Any, c_cont: Any) -> tuple[Any, Any, Any, Any]:
     return (
-        _check_array("k_mech", k_mech, _K_UNIT, positive=True),
-        _check_array("c_mech", c_mech, _C_UNIT, positive=False),
-        _check_array("k_cont", k_cont, _K_UNIT, positive=True),
-        _check_array("c_cont", c_cont, _C_UNIT, positive=False),
+        check_array("k_mech", k_mech, _K_UNIT, positive=True),
+        check_array("c_mech", c_mech, _C_UNIT, positive=False),
+        check_array("k_cont", k_cont, _K_UNIT, positive=True),
+        check_array("c_cont", c_cont, _C_UNIT, positive=False),
     )
 
 
@@ -261,14 +246,8 @@ def joint_error_tf(
 # --- frequency-band fit ------------------------------------------------------
 
 
-def _frozen(a: Any) -> np.ndarray:
-    out = np.array(a, copy=True)
-    out.setflags(write=False)
-    return out
-
-
 @dataclass(frozen=True, eq=False)
-class JointFit:
+class JointFit(Result):
     """Frequency-band least-squares spring-damper fit of a joint (:func:`fit_joint_band`).
 
     Attributes
@@ -292,6 +271,8 @@ class JointFit:
     status
         cvxpy status (``"optimal"``, ``"optimal_inaccurate"``) or a
         description of the failure.
+    warnings
+        What a user should know about the fit.
     """
 
     stiffness: float
@@ -305,6 +286,7 @@ class JointFit:
     rms_error: float
     taylor_rms_error: float
     status: str
+    warnings: tuple[str, ...] = ()
 
     @property
     def success(self) -> bool:
@@ -437,12 +419,12 @@ def fit_joint_band(
     return JointFit(
         stiffness=k_fit,
         damping=c_fit,
-        omega=_frozen(omega),
-        response=_frozen(g),
-        relative_error=_frozen(err_f),
+        omega=frozen_array(omega, dtype=None),
+        response=frozen_array(g, dtype=None),
+        relative_error=frozen_array(err_f, dtype=None),
         taylor_stiffness=float(k_t),
         taylor_damping=float(c_t),
-        taylor_relative_error=_frozen(err_t),
+        taylor_relative_error=frozen_array(err_t, dtype=None),
         rms_error=float(np.sqrt(np.mean(err_f**2))),
         taylor_rms_error=float(np.sqrt(np.mean(err_t**2))),
         status=status,

@@ -32,7 +32,13 @@ from math import factorial
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["ModalResponse", "first_crossing", "poles_of", "refine_extremum"]
+__all__ = [
+    "ModalResponse",
+    "certified_first_crossing",
+    "certified_maximum",
+    "first_crossing",
+    "poles_of",
+]
 
 _SEPARATION = 1e-6
 
@@ -42,6 +48,11 @@ def poles_of(den: NDArray[np.float64]) -> NDArray[np.complex128]:
 
     Roots closer than a relative 1e-6 are moved apart symmetrically so that
     partial fractions stay finite.
+
+    Parameters
+    ----------
+    den
+        ``(N, n+1)`` monic polynomial coefficients, highest power first.
     """
     den = np.atleast_2d(den)
     n = den.shape[1] - 1
@@ -318,39 +329,398 @@ def first_crossing(
     rtol: float = 1e-11,
     guess: NDArray | None = None,
 ) -> NDArray[np.float64]:
-    """Root of ``y`` in ``[lo, hi]`` with ``y(lo) > 0 >= y(hi)``, per response."""
+    """Root of ``y`` in ``[lo, hi]`` with ``y(lo) > 0 >= y(hi)``, per response.
+
+    Parameters
+    ----------
+    resp
+        Responses of N designs.
+    lo
+        ``(N,)`` bracket starts in s (``y > 0``).
+    hi
+        ``(N,)`` bracket ends in s (``y <= 0``).
+    iterations
+        Most safeguarded Newton / bisection steps.
+    rtol
+        Relative tolerance on the root.
+    guess
+        Optional ``(N,)`` starting points inside the brackets.
+    """
     return _safeguarded_newton(resp, lo, hi, 0, iterations, rtol, guess)
 
 
-def refine_extremum(
+def _curvature_bound(resp: ModalResponse, tl: NDArray, tr: NDArray) -> NDArray[np.float64]:
+    """Upper bound of ``|y''(t)|`` over ``[tl, tr]`` per response (triangle inequality).
+
+    ``|Re sum r_i p_i^2 e^(p_i t)| <= sum |r_i| |p_i|^2 e^(Re p_i t)`` and each
+    exponential is largest at one end of the cell; the polynomial part's second
+    derivative is at most linear (``m <= 4``), so it is largest at an end too.
+    """
+    w = np.abs(resp.residues) * np.abs(resp.poles) ** 2
+    re = resp.poles.real
+    grow = np.maximum(re * tl[:, None], re * tr[:, None])
+    with np.errstate(over="ignore"):
+        bound = (w * np.exp(grow)).sum(axis=1)
+    m = resp.poly.shape[1]
+    if m >= 3:
+        if m > 4:  # pragma: no cover - the impact responses have m <= 3
+            raise ValueError("curvature bound needs a polynomial part of degree <= 3")
+        ends = [np.zeros(tl.shape), np.zeros(tl.shape)]
+        for j, t in enumerate((tl, tr)):
+            for idx in range(m - 2):
+                power = m - 1 - idx
+                ends[j] = ends[j] + resp.poly[:, idx] * (power * (power - 1)) * t ** (power - 2)
+        bound = bound + np.maximum(np.abs(ends[0]), np.abs(ends[1]))
+    return bound
+
+
+def _grid_values(
+    resp: ModalResponse, t: NDArray
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``y`` and ``y'`` of each response (batch ``N``) at its own times ``t`` ``(N, T)``."""
+    e = np.exp(resp.poles[:, :, None] * t[:, None, :])
+    y = np.real(np.einsum("nk,nkt->nt", resp.residues, e))
+    dy = np.real(np.einsum("nk,nkt->nt", resp.residues * resp.poles, e))
+    m = resp.poly.shape[1]
+    for idx in range(m):
+        power = m - 1 - idx
+        c = resp.poly[:, idx][:, None]
+        y = y + c * t**power
+        if power >= 1:
+            dy = dy + c * power * t ** (power - 1)
+    return y, dy
+
+
+def _evaluate_nodes(
+    resp: ModalResponse, rows: NDArray, t: NDArray, chunk: int = 65536
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``y`` and ``y'`` of responses ``rows`` at times ``t`` (flat, paired), in chunks."""
+    y = np.empty(t.shape)
+    dy = np.empty(t.shape)
+    for s in range(0, t.size, chunk):
+        sl = slice(s, s + chunk)
+        y[sl], dy[sl] = point_values(resp.take(rows[sl]), t[sl], (0, 1))
+    return y, dy
+
+
+@dataclass(frozen=True)
+class _Cells:
+    """Flat list of cells ``[tl, tr]`` of responses ``row`` with end values and slopes."""
+
+    row: NDArray[np.intp]
+    tl: NDArray[np.float64]
+    tr: NDArray[np.float64]
+    yl: NDArray[np.float64]
+    yr: NDArray[np.float64]
+    dl: NDArray[np.float64]
+    dr: NDArray[np.float64]
+
+    def take(self, keep: NDArray) -> _Cells:
+        return _Cells(
+            *(getattr(self, f)[keep] for f in ("row", "tl", "tr", "yl", "yr", "dl", "dr"))
+        )
+
+    def split(self, resp: ModalResponse, parts: int) -> tuple[_Cells, NDArray, NDArray, NDArray]:
+        """Split every cell into ``parts`` equal cells; also return the new interior nodes."""
+        n = self.row.size
+        frac = np.arange(parts + 1) / parts
+        t = self.tl[:, None] + (self.tr - self.tl)[:, None] * frac[None, :]
+        t[:, -1] = self.tr
+        rows = np.repeat(self.row, parts - 1)
+        y = np.empty((n, parts + 1))
+        d = np.empty((n, parts + 1))
+        y[:, 0], y[:, -1], d[:, 0], d[:, -1] = self.yl, self.yr, self.dl, self.dr
+        chunk = max(1, 65536 // max(parts - 1, 1))
+        for s0 in range(0, n, chunk):
+            sl = slice(s0, s0 + chunk)
+            y[sl, 1:-1], d[sl, 1:-1] = _grid_values(resp.take(self.row[sl]), t[sl, 1:-1])
+        ti = t[:, 1:-1].ravel()
+        yi = y[:, 1:-1].ravel()
+        cells = _Cells(
+            np.repeat(self.row, parts),
+            t[:, :-1].ravel(),
+            t[:, 1:].ravel(),
+            y[:, :-1].ravel(),
+            y[:, 1:].ravel(),
+            d[:, :-1].ravel(),
+            d[:, 1:].ravel(),
+        )
+        return cells, rows, ti, yi
+
+
+def _grid_cells(
+    resp: ModalResponse, lo: NDArray, hi: NDArray, h: NDArray, max_cells: int
+) -> _Cells:
+    """Uniform cells of width <= ``h`` over ``[lo, hi]`` per response (at least one)."""
+    n = lo.size
+    with np.errstate(invalid="ignore", divide="ignore"):
+        count = np.ceil((hi - lo) / h)
+    count = np.clip(np.nan_to_num(count, nan=1.0), 1, max_cells).astype(int)
+    width = int(count.max()) + 1 if n else 1
+    if n * width > 4 * int(np.sum(count + 1)) + 1024:
+        return _grid_cells_flat(resp, lo, hi, count)
+    j = np.arange(width)[None, :]
+    t = lo[:, None] + (hi - lo)[:, None] * (np.minimum(j, count[:, None]) / count[:, None])
+    t[np.arange(n), count] = hi  # the last node exactly at the window end
+    y = np.empty((n, width))
+    dy = np.empty((n, width))
+    chunk = max(1, 65536 // width)
+    for s0 in range(0, n, chunk):
+        sl = slice(s0, s0 + chunk)
+        y[sl], dy[sl] = _grid_values(resp.take(np.arange(s0, min(s0 + chunk, n))), t[sl])
+    valid = j[:, :-1] < count[:, None]  # cells [j, j + 1] with j < count
+    rows = np.broadcast_to(np.arange(n)[:, None], valid.shape)[valid]
+    return _Cells(
+        rows,
+        t[:, :-1][valid],
+        t[:, 1:][valid],
+        y[:, :-1][valid],
+        y[:, 1:][valid],
+        dy[:, :-1][valid],
+        dy[:, 1:][valid],
+    )
+
+
+def _grid_cells_flat(resp: ModalResponse, lo: NDArray, hi: NDArray, count: NDArray) -> _Cells:
+    """:func:`_grid_cells` for very uneven cell counts (no padding to the largest)."""
+    rows = np.repeat(np.arange(lo.size), count + 1)
+    start = np.repeat(np.cumsum(count + 1) - (count + 1), count + 1)
+    j = np.arange(rows.size) - start
+    t = lo[rows] + (hi - lo)[rows] * (j / count[rows])
+    last = j == count[rows]
+    t[last] = hi[rows[last]]
+    y, dy = _evaluate_nodes(resp, rows, t)
+    left = ~last
+    right = np.roll(left, 1)  # the node after each left node
+    return _Cells(rows[left], t[left], t[right], y[left], y[right], dy[left], dy[right])
+
+
+def _cell_bound(cells: _Cells, curvature: NDArray) -> NDArray[np.float64]:
+    """Upper bound of ``y`` over each cell from its end values, end slopes and ``|y''| <= M``.
+
+    ``y(tl + s) <= L(s) = yl + dl s + M s^2 / 2`` and
+    ``y(tr - u) <= R(u) = yr - dr u + M u^2 / 2``; the maximum over the cell of
+    ``min(L, R)`` is at an end or where ``L = R`` (``L - R`` is linear in s).
+    Never above the interpolation bound ``max(yl, yr) + M w^2 / 8``.
+    """
+    w = cells.tr - cells.tl
+    m = curvature
+    yl, yr, dl, dr = cells.yl, cells.yr, cells.dl, cells.dr
+
+    def left(x: NDArray) -> NDArray:
+        return yl + dl * x + 0.5 * m * x * x
+
+    def right(x: NDArray) -> NDArray:
+        u = w - x
+        return yr - dr * u + 0.5 * m * u * u
+
+    zero = np.zeros_like(w)
+    ends = np.maximum(np.minimum(yl, right(zero)), np.minimum(left(w), yr))
+    slope = dl - dr + m * w
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = -(yl - yr + dr * w - 0.5 * m * w * w) / slope
+    inside = np.isfinite(x) & (x > 0) & (x < w)
+    xs = np.where(inside, x, 0.0)
+    cross = np.where(inside, np.minimum(left(xs), right(xs)), -np.inf)
+    taylor = np.maximum(ends, cross)
+    interp = np.maximum(yl, yr) + m * w * w / 8.0
+    return np.minimum(taylor, interp)
+
+
+def _keep_worst(cells: _Cells, score: NDArray, n_rows: int, cap: int) -> NDArray[np.intp]:
+    """Indices of the ``cap`` highest-scoring cells of each response."""
+    order = np.lexsort((-score, cells.row))
+    rows = cells.row[order]
+    first = np.searchsorted(rows, rows, side="left")
+    rank = np.arange(rows.size) - first
+    return np.sort(order[rank < cap])
+
+
+def certified_maximum(
     resp: ModalResponse,
     lo: NDArray,
     hi: NDArray,
-    iterations: int = 60,
-    rtol: float = 1e-11,
-    guess: NDArray | None = None,
+    h: NDArray,
+    *,
+    rtol: float = 1e-8,
+    parts: int = 16,
+    levels: int = 8,
+    cap: int = 64,
+    max_cells: int = 4096,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Maximum of ``y`` on ``[lo, hi]``, per response.
+    """Maximum of ``y`` over ``[lo, hi]`` per response, and where it is.
 
-    Where ``y'`` goes from + to - inside the bracket, Newton on ``y'`` finds the
-    stationary point; otherwise the better end point is returned.
+    Branch and bound on cells of width ``h``: every cell whose values, slopes
+    and curvature bound (:func:`_curvature_bound`) allow a value above the best
+    one found by more than ``rtol`` (relative) is split into ``parts`` cells,
+    ``levels`` times at most; every cell where ``y'`` changes from + to - is
+    solved by safeguarded Newton on ``y'``. The window ends count. The result is
+    never below the best sampled value; it is within ``rtol`` of the exact
+    maximum unless more than ``cap`` cells of a response stay open at a level
+    (a loose bound: only the ``cap`` most promising are kept).
+
+    Parameters
+    ----------
+    resp
+        Responses of N designs.
+    lo
+        ``(N,)`` window starts in s.
+    hi
+        ``(N,)`` window ends in s.
+    h
+        ``(N,)`` initial cell widths in s.
+    rtol
+        Relative tolerance of the maximum.
+    parts
+        Cells a cell is split into.
+    levels
+        Most splitting levels.
+    cap
+        Most open cells per response and level.
+    max_cells
+        Most open cells over all responses at a level.
     """
     lo = np.asarray(lo, dtype=float)
     hi = np.asarray(hi, dtype=float)
-    y_lo, d_lo = point_values(resp, lo, (0, 1))
-    y_hi, d_hi = point_values(resp, hi, (0, 1))
-    t_end = np.where(y_lo >= y_hi, lo, hi)
-    y_end = np.maximum(y_lo, y_hi)
-    bracketed = (d_lo > 0) & (d_hi <= 0)
-    t = t_end.copy()
-    y = y_end.copy()
-    idx = np.flatnonzero(bracketed)
-    if idx.size:
-        sub = resp.take(idx)
-        g = None if guess is None else np.asarray(guess, dtype=float)[idx]
-        ts = _safeguarded_newton(sub, lo[idx], hi[idx], 1, iterations, rtol, g)
-        (ys,) = point_values(sub, ts, (0,))
-        better = ys >= y_end[idx]
-        t[idx] = np.where(better, ts, t_end[idx])
-        y[idx] = np.where(better, ys, y_end[idx])
-    return t, y
+    n = lo.size
+    best_y = np.full(n, -np.inf)
+    best_t = lo.copy()
+    cells = _grid_cells(resp, lo, hi, np.asarray(h, dtype=float), max_cells)
+
+    def offer(rows: NDArray, t: NDArray, y: NDArray) -> None:
+        if rows.size == 0:
+            return
+        y = np.where(np.isnan(y), -np.inf, y)
+        if rows.size > 1 and np.any(rows[1:] < rows[:-1]):  # pragma: no cover - defensive
+            order = np.argsort(rows, kind="stable")
+            rows, t, y = rows[order], t[order], y[order]
+        start = np.flatnonzero(np.r_[True, rows[1:] != rows[:-1]])
+        r = rows[start]
+        cand_y = np.maximum.reduceat(y, start)
+        at_max = y == np.repeat(cand_y, np.diff(np.r_[start, rows.size]))
+        pos = np.arange(rows.size)
+        first = np.minimum.reduceat(np.where(at_max, pos, rows.size), start)
+        cand_t = t[np.minimum(first, rows.size - 1)]
+        better = cand_y > best_y[r]
+        best_y[r[better]] = cand_y[better]
+        best_t[r[better]] = cand_t[better]
+
+    offer(cells.row, cells.tl, cells.yl)
+    offer(cells.row, cells.tr, cells.yr)
+    for level in range(levels + 1):
+        # stationary maxima inside cells
+        sign = (cells.dl > 0) & (cells.dr <= 0)
+        if np.any(sign):
+            s = cells.take(np.flatnonzero(sign))
+            ts = _safeguarded_newton(resp.take(s.row), s.tl, s.tr, 1, 60, 1e-13)
+            (ys,) = point_values(resp.take(s.row), ts, (0,))
+            offer(s.row, ts, ys)
+        if level == levels or cells.row.size == 0:
+            break
+        width = cells.tr - cells.tl
+        bound = _cell_bound(cells, _curvature_bound(resp.take(cells.row), cells.tl, cells.tr))
+        tol = rtol * np.maximum(np.abs(best_y[cells.row]), 1e-300)
+        open_ = np.flatnonzero((bound > best_y[cells.row] + tol) & ~sign & (width > 0))
+        if open_.size == 0:
+            break
+        cells = cells.take(open_)
+        keep = _keep_worst(cells, bound[open_], n, cap)
+        cells = cells.take(keep)
+        cells, rows, ti, yi = cells.split(resp, parts)
+        offer(rows, ti, yi)
+    return best_t, best_y
+
+
+def certified_first_crossing(
+    resp: ModalResponse,
+    hi: NDArray,
+    h: NDArray,
+    *,
+    parts: int = 16,
+    levels: int = 6,
+    cap: int = 64,
+    max_cells: int = 4096,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Bracket of the first ``t > 0`` with ``y(t) <= 0``, given ``y(hi) <= 0``.
+
+    ``y`` is positive on the grid nodes before ``hi`` (the march found no
+    earlier crossing) but may dip below zero between two nodes. Cells whose
+    curvature bound allows a value <= 0 are split (``levels`` times at most, the
+    ``cap`` lowest bounds per response and level), and a cell where ``y'`` goes
+    from - to + is checked at its local minimum (Newton on ``y'``). Returns
+    ``(lo, hi)`` with ``y(lo) > 0 >= y(hi)`` and no crossing resolved before ``lo``.
+
+    Parameters
+    ----------
+    resp
+        Responses of N designs.
+    hi
+        ``(N,)`` times in s where ``y <= 0``.
+    h
+        ``(N,)`` grid steps in s of the march that found ``hi``.
+    parts
+        Cells a cell is split into.
+    levels
+        Most splitting levels.
+    cap
+        Most open cells per response and level.
+    max_cells
+        Most open cells over all responses at a level.
+    """
+    hi = np.asarray(hi, dtype=float).copy()
+    n = hi.size
+    cells = _grid_cells(resp, np.zeros(n), hi, np.asarray(h, dtype=float), max_cells)
+    lo_out = np.maximum(hi - np.asarray(h, dtype=float), 0.0)
+    # the last cell of each response ends at hi; its left node is the bracket start
+    last = np.r_[cells.row[1:] != cells.row[:-1], True]
+    lo_out[cells.row[last]] = cells.tl[last]
+
+    def found(rows: NDArray, tl: NDArray, tr: NDArray) -> None:
+        """Cells ``[tl, tr]`` with y(tl) > 0 >= y(tr): keep the earliest per response."""
+        if rows.size == 0:
+            return
+        order = np.lexsort((tr, rows))
+        r, first = np.unique(rows[order], return_index=True)
+        a, b = tl[order][first], tr[order][first]
+        earlier = b < hi[r]
+        hi[r[earlier]] = b[earlier]
+        lo_out[r[earlier]] = a[earlier]
+
+    for level in range(levels + 1):
+        live = cells.tl < hi[cells.row]
+        cells = cells.take(np.flatnonzero(live))
+        if cells.row.size == 0:
+            break
+        # a crossing between nodes already sampled (after a split)
+        cross = (cells.yl > 0) & (cells.yr <= 0)
+        found(cells.row[cross], cells.tl[cross], cells.tr[cross])
+        # local minima between nodes
+        dip = (cells.dl < 0) & (cells.dr >= 0) & (cells.yl > 0) & (cells.yr > 0)
+        if np.any(dip):
+            s = cells.take(np.flatnonzero(dip))
+            sub = resp.take(s.row)
+            # Newton on -y' (which goes from + to -)
+            neg = ModalResponse(sub.poles, -sub.residues, -sub.poly)
+            tm = _safeguarded_newton(neg, s.tl, s.tr, 1, 60, 1e-13)
+            (ym,) = point_values(sub, tm, (0,))
+            below = ym <= 0
+            if np.any(below):
+                # the crossing is in [tl, tm]: y(tl) > 0 >= y(tm)
+                rows_b = s.row[below]
+                found(rows_b, s.tl[below], tm[below])
+        if level == levels:
+            break
+        width = cells.tr - cells.tl
+        bound = (
+            np.minimum(cells.yl, cells.yr)
+            - _curvature_bound(resp.take(cells.row), cells.tl, cells.tr) * width**2 / 8.0
+        )
+        open_ = np.flatnonzero(
+            (bound <= 0) & (cells.yl > 0) & (cells.yr > 0) & (cells.tl < hi[cells.row])
+        )
+        if open_.size == 0:
+            break
+        cells = cells.take(open_)
+        cells = cells.take(_keep_worst(cells, -bound[open_], n, cap))
+        cells, _, _, _ = cells.split(resp, parts)
+    return lo_out, hi

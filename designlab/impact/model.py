@@ -40,16 +40,15 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cache
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import casadi as ca
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from designlab.symbolic import vectorize
+from designlab.symbolic import evaluate_batch
 
 if TYPE_CHECKING:  # pragma: no cover
     import control
@@ -68,25 +67,9 @@ PARAM_NAMES: tuple[str, ...] = ("M_r", "C_r", "K_r", "K_c", "C_c", "M_h", "C_h",
 INPUT_NAMES: tuple[str, ...] = ("s_c", "v_c", "a_d")
 
 
-@cache
-def _vectorized(f: ca.Function) -> Callable[..., list[NDArray[np.float64]]]:
-    return vectorize(f)
-
-
 def _evaluate(f: ca.Function, p: NDArray[np.float64]) -> list[NDArray[np.float64]]:
-    """Evaluate ``f`` for each row of ``p``: dense outputs of shape ``(numel, N)``.
-
-    Small batches call CasADi directly; large ones replay the SX instructions
-    with numpy on the whole batch (:func:`designlab.symbolic.vectorize`).
-    """
-    if p.shape[0] > 8:
-        return _vectorized(f)(p.T)
-    rows = [f(row) for row in p]
-    rows = [r if isinstance(r, (list, tuple)) else [r] for r in rows]
-    return [
-        np.stack([np.asarray(r[k], dtype=float).ravel(order="F") for r in rows], axis=1)
-        for k in range(f.n_out())
-    ]
+    """Evaluate ``f`` for each row of ``p`` (:func:`designlab.symbolic.evaluate_batch`)."""
+    return evaluate_batch(f, p)
 
 
 def _faddeev_leverrier(a: ca.SX) -> tuple[list[ca.SX], list[ca.SX]]:
@@ -129,6 +112,14 @@ class LinearImpactModel:
     ramp_tf
         ``casadi.Function`` ``p -> (den, num_0, ...)`` of the constant-velocity
         impact: ``Y(s) = v_c num(s) / (s^2 den(s))``, numerators of length ``n+2``.
+    state_names
+        Names of the states, in order.
+    output_names
+        Names of the outputs, in order.
+    param_names
+        Names of the parameters, in order (:data:`PARAM_NAMES`).
+    input_names
+        Names of the inputs, in order.
     """
 
     name: str
@@ -200,7 +191,19 @@ class LinearImpactModel:
         return tuple(np.asarray(r, dtype=float) for r in res)
 
 
-def _build(name: str, constrained: bool) -> LinearImpactModel:
+#: Outputs of both models, in the order of ``y``.
+OUTPUT_NAMES: tuple[str, ...] = (
+    "force",
+    "head_acceleration",
+    "compression",
+    "compression_rate",
+    "head_velocity",
+    "robot_deflection",
+)
+
+
+def _equations(constrained: bool) -> tuple[ca.SX, ca.SX, ca.SX, ca.SX, ca.SX, tuple[str, ...]]:
+    """The model in symbols: ``(x, u, p, xdot, y, state_names)``, (3.5.1)-(3.5.3)."""
     p = ca.SX.sym("p", len(PARAM_NAMES))
     m_r, c_r, k_r, k_c, c_c, m_h, c_h, k_h = (p[i] for i in range(len(PARAM_NAMES)))
     u = ca.SX.sym("u", len(INPUT_NAMES))
@@ -225,60 +228,52 @@ def _build(name: str, constrained: bool) -> LinearImpactModel:
     else:
         a_h = (f_c - c_h * d_h_dot - k_h * d_h) / m_h  # (3.5.3); torso acceleration is 0
         xdot = ca.vertcat(d_r_dot, d_r_ddot, d_h_dot, a_h)
-
-    output_names = (
-        "force",
-        "head_acceleration",
-        "compression",
-        "compression_rate",
-        "head_velocity",
-        "robot_deflection",
-    )
     y = ca.vertcat(f_c, a_h, compression, compression_rate, d_h_dot, d_r)
+    return x, u, p, xdot, y, state_names
 
-    ode = ca.Function(f"impact_{name}_ode", [x, u, p], [xdot], ["x", "u", "p"], ["xdot"])
-    outputs = ca.Function(f"impact_{name}_outputs", [x, u, p], [y], ["x", "u", "p"], ["y"])
-    a_mat = ca.jacobian(xdot, x)
-    b_mat = ca.jacobian(xdot, u)
-    c_mat = ca.jacobian(y, x)
-    d_mat = ca.jacobian(y, u)
-    state_space = ca.Function(
-        f"impact_{name}_ss", [p], [a_mat, b_mat, c_mat, d_mat], ["p"], ["A", "B", "C", "D"]
-    )
 
-    # Transfer functions: G(s) = (C adj(sI-A) B + D det(sI-A)) / det(sI-A).
-    n = x.shape[0]
+def _tf_numerators(a_mat: ca.SX, b_mat: ca.SX, c_mat: ca.SX, d_mat: ca.SX) -> tuple[ca.SX, list]:
+    """``den`` and one numerator matrix per output (rows: inputs; descending powers of s).
+
+    G(s) = (C adj(sI-A) B + D det(sI-A)) / det(sI-A), by Faddeev-LeVerrier.
+    """
+    n = a_mat.shape[0]
     coeffs, adj = _faddeev_leverrier(a_mat)
     den = ca.vertcat(*coeffs)  # descending powers, length n+1
     nums = []
-    for k in range(len(output_names)):
+    for k in range(len(OUTPUT_NAMES)):
         rows = []
         for j in range(len(INPUT_NAMES)):
-            # numerator coefficients, descending powers s^n ... s^0
             poly = [d_mat[k, j] * coeffs[0]]
             for i in range(1, n + 1):
                 poly.append(c_mat[k, :] @ adj[i - 1] @ b_mat[:, j] + d_mat[k, j] * coeffs[i])
             rows.append(ca.horzcat(*poly))
         nums.append(ca.simplify(ca.vertcat(*rows)))
+    return den, nums
+
+
+def _build(name: str, constrained: bool) -> LinearImpactModel:
+    """Both numerical faces of one model: ODE, outputs, state space, transfer functions."""
+    x, u, p, xdot, y, state_names = _equations(constrained)
+    ode = ca.Function(f"impact_{name}_ode", [x, u, p], [xdot], ["x", "u", "p"], ["xdot"])
+    outputs = ca.Function(f"impact_{name}_outputs", [x, u, p], [y], ["x", "u", "p"], ["y"])
+    a_mat, b_mat = ca.jacobian(xdot, x), ca.jacobian(xdot, u)
+    c_mat, d_mat = ca.jacobian(y, x), ca.jacobian(y, u)
+    state_space = ca.Function(
+        f"impact_{name}_ss", [p], [a_mat, b_mat, c_mat, d_mat], ["p"], ["A", "B", "C", "D"]
+    )
+    den, nums = _tf_numerators(a_mat, b_mat, c_mat, d_mat)
+    num_names = [f"num_{o}" for o in OUTPUT_NAMES]
     tf = ca.Function(
-        f"impact_{name}_tf",
-        [p],
-        [ca.simplify(den), *nums],
-        ["p"],
-        ["den", *[f"num_{o}" for o in output_names]],
+        f"impact_{name}_tf", [p], [ca.simplify(den), *nums], ["p"], ["den", *num_names]
     )
     # Constant-velocity impact, u = v_c [1/s^2, 1/s, 0]: Y(s) = v_c (N_sc + s N_vc) / (s^2 den)
-    ramps = []
-    for k in range(len(output_names)):
-        n_sc = ca.horzcat(ca.SX(0.0), nums[k][0, :])
-        n_vc = ca.horzcat(nums[k][1, :], ca.SX(0.0))
-        ramps.append(ca.simplify(n_sc + n_vc))
+    ramps = [
+        ca.simplify(ca.horzcat(ca.SX(0.0), nums[k][0, :]) + ca.horzcat(nums[k][1, :], ca.SX(0.0)))
+        for k in range(len(OUTPUT_NAMES))
+    ]
     ramp_tf = ca.Function(
-        f"impact_{name}_ramp_tf",
-        [p],
-        [ca.simplify(den), *ramps],
-        ["p"],
-        ["den", *[f"num_{o}" for o in output_names]],
+        f"impact_{name}_ramp_tf", [p], [ca.simplify(den), *ramps], ["p"], ["den", *num_names]
     )
     return LinearImpactModel(
         name=name,
@@ -288,7 +283,7 @@ def _build(name: str, constrained: bool) -> LinearImpactModel:
         tf=tf,
         ramp_tf=ramp_tf,
         state_names=state_names,
-        output_names=output_names,
+        output_names=OUTPUT_NAMES,
     )
 
 
@@ -308,6 +303,15 @@ def param_vector(robot: object, foam: object, head: object | None) -> NDArray[np
     """Stack parameter objects into the model's parameter vector :data:`PARAM_NAMES`.
 
     ``head`` may be ``None`` for the constrained model (its entries are then 1, 0, 0).
+
+    Parameters
+    ----------
+    robot
+        Effective manipulator (mass, stiffness, damping).
+    foam
+        The foam (stiffness, damping).
+    head
+        The head-neck (``None``: a constrained head; its entries are NaN).
     """
     if head is None:
         hm, hc, hk = 1.0, 0.0, 0.0
@@ -329,7 +333,7 @@ def param_vector(robot: object, foam: object, head: object | None) -> NDArray[np
 
 
 def printed_q2_correction(params: NDArray[np.float64]) -> NDArray[np.float64]:
-    """The term C_r C_h/(M_r M_h) that the thesis's printed q2 omits (DECISIONS I1).
+    """The term C_r C_h/(M_r M_h) that the thesis's printed q2 omits (docs/impact.md, "q2").
 
     The *printed* denominator is the physical one minus this term on s^2.
     """
@@ -359,7 +363,7 @@ def transfer_functions(
     impact_velocity
         v_c in m/s.
     q2
-        ``"correct"`` (default, DECISIONS I1) or ``"printed"`` to reproduce the
+        ``"correct"`` (default, docs/impact.md, "q2") or ``"printed"`` to reproduce the
         thesis's q2 without the C_r C_h/(M_r M_h) term.
 
     Examples
@@ -390,6 +394,24 @@ def transfer_functions(
         nm = num[name][0]
         # ramp input u = v_c [1/s^2, 1/s, 0]: N(s) = N_sc(s) + s N_vc(s)
         combined = np.polyadd(nm[0], np.polymul(nm[1], [1.0, 0.0])) * impact_velocity
-        tf = control.tf(np.trim_zeros(combined, "f") if np.any(combined) else [0.0], s2den)
-        out[name] = tf.minreal(tol=1e-9) if np.any(combined) else tf
+        out[name] = _cancel_ramp_poles(control, combined, s2den)
     return out
+
+
+def _cancel_ramp_poles(control: Any, num: NDArray, s2den: NDArray) -> Any:
+    """``num / s2den`` with the removable poles at s = 0 cancelled exactly.
+
+    The ramp input puts a double pole at the origin (``s2den = s^2 den``);
+    wherever the numerator has zeros at the origin (trailing zero
+    coefficients, zero up to the round-off of the coefficient evaluation,
+    1e-10 of the largest), the same powers of s are removed from both
+    polynomials. No other pole-zero pair is touched (no numerical ``minreal``).
+    """
+    num = np.trim_zeros(np.asarray(num, dtype=float), "f")
+    if num.size == 0 or not np.any(num):
+        return control.tf([0.0], [1.0])
+    scale = float(np.max(np.abs(num)))
+    k = 0
+    while k < 2 and num.size - k > 1 and abs(num[num.size - 1 - k]) <= 1e-10 * scale:
+        k += 1
+    return control.tf(num[: num.size - k], s2den[: s2den.size - k])

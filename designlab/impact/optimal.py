@@ -27,13 +27,14 @@ Examples
 >>> import designlab as dl
 >>> opt = dl.impact.optimal_foam(dl.impact.MANIPULATOR_1, impact_velocity=1.25)
 >>> opt.status, bool(opt.margin > 0)
-('optimal', True)
+('ok', True)
 >>> bool(20e3 < opt.stiffness < 40e3)
 True
 """
 
 from __future__ import annotations
 
+import logging
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -43,60 +44,60 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from designlab.errors import InvalidParameterError
+from designlab.errors import (
+    InvalidParameterError,
+    check_finite,
+    check_nonnegative,
+    check_positive,
+)
 from designlab.impact.criteria import Criterion
 from designlab.impact.derivatives import metric_gradients
-from designlab.impact.envelope import COMPRESSION, HeadRange, _make_problem, _Problem
-from designlab.impact.metrics import impact_metrics
+from designlab.impact.envelope import HeadRange, _make_problem, _Problem
+from designlab.impact.metric_names import PARAMETERS
+from designlab.impact.model import PARAM_NAMES
 from designlab.impact.parameters import ContactDynamics, LinkImpact
+from designlab.results import OK, Result
+from designlab.validation import check_choice, check_int
 
 __all__ = ["OptimalFoam", "optimal_foam"]
+
+log = logging.getLogger(__name__)
 
 _METRIC_ATTR = {
     "head_acceleration": "peak_head_acceleration",
     "force": "peak_force",
-    COMPRESSION: "max_compression",
+    "compression": "max_compression",
 }
 
 
-def _key_name(key: str | Criterion) -> str:
-    return COMPRESSION if key == COMPRESSION else key.name  # type: ignore[union-attr]
-
-
-def _exponent(key: str | Criterion) -> float:
-    return 1.0 if key == COMPRESSION else key.velocity_exponent  # type: ignore[union-attr]
-
-
-def _worst_design(prob: _Problem, key: str | Criterion, k: float, c: float):
+def _worst_design(
+    prob: _Problem, key: Criterion, k: float, c: float
+) -> tuple[NDArray, float, float]:
     """Parameters and velocity of the worst case of ``key`` for foam ``(k, c)``."""
     vals, lev = prob.worst(key, np.array([k]), np.array([c]))
     params, vv, _ = prob.designs(key, np.array([k]), np.array([c]), lev)
-    if key == COMPRESSION:
-        m = impact_metrics(params, vv, constrained=prob.constrained, with_force=False)
-        each = m.max_compression
-    else:
-        each = key.values(params, vv, constrained=prob.constrained)  # type: ignore[union-attr]
+    each = key.values(params, vv, constrained=prob.constrained, stop_time=prob.stop_time)
     j = int(np.argmax(each))
     return params[j], float(vv[j]), float(vals[0])
 
 
-def _gradient_kc(prob: _Problem, key: str | Criterion, k: float, c: float) -> tuple[float, NDArray]:
+def _gradient_kc(prob: _Problem, key: Criterion, k: float, c: float) -> tuple[float, NDArray]:
     """Worst-case metric and its gradient w.r.t. (K_c, C_c)."""
     p, v, val = _worst_design(prob, key, k, c)
-    metric = "compression" if key == COMPRESSION else key.metric  # type: ignore[union-attr]
-    if metric == "hic":
+    if key.metric == "hic":
         grads = []
         for j, x in ((3, k), (4, c)):
             h = max(abs(x), 1.0) * 1e-6
             up, dn = p.copy(), p.copy()
             up[j] += h
             dn[j] -= h
-            fu = key.values(up[None, :], np.array([v]))[0]  # type: ignore[union-attr]
-            fd = key.values(dn[None, :], np.array([v]))[0]  # type: ignore[union-attr]
+            fu = key.values(up[None, :], np.array([v]))[0]
+            fd = key.values(dn[None, :], np.array([v]))[0]
             grads.append((fu - fd) / (2 * h))
         return val, np.array(grads)
-    attr = _METRIC_ATTR[metric if metric != "compression" else COMPRESSION]
-    g = metric_gradients(p, v, constrained=prob.constrained).gradients[attr][0]
+    g = metric_gradients(
+        np.atleast_2d(p), v, columns=PARAM_NAMES, constrained=prob.constrained
+    ).gradients[_METRIC_ATTR[key.metric]][0]
     return val, g[[3, 4]]
 
 
@@ -121,8 +122,8 @@ class _Margins(ca.Callback):
     def get_sparsity_out(self, i: int) -> ca.Sparsity:
         return ca.Sparsity.dense(len(self.keys), 1)
 
-    def _limit(self, key: str | Criterion, lam: float) -> float:
-        return lam if key == COMPRESSION else self.prob.limit(key)
+    def _limit(self, key: Criterion, lam: float) -> float:
+        return lam if key.boundary == "lower" else key.limit
 
     def eval(self, arg):  # type: ignore[no-untyped-def]
         u, c, ul = (float(a) for a in np.asarray(arg[0]).ravel())
@@ -168,13 +169,13 @@ class _MarginJacobian(ca.Callback):
             val, g = _gradient_kc(self.parent.prob, key, k, c)
             jac[i, 0] = -g[0] * k / val
             jac[i, 1] = -g[1] / val
-            if key == COMPRESSION:
+            if key.boundary == "lower":
                 jac[i, 2] = 1.0
         return [ca.DM(jac)]
 
 
 @dataclass(frozen=True)
-class OptimalFoam:
+class OptimalFoam(Result):
     """Result of :func:`optimal_foam`.
 
     Attributes
@@ -186,8 +187,10 @@ class OptimalFoam:
     margins
         Per constraint name, its margin at the optimum.
     status
-        ``"optimal"`` (margin >= 0), ``"empty"`` (the best foam violates a
-        constraint: no feasible foam at this velocity), or ``"solver_failed: ..."``.
+        ``"ok"`` (optimum found, margin >= 0), ``"empty"`` (the best foam
+        violates a constraint: no feasible foam at this velocity), or
+        ``"solver_failed"`` (IPOPT did not converge; see ``warnings``: the
+        better of the grid start and the last iterate is returned).
     reopen_velocity_factor
         For an empty region: the factor by which all speeds must be scaled for
         the region to reopen (< 1); 1 otherwise.
@@ -195,6 +198,16 @@ class OptimalFoam:
         ``reopen_velocity_factor * impact_velocity`` (NaN for a LinkImpact robot).
     grid_margin
         Best margin found by the starting grid search (for comparison).
+    impact_velocity
+        Closing speed v_c in m/s the foam was optimised for.
+    iterations
+        IPOPT iterations.
+    objective
+        ``"margin"`` or ``"thinnest"``.
+    warnings
+        What a user should know (solver fallbacks, constraints active).
+    stats
+        IPOPT's statistics.
     """
 
     stiffness: float
@@ -202,19 +215,29 @@ class OptimalFoam:
     linear_depth: float
     margin: float
     margins: dict[str, float]
-    status: str
     impact_velocity: float
     reopen_velocity_factor: float
     reopen_velocity: float
     grid_margin: float
     iterations: int
     objective: str
+    status: str = OK
+    warnings: tuple[str, ...] = ()
     stats: dict = field(default_factory=dict, repr=False)
 
     @property
     def headroom(self) -> float:
         """Smallest fractional headroom below a limit, ``exp(margin) - 1``."""
         return math.expm1(self.margin)
+
+    @property
+    def binding(self) -> tuple[str, ...]:
+        """Constraints whose margin equals the worst one (within 1e-4)."""
+        return tuple(k for k, m in self.margins.items() if m - self.margin < 1e-4)
+
+    def damping_ratio(self, head_mass: float = 4.4) -> float:
+        """xi_c = C_c / (2 sqrt(M_h K_c)) of the optimum (thesis convention, 4.4 kg)."""
+        return self.damping / (2.0 * math.sqrt(head_mass * self.stiffness))
 
     def to_frame(self) -> pd.DataFrame:
         """One row per constraint at the optimum."""
@@ -225,6 +248,144 @@ class OptimalFoam:
                 "headroom_percent": [100 * math.expm1(m) for m in self.margins.values()],
             }
         )
+
+
+@dataclass(frozen=True)
+class _Start:
+    """The starting grid search: metrics on (ln K_c, C_c), admissible points, best point."""
+
+    uu: NDArray[np.float64]
+    cc: NDArray[np.float64]
+    metrics: dict[str, NDArray[np.float64]]
+    allowed: NDArray[np.bool_]
+    x0: list[float]
+    margin: float
+
+    def margins(self, keys: list[Criterion], lam: float, shift: float = 0.0) -> NDArray:
+        """Worst margin at every grid point for depth ``lam``, speeds scaled by ``e^shift``."""
+        out = np.full(self.uu.shape, np.inf)
+        for key in keys:
+            lim = lam if key.boundary == "lower" else key.limit
+            with np.errstate(divide="ignore"):
+                g = math.log(lim) - np.log(np.maximum(self.metrics[key.name], 1e-300))
+            out = np.minimum(out, g - key.velocity_exponent * shift)
+        return np.where(self.allowed, out, -np.inf)
+
+
+def _check_range(
+    name: str, bounds: object, unit: str, *, low_zero: bool = False
+) -> tuple[float, float]:
+    try:
+        lo, hi = bounds  # type: ignore[misc]
+    except (TypeError, ValueError):
+        raise InvalidParameterError(name, bounds, "must be a pair (low, high)", unit) from None
+    lo = check_nonnegative(name, lo, unit) if low_zero else check_positive(name, lo, unit)
+    hi = check_positive(name, hi, unit)
+    if not lo < hi:
+        raise InvalidParameterError(name, bounds, "needs low < high", unit)
+    return lo, hi
+
+
+def _grid_start(
+    prob: _Problem,
+    k_range: tuple[float, float],
+    c_range: tuple[float, float],
+    lam: float,
+    xi_range: tuple[float, float] | None,
+    head_mass: float,
+    grid: int,
+) -> _Start:
+    """Step 1: worst-case metrics on a (ln K_c, C_c) grid; the best admissible point."""
+    ug = np.linspace(math.log(k_range[0]), math.log(k_range[1]), grid)
+    cg = np.linspace(c_range[0], c_range[1], grid)
+    uu, cc = np.meshgrid(ug, cg, indexing="ij")
+    metrics = {}
+    for key in prob.keys():
+        vals, _ = prob.worst(key, np.exp(uu.ravel()), cc.ravel())
+        metrics[key.name] = vals.reshape(uu.shape)
+    if xi_range is not None:
+        xi_grid = cc / (2.0 * np.sqrt(head_mass * np.exp(uu)))
+        allowed = (xi_grid >= xi_range[0]) & (xi_grid <= xi_range[1])
+    else:
+        allowed = np.ones(uu.shape, dtype=bool)
+    if not np.any(allowed):
+        raise InvalidParameterError(
+            "damping_ratio_bounds",
+            xi_range,
+            "leaves no foam inside stiffness_bounds x damping_bounds",
+        )
+    start = _Start(uu, cc, metrics, allowed, [], 0.0)
+    gm = start.margins(prob.keys(), lam)
+    i0 = np.unravel_index(int(np.argmax(gm)), gm.shape)
+    return _Start(uu, cc, metrics, allowed, [float(uu[i0]), float(cc[i0]), math.log(lam)],
+                  float(gm[i0]))  # fmt: skip
+
+
+def _solve_nlp(
+    cb: _Margins,
+    start: _Start,
+    k_range: tuple[float, float],
+    c_range: tuple[float, float],
+    t_range: tuple[float, float],
+    objective: str,
+    min_margin: float,
+    xi_range: tuple[float, float] | None,
+    head_mass: float,
+    ipopt_options: dict | None,
+) -> tuple[NDArray, bool, dict, str]:
+    """Step 2: the margin (or thinnest-foam) problem with CasADi/IPOPT."""
+    n_keys = len(cb.keys)
+    x = ca.MX.sym("x", 4)  # ln K, C, ln lambda, s
+    g_all = cb(x[:3])
+    lbx = [math.log(k_range[0]), c_range[0], math.log(t_range[0]), -50.0]
+    ubx = [math.log(k_range[1]), c_range[1], math.log(t_range[1]), 50.0]
+    if objective == "margin":
+        f, g = -x[3], g_all - x[3]
+        x_init = [*start.x0, start.margin]
+    else:
+        f, g = x[2], g_all - min_margin
+        lbx[3] = ubx[3] = 0.0
+        x_init = [*start.x0, 0.0]
+    lbg = [0.0] * n_keys
+    ubg = [ca.inf] * n_keys
+    if xi_range is not None:
+        # xi_lo <= C / (2 sqrt(M_h K)) <= xi_hi, written smoothly in (ln K, C)
+        root = 2.0 * math.sqrt(head_mass) * ca.exp(x[0] / 2)
+        g = ca.vertcat(g, x[1] - xi_range[0] * root, xi_range[1] * root - x[1])
+        lbg += [0.0, 0.0]
+        ubg += [ca.inf, ca.inf]
+    opts = {
+        "ipopt.print_level": 0,
+        "print_time": False,
+        "ipopt.sb": "yes",
+        "ipopt.hessian_approximation": "limited-memory",
+        "ipopt.tol": 1e-8,
+        "ipopt.acceptable_tol": 1e-6,
+        "ipopt.max_iter": 200,
+    }
+    opts.update({f"ipopt.{k}": v for k, v in (ipopt_options or {}).items()})
+    solver = ca.nlpsol("optimal_foam", "ipopt", {"x": x, "f": f, "g": g}, opts)
+    try:
+        sol = solver(x0=x_init, lbx=lbx, ubx=ubx, lbg=lbg, ubg=ubg)
+    except RuntimeError as exc:  # pragma: no cover - IPOPT failures are reported, not raised
+        return np.array(x_init), False, {"error": str(exc)}, str(exc)
+    stats = dict(solver.stats())
+    ok = bool(stats.get("success", False))
+    return np.asarray(sol["x"]).ravel(), ok, stats, str(stats.get("return_status", "unknown"))
+
+
+def _reopen_factor(start: _Start, keys: list[Criterion], lam: float, margin: float) -> float:
+    """Step 3: the speed factor at which an empty region reopens (metrics ~ v_c ** e)."""
+    if all(k.velocity_exponent == 1.0 for k in keys):
+        return math.exp(margin)
+    lo, hi = margin, 0.0  # shift = ln(factor): at lo every constraint reopens
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if np.max(start.margins(keys, lam, mid)) >= 0:
+            lo = mid
+        else:
+            hi = mid
+    return math.exp(lo)
 
 
 def optimal_foam(
@@ -248,6 +409,10 @@ def optimal_foam(
 ) -> OptimalFoam:
     """Choose the foam (K_c, C_c and optionally lambda) with the best worst-case margin.
 
+    Three steps: a grid search for a start (:func:`_grid_start`), the
+    nonlinear program (:func:`_solve_nlp`), and, for an empty region, the speed
+    at which it reopens (:func:`_reopen_factor`).
+
     Parameters
     ----------
     robot, impact_velocity, criteria, max_compression, head_range, constrained, human_speed
@@ -266,6 +431,11 @@ def optimal_foam(
         convention, ``head_mass_for_ratio`` = 4.4 kg). The default keeps to
         elastomeric foams, xi_c = 0.05-0.2 (Rivin 2003, quoted by the thesis);
         ``None`` lifts it.
+    min_margin
+        Smallest worst-case margin, ``min_i ln(limit_i / metric_i)``, that the
+        ``"thinnest"`` objective must keep (0.05 ~ 5 % headroom).
+    head_mass_for_ratio
+        Head mass of the damping-ratio convention, kg (thesis: 4.4 kg).
     grid
         Points per axis of the starting grid search.
     ipopt_options
@@ -274,163 +444,92 @@ def optimal_foam(
     Returns
     -------
     OptimalFoam
+
+    Examples
+    --------
+    >>> import designlab as dl
+    >>> opt = dl.impact.optimal_foam(dl.impact.MANIPULATOR_1, 1.25)
+    >>> opt.status, round(opt.stiffness / 1e3, 1), round(opt.damping_ratio(), 2)
+    ('ok', 25.2, 0.2)
     """
-    if objective not in ("margin", "thinnest"):
-        raise InvalidParameterError("objective", objective, "must be 'margin' or 'thinnest'")
+    objective = check_choice("objective", objective, ("margin", "thinnest"))
     if objective == "thinnest" and thickness_bounds is None:
         raise InvalidParameterError(
             "thickness_bounds", None, "is needed with objective='thinnest'", "m"
         )
-    klo, khi = stiffness_bounds
-    clo, chi = damping_bounds
-    if not (0 < klo < khi and np.isfinite(khi)):
-        raise InvalidParameterError(
-            "stiffness_bounds", stiffness_bounds, "need 0 < low < high", "N/m"
-        )
-    if not (0 <= clo < chi and np.isfinite(chi)):
-        raise InvalidParameterError(
-            "damping_bounds", damping_bounds, "need 0 <= low < high", "N s/m"
-        )
+    k_range = _check_range("stiffness_bounds", stiffness_bounds, PARAMETERS["K_c"].unit)
+    c_range = _check_range("damping_bounds", damping_bounds, "N s/m", low_zero=True)
     if thickness_bounds is not None:
         tlo, thi = thickness_bounds
-        if not (0 < tlo <= thi and np.isfinite(thi)):
+        tlo, thi = (
+            check_positive("thickness_bounds", tlo, "m"),
+            check_positive("thickness_bounds", thi, "m"),
+        )
+        if tlo > thi:
             raise InvalidParameterError(
-                "thickness_bounds", thickness_bounds, "need 0 < low <= high", "m"
+                "thickness_bounds", thickness_bounds, "need low <= high", "m"
             )
-        lam0 = thi
     else:
-        tlo = thi = lam0 = max_compression
+        tlo = thi = check_positive("max_compression", max_compression, "m")
+    xi_range = None
+    if damping_ratio_bounds is not None:
+        xi_range = _check_range("damping_ratio_bounds", damping_ratio_bounds, "", low_zero=True)
+    head_mass = check_positive("head_mass_for_ratio", head_mass_for_ratio, "kg")
+    grid = check_int("grid", grid, minimum=2)
+    min_margin = check_finite("min_margin", min_margin)
     prob = _make_problem(
-        robot, impact_velocity, criteria, lam0, head_range, constrained, human_speed, 0.05
+        robot, impact_velocity, criteria, thi, head_range, constrained, human_speed, 0.05
     )
     keys = prob.keys()
 
-    # starting grid: metrics on (ln K, C), margins at the largest lambda
-    ug = np.linspace(math.log(klo), math.log(khi), grid)
-    cg = np.linspace(clo, chi, grid)
-    uu, cc = np.meshgrid(ug, cg, indexing="ij")
-    metric_grid = {}
-    for key in keys:
-        vals, _ = prob.worst(key, np.exp(uu.ravel()), cc.ravel())
-        metric_grid[_key_name(key)] = vals.reshape(uu.shape)
-
-    def grid_margins(lam: float, shift: float = 0.0) -> NDArray:
-        out = np.full(uu.shape, np.inf)
-        for key in keys:
-            lim = lam if key == COMPRESSION else prob.limit(key)
-            with np.errstate(divide="ignore"):
-                g = math.log(lim) - np.log(np.maximum(metric_grid[_key_name(key)], 1e-300))
-            out = np.minimum(out, g - _exponent(key) * shift)
-        return out
-
-    if damping_ratio_bounds is not None:
-        xlo, xhi = damping_ratio_bounds
-        if not (0 <= xlo <= xhi and np.isfinite(xhi)):
-            raise InvalidParameterError(
-                "damping_ratio_bounds", damping_ratio_bounds, "need 0 <= low <= high"
-            )
-        xi_grid = cc / (2.0 * np.sqrt(head_mass_for_ratio * np.exp(uu)))
-        allowed = (xi_grid >= xlo) & (xi_grid <= xhi)
-    else:
-        allowed = np.ones(uu.shape, dtype=bool)
-    if not np.any(allowed):
-        raise InvalidParameterError(
-            "damping_ratio_bounds",
-            damping_ratio_bounds,
-            "leaves no foam inside stiffness_bounds x damping_bounds",
-        )
-    gm = np.where(allowed, grid_margins(thi), -np.inf)
-    i0 = np.unravel_index(int(np.argmax(gm)), gm.shape)
-    grid_best = float(gm[i0])
-    x0 = [float(uu[i0]), float(cc[i0]), math.log(thi)]
-
+    start = _grid_start(prob, k_range, c_range, thi, xi_range, head_mass, grid)
     cb = _Margins("margins", prob)
-    x = ca.MX.sym("x", 4)  # ln K, C, ln lambda, s
-    g_all = cb(x[:3])
-    if objective == "margin":
-        f = -x[3]
-        g = g_all - x[3]
-        lbx = [math.log(klo), clo, math.log(tlo), -50.0]
-        ubx = [math.log(khi), chi, math.log(thi), 50.0]
-        if thickness_bounds is None:
-            lbx[2] = ubx[2] = math.log(lam0)
-        x_init = [*x0, grid_best]
-    else:
-        f = x[2]
-        g = g_all - min_margin
-        lbx = [math.log(klo), clo, math.log(tlo), 0.0]
-        ubx = [math.log(khi), chi, math.log(thi), 0.0]
-        x_init = [*x0, 0.0]
-    lbg = [0.0] * len(keys)
-    ubg = [ca.inf] * len(keys)
-    if damping_ratio_bounds is not None:
-        # xi_lo <= C / (2 sqrt(M_h K)) <= xi_hi, written smoothly in (ln K, C)
-        root = 2.0 * math.sqrt(head_mass_for_ratio) * ca.exp(x[0] / 2)
-        g = ca.vertcat(
-            g, x[1] - damping_ratio_bounds[0] * root, damping_ratio_bounds[1] * root - x[1]
-        )
-        lbg += [0.0, 0.0]
-        ubg += [ca.inf, ca.inf]
-    opts = {
-        "ipopt.print_level": 0,
-        "print_time": False,
-        "ipopt.sb": "yes",
-        "ipopt.hessian_approximation": "limited-memory",
-        "ipopt.tol": 1e-8,
-        "ipopt.acceptable_tol": 1e-6,
-        "ipopt.max_iter": 200,
-    }
-    opts.update({f"ipopt.{k}": v for k, v in (ipopt_options or {}).items()})
-    solver = ca.nlpsol("optimal_foam", "ipopt", {"x": x, "f": f, "g": g}, opts)
-    try:
-        sol = solver(x0=x_init, lbx=lbx, ubx=ubx, lbg=lbg, ubg=ubg)
-        stats = dict(solver.stats())
-        ok = bool(stats.get("success", False))
-        xs = np.asarray(sol["x"]).ravel()
-        status = "optimal" if ok else f"solver_failed: {stats.get('return_status', 'unknown')}"
-    except RuntimeError as exc:  # pragma: no cover - IPOPT failures are reported, not raised
-        stats, ok = {"error": str(exc)}, False
-        xs = np.array([*x_init])
-        status = f"solver_failed: {exc}"
-
-    k_opt, c_opt, lam_opt = math.exp(xs[0]), float(xs[1]), math.exp(xs[2])
-    gvals = np.asarray(cb(ca.DM([xs[0], xs[1], xs[2]]))).ravel()
-    margins = {_key_name(key): float(gvals[i]) for i, key in enumerate(keys)}
+    xs, ok, stats, message = _solve_nlp(
+        cb, start, k_range, c_range, (tlo, thi), objective, min_margin, xi_range, head_mass,
+        ipopt_options,
+    )  # fmt: skip
+    if thickness_bounds is None:
+        xs[2] = math.log(thi)
+    gvals = np.asarray(cb(ca.DM(xs[:3].tolist()))).ravel()
+    warnings: list[str] = []
+    status = OK
+    log.info(
+        "optimal_foam: grid start margin %+.4f; IPOPT %s after %s iterations",
+        start.margin, message, stats.get("iter_count", "?"),
+    )  # fmt: skip
+    if not ok:
+        status = "solver_failed"
+        warnings.append(f"IPOPT did not converge ({message})")
+        g0 = np.asarray(cb(ca.DM(start.x0))).ravel()
+        if start.margin > float(gvals.min()):
+            xs = np.array([*start.x0, 0.0])
+            gvals = g0
+            warnings.append("the grid start is returned: it has the better margin")
+        log.warning("optimal_foam: %s", "; ".join(warnings))
+    margins = {key.name: float(gvals[i]) for i, key in enumerate(keys)}
     margin = float(min(margins.values()))
-    if not ok and grid_best > margin:
-        # keep the better of the grid point and the failed solve, and say so
-        k_opt, c_opt, lam_opt = math.exp(x0[0]), x0[1], math.exp(x0[2])
-        gvals = np.asarray(cb(ca.DM(x0))).ravel()
-        margins = {_key_name(key): float(gvals[i]) for i, key in enumerate(keys)}
-        margin = float(min(margins.values()))
-
     factor = 1.0
-    if objective == "margin" and margin < 0 and not status.startswith("solver_failed"):
+    if objective == "margin" and margin < 0 and ok:
         status = "empty"
-        if all(_exponent(k) == 1.0 for k in keys):
-            factor = math.exp(margin)
-        else:
-            lo, hi = margin, 0.0  # shift = ln(factor): at lo every constraint reopens
-            for _ in range(60):
-                mid = 0.5 * (lo + hi)
-                if np.max(np.where(allowed, grid_margins(thi, mid), -np.inf)) >= 0:
-                    lo = mid
-                else:
-                    hi = mid
-            factor = math.exp(lo)
+        factor = _reopen_factor(start, keys, thi, margin)
+        warnings.append(
+            f"no foam meets every constraint at this velocity (best margin {margin:+.3f}); "
+            f"the region reopens at {factor:.3f} x the speeds"
+        )
     v0 = prob.impact_velocity if isinstance(robot, ContactDynamics) else float("nan")
     return OptimalFoam(
-        stiffness=k_opt,
-        damping=c_opt,
-        linear_depth=lam_opt,
+        stiffness=math.exp(xs[0]),
+        damping=float(xs[1]),
+        linear_depth=math.exp(xs[2]),
         margin=margin,
         margins=margins,
-        status=status,
         impact_velocity=v0,
         reopen_velocity_factor=factor,
         reopen_velocity=factor * v0,
-        grid_margin=grid_best,
-        iterations=int(stats.get("iter_count", 0)) if isinstance(stats, dict) else 0,
+        grid_margin=start.margin,
+        iterations=int(stats.get("iter_count", 0)),
         objective=objective,
+        status=status,
+        warnings=tuple(warnings),
         stats=stats,
     )

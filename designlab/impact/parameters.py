@@ -2,7 +2,7 @@
 
 All fields are SI: kg, N/m, N s/m, m. The presets reproduce the thesis's
 Tables 3.1-3.3, the head-neck design sets of Sec. 3.6 and the Ch. 4 head
-apparatus (DECISIONS I3).
+apparatus (docs/impact.md, "Unstated inputs").
 
 Examples
 --------
@@ -16,10 +16,10 @@ Examples
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, replace
-from typing import Any
+from dataclasses import dataclass
 
 from designlab.errors import InvalidParameterError, check_nonnegative, check_positive
+from designlab.validation import ParamsMixin
 
 __all__ = [
     "FOAM_1",
@@ -38,20 +38,8 @@ __all__ = [
 ]
 
 
-class _Params:
-    """Shared helpers of the frozen parameter dataclasses."""
-
-    def as_dict(self) -> dict[str, Any]:
-        """Return the fields as a plain ``dict`` (picklable, YAML-friendly)."""
-        return asdict(self)  # type: ignore[call-overload]
-
-    def replace(self, **changes: Any) -> Any:
-        """Return a copy with some fields changed (validated again)."""
-        return replace(self, **changes)  # type: ignore[type-var]
-
-
 @dataclass(frozen=True)
-class HeadNeck(_Params):
+class HeadNeck(ParamsMixin):
     """Human head on a neck spring-damper; the torso is infinitely massive.
 
     Parameters
@@ -92,7 +80,7 @@ class HeadNeck(_Params):
 
 
 @dataclass(frozen=True)
-class ContactDynamics(_Params):
+class ContactDynamics(ParamsMixin):
     """Effective single-DOF manipulator at the impact point (Sec. 3.4).
 
     Parameters
@@ -140,7 +128,7 @@ class ContactDynamics(_Params):
 
 
 @dataclass(frozen=True)
-class Foam(_Params):
+class Foam(ParamsMixin):
     """Elastomeric foam covering: linear Kelvin-Voigt spring and damper.
 
     Parameters
@@ -152,7 +140,7 @@ class Foam(_Params):
     linear_depth
         lambda, the compression up to which the foam is linear, in m (> 0).
         Results with a larger compression are flagged as bottoming
-        (DECISIONS I7).
+        (docs/impact.md, "Foam bottoming").
     thickness
         Uncompressed thickness T_u in m (>= linear_depth). Defaults to the
         Ch. 4 foam, 0.0254 m, scaled with ``linear_depth``.
@@ -233,7 +221,7 @@ MANIPULATOR_2 = ContactDynamics(49.4, 14.4e3, 111.0, lever_arm=0.5, name="Manipu
 FOAM_1 = Foam(24.25e3, 71.9, name="Foam 1")
 #: Foam 2 as printed in Table 3.3.
 FOAM_2 = Foam(13.8e3, 43.8, name="Foam 2")
-#: Foam 2 with the App. A.1 measured stiffness, used for Ch. 4 (DECISIONS I3).
+#: Foam 2 with the App. A.1 measured stiffness, used for Ch. 4 (docs/impact.md, "Unstated inputs").
 FOAM_2_MEASURED = Foam(13.48e3, 43.8, name="Foam 2 (measured)")
 #: Foam 3 of Table 3.3.
 FOAM_3 = Foam(60.6e3, 113.6, name="Foam 3")
@@ -242,7 +230,8 @@ FOAM_3 = Foam(60.6e3, 113.6, name="Foam 3")
 HEAD_MIN = HeadNeck(4.4, 3.0e3, 46.0, name="minimum head-neck")
 #: Maximum head-neck parameters (Sec. 3.6): conservative for force and compression.
 HEAD_MAX = HeadNeck(5.3, 5.0e3, 130.2, name="maximum head-neck")
-#: Ch. 4 head apparatus: 4.4 kg head, 4 kN/m neck springs, no damper (DECISIONS I3).
+#: Ch. 4 head apparatus: 4.4 kg head, 4 kN/m neck springs, no damper
+#: (docs/impact.md, "Unstated inputs").
 TEST_HEAD = HeadNeck(4.4, 4.0e3, 0.0, name="Ch. 4 test head")
 
 #: Table 3.2 simulations 1-4 as (manipulator, head) pairs.
@@ -255,7 +244,7 @@ TABLE_3_2_HEADS: dict[int, tuple[ContactDynamics, HeadNeck]] = {
 
 
 @dataclass(frozen=True)
-class LinkImpact(_Params):
+class LinkImpact(ParamsMixin):
     """A revolute joint whose link can be struck anywhere in a range of lever arms.
 
     Scenarios 1 and 2 of Zeng 2011 (Sec. 3.4.3): at lever arm ``l`` the effective

@@ -28,6 +28,7 @@ Examples
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -39,7 +40,6 @@ from designlab.impact.metrics import (
     STATUS_NO_IMPACT,
     STATUS_OK,
     STATUS_PEAK_AT_CONTACT,
-    G,
     metrics_from_responses,
 )
 from designlab.impact.modal import ModalResponse, poles_of
@@ -50,6 +50,9 @@ from designlab.impact.model import (
     unconstrained_model,
 )
 from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
+from designlab.results import Result
+from designlab.units import STANDARD_GRAVITY
+from designlab.validation import check_int
 
 __all__ = ["ImpactResponse", "VelocityProfile", "hic", "simulate"]
 
@@ -64,10 +67,19 @@ class VelocityProfile:
     The desired manipulator speed changes at ``acceleration`` (m/s^2, negative to
     decelerate) for ``duration`` s from the instant of contact, then stays constant.
 
+    Attributes
+    ----------
+    acceleration
+        Manipulator acceleration during the impact in m/s^2 (negative: braking).
+    duration
+        How long the acceleration lasts in s.
+    feedforward
+        Whether the controller feeds the acceleration forward (Sec. 3.8).
+
     Examples
     --------
-    >>> VelocityProfile(acceleration=0.51 * 9.81, duration=0.05).delta_v
-    0.250155
+    >>> round(VelocityProfile(acceleration=0.51 * 9.80665, duration=0.05).delta_v, 4)
+    0.25
     """
 
     acceleration: float
@@ -91,23 +103,36 @@ class VelocityProfile:
 
 
 def hic(t: NDArray, head_acceleration: NDArray, window: float = 0.015) -> float:
-    """Head Injury Criterion by the standard definition (DECISIONS I4).
+    """Head Injury Criterion by the standard definition (docs/impact.md, "HIC").
 
     ``HIC = max (t2 - t1) [ (1/(t2 - t1)) int_{t1}^{t2} a dt ]^2.5`` over
     ``0 < t2 - t1 <= window``, with ``a`` in g. The integral is taken with the
     trapezoid rule on the samples given; segments with a non-positive mean are
     skipped.
 
+    Parameters
+    ----------
+    t
+        Sample times, s (1-D, increasing).
+    head_acceleration
+        Head acceleration at ``t``, m/s^2 (converted to g with standard gravity).
+    window
+        Largest window t2 - t1, s: 0.015 (HIC15) or 0.036 (HIC36).
+
+    Returns
+    -------
+    float
+
     Examples
     --------
     >>> import numpy as np
     >>> t = np.linspace(0, 0.03, 3001)
-    >>> a = np.full_like(t, 10 * 9.81)      # 10 g held for 30 ms
+    >>> a = np.full_like(t, 10 * 9.80665)   # 10 g held for 30 ms
     >>> round(hic(t, a, 0.015), 2)          # 0.015 * 10**2.5
     4.74
     """
     t = np.asarray(t, dtype=float)
-    a = np.asarray(head_acceleration, dtype=float) / G
+    a = np.asarray(head_acceleration, dtype=float) / STANDARD_GRAVITY
     if t.ndim != 1 or t.shape != a.shape or t.size < 2:
         raise InvalidParameterError("t", t.shape, "t and head_acceleration need the same 1-D shape")
     if not window > 0:
@@ -130,7 +155,7 @@ def hic(t: NDArray, head_acceleration: NDArray, window: float = 0.015) -> float:
 
 
 @dataclass(frozen=True)
-class ImpactResponse:
+class ImpactResponse(Result):
     """Time histories and first-lobe metrics of one impact (SI units).
 
     Attributes
@@ -143,7 +168,7 @@ class ImpactResponse:
         Head velocity relative to the torso (m/s) and manipulator deflection
         x_r - x_d (m) at ``t``.
     peak_head_acceleration, max_compression, peak_force, impact_duration
-        First-lobe metrics (DECISIONS I2) in m/s^2, m, N, s.
+        First-lobe metrics (docs/impact.md, "Metrics") in m/s^2, m, N, s.
     bottoming
         ``max_compression > foam.linear_depth``: the linear foam model is used
         outside its valid range and the numbers are not to be trusted (I7).
@@ -152,6 +177,24 @@ class ImpactResponse:
         ``"bottoming"`` or ``"lobe_not_closed"``.
     warnings
         Human-readable notes on the validity of the result.
+    robot
+        The effective manipulator.
+    foam
+        The foam.
+    head
+        The head-neck (``None``: constrained head).
+    impact_velocity
+        Closing speed v_c in m/s.
+    time_of_peak_acceleration
+        Time of the peak head acceleration in s.
+    time_of_max_compression
+        Time of the largest compression in s.
+    time_of_peak_force
+        Time of the peak contact force in s.
+    profile
+        The manipulator's velocity profile during the impact, if any (Sec. 3.8).
+    q2
+        The q2 option of the model (``"correct"`` or ``"printed"``; docs/impact.md).
     """
 
     robot: ContactDynamics
@@ -179,8 +222,17 @@ class ImpactResponse:
 
     @property
     def peak_head_acceleration_g(self) -> float:
-        """a_h,max in g (9.81 m/s^2)."""
-        return self.peak_head_acceleration / G
+        """a_h,max in g (standard gravity, 9.80665 m/s^2)."""
+        return self.peak_head_acceleration / STANDARD_GRAVITY
+
+    def __repr__(self) -> str:
+        return (
+            f"ImpactResponse(v_c={self.impact_velocity:g} m/s, "
+            f"a_h,max={self.peak_head_acceleration_g:.4g} g, "
+            f"eps_max={1e3 * self.max_compression:.4g} mm, f_c,max={self.peak_force:.4g} N, "
+            f"t_imp={1e3 * self.impact_duration:.4g} ms, status={self.status!r}, "
+            f"{self.t.size} samples)"
+        )
 
     @property
     def bottoming(self) -> bool:
@@ -204,15 +256,31 @@ class ImpactResponse:
         a = self._lobe["evaluate"](t)["head_acceleration"]
         return hic(t, a, window)
 
-    def summary(self) -> dict[str, float | str | bool]:
-        """The scalar metrics as a flat dict (units in the keys)."""
+    def summary(self, max_rows: int = 10) -> str:
+        """A short text: status, warnings and the scalar metrics (:meth:`metrics`).
+
+        Parameters
+        ----------
+        max_rows
+            Unused (the scalar metrics are always shown); kept for the
+            :class:`~designlab.results.Result` interface.
+        """
+        head = f"ImpactResponse: status {self.status}, {len(self.warnings)} warning(s)"
+        lines = [head, *(f"  warning: {w}" for w in self.warnings)]
+        for key, value in self.metrics().items():
+            text = f"{value:.6g}" if isinstance(value, float) else str(value)
+            lines.append(f"  {key}: {text}")
+        return "\n".join(lines)
+
+    def metrics(self) -> dict[str, float | str | bool]:
+        """The scalar metrics as a flat dict (column names of :mod:`.metric_names`)."""
         return {
             "v_c_m_per_s": self.impact_velocity,
             "a_h_max_g": self.peak_head_acceleration_g,
             "a_h_max_m_per_s2": self.peak_head_acceleration,
             "t_imp_s": self.impact_duration,
             "eps_max_m": self.max_compression,
-            "f_c_max_N": self.peak_force,
+            "peak_force_N": self.peak_force,
             "hic15": self.hic(0.015),
             "hic36": self.hic(0.036),
             "bottoming": self.bottoming,
@@ -226,7 +294,7 @@ class ImpactResponse:
                 "t_s": self.t,
                 "f_c_N": self.force,
                 "a_h_m_per_s2": self.head_acceleration,
-                "a_h_g": self.head_acceleration / G,
+                "a_h_g": self.head_acceleration / STANDARD_GRAVITY,
                 "eps_m": self.compression,
                 "v_h_rel_m_per_s": self.head_velocity,
                 "delta_r_m": self.robot_deflection,
@@ -345,7 +413,7 @@ def simulate(
     samples
         Number of samples of the time histories.
     q2
-        ``"correct"`` (default) or ``"printed"`` q2 of (3.5.14) (DECISIONS I1).
+        ``"correct"`` (default) or ``"printed"`` q2 of (3.5.14) (docs/impact.md, "q2").
     stop_time
         Window of the constrained impact's metrics, s.
 
@@ -360,22 +428,7 @@ def simulate(
     >>> r.constrained, round(r.peak_force, 1)
     (True, 158.3)
     """
-    if not isinstance(robot, ContactDynamics):
-        raise InvalidParameterError("robot", robot, "must be a ContactDynamics")
-    if not isinstance(foam, Foam):
-        raise InvalidParameterError("foam", foam, "must be a Foam")
-    if head is not None and not isinstance(head, HeadNeck):
-        raise InvalidParameterError("head", head, "must be a HeadNeck or None")
-    v_c = check_finite("impact_velocity", impact_velocity, "m/s")
-    if q2 not in ("correct", "printed"):
-        raise InvalidParameterError("q2", q2, "must be 'correct' or 'printed'")
-    if int(samples) < 2:
-        raise InvalidParameterError("samples", samples, "must be an integer >= 2")
-    if profile is not None and not isinstance(profile, VelocityProfile):
-        raise InvalidParameterError("profile", profile, "must be a VelocityProfile or None")
-
-    constrained = head is None
-    warnings: list[str] = []
+    v_c = _check_inputs(robot, foam, head, impact_velocity, profile, samples, q2)
     keys = ("ramp",) if profile is None else ("ramp", "accel", "a_d")
     families = _responses(robot, foam, head, q2, keys)
     evaluate = _superpose(families, max(v_c, 0.0), profile)
@@ -394,46 +447,10 @@ def simulate(
             "impact_velocity", v_c, "must be > 0 when a velocity profile is given", "m/s"
         )
 
-    # metrics: the batch engine for the constant-velocity impact, a dense
-    # exact evaluation with Newton polishing for profiles
-    p = param_vector(robot, foam, head)[None, :]
-    wanted = ("force", "compression") if constrained else _METRIC_OUTPUTS
-    base = metrics_from_responses(
-        {k: families["ramp"][k] for k in wanted},
-        p,
-        np.array([v_c]),
-        constrained=constrained,
-        stop_time=check_positive("stop_time", stop_time, "s"),
+    t_imp, metrics, status = _lobe_metrics(
+        families, evaluate, robot, foam, head, v_c, profile, stop_time
     )
-    status = str(base.status[0])
-    t_imp = float(base.impact_duration[0])
-    metrics = {
-        "head_acceleration": (
-            float(base.time_of_peak_acceleration[0]),
-            float(base.peak_head_acceleration[0]),
-        ),
-        "compression": (float(base.time_of_max_compression[0]), float(base.max_compression[0])),
-        "force": (float(base.time_of_peak_force[0]), float(base.peak_force[0])),
-    }
-    if profile is not None:
-        t_imp, metrics, status = _profile_metrics(evaluate, t_imp, constrained, stop_time)
-
-    if status == STATUS_PEAK_AT_CONTACT:
-        warnings.append(
-            "a_h peaks at t = 0+ (overdamped pulse, foam damping far above xi_c ~ 0.05-0.2): "
-            "a_h,max = C_c v_c / M_h and the impact period is delicate"
-        )
-    if not np.isfinite(t_imp):
-        warnings.append("the first impact lobe did not close; metrics are NaN")
-    bottoming = metrics["compression"][1] > foam.linear_depth
-    if bottoming:
-        warnings.append(
-            f"eps_max = {metrics['compression'][1]:.4g} m exceeds the foam's linear depth "
-            f"lambda = {foam.linear_depth:.4g} m: the foam bottoms out and the linear model "
-            "is not valid (DECISIONS I7)"
-        )
-        if status == STATUS_OK:
-            status = "bottoming"
+    warnings, status = _response_warnings(status, t_imp, metrics, foam)
 
     t_end = duration if duration is not None else (2.0 * t_imp if np.isfinite(t_imp) else 0.1)
     t_end = check_positive("duration", t_end, "s")
@@ -464,6 +481,94 @@ def simulate(
         q2=q2,
         _lobe={"evaluate": evaluate},
     )
+
+
+def _check_inputs(
+    robot: object,
+    foam: object,
+    head: object,
+    impact_velocity: object,
+    profile: object,
+    samples: object,
+    q2: object,
+) -> float:
+    """Validate the arguments of :func:`simulate`; returns v_c."""
+    if not isinstance(robot, ContactDynamics):
+        raise InvalidParameterError("robot", robot, "must be a ContactDynamics")
+    if not isinstance(foam, Foam):
+        raise InvalidParameterError("foam", foam, "must be a Foam")
+    if head is not None and not isinstance(head, HeadNeck):
+        raise InvalidParameterError("head", head, "must be a HeadNeck or None")
+    v_c = check_finite("impact_velocity", impact_velocity, "m/s")
+    if q2 not in ("correct", "printed"):
+        raise InvalidParameterError("q2", q2, "must be 'correct' or 'printed'")
+    check_int("samples", samples, minimum=2)
+    if profile is not None and not isinstance(profile, VelocityProfile):
+        raise InvalidParameterError("profile", profile, "must be a VelocityProfile or None")
+    return v_c
+
+
+def _lobe_metrics(
+    families: dict,
+    evaluate: Callable,
+    robot: ContactDynamics,
+    foam: Foam,
+    head: HeadNeck | None,
+    v_c: float,
+    profile: VelocityProfile | None,
+    stop_time: float,
+) -> tuple[float, dict[str, tuple[float, float]], str]:
+    """Impact period, ``{output: (time, value)}`` of the maxima, and the design status.
+
+    The batch engine for the constant-velocity impact; a dense exact
+    evaluation with Newton polishing for a velocity profile.
+    """
+    constrained = head is None
+    p = param_vector(robot, foam, head)[None, :]
+    wanted = ("force", "compression") if constrained else _METRIC_OUTPUTS
+    base = metrics_from_responses(
+        {k: families["ramp"][k] for k in wanted},
+        p,
+        np.array([v_c]),
+        constrained=constrained,
+        stop_time=check_positive("stop_time", stop_time, "s"),
+    )
+    status = str(base.design_status[0])
+    t_imp = float(base.impact_duration[0])
+    metrics = {
+        "head_acceleration": (
+            float(base.time_of_peak_acceleration[0]),
+            float(base.peak_head_acceleration[0]),
+        ),
+        "compression": (float(base.time_of_max_compression[0]), float(base.max_compression[0])),
+        "force": (float(base.time_of_peak_force[0]), float(base.peak_force[0])),
+    }
+    if profile is not None:
+        t_imp, metrics, status = _profile_metrics(evaluate, t_imp, constrained, stop_time)
+    return t_imp, metrics, status
+
+
+def _response_warnings(
+    status: str, t_imp: float, metrics: dict[str, tuple[float, float]], foam: Foam
+) -> tuple[list[str], str]:
+    """Warnings of one response, and its status (``bottoming`` if the foam bottoms out)."""
+    warnings: list[str] = []
+    if status == STATUS_PEAK_AT_CONTACT:
+        warnings.append(
+            "a_h peaks at t = 0+ (overdamped pulse, foam damping far above xi_c ~ 0.05-0.2): "
+            "a_h,max = C_c v_c / M_h and the impact period is delicate"
+        )
+    if not np.isfinite(t_imp):
+        warnings.append("the first impact lobe did not close; metrics are NaN")
+    if metrics["compression"][1] > foam.linear_depth:
+        warnings.append(
+            f"eps_max = {metrics['compression'][1]:.4g} m exceeds the foam's linear depth "
+            f"lambda = {foam.linear_depth:.4g} m: the foam bottoms out and the linear model "
+            'is not valid (docs/impact.md, "Foam bottoming")'
+        )
+        if status == STATUS_OK:
+            status = "bottoming"
+    return warnings, status
 
 
 def _profile_metrics(evaluate, t_guess: float, constrained: bool, stop_time: float):

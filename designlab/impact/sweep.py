@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from designlab.impact.derivatives import VARIABLE_NAMES, metric_gradients
+from designlab.impact.metric_names import ENVELOPE_COLUMNS, METRICS
 from designlab.impact.metrics import PARAM_NAMES, impact_metrics
 
 __all__ = [
@@ -38,29 +39,20 @@ __all__ = [
     "impact_metrics_chunk",
 ]
 
-#: Metrics of one impact (column -> description with unit).
-IMPACT_METRICS: dict[str, str] = {
-    "a_h_max_g": "peak head acceleration a_h,max, g",
-    "eps_max_m": "maximum foam compression eps_max, m",
-    "peak_force_N": "peak contact force F_c,max, N",
-    "t_imp_s": "impact period t_imp, s",
-}
-
-#: Metrics of a foam envelope (column -> description with unit).
-ENVELOPE_METRICS: dict[str, str] = {
-    "k_c_max_N_per_m": "upper (safety) boundary K_c,max at the foam's damping, N/m",
-    "k_c_min_N_per_m": "lower (thickness) boundary K_c,min at the foam's damping, N/m",
-    "margin_decades": "margin of the foam to the nearest boundary, decades of K_c",
-    "area_log": "feasible area over the damping grid, decades x N s/m",
-}
-
-#: The model quantity behind each impact metric column.
+#: The model quantity behind each impact metric column (names from
+#: :mod:`designlab.impact.metric_names`).
 _METRIC_ATTR = {
     "a_h_max_g": "peak_head_acceleration",
     "eps_max_m": "max_compression",
     "peak_force_N": "peak_force",
     "t_imp_s": "impact_duration",
 }
+
+#: Metrics of one impact (column -> description with unit), from the one table.
+IMPACT_METRICS: dict[str, str] = {c: METRICS[c].label for c in _METRIC_ATTR}
+
+#: Metrics of a foam envelope (column -> description with unit), from the one table.
+ENVELOPE_METRICS: dict[str, str] = {c: info.label for c, info in ENVELOPE_COLUMNS.items()}
 
 
 def _params(points: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
@@ -81,14 +73,13 @@ def impact_metrics_chunk(points: dict[str, np.ndarray], options: dict[str, Any])
     m = impact_metrics(_params(points), np.asarray(points["v_c"], dtype=float))
     eps = np.asarray(m.max_compression, dtype=float)
     depth = np.asarray(points.get("lambda", np.full(len(eps), np.inf)), dtype=float)
-    return {
-        "a_h_max_g": np.asarray(m.peak_head_acceleration_g, dtype=float),
-        "eps_max_m": eps,
-        "peak_force_N": np.asarray(m.peak_force, dtype=float),
-        "t_imp_s": np.asarray(m.impact_duration, dtype=float),
-        "bottoming": eps > depth,
-        "status": np.asarray(m.status, dtype=object),
+    out: dict[str, Any] = {
+        c: np.asarray(getattr(m, a), dtype=float) for c, a in _METRIC_ATTR.items()
     }
+    out["a_h_max_g"] = np.asarray(m.peak_head_acceleration_g, dtype=float)
+    out["bottoming"] = eps > depth
+    out["status"] = np.asarray(m.design_status, dtype=object)
+    return out
 
 
 impact_metrics_chunk.chunk_size = 4096  # type: ignore[attr-defined]
@@ -110,7 +101,7 @@ def impact_elasticities_chunk(
         Unused.
     """
     g = metric_gradients(_params(points), np.asarray(points["v_c"], dtype=float))
-    out: dict[str, Any] = {"status": np.asarray(g.metrics.status, dtype=object)}
+    out: dict[str, Any] = {"status": np.asarray(g.metrics.design_status, dtype=object)}
     for column, attr in _METRIC_ATTR.items():
         el = g.elasticities(attr)
         for var in VARIABLE_NAMES:
@@ -121,18 +112,25 @@ def impact_elasticities_chunk(
 impact_elasticities_chunk.chunk_size = 256  # type: ignore[attr-defined]
 
 
-def _envelopes(pt: dict[str, float], damping: list[float]) -> tuple[Any, Any]:
+def _envelope(pt: dict[str, float], damping: list[float]) -> Any:
     from designlab.impact import ContactDynamics, HeadAcceleration, foam_envelope
 
     robot = ContactDynamics(mass=pt["M_r"], stiffness=pt["K_r"], damping=pt["C_r"])
-    kw = {
-        "impact_velocity": pt["v_c"],
-        "criteria": [HeadAcceleration(max_g=pt["max_g"])],
-        "max_compression": pt["lambda"],
-    }
-    grid = foam_envelope(robot, damping=np.asarray(damping, dtype=float), **kw)
-    at_foam = foam_envelope(robot, damping=np.array([pt["C_c"]]), **kw)
-    return grid, at_foam
+    return foam_envelope(
+        robot,
+        impact_velocity=pt["v_c"],
+        damping=np.asarray(damping, dtype=float),
+        criteria=[HeadAcceleration(max_g=pt["max_g"])],
+        max_compression=pt["lambda"],
+    )
+
+
+def _verdict(env: Any, pt: dict[str, float]) -> Any:
+    """The foam's verdict against ``env``, solved at the foam's own damping."""
+    from designlab.impact import Foam, foam_verdict
+
+    foam = Foam(pt["K_c"], pt["C_c"], linear_depth=pt["lambda"])
+    return foam_verdict(env, foam)
 
 
 def _rows(points: dict[str, np.ndarray]) -> list[dict[str, float]]:
@@ -140,8 +138,15 @@ def _rows(points: dict[str, np.ndarray]) -> list[dict[str, float]]:
     return [{k: float(v[i]) for k, v in points.items()} for i in range(n)]
 
 
+def _positive_or_nan(x: float) -> float:
+    return x if math.isfinite(x) and x > 0 else math.nan
+
+
 def foam_envelope_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) -> dict[str, Any]:
-    """Foam envelope (Zeng 2011, Sec. 3.9) per design; boundaries and margin at its foam.
+    """Foam envelope (Zeng 2011, Sec. 3.9) per design; boundaries and verdict at its foam.
+
+    The boundaries and the margin are solved at the foam's own damping
+    (:func:`designlab.impact.foam_verdict`); the area is over the damping grid.
 
     Parameters
     ----------
@@ -150,27 +155,28 @@ def foam_envelope_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) 
     options
         ``{"damping": [...]}``, the C_c grid of the envelope, N s/m.
     """
-    cols: dict[str, list[Any]] = {k: [] for k in (*ENVELOPE_METRICS, "feasible", "empty",
-                                                  "status", "warnings")}  # fmt: skip
+    cols: dict[str, list[Any]] = {
+        k: [] for k in (*ENVELOPE_METRICS, "verdict", "feasible", "empty", "status", "warnings")
+    }
     for pt in _rows(points):
-        grid, at = _envelopes(pt, options["damping"])
-        kmax = float(at.stiffness_max[0])
-        kmin = float(at.stiffness_min[0])
-        with np.errstate(divide="ignore", invalid="ignore"):
-            margin = min(math.log10(kmax / pt["K_c"]), math.log10(pt["K_c"] / kmin))
-        cols["k_c_max_N_per_m"].append(kmax)
-        cols["k_c_min_N_per_m"].append(kmin)
+        grid = _envelope(pt, options["damping"])
+        fv = _verdict(grid, pt)
+        margin = fv.margin_decades
+        cols["k_c_max_N_per_m"].append(_positive_or_nan(fv.stiffness_max))
+        cols["k_c_min_N_per_m"].append(_positive_or_nan(fv.stiffness_min))
         cols["margin_decades"].append(margin if math.isfinite(margin) else math.nan)
         cols["area_log"].append(float(grid.area(log=True)))
-        cols["feasible"].append(bool(math.isfinite(margin) and margin > 0))
+        cols["verdict"].append(fv.verdict)
+        cols["feasible"].append(fv.feasible)
         cols["empty"].append(bool(grid.is_empty))
         cols["status"].append("empty" if grid.is_empty else "ok")
-        cols["warnings"].append("; ".join(grid.warnings) or None)
-    out: dict[str, Any] = {k: np.asarray(v, dtype=float) for k, v in cols.items()
-                           if k in ENVELOPE_METRICS}  # fmt: skip
+        cols["warnings"].append("; ".join((*grid.warnings, *fv.warnings)) or None)
+    out: dict[str, Any] = {
+        k: np.asarray(v, dtype=float) for k, v in cols.items() if k in ENVELOPE_METRICS
+    }
     out["feasible"] = np.asarray(cols["feasible"], dtype=bool)
     out["empty"] = np.asarray(cols["empty"], dtype=bool)
-    for k in ("status", "warnings"):
+    for k in ("verdict", "status", "warnings"):
         arr = np.empty(len(cols[k]), dtype=object)
         arr[:] = cols[k]
         out[k] = arr
@@ -202,7 +208,7 @@ def envelope_elasticities_chunk(
     rows = _rows(points)
     out: dict[str, Any] = {}
     for i, pt in enumerate(rows):
-        _, at = _envelopes(pt, [pt["C_c"]])
+        at = _envelope(pt, [pt["C_c"]])
         for column, k, head, metric, limit_key in (
             ("k_c_max_N_per_m", at.stiffness_max[0], HEAD_MIN, "peak_head_acceleration", "max_g"),
             ("k_c_min_N_per_m", at.stiffness_min[0], HEAD_MAX, "max_compression", "lambda"),
@@ -211,7 +217,7 @@ def envelope_elasticities_chunk(
             if np.isfinite(k):
                 p = [pt["M_r"], pt["C_r"], pt["K_r"], k, pt["C_c"],
                      head.mass, head.damping, head.stiffness]  # fmt: skip
-                el = metric_gradients(p, pt["v_c"]).elasticities(metric)
+                el = metric_gradients([p], pt["v_c"], columns=PARAM_NAMES).elasticities(metric)
                 e_k = float(el["K_c"][0])
                 for var in ("M_r", "C_r", "K_r", "C_c", "v_c"):
                     values[var] = -float(el[var][0]) / e_k

@@ -17,12 +17,13 @@ Examples
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, replace
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from designlab.errors import InvalidParameterError, check_nonnegative, check_positive
+from designlab.validation import ParamsMixin
 
 __all__ = [
     "EXPERIMENT_GAINS",
@@ -39,21 +40,11 @@ __all__ = [
 ]
 
 
-class _Params:
-    def as_dict(self) -> dict[str, Any]:
-        """Return the fields as a plain ``dict`` (picklable, YAML-friendly)."""
-        return asdict(self)  # type: ignore[call-overload]
-
-    def replace(self, **changes: Any) -> Any:
-        """Return a copy with some fields changed (validated again)."""
-        return replace(self, **changes)  # type: ignore[type-var]
-
-
 # --------------------------------------------------------------------------- robots
 
 
 @dataclass(frozen=True)
-class HolonomicRobot(_Params):
+class HolonomicRobot(ParamsMixin):
     """Omni-wheel point-mass robot (Zeng 2011, Sec. 5.2, 6.2.1, App. D).
 
     Parameters
@@ -107,7 +98,7 @@ class HolonomicRobot(_Params):
 
 
 @dataclass(frozen=True)
-class NonholonomicRobot(_Params):
+class NonholonomicRobot(ParamsMixin):
     """Differential-drive robot tracking a virtual holonomic reference (Zeng 2011, Ch. 7, App. E).
 
     Parameters
@@ -181,7 +172,7 @@ class NonholonomicRobot(_Params):
 
 
 @dataclass(frozen=True)
-class Human(_Params):
+class Human(ParamsMixin):
     """A walking person modelled as a disc (Zeng 2011, Sec. 5.2).
 
     Parameters
@@ -208,7 +199,7 @@ class Human(_Params):
 
 
 @dataclass(frozen=True)
-class CircularObstacle(_Params):
+class CircularObstacle(ParamsMixin):
     """A stationary disc obstacle (Zeng 2011, Sec. 5.3.4).
 
     Parameters
@@ -235,7 +226,7 @@ class CircularObstacle(_Params):
 
 
 @dataclass(frozen=True)
-class ObstacleRobot(_Params):
+class ObstacleRobot(ParamsMixin):
     """Another mobile robot, a moving disc (Zeng 2011, Sec. 7.5.5).
 
     Parameters
@@ -262,7 +253,7 @@ class ObstacleRobot(_Params):
 
 
 @dataclass(frozen=True)
-class RectangularObstacle(_Params):
+class RectangularObstacle(ParamsMixin):
     """A stationary rectangle; regions are measured from its contour (Zeng 2011, Sec. 5.3.5).
 
     Parameters
@@ -310,7 +301,7 @@ def _gain(cls: str, name: str, value: Any, unit: str) -> float:
 
 
 @dataclass(frozen=True)
-class VFFGains(_Params):
+class VFFGains(ParamsMixin):
     """Gains of the new VFF with the structure the stability proof needs (Zeng 2011, (5.5.7)).
 
     The proof (Sec. 5.5, App. B) requires K2/K1 = K4/K3 = K6/K5 = b > 0 with all gains
@@ -403,7 +394,7 @@ OPTIMAL_GAINS = VFFGains(k1=4.3, b=0.68, k3=20.3, k5=240.7)
 
 
 @dataclass(frozen=True)
-class MasoudGains(_Params):
+class MasoudGains(ParamsMixin):
     """Gains of Masoud (2007) as used in Zeng 2011, Sec. 2.2.4 (Table C.1: 5, 24, 36).
 
     Parameters
@@ -437,7 +428,7 @@ class MasoudGains(_Params):
 
 
 @dataclass(frozen=True)
-class GeCuiGains(_Params):
+class GeCuiGains(ParamsMixin):
     """Gains of Ge & Cui (2002) as used in Zeng 2011, Sec. 2.2.4.
 
     Defaults are Table C.1's: 1.0, 0.75, 14.2, 14.2.

@@ -30,10 +30,22 @@ from matplotlib.figure import Figure
 from designlab.report import register_writer
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.kinds.impact_cases import ImpactCaseResult, ImpactCasesResult
+from designlab.units import STANDARD_GRAVITY
 
 __all__ = ["impact_figure", "impact_markdown", "write_impact_report"]
 
-G = 9.80665
+#: A two-case study used by the examples below.
+_EXAMPLE = """
+designlab: 1
+kind: impact_cases
+name: demo
+cases:
+  - {label: slow, robot: MANIPULATOR_1, foam: FOAM_1, head: TEST_HEAD, impact_velocity: 0.4,
+     reference: {source: Zeng 2011 Table 4.1, a_h_max_g: 2.1, t_imp_s: 0.033}}
+  - {label: fast, robot: MANIPULATOR_1, foam: FOAM_1, head: TEST_HEAD, impact_velocity: 1.25}
+"""
+
+G = STANDARD_GRAVITY
 
 
 def _slug(text: str) -> str:
@@ -75,7 +87,8 @@ def impact_figure(cases: Sequence[ImpactCaseResult], title: str = "") -> Figure:
 
     Colour distinguishes the parameter set (robot, foam, head); line style the
     closing speed. Curves are drawn over the first impact lobe and a little
-    beyond; a dot marks the end of each impact period (DECISIONS I2).
+    beyond; a dot marks the end of each impact period (the first lobe,
+    docs/impact.md, "Metrics").
 
     Parameters
     ----------
@@ -89,6 +102,13 @@ def impact_figure(cases: Sequence[ImpactCaseResult], title: str = "") -> Figure:
     matplotlib.figure.Figure
         A figure not attached to pyplot (no global state); write it with
         :func:`designlab.report.writers.write_png`.
+
+    Examples
+    --------
+    >>> from designlab.study import parse_study, run_study
+    >>> r = run_study(parse_study(_EXAMPLE))
+    >>> len(impact_figure(r.cases).axes)
+    3
     """
     configs: list[tuple[Any, ...]] = []
     speeds: list[float] = []
@@ -196,16 +216,29 @@ def _text_table(rows: list[dict[str, str]]) -> str:
     return markdown_table(frame, disable_numparse=True, colalign=align)
 
 
-def _comparison_table(frame: pd.DataFrame, prefix: str) -> str | None:
+def _notes(result: ImpactCasesResult) -> dict[str, int]:
+    """Number of each distinct reference note (1, 2, ...), by note text."""
+    notes: dict[str, int] = {}
+    for c in result.cases:
+        ref = c.case.reference
+        if ref is not None and ref.note and ref.note not in notes:
+            notes[ref.note] = len(notes) + 1
+    return notes
+
+
+def _comparison_table(
+    frame: pd.DataFrame, prefix: str, marks: list[str] | None = None
+) -> str | None:
     """Model vs ``ref_`` (prefix "ref") or ``exp_`` (prefix "exp") values."""
     err = "err" if prefix == "ref" else "err_exp"
     cols = [f"{prefix}_a_h_max_g", f"{prefix}_t_imp_s", f"{prefix}_eps_max_m"]
     if frame[cols].isna().all().all():
         return None
     rows = []
-    for _, row in frame.iterrows():
+    for i, (_, row) in enumerate(frame.iterrows()):
+        mark = marks[i] if marks else ""
         out = {
-            "case": row["case"],
+            "case": row["case"] + mark,
             "a_h,max model (g)": _fmt(row["a_h_max_g"], ".2f"),
             f"a_h,max {prefix} (g)": _fmt(row[f"{prefix}_a_h_max_g"], ".2f"),
             "a_h,max err (%)": _fmt(row[f"{err}_a_h_max_pct"], "+.1f"),
@@ -221,7 +254,7 @@ def _comparison_table(frame: pd.DataFrame, prefix: str) -> str | None:
             out["HIC15"] = _fmt(row["hic15"], ".3g")
             within = row["within_tolerance"]
             out["within tolerance"] = (
-                "–" if within is None or within is pd.NA else ("yes" if within else "**NO**")
+                "–" if within is None or within is pd.NA else ("yes" if within else "**NO**" + mark)
             )
         rows.append(out)
     return _text_table(rows)
@@ -269,6 +302,18 @@ def impact_markdown(
         The command that produced the report (recorded for reproduction).
     version
         designlab version.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> from designlab.study import parse_study, run_study
+    >>> r = run_study(parse_study(_EXAMPLE))
+    >>> text = impact_markdown(r, figures={"": "time_histories.png"})
+    >>> "## Model vs reference simulation" in text
+    True
     """
     study = result.study
     frame = result.to_frame()
@@ -284,7 +329,8 @@ def impact_markdown(
         "it with the same command.",
         "",
         "Model: linear coupled manipulator-foam-head impact (Zeng 2011, Sec. 3.5); "
-        "metrics over the first impact lobe (DECISIONS I2). "
+        'metrics over the first impact lobe (docs/impact.md, "Metrics"); g is standard '
+        "gravity, 9.80665 m/s^2. "
         "`ref` = reference simulation, `exp` = experimental mean; errors are "
         "(model − reference) / reference. Full precision in `metrics.csv`.",
         "",
@@ -296,12 +342,22 @@ def impact_markdown(
     sources = sorted(
         {c.case.reference.source for c in result.cases if c.case.reference is not None} - {None}  # type: ignore[arg-type]
     )
-    ref_table = _comparison_table(frame, "ref")
+    notes = _notes(result)
+    marks = [
+        f" [{notes[c.case.reference.note]}]"
+        if c.case.reference is not None and c.case.reference.note
+        else ""
+        for c in result.cases
+    ]
+    ref_table = _comparison_table(frame, "ref", marks)
     if ref_table is not None:
         out += ["## Model vs reference simulation", ""]
         if sources:
             out += ["Reference: " + "; ".join(str(s) for s in sources) + ".", ""]
         out += [ref_table, ""]
+        out += [f"[{n}] {text.strip()}" for text, n in notes.items()]
+        if notes:
+            out.append("")
         tol = _tolerance_text(result)
         if tol:
             out += [tol, ""]
@@ -335,10 +391,32 @@ def write_impact_report(
     Call it inside :func:`designlab.report.atomic.report_directory`;
     :func:`designlab.report.write_report` does.
 
+    Parameters
+    ----------
+    result
+        The computed study.
+    directory
+        The report directory.
+    command
+        The command line, quoted in the Markdown.
+    version
+        The designlab version, quoted in the Markdown.
+    study_text
+        The study file's text, copied to ``study.yaml``.
+
     Returns
     -------
     list of Path
         The files written.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from designlab.study import parse_study, run_study
+    >>> r = run_study(parse_study(_EXAMPLE))
+    >>> with tempfile.TemporaryDirectory() as tmp:
+    ...     sorted(p.name for p in write_impact_report(r, pathlib.Path(tmp)))
+    ['metrics.csv', 'summary.md', 'time_histories.png']
     """
     written = [write_csv(result.to_frame(), directory / "metrics.csv")]
     names = figure_names(result)

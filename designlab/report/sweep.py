@@ -141,6 +141,30 @@ def _write_table(result: Any, directory: Path) -> list[Path]:
     ]
 
 
+def _readable_tornado(fig: Figure, study: Any, metric: str) -> Figure:
+    """Name the metric and the parameters with their units, and draw the metric's limit."""
+    ax = fig.axes[0]
+    label = study.METRICS.get(metric, metric)
+    ax.set_xlabel(label)
+    ax.set_title(label, fontsize="medium")
+    limit = dict(getattr(study, "LIMITS", {}) or {}).get(metric)
+    if limit is not None:
+        ax.axvline(limit, color="tab:red", lw=1, ls="--", label="design limit")
+        ax.legend(fontsize="small", loc="lower right")
+    names = []
+    for tick in ax.get_yticklabels():
+        text = tick.get_text()
+        path, _, rest = text.partition("  ")
+        entry = study.PARAMETERS.get(path)
+        if entry is not None:
+            _, info = entry
+            text = f"{info.description} {rest} {info.unit}".strip()
+        names.append(text)
+    ax.set_yticks(ax.get_yticks(), names)
+    fig.tight_layout()
+    return fig
+
+
 def _scatter_figure(result: Any) -> Figure | None:
     study = result.study
     sweep = getattr(study, "sweep", None)
@@ -153,6 +177,8 @@ def _scatter_figure(result: Any) -> Figure | None:
     metrics = [m for m in result.metrics if m in frame][:4]
     if not params or not metrics:
         return None
+    # a kind may declare design limits of its metrics (drawn as dashed red lines)
+    limits: dict[str, float] = dict(getattr(study, "LIMITS", {}) or {})
     fig = Figure(figsize=(2.6 * len(params) + 0.6, 2.2 * len(metrics) + 0.6))
     axes = fig.subplots(len(metrics), len(params), squeeze=False)
     ok = frame["status"] != "error"
@@ -162,10 +188,13 @@ def _scatter_figure(result: Any) -> Figure | None:
             col = f"{key}_{unit_slug(info.unit)}"
             ax = axes[r][c]
             _points_or_density(ax, frame.loc[ok, col], frame.loc[ok, m])
+            limit = limits.get(m)
+            if limit is not None:
+                ax.axhline(limit, color="tab:red", lw=1, ls="--")
             if r == len(metrics) - 1:
-                ax.set_xlabel(f"{p} ({info.unit})", fontsize="small")
+                ax.set_xlabel(f"{info.description} ({info.unit})", fontsize="small")
             if c == 0:
-                ax.set_ylabel(m, fontsize="small")
+                ax.set_ylabel(study.METRICS.get(m, m), fontsize="small")
             ax.tick_params(labelsize="x-small")
     fig.suptitle(f"{study.name}: {len(result.table)} points ({sweep.method})")
     fig.tight_layout()
@@ -369,7 +398,8 @@ def write_sweep_report(
     if rng is not None:
         for m in rng.metrics:
             name = f"tornado_{m}.png"
-            written.append(write_png(tornado_figure(rng, m), directory / name))
+            fig = _readable_tornado(tornado_figure(rng, m), result.study, m)
+            written.append(write_png(fig, directory / name))
             figures[f"tornado: {m}"] = name
     fig = _scatter_figure(result)
     if fig is not None:

@@ -20,9 +20,11 @@ Examples
 from __future__ import annotations
 
 import difflib
-from typing import Annotated, Any, ClassVar, Literal
+from typing import Annotated, ClassVar, Literal
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field
+
+from designlab.validation import reject_bool
 
 __all__ = [
     "FORMAT_VERSION",
@@ -59,15 +61,8 @@ def did_you_mean(word: str, choices: list[str] | tuple[str, ...] | set[str]) -> 
     return f"; did you mean {close[0]!r}?" if close else ""
 
 
-def _reject_bool(value: Any) -> Any:
-    # YAML ``yes``/``true`` would otherwise be accepted as 1.0 by pydantic's lax mode.
-    if isinstance(value, bool):
-        raise ValueError("must be a number, not a boolean")
-    return value
-
-
 #: A real number (a boolean is refused).
-Number = Annotated[float, BeforeValidator(_reject_bool)]
+Number = Annotated[float, BeforeValidator(reject_bool)]
 #: A finite number > 0.
 Positive = Annotated[Number, Field(gt=0, allow_inf_nan=False)]
 #: A finite number >= 0.

@@ -140,8 +140,8 @@ def test_constrained_force_much_larger_fig_3_12() -> None:
 )
 def test_linear_in_vc_and_zero_without_closing_speed(mr, kr, cr, kc, xi, mh, kh, ch, v, k) -> None:
     p = [mr, cr, kr, kc, 2 * xi * np.sqrt(4.4 * kc), mh, ch, kh]
-    m = dl.impact.impact_metrics(p, np.array([v, k * v, 0.0, -v]))
-    ok = m.status[:2]
+    m = dl.impact.impact_metrics(p, np.array([v, k * v, 0.0, -v]), columns=dl.impact.PARAM_NAMES)
+    ok = m.design_status[:2]
     assert ok[0] == ok[1]
     if ok[0] in ("ok", "peak_at_contact"):
         assert m.peak_head_acceleration[1] == pytest.approx(
@@ -150,7 +150,7 @@ def test_linear_in_vc_and_zero_without_closing_speed(mr, kr, cr, kc, xi, mh, kh,
         assert m.max_compression[1] == pytest.approx(k * m.max_compression[0], rel=1e-9)
         assert m.peak_force[1] == pytest.approx(k * m.peak_force[0], rel=1e-9)
         assert m.impact_duration[1] == pytest.approx(m.impact_duration[0], rel=1e-9)
-    assert list(m.status[2:]) == ["no_impact", "no_impact"]
+    assert list(m.design_status[2:]) == ["no_impact", "no_impact"]
     assert np.all(m.peak_head_acceleration[2:] == 0) and np.all(m.max_compression[2:] == 0)
     r = dl.impact.simulate(
         dl.impact.ContactDynamics(mr, kr, cr),
@@ -159,3 +159,44 @@ def test_linear_in_vc_and_zero_without_closing_speed(mr, kr, cr, kc, xi, mh, kh,
         -v,
     )
     assert r.status == "no_impact" and not np.any(r.force)
+
+
+def test_transfer_functions_cancel_the_ramp_poles_exactly() -> None:
+    """a_h tends to 0 under the ramp (the neck carries the load): no pole at the origin;
+    the force and the compression keep growing (the double pole stays)."""
+    tfs = dl.impact.transfer_functions(MANIPULATOR_1, FOAM_1, HEAD_MIN, 1.25)
+    origin = {k: int(np.sum(np.abs(v.poles()) < 1e-9)) for k, v in tfs.items()}
+    assert origin == {"force": 2, "head_acceleration": 0, "compression": 2}
+    # the other poles are the model's four, untouched
+    assert all(np.sum(np.abs(v.poles()) >= 1e-9) == 4 for v in tfs.values())
+
+
+def test_impact_response_repr_is_short() -> None:
+    r = dl.impact.simulate(MANIPULATOR_1, FOAM_1, HEAD_MIN, impact_velocity=1.0)
+    text = repr(r)
+    assert len(text) < 200 and "a_h,max=" in text and "status='ok'" in text
+    assert r.metrics()["peak_force_N"] == pytest.approx(r.peak_force)
+    dl.results.check_result(r)
+    assert "a_h_max_g" in r.summary()
+
+
+def test_every_impact_result_honours_the_result_contract() -> None:
+
+    from designlab.impact.derivatives import metric_gradients
+
+    env = dl.impact.foam_envelope(MANIPULATOR_1, 1.25, [50.0])
+    p = [[9.6, 250, 20e3, 24.25e3, 71.9, 4.4, 46.0, 3e3]]
+    results = [
+        env,
+        dl.impact.foam_verdict(env, FOAM_1),
+        dl.impact.check_worst_case(env, samples=0),
+        dl.impact.max_safe_velocity(MANIPULATOR_1, FOAM_1),
+        dl.impact.min_foam_thickness(MANIPULATOR_1, FOAM_1),
+        dl.impact.impact_metrics(p, 1.25, columns=dl.impact.PARAM_NAMES),
+        metric_gradients(p, 1.25, columns=dl.impact.PARAM_NAMES),
+        dl.impact.simulate(MANIPULATOR_1, FOAM_1, HEAD_MIN, impact_velocity=1.0),
+        dl.impact.effective_contact([[0.059]], [121.68], [1.521], [0.078]),
+        dl.impact.impact_point_sweep(0.059, 121.68, 1.521, 0.5, [0.01, 0.078]),
+    ]
+    for r in results:
+        dl.results.check_result(r)

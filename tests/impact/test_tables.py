@@ -11,7 +11,7 @@ import pytest
 import designlab as dl
 from designlab.impact import FOAM_1, FOAM_2_MEASURED, MANIPULATOR_2, TEST_HEAD
 
-G = 9.81
+G = 9.80665
 
 
 def _table(name: str) -> pd.DataFrame:

@@ -53,7 +53,8 @@ def test_metrics_csv(report):
     slow = frame.iloc[0]
     r = result.cases[0].response
     assert slow.a_h_max_g == pytest.approx(r.peak_head_acceleration_g, rel=1e-6)
-    assert slow.err_a_h_max_pct == pytest.approx(100 * (slow.a_h_max_g / 2.10 - 1), rel=1e-5)
+    # the CSV holds 7 significant digits: a_h to ~5e-7 relative, so the error to ~3e-5 %
+    assert slow.err_a_h_max_pct == pytest.approx(100 * (slow.a_h_max_g / 2.10 - 1), abs=1e-4)
     assert slow.err_t_imp_s == pytest.approx(slow.t_imp_s - 0.033, abs=1e-7)
     assert bool(slow.within_tolerance)
     # no reference for the second case: errors are empty, not zero

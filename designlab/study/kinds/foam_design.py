@@ -16,17 +16,18 @@ Examples
 ... foams: [FOAM_1]
 ... damping: {low: 20, high: 100, num: 5}
 ... optimal: false
-... worst_case_samples: 0
+... worst_case_check: false
 ... ''')
 >>> result = run_study(study)
->>> result.verdicts()[["robot", "foam", "feasible"]]
-           robot    foam  feasible
-0  Manipulator 1  Foam 1      True
+>>> result.verdicts()[["robot", "foam", "verdict"]]
+           robot    foam   verdict
+0  Manipulator 1  Foam 1  feasible
 """
 
 from __future__ import annotations
 
-import math
+import logging
+import time
 from dataclasses import dataclass
 from typing import Annotated, ClassVar, Literal
 
@@ -36,22 +37,26 @@ from pydantic import Field, model_validator
 
 from designlab.impact import (
     FoamEnvelope,
+    FoamVerdict,
     HeadRange,
     OptimalFoam,
     SafeVelocity,
     WorstCaseCheck,
     check_worst_case,
     foam_envelope,
+    foam_verdict,
     max_safe_velocity,
     min_foam_thickness,
     optimal_foam,
 )
 from designlab.impact.criteria import (
     ISO_TS_15066_QUASI_STATIC_FORCE,
+    ISO_TS_15066_TRANSIENT_FACTOR,
     Criterion,
     HeadAcceleration,
     HeadInjuryCriterion,
     ImpactForce,
+    IsoQuasiStaticForce,
     IsoTransientForce,
 )
 from designlab.impact.parameters import ContactDynamics, Foam
@@ -63,6 +68,8 @@ from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
 
 __all__ = ["KIND", "FoamDesignResult", "FoamDesignStudy", "run"]
+
+log = logging.getLogger(__name__)
 
 _Pos = Annotated[float, Field(gt=0, allow_inf_nan=False)]
 
@@ -99,13 +106,40 @@ class HicSpec(Model):
 
 
 class IsoSpec(Model):
-    """ISO/TS 15066 transient-contact force limit for a body region."""
+    """ISO/TS 15066 force limit of a body region (Annex A, Table A.2).
+
+    ``contact: quasi_static`` (default) uses the table's maximum permissible
+    force; ``transient`` multiplies it by the table's transient factor, which
+    the table does not give for the head regions: there ``transient_factor``
+    must be stated (docs/impact.md, "Safety criteria").
+    """
 
     type: Literal["iso_ts_15066"]
     body_region: Literal[tuple(ISO_TS_15066_QUASI_STATIC_FORCE)] = "skull_forehead"  # type: ignore[valid-type]
+    contact: Literal["quasi_static", "transient"] = "quasi_static"
+    transient_factor: _Pos | None = Field(
+        None, description="multiplier of the quasi-static value for transient contact"
+    )
+
+    @model_validator(mode="after")
+    def _factor_only_for_transient(self) -> IsoSpec:
+        if self.transient_factor is not None and self.contact != "transient":
+            raise ValueError("transient_factor applies only to contact: transient")
+        if (
+            self.contact == "transient"
+            and self.transient_factor is None
+            and self.body_region not in ISO_TS_15066_TRANSIENT_FACTOR
+        ):
+            raise ValueError(
+                f"ISO/TS 15066 Table A.2 gives no transient-contact multiplier for "
+                f"{self.body_region!r}: state transient_factor or use contact: quasi_static"
+            )
+        return self
 
     def build(self) -> Criterion:
-        return IsoTransientForce(self.body_region)
+        if self.contact == "quasi_static":
+            return IsoQuasiStaticForce(self.body_region)
+        return IsoTransientForce(self.body_region, transient_factor=self.transient_factor)
 
 
 CriterionSpec = Annotated[
@@ -148,7 +182,13 @@ class FoamDesignStudy(StudyBase):
     )
     optimal: bool = Field(True, description="also find the foam with the best margin")
     worst_case_samples: Annotated[int, Field(ge=0, le=10000)] = Field(
-        64, description="samples per boundary point of the worst-case check (0: skip)"
+        64,
+        description="random samples per boundary point of the worst-case check, after its "
+        "deterministic corners (0: corners only)",
+    )
+    worst_case_check: bool = Field(True, description="check the envelope's worst case")
+    verdict_tolerance: Annotated[float, Field(ge=0, lt=0.5, allow_inf_nan=False)] = Field(
+        0.01, description="relative distance in K_c within which a foam is on the boundary"
     )
 
     PRODUCES: ClassVar[tuple[str, ...]] = (
@@ -175,6 +215,7 @@ class RobotDesign:
     robot: ContactDynamics
     label: str
     envelope: FoamEnvelope
+    verdicts: list[FoamVerdict]
     safe: list[SafeVelocity]
     thickness: list[float]
     optimal: OptimalFoam | None
@@ -201,8 +242,13 @@ class FoamDesignResult(Result):
 
     @property
     def status(self) -> str:
-        """``"ok"``, or ``"empty"`` when some robot has no feasible foam at all."""
-        return "empty" if any(d.envelope.is_empty for d in self.designs) else OK
+        """``"ok"``; ``"empty"`` when some robot has no feasible foam at all;
+        ``"worst_case_violated"`` when a worst-case check found a case beyond a limit."""
+        if any(d.envelope.is_empty for d in self.designs):
+            return "empty"
+        if any(d.check is not None and not d.check.holds for d in self.designs):
+            return "worst_case_violated"
+        return OK
 
     @property
     def warnings(self) -> tuple[str, ...]:  # type: ignore[override]
@@ -223,22 +269,26 @@ class FoamDesignResult(Result):
         return pd.concat(frames, ignore_index=True)
 
     def verdicts(self) -> pd.DataFrame:
-        """One row per (robot, foam): feasibility, margin, safe speeds, thickness."""
+        """One row per (robot, foam): verdict, distances to the boundaries, safe speeds,
+        thickness (all computed by :func:`run`; nothing is solved here)."""
         rows = []
         for d in self.designs:
-            for foam, sv, th in zip(self.foams, d.safe, d.thickness, strict=True):
-                margin = float(d.envelope.margin(foam.stiffness, foam.damping))
+            for foam, fv, sv, th in zip(self.foams, d.verdicts, d.safe, d.thickness, strict=True):
+                margin = fv.margin_decades
                 rows.append(
                     {
                         "robot": d.label,
                         "foam": foam.name,
                         "K_c_N_per_m": foam.stiffness,
                         "C_c_N_s_per_m": foam.damping,
-                        "feasible": bool(d.envelope.is_feasible(foam.stiffness, foam.damping)),
+                        "verdict": fv.verdict,
+                        "feasible": fv.feasible,
+                        "statement": fv.statement,
+                        "K_c_max_N_per_m": fv.stiffness_max,
+                        "K_c_min_N_per_m": fv.stiffness_min,
+                        "upper_excess_percent": 100 * fv.upper_excess,
+                        "lower_deficit_percent": 100 * fv.lower_deficit,
                         "margin_decades": margin,
-                        "margin_percent": 100 * (10**margin - 1)
-                        if math.isfinite(margin)
-                        else margin,
                         "v_c_max_m_per_s": sv.impact_velocity,
                         "v_r_max_m_per_s": sv.manipulator_speed,
                         "limiting": sv.limiting,
@@ -273,6 +323,11 @@ def run(study: FoamDesignStudy, context: RunContext) -> FoamDesignResult:
     for i, spec in enumerate(study.robots):
         robot = spec.build()
         label = robot.name or f"robot {i + 1}"
+        t0 = time.perf_counter()
+        log.info(
+            "%s: %s: envelope over %d damping values, %d criteria, %d foams",
+            study.name, label, damping.size, len(criteria), len(foams),
+        )  # fmt: skip
         env = foam_envelope(
             robot,
             study.impact_velocity,
@@ -281,6 +336,7 @@ def run(study: FoamDesignStudy, context: RunContext) -> FoamDesignResult:
             study.max_compression,
             head_range=head_range,
         )
+        verdicts = [foam_verdict(env, f, tolerance=study.verdict_tolerance) for f in foams]
         safe = [
             max_safe_velocity(
                 robot,
@@ -310,10 +366,22 @@ def run(study: FoamDesignStudy, context: RunContext) -> FoamDesignResult:
         )
         check = (
             check_worst_case(env, head_range or HeadRange(), samples=study.worst_case_samples)
-            if study.worst_case_samples
+            if study.worst_case_check
             else None
         )
-        designs.append(RobotDesign(robot, label, env, safe, thick, opt, check))
+        for f, v in zip(foams, verdicts, strict=True):
+            log.info("%s: %s: %s: %s (%s)", study.name, label, f.name, v.verdict, v.statement)
+        if opt is not None:
+            log.info("%s: %s: optimal foam: status %s", study.name, label, opt.status)
+        if check is not None:
+            log.info(
+                "%s: %s: worst-case check (8 corners + %d samples per point): %s",
+                study.name, label, study.worst_case_samples, check.status,
+            )  # fmt: skip
+        for w in env.warnings:
+            log.info("%s: %s: envelope: %s", study.name, label, w)
+        log.info("%s: %s: done in %.1f s", study.name, label, time.perf_counter() - t0)
+        designs.append(RobotDesign(robot, label, env, verdicts, safe, thick, opt, check))
     return FoamDesignResult(study, foams, designs)
 
 

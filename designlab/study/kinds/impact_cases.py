@@ -84,6 +84,10 @@ class ImpactReference(Model):
     exp_eps_max_m: Positive | None = None
     exp_trials: Annotated[int, Field(ge=1)] | None = None
     tolerance: ImpactTolerance | None = None
+    note: str | None = Field(
+        None,
+        description="why a comparison fails or what a reader should know; shown with the row",
+    )
 
 
 class ImpactCase(Model):
@@ -91,7 +95,7 @@ class ImpactCase(Model):
 
     Give either ``impact_velocity`` (the closing speed v_c, m/s) or both
     ``v_r`` and ``v_h`` (manipulator and head velocities; v_c = v_r - v_h,
-    a negative v_h moves the head toward the robot, DECISIONS I5).
+    a negative v_h moves the head toward the robot, docs/impact.md, "Impact velocity").
     """
 
     label: str | None = Field(None, min_length=1, max_length=80)

@@ -29,6 +29,7 @@ from typing import Annotated, Any, ClassVar, Literal
 
 from pydantic import Field
 
+from designlab.impact.metric_names import LIMITS as IMPACT_LIMITS
 from designlab.impact.sweep import (
     IMPACT_METRICS,
     impact_elasticities_chunk,
@@ -81,6 +82,8 @@ class ImpactSweepStudy(SweepStudyBase[ImpactSweepParameters, ImpactMetricName]):
 
     PARAMETERS: ClassVar[dict[str, tuple[str, ParameterInfo]]] = IMPACT_PARAMETERS
     METRICS: ClassVar[dict[str, str]] = IMPACT_METRICS
+    #: The thesis's design limits (Zeng 2011, Sec. 3.9): 10 g and 20 mm, drawn in the plots.
+    LIMITS: ClassVar[dict[str, float]] = dict(IMPACT_LIMITS)
     EVALUATOR: ClassVar[Any] = impact_metrics_chunk
     LOCAL_EVALUATOR: ClassVar[Any] = impact_elasticities_chunk
     NEEDS_SWEEP_OR_SENSITIVITY: ClassVar[bool] = True
