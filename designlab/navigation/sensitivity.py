@@ -125,6 +125,17 @@ def classify_run(res: NavigationResult, *, moving_speed: float = 0.05, reversals
     the run, still moving faster than ``moving_speed`` on average with at least
     ``reversals`` sign changes of a velocity component) or ``"no arrival"``.
 
+    Parameters
+    ----------
+    res
+        A single run (:func:`~designlab.navigation.simulate`) with its full trajectory.
+    moving_speed
+        Mean speed (m/s) over the second half of the run above which a robot that has
+        not arrived counts as still moving.
+    reversals
+        Sign changes of a velocity component over the second half of the run that make
+        a moving robot "oscillating".
+
     Examples
     --------
     >>> import designlab as dl
@@ -215,6 +226,8 @@ class GainSensitivity(Result):
         / ``"critical region"`` / ``"collision"`` from the batch for the others.
     base_metrics
         Every metric at the base gains.
+    status, warnings
+        The result contract (:class:`~designlab.results.Result`).
     """
 
     base: VFFGains
@@ -562,6 +575,8 @@ class GainGlobalSensitivity(Result):
     infeasible_share
         Share of the Sobol sample that does not arrive or enters a critical region in
         some configuration (the optimiser would reject those points).
+    status, warnings
+        The result contract (:class:`~designlab.results.Result`).
     """
 
     base: VFFGains

@@ -490,6 +490,8 @@ class GainOptimum(Result):
         The seed.
     critical_margin
         The clearance (m) every run had to keep outside every critical region.
+    status, warnings
+        The result contract (:class:`~designlab.results.Result`).
     """
 
     gains: VFFGains | None

@@ -43,7 +43,13 @@ def _box_change(result: VffGainsResult, key: str) -> str:
 
 
 def convergence_figure(result: VffGainsResult) -> Figure:
-    """Best feasible H_mean against evaluations, one panel per stabilising mode, with references."""
+    """Best feasible H_mean against evaluations, one panel per stabilising mode, with references.
+
+    Parameters
+    ----------
+    result
+        The study result.
+    """
     from matplotlib.figure import Figure  # matplotlib only when drawing
 
     comp = result.comparison
@@ -132,7 +138,15 @@ def _draw_scenario(ax, res: NavigationResult) -> None:  # type: ignore[no-untype
 
 
 def trajectory_figure(result: VffGainsResult, mode: str) -> Figure:
-    """One panel per configuration: the thesis's optimum and ours, stabilising ``mode``."""
+    """One panel per configuration: the thesis's optimum and ours, stabilising ``mode``.
+
+    Parameters
+    ----------
+    result
+        The study result.
+    mode
+        ``"off"`` or ``"lyapunov"``: the stabilising mode whose runs to draw.
+    """
     confs = sorted({k[2] for k in result.runs if k[0] == mode})
     n = len(confs)
     cols = 2 if n > 1 else 1
@@ -206,7 +220,17 @@ def _fmt(x: object, spec: str = ".4f") -> str:
 def vff_gains_markdown(
     result: VffGainsResult, *, command: str | None = None, version: str | None = None
 ) -> str:
-    """The Markdown summary."""
+    """The Markdown summary.
+
+    Parameters
+    ----------
+    result
+        The study result.
+    command
+        The command that produced it, quoted at the end.
+    version
+        designlab's version, quoted at the end.
+    """
     st = result.study
     comp = result.comparison
     out = [f"# Optimal VFF gains: {st.name}", ""]
@@ -499,7 +523,21 @@ def write_vff_gains_report(
     version: str | None = None,
     study_text: str | None = None,
 ) -> list[Path]:
-    """Write summary.md, gains.csv, history.csv, the figures and the sensitivity CSVs."""
+    """Write summary.md, gains.csv, history.csv, the figures and the sensitivity CSVs.
+
+    Parameters
+    ----------
+    result
+        The study result.
+    directory
+        The report directory (written into as it is).
+    command
+        The command that produced the result, quoted in summary.md.
+    version
+        designlab's version, quoted in summary.md.
+    study_text
+        The study file's text, copied to study.yaml (``None``: no copy).
+    """
     written = [write_csv(result.comparison, directory / "gains.csv")]
     hist = pd.concat(
         [o.history.assign(optimisation=m) for m, o in result.optima.items()], ignore_index=True
