@@ -52,12 +52,14 @@ from numpy.typing import ArrayLike, NDArray
 
 from designlab.errors import InvalidParameterError, check_nonnegative, check_positive
 from designlab.impact.criteria import CompressionLimit, Criterion, HeadAcceleration
+from designlab.impact.full_joint import FullJointContact, FullJointLink, full_joint_params
 from designlab.impact.metrics import metrics_of_matrix
 from designlab.impact.parameters import (
     ContactDynamics,
     HeadNeck,
     LinkImpact,
 )
+from designlab.impact.parameters import Foam as Foam
 from designlab.results import OK, Result
 
 __all__ = [
@@ -176,8 +178,13 @@ class _Problem:
             rows = np.column_stack(
                 [lr.inertia / l2, lr.joint_damping / l2, lr.joint_stiffness / l2]
             )
+            if isinstance(lr, FullJointLink):  # the full series joint: 5 robot columns
+                rows = lr.effective_rows(np.sqrt(l2))
             return rows, lr.joint_speed * np.sqrt(l2) + self.human_speed
         r = self.robot
+        if isinstance(r, FullJointContact):  # full series joint: 5 robot columns
+            p = full_joint_params(r, Foam(1.0, 0.0), None)
+            return p[None, [0, 1, 2, 8, 9]], np.array([self.impact_velocity])
         return np.array([[r.mass, r.damping, r.stiffness]]), np.array([self.impact_velocity])
 
     def designs(
@@ -201,8 +208,9 @@ class _Problem:
     ) -> tuple[NDArray, NDArray, int]:
         heads = self.heads_for(key)
         n, nh = k.size, heads.shape[0]
-        params = np.column_stack([rows, k, c])
-        full = np.column_stack([np.repeat(params, nh, axis=0), np.tile(heads, (n, 1))])
+        params = np.column_stack([rows[:, :3], k, c])
+        extra = np.repeat(rows[:, 3:], nh, axis=0)  # full-joint controller columns, if any
+        full = np.column_stack([np.repeat(params, nh, axis=0), np.tile(heads, (n, 1)), extra])
         return full, np.repeat(v, nh), nh
 
     def _values(self, key: Criterion, k: NDArray, c: NDArray, rows: NDArray, v: NDArray) -> NDArray:
@@ -686,12 +694,14 @@ def _make_problem(
                 "m/s",
             )
         v = float("nan")
-    elif isinstance(robot, ContactDynamics):
+    elif isinstance(robot, (ContactDynamics, FullJointContact)):
         v = check_positive(
             "impact_velocity", 1.25 if impact_velocity is None else impact_velocity, "m/s"
         )
     else:
-        raise InvalidParameterError("robot", robot, "must be a ContactDynamics or a LinkImpact")
+        raise InvalidParameterError(
+            "robot", robot, "must be a ContactDynamics, a FullJointContact or a LinkImpact"
+        )
     human_speed = check_nonnegative("human_speed", human_speed, "m/s")
     stop_time = check_positive("stop_time", stop_time, "s")
     if not isinstance(constrained, (bool, np.bool_)):

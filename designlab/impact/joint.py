@@ -333,9 +333,10 @@ def fit_joint_band(
 ) -> JointFit:
     """Fit ``K_J + C_J s`` to the full joint (3.4.6) over a frequency band.
 
-    The Taylor truncation (3.4.9) is exact at ``omega = 0`` and degrades
-    towards the corner frequency ``(K_mech + K_cont)/(C_mech + C_cont)``.
-    This solves instead, with cvxpy,
+    An extension of Zeng 2011, which has only the Taylor truncation (3.4.9);
+    it is not one of the thesis's impact scenarios. The Taylor truncation is
+    exact at ``omega = 0`` and degrades towards the corner frequency
+    ``(K_mech + K_cont)/(C_mech + C_cont)``. This solves instead, with cvxpy,
 
     ``minimise sum_k w_k |K + i omega_k C - G(i omega_k)|^2 / |G(i omega_k)|^2``
     subject to ``K >= 0, C >= 0``
@@ -359,6 +360,11 @@ def fit_joint_band(
         Optional non-negative weights ``w_k`` (length ``n``, not all zero).
         Default: all ones.
 
+    A smaller frequency-domain error does not mean smaller errors on the
+    impact metrics, nor errors on the safe side: compare the joints on the
+    metrics with :func:`designlab.impact.full_joint.compare_joint_reductions`
+    (``docs/impact_joint.md``).
+
     Returns
     -------
     JointFit
@@ -380,42 +386,13 @@ def fit_joint_band(
     True
     """
     km, cm, kc, cc = _scalar_joint_args(k_mech, c_mech, k_cont, c_cont)
-    w_max = check_positive("omega_max", omega_max, "rad/s")
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 2:
-        raise InvalidParameterError("n", n, "must be an integer >= 2")
-    if omega_min is None:
-        w_min = w_max / 1000.0
-    else:
-        w_min = check_positive("omega_min", omega_min, "rad/s")
-        if w_min >= w_max:
-            raise InvalidParameterError(
-                "omega_min", omega_min, f"must be < omega_max = {w_max} rad/s", "rad/s"
-            )
-    if weights is None:
-        wts = np.ones(int(n))
-    else:
-        wts = np.asarray(weights, dtype=float)
-        if wts.shape != (int(n),):
-            raise InvalidParameterError(
-                "weights", f"array of shape {wts.shape}", f"must have shape ({int(n)},)"
-            )
-        if not np.all(np.isfinite(wts)) or np.any(wts < 0.0) or not np.any(wts > 0.0):
-            raise InvalidParameterError(
-                "weights", wts.tolist(), "must be finite, >= 0 and not all zero"
-            )
-
-    omega = np.logspace(math.log10(w_min), math.log10(w_max), int(n))
+    omega = _band_frequencies(omega_max, n, omega_min)
+    wts = _band_weights(weights, omega.size)
     g = _full_response(km, cm, kc, cc, omega)
-    mag = np.abs(g)
     k_t, c_t = _taylor(km, cm, kc, cc)
-    err_t = np.abs(k_t + 1j * omega * c_t - g) / mag
-
-    k_fit, c_fit, status = _solve_band(omega, g, mag, wts, k_t, c_t)
-    if math.isfinite(k_fit):
-        err_f = np.abs(k_fit + 1j * omega * c_fit - g) / mag
-    else:
-        err_f = np.full_like(omega, np.nan)
-
+    k_fit, c_fit, status = _solve_band(omega, g, np.abs(g), wts, k_t, c_t)
+    err_t = _relative_error(k_t, c_t, omega, g)
+    err_f = _relative_error(k_fit, c_fit, omega, g)
     return JointFit(
         stiffness=k_fit,
         damping=c_fit,
@@ -429,6 +406,45 @@ def fit_joint_band(
         taylor_rms_error=float(np.sqrt(np.mean(err_t**2))),
         status=status,
     )
+
+
+def _band_frequencies(omega_max: float, n: int, omega_min: float | None) -> np.ndarray:
+    """``n`` log-spaced frequencies on ``[omega_min, omega_max]`` (default omega_max/1000)."""
+    w_max = check_positive("omega_max", omega_max, "rad/s")
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 2:
+        raise InvalidParameterError("n", n, "must be an integer >= 2")
+    if omega_min is None:
+        w_min = w_max / 1000.0
+    else:
+        w_min = check_positive("omega_min", omega_min, "rad/s")
+        if w_min >= w_max:
+            raise InvalidParameterError(
+                "omega_min", omega_min, f"must be < omega_max = {w_max} rad/s", "rad/s"
+            )
+    return np.logspace(math.log10(w_min), math.log10(w_max), int(n))
+
+
+def _band_weights(weights: ArrayLike | None, n: int) -> np.ndarray:
+    """The least-squares weights: all ones, or validated user weights of length ``n``."""
+    if weights is None:
+        return np.ones(n)
+    wts = np.asarray(weights, dtype=float)
+    if wts.shape != (n,):
+        raise InvalidParameterError(
+            "weights", f"array of shape {wts.shape}", f"must have shape ({n},)"
+        )
+    if not np.all(np.isfinite(wts)) or np.any(wts < 0.0) or not np.any(wts > 0.0):
+        raise InvalidParameterError(
+            "weights", wts.tolist(), "must be finite, >= 0 and not all zero"
+        )
+    return wts
+
+
+def _relative_error(k: float, c: float, omega: np.ndarray, g: np.ndarray) -> np.ndarray:
+    """``|K + i omega C - G| / |G|`` (NaN where the spring-damper is unknown)."""
+    if not math.isfinite(k):
+        return np.full_like(omega, np.nan)
+    return np.abs(k + 1j * omega * c - g) / np.abs(g)
 
 
 def _solve_band(

@@ -64,6 +64,7 @@ __all__ = [
     "impact_metrics",
     "metrics_from_responses",
     "ramp_responses",
+    "response_model",
 ]
 
 
@@ -75,21 +76,71 @@ STATUS_LOBE_OPEN = "lobe_not_closed"
 #: fraction of the running a_h peak below which the lobe counts as "nearly over"
 LOW_FRACTION = 0.05
 
-_POSITIVE = ("M_r", "K_c", "M_h")
+_POSITIVE = ("M_r", "K_c", "M_h", "K_mech", "K_cont")
+_FULL_UNITS = {"C_mech": "N s/m", "K_mech": "N/m", "C_cont": "N s/m", "K_cont": "N/m"}
+
+
+def _param_names(width: int | None = None, keys: object = None) -> tuple[str, ...]:
+    """Names of the reduced (8) or full-joint (10, :mod:`designlab.impact.full_joint`) rows."""
+    from designlab.impact.full_joint import FULL_PARAM_NAMES
+
+    full = width == len(FULL_PARAM_NAMES) or (keys is not None and "K_mech" in keys)  # type: ignore[operator]
+    return FULL_PARAM_NAMES if full else PARAM_NAMES
+
+
+def response_model(p: NDArray, constrained: bool) -> LinearImpactModel:
+    """The model of parameter rows ``p``: reduced for 8 columns, full joint for 10.
+
+    Parameters
+    ----------
+    p
+        ``(N, 8)`` rows ordered as :data:`PARAM_NAMES` or ``(N, 10)`` rows ordered as
+        :data:`designlab.impact.full_joint.FULL_PARAM_NAMES`.
+    constrained
+        The constrained impact (head against a wall).
+
+    Returns
+    -------
+    LinearImpactModel
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> response_model(np.zeros((1, 8)), False).name
+    'unconstrained'
+    >>> response_model(np.zeros((1, 10)), True).name.startswith("full_joint")
+    True
+    """
+    if p.shape[-1] == len(PARAM_NAMES):
+        return constrained_model() if constrained else unconstrained_model()
+    from designlab.impact.full_joint import full_joint_model
+
+    return full_joint_model(constrained)
 
 
 def _check_params(p: NDArray) -> NDArray:
     """Range checks of an ``(N, 8)`` parameter matrix ordered as :data:`PARAM_NAMES`."""
     if p.shape[0] == 0:
         raise InvalidParameterError("params", "0 designs", "needs at least one design")
-    for i, name in enumerate(PARAM_NAMES):
+    names = _param_names(p.shape[-1])
+    if p.shape[-1] != len(names):
+        return p  # the caller reports the shape
+    if len(names) != len(PARAM_NAMES) and np.any(p[:, 1] + p[:, 8] <= 0):
+        j = int(np.flatnonzero(p[:, 1] + p[:, 8] <= 0)[0])
+        raise InvalidParameterError(
+            f"C_mech[{j}] + C_cont[{j}]", 0.0, "must be > 0 for the full joint", "N s/m"
+        )
+    for i, name in enumerate(names):
         col = p[:, i]
         bad = ~np.isfinite(col) | ((col <= 0) if name in _POSITIVE else (col < 0))
         if np.any(bad):
             j = int(np.flatnonzero(bad)[0])
             allowed = "must be a finite number " + ("> 0" if name in _POSITIVE else ">= 0")
             raise InvalidParameterError(
-                f"{name}[{j}]", float(col[j]), allowed, PARAMETERS[name].unit
+                f"{name}[{j}]",
+                float(col[j]),
+                allowed,
+                (_FULL_UNITS.get(name) or PARAMETERS[name].unit),
             )
     return p
 
@@ -114,6 +165,14 @@ def ramp_responses(
     q2
         ``"correct"`` or ``"printed"`` (docs/impact.md, "q2"; unconstrained model only).
     """
+    if model.name.startswith("full_joint"):
+        if check_q2(q2) != "correct":
+            raise InvalidParameterError(
+                "q2", q2, "the printed q2 of (3.5.14) belongs to the reduced joint; use 'correct'"
+            )
+        from designlab.impact.full_joint import modal_families
+
+        return modal_families(model, params, outputs)["ramp"]
     den, num = model.ramp_coefficients(params)
     if check_q2(q2) == "printed" and model.name == "unconstrained":
         den = den.copy()
@@ -197,7 +256,7 @@ class ImpactMetrics(Result):
 
     def to_frame(self) -> pd.DataFrame:
         """One row per design: parameters and metrics (columns of :mod:`.metric_names`)."""
-        df = pd.DataFrame(self.params, columns=list(PARAM_NAMES))
+        df = pd.DataFrame(self.params, columns=list(_param_names(self.params.shape[1])))
         df["v_c_m_per_s"] = self.impact_velocity
         df["a_h_max_m_per_s2"] = self.peak_head_acceleration
         df["a_h_max_g"] = self.peak_head_acceleration_g
@@ -366,7 +425,8 @@ def impact_metrics(
     designlab.errors.InvalidParameterError: params = 'array of shape (1, 8)' is not allowed:
     an array needs explicit column names (columns=...) ...
     """
-    p = named_columns("params", params, PARAM_NAMES, columns=columns)
+    keys = columns if columns is not None else getattr(params, "keys", lambda: ())()
+    p = named_columns("params", params, _param_names(keys=list(keys)), columns=columns)
     return metrics_of_matrix(
         p,
         impact_velocity,
@@ -404,8 +464,10 @@ def metrics_of_matrix(
     envelope, the criteria); ranges are checked, the column order cannot be.
     """
     p = _check_params(np.atleast_2d(real_array("params", p)))
-    if p.ndim != 2 or p.shape[1] != len(PARAM_NAMES):
-        raise InvalidParameterError("params", p.shape, f"must have shape (N, {len(PARAM_NAMES)})")
+    if p.ndim != 2 or p.shape[1] not in (len(PARAM_NAMES), 10):
+        raise InvalidParameterError(
+            "params", p.shape, f"must have shape (N, {len(PARAM_NAMES)}) (or (N, 10), full joint)"
+        )
     v = np.atleast_1d(real_array("impact_velocity", impact_velocity, "m/s")).ravel()
     if v.size == 0:
         raise InvalidParameterError(
@@ -424,17 +486,23 @@ def metrics_of_matrix(
     stop_time = check_positive("stop_time", stop_time, "s")
     max_lobe_steps = check_int("max_lobe_steps", max_lobe_steps, minimum=1)
 
-    model = constrained_model() if constrained else unconstrained_model()
+    model = response_model(p, constrained)
     names: tuple[str, ...] = ("compression",) if constrained else ("head_acceleration",)
     if with_compression and not constrained:
         names = (*names, "compression")
     if with_force or constrained:
         names = ("force", *names)
     resp = ramp_responses(model, p, names, q2=q2)
+    rate = None
+    if model.name.startswith("full_joint"):
+        from designlab.impact.full_joint import grid_rate
+
+        rate = grid_rate(resp[names[0]].poles)
     return metrics_from_responses(
         resp,
         p,
         v,
+        rate=rate,
         constrained=constrained,
         stop_time=stop_time,
         max_lobe_steps=max_lobe_steps,
@@ -451,6 +519,7 @@ def metrics_from_responses(
     stop_time: float = 0.05,
     max_lobe_steps: int = 4096,
     lobe_diagnostics: bool = False,
+    rate: NDArray[np.float64] | None = None,
 ) -> ImpactMetrics:
     """First-lobe metrics from unit-velocity responses already built (see :func:`impact_metrics`).
 
@@ -474,13 +543,22 @@ def metrics_from_responses(
         Most grid steps of the march to the end of the first lobe.
     lobe_diagnostics
         Also return the lobe-search diagnostics.
+    rate
+        Fastest rate (1/s, ``(N,)``) the search grid must resolve; default the
+        largest pole modulus. The full joint passes
+        :func:`designlab.impact.full_joint.grid_rate` (its stiff motor node is
+        not resolved).
     """
     n = p.shape[0]
     names = tuple(k for k in ("force", "head_acceleration", "compression") if k in resp)
     status = np.full(n, STATUS_OK, dtype=object)
 
     pol = resp[names[0]].poles
-    h = 0.4 / np.abs(pol).max(axis=1)  # <= 1/15 of the fastest mode's period
+    # ``rate`` (1/s) replaces the largest pole modulus for the full joint, whose stiff
+    # motor node need not be resolved (designlab.impact.full_joint.grid_rate)
+    h = 0.4 / (
+        np.abs(pol).max(axis=1) if rate is None else rate
+    )  # <= 1/15 of the fastest mode's period
     t_low = np.full(n, np.nan)
     if constrained:
         h = np.minimum(h, stop_time / 64.0)
@@ -608,7 +686,9 @@ def hic_batch(metrics: ImpactMetrics, window: float = 0.015, samples: int = 400)
     idx = np.flatnonzero((metrics.impact_velocity > 0) & np.isfinite(t_imp) & (t_imp > 0))
     if metrics.constrained or idx.size == 0:
         return out
-    resp = ramp_responses(unconstrained_model(), metrics.params[idx], ("head_velocity",))
+    resp = ramp_responses(
+        response_model(metrics.params, False), metrics.params[idx], ("head_velocity",)
+    )
     vel = resp["head_velocity"]
     scale = metrics.impact_velocity[idx]
     t_end = t_imp[idx]

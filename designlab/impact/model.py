@@ -58,6 +58,7 @@ __all__ = [
     "PARAM_NAMES",
     "LinearImpactModel",
     "constrained_model",
+    "derive_model",
     "param_vector",
     "transfer_functions",
     "unconstrained_model",
@@ -190,6 +191,17 @@ class LinearImpactModel:
         res = self.state_space(np.asarray(params, dtype=float))
         return tuple(np.asarray(r, dtype=float) for r in res)
 
+    def matrices_batch(self, params: ArrayLike) -> tuple[NDArray[np.float64], ...]:
+        """Numeric ``(A, B, C, D)`` for a batch ``(N, n_p)``: arrays ``(N, rows, cols)``."""
+        p = np.atleast_2d(np.asarray(params, dtype=float))
+        res = _evaluate(self.state_space, p)
+        n_x, n_u, n_y = self.n_states, len(self.input_names), len(self.output_names)
+        shapes = ((n_x, n_x), (n_x, n_u), (n_y, n_x), (n_y, n_u))
+        return tuple(
+            np.moveaxis(r.reshape(*shape, p.shape[0], order="F"), 2, 0)
+            for r, shape in zip(res, shapes, strict=True)
+        )
+
 
 #: Outputs of both models, in the order of ``y``.
 OUTPUT_NAMES: tuple[str, ...] = (
@@ -241,9 +253,9 @@ def _tf_numerators(a_mat: ca.SX, b_mat: ca.SX, c_mat: ca.SX, d_mat: ca.SX) -> tu
     coeffs, adj = _faddeev_leverrier(a_mat)
     den = ca.vertcat(*coeffs)  # descending powers, length n+1
     nums = []
-    for k in range(len(OUTPUT_NAMES)):
+    for k in range(c_mat.shape[0]):
         rows = []
-        for j in range(len(INPUT_NAMES)):
+        for j in range(b_mat.shape[1]):
             poly = [d_mat[k, j] * coeffs[0]]
             for i in range(1, n + 1):
                 poly.append(c_mat[k, :] @ adj[i - 1] @ b_mat[:, j] + d_mat[k, j] * coeffs[i])
@@ -255,6 +267,55 @@ def _tf_numerators(a_mat: ca.SX, b_mat: ca.SX, c_mat: ca.SX, d_mat: ca.SX) -> tu
 def _build(name: str, constrained: bool) -> LinearImpactModel:
     """Both numerical faces of one model: ODE, outputs, state space, transfer functions."""
     x, u, p, xdot, y, state_names = _equations(constrained)
+    return derive_model(name, x, u, p, xdot, y, state_names, OUTPUT_NAMES)
+
+
+def derive_model(
+    name: str,
+    x: ca.SX,
+    u: ca.SX,
+    p: ca.SX,
+    xdot: ca.SX,
+    y: ca.SX,
+    state_names: tuple[str, ...],
+    output_names: tuple[str, ...],
+    param_names: tuple[str, ...] = PARAM_NAMES,
+    input_names: tuple[str, ...] = INPUT_NAMES,
+) -> LinearImpactModel:
+    """Derive the functions, state space and transfer functions of a linear model.
+
+    ``xdot = f(x, u, p)`` and ``y = g(x, u, p)`` must be linear in ``x`` and ``u``.
+    The first two inputs must be the closing displacement and speed (``s_c``,
+    ``v_c``) so that the constant-velocity impact is ``u = v_c [t, 1, 0, ...]``.
+    Used for the reduced model here and the full series joint of
+    :mod:`designlab.impact.full_joint`.
+
+    Parameters
+    ----------
+    name
+        Model name (``LinearImpactModel.name``; prefixes the CasADi functions).
+    x, u, p
+        Symbols of the states, the inputs and the parameters.
+    xdot, y
+        State derivatives and outputs, expressions in ``x``, ``u``, ``p``.
+    state_names, output_names
+        Names of the entries of ``x`` and ``y``.
+    param_names, input_names
+        Names of the entries of ``p`` and ``u``.
+
+    Returns
+    -------
+    LinearImpactModel
+
+    Examples
+    --------
+    >>> import casadi as ca
+    >>> x, u, p = ca.SX.sym("x", 1), ca.SX.sym("u", 3), ca.SX.sym("p", 1)
+    >>> m = derive_model("demo", x, u, p, -p[0] * x + u[1], x, ("x",), ("force",),
+    ...                  param_names=("k",))
+    >>> m.n_states, m.output_names
+    (1, ('force',))
+    """
     ode = ca.Function(f"impact_{name}_ode", [x, u, p], [xdot], ["x", "u", "p"], ["xdot"])
     outputs = ca.Function(f"impact_{name}_outputs", [x, u, p], [y], ["x", "u", "p"], ["y"])
     a_mat, b_mat = ca.jacobian(xdot, x), ca.jacobian(xdot, u)
@@ -263,14 +324,14 @@ def _build(name: str, constrained: bool) -> LinearImpactModel:
         f"impact_{name}_ss", [p], [a_mat, b_mat, c_mat, d_mat], ["p"], ["A", "B", "C", "D"]
     )
     den, nums = _tf_numerators(a_mat, b_mat, c_mat, d_mat)
-    num_names = [f"num_{o}" for o in OUTPUT_NAMES]
+    num_names = [f"num_{o}" for o in output_names]
     tf = ca.Function(
         f"impact_{name}_tf", [p], [ca.simplify(den), *nums], ["p"], ["den", *num_names]
     )
     # Constant-velocity impact, u = v_c [1/s^2, 1/s, 0]: Y(s) = v_c (N_sc + s N_vc) / (s^2 den)
     ramps = [
         ca.simplify(ca.horzcat(ca.SX(0.0), nums[k][0, :]) + ca.horzcat(nums[k][1, :], ca.SX(0.0)))
-        for k in range(len(OUTPUT_NAMES))
+        for k in range(len(output_names))
     ]
     ramp_tf = ca.Function(
         f"impact_{name}_ramp_tf", [p], [ca.simplify(den), *ramps], ["p"], ["den", *num_names]
@@ -283,7 +344,9 @@ def _build(name: str, constrained: bool) -> LinearImpactModel:
         tf=tf,
         ramp_tf=ramp_tf,
         state_names=state_names,
-        output_names=OUTPUT_NAMES,
+        output_names=output_names,
+        param_names=param_names,
+        input_names=input_names,
     )
 
 
@@ -364,7 +427,11 @@ def transfer_functions(
         v_c in m/s.
     q2
         ``"correct"`` (default, docs/impact.md, "q2") or ``"printed"`` to reproduce the
-        thesis's q2 without the C_r C_h/(M_r M_h) term.
+        thesis's q2 without the C_r C_h/(M_r M_h) term. The printed option
+        changes the common denominator, so the force and eps change too,
+        although Fig. 3.10 cites (3.5.11), whose form has no q2: that the
+        thesis's force curves used the printed q2 is an inference from its
+        Sec. 3.6 percentages, not something the text states.
 
     Examples
     --------

@@ -452,6 +452,15 @@ def optimal_foam(
     >>> opt.status, round(opt.stiffness / 1e3, 1), round(opt.damping_ratio(), 2)
     ('ok', 25.2, 0.2)
     """
+    from designlab.impact.full_joint import FullJointLink
+
+    if not isinstance(robot, (ContactDynamics, LinkImpact)) or isinstance(robot, FullJointLink):
+        raise InvalidParameterError(
+            "robot",
+            robot,
+            "must be a ContactDynamics or a LinkImpact (exact gradients exist for the reduced "
+            "joint only; for a FullJointContact use its foam_envelope, or robot.taylor())",
+        )
     objective = check_choice("objective", objective, ("margin", "thinnest"))
     if objective == "thinnest" and thickness_bounds is None:
         raise InvalidParameterError(

@@ -36,6 +36,13 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError, check_finite, check_positive
+from designlab.impact.full_joint import (
+    FullJointContact,
+    full_joint_model,
+    full_joint_params,
+    grid_rate,
+    modal_families,
+)
 from designlab.impact.metrics import (
     STATUS_NO_IMPACT,
     STATUS_OK,
@@ -197,7 +204,7 @@ class ImpactResponse(Result):
         The q2 option of the model (``"correct"`` or ``"printed"``; docs/impact.md).
     """
 
-    robot: ContactDynamics
+    robot: ContactDynamics | FullJointContact
     foam: Foam
     head: HeadNeck | None
     impact_velocity: float
@@ -303,15 +310,22 @@ class ImpactResponse(Result):
 
 
 def _responses(
-    robot: ContactDynamics,
+    robot: ContactDynamics | FullJointContact,
     foam: Foam,
     head: HeadNeck | None,
     q2: str,
     keys: tuple[str, ...] = ("ramp", "accel", "a_d"),
 ) -> dict[str, dict[str, ModalResponse]]:
-    """Unit responses to the inputs: closing ramp, closing step, closing parabola, a_d step."""
-    model = constrained_model() if head is None else unconstrained_model()
-    p = param_vector(robot, foam, head)[None, :]
+    """Unit responses to the inputs: closing ramp, closing step, closing parabola, a_d step.
+
+    A :class:`FullJointContact` (full series joint, (3.4.6)) is evaluated from
+    its state space and adds the ``a_ff`` step: a desired acceleration
+    compensated by feed-forward at the motor.
+    """
+    model, p = _model_and_params(robot, foam, head)
+    if isinstance(robot, FullJointContact):
+        fams = (*keys, "a_ff") if "a_d" in keys else keys
+        return modal_families(model, p, _OUTPUTS, fams)
     den, num = model.tf_coefficients(p)
     if q2 == "printed" and head is not None:
         den = den.copy()
@@ -349,6 +363,14 @@ def _responses(
     return families
 
 
+def _model_and_params(robot, foam, head):  # type: ignore[no-untyped-def]
+    """The linear model and its ``(1, n_p)`` parameters for a reduced or full-joint robot."""
+    if isinstance(robot, FullJointContact):
+        return full_joint_model(head is None), full_joint_params(robot, foam, head)[None, :]
+    model = constrained_model() if head is None else unconstrained_model()
+    return model, param_vector(robot, foam, head)[None, :]
+
+
 def _superpose(
     families: dict[str, dict[str, ModalResponse]],
     v_c: float,
@@ -361,6 +383,8 @@ def _superpose(
         terms += [("accel", a, 0.0), ("accel", -a, d)]
         if not profile.feedforward:
             terms += [("a_d", a, 0.0), ("a_d", -a, d)]
+        elif "a_ff" in families:  # full joint: the feed-forward acts at the motor
+            terms += [("a_ff", a, 0.0), ("a_ff", -a, d)]
 
     def evaluate(t: NDArray, derivative: int = 0) -> dict[str, NDArray]:
         t = np.asarray(t, dtype=float)
@@ -381,7 +405,7 @@ def _superpose(
 
 
 def simulate(
-    robot: ContactDynamics,
+    robot: ContactDynamics | FullJointContact,
     foam: Foam,
     head: HeadNeck | None,
     impact_velocity: float,
@@ -397,7 +421,9 @@ def simulate(
     Parameters
     ----------
     robot
-        Effective manipulator at the impact point.
+        Effective manipulator at the impact point: the reduced joint
+        (:class:`ContactDynamics`) or the full series joint of (3.4.6)
+        (:class:`~designlab.impact.full_joint.FullJointContact`).
     foam
         Foam covering.
     head
@@ -493,8 +519,8 @@ def _check_inputs(
     q2: object,
 ) -> float:
     """Validate the arguments of :func:`simulate`; returns v_c."""
-    if not isinstance(robot, ContactDynamics):
-        raise InvalidParameterError("robot", robot, "must be a ContactDynamics")
+    if not isinstance(robot, (ContactDynamics, FullJointContact)):
+        raise InvalidParameterError("robot", robot, "must be a ContactDynamics or FullJointContact")
     if not isinstance(foam, Foam):
         raise InvalidParameterError("foam", foam, "must be a Foam")
     if head is not None and not isinstance(head, HeadNeck):
@@ -502,6 +528,8 @@ def _check_inputs(
     v_c = check_finite("impact_velocity", impact_velocity, "m/s")
     if q2 not in ("correct", "printed"):
         raise InvalidParameterError("q2", q2, "must be 'correct' or 'printed'")
+    if q2 == "printed" and isinstance(robot, FullJointContact):
+        raise InvalidParameterError("q2", q2, "the printed q2 belongs to the reduced joint")
     check_int("samples", samples, minimum=2)
     if profile is not None and not isinstance(profile, VelocityProfile):
         raise InvalidParameterError("profile", profile, "must be a VelocityProfile or None")
@@ -524,7 +552,7 @@ def _lobe_metrics(
     evaluation with Newton polishing for a velocity profile.
     """
     constrained = head is None
-    p = param_vector(robot, foam, head)[None, :]
+    p = _model_and_params(robot, foam, head)[1]
     wanted = ("force", "compression") if constrained else _METRIC_OUTPUTS
     base = metrics_from_responses(
         {k: families["ramp"][k] for k in wanted},
@@ -532,6 +560,7 @@ def _lobe_metrics(
         np.array([v_c]),
         constrained=constrained,
         stop_time=check_positive("stop_time", stop_time, "s"),
+        rate=grid_rate(families["ramp"]["force"].poles) if p.shape[1] > 8 else None,
     )
     status = str(base.design_status[0])
     t_imp = float(base.impact_duration[0])

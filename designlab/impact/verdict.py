@@ -305,8 +305,12 @@ class SafeVelocity(Result):
 
 
 def _check_robot_foam(robot: object, foam: object) -> None:
-    if not isinstance(robot, ContactDynamics):
-        raise InvalidParameterError("robot", robot, "must be a ContactDynamics")
+    from designlab.impact.full_joint import FullJointContact
+
+    if not isinstance(robot, (ContactDynamics, FullJointContact)):
+        raise InvalidParameterError(
+            "robot", robot, "must be a ContactDynamics or a FullJointContact"
+        )
     if not isinstance(foam, Foam):
         raise InvalidParameterError("foam", foam, "must be a Foam")
 

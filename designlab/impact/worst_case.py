@@ -164,10 +164,10 @@ def _robot_cases(
             [np.full(n, lr.lever_arm_min), np.full(n, lr.lever_arm_max), worst_l]
         )
         rows, v = prob._robot_rows(levers.ravel())
-        return rows.reshape(n, 3, 3), v.reshape(n, 3), levers
+        return rows.reshape(n, 3, rows.shape[-1]), v.reshape(n, 3), levers
     rows, v = prob._robot_rows(None)
     return (
-        np.broadcast_to(rows, (n, 1, 3)),
+        np.broadcast_to(rows, (n, 1, rows.shape[-1])),
         np.broadcast_to(v, (n, 1)),
         np.full((n, 1), np.nan),
     )
@@ -195,12 +195,12 @@ def _corner_ratio(
     """Largest corner ratio per point, its delicate flag and its case parameters."""
     rows, v, _ = _robot_cases(prob, key, k, c)
     n, nr, nh = k.size, rows.shape[1], heads.shape[0]
-    robot = np.repeat(rows.reshape(n * nr, 3), nh, axis=0)
+    robot = np.repeat(rows.reshape(n * nr, rows.shape[-1]), nh, axis=0)
     vv = np.repeat(v.reshape(n * nr), nh)
     kk = np.repeat(k, nr * nh)
     cc = np.repeat(c, nr * nh)
     hh = np.tile(heads, (n * nr, 1))
-    params = np.column_stack([robot, kk, cc, hh])
+    params = np.column_stack([robot[:, :3], kk, cc, hh, robot[:, 3:]])  # full joint: +2
     ratio, delicate = _evaluate(prob, key, params, vv)
     ratio = ratio.reshape(n, nr * nh)
     j = np.nanargmax(np.where(np.isfinite(ratio), ratio, -np.inf), axis=1)
@@ -233,7 +233,9 @@ def _sampled_ratio(
         rows, vmax = prob._robot_rows(None)
         rows, vmax = np.repeat(rows, n, axis=0), np.repeat(vmax, n)
     v = vmax * np.where(frac < 0.25, 1.0, frac)
-    params = np.column_stack([rows, np.repeat(k, samples), np.repeat(c, samples), heads])
+    params = np.column_stack(
+        [rows[:, :3], np.repeat(k, samples), np.repeat(c, samples), heads, rows[:, 3:]]
+    )  # full joint: +2 controller columns
     ratio, delicate = _evaluate(prob, key, params, v)
     r = np.where(np.isfinite(ratio), ratio, -np.inf).reshape(k.size, samples)
     j = r.argmax(axis=1)
@@ -310,7 +312,12 @@ def _check_constraint(
         flag = flag | d_s
     ratio_all[ok], corner_all[ok], flag_all[ok] = ratio, r_c, flag
     j = int(np.argmax(ratio))
-    names = ("M_r", "C_r", "K_r", "K_c", "C_c", "M_h", "C_h", "K_h", "v_c")
+    names = (
+        *__import__("designlab.impact.metrics", fromlist=["_param_names"])._param_names(
+            case.shape[1] - 1
+        ),
+        "v_c",
+    )
     worst = dict(zip(names, case[j].tolist(), strict=True))
     onset_c, onset_xi = _onset(prob, env, key, heads, ratio_all, tolerance)
     return ratio_all, corner_all, flag_all, worst, onset_c, onset_xi

@@ -51,8 +51,10 @@ from designlab.report.atomic import ReportError
 __all__ = ["STORE_FORMAT", "ChunkStore", "open_store"]
 
 #: Version of the store layout (``meta.format``).
-STORE_FORMAT = "designlab-chunk-store-1"
+STORE_FORMAT = "designlab-chunk-store-2"
 
+# A rowid table: a chunk of a slow evaluator packs to a kilobyte or two, which a
+# WITHOUT ROWID table would spill to an overflow page of its own (4 KiB each).
 _SCHEMA = """
 CREATE TABLE meta (name TEXT PRIMARY KEY, value TEXT NOT NULL);
 CREATE TABLE chunks (
@@ -60,7 +62,7 @@ CREATE TABLE chunks (
     n INTEGER NOT NULL,
     data BLOB NOT NULL,
     sha256 BLOB NOT NULL
-) WITHOUT ROWID;
+);
 """
 
 #: Sampled design points (LHS, Sobol), so that a resumed study does not sample again.
@@ -71,7 +73,7 @@ CREATE TABLE IF NOT EXISTS samples (
     n INTEGER NOT NULL,
     data BLOB NOT NULL,
     sha256 BLOB NOT NULL
-) WITHOUT ROWID
+)
 """
 
 

@@ -17,7 +17,8 @@ from designlab.impact.joint import (
     reduced_joint_tf,
 )
 
-# A geared joint whose transmission and controller are comparable, so that the
+# An illustrative geared joint (not a joint of the thesis, whose arms are the
+# direct-drive arm and the Puma 560) whose transmission and controller are comparable, so that the
 # Taylor truncation is visibly imperfect below the corner frequency
 # (K_mech + K_cont)/(C_mech + C_cont) = 3500/32 = 109 rad/s.
 GEARED = (2.0e3, 2.0, 1.5e3, 30.0)

@@ -11,6 +11,8 @@ MODULES: tuple[str, ...] = (
     "impact_sweep",
     "foam_envelope",
     "foam_design",
+    "joint_reduction",
+    "zeng_ch3_claims",
     "follower_comparison",
     "follower_tuning",
     "follower_sweep",

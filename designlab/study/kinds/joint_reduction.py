@@ -1,0 +1,268 @@
+"""The ``joint_reduction`` study kind: where the reduced joint (3.4.9) may be used.
+
+For each joint of the study it compares the impact with the full series joint
+(Zeng 2011, eq. 3.4.6) with the Taylor reduction (3.4.9) and the band fit, at
+the joint as given and over the transmission/controller stiffness ratio
+K_mech/K_cont (:func:`designlab.impact.joint_reduction_sweep`), and marks where
+each reduction is conservative (``docs/impact_joint.md``).
+
+Examples
+--------
+>>> from designlab.study import parse_study, run_study
+>>> study = parse_study('''
+... designlab: 1
+... kind: joint_reduction
+... name: demo
+... joints:
+...   - {name: geared, inertia: 0.059, k_mech: 2000, c_mech: 2.0, k_cont: 1500, c_cont: 30,
+...      lever_arm: 0.2}
+... ratios: {low: 0.1, high: 100, num: 4}
+... ''')
+>>> result = run_study(study)
+>>> round(100 * result.joints[0].nominal.relative_error("taylor", "a_h_max"), 1)
+12.5
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Annotated, ClassVar, Literal
+
+import numpy as np
+import pandas as pd
+from pydantic import Field, model_validator
+
+from designlab.impact import (
+    FullJointContact,
+    JointReductionComparison,
+    JointReductionSweep,
+    compare_joint_reductions,
+    joint_reduction_sweep,
+)
+from designlab.results import OK, Result
+from designlab.study.base import Model, NonNegative, Positive, StudyBase
+from designlab.study.kinds.impact_specs import FoamSpec, HeadSpec
+from designlab.study.registry import StudyKind
+from designlab.study.runner import RunContext
+
+__all__ = ["KIND", "JointReductionResult", "JointReductionStudy", "JointSpec", "run"]
+
+
+class JointSpec(Model):
+    """One joint at joint level (scenarios 1/2: divided by l^2 at the impact point)."""
+
+    name: str = Field("", description="label for the report")
+    inertia: Positive = Field(description="m_ii, inertia driven by the joint, kg m^2")
+    k_mech: Positive = Field(description="transmission stiffness K_mech, N m/rad")
+    c_mech: NonNegative = Field(description="transmission damping C_mech, N m s/rad")
+    k_cont: Positive = Field(description="control stiffness K_cont (P gain), N m/rad")
+    c_cont: NonNegative = Field(description="control damping C_cont (D gain), N m s/rad")
+    lever_arm: Positive = Field(description="distance l from the joint axis to the impact, m")
+
+    @model_validator(mode="after")
+    def _damped(self) -> JointSpec:
+        if self.c_mech + self.c_cont <= 0:
+            raise ValueError("c_mech + c_cont must be > 0 (the motor node needs damping)")
+        return self
+
+    def build(self, index: int = 0) -> FullJointContact:
+        """The :class:`~designlab.impact.FullJointContact` of this joint.
+
+        Parameters
+        ----------
+        index
+            Position in the study, for the default name ``joint <index + 1>``.
+
+        Returns
+        -------
+        FullJointContact
+            Effective values at the impact point (divided by ``lever_arm**2``).
+        """
+        return FullJointContact.from_joint(
+            self.inertia, self.k_mech, self.c_mech, self.k_cont, self.c_cont,
+            lever_arm=self.lever_arm, name=self.name or f"joint {index + 1}",
+        )  # fmt: skip
+
+
+class RatioGrid(Model):
+    """Log-spaced K_mech/K_cont values."""
+
+    low: Positive = 0.03
+    high: Positive = 3000.0
+    num: Annotated[int, Field(ge=2, le=1001)] = 41
+
+    @model_validator(mode="after")
+    def _order(self) -> RatioGrid:
+        if not self.low < self.high:
+            raise ValueError(f"low = {self.low:g} must be < high = {self.high:g}")
+        return self
+
+    def values(self) -> list[float]:
+        """The grid (rounded to 12 significant digits so reports diff cleanly)."""
+        grid = np.geomspace(self.low, self.high, self.num)
+        return [float(f"{x:.12g}") for x in grid]
+
+
+class JointReductionStudy(StudyBase):
+    """Error of the reduced joint (3.4.9) on the impact metrics, over K_mech/K_cont."""
+
+    kind: Literal["joint_reduction"]
+    joints: list[JointSpec] = Field(min_length=1, max_length=20, description="joints compared")
+    foam: FoamSpec = Field(default_factory=lambda: FoamSpec(preset="FOAM_1"))
+    head: HeadSpec | None = Field(
+        default_factory=lambda: HeadSpec(preset="HEAD_MIN"),
+        description="head-neck set; null: constrained impact (head against a wall)",
+    )
+    impact_velocity: Annotated[float, Field(gt=0, le=20, allow_inf_nan=False)] = Field(
+        1.25, description="closing velocity v_c, m/s"
+    )
+    ratios: RatioGrid = Field(default_factory=RatioGrid)
+    usable_tolerance: Annotated[float, Field(ge=0, lt=0.5, allow_inf_nan=False)] = Field(
+        0.01,
+        description="largest accepted underestimate of a harm metric where a reduction is "
+        "still usable (relative; 0.01 = 1 %)",
+    )
+    omega_max: Positive | None = Field(
+        None,
+        description="upper end of the band fit, rad/s (default: the fastest mode of the "
+        "Taylor-reduced impact, per point)",
+    )
+
+    PRODUCES: ClassVar[tuple[str, ...]] = (
+        "summary.md",
+        "joint_reduction.csv",
+        "nominal.csv",
+        "joint_reduction.png",
+        "study.yaml",
+    )
+
+    @model_validator(mode="after")
+    def _distinct(self) -> JointReductionStudy:
+        names = [j.build(i).name for i, j in enumerate(self.joints)]
+        if len(set(names)) != len(names):
+            raise ValueError("joints must have distinct names")
+        return self
+
+    def size(self) -> str:
+        """Joints x ratios.
+
+        Returns
+        -------
+        str
+            E.g. ``2 joint(s) x 41 stiffness ratios``.
+        """
+        return f"{len(self.joints)} joint(s) x {self.ratios.num} stiffness ratios"
+
+
+@dataclass(frozen=True)
+class JointStudy:
+    """What the study computed for one joint."""
+
+    robot: FullJointContact
+    nominal: JointReductionComparison
+    sweep: JointReductionSweep
+
+
+@dataclass(frozen=True)
+class JointReductionResult(Result):
+    """Result of a ``joint_reduction`` study.
+
+    Attributes
+    ----------
+    study
+        The validated study.
+    joints
+        Per joint, the comparison as given and the sweep over the ratios.
+    """
+
+    study: JointReductionStudy
+    joints: list[JointStudy]
+
+    @property
+    def status(self) -> str:
+        """``"ok"``, or the first status of a comparison or sweep that is not."""
+        for j in self.joints:
+            for part in (j.nominal, j.sweep):
+                if part.status != OK:
+                    return part.status
+        return OK
+
+    @property
+    def warnings(self) -> tuple[str, ...]:  # type: ignore[override]
+        """The comparisons' and sweeps' warnings, by joint."""
+        out = [
+            f"{j.robot.name}: {w}" for j in self.joints for p in (j.nominal, j.sweep)
+            for w in p.warnings
+        ]  # fmt: skip
+        return tuple(dict.fromkeys(out))
+
+    def nominal_frame(self) -> pd.DataFrame:
+        """Each joint as given.
+
+        Returns
+        -------
+        pandas.DataFrame
+            One row per (joint, reduction, metric), with the joint's K_mech/K_cont.
+        """
+        frames = []
+        for j in self.joints:
+            df = j.nominal.to_frame()
+            df.insert(0, "joint", j.robot.name)
+            df.insert(1, "ratio", j.robot.stiffness_ratio)
+            frames.append(df)
+        return pd.concat(frames, ignore_index=True)
+
+    def to_frame(self) -> pd.DataFrame:
+        """The sweeps.
+
+        Returns
+        -------
+        pandas.DataFrame
+            One row per (joint, ratio, reduction, metric).
+        """
+        frames = []
+        for j in self.joints:
+            df = j.sweep.to_frame()
+            df.insert(0, "joint", j.robot.name)
+            frames.append(df)
+        return pd.concat(frames, ignore_index=True)
+
+
+def run(study: JointReductionStudy, context: RunContext) -> JointReductionResult:
+    """Compute the ``joint_reduction`` study (in this process; nothing is stored).
+
+    Parameters
+    ----------
+    study
+        The validated study.
+    context
+        How to run (this kind computes in the calling process and ignores the
+        executor and the store).
+
+    Returns
+    -------
+    JointReductionResult
+        Per joint, the comparison as given and the sweep over the ratios.
+    """
+    foam = study.foam.build()
+    head = study.head.build() if study.head is not None else None
+    ratios = study.ratios.values()
+    out = []
+    for i, spec in enumerate(study.joints):
+        robot = spec.build(i)
+        nominal = compare_joint_reductions(
+            robot, foam, head, study.impact_velocity, omega_max=study.omega_max
+        )
+        sweep = joint_reduction_sweep(
+            robot, foam, head, study.impact_velocity, ratios, omega_max=study.omega_max
+        )
+        out.append(JointStudy(robot, nominal, sweep))
+    return JointReductionResult(study, out)
+
+
+KIND = StudyKind(
+    name="joint_reduction",
+    schema=JointReductionStudy,
+    run=run,
+    report="designlab.report.joint_reduction",
+)
