@@ -28,7 +28,14 @@ from designlab.navigation.scenarios import (
     Walk,
     configuration,
 )
+from designlab.navigation.sensitivity import (
+    GainGlobalSensitivity,
+    GainSensitivity,
+    gain_global_sensitivity,
+    gain_sensitivity,
+)
 from designlab.navigation.simulate import BatchResult, NavigationResult, simulate, simulate_batch
+from designlab.navigation.tuning import GainOptimum, RandomWalks, evaluate_gains, optimise_gains
 
 __all__ = [
     "EXPERIMENT_GAINS",
@@ -38,6 +45,9 @@ __all__ = [
     "ConstantVelocity",
     "Criteria",
     "Disc",
+    "GainGlobalSensitivity",
+    "GainOptimum",
+    "GainSensitivity",
     "GeCuiGains",
     "HolonomicRobot",
     "Human",
@@ -45,6 +55,7 @@ __all__ = [
     "NavigationResult",
     "NonholonomicRobot",
     "ObstacleRobot",
+    "RandomWalks",
     "Rectangle",
     "RectangularObstacle",
     "RegionSizes",
@@ -56,8 +67,12 @@ __all__ = [
     "Walk",
     "configuration",
     "criteria",
+    "evaluate_gains",
+    "gain_global_sensitivity",
+    "gain_sensitivity",
     "omega_closed_form",
     "omega_printed",
+    "optimise_gains",
     "region_sizes",
     "simulate",
     "simulate_batch",

@@ -18,5 +18,6 @@ MODULES: tuple[str, ...] = (
     "follower_sweep",
     "vff_scenarios",
     "vff_sweep",
+    "vff_gains",
     "accompanying",
 )

@@ -1,0 +1,800 @@
+"""Optimal gains of the new VFF: a seeded global search plus a batched local refinement.
+
+Zeng 2011 (App. C.2) found K1 = 4.3, b = 0.68, K3 = 20.3, K5 = 240.7 by a grid
+search refined three times and ``fmincon`` from the 20 best points: a week of
+Matlab. :func:`optimise_gains` poses the same problem (Zeng 2011, Sec. 5.6 and
+App. C; ``docs/navigation_gains.md``):
+
+* decision vector (K1, b, K3, K5) with the Lyapunov gain structure
+  K2 = b K1, K4 = b K3, K6 = b K5 built in (Zeng 2011, (5.5.7)), searched in
+  log-space inside positive bounds (gains bounded away from zero);
+* objective: the mean over the scenarios of the total criterion H (5.6.6);
+* hard constraints: in every scenario (and every randomised walk) the robot
+  arrives within the horizon and never enters a critical region (which also
+  rules out collisions). A violating candidate is *infeasible*: it is ranked
+  below every feasible one by its violation, its H is never reported as an
+  objective value, and the optimum is always a feasible point.
+
+The global stage is CMA-ES (Hansen's ``cma`` package) with box bounds; each
+generation is simulated as one batch through
+:func:`~designlab.navigation.simulate_batch` (or split over an executor). The
+local stage is a batched compass search (Kolda, Lewis and Torczon 2003): the
+2 x 4 poll points around the incumbent are simulated together; the step halves
+when none improves.
+
+Robust mode replaces every walking human by ``walks`` random walks (speed, start
+time and lateral offset drawn with the seed) and scores each scenario by the
+mean or the worst case over its walks; constraints must hold for every walk.
+
+Examples
+--------
+>>> import designlab as dl
+>>> nav = dl.navigation
+>>> opt = nav.optimise_gains([nav.configuration(1)], stabilising="off", seed=1,
+...                          max_evaluations=24, popsize=8, refine=False)
+>>> opt.evaluations, opt.status in ("ok", "not_converged")
+(24, True)
+>>> round(opt.objective, 3) == round(float(opt.scenario_H.mean()), 3)
+True
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+import numpy as np
+import pandas as pd
+from numpy.typing import NDArray
+
+from designlab.errors import InvalidParameterError, check_nonnegative
+from designlab.navigation.parameters import VFFGains
+from designlab.navigation.scenarios import Disc, Scenario, Walk
+from designlab.navigation.simulate import simulate_batch
+from designlab.results import OK, Result
+
+__all__ = [
+    "DEFAULT_BOUNDS",
+    "GAIN_NAMES",
+    "GainOptimum",
+    "RandomWalks",
+    "evaluate_gains",
+    "optimise_gains",
+]
+
+logger = logging.getLogger(__name__)
+
+Array = NDArray[np.float64]
+
+#: Order of the decision vector (the batch simulator's gain columns).
+GAIN_NAMES = ("k1", "b", "k3", "k5")
+#: The thesis's search box (Zeng 2011, App. C.2: K1 <= 50, b <= 3, K3 <= 200, K5 <= 500),
+#: with lower bounds kept away from zero as the Lyapunov structure requires.
+DEFAULT_BOUNDS: dict[str, tuple[float, float]] = {
+    "k1": (0.5, 50.0),
+    "b": (0.05, 3.0),
+    "k3": (0.5, 200.0),
+    "k5": (0.5, 500.0),
+}
+_UNITS = {"k1": "N/m", "b": "s", "k3": "N/m", "k5": "N/m^2"}
+
+
+# --------------------------------------------------------------------- random walks
+
+
+@dataclass(frozen=True)
+class RandomWalks:
+    """Randomised human walks for the robust mode.
+
+    Every obstacle that walks (a :class:`~designlab.navigation.Walk`) is replaced by
+    ``n`` walks with the cruise speed, the start time and a lateral offset (normal
+    to the walking direction) drawn uniformly from the given ranges with ``seed``.
+    Scenarios without a walking obstacle are left as they are.
+
+    Parameters
+    ----------
+    n
+        Walks per scenario (>= 1).
+    speed
+        Range of the cruise speed, m/s.
+    start_time
+        Range of the time the walk starts, s (>= 0).
+    lateral_offset
+        Range of the offset of the whole walk to the left of its direction, m.
+    seed
+        Seed of the draws.
+
+    Examples
+    --------
+    >>> from designlab.navigation import configuration
+    >>> walks = RandomWalks(n=3, seed=0).expand(configuration(2))
+    >>> len(walks), sorted({round(s.obstacles[0].motion.speed, 2) for s in walks}) != [1.0]
+    (3, True)
+    >>> len(RandomWalks(n=3).expand(configuration(1)))
+    1
+    """
+
+    n: int = 8
+    speed: tuple[float, float] = (0.8, 1.2)
+    start_time: tuple[float, float] = (0.0, 0.5)
+    lateral_offset: tuple[float, float] = (-0.1, 0.1)
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        if isinstance(self.n, bool) or not isinstance(self.n, int | np.integer) or self.n < 1:
+            raise InvalidParameterError("RandomWalks.n", self.n, "must be an integer >= 1")
+        for name, unit, lo_min in (
+            ("speed", "m/s", 1e-9),
+            ("start_time", "s", 0.0),
+            ("lateral_offset", "m", -math.inf),
+        ):
+            rng = getattr(self, name)
+            try:
+                lo, hi = (float(v) for v in rng)
+            except (TypeError, ValueError):
+                raise InvalidParameterError(
+                    f"RandomWalks.{name}", rng, "must be a pair (low, high)", unit
+                ) from None
+            if not (math.isfinite(lo) and math.isfinite(hi) and lo <= hi and lo >= lo_min):
+                raise InvalidParameterError(
+                    f"RandomWalks.{name}",
+                    rng,
+                    f"must be finite with low <= high{' and low > 0' if lo_min > 0 else ''}"
+                    f"{' and low >= 0' if lo_min == 0 else ''}",
+                    unit,
+                )
+            object.__setattr__(self, name, (lo, hi))
+
+    def expand(self, scenario: Scenario) -> list[Scenario]:
+        """The scenario with its walks randomised (``[scenario]`` if nothing walks)."""
+        walking = [
+            i
+            for i, o in enumerate(scenario.obstacles)
+            if isinstance(o, Disc) and isinstance(o.motion, Walk)
+        ]
+        if not walking:
+            return [scenario]
+        rng = np.random.default_rng(self.seed)
+        out = []
+        for k in range(self.n):
+            obs = list(scenario.obstacles)
+            for i in walking:
+                o = obs[i]
+                assert isinstance(o, Disc) and isinstance(o.motion, Walk)
+                w = o.motion
+                speed = rng.uniform(*self.speed)
+                t0 = rng.uniform(*self.start_time)
+                off = rng.uniform(*self.lateral_offset)
+                d = np.subtract(w.end, w.start) / w.length
+                n = np.array([-d[1], d[0]]) * off
+                ramp = min(w.ramp_time, w.length / speed)
+                walk = Walk(
+                    tuple(np.add(w.start, n)),
+                    tuple(np.add(w.end, n)),
+                    speed=speed,
+                    ramp_time=ramp,
+                    start_time=t0,
+                )
+                obs[i] = replace(o, motion=walk)
+            out.append(scenario.replace(obstacles=tuple(obs), name=f"{scenario.name}_walk{k}"))
+        return out
+
+
+# ------------------------------------------------------------------------ evaluation
+
+
+@dataclass(frozen=True)
+class _Evaluation:
+    H_mean: Array  # (P,) objective (mean over scenarios of the per-scenario score)
+    H: Array  # (S, P) per original scenario (mean or worst over its walks)
+    feasible: NDArray[np.bool_]  # (P,)
+    violation: Array  # (P,) >= 0, 0 iff feasible
+    arrived: NDArray[np.bool_]  # (S, P) all walks arrived
+    safe: NDArray[np.bool_]  # (S, P) no walk entered a critical region
+    T: Array  # (S, P) arrival time, s (mean over the walks; inf if one did not arrive)
+    margin: Array  # (S, P) smallest distance minus r3 over obstacles and walks, m
+
+
+def _batch_task(task: Mapping[str, Any]) -> dict[str, Array]:
+    """Executor task: simulate one chunk of gain sets (top level so that it pickles)."""
+    r = simulate_batch(
+        task["scenarios"],
+        task["gains"],
+        stabilising=task["stabilising"],
+        arrival_tolerance=task["arrival_tolerance"],
+    )
+    n_obs = [len(n) for n in r.obstacle_names]
+    return {
+        "H": r.H,
+        "arrival_time": r.arrival_time,
+        "entered_critical": r.entered_critical,
+        "min_distance": r.min_distance,
+        "n_obs": np.array(n_obs),
+    }
+
+
+def _check_stabilising(stabilising: str) -> str:
+    if stabilising not in ("lyapunov", "off"):
+        raise InvalidParameterError("stabilising", stabilising, "must be 'lyapunov' or 'off'")
+    return stabilising
+
+
+class _Evaluator:
+    """Simulates a population of gain sets over the (expanded) scenarios."""
+
+    def __init__(
+        self,
+        scenarios: Sequence[Scenario],
+        stabilising: str,
+        robust: RandomWalks | None,
+        robust_mode: str,
+        arrival_tolerance: float,
+        executor: Any,
+        chunks: int,
+        critical_margin: float = 0.0,
+    ) -> None:
+        self.margin = critical_margin
+        self.groups: list[list[Scenario]] = [robust.expand(s) if robust else [s] for s in scenarios]
+        self.flat = [s for g in self.groups for s in g]
+        self.owner = np.concatenate([[i] * len(g) for i, g in enumerate(self.groups)]).astype(int)
+        self.r3 = [np.array([o.r3 for o in s.obstacles]) for s in self.flat]
+        self.stabilising = stabilising
+        self.mode = robust_mode
+        self.tol = arrival_tolerance
+        self.executor = executor
+        self.chunks = chunks
+        self.evaluations = 0
+        self.simulations = 0
+
+    def _simulate(self, gains: Array) -> dict[str, Array]:
+        base = {
+            "scenarios": self.flat,
+            "stabilising": self.stabilising,
+            "arrival_tolerance": self.tol,
+        }
+        if self.executor is None or self.chunks <= 1 or gains.shape[0] < 2:
+            return _batch_task({**base, "gains": gains})
+        parts = np.array_split(np.arange(gains.shape[0]), min(self.chunks, gains.shape[0]))
+        tasks = [{**base, "gains": gains[p]} for p in parts]
+        results: list[dict[str, Array] | None] = [None] * len(tasks)
+        for i, res in self.executor.map_unordered(_batch_task, tasks):
+            results[i] = res
+        done = [r for r in results if r is not None]
+        return {
+            k: np.concatenate([r[k] for r in done], axis=1) if k != "n_obs" else done[0][k]
+            for k in done[0]
+        }
+
+    def __call__(self, gains: Array) -> _Evaluation:
+        gains = np.atleast_2d(gains)
+        raw = self._simulate(gains)
+        P = gains.shape[0]
+        self.evaluations += P
+        self.simulations += P * len(self.flat)
+        arrived_run = np.isfinite(raw["arrival_time"])  # (R, P)
+        safe_run = ~raw["entered_critical"]
+        depth = np.zeros(raw["H"].shape)
+        margin_run = np.full(raw["H"].shape, math.inf)
+        cm = self.margin
+        for r, r3 in enumerate(self.r3):
+            if r3.size:
+                d = raw["min_distance"][r, :, : r3.size]
+                depth[r] = (np.maximum(r3[None, :] + cm - d, 0.0) / r3[None, :]).sum(axis=1)
+                margin_run[r] = (d - r3[None, :]).min(axis=1)
+        if cm > 0:
+            safe_run = safe_run & (margin_run >= cm)
+        S = len(self.groups)
+        H = np.zeros((S, P))
+        arrived = np.zeros((S, P), bool)
+        safe = np.zeros((S, P), bool)
+        T = np.zeros((S, P))
+        margin = np.zeros((S, P))
+        for s in range(S):
+            m = self.owner == s
+            T[s] = raw["arrival_time"][m].mean(axis=0)
+            margin[s] = margin_run[m].min(axis=0)
+            H[s] = raw["H"][m].min(axis=0) if self.mode == "worst" else raw["H"][m].mean(axis=0)
+            arrived[s] = arrived_run[m].all(axis=0)
+            safe[s] = safe_run[m].all(axis=0)
+        violation = (~arrived_run).sum(axis=0) + (~safe_run).sum(axis=0) + depth.sum(axis=0)
+        feasible = arrived.all(axis=0) & safe.all(axis=0)
+        return _Evaluation(
+            H.mean(axis=0), H, feasible, violation.astype(float), arrived, safe, T, margin
+        )
+
+
+def evaluate_gains(
+    scenarios: Sequence[Scenario],
+    gains: Any,
+    *,
+    stabilising: str = "lyapunov",
+    robust: RandomWalks | None = None,
+    robust_mode: str = "mean",
+    arrival_tolerance: float = 0.15,
+    critical_margin: float = 0.0,
+) -> pd.DataFrame:
+    """Score gain sets as :func:`optimise_gains` does: H per scenario, H_mean and feasibility.
+
+    Parameters
+    ----------
+    scenarios
+        The scenarios.
+    gains
+        A :class:`VFFGains`, a sequence of them, or an ``(N, 4)`` array of (k1, b, k3, k5).
+    stabilising, robust, robust_mode, arrival_tolerance, critical_margin
+        As in :func:`optimise_gains`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per gain set: ``k1``, ``b``, ``k3``, ``k5``, ``H_<scenario>``,
+        ``H_mean``, ``feasible``, ``arrived_all``, ``critical_free`` (every run stayed
+        ``critical_margin`` or more outside every critical region), then per scenario
+        ``T_arrive_s_<scenario>`` (s; the mean over the walks in robust mode, inf if a
+        run did not arrive) and ``critical_margin_m_<scenario>`` (the smallest
+        centre/contour distance minus the obstacle's r3 over obstacles and walks, m;
+        negative: the robot entered a critical region; inf without obstacles).
+
+    Examples
+    --------
+    >>> from designlab.navigation import configuration, VFFGains
+    >>> f = evaluate_gains([configuration(1)], VFFGains(4.3, 0.68, 20.3, 240.7), stabilising="off")
+    >>> round(float(f["H_mean"][0]), 3), bool(f["feasible"][0])
+    (0.695, True)
+    """
+    g = _gain_matrix(gains)
+    ev = _Evaluator(
+        _check_scenarios(scenarios),
+        _check_stabilising(stabilising),
+        _check_robust(robust),
+        _check_mode(robust_mode),
+        arrival_tolerance,
+        None,
+        1,
+        _check_margin(critical_margin),
+    )
+    e = ev(g)
+    frame = pd.DataFrame(g, columns=list(GAIN_NAMES))
+    for s, sc in enumerate(scenarios):
+        frame[f"H_{sc.name}"] = e.H[s]
+    frame["H_mean"] = e.H_mean
+    frame["feasible"] = e.feasible
+    frame["arrived_all"] = e.arrived.all(axis=0)
+    frame["critical_free"] = e.safe.all(axis=0)
+    for s, sc in enumerate(scenarios):
+        frame[f"T_arrive_s_{sc.name}"] = e.T[s]
+    for s, sc in enumerate(scenarios):
+        frame[f"critical_margin_m_{sc.name}"] = e.margin[s]
+    return frame
+
+
+def _gain_matrix(gains: Any) -> Array:
+    if isinstance(gains, VFFGains):
+        return gains.as_array()[None, :]
+    if isinstance(gains, Sequence) and gains and all(isinstance(g, VFFGains) for g in gains):
+        return np.array([g.as_array() for g in gains])
+    g = np.atleast_2d(np.asarray(gains, dtype=float))
+    if g.ndim != 2 or g.shape[1] != 4:
+        raise InvalidParameterError(
+            "gains", gains, "must be VFFGains or an (N, 4) array of (k1, b, k3, k5)"
+        )
+    return g
+
+
+def _check_scenarios(scenarios: Sequence[Scenario]) -> list[Scenario]:
+    sc = list(scenarios) if isinstance(scenarios, Sequence) else []
+    if not sc or not all(isinstance(s, Scenario) for s in sc):
+        raise InvalidParameterError(
+            "scenarios", scenarios, "must be a non-empty sequence of Scenario"
+        )
+    names = [s.name for s in sc]
+    if len(set(names)) != len(names):
+        raise InvalidParameterError("scenarios", names, "scenario names must be unique")
+    return sc
+
+
+def _check_margin(margin: float) -> float:
+    if (
+        isinstance(margin, bool)
+        or not isinstance(margin, int | float)
+        or not (math.isfinite(margin) and margin >= 0)
+    ):
+        raise InvalidParameterError("critical_margin", margin, "must be a finite number >= 0", "m")
+    return float(margin)
+
+
+def _check_robust(robust: RandomWalks | None) -> RandomWalks | None:
+    if robust is not None and not isinstance(robust, RandomWalks):
+        raise InvalidParameterError("robust", robust, "must be None or a RandomWalks")
+    return robust
+
+
+def _check_mode(mode: str) -> str:
+    if mode not in ("mean", "worst"):
+        raise InvalidParameterError("robust_mode", mode, "must be 'mean' or 'worst'")
+    return mode
+
+
+def _check_bounds(bounds: Mapping[str, tuple[float, float]] | None) -> tuple[Array, Array]:
+    b = dict(DEFAULT_BOUNDS)
+    if bounds is not None:
+        if not isinstance(bounds, Mapping):
+            raise InvalidParameterError(
+                "bounds", bounds, f"must be a mapping of {GAIN_NAMES} to (low, high)"
+            )
+        unknown = set(bounds) - set(GAIN_NAMES)
+        if unknown:
+            raise InvalidParameterError(
+                "bounds", sorted(unknown), f"keys must be among {GAIN_NAMES}"
+            )
+        b.update(bounds)
+    lo, hi = np.zeros(4), np.zeros(4)
+    for j, name in enumerate(GAIN_NAMES):
+        try:
+            low, high = (float(v) for v in b[name])
+        except (TypeError, ValueError):
+            raise InvalidParameterError(
+                f"bounds[{name!r}]", b[name], "must be a pair (low, high)", _UNITS[name]
+            ) from None
+        if not (math.isfinite(low) and math.isfinite(high) and 0 < low < high):
+            raise InvalidParameterError(
+                f"bounds[{name!r}]",
+                b[name],
+                "must be finite with 0 < low < high (gains bounded away from zero, "
+                "Zeng 2011 (5.5.7))",
+                _UNITS[name],
+            )
+        lo[j], hi[j] = low, high
+    return lo, hi
+
+
+# ----------------------------------------------------------------------------- result
+
+
+@dataclass(frozen=True)
+class GainOptimum(Result):
+    """The optimal gains found by :func:`optimise_gains`.
+
+    Attributes
+    ----------
+    gains
+        The best feasible :class:`VFFGains` (``None`` if no feasible point was found).
+    objective
+        Its H_mean (the mean over the scenarios of H, or of the robust score); ``nan``
+        if none was feasible.
+    scenario_names
+        The scenarios optimised over.
+    scenario_H
+        H per scenario at the optimum (robust score in robust mode).
+    history
+        One row per CMA-ES generation and per refinement iteration: ``phase``,
+        ``iteration``, ``evaluations`` (cumulative), ``best_H_mean`` (best feasible so
+        far), ``iteration_best_H_mean``, ``feasible_share``, ``step`` (CMA-ES sigma or
+        the compass step, in normalised log-gain units) and the incumbent gains.
+    evaluations
+        Gain sets simulated (each over every scenario and walk).
+    simulations
+        Closed-loop runs (evaluations x scenarios x walks; the nominal runs of the
+        criteria are not counted).
+    wall_time
+        Seconds.
+    stabilising, robust_mode, walks
+        The settings (``walks`` = random walks per walking scenario, 0 if not robust).
+    bounds
+        ``{gain: (low, high)}`` searched.
+    seed
+        The seed.
+    critical_margin
+        The clearance (m) every run had to keep outside every critical region.
+    status, warnings
+        The result contract (:class:`~designlab.results.Result`).
+    """
+
+    gains: VFFGains | None
+    objective: float
+    scenario_names: tuple[str, ...]
+    scenario_H: Array
+    history: pd.DataFrame = field(repr=False)
+    evaluations: int
+    simulations: int
+    wall_time: float
+    stabilising: str
+    robust_mode: str
+    walks: int
+    bounds: dict[str, tuple[float, float]]
+    seed: int
+    critical_margin: float = 0.0
+    status: str = OK
+    warnings: tuple[str, ...] = ()
+
+    def on_bounds(self, tolerance: float = 1e-3) -> dict[str, str]:
+        """Gains of the optimum that lie on a bound of the box: ``{gain: "low" | "high"}``.
+
+        Parameters
+        ----------
+        tolerance
+            Distance to the bound in normalised log-gain units (the box is [0, 1]^4).
+        """
+        if self.gains is None:
+            return {}
+        out = {}
+        for n in GAIN_NAMES:
+            lo, hi = self.bounds[n]
+            u = (math.log(getattr(self.gains, n)) - math.log(lo)) / (math.log(hi) - math.log(lo))
+            if u < tolerance:
+                out[n] = "low"
+            elif u > 1 - tolerance:
+                out[n] = "high"
+        return out
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row: the gains, H per scenario, H_mean and the search effort."""
+        row: dict[str, Any] = {"stabilising": self.stabilising}
+        g = self.gains
+        row.update({n: (getattr(g, n) if g is not None else math.nan) for n in GAIN_NAMES})
+        for name, h in zip(self.scenario_names, self.scenario_H, strict=True):
+            row[f"H_{name}"] = float(h)
+        row.update(
+            {
+                "H_mean": self.objective,
+                "evaluations": self.evaluations,
+                "wall_time_s": self.wall_time,
+                "robust_mode": self.robust_mode if self.walks else "",
+                "walks": self.walks,
+            }
+        )
+        return pd.DataFrame([row])
+
+
+# -------------------------------------------------------------------------- optimiser
+
+
+def optimise_gains(
+    scenarios: Sequence[Scenario],
+    *,
+    bounds: Mapping[str, tuple[float, float]] | None = None,
+    stabilising: str = "lyapunov",
+    seed: int = 0,
+    x0: VFFGains | None = None,
+    sigma0: float = 0.25,
+    popsize: int = 16,
+    max_evaluations: int = 1600,
+    refine: bool = True,
+    refine_evaluations: int = 400,
+    robust: RandomWalks | None = None,
+    robust_mode: str = "mean",
+    arrival_tolerance: float = 0.15,
+    critical_margin: float = 0.0,
+    executor: Any = None,
+    chunks: int = 1,
+    callback: Callable[[dict[str, Any]], None] | None = None,
+) -> GainOptimum:
+    """Maximise the mean total criterion H over scenarios with respect to (K1, b, K3, K5).
+
+    Parameters
+    ----------
+    scenarios
+        The scenarios optimised together (the thesis: Configurations 1, 2 and 3).
+    bounds
+        ``{"k1": (low, high), ...}`` in N/m, s, N/m, N/m^2; missing gains use
+        :data:`DEFAULT_BOUNDS` (the thesis's ranges with positive lower bounds).
+    stabilising
+        ``"lyapunov"`` (the stabilising force on, as derived) or ``"off"`` (how the
+        thesis's tables come back; ``docs/navigation.md``).
+    seed
+        Seed of CMA-ES (and nothing else is random; the same seed gives the same result).
+    x0
+        Start of the search; default the centre of the box in log-space.
+    sigma0
+        Initial CMA-ES step in normalised log units (the box is [0, 1]^4).
+    popsize
+        Candidates per CMA-ES generation (simulated as one batch).
+    max_evaluations
+        Budget of gain sets for the global stage.
+    refine
+        Run the batched compass search from the best global point.
+    refine_evaluations
+        Budget of the local stage.
+    robust
+        :class:`RandomWalks` to optimise over randomised human walks, or ``None``.
+    robust_mode
+        ``"mean"`` or ``"worst"``: the score of a scenario over its walks.
+    arrival_tolerance
+        Arrival radius (m).
+    critical_margin
+        Clearance (m, >= 0) the robot must keep outside every critical region: a
+        candidate is feasible only if, in every run, the smallest centre/contour
+        distance to each obstacle is at least its r3 plus this margin (0: never
+        enter a critical region, the issue's constraint).
+    executor
+        Optional executor with ``map_unordered(fn, tasks)`` (e.g. from
+        ``designlab.analysis.executors.make_executor``) to split each population into
+        ``chunks`` parallel batches.
+    chunks
+        Number of parallel batches per population when ``executor`` is given.
+    callback
+        Called with each history row (a dict) as the search goes.
+
+    Returns
+    -------
+    GainOptimum
+        ``status`` is ``"ok"`` when both stages converged, ``"not_converged"`` when a
+        budget ran out first, ``"infeasible"`` when no candidate met the
+        constraints (``gains`` is then ``None``).
+
+    Raises
+    ------
+    InvalidParameterError
+        For bad scenarios, bounds, modes or budgets.
+    """
+    import cma
+
+    t_start = time.perf_counter()
+    sc = _check_scenarios(scenarios)
+    lo, hi = _check_bounds(bounds)
+    stab = _check_stabilising(stabilising)
+    mode = _check_mode(robust_mode)
+    rob = _check_robust(robust)
+    if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
+        raise InvalidParameterError("seed", seed, "must be an integer >= 0")
+    if isinstance(popsize, bool) or not isinstance(popsize, int | np.integer) or popsize < 4:
+        raise InvalidParameterError("popsize", popsize, "must be an integer >= 4")
+    if (
+        isinstance(max_evaluations, bool)
+        or not isinstance(max_evaluations, int | np.integer)
+        or max_evaluations < popsize
+    ):
+        raise InvalidParameterError(
+            "max_evaluations", max_evaluations, f"must be an integer >= popsize = {popsize}"
+        )
+    check_nonnegative("refine_evaluations", refine_evaluations)
+    if not (isinstance(sigma0, float | int) and 0 < sigma0 <= 0.5):
+        raise InvalidParameterError("sigma0", sigma0, "must be in (0, 0.5] (normalised log units)")
+    if executor is not None and not hasattr(executor, "map_unordered"):
+        raise InvalidParameterError("executor", executor, "must have map_unordered(fn, tasks)")
+    llo, lhi = np.log(lo), np.log(hi)
+
+    def to_gains(u: Array) -> Array:
+        return np.exp(llo + np.clip(u, 0.0, 1.0) * (lhi - llo))
+
+    if x0 is None:
+        u0 = np.full(4, 0.5)
+    else:
+        if not isinstance(x0, VFFGains):
+            raise InvalidParameterError("x0", x0, "must be a VFFGains")
+        u0 = (np.log(x0.as_array()) - llo) / (lhi - llo)
+        if np.any(u0 < 0) or np.any(u0 > 1):
+            raise InvalidParameterError("x0", x0, "must lie inside the bounds")
+    cm = _check_margin(critical_margin)
+    ev = _Evaluator(sc, stab, rob, mode, arrival_tolerance, executor, int(chunks), cm)
+    history: list[dict[str, Any]] = []
+    best: dict[str, Any] = {"u": None, "H": -math.inf, "H_s": None}
+
+    def record(phase: str, it: int, e: _Evaluation, step: float) -> None:
+        feas_H = np.where(e.feasible, e.H_mean, -np.inf)
+        j = int(np.argmax(feas_H))
+        row = {
+            "phase": phase,
+            "iteration": it,
+            "evaluations": ev.evaluations,
+            "best_H_mean": best["H"] if math.isfinite(best["H"]) else math.nan,
+            "iteration_best_H_mean": float(feas_H[j]) if math.isfinite(feas_H[j]) else math.nan,
+            "feasible_share": float(e.feasible.mean()),
+            "step": float(step),
+        }
+        if best["u"] is not None:
+            row.update(dict(zip(GAIN_NAMES, to_gains(best["u"]).tolist(), strict=True)))
+        history.append(row)
+        if callback is not None:
+            callback(dict(row))
+
+    def consider(U: Array, e: _Evaluation) -> bool:
+        feas_H = np.where(e.feasible, e.H_mean, -np.inf)
+        j = int(np.argmax(feas_H))
+        if feas_H[j] > best["H"]:
+            best.update(u=U[j].copy(), H=float(feas_H[j]), H_s=e.H[:, j].copy())
+            return True
+        return False
+
+    # ---- global stage: CMA-ES, infeasible candidates ranked below every feasible one
+    opts = {
+        "bounds": [0.0, 1.0],
+        "popsize": int(popsize),
+        "seed": int(seed) + 1,
+        "verbose": -9,
+        "maxfevals": int(max_evaluations),
+        "tolfun": 1e-4,
+        "tolx": 1e-3,
+        "tolflatfitness": 10,
+    }
+    es = cma.CMAEvolutionStrategy(u0.tolist(), float(sigma0), opts)
+    it = 0
+    budget_hit = False
+    while not es.stop():
+        if ev.evaluations + int(popsize) > max_evaluations:
+            budget_hit = True
+            break
+        U = np.array(es.ask())
+        e = ev(to_gains(U))
+        consider(U, e)
+        # feasible: -H (<= 0); infeasible: 1 + violation (> 0), never a "good-looking" number
+        fitness = np.where(e.feasible, -e.H_mean, 1.0 + e.violation)
+        es.tell(list(U), fitness.tolist())
+        it += 1
+        record("cma", it, e, float(es.sigma))
+    stop = dict(es.stop())
+    if budget_hit:
+        stop["max_evaluations"] = int(max_evaluations)
+    global_converged = not budget_hit and not any(k in stop for k in ("maxfevals", "maxiter"))
+    logger.info("CMA-ES stopped after %d generations (%s)", it, stop)
+
+    # ---- local stage: batched compass search in normalised log-gain space
+    local_converged = True
+    if refine and best["u"] is not None and refine_evaluations > 0:
+        step = min(0.05, max(4 * float(es.sigma), 0.01))
+        used = 0
+        k = 0
+        local_converged = False
+        while used + 8 <= refine_evaluations:
+            dirs = np.vstack([np.eye(4), -np.eye(4)]) * step
+            U = np.clip(best["u"][None, :] + dirs, 0.0, 1.0)
+            e = ev(to_gains(U))
+            used += U.shape[0]
+            k += 1
+            improved = consider(U, e)
+            record("refine", k, e, step)
+            if not improved:
+                step /= 2
+                if step < 1e-3:
+                    local_converged = True
+                    break
+    warnings: list[str] = []
+    if best["u"] is None:
+        status = "infeasible"
+        warnings.append(
+            f"no candidate among {ev.evaluations} arrived and stayed out of every critical region "
+            + (f"(by {cm} m or more) " if cm > 0 else "")
+            + "in all scenarios"
+        )
+        gains = None
+        H_s = np.full(len(sc), math.nan)
+    else:
+        g = to_gains(best["u"])
+        gains = VFFGains(*(float(v) for v in g))
+        H_s = best["H_s"]
+        status = OK if (global_converged and local_converged) else "not_converged"
+        if not global_converged:
+            warnings.append(f"CMA-ES stopped on its budget ({stop}), not on convergence")
+        if refine and not local_converged:
+            warnings.append(
+                "the compass refinement stopped on its budget before its step fell below 1e-3"
+            )
+        at_bound = [
+            n for j, n in enumerate(GAIN_NAMES) if best["u"][j] < 1e-3 or best["u"][j] > 1 - 1e-3
+        ]
+        if at_bound:
+            warnings.append(
+                f"the optimum lies on the bound of {at_bound}: widen the bounds to check"
+            )
+    return GainOptimum(
+        gains=gains,
+        objective=float(best["H"]) if best["u"] is not None else math.nan,
+        scenario_names=tuple(s.name for s in sc),
+        scenario_H=np.asarray(H_s, dtype=float),
+        history=pd.DataFrame(history),
+        evaluations=ev.evaluations,
+        simulations=ev.simulations,
+        wall_time=time.perf_counter() - t_start,
+        stabilising=stab,
+        robust_mode=mode,
+        walks=rob.n if rob is not None else 0,
+        bounds={n: (float(lo[j]), float(hi[j])) for j, n in enumerate(GAIN_NAMES)},
+        seed=int(seed),
+        critical_margin=cm,
+        status=status,
+        warnings=tuple(warnings),
+    )
