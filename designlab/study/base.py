@@ -63,6 +63,8 @@ def did_you_mean(word: str, choices: list[str] | tuple[str, ...] | set[str]) -> 
 
 #: A real number (a boolean is refused).
 Number = Annotated[float, BeforeValidator(reject_bool)]
+#: An integer (a boolean is refused: YAML's ``true`` is not 1).
+Integer = Annotated[int, BeforeValidator(reject_bool)]
 #: A finite number > 0.
 Positive = Annotated[Number, Field(gt=0, allow_inf_nan=False)]
 #: A finite number >= 0.
@@ -82,7 +84,9 @@ class Model(BaseModel):
 class StudyBase(Model):
     """Fields common to every study kind."""
 
-    designlab: Literal[1] = Field(description="study file format version")
+    designlab: Annotated[Literal[1], BeforeValidator(reject_bool)] = Field(
+        description="study file format version"
+    )
     kind: str
     name: str = Field(
         pattern=r"^[A-Za-z0-9][A-Za-z0-9_.-]*$",

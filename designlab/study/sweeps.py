@@ -47,8 +47,8 @@ from typing import Annotated, Any, ClassVar, Generic, Literal, TypeVar
 from pydantic import BaseModel, Field, create_model, model_validator
 
 from designlab.study.base import Finite as _Finite
+from designlab.study.base import Integer, StudyBase, did_you_mean
 from designlab.study.base import Model as _Model
-from designlab.study.base import StudyBase, did_you_mean
 
 __all__ = [
     "MAX_POINTS",
@@ -143,7 +143,7 @@ class ParameterRange(_Model):
     )
     low: _Finite | None = Field(None, description="lower bound of the range")
     high: _Finite | None = Field(None, description="upper bound of the range")
-    num: Annotated[int, Field(ge=2, le=100_000)] | None = Field(
+    num: Annotated[Integer, Field(ge=2, le=100_000)] | None = Field(
         None, description="grid: number of points from low to high"
     )
     scale: Literal["linear", "log"] = Field(
@@ -269,10 +269,10 @@ class SweepSpec(_Model):
     method: Literal["list", "grid", "lhs", "sobol"] = Field(
         "grid", description="list | grid | lhs (Latin hypercube) | sobol (quasi-random)"
     )
-    samples: Annotated[int, Field(ge=1, le=1_000_000)] | None = Field(
+    samples: Annotated[Integer, Field(ge=1, le=1_000_000)] | None = Field(
         None, description="number of points (lhs, sobol: a power of two)"
     )
-    seed: Annotated[int, Field(ge=0)] = Field(0, description="seed of lhs/sobol sampling")
+    seed: Annotated[Integer, Field(ge=0)] = Field(0, description="seed of lhs/sobol sampling")
     parameters: Any
 
     @model_validator(mode="after")
@@ -342,10 +342,10 @@ class OneAtATimeSpec(_Model):
 class SobolSpec(_Model):
     """Variance-based Sobol indices (SALib: Saltelli sampling, Sobol analysis)."""
 
-    samples: Annotated[int, Field(ge=2, le=1 << 20)] = Field(
+    samples: Annotated[Integer, Field(ge=2, le=1 << 20)] = Field(
         256, description="base sample N (a power of two); N (D + 2) model runs"
     )
-    seed: Annotated[int, Field(ge=0)] = Field(0, description="seed of sampling and bootstrap")
+    seed: Annotated[Integer, Field(ge=0)] = Field(0, description="seed of sampling and bootstrap")
     parameters: list[str] | None = Field(
         None, description="dotted paths, ranges from the sweep (default: all with a range)"
     )

@@ -310,3 +310,44 @@ sweep:
 def test_schema_json_is_plain_json():
     text = json.dumps(study_json_schema())
     assert "NaN" not in text and "Infinity" not in text
+
+
+STUDIES = REPO / "studies"
+
+
+def _integer_paths(node: Any, path: tuple = ()) -> list[tuple]:
+    """Paths of the integer values (not booleans) of a parsed study."""
+    if isinstance(node, dict):
+        return [p for k, v in node.items() for p in _integer_paths(v, (*path, k))]
+    if isinstance(node, list):
+        return [p for i, v in enumerate(node) for p in _integer_paths(v, (*path, i))]
+    return [path] if isinstance(node, int) and not isinstance(node, bool) else []
+
+
+@pytest.mark.parametrize("study", sorted(STUDIES.glob("*.yaml")), ids=lambda p: p.stem)
+def test_no_integer_field_takes_a_boolean(study):
+    """YAML's ``true`` is not 1: every integer of every committed study refuses a boolean."""
+    from designlab.errors import StudyError
+
+    data = yaml.safe_load(study.read_text())
+    paths = _integer_paths(data)
+    for path in paths:
+        bad = json.loads(json.dumps(data))
+        node = bad
+        for key in path[:-1]:
+            node = node[key]
+        node[path[-1]] = True
+        try:
+            parse_study(yaml.safe_dump(bad), file=study.name)
+        except StudyError:
+            pass
+        else:
+            raise AssertionError(f"{study.name}: {'.'.join(map(str, path))} = true accepted")
+
+
+def test_reversed_gain_bounds_are_refused():
+    from designlab.errors import StudyError
+
+    text = (STUDIES / "vff_gains.yaml").read_text().replace("b: [0.05, 3]", "b: [3, 0.05]")
+    with pytest.raises(StudyError, match=r"bounds.b = \[3, 0.05\] is not allowed"):
+        parse_study(text, file="vff_gains.yaml")

@@ -44,7 +44,7 @@ from designlab.following import (
     walking_task,
 )
 from designlab.results import OK, Result
-from designlab.study.base import Model, NonNegative, Positive, StudyBase
+from designlab.study.base import Integer, Model, NonNegative, Number, Positive, StudyBase
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
 
@@ -77,7 +77,7 @@ class WalkingSpec(Model):
     radius: Positive = Field(0.9, description="circle radius, m")
     sway_lateral: NonNegative = Field(0.0, description="pelvis sway amplitude, m")
     sway_yaw: NonNegative = Field(0.0, description="pelvis yaw sway amplitude, rad")
-    settle_time: Annotated[float, Field(ge=10.0, le=60.0)] = Field(
+    settle_time: Annotated[Number, Field(ge=10.0, le=60.0)] = Field(
         10.0, description="standing time after the walk, s (>= 10 for the settled error)"
     )
 
@@ -103,8 +103,8 @@ class SensorSpec(Model):
     """The string-pot sensor (``StringPotSensor``), SI units."""
 
     sample_rate: Positive = 50.0
-    oversampling: Annotated[int, Field(ge=1, le=40)] = 4
-    median_window: Annotated[int, Field(ge=1, le=15)] = 1
+    oversampling: Annotated[Integer, Field(ge=1, le=40)] = 4
+    median_window: Annotated[Integer, Field(ge=1, le=15)] = 1
     distance_noise: NonNegative = 0.0
     angle_noise: NonNegative = 0.0
     min_range: NonNegative = 0.20
@@ -137,13 +137,13 @@ class TuningSpec(Model):
     tune_on: list[TaskName] = Field(
         default_factory=lambda: ["forward", "left_lateral", "circle_cw"], min_length=1
     )
-    ms_max: Annotated[float, Field(ge=1.0, le=3.0)] = 1.6
-    mt_max: Annotated[float, Field(ge=1.0, le=3.0)] = 1.3
+    ms_max: Annotated[Number, Field(ge=1.0, le=3.0)] = 1.6
+    mt_max: Annotated[Number, Field(ge=1.0, le=3.0)] = 1.3
     max_noise_gain: Positive | None = Field(
         None, description="limit of |C S|, noise to command, 1/s (none by default)"
     )
     derivative_free: bool = Field(True, description="also run the Nelder-Mead tuner")
-    max_evaluations: Annotated[int, Field(ge=5, le=1000)] = 150
+    max_evaluations: Annotated[Integer, Field(ge=5, le=1000)] = 150
 
 
 class AccompanyingStudy(StudyBase):
@@ -156,7 +156,7 @@ class AccompanyingStudy(StudyBase):
     sensor: SensorSpec = Field(default_factory=SensorSpec)
     controller: PIDSpec = Field(default_factory=PIDSpec)
     tuning: TuningSpec | None = Field(default_factory=TuningSpec)
-    seed: Annotated[int, Field(ge=0)] = 0
+    seed: Annotated[Integer, Field(ge=0)] = 0
 
     PRODUCES: ClassVar[tuple[str, ...]] = (
         "summary.md",

@@ -61,7 +61,7 @@ from designlab.impact.criteria import (
 )
 from designlab.impact.parameters import ContactDynamics, Foam
 from designlab.results import OK, Result
-from designlab.study.base import Model, StudyBase
+from designlab.study.base import Integer, Model, Number, StudyBase
 from designlab.study.kinds.foam_envelope import DampingGrid
 from designlab.study.kinds.impact_specs import FoamSpec, RobotSpec
 from designlab.study.registry import StudyKind
@@ -71,7 +71,7 @@ __all__ = ["KIND", "FoamDesignResult", "FoamDesignStudy", "run"]
 
 log = logging.getLogger(__name__)
 
-_Pos = Annotated[float, Field(gt=0, allow_inf_nan=False)]
+_Pos = Annotated[Number, Field(gt=0, allow_inf_nan=False)]
 
 
 class HeadAccelerationSpec(Model):
@@ -151,8 +151,8 @@ class HeadRangeSpec(Model):
     """Head-neck ranges ``[low, high]``: the envelope takes the worst case over them."""
 
     mass: tuple[_Pos, _Pos] = (4.4, 5.3)
-    stiffness: tuple[float, float] = (3.0e3, 5.0e3)
-    damping: tuple[float, float] = (46.0, 130.2)
+    stiffness: tuple[Number, Number] = (3.0e3, 5.0e3)
+    damping: tuple[Number, Number] = (46.0, 130.2)
 
     def build(self) -> HeadRange:
         return HeadRange(self.mass, self.stiffness, self.damping)
@@ -169,10 +169,10 @@ class FoamDesignStudy(StudyBase):
         min_length=1,
         description="safety criteria of the upper boundary",
     )
-    impact_velocity: Annotated[float, Field(gt=0, le=20, allow_inf_nan=False)] = Field(
+    impact_velocity: Annotated[Number, Field(gt=0, le=20, allow_inf_nan=False)] = Field(
         1.25, description="worst closing velocity v_c, m/s"
     )
-    human_speed: Annotated[float, Field(ge=0, le=20, allow_inf_nan=False)] = Field(
+    human_speed: Annotated[Number, Field(ge=0, le=20, allow_inf_nan=False)] = Field(
         1.0, description="head speed toward the robot, m/s (for the safe manipulator speed)"
     )
     max_compression: _Pos = Field(0.02, description="lambda, linear depth of the foam, m")
@@ -181,13 +181,13 @@ class FoamDesignStudy(StudyBase):
         None, description="worst case over these ranges instead of the thesis's sets"
     )
     optimal: bool = Field(True, description="also find the foam with the best margin")
-    worst_case_samples: Annotated[int, Field(ge=0, le=10000)] = Field(
+    worst_case_samples: Annotated[Integer, Field(ge=0, le=10000)] = Field(
         64,
         description="random samples per boundary point of the worst-case check, after its "
         "deterministic corners (0: corners only)",
     )
     worst_case_check: bool = Field(True, description="check the envelope's worst case")
-    verdict_tolerance: Annotated[float, Field(ge=0, lt=0.5, allow_inf_nan=False)] = Field(
+    verdict_tolerance: Annotated[Number, Field(ge=0, lt=0.5, allow_inf_nan=False)] = Field(
         0.01, description="relative distance in K_c within which a foam is on the boundary"
     )
 

@@ -30,7 +30,7 @@ from designlab.impact.sweep import (
     envelope_elasticities_chunk,
     foam_envelope_chunk,
 )
-from designlab.study.base import Model, Number
+from designlab.study.base import Integer, Model, Number
 from designlab.study.kinds.impact_specs import FoamSpec, RobotSpec
 from designlab.study.registry import StudyKind
 from designlab.study.sweep_runner import run_sweep_study
@@ -82,7 +82,7 @@ class DampingGrid(Model):
 
     low: Annotated[Number, Field(ge=0, allow_inf_nan=False)] = 0.0
     high: Annotated[Number, Field(gt=0, le=1e5, allow_inf_nan=False)] = 200.0
-    num: Annotated[int, Field(ge=2, le=2001)] = 21
+    num: Annotated[Integer, Field(ge=2, le=2001)] = 21
 
     @model_validator(mode="after")
     def _order(self) -> DampingGrid:

@@ -25,7 +25,7 @@ from pydantic import Field, model_validator
 from designlab.errors import InvalidParameterError
 from designlab.following import OXYDOG, FollowerRobot, LeaderPath, controller_from_dict, make_path
 from designlab.following.tether_controllers import TetherController
-from designlab.study.base import Model, NonNegative, Number, Positive
+from designlab.study.base import Integer, Model, NonNegative, Number, Positive
 from designlab.study.kinds.impact_specs import _ComponentSpec
 
 __all__ = ["ControllerSpec", "FollowerRobotSpec", "PathSpec"]
@@ -78,7 +78,7 @@ class ControllerSpec(Model):
     lookahead: Positive | None = Field(None, description="delta (FTL), m")
     angle_gain: NonNegative | None = Field(None, description="K_a (FTL-CD), 1/rad")
     min_step: Positive | None = Field(None, description="Delta s_min (FTL, FTL-CD), m")
-    buffer_size: Annotated[int, Field(ge=3, le=100_000)] | None = None
+    buffer_size: Annotated[Integer, Field(ge=3, le=100_000)] | None = None
     law: Literal["coded", "printed"] | None = Field(None, description="Pseudo-Joystick variant")
 
     @model_validator(mode="after")
@@ -116,7 +116,7 @@ class PathSpec(Model):
     a: Positive | None = Field(None, description="figure_eight loop parameter, m")
     side: Positive | None = Field(None, description="square_s side, m")
     spacing: Positive | None = Field(None, description="slalom cone spacing, m")
-    cones: Annotated[int, Field(ge=1, le=50)] | None = None
+    cones: Annotated[Integer, Field(ge=1, le=50)] | None = None
     amplitude: Positive | None = Field(None, description="slalom weave amplitude, m")
     out_and_back: bool | None = None
     width: Positive | None = Field(None, description="corridor width, m")

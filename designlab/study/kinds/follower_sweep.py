@@ -31,7 +31,7 @@ from typing import Any, ClassVar, Literal
 from pydantic import Field, model_validator
 
 from designlab.following.tether_sweep import FOLLOWER_METRICS, follower_metrics_chunk, sweep_options
-from designlab.study.base import Model, Positive
+from designlab.study.base import Integer, Model, Positive
 from designlab.study.kinds.follower_specs import ControllerSpec, FollowerRobotSpec, PathSpec
 from designlab.study.registry import StudyKind
 from designlab.study.sweep_runner import run_sweep_study
@@ -84,7 +84,7 @@ class FollowerDesign(Model):
     path: PathSpec
     speed: Positive = Field(0.5, le=5.0, description="leader speed, m/s")
     robot: FollowerRobotSpec = Field(default_factory=lambda: FollowerRobotSpec(preset="DEFAULT"))
-    seed: int = Field(0, ge=0, description="seed of the sensor noise")
+    seed: Integer = Field(0, ge=0, description="seed of the sensor noise")
 
 
 class FollowerSweepStudy(SweepStudyBase[FollowerSweepParameters, FollowerMetricName]):  # type: ignore[valid-type]

@@ -34,7 +34,7 @@ from tqdm.auto import tqdm
 from designlab.following import TuningResult, controller_from_dict, tune
 from designlab.following.tether_tuning import DEFAULT_WEIGHTS
 from designlab.results import OK, Result
-from designlab.study.base import Model, NonNegative, Positive, StudyBase
+from designlab.study.base import Integer, Model, NonNegative, Number, Positive, StudyBase
 from designlab.study.kinds.follower_specs import FollowerRobotSpec, PathSpec
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
@@ -60,16 +60,16 @@ class FollowerTuningStudy(StudyBase):
     desired_length: Positive | None = Field(None, le=10.0, description="l_d for every law, m")
     robot: FollowerRobotSpec = Field(default_factory=lambda: FollowerRobotSpec(preset="OXYDOG"))
     paths: list[PathSpec] = Field(min_length=1)
-    speeds: list[Annotated[float, Field(gt=0, le=5.0, allow_inf_nan=False)]] = Field(
+    speeds: list[Annotated[Number, Field(gt=0, le=5.0, allow_inf_nan=False)]] = Field(
         [0.5], min_length=1
     )
     validation_paths: list[PathSpec] = Field(min_length=1)
     weights: CostWeights = Field(default_factory=CostWeights)
     damping_floor: NonNegative = Field(0.5, le=5.0)
     tether_range: tuple[Positive, Positive] = (0.2, 2.0)
-    seed: Annotated[int, Field(ge=0)] = 0
-    popsize: Annotated[int, Field(ge=2, le=100)] = 6
-    maxiter: Annotated[int, Field(ge=1, le=1000)] = 12
+    seed: Annotated[Integer, Field(ge=0)] = 0
+    popsize: Annotated[Integer, Field(ge=2, le=100)] = 6
+    maxiter: Annotated[Integer, Field(ge=1, le=1000)] = 12
 
     PRODUCES: ClassVar[tuple[str, ...]] = (
         "summary.md",

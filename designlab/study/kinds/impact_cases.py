@@ -37,7 +37,7 @@ from tqdm.auto import tqdm
 
 from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
 from designlab.results import OK, Result
-from designlab.study.base import Model, Number, Positive, Speed, StudyBase
+from designlab.study.base import Integer, Model, Number, Positive, Speed, StudyBase
 from designlab.study.kinds.impact_specs import FoamSpec, HeadSpec, RobotSpec
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
@@ -82,7 +82,7 @@ class ImpactReference(Model):
     exp_a_h_max_g: Positive | None = None
     exp_t_imp_s: Positive | None = None
     exp_eps_max_m: Positive | None = None
-    exp_trials: Annotated[int, Field(ge=1)] | None = None
+    exp_trials: Annotated[Integer, Field(ge=1)] | None = None
     tolerance: ImpactTolerance | None = None
     note: str | None = Field(
         None,

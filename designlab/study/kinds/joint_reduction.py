@@ -40,7 +40,7 @@ from designlab.impact import (
     joint_reduction_sweep,
 )
 from designlab.results import OK, Result
-from designlab.study.base import Model, NonNegative, Positive, StudyBase
+from designlab.study.base import Integer, Model, NonNegative, Number, Positive, StudyBase
 from designlab.study.kinds.impact_specs import FoamSpec, HeadSpec
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
@@ -89,7 +89,7 @@ class RatioGrid(Model):
 
     low: Positive = 0.03
     high: Positive = 3000.0
-    num: Annotated[int, Field(ge=2, le=1001)] = 41
+    num: Annotated[Integer, Field(ge=2, le=1001)] = 41
 
     @model_validator(mode="after")
     def _order(self) -> RatioGrid:
@@ -113,11 +113,11 @@ class JointReductionStudy(StudyBase):
         default_factory=lambda: HeadSpec(preset="HEAD_MIN"),
         description="head-neck set; null: constrained impact (head against a wall)",
     )
-    impact_velocity: Annotated[float, Field(gt=0, le=20, allow_inf_nan=False)] = Field(
+    impact_velocity: Annotated[Number, Field(gt=0, le=20, allow_inf_nan=False)] = Field(
         1.25, description="closing velocity v_c, m/s"
     )
     ratios: RatioGrid = Field(default_factory=RatioGrid)
-    usable_tolerance: Annotated[float, Field(ge=0, lt=0.5, allow_inf_nan=False)] = Field(
+    usable_tolerance: Annotated[Number, Field(ge=0, lt=0.5, allow_inf_nan=False)] = Field(
         0.01,
         description="largest accepted underestimate of a harm metric where a reduction is "
         "still usable (relative; 0.01 = 1 %)",

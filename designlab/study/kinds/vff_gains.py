@@ -32,13 +32,14 @@ from pydantic import BeforeValidator, Field, model_validator
 
 from designlab import navigation as nav
 from designlab.results import OK, Result
-from designlab.study.base import Model, Positive, StudyBase
+from designlab.study.base import Integer, Model, Number, Positive, StudyBase
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
+from designlab.validation import reject_bool
 
 __all__ = ["KIND", "VffGainsResult", "VffGainsStudy", "run"]
 
-_Config = Literal[1, 2, 3, 4]
+_Config = Annotated[Literal[1, 2, 3, 4], BeforeValidator(reject_bool)]
 
 
 def _yaml_off(value: object) -> object:
@@ -57,8 +58,8 @@ THESIS_OPTIMUM = nav.VFFGains(k1=4.3, b=0.68, k3=20.3, k5=240.7)
 class Range(Model):
     """A closed interval [low, high]."""
 
-    low: float = Field(allow_inf_nan=False)
-    high: float = Field(allow_inf_nan=False)
+    low: Number = Field(allow_inf_nan=False)
+    high: Number = Field(allow_inf_nan=False)
 
     @model_validator(mode="after")
     def _order(self) -> Range:
@@ -75,6 +76,16 @@ class GainBounds(Model):
     k3: tuple[Positive, Positive] = (0.5, 200.0)
     k5: tuple[Positive, Positive] = (0.5, 500.0)
 
+    @model_validator(mode="after")
+    def _ordered(self) -> GainBounds:
+        for name, (low, high) in self.as_dict().items():
+            if not low < high:
+                raise ValueError(
+                    f"bounds.{name} = [{low:g}, {high:g}] is not allowed: give [low, high] "
+                    "with low < high"
+                )
+        return self
+
     def as_dict(self) -> dict[str, tuple[float, float]]:
         return {"k1": self.k1, "b": self.b, "k3": self.k3, "k5": self.k5}
 
@@ -82,7 +93,7 @@ class GainBounds(Model):
 class RobustSpec(Model):
     """Robust mode: every walking human replaced by ``walks`` random walks."""
 
-    walks: Annotated[int, Field(ge=1, le=64)] = 8
+    walks: Annotated[Integer, Field(ge=1, le=64)] = 8
     mode: Literal["mean", "worst"] = "mean"
     stabilising: Mode = "off"
     speed: Range = Field(
@@ -114,11 +125,11 @@ class VffGainsStudy(StudyBase):
         description="stabilising-force modes",
     )
     bounds: GainBounds = Field(default_factory=GainBounds)
-    seed: Annotated[int, Field(ge=0)] = 0
-    popsize: Annotated[int, Field(ge=4, le=256)] = 16
-    max_evaluations: Annotated[int, Field(ge=4, le=100000)] = 1600
+    seed: Annotated[Integer, Field(ge=0)] = 0
+    popsize: Annotated[Integer, Field(ge=4, le=256)] = 16
+    max_evaluations: Annotated[Integer, Field(ge=4, le=100000)] = 1600
     refine: bool = True
-    critical_margin: Annotated[float, Field(ge=0, le=2, allow_inf_nan=False)] = Field(
+    critical_margin: Annotated[Number, Field(ge=0, le=2, allow_inf_nan=False)] = Field(
         0.0,
         description="clearance (m) every run must keep outside every critical region "
         "(0: never enter one)",
@@ -132,16 +143,16 @@ class VffGainsStudy(StudyBase):
     sensitivity: bool = Field(
         True, description="App. C.3 tables around the thesis's optimum and ours"
     )
-    deltas_pct: list[Annotated[float, Field(ge=-100, le=1000, allow_inf_nan=False)]] = Field(
+    deltas_pct: list[Annotated[Number, Field(ge=-100, le=1000, allow_inf_nan=False)]] = Field(
         default_factory=lambda: [-100, -50, -20, -10, -5, -2, 2, 5, 10, 20, 50, 100],
         description="perturbations of the sensitivity tables, %",
     )
-    sobol_samples: Annotated[int, Field(ge=0, le=4096)] = Field(
+    sobol_samples: Annotated[Integer, Field(ge=0, le=4096)] = Field(
         128,
         description="base sample N of the Sobol indices around each optimum (6 N gain sets; "
         "0: no Sobol indices or elasticities)",
     )
-    sobol_spread_pct: Annotated[float, Field(gt=0, lt=100, allow_inf_nan=False)] = Field(
+    sobol_spread_pct: Annotated[Number, Field(gt=0, lt=100, allow_inf_nan=False)] = Field(
         50.0, description="half-width of the Sobol box, % of each gain"
     )
 

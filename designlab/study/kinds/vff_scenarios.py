@@ -35,7 +35,7 @@ from pydantic import Field, model_validator
 from tqdm.auto import tqdm
 
 from designlab.results import OK, Result
-from designlab.study.base import Model, Positive, StudyBase
+from designlab.study.base import Model, Number, Positive, StudyBase
 from designlab.study.kinds.vff_specs import MethodSpec, ScenarioSpec
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
@@ -52,7 +52,7 @@ class VffReference(Model):
     method: str = Field(min_length=1)
     source: str | None = None
     T_arrive_s: Positive | None = None
-    H: float | None = Field(None, ge=0, le=1)
+    H: Number | None = Field(None, ge=0, le=1)
     d_circle_min_m: Positive | None = None
     d_rectangle_min_m: Positive | None = None
     d_human_min_m: Positive | None = None

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 from typing import Annotated, Any, Literal
 
-from pydantic import Field, model_validator
+from pydantic import BeforeValidator, Field, model_validator
 
 from designlab.navigation.parameters import (
     GeCuiGains,
@@ -40,7 +40,8 @@ from designlab.navigation.scenarios import (
     Walk,
     configuration,
 )
-from designlab.study.base import Finite, Model, NonNegative, Positive
+from designlab.study.base import Finite, Integer, Model, NonNegative, Positive
+from designlab.validation import reject_bool
 
 __all__ = [
     "GainsSpec",
@@ -148,7 +149,7 @@ class ObstacleSpec(Model):
 class ScenarioSpec(Model):
     """A thesis configuration, or a scenario built by hand."""
 
-    configuration: int | Literal["parallel", "unpredictable", "multi"] | None = None
+    configuration: Integer | Literal["parallel", "unpredictable", "multi"] | None = None
     chapter: Literal[6, 7] = 6
     label: str | None = Field(None, min_length=1, max_length=60, description="name in the report")
     name: str | None = Field(None, min_length=1, max_length=60)
@@ -226,7 +227,9 @@ class MasoudGainsSpec(Model):
     k1: Positive = 5.0
     k3: Positive = 24.0
     k5: Positive = 36.0
-    direction: Literal[1, -1] = Field(1, description="+1 counter-clockwise, -1 clockwise")
+    direction: Annotated[Literal[1, -1], BeforeValidator(reject_bool)] = Field(
+        1, description="+1 counter-clockwise, -1 clockwise"
+    )
 
     def build(self) -> MasoudGains:
         """The :class:`~designlab.navigation.MasoudGains`."""

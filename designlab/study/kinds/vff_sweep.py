@@ -31,7 +31,7 @@ from typing import Any, ClassVar, Literal
 from pydantic import Field, field_validator
 
 from designlab.navigation.sweep import VFF_METRICS, vff_metrics_chunk
-from designlab.study.base import Model, NonNegative, Positive
+from designlab.study.base import Integer, Model, NonNegative, Positive
 from designlab.study.kinds.vff_specs import GainsSpec
 from designlab.study.registry import StudyKind
 from designlab.study.sweep_runner import run_sweep_study
@@ -75,7 +75,7 @@ class VffDesign(Model):
     max_accel: Positive = Field(10.0, le=100, description="robot acceleration limit, m/s^2")
     human_speed: Positive = Field(1.0, le=3, description="synthetic walk cruise speed, m/s")
     human_ramp_time: NonNegative = Field(0.5, le=5, description="walk speed-ramp time, s")
-    scenarios: list[tuple[int | Literal["parallel", "unpredictable"], Literal[6, 7]]] = Field(
+    scenarios: list[tuple[Integer | Literal["parallel", "unpredictable"], Literal[6, 7]]] = Field(
         default_factory=lambda: [(1, 6), (2, 6), (3, 6)],
         description="thesis configurations as [configuration, chapter] (App. C uses 1-3 of Ch. 6)",
     )
