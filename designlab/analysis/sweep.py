@@ -310,30 +310,6 @@ def _error_columns(n: int, message: str) -> Columns:
     }
 
 
-def _concat(parts: Sequence[Columns]) -> Columns:
-    """Concatenate result columns; a column missing from a part is NaN (numbers) or None."""
-    names = list(dict.fromkeys(k for p in parts for k in p))
-    out: Columns = {}
-    for name in names:
-        present = [np.asarray(p[name]) for p in parts if name in p]
-        numeric = all(a.dtype.kind in "fiu" for a in present)
-        boolean = all(a.dtype.kind == "b" for a in present)
-        pieces = []
-        for p in parts:
-            k = _length(p)
-            if name in p:
-                a = np.asarray(p[name])
-                pieces.append(a.astype(float) if numeric else a if boolean else a.astype(object))
-            elif numeric:
-                pieces.append(np.full(k, np.nan))
-            else:
-                pieces.append(np.full(k, None, dtype=object))
-        if boolean and any(name not in p for p in parts):
-            pieces = [a.astype(object) for a in pieces]
-        out[name] = np.concatenate(pieces) if pieces else np.array([], dtype=object)
-    return out
-
-
 # --- the worker side ------------------------------------------------------------------
 
 
@@ -361,11 +337,10 @@ def evaluate_chunk(task: dict[str, Any]) -> Columns:
         if n == 1:
             return _error_columns(1, f"{type(exc).__name__}: {exc}")
     half = n // 2
-    parts = [
-        evaluate_chunk({**task, "points": _take(points, slice(0, half))}),
-        evaluate_chunk({**task, "points": _take(points, slice(half, n))}),
-    ]
-    return _concat(parts)
+    halves = _Assembler(n)
+    halves.put(0, evaluate_chunk({**task, "points": _take(points, slice(0, half))}))
+    halves.put(half, evaluate_chunk({**task, "points": _take(points, slice(half, n))}))
+    return halves.columns()
 
 
 # --- the client side --------------------------------------------------------------------
@@ -667,10 +642,10 @@ class StoredRows:
 class _Assembler:
     """Result columns of ``n`` distinct points, filled chunk by chunk in place.
 
-    The same column typing as :func:`_concat` (numbers -> float with NaN where
-    a chunk lacks the column; booleans stay boolean unless some chunk lacks
-    them; anything else -> object with ``None``), without holding the chunks:
-    memory is the result table itself plus one chunk.
+    Numbers become float (NaN where a chunk lacks the column); booleans stay
+    boolean unless some chunk lacks them; anything else is object (``None``
+    where missing). The chunks are not held: memory is the result table
+    itself plus one chunk.
     """
 
     def __init__(self, n: int) -> None:

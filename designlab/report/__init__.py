@@ -28,10 +28,10 @@ import importlib
 import json
 import os
 from collections.abc import Callable
-from functools import cache
 from pathlib import Path
 from typing import Any
 
+from designlab.analysis.sweep import _package_hash
 from designlab.report.atomic import (
     ReportError,
     atomic_write_bytes,
@@ -48,7 +48,6 @@ __all__ = [
     "markdown_table",
     "register_writer",
     "report_directory",
-    "report_is_current",
     "write_csv",
     "write_index",
     "write_markdown",
@@ -163,17 +162,6 @@ def write_report(
 MANIFEST = ".designlab-report.json"
 
 
-@cache
-def _report_code() -> str:
-    """A hash of the report writers' source (a changed writer makes every report stale)."""
-    h = hashlib.sha256()
-    root = Path(__file__).parent
-    for path in sorted(root.rglob("*.py")):
-        h.update(path.relative_to(root).as_posix().encode())
-        h.update(path.read_bytes())
-    return h.hexdigest()
-
-
 def _report_key(result: Any, study_text: str | None) -> str:
     """``""`` unless the result has a ``fingerprint`` (a hash of its points and code)."""
     from designlab import __version__
@@ -185,7 +173,7 @@ def _report_key(result: Any, study_text: str | None) -> str:
         "result": fingerprint,
         "study": study_text,
         "designlab": __version__,
-        "report_code": _report_code(),
+        "report_code": _package_hash(__name__),  # a changed writer makes every report stale
     }
     return hashlib.sha256(json.dumps(parts, sort_keys=True).encode()).hexdigest()
 
@@ -212,7 +200,9 @@ def current_report(
 
     The record (``status``, ``warnings``, ``files``) is what the report was
     written with, so a caller can repeat its warnings without recomputing
-    them. ``None`` unless :func:`report_is_current`.
+    them. ``None`` for a result without a ``fingerprint`` (only sweep studies have one),
+    or when the report was written from other points, code, study text or designlab
+    version, or one of its files is missing or has changed size.
 
     Parameters
     ----------
@@ -237,29 +227,6 @@ def current_report(
         return dict(record)
     except (OSError, ValueError, KeyError, TypeError, AttributeError):
         return None
-
-
-def report_is_current(
-    result: Any, output_dir: str | os.PathLike[str], *, study_text: str | None = None
-) -> bool:
-    """Whether ``<output_dir>/<study name>/`` already holds this result's report.
-
-    True only for results with a ``fingerprint`` (sweep studies) whose report
-    was written from the same points, evaluator code, study text, designlab
-    version and report code, with every file it wrote still there at its
-    size. ``designlab run --resume`` then leaves the report as it is;
-    ``designlab report`` always rewrites it.
-
-    Parameters
-    ----------
-    result
-        A study result.
-    output_dir
-        Parent directory of the report.
-    study_text
-        The study file's text (part of what the report depends on).
-    """
-    return current_report(result, output_dir, study_text=study_text) is not None
 
 
 #: The main Markdown file of a report, by preference.

@@ -219,19 +219,13 @@ class ChunkStore:
     def __getstate__(self) -> dict[str, Any]:  # pragma: no cover - stores stay on the client
         raise TypeError("a ChunkStore stays with the client: workers never write it")
 
-    # -- chunks -----------------------------------------------------------------------
+    # -- rows of the chunks and samples tables -------------------------------------------
 
-    def get_chunk(self, key: str) -> tuple[str, Any]:
-        """``("ok", columns)``, ``("missing", None)`` or ``("corrupt", reason)``.
-
-        Parameters
-        ----------
-        key
-            The chunk key.
-        """
+    def _read(self, table: str, key: str) -> tuple[str, Any]:
+        """``("ok", columns)``, ``("missing", None)`` or ``("corrupt", reason)``."""
         row = (
             self._connect()
-            .execute("SELECT n, data, sha256 FROM chunks WHERE key = ?", (key,))
+            .execute(f"SELECT n, data, sha256 FROM {table} WHERE key = ?", (key,))
             .fetchone()
         )
         if row is None:
@@ -247,6 +241,38 @@ class ChunkStore:
             return "corrupt", "column lengths differ from the recorded count"
         return "ok", cols
 
+    def _write(
+        self, table: str, key: str, columns: dict[str, Any], *, create: str | None = None
+    ) -> None:
+        """Store ``columns`` under ``key`` in one transaction (creating the table first)."""
+        n, data = _pack(columns)
+        digest = hashlib.sha256(data).digest()
+        db = self._connect()
+        try:
+            db.execute("BEGIN IMMEDIATE")
+            if create is not None:
+                db.execute(create)
+            db.execute(
+                f"INSERT OR REPLACE INTO {table} VALUES (?, ?, ?, ?)", (key, n, data, digest)
+            )
+            db.execute("COMMIT")
+        except sqlite3.Error as exc:
+            if db.in_transaction:
+                db.execute("ROLLBACK")
+            raise ReportError(f"cannot write the result store {self.path}: {exc}") from exc
+
+    # -- chunks -----------------------------------------------------------------------
+
+    def get_chunk(self, key: str) -> tuple[str, Any]:
+        """``("ok", columns)``, ``("missing", None)`` or ``("corrupt", reason)``.
+
+        Parameters
+        ----------
+        key
+            The chunk key.
+        """
+        return self._read("chunks", key)
+
     def put_chunk(self, key: str, columns: dict[str, Any]) -> None:
         """Store a finished chunk in its own transaction.
 
@@ -257,17 +283,7 @@ class ChunkStore:
         columns
             The chunk's result columns (numbers, booleans or strings).
         """
-        n, data = _pack(columns)
-        digest = hashlib.sha256(data).digest()
-        db = self._connect()
-        try:
-            db.execute("BEGIN IMMEDIATE")
-            db.execute("INSERT OR REPLACE INTO chunks VALUES (?, ?, ?, ?)", (key, n, data, digest))
-            db.execute("COMMIT")
-        except sqlite3.Error as exc:
-            if db.in_transaction:
-                db.execute("ROLLBACK")
-            raise ReportError(f"cannot write the result store {self.path}: {exc}") from exc
+        self._write("chunks", key, columns)
 
     def get_sample(self, key: str) -> dict[str, np.ndarray] | None:
         """Sampled point columns stored under ``key``, or ``None`` (missing or damaged).
@@ -282,14 +298,8 @@ class ChunkStore:
         db = self._connect()
         if not db.execute("SELECT 1 FROM sqlite_master WHERE name = 'samples'").fetchone():
             return None
-        row = db.execute("SELECT n, data, sha256 FROM samples WHERE key = ?", (key,)).fetchone()
-        if row is None or hashlib.sha256(row[1]).digest() != row[2]:
-            return None
-        try:
-            cols = _unpack(row[1])
-        except (ValueError, zlib.error, struct.error, KeyError, TypeError):
-            return None
-        return cols if all(len(v) == row[0] for v in cols.values()) else None
+        state, value = self._read("samples", key)
+        return value if state == "ok" else None
 
     def put_sample(self, key: str, columns: dict[str, Any]) -> None:
         """Keep sampled point columns under ``key`` (one transaction).
@@ -301,18 +311,7 @@ class ChunkStore:
         columns
             The sampled columns (floats).
         """
-        n, data = _pack(columns)
-        digest = hashlib.sha256(data).digest()
-        db = self._connect()
-        try:
-            db.execute("BEGIN IMMEDIATE")
-            db.execute(_SAMPLES)
-            db.execute("INSERT OR REPLACE INTO samples VALUES (?, ?, ?, ?)", (key, n, data, digest))
-            db.execute("COMMIT")
-        except sqlite3.Error as exc:
-            if db.in_transaction:
-                db.execute("ROLLBACK")
-            raise ReportError(f"cannot write the result store {self.path}: {exc}") from exc
+        self._write("samples", key, columns, create=_SAMPLES)
 
     def discard(self, key: str) -> None:
         """Remove a chunk (e.g. a corrupt one).
