@@ -499,6 +499,10 @@ def _loop_batch(
     return hist
 
 
+#: Fastest leader accepted (m/s): well above any walk (Allan 2015 uses 0.5 m/s).
+MAX_LEADER_SPEED = 10.0
+
+
 def simulate_batch(
     controllers: Sequence[TetherController],
     path: LeaderPath | str | dict[str, Any],
@@ -559,6 +563,10 @@ def simulate_batch(
         raise InvalidParameterError("controllers", "mixed law variants", "one variant per batch")
     path = make_path(path)
     speed = check_positive("speed", speed, "m/s")
+    if speed > MAX_LEADER_SPEED:
+        raise InvalidParameterError(
+            "speed", speed, f"a walking leader's speed: at most {MAX_LEADER_SPEED:g} m/s", "m/s"
+        )
     robot = robot or FollowerRobot()
     if not isinstance(robot, FollowerRobot):
         raise InvalidParameterError("robot", robot, "a FollowerRobot")

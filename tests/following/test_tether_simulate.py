@@ -170,3 +170,13 @@ def test_metrics_of_a_run():
         fol.simulate(fol.PseudoJoystick(desired_length=2.0), fol.figure_eight(a=4.0))
     )
     assert pj.path_length_ratio < 0.9  # Sec. 2.5.2: PJ with a long tether drives a shorter path
+
+
+def test_an_absurd_leader_speed_is_refused():
+    import pytest
+
+    from designlab.errors import InvalidParameterError
+    from designlab.following import FollowTheLeader, figure_eight, simulate
+
+    with pytest.raises(InvalidParameterError, match=r"speed = 1e\+300 m/s is not allowed"):
+        simulate(FollowTheLeader(), figure_eight(a=4.0), speed=1e300)
