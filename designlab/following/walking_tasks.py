@@ -357,6 +357,10 @@ def _integrate(
     return t, x, y, heading, stand_before, walk_stop
 
 
+#: Fastest user accepted (m/s): well above any walk (Wu et al. 2021 walk at about 0.5 m/s).
+MAX_WALKING_SPEED = 10.0
+
+
 def walking_task(
     name: str,
     *,
@@ -444,6 +448,10 @@ def walking_task(
         "right_lateral": 0.4,
     }.get(name, 0.5)
     v = check_positive("speed", default_speed if speed is None else speed, "m/s")
+    if v > MAX_WALKING_SPEED:
+        raise InvalidParameterError(
+            "speed", v, f"a walking speed: at most {MAX_WALKING_SPEED:g} m/s", "m/s"
+        )
     w = check_positive("yaw_rate", yaw_rate, "rad/s")
     ramp = check_positive("ramp_time", ramp_time, "s")
     turn = check_positive("turn_angle", turn_angle, "rad")

@@ -171,6 +171,10 @@ class NonholonomicRobot(ParamsMixin):
 # ------------------------------------------------------------------ obstacle classes
 
 
+#: Fastest human accepted (m/s): above a sprint (the thesis uses 1 m/s walkers).
+MAX_HUMAN_SPEED = 12.0
+
+
 @dataclass(frozen=True)
 class Human(ParamsMixin):
     """A walking person modelled as a disc (Zeng 2011, Sec. 5.2).
@@ -196,6 +200,10 @@ class Human(ParamsMixin):
         object.__setattr__(
             self, "max_speed", check_nonnegative("Human.max_speed", self.max_speed, "m/s")
         )
+        if self.max_speed > MAX_HUMAN_SPEED:
+            raise InvalidParameterError(
+                "Human.max_speed", self.max_speed, f"at most {MAX_HUMAN_SPEED:g} m/s", "m/s"
+            )
 
 
 @dataclass(frozen=True)

@@ -180,3 +180,13 @@ def test_an_absurd_leader_speed_is_refused():
 
     with pytest.raises(InvalidParameterError, match=r"speed = 1e\+300 m/s is not allowed"):
         simulate(FollowTheLeader(), figure_eight(a=4.0), speed=1e300)
+
+
+def test_an_absurd_walking_speed_is_refused():
+    import pytest
+
+    import designlab as dl
+    from designlab.errors import InvalidParameterError
+
+    with pytest.raises(InvalidParameterError, match=r"speed = 1e\+300 m/s is not allowed"):
+        dl.following.walking_task("forward", speed=1e300)

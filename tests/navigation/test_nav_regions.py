@@ -210,3 +210,13 @@ def test_bad_sample_time(bad: object) -> None:
 def test_bad_inputs_name_the_parameter(make) -> None:  # type: ignore[no-untyped-def]
     with pytest.raises(InvalidParameterError):
         make()
+
+
+def test_an_absurd_human_speed_is_refused():
+    import pytest
+
+    import designlab as dl
+    from designlab.errors import InvalidParameterError
+
+    with pytest.raises(InvalidParameterError, match=r"Human.max_speed = 1e\+300 m/s"):
+        dl.navigation.Human(radius=0.4, max_speed=1e300)
