@@ -1,9 +1,11 @@
 """Design-of-experiments samples: lists, grids, Latin hypercubes, Sobol sequences.
 
-Every function returns point *columns*: ``{name: 1-D float array}``, one entry
-per point, in a deterministic order; seeded methods give the same points for the
-same seed on every platform. Columns scale to millions of points (no Python
-object per point).
+Every sampler is a :class:`~designlab.analysis.points.PointSource` (a grid, a
+Latin hypercube and a Sobol sequence produce any range of their points on
+demand, so a million-point sweep never holds its sample); the functions return
+the whole sample as point *columns*: ``{name: 1-D float array}``, one entry per
+point, in a deterministic order. Seeded methods give the same points for the
+same seed on every platform, however the points are split into chunks.
 
 Examples
 --------
@@ -13,17 +15,33 @@ Examples
 >>> pts = latin_hypercube({"k": (1e4, 6e4), "c": (10.0, 200.0)}, 4, seed=1)
 >>> sorted(((pts["k"] - 1e4) // 12500).astype(int).tolist())     # one point per stratum
 [0, 1, 2, 3]
+>>> lhs = LatinHypercubePoints({"k": (1e4, 6e4)}, 1_000_000, seed=1)
+>>> bool((lhs.take(500_000, 500_004)["k"] == lhs.columns()["k"][500_000:500_004]).all())
+True
 """
 
 from __future__ import annotations
 
 import math
+import warnings
+from abc import abstractmethod
 from collections.abc import Mapping, Sequence
 
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["grid", "latin_hypercube", "list_points", "saltelli", "sobol_sequence"]
+from designlab.analysis.points import PointSource
+
+__all__ = [
+    "GridPoints",
+    "LatinHypercubePoints",
+    "SobolPoints",
+    "grid",
+    "latin_hypercube",
+    "list_points",
+    "saltelli",
+    "sobol_sequence",
+]
 
 Bounds = Mapping[str, tuple[float, float]]
 Columns = dict[str, NDArray[np.float64]]
@@ -43,6 +61,28 @@ def list_points(values: Mapping[str, Sequence[float]]) -> Columns:
     return {k: np.asarray(v, dtype=float) for k, v in values.items()}
 
 
+class GridPoints(PointSource):
+    """The Cartesian product of value lists (last name varies fastest), point by index.
+
+    Parameters
+    ----------
+    values
+        Name -> list of values.
+    """
+
+    def __init__(self, values: Mapping[str, Sequence[float]]) -> None:
+        self.names = tuple(values)
+        self._axes = [np.asarray(values[k], dtype=float).ravel() for k in self.names]
+        self._shape = tuple(a.size for a in self._axes)
+
+    def __len__(self) -> int:
+        return math.prod(self._shape) if self._shape else 0
+
+    def _take(self, start: int, stop: int) -> Columns:
+        idx = np.unravel_index(np.arange(start, stop), self._shape)
+        return {k: a[i] for k, a, i in zip(self.names, self._axes, idx, strict=True)}
+
+
 def grid(values: Mapping[str, Sequence[float]]) -> Columns:
     """The Cartesian product of the value lists (last name varies fastest).
 
@@ -51,28 +91,112 @@ def grid(values: Mapping[str, Sequence[float]]) -> Columns:
     values
         Name -> list of values.
     """
-    names = list(values)
-    if not names:
-        return {}
-    mesh = np.meshgrid(*[np.asarray(values[k], dtype=float) for k in names], indexing="ij")
-    return {k: m.ravel() for k, m in zip(names, mesh, strict=True)}
+    return GridPoints(values).columns()
 
 
-def _scale(unit: NDArray, bounds: Bounds, log: Mapping[str, bool] | None) -> Columns:
-    out: Columns = {}
-    for j, name in enumerate(bounds):
-        lo, hi = bounds[name]
-        if log and log.get(name):
-            out[name] = np.exp(math.log(lo) + unit[:, j] * (math.log(hi) - math.log(lo)))
-        else:
-            out[name] = lo + unit[:, j] * (hi - lo)
-    return out
+class _Box(PointSource):
+    """Points of the unit cube scaled to a box (uniform or logarithmic per name)."""
+
+    def __init__(self, bounds: Bounds, samples: int, log: Mapping[str, bool] | None) -> None:
+        self.names = tuple(bounds)
+        self._bounds = {k: (float(lo), float(hi)) for k, (lo, hi) in bounds.items()}
+        self._log = {k: bool(log and log.get(k)) for k in self.names}
+        self._n = int(samples)
+
+    def __len__(self) -> int:
+        return self._n
+
+    @abstractmethod
+    def _unit(self, start: int, stop: int) -> NDArray[np.float64]:
+        """Points ``start .. stop - 1`` of the unit cube, shape ``(stop - start, d)``."""
+
+    def _take(self, start: int, stop: int) -> Columns:
+        unit = self._unit(start, stop)
+        out: Columns = {}
+        for j, name in enumerate(self.names):
+            lo, hi = self._bounds[name]
+            if self._log[name]:
+                out[name] = np.exp(math.log(lo) + unit[:, j] * (math.log(hi) - math.log(lo)))
+            else:
+                out[name] = lo + unit[:, j] * (hi - lo)
+        return out
+
+
+_M1, _M2 = np.uint64(0xBF58476D1CE4E5B9), np.uint64(0x94D049BB133111EB)
+_FEISTEL_ROUNDS = 6
+
+
+def _mix(x: NDArray[np.uint64]) -> NDArray[np.uint64]:
+    """SplitMix64's finaliser: a bijective 64-bit mix (Steele, Lea and Flood 2014)."""
+    with np.errstate(over="ignore"):
+        x = (x ^ (x >> np.uint64(30))) * _M1
+        x = (x ^ (x >> np.uint64(27))) * _M2
+    return x ^ (x >> np.uint64(31))
+
+
+class LatinHypercubePoints(_Box):
+    """A seeded Latin hypercube whose points are computed from their index.
+
+    In each dimension point i falls in stratum pi(i) of ``samples`` equal
+    strata, at a uniform position inside it: pi is a keyed pseudo-random
+    permutation of ``0 .. samples - 1`` (a six-round Feistel network on the
+    next even power of two, cycle-walked into range; Black and Rogaway 2002)
+    and the position a counter-based uniform (SplitMix64 of the index and a
+    key). Both come from the seed through :class:`numpy.random.SeedSequence`,
+    so any chunk of points is computed on its own, in memory proportional to
+    the chunk, and equals the same rows of the whole sample.
+
+    Parameters
+    ----------
+    bounds
+        Name -> (low, high).
+    samples
+        Number of points.
+    seed
+        Seed of the sample.
+    log
+        ``log[name]`` samples that parameter uniformly in its logarithm.
+    """
+
+    def __init__(
+        self, bounds: Bounds, samples: int, *, seed: int = 0, log: Mapping[str, bool] | None = None
+    ) -> None:
+        super().__init__(bounds, samples, log)
+        d = len(self.names)
+        keys = np.random.SeedSequence(int(seed)).generate_state(d * (_FEISTEL_ROUNDS + 1), "u8")
+        self._keys = keys.reshape(d, _FEISTEL_ROUNDS + 1)
+        bits = max(2, math.ceil(math.log2(max(self._n, 2))))
+        self._half = np.uint64((bits + 1) // 2)
+        self._mask = np.uint64((1 << int(self._half)) - 1)
+
+    def _feistel(self, x: NDArray[np.uint64], keys: NDArray[np.uint64]) -> NDArray[np.uint64]:
+        left, right = x >> self._half, x & self._mask
+        for key in keys:
+            left, right = right, left ^ (_mix(right ^ key) & self._mask)
+        return (left << self._half) | right
+
+    def _permute(self, i: NDArray[np.uint64], keys: NDArray[np.uint64]) -> NDArray[np.uint64]:
+        x = self._feistel(i, keys)
+        out = x >= np.uint64(self._n)
+        while out.any():  # cycle walking: a bijection of [0, 2^bits) restricted to [0, n)
+            x[out] = self._feistel(x[out], keys)
+            out[out] = x[out] >= np.uint64(self._n)
+        return x
+
+    def _unit(self, start: int, stop: int) -> NDArray[np.float64]:
+        i = np.arange(start, stop, dtype=np.uint64)
+        unit = np.empty((i.size, len(self.names)))
+        for j, keys in enumerate(self._keys):
+            stratum = self._permute(i, keys[:-1]).astype(float)
+            u = (_mix(_mix(i ^ keys[-1])) >> np.uint64(11)).astype(float) * 2.0**-53
+            unit[:, j] = (stratum + u) / self._n
+        return unit
 
 
 def latin_hypercube(
     bounds: Bounds, samples: int, *, seed: int = 0, log: Mapping[str, bool] | None = None
 ) -> Columns:
-    """``samples`` Latin-hypercube points in the box ``bounds`` (scipy.stats.qmc).
+    """``samples`` Latin-hypercube points in the box ``bounds`` (:class:`LatinHypercubePoints`).
 
     Parameters
     ----------
@@ -85,10 +209,45 @@ def latin_hypercube(
     log
         ``log[name]`` samples that parameter uniformly in its logarithm.
     """
-    from scipy.stats import qmc
+    return LatinHypercubePoints(bounds, samples, seed=seed, log=log).columns()
 
-    unit = qmc.LatinHypercube(d=len(bounds), rng=np.random.default_rng(seed)).random(samples)
-    return _scale(unit, bounds, log)
+
+class SobolPoints(_Box):
+    """``samples`` (a power of two) scrambled Sobol points (scipy.stats.qmc), by range.
+
+    A range is drawn by fast-forwarding the seeded engine to its first point,
+    so any chunk equals the same rows of the whole sequence.
+
+    Parameters
+    ----------
+    bounds
+        Name -> (low, high).
+    samples
+        Number of points, a power of two.
+    seed
+        Seed of the scrambling.
+    log
+        ``log[name]`` samples that parameter uniformly in its logarithm.
+    """
+
+    def __init__(
+        self, bounds: Bounds, samples: int, *, seed: int = 0, log: Mapping[str, bool] | None = None
+    ) -> None:
+        from scipy.stats import qmc
+
+        m = round(math.log2(samples)) if samples > 0 else -1
+        if m < 0 or 2**m != samples:
+            raise ValueError(f"samples must be a power of two, got {samples}")
+        super().__init__(bounds, samples, log)
+        self._engine = qmc.Sobol(d=len(self.names), scramble=True, rng=np.random.default_rng(seed))
+
+    def _unit(self, start: int, stop: int) -> NDArray[np.float64]:
+        self._engine.reset()
+        if start:  # scipy cannot fast-forward by zero points
+            self._engine.fast_forward(start)
+        with warnings.catch_warnings():  # a chunk is not a power of two: the whole sample is
+            warnings.simplefilter("ignore", UserWarning)
+            return self._engine.random(stop - start)
 
 
 def sobol_sequence(
@@ -107,13 +266,7 @@ def sobol_sequence(
     log
         ``log[name]`` samples that parameter uniformly in its logarithm.
     """
-    from scipy.stats import qmc
-
-    m = round(math.log2(samples))
-    if 2**m != samples:
-        raise ValueError(f"samples must be a power of two, got {samples}")
-    engine = qmc.Sobol(d=len(bounds), scramble=True, rng=np.random.default_rng(seed))
-    return _scale(engine.random_base2(m), bounds, log)
+    return SobolPoints(bounds, samples, seed=seed, log=log).columns()
 
 
 def saltelli(bounds: Bounds, samples: int, *, seed: int = 0) -> Columns:

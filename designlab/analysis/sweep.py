@@ -62,6 +62,7 @@ from typing import Any, Protocol
 import numpy as np
 import pandas as pd
 
+from designlab.analysis.points import ArrayPoints, PointSource
 from designlab.errors import DesignlabError
 
 __all__ = [
@@ -504,7 +505,7 @@ class _StatusCounter:
 def _digest(
     evaluator: Evaluator,
     options: Mapping[str, Any],
-    cols: Columns,
+    cols: Columns | None,
     keys: Sequence[str | None],
     inverse: np.ndarray | None,
 ) -> str:
@@ -515,7 +516,7 @@ def _digest(
     the points instead of hashing the points again.
     """
     if not keys or any(k is None for k in keys):
-        return chunk_key(evaluator, options, cols)
+        return chunk_key(evaluator, options, cols or {})
     h = hashlib.sha256(b"chunks")
     for key in keys:
         h.update(key.encode())  # type: ignore[union-attr]
@@ -714,7 +715,7 @@ def _bar(total: int, desc: str, progress: bool) -> Any:
 
 
 def run_points(
-    points: Columns | Sequence[Mapping[str, float]] | pd.DataFrame,
+    points: Columns | Sequence[Mapping[str, float]] | pd.DataFrame | PointSource,
     evaluator: Evaluator,
     options: Mapping[str, Any] | None = None,
     *,
@@ -732,7 +733,9 @@ def run_points(
     Parameters
     ----------
     points
-        Point columns (key -> array), a list of point dicts or a DataFrame.
+        Point columns (key -> array), a list of point dicts, a DataFrame or a
+        :class:`~designlab.analysis.points.PointSource` (a sample generated a
+        chunk at a time).
     evaluator
         A module-level function ``(points, options) -> result columns``.
     options
@@ -758,8 +761,10 @@ def run_points(
     collect
         Assemble the results in memory (:attr:`SweepRun.frame`). With
         ``False`` (needs a ``store``) they stay in the store and
-        :attr:`SweepRun.rows` reads them back block by block: memory is then
-        bounded by the chunks in flight, not by the number of points.
+        :attr:`SweepRun.rows` reads them back block by block; points given as a
+        ``PointSource`` are then drawn from it a chunk at a time and not merged
+        when identical, so memory is bounded by the chunks in flight, not by
+        the number of points. Otherwise identical points are evaluated once.
 
     Returns
     -------
@@ -770,17 +775,22 @@ def run_points(
 
     evaluator_id(evaluator)  # a clear error for lambdas and closures
     options = dict(options or {})
-    cols = as_columns(points)
-    n = _length(cols)
     size = int(chunk_size or getattr(evaluator, "chunk_size", DEFAULT_CHUNK_SIZE))
     if size < 1:
         raise ValueError(f"chunk_size = {size} is not allowed: must be >= 1")
     if not collect and store is None:
         raise ValueError("collect=False keeps the results in the store: give a store")
-    first, inverse = _distinct(cols)
-    m = n if first is None else len(first)
+    cols: Columns | None = None
+    if isinstance(points, PointSource) and not collect:  # streamed: never held whole
+        distinct, first, inverse = points, None, None
+    else:
+        cols = points.columns() if isinstance(points, PointSource) else as_columns(points)
+        first, inverse = _distinct(cols)
+        distinct = ArrayPoints(cols if first is None else _take(cols, first))
+    n = len(points) if cols is None else _length(cols)
+    m = len(distinct)
     state = _Pass(
-        evaluator, options, cols if first is None else _take(cols, first), size, store, collect,
+        evaluator, options, distinct, size, store, collect,
         _StatusCounter(None if inverse is None else np.bincount(inverse, minlength=m)),
     )  # fmt: skip
     run = SweepRun(pd.DataFrame(), points=n, distinct=m, chunks=len(state.bounds))
@@ -837,13 +847,13 @@ class _Pass:
         self,
         evaluator: Evaluator,
         options: dict[str, Any],
-        distinct: Columns,
+        distinct: PointSource,
         size: int,
         store: ResultStore | None,
         collect: bool,
         counter: _StatusCounter,
     ) -> None:
-        m = _length(distinct)
+        m = len(distinct)
         self.evaluator, self.options, self.distinct, self.store = (
             evaluator,
             options,
@@ -868,9 +878,7 @@ class _Pass:
             if self.store is None:
                 todo.append(c)
                 continue
-            key = self.keys[c] = chunk_key(
-                self.evaluator, self.options, _take(self.distinct, slice(s, e))
-            )
+            key = self.keys[c] = chunk_key(self.evaluator, self.options, self.distinct.take(s, e))
             if reuse:
                 state, value = self.store.get_chunk(key)
                 if state == "ok" and _length(value) == e - s:
@@ -889,7 +897,7 @@ class _Pass:
         """Evaluate the chunks ``todo``; store and keep each as it comes back."""
         tasks = (  # a generator: only the chunks in flight exist as tasks
             {"evaluator": self.evaluator, "options": self.options,
-             "points": _own(_take(self.distinct, slice(*self.bounds[c])))}
+             "points": _own(self.distinct.take(*self.bounds[c]))}
             for c in todo
         )  # fmt: skip
         try:

@@ -65,17 +65,6 @@ CREATE TABLE chunks (
 );
 """
 
-#: Sampled design points (LHS, Sobol), so that a resumed study does not sample again.
-#: Added to a store on first use (older stores simply gain the table).
-_SAMPLES = """
-CREATE TABLE IF NOT EXISTS samples (
-    key TEXT PRIMARY KEY,
-    n INTEGER NOT NULL,
-    data BLOB NOT NULL,
-    sha256 BLOB NOT NULL
-)
-"""
-
 
 def _pack(columns: dict[str, Any]) -> tuple[int, bytes]:
     """Columns -> ``(n, compressed bytes)``."""
@@ -219,13 +208,13 @@ class ChunkStore:
     def __getstate__(self) -> dict[str, Any]:  # pragma: no cover - stores stay on the client
         raise TypeError("a ChunkStore stays with the client: workers never write it")
 
-    # -- rows of the chunks and samples tables -------------------------------------------
+    # -- rows of the chunks table -------------------------------------------
 
-    def _read(self, table: str, key: str) -> tuple[str, Any]:
+    def _read(self, key: str) -> tuple[str, Any]:
         """``("ok", columns)``, ``("missing", None)`` or ``("corrupt", reason)``."""
         row = (
             self._connect()
-            .execute(f"SELECT n, data, sha256 FROM {table} WHERE key = ?", (key,))
+            .execute("SELECT n, data, sha256 FROM chunks WHERE key = ?", (key,))
             .fetchone()
         )
         if row is None:
@@ -241,20 +230,14 @@ class ChunkStore:
             return "corrupt", "column lengths differ from the recorded count"
         return "ok", cols
 
-    def _write(
-        self, table: str, key: str, columns: dict[str, Any], *, create: str | None = None
-    ) -> None:
-        """Store ``columns`` under ``key`` in one transaction (creating the table first)."""
+    def _write(self, key: str, columns: dict[str, Any]) -> None:
+        """Store ``columns`` under ``key`` in one transaction."""
         n, data = _pack(columns)
         digest = hashlib.sha256(data).digest()
         db = self._connect()
         try:
             db.execute("BEGIN IMMEDIATE")
-            if create is not None:
-                db.execute(create)
-            db.execute(
-                f"INSERT OR REPLACE INTO {table} VALUES (?, ?, ?, ?)", (key, n, data, digest)
-            )
+            db.execute("INSERT OR REPLACE INTO chunks VALUES (?, ?, ?, ?)", (key, n, data, digest))
             db.execute("COMMIT")
         except sqlite3.Error as exc:
             if db.in_transaction:
@@ -271,7 +254,7 @@ class ChunkStore:
         key
             The chunk key.
         """
-        return self._read("chunks", key)
+        return self._read(key)
 
     def put_chunk(self, key: str, columns: dict[str, Any]) -> None:
         """Store a finished chunk in its own transaction.
@@ -283,35 +266,7 @@ class ChunkStore:
         columns
             The chunk's result columns (numbers, booleans or strings).
         """
-        self._write("chunks", key, columns)
-
-    def get_sample(self, key: str) -> dict[str, np.ndarray] | None:
-        """Sampled point columns stored under ``key``, or ``None`` (missing or damaged).
-
-        Parameters
-        ----------
-        key
-            A hash of the sampling (method, size, seed, ranges, sampler version).
-        """
-        if not self.path.exists():
-            return None
-        db = self._connect()
-        if not db.execute("SELECT 1 FROM sqlite_master WHERE name = 'samples'").fetchone():
-            return None
-        state, value = self._read("samples", key)
-        return value if state == "ok" else None
-
-    def put_sample(self, key: str, columns: dict[str, Any]) -> None:
-        """Keep sampled point columns under ``key`` (one transaction).
-
-        Parameters
-        ----------
-        key
-            A hash of the sampling.
-        columns
-            The sampled columns (floats).
-        """
-        self._write("samples", key, columns, create=_SAMPLES)
+        self._write(key, columns)
 
     def discard(self, key: str) -> None:
         """Remove a chunk (e.g. a corrupt one).

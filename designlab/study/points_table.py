@@ -39,6 +39,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
+from designlab.analysis.points import PointSource
 from designlab.analysis.sweep import STATUS_ERROR, StoredRows
 
 __all__ = ["SUBSET_ROWS", "FrameTable", "PointsTable", "StoredTable", "TableScan"]
@@ -172,7 +173,7 @@ class PointsTable:
     def __len__(self) -> int:  # pragma: no cover - abstract
         raise NotImplementedError
 
-    def blocks(self, rows: int = BLOCK_ROWS) -> Iterator[pd.DataFrame]:  # pragma: no cover
+    def blocks(self, rows: int | None = None) -> Iterator[pd.DataFrame]:  # pragma: no cover
         """Consecutive data frames of at most ``rows`` rows (index = row number).
 
         Parameters
@@ -270,14 +271,15 @@ class FrameTable(PointsTable):
     def __len__(self) -> int:
         return len(self._frame)
 
-    def blocks(self, rows: int = BLOCK_ROWS) -> Iterator[pd.DataFrame]:
+    def blocks(self, rows: int | None = None) -> Iterator[pd.DataFrame]:
         """Consecutive slices of at most ``rows`` rows.
 
         Parameters
         ----------
         rows
-            Rows per block.
+            Rows per block (default :data:`BLOCK_ROWS`).
         """
+        rows = rows or BLOCK_ROWS
         for s in range(0, len(self._frame), rows):
             yield self._frame.iloc[s : s + rows]
 
@@ -302,7 +304,7 @@ class StoredTable(PointsTable):
     Parameters
     ----------
     points
-        The sweep's point columns (key -> array), in row order.
+        The sweep's points (drawn a block at a time), in row order.
     rows
         The stored results of the run that holds these points.
     offset
@@ -314,13 +316,13 @@ class StoredTable(PointsTable):
 
     def __init__(
         self,
-        points: dict[str, np.ndarray],
+        points: PointSource,
         rows: StoredRows,
         offset: int,
         build: Callable[[dict[str, np.ndarray], pd.DataFrame], pd.DataFrame],
     ) -> None:
         self.points, self.rows, self.offset, self.build = points, rows, offset, build
-        self.n = len(next(iter(points.values()))) if points else 0
+        self.n = len(points)
         head = self._block(0, min(1, self.n)) if self.n else pd.DataFrame()
         self.columns = list(head.columns)
 
@@ -329,18 +331,19 @@ class StoredTable(PointsTable):
 
     def _block(self, start: int, stop: int) -> pd.DataFrame:
         results = self.rows.read(slice(self.offset + start, self.offset + stop))
-        frame = self.build({k: v[start:stop] for k, v in self.points.items()}, results)
+        frame = self.build(self.points.take(start, stop), results)
         frame.index = pd.RangeIndex(start, stop)
         return frame
 
-    def blocks(self, rows: int = BLOCK_ROWS) -> Iterator[pd.DataFrame]:
+    def blocks(self, rows: int | None = None) -> Iterator[pd.DataFrame]:
         """Consecutive blocks of at most ``rows`` rows, read from the store.
 
         Parameters
         ----------
         rows
-            Rows per block.
+            Rows per block (default :data:`BLOCK_ROWS`).
         """
+        rows = rows or BLOCK_ROWS
         for s in range(0, self.n, rows):
             yield self._block(s, min(s + rows, self.n))
 

@@ -22,7 +22,6 @@ Point sets (all evaluated in one pass, through one store):
 from __future__ import annotations
 
 import hashlib
-import json
 import logging
 import math
 from dataclasses import dataclass, field
@@ -33,6 +32,7 @@ import numpy as np
 import pandas as pd
 
 from designlab.analysis import sampling
+from designlab.analysis.points import ArrayPoints, ConcatPoints, PointSource
 from designlab.analysis.sensitivity import (
     SensitivityTable,
     elasticity_table,
@@ -173,51 +173,51 @@ class SweepStudyResult(Result):
 # --- the plan: which points, in which sets ------------------------------------------
 
 
-def _sweep_columns(study: SweepStudyBase, store: Any = None) -> dict[str, np.ndarray]:
-    """The sweep block's points; random samples are kept in (and reread from) the store."""
+def _sweep_source(study: SweepStudyBase) -> PointSource | None:
+    """The sweep block's points, generated a chunk at a time (grid, LHS, Sobol) or listed."""
     sweep = study.sweep
     if sweep is None:
-        return {}
+        return None
     items = sweep.parameters.items()
     if sweep.method == "list":
-        return sampling.list_points({p: r.values for p, r in items})
+        return ArrayPoints(sampling.list_points({p: r.values for p, r in items}))
     if sweep.method == "grid":
-        return sampling.grid({p: r.grid() for p, r in items})
-    key = _sample_key(sweep) if store is not None and hasattr(store, "get_sample") else None
-    if key is not None:
-        kept = store.get_sample(key)
-        if kept is not None and list(kept) == [p for p, _ in items]:
-            return kept
+        return sampling.GridPoints({p: r.grid() for p, r in items})
     bounds = {p: (float(r.low), float(r.high)) for p, r in items}
     log = {p: r.scale == "log" for p, r in items}
-    if sweep.method == "lhs":
-        cols = sampling.latin_hypercube(bounds, sweep.samples, seed=sweep.seed, log=log)
-    else:
-        cols = sampling.sobol_sequence(bounds, sweep.samples, seed=sweep.seed, log=log)
-    if key is not None:
-        store.put_sample(key, cols)
-    return cols
+    sampler = sampling.LatinHypercubePoints if sweep.method == "lhs" else sampling.SobolPoints
+    return sampler(bounds, sweep.samples, seed=sweep.seed, log=log)
 
 
-def _sample_key(sweep: Any) -> str:
-    """A hash of a random sampling: method, size, seed, ranges and the sampler's version."""
-    from importlib.metadata import version
+class _Designs(PointSource):
+    """Copies of the base point with the columns of ``values`` (by path) replaced.
 
-    spec = {
-        "method": sweep.method,
-        "samples": sweep.samples,
-        "seed": sweep.seed,
-        "parameters": [[p, r.low, r.high, r.scale] for p, r in sweep.parameters.items()],
-        "scipy": version("scipy"),
-        "numpy": np.__version__,
-    }
-    return hashlib.sha256(json.dumps(spec, sort_keys=True, default=float).encode()).hexdigest()
+    Unchanged parameters are read-only broadcast views of their base value:
+    a million-point sweep over three parameters produces three columns, not ten.
+    """
+
+    def __init__(
+        self, base: dict[str, float], key_of: dict[str, str], values: PointSource | None
+    ) -> None:
+        self.base, self.key_of, self.values = base, key_of, values
+        self.names = tuple(base)
+
+    def __len__(self) -> int:
+        return 1 if self.values is None else len(self.values)
+
+    def _take(self, start: int, stop: int) -> Columns:
+        n = stop - start
+        out = {k: np.broadcast_to(np.float64(v), (n,)) for k, v in self.base.items()}
+        if self.values is not None:
+            for path, v in self.values.take(start, stop).items():
+                out[self.key_of[path]] = np.asarray(v, dtype=float)
+        return out
 
 
 @dataclass
 class _Plan:
     base: dict[str, float]
-    sets: dict[str, Columns]
+    sets: dict[str, PointSource]
     oat_meta: list[tuple[str, float, float]]
     range_meta: list[tuple[str, float, float]]
     sobol_names: list[str]
@@ -226,26 +226,10 @@ class _Plan:
     describe: dict[str, str]
 
     def count(self) -> int:
-        return sum(_n(c) for c in self.sets.values())
+        return sum(len(c) for c in self.sets.values())
 
 
-def _n(cols: Columns) -> int:
-    return len(next(iter(cols.values()))) if cols else 0
-
-
-def _designs(base: dict[str, float], key_of: dict[str, str], values: Columns, n: int) -> Columns:
-    """``n`` copies of the base point with the columns of ``values`` (by path) replaced.
-
-    Unchanged parameters are read-only broadcast views of their base value:
-    a million-point sweep over three parameters holds three columns, not ten.
-    """
-    out = {k: np.broadcast_to(np.float64(v), (n,)) for k, v in base.items()}
-    for path, v in values.items():
-        out[key_of[path]] = np.asarray(v, dtype=float)
-    return out
-
-
-def _plan(study: SweepStudyBase, store: Any = None) -> _Plan:
+def _plan(study: SweepStudyBase) -> _Plan:
     params = study.PARAMETERS
     key_of = {path: key for path, (key, _) in params.items()}
     path_of = {key: path for path, key in key_of.items()}
@@ -255,9 +239,9 @@ def _plan(study: SweepStudyBase, store: Any = None) -> _Plan:
     sweep = study.sweep
     swept = dict(sweep.parameters.items()) if sweep is not None else {}
 
-    sets: dict[str, Columns] = {"base": _designs(base, key_of, {}, 1)}
-    values = _sweep_columns(study, store)
-    sets["sweep"] = _designs(base, key_of, values, _n(values)) if values else {}
+    sets: dict[str, PointSource] = {"base": _Designs(base, key_of, None)}
+    values = _sweep_source(study)
+    sets["sweep"] = _Designs(base, key_of, values) if values is not None else ArrayPoints({})
     oat_meta: list[tuple[str, float, float]] = []
     range_meta: list[tuple[str, float, float]] = []
     sobol_names: list[str] = []
@@ -282,27 +266,17 @@ def _plan(study: SweepStudyBase, store: Any = None) -> _Plan:
             sens.sobol.samples,
             seed=sens.sobol.seed,
         )
-        sets["sobol"] = _designs(base, key_of, sample, _n(sample))
+        sets["sobol"] = _Designs(base, key_of, ArrayPoints(sample))
     return _Plan(base, sets, oat_meta, range_meta, sobol_names, sobol_bounds, path_of, describe)
 
 
-def _concat_column(parts: list[np.ndarray]) -> np.ndarray:
-    """Concatenate a column of several point sets; constant everywhere stays a broadcast view."""
-    first = float(parts[0][0]) if len(parts[0]) else None
-    if all(p.strides == (0,) or len(p) <= 1 for p in parts) and all(
-        float(p[0]) == first for p in parts if len(p)
-    ):
-        return np.broadcast_to(np.float64(first), (sum(len(p) for p in parts),))
-    return np.concatenate(parts)
-
-
-def _one_each(base: dict[str, float], key_of: dict[str, str], changes: list[Any]) -> Columns:
+def _one_each(base: dict[str, float], key_of: dict[str, str], changes: list[Any]) -> ArrayPoints:
     """One point per change ``(path, _, value)``: the base with that one value replaced."""
     n = len(changes)
     out = {k: np.full(n, v, dtype=float) for k, v in base.items()}
     for i, (path, _, x) in enumerate(changes):
         out[key_of[path]][i] = x
-    return out
+    return ArrayPoints(out)
 
 
 def count_points(study: SweepStudyBase) -> int:
@@ -353,7 +327,7 @@ def _elasticities(
         cache_only=context.cache_only, progress=context.progress,
     )  # fmt: skip
     local = run_points(
-        plan.sets["base"], type(study).LOCAL_EVALUATOR, study.evaluator_options(),  # type: ignore[arg-type]
+        plan.sets["base"].columns(), type(study).LOCAL_EVALUATOR, study.evaluator_options(),  # type: ignore[arg-type]
         desc=f"{study.name}: elasticities", **common,
     )  # fmt: skip
     for k, v in _stats(local, context).items():
@@ -386,24 +360,23 @@ def run_sweep_study(study: SweepStudyBase, context: RunContext) -> SweepStudyRes
         How to run it (executor, store, resume; see
         :class:`~designlab.study.runner.RunContext`).
     """
-    plan = _plan(study, context.store)
+    plan = _plan(study)
     metrics = study.metrics
-    names = [name for name, cols in plan.sets.items() if _n(cols)]
-    all_points = {k: _concat_column([plan.sets[s][k] for s in names]) for k in plan.sets["base"]}
-    logger.info("%s: %s", study.name, ", ".join(f"{s} {_n(plan.sets[s])}" for s in names))
-    stream = context.store is not None and _n(plan.sets["sweep"]) > STREAM_FROM
+    names = [name for name, points in plan.sets.items() if len(points)]
+    logger.info("%s: %s", study.name, ", ".join(f"{s} {len(plan.sets[s])}" for s in names))
+    stream = context.store is not None and len(plan.sets["sweep"]) > STREAM_FROM
+    points = ConcatPoints([plan.sets[s] for s in names])
     run = run_points(
-        all_points, type(study).EVALUATOR, study.evaluator_options(),  # type: ignore[arg-type]
+        points, type(study).EVALUATOR, study.evaluator_options(),  # type: ignore[arg-type]
         executor=context.executor, store=context.store, resume=context.resume,
         cache_only=context.cache_only, progress=context.progress, desc=study.name,
         collect=not stream,
     )  # fmt: skip
-    del all_points
     results: dict[str, pd.DataFrame] = {}
     offsets: dict[str, int] = {}
     i = 0
     for s in names:
-        n = _n(plan.sets[s])
+        n = len(plan.sets[s])
         offsets[s] = i
         if run.rows is None:
             results[s] = run.frame.iloc[i : i + n].reset_index(drop=True)
@@ -450,7 +423,7 @@ def run_sweep_study(study: SweepStudyBase, context: RunContext) -> SweepStudyRes
             descriptions=plan.describe,
         )  # fmt: skip
     if run.rows is None:
-        sweep_frame = _points_frame(study, plan.sets["sweep"], results.get("sweep"))
+        sweep_frame = _points_frame(study, plan.sets["sweep"].columns(), results.get("sweep"))
         table: PointsTable = FrameTable(sweep_frame)
     else:
         table = StoredTable(

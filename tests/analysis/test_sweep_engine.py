@@ -7,6 +7,7 @@ import pandas as pd
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from designlab.analysis.sampling import LatinHypercubePoints
 from designlab.analysis.sweep import run_points
 
 
@@ -186,3 +187,29 @@ def test_evaluators_get_writable_copies_of_broadcast_points():
     run = run_points({"x": x, "c": c}, doubling_in_place, chunk_size=2)
     assert list(run.frame["y"]) == [1.0, 3.0, 5.0, 7.0, 9.0]
     assert list(x) == [0.0, 1.0, 2.0, 3.0, 4.0]  # the caller's points are untouched
+
+
+class CountingSource(LatinHypercubePoints):
+    """A Latin hypercube that records the largest range the engine asks for."""
+
+    largest = 0
+
+    def _take(self, start, stop):
+        CountingSource.largest = max(CountingSource.largest, stop - start)
+        return super()._take(start, stop)
+
+
+def test_a_streamed_source_is_drawn_a_chunk_at_a_time_and_gives_the_same_results():
+    src = CountingSource({"x": (-3.0, 3.0)}, 1000, seed=2)
+    want = run_points(src.columns(), flaky, {"bad": []}, chunk_size=64)
+    CountingSource.largest = 0
+    store = DictStore()
+    lazy = run_points(src, flaky, {"bad": []}, chunk_size=64, store=store, collect=False)
+    assert 0 < CountingSource.largest <= 64  # never the whole sample
+    assert lazy.points == lazy.distinct == 1000
+    again = run_points(src, flaky, {"bad": []}, chunk_size=64, store=store, resume=True,
+                       collect=False)  # fmt: skip
+    assert again.computed == 0 and again.digest == lazy.digest
+    read = pd.concat([f for _, f in lazy.rows.blocks(slice(0, 1000), 300)], ignore_index=True)
+    assert np.array_equal(read["y"].to_numpy(), want.frame["y"].to_numpy())
+    assert read["status"].tolist() == ["ok"] * 1000

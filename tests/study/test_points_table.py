@@ -111,3 +111,25 @@ def test_a_streamed_sweep_equals_the_one_in_memory(small_limits, tmp_path):
     assert statuses.sum() == 700
     text = (out / "summary.md").read_text()
     assert "use every 11th point (64 points, evenly spread)" in text
+
+
+def test_a_streamed_sweep_never_draws_its_whole_sample(small_limits, tmp_path, monkeypatch):
+    """Memory bounded by the chunk: the LHS is drawn a chunk or a block at a time, never whole."""
+    from designlab.analysis import sampling
+    from designlab.impact import sweep as impact_sweep
+
+    monkeypatch.setattr(impact_sweep.impact_metrics_chunk, "chunk_size", 40)
+    drawn: list[int] = []
+    original = sampling.LatinHypercubePoints._take
+
+    def spy(self, start, stop):
+        drawn.append(stop - start)
+        return original(self, start, stop)
+
+    monkeypatch.setattr(sampling.LatinHypercubePoints, "_take", spy)
+    study = parse_study(LHS)
+    with open_store(tmp_path / "cache", study.name) as store:
+        result = run_study(study, RunContext(store=store))
+        write_report(result, tmp_path / "reports")
+    assert drawn and max(drawn) <= 50  # chunks of 40 points, report blocks of 50 rows
+    assert sum(drawn) >= 2 * 700  # evaluated, then read back for the report
