@@ -63,8 +63,10 @@ __all__ = [
 ]
 
 
-#: The most points a sweep (or a sensitivity block) may have.
-MAX_POINTS = 2_000_000
+#: The most points a sweep (or a sensitivity block) may have: a guard against a
+#: mistyped size, not a memory limit (a streamed sweep's memory does not grow with
+#: its points; its store takes about 50 bytes per point, docs/sweeps.md).
+MAX_POINTS = 10_000_000
 
 
 @dataclass(frozen=True)
@@ -269,7 +271,7 @@ class SweepSpec(_Model):
     method: Literal["list", "grid", "lhs", "sobol"] = Field(
         "grid", description="list | grid | lhs (Latin hypercube) | sobol (quasi-random)"
     )
-    samples: Annotated[Integer, Field(ge=1, le=1_000_000)] | None = Field(
+    samples: Annotated[Integer, Field(ge=1, le=MAX_POINTS)] | None = Field(
         None, description="number of points (lhs, sobol: a power of two)"
     )
     seed: Annotated[Integer, Field(ge=0)] = Field(0, description="seed of lhs/sobol sampling")
