@@ -9,6 +9,8 @@ numpy arrays, and mapped over a batch of gain sets with ``Function.map``.
 from __future__ import annotations
 
 import math
+import os
+import re
 import tempfile
 from dataclasses import dataclass
 from functools import lru_cache
@@ -161,6 +163,42 @@ def _compiled(
     return f
 
 
+# CasADi's C templates call the C99 fmin/fmax, which GCC cannot inline (their NaN and
+# signed-zero rules are not those of minsd/maxsd): a call into the maths library per
+# operation, about a fifth of the step's time. The same functions written inline, with
+# glibc's results for every non-signalling input (ties, also +0/-0, return the first
+# argument; a NaN argument returns the other one), so the compiled step equals the
+# virtual machine (which calls the library) to the last bit.
+_INLINE = {
+    "fmin": "(x <= y || y != y) ? x : y",
+    "fmax": "(x >= y || y != y) ? x : y",
+}
+_JIT_FLAGS = ["-O1", "-fno-math-errno"]  # errno is never read; results are unchanged
+
+
+def _jit_source(f: ca.Function, directory: str) -> str:
+    """Write the C source of ``f`` to ``directory`` with inline fmin/fmax; return its path."""
+    name = f.name() + ".c"
+    gen = ca.CodeGenerator(name, {"with_header": False})
+    gen.add(f)
+    gen.generate(directory + "/")
+    path = f"{directory}/{name}"
+    with open(path) as fh:
+        src = fh.read()
+    for op, expr in _INLINE.items():
+        # (a CasADi whose template differs keeps the library call: slower, equally exact)
+        src = re.sub(
+            rf"(casadi_real casadi_{op}\(casadi_real x, casadi_real y\) \{{).*?\n\}}",
+            lambda m, expr=expr: f"{m.group(1)}\n  return {expr};\n}}",
+            src,
+            count=1,
+            flags=re.S,
+        )
+    with open(path, "w") as fh:
+        fh.write(src)
+    return path
+
+
 @lru_cache(maxsize=16)
 def _jit_step(
     geometries: tuple[ObstacleGeometry, ...],
@@ -171,26 +209,18 @@ def _jit_step(
     lean: bool,
     stabilising: bool | None = None,
 ) -> ca.Function:
-    """The one-period step compiled to machine code (CasADi JIT with the system C compiler)."""
+    """The one-period step compiled to machine code (the system C compiler, loaded by CasADi)."""
     f = build_step(geometries, robot, method, n_sub, dt, lean, stabilising)
-    # CasADi writes the C source and the shared object next to ``jit_name`` and removes them
-    # when the function is destroyed: keep them in a private temporary directory
+    f = ca.Function(f.name(), f.sx_in(), f.call(f.sx_in()), f.name_in(), f.name_out(), _CSE)
+    # the C source and the shared object live in a private temporary directory; CasADi
+    # removes the shared object when the function is destroyed
     tmp = tempfile.mkdtemp(prefix="designlab_jit_")
-    jitted = ca.Function(
-        f.name() + "_jit",
-        f.sx_in(),
-        f.call(f.sx_in()),
-        f.name_in(),
-        f.name_out(),
-        {
-            **_CSE,
-            "jit": True,
-            "compiler": "shell",
-            "jit_name": "step",
-            "jit_options": {"flags": ["-O1"], "verbose": False, "directory": tmp},
-        },
+    src = _jit_source(f, tmp)
+    importer = ca.Importer(
+        src, "shell", {"flags": _JIT_FLAGS, "directory": tmp + "/", "verbose": False}
     )
-    return jitted
+    os.remove(src)
+    return ca.external(f.name(), importer)
 
 
 class _Buffered:
