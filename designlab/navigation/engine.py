@@ -147,7 +147,7 @@ def build_step(
     )
 
 
-@lru_cache(maxsize=64)
+@lru_cache(maxsize=512)  # a batch makes calls of every size as its members arrive
 def _compiled(
     geometries: tuple[ObstacleGeometry, ...],
     robot: HolonomicRobot | NonholonomicRobot,
@@ -617,27 +617,35 @@ def _run_batch(
     dm, en, ct = dmin.copy(), energy.copy(), crit_time.copy()
     tracks = _Tracks(scenario, n_samples, n_sub, dt)
     k_done = 0
-    for k in range(n_samples):
-        obs_k, osub_k = tracks.at(k)
-        if n_obs:
-            f.inp[2][:] = obs_k
-            f.inp[5][:] = osub_k
-        f()
-        k_done = k + 1
+    while True:  # one pass per set of members in the call
+        # the call's arrays, bound once: this loop is the batch's whole Python overhead
+        x_in, x_out, obs_in, osub_in = f.inp[0], f.out[0], f.inp[2], f.inp[5]
         o_crit, o_esum, o_hit = f.out[1], f.out[3], f.out[4]
         o_dmin = f.view_out(2).T  # (members, n_obs)
-        ct += o_crit * period
-        hit = o_hit > 0.5
-        found = {}
-        for j in np.flatnonzero(hit):
-            first = arrival_period(j)
-            if first is not None:  # (else a last-bit disagreement: keep going)
-                found[j] = first
-        if not found:
+        tmp = np.empty(lanes.size)
+        found: dict[int, tuple[int, Array, float]] = {}
+        for k in range(k_done, n_samples):
+            obs_k, osub_k = tracks.at(k)
+            if n_obs:
+                obs_in[:] = obs_k
+                osub_in[:] = osub_k
+            f()
+            k_done = k + 1
+            ct += np.multiply(o_crit, period, out=tmp)
+            if o_hit.any():
+                for j in np.flatnonzero(o_hit > 0.5):
+                    first = arrival_period(j)
+                    if first is not None:  # (else a last-bit disagreement: keep going)
+                        found[int(j)] = first
+                if found:
+                    break
             np.minimum(dm, o_dmin, out=dm)
-            en += o_esum * dt
-            np.copyto(f.inp[0], f.out[0])
-            continue
+            en += np.multiply(o_esum, dt, out=tmp)
+            np.copyto(x_in, x_out)
+        if not found:  # the horizon ends with members on their way
+            dmin[lanes], energy[lanes], crit_time[lanes] = dm, en, ct
+            break
+        k = k_done - 1
         rest = np.ones(lanes.size, bool)
         for j, (count, dm_j, es) in found.items():
             rest[j] = False
@@ -646,19 +654,24 @@ def _run_batch(
             energy[i] = en[j] + es * dt
             crit_time[i] = ct[j]
             arrival[i] = (k * n_sub + count) * dt
-        if not rest.any():
+        if not rest.any() or k_done == n_samples:
+            np.minimum(dm, o_dmin, out=dm)
+            en += np.multiply(o_esum, dt, out=tmp)
+            dmin[lanes[rest]], energy[lanes[rest]], crit_time[lanes[rest]] = (
+                dm[rest],
+                en[rest],
+                ct[rest],
+            )
             break
         # the members still on their way continue in a call of their size
         np.minimum(dm, o_dmin, out=dm)
-        en += o_esum * dt
+        en += np.multiply(o_esum, dt, out=tmp)
         lanes, dm, en, ct = lanes[rest], dm[rest], en[rest], ct[rest]
         x_next, g_next = f.view_out(0)[:, rest], f.view_in(3)[:, rest]
         f = call(lanes.size)
         f.view_in(0)[:, :] = x_next
         f.view_in(3)[:, :] = g_next
         arrival_period.lean = f
-    else:  # the horizon ends with members on their way
-        dmin[lanes], energy[lanes], crit_time[lanes] = dm, en, ct
     return RawRun(arrival, dmin, energy, crit_time, k_done * period, None)
 
 
