@@ -9,6 +9,8 @@ numpy arrays, and mapped over a batch of gain sets with ``Function.map``.
 from __future__ import annotations
 
 import math
+import os
+import re
 import tempfile
 from dataclasses import dataclass
 from functools import lru_cache
@@ -63,6 +65,7 @@ _EPS2 = _EPS**2  # the eps**2 of the field's norm, so lean minima equal the reco
 # common subexpressions are evaluated once (exact: the same operation on the same operands)
 _CSE = {"cse": True}
 _LEAN_OUT = ("Xend", "critical", "Dmin", "Esum", "hit")
+_HIT_MARGIN = 1e-9
 _SHARED = [1, 2, 4, 5, 6, 7]  # inputs common to a batch: goal, obs, params, osub, fforce, tol
 
 
@@ -84,9 +87,10 @@ def build_step(
 
     The full variant returns every dynamics step (for recorded runs); the lean one
     only what a batch needs: the final state, the period's minimum distances and
-    energy, and whether the robot came within ``tol`` of the goal (``hit``). The
-    simulator recomputes the one period of a run where ``hit`` is set with the full
-    variant, to stop its minima and energy at the first passage.
+    energy, and whether the robot may have come within ``tol`` of the goal (``hit``, a
+    test on the squared distance with a margin of 1e-9 ``tol``, so never missing a
+    passage). The simulator recomputes the one period of a run where ``hit`` is set with
+    the full variant, which decides, to stop its minima and energy at the first passage.
     """
     n = len(geometries)
     nx = state_size(robot)
@@ -112,10 +116,11 @@ def build_step(
         D = ca.horzcat(*[dist(X[0:2, k], osub[:, k]) for k in range(n_sub)])
     else:
         D = ca.SX(0, n_sub)
-    gd = ca.sqrt((X[0, :] - goal[0]) ** 2 + (X[1, :] - goal[1]) ** 2)
+    gd2 = (X[0, :] - goal[0]) ** 2 + (X[1, :] - goal[1]) ** 2
     names_in = ["x0", "goal", "obs", "gains", "params", "osub", "fforce", "tol"]
     ins = [x0, goal, obs, gains, params, osub, fforce, tol]
     if not lean:
+        gd = ca.sqrt(gd2)
         dmin = ca.vertcat(*[ca.mmin(D[i, :]) for i in range(n)]) if n else ca.SX(0, 1)
         outs = (
             [X, ho["power"], D, F]
@@ -133,13 +138,16 @@ def build_step(
         dmins = ca.vertcat(*[ca.sqrt(ca.mmin(D2[i, :]) + _EPS2) for i in range(n)])
     else:
         dmins = ca.SX(0, 1)
-    outs = [X[:, -1], out["critical"], dmins, ca.sum2(ho["power"]), ca.mmin(gd) <= tol]
+    # goal test on the squared distance, with a margin of 1e-9 tol: a superset of the
+    # steps with sqrt(.) <= tol (the root is correctly rounded); the full variant decides
+    hit = ca.mmin(gd2) <= (tol * (1.0 + _HIT_MARGIN)) ** 2
+    outs = [X[:, -1], out["critical"], dmins, ca.sum2(ho["power"]), hit]
     return ca.Function(
         f"lean_{method}_{robot.kind}_{n}", ins, outs, names_in, list(_LEAN_OUT), _CSE
     )
 
 
-@lru_cache(maxsize=64)
+@lru_cache(maxsize=512)  # a batch makes calls of every size as its members arrive
 def _compiled(
     geometries: tuple[ObstacleGeometry, ...],
     robot: HolonomicRobot | NonholonomicRobot,
@@ -161,6 +169,42 @@ def _compiled(
     return f
 
 
+# CasADi's C templates call the C99 fmin/fmax, which GCC cannot inline (their NaN and
+# signed-zero rules are not those of minsd/maxsd): a call into the maths library per
+# operation, about a fifth of the step's time. The same functions written inline, with
+# glibc's results for every non-signalling input (ties, also +0/-0, return the first
+# argument; a NaN argument returns the other one), so the compiled step equals the
+# virtual machine (which calls the library) to the last bit.
+_INLINE = {
+    "fmin": "(x <= y || y != y) ? x : y",
+    "fmax": "(x >= y || y != y) ? x : y",
+}
+_JIT_FLAGS = ["-O1", "-fno-math-errno"]  # errno is never read; results are unchanged
+
+
+def _jit_source(f: ca.Function, directory: str) -> str:
+    """Write the C source of ``f`` to ``directory`` with inline fmin/fmax; return its path."""
+    name = f.name() + ".c"
+    gen = ca.CodeGenerator(name, {"with_header": False})
+    gen.add(f)
+    gen.generate(directory + "/")
+    path = f"{directory}/{name}"
+    with open(path) as fh:
+        src = fh.read()
+    for op, expr in _INLINE.items():
+        # (a CasADi whose template differs keeps the library call: slower, equally exact)
+        src = re.sub(
+            rf"(casadi_real casadi_{op}\(casadi_real x, casadi_real y\) \{{).*?\n\}}",
+            lambda m, expr=expr: f"{m.group(1)}\n  return {expr};\n}}",
+            src,
+            count=1,
+            flags=re.S,
+        )
+    with open(path, "w") as fh:
+        fh.write(src)
+    return path
+
+
 @lru_cache(maxsize=16)
 def _jit_step(
     geometries: tuple[ObstacleGeometry, ...],
@@ -171,26 +215,18 @@ def _jit_step(
     lean: bool,
     stabilising: bool | None = None,
 ) -> ca.Function:
-    """The one-period step compiled to machine code (CasADi JIT with the system C compiler)."""
+    """The one-period step compiled to machine code (the system C compiler, loaded by CasADi)."""
     f = build_step(geometries, robot, method, n_sub, dt, lean, stabilising)
-    # CasADi writes the C source and the shared object next to ``jit_name`` and removes them
-    # when the function is destroyed: keep them in a private temporary directory
+    f = ca.Function(f.name(), f.sx_in(), f.call(f.sx_in()), f.name_in(), f.name_out(), _CSE)
+    # the C source and the shared object live in a private temporary directory; CasADi
+    # removes the shared object when the function is destroyed
     tmp = tempfile.mkdtemp(prefix="designlab_jit_")
-    jitted = ca.Function(
-        f.name() + "_jit",
-        f.sx_in(),
-        f.call(f.sx_in()),
-        f.name_in(),
-        f.name_out(),
-        {
-            **_CSE,
-            "jit": True,
-            "compiler": "shell",
-            "jit_name": "step",
-            "jit_options": {"flags": ["-O1"], "verbose": False, "directory": tmp},
-        },
+    src = _jit_source(f, tmp)
+    importer = ca.Importer(
+        src, "shell", {"flags": _JIT_FLAGS, "directory": tmp + "/", "verbose": False}
     )
-    return jitted
+    os.remove(src)
+    return ca.external(f.name(), importer)
 
 
 class _Buffered:
@@ -344,11 +380,15 @@ def run(
     n_obs = len(geos)
     robot = scenario.robot
     lean = not record
-    # batched (lean) steps bake the stabilising switch in: with the force off, its AD terms drop
+    n_samples = math.ceil(scenario.horizon / period - 1e-9)
+    if lean and N > 1:
+        return _run_batch(
+            scenario, gains, geos, method, n_sub, dt, tol, stabilising, tie, jit, n_samples
+        )
+    # lean steps bake the stabilising switch in: with the force off, its AD terms drop
     f = _Buffered(
         _compiled(geos, robot, method, n_sub, dt, N, jit, lean, bool(stabilising) if lean else None)
     )
-    n_samples = math.ceil(scenario.horizon / period - 1e-9)
     nx = state_size(robot)
     x_in, goal_in, obs_in, gains_in, params_in, _osub_in, ff_in, tol_in = (
         f.view_in(i) for i in range(8)
@@ -360,7 +400,7 @@ def run(
     params_in[:, 0] = (robot.mass, float(tie), 1.0 if stabilising else 0.0, robot.max_accel)
     ff_in[:, 0] = 0.0
     if lean:
-        o_x, o_crit, o_dmin, o_esum, o_hit = (f.view_out(i) for i in range(5))
+        o_crit, o_dmin, o_esum, o_hit = (f.view_out(i) for i in range(1, 5))
         o_crit, o_esum, o_hit = (a.reshape(-1) for a in (o_crit, o_esum, o_hit))
         arrival_period = _ArrivalPeriod(f, geos, robot, method, n_sub, dt, tol)
     else:
@@ -408,29 +448,16 @@ def run(
     x_flat = f.inp[0]
     o_x_flat = f.out[0] if lean else None
     x_in[:, :] = X
-    chunk = max(1, round(2.0 / period))  # obstacle tracks are computed 2 s at a time
-    P_all: list[Array] = []
+    tracks = _Tracks(scenario, n_samples, n_sub, dt, keep=record)
     for k in range(n_samples):
-        kc = k % chunk
-        if kc == 0:
-            t_grid = (k * n_sub + np.arange(chunk * n_sub + 1)) * dt
-            P, Vo, Ao = obstacle_tracks(scenario, t_grid)
-            if record:
-                P_all.append(P[:, :-1] if k + chunk < n_samples else P)
-            starts = np.arange(chunk) * n_sub
-            OBS = np.concatenate(
-                [P[:, starts], Vo[:, starts], Ao[:, starts]], axis=2
-            )  # (n, chunk, 6)
-            OBS = OBS.transpose(1, 0, 2).reshape(chunk, 6 * n_obs)
-            idx = starts[:, None] + 1 + np.arange(n_sub)[None, :]  # (chunk, n_sub)
-            OSUB = P[:, idx, :].transpose(1, 2, 0, 3).reshape(chunk, n_sub * 2 * n_obs)
+        obs_k, osub_k = tracks.at(k)
         if n_obs:
-            obs_in[:, 0] = OBS[kc]
-            f.inp[5][:] = OSUB[kc]
+            obs_in[:, 0] = obs_k
+            f.inp[5][:] = osub_k
         if not (lean and N == 1):
             x_in[:, :] = X
         if cbf is not None:
-            ff_in[:, 0] = cbf.force(x_in[:, 0].copy(), goal, gains[0], OBS[kc], robot, scenario)
+            ff_in[:, 0] = cbf.force(x_in[:, 0].copy(), goal, gains[0], obs_k, robot, scenario)
         f()
         if lean and N == 1:  # scalar bookkeeping: a single run spends its time in the step
             c_sum += float(o_crit[0])
@@ -448,29 +475,6 @@ def run(
                 np.minimum(dmin0, o_dmin[:, 0], out=dmin0)
             e_sum += float(o_esum[0])
             np.copyto(x_flat, o_x_flat)
-            continue
-        if lean:
-            crit_time[live] += o_crit[live] * period
-            hit = live & (o_hit > 0.5)
-            for i in np.flatnonzero(hit):
-                first = arrival_period(i)
-                if first is None:  # (a last-bit disagreement: keep going)
-                    hit[i] = False
-                    continue
-                count, dm, es = first
-                if n_obs:
-                    dmin[i] = np.minimum(dmin[i], dm)
-                energy[i] += es * dt
-                arrival[i] = (k * n_sub + count) * dt
-            rest = live & ~hit
-            if n_obs:
-                dmin[rest] = np.minimum(dmin[rest], o_dmin.T[rest])
-            energy[rest] += o_esum[rest] * dt
-            live &= ~hit
-            X = o_x.copy()
-            k_done = k + 1
-            if not live.any():
-                break
             continue
         if N > 1:  # mapped layout: columns are [member 0 steps..., member 1 steps..., ...]
             Xs = outX.reshape(nx, N, n_sub).transpose(0, 2, 1)
@@ -528,10 +532,147 @@ def run(
     t_end = k_done * period
     record_out = None
     if rec is not None:
-        record_out = _assemble(rec, n_sub, period, dt, np.concatenate(P_all, axis=1), nx)
+        record_out = _assemble(rec, n_sub, period, dt, np.concatenate(tracks.P_all, axis=1), nx)
         record_out["stab"] = 1.0 if stabilising else 0.0
         record_out["period"] = period
     return RawRun(arrival, dmin, energy, crit_time, t_end, record_out)
+
+
+class _Tracks:
+    """Obstacle inputs of each navigation period, computed 2 s of simulated time at a time."""
+
+    def __init__(
+        self, scenario: Scenario, n_samples: int, n_sub: int, dt: float, keep: bool = False
+    ) -> None:
+        self.scenario, self.n_samples, self.n_sub, self.dt = scenario, n_samples, n_sub, dt
+        self.chunk = max(1, round(2.0 / (n_sub * dt)))
+        self.n_obs = len(scenario.obstacles)
+        self.keep = keep
+        self.P_all: list[Array] = []  # the positions at every dynamics step (with ``keep``)
+        self.OBS = self.OSUB = np.zeros((0, 0))
+
+    def at(self, k: int) -> tuple[Array, Array]:
+        """(positions, velocities, accelerations at the period start; positions at its steps)."""
+        chunk, n_sub, n_obs = self.chunk, self.n_sub, self.n_obs
+        kc = k % chunk
+        if kc == 0:
+            t_grid = (k * n_sub + np.arange(chunk * n_sub + 1)) * self.dt
+            P, Vo, Ao = obstacle_tracks(self.scenario, t_grid)
+            if self.keep:
+                self.P_all.append(P[:, :-1] if k + chunk < self.n_samples else P)
+            starts = np.arange(chunk) * n_sub
+            OBS = np.concatenate(
+                [P[:, starts], Vo[:, starts], Ao[:, starts]], axis=2
+            )  # (n, chunk, 6)
+            self.OBS = OBS.transpose(1, 0, 2).reshape(chunk, 6 * n_obs)
+            idx = starts[:, None] + 1 + np.arange(n_sub)[None, :]  # (chunk, n_sub)
+            self.OSUB = P[:, idx, :].transpose(1, 2, 0, 3).reshape(chunk, n_sub * 2 * n_obs)
+        return self.OBS[kc], self.OSUB[kc]
+
+
+def _run_batch(
+    scenario: Scenario,
+    gains: Array,
+    geos: tuple[ObstacleGeometry, ...],
+    method: str,
+    n_sub: int,
+    dt: float,
+    tol: float,
+    stabilising: bool,
+    tie: int,
+    jit: bool,
+    n_samples: int,
+) -> RawRun:
+    """A batch of gain sets without records: one mapped call per period over the live members.
+
+    Once members arrive, the call is remade for the members still on their way (each
+    member's arithmetic is its own, so the results do not depend on who else is in the call).
+    """
+    robot = scenario.robot
+    N, n_obs, period = gains.shape[0], len(geos), n_sub * dt
+    params = (robot.mass, float(tie), 1.0 if stabilising else 0.0, robot.max_accel)
+
+    def call(n: int) -> _Buffered:
+        f = _Buffered(_compiled(geos, robot, method, n_sub, dt, n, jit, True, bool(stabilising)))
+        f.view_in(1)[:, 0] = scenario.goal
+        f.view_in(4)[:, 0] = params
+        f.view_in(6)[:, 0] = 0.0
+        f.view_in(7)[:, 0] = tol
+        return f
+
+    f = call(N)
+    f.view_in(0)[:, :] = initial_state(scenario)[:, None]
+    f.view_in(3)[:, :] = gains.T
+    arrival_period = _ArrivalPeriod(f, geos, robot, method, n_sub, dt, tol)
+    arrival = np.full(N, np.inf)
+    dmin = np.full((N, n_obs), np.inf)
+    if n_obs:
+        dmin[:] = [
+            float(o.contour_distance(np.array([scenario.start]))[0]) for o in scenario.obstacles
+        ]
+    energy = np.zeros(N)
+    crit_time = np.zeros(N)
+    lanes = np.arange(N)  # the members in the call, in its order
+    # their running minima, energies and critical times (one row or entry per member in the call)
+    dm, en, ct = dmin.copy(), energy.copy(), crit_time.copy()
+    tracks = _Tracks(scenario, n_samples, n_sub, dt)
+    k_done = 0
+    while True:  # one pass per set of members in the call
+        # the call's arrays, bound once: this loop is the batch's whole Python overhead
+        x_in, x_out, obs_in, osub_in = f.inp[0], f.out[0], f.inp[2], f.inp[5]
+        o_crit, o_esum, o_hit = f.out[1], f.out[3], f.out[4]
+        o_dmin = f.view_out(2).T  # (members, n_obs)
+        tmp = np.empty(lanes.size)
+        found: dict[int, tuple[int, Array, float]] = {}
+        for k in range(k_done, n_samples):
+            obs_k, osub_k = tracks.at(k)
+            if n_obs:
+                obs_in[:] = obs_k
+                osub_in[:] = osub_k
+            f()
+            k_done = k + 1
+            ct += np.multiply(o_crit, period, out=tmp)
+            if o_hit.any():
+                for j in np.flatnonzero(o_hit > 0.5):
+                    first = arrival_period(j)
+                    if first is not None:  # (else a last-bit disagreement: keep going)
+                        found[int(j)] = first
+                if found:
+                    break
+            np.minimum(dm, o_dmin, out=dm)
+            en += np.multiply(o_esum, dt, out=tmp)
+            np.copyto(x_in, x_out)
+        if not found:  # the horizon ends with members on their way
+            dmin[lanes], energy[lanes], crit_time[lanes] = dm, en, ct
+            break
+        k = k_done - 1
+        rest = np.ones(lanes.size, bool)
+        for j, (count, dm_j, es) in found.items():
+            rest[j] = False
+            i = lanes[j]
+            dmin[i] = np.minimum(dm[j], dm_j)
+            energy[i] = en[j] + es * dt
+            crit_time[i] = ct[j]
+            arrival[i] = (k * n_sub + count) * dt
+        if not rest.any() or k_done == n_samples:
+            np.minimum(dm, o_dmin, out=dm)
+            en += np.multiply(o_esum, dt, out=tmp)
+            dmin[lanes[rest]], energy[lanes[rest]], crit_time[lanes[rest]] = (
+                dm[rest],
+                en[rest],
+                ct[rest],
+            )
+            break
+        # the members still on their way continue in a call of their size
+        np.minimum(dm, o_dmin, out=dm)
+        en += np.multiply(o_esum, dt, out=tmp)
+        lanes, dm, en, ct = lanes[rest], dm[rest], en[rest], ct[rest]
+        x_next, g_next = f.view_out(0)[:, rest], f.view_in(3)[:, rest]
+        f = call(lanes.size)
+        f.view_in(0)[:, :] = x_next
+        f.view_in(3)[:, :] = g_next
+        arrival_period.lean = f
+    return RawRun(arrival, dmin, energy, crit_time, k_done * period, None)
 
 
 def _assemble(
