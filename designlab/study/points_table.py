@@ -247,7 +247,8 @@ class PointsTable:
                 elif pd.api.types.is_numeric_dtype(col.dtype):
                     moments.setdefault(name, _Moments()).add(col.to_numpy(dtype=float))
             first = (-start) % step
-            subset.append(block.iloc[first::step])
+            # a copy: a strided slice would be a view keeping the whole block alive
+            subset.append(block.iloc[first::step].copy())
         scan.notes = (notes, first_note)
         scan.moments = {k: m.result() for k, m in moments.items()}
         scan.subset = pd.concat(subset) if subset else pd.DataFrame(columns=self.columns)

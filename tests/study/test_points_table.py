@@ -133,3 +133,30 @@ def test_a_streamed_sweep_never_draws_its_whole_sample(small_limits, tmp_path, m
         write_report(result, tmp_path / "reports")
     assert drawn and max(drawn) <= 50  # chunks of 40 points, report blocks of 50 rows
     assert sum(drawn) >= 2 * 700  # evaluated, then read back for the report
+
+
+def test_the_scan_subset_keeps_no_block_alive(monkeypatch):
+    """The evenly spread subset copies its rows: no block outlives its turn in the pass."""
+    import gc
+    import weakref
+
+    monkeypatch.setattr(points_table, "SUBSET_ROWS", 64)  # every 16th of 1000 rows
+    arrays: list[weakref.ref] = []
+    alive_before: list[int] = []
+
+    def blocks(rows=None):
+        for s in range(0, 1000, 100):
+            gc.collect()
+            alive_before.append(sum(r() is not None for r in arrays))
+            x = np.arange(s, s + 100, dtype=float)
+            arrays.append(weakref.ref(x))
+            yield pd.DataFrame({"x": x, "status": "ok", "error": None}, index=range(s, s + 100),
+                               copy=False)  # fmt: skip
+            del x
+
+    table = FrameTable(pd.DataFrame({"x": [0.0], "status": "ok", "error": None}))
+    table.blocks = blocks  # type: ignore[method-assign]
+    monkeypatch.setattr(FrameTable, "__len__", lambda self: 1000)
+    subset = table.scan().subset
+    assert subset["x"].tolist() == list(np.arange(0.0, 1000.0, 16.0))
+    assert max(alive_before) <= 1  # at most the block just handed over
