@@ -112,25 +112,30 @@ def impact_elasticities_chunk(
 impact_elasticities_chunk.chunk_size = 256  # type: ignore[attr-defined]
 
 
-def _envelope(pt: dict[str, float], damping: list[float]) -> Any:
-    from designlab.impact import ContactDynamics, HeadAcceleration, foam_envelope
+def _envelopes(rows: list[dict[str, float]], damping: list[float]) -> list[Any]:
+    """:func:`designlab.impact.foam_envelope` of every design, solved together."""
+    from designlab.impact import ContactDynamics, HeadAcceleration
+    from designlab.impact.envelope import _foam_envelopes
 
-    robot = ContactDynamics(mass=pt["M_r"], stiffness=pt["K_r"], damping=pt["C_r"])
-    return foam_envelope(
-        robot,
-        impact_velocity=pt["v_c"],
-        damping=np.asarray(damping, dtype=float),
-        criteria=[HeadAcceleration(max_g=pt["max_g"])],
-        max_compression=pt["lambda"],
-    )
+    designs = [
+        (
+            ContactDynamics(mass=pt["M_r"], stiffness=pt["K_r"], damping=pt["C_r"]),
+            pt["v_c"],
+            [HeadAcceleration(max_g=pt["max_g"])],
+            pt["lambda"],
+        )
+        for pt in rows
+    ]
+    return _foam_envelopes(designs, np.asarray(damping, dtype=float))
 
 
-def _verdict(env: Any, pt: dict[str, float]) -> Any:
-    """The foam's verdict against ``env``, solved at the foam's own damping."""
-    from designlab.impact import Foam, foam_verdict
+def _verdicts(envs: list[Any], rows: list[dict[str, float]]) -> list[Any]:
+    """Each foam's verdict against its envelope, solved at the foam's own damping (together)."""
+    from designlab.impact import Foam
+    from designlab.impact.verdict import _TOLERANCE, _verdicts
 
-    foam = Foam(pt["K_c"], pt["C_c"], linear_depth=pt["lambda"])
-    return foam_verdict(env, foam)
+    foams = [Foam(pt["K_c"], pt["C_c"], linear_depth=pt["lambda"]) for pt in rows]
+    return _verdicts(envs, foams, _TOLERANCE)
 
 
 def _rows(points: dict[str, np.ndarray]) -> list[dict[str, float]]:
@@ -158,9 +163,9 @@ def foam_envelope_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) 
     cols: dict[str, list[Any]] = {
         k: [] for k in (*ENVELOPE_METRICS, "verdict", "feasible", "empty", "status", "warnings")
     }
-    for pt in _rows(points):
-        grid = _envelope(pt, options["damping"])
-        fv = _verdict(grid, pt)
+    rows = _rows(points)
+    grids = _envelopes(rows, options["damping"])
+    for grid, fv in zip(grids, _verdicts(grids, rows), strict=True):
         margin = fv.margin_decades
         cols["k_c_max_N_per_m"].append(_positive_or_nan(fv.stiffness_max))
         cols["k_c_min_N_per_m"].append(_positive_or_nan(fv.stiffness_min))
@@ -210,7 +215,7 @@ def envelope_elasticities_chunk(
     rows = _rows(points)
     out: dict[str, Any] = {}
     for i, pt in enumerate(rows):
-        at = _envelope(pt, [pt["C_c"]])
+        (at,) = _envelopes([pt], [pt["C_c"]])
         for column, k, head, metric, limit_key in (
             ("k_c_max_N_per_m", at.stiffness_max[0], HEAD_MIN, "peak_head_acceleration", "max_g"),
             ("k_c_min_N_per_m", at.stiffness_min[0], HEAD_MAX, "max_compression", "lambda"),
