@@ -45,6 +45,7 @@ import logging
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, fields, replace
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -913,20 +914,15 @@ _Design = tuple[ContactDynamics | LinkImpact, float | None, Sequence[Criterion] 
 
 
 def _foam_envelopes(
-    designs: Sequence[_Design],
-    damping: ArrayLike | None = None,
-    *,
-    head_range: HeadRange | None = None,
-    constrained: bool = False,
-    stiffness_bounds: tuple[float, float] = (1e2, 1e7),
-    rtol: float = 1e-6,
-    human_speed: float = 1.0,
-    stop_time: float = 0.05,
+    designs: Sequence[_Design], damping: ArrayLike | None, **settings: Any
 ) -> list[FoamEnvelope]:
     """:func:`foam_envelope` of several designs over one damping grid, solved together.
 
-    Several designs must have fixed robots and criteria differing in their limits only.
+    ``settings`` are keyword arguments of :func:`foam_envelope` (its defaults
+    where not given). Several designs must have fixed robots and criteria
+    differing in their limits only.
     """
+    s = {**(foam_envelope.__kwdefaults__ or {}), **settings}
     c = (
         np.linspace(0.0, 200.0, 41)
         if damping is None
@@ -936,15 +932,16 @@ def _foam_envelopes(
         raise InvalidParameterError(
             "damping", damping, "must be a 1-D array of values >= 0", "N s/m"
         )
-    lo, hi = stiffness_bounds
+    lo, hi = s["stiffness_bounds"]
     if not (0 < lo < hi and np.isfinite(hi)):
         raise InvalidParameterError(
-            "stiffness_bounds", stiffness_bounds, "must be (low, high) with 0 < low < high", "N/m"
+            "stiffness_bounds",
+            s["stiffness_bounds"],
+            "must be (low, high) with 0 < low < high",
+            "N/m",
         )
-    if not 0 < rtol < 1e-2:
-        raise InvalidParameterError("rtol", rtol, "must be in (0, 0.01)")
-    problems = [
-        _make_problem(r, v, crit, lam, head_range, constrained, human_speed, stop_time)
-        for r, v, crit, lam in designs
-    ]
-    return _solve_many(problems, [c] * len(problems), (float(lo), float(hi)), rtol)
+    if not 0 < s["rtol"] < 1e-2:
+        raise InvalidParameterError("rtol", s["rtol"], "must be in (0, 0.01)")
+    setting = (s["head_range"], s["constrained"], s["human_speed"], s["stop_time"])
+    problems = [_make_problem(r, v, crit, lam, *setting) for r, v, crit, lam in designs]
+    return _solve_many(problems, [c] * len(problems), (float(lo), float(hi)), s["rtol"])
