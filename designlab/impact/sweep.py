@@ -156,6 +156,9 @@ def foam_envelope_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) 
 
     The boundaries and the margin are solved at the foam's own damping
     (:func:`designlab.impact.foam_verdict`); the area is over the damping grid.
+    The designs are solved together, in blocks of 128: one root-finding per
+    boundary over every design and damping value, with the results of
+    :func:`designlab.impact.foam_envelope` and ``foam_verdict`` design by design.
 
     Parameters
     ----------
