@@ -199,10 +199,10 @@ class _Problem:
         if isinstance(self.robot, LinkImpact):
             rows, v = self._robot_rows(levers)
         else:
-            c, rows, v = self._lanes(c)
+            c, rows, v = self._lane_inputs(c)
         return self._expand(key, k, c, rows, v)
 
-    def _lanes(self, c: NDArray) -> tuple[NDArray, NDArray, NDArray]:
+    def _lane_inputs(self, c: NDArray) -> tuple[NDArray, NDArray, NDArray]:
         """Damping, robot rows and v_c of the lanes ``c`` (a fixed robot).
 
         The lane context that :func:`_boundary` and :func:`_illinois` carry is the
@@ -239,7 +239,7 @@ class _Problem:
         k = np.asarray(k, dtype=float).ravel()
         c = np.asarray(c, dtype=float).ravel()
         if not isinstance(self.robot, LinkImpact):
-            return self._values(key, k, *self._lanes(c)), np.full(k.size, np.nan)
+            return self._values(key, k, *self._lane_inputs(c)), np.full(k.size, np.nan)
         lr = self.robot
         grid = np.geomspace(lr.lever_arm_min, lr.lever_arm_max, self.lever_grid)
         if lr.lever_arm_max == lr.lever_arm_min:
@@ -353,7 +353,7 @@ class _Lanes(_Problem):
             log_limits=np.repeat(np.array(limits, dtype=float), sizes, axis=0),
         )
 
-    def _lanes(self, c: NDArray) -> tuple[NDArray, NDArray, NDArray]:
+    def _lane_inputs(self, c: NDArray) -> tuple[NDArray, NDArray, NDArray]:
         i = np.asarray(c).astype(np.intp)
         return self.damping[i], self.rows[i], self.velocity[i]
 

@@ -114,3 +114,31 @@ def test_a_failing_design_is_isolated_by_the_sweep_engine(designs) -> None:
     got = out["k_c_max_N_per_m"][[0, 2]]
     np.testing.assert_allclose(got, [r["k_c_max_N_per_m"] for r in refs], rtol=1e-6)
     assert [out["verdict"][i] for i in (0, 2)] == [r["verdict"] for r in refs]
+
+
+def test_envelopes_solved_together_keep_each_designs_criteria() -> None:
+    from designlab.impact import MANIPULATOR_1, MANIPULATOR_2
+    from designlab.impact.envelope import _foam_envelopes
+
+    designs = [(MANIPULATOR_1, 1.25, [HeadAcceleration(10)], 0.02),
+               (MANIPULATOR_2, 1.0, [HeadAcceleration(8)], 0.015)]  # fmt: skip
+    together = _foam_envelopes(designs, [0.0, 100.0])
+    for design, env in zip(designs, together, strict=True):
+        alone = foam_envelope(*design[:2], [0.0, 100.0], *design[2:])
+        assert list(env.upper) == list(alone.upper) == [design[2][0].name]
+        np.testing.assert_allclose(env.stiffness_max, alone.stiffness_max, rtol=1e-6)
+        np.testing.assert_allclose(env.stiffness_min, alone.stiffness_min, rtol=1e-6)
+        assert env.is_feasible(24e3, 70.0) == alone.is_feasible(24e3, 70.0)
+
+
+def test_only_problems_differing_in_robot_and_limits_are_solved_together() -> None:
+    from designlab.errors import InvalidParameterError
+    from designlab.impact import MANIPULATOR_1, ImpactForce, LinkImpact
+    from designlab.impact.envelope import _foam_envelopes
+
+    one = (MANIPULATOR_1, 1.25, [HeadAcceleration(10)], 0.02)
+    force = (MANIPULATOR_1, 1.25, [ImpactForce(660.0)], 0.02)
+    link = (LinkImpact(0.059, 121.68, 1.521, 3.0, 0.01, 0.3), None, [HeadAcceleration(10)], 0.02)
+    for other in (force, link):
+        with pytest.raises(InvalidParameterError, match="problems"):
+            _foam_envelopes([one, other], [0.0])
