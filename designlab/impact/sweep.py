@@ -201,7 +201,7 @@ def foam_envelope_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) 
 
 #: The designs of a chunk are solved together (one root-finding per boundary over
 #: every design and damping value), which costs ~14 ms per design (11 damping values)
-#: from ~64 designs on, against ~57 ms design by design; the scan's arrays take
+#: from ~64 designs on, against ~60 ms design by design; the scan's arrays take
 #: ~1.5 MB per design. 128 designs are ~2 s of work: a kill loses little and the
 #: executors balance; the chunk is near the cheapest per design, and its results
 #: pack to ~40 bytes per point (~52 at 32 designs).
