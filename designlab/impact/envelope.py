@@ -44,7 +44,8 @@ from __future__ import annotations
 import logging
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -195,13 +196,24 @@ class _Problem:
         Returns ``(N * n_heads, 8)`` parameters, their velocities and ``n_heads``;
         rows ``i * n_heads ... (i + 1) * n_heads - 1`` belong to foam ``i``.
         """
-        n = k.size
         if isinstance(self.robot, LinkImpact):
             rows, v = self._robot_rows(levers)
         else:
-            rows, v = self._robot_rows(None)
-            rows, v = np.repeat(rows, n, axis=0), np.repeat(v, n)
+            c, rows, v = self._lane_inputs(c)
         return self._expand(key, k, c, rows, v)
+
+    def _lane_inputs(self, c: NDArray) -> tuple[NDArray, NDArray, NDArray]:
+        """Damping, robot rows and v_c of the lanes ``c`` (a fixed robot).
+
+        The lane context that :func:`_boundary` and :func:`_illinois` carry is the
+        damping itself here; :class:`_Lanes` carries lane indices instead.
+        """
+        rows, v = self._robot_rows(None)
+        return c, np.repeat(rows, c.size, axis=0), np.repeat(v, c.size)
+
+    def log_limit(self, key: Criterion, c: NDArray) -> float | NDArray:
+        """``log`` of the limit of ``key`` for the lanes ``c`` (one limit here)."""
+        return math.log(self.limit(key))
 
     def _expand(
         self, key: Criterion, k: NDArray, c: NDArray, rows: NDArray, v: NDArray
@@ -227,11 +239,7 @@ class _Problem:
         k = np.asarray(k, dtype=float).ravel()
         c = np.asarray(c, dtype=float).ravel()
         if not isinstance(self.robot, LinkImpact):
-            rows, v = self._robot_rows(None)
-            n = k.size
-            return self._values(key, k, c, np.repeat(rows, n, axis=0), np.repeat(v, n)), np.full(
-                n, np.nan
-            )
+            return self._values(key, k, *self._lane_inputs(c)), np.full(k.size, np.nan)
         lr = self.robot
         grid = np.geomspace(lr.lever_arm_min, lr.lever_arm_max, self.lever_grid)
         if lr.lever_arm_max == lr.lever_arm_min:
@@ -278,11 +286,83 @@ class _Problem:
         """``log(metric / limit)`` at ``K_c = exp(u)``: > 0 means violated."""
         vals, _ = self.worst(key, np.exp(u), c)
         with np.errstate(divide="ignore"):
-            return np.log(np.maximum(vals, 1e-300)) - math.log(self.limit(key))
+            return np.log(np.maximum(vals, 1e-300)) - self.log_limit(key, c)
 
     def keys(self) -> list[Criterion]:
         """Every constraint: the criteria (upper boundary) and the thickness limit (lower)."""
         return [*self.criteria, self.compression]
+
+
+def _metric_only(key: Criterion) -> bool:
+    """Whether ``key``'s values depend on its metric alone (not on its fields)."""
+    t = type(key)
+    return t.values is Criterion.values and t.from_metrics is Criterion.from_metrics
+
+
+def _same_but_limits(a: _Problem, b: _Problem) -> bool:
+    """Whether ``b`` differs from ``a`` only in its fixed robot, v_c and limits."""
+    if isinstance(b.robot, LinkImpact) or len(a.criteria) != len(b.criteria):
+        return False
+    setting = ("head_range", "constrained", "stop_time", "head_levels")
+    if any(getattr(a, s) != getattr(b, s) for s in setting):
+        return False
+    return all(
+        ka == kb
+        or (
+            _metric_only(ka)
+            and _metric_only(kb)
+            and ka.metric == kb.metric
+            and ka.conservative_head == kb.conservative_head
+        )
+        for ka, kb in zip(a.keys(), b.keys(), strict=True)
+    )
+
+
+@dataclass(kw_only=True)
+class _Lanes(_Problem):
+    """Several fixed-robot problems solved together: one lane per (problem, damping value).
+
+    The lane context carried by :func:`_boundary` and :func:`_illinois` is a lane
+    index (a float, exact): lane ``i`` is the robot row ``rows[i]`` at v_c
+    ``velocity[i]`` and C_c ``damping[i]``, with ``log_limits[i]`` (one column per
+    :meth:`keys`). The criteria evaluated are the first problem's; the others
+    differ from them in their limits only (:func:`_same_but_limits`).
+    """
+
+    rows: NDArray[np.float64]
+    velocity: NDArray[np.float64]
+    damping: NDArray[np.float64]
+    log_limits: NDArray[np.float64]
+
+    @classmethod
+    def of(cls, problems: Sequence[_Problem], dampings: Sequence[NDArray]) -> _Lanes:
+        """The lanes of ``problems[i]`` at the damping values ``dampings[i]``, in order."""
+        first = problems[0]
+        if not all(_same_but_limits(first, p) for p in problems):
+            raise InvalidParameterError(
+                "problems", len(problems), "must differ only in a fixed robot, v_c and limits"
+            )
+        sizes = [d.size for d in dampings]
+        robots = [p._robot_rows(None) for p in problems]
+        limits = [[math.log(p.limit(key)) for key in p.keys()] for p in problems]
+        return cls(
+            **{f.name: getattr(first, f.name) for f in fields(_Problem)},
+            rows=np.repeat(np.concatenate([r for r, _ in robots]), sizes, axis=0),
+            velocity=np.repeat(np.concatenate([v for _, v in robots]), sizes),
+            damping=np.concatenate(dampings),
+            log_limits=np.repeat(np.array(limits, dtype=float), sizes, axis=0),
+        )
+
+    def _lane_inputs(self, c: NDArray) -> tuple[NDArray, NDArray, NDArray]:
+        i = np.asarray(c).astype(np.intp)
+        return self.damping[i], self.rows[i], self.velocity[i]
+
+    def log_limit(self, key: Criterion, c: NDArray) -> float | NDArray:
+        if key.boundary == "lower":
+            j = len(self.criteria)
+        else:
+            j = next(j for j, crit in enumerate(self.criteria) if crit is key)
+        return self.log_limits[np.asarray(c).astype(np.intp), j]
 
 
 def _illinois(
@@ -635,44 +715,71 @@ def _solve(
     prob: _Problem, damping: NDArray, bounds: tuple[float, float], rtol: float, n_scan: int = 48
 ) -> FoamEnvelope:
     """Both boundaries over ``damping`` (scan of ``n_scan`` log-spaced K_c, then Illinois)."""
+    return _solve_many([prob], [damping], bounds, rtol, n_scan)[0]
+
+
+def _solve_many(
+    problems: Sequence[_Problem],
+    dampings: Sequence[NDArray],
+    bounds: tuple[float, float],
+    rtol: float,
+    n_scan: int = 48,
+) -> list[FoamEnvelope]:
+    """:func:`_solve` of ``problems[i]`` over ``dampings[i]``, all lanes in one root-finding.
+
+    Several problems must differ only in a fixed robot, v_c and limits (:class:`_Lanes`).
+    """
+    prob: _Problem = problems[0]
+    lanes = dampings[0]
+    if len(problems) > 1:
+        prob = _Lanes.of(problems, dampings)
+        lanes = np.arange(prob.damping.size, dtype=float)
     u_grid = np.linspace(math.log(bounds[0]), math.log(bounds[1]), n_scan)
     tol = math.log1p(rtol)
-    upper, upper_status, kmax, multiple = _upper_bounds(prob, damping, u_grid, tol)
-    kmin, lower_status, mult = _boundary(prob, prob.compression, damping, u_grid, tol)
+    upper, upper_status, kmax, multiple = _upper_bounds(prob, lanes, u_grid, tol)
+    kmin, lower_status, mult = _boundary(prob, prob.compression, lanes, u_grid, tol)
     multiple = multiple | mult
     kmin = np.where(lower_status == "bounded", kmin, np.nan)
-    overdamped, delicate, worst_l = _flag_boundary_designs(prob, damping, kmax, kmin)
-    env = FoamEnvelope(
-        robot=prob.robot,
-        impact_velocity=prob.impact_velocity,
-        criteria=prob.criteria,
-        max_compression=prob.max_compression,
-        damping=damping,
-        stiffness_min=kmin,
-        stiffness_max=kmax,
-        upper=upper,
-        upper_status=upper_status,
-        lower_status=lower_status,
-        multiple_roots=multiple,
-        overdamped=overdamped,
-        delicate=delicate,
-        worst_lever_arm=worst_l,
-        stiffness_bounds=bounds,
-        constrained=prob.constrained,
-        head_range=prob.head_range,
-        _problem=prob,
-    )
-    empty = env.is_empty
-    warnings = _envelope_warnings(empty, multiple, overdamped, delicate)
-    # one-point solves (verdicts, margins, the worst-case onset) are debug detail
-    log.log(
-        logging.INFO if damping.size > 1 else logging.DEBUG,
-        "foam_envelope: %d damping values, %d-point scan in K_c: upper bounded at %d, "
-        "lower bounded at %d, %d delicate, %d with several roots",
-        damping.size, n_scan, int(np.isfinite(kmax).sum()), int(np.isfinite(kmin).sum()),
-        int(delicate.sum()), int(multiple.sum()),
-    )  # fmt: skip
-    return replace(env, warnings=tuple(warnings), status="empty" if empty else OK)
+    overdamped, delicate, worst_l = _flag_boundary_designs(prob, lanes, kmax, kmin)
+    out = []
+    stop = 0
+    for p, damping in zip(problems, dampings, strict=True):
+        sl = slice(stop, stop + damping.size)
+        stop = sl.stop
+        # the lanes evaluate the first problem's criteria: each problem names its own
+        names = [(key.name, own.name) for key, own in zip(prob.criteria, p.criteria, strict=True)]
+        env = FoamEnvelope(
+            robot=p.robot,
+            impact_velocity=p.impact_velocity,
+            criteria=p.criteria,
+            max_compression=p.max_compression,
+            damping=damping,
+            stiffness_min=kmin[sl],
+            stiffness_max=kmax[sl],
+            upper={own: upper[key][sl] for key, own in names},
+            upper_status={own: upper_status[key][sl] for key, own in names},
+            lower_status=lower_status[sl],
+            multiple_roots=multiple[sl],
+            overdamped=overdamped[sl],
+            delicate=delicate[sl],
+            worst_lever_arm=worst_l[sl],
+            stiffness_bounds=bounds,
+            constrained=p.constrained,
+            head_range=p.head_range,
+            _problem=p,
+        )
+        empty = env.is_empty
+        warnings = _envelope_warnings(empty, multiple[sl], overdamped[sl], delicate[sl])
+        # one-point solves (verdicts, margins, the worst-case onset) are debug detail
+        log.log(
+            logging.INFO if damping.size > 1 else logging.DEBUG,
+            "foam_envelope: %d damping values, %d-point scan in K_c: upper bounded at %d, "
+            "lower bounded at %d, %d delicate, %d with several roots",
+            damping.size, n_scan, int(np.isfinite(kmax[sl]).sum()),
+            int(np.isfinite(kmin[sl]).sum()), int(delicate[sl].sum()), int(multiple[sl].sum()),
+        )  # fmt: skip
+        out.append(replace(env, warnings=tuple(warnings), status="empty" if empty else OK))
+    return out
 
 
 def _make_problem(
@@ -789,6 +896,33 @@ def foam_envelope(
     >>> (env.stiffness_max / 1e3).round(2).tolist(), (env.stiffness_min / 1e3).round(2).tolist()
     ([46.04, 58.77], [16.67, 11.92])
     """
+    design = (robot, impact_velocity, criteria, max_compression)
+    return _foam_envelopes(
+        [design],
+        damping,
+        head_range=head_range,
+        constrained=constrained,
+        stiffness_bounds=stiffness_bounds,
+        rtol=rtol,
+        human_speed=human_speed,
+        stop_time=stop_time,
+    )[0]
+
+
+#: One design of :func:`_foam_envelopes`: robot, impact velocity, criteria, max_compression.
+_Design = tuple[ContactDynamics | LinkImpact, float | None, Sequence[Criterion] | None, float]
+
+
+def _foam_envelopes(
+    designs: Sequence[_Design], damping: ArrayLike | None, **settings: Any
+) -> list[FoamEnvelope]:
+    """:func:`foam_envelope` of several designs over one damping grid, solved together.
+
+    ``settings`` are keyword arguments of :func:`foam_envelope` (its defaults
+    where not given). Several designs must have fixed robots and criteria
+    differing in their limits only.
+    """
+    s = {**(foam_envelope.__kwdefaults__ or {}), **settings}
     c = (
         np.linspace(0.0, 200.0, 41)
         if damping is None
@@ -798,21 +932,16 @@ def foam_envelope(
         raise InvalidParameterError(
             "damping", damping, "must be a 1-D array of values >= 0", "N s/m"
         )
-    lo, hi = stiffness_bounds
+    lo, hi = s["stiffness_bounds"]
     if not (0 < lo < hi and np.isfinite(hi)):
         raise InvalidParameterError(
-            "stiffness_bounds", stiffness_bounds, "must be (low, high) with 0 < low < high", "N/m"
+            "stiffness_bounds",
+            s["stiffness_bounds"],
+            "must be (low, high) with 0 < low < high",
+            "N/m",
         )
-    if not 0 < rtol < 1e-2:
-        raise InvalidParameterError("rtol", rtol, "must be in (0, 0.01)")
-    prob = _make_problem(
-        robot,
-        impact_velocity,
-        criteria,
-        max_compression,
-        head_range,
-        constrained,
-        human_speed,
-        stop_time,
-    )
-    return _solve(prob, c, (float(lo), float(hi)), rtol)
+    if not 0 < s["rtol"] < 1e-2:
+        raise InvalidParameterError("rtol", s["rtol"], "must be in (0, 0.01)")
+    setting = (s["head_range"], s["constrained"], s["human_speed"], s["stop_time"])
+    problems = [_make_problem(r, v, crit, lam, *setting) for r, v, crit, lam in designs]
+    return _solve_many(problems, [c] * len(problems), (float(lo), float(hi)), s["rtol"])

@@ -34,7 +34,12 @@ import pandas as pd
 
 from designlab.errors import InvalidParameterError, check_nonnegative, check_positive
 from designlab.impact.criteria import Criterion
-from designlab.impact.envelope import FoamEnvelope, HeadRange, _make_problem, _solve
+from designlab.impact.envelope import (
+    FoamEnvelope,
+    HeadRange,
+    _make_problem,
+    _solve_many,
+)
 from designlab.impact.parameters import ContactDynamics, Foam
 from designlab.results import OK, Result
 
@@ -53,6 +58,8 @@ __all__ = [
 FEASIBLE = "feasible"
 ON_BOUNDARY = "on the boundary"
 NOT_FEASIBLE = "not feasible"
+#: Default relative distance in K_c within which a foam is "on the boundary".
+_TOLERANCE = 0.01
 
 
 @dataclass(frozen=True)
@@ -191,7 +198,7 @@ def _judge(
     )
 
 
-def foam_verdict(env: FoamEnvelope, foam: Foam, *, tolerance: float = 0.01) -> FoamVerdict:
+def foam_verdict(env: FoamEnvelope, foam: Foam, *, tolerance: float = _TOLERANCE) -> FoamVerdict:
     """Three-way verdict of ``foam`` against the envelope ``env`` (see the module text).
 
     Parameters
@@ -223,9 +230,28 @@ def foam_verdict(env: FoamEnvelope, foam: Foam, *, tolerance: float = 0.01) -> F
     tol = check_nonnegative("tolerance", tolerance)
     if tol >= 0.5:
         raise InvalidParameterError("tolerance", tolerance, "must be < 0.5")
-    prob = env._require_problem()
-    one = _solve(prob, np.array([foam.damping]), env.stiffness_bounds, 1e-9)
-    lo_b, hi_b = env.stiffness_bounds
+    return _verdicts([env], [foam], tol)[0]
+
+
+def _verdicts(envs: Sequence[FoamEnvelope], foams: Sequence[Foam], tol: float) -> list[FoamVerdict]:
+    """:func:`foam_verdict` of ``foams[i]`` against ``envs[i]`` (tolerance ``tol``).
+
+    The boundaries at the foams' damping are solved together (one root-finding
+    over all the foams); the envelopes share their stiffness range.
+    """
+    bounds = {env.stiffness_bounds for env in envs}
+    if len(bounds) != 1:
+        raise InvalidParameterError("envs", sorted(bounds), "must share one stiffness range")
+    problems = [env._require_problem() for env in envs]
+    dampings = [np.array([foam.damping]) for foam in foams]
+    ones = _solve_many(problems, dampings, envs[0].stiffness_bounds, 1e-9)
+    return [_verdict(foam, one, tol) for foam, one in zip(foams, ones, strict=True)]
+
+
+def _verdict(foam: Foam, one: FoamEnvelope, tol: float) -> FoamVerdict:
+    """The verdict of ``foam`` from ``one``, its envelope solved at the foam's damping."""
+    prob = one._require_problem()
+    bounds = lo_b, hi_b = one.stiffness_bounds
     k = foam.stiffness
     kmax, limiting_upper, kmin = _boundaries_at(one)
     up = k / kmax - 1.0 if kmax > 0 else math.inf
@@ -243,9 +269,7 @@ def foam_verdict(env: FoamEnvelope, foam: Foam, *, tolerance: float = 0.01) -> F
     verdict, statement = _judge(foam, kmax, kmin, up, low, nearest, limiting, tol)
     warnings: list[str] = []
     if not lo_b <= k <= hi_b:
-        warnings.append(
-            f"K_c = {k:g} N/m is outside the envelope's stiffness range {env.stiffness_bounds}"
-        )
+        warnings.append(f"K_c = {k:g} N/m is outside the envelope's stiffness range {bounds}")
     return FoamVerdict(
         foam=foam,
         verdict=verdict,
