@@ -21,8 +21,9 @@ its peak memory is its own):
 It prints the ratios (targets: run <= 2x kernel, resume <= 0.25x kernel), the
 store's bytes per point (target < 100) and each phase's peak resident memory.
 ``--envelope-points N`` adds a foam-envelope sweep on the serial and process
-executors (every point solves an envelope, ~40 ms: 100 000 points take about
-an hour on two cores, so the default is 2 000).
+executors (every point solves an envelope, about 14 ms with the chunk's designs solved
+together: 100 000 points take about an hour for all phases, so the default is 2 000;
+``--points 0`` skips the impact sweep).
 
 Run:  python benchmarks/sweeps.py [--points 1000000] [--envelope-points 2000] [--workers 2]
 """
@@ -231,7 +232,8 @@ def envelope_sweep(n: int, workers: int, tmp: Path) -> None:
     kernel = _bench(ENVELOPE_KERNEL, str(n))
     per_point = 1e3 * kernel["cpu"] / n
     print(f"  {'bare evaluator (one process)':30s} cpu {kernel['cpu']:7.2f} s  "
-          f"wall {kernel['wall']:7.2f} s  ({per_point:.1f} ms per point)")  # fmt: skip
+          f"wall {kernel['wall']:7.2f} s  peak RSS {kernel['rss_mb']:5.0f} MB  "
+          f"({per_point:.1f} ms per point)")  # fmt: skip
     walls = {}
     for ex in ("serial", "processes"):
         cache = tmp / f"cache_{ex}"
@@ -270,7 +272,8 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as d:
         tmp = Path(d)
         t0 = time.perf_counter()
-        impact_sweep(args.points, tmp)
+        if args.points:
+            impact_sweep(args.points, tmp)
         if args.envelope_points:
             print(f"foam_envelope, {args.envelope_points:,} points (11-value damping grid):")
             envelope_sweep(args.envelope_points, args.workers, tmp)
