@@ -75,13 +75,13 @@ sweep:
 KERNEL = """\
 import json, resource, sys, time
 import numpy as np
-from designlab.analysis.sampling import latin_hypercube
+from designlab.analysis.sampling import LatinHypercubePoints
 from designlab.impact import HEAD_MIN, MANIPULATOR_1, FOAM_1
 from designlab.impact.metrics import impact_metrics
 n = int(sys.argv[1])
-cols = latin_hypercube({"head.mass": (4.4, 5.3), "foam.stiffness": (13.48e3, 60.6e3),
+cols = LatinHypercubePoints({"head.mass": (4.4, 5.3), "foam.stiffness": (13.48e3, 60.6e3),
                         "foam.damping": (30.0, 120.0)}, n, seed=1,
-                       log={"foam.stiffness": True})
+                       log={"foam.stiffness": True}).columns()
 r, h = MANIPULATOR_1, HEAD_MIN
 t0 = time.perf_counter()
 c0 = time.process_time()
@@ -205,12 +205,13 @@ def _memory_scaling(n: int, tmp: Path) -> None:
 ENVELOPE_KERNEL = """\
 import json, resource, sys, time
 import numpy as np
-from designlab.analysis.sampling import latin_hypercube
+from designlab.analysis.sampling import LatinHypercubePoints
 from designlab.impact import FOAM_1, MANIPULATOR_1
 from designlab.impact.sweep import foam_envelope_chunk
 n = int(sys.argv[1])
-cols = latin_hypercube({"robot.mass": (5.0, 50.0), "robot.stiffness": (10e3, 30e3),
-                        "impact_velocity": (0.5, 1.5), "max_g": (8.0, 12.0)}, n, seed=2011)
+box = {"robot.mass": (5.0, 50.0), "robot.stiffness": (10e3, 30e3),
+       "impact_velocity": (0.5, 1.5), "max_g": (8.0, 12.0)}
+cols = LatinHypercubePoints(box, n, seed=2011).columns()
 r, f = MANIPULATOR_1, FOAM_1
 points = {"M_r": cols["robot.mass"], "C_r": np.full(n, r.damping),
           "K_r": cols["robot.stiffness"], "v_c": cols["impact_velocity"],

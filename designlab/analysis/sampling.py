@@ -1,18 +1,18 @@
 """Design-of-experiments samples: lists, grids, Latin hypercubes, Sobol sequences.
 
-Every sampler is a :class:`~designlab.analysis.points.PointSource` (a grid, a
-Latin hypercube and a Sobol sequence produce any range of their points on
-demand, so a million-point sweep never holds its sample); the functions return
-the whole sample as point *columns*: ``{name: 1-D float array}``, one entry per
-point, in a deterministic order. Seeded methods give the same points for the
+A grid, a Latin hypercube and a Sobol sequence are
+:class:`~designlab.analysis.points.PointSource` objects: they produce any range
+of their points on demand, as point *columns* ``{name: 1-D float array}`` in a
+deterministic order, so a million-point sweep never holds its sample
+(``.columns()`` gives them all). Seeded methods give the same points for the
 same seed on every platform, however the points are split into chunks.
 
 Examples
 --------
->>> g = grid({"a": [1.0, 2.0], "b": [10.0, 20.0, 30.0]})
+>>> g = GridPoints({"a": [1.0, 2.0], "b": [10.0, 20.0, 30.0]}).columns()
 >>> g["a"].tolist(), g["b"].tolist()
 ([1.0, 1.0, 1.0, 2.0, 2.0, 2.0], [10.0, 20.0, 30.0, 10.0, 20.0, 30.0])
->>> pts = latin_hypercube({"k": (1e4, 6e4), "c": (10.0, 200.0)}, 4, seed=1)
+>>> pts = LatinHypercubePoints({"k": (1e4, 6e4), "c": (10.0, 200.0)}, 4, seed=1).columns()
 >>> sorted(((pts["k"] - 1e4) // 12500).astype(int).tolist())     # one point per stratum
 [0, 1, 2, 3]
 >>> lhs = LatinHypercubePoints({"k": (1e4, 6e4)}, 1_000_000, seed=1)
@@ -36,11 +36,8 @@ __all__ = [
     "GridPoints",
     "LatinHypercubePoints",
     "SobolPoints",
-    "grid",
-    "latin_hypercube",
     "list_points",
     "saltelli",
-    "sobol_sequence",
 ]
 
 Bounds = Mapping[str, tuple[float, float]]
@@ -81,17 +78,6 @@ class GridPoints(PointSource):
     def _take(self, start: int, stop: int) -> Columns:
         idx = np.unravel_index(np.arange(start, stop), self._shape)
         return {k: a[i] for k, a, i in zip(self.names, self._axes, idx, strict=True)}
-
-
-def grid(values: Mapping[str, Sequence[float]]) -> Columns:
-    """The Cartesian product of the value lists (last name varies fastest).
-
-    Parameters
-    ----------
-    values
-        Name -> list of values.
-    """
-    return GridPoints(values).columns()
 
 
 class _Box(PointSource):
@@ -193,25 +179,6 @@ class LatinHypercubePoints(_Box):
         return unit
 
 
-def latin_hypercube(
-    bounds: Bounds, samples: int, *, seed: int = 0, log: Mapping[str, bool] | None = None
-) -> Columns:
-    """``samples`` Latin-hypercube points in the box ``bounds`` (:class:`LatinHypercubePoints`).
-
-    Parameters
-    ----------
-    bounds
-        Name -> (low, high).
-    samples
-        Number of points.
-    seed
-        Seed of the generator.
-    log
-        ``log[name]`` samples that parameter uniformly in its logarithm.
-    """
-    return LatinHypercubePoints(bounds, samples, seed=seed, log=log).columns()
-
-
 class SobolPoints(_Box):
     """``samples`` (a power of two) scrambled Sobol points (scipy.stats.qmc), by range.
 
@@ -248,25 +215,6 @@ class SobolPoints(_Box):
         with warnings.catch_warnings():  # a chunk is not a power of two: the whole sample is
             warnings.simplefilter("ignore", UserWarning)
             return self._engine.random(stop - start)
-
-
-def sobol_sequence(
-    bounds: Bounds, samples: int, *, seed: int = 0, log: Mapping[str, bool] | None = None
-) -> Columns:
-    """``samples`` (a power of two) scrambled Sobol points in the box ``bounds``.
-
-    Parameters
-    ----------
-    bounds
-        Name -> (low, high).
-    samples
-        Number of points, a power of two.
-    seed
-        Seed of the scrambling.
-    log
-        ``log[name]`` samples that parameter uniformly in its logarithm.
-    """
-    return SobolPoints(bounds, samples, seed=seed, log=log).columns()
 
 
 def saltelli(bounds: Bounds, samples: int, *, seed: int = 0) -> Columns:

@@ -7,7 +7,7 @@ import math
 import pytest
 
 from designlab.analysis.executors import ExecutorError, make_executor
-from designlab.analysis.sampling import latin_hypercube
+from designlab.analysis.sampling import LatinHypercubePoints
 from designlab.analysis.sweep import run_points
 from designlab.impact.sweep import impact_metrics_chunk
 
@@ -17,7 +17,7 @@ BASE = {"M_r": 9.6, "C_r": 250.0, "K_r": 20e3, "K_c": 24.25e3, "C_c": 71.9,
 
 def _points(n: int = 40) -> list[dict[str, float]]:
     box = {"K_c": (5e3, 60e3), "C_c": (10.0, 150.0), "M_h": (4.4, 5.3), "v_c": (0.4, 2.0)}
-    cols = latin_hypercube(box, n, seed=3)
+    cols = LatinHypercubePoints(box, n, seed=3).columns()
     pts = [dict(BASE, **{k: float(v[i]) for k, v in cols.items()}) for i in range(n)]
     pts[7] = dict(pts[7], K_r=0.0, K_h=0.0)  # no restoring stiffness: the model refuses it
     return pts

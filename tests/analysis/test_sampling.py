@@ -15,7 +15,6 @@ from designlab.analysis.sampling import (
     GridPoints,
     LatinHypercubePoints,
     SobolPoints,
-    latin_hypercube,
 )
 
 
@@ -43,9 +42,9 @@ def test_latin_hypercube_has_one_point_per_stratum_in_every_chunking(n, d, seed,
 
 def test_latin_hypercube_is_seeded_scaled_and_uncorrelated():
     box = {"k": (1e4, 6e4), "c": (10.0, 200.0)}
-    a = latin_hypercube(box, 20_000, seed=3, log={"k": True})
-    b = latin_hypercube(box, 20_000, seed=3, log={"k": True})
-    c = latin_hypercube(box, 20_000, seed=4, log={"k": True})
+    a = LatinHypercubePoints(box, 20_000, seed=3, log={"k": True}).columns()
+    b = LatinHypercubePoints(box, 20_000, seed=3, log={"k": True}).columns()
+    c = LatinHypercubePoints(box, 20_000, seed=4, log={"k": True}).columns()
     assert all(np.array_equal(a[k], b[k]) for k in box)
     assert not np.array_equal(a["k"], c["k"])
     u = (np.log(a["k"]) - math.log(1e4)) / (math.log(6e4) - math.log(1e4))
