@@ -8,9 +8,12 @@ numpy arrays, and mapped over a batch of gain sets with ``Function.map``.
 
 from __future__ import annotations
 
+import atexit
+import gc
 import math
 import os
 import re
+import shutil
 import tempfile
 from dataclasses import dataclass
 from functools import lru_cache
@@ -219,14 +222,28 @@ def _jit_step(
     f = build_step(geometries, robot, method, n_sub, dt, lean, stabilising)
     f = ca.Function(f.name(), f.sx_in(), f.call(f.sx_in()), f.name_in(), f.name_out(), _CSE)
     # the C source and the shared object live in a private temporary directory; CasADi
-    # removes the shared object when the function is destroyed
+    # removes the shared object when the function is destroyed, the directory goes with it
     tmp = tempfile.mkdtemp(prefix="designlab_jit_")
     src = _jit_source(f, tmp)
     importer = ca.Importer(
         src, "shell", {"flags": _JIT_FLAGS, "directory": tmp + "/", "verbose": False}
     )
     os.remove(src)
+    _JIT_DIRS.append(tmp)
     return ca.external(f.name(), importer)
+
+
+_JIT_DIRS: list[str] = []
+
+
+@atexit.register
+def _remove_jit_dirs() -> None:
+    """At exit: release the compiled steps (CasADi deletes their files), then their directories."""
+    _compiled.cache_clear()
+    _jit_step.cache_clear()
+    gc.collect()
+    for d in _JIT_DIRS:
+        shutil.rmtree(d, ignore_errors=True)
 
 
 class _Buffered:
