@@ -235,7 +235,7 @@ def test_editing_a_domain_invalidates_only_its_points(tmp_path):
         "from designlab.analysis.sweep import code_version\n"
         "from designlab.impact.sweep import impact_metrics_chunk\n"
         "import designlab.analysis.sampling as s\n"
-        "print(code_version(impact_metrics_chunk), code_version(s.grid))\n"
+        "print(code_version(impact_metrics_chunk), code_version(s.GridPoints))\n"
     )
 
     def versions() -> list[str]:
