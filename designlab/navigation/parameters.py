@@ -304,8 +304,19 @@ class RectangularObstacle(ParamsMixin):
 # ----------------------------------------------------------------------------- gains
 
 
+#: The largest gain accepted (any unit). The field's norm is taken in double precision,
+#: so gains near 1e150 overflow it; far below that, 1e9 N/m is already beyond any
+#: robot's actuators (the thesis's gains are below 300).
+MAX_GAIN = 1e9
+
+
 def _gain(cls: str, name: str, value: Any, unit: str) -> float:
-    return check_positive(f"{cls}.{name}", value, unit)
+    out = check_positive(f"{cls}.{name}", value, unit)
+    if out > MAX_GAIN:
+        raise InvalidParameterError(
+            f"{cls}.{name}", value, f"must be a finite number > 0 and <= {MAX_GAIN:g}", unit
+        )
+    return out
 
 
 @dataclass(frozen=True)

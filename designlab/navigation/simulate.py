@@ -43,7 +43,13 @@ from designlab.errors import InvalidParameterError
 from designlab.navigation import engine
 from designlab.navigation.criteria import Criteria, criteria
 from designlab.navigation.lyapunov import StabilityAudit, audit_run
-from designlab.navigation.parameters import GeCuiGains, HolonomicRobot, MasoudGains, VFFGains
+from designlab.navigation.parameters import (
+    MAX_GAIN,
+    GeCuiGains,
+    HolonomicRobot,
+    MasoudGains,
+    VFFGains,
+)
 from designlab.navigation.scenarios import Disc, Scenario
 from designlab.results import OK, Result
 
@@ -529,13 +535,14 @@ def _check_gain_array(gains: ArrayLike) -> Array:
         raise InvalidParameterError(
             "gains", getattr(g, "shape", gains), "must be an (N, 4) array of (k1, b, k3, k5)"
         )
-    bad = ~(np.isfinite(g) & (g > 0))
+    bad = ~(np.isfinite(g) & (g > 0) & (g <= MAX_GAIN))
     if bad.any():
         i, j = np.argwhere(bad)[0]
         raise InvalidParameterError(
             f"gains[{i}, {j}]",
-            g[i, j],
-            "every gain must be finite and > 0 (the structure of Zeng 2011 (5.5.7))",
+            float(g[i, j]),
+            f"every gain must be finite, > 0 and <= {MAX_GAIN:g} (the structure of Zeng 2011 "
+            "(5.5.7))",
         )
     return g
 

@@ -52,7 +52,7 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError, check_nonnegative
-from designlab.navigation.parameters import VFFGains
+from designlab.navigation.parameters import MAX_GAIN, VFFGains
 from designlab.navigation.scenarios import Disc, Scenario, Walk
 from designlab.navigation.simulate import simulate_batch
 from designlab.results import OK, Result
@@ -440,12 +440,12 @@ def _check_bounds(bounds: Mapping[str, tuple[float, float]] | None) -> tuple[Arr
             raise InvalidParameterError(
                 f"bounds[{name!r}]", b[name], "must be a pair (low, high)", _UNITS[name]
             ) from None
-        if not (math.isfinite(low) and math.isfinite(high) and 0 < low < high):
+        if not (math.isfinite(low) and math.isfinite(high) and 0 < low < high <= MAX_GAIN):
             raise InvalidParameterError(
                 f"bounds[{name!r}]",
                 b[name],
-                "must be finite with 0 < low < high (gains bounded away from zero, "
-                "Zeng 2011 (5.5.7))",
+                f"must be finite with 0 < low < high <= {MAX_GAIN:g} (gains bounded away from "
+                "zero, Zeng 2011 (5.5.7))",
                 _UNITS[name],
             )
         lo[j], hi[j] = low, high

@@ -61,6 +61,17 @@ def test_bad_gain_values(bad: object) -> None:
         nav.VFFGains(k1=3, b=0.25, k3=20, k5=bad)  # type: ignore[arg-type]
 
 
+def test_absurdly_large_gains_are_refused_not_simulated() -> None:
+    # k1 = 1e300 overflowed the field's norm: the robot stood still and H_E read 1.
+    with pytest.raises(InvalidParameterError, match=r"VFFGains\.k1 = 1e\+300 N/m .*<= 1e\+09"):
+        nav.VFFGains(k1=1e300, b=0.25, k3=20, k5=17)
+    assert nav.VFFGains(k1=1e9, b=0.25, k3=20, k5=17).k1 == 1e9
+    with pytest.raises(InvalidParameterError, match=r"gains\[1, 3\] = 1000000000000.0 .*<= 1e\+09"):
+        nav.simulate_batch([nav.configuration(1)], [[3, 0.25, 20, 17], [3, 0.25, 20, 1e12]])
+    with pytest.raises(InvalidParameterError, match=r"bounds\['k1'\]"):
+        nav.optimise_gains([nav.configuration(1)], bounds={"k1": (1.0, 1e10)})
+
+
 # ---------------------------------------------- AD Omega vs the corrected closed form
 
 

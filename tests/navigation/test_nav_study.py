@@ -63,6 +63,8 @@ def test_vff_scenarios_runs_and_reports(tmp_path) -> None:  # type: ignore[no-un
         ("  - {configuration: 1}\n", "  - {configuration: 9}\n"),
         ("  - {configuration: 1}\n", "  - {configuration: 1, start: [0, 0]}\n"),
         ("gains: {k1: 4.3, b: 0.68", "gains: {k1: -4.3, b: 0.68"),
+        ("gains: {k1: 4.3, b: 0.68", "gains: {k1: 4.3e12, b: 0.68"),
+        ("method: masoud}", "method: masoud, gains: {k5: 1e300}}"),
         ('method: "New VFF*", T_arrive_s', 'method: "Nope", T_arrive_s'),
         ('stabilising: "off"', 'stabilising: "maybe"'),
         ("kind: disc, radius: 0.4,", "kind: disc,"),

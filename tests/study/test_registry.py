@@ -351,3 +351,11 @@ def test_reversed_gain_bounds_are_refused():
     text = (STUDIES / "vff_gains.yaml").read_text().replace("b: [0.05, 3]", "b: [3, 0.05]")
     with pytest.raises(StudyError, match=r"bounds.b = \[3, 0.05\] is not allowed"):
         parse_study(text, file="vff_gains.yaml")
+
+
+def test_gain_bounds_beyond_the_largest_gain_are_refused():
+    from designlab.errors import StudyError
+
+    text = (STUDIES / "vff_gains.yaml").read_text().replace("b: [0.05, 3]", "b: [0.05, 3e12]")
+    with pytest.raises(StudyError, match=r"less than or equal to 1000000000"):
+        parse_study(text, file="vff_gains.yaml")

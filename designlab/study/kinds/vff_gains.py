@@ -32,7 +32,8 @@ from pydantic import BeforeValidator, Field, model_validator
 
 from designlab import navigation as nav
 from designlab.results import OK, Result
-from designlab.study.base import Integer, Model, Number, Positive, StudyBase
+from designlab.study.base import Integer, Model, Number, StudyBase
+from designlab.study.kinds.vff_specs import Gain
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
 from designlab.validation import reject_bool
@@ -71,10 +72,10 @@ class Range(Model):
 class GainBounds(Model):
     """Search box of the gains (K1 N/m, b s, K3 N/m, K5 N/m^2), lower bounds > 0."""
 
-    k1: tuple[Positive, Positive] = (0.5, 50.0)
-    b: tuple[Positive, Positive] = (0.05, 3.0)
-    k3: tuple[Positive, Positive] = (0.5, 200.0)
-    k5: tuple[Positive, Positive] = (0.5, 500.0)
+    k1: tuple[Gain, Gain] = (0.5, 50.0)
+    b: tuple[Gain, Gain] = (0.05, 3.0)
+    k3: tuple[Gain, Gain] = (0.5, 200.0)
+    k5: tuple[Gain, Gain] = (0.5, 500.0)
 
     @model_validator(mode="after")
     def _ordered(self) -> GainBounds:

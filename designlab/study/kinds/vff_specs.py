@@ -25,6 +25,7 @@ from typing import Annotated, Any, Literal
 from pydantic import BeforeValidator, Field, model_validator
 
 from designlab.navigation.parameters import (
+    MAX_GAIN,
     GeCuiGains,
     HolonomicRobot,
     MasoudGains,
@@ -40,7 +41,7 @@ from designlab.navigation.scenarios import (
     Walk,
     configuration,
 )
-from designlab.study.base import Finite, Integer, Model, NonNegative, Positive
+from designlab.study.base import Finite, Integer, Model, NonNegative, Number, Positive
 from designlab.validation import reject_bool
 
 __all__ = [
@@ -208,13 +209,17 @@ class ScenarioSpec(Model):
         )
 
 
+#: A gain: a finite number > 0, at most :data:`designlab.navigation.parameters.MAX_GAIN`.
+Gain = Annotated[Number, Field(gt=0, le=MAX_GAIN, allow_inf_nan=False)]
+
+
 class GainsSpec(Model):
     """New-VFF gains K1 (N/m), b (s), K3 (N/m), K5 (N/m^2); K2 = b K1, K4 = b K3, K6 = b K5."""
 
-    k1: Positive
-    b: Positive
-    k3: Positive
-    k5: Positive
+    k1: Gain
+    b: Gain
+    k3: Gain
+    k5: Gain
 
     def build(self) -> VFFGains:
         """The :class:`~designlab.navigation.VFFGains`."""
@@ -224,9 +229,9 @@ class GainsSpec(Model):
 class MasoudGainsSpec(Model):
     """Masoud (2007) gains K_MM1, K_MM3 (N/m), K_MM5 (N/m) and the fixed detour sense."""
 
-    k1: Positive = 5.0
-    k3: Positive = 24.0
-    k5: Positive = 36.0
+    k1: Gain = 5.0
+    k3: Gain = 24.0
+    k5: Gain = 36.0
     direction: Annotated[Literal[1, -1], BeforeValidator(reject_bool)] = Field(
         1, description="+1 counter-clockwise, -1 clockwise"
     )
@@ -239,10 +244,10 @@ class MasoudGainsSpec(Model):
 class GeCuiGainsSpec(Model):
     """Ge & Cui (2002) gains: attraction K1 (N/m) with ratio b (s), K3 and K5."""
 
-    k1: Positive = 1.0
-    b: Positive = 0.75
-    k3: Positive = 14.2
-    k5: Positive = 14.2
+    k1: Gain = 1.0
+    b: Gain = 0.75
+    k3: Gain = 14.2
+    k5: Gain = 14.2
 
     def build(self) -> GeCuiGains:
         """The :class:`~designlab.navigation.GeCuiGains`."""
