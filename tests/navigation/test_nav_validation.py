@@ -7,6 +7,7 @@ the thesis's tables do not come back: the robot brakes and creeps near obstacles
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import numpy as np
@@ -55,9 +56,17 @@ def test_new_vff_star_tables_6_2_and_6_4(config: int) -> None:
         # by the K1 trend; the experiment-gain row (6.1 s) is within 7 %.
         assert res.arrival_time == pytest.approx(row.T_arrive_s, rel=0.10)
         slow = nav.simulate(nav.configuration(3), EXP, stabilising="off")
-        assert slow.arrival_time == pytest.approx(
-            _row(CH6, configuration=3, method="New VFF", sim_or_exp="sim").T_arrive_s, rel=0.07
-        )
+        exp_row = _row(CH6, configuration=3, method="New VFF", sim_or_exp="sim")
+        assert slow.arrival_time == pytest.approx(exp_row.T_arrive_s, rel=0.07)
+        # The unstated start is worth the difference: started 9 cm further out, at the start
+        # of the Ch. 7 configurations ([3.99, 0.6]), both rows come within 7 % (measured
+        # 5.80 s, -6.5 %, and 6.07 s, -0.5 %) and the distances stay within 0.03 m.
+        ch7_start = dataclasses.replace(nav.configuration(3), start=(3.99, 0.6))
+        for gains, ref in ((OPT, row), (EXP, exp_row)):
+            moved = nav.simulate(ch7_start, gains, stabilising="off")
+            assert moved.arrival_time == pytest.approx(ref.T_arrive_s, rel=0.07)
+            for name, d in moved.min_distance.items():
+                assert d == pytest.approx(ref[COLS[name]], abs=0.03), name
     assert not res.entered_critical and not res.collided
 
 

@@ -287,7 +287,9 @@ class MethodSpec(Model):
     )
     stabilising: Literal["lyapunov", "off"] = "lyapunov"
     tie_side: Literal["+y", "-y"] = Field(
-        "+y", description="detour side where the rules leave it open (DECISIONS N2)"
+        "+y",
+        description="detour side where the rules leave it open (docs/navigation.md, "
+        "'The force field')",
     )
     cbf_gains: tuple[Positive, Positive] = Field(
         (4.0, 4.0), description="cbf only: (k_0, k_1) of h'' + k_1 h' + k_0 h >= 0"
