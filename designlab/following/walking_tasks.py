@@ -583,6 +583,7 @@ def walking_task_from_csv(
     >>> task = walking_task_from_csv(p, target_position=(0.0, 0.45))
     >>> round(task.walk_start, 1), round(task.walk_stop, 1), task.duration
     (1.0, 5.0, 16.0)
+    >>> import shutil; shutil.rmtree(os.path.dirname(p))
     """
     p = Path(path)
     frame = pd.read_csv(p)

@@ -6,7 +6,7 @@ report as it was.
 
 Examples
 --------
->>> import tempfile, pathlib
+>>> import tempfile, pathlib, shutil
 >>> from designlab.study import parse_study, run_study
 >>> from designlab.report import write_report
 >>> study = parse_study('''
@@ -16,9 +16,11 @@ Examples
 ... cases:
 ...   - {robot: MANIPULATOR_1, foam: FOAM_1, head: TEST_HEAD, impact_velocity: 0.4}
 ... ''')
->>> out = write_report(run_study(study), pathlib.Path(tempfile.mkdtemp()))
+>>> d = pathlib.Path(tempfile.mkdtemp())
+>>> out = write_report(run_study(study), d)
 >>> sorted(p.name for p in out.iterdir())
 ['metrics.csv', 'summary.md', 'time_histories.png']
+>>> shutil.rmtree(d)
 """
 
 from __future__ import annotations
@@ -284,6 +286,7 @@ def write_index(output_dir: str | os.PathLike[str]) -> Path:
     |---|---|---|
     | [a](a/summary.md) | Asks X. | 1 (md) |
     <BLANKLINE>
+    >>> import shutil; shutil.rmtree(d)
     """
     root = Path(output_dir)
     rows = ["| study | what it asks | files |", "|---|---|---|"]

@@ -21,6 +21,7 @@ Examples
 ['demo']
 >>> (root / "demo" / "a.txt").read_text()
 'hello'
+>>> import shutil; shutil.rmtree(root)
 """
 
 from __future__ import annotations
@@ -80,6 +81,7 @@ def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:
     >>> p = pathlib.Path(tempfile.mkdtemp()) / "x.bin"
     >>> atomic_write_bytes(p, b"abc").read_bytes()
     b'abc'
+    >>> import shutil; shutil.rmtree(p.parent)
     """
     target = Path(path)
     fd, tmp_name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)

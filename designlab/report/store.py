@@ -20,7 +20,8 @@ IEEE doubles, strings as JSON) and zlib-compressed, with a SHA-256 checksum.
 Examples
 --------
 >>> import tempfile, pathlib, numpy as np
->>> store = ChunkStore(pathlib.Path(tempfile.mkdtemp()) / "demo.sqlite")
+>>> d = pathlib.Path(tempfile.mkdtemp())
+>>> store = ChunkStore(d / "demo.sqlite")
 >>> store.get_chunk("k")
 ('missing', None)
 >>> ok = np.array(["ok", "ok"], dtype=object)
@@ -31,6 +32,7 @@ Examples
 >>> len(store), store.points()
 (1, 2)
 >>> store.close()
+>>> import shutil; shutil.rmtree(d)
 """
 
 from __future__ import annotations

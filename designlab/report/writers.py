@@ -2,12 +2,13 @@
 
 Examples
 --------
->>> import tempfile, pathlib, pandas as pd
+>>> import tempfile, pathlib, shutil, pandas as pd
 >>> d = pathlib.Path(tempfile.mkdtemp())
 >>> frame = pd.DataFrame({"case": ["a"], "a_h_max_g": [6.5712345]})
 >>> print(write_csv(frame, d / "m.csv").read_text(), end="")
 case,a_h_max_g
 a,6.571235
+>>> shutil.rmtree(d)
 >>> print(markdown_table(frame, floatfmt=".2f"))
 | case   |   a_h_max_g |
 |:-------|------------:|
