@@ -34,6 +34,7 @@ from designlab.navigation.field import (
 )
 from designlab.navigation.parameters import HolonomicRobot, NonholonomicRobot
 from designlab.navigation.scenarios import Scenario
+from designlab.simd import CompiledLanes, UnsupportedOperation, compile_lanes
 
 Array = NDArray[np.float64]
 
@@ -236,11 +237,60 @@ def _jit_step(
 _JIT_DIRS: list[str] = []
 
 
+@lru_cache(maxsize=16)
+def _lane_step(
+    geometries: tuple[ObstacleGeometry, ...],
+    robot: HolonomicRobot | NonholonomicRobot,
+    method: str,
+    n_sub: int,
+    dt: float,
+    stabilising: bool,
+) -> CompiledLanes | None:
+    """The lean step compiled to evaluate four members per pass (``None``: not translatable).
+
+    Equal to the virtual machine to the bit (:mod:`designlab.simd`), and 2-7x faster per
+    member than CasADi's scalar code mapped over the batch.
+    """
+    f = build_step(geometries, robot, method, n_sub, dt, True, stabilising)
+    f = ca.Function(f.name(), f.sx_in(), f.call(f.sx_in()), f.name_in(), f.name_out(), _CSE)
+    try:
+        return compile_lanes(f, _SHARED)
+    except UnsupportedOperation:  # pragma: no cover - every step op is translated
+        return None
+
+
+class _Lanes:
+    """A lane-compiled lean step bound to ``n`` members, with the interface of :class:`_Buffered`
+    on the mapped function (the same flat arrays, member after member)."""
+
+    def __init__(self, lanes: CompiledLanes, n: int) -> None:
+        self._call = lanes.bind(n)
+        self.inp, self.out = self._call.inp, self._call.out
+        f = lanes.f
+        self.shape_in = [
+            (f.size1_in(i), f.size2_in(i) * (1 if i in lanes.shared else n))
+            for i in range(f.n_in())
+        ]
+        self.shape_out = [(f.size1_out(o), f.size2_out(o) * n) for o in range(f.n_out())]
+
+    def view_in(self, i: int) -> Array:
+        r, c = self.shape_in[i]
+        return self.inp[i].reshape((c, r)).T
+
+    def view_out(self, i: int) -> Array:
+        r, c = self.shape_out[i]
+        return self.out[i].reshape((c, r)).T
+
+    def __call__(self) -> None:
+        self._call()
+
+
 @atexit.register
 def _remove_jit_dirs() -> None:
     """At exit: release the compiled steps (CasADi deletes their files), then their directories."""
     _compiled.cache_clear()
     _jit_step.cache_clear()
+    _lane_step.cache_clear()
     gc.collect()
     for d in _JIT_DIRS:
         shutil.rmtree(d, ignore_errors=True)
@@ -403,8 +453,15 @@ def run(
             scenario, gains, geos, method, n_sub, dt, tol, stabilising, tie, jit, n_samples
         )
     # lean steps bake the stabilising switch in: with the force off, its AD terms drop
-    f = _Buffered(
-        _compiled(geos, robot, method, n_sub, dt, N, jit, lean, bool(stabilising) if lean else None)
+    vector = _lane_step(geos, robot, method, n_sub, dt, bool(stabilising)) if jit and lean else None
+    f: _Buffered | _Lanes = (
+        _Lanes(vector, N)
+        if vector is not None
+        else _Buffered(
+            _compiled(
+                geos, robot, method, n_sub, dt, N, jit, lean, bool(stabilising) if lean else None
+            )
+        )
     )
     nx = state_size(robot)
     x_in, goal_in, obs_in, gains_in, params_in, _osub_in, ff_in, tol_in = (
@@ -609,8 +666,16 @@ def _run_batch(
     N, n_obs, period = gains.shape[0], len(geos), n_sub * dt
     params = (robot.mass, float(tie), 1.0 if stabilising else 0.0, robot.max_accel)
 
-    def call(n: int) -> _Buffered:
-        f = _Buffered(_compiled(geos, robot, method, n_sub, dt, n, jit, True, bool(stabilising)))
+    vector = _lane_step(geos, robot, method, n_sub, dt, bool(stabilising)) if jit else None
+
+    def call(n: int) -> _Buffered | _Lanes:
+        f = (
+            _Lanes(vector, n)
+            if vector is not None
+            else _Buffered(
+                _compiled(geos, robot, method, n_sub, dt, n, jit, True, bool(stabilising))
+            )
+        )
         f.view_in(1)[:, 0] = scenario.goal
         f.view_in(4)[:, 0] = params
         f.view_in(6)[:, 0] = 0.0
@@ -725,7 +790,7 @@ class _ArrivalPeriod:
 
     def __init__(
         self,
-        lean: _Buffered,
+        lean: _Buffered | _Lanes,
         geos: tuple[ObstacleGeometry, ...],
         robot: HolonomicRobot | NonholonomicRobot,
         method: str,
