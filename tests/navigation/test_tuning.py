@@ -21,9 +21,10 @@ THESIS = nav.VFFGains(4.3, 0.68, 20.3, 240.7)
 
 @pytest.fixture(scope="module")
 def tiny():
+    # the second run simulates with the four-lane compiled step: the same path to the bit
     kw = dict(stabilising="off", seed=3, popsize=6, max_evaluations=12, refine_evaluations=16)
     return nav.optimise_gains([nav.configuration(1)], **kw), nav.optimise_gains(
-        [nav.configuration(1)], **kw
+        [nav.configuration(1)], **kw, jit=True
     )
 
 
@@ -31,6 +32,7 @@ def test_tiny_run_is_reproducible_and_consistent(tiny):
     a, b = tiny
     check_result(a)
     assert a.gains is not None and a.gains == b.gains and a.objective == b.objective
+    assert a.history.equals(b.history)  # every candidate scored alike
     # budget: 2 CMA-ES generations of 6, then at most two polls of 8
     assert a.evaluations == 12 + 8 * (len(a.history) - 2)
     assert list(a.history["phase"][:2]) == ["cma", "cma"]
@@ -111,6 +113,8 @@ def test_random_walks_draws_and_worst_case():
         dict(robust="walks"),
         dict(x0=nav.VFFGains(100.0, 0.5, 10.0, 10.0)),
         dict(executor=object()),
+        dict(jit="yes"),
+        dict(jit=1),
     ],
 )
 def test_bad_input_is_rejected(kw):

@@ -130,6 +130,11 @@ class VffGainsStudy(StudyBase):
     popsize: Annotated[Integer, Field(ge=4, le=256)] = 16
     max_evaluations: Annotated[Integer, Field(ge=4, le=100000)] = 1600
     refine: bool = True
+    jit: bool = Field(
+        False,
+        description="simulate with the step compiled to four gain sets per pass (needs a C "
+        "compiler; the same optimum, several times faster)",
+    )
     critical_margin: Annotated[Number, Field(ge=0, le=2, allow_inf_nan=False)] = Field(
         0.0,
         description="clearance (m) every run must keep outside every critical region "
@@ -322,6 +327,7 @@ def run(study: VffGainsStudy, context: RunContext) -> VffGainsResult:
             refine=study.refine,
             executor=ex,
             chunks=chunks,
+            jit=study.jit,
         )
         optima[mode] = opt
         cand = [("experimental", EXPERIMENTAL), ("thesis_optimum", THESIS_OPTIMUM)]
@@ -344,6 +350,7 @@ def run(study: VffGainsStudy, context: RunContext) -> VffGainsResult:
                 refine=study.refine,
                 executor=ex,
                 chunks=chunks,
+                jit=study.jit,
             )
             optima[f"{mode}{WIDER}"] = opt_w
             if opt_w.gains is not None:
@@ -375,6 +382,7 @@ def run(study: VffGainsStudy, context: RunContext) -> VffGainsResult:
             robust_mode=rs.mode,
             executor=ex,
             chunks=chunks,
+            jit=study.jit,
         )
         optima["robust"] = opt
         cand = [("experimental", EXPERIMENTAL), ("thesis_optimum", THESIS_OPTIMUM)]
