@@ -54,7 +54,8 @@ def vff_metrics_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) ->
         ``options["arrival_tolerance"]``).
     options
         ``scenarios``: list of ``[configuration, chapter]`` (thesis configurations);
-        ``stabilising``: ``"lyapunov"`` or ``"off"``; ``arrival_tolerance`` (m).
+        ``stabilising``: ``"lyapunov"`` or ``"off"``; ``arrival_tolerance`` (m);
+        ``jit``: simulate with the four-lane compiled step (default ``False``).
     """
     n = np.asarray(points["k1"]).size
     defaults = {"ramp": 0.5, "tol": float(options.get("arrival_tolerance", 0.15))}
@@ -68,6 +69,7 @@ def vff_metrics_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) ->
     status = np.full(n, "ok", dtype=object)
     specs = [tuple(s) for s in options.get("scenarios", [[1, 6], [2, 6], [3, 6]])]
     stab = options.get("stabilising", "off")
+    jit = bool(options.get("jit", False))
     groups = np.stack([cols[k] for k in ("v_max", "a_max", "v_h", "ramp", "tol")], axis=1)
     for key in np.unique(groups, axis=0):
         idx = np.flatnonzero(np.all(groups == key, axis=1))
@@ -82,7 +84,7 @@ def vff_metrics_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) ->
                 )
             )
         gains = np.stack([cols[k][idx] for k in ("k1", "b", "k3", "k5")], axis=1)
-        res = simulate_batch(scenarios, gains, stabilising=stab, arrival_tolerance=tol)
+        res = simulate_batch(scenarios, gains, stabilising=stab, arrival_tolerance=tol, jit=jit)
         surf = np.full(res.min_distance.shape, np.nan)
         for s, sc in enumerate(scenarios):
             off = np.array([o.collision_distance(sc.robot.radius) for o in sc.obstacles])

@@ -118,6 +118,13 @@ def test_vff_sweep_runs_through_the_shared_machinery(tmp_path) -> None:  # type:
     assert slow["T_mean_s"].min() > fast["T_mean_s"].max()  # a slower robot arrives later
     out = write_report(result, tmp_path, study_text=SWEEP, index=False)
     assert (out / "summary.md").exists()
+    # jit: true compiles the step to four gain sets per pass: the same table to the bit
+    fast = run_study(
+        parse_study(SWEEP.replace('stabilising: "off"', 'stabilising: "off"\n  jit: true'))
+    )
+    assert fast.to_frame().equals(frame)
+    with pytest.raises(StudyError, match=r"gains.k5: 2.4e\+12 N/m\^2 .* <= 1e\+09"):
+        parse_study(SWEEP.replace("values: [120.0, 240.7]", "values: [120.0, 2.4e12]"))
 
 
 TOL_SWEEP = """
