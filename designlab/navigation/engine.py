@@ -259,32 +259,6 @@ def _lane_step(
         return None
 
 
-class _Lanes:
-    """A lane-compiled lean step bound to ``n`` members, with the interface of :class:`_Buffered`
-    on the mapped function (the same flat arrays, member after member)."""
-
-    def __init__(self, lanes: CompiledLanes, n: int) -> None:
-        self._call = lanes.bind(n)
-        self.inp, self.out = self._call.inp, self._call.out
-        f = lanes.f
-        self.shape_in = [
-            (f.size1_in(i), f.size2_in(i) * (1 if i in lanes.shared else n))
-            for i in range(f.n_in())
-        ]
-        self.shape_out = [(f.size1_out(o), f.size2_out(o) * n) for o in range(f.n_out())]
-
-    def view_in(self, i: int) -> Array:
-        r, c = self.shape_in[i]
-        return self.inp[i].reshape((c, r)).T
-
-    def view_out(self, i: int) -> Array:
-        r, c = self.shape_out[i]
-        return self.out[i].reshape((c, r)).T
-
-    def __call__(self) -> None:
-        self._call()
-
-
 @atexit.register
 def _remove_jit_dirs() -> None:
     """At exit: release the compiled steps (CasADi deletes their files), then their directories."""
@@ -321,6 +295,24 @@ class _Buffered:
 
     def __call__(self) -> None:
         self._trigger()
+
+
+class _Lanes(_Buffered):
+    """A lane-compiled lean step bound to ``n`` members: the arrays and views of the
+    function mapped over ``n`` members (member after member), evaluated four at a time."""
+
+    def __init__(self, lanes: CompiledLanes, n: int) -> None:
+        self._call = lanes.bind(n)
+        self.inp, self.out = self._call.inp, self._call.out
+        f = self.f = lanes.f
+        self.shape_in = [
+            (f.size1_in(i), f.size2_in(i) * (1 if i in lanes.shared else n))
+            for i in range(f.n_in())
+        ]
+        self.shape_out = [(f.size1_out(o), f.size2_out(o) * n) for o in range(f.n_out())]
+
+    def __call__(self) -> None:
+        self._call()
 
 
 @dataclass
@@ -454,7 +446,7 @@ def run(
         )
     # lean steps bake the stabilising switch in: with the force off, its AD terms drop
     vector = _lane_step(geos, robot, method, n_sub, dt, bool(stabilising)) if jit and lean else None
-    f: _Buffered | _Lanes = (
+    f: _Buffered = (
         _Lanes(vector, N)
         if vector is not None
         else _Buffered(
@@ -668,7 +660,7 @@ def _run_batch(
 
     vector = _lane_step(geos, robot, method, n_sub, dt, bool(stabilising)) if jit else None
 
-    def call(n: int) -> _Buffered | _Lanes:
+    def call(n: int) -> _Buffered:
         f = (
             _Lanes(vector, n)
             if vector is not None
@@ -790,7 +782,7 @@ class _ArrivalPeriod:
 
     def __init__(
         self,
-        lean: _Buffered | _Lanes,
+        lean: _Buffered,
         geos: tuple[ObstacleGeometry, ...],
         robot: HolonomicRobot | NonholonomicRobot,
         method: str,
