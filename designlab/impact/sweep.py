@@ -171,22 +171,11 @@ def foam_envelope_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) 
         k: [] for k in (*ENVELOPE_METRICS, "verdict", "feasible", "empty", "status", "warnings")
     }
     rows = _rows(points)
-    grids, verdicts = [], []
-    for start in range(0, len(rows), _ENVELOPE_BLOCK):  # bounded memory for any input
-        block = rows[start : start + _ENVELOPE_BLOCK]
-        grids += _envelopes(block, options["damping"])
-        verdicts += _verdicts(grids[start:], block)
-    for grid, fv in zip(grids, verdicts, strict=True):
-        margin = fv.margin_decades
-        cols["k_c_max_N_per_m"].append(_positive_or_nan(fv.stiffness_max))
-        cols["k_c_min_N_per_m"].append(_positive_or_nan(fv.stiffness_min))
-        cols["margin_decades"].append(margin if math.isfinite(margin) else math.nan)
-        cols["area_log"].append(float(grid.area(log=True)))
-        cols["verdict"].append(fv.verdict)
-        cols["feasible"].append(fv.feasible)
-        cols["empty"].append(bool(grid.is_empty))
-        cols["status"].append("empty" if grid.is_empty else "ok")
-        cols["warnings"].append("; ".join((*grid.warnings, *fv.warnings)) or None)
+    for start in range(0, len(rows), _ENVELOPE_BLOCK):  # bounded memory for any input:
+        block = rows[start : start + _ENVELOPE_BLOCK]  # a block's envelopes go after it
+        grids = _envelopes(block, options["damping"])
+        for grid, fv in zip(grids, _verdicts(grids, block), strict=True):
+            _append_envelope(cols, grid, fv)
     out: dict[str, Any] = {
         k: np.asarray(v, dtype=float) for k, v in cols.items() if k in ENVELOPE_METRICS
     }
@@ -197,6 +186,20 @@ def foam_envelope_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) 
         arr[:] = cols[k]
         out[k] = arr
     return out
+
+
+def _append_envelope(cols: dict[str, list[Any]], grid: Any, fv: Any) -> None:
+    """One design's row: the boundaries and margin at its foam, the area, the verdict."""
+    margin = fv.margin_decades
+    cols["k_c_max_N_per_m"].append(_positive_or_nan(fv.stiffness_max))
+    cols["k_c_min_N_per_m"].append(_positive_or_nan(fv.stiffness_min))
+    cols["margin_decades"].append(margin if math.isfinite(margin) else math.nan)
+    cols["area_log"].append(float(grid.area(log=True)))
+    cols["verdict"].append(fv.verdict)
+    cols["feasible"].append(fv.feasible)
+    cols["empty"].append(bool(grid.is_empty))
+    cols["status"].append("empty" if grid.is_empty else "ok")
+    cols["warnings"].append("; ".join((*grid.warnings, *fv.warnings)) or None)
 
 
 #: The designs of a chunk are solved together (one root-finding per boundary over
