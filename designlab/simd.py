@@ -33,6 +33,7 @@ from __future__ import annotations
 import ctypes
 import math
 import os
+import shlex
 import shutil
 import subprocess
 import tempfile
@@ -188,10 +189,13 @@ def _source(f: ca.Function, shared: frozenset[int], name: str) -> str:
     )
 
 
-def _compiler() -> str:
-    cc = os.environ.get("CC") or shutil.which("cc") or shutil.which("gcc")
-    if not cc:
-        raise RuntimeError("no C compiler found (set CC or install gcc)")
+def _compiler() -> list[str]:
+    """The C compiler's command: ``$CC`` (which may carry options), else ``cc`` or ``gcc``."""
+    cc = shlex.split(os.environ.get("CC", "")) or [shutil.which("cc") or shutil.which("gcc") or ""]
+    if not cc[0] or shutil.which(cc[0]) is None:
+        raise RuntimeError(
+            f"no C compiler found (CC = {os.environ.get('CC', '')!r}; set CC or install gcc)"
+        )
     return cc
 
 
@@ -298,7 +302,7 @@ def compile_lanes(f: ca.Function, shared: Sequence[int] = ()) -> CompiledLanes:
     out = None
     for flags in ([*_FLAGS, _NATIVE], _FLAGS):  # -march=native where the compiler takes it
         out = subprocess.run(
-            [cc, *flags, c_path, "-o", so_path, "-lm"], capture_output=True, text=True
+            [*cc, *flags, c_path, "-o", so_path, "-lm"], capture_output=True, text=True
         )
         if out.returncode == 0:
             break

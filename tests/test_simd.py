@@ -170,3 +170,20 @@ def test_products_are_rounded_before_the_sum_no_fused_multiply_add() -> None:
     call.inp[0][:] = x
     call()
     assert (call.out[0] == 0.0).all()
+
+
+def test_a_missing_or_broken_compiler_is_reported(monkeypatch: pytest.MonkeyPatch) -> None:
+    f = ca.Function("lin2", [X, P], [X * P[0]])
+    monkeypatch.setenv("CC", "/nonexistent/cc")
+    with pytest.raises(RuntimeError, match="no C compiler found"):
+        compile_lanes(f, shared=[1])
+    cc = "cc" if shutil.which("cc") else "gcc"
+    monkeypatch.setenv("CC", f"{cc} -Wl,--no-such-linker-option")
+    with pytest.raises(RuntimeError, match="compiling 'lin2' failed"):
+        compile_lanes(f, shared=[1])
+    monkeypatch.setenv("CC", f"{cc} -O0")  # a compiler with options of its own
+    call = compile_lanes(f, shared=[1]).bind(2)
+    call.inp[0][:] = np.arange(6.0)
+    call.inp[1][:] = [3.0, 0.0]
+    call()
+    np.testing.assert_array_equal(call.out[0], 3.0 * np.arange(6.0))
