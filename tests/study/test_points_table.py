@@ -113,6 +113,26 @@ def test_a_streamed_sweep_equals_the_one_in_memory(small_limits, tmp_path):
     assert "use every 11th point (64 points, evenly spread)" in text
 
 
+def test_a_streamed_sweep_on_worker_processes_writes_the_same_parquet(small_limits, tmp_path):
+    from designlab.analysis.executors import make_executor
+
+    study = parse_study(LHS)
+    tables = {}
+    for name in ("serial", "processes"):
+        ex = make_executor(name, workers=2) if name == "processes" else None
+        try:
+            with open_store(tmp_path / name, study.name) as store:
+                result = run_study(study, RunContext(store=store, executor=ex))
+                assert isinstance(result.table, StoredTable)
+                out = write_report(result, tmp_path / f"reports_{name}", index=False)
+        finally:
+            if ex is not None:
+                ex.close()
+        tables[name] = pd.read_parquet(out / "results.parquet")
+    assert len(tables["serial"]) == 700
+    pd.testing.assert_frame_equal(tables["processes"], tables["serial"])
+
+
 def test_a_streamed_sweep_never_draws_its_whole_sample(small_limits, tmp_path, monkeypatch):
     """Memory bounded by the chunk: the LHS is drawn a chunk or a block at a time, never whole."""
     from designlab.analysis import sampling
