@@ -294,11 +294,11 @@ def compile_lanes(f: ca.Function, shared: Sequence[int] = ()) -> CompiledLanes:
         raise UnsupportedOperation(f"{f.name()!r} is not an SX function")
     name = "lanes_" + "".join(c if c.isalnum() else "_" for c in f.name())
     src = _source(f, frozenset(int(i) for i in shared), name)
+    cc = _compiler()
     directory = tempfile.mkdtemp(prefix="designlab_lanes_")
     c_path, so_path = os.path.join(directory, name + ".c"), os.path.join(directory, name + ".so")
     with open(c_path, "w") as fh:
         fh.write(src)
-    cc = _compiler()
     out = None
     for flags in ([*_FLAGS, _NATIVE], _FLAGS):  # -march=native where the compiler takes it
         out = subprocess.run(

@@ -9,6 +9,8 @@ comparisons are most easily got wrong.
 from __future__ import annotations
 
 import shutil
+import tempfile
+from pathlib import Path
 
 import casadi as ca
 import numpy as np
@@ -172,7 +174,10 @@ def test_products_are_rounded_before_the_sum_no_fused_multiply_add() -> None:
     assert (call.out[0] == 0.0).all()
 
 
-def test_a_missing_or_broken_compiler_is_reported(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_a_missing_or_broken_compiler_is_reported(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))  # nothing may be left behind
     f = ca.Function("lin2", [X, P], [X * P[0]])
     monkeypatch.setenv("CC", "/nonexistent/cc")
     with pytest.raises(RuntimeError, match="no C compiler found"):
@@ -187,3 +192,4 @@ def test_a_missing_or_broken_compiler_is_reported(monkeypatch: pytest.MonkeyPatc
     call.inp[1][:] = [3.0, 0.0]
     call()
     np.testing.assert_array_equal(call.out[0], 3.0 * np.arange(6.0))
+    assert list(tmp_path.iterdir()) == []
