@@ -29,6 +29,7 @@ from designlab.validation import reject_bool
 __all__ = [
     "FORMAT_VERSION",
     "Finite",
+    "Flag",
     "Model",
     "NonNegative",
     "Number",
@@ -65,6 +66,8 @@ def did_you_mean(word: str, choices: list[str] | tuple[str, ...] | set[str]) -> 
 Number = Annotated[float, BeforeValidator(reject_bool)]
 #: An integer (a boolean is refused: YAML's ``true`` is not 1).
 Integer = Annotated[int, BeforeValidator(reject_bool)]
+#: A yes/no switch: YAML ``true`` or ``false`` only (not ``1``, ``"yes"`` or ``"on"``).
+Flag = Annotated[bool, Field(strict=True)]
 #: A finite number > 0.
 Positive = Annotated[Number, Field(gt=0, allow_inf_nan=False)]
 #: A finite number >= 0.

@@ -47,7 +47,7 @@ from typing import Annotated, Any, ClassVar, Generic, Literal, TypeVar
 from pydantic import BaseModel, Field, create_model, model_validator
 
 from designlab.study.base import Finite as _Finite
-from designlab.study.base import Integer, StudyBase, did_you_mean
+from designlab.study.base import Flag, Integer, StudyBase, did_you_mean
 from designlab.study.base import Model as _Model
 
 __all__ = [
@@ -378,12 +378,12 @@ class SensitivitySpec(_Model, Generic[MetricT]):
     metrics: list[MetricT] | None = Field(
         None, min_length=1, description="metrics to analyse (default: the kind's default metrics)"
     )
-    local: bool = Field(True, description="elasticities d ln(metric) / d ln(parameter) at the base")
+    local: Flag = Field(True, description="elasticities d ln(metric) / d ln(parameter) at the base")
     one_at_a_time: OneAtATimeSpec | None = Field(
         None, description="percentage perturbation table (Zeng 2011 App. C form)"
     )
     sobol: SobolSpec | None = Field(None, description="global Sobol indices (SALib)")
-    tornado: bool = Field(
+    tornado: Flag = Field(
         True, description="metric at each sweep parameter's low and high (others at base)"
     )
 

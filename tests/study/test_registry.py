@@ -359,3 +359,60 @@ def test_gain_bounds_beyond_the_largest_gain_are_refused():
     text = (STUDIES / "vff_gains.yaml").read_text().replace("b: [0.05, 3]", "b: [0.05, 3e12]")
     with pytest.raises(StudyError, match=r"less than or equal to 1000000000"):
         parse_study(text, file="vff_gains.yaml")
+
+
+def _bool_fields(model: type, seen: set | None = None) -> list[tuple[str, Any]]:
+    """(qualified name, FieldInfo) of every boolean field reachable from a study schema."""
+    import typing
+
+    from pydantic import BaseModel
+
+    seen = set() if seen is None else seen
+    if model in seen:
+        return []
+    seen.add(model)
+    out = []
+    for name, info in model.model_fields.items():
+        todo = [info.annotation]
+        while todo:
+            t = todo.pop()
+            if t is bool:
+                out.append((f"{model.__name__}.{name}", info))
+            elif isinstance(t, type) and issubclass(t, BaseModel):
+                out += _bool_fields(t, seen)
+            else:
+                todo += [a for a in typing.get_args(t) if a is not type(None)]
+    return out
+
+
+def test_no_switch_takes_a_number_or_a_word():
+    """``jit: 1`` or ``refine: "yes"`` is a typo, not true: every boolean field is strict."""
+    from pydantic import TypeAdapter
+
+    from designlab.study.registry import study_kinds
+
+    fields = [f for kind in study_kinds().values() for f in _bool_fields(kind.schema)]
+    assert {"VffDesign.jit", "VffGainsStudy.jit", "VffGainsStudy.refine"} <= {n for n, _ in fields}
+    for name, info in fields:
+        adapter = TypeAdapter(typing_annotated(info))
+        assert adapter.validate_python(True) is True, name
+        for bad in (1, 0, "yes", "true", "on"):
+            with pytest.raises(ValueError, match="valid boolean"):
+                adapter.validate_python(bad)
+
+
+def typing_annotated(info: Any) -> Any:
+    """The field's type with its constraints, as pydantic validates it."""
+    from typing import Annotated
+
+    return Annotated[(info.annotation, *info.metadata)] if info.metadata else info.annotation
+
+
+def test_jit_1_in_a_study_is_refused_with_the_line():
+    from designlab.errors import StudyError
+
+    text = (STUDIES / "vff_gains.yaml").read_text() + "jit: 1\n"
+    with pytest.raises(
+        StudyError, match=r"vff_gains.yaml:\d+: jit: Input should be a valid boolean"
+    ):
+        parse_study(text, file="vff_gains.yaml")

@@ -44,7 +44,7 @@ from designlab.following import (
     walking_task,
 )
 from designlab.results import OK, Result
-from designlab.study.base import Integer, Model, NonNegative, Number, Positive, StudyBase
+from designlab.study.base import Flag, Integer, Model, NonNegative, Number, Positive, StudyBase
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
 
@@ -142,7 +142,7 @@ class TuningSpec(Model):
     max_noise_gain: Positive | None = Field(
         None, description="limit of |C S|, noise to command, 1/s (none by default)"
     )
-    derivative_free: bool = Field(True, description="also run the Nelder-Mead tuner")
+    derivative_free: Flag = Field(True, description="also run the Nelder-Mead tuner")
     max_evaluations: Annotated[Integer, Field(ge=5, le=1000)] = 150
 
 

@@ -61,7 +61,7 @@ from designlab.impact.criteria import (
 )
 from designlab.impact.parameters import ContactDynamics, Foam
 from designlab.results import OK, Result
-from designlab.study.base import Integer, Model, Number, StudyBase
+from designlab.study.base import Flag, Integer, Model, Number, StudyBase
 from designlab.study.kinds.foam_envelope import DampingGrid
 from designlab.study.kinds.impact_specs import FoamSpec, RobotSpec
 from designlab.study.registry import StudyKind
@@ -180,13 +180,13 @@ class FoamDesignStudy(StudyBase):
     head_range: HeadRangeSpec | None = Field(
         None, description="worst case over these ranges instead of the thesis's sets"
     )
-    optimal: bool = Field(True, description="also find the foam with the best margin")
+    optimal: Flag = Field(True, description="also find the foam with the best margin")
     worst_case_samples: Annotated[Integer, Field(ge=0, le=10000)] = Field(
         64,
         description="random samples per boundary point of the worst-case check, after its "
         "deterministic corners (0: corners only)",
     )
-    worst_case_check: bool = Field(True, description="check the envelope's worst case")
+    worst_case_check: Flag = Field(True, description="check the envelope's worst case")
     verdict_tolerance: Annotated[Number, Field(ge=0, lt=0.5, allow_inf_nan=False)] = Field(
         0.01, description="relative distance in K_c within which a foam is on the boundary"
     )

@@ -25,7 +25,7 @@ from pydantic import Field, model_validator
 from designlab.errors import InvalidParameterError
 from designlab.following import OXYDOG, FollowerRobot, LeaderPath, controller_from_dict, make_path
 from designlab.following.tether_controllers import TetherController
-from designlab.study.base import Integer, Model, NonNegative, Number, Positive
+from designlab.study.base import Flag, Integer, Model, NonNegative, Number, Positive
 from designlab.study.kinds.impact_specs import _ComponentSpec
 
 __all__ = ["ControllerSpec", "FollowerRobotSpec", "PathSpec"]
@@ -118,7 +118,7 @@ class PathSpec(Model):
     spacing: Positive | None = Field(None, description="slalom cone spacing, m")
     cones: Annotated[Integer, Field(ge=1, le=50)] | None = None
     amplitude: Positive | None = Field(None, description="slalom weave amplitude, m")
-    out_and_back: bool | None = None
+    out_and_back: Flag | None = None
     width: Positive | None = Field(None, description="corridor width, m")
     leg: Positive | None = Field(None, description="corridor leg length, m")
     radius: Positive | None = Field(None, description="circle/corner radius, m")

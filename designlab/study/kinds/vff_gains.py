@@ -32,7 +32,7 @@ from pydantic import BeforeValidator, Field, model_validator
 
 from designlab import navigation as nav
 from designlab.results import OK, Result
-from designlab.study.base import Integer, Model, Number, StudyBase
+from designlab.study.base import Flag, Integer, Model, Number, StudyBase
 from designlab.study.kinds.vff_specs import Gain
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
@@ -129,8 +129,8 @@ class VffGainsStudy(StudyBase):
     seed: Annotated[Integer, Field(ge=0)] = 0
     popsize: Annotated[Integer, Field(ge=4, le=256)] = 16
     max_evaluations: Annotated[Integer, Field(ge=4, le=100000)] = 1600
-    refine: bool = True
-    jit: bool = Field(
+    refine: Flag = True
+    jit: Flag = Field(
         False,
         description="simulate with the step compiled to four gain sets per pass (needs a C "
         "compiler; the same optimum, several times faster)",
@@ -140,13 +140,13 @@ class VffGainsStudy(StudyBase):
         description="clearance (m) every run must keep outside every critical region "
         "(0: never enter one)",
     )
-    bound_check: bool = Field(
+    bound_check: Flag = Field(
         False,
         description="when an optimum lies on a bound, optimise again with that bound moved "
         "10x outwards (row designlab_optimum_wider_box)",
     )
     robust: RobustSpec | None = None
-    sensitivity: bool = Field(
+    sensitivity: Flag = Field(
         True, description="App. C.3 tables around the thesis's optimum and ours"
     )
     deltas_pct: list[Annotated[Number, Field(ge=-100, le=1000, allow_inf_nan=False)]] = Field(

@@ -32,7 +32,7 @@ from pydantic import Field, field_validator
 
 from designlab.navigation.parameters import MAX_GAIN
 from designlab.navigation.sweep import VFF_METRICS, vff_metrics_chunk
-from designlab.study.base import Integer, Model, NonNegative, Positive
+from designlab.study.base import Flag, Integer, Model, NonNegative, Positive
 from designlab.study.kinds.vff_specs import GainsSpec
 from designlab.study.registry import StudyKind
 from designlab.study.sweep_runner import run_sweep_study
@@ -85,7 +85,7 @@ class VffDesign(Model):
     )
     stabilising: Literal["lyapunov", "off"] = "off"
     arrival_tolerance: Positive = Field(0.15, le=1.0, description="m")
-    jit: bool = Field(
+    jit: Flag = Field(
         False,
         description="simulate with the step compiled to four gain sets per pass (needs a C "
         "compiler; the same results to the bit, several times faster for large sweeps)",

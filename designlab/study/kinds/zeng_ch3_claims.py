@@ -52,7 +52,7 @@ from designlab.impact.parameters import (
     ContactDynamics,
 )
 from designlab.results import OK, Result
-from designlab.study.base import Model, NonNegative, Positive, StudyBase
+from designlab.study.base import Flag, Model, NonNegative, Positive, StudyBase
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
 from designlab.units import STANDARD_GRAVITY
@@ -70,7 +70,7 @@ class Reading(Model):
     impact_velocity: Annotated[Positive, Field(le=20)] = Field(
         description="closing velocity v_c at contact, m/s"
     )
-    feedforward: bool = Field(description="the controller compensates the acceleration")
+    feedforward: Flag = Field(description="the controller compensates the acceleration")
 
 
 def _default_readings() -> list[Reading]:
