@@ -243,7 +243,7 @@ class CompiledLanes:
     ) -> None:
         self.f = f
         self.shared = shared
-        self._lib = library
+        self._lib = library  # kept: the function lives as long as its library is loaded
         self._fn = getattr(library, symbol)
         self._fn.restype = None
 
@@ -287,30 +287,35 @@ def compile_lanes(f: ca.Function, shared: Sequence[int] = ()) -> CompiledLanes:
     UnsupportedOperation
         When ``f`` uses an operation without a lane translation (the caller can fall
         back to CasADi's own code generator).
+    ValueError
+        When ``shared`` names an input ``f`` does not have.
     RuntimeError
         When no C compiler is found or the compilation fails.
     """
     if not f.is_a("SXFunction"):
         raise UnsupportedOperation(f"{f.name()!r} is not an SX function")
+    common = frozenset(int(i) for i in shared)
+    if not common <= set(range(f.n_in())):
+        raise ValueError(
+            f"shared = {sorted(common)} is not allowed: {f.name()!r} has inputs 0-{f.n_in() - 1}"
+        )
     name = "lanes_" + "".join(c if c.isalnum() else "_" for c in f.name())
-    src = _source(f, frozenset(int(i) for i in shared), name)
+    src = _source(f, common, name)
     cc = _compiler()
     directory = tempfile.mkdtemp(prefix="designlab_lanes_")
     c_path, so_path = os.path.join(directory, name + ".c"), os.path.join(directory, name + ".so")
     with open(c_path, "w") as fh:
         fh.write(src)
-    out = None
-    for flags in ([*_FLAGS, _NATIVE], _FLAGS):  # -march=native where the compiler takes it
-        out = subprocess.run(
-            [*cc, *flags, c_path, "-o", so_path, "-lm"], capture_output=True, text=True
-        )
-        if out.returncode == 0:
-            break
-    if out is None or out.returncode != 0:
-        shutil.rmtree(directory, ignore_errors=True)
-        raise RuntimeError(f"compiling {f.name()!r} failed: {out.stderr if out else ''}")
     try:
+        for flags in ([*_FLAGS, _NATIVE], _FLAGS):  # -march=native where the compiler takes it
+            out = subprocess.run(
+                [*cc, *flags, c_path, "-o", so_path, "-lm"], capture_output=True, text=True
+            )
+            if out.returncode == 0:
+                break
+        else:
+            raise RuntimeError(f"compiling {f.name()!r} failed: {out.stderr}")
         library = ctypes.CDLL(so_path)
     finally:  # the loaded object stays mapped: no file outlives the call
         shutil.rmtree(directory, ignore_errors=True)
-    return CompiledLanes(f, frozenset(int(i) for i in shared), library, name)
+    return CompiledLanes(f, common, library, name)

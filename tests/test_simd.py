@@ -154,6 +154,8 @@ def test_shared_inputs_are_read_once_and_members_in_order() -> None:
     np.testing.assert_array_equal(call.out[0], 2.0 * np.arange(18.0) + 1.0)
     with pytest.raises(ValueError, match="n = 0"):
         lanes.bind(0)
+    with pytest.raises(ValueError, match=r"shared = \[5\] is not allowed: 'lin' has inputs 0-1"):
+        compile_lanes(f, shared=[5])
 
 
 def test_functions_it_cannot_translate_are_refused() -> None:

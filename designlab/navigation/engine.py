@@ -209,6 +209,11 @@ def _jit_source(f: ca.Function, directory: str) -> str:
     return path
 
 
+def _with_cse(f: ca.Function) -> ca.Function:
+    """``f`` rebuilt with common subexpressions evaluated once (exact: same operands)."""
+    return ca.Function(f.name(), f.sx_in(), f.call(f.sx_in()), f.name_in(), f.name_out(), _CSE)
+
+
 @lru_cache(maxsize=16)
 def _jit_step(
     geometries: tuple[ObstacleGeometry, ...],
@@ -220,8 +225,7 @@ def _jit_step(
     stabilising: bool | None = None,
 ) -> ca.Function:
     """The one-period step compiled to machine code (the system C compiler, loaded by CasADi)."""
-    f = build_step(geometries, robot, method, n_sub, dt, lean, stabilising)
-    f = ca.Function(f.name(), f.sx_in(), f.call(f.sx_in()), f.name_in(), f.name_out(), _CSE)
+    f = _with_cse(build_step(geometries, robot, method, n_sub, dt, lean, stabilising))
     # the C source and the shared object live in a private temporary directory; CasADi
     # removes the shared object when the function is destroyed, the directory goes with it
     tmp = tempfile.mkdtemp(prefix="designlab_jit_")
@@ -251,8 +255,7 @@ def _lane_step(
     Equal to the virtual machine to the bit (:mod:`designlab.simd`), and 2-7x faster per
     member than CasADi's scalar code mapped over the batch.
     """
-    f = build_step(geometries, robot, method, n_sub, dt, True, stabilising)
-    f = ca.Function(f.name(), f.sx_in(), f.call(f.sx_in()), f.name_in(), f.name_out(), _CSE)
+    f = _with_cse(build_step(geometries, robot, method, n_sub, dt, True, stabilising))
     try:
         return compile_lanes(f, _SHARED)
     except UnsupportedOperation:  # pragma: no cover - every step op is translated
@@ -295,6 +298,28 @@ class _Buffered:
 
     def __call__(self) -> None:
         self._trigger()
+
+
+def _step_call(
+    geometries: tuple[ObstacleGeometry, ...],
+    robot: HolonomicRobot | NonholonomicRobot,
+    method: str,
+    n_sub: int,
+    dt: float,
+    n: int,
+    jit: bool,
+    lean: bool,
+    stabilising: bool,
+) -> _Buffered:
+    """The step for ``n`` members: with ``jit``, a lean step compiled to four lanes where it
+    translates, else CasADi's (mapped) function, compiled or on its virtual machine."""
+    if jit and lean:
+        lanes = _lane_step(geometries, robot, method, n_sub, dt, stabilising)
+        if lanes is not None:
+            return _Lanes(lanes, n)
+    return _Buffered(
+        _compiled(geometries, robot, method, n_sub, dt, n, jit, lean, stabilising if lean else None)
+    )
 
 
 class _Lanes(_Buffered):
@@ -445,16 +470,7 @@ def run(
             scenario, gains, geos, method, n_sub, dt, tol, stabilising, tie, jit, n_samples
         )
     # lean steps bake the stabilising switch in: with the force off, its AD terms drop
-    vector = _lane_step(geos, robot, method, n_sub, dt, bool(stabilising)) if jit and lean else None
-    f: _Buffered = (
-        _Lanes(vector, N)
-        if vector is not None
-        else _Buffered(
-            _compiled(
-                geos, robot, method, n_sub, dt, N, jit, lean, bool(stabilising) if lean else None
-            )
-        )
-    )
+    f = _step_call(geos, robot, method, n_sub, dt, N, jit, lean, bool(stabilising))
     nx = state_size(robot)
     x_in, goal_in, obs_in, gains_in, params_in, _osub_in, ff_in, tol_in = (
         f.view_in(i) for i in range(8)
@@ -658,16 +674,8 @@ def _run_batch(
     N, n_obs, period = gains.shape[0], len(geos), n_sub * dt
     params = (robot.mass, float(tie), 1.0 if stabilising else 0.0, robot.max_accel)
 
-    vector = _lane_step(geos, robot, method, n_sub, dt, bool(stabilising)) if jit else None
-
     def call(n: int) -> _Buffered:
-        f = (
-            _Lanes(vector, n)
-            if vector is not None
-            else _Buffered(
-                _compiled(geos, robot, method, n_sub, dt, n, jit, True, bool(stabilising))
-            )
-        )
+        f = _step_call(geos, robot, method, n_sub, dt, n, jit, True, bool(stabilising))
         f.view_in(1)[:, 0] = scenario.goal
         f.view_in(4)[:, 0] = params
         f.view_in(6)[:, 0] = 0.0
