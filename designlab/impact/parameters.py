@@ -19,6 +19,7 @@ import math
 from dataclasses import dataclass
 
 from designlab.errors import InvalidParameterError, check_nonnegative, check_positive
+from designlab.params import Param, declared, param
 from designlab.validation import ParamsMixin
 
 __all__ = [
@@ -28,6 +29,7 @@ __all__ = [
     "FOAM_3",
     "HEAD_MAX",
     "HEAD_MIN",
+    "IMPACT_VELOCITY",
     "MANIPULATOR_1",
     "MANIPULATOR_2",
     "TABLE_3_2_HEADS",
@@ -38,20 +40,10 @@ __all__ = [
 ]
 
 
+@declared
 @dataclass(frozen=True)
 class HeadNeck(ParamsMixin):
     """Human head on a neck spring-damper; the torso is infinitely massive.
-
-    Parameters
-    ----------
-    mass
-        Head mass M_h in kg (> 0). The thesis range is 4.4-5.3 kg.
-    stiffness
-        Neck stiffness K_h in N/m (>= 0). The thesis range is 3-5 kN/m.
-    damping
-        Neck damping C_h in N s/m (>= 0). The thesis range is 46-130 N s/m.
-    name
-        Optional label used in reports.
 
     Examples
     --------
@@ -59,19 +51,10 @@ class HeadNeck(ParamsMixin):
     26.111648393354674
     """
 
-    mass: float
-    stiffness: float
-    damping: float
-    name: str = ""
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "mass", check_positive("HeadNeck.mass", self.mass, "kg"))
-        object.__setattr__(
-            self, "stiffness", check_nonnegative("HeadNeck.stiffness", self.stiffness, "N/m")
-        )
-        object.__setattr__(
-            self, "damping", check_nonnegative("HeadNeck.damping", self.damping, "N s/m")
-        )
+    mass: float = param("M_h", "kg", doc="head mass", gt=0, le=1e3, typical=(4.4, 5.3))
+    stiffness: float = param("K_h", "N/m", doc="neck stiffness", ge=0, le=1e9, typical=(3e3, 5e3))
+    damping: float = param("C_h", "N s/m", doc="neck damping", ge=0, le=1e7, typical=(46.0, 130.2))
+    name: str = param(kind="text", default="", doc="optional label used in reports")
 
     @property
     def natural_frequency(self) -> float:
@@ -79,23 +62,10 @@ class HeadNeck(ParamsMixin):
         return math.sqrt(self.stiffness / self.mass)
 
 
+@declared
 @dataclass(frozen=True)
 class ContactDynamics(ParamsMixin):
     """Effective single-DOF manipulator at the impact point (Sec. 3.4).
-
-    Parameters
-    ----------
-    mass
-        Effective mass M_r in kg (> 0).
-    stiffness
-        Effective (joint + controller) stiffness K_r in N/m (>= 0).
-    damping
-        Effective damping C_r in N s/m (>= 0).
-    lever_arm
-        Distance l_1 from the joint axis to the impact point in m, if known
-        (Table 3.1); used to go back to joint level. ``None`` if not known.
-    name
-        Optional label used in reports.
 
     Examples
     --------
@@ -103,49 +73,42 @@ class ContactDynamics(ParamsMixin):
     20000.0
     """
 
-    mass: float
-    stiffness: float
-    damping: float
-    lever_arm: float | None = None
-    name: str = ""
+    mass: float = param(
+        "M_r",
+        "kg",
+        doc="effective manipulator mass (unbounded above: near the joint it grows as 1/l^2)",
+        gt=0,
+        typical=(9.6, 49.4),
+    )
+    stiffness: float = param(
+        "K_r",
+        "N/m",
+        doc="effective (joint + controller) stiffness",
+        ge=0,
+        typical=(14.4e3, 20e3),
+    )
+    damping: float = param("C_r", "N s/m", doc="manipulator damping", ge=0, typical=(111.0, 250.0))
+    lever_arm: float | None = param(
+        "l_1",
+        "m",
+        doc="distance from the joint axis to the impact point (Table 3.1), used "
+        "to go back to joint level",
+        gt=0,
+        le=100,
+        optional=True,
+        none="not known",
+        default=None,
+    )
+    name: str = param(kind="text", default="", doc="optional label used in reports")
 
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "mass", check_positive("ContactDynamics.mass", self.mass, "kg"))
-        object.__setattr__(
-            self,
-            "stiffness",
-            check_nonnegative("ContactDynamics.stiffness", self.stiffness, "N/m"),
-        )
-        object.__setattr__(
-            self, "damping", check_nonnegative("ContactDynamics.damping", self.damping, "N s/m")
-        )
-        if self.lever_arm is not None:
-            object.__setattr__(
-                self,
-                "lever_arm",
-                check_positive("ContactDynamics.lever_arm", self.lever_arm, "m"),
-            )
 
-
+@declared
 @dataclass(frozen=True)
 class Foam(ParamsMixin):
     """Elastomeric foam covering: linear Kelvin-Voigt spring and damper.
 
-    Parameters
-    ----------
-    stiffness
-        Foam stiffness K_c in N/m (> 0).
-    damping
-        Foam damping C_c in N s/m (>= 0).
-    linear_depth
-        lambda, the compression up to which the foam is linear, in m (> 0).
-        Results with a larger compression are flagged as bottoming
-        (docs/impact.md, "Foam bottoming").
-    thickness
-        Uncompressed thickness T_u in m (>= linear_depth). Defaults to the
-        Ch. 4 foam, 0.0254 m, scaled with ``linear_depth``.
-    name
-        Optional label used in reports.
+    Results with a compression above ``linear_depth`` are flagged as bottoming
+    (docs/impact.md, "Foam bottoming").
 
     Examples
     --------
@@ -153,34 +116,41 @@ class Foam(ParamsMixin):
     71.8629...
     """
 
-    stiffness: float
-    damping: float
-    linear_depth: float = 0.02
-    thickness: float | None = None
-    name: str = ""
+    stiffness: float = param(
+        "K_c", "N/m", doc="foam stiffness", gt=0, le=1e12, typical=(13.8e3, 60.6e3)
+    )
+    damping: float = param("C_c", "N s/m", doc="foam damping", ge=0, le=1e10, typical=(43.8, 113.6))
+    linear_depth: float = param(
+        "lambda",
+        "m",
+        doc="foam linear depth",
+        gt=0,
+        le=1,
+        default=0.02,
+        typical=(0.01, 0.03),
+    )
+    thickness: float | None = param(
+        "T_u",
+        "m",
+        doc="uncompressed thickness (>= linear_depth)",
+        gt=0,
+        le=1,
+        optional=True,
+        none="the Ch. 4 foam, 0.0254 m, scaled with linear_depth",
+        default=None,
+    )
+    name: str = param(kind="text", default="", doc="optional label used in reports")
 
     def __post_init__(self) -> None:
-        object.__setattr__(
-            self, "stiffness", check_positive("Foam.stiffness", self.stiffness, "N/m")
-        )
-        object.__setattr__(
-            self, "damping", check_nonnegative("Foam.damping", self.damping, "N s/m")
-        )
-        object.__setattr__(
-            self, "linear_depth", check_positive("Foam.linear_depth", self.linear_depth, "m")
-        )
         if self.thickness is None:
             object.__setattr__(self, "thickness", self.linear_depth * 0.0254 / 0.02)
-        else:
-            t = check_positive("Foam.thickness", self.thickness, "m")
-            if t < self.linear_depth:
-                raise InvalidParameterError(
-                    "Foam.thickness",
-                    self.thickness,
-                    f"must be >= Foam.linear_depth = {self.linear_depth} m",
-                    "m",
-                )
-            object.__setattr__(self, "thickness", t)
+        elif self.thickness < self.linear_depth:
+            raise InvalidParameterError(
+                "Foam.thickness",
+                self.thickness,
+                f"must be >= Foam.linear_depth = {self.linear_depth} m",
+                "m",
+            )
 
     @classmethod
     def from_damping_ratio(
@@ -208,6 +178,15 @@ class Foam(ParamsMixin):
     def damping_ratio(self, head_mass: float = 4.4) -> float:
         """xi_c = C_c / (2 sqrt(M_h K_c)) with the head mass (thesis convention)."""
         return self.damping / (2.0 * math.sqrt(head_mass * self.stiffness))
+
+
+# --- parameters of the impact functions (declared once) --------------------
+
+#: The closing velocity v_c of an impact (Sec. 3.5): the relative normal speed of robot
+#: and head at first contact.
+IMPACT_VELOCITY = Param(
+    "v_c", "m/s", "closing velocity", gt=0, le=20, typical=(0.25, 2.0), name="impact_velocity"
+)
 
 
 # --- presets (Zeng 2011) ---------------------------------------------------
@@ -246,6 +225,7 @@ TABLE_3_2_HEADS: dict[int, tuple[ContactDynamics, HeadNeck]] = {
 }
 
 
+@declared
 @dataclass(frozen=True)
 class LinkImpact(ParamsMixin):
     """A revolute joint whose link can be struck anywhere in a range of lever arms.
@@ -256,17 +236,6 @@ class LinkImpact(ParamsMixin):
     and stiff but slow, far from it light and fast, so the worst impact point
     has to be searched (Sec. 3.7.3).
 
-    Parameters
-    ----------
-    inertia
-        m_ii, kg m^2 (> 0).
-    joint_stiffness, joint_damping
-        K_J (N m/rad, >= 0) and C_J (N m s/rad, >= 0) of the reduced joint.
-    joint_speed
-        theta_dot, rad/s (>= 0).
-    lever_arm_min, lever_arm_max
-        Range of the impact point along the link, m (0 < min <= max).
-
     Examples
     --------
     >>> link = LinkImpact.from_contact(MANIPULATOR_1, joint_speed=0.25 / 0.078,
@@ -275,41 +244,30 @@ class LinkImpact(ParamsMixin):
     (9.6, 0.25)
     """
 
-    inertia: float
-    joint_stiffness: float
-    joint_damping: float
-    joint_speed: float
-    lever_arm_min: float
-    lever_arm_max: float
-    name: str = ""
+    inertia: float = param("m_ii", "kg m^2", doc="link inertia about the joint", gt=0, le=1e4)
+    joint_stiffness: float = param(
+        "K_J", "N m/rad", doc="stiffness of the reduced joint", ge=0, le=1e9
+    )
+    joint_damping: float = param(
+        "C_J", "N m s/rad", doc="damping of the reduced joint", ge=0, le=1e7
+    )
+    joint_speed: float = param("theta_dot", "rad/s", doc="joint speed", ge=0, le=1e3)
+    lever_arm_min: float = param(
+        "l_min", "m", doc="nearest impact point along the link", gt=0, le=100
+    )
+    lever_arm_max: float = param(
+        "l_max", "m", doc="farthest impact point along the link (>= lever_arm_min)", gt=0, le=100
+    )
+    name: str = param(kind="text", default="", doc="optional label used in reports")
 
     def __post_init__(self) -> None:
-        object.__setattr__(
-            self, "inertia", check_positive("LinkImpact.inertia", self.inertia, "kg m^2")
-        )
-        object.__setattr__(
-            self,
-            "joint_stiffness",
-            check_nonnegative("LinkImpact.joint_stiffness", self.joint_stiffness, "N m/rad"),
-        )
-        object.__setattr__(
-            self,
-            "joint_damping",
-            check_nonnegative("LinkImpact.joint_damping", self.joint_damping, "N m s/rad"),
-        )
-        object.__setattr__(
-            self,
-            "joint_speed",
-            check_nonnegative("LinkImpact.joint_speed", self.joint_speed, "rad/s"),
-        )
-        lo = check_positive("LinkImpact.lever_arm_min", self.lever_arm_min, "m")
-        hi = check_positive("LinkImpact.lever_arm_max", self.lever_arm_max, "m")
-        if hi < lo:
+        if self.lever_arm_max < self.lever_arm_min:
             raise InvalidParameterError(
-                "LinkImpact.lever_arm_max", hi, f"must be >= lever_arm_min = {lo} m", "m"
+                "LinkImpact.lever_arm_max",
+                self.lever_arm_max,
+                f"must be >= lever_arm_min = {self.lever_arm_min} m",
+                "m",
             )
-        object.__setattr__(self, "lever_arm_min", lo)
-        object.__setattr__(self, "lever_arm_max", hi)
 
     @classmethod
     def from_contact(

@@ -24,7 +24,7 @@ Sampling methods (``sweep.method``):
 
 Examples
 --------
->>> info = ParameterInfo("foam stiffness K_c", "N/m", gt=0)
+>>> info = Param("K_c", "N/m", "foam stiffness", gt=0)
 >>> Params = parameter_model("Demo", {"foam.stiffness": info})
 >>> p = Params.model_validate({"foam.stiffness": {"low": 1e4, "high": 6e4, "num": 3}})
 >>> [(path, rng.grid()) for path, rng in p.items()]
@@ -39,13 +39,12 @@ Value error, -1 N/m is out of range for foam stiffness K_c: allowed > 0 N/m
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
-from dataclasses import dataclass
 from typing import Annotated, Any, ClassVar, Generic, Literal, TypeVar
 
 from pydantic import BaseModel, Field, create_model, model_validator
 
+from designlab.params import Param
 from designlab.study.base import Finite as _Finite
 from designlab.study.base import Flag, Integer, StudyBase, did_you_mean
 from designlab.study.base import Model as _Model
@@ -69,67 +68,32 @@ __all__ = [
 MAX_POINTS = 10_000_000
 
 
-@dataclass(frozen=True)
-class ParameterInfo:
-    """What a sweepable parameter is: description, SI unit and allowed range.
+def ParameterInfo(
+    description: str,
+    unit: str,
+    gt: float | None = None,
+    ge: float | None = None,
+    le: float | None = None,
+) -> Param:
+    """Deprecated: declare the parameter on its domain model (:mod:`designlab.params`).
 
-    Attributes
+    Returns a :class:`~designlab.params.Param` without a symbol, for code
+    written against the old class.
+
+    Parameters
     ----------
     description
-        What the parameter is (e.g. ``"head mass M_h"``).
+        What the parameter is.
     unit
-        Its SI unit as written in the docs.
-    gt
-        Exclusive lower bound, if any.
-    ge
-        Inclusive lower bound, if any.
-    le
-        Inclusive upper bound, if any.
+        Its SI unit.
+    gt, ge, le
+        Exclusive lower, inclusive lower and inclusive upper bounds.
     """
+    return Param(None, unit, description, gt=gt, ge=ge, le=le)
 
-    description: str
-    unit: str
-    gt: float | None = None
-    ge: float | None = None
-    le: float | None = None
 
-    def allowed(self) -> str:
-        """The allowed range as text, e.g. ``"> 0 N/m"``."""
-        parts = []
-        if self.gt is not None:
-            parts.append(f"> {self.gt:g}")
-        if self.ge is not None:
-            parts.append(f">= {self.ge:g}")
-        if self.le is not None:
-            parts.append(f"<= {self.le:g}")
-        text = " and ".join(parts) or "any finite value"
-        return f"{text} {self.unit}".rstrip()
-
-    def json_bounds(self) -> dict[str, float]:
-        """The range as JSON Schema keywords (``exclusiveMinimum``, ``minimum``, ``maximum``)."""
-        out: dict[str, float] = {}
-        if self.gt is not None:
-            out["exclusiveMinimum"] = self.gt
-        if self.ge is not None:
-            out["minimum"] = self.ge
-        if self.le is not None:
-            out["maximum"] = self.le
-        return out
-
-    def check(self, value: float) -> bool:
-        """Whether ``value`` is allowed.
-
-        Parameters
-        ----------
-        value
-            A value in the parameter's unit.
-        """
-        return (
-            math.isfinite(value)
-            and (self.gt is None or value > self.gt)
-            and (self.ge is None or value >= self.ge)
-            and (self.le is None or value <= self.le)
-        )
+def _allowed_with_unit(info: Param) -> str:
+    return f"{info.allowed()} {info.unit}".rstrip()
 
 
 class ParameterRange(_Model):
@@ -138,7 +102,7 @@ class ParameterRange(_Model):
     Units are those of the parameter (SI; see its description).
     """
 
-    INFO: ClassVar[ParameterInfo | None] = None
+    INFO: ClassVar[Param | None] = None
 
     values: list[_Finite] | None = Field(
         None, min_length=1, description="explicit values (methods list and grid)"
@@ -167,10 +131,10 @@ class ParameterRange(_Model):
         info = self.INFO
         if info is not None:
             for v in self.bounds_or_values():
-                if not info.check(v):
+                if not info.within(v):
                     raise ValueError(
                         f"{v:g} {info.unit} is out of range for {info.description}: "
-                        f"allowed {info.allowed()}".replace("  ", " ")
+                        f"allowed {_allowed_with_unit(info)}".replace("  ", " ")
                     )
         return self
 
@@ -203,11 +167,11 @@ class ParameterRange(_Model):
         return min(vals), max(vals)
 
 
-def parameter_model(name: str, parameters: dict[str, ParameterInfo]) -> type[BaseModel]:
+def parameter_model(name: str, parameters: dict[str, Param]) -> type[BaseModel]:
     """Build the model of a kind's ``sweep.parameters`` mapping.
 
     One optional field per dotted path (the YAML key), each validated against
-    its :class:`ParameterInfo`. The model has ``items()`` (the given
+    its :class:`~designlab.params.Param`. The model has ``items()`` (the given
     parameters in file order) and ``INFO`` (path -> info).
 
     Parameters
@@ -215,7 +179,7 @@ def parameter_model(name: str, parameters: dict[str, ParameterInfo]) -> type[Bas
     name
         Name of the generated model (shown in the JSON Schema).
     parameters
-        Dotted path -> :class:`ParameterInfo`.
+        Dotted path -> :class:`~designlab.params.Param`.
     """
     fields: dict[str, Any] = {}
     for path, info in parameters.items():
@@ -223,7 +187,7 @@ def parameter_model(name: str, parameters: dict[str, ParameterInfo]) -> type[Bas
         rng = create_model(  # type: ignore[call-overload]
             f"{name}_{path.replace('.', '_')}",
             __base__=ParameterRange,
-            __doc__=f"{info.description}, {info.unit}; allowed {info.allowed()}",
+            __doc__=f"{info.description}, {info.unit}; allowed {_allowed_with_unit(info)}",
             values=(list[bounded] | None, Field(None, min_length=1, description="explicit values")),
             low=(bounded | None, Field(None, description="lower bound of the range")),
             high=(bounded | None, Field(None, description="upper bound of the range")),
@@ -396,7 +360,7 @@ class SweepStudyBase(StudyBase, Generic[ParametersT, MetricT]):
     and sets the class attributes:
 
     ``PARAMETERS``
-        dotted path -> (point key, :class:`ParameterInfo`): what can be swept.
+        dotted path -> (point key, :class:`~designlab.params.Param`): what can be swept.
     ``METRICS``
         result column -> description with unit (one table per domain).
     ``DEFAULT_METRICS``
@@ -412,7 +376,7 @@ class SweepStudyBase(StudyBase, Generic[ParametersT, MetricT]):
     sweep: SweepOf[ParametersT] | None = None
     sensitivity: SensitivitySpec[MetricT] | None = None
 
-    PARAMETERS: ClassVar[dict[str, tuple[str, ParameterInfo]]] = {}
+    PARAMETERS: ClassVar[dict[str, tuple[str, Param]]] = {}
     METRICS: ClassVar[dict[str, str]] = {}
     DEFAULT_METRICS: ClassVar[tuple[str, ...]] = ()
     EVALUATOR: ClassVar[Callable[..., Any] | None] = None

@@ -46,7 +46,7 @@ def _error(text: str) -> str:
          "s.yaml:8: sweep.parameters.foam.stifness: unknown field; did you mean 'foam.stiffness'?"),
         ("values: [4.4, 5.3]", "values: [-4.4, 5.3]",
          "s.yaml:9: sweep.parameters.head.mass: -4.4 kg is out of range for head mass M_h: "
-         "allowed > 0 kg"),
+         "allowed > 0 and <= 1000 kg"),
         ("method: grid", "method: gird",
          "s.yaml:6: sweep.method: Input should be 'list', 'grid', 'lhs' or 'sobol' (got 'gird'; "
          "did you mean 'grid'?)"),

@@ -26,7 +26,7 @@ from designlab.errors import InvalidParameterError
 from designlab.following import OXYDOG, FollowerRobot, LeaderPath, controller_from_dict, make_path
 from designlab.following.tether_controllers import TetherController
 from designlab.study.base import Flag, Integer, Model, NonNegative, Number, Positive
-from designlab.study.kinds.impact_specs import _ComponentSpec
+from designlab.study.specs import ComponentSpec as _ComponentSpec
 
 __all__ = ["ControllerSpec", "FollowerRobotSpec", "PathSpec"]
 

@@ -25,36 +25,33 @@ Examples
 
 from __future__ import annotations
 
-from typing import Annotated, Any, ClassVar, Literal
+from typing import Any, ClassVar, Literal
 
 from pydantic import Field
 
 from designlab.impact.metric_names import LIMITS as IMPACT_LIMITS
+from designlab.impact.parameters import IMPACT_VELOCITY, ContactDynamics, Foam, HeadNeck
 from designlab.impact.sweep import (
     IMPACT_METRICS,
     impact_elasticities_chunk,
     impact_metrics_chunk,
 )
-from designlab.study.base import Model, Number
+from designlab.params import Param, sweepable
+from designlab.study.base import Model
 from designlab.study.kinds.impact_specs import FoamSpec, HeadSpec, RobotSpec
 from designlab.study.registry import StudyKind
 from designlab.study.sweep_runner import run_sweep_study
-from designlab.study.sweeps import ParameterInfo, SweepStudyBase, parameter_model
+from designlab.study.sweeps import SweepStudyBase, parameter_model
 
 __all__ = ["IMPACT_PARAMETERS", "KIND", "ImpactDesign", "ImpactSweepStudy"]
 
-#: Parameters of the impact model a sweep can vary: dotted path -> (point key, info).
-IMPACT_PARAMETERS: dict[str, tuple[str, ParameterInfo]] = {
-    "robot.mass": ("M_r", ParameterInfo("effective manipulator mass M_r", "kg", gt=0)),
-    "robot.stiffness": ("K_r", ParameterInfo("manipulator stiffness K_r", "N/m", ge=0)),
-    "robot.damping": ("C_r", ParameterInfo("manipulator damping C_r", "N s/m", ge=0)),
-    "foam.stiffness": ("K_c", ParameterInfo("foam stiffness K_c", "N/m", gt=0)),
-    "foam.damping": ("C_c", ParameterInfo("foam damping C_c", "N s/m", ge=0)),
-    "foam.linear_depth": ("lambda", ParameterInfo("foam linear depth lambda", "m", gt=0)),
-    "head.mass": ("M_h", ParameterInfo("head mass M_h", "kg", gt=0)),
-    "head.stiffness": ("K_h", ParameterInfo("neck stiffness K_h", "N/m", ge=0)),
-    "head.damping": ("C_h", ParameterInfo("neck damping C_h", "N s/m", ge=0)),
-    "impact_velocity": ("v_c", ParameterInfo("closing velocity v_c", "m/s", gt=0, le=20)),
+#: Parameters of the impact model a sweep can vary: dotted path -> (point key, declaration).
+#: The declarations are the domain's (:mod:`designlab.impact.parameters`).
+IMPACT_PARAMETERS: dict[str, tuple[str, Param]] = {
+    **sweepable(ContactDynamics, "robot", names=("mass", "stiffness", "damping")),
+    **sweepable(Foam, "foam", names=("stiffness", "damping", "linear_depth")),
+    **sweepable(HeadNeck, "head", names=("mass", "stiffness", "damping")),
+    "impact_velocity": ("v_c", IMPACT_VELOCITY),
 }
 
 ImpactSweepParameters = parameter_model(
@@ -69,9 +66,7 @@ class ImpactDesign(Model):
     robot: RobotSpec
     foam: FoamSpec
     head: HeadSpec
-    impact_velocity: Annotated[Number, Field(gt=0, le=20.0, allow_inf_nan=False)] = Field(
-        description="closing velocity v_c, m/s"
-    )
+    impact_velocity: IMPACT_VELOCITY.annotation()  # type: ignore[valid-type]
 
 
 class ImpactSweepStudy(SweepStudyBase[ImpactSweepParameters, ImpactMetricName]):  # type: ignore[valid-type]
@@ -80,7 +75,7 @@ class ImpactSweepStudy(SweepStudyBase[ImpactSweepParameters, ImpactMetricName]):
     kind: Literal["impact_sweep"]
     base: ImpactDesign = Field(description="nominal design; the sweep varies some of it")
 
-    PARAMETERS: ClassVar[dict[str, tuple[str, ParameterInfo]]] = IMPACT_PARAMETERS
+    PARAMETERS: ClassVar[dict[str, tuple[str, Param]]] = IMPACT_PARAMETERS
     METRICS: ClassVar[dict[str, str]] = IMPACT_METRICS
     #: The thesis's design limits (Zeng 2011, Sec. 3.9): 10 g and 20 mm, drawn in the plots.
     LIMITS: ClassVar[dict[str, float]] = dict(IMPACT_LIMITS)
