@@ -35,14 +35,39 @@ Examples
 
 from __future__ import annotations
 
+from enum import Enum
 from typing import Any
 
 import pandas as pd
 
-__all__ = ["OK", "Result", "check_result"]
+__all__ = ["OK", "Result", "Status", "check_result"]
 
 #: The status of a result whose solver did what was asked.
 OK = "ok"
+
+
+class Status(str, Enum):
+    """Base of the status enums, one per result family (documented with its members).
+
+    A member is a ``str`` equal to its value, so ``result.status == "ok"`` holds,
+    and it prints, formats and writes to CSV as its value. Convert with ``str()``
+    before writing YAML with a safe dumper.
+
+    Examples
+    --------
+    >>> class DemoStatus(Status):
+    ...     "Status of a demo solver."
+    ...     OK = "ok"
+    ...     NOT_CONVERGED = "not_converged"
+    >>> DemoStatus.OK == "ok", f"{DemoStatus.NOT_CONVERGED}", str(DemoStatus("ok"))
+    (True, 'not_converged', 'ok')
+    """
+
+    def __str__(self) -> str:
+        return str(self.value)
+
+    def __format__(self, spec: str) -> str:
+        return format(str(self.value), spec)
 
 
 class Result:
