@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import difflib
 import types
+import warnings
 from collections.abc import Hashable, Sequence
 from os import PathLike
 from pathlib import Path
@@ -39,7 +40,7 @@ from pydantic import BaseModel, ValidationError
 
 from designlab.errors import StudyError
 from designlab.study.base import FORMAT_VERSION, StudyBase, did_you_mean
-from designlab.study.registry import study_kinds
+from designlab.study.registry import RENAMED_KINDS, study_kinds
 from designlab.study.yamlio import YamlPath, YamlSyntaxError, load_yaml_with_lines
 
 __all__ = ["format_path", "load_study", "parse_study"]
@@ -159,6 +160,17 @@ def parse_study(text: str, file: str = "<string>") -> StudyBase:
     kind = data.get("kind")
     registry = study_kinds()
     known = ", ".join(registry)
+    if isinstance(kind, str) and kind in RENAMED_KINDS:
+        new = RENAMED_KINDS[kind]
+        where = f"{file}: " if file else ""
+        warnings.warn(
+            f"{where}kind {kind!r} is now called {new!r}; the old name is read for one "
+            "more release",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        data = {**data, "kind": new}
+        kind = new
     if kind is None:
         raise StudyError(
             f"missing required field (the study kind, one of: {known})",

@@ -25,6 +25,7 @@ from pydantic import Field, TypeAdapter
 from designlab.study.base import FORMAT_VERSION, StudyBase
 
 __all__ = [
+    "RENAMED_KINDS",
     "StudyKind",
     "kind_of",
     "register_kind",
@@ -68,6 +69,10 @@ class StudyKind:
                 f"as kind {self.name!r}"
             )
 
+
+#: Old kind name -> new name. A study file with an old name is read as the new kind
+#: with a ``DeprecationWarning``, for one release after the rename.
+RENAMED_KINDS: dict[str, str] = {}
 
 _KINDS: dict[str, StudyKind] = {}
 _LOADED = False
