@@ -24,9 +24,13 @@ Examples
 from __future__ import annotations
 
 import logging
+import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any
 
+from designlab.progress import Progress, ProgressHook
 from designlab.study.base import StudyBase
 from designlab.study.registry import kind_of
 
@@ -63,6 +67,45 @@ class RunContext:
     store: Any = None
     resume: bool = False
     cache_only: bool = False
+
+    @contextmanager
+    def bar(self, desc: str, total: int | None = None) -> Iterator[ProgressHook]:
+        """A progress hook drawing a tqdm bar on stderr while the block runs.
+
+        Hand the hook to a solver's ``progress`` argument; each
+        :class:`~designlab.progress.Progress` it receives advances the bar and
+        shows the best objective. Off (a no-op hook) unless :attr:`progress`.
+
+        Parameters
+        ----------
+        desc
+            The bar's label (``"navigation_gains: optimise"``).
+        total
+            Steps expected, if known (a ``Progress.total`` replaces it).
+
+        Examples
+        --------
+        >>> from designlab.progress import Progress
+        >>> with RunContext().bar("demo", total=2) as hook:
+        ...     hook(Progress(step=1, total=2, best=0.5))
+        """
+        from tqdm.auto import tqdm
+
+        with tqdm(
+            total=total, desc=desc, file=sys.stderr, disable=not self.progress, leave=False
+        ) as bar:
+
+            def hook(info: Progress) -> None:
+                if info.total is not None and bar.total != info.total:
+                    bar.total = info.total
+                bar.n = info.step
+                post = {} if info.best is None else {"best": f"{info.best:.4g}"}
+                if info.note:
+                    post["at"] = info.note
+                bar.set_postfix(post, refresh=False)
+                bar.refresh()
+
+            yield hook
 
 
 def run_study(study: StudyBase, context: RunContext | None = None, **options: Any) -> Any:
