@@ -8,13 +8,7 @@ numpy arrays, and mapped over a batch of gain sets with ``Function.map``.
 
 from __future__ import annotations
 
-import atexit
-import gc
 import math
-import os
-import re
-import shutil
-import tempfile
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any
@@ -34,7 +28,7 @@ from designlab.navigation.field import (
 )
 from designlab.navigation.parameters import HolonomicRobot, NonholonomicRobot
 from designlab.navigation.scenarios import Scenario
-from designlab.simd import CompiledLanes, UnsupportedOperation, compile_lanes
+from designlab.sx import CompiledLanes, try_compile_lanes, with_cse
 
 Array = NDArray[np.float64]
 
@@ -159,86 +153,14 @@ def _compiled(
     n_sub: int,
     dt: float,
     n_batch: int,
-    jit: bool,
     lean: bool,
     stabilising: bool | None = None,
 ) -> ca.Function:
-    f = (
-        _jit_step(geometries, robot, method, n_sub, dt, lean, stabilising)
-        if jit
-        else build_step(geometries, robot, method, n_sub, dt, lean, stabilising)
-    )
+    """The step for ``n_batch`` members on CasADi's virtual machine (mapped over them)."""
+    f = build_step(geometries, robot, method, n_sub, dt, lean, stabilising)
     if n_batch > 1:
         f = f.map(f"{f.name()}_map{n_batch}", "serial", n_batch, _SHARED, [])
     return f
-
-
-# CasADi's C templates call the C99 fmin/fmax, which GCC cannot inline (their NaN and
-# signed-zero rules are not those of minsd/maxsd): a call into the maths library per
-# operation, about a fifth of the step's time. The same functions written inline, with
-# glibc's results for every non-signalling input (ties, also +0/-0, return the first
-# argument; a NaN argument returns the other one), so the compiled step equals the
-# virtual machine (which calls the library) to the last bit.
-_INLINE = {
-    "fmin": "(x <= y || y != y) ? x : y",
-    "fmax": "(x >= y || y != y) ? x : y",
-}
-_JIT_FLAGS = ["-O1", "-fno-math-errno"]  # errno is never read; results are unchanged
-
-
-def _jit_source(f: ca.Function, directory: str) -> str:
-    """Write the C source of ``f`` to ``directory`` with inline fmin/fmax; return its path."""
-    name = f.name() + ".c"
-    gen = ca.CodeGenerator(name, {"with_header": False})
-    gen.add(f)
-    gen.generate(directory + "/")
-    path = f"{directory}/{name}"
-    with open(path) as fh:
-        src = fh.read()
-    for op, expr in _INLINE.items():
-        # (a CasADi whose template differs keeps the library call: slower, equally exact)
-        src = re.sub(
-            rf"(casadi_real casadi_{op}\(casadi_real x, casadi_real y\) \{{).*?\n\}}",
-            lambda m, expr=expr: f"{m.group(1)}\n  return {expr};\n}}",
-            src,
-            count=1,
-            flags=re.S,
-        )
-    with open(path, "w") as fh:
-        fh.write(src)
-    return path
-
-
-def _with_cse(f: ca.Function) -> ca.Function:
-    """``f`` rebuilt with common subexpressions evaluated once (exact: same operands)."""
-    return ca.Function(f.name(), f.sx_in(), f.call(f.sx_in()), f.name_in(), f.name_out(), _CSE)
-
-
-@lru_cache(maxsize=16)
-def _jit_step(
-    geometries: tuple[ObstacleGeometry, ...],
-    robot: HolonomicRobot | NonholonomicRobot,
-    method: str,
-    n_sub: int,
-    dt: float,
-    lean: bool,
-    stabilising: bool | None = None,
-) -> ca.Function:
-    """The one-period step compiled to machine code (the system C compiler, loaded by CasADi)."""
-    f = _with_cse(build_step(geometries, robot, method, n_sub, dt, lean, stabilising))
-    # the C source and the shared object live in a private temporary directory; CasADi
-    # removes the shared object when the function is destroyed, the directory goes with it
-    tmp = tempfile.mkdtemp(prefix="designlab_jit_")
-    src = _jit_source(f, tmp)
-    importer = ca.Importer(
-        src, "shell", {"flags": _JIT_FLAGS, "directory": tmp + "/", "verbose": False}
-    )
-    os.remove(src)
-    _JIT_DIRS.append(tmp)
-    return ca.external(f.name(), importer)
-
-
-_JIT_DIRS: list[str] = []
 
 
 @lru_cache(maxsize=16)
@@ -248,29 +170,17 @@ def _lane_step(
     method: str,
     n_sub: int,
     dt: float,
-    stabilising: bool,
+    lean: bool,
+    stabilising: bool | None,
 ) -> CompiledLanes | None:
-    """The lean step compiled to evaluate four members per pass (``None``: not translatable).
+    """The step compiled to evaluate four members per pass (``None``: no C compiler).
 
-    Equal to the virtual machine to the bit (:mod:`designlab.simd`), and 2-7x faster per
-    member than CasADi's scalar code mapped over the batch.
+    Equal to the virtual machine to the bit (:mod:`designlab.sx`), and 2-7x faster per
+    member than the virtual machine mapped over the batch; cached on disk, so a
+    second process or run loads it instead of compiling.
     """
-    f = _with_cse(build_step(geometries, robot, method, n_sub, dt, True, stabilising))
-    try:
-        return compile_lanes(f, _SHARED)
-    except UnsupportedOperation:  # pragma: no cover - every step op is translated
-        return None
-
-
-@atexit.register
-def _remove_jit_dirs() -> None:
-    """At exit: release the compiled steps (CasADi deletes their files), then their directories."""
-    _compiled.cache_clear()
-    _jit_step.cache_clear()
-    _lane_step.cache_clear()
-    gc.collect()
-    for d in _JIT_DIRS:
-        shutil.rmtree(d, ignore_errors=True)
+    f = with_cse(build_step(geometries, robot, method, n_sub, dt, lean, stabilising))
+    return try_compile_lanes(f, _SHARED)
 
 
 class _Buffered:
@@ -311,15 +221,14 @@ def _step_call(
     lean: bool,
     stabilising: bool,
 ) -> _Buffered:
-    """The step for ``n`` members: with ``jit``, a lean step compiled to four lanes where it
-    translates, else CasADi's (mapped) function, compiled or on its virtual machine."""
-    if jit and lean:
-        lanes = _lane_step(geometries, robot, method, n_sub, dt, stabilising)
+    """The step for ``n`` members: with ``jit``, compiled to four lanes (where a C compiler
+    exists), else CasADi's (mapped) function on its virtual machine (the same results)."""
+    stab = stabilising if lean else None
+    if jit:
+        lanes = _lane_step(geometries, robot, method, n_sub, dt, lean, stab)
         if lanes is not None:
             return _Lanes(lanes, n)
-    return _Buffered(
-        _compiled(geometries, robot, method, n_sub, dt, n, jit, lean, stabilising if lean else None)
-    )
+    return _Buffered(_compiled(geometries, robot, method, n_sub, dt, n, lean, stab))
 
 
 class _Lanes(_Buffered):
@@ -437,7 +346,8 @@ def run(
     record
         Keep the time histories (for plots and the stability audit).
     jit
-        Compile the step with CasADi's JIT.
+        Compile the step to four members per pass (:mod:`designlab.sx`; CasADi's
+        virtual machine where no C compiler exists, with the same results).
     cbf_gains
         (k_0, k_1) of the CBF constraint (``method="cbf"``).
     """
@@ -799,7 +709,7 @@ class _ArrivalPeriod:
         tol: float,
     ) -> None:
         self.lean = lean
-        self.full = _Buffered(_compiled(geos, robot, method, n_sub, dt, 1, False, False))
+        self.full = _Buffered(_compiled(geos, robot, method, n_sub, dt, 1, False))
         self.nx = state_size(robot)
         self.tol = tol
         self.n_obs = len(geos)

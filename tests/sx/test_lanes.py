@@ -1,4 +1,4 @@
-"""designlab.simd: four-lane machine code equals CasADi's virtual machine to the bit.
+"""designlab.sx.compile_lanes: four-lane machine code equals CasADi's virtual machine to the bit.
 
 The reference is CasADi's own evaluation of the same SX function, mapped over the
 members (``Function.map(n, "serial")`` with the same shared inputs); values include
@@ -18,10 +18,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from designlab.simd import LANES, UnsupportedOperation, compile_lanes
+from designlab.sx import LANES, UnsupportedOperation, compile_lanes, compiler_missing_reason
 
 pytestmark = pytest.mark.skipif(
-    shutil.which("cc") is None and shutil.which("gcc") is None, reason="needs a C compiler"
+    compiler_missing_reason() is not None, reason=f"needs a C compiler: {compiler_missing_reason()}"
 )
 
 SPECIAL = [0.0, -0.0, 1.0, -1.0, 2.5, np.inf, -np.inf, np.nan, 1e308, -1e308, 5e-324, 1e-310]
