@@ -14,6 +14,7 @@ from designlab.errors import InvalidParameterError
 from designlab.navigation import engine
 from designlab.navigation.dynamics import build_hold
 from designlab.results import check_result
+from designlab.sx import compiler_missing_reason
 
 nav = dl.navigation
 EXP = nav.EXPERIMENT_GAINS
@@ -314,7 +315,13 @@ def _spread_gains(n: int) -> np.ndarray:
     return nav.OPTIMAL_GAINS.as_array()[None, :] * rng.uniform(0.5, 1.5, size=(n, 4))
 
 
+needs_cc = pytest.mark.skipif(
+    compiler_missing_reason() is not None, reason=f"needs a C compiler: {compiler_missing_reason()}"
+)
+
+
 @pytest.mark.slow
+@needs_cc
 @pytest.mark.parametrize("mode", ["lyapunov", "off"])
 def test_jit_compiled_batch_equals_the_virtual_machine(mode: str) -> None:
     # the gain optimiser's fast path: the same CasADi step compiled to four lanes per pass
@@ -331,6 +338,7 @@ def test_jit_compiled_batch_equals_the_virtual_machine(mode: str) -> None:
 
 
 @pytest.mark.slow
+@needs_cc
 def test_jit_compiled_nonholonomic_batch_equals_the_virtual_machine() -> None:
     # the differential drive's step: trigonometry lane by lane from the C library
     sc = nav.configuration(1, chapter=7)
