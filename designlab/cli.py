@@ -302,21 +302,25 @@ def validate(
         list[Path], typer.Argument(help="Study files (YAML) to check.", show_default=False)
     ],
 ) -> None:
-    """Check study files against the schema, without running them."""
+    """Check study files as `run` does before computing (schema, domain rules, caps)."""
     from designlab.study import load_study
 
-    failed: list[StudyError] = []
+    code = EXIT_OK
     for path in studies:
         try:
             spec = load_study(path)
         except StudyError as exc:
-            failed.append(exc)
+            code = max(code, EXIT_STUDY_ERROR)
             typer.echo(f"error: {exc}", err=True)
+            continue
+        except DesignlabError as exc:  # every file is still checked
+            code = max(code, EXIT_DESIGNLAB_ERROR)
+            typer.echo(f"error: {path}: {exc}", err=True)
             continue
         size = spec.size()
         typer.echo(f"ok: {path} (kind {spec.kind}{', ' + size if size else ''})")
-    if failed:
-        raise typer.Exit(EXIT_STUDY_ERROR)
+    if code:
+        raise typer.Exit(code)
 
 
 @app.command("list")

@@ -11,7 +11,7 @@ Examples
 ...     dl.impact.HeadNeck(mass=-1.0, stiffness=3e3, damping=46.0)
 ... except dl.errors.InvalidParameterError as exc:
 ...     print(exc)
-HeadNeck.mass = -1.0 kg is not allowed: must be a finite number > 0
+HeadNeck.mass = -1.0 kg is not allowed: must be a finite number > 0 and <= 1000
 """
 
 from __future__ import annotations
@@ -82,6 +82,15 @@ class StudyError(DesignlabError, ValueError):
         Dotted path of the offending field (``sweep.parameters.foam.stiffness``).
     line
         1-based line of the field in the file, if known.
+    path
+        The field as keys and list indices from the root of the study
+        (``("cases", 0, "robot")``); the loader uses it to find the line. When
+        ``field`` is not given it is written from ``path``.
+
+    Examples
+    --------
+    >>> str(StudyError("must be > 0", file="s.yaml", line=4, path=("cases", 0, "mass")))
+    's.yaml:4: cases[0].mass: must be > 0'
     """
 
     def __init__(
@@ -91,10 +100,18 @@ class StudyError(DesignlabError, ValueError):
         file: str | None = None,
         field: str | None = None,
         line: int | None = None,
+        path: tuple[Any, ...] | None = None,
     ) -> None:
+        if field is None and path:
+            field = "".join(
+                f"[{p}]" if isinstance(p, int) else (f".{p}" if i else str(p))
+                for i, p in enumerate(path)
+            )
+        self.message = message
         self.file = file
         self.field = field
         self.line = line
+        self.path = tuple(path) if path else None
         where = ""
         if file is not None:
             where = str(file)

@@ -68,6 +68,7 @@ __all__ = [
     "Param",
     "check_size",
     "declared",
+    "numbers_only",
     "param",
     "parameter_table",
     "params_of",
@@ -88,8 +89,23 @@ def _fmt(x: float) -> str:
     return f"{x:g}"
 
 
-def _refuse_text_and_bool(value: Any) -> Any:
-    """pydantic ``BeforeValidator``: numbers only (YAML ``true`` and ``'0.4'`` refused)."""
+def numbers_only(value: Any) -> Any:
+    """pydantic ``BeforeValidator``: numbers only (YAML ``true`` and ``'0.4'`` refused).
+
+    Parameters
+    ----------
+    value
+        The value given.
+
+    Examples
+    --------
+    >>> numbers_only(0.4)
+    0.4
+    >>> numbers_only("0.4")
+    Traceback (most recent call last):
+    ...
+    ValueError: must be a number, not the text '0.4'
+    """
     if isinstance(value, (bool, np.bool_)):
         raise ValueError("must be a number, not a boolean")
     if isinstance(value, (str, bytes)):
@@ -97,9 +113,12 @@ def _refuse_text_and_bool(value: Any) -> Any:
     return value
 
 
+_refuse_text_and_bool = numbers_only
+
+
 def _integral(value: Any) -> Any:
     """pydantic ``BeforeValidator`` of integers: an integral float becomes an int."""
-    value = _refuse_text_and_bool(value)
+    value = numbers_only(value)
     if isinstance(value, float) and math.isfinite(value) and value.is_integer():
         return int(value)
     return value
@@ -317,6 +336,8 @@ class Param:
         allow_none = self.optional if optional is None else optional
         if allow_none:
             base = base | None  # type: ignore[operator]
+        if not (self.doc or self.symbol):  # anonymous: a number type of the study models
+            return base
         return Annotated[base, Field(description=described)]
 
     def json_bounds(self) -> dict[str, float]:

@@ -207,3 +207,22 @@ def test_run_rejects_bad_executor_options_cleanly(write_study, tmp_path, extra, 
     assert result.exit_code == EXIT_STUDY_ERROR, result.output
     assert message in result.stderr
     assert "Traceback" not in result.output
+
+
+def test_validate_checks_every_file_after_a_hostile_one(tmp_path, write_study, tiny_study_text):
+    deep = tmp_path / "deep.yaml"
+    deep.write_text("designlab: 1\nkind: impact_cases\nname: d\ncases: " + "[" * 5000 + "]" * 5000)
+    good = write_study(tiny_study_text)
+    result = runner.invoke(app, ["validate", str(deep), str(good)])
+    assert result.exit_code == EXIT_STUDY_ERROR
+    assert "deep.yaml:4: " in result.output and "levels deep" in result.output
+    assert f"ok: {good}" in result.output
+    assert result.exception is None or isinstance(result.exception, SystemExit)
+
+
+def test_index_md_directory_is_a_clear_report_error(tmp_path):
+    from designlab.report import write_index
+
+    (tmp_path / "index.md").mkdir()
+    with pytest.raises(ReportError, match="is a directory"):
+        write_index(tmp_path)

@@ -310,4 +310,10 @@ def write_index(output_dir: str | os.PathLike[str]) -> Path:
             "",
         ]
     )
-    return write_markdown(text, root / "index.md")
+    index = root / "index.md"
+    if index.exists() and not index.is_file():
+        raise ReportError(
+            f"cannot write the reports index {index}: it is a directory (a report of a study "
+            "named 'index.md'?); move it away"
+        )
+    return write_markdown(text, index)

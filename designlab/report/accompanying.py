@@ -39,6 +39,7 @@ from matplotlib.figure import Figure
 from designlab.following import paper_table1, paper_table2
 from designlab.following.walking_tasks import PAPER_TEST_NAMES
 from designlab.report import register_writer
+from designlab.report.builder import copy_study, report_header
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.kinds.accompanying import AccompanyingResult
 
@@ -397,15 +398,8 @@ def _markdown(
     version: str | None,
 ) -> str:
     s = result.study
-    out = [f"# {s.name}", ""]
-    if s.description:
-        out += [s.description.strip(), ""]
-    produced = "Produced by " + (f"`{command}`" if command else "designlab")
-    if version:
-        produced += f" with designlab {version}"
+    out = report_header(s.name, s.description, command=command, version=version)
     out += [
-        f"{produced}. Generated file: edit the study, not this report, and regenerate it.",
-        "",
         "Model (Wu et al. 2021; `docs/following.md`): mecanum platform with a first-order "
         f"lag (tau = {s.platform.time_constant} s) and speed/acceleration saturation "
         f"({s.platform.max_speed} m/s, {s.platform.max_acceleration} m/s^2, "
@@ -551,8 +545,5 @@ def write_accompanying_report(
     written.append(
         write_markdown(_markdown(result, figures, command, version), directory / "summary.md")
     )
-    if study_text is not None:
-        from designlab.report.atomic import atomic_write_text
-
-        written.append(atomic_write_text(directory / "study.yaml", study_text))
+    written += copy_study(directory, study_text)
     return written

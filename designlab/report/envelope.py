@@ -41,6 +41,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
 from designlab.report import register_writer
+from designlab.report.builder import copy_study, report_header
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.kinds.foam_design import FoamDesignResult, RobotDesign
 
@@ -435,9 +436,9 @@ def envelope_markdown(
     '# Foam covering design: demo'
     """
     st = result.study
-    out = [f"# Foam covering design: {st.name}", ""]
-    if st.description:
-        out += [st.description.strip(), ""]
+    out = report_header(
+        f"Foam covering design: {st.name}", st.description, command=command, version=version
+    )
     out += _inputs_section(result)
     out += _verdicts_section(result)
     out += _thesis_section(result)
@@ -446,11 +447,6 @@ def envelope_markdown(
     out += _worst_case_section(result)
     out += _warnings_section(result)
     out += ["## Figure", "", "![feasible foam region](envelope.png)", ""]
-    out += ["---", ""]
-    if command:
-        out.append(f"Produced by `{command}`")
-    out.append(f"designlab {version or ''}".rstrip())
-    out.append("")
     return "\n".join(out)
 
 
@@ -508,8 +504,5 @@ def write_envelope_report(
     plt.close(fig)
     text = envelope_markdown(result, command=command, version=version)
     written.append(write_markdown(text, directory / "envelope.md"))
-    if study_text is not None:
-        from designlab.report.atomic import atomic_write_text
-
-        written.append(atomic_write_text(directory / "study.yaml", study_text))
+    written += copy_study(directory, study_text)
     return written

@@ -37,7 +37,7 @@ from matplotlib.figure import Figure
 from designlab.following import allan_tables, measured_ratio
 from designlab.following.tether_reference import TABLES
 from designlab.report import register_writer
-from designlab.report.atomic import atomic_write_text
+from designlab.report.builder import copy_study, report_header, warnings_section
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.kinds.follower_comparison import FollowerComparisonResult
 from designlab.study.kinds.follower_tuning import FollowerTuningResult
@@ -76,17 +76,6 @@ _COLOURS = ("tab:red", "tab:blue", "tab:green", "tab:orange", "tab:purple", "tab
 
 def _slug(text: str) -> str:
     return re.sub(r"[^a-z0-9]+", "_", text.lower()).strip("_") or "path"
-
-
-def _footer(command: str | None, version: str | None) -> list[str]:
-    lines = ["", "---", ""]
-    if command:
-        lines.append(
-            f"Produced by `{command}`" + (f" with designlab {version}." if version else ".")
-        )
-    elif version:
-        lines.append(f"Produced with designlab {version}.")
-    return lines
 
 
 def _pivot(frame: pd.DataFrame, controllers: list[str]) -> pd.DataFrame:
@@ -134,9 +123,7 @@ def comparison_markdown(
     frame = result.to_frame()
     robot = result.cases[0].run.robot if result.cases else None
     controllers = [c.title for c in study.controllers]
-    lines = [f"# {study.name}", ""]
-    if study.description:
-        lines += [study.description.strip(), ""]
+    lines = report_header(study.name, study.description, command=command, version=version)
     lines += [
         f"Status: **{result.status}**. Leader speed {study.speed:g} m/s; "
         + (
@@ -215,9 +202,7 @@ def comparison_markdown(
             f"![NPD profiles on {path}]({prof})",
             "",
         ]
-    if result.warnings:
-        lines += ["## Warnings", ""] + [f"- {w}" for w in result.warnings] + [""]
-    lines += _footer(command, version)
+    lines += warnings_section(result.warnings)
     return "\n".join(lines)
 
 
@@ -343,8 +328,7 @@ def write_comparison_report(
         figures[path] = names
     text = comparison_markdown(result, figures=figures, command=command, version=version)
     written.append(write_markdown(text, directory / "summary.md"))
-    if study_text is not None:
-        written.append(atomic_write_text(directory / "study.yaml", study_text))
+    written += copy_study(directory, study_text)
     return written
 
 
@@ -405,9 +389,7 @@ def write_tuning_report(
         ignore_index=True,
     )
     written.append(write_csv(scen, directory / "scenarios.csv"))
-    lines = [f"# {study.name}", ""]
-    if study.description:
-        lines += [study.description.strip(), ""]
+    lines = report_header(study.name, study.description, command=command, version=version)
     lines += [
         " ".join(
             _TUNING_INTRO.format(
@@ -493,10 +475,7 @@ def write_tuning_report(
         name = f"tuning_{_slug(type(r.controller).__name__)}.png"
         written.append(write_png(_tuning_figure(r), directory / name))
         lines += [f"![{type(r.controller).__name__}]({name})", ""]
-    if result.warnings:
-        lines += ["## Warnings", ""] + [f"- {w}" for w in result.warnings] + [""]
-    lines += _footer(command, version)
+    lines += warnings_section(result.warnings)
     written.append(write_markdown("\n".join(lines), directory / "summary.md"))
-    if study_text is not None:
-        written.append(atomic_write_text(directory / "study.yaml", study_text))
+    written += copy_study(directory, study_text)
     return written

@@ -28,6 +28,7 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from designlab.report import register_writer
+from designlab.report.builder import copy_study, report_header
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.kinds.impact_cases import ImpactCaseResult, ImpactCasesResult
 from designlab.units import STANDARD_GRAVITY
@@ -317,17 +318,8 @@ def impact_markdown(
     """
     study = result.study
     frame = result.to_frame()
-    out = [f"# {study.name}", ""]
-    if study.description:
-        out += [study.description.strip(), ""]
-    produced = "Produced by "
-    produced += f"`{command}`" if command else "designlab"
-    if version:
-        produced += f" with designlab {version}"
+    out = report_header(study.name, study.description, command=command, version=version)
     out += [
-        f"{produced}. Generated file: edit the study, not this report, and regenerate "
-        "it with the same command.",
-        "",
         "Model: linear coupled manipulator-foam-head impact (Zeng 2011, Sec. 3.5); "
         'metrics over the first impact lobe (docs/impact.md, "Metrics"); g is standard '
         "gravity, 9.80665 m/s^2. "
@@ -426,8 +418,5 @@ def write_impact_report(
         written.append(write_png(fig, directory / name))
     text = impact_markdown(result, figures=names, command=command, version=version)
     written.append(write_markdown(text, directory / "summary.md"))
-    if study_text is not None:
-        from designlab.report.atomic import atomic_write_text
-
-        written.append(atomic_write_text(directory / "study.yaml", study_text))
+    written += copy_study(directory, study_text)
     return written

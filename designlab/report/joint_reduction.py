@@ -22,6 +22,7 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from designlab.report import register_writer
+from designlab.report.builder import copy_study, report_header, warnings_section
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.kinds.joint_reduction import JointReductionResult
 
@@ -217,9 +218,12 @@ def joint_reduction_markdown(
     st = result.study
     foam = st.foam.build()
     head = st.head.build() if st.head is not None else None
-    out = [f"# Reduced joint vs full series joint: {st.name}", ""]
-    if st.description:
-        out += [st.description.strip(), ""]
+    out = report_header(
+        f"Reduced joint vs full series joint: {st.name}",
+        st.description,
+        command=command,
+        version=version,
+    )
     out += [
         "The impact model with the full series joint of Zeng 2011 (3.4.6) (transmission in "
         "series with the PD controller, one more internal state) against the spring-damper "
@@ -328,14 +332,8 @@ def joint_reduction_markdown(
             markdown_table(_sweep_table(result, i), index=False, disable_numparse=True),
             "",
         ]
-    if result.warnings:
-        out += ["## Warnings", ""] + [f"- {w}" for w in result.warnings] + [""]
+    out += warnings_section(result.warnings)
     out += ["## Figure", "", "![error of the reduced joint](joint_reduction.png)", ""]
-    out += ["---", ""]
-    if command:
-        out.append(f"Produced by `{command}`")
-    out.append(f"designlab {version or ''}".rstrip())
-    out.append("")
     return "\n".join(out)
 
 
@@ -389,8 +387,5 @@ def write_joint_reduction_report(
     plt.close(fig)
     text = joint_reduction_markdown(result, command=command, version=version)
     written.append(write_markdown(text, directory / "summary.md"))
-    if study_text is not None:
-        from designlab.report.atomic import atomic_write_text
-
-        written.append(atomic_write_text(directory / "study.yaml", study_text))
+    written += copy_study(directory, study_text)
     return written

@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from designlab.report import register_writer
+from designlab.report.builder import copy_study, report_header
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.kinds.vff_scenarios import VffScenariosResult
 
@@ -172,16 +173,8 @@ def navigation_markdown(
     """
     study = result.study
     frame = result.to_frame()
-    out = [f"# {study.name}", ""]
-    if study.description:
-        out += [study.description.strip(), ""]
-    produced = "Produced by " + (f"`{command}`" if command else "designlab")
-    if version:
-        produced += f" with designlab {version}"
+    out = report_header(study.name, study.description, command=command, version=version)
     out += [
-        f"{produced}. Generated file: edit the study, not this report, and regenerate it "
-        "with the same command.",
-        "",
         "Model: VFF navigation among humans (Zeng 2011, Ch. 5-7; `docs/navigation.md`): "
         "force recomputed every T_s = 0.06 s and held, 1 ms dynamics, speed 0.7 m/s and "
         "acceleration 10 m/s^2 norm-clipped, arrival at the first passage within "
@@ -287,8 +280,5 @@ def write_navigation_report(
             directory / "summary.md",
         )
     )
-    if study_text is not None:
-        from designlab.report.atomic import atomic_write_text
-
-        written.append(atomic_write_text(directory / "study.yaml", study_text))
+    written += copy_study(directory, study_text)
     return written

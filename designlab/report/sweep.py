@@ -29,6 +29,7 @@ from matplotlib.figure import Figure
 from designlab.analysis.sensitivity import tornado_figure
 from designlab.report import register_writer
 from designlab.report.atomic import atomic_write_text
+from designlab.report.builder import copy_study, report_header
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.points_table import FrameTable, PointsTable
 from designlab.study.sweep_runner import SweepStudyResult
@@ -327,17 +328,11 @@ def sweep_markdown(
         The designlab version.
     """
     study = result.study
-    out = [f"# {study.name}", ""]
-    if study.description:
-        out += [study.description.strip(), ""]
-    produced = "Produced by " + (f"`{command}`" if command else "designlab")
-    if version:
-        produced += f" with designlab {version}"
+    out = report_header(
+        study.name, study.description, command=command, version=version, cached=True
+    )
     st = result.stats
     out += [
-        f"{produced}. Generated file: edit the study, not this report, and regenerate "
-        "it with the same command (`designlab report` rebuilds it from the cache).",
-        "",
         f"Points: {st.get('points', 0)} evaluated ({st.get('computed', 0)} computed, "
         f"{st.get('cached', 0)} from the cache; {st.get('failed', 0)} failed).",
         "",
@@ -407,6 +402,5 @@ def write_sweep_report(
         figures["sweep: metrics against the swept parameters"] = "sweep.png"
     text = sweep_markdown(result, figures=figures, command=command, version=version)
     written.append(write_markdown(text, directory / "summary.md"))
-    if study_text is not None:
-        written.append(atomic_write_text(directory / "study.yaml", study_text))
+    written += copy_study(directory, study_text)
     return written

@@ -12,6 +12,7 @@ import pandas as pd
 
 from designlab.navigation import Disc, NavigationResult
 from designlab.report import register_writer
+from designlab.report.builder import copy_study, report_header, warnings_section
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.kinds.vff_gains import WIDER, VffGainsResult
 
@@ -233,9 +234,9 @@ def vff_gains_markdown(
     """
     st = result.study
     comp = result.comparison
-    out = [f"# Optimal VFF gains: {st.name}", ""]
-    if st.description:
-        out += [st.description.strip(), ""]
+    out = report_header(
+        f"Optimal VFF gains: {st.name}", st.description, command=command, version=version
+    )
     b = st.bounds
     out += [
         "## Problem (Zeng 2011, Sec. 5.6 and App. C; docs/navigation_gains.md)",
@@ -413,13 +414,7 @@ def vff_gains_markdown(
                 ]
     out += _appendix_c_section(result)
     out += _global_section(result)
-    if result.warnings:
-        out += ["## Warnings", ""] + [f"- {w}" for w in result.warnings] + [""]
-    out += ["---", ""]
-    if command:
-        out.append(f"Produced by `{command}`")
-    out.append(f"designlab {version or ''}".rstrip())
-    out.append("")
+    out += warnings_section(result.warnings)
     return "\n".join(out)
 
 
@@ -562,8 +557,5 @@ def write_vff_gains_report(
             vff_gains_markdown(result, command=command, version=version), directory / "summary.md"
         )
     )
-    if study_text is not None:
-        from designlab.report.atomic import atomic_write_text
-
-        written.append(atomic_write_text(directory / "study.yaml", study_text))
+    written += copy_study(directory, study_text)
     return written

@@ -19,6 +19,7 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from designlab.report import register_writer
+from designlab.report.builder import copy_study, report_header, warnings_section
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.kinds.zeng_ch3_claims import Ch3ClaimsResult
 
@@ -156,11 +157,13 @@ def ch3_claims_markdown(
                {"printed": ".5g", "recomputed": ".5g", "difference_pct": "+.2f"})  # fmt: skip
     t31 = t31.rename(columns={"difference_pct": "difference (%)"})
 
-    out = [
-        f"# Zeng 2011 Ch. 3 statements, recomputed: {s.name}",
-        "",
-        s.description or "",
-        "",
+    out = report_header(
+        f"Zeng 2011 Ch. 3 statements, recomputed: {s.name}",
+        s.description,
+        command=command,
+        version=version,
+    )
+    out += [
         "Each section recomputes one statement of Zeng 2011 Ch. 3 with designlab's impact "
         "model and says what the model and the text support (`docs/impact_joint.md`, Sec. 5).",
         "",
@@ -223,13 +226,8 @@ def ch3_claims_markdown(
         "not a thesis joint.",
         "",
     ]
-    if result.warnings:
-        out += ["## Warnings", ""] + [f"- {w}" for w in result.warnings] + [""]
-    out += ["## Figure", "", "![Fig. 3.16 and Sec. 3.8](zeng_ch3_claims.png)", "", "---", ""]
-    if command:
-        out.append(f"Produced by `{command}`")
-    out.append(f"designlab {version or ''}".rstrip())
-    out.append("")
+    out += warnings_section(result.warnings)
+    out += ["## Figure", "", "![Fig. 3.16 and Sec. 3.8](zeng_ch3_claims.png)", ""]
     return "\n".join(out)
 
 
@@ -286,8 +284,5 @@ def write_ch3_claims_report(
     plt.close(fig)
     text = ch3_claims_markdown(result, command=command, version=version)
     written.append(write_markdown(text, directory / "summary.md"))
-    if study_text is not None:
-        from designlab.report.atomic import atomic_write_text
-
-        written.append(atomic_write_text(directory / "study.yaml", study_text))
+    written += copy_study(directory, study_text)
     return written

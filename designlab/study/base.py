@@ -20,23 +20,31 @@ Examples
 from __future__ import annotations
 
 import difflib
-from typing import Annotated, ClassVar, Literal
+import inspect
+from collections.abc import Hashable, Iterator, Sequence
+from typing import Annotated, Any, ClassVar, Literal
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, field_validator
 
+from designlab.errors import DesignlabError, StudyError
+from designlab.params import Param, numbers_only
 from designlab.validation import reject_bool
 
 __all__ = [
     "FORMAT_VERSION",
+    "RESERVED_NAMES",
     "Finite",
     "Flag",
+    "Integer",
     "Model",
     "NonNegative",
     "Number",
     "Positive",
     "Speed",
     "StudyBase",
+    "build_every_spec",
     "did_you_mean",
+    "format_path",
 ]
 
 #: The study file format this version of designlab reads (the ``designlab:`` key).
@@ -62,20 +70,104 @@ def did_you_mean(word: str, choices: list[str] | tuple[str, ...] | set[str]) -> 
     return f"; did you mean {close[0]!r}?" if close else ""
 
 
-#: A real number (a boolean is refused).
-Number = Annotated[float, BeforeValidator(reject_bool)]
-#: An integer (a boolean is refused: YAML's ``true`` is not 1).
-Integer = Annotated[int, BeforeValidator(reject_bool)]
+#: A real number: a boolean or a text is refused; ``inf`` is allowed (bound it where it matters).
+Number = Annotated[float, BeforeValidator(numbers_only)]
+#: An integer (a boolean or a text is refused: YAML's ``true`` is not 1; ``3.0`` reads as 3).
+Integer = Param(kind="integer").annotation()
 #: A yes/no switch: YAML ``true`` or ``false`` only (not ``1``, ``"yes"`` or ``"on"``).
-Flag = Annotated[bool, Field(strict=True)]
-#: A finite number > 0.
-Positive = Annotated[Number, Field(gt=0, allow_inf_nan=False)]
+Flag = Param(kind="flag").annotation()
+#: A finite number > 0 (the same rule as a declaration ``param(..., gt=0)``).
+Positive = Param(gt=0).annotation()
 #: A finite number >= 0.
-NonNegative = Annotated[Number, Field(ge=0, allow_inf_nan=False)]
+NonNegative = Param(ge=0).annotation()
 #: A finite number.
-Finite = Annotated[Number, Field(allow_inf_nan=False)]
+Finite = Param().annotation()
 #: A speed in m/s, limited to a sanity range (human-robot contacts are a few m/s).
-Speed = Annotated[Number, Field(ge=-20.0, le=20.0, allow_inf_nan=False)]
+Speed = Param(unit="m/s", ge=-20.0, le=20.0).annotation()
+
+#: Study names refused although they fit the pattern: files of the output directory itself
+#: (``index.md``, the reports index) and names Windows reserves for devices.
+RESERVED_NAMES = frozenset(
+    {"index.md", "con", "prn", "aux", "nul"}
+    | {f"com{i}" for i in range(1, 10)}
+    | {f"lpt{i}" for i in range(1, 10)}
+)
+
+
+def format_path(path: Sequence[Hashable]) -> str:
+    """Format a data path as ``cases[0].robot.mass``.
+
+    Parameters
+    ----------
+    path
+        Keys and indices from the root of the study.
+
+    Examples
+    --------
+    >>> format_path(("cases", 0, "robot", "mass"))
+    'cases[0].robot.mass'
+    """
+    out = ""
+    for part in path:
+        if isinstance(part, int):
+            out += f"[{part}]"
+        else:
+            out += f".{part}" if out else str(part)
+    return out
+
+
+def _buildable(obj: Any, path: tuple[Hashable, ...]) -> Iterator[tuple[tuple[Hashable, ...], Any]]:
+    """Every sub-model with a ``build()`` of no arguments, with its data path, depth first."""
+    if isinstance(obj, BaseModel):
+        build = getattr(obj, "build", None)
+        if callable(build) and path:
+            try:
+                needs_args = any(
+                    p.default is inspect.Parameter.empty
+                    and p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)
+                    for p in inspect.signature(build).parameters.values()
+                )
+            except (TypeError, ValueError):  # pragma: no cover - builtins without a signature
+                needs_args = True
+            if not needs_args:
+                yield path, obj
+        for name, field in type(obj).model_fields.items():
+            yield from _buildable(getattr(obj, name), (*path, field.alias or name))
+    elif isinstance(obj, (list, tuple)):
+        for i, item in enumerate(obj):
+            yield from _buildable(item, (*path, i))
+    elif isinstance(obj, dict):
+        for key, item in obj.items():
+            yield from _buildable(item, (*path, key))
+
+
+def build_every_spec(study: BaseModel) -> None:
+    """Build every domain object a study describes, so its constructor's checks run now.
+
+    The cross-field rules of a domain class (``r2 > r3``, ``min < max``) live in
+    its ``__post_init__``; building each spec (every sub-model with a
+    ``build()`` of no arguments) runs them at validation time, with the field's
+    place in the file, instead of when the run reaches it.
+
+    Parameters
+    ----------
+    study
+        A validated study (or any model).
+
+    Raises
+    ------
+    StudyError
+        With ``path`` set to the spec that cannot be built and the domain's message.
+    """
+    for path, spec in _buildable(study, ()):
+        try:
+            spec.build()
+        except (DesignlabError, ValueError, OverflowError, ZeroDivisionError) as exc:
+            raise StudyError(str(exc), path=path) from None
+        except MemoryError:
+            raise StudyError(
+                "describes an object too large for this machine's memory", path=path
+            ) from None
 
 
 class Model(BaseModel):
@@ -100,7 +192,43 @@ class StudyBase(Model):
 
     #: Files (glob patterns) the report of this kind contains, for ``designlab list``.
     PRODUCES: ClassVar[tuple[str, ...]] = ()
+    #: How long a study of this kind typically runs on one core, for ``designlab list``
+    #: (a study file may say better with ``duration`` in its kind's :meth:`typical_duration`).
+    TYPICAL_DURATION: ClassVar[str] = ""
+
+    @field_validator("name")
+    @classmethod
+    def _not_reserved(cls, value: str) -> str:
+        if value.lower() in RESERVED_NAMES:
+            raise ValueError(
+                f"the name {value!r} is reserved: the report would go to <output-dir>/{value}/, "
+                "which clashes with the reports index (index.md) or a device name; "
+                "choose another name"
+            )
+        return value
 
     def size(self) -> str:
         """A few words on the size of the study, for ``designlab validate``."""
         return ""
+
+    def typical_duration(self) -> str:
+        """How long this study typically runs (``""``: not known), for ``designlab list``."""
+        return self.TYPICAL_DURATION
+
+    def check(self) -> None:
+        """Everything ``run`` checks before it computes, beyond the schema.
+
+        The loader calls it after the schema has passed, so ``designlab
+        validate`` refuses every study that ``designlab run`` would refuse
+        before computing. The default builds every domain object the study
+        describes (:func:`build_every_spec`), which runs the domain classes'
+        cross-field rules; a kind with more to check (a size cap, a relation
+        between fields of different specs) extends it and raises
+        :class:`~designlab.errors.StudyError` with ``path`` set to the field.
+
+        Raises
+        ------
+        StudyError
+            What is wrong, at ``path`` (the loader adds the file and the line).
+        """
+        build_every_spec(self)

@@ -31,41 +31,19 @@ from __future__ import annotations
 import difflib
 import types
 import warnings
-from collections.abc import Hashable, Sequence
+from collections.abc import Hashable
 from os import PathLike
 from pathlib import Path
 from typing import Annotated, Any, Union, get_args, get_origin
 
 from pydantic import BaseModel, ValidationError
 
-from designlab.errors import StudyError
-from designlab.study.base import FORMAT_VERSION, StudyBase, did_you_mean
+from designlab.errors import DesignlabError, StudyError
+from designlab.study.base import FORMAT_VERSION, StudyBase, did_you_mean, format_path
 from designlab.study.registry import RENAMED_KINDS, study_kinds
 from designlab.study.yamlio import YamlPath, YamlSyntaxError, load_yaml_with_lines
 
 __all__ = ["format_path", "load_study", "parse_study"]
-
-
-def format_path(path: Sequence[Hashable]) -> str:
-    """Format a data path as ``cases[0].robot.mass``.
-
-    Parameters
-    ----------
-    path
-        Keys and indices from the root of the study.
-
-    Examples
-    --------
-    >>> format_path(("cases", 0, "robot", "mass"))
-    'cases[0].robot.mass'
-    """
-    out = ""
-    for part in path:
-        if isinstance(part, int):
-            out += f"[{part}]"
-        else:
-            out += f".{part}" if out else str(part)
-    return out
 
 
 def load_study(path: str | PathLike[str]) -> StudyBase:
@@ -134,14 +112,28 @@ def parse_study(text: str, file: str = "<string>") -> StudyBase:
         raise StudyError(
             str(exc), file=file, line=exc.line, field=format_path(exc.path) or None
         ) from None
+    _check_format(data, lines, file)
+    kind = _kind_name(data, lines, file)
+    data = {**data, "kind": kind}
+    model = study_kinds()[kind].schema
+    try:
+        study = model.model_validate(data)
+    except ValidationError as exc:
+        raise _to_study_error(exc, data, lines, file, model) from None
+    except RecursionError:  # pragma: no cover - the YAML depth limit comes first
+        raise StudyError("the study is nested too deeply", file=file, line=1) from None
+    _check(study, lines, file)
+    return study
 
+
+def _check_format(data: Any, lines: dict[YamlPath, int], file: str) -> None:
+    """A mapping with ``designlab: 1`` (the format this designlab reads)."""
     if not isinstance(data, dict):
         raise StudyError(
             "a study must be a YAML mapping with the keys designlab, kind, name, ...",
             file=file,
             line=1,
         )
-    version = data.get("designlab")
     if "designlab" not in data:
         raise StudyError(
             f"missing the format key; add 'designlab: {FORMAT_VERSION}' at the top",
@@ -149,14 +141,30 @@ def parse_study(text: str, file: str = "<string>") -> StudyBase:
             field="designlab",
             line=1,
         )
-    if version != FORMAT_VERSION or isinstance(version, bool):
-        raise StudyError(
-            f"study format {version!r} is not supported; this designlab reads "
-            f"format {FORMAT_VERSION}",
-            file=file,
-            field="designlab",
-            line=lines.get(("designlab",)),
+    version = data["designlab"]
+    if version == FORMAT_VERSION and not isinstance(version, bool):
+        return
+    if isinstance(version, str) and version.strip() == str(FORMAT_VERSION):
+        problem = (
+            f"the format version is the number {FORMAT_VERSION}, not the text {version!r}; "
+            f"write 'designlab: {FORMAT_VERSION}' without quotes"
         )
+    elif isinstance(version, bool) or not isinstance(version, int | float):
+        problem = (
+            f"the format version must be the number {FORMAT_VERSION} (got {version!r}); "
+            f"write 'designlab: {FORMAT_VERSION}'"
+        )
+    else:
+        problem = (
+            f"study format {version!r} is not supported; this designlab reads format "
+            f"{FORMAT_VERSION} only (write 'designlab: {FORMAT_VERSION}', or use the designlab "
+            "version that wrote the study)"
+        )
+    raise StudyError(problem, file=file, field="designlab", line=lines.get(("designlab",)))
+
+
+def _kind_name(data: dict[str, Any], lines: dict[YamlPath, int], file: str) -> str:
+    """The registered kind the study names (an old name read with a DeprecationWarning)."""
     kind = data.get("kind")
     registry = study_kinds()
     known = ", ".join(registry)
@@ -167,9 +175,8 @@ def parse_study(text: str, file: str = "<string>") -> StudyBase:
             f"{where}kind {kind!r} is now called {new!r}; the old name is read for one "
             "more release",
             DeprecationWarning,
-            stacklevel=2,
+            stacklevel=3,
         )
-        data = {**data, "kind": new}
         kind = new
     if kind is None:
         raise StudyError(
@@ -186,11 +193,21 @@ def parse_study(text: str, file: str = "<string>") -> StudyBase:
             field="kind",
             line=lines.get(("kind",)),
         )
-    model = registry[kind].schema
+    return kind
+
+
+def _check(study: StudyBase, lines: dict[YamlPath, int], file: str) -> None:
+    """Run the study's own checks (:meth:`StudyBase.check`) and place their errors in the file."""
     try:
-        return model.model_validate(data)
-    except ValidationError as exc:
-        raise _to_study_error(exc, data, lines, file, model) from None
+        study.check()
+    except StudyError as exc:
+        if exc.file is not None:
+            raise
+        path = exc.path or ()
+        line = _line_for(path, lines) if path else None
+        raise StudyError(exc.message, file=file, field=exc.field, line=line) from None
+    except (DesignlabError, ValueError, OverflowError) as exc:
+        raise StudyError(str(exc), file=file) from None
 
 
 # --- mapping pydantic errors back to the file ---------------------------------

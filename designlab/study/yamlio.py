@@ -29,7 +29,14 @@ from typing import Any
 
 import yaml
 
-__all__ = ["YamlPath", "YamlSyntaxError", "load_yaml_with_lines"]
+__all__ = [
+    "MAX_CHARS",
+    "MAX_DEPTH",
+    "MAX_NODES",
+    "YamlPath",
+    "YamlSyntaxError",
+    "load_yaml_with_lines",
+]
 
 #: A location in the data: mapping keys and sequence indices from the root.
 YamlPath = tuple[Hashable, ...]
@@ -54,8 +61,34 @@ class YamlSyntaxError(ValueError):
         self.path = path
 
 
+#: The deepest nesting of mappings and lists a study may have (a study needs about 6).
+MAX_DEPTH = 64
+
+
 class _Loader(yaml.SafeLoader):
-    """Safe loader with YAML 1.2-style floats (``20e3`` is a float)."""
+    """Safe loader with YAML 1.2-style floats (``20e3`` is a float) and a nesting limit.
+
+    The composer is recursive, so a document nested thousands of levels deep
+    would exhaust Python's stack (``RecursionError``) here or in every later
+    step; the depth is counted while composing and refused beyond
+    :data:`MAX_DEPTH` with the line where it happens.
+    """
+
+    _depth = 0
+
+    def compose_node(self, parent: Any, index: Any) -> Any:
+        self._depth += 1
+        try:
+            if self._depth > MAX_DEPTH:
+                mark = self.peek_event().start_mark
+                raise YamlSyntaxError(
+                    f"the document nests lists and mappings more than {MAX_DEPTH} levels deep; "
+                    "studies are shallow (a few levels)",
+                    line=mark.line + 1,
+                )
+            return super().compose_node(parent, index)
+        finally:
+            self._depth -= 1
 
 
 _Loader.add_implicit_resolver(
@@ -197,6 +230,8 @@ def load_yaml_with_lines(text: str) -> tuple[Any, dict[YamlPath, int]]:
         raise YamlSyntaxError(f"YAML syntax error: {problem}", line=line) from None
     except yaml.YAMLError as exc:
         raise YamlSyntaxError(f"YAML syntax error: {exc}") from None
+    except RecursionError:  # pragma: no cover - MAX_DEPTH keeps the composer shallow
+        raise YamlSyntaxError("the document is nested too deeply") from None
     finally:
         loader.dispose()
     # Keys were recorded by their YAML text; construct_document may have turned

@@ -1,0 +1,158 @@
+"""What every report shares: its header, its provenance line and the copy of its study.
+
+Every report writer opens its main Markdown file with :func:`report_header`
+(the title, the study's description and one provenance sentence: the command
+and designlab version that produced it, and that the file is generated), ends
+its sections with :func:`warnings_section` where it lists warnings, and copies
+the study file next to the report with :func:`copy_study`. The wording lives
+here once, so every report says it the same way.
+
+Examples
+--------
+>>> print("\\n".join(report_header("demo", "Asks X.", command="designlab run s.yaml",
+...                                version="1.0")))
+# demo
+<BLANKLINE>
+Asks X.
+<BLANKLINE>
+Produced by `designlab run s.yaml` with designlab 1.0. Generated file: edit the study, not
+this report, and regenerate it with the same command.
+<BLANKLINE>
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterable
+from pathlib import Path
+
+from designlab.report.atomic import atomic_write_text
+
+__all__ = ["STUDY_COPY", "copy_study", "provenance", "report_header", "warnings_section"]
+
+#: The name of the study file's copy inside a report directory.
+STUDY_COPY = "study.yaml"
+
+
+def provenance(
+    command: str | None = None, version: str | None = None, *, cached: bool = False
+) -> str:
+    """The one sentence that says what produced a report and that it is generated.
+
+    Parameters
+    ----------
+    command
+        The command line that produced the report (quoted in backticks).
+    version
+        The designlab version.
+    cached
+        The study keeps its points in a result store, so ``designlab report``
+        can rebuild the report without computing (sweep studies).
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> provenance(version="1.0")
+    'Produced by designlab 1.0. Generated file: edit the study, not this report, and regenerate it.'
+    >>> provenance("designlab run s.yaml", cached=True)  # doctest: +NORMALIZE_WHITESPACE
+    'Produced by `designlab run s.yaml`. Generated file: edit the study, not this report, and
+    regenerate it with the same command (`designlab report` rebuilds it from the cache).'
+    """
+    if command:
+        who = f"`{command}`" + (f" with designlab {version}" if version else "")
+    else:
+        who = f"designlab {version}" if version else "designlab"
+    how = " with the same command" if command else ""
+    if cached:
+        how += " (`designlab report` rebuilds it from the cache)"
+    return (
+        f"Produced by {who}. Generated file: edit the study, not this report, "
+        f"and regenerate it{how}."
+    )
+
+
+def report_header(
+    title: str,
+    description: str = "",
+    *,
+    command: str | None = None,
+    version: str | None = None,
+    cached: bool = False,
+) -> list[str]:
+    """The opening lines of a report's main Markdown file.
+
+    ``# title``, the study's description (if any) and the :func:`provenance`
+    sentence, each followed by a blank line.
+
+    Parameters
+    ----------
+    title
+        The report's title (usually the study name, perhaps after a few words).
+    description
+        The study's description (stripped; left out when empty).
+    command, version, cached
+        See :func:`provenance`.
+
+    Returns
+    -------
+    list of str
+        Lines, to be joined with ``"\\n"``.
+    """
+    lines = [f"# {title}", ""]
+    if description.strip():
+        lines += [description.strip(), ""]
+    lines += [provenance(command, version, cached=cached), ""]
+    return lines
+
+
+def warnings_section(warnings: Iterable[str], *, none: str | None = None) -> list[str]:
+    """The ``## Warnings`` section: one bullet a warning.
+
+    Parameters
+    ----------
+    warnings
+        The result's warnings.
+    none
+        The sentence shown when there are none; ``None``: no section at all.
+
+    Examples
+    --------
+    >>> warnings_section(["eps_max > lambda"])
+    ['## Warnings', '', '- eps_max > lambda', '']
+    >>> warnings_section([])
+    []
+    """
+    items = list(warnings)
+    if not items:
+        return [] if none is None else ["## Warnings", "", none, ""]
+    return ["## Warnings", "", *[f"- {w}" for w in items], ""]
+
+
+def copy_study(directory: str | os.PathLike[str], study_text: str | None) -> list[Path]:
+    """Copy the study file's text into the report as ``study.yaml`` (atomically).
+
+    Parameters
+    ----------
+    directory
+        The report directory.
+    study_text
+        The study file's text; ``None``: nothing is copied.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The file written (empty when there was no text), to add to a writer's list.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     [p.name for p in copy_study(d, "designlab: 1\\n")], copy_study(d, None)
+    (['study.yaml'], [])
+    """
+    if study_text is None:
+        return []
+    return [atomic_write_text(Path(directory) / STUDY_COPY, study_text)]
