@@ -17,7 +17,7 @@ import casadi as ca
 import numpy as np
 from numpy.typing import NDArray
 
-from designlab.errors import InvalidParameterError, check_positive
+from designlab.errors import InvalidParameterError
 from designlab.navigation.dynamics import build_hold, state_size
 from designlab.navigation.field import (
     _EPS,
@@ -26,8 +26,15 @@ from designlab.navigation.field import (
     build_distance,
     build_field,
 )
-from designlab.navigation.parameters import HolonomicRobot, NonholonomicRobot
+from designlab.navigation.parameters import (
+    ARRIVAL_TOLERANCE,
+    DYNAMICS_STEP,
+    MAX_SUBSTEPS,
+    HolonomicRobot,
+    NonholonomicRobot,
+)
 from designlab.navigation.scenarios import Scenario
+from designlab.params import check_size
 from designlab.sx import CompiledLanes, try_compile_lanes, with_cse
 
 Array = NDArray[np.float64]
@@ -309,6 +316,24 @@ def initial_state(scenario: Scenario) -> Array:
     return np.array([*scenario.start, scenario.heading0, 0.0, 0.0])
 
 
+def _check_timing(
+    scenario: Scenario, arrival_tolerance: float, dynamics_step: float, force_every_step: bool
+) -> tuple[float, float, int]:
+    """(tolerance, dynamics step, dynamics steps per period), checked."""
+    tol = ARRIVAL_TOLERANCE.check(arrival_tolerance)
+    dt = DYNAMICS_STEP.check(dynamics_step)
+    ts = scenario.sample_time
+    ratio = ts / dt
+    if abs(ratio - round(ratio)) > 1e-6 or round(ratio) < 1 or round(ratio) > MAX_SUBSTEPS:
+        raise InvalidParameterError(
+            "dynamics_step",
+            dynamics_step,
+            f"must divide the sample time {ts} s into 1 to {MAX_SUBSTEPS} whole steps",
+            "s",
+        )
+    return tol, dt, 1 if force_every_step else round(ratio)
+
+
 def run(
     scenario: Scenario,
     gains: Array,
@@ -351,18 +376,7 @@ def run(
     cbf_gains
         (k_0, k_1) of the CBF constraint (``method="cbf"``).
     """
-    tol = check_positive("arrival_tolerance", arrival_tolerance, "m")
-    dt = check_positive("dynamics_step", dynamics_step, "s")
-    ts = scenario.sample_time
-    ratio = ts / dt
-    if abs(ratio - round(ratio)) > 1e-6 or round(ratio) < 1:
-        raise InvalidParameterError(
-            "dynamics_step",
-            dynamics_step,
-            f"must divide the sample time {ts} s into whole steps",
-            "s",
-        )
-    n_sub = 1 if force_every_step else round(ratio)
+    tol, dt, n_sub = _check_timing(scenario, arrival_tolerance, dynamics_step, force_every_step)
     period = n_sub * dt
     gains = np.atleast_2d(np.asarray(gains, dtype=float))
     N = gains.shape[0]
@@ -375,6 +389,12 @@ def run(
     robot = scenario.robot
     lean = not record
     n_samples = math.ceil(scenario.horizon / period - 1e-9)
+    if record:  # the histories: state, power, distances, obstacle positions per step
+        per_step = state_size(robot) + 1 + 3 * n_obs
+        check_size(
+            "Scenario.horizon", scenario.horizon, n_samples * n_sub * per_step,
+            what="the recorded run (horizon / dynamics_step steps)",
+        )  # fmt: skip
     if lean and N > 1:
         return _run_batch(
             scenario, gains, geos, method, n_sub, dt, tol, stabilising, tie, jit, n_samples

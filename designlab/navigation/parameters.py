@@ -16,18 +16,30 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from designlab.errors import InvalidParameterError, check_nonnegative, check_positive
+from designlab.errors import InvalidParameterError, check_positive
+from designlab.params import Param, declared, param
 from designlab.validation import ParamsMixin
 
 __all__ = [
+    "ARRIVAL_TOLERANCE",
+    "CBF_K0",
+    "CBF_K1",
+    "DYNAMICS_STEP",
     "EXPERIMENT_GAINS",
+    "GAIN",
+    "GAIN_SETS",
+    "MAX_GAIN",
+    "MAX_HUMAN_SPEED",
+    "MAX_SUBSTEPS",
     "OPTIMAL_GAINS",
+    "SAMPLE_TIME",
     "CircularObstacle",
     "GeCuiGains",
     "HolonomicRobot",
@@ -40,26 +52,102 @@ __all__ = [
 ]
 
 
+def declared_field(decl: Param, default: Any = dataclasses.MISSING, **kwargs: Any) -> Any:
+    """A dataclass field carrying an existing declaration (one :class:`Param` for a field
+    and a function argument, e.g. :data:`SAMPLE_TIME`)."""
+    return dataclasses.field(default=default, metadata={"param": decl}, **kwargs)
+
+
+# ------------------------------------------------------------------- shared limits
+
+#: The navigation (vision) period T_s: the force is recomputed every T_s and held
+#: (Zeng 2011, Sec. 5.3: 0.06 s). A field of :class:`~designlab.navigation.Scenario` and
+#: the argument of :func:`~designlab.navigation.region_sizes` (one declaration for both).
+SAMPLE_TIME = Param(
+    "T_s",
+    "s",
+    "navigation period: the force is recomputed and held every T_s (a reaction delay)",
+    gt=0,
+    le=1.0,
+    typical=(0.03, 0.1),
+    name="sample_time",
+)
+
+#: Arrival radius around the goal: arrival is the first passage within it (docs/navigation.md,
+#: "Arrival"; 0.15 m).
+ARRIVAL_TOLERANCE = Param(
+    "tol", "m", "arrival radius around the goal (first passage)", gt=0, le=1.0,
+    typical=(0.05, 0.15), name="arrival_tolerance",
+)  # fmt: skip
+#: Integration step of the robot dynamics inside a navigation period (1 ms); it must
+#: divide T_s into at most :data:`MAX_SUBSTEPS` steps.
+DYNAMICS_STEP = Param(
+    "dt", "s", "integration step of the robot dynamics (divides T_s)", gt=0, le=1.0,
+    typical=(1e-3, 1e-3), name="dynamics_step",
+)  # fmt: skip
+#: Most dynamics steps per navigation period (T_s / dt): each is unrolled in the compiled
+#: step, so more would take minutes to build (the thesis: 60).
+MAX_SUBSTEPS = 1000
+#: Gain sets one :func:`~designlab.navigation.simulate_batch` call simulates together: about
+#: 4 ms of CPU per gain set and scenario (Configuration 1, virtual machine), so 4096 are
+#: about a minute per scenario; split larger sets into several calls.
+GAIN_SETS = Param(
+    None, "", "gain sets simulated in one batch", kind="integer", ge=1, le=4096, name="gains"
+)
+#: (k_0, k_1) of the CBF constraint h'' + k_1 h' + k_0 h >= 0 (``method="cbf"``).
+CBF_K0 = Param("k_0", "1/s^2", "CBF gain on h", gt=0, le=1e4, name="cbf_gains[0]")
+CBF_K1 = Param("k_1", "1/s", "CBF gain on h'", gt=0, le=1e4, name="cbf_gains[1]")
+
+#: Fastest human accepted (m/s): above a sprint (the thesis uses 1 m/s walkers).
+MAX_HUMAN_SPEED = 12.0
+#: Fastest robot accepted (m/s): the thesis's robots move at 0.7 m/s.
+_MAX_ROBOT_SPEED = 5.0
+#: Largest size of a robot or a disc obstacle (m), and of a rectangle's side.
+_MAX_RADIUS, _MAX_SIDE = 5.0, 100.0
+
+
+def _radius(symbol: str, doc: str, default: float) -> Any:
+    return param(symbol, "m", doc=doc, gt=0, le=_MAX_RADIUS, default=default)
+
+
+def _speed_limit(symbol: str, default: float) -> Any:
+    return param(
+        symbol,
+        "m/s",
+        doc="speed limit (norm-clipped)",
+        gt=0,
+        le=_MAX_ROBOT_SPEED,
+        default=default,
+        typical=(0.5, 1.0),
+    )
+
+
+def _accel_limit(symbol: str, default: float) -> Any:
+    return param(
+        symbol,
+        "m/s^2",
+        doc="acceleration (= deceleration) limit (norm-clipped)",
+        ge=1e-3,
+        le=100.0,
+        default=default,
+        typical=(5.0, 10.0),
+    )
+
+
+def _mass(doc: str) -> Any:
+    return param("m_mr", "kg", doc=doc, gt=0, le=1e4, default=4.4, typical=(3.7, 4.4))
+
+
 # --------------------------------------------------------------------------- robots
 
 
+@declared
 @dataclass(frozen=True)
 class HolonomicRobot(ParamsMixin):
     """Omni-wheel point-mass robot (Zeng 2011, Sec. 5.2, 6.2.1, App. D).
 
-    Parameters
-    ----------
-    radius
-        Model radius rho_r in m (the robot is a disc).
-    max_speed
-        Speed limit V_mr in m/s (norm-clipped).
-    max_accel
-        Acceleration (= deceleration) limit a_mr in m/s^2 (norm-clipped).
-    mass
-        Virtual-force mass m_mr in kg: a = F_v / m_mr (5.2.1).
-    wheel_radius, wheel_offset
-        Omni-wheel radius r_w and wheel-to-centre distance l_w in m (not given in the
-        thesis; project defaults, see ``docs/navigation.md``). Used only for energy.
+    The wheel radius and offset are not given in the thesis (project defaults, see
+    ``docs/navigation.md``); they are used only for the energy.
 
     Examples
     --------
@@ -67,25 +155,14 @@ class HolonomicRobot(ParamsMixin):
     0.07
     """
 
-    radius: float = 0.2
-    max_speed: float = 0.7
-    max_accel: float = 10.0
-    mass: float = 4.4
-    wheel_radius: float = 0.038
-    wheel_offset: float = 0.15
-
-    def __post_init__(self) -> None:
-        for f, unit in (
-            ("radius", "m"),
-            ("max_speed", "m/s"),
-            ("max_accel", "m/s^2"),
-            ("mass", "kg"),
-            ("wheel_radius", "m"),
-            ("wheel_offset", "m"),
-        ):
-            object.__setattr__(
-                self, f, check_positive(f"{type(self).__name__}.{f}", getattr(self, f), unit)
-            )
+    radius: float = _radius("rho_r", "model radius (the robot is a disc)", 0.2)
+    max_speed: float = _speed_limit("V_mr", 0.7)
+    max_accel: float = _accel_limit("a_mr", 10.0)
+    mass: float = _mass("virtual-force mass (a = F_v / m_mr, 5.2.1)")
+    wheel_radius: float = param("r_w", "m", doc="omni-wheel radius", gt=0, le=1.0, default=0.038)
+    wheel_offset: float = param(
+        "l_w", "m", doc="wheel-to-centre distance", gt=0, le=_MAX_RADIUS, default=0.15
+    )
 
     @property
     def stopping_time(self) -> float:
@@ -97,24 +174,15 @@ class HolonomicRobot(ParamsMixin):
         return "holonomic"
 
 
+@declared
 @dataclass(frozen=True)
 class NonholonomicRobot(ParamsMixin):
     """Differential-drive robot tracking a virtual holonomic reference (Zeng 2011, Ch. 7, App. E).
 
-    Parameters
-    ----------
-    radius, max_speed, max_accel
-        As for :class:`HolonomicRobot` (the thesis uses the same limits).
-    max_angular_accel
-        Maximum angular acceleration in rad/s^2 (the thesis's "omega bar", about 70).
-    mass
-        Mass of the virtual holonomic reference robot that the force field drives, kg.
-        The thesis leaves it open (the physical robot weighs 3.7 kg, Sec. 7.2); the
-        default is the holonomic robot's 4.4 kg, the mass the gains were tuned for.
-    wheel_radius, track
-        Wheel radius r_w,nh and wheel span l_nh in m (0.025 m, 0.28 m).
-    xi, k
-        Klancar-Skrjanc tracking gains xi_nh and k_nh (7.2.3).
+    The limits are those of :class:`HolonomicRobot` (the thesis uses the same). The
+    mass is that of the virtual holonomic reference robot the force field drives: the
+    thesis leaves it open (the physical robot weighs 3.7 kg, Sec. 7.2); the default is the
+    holonomic robot's 4.4 kg, the mass the gains were tuned for.
 
     Examples
     --------
@@ -122,36 +190,25 @@ class NonholonomicRobot(ParamsMixin):
     0.2118
     """
 
-    radius: float = 0.2
-    max_speed: float = 0.7
-    max_accel: float = 10.0
-    max_angular_accel: float = 70.0
-    mass: float = 4.4
-    wheel_radius: float = 0.025
-    track: float = 0.28
-    xi: float = 0.95
-    k: float = 10.0
-
-    def __post_init__(self) -> None:
-        for f, unit in (
-            ("radius", "m"),
-            ("max_speed", "m/s"),
-            ("max_accel", "m/s^2"),
-            ("max_angular_accel", "rad/s^2"),
-            ("mass", "kg"),
-            ("wheel_radius", "m"),
-            ("track", "m"),
-            ("k", ""),
-        ):
-            object.__setattr__(
-                self, f, check_positive(f"{type(self).__name__}.{f}", getattr(self, f), unit)
-            )
-        xi = check_positive("NonholonomicRobot.xi", self.xi)
-        if xi >= 1.0:
-            raise InvalidParameterError(
-                "NonholonomicRobot.xi", self.xi, "must be in (0, 1) (7.2.3)"
-            )
-        object.__setattr__(self, "xi", xi)
+    radius: float = _radius("rho_r", "model radius (the robot is a disc)", 0.2)
+    max_speed: float = _speed_limit("V_mr", 0.7)
+    max_accel: float = _accel_limit("a_mr", 10.0)
+    max_angular_accel: float = param(
+        "omega_bar",
+        "rad/s^2",
+        doc="maximum angular acceleration",
+        ge=1e-3,
+        le=1e4,
+        default=70.0,
+        typical=(70.0, 70.0),
+    )
+    mass: float = _mass("mass of the virtual holonomic reference robot")
+    wheel_radius: float = param("r_w,nh", "m", doc="wheel radius", gt=0, le=1.0, default=0.025)
+    track: float = param("l_nh", "m", doc="wheel span", gt=0, le=_MAX_RADIUS, default=0.28)
+    xi: float = param(
+        "xi_nh", "", doc="Klancar-Skrjanc damping gain (7.2.3)", gt=0, lt=1, default=0.95
+    )
+    k: float = param("k_nh", "", doc="Klancar-Skrjanc gain (7.2.3)", gt=0, le=1e4, default=10.0)
 
     @property
     def stopping_time(self) -> float:
@@ -171,20 +228,10 @@ class NonholonomicRobot(ParamsMixin):
 # ------------------------------------------------------------------ obstacle classes
 
 
-#: Fastest human accepted (m/s): above a sprint (the thesis uses 1 m/s walkers).
-MAX_HUMAN_SPEED = 12.0
-
-
+@declared
 @dataclass(frozen=True)
 class Human(ParamsMixin):
     """A walking person modelled as a disc (Zeng 2011, Sec. 5.2).
-
-    Parameters
-    ----------
-    radius
-        Model radius rho_h in m (0.4 m: half the average step length).
-    max_speed
-        Maximum walking speed in m/s (1.0 m/s).
 
     Examples
     --------
@@ -192,28 +239,22 @@ class Human(ParamsMixin):
     (0.4, 1.4)
     """
 
-    radius: float = 0.4
-    max_speed: float = 1.0
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "radius", check_positive("Human.radius", self.radius, "m"))
-        object.__setattr__(
-            self, "max_speed", check_nonnegative("Human.max_speed", self.max_speed, "m/s")
-        )
-        if self.max_speed > MAX_HUMAN_SPEED:
-            raise InvalidParameterError(
-                "Human.max_speed", self.max_speed, f"at most {MAX_HUMAN_SPEED:g} m/s", "m/s"
-            )
+    radius: float = _radius("rho_h", "model radius (half the average step length)", 0.4)
+    max_speed: float = param(
+        "V_h",
+        "m/s",
+        doc="maximum walking speed",
+        ge=0,
+        le=MAX_HUMAN_SPEED,
+        default=1.0,
+        typical=(1.0, 1.4),
+    )
 
 
+@declared
 @dataclass(frozen=True)
 class CircularObstacle(ParamsMixin):
     """A stationary disc obstacle (Zeng 2011, Sec. 5.3.4).
-
-    Parameters
-    ----------
-    radius
-        Model radius rho_circular in m (0.1 m in the thesis).
 
     Examples
     --------
@@ -221,28 +262,17 @@ class CircularObstacle(ParamsMixin):
     0.0
     """
 
-    radius: float = 0.1
-
-    def __post_init__(self) -> None:
-        object.__setattr__(
-            self, "radius", check_positive("CircularObstacle.radius", self.radius, "m")
-        )
+    radius: float = _radius("rho_circular", "model radius", 0.1)
 
     @property
     def max_speed(self) -> float:
         return 0.0
 
 
+@declared
 @dataclass(frozen=True)
 class ObstacleRobot(ParamsMixin):
     """Another mobile robot, a moving disc (Zeng 2011, Sec. 7.5.5).
-
-    Parameters
-    ----------
-    radius
-        Model radius rho_mobile in m (0.2 m).
-    max_speed
-        Its maximum speed V_mob in m/s (0.5 m/s).
 
     Examples
     --------
@@ -250,28 +280,19 @@ class ObstacleRobot(ParamsMixin):
     0.5
     """
 
-    radius: float = 0.2
-    max_speed: float = 0.5
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "radius", check_positive("ObstacleRobot.radius", self.radius, "m"))
-        object.__setattr__(
-            self, "max_speed", check_nonnegative("ObstacleRobot.max_speed", self.max_speed, "m/s")
-        )
+    radius: float = _radius("rho_mobile", "model radius", 0.2)
+    max_speed: float = param(
+        "V_mob", "m/s", doc="its maximum speed", ge=0, le=_MAX_ROBOT_SPEED, default=0.5
+    )
 
 
+@declared
 @dataclass(frozen=True)
 class RectangularObstacle(ParamsMixin):
     """A stationary rectangle; regions are measured from its contour (Zeng 2011, Sec. 5.3.5).
 
-    Parameters
-    ----------
-    length, width
-        B_len and B_wid in m.
-    offset
-        B, the perpendicular offset of the robot's approach line from the rectangle's
-        centre line in m (Fig. 5.4). ``None`` means the worst case, B = B_len / 2. The
-        thesis's experiments use B = B_wid / 2 (the robot approaches the short side).
+    The thesis's experiments use the offset B = B_wid / 2 (the robot approaches the
+    short side).
 
     Examples
     --------
@@ -279,21 +300,19 @@ class RectangularObstacle(ParamsMixin):
     0.3
     """
 
-    length: float = 1.4
-    width: float = 0.6
-    offset: float | None = None
-
-    def __post_init__(self) -> None:
-        object.__setattr__(
-            self, "length", check_positive("RectangularObstacle.length", self.length, "m")
-        )
-        object.__setattr__(
-            self, "width", check_positive("RectangularObstacle.width", self.width, "m")
-        )
-        if self.offset is not None:
-            object.__setattr__(
-                self, "offset", check_nonnegative("RectangularObstacle.offset", self.offset, "m")
-            )
+    length: float = param("B_len", "m", doc="length", gt=0, le=_MAX_SIDE, default=1.4)
+    width: float = param("B_wid", "m", doc="width", gt=0, le=_MAX_SIDE, default=0.6)
+    offset: float | None = param(
+        "B",
+        "m",
+        doc="perpendicular offset of the robot's approach line from the rectangle's centre "
+        "line (Fig. 5.4)",
+        ge=0,
+        le=_MAX_SIDE,
+        optional=True,
+        none="the worst case, B = B_len / 2",
+        default=None,
+    )
 
     @property
     def effective_offset(self) -> float:
@@ -309,16 +328,18 @@ class RectangularObstacle(ParamsMixin):
 #: robot's actuators (the thesis's gains are below 300).
 MAX_GAIN = 1e9
 
-
-def _gain(cls: str, name: str, value: Any, unit: str) -> float:
-    out = check_positive(f"{cls}.{name}", value, unit)
-    if out > MAX_GAIN:
-        raise InvalidParameterError(
-            f"{cls}.{name}", value, f"must be a finite number > 0 and <= {MAX_GAIN:g}", unit
-        )
-    return out
+#: Any gain of the navigation fields: a finite number > 0 and <= :data:`MAX_GAIN`. The one
+#: declaration of the gain limit: every gain field (and the batch simulator's gain arrays,
+#: the optimiser's bounds and the study files) is checked against it.
+GAIN = Param(None, "", "gain", gt=0, le=MAX_GAIN, name="gain")
 
 
+def _gain(symbol: str, unit: str, doc: str, default: Any = dataclasses.MISSING) -> Any:
+    decl = dataclasses.replace(GAIN, symbol=symbol, unit=unit, doc=doc)
+    return declared_field(decl, default)
+
+
+@declared
 @dataclass(frozen=True)
 class VFFGains(ParamsMixin):
     """Gains of the new VFF with the structure the stability proof needs (Zeng 2011, (5.5.7)).
@@ -326,17 +347,6 @@ class VFFGains(ParamsMixin):
     The proof (Sec. 5.5, App. B) requires K2/K1 = K4/K3 = K6/K5 = b > 0 with all gains
     positive, which leaves four free gains: K1, b, K3 and K5. The dependent gains
     K2 = b K1, K4 = b K3, K6 = b K5 are properties.
-
-    Parameters
-    ----------
-    k1
-        Attractive gain K1 in N/m.
-    b
-        Gain ratio b in s.
-    k3
-        Repulsive gain K3 in N/m.
-    k5
-        Detour gain K5 in N/m^2.
 
     Examples
     --------
@@ -346,14 +356,10 @@ class VFFGains(ParamsMixin):
     0.25
     """
 
-    k1: float
-    b: float
-    k3: float
-    k5: float
-
-    def __post_init__(self) -> None:
-        for f, unit in (("k1", "N/m"), ("b", "s"), ("k3", "N/m"), ("k5", "N/m^2")):
-            object.__setattr__(self, f, _gain("VFFGains", f, getattr(self, f), unit))
+    k1: float = _gain("K1", "N/m", "attractive gain")
+    b: float = _gain("b", "s", "gain ratio b = K2/K1 = K4/K3 = K6/K5")
+    k3: float = _gain("K3", "N/m", "repulsive gain")
+    k5: float = _gain("K5", "N/m^2", "detour gain")
 
     @property
     def k2(self) -> float:
@@ -392,7 +398,7 @@ class VFFGains(ParamsMixin):
         """
         vals = {"k1": k1, "k2": k2, "k3": k3, "k4": k4, "k5": k5, "k6": k6}
         for n, v in vals.items():
-            _gain("VFFGains", n, v, "")
+            GAIN.check(v, f"VFFGains.{n}")
         b = float(k2) / float(k1)
         for num, den in (("k4", "k3"), ("k6", "k5")):
             r = float(vals[num]) / float(vals[den])
@@ -412,21 +418,14 @@ EXPERIMENT_GAINS = VFFGains(k1=3.0, b=0.25, k3=20.0, k5=17.0)
 OPTIMAL_GAINS = VFFGains(k1=4.3, b=0.68, k3=20.3, k5=240.7)
 
 
+@declared
 @dataclass(frozen=True)
 class MasoudGains(ParamsMixin):
     """Gains of Masoud (2007) as used in Zeng 2011, Sec. 2.2.4 (Table C.1: 5, 24, 36).
 
-    Parameters
-    ----------
-    k1
-        Attractive gain K_MM1 in N/m (F_a = K_MM1 E, no damping).
-    k3
-        Repulsive gain K_MM3 in N/m (F_Lambda = K_MM3 D in the active region).
-    k5
-        Detour gain K_MM5 in N/m (F_psi = K_MM5 |D| u_MMpsi).
-    direction
-        The fixed rotational sense of the detour field: +1 counter-clockwise, -1
-        clockwise (the thesis does not state it).
+    The attraction is K_MM1 E (no damping), the repulsion K_MM3 D in the active region
+    and the detour K_MM5 |D| u_MMpsi with a fixed rotational sense (the thesis does not
+    state it).
 
     Examples
     --------
@@ -434,34 +433,29 @@ class MasoudGains(ParamsMixin):
     24.0
     """
 
-    k1: float = 5.0
-    k3: float = 24.0
-    k5: float = 36.0
-    direction: int = 1
+    k1: float = _gain("K_MM1", "N/m", "attractive gain", 5.0)
+    k3: float = _gain("K_MM3", "N/m", "repulsive gain", 24.0)
+    k5: float = _gain("K_MM5", "N/m", "detour gain", 36.0)
+    direction: int = param(
+        doc="rotational sense of the detour field: +1 counter-clockwise, -1 clockwise",
+        kind="integer",
+        ge=-1,
+        le=1,
+        default=1,
+    )
 
     def __post_init__(self) -> None:
-        for f in ("k1", "k3", "k5"):
-            object.__setattr__(self, f, _gain("MasoudGains", f, getattr(self, f), ""))
         if self.direction not in (1, -1):
             raise InvalidParameterError("MasoudGains.direction", self.direction, "must be +1 or -1")
 
 
+@declared
 @dataclass(frozen=True)
 class GeCuiGains(ParamsMixin):
     """Gains of Ge & Cui (2002) as used in Zeng 2011, Sec. 2.2.4.
 
-    Defaults are Table C.1's: 1.0, 0.75, 14.2, 14.2.
-
-    Parameters
-    ----------
-    k1
-        Attractive gain in N/m (PD attraction K1 E + b K1 E').
-    b
-        Attractive damping ratio K2/K1 in s.
-    k3
-        Repulsive gain K_G3 of (2.2.12).
-    k5
-        Detour gain of (2.2.13).
+    Defaults are Table C.1's: 1.0, 0.75, 14.2, 14.2. The attraction is the PD law
+    K1 E + b K1 E'.
 
     Examples
     --------
@@ -469,11 +463,7 @@ class GeCuiGains(ParamsMixin):
     0.75
     """
 
-    k1: float = 1.0
-    b: float = 0.75
-    k3: float = 14.2
-    k5: float = 14.2
-
-    def __post_init__(self) -> None:
-        for f in ("k1", "b", "k3", "k5"):
-            object.__setattr__(self, f, _gain("GeCuiGains", f, getattr(self, f), ""))
+    k1: float = _gain("K_G1", "N/m", "attractive gain", 1.0)
+    b: float = _gain("b_G", "s", "attractive damping ratio K2/K1", 0.75)
+    k3: float = _gain("K_G3", "", "repulsive gain of (2.2.12)", 14.2)
+    k5: float = _gain("K_G5", "", "detour gain of (2.2.13)", 14.2)

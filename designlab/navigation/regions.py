@@ -25,6 +25,7 @@ import pandas as pd
 
 from designlab.errors import InvalidParameterError, check_positive
 from designlab.navigation.parameters import (
+    SAMPLE_TIME,
     CircularObstacle,
     HolonomicRobot,
     Human,
@@ -186,7 +187,7 @@ def region_sizes(
     >>> round(s.r3_min, 3), round(s.sidestep_time, 4), round(s.r2, 3)
     (0.367, 0.6064, 0.467)
     """
-    ts = check_positive("sample_time", sample_time, "s")
+    ts = SAMPLE_TIME.check(sample_time)
     if not isinstance(robot, HolonomicRobot | NonholonomicRobot):
         raise InvalidParameterError("robot", robot, "must be a HolonomicRobot or NonholonomicRobot")
     if not isinstance(obstacle, Human | CircularObstacle | ObstacleRobot | RectangularObstacle):

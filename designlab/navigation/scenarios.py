@@ -20,14 +20,21 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from designlab.errors import InvalidParameterError, check_finite, check_nonnegative, check_positive
-from designlab.navigation.parameters import HolonomicRobot, NonholonomicRobot
+from designlab.errors import InvalidParameterError
+from designlab.navigation.parameters import (
+    MAX_HUMAN_SPEED,
+    SAMPLE_TIME,
+    HolonomicRobot,
+    NonholonomicRobot,
+    declared_field,
+)
+from designlab.params import Param, declared, param
 
 __all__ = [
     "ConstantVelocity",
@@ -42,28 +49,42 @@ __all__ = [
 
 Array = NDArray[np.float64]
 
+#: The longest simulated time of a scenario (s): 600 s, twenty times the thesis's 30 s
+#: (a longer horizon only postpones "never arrives" and costs time and memory).
+MAX_HORIZON = 600.0
+#: Fastest scripted obstacle motion accepted (m/s).
+_MAX_MOTION_SPEED = 50.0
 
-def _point(name: str, value: Any) -> tuple[float, float]:
+
+def _pt(doc: str, unit: str = "m") -> Any:
+    """A point (x, y) field: validated by its owner (:func:`_point`)."""
+    return param(None, unit, doc=doc, kind="object")
+
+
+#: Largest coordinate accepted (m): a scene is at most a few hundred metres across.
+_MAX_COORD = 1e4
+#: Largest region radius accepted (m).
+_MAX_REGION = 100.0
+
+
+def _point(name: str, value: Any, unit: str = "m") -> tuple[float, float]:
     try:
         x, y = value
     except (TypeError, ValueError):
         raise InvalidParameterError(
-            name, value, "must be a pair (x, y) of finite numbers", "m"
+            name, value, "must be a pair (x, y) of finite numbers", unit
         ) from None
-    return (check_finite(f"{name}[0]", x, "m"), check_finite(f"{name}[1]", y, "m"))
+    coord = Param(None, unit, "coordinate", ge=-_MAX_COORD, le=_MAX_COORD)
+    return (coord.check(x, f"{name}[0]"), coord.check(y, f"{name}[1]"))
 
 
 # ------------------------------------------------------------------------- motions
 
 
+@declared
 @dataclass(frozen=True)
 class Stationary:
     """An obstacle that does not move.
-
-    Parameters
-    ----------
-    position
-        Position (x, y) in m.
 
     Examples
     --------
@@ -72,7 +93,7 @@ class Stationary:
     ([[2.45, 0.595], [2.45, 0.595]], [[0.0, 0.0], [0.0, 0.0]])
     """
 
-    position: tuple[float, float]
+    position: tuple[float, float] = _pt("position (x, y)")
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "position", _point("Stationary.position", self.position))
@@ -88,16 +109,10 @@ class Stationary:
         return False
 
 
+@declared
 @dataclass(frozen=True)
 class ConstantVelocity:
     """Straight-line motion at a constant velocity from ``start`` at t = 0.
-
-    Parameters
-    ----------
-    start
-        Position (x, y) at t = 0 in m.
-    velocity
-        Velocity (v_x, v_y) in m/s.
 
     Examples
     --------
@@ -106,12 +121,20 @@ class ConstantVelocity:
     ([[3.0, 3.0]], [[0.0, -0.5]])
     """
 
-    start: tuple[float, float]
-    velocity: tuple[float, float]
+    start: tuple[float, float] = _pt("position (x, y) at t = 0")
+    velocity: tuple[float, float] = _pt("velocity (v_x, v_y)", "m/s")
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "start", _point("ConstantVelocity.start", self.start))
-        object.__setattr__(self, "velocity", _point("ConstantVelocity.velocity", self.velocity))
+        v = _point("ConstantVelocity.velocity", self.velocity, "m/s")
+        if math.hypot(*v) > _MAX_MOTION_SPEED:
+            raise InvalidParameterError(
+                "ConstantVelocity.velocity",
+                self.velocity,
+                f"speed must be <= {_MAX_MOTION_SPEED:g}",
+                "m/s",
+            )
+        object.__setattr__(self, "velocity", v)
 
     def state(self, t: Array) -> tuple[Array, Array, Array]:
         t = np.atleast_1d(np.asarray(t, dtype=float))[:, None]
@@ -124,6 +147,7 @@ class ConstantVelocity:
         return any(self.velocity)
 
 
+@declared
 @dataclass(frozen=True)
 class Walk:
     """A straight walk with a smooth start, a cruise and a smooth stop.
@@ -131,18 +155,8 @@ class Walk:
     The speed rises from 0 to ``speed`` along a half-cosine over ``ramp_time``,
     cruises, and falls back to 0 so that the walker stops exactly at ``end``. Used
     for the measured human walks the thesis replays but does not publish
-    (``docs/navigation.md``, "Human walks").
-
-    Parameters
-    ----------
-    start, end
-        Points in m.
-    speed
-        Cruise speed in m/s.
-    ramp_time
-        Duration of each speed ramp in s (>= 0).
-    start_time
-        Time at which the walk starts, s.
+    (``docs/navigation.md``, "Human walks"). The end must differ from the start, and the
+    two ramps must leave a cruise (``speed * ramp_time`` <= the walk's length).
 
     Examples
     --------
@@ -154,22 +168,28 @@ class Walk:
     ([0.6, 2.35, 4.0], [0.0, 1.0, 0.0])
     """
 
-    start: tuple[float, float]
-    end: tuple[float, float]
-    speed: float = 1.0
-    ramp_time: float = 0.5
-    start_time: float = 0.0
+    start: tuple[float, float] = _pt("start point")
+    end: tuple[float, float] = _pt("end point (not the start)")
+    speed: float = param(
+        "v_w", "m/s", doc="cruise speed", gt=0, le=MAX_HUMAN_SPEED, default=1.0, typical=(0.8, 1.4)
+    )
+    ramp_time: float = param(
+        "t_ramp", "s", doc="duration of each speed ramp", ge=0, le=10.0, default=0.5
+    )
+    start_time: float = param(
+        "t_0", "s", doc="time at which the walk starts", ge=0, le=MAX_HORIZON, default=0.0
+    )
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "start", _point("Walk.start", self.start))
         object.__setattr__(self, "end", _point("Walk.end", self.end))
-        object.__setattr__(self, "speed", check_positive("Walk.speed", self.speed, "m/s"))
-        object.__setattr__(
-            self, "ramp_time", check_nonnegative("Walk.ramp_time", self.ramp_time, "s")
-        )
-        object.__setattr__(
-            self, "start_time", check_nonnegative("Walk.start_time", self.start_time, "s")
-        )
+        if self.length <= 1e-9:
+            raise InvalidParameterError(
+                "Walk.end",
+                self.end,
+                f"must differ from Walk.start = {self.start} (a walk of length 0)",
+                "m",
+            )
         if self.length < self.speed * self.ramp_time:
             raise InvalidParameterError(
                 "Walk.ramp_time",
@@ -287,23 +307,13 @@ Motion = Stationary | ConstantVelocity | Walk | SampledPath
 # ----------------------------------------------------------------------- obstacles
 
 
+@declared
 @dataclass(frozen=True)
 class Disc:
     """A disc obstacle (human, circular obstacle, other robot) with its regions.
 
-    Parameters
-    ----------
-    name
-        Label used in results (``"circle"``, ``"human"``, ``"robot"`` in the thesis).
-    radius
-        Model radius rho_o in m (collision when the centre distance is below
-        rho_o + rho_r).
-    r2, r3
-        Active and critical radii (centre-to-centre, Minkowski sums with the robot
-        included), r2 > r3 > 0.
-    motion
-        :class:`Stationary`, :class:`ConstantVelocity`, :class:`Walk` or
-        :class:`SampledPath`.
+    The radii r2 and r3 are centre-to-centre (Minkowski sums with the robot included),
+    r2 > r3; a collision is a centre distance below rho_o + rho_r.
 
     Examples
     --------
@@ -312,15 +322,14 @@ class Disc:
     ('human', 0.8)
     """
 
-    name: str
-    radius: float
-    r2: float
-    r3: float
-    motion: Motion
+    name: str = param(kind="text", doc="label used in results (circle, human, robot)")
+    radius: float = param("rho_o", "m", doc="model radius", gt=0, le=5.0)
+    r2: float = param("r_2", "m", doc="active radius (centre distance, > r3)", gt=0, le=_MAX_REGION)
+    r3: float = param("r_3", "m", doc="critical radius (centre distance)", gt=0, le=_MAX_REGION)
+    motion: Motion = param(doc="Stationary, ConstantVelocity, Walk or SampledPath", kind="object")  # noqa: RUF009
 
     def __post_init__(self) -> None:
         _check_regions(self)
-        object.__setattr__(self, "radius", check_positive(f"{self.name}.radius", self.radius, "m"))
         if not isinstance(self.motion, Stationary | ConstantVelocity | Walk | SampledPath):
             raise InvalidParameterError(
                 f"{self.name}.motion", self.motion, "must be a motion object"
@@ -342,22 +351,10 @@ class Disc:
         return self.radius + robot_radius
 
 
+@declared
 @dataclass(frozen=True)
 class Rectangle:
-    """A stationary rectangle; ``r2`` and ``r3`` are distances from its contour.
-
-    Parameters
-    ----------
-    name
-        Label (``"rectangle"``).
-    center
-        Centroid in m.
-    length, width
-        Side lengths along the rectangle's local x and y axes, m.
-    r2, r3
-        Active and critical distances from the contour, m.
-    angle
-        Rotation of the local x axis from world x, rad.
+    """A stationary rectangle; ``r2`` and ``r3`` are distances from its contour (r2 > r3).
 
     Examples
     --------
@@ -367,20 +364,26 @@ class Rectangle:
     ((2.3, 0.0), 1.4, 0.6)
     """
 
-    name: str
-    center: tuple[float, float]
-    length: float
-    width: float
-    r2: float
-    r3: float
-    angle: float = 0.0
+    name: str = param(kind="text", doc="label used in results")
+    center: tuple[float, float] = _pt("centroid")
+    length: float = param("L", "m", doc="side along the local x axis", gt=0, le=_MAX_REGION)
+    width: float = param("W", "m", doc="side along the local y axis", gt=0, le=_MAX_REGION)
+    r2: float = param(
+        "r_2", "m", doc="active distance from the contour (> r3)", gt=0, le=_MAX_REGION
+    )
+    r3: float = param("r_3", "m", doc="critical distance from the contour", gt=0, le=_MAX_REGION)
+    angle: float = param(
+        "theta",
+        "rad",
+        doc="rotation of the local x axis from world x",
+        ge=-10.0,
+        le=10.0,
+        default=0.0,
+    )
 
     def __post_init__(self) -> None:
         _check_regions(self)
-        object.__setattr__(self, "center", _point(f"{self.name}.center", self.center))
-        object.__setattr__(self, "length", check_positive(f"{self.name}.length", self.length, "m"))
-        object.__setattr__(self, "width", check_positive(f"{self.name}.width", self.width, "m"))
-        object.__setattr__(self, "angle", check_finite(f"{self.name}.angle", self.angle, "rad"))
+        object.__setattr__(self, "center", _point("Rectangle.center", self.center))
 
     @classmethod
     def from_corners(
@@ -471,42 +474,24 @@ def _static_gap(a: Obstacle, b: Obstacle) -> float:
 
 
 def _check_regions(o: Any) -> None:
-    if not isinstance(o.name, str) or not o.name:
-        raise InvalidParameterError("obstacle.name", o.name, "must be a non-empty string")
-    r3 = check_positive(f"{o.name}.r3", o.r3, "m")
-    r2 = check_positive(f"{o.name}.r2", o.r2, "m")
-    if r2 <= r3:
-        raise InvalidParameterError(f"{o.name}.r2", o.r2, f"must exceed r3 = {r3} m", "m")
-    object.__setattr__(o, "r2", r2)
-    object.__setattr__(o, "r3", r3)
+    cls = type(o).__name__
+    if not o.name or len(o.name) > 60:
+        raise InvalidParameterError(f"{cls}.name", o.name, "must be a text of 1-60 characters")
+    if o.r2 <= o.r3:
+        raise InvalidParameterError(
+            f"{cls}.r2", o.r2, f"must exceed {cls}.r3 = {o.r3} m (obstacle {o.name!r})", "m"
+        )
 
 
 # ------------------------------------------------------------------------ scenario
 
 
+@declared
 @dataclass(frozen=True)
 class Scenario:
     """A navigation task: robot, start, goal, obstacles.
 
-    Parameters
-    ----------
-    name
-        Label.
-    start, goal
-        Robot start (at rest) and goal, m.
-    obstacles
-        Discs and rectangles (names must be unique).
-    robot
-        :class:`HolonomicRobot` or :class:`NonholonomicRobot`.
-    horizon
-        Simulated time limit in s; a run that has not arrived by then has
-        ``arrival_time = inf``.
-    sample_time
-        Navigation period T_s in s (the force is recomputed and held every T_s).
-    initial_heading
-        Heading of a nonholonomic robot at the start (rad); ``None`` faces the goal.
-    description
-        Free text for reports.
+    A run that has not arrived by the horizon has ``arrival_time = inf``.
 
     Raises
     ------
@@ -527,33 +512,42 @@ class Scenario:
     designlab.errors.InvalidParameterError: Scenario.goal = (2.0, 0.6) m is not allowed: ...
     """
 
-    name: str
-    start: tuple[float, float]
-    goal: tuple[float, float]
-    obstacles: tuple[Obstacle, ...] = ()
-    robot: HolonomicRobot | NonholonomicRobot = field(default_factory=HolonomicRobot)
-    horizon: float = 30.0
-    sample_time: float = 0.06
-    initial_heading: float | None = None
-    description: str = ""
+    name: str = param(kind="text", doc="label")
+    start: tuple[float, float] = _pt("robot start (at rest)")
+    goal: tuple[float, float] = _pt("goal")
+    obstacles: tuple[Obstacle, ...] = param(
+        doc="discs and rectangles (unique names)", kind="object", default=()
+    )
+    robot: HolonomicRobot | NonholonomicRobot = param(  # noqa: RUF009
+        doc="HolonomicRobot or NonholonomicRobot", kind="object", default_factory=HolonomicRobot
+    )
+    horizon: float = param(
+        "T_max", "s", doc="simulated time limit", gt=0, le=MAX_HORIZON, default=30.0
+    )
+    sample_time: float = declared_field(SAMPLE_TIME, 0.06)
+    initial_heading: float | None = param(
+        "phi_0",
+        "rad",
+        doc="heading of a nonholonomic robot at the start",
+        ge=-10.0,
+        le=10.0,
+        optional=True,
+        none="faces the goal",
+        default=None,
+    )
+    description: str = param(kind="text", doc="free text for reports", default="")
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "start", _point("Scenario.start", self.start))
         object.__setattr__(self, "goal", _point("Scenario.goal", self.goal))
+        if isinstance(self.obstacles, (str, bytes)) or not hasattr(self.obstacles, "__iter__"):
+            raise InvalidParameterError(
+                "Scenario.obstacles", self.obstacles, "must be a sequence of Disc or Rectangle"
+            )
         object.__setattr__(self, "obstacles", tuple(self.obstacles))
-        object.__setattr__(self, "horizon", check_positive("Scenario.horizon", self.horizon, "s"))
-        object.__setattr__(
-            self, "sample_time", check_positive("Scenario.sample_time", self.sample_time, "s")
-        )
         if not isinstance(self.robot, HolonomicRobot | NonholonomicRobot):
             raise InvalidParameterError(
                 "Scenario.robot", self.robot, "must be a HolonomicRobot or NonholonomicRobot"
-            )
-        if self.initial_heading is not None:
-            object.__setattr__(
-                self,
-                "initial_heading",
-                check_finite("Scenario.initial_heading", self.initial_heading, "rad"),
             )
         names = [o.name for o in self.obstacles]
         if len(set(names)) != len(names):

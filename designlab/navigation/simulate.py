@@ -43,39 +43,35 @@ from designlab.errors import InvalidParameterError
 from designlab.navigation import engine
 from designlab.navigation.criteria import Criteria, criteria
 from designlab.navigation.lyapunov import StabilityAudit, audit_run
+from designlab.navigation.methods import STABILISING, TIE_SIDE, NavigationMethod, method_of
 from designlab.navigation.parameters import (
-    MAX_GAIN,
+    CBF_K0,
+    CBF_K1,
+    GAIN,
+    GAIN_SETS,
     GeCuiGains,
     HolonomicRobot,
     MasoudGains,
     VFFGains,
 )
 from designlab.navigation.scenarios import Disc, Scenario
-from designlab.results import OK, Result
+from designlab.results import Result, Status
 
-__all__ = ["BatchResult", "NavigationResult", "simulate", "simulate_batch"]
+__all__ = ["BatchResult", "NavigationResult", "RunStatus", "simulate", "simulate_batch"]
 
 Array = NDArray[np.float64]
-_STABILISING = ("lyapunov", "off")
-_METHODS = ("vff", "masoud", "ge_cui", "cbf")
 
 
-def _gain_row(method: str, gains: Any) -> Array:
-    if method in ("vff", "cbf"):
-        if gains is None and method == "cbf":
-            gains = VFFGains(k1=3.0, b=0.25, k3=20.0, k5=17.0)
-        if not isinstance(gains, VFFGains):
-            raise InvalidParameterError("gains", gains, f"must be a VFFGains for method {method!r}")
-        return gains.as_array()
-    if method == "masoud":
-        g = MasoudGains() if gains is None else gains
-        if not isinstance(g, MasoudGains):
-            raise InvalidParameterError("gains", gains, "must be a MasoudGains for method 'masoud'")
-        return np.array([g.k1, 0.0, g.k3, g.k5])
-    g = GeCuiGains() if gains is None else gains
-    if not isinstance(g, GeCuiGains):
-        raise InvalidParameterError("gains", gains, "must be a GeCuiGains for method 'ge_cui'")
-    return np.array([g.k1, g.b, g.k3, g.k5])
+class RunStatus(Status):
+    """Status of a simulated run or batch (:class:`NavigationResult`, :class:`BatchResult`).
+
+    ``OK``: the robot arrived (every run of a batch: see its warnings otherwise);
+    ``NOT_ARRIVED``: the robot did not reach the goal within the horizon. Collisions and
+    critical-region entries are warnings.
+    """
+
+    OK = "ok"
+    NOT_ARRIVED = "not_arrived"
 
 
 def _nominal_clearance(scenario: Scenario) -> dict[str, float]:
@@ -159,7 +155,7 @@ class NavigationResult(Result):
     distance: Array = field(repr=False)
     obstacle_positions: Array = field(repr=False)
     critical_time: float = 0.0
-    status: str = OK
+    status: str = RunStatus.OK
     warnings: tuple[str, ...] = ()
 
     @property
@@ -240,11 +236,12 @@ def simulate(
         left out (how the thesis's tables come back, ``docs/navigation.md``).
     method
         ``"vff"``, ``"masoud"``, ``"ge_cui"`` or ``"cbf"`` (exponential CBF safety filter
-        keeping d >= r3 on the attractive PD field, one OSQP QP per period).
+        keeping d >= r3 on the attractive PD field, one OSQP QP per period); the
+        registry is :data:`designlab.navigation.methods.METHODS`.
     arrival_tolerance
-        Arrival radius around the goal, m (first passage).
+        Arrival radius around the goal, m (first passage; at most 1 m).
     dynamics_step
-        Integration step in s (must divide the sample time).
+        Integration step in s (must divide the sample time into at most 1000 steps).
     force_every_step
         Recompute the force at every dynamics step instead of holding it for T_s.
     tie_side
@@ -264,7 +261,8 @@ def simulate(
     Raises
     ------
     InvalidParameterError
-        For an unknown method or mode, or gains of the wrong kind.
+        For an unknown method or mode, gains of the wrong kind, or a run too long to
+        record (docs/navigation.md, "Limits").
 
     Examples
     --------
@@ -278,37 +276,40 @@ def simulate(
     ...
     designlab.errors.InvalidParameterError: method = 'bug' is not allowed: ...
     """
-    if stabilising not in _STABILISING:
-        raise InvalidParameterError("stabilising", stabilising, f"must be one of {_STABILISING}")
-    if method not in _METHODS:
-        raise InvalidParameterError("method", method, f"must be one of {_METHODS}")
-    if tie_side not in ("+y", "-y"):
-        raise InvalidParameterError("tie_side", tie_side, "must be '+y' or '-y'")
+    STABILISING.check(stabilising)
+    strategy = method_of(method)
+    TIE_SIDE.check(tie_side)
     _check_flags(force_every_step=force_every_step, jit=jit)
-    cbf_gains = _check_cbf_gains(cbf_gains)
+    cbf = _check_cbf_gains(cbf_gains)
     if not isinstance(scenario, Scenario):
         raise InvalidParameterError(
             "scenario", scenario, "must be a Scenario (see configuration())"
         )
-    if method == "vff" and not isinstance(gains, VFFGains):
-        raise InvalidParameterError("gains", gains, "must be a VFFGains for method 'vff'")
-    row = _gain_row(method, gains)
-    tie = 1 if tie_side == "+y" else -1
-    if method == "masoud" and isinstance(gains, MasoudGains):
-        tie = gains.direction
-    stab = stabilising == "lyapunov" and method == "vff"
+    row = strategy.gain_row(gains)
     kw: dict[str, Any] = dict(
-        method=method,
-        stabilising=stab,
-        tie=tie,
+        method=strategy.name,
+        stabilising=stabilising == "lyapunov" and strategy.STABILISED,
+        tie=strategy.tie(gains, tie_side),
         arrival_tolerance=arrival_tolerance,
         dynamics_step=dynamics_step,
         force_every_step=force_every_step,
-        cbf_gains=cbf_gains,
+        cbf_gains=cbf,
         jit=jit,
     )
     raw = engine.run(scenario, row[None, :], record=True, **kw)
     nominal = engine.run(scenario.without_obstacles(), row[None, :], record=False, **kw)
+    return _summarise_run(scenario, strategy, row, stabilising, raw, nominal)
+
+
+def _summarise_run(
+    scenario: Scenario,
+    strategy: NavigationMethod,
+    row: Array,
+    stabilising: str,
+    raw: engine.RawRun,
+    nominal: engine.RawRun,
+) -> NavigationResult:
+    """The :class:`NavigationResult` of a recorded run and its nominal (obstacle-free) run."""
     rec = raw.record
     assert rec is not None
     names = scenario.obstacle_names
@@ -327,72 +328,25 @@ def simulate(
         surface_clearance=min_surface,
         nominal_clearance=_nominal_clearance(scenario),
     )
-    X = rec["X"]
-    holo = isinstance(scenario.robot, HolonomicRobot)
-    if holo:
-        pos, vel, heading = X[0:2].T, X[2:4].T, np.zeros(X.shape[1])
-    else:
-        pos, heading = X[0:2].T, X[2]
-        vel = (X[3] * np.stack([np.cos(X[2]), np.sin(X[2])])).T
-    n_t = X.shape[1]
-    dist = (
-        np.concatenate(
-            [
-                np.array(
-                    [
-                        [float(o.contour_distance(np.array([scenario.start]))[0])]
-                        for o in scenario.obstacles
-                    ]
-                ).reshape(len(names), 1),
-                rec["D"],
-            ],
-            axis=1,
-        )
-        if names
-        else np.zeros((0, n_t))
-    )
+    pos, vel, heading = _trajectories(scenario, rec["X"])
     audit = None
-    if method == "vff":
+    if strategy.STABILISED:
+        robot = scenario.robot
         audit = audit_run(
             rec,
             b=float(row[1]),
-            mass=scenario.robot.mass,
-            max_accel=scenario.robot.max_accel,
-            max_speed=scenario.robot.max_speed,
+            mass=robot.mass,
+            max_accel=robot.max_accel,
+            max_speed=robot.max_speed,
             period=rec["period"],
-            holonomic=holo,
+            holonomic=isinstance(robot, HolonomicRobot),
         )
-    warnings: list[str] = []
-    status = OK
-    if not math.isfinite(arrival):
-        status = "not_arrived"
-        warnings.append(f"the robot did not reach the goal within {scenario.horizon} s")
-    for n in names:
-        if coll[n]:
-            warnings.append(f"collision with {n!r}: surface distance {min_surface[n]:.3f} m")
-        elif crit[n]:
-            warnings.append(
-                f"entered the critical region of {n!r}: distance {min_distance[n]:.3f} m"
-            )
-    for a, b, overlap in scenario.intersecting_critical_regions():
-        warnings.append(
-            f"the critical regions of {a!r} and {b!r} overlap by {overlap:.3f} m: no path "
-            "between them stays outside both (Zeng 2011, Sec. 6.4.3 merges such obstacles)"
-        )
-    if method == "cbf":
-        bad = sum(1 for s in rec["qp_status"] if s not in ("solved", "solved inaccurate"))
-        if bad:
-            warnings.append(f"the CBF QP was not solved at {bad} steps; the robot braked there")
-    gains_dict = (
-        {"k1": row[0], "b": row[1], "k3": row[2], "k5": row[3]}
-        if method != "masoud"
-        else {"k1": row[0], "k3": row[2], "k5": row[3]}
-    )
+    warnings = _run_warnings(scenario, arrival, min_distance, min_surface, crit, coll, rec)
     return NavigationResult(
         scenario=scenario,
-        method=method,
-        stabilising=stabilising if method == "vff" else "off",
-        gains={k: float(v) for k, v in gains_dict.items()},
+        method=strategy.name,
+        stabilising=stabilising if strategy.STABILISED else "off",
+        gains=strategy.gains_dict(row),
         arrival_time=arrival,
         min_distance=min_distance,
         min_surface_distance=min_surface,
@@ -405,12 +359,61 @@ def simulate(
         position=pos,
         velocity=vel,
         heading=heading,
-        distance=dist,
+        distance=_distances_from_start(scenario, rec["D"], rec["X"].shape[1]),
         obstacle_positions=rec["obstacle_positions"],
         critical_time=float(raw.critical_time[0]),
-        status=status,
-        warnings=tuple(warnings),
+        status=RunStatus.OK if math.isfinite(arrival) else RunStatus.NOT_ARRIVED,
+        warnings=warnings,
     )
+
+
+def _trajectories(scenario: Scenario, X: Array) -> tuple[Array, Array, Array]:
+    """Positions, velocities and headings at every dynamics step."""
+    if isinstance(scenario.robot, HolonomicRobot):
+        return X[0:2].T, X[2:4].T, np.zeros(X.shape[1])
+    vel = (X[3] * np.stack([np.cos(X[2]), np.sin(X[2])])).T
+    return X[0:2].T, vel, X[2]
+
+
+def _distances_from_start(scenario: Scenario, D: Array, n_t: int) -> Array:
+    """The recorded distances with the distance at the start as their first column."""
+    if not scenario.obstacles:
+        return np.zeros((0, n_t))
+    start = np.array(
+        [[float(o.contour_distance(np.array([scenario.start]))[0])] for o in scenario.obstacles]
+    ).reshape(len(scenario.obstacles), 1)
+    return np.concatenate([start, D], axis=1)
+
+
+def _run_warnings(
+    scenario: Scenario,
+    arrival: float,
+    min_distance: dict[str, float],
+    min_surface: dict[str, float],
+    crit: dict[str, bool],
+    coll: dict[str, bool],
+    rec: dict[str, Any],
+) -> tuple[str, ...]:
+    """What a user should know about one run."""
+    warnings: list[str] = []
+    if not math.isfinite(arrival):
+        warnings.append(f"the robot did not reach the goal within {scenario.horizon} s")
+    for n in scenario.obstacle_names:
+        if coll[n]:
+            warnings.append(f"collision with {n!r}: surface distance {min_surface[n]:.3f} m")
+        elif crit[n]:
+            warnings.append(
+                f"entered the critical region of {n!r}: distance {min_distance[n]:.3f} m"
+            )
+    for a, b, overlap in scenario.intersecting_critical_regions():
+        warnings.append(
+            f"the critical regions of {a!r} and {b!r} overlap by {overlap:.3f} m: no path "
+            "between them stays outside both (Zeng 2011, Sec. 6.4.3 merges such obstacles)"
+        )
+    bad = sum(1 for s in rec["qp_status"] if s and s not in ("solved", "solved inaccurate"))
+    if bad:
+        warnings.append(f"the CBF QP was not solved at {bad} steps; the robot braked there")
+    return tuple(warnings)
 
 
 @dataclass(frozen=True)
@@ -456,7 +459,7 @@ class BatchResult(Result):
     H_T: Array
     H_D: Array
     H_E: Array
-    status: str = OK
+    status: str = RunStatus.OK
     warnings: tuple[str, ...] = ()
 
     @property
@@ -502,18 +505,16 @@ def _check_flags(**flags: object) -> None:
 
 def _check_cbf_gains(k: object) -> tuple[float, float]:
     try:
-        k0, k1 = (float(v) for v in k)  # type: ignore[attr-defined]
-        ok = all(not isinstance(v, bool) for v in k)  # type: ignore[attr-defined]
+        k0, k1 = k  # type: ignore[misc]
     except (TypeError, ValueError):
-        ok = False
-    if not ok or not (math.isfinite(k0) and math.isfinite(k1) and k0 > 0 and k1 > 0):
         raise InvalidParameterError(
             "cbf_gains", k, "must be two finite numbers (k_0, k_1) > 0 (1/s^2, 1/s)"
-        )
-    return (k0, k1)
+        ) from None
+    return (CBF_K0.check(k0), CBF_K1.check(k1))
 
 
 def _check_gain_array(gains: ArrayLike) -> Array:
+    """An ``(N, 4)`` array of gains, each checked against the one gain declaration."""
     if isinstance(gains, np.ndarray):
         has_bool = gains.dtype == bool or (
             gains.dtype == object and any(isinstance(v, bool | np.bool_) for v in gains.ravel())
@@ -535,16 +536,26 @@ def _check_gain_array(gains: ArrayLike) -> Array:
         raise InvalidParameterError(
             "gains", getattr(g, "shape", gains), "must be an (N, 4) array of (k1, b, k3, k5)"
         )
-    bad = ~(np.isfinite(g) & (g > 0) & (g <= MAX_GAIN))
+    GAIN_SETS.check(g.shape[0], "gains (number of gain sets)")
+    bad = ~(np.isfinite(g) & (g > 0) & (g <= GAIN.le))  # the vectorised GAIN.within
     if bad.any():
         i, j = np.argwhere(bad)[0]
-        raise InvalidParameterError(
-            f"gains[{i}, {j}]",
-            float(g[i, j]),
-            f"every gain must be finite, > 0 and <= {MAX_GAIN:g} (the structure of Zeng 2011 "
-            "(5.5.7))",
-        )
+        GAIN.check(float(g[i, j]), f"gains[{i}, {j}]")
     return g
+
+
+def _check_scenarios(scenarios: Any) -> list[Scenario]:
+    if isinstance(scenarios, Scenario):
+        scenarios = [scenarios]
+    try:
+        scenarios = list(scenarios)
+    except TypeError:
+        scenarios = []
+    if not scenarios or not all(isinstance(s, Scenario) for s in scenarios):
+        raise InvalidParameterError(
+            "scenarios", scenarios, "must be a non-empty sequence of Scenario"
+        )
+    return scenarios
 
 
 def simulate_batch(
@@ -564,7 +575,8 @@ def simulate_batch(
     scenarios
         The scenarios (e.g. ``[configuration(i) for i in (1, 2, 3)]``).
     gains
-        ``(N, 4)`` array of (k1, b, k3, k5); K2 = b K1, K4 = b K3, K6 = b K5.
+        ``(N, 4)`` array of (k1, b, k3, k5); K2 = b K1, K4 = b K3, K6 = b K5. At most
+        4096 gain sets per call (:data:`~designlab.navigation.parameters.GAIN_SETS`).
     stabilising, arrival_tolerance, dynamics_step, tie_side
         As in :func:`simulate`.
     jit
@@ -590,30 +602,11 @@ def simulate_batch(
     array([[6.48],
            [5.94]])
     """
-    if stabilising not in _STABILISING:
-        raise InvalidParameterError("stabilising", stabilising, f"must be one of {_STABILISING}")
-    if tie_side not in ("+y", "-y"):
-        raise InvalidParameterError("tie_side", tie_side, "must be '+y' or '-y'")
+    STABILISING.check(stabilising)
+    TIE_SIDE.check(tie_side)
     _check_flags(jit=jit)
-    if isinstance(scenarios, Scenario):
-        scenarios = [scenarios]
-    try:
-        scenarios = list(scenarios)
-    except TypeError:
-        raise InvalidParameterError(
-            "scenarios", scenarios, "must be a non-empty sequence of Scenario"
-        ) from None
-    if not scenarios or not all(isinstance(s, Scenario) for s in scenarios):
-        raise InvalidParameterError(
-            "scenarios", scenarios, "must be a non-empty sequence of Scenario"
-        )
+    scenarios = _check_scenarios(scenarios)
     g = _check_gain_array(gains)
-    S, N = len(scenarios), g.shape[0]
-    max_obs = max(len(s.obstacles) for s in scenarios)
-    out = {k: np.zeros((S, N)) for k in ("T", "T0", "L", "L0", "H", "HT", "HD", "HE")}
-    dmin = np.full((S, N, max_obs), np.nan)
-    crit = np.zeros((S, N), bool)
-    coll = np.zeros((S, N), bool)
     kw: dict[str, Any] = dict(
         method="vff",
         stabilising=stabilising == "lyapunov",
@@ -622,50 +615,71 @@ def simulate_batch(
         dynamics_step=dynamics_step,
         jit=jit,
     )
-    for s, sc in enumerate(scenarios):
-        raw = engine.run(sc, g, **kw)
-        nom = engine.run(sc.without_obstacles(), g, **kw)
-        n_obs = len(sc.obstacles)
-        dmin[s, :, :n_obs] = raw.min_distance
-        r3 = np.array([o.r3 for o in sc.obstacles])
-        surf = _surface(sc, raw.min_distance) if n_obs else np.zeros((N, 0))
-        crit[s] = (raw.min_distance <= r3[None, :]).any(axis=1) if n_obs else False
-        coll[s] = (surf <= 0).any(axis=1) if n_obs else False
-        dstar = np.array(list(_nominal_clearance(sc).values()))
-        h_t = np.where(np.isfinite(raw.arrival_time), nom.arrival_time / raw.arrival_time, 0.0)
-        h_d = (
-            np.minimum(1.0, np.maximum(surf, 0) / dstar[None, :]).mean(axis=1)
-            if n_obs
-            else np.ones(N)
-        )
-        h_e = np.where(raw.energy > 0, nom.energy / np.where(raw.energy > 0, raw.energy, 1.0), 1.0)
-        k = (~coll[s]).astype(float)
-        out["T"][s], out["T0"][s], out["L"][s], out["L0"][s] = (
-            raw.arrival_time,
-            nom.arrival_time,
-            raw.energy,
-            nom.energy,
-        )
-        out["HT"][s], out["HD"][s], out["HE"][s] = h_t, h_d, h_e
-        out["H"][s] = k * (h_t + h_d + h_e) / 3.0
+    rows = [_batch_scenario(sc, g, kw) for sc in scenarios]
+    return _batch_result(scenarios, g, rows)
+
+
+def _batch_scenario(sc: Scenario, g: Array, kw: dict[str, Any]) -> dict[str, Array]:
+    """Every gain set on one scenario and its nominal runs: the arrays of one row of S."""
+    N = g.shape[0]
+    raw = engine.run(sc, g, **kw)
+    nom = engine.run(sc.without_obstacles(), g, **kw)
+    n_obs = len(sc.obstacles)
+    r3 = np.array([o.r3 for o in sc.obstacles])
+    surf = _surface(sc, raw.min_distance) if n_obs else np.zeros((N, 0))
+    coll = (surf <= 0).any(axis=1) if n_obs else np.zeros(N, bool)
+    dstar = np.array(list(_nominal_clearance(sc).values()))
+    h_t = np.where(np.isfinite(raw.arrival_time), nom.arrival_time / raw.arrival_time, 0.0)
+    h_d = (
+        np.minimum(1.0, np.maximum(surf, 0) / dstar[None, :]).mean(axis=1) if n_obs else np.ones(N)
+    )
+    h_e = np.where(raw.energy > 0, nom.energy / np.where(raw.energy > 0, raw.energy, 1.0), 1.0)
+    k = (~coll).astype(float)
+    return {
+        "T": raw.arrival_time,
+        "T0": nom.arrival_time,
+        "L": raw.energy,
+        "L0": nom.energy,
+        "HT": h_t,
+        "HD": h_d,
+        "HE": h_e,
+        "H": k * (h_t + h_d + h_e) / 3.0,
+        "dmin": raw.min_distance,
+        "crit": (raw.min_distance <= r3[None, :]).any(axis=1) if n_obs else np.zeros(N, bool),
+        "coll": coll,
+    }
+
+
+def _batch_result(scenarios: list[Scenario], g: Array, rows: list[dict[str, Array]]) -> BatchResult:
+    """Stack the per-scenario arrays into a :class:`BatchResult`."""
+    S, N = len(scenarios), g.shape[0]
+    max_obs = max(len(s.obstacles) for s in scenarios)
+    dmin = np.full((S, N, max_obs), np.nan)
+    for s, r in enumerate(rows):
+        dmin[s, :, : r["dmin"].shape[1]] = r["dmin"]
+
+    def stack(key: str) -> Array:
+        return np.stack([r[key] for r in rows])
+
+    T = stack("T")
     warnings = []
-    n_not = int(np.isinf(out["T"]).sum())
+    n_not = int(np.isinf(T).sum())
     if n_not:
         warnings.append(f"{n_not} of {S * N} runs did not arrive within their horizon")
     return BatchResult(
         tuple(s.name for s in scenarios),
         tuple(s.obstacle_names for s in scenarios),
         g,
-        out["T"],
-        out["T0"],
+        T,
+        stack("T0"),
         dmin,
-        crit,
-        coll,
-        out["L"],
-        out["L0"],
-        out["H"],
-        out["HT"],
-        out["HD"],
-        out["HE"],
+        stack("crit"),
+        stack("coll"),
+        stack("L"),
+        stack("L0"),
+        stack("H"),
+        stack("HT"),
+        stack("HD"),
+        stack("HE"),
         warnings=tuple(warnings),
     )

@@ -51,16 +51,21 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from designlab.errors import InvalidParameterError, check_nonnegative
-from designlab.navigation.parameters import MAX_GAIN, VFFGains
+from designlab.errors import InvalidParameterError
+from designlab.navigation.methods import STABILISING
+from designlab.navigation.parameters import GAIN, VFFGains
 from designlab.navigation.scenarios import Disc, Scenario, Walk
 from designlab.navigation.simulate import simulate_batch
-from designlab.results import OK, Result
+from designlab.params import Param
+from designlab.progress import Progress, ProgressHook, report
+from designlab.results import Result, Status
 
 __all__ = [
     "DEFAULT_BOUNDS",
     "GAIN_NAMES",
+    "GainEvaluation",
     "GainOptimum",
+    "OptimumStatus",
     "RandomWalks",
     "evaluate_gains",
     "optimise_gains",
@@ -219,9 +224,7 @@ def _batch_task(task: Mapping[str, Any]) -> dict[str, Array]:
 
 
 def _check_stabilising(stabilising: str) -> str:
-    if stabilising not in ("lyapunov", "off"):
-        raise InvalidParameterError("stabilising", stabilising, "must be 'lyapunov' or 'off'")
-    return stabilising
+    return str(STABILISING.check(stabilising))
 
 
 class _Evaluator:
@@ -311,6 +314,37 @@ class _Evaluator:
         )
 
 
+@dataclass(frozen=True)
+class GainEvaluation(Result):
+    """Gain sets scored as :func:`optimise_gains` scores them (:func:`evaluate_gains`).
+
+    Attributes
+    ----------
+    frame
+        One row per gain set (see :func:`evaluate_gains`).
+    status
+        ``"ok"`` if at least one gain set is feasible, else ``"infeasible"``
+        (:class:`OptimumStatus`).
+    warnings
+        Which gain sets are infeasible.
+    """
+
+    frame: pd.DataFrame = field(repr=False)
+    status: str = "ok"
+    warnings: tuple[str, ...] = ()
+
+    def to_frame(self) -> pd.DataFrame:
+        """The table (a copy)."""
+        return self.frame.copy()
+
+    def __getitem__(self, key: Any) -> Any:
+        """Column access, as on the DataFrame this function returned before (one release)."""
+        return self.frame[key]
+
+    def __len__(self) -> int:
+        return len(self.frame)
+
+
 def evaluate_gains(
     scenarios: Sequence[Scenario],
     gains: Any,
@@ -320,7 +354,7 @@ def evaluate_gains(
     robust_mode: str = "mean",
     arrival_tolerance: float = 0.15,
     critical_margin: float = 0.0,
-) -> pd.DataFrame:
+) -> GainEvaluation:
     """Score gain sets as :func:`optimise_gains` does: H per scenario, H_mean and feasibility.
 
     Parameters
@@ -334,25 +368,26 @@ def evaluate_gains(
 
     Returns
     -------
-    pandas.DataFrame
-        One row per gain set: ``k1``, ``b``, ``k3``, ``k5``, ``H_<scenario>``,
-        ``H_mean``, ``feasible``, ``arrived_all``, ``critical_free`` (every run stayed
-        ``critical_margin`` or more outside every critical region), then per scenario
-        ``T_arrive_s_<scenario>`` (s; the mean over the walks in robust mode, inf if a
-        run did not arrive) and ``critical_margin_m_<scenario>`` (the smallest
+    GainEvaluation
+        ``to_frame()``: one row per gain set: ``k1``, ``b``, ``k3``, ``k5``,
+        ``H_<scenario>``, ``H_mean``, ``feasible``, ``arrived_all``, ``critical_free``
+        (every run stayed ``critical_margin`` or more outside every critical region), then
+        per scenario ``T_arrive_s_<scenario>`` (s; the mean over the walks in robust mode,
+        inf if a run did not arrive) and ``critical_margin_m_<scenario>`` (the smallest
         centre/contour distance minus the obstacle's r3 over obstacles and walks, m;
         negative: the robot entered a critical region; inf without obstacles).
 
     Examples
     --------
     >>> from designlab.navigation import configuration, VFFGains
-    >>> f = evaluate_gains([configuration(1)], VFFGains(4.3, 0.68, 20.3, 240.7), stabilising="off")
-    >>> round(float(f["H_mean"][0]), 3), bool(f["feasible"][0])
-    (0.695, True)
+    >>> e = evaluate_gains([configuration(1)], VFFGains(4.3, 0.68, 20.3, 240.7), stabilising="off")
+    >>> str(e.status), round(float(e.to_frame()["H_mean"][0]), 3), bool(e["feasible"][0])
+    ('ok', 0.695, True)
     """
     g = _gain_matrix(gains)
+    sc = _check_scenarios(scenarios)
     ev = _Evaluator(
-        _check_scenarios(scenarios),
+        sc,
         _check_stabilising(stabilising),
         _check_robust(robust),
         _check_mode(robust_mode),
@@ -363,17 +398,19 @@ def evaluate_gains(
     )
     e = ev(g)
     frame = pd.DataFrame(g, columns=list(GAIN_NAMES))
-    for s, sc in enumerate(scenarios):
-        frame[f"H_{sc.name}"] = e.H[s]
+    for s, sce in enumerate(sc):
+        frame[f"H_{sce.name}"] = e.H[s]
     frame["H_mean"] = e.H_mean
     frame["feasible"] = e.feasible
     frame["arrived_all"] = e.arrived.all(axis=0)
     frame["critical_free"] = e.safe.all(axis=0)
-    for s, sc in enumerate(scenarios):
-        frame[f"T_arrive_s_{sc.name}"] = e.T[s]
-    for s, sc in enumerate(scenarios):
-        frame[f"critical_margin_m_{sc.name}"] = e.margin[s]
-    return frame
+    for q, arr in (("T_arrive_s", e.T), ("critical_margin_m", e.margin)):
+        for s, sce in enumerate(sc):
+            frame[f"{q}_{sce.name}"] = arr[s]
+    bad = np.flatnonzero(~e.feasible).tolist()
+    warnings = (f"gain sets {bad} do not arrive or enter a critical region",) if bad else ()
+    status = OptimumStatus.OK if e.feasible.any() else OptimumStatus.INFEASIBLE
+    return GainEvaluation(frame, status, warnings)
 
 
 def _gain_matrix(gains: Any) -> Array:
@@ -402,13 +439,7 @@ def _check_scenarios(scenarios: Sequence[Scenario]) -> list[Scenario]:
 
 
 def _check_margin(margin: float) -> float:
-    if (
-        isinstance(margin, bool)
-        or not isinstance(margin, int | float)
-        or not (math.isfinite(margin) and margin >= 0)
-    ):
-        raise InvalidParameterError("critical_margin", margin, "must be a finite number >= 0", "m")
-    return float(margin)
+    return float(CRITICAL_MARGIN.check(margin))
 
 
 def _check_robust(robust: RandomWalks | None) -> RandomWalks | None:
@@ -444,12 +475,12 @@ def _check_bounds(bounds: Mapping[str, tuple[float, float]] | None) -> tuple[Arr
             raise InvalidParameterError(
                 f"bounds[{name!r}]", b[name], "must be a pair (low, high)", _UNITS[name]
             ) from None
-        if not (math.isfinite(low) and math.isfinite(high) and 0 < low < high <= MAX_GAIN):
+        if not (GAIN.within(low) and GAIN.within(high) and low < high):
             raise InvalidParameterError(
                 f"bounds[{name!r}]",
                 b[name],
-                f"must be finite with 0 < low < high <= {MAX_GAIN:g} (gains bounded away from "
-                "zero, Zeng 2011 (5.5.7))",
+                f"must be finite with low < high, both {GAIN.allowed()} (gains bounded away "
+                "from zero, Zeng 2011 (5.5.7))",
                 _UNITS[name],
             )
         lo[j], hi[j] = low, high
@@ -457,6 +488,19 @@ def _check_bounds(bounds: Mapping[str, tuple[float, float]] | None) -> tuple[Arr
 
 
 # ----------------------------------------------------------------------------- result
+
+
+class OptimumStatus(Status):
+    """Status of :func:`optimise_gains` (and :func:`evaluate_gains`).
+
+    ``OK``: both stages converged (a feasible point exists); ``NOT_CONVERGED``: a budget
+    ran out first; ``INFEASIBLE``: no candidate arrived and stayed out of every critical
+    region (``gains`` is then ``None``).
+    """
+
+    OK = "ok"
+    NOT_CONVERGED = "not_converged"
+    INFEASIBLE = "infeasible"
 
 
 @dataclass(frozen=True)
@@ -512,7 +556,7 @@ class GainOptimum(Result):
     bounds: dict[str, tuple[float, float]]
     seed: int
     critical_margin: float = 0.0
-    status: str = OK
+    status: str = OptimumStatus.OK
     warnings: tuple[str, ...] = ()
 
     def on_bounds(self, tolerance: float = 1e-3) -> dict[str, str]:
@@ -554,7 +598,164 @@ class GainOptimum(Result):
         return pd.DataFrame([row])
 
 
-# -------------------------------------------------------------------------- optimiser
+# ------------------------------------------------------------- optimiser settings
+
+#: Candidates per CMA-ES generation (each generation is one batch).
+POPSIZE = Param(None, "", "candidates per CMA-ES generation", kind="integer", ge=4, le=256,
+                name="popsize")  # fmt: skip
+#: Budget of gain sets of the global stage.
+MAX_EVALUATIONS = Param(None, "", "budget of gain sets of the CMA-ES stage", kind="integer",
+                        ge=4, le=100_000, name="max_evaluations")  # fmt: skip
+#: Budget of gain sets of the compass refinement.
+REFINE_EVALUATIONS = Param(None, "", "budget of gain sets of the compass refinement",
+                           kind="integer", ge=0, le=100_000, name="refine_evaluations")  # fmt: skip
+#: Seed of the search (the same seed gives the same result).
+SEED = Param(None, "", "seed", kind="integer", ge=0, le=2**32 - 1, name="seed")
+#: Initial CMA-ES step in normalised log units (the box is [0, 1]^4).
+SIGMA0 = Param(None, "", "initial CMA-ES step (normalised log units)", gt=0, le=0.5,
+               name="sigma0")  # fmt: skip
+#: Clearance every run must keep outside every critical region.
+CRITICAL_MARGIN = Param(None, "m", "clearance every run must keep outside every critical region",
+                        ge=0, le=2.0, name="critical_margin")  # fmt: skip
+
+
+@dataclass(frozen=True)
+class _Search:
+    """The checked settings of one optimisation."""
+
+    scenarios: list[Scenario]
+    lo: Array
+    hi: Array
+    u0: Array
+    seed: int
+    sigma0: float
+    popsize: int
+    max_evaluations: int
+    refine_evaluations: int
+
+    def to_gains(self, u: Array) -> Array:
+        llo, lhi = np.log(self.lo), np.log(self.hi)
+        return np.exp(llo + np.clip(u, 0.0, 1.0) * (lhi - llo))
+
+
+def _start(x0: VFFGains | None, lo: Array, hi: Array) -> Array:
+    if x0 is None:
+        return np.full(4, 0.5)
+    if not isinstance(x0, VFFGains):
+        raise InvalidParameterError("x0", x0, "must be a VFFGains")
+    u0 = (np.log(x0.as_array()) - np.log(lo)) / (np.log(hi) - np.log(lo))
+    if np.any(u0 < 0) or np.any(u0 > 1):
+        raise InvalidParameterError("x0", x0, "must lie inside the bounds")
+    return u0
+
+
+class _Incumbent:
+    """The best feasible point so far, the history rows and the progress reports."""
+
+    def __init__(
+        self,
+        search: _Search,
+        ev: _Evaluator,
+        callback: Callable[[dict[str, Any]], None] | None,
+        progress: ProgressHook | None,
+        total: int,
+    ) -> None:
+        self.search, self.ev, self.callback, self.progress = search, ev, callback, progress
+        self.total = total
+        self.u: Array | None = None
+        self.H = -math.inf
+        self.H_s: Array | None = None
+        self.history: list[dict[str, Any]] = []
+
+    def consider(self, U: Array, e: _Evaluation) -> bool:
+        """Take the best feasible candidate of ``U`` if it beats the incumbent."""
+        feas_H = np.where(e.feasible, e.H_mean, -np.inf)
+        j = int(np.argmax(feas_H))
+        if feas_H[j] > self.H:
+            self.u, self.H, self.H_s = U[j].copy(), float(feas_H[j]), e.H[:, j].copy()
+            return True
+        return False
+
+    def record(self, phase: str, it: int, e: _Evaluation, step: float) -> None:
+        """One history row (a CMA-ES generation or a compass poll)."""
+        feas_H = np.where(e.feasible, e.H_mean, -np.inf)
+        j = int(np.argmax(feas_H))
+        best = self.H if math.isfinite(self.H) else math.nan
+        row = {
+            "phase": phase,
+            "iteration": it,
+            "evaluations": self.ev.evaluations,
+            "best_H_mean": best,
+            "iteration_best_H_mean": float(feas_H[j]) if math.isfinite(feas_H[j]) else math.nan,
+            "feasible_share": float(e.feasible.mean()),
+            "step": float(step),
+        }
+        if self.u is not None:
+            row.update(dict(zip(GAIN_NAMES, self.search.to_gains(self.u).tolist(), strict=True)))
+        self.history.append(row)
+        if self.callback is not None:
+            self.callback(dict(row))
+        label = "generation" if phase == "cma" else "refinement poll"
+        info = Progress(min(self.ev.evaluations, self.total), self.total, None if math.isnan(best)
+                        else best, label, f"{phase} {it}")  # fmt: skip
+        report(self.progress, info)
+
+
+def _cma_stage(search: _Search, ev: _Evaluator, inc: _Incumbent) -> tuple[bool, dict, float]:
+    """CMA-ES, infeasible candidates ranked below every feasible one: (converged, stop, sigma)."""
+    import cma
+
+    opts = {
+        "bounds": [0.0, 1.0],
+        "popsize": search.popsize,
+        "seed": search.seed + 1,
+        "verbose": -9,
+        "maxfevals": search.max_evaluations,
+        "tolfun": 1e-4,
+        "tolx": 1e-3,
+        "tolflatfitness": 10,
+    }
+    es = cma.CMAEvolutionStrategy(search.u0.tolist(), search.sigma0, opts)
+    it = 0
+    budget_hit = False
+    while not es.stop():
+        if ev.evaluations + search.popsize > search.max_evaluations:
+            budget_hit = True
+            break
+        U = np.array(es.ask())
+        e = ev(search.to_gains(U))
+        inc.consider(U, e)
+        # feasible: -H (<= 0); infeasible: 1 + violation (> 0), never a "good-looking" number
+        fitness = np.where(e.feasible, -e.H_mean, 1.0 + e.violation)
+        es.tell(list(U), fitness.tolist())
+        it += 1
+        inc.record("cma", it, e, float(es.sigma))
+    stop = dict(es.stop())
+    if budget_hit:
+        stop["max_evaluations"] = search.max_evaluations
+    converged = not budget_hit and not any(k in stop for k in ("maxfevals", "maxiter"))
+    logger.info("CMA-ES stopped after %d generations (%s)", it, stop)
+    return converged, stop, float(es.sigma)
+
+
+def _compass_stage(search: _Search, ev: _Evaluator, inc: _Incumbent, sigma: float) -> bool:
+    """Batched compass search in normalised log-gain space; True if its step fell below 1e-3."""
+    step = min(0.05, max(4 * sigma, 0.01))
+    used = 0
+    k = 0
+    while used + 8 <= search.refine_evaluations:
+        dirs = np.vstack([np.eye(4), -np.eye(4)]) * step
+        U = np.clip(inc.u[None, :] + dirs, 0.0, 1.0)  # type: ignore[index]
+        e = ev(search.to_gains(U))
+        used += U.shape[0]
+        k += 1
+        improved = inc.consider(U, e)
+        inc.record("refine", k, e, step)
+        if not improved:
+            step /= 2
+            if step < 1e-3:
+                return True
+    return False
 
 
 def optimise_gains(
@@ -577,6 +778,7 @@ def optimise_gains(
     chunks: int = 1,
     jit: bool = False,
     callback: Callable[[dict[str, Any]], None] | None = None,
+    progress: ProgressHook | None = None,
 ) -> GainOptimum:
     """Maximise the mean total criterion H over scenarios with respect to (K1, b, K3, K5).
 
@@ -588,18 +790,18 @@ def optimise_gains(
         ``{"k1": (low, high), ...}`` in N/m, s, N/m, N/m^2; missing gains use
         :data:`DEFAULT_BOUNDS` (the thesis's ranges with positive lower bounds).
     stabilising
-        ``"lyapunov"`` (the stabilising force on, as derived) or ``"off"`` (how the
-        thesis's tables come back; ``docs/navigation.md``).
+        ``"lyapunov"`` (the stabilising force on) or ``"off"`` (how the thesis's tables
+        come back; ``docs/navigation.md``).
     seed
-        Seed of CMA-ES (and nothing else is random; the same seed gives the same result).
+        Seed of CMA-ES (nothing else is random; the same seed gives the same result).
     x0
         Start of the search; default the centre of the box in log-space.
     sigma0
-        Initial CMA-ES step in normalised log units (the box is [0, 1]^4).
+        Initial CMA-ES step in normalised log units (the box is [0, 1]^4), in (0, 0.5].
     popsize
-        Candidates per CMA-ES generation (simulated as one batch).
+        Candidates per CMA-ES generation (simulated as one batch), 4-256.
     max_evaluations
-        Budget of gain sets for the global stage.
+        Budget of gain sets for the global stage (>= popsize, <= 100 000).
     refine
         Run the batched compass search from the best global point.
     refine_evaluations
@@ -611,10 +813,9 @@ def optimise_gains(
     arrival_tolerance
         Arrival radius (m).
     critical_margin
-        Clearance (m, >= 0) the robot must keep outside every critical region: a
+        Clearance (m, 0-2) the robot must keep outside every critical region: a
         candidate is feasible only if, in every run, the smallest centre/contour
-        distance to each obstacle is at least its r3 plus this margin (0: never
-        enter a critical region, the issue's constraint).
+        distance to each obstacle is at least its r3 plus this margin.
     executor
         Optional executor with ``map_unordered(fn, tasks)`` (e.g. from
         ``designlab.analysis.executors.make_executor``) to split each population into
@@ -623,189 +824,111 @@ def optimise_gains(
         Number of parallel batches per population when ``executor`` is given.
     jit
         Simulate with the step compiled to four gain sets per pass (needs a C compiler;
-        see :func:`~designlab.navigation.simulate_batch`): the same optimum to the bit,
-        found several times faster once the steps are compiled (a few seconds each).
+        see :func:`~designlab.navigation.simulate_batch`): the same optimum to the bit.
     callback
         Called with each history row (a dict) as the search goes.
+    progress
+        A :data:`designlab.progress.ProgressHook` called after each generation and poll
+        with the gain sets evaluated and the best feasible H_mean so far.
 
     Returns
     -------
     GainOptimum
-        ``status`` is ``"ok"`` when both stages converged, ``"not_converged"`` when a
-        budget ran out first, ``"infeasible"`` when no candidate met the
-        constraints (``gains`` is then ``None``).
+        ``status`` (:class:`OptimumStatus`) is ``"ok"`` when both stages converged,
+        ``"not_converged"`` when a budget ran out first, ``"infeasible"`` when no
+        candidate met the constraints (``gains`` is then ``None``).
 
     Raises
     ------
     InvalidParameterError
         For bad scenarios, bounds, modes or budgets.
     """
-    import cma
-
     t_start = time.perf_counter()
-    sc = _check_scenarios(scenarios)
     lo, hi = _check_bounds(bounds)
-    stab = _check_stabilising(stabilising)
-    mode = _check_mode(robust_mode)
-    rob = _check_robust(robust)
-    if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
-        raise InvalidParameterError("seed", seed, "must be an integer >= 0")
-    if isinstance(popsize, bool) or not isinstance(popsize, int | np.integer) or popsize < 4:
-        raise InvalidParameterError("popsize", popsize, "must be an integer >= 4")
-    if (
-        isinstance(max_evaluations, bool)
-        or not isinstance(max_evaluations, int | np.integer)
-        or max_evaluations < popsize
-    ):
+    popsize = POPSIZE.check(popsize)
+    search = _Search(
+        _check_scenarios(scenarios), lo, hi, _start(x0, lo, hi), SEED.check(seed),
+        SIGMA0.check(sigma0), popsize, _check_budget(max_evaluations, popsize),
+        REFINE_EVALUATIONS.check(refine_evaluations),
+    )  # fmt: skip
+    if executor is not None and not hasattr(executor, "map_unordered"):
+        raise InvalidParameterError("executor", executor, "must have map_unordered(fn, tasks)")
+    if not isinstance(jit, bool | np.bool_):
+        raise InvalidParameterError("jit", jit, "must be True or False")
+    stab, mode = _check_stabilising(stabilising), _check_mode(robust_mode)
+    rob, cm = _check_robust(robust), _check_margin(critical_margin)
+    ev = _Evaluator(search.scenarios, stab, rob, mode, arrival_tolerance, executor, int(chunks),
+                    cm, bool(jit))  # fmt: skip
+    total = search.max_evaluations + (search.refine_evaluations if refine else 0)
+    inc = _Incumbent(search, ev, callback, progress, total)
+    global_converged, stop, sigma = _cma_stage(search, ev, inc)
+    local_converged = True
+    if refine and inc.u is not None and search.refine_evaluations > 0:
+        local_converged = _compass_stage(search, ev, inc, sigma)
+    settings = dict(stabilising=stab, robust_mode=mode, walks=rob.n if rob is not None else 0,
+                    seed=search.seed, critical_margin=cm)  # fmt: skip
+    return _optimum(search, ev, inc, (global_converged, local_converged, refine), stop,
+                    time.perf_counter() - t_start, settings)  # fmt: skip
+
+
+def _check_budget(max_evaluations: Any, popsize: int) -> int:
+    n = MAX_EVALUATIONS.check(max_evaluations)
+    if n < popsize:
         raise InvalidParameterError(
             "max_evaluations", max_evaluations, f"must be an integer >= popsize = {popsize}"
         )
-    check_nonnegative("refine_evaluations", refine_evaluations)
-    if not (isinstance(sigma0, float | int) and 0 < sigma0 <= 0.5):
-        raise InvalidParameterError("sigma0", sigma0, "must be in (0, 0.5] (normalised log units)")
-    if executor is not None and not hasattr(executor, "map_unordered"):
-        raise InvalidParameterError("executor", executor, "must have map_unordered(fn, tasks)")
-    llo, lhi = np.log(lo), np.log(hi)
+    return n
 
-    def to_gains(u: Array) -> Array:
-        return np.exp(llo + np.clip(u, 0.0, 1.0) * (lhi - llo))
 
-    if x0 is None:
-        u0 = np.full(4, 0.5)
-    else:
-        if not isinstance(x0, VFFGains):
-            raise InvalidParameterError("x0", x0, "must be a VFFGains")
-        u0 = (np.log(x0.as_array()) - llo) / (lhi - llo)
-        if np.any(u0 < 0) or np.any(u0 > 1):
-            raise InvalidParameterError("x0", x0, "must lie inside the bounds")
-    cm = _check_margin(critical_margin)
-    if not isinstance(jit, bool | np.bool_):
-        raise InvalidParameterError("jit", jit, "must be True or False")
-    ev = _Evaluator(sc, stab, rob, mode, arrival_tolerance, executor, int(chunks), cm, bool(jit))
-    history: list[dict[str, Any]] = []
-    best: dict[str, Any] = {"u": None, "H": -math.inf, "H_s": None}
-
-    def record(phase: str, it: int, e: _Evaluation, step: float) -> None:
-        feas_H = np.where(e.feasible, e.H_mean, -np.inf)
-        j = int(np.argmax(feas_H))
-        row = {
-            "phase": phase,
-            "iteration": it,
-            "evaluations": ev.evaluations,
-            "best_H_mean": best["H"] if math.isfinite(best["H"]) else math.nan,
-            "iteration_best_H_mean": float(feas_H[j]) if math.isfinite(feas_H[j]) else math.nan,
-            "feasible_share": float(e.feasible.mean()),
-            "step": float(step),
-        }
-        if best["u"] is not None:
-            row.update(dict(zip(GAIN_NAMES, to_gains(best["u"]).tolist(), strict=True)))
-        history.append(row)
-        if callback is not None:
-            callback(dict(row))
-
-    def consider(U: Array, e: _Evaluation) -> bool:
-        feas_H = np.where(e.feasible, e.H_mean, -np.inf)
-        j = int(np.argmax(feas_H))
-        if feas_H[j] > best["H"]:
-            best.update(u=U[j].copy(), H=float(feas_H[j]), H_s=e.H[:, j].copy())
-            return True
-        return False
-
-    # ---- global stage: CMA-ES, infeasible candidates ranked below every feasible one
-    opts = {
-        "bounds": [0.0, 1.0],
-        "popsize": int(popsize),
-        "seed": int(seed) + 1,
-        "verbose": -9,
-        "maxfevals": int(max_evaluations),
-        "tolfun": 1e-4,
-        "tolx": 1e-3,
-        "tolflatfitness": 10,
-    }
-    es = cma.CMAEvolutionStrategy(u0.tolist(), float(sigma0), opts)
-    it = 0
-    budget_hit = False
-    while not es.stop():
-        if ev.evaluations + int(popsize) > max_evaluations:
-            budget_hit = True
-            break
-        U = np.array(es.ask())
-        e = ev(to_gains(U))
-        consider(U, e)
-        # feasible: -H (<= 0); infeasible: 1 + violation (> 0), never a "good-looking" number
-        fitness = np.where(e.feasible, -e.H_mean, 1.0 + e.violation)
-        es.tell(list(U), fitness.tolist())
-        it += 1
-        record("cma", it, e, float(es.sigma))
-    stop = dict(es.stop())
-    if budget_hit:
-        stop["max_evaluations"] = int(max_evaluations)
-    global_converged = not budget_hit and not any(k in stop for k in ("maxfevals", "maxiter"))
-    logger.info("CMA-ES stopped after %d generations (%s)", it, stop)
-
-    # ---- local stage: batched compass search in normalised log-gain space
-    local_converged = True
-    if refine and best["u"] is not None and refine_evaluations > 0:
-        step = min(0.05, max(4 * float(es.sigma), 0.01))
-        used = 0
-        k = 0
-        local_converged = False
-        while used + 8 <= refine_evaluations:
-            dirs = np.vstack([np.eye(4), -np.eye(4)]) * step
-            U = np.clip(best["u"][None, :] + dirs, 0.0, 1.0)
-            e = ev(to_gains(U))
-            used += U.shape[0]
-            k += 1
-            improved = consider(U, e)
-            record("refine", k, e, step)
-            if not improved:
-                step /= 2
-                if step < 1e-3:
-                    local_converged = True
-                    break
+def _optimum(
+    search: _Search,
+    ev: _Evaluator,
+    inc: _Incumbent,
+    converged: tuple[bool, bool, bool],
+    stop: dict[str, Any],
+    wall_time: float,
+    settings: dict[str, Any],
+) -> GainOptimum:
+    """The :class:`GainOptimum`: status, warnings and the incumbent."""
+    global_converged, local_converged, refine = converged
     warnings: list[str] = []
-    if best["u"] is None:
-        status = "infeasible"
+    cm = settings["critical_margin"]
+    if inc.u is None:
+        status = OptimumStatus.INFEASIBLE
         warnings.append(
             f"no candidate among {ev.evaluations} arrived and stayed out of every critical region "
             + (f"(by {cm} m or more) " if cm > 0 else "")
             + "in all scenarios"
         )
         gains = None
-        H_s = np.full(len(sc), math.nan)
+        H_s = np.full(len(search.scenarios), math.nan)
     else:
-        g = to_gains(best["u"])
-        gains = VFFGains(*(float(v) for v in g))
-        H_s = best["H_s"]
-        status = OK if (global_converged and local_converged) else "not_converged"
+        gains = VFFGains(*(float(v) for v in search.to_gains(inc.u)))
+        H_s = inc.H_s
+        ok = global_converged and local_converged
+        status = OptimumStatus.OK if ok else OptimumStatus.NOT_CONVERGED
         if not global_converged:
             warnings.append(f"CMA-ES stopped on its budget ({stop}), not on convergence")
         if refine and not local_converged:
             warnings.append(
                 "the compass refinement stopped on its budget before its step fell below 1e-3"
             )
-        at_bound = [
-            n for j, n in enumerate(GAIN_NAMES) if best["u"][j] < 1e-3 or best["u"][j] > 1 - 1e-3
-        ]
+        at_bound = [n for j, n in enumerate(GAIN_NAMES) if inc.u[j] < 1e-3 or inc.u[j] > 1 - 1e-3]
         if at_bound:
             warnings.append(
                 f"the optimum lies on the bound of {at_bound}: widen the bounds to check"
             )
     return GainOptimum(
         gains=gains,
-        objective=float(best["H"]) if best["u"] is not None else math.nan,
-        scenario_names=tuple(s.name for s in sc),
+        objective=float(inc.H) if inc.u is not None else math.nan,
+        scenario_names=tuple(s.name for s in search.scenarios),
         scenario_H=np.asarray(H_s, dtype=float),
-        history=pd.DataFrame(history),
+        history=pd.DataFrame(inc.history),
         evaluations=ev.evaluations,
         simulations=ev.simulations,
-        wall_time=time.perf_counter() - t_start,
-        stabilising=stab,
-        robust_mode=mode,
-        walks=rob.n if rob is not None else 0,
-        bounds={n: (float(lo[j]), float(hi[j])) for j, n in enumerate(GAIN_NAMES)},
-        seed=int(seed),
-        critical_margin=cm,
+        wall_time=wall_time,
+        bounds={n: (float(search.lo[j]), float(search.hi[j])) for j, n in enumerate(GAIN_NAMES)},
         status=status,
         warnings=tuple(warnings),
+        **settings,
     )
