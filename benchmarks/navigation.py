@@ -8,9 +8,8 @@ Run with ``python benchmarks/navigation.py [--batch 64] [--no-jit]``. In one pro
 * designlab, a batch: the same scenario with 64 gain sets simulated together (one call per
   period over the members still on their way), on CasADi's virtual machine and, unless
   ``--no-jit``, JIT-compiled: the step compiled to four members per pass by
-  :mod:`designlab.simd` (what ``jit=True`` uses), and for comparison CasADi's own scalar
-  generated code mapped over the batch (compiled once before the timing; the compiled steps
-  are cached for the process);
+  :mod:`designlab.sx` (what ``jit=True`` uses; compiled or loaded from the disk cache once
+  before the timing, see ``benchmarks/compile_cache.py`` for the compile and load times);
 * the baseline: a plain per-step Python loop of the same model (the same CasADi field called
   every 60 ms, the point-mass update, norm clipping, braking and the distances written out in
   Python at every 1 ms step).
@@ -138,14 +137,10 @@ def main(argv: list[str] | None = None) -> int:
 
     rng = np.random.default_rng(0)
     G = g[None, :] * rng.uniform(0.7, 1.3, size=(args.batch, 4))
-    modes = [("VM", False)] + ([] if args.no_jit else [("JIT", True), ("CasADi JIT", True)])
-    lanes = engine._lane_step
+    modes = [("VM", False)] + ([] if args.no_jit else [("JIT", True)])
     for label, jit in modes:
-        if label == "CasADi JIT":  # the scalar generated code, for comparison
-            engine._lane_step = lambda *a, **k: None  # type: ignore[assignment]
         engine.run(sc, G, jit=jit)  # build (and compile) once
         w, c, rawb = _best(lambda jit=jit: engine.run(sc, G, jit=jit), 3)
-        engine._lane_step = lanes
         # aggregate simulated time: each member counted up to its own arrival (or the batch end)
         sim = float(np.minimum(rawb.arrival_time, rawb.t_end).sum())
         rows.append((f"batch of {args.batch} ({label})", sim, w, c, ">= 10000x aggregate"))

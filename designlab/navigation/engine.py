@@ -177,16 +177,15 @@ def _lane_step(
     method: str,
     n_sub: int,
     dt: float,
-    lean: bool,
-    stabilising: bool | None,
+    stabilising: bool,
 ) -> CompiledLanes | None:
-    """The step compiled to evaluate four members per pass (``None``: no C compiler).
+    """The lean step compiled to evaluate four members per pass (``None``: no C compiler).
 
     Equal to the virtual machine to the bit (:mod:`designlab.sx`), and 2-7x faster per
-    member than the virtual machine mapped over the batch; cached on disk, so a
-    second process or run loads it instead of compiling.
+    member than CasADi's scalar code mapped over the batch; cached on disk, so a second
+    process or run loads it instead of compiling.
     """
-    f = with_cse(build_step(geometries, robot, method, n_sub, dt, lean, stabilising))
+    f = with_cse(build_step(geometries, robot, method, n_sub, dt, True, stabilising))
     return try_compile_lanes(f, _SHARED)
 
 
@@ -228,14 +227,16 @@ def _step_call(
     lean: bool,
     stabilising: bool,
 ) -> _Buffered:
-    """The step for ``n`` members: with ``jit``, compiled to four lanes (where a C compiler
-    exists), else CasADi's (mapped) function on its virtual machine (the same results)."""
-    stab = stabilising if lean else None
-    if jit:
-        lanes = _lane_step(geometries, robot, method, n_sub, dt, lean, stab)
+    """The step for ``n`` members: with ``jit``, a lean step compiled to four lanes (where a C
+    compiler exists), else CasADi's (mapped) function on its virtual machine (the same results;
+    a recorded run's full step is not compiled: it runs once, compiling it costs far more)."""
+    if jit and lean:
+        lanes = _lane_step(geometries, robot, method, n_sub, dt, stabilising)
         if lanes is not None:
             return _Lanes(lanes, n)
-    return _Buffered(_compiled(geometries, robot, method, n_sub, dt, n, lean, stab))
+    return _Buffered(
+        _compiled(geometries, robot, method, n_sub, dt, n, lean, stabilising if lean else None)
+    )
 
 
 class _Lanes(_Buffered):

@@ -40,6 +40,7 @@ import ctypes
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from pathlib import Path
 
 import casadi as ca
 import numpy as np
@@ -54,7 +55,7 @@ from designlab.sx.compiler import (
     machine_identity,
 )
 from designlab.sx.ops import OPS
-from designlab.sx.program import Instruction, Program, read_program
+from designlab.sx.program import Instruction, Program, check_sx, read_program
 
 __all__ = [
     "LANES",
@@ -97,6 +98,11 @@ LANEWISE1(vexpm1, expm1) LANEWISE1(vlog1p, log1p)
 LANEWISE2(vatan2, atan2) LANEWISE2(vpow, pow) LANEWISE2(vfmod, fmod)
 LANEWISE2(vcopysign, copysign) LANEWISE2(vhypot, hypot) LANEWISE2(vremainder, remainder)
 """
+
+
+#: What the generated source depends on besides the function: bump the number when
+#: :func:`lane_source` changes (the prelude and the C forms are hashed in).
+_GENERATOR = f"lanes 1 {PRELUDE} " + repr(sorted((k, op.c) for k, op in OPS.items()))
 
 
 def _c_double(value: float) -> str:
@@ -248,18 +254,25 @@ def compile_lanes(f: ca.Function, shared: Sequence[int] = ()) -> CompiledLanes:
     CompilerError
         (a ``RuntimeError``) when no C compiler is found or the compilation fails.
     """
-    prog = read_program(f, "c")
+    check_sx(f)
     common = frozenset(int(i) for i in shared)
     if not common <= set(range(f.n_in())):
         raise ValueError(
             f"shared = {sorted(common)} is not allowed: {f.name()!r} has inputs 0-{f.n_in() - 1}"
         )
     name = "lanes_" + "".join(c if c.isalnum() else "_" for c in f.name())
-    src = lane_source(prog, common, name)
     cc = find_compiler()
-    key = cache_key(src, cc.identity, " ".join(FLAGS), machine_identity())
+    # the key needs no source: CasADi's serialisation of f says what the source would be
+    key = cache_key(
+        f.serialize(), f"{sorted(common)} {name}", _GENERATOR, cc.identity, " ".join(FLAGS)
+    )
+
+    def build(out: Path) -> None:
+        src = lane_source(read_program(f, "c"), common, name)
+        build_shared_object(src, f.name(), cc, out)
+
     try:
-        library = load_or_build(key, lambda out: build_shared_object(src, f.name(), cc, out))
+        library = load_or_build(cache_key(key, machine_identity()), build)
     except OSError as exc:
         raise CompilerError(f"compiled {f.name()!r} does not load: {exc}") from None
     return CompiledLanes(f, common, library, name)

@@ -17,7 +17,14 @@ import casadi as ca
 
 from designlab.sx.ops import OPS, STRUCTURAL
 
-__all__ = ["Instruction", "Program", "UnsupportedOperation", "read_program", "with_cse"]
+__all__ = [
+    "Instruction",
+    "Program",
+    "UnsupportedOperation",
+    "check_sx",
+    "read_program",
+    "with_cse",
+]
 
 
 class UnsupportedOperation(TypeError, ValueError):
@@ -95,9 +102,7 @@ def read_program(f: ca.Function, backend: str) -> Program:
         If ``f`` is not an SX function or has an operation without that form (a call
         to another function, for example).
     """
-    if not isinstance(f, ca.Function) or not f.is_a("SXFunction"):
-        kind = f.class_name() if isinstance(f, ca.Function) else type(f).__name__
-        raise UnsupportedOperation(f"{_name(f)!r} is not an SX function (it is {kind})")
+    check_sx(f)
     instructions = tuple(_instruction(f, k) for k in range(f.n_instructions()))
     for ins in instructions:
         if ins.op not in STRUCTURAL and getattr(OPS.get(ins.op), backend, None) is None:
@@ -111,6 +116,13 @@ def read_program(f: ca.Function, backend: str) -> Program:
         tuple(f.nnz_in(i) for i in range(f.n_in())),
         tuple(f.nnz_out(i) for i in range(f.n_out())),
     )
+
+
+def check_sx(f: object) -> None:
+    """Raise :class:`UnsupportedOperation` unless ``f`` is a CasADi SX function."""
+    if not isinstance(f, ca.Function) or not f.is_a("SXFunction"):
+        kind = f.class_name() if isinstance(f, ca.Function) else type(f).__name__
+        raise UnsupportedOperation(f"{_name(f)!r} is not an SX function (it is {kind})")
 
 
 def with_cse(f: ca.Function) -> ca.Function:

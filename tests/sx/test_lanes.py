@@ -179,7 +179,9 @@ def test_products_are_rounded_before_the_sum_no_fused_multiply_add() -> None:
 def test_a_missing_or_broken_compiler_is_reported(
     monkeypatch: pytest.MonkeyPatch, tmp_path: Path
 ) -> None:
-    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))  # nothing may be left behind
+    tmp = tmp_path / "tmp"
+    tmp.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp))  # nothing may be left behind
     f = ca.Function("lin2", [X, P], [X * P[0]])
     monkeypatch.setenv("CC", "/nonexistent/cc")
     with pytest.raises(RuntimeError, match="no C compiler found"):
@@ -194,4 +196,4 @@ def test_a_missing_or_broken_compiler_is_reported(
     call.inp[1][:] = [3.0, 0.0]
     call()
     np.testing.assert_array_equal(call.out[0], 3.0 * np.arange(6.0))
-    assert list(tmp_path.iterdir()) == []
+    assert list(tmp.iterdir()) == []
