@@ -18,7 +18,7 @@
 
 Exit codes: 0 success (failed sweep points are listed in the report and as
 warnings); 1 a designlab error other than a bad study (a model or solver
-failure, a report or cache that cannot be written); 2 an invalid study file
+failure, a report or cache that cannot be written); 2 an invalid study file or parameter
 or bad command-line usage; 3 the executor cannot start (e.g. an unreachable
 Dask scheduler); 4 ``report``: points missing from the cache; 130
 interrupted (finished points stay cached: rerun with ``--resume``).
@@ -35,7 +35,7 @@ from typing import Annotated, NoReturn
 import typer
 
 from designlab import __version__
-from designlab.errors import DesignlabError, StudyError
+from designlab.errors import DesignlabError, InvalidParameterError, StudyError
 
 __all__ = [
     "EXIT_CACHE_INCOMPLETE",
@@ -73,7 +73,7 @@ def _fail(exc: DesignlabError) -> NoReturn:
     from designlab.analysis.sweep import CacheIncompleteError
 
     code = EXIT_DESIGNLAB_ERROR
-    if isinstance(exc, StudyError):
+    if isinstance(exc, StudyError | InvalidParameterError):  # bad input, found late
         code = EXIT_STUDY_ERROR
     elif isinstance(exc, ExecutorError):
         code = EXIT_EXECUTOR_ERROR
@@ -233,6 +233,13 @@ def run(
         _write(result, study, output_dir, command, keep_current=resume)
     except DesignlabError as exc:
         _fail(exc)
+    except MemoryError:
+        typer.echo(
+            f"error: {study}: the study needs more memory than this machine can give; "
+            "make it smaller (its sizes, durations or sample rates)",
+            err=True,
+        )
+        raise typer.Exit(EXIT_DESIGNLAB_ERROR) from None
     except KeyboardInterrupt:
         typer.echo(
             f"interrupted: finished points are kept in {cache_dir}/; no report was "
