@@ -10,7 +10,8 @@
 ``designlab validate STUDY.yaml ...``
     Check study files against the schema without running them.
 ``designlab list``
-    List the studies in ``./studies`` and what each produces.
+    List the studies in ``./studies``, what each produces and how long its last
+    run took (kept with its report) or its kind's typical duration.
 ``designlab schema``
     Print the JSON Schema of study files.
 ``designlab --version``
@@ -29,6 +30,7 @@ from __future__ import annotations
 import logging
 import shlex
 import sys
+import time
 from pathlib import Path
 from typing import Annotated, NoReturn
 
@@ -161,6 +163,29 @@ def _write(
         )
 
 
+def _record_duration(directory: Path, seconds: float, executor: str) -> None:
+    """Keep the run's wall time with its report, for ``designlab list`` (best effort)."""
+    from designlab.report.builder import record_run
+
+    try:
+        record_run(directory, seconds, executor=executor)
+    except OSError as exc:  # the report is written; a missing record only costs a list line
+        logging.getLogger("designlab").info("run time not recorded in %s: %s", directory, exc)
+
+
+def _duration_text(spec: object, report: Path) -> str:
+    """``designlab list``'s duration: the last run's wall time, else the kind's estimate."""
+    from designlab.report.builder import format_duration, recorded_run
+
+    seconds = recorded_run(report)
+    if seconds is not None:
+        return f"last run took {format_duration(seconds)}"
+    estimate = spec.typical_duration()  # type: ignore[attr-defined]
+    if estimate:
+        return f"typically {estimate}"
+    return "run time not measured yet (it is kept with the report after a run)"
+
+
 @app.command()
 def run(
     study: Annotated[Path, typer.Argument(help="The study file (YAML).", show_default=False)],
@@ -225,12 +250,14 @@ def run(
             context = RunContext(
                 progress=sys.stderr.isatty(), executor=ex, store=store, resume=resume
             )
+            started = time.monotonic()
             result = run_study(spec, context)
         finally:
             store.close()
             if ex is not None:
                 ex.close()
         _write(result, study, output_dir, command, keep_current=resume)
+        _record_duration(output_dir / spec.name, time.monotonic() - started, executor)
     except DesignlabError as exc:
         _fail(exc)
     except MemoryError:
@@ -339,7 +366,7 @@ def list_studies(
         Path, typer.Option("--output-dir", "-o", help="Where `run` writes reports.")
     ] = Path("reports"),
 ) -> None:
-    """List the studies in ./studies and what each produces."""
+    """List the studies in ./studies, what each produces and how long it takes to run."""
     from designlab.study import load_study
 
     if not studies_dir.is_dir():
@@ -362,7 +389,8 @@ def list_studies(
         typer.echo(f"{path}  [{spec.kind}]")
         if summary:
             typer.echo(f"    {summary}")
-        typer.echo(f"    -> {output_dir / spec.name}/: {produces}\n")
+        typer.echo(f"    -> {output_dir / spec.name}/: {produces}")
+        typer.echo(f"    {_duration_text(spec, output_dir / spec.name)}\n")
     if invalid:
         raise typer.Exit(EXIT_STUDY_ERROR)
 
