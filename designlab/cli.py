@@ -8,7 +8,7 @@
 ``designlab report STUDY.yaml``
     Rebuild a report from the result store, computing nothing.
 ``designlab validate STUDY.yaml ...``
-    Check study files against the schema without running them.
+    Check study files as ``run`` does before computing, without running them.
 ``designlab list``
     List the studies in ``./studies``, what each produces and how long its last
     run took (kept with its report) or its kind's typical duration.
