@@ -186,6 +186,26 @@ def _duration_text(spec: object, report: Path) -> str:
     return "run time not measured yet (it is kept with the report after a run)"
 
 
+def _check_executor_options(executor: str, scheduler: str | None, timeout: float) -> None:
+    """Refuse unknown executors, a bad ``--timeout`` or ``--scheduler`` (exit 2)."""
+    from designlab.analysis.executors import EXECUTORS, check_scheduler_address
+    from designlab.study import did_you_mean
+
+    if executor not in EXECUTORS:
+        _usage(
+            f"--executor {executor!r} is not known{did_you_mean(executor, EXECUTORS)} "
+            f"(known: {', '.join(EXECUTORS)})"
+        )
+    if not (timeout > 0 and timeout < 86400):
+        _usage(f"--timeout {timeout!r} is not allowed: give seconds > 0 (and < 86400)")
+    if scheduler is not None:
+        if executor != "dask":
+            _usage("--scheduler is only used with --executor dask")
+        problem = check_scheduler_address(scheduler)
+        if problem:
+            _usage(f"--scheduler {scheduler!r} is not a scheduler address: {problem}")
+
+
 @app.command()
 def run(
     study: Annotated[Path, typer.Argument(help="The study file (YAML).", show_default=False)],
@@ -215,23 +235,11 @@ def run(
     ] = 5.0,
 ) -> None:
     """Run a study and write its report (CSV, Markdown, PNG)."""
-    from designlab.analysis.executors import EXECUTORS, check_scheduler_address, make_executor
+    from designlab.analysis.executors import make_executor
     from designlab.report.store import open_store
-    from designlab.study import RunContext, did_you_mean, load_study, run_study
+    from designlab.study import RunContext, load_study, run_study
 
-    if executor not in EXECUTORS:
-        _usage(
-            f"--executor {executor!r} is not known{did_you_mean(executor, EXECUTORS)} "
-            f"(known: {', '.join(EXECUTORS)})"
-        )
-    if not (timeout > 0 and timeout < 86400):
-        _usage(f"--timeout {timeout!r} is not allowed: give seconds > 0 (and < 86400)")
-    if scheduler is not None:
-        if executor != "dask":
-            _usage("--scheduler is only used with --executor dask")
-        problem = check_scheduler_address(scheduler)
-        if problem:
-            _usage(f"--scheduler {scheduler!r} is not a scheduler address: {problem}")
+    _check_executor_options(executor, scheduler, timeout)
     command = ["designlab", "run", str(study), "--output-dir", str(output_dir)]
     if executor != "serial":
         command += ["--executor", executor]
