@@ -8,9 +8,10 @@
 ``designlab report STUDY.yaml``
     Rebuild a report from the result store, computing nothing.
 ``designlab validate STUDY.yaml ...``
-    Check study files against the schema without running them.
+    Check study files as ``run`` does before computing, without running them.
 ``designlab list``
-    List the studies in ``./studies`` and what each produces.
+    List the studies in ``./studies``, what each produces and how long its last
+    run took (kept with its report) or its kind's typical duration.
 ``designlab schema``
     Print the JSON Schema of study files.
 ``designlab --version``
@@ -18,7 +19,7 @@
 
 Exit codes: 0 success (failed sweep points are listed in the report and as
 warnings); 1 a designlab error other than a bad study (a model or solver
-failure, a report or cache that cannot be written); 2 an invalid study file
+failure, a report or cache that cannot be written); 2 an invalid study file or parameter
 or bad command-line usage; 3 the executor cannot start (e.g. an unreachable
 Dask scheduler); 4 ``report``: points missing from the cache; 130
 interrupted (finished points stay cached: rerun with ``--resume``).
@@ -29,13 +30,14 @@ from __future__ import annotations
 import logging
 import shlex
 import sys
+import time
 from pathlib import Path
 from typing import Annotated, NoReturn
 
 import typer
 
 from designlab import __version__
-from designlab.errors import DesignlabError, StudyError
+from designlab.errors import DesignlabError, InvalidParameterError, StudyError
 
 __all__ = [
     "EXIT_CACHE_INCOMPLETE",
@@ -73,7 +75,7 @@ def _fail(exc: DesignlabError) -> NoReturn:
     from designlab.analysis.sweep import CacheIncompleteError
 
     code = EXIT_DESIGNLAB_ERROR
-    if isinstance(exc, StudyError):
+    if isinstance(exc, StudyError | InvalidParameterError):  # bad input, found late
         code = EXIT_STUDY_ERROR
     elif isinstance(exc, ExecutorError):
         code = EXIT_EXECUTOR_ERROR
@@ -161,6 +163,49 @@ def _write(
         )
 
 
+def _record_duration(directory: Path, seconds: float, executor: str) -> None:
+    """Keep the run's wall time with its report, for ``designlab list`` (best effort)."""
+    from designlab.report.builder import record_run
+
+    try:
+        record_run(directory, seconds, executor=executor)
+    except OSError as exc:  # the report is written; a missing record only costs a list line
+        logging.getLogger("designlab").info("run time not recorded in %s: %s", directory, exc)
+
+
+def _duration_text(spec: object, report: Path) -> str:
+    """``designlab list``'s duration: the last run's wall time, else the kind's estimate."""
+    from designlab.report.builder import format_duration, recorded_run
+
+    seconds = recorded_run(report)
+    if seconds is not None:
+        return f"last run took {format_duration(seconds)}"
+    estimate = spec.typical_duration()  # type: ignore[attr-defined]
+    if estimate:
+        return f"typically {estimate}"
+    return "run time not measured yet (it is kept with the report after a run)"
+
+
+def _check_executor_options(executor: str, scheduler: str | None, timeout: float) -> None:
+    """Refuse unknown executors, a bad ``--timeout`` or ``--scheduler`` (exit 2)."""
+    from designlab.analysis.executors import EXECUTORS, check_scheduler_address
+    from designlab.study import did_you_mean
+
+    if executor not in EXECUTORS:
+        _usage(
+            f"--executor {executor!r} is not known{did_you_mean(executor, EXECUTORS)} "
+            f"(known: {', '.join(EXECUTORS)})"
+        )
+    if not (timeout > 0 and timeout < 86400):
+        _usage(f"--timeout {timeout!r} is not allowed: give seconds > 0 (and < 86400)")
+    if scheduler is not None:
+        if executor != "dask":
+            _usage("--scheduler is only used with --executor dask")
+        problem = check_scheduler_address(scheduler)
+        if problem:
+            _usage(f"--scheduler {scheduler!r} is not a scheduler address: {problem}")
+
+
 @app.command()
 def run(
     study: Annotated[Path, typer.Argument(help="The study file (YAML).", show_default=False)],
@@ -190,23 +235,11 @@ def run(
     ] = 5.0,
 ) -> None:
     """Run a study and write its report (CSV, Markdown, PNG)."""
-    from designlab.analysis.executors import EXECUTORS, check_scheduler_address, make_executor
+    from designlab.analysis.executors import make_executor
     from designlab.report.store import open_store
-    from designlab.study import RunContext, did_you_mean, load_study, run_study
+    from designlab.study import RunContext, load_study, run_study
 
-    if executor not in EXECUTORS:
-        _usage(
-            f"--executor {executor!r} is not known{did_you_mean(executor, EXECUTORS)} "
-            f"(known: {', '.join(EXECUTORS)})"
-        )
-    if not (timeout > 0 and timeout < 86400):
-        _usage(f"--timeout {timeout!r} is not allowed: give seconds > 0 (and < 86400)")
-    if scheduler is not None:
-        if executor != "dask":
-            _usage("--scheduler is only used with --executor dask")
-        problem = check_scheduler_address(scheduler)
-        if problem:
-            _usage(f"--scheduler {scheduler!r} is not a scheduler address: {problem}")
+    _check_executor_options(executor, scheduler, timeout)
     command = ["designlab", "run", str(study), "--output-dir", str(output_dir)]
     if executor != "serial":
         command += ["--executor", executor]
@@ -225,14 +258,23 @@ def run(
             context = RunContext(
                 progress=sys.stderr.isatty(), executor=ex, store=store, resume=resume
             )
+            started = time.monotonic()
             result = run_study(spec, context)
         finally:
             store.close()
             if ex is not None:
                 ex.close()
         _write(result, study, output_dir, command, keep_current=resume)
+        _record_duration(output_dir / spec.name, time.monotonic() - started, executor)
     except DesignlabError as exc:
         _fail(exc)
+    except MemoryError:
+        typer.echo(
+            f"error: {study}: the study needs more memory than this machine can give; "
+            "make it smaller (its sizes, durations or sample rates)",
+            err=True,
+        )
+        raise typer.Exit(EXIT_DESIGNLAB_ERROR) from None
     except KeyboardInterrupt:
         typer.echo(
             f"interrupted: finished points are kept in {cache_dir}/; no report was "
@@ -332,7 +374,7 @@ def list_studies(
         Path, typer.Option("--output-dir", "-o", help="Where `run` writes reports.")
     ] = Path("reports"),
 ) -> None:
-    """List the studies in ./studies and what each produces."""
+    """List the studies in ./studies, what each produces and how long it takes to run."""
     from designlab.study import load_study
 
     if not studies_dir.is_dir():
@@ -355,7 +397,8 @@ def list_studies(
         typer.echo(f"{path}  [{spec.kind}]")
         if summary:
             typer.echo(f"    {summary}")
-        typer.echo(f"    -> {output_dir / spec.name}/: {produces}\n")
+        typer.echo(f"    -> {output_dir / spec.name}/: {produces}")
+        typer.echo(f"    {_duration_text(spec, output_dir / spec.name)}\n")
     if invalid:
         raise typer.Exit(EXIT_STUDY_ERROR)
 

@@ -86,6 +86,10 @@ def test_list(tmp_path, write_study, tiny_study_text, monkeypatch):
     assert "studies/tiny.yaml  [impact_cases]" in result.stdout
     assert "Two impacts of the direct-drive arm" in result.stdout
     assert "-> reports/tiny/: summary.md, metrics.csv" in result.stdout
+    assert "run time not measured yet" in result.stdout
+    assert runner.invoke(app, ["run", "studies/tiny.yaml"]).exit_code == 0
+    result = runner.invoke(app, ["list"])
+    assert "last run took " in result.stdout, result.stdout
 
     (studies / "broken.yaml").write_text("designlab: 1\nkind: nope\nname: b\n")
     result = runner.invoke(app, ["list"])

@@ -22,13 +22,26 @@ this report, and regenerate it with the same command.
 
 from __future__ import annotations
 
+import json
+import math
 import os
 from collections.abc import Iterable
 from pathlib import Path
+from typing import Any
 
 from designlab.report.atomic import atomic_write_text
 
-__all__ = ["STUDY_COPY", "copy_study", "provenance", "report_header", "warnings_section"]
+__all__ = [
+    "RUN_RECORD",
+    "STUDY_COPY",
+    "copy_study",
+    "format_duration",
+    "provenance",
+    "record_run",
+    "recorded_run",
+    "report_header",
+    "warnings_section",
+]
 
 #: The name of the study file's copy inside a report directory.
 STUDY_COPY = "study.yaml"
@@ -156,3 +169,69 @@ def copy_study(directory: str | os.PathLike[str], study_text: str | None) -> lis
     if study_text is None:
         return []
     return [atomic_write_text(Path(directory) / STUDY_COPY, study_text)]
+
+
+#: Inside a report directory: how long the run that wrote it took (for ``designlab list``).
+RUN_RECORD = ".designlab-run.json"
+
+
+def record_run(directory: str | os.PathLike[str], seconds: float, **extra: Any) -> Path:
+    """Keep the wall time of the run that wrote a report, next to it.
+
+    Parameters
+    ----------
+    directory
+        The report directory.
+    seconds
+        Wall time of the run (computing and writing).
+    **extra
+        More facts to keep (``executor="serial"``).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     _ = record_run(d, 83.2, executor="serial")
+    ...     recorded_run(d)
+    83.2
+    """
+    record = {"seconds": round(float(seconds), 1), **extra}
+    text = json.dumps(record, sort_keys=True) + "\n"
+    return atomic_write_text(Path(directory) / RUN_RECORD, text)
+
+
+def recorded_run(directory: str | os.PathLike[str]) -> float | None:
+    """The wall time kept by :func:`record_run` (``None`` if none or unreadable).
+
+    Parameters
+    ----------
+    directory
+        The report directory.
+    """
+    try:
+        value = json.loads((Path(directory) / RUN_RECORD).read_text(encoding="utf-8"))["seconds"]
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+    return float(value) if isinstance(value, int | float) and math.isfinite(value) else None
+
+
+def format_duration(seconds: float) -> str:
+    """A duration for people: ``"under a second"``, ``"40 s"``, ``"3 min"``, ``"1.5 h"``.
+
+    Parameters
+    ----------
+    seconds
+        The duration.
+
+    Examples
+    --------
+    >>> [format_duration(s) for s in (0.3, 42.4, 200, 5400)]
+    ['under a second', '42 s', '3 min', '1.5 h']
+    """
+    if seconds < 1:
+        return "under a second"
+    if seconds < 90:
+        return f"{seconds:.0f} s"
+    if seconds < 5400:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds / 3600:.1f} h"

@@ -19,6 +19,7 @@ Files written into the report directory:
 
 from __future__ import annotations
 
+import textwrap
 from pathlib import Path
 from typing import Any
 
@@ -166,6 +167,11 @@ def _readable_tornado(fig: Figure, study: Any, metric: str) -> Figure:
     return fig
 
 
+def _wrap(label: str, width: int) -> str:
+    """A label broken into lines of at most ``width`` characters (it fits beside its axes)."""
+    return textwrap.fill(label, width, break_long_words=False)
+
+
 def _scatter_figure(result: Any) -> Figure | None:
     study = result.study
     sweep = getattr(study, "sweep", None)
@@ -193,9 +199,9 @@ def _scatter_figure(result: Any) -> Figure | None:
             if limit is not None:
                 ax.axhline(limit, color="tab:red", lw=1, ls="--")
             if r == len(metrics) - 1:
-                ax.set_xlabel(f"{info.description} ({info.unit})", fontsize="small")
+                ax.set_xlabel(_wrap(f"{info.description} ({info.unit})", 34), fontsize="small")
             if c == 0:
-                ax.set_ylabel(study.METRICS.get(m, m), fontsize="small")
+                ax.set_ylabel(_wrap(study.METRICS.get(m, m), 26), fontsize="small")
             ax.tick_params(labelsize="x-small")
     fig.suptitle(f"{study.name}: {len(result.table)} points ({sweep.method})")
     fig.tight_layout()

@@ -12,7 +12,7 @@ import pytest
 import designlab as dl
 
 fol = dl.following
-DATA = Path(__file__).resolve().parents[1] / "data"
+DATA = Path(dl.__file__).parent / "data"  # the package copy of the source tables
 
 
 @pytest.mark.parametrize(

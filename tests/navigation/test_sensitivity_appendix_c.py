@@ -21,7 +21,7 @@ from designlab.errors import InvalidParameterError
 from designlab.results import check_result
 
 nav = dl.navigation
-DATA = Path(__file__).resolve().parents[1] / "data" / "nav_sensitivity_appendixC.csv"
+DATA = Path(dl.__file__).parent / "data" / "nav_sensitivity_appendixC.csv"  # the package copy
 GAIN = {"K1": "k1", "K3": "k3", "K5": "k5", "b": "b"}
 # The thesis's Config 3 "cir"/"rect" columns are swapped relative to its Table 6.4
 # (navigation reference, Sec. 11.4 caveats): its "d_s_min_cir" is the rectangle.

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import textwrap
 from importlib import resources
+from pathlib import Path
 
 import pandas as pd
 import pytest
@@ -321,3 +322,42 @@ def test_a_domain_rule_broken_is_refused_at_validation_with_the_spec_line():
     with pytest.raises(StudyError, match=r"band: Band.low = 3.0 m must be < Band.high") as info:
         build_every_spec(holder)
     assert info.value.path == ("band",)
+
+
+# --- the shipped studies read the same in every YAML parser -------------------------
+
+STUDY_FILES = sorted((Path(__file__).resolve().parents[2] / "studies").glob("*.yaml"))
+
+
+def _yaml12(text: str):
+    from ruamel.yaml import YAML
+
+    return YAML(typ="safe", pure=True).load(text)
+
+
+def _yaml11(text: str):
+    import yaml
+
+    return yaml.safe_load(text)
+
+
+@pytest.fixture(scope="module")
+def schema_validator():
+    import jsonschema
+
+    from designlab.study import study_json_schema
+
+    return jsonschema.Draft202012Validator(study_json_schema())
+
+
+@pytest.mark.parametrize("reader", [_yaml12, _yaml11], ids=["yaml1.2-ruamel", "yaml1.1-pyyaml"])
+@pytest.mark.parametrize("path", STUDY_FILES, ids=lambda p: p.stem)
+def test_shipped_studies_pass_the_exported_json_schema_in_any_yaml_parser(
+    path, reader, schema_validator
+):
+    from designlab.study.yamlio import load_yaml_with_lines
+
+    text = path.read_text(encoding="utf-8")
+    data = reader(text)
+    assert data == load_yaml_with_lines(text)[0]  # the same values as designlab reads
+    schema_validator.validate(data)

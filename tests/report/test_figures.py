@@ -1,0 +1,151 @@
+"""Every report figure is readable: no tick labels or axis labels overlap or are clipped.
+
+Each study kind runs a small study through its report writer; every figure the
+writer hands to ``write_png`` is drawn with Agg and its text measured: the tick
+labels of one axis must not overlap each other, the axis labels, titles and
+tick labels of the whole figure must not overlap each other across axes, and
+none may stand outside the figure.
+"""
+
+from __future__ import annotations
+
+import importlib
+import itertools
+import pkgutil
+import warnings
+from pathlib import Path
+
+import pytest
+from matplotlib.figure import Figure
+from matplotlib.text import Text
+from matplotlib.transforms import Bbox
+
+import designlab.report
+from designlab.study import parse_study, run_study
+
+#: A pixel of slack: anti-aliased glyph boxes of neighbours may touch.
+SLACK = 1.0
+
+SMALL_STUDIES: dict[str, str] = {
+    "impact_cases": "cases:\n  - {robot: MANIPULATOR_1, foam: FOAM_1, head: TEST_HEAD, "
+    "impact_velocity: 0.4}\n",
+    "impact_sweep": "base: {robot: MANIPULATOR_1, foam: FOAM_1, head: HEAD_MIN, "
+    "impact_velocity: 1.25}\nsweep:\n  method: grid\n  parameters:\n"
+    "    foam.stiffness: {values: [2.0e+4, 4.0e+4]}\n    head.mass: {values: [3.0, 5.0]}\n"
+    "sensitivity: {metrics: [a_h_max_g], one_at_a_time: {deltas_pct: [-10, 10]}}\n",
+    "foam_envelope": "base: {robot: MANIPULATOR_1, foam: FOAM_1}\n"
+    "damping: {low: 0, high: 200, num: 5}\nsweep:\n  method: grid\n  parameters:\n"
+    "    robot.mass: {values: [5.0, 20.0]}\n",
+    "foam_design": "robots: [MANIPULATOR_1]\nfoams: [FOAM_1]\n"
+    "damping: {low: 20, high: 100, num: 3}\noptimal: false\nworst_case_check: false\n",
+    "joint_reduction": "joints:\n  - {name: geared, inertia: 0.059, k_mech: 2000, c_mech: 2.0, "
+    "k_cont: 1500, c_cont: 30, lever_arm: 0.2}\nratios: {low: 0.1, high: 100, num: 4}\n",
+    "zeng_ch3_claims": "readings:\n  - {name: b, impact_velocity: 0.25, feedforward: false}\n"
+    "speed_ratios: [1.0]\n",
+    "follower_comparison": "paths: [{type: slalom}]\ncontrollers: [{type: PseudoJoystick}, "
+    "{type: FollowTheLeader}]\ndesired_lengths: [0.6]\n",
+    "follower_sweep": "base: {controller: {type: FollowTheLeader}, path: {type: slalom}}\n"
+    "sweep:\n  method: grid\n  parameters:\n    controller.lookahead: {values: [0.1, 0.5]}\n"
+    "    controller.desired_length: {values: [0.6, 1.0]}\n",
+    "vff_scenarios": "scenarios: [{configuration: 1}]\nmethods:\n  - {label: vff, gains: "
+    '{k1: 4.3, b: 0.68, k3: 20.3, k5: 240.7}, stabilising: "off"}\n',
+    "vff_sweep": "base: {gains: {k1: 4.3, b: 0.68, k3: 20.3, k5: 240.7}, scenarios: [[1, 6]], "
+    'stabilising: "off"}\nsweep:\n  method: grid\n  parameters:\n'
+    "    gains.k1: {values: [3.0, 4.3]}\n    gains.k5: {values: [120.0, 240.0]}\n",
+    "accompanying": "tasks: [forward, left_pivot]\n"
+    "tuning: {tune_on: [forward], derivative_free: false}\n",
+}
+
+
+def _texts(fig: Figure) -> list[tuple[str, Text]]:
+    """Every visible, non-empty tick label, axis label and title, with where it belongs."""
+    out: list[tuple[str, Text]] = []
+    for i, ax in enumerate(fig.axes):
+        for name, axis in (("x", ax.xaxis), ("y", ax.yaxis)):
+            out += [(f"ax{i} {name} tick", t) for t in axis.get_ticklabels()]
+            out.append((f"ax{i} {name} label", axis.label))
+        out += [(f"ax{i} title", t) for t in (ax.title, ax._left_title, ax._right_title)]
+    if fig._suptitle is not None:
+        out.append(("suptitle", fig._suptitle))
+    return [(w, t) for w, t in out if t.get_visible() and t.get_text().strip()]
+
+
+def _shrunk(box: Bbox) -> Bbox:
+    return Bbox.from_extents(box.x0 + SLACK, box.y0 + SLACK, box.x1 - SLACK, box.y1 - SLACK)
+
+
+def _drawn(where: str, box: Bbox, fig: Figure, renderer: object) -> bool:
+    """A tick label is drawn only if its tick lies within the axes' view (others are kept)."""
+    if " tick" not in where:
+        return True
+    ax = fig.axes[int(where.split()[0][2:])]
+    span = ax.get_window_extent(renderer)
+    if where.split()[1] == "x":
+        return span.x0 - SLACK <= (box.x0 + box.x1) / 2 <= span.x1 + SLACK
+    return span.y0 - SLACK <= (box.y0 + box.y1) / 2 <= span.y1 + SLACK
+
+
+def layout_problems(fig: Figure) -> list[str]:
+    """Text of ``fig`` that overlaps other text or stands outside the figure."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    renderer = canvas.get_renderer()
+    texts = [(w, t, t.get_window_extent(renderer)) for w, t in _texts(fig)]
+    texts = [(w, t, b) for w, t, b in texts if _drawn(w, b, fig, renderer)]
+    problems = []
+    frame = fig.bbox
+    for where, text, box in texts:
+        if not (box.x0 >= frame.x0 - SLACK and box.x1 <= frame.x1 + SLACK
+                and box.y0 >= frame.y0 - SLACK and box.y1 <= frame.y1 + SLACK):  # fmt: skip
+            problems.append(f"{where} {text.get_text()!r} is clipped by the figure edge")
+    for (w1, t1, b1), (w2, t2, b2) in itertools.combinations(texts, 2):
+        if _shrunk(b1).overlaps(_shrunk(b2)):
+            problems.append(f"{w1} {t1.get_text()!r} overlaps {w2} {t2.get_text()!r}")
+    return problems
+
+
+def test_the_checker_sees_overlap_and_clipping() -> None:
+    fig = Figure(figsize=(3, 2))
+    ax = fig.subplots()
+    ax.set_ylabel("a very long label that cannot fit beside an axes this short " * 2)
+    ax.set_xticks([0, 0.01], ["a long tick label", "another long one"])
+    problems = " ".join(layout_problems(fig))
+    assert "clipped" in problems and "overlaps" in problems
+    fig = Figure(figsize=(4, 3))
+    ax = fig.subplots()
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    fig.tight_layout()
+    assert layout_problems(fig) == []
+
+
+def _capture(monkeypatch: pytest.MonkeyPatch) -> list[tuple[str, Figure]]:
+    """Collect every figure a report writer hands to ``write_png``."""
+    figures: list[tuple[str, Figure]] = []
+
+    def fake_write_png(fig: Figure, path: object, **_: object) -> Path:
+        figures.append((Path(str(path)).name, fig))
+        return Path(str(path))
+
+    for info in pkgutil.iter_modules(designlab.report.__path__):
+        module = importlib.import_module(f"designlab.report.{info.name}")
+        if hasattr(module, "write_png"):
+            monkeypatch.setattr(module, "write_png", fake_write_png)
+    return figures
+
+
+@pytest.mark.parametrize("kind", sorted(SMALL_STUDIES))
+def test_report_figures_have_readable_labels(
+    kind: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    figures = _capture(monkeypatch)
+    text = f"designlab: 1\nkind: {kind}\nname: figs\n{SMALL_STUDIES[kind]}"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)  # old kind names
+        result = run_study(parse_study(text, file=f"{kind}.yaml"))
+    designlab.report.write_report(result, tmp_path, index=False)
+    assert figures, f"{kind}: the report has no figure"
+    problems = [f"{name}: {p}" for name, fig in figures for p in layout_problems(fig)]
+    assert not problems, "\n".join(problems)
