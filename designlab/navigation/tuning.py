@@ -56,7 +56,7 @@ from designlab.navigation.methods import STABILISING
 from designlab.navigation.parameters import GAIN, VFFGains
 from designlab.navigation.scenarios import Disc, Scenario, Walk
 from designlab.navigation.simulate import simulate_batch
-from designlab.params import Param
+from designlab.params import Param, declared, param
 from designlab.progress import Progress, ProgressHook, report
 from designlab.results import Result, Status
 
@@ -91,6 +91,7 @@ _UNITS = {"k1": "N/m", "b": "s", "k3": "N/m", "k5": "N/m^2"}
 # --------------------------------------------------------------------- random walks
 
 
+@declared
 @dataclass(frozen=True)
 class RandomWalks:
     """Randomised human walks for the robust mode.
@@ -99,19 +100,6 @@ class RandomWalks:
     ``n`` walks with the cruise speed, the start time and a lateral offset (normal
     to the walking direction) drawn uniformly from the given ranges with ``seed``.
     Scenarios without a walking obstacle are left as they are.
-
-    Parameters
-    ----------
-    n
-        Walks per scenario (>= 1).
-    speed
-        Range of the cruise speed, m/s.
-    start_time
-        Range of the time the walk starts, s (>= 0).
-    lateral_offset
-        Range of the offset of the whole walk to the left of its direction, m.
-    seed
-        Seed of the draws.
 
     Examples
     --------
@@ -123,15 +111,22 @@ class RandomWalks:
     1
     """
 
-    n: int = 8
-    speed: tuple[float, float] = (0.8, 1.2)
-    start_time: tuple[float, float] = (0.0, 0.5)
-    lateral_offset: tuple[float, float] = (-0.1, 0.1)
-    seed: int = 0
+    n: int = param(doc="walks per scenario", kind="integer", ge=1, le=64, default=8)
+    speed: tuple[float, float] = param(
+        unit="m/s", doc="range (low, high) of the cruise speed, low > 0", kind="object",
+        default=(0.8, 1.2),
+    )  # fmt: skip
+    start_time: tuple[float, float] = param(
+        unit="s", doc="range of the time the walk starts, low >= 0", kind="object",
+        default=(0.0, 0.5),
+    )  # fmt: skip
+    lateral_offset: tuple[float, float] = param(
+        unit="m", doc="range of the offset of the whole walk to the left of its direction",
+        kind="object", default=(-0.1, 0.1),
+    )  # fmt: skip
+    seed: int = param(doc="seed of the draws", kind="integer", ge=0, le=2**32 - 1, default=0)
 
     def __post_init__(self) -> None:
-        if isinstance(self.n, bool) or not isinstance(self.n, int | np.integer) or self.n < 1:
-            raise InvalidParameterError("RandomWalks.n", self.n, "must be an integer >= 1")
         for name, unit, lo_min in (
             ("speed", "m/s", 1e-9),
             ("start_time", "s", 0.0),
