@@ -38,7 +38,7 @@ from designlab.study.base import Flag, Integer, Model
 from designlab.study.kinds.navigation_specs import GainsSpec, Stabilising
 from designlab.study.registry import StudyKind
 from designlab.study.sweep_runner import run_sweep_study
-from designlab.study.sweeps import SweepStudyBase, parameter_model
+from designlab.study.sweeps import SensitivitySpec, SweepOf, SweepStudyBase, parameter_model
 
 __all__ = ["KIND", "NAVIGATION_PARAMETERS", "NavigationDesign", "NavigationSweepStudy"]
 
@@ -68,6 +68,20 @@ NAVIGATION_PARAMETERS: dict[str, tuple[str, Param]] = {
 NavigationSweepParameters = parameter_model(
     "NavigationSweepParameters", {path: info for path, (_, info) in NAVIGATION_PARAMETERS.items()}
 )
+
+
+def _home_here(model: Any) -> None:
+    """Make the generated models picklable: each is found in this module by its name (the
+    generic fix belongs in :func:`designlab.study.sweeps.parameter_model`)."""
+    for cls in [model] + [
+        a for f in model.model_fields.values() for a in getattr(f.annotation, "__args__", ())
+    ]:
+        if isinstance(cls, type) and cls.__module__ == "designlab.study.sweeps":
+            cls.__module__ = __name__
+            globals()[cls.__name__] = cls
+
+
+_home_here(NavigationSweepParameters)
 NavigationMetricName = Literal[
     "H_mean", "T_mean_s", "clearance_min_m", "critical_entries", "collisions"
 ]
@@ -119,10 +133,20 @@ class NavigationDesign(Model):
         return v
 
 
+class NavigationSweep(SweepOf[NavigationSweepParameters]):  # type: ignore[valid-type]
+    """The ``sweep`` block of a navigation sweep (a named class: results pickle)."""
+
+
+class NavigationSensitivity(SensitivitySpec[NavigationMetricName]):  # type: ignore[valid-type]
+    """The ``sensitivity`` block of a navigation sweep (a named class: results pickle)."""
+
+
 class NavigationSweepStudy(SweepStudyBase[NavigationSweepParameters, NavigationMetricName]):  # type: ignore[valid-type]
     """VFF criteria over a sweep of gains and robot limits, with sensitivity tables."""
 
     kind: Literal["navigation_sweep"]
+    sweep: NavigationSweep | None = None
+    sensitivity: NavigationSensitivity | None = None
     base: NavigationDesign = Field(
         description="nominal gains, limits and scenarios; the sweep varies some of them"
     )
