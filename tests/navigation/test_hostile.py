@@ -226,7 +226,7 @@ CONSTRUCTORS: dict[type, dict[str, Any]] = {
         "width": 0.5,
         "r2": 0.8,
         "r3": 0.4,
-    },  # fmt: skip
+    },
     nav.Scenario: {"name": "s", "start": (4.0, 0.0), "goal": (0.0, 0.0)},
     nav.RandomWalks: {},
 }

@@ -64,7 +64,7 @@ def test_schema_errors(tmp_path: Path) -> None:
 
 
 def test_committed_report_matches_the_study() -> None:
-    """reports/navigation_gains comes from studies/navigation_gains.yaml: ours at least as good as (a), (b)."""
+    """reports/navigation_gains comes from its study: ours at least as good as (a), (b)."""
     g = pd.read_csv(ROOT / "reports" / "navigation_gains" / "gains.csv", keep_default_na=False)
     for mode in ("off", "lyapunov"):
         block = g[(g["stabilising"] == mode) & (g["robust"] == "")].set_index("gains")

@@ -356,7 +356,8 @@ def test_reversed_gain_bounds_are_refused():
 def test_gain_bounds_beyond_the_largest_gain_are_refused():
     from designlab.errors import StudyError
 
-    text = (STUDIES / "navigation_gains.yaml").read_text().replace("b: [0.05, 3]", "b: [0.05, 3e12]")
+    text = (STUDIES / "navigation_gains.yaml").read_text()
+    text = text.replace("b: [0.05, 3]", "b: [0.05, 3e12]")
     with pytest.raises(StudyError, match=r"less than or equal to 1000000000"):
         parse_study(text, file="navigation_gains.yaml")
 
@@ -392,7 +393,12 @@ def test_no_switch_takes_a_number_or_a_word():
     from designlab.study.registry import study_kinds
 
     fields = [f for kind in study_kinds().values() for f in _bool_fields(kind.schema)]
-    assert {"NavigationDesign.jit", "NavigationGainsStudy.jit", "NavigationGainsStudy.refine"} <= {n for n, _ in fields}
+    names = {n for n, _ in fields}
+    assert {
+        "NavigationDesign.jit",
+        "NavigationGainsStudy.jit",
+        "NavigationGainsStudy.refine",
+    } <= names
     for name, info in fields:
         adapter = TypeAdapter(typing_annotated(info))
         assert adapter.validate_python(True) is True, name
