@@ -232,10 +232,31 @@ def navigation_gains_markdown(
         designlab's version, quoted at the end.
     """
     st = result.study
-    comp = result.comparison
     out = [f"# Optimal VFF gains: {st.name}", ""]
     if st.description:
         out += [st.description.strip(), ""]
+    out += _problem_section(result)
+    out += _gains_section(result)
+    for mode in st.modes:
+        out += _mode_line(result, mode)
+    out += _effort_section(result)
+    out += _sensitivity_section(result)
+    out += _appendix_c_section(result)
+    out += _global_section(result)
+    if result.warnings:
+        out += ["## Warnings", ""] + [f"- {w}" for w in result.warnings] + [""]
+    out += ["---", ""]
+    if command:
+        out.append(f"Produced by `{command}`")
+    out.append(f"designlab {version or ''}".rstrip())
+    out.append("")
+    return "\n".join(out)
+
+
+def _problem_section(result: NavigationGainsResult) -> list[str]:
+    """The optimisation problem as the study poses it."""
+    st = result.study
+    out: list[str] = []
     b = st.bounds
     out += [
         "## Problem (Zeng 2011, Sec. 5.6 and App. C; docs/navigation_gains.md)",
@@ -258,6 +279,13 @@ def navigation_gains_markdown(
         "## Gains and H_mean",
         "",
     ]
+    return out
+
+
+def _gains_section(result: NavigationGainsResult) -> list[str]:
+    """The gains table (and arrival times and margins)."""
+    comp = result.comparison
+    out: list[str] = []
     extra = [c for c in comp.columns if c.startswith(("T_arrive_s_", "critical_margin_m_"))]
     main = comp[[c for c in comp.columns if c not in extra]]
     out += [
@@ -280,66 +308,79 @@ def navigation_gains_markdown(
             ),
             "",
         ]
-    for mode in st.modes:
-        block = comp[(comp["stabilising"] == mode) & (comp["robust"] == "")].set_index("gains")
-        if "designlab_optimum" not in block.index:
-            out.append(f"- stabilising {mode}: no feasible optimum found")
-            continue
-        ours = block.loc["designlab_optimum"]
-        line = (
-            f"- stabilising **{mode}**: H_mean {ours['H_mean']:.4f} against "
-            f"{block.loc['experimental', 'H_mean']:.4f} "
-            f"(experimental gains, {ours['vs_experimental_pct']:+.1f} %) and "
-            f"{block.loc['thesis_optimum', 'H_mean']:.4f} "
-            f"(thesis optimum, {ours['vs_thesis_optimum_pct']:+.1f} %)."
+    return out
+
+
+def _mode_line(result: NavigationGainsResult, mode: str) -> list[str]:
+    """One stabilising mode: ours against the references, validation, bound check."""
+    st = result.study
+    comp = result.comparison
+    out: list[str] = []
+    block = comp[(comp["stabilising"] == mode) & (comp["robust"] == "")].set_index("gains")
+    if "designlab_optimum" not in block.index:
+        out.append(f"- stabilising {mode}: no feasible optimum found")
+        return out
+    ours = block.loc["designlab_optimum"]
+    line = (
+        f"- stabilising **{mode}**: H_mean {ours['H_mean']:.4f} against "
+        f"{block.loc['experimental', 'H_mean']:.4f} "
+        f"(experimental gains, {ours['vs_experimental_pct']:+.1f} %) and "
+        f"{block.loc['thesis_optimum', 'H_mean']:.4f} "
+        f"(thesis optimum, {ours['vs_thesis_optimum_pct']:+.1f} %)."
+    )
+    worse = [
+        lab.replace("_", " ")
+        for lab in ("experimental", "thesis_optimum")
+        if ours["H_mean"] < block.loc[lab, "H_mean"]
+    ]
+    if worse:
+        line += (
+            f" **Ours is below the {' and the '.join(worse)} gains: the search missed a better "
+            "point (raise max_evaluations or change the seed).**"
         )
-        worse = [
-            lab.replace("_", " ")
-            for lab in ("experimental", "thesis_optimum")
-            if ours["H_mean"] < block.loc[lab, "H_mean"]
-        ]
-        if worse:
-            line += (
-                f" **Ours is below the {' and the '.join(worse)} gains: the search missed a better "
-                "point (raise max_evaluations or change the seed).**"
+    for n in [c for c in block.columns if c.startswith("H_ch6_config")]:
+        i = int(n.rsplit("config", 1)[1])
+        if i in st.validation and i not in st.configurations:
+            vals = ", ".join(
+                f"{lab.replace('_', ' ')} {block.loc[lab, n]:.4f}" for lab in block.index
             )
-        for n in [c for c in block.columns if c.startswith("H_ch6_config")]:
-            i = int(n.rsplit("config", 1)[1])
-            if i in st.validation and i not in st.configurations:
-                vals = ", ".join(
-                    f"{lab.replace('_', ' ')} {block.loc[lab, n]:.4f}" for lab in block.index
+            best = block[n].idxmax()
+            safe = ""
+            if "validation_feasible" in block.columns:
+                safe = (
+                    "; ours arrives and stays out of every critical region there"
+                    if bool(block.loc["designlab_optimum", "validation_feasible"])
+                    else "; ours **enters a critical region or does not arrive** there"
                 )
-                best = block[n].idxmax()
-                safe = ""
-                if "validation_feasible" in block.columns:
-                    safe = (
-                        "; ours arrives and stays out of every critical region there"
-                        if bool(block.loc["designlab_optimum", "validation_feasible"])
-                        else "; ours **enters a critical region or does not arrive** there"
-                    )
-                ours_v = float(block.loc["designlab_optimum", n])
-                rel = ", ".join(
-                    f"{100 * (ours_v / float(block.loc[lab, n]) - 1):+.1f} % "
-                    f"vs {lab.replace('_', ' ')}"
-                    for lab in block.index
-                    if lab != "designlab_optimum"
-                )
-                line += f" Configuration {i} (not optimised): {vals} (ours {rel}){safe}; " + (
-                    "the optimum generalises."
-                    if best == "designlab_optimum"
-                    else f"the best set there is the {best.replace('_', ' ')} one."
-                )
-        if "designlab_optimum_wider_box" in block.index:
-            w = block.loc["designlab_optimum_wider_box"]
-            d = 100 * (w["H_mean"] / ours["H_mean"] - 1)
-            line += (
-                " Bound check: ours lies on the bound of "
-                f"{sorted(result.optima[mode].on_bounds())}; "
-                f"optimised again in a wider box{_box_change(result, mode + WIDER)}: "
-                f"K1 = {w['k1']:.3g}, b = {w['b']:.3g}, K3 = {w['k3']:.3g}, K5 = {w['k5']:.4g}, "
-                f"H_mean {w['H_mean']:.4f} ({d:+.2f} % against the optimum in the study's box)."
+            ours_v = float(block.loc["designlab_optimum", n])
+            rel = ", ".join(
+                f"{100 * (ours_v / float(block.loc[lab, n]) - 1):+.1f} % vs {lab.replace('_', ' ')}"
+                for lab in block.index
+                if lab != "designlab_optimum"
             )
-        out.append(line)
+            line += f" Configuration {i} (not optimised): {vals} (ours {rel}){safe}; " + (
+                "the optimum generalises."
+                if best == "designlab_optimum"
+                else f"the best set there is the {best.replace('_', ' ')} one."
+            )
+    if "designlab_optimum_wider_box" in block.index:
+        w = block.loc["designlab_optimum_wider_box"]
+        d = 100 * (w["H_mean"] / ours["H_mean"] - 1)
+        line += (
+            " Bound check: ours lies on the bound of "
+            f"{sorted(result.optima[mode].on_bounds())}; "
+            f"optimised again in a wider box{_box_change(result, mode + WIDER)}: "
+            f"K1 = {w['k1']:.3g}, b = {w['b']:.3g}, K3 = {w['k3']:.3g}, K5 = {w['k5']:.4g}, "
+            f"H_mean {w['H_mean']:.4f} ({d:+.2f} % against the optimum in the study's box)."
+        )
+    out.append(line)
+    return out
+
+
+def _effort_section(result: NavigationGainsResult) -> list[str]:
+    """Search effort and the figures."""
+    st = result.study
+    out: list[str] = []
     out += ["", "## Search effort", ""]
     eff = []
     for mode, o in result.optima.items():
@@ -370,6 +411,12 @@ def navigation_gains_markdown(
     ]
     for mode in st.modes:
         out += [f"![trajectories, stabilising {mode}](trajectories_{mode}.png)", ""]
+    return out
+
+
+def _sensitivity_section(result: NavigationGainsResult) -> list[str]:
+    """The App. C.3 tables around each base."""
+    out: list[str] = []
     if result.sensitivities:
         out += [
             "## Sensitivity tables (Zeng 2011, App. C.3)",
@@ -411,16 +458,7 @@ def navigation_gains_markdown(
                     ),
                     "",
                 ]
-    out += _appendix_c_section(result)
-    out += _global_section(result)
-    if result.warnings:
-        out += ["## Warnings", ""] + [f"- {w}" for w in result.warnings] + [""]
-    out += ["---", ""]
-    if command:
-        out.append(f"Produced by `{command}`")
-    out.append(f"designlab {version or ''}".rstrip())
-    out.append("")
-    return "\n".join(out)
+    return out
 
 
 _QUANTITY = {
