@@ -633,6 +633,36 @@ def _check_global(spread_pct: Any, samples: Any, seed: Any, relative_step: Any) 
         raise InvalidParameterError("relative_step", relative_step, "must be in (0, 0.5]")
 
 
+def _global_metrics(inner: Any, sc: list[Scenario]) -> tuple[Any, Any, list[float]]:
+    """The Sobol and the local metrics (H and the margin) and the Sobol sample's feasibility."""
+    has_obstacles = any(s.obstacles for s in sc)
+
+    def metric(points: dict[str, Array]) -> dict[str, Array]:
+        out = inner(points)
+        keep = {k: v for k, v in out.items() if k == "H_mean" or k.endswith(" H")}
+        if has_obstacles:
+            keep["critical_margin_min_m"] = out["critical_margin_min_m"]
+        arrived = np.ones_like(out["H_mean"], dtype=bool)
+        for s in sc:
+            arrived &= np.isfinite(out[f"{s.name} T_arrive_s"])
+        keep["_feasible"] = (arrived & (out["critical_margin_min_m"] > 0)).astype(float)
+        return keep
+
+    feasible: list[float] = []
+
+    def sobol_metric(points: dict[str, Array]) -> dict[str, Array]:
+        out = metric(points)
+        feasible.extend(out.pop("_feasible").tolist())
+        return out
+
+    def local_metric(points: dict[str, Array]) -> dict[str, Array]:
+        out = metric(points)
+        out.pop("_feasible")
+        return out
+
+    return sobol_metric, local_metric, feasible
+
+
 def gain_global_sensitivity(
     scenarios: Sequence[Scenario] | None = None,
     base: VFFGains | None = None,
@@ -690,35 +720,12 @@ def gain_global_sensitivity(
     """
     sc, b0 = _check_common(scenarios, base, stabilising)
     _check_global(spread_pct, samples, seed, relative_step)
-    inner = _metric_factory(sc, stabilising, arrival_tolerance)
-    has_obstacles = any(s.obstacles for s in sc)
-
-    def metric(points: dict[str, Array]) -> dict[str, Array]:
-        out = inner(points)
-        keep = {k: v for k, v in out.items() if k == "H_mean" or k.endswith(" H")}
-        if has_obstacles:
-            keep["critical_margin_min_m"] = out["critical_margin_min_m"]
-        arrived = np.ones_like(out["H_mean"], dtype=bool)
-        for s in sc:
-            arrived &= np.isfinite(out[f"{s.name} T_arrive_s"])
-        keep["_feasible"] = (arrived & (out["critical_margin_min_m"] > 0)).astype(float)
-        return keep
-
+    sobol_metric, local_metric, feasible = _global_metrics(
+        _metric_factory(sc, stabilising, arrival_tolerance), sc
+    )
     base_pt = dict(zip(_GAINS, b0.as_array().tolist(), strict=True))
     f = spread_pct / 100
     box = {k: (v * (1 - f), v * (1 + f)) for k, v in base_pt.items()}
-    feasible: list[float] = []
-
-    def sobol_metric(points: dict[str, Array]) -> dict[str, Array]:
-        out = metric(points)
-        feasible.extend(out.pop("_feasible").tolist())
-        return out
-
-    def local_metric(points: dict[str, Array]) -> dict[str, Array]:
-        out = metric(points)
-        out.pop("_feasible")
-        return out
-
     el = elasticities(
         local_metric, base_pt, list(_GAINS), relative_step=float(relative_step),
         descriptions=_DESCRIPTIONS,

@@ -797,10 +797,8 @@ def optimise_gains(
         Candidates per CMA-ES generation (simulated as one batch), 4-256.
     max_evaluations
         Budget of gain sets for the global stage (>= popsize, <= 100 000).
-    refine
-        Run the batched compass search from the best global point.
-    refine_evaluations
-        Budget of the local stage.
+    refine, refine_evaluations
+        Run the batched compass search from the best global point; its budget.
     robust
         :class:`RandomWalks` to optimise over randomised human walks, or ``None``.
     robust_mode
@@ -811,12 +809,10 @@ def optimise_gains(
         Clearance (m, 0-2) the robot must keep outside every critical region: a
         candidate is feasible only if, in every run, the smallest centre/contour
         distance to each obstacle is at least its r3 plus this margin.
-    executor
+    executor, chunks
         Optional executor with ``map_unordered(fn, tasks)`` (e.g. from
-        ``designlab.analysis.executors.make_executor``) to split each population into
-        ``chunks`` parallel batches.
-    chunks
-        Number of parallel batches per population when ``executor`` is given.
+        ``designlab.analysis.executors.make_executor``) and the number of parallel batches
+        each population is split into.
     jit
         Simulate with the step compiled to four gain sets per pass (needs a C compiler;
         see :func:`~designlab.navigation.simulate_batch`): the same optimum to the bit.
@@ -839,13 +835,9 @@ def optimise_gains(
         For bad scenarios, bounds, modes or budgets.
     """
     t_start = time.perf_counter()
-    lo, hi = _check_bounds(bounds)
-    popsize = POPSIZE.check(popsize)
-    search = _Search(
-        _check_scenarios(scenarios), lo, hi, _start(x0, lo, hi), SEED.check(seed),
-        SIGMA0.check(sigma0), popsize, _check_budget(max_evaluations, popsize),
-        REFINE_EVALUATIONS.check(refine_evaluations),
-    )  # fmt: skip
+    search = _check_search(
+        scenarios, bounds, x0, seed, sigma0, popsize, max_evaluations, refine_evaluations
+    )
     if executor is not None and not hasattr(executor, "map_unordered"):
         raise InvalidParameterError("executor", executor, "must have map_unordered(fn, tasks)")
     if not isinstance(jit, bool | np.bool_):
@@ -864,6 +856,26 @@ def optimise_gains(
                     seed=search.seed, critical_margin=cm)  # fmt: skip
     return _optimum(search, ev, inc, (global_converged, local_converged, refine), stop,
                     time.perf_counter() - t_start, settings)  # fmt: skip
+
+
+def _check_search(
+    scenarios: Any,
+    bounds: Any,
+    x0: Any,
+    seed: Any,
+    sigma0: Any,
+    popsize: Any,
+    max_evaluations: Any,
+    refine_evaluations: Any,
+) -> _Search:
+    """The search settings, each checked against its declaration."""
+    lo, hi = _check_bounds(bounds)
+    popsize = POPSIZE.check(popsize)
+    return _Search(
+        _check_scenarios(scenarios), lo, hi, _start(x0, lo, hi), SEED.check(seed),
+        SIGMA0.check(sigma0), popsize, _check_budget(max_evaluations, popsize),
+        REFINE_EVALUATIONS.check(refine_evaluations),
+    )  # fmt: skip
 
 
 def _check_budget(max_evaluations: Any, popsize: int) -> int:
