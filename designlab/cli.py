@@ -276,11 +276,15 @@ def run(
         )
         raise typer.Exit(EXIT_DESIGNLAB_ERROR) from None
     except KeyboardInterrupt:
-        typer.echo(
-            f"interrupted: finished points are kept in {cache_dir}/; no report was "
-            "written. Run the same command with --resume to finish.",
-            err=True,
-        )
+        from designlab.study.sweeps import SweepStudyBase
+
+        if isinstance(locals().get("spec"), SweepStudyBase):  # only sweeps keep their chunks
+            said = f"finished points are kept in {cache_dir}/; no report was written. Run the "
+            said += "same command with --resume to finish."
+        else:
+            said = "no report was written and nothing was kept (only sweep studies store "
+            said += "finished points); run the same command again."
+        typer.echo(f"interrupted: {said}", err=True)
         raise typer.Exit(EXIT_INTERRUPTED) from None
 
 

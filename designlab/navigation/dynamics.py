@@ -103,78 +103,11 @@ def build_hold(
     x0 = ca.SX.sym("x0", nx)
     F = ca.SX.sym("F", 2)
     brake = ca.SX.sym("brake")
-    vmax, amax = robot.max_speed, robot.max_accel
-    a_cmd = _clip_norm(F / robot.mass, amax)
-    cols, pows = [], []
+    a_cmd = _clip_norm(F / robot.mass, robot.max_accel)
     if isinstance(robot, HolonomicRobot):
-        s3 = math.sqrt(3.0) / 2.0
-        rw, lw = robot.wheel_radius, robot.wheel_offset
-        rows = ((-s3, -0.5), (s3, -0.5), (0.0, 1.0))  # (D.1.2) with phi = 0, phi' = 0
-        del lw  # no rotation is commanded: the l_w column multiplies phi' = 0
-        p, v = x0[0:2], x0[2:4]
-        # braking keeps the direction of the velocity: speed(t) = max(0, s0 - a t)
-        s0 = ca.sqrt(ca.sumsqr(v) + 1e-30)
-        v_hat = v / s0
-        # wheel speeds w_i = R_i . v (D.1.2); feed-forward u_i = J/K w_i' + B/K w_i + tau/K sgn(w_i)
-        R = [(r[0] / rw, r[1] / rw) for r in rows]
-        w_prev = [Ri[0] * v[0] + Ri[1] * v[1] for Ri in R]
-        for j in range(n_sub):
-            v_brake = v_hat * ca.fmax(0.0, s0 - amax * dt * (j + 1))
-            v_new = ca.if_else(brake, v_brake, _clip_norm(v + a_cmd * dt, vmax))
-            p = p + v_new * dt
-            pw = ca.SX(0)
-            w_now = []
-            for Ri, w_old, (jk, bk, tk) in zip(R, w_prev, HOLONOMIC_FEEDFORWARD, strict=True):
-                w = Ri[0] * v_new[0] + Ri[1] * v_new[1]
-                u = (jk / dt + bk) * w - (jk / dt) * w_old + tk * ca.sign(w)
-                pw = pw + u * u
-                w_now.append(w)
-            w_prev = w_now
-            pows.append(pw)
-            v = v_new
-            cols.append(ca.vertcat(p, v))
+        cols, pows = _holonomic_steps(robot, x0, a_cmd, brake, n_sub, dt)
     else:
-        rb = robot
-        p, phi, vs, om = x0[0:2], x0[2], x0[3], x0[4]
-        # the reference holonomic robot starts from the measured state (Sec. 7.2)
-        pr = p
-        vr = vs * ca.vertcat(ca.cos(phi), ca.sin(phi))
-        for _ in range(n_sub):
-            ar = ca.if_else(brake, _brake(vr, amax, dt), a_cmd)
-            vr_new = _clip_norm(vr + ar * dt, vmax)
-            ar_eff = (vr_new - vr) / dt
-            pr = pr + vr_new * dt
-            vr = vr_new
-            vd = ca.sqrt(ca.sumsqr(vr) + 1e-30)
-            has_dir = vd > 1e-3
-            phid = ca.if_else(has_dir, ca.atan2(vr[1], vr[0]), phi)
-            omd = ca.if_else(has_dir, (vr[0] * ar_eff[1] - vr[1] * ar_eff[0]) / (vd * vd), 0)
-            c, s = ca.cos(phi), ca.sin(phi)
-            ex = c * (pr[0] - p[0]) + s * (pr[1] - p[1])
-            ey = -s * (pr[0] - p[0]) + c * (pr[1] - p[1])
-            ephi = ca.atan2(ca.sin(phid - phi), ca.cos(phid - phi))
-            wn = ca.sqrt(omd * omd + rb.k * vd * vd)
-            kx = 2 * rb.xi * wn
-            v_cmd = vd * ca.cos(ephi) + kx * ex
-            w_cmd = omd + rb.k * vd * ey + kx * ephi
-            v_cmd = ca.fmin(ca.fmax(v_cmd, -vmax), vmax)
-            dv = ca.fmin(ca.fmax(v_cmd - vs, -amax * dt), amax * dt)
-            dw = ca.fmin(ca.fmax(w_cmd - om, -rb.max_angular_accel * dt), rb.max_angular_accel * dt)
-            vs_new, om_new = vs + dv, om + dw
-            phi = phi + om_new * dt
-            p = p + vs_new * ca.vertcat(ca.cos(phi), ca.sin(phi)) * dt
-            half = 0.5 * rb.track
-            rate = [
-                (vs_new + half * om_new) / rb.wheel_radius,
-                (vs_new - half * om_new) / rb.wheel_radius,
-            ]
-            wacc = [
-                (dv / dt + half * dw / dt) / rb.wheel_radius,
-                (dv / dt - half * dw / dt) / rb.wheel_radius,
-            ]
-            pows.append(_ff_power(NONHOLONOMIC_FEEDFORWARD, rate, wacc))
-            vs, om = vs_new, om_new
-            cols.append(ca.vertcat(p, phi, vs, om))
+        cols, pows = _nonholonomic_steps(robot, x0, a_cmd, brake, n_sub, dt)
     return ca.Function(
         f"hold_{robot.kind}_{n_sub}",
         [x0, F, brake],
@@ -182,3 +115,90 @@ def build_hold(
         ["x0", "F", "brake"],
         ["X", "power"],
     )
+
+
+def _holonomic_steps(
+    robot: HolonomicRobot, x0: ca.SX, a_cmd: ca.SX, brake: ca.SX, n_sub: int, dt: float
+) -> tuple[list[ca.SX], list[ca.SX]]:
+    """States and wheel powers of the omni-wheel robot over one hold (D.1.2, D.3.2)."""
+    vmax, amax = robot.max_speed, robot.max_accel
+    cols: list[ca.SX] = []
+    pows: list[ca.SX] = []
+    s3 = math.sqrt(3.0) / 2.0
+    rw, lw = robot.wheel_radius, robot.wheel_offset
+    rows = ((-s3, -0.5), (s3, -0.5), (0.0, 1.0))  # (D.1.2) with phi = 0, phi' = 0
+    del lw  # no rotation is commanded: the l_w column multiplies phi' = 0
+    p, v = x0[0:2], x0[2:4]
+    # braking keeps the direction of the velocity: speed(t) = max(0, s0 - a t)
+    s0 = ca.sqrt(ca.sumsqr(v) + 1e-30)
+    v_hat = v / s0
+    # wheel speeds w_i = R_i . v (D.1.2); feed-forward u_i = J/K w_i' + B/K w_i + tau/K sgn(w_i)
+    R = [(r[0] / rw, r[1] / rw) for r in rows]
+    w_prev = [Ri[0] * v[0] + Ri[1] * v[1] for Ri in R]
+    for j in range(n_sub):
+        v_brake = v_hat * ca.fmax(0.0, s0 - amax * dt * (j + 1))
+        v_new = ca.if_else(brake, v_brake, _clip_norm(v + a_cmd * dt, vmax))
+        p = p + v_new * dt
+        pw = ca.SX(0)
+        w_now = []
+        for Ri, w_old, (jk, bk, tk) in zip(R, w_prev, HOLONOMIC_FEEDFORWARD, strict=True):
+            w = Ri[0] * v_new[0] + Ri[1] * v_new[1]
+            u = (jk / dt + bk) * w - (jk / dt) * w_old + tk * ca.sign(w)
+            pw = pw + u * u
+            w_now.append(w)
+        w_prev = w_now
+        pows.append(pw)
+        v = v_new
+        cols.append(ca.vertcat(p, v))
+    return cols, pows
+
+
+def _nonholonomic_steps(
+    robot: NonholonomicRobot, x0: ca.SX, a_cmd: ca.SX, brake: ca.SX, n_sub: int, dt: float
+) -> tuple[list[ca.SX], list[ca.SX]]:
+    """States and wheel powers of the differential drive tracking its reference (7.2, E.3.2)."""
+    vmax, amax = robot.max_speed, robot.max_accel
+    cols: list[ca.SX] = []
+    pows: list[ca.SX] = []
+    rb = robot
+    p, phi, vs, om = x0[0:2], x0[2], x0[3], x0[4]
+    # the reference holonomic robot starts from the measured state (Sec. 7.2)
+    pr = p
+    vr = vs * ca.vertcat(ca.cos(phi), ca.sin(phi))
+    for _ in range(n_sub):
+        ar = ca.if_else(brake, _brake(vr, amax, dt), a_cmd)
+        vr_new = _clip_norm(vr + ar * dt, vmax)
+        ar_eff = (vr_new - vr) / dt
+        pr = pr + vr_new * dt
+        vr = vr_new
+        vd = ca.sqrt(ca.sumsqr(vr) + 1e-30)
+        has_dir = vd > 1e-3
+        phid = ca.if_else(has_dir, ca.atan2(vr[1], vr[0]), phi)
+        omd = ca.if_else(has_dir, (vr[0] * ar_eff[1] - vr[1] * ar_eff[0]) / (vd * vd), 0)
+        c, s = ca.cos(phi), ca.sin(phi)
+        ex = c * (pr[0] - p[0]) + s * (pr[1] - p[1])
+        ey = -s * (pr[0] - p[0]) + c * (pr[1] - p[1])
+        ephi = ca.atan2(ca.sin(phid - phi), ca.cos(phid - phi))
+        wn = ca.sqrt(omd * omd + rb.k * vd * vd)
+        kx = 2 * rb.xi * wn
+        v_cmd = vd * ca.cos(ephi) + kx * ex
+        w_cmd = omd + rb.k * vd * ey + kx * ephi
+        v_cmd = ca.fmin(ca.fmax(v_cmd, -vmax), vmax)
+        dv = ca.fmin(ca.fmax(v_cmd - vs, -amax * dt), amax * dt)
+        dw = ca.fmin(ca.fmax(w_cmd - om, -rb.max_angular_accel * dt), rb.max_angular_accel * dt)
+        vs_new, om_new = vs + dv, om + dw
+        phi = phi + om_new * dt
+        p = p + vs_new * ca.vertcat(ca.cos(phi), ca.sin(phi)) * dt
+        half = 0.5 * rb.track
+        rate = [
+            (vs_new + half * om_new) / rb.wheel_radius,
+            (vs_new - half * om_new) / rb.wheel_radius,
+        ]
+        wacc = [
+            (dv / dt + half * dw / dt) / rb.wheel_radius,
+            (dv / dt - half * dw / dt) / rb.wheel_radius,
+        ]
+        pows.append(_ff_power(NONHOLONOMIC_FEEDFORWARD, rate, wacc))
+        vs, om = vs_new, om_new
+        cols.append(ca.vertcat(p, phi, vs, om))
+    return cols, pows

@@ -386,119 +386,160 @@ def run(
             "method", method, "'cbf' solves one QP per step and is not batched"
         )
     geos = tuple(ObstacleGeometry.of(o) for o in scenario.obstacles)
-    n_obs = len(geos)
-    robot = scenario.robot
-    lean = not record
     n_samples = math.ceil(scenario.horizon / period - 1e-9)
     if record:  # the histories: state, power, distances, obstacle positions per step
-        per_step = state_size(robot) + 1 + 3 * n_obs
+        per_step = state_size(scenario.robot) + 1 + 3 * len(geos)
         check_size(
             "Scenario.horizon", scenario.horizon, n_samples * n_sub * per_step,
             what="the recorded run (horizon / dynamics_step steps)",
         )  # fmt: skip
-    if lean and N > 1:
+    if not record and N > 1:
         return _run_batch(
             scenario, gains, geos, method, n_sub, dt, tol, stabilising, tie, jit, n_samples
         )
-    # lean steps bake the stabilising switch in: with the force off, its AD terms drop
-    f = _step_call(geos, robot, method, n_sub, dt, N, jit, lean, bool(stabilising))
-    nx = state_size(robot)
-    x_in, goal_in, obs_in, gains_in, params_in, _osub_in, ff_in, tol_in = (
-        f.view_in(i) for i in range(8)
-    )
-    tol_in[:, 0] = tol
-    X = np.tile(initial_state(scenario)[:, None], (1, N))
-    goal_in[:, 0] = scenario.goal
-    gains_in[:, :] = gains.T
-    params_in[:, 0] = (robot.mass, float(tie), 1.0 if stabilising else 0.0, robot.max_accel)
-    ff_in[:, 0] = 0.0
-    if lean:
+    run = _SingleRun(scenario, gains, geos, method, n_sub, dt, tol, stabilising, tie, jit, record)
+    run.cbf = _CBF(geos, scenario.robot, cbf_gains) if method == "cbf" else None
+    tracks = _Tracks(scenario, n_samples, n_sub, dt, keep=record)
+    k_done = run.recorded(tracks, n_samples) if record else run.lean(tracks, n_samples)
+    record_out = None
+    if run.rec is not None:
+        P = np.concatenate(tracks.P_all, axis=1)
+        record_out = _assemble(run.rec, n_sub, period, dt, P, state_size(scenario.robot))
+        record_out["stab"] = 1.0 if stabilising else 0.0
+        record_out["period"] = period
+    return RawRun(run.arrival, run.dmin, run.energy, run.crit_time, k_done * period, record_out)
+
+
+_RECORDED = ("F", "critical", "V", "Vdot0", "Omega", "vL2", "FL", "g", "active", "sigma")
+_RECORDED_OUT = (3, 4, 5, 6, 7, 8, 9, 10, 11, 13)  # their outputs of the full step
+
+
+class _SingleRun:
+    """One run (or a recorded batch): the step bound to its inputs and the running results."""
+
+    def __init__(
+        self,
+        scenario: Scenario,
+        gains: Array,
+        geos: tuple[ObstacleGeometry, ...],
+        method: str,
+        n_sub: int,
+        dt: float,
+        tol: float,
+        stabilising: bool,
+        tie: int,
+        jit: bool,
+        record: bool,
+    ) -> None:
+        robot = scenario.robot
+        N = gains.shape[0]
+        self.scenario, self.gains, self.n_sub, self.dt, self.tol = scenario, gains, n_sub, dt, tol
+        self.N, self.n_obs, self.nx = N, len(geos), state_size(robot)
+        # lean steps bake the stabilising switch in: with the force off, its AD terms drop
+        f = self.f = _step_call(
+            geos, robot, method, n_sub, dt, N, jit, not record, bool(stabilising)
+        )
+        f.view_in(7)[:, 0] = tol
+        f.view_in(1)[:, 0] = scenario.goal
+        f.view_in(3)[:, :] = gains.T
+        f.view_in(4)[:, 0] = (robot.mass, float(tie), 1.0 if stabilising else 0.0, robot.max_accel)
+        f.view_in(6)[:, 0] = 0.0
+        self.X = np.tile(initial_state(scenario)[:, None], (1, N))
+        f.view_in(0)[:, :] = self.X
+        self.arrival = np.full(N, np.inf)
+        self.dmin = np.full((N, self.n_obs), np.inf)
+        self.energy = np.zeros(N)
+        self.crit_time = np.zeros(N)
+        if self.n_obs:
+            start_d = np.array(
+                [
+                    float(o.contour_distance(np.array([scenario.start]))[0])
+                    for o in scenario.obstacles
+                ]
+            )
+            self.dmin[:] = start_d[None, :]
+        self.rec: dict[str, list[Any]] | None = None
+        if record:
+            self.rec = {k: [] for k in ("X", "D", "power", *_RECORDED, "x_sample", "qp_status")}
+        else:
+            self.arrival_period = _ArrivalPeriod(f, geos, robot, method, n_sub, dt, tol)
+        self.cbf: _CBF | None = None
+
+    def _inputs(self, tracks: _Tracks, k: int) -> None:
+        """The obstacles of period ``k`` and, with the CBF filter, its force."""
+        f = self.f
+        obs_k, osub_k = tracks.at(k)
+        if self.n_obs:
+            f.view_in(2)[:, 0] = obs_k
+            f.inp[5][:] = osub_k
+        if self.rec is not None:
+            f.view_in(0)[:, :] = self.X
+        if self.cbf is not None:
+            x = f.view_in(0)[:, 0].copy()
+            goal = np.asarray(self.scenario.goal)
+            force = self.cbf.force(
+                x, goal, self.gains[0], obs_k, self.scenario.robot, self.scenario
+            )
+            f.view_in(6)[:, 0] = force
+
+    def lean(self, tracks: _Tracks, n_samples: int) -> int:
+        """A single lean run: scalar bookkeeping (it spends its time in the step)."""
+        f, n_obs = self.f, self.n_obs
         o_crit, o_dmin, o_esum, o_hit = (f.view_out(i) for i in range(1, 5))
         o_crit, o_esum, o_hit = (a.reshape(-1) for a in (o_crit, o_esum, o_hit))
-        arrival_period = _ArrivalPeriod(f, geos, robot, method, n_sub, dt, tol)
-    else:
-        outX, outP, outD = f.view_out(0), f.view_out(1), f.view_out(2)
-        out_crit = f.view_out(4).reshape(-1)
-        out_gmin = f.view_out(15).reshape(-1)
-    goal = np.asarray(scenario.goal)
-    arrival = np.full(N, np.inf)
-    dmin = np.full((N, n_obs), np.inf)
-    energy = np.zeros(N)
-    crit_time = np.zeros(N)
-    if n_obs:
-        start_d = np.array(
-            [float(o.contour_distance(np.array([scenario.start]))[0]) for o in scenario.obstacles]
-        )
-        dmin[:] = start_d[None, :]
-    rec: dict[str, list[Any]] | None = None
-    if record:
-        rec = {
-            k: []
-            for k in (
-                "X",
-                "D",
-                "power",
-                "F",
-                "critical",
-                "V",
-                "Vdot0",
-                "Omega",
-                "vL2",
-                "FL",
-                "g",
-                "active",
-                "sigma",
-                "x_sample",
-                "qp_status",
-            )
-        }
-    cbf = _CBF(geos, robot, cbf_gains) if method == "cbf" else None
-    live = np.ones(N, bool)
-    k_done = 0
-    dmin0 = dmin[0]
-    e_sum = 0.0
-    c_sum = 0.0
-    x_flat = f.inp[0]
-    o_x_flat = f.out[0] if lean else None
-    x_in[:, :] = X
-    tracks = _Tracks(scenario, n_samples, n_sub, dt, keep=record)
-    for k in range(n_samples):
-        obs_k, osub_k = tracks.at(k)
-        if n_obs:
-            obs_in[:, 0] = obs_k
-            f.inp[5][:] = osub_k
-        if not (lean and N == 1):
-            x_in[:, :] = X
-        if cbf is not None:
-            ff_in[:, 0] = cbf.force(x_in[:, 0].copy(), goal, gains[0], obs_k, robot, scenario)
-        f()
-        if lean and N == 1:  # scalar bookkeeping: a single run spends its time in the step
+        dmin0 = self.dmin[0]
+        e_sum = c_sum = 0.0
+        k_done = 0
+        for k in range(n_samples):
+            self._inputs(tracks, k)
+            f()
             c_sum += float(o_crit[0])
             k_done = k + 1
-            first = arrival_period(0) if o_hit[0] > 0.5 else None
+            first = self.arrival_period(0) if o_hit[0] > 0.5 else None
             if first is not None:  # stop the minima and the energy at the first passage
                 count, dm, es = first
                 if n_obs:
                     np.minimum(dmin0, dm, out=dmin0)
                 e_sum += es
-                arrival[0] = (k * n_sub + count) * dt
-                live[0] = False
+                self.arrival[0] = (k * self.n_sub + count) * self.dt
                 break
             if n_obs:
                 np.minimum(dmin0, o_dmin[:, 0], out=dmin0)
             e_sum += float(o_esum[0])
-            np.copyto(x_flat, o_x_flat)
-            continue
+            np.copyto(f.inp[0], f.out[0])
+        self.energy[0] += e_sum * self.dt
+        self.crit_time[0] += c_sum * (self.n_sub * self.dt)
+        return k_done
+
+    def recorded(self, tracks: _Tracks, n_samples: int) -> int:
+        """A run with its time histories (every dynamics step of every period)."""
+        live = np.ones(self.N, bool)
+        k_done = 0
+        for k in range(n_samples):
+            self._inputs(tracks, k)
+            self.f()
+            Xs = self._period(k, live)
+            self.X = Xs[:, -1, :].copy()
+            k_done = k + 1
+            if not live.any():
+                break
+        return k_done
+
+    def _period(self, k: int, live: NDArray[np.bool_]) -> Array:
+        """Accumulate one recorded period; return its states ``(nx, n_sub, N)``."""
+        f, N, n_sub, n_obs, dt, tol = self.f, self.N, self.n_sub, self.n_obs, self.dt, self.tol
+        outX, outP, outD = f.view_out(0), f.view_out(1), f.view_out(2)
         if N > 1:  # mapped layout: columns are [member 0 steps..., member 1 steps..., ...]
-            Xs = outX.reshape(nx, N, n_sub).transpose(0, 2, 1)
+            Xs = outX.reshape(self.nx, N, n_sub).transpose(0, 2, 1)
             Ds = outD.reshape(n_obs, N, n_sub).transpose(0, 2, 1)
             Pw = outP.reshape(N, n_sub).T
         else:
             Xs = outX[:, :, None]
             Ds = outD[:, :, None]
             Pw = outP.reshape(n_sub, 1)
-        arriving = live & (out_gmin <= tol)
+        arriving = live & (f.view_out(15).reshape(-1) <= tol)
         if arriving.any():
+            goal = np.asarray(self.scenario.goal)
             gx, gy = Xs[0] - goal[0], Xs[1] - goal[1]
             gd = np.sqrt(gx * gx + gy * gy)  # (n_sub, N), the same operations as the step's
             hit = gd <= tol
@@ -507,48 +548,29 @@ def run(
             mask = np.arange(n_sub)[:, None] < upto[None, :]  # (n_sub, N)
             if n_obs:
                 dm = np.where(mask[None, :, :], Ds, np.inf).min(axis=1)
-                dmin = np.minimum(dmin, dm.T)
-            energy += np.where(mask, Pw, 0.0).sum(axis=0) * dt
-            arrival[arriving] = (k * n_sub + first[arriving] + 1) * dt
+                self.dmin = np.minimum(self.dmin, dm.T)
+            self.energy += np.where(mask, Pw, 0.0).sum(axis=0) * dt
+            self.arrival[arriving] = (k * n_sub + first[arriving] + 1) * dt
         else:
             if n_obs:
-                dmin[live] = np.minimum(dmin[live], Ds.min(axis=1).T[live])
-            energy[live] += Pw.sum(axis=0)[live] * dt
-        crit_time[live] += out_crit[live] * period
+                self.dmin[live] = np.minimum(self.dmin[live], Ds.min(axis=1).T[live])
+            self.energy[live] += Pw.sum(axis=0)[live] * dt
+        self.crit_time[live] += f.view_out(4).reshape(-1)[live] * (n_sub * dt)
         live &= ~arriving
-        if rec is not None:
-            rec["x_sample"].append(X[:, 0].copy())
-            rec["X"].append(Xs[:, :, 0].copy())
-            rec["D"].append(Ds[:, :, 0].copy())
-            rec["power"].append(Pw[:, 0].copy())
-            for name, idx_out in (
-                ("F", 3),
-                ("critical", 4),
-                ("V", 5),
-                ("Vdot0", 6),
-                ("Omega", 7),
-                ("vL2", 8),
-                ("FL", 9),
-                ("g", 10),
-                ("active", 11),
-                ("sigma", 13),
-            ):
-                rec[name].append(f.view_out(idx_out)[:, 0].copy())
-            rec["qp_status"].append(cbf.last_status if cbf is not None else "")
-        X = Xs[:, -1, :].copy()
-        k_done = k + 1
-        if not live.any():
-            break
-    if lean and N == 1:
-        energy[0] += e_sum * dt
-        crit_time[0] += c_sum * period
-    t_end = k_done * period
-    record_out = None
-    if rec is not None:
-        record_out = _assemble(rec, n_sub, period, dt, np.concatenate(tracks.P_all, axis=1), nx)
-        record_out["stab"] = 1.0 if stabilising else 0.0
-        record_out["period"] = period
-    return RawRun(arrival, dmin, energy, crit_time, t_end, record_out)
+        self._keep(Xs, Ds, Pw)
+        return Xs
+
+    def _keep(self, Xs: Array, Ds: Array, Pw: Array) -> None:
+        """Append the first member's period to the records."""
+        rec = self.rec
+        assert rec is not None
+        rec["x_sample"].append(self.X[:, 0].copy())
+        rec["X"].append(Xs[:, :, 0].copy())
+        rec["D"].append(Ds[:, :, 0].copy())
+        rec["power"].append(Pw[:, 0].copy())
+        for name, idx_out in zip(_RECORDED, _RECORDED_OUT, strict=True):
+            rec[name].append(self.f.view_out(idx_out)[:, 0].copy())
+        rec["qp_status"].append(self.cbf.last_status if self.cbf is not None else "")
 
 
 class _Tracks:

@@ -38,7 +38,7 @@ array([6.62, 3.46])
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import Any
 
@@ -222,6 +222,153 @@ def _disc_collision_free(geo: ObstacleGeometry) -> None:
         )
 
 
+@dataclass
+class _Symbols:
+    """The symbols a method's forces are written in."""
+
+    p: ca.SX
+    v: ca.SX
+    E: ca.SX
+    Edot: ca.SX
+    k1: ca.SX
+    b: ca.SX
+    k3: ca.SX
+    k5: ca.SX
+    m: ca.SX
+    tie: ca.SX
+    stab: ca.SX
+    amax: ca.SX
+
+
+@dataclass
+class _Forces:
+    """What a method's field gives: the force, the detour sides and the Lyapunov terms
+    (zero for the methods without a Lyapunov function)."""
+
+    F: ca.SX
+    sigmas: list[ca.SX]
+    V: ca.SX = field(default_factory=lambda: ca.SX(0))
+    vdot0: ca.SX = field(default_factory=lambda: ca.SX(0))
+    omega: ca.SX = field(default_factory=lambda: ca.SX(0))
+    vL: ca.SX = field(default_factory=lambda: ca.SX.zeros(2))
+    FL: ca.SX = field(default_factory=lambda: ca.SX.zeros(2))
+    g: ca.SX = field(default_factory=lambda: ca.SX.zeros(2))
+
+
+def _pd_attraction(s: _Symbols) -> ca.SX:
+    """F_a = K1 E + K2 E' with K2 = b K1 (5.4.2)."""
+    return s.k1 * s.E + s.b * s.k1 * s.Edot
+
+
+def _vff_sides(items: list[_Obs], s: _Symbols) -> list[ca.SX]:
+    """Side of each detour force: the rules, then (5.4.4), then the tie-break (+/- y)."""
+    zeros2 = ca.SX.zeros(2)
+
+    def psi_force(it: _Obs, sigma: ca.SX) -> ca.SX:
+        phi, phi_rate, u_psi = it.detour_terms(sigma)
+        w2 = (it.geo.r2 - it.dd) ** 2
+        return (s.k5 * w2 * phi + s.b * s.k5 * w2 * phi_rate) * u_psi
+
+    rule_forces = [ca.if_else(it.c, psi_force(it, it.sigma_rule), zeros2) for it in items]
+    sigmas = []
+    for i, it in enumerate(items):
+        others = zeros2
+        for j in range(len(items)):
+            if j != i:
+                others = others + rule_forces[j]
+        t = ca.dot(it.u_perp, others)
+        tie_side = ca.if_else(ca.fabs(it.u_perp[1]) > 1e-9, ca.sign(it.u_perp[1]) * s.tie, s.tie)
+        resolved = ca.if_else(ca.fabs(t) > 1e-9, ca.sign(t), tie_side)
+        sigmas.append(ca.if_else(it.sigma_rule != 0, it.sigma_rule, resolved))
+    return sigmas
+
+
+def _vff_forces(items: list[_Obs], s: _Symbols) -> _Forces:
+    """The new VFF with V, dV/dt, Omega and the stabilising force F_L (B.2.2, B.3, (5.4.6))."""
+    zeros2 = ca.SX.zeros(2)
+    k1, b, k3, k5, m = s.k1, s.b, s.k3, s.k5, s.m
+    sigmas = _vff_sides(items, s)
+    # --- forces and the Lyapunov function V (B.2.2, B.3), with the sides held fixed
+    F_unf = _pd_attraction(s)
+    V = 0.5 * k1**2 * ca.dot(s.E, s.E) + 0.5 * m * k1 * ca.dot(s.Edot, s.Edot)
+    vL = k1 * s.Edot
+    for it, sigma in zip(items, sigmas, strict=True):
+        r2, r3 = it.geo.r2, it.geo.r3
+        dd = it.dd
+        lam = (r2 - dd) ** 2 / (dd - r3)
+        k_lam = (r2 - dd) ** 2 / (dd - r3) ** 2
+        lam_rate = -k_lam * it.d_rate
+        phi, phi_rate, u_psi = it.detour_terms(sigma)
+        w2 = (r2 - dd) ** 2
+        psi = w2 * phi
+        psi_rate = w2 * phi_rate
+        c = it.c
+        F_i = (k3 * lam + b * k3 * lam_rate) * it.u + (k5 * psi + b * k5 * psi_rate) * u_psi
+        F_unf = F_unf + ca.if_else(c, F_i, zeros2)
+        V_i = (
+            0.5 * k3**2 * lam**2
+            + 0.5 * m * k3 * k_lam * it.d_rate**2
+            + 0.5 * k5**2 * psi**2
+            + 0.5 * m * k5 * dd * w2 * phi_rate**2
+        )
+        V = V + ca.if_else(c, V_i, 0)
+        vL = vL + ca.if_else(c, k3 * lam_rate * it.u + k5 * psi_rate * u_psi, zeros2)
+    z = ca.vertcat(s.p, s.v, *[ca.vertcat(it.po, it.vo) for it in items])
+    zdot = ca.vertcat(s.v, F_unf / m, *[ca.vertcat(it.vo, it.ao) for it in items])
+    vdot0 = ca.jtimes(V, z, zdot)
+    g = ca.gradient(V, s.v)
+    omega = b * ca.dot(vL, vL) + vdot0
+    any_active = ca.SX(0)
+    for it in items:
+        any_active = ca.logic_or(any_active, it.c)
+    g2 = ca.dot(g, g)
+    FL = ca.if_else(
+        ca.logic_and(any_active, g2 > 1e-18),
+        m * ca.fmax(omega, 0) * (-g) / ca.fmax(g2, 1e-18),
+        zeros2,
+    )
+    return _Forces(F_unf + s.stab * FL, sigmas, V, vdot0, omega, vL, FL, g)
+
+
+def _masoud_forces(items: list[_Obs], s: _Symbols) -> _Forces:
+    """Masoud (2007): F_a = K1 E, repulsion K3 D, detour K5 |D| in a fixed sense (the tie)."""
+    F = s.k1 * s.E
+    for it in items:
+        rot = s.tie * it.u_perp  # fixed rotational sense (+1 counter-clockwise)
+        F = F + ca.if_else(it.c, s.k3 * it.D + s.k5 * it.d * rot, ca.SX.zeros(2))
+    return _Forces(F, [s.tie] * len(items))
+
+
+def _ge_cui_forces(items: list[_Obs], s: _Symbols) -> _Forces:
+    """Ge & Cui (2002): (2.2.12)-(2.2.13) on the PD attraction."""
+    F = _pd_attraction(s)
+    sigmas = []
+    for it in items:
+        r3 = it.geo.r3
+        gap2 = (it.dd - r3) ** 2
+        beta_rate = ca.dot(it.u_perp, s.v - it.vo) / it.dd
+        rep = (s.k3 - it.d_rate / s.amax) / gap2
+        det = ca.fabs(s.k5 * it.d_rate * beta_rate * it.dd) / gap2
+        side = ca.sign(beta_rate)
+        sigmas.append(side)
+        F = F + ca.if_else(it.c, rep * it.u + det * side * it.u_perp, ca.SX.zeros(2))
+    return _Forces(F, sigmas)
+
+
+def _cbf_forces(items: list[_Obs], s: _Symbols) -> _Forces:
+    """The CBF filter's nominal field: the PD attraction alone (filtered by the simulator)."""
+    return _Forces(_pd_attraction(s), [ca.SX(0)] * len(items))
+
+
+#: The force of each navigation method (the registry of :data:`METHODS`).
+_FORCES = {
+    "vff": _vff_forces,
+    "masoud": _masoud_forces,
+    "ge_cui": _ge_cui_forces,
+    "cbf": _cbf_forces,
+}
+
+
 @lru_cache(maxsize=64)
 def build_field(geometries: tuple[ObstacleGeometry, ...], method: str = "vff") -> ca.Function:
     """The force field for a set of obstacles as a ``casadi.Function``.
@@ -260,7 +407,6 @@ def build_field(geometries: tuple[ObstacleGeometry, ...], method: str = "vff") -
     k1, b, k3, k5 = gains[0], gains[1], gains[2], gains[3]
     m, tie, stab, amax = params[0], params[1], params[2], params[3]
     E = goal - p
-    Edot = -v
     items = [
         _Obs(
             g,
@@ -276,105 +422,28 @@ def build_field(geometries: tuple[ObstacleGeometry, ...], method: str = "vff") -
     critical = ca.SX(0)
     for it in items:
         critical = ca.logic_or(critical, it.critical)
-    zeros2 = ca.SX.zeros(2)
-    V = ca.SX(0)
-    vdot0 = ca.SX(0)
-    omega = ca.SX(0)
-    vL = zeros2
-    FL = zeros2
-    g = zeros2
-    sigmas = [ca.SX(0)] * n
-
-    if method in ("vff", "cbf"):
-        F_a = k1 * E + b * k1 * Edot
-    elif method == "masoud":
-        F_a = k1 * E
-    else:  # ge_cui
-        F_a = k1 * E + b * k1 * Edot
-
-    if method == "vff":
-        # --- side of each detour force: rules, then (5.4.4), then the tie-break (+/- y)
-        def psi_force(it: _Obs, sigma: ca.SX) -> ca.SX:
-            phi, phi_rate, u_psi = it.detour_terms(sigma)
-            w2 = (it.geo.r2 - it.dd) ** 2
-            return (k5 * w2 * phi + b * k5 * w2 * phi_rate) * u_psi
-
-        rule_forces = [ca.if_else(it.c, psi_force(it, it.sigma_rule), zeros2) for it in items]
-        for i, it in enumerate(items):
-            others = zeros2
-            for j in range(n):
-                if j != i:
-                    others = others + rule_forces[j]
-            t = ca.dot(it.u_perp, others)
-            tie_side = ca.if_else(ca.fabs(it.u_perp[1]) > 1e-9, ca.sign(it.u_perp[1]) * tie, tie)
-            resolved = ca.if_else(ca.fabs(t) > 1e-9, ca.sign(t), tie_side)
-            sigmas[i] = ca.if_else(it.sigma_rule != 0, it.sigma_rule, resolved)
-        # --- forces and the Lyapunov function V (B.2.2, B.3), with the sides held fixed
-        F_unf = F_a
-        V = 0.5 * k1**2 * ca.dot(E, E) + 0.5 * m * k1 * ca.dot(Edot, Edot)
-        vL = k1 * Edot
-        for it, sigma in zip(items, sigmas, strict=True):
-            r2, r3 = it.geo.r2, it.geo.r3
-            dd = it.dd
-            lam = (r2 - dd) ** 2 / (dd - r3)
-            k_lam = (r2 - dd) ** 2 / (dd - r3) ** 2
-            lam_rate = -k_lam * it.d_rate
-            phi, phi_rate, u_psi = it.detour_terms(sigma)
-            w2 = (r2 - dd) ** 2
-            psi = w2 * phi
-            psi_rate = w2 * phi_rate
-            c = it.c
-            F_i = (k3 * lam + b * k3 * lam_rate) * it.u + (k5 * psi + b * k5 * psi_rate) * u_psi
-            F_unf = F_unf + ca.if_else(c, F_i, zeros2)
-            V_i = (
-                0.5 * k3**2 * lam**2
-                + 0.5 * m * k3 * k_lam * it.d_rate**2
-                + 0.5 * k5**2 * psi**2
-                + 0.5 * m * k5 * dd * w2 * phi_rate**2
-            )
-            V = V + ca.if_else(c, V_i, 0)
-            vL = vL + ca.if_else(c, k3 * lam_rate * it.u + k5 * psi_rate * u_psi, zeros2)
-        z = ca.vertcat(p, v, *[ca.vertcat(it.po, it.vo) for it in items])
-        zdot = ca.vertcat(v, F_unf / m, *[ca.vertcat(it.vo, it.ao) for it in items])
-        vdot0 = ca.jtimes(V, z, zdot)
-        g = ca.gradient(V, v)
-        omega = b * ca.dot(vL, vL) + vdot0
-        any_active = ca.SX(0)
-        for it in items:
-            any_active = ca.logic_or(any_active, it.c)
-        g2 = ca.dot(g, g)
-        FL = ca.if_else(
-            ca.logic_and(any_active, g2 > 1e-18),
-            m * ca.fmax(omega, 0) * (-g) / ca.fmax(g2, 1e-18),
-            zeros2,
-        )
-        F = F_unf + stab * FL
-    elif method == "masoud":
-        F = F_a
-        for i, it in enumerate(items):
-            rot = tie * it.u_perp  # fixed rotational sense (+1 counter-clockwise)
-            sigmas[i] = tie
-            F = F + ca.if_else(it.c, k3 * it.D + k5 * it.d * rot, zeros2)
-    elif method == "ge_cui":
-        F = F_a
-        for i, it in enumerate(items):
-            r3 = it.geo.r3
-            gap2 = (it.dd - r3) ** 2
-            beta_rate = ca.dot(it.u_perp, v - it.vo) / it.dd
-            rep = (k3 - it.d_rate / amax) / gap2
-            det = ca.fabs(k5 * it.d_rate * beta_rate * it.dd) / gap2
-            side = ca.sign(beta_rate)
-            sigmas[i] = side
-            F = F + ca.if_else(it.c, rep * it.u + det * side * it.u_perp, zeros2)
-    else:  # cbf: nominal attractive field, filtered by the simulator
-        F = F_a
+    sym = _Symbols(p, v, E, -v, k1, b, k3, k5, m, tie, stab, amax)
+    out = _FORCES[method](items, sym)
+    F, sigmas = out.F, out.sigmas
     active = ca.vertcat(*[it.c for it in items]) if n else ca.SX(0, 1)
     dist = ca.vertcat(*[it.d for it in items]) if n else ca.SX(0, 1)
     sig = ca.vertcat(*sigmas) if n else ca.SX(0, 1)
     return ca.Function(
         f"field_{method}_{n}",
         [x, goal, obs, gains, params],
-        [F, critical, V, vdot0, omega, ca.dot(vL, vL), FL, g, active, dist, sig],
+        [
+            F,
+            critical,
+            out.V,
+            out.vdot0,
+            out.omega,
+            ca.dot(out.vL, out.vL),
+            out.FL,
+            out.g,
+            active,
+            dist,
+            sig,
+        ],
         ["x", "goal", "obs", "gains", "params"],
         ["F", "critical", "V", "Vdot0", "Omega", "vL2", "FL", "g", "active", "d", "sigma"],
     )

@@ -300,6 +300,39 @@ def _intervals(
     return out
 
 
+def _assumption_breaks(
+    record: dict[str, Any],
+    act: NDArray[np.bool_],
+    critical: NDArray[np.bool_],
+    t: NDArray[np.float64],
+    period: float,
+    limits: tuple[float, float, float],
+    holonomic: bool,
+) -> list[tuple[str, float, float]]:
+    """The intervals where the proof's assumptions break (saturation, braking, a switch)."""
+    mass, max_accel, max_speed = limits
+    x0, F = record["x_sample"], record["F"]
+    active_any = act.any(axis=1) if act.size else np.zeros(t.size, bool)
+    speed = np.hypot(x0[:, 2], x0[:, 3]) if holonomic else np.abs(x0[:, 3])
+    force_sat = np.hypot(F[:, 0], F[:, 1]) > mass * max_accel * (1 + 1e-9)
+    speed_sat = speed >= max_speed * (1 - 1e-6)
+    sig = record["sigma"]
+    switch = np.zeros(t.size, bool)
+    if sig.size:
+        both = act[1:] & act[:-1]
+        switch[1:] = np.any(both & (sig[1:] != sig[:-1]), axis=1)
+    intervals: list[tuple[str, float, float]] = []
+    for flag, reason in (
+        (force_sat & active_any, "force saturation"),
+        (speed_sat & active_any, "speed saturation"),
+        (critical, "critical region"),
+        (switch, "detour switch"),
+    ):
+        intervals.extend(_intervals(flag, t, period, reason))
+    intervals.sort(key=lambda r: (r[1], r[0]))
+    return intervals
+
+
 def audit_run(
     record: dict[str, Any],
     *,
@@ -369,23 +402,8 @@ def audit_run(
         if hold_ok.any()
         else float("nan")
     )
-    speed = np.hypot(x0[:, 2], x0[:, 3]) if holonomic else np.abs(x0[:, 3])
-    force_sat = np.hypot(F[:, 0], F[:, 1]) > mass * max_accel * (1 + 1e-9)
-    speed_sat = speed >= max_speed * (1 - 1e-6)
-    sig = record["sigma"]
-    switch = np.zeros(t.size, bool)
-    if sig.size:
-        both = act[1:] & act[:-1]
-        switch[1:] = np.any(both & (sig[1:] != sig[:-1]), axis=1)
-    intervals: list[tuple[str, float, float]] = []
-    for flag, reason in (
-        (force_sat & active_any, "force saturation"),
-        (speed_sat & active_any, "speed saturation"),
-        (critical, "critical region"),
-        (switch, "detour switch"),
-    ):
-        intervals.extend(_intervals(flag, t, period, reason))
-    intervals.sort(key=lambda r: (r[1], r[0]))
+    limits = (mass, max_accel, max_speed)
+    intervals = _assumption_breaks(record, act, critical, t, period, limits, holonomic)
     warnings: list[str] = []
     if not holonomic:
         warnings.append(

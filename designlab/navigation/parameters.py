@@ -334,7 +334,7 @@ MAX_GAIN = 1e9
 GAIN = Param(None, "", "gain", gt=0, le=MAX_GAIN, name="gain")
 
 
-def _gain(symbol: str, unit: str, doc: str, default: Any = dataclasses.MISSING) -> Any:
+def _gain(symbol: str | None, unit: str, doc: str, default: Any = dataclasses.MISSING) -> Any:
     decl = dataclasses.replace(GAIN, symbol=symbol, unit=unit, doc=doc)
     return declared_field(decl, default)
 
@@ -357,7 +357,7 @@ class VFFGains(ParamsMixin):
     """
 
     k1: float = _gain("K1", "N/m", "attractive gain")
-    b: float = _gain("b", "s", "gain ratio b = K2/K1 = K4/K3 = K6/K5")
+    b: float = _gain(None, "s", "gain ratio b = K2/K1 = K4/K3 = K6/K5")  # symbol in the text
     k3: float = _gain("K3", "N/m", "repulsive gain")
     k5: float = _gain("K5", "N/m^2", "detour gain")
 

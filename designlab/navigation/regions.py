@@ -18,8 +18,8 @@ Examples
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
+from typing import Any
 
 import pandas as pd
 
@@ -136,6 +136,39 @@ class RegionSizes(Result):
         )
 
 
+def _check_kinds(obstacle: Any, robot: Any) -> None:
+    if not isinstance(robot, HolonomicRobot | NonholonomicRobot):
+        raise InvalidParameterError("robot", robot, "must be a HolonomicRobot or NonholonomicRobot")
+    if not isinstance(obstacle, Human | CircularObstacle | ObstacleRobot | RectangularObstacle):
+        raise InvalidParameterError(
+            "obstacle",
+            obstacle,
+            "must be a Human, CircularObstacle, ObstacleRobot or RectangularObstacle",
+        )
+
+
+def _adopted(name: str, value: float | None, minimum: float, unit: str) -> float:
+    """The adopted value (>= the minimum), or the minimum."""
+    if value is None:
+        return minimum
+    out = check_positive(name, value, unit)
+    if out < minimum - 1e-12:
+        shown = f"{minimum:.4f} {unit}"
+        what = "the minimum r3 = " if name == "critical_radius" else "the minimum "
+        raise InvalidParameterError(name, value, f"must be >= {what}{shown}", unit)
+    return out
+
+
+def _turn_time(robot: Robot, turn_time: float | None) -> float:
+    if isinstance(robot, NonholonomicRobot):
+        return robot.turn_time if turn_time is None else check_positive("turn_time", turn_time, "s")
+    if turn_time is not None:
+        raise InvalidParameterError(
+            "turn_time", turn_time, "applies only to a NonholonomicRobot", "s"
+        )
+    return 0.0
+
+
 def region_sizes(
     obstacle: Obstacle,
     robot: Robot,
@@ -188,14 +221,7 @@ def region_sizes(
     (0.367, 0.6064, 0.467)
     """
     ts = SAMPLE_TIME.check(sample_time)
-    if not isinstance(robot, HolonomicRobot | NonholonomicRobot):
-        raise InvalidParameterError("robot", robot, "must be a HolonomicRobot or NonholonomicRobot")
-    if not isinstance(obstacle, Human | CircularObstacle | ObstacleRobot | RectangularObstacle):
-        raise InvalidParameterError(
-            "obstacle",
-            obstacle,
-            "must be a Human, CircularObstacle, ObstacleRobot or RectangularObstacle",
-        )
+    _check_kinds(obstacle, robot)
     v, a = robot.max_speed, robot.max_accel
     dt1 = v / a
     t_a = v / a
@@ -205,41 +231,15 @@ def region_sizes(
     d_o1 = v_o * (dt1 + ts)
     r3_hat = d_o1 + d_r1
     r3_min = r3_hat + robot.radius + (0.0 if rect else obstacle.radius)
-    r3 = r3_min
-    if critical_radius is not None:
-        r3 = check_positive("critical_radius", critical_radius, "m")
-        if r3 < r3_min - 1e-12:
-            raise InvalidParameterError(
-                "critical_radius",
-                critical_radius,
-                f"must be >= the minimum r3 = {r3_min:.4f} m",
-                "m",
-            )
+    r3 = _adopted("critical_radius", critical_radius, r3_min, "m")
     offset = obstacle.effective_offset if rect else 0.0
     dt2_min = (r3 + offset - 0.5 * a * t_a**2) / v + t_a
-    dt2 = dt2_min
-    if sidestep_time is not None:
-        dt2 = check_positive("sidestep_time", sidestep_time, "s")
-        if dt2 < dt2_min - 1e-12:
-            raise InvalidParameterError(
-                "sidestep_time", sidestep_time, f"must be >= the minimum {dt2_min:.4f} s", "s"
-            )
-    if isinstance(robot, NonholonomicRobot):
-        t_turn = (
-            robot.turn_time if turn_time is None else check_positive("turn_time", turn_time, "s")
-        )
-    else:
-        if turn_time is not None:
-            raise InvalidParameterError(
-                "turn_time", turn_time, "applies only to a NonholonomicRobot", "s"
-            )
-        t_turn = 0.0
+    dt2 = _adopted("sidestep_time", sidestep_time, dt2_min, "s")
+    t_turn = _turn_time(robot, turn_time)
     horizon = dt2 + t_turn + ts
     d_rx2 = v * horizon
     d_ox2 = v_o * horizon
     warnings: tuple[str, ...] = ()
-    if not math.isfinite(d_rx2 + d_ox2):  # pragma: no cover - inputs are validated finite
-        raise InvalidParameterError("obstacle", obstacle, "gives a non-finite region size")
     return RegionSizes(
         obstacle_kind="rectangle" if rect else "disc",
         sample_time=ts,

@@ -34,7 +34,7 @@ from designlab.navigation.parameters import (
     NonholonomicRobot,
     declared_field,
 )
-from designlab.params import Param, declared, param
+from designlab.params import Param, declared, param, params_of
 
 __all__ = [
     "ConstantVelocity",
@@ -694,98 +694,21 @@ def configuration(
     """
     if chapter not in (6, 7):
         raise InvalidParameterError("chapter", chapter, "must be 6 or 7")
-    reg = _CH6 if chapter == 6 else _CH7
-    default_robot: HolonomicRobot | NonholonomicRobot = (
-        HolonomicRobot() if chapter == 6 else NonholonomicRobot()
-    )
-    rb = default_robot if robot is None else robot
+    params_of(Walk)["speed"].check(human_speed, "human_speed")
+    params_of(Walk)["ramp_time"].check(human_ramp_time, "human_ramp_time")
+    rb = robot if robot is not None else (HolonomicRobot() if chapter == 6 else NonholonomicRobot())
     key = str(which)
-    y0 = 0.6
-    if chapter == 6:
-        start, goal = (3.9, 0.6), (0.0, 0.6)
-        walk = Walk((0.6, y0), (4.0, y0), speed=human_speed, ramp_time=human_ramp_time)
-        rect = Rectangle.from_corners(
-            "rectangle", [(1.6, -0.3), (3, -0.3), (3, 0.3), (1.6, 0.3)], r2=0.8, r3=0.4
-        )
-        circle3 = _circle(reg, (2.45, 1.4))
-        builds: dict[str, tuple[tuple[Obstacle, ...], str]] = {
-            "1": ((_circle(reg, (2.45, 0.595)),), "Sec. 6.4.1: a near-collinear circular obstacle"),
-            "2": ((_human(reg, walk),), "Sec. 6.4.2: a human walking head-on (synthetic walk)"),
-            "3": ((circle3, rect), "Sec. 6.4.3: a passage between a circle and a rectangle"),
-            "4": (
-                (circle3, rect, _human(reg, walk)),
-                "Sec. 6.4.4: Configuration 3 plus the walking human",
-            ),
-            "parallel": (
-                (
-                    _human(
-                        reg,
-                        Walk((0.6, 1.2), (4.0, 1.2), speed=human_speed, ramp_time=human_ramp_time),
-                    ),
-                ),
-                "Sec. 6.4.5: a human walking parallel to the robot, 0.6 m to the side",
-            ),
-        }
-        if key == "unpredictable":
-            return Scenario(
-                "unpredictable",
-                (4.0, 0.0),
-                (0.0, 0.0),
-                (_human(reg, unpredictable_human_path(horizon)),),
-                rb,
-                horizon,
-                description="Sec. 5.7: a human who stops and turns",
-            )
-    else:
-        start, goal = (3.99, 0.6), (0.0, 0.6)
-        walk = Walk((0.2, y0), (3.9, y0), speed=human_speed, ramp_time=human_ramp_time)
-        rect = Rectangle.from_corners(
-            "rectangle",
-            [(1.6, -0.1), (1.6, 0.5), (3.0, 0.5), (3.0, -0.1)],
-            r2=reg["rectangle"][0],
-            r3=reg["rectangle"][1],
-        )
-        circle3 = _circle(reg, (2.16, 1.5))
-        builds = {
-            "1": (
-                (_circle(reg, (2.16, 0.6)),),
-                "Sec. 7.5.1: an exactly collinear circular obstacle",
-            ),
-            "2": (
-                (
-                    _human(
-                        reg,
-                        Walk((0.2, y0), (4.0, y0), speed=human_speed, ramp_time=human_ramp_time),
-                    ),
-                ),
-                "Sec. 7.5.2: a human walking head-on (synthetic walk)",
-            ),
-            "3": ((circle3, rect), "Sec. 7.5.3: circle and rectangle"),
-            "4": (
-                (circle3, rect, _human(reg, walk)),
-                "Sec. 7.5.4: Configuration 3 plus the walking human",
-            ),
-        }
-        if key == "multi":
-            obstacles = (
-                Disc("circle", RHO_CIR, *reg["circle"], motion=Stationary((4.1, 2.0))),
-                _human(reg, ConstantVelocity((0.0, 0.6), (1.0, 0.0))),
-                Disc(
-                    "robot",
-                    RHO_MOB,
-                    *reg["robot"],
-                    motion=ConstantVelocity((3.0, 4.0), (0.0, -0.5)),
-                ),
-            )
-            return Scenario(
-                "multi",
-                (5.5, 0.2),
-                (1.0, 3.5),
-                obstacles,
-                rb,
-                horizon,
-                description="Sec. 7.5.5: human, circle and an obstacle robot (start/goal assumed)",
-            )
+    walk = (human_speed, human_ramp_time)
+    if chapter == 6 and key == "unpredictable":
+        human = _human(_CH6, unpredictable_human_path(horizon))
+        text = "Sec. 5.7: a human who stops and turns"
+        return Scenario("unpredictable", (4.0, 0.0), (0.0, 0.0), (human,), rb, horizon,
+                        description=text)  # fmt: skip
+    if chapter == 7 and key == "multi":
+        return Scenario("multi", (5.5, 0.2), (1.0, 3.5), _multi(), rb, horizon,
+                        description="Sec. 7.5.5: human, circle and an obstacle robot "
+                        "(start/goal assumed)")  # fmt: skip
+    builds = _chapter6(walk) if chapter == 6 else _chapter7(walk)
     if key not in builds:
         allowed = (
             "1, 2, 3, 4, 'parallel', 'unpredictable'" if chapter == 6 else "1, 2, 3, 4, 'multi'"
@@ -794,5 +717,63 @@ def configuration(
             "configuration", which, f"must be one of {allowed} for chapter {chapter}"
         )
     obstacles, text = builds[key]
+    start = (3.9, 0.6) if chapter == 6 else (3.99, 0.6)
     name = f"ch{chapter}_config{key}" if key.isdigit() else f"ch{chapter}_{key}"
-    return Scenario(name, start, goal, obstacles, rb, horizon, description=text)
+    return Scenario(name, start, (0.0, 0.6), obstacles, rb, horizon, description=text)
+
+
+_Builds = dict[str, tuple[tuple[Obstacle, ...], str]]
+
+
+def _chapter6(walk: tuple[float, float]) -> _Builds:
+    """The Ch. 6 configurations (holonomic robot, Ch. 6 regions)."""
+    reg, (v, ramp) = _CH6, walk
+    head_on = Walk((0.6, 0.6), (4.0, 0.6), speed=v, ramp_time=ramp)
+    rect = Rectangle.from_corners(
+        "rectangle", [(1.6, -0.3), (3, -0.3), (3, 0.3), (1.6, 0.3)], r2=0.8, r3=0.4
+    )
+    circle3 = _circle(reg, (2.45, 1.4))
+    parallel = _human(reg, Walk((0.6, 1.2), (4.0, 1.2), speed=v, ramp_time=ramp))
+    return {
+        "1": ((_circle(reg, (2.45, 0.595)),), "Sec. 6.4.1: a near-collinear circular obstacle"),
+        "2": ((_human(reg, head_on),), "Sec. 6.4.2: a human walking head-on (synthetic walk)"),
+        "3": ((circle3, rect), "Sec. 6.4.3: a passage between a circle and a rectangle"),
+        "4": (
+            (circle3, rect, _human(reg, head_on)),
+            "Sec. 6.4.4: Configuration 3 plus the walking human",
+        ),
+        "parallel": (
+            (parallel,),
+            "Sec. 6.4.5: a human walking parallel to the robot, 0.6 m to the side",
+        ),
+    }
+
+
+def _chapter7(walk: tuple[float, float]) -> _Builds:
+    """The Ch. 7 configurations (nonholonomic robot, Ch. 7 regions)."""
+    reg, (v, ramp) = _CH7, walk
+    rect = Rectangle.from_corners(
+        "rectangle",
+        [(1.6, -0.1), (1.6, 0.5), (3.0, 0.5), (3.0, -0.1)],
+        r2=reg["rectangle"][0],
+        r3=reg["rectangle"][1],
+    )
+    circle3 = _circle(reg, (2.16, 1.5))
+    human4 = _human(reg, Walk((0.2, 0.6), (3.9, 0.6), speed=v, ramp_time=ramp))
+    human2 = _human(reg, Walk((0.2, 0.6), (4.0, 0.6), speed=v, ramp_time=ramp))
+    return {
+        "1": ((_circle(reg, (2.16, 0.6)),), "Sec. 7.5.1: an exactly collinear circular obstacle"),
+        "2": ((human2,), "Sec. 7.5.2: a human walking head-on (synthetic walk)"),
+        "3": ((circle3, rect), "Sec. 7.5.3: circle and rectangle"),
+        "4": ((circle3, rect, human4), "Sec. 7.5.4: Configuration 3 plus the walking human"),
+    }
+
+
+def _multi() -> tuple[Obstacle, ...]:
+    """Sec. 7.5.5: a circle, a human and another robot (start and goal assumed)."""
+    reg = _CH7
+    return (
+        Disc("circle", RHO_CIR, *reg["circle"], motion=Stationary((4.1, 2.0))),
+        _human(reg, ConstantVelocity((0.0, 0.6), (1.0, 0.0))),
+        Disc("robot", RHO_MOB, *reg["robot"], motion=ConstantVelocity((3.0, 4.0), (0.0, -0.5))),
+    )

@@ -33,6 +33,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -45,7 +46,8 @@ from designlab.analysis.sensitivity import (
     sobol_indices,
 )
 from designlab.errors import InvalidParameterError
-from designlab.navigation.parameters import VFFGains
+from designlab.navigation.methods import STABILISING
+from designlab.navigation.parameters import GAIN_SETS, OPTIMAL_GAINS, VFFGains
 from designlab.navigation.scenarios import Scenario, configuration
 from designlab.navigation.simulate import NavigationResult, simulate, simulate_batch
 from designlab.results import OK, Result
@@ -177,10 +179,7 @@ def _settles(scenario: Scenario, gains: VFFGains, stabilising: str, tolerance: f
 
 
 def _metric_factory(scenarios: list[Scenario], stabilising: str, arrival_tolerance: float):
-    def metric(points: dict[str, Array]) -> dict[str, Array]:
-        g = np.column_stack(
-            [np.maximum(np.asarray(points[n], dtype=float), ZERO_GAIN) for n in _GAINS]
-        )
+    def batch(g: Array) -> dict[str, Array]:
         with np.errstate(
             invalid="ignore", divide="ignore"
         ):  # a gain at zero: T* = inf in the criteria
@@ -202,7 +201,32 @@ def _metric_factory(scenarios: list[Scenario], stabilising: str, arrival_toleran
         out["critical_margin_min_m"] = margin
         return out
 
+    def metric(points: dict[str, Array]) -> dict[str, Array]:
+        g = np.column_stack(
+            [np.maximum(np.asarray(points[n], dtype=float), ZERO_GAIN) for n in _GAINS]
+        )
+        # at most GAIN_SETS.le gain sets per batch (each member's arithmetic is its own)
+        step = int(GAIN_SETS.le)  # type: ignore[arg-type]
+        parts = [batch(g[i : i + step]) for i in range(0, g.shape[0], step)]
+        return {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
+
     return metric
+
+
+def _check_common(
+    scenarios: Sequence[Scenario] | None, base: VFFGains | None, stabilising: str
+) -> tuple[list[Scenario], VFFGains]:
+    """The scenarios (default Configurations 1-3) and the base gains (default Table C.1)."""
+    sc = [configuration(i) for i in (1, 2, 3)] if scenarios is None else list(scenarios)
+    if not sc or not all(isinstance(s, Scenario) for s in sc):
+        raise InvalidParameterError(
+            "scenarios", scenarios, "must be a non-empty sequence of Scenario"
+        )
+    b0 = OPTIMAL_GAINS if base is None else base
+    if not isinstance(b0, VFFGains):
+        raise InvalidParameterError("base", base, "must be a VFFGains")
+    STABILISING.check(stabilising)
+    return sc, b0
 
 
 @dataclass(frozen=True)
@@ -436,6 +460,39 @@ class GainSensitivity(Result):
         return pd.DataFrame({"S_max_pct": g.max(), "S_mean_pct": g.mean()}).reset_index()
 
 
+def _outcome(
+    table: SensitivityTable,
+    base: dict[str, float],
+    p: str,
+    d: float,
+    sc_i: Scenario,
+    stabilising: str,
+    arrival_tolerance: float,
+) -> str:
+    """The outcome of one perturbed run: simulated (-100 %) or read from the table."""
+    if d == -100:
+        g = dict(base)
+        g[p] = ZERO_GAIN
+        res = simulate(
+            sc_i, VFFGains(**g), stabilising=stabilising, arrival_tolerance=arrival_tolerance
+        )
+        outcome = classify_run(res)
+        if outcome == "arrives" and not _settles(
+            sc_i, VFFGains(**g), stabilising, arrival_tolerance
+        ):
+            outcome = "oscillation (passes the goal, never settles)"
+        return outcome
+    f = table.frame
+    sel = f[(f["parameter"] == p) & (f["delta_pct"] == d)].set_index("metric")["metric_value"]
+    arrived = math.isfinite(float(sel[f"{sc_i.name} T_arrive_s"]))
+    dm = [(float(sel[f"{sc_i.name} d_{o.name}_min_m"]), o) for o in sc_i.obstacles]
+    if any(x <= o.collision_distance(sc_i.robot.radius) for x, o in dm):
+        return "collision"
+    if any(x <= o.r3 for x, o in dm):
+        return "critical region"
+    return "arrives" if arrived else "no arrival"
+
+
 def gain_sensitivity(
     scenarios: Sequence[Scenario] | None = None,
     base: VFFGains | None = None,
@@ -467,16 +524,7 @@ def gain_sensitivity(
     -------
     GainSensitivity
     """
-    sc = [configuration(i) for i in (1, 2, 3)] if scenarios is None else list(scenarios)
-    if not sc or not all(isinstance(s, Scenario) for s in sc):
-        raise InvalidParameterError(
-            "scenarios", scenarios, "must be a non-empty sequence of Scenario"
-        )
-    b0 = VFFGains(4.3, 0.68, 20.3, 240.7) if base is None else base
-    if not isinstance(b0, VFFGains):
-        raise InvalidParameterError("base", base, "must be a VFFGains")
-    if stabilising not in ("off", "lyapunov"):
-        raise InvalidParameterError("stabilising", stabilising, "must be 'off' or 'lyapunov'")
+    sc, b0 = _check_common(scenarios, base, stabilising)
     params = list(parameters)
     bad = [p for p in params if p not in _GAINS]
     if bad or not params:
@@ -494,43 +542,11 @@ def gain_sensitivity(
     base_vals = {
         m: float(v[0]) for m, v in metric({k: np.array([x]) for k, x in base.items()}).items()
     }
-    rows = []
-    f = table.frame
-    for p in params:
-        for d in deltas:
-            for sc_i in sc:
-                if d == -100:
-                    g = dict(base)
-                    g[p] = ZERO_GAIN
-                    res = simulate(
-                        sc_i,
-                        VFFGains(**g),
-                        stabilising=stabilising,
-                        arrival_tolerance=arrival_tolerance,
-                    )
-                    outcome = classify_run(res)
-                    if outcome == "arrives" and not _settles(
-                        sc_i, VFFGains(**g), stabilising, arrival_tolerance
-                    ):
-                        outcome = "oscillation (passes the goal, never settles)"
-                else:
-                    sel = f[(f["parameter"] == p) & (f["delta_pct"] == d)].set_index("metric")[
-                        "metric_value"
-                    ]
-                    arrived = math.isfinite(float(sel[f"{sc_i.name} T_arrive_s"]))
-                    dm = [(float(sel[f"{sc_i.name} d_{o.name}_min_m"]), o) for o in sc_i.obstacles]
-                    outcome = (
-                        "collision"
-                        if any(x <= o.collision_distance(sc_i.robot.radius) for x, o in dm)
-                        else "critical region"
-                        if any(x <= o.r3 for x, o in dm)
-                        else "arrives"
-                        if arrived
-                        else "no arrival"
-                    )
-                rows.append(
-                    {"parameter": p, "delta_pct": d, "scenario": sc_i.name, "outcome": outcome}
-                )
+    rows = [
+        {"parameter": p, "delta_pct": d, "scenario": sc_i.name,
+         "outcome": _outcome(table, base, p, d, sc_i, stabilising, arrival_tolerance)}
+        for p in params for d in deltas for sc_i in sc
+    ]  # fmt: skip
     outcomes = pd.DataFrame(rows)
     warnings = []
     bad_base = [s.name for s in sc if not math.isfinite(base_vals[f"{s.name} T_arrive_s"])]
@@ -597,6 +613,56 @@ class GainGlobalSensitivity(Result):
         return e.merge(s, on=["metric", "parameter"], how="outer", sort=False)
 
 
+def _check_global(spread_pct: Any, samples: Any, seed: Any, relative_step: Any) -> None:
+    if isinstance(spread_pct, bool) or not (
+        isinstance(spread_pct, int | float) and 0 < spread_pct < 100
+    ):
+        raise InvalidParameterError("spread_pct", spread_pct, "must be in (0, 100)", "%")
+    if (
+        isinstance(samples, bool)
+        or not isinstance(samples, int | np.integer)
+        or samples < 8
+        or samples & (samples - 1)
+    ):
+        raise InvalidParameterError("samples", samples, "must be a power of two >= 8")
+    if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
+        raise InvalidParameterError("seed", seed, "must be an integer >= 0")
+    if isinstance(relative_step, bool) or not (
+        isinstance(relative_step, int | float) and 0 < relative_step <= 0.5
+    ):
+        raise InvalidParameterError("relative_step", relative_step, "must be in (0, 0.5]")
+
+
+def _global_metrics(inner: Any, sc: list[Scenario]) -> tuple[Any, Any, list[float]]:
+    """The Sobol and the local metrics (H and the margin) and the Sobol sample's feasibility."""
+    has_obstacles = any(s.obstacles for s in sc)
+
+    def metric(points: dict[str, Array]) -> dict[str, Array]:
+        out = inner(points)
+        keep = {k: v for k, v in out.items() if k == "H_mean" or k.endswith(" H")}
+        if has_obstacles:
+            keep["critical_margin_min_m"] = out["critical_margin_min_m"]
+        arrived = np.ones_like(out["H_mean"], dtype=bool)
+        for s in sc:
+            arrived &= np.isfinite(out[f"{s.name} T_arrive_s"])
+        keep["_feasible"] = (arrived & (out["critical_margin_min_m"] > 0)).astype(float)
+        return keep
+
+    feasible: list[float] = []
+
+    def sobol_metric(points: dict[str, Array]) -> dict[str, Array]:
+        out = metric(points)
+        feasible.extend(out.pop("_feasible").tolist())
+        return out
+
+    def local_metric(points: dict[str, Array]) -> dict[str, Array]:
+        out = metric(points)
+        out.pop("_feasible")
+        return out
+
+    return sobol_metric, local_metric, feasible
+
+
 def gain_global_sensitivity(
     scenarios: Sequence[Scenario] | None = None,
     base: VFFGains | None = None,
@@ -652,62 +718,14 @@ def gain_global_sensitivity(
     >>> g.to_frame().columns.tolist()
     ['metric', 'parameter', 'elasticity', 'S1', 'S1_conf', 'ST', 'ST_conf']
     """
-    sc = [configuration(i) for i in (1, 2, 3)] if scenarios is None else list(scenarios)
-    if not sc or not all(isinstance(s, Scenario) for s in sc):
-        raise InvalidParameterError(
-            "scenarios", scenarios, "must be a non-empty sequence of Scenario"
-        )
-    b0 = VFFGains(4.3, 0.68, 20.3, 240.7) if base is None else base
-    if not isinstance(b0, VFFGains):
-        raise InvalidParameterError("base", base, "must be a VFFGains")
-    if stabilising not in ("off", "lyapunov"):
-        raise InvalidParameterError("stabilising", stabilising, "must be 'off' or 'lyapunov'")
-    if isinstance(spread_pct, bool) or not (
-        isinstance(spread_pct, int | float) and 0 < spread_pct < 100
-    ):
-        raise InvalidParameterError("spread_pct", spread_pct, "must be in (0, 100)", "%")
-    if (
-        isinstance(samples, bool)
-        or not isinstance(samples, int | np.integer)
-        or samples < 8
-        or samples & (samples - 1)
-    ):
-        raise InvalidParameterError("samples", samples, "must be a power of two >= 8")
-    if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
-        raise InvalidParameterError("seed", seed, "must be an integer >= 0")
-    if isinstance(relative_step, bool) or not (
-        isinstance(relative_step, int | float) and 0 < relative_step <= 0.5
-    ):
-        raise InvalidParameterError("relative_step", relative_step, "must be in (0, 0.5]")
-    inner = _metric_factory(sc, stabilising, arrival_tolerance)
-    has_obstacles = any(s.obstacles for s in sc)
-
-    def metric(points: dict[str, Array]) -> dict[str, Array]:
-        out = inner(points)
-        keep = {k: v for k, v in out.items() if k == "H_mean" or k.endswith(" H")}
-        if has_obstacles:
-            keep["critical_margin_min_m"] = out["critical_margin_min_m"]
-        arrived = np.ones_like(out["H_mean"], dtype=bool)
-        for s in sc:
-            arrived &= np.isfinite(out[f"{s.name} T_arrive_s"])
-        keep["_feasible"] = (arrived & (out["critical_margin_min_m"] > 0)).astype(float)
-        return keep
-
+    sc, b0 = _check_common(scenarios, base, stabilising)
+    _check_global(spread_pct, samples, seed, relative_step)
+    sobol_metric, local_metric, feasible = _global_metrics(
+        _metric_factory(sc, stabilising, arrival_tolerance), sc
+    )
     base_pt = dict(zip(_GAINS, b0.as_array().tolist(), strict=True))
     f = spread_pct / 100
     box = {k: (v * (1 - f), v * (1 + f)) for k, v in base_pt.items()}
-    feasible: list[float] = []
-
-    def sobol_metric(points: dict[str, Array]) -> dict[str, Array]:
-        out = metric(points)
-        feasible.extend(out.pop("_feasible").tolist())
-        return out
-
-    def local_metric(points: dict[str, Array]) -> dict[str, Array]:
-        out = metric(points)
-        out.pop("_feasible")
-        return out
-
     el = elasticities(
         local_metric, base_pt, list(_GAINS), relative_step=float(relative_step),
         descriptions=_DESCRIPTIONS,

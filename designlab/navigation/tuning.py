@@ -56,7 +56,7 @@ from designlab.navigation.methods import STABILISING
 from designlab.navigation.parameters import GAIN, VFFGains
 from designlab.navigation.scenarios import Disc, Scenario, Walk
 from designlab.navigation.simulate import simulate_batch
-from designlab.params import Param
+from designlab.params import Param, declared, param
 from designlab.progress import Progress, ProgressHook, report
 from designlab.results import Result, Status
 
@@ -91,6 +91,7 @@ _UNITS = {"k1": "N/m", "b": "s", "k3": "N/m", "k5": "N/m^2"}
 # --------------------------------------------------------------------- random walks
 
 
+@declared
 @dataclass(frozen=True)
 class RandomWalks:
     """Randomised human walks for the robust mode.
@@ -99,19 +100,6 @@ class RandomWalks:
     ``n`` walks with the cruise speed, the start time and a lateral offset (normal
     to the walking direction) drawn uniformly from the given ranges with ``seed``.
     Scenarios without a walking obstacle are left as they are.
-
-    Parameters
-    ----------
-    n
-        Walks per scenario (>= 1).
-    speed
-        Range of the cruise speed, m/s.
-    start_time
-        Range of the time the walk starts, s (>= 0).
-    lateral_offset
-        Range of the offset of the whole walk to the left of its direction, m.
-    seed
-        Seed of the draws.
 
     Examples
     --------
@@ -123,15 +111,22 @@ class RandomWalks:
     1
     """
 
-    n: int = 8
-    speed: tuple[float, float] = (0.8, 1.2)
-    start_time: tuple[float, float] = (0.0, 0.5)
-    lateral_offset: tuple[float, float] = (-0.1, 0.1)
-    seed: int = 0
+    n: int = param(doc="walks per scenario", kind="integer", ge=1, le=64, default=8)
+    speed: tuple[float, float] = param(
+        unit="m/s", doc="range (low, high) of the cruise speed, low > 0", kind="object",
+        default=(0.8, 1.2),
+    )  # fmt: skip
+    start_time: tuple[float, float] = param(
+        unit="s", doc="range of the time the walk starts, low >= 0", kind="object",
+        default=(0.0, 0.5),
+    )  # fmt: skip
+    lateral_offset: tuple[float, float] = param(
+        unit="m", doc="range of the offset of the whole walk to the left of its direction",
+        kind="object", default=(-0.1, 0.1),
+    )  # fmt: skip
+    seed: int = param(doc="seed of the draws", kind="integer", ge=0, le=2**32 - 1, default=0)
 
     def __post_init__(self) -> None:
-        if isinstance(self.n, bool) or not isinstance(self.n, int | np.integer) or self.n < 1:
-            raise InvalidParameterError("RandomWalks.n", self.n, "must be an integer >= 1")
         for name, unit, lo_min in (
             ("speed", "m/s", 1e-9),
             ("start_time", "s", 0.0),
@@ -802,10 +797,8 @@ def optimise_gains(
         Candidates per CMA-ES generation (simulated as one batch), 4-256.
     max_evaluations
         Budget of gain sets for the global stage (>= popsize, <= 100 000).
-    refine
-        Run the batched compass search from the best global point.
-    refine_evaluations
-        Budget of the local stage.
+    refine, refine_evaluations
+        Run the batched compass search from the best global point; its budget.
     robust
         :class:`RandomWalks` to optimise over randomised human walks, or ``None``.
     robust_mode
@@ -816,12 +809,10 @@ def optimise_gains(
         Clearance (m, 0-2) the robot must keep outside every critical region: a
         candidate is feasible only if, in every run, the smallest centre/contour
         distance to each obstacle is at least its r3 plus this margin.
-    executor
+    executor, chunks
         Optional executor with ``map_unordered(fn, tasks)`` (e.g. from
-        ``designlab.analysis.executors.make_executor``) to split each population into
-        ``chunks`` parallel batches.
-    chunks
-        Number of parallel batches per population when ``executor`` is given.
+        ``designlab.analysis.executors.make_executor``) and the number of parallel batches
+        each population is split into.
     jit
         Simulate with the step compiled to four gain sets per pass (needs a C compiler;
         see :func:`~designlab.navigation.simulate_batch`): the same optimum to the bit.
@@ -844,13 +835,9 @@ def optimise_gains(
         For bad scenarios, bounds, modes or budgets.
     """
     t_start = time.perf_counter()
-    lo, hi = _check_bounds(bounds)
-    popsize = POPSIZE.check(popsize)
-    search = _Search(
-        _check_scenarios(scenarios), lo, hi, _start(x0, lo, hi), SEED.check(seed),
-        SIGMA0.check(sigma0), popsize, _check_budget(max_evaluations, popsize),
-        REFINE_EVALUATIONS.check(refine_evaluations),
-    )  # fmt: skip
+    search = _check_search(
+        scenarios, bounds, x0, seed, sigma0, popsize, max_evaluations, refine_evaluations
+    )
     if executor is not None and not hasattr(executor, "map_unordered"):
         raise InvalidParameterError("executor", executor, "must have map_unordered(fn, tasks)")
     if not isinstance(jit, bool | np.bool_):
@@ -869,6 +856,26 @@ def optimise_gains(
                     seed=search.seed, critical_margin=cm)  # fmt: skip
     return _optimum(search, ev, inc, (global_converged, local_converged, refine), stop,
                     time.perf_counter() - t_start, settings)  # fmt: skip
+
+
+def _check_search(
+    scenarios: Any,
+    bounds: Any,
+    x0: Any,
+    seed: Any,
+    sigma0: Any,
+    popsize: Any,
+    max_evaluations: Any,
+    refine_evaluations: Any,
+) -> _Search:
+    """The search settings, each checked against its declaration."""
+    lo, hi = _check_bounds(bounds)
+    popsize = POPSIZE.check(popsize)
+    return _Search(
+        _check_scenarios(scenarios), lo, hi, _start(x0, lo, hi), SEED.check(seed),
+        SIGMA0.check(sigma0), popsize, _check_budget(max_evaluations, popsize),
+        REFINE_EVALUATIONS.check(refine_evaluations),
+    )  # fmt: skip
 
 
 def _check_budget(max_evaluations: Any, popsize: int) -> int:

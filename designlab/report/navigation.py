@@ -1,4 +1,4 @@
-"""Report of a ``vff_scenarios`` study: CSV tables, Markdown summary, trajectory and distance plots.
+"""Report of a ``navigation_scenarios`` study: CSVs, Markdown summary, paths and distances.
 
 Files written into the report directory:
 
@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING, Any
 from designlab.report import register_writer
 from designlab.report.builder import copy_study, report_header
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
-from designlab.study.kinds.vff_scenarios import VffScenariosResult
+from designlab.study.kinds.navigation_scenarios import NavigationScenariosResult
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -152,7 +152,7 @@ def _fmt(v: Any) -> Any:
 
 
 def navigation_markdown(
-    result: VffScenariosResult,
+    result: NavigationScenariosResult,
     *,
     figures: dict[str, tuple[str, str]],
     command: str | None,
@@ -163,7 +163,7 @@ def navigation_markdown(
     Parameters
     ----------
     result
-        A ``vff_scenarios`` result.
+        A ``navigation_scenarios`` result.
     figures
         Caption -> (file name, description) of the figures.
     command
@@ -231,9 +231,9 @@ def navigation_markdown(
     return "\n".join(out)
 
 
-@register_writer(VffScenariosResult)
+@register_writer(NavigationScenariosResult)
 def write_navigation_report(
-    result: VffScenariosResult,
+    result: NavigationScenariosResult,
     directory: Path,
     *,
     command: str | None = None,
@@ -245,7 +245,7 @@ def write_navigation_report(
     Parameters
     ----------
     result
-        A ``vff_scenarios`` result.
+        A ``navigation_scenarios`` result.
     directory
         The (new, empty) report directory.
     command

@@ -1,5 +1,5 @@
 """optimise_gains: the machinery on tiny seeded runs (the real optimisation is in
-benchmarks/vff_gains.py and studies/vff_gains.yaml)."""
+benchmarks/vff_gains.py and studies/navigation_gains.yaml)."""
 
 from __future__ import annotations
 
@@ -222,7 +222,7 @@ def test_robust_worst_case_optimum_is_scored_by_its_worst_walk():
 
 def test_a_clearance_margin_tightens_feasibility():
     # Configuration 1 with the experimental gains: the robot passes the circle's critical
-    # region by about 0.086 m (reports/vff_gains); a 0.1 m clearance makes it infeasible
+    # region by about 0.086 m (reports/navigation_gains); a 0.1 m clearance makes it infeasible
     sc = [nav.configuration(1)]
     g = nav.VFFGains(3.0, 0.25, 20.0, 17.0)
     run = nav.simulate(sc[0], g, stabilising="off")

@@ -348,17 +348,18 @@ def test_no_integer_field_takes_a_boolean(study):
 def test_reversed_gain_bounds_are_refused():
     from designlab.errors import StudyError
 
-    text = (STUDIES / "vff_gains.yaml").read_text().replace("b: [0.05, 3]", "b: [3, 0.05]")
+    text = (STUDIES / "navigation_gains.yaml").read_text().replace("b: [0.05, 3]", "b: [3, 0.05]")
     with pytest.raises(StudyError, match=r"bounds.b = \[3, 0.05\] is not allowed"):
-        parse_study(text, file="vff_gains.yaml")
+        parse_study(text, file="navigation_gains.yaml")
 
 
 def test_gain_bounds_beyond_the_largest_gain_are_refused():
     from designlab.errors import StudyError
 
-    text = (STUDIES / "vff_gains.yaml").read_text().replace("b: [0.05, 3]", "b: [0.05, 3e12]")
+    text = (STUDIES / "navigation_gains.yaml").read_text()
+    text = text.replace("b: [0.05, 3]", "b: [0.05, 3e12]")
     with pytest.raises(StudyError, match=r"less than or equal to 1000000000"):
-        parse_study(text, file="vff_gains.yaml")
+        parse_study(text, file="navigation_gains.yaml")
 
 
 def _bool_fields(model: type, seen: set | None = None) -> list[tuple[str, Any]]:
@@ -392,7 +393,12 @@ def test_no_switch_takes_a_number_or_a_word():
     from designlab.study.registry import study_kinds
 
     fields = [f for kind in study_kinds().values() for f in _bool_fields(kind.schema)]
-    assert {"VffDesign.jit", "VffGainsStudy.jit", "VffGainsStudy.refine"} <= {n for n, _ in fields}
+    names = {n for n, _ in fields}
+    assert {
+        "NavigationDesign.jit",
+        "NavigationGainsStudy.jit",
+        "NavigationGainsStudy.refine",
+    } <= names
     for name, info in fields:
         adapter = TypeAdapter(typing_annotated(info))
         assert adapter.validate_python(True) is True, name
@@ -411,8 +417,8 @@ def typing_annotated(info: Any) -> Any:
 def test_jit_1_in_a_study_is_refused_with_the_line():
     from designlab.errors import StudyError
 
-    text = (STUDIES / "vff_gains.yaml").read_text() + "jit: 1\n"
+    text = (STUDIES / "navigation_gains.yaml").read_text() + "jit: 1\n"
     with pytest.raises(
-        StudyError, match=r"vff_gains.yaml:\d+: jit: Input should be a valid boolean"
+        StudyError, match=r"navigation_gains.yaml:\d+: jit: Input should be a valid boolean"
     ):
-        parse_study(text, file="vff_gains.yaml")
+        parse_study(text, file="navigation_gains.yaml")

@@ -16,8 +16,8 @@ MODULES: tuple[str, ...] = (
     "follower_comparison",
     "follower_tuning",
     "follower_sweep",
-    "vff_scenarios",
-    "vff_sweep",
-    "vff_gains",
+    "navigation_scenarios",
+    "navigation_sweep",
+    "navigation_gains",
     "accompanying",
 )

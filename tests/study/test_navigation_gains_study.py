@@ -1,4 +1,4 @@
-"""The vff_gains study kind: a tiny run end to end, and the committed report."""
+"""The navigation_gains study kind: a tiny run end to end, and the committed report."""
 
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ ROOT = Path(__file__).resolve().parents[2]
 
 TINY = """
 designlab: 1
-kind: vff_gains
+kind: navigation_gains
 name: tiny
 configurations: [1]
 validation: [3]
@@ -64,15 +64,15 @@ def test_schema_errors(tmp_path: Path) -> None:
 
 
 def test_committed_report_matches_the_study() -> None:
-    """reports/vff_gains comes from studies/vff_gains.yaml: ours at least as good as (a), (b)."""
-    g = pd.read_csv(ROOT / "reports" / "vff_gains" / "gains.csv", keep_default_na=False)
+    """reports/navigation_gains comes from its study: ours at least as good as (a), (b)."""
+    g = pd.read_csv(ROOT / "reports" / "navigation_gains" / "gains.csv", keep_default_na=False)
     for mode in ("off", "lyapunov"):
         block = g[(g["stabilising"] == mode) & (g["robust"] == "")].set_index("gains")
         assert block.loc["designlab_optimum", "feasible"] in (True, "True")
         assert block.loc["designlab_optimum", "H_mean"] >= block.loc["experimental", "H_mean"]
         assert block.loc["designlab_optimum", "H_mean"] >= block.loc["thesis_optimum", "H_mean"]
-    study = load_study(ROOT / "studies" / "vff_gains.yaml")
-    assert study.kind == "vff_gains" and study.name == "vff_gains"
+    study = load_study(ROOT / "studies" / "navigation_gains.yaml")
+    assert study.kind == "navigation_gains" and study.name == "navigation_gains"
 
 
 def test_sobol_samples_must_be_a_power_of_two(tmp_path: Path) -> None:
@@ -104,11 +104,11 @@ def test_bound_check_adds_a_wider_box_row(tmp_path: Path) -> None:
 
 
 def test_committed_gains_table_matches_the_simulator() -> None:
-    """The H values in reports/vff_gains/gains.csv come back from today's simulator."""
+    """The H values in reports/navigation_gains/gains.csv come back from today's simulator."""
     import designlab as dl
 
     nav = dl.navigation
-    g = pd.read_csv(ROOT / "reports" / "vff_gains" / "gains.csv", keep_default_na=False)
+    g = pd.read_csv(ROOT / "reports" / "navigation_gains" / "gains.csv", keep_default_na=False)
     sc = [nav.configuration(i) for i in (1, 2, 3)]
     for mode in ("off", "lyapunov"):
         block = g[(g["stabilising"] == mode) & (g["robust"] == "")]
@@ -122,7 +122,7 @@ def test_committed_gains_table_matches_the_simulator() -> None:
 def test_sensitivity_sections_end_to_end(tmp_path: Path) -> None:
     text = """
 designlab: 1
-kind: vff_gains
+kind: navigation_gains
 name: sens
 configurations: [1, 2, 3]
 validation: []

@@ -1,0 +1,600 @@
+"""Report of a ``navigation_gains`` study: summary.md, gains.csv, convergence and trajectory plots,
+the Appendix-C sensitivity tables (Zeng 2011, App. C)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+import pandas as pd
+
+from designlab.navigation import Disc, NavigationResult
+from designlab.report import register_writer
+from designlab.report.builder import copy_study, report_header, warnings_section
+from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
+from designlab.study.kinds.navigation_gains import WIDER, NavigationGainsResult
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+__all__ = [
+    "convergence_figure",
+    "navigation_gains_markdown",
+    "trajectory_figure",
+    "write_navigation_gains_report",
+]
+
+WEEK_S = 7 * 24 * 3600.0
+_COLOURS = {"off": "tab:blue", "lyapunov": "tab:red", "robust": "tab:green", "wider": "tab:purple"}
+
+
+def _box_change(result: NavigationGainsResult, key: str) -> str:
+    """' (K5 <= 5000)': the bounds the bound check moved, against the study's box."""
+    o = result.optima[key]
+    box = result.study.bounds.as_dict()
+    parts = []
+    for n, (lo, hi) in o.bounds.items():
+        if lo < box[n][0]:
+            parts.append(f"{n.upper() if n != 'b' else n} >= {lo:.4g}")
+        if hi > box[n][1]:
+            parts.append(f"{n.upper() if n != 'b' else n} <= {hi:.4g}")
+    return f" ({', '.join(parts)})" if parts else ""
+
+
+def convergence_figure(result: NavigationGainsResult) -> Figure:
+    """Best feasible H_mean against evaluations, one panel per stabilising mode, with references.
+
+    Parameters
+    ----------
+    result
+        The study result.
+    """
+    from matplotlib.figure import Figure  # matplotlib only when drawing
+
+    comp = result.comparison
+    panels = list(dict.fromkeys(o.stabilising for o in result.optima.values()))
+    fig = Figure(figsize=(6.0 * len(panels), 4.6))
+    axes = fig.subplots(1, len(panels), squeeze=False, sharex=True)
+    for ax, stab in zip(axes.ravel(), panels, strict=True):
+        for mode, opt in result.optima.items():
+            if opt.stabilising != stab:
+                continue
+            h = opt.history
+            wider = mode.endswith(WIDER)
+            c = _COLOURS.get("wider" if wider else mode, "k")
+            robust = mode == "robust"
+            label = (
+                f"robust ({opt.robust_mode} over {opt.walks} walks)"
+                if robust
+                else "wider box" + _box_change(result, mode)
+                if wider
+                else "nominal walk"
+            )
+            ax.plot(h["evaluations"], h["best_H_mean"], color=c, lw=2, label=f"designlab, {label}")
+            block = comp[(comp["stabilising"] == stab) & ((comp["robust"] != "") == robust)]
+            for lab, ls in () if wider else (("thesis_optimum", "--"), ("experimental", ":")):
+                v = block.loc[block["gains"] == lab, "H_mean"]
+                if len(v):
+                    ax.axhline(
+                        float(v.iloc[0]),
+                        color=c,
+                        ls=ls,
+                        lw=1,
+                        label=f"{lab.replace('_', ' ')} gains, {label}: {float(v.iloc[0]):.4f}",
+                    )
+            refine = h[h["phase"] == "refine"]
+            if len(refine):
+                ax.axvline(float(refine["evaluations"].iloc[0]), color=c, lw=0.6, alpha=0.4)
+        ax.set_xlabel("gain sets evaluated")
+        ax.set_ylabel("best feasible H_mean")
+        ax.set_title(f"stabilising force {stab}")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7, loc="lower right")
+    fig.suptitle(
+        "CMA-ES, then compass refinement (thin vertical line: start of the refinement)", fontsize=10
+    )
+    fig.tight_layout()
+    return fig
+
+
+def _draw_scenario(ax, res: NavigationResult) -> None:  # type: ignore[no-untyped-def]
+    from matplotlib.patches import Circle
+    from matplotlib.patches import Rectangle as RectPatch
+
+    sc = res.scenario
+    for i, o in enumerate(sc.obstacles):
+        if isinstance(o, Disc):
+            track = res.obstacle_positions[i]
+            moving = np.ptp(track[:, 0]) + np.ptp(track[:, 1]) > 1e-9
+            c = (
+                track[0]
+                if not moving
+                else track[np.argmin(res.distance[i][1:])]
+                if res.distance.shape[1] > 1
+                else track[0]
+            )
+            ax.add_patch(Circle(c, o.radius, color="0.4", alpha=0.5))
+            ax.add_patch(Circle(c, o.r3, fill=False, ls="--", color="0.3", lw=0.8))
+            ax.add_patch(Circle(c, o.r2, fill=False, ls=":", color="0.5", lw=0.8))
+            if moving:
+                ax.plot(track[:, 0], track[:, 1], color="0.5", lw=1, ls="-.")
+        else:
+            x0, y0 = o.center[0] - o.length / 2, o.center[1] - o.width / 2
+            ax.add_patch(RectPatch((x0, y0), o.length, o.width, color="0.4", alpha=0.5))
+            ax.add_patch(
+                RectPatch(
+                    (x0 - o.r3, y0 - o.r3),
+                    o.length + 2 * o.r3,
+                    o.width + 2 * o.r3,
+                    fill=False,
+                    ls="--",
+                    color="0.3",
+                    lw=0.8,
+                )
+            )
+    ax.plot(*sc.start, "ko", ms=4)
+    ax.plot(*sc.goal, "k*", ms=9)
+
+
+def trajectory_figure(result: NavigationGainsResult, mode: str) -> Figure:
+    """One panel per configuration: the thesis's optimum and ours, stabilising ``mode``.
+
+    Parameters
+    ----------
+    result
+        The study result.
+    mode
+        ``"off"`` or ``"lyapunov"``: the stabilising mode whose runs to draw.
+    """
+    confs = sorted({k[2] for k in result.runs if k[0] == mode})
+    n = len(confs)
+    cols = 2 if n > 1 else 1
+    rows = -(-n // cols)
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(6.2 * cols, 3.6 * rows))
+    axes = fig.subplots(rows, cols, squeeze=False)
+    pts = []
+    for (m, _, _), res in result.runs.items():
+        if m == mode:
+            pts.append(res.position)
+            for k, o in enumerate(res.scenario.obstacles):
+                r = o.r3 if isinstance(o, Disc) else o.r3 + max(o.length, o.width) / 2
+                pts.append(res.obstacle_positions[k][[0, -1]] + r)
+                pts.append(res.obstacle_positions[k][[0, -1]] - r)
+    allp = np.vstack(pts)
+    lo, hi = allp.min(axis=0) - 0.2, allp.max(axis=0) + 0.2
+    lims = ((float(lo[0]), float(hi[0])), (float(lo[1]), float(hi[1])))
+    for ax, i in zip(axes.ravel(), confs, strict=False):
+        first = True
+        for label, colour in (("thesis_optimum", "tab:orange"), ("designlab_optimum", "tab:blue")):
+            res = result.runs.get((mode, label, i))
+            if res is None:
+                continue
+            if first:
+                _draw_scenario(ax, res)
+                first = False
+            g = res.gains
+            ax.plot(
+                res.position[:, 0],
+                res.position[:, 1],
+                color=colour,
+                lw=1.8,
+                label=f"{label.replace('_', ' ')} "
+                f"({g['k1']:.3g}, {g['b']:.3g}, {g['k3']:.3g}, {g['k5']:.4g}): "
+                f"T = {res.arrival_time:.2f} s, H = {res.criteria.H:.3f}",
+            )
+        ax.set_xlim(*lims[0])
+        ax.set_ylim(*lims[1])
+        ax.set_aspect("equal")
+        ax.set_title(
+            f"Configuration {i}"
+            + (" (not optimised)" if i not in result.study.configurations else "")
+        )
+        ax.set_xlabel("x (m)")
+        ax.set_ylabel("y (m)")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=6.5, loc="upper center", bbox_to_anchor=(0.5, -0.18))
+    for ax in axes.ravel()[n:]:
+        ax.set_visible(False)
+    fig.suptitle(
+        f"Paths with the thesis's optimum and designlab's optimum, stabilising force {mode} "
+        "(grey: obstacle; dashed: r3; dotted: r2; dash-dot: human path, drawn at closest approach)",
+        fontsize=9,
+    )
+    fig.tight_layout()
+    return fig
+
+
+def _fmt(x: object, spec: str = ".4f") -> str:
+    if isinstance(x, float | np.floating):
+        if math.isnan(x):
+            return "—"
+        if math.isinf(x):
+            return "∞"
+        return format(float(x), spec)
+    return str(x)
+
+
+def navigation_gains_markdown(
+    result: NavigationGainsResult, *, command: str | None = None, version: str | None = None
+) -> str:
+    """The Markdown summary.
+
+    Parameters
+    ----------
+    result
+        The study result.
+    command
+        The command that produced it, quoted at the end.
+    version
+        designlab's version, quoted at the end.
+    """
+    st = result.study
+    out = report_header(
+        f"Optimal VFF gains: {st.name}", st.description, command=command, version=version
+    )
+    out += _problem_section(result)
+    out += _gains_section(result)
+    for mode in st.modes:
+        out += _mode_line(result, mode)
+    out += _effort_section(result)
+    out += _sensitivity_section(result)
+    out += _appendix_c_section(result)
+    out += _global_section(result)
+    out += warnings_section(result.warnings)
+    return "\n".join(out)
+
+
+def _problem_section(result: NavigationGainsResult) -> list[str]:
+    """The optimisation problem as the study poses it."""
+    st = result.study
+    out: list[str] = []
+    b = st.bounds
+    out += [
+        "## Problem (Zeng 2011, Sec. 5.6 and App. C; docs/navigation_gains.md)",
+        "",
+        f"- maximise H_mean, the mean of H (5.6.6) over Ch. 6 Configurations {st.configurations}; "
+        f"checked on {st.validation} (not optimised)",
+        "- decision (K1, b, K3, K5) with K2 = b K1, K4 = b K3, K6 = b K5 (5.5.7); "
+        f"bounds K1 {b.k1} N/m, "
+        f"b {b.b} s, K3 {b.k3} N/m, K5 {b.k5} N/m^2",
+        "- hard constraints: arrival (within 0.15 m of the goal, 30 s horizon) and no entry "
+        "into any critical region"
+        + (f" (clearance of {st.critical_margin:g} m or more)" if st.critical_margin else "")
+        + " in every configuration; a violating candidate is infeasible (ranked below "
+        "every feasible one), never scored",
+        f"- CMA-ES (population {st.popsize}, budget {st.max_evaluations} gain sets, "
+        f"seed {st.seed}), each "
+        "generation simulated as one batch, then a batched compass search"
+        + ("" if st.refine else " (off)"),
+        "",
+        "## Gains and H_mean",
+        "",
+    ]
+    return out
+
+
+def _gains_section(result: NavigationGainsResult) -> list[str]:
+    """The gains table (and arrival times and margins)."""
+    comp = result.comparison
+    out: list[str] = []
+    extra = [c for c in comp.columns if c.startswith(("T_arrive_s_", "critical_margin_m_"))]
+    main = comp[[c for c in comp.columns if c not in extra]]
+    out += [
+        markdown_table(
+            main.map(lambda v: _fmt(v, ".4g") if isinstance(v, float) else v), index=False
+        ),
+        "",
+    ]
+    if extra:
+        key = ["gains", "stabilising", "robust"]
+        out += [
+            "Arrival times (s; mean over the walks in robust mode) and the smallest margin to a "
+            "critical region (m: centre/contour distance minus r3, over obstacles and walks):",
+            "",
+            markdown_table(
+                comp[key + extra]
+                .rename(columns=lambda c: c.replace("_ch6_config", " C"))
+                .map(lambda v: _fmt(v, ".3f") if isinstance(v, float) else v),
+                index=False,
+            ),
+            "",
+        ]
+    return out
+
+
+def _mode_line(result: NavigationGainsResult, mode: str) -> list[str]:
+    """One stabilising mode: ours against the references, validation, bound check."""
+    st = result.study
+    comp = result.comparison
+    out: list[str] = []
+    block = comp[(comp["stabilising"] == mode) & (comp["robust"] == "")].set_index("gains")
+    if "designlab_optimum" not in block.index:
+        out.append(f"- stabilising {mode}: no feasible optimum found")
+        return out
+    ours = block.loc["designlab_optimum"]
+    line = (
+        f"- stabilising **{mode}**: H_mean {ours['H_mean']:.4f} against "
+        f"{block.loc['experimental', 'H_mean']:.4f} "
+        f"(experimental gains, {ours['vs_experimental_pct']:+.1f} %) and "
+        f"{block.loc['thesis_optimum', 'H_mean']:.4f} "
+        f"(thesis optimum, {ours['vs_thesis_optimum_pct']:+.1f} %)."
+    )
+    worse = [
+        lab.replace("_", " ")
+        for lab in ("experimental", "thesis_optimum")
+        if ours["H_mean"] < block.loc[lab, "H_mean"]
+    ]
+    if worse:
+        line += (
+            f" **Ours is below the {' and the '.join(worse)} gains: the search missed a better "
+            "point (raise max_evaluations or change the seed).**"
+        )
+    for n in [c for c in block.columns if c.startswith("H_ch6_config")]:
+        i = int(n.rsplit("config", 1)[1])
+        if i in st.validation and i not in st.configurations:
+            vals = ", ".join(
+                f"{lab.replace('_', ' ')} {block.loc[lab, n]:.4f}" for lab in block.index
+            )
+            best = block[n].idxmax()
+            safe = ""
+            if "validation_feasible" in block.columns:
+                safe = (
+                    "; ours arrives and stays out of every critical region there"
+                    if bool(block.loc["designlab_optimum", "validation_feasible"])
+                    else "; ours **enters a critical region or does not arrive** there"
+                )
+            ours_v = float(block.loc["designlab_optimum", n])
+            rel = ", ".join(
+                f"{100 * (ours_v / float(block.loc[lab, n]) - 1):+.1f} % vs {lab.replace('_', ' ')}"
+                for lab in block.index
+                if lab != "designlab_optimum"
+            )
+            line += f" Configuration {i} (not optimised): {vals} (ours {rel}){safe}; " + (
+                "the optimum generalises."
+                if best == "designlab_optimum"
+                else f"the best set there is the {best.replace('_', ' ')} one."
+            )
+    if "designlab_optimum_wider_box" in block.index:
+        w = block.loc["designlab_optimum_wider_box"]
+        d = 100 * (w["H_mean"] / ours["H_mean"] - 1)
+        line += (
+            " Bound check: ours lies on the bound of "
+            f"{sorted(result.optima[mode].on_bounds())}; "
+            f"optimised again in a wider box{_box_change(result, mode + WIDER)}: "
+            f"K1 = {w['k1']:.3g}, b = {w['b']:.3g}, K3 = {w['k3']:.3g}, K5 = {w['k5']:.4g}, "
+            f"H_mean {w['H_mean']:.4f} ({d:+.2f} % against the optimum in the study's box)."
+        )
+    out.append(line)
+    return out
+
+
+def _effort_section(result: NavigationGainsResult) -> list[str]:
+    """Search effort and the figures."""
+    st = result.study
+    out: list[str] = []
+    out += ["", "## Search effort", ""]
+    eff = []
+    for mode, o in result.optima.items():
+        eff.append(
+            {
+                "optimisation": f"{o.stabilising}, wider box{_box_change(result, mode)}"
+                if mode.endswith(WIDER)
+                else mode
+                if mode != "robust"
+                else f"robust ({o.robust_mode}, {o.walks} walks, stabilising {o.stabilising})",
+                "status": o.status,
+                "gain sets": o.evaluations,
+                "closed-loop runs": o.simulations,
+                "wall time (s)": f"{o.wall_time:.1f}",
+                "per gain set (ms)": f"{1e3 * o.wall_time / o.evaluations:.1f}",
+                "vs one week": f"{WEEK_S / o.wall_time:,.0f}x",
+            }
+        )
+    out += [
+        markdown_table(pd.DataFrame(eff), index=False),
+        "",
+        "The thesis's grid search and fmincon took one week (App. C.2). "
+        "Wall times are those of the run "
+        "that produced this report (shared 2-core machine).",
+        "",
+        "![convergence](convergence.png)",
+        "",
+    ]
+    for mode in st.modes:
+        out += [f"![trajectories, stabilising {mode}](trajectories_{mode}.png)", ""]
+    return out
+
+
+def _sensitivity_section(result: NavigationGainsResult) -> list[str]:
+    """The App. C.3 tables around each base."""
+    out: list[str] = []
+    if result.sensitivities:
+        out += [
+            "## Sensitivity tables (Zeng 2011, App. C.3)",
+            "",
+            "S_K = (1 - H_mean/H_opt)/(1 - K/K_opt) in %. "
+            "Distances are centre distances (contour for the "
+            "rectangle), L_energy is per ohm of winding resistance (the thesis's R_a is unknown). "
+            "-100 % rows: the gain at zero, classified from the run "
+            "(no arrival, oscillation, critical "
+            "region, collision). Long tables: sensitivity_<base>.csv.",
+            "",
+        ]
+        for label, s in result.sensitivities.items():
+            g = s.base
+            out += [
+                f"### Around {label.replace('_', ' ')}: K1 = {g.k1:.4g}, b = {g.b:.4g}, "
+                f"K3 = {g.k3:.4g}, "
+                f"K5 = {g.k5:.4g} (stabilising {s.stabilising})",
+                "",
+                markdown_table(
+                    s.s_summary().map(lambda v: _fmt(v, ".2f") if isinstance(v, float) else v),
+                    index=False,
+                ),
+                "",
+            ]
+            for p in ("k1", "b", "k3", "k5"):
+                perf, crit = s.appendix_c(p)
+                out += [
+                    f"**{p}**",
+                    "",
+                    markdown_table(
+                        perf.map(lambda v: _fmt(v, ".3f") if isinstance(v, float) else v),
+                        index=False,
+                    ),
+                    "",
+                    markdown_table(
+                        crit.map(lambda v: _fmt(v, ".4f") if isinstance(v, float) else v),
+                        index=False,
+                    ),
+                    "",
+                ]
+    return out
+
+
+_QUANTITY = {
+    "T_arrive": "T_arrive (s)",
+    "d_s_min_cir": "d_min circle column (m)",
+    "d_s_min_h": "d_min human (m)",
+    "d_s_min_rect": "d_min rectangle column (m)",
+    "H": "H",
+    "H_mean": "H_mean",
+    "S_relative_sensitivity": "|S_K| (%)",
+}
+
+
+def _appendix_c_section(result: NavigationGainsResult) -> list[str]:
+    a = result.appendix_c
+    if a.empty:
+        return []
+    g = a.assign(abs_error=a["error"].abs()).groupby(["quantity", "configuration"], sort=False)
+    summ = pd.DataFrame(
+        {
+            "entries": g.size(),
+            "thesis range": g["thesis"].agg(lambda v: f"{v.min():.4g} - {v.max():.4g}"),
+            "designlab range": g["designlab"].agg(lambda v: f"{v.min():.4g} - {v.max():.4g}"),
+            "mean error": g["error"].mean(),
+            "max |error|": g["abs_error"].max(),
+        }
+    ).reset_index()
+    summ["quantity"] = summ["quantity"].map(lambda q: _QUANTITY.get(q, q))
+    out = [
+        "## Against the thesis's Appendix C (Tables C.2-C.9)",
+        "",
+        "Our sensitivity table around the thesis's optimum, stabilising force off, entry by entry "
+        "against Zeng 2011, Tables C.2-C.9 (-50 ... +100 %; error = designlab - thesis; "
+        "every entry "
+        "in appendix_c_comparison.csv). The thesis's Configuration 3 'cir'/'rect' columns are "
+        "matched swapped (its 'cir' values are the rectangle's, as its Table 6.4 shows). "
+        "Configuration 2 replays a synthetic human walk (the measured walk is not published), so "
+        "its distances, times and H are not expected to match; L_energy depends on the unknown "
+        "winding resistance and is left out. The thesis's H values are loosely consistent among "
+        "its own tables (baseline H_mean 0.665 here, H_opt 0.69 in Table C.1).",
+        "",
+        markdown_table(
+            summ.map(lambda v: _fmt(v, ".4f") if isinstance(v, float) else v), index=False
+        ),
+        "",
+    ]
+    if not result.appendix_c_outcomes.empty:
+        out += [
+            "The -100 % rows (a gain at zero):",
+            "",
+            markdown_table(result.appendix_c_outcomes, index=False),
+            "",
+        ]
+    return out
+
+
+def _global_section(result: NavigationGainsResult) -> list[str]:
+    if not result.global_sensitivities:
+        return []
+    out = [
+        "## Which gains matter when all move together",
+        "",
+        "Local elasticities d ln m / d ln K at the base (central differences of 2 %) and Sobol "
+        "indices (first order S1, total ST, with 95 % half-widths) with every gain uniform within "
+        "the box around the base, from the shared generators of designlab.analysis.sensitivity. "
+        "critical_margin_min_m is the smallest centre/contour distance minus r3 over all obstacles "
+        "and configurations (m). Long tables: global_sensitivity_<base>.csv.",
+        "",
+    ]
+    for label, gs in result.global_sensitivities.items():
+        f = gs.to_frame()
+        out += [
+            f"### Around {label.replace('_', ' ')} (stabilising {gs.stabilising}; box "
+            f"+-{gs.spread_pct:g} %, N = {gs.samples}, {6 * gs.samples} gain sets; "
+            f"{100 * gs.infeasible_share:.0f} % of them infeasible)",
+            "",
+        ]
+        for m in ("H_mean", "critical_margin_min_m"):
+            t = f[f["metric"] == m].drop(columns="metric")
+            if t.empty:
+                continue
+            t = t.iloc[np.argsort(-t["ST"].fillna(-1).to_numpy(), kind="stable")]
+            out += [
+                f"**{m}**",
+                "",
+                markdown_table(
+                    t.map(lambda v: _fmt(v, ".3f") if isinstance(v, float) else v), index=False
+                ),
+                "",
+            ]
+    return out
+
+
+@register_writer(NavigationGainsResult)
+def write_navigation_gains_report(
+    result: NavigationGainsResult,
+    directory: Path,
+    *,
+    command: str | None = None,
+    version: str | None = None,
+    study_text: str | None = None,
+) -> list[Path]:
+    """Write summary.md, gains.csv, history.csv, the figures and the sensitivity CSVs.
+
+    Parameters
+    ----------
+    result
+        The study result.
+    directory
+        The report directory (written into as it is).
+    command
+        The command that produced the result, quoted in summary.md.
+    version
+        designlab's version, quoted in summary.md.
+    study_text
+        The study file's text, copied to study.yaml (``None``: no copy).
+    """
+    written = [write_csv(result.comparison, directory / "gains.csv")]
+    hist = pd.concat(
+        [o.history.assign(optimisation=m) for m, o in result.optima.items()], ignore_index=True
+    )
+    written.append(write_csv(hist, directory / "history.csv"))
+    fig = convergence_figure(result)
+    written.append(write_png(fig, directory / "convergence.png"))
+    for mode in result.study.modes:
+        fig = trajectory_figure(result, mode)
+        written.append(write_png(fig, directory / f"trajectories_{mode}.png"))
+    for label, s in result.sensitivities.items():
+        frame = s.to_frame()
+        written.append(write_csv(frame, directory / f"sensitivity_{label}.csv"))
+        written.append(write_csv(s.outcomes, directory / f"sensitivity_{label}_outcomes.csv"))
+    for label, gs in result.global_sensitivities.items():
+        written.append(write_csv(gs.to_frame(), directory / f"global_sensitivity_{label}.csv"))
+    if not result.appendix_c.empty:
+        written.append(write_csv(result.appendix_c, directory / "appendix_c_comparison.csv"))
+        written.append(write_csv(result.appendix_c_outcomes, directory / "appendix_c_outcomes.csv"))
+    written.append(
+        write_markdown(
+            navigation_gains_markdown(result, command=command, version=version),
+            directory / "summary.md",
+        )
+    )
+    written += copy_study(directory, study_text)
+    return written

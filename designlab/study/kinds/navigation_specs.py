@@ -1,0 +1,347 @@
+"""Schema pieces shared by the navigation kinds: scenarios, robots, gains, methods.
+
+A scenario is either a thesis configuration (``configuration: 1`` ... ``4``,
+``parallel``, ``unpredictable``, ``multi`` with ``chapter: 6`` or ``7``) or
+built by hand (start, goal, obstacles with their regions and motions).
+Every field, unit, bound and default is the domain's declaration
+(:mod:`designlab.navigation.parameters`, :mod:`designlab.navigation.scenarios`,
+derived with :func:`designlab.study.specs.spec_model`), and each spec builds its
+domain object while it is validated, so ``designlab validate`` refuses what the
+constructors refuse (a disc with r2 <= r3, a walk that ends where it starts) and
+names the parameter. ``build()`` returns the :mod:`designlab.navigation` object.
+
+A bare YAML ``off`` (read as ``false`` by YAML 1.1) is accepted as the stabilising
+mode ``"off"`` (docs/navigation.md, "Study files").
+
+Examples
+--------
+>>> ScenarioSpec.model_validate({"configuration": 3}).build().obstacle_names
+('circle', 'rectangle')
+>>> s = ScenarioSpec.model_validate({
+...     "name": "corridor", "start": [4, 0.5], "goal": [0, 0.5],
+...     "obstacles": [{"name": "visitor", "kind": "disc", "radius": 0.4, "r2": 2.1, "r3": 0.8,
+...                    "walk": {"start": [0, 2], "end": [4, 2], "speed": 0.8}}]})
+>>> s.build().obstacles[0].motion.speed
+0.8
+>>> from pydantic import ValidationError
+>>> try:
+...     WalkSpec.model_validate({"start": [1, 1], "end": [1, 1]})
+... except ValidationError as exc:
+...     print(exc.errors()[0]["msg"][:44])
+Value error, Walk.end = (1.0, 1.0) m is not
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Any, Literal
+
+from pydantic import BeforeValidator, Field, create_model, model_validator
+
+from designlab.navigation.methods import METHOD, STABILISING, TIE_SIDE
+from designlab.navigation.parameters import (
+    CBF_K0,
+    CBF_K1,
+    GeCuiGains,
+    HolonomicRobot,
+    MasoudGains,
+    NonholonomicRobot,
+    VFFGains,
+)
+from designlab.navigation.scenarios import (
+    ConstantVelocity,
+    Disc,
+    Rectangle,
+    Scenario,
+    Stationary,
+    Walk,
+    configuration,
+)
+from designlab.params import params_of
+from designlab.study.base import Finite, Integer, Model
+from designlab.study.specs import spec_model
+
+__all__ = [
+    "GainsSpec",
+    "GeCuiGainsSpec",
+    "MasoudGainsSpec",
+    "MethodSpec",
+    "ObstacleSpec",
+    "RobotSpec",
+    "ScenarioSpec",
+    "Stabilising",
+    "WalkSpec",
+]
+
+Point = Annotated[list[Finite], Field(min_length=2, max_length=2)]
+
+
+def _yaml_off(value: object) -> object:
+    # YAML 1.1 reads a bare ``off`` as false; in this field it can only mean the mode "off".
+    return "off" if value is False else value
+
+
+#: The stabilising mode of a study file (a bare ``off`` is the mode ``"off"``).
+Stabilising = Annotated[STABILISING.annotation(), BeforeValidator(_yaml_off)]
+
+
+def _optional(cls: type, names: tuple[str, ...] | None = None) -> dict[str, Any]:
+    """Pydantic fields of a declared class, each optional (``None``: the class default)."""
+    decls = params_of(cls)
+    return {
+        n: (d.annotation(optional=True), None)
+        for n, d in decls.items()
+        if d.kind != "object" and (names is None or n in names)
+    }
+
+
+class _Checked(Model):
+    """Mixin: the domain object is built while validating (its constructor's errors become
+    the spec's, naming the parameter)."""
+
+    @model_validator(mode="after")
+    def _builds(self) -> Any:
+        self.build()  # type: ignore[attr-defined]
+        return self
+
+
+def _checked(base: type[Model], name: str, **fields: Any) -> type[Model]:
+    """``base`` (a :func:`spec_model`) with :class:`_Checked` and extra fields."""
+    model = create_model(name, __base__=(base, _Checked), __doc__=base.__doc__, **fields)
+    model.BUILDS = base.BUILDS  # type: ignore[attr-defined]
+    return model
+
+
+# ------------------------------------------------------------------------ robots
+
+
+class _RobotBase(_Checked):
+    type: Literal["holonomic", "nonholonomic"] = "holonomic"
+
+    def build(self) -> HolonomicRobot | NonholonomicRobot:
+        """The robot object."""
+        cls = HolonomicRobot if self.type == "holonomic" else NonholonomicRobot
+        kw = {k: v for k, v in self.model_dump(exclude={"type"}).items() if v is not None}
+        unknown = sorted(set(kw) - set(params_of(cls)))
+        if unknown:
+            raise ValueError(f"{unknown} do not apply to a {self.type} robot")
+        return cls(**kw)
+
+
+#: ``holonomic`` (Ch. 6) or ``nonholonomic`` (Ch. 7), with optional limits (SI): the fields
+#: of :class:`~designlab.navigation.HolonomicRobot` and
+#: :class:`~designlab.navigation.NonholonomicRobot`.
+RobotSpec = create_model(
+    "RobotSpec",
+    __base__=_RobotBase,
+    __doc__="``holonomic`` (Ch. 6) or ``nonholonomic`` (Ch. 7), with optional limits (SI).",
+    **{**_optional(HolonomicRobot), **_optional(NonholonomicRobot)},
+)
+
+
+# ------------------------------------------------------------------- motions
+
+
+#: A straight walk with smooth start and stop (:class:`~designlab.navigation.Walk`).
+WalkSpec = _checked(spec_model(Walk), "WalkSpec", start=(Point, ...), end=(Point, ...))
+
+
+class _ObstacleBase(Model):
+    name: str = Field(min_length=1, max_length=40)
+    kind: Literal["disc", "rectangle"]
+    position: Point | None = Field(None, description="disc: start (or fixed) position, m")
+    velocity: Point | None = Field(None, description="disc: constant velocity, m/s")
+    walk: WalkSpec | None = None  # type: ignore[valid-type]
+    center: Point | None = Field(None, description="rectangle: centroid, m")
+
+    @model_validator(mode="after")
+    def _complete(self) -> Any:
+        if self.kind == "disc":
+            if (self.walk is None) == (self.position is None):
+                raise ValueError(
+                    f"disc {self.name!r}: give either position (and optionally velocity) or walk"
+                )
+        elif self.center is None:
+            raise ValueError(f"rectangle {self.name!r}: give center, length and width (m)")
+        self.build()
+        return self
+
+    def _motion(self) -> Walk | ConstantVelocity | Stationary:
+        if self.walk is not None:
+            return self.walk.build()  # type: ignore[no-any-return]
+        if self.velocity is not None:
+            return ConstantVelocity(tuple(self.position), tuple(self.velocity))  # type: ignore[arg-type]
+        return Stationary(tuple(self.position))  # type: ignore[arg-type]
+
+    def build(self) -> Disc | Rectangle:
+        """The obstacle object."""
+        kw = self.model_dump(include={"r2", "r3"})
+        if self.kind == "rectangle":
+            given = {k: getattr(self, k) for k in ("length", "width", "angle")}
+            kw |= {k: v for k, v in given.items() if v is not None}
+            return Rectangle(self.name, tuple(self.center), **kw)  # type: ignore[arg-type]
+        if getattr(self, "radius", None) is None:
+            raise ValueError(f"disc {self.name!r}: give radius (m)")
+        return Disc(self.name, self.radius, motion=self._motion(), **kw)  # type: ignore[attr-defined]
+
+
+#: A disc (``radius``, ``r2``, ``r3``, and ``position``, ``velocity`` or ``walk``) or a
+#: rectangle (``center``, ``length``, ``width``, ``r2``, ``r3``, ``angle``): the fields of
+#: :class:`~designlab.navigation.Disc` and :class:`~designlab.navigation.Rectangle`.
+ObstacleSpec = create_model(
+    "ObstacleSpec",
+    __base__=_ObstacleBase,
+    __doc__=_ObstacleBase.__doc__ or "A disc or a rectangle obstacle.",
+    r2=(params_of(Disc)["r2"].annotation(), ...),
+    r3=(params_of(Disc)["r3"].annotation(), ...),
+    **_optional(Disc, ("radius",)),
+    **_optional(Rectangle, ("length", "width", "angle")),
+)
+
+
+# ---------------------------------------------------------------------- scenario
+
+
+class _ScenarioBase(Model):
+    configuration: Integer | Literal["parallel", "unpredictable", "multi"] | None = None
+    chapter: Literal[6, 7] = 6
+    label: str | None = Field(None, min_length=1, max_length=60, description="name in the report")
+    name: str | None = Field(None, min_length=1, max_length=60)
+    start: Point | None = None
+    goal: Point | None = None
+    obstacles: list[ObstacleSpec] = Field(default_factory=list)  # type: ignore[valid-type]
+    robot: RobotSpec | None = None  # type: ignore[valid-type]
+
+    @model_validator(mode="after")
+    def _one_way(self) -> Any:
+        if self.configuration is not None:
+            if self.start is not None or self.goal is not None or self.obstacles:
+                raise ValueError("give either configuration or start/goal/obstacles, not both")
+            if isinstance(self.configuration, int) and not 1 <= self.configuration <= 4:
+                raise ValueError(
+                    "configuration must be 1-4, 'parallel', 'unpredictable' or 'multi'"
+                )
+        elif self.start is None or self.goal is None or self.name is None:
+            raise ValueError("give configuration, or name, start and goal (and obstacles)")
+        self.build()
+        return self
+
+    @property
+    def title(self) -> str:
+        """The label used in reports."""
+        if self.label:
+            return self.label
+        if self.configuration is not None:
+            return (
+                f"ch{self.chapter}_config{self.configuration}"
+                if isinstance(self.configuration, int)
+                else f"ch{self.chapter}_{self.configuration}"
+            )
+        return str(self.name)
+
+    def build(self) -> Scenario:
+        """The :class:`~designlab.navigation.Scenario`."""
+        robot = self.robot.build() if self.robot is not None else None
+        timing = {"sample_time": self.sample_time} if self.sample_time is not None else {}  # type: ignore[attr-defined]
+        if self.configuration is not None:
+            sc = configuration(
+                self.configuration,
+                self.chapter,
+                robot=robot,
+                human_speed=self.human_speed,  # type: ignore[attr-defined]
+                horizon=self.horizon,  # type: ignore[attr-defined]
+            )
+            return sc.replace(name=self.title, **timing)
+        return Scenario(
+            self.title,
+            tuple(self.start),  # type: ignore[arg-type]
+            tuple(self.goal),  # type: ignore[arg-type]
+            tuple(o.build() for o in self.obstacles),
+            robot if robot is not None else HolonomicRobot(),
+            self.horizon,  # type: ignore[attr-defined]
+            **timing,
+        )
+
+
+_SCENARIO = params_of(Scenario)
+_WALK_SPEED = params_of(Walk)["speed"]
+
+#: A thesis configuration, or a scenario built by hand.
+ScenarioSpec = create_model(
+    "ScenarioSpec",
+    __base__=_ScenarioBase,
+    __doc__="A thesis configuration, or a scenario built by hand.",
+    human_speed=(_WALK_SPEED.annotation(), _WALK_SPEED.default),
+    horizon=(_SCENARIO["horizon"].annotation(), _SCENARIO["horizon"].default),
+    sample_time=(_SCENARIO["sample_time"].annotation(optional=True), None),
+)
+
+
+# ------------------------------------------------------------------------- gains
+
+#: New-VFF gains K1 (N/m), b (s), K3 (N/m), K5 (N/m^2); K2 = b K1, K4 = b K3, K6 = b K5.
+GainsSpec = _checked(spec_model(VFFGains), "GainsSpec")
+#: Masoud (2007) gains K_MM1, K_MM3 (N/m), K_MM5 (N/m) and the fixed detour sense.
+MasoudGainsSpec = _checked(spec_model(MasoudGains), "MasoudGainsSpec")
+#: Ge & Cui (2002) gains: attraction K1 (N/m) with ratio b (s), K3 and K5.
+GeCuiGainsSpec = _checked(spec_model(GeCuiGains), "GeCuiGainsSpec")
+
+_GAIN_SPECS: dict[str, type[Model]] = {
+    "vff": GainsSpec,
+    "cbf": GainsSpec,
+    "masoud": MasoudGainsSpec,
+    "ge_cui": GeCuiGainsSpec,
+}
+
+
+_Method = METHOD.annotation()
+_TieSide = TIE_SIDE.annotation()
+_CBFGains = tuple[CBF_K0.annotation(), CBF_K1.annotation()]  # type: ignore[misc]
+
+
+class MethodSpec(Model):
+    """A navigation method with its gains and settings.
+
+    ``gains`` are read by the method: ``{k1, b, k3, k5}`` for ``vff`` and ``cbf`` (its
+    attractive part), ``{k1, k3, k5, direction}`` for ``masoud`` and ``{k1, b, k3, k5}``
+    for ``ge_cui`` (the baselines default to Zeng 2011, Table C.1).
+
+    Examples
+    --------
+    >>> m = MethodSpec.model_validate({"label": "Masoud, clockwise", "method": "masoud",
+    ...                                "gains": {"direction": -1}})
+    >>> m.gains.build().direction, m.gains.build().k3
+    (-1, 24.0)
+    """
+
+    label: str = Field(min_length=1, max_length=60)
+    method: _Method = "vff"
+    gains: GainsSpec | MasoudGainsSpec | GeCuiGainsSpec | None = Field(  # type: ignore[valid-type]
+        None,
+        description="gains of the method (vff and cbf: required / optional {k1, b, k3, k5}; "
+        "masoud: {k1, k3, k5, direction}; ge_cui: {k1, b, k3, k5}; baselines default "
+        "to Table C.1)",
+    )
+    stabilising: Stabilising = "lyapunov"
+    tie_side: _TieSide = "+y"
+    cbf_gains: _CBFGains = (4.0, 4.0)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _typed_gains(cls, data: Any) -> Any:
+        if isinstance(data, dict) and isinstance(data.get("gains"), dict):
+            spec = _GAIN_SPECS.get(str(data.get("method", "vff")))
+            if spec is not None:
+                data = {**data, "gains": spec.model_validate(data["gains"])}
+        return data
+
+    @model_validator(mode="after")
+    def _gains(self) -> MethodSpec:
+        if self.method == "vff" and self.gains is None:
+            raise ValueError(
+                f"method {self.label!r}: the vff method needs gains: {{k1, b, k3, k5}}"
+            )
+        if self.gains is not None and not isinstance(self.gains, _GAIN_SPECS[self.method]):
+            raise ValueError(f"method {self.label!r}: gains of the wrong kind for {self.method}")
+        if self.method != "cbf" and "cbf_gains" in self.model_fields_set:
+            raise ValueError(f"method {self.label!r}: cbf_gains apply to method cbf only")
+        return self
