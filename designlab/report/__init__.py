@@ -33,7 +33,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from designlab.analysis.sweep import _package_hash
+from designlab.analysis.keys import package_hash
 from designlab.report.atomic import (
     ReportError,
     atomic_write_bytes,
@@ -175,7 +175,7 @@ def _report_key(result: Any, study_text: str | None) -> str:
         "result": fingerprint,
         "study": study_text,
         "designlab": __version__,
-        "report_code": _package_hash(__name__),  # a changed writer makes every report stale
+        "report_code": package_hash(__name__),  # a changed writer makes every report stale
     }
     return hashlib.sha256(json.dumps(parts, sort_keys=True).encode()).hexdigest()
 
