@@ -6,7 +6,8 @@
     ``<output-dir>/index.md``. Finished chunks of sweep points are kept in
     the result store ``<cache-dir>/<study name>.sqlite`` as they finish.
 ``designlab report STUDY.yaml``
-    Rebuild a report from the result store, computing nothing.
+    Rebuild a report from the result store, computing nothing (a kind that
+    keeps no store, one without sweeps, is recomputed, and says so).
 ``designlab validate STUDY.yaml ...``
     Check study files as ``run`` does before computing, without running them.
 ``designlab list``
@@ -21,8 +22,9 @@ Exit codes: 0 success (failed sweep points are listed in the report and as
 warnings); 1 a designlab error other than a bad study (a model or solver
 failure, a report or cache that cannot be written); 2 an invalid study file or parameter
 or bad command-line usage; 3 the executor cannot start (e.g. an unreachable
-Dask scheduler); 4 ``report``: points missing from the cache; 130
-interrupted (finished points stay cached: rerun with ``--resume``).
+Dask scheduler) or lost its workers during the run (finished points stay
+cached: rerun with ``--resume``); 4 ``report``: points missing from the cache;
+130 interrupted (a sweep's finished points stay cached: rerun with ``--resume``).
 """
 
 from __future__ import annotations
@@ -32,7 +34,7 @@ import shlex
 import sys
 import time
 from pathlib import Path
-from typing import Annotated, NoReturn
+from typing import Annotated, Any, NoReturn
 
 import typer
 
@@ -71,8 +73,8 @@ app = typer.Typer(
 
 
 def _fail(exc: DesignlabError) -> NoReturn:
+    from designlab.analysis.engine import CacheIncompleteError
     from designlab.analysis.executors import ExecutorError
-    from designlab.analysis.sweep import CacheIncompleteError
 
     code = EXIT_DESIGNLAB_ERROR
     if isinstance(exc, StudyError | InvalidParameterError):  # bad input, found late
@@ -233,27 +235,37 @@ def run(
         float,
         typer.Option("--timeout", help="Seconds (> 0) to wait for the Dask scheduler."),
     ] = 5.0,
+    worker_timeout: Annotated[
+        float,
+        typer.Option(
+            "--worker-timeout",
+            help="Seconds (> 0) a Dask run waits while no worker is alive before failing.",
+        ),
+    ] = 60.0,
 ) -> None:
     """Run a study and write its report (CSV, Markdown, PNG)."""
     from designlab.analysis.executors import make_executor
-    from designlab.report.store import open_store
     from designlab.study import RunContext, load_study, run_study
 
     _check_executor_options(executor, scheduler, timeout)
+    if not (worker_timeout > 0 and worker_timeout < 86400):
+        _usage(f"--worker-timeout {worker_timeout!r} is not allowed: give seconds > 0 (< 86400)")
     command = ["designlab", "run", str(study), "--output-dir", str(output_dir)]
     if executor != "serial":
         command += ["--executor", executor]
+    keeps_store = False
     try:
         spec = load_study(study)
+        keeps_store = _keeps_store(spec)
         ex = None
         if executor != "serial" or scheduler is not None or workers is not None:
-            ex = make_executor(executor, workers=workers, scheduler=scheduler, timeout=timeout)
+            ex = make_executor(executor, workers=workers, scheduler=scheduler, timeout=timeout,
+                               worker_timeout=worker_timeout)  # fmt: skip
         logging.getLogger("designlab").info(
-            "study %s (kind %s) on %s; store %s/%s.sqlite%s", spec.name, spec.kind,
-            ex.describe() if ex is not None else "serial", cache_dir, spec.name,
-            " (resume)" if resume else "",
+            "study %s (kind %s) on %s%s", spec.name, spec.kind,
+            ex.describe() if ex is not None else "serial", " (resume)" if resume else "",
         )  # fmt: skip
-        store = open_store(cache_dir, spec.name)
+        store = _open_store(cache_dir, spec) if keeps_store else None
         try:
             context = RunContext(
                 progress=sys.stderr.isatty(), executor=ex, store=store, resume=resume
@@ -261,7 +273,8 @@ def run(
             started = time.monotonic()
             result = run_study(spec, context)
         finally:
-            store.close()
+            if store is not None:
+                store.close()
             if ex is not None:
                 ex.close()
         _write(result, study, output_dir, command, keep_current=resume)
@@ -276,16 +289,30 @@ def run(
         )
         raise typer.Exit(EXIT_DESIGNLAB_ERROR) from None
     except KeyboardInterrupt:
-        from designlab.study.sweeps import SweepStudyBase
-
-        if isinstance(locals().get("spec"), SweepStudyBase):  # only sweeps keep their chunks
-            said = f"finished points are kept in {cache_dir}/; no report was written. Run the "
-            said += "same command with --resume to finish."
-        else:
-            said = "no report was written and nothing was kept (only sweep studies store "
-            said += "finished points); run the same command again."
-        typer.echo(f"interrupted: {said}", err=True)
+        kept = (
+            f"finished points are kept in {cache_dir}/; no report was written. Run the same "
+            "command with --resume to finish."
+            if keeps_store
+            else "no report was written (this kind keeps no partial results: run it again)."
+        )
+        typer.echo(f"interrupted: {kept}", err=True)
         raise typer.Exit(EXIT_INTERRUPTED) from None
+
+
+def _keeps_store(spec: Any) -> bool:
+    """Whether a study's kind keeps finished points in a result store (the sweep kinds)."""
+    from designlab.study.sweeps import SweepStudyBase
+
+    return isinstance(spec, SweepStudyBase)
+
+
+def _open_store(cache_dir: Path, spec: Any) -> Any:
+    """The study's result store (opened on first use), bound to its name and kind."""
+    from designlab.analysis.store import open_store
+    from designlab.study.registry import RENAMED_KINDS
+
+    former = [old for old, new in RENAMED_KINDS.items() if new == spec.kind]
+    return open_store(cache_dir, spec.name, spec.kind, kind_aliases=former)
 
 
 @app.command()
@@ -295,16 +322,23 @@ def report(
     cache_dir: _CacheDir = DEFAULT_CACHE_DIR,
 ) -> None:
     """Rebuild a study's report from the result store, without computing any point."""
-    from designlab.report.store import open_store
+    from designlab.analysis.engine import CacheIncompleteError
     from designlab.study import RunContext, load_study, run_study
 
     command = ["designlab", "report", str(study), "--output-dir", str(output_dir)]
     try:
         spec = load_study(study)
-        store = open_store(cache_dir, spec.name)
+        if not _keeps_store(spec):
+            typer.echo(
+                f"kind {spec.kind} keeps no result store (only sweep kinds do): recomputing "
+                "the report, as `designlab run` does",
+                err=True,
+            )
+            _write(run_study(spec, RunContext(progress=sys.stderr.isatty())), study,
+                   output_dir, command)  # fmt: skip
+            return
+        store = _open_store(cache_dir, spec)
         if not store.path.exists():
-            from designlab.analysis.sweep import CacheIncompleteError
-
             raise CacheIncompleteError(
                 f"no result store {store.path}; run the study first (designlab run {study})"
             )

@@ -1,10 +1,15 @@
-"""Domain-independent analysis: samples, the chunked sweep engine, executors, sensitivity.
+"""Domain-independent analysis: samples, the sweep engine and its store, executors, sensitivity.
 
 * :mod:`~designlab.analysis.points` - point sources (points drawn a chunk at a time);
 * :mod:`~designlab.analysis.sampling` - lists, grids, Latin hypercubes, Sobol and Saltelli samples;
-* :mod:`~designlab.analysis.sweep` - evaluating points in chunks through a result store;
+* :mod:`~designlab.analysis.engine` - the sweep engine: points evaluated in chunks through a
+  result store (:mod:`~designlab.analysis.keys`: what identifies a chunk;
+  :mod:`~designlab.analysis.columns`: points and results as columns);
+* :mod:`~designlab.analysis.store` - the SQLite result store, repaired when damaged
+  (:mod:`~designlab.analysis.salvage`: rows read from a damaged file's pages);
 * :mod:`~designlab.analysis.executors` - serial, process and Dask executors;
 * :mod:`~designlab.analysis.sensitivity` - elasticity, one-at-a-time, range and Sobol tables.
 
-See docs/sweeps.md.
+``designlab.analysis.sweep`` and ``designlab.report.store`` are the former homes of the
+engine and the store; they re-export the old names for one release. See docs/sweeps.md.
 """

@@ -12,13 +12,22 @@ only a few chunks in memory at a time.
     In this process, in order (the default; no start-up cost).
 ``processes``
     A :class:`concurrent.futures.ProcessPoolExecutor` of ``workers`` local
-    processes (``forkserver`` start on POSIX, with designlab preloaded).
+    processes (``forkserver`` start on POSIX, with designlab preloaded). Each
+    worker watches its client: when the client dies (even by SIGKILL) the
+    workers exit, and with them the fork server and resource tracker. A worker
+    that dies (killed, out of memory) raises :class:`WorkerLostError`.
 ``dask``
     A :class:`distributed.Client` connected to ``scheduler`` (e.g.
     ``tcp://host:8786``) or, without an address, to a new
     :class:`distributed.LocalCluster` of ``workers`` single-threaded
     processes. An unreachable scheduler raises :class:`ExecutorError` after
-    ``timeout`` seconds.
+    ``timeout`` seconds; a scheduler lost during the run, or no worker alive
+    for ``worker_timeout`` seconds (default :data:`WORKER_TIMEOUT`), raises
+    :class:`WorkerLostError`.
+
+Whatever the executor, the sweep engine stores every chunk as it comes back,
+so after a :class:`WorkerLostError` the finished chunks are in the result
+store and ``designlab run ... --resume`` computes only the rest.
 
 Examples
 --------
@@ -33,9 +42,13 @@ import logging
 import multiprocessing
 import os
 import sys
+import threading
+import time
 from collections.abc import Callable, Iterable, Iterator
-from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures import FIRST_COMPLETED, CancelledError, Future, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
 from itertools import islice
+from multiprocessing.connection import Connection
 from types import TracebackType
 from typing import Any
 
@@ -48,6 +61,7 @@ __all__ = [
     "ExecutorError",
     "ProcessExecutor",
     "SerialExecutor",
+    "WorkerLostError",
     "check_scheduler_address",
     "make_executor",
 ]
@@ -56,6 +70,12 @@ logger = logging.getLogger(__name__)
 
 #: Names accepted by :func:`make_executor` (and ``designlab run --executor``).
 EXECUTORS = ("serial", "processes", "dask")
+#: Seconds a Dask run waits with no live worker before it fails (``--worker-timeout``).
+WORKER_TIMEOUT = 60.0
+#: Exit status of a worker process whose client has gone.
+_ORPHANED = 70
+#: Seconds between checks of the Dask cluster while no task finishes.
+_POLL = 1.0
 
 
 def check_scheduler_address(address: str) -> str:
@@ -98,6 +118,33 @@ def check_scheduler_address(address: str) -> str:
 
 class ExecutorError(DesignlabError, RuntimeError):
     """An executor cannot start (no Dask installed, scheduler unreachable, ...)."""
+
+
+class WorkerLostError(ExecutorError):
+    """The executor lost its workers or scheduler during a run (finished chunks are stored)."""
+
+
+_RESUME_HINT = (
+    "the chunks finished before are kept in the result store: run the same command with "
+    "--resume to compute the rest"
+)
+
+
+def _watch_client(alive: Connection) -> None:
+    """Worker initializer: exit as soon as the client process is gone.
+
+    ``alive`` is the reading end of a pipe whose only writer is the client:
+    when the client exits, however it dies, the read sees end-of-file.
+    """
+
+    def wait_for_client() -> None:
+        try:
+            alive.recv_bytes()
+        except (EOFError, OSError):
+            pass
+        os._exit(_ORPHANED)
+
+    threading.Thread(target=wait_for_client, name="designlab-watchdog", daemon=True).start()
 
 
 class Executor:
@@ -183,7 +230,7 @@ def _yield_futures(
     try:
         while pending:
             done, pending = wait(pending, return_when=FIRST_COMPLETED)
-            for fut in done:
+            for fut in sorted(done, key=lambda f: f.exception() is not None):  # results first
                 i = index.pop(fut)
                 result = fut.result()
                 before = set(index)
@@ -210,13 +257,22 @@ class ProcessExecutor(Executor):
         self.workers = workers or os.cpu_count() or 1
         if sys.platform != "win32":
             ctx = multiprocessing.get_context("forkserver")
-            ctx.set_forkserver_preload(["designlab.analysis.sweep"])
+            ctx.set_forkserver_preload(["designlab.analysis.engine"])
         else:  # pragma: no cover
             ctx = multiprocessing.get_context("spawn")
-        self._pool = ProcessPoolExecutor(max_workers=self.workers, mp_context=ctx)
+        # the workers get the reading end only: it reaches end-of-file when this process dies
+        self._alive_r, self._alive_w = ctx.Pipe(duplex=False)
+        self._pool = ProcessPoolExecutor(
+            max_workers=self.workers,
+            mp_context=ctx,
+            initializer=_watch_client,
+            initargs=(self._alive_r,),
+        )
 
     def close(self) -> None:
         self._pool.shutdown(wait=True, cancel_futures=True)
+        self._alive_w.close()
+        self._alive_r.close()
 
     def map_unordered(
         self, fn: Callable[[Any], Any], tasks: Iterable[Any]
@@ -231,7 +287,13 @@ class ProcessExecutor(Executor):
             The tasks (plain, picklable values; a lazy iterable is drawn from
             as workers become free).
         """
-        yield from _yield_futures(lambda task: self._pool.submit(fn, task), tasks, self.window)
+        try:
+            yield from _yield_futures(lambda task: self._pool.submit(fn, task), tasks, self.window)
+        except BrokenProcessPool as exc:
+            raise WorkerLostError(
+                "a worker process died during the run (killed by a signal or the "
+                f"out-of-memory killer?); {_RESUME_HINT}"
+            ) from exc
 
 
 class DaskExecutor(Executor):
@@ -247,6 +309,9 @@ class DaskExecutor(Executor):
         Seconds to wait for the scheduler before raising :class:`ExecutorError`.
     processes
         LocalCluster only: worker processes (``False``: threads in this process).
+    worker_timeout
+        Seconds the run waits while no worker is alive (all lost) before
+        raising :class:`WorkerLostError`.
     """
 
     name = "dask"
@@ -258,7 +323,13 @@ class DaskExecutor(Executor):
         *,
         timeout: float = 5.0,
         processes: bool = True,
+        worker_timeout: float = WORKER_TIMEOUT,
     ) -> None:
+        if not worker_timeout > 0:
+            raise ExecutorError(
+                f"worker_timeout = {worker_timeout!r} s is not allowed: must be > 0"
+            )
+        self.worker_timeout = float(worker_timeout)
         try:
             from distributed import Client, LocalCluster
         except ImportError as exc:
@@ -315,31 +386,72 @@ class DaskExecutor(Executor):
             The tasks (plain, picklable values; a lazy iterable is drawn from
             as workers become free).
         """
-        from distributed import as_completed
+        from distributed import wait as wait_for
 
         source = enumerate(tasks)
         index: dict[Any, int] = {}
-        live: dict[Any, Any] = {}
-        ac = as_completed()
 
         def top_up(k: int) -> None:
             for i, task in islice(source, k):
                 fut = self._client.submit(fn, task, pure=False)
-                index[fut.key], live[fut.key] = i, fut
-                ac.add(fut)
+                index[fut] = i
 
         top_up(self.window)
+        idle_since: float | None = None
         try:
-            for fut in ac:
-                i = index.pop(fut.key)
-                live.pop(fut.key, None)
-                result = fut.result()
-                top_up(1)
-                yield i, result
+            while index:
+                try:
+                    done = wait_for(list(index), timeout=_POLL, return_when="FIRST_COMPLETED").done
+                except TimeoutError:
+                    idle_since = self._check_workers(idle_since)
+                    continue
+                idle_since = None
+                for fut in sorted(done, key=lambda f: f.status != "finished"):  # results first
+                    i = index.pop(fut)
+                    result = fut.result()
+                    top_up(1)
+                    yield i, result
+        except WorkerLostError:
+            raise
+        except (CancelledError, OSError) as exc:
+            raise self._lost(exc) from exc
+        except Exception as exc:
+            if type(exc).__name__ in ("KilledWorker", "CommClosedError", "FutureCancelledError"):
+                raise self._lost(exc) from exc
+            raise
         finally:
-            for fut in live.values():
+            for fut in index:
                 if not fut.done():
                     fut.cancel()
+
+    def _lost(self, exc: BaseException) -> WorkerLostError:
+        where = f"the Dask scheduler at {self.scheduler}" if self.scheduler else "the Dask cluster"
+        return WorkerLostError(
+            f"lost {where} during the run ({type(exc).__name__}: "
+            f"{(str(exc).strip().splitlines() or [''])[0]}); {_RESUME_HINT}"
+        )
+
+    def _check_workers(self, idle_since: float | None) -> float | None:
+        """While no task finishes: ``None`` if a worker is alive, else since when none is."""
+        try:
+            alive = len(self._client.nthreads())
+        except (OSError, TimeoutError) as exc:
+            raise self._lost(exc) from exc
+        if alive:
+            return None
+        now = time.monotonic()
+        if idle_since is None:
+            logger.warning(
+                "no Dask worker is alive: waiting up to %g s for one (--worker-timeout)",
+                self.worker_timeout,
+            )
+            return now
+        if now - idle_since >= self.worker_timeout:
+            raise WorkerLostError(
+                f"no Dask worker has been alive for {self.worker_timeout:g} s (the last one "
+                f"was lost; --worker-timeout); {_RESUME_HINT} once workers are running"
+            )
+        return idle_since
 
 
 def make_executor(
@@ -349,6 +461,7 @@ def make_executor(
     scheduler: str | None = None,
     timeout: float = 5.0,
     processes: bool = True,
+    worker_timeout: float = WORKER_TIMEOUT,
 ) -> Executor:
     """Create an executor by name (``serial``, ``processes`` or ``dask``).
 
@@ -366,6 +479,8 @@ def make_executor(
     processes
         ``dask`` LocalCluster only: worker processes (``False``: threads in
         this process, for tests).
+    worker_timeout
+        ``dask`` only: seconds to wait while no worker is alive before failing.
 
     Raises
     ------
@@ -381,5 +496,7 @@ def make_executor(
     if name == "processes":
         return ProcessExecutor(workers)
     if name == "dask":
-        return DaskExecutor(scheduler, workers, timeout=timeout, processes=processes)
+        return DaskExecutor(
+            scheduler, workers, timeout=timeout, processes=processes, worker_timeout=worker_timeout
+        )
     raise ExecutorError(f"unknown executor {name!r} (known: {', '.join(EXECUTORS)})")

@@ -37,6 +37,8 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike
 
+from designlab.analysis.sampling import saltelli
+
 __all__ = [
     "MetricFunction",
     "SensitivityTable",
@@ -536,8 +538,6 @@ def sobol_indices(
     >>> t.ranked("y")["parameter"].tolist()
     ['a', 'b']
     """
-    from designlab.analysis.sampling import saltelli
-
     if len(bounds) < 2:
         raise ValueError("Sobol indices need at least two varied parameters")
     sample = saltelli(bounds, samples, seed=seed)

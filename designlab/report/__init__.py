@@ -33,7 +33,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from designlab.analysis.sweep import _package_hash
+from designlab.analysis.keys import package_hash
 from designlab.report.atomic import (
     ReportError,
     atomic_write_bytes,
@@ -175,14 +175,24 @@ def _report_key(result: Any, study_text: str | None) -> str:
         "result": fingerprint,
         "study": study_text,
         "designlab": __version__,
-        "report_code": _package_hash(__name__),  # a changed writer makes every report stale
+        "report_code": package_hash(__name__),  # a changed writer makes every report stale
     }
     return hashlib.sha256(json.dumps(parts, sort_keys=True).encode()).hexdigest()
 
 
+def _file_digest(path: Path) -> str:
+    """SHA-256 of a file's content: a report file changed in place, even at the same size,
+    is no longer up to date."""
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
 def _write_manifest(directory: Path, key: str, result: Any) -> None:
     files = {
-        p.name: p.stat().st_size
+        p.name: _file_digest(p)
         for p in sorted(directory.iterdir())
         if p.is_file() and p.name != MANIFEST
     }
@@ -204,7 +214,7 @@ def current_report(
     written with, so a caller can repeat its warnings without recomputing
     them. ``None`` for a result without a ``fingerprint`` (only sweep studies have one),
     or when the report was written from other points, code, study text or designlab
-    version, or one of its files is missing or has changed size.
+    version, or one of its files is missing or its content has changed (SHA-256).
 
     Parameters
     ----------
@@ -223,8 +233,8 @@ def current_report(
         record = json.loads((directory / MANIFEST).read_text(encoding="utf-8"))
         if record.get("key") != key:
             return None
-        for name, size in record["files"].items():
-            if (directory / name).stat().st_size != size:
+        for name, digest in record["files"].items():
+            if _file_digest(directory / name) != digest:
                 return None
         return dict(record)
     except (OSError, ValueError, KeyError, TypeError, AttributeError):

@@ -9,7 +9,11 @@ A report directory is built with :func:`report_directory`: files are written
 into a hidden temporary sibling directory, which replaces the previous
 report only when everything has been written. An exception (or Ctrl-C)
 while writing removes the temporary directory and leaves the previous
-report untouched.
+report untouched. The swap (and the tidying up after a run killed mid-swap)
+holds an exclusive lock on the parent directory (``flock``, released by the
+system if the process dies), so that runs writing the same report at once,
+in any number of processes, replace it one after the other and leave no
+``.NAME.old-*`` directory behind.
 
 Examples
 --------
@@ -34,6 +38,11 @@ import tempfile
 import uuid
 from collections.abc import Iterator
 from pathlib import Path
+
+try:
+    import fcntl
+except ImportError:  # pragma: no cover - Windows: swaps are not serialised across processes
+    fcntl = None  # type: ignore[assignment]
 
 from designlab.errors import DesignlabError
 
@@ -128,39 +137,74 @@ def _pid_alive(pid: int) -> bool:
     return True
 
 
+@contextlib.contextmanager
+def _directory_lock(directory: Path) -> Iterator[None]:
+    """Hold an exclusive lock on ``directory`` (no lock file: the directory itself)."""
+    if fcntl is None:  # pragma: no cover
+        yield
+        return
+    fd = os.open(directory, os.O_RDONLY)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        os.close(fd)  # releases the lock
+
+
+def _owner_gone(path: Path, marker: str) -> bool:
+    """Whether the process named in ``.<name><marker><pid>-<random>`` has exited."""
+    try:
+        pid = int(path.name.rsplit(marker, 1)[1].split("-", 1)[0])
+    except (IndexError, ValueError):
+        return True  # an old name without a pid: no live owner can be known
+    return pid != os.getpid() and not _pid_alive(pid)
+
+
+def _mtime(path: Path) -> float | None:
+    """Modification time, or ``None`` for a directory its owner has just removed."""
+    try:
+        return path.stat().st_mtime
+    except FileNotFoundError:
+        return None
+
+
 def _recover(final: Path) -> None:
-    """Tidy up after a run that was killed (SIGKILL, power loss) mid-swap."""
+    """Tidy up after runs killed (SIGKILL, power loss) mid-write or mid-swap.
+
+    Called with the directory lock held: no other swap is under way, so an
+    ``.old-*`` directory belongs to a run that died between its two renames.
+    """
     parent = final.parent
     for stale in parent.glob(f".{final.name}.tmp-*"):
         # .<name>.tmp-<pid>-<random>: remove it only if its writer is gone
-        try:
-            pid = int(stale.name.rsplit(".tmp-", 1)[1].split("-", 1)[0])
-        except (IndexError, ValueError):
-            continue
-        if pid != os.getpid() and not _pid_alive(pid):
+        if _owner_gone(stale, ".tmp-"):
             logger.info("removing stale temporary report directory %s", stale)
             shutil.rmtree(stale, ignore_errors=True)
-    if not final.exists():
-        olds = sorted(parent.glob(f".{final.name}.old-*"), key=lambda p: p.stat().st_mtime)
-        if olds:
-            logger.warning("restoring the previous report %s from %s", final, olds[-1])
-            os.rename(olds[-1], final)
+    dated = [(_mtime(p), p) for p in parent.glob(f".{final.name}.old-*")]
+    olds = [p for m, p in sorted((m, p) for m, p in dated if m is not None)]
+    if not final.exists() and olds:
+        logger.warning("restoring the previous report %s from %s", final, olds[-1])
+        os.rename(olds.pop(), final)
+    for old in olds:
+        if _owner_gone(old, ".old-"):
+            shutil.rmtree(old, ignore_errors=True)
 
 
-def _swap_into_place(new: Path, final: Path) -> None:
+def _swap_into_place(new: Path, final: Path) -> Path | None:
+    """Move ``new`` to ``final``; return the previous report's directory, to remove."""
     if not final.exists():
         os.rename(new, final)
-        return
+        return None
     if not final.is_dir() or final.is_symlink():
         raise ReportError(f"{final} exists and is not a report directory; remove it first")
-    old = final.parent / f".{final.name}.old-{uuid.uuid4().hex[:8]}"
+    old = final.parent / f".{final.name}.old-{os.getpid()}-{uuid.uuid4().hex[:8]}"
     os.rename(final, old)
     try:
         os.rename(new, final)
     except BaseException:
         os.rename(old, final)
         raise
-    shutil.rmtree(old, ignore_errors=True)
+    return old
 
 
 @contextlib.contextmanager
@@ -187,7 +231,8 @@ def report_directory(final: str | os.PathLike[str]) -> Iterator[Path]:
     final = Path(final)
     try:
         final.parent.mkdir(parents=True, exist_ok=True)
-        _recover(final)
+        with _directory_lock(final.parent):
+            _recover(final)
         tmp = Path(tempfile.mkdtemp(prefix=f".{final.name}.tmp-{os.getpid()}-", dir=final.parent))
         os.chmod(tmp, 0o755)
     except OSError as exc:
@@ -196,12 +241,16 @@ def report_directory(final: str | os.PathLike[str]) -> Iterator[Path]:
         yield tmp
         _fsync_dir(tmp)
         try:
-            _swap_into_place(tmp, final)
+            with _directory_lock(final.parent):
+                _recover(final)
+                old = _swap_into_place(tmp, final)
+                _fsync_dir(final.parent)
         except ReportError:
             raise
         except OSError as exc:
             raise ReportError(f"cannot move the new report into {final}: {exc}") from exc
-        _fsync_dir(final.parent)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
+    if old is not None:
+        shutil.rmtree(old, ignore_errors=True)

@@ -39,8 +39,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
+from designlab.analysis.engine import STATUS_ERROR, StoredRows
 from designlab.analysis.points import PointSource
-from designlab.analysis.sweep import STATUS_ERROR, StoredRows
 
 __all__ = ["SUBSET_ROWS", "FrameTable", "PointsTable", "StoredTable", "TableScan"]
 

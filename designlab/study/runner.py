@@ -52,13 +52,13 @@ class RunContext:
         An executor from :func:`designlab.analysis.executors.make_executor`
         (``None``: serial, in this process). The caller closes it.
     store
-        A result store (:class:`designlab.report.store.ChunkStore`) where
+        A result store (:class:`designlab.analysis.store.ChunkStore`) where
         finished chunks are kept; ``None``: nothing is kept.
     resume
         Reuse chunks found in the store; compute only the missing ones.
     cache_only
         Compute nothing that a store could hold; raise
-        :class:`~designlab.analysis.sweep.CacheIncompleteError` if a chunk is
+        :class:`~designlab.analysis.engine.CacheIncompleteError` if a chunk is
         missing (``designlab report``). Kinds without sweeps recompute.
     """
 

@@ -32,6 +32,7 @@ import numpy as np
 import pandas as pd
 
 from designlab.analysis import sampling
+from designlab.analysis.engine import STATUS_ERROR, SweepRun, run_points
 from designlab.analysis.points import ArrayPoints, ConcatPoints, PointSource
 from designlab.analysis.sensitivity import (
     SensitivityTable,
@@ -40,7 +41,6 @@ from designlab.analysis.sensitivity import (
     range_table,
     sobol_table,
 )
-from designlab.analysis.sweep import STATUS_ERROR, SweepRun, run_points
 from designlab.results import OK, Result
 from designlab.study.points_table import FrameTable, PointsTable, StoredTable
 from designlab.study.runner import RunContext
@@ -287,10 +287,7 @@ def count_points(study: SweepStudyBase) -> int:
     study
         A sweep study.
     """
-    plan = _plan(study)
-    sens = study.sensitivity
-    local = int(bool(sens is not None and sens.local and study.LOCAL_EVALUATOR is not None))
-    return plan.count() + local
+    return sum(study.point_counts().values())
 
 
 # --- running -----------------------------------------------------------------------------

@@ -367,10 +367,16 @@ class SweepStudyBase(StudyBase, Generic[ParametersT, MetricT]):
         the metrics analysed when the study does not list them.
     ``EVALUATOR``
         the domain's module-level evaluator ``(points, options) -> columns``
-        (see :mod:`designlab.analysis.sweep`), sent to workers by reference.
+        (see :mod:`designlab.analysis.engine`), sent to workers by reference.
     ``LOCAL_EVALUATOR``
         optional: evaluator of exact elasticities at the base (else the
         elasticities are not computed).
+    ``MAX_POINTS``
+        the most points a study of the kind may evaluate (every set together,
+        :meth:`point_counts`): a kind whose points are expensive (a simulation
+        each) sets it so that a mistyped size is refused when the study is
+        validated, naming the field, the count and the cap, instead of running
+        for days. The default is the schema's absolute cap, :data:`MAX_POINTS`.
     """
 
     sweep: SweepOf[ParametersT] | None = None
@@ -382,6 +388,7 @@ class SweepStudyBase(StudyBase, Generic[ParametersT, MetricT]):
     EVALUATOR: ClassVar[Callable[..., Any] | None] = None
     LOCAL_EVALUATOR: ClassVar[Callable[..., Any] | None] = None
     NEEDS_SWEEP_OR_SENSITIVITY: ClassVar[bool] = False
+    MAX_POINTS: ClassVar[int] = MAX_POINTS
     PRODUCES: ClassVar[tuple[str, ...]] = (
         "summary.md",
         "results.csv",
@@ -408,11 +415,48 @@ class SweepStudyBase(StudyBase, Generic[ParametersT, MetricT]):
             return [str(m) for m in sens.metrics]
         return list(self.DEFAULT_METRICS or self.METRICS)
 
+    def point_counts(self) -> dict[str, int]:
+        """Points evaluated per set (``base``, ``sweep``, ``one_at_a_time``, ``range``,
+        ``sobol``, ``local``), computed from the study without building any point."""
+        sens, sweep = self.sensitivity, self.sweep
+        swept = [p for p, _ in sweep.parameters.items()] if sweep is not None else []
+        counts = {"base": 1, "sweep": sweep.count() if sweep is not None else 0}
+        if sens is not None:
+            oat = sens.one_at_a_time
+            if oat is not None:
+                counts["one_at_a_time"] = len(oat.parameters or swept) * len(oat.deltas_pct)
+            if sens.tornado:
+                counts["range"] = 2 * len(swept)
+            if sens.sobol is not None:
+                names = sens.sobol.parameters or swept
+                counts["sobol"] = sens.sobol.samples * (len(names) + 2)
+            counts["local"] = int(bool(sens.local and self.LOCAL_EVALUATOR is not None))
+        return counts
+
     def size(self) -> str:
         """The number of points, for ``designlab validate``."""
-        from designlab.study.sweep_runner import count_points
+        return f"{sum(self.point_counts().values())} points"
 
-        return f"{count_points(self)} points"
+    @model_validator(mode="after")
+    def _within_cap(self) -> SweepStudyBase[ParametersT, MetricT]:
+        counts = self.point_counts()
+        total, cap = sum(counts.values()), type(self).MAX_POINTS
+        if total <= cap:
+            return self
+        largest = max(counts, key=lambda s: counts[s])
+        sweep = self.sweep
+        field = {
+            "sweep": "sweep.samples"
+            if sweep is not None and sweep.method in ("lhs", "sobol")
+            else "sweep.parameters",
+            "sobol": "sensitivity.sobol.samples",
+            "one_at_a_time": "sensitivity.one_at_a_time",
+        }.get(largest, "sweep")
+        raise ValueError(
+            f"{field}: the study has {total:,} points ({counts[largest]:,} from {field}); a "
+            f"{self.kind} study evaluates at most {cap:,} (each point costs a full evaluation; "
+            "see docs/sweeps.md): give fewer points"
+        )
 
     @model_validator(mode="after")
     def _check_paths(self) -> SweepStudyBase[ParametersT, MetricT]:

@@ -6,9 +6,9 @@ import math
 
 import pytest
 
+from designlab.analysis.engine import run_points
 from designlab.analysis.executors import ExecutorError, make_executor
 from designlab.analysis.sampling import LatinHypercubePoints
-from designlab.analysis.sweep import run_points
 from designlab.impact.sweep import impact_metrics_chunk
 
 BASE = {"M_r": 9.6, "C_r": 250.0, "K_r": 20e3, "K_c": 24.25e3, "C_c": 71.9,

@@ -7,8 +7,8 @@ import pandas as pd
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from designlab.analysis.engine import run_points
 from designlab.analysis.sampling import LatinHypercubePoints
-from designlab.analysis.sweep import run_points
 
 
 def flaky(points, options):
@@ -68,11 +68,11 @@ def test_digest_follows_points_and_options():
 
 def test_hash_collisions_never_merge_different_points(monkeypatch):
     """With every row hashing alike, the value check still keeps distinct points apart."""
-    import designlab.analysis.sweep as sweep
+    import designlab.analysis.columns as columns
 
-    monkeypatch.setattr(sweep.pd.util, "hash_array", lambda a: np.zeros(len(a), dtype=np.uint64))
+    monkeypatch.setattr(columns.pd.util, "hash_array", lambda a: np.zeros(len(a), dtype=np.uint64))
     xs = np.array([1.0, 2.0, 1.0, np.nan, np.nan, 3.0])
-    first, inverse = sweep._distinct({"x": xs, "z": np.zeros(6)})
+    first, inverse = columns.distinct_rows({"x": xs, "z": np.zeros(6)})
     assert list(first) == [0, 1, 3, 5]
     assert list(inverse) == [0, 1, 0, 2, 2, 3]
 
@@ -87,13 +87,13 @@ def test_hash_collisions_never_merge_different_points(monkeypatch):
 )
 def test_distinct_points_numbered_in_order_of_first_appearance(rows):
     """Against a dictionary of the rows, written here (NaN equal to NaN)."""
-    import designlab.analysis.sweep as sweep
+    from designlab.analysis.columns import distinct_rows
 
     keys = [tuple("nan" if v != v else v for v in r) for r in rows]
     seen: dict = {}
     want_inverse = [seen.setdefault(k, len(seen)) for k in keys]
     want_first = [keys.index(k) for k in seen]
-    first, inverse = sweep._distinct({"a": np.array([r[0] for r in rows]),
+    first, inverse = distinct_rows({"a": np.array([r[0] for r in rows]),
                                       "b": np.array([r[1] for r in rows])})  # fmt: skip
     if len(seen) == len(rows):
         assert first is None and inverse is None
@@ -147,7 +147,7 @@ def test_results_left_in_the_store_read_back_equal_the_collected_ones(xs, bad, c
 
 
 def test_a_chunk_gone_from_the_store_is_reported_when_read():
-    from designlab.analysis.sweep import CacheIncompleteError
+    from designlab.analysis.engine import CacheIncompleteError
 
     store = DictStore()
     lazy = run_points({"x": np.arange(10.0)}, flaky, {"bad": []}, chunk_size=4,

@@ -144,7 +144,7 @@ def test_store_resume_and_corrupt_chunk(tmp_path, caplog):
 
 
 def test_store_refuses_foreign_and_other_study_files(tmp_path):
-    from designlab.report.atomic import ReportError
+    from designlab.analysis.store import StoreError as ReportError
 
     (tmp_path / "x.sqlite").write_bytes(b"not a database at all" * 10)
     with pytest.raises(ReportError, match="is not a designlab result store"):
