@@ -32,13 +32,14 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
-from designlab.errors import InvalidParameterError, ModelError, check_positive
+from designlab.errors import InvalidParameterError, ModelError
+from designlab.impact.full_joint_model import FULL_PARAM_NAMES, full_joint_model, grid_rate
 from designlab.impact.metric_names import PARAMETERS
 from designlab.impact.modal import (
     ModalResponse,
@@ -53,25 +54,58 @@ from designlab.impact.model import (
     printed_q2_correction,
     unconstrained_model,
 )
+from designlab.impact.parameters import HIC_SAMPLES, HIC_WINDOW, MAX_LOBE_STEPS, STOP_TIME
+from designlab.impact.state_space import modal_families
+from designlab.impact.status import ImpactDomainStatus
 from designlab.results import OK, Result
 from designlab.units import STANDARD_GRAVITY
-from designlab.validation import check_int, check_q2, named_columns, real_array
+from designlab.validation import check_q2, named_columns, real_array
 
 __all__ = [
     "STATUS_OK",
     "ImpactMetrics",
+    "ImpactStatus",
     "hic_batch",
     "impact_metrics",
+    "matrix_metrics",
     "metrics_from_responses",
+    "metrics_of_matrix",
+    "param_names",
     "ramp_responses",
     "response_model",
 ]
 
 
-STATUS_OK = "ok"
-STATUS_NO_IMPACT = "no_impact"
-STATUS_PEAK_AT_CONTACT = "peak_at_contact"
-STATUS_LOBE_OPEN = "lobe_not_closed"
+class ImpactStatus(ImpactDomainStatus):
+    """Status of one impact (a design of :class:`ImpactMetrics`, an ``ImpactResponse``).
+
+    Attributes
+    ----------
+    OK
+        The first lobe closed and its maxima were found.
+    NO_IMPACT
+        v_c <= 0: the head and the manipulator do not close in; every metric is 0.
+    PEAK_AT_CONTACT
+        a_h peaks at t = 0+ (an overdamped pulse): the impact period is delicate.
+    LOBE_NOT_CLOSED
+        No end of the first lobe was found; the metrics are NaN.
+    BOTTOMING
+        eps_max exceeds the foam's linear depth lambda: the linear model is not
+        valid (docs/impact.md, "Foam bottoming"; single impacts only).
+    """
+
+    OK = "ok"
+    NO_IMPACT = "no_impact"
+    PEAK_AT_CONTACT = "peak_at_contact"
+    LOBE_NOT_CLOSED = "lobe_not_closed"
+    BOTTOMING = "bottoming"
+
+
+STATUS_OK = ImpactStatus.OK
+STATUS_NO_IMPACT = ImpactStatus.NO_IMPACT
+STATUS_PEAK_AT_CONTACT = ImpactStatus.PEAK_AT_CONTACT
+STATUS_LOBE_OPEN = ImpactStatus.LOBE_NOT_CLOSED
+
 
 #: fraction of the running a_h peak below which the lobe counts as "nearly over"
 LOW_FRACTION = 0.05
@@ -80,10 +114,27 @@ _POSITIVE = ("M_r", "K_c", "M_h", "K_mech", "K_cont")
 _FULL_UNITS = {"C_mech": "N s/m", "K_mech": "N/m", "C_cont": "N s/m", "K_cont": "N/m"}
 
 
-def _param_names(width: int | None = None, keys: object = None) -> tuple[str, ...]:
-    """Names of the reduced (8) or full-joint (10, :mod:`designlab.impact.full_joint`) rows."""
-    from designlab.impact.full_joint import FULL_PARAM_NAMES
+def param_names(width: int | None = None, keys: object = None) -> tuple[str, ...]:
+    """Names of the reduced (8) or full-joint (10) parameter rows.
 
+    Parameters
+    ----------
+    width
+        The number of columns of the rows.
+    keys
+        Or the names given (a full-joint row has ``K_mech``).
+
+    Returns
+    -------
+    tuple of str
+        :data:`~designlab.impact.model.PARAM_NAMES` or
+        :data:`~designlab.impact.full_joint_model.FULL_PARAM_NAMES`.
+
+    Examples
+    --------
+    >>> param_names(10)[-1], param_names(8)[-1]
+    ('K_cont', 'K_h')
+    """
     full = width == len(FULL_PARAM_NAMES) or (keys is not None and "K_mech" in keys)  # type: ignore[operator]
     return FULL_PARAM_NAMES if full else PARAM_NAMES
 
@@ -113,8 +164,6 @@ def response_model(p: NDArray, constrained: bool) -> LinearImpactModel:
     """
     if p.shape[-1] == len(PARAM_NAMES):
         return constrained_model() if constrained else unconstrained_model()
-    from designlab.impact.full_joint import full_joint_model
-
     return full_joint_model(constrained)
 
 
@@ -122,7 +171,7 @@ def _check_params(p: NDArray) -> NDArray:
     """Range checks of an ``(N, 8)`` parameter matrix ordered as :data:`PARAM_NAMES`."""
     if p.shape[0] == 0:
         raise InvalidParameterError("params", "0 designs", "needs at least one design")
-    names = _param_names(p.shape[-1])
+    names = param_names(p.shape[-1])
     if p.shape[-1] != len(names):
         return p  # the caller reports the shape
     if len(names) != len(PARAM_NAMES) and np.any(p[:, 1] + p[:, 8] <= 0):
@@ -170,8 +219,6 @@ def ramp_responses(
             raise InvalidParameterError(
                 "q2", q2, "the printed q2 of (3.5.14) belongs to the reduced joint; use 'correct'"
             )
-        from designlab.impact.full_joint import modal_families
-
         return modal_families(model, params, outputs)["ramp"]
     den, num = model.ramp_coefficients(params)
     if check_q2(q2) == "printed" and model.name == "unconstrained":
@@ -256,7 +303,7 @@ class ImpactMetrics(Result):
 
     def to_frame(self) -> pd.DataFrame:
         """One row per design: parameters and metrics (columns of :mod:`.metric_names`)."""
-        df = pd.DataFrame(self.params, columns=list(_param_names(self.params.shape[1])))
+        df = pd.DataFrame(self.params, columns=list(param_names(self.params.shape[1])))
         df["v_c_m_per_s"] = self.impact_velocity
         df["a_h_max_m_per_s2"] = self.peak_head_acceleration
         df["a_h_max_g"] = self.peak_head_acceleration_g
@@ -426,7 +473,7 @@ def impact_metrics(
     an array needs explicit column names (columns=...) ...
     """
     keys = columns if columns is not None else getattr(params, "keys", lambda: ())()
-    p = named_columns("params", params, _param_names(keys=list(keys)), columns=columns)
+    p = named_columns("params", params, param_names(keys=list(keys)), columns=columns)
     return metrics_of_matrix(
         p,
         impact_velocity,
@@ -483,8 +530,8 @@ def metrics_of_matrix(
         )
     p = np.repeat(p, n, axis=0) if p.shape[0] == 1 and n > 1 else p
     v = np.repeat(v, n) if v.shape[0] == 1 and n > 1 else v
-    stop_time = check_positive("stop_time", stop_time, "s")
-    max_lobe_steps = check_int("max_lobe_steps", max_lobe_steps, minimum=1)
+    stop_time = STOP_TIME.check(stop_time)
+    max_lobe_steps = MAX_LOBE_STEPS.check(max_lobe_steps)
 
     model = response_model(p, constrained)
     names: tuple[str, ...] = ("compression",) if constrained else ("head_acceleration",)
@@ -495,8 +542,6 @@ def metrics_of_matrix(
     resp = ramp_responses(model, p, names, q2=q2)
     rate = None
     if model.name.startswith("full_joint"):
-        from designlab.impact.full_joint import grid_rate
-
         rate = grid_rate(resp[names[0]].poles)
     return metrics_from_responses(
         resp,
@@ -507,6 +552,44 @@ def metrics_of_matrix(
         stop_time=stop_time,
         max_lobe_steps=max_lobe_steps,
         lobe_diagnostics=lobe_diagnostics,
+    )
+
+
+def matrix_metrics(params: ArrayLike, impact_velocity: ArrayLike, **options: Any) -> ImpactMetrics:
+    """First-lobe metrics of a parameter matrix in the model's column order.
+
+    ``(N, 8)`` rows ordered as :data:`~designlab.impact.model.PARAM_NAMES` use
+    the reduced joint, ``(N, 10)`` rows ordered as
+    :data:`~designlab.impact.full_joint_model.FULL_PARAM_NAMES` the full
+    series joint (3.4.6). For callers that build the rows themselves (the
+    joint comparisons, the benchmark); a mapping by name goes to
+    :func:`impact_metrics`.
+
+    Parameters
+    ----------
+    params
+        ``(N, 8)`` or ``(N, 10)`` rows (SI units).
+    impact_velocity
+        v_c in m/s, scalar or ``(N,)``.
+    **options
+        Passed on to :func:`metrics_of_matrix` (``constrained``, ``stop_time``, ...).
+
+    Returns
+    -------
+    ImpactMetrics
+
+    Examples
+    --------
+    >>> from designlab.impact import FOAM_1, HEAD_MIN
+    >>> from designlab.impact.full_joint_model import full_joint_params
+    >>> from designlab.impact.series_joint import FullJointContact
+    >>> arm = FullJointContact.from_joint(0.059, 2e3, 2.0, 1.5e3, 30.0, lever_arm=0.2)
+    >>> m = matrix_metrics(full_joint_params(arm, FOAM_1, HEAD_MIN)[None, :], 1.25)
+    >>> round(float(m.peak_head_acceleration_g[0]), 3)
+    4.079
+    """
+    return metrics_of_matrix(
+        np.atleast_2d(np.asarray(params, dtype=float)), impact_velocity, **options
     )
 
 
@@ -678,8 +761,8 @@ def hic_batch(metrics: ImpactMetrics, window: float = 0.015, samples: int = 400)
     """
     if not isinstance(metrics, ImpactMetrics):
         raise InvalidParameterError("metrics", metrics, "must be an ImpactMetrics")
-    window = check_positive("window", window, "s")
-    samples = check_int("samples", samples, minimum=3)
+    window = HIC_WINDOW.check(window)
+    samples = HIC_SAMPLES.check(samples)
     n = len(metrics)
     out = np.zeros(n)
     t_imp = metrics.impact_duration

@@ -51,9 +51,9 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from designlab.errors import InvalidParameterError
-from designlab.impact.full_joint import FullJointContact
 from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
 from designlab.impact.peaks import first_peak
+from designlab.impact.series_joint import FullJointContact
 from designlab.results import Result
 from designlab.units import STANDARD_GRAVITY
 

@@ -36,13 +36,7 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError, check_finite, check_positive
-from designlab.impact.full_joint import (
-    FullJointContact,
-    full_joint_model,
-    full_joint_params,
-    grid_rate,
-    modal_families,
-)
+from designlab.impact.full_joint_model import full_joint_model, full_joint_params, grid_rate
 from designlab.impact.metrics import (
     STATUS_NO_IMPACT,
     STATUS_OK,
@@ -57,6 +51,8 @@ from designlab.impact.model import (
     unconstrained_model,
 )
 from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
+from designlab.impact.series_joint import FullJointContact
+from designlab.impact.state_space import modal_families
 from designlab.results import Result
 from designlab.units import STANDARD_GRAVITY
 from designlab.validation import check_int

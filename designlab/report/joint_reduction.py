@@ -176,7 +176,7 @@ def _sweep_table(result: JointReductionResult, j_index: int, every: int = 4) -> 
 
 
 def _fastest_mode(j) -> float:  # type: ignore[no-untyped-def]
-    from designlab.impact.full_joint import default_band
+    from designlab.impact.joint_reduction import default_band
 
     return default_band(j.robot, j.nominal.foam, j.nominal.head)
 
