@@ -41,6 +41,7 @@ __all__ = [
     "HEAD_MAX",
     "HEAD_MIN",
     "HEAD_SPEED",
+    "HEAD_VELOCITY",
     "HIC_SAMPLES",
     "HIC_WINDOW",
     "HUMAN_SPEED",
@@ -53,6 +54,7 @@ __all__ = [
     "MAX_LOBE_STEPS",
     "OMEGA_MAX",
     "RATIO_POINTS",
+    "ROBOT_VELOCITY",
     "RTOL",
     "SEED",
     "STIFFNESS_RATIO",
@@ -323,6 +325,16 @@ IMPACT_VELOCITY = Param(
 HUMAN_SPEED = Param(
     "v_h", "m/s", "head speed toward the robot", ge=0, le=20, typical=(0.0, 1.0),
     name="human_speed",
+)  # fmt: skip
+
+#: The manipulator's speed at contact along the contact normal, v_r(0) (Sec. 3.4).
+ROBOT_VELOCITY = Param(
+    "v_r", "m/s", "manipulator velocity at contact along the normal", ge=-20, le=20, name="v_r"
+)
+#: The head's velocity along the normal, v_h(0) (negative: toward the robot; v_c = v_r - v_h).
+HEAD_VELOCITY = Param(
+    "v_h", "m/s", "head velocity along the normal (negative: toward the robot)", ge=-20,
+    le=20, name="v_h",
 )  # fmt: skip
 
 #: A head speed that must be non-zero (the worst impact point of Fig. 3.16 scales with it).

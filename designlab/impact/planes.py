@@ -54,6 +54,7 @@ from designlab.errors import InvalidParameterError
 from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
 from designlab.impact.peaks import first_peak
 from designlab.impact.series_joint import FullJointContact
+from designlab.params import declared, param
 from designlab.results import Result
 from designlab.units import STANDARD_GRAVITY
 
@@ -197,26 +198,30 @@ def closing_speed(
     )
 
 
+@declared
 @dataclass(frozen=True)
 class ImpactPlane:
     """One impact plane: the manipulator reduced in that plane and its contact normal.
 
-    Parameters
-    ----------
-    robot
-        The single-DOF manipulator of the plane (e.g. scenario 1's joint 1 in the
-        horizontal plane, scenario 3's joints 2-3 in the vertical plane), reduced
-        (:class:`~designlab.impact.parameters.ContactDynamics`) or with its full
-        series joint (:class:`~designlab.impact.full_joint.FullJointContact`).
-    normal
-        The plane's contact normal, from the manipulator towards the head.
-    name
-        Label for reports.
+    The robot is the single-DOF manipulator of the plane (e.g. scenario 1's
+    joint 1 in the horizontal plane, scenario 3's joints 2-3 in the vertical
+    plane), reduced (:class:`~designlab.impact.parameters.ContactDynamics`) or
+    with its full series joint (:class:`~designlab.impact.series_joint.FullJointContact`).
+
+    Examples
+    --------
+    >>> import designlab as dl
+    >>> ImpactPlane(dl.impact.MANIPULATOR_1, normal=(2.0, 0.0)).normal
+    (1.0, 0.0)
     """
 
-    robot: ContactDynamics | FullJointContact
-    normal: tuple[float, ...]
-    name: str = ""
+    robot: ContactDynamics | FullJointContact = param(  # noqa: RUF009 (a declaration)
+        kind="object", doc="the manipulator of the plane (ContactDynamics or FullJointContact)"
+    )
+    normal: tuple[float, ...] = param(
+        kind="object", doc="contact normal from the manipulator towards the head (2 or 3 numbers)"
+    )
+    name: str = param(kind="text", default="", doc="label for reports")
 
     def __post_init__(self) -> None:
         if not isinstance(self.robot, (ContactDynamics, FullJointContact)):

@@ -53,6 +53,7 @@ from designlab.impact.model import (
 from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
 from designlab.impact.series_joint import FullJointContact
 from designlab.impact.state_space import modal_families
+from designlab.params import declared, param
 from designlab.results import Result
 from designlab.units import STANDARD_GRAVITY
 from designlab.validation import check_int
@@ -63,6 +64,7 @@ _OUTPUTS = ("force", "head_acceleration", "compression", "head_velocity", "robot
 _METRIC_OUTPUTS = ("force", "head_acceleration", "compression")
 
 
+@declared
 @dataclass(frozen=True)
 class VelocityProfile:
     """Manipulator acceleration during the impact (Sec. 3.8, Fig. 3.17).
@@ -70,34 +72,23 @@ class VelocityProfile:
     The desired manipulator speed changes at ``acceleration`` (m/s^2, negative to
     decelerate) for ``duration`` s from the instant of contact, then stays constant.
 
-    Attributes
-    ----------
-    acceleration
-        Manipulator acceleration during the impact in m/s^2 (negative: braking).
-    duration
-        How long the acceleration lasts in s.
-    feedforward
-        Whether the controller feeds the acceleration forward (Sec. 3.8).
-
     Examples
     --------
     >>> round(VelocityProfile(acceleration=0.51 * 9.80665, duration=0.05).delta_v, 4)
     0.25
     """
 
-    acceleration: float
-    duration: float = 0.05
-    feedforward: bool = True
-
-    def __post_init__(self) -> None:
-        object.__setattr__(
-            self,
-            "acceleration",
-            check_finite("VelocityProfile.acceleration", self.acceleration, "m/s^2"),
-        )
-        object.__setattr__(
-            self, "duration", check_positive("VelocityProfile.duration", self.duration, "s")
-        )
+    acceleration: float = param(
+        "a_d", "m/s^2", doc="manipulator acceleration during the impact (negative: braking)",
+        ge=-1e3, le=1e3, typical=(-5.0, 5.0),
+    )  # fmt: skip
+    duration: float = param(
+        "T_a", "s", doc="how long the acceleration lasts from contact", gt=0, le=1.0,
+        default=0.05, typical=(0.05, 0.05),
+    )  # fmt: skip
+    feedforward: bool = param(
+        kind="flag", default=True, doc="the controller feeds the acceleration forward (Sec. 3.8)"
+    )
 
     @property
     def delta_v(self) -> float:
