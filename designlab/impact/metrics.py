@@ -638,7 +638,7 @@ def metrics_from_responses(
 
     pol = resp[names[0]].poles
     # ``rate`` (1/s) replaces the largest pole modulus for the full joint, whose stiff
-    # motor node need not be resolved (designlab.impact.full_joint.grid_rate)
+    # motor node need not be resolved (designlab.impact.full_joint_model.grid_rate)
     h = 0.4 / (
         np.abs(pol).max(axis=1) if rate is None else rate
     )  # <= 1/15 of the fastest mode's period
@@ -647,27 +647,56 @@ def metrics_from_responses(
         h = np.minimum(h, stop_time / 64.0)
         t_imp = np.full(n, float(stop_time))
     else:
-        lobe = {"head_acceleration": resp["head_acceleration"]}
-        _lo, hi, found, _, guess, t_low = _march(
-            lobe,
-            "head_acceleration",
-            h,
-            np.full(n, float(stop_time)),
-            block=12,
-            max_steps=max_lobe_steps,
-            diagnose=lobe_diagnostics,
+        t_imp, found, t_low = _lobe_end(
+            resp["head_acceleration"], h, stop_time, max_lobe_steps, lobe_diagnostics
         )
-        t_imp = np.full(n, np.nan)
-        if np.any(found):
-            idx = np.flatnonzero(found)
-            a_resp = resp["head_acceleration"].take(idx)
-            # a dip below zero between two grid nodes ends the lobe earlier
-            lo_c, hi_c = certified_first_crossing(a_resp, hi[idx], h[idx])
-            moved = hi_c < hi[idx]
-            g = np.where(moved, 0.5 * (lo_c + hi_c), guess[idx])
-            t_imp[idx] = first_crossing(a_resp, lo_c, hi_c, guess=g)
         status[~found] = STATUS_LOBE_OPEN
+    out = _lobe_maxima(resp, names, t_imp, h, status)
+    return _scaled(p, v, out, t_imp, t_low, status, constrained, lobe_diagnostics)
 
+
+def _lobe_end(
+    a_h: ModalResponse, h: NDArray, stop_time: float, max_lobe_steps: int, diagnose: bool
+) -> tuple[NDArray, NDArray, NDArray]:
+    """The end of the first lobe: march the grid, certify the crossing, polish it by Newton.
+
+    Returns the impact period (NaN where no end was found), whether it was found,
+    and the first time a_h fell below :data:`LOW_FRACTION` of its running peak.
+    """
+    n = h.size
+    _lo, hi, found, _, guess, t_low = _march(
+        {"head_acceleration": a_h},
+        "head_acceleration",
+        h,
+        np.full(n, float(stop_time)),
+        block=12,
+        max_steps=max_lobe_steps,
+        diagnose=diagnose,
+    )
+    t_imp = np.full(n, np.nan)
+    if np.any(found):
+        idx = np.flatnonzero(found)
+        a_resp = a_h.take(idx)
+        # a dip below zero between two grid nodes ends the lobe earlier
+        lo_c, hi_c = certified_first_crossing(a_resp, hi[idx], h[idx])
+        moved = hi_c < hi[idx]
+        g = np.where(moved, 0.5 * (lo_c + hi_c), guess[idx])
+        t_imp[idx] = first_crossing(a_resp, lo_c, hi_c, guess=g)
+    return t_imp, found, t_low
+
+
+def _lobe_maxima(
+    resp: dict[str, ModalResponse],
+    names: tuple[str, ...],
+    t_imp: NDArray,
+    h: NDArray,
+    status: NDArray,
+) -> dict[str, tuple[NDArray, NDArray]]:
+    """Certified maxima ``(time, value)`` of each output over ``[0, t_imp]`` (unit v_c).
+
+    Marks the designs whose a_h peaks at contact in ``status``.
+    """
+    n = t_imp.size
     idx = np.flatnonzero(np.isfinite(t_imp))
     out: dict[str, tuple[NDArray, NDArray]] = {}
     for name in names:
@@ -682,6 +711,21 @@ def metrics_from_responses(
             if name == "head_acceleration":
                 status[idx[t_s <= 0.0]] = STATUS_PEAK_AT_CONTACT
         out[name] = (tt, yy)
+    return out
+
+
+def _scaled(
+    p: NDArray,
+    v: NDArray,
+    out: dict[str, tuple[NDArray, NDArray]],
+    t_imp: NDArray,
+    t_low: NDArray,
+    status: NDArray,
+    constrained: bool,
+    lobe_diagnostics: bool,
+) -> ImpactMetrics:
+    """The metrics at the designs' v_c (the model is linear in v_c; no impact for v_c <= 0)."""
+    n = p.shape[0]
     if constrained:
         t_a = a_max = np.zeros(n)
     else:

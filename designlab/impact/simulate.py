@@ -447,14 +447,7 @@ def simulate(
     evaluate = _superpose(families, max(v_c, 0.0), profile)
 
     if v_c <= 0 and profile is None:
-        t = np.linspace(0.0, duration or 0.05, int(samples))
-        zeros = np.zeros_like(t)
-        return ImpactResponse(
-            robot, foam, head, v_c, t, zeros, zeros, zeros, zeros, zeros,
-            0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, STATUS_NO_IMPACT,
-            ("v_c <= 0: the head and the manipulator do not close in; no impact",),
-            profile, q2, {"evaluate": lambda tt: {"head_acceleration": np.zeros_like(tt)}},
-        )  # fmt: skip
+        return _no_impact(robot, foam, head, v_c, duration, samples, q2)
     if v_c <= 0:
         raise InvalidParameterError(
             "impact_velocity", v_c, "must be > 0 when a velocity profile is given", "m/s"
@@ -494,6 +487,26 @@ def simulate(
         q2=q2,
         _lobe={"evaluate": evaluate},
     )
+
+
+def _no_impact(
+    robot: ContactDynamics | FullJointContact,
+    foam: Foam,
+    head: HeadNeck | None,
+    v_c: float,
+    duration: float | None,
+    samples: int,
+    q2: str,
+) -> ImpactResponse:
+    """The response when v_c <= 0: the bodies do not close in, every value is 0."""
+    t = np.linspace(0.0, duration or 0.05, int(samples))
+    zeros = np.zeros_like(t)
+    return ImpactResponse(
+        robot, foam, head, v_c, t, zeros, zeros, zeros, zeros, zeros,
+        0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, STATUS_NO_IMPACT,
+        ("v_c <= 0: the head and the manipulator do not close in; no impact",),
+        None, q2, {"evaluate": lambda tt: {"head_acceleration": np.zeros_like(tt)}},
+    )  # fmt: skip
 
 
 def _check_inputs(
