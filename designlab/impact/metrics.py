@@ -101,10 +101,11 @@ class ImpactStatus(ImpactDomainStatus):
     BOTTOMING = "bottoming"
 
 
-STATUS_OK = ImpactStatus.OK
-STATUS_NO_IMPACT = ImpactStatus.NO_IMPACT
-STATUS_PEAK_AT_CONTACT = ImpactStatus.PEAK_AT_CONTACT
-STATUS_LOBE_OPEN = ImpactStatus.LOBE_NOT_CLOSED
+# plain strings for the per-design status arrays (equal to the members; fast to convert)
+STATUS_OK = ImpactStatus.OK.value
+STATUS_NO_IMPACT = ImpactStatus.NO_IMPACT.value
+STATUS_PEAK_AT_CONTACT = ImpactStatus.PEAK_AT_CONTACT.value
+STATUS_LOBE_OPEN = ImpactStatus.LOBE_NOT_CLOSED.value
 
 
 #: fraction of the running a_h peak below which the lobe counts as "nearly over"
@@ -758,7 +759,7 @@ def _scaled(
         design_status=status.astype(str),
         constrained=constrained,
         lobe_tail=np.where(none | constrained, np.nan, tail) if lobe_diagnostics else None,
-        status=STATUS_LOBE_OPEN if np.any(status == STATUS_LOBE_OPEN) else OK,
+        status=ImpactStatus.LOBE_NOT_CLOSED if np.any(status == STATUS_LOBE_OPEN) else OK,
         warnings=_batch_warnings(status),
     )
 

@@ -38,9 +38,9 @@ from numpy.typing import NDArray
 from designlab.errors import InvalidParameterError, check_finite, check_positive
 from designlab.impact.full_joint_model import full_joint_model, full_joint_params, grid_rate
 from designlab.impact.metrics import (
-    STATUS_NO_IMPACT,
     STATUS_OK,
     STATUS_PEAK_AT_CONTACT,
+    ImpactStatus,
     metrics_from_responses,
 )
 from designlab.impact.modal import ModalResponse, poles_of
@@ -167,7 +167,8 @@ class ImpactResponse(Result):
         ``max_compression > foam.linear_depth``: the linear foam model is used
         outside its valid range and the numbers are not to be trusted (I7).
     status
-        ``"ok"``, ``"no_impact"``, ``"peak_at_contact"`` (overdamped pulse),
+        An :class:`~designlab.impact.metrics.ImpactStatus`: ``"ok"``, ``"no_impact"``,
+        ``"peak_at_contact"`` (overdamped pulse),
         ``"bottoming"`` or ``"lobe_not_closed"``.
     warnings
         Human-readable notes on the validity of the result.
@@ -481,7 +482,7 @@ def simulate(
         time_of_peak_acceleration=metrics["head_acceleration"][0],
         time_of_max_compression=metrics["compression"][0],
         time_of_peak_force=metrics["force"][0],
-        status=status,
+        status=ImpactStatus(status),
         warnings=tuple(warnings),
         profile=profile,
         q2=q2,
@@ -503,7 +504,7 @@ def _no_impact(
     zeros = np.zeros_like(t)
     return ImpactResponse(
         robot, foam, head, v_c, t, zeros, zeros, zeros, zeros, zeros,
-        0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, STATUS_NO_IMPACT,
+        0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, ImpactStatus.NO_IMPACT,
         ("v_c <= 0: the head and the manipulator do not close in; no impact",),
         None, q2, {"evaluate": lambda tt: {"head_acceleration": np.zeros_like(tt)}},
     )  # fmt: skip
