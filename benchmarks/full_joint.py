@@ -23,7 +23,9 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 import designlab as dl
-from designlab.impact.full_joint import FullJointContact, full_joint_params, matrix_metrics
+from designlab.impact.full_joint_model import full_joint_params
+from designlab.impact.metrics import matrix_metrics
+from designlab.impact.series_joint import FullJointContact
 
 
 def baseline(p: np.ndarray, v: float) -> tuple[float, float]:

@@ -178,7 +178,7 @@ def test_schema_export(tmp_path):
     result = runner.invoke(app, ["schema"])
     assert result.exit_code == 0
     schema = json.loads(result.stdout)
-    assert {"impact_cases", "impact_sweep", "foam_envelope", "foam_design"} <= set(
+    assert {"impact_cases", "impact_sweep", "foam_envelope_sweep", "foam_design"} <= set(
         schema["discriminator"]["mapping"]
     )
     params = schema["$defs"]["ImpactSweepParameters"]

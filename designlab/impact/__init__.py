@@ -23,22 +23,7 @@ from designlab.impact.effective import (
     single_joint_from_contact,
     two_link_mass_matrix,
 )
-from designlab.impact.envelope import (
-    THESIS_HEAD_RANGE,
-    FoamEnvelope,
-    HeadRange,
-    foam_envelope,
-)
-from designlab.impact.full_joint import (
-    BandFitSweep,
-    FullJointContact,
-    FullJointLink,
-    JointReductionComparison,
-    JointReductionSweep,
-    band_fit_sweep,
-    compare_joint_reductions,
-    joint_reduction_sweep,
-)
+from designlab.impact.envelope import FoamEnvelope, foam_envelope
 from designlab.impact.joint import (
     JointFit,
     fit_joint_band,
@@ -48,6 +33,14 @@ from designlab.impact.joint import (
     pd_gains_for,
     reduced_joint,
     reduced_joint_tf,
+)
+from designlab.impact.joint_reduction import (
+    BandFitSweep,
+    JointReductionComparison,
+    JointReductionSweep,
+    band_fit_sweep,
+    compare_joint_reductions,
+    joint_reduction_sweep,
 )
 from designlab.impact.metrics import ImpactMetrics, impact_metrics
 from designlab.impact.model import (
@@ -68,9 +61,11 @@ from designlab.impact.parameters import (
     MANIPULATOR_2,
     TABLE_3_2_HEADS,
     TEST_HEAD,
+    THESIS_HEAD_RANGE,
     ContactDynamics,
     Foam,
     HeadNeck,
+    HeadRange,
     LinkImpact,
 )
 from designlab.impact.peaks import first_peak
@@ -81,6 +76,7 @@ from designlab.impact.planes import (
     closing_speed,
     combined_impact,
 )
+from designlab.impact.series_joint import FullJointContact, FullJointLink, SeriesJoint
 from designlab.impact.simulate import ImpactResponse, VelocityProfile, hic, simulate
 from designlab.impact.verdict import (
     FoamThickness,
@@ -137,6 +133,7 @@ __all__ = [
     "LinkImpact",
     "OptimalFoam",
     "SafeVelocity",
+    "SeriesJoint",
     "VelocityProfile",
     "WorstCaseCheck",
     "band_fit_sweep",

@@ -42,20 +42,34 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from designlab.errors import InvalidParameterError, check_finite, check_positive
+from designlab.errors import InvalidParameterError
 from designlab.impact.effective import impact_point_sweep, scenario_single_joint
 from designlab.impact.joint import joint_from_pd_gains
-from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
+from designlab.impact.parameters import (
+    HEAD_SPEED,
+    IMPACT_VELOCITY,
+    ContactDynamics,
+    Foam,
+    HeadNeck,
+    LinkImpact,
+    check_pair,
+)
 from designlab.impact.peaks import first_peak
 from designlab.impact.simulate import ImpactResponse, VelocityProfile, simulate
+from designlab.impact.status import ImpactDomainStatus
+from designlab.params import Param, params_of
 from designlab.results import OK, Result
 from designlab.units import STANDARD_GRAVITY
 
 __all__ = [
+    "LEVER_SAMPLES",
     "MANIPULATOR_1_JOINT_DATA",
+    "REFERENCE_LEVER_ARM",
+    "SPEED_RATIO",
     "ProfileChange",
     "Q2Effect",
     "WorstImpactPoint",
+    "WorstPointStatus",
     "manipulator_1_recomputed",
     "profile_change",
     "q2_effect",
@@ -73,6 +87,45 @@ MANIPULATOR_1_JOINT_DATA: dict[str, float] = {
     "torque_constant": 0.2807,
     "viscous_friction": 0.0079,
 }
+
+
+#: The joint-speed/head-speed ratio of Fig. 3.16, (rad/s)/(m/s) = 1/m.
+SPEED_RATIO = Param(
+    "theta_dot/v_h", "1/m", "joint-speed/head-speed ratio", ge=0, le=100,
+    typical=(0.5, 2.3), name="speed_ratio",
+)  # fmt: skip
+#: The point compared with l -> 0 (the thesis's 0.01 m). Above 1 m the effective
+#: manipulator of a thesis-sized link is so light that the first lobe need not close.
+REFERENCE_LEVER_ARM = Param(
+    "l_ref", "m", "the point compared with l -> 0", gt=0, le=1, typical=(0.01, 0.01),
+    name="reference_lever_arm",
+)  # fmt: skip
+#: Grid points of the worst-impact-point search.
+LEVER_SAMPLES = Param(
+    None, "", "grid points of the lever-arm search", kind="integer", ge=3, le=100_000,
+    name="samples",
+)  # fmt: skip
+
+_LINK = params_of(LinkImpact)
+
+
+class WorstPointStatus(ImpactDomainStatus):
+    """Status of :func:`worst_impact_point`.
+
+    Attributes
+    ----------
+    OK
+        The worst point is inside the range and every a_h,max is finite.
+    AT_BOUND
+        The worst point is an end of the lever-arm range: widen it.
+    LOBE_NOT_CLOSED
+        At the reference point or at l -> 0 the first lobe did not close: that
+        a_h,max is NaN.
+    """
+
+    OK = "ok"
+    AT_BOUND = "at_bound"
+    LOBE_NOT_CLOSED = "lobe_not_closed"
 
 
 def _pct(new: float, base: float) -> float:
@@ -215,13 +268,13 @@ def profile_change(
     (-4.4, -3.8)
     """
     _check_types(robot, foam, head)
-    v_c = check_positive("impact_velocity", impact_velocity, "m/s")
-    a = check_finite("acceleration", acceleration, "m/s^2")
-    d = check_positive("duration", duration, "s")
+    v_c = IMPACT_VELOCITY.check(impact_velocity)
     if not isinstance(feedforward, bool):
         raise InvalidParameterError("feedforward", feedforward, "must be True or False")
+    profile = VelocityProfile(acceleration, duration, feedforward)  # checks both
+    a = profile.acceleration
     base = simulate(robot, foam, head, v_c)
-    prof = simulate(robot, foam, head, v_c, profile=VelocityProfile(a, d, feedforward))
+    prof = simulate(robot, foam, head, v_c, profile=profile)
     (t0, f0), (t1, f1) = first_peak(base), first_peak(prof)
     return ProfileChange(base, prof, a, feedforward, (f0, f1), (t0, t1))
 
@@ -250,7 +303,9 @@ class WorstImpactPoint(Result):
     grid, grid_a_h_max_g
         The search grid, m, and a_h,max on it, g.
     status
-        ``"ok"``, or ``"at_bound"`` when the worst point is an end of the range.
+        A :class:`WorstPointStatus`: ``"ok"``, ``"at_bound"`` when the worst
+        point is an end of the range, ``"lobe_not_closed"`` when a_h,max is NaN
+        at the reference point or at l -> 0.
     warnings
         Notes (a worst point at an end of the range).
     """
@@ -334,7 +389,7 @@ def worst_impact_point(
     lever_range
         ``(low, high)`` lever arms searched, m (0 < low < high).
     reference_lever_arm
-        Point compared with l -> 0, m (> 0; the thesis's 0.01 m).
+        Point compared with l -> 0, m (> 0 and <= 1; the thesis's 0.01 m).
     samples
         Grid points (>= 3).
 
@@ -350,64 +405,86 @@ def worst_impact_point(
     >>> round(w.lever_arm, 3), round(w.change_at_zero_pct, 2)
     (0.008, -0.19)
     """
-    from scipy.optimize import minimize_scalar
-
-    m = check_positive("inertia", inertia, "kg m^2")
-    k = check_positive("joint_stiffness", joint_stiffness, "N m/rad")
-    c = check_finite("joint_damping", joint_damping, "N m s/rad")
-    if c < 0:
-        raise InvalidParameterError("joint_damping", c, "must be >= 0", "N m s/rad")
-    ratio = check_finite("speed_ratio", speed_ratio, "1/m")
-    if ratio < 0:
-        raise InvalidParameterError("speed_ratio", ratio, "must be >= 0", "1/m")
-    v_h = check_positive("head_speed", head_speed, "m/s")
-    if not isinstance(foam, Foam):
-        raise InvalidParameterError("foam", foam, "must be a Foam")
-    if not isinstance(head, HeadNeck):
-        raise InvalidParameterError("head", head, "must be a HeadNeck (the head moves)")
-    try:
-        lo, hi = (float(x) for x in lever_range)
-    except (TypeError, ValueError):
-        raise InvalidParameterError(
-            "lever_range", lever_range, "must be two numbers (low, high)", "m"
-        ) from None
-    if not (np.isfinite(lo) and np.isfinite(hi) and 0 < lo < hi):
-        raise InvalidParameterError("lever_range", lever_range, "needs 0 < low < high", "m")
-    l_ref = check_positive("reference_lever_arm", reference_lever_arm, "m")
-    if isinstance(samples, bool) or int(samples) != samples or samples < 3:
-        raise InvalidParameterError("samples", samples, "must be an integer >= 3")
+    m, k, c, ratio, v_h, lo, hi, l_ref, n = _worst_point_inputs(
+        inertia, joint_stiffness, joint_damping, speed_ratio, foam, head, head_speed,
+        lever_range, reference_lever_arm, samples,
+    )  # fmt: skip
 
     def a_h(levers: NDArray[np.float64]) -> NDArray[np.float64]:
         sweep = impact_point_sweep(m, k, c, ratio * v_h, levers)
         return sweep.evaluate(foam, head, v_h)["a_h_max_g"].to_numpy()
 
-    grid = np.linspace(lo, hi, int(samples))
+    grid = np.linspace(lo, hi, n)
     values = a_h(grid)
-    j = int(np.nanargmax(values))
-    status = OK
-    if j in (0, grid.size - 1):
-        best_l, best = float(grid[j]), float(values[j])
-        status = "at_bound"
-    else:
-        res = minimize_scalar(
-            lambda x: -float(a_h(np.array([x]))[0]),
-            bounds=(float(grid[j - 1]), float(grid[j + 1])),
-            method="bounded",
-            options={"xatol": 1e-8},
-        )
-        best_l, best = (float(res.x), float(-res.fun))
-        if best < values[j]:
-            best_l, best = float(grid[j]), float(values[j])
+    best_l, best, status = _polish_worst(a_h, grid, values)
     a_zero, a_ref = a_h(np.array([_ZERO_LEVER, l_ref]))
-    warnings = (
-        (f"the worst point is at an end of the range {lo:g}-{hi:g} m; widen lever_range",)
-        if status != OK
-        else ()
-    )
+    warnings: tuple[str, ...] = ()
+    if status == WorstPointStatus.AT_BOUND:
+        warnings = (
+            f"the worst point is at an end of the range {lo:g}-{hi:g} m; widen lever_range",
+        )
+    if not (np.isfinite(a_zero) and np.isfinite(a_ref)):
+        status = WorstPointStatus.LOBE_NOT_CLOSED
+        warnings = (
+            *warnings,
+            f"the first lobe did not close at l = {l_ref:g} m or l -> 0: a_h,max is NaN there",
+        )
     return WorstImpactPoint(
         ratio, v_h, best_l, best, l_ref, float(a_ref), float(a_zero), grid, values, status,
         warnings,
     )  # fmt: skip
+
+
+def _worst_point_inputs(
+    inertia: float,
+    joint_stiffness: float,
+    joint_damping: float,
+    speed_ratio: float,
+    foam: Foam,
+    head: HeadNeck,
+    head_speed: float,
+    lever_range: tuple[float, float],
+    reference_lever_arm: float,
+    samples: int,
+) -> tuple[float, float, float, float, float, float, float, float, int]:
+    """The checked arguments of :func:`worst_impact_point`, each against its declaration."""
+    if not isinstance(foam, Foam):
+        raise InvalidParameterError("foam", foam, "must be a Foam")
+    if not isinstance(head, HeadNeck):
+        raise InvalidParameterError("head", head, "must be a HeadNeck (the head moves)")
+    lo, hi = check_pair(_LINK["lever_arm_min"], lever_range, "lever_range")
+    return (
+        _LINK["inertia"].check(inertia, "inertia"),
+        _LINK["joint_stiffness"].check(joint_stiffness, "joint_stiffness"),
+        _LINK["joint_damping"].check(joint_damping, "joint_damping"),
+        SPEED_RATIO.check(speed_ratio),
+        HEAD_SPEED.check(head_speed),
+        lo,
+        hi,
+        REFERENCE_LEVER_ARM.check(reference_lever_arm),
+        LEVER_SAMPLES.check(samples),
+    )
+
+
+def _polish_worst(
+    a_h: Any, grid: NDArray[np.float64], values: NDArray[np.float64]
+) -> tuple[float, float, WorstPointStatus]:
+    """The best grid point polished by a bounded scalar search (or an end of the range)."""
+    from scipy.optimize import minimize_scalar
+
+    j = int(np.nanargmax(values))
+    if j in (0, grid.size - 1):
+        return float(grid[j]), float(values[j]), WorstPointStatus.AT_BOUND
+    res = minimize_scalar(
+        lambda x: -float(a_h(np.array([x]))[0]),
+        bounds=(float(grid[j - 1]), float(grid[j + 1])),
+        method="bounded",
+        options={"xatol": 1e-8},
+    )
+    best_l, best = (float(res.x), float(-res.fun))
+    if best < values[j]:
+        best_l, best = float(grid[j]), float(values[j])
+    return best_l, best, WorstPointStatus.OK
 
 
 # --- the printed q2 of (3.5.14) ----------------------------------------------------------
@@ -487,7 +564,7 @@ def q2_effect(
     True
     """
     _check_types(robot, foam, head)
-    v_c = check_positive("impact_velocity", impact_velocity, "m/s")
+    v_c = IMPACT_VELOCITY.check(impact_velocity)
     return Q2Effect(
         simulate(robot, foam, head, v_c), simulate(robot, foam, head, v_c, q2="printed")
     )

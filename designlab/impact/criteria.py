@@ -31,23 +31,34 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from types import MappingProxyType
 from typing import ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
 
-from designlab.errors import InvalidParameterError, check_positive
+from designlab.errors import InvalidParameterError
 from designlab.impact.metrics import ImpactMetrics, hic_batch, metrics_of_matrix
-from designlab.impact.parameters import HEAD_MAX, HEAD_MIN, HeadNeck
+from designlab.impact.parameters import (
+    HEAD_MAX,
+    HEAD_MIN,
+    HIC_SAMPLES,
+    HIC_WINDOW,
+    MAX_COMPRESSION,
+    HeadNeck,
+    as_field,
+)
+from designlab.params import Param, declared, param
 from designlab.units import STANDARD_GRAVITY
 
 __all__ = [
+    "BODY_REGION",
     "ISO_TS_15066_QUASI_STATIC_FORCE",
     "ISO_TS_15066_TRANSIENT_FACTOR",
     "CompressionLimit",
     "Criterion",
+    "ForceCriterion",
     "HeadAcceleration",
     "HeadInjuryCriterion",
     "ImpactForce",
@@ -164,14 +175,10 @@ class Criterion:
         return self.name
 
 
+@declared
 @dataclass(frozen=True)
 class HeadAcceleration(Criterion):
     """Peak head acceleration over the impact period below ``max_g`` (thesis: 10 g).
-
-    Attributes
-    ----------
-    max_g
-        Largest allowed peak head acceleration in g (9.80665 m/s^2).
 
     Examples
     --------
@@ -179,12 +186,12 @@ class HeadAcceleration(Criterion):
     'a_h,max <= 10 g'
     """
 
-    max_g: float = 10.0
+    max_g: float = param(
+        "a_h,max", "g", doc="head acceleration limit", gt=0, le=1000, default=10.0,
+        typical=(10.0, 10.0),
+    )  # fmt: skip
     metric: ClassVar[str] = "head_acceleration"
     unit: ClassVar[str] = "g"
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "max_g", check_positive("HeadAcceleration.max_g", self.max_g, "g"))
 
     @property
     def limit(self) -> float:
@@ -198,32 +205,19 @@ class HeadAcceleration(Criterion):
 
     @property
     def name(self) -> str:
+        """``a_h,max <= <max_g> g``."""
         return f"a_h,max <= {self.max_g:g} g"
 
 
-@dataclass(frozen=True)
-class ImpactForce(Criterion):
-    """Peak contact force f_c over the impact period below ``max_force`` (N).
+class ForceCriterion(Criterion):
+    """Base of the limits on the peak contact force f_c (conservative head set: maximum).
 
-    Attributes
-    ----------
-    max_force
-        Largest allowed peak contact force in N.
-
-    Examples
-    --------
-    >>> ImpactForce(max_force=660.0).name      # maxilla fracture (Haddadin et al. 2008)
-    'f_c,max <= 660 N'
+    Subclasses give ``max_force`` (N), a field or a property.
     """
 
-    max_force: float = 660.0
     metric: ClassVar[str] = "force"
     unit: ClassVar[str] = "N"
-
-    def __post_init__(self) -> None:
-        object.__setattr__(
-            self, "max_force", check_positive("ImpactForce.max_force", self.max_force, "N")
-        )
+    max_force: float
 
     @property
     def limit(self) -> float:
@@ -237,26 +231,46 @@ class ImpactForce(Criterion):
 
     @property
     def name(self) -> str:
+        """``f_c,max <= <max_force> N``."""
         return f"f_c,max <= {self.max_force:g} N"
 
 
-def _check_region(owner: str, region: str) -> None:
-    if region not in ISO_TS_15066_QUASI_STATIC_FORCE:
-        raise InvalidParameterError(
-            f"{owner}.body_region",
-            region,
-            f"must be one of {sorted(ISO_TS_15066_QUASI_STATIC_FORCE)}",
-        )
-
-
+@declared
 @dataclass(frozen=True)
-class IsoQuasiStaticForce(ImpactForce):
-    """ISO/TS 15066 quasi-static contact force limit of a body region (Table A.2).
+class ImpactForce(ForceCriterion):
+    """Peak contact force f_c over the impact period below ``max_force`` (N).
 
-    Attributes
-    ----------
-    body_region
-        ISO/TS 15066 Table A.2 body region (e.g. ``"skull_forehead"``).
+    Examples
+    --------
+    >>> ImpactForce(max_force=660.0).name      # maxilla fracture (Haddadin et al. 2008)
+    'f_c,max <= 660 N'
+    """
+
+    max_force: float = param(
+        "f_c,max", "N", doc="peak contact force limit", gt=0, le=1e5, default=660.0,
+        typical=(65.0, 660.0),
+    )  # fmt: skip
+
+
+#: The ISO/TS 15066 body region of a force limit (Annex A, Table A.2).
+BODY_REGION = Param(
+    None, "", "ISO/TS 15066 Table A.2 body region", kind="choice",
+    choices=tuple(ISO_TS_15066_QUASI_STATIC_FORCE), name="body_region",
+)  # fmt: skip
+
+
+def _head_note(region: str) -> str:
+    return (
+        "; ISO/TS 15066 asks that contact with this region be avoided"
+        if region in _HEAD_REGIONS
+        else ""
+    )
+
+
+@declared
+@dataclass(frozen=True)
+class IsoQuasiStaticForce(ForceCriterion):
+    """ISO/TS 15066 quasi-static contact force limit of a body region (Table A.2).
 
     Examples
     --------
@@ -264,28 +278,26 @@ class IsoQuasiStaticForce(ImpactForce):
     130.0
     """
 
-    body_region: str = "skull_forehead"
-    max_force: float = field(default=0.0, init=False)
+    body_region: str = as_field(BODY_REGION, default="skull_forehead")
 
-    def __post_init__(self) -> None:
-        _check_region("IsoQuasiStaticForce", self.body_region)
-        object.__setattr__(self, "max_force", ISO_TS_15066_QUASI_STATIC_FORCE[self.body_region])
+    @property
+    def max_force(self) -> float:  # type: ignore[override]
+        """The Table A.2 maximum permissible force of the region, N."""
+        return ISO_TS_15066_QUASI_STATIC_FORCE[self.body_region]
 
     @property
     def name(self) -> str:
+        """``f_c,max <= <limit> N (ISO/TS 15066 quasi-static, <region>)``."""
         return f"f_c,max <= {self.max_force:g} N (ISO/TS 15066 quasi-static, {self.body_region})"
 
     def describe(self) -> str:
-        note = (
-            "; ISO/TS 15066 asks that contact with this region be avoided"
-            if self.body_region in _HEAD_REGIONS
-            else ""
-        )
-        return self.name + " (ISO/TS 15066:2016, Table A.2)" + note
+        """One sentence for reports (the source and, for the head, the standard's advice)."""
+        return self.name + " (ISO/TS 15066:2016, Table A.2)" + _head_note(self.body_region)
 
 
+@declared
 @dataclass(frozen=True)
-class IsoTransientForce(ImpactForce):
+class IsoTransientForce(ForceCriterion):
     """ISO/TS 15066 transient-contact force limit of a body region.
 
     ``limit = factor x`` the quasi-static maximum permissible force of Annex A,
@@ -294,14 +306,6 @@ class IsoTransientForce(ImpactForce):
     table gives one). The table gives no multiplier for the skull/forehead and
     the face: for them ``transient_factor`` must be given explicitly (or use
     :class:`IsoQuasiStaticForce`); the project does not invent one.
-
-    Attributes
-    ----------
-    body_region
-        ISO/TS 15066 Table A.2 body region (e.g. ``"lower_arm_wrist"``).
-    transient_factor
-        Factor on the quasi-static limit for transient contact; required for
-        the skull/forehead and face, which Table A.2 gives no factor for.
 
     Examples
     --------
@@ -316,14 +320,15 @@ class IsoTransientForce(ImpactForce):
     65.0
     """
 
-    body_region: str = "lower_arm_wrist"
-    transient_factor: float | None = None
-    max_force: float = field(default=0.0, init=False)
+    body_region: str = as_field(BODY_REGION, default="lower_arm_wrist")
+    transient_factor: float | None = param(
+        None, "", doc="factor on the quasi-static limit for transient contact", gt=0, le=10,
+        optional=True, none="the Table A.2 multiplier (there is none for the head regions)",
+        default=None,
+    )  # fmt: skip
 
     def __post_init__(self) -> None:
-        _check_region("IsoTransientForce", self.body_region)
-        factor = self.transient_factor
-        if factor is None:
+        if self.transient_factor is None:
             if self.body_region not in ISO_TS_15066_TRANSIENT_FACTOR:
                 raise InvalidParameterError(
                     "IsoTransientForce.transient_factor",
@@ -333,44 +338,38 @@ class IsoTransientForce(ImpactForce):
                     "permissible); give transient_factor explicitly or use IsoQuasiStaticForce",
                 )
             factor = ISO_TS_15066_TRANSIENT_FACTOR[self.body_region]
-        else:
-            factor = check_positive("IsoTransientForce.transient_factor", factor)
-        object.__setattr__(self, "transient_factor", factor)
-        object.__setattr__(
-            self, "max_force", factor * ISO_TS_15066_QUASI_STATIC_FORCE[self.body_region]
-        )
+            object.__setattr__(self, "transient_factor", factor)
+
+    @property
+    def max_force(self) -> float:  # type: ignore[override]
+        """``transient_factor x`` the Table A.2 quasi-static value, N."""
+        return float(self.transient_factor) * ISO_TS_15066_QUASI_STATIC_FORCE[self.body_region]  # type: ignore[arg-type]
 
     @property
     def name(self) -> str:
+        """``f_c,max <= <limit> N (ISO/TS 15066 transient, <region>)``."""
         return f"f_c,max <= {self.max_force:g} N (ISO/TS 15066 transient, {self.body_region})"
 
     def describe(self) -> str:
+        """One sentence for reports: the limit, where its factor comes from."""
         source = (
             f"user factor {self.transient_factor:g} x Table A.2 quasi-static value"
             if self.body_region not in ISO_TS_15066_TRANSIENT_FACTOR
             or self.transient_factor != ISO_TS_15066_TRANSIENT_FACTOR[self.body_region]
             else f"{self.transient_factor:g} x Table A.2 quasi-static value (Table A.2 multiplier)"
         )
-        note = (
-            "; ISO/TS 15066 asks that contact with this region be avoided"
-            if self.body_region in _HEAD_REGIONS
-            else ""
-        )
-        return f"{self.name}: {source}{note}"
+        return f"{self.name}: {source}{_head_note(self.body_region)}"
 
 
+@declared
 @dataclass(frozen=True)
 class CompressionLimit(Criterion):
     """The thickness constraint (3.9.3): eps_max below the foam's linear depth lambda.
 
     The linear foam model holds only while eps <= lambda (Zeng 2011, Sec. 3.9.2;
     docs/impact.md, "Foam bottoming"). Unlike the safety criteria it bounds the
-    foam stiffness from *below* (a softer foam compresses more).
-
-    Attributes
-    ----------
-    max_compression
-        Largest allowed foam compression eps_max in m (the linear depth lambda).
+    foam stiffness from *below* (a softer foam compresses more). The limit is
+    the foam's linear depth, declared once (:class:`~designlab.impact.Foam`).
 
     Examples
     --------
@@ -378,17 +377,10 @@ class CompressionLimit(Criterion):
     'eps_max <= 20 mm'
     """
 
-    max_compression: float = 0.02
+    max_compression: float = as_field(MAX_COMPRESSION, default=0.02)
     metric: ClassVar[str] = "compression"
     unit: ClassVar[str] = "m"
     boundary: ClassVar[str] = "lower"
-
-    def __post_init__(self) -> None:
-        object.__setattr__(
-            self,
-            "max_compression",
-            check_positive("CompressionLimit.max_compression", self.max_compression, "m"),
-        )
 
     @property
     def limit(self) -> float:
@@ -402,9 +394,11 @@ class CompressionLimit(Criterion):
 
     @property
     def name(self) -> str:
+        """``eps_max <= <lambda> mm``."""
         return f"eps_max <= {self.max_compression * 1e3:g} mm"
 
 
+@declared
 @dataclass(frozen=True)
 class HeadInjuryCriterion(Criterion):
     """HIC over the first lobe below ``max_hic`` (standard definition; docs/impact.md, "HIC").
@@ -412,35 +406,20 @@ class HeadInjuryCriterion(Criterion):
     ``window`` is 0.015 s (HIC15) or 0.036 s (HIC36). HIC < 650 corresponds to
     AIS < 3 (EuroNCAP 2004, quoted by the thesis). HIC scales as v_c ** 2.5.
 
-    Attributes
-    ----------
-    max_hic
-        Largest allowed HIC.
-    window
-        Longest HIC window t2 - t1 in s (15 ms: HIC15).
-    samples
-        Grid points over the first lobe before the window search is refined.
-
     Examples
     --------
     >>> HeadInjuryCriterion(max_hic=650, window=0.015).name
     'HIC15 <= 650'
     """
 
-    max_hic: float = 650.0
-    window: float = 0.015
-    samples: int = 400
+    max_hic: float = param(
+        "HIC", "", doc="largest allowed HIC", gt=0, le=1e5, default=650.0, typical=(650.0, 1000.0)
+    )
+    window: float = as_field(HIC_WINDOW, default=0.015)
+    samples: int = as_field(HIC_SAMPLES, default=400)
     metric: ClassVar[str] = "hic"
     velocity_exponent: ClassVar[float] = 2.5
     unit: ClassVar[str] = ""
-
-    def __post_init__(self) -> None:
-        object.__setattr__(
-            self, "max_hic", check_positive("HeadInjuryCriterion.max_hic", self.max_hic)
-        )
-        object.__setattr__(
-            self, "window", check_positive("HeadInjuryCriterion.window", self.window, "s")
-        )
 
     @property
     def limit(self) -> float:
@@ -454,6 +433,7 @@ class HeadInjuryCriterion(Criterion):
 
     @property
     def name(self) -> str:
+        """``HIC<window in ms> <= <max_hic>``."""
         return f"HIC{round(self.window * 1000):d} <= {self.max_hic:g}"
 
     def values(

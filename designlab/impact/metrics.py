@@ -32,13 +32,14 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
-from designlab.errors import InvalidParameterError, ModelError, check_positive
+from designlab.errors import InvalidParameterError, ModelError
+from designlab.impact.full_joint_model import FULL_PARAM_NAMES, full_joint_model, grid_rate
 from designlab.impact.metric_names import PARAMETERS
 from designlab.impact.modal import (
     ModalResponse,
@@ -53,25 +54,59 @@ from designlab.impact.model import (
     printed_q2_correction,
     unconstrained_model,
 )
+from designlab.impact.parameters import HIC_SAMPLES, HIC_WINDOW, MAX_LOBE_STEPS, STOP_TIME
+from designlab.impact.state_space import modal_families
+from designlab.impact.status import ImpactDomainStatus
 from designlab.results import OK, Result
 from designlab.units import STANDARD_GRAVITY
-from designlab.validation import check_int, check_q2, named_columns, real_array
+from designlab.validation import check_q2, named_columns, real_array
 
 __all__ = [
     "STATUS_OK",
     "ImpactMetrics",
+    "ImpactStatus",
     "hic_batch",
     "impact_metrics",
+    "matrix_metrics",
     "metrics_from_responses",
+    "metrics_of_matrix",
+    "param_names",
     "ramp_responses",
     "response_model",
 ]
 
 
-STATUS_OK = "ok"
-STATUS_NO_IMPACT = "no_impact"
-STATUS_PEAK_AT_CONTACT = "peak_at_contact"
-STATUS_LOBE_OPEN = "lobe_not_closed"
+class ImpactStatus(ImpactDomainStatus):
+    """Status of one impact (a design of :class:`ImpactMetrics`, an ``ImpactResponse``).
+
+    Attributes
+    ----------
+    OK
+        The first lobe closed and its maxima were found.
+    NO_IMPACT
+        v_c <= 0: the head and the manipulator do not close in; every metric is 0.
+    PEAK_AT_CONTACT
+        a_h peaks at t = 0+ (an overdamped pulse): the impact period is delicate.
+    LOBE_NOT_CLOSED
+        No end of the first lobe was found; the metrics are NaN.
+    BOTTOMING
+        eps_max exceeds the foam's linear depth lambda: the linear model is not
+        valid (docs/impact.md, "Foam bottoming"; single impacts only).
+    """
+
+    OK = "ok"
+    NO_IMPACT = "no_impact"
+    PEAK_AT_CONTACT = "peak_at_contact"
+    LOBE_NOT_CLOSED = "lobe_not_closed"
+    BOTTOMING = "bottoming"
+
+
+# plain strings for the per-design status arrays (equal to the members; fast to convert)
+STATUS_OK = ImpactStatus.OK.value
+STATUS_NO_IMPACT = ImpactStatus.NO_IMPACT.value
+STATUS_PEAK_AT_CONTACT = ImpactStatus.PEAK_AT_CONTACT.value
+STATUS_LOBE_OPEN = ImpactStatus.LOBE_NOT_CLOSED.value
+
 
 #: fraction of the running a_h peak below which the lobe counts as "nearly over"
 LOW_FRACTION = 0.05
@@ -80,10 +115,27 @@ _POSITIVE = ("M_r", "K_c", "M_h", "K_mech", "K_cont")
 _FULL_UNITS = {"C_mech": "N s/m", "K_mech": "N/m", "C_cont": "N s/m", "K_cont": "N/m"}
 
 
-def _param_names(width: int | None = None, keys: object = None) -> tuple[str, ...]:
-    """Names of the reduced (8) or full-joint (10, :mod:`designlab.impact.full_joint`) rows."""
-    from designlab.impact.full_joint import FULL_PARAM_NAMES
+def param_names(width: int | None = None, keys: object = None) -> tuple[str, ...]:
+    """Names of the reduced (8) or full-joint (10) parameter rows.
 
+    Parameters
+    ----------
+    width
+        The number of columns of the rows.
+    keys
+        Or the names given (a full-joint row has ``K_mech``).
+
+    Returns
+    -------
+    tuple of str
+        :data:`~designlab.impact.model.PARAM_NAMES` or
+        :data:`~designlab.impact.full_joint_model.FULL_PARAM_NAMES`.
+
+    Examples
+    --------
+    >>> param_names(10)[-1], param_names(8)[-1]
+    ('K_cont', 'K_h')
+    """
     full = width == len(FULL_PARAM_NAMES) or (keys is not None and "K_mech" in keys)  # type: ignore[operator]
     return FULL_PARAM_NAMES if full else PARAM_NAMES
 
@@ -113,8 +165,6 @@ def response_model(p: NDArray, constrained: bool) -> LinearImpactModel:
     """
     if p.shape[-1] == len(PARAM_NAMES):
         return constrained_model() if constrained else unconstrained_model()
-    from designlab.impact.full_joint import full_joint_model
-
     return full_joint_model(constrained)
 
 
@@ -122,7 +172,7 @@ def _check_params(p: NDArray) -> NDArray:
     """Range checks of an ``(N, 8)`` parameter matrix ordered as :data:`PARAM_NAMES`."""
     if p.shape[0] == 0:
         raise InvalidParameterError("params", "0 designs", "needs at least one design")
-    names = _param_names(p.shape[-1])
+    names = param_names(p.shape[-1])
     if p.shape[-1] != len(names):
         return p  # the caller reports the shape
     if len(names) != len(PARAM_NAMES) and np.any(p[:, 1] + p[:, 8] <= 0):
@@ -170,8 +220,6 @@ def ramp_responses(
             raise InvalidParameterError(
                 "q2", q2, "the printed q2 of (3.5.14) belongs to the reduced joint; use 'correct'"
             )
-        from designlab.impact.full_joint import modal_families
-
         return modal_families(model, params, outputs)["ramp"]
     den, num = model.ramp_coefficients(params)
     if check_q2(q2) == "printed" and model.name == "unconstrained":
@@ -256,7 +304,7 @@ class ImpactMetrics(Result):
 
     def to_frame(self) -> pd.DataFrame:
         """One row per design: parameters and metrics (columns of :mod:`.metric_names`)."""
-        df = pd.DataFrame(self.params, columns=list(_param_names(self.params.shape[1])))
+        df = pd.DataFrame(self.params, columns=list(param_names(self.params.shape[1])))
         df["v_c_m_per_s"] = self.impact_velocity
         df["a_h_max_m_per_s2"] = self.peak_head_acceleration
         df["a_h_max_g"] = self.peak_head_acceleration_g
@@ -426,7 +474,7 @@ def impact_metrics(
     an array needs explicit column names (columns=...) ...
     """
     keys = columns if columns is not None else getattr(params, "keys", lambda: ())()
-    p = named_columns("params", params, _param_names(keys=list(keys)), columns=columns)
+    p = named_columns("params", params, param_names(keys=list(keys)), columns=columns)
     return metrics_of_matrix(
         p,
         impact_velocity,
@@ -483,8 +531,8 @@ def metrics_of_matrix(
         )
     p = np.repeat(p, n, axis=0) if p.shape[0] == 1 and n > 1 else p
     v = np.repeat(v, n) if v.shape[0] == 1 and n > 1 else v
-    stop_time = check_positive("stop_time", stop_time, "s")
-    max_lobe_steps = check_int("max_lobe_steps", max_lobe_steps, minimum=1)
+    stop_time = STOP_TIME.check(stop_time)
+    max_lobe_steps = MAX_LOBE_STEPS.check(max_lobe_steps)
 
     model = response_model(p, constrained)
     names: tuple[str, ...] = ("compression",) if constrained else ("head_acceleration",)
@@ -495,8 +543,6 @@ def metrics_of_matrix(
     resp = ramp_responses(model, p, names, q2=q2)
     rate = None
     if model.name.startswith("full_joint"):
-        from designlab.impact.full_joint import grid_rate
-
         rate = grid_rate(resp[names[0]].poles)
     return metrics_from_responses(
         resp,
@@ -507,6 +553,44 @@ def metrics_of_matrix(
         stop_time=stop_time,
         max_lobe_steps=max_lobe_steps,
         lobe_diagnostics=lobe_diagnostics,
+    )
+
+
+def matrix_metrics(params: ArrayLike, impact_velocity: ArrayLike, **options: Any) -> ImpactMetrics:
+    """First-lobe metrics of a parameter matrix in the model's column order.
+
+    ``(N, 8)`` rows ordered as :data:`~designlab.impact.model.PARAM_NAMES` use
+    the reduced joint, ``(N, 10)`` rows ordered as
+    :data:`~designlab.impact.full_joint_model.FULL_PARAM_NAMES` the full
+    series joint (3.4.6). For callers that build the rows themselves (the
+    joint comparisons, the benchmark); a mapping by name goes to
+    :func:`impact_metrics`.
+
+    Parameters
+    ----------
+    params
+        ``(N, 8)`` or ``(N, 10)`` rows (SI units).
+    impact_velocity
+        v_c in m/s, scalar or ``(N,)``.
+    **options
+        Passed on to :func:`metrics_of_matrix` (``constrained``, ``stop_time``, ...).
+
+    Returns
+    -------
+    ImpactMetrics
+
+    Examples
+    --------
+    >>> from designlab.impact import FOAM_1, HEAD_MIN
+    >>> from designlab.impact.full_joint_model import full_joint_params
+    >>> from designlab.impact.series_joint import FullJointContact
+    >>> arm = FullJointContact.from_joint(0.059, 2e3, 2.0, 1.5e3, 30.0, lever_arm=0.2)
+    >>> m = matrix_metrics(full_joint_params(arm, FOAM_1, HEAD_MIN)[None, :], 1.25)
+    >>> round(float(m.peak_head_acceleration_g[0]), 3)
+    4.079
+    """
+    return metrics_of_matrix(
+        np.atleast_2d(np.asarray(params, dtype=float)), impact_velocity, **options
     )
 
 
@@ -555,7 +639,7 @@ def metrics_from_responses(
 
     pol = resp[names[0]].poles
     # ``rate`` (1/s) replaces the largest pole modulus for the full joint, whose stiff
-    # motor node need not be resolved (designlab.impact.full_joint.grid_rate)
+    # motor node need not be resolved (designlab.impact.full_joint_model.grid_rate)
     h = 0.4 / (
         np.abs(pol).max(axis=1) if rate is None else rate
     )  # <= 1/15 of the fastest mode's period
@@ -564,27 +648,56 @@ def metrics_from_responses(
         h = np.minimum(h, stop_time / 64.0)
         t_imp = np.full(n, float(stop_time))
     else:
-        lobe = {"head_acceleration": resp["head_acceleration"]}
-        _lo, hi, found, _, guess, t_low = _march(
-            lobe,
-            "head_acceleration",
-            h,
-            np.full(n, float(stop_time)),
-            block=12,
-            max_steps=max_lobe_steps,
-            diagnose=lobe_diagnostics,
+        t_imp, found, t_low = _lobe_end(
+            resp["head_acceleration"], h, stop_time, max_lobe_steps, lobe_diagnostics
         )
-        t_imp = np.full(n, np.nan)
-        if np.any(found):
-            idx = np.flatnonzero(found)
-            a_resp = resp["head_acceleration"].take(idx)
-            # a dip below zero between two grid nodes ends the lobe earlier
-            lo_c, hi_c = certified_first_crossing(a_resp, hi[idx], h[idx])
-            moved = hi_c < hi[idx]
-            g = np.where(moved, 0.5 * (lo_c + hi_c), guess[idx])
-            t_imp[idx] = first_crossing(a_resp, lo_c, hi_c, guess=g)
         status[~found] = STATUS_LOBE_OPEN
+    out = _lobe_maxima(resp, names, t_imp, h, status)
+    return _scaled(p, v, out, t_imp, t_low, status, constrained, lobe_diagnostics)
 
+
+def _lobe_end(
+    a_h: ModalResponse, h: NDArray, stop_time: float, max_lobe_steps: int, diagnose: bool
+) -> tuple[NDArray, NDArray, NDArray]:
+    """The end of the first lobe: march the grid, certify the crossing, polish it by Newton.
+
+    Returns the impact period (NaN where no end was found), whether it was found,
+    and the first time a_h fell below :data:`LOW_FRACTION` of its running peak.
+    """
+    n = h.size
+    _lo, hi, found, _, guess, t_low = _march(
+        {"head_acceleration": a_h},
+        "head_acceleration",
+        h,
+        np.full(n, float(stop_time)),
+        block=12,
+        max_steps=max_lobe_steps,
+        diagnose=diagnose,
+    )
+    t_imp = np.full(n, np.nan)
+    if np.any(found):
+        idx = np.flatnonzero(found)
+        a_resp = a_h.take(idx)
+        # a dip below zero between two grid nodes ends the lobe earlier
+        lo_c, hi_c = certified_first_crossing(a_resp, hi[idx], h[idx])
+        moved = hi_c < hi[idx]
+        g = np.where(moved, 0.5 * (lo_c + hi_c), guess[idx])
+        t_imp[idx] = first_crossing(a_resp, lo_c, hi_c, guess=g)
+    return t_imp, found, t_low
+
+
+def _lobe_maxima(
+    resp: dict[str, ModalResponse],
+    names: tuple[str, ...],
+    t_imp: NDArray,
+    h: NDArray,
+    status: NDArray,
+) -> dict[str, tuple[NDArray, NDArray]]:
+    """Certified maxima ``(time, value)`` of each output over ``[0, t_imp]`` (unit v_c).
+
+    Marks the designs whose a_h peaks at contact in ``status``.
+    """
+    n = t_imp.size
     idx = np.flatnonzero(np.isfinite(t_imp))
     out: dict[str, tuple[NDArray, NDArray]] = {}
     for name in names:
@@ -599,6 +712,21 @@ def metrics_from_responses(
             if name == "head_acceleration":
                 status[idx[t_s <= 0.0]] = STATUS_PEAK_AT_CONTACT
         out[name] = (tt, yy)
+    return out
+
+
+def _scaled(
+    p: NDArray,
+    v: NDArray,
+    out: dict[str, tuple[NDArray, NDArray]],
+    t_imp: NDArray,
+    t_low: NDArray,
+    status: NDArray,
+    constrained: bool,
+    lobe_diagnostics: bool,
+) -> ImpactMetrics:
+    """The metrics at the designs' v_c (the model is linear in v_c; no impact for v_c <= 0)."""
+    n = p.shape[0]
     if constrained:
         t_a = a_max = np.zeros(n)
     else:
@@ -631,7 +759,7 @@ def metrics_from_responses(
         design_status=status.astype(str),
         constrained=constrained,
         lobe_tail=np.where(none | constrained, np.nan, tail) if lobe_diagnostics else None,
-        status=STATUS_LOBE_OPEN if np.any(status == STATUS_LOBE_OPEN) else OK,
+        status=ImpactStatus.LOBE_NOT_CLOSED if np.any(status == STATUS_LOBE_OPEN) else OK,
         warnings=_batch_warnings(status),
     )
 
@@ -678,8 +806,8 @@ def hic_batch(metrics: ImpactMetrics, window: float = 0.015, samples: int = 400)
     """
     if not isinstance(metrics, ImpactMetrics):
         raise InvalidParameterError("metrics", metrics, "must be an ImpactMetrics")
-    window = check_positive("window", window, "s")
-    samples = check_int("samples", samples, minimum=3)
+    window = HIC_WINDOW.check(window)
+    samples = HIC_SAMPLES.check(samples)
     n = len(metrics)
     out = np.zeros(n)
     t_imp = metrics.impact_duration

@@ -37,6 +37,8 @@ __all__ = [
     "certified_first_crossing",
     "certified_maximum",
     "first_crossing",
+    "fold_conjugates",
+    "fold_plan",
     "poles_of",
 ]
 
@@ -78,8 +80,21 @@ def poles_of(den: NDArray[np.float64]) -> NDArray[np.complex128]:
     return poles
 
 
-def _fold_plan(poles: NDArray[np.complex128]) -> tuple[NDArray, NDArray, NDArray, int]:
-    """Order, weights and drop mask that fold conjugate pairs (see :func:`_fold`)."""
+def fold_plan(poles: NDArray[np.complex128]) -> tuple[NDArray, NDArray, NDArray, int]:
+    """Order, weights and drop mask that fold conjugate pairs (see :func:`fold_conjugates`).
+
+    Parameters
+    ----------
+    poles
+        ``(N, n)`` poles of each design.
+
+    Returns
+    -------
+    tuple
+        ``(order, weight, drop, keep)``: the column order putting dropped poles
+        last, the residue weights (2 for a pole with a conjugate), the dropped
+        entries in that order and the number of columns kept.
+    """
     drop = poles.imag < 0
     weight = np.where(poles.imag > 0, 2.0, 1.0)
     order = np.argsort(drop, axis=1, kind="stable")
@@ -88,7 +103,7 @@ def _fold_plan(poles: NDArray[np.complex128]) -> tuple[NDArray, NDArray, NDArray
     return order, weight, drop_sorted, keep
 
 
-def _fold(
+def fold_conjugates(
     poles: NDArray[np.complex128],
     residues: NDArray[np.complex128],
     plan: tuple[NDArray, NDArray, NDArray, int],
@@ -99,6 +114,18 @@ def _fold(
     the real part of the folded sum is the response at half the cost. Real poles
     keep their residue. Dropped entries are moved to the end and the columns
     no design needs are cut off.
+
+    Parameters
+    ----------
+    poles, residues
+        ``(N, n)`` poles and their residues.
+    plan
+        :func:`fold_plan` of ``poles``.
+
+    Returns
+    -------
+    tuple
+        The kept poles and their (doubled) residues.
     """
     order, weight, drop, keep = plan
     p = np.take_along_axis(poles, order, axis=1)[:, :keep]
@@ -175,7 +202,7 @@ class ModalResponse:
             diff[:, np.arange(n), np.arange(n)] = 1.0
             scale = 1.0 / (poles**m * diff.prod(axis=2))
         da = den[:, ::-1]
-        plan = _fold_plan(poles)
+        plan = fold_plan(poles)
         out = {}
         for name, num in nums.items():
             num = np.atleast_2d(np.asarray(num, dtype=float))
@@ -183,7 +210,7 @@ class ModalResponse:
                 residues = _polyval(num, poles) * scale
             else:
                 residues = np.zeros((num.shape[0], 0), dtype=complex)
-            p_f, r_f = _fold(poles, residues, plan)
+            p_f, r_f = fold_conjugates(poles, residues, plan)
             # Taylor coefficients of N/D at s = 0 (ascending), first m of them
             na = num[:, ::-1]
             rho = np.zeros((num.shape[0], m))

@@ -44,24 +44,77 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from designlab.errors import (
-    InvalidParameterError,
-    check_finite,
-    check_nonnegative,
-    check_positive,
-)
+from designlab.errors import InvalidParameterError
 from designlab.impact.criteria import Criterion
 from designlab.impact.derivatives import metric_gradients
-from designlab.impact.envelope import HeadRange, _make_problem, _Problem
-from designlab.impact.metric_names import PARAMETERS
 from designlab.impact.model import PARAM_NAMES
-from designlab.impact.parameters import ContactDynamics, LinkImpact
-from designlab.results import OK, Result
-from designlab.validation import check_choice, check_int
+from designlab.impact.parameters import (
+    DAMPING_GRID,
+    MAX_COMPRESSION,
+    ContactDynamics,
+    Foam,
+    HeadNeck,
+    HeadRange,
+    LinkImpact,
+    check_pair,
+)
+from designlab.impact.problem import FoamProblem, make_problem
+from designlab.impact.series_joint import FullJointLink
+from designlab.impact.status import ImpactDomainStatus
+from designlab.params import Param, params_of
+from designlab.results import Result
 
-__all__ = ["OptimalFoam", "optimal_foam"]
+__all__ = [
+    "DAMPING_RATIO",
+    "GRID_POINTS",
+    "MIN_MARGIN",
+    "OBJECTIVE",
+    "OptimalFoam",
+    "OptimalStatus",
+    "optimal_foam",
+]
 
 log = logging.getLogger(__name__)
+
+_FOAM = params_of(Foam)
+
+#: The foam damping ratio xi_c = C_c / (2 sqrt(M_h K_c)) (thesis convention).
+DAMPING_RATIO = Param(
+    "xi_c", "", "foam damping ratio", ge=0, le=10, typical=(0.05, 0.2), name="damping_ratio_bounds"
+)
+#: What :func:`optimal_foam` optimises.
+OBJECTIVE = Param(
+    None, "", "what is optimised", kind="choice", choices=("margin", "thinnest"), name="objective"
+)
+#: The smallest worst-case margin the ``"thinnest"`` objective keeps (ln of limit / metric).
+MIN_MARGIN = Param(
+    None, "", "smallest worst-case margin ln(limit / metric)", ge=-10, le=10, name="min_margin"
+)
+#: Points per axis of the starting grid search (the grid has its square).
+GRID_POINTS = Param(
+    None, "", "points per axis of the starting grid search", kind="integer", ge=2, le=200,
+    name="grid",
+)  # fmt: skip
+
+
+class OptimalStatus(ImpactDomainStatus):
+    """Status of :func:`optimal_foam`.
+
+    Attributes
+    ----------
+    OK
+        The optimum was found (margin >= 0 for the ``"margin"`` objective).
+    EMPTY
+        The best foam violates a constraint: no feasible foam at this velocity.
+    SOLVER_FAILED
+        IPOPT did not converge; the better of the grid start and the last
+        iterate is returned.
+    """
+
+    OK = "ok"
+    EMPTY = "empty"
+    SOLVER_FAILED = "solver_failed"
+
 
 _METRIC_ATTR = {
     "head_acceleration": "peak_head_acceleration",
@@ -71,7 +124,7 @@ _METRIC_ATTR = {
 
 
 def _worst_design(
-    prob: _Problem, key: Criterion, k: float, c: float
+    prob: FoamProblem, key: Criterion, k: float, c: float
 ) -> tuple[NDArray, float, float]:
     """Parameters and velocity of the worst case of ``key`` for foam ``(k, c)``."""
     vals, lev = prob.worst(key, np.array([k]), np.array([c]))
@@ -81,7 +134,7 @@ def _worst_design(
     return params[j], float(vv[j]), float(vals[0])
 
 
-def _gradient_kc(prob: _Problem, key: Criterion, k: float, c: float) -> tuple[float, NDArray]:
+def _gradient_kc(prob: FoamProblem, key: Criterion, k: float, c: float) -> tuple[float, NDArray]:
     """Worst-case metric and its gradient w.r.t. (K_c, C_c)."""
     p, v, val = _worst_design(prob, key, k, c)
     if key.metric == "hic":
@@ -104,7 +157,7 @@ def _gradient_kc(prob: _Problem, key: Criterion, k: float, c: float) -> tuple[fl
 class _Margins(ca.Callback):
     """``x = [ln K_c, C_c, ln lambda] -> ln(limit_i / metric_i)`` with exact Jacobian."""
 
-    def __init__(self, name: str, prob: _Problem, opts: dict | None = None) -> None:
+    def __init__(self, name: str, prob: FoamProblem, opts: dict | None = None) -> None:
         ca.Callback.__init__(self)
         self.prob = prob
         self.keys = prob.keys()
@@ -221,7 +274,7 @@ class OptimalFoam(Result):
     grid_margin: float
     iterations: int
     objective: str
-    status: str = OK
+    status: str = OptimalStatus.OK
     warnings: tuple[str, ...] = ()
     stats: dict = field(default_factory=dict, repr=False)
 
@@ -272,22 +325,8 @@ class _Start:
         return np.where(self.allowed, out, -np.inf)
 
 
-def _check_range(
-    name: str, bounds: object, unit: str, *, low_zero: bool = False
-) -> tuple[float, float]:
-    try:
-        lo, hi = bounds  # type: ignore[misc]
-    except (TypeError, ValueError):
-        raise InvalidParameterError(name, bounds, "must be a pair (low, high)", unit) from None
-    lo = check_nonnegative(name, lo, unit) if low_zero else check_positive(name, lo, unit)
-    hi = check_positive(name, hi, unit)
-    if not lo < hi:
-        raise InvalidParameterError(name, bounds, "needs low < high", unit)
-    return lo, hi
-
-
 def _grid_start(
-    prob: _Problem,
+    prob: FoamProblem,
     k_range: tuple[float, float],
     c_range: tuple[float, float],
     lam: float,
@@ -388,6 +427,137 @@ def _reopen_factor(start: _Start, keys: list[Criterion], lam: float, margin: flo
     return math.exp(lo)
 
 
+@dataclass(frozen=True)
+class _Settings:
+    """The checked settings of :func:`optimal_foam`."""
+
+    k_range: tuple[float, float]
+    c_range: tuple[float, float]
+    t_range: tuple[float, float]
+    objective: str
+    min_margin: float
+    xi_range: tuple[float, float] | None
+    head_mass: float
+    grid: int
+    optimise_depth: bool
+
+
+def _check_robot(robot: object) -> None:
+    if not isinstance(robot, (ContactDynamics, LinkImpact)) or isinstance(robot, FullJointLink):
+        raise InvalidParameterError(
+            "robot",
+            robot,
+            "must be a ContactDynamics or a LinkImpact (exact gradients exist for the reduced "
+            "joint only; for a FullJointContact use its foam_envelope, or robot.taylor())",
+        )
+
+
+def _settings(
+    objective: str,
+    stiffness_bounds: object,
+    damping_bounds: object,
+    thickness_bounds: object,
+    max_compression: float,
+    damping_ratio_bounds: object,
+    head_mass_for_ratio: float,
+    grid: int,
+    min_margin: float,
+) -> _Settings:
+    """Validate the settings, each against its declaration."""
+    objective = OBJECTIVE.check(objective)
+    if objective == "thinnest" and thickness_bounds is None:
+        raise InvalidParameterError(
+            "thickness_bounds", None, "is needed with objective='thinnest'", "m"
+        )
+    if thickness_bounds is not None:
+        t_range = check_pair(
+            _FOAM["linear_depth"], thickness_bounds, "thickness_bounds", strict=False
+        )
+    else:
+        lam = MAX_COMPRESSION.check(max_compression)
+        t_range = (lam, lam)
+    xi_range = None
+    if damping_ratio_bounds is not None:
+        xi_range = check_pair(DAMPING_RATIO, damping_ratio_bounds, "damping_ratio_bounds")
+    return _Settings(
+        k_range=check_pair(_FOAM["stiffness"], stiffness_bounds, "stiffness_bounds"),
+        c_range=check_pair(DAMPING_GRID, damping_bounds, "damping_bounds"),
+        t_range=t_range,
+        objective=objective,
+        min_margin=MIN_MARGIN.check(min_margin),
+        xi_range=xi_range,
+        head_mass=params_of(HeadNeck)["mass"].check(head_mass_for_ratio, "head_mass_for_ratio"),
+        grid=GRID_POINTS.check(grid),
+        optimise_depth=thickness_bounds is not None,
+    )
+
+
+def _fallback(
+    cb: _Margins, start: _Start, xs: NDArray, gvals: NDArray, message: str
+) -> tuple[NDArray, NDArray, list[str]]:
+    """After a failed solve: the better of the grid start and the last iterate."""
+    warnings = [f"IPOPT did not converge ({message})"]
+    g0 = np.asarray(cb(ca.DM(start.x0))).ravel()
+    if start.margin > float(gvals.min()):
+        xs = np.array([*start.x0, 0.0])
+        gvals = g0
+        warnings.append("the grid start is returned: it has the better margin")
+    log.warning("optimal_foam: %s", "; ".join(warnings))
+    return xs, gvals, warnings
+
+
+def _summarise(
+    prob: FoamProblem,
+    st: _Settings,
+    start: _Start,
+    cb: _Margins,
+    xs: NDArray,
+    ok: bool,
+    stats: dict,
+    message: str,
+) -> OptimalFoam:
+    """Step 3: the margins at the solution, the status, and for an empty region its reopening."""
+    keys = prob.keys()
+    thi = st.t_range[1]
+    gvals = np.asarray(cb(ca.DM(xs[:3].tolist()))).ravel()
+    log.info(
+        "optimal_foam: grid start margin %+.4f; IPOPT %s after %s iterations",
+        start.margin, message, stats.get("iter_count", "?"),
+    )  # fmt: skip
+    warnings: list[str] = []
+    status = OptimalStatus.OK
+    if not ok:
+        status = OptimalStatus.SOLVER_FAILED
+        xs, gvals, warnings = _fallback(cb, start, xs, gvals, message)
+    margins = {key.name: float(gvals[i]) for i, key in enumerate(keys)}
+    margin = float(min(margins.values()))
+    factor = 1.0
+    if st.objective == "margin" and margin < 0 and ok:
+        status = OptimalStatus.EMPTY
+        factor = _reopen_factor(start, keys, thi, margin)
+        warnings.append(
+            f"no foam meets every constraint at this velocity (best margin {margin:+.3f}); "
+            f"the region reopens at {factor:.3f} x the speeds"
+        )
+    v0 = prob.impact_velocity if isinstance(prob.robot, ContactDynamics) else float("nan")
+    return OptimalFoam(
+        stiffness=math.exp(xs[0]),
+        damping=float(xs[1]),
+        linear_depth=math.exp(xs[2]),
+        margin=margin,
+        margins=margins,
+        impact_velocity=v0,
+        reopen_velocity_factor=factor,
+        reopen_velocity=factor * v0,
+        grid_margin=start.margin,
+        iterations=int(stats.get("iter_count", 0)),
+        objective=st.objective,
+        status=status,
+        warnings=tuple(warnings),
+        stats=stats,
+    )
+
+
 def optimal_foam(
     robot: ContactDynamics | LinkImpact,
     impact_velocity: float | None = 1.25,
@@ -409,9 +579,9 @@ def optimal_foam(
 ) -> OptimalFoam:
     """Choose the foam (K_c, C_c and optionally lambda) with the best worst-case margin.
 
-    Three steps: a grid search for a start (:func:`_grid_start`), the
-    nonlinear program (:func:`_solve_nlp`), and, for an empty region, the speed
-    at which it reopens (:func:`_reopen_factor`).
+    Three steps: a grid search for a start, the nonlinear program (CasADi and
+    IPOPT), and the margins at the solution with, for an empty region, the
+    speed at which it reopens.
 
     Parameters
     ----------
@@ -452,93 +622,21 @@ def optimal_foam(
     >>> opt.status, round(opt.stiffness / 1e3, 1), round(opt.damping_ratio(), 2)
     ('ok', 25.2, 0.2)
     """
-    from designlab.impact.full_joint import FullJointLink
-
-    if not isinstance(robot, (ContactDynamics, LinkImpact)) or isinstance(robot, FullJointLink):
-        raise InvalidParameterError(
-            "robot",
-            robot,
-            "must be a ContactDynamics or a LinkImpact (exact gradients exist for the reduced "
-            "joint only; for a FullJointContact use its foam_envelope, or robot.taylor())",
-        )
-    objective = check_choice("objective", objective, ("margin", "thinnest"))
-    if objective == "thinnest" and thickness_bounds is None:
-        raise InvalidParameterError(
-            "thickness_bounds", None, "is needed with objective='thinnest'", "m"
-        )
-    k_range = _check_range("stiffness_bounds", stiffness_bounds, PARAMETERS["K_c"].unit)
-    c_range = _check_range("damping_bounds", damping_bounds, "N s/m", low_zero=True)
-    if thickness_bounds is not None:
-        tlo, thi = thickness_bounds
-        tlo, thi = (
-            check_positive("thickness_bounds", tlo, "m"),
-            check_positive("thickness_bounds", thi, "m"),
-        )
-        if tlo > thi:
-            raise InvalidParameterError(
-                "thickness_bounds", thickness_bounds, "need low <= high", "m"
-            )
-    else:
-        tlo = thi = check_positive("max_compression", max_compression, "m")
-    xi_range = None
-    if damping_ratio_bounds is not None:
-        xi_range = _check_range("damping_ratio_bounds", damping_ratio_bounds, "", low_zero=True)
-    head_mass = check_positive("head_mass_for_ratio", head_mass_for_ratio, "kg")
-    grid = check_int("grid", grid, minimum=2)
-    min_margin = check_finite("min_margin", min_margin)
-    prob = _make_problem(
+    _check_robot(robot)
+    st = _settings(
+        objective, stiffness_bounds, damping_bounds, thickness_bounds, max_compression,
+        damping_ratio_bounds, head_mass_for_ratio, grid, min_margin,
+    )  # fmt: skip
+    thi = st.t_range[1]
+    prob = make_problem(
         robot, impact_velocity, criteria, thi, head_range, constrained, human_speed, 0.05
     )
-    keys = prob.keys()
-
-    start = _grid_start(prob, k_range, c_range, thi, xi_range, head_mass, grid)
+    start = _grid_start(prob, st.k_range, st.c_range, thi, st.xi_range, st.head_mass, st.grid)
     cb = _Margins("margins", prob)
     xs, ok, stats, message = _solve_nlp(
-        cb, start, k_range, c_range, (tlo, thi), objective, min_margin, xi_range, head_mass,
-        ipopt_options,
+        cb, start, st.k_range, st.c_range, st.t_range, st.objective, st.min_margin,
+        st.xi_range, st.head_mass, ipopt_options,
     )  # fmt: skip
-    if thickness_bounds is None:
+    if not st.optimise_depth:
         xs[2] = math.log(thi)
-    gvals = np.asarray(cb(ca.DM(xs[:3].tolist()))).ravel()
-    warnings: list[str] = []
-    status = OK
-    log.info(
-        "optimal_foam: grid start margin %+.4f; IPOPT %s after %s iterations",
-        start.margin, message, stats.get("iter_count", "?"),
-    )  # fmt: skip
-    if not ok:
-        status = "solver_failed"
-        warnings.append(f"IPOPT did not converge ({message})")
-        g0 = np.asarray(cb(ca.DM(start.x0))).ravel()
-        if start.margin > float(gvals.min()):
-            xs = np.array([*start.x0, 0.0])
-            gvals = g0
-            warnings.append("the grid start is returned: it has the better margin")
-        log.warning("optimal_foam: %s", "; ".join(warnings))
-    margins = {key.name: float(gvals[i]) for i, key in enumerate(keys)}
-    margin = float(min(margins.values()))
-    factor = 1.0
-    if objective == "margin" and margin < 0 and ok:
-        status = "empty"
-        factor = _reopen_factor(start, keys, thi, margin)
-        warnings.append(
-            f"no foam meets every constraint at this velocity (best margin {margin:+.3f}); "
-            f"the region reopens at {factor:.3f} x the speeds"
-        )
-    v0 = prob.impact_velocity if isinstance(robot, ContactDynamics) else float("nan")
-    return OptimalFoam(
-        stiffness=math.exp(xs[0]),
-        damping=float(xs[1]),
-        linear_depth=math.exp(xs[2]),
-        margin=margin,
-        margins=margins,
-        impact_velocity=v0,
-        reopen_velocity_factor=factor,
-        reopen_velocity=factor * v0,
-        grid_margin=start.margin,
-        iterations=int(stats.get("iter_count", 0)),
-        objective=objective,
-        status=status,
-        warnings=tuple(warnings),
-        stats=stats,
-    )
+    return _summarise(prob, st, start, cb, xs, ok, stats, message)

@@ -15,29 +15,170 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError, check_nonnegative, check_positive
-from designlab.params import Param, declared, param
+from designlab.params import Param, check_size, declared, param, params_of
 from designlab.validation import ParamsMixin
 
 __all__ = [
+    "BAND_POINTS",
+    "C_CONT",
+    "C_MECH",
+    "DAMPING_GRID",
+    "DAMPING_POINTS",
     "FOAM_1",
     "FOAM_2",
     "FOAM_2_MEASURED",
     "FOAM_3",
     "HEAD_MAX",
     "HEAD_MIN",
+    "HEAD_SPEED",
+    "HEAD_VELOCITY",
+    "HIC_SAMPLES",
+    "HIC_WINDOW",
+    "HUMAN_SPEED",
     "IMPACT_VELOCITY",
+    "K_CONT",
+    "K_MECH",
     "MANIPULATOR_1",
     "MANIPULATOR_2",
+    "MAX_COMPRESSION",
+    "MAX_LOBE_STEPS",
+    "OMEGA_MAX",
+    "RATIO_POINTS",
+    "ROBOT_VELOCITY",
+    "RTOL",
+    "SEED",
+    "STIFFNESS_RATIO",
+    "STOP_TIME",
     "TABLE_3_2_HEADS",
     "TEST_HEAD",
+    "THESIS_HEAD_RANGE",
+    "USABLE_TOLERANCE",
+    "VERDICT_TOLERANCE",
+    "WORST_CASE_SAMPLES",
+    "WORST_CASE_TOLERANCE",
     "ContactDynamics",
     "Foam",
     "HeadNeck",
+    "HeadRange",
+    "LinkImpact",
+    "as_field",
+    "check_grid",
+    "check_pair",
 ]
+
+
+def as_field(decl: Param, *, default: Any = dataclasses.MISSING, **kwargs: Any) -> Any:
+    """A dataclass field declared by an existing :class:`~designlab.params.Param`.
+
+    For a parameter that is both a function argument (a module-level ``Param``)
+    and a field of a model, or a field of two models: it is declared once and
+    every use refers to that declaration (:func:`designlab.params.declared`
+    fills in the field's name, owner and default).
+
+    Parameters
+    ----------
+    decl
+        The declaration.
+    default
+        The field's default (omit for a required field).
+    **kwargs
+        Further arguments of :func:`dataclasses.field` (``init``, ``kw_only``, ...).
+
+    Returns
+    -------
+    dataclasses.Field
+    """
+    if default is not dataclasses.MISSING:
+        kwargs["default"] = default
+    return dataclasses.field(metadata={"param": decl}, **kwargs)
+
+
+def check_pair(decl: Param, value: Any, name: str, *, strict: bool = True) -> tuple[float, float]:
+    """A ``(low, high)`` pair of values of one parameter, each checked by ``decl``.
+
+    Parameters
+    ----------
+    decl
+        The declaration of each end.
+    value
+        The pair given.
+    name
+        The parameter's name in the error message.
+    strict
+        ``low < high`` (else ``low <= high``).
+
+    Returns
+    -------
+    tuple of float
+
+    Examples
+    --------
+    >>> check_pair(params_of(HeadNeck)["mass"], (4.4, 5.3), "mass")
+    (4.4, 5.3)
+    """
+    if isinstance(value, (str, bytes)) or not isinstance(value, Sequence | np.ndarray):
+        raise InvalidParameterError(name, value, "must be a pair (low, high)", decl.unit)
+    if len(value) != 2:
+        raise InvalidParameterError(name, value, "must be a pair (low, high)", decl.unit)
+    lo, hi = (decl.check(v, name) for v in value)
+    if not (lo < hi if strict else lo <= hi):
+        rel = "<" if strict else "<="
+        raise InvalidParameterError(name, value, f"needs low {rel} high", decl.unit)
+    return float(lo), float(hi)
+
+
+def check_grid(decl: Param, count: Param, value: Any, name: str) -> NDArray[np.float64]:
+    """A 1-D grid of values of one parameter: each checked by ``decl``, their number by ``count``.
+
+    The number of values is checked before the array is built, so a cap on
+    ``count`` bounds the work of whatever runs over the grid.
+
+    Parameters
+    ----------
+    decl
+        The declaration of each value.
+    count
+        The declaration of the number of values (an ``"integer"`` with its cap).
+    value
+        Array-like values.
+    name
+        The parameter's name in the error message.
+
+    Returns
+    -------
+    numpy.ndarray
+    """
+    if isinstance(value, (str, bytes, bool, np.bool_)):
+        raise InvalidParameterError(name, value, "must be a 1-D array of numbers", decl.unit)
+    size = np.size(value) if isinstance(value, np.ndarray) else None
+    if size is None:
+        try:
+            size = len(value) if hasattr(value, "__len__") else 1
+        except TypeError:
+            size = 1
+    count.check(int(size), f"{name} (number of values)")
+    check_size(name, f"{size} values", float(size))
+    try:
+        arr = np.atleast_1d(np.asarray(value, dtype=float))
+    except (TypeError, ValueError):
+        raise InvalidParameterError(
+            name, value, "must be a 1-D array of numbers", decl.unit
+        ) from None
+    if arr.ndim != 1:
+        raise InvalidParameterError(name, value, "must be a 1-D array of numbers", decl.unit)
+    for i, x in enumerate(arr):
+        decl.check(float(x), f"{name}[{i}]")
+    return arr
 
 
 @declared
@@ -73,19 +214,10 @@ class ContactDynamics(ParamsMixin):
     20000.0
     """
 
-    mass: float = param(
-        "M_r",
-        "kg",
-        doc="effective manipulator mass (unbounded above: near the joint it grows as 1/l^2)",
-        gt=0,
-        typical=(9.6, 49.4),
-    )
+    # M_r and K_r have no upper bound: near the joint they grow as 1/l^2 (3.4.17)
+    mass: float = param("M_r", "kg", doc="effective manipulator mass", gt=0, typical=(9.6, 49.4))
     stiffness: float = param(
-        "K_r",
-        "N/m",
-        doc="effective (joint + controller) stiffness",
-        ge=0,
-        typical=(14.4e3, 20e3),
+        "K_r", "N/m", doc="manipulator stiffness", ge=0, typical=(14.4e3, 20e3)
     )
     damping: float = param("C_r", "N s/m", doc="manipulator damping", ge=0, typical=(111.0, 250.0))
     lever_arm: float | None = param(
@@ -188,6 +320,131 @@ IMPACT_VELOCITY = Param(
     "v_c", "m/s", "closing velocity", gt=0, le=20, typical=(0.25, 2.0), name="impact_velocity"
 )
 
+#: The speed of the person's head toward the robot (Sec. 3.4): added to the
+#: manipulator's speed to give v_c, subtracted to give the safe manipulator speed.
+HUMAN_SPEED = Param(
+    "v_h", "m/s", "head speed toward the robot", ge=0, le=20, typical=(0.0, 1.0),
+    name="human_speed",
+)  # fmt: skip
+
+#: The manipulator's speed at contact along the contact normal, v_r(0) (Sec. 3.4).
+ROBOT_VELOCITY = Param(
+    "v_r", "m/s", "manipulator velocity at contact along the normal", ge=-20, le=20, name="v_r"
+)
+#: The head's velocity along the normal, v_h(0) (negative: toward the robot; v_c = v_r - v_h).
+HEAD_VELOCITY = Param(
+    "v_h", "m/s", "head velocity along the normal (negative: toward the robot)", ge=-20,
+    le=20, name="v_h",
+)  # fmt: skip
+
+#: A head speed that must be non-zero (the worst impact point of Fig. 3.16 scales with it).
+HEAD_SPEED = Param("v_h", "m/s", "head speed toward the link", gt=0, le=20, name="head_speed")
+
+#: Window of the constrained impact's metrics (head against a wall): the time within
+#: which the thesis recommends stopping the manipulator (Sec. 3.6), 0.05 s.
+STOP_TIME = Param(
+    "t_stop", "s", "window of the constrained impact's metrics", gt=0, le=1.0,
+    typical=(0.05, 0.05), name="stop_time",
+)  # fmt: skip
+
+#: The HIC window t2 - t1 (docs/impact.md, "HIC"): 0.015 s (HIC15) or 0.036 s (HIC36).
+HIC_WINDOW = Param(
+    "T_HIC", "s", "longest HIC window t2 - t1", gt=0, le=0.036, typical=(0.015, 0.036),
+    name="window",
+)  # fmt: skip
+
+#: A value of the C_c grid of a foam envelope (Sec. 3.9).
+DAMPING_GRID = Param(
+    "C_c", "N s/m", "foam damping of the envelope's grid", ge=0, le=1e5, typical=(0.0, 200.0),
+    name="damping",
+)  # fmt: skip
+
+#: How many damping values a foam envelope solves (each costs a root-finding per boundary).
+DAMPING_POINTS = Param(
+    None, "", "number of damping values of the envelope's grid", kind="integer", ge=1, le=2001,
+    name="damping",
+)  # fmt: skip
+
+#: Relative accuracy of a foam envelope's boundaries in K_c.
+RTOL = Param(None, "", "relative accuracy of the boundaries in K_c", gt=0, lt=1e-2, name="rtol")
+
+#: The thickness limit eps_max <= lambda (3.9.3): the foam's linear depth, as declared
+#: on :class:`Foam` (a foam envelope's ``max_compression``).
+MAX_COMPRESSION = dataclasses.replace(
+    params_of(Foam)["linear_depth"], name="max_compression", owner="", default=None
+)
+
+#: Grid steps after which the search for the end of the first lobe gives up.
+MAX_LOBE_STEPS = Param(
+    None, "", "grid steps of the search for the end of the first lobe", kind="integer",
+    ge=1, le=1_000_000, name="max_lobe_steps",
+)  # fmt: skip
+
+#: Grid points over the first lobe of the HIC window search.
+HIC_SAMPLES = Param(
+    None, "", "grid points over the first lobe of the HIC window search", kind="integer",
+    ge=3, le=100_000, name="samples",
+)  # fmt: skip
+
+#: Relative distance in K_c to the nearest boundary within which a foam is "on the
+#: boundary" (:func:`~designlab.impact.verdict.foam_verdict`).
+VERDICT_TOLERANCE = Param(
+    None, "", "relative distance in K_c within which a foam is on the boundary", ge=0, lt=0.5,
+    typical=(0.01, 0.01), name="tolerance",
+)  # fmt: skip
+
+#: Random cases per boundary point of the worst-case check, after its deterministic corners.
+WORST_CASE_SAMPLES = Param(
+    None, "", "random samples per boundary point of the worst-case check, after its "
+    "deterministic corners (0: corners only)", kind="integer", ge=0, le=10_000,
+    typical=(0.0, 64.0), name="samples",
+)  # fmt: skip
+#: Seed of the random cases of the worst-case check.
+SEED = Param(None, "", "seed of the random cases", kind="integer", ge=0, le=2**32 - 1, name="seed")
+#: Relative excess of a metric over its limit that the worst-case check tolerates
+#: (the solver's accuracy).
+WORST_CASE_TOLERANCE = Param(
+    None, "", "relative excess of a ratio over 1 tolerated (solver accuracy)", ge=0, lt=0.1,
+    name="tolerance",
+)  # fmt: skip
+
+# --- the series joint (3.4.6) and its reductions (docs/impact_joint.md) ----------
+
+#: Transmission stiffness K_mech of the series joint (3.4.6), joint level.
+K_MECH = Param(
+    "K_mech", "N m/rad", "transmission stiffness", gt=0, le=1e12, typical=(1e2, 1e6)
+)
+#: Transmission damping C_mech, joint level.
+C_MECH = Param("C_mech", "N m s/rad", "transmission damping", ge=0, le=1e7)
+#: Control stiffness K_cont (the P gain in torque units), joint level.
+K_CONT = Param("K_cont", "N m/rad", "control stiffness (P gain)", gt=0, le=1e9, typical=(1e2, 1e4))
+#: Control damping C_cont (the D gain in torque units), joint level.
+C_CONT = Param("C_cont", "N m s/rad", "control damping (D gain)", ge=0, le=1e7)
+
+#: The transmission/controller stiffness ratio K_mech/K_cont of a joint-reduction sweep.
+STIFFNESS_RATIO = Param(
+    "K_mech/K_cont", "", "transmission/controller stiffness ratio", gt=0, le=1e9,
+    typical=(0.03, 3000.0), name="ratios",
+)  # fmt: skip
+#: How many stiffness ratios a joint-reduction sweep evaluates (each costs a band fit
+#: and three impacts): the one cap of the Python API and of the study file.
+RATIO_POINTS = Param(
+    None, "", "number of stiffness ratios", kind="integer", ge=1, le=1001, name="ratios"
+)
+#: Upper end of the band of the band fit (an extension of the thesis).
+OMEGA_MAX = Param(
+    "omega_max", "rad/s", "upper end of the band fit", gt=0, le=1e9, optional=True,
+    none="the fastest mode of the Taylor-reduced impact, per point", name="omega_max",
+)  # fmt: skip
+#: How many bands a band-fit sweep evaluates.
+BAND_POINTS = Param(None, "", "number of bands", kind="integer", ge=1, le=1001, name="omega_max")
+#: Largest underestimate of a harm metric with which a reduction may still stand in
+#: for the full joint (relative; 0.01 = 1 %).
+USABLE_TOLERANCE = Param(
+    None, "", "largest accepted underestimate of a harm metric where a reduction is still "
+    "usable (relative; 0.01 = 1 %)", ge=0, lt=1, typical=(0.005, 0.05), name="tolerance",
+)  # fmt: skip
+
 
 # --- presets (Zeng 2011) ---------------------------------------------------
 
@@ -244,7 +501,7 @@ class LinkImpact(ParamsMixin):
     (9.6, 0.25)
     """
 
-    inertia: float = param("m_ii", "kg m^2", doc="link inertia about the joint", gt=0, le=1e4)
+    inertia: float = param("m_ii", "kg m^2", doc="inertia driven by the joint", gt=0, le=1e4)
     joint_stiffness: float = param(
         "K_J", "N m/rad", doc="stiffness of the reduced joint", ge=0, le=1e9
     )
@@ -297,7 +554,17 @@ class LinkImpact(ParamsMixin):
         )
 
     def contact(self, lever_arm: float) -> ContactDynamics:
-        """Effective manipulator at ``lever_arm`` (3.4.17)."""
+        """Effective manipulator at ``lever_arm`` (3.4.17).
+
+        Parameters
+        ----------
+        lever_arm
+            l, m.
+
+        Returns
+        -------
+        ContactDynamics
+        """
         l2 = lever_arm**2
         return ContactDynamics(
             self.inertia / l2,
@@ -308,5 +575,104 @@ class LinkImpact(ParamsMixin):
         )
 
     def speed(self, lever_arm: float) -> float:
-        """Manipulator speed at ``lever_arm``, m/s (3.4.11)."""
+        """Manipulator speed at ``lever_arm``, m/s (3.4.11).
+
+        Parameters
+        ----------
+        lever_arm
+            l, m.
+
+        Returns
+        -------
+        float
+        """
         return self.joint_speed * lever_arm
+
+
+_HEAD = params_of(HeadNeck)
+
+
+@declared
+@dataclass(frozen=True)
+class HeadRange(ParamsMixin):
+    """Ranges of the head-neck parameters (Sec. 3.5): ``(low, high)`` pairs, SI.
+
+    Each end is a value of the corresponding :class:`HeadNeck` parameter (same
+    unit and allowed range), with ``low <= high``.
+
+    Examples
+    --------
+    >>> len(THESIS_HEAD_RANGE.corners())
+    8
+    >>> HeadRange(mass=(5.3, 4.4))
+    Traceback (most recent call last):
+    ...
+    designlab.errors.InvalidParameterError: HeadRange.mass = (5.3, 4.4) kg is not allowed: ...
+    """
+
+    mass: tuple[float, float] = param(
+        "M_h", "kg", doc="(low, high) head mass", kind="object", default=(4.4, 5.3)
+    )
+    stiffness: tuple[float, float] = param(
+        "K_h", "N/m", doc="(low, high) neck stiffness", kind="object", default=(3.0e3, 5.0e3)
+    )
+    damping: tuple[float, float] = param(
+        "C_h", "N s/m", doc="(low, high) neck damping", kind="object", default=(46.0, 130.2)
+    )
+
+    def __post_init__(self) -> None:
+        for name in ("mass", "stiffness", "damping"):
+            pair = check_pair(_HEAD[name], getattr(self, name), f"HeadRange.{name}", strict=False)
+            object.__setattr__(self, name, pair)
+
+    def corners(self) -> list[HeadNeck]:
+        """The 8 corner sets (duplicates removed).
+
+        Returns
+        -------
+        list of HeadNeck
+        """
+        return self.grid(2)
+
+    def grid(self, levels: int = 3) -> list[HeadNeck]:
+        """Full factorial of ``levels`` values per parameter (corners included).
+
+        Parameters
+        ----------
+        levels
+            Values per parameter (>= 2).
+
+        Returns
+        -------
+        list of HeadNeck
+        """
+        out: list[HeadNeck] = []
+        for m in np.linspace(*self.mass, levels):
+            for k in np.linspace(*self.stiffness, levels):
+                for c in np.linspace(*self.damping, levels):
+                    h = HeadNeck(float(m), float(k), float(c))
+                    if h not in out:
+                        out.append(h)
+        return out
+
+    def sample(self, n: int, rng: np.random.Generator) -> NDArray[np.float64]:
+        """``(n, 3)`` uniform samples ``[M_h, C_h, K_h]``.
+
+        Parameters
+        ----------
+        n
+            Number of samples.
+        rng
+            The random generator.
+
+        Returns
+        -------
+        numpy.ndarray
+        """
+        lo = np.array([self.mass[0], self.damping[0], self.stiffness[0]])
+        hi = np.array([self.mass[1], self.damping[1], self.stiffness[1]])
+        return lo + (hi - lo) * rng.random((n, 3))
+
+
+#: The thesis's head-neck ranges: 4.4-5.3 kg, 3-5 kN/m, 46-130.2 N s/m.
+THESIS_HEAD_RANGE = HeadRange()

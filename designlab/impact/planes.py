@@ -51,9 +51,11 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from designlab.errors import InvalidParameterError
-from designlab.impact.full_joint import FullJointContact
 from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
 from designlab.impact.peaks import first_peak
+from designlab.impact.series_joint import FullJointContact
+from designlab.impact.simulate import simulate
+from designlab.params import Param, declared, param
 from designlab.results import Result
 from designlab.units import STANDARD_GRAVITY
 
@@ -64,6 +66,13 @@ __all__ = [
     "closing_speed",
     "combined_impact",
 ]
+
+
+#: Points on which the vector combination of the planes is evaluated.
+VECTOR_SAMPLES = Param(
+    None, "", "points of the vector combination", kind="integer", ge=2, le=1_000_000,
+    name="samples",
+)  # fmt: skip
 
 
 def _vector(name: str, value: Any, unit: str, size: int | None = None) -> NDArray[np.float64]:
@@ -197,26 +206,30 @@ def closing_speed(
     )
 
 
+@declared
 @dataclass(frozen=True)
 class ImpactPlane:
     """One impact plane: the manipulator reduced in that plane and its contact normal.
 
-    Parameters
-    ----------
-    robot
-        The single-DOF manipulator of the plane (e.g. scenario 1's joint 1 in the
-        horizontal plane, scenario 3's joints 2-3 in the vertical plane), reduced
-        (:class:`~designlab.impact.parameters.ContactDynamics`) or with its full
-        series joint (:class:`~designlab.impact.full_joint.FullJointContact`).
-    normal
-        The plane's contact normal, from the manipulator towards the head.
-    name
-        Label for reports.
+    The robot is the single-DOF manipulator of the plane (e.g. scenario 1's
+    joint 1 in the horizontal plane, scenario 3's joints 2-3 in the vertical
+    plane), reduced (:class:`~designlab.impact.parameters.ContactDynamics`) or
+    with its full series joint (:class:`~designlab.impact.series_joint.FullJointContact`).
+
+    Examples
+    --------
+    >>> import designlab as dl
+    >>> ImpactPlane(dl.impact.MANIPULATOR_1, normal=(2.0, 0.0)).normal
+    (1.0, 0.0)
     """
 
-    robot: ContactDynamics | FullJointContact
-    normal: tuple[float, ...]
-    name: str = ""
+    robot: ContactDynamics | FullJointContact = param(  # noqa: RUF009 (a declaration)
+        kind="object", doc="the manipulator of the plane (ContactDynamics or FullJointContact)"
+    )
+    normal: tuple[float, ...] = param(
+        kind="object", doc="contact normal from the manipulator towards the head (2 or 3 numbers)"
+    )
+    name: str = param(kind="text", default="", doc="label for reports")
 
     def __post_init__(self) -> None:
         if not isinstance(self.robot, (ContactDynamics, FullJointContact)):
@@ -325,6 +338,42 @@ def combined_impact(
     True
     """
     planes = tuple(planes)
+    v_r, v_h = _check_combined(planes, foam, head, robot_velocity, head_velocity, samples)
+    closing = tuple(closing_speed(v_r, v_h, p.normal) for p in planes)
+    responses = tuple(
+        simulate(p.robot, foam, head, c.closing_speed) if c.impact else None
+        for p, c in zip(planes, closing, strict=True)
+    )
+    rows, peaks, status, warnings = _plane_rows(planes, closing, responses)
+    total = float(np.nansum(peaks))
+    vector = _vector_peak(planes, responses, int(samples))
+    rows.append(
+        {"plane": "combined", "a_h_max_g": total / STANDARD_GRAVITY,
+         "a_h_max_vector_g": vector / STANDARD_GRAVITY}
+    )  # fmt: skip
+    if all(r is None for r in responses):
+        status = "no_impact"
+    return CombinedImpact(
+        planes=planes,
+        closing=closing,
+        responses=responses,
+        a_h_max_sum=total,
+        a_h_max_vector=vector,
+        status=status,
+        warnings=tuple(warnings),
+        _rows=rows,
+    )
+
+
+def _check_combined(
+    planes: tuple[Any, ...],
+    foam: Any,
+    head: Any,
+    robot_velocity: ArrayLike,
+    head_velocity: ArrayLike,
+    samples: Any,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Validate the arguments of :func:`combined_impact`; returns the two velocities."""
     if not planes or not all(isinstance(p, ImpactPlane) for p in planes):
         raise InvalidParameterError("planes", planes, "must be a non-empty sequence of ImpactPlane")
     if not isinstance(foam, Foam):
@@ -340,16 +389,16 @@ def combined_impact(
                 p.name or p.normal,
                 f"normals must have the length {v_r.size} of the velocities",
             )
-    if int(samples) < 2:
-        raise InvalidParameterError("samples", samples, "must be an integer >= 2")
+    VECTOR_SAMPLES.check(samples)
+    return v_r, v_h
 
-    from designlab.impact.simulate import simulate
 
-    closing = tuple(closing_speed(v_r, v_h, p.normal) for p in planes)
-    responses = tuple(
-        simulate(p.robot, foam, head, c.closing_speed) if c.impact else None
-        for p, c in zip(planes, closing, strict=True)
-    )
+def _plane_rows(
+    planes: tuple[ImpactPlane, ...],
+    closing: tuple[ClosingSpeed, ...],
+    responses: tuple[Any, ...],
+) -> tuple[list[dict[str, Any]], list[float], str, list[str]]:
+    """One row per plane, the planes' a_h,max, the first status that is not ok, the warnings."""
     rows: list[dict[str, Any]] = []
     warnings: list[str] = []
     status = "ok"
@@ -374,24 +423,7 @@ def combined_impact(
             if r.status != "ok" and status == "ok":
                 status = r.status
         rows.append(row)
-    total = float(np.nansum(peaks))
-    vector = _vector_peak(planes, responses, int(samples))
-    rows.append(
-        {"plane": "combined", "a_h_max_g": total / STANDARD_GRAVITY,
-         "a_h_max_vector_g": vector / STANDARD_GRAVITY}
-    )  # fmt: skip
-    if all(r is None for r in responses):
-        status = "no_impact"
-    return CombinedImpact(
-        planes=planes,
-        closing=closing,
-        responses=responses,
-        a_h_max_sum=total,
-        a_h_max_vector=vector,
-        status=status,
-        warnings=tuple(warnings),
-        _rows=rows,
-    )
+    return rows, peaks, status, warnings
 
 
 def _vector_peak(

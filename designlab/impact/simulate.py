@@ -36,17 +36,11 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError, check_finite, check_positive
-from designlab.impact.full_joint import (
-    FullJointContact,
-    full_joint_model,
-    full_joint_params,
-    grid_rate,
-    modal_families,
-)
+from designlab.impact.full_joint_model import full_joint_model, full_joint_params, grid_rate
 from designlab.impact.metrics import (
-    STATUS_NO_IMPACT,
     STATUS_OK,
     STATUS_PEAK_AT_CONTACT,
+    ImpactStatus,
     metrics_from_responses,
 )
 from designlab.impact.modal import ModalResponse, poles_of
@@ -57,6 +51,9 @@ from designlab.impact.model import (
     unconstrained_model,
 )
 from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
+from designlab.impact.series_joint import FullJointContact
+from designlab.impact.state_space import modal_families
+from designlab.params import declared, param
 from designlab.results import Result
 from designlab.units import STANDARD_GRAVITY
 from designlab.validation import check_int
@@ -67,6 +64,7 @@ _OUTPUTS = ("force", "head_acceleration", "compression", "head_velocity", "robot
 _METRIC_OUTPUTS = ("force", "head_acceleration", "compression")
 
 
+@declared
 @dataclass(frozen=True)
 class VelocityProfile:
     """Manipulator acceleration during the impact (Sec. 3.8, Fig. 3.17).
@@ -74,34 +72,23 @@ class VelocityProfile:
     The desired manipulator speed changes at ``acceleration`` (m/s^2, negative to
     decelerate) for ``duration`` s from the instant of contact, then stays constant.
 
-    Attributes
-    ----------
-    acceleration
-        Manipulator acceleration during the impact in m/s^2 (negative: braking).
-    duration
-        How long the acceleration lasts in s.
-    feedforward
-        Whether the controller feeds the acceleration forward (Sec. 3.8).
-
     Examples
     --------
     >>> round(VelocityProfile(acceleration=0.51 * 9.80665, duration=0.05).delta_v, 4)
     0.25
     """
 
-    acceleration: float
-    duration: float = 0.05
-    feedforward: bool = True
-
-    def __post_init__(self) -> None:
-        object.__setattr__(
-            self,
-            "acceleration",
-            check_finite("VelocityProfile.acceleration", self.acceleration, "m/s^2"),
-        )
-        object.__setattr__(
-            self, "duration", check_positive("VelocityProfile.duration", self.duration, "s")
-        )
+    acceleration: float = param(
+        "a_d", "m/s^2", doc="manipulator acceleration during the impact (negative: braking)",
+        ge=-1e3, le=1e3, typical=(-5.0, 5.0),
+    )  # fmt: skip
+    duration: float = param(
+        "T_a", "s", doc="how long the acceleration lasts from contact", gt=0, le=1.0,
+        default=0.05, typical=(0.05, 0.05),
+    )  # fmt: skip
+    feedforward: bool = param(
+        kind="flag", default=True, doc="the controller feeds the acceleration forward (Sec. 3.8)"
+    )
 
     @property
     def delta_v(self) -> float:
@@ -180,7 +167,8 @@ class ImpactResponse(Result):
         ``max_compression > foam.linear_depth``: the linear foam model is used
         outside its valid range and the numbers are not to be trusted (I7).
     status
-        ``"ok"``, ``"no_impact"``, ``"peak_at_contact"`` (overdamped pulse),
+        An :class:`~designlab.impact.metrics.ImpactStatus`: ``"ok"``, ``"no_impact"``,
+        ``"peak_at_contact"`` (overdamped pulse),
         ``"bottoming"`` or ``"lobe_not_closed"``.
     warnings
         Human-readable notes on the validity of the result.
@@ -460,14 +448,7 @@ def simulate(
     evaluate = _superpose(families, max(v_c, 0.0), profile)
 
     if v_c <= 0 and profile is None:
-        t = np.linspace(0.0, duration or 0.05, int(samples))
-        zeros = np.zeros_like(t)
-        return ImpactResponse(
-            robot, foam, head, v_c, t, zeros, zeros, zeros, zeros, zeros,
-            0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, STATUS_NO_IMPACT,
-            ("v_c <= 0: the head and the manipulator do not close in; no impact",),
-            profile, q2, {"evaluate": lambda tt: {"head_acceleration": np.zeros_like(tt)}},
-        )  # fmt: skip
+        return _no_impact(robot, foam, head, v_c, duration, samples, q2)
     if v_c <= 0:
         raise InvalidParameterError(
             "impact_velocity", v_c, "must be > 0 when a velocity profile is given", "m/s"
@@ -501,12 +482,32 @@ def simulate(
         time_of_peak_acceleration=metrics["head_acceleration"][0],
         time_of_max_compression=metrics["compression"][0],
         time_of_peak_force=metrics["force"][0],
-        status=status,
+        status=ImpactStatus(status),
         warnings=tuple(warnings),
         profile=profile,
         q2=q2,
         _lobe={"evaluate": evaluate},
     )
+
+
+def _no_impact(
+    robot: ContactDynamics | FullJointContact,
+    foam: Foam,
+    head: HeadNeck | None,
+    v_c: float,
+    duration: float | None,
+    samples: int,
+    q2: str,
+) -> ImpactResponse:
+    """The response when v_c <= 0: the bodies do not close in, every value is 0."""
+    t = np.linspace(0.0, duration or 0.05, int(samples))
+    zeros = np.zeros_like(t)
+    return ImpactResponse(
+        robot, foam, head, v_c, t, zeros, zeros, zeros, zeros, zeros,
+        0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, ImpactStatus.NO_IMPACT,
+        ("v_c <= 0: the head and the manipulator do not close in; no impact",),
+        None, q2, {"evaluate": lambda tt: {"head_acceleration": np.zeros_like(tt)}},
+    )  # fmt: skip
 
 
 def _check_inputs(

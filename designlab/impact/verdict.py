@@ -32,15 +32,19 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from designlab.errors import InvalidParameterError, check_nonnegative, check_positive
+from designlab.errors import InvalidParameterError
 from designlab.impact.criteria import Criterion
-from designlab.impact.envelope import (
-    FoamEnvelope,
-    HeadRange,
-    _make_problem,
-    _solve_many,
+from designlab.impact.envelope import FoamEnvelope, HeadRange, solve_envelopes
+from designlab.impact.parameters import (
+    HUMAN_SPEED,
+    IMPACT_VELOCITY,
+    VERDICT_TOLERANCE,
+    ContactDynamics,
+    Foam,
 )
-from designlab.impact.parameters import ContactDynamics, Foam
+from designlab.impact.problem import make_problem
+from designlab.impact.series_joint import FullJointContact
+from designlab.impact.status import ImpactDomainStatus
 from designlab.results import OK, Result
 
 __all__ = [
@@ -50,7 +54,9 @@ __all__ = [
     "FoamThickness",
     "FoamVerdict",
     "SafeVelocity",
+    "VerdictStatus",
     "foam_verdict",
+    "foam_verdicts",
     "max_safe_velocity",
     "min_foam_thickness",
 ]
@@ -58,8 +64,22 @@ __all__ = [
 FEASIBLE = "feasible"
 ON_BOUNDARY = "on the boundary"
 NOT_FEASIBLE = "not feasible"
-#: Default relative distance in K_c within which a foam is "on the boundary".
-_TOLERANCE = 0.01
+
+
+class VerdictStatus(ImpactDomainStatus):
+    """Status of the answers about one foam (:class:`FoamVerdict`, :class:`SafeVelocity`,
+    :class:`FoamThickness`).
+
+    Attributes
+    ----------
+    OK
+        The answer is complete.
+    UNSAFE_AT_REST
+        No manipulator speed is safe: the person's own speed already exceeds a limit.
+    """
+
+    OK = "ok"
+    UNSAFE_AT_REST = "unsafe_at_rest"
 
 
 @dataclass(frozen=True)
@@ -198,7 +218,7 @@ def _judge(
     )
 
 
-def foam_verdict(env: FoamEnvelope, foam: Foam, *, tolerance: float = _TOLERANCE) -> FoamVerdict:
+def foam_verdict(env: FoamEnvelope, foam: Foam, *, tolerance: float = 0.01) -> FoamVerdict:
     """Three-way verdict of ``foam`` against the envelope ``env`` (see the module text).
 
     Parameters
@@ -209,7 +229,7 @@ def foam_verdict(env: FoamEnvelope, foam: Foam, *, tolerance: float = _TOLERANCE
         The foam; its damping need not be on the envelope's grid.
     tolerance
         Relative distance in K_c to the nearest boundary within which the foam
-        is "on the boundary" (default 1 %).
+        is "on the boundary" (default 1 %; in ``[0, 0.5)``).
 
     Returns
     -------
@@ -223,34 +243,49 @@ def foam_verdict(env: FoamEnvelope, foam: Foam, *, tolerance: float = _TOLERANCE
     >>> v.verdict, v.statement.split(":")[0]
     ('not feasible', 'is 28.1 % below the lower (thickness) boundary (eps_max <= 20 mm)')
     """
-    if not isinstance(env, FoamEnvelope):
-        raise InvalidParameterError("env", env, "must be a FoamEnvelope from foam_envelope()")
-    if not isinstance(foam, Foam):
-        raise InvalidParameterError("foam", foam, "must be a Foam")
-    tol = check_nonnegative("tolerance", tolerance)
-    if tol >= 0.5:
-        raise InvalidParameterError("tolerance", tolerance, "must be < 0.5")
-    return _verdicts([env], [foam], tol)[0]
+    return foam_verdicts([env], [foam], tolerance)[0]
 
 
-def _verdicts(envs: Sequence[FoamEnvelope], foams: Sequence[Foam], tol: float) -> list[FoamVerdict]:
-    """:func:`foam_verdict` of ``foams[i]`` against ``envs[i]`` (tolerance ``tol``).
+def foam_verdicts(
+    envs: Sequence[FoamEnvelope], foams: Sequence[Foam], tolerance: float = 0.01
+) -> list[FoamVerdict]:
+    """:func:`foam_verdict` of ``foams[i]`` against ``envs[i]``, solved together.
 
-    The boundaries at the foams' damping are solved together (one root-finding
-    over all the foams); the envelopes share their stiffness range.
+    The boundaries at the foams' damping are solved in one root-finding over
+    all the foams; the envelopes must share their stiffness range.
+
+    Parameters
+    ----------
+    envs
+        The envelopes.
+    foams
+        One foam per envelope.
+    tolerance
+        As in :func:`foam_verdict`.
+
+    Returns
+    -------
+    list of FoamVerdict
     """
+    for env in envs:
+        if not isinstance(env, FoamEnvelope):
+            raise InvalidParameterError("env", env, "must be a FoamEnvelope from foam_envelope()")
+    for foam in foams:
+        if not isinstance(foam, Foam):
+            raise InvalidParameterError("foam", foam, "must be a Foam")
+    tol = VERDICT_TOLERANCE.check(tolerance)
     bounds = {env.stiffness_bounds for env in envs}
     if len(bounds) != 1:
         raise InvalidParameterError("envs", sorted(bounds), "must share one stiffness range")
-    problems = [env._require_problem() for env in envs]
+    problems = [env.problem for env in envs]
     dampings = [np.array([foam.damping]) for foam in foams]
-    ones = _solve_many(problems, dampings, envs[0].stiffness_bounds, 1e-9)
+    ones = solve_envelopes(problems, dampings, envs[0].stiffness_bounds, 1e-9)
     return [_verdict(foam, one, tol) for foam, one in zip(foams, ones, strict=True)]
 
 
 def _verdict(foam: Foam, one: FoamEnvelope, tol: float) -> FoamVerdict:
     """The verdict of ``foam`` from ``one``, its envelope solved at the foam's damping."""
-    prob = one._require_problem()
+    prob = one.problem
     bounds = lo_b, hi_b = one.stiffness_bounds
     k = foam.stiffness
     kmax, limiting_upper, kmin = _boundaries_at(one)
@@ -329,8 +364,7 @@ class SafeVelocity(Result):
 
 
 def _check_robot_foam(robot: object, foam: object) -> None:
-    from designlab.impact.full_joint import FullJointContact
-
+    """The robot (reduced or full joint) and the foam of a one-foam answer."""
     if not isinstance(robot, (ContactDynamics, FullJointContact)):
         raise InvalidParameterError(
             "robot", robot, "must be a ContactDynamics or a FullJointContact"
@@ -384,9 +418,9 @@ def max_safe_velocity(
     ('eps_max <= 20 mm', 1.81)
     """
     _check_robot_foam(robot, foam)
-    human_speed = check_nonnegative("human_speed", human_speed, "m/s")
+    human_speed = HUMAN_SPEED.check(human_speed)
     lam = foam.linear_depth if max_compression is None else max_compression
-    prob = _make_problem(robot, 1.0, criteria, lam, head_range, constrained, human_speed, 0.05)
+    prob = make_problem(robot, 1.0, criteria, lam, head_range, constrained, human_speed, 0.05)
     k = np.array([foam.stiffness])
     c = np.array([foam.damping])
     per: dict[str, float] = {}
@@ -397,9 +431,9 @@ def max_safe_velocity(
         )
     limiting = min(per, key=lambda n: per[n])
     v = per[limiting]
-    status, warnings = OK, ()
+    status, warnings = VerdictStatus.OK, ()
     if v - human_speed < 0:
-        status = "unsafe_at_rest"
+        status = VerdictStatus.UNSAFE_AT_REST
         warnings = (
             f"the foam is unsafe even with the manipulator at rest: a person moving at "
             f"{human_speed:g} m/s alone exceeds {limiting}",
@@ -481,8 +515,8 @@ def min_foam_thickness(
     13.8
     """
     _check_robot_foam(robot, foam)
-    v = check_positive("impact_velocity", impact_velocity, "m/s")
-    prob = _make_problem(robot, v, (), 1.0, head_range, constrained, 1.0, 0.05)
+    v = IMPACT_VELOCITY.check(impact_velocity)
+    prob = make_problem(robot, v, (), 1.0, head_range, constrained, 1.0, 0.05)
     vals, _ = prob.worst(prob.compression, np.array([foam.stiffness]), np.array([foam.damping]))
     lam = float(vals[0])
     assert foam.thickness is not None

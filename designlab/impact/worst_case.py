@@ -43,23 +43,41 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
+from designlab.impact.boundaries import solve_boundaries
 from designlab.impact.criteria import Criterion
-from designlab.impact.envelope import (
+from designlab.impact.envelope import FoamEnvelope
+from designlab.impact.metrics import metrics_of_matrix, param_names
+from designlab.impact.parameters import (
+    SEED,
     THESIS_HEAD_RANGE,
-    FoamEnvelope,
+    WORST_CASE_SAMPLES,
+    WORST_CASE_TOLERANCE,
     HeadRange,
-    _Problem,
-    _solve,
+    LinkImpact,
 )
-from designlab.impact.metrics import metrics_of_matrix
-from designlab.impact.parameters import LinkImpact
-from designlab.results import OK, Result
-from designlab.validation import check_int
+from designlab.impact.problem import FoamProblem
+from designlab.impact.status import ImpactDomainStatus
+from designlab.results import Result
 
-__all__ = ["WorstCaseCheck", "check_worst_case"]
+__all__ = ["WorstCaseCheck", "WorstCaseStatus", "check_worst_case"]
 
 #: head mass of the thesis's damping-ratio convention, C_c = 2 xi_c sqrt(M_h K_c)
 _XI_HEAD_MASS = 4.4
+
+
+class WorstCaseStatus(ImpactDomainStatus):
+    """Status of a worst-case check (:func:`check_worst_case`).
+
+    Attributes
+    ----------
+    OK
+        No case exceeds a limit by more than the tolerance.
+    VIOLATED
+        A case beyond the envelope's head set (or impact point) exceeds a limit.
+    """
+
+    OK = "ok"
+    VIOLATED = "violated"
 
 
 @dataclass(frozen=True)
@@ -91,8 +109,8 @@ class WorstCaseCheck(Result):
     samples, tolerance
         Random cases per boundary point, and the relative tolerance on a ratio.
     status
-        ``"ok"`` if no case exceeds a limit by more than ``tolerance``,
-        ``"violated"`` otherwise.
+        A :class:`WorstCaseStatus`: ``"ok"`` if no case exceeds a limit by more
+        than ``tolerance``, ``"violated"`` otherwise.
     warnings
         One sentence per violated constraint.
     """
@@ -107,7 +125,7 @@ class WorstCaseCheck(Result):
     onset_damping_ratio: dict[str, float]
     samples: int
     tolerance: float
-    status: str = OK
+    status: str = WorstCaseStatus.OK
     warnings: tuple[str, ...] = ()
 
     @property
@@ -118,7 +136,7 @@ class WorstCaseCheck(Result):
     @property
     def holds(self) -> bool:
         """Whether no case exceeds any limit by more than the tolerance."""
-        return self.status == OK
+        return self.status == WorstCaseStatus.OK
 
     def to_frame(self) -> pd.DataFrame:
         """One row per constraint."""
@@ -146,14 +164,14 @@ def _nanmax(x: NDArray) -> float:
     return float(np.nanmax(x)) if np.any(np.isfinite(x)) else float("nan")
 
 
-def _corner_heads(prob: _Problem, head_range: HeadRange) -> NDArray[np.float64]:
+def _corner_heads(prob: FoamProblem, head_range: HeadRange) -> NDArray[np.float64]:
     if prob.constrained:
         return np.array([[1.0, 0.0, 0.0]])
     return np.array([[h.mass, h.damping, h.stiffness] for h in head_range.corners()])
 
 
 def _robot_cases(
-    prob: _Problem, key: Criterion, k: NDArray, c: NDArray
+    prob: FoamProblem, key: Criterion, k: NDArray, c: NDArray
 ) -> tuple[NDArray, NDArray, NDArray]:
     """Deterministic robot rows per boundary point: ``(n, n_r, 3)``, ``(n, n_r)`` v_c, levers."""
     n = k.size
@@ -163,9 +181,9 @@ def _robot_cases(
         levers = np.column_stack(
             [np.full(n, lr.lever_arm_min), np.full(n, lr.lever_arm_max), worst_l]
         )
-        rows, v = prob._robot_rows(levers.ravel())
+        rows, v = prob.robot_rows(levers.ravel())
         return rows.reshape(n, 3, rows.shape[-1]), v.reshape(n, 3), levers
-    rows, v = prob._robot_rows(None)
+    rows, v = prob.robot_rows(None)
     return (
         np.broadcast_to(rows, (n, 1, rows.shape[-1])),
         np.broadcast_to(v, (n, 1)),
@@ -174,7 +192,7 @@ def _robot_cases(
 
 
 def _evaluate(
-    prob: _Problem, key: Criterion, params: NDArray, v: NDArray
+    prob: FoamProblem, key: Criterion, params: NDArray, v: NDArray
 ) -> tuple[NDArray, NDArray]:
     """Ratio metric / limit and the delicate-lobe flag of each case."""
     m = metrics_of_matrix(
@@ -190,7 +208,7 @@ def _evaluate(
 
 
 def _corner_ratio(
-    prob: _Problem, key: Criterion, heads: NDArray, k: NDArray, c: NDArray
+    prob: FoamProblem, key: Criterion, heads: NDArray, k: NDArray, c: NDArray
 ) -> tuple[NDArray, NDArray, NDArray]:
     """Largest corner ratio per point, its delicate flag and its case parameters."""
     rows, v, _ = _robot_cases(prob, key, k, c)
@@ -213,7 +231,7 @@ def _corner_ratio(
 
 
 def _sampled_ratio(
-    prob: _Problem,
+    prob: FoamProblem,
     key: Criterion,
     head_range: HeadRange,
     k: NDArray,
@@ -228,9 +246,9 @@ def _sampled_ratio(
     if isinstance(prob.robot, LinkImpact):
         lr = prob.robot
         lev = lr.lever_arm_min + (lr.lever_arm_max - lr.lever_arm_min) * rng.random(n)
-        rows, vmax = prob._robot_rows(lev)
+        rows, vmax = prob.robot_rows(lev)
     else:
-        rows, vmax = prob._robot_rows(None)
+        rows, vmax = prob.robot_rows(None)
         rows, vmax = np.repeat(rows, n, axis=0), np.repeat(vmax, n)
     v = vmax * np.where(frac < 0.25, 1.0, frac)
     params = np.column_stack(
@@ -244,14 +262,15 @@ def _sampled_ratio(
     return r[np.arange(k.size), j], over_delicate, np.column_stack([params[pick], v[pick]])
 
 
-def _boundary_at(prob: _Problem, env: FoamEnvelope, key: Criterion, c: float) -> float:
-    one = _solve(prob, np.array([c]), env.stiffness_bounds, 1e-9)
+def _boundary_at(prob: FoamProblem, env: FoamEnvelope, key: Criterion, c: float) -> float:
+    """The boundary of ``key`` at damping ``c``, solved afresh (to 1e-9)."""
+    (one,) = solve_boundaries([prob], [np.array([c])], env.stiffness_bounds, 1e-9)
     k = one.stiffness_min if key.boundary == "lower" else one.upper[key.name]
     return float(k[0])
 
 
 def _onset(
-    prob: _Problem,
+    prob: FoamProblem,
     env: FoamEnvelope,
     key: Criterion,
     heads: NDArray,
@@ -284,7 +303,7 @@ def _onset(
 
 
 def _check_constraint(
-    prob: _Problem,
+    prob: FoamProblem,
     env: FoamEnvelope,
     key: Criterion,
     heads: NDArray,
@@ -312,19 +331,14 @@ def _check_constraint(
         flag = flag | d_s
     ratio_all[ok], corner_all[ok], flag_all[ok] = ratio, r_c, flag
     j = int(np.argmax(ratio))
-    names = (
-        *__import__("designlab.impact.metrics", fromlist=["_param_names"])._param_names(
-            case.shape[1] - 1
-        ),
-        "v_c",
-    )
+    names = (*param_names(case.shape[1] - 1), "v_c")
     worst = dict(zip(names, case[j].tolist(), strict=True))
     onset_c, onset_xi = _onset(prob, env, key, heads, ratio_all, tolerance)
     return ratio_all, corner_all, flag_all, worst, onset_c, onset_xi
 
 
 def _violation_warning(
-    prob: _Problem,
+    prob: FoamProblem,
     key: Criterion,
     ratio: NDArray,
     w: dict[str, float],
@@ -390,13 +404,10 @@ def check_worst_case(
         raise InvalidParameterError("env", env, "must be a FoamEnvelope from foam_envelope()")
     if not isinstance(head_range, HeadRange):
         raise InvalidParameterError("head_range", head_range, "must be a HeadRange")
-    samples = check_int("samples", samples, minimum=0)
-    seed = check_int("seed", seed, minimum=0)
-    if isinstance(tolerance, bool) or not (
-        isinstance(tolerance, (int, float)) and 0 <= tolerance < 0.1
-    ):
-        raise InvalidParameterError("tolerance", tolerance, "must be a number in [0, 0.1)")
-    prob = env._require_problem()
+    samples = WORST_CASE_SAMPLES.check(samples)
+    seed = SEED.check(seed)
+    tolerance = WORST_CASE_TOLERANCE.check(tolerance)
+    prob = env.problem
     rng = np.random.default_rng(seed)
     heads = _corner_heads(prob, head_range)
     side, by_point, corners, delicate, worst, onset_c, onset_xi = {}, {}, {}, {}, {}, {}, {}
@@ -423,6 +434,6 @@ def check_worst_case(
         onset_damping_ratio=onset_xi,
         samples=samples,
         tolerance=float(tolerance),
-        status=OK if not warnings else "violated",
+        status=WorstCaseStatus.VIOLATED if warnings else WorstCaseStatus.OK,
         warnings=tuple(warnings),
     )

@@ -177,7 +177,7 @@ def _sweep_table(result: JointReductionResult, j_index: int, every: int = 4) -> 
 
 
 def _fastest_mode(j) -> float:  # type: ignore[no-untyped-def]
-    from designlab.impact.full_joint import default_band
+    from designlab.impact.joint_reduction import default_band
 
     return default_band(j.robot, j.nominal.foam, j.nominal.head)
 
@@ -216,27 +216,40 @@ def joint_reduction_markdown(
     True
     """
     st = result.study
-    foam = st.foam.build()
-    head = st.head.build() if st.head is not None else None
     out = report_header(
         f"Reduced joint vs full series joint: {st.name}",
         st.description,
         command=command,
         version=version,
     )
+    out += _inputs_section(result)
     out += [
-        "The impact model with the full series joint of Zeng 2011 (3.4.6) (transmission in "
-        "series with the PD controller, one more internal state) against the spring-damper "
-        "reductions: the thesis's Taylor truncation (3.4.9) and a least-squares band fit (an "
-        "extension of the thesis). Errors are `(reduced - full) / full`; a reduction is "
-        "**conservative** on a harm metric (a_h,max, eps_max, the force) when it overestimates "
-        "it. Negative (non-conservative) errors on harm metrics are in **bold**. See "
-        "`docs/impact_joint.md`.",
+        "## Each joint as given",
         "",
-        "## Inputs",
+        "Full-joint values (a_h,max in g, eps_max in m, forces in N, t_imp in s), then each "
+        "reduction's relative error in %.",
+        "",
+        markdown_table(_nominal_table(result), index=False, disable_numparse=True),
         "",
     ]
-    joints = pd.DataFrame(
+    out += _conservative_section(result)
+    for i, j in enumerate(result.joints):
+        out += [
+            f"## Errors over the stiffness ratio: {j.robot.name}",
+            "",
+            "Every fourth ratio; `joint_reduction.csv` has all of them. Relative errors in %.",
+            "",
+            markdown_table(_sweep_table(result, i), index=False, disable_numparse=True),
+            "",
+        ]
+    out += warnings_section(result.warnings)
+    out += ["## Figure", "", "![error of the reduced joint](joint_reduction.png)", ""]
+    return "\n".join(out)
+
+
+def _joints_table(result: JointReductionResult) -> pd.DataFrame:
+    """The joints as given, at joint level and at the impact point."""
+    return pd.DataFrame(
         [
             {
                 "joint": j.robot.name,
@@ -251,11 +264,28 @@ def joint_reduction_markdown(
                 "corner (rad/s)": f"{j.robot.corner_frequency:.4g}",
                 "fastest impact mode (rad/s)": f"{_fastest_mode(j):.4g}",
             }
-            for j, sp in zip(result.joints, st.joints, strict=True)
+            for j, sp in zip(result.joints, result.study.joints, strict=True)
         ]
     )
-    out += [
-        markdown_table(joints, index=False, disable_numparse=True),
+
+
+def _inputs_section(result: JointReductionResult) -> list[str]:
+    """The introduction and the ``Inputs`` section."""
+    st = result.study
+    foam = st.foam.build()
+    head = st.head.build() if st.head is not None else None
+    out = [
+        "The impact model with the full series joint of Zeng 2011 (3.4.6) (transmission in "
+        "series with the PD controller, one more internal state) against the spring-damper "
+        "reductions: the thesis's Taylor truncation (3.4.9) and a least-squares band fit (an "
+        "extension of the thesis). Errors are `(reduced - full) / full`; a reduction is "
+        "**conservative** on a harm metric (a_h,max, eps_max, the force) when it overestimates "
+        "it. Negative (non-conservative) errors on harm metrics are in **bold**. See "
+        "`docs/impact_joint.md`.",
+        "",
+        "## Inputs",
+        "",
+        markdown_table(_joints_table(result), index=False, disable_numparse=True),
         "",
         "The corner frequency (K_mech + K_cont)/(C_mech + C_cont) is the pole of (3.4.6): "
         "below it the joint is close to its Taylor reduction. The fastest impact mode is the "
@@ -270,29 +300,25 @@ def joint_reduction_markdown(
         else f"{head.name or 'head'}: M_h {head.mass:g} kg, K_h {head.stiffness:g} N/m, "
         f"C_h {head.damping:g} N s/m"
     )
-    out += [
+    band = (
+        f"omega_max = {st.omega_max:g} rad/s"
+        if st.omega_max
+        else "up to the fastest mode of the Taylor-reduced impact, at every point"
+    )
+    return [
+        *out,
         f"- foam: {foam.name or 'foam'}, K_c {foam.stiffness:g} N/m, C_c {foam.damping:g} N s/m",
         f"- head: {head_text}",
         f"- closing velocity v_c = {st.impact_velocity:g} m/s",
-        "- band fit: "
-        + (
-            f"omega_max = {st.omega_max:g} rad/s"
-            if st.omega_max
-            else "up to the fastest mode of the Taylor-reduced impact, at every point"
-        ),
+        "- band fit: " + band,
         f"- stiffness ratios K_mech/K_cont: {st.ratios.low:g}-{st.ratios.high:g}, "
         f"{st.ratios.num} log-spaced points (controller, mass and C_mech kept)",
         "",
-        "## Each joint as given",
-        "",
-        "Full-joint values (a_h,max in g, eps_max in m, forces in N, t_imp in s), then each "
-        "reduction's relative error in %.",
-        "",
-        markdown_table(_nominal_table(result), index=False, disable_numparse=True),
-        "",
-        "## Where the reduction is conservative",
-        "",
     ]
+
+
+def _conservative_section(result: JointReductionResult) -> list[str]:
+    """``Where the reduction is conservative``: the intervals of each joint and reduction."""
     rows = []
     tol = result.study.usable_tolerance
     for j in result.joints:
@@ -314,7 +340,9 @@ def joint_reduction_markdown(
                     "largest |error| on harm metrics": f"{100 * worst:.2f} %",
                 }
             )
-    out += [
+    return [
+        "## Where the reduction is conservative",
+        "",
         "Intervals of K_mech/K_cont (sampled points) in which the reduction overestimates "
         "the metrics. **Usable**: on each of a_h,max, eps_max and the force (lobe maximum) "
         "the reduction either overestimates the harm or underestimates it by at most "
@@ -323,18 +351,6 @@ def joint_reduction_markdown(
         markdown_table(pd.DataFrame(rows), index=False, disable_numparse=True),
         "",
     ]
-    for i, j in enumerate(result.joints):
-        out += [
-            f"## Errors over the stiffness ratio: {j.robot.name}",
-            "",
-            "Every fourth ratio; `joint_reduction.csv` has all of them. Relative errors in %.",
-            "",
-            markdown_table(_sweep_table(result, i), index=False, disable_numparse=True),
-            "",
-        ]
-    out += warnings_section(result.warnings)
-    out += ["## Figure", "", "![error of the reduced joint](joint_reduction.png)", ""]
-    return "\n".join(out)
 
 
 @register_writer(JointReductionResult)

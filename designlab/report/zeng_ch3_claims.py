@@ -123,6 +123,36 @@ def ch3_claims_markdown(
     True
     """
     s = result.study
+    out = report_header(
+        f"Zeng 2011 Ch. 3 statements, recomputed: {s.name}",
+        s.description,
+        command=command,
+        version=version,
+    )
+    out += [
+        "Each section recomputes one statement of Zeng 2011 Ch. 3 with designlab's impact "
+        "model and says what the model and the text support (`docs/impact_joint.md`, Sec. 5).",
+        "",
+        *_sec_3_8(result),
+        *_fig_3_16(result),
+        *_q2_section(result),
+        *_table_3_1(result),
+        "## Also restated",
+        "",
+        "- The band fit of the joint (`fit_joint_band`) is an extension of the thesis, which "
+        "has only the Taylor truncation (3.4.9); it is not one of the thesis's scenarios.",
+        "- The geared joint of the tests and of `reports/joint_reduction/` is illustrative, "
+        "not a thesis joint.",
+        "",
+    ]
+    out += warnings_section(result.warnings)
+    out += ["## Figure", "", "![Fig. 3.16 and Sec. 3.8](zeng_ch3_claims.png)", ""]
+    return "\n".join(out)
+
+
+def _sec_3_8(result: Ch3ClaimsResult) -> list[str]:
+    """Sec. 3.8 (Fig. 3.17): the changes under the acceleration profile, per reading."""
+    s = result.study
     prof = result.profiles_frame()
     prof_table = _fmt(
         prof[["reading", "v_c_m_per_s", "acceleration_g", "feedforward", "d_f_c_first_peak_pct",
@@ -136,37 +166,7 @@ def ch3_claims_markdown(
         "d_f_c_lobe_max_pct": "force, lobe max (%)", "thesis_d_f_c_pct": "thesis force (%)",
         "thesis_d_a_h_max_pct": "thesis a_h,max (%)",
     })  # fmt: skip
-    worst = _fmt(
-        result.worst_frame()[["speed_ratio_per_m", "worst_l_m", "a_h_max_worst_g",
-                              "a_h_max_ref_g", "a_h_max_l0_g", "d_a_h_max_l0_vs_ref_pct",
-                              "status"]],
-        {"worst_l_m": ".4f", "a_h_max_worst_g": ".4f", "a_h_max_ref_g": ".4f",
-         "a_h_max_l0_g": ".4f", "d_a_h_max_l0_vs_ref_pct": "+.2f"},
-    ).rename(columns={
-        "speed_ratio_per_m": "joint speed / head speed (1/m)", "worst_l_m": "worst l (m)",
-        "a_h_max_worst_g": "a_h,max worst (g)",
-        "a_h_max_ref_g": f"a_h,max at {s.reference_lever_arm:g} m (g)",
-        "a_h_max_l0_g": "a_h,max at l -> 0 (g)",
-        "d_a_h_max_l0_vs_ref_pct": f"l -> 0 vs {s.reference_lever_arm:g} m (%)",
-    })  # fmt: skip
-    q2 = result.q2_frame().pivot(index="case", columns="metric", values="change_pct")
-    q2 = q2[["a_h_max_g", "eps_max_m", "f_c_max_N", "t_imp_s"]].reset_index()
-    q2 = _fmt(q2, {c: "+.2f" for c in ("a_h_max_g", "eps_max_m", "f_c_max_N", "t_imp_s")})
-    q2.columns = ["case", "a_h,max (%)", "eps_max (%)", "f_c max (%)", "t_imp (%)"]
-    t31 = _fmt(result.table_3_1_frame(),
-               {"printed": ".5g", "recomputed": ".5g", "difference_pct": "+.2f"})  # fmt: skip
-    t31 = t31.rename(columns={"difference_pct": "difference (%)"})
-
-    out = report_header(
-        f"Zeng 2011 Ch. 3 statements, recomputed: {s.name}",
-        s.description,
-        command=command,
-        version=version,
-    )
-    out += [
-        "Each section recomputes one statement of Zeng 2011 Ch. 3 with designlab's impact "
-        "model and says what the model and the text support (`docs/impact_joint.md`, Sec. 5).",
-        "",
+    return [
         "## Sec. 3.8 (Fig. 3.17): accelerating and decelerating at "
         f"{s.acceleration_g:g} g for {1e3 * s.profile_duration:g} ms",
         "",
@@ -185,6 +185,26 @@ def ch3_claims_markdown(
         "first-lobe maximum of the force moves far, because the accelerating arm drives "
         "the force up its ramp after the peak, until the lobe closes.",
         "",
+    ]
+
+
+def _fig_3_16(result: Ch3ClaimsResult) -> list[str]:
+    """Fig. 3.16: the worst impact point for each speed ratio."""
+    s = result.study
+    worst = _fmt(
+        result.worst_frame()[["speed_ratio_per_m", "worst_l_m", "a_h_max_worst_g",
+                              "a_h_max_ref_g", "a_h_max_l0_g", "d_a_h_max_l0_vs_ref_pct",
+                              "status"]],
+        {"worst_l_m": ".4f", "a_h_max_worst_g": ".4f", "a_h_max_ref_g": ".4f",
+         "a_h_max_l0_g": ".4f", "d_a_h_max_l0_vs_ref_pct": "+.2f"},
+    ).rename(columns={
+        "speed_ratio_per_m": "joint speed / head speed (1/m)", "worst_l_m": "worst l (m)",
+        "a_h_max_worst_g": "a_h,max worst (g)",
+        "a_h_max_ref_g": f"a_h,max at {s.reference_lever_arm:g} m (g)",
+        "a_h_max_l0_g": "a_h,max at l -> 0 (g)",
+        "d_a_h_max_l0_vs_ref_pct": f"l -> 0 vs {s.reference_lever_arm:g} m (%)",
+    })  # fmt: skip
+    return [
         "## Fig. 3.16: the worst impact point along Manipulator 1's link",
         "",
         "Foam 1, minimum head-neck set. Since v_c = v_h (1 + (theta_dot / v_h) l) and the "
@@ -199,6 +219,17 @@ def ch3_claims_markdown(
         "point is near 0.037 m. Both cannot hold for one pair of speeds, whatever the "
         "(unstated) speeds were.",
         "",
+    ]
+
+
+def _q2_section(result: Ch3ClaimsResult) -> list[str]:
+    """The printed q2 of (3.5.14): the change of every metric."""
+    s = result.study
+    q2 = result.q2_frame().pivot(index="case", columns="metric", values="change_pct")
+    q2 = q2[["a_h_max_g", "eps_max_m", "f_c_max_N", "t_imp_s"]].reset_index()
+    q2 = _fmt(q2, {c: "+.2f" for c in ("a_h_max_g", "eps_max_m", "f_c_max_N", "t_imp_s")})
+    q2.columns = ["case", "a_h,max (%)", "eps_max (%)", "f_c max (%)", "t_imp (%)"]
+    return [
         '## The printed q2 of (3.5.14) (docs/impact.md, "q2")',
         "",
         f"Change of each metric with the printed q2 against the correct one, Foam 1, "
@@ -209,6 +240,16 @@ def ch3_claims_markdown(
         "",
         markdown_table(q2, index=False, disable_numparse=True),
         "",
+    ]
+
+
+def _table_3_1(result: Ch3ClaimsResult) -> list[str]:
+    """Table 3.1: Manipulator 1 recomputed from its joint data."""
+    t31 = _fmt(result.table_3_1_frame(),
+               {"printed": ".5g", "recomputed": ".5g", "difference_pct": "+.2f"})  # fmt: skip
+    t31 = t31.rename(columns={"difference_pct": "difference (%)"})
+
+    return [
         "## Table 3.1: Manipulator 1 recomputed from its joint data",
         "",
         "m_11 = 0.059 kg m^2 (A.2.5), l_1 = 0.078 m, K_p = 433.8 V/rad, K_d = 5.4 V s/rad, "
@@ -218,17 +259,7 @@ def ch3_claims_markdown(
         "",
         markdown_table(t31, index=False, disable_numparse=True),
         "",
-        "## Also restated",
-        "",
-        "- The band fit of the joint (`fit_joint_band`) is an extension of the thesis, which "
-        "has only the Taylor truncation (3.4.9); it is not one of the thesis's scenarios.",
-        "- The geared joint of the tests and of `reports/joint_reduction/` is illustrative, "
-        "not a thesis joint.",
-        "",
     ]
-    out += warnings_section(result.warnings)
-    out += ["## Figure", "", "![Fig. 3.16 and Sec. 3.8](zeng_ch3_claims.png)", ""]
-    return "\n".join(out)
 
 
 @register_writer(Ch3ClaimsResult)

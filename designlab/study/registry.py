@@ -73,6 +73,7 @@ class StudyKind:
 #: Old kind name -> new name. A study file with an old name is read as the new kind
 #: with a ``DeprecationWarning``, for one release after the rename.
 RENAMED_KINDS: dict[str, str] = {
+    "foam_envelope": "foam_envelope_sweep",
     "vff_scenarios": "navigation_scenarios",
     "vff_sweep": "navigation_sweep",
     "vff_gains": "navigation_gains",

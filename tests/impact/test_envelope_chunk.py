@@ -14,7 +14,7 @@ import pytest
 
 from designlab.analysis.sweep import evaluate_chunk
 from designlab.impact import ContactDynamics, Foam, HeadAcceleration, foam_envelope, foam_verdict
-from designlab.impact.sweep import foam_envelope_chunk
+from designlab.impact.evaluators import foam_envelope_chunk
 
 DAMPING = [0.0, 75.0, 150.0, 225.0, 300.0]
 COLUMNS = ("M_r", "C_r", "K_r", "v_c", "max_g", "lambda", "K_c", "C_c")
@@ -118,11 +118,11 @@ def test_a_failing_design_is_isolated_by_the_sweep_engine(designs) -> None:
 
 def test_envelopes_solved_together_keep_each_designs_criteria() -> None:
     from designlab.impact import MANIPULATOR_1, MANIPULATOR_2
-    from designlab.impact.envelope import _foam_envelopes
+    from designlab.impact.envelope import foam_envelopes
 
     designs = [(MANIPULATOR_1, 1.25, [HeadAcceleration(10)], 0.02),
                (MANIPULATOR_2, 1.0, [HeadAcceleration(8)], 0.015)]  # fmt: skip
-    together = _foam_envelopes(designs, [0.0, 100.0])
+    together = foam_envelopes(designs, [0.0, 100.0])
     for design, env in zip(designs, together, strict=True):
         alone = foam_envelope(*design[:2], [0.0, 100.0], *design[2:])
         assert list(env.upper) == list(alone.upper) == [design[2][0].name]
@@ -134,11 +134,11 @@ def test_envelopes_solved_together_keep_each_designs_criteria() -> None:
 def test_only_problems_differing_in_robot_and_limits_are_solved_together() -> None:
     from designlab.errors import InvalidParameterError
     from designlab.impact import MANIPULATOR_1, ImpactForce, LinkImpact
-    from designlab.impact.envelope import _foam_envelopes
+    from designlab.impact.envelope import foam_envelopes
 
     one = (MANIPULATOR_1, 1.25, [HeadAcceleration(10)], 0.02)
     force = (MANIPULATOR_1, 1.25, [ImpactForce(660.0)], 0.02)
     link = (LinkImpact(0.059, 121.68, 1.521, 3.0, 0.01, 0.3), None, [HeadAcceleration(10)], 0.02)
     for other in (force, link):
         with pytest.raises(InvalidParameterError, match="problems"):
-            _foam_envelopes([one, other], [0.0])
+            foam_envelopes([one, other], [0.0])

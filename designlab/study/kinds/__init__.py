@@ -9,7 +9,7 @@ module and add its name to :data:`MODULES`.
 MODULES: tuple[str, ...] = (
     "impact_cases",
     "impact_sweep",
-    "foam_envelope",
+    "foam_envelope_sweep",
     "foam_design",
     "joint_reduction",
     "zeng_ch3_claims",

@@ -28,12 +28,12 @@ from __future__ import annotations
 
 import logging
 import time
-from dataclasses import dataclass
-from typing import Annotated, ClassVar, Literal
+from dataclasses import dataclass, replace
+from typing import Annotated, Any, ClassVar, Literal
 
 import numpy as np
 import pandas as pd
-from pydantic import Field, model_validator
+from pydantic import Field, create_model, model_validator
 
 from designlab.impact import (
     FoamEnvelope,
@@ -50,8 +50,7 @@ from designlab.impact import (
     optimal_foam,
 )
 from designlab.impact.criteria import (
-    ISO_TS_15066_QUASI_STATIC_FORCE,
-    ISO_TS_15066_TRANSIENT_FACTOR,
+    BODY_REGION,
     Criterion,
     HeadAcceleration,
     HeadInjuryCriterion,
@@ -59,50 +58,72 @@ from designlab.impact.criteria import (
     IsoQuasiStaticForce,
     IsoTransientForce,
 )
-from designlab.impact.parameters import ContactDynamics, Foam
+from designlab.impact.parameters import (
+    HUMAN_SPEED,
+    IMPACT_VELOCITY,
+    MAX_COMPRESSION,
+    VERDICT_TOLERANCE,
+    WORST_CASE_SAMPLES,
+    ContactDynamics,
+    Foam,
+    HeadNeck,
+)
+from designlab.params import params_of
+from designlab.progress import Progress
 from designlab.results import OK, Result
-from designlab.study.base import Flag, Integer, Model, Number, StudyBase
-from designlab.study.kinds.foam_envelope import DampingGrid
-from designlab.study.kinds.impact_specs import FoamSpec, RobotSpec
+from designlab.study.base import Flag, Model, StudyBase
+from designlab.study.kinds.impact_specs import DampingGrid, FoamSpec, RobotSpec
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
+from designlab.study.specs import spec_model
 
 __all__ = ["KIND", "FoamDesignResult", "FoamDesignStudy", "run"]
 
 log = logging.getLogger(__name__)
 
-_Pos = Annotated[Number, Field(gt=0, allow_inf_nan=False)]
+# the YAML fields are the domain's declarations (designlab.params)
+_HEAD = params_of(HeadNeck)
+_HEAD_RANGE = HeadRange()
+_BodyRegion = BODY_REGION.annotation()
+_TransientFactor = params_of(IsoTransientForce)["transient_factor"].annotation()
+_HeadMass = _HEAD["mass"].annotation()
+_NeckStiffness = _HEAD["stiffness"].annotation()
+_NeckDamping = _HEAD["damping"].annotation()
+_WorstVelocity = replace(IMPACT_VELOCITY, doc="worst closing velocity").annotation()
+_HumanSpeed = HUMAN_SPEED.annotation()
+_MaxCompression = MAX_COMPRESSION.annotation()
+_WorstCaseSamples = WORST_CASE_SAMPLES.annotation()
+_VerdictTolerance = VERDICT_TOLERANCE.annotation()
 
 
-class HeadAccelerationSpec(Model):
-    """a_h,max <= ``max_g`` (thesis: 10 g); conservative head set: minimum."""
+def _criterion_spec(cls: type, kind: str, doc: str, exclude: tuple[str, ...] = ()) -> Any:
+    """The YAML model of a criterion: its declared fields and the ``type`` discriminator."""
+    fields = spec_model(cls, name=f"_{cls.__name__}Fields", exclude=exclude)
 
-    type: Literal["head_acceleration"]
-    max_g: _Pos = 10.0
+    def build(self: Any) -> Criterion:
+        return cls(**self.model_dump(exclude={"type"}))  # type: ignore[no-any-return]
 
-    def build(self) -> Criterion:
-        return HeadAcceleration(max_g=self.max_g)
-
-
-class ImpactForceSpec(Model):
-    """Peak contact force <= ``max_force`` N; conservative head set: maximum."""
-
-    type: Literal["force"]
-    max_force: _Pos = 660.0
-
-    def build(self) -> Criterion:
-        return ImpactForce(max_force=self.max_force)
+    model = create_model(  # type: ignore[call-overload]
+        f"{cls.__name__}Spec", __base__=fields, __doc__=doc, type=(Literal[kind], ...)
+    )
+    model.build = build
+    return model
 
 
-class HicSpec(Model):
-    """HIC over the first lobe <= ``max_hic`` with window 0.015 s or 0.036 s."""
-
-    type: Literal["hic"]
-    max_hic: _Pos = 650.0
-    window: Literal[0.015, 0.036] = 0.015
-
-    def build(self) -> Criterion:
-        return HeadInjuryCriterion(max_hic=self.max_hic, window=self.window)
+HeadAccelerationSpec = _criterion_spec(
+    HeadAcceleration,
+    "head_acceleration",
+    "a_h,max <= ``max_g`` (thesis: 10 g); conservative head set: minimum.",
+)
+ImpactForceSpec = _criterion_spec(
+    ImpactForce, "force", "Peak contact force <= ``max_force`` N; conservative head set: maximum."
+)
+HicSpec = _criterion_spec(
+    HeadInjuryCriterion,
+    "hic",
+    "HIC over the first lobe <= ``max_hic`` with window 0.015 s (HIC15) or 0.036 s (HIC36).",
+    exclude=("samples",),
+)
 
 
 class IsoSpec(Model):
@@ -115,46 +136,48 @@ class IsoSpec(Model):
     """
 
     type: Literal["iso_ts_15066"]
-    body_region: Literal[tuple(ISO_TS_15066_QUASI_STATIC_FORCE)] = "skull_forehead"  # type: ignore[valid-type]
+    body_region: _BodyRegion = "skull_forehead"
     contact: Literal["quasi_static", "transient"] = "quasi_static"
-    transient_factor: _Pos | None = Field(
-        None, description="multiplier of the quasi-static value for transient contact"
-    )
+    transient_factor: _TransientFactor = None
 
     @model_validator(mode="after")
     def _factor_only_for_transient(self) -> IsoSpec:
         if self.transient_factor is not None and self.contact != "transient":
             raise ValueError("transient_factor applies only to contact: transient")
-        if (
-            self.contact == "transient"
-            and self.transient_factor is None
-            and self.body_region not in ISO_TS_15066_TRANSIENT_FACTOR
-        ):
-            raise ValueError(
-                f"ISO/TS 15066 Table A.2 gives no transient-contact multiplier for "
-                f"{self.body_region!r}: state transient_factor or use contact: quasi_static"
-            )
+        self.build()  # the domain's own rules (no multiplier for the head regions)
         return self
 
     def build(self) -> Criterion:
+        """The criterion (validated by its constructor)."""
         if self.contact == "quasi_static":
             return IsoQuasiStaticForce(self.body_region)
         return IsoTransientForce(self.body_region, transient_factor=self.transient_factor)
 
 
 CriterionSpec = Annotated[
-    HeadAccelerationSpec | ImpactForceSpec | HicSpec | IsoSpec, Field(discriminator="type")
+    HeadAccelerationSpec | ImpactForceSpec | HicSpec | IsoSpec,  # type: ignore[operator]
+    Field(discriminator="type"),
 ]
 
 
 class HeadRangeSpec(Model):
-    """Head-neck ranges ``[low, high]``: the envelope takes the worst case over them."""
+    """Head-neck ranges ``[low, high]``: the envelope takes the worst case over them.
 
-    mass: tuple[_Pos, _Pos] = (4.4, 5.3)
-    stiffness: tuple[Number, Number] = (3.0e3, 5.0e3)
-    damping: tuple[Number, Number] = (46.0, 130.2)
+    Each end is a value of the :class:`~designlab.impact.HeadNeck` parameter
+    (its unit and allowed range); ``low <= high``.
+    """
+
+    mass: tuple[_HeadMass, _HeadMass] = _HEAD_RANGE.mass
+    stiffness: tuple[_NeckStiffness, _NeckStiffness] = _HEAD_RANGE.stiffness
+    damping: tuple[_NeckDamping, _NeckDamping] = _HEAD_RANGE.damping
+
+    @model_validator(mode="after")
+    def _ordered(self) -> HeadRangeSpec:
+        self.build()
+        return self
 
     def build(self) -> HeadRange:
+        """The :class:`~designlab.impact.HeadRange` (validated by its constructor)."""
         return HeadRange(self.mass, self.stiffness, self.damping)
 
 
@@ -169,27 +192,17 @@ class FoamDesignStudy(StudyBase):
         min_length=1,
         description="safety criteria of the upper boundary",
     )
-    impact_velocity: Annotated[Number, Field(gt=0, le=20, allow_inf_nan=False)] = Field(
-        1.25, description="worst closing velocity v_c, m/s"
-    )
-    human_speed: Annotated[Number, Field(ge=0, le=20, allow_inf_nan=False)] = Field(
-        1.0, description="head speed toward the robot, m/s (for the safe manipulator speed)"
-    )
-    max_compression: _Pos = Field(0.02, description="lambda, linear depth of the foam, m")
+    impact_velocity: _WorstVelocity = 1.25
+    human_speed: _HumanSpeed = 1.0
+    max_compression: _MaxCompression = 0.02
     damping: DampingGrid = Field(default_factory=lambda: DampingGrid(low=0, high=200, num=41))
     head_range: HeadRangeSpec | None = Field(
         None, description="worst case over these ranges instead of the thesis's sets"
     )
     optimal: Flag = Field(True, description="also find the foam with the best margin")
-    worst_case_samples: Annotated[Integer, Field(ge=0, le=10000)] = Field(
-        64,
-        description="random samples per boundary point of the worst-case check, after its "
-        "deterministic corners (0: corners only)",
-    )
+    worst_case_samples: _WorstCaseSamples = 64
     worst_case_check: Flag = Field(True, description="check the envelope's worst case")
-    verdict_tolerance: Annotated[Number, Field(ge=0, lt=0.5, allow_inf_nan=False)] = Field(
-        0.01, description="relative distance in K_c within which a foam is on the boundary"
-    )
+    verdict_tolerance: _VerdictTolerance = 0.01
 
     PRODUCES: ClassVar[tuple[str, ...]] = (
         "envelope.md",
@@ -205,7 +218,18 @@ class FoamDesignStudy(StudyBase):
             raise ValueError(
                 "robots must be distinct (give each explicit robot a different preset)"
             )
+        for spec in self.foams:  # what run builds, validate builds (the domain's rules)
+            spec.build()
         return self
+
+    def size(self) -> str:
+        """Robots x damping values.
+
+        Returns
+        -------
+        str
+        """
+        return f"{len(self.robots)} robot(s) x {self.damping.num} damping values"
 
 
 @dataclass(frozen=True)
@@ -302,6 +326,60 @@ class FoamDesignResult(Result):
         return self.verdicts()
 
 
+def _robot_design(
+    study: FoamDesignStudy,
+    robot: ContactDynamics,
+    label: str,
+    criteria: list[Criterion],
+    foams: list[Foam],
+    head_range: HeadRange | None,
+) -> RobotDesign:
+    """Envelope, verdicts, safe speeds, thicknesses, optimum and worst-case check of one robot."""
+    damping = np.asarray(study.damping.values())
+    env = foam_envelope(
+        robot, study.impact_velocity, damping, criteria, study.max_compression,
+        head_range=head_range,
+    )  # fmt: skip
+    verdicts = [foam_verdict(env, f, tolerance=study.verdict_tolerance) for f in foams]
+    safe = [
+        max_safe_velocity(robot, f, criteria, max_compression=study.max_compression,
+                          human_speed=study.human_speed, head_range=head_range)
+        for f in foams
+    ]  # fmt: skip
+    thick = [
+        min_foam_thickness(robot, f, study.impact_velocity, head_range=head_range).linear_depth
+        for f in foams
+    ]
+    opt = (
+        optimal_foam(
+            robot, study.impact_velocity, criteria, study.max_compression,
+            damping_bounds=(float(damping.min()), float(damping.max())), head_range=head_range,
+        )
+        if study.optimal
+        else None
+    )  # fmt: skip
+    check = (
+        check_worst_case(env, head_range or HeadRange(), samples=study.worst_case_samples)
+        if study.worst_case_check
+        else None
+    )
+    return RobotDesign(robot, label, env, verdicts, safe, thick, opt, check)
+
+
+def _log_design(study: FoamDesignStudy, d: RobotDesign, foams: list[Foam]) -> None:
+    for f, v in zip(foams, d.verdicts, strict=True):
+        log.info("%s: %s: %s: %s (%s)", study.name, d.label, f.name, v.verdict, v.statement)
+    if d.optimal is not None:
+        log.info("%s: %s: optimal foam: status %s", study.name, d.label, d.optimal.status)
+    if d.check is not None:
+        log.info(
+            "%s: %s: worst-case check (8 corners + %d samples per point): %s",
+            study.name, d.label, study.worst_case_samples, d.check.status,
+        )  # fmt: skip
+    for w in d.envelope.warnings:
+        log.info("%s: %s: envelope: %s", study.name, d.label, w)
+
+
 def run(study: FoamDesignStudy, context: RunContext) -> FoamDesignResult:
     """Compute the ``foam_design`` study (in this process; nothing is stored).
 
@@ -310,7 +388,7 @@ def run(study: FoamDesignStudy, context: RunContext) -> FoamDesignResult:
     study
         The validated study.
     context
-        How to run it (nothing of this kind is stored).
+        How to run it (nothing of this kind is stored; a progress bar per robot).
     """
     criteria = [c.build() for c in study.criteria]
     foams = []
@@ -318,70 +396,21 @@ def run(study: FoamDesignStudy, context: RunContext) -> FoamDesignResult:
         f = spec.build()
         foams.append(f if f.name else f.replace(name=f"foam {i + 1}"))
     head_range = study.head_range.build() if study.head_range else None
-    damping = np.asarray(study.damping.values())
     designs = []
-    for i, spec in enumerate(study.robots):
-        robot = spec.build()
-        label = robot.name or f"robot {i + 1}"
-        t0 = time.perf_counter()
-        log.info(
-            "%s: %s: envelope over %d damping values, %d criteria, %d foams",
-            study.name, label, damping.size, len(criteria), len(foams),
-        )  # fmt: skip
-        env = foam_envelope(
-            robot,
-            study.impact_velocity,
-            damping,
-            criteria,
-            study.max_compression,
-            head_range=head_range,
-        )
-        verdicts = [foam_verdict(env, f, tolerance=study.verdict_tolerance) for f in foams]
-        safe = [
-            max_safe_velocity(
-                robot,
-                f,
-                criteria,
-                max_compression=study.max_compression,
-                human_speed=study.human_speed,
-                head_range=head_range,
-            )
-            for f in foams
-        ]
-        thick = [
-            min_foam_thickness(robot, f, study.impact_velocity, head_range=head_range).linear_depth
-            for f in foams
-        ]
-        opt = (
-            optimal_foam(
-                robot,
-                study.impact_velocity,
-                criteria,
-                study.max_compression,
-                damping_bounds=(float(damping.min()), float(damping.max())),
-                head_range=head_range,
-            )
-            if study.optimal
-            else None
-        )
-        check = (
-            check_worst_case(env, head_range or HeadRange(), samples=study.worst_case_samples)
-            if study.worst_case_check
-            else None
-        )
-        for f, v in zip(foams, verdicts, strict=True):
-            log.info("%s: %s: %s: %s (%s)", study.name, label, f.name, v.verdict, v.statement)
-        if opt is not None:
-            log.info("%s: %s: optimal foam: status %s", study.name, label, opt.status)
-        if check is not None:
+    with context.bar(f"{study.kind}: robots", len(study.robots)) as hook:
+        for i, spec in enumerate(study.robots):
+            robot = spec.build()
+            label = robot.name or f"robot {i + 1}"
+            t0 = time.perf_counter()
             log.info(
-                "%s: %s: worst-case check (8 corners + %d samples per point): %s",
-                study.name, label, study.worst_case_samples, check.status,
+                "%s: %s: envelope over %d damping values, %d criteria, %d foams",
+                study.name, label, study.damping.num, len(criteria), len(foams),
             )  # fmt: skip
-        for w in env.warnings:
-            log.info("%s: %s: envelope: %s", study.name, label, w)
-        log.info("%s: %s: done in %.1f s", study.name, label, time.perf_counter() - t0)
-        designs.append(RobotDesign(robot, label, env, verdicts, safe, thick, opt, check))
+            d = _robot_design(study, robot, label, criteria, foams, head_range)
+            _log_design(study, d, foams)
+            log.info("%s: %s: done in %.1f s", study.name, label, time.perf_counter() - t0)
+            designs.append(d)
+            hook(Progress(step=i + 1, total=len(study.robots), label="robot", note=label))
     return FoamDesignResult(study, foams, designs)
 
 

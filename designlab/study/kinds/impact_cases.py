@@ -35,9 +35,16 @@ import pandas as pd
 from pydantic import Field, model_validator
 from tqdm.auto import tqdm
 
-from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
+from designlab.impact.parameters import (
+    HEAD_VELOCITY,
+    IMPACT_VELOCITY,
+    ROBOT_VELOCITY,
+    ContactDynamics,
+    Foam,
+    HeadNeck,
+)
 from designlab.results import OK, Result
-from designlab.study.base import Integer, Model, Number, Positive, Speed, StudyBase
+from designlab.study.base import Integer, Model, Positive, StudyBase
 from designlab.study.kinds.impact_specs import FoamSpec, HeadSpec, RobotSpec
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
@@ -57,6 +64,11 @@ logger = logging.getLogger(__name__)
 
 #: Window of the HIC reported in the ``hic15`` column, s.
 HIC_WINDOW_S = 0.015
+
+# the YAML fields of an impact are the domain's declarations (designlab.params)
+_Velocity = IMPACT_VELOCITY.annotation(optional=True)
+_RobotVelocity = ROBOT_VELOCITY.annotation(optional=True)
+_HeadVelocity = HEAD_VELOCITY.annotation(optional=True)
 
 
 class ImpactTolerance(Model):
@@ -105,9 +117,9 @@ class ImpactCase(Model):
     robot: RobotSpec
     foam: FoamSpec
     head: HeadSpec
-    impact_velocity: Annotated[Number, Field(gt=0, le=20.0, allow_inf_nan=False)] | None = None
-    v_r: Speed | None = None
-    v_h: Speed | None = None
+    impact_velocity: _Velocity = None
+    v_r: _RobotVelocity = None
+    v_h: _HeadVelocity = None
     reference: ImpactReference | None = None
 
     @model_validator(mode="after")
@@ -124,6 +136,9 @@ class ImpactCase(Model):
                     f"v_r - v_h = {v_c:g} m/s must be > 0 for an impact "
                     "(a negative v_h moves the head toward the robot)"
                 )
+        self.robot.build()  # what run builds, validate builds (the domain's rules)
+        self.foam.build()
+        self.head.build()
         return self
 
     @property

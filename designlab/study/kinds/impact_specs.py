@@ -15,7 +15,11 @@ Examples
 
 from __future__ import annotations
 
+from pydantic import model_validator
+
 from designlab.impact.parameters import (
+    DAMPING_GRID,
+    DAMPING_POINTS,
     FOAM_1,
     FOAM_2,
     FOAM_2_MEASURED,
@@ -29,9 +33,10 @@ from designlab.impact.parameters import (
     Foam,
     HeadNeck,
 )
+from designlab.study.base import Model
 from designlab.study.specs import spec_model
 
-__all__ = ["FoamSpec", "HeadSpec", "RobotSpec"]
+__all__ = ["DampingGrid", "FoamSpec", "HeadSpec", "RobotSpec"]
 
 #: Effective manipulator at the impact point: ``MANIPULATOR_1`` (direct-drive arm),
 #: ``MANIPULATOR_2`` (Puma 560) or explicit values.
@@ -70,3 +75,28 @@ HeadSpec = spec_model(
     exclude=("name",),
     what="head",
 )
+
+
+class DampingGrid(Model):
+    """The C_c grid of a foam envelope, N s/m: ``num`` values from ``low`` to ``high``.
+
+    Each value and the number of values are the envelope's declarations
+    (:data:`~designlab.impact.parameters.DAMPING_GRID`,
+    :data:`~designlab.impact.parameters.DAMPING_POINTS`), so the study file and
+    :func:`designlab.impact.foam_envelope` enforce the same limits.
+    """
+
+    low: DAMPING_GRID.annotation() = 0.0  # type: ignore[valid-type]
+    high: DAMPING_GRID.annotation() = 200.0  # type: ignore[valid-type]
+    num: DAMPING_POINTS.annotation() = 21  # type: ignore[valid-type]
+
+    @model_validator(mode="after")
+    def _order(self) -> DampingGrid:
+        if not self.low < self.high:
+            raise ValueError(f"low = {self.low:g} N s/m must be < high = {self.high:g} N s/m")
+        return self
+
+    def values(self) -> list[float]:
+        """The grid (``[low]`` for one value)."""
+        step = (self.high - self.low) / max(self.num - 1, 1)
+        return [round(self.low + i * step, 12) for i in range(self.num)]

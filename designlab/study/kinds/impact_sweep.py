@@ -27,15 +27,15 @@ from __future__ import annotations
 
 from typing import Any, ClassVar, Literal
 
-from pydantic import Field
+from pydantic import Field, model_validator
 
-from designlab.impact.metric_names import LIMITS as IMPACT_LIMITS
-from designlab.impact.parameters import IMPACT_VELOCITY, ContactDynamics, Foam, HeadNeck
-from designlab.impact.sweep import (
+from designlab.impact.evaluators import (
     IMPACT_METRICS,
     impact_elasticities_chunk,
     impact_metrics_chunk,
 )
+from designlab.impact.metric_names import LIMITS as IMPACT_LIMITS
+from designlab.impact.parameters import IMPACT_VELOCITY, ContactDynamics, Foam, HeadNeck
 from designlab.params import Param, sweepable
 from designlab.study.base import Model
 from designlab.study.kinds.impact_specs import FoamSpec, HeadSpec, RobotSpec
@@ -68,6 +68,12 @@ class ImpactDesign(Model):
     head: HeadSpec
     impact_velocity: IMPACT_VELOCITY.annotation()  # type: ignore[valid-type]
 
+    @model_validator(mode="after")
+    def _buildable(self) -> ImpactDesign:
+        for spec in (self.robot, self.foam, self.head):  # the domain's own rules, at validate
+            spec.build()
+        return self
+
 
 class ImpactSweepStudy(SweepStudyBase[ImpactSweepParameters, ImpactMetricName]):  # type: ignore[valid-type]
     """Impact metrics over a sweep of designs, with sensitivity tables."""
@@ -82,6 +88,9 @@ class ImpactSweepStudy(SweepStudyBase[ImpactSweepParameters, ImpactMetricName]):
     EVALUATOR: ClassVar[Any] = impact_metrics_chunk
     LOCAL_EVALUATOR: ClassVar[Any] = impact_elasticities_chunk
     NEEDS_SWEEP_OR_SENSITIVITY: ClassVar[bool] = True
+    #: A point costs about 20 us (a chunk of 4096 designs at once): 10 million points are
+    #: some minutes, so the sweep engine's general cap stands.
+    MAX_POINTS: ClassVar[int] = 10_000_000
 
     def base_point(self) -> dict[str, float]:
         """The base design as ``{M_r, C_r, K_r, K_c, C_c, lambda, M_h, C_h, K_h, v_c}``."""

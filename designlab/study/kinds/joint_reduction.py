@@ -26,7 +26,7 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Annotated, ClassVar, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 import pandas as pd
@@ -36,36 +36,48 @@ from designlab.impact import (
     FullJointContact,
     JointReductionComparison,
     JointReductionSweep,
+    SeriesJoint,
     compare_joint_reductions,
     joint_reduction_sweep,
 )
+from designlab.impact.parameters import (
+    IMPACT_VELOCITY,
+    OMEGA_MAX,
+    RATIO_POINTS,
+    STIFFNESS_RATIO,
+    USABLE_TOLERANCE,
+)
 from designlab.results import OK, Result
-from designlab.study.base import Integer, Model, NonNegative, Number, Positive, StudyBase
+from designlab.study.base import Model, StudyBase
 from designlab.study.kinds.impact_specs import FoamSpec, HeadSpec
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
+from designlab.study.specs import spec_model
 
 __all__ = ["KIND", "JointReductionResult", "JointReductionStudy", "JointSpec", "run"]
 
+# the YAML fields are the domain's declarations (designlab.params)
+_Ratio = STIFFNESS_RATIO.annotation()
+_RatioPoints = RATIO_POINTS.annotation()
+_Velocity = IMPACT_VELOCITY.annotation()
+_Tolerance = USABLE_TOLERANCE.annotation()
+_OmegaMax = OMEGA_MAX.annotation()
 
-class JointSpec(Model):
-    """One joint at joint level (scenarios 1/2: divided by l^2 at the impact point)."""
+_JointFields: Any = spec_model(SeriesJoint, name="_JointFields")
 
-    name: str = Field("", description="label for the report")
-    inertia: Positive = Field(description="m_ii, inertia driven by the joint, kg m^2")
-    k_mech: Positive = Field(description="transmission stiffness K_mech, N m/rad")
-    c_mech: NonNegative = Field(description="transmission damping C_mech, N m s/rad")
-    k_cont: Positive = Field(description="control stiffness K_cont (P gain), N m/rad")
-    c_cont: NonNegative = Field(description="control damping C_cont (D gain), N m s/rad")
-    lever_arm: Positive = Field(description="distance l from the joint axis to the impact, m")
+
+class JointSpec(_JointFields):  # type: ignore[misc, valid-type]
+    """One joint at joint level (scenarios 1/2: divided by l^2 at the impact point).
+
+    The fields are those of :class:`~designlab.impact.SeriesJoint`.
+    """
 
     @model_validator(mode="after")
-    def _damped(self) -> JointSpec:
-        if self.c_mech + self.c_cont <= 0:
-            raise ValueError("c_mech + c_cont must be > 0 (the motor node needs damping)")
+    def _valid(self) -> JointSpec:
+        SeriesJoint(**self.model_dump())  # the domain's own rules (c_mech + c_cont > 0)
         return self
 
-    def build(self, index: int = 0) -> FullJointContact:
+    def build(self, index: int = 0) -> FullJointContact:  # type: ignore[override]
         """The :class:`~designlab.impact.FullJointContact` of this joint.
 
         Parameters
@@ -78,18 +90,21 @@ class JointSpec(Model):
         FullJointContact
             Effective values at the impact point (divided by ``lever_arm**2``).
         """
-        return FullJointContact.from_joint(
-            self.inertia, self.k_mech, self.c_mech, self.k_cont, self.c_cont,
-            lever_arm=self.lever_arm, name=self.name or f"joint {index + 1}",
-        )  # fmt: skip
+        fields = self.model_dump()
+        fields["name"] = fields["name"] or f"joint {index + 1}"
+        return SeriesJoint(**fields).contact()
 
 
 class RatioGrid(Model):
-    """Log-spaced K_mech/K_cont values."""
+    """Log-spaced K_mech/K_cont values: ``num`` of them from ``low`` to ``high``.
 
-    low: Positive = 0.03
-    high: Positive = 3000.0
-    num: Annotated[Integer, Field(ge=2, le=1001)] = 41
+    Each value and their number are the declarations of
+    :func:`~designlab.impact.joint_reduction_sweep` (the same cap in both).
+    """
+
+    low: _Ratio = 0.03
+    high: _Ratio = 3000.0
+    num: _RatioPoints = 41
 
     @model_validator(mode="after")
     def _order(self) -> RatioGrid:
@@ -113,20 +128,10 @@ class JointReductionStudy(StudyBase):
         default_factory=lambda: HeadSpec(preset="HEAD_MIN"),
         description="head-neck set; null: constrained impact (head against a wall)",
     )
-    impact_velocity: Annotated[Number, Field(gt=0, le=20, allow_inf_nan=False)] = Field(
-        1.25, description="closing velocity v_c, m/s"
-    )
+    impact_velocity: _Velocity = 1.25
     ratios: RatioGrid = Field(default_factory=RatioGrid)
-    usable_tolerance: Annotated[Number, Field(ge=0, lt=0.5, allow_inf_nan=False)] = Field(
-        0.01,
-        description="largest accepted underestimate of a harm metric where a reduction is "
-        "still usable (relative; 0.01 = 1 %)",
-    )
-    omega_max: Positive | None = Field(
-        None,
-        description="upper end of the band fit, rad/s (default: the fastest mode of the "
-        "Taylor-reduced impact, per point)",
-    )
+    usable_tolerance: _Tolerance = 0.01
+    omega_max: _OmegaMax = None
 
     PRODUCES: ClassVar[tuple[str, ...]] = (
         "summary.md",
@@ -141,6 +146,9 @@ class JointReductionStudy(StudyBase):
         names = [j.build(i).name for i, j in enumerate(self.joints)]
         if len(set(names)) != len(names):
             raise ValueError("joints must have distinct names")
+        self.foam.build()  # what run builds, validate builds (the domain's rules)
+        if self.head is not None:
+            self.head.build()
         return self
 
     def size(self) -> str:

@@ -29,13 +29,15 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Annotated, ClassVar, Literal
+from dataclasses import dataclass, replace
+from typing import ClassVar, Literal
 
 import pandas as pd
 from pydantic import Field, model_validator
 
 from designlab.impact.ch3_claims import (
+    REFERENCE_LEVER_ARM,
+    SPEED_RATIO,
     ProfileChange,
     Q2Effect,
     WorstImpactPoint,
@@ -47,12 +49,15 @@ from designlab.impact.ch3_claims import (
 from designlab.impact.parameters import (
     FOAM_1,
     HEAD_MIN,
+    IMPACT_VELOCITY,
     MANIPULATOR_1,
     TABLE_3_2_HEADS,
     ContactDynamics,
 )
+from designlab.impact.simulate import VelocityProfile
+from designlab.params import Param, params_of
 from designlab.results import OK, Result
-from designlab.study.base import Flag, Model, NonNegative, Positive, StudyBase
+from designlab.study.base import Model, StudyBase
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
 from designlab.units import STANDARD_GRAVITY
@@ -62,15 +67,33 @@ __all__ = ["KIND", "THESIS_SEC_3_8", "Ch3ClaimsResult", "Ch3ClaimsStudy", "Readi
 #: Zeng 2011 Sec. 3.8: printed changes (force %, a_h,max %) for +0.51 g and -0.51 g.
 THESIS_SEC_3_8: dict[int, tuple[float, float]] = {+1: (5.0, 4.0), -1: (-4.0, -3.0)}
 
+#: The magnitude of the Sec. 3.8 acceleration, in g (applied as + and -; the thesis's 0.51 g).
+ACCELERATION_G = Param(
+    "a", "g", "Sec. 3.8 acceleration magnitude (applied as + and -)", gt=0, le=10,
+    typical=(0.51, 0.51), name="acceleration_g",
+)  # fmt: skip
+
+# the YAML fields are the domain's declarations (designlab.params)
+_PROFILE = params_of(VelocityProfile)
+_Velocity = IMPACT_VELOCITY.annotation(optional=False)
+_Feedforward = replace(
+    _PROFILE["feedforward"], doc="the controller compensates the acceleration"
+).annotation()
+_AccelerationG = ACCELERATION_G.annotation()
+_Duration = _PROFILE["duration"].annotation()
+_SpeedRatio = SPEED_RATIO.annotation()
+_ReferenceLever = REFERENCE_LEVER_ARM.annotation()
+_Q2Velocity = replace(
+    IMPACT_VELOCITY, doc="closing velocity of the printed-q2 comparison"
+).annotation()
+
 
 class Reading(Model):
     """One reading of the unstated Sec. 3.8 details: closing speed and feed-forward."""
 
     name: str = Field(min_length=1, max_length=120, description="label for the report")
-    impact_velocity: Annotated[Positive, Field(le=20)] = Field(
-        description="closing velocity v_c at contact, m/s"
-    )
-    feedforward: Flag = Field(description="the controller compensates the acceleration")
+    impact_velocity: _Velocity
+    feedforward: _Feedforward
 
 
 def _default_readings() -> list[Reading]:
@@ -84,25 +107,17 @@ class Ch3ClaimsStudy(StudyBase):
     """Zeng 2011 Ch. 3 statements recomputed (Sec. 3.8, Fig. 3.16, the printed q2, Table 3.1)."""
 
     kind: Literal["zeng_ch3_claims"]
-    acceleration_g: Annotated[Positive, Field(le=10)] = Field(
-        0.51, description="Sec. 3.8 acceleration magnitude, g (applied as + and -)"
-    )
-    profile_duration: Annotated[Positive, Field(le=1)] = Field(
-        0.05, description="how long the acceleration lasts from contact, s"
-    )
+    acceleration_g: _AccelerationG = 0.51
+    profile_duration: _Duration = 0.05
     readings: list[Reading] = Field(default_factory=_default_readings, min_length=1, max_length=10)
-    speed_ratios: list[Annotated[NonNegative, Field(le=100)]] = Field(
+    speed_ratios: list[_SpeedRatio] = Field(
         default_factory=lambda: [0.5, 0.62, 1.0, 2.3],
         min_length=1,
         max_length=20,
         description="Fig. 3.16 joint-speed/head-speed ratios, (rad/s)/(m/s)",
     )
-    reference_lever_arm: Annotated[Positive, Field(le=1)] = Field(
-        0.01, description="the point compared with l -> 0, m (the thesis's 0.01 m)"
-    )
-    q2_impact_velocity: Annotated[Positive, Field(le=20)] = Field(
-        1.25, description="closing velocity of the printed-q2 comparison, m/s"
-    )
+    reference_lever_arm: _ReferenceLever = 0.01
+    q2_impact_velocity: _Q2Velocity = 1.25
 
     PRODUCES: ClassVar[tuple[str, ...]] = (
         "summary.md",

@@ -1,0 +1,334 @@
+"""Hostile inputs of the impact domain (issue 18): nothing crashes, hangs or lies.
+
+Each case is computed here: a clear :class:`InvalidParameterError` naming the
+parameter, or a finite result with its status and warnings. The fuzz test
+drives every public impact constructor with random values; the schema test
+checks that, for every declared impact model, the JSON Schema of its study
+model and its constructor accept and refuse the same boundary values.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import warnings
+
+import jsonschema
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import designlab as dl
+from designlab.errors import InvalidParameterError, StudyError
+from designlab.impact import FOAM_1, HEAD_MIN, MANIPULATOR_1
+from designlab.impact.ch3_claims import worst_impact_point
+from designlab.impact.parameters import RATIO_POINTS
+from designlab.params import params_of
+from designlab.study import parse_study
+from designlab.study.specs import spec_model
+
+GEARED = dl.impact.FullJointContact.from_joint(0.059, 2e3, 2.0, 1.5e3, 30.0, lever_arm=0.2)
+
+
+# --- the joint comparison with the documented ``head: null`` --------------------------------
+
+
+@pytest.fixture(scope="module")
+def constrained():
+    return dl.impact.compare_joint_reductions(GEARED, FOAM_1, None, 1.25)
+
+
+def test_constrained_comparison_says_the_foam_bottoms_out(constrained) -> None:
+    """eps_max of the full joint is beyond the 20 mm linear depth: the status and a
+    warning say so (they said "ok" before)."""
+    eps = constrained.value("full", "eps_max")
+    assert eps > FOAM_1.linear_depth  # about 32 mm
+    assert constrained.status == "bottoming"
+    assert any("bottoms out" in w and f"{eps:.4g}" in w for w in constrained.warnings)
+
+
+def test_constrained_comparison_has_finite_errors(constrained) -> None:
+    """a_h = 0 in every model of the constrained impact: its error is 0, not NaN, and
+    the harm metrics' errors are the computed ones."""
+    frame = constrained.to_frame()
+    assert np.all(np.isfinite(frame.relative_error.to_numpy(dtype=float)))
+    assert constrained.relative_error("taylor", "a_h_max") == 0.0
+    for metric in ("eps_max", "f_c_max"):
+        full = constrained.value("full", metric)
+        red = constrained.value("taylor", metric)
+        assert constrained.relative_error("taylor", metric) == pytest.approx((red - full) / full)
+
+
+def test_constrained_report_has_no_nan_and_a_usable_region() -> None:
+    """The joint_reduction report of ``head: null`` shows numbers, and "usable" where the
+    errors are small (it said "nan %" and "usable: nowhere")."""
+    from designlab.report.joint_reduction import joint_reduction_markdown
+    from designlab.study import run_study
+
+    study = parse_study(
+        """
+designlab: 1
+kind: joint_reduction
+name: hostile
+joints: [{name: g, inertia: 0.059, k_mech: 2000, c_mech: 2.0, k_cont: 1500, c_cont: 30,
+          lever_arm: 0.2}]
+head: null
+ratios: {low: 100, high: 1000, num: 2}
+"""
+    )
+    result = run_study(study)
+    sweep = result.joints[0].sweep
+    errors = [sweep.errors("taylor", m) for m in ("a_h_max", "eps_max", "f_c_max")]
+    assert all(np.all(np.isfinite(e)) for e in errors)
+    text = joint_reduction_markdown(result)
+    assert "nan" not in text.lower()
+    small = all(np.all(np.abs(e) < 0.01) for e in errors)
+    assert small and sweep.usable_intervals("taylor") == [(100.0, 1000.0)]
+    assert "bottoming" in result.status
+
+
+@pytest.mark.parametrize("fn", ["compare", "sweep"])
+def test_closing_velocity_is_capped(fn) -> None:
+    """1e6 m/s (eps_max 8.6 km) is refused by the one declaration of v_c (<= 20 m/s)."""
+    with pytest.raises(InvalidParameterError, match=r"impact_velocity = 1000000\.0 m/s"):
+        if fn == "compare":
+            dl.impact.compare_joint_reductions(GEARED, FOAM_1, None, 1e6)
+        else:
+            dl.impact.joint_reduction_sweep(GEARED, FOAM_1, None, 1e6, [1.0])
+
+
+def test_ratio_count_has_one_cap_for_api_and_yaml() -> None:
+    """20,000 ratios hung the API; the cap is the declaration the YAML uses too."""
+    with pytest.raises(InvalidParameterError, match=r"ratios \(number of values\) = 20000"):
+        dl.impact.joint_reduction_sweep(GEARED, FOAM_1, HEAD_MIN, 1.25, np.ones(20_000))
+    from designlab.study.kinds.joint_reduction import RatioGrid
+
+    schema = RatioGrid.model_json_schema()["properties"]["num"]
+    assert schema["maximum"] == RATIO_POINTS.le
+    with pytest.raises(StudyError, match="num"):
+        parse_study(
+            "designlab: 1\nkind: joint_reduction\nname: x\njoints: [{inertia: 0.059, "
+            "k_mech: 2000, c_mech: 2.0, k_cont: 1500, c_cont: 30, lever_arm: 0.2}]\n"
+            f"ratios: {{low: 0.1, high: 10, num: {RATIO_POINTS.le + 1}}}\n"
+        )
+
+
+def test_reference_lever_arm_beyond_its_range_is_refused() -> None:
+    """At l = 5 m the first lobe does not close (a NaN reference with status ok before)."""
+    with pytest.raises(InvalidParameterError, match=r"reference_lever_arm = 5\.0 m"):
+        worst_impact_point(0.059, 121.68, 1.521, 1.0, FOAM_1, HEAD_MIN, reference_lever_arm=5.0)
+    w = worst_impact_point(0.059, 121.68, 1.521, 1.0, FOAM_1, HEAD_MIN, reference_lever_arm=1.0)
+    assert w.status == "ok" and math.isfinite(w.a_h_max_reference_g)
+
+
+# --- validate refuses what run refuses ----------------------------------------------------
+
+_JOINT = "{inertia: 0.059, k_mech: 2000, c_mech: 2.0, k_cont: 1500, c_cont: 30, lever_arm: 0.2}"
+_RUN_REFUSES = {
+    "impact_cases": (
+        "cases: [{robot: MANIPULATOR_1, foam: {preset: FOAM_1, linear_depth: 0.05}, "
+        "head: HEAD_MIN, impact_velocity: 1.0}]"
+    ),
+    "impact_sweep": (
+        "base: {robot: MANIPULATOR_1, foam: {preset: FOAM_1, linear_depth: 0.05}, "
+        "head: HEAD_MIN, impact_velocity: 1.25}\n"
+        "sweep: {method: grid, parameters: {foam.stiffness: {values: [2e4]}}}"
+    ),
+    "foam_envelope_sweep": (
+        "base: {robot: MANIPULATOR_1, foam: {preset: FOAM_1, linear_depth: 0.05}}"
+    ),
+    "foam_design": "robots: [MANIPULATOR_1]\nfoams: [{preset: FOAM_1, linear_depth: 0.05}]",
+    "joint_reduction": (
+        "joints: [{inertia: 0.059, k_mech: 2000, c_mech: 0, k_cont: 1500, c_cont: 0, "
+        "lever_arm: 0.2}]"
+    ),
+}
+
+
+@pytest.mark.parametrize("kind", sorted(_RUN_REFUSES))
+def test_validate_refuses_what_run_refuses(kind) -> None:
+    """A foam thinner than its linear depth, an undamped motor node: the constructors refuse
+    them at run, so validate (parsing the study) refuses them first, naming the field."""
+    text = f"designlab: 1\nkind: {kind}\nname: hostile\n{_RUN_REFUSES[kind]}\n"
+    with pytest.raises(StudyError, match=r"thickness|c_cont"):
+        parse_study(text)
+
+
+def test_foam_design_head_range_and_iso_rules_at_validate() -> None:
+    base = "designlab: 1\nkind: foam_design\nname: h\nrobots: [MANIPULATOR_1]\n"
+    with pytest.raises(StudyError, match=r"HeadRange\.mass"):
+        parse_study(base + "head_range: {mass: [5.3, 4.4]}\n")
+    with pytest.raises(StudyError, match="no transient-contact multiplier"):
+        parse_study(
+            base + "criteria: [{type: iso_ts_15066, body_region: face, contact: transient}]\n"
+        )
+
+
+# --- the kind-name trap ------------------------------------------------------------------
+
+
+def test_kind_names_say_what_they_do(repo_root) -> None:
+    from designlab.study import load_study
+    from designlab.study.registry import RENAMED_KINDS, study_kinds
+
+    study = load_study(repo_root / "studies" / "foam_design.yaml")
+    assert study.kind == "foam_design" and study.name == "foam_design"
+    assert not (repo_root / "studies" / "foam_envelope.yaml").exists()
+    assert RENAMED_KINDS["foam_envelope"] == "foam_envelope_sweep"
+    assert "foam_envelope_sweep" in study_kinds() and "foam_envelope" not in study_kinds()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        old = parse_study(
+            "designlab: 1\nkind: foam_envelope\nname: old\nbase: {robot: MANIPULATOR_1, "
+            "foam: FOAM_1}\n"
+        )
+    assert old.kind == "foam_envelope_sweep"
+    assert any(issubclass(w.category, DeprecationWarning) for w in caught)
+
+
+# --- fuzz: every public impact constructor ------------------------------------------------
+
+_HOSTILE = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.sampled_from([0.0, -1.0, 1e300, -1e300, 1e-300, 5e-324]),
+    st.integers(min_value=-(10**30), max_value=10**30),
+    st.text(max_size=5),
+    st.booleans(),
+    st.none(),
+)
+
+
+def _constructors() -> dict[str, tuple[type, dict]]:
+    """Each public parameter class of designlab.impact with valid arguments."""
+    i = dl.impact
+    return {
+        "HeadNeck": (i.HeadNeck, {"mass": 4.4, "stiffness": 3e3, "damping": 46.0}),
+        "ContactDynamics": (i.ContactDynamics, {"mass": 9.6, "stiffness": 2e4, "damping": 250.0}),
+        "Foam": (i.Foam, {"stiffness": 2.4e4, "damping": 71.9}),
+        "LinkImpact": (
+            i.LinkImpact,
+            {"inertia": 0.059, "joint_stiffness": 121.7, "joint_damping": 1.5,
+             "joint_speed": 3.0, "lever_arm_min": 0.01, "lever_arm_max": 0.078},
+        ),
+        "HeadRange": (i.HeadRange, {"mass": (4.4, 5.3)}),
+        "FullJointContact": (
+            i.FullJointContact,
+            {"mass": 1.5, "transmission_stiffness": 5e4, "transmission_damping": 50.0,
+             "control_stiffness": 3.75e4, "control_damping": 750.0},
+        ),
+        "SeriesJoint": (
+            i.SeriesJoint,
+            {"inertia": 0.059, "k_mech": 2e3, "c_mech": 2.0, "k_cont": 1.5e3, "c_cont": 30.0,
+             "lever_arm": 0.2},
+        ),
+        "FullJointLink": (
+            i.FullJointLink,
+            {"inertia": 0.059, "joint_stiffness": 1.5e3, "joint_damping": 30.0,
+             "joint_speed": 1.0, "lever_arm_min": 0.05, "lever_arm_max": 0.3,
+             "transmission_stiffness": 2e3},
+        ),
+        "VelocityProfile": (i.VelocityProfile, {"acceleration": 5.0}),
+        "HeadAcceleration": (i.HeadAcceleration, {"max_g": 10.0}),
+        "ImpactForce": (i.ImpactForce, {"max_force": 660.0}),
+        "HeadInjuryCriterion": (i.HeadInjuryCriterion, {"max_hic": 650.0}),
+        "CompressionLimit": (i.CompressionLimit, {"max_compression": 0.02}),
+        "IsoQuasiStaticForce": (i.IsoQuasiStaticForce, {"body_region": "face"}),
+        "IsoTransientForce": (i.IsoTransientForce, {"body_region": "chest"}),
+        "ImpactPlane": (i.ImpactPlane, {"robot": MANIPULATOR_1, "normal": (1.0, 0.0)}),
+    }  # fmt: skip
+
+
+CONSTRUCTORS = _constructors()
+
+
+def _finite(obj) -> bool:
+    for f in dataclasses.fields(obj):
+        v = getattr(obj, f.name)
+        vals = v if isinstance(v, tuple) else (v,)
+        for x in vals:
+            if isinstance(x, float) and not math.isfinite(x):
+                return False
+    return True
+
+
+@pytest.mark.parametrize("name", sorted(CONSTRUCTORS))
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(data=st.data())
+def test_fuzz_constructors(name, data) -> None:
+    """Random values in one field (or a pair's end): a clear error naming the field, or a
+    valid object with finite numbers."""
+    cls, valid = CONSTRUCTORS[name]
+    field = data.draw(st.sampled_from([f.name for f in dataclasses.fields(cls) if f.init]))
+    value = data.draw(_HOSTILE)
+    if field in ("mass", "stiffness", "damping") and cls is dl.impact.HeadRange:
+        value = data.draw(st.tuples(_HOSTILE, _HOSTILE) | _HOSTILE)
+    kwargs = {**valid, field: value}
+    try:
+        obj = cls(**kwargs)
+    except InvalidParameterError as exc:
+        assert field in str(exc) or exc.name.split(".")[-1] in {
+            f.name for f in dataclasses.fields(cls)
+        }, str(exc)
+        return
+    assert _finite(obj)
+
+
+# --- the JSON Schema and the constructor agree on every boundary --------------------------
+
+
+def _boundaries(decl) -> list[float]:
+    out = []
+    for bound in (decl.gt, decl.ge, decl.lt, decl.le):
+        if bound is not None:
+            out += [bound, float(np.nextafter(bound, -np.inf)), float(np.nextafter(bound, np.inf))]
+    return out
+
+
+_MODELS = [
+    (dl.impact.HeadNeck, {"mass": 4.4, "stiffness": 3e3, "damping": 46.0}),
+    (dl.impact.ContactDynamics, {"mass": 9.6, "stiffness": 2e4, "damping": 250.0}),
+    (dl.impact.Foam, {"stiffness": 2.4e4, "damping": 71.9, "linear_depth": 0.02,
+                      "thickness": 1.0}),
+    (dl.impact.SeriesJoint, {"inertia": 0.059, "k_mech": 2e3, "c_mech": 2.0, "k_cont": 1.5e3,
+                             "c_cont": 30.0, "lever_arm": 0.2}),
+    (dl.impact.FullJointContact, {"mass": 1.5, "transmission_stiffness": 5e4,
+                                  "transmission_damping": 50.0, "control_stiffness": 3.75e4,
+                                  "control_damping": 750.0}),
+    (dl.impact.LinkImpact, {"inertia": 0.059, "joint_stiffness": 121.7, "joint_damping": 1.5,
+                            "joint_speed": 3.0, "lever_arm_min": 0.01, "lever_arm_max": 100.0}),
+    (dl.impact.HeadAcceleration, {"max_g": 10.0}),
+    (dl.impact.ImpactForce, {"max_force": 660.0}),
+    (dl.impact.HeadInjuryCriterion, {"max_hic": 650.0, "window": 0.015}),
+    (dl.impact.CompressionLimit, {"max_compression": 0.02}),
+    (dl.impact.VelocityProfile, {"acceleration": 5.0, "duration": 0.05}),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize("cls,valid", _MODELS, ids=[c.__name__ for c, _ in _MODELS])
+def test_schema_and_constructor_agree_on_boundaries(cls, valid) -> None:
+    """For each real field: the bound itself and its float neighbours are accepted or
+    refused alike by the JSON Schema of the study model and by the constructor."""
+    schema = spec_model(cls).model_json_schema()
+    for name, decl in params_of(cls).items():
+        if decl.kind != "real" or name not in schema["properties"]:
+            continue
+        prop = schema["properties"][name]
+        for x in _boundaries(decl):
+            data = {**valid, name: x}
+            # keep the class's cross-field rules out of the way of the field's own bounds
+            if cls is dl.impact.Foam and name == "linear_depth":
+                data["thickness"] = None
+            if cls is dl.impact.Foam and name == "thickness" and x > 0:
+                data["linear_depth"] = min(x, 0.02)  # thickness >= linear_depth
+            if cls is dl.impact.LinkImpact and name == "lever_arm_max" and x > 0:
+                data["lever_arm_min"] = min(x, 0.01)  # lever_arm_max >= lever_arm_min
+            by_schema = jsonschema.Draft202012Validator(schema).is_valid(
+                {k: v for k, v in data.items() if k in schema["properties"]}
+            )
+            try:
+                cls(**data)
+                by_constructor = True
+            except InvalidParameterError:
+                by_constructor = False
+            assert by_schema == by_constructor, (cls.__name__, name, x, prop)
