@@ -72,7 +72,11 @@ class StudyKind:
 
 #: Old kind name -> new name. A study file with an old name is read as the new kind
 #: with a ``DeprecationWarning``, for one release after the rename.
-RENAMED_KINDS: dict[str, str] = {}
+RENAMED_KINDS: dict[str, str] = {
+    "follower_comparison": "tether_comparison",
+    "follower_tuning": "tether_tuning",
+    "follower_sweep": "tether_sweep",
+}
 
 _KINDS: dict[str, StudyKind] = {}
 _LOADED = False
