@@ -34,7 +34,7 @@ from dataclasses import dataclass
 from typing import Any, ClassVar, Literal
 
 import pandas as pd
-from pydantic import Field, model_validator
+from pydantic import Field, TypeAdapter, model_validator
 
 from designlab.errors import DesignlabError
 from designlab.following.tether import (
@@ -63,11 +63,8 @@ _DESIRED_LENGTH = params_of(PseudoJoystick)["desired_length"]
 
 
 def _default_controllers() -> list[Any]:
-    return [
-        {"type": "PseudoJoystick"},
-        {"type": "FollowTheLeader"},
-        {"type": "FollowTheLeaderConstDistance"},
-    ]
+    laws = ("PseudoJoystick", "FollowTheLeader", "FollowTheLeaderConstDistance")
+    return TypeAdapter(list[ControllerSpec]).validate_python([{"type": t} for t in laws])
 
 
 class TetherComparisonStudy(StudyBase):
