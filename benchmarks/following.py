@@ -42,7 +42,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this checkout's designlab
 
 import designlab as dl
-from designlab.following.tether_model import kinematics_function, sensor_function
+from designlab.following.tether.model import kinematics_function, sensor_function
 
 fol = dl.following
 DURATION = 40.0

@@ -9,7 +9,7 @@ Files written into the report directory:
     figures.
 ``metrics.csv``
     One row per (controller, task): every metric of
-    :class:`designlab.following.AccompanyResult`.
+    :class:`designlab.following.accompanying.AccompanyResult`.
 ``table1.csv``, ``table2.csv``
     Paper and simulation side by side (mm, degrees, as the paper).
 ``tuning.csv``, ``margins.csv``
@@ -36,8 +36,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from designlab.following import paper_table1, paper_table2
-from designlab.following.walking_tasks import PAPER_TEST_NAMES
+from designlab.following.accompanying import PAPER_TEST_NAMES, paper_table1, paper_table2
 from designlab.report import register_writer
 from designlab.report.builder import copy_study, report_header
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png

@@ -86,24 +86,24 @@ def test_sensitivity_peaks_invariants(kp, ki, kd, tau):
 
 
 def test_convex_concave_solution_satisfies_constraints_on_a_dense_grid():
-    sol = fol.pid_tuning.convex_concave_pid(0.15, 0.02, 0.05, ms_max=1.4, mt_max=1.3)
+    sol = fol.accompanying.tuning.convex_concave_pid(0.15, 0.02, 0.05, ms_max=1.4, mt_max=1.3)
     assert sol.converged and sol.solver_status == "optimal"
     w = np.logspace(-3, math.log10(math.pi / 0.02 * 0.9999), 20000)
     lw = _hand_loop(sol.kp, sol.ki, sol.kd, 0.05, 0.15, 0.02, w)
     assert np.max(np.abs(1 / (1 + lw))) <= 1.4 * 1.003
     assert np.max(np.abs(lw / (1 + lw))) <= 1.3 * 1.003
     # a looser Ms allows a larger integral gain (the objective of Hast et al. 2013)
-    loose = fol.pid_tuning.convex_concave_pid(0.15, 0.02, 0.05, ms_max=1.8, mt_max=1.3)
+    loose = fol.accompanying.tuning.convex_concave_pid(0.15, 0.02, 0.05, ms_max=1.8, mt_max=1.3)
     assert loose.ki > sol.ki
     # a slower platform allows a smaller one
-    slow = fol.pid_tuning.convex_concave_pid(0.4, 0.02, 0.05, ms_max=1.4, mt_max=1.3)
+    slow = fol.accompanying.tuning.convex_concave_pid(0.4, 0.02, 0.05, ms_max=1.4, mt_max=1.3)
     assert slow.ki < sol.ki
 
 
 def test_noise_gain_limit():
     """Hast et al.'s noise-sensitivity constraint |C S| <= ks trades K_i for noise rejection."""
-    free = fol.pid_tuning.convex_concave_pid(0.15, 0.02, 0.05)
-    lim = fol.pid_tuning.convex_concave_pid(0.15, 0.02, 0.05, max_noise_gain=10.0)
+    free = fol.accompanying.tuning.convex_concave_pid(0.15, 0.02, 0.05)
+    lim = fol.accompanying.tuning.convex_concave_pid(0.15, 0.02, 0.05, max_noise_gain=10.0)
     assert lim.converged and lim.ki < free.ki and lim.kd < free.kd
     w = np.logspace(-3, math.log10(math.pi / 0.02 * 0.9999), 20000)
     lw = _hand_loop(lim.kp, lim.ki, lim.kd, 0.05, 0.15, 0.02, w)

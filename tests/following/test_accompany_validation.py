@@ -67,7 +67,7 @@ _SIGN_CHECKS = {
 
 @pytest.mark.parametrize("name", sorted(_SIGN_CHECKS))
 def test_walking_offset_sign_matches_table2(default_runs, name):
-    row = fol.paper_table2().set_index("test").loc[fol.walking_tasks.PAPER_TEST_NAMES[name]]
+    row = fol.paper_table2().set_index("test").loc[fol.accompanying.PAPER_TEST_NAMES[name]]
     m = default_runs[name].metrics
     for axis in _SIGN_CHECKS[name]:
         paper = row[f"avg_{axis.upper()}_C_mm"] - row[f"target_{axis.upper()}_C_mm"]

@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 import designlab as dl
 from designlab.errors import InvalidParameterError
-from designlab.following.path_deviation import resegment
+from designlab.following.tether.path_deviation import resegment
 from designlab.results import check_result
 
 fol = dl.following

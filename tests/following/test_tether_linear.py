@@ -9,7 +9,7 @@ import pytest
 
 import designlab as dl
 from designlab.errors import InvalidParameterError
-from designlab.following.tether_linear import fit_damping, lateral_step_response
+from designlab.following.tether.linear import fit_damping, lateral_step_response
 from designlab.results import check_result
 
 fol = dl.following

@@ -12,8 +12,7 @@ from hypothesis import strategies as st
 
 import designlab as dl
 from designlab.errors import InvalidParameterError
-from designlab.following.tether_codegen import compile_sx
-from designlab.following.tether_model import (
+from designlab.following.tether.model import (
     STEP_INPUTS,
     kinematics_function,
     kinematics_step,
@@ -21,6 +20,7 @@ from designlab.following.tether_model import (
     step_function,
     tip_step,
 )
+from designlab.following.tether_codegen import compile_sx
 
 fol = dl.following
 B, R = 0.28, 0.125

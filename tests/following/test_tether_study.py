@@ -12,7 +12,7 @@ from designlab.study import parse_study, run_study
 
 COMPARISON = """\
 designlab: 1
-kind: follower_comparison
+kind: tether_comparison
 name: cmp
 controllers:
   - {type: PseudoJoystick}
@@ -80,7 +80,7 @@ def test_comparison_bad_controllers(patch, field):
     ("old", "new", "match"),
     [
         ("  - {type: slalom}", "  - {type: slalom, a: 2.0}", "a"),
-        ("[[0, 0], [3, 0], [3, 3]]", "[[0, 0]]", "at least 2 points"),
+        ("[[0, 0], [3, 0], [3, 3]]", "[[0, 0]]", "at least 2"),
         ("[[0, 0], [3, 0], [3, 3]]", "[[0, 0], [.nan, 1]]", "finite"),
         ("desired_lengths: [0.6, 1.0]", "desired_lengths: [0.2]", "half the robot length"),
     ],
@@ -92,7 +92,7 @@ def test_comparison_bad_paths(old, new, match):
 
 TUNING = """\
 designlab: 1
-kind: follower_tuning
+kind: tether_tuning
 name: tun
 laws: [FollowTheLeaderConstDistance]
 paths: [{type: figure_eight, a: 2.0}]
@@ -136,7 +136,7 @@ def test_tuning_schema_errors():
 
 SWEEP = """\
 designlab: 1
-kind: follower_sweep
+kind: tether_sweep
 name: sw
 base: {controller: {type: FollowTheLeader}, path: {type: slalom}, speed: 0.5}
 sweep:
@@ -151,7 +151,7 @@ def test_follower_sweep_grid_matches_single_runs():
     import math
 
     from designlab.following import FollowTheLeader, simulate, slalom
-    from designlab.following.tether_linear import damping_ratio
+    from designlab.following.tether.linear import damping_ratio
 
     frame = run_study(parse_study(SWEEP)).to_frame()
     assert len(frame) == 6 and (frame["status"] == "ok").all()

@@ -7,7 +7,7 @@ import pytest
 import designlab as dl
 from designlab.analysis.executors import make_executor
 from designlab.errors import InvalidParameterError
-from designlab.following.tether_linear import damping_ratio
+from designlab.following.tether.linear import damping_ratio
 from designlab.results import check_result
 
 fol = dl.following
@@ -91,7 +91,7 @@ def test_high_floor_forces_long_lookahead():
         ({"bounds": {"lookahead": (0.5, 0.1)}}, "bounds.lookahead"),
         ({"bounds": {"angle_gain": (0.0, 1.0)}}, "bounds.angle_gain"),
         ({"weights": {"jerk": 1.0}}, "weights.jerk"),
-        ({"weights": {"length": -1.0}}, "weights.length"),
+        ({"weights": {"length": -1.0}}, "length"),
         ({"tether_range": (1.0, 0.5)}, "tether_range"),
         ({"damping_floor": float("nan")}, "damping_floor"),
     ],

@@ -107,7 +107,7 @@ def test_deviation_grows_with_tether_length_for_pj_not_ftl():
 
 def test_small_lookahead_weaves():
     """Sec. 2.5.4: delta = 0.1 m (0.2 normalised) weaves; 0.5 m does not."""
-    from designlab.following.tether_linear import lateral_step_response
+    from designlab.following.tether.linear import lateral_step_response
 
     _, e_small = lateral_step_response(fol.FollowTheLeader(lookahead=0.1), offset=0.05)
     _, e_large = lateral_step_response(fol.FollowTheLeader(lookahead=0.5), offset=0.05)

@@ -4,7 +4,11 @@ Every task is simulated with the study's PID (the baseline) and with the PID
 tuned by convex-concave optimisation (Hast et al. 2013) on the ``tune_on``
 tasks; optionally also with the derivative-free tuner of the simulated RMS
 error, for comparison. The report puts the simulated Table 1 and Table 2
-quantities next to the paper's (``docs/following.md``).
+quantities next to the paper's (``docs/following.md``). The platform, sensor
+and PID fields, their bounds and defaults are the domain's declarations
+(:mod:`designlab.following.accompanying.parameters`); every model is built
+while the study is validated, so ``designlab validate`` refuses what the run
+would refuse. Progress bars show the tuners and the simulations.
 
 Examples
 --------
@@ -17,7 +21,7 @@ Examples
 ... tuning: {tune_on: [forward], derivative_free: false}
 ... ''')
 >>> result = run_study(study)
->>> result.status, list(result.to_frame()["task"].unique())
+>>> str(result.status), list(result.to_frame()["task"].unique())
 ('ok', ['forward', 'left_pivot'])
 """
 
@@ -25,12 +29,13 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass
-from typing import Annotated, Any, ClassVar, Literal
+from typing import Any, ClassVar, Literal
 
 import pandas as pd
-from pydantic import Field, model_validator
+from pydantic import Field, create_model, model_validator
 
-from designlab.following import (
+from designlab.errors import DesignlabError
+from designlab.following.accompanying import (
     TASK_NAMES,
     AccompanyResult,
     LoopAnalysis,
@@ -38,15 +43,30 @@ from designlab.following import (
     PIDTuningResult,
     StringPotSensor,
     UserFramePID,
-    accompany,
     loop_analysis,
-    tune_pid,
+    simulate,
+    tune,
     walking_task,
 )
+from designlab.following.accompanying.parameters import (
+    MAX_EVALUATIONS,
+    MAX_NOISE_GAIN,
+    MS_MAX,
+    MT_MAX,
+    RADIUS,
+    SEED,
+    SETTLE_TIME,
+    SWAY_LATERAL,
+    SWAY_YAW,
+    WALKING_SPEED,
+)
+from designlab.params import Param
+from designlab.progress import Progress
 from designlab.results import OK, Result
-from designlab.study.base import Flag, Integer, Model, NonNegative, Number, Positive, StudyBase
+from designlab.study.base import Flag, Model, StudyBase
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
+from designlab.study.specs import spec_model
 
 __all__ = [
     "KIND",
@@ -57,106 +77,121 @@ __all__ = [
 
 logger = logging.getLogger(__name__)
 
-TaskName = Literal[
-    "forward",
-    "backward",
-    "left_lateral",
-    "right_lateral",
-    "left_pivot",
-    "right_pivot",
-    "rectangle",
-    "circle_cw",
-    "circle_ccw",
-]
+#: One of the nine tasks of Wu et al. 2021, Sec. 3 (:data:`designlab.following.TASK_NAMES`).
+TaskName = Literal[TASK_NAMES]  # type: ignore[valid-type]
+
+#: The settled error is taken 10 s after the user stops: the walk must stand that long.
+MIN_SETTLE_TIME = 10.0
 
 
-class WalkingSpec(Model):
-    """Walking-task parameters shared by the tasks (defaults: ``walking_task``'s)."""
-
-    speed: Positive | None = Field(None, description="cruise speed, m/s (default per task)")
-    radius: Positive = Field(0.9, description="circle radius, m")
-    sway_lateral: NonNegative = Field(0.0, description="pelvis sway amplitude, m")
-    sway_yaw: NonNegative = Field(0.0, description="pelvis yaw sway amplitude, rad")
-    settle_time: Annotated[Number, Field(ge=10.0, le=60.0)] = Field(
-        10.0, description="standing time after the walk, s (>= 10 for the settled error)"
-    )
+def _built(spec: Any) -> Any:
+    try:
+        return spec.build()
+    except (DesignlabError, TypeError) as exc:
+        raise ValueError(str(exc)) from None
 
 
-class PlatformSpec(Model):
-    """The mecanum platform (``MecanumPlatform``), SI units."""
+class _Buildable(Model):
+    """A spec whose domain object is built (and so checked) while it is validated."""
 
-    time_constant: Positive = 0.15
-    yaw_time_constant: Positive | None = None
-    max_speed: Positive = 1.0
-    max_acceleration: Positive = 2.0
-    max_yaw_rate: Positive = 3.0
-    max_yaw_acceleration: Positive = 6.0
-    limit_mode: Literal["norm", "per_axis"] = "norm"
-    max_wheel_speed: Positive | None = None
-
-    def build(self) -> MecanumPlatform:
-        """The :class:`MecanumPlatform`."""
-        return MecanumPlatform(**self.model_dump())
+    @model_validator(mode="after")
+    def _buildable(self) -> _Buildable:
+        _built(self)
+        return self
 
 
-class SensorSpec(Model):
-    """The string-pot sensor (``StringPotSensor``), SI units."""
-
-    sample_rate: Positive = 50.0
-    oversampling: Annotated[Integer, Field(ge=1, le=40)] = 4
-    median_window: Annotated[Integer, Field(ge=1, le=15)] = 1
-    distance_noise: NonNegative = 0.0
-    angle_noise: NonNegative = 0.0
-    min_range: NonNegative = 0.20
-    max_range: Positive = 1.50
-
-    def build(self) -> StringPotSensor:
-        """The :class:`StringPotSensor`."""
-        return StringPotSensor(**self.model_dump())
+def _of_params(name: str, doc: str, decls: dict[str, Param], base: type[Model]) -> Any:
+    """A model whose fields are declared arguments (type, bounds and default derived)."""
+    fields = {n: (d.annotation(), d.default) for n, d in decls.items()}
+    return create_model(name, __base__=base, __doc__=doc, **fields)
 
 
-class PIDSpec(Model):
-    """PID gains (``UserFramePID``); heading gains default to the linear ones."""
+class _WalkingFields(Model):
+    def build(self, name: str = "forward") -> Any:
+        """The :class:`WalkingTask` of one task with these settings.
 
-    kp: NonNegative = 2.0
-    ki: NonNegative = 0.5
-    kd: NonNegative = 0.1
-    derivative_filter_time: NonNegative = 0.05
-    kp_heading: NonNegative | None = None
-    ki_heading: NonNegative | None = None
-    kd_heading: NonNegative | None = None
+        Parameters
+        ----------
+        name
+            The task.
+        """
+        return walking_task(
+            name,
+            speed=self.speed,  # type: ignore[attr-defined]
+            radius=self.radius,  # type: ignore[attr-defined]
+            sway=(self.sway_lateral, self.sway_yaw),  # type: ignore[attr-defined]
+            settle_time=self.settle_time,  # type: ignore[attr-defined]
+        )
 
-    def build(self) -> UserFramePID:
-        """The :class:`UserFramePID`."""
-        return UserFramePID(**self.model_dump())
+    @model_validator(mode="after")
+    def _settles(self) -> _WalkingFields:
+        if self.settle_time < MIN_SETTLE_TIME:  # type: ignore[attr-defined]
+            raise ValueError(
+                f"settle_time = {self.settle_time:g} s: at least {MIN_SETTLE_TIME:g} s, so that "  # type: ignore[attr-defined]
+                "the settled error 10 s after the stop is defined"
+            )
+        return self
 
 
-class TuningSpec(Model):
-    """PID tuning settings."""
+#: Walking-task settings shared by the tasks (:func:`designlab.following.walking_task`).
+WalkingSpec = _of_params(
+    "WalkingSpec",
+    "Walking-task settings shared by the tasks (defaults: walking_task's), SI units.",
+    {
+        "speed": WALKING_SPEED,
+        "radius": RADIUS,
+        "sway_lateral": SWAY_LATERAL,
+        "sway_yaw": SWAY_YAW,
+        "settle_time": SETTLE_TIME,
+    },
+    _WalkingFields,
+)
 
-    tune_on: list[TaskName] = Field(
+
+def _buildable_spec(cls: type, name: str) -> Any:
+    return create_model(name, __base__=(spec_model(cls, name=f"{name}Fields"), _Buildable))
+
+
+#: The mecanum platform (:class:`designlab.following.MecanumPlatform`), SI units.
+PlatformSpec = _buildable_spec(MecanumPlatform, "PlatformSpec")
+#: The string-pot sensor (:class:`designlab.following.StringPotSensor`), SI units.
+SensorSpec = _buildable_spec(StringPotSensor, "SensorSpec")
+#: PID gains (:class:`designlab.following.UserFramePID`); heading gains default to the linear.
+PIDSpec = _buildable_spec(UserFramePID, "PIDSpec")
+
+
+class _TuningFields(Model):
+    tune_on: list[TaskName] = Field(  # type: ignore[valid-type]
         default_factory=lambda: ["forward", "left_lateral", "circle_cw"], min_length=1
     )
-    ms_max: Annotated[Number, Field(ge=1.0, le=3.0)] = 1.6
-    mt_max: Annotated[Number, Field(ge=1.0, le=3.0)] = 1.3
-    max_noise_gain: Positive | None = Field(
-        None, description="limit of |C S|, noise to command, 1/s (none by default)"
-    )
     derivative_free: Flag = Field(True, description="also run the Nelder-Mead tuner")
-    max_evaluations: Annotated[Integer, Field(ge=5, le=1000)] = 150
+
+
+#: PID tuning settings (:func:`designlab.following.tune_pid`).
+TuningSpec = _of_params(
+    "TuningSpec",
+    "PID tuning settings: the tasks tuned on, the limits, the derivative-free tuner.",
+    {
+        "ms_max": MS_MAX,
+        "mt_max": MT_MAX,
+        "max_noise_gain": MAX_NOISE_GAIN,
+        "max_evaluations": MAX_EVALUATIONS,
+    },
+    _TuningFields,
+)
 
 
 class AccompanyingStudy(StudyBase):
     """Simulate the accompanying robot on walking tasks with the default and tuned PID."""
 
     kind: Literal["accompanying"]
-    tasks: list[TaskName] = Field(default_factory=lambda: list(TASK_NAMES), min_length=1)
-    walking: WalkingSpec = Field(default_factory=WalkingSpec)
-    platform: PlatformSpec = Field(default_factory=PlatformSpec)
-    sensor: SensorSpec = Field(default_factory=SensorSpec)
-    controller: PIDSpec = Field(default_factory=PIDSpec)
-    tuning: TuningSpec | None = Field(default_factory=TuningSpec)
-    seed: Annotated[Integer, Field(ge=0)] = 0
+    tasks: list[TaskName] = Field(default_factory=lambda: list(TASK_NAMES), min_length=1)  # type: ignore[valid-type]
+    walking: WalkingSpec = Field(default_factory=WalkingSpec)  # type: ignore[valid-type]
+    platform: PlatformSpec = Field(default_factory=PlatformSpec)  # type: ignore[valid-type]
+    sensor: SensorSpec = Field(default_factory=SensorSpec)  # type: ignore[valid-type]
+    controller: PIDSpec = Field(default_factory=PIDSpec)  # type: ignore[valid-type]
+    tuning: TuningSpec | None = Field(default_factory=TuningSpec)  # type: ignore[valid-type]
+    seed: SEED.annotation(optional=False) = 0  # type: ignore[valid-type]
 
     PRODUCES: ClassVar[tuple[str, ...]] = (
         "summary.md",
@@ -175,25 +210,34 @@ class AccompanyingStudy(StudyBase):
 
     def size(self) -> str:
         """The number of tasks and controllers."""
-        n_ctrl = 1 + (0 if self.tuning is None else 1 + int(self.tuning.derivative_free))
-        return f"{len(self.tasks)} tasks x {n_ctrl} controllers"
+        return f"{len(self.tasks)} tasks x {self.n_controllers} controllers"
+
+    @property
+    def n_controllers(self) -> int:
+        """The default PID and the tuned ones."""
+        return 1 + (0 if self.tuning is None else 1 + int(self.tuning.derivative_free))
 
     @model_validator(mode="after")
-    def _unique_tasks(self) -> AccompanyingStudy:
+    def _runnable(self) -> AccompanyingStudy:
         if len(set(self.tasks)) != len(self.tasks):
             raise ValueError("a task is listed twice")
+        names = set(self.tasks) | set(self.tuning.tune_on if self.tuning is not None else ())
+        for name in sorted(names):
+            try:
+                self.build_task(name)
+            except DesignlabError as exc:
+                raise ValueError(f"task {name}: {exc}") from None
         return self
 
     def build_task(self, name: str) -> Any:
-        """The :class:`WalkingTask` of one task name with the study's walking settings."""
-        w = self.walking
-        return walking_task(
-            name,
-            speed=w.speed,
-            radius=w.radius,
-            sway=(w.sway_lateral, w.sway_yaw),
-            settle_time=w.settle_time,
-        )
+        """The :class:`WalkingTask` of one task name with the study's walking settings.
+
+        Parameters
+        ----------
+        name
+            The task.
+        """
+        return self.walking.build(name)
 
 
 @dataclass(frozen=True, eq=False)
@@ -286,6 +330,38 @@ class AccompanyingResult(Result):
         return pd.DataFrame(rows)
 
 
+def _tunings(study: AccompanyingStudy, context: RunContext) -> dict[str, PIDTuningResult]:
+    """The convex-concave tuning and, if asked, the derivative-free one, with progress bars."""
+    if study.tuning is None:
+        return {}
+    t = study.tuning
+    baseline = study.controller.build()
+    common = {
+        "baseline": baseline,
+        "platform": study.platform.build(),
+        "sensor": study.sensor.build(),
+        "ms_max": t.ms_max,
+        "mt_max": t.mt_max,
+        "derivative_filter_time": baseline.derivative_filter_time,
+        "max_noise_gain": t.max_noise_gain,
+    }
+    tune_tasks = [study.build_task(n) for n in t.tune_on]
+    out = {}
+    with context.bar(f"{study.kind}: convex-concave tuning") as hook:
+        out["tuned"] = tune(tune_tasks, method="convex", progress=hook, **common)
+    if t.derivative_free:
+        logger.info("derivative-free tuning on %d tasks", len(tune_tasks))
+        with context.bar(f"{study.kind}: derivative-free tuning", t.max_evaluations) as hook:
+            out["derivative_free"] = tune(
+                tune_tasks,
+                method="simulation",
+                max_evaluations=t.max_evaluations,
+                progress=hook,
+                **common,
+            )
+    return out
+
+
 def run(study: AccompanyingStudy, context: RunContext) -> AccompanyingResult:
     """Simulate the tasks with the default PID, tune, and simulate again (in this process).
 
@@ -294,43 +370,24 @@ def run(study: AccompanyingStudy, context: RunContext) -> AccompanyingResult:
     study
         The accompanying study.
     context
-        How to run it (unused: the tasks are simulated in this process).
+        How to run it (its progress bars; the tasks are simulated in this process).
     """
     platform = study.platform.build()
     sensor = study.sensor.build()
-    baseline = study.controller.build()
     tasks = {name: study.build_task(name) for name in study.tasks}
-    controllers: dict[str, UserFramePID] = {"default": baseline}
-    tunings: dict[str, PIDTuningResult] = {}
-    if study.tuning is not None:
-        tune_tasks = [study.build_task(n) for n in study.tuning.tune_on]
-        common = {
-            "baseline": baseline,
-            "platform": platform,
-            "sensor": sensor,
-            "ms_max": study.tuning.ms_max,
-            "mt_max": study.tuning.mt_max,
-            "derivative_filter_time": baseline.derivative_filter_time,
-            "max_noise_gain": study.tuning.max_noise_gain,
-        }
-        tunings["tuned"] = tune_pid(tune_tasks, method="convex", **common)
-        controllers["tuned"] = tunings["tuned"].controller
-        if study.tuning.derivative_free:
-            logger.info("derivative-free tuning on %d tasks", len(tune_tasks))
-            tunings["derivative_free"] = tune_pid(
-                tune_tasks,
-                method="simulation",
-                max_evaluations=study.tuning.max_evaluations,
-                **common,
-            )
-            controllers["derivative_free"] = tunings["derivative_free"].controller
-    runs = {
-        label: {
-            name: accompany(task, c, platform=platform, sensor=sensor, seed=study.seed)
-            for name, task in tasks.items()
-        }
-        for label, c in controllers.items()
-    }
+    tunings = _tunings(study, context)
+    controllers = {"default": study.controller.build()}
+    controllers.update({label: t.controller for label, t in tunings.items()})
+    runs: dict[str, dict[str, AccompanyResult]] = {label: {} for label in controllers}
+    total = len(tasks) * len(controllers)
+    with context.bar(f"{study.kind}: simulate", total) as hook:
+        for label, c in controllers.items():
+            for name, task in tasks.items():
+                runs[label][name] = simulate(
+                    task, c, platform=platform, sensor=sensor, seed=study.seed
+                )
+                step = sum(len(r) for r in runs.values())
+                hook(Progress(step, total, label="run", note=f"{label} {name}"))
     loops = {label: loop_analysis(c, platform, sensor) for label, c in controllers.items()}
     return AccompanyingResult(study, runs, tunings, loops)
 

@@ -25,17 +25,19 @@ Examples
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from designlab.errors import InvalidParameterError, check_positive
+from designlab.errors import InvalidParameterError
+from designlab.params import Param, check_size, declared, param
 
 __all__ = [
     "PATHS",
+    "SHAPE_PARAMETERS",
     "LeaderPath",
     "circle",
     "corridor_corner",
@@ -49,47 +51,153 @@ __all__ = [
 ]
 
 
+def _arg(symbol: str | None, unit: str, doc: str, name: str, **kw: Any) -> Param:
+    return Param(symbol, unit, doc, name=name, **kw)
+
+
+#: The arguments of the path shapes, declared once: shape -> argument -> declaration. The
+#: caps keep a path within 10 km and 10**6 nodes (``docs/following.md``, "Limits").
+SHAPE_PARAMETERS: dict[str, dict[str, Param]] = {
+    "figure_eight": {
+        "a": _arg(
+            "a",
+            "m",
+            "loop parameter: half the tip-to-tip width",
+            "figure_eight.a",
+            gt=0,
+            le=100,
+            typical=(2.0, 4.0),
+            default=2.0,
+        ),
+        "points": _arg(
+            None,
+            "",
+            "number of nodes",
+            "figure_eight.points",
+            kind="integer",
+            ge=9,
+            le=1_000_000,
+            default=2001,
+        ),
+    },
+    "square_s": {
+        "side": _arg(None, "m", "side of each square", "square_s.side", gt=0, le=100, default=2.0),
+    },
+    "slalom": {
+        "spacing": _arg(
+            None, "m", "distance between cones", "slalom.spacing", gt=0, le=100, default=1.5
+        ),
+        "cones": _arg(
+            None, "", "number of cones", "slalom.cones", kind="integer", ge=1, le=50, default=3
+        ),
+        "amplitude": _arg(
+            "A",
+            "m",
+            "lateral distance at which the leader passes each cone",
+            "slalom.amplitude",
+            gt=0,
+            le=10,
+            default=0.5,
+        ),
+        "out_and_back": _arg(
+            None,
+            "",
+            "turn around after the last cone and weave back",
+            "slalom.out_and_back",
+            kind="flag",
+            default=False,
+        ),
+        "points_per_metre": _arg(
+            None,
+            "1/m",
+            "polyline resolution",
+            "slalom.points_per_metre",
+            kind="integer",
+            ge=1,
+            le=10_000,
+            default=100,
+        ),
+    },
+    "corridor_corner": {
+        "width": _arg(
+            "w", "m", "corridor width", "corridor_corner.width", gt=0, le=100, default=1.0
+        ),
+        "leg": _arg(
+            None,
+            "m",
+            "length of each straight leg",
+            "corridor_corner.leg",
+            gt=0,
+            le=1000,
+            default=3.0,
+        ),
+        "radius": _arg(
+            None,
+            "m",
+            "radius of the corner arc",
+            "corridor_corner.radius",
+            gt=0,
+            le=100,
+            optional=True,
+            none="half the width (Sec. 4.5.1)",
+        ),
+    },
+    "straight_line": {
+        "length": _arg(None, "m", "length", "straight_line.length", gt=0, le=1e4, default=10.0),
+    },
+    "circle": {
+        "radius": _arg("R", "m", "circle radius", "circle.radius", gt=0, le=100, default=2.0),
+        "turns": _arg(None, "", "number of turns", "circle.turns", gt=0, le=10, default=1.0),
+        "points_per_turn": _arg(
+            None,
+            "",
+            "polyline points per turn",
+            "circle.points_per_turn",
+            kind="integer",
+            ge=8,
+            le=100_000,
+            default=720,
+        ),
+    },
+}
+
+
+def _checked(shape: str, **values: Any) -> dict[str, Any]:
+    """The arguments of a shape, each checked against its declaration."""
+    decls = SHAPE_PARAMETERS[shape]
+    return {k: decls[k].check(v) for k, v in values.items()}
+
+
+@declared
 @dataclass(frozen=True, eq=False)
 class LeaderPath:
     """A leader path: an (N, 2) polyline in metres, N >= 2, finite, non-zero length.
 
     Consecutive duplicate points are dropped.
-
-    Parameters
-    ----------
-    points
-        Path nodes in m, shape (N, 2).
-    name
-        Label used in reports.
-    obstacles
-        Optional (K, 2) cone/obstacle positions in m (for plots).
-    initial_heading
-        Exact tangent direction at the start in rad (default: the first chord).
     """
 
-    points: NDArray[np.float64]
-    name: str = "path"
-    obstacles: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 2)))
-    initial_heading: float | None = None
+    points: NDArray[np.float64] = param(  # noqa: RUF009
+        kind="object", doc="path nodes in m, shape (N, 2), at most 10**6"
+    )
+    name: str = param(kind="text", doc="label used in reports", default="path")
+    obstacles: NDArray[np.float64] = param(  # noqa: RUF009
+        kind="object",
+        doc="cone/obstacle positions in m, shape (K, 2), for plots",
+        default_factory=lambda: np.zeros((0, 2)),
+    )
+    initial_heading: float | None = param(
+        None,
+        "rad",
+        doc="exact tangent direction at the start",
+        ge=-100,
+        le=100,
+        optional=True,
+        none="the direction of the first chord",
+        default=None,
+    )
 
     def __post_init__(self) -> None:
-        try:
-            pts = np.array(self.points, dtype=float)
-        except (TypeError, ValueError):
-            raise InvalidParameterError(
-                "path.points", self.points, "an (N, 2) array of numbers", "m"
-            ) from None
-        if pts.ndim != 2 or pts.shape[1] != 2:
-            raise InvalidParameterError("path.points", f"shape {pts.shape}", "shape (N, 2)", "m")
-        if pts.shape[0] < 2:
-            raise InvalidParameterError(
-                "path.points", f"{pts.shape[0]} point(s)", "at least 2 points", "m"
-            )
-        if not np.all(np.isfinite(pts)):
-            bad = int(np.argwhere(~np.isfinite(pts))[0, 0])
-            raise InvalidParameterError(
-                f"path.points[{bad}]", pts[bad].tolist(), "finite coordinates", "m"
-            )
+        pts = _polyline("path.points", self.points, limit=1_000_000)
         keep = np.ones(len(pts), bool)
         keep[1:] = np.any(np.diff(pts, axis=0) != 0.0, axis=1)
         pts = pts[keep]
@@ -178,9 +286,8 @@ def figure_eight(a: float = 2.0, points: int = 2001) -> LeaderPath:
     >>> round(figure_eight(a=4.0).length, 2)
     20.98
     """
-    a = check_positive("figure_eight.a", a, "m")
-    if isinstance(points, bool) or not isinstance(points, int) or points < 9:
-        raise InvalidParameterError("figure_eight.points", points, "an integer >= 9")
+    args = _checked("figure_eight", a=a, points=points)
+    a, points = args["a"], args["points"]
     t = np.linspace(0.0, 2.0 * math.pi, points)
     d = 1.0 + np.sin(t) ** 2
     xy = np.column_stack([a * np.cos(t) / d, a * np.sin(t) * np.cos(t) / d])
@@ -203,7 +310,7 @@ def square_s(side: float = 2.0) -> LeaderPath:
     >>> square_s().points.tolist()[3]
     [4.0, 2.0]
     """
-    side = check_positive("square_s.side", side, "m")
+    side = _checked("square_s", side=side)["side"]
     unit = np.array([[0, 0], [1, 0], [2, 0], [2, 1], [1, 1], [1, 2], [2, 2]], dtype=float)
     return LeaderPath(unit * side, name="square_s")
 
@@ -244,12 +351,18 @@ def slalom(
     >>> round(slalom().length, 2), round(slalom(out_and_back=True).length, 2)
     (7.41, 16.38)
     """
-    spacing = check_positive("slalom.spacing", spacing, "m")
-    amplitude = check_positive("slalom.amplitude", amplitude, "m")
-    if isinstance(cones, bool) or not isinstance(cones, int) or cones < 1:
-        raise InvalidParameterError("slalom.cones", cones, "an integer >= 1")
+    args = _checked(
+        "slalom",
+        spacing=spacing,
+        cones=cones,
+        amplitude=amplitude,
+        out_and_back=out_and_back,
+        points_per_metre=points_per_metre,
+    )
+    spacing, cones, amplitude = args["spacing"], args["cones"], args["amplitude"]
     span = (cones + 1) * spacing
-    n = max(int(span * points_per_metre), 50)
+    n = max(int(span * args["points_per_metre"]), 50)
+    check_size("slalom.points_per_metre", points_per_metre, 4 * n, what="the slalom's nodes")
     x = np.linspace(0.0, span, n)
     y = -amplitude * np.cos(math.pi * x / spacing)
     xy = np.column_stack([x, y])
@@ -288,9 +401,9 @@ def corridor_corner(
     >>> round(corridor_corner().length, 4)
     6.7854
     """
-    width = check_positive("corridor_corner.width", width, "m")
-    leg = check_positive("corridor_corner.leg", leg, "m")
-    r = 0.5 * width if radius is None else check_positive("corridor_corner.radius", radius, "m")
+    args = _checked("corridor_corner", width=width, leg=leg, radius=radius)
+    width, leg = args["width"], args["leg"]
+    r = 0.5 * width if args["radius"] is None else args["radius"]
     straight1 = np.column_stack([np.linspace(0.0, leg, 50), np.zeros(50)])
     ang = np.linspace(-math.pi / 2, 0.0, 40)
     arc = np.column_stack([leg + r * np.cos(ang), r + r * np.sin(ang)])
@@ -311,7 +424,7 @@ def straight_line(length: float = 10.0) -> LeaderPath:
     >>> straight_line(5.0).length
     5.0
     """
-    length = check_positive("straight_line.length", length, "m")
+    length = _checked("straight_line", length=length)["length"]
     return LeaderPath(np.array([[0.0, 0.0], [length, 0.0]]), name="straight_line")
 
 
@@ -332,8 +445,8 @@ def circle(radius: float = 2.0, turns: float = 1.0, points_per_turn: int = 720) 
     >>> round(circle(1.0).length, 3)
     6.283
     """
-    radius = check_positive("circle.radius", radius, "m")
-    turns = check_positive("circle.turns", turns, "")
+    args = _checked("circle", radius=radius, turns=turns, points_per_turn=points_per_turn)
+    radius, turns, points_per_turn = args["radius"], args["turns"], args["points_per_turn"]
     n = max(int(points_per_turn * turns), 8) + 1
     t = np.linspace(0.0, 2.0 * math.pi * turns, n)
     return LeaderPath(
@@ -341,6 +454,27 @@ def circle(radius: float = 2.0, turns: float = 1.0, points_per_turn: int = 720) 
         name=f"circle_r{radius:g}",
         initial_heading=math.pi / 2,
     )
+
+
+def _polyline(name: str, xy: Any, *, limit: int) -> NDArray[np.float64]:
+    """``xy`` as a finite (N, 2) float array, 2 <= N <= ``limit``, or raise naming ``name``."""
+    n = int(np.size(xy)) if isinstance(xy, np.ndarray) else None
+    if n is not None and n > 2 * limit:
+        raise InvalidParameterError(name, f"{n // 2} points", f"at most {limit} points", "m")
+    try:
+        pts = np.array(xy, dtype=float)
+    except (TypeError, ValueError):
+        raise InvalidParameterError(name, xy, "an (N, 2) array of numbers", "m") from None
+    if pts.ndim != 2 or pts.shape[1] != 2:
+        raise InvalidParameterError(name, f"shape {pts.shape}", "shape (N, 2)", "m")
+    if not 2 <= pts.shape[0] <= limit:
+        raise InvalidParameterError(
+            name, f"{pts.shape[0]} point(s)", f"at least 2 and at most {limit} points", "m"
+        )
+    if not np.all(np.isfinite(pts)):
+        bad = int(np.argwhere(~np.isfinite(pts))[0, 0])
+        raise InvalidParameterError(f"{name}[{bad}]", pts[bad].tolist(), "finite coordinates", "m")
+    return pts
 
 
 def from_array(xy: Any, name: str = "recorded") -> LeaderPath:
@@ -365,6 +499,31 @@ def from_array(xy: Any, name: str = "recorded") -> LeaderPath:
     return LeaderPath(xy.points if isinstance(xy, LeaderPath) else xy, name=name)
 
 
+def _read_csv(file: str | Path) -> Any:
+    """The CSV as a DataFrame, or an error naming the file."""
+    import pandas as pd
+
+    try:
+        return pd.read_csv(file)
+    except pd.errors.EmptyDataError:
+        raise InvalidParameterError("file", str(file), "a CSV file with a header row") from None
+    except (pd.errors.ParserError, UnicodeDecodeError) as exc:
+        raise InvalidParameterError("file", str(file), f"a readable CSV file ({exc})") from None
+
+
+def _numeric_column(frame: Any, column: str, file: str | Path) -> NDArray[np.float64]:
+    """One column of numbers, or an error naming the file, line and column of the first bad cell."""
+    import pandas as pd
+
+    values = pd.to_numeric(frame[column], errors="coerce").to_numpy(float)
+    bad = np.flatnonzero(~np.isfinite(values))
+    if len(bad):
+        i = int(bad[0])
+        where = f"{Path(file).name} line {i + 2} (data row {i + 1}), column {column!r}"
+        raise InvalidParameterError(where, frame[column].iloc[i], "a finite number", "m")
+    return values
+
+
 def from_csv(
     file: str | Path, x: str = "x_m", y: str = "y_m", name: str | None = None
 ) -> LeaderPath:
@@ -378,14 +537,25 @@ def from_csv(
         Column names (default ``x_m``, ``y_m``).
     name
         Label (default: the file stem).
-    """
-    import pandas as pd
 
-    frame = pd.read_csv(file)
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> f = os.path.join(tempfile.mkdtemp(), "walk.csv")
+    >>> _ = open(f, "w").write(chr(10).join(["x_m,y_m", "0,0", "1,0", "far,1"]))
+    >>> from_csv(f)
+    Traceback (most recent call last):
+    ...
+    designlab.errors.InvalidParameterError: walk.csv line 4 (data row 3), column 'x_m' = 'far' m ...
+    """
+    frame = _read_csv(file)
     for col in (x, y):
         if col not in frame.columns:
-            raise InvalidParameterError("from_csv column", col, f"one of {list(frame.columns)}")
-    return LeaderPath(frame[[x, y]].to_numpy(float), name=name or Path(file).stem)
+            raise InvalidParameterError(
+                f"{Path(file).name} column", col, f"one of {list(frame.columns)}"
+            )
+    xy = np.column_stack([_numeric_column(frame, c, file) for c in (x, y)])
+    return LeaderPath(xy, name=name or Path(file).stem)
 
 
 #: Path constructors by name (as used in study files).
@@ -419,6 +589,8 @@ def make_path(spec: Any) -> LeaderPath:
         return from_array(spec)
     if isinstance(spec, str):
         spec = {"type": spec}
+    if not isinstance(spec, dict):
+        raise InvalidParameterError("path", spec, "a LeaderPath, a path name, a dict or points")
     spec = dict(spec)
     if "points" in spec:
         return from_array(spec["points"], name=spec.get("name", "recorded"))
@@ -427,4 +599,11 @@ def make_path(spec: Any) -> LeaderPath:
     kind = spec.pop("type", None)
     if kind not in PATHS:
         raise InvalidParameterError("path.type", kind, f"one of {sorted(PATHS)}")
+    unknown = sorted(set(spec) - set(SHAPE_PARAMETERS[kind]))
+    if unknown:
+        raise InvalidParameterError(
+            f"path.{unknown[0]}",
+            spec[unknown[0]],
+            f"an argument of {kind}: {list(SHAPE_PARAMETERS[kind])}",
+        )
     return PATHS[kind](**spec)  # type: ignore[operator,no-any-return]

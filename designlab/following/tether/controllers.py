@@ -37,14 +37,15 @@ designlab.errors.InvalidParameterError: PseudoJoystick.turn_gain = -1.0 1/s is n
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, fields, replace
+from dataclasses import asdict, dataclass, replace
 from functools import cache
 from typing import Any, ClassVar
 
 import casadi as ca
 
-from designlab.errors import InvalidParameterError, check_nonnegative, check_positive
+from designlab.errors import InvalidParameterError
 from designlab.following.tether_codegen import compile_sx
+from designlab.params import declared, param
 
 __all__ = [
     "CONTROLLERS",
@@ -55,14 +56,44 @@ __all__ = [
     "controller_from_dict",
 ]
 
-_UNITS = {
-    "desired_length": "m",
-    "speed_gain": "1/s",
-    "turn_gain": "1/s",
-    "angle_gain": "1/rad",
-    "lookahead": "m",
-    "min_step": "m",
-}
+
+def _desired_length(default: float) -> Any:
+    """The declaration of l_d, the desired tether length (one bound for every law)."""
+    return param(
+        "l_d",
+        "m",
+        doc="desired tether length",
+        gt=0,
+        le=10,
+        typical=(0.6, 2.0),
+        default=default,
+    )
+
+
+def _gain(symbol: str, unit: str, doc: str, default: float, *, ge: float | None = None) -> Any:
+    """The declaration of a gain: > 0 (or >= ``ge``) and at most 1000 (one bound for every law)."""
+    bounds = {"ge": ge} if ge is not None else {"gt": 0}
+    return param(symbol, unit, doc=doc, le=1e3, default=default, **bounds)  # type: ignore[arg-type]
+
+
+def _min_step() -> Any:
+    """The declaration of Delta s_min, the least step between recorded points."""
+    return param(
+        "ds_min", "m", doc="least step between recorded path points", gt=0, le=1, default=0.01
+    )
+
+
+def _buffer_size() -> Any:
+    """The declaration of the path buffer limit (App. C: 300)."""
+    return param(
+        None,
+        "",
+        doc="path buffer limit; at most buffer_size - 1 points are kept, as coded",
+        kind="integer",
+        ge=3,
+        le=100_000,
+        default=300,
+    )
 
 
 class TetherController:
@@ -85,22 +116,6 @@ class TetherController:
     BOUNDS: ClassVar[dict[str, tuple[float, float]]] = {}
     LAW_PARAMS: ClassVar[tuple[str, ...]] = ()
     desired_length: float
-
-    def _validate(self) -> None:
-        name = type(self).__name__
-        for f in fields(self):  # type: ignore[arg-type]
-            v = getattr(self, f.name)
-            if f.name in ("law", "buffer_size"):
-                continue
-            unit = _UNITS.get(f.name, "")
-            if f.name == "angle_gain":
-                object.__setattr__(self, f.name, check_nonnegative(f"{name}.{f.name}", v, unit))
-            else:
-                object.__setattr__(self, f.name, check_positive(f"{name}.{f.name}", v, unit))
-        if hasattr(self, "buffer_size"):
-            b = self.buffer_size  # type: ignore[attr-defined]
-            if isinstance(b, bool) or not isinstance(b, int) or b < 3:
-                raise InvalidParameterError(f"{name}.buffer_size", b, "must be an integer >= 3")
 
     @property
     def gains(self) -> dict[str, float]:
@@ -155,22 +170,15 @@ def _sym(*names: str) -> list[ca.SX]:
     return [ca.SX.sym(n) for n in names]
 
 
+@declared
 @dataclass(frozen=True)
 class PseudoJoystick(TetherController):
     """Pseudo-Joystick: drive along the tether (Allan 2015 Sec. 2.3.1, App. C mode 10).
 
-    Parameters
-    ----------
-    desired_length
-        l_d in m (App. C: 1.0 m).
-    speed_gain
-        k_V in 1/s (App. C: 5.0).
-    turn_gain
-        k_O in 1/s (App. C: 12.0); unused by ``law="printed"``.
-    law
-        ``"coded"`` (default): ``V = k_V max(0, l_m - l_d)``, ``Omega = k_O theta``.
-        ``"printed"``: eqs. (2.1)-(2.2), ``V = k_V (l_m - l_d)``,
-        ``Omega = (2V/b) sin theta`` (sign fixed to steer toward the tether).
+    ``law="coded"`` (default): ``V = k_V max(0, l_m - l_d)``, ``Omega = k_O theta``.
+    ``law="printed"``: eqs. (2.1)-(2.2), ``V = k_V (l_m - l_d)``,
+    ``Omega = (2V/b) sin theta`` (sign fixed to steer toward the tether). The
+    defaults are App. C's: l_d 1.0 m, k_V 5.0, k_O 12.0.
 
     Examples
     --------
@@ -182,10 +190,15 @@ class PseudoJoystick(TetherController):
     (0.5, 1.7122)
     """
 
-    desired_length: float = 1.0
-    speed_gain: float = 5.0
-    turn_gain: float = 12.0
-    law: str = "coded"
+    desired_length: float = _desired_length(1.0)
+    speed_gain: float = _gain("k_V", "1/s", "speed gain", 5.0)
+    turn_gain: float = _gain("k_O", "1/s", "turn gain (unused by the printed law)", 12.0)
+    law: str = param(
+        kind="choice",
+        choices=("coded", "printed"),
+        doc="the App. C code or the printed eqs. 2.1-2.2",
+        default="coded",
+    )
 
     target: ClassVar[str] = "tether"
     GAINS: ClassVar[tuple[str, ...]] = ("speed_gain", "turn_gain")
@@ -195,17 +208,20 @@ class PseudoJoystick(TetherController):
     }
     LAW_PARAMS: ClassVar[tuple[str, ...]] = ("desired_length", "speed_gain", "turn_gain")
 
-    def __post_init__(self) -> None:
-        if self.law not in ("coded", "printed"):
-            raise InvalidParameterError("PseudoJoystick.law", self.law, "'coded' or 'printed'")
-        self._validate()
-
     def law_key(self) -> str:
+        """Which variant of the law this instance uses (``law``)."""
         return self.law
 
     @classmethod
     @cache
     def law_function(cls, variant: str = "coded") -> ca.Function:
+        """CasADi function ``(l_m, phi, b, l_d, k_V, k_O) -> (V, Omega)`` of one variant.
+
+        Parameters
+        ----------
+        variant
+            ``"coded"`` or ``"printed"``.
+        """
         lm, phi, b, ld, kv, ko = _sym("l_m", "phi", "b", "l_d", "k_V", "k_O")
         if variant == "printed":
             v = kv * (lm - ld)  # eq. 2.1
@@ -216,25 +232,15 @@ class PseudoJoystick(TetherController):
         return ca.Function(f"pj_{variant or 'coded'}", [lm, phi, b, ld, kv, ko], [v, om])
 
 
+@declared
 @dataclass(frozen=True)
 class FollowTheLeader(TetherController):
     """Follow the Leader: track the recorded leader path (Allan 2015 Sec. 2.3.2, App. C mode 20).
 
-    Parameters
-    ----------
-    desired_length
-        l_d in m (App. C: 1.0 m).
-    speed_gain
-        K_V in 1/s (App. C: 1.0), eq. (2.17).
-    turn_gain
-        K_Omega in 1/s (App. C: 3.0), eq. (2.18).
-    lookahead
-        delta in m, measured along the recorded path (App. C: 0.5 m; the
-        thesis's rule is b < delta < 2b).
-    min_step
-        Delta s_min in m: the minimum step between recorded points (0.01 m).
-    buffer_size
-        Buffer limit (300; at most ``buffer_size - 1`` points are kept, as coded).
+    ``V = K_V (l_m - l_d)`` (eq. 2.17), ``Omega = K_Omega phi`` (eq. 2.18) with
+    phi the direction to the point ``lookahead`` along the recorded path beyond
+    the nearest recorded point (the thesis's rule is b < delta < 2b). The
+    defaults are App. C's: l_d 1.0 m, K_V 1.0, K_Omega 3.0, delta 0.5 m.
 
     Examples
     --------
@@ -242,12 +248,20 @@ class FollowTheLeader(TetherController):
     (0.5, 300)
     """
 
-    desired_length: float = 1.0
-    speed_gain: float = 1.0
-    turn_gain: float = 3.0
-    lookahead: float = 0.5
-    min_step: float = 0.01
-    buffer_size: int = 300
+    desired_length: float = _desired_length(1.0)
+    speed_gain: float = _gain("K_V", "1/s", "speed gain", 1.0)
+    turn_gain: float = _gain("K_Omega", "1/s", "turn gain", 3.0)
+    lookahead: float = param(
+        "delta",
+        "m",
+        doc="look-ahead along the recorded path",
+        gt=0,
+        le=10,
+        typical=(0.28, 0.56),
+        default=0.5,
+    )
+    min_step: float = _min_step()
+    buffer_size: int = _buffer_size()
 
     target: ClassVar[str] = "lookahead"
     GAINS: ClassVar[tuple[str, ...]] = ("speed_gain", "turn_gain", "lookahead")
@@ -258,36 +272,29 @@ class FollowTheLeader(TetherController):
     }
     LAW_PARAMS: ClassVar[tuple[str, ...]] = ("desired_length", "speed_gain", "turn_gain")
 
-    def __post_init__(self) -> None:
-        self._validate()
-
     @classmethod
     @cache
     def law_function(cls, variant: str = "") -> ca.Function:
+        """CasADi function ``(l_m, phi, b, l_d, K_V, K_Omega) -> (V, Omega)``.
+
+        Parameters
+        ----------
+        variant
+            Unused (one variant).
+        """
         lm, phi, b, ld, kv, ko = _sym("l_m", "phi", "b", "l_d", "k_V", "k_O")
         return ca.Function("ftl", [lm, phi, b, ld, kv, ko], [kv * (lm - ld), ko * phi + 0.0 * b])
 
 
+@declared
 @dataclass(frozen=True)
 class FollowTheLeaderConstDistance(TetherController):
     """Follow the Leader with Constant Distance (Allan 2015 Sec. 2.3.3, App. C mode 21).
 
-    Parameters
-    ----------
-    desired_length
-        l_d in m (App. C: 1.2 m); also the Euclidean distance from the leader
-        of the path target.
-    speed_gain
-        Effective K_p in 1/s (App. C: -2.0 with an extra minus sign, i.e. 2.0).
-    angle_gain
-        K_a in 1/rad (0.5); ``1 - K_a |phi|`` slows the robot when it is
-        turned away from the target.
-    turn_gain
-        Effective K_b in 1/s (App. C: -2.0 with ``Omega = -K_b phi``, i.e. 2.0).
-    min_step
-        Delta s_min in m (0.01).
-    buffer_size
-        Buffer limit (300).
+    ``V = max(0, K_p (l_m - l_d)(1 - K_a |phi|))``, ``Omega = K_b phi`` with phi
+    the direction to the newest recorded point at least l_d (Euclidean) from the
+    leader. The effective gains are the code's: App. C has K_p = -2 and K_b = -2
+    with extra minus signs, i.e. 2.0 each; K_a 0.5; l_d 1.2 m.
 
     Examples
     --------
@@ -296,12 +303,14 @@ class FollowTheLeaderConstDistance(TetherController):
     (0.45, 0.4)
     """
 
-    desired_length: float = 1.2
-    speed_gain: float = 2.0
-    angle_gain: float = 0.5
-    turn_gain: float = 2.0
-    min_step: float = 0.01
-    buffer_size: int = 300
+    desired_length: float = _desired_length(1.2)
+    speed_gain: float = _gain("K_p", "1/s", "effective speed gain", 2.0)
+    angle_gain: float = _gain(
+        "K_a", "1/rad", "angle gain: 1 - K_a |phi| slows a robot turned away", 0.5, ge=0
+    )
+    turn_gain: float = _gain("K_b", "1/s", "effective turn gain", 2.0)
+    min_step: float = _min_step()
+    buffer_size: int = _buffer_size()
 
     target: ClassVar[str] = "constant_distance"
     GAINS: ClassVar[tuple[str, ...]] = ("speed_gain", "angle_gain", "turn_gain")
@@ -317,12 +326,16 @@ class FollowTheLeaderConstDistance(TetherController):
         "turn_gain",
     )
 
-    def __post_init__(self) -> None:
-        self._validate()
-
     @classmethod
     @cache
     def law_function(cls, variant: str = "") -> ca.Function:
+        """CasADi function ``(l_m, phi, b, l_d, K_p, K_a, K_b) -> (V, Omega)``.
+
+        Parameters
+        ----------
+        variant
+            Unused (one variant).
+        """
         lm, phi, b, ld, kp, ka, kb = _sym("l_m", "phi", "b", "l_d", "K_p", "K_a", "K_b")
         v = ca.fmax(kp * (lm - ld) * (1.0 - ka * ca.fabs(phi)), 0.0)  # eq. 2.20, effective
         return ca.Function("ftlcd", [lm, phi, b, ld, kp, ka, kb], [v, kb * phi + 0.0 * b])

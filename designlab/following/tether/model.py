@@ -15,12 +15,10 @@ tether length ``l_m`` (3-D, as the V-REP sensor of App. C) and the angle
 The physics is written once in CasADi symbols (:func:`kinematics_function`,
 :func:`sensor_function`, :func:`tip_function`) and compiled to numpy/float
 code for the closed-loop simulation (:mod:`designlab.following.tether_codegen`).
+The robot's parameters are :class:`designlab.following.tether.FollowerRobot`.
 
 Examples
 --------
->>> robot = FollowerRobot()
->>> robot.wheel_track, robot.wheel_radius, robot.sample_time
-(0.28, 0.125, 0.01)
 >>> step = kinematics_step()
 >>> x, y, g = step(0.0, 0.0, 0.0, 4.0, 4.0, 0.28, 0.125, 1.0)[:3]   # 0.5 m/s for 1 s
 >>> round(x, 6), round(y, 6), g
@@ -30,19 +28,15 @@ Examples
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, replace
 from functools import cache
 from typing import Any
 
 import casadi as ca
 
-from designlab.errors import InvalidParameterError, check_nonnegative, check_positive
 from designlab.following.tether_codegen import compile_sx
 
 __all__ = [
-    "OXYDOG",
     "STEP_INPUTS",
-    "FollowerRobot",
     "kinematics_function",
     "kinematics_step",
     "sensor_function",
@@ -66,125 +60,6 @@ def wrap_angle(a: Any) -> Any:
     if isinstance(a, (ca.SX, ca.MX)):
         return ca.atan2(ca.sin(a), ca.cos(a))
     return math.atan2(math.sin(a), math.cos(a))
-
-
-@dataclass(frozen=True)
-class FollowerRobot:
-    """Differential-drive tether follower: geometry, limits, sensing and control rate.
-
-    Parameters
-    ----------
-    wheel_track
-        Distance b between the wheel centres in m (Allan 2015 Table 3.1: 0.28 m).
-    wheel_radius
-        Wheel radius r in m (Table 3.1: 0.125 m).
-    body_length
-        Overall length in m (Table 3.1: 0.67 m); the desired tether length
-        must exceed half of it (the tether tip would be inside the robot).
-    max_wheel_speed
-        Wheel angular speed limit in rad/s (> 0, may be ``inf``). The App. C
-        code has no limit (the default); the hardware's 1.0 m/s (Table 3.1)
-        is 8 rad/s (:data:`OXYDOG`). A demand beyond it scales both wheels by
-        the same factor, keeping the demanded curvature (the thesis does not
-        say how its firmware saturates; a project choice, ``docs/following.md``).
-    max_wheel_acceleration
-        Wheel angular acceleration limit in rad/s^2 (> 0, may be ``inf``; no
-        limit in the thesis).
-    winch_offset_x, winch_offset_y
-        Winch position in the robot frame in m (x forward, y left; App. C
-        offsets, default 0). The offset is rotated properly (the App. C
-        listing's ``off_y`` terms are not a rotation; Allan 2015 App. C).
-    tip_height
-        Height of the tether tip above the winch in m (>= 0). The sensor
-        measures the 3-D length while the controllers treat it as planar, as
-        the thesis does (0 by default: the planar model).
-    length_noise_std, angle_noise_std
-        Standard deviations of Gaussian noise on ``l_m`` (m) and ``theta_m``
-        (rad), >= 0.
-    sample_time
-        Control (and simulation) period in s (> 0); 0.01 s is 100 Hz. The
-        thesis does not state its period (Allan 2015 Sec. 2.4.1).
-
-    Examples
-    --------
-    >>> FollowerRobot(max_wheel_speed=8.0).max_speed
-    1.0
-    >>> FollowerRobot(wheel_track=-1.0)
-    Traceback (most recent call last):
-    ...
-    designlab.errors.InvalidParameterError: FollowerRobot.wheel_track = -1.0 m is not allowed: ...
-    """
-
-    wheel_track: float = 0.28
-    wheel_radius: float = 0.125
-    body_length: float = 0.67
-    max_wheel_speed: float = math.inf
-    max_wheel_acceleration: float = math.inf
-    winch_offset_x: float = 0.0
-    winch_offset_y: float = 0.0
-    tip_height: float = 0.0
-    length_noise_std: float = 0.0
-    angle_noise_std: float = 0.0
-    sample_time: float = 0.01
-
-    def __post_init__(self) -> None:
-        for name, unit in (
-            ("wheel_track", "m"),
-            ("wheel_radius", "m"),
-            ("body_length", "m"),
-            ("sample_time", "s"),
-        ):
-            object.__setattr__(
-                self, name, check_positive(f"FollowerRobot.{name}", getattr(self, name), unit)
-            )
-        for name, unit in (("max_wheel_speed", "rad/s"), ("max_wheel_acceleration", "rad/s^2")):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not (v > 0):
-                raise InvalidParameterError(
-                    f"FollowerRobot.{name}", v, "must be a number > 0 (inf for no limit)", unit
-                )
-            object.__setattr__(self, name, float(v))
-        for name in ("winch_offset_x", "winch_offset_y"):
-            v = getattr(self, name)
-            try:
-                ok = not isinstance(v, bool) and math.isfinite(float(v))
-            except (TypeError, ValueError):
-                ok = False
-            if not ok:
-                raise InvalidParameterError(
-                    f"FollowerRobot.{name}", v, "must be a finite number", "m"
-                )
-            object.__setattr__(self, name, float(v))
-        for name, unit in (
-            ("tip_height", "m"),
-            ("length_noise_std", "m"),
-            ("angle_noise_std", "rad"),
-        ):
-            object.__setattr__(
-                self, name, check_nonnegative(f"FollowerRobot.{name}", getattr(self, name), unit)
-            )
-
-    @property
-    def max_speed(self) -> float:
-        """Forward speed in m/s with both wheels at ``max_wheel_speed``."""
-        return self.max_wheel_speed * self.wheel_radius
-
-    @property
-    def noisy(self) -> bool:
-        """True when the tether sensor has noise."""
-        return self.length_noise_std > 0.0 or self.angle_noise_std > 0.0
-
-    def as_dict(self) -> dict[str, Any]:
-        """The fields as a plain dict (picklable, YAML-friendly)."""
-        return asdict(self)
-
-    def replace(self, **changes: Any) -> FollowerRobot:
-        """A copy with some fields changed (validated again)."""
-        return replace(self, **changes)
-
-
-#: OxyDog hardware (Allan 2015 Table 3.1): b = 0.28 m, r = 0.125 m, 1.0 m/s top speed.
-OXYDOG = FollowerRobot(max_wheel_speed=1.0 / 0.125)
 
 
 def _arc_step(x: ca.SX, y: ca.SX, g: ca.SX, v: ca.SX, om: ca.SX, dt: ca.SX) -> tuple[ca.SX, ...]:
@@ -285,10 +160,67 @@ def tip_step(batch: bool = False) -> Any:
 
 #: Inputs of :func:`step_function` before the law's own parameters.
 STEP_INPUTS = (
-    "x", "y", "heading", "tip_x", "tip_y", "target_x", "target_y", "omega_L_prev", "omega_R_prev",
-    "length_noise", "angle_noise", "b", "r", "dt", "max_wheel_speed", "max_wheel_step",
-    "off_x", "off_y", "h",
-)  # fmt: skip
+    "x",
+    "y",
+    "heading",
+    "tip_x",
+    "tip_y",
+    "target_x",
+    "target_y",
+    "omega_L_prev",
+    "omega_R_prev",
+    "length_noise",
+    "angle_noise",
+    "b",
+    "r",
+    "dt",
+    "max_wheel_speed",
+    "max_wheel_step",
+    "off_x",
+    "off_y",
+    "h",
+)
+
+
+def _sensed_tether(
+    syms: dict[str, ca.SX], steer_to_target: bool, offsets: bool, noisy: bool
+) -> tuple[Any, Any]:
+    """The measured tether length and angle (``None`` when the law does not need it)."""
+    x, y, g = syms["x"], syms["y"], syms["heading"]
+    if offsets:
+        lm, th = sensor_function()(
+            x, y, g, syms["tip_x"], syms["tip_y"], syms["off_x"], syms["off_y"], syms["h"]
+        )
+    else:
+        dx, dy = syms["tip_x"] - x, syms["tip_y"] - y
+        lm = ca.sqrt(dx * dx + dy * dy)
+        th = wrap_angle(ca.atan2(dy, dx) - g) if not steer_to_target else None
+    if noisy:
+        lm = lm + syms["length_noise"]
+        if th is None:
+            th = sensor_function()(x, y, g, syms["tip_x"], syms["tip_y"], 0.0, 0.0, 0.0)[1]
+        th = th + syms["angle_noise"]
+    return lm, th
+
+
+def _limited_wheels(syms: dict[str, ca.SX], v: Any, om: Any) -> tuple[Any, ...]:
+    """Wheel speeds under the speed and acceleration limits, and the ``V, Omega`` they give.
+
+    Speed limit: both wheels scaled by the same factor, which keeps the demanded
+    curvature Omega/V (clipping each wheel alone would drop the turn when V
+    saturates, and a robot far behind its leader would then drive straight on and
+    lose it); then each wheel changes by at most ``max_wheel_step`` per period.
+    """
+    b, r = syms["b"], syms["r"]
+    wlp, wrp = syms["omega_L_prev"], syms["omega_R_prev"]
+    wmax, astep = syms["max_wheel_speed"], syms["max_wheel_step"]
+    wl = (v - 0.5 * b * om) / r
+    wr = (v + 0.5 * b * om) / r
+    scale = 1.0 / ca.fmax(1.0, ca.fmax(ca.fabs(wl), ca.fabs(wr)) / wmax)  # wmax may be inf
+    wl, wr = wl * scale, wr * scale
+    wl = ca.fmin(ca.fmax(ca.fmin(ca.fmax(wl, wlp - astep), wlp + astep), -wmax), wmax)
+    wr = ca.fmin(ca.fmax(ca.fmin(ca.fmax(wr, wrp - astep), wrp + astep), -wmax), wmax)
+    return wl, wr, 0.5 * r * (wl + wr), r * (wr - wl) / b  # eq. 2.6
 
 
 @cache
@@ -317,46 +249,30 @@ def step_function(
     The flags leave out operations whose inputs are zero or infinite (no
     limits, no winch offset or tip height, no noise), so that the compiled
     step does only the work the model needs; the inputs are then ignored.
+
+    Parameters
+    ----------
+    law
+        The law's CasADi function ``(l_m, phi, b, *params) -> (V, Omega)``.
+    steer_to_target
+        Steer to the target point (FTL, FTL-CD) rather than along the tether.
+    limits, offsets, noisy
+        Include the wheel limits, the winch offset and tip height, the noise.
     """
     syms = {n: ca.SX.sym(n) for n in STEP_INPUTS}
     x, y, g = syms["x"], syms["y"], syms["heading"]
-    b, r, dt = syms["b"], syms["r"], syms["dt"]
     extra = [ca.SX.sym(law.name_in(i)) for i in range(3, law.n_in())]
-    if offsets:
-        lm, th = sensor_function()(
-            x, y, g, syms["tip_x"], syms["tip_y"], syms["off_x"], syms["off_y"], syms["h"]
-        )
-    else:
-        dx, dy = syms["tip_x"] - x, syms["tip_y"] - y
-        lm = ca.sqrt(dx * dx + dy * dy)
-        th = wrap_angle(ca.atan2(dy, dx) - g) if not steer_to_target else None
-    if noisy:
-        lm = lm + syms["length_noise"]
-        if th is None:
-            th = sensor_function()(x, y, g, syms["tip_x"], syms["tip_y"], 0.0, 0.0, 0.0)[1]
-        th = th + syms["angle_noise"]
+    lm, th = _sensed_tether(syms, steer_to_target, offsets, noisy)
     if steer_to_target:
         phi = wrap_angle(ca.atan2(syms["target_y"] - y, syms["target_x"] - x) - g)
     else:
         phi = th
-    v, om = law(lm, phi, b, *extra)
+    v, om = law(lm, phi, syms["b"], *extra)
     if limits:
-        wlp, wrp = syms["omega_L_prev"], syms["omega_R_prev"]
-        wmax, astep = syms["max_wheel_speed"], syms["max_wheel_step"]
-        wl = (v - 0.5 * b * om) / r
-        wr = (v + 0.5 * b * om) / r
-        # speed limit: both wheels scaled by the same factor, which keeps the demanded
-        # curvature Omega/V (clipping each wheel alone would drop the turn when V saturates,
-        # and a robot far behind its leader would then drive straight on and lose it)
-        scale = 1.0 / ca.fmax(1.0, ca.fmax(ca.fabs(wl), ca.fabs(wr)) / wmax)  # wmax may be inf
-        wl, wr = wl * scale, wr * scale
-        wl = ca.fmin(ca.fmax(ca.fmin(ca.fmax(wl, wlp - astep), wlp + astep), -wmax), wmax)
-        wr = ca.fmin(ca.fmax(ca.fmin(ca.fmax(wr, wrp - astep), wrp + astep), -wmax), wmax)
-        v = 0.5 * r * (wl + wr)  # eq. 2.6
-        om = r * (wr - wl) / b
+        wl, wr, v, om = _limited_wheels(syms, v, om)
     else:
         wl = wr = ca.SX(0.0)
-    xn, yn, gn, _ = _arc_step(x, y, g, v, om, dt)
+    xn, yn, gn, _ = _arc_step(x, y, g, v, om, syms["dt"])
     return ca.Function(
         f"step_{law.name()}",
         [*syms.values(), *extra],

@@ -38,9 +38,27 @@ from dataclasses import asdict, dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from designlab.following.user_frame import robot_in_user_frame
+from designlab.errors import InvalidParameterError
+from designlab.following.accompanying.parameters import SETTLE_BAND
+from designlab.following.accompanying.user_frame import robot_in_user_frame
+from designlab.params import Param
 
-__all__ = ["AccompanyMetrics", "accompany_metrics"]
+__all__ = ["MAX_LAG", "SETTLE_WINDOW", "AccompanyMetrics", "accompany_metrics"]
+
+#: Time after the stop at which the Table 2 stop pose and the settled error are taken.
+SETTLE_WINDOW = Param(
+    None,
+    "s",
+    "time after the stop of the settled error",
+    ge=0,
+    le=600,
+    default=10.0,
+    name="settle_window",
+)
+#: Largest delay searched for the lag.
+MAX_LAG = Param(
+    None, "s", "largest delay searched for the lag", ge=0, le=60, default=3.0, name="max_lag"
+)
 
 
 @dataclass(frozen=True)
@@ -121,6 +139,51 @@ def _circ_mean_sd(a: NDArray) -> tuple[float, float]:
     return math.degrees(m), math.degrees(float(np.std(dev)))
 
 
+def _lag(
+    t: NDArray, robot: NDArray, target: tuple[NDArray, NDArray], idx: NDArray, max_lag: float
+) -> float:
+    """The delay in [0, max_lag] that best aligns the robot's path with the target point's."""
+    twx, twy = target
+    if not np.hypot(np.ptp(twx[idx]), np.ptp(twy[idx])) > 1e-3:
+        return math.nan
+    dt = float(t[1] - t[0])
+    shifts = np.arange(0, round(max_lag / dt) + 1)
+    k = np.clip(idx[None, :] - shifts[:, None], 0, None)
+    costs = np.mean((robot[0, idx] - twx[k]) ** 2 + (robot[1, idx] - twy[k]) ** 2, axis=1)
+    return float(shifts[int(np.argmin(costs))] * dt)
+
+
+def _overshoot(
+    t: NDArray, robot: NDArray, target: tuple[NDArray, NDArray], walk_stop: float
+) -> float:
+    """The largest travel beyond the stopped target along its last direction of motion."""
+    twx, twy = target
+    k_ws = min(int(np.searchsorted(t, walk_stop - 1e-9)), t.size - 1)
+    k0 = int(np.searchsorted(t, walk_stop - 0.5))
+    vx = twx[k_ws] - twx[max(k0 - 1, 0)]
+    vy = twy[k_ws] - twy[max(k0 - 1, 0)]
+    nv = math.hypot(vx, vy)
+    if not nv > 1e-4:
+        return math.nan
+    after = slice(k_ws, t.size)
+    proj = ((robot[0, after] - twx[after]) * vx + (robot[1, after] - twy[after]) * vy) / nv
+    return max(0.0, float(np.max(proj)))
+
+
+def _settling_time(t: NDArray, err: NDArray, walk_stop: float, band: float) -> float:
+    """Time after the stop until the error stays within ``band``; NaN if it never does."""
+    outside = np.flatnonzero((err > band) & (t >= walk_stop))
+    if outside.size == 0:
+        return 0.0
+    if outside[-1] == t.size - 1:
+        return math.nan
+    return float(t[outside[-1] + 1] - walk_stop)
+
+
+def _pose(a: NDArray, k: int) -> tuple[float, float, float]:
+    return (float(a[0, k]), float(a[1, k]), math.degrees(float(a[2, k])))
+
+
 def accompany_metrics(
     time: NDArray,
     user_pose: NDArray,
@@ -139,7 +202,7 @@ def accompany_metrics(
     Parameters
     ----------
     time
-        Sample times in s, shape (n,), uniformly spaced.
+        Sample times in s, shape (n,), uniformly spaced, n >= 2.
     user_pose, robot_pose
         World (x, y, psi) in m, m, rad, shape (3, n).
     target_position, target_heading
@@ -148,13 +211,17 @@ def accompany_metrics(
         When the user walks, s.
     settle_window
         Time after the stop at which the stop pose and the settled error are
-        taken, s (the end of the run if shorter).
+        taken, s (the end of the run if shorter; :data:`SETTLE_WINDOW`).
     settle_band
-        Error band of the settling time, m.
+        Error band of the settling time, m (:data:`SETTLE_BAND`).
     max_lag
-        Largest delay searched for the lag, s.
+        Largest delay searched for the lag, s (:data:`MAX_LAG`).
     """
+    settle_window, max_lag = SETTLE_WINDOW.check(settle_window), MAX_LAG.check(max_lag)
+    settle_band = SETTLE_BAND.check(settle_band)
     t = np.asarray(time, dtype=float)
+    if t.ndim != 1 or t.size < 2:
+        raise InvalidParameterError("time", t.shape, "at least 2 samples", "s")
     u = np.asarray(user_pose, dtype=float)
     r = np.asarray(robot_pose, dtype=float)
     p_c, g = robot_in_user_frame(u, r)
@@ -166,48 +233,12 @@ def accompany_metrics(
     if not walking.any():
         walking = t <= walk_stop
     t_eval = min(walk_stop + settle_window, float(t[-1]))
-    k_stop = int(np.searchsorted(t, t_eval - 1e-9))
-    k_stop = min(k_stop, t.size - 1)
-
-    dt = float(t[1] - t[0])
-    # target point in the world
+    k_stop = min(int(np.searchsorted(t, t_eval - 1e-9)), t.size - 1)
+    # the target point in the world
     ps = u[2]
-    twx = u[0] + np.sin(ps) * tx + np.cos(ps) * ty
-    twy = u[1] - np.cos(ps) * tx + np.sin(ps) * ty
-    idx = np.flatnonzero(walking)
-    moved = np.hypot(np.ptp(twx[idx]), np.ptp(twy[idx])) > 1e-3
-    lag = math.nan
-    if moved:
-        shifts = np.arange(0, round(max_lag / dt) + 1)
-        k = np.clip(idx[None, :] - shifts[:, None], 0, None)
-        costs = np.mean((r[0, idx] - twx[k]) ** 2 + (r[1, idx] - twy[k]) ** 2, axis=1)
-        lag = float(shifts[int(np.argmin(costs))] * dt)
-    # overshoot along the target's last direction of motion
-    overshoot = math.nan
-    k_ws = int(np.searchsorted(t, walk_stop - 1e-9))
-    k0 = int(np.searchsorted(t, walk_stop - 0.5))
-    k_ws = min(k_ws, t.size - 1)
-    vx = twx[k_ws] - twx[max(k0 - 1, 0)]
-    vy = twy[k_ws] - twy[max(k0 - 1, 0)]
-    nv = math.hypot(vx, vy)
-    if nv > 1e-4:
-        after = slice(k_ws, t.size)
-        proj = ((r[0, after] - twx[after]) * vx + (r[1, after] - twy[after]) * vy) / nv
-        overshoot = max(0.0, float(np.max(proj)))
-    # settling time
-    outside = np.flatnonzero((err > settle_band) & (t >= walk_stop))
-    if outside.size == 0:
-        settling = 0.0
-    elif outside[-1] == t.size - 1:
-        settling = math.nan
-    else:
-        settling = float(t[outside[-1] + 1] - walk_stop)
+    target = (u[0] + np.sin(ps) * tx + np.cos(ps) * ty, u[1] - np.cos(ps) * tx + np.sin(ps) * ty)
     gmean, gsd = _circ_mean_sd(g[walking])
     bmean, bsd = _circ_mean_sd(bearing[walking])
-
-    def pose(a: NDArray, k: int) -> tuple[float, float, float]:
-        return (float(a[0, k]), float(a[1, k]), math.degrees(float(a[2, k])))
-
     return AccompanyMetrics(
         target_x=float(xc[0]),
         target_y=float(yc[0]),
@@ -225,15 +256,15 @@ def accompany_metrics(
         sd_bearing_deg=bsd,
         mean_gamma_deg=gmean,
         sd_gamma_deg=gsd,
-        user_start=pose(u, 0),
-        user_stop=pose(u, k_stop),
-        robot_start=pose(r, 0),
-        robot_stop=pose(r, k_stop),
+        user_start=_pose(u, 0),
+        user_stop=_pose(u, k_stop),
+        robot_start=_pose(r, 0),
+        robot_stop=_pose(r, k_stop),
         rms_error=float(np.sqrt(np.mean(err[walking] ** 2))),
         max_error=float(np.max(err)),
         settled_error=float(err[k_stop]),
-        lag=lag,
-        overshoot=overshoot,
-        settling_time=settling,
+        lag=_lag(t, r, target, np.flatnonzero(walking), max_lag),
+        overshoot=_overshoot(t, r, target, walk_stop),
+        settling_time=_settling_time(t, err, walk_stop, settle_band),
         stop_time=float(t[k_stop]),
     )

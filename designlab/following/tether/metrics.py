@@ -1,6 +1,6 @@
 """Figures of merit of a tether-follower run (Allan 2015 Sec. 2.5.1).
 
-* normal path deviation (App. A; :mod:`designlab.following.path_deviation`);
+* normal path deviation (App. A; :mod:`designlab.following.tether.path_deviation`);
 * tether-length error ``l_m - l_d`` (the tether-length profile of Sec. 2.5.1:
   the cannula length must be respected), RMS and maximum, and the range of l_m;
 * velocity smoothness: RMS of dV/dt and dOmega/dt (the thesis shows velocity
@@ -11,9 +11,9 @@
 
 Examples
 --------
->>> from designlab.following import FollowTheLeader, figure_eight, simulate
+>>> from designlab.following.tether import FollowTheLeader, figure_eight, simulate
 >>> m = follower_metrics(simulate(FollowTheLeader(), figure_eight(a=4.0), speed=0.5))
->>> round(m.path_length_ratio, 2), m.npd.status
+>>> round(m.path_length_ratio, 2), str(m.npd.status)
 (0.99, 'ok')
 """
 
@@ -26,8 +26,8 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from designlab.following.path_deviation import PathDeviation, normal_path_deviation
-from designlab.following.tether_simulate import FollowerRun
+from designlab.following.tether.path_deviation import PathDeviation, normal_path_deviation
+from designlab.following.tether.simulate import FollowerRun, FollowerStatus
 from designlab.results import Result
 
 __all__ = ["FollowerMetrics", "follower_metrics"]
@@ -70,7 +70,7 @@ class FollowerMetrics(Result):
     stops: int
     path_length_ratio: float
     wheel_track: float
-    status: str = "ok"
+    status: FollowerStatus = FollowerStatus.OK
     warnings: tuple[str, ...] = ()
 
     def as_dict(self) -> dict[str, float]:
@@ -133,6 +133,6 @@ def follower_metrics(run: FollowerRun, **npd_options: Any) -> FollowerMetrics:
         stops=_stops(run.speed, moving, run.speed_leader, dt),
         path_length_ratio=ratio,
         wheel_track=npd.wheel_track,
-        status=npd.status if run.status == "ok" else run.status,
+        status=FollowerStatus(str(npd.status)) if run.status == "ok" else run.status,
         warnings=tuple(warns) + run.warnings,
     )

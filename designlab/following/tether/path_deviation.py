@@ -49,10 +49,82 @@ import pandas as pd
 from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
-from designlab.errors import InvalidParameterError, check_positive
-from designlab.results import Result
+from designlab.errors import InvalidParameterError
+from designlab.following.tether.parameters import FollowerRobot
+from designlab.params import Param, check_size, params_of
+from designlab.results import Result, Status
 
-__all__ = ["PathDeviation", "normal_path_deviation", "resegment"]
+__all__ = [
+    "COMPARISON",
+    "MAX_HIT_RATIO",
+    "MAX_SEARCH",
+    "MAX_SEGMENT",
+    "MIN_SEGMENT",
+    "DeviationStatus",
+    "PathDeviation",
+    "normal_path_deviation",
+    "normal_path_deviations",
+    "resegment",
+]
+
+#: L_min of the re-segmentation (App. A, Fig. A.3).
+MIN_SEGMENT = Param(
+    "L_min",
+    "m",
+    "shortest segment of the re-segmentation",
+    gt=0,
+    le=1,
+    default=0.01,
+    name="min_segment",
+)
+#: L_max of the re-segmentation (App. A, Fig. A.4).
+MAX_SEGMENT = Param(
+    "L_max",
+    "m",
+    "longest segment of the re-segmentation",
+    gt=0,
+    le=10,
+    default=0.05,
+    name="max_segment",
+)
+#: The longest normal searched.
+MAX_SEARCH = Param(
+    None, "m", "longest normal searched", gt=0, le=100, default=2.0, name="max_search"
+)
+#: A normal hit farther than this multiple of the point-to-polyline distance is spurious.
+MAX_HIT_RATIO = Param(
+    None,
+    "",
+    "largest accepted ratio of a normal hit to the point-to-polyline distance",
+    gt=0,
+    le=1e6,
+    optional=True,
+    none="every hit within max_search",
+    default=3.0,
+    name="max_hit_ratio",
+)
+#: The comparison range of App. A step 5.
+COMPARISON = Param(
+    kind="choice",
+    choices=("ordered", "literal"),
+    doc="comparison range (App. A step 5)",
+    default="ordered",
+    name="comparison",
+)
+_WHEEL_TRACK = params_of(FollowerRobot)["wheel_track"]
+#: The most nodes of a path compared.
+_MAX_NODES = 1_000_000
+
+
+class DeviationStatus(Status):
+    """Status of a normal path deviation.
+
+    ``OK``: the deviation was measured over a comparison range. ``EMPTY``: the
+    two paths have no comparison range (App. A.6: the paths are too dissimilar).
+    """
+
+    OK = "ok"
+    EMPTY = "empty"
 
 
 @dataclass(frozen=True, eq=False)
@@ -94,7 +166,7 @@ class PathDeviation(Result):
     follower_nodes: NDArray[np.float64]
     range_start: int
     range_end: int
-    status: str = "ok"
+    status: DeviationStatus = DeviationStatus.OK
     warnings: tuple[str, ...] = ()
 
     @property
@@ -165,6 +237,8 @@ class PathDeviation(Result):
 
 
 def _as_path(name: str, xy: Any) -> NDArray[np.float64]:
+    if isinstance(xy, np.ndarray) and xy.size > 2 * _MAX_NODES:
+        raise InvalidParameterError(name, f"{xy.size // 2} points", f"at most {_MAX_NODES}", "m")
     try:
         pts = np.array(xy, dtype=float)
     except (TypeError, ValueError):
@@ -173,8 +247,10 @@ def _as_path(name: str, xy: Any) -> NDArray[np.float64]:
         ) from None
     if pts.ndim != 2 or pts.shape[1] != 2:
         raise InvalidParameterError(name, f"shape {pts.shape}", "shape (N, 2)", "m")
-    if pts.shape[0] < 2:
-        raise InvalidParameterError(name, f"{pts.shape[0]} point(s)", "at least 2 points", "m")
+    if not 2 <= pts.shape[0] <= _MAX_NODES:
+        raise InvalidParameterError(
+            name, f"{pts.shape[0]} point(s)", f"at least 2 and at most {_MAX_NODES} points", "m"
+        )
     if not np.all(np.isfinite(pts)):
         bad = int(np.argwhere(~np.isfinite(pts))[0, 0])
         raise InvalidParameterError(f"{name}[{bad}]", pts[bad].tolist(), "finite coordinates", "m")
@@ -202,6 +278,8 @@ def resegment(
     [[0.0, 0.0], [0.02, 0.0], [0.07, 0.0], [0.12, 0.0]]
     """
     pts = _as_path("points", points)
+    min_segment = MIN_SEGMENT.check(min_segment)
+    max_segment = MAX_SEGMENT.check(max_segment)
     if max_segment < min_segment:
         raise InvalidParameterError(
             "max_segment", max_segment, f">= min_segment ({min_segment})", "m"
@@ -221,7 +299,9 @@ def resegment(
     nodes = pts[keep]
     seg = np.diff(nodes, axis=0)
     length = np.hypot(seg[:, 0], seg[:, 1])
-    parts = np.maximum(np.ceil(length / max_segment - 1e-9), 1).astype(int)
+    n_parts = np.maximum(np.ceil(length / max_segment - 1e-9), 1)
+    check_size("max_segment", max_segment, 2.0 * float(np.sum(n_parts)), what="the segments")
+    parts = n_parts.astype(int)
     if np.all(parts == 1):
         return nodes
     start = np.repeat(nodes[:-1], parts, axis=0)
@@ -347,6 +427,106 @@ def _segments(p: NDArray) -> tuple[NDArray, NDArray, NDArray, NDArray]:
     return mid, normal, s_mid, length
 
 
+@dataclass(frozen=True)
+class _Settings:
+    """The checked App. A settings of :func:`normal_path_deviation`."""
+
+    min_segment: float
+    max_segment: float
+    max_search: float
+    max_hit_ratio: float | None
+    comparison: str
+    intersections: bool
+    wheel_track: float
+
+    @classmethod
+    def checked(cls, **given: Any) -> _Settings:
+        out = cls(
+            min_segment=MIN_SEGMENT.check(given["min_segment"]),
+            max_segment=MAX_SEGMENT.check(given["max_segment"]),
+            max_search=MAX_SEARCH.check(given["max_search"]),
+            max_hit_ratio=MAX_HIT_RATIO.check(given["max_hit_ratio"]),
+            comparison=COMPARISON.check(given["comparison"]),
+            intersections=bool(given["intersections"]),
+            wheel_track=_WHEEL_TRACK.check(given["wheel_track"], "wheel_track"),
+        )
+        if out.max_segment < out.min_segment:
+            raise InvalidParameterError(
+                "max_segment", out.max_segment, f">= min_segment ({out.min_segment:g} m)", "m"
+            )
+        return out
+
+
+def _comparison_range(
+    q1: NDArray, q2: NDArray, st: _Settings
+) -> tuple[int, int, tuple[NDArray, ...], tuple[NDArray, ...]]:
+    """App. A step 5: the first compared follower segment and the last compared leader segment."""
+    seg1, seg2 = _segments(q1), _segments(q2)
+    (mid1, nrm1, s1, _), (mid2, nrm2, s2, _) = seg1, seg2
+    c2, d2, c1, d1 = q2[:-1], q2[1:], q1[:-1], q1[1:]
+    if st.comparison == "ordered":
+        half2 = np.flatnonzero(s2 <= 0.5 * s2[-1] + 1e-12)
+        half2 = half2 if len(half2) else np.arange(len(mid2))
+        half1 = np.flatnonzero(s1 >= 0.5 * s1[-1] - 1e-12)
+        half1 = half1 if len(half1) else np.arange(len(mid1))
+    else:
+        half2 = np.arange(len(mid2))
+        half1 = np.arange(len(mid1))
+    _, js, _ = _normal_deviation(
+        mid1[:1], nrm1[:1], c2[half2], d2[half2], st.max_search, st.max_hit_ratio
+    )
+    _, ie, _ = _normal_deviation(
+        mid2[-1:], nrm2[-1:], c1[half1], d1[half1], st.max_search, st.max_hit_ratio
+    )
+    return int(half2[js[0]]), int(half1[ie[0]]), seg1, seg2
+
+
+def _deviation(
+    leader: NDArray, robot: NDArray, st: _Settings, leader_nodes: NDArray | None = None
+) -> PathDeviation:
+    """The deviation of one robot path (the leader re-segmented once, if given)."""
+    q1 = resegment(leader, st.min_segment, st.max_segment) if leader_nodes is None else leader_nodes
+    q2 = resegment(robot, st.min_segment, st.max_segment)
+    if st.intersections:
+        q1, q2, _ = _insert_intersections(q1, q2, st.max_segment)
+    j_start, i_end, (mid1, nrm1, s1, _), _ = _comparison_range(q1, q2, st)
+    c2, d2 = q2[:-1], q2[1:]
+    sel1 = np.arange(0, i_end + 1)
+    if len(sel1) == 0 or j_start >= len(q2) - 1:
+        sel1 = np.zeros(0, dtype=int)
+    status, warns = DeviationStatus.OK, []
+    if len(sel1):
+        dev, _, fb = _normal_deviation(
+            mid1[sel1], nrm1[sel1], c2[j_start:], d2[j_start:], st.max_search, st.max_hit_ratio
+        )
+    else:
+        dev, fb = np.zeros(0), np.zeros(0, bool)
+        status = DeviationStatus.EMPTY
+        warns.append(
+            "the two paths have no comparison range (App. A.6: the paths are too dissimilar)"
+        )
+    if len(fb) and fb.mean() > 0.2:
+        warns.append(
+            f"{100 * fb.mean():.0f} % of the segments used the point-to-polyline fallback; "
+            "the paths may be too dissimilar for the normal deviation (Allan 2015 App. A.6)"
+        )
+    if len(sel1) and len(sel1) < 0.25 * len(mid1):
+        warns.append(f"only {len(sel1)} of {len(mid1)} leader segments are in the comparison range")
+    return PathDeviation(
+        profile=dev,
+        distance=s1[sel1],
+        midpoints=mid1[sel1],
+        fallback=fb,
+        wheel_track=st.wheel_track,
+        leader_nodes=q1,
+        follower_nodes=q2,
+        range_start=j_start,
+        range_end=i_end,
+        status=status,
+        warnings=tuple(warns),
+    )
+
+
 def normal_path_deviation(
     leader_xy: Any,
     robot_xy: Any,
@@ -397,78 +577,56 @@ def normal_path_deviation(
     """
     p1 = _as_path("leader_xy", leader_xy)
     p2 = _as_path("robot_xy", robot_xy)
-    min_segment = check_positive("min_segment", min_segment, "m")
-    max_segment = check_positive("max_segment", max_segment, "m")
-    max_search = check_positive("max_search", max_search, "m")
-    wheel_track = check_positive("wheel_track", wheel_track, "m")
-    if max_hit_ratio is not None:
-        max_hit_ratio = check_positive("max_hit_ratio", max_hit_ratio)
-    if comparison not in ("ordered", "literal"):
-        raise InvalidParameterError("comparison", comparison, "'ordered' or 'literal'")
-    if max_segment < min_segment:
-        raise InvalidParameterError(
-            "max_segment", max_segment, f">= min_segment ({min_segment:g} m)", "m"
-        )
-    warns: list[str] = []
-    q1 = resegment(p1, min_segment, max_segment)
-    q2 = resegment(p2, min_segment, max_segment)
-    n_x = 0
-    if intersections:
-        q1, q2, n_x = _insert_intersections(q1, q2, max_segment)
-    mid1, nrm1, s1, _ = _segments(q1)
-    mid2, nrm2, s2, _ = _segments(q2)
-    c2, d2 = q2[:-1], q2[1:]
-    c1, d1 = q1[:-1], q1[1:]
-    # comparison range (App. A step 5)
-    if comparison == "ordered":
-        half2 = np.flatnonzero(s2 <= 0.5 * s2[-1] + 1e-12)
-        half2 = half2 if len(half2) else np.arange(len(mid2))
-        half1 = np.flatnonzero(s1 >= 0.5 * s1[-1] - 1e-12)
-        half1 = half1 if len(half1) else np.arange(len(mid1))
-    else:
-        half2 = np.arange(len(mid2))
-        half1 = np.arange(len(mid1))
-    _, js, _ = _normal_deviation(
-        mid1[:1], nrm1[:1], c2[half2], d2[half2], max_search, max_hit_ratio
-    )
-    j_start = int(half2[js[0]])
-    _, ie, _ = _normal_deviation(
-        mid2[-1:], nrm2[-1:], c1[half1], d1[half1], max_search, max_hit_ratio
-    )
-    i_end = int(half1[ie[0]])
-    status = "ok"
-    sel1 = np.arange(0, i_end + 1)
-    if len(sel1) == 0 or j_start >= len(mid2):
-        sel1 = np.zeros(0, dtype=int)
-    if len(sel1):
-        dev, _, fb = _normal_deviation(
-            mid1[sel1], nrm1[sel1], c2[j_start:], d2[j_start:], max_search, max_hit_ratio
-        )
-    else:
-        dev = np.zeros(0)
-        fb = np.zeros(0, bool)
-        status = "empty"
-        warns.append(
-            "the two paths have no comparison range (App. A.6: the paths are too dissimilar)"
-        )
-    if len(fb) and fb.mean() > 0.2:
-        warns.append(
-            f"{100 * fb.mean():.0f} % of the segments used the point-to-polyline fallback; "
-            "the paths may be too dissimilar for the normal deviation (Allan 2015 App. A.6)"
-        )
-    if len(sel1) and len(sel1) < 0.25 * len(mid1):
-        warns.append(f"only {len(sel1)} of {len(mid1)} leader segments are in the comparison range")
-    del n_x
-    return PathDeviation(
-        profile=dev,
-        distance=s1[sel1],
-        midpoints=mid1[sel1],
-        fallback=fb,
+    st = _Settings.checked(
+        min_segment=min_segment,
+        max_segment=max_segment,
+        max_search=max_search,
+        max_hit_ratio=max_hit_ratio,
+        comparison=comparison,
+        intersections=intersections,
         wheel_track=wheel_track,
-        leader_nodes=q1,
-        follower_nodes=q2,
-        range_start=j_start,
-        range_end=i_end,
-        status=status,
-        warnings=tuple(warns),
     )
+    return _deviation(p1, p2, st)
+
+
+def normal_path_deviations(
+    leader_xy: Any, robot_paths: Any, **settings: Any
+) -> list[PathDeviation]:
+    """:func:`normal_path_deviation` of several follower paths from one leader path.
+
+    The leader path is re-segmented once (the same numbers as one call per path).
+
+    Parameters
+    ----------
+    leader_xy
+        Leader positions in m, (N, 2).
+    robot_paths
+        Follower paths in m, each (N_i, 2) (e.g. a batch's ``robot_xy``).
+    **settings
+        The keyword arguments of :func:`normal_path_deviation`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> x = np.linspace(0.0, 5.0, 501)
+    >>> leader = np.column_stack([x, 0 * x])
+    >>> devs = normal_path_deviations(leader, [leader + [0, 0.1], leader + [0, 0.2]])
+    >>> [round(d.mean, 6) for d in devs]
+    [0.1, 0.2]
+    """
+    defaults = {
+        "min_segment": 0.01,
+        "max_segment": 0.05,
+        "max_search": 2.0,
+        "max_hit_ratio": 3.0,
+        "comparison": "ordered",
+        "intersections": True,
+        "wheel_track": 0.28,
+    }
+    unknown = sorted(set(settings) - set(defaults))
+    if unknown:
+        raise InvalidParameterError(unknown[0], settings[unknown[0]], f"one of {sorted(defaults)}")
+    st = _Settings.checked(**{**defaults, **settings})
+    p1 = _as_path("leader_xy", leader_xy)
+    q1 = resegment(p1, st.min_segment, st.max_segment)
+    return [_deviation(p1, _as_path("robot_xy", r), st, q1) for r in robot_paths]

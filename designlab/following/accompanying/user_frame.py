@@ -38,6 +38,7 @@ import casadi as ca
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from designlab.errors import InvalidParameterError
 from designlab.symbolic import vectorize
 
 __all__ = [
@@ -174,8 +175,10 @@ def robot_in_user_frame(
     """
     u = np.asarray(user_pose, dtype=float)
     r = np.asarray(robot_pose, dtype=float)
-    if u.shape[0] != 3 or r.shape[0] != 3:
-        raise ValueError("user_pose and robot_pose need 3 rows (x, y, psi)")
+    if u.ndim == 0 or r.ndim == 0 or u.shape[0] != 3 or r.shape[0] != 3:
+        raise InvalidParameterError(
+            "user_pose, robot_pose", (u.shape, r.shape), "3 rows (x, y, psi) each"
+        )
     res = _functions()[0](u.reshape(3, -1), r.reshape(3, -1))[0]
     if u.ndim == 1 and r.ndim == 1:
         return res[:2, 0], float(res[2, 0])

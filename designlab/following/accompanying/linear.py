@@ -2,7 +2,7 @@
 
 Away from saturation each axis of the closed loop is a sampled loop: the
 PID of eq. (9) (with its derivative filter, see
-:mod:`designlab.following.user_frame_pid`) drives a velocity command held over
+:mod:`designlab.following.accompanying.model`) drives a velocity command held over
 one sensor period (zero-order hold) into a first-order lag whose output
 integrates to the position (or heading) measured by the string-pot at the
 next sample:
@@ -25,6 +25,10 @@ Examples
 >>> row = la.to_frame().set_index("axis").loc["forward"]
 >>> bool(row["stable"]), round(float(row["Ms"]), 2)
 (True, 1.14)
+>>> loop_analysis(n_frequencies=1)
+Traceback (most recent call last):
+...
+designlab.errors.InvalidParameterError: n_frequencies = 1 is not allowed: must be an integer ...
 """
 
 from __future__ import annotations
@@ -39,11 +43,36 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
-from designlab.following.accompany_model import MecanumPlatform, StringPotSensor
-from designlab.following.user_frame_pid import AXES, UserFramePID
-from designlab.results import OK, Result
+from designlab.following.accompanying.parameters import (
+    AXES,
+    N_FREQUENCIES,
+    MecanumPlatform,
+    StringPotSensor,
+    UserFramePID,
+)
+from designlab.results import Result, Status
 
-__all__ = ["LoopAnalysis", "axis_loop", "frequency_grid", "loop_analysis", "pid_basis"]
+__all__ = [
+    "LoopAnalysis",
+    "LoopStatus",
+    "axis_loop",
+    "delay_periods",
+    "frequency_grid",
+    "loop_analysis",
+    "pid_basis",
+    "plant_response",
+]
+
+
+class LoopStatus(Status):
+    """Status of the loop analysis of the three PIDs.
+
+    ``OK``: every closed loop is stable. ``UNSTABLE``: a closed loop has a pole
+    on or outside the unit circle.
+    """
+
+    OK = "ok"
+    UNSTABLE = "unstable"
 
 
 def frequency_grid(sample_time: float, n: int = 400, w_min: float = 1e-2) -> NDArray[np.float64]:
@@ -61,12 +90,31 @@ def frequency_grid(sample_time: float, n: int = 400, w_min: float = 1e-2) -> NDA
     return np.logspace(math.log10(w_min), math.log10(0.999 * math.pi / sample_time), n)
 
 
-def _delay_periods(sensor: StringPotSensor) -> int:
+def delay_periods(sensor: StringPotSensor) -> int:
+    """The median filter's delay, (window - 1)/2 raw samples, in whole control periods.
+
+    Parameters
+    ----------
+    sensor
+        The string-pot sensor.
+    """
     return round((sensor.median_window - 1) / 2 / sensor.oversampling)
 
 
 def plant_response(tau: float, sample_time: float, omega: NDArray, delay: int = 0) -> NDArray:
-    """Frequency response of ZOH{1/(s(tau s+1))} (times z^-delay) at ``omega`` (exact formula)."""
+    """Frequency response of ZOH{1/(s(tau s+1))} (times z^-delay) at ``omega`` (exact formula).
+
+    Parameters
+    ----------
+    tau
+        Lag time constant in s.
+    sample_time
+        Controller sample time T_s (s).
+    omega
+        Frequencies (rad/s).
+    delay
+        Extra delay in control periods.
+    """
     a = math.exp(-sample_time / tau)
     z = np.exp(1j * omega * sample_time)
     # ZOH of 1/(s (tau s + 1)): (b1 z + b0) / ((z - 1)(z - a))
@@ -120,7 +168,7 @@ def axis_loop(
     plant = ct.c2d(ct.tf([1.0], [tau, 1.0, 0.0]), ts, method="zoh")
     z = ct.tf([1.0, 0.0], [1.0], ts)
     c = kp + ki * ts * z / (z - 1) + kd * (z - 1) / ((tf + ts) * z - tf)
-    delay = _delay_periods(sensor)
+    delay = delay_periods(sensor)
     loop = c * plant
     if delay:
         loop = loop * ct.tf([1.0], [1.0] + [0.0] * delay, ts)
@@ -142,7 +190,7 @@ class LoopAnalysis(Result):
     transfer_functions
         Axis -> python-control ``TransferFunction`` L(z).
     status
-        ``"ok"``, or why the analysis is incomplete (e.g. an unstable loop).
+        ``"ok"`` or ``"unstable"`` (:class:`LoopStatus`).
     warnings
         What a user should know about the margins (e.g. a loop below the margin targets).
     """
@@ -151,7 +199,7 @@ class LoopAnalysis(Result):
     omega: NDArray[np.float64]
     loops: dict[str, NDArray[np.complex128]]
     transfer_functions: dict[str, Any]
-    status: str = OK
+    status: LoopStatus = LoopStatus.OK
     warnings: tuple[str, ...] = field(default=())
 
     def to_frame(self) -> pd.DataFrame:
@@ -176,6 +224,48 @@ class LoopAnalysis(Result):
         return max(r["Mt"] for r in self.rows)
 
 
+def _axis_row(
+    controller: UserFramePID,
+    platform: MecanumPlatform,
+    sensor: StringPotSensor,
+    axis: str,
+    omega: NDArray,
+) -> tuple[dict[str, Any], NDArray, Any]:
+    """Margins (python-control) and the Ms, Mt and noise-gain peaks of one axis on ``omega``."""
+    import control as ct
+
+    loop = axis_loop(controller, platform, sensor, axis)
+    kp, ki, kd, tf = controller.gains(axis)
+    tau = platform.yaw_tau if axis == "heading" else platform.time_constant
+    ts = sensor.period
+    # factored response (accurate near z = 1, where the polynomial form cancels)
+    c_w = pid_basis(tf, ts, omega) @ np.array([kp, ki, kd])
+    lw = c_w * plant_response(tau, ts, omega, delay_periods(sensor))
+    s = 1.0 / (1.0 + lw)
+    with warnings_module.catch_warnings():
+        # the polynomial method agrees with python-control's frequency-response
+        # method here (tests check the crossover against the factored L) and is 10x faster
+        warnings_module.simplefilter("ignore", UserWarning)
+        gm, pm, _sm, wpc, wgc, _wms = ct.stability_margins(loop, method="poly")
+    cl_poles = ct.poles(ct.feedback(loop, 1))
+    row = {
+        "axis": axis,
+        "kp": kp,
+        "ki": ki,
+        "kd": kd,
+        "gain_margin": float(gm),
+        "gain_margin_dB": float(20 * np.log10(gm)) if np.isfinite(gm) and gm > 0 else math.inf,
+        "phase_margin_deg": float(pm),
+        "crossover_rad_s": float(wgc),
+        "phase_crossover_rad_s": float(wpc),
+        "Ms": float(np.max(np.abs(s))),
+        "Mt": float(np.max(np.abs(lw * s))),
+        "noise_gain_1_s": float(np.max(np.abs(c_w * s))),
+        "stable": bool(np.all(np.abs(cl_poles) < 1.0 - 1e-12)),
+    }
+    return row, lw, loop
+
+
 def loop_analysis(
     controller: UserFramePID | None = None,
     platform: MecanumPlatform | None = None,
@@ -188,9 +278,10 @@ def loop_analysis(
     Parameters
     ----------
     controller, platform, sensor
-        The models (defaults as :func:`designlab.following.accompany`).
+        The models (defaults as :func:`designlab.following.accompanying.simulate`).
     n_frequencies
-        Points of the log frequency grid for Ms and Mt.
+        Points of the log frequency grid for Ms and Mt (:data:`N_FREQUENCIES`:
+        at least 50, so that the peaks are on the grid).
 
     Returns
     -------
@@ -205,72 +296,29 @@ def loop_analysis(
     >>> round(r["phase_margin_deg"], 1) > 45, r["stable"]
     (True, True)
     """
-    import control as ct
-
+    n_frequencies = N_FREQUENCIES.check(n_frequencies)
     controller = UserFramePID() if controller is None else controller
     platform = MecanumPlatform() if platform is None else platform
     sensor = StringPotSensor() if sensor is None else sensor
-    ts = sensor.period
-    omega = frequency_grid(ts, n_frequencies, 1e-3)
-    rows = []
-    loops = {}
-    tfs = {}
-    warnings = []
-    status = OK
-    done: dict[tuple[float, ...], tuple[Any, NDArray, dict[str, Any]]] = {}
+    for name, obj, cls in (
+        ("controller", controller, UserFramePID),
+        ("platform", platform, MecanumPlatform),
+        ("sensor", sensor, StringPotSensor),
+    ):
+        if not isinstance(obj, cls):
+            raise InvalidParameterError(name, type(obj).__name__, f"must be a {cls.__name__}")
+    omega = frequency_grid(sensor.period, n_frequencies, 1e-3)
+    rows, loops, tfs, warnings = [], {}, {}, []
+    done: dict[tuple[float, ...], tuple[dict[str, Any], NDArray, Any]] = {}
     for axis in AXES:
         tau = platform.yaw_tau if axis == "heading" else platform.time_constant
         key = (*controller.gains(axis), tau)
-        if key in done:
-            loop, lw, prev = done[key]
-            rows.append({**prev, "axis": axis})
-            loops[axis] = lw
-            tfs[axis] = loop
-            if not prev["stable"]:
-                warnings.append(f"the {axis} loop is unstable in closed loop")
-            continue
-        loop = axis_loop(controller, platform, sensor, axis)
-        kp, ki, kd, tf = controller.gains(axis)
-        # factored response (accurate near z = 1, where the polynomial form cancels)
-        lw = (
-            pid_basis(tf, ts, omega)
-            @ np.array([kp, ki, kd])
-            * plant_response(tau, ts, omega, _delay_periods(sensor))
-        )
-        s = 1.0 / (1.0 + lw)
-        t = lw * s
-        with warnings_module.catch_warnings():
-            # the polynomial method agrees with python-control's frequency-response
-            # method here (tests check the crossover against the factored L) and is 10x faster
-            warnings_module.simplefilter("ignore", UserWarning)
-            gm, pm, _sm, wpc, wgc, _wms = ct.stability_margins(loop, method="poly")
-        cl_poles = ct.poles(ct.feedback(loop, 1))
-        stable = bool(np.all(np.abs(cl_poles) < 1.0 - 1e-12))
-        if not stable:
-            status = "unstable"
+        if key not in done:
+            done[key] = _axis_row(controller, platform, sensor, axis, omega)
+        row, lw, loop = done[key]
+        rows.append({**row, "axis": axis})
+        loops[axis], tfs[axis] = lw, loop
+        if not row["stable"]:
             warnings.append(f"the {axis} loop is unstable in closed loop")
-        rows.append(
-            {
-                "axis": axis,
-                "kp": controller.gains(axis)[0],
-                "ki": controller.gains(axis)[1],
-                "kd": controller.gains(axis)[2],
-                "gain_margin": float(gm),
-                "gain_margin_dB": float(20 * np.log10(gm))
-                if np.isfinite(gm) and gm > 0
-                else math.inf,
-                "phase_margin_deg": float(pm),
-                "crossover_rad_s": float(wgc),
-                "phase_crossover_rad_s": float(wpc),
-                "Ms": float(np.max(np.abs(s))),
-                "Mt": float(np.max(np.abs(t))),
-                "noise_gain_1_s": float(
-                    np.max(np.abs(pid_basis(tf, ts, omega) @ np.array([kp, ki, kd]) * s))
-                ),
-                "stable": stable,
-            }
-        )
-        loops[axis] = lw
-        tfs[axis] = loop
-        done[key] = (loop, lw, rows[-1])
+    status = LoopStatus.OK if all(r["stable"] for r in rows) else LoopStatus.UNSTABLE
     return LoopAnalysis(tuple(rows), omega, loops, tfs, status, tuple(warnings))

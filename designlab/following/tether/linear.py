@@ -23,7 +23,7 @@ hold at the control period) come from python-control. See ``docs/following.md``.
 
 Examples
 --------
->>> from designlab.following import FollowTheLeader
+>>> from designlab.following.tether import FollowTheLeader
 >>> lin = linear_analysis(FollowTheLeader(lookahead=0.5), speed=0.5)
 >>> round(lin.damping_ratio, 4), round(lin.natural_frequency, 4)
 (0.866, 1.7321)
@@ -39,19 +39,23 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from designlab.errors import InvalidParameterError, check_positive
-from designlab.following.paths import straight_line
-from designlab.following.tether_controllers import (
+from designlab.errors import InvalidParameterError
+from designlab.following.tether.controllers import (
     FollowTheLeader,
     FollowTheLeaderConstDistance,
     PseudoJoystick,
     TetherController,
 )
-from designlab.following.tether_model import FollowerRobot
-from designlab.results import Result
+from designlab.following.tether.parameters import DURATION, LEADER_SPEED, FollowerRobot
+from designlab.following.tether.paths import straight_line
+from designlab.following.tether.simulate import simulate
+from designlab.params import Param
+from designlab.results import Result, Status
 
 __all__ = [
+    "STEP_OFFSET",
     "LinearLoop",
+    "LinearLoopStatus",
     "effective_loop",
     "fit_damping",
     "lateral_step_response",
@@ -93,6 +97,23 @@ def damping_ratio(controller: TetherController, speed: float, wheel_track: float
     return 0.5 * math.sqrt(k * look / speed)
 
 
+class LinearLoopStatus(Status):
+    """Status of a linearised lateral loop.
+
+    ``OK``: the loop sampled at the control period is stable. ``UNSTABLE``: a
+    pole of the sampled loop is on or outside the unit circle.
+    """
+
+    OK = "ok"
+    UNSTABLE = "unstable"
+
+
+#: Initial lateral offset of the simulated step of :func:`lateral_step_response`.
+STEP_OFFSET = Param(
+    "e_0", "m", "initial lateral offset of the robot", ge=-1, le=1, default=0.05, name="offset"
+)
+
+
 @dataclass(frozen=True, eq=False)
 class LinearLoop(Result):
     """Linearised lateral loop of one law at one speed.
@@ -124,10 +145,13 @@ class LinearLoop(Result):
         Leader speed in m/s.
     sample_time
         Control period in s (for the discrete poles).
-    system
-        The python-control state-space model of the lateral loop.
+    matrices
+        ``(A, B, C, D)`` of the closed lateral loop (states psi, e); the
+        python-control model is :attr:`system` (rebuilt from them, so that the
+        result pickles).
     status
-        ``"ok"``, or ``"unstable"`` when a pole is in the right half-plane.
+        ``"ok"``, or ``"unstable"`` when a pole of the sampled loop is outside
+        the unit circle.
     warnings
         What a user should know about the loop.
     """
@@ -147,9 +171,16 @@ class LinearLoop(Result):
     steady_length: float
     discrete_poles: NDArray[np.complex128]
     discrete_stable: bool
-    system: Any
-    status: str = "ok"
+    matrices: tuple[NDArray[np.float64], ...]
+    status: LinearLoopStatus = LinearLoopStatus.OK
     warnings: tuple[str, ...] = ()
+
+    @property
+    def system(self) -> Any:
+        """The python-control state-space model of the closed lateral loop."""
+        import control
+
+        return control.ss(*self.matrices)
 
     def to_frame(self) -> pd.DataFrame:
         """One row of the loop's figures."""
@@ -170,6 +201,24 @@ class LinearLoop(Result):
                 }
             ]
         )
+
+
+def _margins(a: NDArray, b: NDArray, kx: NDArray) -> tuple[float, float, float]:
+    """Gain margin, phase margin (deg) and crossover (rad/s) of the loop broken at Omega."""
+    import control
+
+    loop = control.ss(a, b, kx, np.zeros((1, 1)))  # Omega -> K(psi + e/L)
+    gm, pm, _, wcp = control.margin(loop)
+    return (float(gm) if gm is not None else math.inf), float(pm), float(wcp)
+
+
+def _sampled_poles(a: NDArray, b: NDArray, kx: NDArray, dt: float) -> NDArray[np.complex128]:
+    """Poles of the loop sampled at ``dt`` with a zero-order hold."""
+    import control
+
+    plant = control.ss(a, b, np.eye(2), np.zeros((2, 1)))
+    sampled = control.sample_system(plant, dt, method="zoh")
+    return np.linalg.eigvals(sampled.A - sampled.B @ kx)
 
 
 def linear_analysis(
@@ -193,32 +242,28 @@ def linear_analysis(
     """
     import control  # lazily: python-control is slow to import
 
-    speed = check_positive("speed", speed, "m/s")
+    speed = LEADER_SPEED.check(speed)
     robot = robot or FollowerRobot()
     if not isinstance(controller, TetherController):
         raise InvalidParameterError("controller", controller, "a tether controller")
     k, look, l_ss = effective_loop(controller, speed, robot.wheel_track)
-    # plant: states (psi, e), input Omega
+    # plant: states (psi, e), input Omega; closed loop Omega = -K(psi + e/L)
     a = np.array([[0.0, 0.0], [speed, 0.0]])
     b = np.array([[1.0], [0.0]])
     kx = np.array([[k, k / look]])
-    plant = control.ss(a, b, np.eye(2), np.zeros((2, 1)))
-    loop = control.ss(a, b, kx, np.zeros((1, 1)))  # Omega -> K(psi + e/L)
-    closed = control.ss(a - b @ kx, b, np.eye(2), np.zeros((2, 1)))
-    poles = np.sort_complex(control.poles(closed))
+    matrices = (a - b @ kx, b, np.eye(2), np.zeros((2, 1)))
+    poles = np.sort_complex(control.poles(control.ss(*matrices)))
     # s^2 + 2 zeta wn s + wn^2 from the poles (zeta > 1 when the poles are real)
     wn = float(np.sqrt(np.real(np.prod(poles))))
     zeta_min = float(-np.real(np.sum(poles)) / (2.0 * wn))
-    gm, pm, _, wcp = control.margin(loop)
-    sampled = control.sample_system(plant, robot.sample_time, method="zoh")
-    dpoles = np.linalg.eigvals(sampled.A - sampled.B @ kx)
+    gm, pm, wcp = _margins(a, b, kx)
+    dpoles = _sampled_poles(a, b, kx, robot.sample_time)
     warns = []
     stable_d = bool(np.all(np.abs(dpoles) < 1.0))
     if not stable_d:
         warns.append(f"the sampled loop is unstable at dt = {robot.sample_time:g} s")
     if zeta_min < 0.3:
         warns.append(f"lightly damped lateral loop (zeta = {zeta_min:.2f}): the robot weaves")
-    kv = controller.speed_gain
     return LinearLoop(
         controller=controller,
         speed=speed,
@@ -228,15 +273,15 @@ def linear_analysis(
         poles=poles,
         damping_ratio=zeta_min,
         natural_frequency=wn,
-        phase_margin=float(pm),
-        gain_margin=float(gm) if gm is not None else math.inf,
-        crossover_frequency=float(wcp),
-        length_pole=-float(kv),
+        phase_margin=pm,
+        gain_margin=gm,
+        crossover_frequency=wcp,
+        length_pole=-float(controller.speed_gain),  # type: ignore[attr-defined]
         steady_length=float(l_ss),
         discrete_poles=dpoles,
         discrete_stable=stable_d,
-        system=closed,
-        status="ok" if stable_d else "unstable",
+        matrices=matrices,
+        status=LinearLoopStatus.OK if stable_d else LinearLoopStatus.UNSTABLE,
         warnings=tuple(warns),
     )
 
@@ -268,8 +313,9 @@ def lateral_step_response(
     robot
         The robot (default :class:`FollowerRobot`).
     """
-    from designlab.following.tether_simulate import simulate
-
+    offset = STEP_OFFSET.check(offset)
+    speed = LEADER_SPEED.check(speed)
+    duration = DURATION.check(duration)
     robot = robot or FollowerRobot()
     _, _, l_ss = effective_loop(controller, speed, robot.wheel_track)
     run = simulate(

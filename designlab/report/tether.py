@@ -1,6 +1,6 @@
 """Reports of the tether-follower studies (Allan 2015): comparison and tuning.
 
-``follower_comparison`` files:
+``tether_comparison`` files:
 
 ``metrics.csv``
     One row per (path, l_d, law): normal path deviation (m and wheel tracks),
@@ -18,7 +18,7 @@
 ``trajectories_<path>.png`` / ``npd_profiles_<path>.png``
     Leader and follower paths, and the per-segment deviation, per l_d.
 
-``follower_tuning`` files: ``gains.csv`` (default vs tuned gains),
+``tether_tuning`` files: ``gains.csv`` (default vs tuned gains),
 ``scenarios.csv`` (cost parts per scenario), ``summary.md`` and
 ``tuning_<law>.png`` (deviation per scenario, default vs tuned, and the
 optimiser's progress).
@@ -34,13 +34,13 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from designlab.following import allan_tables, measured_ratio
-from designlab.following.tether_reference import TABLES
+from designlab.following.tether import allan_tables, measured_ratio
+from designlab.following.tether.reference import TABLES
 from designlab.report import register_writer
 from designlab.report.builder import copy_study, report_header, warnings_section
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
-from designlab.study.kinds.follower_comparison import FollowerComparisonResult
-from designlab.study.kinds.follower_tuning import FollowerTuningResult
+from designlab.study.kinds.tether_comparison import STEP_OFFSET, TetherComparisonResult
+from designlab.study.kinds.tether_tuning import TetherTuningResult
 
 __all__ = ["comparison_markdown", "write_comparison_report", "write_tuning_report"]
 
@@ -100,13 +100,13 @@ def _pivot(frame: pd.DataFrame, controllers: list[str]) -> pd.DataFrame:
 
 
 def comparison_markdown(
-    result: FollowerComparisonResult,
+    result: TetherComparisonResult,
     *,
     figures: dict[str, tuple[str, str]],
     command: str | None = None,
     version: str | None = None,
 ) -> str:
-    """The summary of a ``follower_comparison`` study (Markdown).
+    """The summary of a ``tether_comparison`` study (Markdown).
 
     Parameters
     ----------
@@ -219,8 +219,6 @@ are fitted to the full nonlinear simulation (buffers, saturations, sampling) aft
 
 
 def _linear_section(linear: pd.DataFrame, speed: float) -> list[str]:
-    from designlab.study.kinds.follower_comparison import STEP_OFFSET
-
     cols = {
         "controller": "law",
         "desired_length_m": "l_d [m]",
@@ -250,7 +248,7 @@ def _linear_section(linear: pd.DataFrame, speed: float) -> list[str]:
     ]
 
 
-def _comparison_figures(result: FollowerComparisonResult, path: str) -> tuple[Figure, Figure]:
+def _comparison_figures(result: TetherComparisonResult, path: str) -> tuple[Figure, Figure]:
     cases = [c for c in result.cases if c.path == path]
     lengths = sorted({c.run.controller.desired_length for c in cases})
     titles = list(dict.fromkeys(c.controller for c in cases))
@@ -289,16 +287,16 @@ def _comparison_figures(result: FollowerComparisonResult, path: str) -> tuple[Fi
     return traj, prof
 
 
-@register_writer(FollowerComparisonResult)
+@register_writer(TetherComparisonResult)
 def write_comparison_report(
-    result: FollowerComparisonResult,
+    result: TetherComparisonResult,
     directory: Path,
     *,
     command: str | None = None,
     version: str | None = None,
     study_text: str | None = None,
 ) -> list[Path]:
-    """Write the ``follower_comparison`` report into ``directory`` (see the module notes).
+    """Write the ``tether_comparison`` report into ``directory`` (see the module notes).
 
     Parameters
     ----------
@@ -358,16 +356,16 @@ def _tuning_figure(r: Any) -> Figure:
     return fig
 
 
-@register_writer(FollowerTuningResult)
+@register_writer(TetherTuningResult)
 def write_tuning_report(
-    result: FollowerTuningResult,
+    result: TetherTuningResult,
     directory: Path,
     *,
     command: str | None = None,
     version: str | None = None,
     study_text: str | None = None,
 ) -> list[Path]:
-    """Write the ``follower_tuning`` report into ``directory`` (see the module notes).
+    """Write the ``tether_tuning`` report into ``directory`` (see the module notes).
 
     Parameters
     ----------

@@ -1,78 +1,89 @@
-"""The ``follower_comparison`` study kind: tether-follower laws side by side (Allan 2015).
+"""The ``tether_comparison`` study kind: tether-follower laws side by side (Allan 2015).
 
 Every (path, law, desired tether length) is simulated
-(:func:`designlab.following.simulate`) and scored with the normal path
+(:func:`designlab.following.tether.simulate`) and scored with the normal path
 deviation of App. A and the other figures of Sec. 2.5.1
-(:func:`designlab.following.follower_metrics`). The report puts the mean
+(:func:`designlab.following.tether.follower_metrics`). The report puts the mean
 deviation in wheel tracks next to the measured Tables 3.2/3.3. For every
 (law, l_d) it also linearises the lateral loop (python-control,
-:func:`designlab.following.linear_analysis`) and fits the damping ratio and
+:func:`designlab.following.tether.linear_analysis`) and fits the damping ratio and
 natural frequency of a simulated lateral step of the full nonlinear loop
-(:func:`designlab.following.tether_linear.lateral_step_response`), so that the
-report shows the linear prediction next to the simulation.
+(:func:`designlab.following.tether.lateral_step_response`), so that the
+report shows the linear prediction next to the simulation. The kind was
+called ``follower_comparison`` (still read, with a warning).
 
 Examples
 --------
 >>> from designlab.study import parse_study, run_study
 >>> study = parse_study('''
 ... designlab: 1
-... kind: follower_comparison
+... kind: tether_comparison
 ... name: demo
 ... paths: [{type: slalom}]
 ... controllers: [{type: PseudoJoystick}, {type: FollowTheLeaderConstDistance}]
 ... desired_lengths: [0.6]
 ... ''')
 >>> r = run_study(study)
->>> r.status, r.to_frame()["controller"].tolist()
+>>> str(r.status), r.to_frame()["controller"].tolist()
 ('ok', ['PJ', 'FTL-CD'])
 """
 
 from __future__ import annotations
 
-import sys
 from dataclasses import dataclass
 from typing import Any, ClassVar, Literal
 
 import pandas as pd
-from pydantic import Field, model_validator
-from tqdm.auto import tqdm
+from pydantic import Field, TypeAdapter, model_validator
 
-from designlab.following import (
+from designlab.errors import DesignlabError
+from designlab.following.tether import (
     FollowerMetrics,
     FollowerRun,
+    PseudoJoystick,
+    fit_damping,
     follower_metrics,
+    lateral_step_response,
     linear_analysis,
     simulate,
 )
-from designlab.following.tether_linear import fit_damping, lateral_step_response
+from designlab.following.tether import linear as tether_linear
+from designlab.following.tether.parameters import DURATION, LEADER_SPEED, SETTLE_TIME
+from designlab.params import params_of
+from designlab.progress import Progress
 from designlab.results import OK, Result
-from designlab.study.base import Positive, StudyBase
-from designlab.study.kinds.follower_specs import ControllerSpec, FollowerRobotSpec, PathSpec
+from designlab.study.base import StudyBase
+from designlab.study.kinds.tether_specs import ControllerSpec, FollowerRobotSpec, PathSpec, built
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
 
-__all__ = ["KIND", "FollowerCase", "FollowerComparisonResult", "FollowerComparisonStudy", "run"]
+__all__ = ["KIND", "FollowerCase", "TetherComparisonResult", "TetherComparisonStudy", "run"]
+
+_DESIRED_LENGTH = params_of(PseudoJoystick)["desired_length"]
 
 
-def _default_controllers() -> list[ControllerSpec]:
-    return [
-        ControllerSpec(type="PseudoJoystick"),
-        ControllerSpec(type="FollowTheLeader"),
-        ControllerSpec(type="FollowTheLeaderConstDistance"),
-    ]
+def _default_controllers() -> list[Any]:
+    laws = ("PseudoJoystick", "FollowTheLeader", "FollowTheLeaderConstDistance")
+    return TypeAdapter(list[ControllerSpec]).validate_python([{"type": t} for t in laws])
 
 
-class FollowerComparisonStudy(StudyBase):
+class TetherComparisonStudy(StudyBase):
     """Simulate tether-follower laws on leader paths and compare their accuracy."""
 
-    kind: Literal["follower_comparison"]
-    robot: FollowerRobotSpec = Field(default_factory=lambda: FollowerRobotSpec(preset="DEFAULT"))
-    speed: Positive = Field(0.5, le=5.0, description="leader speed, m/s (Allan 2015: 0.5)")
-    settle_time: Positive = Field(5.0, le=600.0, description="time after the leader stops, s")
-    controllers: list[ControllerSpec] = Field(default_factory=_default_controllers, min_length=1)
-    paths: list[PathSpec] = Field(min_length=1)
-    desired_lengths: list[Positive] | None = Field(
-        None, description="l_d values (m) applied to every law; default: each law's own"
+    kind: Literal["tether_comparison"]
+    robot: FollowerRobotSpec = Field(  # type: ignore[valid-type]
+        default_factory=lambda: FollowerRobotSpec(preset="DEFAULT")
+    )
+    speed: LEADER_SPEED.annotation() = LEADER_SPEED.default  # type: ignore[valid-type]
+    settle_time: SETTLE_TIME.annotation() = SETTLE_TIME.default  # type: ignore[valid-type]
+    controllers: list[ControllerSpec] = Field(  # type: ignore[valid-type]
+        default_factory=_default_controllers, min_length=1, max_length=20
+    )
+    paths: list[PathSpec] = Field(min_length=1, max_length=50)  # type: ignore[valid-type]
+    desired_lengths: list[_DESIRED_LENGTH.annotation()] | None = Field(  # type: ignore[valid-type]
+        None,
+        max_length=50,
+        description="l_d values (m) applied to every law; default: each law's own",
     )
 
     PRODUCES: ClassVar[tuple[str, ...]] = (
@@ -86,17 +97,42 @@ class FollowerComparisonStudy(StudyBase):
     )
 
     def size(self) -> str:
+        """The number of simulated runs."""
         n = len(self.paths) * len(self.controllers) * len(self.desired_lengths or [None])
         return f"{n} runs"
 
+    def cases(self) -> list[tuple[Any, str, Any]]:
+        """Every (path, label, controller) of the study, in path, l_d, law order."""
+        jobs = []
+        for ps in self.paths:
+            path = ps.build()
+            for ld in self.desired_lengths or [None]:
+                for cs in self.controllers:
+                    ctrl = cs.build() if ld is None else cs.build(desired_length=float(ld))
+                    jobs.append((path, cs.title, ctrl))
+        return jobs
+
     @model_validator(mode="after")
-    def _unique(self) -> FollowerComparisonStudy:
+    def _runnable(self) -> TetherComparisonStudy:
         titles = [c.title for c in self.controllers]
         if len(set(titles)) != len(titles):
             raise ValueError(f"controller labels must be unique, got {titles}")
         names = [p.build().name for p in self.paths]
         if len(set(names)) != len(names):
             raise ValueError(f"path names must be unique (give `name:`), got {names}")
+        robot = built(self.robot)
+        for path, title, ctrl in self.cases():
+            if ctrl.desired_length <= 0.5 * robot.body_length:
+                raise ValueError(
+                    f"{title}: desired_length = {ctrl.desired_length:g} m must exceed half the "
+                    f"robot length ({0.5 * robot.body_length:g} m)"
+                )
+            try:
+                DURATION.check(
+                    path.length / self.speed + self.settle_time, f"{path.name}: duration"
+                )
+            except DesignlabError as exc:
+                raise ValueError(str(exc)) from None
         return self
 
 
@@ -135,8 +171,8 @@ class FollowerCase:
 
 
 @dataclass(frozen=True)
-class FollowerComparisonResult(Result):
-    """Results of a ``follower_comparison`` study, in path, l_d, law order.
+class TetherComparisonResult(Result):
+    """Results of a ``tether_comparison`` study, in path, l_d, law order.
 
     Attributes
     ----------
@@ -148,7 +184,7 @@ class FollowerComparisonResult(Result):
         Linearised loop next to the simulated step, per law and l_d (if asked for).
     """
 
-    study: FollowerComparisonStudy
+    study: TetherComparisonStudy
     cases: tuple[FollowerCase, ...]
     linear: pd.DataFrame | None = None
 
@@ -172,44 +208,38 @@ class FollowerComparisonResult(Result):
         return pd.DataFrame([c.row() for c in self.cases])
 
 
-def run(study: FollowerComparisonStudy, context: RunContext) -> FollowerComparisonResult:
+def run(study: TetherComparisonStudy, context: RunContext) -> TetherComparisonResult:
     """Simulate every (path, l_d, law) in this process (each run takes milliseconds).
 
     Parameters
     ----------
     study
-        The follower comparison study.
+        The tether comparison study.
     context
-        How to run it (executor, store).
+        How to run it (its progress bar).
     """
     robot = study.robot.build()
-    jobs = []
-    for ps in study.paths:
-        path = ps.build()
-        for ld in study.desired_lengths or [None]:
-            for cs in study.controllers:
-                ctrl = cs.build() if ld is None else cs.build(desired_length=float(ld))
-                jobs.append((path, cs.title, ctrl))
+    jobs = study.cases()
     cases = []
-    for path, title, ctrl in tqdm(
-        jobs, desc=study.name, unit="run", file=sys.stderr, disable=not context.progress
-    ):
-        r = simulate(ctrl, path, speed=study.speed, robot=robot, settle_time=study.settle_time)
-        cases.append(FollowerCase(path.name, title, r, follower_metrics(r)))
-    return FollowerComparisonResult(study, tuple(cases), linear_table(study, robot))
+    with context.bar(f"{study.kind}: simulate", total=len(jobs)) as hook:
+        for i, (path, title, ctrl) in enumerate(jobs):
+            r = simulate(ctrl, path, speed=study.speed, robot=robot, settle_time=study.settle_time)
+            cases.append(FollowerCase(path.name, title, r, follower_metrics(r)))
+            hook(Progress(i + 1, len(jobs), label="run", note=f"{path.name} {title}"))
+    return TetherComparisonResult(study, tuple(cases), linear_table(study, robot))
 
 
 #: Lateral offset (m) and fitted window (s) of the simulated step in :func:`linear_table`.
-STEP_OFFSET = 0.05
+STEP_OFFSET = float(tether_linear.STEP_OFFSET.default)
 STEP_WINDOW = 10.0
 
 
-def linear_table(study: FollowerComparisonStudy, robot: Any) -> pd.DataFrame:
+def linear_table(study: TetherComparisonStudy, robot: Any) -> pd.DataFrame:
     """Linear lateral loop of every (law, l_d) next to a simulated lateral step.
 
-    The linear columns come from :func:`designlab.following.linear_analysis`;
+    The linear columns come from :func:`designlab.following.tether.linear_analysis`;
     ``sim_damping_ratio`` and ``sim_natural_frequency_rad_per_s`` are fitted
-    (:func:`designlab.following.tether_linear.fit_damping`) to the robot's
+    (:func:`designlab.following.tether.fit_damping`) to the robot's
     lateral offset after a ``STEP_OFFSET`` m sideways start on a straight path
     at the study's leader speed (the full nonlinear loop with its buffers).
     """
@@ -238,8 +268,8 @@ def linear_table(study: FollowerComparisonStudy, robot: Any) -> pd.DataFrame:
 
 
 KIND = StudyKind(
-    name="follower_comparison",
-    schema=FollowerComparisonStudy,
+    name="tether_comparison",
+    schema=TetherComparisonStudy,
     run=run,
-    report="designlab.report.following",
+    report="designlab.report.tether",
 )

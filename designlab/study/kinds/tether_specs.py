@@ -1,0 +1,187 @@
+"""Study-file specifications shared by the tether-follower kinds (Allan 2015).
+
+Every field, unit, bound and default is the domain's declaration
+(:mod:`designlab.following.tether`), read through
+:func:`designlab.study.specs.spec_model`; nothing is restated here.
+
+* :data:`FollowerRobotSpec`: ``DEFAULT`` (the App. C model: no wheel limits,
+  100 Hz) or ``OXYDOG`` (Table 3.1's 1.0 m/s), optionally with fields replaced;
+* :data:`ControllerSpec`: a law (``PseudoJoystick``, ``FollowTheLeader``,
+  ``FollowTheLeaderConstDistance``) with optional gains (App. C defaults
+  otherwise) and a ``label``;
+* :data:`PathSpec`: a named leader path with its arguments, or points.
+
+Each spec builds its domain object while it is validated, so that
+``designlab validate`` refuses what the run would refuse.
+
+Examples
+--------
+>>> from pydantic import TypeAdapter
+>>> TypeAdapter(PathSpec).validate_python({"type": "figure_eight", "a": 4.0}).build().name
+'figure_eight_a4'
+>>> spec = TypeAdapter(ControllerSpec).validate_python(
+...     {"type": "FollowTheLeader", "lookahead": 0.3})
+>>> spec.build().lookahead, spec.title
+(0.3, 'FTL')
+>>> FollowerRobotSpec.model_validate("OXYDOG").build().max_speed
+1.0
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Any, Literal, Union
+
+from pydantic import Field, create_model, model_validator
+
+from designlab.errors import DesignlabError
+from designlab.following.tether import (
+    CONTROLLERS,
+    OXYDOG,
+    FollowerRobot,
+    LeaderPath,
+    TetherController,
+    make_path,
+)
+from designlab.following.tether.paths import PATHS, SHAPE_PARAMETERS
+from designlab.study.base import Finite, Model
+from designlab.study.specs import spec_model
+
+__all__ = ["ControllerSpec", "FollowerRobotSpec", "PathSpec", "built"]
+
+#: Short names of the laws (the default labels).
+SHORT_NAMES = {
+    "PseudoJoystick": "PJ",
+    "FollowTheLeader": "FTL",
+    "FollowTheLeaderConstDistance": "FTL-CD",
+}
+
+
+def built(spec: Any) -> Any:
+    """``spec.build()``, with a domain error turned into a validation error (for validators).
+
+    Parameters
+    ----------
+    spec
+        A spec with ``build()``.
+    """
+    try:
+        return spec.build()
+    except (DesignlabError, TypeError) as exc:
+        raise ValueError(str(exc)) from None
+
+
+class _Buildable(Model):
+    """A spec whose domain object is built (and so checked) while it is validated."""
+
+    @model_validator(mode="after")
+    def _buildable(self) -> _Buildable:
+        built(self)
+        return self
+
+
+#: The differential-drive follower (:class:`designlab.following.tether.FollowerRobot`):
+#: a preset (``DEFAULT``: App. C, no wheel limits, 100 Hz; ``OXYDOG``: 1.0 m/s) and/or fields.
+FollowerRobotSpec = create_model(
+    "FollowerRobotSpec",
+    __base__=(
+        spec_model(
+            FollowerRobot,
+            name="FollowerRobotFields",
+            presets={"DEFAULT": FollowerRobot(), "OXYDOG": OXYDOG},
+            what="follower robot",
+        ),
+        _Buildable,
+    ),
+    __doc__="The differential-drive follower: a preset (DEFAULT, OXYDOG) and/or fields, SI units.",
+)
+
+
+class _LawSpec(_Buildable):
+    """What every law's spec adds to the law's declared fields: its type and a label."""
+
+    label: str | None = Field(None, min_length=1, max_length=40, description="name in reports")
+
+    def build(self, **changes: Any) -> TetherController:
+        """The controller (``changes`` override fields, e.g. ``desired_length``).
+
+        Parameters
+        ----------
+        **changes
+            Field name -> value.
+        """
+        fields = self.model_dump(exclude={"type", "label"})
+        fields.update(changes)
+        return CONTROLLERS[self.type](**fields)  # type: ignore[attr-defined,no-any-return]
+
+    @property
+    def title(self) -> str:
+        """The label, or a short name of the law."""
+        return self.label or SHORT_NAMES[self.type]  # type: ignore[attr-defined]
+
+
+def _law_spec(name: str, cls: type) -> Any:
+    fields = spec_model(cls, name=f"{name}Fields")
+    return create_model(
+        f"{name}Spec",
+        __base__=(_LawSpec, fields),
+        __doc__=f"The {name} law with its gains (App. C defaults), SI units.",
+        type=(Literal[name], Field(description="the control law")),  # type: ignore[valid-type]
+    )
+
+
+#: One of the three laws with optional gains and a label (``type`` selects the law).
+ControllerSpec = Annotated[
+    Union[tuple(_law_spec(n, c) for n, c in CONTROLLERS.items())],  # type: ignore[misc]  # noqa: UP007
+    Field(discriminator="type"),
+]
+
+
+class _PathSpec(_Buildable):
+    """What every path spec adds: an optional name."""
+
+    name: str | None = Field(None, min_length=1, max_length=60, description="name in reports")
+
+    def build(self) -> LeaderPath:
+        """The :class:`designlab.following.tether.LeaderPath`."""
+        args = self.model_dump(exclude={"type", "name"})
+        path = PATHS[self.type](**args)  # type: ignore[attr-defined]
+        if not self.name:
+            return path
+        return LeaderPath(
+            path.points,
+            name=self.name,
+            obstacles=path.obstacles,
+            initial_heading=path.initial_heading,
+        )
+
+
+def _shape_spec(shape: str) -> Any:
+    fields = {
+        n: (d.annotation(), d.default) for n, d in SHAPE_PARAMETERS[shape].items()
+    }  # every argument has a default (None for an optional one)
+    camel = "".join(w.capitalize() for w in shape.split("_"))
+    return create_model(
+        f"{camel}PathSpec",
+        __base__=_PathSpec,
+        __doc__=f"The {shape} leader path (:func:`designlab.following.tether.{shape}`), SI units.",
+        type=(Literal[shape], Field(description="the path shape")),  # type: ignore[valid-type]
+        **fields,
+    )
+
+
+class PointsPathSpec(_PathSpec):
+    """A recorded leader path: its points in m, ``[[x, y], ...]`` (2 to 10**6 points)."""
+
+    type: Literal["points"]
+    points: list[tuple[Finite, Finite]] = Field(min_length=2, description="[[x, y], ...] in m")
+
+    def build(self) -> LeaderPath:
+        """The :class:`designlab.following.tether.LeaderPath`."""
+        return make_path({"points": self.points, "name": self.name or "recorded"})
+
+
+#: A leader path: a named shape with its arguments (m), or recorded points (m).
+PathSpec = Annotated[
+    Union[(*(_shape_spec(s) for s in SHAPE_PARAMETERS), PointsPathSpec)],  # type: ignore[misc]
+    Field(discriminator="type"),
+]

@@ -1,0 +1,82 @@
+"""Hostile inputs of the accompanying robot (issue 18): clear errors, caps before allocation,
+the same limits in Python and YAML, tuning results with their gains, progress."""
+
+from __future__ import annotations
+
+import pytest
+
+from designlab.errors import DesignlabError, InvalidParameterError
+from designlab.following import accompanying as acc
+from designlab.progress import Progress
+from designlab.study import parse_study
+
+
+def _study(body: str) -> str:
+    return f"designlab: 1\nkind: accompanying\nname: hostile\ntuning: null\n{body}"
+
+
+@pytest.mark.parametrize(
+    ("make", "name"),
+    [
+        (lambda: acc.walking_task("forward", distance=1e5), "distance"),
+        (lambda: acc.walking_task("forward", speed=100.0), "speed"),
+        (lambda: acc.walking_task("forward", speed=1e-9), "duration"),
+        (lambda: acc.walking_task("circle_cw", radius="0.4"), "radius"),
+        (lambda: acc.walking_task("circle_cw", radius=True), "radius"),
+        (lambda: acc.StringPotSensor(sample_rate=1e6), "sample_rate"),
+        (lambda: acc.StringPotSensor(min_range=1.0, max_range=0.5), "max_range"),
+        (lambda: acc.UserFramePID(kp=0.0, ki=0.0, kd=0.0), "kp"),
+        (lambda: acc.loop_analysis(n_frequencies=0), "n_frequencies"),
+        (lambda: acc.loop_analysis(n_frequencies=1), "n_frequencies"),
+        (lambda: acc.simulate(acc.walking_task("forward"), settle_band=-1), "settle_band"),
+        (lambda: acc.tune([acc.walking_task("forward")], max_evaluations=0), "max_evaluations"),
+        (lambda: acc.tune([acc.walking_task("forward")], ms_max=0.5), "ms_max"),
+    ],
+)
+def test_bad_input_is_refused_naming_the_parameter(make, name):
+    with pytest.raises(InvalidParameterError) as exc:
+        make()
+    assert name in str(exc.value)
+
+
+def test_csv_empty_and_text_values_name_the_file(tmp_path):
+    empty = tmp_path / "empty.csv"
+    empty.write_text("")
+    with pytest.raises(InvalidParameterError, match=r"empty\.csv"):
+        acc.walking_task_from_csv(empty, target_position=(0.0, 0.5))
+    bad = tmp_path / "walk.csv"
+    bad.write_text("time_s,x_m,y_m,heading_deg\n0,0,0,90\n1,0,x,90\n")
+    with pytest.raises(InvalidParameterError) as exc:
+        acc.walking_task_from_csv(bad, target_position=(0.0, 0.5))
+    assert "walk.csv line 3" in str(exc.value) and "'y_m'" in str(exc.value)
+
+
+@pytest.mark.parametrize(
+    ("body", "name"),
+    [
+        ("sensor: {min_range: 1.0, max_range: 0.5}", "max_range"),
+        ("controller: {kp: 0, ki: 0, kd: 0}", "kp"),
+        ("walking: {speed: 100}", "speed"),
+        ("walking: {radius: '0.4'}", "radius"),
+        ("walking: {radius: true}", "radius"),
+        ("walking: {settle_time: 5}", "settle_time"),
+        ("sensor: {sample_rate: 1.0e6}", "sample_rate"),
+        ("sensor: {median_window: 4}", "odd"),
+    ],
+)
+def test_yaml_refuses_what_the_run_refuses(body, name):
+    with pytest.raises(DesignlabError) as exc:
+        parse_study(_study(body))
+    assert name in str(exc.value)
+
+
+def test_tuning_result_frame_holds_the_gains_and_progress_is_reported():
+    seen: list[Progress] = []
+    res = acc.tune([acc.walking_task("forward")], progress=seen.append)
+    frame = res.to_frame()
+    assert frame["kp_1_s"].iloc[0] == res.controller.kp
+    assert frame["ki_1_s2"].iloc[0] == res.controller.ki
+    assert {"task", "rms_tuned_m", "kd", "kp_heading"} <= set(frame.columns)
+    assert [p.step for p in seen] == list(range(1, res.iterations + 1))
+    assert seen[-1].best == pytest.approx(res.controller.ki)
+    assert isinstance(res.status, acc.PIDTuningStatus) and res.status == "ok"
