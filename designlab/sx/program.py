@@ -119,7 +119,13 @@ def read_program(f: ca.Function, backend: str) -> Program:
 
 
 def check_sx(f: object) -> None:
-    """Raise :class:`UnsupportedOperation` unless ``f`` is a CasADi SX function."""
+    """Raise :class:`UnsupportedOperation` unless ``f`` is a CasADi SX function.
+
+    Parameters
+    ----------
+    f
+        What should be a ``casadi.Function`` of SX type.
+    """
     if not isinstance(f, ca.Function) or not f.is_a("SXFunction"):
         kind = f.class_name() if isinstance(f, ca.Function) else type(f).__name__
         raise UnsupportedOperation(f"{_name(f)!r} is not an SX function (it is {kind})")
