@@ -82,9 +82,8 @@ def test_bad_studies_are_rejected(patch: str, message: str) -> None:
 
 def test_goal_inside_an_obstacle_is_reported_with_the_parameter() -> None:
     bad = SCEN.replace("center: [2.0, -0.6]", "center: [0.0, 0.5]")
-    study = parse_study(bad)
-    with pytest.raises(ValueError, match=r"goal|obstacles"):
-        run_study(study)
+    with pytest.raises(ValueError, match=r"goal|obstacles"):  # refused on reading (validate)
+        run_study(parse_study(bad))
 
 
 SWEEP = """\
