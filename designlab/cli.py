@@ -133,7 +133,8 @@ _OutputDir = Annotated[
 
 def _write(
     result: object, study: Path, output_dir: Path, command: list[str], *, keep_current: bool = False
-) -> None:
+) -> bool:
+    """Write the report (unless ``keep_current`` and it is up to date); whether it was written."""
     from designlab.report import current_report, write_report
 
     text = study.read_text(encoding="utf-8")
@@ -163,6 +164,7 @@ def _write(
             f"points: {stats['points']} ({stats['computed']} computed, {stats['cached']} "
             f"from the store, {stats['failed']} failed{dup}) on {stats['executor']}"
         )
+    return not kept
 
 
 def _record_duration(directory: Path, seconds: float, executor: str) -> None:
@@ -277,8 +279,8 @@ def run(
                 store.close()
             if ex is not None:
                 ex.close()
-        _write(result, study, output_dir, command, keep_current=resume)
-        _record_duration(output_dir / spec.name, time.monotonic() - started, executor)
+        if _write(result, study, output_dir, command, keep_current=resume):
+            _record_duration(output_dir / spec.name, time.monotonic() - started, executor)
     except DesignlabError as exc:
         _fail(exc)
     except MemoryError:
