@@ -306,3 +306,20 @@ def test_json_schema_and_constructor_accept_and_refuse_the_same_edges(
             assert built == valid == decl.within(value) or (
                 decl.kind == "integer" and name == "direction"  # +1 / -1: a rule between them
             ), (cls.__name__, name, value, built, valid)
+
+
+@pytest.mark.parametrize("popsize", [0, 3, 300, 4.5, True, "16"])
+def test_python_and_yaml_refuse_the_same_population(popsize: object) -> None:
+    with pytest.raises(InvalidParameterError, match="popsize"):
+        nav.optimise_gains([nav.configuration(1)], popsize=popsize)  # type: ignore[arg-type]
+    text = f"designlab: 1\nkind: navigation_gains\nname: g\npopsize: {popsize!r}\n"
+    with pytest.raises(StudyError, match="popsize"):
+        parse_study(text.replace("'", '"') if isinstance(popsize, str) else text)
+
+
+def test_text_is_not_a_number_in_python_nor_in_yaml() -> None:
+    # was: radius='0.4' coerced by the constructor while the YAML refused True
+    with pytest.raises(InvalidParameterError, match=r"Human.radius = '0.4'"):
+        nav.Human(radius="0.4")  # type: ignore[arg-type]
+    with pytest.raises(StudyError, match="radius"):
+        parse_study(SCEN.replace("radius: 0.4", 'radius: "0.4"'))
