@@ -323,3 +323,14 @@ def test_text_is_not_a_number_in_python_nor_in_yaml() -> None:
         nav.Human(radius="0.4")  # type: ignore[arg-type]
     with pytest.raises(StudyError, match="radius"):
         parse_study(SCEN.replace("radius: 0.4", 'radius: "0.4"'))
+
+
+def test_a_ten_million_point_navigation_sweep_is_refused_by_validate() -> None:
+    text = (
+        "designlab: 1\nkind: navigation_sweep\nname: big\nbase: {gains: {k1: 3, b: 0.25, k3: 20, "
+        "k5: 17}}\nsweep: {method: lhs, samples: SAMPLES, parameters: {gains.k1: {low: 1, "
+        "high: 5}}}\n"
+    )
+    with pytest.raises(StudyError, match=r"10,000,000 points; .* at most 100,000"):
+        parse_study(text.replace("SAMPLES", "10000000"))
+    assert parse_study(text.replace("SAMPLES", "100000")).sweep.count() == 100_000
