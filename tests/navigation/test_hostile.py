@@ -334,3 +334,17 @@ def test_a_ten_million_point_navigation_sweep_is_refused_by_validate() -> None:
     with pytest.raises(StudyError, match=r"10,000,000 points; .* at most 100,000"):
         parse_study(text.replace("SAMPLES", "10000000"))
     assert parse_study(text.replace("SAMPLES", "100000")).sweep.count() == 100_000
+
+
+@pytest.mark.parametrize("old", ["vff_scenarios", "vff_sweep", "vff_gains"])
+def test_the_old_kind_names_are_still_read(old: str) -> None:
+    texts = {
+        "vff_scenarios": SCEN,
+        "vff_sweep": "designlab: 1\nkind: navigation_sweep\nname: s\nbase: {gains: {k1: 3, "
+        "b: 0.25, k3: 20, k5: 17}}\nsweep: {method: grid, parameters: {gains.k1: {values: [3]}}}\n",
+        "vff_gains": "designlab: 1\nkind: navigation_gains\nname: g\n",
+    }
+    new = old.replace("vff_", "navigation_")
+    with pytest.warns(DeprecationWarning, match=old):
+        study = parse_study(texts[old].replace(f"kind: {new}", f"kind: {old}"))
+    assert study.kind == new
