@@ -653,30 +653,7 @@ def _run_batch(
     tracks = _Tracks(scenario, n_samples, n_sub, dt)
     k_done = 0
     while True:  # one pass per set of members in the call
-        # the call's arrays, bound once: this loop is the batch's whole Python overhead
-        x_in, x_out, obs_in, osub_in = f.inp[0], f.out[0], f.inp[2], f.inp[5]
-        o_crit, o_esum, o_hit = f.out[1], f.out[3], f.out[4]
-        o_dmin = f.view_out(2).T  # (members, n_obs)
-        tmp = np.empty(lanes.size)
-        found: dict[int, tuple[int, Array, float]] = {}
-        for k in range(k_done, n_samples):
-            obs_k, osub_k = tracks.at(k)
-            if n_obs:
-                obs_in[:] = obs_k
-                osub_in[:] = osub_k
-            f()
-            k_done = k + 1
-            ct += np.multiply(o_crit, period, out=tmp)
-            if o_hit.any():
-                for j in np.flatnonzero(o_hit > 0.5):
-                    first = arrival_period(j)
-                    if first is not None:  # (else a last-bit disagreement: keep going)
-                        found[int(j)] = first
-                if found:
-                    break
-            np.minimum(dm, o_dmin, out=dm)
-            en += np.multiply(o_esum, dt, out=tmp)
-            np.copyto(x_in, x_out)
+        k_done, found = _batch_periods(f, tracks, k_done, n_samples, (dm, en, ct), arrival_period)
         if not found:  # the horizon ends with members on their way
             dmin[lanes], energy[lanes], crit_time[lanes] = dm, en, ct
             break
@@ -690,8 +667,7 @@ def _run_batch(
             crit_time[i] = ct[j]
             arrival[i] = (k * n_sub + count) * dt
         if not rest.any() or k_done == n_samples:
-            np.minimum(dm, o_dmin, out=dm)
-            en += np.multiply(o_esum, dt, out=tmp)
+            _close_period(f, dm, en, dt)
             dmin[lanes[rest]], energy[lanes[rest]], crit_time[lanes[rest]] = (
                 dm[rest],
                 en[rest],
@@ -699,8 +675,7 @@ def _run_batch(
             )
             break
         # the members still on their way continue in a call of their size
-        np.minimum(dm, o_dmin, out=dm)
-        en += np.multiply(o_esum, dt, out=tmp)
+        _close_period(f, dm, en, dt)
         lanes, dm, en, ct = lanes[rest], dm[rest], en[rest], ct[rest]
         x_next, g_next = f.view_out(0)[:, rest], f.view_in(3)[:, rest]
         f = call(lanes.size)
@@ -708,6 +683,53 @@ def _run_batch(
         f.view_in(3)[:, :] = g_next
         arrival_period.lean = f
     return RawRun(arrival, dmin, energy, crit_time, k_done * period, None)
+
+
+def _close_period(f: _Buffered, dm: Array, en: Array, dt: float) -> None:
+    """Take the call's last period into the running minima and energies (in place)."""
+    np.minimum(dm, f.view_out(2).T, out=dm)
+    en += np.multiply(f.out[3], dt, out=np.empty(en.shape[0]))
+
+
+def _batch_periods(
+    f: _Buffered,
+    tracks: _Tracks,
+    k_done: int,
+    n_samples: int,
+    running: tuple[Array, Array, Array],
+    arrival_period: _ArrivalPeriod,
+) -> tuple[int, dict[int, tuple[int, Array, float]]]:
+    """Step the members in the call until some arrive: (periods done, {member: arrival}).
+
+    The running minima, energies and critical times are updated in place.
+    """
+    dm, en, ct = running
+    n_obs, period, dt = tracks.n_obs, tracks.n_sub * tracks.dt, tracks.dt
+    # the call's arrays, bound once: this loop is the batch's whole Python overhead
+    x_in, x_out, obs_in, osub_in = f.inp[0], f.out[0], f.inp[2], f.inp[5]
+    o_crit, o_esum, o_hit = f.out[1], f.out[3], f.out[4]
+    o_dmin = f.view_out(2).T  # (members, n_obs)
+    tmp = np.empty(dm.shape[0])
+    found: dict[int, tuple[int, Array, float]] = {}
+    for k in range(k_done, n_samples):
+        obs_k, osub_k = tracks.at(k)
+        if n_obs:
+            obs_in[:] = obs_k
+            osub_in[:] = osub_k
+        f()
+        k_done = k + 1
+        ct += np.multiply(o_crit, period, out=tmp)
+        if o_hit.any():
+            for j in np.flatnonzero(o_hit > 0.5):
+                first = arrival_period(j)
+                if first is not None:  # (else a last-bit disagreement: keep going)
+                    found[int(j)] = first
+            if found:
+                break
+        np.minimum(dm, o_dmin, out=dm)
+        en += np.multiply(o_esum, dt, out=tmp)
+        np.copyto(x_in, x_out)
+    return k_done, found
 
 
 def _assemble(

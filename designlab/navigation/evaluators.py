@@ -24,11 +24,25 @@ from typing import Any
 
 import numpy as np
 
-from designlab.navigation.parameters import HolonomicRobot, NonholonomicRobot
+from designlab.navigation.parameters import GAIN_SETS, HolonomicRobot, NonholonomicRobot
 from designlab.navigation.scenarios import configuration
 from designlab.navigation.simulate import simulate_batch
+from designlab.results import Status
 
-__all__ = ["VFF_METRICS", "VFF_POINT_KEYS", "vff_metrics_chunk"]
+__all__ = ["VFF_METRICS", "VFF_POINT_KEYS", "PointStatus", "vff_metrics_chunk"]
+
+
+class PointStatus(Status):
+    """Status of one sweep point (the ``status`` column of a navigation sweep).
+
+    ``OK``: every run arrived without a collision; ``NOT_ARRIVED``: a run did not reach the
+    goal within its horizon; ``COLLISION``: a run touched an obstacle (checked first).
+    """
+
+    OK = "ok"
+    NOT_ARRIVED = "not_arrived"
+    COLLISION = "collision"
+
 
 #: Metrics of a set of runs (column -> description with unit).
 VFF_METRICS: dict[str, str] = {
@@ -66,13 +80,14 @@ def vff_metrics_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) ->
         for k in VFF_POINT_KEYS
     }
     out = {k: np.zeros(n) for k in VFF_METRICS}
-    status = np.full(n, "ok", dtype=object)
+    status = np.full(n, PointStatus.OK.value, dtype=object)
     specs = [tuple(s) for s in options.get("scenarios", [[1, 6], [2, 6], [3, 6]])]
     stab = options.get("stabilising", "off")
     jit = bool(options.get("jit", False))
     groups = np.stack([cols[k] for k in ("v_max", "a_max", "v_h", "ramp", "tol")], axis=1)
+    step = int(GAIN_SETS.le)  # type: ignore[arg-type]
     for key in np.unique(groups, axis=0):
-        idx = np.flatnonzero(np.all(groups == key, axis=1))
+        group = np.flatnonzero(np.all(groups == key, axis=1))
         v_max, a_max, v_h, ramp, tol = (float(x) for x in key)
         scenarios = []
         for which, chapter in specs:
@@ -83,21 +98,30 @@ def vff_metrics_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) ->
                     which, int(chapter), robot=robot, human_speed=v_h, human_ramp_time=ramp
                 )
             )
-        gains = np.stack([cols[k][idx] for k in ("k1", "b", "k3", "k5")], axis=1)
-        res = simulate_batch(scenarios, gains, stabilising=stab, arrival_tolerance=tol, jit=jit)
-        surf = np.full(res.min_distance.shape, np.nan)
-        for s, sc in enumerate(scenarios):
-            off = np.array([o.collision_distance(sc.robot.radius) for o in sc.obstacles])
-            surf[s, :, : off.size] = res.min_distance[s, :, : off.size] - off[None, :]
-        out["H_mean"][idx] = res.H_mean
-        out["T_mean_s"][idx] = res.arrival_time.mean(axis=0)
-        out["clearance_min_m"][idx] = np.nanmin(surf, axis=(0, 2)) if surf.size else np.inf
-        out["critical_entries"][idx] = res.entered_critical.sum(axis=0)
-        out["collisions"][idx] = res.collided.sum(axis=0)
-        not_arrived = np.isinf(res.arrival_time).any(axis=0)
-        status[idx] = np.where(
-            res.collided.any(axis=0), "collision", np.where(not_arrived, "not_arrived", "ok")
-        )
+        for start in range(0, group.size, step):  # at most GAIN_SETS per batch
+            idx = group[start : start + step]
+            gains = np.stack([cols[k][idx] for k in ("k1", "b", "k3", "k5")], axis=1)
+            res = simulate_batch(scenarios, gains, stabilising=stab, arrival_tolerance=tol, jit=jit)
+            _store(out, status, idx, scenarios, res)
     out_any: dict[str, Any] = dict(out)
     out_any["status"] = status
     return out_any
+
+
+def _store(out: dict[str, Any], status: Any, idx: Any, scenarios: list[Any], res: Any) -> None:
+    """The metrics of one batch into the chunk's columns."""
+    surf = np.full(res.min_distance.shape, np.nan)
+    for s, sc in enumerate(scenarios):
+        off = np.array([o.collision_distance(sc.robot.radius) for o in sc.obstacles])
+        surf[s, :, : off.size] = res.min_distance[s, :, : off.size] - off[None, :]
+    out["H_mean"][idx] = res.H_mean
+    out["T_mean_s"][idx] = res.arrival_time.mean(axis=0)
+    out["clearance_min_m"][idx] = np.nanmin(surf, axis=(0, 2)) if surf.size else np.inf
+    out["critical_entries"][idx] = res.entered_critical.sum(axis=0)
+    out["collisions"][idx] = res.collided.sum(axis=0)
+    not_arrived = np.isinf(res.arrival_time).any(axis=0)
+    status[idx] = np.where(
+        res.collided.any(axis=0),
+        PointStatus.COLLISION.value,
+        np.where(not_arrived, PointStatus.NOT_ARRIVED.value, PointStatus.OK.value),
+    )

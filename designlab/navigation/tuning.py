@@ -799,9 +799,8 @@ def optimise_gains(
         Budget of gain sets for the global stage (>= popsize, <= 100 000).
     refine, refine_evaluations
         Run the batched compass search from the best global point; its budget.
-    robust
-        :class:`RandomWalks` to optimise over randomised human walks, or ``None``.
-    robust_mode
+    robust, robust_mode
+        :class:`RandomWalks` to optimise over randomised human walks (or ``None``), and
         ``"mean"`` or ``"worst"``: the score of a scenario over its walks.
     arrival_tolerance
         Arrival radius (m).
@@ -838,10 +837,7 @@ def optimise_gains(
     search = _check_search(
         scenarios, bounds, x0, seed, sigma0, popsize, max_evaluations, refine_evaluations
     )
-    if executor is not None and not hasattr(executor, "map_unordered"):
-        raise InvalidParameterError("executor", executor, "must have map_unordered(fn, tasks)")
-    if not isinstance(jit, bool | np.bool_):
-        raise InvalidParameterError("jit", jit, "must be True or False")
+    _check_options(executor, jit)
     stab, mode = _check_stabilising(stabilising), _check_mode(robust_mode)
     rob, cm = _check_robust(robust), _check_margin(critical_margin)
     ev = _Evaluator(search.scenarios, stab, rob, mode, arrival_tolerance, executor, int(chunks),
@@ -876,6 +872,13 @@ def _check_search(
         SIGMA0.check(sigma0), popsize, _check_budget(max_evaluations, popsize),
         REFINE_EVALUATIONS.check(refine_evaluations),
     )  # fmt: skip
+
+
+def _check_options(executor: Any, jit: Any) -> None:
+    if executor is not None and not hasattr(executor, "map_unordered"):
+        raise InvalidParameterError("executor", executor, "must have map_unordered(fn, tasks)")
+    if not isinstance(jit, bool | np.bool_):
+        raise InvalidParameterError("jit", jit, "must be True or False")
 
 
 def _check_budget(max_evaluations: Any, popsize: int) -> int:

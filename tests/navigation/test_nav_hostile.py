@@ -306,3 +306,45 @@ def test_json_schema_and_constructor_accept_and_refuse_the_same_edges(
             assert built == valid == decl.within(value) or (
                 decl.kind == "integer" and name == "direction"  # +1 / -1: a rule between them
             ), (cls.__name__, name, value, built, valid)
+
+
+@pytest.mark.parametrize("popsize", [0, 3, 300, 4.5, True, "16"])
+def test_python_and_yaml_refuse_the_same_population(popsize: object) -> None:
+    with pytest.raises(InvalidParameterError, match="popsize"):
+        nav.optimise_gains([nav.configuration(1)], popsize=popsize)  # type: ignore[arg-type]
+    text = f"designlab: 1\nkind: navigation_gains\nname: g\npopsize: {popsize!r}\n"
+    with pytest.raises(StudyError, match="popsize"):
+        parse_study(text.replace("'", '"') if isinstance(popsize, str) else text)
+
+
+def test_text_is_not_a_number_in_python_nor_in_yaml() -> None:
+    # was: radius='0.4' coerced by the constructor while the YAML refused True
+    with pytest.raises(InvalidParameterError, match=r"Human.radius = '0.4'"):
+        nav.Human(radius="0.4")  # type: ignore[arg-type]
+    with pytest.raises(StudyError, match="radius"):
+        parse_study(SCEN.replace("radius: 0.4", 'radius: "0.4"'))
+
+
+def test_a_ten_million_point_navigation_sweep_is_refused_by_validate() -> None:
+    text = (
+        "designlab: 1\nkind: navigation_sweep\nname: big\nbase: {gains: {k1: 3, b: 0.25, k3: 20, "
+        "k5: 17}}\nsweep: {method: lhs, samples: SAMPLES, parameters: {gains.k1: {low: 1, "
+        "high: 5}}}\n"
+    )
+    with pytest.raises(StudyError, match=r"10,000,000 points; .* at most 100,000"):
+        parse_study(text.replace("SAMPLES", "10000000"))
+    assert parse_study(text.replace("SAMPLES", "100000")).sweep.count() == 100_000
+
+
+@pytest.mark.parametrize("old", ["vff_scenarios", "vff_sweep", "vff_gains"])
+def test_the_old_kind_names_are_still_read(old: str) -> None:
+    texts = {
+        "vff_scenarios": SCEN,
+        "vff_sweep": "designlab: 1\nkind: navigation_sweep\nname: s\nbase: {gains: {k1: 3, "
+        "b: 0.25, k3: 20, k5: 17}}\nsweep: {method: grid, parameters: {gains.k1: {values: [3]}}}\n",
+        "vff_gains": "designlab: 1\nkind: navigation_gains\nname: g\n",
+    }
+    new = old.replace("vff_", "navigation_")
+    with pytest.warns(DeprecationWarning, match=old):
+        study = parse_study(texts[old].replace(f"kind: {new}", f"kind: {old}"))
+    assert study.kind == new

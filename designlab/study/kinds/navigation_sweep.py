@@ -28,7 +28,7 @@ from __future__ import annotations
 
 from typing import Any, ClassVar, Literal
 
-from pydantic import Field, field_validator
+from pydantic import Field, field_validator, model_validator
 
 from designlab.navigation.evaluators import VFF_METRICS, vff_metrics_chunk
 from designlab.navigation.parameters import ARRIVAL_TOLERANCE, HolonomicRobot, VFFGains
@@ -160,6 +160,17 @@ class NavigationSweepStudy(SweepStudyBase[NavigationSweepParameters, NavigationM
     #: the virtual machine, measured; 3-4 ms with ``jit``), so 100 000 points are about
     #: 20 minutes per core; more is refused (docs/navigation.md, "Limits").
     MAX_POINTS: ClassVar[int] = 100_000
+
+    @model_validator(mode="after")
+    def _capped(self) -> NavigationSweepStudy:
+        # until the shared sweep machinery checks MAX_POINTS of every kind
+        n = self.sweep.count() if self.sweep is not None else 0
+        if n > self.MAX_POINTS:
+            raise ValueError(
+                f"sweep: {n:,} points; a navigation sweep may have at most {self.MAX_POINTS:,} "
+                "(about 12 ms of CPU each; docs/navigation.md, 'Limits')"
+            )
+        return self
 
     def base_point(self) -> dict[str, float]:
         """The base design as ``{k1, b, k3, k5, v_max, a_max, v_h, ramp, tol}``."""
