@@ -102,7 +102,7 @@ ERRORS = [
         _case(GOOD_CASE.replace("impact_velocity: 1.25", "impact_velocity: fast")),
         "cases[0].impact_velocity",
         8,
-        ["valid number", "'fast'"],
+        ["must be a number", "'fast'"],
         id="wrong-type",
     ),
     pytest.param(
