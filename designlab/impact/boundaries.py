@@ -76,7 +76,23 @@ def illinois(
 ) -> NDArray:
     """Vectorised Illinois (modified regula falsi) on brackets with ``fa * fb < 0``.
 
-    Returns the end of the final bracket where ``f <= 0`` (the feasible side).
+    Parameters
+    ----------
+    fun
+        ``fun(x, c)``: the function of each lane (``c`` its context).
+    a, b, fa, fb
+        The brackets and the function's values at their ends.
+    c
+        The lanes' contexts.
+    tol
+        Bracket width at which a lane has converged.
+    max_iter
+        Most iterations.
+
+    Returns
+    -------
+    numpy.ndarray
+        The end of the final bracket where ``f <= 0`` (the feasible side).
     """
     a, b, fa, fb = a.copy(), b.copy(), fa.copy(), fb.copy()
     x = 0.5 * (a + b)
@@ -118,6 +134,25 @@ def boundary(
 
     For a criterion (upper boundary) the feasible side is ``excess < 0`` at small
     K; for the compression (lower boundary) the feasible side is at large K.
+
+    Parameters
+    ----------
+    prob
+        The problem.
+    key
+        The constraint (a criterion or the thickness limit).
+    c
+        The lanes (damping values, or lane indices of :class:`FoamLanes`).
+    u_grid
+        The scan in log K_c.
+    tol
+        Accuracy in log K_c.
+
+    Returns
+    -------
+    tuple
+        The boundary K_c (NaN where not bounded), its :class:`BoundaryStatus` and
+        whether the constraint changes sign more than once.
     """
     n, ns = c.size, u_grid.size
     ex = prob.log_excess(key, np.tile(u_grid, n), np.repeat(c, ns)).reshape(n, ns)
@@ -153,7 +188,24 @@ def boundary(
 def upper_bounds(
     prob: FoamProblem, damping: NDArray, u_grid: NDArray, tol: float
 ) -> tuple[dict[str, NDArray], dict[str, NDArray], NDArray, NDArray]:
-    """Every criterion's upper boundary and status, and their minimum (NaN if none bounded)."""
+    """Every criterion's upper boundary and status, and their minimum (NaN if none bounded).
+
+    Parameters
+    ----------
+    prob
+        The problem.
+    damping
+        The lanes.
+    u_grid
+        The scan in log K_c.
+    tol
+        Accuracy in log K_c.
+
+    Returns
+    -------
+    tuple
+        Per criterion its bound and status, the smallest bound and the multiple-root flags.
+    """
     upper: dict[str, NDArray] = {}
     upper_status: dict[str, NDArray] = {}
     multiple = np.zeros(damping.size, dtype=bool)
@@ -177,6 +229,20 @@ def flag_boundary_designs(
     """Overdamped and delicate flags of the boundary designs, and the worst lever arm.
 
     The boundary designs themselves are evaluated (worst head, worst impact point).
+
+    Parameters
+    ----------
+    prob
+        The problem.
+    damping
+        The lanes.
+    kmax, kmin
+        The upper and lower boundaries.
+
+    Returns
+    -------
+    tuple
+        The overdamped and delicate flags and the worst lever arm (NaN for a fixed robot).
     """
     overdamped = np.zeros(damping.size, dtype=bool)
     delicate = np.zeros(damping.size, dtype=bool)

@@ -510,6 +510,19 @@ def metrics_of_matrix(
 
     For callers that build the matrix themselves in that order (the foam
     envelope, the criteria); ranges are checked, the column order cannot be.
+
+    Parameters
+    ----------
+    p
+        ``(N, 8)`` (or ``(N, 10)``, full joint) parameter rows.
+    impact_velocity, constrained, q2, stop_time, max_lobe_steps, with_force
+        As in :func:`impact_metrics`.
+    lobe_diagnostics, with_compression
+        As in :func:`impact_metrics`.
+
+    Returns
+    -------
+    ImpactMetrics
     """
     p = _check_params(np.atleast_2d(real_array("params", p)))
     if p.ndim != 2 or p.shape[1] not in (len(PARAM_NAMES), 10):

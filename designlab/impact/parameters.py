@@ -411,9 +411,7 @@ WORST_CASE_TOLERANCE = Param(
 # --- the series joint (3.4.6) and its reductions (docs/impact_joint.md) ----------
 
 #: Transmission stiffness K_mech of the series joint (3.4.6), joint level.
-K_MECH = Param(
-    "K_mech", "N m/rad", "transmission stiffness", gt=0, le=1e12, typical=(1e2, 1e6)
-)
+K_MECH = Param("K_mech", "N m/rad", "transmission stiffness", gt=0, le=1e12, typical=(1e2, 1e6))
 #: Transmission damping C_mech, joint level.
 C_MECH = Param("C_mech", "N m s/rad", "transmission damping", ge=0, le=1e7)
 #: Control stiffness K_cont (the P gain in torque units), joint level.

@@ -71,6 +71,31 @@ class FoamProblem:
     a :class:`~designlab.impact.parameters.HeadRange`) and, for a robot at
     joint level, over the impact points along the link (a grid, then a
     golden-section search). Built by :func:`make_problem`.
+
+    Attributes
+    ----------
+    robot
+        The manipulator (fixed, or a link struck anywhere).
+    impact_velocity
+        v_c of a fixed robot, m/s (NaN for a link).
+    human_speed
+        Head speed toward a link, m/s.
+    criteria
+        The safety criteria (upper boundary).
+    max_compression
+        lambda, m (the lower boundary).
+    head_range
+        The head-neck range, or ``None`` for each criterion's conservative set.
+    constrained
+        The constrained impact (head against a wall).
+    stop_time
+        Window of the constrained impact's metrics, s.
+    head_levels
+        Values per parameter of the head-range grid.
+    lever_grid
+        Lever arms of the grid search of the worst impact point.
+    golden_iterations
+        Golden-section iterations polishing it.
     """
 
     robot: ContactDynamics | LinkImpact
@@ -231,7 +256,17 @@ def metric_only(key: Criterion) -> bool:
 
 
 def same_but_limits(a: FoamProblem, b: FoamProblem) -> bool:
-    """Whether ``b`` differs from ``a`` only in its fixed robot, v_c and limits."""
+    """Whether ``b`` differs from ``a`` only in its fixed robot, v_c and limits.
+
+    Parameters
+    ----------
+    a, b
+        Two problems.
+
+    Returns
+    -------
+    bool
+    """
     if isinstance(b.robot, LinkImpact) or len(a.criteria) != len(b.criteria):
         return False
     setting = ("head_range", "constrained", "stop_time", "head_levels")
@@ -258,6 +293,21 @@ class FoamLanes(FoamProblem):
     ``velocity[i]`` and C_c ``damping[i]``, with ``log_limits[i]`` (one column per
     :meth:`keys`). The criteria evaluated are the first problem's; the others
     differ from them in their limits only (:func:`same_but_limits`).
+
+    Attributes
+    ----------
+    rows
+        Robot rows of the lanes.
+    velocity
+        v_c of the lanes, m/s.
+    damping
+        C_c of the lanes, N s/m.
+    log_limits
+        ``log`` of each constraint's limit, per lane.
+    robot, impact_velocity, human_speed, criteria, max_compression, head_range
+        As in :class:`FoamProblem` (the first problem's).
+    constrained, stop_time, head_levels, lever_grid, golden_iterations
+        As in :class:`FoamProblem`.
     """
 
     rows: NDArray[np.float64]
