@@ -50,7 +50,7 @@ class Status(str, Enum):
     """Base of the status enums, one per result family (documented with its members).
 
     A member is a ``str`` equal to its value, so ``result.status == "ok"`` holds,
-    and it prints, formats and writes to CSV as its value. Convert with ``str()``
+    and it prints, shows (``repr``), formats and writes to CSV as its value. Convert with ``str()``
     before writing YAML with a safe dumper.
 
     Examples
@@ -65,6 +65,9 @@ class Status(str, Enum):
 
     def __str__(self) -> str:
         return str(self.value)
+
+    def __repr__(self) -> str:
+        return repr(self.value)
 
     def __format__(self, spec: str) -> str:
         return format(str(self.value), spec)
