@@ -390,15 +390,51 @@ def _fmt_frame(frame: pd.DataFrame, digits: int = 0) -> pd.DataFrame:
     return out
 
 
-def _markdown(
-    result: AccompanyingResult,
-    figures: list[str],
-    command: str | None,
-    version: str | None,
-) -> str:
+_CONTROLLER_COLUMNS = (
+    "method",
+    "kp_1_s",
+    "ki_1_s2",
+    "kd",
+    "Ms",
+    "Mt",
+    "phase_margin_deg",
+    "mean_rms_all_tasks_m",
+    "improvement_all_tasks",
+    "iterations",
+    "simulations",
+    "elapsed_s",
+    "status",
+)
+_TRACKING_COLUMNS = [
+    "controller",
+    "task",
+    "rms_error_m",
+    "max_error_m",
+    "settled_error_m",
+    "lag_s",
+    "overshoot_m",
+    "settling_time_s",
+]
+_TABLE2_TEXT = (
+    "`paper` rows are Wu et al. 2021, Table 2; `gamma` is the bearing of the robot seen "
+    "from the user, -atan2(X_C, Y_C), which the paper's gamma_C column matches. Stop: "
+    "10 s after the user stops. Average: mean (sd) while the user walks."
+)
+_SIGN_TEXT = (
+    "The tests check the components each task drives (forward and backward: Y; right "
+    "lateral and the pivots: X; the circles: X and Y); the other offsets in the paper come "
+    "from heading changes and pelvis motion that the synthetic walks do not have. "
+    "Left lateral walking is the paper's own anomaly (Sec. 6: at reset the distance "
+    "sensor saw the user's forearm, so the target distance was too short); a lagging "
+    "robot ends up to the user's right (+X) when the user walks left."
+)
+
+
+def _header(result: AccompanyingResult, command: str | None, version: str | None) -> list[str]:
     s = result.study
     out = report_header(s.name, s.description, command=command, version=version)
-    out += [
+    return [
+        *out,
         "Model (Wu et al. 2021; `docs/following.md`): mecanum platform with a first-order "
         f"lag (tau = {s.platform.time_constant} s) and speed/acceleration saturation "
         f"({s.platform.max_speed} m/s, {s.platform.max_acceleration} m/s^2, "
@@ -409,28 +445,13 @@ def _markdown(
         "reported, so compare orders of magnitude and signs, not digits.",
         "",
     ]
+
+
+def _controllers_section(result: AccompanyingResult) -> list[str]:
+    s = result.study
     tuning = result.tuning_frame()
-    out += ["## Controllers", ""]
-    cols = [
-        c
-        for c in (
-            "method",
-            "kp_1_s",
-            "ki_1_s2",
-            "kd",
-            "Ms",
-            "Mt",
-            "phase_margin_deg",
-            "mean_rms_all_tasks_m",
-            "improvement_all_tasks",
-            "iterations",
-            "simulations",
-            "elapsed_s",
-            "status",
-        )
-        if c in tuning.columns
-    ]
-    out += [markdown_table(tuning[cols], floatfmt=".4g"), ""]
+    cols = [c for c in _CONTROLLER_COLUMNS if c in tuning.columns]
+    out = ["## Controllers", "", markdown_table(tuning[cols], floatfmt=".4g"), ""]
     if s.tuning is not None:
         out += [
             f"`tuned`: convex-concave optimisation (Hast, Astrom, Bernhardsson, Boyd 2013): "
@@ -443,27 +464,18 @@ def _markdown(
             "`elapsed_s` is the tuner's wall time.",
             "",
         ]
-    metrics = result.to_frame()
-    mcols = [
-        "controller",
-        "task",
-        "rms_error_m",
-        "max_error_m",
-        "settled_error_m",
-        "lag_s",
-        "overshoot_m",
-        "settling_time_s",
-    ]
-    m = metrics[mcols].copy()
+    return out
+
+
+def _tables_section(result: AccompanyingResult) -> list[str]:
+    m = result.to_frame()[_TRACKING_COLUMNS].copy()
     for c in ("rms_error_m", "max_error_m", "settled_error_m", "overshoot_m"):
         m[c.replace("_m", "_mm")] = 1e3 * m.pop(c)
-    out += ["## Tracking", "", markdown_table(m, floatfmt=".3g"), ""]
+    out = ["## Tracking", "", markdown_table(m, floatfmt=".3g"), ""]
     out += [
         "## Table 2: robot in the user's frame (mm, deg)",
         "",
-        "`paper` rows are Wu et al. 2021, Table 2; `gamma` is the bearing of the robot seen "
-        "from the user, -atan2(X_C, Y_C), which the paper's gamma_C column matches. Stop: "
-        "10 s after the user stops. Average: mean (sd) while the user walks.",
+        _TABLE2_TEXT,
         "",
         markdown_table(_fmt_frame(table2_frame(result), 0)),
         "",
@@ -471,12 +483,7 @@ def _markdown(
         "",
         markdown_table(_fmt_frame(_sign_table(result), 0)),
         "",
-        "The tests check the components each task drives (forward and backward: Y; right "
-        "lateral and the pivots: X; the circles: X and Y); the other offsets in the paper come "
-        "from heading changes and pelvis motion that the synthetic walks do not have. "
-        "Left lateral walking is the paper's own anomaly (Sec. 6: at reset the distance "
-        "sensor saw the user's forearm, so the target distance was too short); a lagging "
-        "robot ends up to the user's right (+X) when the user walks left.",
+        _SIGN_TEXT,
         "",
     ]
     t1 = table1_frame(result)
@@ -487,6 +494,17 @@ def _markdown(
             markdown_table(_fmt_frame(t1, 1)),
             "",
         ]
+    return out
+
+
+def _markdown(
+    result: AccompanyingResult,
+    figures: list[str],
+    command: str | None,
+    version: str | None,
+) -> str:
+    out = _header(result, command, version) + _controllers_section(result)
+    out += _tables_section(result)
     out += ["## Warnings", ""]
     warnings = result.warnings
     out += [f"- {w}" for w in warnings] if warnings else ["None."]

@@ -99,6 +99,76 @@ def _pivot(frame: pd.DataFrame, controllers: list[str]) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
+def _comparison_header(
+    result: TetherComparisonResult,
+    frame: pd.DataFrame,
+    command: str | None = None,
+    version: str | None = None,
+) -> list[str]:
+    study = result.study
+    robot = result.cases[0].run.robot if result.cases else None
+    controllers = [c.title for c in study.controllers]
+    lines = report_header(study.name, study.description, command=command, version=version)
+    robot_text = (
+        f"robot b = {robot.wheel_track:g} m, r = {robot.wheel_radius:g} m, control period "
+        f"{robot.sample_time:g} s, wheel limit {robot.max_wheel_speed:g} rad/s. "
+        if robot
+        else ""
+    )
+    return [
+        *lines,
+        f"Status: **{result.status}**. Leader speed {study.speed:g} m/s; "
+        + robot_text
+        + "Normal path deviation (NPD) as Allan 2015 App. A with the project's settings "
+        "(segments 0.01-0.05 m, unsigned, ordered comparison range, 2 m search, "
+        "point-to-polyline fallback; `docs/following.md`), in wheel tracks b = 0.28 m as "
+        "Tables 3.2/3.3.",
+        "",
+        "## Mean normal path deviation (simulation)",
+        "",
+        markdown_table(_pivot(frame, controllers)),
+        "",
+    ]
+
+
+def _measured_tables() -> list[str]:
+    lines = ["## Measured: Allan 2015 Tables 3.2 and 3.3", ""]
+    tables = allan_tables()
+    names = {
+        "pj_mean_dev_over_b": "PJ mean/b",
+        "pj_std_dev_over_b": "PJ std/b",
+        "ftlcd_mean_dev_over_b": "FTL-CD mean/b",
+        "ftlcd_std_dev_over_b": "FTL-CD std/b",
+    }
+    for key, (_, caption) in TABLES.items():
+        lines += [
+            f"{caption} (PJ / FTL-CD of the averages: {measured_ratio(key):.2f})",
+            "",
+            markdown_table(tables[key].rename(columns=names)),
+            "",
+        ]
+    return lines
+
+
+_OTHER_COLUMNS = [
+    "path",
+    "controller",
+    "desired_length_m",
+    "npd_max_over_b",
+    "length_error_rms_m",
+    "tether_max_m",
+    "accel_rms_m_per_s2",
+    "yaw_accel_rms_rad_per_s2",
+    "stops",
+    "path_length_ratio",
+]
+_OTHER_TEXT = (
+    "Tether-length error (l_m - l_d), smoothness (RMS of dV/dt and dOmega/dt), stops while the "
+    "leader walks, and robot over leader distance. The maximum NPD is dominated by "
+    "end-of-range artefacts on simulated runs; compare means."
+)
+
+
 def comparison_markdown(
     result: TetherComparisonResult,
     *,
@@ -121,45 +191,8 @@ def comparison_markdown(
     """
     study = result.study
     frame = result.to_frame()
-    robot = result.cases[0].run.robot if result.cases else None
     controllers = [c.title for c in study.controllers]
-    lines = report_header(study.name, study.description, command=command, version=version)
-    lines += [
-        f"Status: **{result.status}**. Leader speed {study.speed:g} m/s; "
-        + (
-            f"robot b = {robot.wheel_track:g} m, r = {robot.wheel_radius:g} m, control period "
-            f"{robot.sample_time:g} s, wheel limit {robot.max_wheel_speed:g} rad/s. "
-            if robot
-            else ""
-        )
-        + "Normal path deviation (NPD) as Allan 2015 App. A with the project's settings "
-        "(segments 0.01-0.05 m, unsigned, ordered comparison range, 2 m search, "
-        "point-to-polyline fallback; `docs/following.md`), in wheel tracks b = 0.28 m as "
-        "Tables 3.2/3.3.",
-        "",
-        "## Mean normal path deviation (simulation)",
-        "",
-        markdown_table(_pivot(frame, controllers)),
-        "",
-        "## Measured: Allan 2015 Tables 3.2 and 3.3",
-        "",
-    ]
-    tables = allan_tables()
-    for key, (_, caption) in TABLES.items():
-        t = tables[key].rename(
-            columns={
-                "pj_mean_dev_over_b": "PJ mean/b",
-                "pj_std_dev_over_b": "PJ std/b",
-                "ftlcd_mean_dev_over_b": "FTL-CD mean/b",
-                "ftlcd_std_dev_over_b": "FTL-CD std/b",
-            }
-        )
-        lines += [
-            f"{caption} (PJ / FTL-CD of the averages: {measured_ratio(key):.2f})",
-            "",
-            markdown_table(t),
-            "",
-        ]
+    lines = _comparison_header(result, frame, command, version) + _measured_tables()
     ratios = _pivot(frame, controllers).get("PJ / FTL-CD")
     if ratios is not None and len(ratios.dropna()):
         lo, hi = float(ratios.min()), float(ratios.max())
@@ -169,32 +202,8 @@ def comparison_markdown(
         lines += ["## Discussion", "", " ".join(text.split()), ""]
     if result.linear is not None and len(result.linear):
         lines += _linear_section(result.linear, study.speed)
-    other = frame[
-        [
-            "path",
-            "controller",
-            "desired_length_m",
-            "npd_max_over_b",
-            "length_error_rms_m",
-            "tether_max_m",
-            "accel_rms_m_per_s2",
-            "yaw_accel_rms_rad_per_s2",
-            "stops",
-            "path_length_ratio",
-        ]
-    ]
-    lines += [
-        "## Other figures (Allan 2015 Sec. 2.5.1)",
-        "",
-        "Tether-length error (l_m - l_d), smoothness (RMS of dV/dt and dOmega/dt), stops while the "
-        "leader walks, and robot over leader distance. The maximum NPD is dominated by "
-        "end-of-range artefacts on simulated runs; compare means.",
-        "",
-        markdown_table(other.round(3)),
-        "",
-        "## Figures",
-        "",
-    ]
+    lines += ["## Other figures (Allan 2015 Sec. 2.5.1)", "", _OTHER_TEXT, ""]
+    lines += [markdown_table(frame[_OTHER_COLUMNS].round(3)), "", "## Figures", ""]
     for path, (traj, prof) in figures.items():
         lines += [
             f"![trajectories on {path}]({traj})",
@@ -356,6 +365,85 @@ def _tuning_figure(r: Any) -> Figure:
     return fig
 
 
+def _gains_table(result: TetherTuningResult) -> pd.DataFrame:
+    rows = []
+    for r in result.results:
+        rows.append(
+            {
+                "law": type(r.controller).__name__,
+                **{f"default {k}": round(v, 3) for k, v in r.default.gains.items()},
+                **{f"tuned {k}": round(v, 3) for k, v in r.controller.gains.items()},
+            }
+        )
+    return pd.DataFrame(rows)
+
+
+def _improvement_table(result: TetherTuningResult) -> pd.DataFrame:
+    imp = []
+    for r in result.results:
+        imp.append(
+            {
+                "law": type(r.controller).__name__,
+                "cost improvement, unseen paths": f"{100 * r.improvement:.0f} %",
+                "NPD improvement, unseen paths": f"{100 * r.npd_improvement:.0f} %",
+                "cost improvement, tuning paths": f"{100 * r.training_improvement:.0f} %",
+                "violations default/tuned (tuning)": "{default}/{tuned}".format(
+                    **r.violations["tuning"]
+                ),
+                "violations default/tuned (unseen)": "{default}/{tuned}".format(
+                    **r.violations["validation"]
+                ),
+                "min damping ratio (tuned)": round(min(r.damping_ratios.values()), 3),
+                "gain sets": r.evaluations,
+                "wall time [s]": round(r.wall_time, 1),
+                "status": r.status,
+            }
+        )
+    return pd.DataFrame(imp)
+
+
+_IMPROVEMENT_TEXT = (
+    "Cost improvement: 1 - J_tuned/J_default with J the weighted deviation, tether-length and "
+    "smoothness cost (penalties for leaving the tether range or saturating a wheel are counted "
+    "separately as violations). NPD improvement: 1 - mean NPD tuned/default. A violation is "
+    "a scenario whose penalty exceeds 0.001: the tether left its range (10 x the excess / "
+    "l_d) or a wheel ran at its speed limit (the fraction of the run at it); the penalty "
+    "column below gives the size. Status `not_converged` means that differential evolution "
+    "used all its generations; the tuned cost on the tuning paths is still never above the "
+    "defaults' (they are in the initial population)."
+)
+_SCENARIO_COLUMNS = [
+    "law",
+    "set",
+    "path",
+    "speed_m_per_s",
+    "controller",
+    "npd_mean_over_b",
+    "length_error_rms_over_ld",
+    "smoothness",
+    "penalty",
+    "cost",
+]
+
+
+def _tuning_intro(
+    result: TetherTuningResult, command: str | None = None, version: str | None = None
+) -> list[str]:
+    study = result.study
+    lines = report_header(study.name, study.description, command=command, version=version)
+    text = _TUNING_INTRO.format(
+        status=result.status,
+        paths=", ".join(p.build().name for p in study.paths),
+        val=", ".join(p.build().name for p in study.validation_paths),
+        speeds=", ".join(f"{v:g}" for v in study.speeds),
+        s=study,
+        lo=study.tether_range[0],
+        hi=study.tether_range[1],
+        w=study.weights.model_dump(),
+    )
+    return [*lines, " ".join(text.split()), ""]
+
+
 @register_writer(TetherTuningResult)
 def write_tuning_report(
     result: TetherTuningResult,
@@ -380,95 +468,18 @@ def write_tuning_report(
     study_text
         The study file's text, copied as ``study.yaml``.
     """
-    study = result.study
     written = [write_csv(result.to_frame(), directory / "gains.csv")]
     scen = pd.concat(
         [r.scenarios.assign(law=type(r.controller).__name__) for r in result.results],
         ignore_index=True,
     )
     written.append(write_csv(scen, directory / "scenarios.csv"))
-    lines = report_header(study.name, study.description, command=command, version=version)
-    lines += [
-        " ".join(
-            _TUNING_INTRO.format(
-                status=result.status,
-                paths=", ".join(p.build().name for p in study.paths),
-                val=", ".join(p.build().name for p in study.validation_paths),
-                speeds=", ".join(f"{v:g}" for v in study.speeds),
-                s=study,
-                lo=study.tether_range[0],
-                hi=study.tether_range[1],
-                w=study.weights.model_dump(),
-            ).split()
-        ),
-        "",
-        "## Gains",
-        "",
-    ]
-    rows = []
-    for r in result.results:
-        rows.append(
-            {
-                "law": type(r.controller).__name__,
-                **{f"default {k}": round(v, 3) for k, v in r.default.gains.items()},
-                **{f"tuned {k}": round(v, 3) for k, v in r.controller.gains.items()},
-            }
-        )
-    lines += [markdown_table(pd.DataFrame(rows)), "", "## Improvement over the thesis defaults", ""]
-    imp = []
-    for r in result.results:
-        imp.append(
-            {
-                "law": type(r.controller).__name__,
-                "cost improvement, unseen paths": f"{100 * r.improvement:.0f} %",
-                "NPD improvement, unseen paths": f"{100 * r.npd_improvement:.0f} %",
-                "cost improvement, tuning paths": f"{100 * r.training_improvement:.0f} %",
-                "violations default/tuned (tuning)": "{default}/{tuned}".format(
-                    **r.violations["tuning"]
-                ),
-                "violations default/tuned (unseen)": "{default}/{tuned}".format(
-                    **r.violations["validation"]
-                ),
-                "min damping ratio (tuned)": round(min(r.damping_ratios.values()), 3),
-                "gain sets": r.evaluations,
-                "wall time [s]": round(r.wall_time, 1),
-                "status": r.status,
-            }
-        )
-    lines += [
-        markdown_table(pd.DataFrame(imp)),
-        "",
-        "Cost improvement: 1 - J_tuned/J_default with J the weighted deviation, tether-length and "
-        "smoothness cost (penalties for leaving the tether range or saturating a wheel are counted "
-        "separately as violations). NPD improvement: 1 - mean NPD tuned/default. A violation is "
-        "a scenario whose penalty exceeds 0.001: the tether left its range (10 x the excess / "
-        "l_d) or a wheel ran at its speed limit (the fraction of the run at it); the penalty "
-        "column below gives the size. Status `not_converged` means that differential evolution "
-        "used all its generations; the tuned cost on the tuning paths is still never above the "
-        "defaults' (they are in the initial population).",
-        "",
-        "## Per scenario",
-        "",
-        markdown_table(
-            scen[
-                [
-                    "law",
-                    "set",
-                    "path",
-                    "speed_m_per_s",
-                    "controller",
-                    "npd_mean_over_b",
-                    "length_error_rms_over_ld",
-                    "smoothness",
-                    "penalty",
-                    "cost",
-                ]
-            ].round(3)
-        ),
-        "",
-        "## Figures",
-        "",
-    ]
+    lines = _tuning_intro(result, command, version)
+    lines += ["## Gains", "", markdown_table(_gains_table(result)), ""]
+    lines += ["## Improvement over the thesis defaults", ""]
+    lines += [markdown_table(_improvement_table(result)), "", _IMPROVEMENT_TEXT, ""]
+    lines += ["## Per scenario", "", markdown_table(scen[_SCENARIO_COLUMNS].round(3)), ""]
+    lines += ["## Figures", ""]
     for r in result.results:
         name = f"tuning_{_slug(type(r.controller).__name__)}.png"
         written.append(write_png(_tuning_figure(r), directory / name))

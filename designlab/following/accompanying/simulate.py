@@ -378,9 +378,7 @@ def simulate(
     Returns
     -------
     AccompanyResult
-        ``status`` is ``"ok"``, or ``"unstable"`` if the error grew beyond
-        10 m or became non-finite. ``warnings`` report flagged distance samples
-        and saturation.
+        ``status`` ``"ok"`` or ``"unstable"``; ``warnings`` on flagged samples, saturation.
 
     Examples
     --------

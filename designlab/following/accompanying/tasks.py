@@ -500,45 +500,24 @@ def walking_task(
         ``right_lateral``, ``left_pivot``, ``right_pivot``, ``rectangle``
         (forward, right, backward, left while facing forward), ``circle_cw``,
         ``circle_ccw`` (one full circle walking forward).
-    speed
-        Cruise walking speed in m/s (at most 10 m/s, :data:`WALKING_SPEED`). Default
-        0.45 m/s for forward, 0.4 m/s for backward and lateral walking, 0.5 m/s on the
-        rectangle and circles.
-    yaw_rate
-        Cruise turning rate of the pivots in rad/s (> 0); default 45 deg/s.
-    distance
-        Walked distance in m for the straight tasks (at most 100 m). Default as the paper
-        (Sec. 4.1): 1.95 m forward, 1.98 m backward, 1.52 m left and 1.56 m right.
-    turn_angle
-        Pivot angle in rad (> 0); default 90 deg.
-    radius
-        Circle radius in m (> 0); default 0.9 m (inside the 2.5 m x 1.8 m plate).
+    speed, yaw_rate, distance, turn_angle, radius
+        Cruise speed (m/s; default per task, :data:`WALKING_SPEED`), pivot rate (rad/s),
+        straight distance (m; default the paper's, Sec. 4.1), pivot angle (rad), circle
+        radius (m): the declarations in :mod:`~designlab.following.accompanying.parameters`.
     rectangle
         Forward and lateral side lengths in m; default (2.5, 1.8).
-    ramp_time
-        Raised-cosine acceleration time of each move in s (> 0).
-    pause
-        Standing time between the legs of the rectangle in s (>= 0).
-    stand_before, settle_time
-        Standing time before the walk and after it in s (>= 0).
+    ramp_time, pause, stand_before, settle_time
+        Raised-cosine ramp of each move, pause between the rectangle's legs, standing
+        time before and after the walk, in s.
     pivot_offset
-        Distance of the frame origin (the user-side encoder housing) ahead of
-        the turning centre in pivots, m (>= 0). The default 0.25 m reproduces the
-        user displacement of about (-0.27, -0.22) m of the left pivot of Table 1.
-    sway
-        Pelvis sway amplitudes (lateral in m, yaw in rad) at the stride
-        frequency, while walking (>= 0); default none.
-    step_frequency
-        Steps per second (> 0); the sway has half this frequency.
+        Frame origin ahead of the turning centre in pivots, m (0.25 m reproduces the
+        left pivot's user displacement of Table 1).
+    sway, step_frequency
+        Pelvis sway amplitudes (lateral m, yaw rad) while walking; steps per second.
     target_position, target_heading
         Robot target pose in LCS_U (m, rad); default the paper's (Tables 1-2).
     start_heading
         User's initial world heading in rad; default pi/2 (facing +Y).
-
-    Raises
-    ------
-    InvalidParameterError
-        For an unknown name or a bad parameter.
 
     Examples
     --------

@@ -676,10 +676,7 @@ def tune(
     Returns
     -------
     PIDTuningResult
-        ``status`` ``"ok"``; ``"not_converged"`` if the iteration stopped early;
-        ``"failed"`` if the solver failed or the tuned loop violates ``ms_max``
-        on python-control's check; warnings if the tuned gains do not improve
-        the simulated RMS error.
+        With a :class:`PIDTuningStatus` and warnings (e.g. no improvement).
 
     Examples
     --------

@@ -192,7 +192,7 @@ class PseudoJoystick(TetherController):
 
     desired_length: float = _desired_length(1.0)
     speed_gain: float = _gain("k_V", "1/s", "speed gain", 5.0)
-    turn_gain: float = _gain("k_O", "1/s", "turn gain (unused by the printed law)", 12.0)
+    turn_gain: float = _gain("k_O", "1/s", "turn gain", 12.0)
     law: str = param(
         kind="choice",
         choices=("coded", "printed"),
@@ -254,7 +254,7 @@ class FollowTheLeader(TetherController):
     lookahead: float = param(
         "delta",
         "m",
-        doc="look-ahead along the recorded path",
+        doc="FTL look-ahead",
         gt=0,
         le=10,
         typical=(0.28, 0.56),
