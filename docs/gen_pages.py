@@ -14,7 +14,6 @@ import shutil
 from pathlib import Path
 from typing import Any
 
-import click
 import mkdocs_gen_files
 import typer
 
@@ -48,7 +47,8 @@ def write_api() -> list[str]:
         with mkdocs_gen_files.open(path, "w") as fd:
             fd.write(f"# `{name}`\n\n::: {name}\n")
         depth = name.count(".")
-        nav.append(f"{'    ' * depth}* [{name.rsplit('.', 1)[-1]}]({path.relative_to('reference/api').as_posix()})")
+        target = path.relative_to("reference/api").as_posix()
+        nav.append(f"{'    ' * depth}* [{name.rsplit('.', 1)[-1]}]({target})")
     with mkdocs_gen_files.open("reference/api/SUMMARY.md", "w") as fd:
         fd.write("\n".join(nav) + "\n")
     return nav
@@ -102,7 +102,11 @@ def bounds_text(node: dict[str, Any]) -> str:
     for sub in [node, *node.get("anyOf", []), *node.get("oneOf", [])]:
         for key, symbol in BOUND_KEYS.items():
             if key in sub:
-                found.append(f"{symbol} {sub[key]:g}" if isinstance(sub[key], float) else f"{symbol} {sub[key]}")
+                found.append(
+                    f"{symbol} {sub[key]:g}"
+                    if isinstance(sub[key], float)
+                    else f"{symbol} {sub[key]}"
+                )
     return ", ".join(dict.fromkeys(found))
 
 
@@ -127,7 +131,13 @@ def model_table(schema: dict[str, Any], model: dict[str, Any]) -> tuple[str, lis
     for field, node in model.get("properties", {}).items():
         refs += re.findall(r"#/\$defs/([A-Za-z0-9_]+)", repr(node))
         description = node.get("description", "")
-        default = "required" if field in required else f"`{node['default']!r}`" if "default" in node else ""
+        default = (
+            "required"
+            if field in required
+            else f"`{node['default']!r}`"
+            if "default" in node
+            else ""
+        )
         rows.append(
             f"| `{field}` | {cell(type_text(node))} | {cell(description)} | "
             f"{cell(unit_text(description))} | {cell(bounds_text(node))} | {cell(default)} |"
@@ -191,24 +201,40 @@ def write_studies() -> None:
 
 
 # --------------------------------------------------------------------------- CLI
-def command_help(command: click.Command, path: list[str], parent: click.Context | None) -> list[str]:
-    """The click help of a command and of its subcommands, each in a section."""
-    ctx = click.Context(command, info_name=" ".join(path), parent=None, terminal_width=100)
+def command_help(command: Any, path: list[str]) -> list[str]:
+    """The click help of a command and of its subcommands, each in a section.
+
+    Duck-typed: recent typer releases ship their own copy of click, whose classes are not
+    ``click.Group``.
+    """
+    ctx = command.context_class(command, info_name=" ".join(path), terminal_width=100)
     ctx.max_content_width = 100
-    lines = [f"{'#' * min(len(path) + 1, 4)} `{' '.join(path)}`", "", "```text", command.get_help(ctx), "```", ""]
-    if isinstance(command, click.Group):
+    lines = [
+        f"{'#' * min(len(path) + 1, 4)} `{' '.join(path)}`",
+        "",
+        "```text",
+        command.get_help(ctx),
+        "```",
+        "",
+    ]
+    if hasattr(command, "list_commands"):
         for name in command.list_commands(ctx):
             sub = command.get_command(ctx, name)
             if sub is not None and not sub.hidden:
-                lines += command_help(sub, [*path, name], ctx)
+                lines += command_help(sub, [*path, name])
     return lines
 
 
 def write_cli() -> None:
     """The CLI reference from the typer app."""
     command = typer.main.get_command(designlab.cli.app)
-    out = ["# CLI reference", "", "Generated from the typer app `designlab.cli.app` at build time.", ""]
-    out += command_help(command, ["designlab"], None)
+    out = [
+        "# CLI reference",
+        "",
+        "Generated from the typer app `designlab.cli.app` at build time.",
+        "",
+    ]
+    out += command_help(command, ["designlab"])
     with mkdocs_gen_files.open("reference/cli.md", "w") as fd:
         fd.write("\n".join(out))
 
@@ -238,10 +264,20 @@ def write_gallery() -> list[str]:
         if (report / "summary.md").exists():
             title = first_heading(report / "summary.md")
             copy_binary(report / "summary.md", f"gallery/{name}/summary.txt")
-            page += [f"**{title}**: the [report summary]({name}/summary.txt) (Markdown source).", ""]
+            page += [
+                f"**{title}**: the [report summary]({name}/summary.txt) (Markdown source).",
+                "",
+            ]
         study = ROOT / "studies" / f"{name}.yaml"
         if study.exists():
-            page += ["Study file (`studies/" + study.name + "`):", "", "```yaml", study.read_text(encoding="utf-8").rstrip(), "```", ""]
+            page += [
+                "Study file (`studies/" + study.name + "`):",
+                "",
+                "```yaml",
+                study.read_text(encoding="utf-8").rstrip(),
+                "```",
+                "",
+            ]
         csvs = sorted(report.glob("*.csv"))
         if csvs:
             page += ["## Tables", ""]
