@@ -45,7 +45,7 @@ def write_api() -> list[str]:
     for name in public_modules():
         path = Path("reference", "api", *name.split(".")).with_suffix(".md")
         with mkdocs_gen_files.open(path, "w") as fd:
-            fd.write(f"# `{name}`\n\n::: {name}\n")
+            fd.write(f"::: {name}\n    options:\n      heading_level: 1\n")
         depth = name.count(".")
         target = path.relative_to("reference/api").as_posix()
         nav.append(f"{'    ' * depth}* [{name.rsplit('.', 1)[-1]}]({target})")
@@ -268,16 +268,6 @@ def write_gallery() -> list[str]:
                 f"**{title}**: the [report summary]({name}/summary.txt) (Markdown source).",
                 "",
             ]
-        study = ROOT / "studies" / f"{name}.yaml"
-        if study.exists():
-            page += [
-                "Study file (`studies/" + study.name + "`):",
-                "",
-                "```yaml",
-                study.read_text(encoding="utf-8").rstrip(),
-                "```",
-                "",
-            ]
         csvs = sorted(report.glob("*.csv"))
         if csvs:
             page += ["## Tables", ""]
@@ -291,6 +281,12 @@ def write_gallery() -> list[str]:
             for png in pngs:
                 copy_binary(png, f"gallery/{name}/{png.name}")
                 page += [f"### {png.stem}", "", f"![{png.stem}]({name}/{png.name})", ""]
+        study = ROOT / "studies" / f"{name}.yaml"
+        if study.exists():
+            text = study.read_text(encoding="utf-8").rstrip()
+            page += [f'??? note "Study file `studies/{study.name}`"', "", "    ```yaml"]
+            page += [f"    {line}".rstrip() for line in text.splitlines()]
+            page += ["    ```", ""]
         with mkdocs_gen_files.open(f"gallery/{name}.md", "w") as fd:
             fd.write("\n".join(page))
         index.append(f"- [{name}]({name}.md): {len(pngs)} figures, {len(csvs)} tables")
