@@ -360,11 +360,6 @@ def fit_joint_band(
         Optional non-negative weights ``w_k`` (length ``n``, not all zero).
         Default: all ones.
 
-    A smaller frequency-domain error does not mean smaller errors on the
-    impact metrics, nor errors on the safe side: compare the joints on the
-    metrics with :func:`designlab.impact.full_joint.compare_joint_reductions`
-    (``docs/impact_joint.md``).
-
     Returns
     -------
     JointFit
@@ -376,6 +371,13 @@ def fit_joint_band(
     ------
     InvalidParameterError
         For invalid joint parameters, band or weights.
+
+    Notes
+    -----
+    A smaller frequency-domain error does not mean smaller errors on the
+    impact metrics, nor errors on the safe side: compare the joints on the
+    metrics with :func:`designlab.impact.full_joint.compare_joint_reductions`
+    (``docs/impact_joint.md``).
 
     Examples
     --------

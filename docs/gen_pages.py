@@ -1,0 +1,321 @@
+"""Generate the reference pages, the report gallery and the navigation of the site.
+
+Run by mkdocs-gen-files at build time (``mkdocs build``/``mkdocs serve``), so every page
+follows the live package: the API reference walks ``designlab`` with :mod:`pkgutil`, the
+study-file reference reads :func:`designlab.study.registry.study_json_schema`, the CLI
+reference formats the typer app's click help, and the gallery lists ``reports/*/``.
+"""
+
+from __future__ import annotations
+
+import pkgutil
+import re
+import shutil
+from pathlib import Path
+from typing import Any
+
+import mkdocs_gen_files
+import typer
+
+import designlab
+import designlab.cli
+from designlab.study.registry import study_json_schema
+
+ROOT = Path(__file__).resolve().parent.parent
+DOCS = ROOT / "docs"
+REPORTS = ROOT / "reports"
+FIXED_PAGES = ("index.md", "getting-started.md")
+
+
+# --------------------------------------------------------------------------- API reference
+def public_modules() -> list[str]:
+    """Every public module of designlab (no ``_private`` part, no ``__main__``), sorted."""
+    names = ["designlab"]
+    for info in pkgutil.walk_packages(designlab.__path__, prefix="designlab."):
+        parts = info.name.split(".")
+        if any(part.startswith("_") for part in parts):
+            continue
+        names.append(info.name)
+    return sorted(names)
+
+
+def write_api() -> list[str]:
+    """One page per public module under reference/api/; returns the nav lines."""
+    nav = []
+    for name in public_modules():
+        path = Path("reference", "api", *name.split(".")).with_suffix(".md")
+        with mkdocs_gen_files.open(path, "w") as fd:
+            fd.write(f"::: {name}\n    options:\n      heading_level: 1\n")
+        depth = name.count(".")
+        target = path.relative_to("reference/api").as_posix()
+        nav.append(f"{'    ' * depth}* [{name.rsplit('.', 1)[-1]}]({target})")
+    with mkdocs_gen_files.open("reference/api/SUMMARY.md", "w") as fd:
+        fd.write("\n".join(nav) + "\n")
+    return nav
+
+
+# --------------------------------------------------------------------------- study files
+def resolve(schema: dict[str, Any], node: dict[str, Any]) -> dict[str, Any]:
+    """The definition a ``$ref`` points to (or the node itself)."""
+    ref = node.get("$ref")
+    if ref:
+        return schema["$defs"][ref.rsplit("/", 1)[-1]]
+    return node
+
+
+def type_text(node: dict[str, Any]) -> str:
+    """A short type description: refs link to their section, unions join with ``|``."""
+    if "$ref" in node:
+        name = node["$ref"].rsplit("/", 1)[-1]
+        return f"[{name}](#{name.lower()})"
+    for key in ("anyOf", "oneOf"):
+        if key in node:
+            return " \\| ".join(type_text(sub) for sub in node[key])
+    if "const" in node:
+        return f"`{node['const']!r}`"
+    if "enum" in node:
+        return "one of " + ", ".join(f"`{v}`" for v in node["enum"])
+    if node.get("type") == "array":
+        return f"list of {type_text(node.get('items', {}))}"
+    if node.get("type") == "object" and "additionalProperties" in node:
+        extra = node["additionalProperties"]
+        if isinstance(extra, dict):
+            return f"mapping to {type_text(extra)}"
+    return f"`{node.get('type', 'any')}`"
+
+
+BOUND_KEYS = {
+    "minimum": ">=",
+    "exclusiveMinimum": ">",
+    "maximum": "<=",
+    "exclusiveMaximum": "<",
+    "minItems": "items >=",
+    "maxItems": "items <=",
+    "minLength": "length >=",
+    "maxLength": "length <=",
+}
+
+
+def bounds_text(node: dict[str, Any]) -> str:
+    """Numeric bounds of a field (of every branch of a union)."""
+    found = []
+    for sub in [node, *node.get("anyOf", []), *node.get("oneOf", [])]:
+        for key, symbol in BOUND_KEYS.items():
+            if key in sub:
+                found.append(
+                    f"{symbol} {sub[key]:g}"
+                    if isinstance(sub[key], float)
+                    else f"{symbol} {sub[key]}"
+                )
+    return ", ".join(dict.fromkeys(found))
+
+
+def cell(text: Any) -> str:
+    """Text safe inside a Markdown table cell."""
+    return str(text).replace("|", "\\|").replace("\n", " ")
+
+
+def unit_text(description: str) -> str:
+    """The unit a parameter description states (``"foam stiffness K_c, N/m; allowed ..."``)."""
+    match = re.match(r"^[^;]*?,\s*([^,;]+?)\s*(;|$)", description)
+    if match and "allowed" in description and len(match.group(1)) <= 12:
+        return match.group(1)
+    return ""
+
+
+def model_table(schema: dict[str, Any], model: dict[str, Any]) -> tuple[str, list[str]]:
+    """The field table of one model and the names of the models it refers to."""
+    rows = ["| field | type | description | unit | bounds | default |", "|---|---|---|---|---|---|"]
+    refs: list[str] = []
+    required = set(model.get("required", []))
+    for field, node in model.get("properties", {}).items():
+        refs += re.findall(r"#/\$defs/([A-Za-z0-9_]+)", repr(node))
+        description = node.get("description", "")
+        default = (
+            "required"
+            if field in required
+            else f"`{node['default']!r}`"
+            if "default" in node
+            else ""
+        )
+        rows.append(
+            f"| `{field}` | {cell(type_text(node))} | {cell(description)} | "
+            f"{cell(unit_text(description))} | {cell(bounds_text(node))} | {cell(default)} |"
+        )
+    return "\n".join(rows), refs
+
+
+def model_section(schema: dict[str, Any], name: str, level: str) -> tuple[str, list[str]]:
+    """A heading, the description and the field table(s) of one ``$defs`` entry."""
+    model = schema["$defs"][name]
+    lines = [f"{level} {name}", ""]
+    if model.get("description"):
+        lines += [model["description"], ""]
+    refs: list[str] = []
+    branches = [model, *model.get("anyOf", []), *model.get("oneOf", [])]
+    for branch in branches:
+        branch = resolve(schema, branch) if "$ref" in branch else branch
+        if "properties" in branch:
+            table, found = model_table(schema, branch)
+            lines += [table, ""]
+            refs += found
+        elif branch is not model and ("enum" in branch or "type" in branch):
+            lines += [f"Or: {type_text(branch)}.", ""]
+    return "\n".join(lines), refs
+
+
+def write_studies() -> None:
+    """The study-file reference: every kind, then every model a kind refers to."""
+    schema = study_json_schema()
+    mapping = schema["discriminator"]["mapping"]
+    out = [
+        "# Study-file reference",
+        "",
+        "Generated from `designlab.study.registry.study_json_schema()` at build time. A study",
+        "file is YAML with `designlab: 1`, a `kind` (one of the sections below) and a `name`;",
+        "each parameter's description gives its symbol and SI unit, and the value is",
+        "checked against the bounds shown before anything runs.",
+        "",
+        "## Kinds",
+        "",
+    ]
+    out += [f"- [`{kind}`](#kind-{kind})" for kind in sorted(mapping)] + [""]
+    nested: list[str] = []
+    for kind in sorted(mapping):
+        name = mapping[kind].rsplit("/", 1)[-1]
+        text, refs = model_section(schema, name, "###")
+        out += [f"## Kind `{kind}` {{#kind-{kind}}}", "", text.split("\n", 1)[1]]
+        nested += refs
+    out += ["## Nested models", ""]
+    seen: set[str] = set(m.rsplit("/", 1)[-1] for m in mapping.values())
+    while nested:
+        name = nested.pop(0)
+        if name in seen:
+            continue
+        seen.add(name)
+        text, refs = model_section(schema, name, "###")
+        out += [text.replace(f"### {name}", f"### {name} {{#{name.lower()}}}", 1)]
+        nested += refs
+    with mkdocs_gen_files.open("reference/studies.md", "w") as fd:
+        fd.write("\n".join(out) + "\n")
+
+
+# --------------------------------------------------------------------------- CLI
+def command_help(command: Any, path: list[str]) -> list[str]:
+    """The click help of a command and of its subcommands, each in a section.
+
+    Duck-typed: recent typer releases ship their own copy of click, whose classes are not
+    ``click.Group``.
+    """
+    ctx = command.context_class(command, info_name=" ".join(path), terminal_width=100)
+    ctx.max_content_width = 100
+    lines = [
+        f"{'#' * min(len(path) + 1, 4)} `{' '.join(path)}`",
+        "",
+        "```text",
+        command.get_help(ctx),
+        "```",
+        "",
+    ]
+    if hasattr(command, "list_commands"):
+        for name in command.list_commands(ctx):
+            sub = command.get_command(ctx, name)
+            if sub is not None and not sub.hidden:
+                lines += command_help(sub, [*path, name])
+    return lines
+
+
+def write_cli() -> None:
+    """The CLI reference from the typer app."""
+    command = typer.main.get_command(designlab.cli.app)
+    out = [
+        "# CLI reference",
+        "",
+        "Generated from the typer app `designlab.cli.app` at build time.",
+        "",
+    ]
+    out += command_help(command, ["designlab"])
+    with mkdocs_gen_files.open("reference/cli.md", "w") as fd:
+        fd.write("\n".join(out))
+
+
+# --------------------------------------------------------------------------- gallery
+def first_heading(path: Path) -> str:
+    """The first Markdown heading of a file (its file name if none)."""
+    for line in path.read_text(encoding="utf-8").splitlines():
+        if line.startswith("# "):
+            return line[2:].strip()
+    return path.stem
+
+
+def copy_binary(source: Path, target: str) -> None:
+    """Copy a file into the generated site."""
+    with source.open("rb") as src, mkdocs_gen_files.open(target, "wb") as dst:
+        shutil.copyfileobj(src, dst)
+
+
+def write_gallery() -> list[str]:
+    """One gallery page per report directory plus an index; returns the nav lines."""
+    index = ["# Report gallery", "", "The committed reports under `reports/`, one per study.", ""]
+    nav = ["* [Overview](index.md)"]
+    for report in sorted(p for p in REPORTS.iterdir() if p.is_dir()):
+        name = report.name
+        page = [f"# {name}", ""]
+        if (report / "summary.md").exists():
+            title = first_heading(report / "summary.md")
+            copy_binary(report / "summary.md", f"gallery/{name}/summary.txt")
+            page += [
+                f"**{title}**: the [report summary]({name}/summary.txt) (Markdown source).",
+                "",
+            ]
+        csvs = sorted(report.glob("*.csv"))
+        if csvs:
+            page += ["## Tables", ""]
+            for csv in csvs:
+                copy_binary(csv, f"gallery/{name}/{csv.name}")
+                page.append(f"- [{csv.name}]({name}/{csv.name})")
+            page.append("")
+        pngs = sorted(report.glob("*.png"))
+        if pngs:
+            page += ["## Figures", ""]
+            for png in pngs:
+                copy_binary(png, f"gallery/{name}/{png.name}")
+                page += [f"### {png.stem}", "", f"![{png.stem}]({name}/{png.name})", ""]
+        study = ROOT / "studies" / f"{name}.yaml"
+        if study.exists():
+            text = study.read_text(encoding="utf-8").rstrip()
+            page += [f'??? note "Study file `studies/{study.name}`"', "", "    ```yaml"]
+            page += [f"    {line}".rstrip() for line in text.splitlines()]
+            page += ["    ```", ""]
+        with mkdocs_gen_files.open(f"gallery/{name}.md", "w") as fd:
+            fd.write("\n".join(page))
+        index.append(f"- [{name}]({name}.md): {len(pngs)} figures, {len(csvs)} tables")
+        nav.append(f"* [{name}]({name}.md)")
+    with mkdocs_gen_files.open("gallery/index.md", "w") as fd:
+        fd.write("\n".join(index) + "\n")
+    with mkdocs_gen_files.open("gallery/SUMMARY.md", "w") as fd:
+        fd.write("\n".join(nav) + "\n")
+    return nav
+
+
+# --------------------------------------------------------------------------- navigation
+def write_nav() -> None:
+    """The site navigation (literate-nav): fixed pages, every guide, the generated pages."""
+    guides = sorted(p for p in DOCS.glob("*.md") if p.name not in FIXED_PAGES)
+    nav = ["* [Home](index.md)", "* [Getting started](getting-started.md)", "* Guides"]
+    nav += [f"    * [{first_heading(p)}]({p.name})" for p in guides]
+    nav += [
+        "* [Study-file reference](reference/studies.md)",
+        "* [CLI reference](reference/cli.md)",
+        "* [API reference](reference/api/)",
+        "* [Report gallery](gallery/)",
+    ]
+    with mkdocs_gen_files.open("SUMMARY.md", "w") as fd:
+        fd.write("\n".join(nav) + "\n")
+
+
+write_api()
+write_studies()
+write_cli()
+write_gallery()
+write_nav()
