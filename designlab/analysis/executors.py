@@ -76,6 +76,8 @@ WORKER_TIMEOUT = 60.0
 _ORPHANED = 70
 #: Seconds between checks of the Dask cluster while no task finishes.
 _POLL = 1.0
+#: Seconds to wait for a Dask client or cluster to close.
+_CLOSE_TIMEOUT = 10.0
 
 
 def check_scheduler_address(address: str) -> str:
@@ -214,6 +216,10 @@ class SerialExecutor(Executor):
             yield i, fn(task)
 
 
+def _failed(fut: Future[Any]) -> bool:
+    return fut.cancelled() or fut.exception() is not None
+
+
 def _yield_futures(
     submit: Callable[[Any], Future[Any]], tasks: Iterable[Any], window: int
 ) -> Iterator[tuple[int, Any]]:
@@ -230,7 +236,7 @@ def _yield_futures(
     try:
         while pending:
             done, pending = wait(pending, return_when=FIRST_COMPLETED)
-            for fut in sorted(done, key=lambda f: f.exception() is not None):  # results first
+            for fut in sorted(done, key=_failed):  # results first
                 i = index.pop(fut)
                 result = fut.result()
                 before = set(index)
@@ -365,13 +371,16 @@ class DaskExecutor(Executor):
         return f"dask {where} ({self.workers} worker{'s' if self.workers != 1 else ''})"
 
     def close(self) -> None:
-        client = getattr(self, "_client", None)
-        if client is not None:
-            client.close()
-            self._client = None
-        if self._cluster is not None:
-            self._cluster.close()
-            self._cluster = None
+        # bounded: after a lost scheduler, closing must not wait for it
+        client, self._client = getattr(self, "_client", None), None
+        cluster, self._cluster = self._cluster, None
+        for part in (client, cluster):
+            if part is None:
+                continue
+            try:
+                part.close(timeout=_CLOSE_TIMEOUT)
+            except Exception as exc:  # already lost: nothing left to release
+                logger.info("closing %s: %s: %s", type(part).__name__, type(exc).__name__, exc)
 
     def map_unordered(
         self, fn: Callable[[Any], Any], tasks: Iterable[Any]
