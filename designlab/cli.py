@@ -295,7 +295,8 @@ def run(
             f"finished points are kept in {cache_dir}/; no report was written. Run the same "
             "command with --resume to finish."
             if keeps_store
-            else "no report was written (this kind keeps no partial results: run it again)."
+            else "no report was written and nothing was kept (this kind keeps no partial "
+            "results): run it again."
         )
         typer.echo(f"interrupted: {kept}", err=True)
         raise typer.Exit(EXIT_INTERRUPTED) from None

@@ -178,7 +178,7 @@ base: {robot: MANIPULATOR_1, foam: FOAM_1, head: HEAD_MIN, impact_velocity: 1.25
 sweep:
   method: grid
   parameters:
-    foam.stiffness: {low: 10e3, high: 60e3, num: 5}
+    foam.stiffness: {low: 10.0e+3, high: 60.0e+3, num: 5}
     head.mass: {values: [4.4, 5.3]}
 """
 

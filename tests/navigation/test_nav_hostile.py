@@ -331,9 +331,10 @@ def test_a_ten_million_point_navigation_sweep_is_refused_by_validate() -> None:
         "k5: 17}}\nsweep: {method: lhs, samples: SAMPLES, parameters: {gains.k1: {low: 1, "
         "high: 5}}}\n"
     )
-    with pytest.raises(StudyError, match=r"10,000,000 points; .* at most 100,000"):
+    with pytest.raises(StudyError, match=r"10,000,001 points .* at most 100,000"):
         parse_study(text.replace("SAMPLES", "10000000"))
-    assert parse_study(text.replace("SAMPLES", "100000")).sweep.count() == 100_000
+    # the cap counts the base point too: 99,999 samples + the base = 100,000 points
+    assert parse_study(text.replace("SAMPLES", "99999")).sweep.count() == 99_999
 
 
 @pytest.mark.parametrize("old", ["vff_scenarios", "vff_sweep", "vff_gains"])
