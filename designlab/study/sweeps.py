@@ -454,8 +454,8 @@ class SweepStudyBase(StudyBase, Generic[ParametersT, MetricT]):
         }.get(largest, "sweep")
         raise ValueError(
             f"{field}: the study has {total:,} points ({counts[largest]:,} from {field}); a "
-            f"{self.kind} study evaluates at most {cap:,} (each point costs a full evaluation; "
-            "see docs/sweeps.md): give fewer points"
+            f"study of kind {self.kind} evaluates at most {cap:,} (each point costs a full "
+            "evaluation; see docs/sweeps.md): give fewer points"
         )
 
     @model_validator(mode="after")
