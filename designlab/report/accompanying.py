@@ -38,7 +38,7 @@ from matplotlib.figure import Figure
 
 from designlab.following.accompanying import PAPER_TEST_NAMES, paper_table1, paper_table2
 from designlab.report import register_writer
-from designlab.report.builder import copy_study, report_header
+from designlab.report.builder import copy_study, figure_section, report_header, warnings_section
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.kinds.accompanying import AccompanyingResult
 
@@ -505,11 +505,8 @@ def _markdown(
 ) -> str:
     out = _header(result, command, version) + _controllers_section(result)
     out += _tables_section(result)
-    out += ["## Warnings", ""]
-    warnings = result.warnings
-    out += [f"- {w}" for w in warnings] if warnings else ["None."]
-    out += ["", "## Figures", ""]
-    out += [f"![{f}]({f})" for f in figures]
+    out += warnings_section(result.warnings, none="None.")
+    out += figure_section([(f, f) for f in figures], spaced=False)
     return "\n".join(out)
 
 

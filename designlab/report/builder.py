@@ -2,9 +2,10 @@
 
 Every report writer opens its main Markdown file with :func:`report_header`
 (the title, the study's description and one provenance sentence: the command
-and designlab version that produced it, and that the file is generated), ends
-its sections with :func:`warnings_section` where it lists warnings, and copies
-the study file next to the report with :func:`copy_study`. The wording lives
+and designlab version that produced it, and that the file is generated), lists
+its figures with :func:`figure_section`, ends its sections with
+:func:`warnings_section` where it lists warnings, and copies the study file
+next to the report with :func:`copy_study`. The wording lives
 here once, so every report says it the same way.
 
 Examples
@@ -25,7 +26,7 @@ from __future__ import annotations
 import json
 import math
 import os
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -35,6 +36,7 @@ __all__ = [
     "RUN_RECORD",
     "STUDY_COPY",
     "copy_study",
+    "figure_section",
     "format_duration",
     "provenance",
     "record_run",
@@ -142,6 +144,47 @@ def warnings_section(warnings: Iterable[str], *, none: str | None = None) -> lis
     if not items:
         return [] if none is None else ["## Warnings", "", none, ""]
     return ["## Warnings", "", *[f"- {w}" for w in items], ""]
+
+
+def figure_section(
+    figures: Mapping[str, str] | Iterable[tuple[str, str]],
+    *,
+    title: str = "Figures",
+    level: int = 2,
+    spaced: bool = True,
+) -> list[str]:
+    """A section of figures: its heading, then one Markdown image a figure.
+
+    Parameters
+    ----------
+    figures
+        Caption -> file name (relative to the report), in the order shown; or
+        ``(caption, file name)`` pairs.
+    title
+        The section's heading.
+    level
+        The heading level (2: ``##``).
+    spaced
+        A blank line after each image (``False``: the images follow each other
+        line by line, as one paragraph).
+
+    Returns
+    -------
+    list of str
+        Markdown lines, to join with ``"\\n"``.
+
+    Examples
+    --------
+    >>> figure_section({"paths": "paths.png"})
+    ['## Figures', '', '![paths](paths.png)', '']
+    >>> figure_section([("a", "a.png"), ("b", "b.png")], title="Run", level=3, spaced=False)
+    ['### Run', '', '![a](a.png)', '![b](b.png)']
+    """
+    items = figures.items() if isinstance(figures, Mapping) else figures
+    out = [f"{'#' * level} {title}", ""]
+    for caption, name in items:
+        out += [f"![{caption}]({name})", ""] if spaced else [f"![{caption}]({name})"]
+    return out
 
 
 def copy_study(directory: str | os.PathLike[str], study_text: str | None) -> list[Path]:

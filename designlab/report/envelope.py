@@ -41,7 +41,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
 from designlab.report import register_writer
-from designlab.report.builder import copy_study, report_header
+from designlab.report.builder import copy_study, figure_section, report_header
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.kinds.foam_design import FoamDesignResult, RobotDesign
 
@@ -446,7 +446,7 @@ def envelope_markdown(
     out += _boundaries_section(result)
     out += _worst_case_section(result)
     out += _warnings_section(result)
-    out += ["## Figure", "", "![feasible foam region](envelope.png)", ""]
+    out += figure_section({"feasible foam region": "envelope.png"}, title="Figure")
     return "\n".join(out)
 
 

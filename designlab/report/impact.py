@@ -28,7 +28,7 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from designlab.report import register_writer
-from designlab.report.builder import copy_study, report_header
+from designlab.report.builder import copy_study, figure_section, report_header, warnings_section
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.kinds.impact_cases import ImpactCaseResult, ImpactCasesResult
 from designlab.units import STANDARD_GRAVITY
@@ -359,13 +359,9 @@ def impact_markdown(
     if ref_table is None and exp_table is None:
         cols = ["case", "v_c_m_per_s", "a_h_max_g", "t_imp_s", "eps_max_m", "peak_force_N", "hic15"]
         out += ["## Results", "", markdown_table(frame[cols], floatfmt=".4g"), ""]
-    out += ["## Warnings", ""]
-    warnings = result.warnings
-    out += [f"- {w}" for w in warnings] if warnings else ["None: every case has status `ok`."]
-    out += ["", "## Time histories", ""]
-    for group, name in figures.items():
-        caption = group or "all cases"
-        out += [f"![{caption}]({name})", ""]
+    out += warnings_section(result.warnings, none="None: every case has status `ok`.")
+    shown = [(group or "all cases", name) for group, name in figures.items()]
+    out += figure_section(shown, title="Time histories")
     return "\n".join(out)
 
 

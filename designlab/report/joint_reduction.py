@@ -22,7 +22,7 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from designlab.report import register_writer
-from designlab.report.builder import copy_study, report_header, warnings_section
+from designlab.report.builder import copy_study, figure_section, report_header, warnings_section
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.kinds.joint_reduction import JointReductionResult
 
@@ -243,7 +243,7 @@ def joint_reduction_markdown(
             "",
         ]
     out += warnings_section(result.warnings)
-    out += ["## Figure", "", "![error of the reduced joint](joint_reduction.png)", ""]
+    out += figure_section({"error of the reduced joint": "joint_reduction.png"}, title="Figure")
     return "\n".join(out)
 
 

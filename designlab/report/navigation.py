@@ -27,7 +27,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from designlab.report import register_writer
-from designlab.report.builder import copy_study, report_header
+from designlab.report.builder import copy_study, figure_section, report_header, warnings_section
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.kinds.navigation_scenarios import NavigationScenariosResult
 
@@ -215,19 +215,11 @@ def navigation_markdown(
         "",
     ]
     out += [markdown_table(stab, floatfmt=".3g") if len(stab) else "No new-VFF runs.", ""]
-    out += ["## Warnings", ""]
-    warnings = result.warnings
-    out += [f"- {w}" for w in warnings] if warnings else ["None."]
-    out += ["", "## Figures", ""]
+    out += warnings_section(result.warnings, none="None.")
+    out += ["## Figures", ""]
     for scen, (traj, dist) in figures.items():
-        out += [
-            f"### {scen}",
-            "",
-            f"![{scen} paths]({traj})",
-            "",
-            f"![{scen} distances]({dist})",
-            "",
-        ]
+        shown = {f"{scen} paths": traj, f"{scen} distances": dist}
+        out += figure_section(shown, title=scen, level=3)
     return "\n".join(out)
 
 

@@ -30,7 +30,7 @@ from matplotlib.figure import Figure
 from designlab.analysis.sensitivity import tornado_figure
 from designlab.report import register_writer
 from designlab.report.atomic import atomic_write_text
-from designlab.report.builder import copy_study, report_header
+from designlab.report.builder import copy_study, figure_section, report_header, warnings_section
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.points_table import FrameTable, PointsTable
 from designlab.study.sweep_runner import SweepStudyResult
@@ -356,12 +356,8 @@ def sweep_markdown(
                     out += [f"**{m}: every perturbation**", "",
                             markdown_table(wide, floatfmt=".4g"), ""]  # fmt: skip
     if figures:
-        out += ["## Figures", ""]
-        for caption, name in figures.items():
-            out += [f"![{caption}]({name})", ""]
-    out += ["## Warnings", ""]
-    warnings = result.warnings
-    out += [f"- {w}" for w in warnings] if warnings else ["None: every point has status `ok`."]
+        out += figure_section(figures)
+    out += warnings_section(result.warnings, none="None: every point has status `ok`.")
     return "\n".join(out)
 
 

@@ -37,7 +37,7 @@ from matplotlib.figure import Figure
 from designlab.following.tether import allan_tables, measured_ratio
 from designlab.following.tether.reference import TABLES
 from designlab.report import register_writer
-from designlab.report.builder import copy_study, report_header, warnings_section
+from designlab.report.builder import copy_study, figure_section, report_header, warnings_section
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.kinds.tether_comparison import STEP_OFFSET, TetherComparisonResult
 from designlab.study.kinds.tether_tuning import TetherTuningResult
@@ -203,14 +203,12 @@ def comparison_markdown(
     if result.linear is not None and len(result.linear):
         lines += _linear_section(result.linear, study.speed)
     lines += ["## Other figures (Allan 2015 Sec. 2.5.1)", "", _OTHER_TEXT, ""]
-    lines += [markdown_table(frame[_OTHER_COLUMNS].round(3)), "", "## Figures", ""]
-    for path, (traj, prof) in figures.items():
-        lines += [
-            f"![trajectories on {path}]({traj})",
-            "",
-            f"![NPD profiles on {path}]({prof})",
-            "",
-        ]
+    lines += [markdown_table(frame[_OTHER_COLUMNS].round(3)), ""]
+    lines += figure_section(
+        (caption, name)
+        for path, (traj, prof) in figures.items()
+        for caption, name in ((f"trajectories on {path}", traj), (f"NPD profiles on {path}", prof))
+    )
     lines += warnings_section(result.warnings)
     return "\n".join(lines)
 
@@ -479,11 +477,12 @@ def write_tuning_report(
     lines += ["## Improvement over the thesis defaults", ""]
     lines += [markdown_table(_improvement_table(result)), "", _IMPROVEMENT_TEXT, ""]
     lines += ["## Per scenario", "", markdown_table(scen[_SCENARIO_COLUMNS].round(3)), ""]
-    lines += ["## Figures", ""]
+    figures = {}
     for r in result.results:
         name = f"tuning_{_slug(type(r.controller).__name__)}.png"
         written.append(write_png(_tuning_figure(r), directory / name))
-        lines += [f"![{type(r.controller).__name__}]({name})", ""]
+        figures[type(r.controller).__name__] = name
+    lines += figure_section(figures)
     lines += warnings_section(result.warnings)
     written.append(write_markdown("\n".join(lines), directory / "summary.md"))
     written += copy_study(directory, study_text)

@@ -19,7 +19,7 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from designlab.report import register_writer
-from designlab.report.builder import copy_study, report_header, warnings_section
+from designlab.report.builder import copy_study, figure_section, report_header, warnings_section
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.kinds.zeng_ch3_claims import Ch3ClaimsResult
 
@@ -146,7 +146,7 @@ def ch3_claims_markdown(
         "",
     ]
     out += warnings_section(result.warnings)
-    out += ["## Figure", "", "![Fig. 3.16 and Sec. 3.8](zeng_ch3_claims.png)", ""]
+    out += figure_section({"Fig. 3.16 and Sec. 3.8": "zeng_ch3_claims.png"}, title="Figure")
     return "\n".join(out)
 
 
