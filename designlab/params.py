@@ -142,6 +142,8 @@ class Param:
         by its owner; declared for the docs only).
     gt, ge, lt, le
         Exclusive / inclusive lower and upper bounds (real and integer).
+    min_length, max_length
+        The shortest and longest text allowed (``"text"``), in characters.
     choices
         The allowed strings of a ``"choice"``.
     typical
@@ -184,6 +186,8 @@ class Param:
     default: Any = None
     name: str = ""
     owner: str = ""
+    min_length: int | None = None
+    max_length: int | None = None
 
     # ------------------------------------------------------------------ text
     @property
@@ -203,10 +207,20 @@ class Param:
             return "one of " + ", ".join(self.choices)
         if self.kind == "flag":
             return "true or false"
-        if self.kind in ("text", "object"):
+        if self.kind == "text":
+            return self._lengths()
+        if self.kind == "object":
             return ""
         parts = [f"{op} {_fmt(b)}" for op, b in self._bounds() if b is not None]
         return " and ".join(parts) or "any finite value"
+
+    def _lengths(self) -> str:
+        lo, hi = self.min_length, self.max_length
+        if lo is not None and hi is not None:
+            return f"{lo} to {hi} characters"
+        if lo is not None:
+            return f"at least {lo} characters"
+        return f"at most {hi} characters" if hi is not None else ""
 
     def _bounds(self) -> list[tuple[str, float | None]]:
         return [(">", self.gt), (">=", self.ge), ("<", self.lt), ("<=", self.le)]
@@ -260,9 +274,19 @@ class Param:
                 raise InvalidParameterError(label, value, "must be True or False")
             return bool(value)
         if self.kind == "text":
-            if not isinstance(value, str):
-                raise InvalidParameterError(label, value, "must be a text (str)")
-            return value
+            return self._check_text(label, value)
+        return value
+
+    def _check_text(self, label: str, value: Any) -> str:
+        lengths = self._lengths()
+        what = "must be a text (str)" + (f" of {lengths}" if lengths else "")
+        if not isinstance(value, str):
+            raise InvalidParameterError(label, value, what)
+        if (self.min_length is not None and len(value) < self.min_length) or (
+            self.max_length is not None and len(value) > self.max_length
+        ):
+            shown = value if len(value) <= 80 else f"{value[:77]}..."
+            raise InvalidParameterError(label, shown, what)
         return value
 
     def _check_real(self, label: str, value: Any) -> float:
@@ -330,7 +354,8 @@ class Param:
         elif self.kind == "flag":
             base = Annotated[bool, Field(strict=True)]
         elif self.kind == "text":
-            base = Annotated[str, Field(strict=True)]
+            lengths = {"min_length": self.min_length, "max_length": self.max_length}
+            base = Annotated[str, Field(strict=True, **lengths)]
         else:
             base = Any
         allow_none = self.optional if optional is None else optional
@@ -355,7 +380,7 @@ class Param:
         rng = self.allowed()
         if rng and rng != "any finite value" and self.kind in ("real", "integer"):
             text += f" ({rng})"
-        elif self.kind == "choice":
+        elif self.kind == "choice" or (self.kind == "text" and rng):
             text += f" ({rng})"
         text += "."
         if self.typical is not None:
@@ -384,6 +409,8 @@ def param(
     default: Any = _MISSING,
     default_factory: Callable[[], Any] | Any = _MISSING,
     compare: bool = True,
+    min_length: int | None = None,
+    max_length: int | None = None,
 ) -> Any:
     """Declare a dataclass field as a parameter (use inside a :func:`declared` class).
 
@@ -413,6 +440,8 @@ def param(
         A factory of the default (mutable defaults).
     compare
         Whether the field takes part in ``==``.
+    min_length, max_length
+        Shortest and longest text (``"text"``), in characters.
 
     Returns
     -------
@@ -433,6 +462,8 @@ def param(
         optional=optional,
         none=none,
         default=None if default is _MISSING else default,
+        min_length=min_length,
+        max_length=max_length,
     )
     kwargs: dict[str, Any] = {"metadata": {"param": decl}, "compare": compare}
     if default is not _MISSING:

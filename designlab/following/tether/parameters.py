@@ -67,6 +67,7 @@ class LimitParam(Param):
     Parameters
     ----------
     symbol, unit, doc, kind, gt, ge, lt, le, choices, typical, optional, none, default, name, owner
+    min_length, max_length
         As :class:`designlab.params.Param`.
 
     Examples

@@ -179,7 +179,9 @@ class LeaderPath:
     points: NDArray[np.float64] = param(  # noqa: RUF009
         kind="object", doc="path nodes in m, shape (N, 2), at most 10**6"
     )
-    name: str = param(kind="text", doc="label used in reports", default="path")
+    name: str = param(
+        kind="text", doc="label used in reports", default="path", min_length=1, max_length=60
+    )
     obstacles: NDArray[np.float64] = param(  # noqa: RUF009
         kind="object",
         doc="cone/obstacle positions in m, shape (K, 2), for plots",

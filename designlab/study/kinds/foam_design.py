@@ -50,7 +50,6 @@ from designlab.impact import (
     optimal_foam,
 )
 from designlab.impact.criteria import (
-    BODY_REGION,
     Criterion,
     HeadAcceleration,
     HeadInjuryCriterion,
@@ -83,12 +82,6 @@ log = logging.getLogger(__name__)
 
 # the YAML fields are the domain's declarations (designlab.params)
 _HEAD = params_of(HeadNeck)
-_HEAD_RANGE = HeadRange()
-_BodyRegion = BODY_REGION.annotation()
-_TransientFactor = params_of(IsoTransientForce)["transient_factor"].annotation()
-_HeadMass = _HEAD["mass"].annotation()
-_NeckStiffness = _HEAD["stiffness"].annotation()
-_NeckDamping = _HEAD["damping"].annotation()
 _WorstVelocity = replace(IMPACT_VELOCITY, doc="worst closing velocity").annotation()
 _HumanSpeed = HUMAN_SPEED.annotation()
 _MaxCompression = MAX_COMPRESSION.annotation()
@@ -126,32 +119,49 @@ HicSpec = _criterion_spec(
 )
 
 
-class IsoSpec(Model):
-    """ISO/TS 15066 force limit of a body region (Annex A, Table A.2).
-
-    ``contact: quasi_static`` (default) uses the table's maximum permissible
-    force; ``transient`` multiplies it by the table's transient factor, which
-    the table does not give for the head regions: there ``transient_factor``
-    must be stated (docs/impact.md, "Safety criteria").
-    """
-
-    type: Literal["iso_ts_15066"]
-    body_region: _BodyRegion = "skull_forehead"
-    contact: Literal["quasi_static", "transient"] = "quasi_static"
-    transient_factor: _TransientFactor = None
+class _IsoBuild(Model):
+    """What the ISO/TS 15066 spec does: check the contact and build the criterion."""
 
     @model_validator(mode="after")
-    def _factor_only_for_transient(self) -> IsoSpec:
-        if self.transient_factor is not None and self.contact != "transient":
+    def _factor_only_for_transient(self) -> Any:
+        given = self.model_dump()
+        if given["transient_factor"] is not None and given["contact"] != "transient":
             raise ValueError("transient_factor applies only to contact: transient")
         self.build()  # the domain's own rules (no multiplier for the head regions)
         return self
 
     def build(self) -> Criterion:
         """The criterion (validated by its constructor)."""
-        if self.contact == "quasi_static":
-            return IsoQuasiStaticForce(self.body_region)
-        return IsoTransientForce(self.body_region, transient_factor=self.transient_factor)
+        given = self.model_dump(exclude={"type"})
+        if given.pop("contact") == "quasi_static":
+            return IsoQuasiStaticForce(given["body_region"])
+        return IsoTransientForce(**given)
+
+
+_QUASI_STATIC = params_of(IsoQuasiStaticForce)
+_TRANSIENT = params_of(IsoTransientForce)
+
+#: ISO/TS 15066 force limit of a body region (Annex A, Table A.2): the fields of
+#: :class:`~designlab.impact.criteria.IsoQuasiStaticForce` (``contact: quasi_static``,
+#: the default) and of :class:`~designlab.impact.criteria.IsoTransientForce`.
+IsoSpec = create_model(  # type: ignore[call-overload]
+    "IsoSpec",
+    __base__=_IsoBuild,
+    __doc__="""ISO/TS 15066 force limit of a body region (Annex A, Table A.2).
+
+    ``contact: quasi_static`` (default) uses the table's maximum permissible
+    force; ``transient`` multiplies it by the table's transient factor, which
+    the table does not give for the head regions: there ``transient_factor``
+    must be stated (docs/impact.md, "Safety criteria").
+    """,
+    type=(Literal["iso_ts_15066"], ...),
+    body_region=(_QUASI_STATIC["body_region"].annotation(), _QUASI_STATIC["body_region"].default),
+    contact=(Literal["quasi_static", "transient"], "quasi_static"),
+    transient_factor=(
+        _TRANSIENT["transient_factor"].annotation(),
+        _TRANSIENT["transient_factor"].default,
+    ),
+)
 
 
 CriterionSpec = Annotated[
@@ -160,25 +170,37 @@ CriterionSpec = Annotated[
 ]
 
 
-class HeadRangeSpec(Model):
-    """Head-neck ranges ``[low, high]``: the envelope takes the worst case over them.
-
-    Each end is a value of the :class:`~designlab.impact.HeadNeck` parameter
-    (its unit and allowed range); ``low <= high``.
-    """
-
-    mass: tuple[_HeadMass, _HeadMass] = _HEAD_RANGE.mass
-    stiffness: tuple[_NeckStiffness, _NeckStiffness] = _HEAD_RANGE.stiffness
-    damping: tuple[_NeckDamping, _NeckDamping] = _HEAD_RANGE.damping
+class _HeadRangeBuild(Model):
+    """What the head-neck range spec does: build (and so check) the range."""
 
     @model_validator(mode="after")
-    def _ordered(self) -> HeadRangeSpec:
+    def _ordered(self) -> Any:
         self.build()
         return self
 
     def build(self) -> HeadRange:
         """The :class:`~designlab.impact.HeadRange` (validated by its constructor)."""
-        return HeadRange(self.mass, self.stiffness, self.damping)
+        return HeadRange(**self.model_dump())
+
+
+def _range_field(name: str, decl: Any) -> tuple[Any, Any]:
+    """``[low, high]`` of the :class:`~designlab.impact.HeadNeck` parameter ``name``."""
+    end = _HEAD[name].annotation()
+    return (tuple[end, end], decl.default)  # type: ignore[valid-type]
+
+
+#: Head-neck ranges ``[low, high]``: the fields of :class:`~designlab.impact.HeadRange`,
+#: each end a value of the :class:`~designlab.impact.HeadNeck` parameter.
+HeadRangeSpec = create_model(  # type: ignore[call-overload]
+    "HeadRangeSpec",
+    __base__=_HeadRangeBuild,
+    __doc__="""Head-neck ranges ``[low, high]``: the envelope takes the worst case over them.
+
+    Each end is a value of the :class:`~designlab.impact.HeadNeck` parameter
+    (its unit and allowed range); ``low <= high``.
+    """,
+    **{n: _range_field(n, d) for n, d in params_of(HeadRange).items()},
+)
 
 
 class FoamDesignStudy(StudyBase):
@@ -196,7 +218,7 @@ class FoamDesignStudy(StudyBase):
     human_speed: _HumanSpeed = 1.0
     max_compression: _MaxCompression = 0.02
     damping: DampingGrid = Field(default_factory=lambda: DampingGrid(low=0, high=200, num=41))
-    head_range: HeadRangeSpec | None = Field(
+    head_range: HeadRangeSpec | None = Field(  # type: ignore[valid-type]
         None, description="worst case over these ranges instead of the thesis's sets"
     )
     optimal: Flag = Field(True, description="also find the foam with the best margin")

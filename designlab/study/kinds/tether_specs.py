@@ -43,6 +43,7 @@ from designlab.following.tether import (
     make_path,
 )
 from designlab.following.tether.paths import PATHS, SHAPE_PARAMETERS
+from designlab.params import params_of
 from designlab.study.base import Finite, Model
 from designlab.study.specs import spec_model
 
@@ -136,10 +137,8 @@ ControllerSpec = Annotated[
 ]
 
 
-class _PathSpec(_Buildable):
-    """What every path spec adds: an optional name."""
-
-    name: str | None = Field(None, min_length=1, max_length=60, description="name in reports")
+class _PathBuild(_Buildable):
+    """What every path spec does: build the path, renamed when the spec gives a name."""
 
     def build(self) -> LeaderPath:
         """The :class:`designlab.following.tether.LeaderPath`."""
@@ -153,6 +152,16 @@ class _PathSpec(_Buildable):
             obstacles=path.obstacles,
             initial_heading=path.initial_heading,
         )
+
+
+#: The base of every path spec: an optional ``name`` (the declaration of
+#: :attr:`LeaderPath.name`; ``None``: the shape's own name).
+_PathSpec = create_model(
+    "_PathSpec",
+    __base__=_PathBuild,
+    __doc__="What every path spec adds: an optional name (the shape's own name otherwise).",
+    name=(params_of(LeaderPath)["name"].annotation(optional=True), None),
+)
 
 
 def _shape_spec(shape: str) -> Any:
