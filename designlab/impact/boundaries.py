@@ -33,7 +33,7 @@ from designlab.impact.criteria import Criterion
 from designlab.impact.metrics import ImpactStatus, metrics_of_matrix
 from designlab.impact.parameters import LinkImpact
 from designlab.impact.problem import FoamLanes, FoamProblem
-from designlab.impact.status import ImpactDomainStatus
+from designlab.results import Status
 
 __all__ = [
     "BoundarySolution",
@@ -46,7 +46,7 @@ __all__ = [
 ]
 
 
-class BoundaryStatus(ImpactDomainStatus):
+class BoundaryStatus(Status):
     """Status of one boundary of the foam envelope at one damping value.
 
     Attributes

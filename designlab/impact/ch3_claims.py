@@ -56,9 +56,8 @@ from designlab.impact.parameters import (
 )
 from designlab.impact.peaks import first_peak
 from designlab.impact.simulate import ImpactResponse, VelocityProfile, simulate
-from designlab.impact.status import ImpactDomainStatus
 from designlab.params import Param, params_of
-from designlab.results import OK, Result
+from designlab.results import OK, Result, Status
 from designlab.units import STANDARD_GRAVITY
 
 __all__ = [
@@ -109,7 +108,7 @@ LEVER_SAMPLES = Param(
 _LINK = params_of(LinkImpact)
 
 
-class WorstPointStatus(ImpactDomainStatus):
+class WorstPointStatus(Status):
     """Status of :func:`worst_impact_point`.
 
     Attributes

@@ -69,9 +69,8 @@ from designlab.impact.parameters import (
 )
 from designlab.impact.parameters import Foam as Foam
 from designlab.impact.problem import FoamProblem, make_problem
-from designlab.impact.status import ImpactDomainStatus
 from designlab.params import params_of
-from designlab.results import Result
+from designlab.results import Result, Status
 
 __all__ = [
     "THESIS_HEAD_RANGE",
@@ -91,7 +90,7 @@ _FOAM = params_of(Foam)
 BOUNDED, UNBOUNDED = BoundaryStatus.BOUNDED, BoundaryStatus.UNBOUNDED
 
 
-class EnvelopeStatus(ImpactDomainStatus):
+class EnvelopeStatus(Status):
     """Status of a foam envelope (:func:`foam_envelope`).
 
     Attributes

@@ -60,8 +60,7 @@ from designlab.impact.parameters import (
 )
 from designlab.impact.peaks import first_local_maximum
 from designlab.impact.series_joint import FullJointContact
-from designlab.impact.status import ImpactDomainStatus
-from designlab.results import Result
+from designlab.results import Result, Status
 from designlab.units import STANDARD_GRAVITY
 
 __all__ = [
@@ -105,7 +104,7 @@ _BOTTOMING_NOTE = (
 )
 
 
-class JointReductionStatus(ImpactDomainStatus):
+class JointReductionStatus(Status):
     """Status of a joint comparison or sweep (:func:`compare_joint_reductions`, ...).
 
     Attributes

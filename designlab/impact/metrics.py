@@ -54,10 +54,15 @@ from designlab.impact.model import (
     printed_q2_correction,
     unconstrained_model,
 )
-from designlab.impact.parameters import HIC_SAMPLES, HIC_WINDOW, MAX_LOBE_STEPS, STOP_TIME
+from designlab.impact.parameters import (
+    HIC_SAMPLES,
+    HIC_WINDOW,
+    MAX_LOBE_STEPS,
+    STOP_TIME,
+    check_closing_velocity,
+)
 from designlab.impact.state_space import modal_families
-from designlab.impact.status import ImpactDomainStatus
-from designlab.results import OK, Result
+from designlab.results import OK, Result, Status
 from designlab.units import STANDARD_GRAVITY
 from designlab.validation import check_q2, named_columns, real_array
 
@@ -76,7 +81,7 @@ __all__ = [
 ]
 
 
-class ImpactStatus(ImpactDomainStatus):
+class ImpactStatus(Status):
     """Status of one impact (a design of :class:`ImpactMetrics`, an ``ImpactResponse``).
 
     Attributes
@@ -529,7 +534,7 @@ def metrics_of_matrix(
         raise InvalidParameterError(
             "params", p.shape, f"must have shape (N, {len(PARAM_NAMES)}) (or (N, 10), full joint)"
         )
-    v = np.atleast_1d(real_array("impact_velocity", impact_velocity, "m/s")).ravel()
+    v = np.atleast_1d(check_closing_velocity(impact_velocity)).ravel()
     if v.size == 0:
         raise InvalidParameterError(
             "impact_velocity", v.tolist(), "needs at least one value", "m/s"

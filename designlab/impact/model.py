@@ -48,7 +48,9 @@ import casadi as ca
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from designlab.symbolic import evaluate_batch
+from designlab.errors import InvalidParameterError
+from designlab.impact.parameters import check_closing_velocity
+from designlab.sx import evaluate_batch
 
 if TYPE_CHECKING:  # pragma: no cover
     import control
@@ -424,7 +426,8 @@ def transfer_functions(
     robot, foam, head
         :class:`ContactDynamics`, :class:`Foam`, :class:`HeadNeck` (or ``None``).
     impact_velocity
-        v_c in m/s.
+        v_c in m/s (at most the cap of
+        :data:`~designlab.impact.parameters.IMPACT_VELOCITY`; v_c <= 0: no impact).
     q2
         ``"correct"`` (default, docs/impact.md, "q2") or ``"printed"`` to reproduce the
         thesis's q2 without the C_r C_h/(M_r M_h) term. The printed option
@@ -445,14 +448,13 @@ def transfer_functions(
     """
     import control
 
+    v_c = check_closing_velocity(impact_velocity)
+    if q2 not in ("correct", "printed"):
+        raise InvalidParameterError("q2", q2, "must be 'correct' or 'printed'")
     model = constrained_model() if head is None else unconstrained_model()
     p = param_vector(robot, foam, head)
     den, num = model.tf_coefficients(p)
     den = den[0].copy()
-    if q2 not in ("correct", "printed"):
-        from designlab.errors import InvalidParameterError
-
-        raise InvalidParameterError("q2", q2, "must be 'correct' or 'printed'")
     if q2 == "printed" and head is not None:
         den[2] -= printed_q2_correction(p)[0]
     out = {}
@@ -460,7 +462,7 @@ def transfer_functions(
     for name in ("force", "head_acceleration", "compression"):
         nm = num[name][0]
         # ramp input u = v_c [1/s^2, 1/s, 0]: N(s) = N_sc(s) + s N_vc(s)
-        combined = np.polyadd(nm[0], np.polymul(nm[1], [1.0, 0.0])) * impact_velocity
+        combined = np.polyadd(nm[0], np.polymul(nm[1], [1.0, 0.0])) * v_c
         out[name] = _cancel_ramp_poles(control, combined, s2den)
     return out
 

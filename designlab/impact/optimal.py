@@ -60,9 +60,8 @@ from designlab.impact.parameters import (
 )
 from designlab.impact.problem import FoamProblem, make_problem
 from designlab.impact.series_joint import FullJointLink
-from designlab.impact.status import ImpactDomainStatus
 from designlab.params import Param, params_of
-from designlab.results import Result
+from designlab.results import Result, Status
 
 __all__ = [
     "DAMPING_RATIO",
@@ -97,7 +96,7 @@ GRID_POINTS = Param(
 )  # fmt: skip
 
 
-class OptimalStatus(ImpactDomainStatus):
+class OptimalStatus(Status):
     """Status of :func:`optimal_foam`.
 
     Attributes

@@ -26,7 +26,7 @@ from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError, check_nonnegative, check_positive
 from designlab.params import Param, check_size, declared, param, params_of
-from designlab.validation import ParamsMixin
+from designlab.validation import ParamsMixin, real_array
 
 __all__ = [
     "BAND_POINTS",
@@ -72,6 +72,7 @@ __all__ = [
     "HeadRange",
     "LinkImpact",
     "as_field",
+    "check_closing_velocity",
     "check_grid",
     "check_pair",
 ]
@@ -319,6 +320,44 @@ class Foam(ParamsMixin):
 IMPACT_VELOCITY = Param(
     "v_c", "m/s", "closing velocity", gt=0, le=20, typical=(0.25, 2.0), name="impact_velocity"
 )
+
+
+def check_closing_velocity(value: Any, name: str = "impact_velocity") -> Any:
+    """v_c of a response (a scalar or an array): finite, at most the cap of :data:`IMPACT_VELOCITY`.
+
+    The one declaration of the closing velocity holds for every impact function.
+    A response (:func:`~designlab.impact.simulate`, the metrics, the transfer
+    functions) also takes v_c <= 0: the documented no-impact case (zero
+    response, status ``no_impact``, item I5); any positive value must satisfy
+    :data:`IMPACT_VELOCITY`.
+
+    Parameters
+    ----------
+    value
+        v_c in m/s, a number or an array of numbers.
+    name
+        The name in the error message.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        ``value`` as a float (a scalar) or a float array.
+
+    Examples
+    --------
+    >>> check_closing_velocity(1.25), check_closing_velocity(-0.5)
+    (1.25, -0.5)
+    >>> check_closing_velocity([0.4, 1e6])
+    Traceback (most recent call last):
+    ...
+    designlab.errors.InvalidParameterError: impact_velocity = 1000000.0 m/s is not allowed: ...
+    """
+    arr = real_array(name, value, IMPACT_VELOCITY.unit)
+    closing = arr[arr > 0]
+    if closing.size:
+        IMPACT_VELOCITY.check(float(closing.max()), name)
+    return float(arr) if arr.ndim == 0 else arr
+
 
 #: The speed of the person's head toward the robot (Sec. 3.4): added to the
 #: manipulator's speed to give v_c, subtracted to give the safe manipulator speed.

@@ -50,7 +50,7 @@ from designlab.impact.model import (
     printed_q2_correction,
     unconstrained_model,
 )
-from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
+from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck, check_closing_velocity
 from designlab.impact.series_joint import FullJointContact
 from designlab.impact.state_space import modal_families
 from designlab.params import declared, param
@@ -418,7 +418,9 @@ def simulate(
         Head on its neck; ``None`` for the constrained impact (head against a
         wall, (3.6.1)/(3.9.4)).
     impact_velocity
-        v_c = v_r(0) - v_h(0) in m/s; no impact (zero response) if v_c <= 0 (I5).
+        v_c = v_r(0) - v_h(0) in m/s, at most the cap of
+        :data:`~designlab.impact.parameters.IMPACT_VELOCITY` (20 m/s); no impact
+        (zero response) if v_c <= 0 (I5).
     profile
         Optional manipulator acceleration during the impact (Sec. 3.8).
     duration
@@ -526,7 +528,7 @@ def _check_inputs(
         raise InvalidParameterError("foam", foam, "must be a Foam")
     if head is not None and not isinstance(head, HeadNeck):
         raise InvalidParameterError("head", head, "must be a HeadNeck or None")
-    v_c = check_finite("impact_velocity", impact_velocity, "m/s")
+    v_c = check_closing_velocity(check_finite("impact_velocity", impact_velocity, "m/s"))
     if q2 not in ("correct", "printed"):
         raise InvalidParameterError("q2", q2, "must be 'correct' or 'printed'")
     if q2 == "printed" and isinstance(robot, FullJointContact):

@@ -1,18 +1,14 @@
-"""The base of the impact domain's status enums (one per result family).
+"""Deprecated alias (kept for one release): the impact status enums subclass
+:class:`designlab.results.Status` directly.
 
-Each result family of :mod:`designlab.impact` documents its statuses in a
-:class:`designlab.results.Status` enum defined beside it
-(:class:`~designlab.impact.metrics.ImpactStatus`,
-:class:`~designlab.impact.envelope.EnvelopeStatus`, ...). A member is a ``str``
-equal to its value, and it also *shows* as its value, so that printed results
-(``opt.status, opt.margin``) read as before the enums.
+``ImpactDomainStatus`` only repeated :class:`~designlab.results.Status` (whose
+members already show as their values); import :class:`designlab.results.Status`.
 
 Examples
 --------
->>> class DemoStatus(ImpactDomainStatus):
-...     OK = "ok"
->>> DemoStatus.OK, DemoStatus.OK == "ok"
-('ok', True)
+>>> from designlab.results import Status
+>>> ImpactDomainStatus is Status
+True
 """
 
 from __future__ import annotations
@@ -21,9 +17,5 @@ from designlab.results import Status
 
 __all__ = ["ImpactDomainStatus"]
 
-
-class ImpactDomainStatus(Status):
-    """A :class:`~designlab.results.Status` whose ``repr`` is its value's (``'ok'``)."""
-
-    def __repr__(self) -> str:
-        return repr(self.value)
+#: Deprecated: :class:`designlab.results.Status`.
+ImpactDomainStatus = Status

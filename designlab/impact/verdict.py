@@ -44,8 +44,7 @@ from designlab.impact.parameters import (
 )
 from designlab.impact.problem import make_problem
 from designlab.impact.series_joint import FullJointContact
-from designlab.impact.status import ImpactDomainStatus
-from designlab.results import OK, Result
+from designlab.results import OK, Result, Status
 
 __all__ = [
     "FEASIBLE",
@@ -66,7 +65,7 @@ ON_BOUNDARY = "on the boundary"
 NOT_FEASIBLE = "not feasible"
 
 
-class VerdictStatus(ImpactDomainStatus):
+class VerdictStatus(Status):
     """Status of the answers about one foam (:class:`FoamVerdict`, :class:`SafeVelocity`,
     :class:`FoamThickness`).
 

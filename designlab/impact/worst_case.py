@@ -56,8 +56,7 @@ from designlab.impact.parameters import (
     LinkImpact,
 )
 from designlab.impact.problem import FoamProblem
-from designlab.impact.status import ImpactDomainStatus
-from designlab.results import Result
+from designlab.results import Result, Status
 
 __all__ = ["WorstCaseCheck", "WorstCaseStatus", "check_worst_case"]
 
@@ -65,7 +64,7 @@ __all__ = ["WorstCaseCheck", "WorstCaseStatus", "check_worst_case"]
 _XI_HEAD_MASS = 4.4
 
 
-class WorstCaseStatus(ImpactDomainStatus):
+class WorstCaseStatus(Status):
     """Status of a worst-case check (:func:`check_worst_case`).
 
     Attributes

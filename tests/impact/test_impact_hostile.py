@@ -23,7 +23,8 @@ import designlab as dl
 from designlab.errors import InvalidParameterError, StudyError
 from designlab.impact import FOAM_1, HEAD_MIN, MANIPULATOR_1
 from designlab.impact.ch3_claims import worst_impact_point
-from designlab.impact.parameters import RATIO_POINTS
+from designlab.impact.model import PARAM_NAMES, param_vector
+from designlab.impact.parameters import IMPACT_VELOCITY, RATIO_POINTS
 from designlab.params import params_of
 from designlab.study import parse_study
 from designlab.study.specs import spec_model
@@ -96,6 +97,70 @@ def test_closing_velocity_is_capped(fn) -> None:
             dl.impact.compare_joint_reductions(GEARED, FOAM_1, None, 1e6)
         else:
             dl.impact.joint_reduction_sweep(GEARED, FOAM_1, None, 1e6, [1.0])
+
+
+#: Every public impact function that takes a closing velocity, called with v_c.
+_CLOSING_VELOCITY_CALLS = {
+    "simulate": lambda v: dl.impact.simulate(MANIPULATOR_1, FOAM_1, HEAD_MIN, v),
+    "simulate_constrained": lambda v: dl.impact.simulate(MANIPULATOR_1, FOAM_1, None, v),
+    "simulate_full_joint": lambda v: dl.impact.simulate(GEARED, FOAM_1, HEAD_MIN, v),
+    "impact_metrics": lambda v: dl.impact.impact_metrics(
+        dict(zip(PARAM_NAMES, param_vector(MANIPULATOR_1, FOAM_1, HEAD_MIN), strict=True)), v
+    ),
+    "transfer_functions": lambda v: dl.impact.transfer_functions(
+        MANIPULATOR_1, FOAM_1, HEAD_MIN, v
+    ),
+    "foam_envelope": lambda v: dl.impact.foam_envelope(MANIPULATOR_1, v, [50.0]),
+    "optimal_foam": lambda v: dl.impact.optimal_foam(MANIPULATOR_1, v),
+    "min_foam_thickness": lambda v: dl.impact.min_foam_thickness(MANIPULATOR_1, FOAM_1, v),
+    "compare_joint_reductions": lambda v: dl.impact.compare_joint_reductions(
+        GEARED, FOAM_1, HEAD_MIN, v
+    ),
+    "joint_reduction_sweep": lambda v: dl.impact.joint_reduction_sweep(
+        GEARED, FOAM_1, HEAD_MIN, v, [1.0]
+    ),
+    "band_fit_sweep": lambda v: dl.impact.band_fit_sweep(GEARED, FOAM_1, HEAD_MIN, v, [1.0]),
+}
+
+
+def test_every_function_taking_a_closing_velocity_is_listed() -> None:
+    import inspect
+
+    takes_v_c = {
+        name
+        for name in dl.impact.__all__
+        if callable(obj := getattr(dl.impact, name))
+        and not inspect.isclass(obj)
+        and "impact_velocity" in inspect.signature(obj).parameters
+    }
+    assert takes_v_c <= {
+        n.split("_constrained")[0].split("_full")[0] for n in _CLOSING_VELOCITY_CALLS
+    }
+
+
+@pytest.mark.parametrize("fn", sorted(_CLOSING_VELOCITY_CALLS))
+@pytest.mark.parametrize("v_c", [1e6, math.nextafter(IMPACT_VELOCITY.le, math.inf)])
+def test_one_cap_of_the_closing_velocity_for_every_impact_function(fn, v_c) -> None:
+    """Every impact function checks v_c against the one declaration, IMPACT_VELOCITY:
+    ``simulate(..., 1e6)`` was accepted (status bottoming) where the others refused it."""
+    with pytest.raises(InvalidParameterError) as info:
+        _CLOSING_VELOCITY_CALLS[fn](v_c)
+    assert f"impact_velocity = {v_c!r} m/s" in str(info.value)
+    assert IMPACT_VELOCITY.allowed() in str(info.value)
+
+
+@pytest.mark.parametrize("fn", ["simulate", "impact_metrics", "transfer_functions"])
+def test_the_cap_itself_is_allowed_and_no_impact_stays_documented(fn) -> None:
+    """v_c = 20 m/s (the cap) is computed; v_c <= 0 stays the no-impact case of a response."""
+    call = _CLOSING_VELOCITY_CALLS[fn]
+    call(IMPACT_VELOCITY.le)
+    if fn == "simulate":
+        assert call(-1.0).status == "no_impact"
+    elif fn == "impact_metrics":
+        assert list(call([-1.0, 0.0]).design_status) == ["no_impact", "no_impact"]
+    for bad in (math.nan, math.inf):
+        with pytest.raises(InvalidParameterError, match="impact_velocity"):
+            call(bad)
 
 
 def test_ratio_count_has_one_cap_for_api_and_yaml() -> None:
