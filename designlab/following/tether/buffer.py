@@ -42,6 +42,7 @@ __all__ = [
     "LookaheadTarget",
     "MemberBuffers",
     "NoTarget",
+    "SharedBufferTarget",
     "record_shared",
 ]
 
@@ -108,8 +109,8 @@ class NoTarget:
         return self.zero, self.zero
 
 
-class LookaheadTarget:
-    """FTL's target on a shared buffer, for one run on Python floats.
+class SharedBufferTarget:
+    """A target on a shared buffer, for one run on Python floats (the base of the laws').
 
     Parameters
     ----------
@@ -117,6 +118,23 @@ class LookaheadTarget:
         ``(points, path distance, counts)`` from :func:`record_shared`.
     window
         Points searched (``buffer_size - 1``).
+    """
+
+    def __init__(self, shared: tuple[NDArray, NDArray, NDArray], window: int) -> None:
+        rec, s_rec, counts = shared
+        self.s = s_rec.tolist()
+        self.rx, self.ry = rec[:, 0].tolist(), rec[:, 1].tolist()
+        self.counts = counts.tolist()
+        self.window = window
+
+
+class LookaheadTarget(SharedBufferTarget):
+    """FTL's target on a shared buffer, for one run on Python floats.
+
+    Parameters
+    ----------
+    shared, window
+        As :class:`SharedBufferTarget`.
     lookahead
         delta in m.
     """
@@ -124,12 +142,9 @@ class LookaheadTarget:
     def __init__(
         self, shared: tuple[NDArray, NDArray, NDArray], window: int, lookahead: float
     ) -> None:
-        rec, s_rec, counts = shared
+        super().__init__(shared, window)
+        rec = shared[0]
         self.aug = np.column_stack([rec, -0.5 * np.einsum("ij,ij->i", rec, rec)])
-        self.s = s_rec.tolist()
-        self.rx, self.ry = rec[:, 0].tolist(), rec[:, 1].tolist()
-        self.counts = counts.tolist()
-        self.window = window
         self.delta = lookahead - 1e-12
         self.p3 = np.ones(3)
 
@@ -150,15 +165,13 @@ class LookaheadTarget:
         return self.rx[j], self.ry[j]
 
 
-class ConstantDistanceTarget:
+class ConstantDistanceTarget(SharedBufferTarget):
     """FTL-CD's target on a shared buffer, for one run on Python floats.
 
     Parameters
     ----------
-    shared
-        ``(points, path distance, counts)`` from :func:`record_shared`.
-    window
-        Points searched (``buffer_size - 1``).
+    shared, window
+        As :class:`SharedBufferTarget`.
     desired_length
         l_d in m.
     """
@@ -166,11 +179,7 @@ class ConstantDistanceTarget:
     def __init__(
         self, shared: tuple[NDArray, NDArray, NDArray], window: int, desired_length: float
     ) -> None:
-        rec, s_rec, counts = shared
-        self.s = s_rec.tolist()
-        self.rx, self.ry = rec[:, 0].tolist(), rec[:, 1].tolist()
-        self.counts = counts.tolist()
-        self.window = window
+        super().__init__(shared, window)
         self.ld = desired_length
         self.last_hi = -1
         self.target = (0.0, 0.0)
@@ -199,10 +208,8 @@ class LookaheadBatch:
 
     Parameters
     ----------
-    shared
-        ``(points, path distance, counts)`` from :func:`record_shared`.
-    window
-        Points searched (``buffer_size - 1``).
+    shared, window
+        As :class:`SharedBufferTarget`.
     lookahead
         delta of each member in m, (B,).
     """
@@ -238,10 +245,8 @@ class ConstantDistanceBatch:
 
     Parameters
     ----------
-    shared
-        ``(points, path distance, counts)`` from :func:`record_shared`.
-    window
-        Points searched (``buffer_size - 1``).
+    shared, window
+        As :class:`SharedBufferTarget`.
     desired_length
         l_d of each member in m, (B,).
     """
