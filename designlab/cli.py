@@ -178,16 +178,18 @@ def _record_duration(directory: Path, seconds: float, executor: str) -> None:
 
 
 def _duration_text(spec: object, report: Path) -> str:
-    """``designlab list``'s duration: the last run's wall time, else the kind's estimate."""
+    """``designlab list``'s duration: the kind's typical run time and the last run's."""
     from designlab.report.builder import format_duration, recorded_run
 
+    parts = []
+    typical = spec.typical_duration()  # type: ignore[attr-defined]
+    if typical:
+        kind = spec.kind  # type: ignore[attr-defined]
+        parts.append(f"a {kind} study typically takes {format_duration(typical)}")
     seconds = recorded_run(report)
     if seconds is not None:
-        return f"last run took {format_duration(seconds)}"
-    estimate = spec.typical_duration()  # type: ignore[attr-defined]
-    if estimate:
-        return f"typically {estimate}"
-    return "run time not measured yet (it is kept with the report after a run)"
+        parts.append(f"last run took {format_duration(seconds)}")
+    return "; ".join(parts) or "run time not measured yet (it is kept with the report after a run)"
 
 
 def _check_executor_options(executor: str, scheduler: str | None, timeout: float) -> None:

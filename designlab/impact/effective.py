@@ -41,6 +41,8 @@ from designlab.errors import (
     check_nonnegative,
     check_positive,
 )
+from designlab.impact.metrics import metrics_of_matrix
+from designlab.impact.model import param_vector
 from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
 from designlab.results import OK, Result
 from designlab.validation import frozen_array, real_array
@@ -176,9 +178,6 @@ class ImpactPointSweep(Result):
         >>> sweep.evaluate(FOAM_1, HEAD_MIN)["a_h_max_g"].round(2).tolist()
         [5.78, 5.09]
         """
-        from designlab.impact.metrics import metrics_of_matrix
-        from designlab.impact.model import param_vector
-
         n = len(self)
         head_row = param_vector(self.contacts()[0], foam, head)[5:]
         params = np.column_stack(

@@ -21,6 +21,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
+from designlab.impact.joint_reduction import default_band
 from designlab.report import register_writer
 from designlab.report.builder import copy_study, figure_section, report_header, warnings_section
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
@@ -177,8 +178,6 @@ def _sweep_table(result: JointReductionResult, j_index: int, every: int = 4) -> 
 
 
 def _fastest_mode(j) -> float:  # type: ignore[no-untyped-def]
-    from designlab.impact.joint_reduction import default_band
-
     return default_band(j.robot, j.nominal.foam, j.nominal.head)
 
 

@@ -33,7 +33,7 @@ from designlab.report.atomic import atomic_write_text
 from designlab.report.builder import copy_study, figure_section, report_header, warnings_section
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.points_table import FrameTable, PointsTable
-from designlab.study.sweep_runner import SweepStudyResult
+from designlab.study.sweep_runner import SweepStudyResult, unit_slug
 
 __all__ = ["sweep_markdown", "write_sweep_report"]
 
@@ -178,8 +178,6 @@ def _scatter_figure(result: Any) -> Figure | None:
     frame = result.table.scan().subset  # every row up to SUBSET_ROWS, else evenly spread
     if sweep is None or not len(frame):
         return None
-    from designlab.study.sweep_runner import unit_slug
-
     params = [p for p, _ in sweep.parameters.items()][:6]
     metrics = [m for m in result.metrics if m in frame][:4]
     if not params or not metrics:

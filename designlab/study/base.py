@@ -192,9 +192,10 @@ class StudyBase(Model):
 
     #: Files (glob patterns) the report of this kind contains, for ``designlab list``.
     PRODUCES: ClassVar[tuple[str, ...]] = ()
-    #: How long a study of this kind typically runs on one core, for ``designlab list``
-    #: (a study file may say better with ``duration`` in its kind's :meth:`typical_duration`).
-    TYPICAL_DURATION: ClassVar[str] = ""
+    #: How long the committed study of this kind runs, in seconds, for ``designlab list``:
+    #: wall time of ``designlab run studies/<study>.yaml`` (serial, fresh result store) on
+    #: an idle 2-core machine. Measured, never guessed; 0: not measured.
+    TYPICAL_DURATION: ClassVar[float] = 0.0
 
     @field_validator("name")
     @classmethod
@@ -211,9 +212,16 @@ class StudyBase(Model):
         """A few words on the size of the study, for ``designlab validate``."""
         return ""
 
-    def typical_duration(self) -> str:
-        """How long this study typically runs (``""``: not known), for ``designlab list``."""
-        return self.TYPICAL_DURATION
+    def typical_duration(self) -> float | None:
+        """How long a study of this kind typically runs, s (``None``: not measured).
+
+        Returns
+        -------
+        float or None
+            :attr:`TYPICAL_DURATION`, the measured run time of the kind's
+            committed study, for ``designlab list``.
+        """
+        return self.TYPICAL_DURATION or None
 
     def check(self) -> None:
         """Everything ``run`` checks before it computes, beyond the schema.
