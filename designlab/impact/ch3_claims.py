@@ -143,6 +143,16 @@ def _check_types(robot: Any, foam: Any, head: Any) -> None:
 # --- Sec. 3.8: acceleration profiles -------------------------------------------------------
 
 
+def _first_status(*responses: ImpactResponse) -> str:
+    """``"ok"``, or the first status of ``responses`` that is not."""
+    return next((str(r.status) for r in responses if r.status != OK), OK)
+
+
+def _all_warnings(*responses: ImpactResponse) -> tuple[str, ...]:
+    """The warnings of ``responses``, each once, in order."""
+    return tuple(dict.fromkeys(w for r in responses for w in r.warnings))
+
+
 @dataclass(frozen=True)
 class ProfileChange(Result):
     """Change of the impact metrics when the manipulator accelerates (Sec. 3.8).
@@ -171,15 +181,12 @@ class ProfileChange(Result):
     @property
     def status(self) -> str:
         """``"ok"``, or the first status of the two impacts that is not."""
-        for r in (self.base, self.profiled):
-            if r.status != OK:
-                return str(r.status)
-        return OK
+        return _first_status(self.base, self.profiled)
 
     @property
     def warnings(self) -> tuple[str, ...]:  # type: ignore[override]
         """The two impacts' warnings."""
-        return tuple(dict.fromkeys((*self.base.warnings, *self.profiled.warnings)))
+        return _all_warnings(self.base, self.profiled)
 
     @property
     def a_h_max_pct(self) -> float:
@@ -505,15 +512,12 @@ class Q2Effect(Result):
     @property
     def status(self) -> str:
         """``"ok"``, or the first status of the two impacts that is not."""
-        for r in (self.correct, self.printed):
-            if r.status != OK:
-                return str(r.status)
-        return OK
+        return _first_status(self.correct, self.printed)
 
     @property
     def warnings(self) -> tuple[str, ...]:  # type: ignore[override]
         """The two impacts' warnings."""
-        return tuple(dict.fromkeys((*self.correct.warnings, *self.printed.warnings)))
+        return _all_warnings(self.correct, self.printed)
 
     def to_frame(self) -> pd.DataFrame:
         """One row per metric: correct and printed values and the change in %."""
