@@ -18,17 +18,11 @@ from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
 from designlab.impact.joint import JointFit
+from designlab.impact.joint_reduction import evaluation as ev
 from designlab.impact.joint_reduction.evaluation import (
-    BOTTOMING_NOTE,
     HARM_METRICS,
     JointReductionStatus,
     ReductionResult,
-    bottoming,
-    check_metric,
-    check_settings,
-    evaluate_all,
-    long_rows,
-    reduced_rows,
 )
 from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
 from designlab.impact.series_joint import FullJointContact
@@ -56,7 +50,7 @@ class JointReductionComparison(ReductionResult):
     status
         A :class:`JointReductionStatus`: ``"ok"``, ``"band_fit_failed"`` (the
         band-fit rows are missing), the full joint's first metric status that
-        is not ``"ok"``, or ``"bottoming"``.
+        is not ``"ok"``, or ``"ev.bottoming"``.
 
     Notes
     -----
@@ -106,7 +100,7 @@ class JointReductionComparison(ReductionResult):
             True when the reduced value is at least the full one (within a
             relative :data:`EQUAL_TOLERANCE`).
         """
-        check_metric(metric, HARM_METRICS)
+        ev.check_metric(metric, HARM_METRICS)
         return bool(self._row(reduction, metric)["conservative"])
 
     def value(self, model: str, metric: str) -> float:
@@ -128,7 +122,7 @@ class JointReductionComparison(ReductionResult):
         return float(row["full" if model == "full" else "reduced"])
 
     def _row(self, reduction: str, metric: str) -> pd.Series:
-        check_metric(metric)
+        ev.check_metric(metric)
         sel = self._frame[(self._frame.reduction == reduction) & (self._frame.metric == metric)]
         if sel.empty:
             raise InvalidParameterError(
@@ -152,10 +146,10 @@ def _comparison_status(
         if status == JointReductionStatus.OK:
             status = JointReductionStatus(metric_status)
     eps = float(full["eps_max"][0])
-    if bottoming(eps, foam):
+    if ev.bottoming(eps, foam):
         warnings.append(
             f"the full joint's eps_max = {eps:.4g} m exceeds the foam's linear depth "
-            f"lambda = {foam.linear_depth:.4g} m: {BOTTOMING_NOTE}"
+            f"lambda = {foam.linear_depth:.4g} m: {ev.BOTTOMING_NOTE}"
         )
         if status == JointReductionStatus.OK:
             status = JointReductionStatus.BOTTOMING
@@ -178,7 +172,7 @@ def compare_joint_reductions(
     and metric (a_h,max, eps_max, the lobe maximum and the first local maximum
     of the force, the impact period) the relative error and its sign. Where
     the full joint compresses the foam beyond its linear depth the status is
-    ``"bottoming"``, with a warning.
+    ``"ev.bottoming"``, with a warning.
 
     Parameters
     ----------
@@ -207,10 +201,12 @@ def compare_joint_reductions(
     >>> f[f.metric == "a_h_max"].relative_error.round(3).tolist()   # Taylor, band fit
     [0.125, 0.044]
     """
-    v_c, stop, omega_max = check_settings(robot, foam, head, impact_velocity, stop_time, omega_max)
-    reduced, fits, omegas = reduced_rows([robot], foam, head, omega_max)
-    full, vals = evaluate_all([robot], reduced, foam, head, v_c, stop)
-    rows = long_rows({}, full, {k: v for k, v in vals.items() if reduced[k][0]}, 0)
+    v_c, stop, omega_max = ev.check_settings(
+        robot, foam, head, impact_velocity, stop_time, omega_max
+    )
+    reduced, fits, omegas = ev.reduced_rows([robot], foam, head, omega_max)
+    full, vals = ev.evaluate_all([robot], reduced, foam, head, v_c, stop)
+    rows = ev.long_rows({}, full, {k: v for k, v in vals.items() if reduced[k][0]}, 0)
     status, warnings = _comparison_status(fits[0], reduced["band_fit"][0] is not None, full, foam)
     return JointReductionComparison(
         robot=robot,

@@ -20,18 +20,11 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from designlab.errors import InvalidParameterError
+from designlab.impact.joint_reduction import evaluation as ev
 from designlab.impact.joint_reduction.evaluation import (
-    BOTTOMING_NOTE,
-    EQUAL_TOLERANCE,
     HARM_METRICS,
     JointReductionStatus,
     ReductionResult,
-    bottoming,
-    check_metric,
-    check_settings,
-    evaluate_all,
-    long_rows,
-    reduced_rows,
 )
 from designlab.impact.parameters import (
     RATIO_POINTS,
@@ -61,7 +54,7 @@ class JointReductionSweep(ReductionResult):
         As in :class:`~designlab.impact.joint_reduction.evaluation.ReductionResult`.
     status
         A :class:`JointReductionStatus`: ``"ok"``, ``"band_fit_failed"`` or
-        ``"bottoming"`` (the full joint bottoms out the foam at some ratio).
+        ``"ev.bottoming"`` (the full joint bottoms out the foam at some ratio).
 
     Notes
     -----
@@ -110,9 +103,9 @@ class JointReductionSweep(ReductionResult):
         numpy.ndarray
             Booleans, one per ratio; False where the reduction is missing.
         """
-        check_metric(metric, HARM_METRICS)
+        ev.check_metric(metric, HARM_METRICS)
         err = self.errors(reduction, metric)
-        return np.isfinite(err) & (err >= -EQUAL_TOLERANCE)
+        return np.isfinite(err) & (err >= -ev.EQUAL_TOLERANCE)
 
     def conservative_intervals(
         self, reduction: str, metrics: Sequence[str] = ("a_h_max", "eps_max", "f_c_max")
@@ -190,9 +183,9 @@ class JointReductionSweep(ReductionResult):
         tol = USABLE_TOLERANCE.check(tolerance)
         ok = np.ones(self.ratio.size, dtype=bool)
         for m in metrics:
-            check_metric(m, HARM_METRICS)
+            ev.check_metric(m, HARM_METRICS)
             err = self.errors(reduction, m)
-            ok &= np.isfinite(err) & (err >= -(tol + EQUAL_TOLERANCE))
+            ok &= np.isfinite(err) & (err >= -(tol + ev.EQUAL_TOLERANCE))
         return self._runs(ok)
 
     def _runs(self, ok: NDArray[np.bool_]) -> list[tuple[float, float]]:
@@ -219,13 +212,13 @@ def _sweep_status(
     bad = sorted({str(s) for s in full["status"] if str(s) != "ok"})
     if bad:
         warnings.append(f"full-joint metric statuses other than ok: {bad}")
-    bottom = bottoming(full["eps_max"], foam)
+    bottom = ev.bottoming(full["eps_max"], foam)
     if np.any(bottom):
         where = [float(x) for x in ratios[bottom]]
         warnings.append(
             f"the full joint's eps_max exceeds the foam's linear depth lambda = "
             f"{foam.linear_depth:.4g} m at {len(where)} of {ratios.size} ratios "
-            f"({where[0]:.4g}-{where[-1]:.4g}): {BOTTOMING_NOTE}"
+            f"({where[0]:.4g}-{where[-1]:.4g}): {ev.BOTTOMING_NOTE}"
         )
     if failed:
         return JointReductionStatus.BAND_FIT_FAILED, warnings
@@ -272,11 +265,13 @@ def joint_reduction_sweep(
     >>> bool(abs(err[1]) < 1e-3 < abs(err[0]))
     True
     """
-    v_c, stop, omega_max = check_settings(robot, foam, head, impact_velocity, stop_time, omega_max)
+    v_c, stop, omega_max = ev.check_settings(
+        robot, foam, head, impact_velocity, stop_time, omega_max
+    )
     r = check_grid(STIFFNESS_RATIO, RATIO_POINTS, ratios, "ratios")
     robots = [robot.with_ratio(float(x)) for x in r]
-    reduced, _, omegas = reduced_rows(robots, foam, head, omega_max)
-    full, vals = evaluate_all(robots, reduced, foam, head, v_c, stop)
+    reduced, _, omegas = ev.reduced_rows(robots, foam, head, omega_max)
+    full, vals = ev.evaluate_all(robots, reduced, foam, head, v_c, stop)
     rows: list[dict[str, Any]] = []
     for i, x in enumerate(r):
         key = {
@@ -286,7 +281,7 @@ def joint_reduction_sweep(
             "band_omega_max_rad_per_s": omegas[i],
         }
         avail = {k: v for k, v in vals.items() if reduced[k][i] is not None}
-        rows.extend(long_rows(key, full, avail, i))
+        rows.extend(ev.long_rows(key, full, avail, i))
     failed = [float(x) for i, x in enumerate(r) if reduced["band_fit"][i] is None]
     status, warnings = _sweep_status(r, failed, full, foam)
     return JointReductionSweep(
