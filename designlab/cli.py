@@ -185,7 +185,7 @@ def _duration_text(spec: object, report: Path) -> str:
     typical = spec.typical_duration()  # type: ignore[attr-defined]
     if typical:
         kind = spec.kind  # type: ignore[attr-defined]
-        parts.append(f"a {kind} study typically takes {format_duration(typical)}")
+        parts.append(f"{kind} studies typically take {format_duration(typical)}")
     seconds = recorded_run(report)
     if seconds is not None:
         parts.append(f"last run took {format_duration(seconds)}")

@@ -418,9 +418,8 @@ def simulate(
         Head on its neck; ``None`` for the constrained impact (head against a
         wall, (3.6.1)/(3.9.4)).
     impact_velocity
-        v_c = v_r(0) - v_h(0) in m/s, at most the cap of
-        :data:`~designlab.impact.parameters.IMPACT_VELOCITY` (20 m/s); no impact
-        (zero response) if v_c <= 0 (I5).
+        v_c = v_r(0) - v_h(0) in m/s, at most 20 (the cap of ``IMPACT_VELOCITY``);
+        no impact (zero response) if v_c <= 0 (I5).
     profile
         Optional manipulator acceleration during the impact (Sec. 3.8).
     duration
