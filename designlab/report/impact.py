@@ -128,28 +128,48 @@ def impact_figure(cases: Sequence[ImpactCaseResult], title: str = "") -> Figure:
     axes = fig.subplots(3, 1, sharex=True)
     colours = [f"C{i % 10}" for i in range(len(configs))]
     for c in cases:
-        r = c.response
-        t = np.asarray(r.t, dtype=float)
-        keep = t <= t_end if t_end is not None else np.ones_like(t, dtype=bool)
         colour = colours[configs.index(_config_key(c))]
         style = _STYLES[speeds.index(c.closing_velocity) % len(_STYLES)]
-        series = (
-            np.asarray(r.force, dtype=float),
-            np.asarray(r.head_acceleration, dtype=float) / G,
-            np.asarray(r.compression, dtype=float) * 1e3,
+        _plot_case(axes, c, t_end, colour, style)
+    _label_axes(axes, cases, t_end)
+    fig.legend(loc="outside lower center", ncols=2, fontsize=8.5, frameon=False)
+    suptitle = title or "Impact time histories"
+    fig.suptitle(
+        f"{suptitle}\n(colour: parameter set, line style: closing speed, "
+        "dot: end of impact period)",
+        fontsize=10,
+    )
+    return fig
+
+
+def _plot_case(
+    axes: Any, c: ImpactCaseResult, t_end: float | None, colour: str, style: Any
+) -> None:
+    """Force, a_h and compression of one case on the three axes, with the end-of-impact dot."""
+    r = c.response
+    t = np.asarray(r.t, dtype=float)
+    keep = t <= t_end if t_end is not None else np.ones_like(t, dtype=bool)
+    series = (
+        np.asarray(r.force, dtype=float),
+        np.asarray(r.head_acceleration, dtype=float) / G,
+        np.asarray(r.compression, dtype=float) * 1e3,
+    )
+    t_imp = float(r.impact_duration)
+    for ax, y in zip(axes, series, strict=True):
+        ax.plot(
+            t[keep] * 1e3,
+            y[keep],
+            color=colour,
+            linestyle=style,
+            linewidth=1.6,
+            label=c.title if ax is axes[0] else None,
         )
-        t_imp = float(r.impact_duration)
-        for ax, y in zip(axes, series, strict=True):
-            ax.plot(
-                t[keep] * 1e3,
-                y[keep],
-                color=colour,
-                linestyle=style,
-                linewidth=1.6,
-                label=c.title if ax is axes[0] else None,
-            )
-            if math.isfinite(t_imp) and t.size:
-                ax.plot(t_imp * 1e3, np.interp(t_imp, t, y), "o", color=colour, markersize=4)
+        if math.isfinite(t_imp) and t.size:
+            ax.plot(t_imp * 1e3, np.interp(t_imp, t, y), "o", color=colour, markersize=4)
+
+
+def _label_axes(axes: Any, cases: Sequence[ImpactCaseResult], t_end: float | None) -> None:
+    """Axis labels, grids, the time window and the foam's linear depth (one foam only)."""
     ylabels = ("contact force $f_c$ (N)", "head acceleration $a_h$ (g)", "compression (mm)")
     for ax, label in zip(axes, ylabels, strict=True):
         ax.set_ylabel(label)
@@ -170,14 +190,6 @@ def impact_figure(cases: Sequence[ImpactCaseResult], title: str = "") -> Figure:
             fontsize=8,
             color="firebrick",
         )
-    fig.legend(loc="outside lower center", ncols=2, fontsize=8.5, frameon=False)
-    suptitle = title or "Impact time histories"
-    fig.suptitle(
-        f"{suptitle}\n(colour: parameter set, line style: closing speed, "
-        "dot: end of impact period)",
-        fontsize=10,
-    )
-    return fig
 
 
 def _fmt(value: Any, spec: str) -> str:
