@@ -86,10 +86,11 @@ def test_list(tmp_path, write_study, tiny_study_text, monkeypatch):
     assert "studies/tiny.yaml  [impact_cases]" in result.stdout
     assert "Two impacts of the direct-drive arm" in result.stdout
     assert "-> reports/tiny/: summary.md, metrics.csv" in result.stdout
-    assert "run time not measured yet" in result.stdout
+    assert "impact_cases studies typically take " in result.stdout
+    assert "last run took" not in result.stdout
     assert runner.invoke(app, ["run", "studies/tiny.yaml"]).exit_code == 0
     result = runner.invoke(app, ["list"])
-    assert "last run took " in result.stdout, result.stdout
+    assert "typically take " in result.stdout and "; last run took " in result.stdout
 
     (studies / "broken.yaml").write_text("designlab: 1\nkind: nope\nname: b\n")
     result = runner.invoke(app, ["list"])
@@ -97,11 +98,26 @@ def test_list(tmp_path, write_study, tiny_study_text, monkeypatch):
     assert "INVALID" in result.stdout and "studies/tiny.yaml" in result.stdout
 
 
-def test_list_repository_studies(repo_root, monkeypatch):
+def test_list_repository_studies(repo_root, monkeypatch, tmp_path):
     monkeypatch.chdir(repo_root)
-    result = runner.invoke(app, ["list"])
+    result = runner.invoke(app, ["list", "-o", str(tmp_path)])  # no report: no last run
     assert result.exit_code == 0, result.output
     assert "studies/zeng_ch4_validation.yaml" in result.stdout
+    blocks = [b for b in result.stdout.split("\n\n") if b.strip()]
+    assert len(blocks) == len(list((repo_root / "studies").glob("*.yaml")))
+    for block in blocks:  # every committed study shows its kind's measured duration
+        assert " studies typically take " in block, block
+
+
+def test_every_kind_states_its_measured_duration():
+    """One place per kind (``TYPICAL_DURATION``), in seconds, for ``designlab list``."""
+    from designlab.report.builder import format_duration
+    from designlab.study.registry import kind_of, study_kinds
+
+    for name in study_kinds():
+        seconds = kind_of(name).schema.TYPICAL_DURATION
+        assert 0 < seconds < 3600, name
+        assert format_duration(seconds)
 
 
 @pytest.mark.parametrize("args", [[], ["run"], ["frobnicate"]])

@@ -207,6 +207,8 @@ class AccompanyingStudy(StudyBase):
         "nyquist.png",
         "study.yaml",
     )
+    #: s: CPU time of studies/accompanying.yaml run serially (fresh store), measured.
+    TYPICAL_DURATION: ClassVar[float] = 20
 
     def size(self) -> str:
         """The number of tasks and controllers."""

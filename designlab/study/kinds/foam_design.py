@@ -232,6 +232,8 @@ class FoamDesignStudy(StudyBase):
         "envelope.png",
         "study.yaml",
     )
+    #: s: CPU time of studies/foam_design.yaml run serially (fresh store), measured.
+    TYPICAL_DURATION: ClassVar[float] = 8
 
     @model_validator(mode="after")
     def _distinct(self) -> FoamDesignStudy:

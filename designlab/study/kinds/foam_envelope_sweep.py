@@ -113,6 +113,8 @@ class FoamEnvelopeStudy(SweepStudyBase[EnvelopeSweepParameters, EnvelopeMetricNa
     LOCAL_EVALUATOR: ClassVar[Any] = envelope_elasticities_chunk
     #: About 14 ms a point (11 damping values): 100,000 points are some 25 min on one core.
     MAX_POINTS: ClassVar[int] = 100_000
+    #: s: CPU time of studies/envelope_sensitivity.yaml run serially (fresh store), measured.
+    TYPICAL_DURATION: ClassVar[float] = 9
 
     def base_point(self) -> dict[str, float]:
         """``{M_r, C_r, K_r, v_c, max_g, lambda, K_c, C_c}``."""

@@ -171,6 +171,8 @@ class ImpactCasesStudy(StudyBase):
         "time_histories*.png",
         "study.yaml",
     )
+    #: s: CPU time of studies/zeng_ch4_validation.yaml run serially (fresh store), measured.
+    TYPICAL_DURATION: ClassVar[float] = 7
 
     def size(self) -> str:
         """The number of cases."""

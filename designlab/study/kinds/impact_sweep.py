@@ -91,6 +91,8 @@ class ImpactSweepStudy(SweepStudyBase[ImpactSweepParameters, ImpactMetricName]):
     #: A point costs about 20 us (a chunk of 4096 designs at once): 10 million points are
     #: some minutes, so the sweep engine's general cap stands.
     MAX_POINTS: ClassVar[int] = 10_000_000
+    #: s: CPU time of studies/impact_sensitivity.yaml run serially (fresh store), measured.
+    TYPICAL_DURATION: ClassVar[float] = 7
 
     def base_point(self) -> dict[str, float]:
         """The base design as ``{M_r, C_r, K_r, K_c, C_c, lambda, M_h, C_h, K_h, v_c}``."""

@@ -140,6 +140,8 @@ class JointReductionStudy(StudyBase):
         "joint_reduction.png",
         "study.yaml",
     )
+    #: s: CPU time of studies/joint_reduction.yaml run serially (fresh store), measured.
+    TYPICAL_DURATION: ClassVar[float] = 8
 
     @model_validator(mode="after")
     def _distinct(self) -> JointReductionStudy:

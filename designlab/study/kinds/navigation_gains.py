@@ -178,6 +178,8 @@ class NavigationGainsStudy(StudyBase):
         "trajectories_*.png",
         "study.yaml",
     )
+    #: s: CPU time of studies/navigation_gains.yaml run serially (fresh store), measured.
+    TYPICAL_DURATION: ClassVar[float] = 125
 
     @model_validator(mode="after")
     def _check(self) -> NavigationGainsStudy:

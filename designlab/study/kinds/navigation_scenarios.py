@@ -86,6 +86,8 @@ class NavigationScenariosStudy(StudyBase):
         "distances_*.png",
         "study.yaml",
     )
+    #: s: CPU time of studies/navigation_configurations.yaml run serially (fresh store), measured.
+    TYPICAL_DURATION: ClassVar[float] = 13
 
     def size(self) -> str:
         """The number of simulations."""

@@ -160,6 +160,8 @@ class NavigationSweepStudy(SweepStudyBase[NavigationSweepParameters, NavigationM
     #: the virtual machine, measured; 3-4 ms with ``jit``), so 100 000 points are about
     #: 20 minutes per core; more is refused (docs/navigation.md, "Limits").
     MAX_POINTS: ClassVar[int] = 100_000
+    #: s: CPU time of studies/navigation_gain_sensitivity.yaml run serially (fresh store), measured.
+    TYPICAL_DURATION: ClassVar[float] = 7
 
     @model_validator(mode="after")
     def _capped(self) -> NavigationSweepStudy:

@@ -95,6 +95,8 @@ class TetherComparisonStudy(StudyBase):
         "npd_profiles_*.png",
         "study.yaml",
     )
+    #: s: CPU time of studies/tether_comparison.yaml run serially (fresh store), measured.
+    TYPICAL_DURATION: ClassVar[float] = 19
 
     def size(self) -> str:
         """The number of simulated runs."""

@@ -107,6 +107,8 @@ class TetherSweepStudy(SweepStudyBase[TetherSweepParameters, TetherMetricName]):
     #: The most points of a sweep or sensitivity block: each point is a closed-loop run
     #: (0.05-0.5 s of CPU), so 100,000 points are hours on a laptop (docs/following.md).
     MAX_POINTS: ClassVar[int] = 100_000
+    #: s: CPU time of studies/tether_sensitivity.yaml run serially (fresh store), measured.
+    TYPICAL_DURATION: ClassVar[float] = 51
 
     @model_validator(mode="after")
     def _law_has_parameters(self) -> TetherSweepStudy:

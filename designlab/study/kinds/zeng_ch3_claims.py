@@ -128,6 +128,8 @@ class Ch3ClaimsStudy(StudyBase):
         "zeng_ch3_claims.png",
         "study.yaml",
     )
+    #: s: CPU time of studies/zeng_ch3_claims.yaml run serially (fresh store), measured.
+    TYPICAL_DURATION: ClassVar[float] = 7
 
     @model_validator(mode="after")
     def _distinct(self) -> Ch3ClaimsStudy:
