@@ -369,6 +369,36 @@ def run_sweep_study(study: SweepStudyBase, context: RunContext) -> SweepStudyRes
         cache_only=context.cache_only, progress=context.progress, desc=study.name,
         collect=not stream,
     )  # fmt: skip
+    results, offsets = _set_results(run, plan, names, metrics)
+    base_result = {
+        k: (v.item() if isinstance(v, np.generic) else v)
+        for k, v in results["base"].iloc[0].to_dict().items()
+    }
+    base_metrics = _metric_values(results["base"], metrics)[0]
+    stats = _stats(run, context)
+
+    tables = _sensitivity_tables(study, plan, context, stats, results, base_metrics)
+    if run.rows is None:
+        sweep_frame = _points_frame(study, plan.sets["sweep"].columns(), results.get("sweep"))
+        table: PointsTable = FrameTable(sweep_frame)
+    else:
+        table = StoredTable(
+            plan.sets["sweep"], run.rows, offsets["sweep"],
+            lambda points, res: _points_frame(study, points, res),
+        )  # fmt: skip
+    logger.info(
+        "%s: %d points (%d distinct), %d computed, %d from the store, %d failed",
+        study.name, stats["points"], stats["distinct"], stats["computed"], stats["cached"],
+        stats["failed"],
+    )  # fmt: skip
+    return SweepStudyResult(study, table, base_result, tables, stats)
+
+
+def _set_results(
+    run: SweepRun, plan: _Plan, names: list[str], metrics: list[str]
+) -> tuple[dict[str, pd.DataFrame], dict[str, int]]:
+    """The results of each point set (the sweep's own stays in the store when streamed)
+    and where each set starts in the run."""
     results: dict[str, pd.DataFrame] = {}
     offsets: dict[str, int] = {}
     i = 0
@@ -381,13 +411,19 @@ def run_sweep_study(study: SweepStudyBase, context: RunContext) -> SweepStudyRes
             wanted = None if s == "base" else [*metrics, "status"]
             results[s] = run.rows.read(slice(i, i + n), columns=wanted)
         i += n
-    base_result = {
-        k: (v.item() if isinstance(v, np.generic) else v)
-        for k, v in results["base"].iloc[0].to_dict().items()
-    }
-    base_metrics = _metric_values(results["base"], metrics)[0]
-    stats = _stats(run, context)
+    return results, offsets
 
+
+def _sensitivity_tables(
+    study: SweepStudyBase,
+    plan: _Plan,
+    context: RunContext,
+    stats: dict[str, Any],
+    results: dict[str, pd.DataFrame],
+    base_metrics: Any,
+) -> dict[str, SensitivityTable]:
+    """The sensitivity tables the study asks for, from the results of their point sets."""
+    metrics = study.metrics
     tables: dict[str, SensitivityTable] = {}
     sens = study.sensitivity
     if sens is not None and sens.local and study.LOCAL_EVALUATOR is not None:
@@ -419,20 +455,7 @@ def run_sweep_study(study: SweepStudyBase, context: RunContext) -> SweepStudyRes
             plan.sobol_names, plan.sobol_bounds, outputs, seed=sens.sobol.seed,  # type: ignore[union-attr]
             descriptions=plan.describe,
         )  # fmt: skip
-    if run.rows is None:
-        sweep_frame = _points_frame(study, plan.sets["sweep"].columns(), results.get("sweep"))
-        table: PointsTable = FrameTable(sweep_frame)
-    else:
-        table = StoredTable(
-            plan.sets["sweep"], run.rows, offsets["sweep"],
-            lambda points, res: _points_frame(study, points, res),
-        )  # fmt: skip
-    logger.info(
-        "%s: %d points (%d distinct), %d computed, %d from the store, %d failed",
-        study.name, stats["points"], stats["distinct"], stats["computed"], stats["cached"],
-        stats["failed"],
-    )  # fmt: skip
-    return SweepStudyResult(study, table, base_result, tables, stats)
+    return tables
 
 
 def _points_frame(
