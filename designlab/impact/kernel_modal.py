@@ -1,0 +1,185 @@
+"""Compiled per-design building blocks of the impact kernel (numba; see :mod:`.kernel`).
+
+One design's exact response of an output ``o`` is
+``y(t) = c0 t + c1 + Re sum_k r[o, k] exp(p[k] t)`` (one pole per conjugate pair
+with a doubled residue; :mod:`designlab.impact.modal`). These functions evaluate
+it and its derivatives, bound its rounding noise and its second and third
+derivatives over a cell, and run the safeguarded Newton iteration of
+:mod:`designlab.impact.modal` on one design at a time.
+
+Examples
+--------
+>>> import numpy as np
+>>> p = np.array([-1.0 + 0j]); r = np.array([[-1.0 + 0j]]); c = np.array([[0.0, 1.0]])
+>>> y, dy, ddy = triple(p, r, c, 0, 1, 1.0)          # y = 1 - exp(-t)
+>>> round(y, 6), round(dy, 6), round(ddy, 6)
+(0.632121, 0.367879, -0.367879)
+"""
+
+from __future__ import annotations
+
+import cmath
+import math
+
+import numpy as np
+
+from designlab.sx.jit import kernel
+
+__all__ = [
+    "NOISE", "cell_bound", "curvature", "grid", "jerk", "newton", "noise", "pair", "shape",
+    "triple", "value",
+]  # fmt: skip
+
+#: a value y(t) is provably negative when y < -NOISE * (sum of the magnitudes of its terms)
+NOISE = 1e-12
+
+
+@kernel
+def value(p, r, c, o, nk, t):  # type: ignore[no-untyped-def]
+    """Output ``o`` at ``t``."""
+    s = c[o, 0] * t + c[o, 1]
+    for k in range(nk):
+        s += (r[o, k] * cmath.exp(p[k] * t)).real
+    return s
+
+
+@kernel
+def pair(p, r, c, o, nk, t, d):  # type: ignore[no-untyped-def]
+    """Derivatives ``d`` and ``d + 1`` (d = 0 or 1) of output ``o`` at ``t``."""
+    y = 0.0
+    dy = 0.0
+    for k in range(nk):
+        e = r[o, k] * cmath.exp(p[k] * t)
+        if d == 1:
+            e = e * p[k]
+        y += e.real
+        dy += (e * p[k]).real
+    if d == 0:
+        y += c[o, 0] * t + c[o, 1]
+        dy += c[o, 0]
+    else:
+        y += c[o, 0]
+    return y, dy
+
+
+@kernel
+def triple(p, r, c, o, nk, t):  # type: ignore[no-untyped-def]
+    """Output ``o`` and its first two derivatives at ``t``."""
+    y = c[o, 0] * t + c[o, 1]
+    dy = c[o, 0]
+    ddy = 0.0
+    for k in range(nk):
+        e = r[o, k] * cmath.exp(p[k] * t)
+        y += e.real
+        e = e * p[k]
+        dy += e.real
+        ddy += (e * p[k]).real
+    return y, dy, ddy
+
+
+@kernel
+def noise(p, r, c, o, nk, t):  # type: ignore[no-untyped-def]
+    """Rounding-noise level of ``y(t)``: NOISE times the sum of its terms' magnitudes."""
+    s = abs(c[o, 0] * t) + abs(c[o, 1])
+    for k in range(nk):
+        s += abs(r[o, k]) * math.exp(p[k].real * t)
+    return NOISE * s
+
+
+@kernel
+def curvature(p, r, o, nk, tl, tr):  # type: ignore[no-untyped-def]
+    """Upper bound of ``|y''|`` over ``[tl, tr]`` (the polynomial part is at most linear)."""
+    s = 0.0
+    for k in range(nk):
+        a = abs(p[k])
+        s += abs(r[o, k]) * a * a * math.exp(max(p[k].real * tl, p[k].real * tr))
+    return s
+
+
+@kernel
+def jerk(p, r, o, nk, tl, tr):  # type: ignore[no-untyped-def]
+    """Upper bound of ``|y'''|`` over ``[tl, tr]``."""
+    s = 0.0
+    for k in range(nk):
+        a = abs(p[k])
+        s += abs(r[o, k]) * a * a * a * math.exp(max(p[k].real * tl, p[k].real * tr))
+    return s
+
+
+@kernel
+def shape(ddl, ddr, m3, w):  # type: ignore[no-untyped-def]
+    """-1 where y'' < 0 on the whole cell, +1 where y'' > 0, else 0 (``|y'''| <= m3``)."""
+    if ddl + ddr + m3 * w < 0:
+        return -1
+    if ddl + ddr - m3 * w > 0:
+        return 1
+    return 0
+
+
+@kernel
+def newton(p, r, c, o, nk, lo, hi, order, sign, iterations, rtol, guess):  # type: ignore[no-untyped-def]
+    """Root of ``sign * y^(order)`` in ``[lo, hi]`` (``+`` at lo, ``-`` at hi), safeguarded.
+
+    The iteration of :func:`designlab.impact.modal._safeguarded_newton`: Newton
+    steps that leave the bracket become bisections.
+    """
+    t = min(max(guess, lo), hi)
+    for _ in range(iterations):
+        y, dy = pair(p, r, c, o, nk, t, order)
+        y *= sign
+        dy *= sign
+        if y > 0:
+            lo = t
+        else:
+            hi = t
+        tn = t - y / dy
+        tol = rtol * abs(t) + 1e-300
+        done = abs(tn - t) <= tol or hi - lo <= tol or y == 0
+        if not done and (not np.isfinite(tn) or tn <= lo or tn >= hi):
+            tn = 0.5 * (lo + hi)
+        if done and not np.isfinite(tn):
+            tn = t
+        t = tn
+        if done:
+            break
+    return t
+
+
+@kernel
+def cell_bound(yl, yr, dl, dr, w, m):  # type: ignore[no-untyped-def]
+    """Upper bound of y over a cell (:func:`designlab.impact.modal._cell_bound`)."""
+    ends = max(min(yl, yr - dr * w + 0.5 * m * w * w), min(yl + dl * w + 0.5 * m * w * w, yr))
+    slope = dl - dr + m * w
+    x = -(yl - yr + dr * w - 0.5 * m * w * w) / slope
+    taylor = ends
+    if np.isfinite(x) and 0.0 < x < w:
+        u = w - x
+        cross = min(yl + dl * x + 0.5 * m * x * x, yr - dr * u + 0.5 * m * u * u)
+        taylor = max(ends, cross)
+    return min(taylor, max(yl, yr) + m * w * w / 8.0)
+
+
+@kernel
+def grid(p, r, c, o, nk, lo, hi, count, ts, ys, ds, qs):  # type: ignore[no-untyped-def]
+    """Nodes ``lo + (hi - lo) j / count`` (j = 0..count): y, y', y'' (exponentials by recurrence).
+
+    The last node is ``hi`` exactly, evaluated directly.
+    """
+    w = (hi - lo) / count
+    for j in range(count + 1):
+        ts[j] = lo + (hi - lo) * (j / count)
+        ys[j] = c[o, 0] * ts[j] + c[o, 1]
+        ds[j] = c[o, 0]
+        qs[j] = 0.0
+    for k in range(nk):
+        z = cmath.exp(p[k] * w)
+        e = r[o, k] * cmath.exp(p[k] * lo)
+        pk = p[k]
+        for j in range(count):
+            ys[j] += e.real
+            ep = e * pk
+            ds[j] += ep.real
+            qs[j] += (ep * pk).real
+            e = e * z
+    ts[count] = hi
+    ys[count], ds[count], qs[count] = triple(p, r, c, o, nk, hi)
