@@ -149,7 +149,7 @@ def crossing(p, r, c, o, nk, hi, h, levels, work):  # type: ignore[no-untyped-de
     solved by Newton on -y'; a cell that may dip to zero otherwise is split.
     """
     ts, ys, ds, qs, stack = work
-    count = min(max(int(math.ceil(hi / h)), 1), MAX_CELLS)
+    count = min(max(int(math.ceil(hi / h)), 1), MAX_CELLS)  # noqa: RUF046 (numba)
     grid(p, r, c, o, nk, 0.0, hi, count, ts, ys, ds, qs)
     lo_b = ts[count - 1]
     hi_b = hi
@@ -170,7 +170,9 @@ def crossing(p, r, c, o, nk, hi, h, levels, work):  # type: ignore[no-untyped-de
                 if tm < hi_b and _below(p, r, c, o, nk, tm, value(p, r, c, o, nk, tm)):
                     lo_b, hi_b = tl, tm
             w = tr - tl
-            if stack[n, 8] >= levels or dl * dr > 0 and abs(dl + dr) > curvature(p, r, o, nk, tl, tr) * w:
+            if stack[n, 8] >= levels or (
+                dl * dr > 0 and abs(dl + dr) > curvature(p, r, o, nk, tl, tr) * w
+            ):
                 continue  # y monotone between positive ends
             sh = shape(stack[n, 6], stack[n, 7], jerk(p, r, o, nk, tl, tr), w)
             if sh != 0:
@@ -184,7 +186,7 @@ def crossing(p, r, c, o, nk, hi, h, levels, work):  # type: ignore[no-untyped-de
 @kernel
 def lobe_end(p, r, c, o, nk, h, max_steps, diag, work):  # type: ignore[no-untyped-def]
     """``(t_imp, t_low)`` of output ``o`` (a_h): NaN t_imp when no provable lobe end."""
-    found, lo, hi, guess, t_low = march(p, r, c, o, nk, h, max_steps, diag)
+    found, _lo, hi, guess, t_low = march(p, r, c, o, nk, h, max_steps, diag)
     if not found:
         return np.nan, t_low
     lo_c, hi_c = crossing(p, r, c, o, nk, hi, h, 6, work)
@@ -200,7 +202,7 @@ def maximum(p, r, c, o, nk, hi, w, work):  # type: ignore[no-untyped-def]
     <= w; every node and every stationary maximum (Newton on y') is a candidate.
     """
     ts, ys, ds, qs, stack = work
-    count = min(max(int(math.ceil(hi / w)), 1), MAX_CELLS)
+    count = min(max(int(math.ceil(hi / w)), 1), MAX_CELLS)  # noqa: RUF046 (numba)
     grid(p, r, c, o, nk, 0.0, hi, count, ts, ys, ds, qs)
     bt, by = 0.0, -np.inf
     for j in range(count + 1):
@@ -208,7 +210,9 @@ def maximum(p, r, c, o, nk, hi, w, work):  # type: ignore[no-untyped-def]
             bt, by = ts[j], ys[j]
     for j in range(count):
         if ds[j] > 0 and ds[j + 1] <= 0:
-            t = newton(p, r, c, o, nk, ts[j], ts[j + 1], 1, 1.0, 60, 1e-13, 0.5 * (ts[j] + ts[j + 1]))
+            t = newton(
+                p, r, c, o, nk, ts[j], ts[j + 1], 1, 1.0, 60, 1e-13, 0.5 * (ts[j] + ts[j + 1])
+            )
             y = value(p, r, c, o, nk, t)
             if y > by:
                 bt, by = t, y

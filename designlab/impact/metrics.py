@@ -749,7 +749,9 @@ def metrics_from_responses(
         np.abs(pol).max(axis=1) if rate is None else rate
     )  # <= 1/15 of the fastest mode's period
     if kernel.AVAILABLE and all(resp[k].poly.shape[1] <= 2 for k in names):
-        fast = _modal_kernel(resp, p, v, h, constrained, stop_time, max_lobe_steps, lobe_diagnostics)
+        fast = _modal_kernel(
+            resp, p, v, h, constrained, stop_time, max_lobe_steps, lobe_diagnostics
+        )
         if fast is not None:
             return fast
     if not kernel.AVAILABLE:
