@@ -18,7 +18,7 @@ Examples
 >>> p = np.array([[9.6, 250, 20e3, 24.25e3, 71.9, 4.4, 0.0, 4e3]])
 >>> out, status = reduced_metrics(p, (True, True, True), printed=False, stop_time=0.05,
 ...                               max_lobe_steps=4096, diagnostics=False)
->>> round(out[0, 0] * 1.25 / 9.80665, 3), round(out[0, 3] * 1e3, 2), int(status[0])
+>>> round(float(out[0, 0]) * 1.25 / 9.80665, 3), round(float(out[0, 3]) * 1e3, 2), int(status[0])
 (6.568, 33.22, 0)
 """
 

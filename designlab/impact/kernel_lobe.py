@@ -27,7 +27,7 @@ Examples
 True
 >>> s = scratch()
 >>> t, y = maximum(p, r, c, 0, 1, np.pi / 2, 0.3, s)
->>> round(t, 12) == round(np.arctan(2) / 2, 12)
+>>> bool(abs(t - np.arctan(2) / 2) < 1e-12)
 True
 """
 
@@ -46,6 +46,7 @@ from designlab.impact.kernel_modal import (
     newton,
     noise,
     shape,
+    stable,
     triple,
     value,
 )
@@ -58,12 +59,17 @@ PARTS = 16
 MAX_CELLS = 4096
 _STACK = 200
 
+#: columns of a cell on the stack: times, values, slopes, second derivatives at both
+#: ends, level, curvature and jerk scales at both ends
+_TL, _TR, _YL, _YR, _DL, _DR, _QL, _QR, _LEVEL, _M2L, _M3L, _M2R, _M3R = range(13)
+
 
 @kernel
 def scratch():  # type: ignore[no-untyped-def]
-    """Work arrays of one block: node times, y, y', y'' and the cell stack."""
+    """Work arrays of one block: six node arrays (:func:`.kernel_modal.grid`) and the stack."""
     n = MAX_CELLS + 2
-    return np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty((_STACK, 9))
+    nodes = (np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n))
+    return nodes, np.empty((_STACK, 13))
 
 
 @kernel
@@ -78,17 +84,26 @@ def march(p, r, c, o, nk, h, max_steps, diag):  # type: ignore[no-untyped-def]
     peak = 0.0
     y_prev = 0.0
     t_low = np.nan
-    zs = np.empty(nk, dtype=np.complex128)
-    es = np.empty(nk, dtype=np.complex128)
-    for k in range(nk):
-        zs[k] = cmath.exp(p[k] * h)
-        es[k] = r[o, k]
+    zs = (0j, 0j, 0j, 0j, 0j)
+    es = (0j, 0j, 0j, 0j, 0j)
+    z0, z1, z2, z3, z4 = zs
+    e0, e1, e2, e3, e4 = es
+    for k in range(nk):  # at most 5 poles (full joint): registers, not arrays
+        z, e = cmath.exp(p[k] * h), r[o, k] + 0j
+        if k == 0:
+            z0, e0 = z, e
+        elif k == 1:
+            z1, e1 = z, e
+        elif k == 2:
+            z2, e2 = z, e
+        elif k == 3:
+            z3, e3 = z, e
+        else:
+            z4, e4 = z, e
     for j in range(last + 1):
         t = j * h
-        y = c[o, 0] * t + c[o, 1]
-        for k in range(nk):
-            y += es[k].real
-            es[k] = es[k] * zs[k]
+        y = c[o, 0] * t + c[o, 1] + e0.real + e1.real + e2.real + e3.real + e4.real
+        e0, e1, e2, e3, e4 = e0 * z0, e1 * z1, e2 * z2, e3 * z3, e4 * z4
         if t > 0 and y <= 0:
             yd = value(p, r, c, o, nk, t)
             if yd < -noise(p, r, c, o, nk, t):
@@ -112,32 +127,48 @@ def _below(p, r, c, o, nk, t, y):  # type: ignore[no-untyped-def]
 
 
 @kernel
-def _push_grid(stack, ts, ys, ds, qs, j):  # type: ignore[no-untyped-def]
-    stack[0, 0], stack[0, 1], stack[0, 2], stack[0, 3] = ts[j], ts[j + 1], ys[j], ys[j + 1]
-    stack[0, 4], stack[0, 5], stack[0, 6], stack[0, 7] = ds[j], ds[j + 1], qs[j], qs[j + 1]
-    stack[0, 8] = 0.0
+def _push_grid(stack, nodes, j):  # type: ignore[no-untyped-def]
+    """Put the grid cell ``[t_j, t_j+1]`` on the empty stack; new size."""
+    ts, ys, ds, qs, m2s, m3s = nodes
+    stack[0, _TL], stack[0, _TR], stack[0, _YL], stack[0, _YR] = ts[j], ts[j + 1], ys[j], ys[j + 1]
+    stack[0, _DL], stack[0, _DR], stack[0, _QL], stack[0, _QR] = ds[j], ds[j + 1], qs[j], qs[j + 1]
+    stack[0, _M2L], stack[0, _M3L], stack[0, _M2R], stack[0, _M3R] = (
+        m2s[j], m3s[j], m2s[j + 1], m3s[j + 1]
+    )  # fmt: skip
+    stack[0, _LEVEL] = 0.0
     return 1
 
 
 @kernel
 def _split(p, r, c, o, nk, stack, n):  # type: ignore[no-untyped-def]
     """Replace the cell ``stack[n]`` by its PARTS sub-cells (earliest on top); new size."""
-    tl, tr, level = stack[n, 0], stack[n, 1], stack[n, 8] + 1.0
-    yl, dl, ql = stack[n, 2], stack[n, 4], stack[n, 6]
-    yr, dr, qr = stack[n, 3], stack[n, 5], stack[n, 7]
+    tl, tr, level = stack[n, _TL], stack[n, _TR], stack[n, _LEVEL] + 1.0
+    yl, dl, ql, al, bl = stack[n, _YL], stack[n, _DL], stack[n, _QL], stack[n, _M2L], stack[n, _M3L]
+    yr, dr, qr, ar, br = stack[n, _YR], stack[n, _DR], stack[n, _QR], stack[n, _M2R], stack[n, _M3R]
     for i in range(PARTS):
         row = n + PARTS - 1 - i
         a = tl + (tr - tl) * (i / PARTS)
         if i == PARTS - 1:
-            b, y, d, q = tr, yr, dr, qr
+            b, y, d, q, m2, m3 = tr, yr, dr, qr, ar, br
         else:
             b = tl + (tr - tl) * ((i + 1) / PARTS)
-            y, d, q = triple(p, r, c, o, nk, b)
-        stack[row, 0], stack[row, 1], stack[row, 8] = a, b, level
-        stack[row, 2], stack[row, 4], stack[row, 6] = yl, dl, ql
-        stack[row, 3], stack[row, 5], stack[row, 7] = y, d, q
-        yl, dl, ql = y, d, q
+            y, d, q, m2, m3 = triple(p, r, c, o, nk, b)
+        stack[row, _TL], stack[row, _TR], stack[row, _LEVEL] = a, b, level
+        stack[row, _YL], stack[row, _DL], stack[row, _QL] = yl, dl, ql
+        stack[row, _M2L], stack[row, _M3L] = al, bl
+        stack[row, _YR], stack[row, _DR], stack[row, _QR] = y, d, q
+        stack[row, _M2R], stack[row, _M3R] = m2, m3
+        yl, dl, ql, al, bl = y, d, q, m2, m3
     return n + PARTS
+
+
+@kernel
+def _scales(p, r, o, nk, stack, n, steady):  # type: ignore[no-untyped-def]
+    """Bounds of ``|y''|`` and ``|y'''|`` over the cell ``stack[n]``."""
+    if steady:
+        return stack[n, _M2L], stack[n, _M3L]
+    tl, tr = stack[n, _TL], stack[n, _TR]
+    return curvature(p, r, o, nk, tl, tr), jerk(p, r, o, nk, tl, tr)
 
 
 @kernel
@@ -148,36 +179,36 @@ def crossing(p, r, c, o, nk, hi, h, levels, work):  # type: ignore[no-untyped-de
     cells of width <= h in time order: a local minimum between positive nodes is
     solved by Newton on -y'; a cell that may dip to zero otherwise is split.
     """
-    ts, ys, ds, qs, stack = work
+    nodes, stack = work
+    steady = stable(p, nk)
     count = min(max(int(math.ceil(hi / h)), 1), MAX_CELLS)  # noqa: RUF046 (numba)
-    grid(p, r, c, o, nk, 0.0, hi, count, ts, ys, ds, qs)
-    lo_b = ts[count - 1]
+    grid(p, r, c, o, nk, 0.0, hi, count, nodes)
+    lo_b = nodes[0][count - 1]
     hi_b = hi
     for j in range(count):
-        n = _push_grid(stack, ts, ys, ds, qs, j)
+        n = _push_grid(stack, nodes, j)
         while n > 0:
             n -= 1
-            tl, tr, yl, yr = stack[n, 0], stack[n, 1], stack[n, 2], stack[n, 3]
-            dl, dr = stack[n, 4], stack[n, 5]
+            tl, tr, yl, yr = stack[n, _TL], stack[n, _TR], stack[n, _YL], stack[n, _YR]
+            dl, dr = stack[n, _DL], stack[n, _DR]
             if tl >= hi_b:
                 continue
             if yl > 0 and tr < hi_b and _below(p, r, c, o, nk, tr, yr):
                 lo_b, hi_b = tl, tr
             if not (yl > 0 and yr > 0):
                 continue
+            w = tr - tl
             if dl < 0 and dr >= 0:
-                tm = newton(p, r, c, o, nk, tl, tr, 1, -1.0, 60, 1e-13, 0.5 * (tl + tr))
+                g = tl + w * dl / (dl - dr)
+                tm = newton(p, r, c, o, nk, tl, tr, 1, -1.0, 60, 1e-13, g)
                 if tm < hi_b and _below(p, r, c, o, nk, tm, value(p, r, c, o, nk, tm)):
                     lo_b, hi_b = tl, tm
-            w = tr - tl
-            if stack[n, 8] >= levels or (
-                dl * dr > 0 and abs(dl + dr) > curvature(p, r, o, nk, tl, tr) * w
-            ):
+            m2, m3 = _scales(p, r, o, nk, stack, n, steady)
+            if stack[n, _LEVEL] >= levels or (dl * dr > 0 and abs(dl + dr) > m2 * w):
                 continue  # y monotone between positive ends
-            sh = shape(stack[n, 6], stack[n, 7], jerk(p, r, o, nk, tl, tr), w)
-            if sh != 0:
+            if shape(stack[n, _QL], stack[n, _QR], m3, w) != 0:
                 continue  # y' monotone: its one minimum, if any, was solved above
-            if min(yl, yr) - curvature(p, r, o, nk, tl, tr) * w * w / 8.0 > 0:
+            if min(yl, yr) - m2 * w * w / 8.0 > 0:
                 continue
             n = _split(p, r, c, o, nk, stack, n)
     return lo_b, hi_b
@@ -195,61 +226,66 @@ def lobe_end(p, r, c, o, nk, h, max_steps, diag, work):  # type: ignore[no-untyp
 
 
 @kernel
+def _stationary(p, r, c, o, nk, tl, tr, dl, dr):  # type: ignore[no-untyped-def]
+    """``(t, y)`` of the maximum where y' goes from + at tl to - at tr (secant start)."""
+    t = newton(p, r, c, o, nk, tl, tr, 1, 1.0, 60, 1e-13, tl + (tr - tl) * dl / (dl - dr))
+    return t, value(p, r, c, o, nk, t)
+
+
+@kernel
 def maximum(p, r, c, o, nk, hi, w, work):  # type: ignore[no-untyped-def]
     """``(t, y)`` maximum of output ``o`` over ``[0, hi]``, certified to 1e-8 (relative).
 
     :func:`designlab.impact.modal.certified_maximum` depth first: cells of width
     <= w; every node and every stationary maximum (Newton on y') is a candidate.
     """
-    ts, ys, ds, qs, stack = work
+    nodes, stack = work
+    ts, ys, ds = nodes[0], nodes[1], nodes[2]
+    steady = stable(p, nk)
     count = min(max(int(math.ceil(hi / w)), 1), MAX_CELLS)  # noqa: RUF046 (numba)
-    grid(p, r, c, o, nk, 0.0, hi, count, ts, ys, ds, qs)
+    grid(p, r, c, o, nk, 0.0, hi, count, nodes)
     bt, by = 0.0, -np.inf
     for j in range(count + 1):
         if ys[j] > by:
             bt, by = ts[j], ys[j]
     for j in range(count):
         if ds[j] > 0 and ds[j + 1] <= 0:
-            t = newton(
-                p, r, c, o, nk, ts[j], ts[j + 1], 1, 1.0, 60, 1e-13, 0.5 * (ts[j] + ts[j + 1])
-            )
-            y = value(p, r, c, o, nk, t)
+            t, y = _stationary(p, r, c, o, nk, ts[j], ts[j + 1], ds[j], ds[j + 1])
             if y > by:
                 bt, by = t, y
     for j in range(count):
         if not (ds[j] > 0 and ds[j + 1] <= 0):
-            _push_grid(stack, ts, ys, ds, qs, j)
-            bt, by = _refine(p, r, c, o, nk, bt, by, stack)
+            _push_grid(stack, nodes, j)
+            bt, by = _refine(p, r, c, o, nk, bt, by, stack, steady)
     return bt, by
 
 
 @kernel
-def _refine(p, r, c, o, nk, bt, by, stack):  # type: ignore[no-untyped-def]
+def _refine(p, r, c, o, nk, bt, by, stack, steady):  # type: ignore[no-untyped-def]
     """Branch and bound inside the cell ``stack[0]`` (no +/- sign change of y' at its ends)."""
     n = 1
     first = True
     while n > 0:
         n -= 1
-        tl, tr, yl, yr = stack[n, 0], stack[n, 1], stack[n, 2], stack[n, 3]
-        dl, dr = stack[n, 4], stack[n, 5]
+        tl, tr, yl, yr = stack[n, _TL], stack[n, _TR], stack[n, _YL], stack[n, _YR]
+        dl, dr = stack[n, _DL], stack[n, _DR]
         if not first:
             if yl > by:
                 bt, by = tl, yl
             if dl > 0 and dr <= 0:
-                t = newton(p, r, c, o, nk, tl, tr, 1, 1.0, 60, 1e-13, 0.5 * (tl + tr))
-                y = value(p, r, c, o, nk, t)
+                t, y = _stationary(p, r, c, o, nk, tl, tr, dl, dr)
                 if y > by:
                     bt, by = t, y
                 continue
         first = False
         w = tr - tl
-        if stack[n, 8] >= 8 or w <= 0:
+        if stack[n, _LEVEL] >= 8 or w <= 0:
             continue
-        m = curvature(p, r, o, nk, tl, tr)
-        if dl * dr > 0 and abs(dl + dr) > m * w:
+        m2, m3 = _scales(p, r, o, nk, stack, n, steady)
+        if dl * dr > 0 and abs(dl + dr) > m2 * w:
             continue  # y' keeps its sign: the maximum is at an end node
-        if shape(stack[n, 6], stack[n, 7], jerk(p, r, o, nk, tl, tr), w) != 0:
+        if shape(stack[n, _QL], stack[n, _QR], m3, w) != 0:
             continue  # y' monotone without a +/- change: the maximum is at an end node
-        if cell_bound(yl, yr, dl, dr, w, m) > by + 1e-8 * max(abs(by), 1e-300):
+        if cell_bound(yl, yr, dl, dr, w, m2) > by + 1e-8 * max(abs(by), 1e-300):
             n = _split(p, r, c, o, nk, stack, n)
     return bt, by

@@ -11,7 +11,7 @@ Examples
 --------
 >>> import numpy as np
 >>> p = np.array([-1.0 + 0j]); r = np.array([[-1.0 + 0j]]); c = np.array([[0.0, 1.0]])
->>> y, dy, ddy = triple(p, r, c, 0, 1, 1.0)          # y = 1 - exp(-t)
+>>> y, dy, ddy, _, _ = triple(p, r, c, 0, 1, 1.0)          # y = 1 - exp(-t)
 >>> round(y, 6), round(dy, 6), round(ddy, 6)
 (0.632121, 0.367879, -0.367879)
 """
@@ -27,14 +27,14 @@ from designlab.sx.jit import kernel
 
 __all__ = [
     "NOISE", "cell_bound", "curvature", "grid", "jerk", "newton", "noise", "pair", "shape",
-    "triple", "value",
+    "stable", "triple", "value",
 ]  # fmt: skip
 
 #: a value y(t) is provably negative when y < -NOISE * (sum of the magnitudes of its terms)
 NOISE = 1e-12
 
 
-@kernel
+@kernel(inline=True)
 def value(p, r, c, o, nk, t):  # type: ignore[no-untyped-def]
     """Output ``o`` at ``t``."""
     s = c[o, 0] * t + c[o, 1]
@@ -43,7 +43,7 @@ def value(p, r, c, o, nk, t):  # type: ignore[no-untyped-def]
     return s
 
 
-@kernel
+@kernel(inline=True)
 def pair(p, r, c, o, nk, t, d):  # type: ignore[no-untyped-def]
     """Derivatives ``d`` and ``d + 1`` (d = 0 or 1) of output ``o`` at ``t``."""
     y = 0.0
@@ -62,22 +62,33 @@ def pair(p, r, c, o, nk, t, d):  # type: ignore[no-untyped-def]
     return y, dy
 
 
-@kernel
+@kernel(inline=True)
 def triple(p, r, c, o, nk, t):  # type: ignore[no-untyped-def]
-    """Output ``o`` and its first two derivatives at ``t``."""
+    """Output ``o``, its first two derivatives and its curvature and jerk scales at ``t``.
+
+    The scales ``sum_k |r_k| |p_k|^j exp(Re p_k t)`` (j = 2, 3) bound the second
+    and third derivatives at ``t``, and over a cell starting at ``t`` when no pole
+    is unstable.
+    """
     y = c[o, 0] * t + c[o, 1]
     dy = c[o, 0]
     ddy = 0.0
+    m2 = 0.0
+    m3 = 0.0
     for k in range(nk):
         e = r[o, k] * cmath.exp(p[k] * t)
+        a = abs(p[k])
+        g = abs(e) * a * a
+        m2 += g
+        m3 += g * a
         y += e.real
         e = e * p[k]
         dy += e.real
         ddy += (e * p[k]).real
-    return y, dy, ddy
+    return y, dy, ddy, m2, m3
 
 
-@kernel
+@kernel(inline=True)
 def noise(p, r, c, o, nk, t):  # type: ignore[no-untyped-def]
     """Rounding-noise level of ``y(t)``: NOISE times the sum of its terms' magnitudes."""
     s = abs(c[o, 0] * t) + abs(c[o, 1])
@@ -86,7 +97,7 @@ def noise(p, r, c, o, nk, t):  # type: ignore[no-untyped-def]
     return NOISE * s
 
 
-@kernel
+@kernel(inline=True)
 def curvature(p, r, o, nk, tl, tr):  # type: ignore[no-untyped-def]
     """Upper bound of ``|y''|`` over ``[tl, tr]`` (the polynomial part is at most linear)."""
     s = 0.0
@@ -96,7 +107,7 @@ def curvature(p, r, o, nk, tl, tr):  # type: ignore[no-untyped-def]
     return s
 
 
-@kernel
+@kernel(inline=True)
 def jerk(p, r, o, nk, tl, tr):  # type: ignore[no-untyped-def]
     """Upper bound of ``|y'''|`` over ``[tl, tr]``."""
     s = 0.0
@@ -106,7 +117,7 @@ def jerk(p, r, o, nk, tl, tr):  # type: ignore[no-untyped-def]
     return s
 
 
-@kernel
+@kernel(inline=True)
 def shape(ddl, ddr, m3, w):  # type: ignore[no-untyped-def]
     """-1 where y'' < 0 on the whole cell, +1 where y'' > 0, else 0 (``|y'''| <= m3``)."""
     if ddl + ddr + m3 * w < 0:
@@ -145,7 +156,7 @@ def newton(p, r, c, o, nk, lo, hi, order, sign, iterations, rtol, guess):  # typ
     return t
 
 
-@kernel
+@kernel(inline=True)
 def cell_bound(yl, yr, dl, dr, w, m):  # type: ignore[no-untyped-def]
     """Upper bound of y over a cell (:func:`designlab.impact.modal._cell_bound`)."""
     ends = max(min(yl, yr - dr * w + 0.5 * m * w * w), min(yl + dl * w + 0.5 * m * w * w, yr))
@@ -160,26 +171,45 @@ def cell_bound(yl, yr, dl, dr, w, m):  # type: ignore[no-untyped-def]
 
 
 @kernel
-def grid(p, r, c, o, nk, lo, hi, count, ts, ys, ds, qs):  # type: ignore[no-untyped-def]
-    """Nodes ``lo + (hi - lo) j / count`` (j = 0..count): y, y', y'' (exponentials by recurrence).
+def grid(p, r, c, o, nk, lo, hi, count, work):  # type: ignore[no-untyped-def]
+    """Nodes ``lo + (hi - lo) j / count`` (j = 0..count) into ``work``.
 
-    The last node is ``hi`` exactly, evaluated directly.
+    Times, values, first and second derivatives and the scales of :func:`triple`
+    (exponentials by recurrence); the last node is ``hi`` exactly, evaluated directly.
     """
+    ts, ys, ds, qs, m2s, m3s = work[0], work[1], work[2], work[3], work[4], work[5]
     w = (hi - lo) / count
     for j in range(count + 1):
         ts[j] = lo + (hi - lo) * (j / count)
         ys[j] = c[o, 0] * ts[j] + c[o, 1]
         ds[j] = c[o, 0]
         qs[j] = 0.0
+        m2s[j] = 0.0
+        m3s[j] = 0.0
     for k in range(nk):
         z = cmath.exp(p[k] * w)
         e = r[o, k] * cmath.exp(p[k] * lo)
         pk = p[k]
+        a = abs(pk)
+        gz = math.exp(pk.real * w)
+        g = abs(e) * a * a
         for j in range(count):
             ys[j] += e.real
             ep = e * pk
             ds[j] += ep.real
             qs[j] += (ep * pk).real
+            m2s[j] += g
+            m3s[j] += g * a
             e = e * z
+            g = g * gz
     ts[count] = hi
-    ys[count], ds[count], qs[count] = triple(p, r, c, o, nk, hi)
+    ys[count], ds[count], qs[count], m2s[count], m3s[count] = triple(p, r, c, o, nk, hi)
+
+
+@kernel(inline=True)
+def stable(p, nk):  # type: ignore[no-untyped-def]
+    """Whether no pole has a positive real part (the scales then peak at a cell's left end)."""
+    for k in range(nk):
+        if p[k].real > 0:
+            return False
+    return True

@@ -21,7 +21,7 @@ Examples
 >>> import numpy as np
 >>> roots = np.empty(4, dtype=np.complex128)
 >>> quartic_roots(np.array([1.0, 10.0, 35.0, 50.0, 24.0]), 0.0, 0.0, roots)  # (s+1)(s+2)(s+3)(s+4)
->>> sorted(np.round(roots.real, 12))
+>>> sorted(np.round(roots.real, 12).tolist())
 [-4.0, -3.0, -2.0, -1.0]
 """
 
@@ -72,30 +72,36 @@ def coefficients(m_r, c_r, k_r, k_c, c_c, m_h, c_h, k_h, printed, den, num):  # 
 
 @kernel
 def _bairstow(a, u, v):  # type: ignore[no-untyped-def]
-    """Quadratic factor ``s^2 + u s + v`` of the monic quartic ``a``; ``(u, v, converged)``."""
-    b = np.zeros(5)
-    d = np.zeros(5)
-    scale = 0.0
-    for k in range(5):
-        scale = max(scale, abs(a[k]))
+    """Quadratic factor ``s^2 + u s + v`` of the monic quartic ``a``; ``(u, v, converged)``.
+
+    Newton on the remainder ``(b3, b4)`` of the division by the factor;
+    ``d_k = d b_k / d u`` (and ``d b_k / d v = d_(k-1)``).
+    """
+    a1, a2, a3, a4 = a[1], a[2], a[3], a[4]
+    scale = max(1.0, abs(a1), abs(a2), abs(a3), abs(a4))
+    b3 = b4 = 0.0
     for _ in range(60):
-        for k in range(5):
-            b[k] = a[k] - (u * b[k - 1] if k >= 1 else 0.0) - (v * b[k - 2] if k >= 2 else 0.0)
-            d[k] = -(b[k - 1] if k >= 1 else 0.0) - (u * d[k - 1] if k >= 1 else 0.0)
-            d[k] -= v * d[k - 2] if k >= 2 else 0.0
-        det = d[3] * d[3] - d[2] * d[4]
+        b1 = a1 - u
+        b2 = a2 - u * b1 - v
+        b3 = a3 - u * b2 - v * b1
+        b4 = a4 - u * b3 - v * b2
+        d1 = -1.0
+        d2 = -b1 - u * d1
+        d3 = -b2 - u * d2 - v * d1
+        d4 = -b3 - u * d3 - v * d2
+        det = d3 * d3 - d2 * d4
         if det == 0 or not np.isfinite(det):
             return u, v, False
-        du = (-b[3] * d[3] + b[4] * d[2]) / det
-        dv = (-b[4] * d[3] + b[3] * d[4]) / det
+        du = (-b3 * d3 + b4 * d2) / det
+        dv = (-b4 * d3 + b3 * d4) / det
         u += du
         v += dv
         if abs(du) <= 1e-14 * abs(u) + 1e-300 and abs(dv) <= 1e-14 * abs(v):
             return u, v, True
-    return u, v, abs(b[3]) + abs(b[4]) <= 1e-12 * scale
+    return u, v, abs(b3) + abs(b4) <= 1e-12 * scale
 
 
-@kernel
+@kernel(inline=True)
 def _quadratic(b1, b2, roots, i):  # type: ignore[no-untyped-def]
     """Roots of ``s^2 + b1 s + b2`` into ``roots[i], roots[i + 1]`` (conjugates exact)."""
     disc = 0.25 * b1 * b1 - b2
@@ -109,7 +115,7 @@ def _quadratic(b1, b2, roots, i):  # type: ignore[no-untyped-def]
         roots[i + 1] = b2 / big if big != 0 else 0.0
 
 
-@kernel
+@kernel(inline=True)
 def _polish(a, x):  # type: ignore[no-untyped-def]
     """Two Newton steps of the root ``x`` of the monic quartic ``a`` (kept if they help)."""
     for _ in range(2):
@@ -161,7 +167,7 @@ def quartic_roots(a, u0, v0, roots):  # type: ignore[no-untyped-def]
             roots[i + 1] = complex(x.real, -abs(x.imag))
 
 
-@kernel
+@kernel(inline=True)
 def separate(poles, n):  # type: ignore[no-untyped-def]
     """Move roots closer than a relative 1e-6 apart (:func:`designlab.impact.modal.poles_of`)."""
     scale = 1e-300

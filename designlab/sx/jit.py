@@ -15,9 +15,11 @@ in the log (:func:`say_no_jit`).
 
 Examples
 --------
->>> f = kernel(lambda x: 2.0 * x)
->>> f(1.5)
-3.0
+>>> from designlab.impact.kernel_modal import shape
+>>> shape(-1.0, -2.0, 1.0, 1.0)        # y'' < 0 on a cell of width 1 with |y'''| <= 1
+-1
+>>> isinstance(AVAILABLE, bool) and jit_cache_dir().endswith("numba")
+True
 """
 
 from __future__ import annotations
@@ -68,7 +70,7 @@ def reason() -> str:
     return _REASON
 
 
-def kernel(func: Callable[..., Any]) -> Callable[..., Any]:
+def kernel(func: Callable[..., Any] | None = None, *, inline: bool = False) -> Any:
     """``numba.njit(cache=True, error_model="numpy")`` of ``func`` (``func`` without numba).
 
     IEEE semantics (division by zero gives inf/NaN), no fast-math: the compiled
@@ -78,14 +80,20 @@ def kernel(func: Callable[..., Any]) -> Callable[..., Any]:
     ----------
     func
         A function in numba's nopython subset.
+    inline
+        Inline the function into its callers (small helpers of hot loops).
 
     Returns
     -------
     callable
+        Or, without ``func``, the decorator (``@kernel(inline=True)``).
     """
+    if func is None:
+        return lambda f: kernel(f, inline=inline)
     if _NUMBA is None:
         return func
-    return _NUMBA.njit(cache=True, error_model="numpy", nogil=True)(func)
+    options = {"inline": "always"} if inline else {}
+    return _NUMBA.njit(cache=True, error_model="numpy", nogil=True, **options)(func)
 
 
 def say_no_jit(what: str) -> None:
