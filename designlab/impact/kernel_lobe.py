@@ -120,13 +120,13 @@ def march(p, r, c, o, nk, h, max_steps, diag):  # type: ignore[no-untyped-def]
     return False, np.nan, np.nan, np.nan, t_low
 
 
-@kernel
+@kernel(inline=True)
 def _below(p, r, c, o, nk, t, y):  # type: ignore[no-untyped-def]
     """Whether ``y = y(t)`` is provably <= 0."""
     return y <= 0 and y < -noise(p, r, c, o, nk, t)
 
 
-@kernel
+@kernel(inline=True)
 def _push_grid(stack, nodes, j):  # type: ignore[no-untyped-def]
     """Put the grid cell ``[t_j, t_j+1]`` on the empty stack; new size."""
     ts, ys, ds, qs, m2s, m3s = nodes
@@ -139,7 +139,7 @@ def _push_grid(stack, nodes, j):  # type: ignore[no-untyped-def]
     return 1
 
 
-@kernel
+@kernel(inline=True)
 def _split(p, r, c, o, nk, stack, n):  # type: ignore[no-untyped-def]
     """Replace the cell ``stack[n]`` by its PARTS sub-cells (earliest on top); new size."""
     tl, tr, level = stack[n, _TL], stack[n, _TR], stack[n, _LEVEL] + 1.0
@@ -162,7 +162,7 @@ def _split(p, r, c, o, nk, stack, n):  # type: ignore[no-untyped-def]
     return n + PARTS
 
 
-@kernel
+@kernel(inline=True)
 def _scales(p, r, o, nk, stack, n, steady):  # type: ignore[no-untyped-def]
     """Bounds of ``|y''|`` and ``|y'''|`` over the cell ``stack[n]``."""
     if steady:
@@ -225,7 +225,7 @@ def lobe_end(p, r, c, o, nk, h, max_steps, diag, work):  # type: ignore[no-untyp
     return newton(p, r, c, o, nk, lo_c, hi_c, 0, 1.0, 60, 1e-11, g), t_low
 
 
-@kernel
+@kernel(inline=True)
 def _stationary(p, r, c, o, nk, tl, tr, dl, dr):  # type: ignore[no-untyped-def]
     """``(t, y)`` of the maximum where y' goes from + at tl to - at tr (secant start)."""
     t = newton(p, r, c, o, nk, tl, tr, 1, 1.0, 60, 1e-13, tl + (tr - tl) * dl / (dl - dr))
@@ -260,7 +260,7 @@ def maximum(p, r, c, o, nk, hi, w, work):  # type: ignore[no-untyped-def]
     return bt, by
 
 
-@kernel
+@kernel(inline=True)
 def _refine(p, r, c, o, nk, bt, by, stack, steady):  # type: ignore[no-untyped-def]
     """Branch and bound inside the cell ``stack[0]`` (no +/- sign change of y' at its ends)."""
     n = 1

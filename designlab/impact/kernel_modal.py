@@ -127,7 +127,7 @@ def shape(ddl, ddr, m3, w):  # type: ignore[no-untyped-def]
     return 0
 
 
-@kernel
+@kernel(inline=True)
 def newton(p, r, c, o, nk, lo, hi, order, sign, iterations, rtol, guess):  # type: ignore[no-untyped-def]
     """Root of ``sign * y^(order)`` in ``[lo, hi]`` (``+`` at lo, ``-`` at hi), safeguarded.
 
@@ -170,7 +170,7 @@ def cell_bound(yl, yr, dl, dr, w, m):  # type: ignore[no-untyped-def]
     return min(taylor, max(yl, yr) + m * w * w / 8.0)
 
 
-@kernel
+@kernel(inline=True)
 def grid(p, r, c, o, nk, lo, hi, count, work):  # type: ignore[no-untyped-def]
     """Nodes ``lo + (hi - lo) j / count`` (j = 0..count) into ``work``.
 
