@@ -26,12 +26,18 @@ import numpy as np
 from designlab.sx.jit import kernel
 
 __all__ = [
-    "NOISE", "cell_bound", "curvature", "grid", "jerk", "newton", "noise", "pair", "shape",
+    "NOISE", "cell_bound", "curvature", "grid", "jerk", "mag", "newton", "noise", "pair", "shape",
     "stable", "triple", "value",
 ]  # fmt: skip
 
 #: a value y(t) is provably negative when y < -NOISE * (sum of the magnitudes of its terms)
 NOISE = 1e-12
+
+
+@kernel(inline=True)
+def mag(z):  # type: ignore[no-untyped-def]
+    """``|z|`` without hypot's overflow care (the moduli here are far from overflow)."""
+    return math.sqrt(z.real * z.real + z.imag * z.imag)
 
 
 @kernel(inline=True)
@@ -77,8 +83,8 @@ def triple(p, r, c, o, nk, t):  # type: ignore[no-untyped-def]
     m3 = 0.0
     for k in range(nk):
         e = r[o, k] * cmath.exp(p[k] * t)
-        a = abs(p[k])
-        g = abs(e) * a * a
+        a = mag(p[k])
+        g = mag(e) * a * a
         m2 += g
         m3 += g * a
         y += e.real
@@ -93,7 +99,7 @@ def noise(p, r, c, o, nk, t):  # type: ignore[no-untyped-def]
     """Rounding-noise level of ``y(t)``: NOISE times the sum of its terms' magnitudes."""
     s = abs(c[o, 0] * t) + abs(c[o, 1])
     for k in range(nk):
-        s += abs(r[o, k]) * math.exp(p[k].real * t)
+        s += mag(r[o, k]) * math.exp(p[k].real * t)
     return NOISE * s
 
 
@@ -102,8 +108,8 @@ def curvature(p, r, o, nk, tl, tr):  # type: ignore[no-untyped-def]
     """Upper bound of ``|y''|`` over ``[tl, tr]`` (the polynomial part is at most linear)."""
     s = 0.0
     for k in range(nk):
-        a = abs(p[k])
-        s += abs(r[o, k]) * a * a * math.exp(max(p[k].real * tl, p[k].real * tr))
+        a = mag(p[k])
+        s += mag(r[o, k]) * a * a * math.exp(max(p[k].real * tl, p[k].real * tr))
     return s
 
 
@@ -112,8 +118,8 @@ def jerk(p, r, o, nk, tl, tr):  # type: ignore[no-untyped-def]
     """Upper bound of ``|y'''|`` over ``[tl, tr]``."""
     s = 0.0
     for k in range(nk):
-        a = abs(p[k])
-        s += abs(r[o, k]) * a * a * a * math.exp(max(p[k].real * tl, p[k].real * tr))
+        a = mag(p[k])
+        s += mag(r[o, k]) * a * a * a * math.exp(max(p[k].real * tl, p[k].real * tr))
     return s
 
 
@@ -190,9 +196,9 @@ def grid(p, r, c, o, nk, lo, hi, count, work):  # type: ignore[no-untyped-def]
         z = cmath.exp(p[k] * w)
         e = r[o, k] * cmath.exp(p[k] * lo)
         pk = p[k]
-        a = abs(pk)
+        a = mag(pk)
         gz = math.exp(pk.real * w)
-        g = abs(e) * a * a
+        g = mag(e) * a * a
         for j in range(count):
             ys[j] += e.real
             ep = e * pk
