@@ -106,6 +106,6 @@ def say_no_jit(what: str) -> None:
     """
     say_once(
         f"{what}: compiled kernels unavailable ({_REASON}); using the numpy path "
-        "(same results, about 20-50x slower)",
+        "(the same results, slower)",
         logging.WARNING,
     )
