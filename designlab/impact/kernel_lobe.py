@@ -55,6 +55,9 @@ from designlab.sx.jit import kernel
 __all__ = ["crossing", "lobe_end", "march", "maximum", "scratch"]
 
 LOW_FRACTION = 0.05
+#: Newton on y' stops after a step below this (relative): the quadratic convergence leaves
+#: an error of its square, and the value at a stationary point is second-order in it
+STATIONARY_RTOL = 1e-7
 PARTS = 16
 MAX_CELLS = 4096
 _STACK = 200
@@ -200,7 +203,7 @@ def crossing(p, r, c, o, nk, hi, h, levels, work):  # type: ignore[no-untyped-de
             w = tr - tl
             if dl < 0 and dr >= 0:
                 g = tl + w * dl / (dl - dr)
-                tm = newton(p, r, c, o, nk, tl, tr, 1, -1.0, 60, 1e-13, g)
+                tm = newton(p, r, c, o, nk, tl, tr, 1, -1.0, 60, STATIONARY_RTOL, g)
                 if tm < hi_b and _below(p, r, c, o, nk, tm, value(p, r, c, o, nk, tm)):
                     lo_b, hi_b = tl, tm
             m2, m3 = _scales(p, r, o, nk, stack, n, steady)
@@ -228,7 +231,7 @@ def lobe_end(p, r, c, o, nk, h, max_steps, diag, work):  # type: ignore[no-untyp
 @kernel(inline=True)
 def _stationary(p, r, c, o, nk, tl, tr, dl, dr):  # type: ignore[no-untyped-def]
     """``(t, y)`` of the maximum where y' goes from + at tl to - at tr (secant start)."""
-    t = newton(p, r, c, o, nk, tl, tr, 1, 1.0, 60, 1e-13, tl + (tr - tl) * dl / (dl - dr))
+    t = newton(p, r, c, o, nk, tl, tr, 1, 1.0, 60, STATIONARY_RTOL, tl + (tr - tl) * dl / (dl - dr))
     return t, value(p, r, c, o, nk, t)
 
 
