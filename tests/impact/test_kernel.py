@@ -164,3 +164,15 @@ def test_numpy_path_says_so_once(
         _numpy_path(monkeypatch, p, 1.0)
     said = [r for r in caplog.records if "numpy path" in r.getMessage()]
     assert len(said) == 1
+
+
+@needs_jit
+def test_slow_crossing_matches_mpmath_where_the_numpy_path_drifts() -> None:
+    """a_h crosses zero slowly at 0.173 s: the kernel's lobe end is the 60-digit root."""
+    params = [
+        4.998553705036543, 295.4422271768169, 6214.390997383714, 7077.505534222009,
+        101.32045500929604, 3.0341862503379313, 138.47910777871743, 1605.0245834232257,
+    ]  # fmt: skip
+    m = metrics_of_matrix(np.array([params]), 1.0)
+    root = mpmath.findroot(_head_acceleration_mp(params, 1.0), 0.1734226387)
+    assert float(abs((m.impact_duration[0] - root) / root)) < 1e-14
