@@ -34,6 +34,7 @@ from designlab.sx.jit import AVAILABLE, kernel
 __all__ = [
     "AVAILABLE",
     "COLUMNS",
+    "MAX_POLES",
     "STATUS_CODES",
     "modal_metrics",
     "reduced_metrics",
@@ -43,6 +44,8 @@ __all__ = [
 COLUMNS = ("a_max", "eps_max", "f_max", "t_imp", "t_a", "t_eps", "t_f", "t_low")
 #: status codes of the kernel -> :class:`designlab.impact.metrics.ImpactStatus` values
 STATUS_CODES = ("ok", "no_impact", "peak_at_contact", "lobe_not_closed")
+#: most folded poles of a response the kernel takes (the full joint has 5 states)
+MAX_POLES = 5
 #: column of each output's maximum and its time: force, head acceleration, compression
 _COL = ((2, 6), (0, 4), (1, 5))
 

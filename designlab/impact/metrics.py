@@ -674,12 +674,17 @@ def _modal_kernel(
     max_lobe_steps: int,
     diagnostics: bool,
 ) -> ImpactMetrics | None:
-    """:func:`metrics_from_responses` by the compiled kernel (None if the poles differ)."""
+    """:func:`metrics_from_responses` by the compiled kernel (None if it does not apply).
+
+    The outputs must share their poles, at most :data:`kernel.MAX_POLES` of them.
+    """
     names = tuple(k for k in _KERNEL_OUTPUTS if k in resp)
     poles = resp[names[0]].poles
     if any(not np.array_equal(resp[k].poles, poles) for k in names[1:]):
         return None
     n, width = poles.shape
+    if width > kernel.MAX_POLES:
+        return None
     res = np.zeros((n, 3, width), dtype=complex)
     poly = np.zeros((n, 3, 2))
     for o, k in enumerate(_KERNEL_OUTPUTS):
