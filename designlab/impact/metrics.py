@@ -39,6 +39,7 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from designlab.errors import InvalidParameterError, ModelError
+from designlab.impact import kernel
 from designlab.impact.full_joint_model import FULL_PARAM_NAMES, full_joint_model, grid_rate
 from designlab.impact.metric_names import PARAMETERS
 from designlab.impact.modal import (
@@ -63,6 +64,7 @@ from designlab.impact.parameters import (
 )
 from designlab.impact.state_space import modal_families
 from designlab.results import OK, Result, Status
+from designlab.sx.jit import say_no_jit
 from designlab.units import STANDARD_GRAVITY
 from designlab.validation import check_q2, named_columns, real_array
 
@@ -558,6 +560,8 @@ def metrics_of_matrix(
         names = (*names, "compression")
     if with_force or constrained:
         names = ("force", *names)
+    if kernel.AVAILABLE and model.name == "unconstrained":
+        return _reduced_kernel(p, v, names, q2, stop_time, max_lobe_steps, lobe_diagnostics)
     resp = ramp_responses(model, p, names, q2=q2)
     rate = None
     if model.name.startswith("full_joint"):
@@ -612,6 +616,99 @@ def matrix_metrics(params: ArrayLike, impact_velocity: ArrayLike, **options: Any
     )
 
 
+def _reduced_kernel(
+    p: NDArray,
+    v: NDArray,
+    names: tuple[str, ...],
+    q2: str,
+    stop_time: float,
+    max_lobe_steps: int,
+    diagnostics: bool,
+) -> ImpactMetrics:
+    """:func:`metrics_of_matrix` of reduced unconstrained designs by the compiled kernel."""
+    printed = check_q2(q2) == "printed"
+    q4 = p[:, 2] * p[:, 7] + p[:, 3] * p[:, 7] + p[:, 2] * p[:, 3]
+    if np.any(q4 <= 0):
+        j = int(np.flatnonzero(q4 <= 0)[0])
+        raise ModelError(
+            f"design {j}: the model has a pole at s = 0 (no restoring stiffness): "
+            "at least two of K_r, K_c, K_h must be positive"
+        )
+    rows, codes = kernel.reduced_metrics(
+        p,
+        tuple(k in names for k in _KERNEL_OUTPUTS),  # type: ignore[arg-type]
+        printed=printed,
+        stop_time=stop_time,
+        max_lobe_steps=max_lobe_steps,
+        diagnostics=diagnostics,
+    )
+    return _from_kernel(p, v, names, rows, codes, False, diagnostics)
+
+
+#: the kernel's outputs, in its order
+_KERNEL_OUTPUTS = ("force", "head_acceleration", "compression")
+_KERNEL_STATUS = np.array(kernel.STATUS_CODES, dtype=object)
+
+
+def _from_kernel(
+    p: NDArray,
+    v: NDArray,
+    names: tuple[str, ...],
+    rows: NDArray,
+    codes: NDArray,
+    constrained: bool,
+    diagnostics: bool,
+) -> ImpactMetrics:
+    """:class:`ImpactMetrics` from the kernel's unit-v_c rows (:data:`kernel.COLUMNS`)."""
+    col = {k: i for i, k in enumerate(kernel.COLUMNS)}
+    pairs = {"force": ("t_f", "f_max"), "head_acceleration": ("t_a", "a_max")}
+    pairs["compression"] = ("t_eps", "eps_max")
+    out = {k: (rows[:, col[pairs[k][0]]], rows[:, col[pairs[k][1]]]) for k in names}
+    status = _KERNEL_STATUS[codes]
+    t_low = rows[:, col["t_low"]] if diagnostics else np.full(p.shape[0], np.nan)
+    return _scaled(p, v, out, rows[:, col["t_imp"]], t_low, status, constrained, diagnostics)
+
+
+def _modal_kernel(
+    resp: dict[str, ModalResponse],
+    p: NDArray,
+    v: NDArray,
+    h: NDArray,
+    constrained: bool,
+    stop_time: float,
+    max_lobe_steps: int,
+    diagnostics: bool,
+) -> ImpactMetrics | None:
+    """:func:`metrics_from_responses` by the compiled kernel (None if it does not apply).
+
+    The outputs must share their poles, at most :data:`kernel.MAX_POLES` of them.
+    """
+    names = tuple(k for k in _KERNEL_OUTPUTS if k in resp)
+    poles = resp[names[0]].poles
+    if any(not np.array_equal(resp[k].poles, poles) for k in names[1:]):
+        return None
+    n, width = poles.shape
+    if width > kernel.MAX_POLES:
+        return None
+    res = np.zeros((n, 3, width), dtype=complex)
+    poly = np.zeros((n, 3, 2))
+    for o, k in enumerate(_KERNEL_OUTPUTS):
+        if k in resp:
+            res[:, o] = resp[k].residues
+            poly[:, o, 2 - resp[k].poly.shape[1] :] = resp[k].poly
+    rows, codes = kernel.modal_metrics(
+        poles,
+        res,
+        poly,
+        h,
+        lobe=not constrained,
+        window=stop_time,
+        max_lobe_steps=max_lobe_steps,
+        diagnostics=diagnostics,
+    )
+    return _from_kernel(p, v, names, rows, codes, constrained, diagnostics)
+
+
 def metrics_from_responses(
     resp: dict[str, ModalResponse],
     p: NDArray[np.float64],
@@ -661,6 +758,14 @@ def metrics_from_responses(
     h = 0.4 / (
         np.abs(pol).max(axis=1) if rate is None else rate
     )  # <= 1/15 of the fastest mode's period
+    if kernel.AVAILABLE and all(resp[k].poly.shape[1] <= 2 for k in names):
+        fast = _modal_kernel(
+            resp, p, v, h, constrained, stop_time, max_lobe_steps, lobe_diagnostics
+        )
+        if fast is not None:
+            return fast
+    if not kernel.AVAILABLE:
+        say_no_jit("impact metrics")
     t_low = np.full(n, np.nan)
     if constrained:
         h = np.minimum(h, stop_time / 64.0)

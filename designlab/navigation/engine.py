@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import lru_cache
+from pathlib import Path
 from typing import Any
 
 import casadi as ca
@@ -36,6 +37,7 @@ from designlab.navigation.parameters import (
 from designlab.navigation.scenarios import Scenario
 from designlab.params import check_size
 from designlab.sx import CompiledLanes, try_compile_lanes, with_cse
+from designlab.sx.functions import cached_function
 
 Array = NDArray[np.float64]
 
@@ -185,7 +187,11 @@ def _lane_step(
     member than CasADi's scalar code mapped over the batch; cached on disk, so a second
     process or run loads it instead of compiling.
     """
-    f = with_cse(build_step(geometries, robot, method, n_sub, dt, True, stabilising))
+    f = cached_function(  # a later process loads the built step (designlab.sx.functions)
+        repr(("lean step", geometries, robot, method, n_sub, dt, stabilising)),
+        lambda: with_cse(build_step(geometries, robot, method, n_sub, dt, True, stabilising)),
+        (str(Path(__file__).parent), str(Path(with_cse.__code__.co_filename).parent)),
+    )
     return try_compile_lanes(f, _SHARED)
 
 

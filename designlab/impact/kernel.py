@@ -1,0 +1,196 @@
+"""The compiled impact kernel: first-lobe metrics of many designs on one core (numba).
+
+:func:`reduced_metrics` computes, per design and without temporaries, what
+:func:`designlab.impact.metrics.metrics_of_matrix` computes with numpy for the
+reduced model: the exact modal solution (:mod:`.kernel_poles`), the lobe end and
+the certified maxima (:mod:`.kernel_lobe`). :func:`modal_metrics` does the
+second half for responses built elsewhere (the full joint's eigen-decomposition,
+the constrained impact). Designs are processed in blocks, so memory stays
+bounded whatever the batch (the arrays in and out only).
+
+The compiled code is cached on disk (:mod:`designlab.sx.jit`); the first call of
+a fresh installation compiles it (tens of seconds), later processes load it.
+Without numba the callers keep the numpy path (:data:`AVAILABLE`).
+
+Examples
+--------
+>>> import numpy as np
+>>> p = np.array([[9.6, 250, 20e3, 24.25e3, 71.9, 4.4, 0.0, 4e3]])
+>>> out, status = reduced_metrics(p, (True, True, True), printed=False, stop_time=0.05,
+...                               max_lobe_steps=4096, diagnostics=False)
+>>> round(float(out[0, 0]) * 1.25 / 9.80665, 3), round(float(out[0, 3]) * 1e3, 2), int(status[0])
+(6.568, 33.22, 0)
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from designlab.impact.kernel_lobe import lobe_end, maximum, scratch
+from designlab.impact.kernel_poles import coefficients, modal_solution, quartic_roots, separate
+from designlab.sx.jit import AVAILABLE, kernel
+
+__all__ = [
+    "AVAILABLE",
+    "COLUMNS",
+    "MAX_POLES",
+    "STATUS_CODES",
+    "modal_metrics",
+    "reduced_metrics",
+]
+
+#: columns of the kernel's output rows (unit v_c; outputs not asked for are NaN)
+COLUMNS = ("a_max", "eps_max", "f_max", "t_imp", "t_a", "t_eps", "t_f", "t_low")
+#: status codes of the kernel -> :class:`designlab.impact.metrics.ImpactStatus` values
+STATUS_CODES = ("ok", "no_impact", "peak_at_contact", "lobe_not_closed")
+#: most folded poles of a response the kernel takes (the full joint has 5 states)
+MAX_POLES = 5
+#: column of each output's maximum and its time: force, head acceleration, compression
+_COL = ((2, 6), (0, 4), (1, 5))
+
+
+@kernel
+def _design(p, r, c, nk, h, outputs, lobe, window, max_steps, diag, row, work):  # type: ignore[no-untyped-def]
+    """Metrics of one design from its folded modal solution; returns the status code."""
+    for k in range(8):
+        row[k] = np.nan
+    if lobe:
+        t_imp, row[7] = lobe_end(p, r, c, 1, nk, h, max_steps, diag, work)
+        if not np.isfinite(t_imp):
+            return 3
+    else:
+        t_imp = window
+        h = min(h, window / 64.0)
+    row[3] = t_imp
+    status = 0
+    for o in range(3):
+        if outputs[o]:
+            t, y = maximum(p, r, c, o, nk, t_imp, 3.0 * h, work)
+            row[_COL[o][0]], row[_COL[o][1]] = y, t
+            if o == 1 and t <= 0.0:
+                status = 2
+    return status
+
+
+@kernel
+def _reduced_block(params, outputs, printed, stop_time, max_steps, diag, out, status):  # type: ignore[no-untyped-def]
+    work = scratch()
+    den = np.empty(5)
+    num = np.zeros((3, 6))
+    roots = np.empty(4, dtype=np.complex128)
+    p = np.zeros(4, dtype=np.complex128)
+    r = np.zeros((3, 4), dtype=np.complex128)
+    c = np.zeros((3, 2))
+    for i in range(params.shape[0]):
+        m_r, c_r, k_r, k_c, c_c, m_h, c_h, k_h = params[i]
+        coefficients(m_r, c_r, k_r, k_c, c_c, m_h, c_h, k_h, printed, den, num)
+        quartic_roots(den, (c_c + c_h) / m_h, (k_c + k_h) / m_h, roots)
+        separate(roots, 4)
+        nk = modal_solution(den, num, roots, p, r, c, outputs)
+        fast = 0.0
+        for k in range(nk):
+            fast = max(fast, abs(p[k]))
+        status[i] = _design(
+            p, r, c, nk, 0.4 / fast, outputs, True, stop_time, max_steps, diag, out[i], work
+        )
+
+
+@kernel
+def _modal_block(poles, res, poly, h, outputs, lobe, window, max_steps, diag, out, status):  # type: ignore[no-untyped-def]
+    work = scratch()
+    for i in range(poles.shape[0]):
+        status[i] = _design(
+            poles[i], res[i], poly[i], poles.shape[1], h[i], outputs, lobe, window,
+            max_steps, diag, out[i], work,
+        )  # fmt: skip
+
+
+def reduced_metrics(
+    params: NDArray[np.float64],
+    outputs: tuple[bool, bool, bool],
+    *,
+    printed: bool,
+    stop_time: float,
+    max_lobe_steps: int,
+    diagnostics: bool,
+) -> tuple[NDArray[np.float64], NDArray[np.int8]]:
+    """Unit-v_c first-lobe metrics of ``(N, 8)`` reduced, unconstrained designs.
+
+    Parameters
+    ----------
+    params
+        ``(N, 8)`` rows ordered as :data:`~designlab.impact.model.PARAM_NAMES`
+        (checked by the caller).
+    outputs
+        Whether to compute the force, the head acceleration (always needed for
+        the lobe end) and the compression maxima.
+    printed
+        Use the thesis's printed q2 of (3.5.14).
+    stop_time, max_lobe_steps, diagnostics
+        As in :func:`designlab.impact.metrics.impact_metrics` (``lobe_diagnostics``).
+
+    Returns
+    -------
+    tuple
+        ``(N, 8)`` rows of :data:`COLUMNS` and ``(N,)`` status codes
+        (:data:`STATUS_CODES`).
+    """
+    p = np.ascontiguousarray(params, dtype=np.float64)
+    out = np.empty((p.shape[0], len(COLUMNS)))
+    status = np.zeros(p.shape[0], dtype=np.int8)
+    sel = np.array(outputs, dtype=np.bool_)
+    _reduced_block(p, sel, bool(printed), float(stop_time), int(max_lobe_steps),
+                   bool(diagnostics), out, status)  # fmt: skip
+    return out, status
+
+
+def modal_metrics(
+    poles: NDArray[np.complex128],
+    residues: NDArray[np.complex128],
+    poly: NDArray[np.float64],
+    h: NDArray[np.float64],
+    *,
+    lobe: bool,
+    window: float,
+    max_lobe_steps: int,
+    diagnostics: bool,
+) -> tuple[NDArray[np.float64], NDArray[np.int8]]:
+    """Unit-v_c first-lobe metrics from folded modal solutions built elsewhere.
+
+    Parameters
+    ----------
+    poles
+        ``(N, K)`` folded poles (shared by the outputs).
+    residues
+        ``(N, 3, K)`` residues of force, head acceleration, compression (zero rows
+        for an output not computed).
+    poly
+        ``(N, 3, 2)`` polynomial parts ``c0 t + c1``.
+    h
+        ``(N,)`` grid steps (0.4 over the fastest rate resolved).
+    lobe
+        Search the first lobe's end on the head acceleration (else the window
+        ``[0, window]``, the constrained impact).
+    window
+        Window length in s without a lobe.
+    max_lobe_steps, diagnostics
+        As in :func:`designlab.impact.metrics.impact_metrics`.
+
+    Returns
+    -------
+    tuple
+        As :func:`reduced_metrics`.
+    """
+    n = poles.shape[0]
+    out = np.empty((n, len(COLUMNS)))
+    status = np.zeros(n, dtype=np.int8)
+    sel = np.array([np.any(residues[:, o]) or np.any(poly[:, o]) for o in range(3)])
+    _modal_block(
+        np.ascontiguousarray(poles, dtype=np.complex128),
+        np.ascontiguousarray(residues, dtype=np.complex128),
+        np.ascontiguousarray(poly, dtype=np.float64),
+        np.ascontiguousarray(h, dtype=np.float64),
+        sel, bool(lobe), float(window), int(max_lobe_steps), bool(diagnostics), out, status,
+    )  # fmt: skip
+    return out, status

@@ -1,0 +1,294 @@
+"""Compiled first-lobe search and certified maxima of one design (numba; see :mod:`.kernel`).
+
+The algorithms of :mod:`designlab.impact.metrics` and :mod:`designlab.impact.modal`
+for one design at a time: march a grid of step ``h`` to the first node where
+a_h is *provably* <= 0 (below minus its rounding noise, :data:`.kernel_modal.NOISE`),
+certify that no dip between nodes ends the lobe earlier, polish the lobe end by
+safeguarded Newton, and take every maximum over the lobe by branch and bound.
+
+Cells are certified by bounds on the second and third derivatives over the cell
+(:func:`.kernel_modal.curvature`, :func:`.kernel_modal.jerk`): a cell where y'
+keeps its sign, or where y'' does (y' monotone: at most one stationary point,
+found by Newton when y' changes sign), holds its extremes at its ends or at that
+point; any other cell whose curvature bound allows a better value is split in
+16, depth first in time order (8 levels for maxima, 6 for the lobe end).
+
+A lobe is closed only where the response provably returns to zero: a node
+whose value is <= 0 but within the rounding noise of its terms does not end the
+lobe (the overdamped pulses whose a_h decays to zero from above; issue 22).
+
+Examples
+--------
+>>> import numpy as np
+>>> p = np.array([-1.0 + 2.0j]); r = np.array([[-1.0j]]); c = np.zeros((1, 2))
+>>> # y = Re(-i e^((-1+2i)t)) = e^-t sin 2t: first zero at pi/2, maximum at atan(2)/2
+>>> found, lo, hi, guess, low = march(p, r, c, 0, 1, 0.1, 4096, False)
+>>> bool(found and lo < np.pi / 2 <= hi)
+True
+>>> s = scratch()
+>>> t, y = maximum(p, r, c, 0, 1, np.pi / 2, 0.3, s)
+>>> bool(abs(t - np.arctan(2) / 2) < 1e-12)
+True
+"""
+
+from __future__ import annotations
+
+import cmath
+import math
+
+import numpy as np
+
+from designlab.impact.kernel_modal import (
+    cell_bound,
+    curvature,
+    grid,
+    jerk,
+    newton,
+    noise,
+    shape,
+    stable,
+    triple,
+    value,
+)
+from designlab.sx.jit import kernel
+
+__all__ = ["crossing", "lobe_end", "march", "maximum", "scratch"]
+
+LOW_FRACTION = 0.05
+#: Newton on y' stops after a step below this (relative): the quadratic convergence leaves
+#: an error of its square, and the value at a stationary point is second-order in it
+STATIONARY_RTOL = 1e-7
+PARTS = 16
+MAX_CELLS = 4096
+_STACK = 200
+
+#: columns of a cell on the stack: times, values, slopes, second derivatives at both
+#: ends, level, curvature and jerk scales at both ends
+_TL, _TR, _YL, _YR, _DL, _DR, _QL, _QR, _LEVEL, _M2L, _M3L, _M2R, _M3R = range(13)
+
+
+@kernel
+def scratch():  # type: ignore[no-untyped-def]
+    """Work arrays of one block: six node arrays (:func:`.kernel_modal.grid`) and the stack."""
+    n = MAX_CELLS + 2
+    nodes = (np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n))
+    return nodes, np.empty((_STACK, 13))
+
+
+@kernel
+def march(p, r, c, o, nk, h, max_steps, diag):  # type: ignore[no-untyped-def]
+    """March ``t_j = j h`` to the first node (t > 0) where output ``o`` is provably <= 0.
+
+    Returns ``(found, lo, hi, guess, t_low)``: the bracket ``[hi - h, hi]``, a
+    secant guess of the crossing and (``diag``) the first node where y fell below
+    :data:`LOW_FRACTION` of its running peak.
+    """
+    last = (max_steps // 12) * 12 + 11
+    peak = 0.0
+    y_prev = 0.0
+    t_low = np.nan
+    zs = (0j, 0j, 0j, 0j, 0j)
+    es = (0j, 0j, 0j, 0j, 0j)
+    z0, z1, z2, z3, z4 = zs
+    e0, e1, e2, e3, e4 = es
+    for k in range(nk):  # at most 5 poles (full joint): registers, not arrays
+        z, e = cmath.exp(p[k] * h), r[o, k] + 0j
+        if k == 0:
+            z0, e0 = z, e
+        elif k == 1:
+            z1, e1 = z, e
+        elif k == 2:
+            z2, e2 = z, e
+        elif k == 3:
+            z3, e3 = z, e
+        else:
+            z4, e4 = z, e
+    for j in range(last + 1):
+        t = j * h
+        y = c[o, 0] * t + c[o, 1] + e0.real + e1.real + e2.real + e3.real + e4.real
+        e0, e1, e2, e3, e4 = e0 * z0, e1 * z1, e2 * z2, e3 * z3, e4 * z4
+        if t > 0 and y <= 0:
+            yd = value(p, r, c, o, nk, t)
+            if yd < -noise(p, r, c, o, nk, t):
+                lo = max(t - h, 0.0)
+                frac = y_prev / (y_prev - yd)
+                if not np.isfinite(frac):
+                    frac = 0.5
+                return True, lo, t, lo + frac * (t - lo), t_low
+        if diag:
+            peak = max(peak, y)
+            if np.isnan(t_low) and peak > 0 and t > 0 and y < LOW_FRACTION * peak:
+                t_low = t
+        y_prev = y
+    return False, np.nan, np.nan, np.nan, t_low
+
+
+@kernel(inline=True)
+def _below(p, r, c, o, nk, t, y):  # type: ignore[no-untyped-def]
+    """Whether ``y = y(t)`` is provably <= 0."""
+    return y <= 0 and y < -noise(p, r, c, o, nk, t)
+
+
+@kernel(inline=True)
+def _push_grid(stack, nodes, j):  # type: ignore[no-untyped-def]
+    """Put the grid cell ``[t_j, t_j+1]`` on the empty stack; new size."""
+    ts, ys, ds, qs, m2s, m3s = nodes
+    stack[0, _TL], stack[0, _TR], stack[0, _YL], stack[0, _YR] = ts[j], ts[j + 1], ys[j], ys[j + 1]
+    stack[0, _DL], stack[0, _DR], stack[0, _QL], stack[0, _QR] = ds[j], ds[j + 1], qs[j], qs[j + 1]
+    stack[0, _M2L], stack[0, _M3L], stack[0, _M2R], stack[0, _M3R] = (
+        m2s[j], m3s[j], m2s[j + 1], m3s[j + 1]
+    )  # fmt: skip
+    stack[0, _LEVEL] = 0.0
+    return 1
+
+
+@kernel(inline=True)
+def _split(p, r, c, o, nk, stack, n):  # type: ignore[no-untyped-def]
+    """Replace the cell ``stack[n]`` by its PARTS sub-cells (earliest on top); new size."""
+    tl, tr, level = stack[n, _TL], stack[n, _TR], stack[n, _LEVEL] + 1.0
+    yl, dl, ql, al, bl = stack[n, _YL], stack[n, _DL], stack[n, _QL], stack[n, _M2L], stack[n, _M3L]
+    yr, dr, qr, ar, br = stack[n, _YR], stack[n, _DR], stack[n, _QR], stack[n, _M2R], stack[n, _M3R]
+    for i in range(PARTS):
+        row = n + PARTS - 1 - i
+        a = tl + (tr - tl) * (i / PARTS)
+        if i == PARTS - 1:
+            b, y, d, q, m2, m3 = tr, yr, dr, qr, ar, br
+        else:
+            b = tl + (tr - tl) * ((i + 1) / PARTS)
+            y, d, q, m2, m3 = triple(p, r, c, o, nk, b)
+        stack[row, _TL], stack[row, _TR], stack[row, _LEVEL] = a, b, level
+        stack[row, _YL], stack[row, _DL], stack[row, _QL] = yl, dl, ql
+        stack[row, _M2L], stack[row, _M3L] = al, bl
+        stack[row, _YR], stack[row, _DR], stack[row, _QR] = y, d, q
+        stack[row, _M2R], stack[row, _M3R] = m2, m3
+        yl, dl, ql, al, bl = y, d, q, m2, m3
+    return n + PARTS
+
+
+@kernel(inline=True)
+def _scales(p, r, o, nk, stack, n, steady):  # type: ignore[no-untyped-def]
+    """Bounds of ``|y''|`` and ``|y'''|`` over the cell ``stack[n]``."""
+    if steady:
+        return stack[n, _M2L], stack[n, _M3L]
+    tl, tr = stack[n, _TL], stack[n, _TR]
+    return curvature(p, r, o, nk, tl, tr), jerk(p, r, o, nk, tl, tr)
+
+
+@kernel
+def crossing(p, r, c, o, nk, hi, h, levels, work):  # type: ignore[no-untyped-def]
+    """Bracket ``(lo, hi)`` of the first provable zero of output ``o`` in ``(0, hi]``.
+
+    :func:`designlab.impact.modal.certified_first_crossing`, depth first over
+    cells of width <= h in time order: a local minimum between positive nodes is
+    solved by Newton on -y'; a cell that may dip to zero otherwise is split.
+    """
+    nodes, stack = work
+    steady = stable(p, nk)
+    count = min(max(int(math.ceil(hi / h)), 1), MAX_CELLS)  # noqa: RUF046 (numba)
+    grid(p, r, c, o, nk, 0.0, hi, count, nodes)
+    lo_b = nodes[0][count - 1]
+    hi_b = hi
+    for j in range(count):
+        n = _push_grid(stack, nodes, j)
+        while n > 0:
+            n -= 1
+            tl, tr, yl, yr = stack[n, _TL], stack[n, _TR], stack[n, _YL], stack[n, _YR]
+            dl, dr = stack[n, _DL], stack[n, _DR]
+            if tl >= hi_b:
+                continue
+            if yl > 0 and tr < hi_b and _below(p, r, c, o, nk, tr, yr):
+                lo_b, hi_b = tl, tr
+            if not (yl > 0 and yr > 0):
+                continue
+            w = tr - tl
+            if dl < 0 and dr >= 0:
+                g = tl + w * dl / (dl - dr)
+                tm = newton(p, r, c, o, nk, tl, tr, 1, -1.0, 60, STATIONARY_RTOL, g)
+                if tm < hi_b and _below(p, r, c, o, nk, tm, value(p, r, c, o, nk, tm)):
+                    lo_b, hi_b = tl, tm
+            m2, m3 = _scales(p, r, o, nk, stack, n, steady)
+            if stack[n, _LEVEL] >= levels or (dl * dr > 0 and abs(dl + dr) > m2 * w):
+                continue  # y monotone between positive ends
+            if shape(stack[n, _QL], stack[n, _QR], m3, w) != 0:
+                continue  # y' monotone: its one minimum, if any, was solved above
+            if min(yl, yr) - m2 * w * w / 8.0 > 0:
+                continue
+            n = _split(p, r, c, o, nk, stack, n)
+    return lo_b, hi_b
+
+
+@kernel
+def lobe_end(p, r, c, o, nk, h, max_steps, diag, work):  # type: ignore[no-untyped-def]
+    """``(t_imp, t_low)`` of output ``o`` (a_h): NaN t_imp when no provable lobe end."""
+    found, _lo, hi, guess, t_low = march(p, r, c, o, nk, h, max_steps, diag)
+    if not found:
+        return np.nan, t_low
+    lo_c, hi_c = crossing(p, r, c, o, nk, hi, h, 6, work)
+    g = 0.5 * (lo_c + hi_c) if hi_c < hi else guess
+    return newton(p, r, c, o, nk, lo_c, hi_c, 0, 1.0, 60, 1e-11, g), t_low
+
+
+@kernel(inline=True)
+def _stationary(p, r, c, o, nk, tl, tr, dl, dr):  # type: ignore[no-untyped-def]
+    """``(t, y)`` of the maximum where y' goes from + at tl to - at tr (secant start)."""
+    t = newton(p, r, c, o, nk, tl, tr, 1, 1.0, 60, STATIONARY_RTOL, tl + (tr - tl) * dl / (dl - dr))
+    return t, value(p, r, c, o, nk, t)
+
+
+@kernel
+def maximum(p, r, c, o, nk, hi, w, work):  # type: ignore[no-untyped-def]
+    """``(t, y)`` maximum of output ``o`` over ``[0, hi]``, certified to 1e-8 (relative).
+
+    :func:`designlab.impact.modal.certified_maximum` depth first: cells of width
+    <= w; every node and every stationary maximum (Newton on y') is a candidate.
+    """
+    nodes, stack = work
+    ts, ys, ds = nodes[0], nodes[1], nodes[2]
+    steady = stable(p, nk)
+    count = min(max(int(math.ceil(hi / w)), 1), MAX_CELLS)  # noqa: RUF046 (numba)
+    grid(p, r, c, o, nk, 0.0, hi, count, nodes)
+    bt, by = 0.0, -np.inf
+    for j in range(count + 1):
+        if ys[j] > by:
+            bt, by = ts[j], ys[j]
+    for j in range(count):
+        if ds[j] > 0 and ds[j + 1] <= 0:
+            t, y = _stationary(p, r, c, o, nk, ts[j], ts[j + 1], ds[j], ds[j + 1])
+            if y > by:
+                bt, by = t, y
+    for j in range(count):
+        if not (ds[j] > 0 and ds[j + 1] <= 0):
+            _push_grid(stack, nodes, j)
+            bt, by = _refine(p, r, c, o, nk, bt, by, stack, steady)
+    return bt, by
+
+
+@kernel(inline=True)
+def _refine(p, r, c, o, nk, bt, by, stack, steady):  # type: ignore[no-untyped-def]
+    """Branch and bound inside the cell ``stack[0]`` (no +/- sign change of y' at its ends)."""
+    n = 1
+    first = True
+    while n > 0:
+        n -= 1
+        tl, tr, yl, yr = stack[n, _TL], stack[n, _TR], stack[n, _YL], stack[n, _YR]
+        dl, dr = stack[n, _DL], stack[n, _DR]
+        if not first:
+            if yl > by:
+                bt, by = tl, yl
+            if dl > 0 and dr <= 0:
+                t, y = _stationary(p, r, c, o, nk, tl, tr, dl, dr)
+                if y > by:
+                    bt, by = t, y
+                continue
+        first = False
+        w = tr - tl
+        if stack[n, _LEVEL] >= 8 or w <= 0:
+            continue
+        m2, m3 = _scales(p, r, o, nk, stack, n, steady)
+        if dl * dr > 0 and abs(dl + dr) > m2 * w:
+            continue  # y' keeps its sign: the maximum is at an end node
+        if shape(stack[n, _QL], stack[n, _QR], m3, w) != 0:
+            continue  # y' monotone without a +/- change: the maximum is at an end node
+        if cell_bound(yl, yr, dl, dr, w, m2) > by + 1e-8 * max(abs(by), 1e-300):
+            n = _split(p, r, c, o, nk, stack, n)
+    return bt, by

@@ -1,0 +1,215 @@
+"""Compiled exact modal solution of the reduced impact model, one design at a time (numba).
+
+The transfer functions of Zeng 2011 (3.5.11), (3.5.14) and (3.9.2) in closed
+form (docs/impact.md, "The model"): with ``z_r = s^2 + (C_r s + K_r)/M_r``,
+``z_h = s^2 + (C_h s + K_h)/M_h`` and ``z_c = C_c s + K_c``, the monic
+denominator is ``D = s^4 + q1 s^3 + q2 s^2 + q3 s + q4`` and the responses to the
+unit ramp (v_c = 1) are ``N(s) / (s^2 D(s))`` with
+
+* force ``N = z_c z_r z_h``, compression ``N = z_r z_h``,
+* head acceleration ``N = s^2 z_c z_r / M_h``.
+
+The poles are the roots of ``D``: a quadratic factor by Bairstow's iteration
+started from the head's own mode (numpy's eigenvalues of the companion matrix
+where it does not converge), each root polished by Newton on ``D``; nearly
+coincident poles are separated as in :func:`designlab.impact.modal.poles_of`,
+and residues and the polynomial part follow
+:meth:`designlab.impact.modal.ModalResponse.family`.
+
+Examples
+--------
+>>> import numpy as np
+>>> roots = np.empty(4, dtype=np.complex128)
+>>> quartic_roots(np.array([1.0, 10.0, 35.0, 50.0, 24.0]), 0.0, 0.0, roots)  # (s+1)(s+2)(s+3)(s+4)
+>>> sorted(np.round(roots.real, 12).tolist())
+[-4.0, -3.0, -2.0, -1.0]
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from designlab.sx.jit import kernel
+
+__all__ = ["coefficients", "modal_solution", "quartic_roots"]
+
+SEPARATION = 1e-6
+
+
+@kernel
+def coefficients(m_r, c_r, k_r, k_c, c_c, m_h, c_h, k_h, printed, den, num):  # type: ignore[no-untyped-def]
+    """Fill ``den`` (5,) and ``num`` (3, 6): force, head acceleration, compression (descending)."""
+    mm = m_r * m_h
+    den[0] = 1.0
+    den[1] = (c_r + c_c) / m_r + (c_c + c_h) / m_h
+    cc = c_c * c_r + c_c * c_h if printed else c_c * c_r + c_c * c_h + c_r * c_h
+    den[2] = (k_r + k_c) / m_r + (k_h + k_c) / m_h + cc / mm
+    den[3] = (k_r * (c_c + c_h) + k_c * (c_r + c_h) + k_h * (c_c + c_r)) / mm
+    den[4] = (k_r * k_h + k_c * k_h + k_r * k_c) / mm
+    zr1, zr2 = c_r / m_r, k_r / m_r
+    zh1, zh2 = c_h / m_h, k_h / m_h
+    # z_r z_h (descending, degree 4)
+    e0, e1, e2 = 1.0, zr1 + zh1, zr2 + zr1 * zh1 + zh2
+    e3, e4 = zr1 * zh2 + zr2 * zh1, zr2 * zh2
+    num[2, 0], num[2, 1], num[2, 2], num[2, 3], num[2, 4], num[2, 5] = 0.0, e0, e1, e2, e3, e4
+    # z_c z_r z_h
+    num[0, 0] = c_c * e0
+    num[0, 1] = c_c * e1 + k_c * e0
+    num[0, 2] = c_c * e2 + k_c * e1
+    num[0, 3] = c_c * e3 + k_c * e2
+    num[0, 4] = c_c * e4 + k_c * e3
+    num[0, 5] = k_c * e4
+    # s^2 z_c z_r / M_h
+    num[1, 0] = c_c / m_h
+    num[1, 1] = (c_c * zr1 + k_c) / m_h
+    num[1, 2] = (c_c * zr2 + k_c * zr1) / m_h
+    num[1, 3] = k_c * zr2 / m_h
+    num[1, 4] = 0.0
+    num[1, 5] = 0.0
+
+
+@kernel
+def _bairstow(a, u, v):  # type: ignore[no-untyped-def]
+    """Quadratic factor ``s^2 + u s + v`` of the monic quartic ``a``; ``(u, v, converged)``.
+
+    Newton on the remainder ``(b3, b4)`` of the division by the factor;
+    ``d_k = d b_k / d u`` (and ``d b_k / d v = d_(k-1)``).
+    """
+    a1, a2, a3, a4 = a[1], a[2], a[3], a[4]
+    scale = max(1.0, abs(a1), abs(a2), abs(a3), abs(a4))
+    b3 = b4 = 0.0
+    for _ in range(60):
+        b1 = a1 - u
+        b2 = a2 - u * b1 - v
+        b3 = a3 - u * b2 - v * b1
+        b4 = a4 - u * b3 - v * b2
+        d1 = -1.0
+        d2 = -b1 - u * d1
+        d3 = -b2 - u * d2 - v * d1
+        d4 = -b3 - u * d3 - v * d2
+        det = d3 * d3 - d2 * d4
+        if det == 0 or not np.isfinite(det):
+            return u, v, False
+        du = (-b3 * d3 + b4 * d2) / det
+        dv = (-b4 * d3 + b3 * d4) / det
+        u += du
+        v += dv
+        if abs(du) <= 1e-14 * abs(u) + 1e-300 and abs(dv) <= 1e-14 * abs(v):
+            return u, v, True
+    return u, v, abs(b3) + abs(b4) <= 1e-12 * scale
+
+
+@kernel(inline=True)
+def _quadratic(b1, b2, roots, i):  # type: ignore[no-untyped-def]
+    """Roots of ``s^2 + b1 s + b2`` into ``roots[i], roots[i + 1]`` (conjugates exact)."""
+    disc = 0.25 * b1 * b1 - b2
+    if disc < 0:
+        w = math.sqrt(-disc)
+        roots[i] = complex(-0.5 * b1, w)
+        roots[i + 1] = complex(-0.5 * b1, -w)
+    else:
+        big = -0.5 * b1 - math.copysign(math.sqrt(disc), b1)
+        roots[i] = big
+        roots[i + 1] = b2 / big if big != 0 else 0.0
+
+
+@kernel(inline=True)
+def _polish(a, x):  # type: ignore[no-untyped-def]
+    """Two Newton steps of the root ``x`` of the monic quartic ``a`` (kept if they help)."""
+    for _ in range(2):
+        f = a[0] * x + a[1]
+        df = a[0]
+        for k in range(2, 5):
+            df = df * x + f
+            f = f * x + a[k]
+        if df == 0:
+            return x
+        xn = x - f / df
+        fn = (((xn + a[1]) * xn + a[2]) * xn + a[3]) * xn + a[4]
+        if not abs(fn) < abs(f):
+            return x
+        x = xn
+    return x
+
+
+@kernel
+def quartic_roots(a, u0, v0, roots):  # type: ignore[no-untyped-def]
+    """The four roots of the monic quartic ``a`` (descending) into ``roots``.
+
+    Bairstow from the factor guess ``s^2 + u0 s + v0`` (numpy's eigenvalues of the
+    companion matrix if it fails); real roots stay real, complex ones come in
+    exact conjugate pairs.
+    """
+    u, v, ok = _bairstow(a, u0, v0)
+    if not ok:
+        comp = np.zeros((4, 4), dtype=np.complex128)
+        for k in range(4):
+            comp[0, k] = -a[k + 1]
+        for k in range(3):
+            comp[k + 1, k] = 1.0
+        ev = np.linalg.eigvals(comp)
+        for k in range(4):
+            roots[k] = ev[k]
+        return
+    g1 = a[1] - u
+    g2 = a[2] - u * g1 - v
+    _quadratic(u, v, roots, 0)
+    _quadratic(g1, g2, roots, 2)
+    for i in (0, 2):
+        if roots[i].imag == 0:
+            roots[i] = _polish(a, roots[i].real)
+            roots[i + 1] = _polish(a, roots[i + 1].real)
+        else:
+            x = _polish(a, roots[i])
+            roots[i] = complex(x.real, abs(x.imag))
+            roots[i + 1] = complex(x.real, -abs(x.imag))
+
+
+@kernel(inline=True)
+def separate(poles, n):  # type: ignore[no-untyped-def]
+    """Move roots closer than a relative 1e-6 apart (:func:`designlab.impact.modal.poles_of`)."""
+    scale = 1e-300
+    for i in range(n):
+        scale = max(scale, abs(poles[i]))
+    for i in range(n):
+        for j in range(i + 1, n):
+            if abs(poles[i] - poles[j]) < SEPARATION * scale:
+                mid = 0.5 * (poles[i] + poles[j])
+                d = SEPARATION * scale
+                poles[i] = mid - d
+                poles[j] = mid + d
+
+
+@kernel
+def modal_solution(den, num, roots, p, r, c, outputs):  # type: ignore[no-untyped-def]
+    """Folded poles ``p``, residues ``r`` (3, 4) and polynomial parts ``c`` (3, 2); pole count.
+
+    ``roots`` (4,) are the roots of ``den``; ``outputs[o]`` selects the outputs built.
+    """
+    n = 4
+    nk = 0
+    for i in range(n):
+        if roots[i].imag < 0:
+            continue
+        w = 2.0 if roots[i].imag > 0 else 1.0
+        pi = roots[i]
+        prod = pi * pi
+        for j in range(n):
+            if j != i:
+                prod = prod * (pi - roots[j])
+        p[nk] = pi
+        for o in range(3):
+            if outputs[o]:
+                acc = complex(num[o, 0], 0.0)
+                for k in range(1, 6):
+                    acc = acc * pi + num[o, k]
+                r[o, nk] = acc / prod * w
+        nk += 1
+    for o in range(3):
+        if outputs[o]:
+            rho0 = num[o, 5] / den[4]
+            rho1 = (num[o, 4] - den[3] * rho0) / den[4]
+            c[o, 0], c[o, 1] = rho0, rho1
+    return nk

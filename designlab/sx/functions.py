@@ -1,0 +1,102 @@
+"""Built CasADi functions cached on disk, so that a second process loads instead of rebuilding.
+
+Building a large SX function (a navigation step: field, hold and distances over
+60 sub-steps) and eliminating its common subexpressions takes a large part of a
+second, in every process, before the compiled lanes can even be looked up by
+their source (:mod:`designlab.sx.cache`). :func:`cached_function` stores the
+built function (``casadi.Function.serialize``) under a key made of the caller's
+description of what it builds and a hash of the source files it is built from,
+in ``functions/`` of the designlab cache directory; a later process or run
+deserialises it (milliseconds). A change of any of those source files, of CasADi's
+version or of the description gives a new key. An entry that does not load is
+removed and rebuilt; where the directory cannot be written, nothing is cached.
+
+Examples
+--------
+>>> import casadi as ca
+>>> def build():
+...     x = ca.SX.sym("x")
+...     return ca.Function("twice", [x], [2 * x])
+>>> f = cached_function("doc example twice", build, sources=(__file__,))
+>>> float(f(1.5))
+3.0
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import tempfile
+from collections.abc import Callable, Sequence
+from functools import cache
+from pathlib import Path
+
+import casadi as ca
+
+from designlab.sx.cache import cache_dir, cache_key, say_once
+
+__all__ = ["cached_function", "source_hash"]
+
+_SUFFIX = ".casadi"
+
+
+@cache
+def source_hash(paths: tuple[str, ...]) -> str:
+    """Hash of the contents of ``paths`` (files; a directory stands for its ``*.py`` files).
+
+    Parameters
+    ----------
+    paths
+        Files or directories.
+
+    Returns
+    -------
+    str
+    """
+    h = hashlib.sha256()
+    for name in paths:
+        p = Path(name)
+        files = sorted(p.glob("*.py")) if p.is_dir() else [p]
+        for f in files:
+            h.update(f.name.encode() + b"\0" + f.read_bytes())
+    return h.hexdigest()[:32]
+
+
+def cached_function(
+    description: str, build: Callable[[], ca.Function], sources: Sequence[str]
+) -> ca.Function:
+    """The function ``build()`` makes, from the disk cache when an equal one was stored.
+
+    Parameters
+    ----------
+    description
+        Everything the function depends on besides the source files (a repr of the
+        arguments of ``build``), as a string.
+    build
+        Builds the function.
+    sources
+        The source files (or directories of them) the function is built from.
+
+    Returns
+    -------
+    casadi.Function
+    """
+    key = cache_key("sx-function", ca.__version__, description, source_hash(tuple(sources)))
+    root = cache_dir() / "functions"
+    path = root / f"{key}{_SUFFIX}"
+    if path.is_file():
+        try:
+            return ca.Function.deserialize(path.read_text())
+        except (OSError, RuntimeError) as exc:
+            say_once(f"cached function {path} does not load ({exc}); it is rebuilt")
+            path.unlink(missing_ok=True)
+    f = build()
+    try:
+        root.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=".store-", dir=root)
+        with os.fdopen(fd, "w") as fh:
+            fh.write(f.serialize())
+        os.replace(tmp, path)
+    except OSError as exc:
+        say_once(f"function cache {root} cannot be written ({exc}); functions are rebuilt")
+    return f

@@ -1,0 +1,111 @@
+"""Compiled numeric kernels (numba) cached on disk in the one designlab cache.
+
+:func:`kernel` decorates a function written in the numba subset of Python with
+``numba.njit(cache=True)``; numba's cache (keyed by the source file, its
+contents' timestamp and size, the function and the CPU) lives in ``numba/`` of the
+designlab cache directory (:func:`designlab.sx.cache.cache_dir`:
+``$DESIGNLAB_CACHE_DIR`` or ``~/.cache/designlab``), next to the compiled SX
+lanes, so worker processes and later runs load the machine code instead of
+compiling it again. ``NUMBA_CACHE_DIR``, if set, wins.
+
+Where numba is not installed (or ``DESIGNLAB_NO_JIT`` is set to a non-empty
+value) :data:`AVAILABLE` is False and :func:`kernel` returns the Python function
+unchanged: callers check :data:`AVAILABLE`, keep their numpy path and say so once
+in the log (:func:`say_no_jit`).
+
+Examples
+--------
+>>> from designlab.impact.kernel_modal import shape
+>>> shape(-1.0, -2.0, 1.0, 1.0)        # y'' < 0 on a cell of width 1 with |y'''| <= 1
+-1
+>>> isinstance(AVAILABLE, bool) and jit_cache_dir().endswith("numba")
+True
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+from collections.abc import Callable
+from typing import Any
+
+from designlab.sx.cache import cache_dir, say_once
+
+__all__ = ["AVAILABLE", "NO_JIT_ENV", "jit_cache_dir", "kernel", "reason", "say_no_jit"]
+
+#: Set to a non-empty value to disable the compiled kernels (numpy paths only).
+NO_JIT_ENV = "DESIGNLAB_NO_JIT"
+
+
+def jit_cache_dir() -> str:
+    """Where numba stores compiled kernels: ``$NUMBA_CACHE_DIR`` or ``<cache_dir>/numba``."""
+    return os.environ.get("NUMBA_CACHE_DIR") or str(cache_dir() / "numba")
+
+
+def _load() -> tuple[Any, str]:
+    if os.environ.get(NO_JIT_ENV):
+        return None, f"{NO_JIT_ENV} is set"
+    os.environ.setdefault("NUMBA_CACHE_DIR", jit_cache_dir())
+    try:
+        import numba
+    except ImportError as exc:  # pragma: no cover - numba is a declared dependency
+        return None, f"numba is not installed ({exc})"
+    return numba, ""
+
+
+_NUMBA, _REASON = _load()
+
+#: Whether compiled kernels are available in this process.
+AVAILABLE: bool = _NUMBA is not None
+
+
+def reason() -> str:
+    """Why compiled kernels are not available ('' when they are).
+
+    Examples
+    --------
+    >>> isinstance(reason(), str)
+    True
+    """
+    return _REASON
+
+
+def kernel(func: Callable[..., Any] | None = None, *, inline: bool = False) -> Any:
+    """``numba.njit(cache=True, error_model="numpy")`` of ``func`` (``func`` without numba).
+
+    IEEE semantics (division by zero gives inf/NaN), no fast-math: the compiled
+    function computes what its Python source says, operation by operation.
+
+    Parameters
+    ----------
+    func
+        A function in numba's nopython subset.
+    inline
+        Inline the function into its callers (small helpers of hot loops).
+
+    Returns
+    -------
+    callable
+        Or, without ``func``, the decorator (``@kernel(inline=True)``).
+    """
+    if func is None:
+        return lambda f: kernel(f, inline=inline)
+    if _NUMBA is None:
+        return func
+    options = {"inline": "always"} if inline else {}
+    return _NUMBA.njit(cache=True, error_model="numpy", nogil=True, **options)(func)
+
+
+def say_no_jit(what: str) -> None:
+    """Log once that ``what`` runs its numpy path (no compiled kernels), with the reason.
+
+    Parameters
+    ----------
+    what
+        The computation that falls back.
+    """
+    say_once(
+        f"{what}: compiled kernels unavailable ({_REASON}); using the numpy path "
+        "(the same results, slower)",
+        logging.WARNING,
+    )
