@@ -24,7 +24,21 @@ from designlab.study.registry import study_json_schema
 ROOT = Path(__file__).resolve().parent.parent
 DOCS = ROOT / "docs"
 REPORTS = ROOT / "reports"
-FIXED_PAGES = ("index.md", "getting-started.md")
+#: Pages placed by hand in the navigation; every other ``docs/*.md`` is a guide.
+USING_PAGES = {"python.md": "From Python", "studies.md": "Studies", "cli.md": "Command line"}
+FIXED_PAGES = ("index.md", "getting-started.md", *USING_PAGES, "developers.md")
+#: The guides' order (one domain after another); a guide not listed follows, by file name.
+GUIDE_ORDER = (
+    "impact.md",
+    "impact_joint.md",
+    "navigation.md",
+    "navigation_scenarios.md",
+    "navigation_planners.md",
+    "navigation_gains.md",
+    "following.md",
+    "tether_modes.md",
+    "sweeps.md",
+)
 
 
 # --------------------------------------------------------------------------- API reference
@@ -299,16 +313,26 @@ def write_gallery() -> list[str]:
 
 
 # --------------------------------------------------------------------------- navigation
+def guide_pages() -> list[Path]:
+    """Every ``docs/*.md`` that is not a fixed page, in ``GUIDE_ORDER`` then by name."""
+    pages = [p for p in DOCS.glob("*.md") if p.name not in FIXED_PAGES]
+    rank = {name: i for i, name in enumerate(GUIDE_ORDER)}
+    return sorted(pages, key=lambda p: (rank.get(p.name, len(rank)), p.name))
+
+
 def write_nav() -> None:
     """The site navigation (literate-nav): fixed pages, every guide, the generated pages."""
-    guides = sorted(p for p in DOCS.glob("*.md") if p.name not in FIXED_PAGES)
-    nav = ["* [Home](index.md)", "* [Getting started](getting-started.md)", "* Guides"]
-    nav += [f"    * [{first_heading(p)}]({p.name})" for p in guides]
+    nav = ["* [Home](index.md)", "* [Getting started](getting-started.md)", "* Using designlab"]
+    nav += [f"    * [{title}]({name})" for name, title in USING_PAGES.items()]
+    nav += ["* Guides"]
+    nav += [f"    * [{first_heading(p)}]({p.name})" for p in guide_pages()]
     nav += [
-        "* [Study-file reference](reference/studies.md)",
-        "* [CLI reference](reference/cli.md)",
-        "* [API reference](reference/api/)",
+        "* Reference",
+        "    * [Study files](reference/studies.md)",
+        "    * [Command line](reference/cli.md)",
+        "    * [API](reference/api/)",
         "* [Report gallery](gallery/)",
+        "* [Developers](developers.md)",
     ]
     with mkdocs_gen_files.open("SUMMARY.md", "w") as fd:
         fd.write("\n".join(nav) + "\n")
