@@ -8,6 +8,8 @@ reference formats the typer app's click help, and the gallery lists ``reports/*/
 
 from __future__ import annotations
 
+import importlib
+import inspect
 import pkgutil
 import re
 import shutil
@@ -19,6 +21,7 @@ import typer
 
 import designlab
 import designlab.cli
+from designlab.params import Param, parameter_table
 from designlab.study.registry import study_json_schema
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -253,6 +256,83 @@ def write_cli() -> None:
         fd.write("\n".join(out))
 
 
+# --------------------------------------------------------------------------- parameters
+def declared_classes() -> dict[str, list[type]]:
+    """Every ``@declared`` class of the package, by the module that defines it."""
+    found: dict[str, list[type]] = {}
+    for name in public_modules():
+        module = importlib.import_module(name)
+        for obj in vars(module).values():
+            if inspect.isclass(obj) and obj.__module__ == name and "__params__" in obj.__dict__:
+                found.setdefault(name, []).append(obj)
+    return found
+
+
+def argument_params() -> dict[str, list[Param]]:
+    """The module-level declarations (function arguments) of each domain ``parameters`` module."""
+    found: dict[str, list[Param]] = {}
+    for name in public_modules():
+        if not name.endswith(".parameters"):
+            continue
+        module = importlib.import_module(name)
+        decls = [obj for key, obj in vars(module).items() if isinstance(obj, Param)]
+        if decls:
+            found[name] = decls
+    return found
+
+
+def table_markdown(frame: Any) -> list[str]:
+    """A ``parameter_table`` frame as a Markdown table (names and symbols as code)."""
+    code = {"name", "symbol"}
+    lines = ["| " + " | ".join(frame.columns) + " |", "|" + "---|" * len(frame.columns)]
+    for row in frame.itertuples(index=False):
+        cells = [
+            f"`{value}`" if column in code and value != "" else cell(value)
+            for column, value in zip(frame.columns, row, strict=True)
+        ]
+        lines.append("| " + " | ".join(cells) + " |")
+    return lines
+
+
+def domain_of(module: str) -> str:
+    """``designlab.following.tether.controllers`` -> ``designlab.following.tether``."""
+    parts = module.split(".")
+    return ".".join(parts[:3] if parts[1] == "following" and len(parts) > 3 else parts[:2])
+
+
+def write_parameters() -> None:
+    """The parameter tables of every declared class and of the domains' argument declarations."""
+    out = [
+        "# Parameters",
+        "",
+        "Every parameter of the models, generated at build time with",
+        "`designlab.params.parameter_table` from its single declaration (`designlab.params.param`",
+        "on a `@declared` class, or a module-level `Param` for a function argument). The same",
+        "declaration checks the value in the Python API and in a study file, writes the",
+        "docstring's Parameters section and the JSON Schema, so the ranges below are the ones",
+        "enforced. Units are SI.",
+        "",
+    ]
+    by_domain: dict[str, list[str]] = {}
+    for module, classes in declared_classes().items():
+        api = "api/" + module.replace(".", "/") + ".md"
+        for cls in classes:
+            section = [f"### {cls.__name__}", ""]
+            section += [f"[`{module}.{cls.__name__}`]({api}#{module}.{cls.__name__})", ""]
+            section += [*table_markdown(parameter_table(cls)), ""]
+            by_domain.setdefault(domain_of(module), []).extend(section)
+    for module, decls in argument_params().items():
+        api = "api/" + module.replace(".", "/") + ".md"
+        section = [f"### Function arguments ({module.rsplit('.', 1)[-1]})", ""]
+        section += [f"Module-level declarations of [`{module}`]({api}).", ""]
+        section += [*table_markdown(parameter_table(decls)), ""]
+        by_domain.setdefault(domain_of(module), []).extend(section)
+    for domain in sorted(by_domain):
+        out += [f"## `{domain}`", "", *by_domain[domain]]
+    with mkdocs_gen_files.open("reference/parameters.md", "w") as fd:
+        fd.write("\n".join(out))
+
+
 # --------------------------------------------------------------------------- gallery
 def first_heading(path: Path) -> str:
     """The first Markdown heading of a file (its file name if none)."""
@@ -330,6 +410,7 @@ def write_nav() -> None:
         "* Reference",
         "    * [Study files](reference/studies.md)",
         "    * [Command line](reference/cli.md)",
+        "    * [Parameters](reference/parameters.md)",
         "    * [API](reference/api/)",
         "* [Report gallery](gallery/)",
         "* [Developers](developers.md)",
@@ -341,5 +422,6 @@ def write_nav() -> None:
 write_api()
 write_studies()
 write_cli()
+write_parameters()
 write_gallery()
 write_nav()

@@ -36,10 +36,15 @@ KEY_PAGES = [
     "impact/index.html",
     "reference/studies/index.html",
     "reference/cli/index.html",
+    "reference/parameters/index.html",
     "reference/api/designlab/index.html",
     "reference/api/designlab/impact/index.html",
     "reference/api/designlab/study/registry/index.html",
     "gallery/index.html",
+    "python/index.html",
+    "studies/index.html",
+    "cli/index.html",
+    "developers/index.html",
     "search/search_index.json",
 ]
 
@@ -84,6 +89,33 @@ def test_reference_pages_follow_the_package(site: Path) -> None:
 
 
 @pytest.mark.slow
+def test_parameter_tables_cover_every_declared_class(site: Path) -> None:
+    """One table per @declared class, generated from its declarations (parameter_table)."""
+    import importlib
+    import inspect
+    import pkgutil
+
+    import designlab
+    from designlab.impact import Foam
+    from designlab.params import params_of
+
+    page = (site / "reference/parameters/index.html").read_text(encoding="utf-8")
+    for info in pkgutil.walk_packages(designlab.__path__, "designlab."):
+        if any(part.startswith("_") for part in info.name.split(".")):
+            continue
+        for obj in vars(importlib.import_module(info.name)).values():
+            if (
+                inspect.isclass(obj)
+                and obj.__module__ == info.name
+                and "__params__" in obj.__dict__
+            ):
+                assert f"{info.name}.{obj.__name__}" in page
+    stiffness = params_of(Foam)["stiffness"]
+    assert stiffness.allowed() in page.replace("&gt;", ">").replace("&lt;", "<")
+    assert "<code>K_c</code>" in page and stiffness.doc in page
+
+
+@pytest.mark.slow
 def test_gallery_lists_every_report(site: Path) -> None:
     for report in sorted(p for p in (ROOT / "reports").iterdir() if p.is_dir()):
         page = site / "gallery" / report.name / "index.html"
@@ -105,6 +137,16 @@ def test_maths_is_typeset_as_mathml(site: Path) -> None:
         for match in re.finditer(r'class="arithmatex">(?!<math)', text):
             leftover.append(f"{page.relative_to(site)}: {text[match.end() : match.end() + 60]}")
     assert not leftover
+
+
+@pytest.mark.slow
+def test_pages_load_nothing_from_the_network(site: Path) -> None:
+    """No script, stylesheet or font comes from another host: the site works offline."""
+    external = re.compile(r'<(?:script|link|img)\b[^>]*(?:src|href)="(?:https?:)?//', re.I)
+    for page in ["index.html", "reference/api/designlab/impact/index.html", "gallery/index.html"]:
+        text = (site / page).read_text(encoding="utf-8")
+        assert not external.search(text), f"{page}: {external.search(text).group(0)}"
+        assert "fonts.googleapis" not in text
 
 
 def load_mathml_hook():
