@@ -149,15 +149,8 @@ def test_pages_load_nothing_from_the_network(site: Path) -> None:
         assert "fonts.googleapis" not in text
 
 
-def load_mathml_hook():
-    spec = importlib.util.spec_from_file_location("mathml_hook", ROOT / "docs/hooks/mathml.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
 def test_mathml_hook_converts_arithmatex_output() -> None:
-    hook = load_mathml_hook()
+    hook = load_hook("mathml")
     text = (
         '<p>a <span class="arithmatex">\\(K_c &lt; 10^{4}\\)</span> b</p>'
         '<div class="arithmatex">\\[\n\\frac{a}{b}\n\\]</div>'
@@ -171,9 +164,41 @@ def test_mathml_hook_converts_arithmatex_output() -> None:
 @pytest.mark.parametrize("tex", ["a^", "\\left( x", "\\notacommand x"])
 def test_mathml_hook_warns_on_bad_tex(tex: str, caplog: pytest.LogCaptureFixture) -> None:
     """Bad TeX is a warning (so the strict build fails) naming the page, and stays as TeX."""
-    hook = load_mathml_hook()
+    hook = load_hook("mathml")
     text = f'<span class="arithmatex">\\({tex}\\)</span>'
     with caplog.at_level("WARNING", logger="mkdocs.hooks.mathml"):
         out = hook.typeset(text, "page.md")
     assert out == text
     assert "page.md" in caplog.text and tex in caplog.text
+
+
+def load_hook(name: str):
+    spec = importlib.util.spec_from_file_location(f"{name}_hook", ROOT / f"docs/hooks/{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_roles_hook_reads_sphinx_roles_as_code() -> None:
+    hook = load_hook("roles")
+    text = "<p>:func:<code>simulate</code> and :class:<code>~designlab.impact.Foam</code></p>"
+    assert hook.strip_roles(text) == "<p><code>simulate</code> and <code>Foam</code></p>"
+    assert (
+        hook.strip_roles("<p>ratio 1:2, <code>a:b</code></p>")
+        == "<p>ratio 1:2, <code>a:b</code></p>"
+    )
+
+
+def test_griffe_extension_shows_declared_defaults() -> None:
+    griffe = pytest.importorskip("griffe")
+    hook = load_hook("griffe_params")
+    extensions = griffe.load_extensions(hook.DeclaredFieldDefaults())
+    module = griffe.load("designlab.impact.parameters", extensions=extensions)
+    defaults = {p.name: p.default for p in module["Foam"].parameters if p.name != "self"}
+    assert defaults == {
+        "stiffness": None,
+        "damping": None,
+        "linear_depth": "0.02",
+        "thickness": "None",
+        "name": "''",
+    }
