@@ -348,43 +348,64 @@ def copy_binary(source: Path, target: str) -> None:
         shutil.copyfileobj(src, dst)
 
 
+def escape_tags(markdown: str) -> str:
+    """``<word`` outside code spans and fences as text (``sensitivity_<base>.csv``), not HTML."""
+    out, fenced = [], False
+    for line in markdown.splitlines():
+        if line.lstrip().startswith("```"):
+            fenced = not fenced
+        if not fenced:
+            parts = line.split("`")
+            parts[::2] = [re.sub(r"<(?=[A-Za-z/!])", "&lt;", part) for part in parts[::2]]
+            line = "`".join(parts)
+        out.append(line)
+    return "\n".join(out)
+
+
+def report_markdown(report: Path) -> tuple[str, list[str], set[str]]:
+    """The title, the body lines and the files referred to of a report's Markdown pages."""
+    pages = sorted(report.glob("*.md"), key=lambda p: (p.name != "summary.md", p.name))
+    title, lines, linked = report.name, [], set()
+    for index, page in enumerate(pages):
+        text = page.read_text(encoding="utf-8")
+        linked |= set(re.findall(r"\]\(([^)\s]+)\)", text))
+        head, _, body = text.partition("\n")
+        if head.startswith("# ") and index == 0:
+            title, text = head[2:].strip(), body
+        lines += [escape_tags(text).strip("\n"), ""]
+    return title, lines, linked
+
+
 def write_gallery() -> list[str]:
-    """One gallery page per report directory plus an index; returns the nav lines."""
+    """One gallery page per report directory (its Markdown, tables, figures, study) and an index."""
     index = ["# Report gallery", "", "The committed reports under `reports/`, one per study.", ""]
     nav = ["* [Overview](index.md)"]
     for report in sorted(p for p in REPORTS.iterdir() if p.is_dir()):
         name = report.name
-        page = [f"# {name}", ""]
-        if (report / "summary.md").exists():
-            title = first_heading(report / "summary.md")
-            copy_binary(report / "summary.md", f"gallery/{name}/summary.txt")
-            page += [
-                f"**{title}**: the [report summary]({name}/summary.txt) (Markdown source).",
-                "",
-            ]
+        title, page, linked = report_markdown(report)
+        for source in sorted(report.iterdir()):
+            if source.suffix in (".png", ".csv") and source.is_file():
+                copy_binary(source, f"gallery/{name}/{source.name}")
+        page = [f"# {title}", "", *page]
         csvs = sorted(report.glob("*.csv"))
         if csvs:
-            page += ["## Tables", ""]
-            for csv in csvs:
-                copy_binary(csv, f"gallery/{name}/{csv.name}")
-                page.append(f"- [{csv.name}]({name}/{csv.name})")
-            page.append("")
-        pngs = sorted(report.glob("*.png"))
-        if pngs:
+            page += ["## Tables (CSV)", "", *(f"- [{c.name}]({c.name})" for c in csvs), ""]
+        figures = [png for png in sorted(report.glob("*.png")) if png.name not in linked]
+        if figures:
             page += ["## Figures", ""]
-            for png in pngs:
-                copy_binary(png, f"gallery/{name}/{png.name}")
-                page += [f"### {png.stem}", "", f"![{png.stem}]({name}/{png.name})", ""]
+            for png in figures:
+                page += [f"### {png.stem}", "", f"![{png.stem}]({png.name})", ""]
         study = ROOT / "studies" / f"{name}.yaml"
         if study.exists():
             text = study.read_text(encoding="utf-8").rstrip()
             page += [f'??? note "Study file `studies/{study.name}`"', "", "    ```yaml"]
             page += [f"    {line}".rstrip() for line in text.splitlines()]
             page += ["    ```", ""]
-        with mkdocs_gen_files.open(f"gallery/{name}.md", "w") as fd:
+        with mkdocs_gen_files.open(f"gallery/{name}/index.md", "w") as fd:
             fd.write("\n".join(page))
-        index.append(f"- [{name}]({name}.md): {len(pngs)} figures, {len(csvs)} tables")
-        nav.append(f"* [{name}]({name}.md)")
+        pngs = len(list(report.glob("*.png")))
+        index.append(f"- [{name}]({name}/index.md): {title}; {pngs} figures, {len(csvs)} tables")
+        nav.append(f"* [{name}]({name}/index.md)")
     with mkdocs_gen_files.open("gallery/index.md", "w") as fd:
         fd.write("\n".join(index) + "\n")
     with mkdocs_gen_files.open("gallery/SUMMARY.md", "w") as fd:

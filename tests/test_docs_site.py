@@ -14,6 +14,7 @@ builds the site once.
 
 from __future__ import annotations
 
+import html
 import importlib.util
 import os
 import re
@@ -122,6 +123,10 @@ def test_gallery_lists_every_report(site: Path) -> None:
         assert page.is_file(), report.name
         for png in report.glob("*.png"):
             assert (site / "gallery" / report.name / png.name).is_file()
+        text = re.sub(r"<[^>]+>", "", html.unescape(page.read_text(encoding="utf-8")))
+        for markdown in report.glob("*.md"):  # the report's own text is on its gallery page
+            headings = re.findall(r"^## (.+)$", markdown.read_text(encoding="utf-8"), re.M)
+            assert all(h.replace("`", "").strip() in text for h in headings[:3]), markdown
 
 
 @pytest.mark.slow
