@@ -77,6 +77,17 @@ def test_key_pages_exist(site: Path) -> None:
 
 
 @pytest.mark.slow
+def test_every_docs_page_is_built_and_in_the_navigation(site: Path) -> None:
+    """A guide added to docs/ needs no edit of the site: it is built and in the navigation."""
+    home = (site / "index.html").read_text(encoding="utf-8")
+    for page in sorted((ROOT / "docs").glob("*.md")):
+        target = "index.html" if page.stem == "index" else f"{page.stem}/index.html"
+        assert (site / target).is_file(), page.name
+        if page.stem != "index":
+            assert f'href="{page.stem}/"' in home, f"{page.name} is not in the navigation"
+
+
+@pytest.mark.slow
 def test_reference_pages_follow_the_package(site: Path) -> None:
     from designlab.study.registry import study_json_schema
 
