@@ -218,3 +218,46 @@ def test_griffe_extension_shows_declared_defaults() -> None:
         "thickness": "None",
         "name": "''",
     }
+
+
+BAD_DOCSTRING = '''
+def area(width, height):
+    """The area.
+
+    Parameters
+    ----------
+    width : float
+        The width.
+    depth : float
+        Not a parameter of the function.
+    """
+    return width * height
+'''
+
+
+@pytest.mark.slow
+def test_a_docstring_that_does_not_parse_fails_the_strict_build(tmp_path: Path) -> None:
+    """With the site's own mkdocstrings options, a wrong Parameters entry is an error."""
+    import yaml
+
+    config = yaml.safe_load((ROOT / "mkdocs.yml").read_text(encoding="utf-8"))
+    (plugin,) = [p for p in config["plugins"] if isinstance(p, dict) and "mkdocstrings" in p]
+    handler = plugin["mkdocstrings"]["handlers"]["python"]
+    handler["options"] = {k: v for k, v in handler["options"].items() if k != "extensions"}
+    handler["paths"] = [str(tmp_path)]
+    (tmp_path / "badpkg.py").write_text(BAD_DOCSTRING, encoding="utf-8")
+    (tmp_path / "docs").mkdir()
+    (tmp_path / "docs/index.md").write_text("::: badpkg\n", encoding="utf-8")
+    tiny = {"site_name": "tiny", "strict": True, "plugins": [plugin]}
+    (tmp_path / "mkdocs.yml").write_text(yaml.safe_dump(tiny), encoding="utf-8")
+    env = {**os.environ, "NO_MKDOCS_2_WARNING": "1", "DISABLE_MKDOCS_2_WARNING": "true"}
+    proc = subprocess.run(
+        [sys.executable, "-m", "mkdocs", "build", "--strict", "-d", str(tmp_path / "site")],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        env=env,
+        check=False,
+    )
+    assert proc.returncode != 0
+    assert "'depth' does not appear in the function signature" in proc.stderr
