@@ -128,6 +128,15 @@ def test_readme_starts_with_the_two_commands() -> None:
     assert '"$VENV/bin/python" -m pytest </dev/null' in ci
 
 
+def test_readme_links_exist() -> None:
+    """The README's relative links (into docs/) point at files that exist."""
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    targets = re.findall(r"\]\(([^)#:\s]+)(?:#[^)]*)?\)", text)
+    assert targets
+    missing = [t for t in targets if not (ROOT / t).exists()]
+    assert not missing
+
+
 def test_readme_doctests_run_through_pytest() -> None:
     """The README's ``>>>`` examples are collected by pytest itself (not repeated here)."""
     config = (ROOT / "pyproject.toml").read_text(encoding="utf-8")
