@@ -15,6 +15,8 @@
     run took (kept with its report) or its kind's typical duration.
 ``designlab schema``
     Print the JSON Schema of study files.
+``designlab docs [--build]``
+    Build and serve the documentation site (a source checkout with the docs extra).
 ``designlab --version``
     Print the version.
 
@@ -444,6 +446,50 @@ def list_studies(
         typer.echo(f"    {_duration_text(spec, output_dir / spec.name)}\n")
     if invalid:
         raise typer.Exit(EXIT_STUDY_ERROR)
+
+
+#: The documentation site's configuration (a source checkout: the site is built from docs/).
+MKDOCS_CONFIG = Path(__file__).resolve().parent.parent / "mkdocs.yml"
+
+
+@app.command()
+def docs(
+    build: Annotated[
+        bool, typer.Option("--build", help="Build the site strictly into --site-dir; no server.")
+    ] = False,
+    site_dir: Annotated[Path, typer.Option("--site-dir", help="Where --build writes.")] = Path(
+        "site"
+    ),
+    open_browser: Annotated[
+        bool, typer.Option("--open/--no-open", help="Open the served site in a browser.")
+    ] = True,
+    dev_addr: Annotated[str, typer.Option("--dev-addr", help="Serve at IP:PORT.")] = (
+        "127.0.0.1:8000"
+    ),
+) -> None:
+    """Build and serve the documentation site (`mkdocs serve`); needs the docs extra."""
+    import importlib.util
+    import os
+    import subprocess
+
+    if not MKDOCS_CONFIG.is_file():
+        typer.echo(f"error: {MKDOCS_CONFIG} not found: the site builds from a checkout", err=True)
+        raise typer.Exit(EXIT_DESIGNLAB_ERROR)
+    if importlib.util.find_spec("mkdocs") is None:
+        typer.echo("error: the site needs the docs tools: pip install -e '.[docs]'", err=True)
+        raise typer.Exit(EXIT_DESIGNLAB_ERROR)
+    mkdocs = [sys.executable, "-m", "mkdocs"]
+    if build:
+        command = [*mkdocs, "build", "--strict", "--site-dir", str(site_dir.resolve())]
+    else:
+        command = [*mkdocs, "serve", "--dev-addr", dev_addr, *(["--open"] if open_browser else [])]
+    command += ["--config-file", str(MKDOCS_CONFIG)]
+    env = {**os.environ, "DISABLE_MKDOCS_2_WARNING": "true", "NO_MKDOCS_2_WARNING": "1"}
+    try:
+        code = subprocess.run(command, cwd=MKDOCS_CONFIG.parent, env=env, check=False).returncode
+    except KeyboardInterrupt:  # stopping the server is the normal end of `serve`
+        code = EXIT_OK
+    raise typer.Exit(code)
 
 
 def main() -> None:  # pragma: no cover - console entry point alternative

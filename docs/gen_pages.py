@@ -8,6 +8,8 @@ reference formats the typer app's click help, and the gallery lists ``reports/*/
 
 from __future__ import annotations
 
+import importlib
+import inspect
 import pkgutil
 import re
 import shutil
@@ -19,12 +21,27 @@ import typer
 
 import designlab
 import designlab.cli
+from designlab.params import Param, parameter_table
 from designlab.study.registry import study_json_schema
 
 ROOT = Path(__file__).resolve().parent.parent
 DOCS = ROOT / "docs"
 REPORTS = ROOT / "reports"
-FIXED_PAGES = ("index.md", "getting-started.md")
+#: Pages placed by hand in the navigation; every other ``docs/*.md`` is a guide.
+USING_PAGES = {"python.md": "From Python", "studies.md": "Studies", "cli.md": "Command line"}
+FIXED_PAGES = ("index.md", "getting-started.md", *USING_PAGES, "developers.md")
+#: The guides' order (one domain after another); a guide not listed follows, by file name.
+GUIDE_ORDER = (
+    "impact.md",
+    "impact_joint.md",
+    "navigation.md",
+    "navigation_scenarios.md",
+    "navigation_planners.md",
+    "navigation_gains.md",
+    "following.md",
+    "tether_modes.md",
+    "sweeps.md",
+)
 
 
 # --------------------------------------------------------------------------- API reference
@@ -239,6 +256,83 @@ def write_cli() -> None:
         fd.write("\n".join(out))
 
 
+# --------------------------------------------------------------------------- parameters
+def declared_classes() -> dict[str, list[type]]:
+    """Every ``@declared`` class of the package, by the module that defines it."""
+    found: dict[str, list[type]] = {}
+    for name in public_modules():
+        module = importlib.import_module(name)
+        for obj in vars(module).values():
+            if inspect.isclass(obj) and obj.__module__ == name and "__params__" in obj.__dict__:
+                found.setdefault(name, []).append(obj)
+    return found
+
+
+def argument_params() -> dict[str, list[Param]]:
+    """The module-level declarations (function arguments) of each domain ``parameters`` module."""
+    found: dict[str, list[Param]] = {}
+    for name in public_modules():
+        if not name.endswith(".parameters"):
+            continue
+        module = importlib.import_module(name)
+        decls = [obj for key, obj in vars(module).items() if isinstance(obj, Param)]
+        if decls:
+            found[name] = decls
+    return found
+
+
+def table_markdown(frame: Any) -> list[str]:
+    """A ``parameter_table`` frame as a Markdown table (names and symbols as code)."""
+    code = {"name", "symbol"}
+    lines = ["| " + " | ".join(frame.columns) + " |", "|" + "---|" * len(frame.columns)]
+    for row in frame.itertuples(index=False):
+        cells = [
+            f"`{value}`" if column in code and value != "" else cell(value)
+            for column, value in zip(frame.columns, row, strict=True)
+        ]
+        lines.append("| " + " | ".join(cells) + " |")
+    return lines
+
+
+def domain_of(module: str) -> str:
+    """``designlab.following.tether.controllers`` -> ``designlab.following.tether``."""
+    parts = module.split(".")
+    return ".".join(parts[:3] if parts[1] == "following" and len(parts) > 3 else parts[:2])
+
+
+def write_parameters() -> None:
+    """The parameter tables of every declared class and of the domains' argument declarations."""
+    out = [
+        "# Parameters",
+        "",
+        "Every parameter of the models, generated at build time with",
+        "`designlab.params.parameter_table` from its single declaration (`designlab.params.param`",
+        "on a `@declared` class, or a module-level `Param` for a function argument). The same",
+        "declaration checks the value in the Python API and in a study file, writes the",
+        "docstring's Parameters section and the JSON Schema, so the ranges below are the ones",
+        "enforced. Units are SI.",
+        "",
+    ]
+    by_domain: dict[str, list[str]] = {}
+    for module, classes in declared_classes().items():
+        api = "api/" + module.replace(".", "/") + ".md"
+        for cls in classes:
+            section = [f"### {cls.__name__}", ""]
+            section += [f"[`{module}.{cls.__name__}`]({api}#{module}.{cls.__name__})", ""]
+            section += [*table_markdown(parameter_table(cls)), ""]
+            by_domain.setdefault(domain_of(module), []).extend(section)
+    for module, decls in argument_params().items():
+        api = "api/" + module.replace(".", "/") + ".md"
+        section = [f"### Function arguments ({module.rsplit('.', 1)[-1]})", ""]
+        section += [f"Module-level declarations of [`{module}`]({api}).", ""]
+        section += [*table_markdown(parameter_table(decls)), ""]
+        by_domain.setdefault(domain_of(module), []).extend(section)
+    for domain in sorted(by_domain):
+        out += [f"## `{domain}`", "", *by_domain[domain]]
+    with mkdocs_gen_files.open("reference/parameters.md", "w") as fd:
+        fd.write("\n".join(out))
+
+
 # --------------------------------------------------------------------------- gallery
 def first_heading(path: Path) -> str:
     """The first Markdown heading of a file (its file name if none)."""
@@ -254,43 +348,64 @@ def copy_binary(source: Path, target: str) -> None:
         shutil.copyfileobj(src, dst)
 
 
+def escape_tags(markdown: str) -> str:
+    """``<word`` outside code spans and fences as text (``sensitivity_<base>.csv``), not HTML."""
+    out, fenced = [], False
+    for line in markdown.splitlines():
+        if line.lstrip().startswith("```"):
+            fenced = not fenced
+        if not fenced:
+            parts = line.split("`")
+            parts[::2] = [re.sub(r"<(?=[A-Za-z/!])", "&lt;", part) for part in parts[::2]]
+            line = "`".join(parts)
+        out.append(line)
+    return "\n".join(out)
+
+
+def report_markdown(report: Path) -> tuple[str, list[str], set[str]]:
+    """The title, the body lines and the files referred to of a report's Markdown pages."""
+    pages = sorted(report.glob("*.md"), key=lambda p: (p.name != "summary.md", p.name))
+    title, lines, linked = report.name, [], set()
+    for index, page in enumerate(pages):
+        text = page.read_text(encoding="utf-8")
+        linked |= set(re.findall(r"\]\(([^)\s]+)\)", text))
+        head, _, body = text.partition("\n")
+        if head.startswith("# ") and index == 0:
+            title, text = head[2:].strip(), body
+        lines += [escape_tags(text).strip("\n"), ""]
+    return title, lines, linked
+
+
 def write_gallery() -> list[str]:
-    """One gallery page per report directory plus an index; returns the nav lines."""
+    """One gallery page per report directory (its Markdown, tables, figures, study) and an index."""
     index = ["# Report gallery", "", "The committed reports under `reports/`, one per study.", ""]
     nav = ["* [Overview](index.md)"]
     for report in sorted(p for p in REPORTS.iterdir() if p.is_dir()):
         name = report.name
-        page = [f"# {name}", ""]
-        if (report / "summary.md").exists():
-            title = first_heading(report / "summary.md")
-            copy_binary(report / "summary.md", f"gallery/{name}/summary.txt")
-            page += [
-                f"**{title}**: the [report summary]({name}/summary.txt) (Markdown source).",
-                "",
-            ]
+        title, page, linked = report_markdown(report)
+        for source in sorted(report.iterdir()):
+            if source.suffix in (".png", ".csv") and source.is_file():
+                copy_binary(source, f"gallery/{name}/{source.name}")
+        page = [f"# {title}", "", *page]
         csvs = sorted(report.glob("*.csv"))
         if csvs:
-            page += ["## Tables", ""]
-            for csv in csvs:
-                copy_binary(csv, f"gallery/{name}/{csv.name}")
-                page.append(f"- [{csv.name}]({name}/{csv.name})")
-            page.append("")
-        pngs = sorted(report.glob("*.png"))
-        if pngs:
+            page += ["## Tables (CSV)", "", *(f"- [{c.name}]({c.name})" for c in csvs), ""]
+        figures = [png for png in sorted(report.glob("*.png")) if png.name not in linked]
+        if figures:
             page += ["## Figures", ""]
-            for png in pngs:
-                copy_binary(png, f"gallery/{name}/{png.name}")
-                page += [f"### {png.stem}", "", f"![{png.stem}]({name}/{png.name})", ""]
+            for png in figures:
+                page += [f"### {png.stem}", "", f"![{png.stem}]({png.name})", ""]
         study = ROOT / "studies" / f"{name}.yaml"
         if study.exists():
             text = study.read_text(encoding="utf-8").rstrip()
             page += [f'??? note "Study file `studies/{study.name}`"', "", "    ```yaml"]
             page += [f"    {line}".rstrip() for line in text.splitlines()]
             page += ["    ```", ""]
-        with mkdocs_gen_files.open(f"gallery/{name}.md", "w") as fd:
+        with mkdocs_gen_files.open(f"gallery/{name}/index.md", "w") as fd:
             fd.write("\n".join(page))
-        index.append(f"- [{name}]({name}.md): {len(pngs)} figures, {len(csvs)} tables")
-        nav.append(f"* [{name}]({name}.md)")
+        pngs = len(list(report.glob("*.png")))
+        index.append(f"- [{name}]({name}/index.md): {title}; {pngs} figures, {len(csvs)} tables")
+        nav.append(f"* [{name}]({name}/index.md)")
     with mkdocs_gen_files.open("gallery/index.md", "w") as fd:
         fd.write("\n".join(index) + "\n")
     with mkdocs_gen_files.open("gallery/SUMMARY.md", "w") as fd:
@@ -299,16 +414,27 @@ def write_gallery() -> list[str]:
 
 
 # --------------------------------------------------------------------------- navigation
+def guide_pages() -> list[Path]:
+    """Every ``docs/*.md`` that is not a fixed page, in ``GUIDE_ORDER`` then by name."""
+    pages = [p for p in DOCS.glob("*.md") if p.name not in FIXED_PAGES]
+    rank = {name: i for i, name in enumerate(GUIDE_ORDER)}
+    return sorted(pages, key=lambda p: (rank.get(p.name, len(rank)), p.name))
+
+
 def write_nav() -> None:
     """The site navigation (literate-nav): fixed pages, every guide, the generated pages."""
-    guides = sorted(p for p in DOCS.glob("*.md") if p.name not in FIXED_PAGES)
-    nav = ["* [Home](index.md)", "* [Getting started](getting-started.md)", "* Guides"]
-    nav += [f"    * [{first_heading(p)}]({p.name})" for p in guides]
+    nav = ["* [Home](index.md)", "* [Getting started](getting-started.md)", "* Using designlab"]
+    nav += [f"    * [{title}]({name})" for name, title in USING_PAGES.items()]
+    nav += ["* Guides"]
+    nav += [f"    * [{first_heading(p)}]({p.name})" for p in guide_pages()]
     nav += [
-        "* [Study-file reference](reference/studies.md)",
-        "* [CLI reference](reference/cli.md)",
-        "* [API reference](reference/api/)",
+        "* Reference",
+        "    * [Study files](reference/studies.md)",
+        "    * [Command line](reference/cli.md)",
+        "    * [Parameters](reference/parameters.md)",
+        "    * [API](reference/api/)",
         "* [Report gallery](gallery/)",
+        "* [Developers](developers.md)",
     ]
     with mkdocs_gen_files.open("SUMMARY.md", "w") as fd:
         fd.write("\n".join(nav) + "\n")
@@ -317,5 +443,6 @@ def write_nav() -> None:
 write_api()
 write_studies()
 write_cli()
+write_parameters()
 write_gallery()
 write_nav()
