@@ -47,9 +47,11 @@ __all__ = [
     "errors_figure",
     "nyquist_figure",
     "readings_figure",
+    "sign_claim",
     "table1_frame",
     "table2_frame",
     "trajectory_figure",
+    "tuning_claims",
     "write_accompanying_report",
 ]
 
@@ -183,6 +185,87 @@ def _sign_table(result: AccompanyingResult) -> pd.DataFrame:
             )
         rows.append(row)
     return pd.DataFrame(rows)
+
+
+def sign_claim(signs: pd.DataFrame) -> str:
+    """How often the sign of the walking-average offset agrees with the paper (from the table).
+
+    Parameters
+    ----------
+    signs
+        One row per task with ``X_sign_agrees``/``Y_sign_agrees`` ("yes", "no", "n/a") and
+        the offsets ``paper_dX_mm``, ``default_dX_mm`` (and Y).
+
+    Examples
+    --------
+    >>> t = pd.DataFrame({"task": ["a", "b"], "paper_dX_mm": [5.0, -3.0],
+    ...                   "default_dX_mm": [4.0, 9.0], "X_sign_agrees": ["yes", "no"],
+    ...                   "paper_dY_mm": [1.0, 1.0], "default_dY_mm": [0.0, 0.0],
+    ...                   "Y_sign_agrees": ["n/a", "n/a"]})
+    >>> print(sign_claim(t))  # doctest: +NORMALIZE_WHITESPACE
+    The sign agrees with the paper in 1 of the 2 components where the default PID has an
+    offset of 2 mm or more; it does not in: b X (paper -3 mm, model +9 mm).
+    """
+    cells = [(r["task"], ax, r) for _, r in signs.iterrows() for ax in ("X", "Y")]
+    judged = [(t, ax, r) for t, ax, r in cells if r[f"{ax}_sign_agrees"] != "n/a"]
+    bad = [(t, ax, r) for t, ax, r in judged if r[f"{ax}_sign_agrees"] == "no"]
+    text = (
+        f"The sign agrees with the paper in {len(judged) - len(bad)} of the {len(judged)} "
+        "components where the default PID has an offset of 2 mm or more"
+    )
+    if bad:
+        text += "; it does not in: " + ", ".join(
+            f"{t} {ax} (paper {r[f'paper_d{ax}_mm']:+.0f} mm, "
+            f"model {r[f'default_d{ax}_mm']:+.0f} mm)"
+            for t, ax, r in bad
+        )
+    return text + "."
+
+
+def tuning_claims(tuning: pd.DataFrame, metrics: pd.DataFrame) -> list[str]:
+    """The tuned controllers against the default, computed from the report's tables.
+
+    Parameters
+    ----------
+    tuning
+        ``tuning.csv``: one row per controller (``method``) with ``mean_rms_all_tasks_m``.
+    metrics
+        ``metrics.csv``: one row per (controller, task) with ``rms_error_m``.
+
+    Examples
+    --------
+    >>> tu = pd.DataFrame({"method": ["default", "tuned"], "mean_rms_all_tasks_m": [0.1, 0.02]})
+    >>> me = pd.DataFrame({"controller": ["default", "default", "tuned", "tuned"],
+    ...                    "task": ["a", "b"] * 2, "rms_error_m": [0.1, 0.1, 0.01, 0.03]})
+    >>> print(tuning_claims(tu, me)[0])  # doctest: +NORMALIZE_WHITESPACE
+    tuned: mean RMS error over the 2 tasks 20.0 mm against 100.0 mm with the default PID
+    (80 % lower); lower on 2 of 2 tasks.
+    """
+    rms = tuning.set_index("method")["mean_rms_all_tasks_m"]
+    per_task = metrics.pivot_table(index="task", columns="controller", values="rms_error_m")
+    if "default" not in rms.index:
+        return []
+    out = []
+    for method in [m for m in rms.index if m != "default"]:
+        lower = int((per_task[method] < per_task["default"]).sum())
+        out.append(
+            f"{method}: mean RMS error over the {len(per_task)} tasks "
+            f"{1e3 * rms[method]:.1f} mm against {1e3 * rms['default']:.1f} mm with the default "
+            f"PID ({100 * (1 - rms[method] / rms['default']):.0f} % lower); lower on {lower} of "
+            f"{len(per_task)} tasks."
+        )
+    others = [m for m in rms.index if m != "default"]
+    if len(others) == 2:
+        a, b = others
+        best = a if rms[a] < rms[b] else b
+        worse = b if best == a else a
+        wins = int((per_task[best] < per_task[worse]).sum())
+        out.append(
+            f"{best} has the lower mean RMS error of the two tuned controllers "
+            f"({1e3 * rms[best]:.1f} mm against {1e3 * rms[worse]:.1f} mm) and is lower on "
+            f"{wins} of {len(per_task)} tasks."
+        )
+    return out
 
 
 def _grid(n: int) -> tuple[int, int]:
@@ -425,8 +508,8 @@ _SIGN_TEXT = (
     "lateral and the pivots: X; the circles: X and Y); the other offsets in the paper come "
     "from heading changes and pelvis motion that the synthetic walks do not have. "
     "Left lateral walking is the paper's own anomaly (Sec. 6: at reset the distance "
-    "sensor saw the user's forearm, so the target distance was too short); a lagging "
-    "robot ends up to the user's right (+X) when the user walks left."
+    "sensor saw the user's forearm, so the target distance was too short); a robot that "
+    "lags a user walking left is to the user's right (+X) of its target."
 )
 
 
@@ -452,6 +535,9 @@ def _controllers_section(result: AccompanyingResult) -> list[str]:
     tuning = result.tuning_frame()
     cols = [c for c in _CONTROLLER_COLUMNS if c in tuning.columns]
     out = ["## Controllers", "", markdown_table(tuning[cols], floatfmt=".4g"), ""]
+    claims = tuning_claims(tuning, result.to_frame())
+    if claims:
+        out += ["Computed from the tables:", "", *[f"- {c}" for c in claims], ""]
     if s.tuning is not None:
         out += [
             f"`tuned`: convex-concave optimisation (Hast, Astrom, Bernhardsson, Boyd 2013): "
@@ -483,7 +569,7 @@ def _tables_section(result: AccompanyingResult) -> list[str]:
         "",
         markdown_table(_fmt_frame(_sign_table(result), 0)),
         "",
-        _SIGN_TEXT,
+        sign_claim(_sign_table(result)) + " " + _SIGN_TEXT,
         "",
     ]
     t1 = table1_frame(result)

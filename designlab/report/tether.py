@@ -10,6 +10,9 @@
     damping ratio and natural frequency, phase margin, crossover, tether-length
     pole, steady length, sampled stability) and the damping ratio and natural
     frequency fitted to a simulated lateral step.
+``npd_heuristic.csv``
+    Per case: the mean NPD by App. A and with the opt-in
+    ``far_hit_fallback_ratio = 3`` heuristic, and the relative change.
 ``allan_tables.csv``
     Allan 2015 Tables 3.2 and 3.3 (measured, per subject).
 ``summary.md``
@@ -34,7 +37,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from designlab.following.tether import allan_tables, measured_ratio
+from designlab.following.tether import allan_tables, measured_ratio, normal_path_deviation
 from designlab.following.tether.reference import TABLES
 from designlab.report import register_writer
 from designlab.report.builder import copy_study, report_header, warnings_section
@@ -42,25 +45,30 @@ from designlab.report.writers import markdown_table, write_csv, write_markdown, 
 from designlab.study.kinds.tether_comparison import STEP_OFFSET, TetherComparisonResult
 from designlab.study.kinds.tether_tuning import TetherTuningResult
 
-__all__ = ["comparison_markdown", "write_comparison_report", "write_tuning_report"]
+__all__ = [
+    "comparison_markdown",
+    "heuristic_claim",
+    "heuristic_frame",
+    "ranking_claims",
+    "ranking_column",
+    "write_comparison_report",
+    "write_tuning_report",
+]
 
 _DISCUSSION = """
-The simulation ranks the laws as the people did: FTL-CD (and FTL) deviate less than
-Pseudo-Joystick on every path here, by a factor {lo:.2f}-{hi:.2f} (PJ / FTL-CD), against
-{t32:.2f} (healthy leaders, Table 3.2) and {t33:.2f} (patients, Table 3.3) measured. The
-simulated factor is larger because the simulation has none of the error sources Allan 2015
-Sec. 3.4 lists for FTL-CD: wheel slip corrupts its dead reckoning and therefore its recorded
-path, and the tether tip (hand or waist belt) is offset from the walking line measured by the
-markers, while PJ needs neither. Human leaders also adapt (PJ subjects were told to look
+Measured with people, the factor PJ / FTL-CD of the averages was {t32:.2f} (healthy leaders,
+Table 3.2) and {t33:.2f} (patients, Table 3.3). The simulation has none of the error sources
+Allan 2015 Sec. 3.4 lists for FTL-CD: wheel slip corrupts its dead reckoning and therefore its
+recorded path, and the tether tip (hand or waist belt) is offset from the walking line measured
+by the markers, while PJ needs neither. Human leaders also adapt (PJ subjects were told to look
 back), and the patient paths were digitised at foot strikes only (about +-40 mm, Sec. 3.5),
-which adds the same noise floor to both laws and pulls the ratio toward 1. Larger tether
-lengths widen the gap for PJ (Sec. 2.5.2: PJ cuts corners by about the tether length), while
-FTL is nearly independent of l_d (Sec. 2.5.3) as long as its 300-point buffer (3 m at 0.01 m)
-still holds the path behind the robot. Where it does not, or where the leader's path comes
-back within about a tether length of itself (the out-and-back slalom with l_d >= 1 m, the
-a = 2 m figure-eight with l_d = 2 m), the nearest recorded point jumps to the newer leg, FTL
-and FTL-CD cut across like PJ, and the factor falls toward 1: the buffer length
-(N x Delta s_min) must cover the tether length plus the path's detours.
+which adds the same noise floor to both laws and pulls the ratio toward 1. The mechanisms
+behind the trends listed above: PJ cuts corners by about the tether length (Sec. 2.5.2); FTL
+follows the recorded path (Sec. 2.5.3) only while its 300-point buffer (3 m at 0.01 m) holds
+the path behind the robot and the leader's path does not come back within about a tether
+length of itself; where it does, the nearest recorded point jumps to the newer leg and FTL and
+FTL-CD cut across like PJ: the buffer length (N x Delta s_min) must cover the tether length
+plus the path's detours.
 """
 
 _TUNING_INTRO = """
@@ -96,7 +104,187 @@ def _pivot(frame: pd.DataFrame, controllers: list[str]) -> pd.DataFrame:
                 float(by.loc["PJ", "npd_mean_m"] / by.loc["FTL", "npd_mean_m"]), 2
             )
         rows.append(row)
+    out = pd.DataFrame(rows)
+    if len(out):
+        ranks = ranking_column(frame)
+        out["ranking"] = [ranks[(p, ld)] for p, ld in zip(out["path"], out["l_d [m]"], strict=True)]
+    return out
+
+
+def _ratio_text(ratio: float) -> str:
+    return f"{ratio:.2f}"
+
+
+def ranking_column(frame: pd.DataFrame, metric: str = "npd_mean_m") -> pd.Series:
+    """The order of the laws by ``metric`` for each (path, l_d), e.g. ``"FTL-CD < FTL < PJ"``.
+
+    Parameters
+    ----------
+    frame
+        One row per (path, desired_length_m, controller) with the ``metric`` column
+        (``TetherComparisonResult.to_frame()``).
+    metric
+        The column ranked (lower is better).
+
+    Examples
+    --------
+    >>> f = pd.DataFrame({"path": ["p"] * 2, "desired_length_m": [1.0] * 2,
+    ...                   "controller": ["PJ", "FTL"], "npd_mean_m": [0.3, 0.1]})
+    >>> ranking_column(f).tolist()
+    ['FTL < PJ']
+    """
+    out = {}
+    for key, grp in frame.groupby(["path", "desired_length_m"], sort=False):
+        ordered = grp.sort_values(metric, kind="stable")
+        out[key] = " < ".join(ordered["controller"])
+    return pd.Series(out, name="ranking")
+
+
+def _pairwise_claim(table: pd.DataFrame, law: str, reference: str) -> str:
+    """How often ``law`` deviates less than ``reference``, with the factor and the exceptions."""
+    ratio = table[reference] / table[law]
+    n, better = len(ratio), int((ratio > 1).sum())
+    how = f"in all {n}" if better == n else f"in {better} of {n}"
+    text = (
+        f"{law} deviates less than {reference} {how} (path, l_d) cases; {reference} / {law} "
+        f"ranges from {_ratio_text(ratio.min())} ({ratio.idxmin()[0]}, l_d = "
+        f"{ratio.idxmin()[1]:g} m) to {_ratio_text(ratio.max())} ({ratio.idxmax()[0]}, "
+        f"l_d = {ratio.idxmax()[1]:g} m)."
+    )
+    worse = ratio[ratio <= 1]
+    if len(worse):
+        cases = "; ".join(f"{p}, l_d = {ld:g} m ({_ratio_text(r)})" for (p, ld), r in worse.items())
+        text += f" It does not on: {cases}."
+    return text
+
+
+def _length_trend_claim(table: pd.DataFrame, law: str) -> str:
+    """Whether ``law``'s deviation grows with l_d, per path, and by how much."""
+    grows, spread = [], []
+    for path, col in table[law].unstack("desired_length_m").iterrows():
+        vals = col.dropna().to_numpy()
+        if len(vals) < 2:
+            continue
+        grows.append((path, bool(np.all(np.diff(vals) > 0))))
+        spread.append((path, float(vals.max() / vals.min())))
+    if not grows:
+        return ""
+    up = [p for p, g in grows if g]
+    text = (
+        f"{law}'s mean deviation grows with l_d on {len(up)} of {len(grows)} paths"
+        + (f" ({', '.join(up)})" if 0 < len(up) < len(grows) else "")
+        + "; its largest / smallest value over l_d is "
+        + ", ".join(f"{_ratio_text(r)} ({p})" for p, r in spread)
+        + "."
+    )
+    return text
+
+
+def ranking_claims(
+    frame: pd.DataFrame, metric: str = "npd_mean_m", reference: str = "PJ"
+) -> list[str]:
+    """Ranking and trend sentences computed from a comparison table (never hand-written).
+
+    Parameters
+    ----------
+    frame
+        One row per (path, desired_length_m, controller) with the ``metric`` column.
+    metric
+        The deviation compared (lower is better).
+    reference
+        The law the others are compared with.
+
+    Returns
+    -------
+    list of str
+        One sentence per other law (how often it deviates less than the
+        reference, the factor's range and the exceptions), one per tether
+        length (which law deviates least on how many paths), and one per law
+        on the trend with l_d.
+
+    Examples
+    --------
+    >>> f = pd.DataFrame({"path": ["a", "a", "b", "b"], "desired_length_m": [1.0] * 4,
+    ...                   "controller": ["PJ", "FTL"] * 2, "npd_mean_m": [0.3, 0.1, 0.1, 0.2]})
+    >>> print(ranking_claims(f)[0])  # doctest: +NORMALIZE_WHITESPACE
+    FTL deviates less than PJ in 1 of 2 (path, l_d) cases; PJ / FTL ranges from 0.50
+    (b, l_d = 1 m) to 3.00 (a, l_d = 1 m). It does not on: b, l_d = 1 m (0.50).
+    """
+    table = frame.pivot_table(
+        index=["path", "desired_length_m"], columns="controller", values=metric, sort=False
+    )
+    laws = list(dict.fromkeys(frame["controller"]))
+    out = [_pairwise_claim(table, law, reference) for law in laws if law != reference]
+    for ld, grp in table.groupby(level="desired_length_m", sort=True):
+        best = grp.idxmin(axis=1)
+        parts = []
+        for law in laws:
+            paths = [p for p, _ in best[best == law].index]
+            if paths:
+                parts.append(f"{law} on {len(paths)} ({', '.join(paths)})")
+        counts = ", ".join(parts)
+        out.append(f"At l_d = {ld:g} m the least mean deviation is: {counts} of {len(grp)} paths.")
+    out += [t for t in (_length_trend_claim(table, law) for law in laws) if t]
+    return out
+
+
+def heuristic_frame(result: TetherComparisonResult, ratio: float = 3.0) -> pd.DataFrame:
+    """Mean NPD of every case by App. A and with the opt-in ``far_hit_fallback_ratio``.
+
+    Parameters
+    ----------
+    result
+        A comparison result (its runs are measured again with the heuristic).
+    ratio
+        The heuristic's ratio (3, the former default).
+    """
+    rows = []
+    for c in result.cases:
+        npd = c.metrics.npd
+        alt = normal_path_deviation(
+            c.run.leader_xy,
+            c.run.robot_xy,
+            far_hit_fallback_ratio=ratio,
+            wheel_track=npd.wheel_track,
+        )
+        rows.append(
+            {
+                "path": c.path,
+                "controller": c.controller,
+                "desired_length_m": c.run.controller.desired_length,
+                "npd_mean_m": npd.mean,
+                "npd_mean_heuristic_m": alt.mean,
+                "change": alt.mean / npd.mean - 1.0,
+            }
+        )
     return pd.DataFrame(rows)
+
+
+def heuristic_claim(table: pd.DataFrame, ratio: float = 3.0) -> str:
+    """The measured effect of the opt-in heuristic on a table of :func:`heuristic_frame`.
+
+    Examples
+    --------
+    >>> t = pd.DataFrame({"path": ["a", "b"], "controller": ["PJ", "FTL"],
+    ...                   "desired_length_m": [1.0, 2.0], "npd_mean_m": [0.2, 0.1],
+    ...                   "npd_mean_heuristic_m": [0.15, 0.1], "change": [-0.25, 0.0]})
+    >>> print(heuristic_claim(t))  # doctest: +NORMALIZE_WHITESPACE
+    far_hit_fallback_ratio = 3 (a heuristic, not App. A) changes the mean NPD by -25.0 % to
+    +0.0 % over the 2 runs (unchanged, to 0.1 %, on 1); the largest change: a, PJ, l_d = 1 m,
+    0.536 b instead of 0.714 b (b = 0.28 m).
+    """
+    ch = table["change"]
+    i = int(np.argmax(np.abs(ch.to_numpy())))
+    row = table.iloc[i]
+    same = int((np.abs(ch) < 1e-3).sum())
+    return (
+        f"far_hit_fallback_ratio = {ratio:g} (a heuristic, not App. A) changes the mean NPD by "
+        f"{100 * ch.min():+.1f} % to {100 * ch.max():+.1f} % over the {len(table)} runs "
+        f"(unchanged, to 0.1 %, on {same}); the largest change: {row['path']}, "
+        f"{row['controller']}, l_d = {row['desired_length_m']:g} m, "
+        f"{row['npd_mean_heuristic_m'] / 0.28:.3f} b instead of {row['npd_mean_m'] / 0.28:.3f} b "
+        "(b = 0.28 m)."
+    )
 
 
 def _comparison_header(
@@ -175,6 +363,7 @@ def comparison_markdown(
     figures: dict[str, tuple[str, str]],
     command: str | None = None,
     version: str | None = None,
+    heuristic: pd.DataFrame | None = None,
 ) -> str:
     """The summary of a ``tether_comparison`` study (Markdown).
 
@@ -188,18 +377,32 @@ def comparison_markdown(
         The command line that produced the result.
     version
         The designlab version.
+    heuristic
+        The table of :func:`heuristic_frame` (its effect is stated), or None.
     """
     study = result.study
     frame = result.to_frame()
     controllers = [c.title for c in study.controllers]
     lines = _comparison_header(result, frame, command, version) + _measured_tables()
-    ratios = _pivot(frame, controllers).get("PJ / FTL-CD")
-    if ratios is not None and len(ratios.dropna()):
-        lo, hi = float(ratios.min()), float(ratios.max())
-        text = _DISCUSSION.format(
-            lo=lo, hi=hi, t32=measured_ratio("table_3_2"), t33=measured_ratio("table_3_3")
-        )
+    if len(frame) and frame["controller"].nunique() > 1:
+        reference = controllers[0]
+        lines += [
+            "## Ranking (computed from the table above)",
+            "",
+            *[f"- {c}" for c in ranking_claims(frame, reference=reference)],
+            "",
+        ]
+        text = _DISCUSSION.format(t32=measured_ratio("table_3_2"), t33=measured_ratio("table_3_3"))
         lines += ["## Discussion", "", " ".join(text.split()), ""]
+    if heuristic is not None and len(heuristic):
+        lines += [
+            "## The opt-in far-hit heuristic (not App. A)",
+            "",
+            "The NPD above is App. A: every normal hit within 2 m counts. "
+            + heuristic_claim(heuristic)
+            + " Per run: `npd_heuristic.csv`.",
+            "",
+        ]
     if result.linear is not None and len(result.linear):
         lines += _linear_section(result.linear, study.speed)
     lines += ["## Other figures (Allan 2015 Sec. 2.5.1)", "", _OTHER_TEXT, ""]
@@ -333,7 +536,11 @@ def write_comparison_report(
         written.append(write_png(traj, directory / names[0]))
         written.append(write_png(prof, directory / names[1]))
         figures[path] = names
-    text = comparison_markdown(result, figures=figures, command=command, version=version)
+    heuristic = heuristic_frame(result)
+    written.append(write_csv(heuristic, directory / "npd_heuristic.csv"))
+    text = comparison_markdown(
+        result, figures=figures, command=command, version=version, heuristic=heuristic
+    )
     written.append(write_markdown(text, directory / "summary.md"))
     written += copy_study(directory, study_text)
     return written
