@@ -90,6 +90,7 @@ class TetherComparisonStudy(StudyBase):
         "summary.md",
         "metrics.csv",
         "linear.csv",
+        "npd_heuristic.csv",
         "allan_tables.csv",
         "trajectories_*.png",
         "npd_profiles_*.png",
