@@ -14,6 +14,9 @@ Files written into the report directory:
     Paper and simulation side by side (mm, degrees, as the paper).
 ``tuning.csv``, ``margins.csv``
     Gains, Ms, Mt, margins, improvement and cost of each controller.
+``baseline_sensitivity.csv``
+    The tuned PIDs' improvement against the default PID scaled by
+    :data:`BASELINE_FACTORS` (the default is the project's choice).
 ``trajectories_<controller>.png``
     User and robot paths in the world, one panel per task.
 ``errors.png``
@@ -36,13 +39,21 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from designlab.following.accompanying import PAPER_TEST_NAMES, paper_table1, paper_table2
+from designlab.following.accompanying import (
+    PAPER_TEST_NAMES,
+    paper_table1,
+    paper_table2,
+    simulate,
+)
 from designlab.report import register_writer
 from designlab.report.builder import copy_study, report_header
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.kinds.accompanying import AccompanyingResult
 
 __all__ = [
+    "BASELINE_FACTORS",
+    "baseline_claim",
+    "baseline_sensitivity",
     "bode_figure",
     "errors_figure",
     "nyquist_figure",
@@ -266,6 +277,94 @@ def tuning_claims(tuning: pd.DataFrame, metrics: pd.DataFrame) -> list[str]:
             f"{wins} of {len(per_task)} tasks."
         )
     return out
+
+
+#: Scale factors of the baseline PID in the sensitivity table (all three gains scaled).
+BASELINE_FACTORS = (0.25, 0.5, 1.0, 2.0, 4.0)
+
+
+def baseline_sensitivity(
+    result: AccompanyingResult, factors: tuple[float, ...] = BASELINE_FACTORS
+) -> pd.DataFrame:
+    """The tuned PIDs' improvement against baselines scaled from the study's default PID.
+
+    The default PID is the project's choice (the paper reports no gains), so
+    the improvement depends on it: each factor f scales K_p, K_i and K_d of the
+    default, the tasks are simulated with it, and ``improvement_<label>`` is
+    1 - mean RMS (tuned) / mean RMS (baseline) over the study's tasks.
+
+    Parameters
+    ----------
+    result
+        An accompanying study result.
+    factors
+        Scale factors of the baseline gains.
+    """
+    study = result.study
+    platform, sensor = study.platform.build(), study.sensor.build()
+    base = study.controller.build()
+    tuned = {
+        label: float(np.mean([r.rms_error for r in runs.values()]))
+        for label, runs in result.runs.items()
+        if label != "default"
+    }
+    rows = []
+    for f in factors:
+        c = base.replace(kp=f * base.kp, ki=f * base.ki, kd=f * base.kd)
+        rms = float(
+            np.mean(
+                [
+                    simulate(study.build_task(n), c, platform=platform, sensor=sensor).rms_error
+                    for n in study.tasks
+                ]
+            )
+        )
+        row: dict[str, Any] = {
+            "factor": f,
+            "kp_1_s": c.kp,
+            "ki_1_s2": c.ki,
+            "kd": c.kd,
+            "mean_rms_baseline_m": rms,
+        }
+        row.update({f"improvement_{k}": 1.0 - v / rms for k, v in tuned.items()})
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def baseline_claim(table: pd.DataFrame) -> str:
+    """How much the tuned PIDs' improvement depends on the baseline (from the table).
+
+    Examples
+    --------
+    >>> t = pd.DataFrame({"factor": [0.5, 1.0, 2.0], "mean_rms_baseline_m": [0.2, 0.1, 0.05],
+    ...                   "improvement_tuned": [0.95, 0.9, 0.8]})
+    >>> print(baseline_claim(t))  # doctest: +NORMALIZE_WHITESPACE
+    With the baseline gains scaled by 0.5-2 (mean RMS error 200.0-50.0 mm), the improvement
+    of tuned ranges from 80 % (factor 2) to 95 % (factor 0.5); at the study's default
+    (factor 1) it is 90 %.
+    """
+    out = []
+    for col in [c for c in table.columns if c.startswith("improvement_")]:
+        label = col.removeprefix("improvement_")
+        lo, hi = table[col].idxmin(), table[col].idxmax()
+        at1 = table.loc[table["factor"] == 1.0, col]
+        out.append(
+            f"the improvement of {label} ranges from {100 * table.loc[lo, col]:.0f} % "
+            f"(factor {table.loc[lo, 'factor']:g}) to {100 * table.loc[hi, col]:.0f} % "
+            f"(factor {table.loc[hi, 'factor']:g})"
+            + (
+                f"; at the study's default (factor 1) it is {100 * at1.iloc[0]:.0f} %"
+                if len(at1)
+                else ""
+            )
+        )
+    rms = table["mean_rms_baseline_m"]
+    return (
+        f"With the baseline gains scaled by {table['factor'].min():g}-{table['factor'].max():g} "
+        f"(mean RMS error {1e3 * rms.iloc[0]:.1f}-{1e3 * rms.iloc[-1]:.1f} mm), "
+        + "; ".join(out)
+        + "."
+    )
 
 
 def _grid(n: int) -> tuple[int, int]:
@@ -538,6 +637,12 @@ def _controllers_section(result: AccompanyingResult) -> list[str]:
     claims = tuning_claims(tuning, result.to_frame())
     if claims:
         out += ["Computed from the tables:", "", *[f"- {c}" for c in claims], ""]
+    out += [
+        "`default` is the project's choice of baseline (K_p, K_i, K_d from the study file), "
+        "not the paper's: Wu et al. 2021 report no gains. The improvements above are measured "
+        "against it; `baseline_sensitivity.csv` shows how they depend on it.",
+        "",
+    ]
     if s.tuning is not None:
         out += [
             f"`tuned`: convex-concave optimisation (Hast, Astrom, Bernhardsson, Boyd 2013): "
@@ -588,8 +693,18 @@ def _markdown(
     figures: list[str],
     command: str | None,
     version: str | None,
+    sensitivity: pd.DataFrame | None = None,
 ) -> str:
     out = _header(result, command, version) + _controllers_section(result)
+    if sensitivity is not None and len(sensitivity):
+        out += [
+            "## Sensitivity of the improvement to the baseline PID",
+            "",
+            baseline_claim(sensitivity),
+            "",
+            markdown_table(sensitivity, floatfmt=".4g"),
+            "",
+        ]
     out += _tables_section(result)
     out += ["## Warnings", ""]
     warnings = result.warnings
@@ -645,8 +760,13 @@ def write_accompanying_report(
     ):
         written.append(write_png(fig, directory / name))
         figures.append(name)
+    sensitivity = baseline_sensitivity(result) if len(result.runs) > 1 else None
+    if sensitivity is not None:
+        written.append(write_csv(sensitivity, directory / "baseline_sensitivity.csv"))
     written.append(
-        write_markdown(_markdown(result, figures, command, version), directory / "summary.md")
+        write_markdown(
+            _markdown(result, figures, command, version, sensitivity), directory / "summary.md"
+        )
     )
     written += copy_study(directory, study_text)
     return written
