@@ -233,6 +233,11 @@ def sign_claim(signs: pd.DataFrame) -> str:
     return text + "."
 
 
+def _change(value: float, reference: float) -> str:
+    rel = 1.0 - value / reference
+    return f"{100 * abs(rel):.0f} % {'lower' if rel >= 0 else 'higher'}"
+
+
 def tuning_claims(tuning: pd.DataFrame, metrics: pd.DataFrame) -> list[str]:
     """The tuned controllers against the default, computed from the report's tables.
 
@@ -262,7 +267,7 @@ def tuning_claims(tuning: pd.DataFrame, metrics: pd.DataFrame) -> list[str]:
         out.append(
             f"{method}: mean RMS error over the {len(per_task)} tasks "
             f"{1e3 * rms[method]:.1f} mm against {1e3 * rms['default']:.1f} mm with the default "
-            f"PID ({100 * (1 - rms[method] / rms['default']):.0f} % lower); lower on {lower} of "
+            f"PID ({_change(rms[method], rms['default'])}); lower on {lower} of "
             f"{len(per_task)} tasks."
         )
     others = [m for m in rms.index if m != "default"]

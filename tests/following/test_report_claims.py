@@ -141,3 +141,49 @@ def test_docs_sentences_follow_from_the_committed_report_tables():
     assert _docs_block("tether_comparison") == ranking_claims(metrics)
     assert _docs_block("tether_heuristic") == [heuristic_claim(heur)]
     assert np.isfinite(metrics["npd_mean_m"]).all()
+
+
+@pytest.mark.skipif(
+    not (ROOT / "reports" / "accompanying" / "baseline_sensitivity.csv").exists(),
+    reason="the committed accompanying report is not in this checkout",
+)
+def test_docs_accompanying_sentences_follow_from_the_committed_report_tables():
+    from designlab.report.accompanying import baseline_claim, tuning_claims
+
+    folder = ROOT / "reports" / "accompanying"
+    tuning = pd.read_csv(folder / "tuning.csv")
+    metrics = pd.read_csv(folder / "metrics.csv")
+    base = pd.read_csv(folder / "baseline_sensitivity.csv")
+    assert _docs_block("accompanying_tuning") == tuning_claims(tuning, metrics)
+    assert _docs_block("accompanying_baseline") == [baseline_claim(base)]
+
+
+def test_accompanying_sentences_follow_a_perturbed_table():
+    from designlab.report.accompanying import sign_claim, tuning_claims
+
+    tu = pd.DataFrame({"method": ["default", "tuned"], "mean_rms_all_tasks_m": [0.1, 0.02]})
+    me = pd.DataFrame(
+        {
+            "controller": ["default"] * 2 + ["tuned"] * 2,
+            "task": ["a", "b"] * 2,
+            "rms_error_m": [0.1, 0.1, 0.01, 0.03],
+        }
+    )
+    assert tuning_claims(tu, me)[0].endswith("(80 % lower); lower on 2 of 2 tasks.")
+    me.loc[3, "rms_error_m"] = 0.2
+    tu.loc[1, "mean_rms_all_tasks_m"] = 0.105
+    assert tuning_claims(tu, me)[0].endswith("(5 % higher); lower on 1 of 2 tasks.")
+    signs = pd.DataFrame(
+        {
+            "task": ["a"],
+            "paper_dX_mm": [5.0],
+            "default_dX_mm": [4.0],
+            "X_sign_agrees": ["yes"],
+            "paper_dY_mm": [0.0],
+            "default_dY_mm": [0.0],
+            "Y_sign_agrees": ["n/a"],
+        }
+    )
+    assert sign_claim(signs).startswith("The sign agrees with the paper in 1 of the 1 ")
+    signs.loc[0, "X_sign_agrees"] = "no"
+    assert "it does not in: a X" in sign_claim(signs)
