@@ -589,7 +589,36 @@ def _status(
         warns.append("no validation paths: the improvement is not measured")
     elif improvement < 0:
         warns.append("the tuned gains are worse than the defaults on the validation paths")
-    return status, tuple(warns)
+    return status, warns
+
+
+def _validation_warnings(table: pd.DataFrame, bound: float) -> list[str]:
+    """What the validation scenarios show that the tuning cost did not: violations, NPD."""
+    val = table[table["set"] == "validation"]
+    if not len(val):
+        return []
+    out = []
+    by = {who: val[val["controller"] == who] for who in ("default", "tuned")}
+    bad = {who: int((g["penalty"] > 1e-3).sum()) for who, g in by.items()}
+    if bad["tuned"] > bad["default"]:
+        out.append(
+            f"the tuned gains violate a constraint on {bad['tuned']} validation scenarios "
+            f"(the defaults on {bad['default']})"
+        )
+    sat = float(by["tuned"]["wheel_saturation"].max())
+    if sat > bound:
+        worst = by["tuned"].loc[by["tuned"]["wheel_saturation"].idxmax()]
+        out.append(
+            f"the tuned gains hold a wheel at its speed limit for {100 * sat:.0f} % of a run on "
+            f"{worst['path']} at {worst['speed_m_per_s']:g} m/s (bound {100 * bound:g} %)"
+        )
+    npd = {who: float(g["npd_mean_m"].mean()) for who, g in by.items()}
+    if npd["tuned"] > npd["default"]:
+        out.append(
+            f"the tuned gains deviate more than the defaults on the validation paths "
+            f"(mean NPD {npd['tuned']:.3f} m against {npd['default']:.3f} m)"
+        )
+    return out
 
 
 def _summary(
@@ -616,6 +645,7 @@ def _summary(
     )
     zetas = {v: damping_ratio(tuned, v, setup.robot.wheel_track) for v in setup.speeds}
     status, warns = _status(result, zetas, setup.damping_floor, improvement, setup)
+    warns += _validation_warnings(table, setup.max_saturation)
     saturation = {
         set_name: {
             who: float(
@@ -642,7 +672,7 @@ def _summary(
         evaluations=objective.evaluations,
         wall_time=time.perf_counter() - t_start,
         status=status,
-        warnings=warns,
+        warnings=tuple(warns),
         improvement_unpenalised=unpenalised,
         saturation=saturation,
         max_saturation=setup.max_saturation,
