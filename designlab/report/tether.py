@@ -429,10 +429,11 @@ The lateral-error loop of each law on a straight path at {v:g} m/s, linearised (
 psi' = Omega, Omega = K (psi + e/L); `docs/following.md`, Allan 2015 Sec. 2.3): K is the turn
 gain, L the effective look-ahead (PJ: the tether length; FTL: delta; FTL-CD: v/K_p), zeta and
 omega_n from the closed-loop poles, the phase margin of the loop broken at Omega. "sim" columns
-are fitted to the full nonlinear simulation (buffers, saturations, sampling) after a
-{off:g} m sideways start. Largest |zeta sim - zeta| per law: {err} (an overdamped loop, zeta >
-1, is hard to fit: its two real poles trade off). A small look-ahead weaves (zeta < 0.5, Sec.
-2.5.4).
+come from the two poles identified in the full nonlinear simulation (buffers, saturations,
+sampling) after a {off:g} m sideways start: a least-squares second-order autoregressive model
+of the sampled offset, no curve fit and no assumed initial slope. Largest |zeta sim - zeta| per
+law: {err}; largest relative difference of the slow pole: {slow}. A small look-ahead weaves
+(zeta < 0.5, Sec. 2.5.4).
 """
 
 
@@ -446,6 +447,8 @@ def _linear_section(linear: pd.DataFrame, speed: float) -> list[str]:
         "sim_damping_ratio": "zeta sim",
         "natural_frequency_rad_per_s": "omega_n [rad/s]",
         "sim_natural_frequency_rad_per_s": "omega_n sim",
+        "slow_pole_per_s": "slow pole [1/s]",
+        "sim_slow_pole_per_s": "slow pole sim",
         "phase_margin_deg": "PM [deg]",
         "steady_length_m": "l_ss [m]",
         "discrete_stable": "sampled stable",
@@ -455,7 +458,12 @@ def _linear_section(linear: pd.DataFrame, speed: float) -> list[str]:
         f"{law} {float(np.max(np.abs(g['damping_ratio_error']))):.3f}"
         for law, g in linear.groupby("controller", sort=False)
     )
-    text = _LINEAR_TEXT.format(v=speed, off=STEP_OFFSET, err=err)
+    rel = (linear["sim_slow_pole_per_s"] / linear["slow_pole_per_s"] - 1).abs()
+    slow = ", ".join(
+        f"{law} {100 * float(g.max()):.2f} %"
+        for law, g in rel.groupby(linear["controller"], sort=False)
+    )
+    text = _LINEAR_TEXT.format(v=speed, off=STEP_OFFSET, err=err, slow=slow)
     return [
         "## Linear lateral loop (python-control) vs simulation",
         "",
