@@ -187,3 +187,18 @@ def test_accompanying_sentences_follow_a_perturbed_table():
     assert sign_claim(signs).startswith("The sign agrees with the paper in 1 of the 1 ")
     signs.loc[0, "X_sign_agrees"] = "no"
     assert "it does not in: a X" in sign_claim(signs)
+
+
+@pytest.mark.skipif(
+    not (ROOT / "reports" / "tether_tuning" / "improvement.csv").exists(),
+    reason="the committed tether_tuning report is not in this checkout",
+)
+def test_docs_tuning_sentences_follow_from_the_committed_report_table():
+    from designlab.report.tether import tuning_claims
+
+    imp = pd.read_csv(ROOT / "reports" / "tether_tuning" / "improvement.csv")
+    assert _docs_block("tether_tuning") == tuning_claims(imp)
+    worse = imp.copy()
+    worse.loc[0, "improvement_validation"] = -0.2
+    assert tuning_claims(worse)[0] != tuning_claims(imp)[0]
+    assert "are worse than the defaults by 20.0 %" in tuning_claims(worse)[0]
