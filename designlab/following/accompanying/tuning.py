@@ -255,14 +255,15 @@ def convex_concave_pid(
     tf = _TF.check(derivative_filter_time)
     full = frequency_grid(sample_time, 2000, 1e-3)
     start = np.array([0.05, 0.0, 0.0])
-    rounds = 0
+    rounds = it = 0
     while rounds < REFINE_ROUNDS:
         rounds += 1
         basis = pid_basis(tf, sample_time, omega)
         a = basis * plant_response(tau, sample_time, omega, delay)[:, None]
-        k0, it, converged, status = _iterate(
-            a, basis, limits, start, (max_iterations, tolerance), progress
+        k0, n, converged, status = _iterate(
+            a, basis, limits, start, (max_iterations, tolerance, it), progress
         )
+        it += n
         peaks = _peaks(k0, tau, sample_time, tf, delay, full)
         over = [
             at
@@ -293,13 +294,17 @@ def _iterate(
     basis: np.ndarray,
     limits: dict[str, Any],
     start: np.ndarray,
-    stop: tuple[int, float],
+    stop: tuple[int, float, int],
     progress: ProgressHook | None,
 ) -> tuple[np.ndarray, int, bool, str]:
-    """The convex-concave iteration on one grid: (gains, programs, converged, solver status)."""
+    """The convex-concave iteration on one grid: (gains, programs, converged, solver status).
+
+    ``stop`` is (programs allowed, relative tolerance of K_i, programs solved before, which
+    numbers the progress steps on from the earlier rounds).
+    """
     import cvxpy as cp
 
-    max_iterations, tolerance = stop
+    max_iterations, tolerance, before = stop
     problem, k, ur, ui = _cone_program(a, basis, limits)
     k0 = np.array(start, dtype=float)
     converged, status, it = False, "optimal", 0
@@ -318,7 +323,10 @@ def _iterate(
         k1 = np.maximum(np.asarray(k.value, dtype=float), 0.0)
         change = (k1[1] - k0[1]) / max(k1[1], 1e-12)
         k0 = k1
-        report(progress, Progress(it, max_iterations, float(k0[1]), "program", "max K_i"))
+        report(
+            progress,
+            Progress(before + it, before + max_iterations, float(k0[1]), "program", "max K_i"),
+        )
         if abs(change) < tolerance:
             converged = True
             break
