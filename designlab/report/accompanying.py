@@ -339,6 +339,11 @@ def baseline_sensitivity(
 def baseline_claim(table: pd.DataFrame) -> str:
     """How much the tuned PIDs' improvement depends on the baseline (from the table).
 
+    Parameters
+    ----------
+    table
+        The table of :func:`baseline_sensitivity` (``baseline_sensitivity.csv``).
+
     Examples
     --------
     >>> t = pd.DataFrame({"factor": [0.5, 1.0, 2.0], "mean_rms_baseline_m": [0.2, 0.1, 0.05],

@@ -269,6 +269,13 @@ def heuristic_frame(result: TetherComparisonResult, ratio: float = 3.0) -> pd.Da
 def heuristic_claim(table: pd.DataFrame, ratio: float = 3.0) -> str:
     """The measured effect of the opt-in heuristic on a table of :func:`heuristic_frame`.
 
+    Parameters
+    ----------
+    table
+        The table of :func:`heuristic_frame` (``npd_heuristic.csv``).
+    ratio
+        The heuristic's ratio the table was measured with.
+
     Examples
     --------
     >>> t = pd.DataFrame({"path": ["a", "b"], "controller": ["PJ", "FTL"],

@@ -151,6 +151,11 @@ class AccompanyMetrics:
 def path_length(x: NDArray, y: NDArray) -> float:
     """Length in m of the polyline through the points (x, y).
 
+    Parameters
+    ----------
+    x, y
+        Coordinates in m, same length.
+
     Examples
     --------
     >>> path_length(np.array([0.0, 3.0, 3.0]), np.array([0.0, 0.0, 4.0]))

@@ -126,11 +126,15 @@ class ConvexConcaveSolution:
     kp, ki, kd
         The gains.
     iterations
-        Convex programs solved.
+        Convex programs solved (over every refinement round).
     converged
         Whether K_i stopped growing.
     solver_status
         The last solver status (``"optimal"``, or the failure).
+    ms, mt
+        The peaks of |S| and |T| of the solution, refined between grid points.
+    rounds
+        Solves (the first, and one per grid refinement).
     """
 
     kp: float
