@@ -20,7 +20,8 @@ may be shared; indicative, asserted nowhere):
 2. A batch of 64 distinct gain sets of each law on the same run
    (``simulate_batch``): aggregate simulated seconds per wall second (target:
    >= 10 000x).
-3. The normal path deviation (App. A) of a 40 s run (target: < 20 ms).
+3. The normal path deviation (App. A) of a 40 s run (target: < 20 ms CPU),
+   printed as a ratio to the target, and beside the opt-in heuristic.
 4. ``tune(FollowTheLeader, paths=[figure_eight(a=4), slalom()],
    speeds=[0.3, 0.5, 0.8])`` through a 2-process executor (target: < 2 min on
    2 cores).
@@ -175,10 +176,16 @@ def main(argv: list[str] | None = None) -> int:
     npd_fn = lambda: fol.normal_path_deviation(run.leader_xy, run.robot_xy)  # noqa: E731
     t_npd, npd = best_time(npd_fn, max(args.repeat, 5))
     ok &= CPU[npd_fn] < 0.02
+    heur_fn = lambda: fol.normal_path_deviation(  # noqa: E731
+        run.leader_xy, run.robot_xy, far_hit_fallback_ratio=3.0
+    )
+    best_time(heur_fn, max(args.repeat, 5))
     print(
-        f"normal path deviation of a 40 s run: {1e3 * t_npd:.1f} ms wall, "
-        f"{1e3 * CPU[npd_fn]:.1f} ms CPU (target < 20 ms); "
-        f"{len(npd.profile)} segments, mean {npd.mean * 1e3:.1f} mm"
+        f"normal path deviation (App. A) of a 40 s run: {1e3 * t_npd:.1f} ms wall, "
+        f"{1e3 * CPU[npd_fn]:.1f} ms CPU = {CPU[npd_fn] / 0.02:.2f} x the 20 ms target; "
+        f"{len(npd.profile)} segments, mean {npd.mean * 1e3:.1f} mm\n"
+        f"  (with the opt-in far_hit_fallback_ratio=3, which searches less: "
+        f"{1e3 * CPU[heur_fn]:.1f} ms CPU, ratio {CPU[npd_fn] / CPU[heur_fn]:.2f})"
     )
 
     if not args.no_tuning:

@@ -14,6 +14,9 @@ Files written into the report directory:
     Paper and simulation side by side (mm, degrees, as the paper).
 ``tuning.csv``, ``margins.csv``
     Gains, Ms, Mt, margins, improvement and cost of each controller.
+``baseline_sensitivity.csv``
+    The tuned PIDs' improvement against the default PID scaled by
+    :data:`BASELINE_FACTORS` (the default is the project's choice).
 ``trajectories_<controller>.png``
     User and robot paths in the world, one panel per task.
 ``errors.png``
@@ -36,20 +39,30 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from designlab.following.accompanying import PAPER_TEST_NAMES, paper_table1, paper_table2
+from designlab.following.accompanying import (
+    PAPER_TEST_NAMES,
+    paper_table1,
+    paper_table2,
+    simulate,
+)
 from designlab.report import register_writer
 from designlab.report.builder import copy_study, figure_section, report_header, warnings_section
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.kinds.accompanying import AccompanyingResult
 
 __all__ = [
+    "BASELINE_FACTORS",
+    "baseline_claim",
+    "baseline_sensitivity",
     "bode_figure",
     "errors_figure",
     "nyquist_figure",
     "readings_figure",
+    "sign_claim",
     "table1_frame",
     "table2_frame",
     "trajectory_figure",
+    "tuning_claims",
     "write_accompanying_report",
 ]
 
@@ -183,6 +196,185 @@ def _sign_table(result: AccompanyingResult) -> pd.DataFrame:
             )
         rows.append(row)
     return pd.DataFrame(rows)
+
+
+def sign_claim(signs: pd.DataFrame) -> str:
+    """How often the sign of the walking-average offset agrees with the paper (from the table).
+
+    Parameters
+    ----------
+    signs
+        One row per task with ``X_sign_agrees``/``Y_sign_agrees`` ("yes", "no", "n/a") and
+        the offsets ``paper_dX_mm``, ``default_dX_mm`` (and Y).
+
+    Examples
+    --------
+    >>> t = pd.DataFrame({"task": ["a", "b"], "paper_dX_mm": [5.0, -3.0],
+    ...                   "default_dX_mm": [4.0, 9.0], "X_sign_agrees": ["yes", "no"],
+    ...                   "paper_dY_mm": [1.0, 1.0], "default_dY_mm": [0.0, 0.0],
+    ...                   "Y_sign_agrees": ["n/a", "n/a"]})
+    >>> print(sign_claim(t))  # doctest: +NORMALIZE_WHITESPACE
+    The sign agrees with the paper in 1 of the 2 components where the default PID has an
+    offset of 2 mm or more; it does not in: b X (paper -3 mm, model +9 mm).
+    """
+    cells = [(r["task"], ax, r) for _, r in signs.iterrows() for ax in ("X", "Y")]
+    judged = [(t, ax, r) for t, ax, r in cells if r[f"{ax}_sign_agrees"] != "n/a"]
+    bad = [(t, ax, r) for t, ax, r in judged if r[f"{ax}_sign_agrees"] == "no"]
+    text = (
+        f"The sign agrees with the paper in {len(judged) - len(bad)} of the {len(judged)} "
+        "components where the default PID has an offset of 2 mm or more"
+    )
+    if bad:
+        text += "; it does not in: " + ", ".join(
+            f"{t} {ax} (paper {r[f'paper_d{ax}_mm']:+.0f} mm, "
+            f"model {r[f'default_d{ax}_mm']:+.0f} mm)"
+            for t, ax, r in bad
+        )
+    return text + "."
+
+
+def _change(value: float, reference: float) -> str:
+    rel = 1.0 - value / reference
+    return f"{100 * abs(rel):.0f} % {'lower' if rel >= 0 else 'higher'}"
+
+
+def tuning_claims(tuning: pd.DataFrame, metrics: pd.DataFrame) -> list[str]:
+    """The tuned controllers against the default, computed from the report's tables.
+
+    Parameters
+    ----------
+    tuning
+        ``tuning.csv``: one row per controller (``method``) with ``mean_rms_all_tasks_m``.
+    metrics
+        ``metrics.csv``: one row per (controller, task) with ``rms_error_m``.
+
+    Examples
+    --------
+    >>> tu = pd.DataFrame({"method": ["default", "tuned"], "mean_rms_all_tasks_m": [0.1, 0.02]})
+    >>> me = pd.DataFrame({"controller": ["default", "default", "tuned", "tuned"],
+    ...                    "task": ["a", "b"] * 2, "rms_error_m": [0.1, 0.1, 0.01, 0.03]})
+    >>> print(tuning_claims(tu, me)[0])  # doctest: +NORMALIZE_WHITESPACE
+    tuned: mean RMS error over the 2 tasks 20.0 mm against 100.0 mm with the default PID
+    (80 % lower); lower on 2 of 2 tasks.
+    """
+    rms = tuning.set_index("method")["mean_rms_all_tasks_m"]
+    per_task = metrics.pivot_table(index="task", columns="controller", values="rms_error_m")
+    if "default" not in rms.index:
+        return []
+    out = []
+    for method in [m for m in rms.index if m != "default"]:
+        lower = int((per_task[method] < per_task["default"]).sum())
+        out.append(
+            f"{method}: mean RMS error over the {len(per_task)} tasks "
+            f"{1e3 * rms[method]:.1f} mm against {1e3 * rms['default']:.1f} mm with the default "
+            f"PID ({_change(rms[method], rms['default'])}); lower on {lower} of "
+            f"{len(per_task)} tasks."
+        )
+    others = [m for m in rms.index if m != "default"]
+    if len(others) == 2:
+        a, b = others
+        best = a if rms[a] < rms[b] else b
+        worse = b if best == a else a
+        wins = int((per_task[best] < per_task[worse]).sum())
+        out.append(
+            f"{best} has the lower mean RMS error of the two tuned controllers "
+            f"({1e3 * rms[best]:.1f} mm against {1e3 * rms[worse]:.1f} mm) and is lower on "
+            f"{wins} of {len(per_task)} tasks."
+        )
+    return out
+
+
+#: Scale factors of the baseline PID in the sensitivity table (all three gains scaled).
+BASELINE_FACTORS = (0.25, 0.5, 1.0, 2.0, 4.0)
+
+
+def baseline_sensitivity(
+    result: AccompanyingResult, factors: tuple[float, ...] = BASELINE_FACTORS
+) -> pd.DataFrame:
+    """The tuned PIDs' improvement against baselines scaled from the study's default PID.
+
+    The default PID is the project's choice (the paper reports no gains), so
+    the improvement depends on it: each factor f scales K_p, K_i and K_d of the
+    default, the tasks are simulated with it, and ``improvement_<label>`` is
+    1 - mean RMS (tuned) / mean RMS (baseline) over the study's tasks.
+
+    Parameters
+    ----------
+    result
+        An accompanying study result.
+    factors
+        Scale factors of the baseline gains.
+    """
+    study = result.study
+    platform, sensor = study.platform.build(), study.sensor.build()
+    base = study.controller.build()
+    tuned = {
+        label: float(np.mean([r.rms_error for r in runs.values()]))
+        for label, runs in result.runs.items()
+        if label != "default"
+    }
+    rows = []
+    for f in factors:
+        c = base.replace(kp=f * base.kp, ki=f * base.ki, kd=f * base.kd)
+        rms = float(
+            np.mean(
+                [
+                    simulate(study.build_task(n), c, platform=platform, sensor=sensor).rms_error
+                    for n in study.tasks
+                ]
+            )
+        )
+        row: dict[str, Any] = {
+            "factor": f,
+            "kp_1_s": c.kp,
+            "ki_1_s2": c.ki,
+            "kd": c.kd,
+            "mean_rms_baseline_m": rms,
+        }
+        row.update({f"improvement_{k}": 1.0 - v / rms for k, v in tuned.items()})
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def baseline_claim(table: pd.DataFrame) -> str:
+    """How much the tuned PIDs' improvement depends on the baseline (from the table).
+
+    Parameters
+    ----------
+    table
+        The table of :func:`baseline_sensitivity` (``baseline_sensitivity.csv``).
+
+    Examples
+    --------
+    >>> t = pd.DataFrame({"factor": [0.5, 1.0, 2.0], "mean_rms_baseline_m": [0.2, 0.1, 0.05],
+    ...                   "improvement_tuned": [0.95, 0.9, 0.8]})
+    >>> print(baseline_claim(t))  # doctest: +NORMALIZE_WHITESPACE
+    With the baseline gains scaled by 0.5-2 (mean RMS error 200.0-50.0 mm), the improvement
+    of tuned ranges from 80 % (factor 2) to 95 % (factor 0.5); at the study's default
+    (factor 1) it is 90 %.
+    """
+    out = []
+    for col in [c for c in table.columns if c.startswith("improvement_")]:
+        label = col.removeprefix("improvement_")
+        lo, hi = table[col].idxmin(), table[col].idxmax()
+        at1 = table.loc[table["factor"] == 1.0, col]
+        out.append(
+            f"the improvement of {label} ranges from {100 * table.loc[lo, col]:.0f} % "
+            f"(factor {table.loc[lo, 'factor']:g}) to {100 * table.loc[hi, col]:.0f} % "
+            f"(factor {table.loc[hi, 'factor']:g})"
+            + (
+                f"; at the study's default (factor 1) it is {100 * at1.iloc[0]:.0f} %"
+                if len(at1)
+                else ""
+            )
+        )
+    rms = table["mean_rms_baseline_m"]
+    return (
+        f"With the baseline gains scaled by {table['factor'].min():g}-{table['factor'].max():g} "
+        f"(mean RMS error {1e3 * rms.iloc[0]:.1f}-{1e3 * rms.iloc[-1]:.1f} mm), "
+        + "; ".join(out)
+        + "."
+    )
 
 
 def _grid(n: int) -> tuple[int, int]:
@@ -425,8 +617,8 @@ _SIGN_TEXT = (
     "lateral and the pivots: X; the circles: X and Y); the other offsets in the paper come "
     "from heading changes and pelvis motion that the synthetic walks do not have. "
     "Left lateral walking is the paper's own anomaly (Sec. 6: at reset the distance "
-    "sensor saw the user's forearm, so the target distance was too short); a lagging "
-    "robot ends up to the user's right (+X) when the user walks left."
+    "sensor saw the user's forearm, so the target distance was too short); a robot that "
+    "lags a user walking left is to the user's right (+X) of its target."
 )
 
 
@@ -452,6 +644,15 @@ def _controllers_section(result: AccompanyingResult) -> list[str]:
     tuning = result.tuning_frame()
     cols = [c for c in _CONTROLLER_COLUMNS if c in tuning.columns]
     out = ["## Controllers", "", markdown_table(tuning[cols], floatfmt=".4g"), ""]
+    claims = tuning_claims(tuning, result.to_frame())
+    if claims:
+        out += ["Computed from the tables:", "", *[f"- {c}" for c in claims], ""]
+    out += [
+        "`default` is the project's choice of baseline (K_p, K_i, K_d from the study file), "
+        "not the paper's: Wu et al. 2021 report no gains. The improvements above are measured "
+        "against it; `baseline_sensitivity.csv` shows how they depend on it.",
+        "",
+    ]
     if s.tuning is not None:
         out += [
             f"`tuned`: convex-concave optimisation (Hast, Astrom, Bernhardsson, Boyd 2013): "
@@ -483,7 +684,7 @@ def _tables_section(result: AccompanyingResult) -> list[str]:
         "",
         markdown_table(_fmt_frame(_sign_table(result), 0)),
         "",
-        _SIGN_TEXT,
+        sign_claim(_sign_table(result)) + " " + _SIGN_TEXT,
         "",
     ]
     t1 = table1_frame(result)
@@ -502,8 +703,18 @@ def _markdown(
     figures: list[str],
     command: str | None,
     version: str | None,
+    sensitivity: pd.DataFrame | None = None,
 ) -> str:
     out = _header(result, command, version) + _controllers_section(result)
+    if sensitivity is not None and len(sensitivity):
+        out += [
+            "## Sensitivity of the improvement to the baseline PID",
+            "",
+            baseline_claim(sensitivity),
+            "",
+            markdown_table(sensitivity, floatfmt=".4g"),
+            "",
+        ]
     out += _tables_section(result)
     out += warnings_section(result.warnings, none="None.")
     out += figure_section([(f, f) for f in figures], spaced=False)
@@ -556,8 +767,13 @@ def write_accompanying_report(
     ):
         written.append(write_png(fig, directory / name))
         figures.append(name)
+    sensitivity = baseline_sensitivity(result) if len(result.runs) > 1 else None
+    if sensitivity is not None:
+        written.append(write_csv(sensitivity, directory / "baseline_sensitivity.csv"))
     written.append(
-        write_markdown(_markdown(result, figures, command, version), directory / "summary.md")
+        write_markdown(
+            _markdown(result, figures, command, version, sensitivity), directory / "summary.md"
+        )
     )
     written += copy_study(directory, study_text)
     return written

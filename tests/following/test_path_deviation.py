@@ -79,7 +79,7 @@ def _dist_to_offset_square_s(pts: np.ndarray, dd: float) -> np.ndarray:
     return out
 
 
-def test_square_s_against_its_exact_offset_with_corner_fallback():
+def test_square_s_against_its_exact_offset():
     dd = 0.3
     leader = fol.square_s().points
     arc1 = [
@@ -196,10 +196,166 @@ def test_rigid_motion_invariance(angle, shift, offset):
         ({"max_segment": -1.0}, "max_segment"),
         ({"min_segment": 0.1, "max_segment": 0.05}, "max_segment"),
         ({"comparison": "both"}, "comparison"),
-        ({"max_hit_ratio": 0.0}, "max_hit_ratio"),
+        ({"far_hit_fallback_ratio": 0.0}, "far_hit_fallback_ratio"),
+        ({"far_hit_fallback_ratio": 2.0, "max_hit_ratio": 2.0}, "max_hit_ratio"),
+        ({"max_hits": 2.0}, "max_hits"),
     ],
 )
 def test_bad_input(kw, name):
     args = {"leader_xy": [[0, 0], [1, 0]], "robot_xy": [[0, 0.1], [1, 0.1]], **kw}
     with pytest.raises(InvalidParameterError, match=name):
         fol.normal_path_deviation(**args)
+
+
+# --- the slalom out-and-back against its exact offset (App. A by default) -------------------
+
+_A, _SP, _SPAN = 0.5, 1.5, 6.0  # the default slalom: amplitude, cone spacing, 4 spacings
+_K = math.pi / _SP
+
+
+def _slalom_curve(u: np.ndarray, offset: float) -> np.ndarray:
+    """The out-and-back slalom offset by ``offset`` to its left, exactly, at parameter u.
+
+    u in [0, 1]: out leg y = -A cos(k x); u in [1, 2]: half circle of radius A about
+    (span, 0); u in [2, 3]: back leg y = +A cos(k x), x from span to 0.
+    """
+    out = np.empty((len(u), 2))
+    tan = np.empty((len(u), 2))
+    leg1, arc, leg2 = u <= 1, (u > 1) & (u < 2), u >= 2
+    x1 = _SPAN * u[leg1]
+    out[leg1] = np.column_stack([x1, -_A * np.cos(_K * x1)])
+    tan[leg1] = np.column_stack([np.ones_like(x1), _A * _K * np.sin(_K * x1)])
+    ang = -math.pi / 2 + math.pi * (u[arc] - 1)
+    out[arc] = np.column_stack([_SPAN + _A * np.cos(ang), _A * np.sin(ang)])
+    tan[arc] = np.column_stack([-np.sin(ang), np.cos(ang)])
+    x2 = _SPAN * (3 - u[leg2])
+    out[leg2] = np.column_stack([x2, _A * np.cos(_K * x2)])
+    tan[leg2] = np.column_stack([-np.ones_like(x2), _A * _K * np.sin(_K * x2)])
+    tan /= np.hypot(*tan.T)[:, None]
+    return out + offset * np.column_stack([-tan[:, 1], tan[:, 0]])
+
+
+def _exact_normal_deviation(nodes: np.ndarray, n_seg: int, offset: float) -> np.ndarray:
+    """The App. A deviation of the leader segments 0..n_seg-1 against the exact offset curve.
+
+    For each segment midpoint m with unit normal n, the nearest root (in |t|) of
+    cross(n, R(u) - m) = 0 along the exact curve R, found as sign changes on a
+    parameter grid 2x finer than the robot polyline and refined by the secant;
+    the distance along the normal is |(R(u) - m) . n|, searched within 2 m; with no
+    root, the distance to the curve (F3's fallback).
+    """
+    a, b = nodes[:n_seg], nodes[1 : n_seg + 1]
+    mid = 0.5 * (a + b)
+    tan = (b - a) / np.hypot(*(b - a).T)[:, None]
+    nrm = np.column_stack([-tan[:, 1], tan[:, 0]])
+    u = np.linspace(0.0, 3.0, 12_001)
+    curve = _slalom_curve(u, offset)
+    out = np.empty(len(mid))
+    for lo in range(0, len(mid), 64):  # 64 midpoints at a time against the whole curve
+        m, n = mid[lo : lo + 64, None, :], nrm[lo : lo + 64, None, :]
+        rel = curve[None, :, :] - m
+        f = n[..., 0] * rel[..., 1] - n[..., 1] * rel[..., 0]
+        t = np.einsum("qkj,qkj->qk", rel, np.broadcast_to(n, rel.shape))
+        q, k = np.nonzero(np.sign(f[:, :-1]) != np.sign(f[:, 1:]))
+        w = f[q, k] / (f[q, k] - f[q, k + 1])
+        hit = np.abs(t[q, k] + w * (t[q, k + 1] - t[q, k]))
+        keep = hit <= 2.0
+        best = np.full(len(m), np.inf)
+        np.minimum.at(best, q[keep], hit[keep])
+        nearest = np.hypot(rel[..., 0], rel[..., 1]).min(axis=1)
+        out[lo : lo + 64] = np.where(np.isfinite(best), best, nearest)
+    return out
+
+
+def _sag_bound(offset: float) -> float:
+    """TOL plus the largest sag of a 0.015 m chord of the offset curve.
+
+    The least radius of curvature of the offset curve is 1 / (A k^2) - |offset|.
+    """
+    return TOL + 0.015**2 / (8 * (1 / (_A * _K**2) - abs(offset)))
+
+
+def _offset_slalom(offset: float) -> tuple[np.ndarray, np.ndarray]:
+    u = np.linspace(0.0, 3.0, 6001)
+    return _slalom_curve(u, 0.0), _slalom_curve(u, offset)
+
+
+@pytest.mark.parametrize("offset", [0.3, -0.3])
+def test_slalom_out_and_back_against_its_exact_offset(offset):
+    """App. A by default: every normal hit counts, also on the other leg where the legs cross.
+
+    Away from the points where the robot path crosses the leader path the
+    answer is the offset itself, 0.3 m; next to a crossing the normal meets the
+    crossing branch of the robot path first (a genuine App. A hit, nearer than 0.3 m).
+    """
+    leader, robot = _offset_slalom(offset)
+    d = fol.normal_path_deviation(leader, robot)
+    assert d.range_start == 0 and d.distance[0] < 0.05 and d.distance[-1] > 16.2
+    exact = _exact_normal_deviation(d.leader_nodes, len(d.profile), offset)
+    assert d.mean == pytest.approx(exact.mean(), abs=TOL)
+    # per segment: the re-segmented robot polyline (chords of 0.01-0.015 m) sags from the
+    # exact curve by at most L^2 / (8 rho), rho >= 0.156 m on the inner offset: < 2e-4 m
+    assert np.max(np.abs(d.profile - exact)) < _sag_bound(0.3)
+    assert not d.fallback.any()
+    assert np.all(d.profile <= 0.3 + _sag_bound(0.3))
+    # the crossings touch a few segments only: the mean is 0.3 m to 2e-3 m
+    assert abs(d.mean - 0.3) < 2e-3
+    assert np.mean(np.abs(d.profile - 0.3) < _sag_bound(0.3)) > 0.98
+    if offset < 0:
+        return
+    # with finer segments, every segment to 1e-4 m
+    fine = fol.normal_path_deviation(leader, robot, min_segment=0.002, max_segment=0.01)
+    exact = _exact_normal_deviation(fine.leader_nodes, len(fine.profile), offset)
+    assert np.max(np.abs(fine.profile - exact)) < TOL
+    # the opt-in heuristic swaps valid hits for the distance to the other leg and lowers the mean
+    heur = fol.normal_path_deviation(leader, robot, far_hit_fallback_ratio=3.0)
+    assert heur.mean < d.mean - 0.01
+    assert heur.fallback.sum() > 50
+
+
+def test_max_hit_ratio_is_the_deprecated_name_of_the_opt_in_heuristic():
+    leader, robot = _offset_slalom(0.3)
+    new = fol.normal_path_deviation(leader, robot, far_hit_fallback_ratio=3.0)
+    with pytest.warns(DeprecationWarning, match="far_hit_fallback_ratio"):
+        old = fol.normal_path_deviation(leader, robot, max_hit_ratio=3.0)
+    with pytest.warns(DeprecationWarning):
+        many = fol.tether.normal_path_deviations(leader, [robot], max_hit_ratio=3.0)
+    assert old.mean == new.mean == many[0].mean
+
+
+@settings(max_examples=3, deadline=None)
+@given(offset=st.floats(0.05, 0.35), side=st.sampled_from([1.0, -1.0]))
+def test_slalom_against_random_exact_offsets(offset, side):
+    leader, robot = _offset_slalom(side * offset)
+    d = fol.normal_path_deviation(leader, robot)
+    exact = _exact_normal_deviation(d.leader_nodes, len(d.profile), side * offset)
+    assert d.mean == pytest.approx(exact.mean(), abs=TOL)
+    assert np.max(np.abs(d.profile - exact)) < _sag_bound(offset)  # chord sag, see above
+    assert np.all(d.profile <= offset + _sag_bound(offset))
+
+
+def test_the_search_in_growing_radii_equals_one_search_over_the_whole_limit():
+    """The nearest hit found in doubling radii is the nearest within max_search."""
+    rng = np.random.default_rng(7)
+    leader = np.cumsum(rng.normal(0.0, 0.05, (400, 2)), axis=0)
+    robot = leader + rng.normal(0.0, 0.2, (400, 2))
+    d = fol.normal_path_deviation(leader, robot, max_search=1.5)
+    q1, q2 = d.leader_nodes, d.follower_nodes
+    n = len(d.profile)
+    mid = 0.5 * (q1[:n] + q1[1 : n + 1])
+    seg = q1[1 : n + 1] - q1[:n]
+    nrm = np.column_stack([-seg[:, 1], seg[:, 0]]) / np.hypot(*seg.T)[:, None]
+    c, e = q2[d.range_start : -1], q2[d.range_start + 1 :]
+    v = e - c
+    for i in range(n):  # brute force over every segment
+        w = c - mid[i]
+        den = nrm[i, 0] * v[:, 1] - nrm[i, 1] * v[:, 0]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = np.abs((w[:, 0] * v[:, 1] - w[:, 1] * v[:, 0]) / den)
+            u = (w[:, 0] * nrm[i, 1] - w[:, 1] * nrm[i, 0]) / den
+        ok = (u >= 0) & (u <= 1) & (t <= 1.5) & (np.abs(den) > 1e-15)
+        if ok.any():
+            assert d.profile[i] == pytest.approx(t[ok].min(), abs=1e-12)
+            assert not d.fallback[i]
+        else:
+            assert d.fallback[i]

@@ -98,3 +98,29 @@ def test_bad_linear_input():
         fol.linear_analysis(fol.FollowTheLeader(), speed=0.0)
     with pytest.raises(InvalidParameterError, match="controller"):
         fol.linear_analysis("FTL", speed=0.5)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(("poles"), [(-0.5, -4.0), (-1.0 + 1.7j, -1.0 - 1.7j), (-0.243, -11.757)])
+def test_identify_poles_recovers_the_poles_of_a_free_response(poles):
+    from designlab.following.tether.linear import identify_poles
+
+    t = np.arange(0.0, 10.0, 0.01)
+    p1, p2 = (complex(p) for p in poles)
+    e = (np.exp(p1 * t) * (1 + 0.3j) + np.exp(p2 * t) * (1 - 0.3j)).real
+    got = identify_poles(t, e)
+    assert sorted(got, key=abs) == pytest.approx(sorted([p1, p2], key=abs), rel=1e-8)
+    zeta, wn = fit_damping(t, e)
+    assert wn == pytest.approx(math.sqrt((p1 * p2).real), rel=1e-8)
+    assert zeta == pytest.approx(-(p1 + p2).real / (2 * wn), rel=1e-8)
+
+
+def test_pj_slow_pole_of_the_simulated_step_matches_the_linear_loop():
+    """Issue 20: the damping ratio from the identified poles; PJ's slow pole to 0.2 %."""
+    from designlab.following.tether.linear import identify_poles
+
+    ctrl = fol.PseudoJoystick(desired_length=1.0)
+    t, e = lateral_step_response(ctrl, offset=0.05, speed=0.5, duration=12.0)
+    lin = fol.linear_analysis(ctrl, speed=0.5)
+    z, w = lin.damping_ratio, lin.natural_frequency
+    slow = -w * (z - math.sqrt(z * z - 1))
+    assert identify_poles(t[:1000], e[:1000])[0].real == pytest.approx(slow, rel=2e-3)

@@ -17,7 +17,13 @@ Definitions (Wu et al. 2021, Sec. 4; ``docs/following.md``):
 * overshoot: after the stop, the largest travel of the robot beyond the
   (now fixed) target point along the direction the target was moving;
 * settling time: time after the stop until the error stays within
-  ``settle_band`` (default 20 mm) to the end of the run.
+  ``settle_band`` (default 20 mm) to the end of the run;
+* path length (Wu et al. 2021, Sec. 6: "the robot takes a longer path than
+  the user during pivots; on circles its path matches the user's when the
+  target lies on the walking curve and is longer when it lies outside"): the
+  length of the world path of the user's frame origin, of the robot and of
+  the target point (where a robot exactly on target would go), over the run,
+  and the ratio robot / user.
 
 Examples
 --------
@@ -43,7 +49,7 @@ from designlab.following.accompanying.parameters import SETTLE_BAND
 from designlab.following.accompanying.user_frame import robot_in_user_frame
 from designlab.params import Param
 
-__all__ = ["MAX_LAG", "SETTLE_WINDOW", "AccompanyMetrics", "accompany_metrics"]
+__all__ = ["MAX_LAG", "SETTLE_WINDOW", "AccompanyMetrics", "accompany_metrics", "path_length"]
 
 #: Time after the stop at which the Table 2 stop pose and the settled error are taken.
 SETTLE_WINDOW = Param(
@@ -85,6 +91,11 @@ class AccompanyMetrics:
         In s after the stop; NaN if the error never stays within the band.
     stop_time
         The instant of the Table 2 stop values, s.
+    user_path_length, robot_path_length, target_path_length
+        Length in m of the world paths of the user's frame origin, the robot
+        and the target point over the run.
+    path_length_ratio
+        ``robot_path_length / user_path_length`` (NaN if the user did not move).
     """
 
     target_x: float
@@ -114,6 +125,10 @@ class AccompanyMetrics:
     overshoot: float
     settling_time: float
     stop_time: float
+    user_path_length: float = math.nan
+    robot_path_length: float = math.nan
+    target_path_length: float = math.nan
+    path_length_ratio: float = math.nan
 
     def as_dict(self) -> dict[str, float]:
         """Flat dict with unit-carrying keys (tuples expanded)."""
@@ -126,9 +141,27 @@ class AccompanyMetrics:
                 out[k] = v
             elif k in ("lag", "settling_time", "stop_time"):
                 out[f"{k}_s"] = v
+            elif k == "path_length_ratio":
+                out[k] = v
             else:
                 out[f"{k}_m"] = v
         return out
+
+
+def path_length(x: NDArray, y: NDArray) -> float:
+    """Length in m of the polyline through the points (x, y).
+
+    Parameters
+    ----------
+    x, y
+        Coordinates in m, same length.
+
+    Examples
+    --------
+    >>> path_length(np.array([0.0, 3.0, 3.0]), np.array([0.0, 0.0, 4.0]))
+    7.0
+    """
+    return float(np.sum(np.hypot(np.diff(x), np.diff(y))))
 
 
 def _circ_mean_sd(a: NDArray) -> tuple[float, float]:
@@ -267,4 +300,16 @@ def accompany_metrics(
         overshoot=_overshoot(t, r, target, walk_stop),
         settling_time=_settling_time(t, err, walk_stop, settle_band),
         stop_time=float(t[k_stop]),
+        **_path_lengths(u, r, target),
     )
+
+
+def _path_lengths(u: NDArray, r: NDArray, target: tuple[NDArray, NDArray]) -> dict[str, float]:
+    user = path_length(u[0], u[1])
+    robot = path_length(r[0], r[1])
+    return {
+        "user_path_length": user,
+        "robot_path_length": robot,
+        "target_path_length": path_length(*target),
+        "path_length_ratio": robot / user if user > 1e-12 else math.nan,
+    }

@@ -58,6 +58,7 @@ __all__ = [
     "LinearLoopStatus",
     "effective_loop",
     "fit_damping",
+    "identify_poles",
     "lateral_step_response",
     "linear_analysis",
 ]
@@ -330,35 +331,63 @@ def lateral_step_response(
     return run.t, run.robot_xy[:, 1]
 
 
-def fit_damping(t: Any, e: Any) -> tuple[float, float]:
-    """Fit ``e'' + 2 zeta omega_n e' + omega_n^2 e = 0`` (e(0) given, e'(0) = 0) to a response.
+def identify_poles(t: Any, e: Any, skip: int = 5) -> NDArray[np.complex128]:
+    """The two poles (1/s) of a sampled free response, by a second-order autoregressive fit.
 
-    Returns ``(zeta, omega_n)`` by least squares (scipy).
+    A free response of a second-order linear system sampled every T obeys
+    ``e[k] = a1 e[k-1] + a2 e[k-2]`` exactly; (a1, a2) are fitted by linear least
+    squares, the roots z of ``z^2 - a1 z - a2`` are the sampled poles and
+    ``s = log(z) / T`` the continuous ones. No initial condition is assumed.
 
     Parameters
     ----------
     t
-        Times in s.
+        Equally spaced times in s.
     e
-        Lateral offset in m at those times (starting at rest).
+        The response at those times.
+    skip
+        Samples left out at the start (the first steps of a sampled controller).
+
+    Returns
+    -------
+    ndarray
+        The two poles, slowest first.
+
+    Examples
+    --------
+    >>> t = np.arange(0.0, 5.0, 0.01)
+    >>> p = identify_poles(t, 2.0 * np.exp(-0.5 * t) - np.exp(-4.0 * t))
+    >>> np.round(p.real, 6).tolist()
+    [-0.5, -4.0]
     """
-    from scipy.linalg import expm
-    from scipy.optimize import least_squares
-
     t = np.asarray(t, dtype=float)
-    e = np.asarray(e, dtype=float)
-    e0 = e[0]
+    e = np.asarray(e, dtype=float)[skip:]
+    dt = float(t[1] - t[0])
+    a = np.column_stack([e[1:-1], e[:-2]])
+    (a1, a2), *_ = np.linalg.lstsq(a, e[2:], rcond=None)
+    z = np.roots([1.0, -a1, -a2]).astype(complex)
+    s = np.log(z) / dt
+    return s[np.argsort(np.abs(s))]
 
-    def model(p: NDArray) -> NDArray:
-        zeta, wn = p
-        a = np.array([[0.0, 1.0], [-wn * wn, -2.0 * zeta * wn]])
-        step = expm(a * (t[1] - t[0]))
-        x = np.array([e0, 0.0])
-        out = np.empty_like(t)
-        for i in range(len(t)):
-            out[i] = x[0]
-            x = step @ x
-        return out
 
-    sol = least_squares(lambda p: model(p) - e, x0=[0.7, 1.0], bounds=([0.01, 0.01], [5.0, 50.0]))
-    return float(sol.x[0]), float(sol.x[1])
+def fit_damping(t: Any, e: Any) -> tuple[float, float]:
+    """Damping ratio and natural frequency of the two poles identified in a free response.
+
+    ``zeta = -(s1 + s2) / (2 sqrt(s1 s2))`` and ``omega_n = sqrt(s1 s2)`` of the
+    poles of :func:`identify_poles` (real for an overdamped loop, a complex pair
+    otherwise): the damping ratio *from the identified poles*, not a curve fit.
+
+    Parameters
+    ----------
+    t
+        Times in s (equally spaced).
+    e
+        Lateral offset in m at those times.
+
+    Returns
+    -------
+    (zeta, omega_n)
+    """
+    s = identify_poles(t, e)
+    wn = float(np.sqrt(abs((s[0] * s[1]).real)))
+    return float(-(s[0] + s[1]).real / (2.0 * wn)), wn

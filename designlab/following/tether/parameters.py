@@ -44,6 +44,7 @@ __all__ = [
     "LEADER_SPEED",
     "LEAD_IN",
     "MAXITER",
+    "MAX_SATURATION",
     "OXYDOG",
     "POPSIZE",
     "SEED",
@@ -309,6 +310,16 @@ DAMPING_FLOOR = Param(
     le=5,
     default=0.5,
     name="damping_floor",
+)
+#: Tuning constraint: the largest fraction of a run with a wheel at its speed limit.
+MAX_SATURATION = Param(
+    None,
+    "",
+    "largest fraction of a run with a wheel at its speed limit (tuning constraint)",
+    ge=0,
+    le=1,
+    default=0.05,
+    name="max_saturation",
 )
 #: Either end of the allowed tether range (Allan 2015 Table 1.1: 0.2-1.0 m "or greater").
 TETHER_LIMIT = Param("l", "m", "end of the allowed tether range", gt=0, le=100, name="tether_range")

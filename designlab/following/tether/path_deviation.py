@@ -19,11 +19,17 @@ intersection is that segment's deviation. The algorithm, as in App. A:
    robot's end to the leader's start; ``"literal"`` searches all;
 4. the normal deviation of each path-1 segment in range against path 2 in
    range: the nearest hit of the normal line in either direction (unsigned),
-   within ``max_search`` (2 m). Where there is no hit, or the nearest hit is
-   more than ``max_hit_ratio`` times farther than the nearest point of path 2
-   (a normal that crosses a corner and hits an unrelated part of the path,
-   the failure App. A.6 describes), the point-to-polyline distance is used
-   instead (the "fallback").
+   within ``max_search`` (2 m). Where there is no hit, the point-to-polyline
+   distance is used instead (the "fallback").
+
+This is App. A by default. One heuristic is an opt-in option:
+``far_hit_fallback_ratio=k`` also replaces a normal hit that is more than k
+times farther than the nearest point of path 2 by that point-to-polyline
+distance (meant for a normal that crosses a corner and hits an unrelated part
+of the path, the failure App. A.6 describes). It is not App. A: where the
+paths cross or return on themselves it swaps valid hits for the distance to
+another leg and lowers the deviation (see ``docs/following.md`` for its
+measured effect). ``max_hit_ratio`` is its former name (deprecated).
 
 Mean, standard deviation and maximum are reported in metres and in units of
 the wheel track (b = 0.28 m, as Tables 3.2/3.3). See ``docs/following.md``.
@@ -40,6 +46,7 @@ Examples
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 from itertools import chain
 from typing import Any
@@ -56,6 +63,7 @@ from designlab.results import Result, Status
 
 __all__ = [
     "COMPARISON",
+    "FAR_HIT_FALLBACK_RATIO",
     "MAX_HIT_RATIO",
     "MAX_SEARCH",
     "MAX_SEGMENT",
@@ -91,18 +99,22 @@ MAX_SEGMENT = Param(
 MAX_SEARCH = Param(
     None, "m", "longest normal searched", gt=0, le=100, default=2.0, name="max_search"
 )
-#: A normal hit farther than this multiple of the point-to-polyline distance is spurious.
-MAX_HIT_RATIO = Param(
+#: Opt-in heuristic (not App. A): a normal hit farther than this multiple of the
+#: point-to-polyline distance is replaced by that distance.
+FAR_HIT_FALLBACK_RATIO = Param(
     None,
     "",
-    "largest accepted ratio of a normal hit to the point-to-polyline distance",
+    "replace a normal hit farther than this multiple of the point-to-polyline distance "
+    "by that distance (a heuristic, not App. A)",
     gt=0,
     le=1e6,
     optional=True,
-    none="every hit within max_search",
-    default=3.0,
-    name="max_hit_ratio",
+    none="every hit within max_search (App. A)",
+    default=None,
+    name="far_hit_fallback_ratio",
 )
+#: Former name of :data:`FAR_HIT_FALLBACK_RATIO` (deprecated; its default was 3).
+MAX_HIT_RATIO = FAR_HIT_FALLBACK_RATIO
 #: The comparison range of App. A step 5.
 COMPARISON = Param(
     kind="choice",
@@ -319,8 +331,8 @@ def _insert_intersections(
     r = max(float(np.max(np.hypot(*(b - a).T))), float(np.max(np.hypot(*(d - c).T))))
     tree1 = cKDTree(0.5 * (a + b))
     tree2 = cKDTree(0.5 * (c + d))
-    pairs = tree1.query_ball_tree(tree2, r=r + 1e-12)
-    i, j = _flatten(pairs)
+    pairs = tree1.sparse_distance_matrix(tree2, r + 1e-12, output_type="ndarray")
+    i, j = pairs["i"].astype(np.int64), pairs["j"].astype(np.int64)
     if len(i) == 0:
         return p1, p2, 0
     u = b[i] - a[i]
@@ -361,24 +373,12 @@ def _point_segment_distance(pts: NDArray, c: NDArray, d: NDArray) -> NDArray:
     return np.hypot(*(pts - q).T)
 
 
-def _normal_deviation(
-    mid: NDArray,
-    normal: NDArray,
-    c: NDArray,
-    d: NDArray,
-    max_search: float,
-    max_hit_ratio: float | None,
-) -> tuple[NDArray, NDArray, NDArray]:
-    """Nearest normal hit (or fallback) from each midpoint to the segments CD.
-
-    Returns the deviation, the index of the segment hit (or nearest), and the
-    fallback mask.
-    """
+def _nearest_segments(
+    mid: NDArray, tree: cKDTree, c: NDArray, d: NDArray, half: float
+) -> tuple[NDArray, NDArray]:
+    """The exact point-to-polyline distance of each point and the index of the nearest segment."""
     nq = len(mid)
-    half = 0.5 * float(np.max(np.hypot(*(d - c).T)))
-    segmid = 0.5 * (c + d)
-    tree = cKDTree(segmid)
-    # point-to-polyline distance (exact): candidates within nearest-midpoint distance + half length
+    # every segment within the nearest-midpoint distance + half a segment is a candidate
     dn, _ = tree.query(mid)
     qi, sj = _flatten(tree.query_ball_point(mid, dn + half + 1e-12))
     dist = _point_segment_distance(mid[qi], c[sj], d[sj])
@@ -389,10 +389,18 @@ def _normal_deviation(
     d_pl = np.empty(nq)
     near_seg[qi[order][first]] = sj[order][first]
     d_pl[qi[order][first]] = dist[order][first]
-    # normal hits within the accepted radius
-    rho = np.full(nq, max_search)
-    if max_hit_ratio is not None:
-        rho = np.minimum(rho, max_hit_ratio * d_pl + 1e-9)
+    return d_pl, near_seg
+
+
+def _normal_hits(
+    mid: NDArray, normal: NDArray, tree: cKDTree, c: NDArray, d: NDArray, half: float, rho: NDArray
+) -> tuple[NDArray, NDArray]:
+    """Distance to the nearest hit of each normal line within ``rho`` (inf: none), and its segment.
+
+    A segment with a point within ``rho`` of the midpoint has its own midpoint
+    within ``rho + half``, so every hit within ``rho`` is among the candidates.
+    """
+    nq = len(mid)
     qi, sj = _flatten(tree.query_ball_point(mid, rho + half + 1e-12))
     nrm = normal[qi]
     v = d[sj] - c[sj]
@@ -404,7 +412,7 @@ def _normal_deviation(
     at = np.abs(t)
     hit = (np.abs(den) > 1e-15) & (u >= 0.0) & (u <= 1.0) & (at <= rho[qi])
     best = np.full(nq, np.inf)
-    best_seg = near_seg.copy()
+    best_seg = np.zeros(nq, dtype=int)
     if np.any(hit):
         qh, th, sh = qi[hit], at[hit], sj[hit]
         order = np.lexsort((th, qh))
@@ -412,6 +420,44 @@ def _normal_deviation(
         first[1:] = qh[order][1:] != qh[order][:-1]
         best[qh[order][first]] = th[order][first]
         best_seg[qh[order][first]] = sh[order][first]
+    return best, best_seg
+
+
+def _normal_deviation(
+    mid: NDArray,
+    normal: NDArray,
+    c: NDArray,
+    d: NDArray,
+    max_search: float,
+    far_hit_ratio: float | None,
+) -> tuple[NDArray, NDArray, NDArray]:
+    """Nearest normal hit (or fallback) from each midpoint to the segments CD.
+
+    The nearest hit is searched in growing radii (twice the point-to-polyline
+    distance first, then doubling up to the search limit): a hit found within
+    a radius is the nearest of all, so the answer equals one search over the
+    whole limit, at a fraction of its cost. Returns the deviation, the index of
+    the segment hit (or nearest), and the fallback mask.
+    """
+    nq = len(mid)
+    half = 0.5 * float(np.max(np.hypot(*(d - c).T)))
+    tree = cKDTree(0.5 * (c + d))
+    d_pl, near_seg = _nearest_segments(mid, tree, c, d, half)
+    limit = np.full(nq, max_search)
+    if far_hit_ratio is not None:
+        limit = np.minimum(limit, far_hit_ratio * d_pl + 1e-9)
+    best = np.full(nq, np.inf)
+    best_seg = near_seg.copy()
+    todo = np.arange(nq)
+    rho = np.minimum(limit, np.maximum(2.0 * d_pl, 2.0 * half) + 1e-9)
+    while len(todo):
+        b, bs = _normal_hits(mid[todo], normal[todo], tree, c, d, half, rho[todo])
+        found = np.isfinite(b)
+        best[todo[found]] = b[found]
+        best_seg[todo[found]] = bs[found]
+        more = ~found & (rho[todo] < limit[todo])
+        todo = todo[more]
+        rho[todo] = np.minimum(limit[todo], 2.0 * rho[todo])
     fallback = ~np.isfinite(best)
     dev = np.where(fallback, d_pl, best)
     best_seg = np.where(fallback, near_seg, best_seg)
@@ -434,7 +480,7 @@ class _Settings:
     min_segment: float
     max_segment: float
     max_search: float
-    max_hit_ratio: float | None
+    far_hit_fallback_ratio: float | None
     comparison: str
     intersections: bool
     wheel_track: float
@@ -445,7 +491,7 @@ class _Settings:
             min_segment=MIN_SEGMENT.check(given["min_segment"]),
             max_segment=MAX_SEGMENT.check(given["max_segment"]),
             max_search=MAX_SEARCH.check(given["max_search"]),
-            max_hit_ratio=MAX_HIT_RATIO.check(given["max_hit_ratio"]),
+            far_hit_fallback_ratio=FAR_HIT_FALLBACK_RATIO.check(given["far_hit_fallback_ratio"]),
             comparison=COMPARISON.check(given["comparison"]),
             intersections=bool(given["intersections"]),
             wheel_track=_WHEEL_TRACK.check(given["wheel_track"], "wheel_track"),
@@ -473,10 +519,10 @@ def _comparison_range(
         half2 = np.arange(len(mid2))
         half1 = np.arange(len(mid1))
     _, js, _ = _normal_deviation(
-        mid1[:1], nrm1[:1], c2[half2], d2[half2], st.max_search, st.max_hit_ratio
+        mid1[:1], nrm1[:1], c2[half2], d2[half2], st.max_search, st.far_hit_fallback_ratio
     )
     _, ie, _ = _normal_deviation(
-        mid2[-1:], nrm2[-1:], c1[half1], d1[half1], st.max_search, st.max_hit_ratio
+        mid2[-1:], nrm2[-1:], c1[half1], d1[half1], st.max_search, st.far_hit_fallback_ratio
     )
     return int(half2[js[0]]), int(half1[ie[0]]), seg1, seg2
 
@@ -497,7 +543,12 @@ def _deviation(
     status, warns = DeviationStatus.OK, []
     if len(sel1):
         dev, _, fb = _normal_deviation(
-            mid1[sel1], nrm1[sel1], c2[j_start:], d2[j_start:], st.max_search, st.max_hit_ratio
+            mid1[sel1],
+            nrm1[sel1],
+            c2[j_start:],
+            d2[j_start:],
+            st.max_search,
+            st.far_hit_fallback_ratio,
         )
     else:
         dev, fb = np.zeros(0), np.zeros(0, bool)
@@ -534,10 +585,11 @@ def normal_path_deviation(
     min_segment: float = 0.01,
     max_segment: float = 0.05,
     max_search: float = 2.0,
-    max_hit_ratio: float | None = 3.0,
+    far_hit_fallback_ratio: float | None = None,
     comparison: str = "ordered",
     intersections: bool = True,
     wheel_track: float = 0.28,
+    **deprecated: Any,
 ) -> PathDeviation:
     """Normal path deviation of ``robot_xy`` from ``leader_xy`` (Allan 2015 App. A).
 
@@ -550,16 +602,21 @@ def normal_path_deviation(
         L_min and L_max of the re-segmentation in m (0.01, 0.05).
     max_search
         Longest normal searched, in m (2.0).
-    max_hit_ratio
-        A normal hit farther than this multiple of the point-to-polyline
-        distance is taken as spurious (the fallback applies); ``None`` keeps
-        every hit within ``max_search``.
+    far_hit_fallback_ratio
+        ``None`` (default, App. A): every normal hit within ``max_search``
+        counts. A number k opts in to a heuristic that is not App. A: a hit
+        more than k times farther than the nearest point of the follower path
+        is replaced by that point-to-polyline distance (it lowers the deviation
+        where the paths cross or return on themselves; ``docs/following.md``).
     comparison
         ``"ordered"`` (default) or ``"literal"`` comparison range (see the module notes).
     intersections
         Insert the path intersections as nodes (App. A step 4).
     wheel_track
         Normalising length b in m (0.28 m).
+    **deprecated
+        ``max_hit_ratio``: the former name of ``far_hit_fallback_ratio``
+        (a ``DeprecationWarning``; its default used to be 3).
 
     Returns
     -------
@@ -577,16 +634,45 @@ def normal_path_deviation(
     """
     p1 = _as_path("leader_xy", leader_xy)
     p2 = _as_path("robot_xy", robot_xy)
+    given = _renamed(
+        {"far_hit_fallback_ratio": far_hit_fallback_ratio, **deprecated},
+        explicit=far_hit_fallback_ratio is not None,
+    )
     st = _Settings.checked(
         min_segment=min_segment,
         max_segment=max_segment,
         max_search=max_search,
-        max_hit_ratio=max_hit_ratio,
         comparison=comparison,
         intersections=intersections,
         wheel_track=wheel_track,
+        **given,
     )
     return _deviation(p1, p2, st)
+
+
+def _renamed(settings: dict[str, Any], explicit: bool) -> dict[str, Any]:
+    """Map the deprecated ``max_hit_ratio`` to ``far_hit_fallback_ratio``; refuse other names."""
+    settings = dict(settings)
+    if "max_hit_ratio" in settings:
+        if explicit:
+            raise InvalidParameterError(
+                "max_hit_ratio",
+                settings["max_hit_ratio"],
+                "not together with its new name far_hit_fallback_ratio",
+            )
+        warnings.warn(
+            "max_hit_ratio is deprecated: it is the opt-in heuristic far_hit_fallback_ratio "
+            "(not App. A; the default is now None, the App. A deviation)",
+            DeprecationWarning,
+            stacklevel=3,
+        )
+        settings["far_hit_fallback_ratio"] = settings.pop("max_hit_ratio")
+    unknown = sorted(set(settings) - {"far_hit_fallback_ratio"})
+    if unknown:
+        raise InvalidParameterError(
+            unknown[0], settings[unknown[0]], "a keyword of normal_path_deviation"
+        )
+    return settings
 
 
 def normal_path_deviations(
@@ -618,11 +704,20 @@ def normal_path_deviations(
         "min_segment": 0.01,
         "max_segment": 0.05,
         "max_search": 2.0,
-        "max_hit_ratio": 3.0,
+        "far_hit_fallback_ratio": None,
         "comparison": "ordered",
         "intersections": True,
         "wheel_track": 0.28,
     }
+    settings = dict(settings)
+    if "max_hit_ratio" in settings:
+        ratio = settings.pop("far_hit_fallback_ratio", None)
+        settings.update(
+            _renamed(
+                {"far_hit_fallback_ratio": ratio, "max_hit_ratio": settings.pop("max_hit_ratio")},
+                explicit=ratio is not None,
+            )
+        )
     unknown = sorted(set(settings) - set(defaults))
     if unknown:
         raise InvalidParameterError(unknown[0], settings[unknown[0]], f"one of {sorted(defaults)}")

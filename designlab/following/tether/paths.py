@@ -46,6 +46,7 @@ __all__ = [
     "from_csv",
     "make_path",
     "slalom",
+    "smooth_walk",
     "square_s",
     "straight_line",
 ]
@@ -157,6 +158,28 @@ SHAPE_PARAMETERS: dict[str, dict[str, Param]] = {
             ge=8,
             le=100_000,
             default=720,
+        ),
+    },
+    "smooth_walk": {
+        "seed": _arg(
+            None,
+            "",
+            "seed of the random draw",
+            "smooth_walk.seed",
+            kind="integer",
+            ge=0,
+            le=2**31 - 1,
+            default=0,
+        ),
+        "length": _arg(None, "m", "length", "smooth_walk.length", gt=0, le=1000, default=12.0),
+        "max_curvature": _arg(
+            None,
+            "1/m",
+            "largest curvature (smallest turning radius 1/max_curvature)",
+            "smooth_walk.max_curvature",
+            gt=0,
+            le=10,
+            default=1.0,
         ),
     },
 }
@@ -458,6 +481,57 @@ def circle(radius: float = 2.0, turns: float = 1.0, points_per_turn: int = 720) 
     )
 
 
+def smooth_walk(seed: int = 0, length: float = 12.0, max_curvature: float = 1.0) -> LeaderPath:
+    """A random smooth walk: seeded straight pieces and arcs, |curvature| <= ``max_curvature``.
+
+    Pieces of 1-3 m, each straight (one in three) or an arc of curvature drawn
+    uniformly in [-max_curvature, max_curvature], from
+    ``numpy.random.default_rng(seed)``; the curvature is smoothed over 0.5 m
+    (continuous, as a walker turns) and integrated (100 nodes per metre) from
+    the origin, in a start direction also drawn from the seed. The seed names
+    the walk (``smooth_walk_s<seed>``), so tuning and validation draws can be
+    kept apart.
+
+    Parameters
+    ----------
+    seed
+        Seed of the draw (>= 0).
+    length
+        Length in m.
+    max_curvature
+        Largest curvature in 1/m.
+
+    Examples
+    --------
+    >>> w = smooth_walk(seed=3)
+    >>> w.name, round(w.length, 3)
+    ('smooth_walk_s3', 12.0)
+    """
+    args = _checked("smooth_walk", seed=seed, length=length, max_curvature=max_curvature)
+    rng = np.random.default_rng(args["seed"])
+    n = max(int(100 * args["length"]), 10) + 1
+    s = np.linspace(0.0, args["length"], n)
+    kappa = np.zeros(n)
+    start = 0.0
+    while start < args["length"]:  # pieces of 1-3 m: straight (1 in 3) or an arc
+        stop = start + rng.uniform(1.0, 3.0)
+        turn = 0.0 if rng.uniform() < 1 / 3 else rng.uniform(-1.0, 1.0)
+        kappa[(s >= start) & (s < stop)] = turn * args["max_curvature"]
+        start = stop
+    box = np.ones(51) / 51  # a 0.5 m moving average: continuous curvature
+    kappa = np.convolve(np.pad(kappa, 25, mode="edge"), box, mode="valid")
+    ds = np.diff(s)
+    start_heading = rng.uniform(-math.pi, math.pi)
+    heading = start_heading + np.concatenate(
+        [[0.0], np.cumsum(0.5 * (kappa[1:] + kappa[:-1]) * ds)]
+    )
+    mid = 0.5 * (heading[1:] + heading[:-1])
+    xy = np.vstack(
+        [[0.0, 0.0], np.cumsum(np.column_stack([np.cos(mid), np.sin(mid)]) * ds[:, None], axis=0)]
+    )
+    return LeaderPath(xy, name=f"smooth_walk_s{args['seed']}", initial_heading=start_heading)
+
+
 def _polyline(name: str, xy: Any, *, limit: int) -> NDArray[np.float64]:
     """``xy`` as a finite (N, 2) float array, 2 <= N <= ``limit``, or raise naming ``name``."""
     n = int(np.size(xy)) if isinstance(xy, np.ndarray) else None
@@ -568,6 +642,7 @@ PATHS = {
     "corridor_corner": corridor_corner,
     "straight_line": straight_line,
     "circle": circle,
+    "smooth_walk": smooth_walk,
 }
 
 

@@ -16,14 +16,22 @@ The cost of a gain set is the mean over the scenarios of
 * ``smoothness``: RMS(dV/dt) [m/s^2] + 0.1 RMS(dOmega/dt) [rad/s^2] (the
   "jerky" bursts of Sec. 2.5.1),
 
-weighted by ``weights``, plus penalties for leaving the tether range, for
-wheels at their speed limit and for a failed run; and a constraint: the
-damping ratio of the linearised lateral loop (:mod:`~designlab.following.tether.linear`) must be
-at least ``damping_floor`` at every tuning speed, so that tuned gains do not
-weave. The thesis defaults are part of the initial population, so the tuned
-cost on the tuning scenarios is never worse than theirs. The improvement is
-reported on validation paths that were not tuned on. A ``progress`` hook hears
-of every generation (:mod:`designlab.progress`).
+weighted by ``weights``, plus the penalties of three constraints: the tether
+stays in ``tether_range`` (10 x the excess / l_d), a wheel runs at its speed
+limit for at most ``max_saturation`` of the run (default 5 %; 10 x the excess
+fraction), and the run does not fail. A fourth constraint is checked on the
+model: the damping ratio of the linearised lateral loop
+(:mod:`~designlab.following.tether.linear`) must be at least ``damping_floor``
+at every tuning speed, so that tuned gains do not weave. The thesis defaults are
+part of the initial population, so the tuned cost on the tuning scenarios is
+never worse than theirs.
+
+The improvement is reported on validation paths that share no stretch with
+the tuning paths (:mod:`~designlab.following.tether.overlap`; by default the
+square S, the corridor corner, a circle and two random smooth walks whose seeds
+no tuning walk uses), with the penalties (the headline) and without them
+beside it, and the constraint violations before and after. A ``progress`` hook
+hears of every generation (:mod:`designlab.progress`).
 
 Examples
 --------
@@ -50,9 +58,11 @@ from numpy.typing import NDArray
 from designlab.errors import InvalidParameterError
 from designlab.following.tether.controllers import CONTROLLERS, TetherController
 from designlab.following.tether.linear import damping_ratio
+from designlab.following.tether.overlap import overlapping_paths
 from designlab.following.tether.parameters import (
     DAMPING_FLOOR,
     LEADER_SPEED,
+    MAX_SATURATION,
     MAXITER,
     OXYDOG,
     POPSIZE,
@@ -62,7 +72,14 @@ from designlab.following.tether.parameters import (
     FollowerRobot,
 )
 from designlab.following.tether.path_deviation import normal_path_deviations
-from designlab.following.tether.paths import LeaderPath, figure_eight, make_path, slalom, square_s
+from designlab.following.tether.paths import (
+    LeaderPath,
+    circle,
+    corridor_corner,
+    make_path,
+    smooth_walk,
+    square_s,
+)
 from designlab.following.tether.simulate import simulate_batch
 from designlab.params import declared, param
 from designlab.progress import Progress, ProgressHook, report
@@ -71,9 +88,11 @@ from designlab.validation import ParamsMixin
 
 __all__ = [
     "DEFAULT_WEIGHTS",
+    "VALIDATION_WALK_SEEDS",
     "CostWeights",
     "TuningResult",
     "TuningStatus",
+    "default_validation",
     "scenario_costs",
     "tune",
 ]
@@ -126,19 +145,28 @@ class TuningResult(Result):
     cost, default_cost
         Mean cost over the tuning scenarios (tuned, default).
     improvement
-        ``1 - J/J_default`` over the validation scenarios (paths not tuned
-        on), with J the weighted deviation + length + smoothness cost
-        without the constraint penalties (so that one scenario where the
-        defaults leave the tether range does not dominate); positive is better.
+        ``1 - J/J_default`` over the validation scenarios (paths that share no
+        stretch with the tuning paths), with J the full cost: the weighted
+        deviation + length + smoothness cost plus the constraint penalties
+        (the headline); positive is better.
     training_improvement
         ``1 - cost/default_cost`` over the tuning scenarios (penalties included).
     violations
-        Scenarios where the default and the tuned gains leave the tether range
-        or saturate a wheel (``{"default": n, "tuned": n}`` per set).
+        Scenarios where the default and the tuned gains violate a constraint
+        (leave the tether range, or a wheel at its limit for more than
+        ``max_saturation`` of the run): ``{"default": n, "tuned": n}`` per set.
     npd_improvement
         ``1 - mean NPD (tuned)/mean NPD (default)`` over the validation scenarios.
     scenarios
         Per scenario and controller: the cost and its parts.
+    improvement_unpenalised
+        ``1 - J/J_default`` on the validation scenarios without the penalties
+        (reported beside the headline).
+    saturation
+        Largest fraction of a run with a wheel at its speed limit,
+        ``{"default": f, "tuned": f}`` per set (``tuning``, ``validation``).
+    max_saturation
+        The bound on that fraction (a constraint of the tuning).
     damping_ratios
         Linear lateral damping ratio of the tuned gains at each tuning speed.
     history
@@ -168,6 +196,9 @@ class TuningResult(Result):
     wall_time: float
     status: TuningStatus = TuningStatus.OK
     warnings: tuple[str, ...] = ()
+    improvement_unpenalised: float = math.nan
+    saturation: dict[str, dict[str, float]] | None = None
+    max_saturation: float = 0.05
 
     def to_frame(self) -> pd.DataFrame:
         """The per-scenario table (``set`` is ``tuning`` or ``validation``)."""
@@ -190,9 +221,11 @@ def _member_cost(batch: Any, i: int, npd: Any, task: dict[str, Any]) -> dict[str
         np.sqrt(np.mean((np.diff(batch.turn_rate[i]) / dt) ** 2))
     )
     pen = 10.0 * (max(0.0, lo - float(lm.min())) + max(0.0, float(lm.max()) - hi)) / ld
+    sat = 0.0
     if robot.max_wheel_speed < math.inf:
         wsat = (np.abs(batch.speed[i]) + 0.5 * b * np.abs(batch.turn_rate[i])) / robot.wheel_radius
-        pen += float(np.mean(wsat >= robot.max_wheel_speed * (1 - 1e-9)))
+        sat = float(np.mean(wsat >= robot.max_wheel_speed * (1 - 1e-9)))
+        pen += 10.0 * max(0.0, sat - task.get("max_saturation", MAX_SATURATION.default))
     cost = w["deviation"] * dev + w["length"] * length + w["smoothness"] * smooth + pen
     return {
         "cost": cost,
@@ -201,6 +234,7 @@ def _member_cost(batch: Any, i: int, npd: Any, task: dict[str, Any]) -> dict[str
         "length": length,
         "smoothness": smooth,
         "penalty": pen,
+        "saturation": sat,
     }
 
 
@@ -222,7 +256,8 @@ def scenario_costs(task: dict[str, Any]) -> dict[str, Any]:
     -------
     dict
         Arrays (one value per gain set): ``cost``, ``deviation``, ``npd_m``,
-        ``length``, ``smoothness``, ``penalty``.
+        ``length``, ``smoothness``, ``penalty``, ``saturation`` (fraction of
+        the run with a wheel at its limit).
     """
     cls = CONTROLLERS[task["law"]]
     base = {k: v for k, v in task["base"].items() if k != "type"}
@@ -236,7 +271,7 @@ def scenario_costs(task: dict[str, Any]) -> dict[str, Any]:
         robot=robot,
         settle_time=task.get("settle_time", 4.0),
     )
-    keys = ("cost", "deviation", "npd_m", "length", "smoothness", "penalty")
+    keys = ("cost", "deviation", "npd_m", "length", "smoothness", "penalty", "saturation")
     out = {k: np.full(len(ctrls), _FAILED) for k in keys}
     ok = [i for i in range(len(ctrls)) if batch.member_status[i] == "ok"]
     npds = normal_path_deviations(
@@ -251,16 +286,29 @@ def scenario_costs(task: dict[str, Any]) -> dict[str, Any]:
 # --- the search -----------------------------------------------------------------------------
 
 
-def _default_validation(paths: Sequence[LeaderPath]) -> list[LeaderPath]:
+#: Seeds of the random smooth walks of the default validation set; a tuning walk with one
+#: of these seeds removes it.
+VALIDATION_WALK_SEEDS = (101, 102)
+
+
+def default_validation(paths: Sequence[LeaderPath]) -> list[LeaderPath]:
+    """Validation paths that share no stretch with ``paths`` (the tuning paths).
+
+    The square S, the corridor corner, a circle of radius 1.5 m and random smooth
+    walks with seeds :data:`VALIDATION_WALK_SEEDS`; a candidate that overlaps a
+    tuning path (:func:`~designlab.following.tether.overlap.overlapping_paths`) or
+    has its name is left out.
+
+    Parameters
+    ----------
+    paths
+        The tuning paths.
+    """
     names = {p.name for p in paths}
-    cands = [
-        figure_eight(a=2.0),
-        figure_eight(a=4.0),
-        square_s(),
-        slalom(),
-        slalom(out_and_back=True),
-    ]
-    return [p for p in cands if p.name not in names][:3]
+    cands = [square_s(), corridor_corner(), circle(radius=1.5)]
+    cands += [smooth_walk(seed=s) for s in VALIDATION_WALK_SEEDS]
+    clash = {v for v, _, _ in overlapping_paths(cands, paths)}
+    return [p for p in cands if p.name not in names and p.name not in clash]
 
 
 @dataclass(frozen=True)
@@ -277,6 +325,7 @@ class _Setup:
     weights: dict[str, float]
     damping_floor: float
     tether_range: tuple[float, float]
+    max_saturation: float = MAX_SATURATION.default
 
     def tasks(self, gain_sets: list[dict[str, float]], paths: Sequence[LeaderPath]) -> list:
         """The plain-data tasks of :func:`scenario_costs`, one per (path, speed)."""
@@ -292,6 +341,7 @@ class _Setup:
                 "robot": robot,
                 "weights": self.weights,
                 "tether_range": self.tether_range,
+                "max_saturation": self.max_saturation,
             }
             for p in paths
             for v in self.speeds
@@ -370,13 +420,14 @@ def _checked_setup(controller: Any, paths: Any, speeds: Any, options: dict[str, 
         bounds=tuple(box[k] for k in type(base).GAINS),
         paths=paths_t,
         validation=tuple(
-            _default_validation(paths_t) if val is None else (make_path(p) for p in val)
+            default_validation(paths_t) if val is None else (make_path(p) for p in val)
         ),
         speeds=_listed("speeds", speeds, lambda v: LEADER_SPEED.check(v, "speeds[]")),
         robot=robot,
         weights=weights,
         damping_floor=DAMPING_FLOOR.check(options["damping_floor"]),
         tether_range=(lo, hi),
+        max_saturation=MAX_SATURATION.check(options["max_saturation"]),
     )
 
 
@@ -491,6 +542,7 @@ def _scenario_table(setup: _Setup, run: _Scenarios, tuned: TetherController) -> 
                         "length_error_rms_over_ld": float(p["length"][j]),
                         "smoothness": float(p["smoothness"][j]),
                         "penalty": float(p["penalty"][j]),
+                        "wheel_saturation": float(p["saturation"][j]),
                     }
                 )
     return pd.DataFrame(rows)
@@ -517,8 +569,15 @@ def _violations(table: pd.DataFrame) -> dict[str, dict[str, int]]:
     }
 
 
-def _status(result: Any, zetas: dict[float, float], floor: float, improvement: float) -> tuple:
-    warns = []
+def _status(
+    result: Any, zetas: dict[float, float], floor: float, improvement: float, setup: _Setup
+) -> tuple:
+    warns = [
+        f"validation path {v} shares a stretch with tuning path {t} "
+        f"({st.in_place:.2f} m in place, {100 * st.normalised:.0f} % normalised): "
+        "it does not measure the gains on unseen paths"
+        for v, t, st in overlapping_paths(setup.validation, setup.paths)
+    ]
     status = TuningStatus.OK
     if not result.success:
         status = TuningStatus.NOT_CONVERGED
@@ -530,7 +589,36 @@ def _status(result: Any, zetas: dict[float, float], floor: float, improvement: f
         warns.append("no validation paths: the improvement is not measured")
     elif improvement < 0:
         warns.append("the tuned gains are worse than the defaults on the validation paths")
-    return status, tuple(warns)
+    return status, warns
+
+
+def _validation_warnings(table: pd.DataFrame, bound: float) -> list[str]:
+    """What the validation scenarios show that the tuning cost did not: violations, NPD."""
+    val = table[table["set"] == "validation"]
+    if not len(val):
+        return []
+    out = []
+    by = {who: val[val["controller"] == who] for who in ("default", "tuned")}
+    bad = {who: int((g["penalty"] > 1e-3).sum()) for who, g in by.items()}
+    if bad["tuned"] > bad["default"]:
+        out.append(
+            f"the tuned gains violate a constraint on {bad['tuned']} validation scenarios "
+            f"(the defaults on {bad['default']})"
+        )
+    sat = float(by["tuned"]["wheel_saturation"].max())
+    if sat > bound:
+        worst = by["tuned"].loc[by["tuned"]["wheel_saturation"].idxmax()]
+        out.append(
+            f"the tuned gains hold a wheel at its speed limit for {100 * sat:.0f} % of a run on "
+            f"{worst['path']} at {worst['speed_m_per_s']:g} m/s (bound {100 * bound:g} %)"
+        )
+    npd = {who: float(g["npd_mean_m"].mean()) for who, g in by.items()}
+    if npd["tuned"] > npd["default"]:
+        out.append(
+            f"the tuned gains deviate more than the defaults on the validation paths "
+            f"(mean NPD {npd['tuned']:.3f} m against {npd['default']:.3f} m)"
+        )
+    return out
 
 
 def _summary(
@@ -546,14 +634,29 @@ def _summary(
     tuned_cost = _mean_of(table, "tuning", "tuned", "cost") + float(
         setup.damping_penalty([tuned.gains])[0]
     )
-    improvement = 1.0 - _mean_of(table, "validation", "tuned", "cost_unpenalised") / _mean_of(
+    improvement = 1.0 - _mean_of(table, "validation", "tuned", "cost") / _mean_of(
+        table, "validation", "default", "cost"
+    )
+    unpenalised = 1.0 - _mean_of(table, "validation", "tuned", "cost_unpenalised") / _mean_of(
         table, "validation", "default", "cost_unpenalised"
     )
     npd_impr = 1.0 - _mean_of(table, "validation", "tuned", "npd_mean_m") / _mean_of(
         table, "validation", "default", "npd_mean_m"
     )
     zetas = {v: damping_ratio(tuned, v, setup.robot.wheel_track) for v in setup.speeds}
-    status, warns = _status(result, zetas, setup.damping_floor, improvement)
+    status, warns = _status(result, zetas, setup.damping_floor, improvement, setup)
+    warns += _validation_warnings(table, setup.max_saturation)
+    saturation = {
+        set_name: {
+            who: float(
+                table[(table["set"] == set_name) & (table["controller"] == who)][
+                    "wheel_saturation"
+                ].max()
+            )
+            for who in ("default", "tuned")
+        }
+        for set_name in ("tuning", "validation")
+    }
     return TuningResult(
         controller=tuned,
         default=setup.base,
@@ -569,7 +672,10 @@ def _summary(
         evaluations=objective.evaluations,
         wall_time=time.perf_counter() - t_start,
         status=status,
-        warnings=warns,
+        warnings=tuple(warns),
+        improvement_unpenalised=unpenalised,
+        saturation=saturation,
+        max_saturation=setup.max_saturation,
     )
 
 
@@ -583,6 +689,7 @@ def tune(
     weights: dict[str, float] | None = None,
     damping_floor: float = 0.5,
     tether_range: tuple[float, float] = (0.2, 2.0),
+    max_saturation: float = 0.05,
     validation_paths: Sequence[LeaderPath | str | dict[str, Any]] | None = None,
     seed: int = 0,
     popsize: int = 6,
@@ -616,9 +723,13 @@ def tune(
     tether_range
         Allowed tether length ``(min, max)`` in m (Table 1.1: 0.2-1.0 m "or
         greater"); leaving it is penalised.
+    max_saturation
+        Largest fraction of a run with a wheel at its speed limit (a
+        constraint: 10 x the excess is added to the cost; :data:`MAX_SATURATION`).
     validation_paths
-        Paths for the improvement (default: three of the thesis paths not in
-        ``paths``).
+        Paths for the improvement (default: :func:`default_validation`, paths
+        that share no stretch with ``paths``; a given path that does is
+        reported in the warnings).
     seed
         Seed of the optimiser (results are reproducible).
     popsize, maxiter, tol
@@ -645,6 +756,7 @@ def tune(
             "weights": weights,
             "damping_floor": damping_floor,
             "tether_range": tether_range,
+            "max_saturation": max_saturation,
             "validation_paths": validation_paths,
         },
     )

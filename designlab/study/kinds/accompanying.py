@@ -200,6 +200,7 @@ class AccompanyingStudy(StudyBase):
         "table2.csv",
         "tuning.csv",
         "margins.csv",
+        "baseline_sensitivity.csv",
         "trajectories_*.png",
         "errors.png",
         "readings.png",

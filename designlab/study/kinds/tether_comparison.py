@@ -30,6 +30,7 @@ Examples
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any, ClassVar, Literal
 
@@ -90,6 +91,7 @@ class TetherComparisonStudy(StudyBase):
         "summary.md",
         "metrics.csv",
         "linear.csv",
+        "npd_heuristic.csv",
         "allan_tables.csv",
         "trajectories_*.png",
         "npd_profiles_*.png",
@@ -240,8 +242,9 @@ def linear_table(study: TetherComparisonStudy, robot: Any) -> pd.DataFrame:
     """Linear lateral loop of every (law, l_d) next to a simulated lateral step.
 
     The linear columns come from :func:`designlab.following.tether.linear_analysis`;
-    ``sim_damping_ratio`` and ``sim_natural_frequency_rad_per_s`` are fitted
-    (:func:`designlab.following.tether.fit_damping`) to the robot's
+    ``sim_damping_ratio`` and ``sim_natural_frequency_rad_per_s`` come from the
+    two poles identified (:func:`designlab.following.tether.linear.identify_poles`,
+    :func:`designlab.following.tether.fit_damping`) in the robot's
     lateral offset after a ``STEP_OFFSET`` m sideways start on a straight path
     at the study's leader speed (the full nonlinear loop with its buffers).
     """
@@ -261,6 +264,11 @@ def linear_table(study: TetherComparisonStudy, robot: Any) -> pd.DataFrame:
                 robot=robot,
             )
             zeta, wn = fit_damping(t[:n_fit], e[:n_fit])
+            zl, wl = lin.damping_ratio, lin.natural_frequency
+            row["slow_pole_per_s"] = -wl * (zl - math.sqrt(zl * zl - 1)) if zl > 1 else -zl * wl
+            row["sim_slow_pole_per_s"] = float(
+                tether_linear.identify_poles(t[:n_fit], e[:n_fit])[0].real
+            )
             row["sim_damping_ratio"] = zeta
             row["sim_natural_frequency_rad_per_s"] = wn
             row["damping_ratio_error"] = zeta - lin.damping_ratio

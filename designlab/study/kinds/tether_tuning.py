@@ -90,6 +90,7 @@ class TetherTuningStudy(StudyBase):
         "summary.md",
         "gains.csv",
         "scenarios.csv",
+        "improvement.csv",
         "tuning_*.png",
         "study.yaml",
     )
