@@ -16,6 +16,8 @@ MODULES: tuple[str, ...] = (
     "tether_comparison",
     "tether_tuning",
     "tether_sweep",
+    "tether_stability",
+    "tether_step_size",
     "navigation_scenarios",
     "navigation_sweep",
     "navigation_gains",
