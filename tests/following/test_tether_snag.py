@@ -113,3 +113,46 @@ def test_feature_rates_table():
         "dbeta_ds_rad_per_m",
     ]
     assert len(rates) == len(run.tracked_xy)
+
+
+def test_snagging_study_report_and_limits(tmp_path):
+    from designlab.report import write_report
+    from designlab.study import parse_study, run_study
+
+    study = parse_study(
+        "designlab: 1\nkind: tether_snagging\nname: sn\ngaps: {low: 1.6, high: 2.6, num: 11}\n"
+        "detail_gaps: [2.5]"
+    )
+    result = run_study(study)
+    lim = result.limits()
+    frame = result.to_frame()
+    # the grid's first snag is the first grid gap above 1 + pi/4
+    assert lim["first_snag_gap_over_w"] == pytest.approx(1.8)
+    d = frame["d_col_over_w"].to_numpy()
+    i = int(np.argmax(d < 0.2))
+    g = frame["gap_over_w"].to_numpy()
+    expect = g[i - 1] + (0.2 - d[i - 1]) * (g[i] - g[i - 1]) / (d[i] - d[i - 1])
+    assert lim["collision_gap_over_w"] == pytest.approx(expect)
+    assert (frame["compensated_status"] == "ok").all()
+    out = write_report(result, tmp_path, index=False)
+    assert {"snagging.csv", "snagging_paths.png", "snagging_limits.png", "summary.md"} <= {
+        p.name for p in out.iterdir()
+    }
+
+
+@pytest.mark.parametrize(
+    "body",
+    [
+        "gaps: {low: 3, high: 1}",
+        "gaps: {num: 1}",
+        "gaps: {low: -1}",
+        "scenario: {width: .nan}",
+        "scenario: {gap: 2.0}",
+        "detail_gaps: [1, 2, 3, 4, 5, 6, 7]",
+    ],
+)
+def test_snagging_study_refuses(body):
+    from designlab.study import parse_study
+
+    with pytest.raises(Exception, match="."):
+        parse_study(f"designlab: 1\nkind: tether_snagging\nname: sn\n{body}")

@@ -18,6 +18,7 @@ MODULES: tuple[str, ...] = (
     "tether_sweep",
     "tether_stability",
     "tether_step_size",
+    "tether_snagging",
     "navigation_scenarios",
     "navigation_sweep",
     "navigation_gains",
