@@ -10,6 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from designlab.errors import StudyError
 from designlab.following.tether.snag import (
     SnagScenario,
     corridor_leader,
@@ -154,5 +155,5 @@ def test_snagging_study_report_and_limits(tmp_path):
 def test_snagging_study_refuses(body):
     from designlab.study import parse_study
 
-    with pytest.raises(Exception, match="."):
+    with pytest.raises(StudyError, match=r"<string>:\d+: "):
         parse_study(f"designlab: 1\nkind: tether_snagging\nname: sn\n{body}")

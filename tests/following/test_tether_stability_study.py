@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from designlab.errors import InvalidParameterError
+from designlab.errors import InvalidParameterError, StudyError
 from designlab.following import tether as T
 from designlab.following.tether.stability import _settled_time, convergence_map
 from designlab.report import write_report
@@ -89,7 +89,7 @@ def test_stability_study_and_report(tmp_path):
     ],
 )
 def test_stability_study_refuses(body):
-    with pytest.raises(Exception, match="s"):
+    with pytest.raises(StudyError, match=r"<string>:\d+: "):
         parse_study(_stability(body))
 
 
@@ -108,7 +108,7 @@ def test_step_size_study_and_claims(tmp_path):
 
 
 def test_step_size_study_refuses_pj():
-    with pytest.raises(Exception, match="step size"):
+    with pytest.raises(StudyError, match="step size"):
         parse_study(
             "designlab: 1\nkind: tether_step_size\nname: z\ncontroller: {type: PseudoJoystick}"
         )
