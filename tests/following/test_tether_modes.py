@@ -142,3 +142,44 @@ def test_limited_command_keeps_curvature(v, om):
     va, oa, wl, wr = limited_command(robot, v, om, (0.0, 0.0))
     assert max(abs(wl), abs(wr)) <= 4.0 + 1e-12
     assert va * om == pytest.approx(oa * v, abs=1e-9)
+
+
+def test_modes_study_report(tmp_path):
+    from designlab.report import write_report
+    from designlab.study import parse_study, run_study
+
+    study = parse_study(
+        "designlab: 1\nkind: tether_modes\nname: m\npaths: [{type: straight_line, length: 3.0}]\n"
+        "modes: [SideJoystick, SideTracking, FrontJoystick]\nside_offsets: [0.5]\n"
+        "brake_laws: [PseudoJoystick]\nbrake_walk: 2.0\nbrake_wait: 5.0"
+    )
+    result = run_study(study)
+    frame = result.to_frame()
+    assert frame["mode"].tolist() == ["SideJoystick", "SideTracking", "FrontJoystick"]
+    assert not frame["lost"].any()
+    brakes = result.brake_frame()
+    assert brakes["brake"].tolist() == [False, True]
+    assert brakes["turned_after_stop_rad"][1] < brakes["turned_after_stop_rad"][0]
+    out = write_report(result, tmp_path, index=False)
+    text = (out / "summary.md").read_text()
+    assert "spread of the side offset" in text and (out / "brake.png").exists()
+
+
+@pytest.mark.parametrize(
+    "body",
+    [
+        "modes: [Sideways]",
+        "side_offsets: [0.1]",
+        "side_offsets: [.nan]",
+        "engage_margin: 0.1\nrelease_margin: 0.05",
+        "brake_laws: [SideJoystick]",
+        "brake_length_noise: -1",
+        "brake_walk: 1e9",
+    ],
+)
+def test_modes_study_refuses(body):
+    from designlab.errors import StudyError
+    from designlab.study import parse_study
+
+    with pytest.raises(StudyError, match=r"<string>:\d+: "):
+        parse_study(f"designlab: 1\nkind: tether_modes\nname: m\n{body}")

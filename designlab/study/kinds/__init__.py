@@ -19,6 +19,7 @@ MODULES: tuple[str, ...] = (
     "tether_stability",
     "tether_step_size",
     "tether_snagging",
+    "tether_modes",
     "navigation_scenarios",
     "navigation_sweep",
     "navigation_gains",
