@@ -157,3 +157,23 @@ def test_snagging_study_refuses(body):
 
     with pytest.raises(StudyError, match=r"<string>:\d+: "):
         parse_study(f"designlab: 1\nkind: tether_snagging\nname: sn\n{body}")
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.floats(0.5, 5.0), st.floats(0.01, 1.0))
+def test_thesis_gap_limits_scale_with_the_width(w, frac):
+    from designlab.following.tether.snag import thesis_gap_limits
+
+    lim = thesis_gap_limits(w, frac * w)
+    r = 0.5 * frac
+    assert lim["no_snag"] == pytest.approx(1.75 * w)
+    assert lim["no_collision"] == pytest.approx(w * (-0.664 * r * r - 1.4 * r + 2.565))
+
+
+@pytest.mark.parametrize("args", [(0.0, 0.4), (1.0, -1.0), (1.0, 1.5), (math.nan, 0.4), (1.0, "x")])
+def test_thesis_gap_limits_refuses(args):
+    from designlab.errors import InvalidParameterError
+    from designlab.following.tether.snag import thesis_gap_limits
+
+    with pytest.raises(InvalidParameterError):
+        thesis_gap_limits(*args)

@@ -60,7 +60,7 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
-from designlab.params import check_size, declared, param
+from designlab.params import Param, check_size, declared, param
 from designlab.results import Result, Status
 
 __all__ = [
@@ -73,8 +73,13 @@ __all__ = [
     "simulate_snag",
     "snag_limits",
     "string",
+    "thesis_gap_limits",
     "wall_distance",
 ]
+
+#: The arguments of :func:`thesis_gap_limits` (declared once, as the scenario's fields).
+SNAG_WIDTH = Param("w", "m", "corridor width", gt=0, le=20, name="width")
+SNAG_VEHICLE = Param("L_v", "m", "vehicle length", gt=0, le=10, name="vehicle_length")
 
 #: The thesis's fit (4.6), g_F = a d_col^2 + b d_col + c, normalised by w.
 SNAG_FIT = (-0.664, -1.4, 2.565)
@@ -493,6 +498,36 @@ def first_snag_gap(width: float = 1.0) -> float:
     1.7854
     """
     return width * (1.0 + 0.25 * math.pi)
+
+
+def thesis_gap_limits(width: float, vehicle_length: float) -> dict[str, float]:
+    """The thesis's design limits on the following gap for a corridor and a vehicle (m).
+
+    ``no_snag`` is eq. 4.9 (``g_F < 1.75 w``); ``no_collision`` is eq. 4.8 with
+    ``r_col`` half the vehicle length (A18): ``g_F <= w (-0.664 r^2 - 1.4 r + 2.565)``
+    with ``r = r_col / w``. Valid only inside the fit's range (``r_col / w`` in 0 to 0.5).
+
+    Parameters
+    ----------
+    width
+        Corridor width w in m (> 0).
+    vehicle_length
+        Vehicle length in m (> 0, at most the width).
+
+    Examples
+    --------
+    >>> {k: round(v, 4) for k, v in thesis_gap_limits(1.0, 0.4).items()}
+    {'no_snag': 1.75, 'no_collision': 2.2584}
+    """
+    w = SNAG_WIDTH.check(width)
+    length = SNAG_VEHICLE.check(vehicle_length)
+    r = 0.5 * length / w
+    if r > 0.5:
+        raise InvalidParameterError(
+            "vehicle_length", vehicle_length, f"at most the corridor width ({w:g} m)", "m"
+        )
+    a, b, c = SNAG_FIT
+    return {"no_snag": 1.75 * w, "no_collision": w * (a * r * r + b * r + c)}
 
 
 def snag_limits(
