@@ -26,6 +26,7 @@ module                     holds
 ``brake``                  Brake mode and its selector (Sec. 4.4)
 ``stepwise``               the loop of the modes with memory
 ``snag``                   tether snagging on a corridor corner (Sec. 4.5)
+``wrap``                   a tether wrapping obstacle corners, with its history
 ``stability``              the convergence map of Figs. 2.9-2.10
 =========================  ==========================================================
 
