@@ -93,6 +93,19 @@ def _side_claims(frame: pd.DataFrame) -> list[str]:
                 else "Tracking does not hold it more constant here."
             )
         )
+    turns = side[side["offset_error_inside_turns_m"].notna()]
+    for _, row in turns.iterrows():
+        ins, outs = row["offset_error_inside_turns_m"], row["offset_error_outside_turns_m"]
+        out.append(
+            f"- {row['path']}, {row['mode']}, l_H {row['side_offset_m']:g} m: mean |offset error| "
+            f"{ins:.3f} m where the robot is inside the leader's turns, {outs:.3f} m outside: "
+            + ("worse inside" if ins > outs else "not worse inside")
+            + (
+                " (the thesis: Side Joystick distorted on the inside, Fig. 4.5)."
+                if row["mode"] == "SideJoystick"
+                else " (the thesis: Side Tracking handles both, Fig. 4.7)."
+            )
+        )
     for _, row in frame[frame["lost"]].iterrows():
         far = row["final_distance_m"]
         out.append(f"- {row['path']}, {row['mode']}: the robot lost the leader ({far:.2f} m away).")
@@ -134,6 +147,7 @@ def modes_markdown(
     frame, brakes = result.to_frame(), result.brake_frame()
     cols = [
         *("path", "mode", "side_offset_m", "npd_mean_m", "npd_std_m", "offset_error_mean_m"),
+        *("offset_error_inside_turns_m", "offset_error_outside_turns_m"),
         *("tether_min_m", "tether_max_m", "final_distance_m", "lost", "path_length_ratio"),
     ]
     lines = report_header(st.name, st.description, command=command, version=version)

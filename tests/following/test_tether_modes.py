@@ -183,3 +183,19 @@ def test_modes_study_refuses(body):
 
     with pytest.raises(StudyError, match=r"<string>:\d+: "):
         parse_study(f"designlab: 1\nkind: tether_modes\nname: m\n{body}")
+
+
+def test_turn_errors_split_by_the_side_of_the_turn():
+    from types import SimpleNamespace
+
+    from designlab.study.kinds.tether_modes import turn_errors
+
+    left = T.circle(radius=2.0)  # counter-clockwise: a left turn, the robot (on the right) outside
+    mid = left.points[1:-1:10]
+    npd = SimpleNamespace(midpoints=mid, profile=np.full(len(mid), 0.6))
+    inside, outside = turn_errors(left, npd, 0.5)
+    assert math.isnan(inside) and outside == pytest.approx(0.1)
+    right = T.from_array(left.points * [1.0, -1.0])  # mirrored: clockwise, the robot inside
+    mirrored = SimpleNamespace(midpoints=mid * [1.0, -1.0], profile=np.full(len(mid), 0.3))
+    inside, outside = turn_errors(right, mirrored, 0.5)
+    assert inside == pytest.approx(0.2) and math.isnan(outside)

@@ -73,6 +73,8 @@ _ENGAGE = params_of(BrakeMode)["engage_margin"]
 _RELEASE = params_of(BrakeMode)["release_margin"]
 _LNOISE = params_of(FollowerRobot)["length_noise_std"]
 _ANOISE = params_of(FollowerRobot)["angle_noise_std"]
+#: Leader curvature (1/m) above which a path segment counts as a turn (inside or outside).
+TURN_CURVATURE = 0.1
 #: A robot farther than this many side offsets (or l_d) from the leader at the end has lost it.
 LOST_FACTOR = 3.0
 
@@ -169,6 +171,39 @@ class TetherModesStudy(StudyBase):
         return self
 
 
+def turn_errors(path: Any, npd: Any, offset: float) -> tuple[float, float]:
+    """Mean |side offset - l_H| (m) where the robot is inside and outside the leader's turns.
+
+    The robot walks on the leader's right (the modes' defaults), so it is inside a
+    right turn (curvature < -TURN_CURVATURE) and outside a left one. NaN without turns.
+
+    Parameters
+    ----------
+    path
+        The leader's :class:`~designlab.following.tether.LeaderPath`.
+    npd
+        The run's normal path deviation (its segment midpoints and profile).
+    offset
+        l_H in m.
+    """
+    pts = path.points
+    d = np.diff(pts, axis=0)
+    heading = np.arctan2(d[:, 1], d[:, 0])
+    ds = np.hypot(d[:, 0], d[:, 1])
+    kappa = np.angle(np.exp(1j * np.diff(heading))) / np.maximum(0.5 * (ds[1:] + ds[:-1]), 1e-12)
+    if len(kappa) == 0 or len(npd.profile) == 0:
+        return math.nan, math.nan
+    mid = npd.midpoints
+    node = np.argmin(((mid[:, None, :] - pts[None, 1:-1, :]) ** 2).sum(axis=2), axis=1)
+    k = kappa[node]
+    err = np.abs(np.asarray(npd.profile) - offset)
+    inside, outside = err[k < -TURN_CURVATURE], err[k > TURN_CURVATURE]
+    return (
+        float(inside.mean()) if inside.size else math.nan,
+        float(outside.mean()) if outside.size else math.nan,
+    )
+
+
 @dataclass(frozen=True)
 class ModeCase:
     """One side or front run.
@@ -194,6 +229,8 @@ class ModeCase:
         hold = self.offset if math.isfinite(self.offset) else r.controller.desired_length
         gap = np.hypot(*(r.robot_xy - r.leader_xy).T)
         robot_len = float(np.hypot(*np.diff(r.robot_xy, axis=0).T).sum())
+        side = math.isfinite(self.offset)
+        inside, outside = turn_errors(r.path, npd, self.offset) if side else (math.nan, math.nan)
         return {
             "path": self.path,
             "mode": self.mode,
@@ -201,9 +238,9 @@ class ModeCase:
             "npd_mean_m": npd.mean,
             "npd_std_m": npd.std,
             "npd_max_m": npd.max,
-            "offset_error_mean_m": npd.mean - self.offset
-            if math.isfinite(self.offset)
-            else math.nan,
+            "offset_error_mean_m": npd.mean - self.offset if side else math.nan,
+            "offset_error_inside_turns_m": inside,
+            "offset_error_outside_turns_m": outside,
             "tether_min_m": float(np.nanmin(r.tether_length)),
             "tether_max_m": float(np.nanmax(r.tether_length)),
             "final_distance_m": float(gap[-1]),
