@@ -26,7 +26,7 @@ from designlab.following.tether.snag import SNAG_FIT
 from designlab.report import register_writer
 from designlab.report.builder import copy_study, report_header, warnings_section
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
-from designlab.study.kinds.tether_snagging import TetherSnaggingResult
+from designlab.study.kinds.tether_snagging import NEAR, TetherSnaggingResult
 
 __all__ = ["snagging_markdown", "write_snagging_report"]
 
@@ -227,6 +227,13 @@ def snagging_markdown(
         "on the follower).",
         "",
         markdown_table(_detection_table(result), disable_numparse=True),
+        "",
+        "Largest |rate| of each feature near the wrap and release points (within "
+        f"{NEAR:g} m of leader distance) against its largest |rate| elsewhere; the thesis finds "
+        "the length and angle gradients not clearly defined and clear maxima of beta_path. A "
+        "ratio above 1 is a maximum that stands out:",
+        "",
+        markdown_table(result.feature_prominence(), floatfmt=".3g"),
         "",
         "## Compensation",
         "",

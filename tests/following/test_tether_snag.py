@@ -135,6 +135,9 @@ def test_snagging_study_report_and_limits(tmp_path):
     expect = g[i - 1] + (0.2 - d[i - 1]) * (g[i] - g[i - 1]) / (d[i] - d[i - 1])
     assert lim["collision_gap_over_w"] == pytest.approx(expect)
     assert (frame["compensated_status"] == "ok").all()
+    prom = result.feature_prominence()
+    assert len(prom) == 3 and (prom["ratio"] == prom["near_max"] / prom["elsewhere_max"]).all()
+    assert prom.set_index("feature")["ratio"]["d beta_path / d s_L (4.12)"] > 1.0
     out = write_report(result, tmp_path, index=False)
     assert {"snagging.csv", "snagging_paths.png", "snagging_limits.png", "summary.md"} <= {
         p.name for p in out.iterdir()

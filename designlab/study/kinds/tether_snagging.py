@@ -48,6 +48,15 @@ __all__ = ["KIND", "GapGrid", "TetherSnaggingResult", "TetherSnaggingStudy", "ru
 
 _GAP = params_of(SnagScenario)["gap"]
 
+#: Leader distance (m) around the wrap and release points counted as "near" them.
+NEAR = 0.1
+#: The detection features of eqs. 4.10-4.12 (columns of ``SnagRun.feature_rates``).
+FEATURES = {
+    "dtheta_ds_rad_per_m": "d theta / d s_L (4.10)",
+    "dl_ds": "d L / d s_L (4.11)",
+    "dbeta_ds_rad_per_m": "d beta_path / d s_L (4.12)",
+}
+
 #: The corridor and the follower (Table 4.1); the gap and the compensation are set per run.
 SnagScenarioSpec = spec_model(SnagScenario, exclude=("gap", "compensate"))
 
@@ -144,6 +153,23 @@ class TetherSnaggingResult(Result):
                     "compensated_status": str(c.status),
                 }
             )
+        return pd.DataFrame(rows)
+
+    def feature_prominence(self) -> pd.DataFrame:
+        """Per detail gap and feature (4.10-4.12): its largest |rate| within ``NEAR`` m (leader
+        distance) of where the string wraps or frees, against its largest |rate| elsewhere."""
+        rows = []
+        for r in self.detail:
+            if r.snag_span is None:
+                continue
+            f = r.feature_rates().dropna()
+            s = f["s_leader_m"].to_numpy()
+            near = (np.abs(s - r.snag_span[0]) < NEAR) | (np.abs(s - r.snag_span[1]) < NEAR)
+            for col, name in FEATURES.items():
+                v = f[col].abs().to_numpy()
+                top, rest = float(v[near].max()), float(v[~near].max())
+                rows.append({"gap_m": r.scenario.gap, "feature": name, "near_max": top,
+                             "elsewhere_max": rest, "ratio": top / rest})  # fmt: skip
         return pd.DataFrame(rows)
 
     def limits(self) -> dict[str, float]:
