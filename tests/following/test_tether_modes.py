@@ -199,3 +199,17 @@ def test_turn_errors_split_by_the_side_of_the_turn():
     mirrored = SimpleNamespace(midpoints=mid * [1.0, -1.0], profile=np.full(len(mid), 0.3))
     inside, outside = turn_errors(right, mirrored, 0.5)
     assert inside == pytest.approx(0.2) and math.isnan(outside)
+
+
+@settings(max_examples=50, deadline=None)
+@given(st.floats(-5, 5), st.floats(-5, 5), angles, st.floats(0.1, 3.0), angles)
+def test_side_pose_sees_the_point_at_the_angle(px, py, heading, offset, angle):
+    from designlab.following.tether.side import lateral_offset, side_pose
+
+    x, y, g = side_pose((px, py), heading, offset, angle)
+    assert math.hypot(px - x, py - y) == pytest.approx(offset)
+    seen = math.atan2(py - y, px - x) - g
+    assert math.cos(seen - angle) == pytest.approx(1.0)
+    # the robot's signed offset left of the point's heading line
+    lat = lateral_offset(np.array([[x, y]]), np.array([[px, py]]), np.array([heading]))[0]
+    assert lat == pytest.approx(-offset * math.sin(angle), abs=1e-9)
