@@ -60,6 +60,14 @@ BASE: dict[str, dict[str, Any]] = {
     "vff_gains": {"modes": ["off"], "max_evaluations": 32},
     "accompanying": {"tasks": ["forward"],
                      "tuning": {"tune_on": ["forward"], "derivative_free": False}},
+    "tether_stability": {"controllers": [{"type": "PseudoJoystick"}],
+                         "lengths": {"low": 0.5, "high": 2.0, "num": 2}, "angles": 3,
+                         "max_time": 5},
+    "tether_step_size": {"paths": [{"type": "square_s"}], "min_steps": [0.01, 0.4]},
+    "tether_snagging": {"gaps": {"low": 1.0, "high": 2.5, "num": 3}, "detail_gaps": [2.5]},
+    "tether_modes": {"paths": [{"type": "straight_line", "length": 3.0}],
+                     "modes": ["SideJoystick"], "side_offsets": [0.5],
+                     "brake_laws": ["PseudoJoystick"]},
 }  # fmt: skip
 
 #: Kinds quick enough to run on every accepted example.

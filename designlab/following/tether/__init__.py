@@ -22,6 +22,12 @@ module                     holds
 ``tuning``                 :func:`tune` (differential evolution)
 ``evaluators``             the sweep engine's chunk evaluator
 ``reference``              Allan 2015 Tables 3.2 and 3.3
+``side``, ``front``        Ch. 4 side and front modes (``docs/tether_modes.md``)
+``brake``                  Brake mode and its selector (Sec. 4.4)
+``stepwise``               the loop of the modes with memory
+``snag``                   tether snagging on a corridor corner (Sec. 4.5)
+``wrap``                   a tether wrapping obstacle corners, with its history
+``stability``              the convergence map of Figs. 2.9-2.10
 =========================  ==========================================================
 
 Examples
@@ -36,6 +42,7 @@ True
 
 from __future__ import annotations
 
+from designlab.following.tether.brake import BrakeMode, brake_timeline
 from designlab.following.tether.controllers import (
     CONTROLLERS,
     FollowTheLeader,
@@ -44,6 +51,7 @@ from designlab.following.tether.controllers import (
     TetherController,
     controller_from_dict,
 )
+from designlab.following.tether.front import FrontJoystick, FrontVelJoystick
 from designlab.following.tether.linear import (
     LinearLoop,
     LinearLoopStatus,
@@ -72,6 +80,7 @@ from designlab.following.tether.paths import (
     straight_line,
 )
 from designlab.following.tether.reference import allan_tables, measured_ratio
+from designlab.following.tether.side import SideJoystick, SideTracking
 from designlab.following.tether.simulate import (
     FollowerBatch,
     FollowerRun,
@@ -84,6 +93,7 @@ from designlab.following.tether.tuning import CostWeights, TuningResult, TuningS
 __all__ = [
     "CONTROLLERS",
     "OXYDOG",
+    "BrakeMode",
     "CostWeights",
     "DeviationStatus",
     "FollowTheLeader",
@@ -93,15 +103,20 @@ __all__ = [
     "FollowerRobot",
     "FollowerRun",
     "FollowerStatus",
+    "FrontJoystick",
+    "FrontVelJoystick",
     "LeaderPath",
     "LinearLoop",
     "LinearLoopStatus",
     "PathDeviation",
     "PseudoJoystick",
+    "SideJoystick",
+    "SideTracking",
     "TetherController",
     "TuningResult",
     "TuningStatus",
     "allan_tables",
+    "brake_timeline",
     "circle",
     "controller_from_dict",
     "corridor_corner",

@@ -45,6 +45,7 @@ from designlab.following.tether.parameters import (
     FollowerRobot,
 )
 from designlab.following.tether.paths import LeaderPath, make_path
+from designlab.following.tether.stepwise import run_stepwise
 from designlab.params import check_size
 from designlab.results import Result, Status
 
@@ -59,6 +60,9 @@ __all__ = [
 
 #: Fastest leader accepted (m/s): well above any walk (Allan 2015 uses 0.5 m/s).
 MAX_LEADER_SPEED = LEADER_SPEED.le
+
+#: Targets of the laws that keep the FTL path buffer of the compiled loop.
+_BUFFERED = ("lookahead", "constant_distance")
 
 #: Arrays of float64 values a run keeps per member and control period (for the size check).
 _VALUES_PER_STEP = 16
@@ -271,7 +275,7 @@ def _checked_controllers(controllers: Any) -> tuple[TetherController, ...]:
             )
     if len({c.law_key() for c in controllers}) > 1:
         raise InvalidParameterError("controllers", "mixed law variants", "one variant per batch")
-    if cls.target != "tether" and len({(c.min_step, c.buffer_size) for c in controllers}) > 1:  # type: ignore[attr-defined]
+    if cls.target in _BUFFERED and len({(c.min_step, c.buffer_size) for c in controllers}) > 1:  # type: ignore[attr-defined]
         raise InvalidParameterError(
             "controllers", "different min_step/buffer_size", "one value per batch"
         )
@@ -344,19 +348,28 @@ def _checked_request(
 
 
 def _start(req: _Request) -> tuple[NDArray, NDArray, NDArray]:
-    """Initial poses: ``l_d`` behind the path start on its tangent (or ``initial_pose``)."""
+    """Initial poses: ``l_d`` behind the path start on its tangent (or ``initial_pose``).
+
+    A mode with a ``start_pose(point, heading)`` method (side and front modes,
+    ``docs/tether_modes.md``) places itself.
+    """
     nb = len(req.controllers)
     if req.initial_pose is not None:
         return tuple(np.full(nb, v) for v in req.initial_pose)  # type: ignore[return-value]
     g0 = req.path.start_heading
+    placed = [
+        getattr(c, "start_pose", lambda *_: None)(req.path.points[0], g0) for c in req.controllers
+    ]
+    if all(p is not None for p in placed):
+        return tuple(np.array(v, dtype=float) for v in zip(*placed, strict=True))  # type: ignore[return-value]
     u0 = np.array([math.cos(g0), math.sin(g0)])
     ld = np.array([c.desired_length for c in req.controllers])
     return req.path.points[0, 0] - ld * u0[0], req.path.points[0, 1] - ld * u0[1], np.full(nb, g0)
 
 
 def _buffering(req: _Request, leader: NDArray) -> Buffering | None:
-    """The path buffer of FTL/FTL-CD (``None`` for Pseudo-Joystick)."""
-    if req.law.target == "tether":
+    """The path buffer of FTL/FTL-CD (``None`` for the other modes)."""
+    if req.law.target not in _BUFFERED:
         return None
     c0 = req.controllers[0]
     min_step, window = c0.min_step, c0.buffer_size - 1  # type: ignore[attr-defined]
@@ -478,7 +491,9 @@ def simulate_batch(
     leader = req.path.leader_positions(req.speed, req.robot.sample_time, req.duration)
     buf = _buffering(req, leader)
     x, y, g = _start(req)
-    if len(req.controllers) == 1 and not req.robot.noisy and req.robot.tip_height == 0.0:
+    if req.law.target == "stepwise":
+        hist = run_stepwise(req.controllers, leader, (x, y, g), req.robot, _rng(req.seed))
+    elif len(req.controllers) == 1 and not req.robot.noisy and req.robot.tip_height == 0.0:
         pose = (float(x[0]), float(y[0]), float(g[0]))
         hist = run_single(req.controllers[0], leader, pose, req.robot, buf)
     else:

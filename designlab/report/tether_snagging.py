@@ -1,0 +1,292 @@
+"""Report of a ``tether_snagging`` study: the corridor corner of Allan 2015 Sec. 4.5.
+
+Files: ``summary.md`` (the thesis's numbers beside the simulated ones: first
+snagging gap, collision limits, the fit (4.6), detection points; the
+compensation), ``snagging.csv`` (one row per gap), ``snagging_paths.png`` (the
+distorted tracked path of Fig. 4.17 and the robot's path at the detail gaps),
+``snagging_limits.png`` (d_col against the gap with the thesis's fit) and
+``snagging_detection.png`` (the change of beta_path against the leader's
+distance, with the threshold of (4.13)).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+import pandas as pd
+from matplotlib.figure import Figure
+
+from designlab.following.tether.snag import SNAG_FIT
+from designlab.report import register_writer
+from designlab.report.builder import copy_study, report_header, warnings_section
+from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
+from designlab.study.kinds.tether_snagging import NEAR, TetherSnaggingResult
+
+__all__ = ["snagging_markdown", "write_snagging_report"]
+
+#: The thesis's numbers (Allan 2015 Sec. 4.5.3-4.5.5), in units of w = 1 m.
+THESIS = {
+    "first_snag": 1.75,
+    "collision": 2.25,
+    "always_collides": 2.75,
+    "snag_at_5m": 7.91,
+    "unsnag_at_5m": 14.95,
+}
+
+
+def _walls(ax: plt.Axes, w: float, lo: float, hi: float) -> None:
+    ax.plot([lo, 0.0, 0.0], [0.0, 0.0, hi], "k-", lw=1.5)
+    ax.plot([lo, w, w], [-w, -w, hi], "k-", lw=1.5)
+
+
+def paths_figure(result: TetherSnaggingResult) -> Figure:
+    """Leader path, tracked (estimated tip) path and robot path at each detail gap."""
+    runs = list(zip(result.detail, result.detail_compensated, strict=True))
+    fig, axes = plt.subplots(1, len(runs), figsize=(4.6 * len(runs), 4.8), squeeze=False)
+    for ax, (r, c) in zip(axes[0], runs, strict=True):
+        w = r.scenario.width
+        _walls(ax, w, -3.0, 3.0)
+        ax.plot(r.leader_xy[:, 0], r.leader_xy[:, 1], "k--", lw=1.0, label="leader")
+        ax.plot(
+            r.tracked_xy[:, 0],
+            r.tracked_xy[:, 1],
+            color="tab:red",
+            lw=1.0,
+            label="tracked (estimated tip)",
+        )
+        ax.plot(r.robot_xy[:, 0], r.robot_xy[:, 1], color="tab:blue", lw=1.0, label="robot")
+        ax.plot(
+            c.robot_xy[:, 0],
+            c.robot_xy[:, 1],
+            color="tab:green",
+            lw=1.0,
+            ls=":",
+            label="robot, compensated",
+        )
+        ax.set_xlim(-3.0, 2.0)
+        ax.set_ylim(-2.0, 3.0)
+        ax.set_aspect("equal")
+        ax.set_title(f"gap {r.scenario.gap:g} m: d_col {r.d_col:.2f} w", fontsize=10)
+        ax.grid(True, alpha=0.3)
+    axes[0][0].legend(fontsize=7, loc="upper left")
+    fig.tight_layout()
+    return fig
+
+
+def limits_figure(result: TetherSnaggingResult) -> Figure:
+    """d_col (/w) against the gap (/w): the simulation, its fit and the thesis's (4.6)."""
+    f = result.to_frame()
+    lim = result.limits()
+    fig, ax = plt.subplots(figsize=(6.5, 4.4))
+    ax.plot(f["gap_over_w"], f["d_col_over_w"], "o", ms=3, label="simulated")
+    ax.plot(
+        f["gap_over_w"], f["compensated_d_col_over_w"], "s", ms=3, label="simulated, compensated"
+    )
+    d = np.linspace(0.0, 0.5, 50)
+    ax.plot(np.polyval(SNAG_FIT, d), d, "k-", lw=1.0, label="thesis fit (4.6)")
+    if "fit_a" in lim:
+        ax.plot(
+            np.polyval([lim["fit_a"], lim["fit_b"], lim["fit_c"]], d),
+            d,
+            "r--",
+            lw=1.0,
+            label="fit to the simulation",
+        )
+    ax.axhline(lim["r_col_over_w"], color="gray", ls=":", label="r_col (collision below)")
+    ax.set_xlabel("following gap g_F / w")
+    ax.set_ylabel("least wall distance d_col / w")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    return fig
+
+
+def detection_figure(result: TetherSnaggingResult) -> Figure:
+    """|change of beta_path| against the leader's distance at the detail gaps."""
+    fig, ax = plt.subplots(figsize=(7.5, 4.0))
+    for r in result.detail:
+        ax.plot(r.tracked_s_leader, r.beta_change, lw=0.8, label=f"gap {r.scenario.gap:g} m")
+    ax.axhline(
+        result.study.scenario.beta_limit, color="k", ls="--", lw=0.8, label="beta_limit (4.13)"
+    )
+    ax.set_xlabel("leader distance s_L (m)")
+    ax.set_ylabel("|change of beta_path| (rad)")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    return fig
+
+
+def _f(x: float) -> str:
+    return "—" if not math.isfinite(x) else f"{x:.3f}"
+
+
+def _comparison(result: TetherSnaggingResult) -> pd.DataFrame:
+    lim = result.limits()
+    f = result.to_frame()
+    at_275 = f[np.isclose(f["gap_over_w"], 2.75)]
+    at_1 = f[np.isclose(f["gap_over_w"], 1.0)]["snagged"].any()
+    geo = _f(lim["geometric_snag_gap_over_w"])
+    rows = [
+        ("no snagging at 1 w", "none", "snagged" if at_1 else "none"),
+        (
+            "first snagging gap (/w)",
+            f"about {THESIS['first_snag']:g} (4.9)",
+            f"{_f(lim['first_snag_gap_over_w'])} on the grid; {geo} = 1 + pi/4 by geometry",
+        ),
+        (
+            "collisions start above (/w), r_col = half the vehicle length",
+            f"{THESIS['collision']:g} (4.8: {np.polyval(SNAG_FIT, lim['r_col_over_w']):.3f})",
+            _f(lim["collision_gap_over_w"]),
+        ),
+        (
+            "robot centre reaches the wall, d_col = 0 (/w)",
+            f"{SNAG_FIT[2]:g} (4.6)",
+            _f(lim["wall_gap_over_w"]),
+        ),
+        (
+            "collision at 2.75 w",
+            "in every case",
+            str(at_275["status"].iloc[0]) if len(at_275) else "not on the grid",
+        ),
+    ]
+    if "fit_a" in lim:
+        fit = f"{lim['fit_a']:.3f}, {lim['fit_b']:.3f}, {lim['fit_c']:.3f}"
+        rows.append(
+            ("fit (4.6) a, b, c", "-0.664, -1.4, 2.565", f"{fit} (rms {lim['fit_rms']:.4f})")
+        )
+    return pd.DataFrame(rows, columns=["quantity", "Allan 2015", "here"])
+
+
+def _detection_table(result: TetherSnaggingResult) -> pd.DataFrame:
+    rows = []
+    for r, c in zip(result.detail, result.detail_compensated, strict=True):
+        span = r.snag_span
+        rows.append(
+            {
+                "gap (m)": f"{r.scenario.gap:g}",
+                "string wraps (s_L, m)": f"{span[0]:.3f} to {span[1]:.3f}" if span else "never",
+                "detected (s_L, m)": ", ".join(f"{d:.3f}" for d in r.detections) or "—",
+                "d_col (/w)": f"{r.d_col:.3f}",
+                "compensated: wraps (s_L, m)": (
+                    f"{c.snag_span[0]:.3f} to {c.snag_span[1]:.3f}" if c.snag_span else "never"
+                ),
+                "compensated: detected": ", ".join(f"{d:.3f}" for d in c.detections) or "—",
+                "compensated: d_col (/w)": f"{c.d_col:.3f}",
+            }
+        )
+    return pd.DataFrame(rows)
+
+
+def snagging_markdown(
+    result: TetherSnaggingResult, *, command: str | None = None, version: str | None = None
+) -> str:
+    """The summary.
+
+    Parameters
+    ----------
+    result
+        The study's result.
+    command, version
+        For the provenance sentence.
+    """
+    st = result.study
+    sc = st.scenario.build()
+    comp = result.to_frame()
+    lines = report_header(st.name, st.description, command=command, version=version)
+    lines += [
+        "## Set-up (Table 4.1)",
+        "",
+        f"- corridor width w {sc.width:g} m, one left turn on an arc of radius w/2 about the inner "
+        f"vertex; leader speed {sc.speed:g} m/s; straight {sc.approach:g} m before and "
+        f"{sc.exit:g} m after the turn (not given in the thesis)",
+        f"- follower step {sc.step:g} m, time step {sc.sample_time:g} s, vehicle length "
+        f"{sc.vehicle_length:g} m (r_col = {sc.collision_radius:g} m)",
+        "- the robot keeps the gap along the recorded path (ideal path follower); the tether wraps "
+        "the inner vertex when the straight line is blocked (docs/tether_modes.md)",
+        f"- gaps {st.gaps.low:g} to {st.gaps.high:g} m ({st.gaps.num} runs), each without and "
+        "with the compensation",
+        "",
+        "## Against the thesis (Sec. 4.5.3-4.5.4)",
+        "",
+        markdown_table(_comparison(result), disable_numparse=True),
+        "",
+        "## Detection (Sec. 4.5.5)",
+        "",
+        f"A change of beta_path above {sc.beta_limit:g} rad between chords of "
+        f"{sc.detect_points} recorded steps flags a snag or an unsnag. Allan 2015 at g_F = 5 m: "
+        f"snag at s_L = {THESIS['snag_at_5m']:g} m and unsnag at {THESIS['unsnag_at_5m']:g} m "
+        f"({THESIS['unsnag_at_5m'] - THESIS['snag_at_5m']:.2f} m apart; the thesis's straight "
+        "lengths are unknown, so the start point depends on them, the distance between the two "
+        "on the follower).",
+        "",
+        markdown_table(_detection_table(result), disable_numparse=True),
+        "",
+        "Largest |rate| of each feature near the wrap and release points (within "
+        f"{NEAR:g} m of leader distance) against its largest |rate| elsewhere; the thesis finds "
+        "the length and angle gradients not clearly defined and clear maxima of beta_path. A "
+        "ratio above 1 is a maximum that stands out:",
+        "",
+        markdown_table(result.feature_prominence(), floatfmt=".3g"),
+        "",
+        "## Compensation",
+        "",
+        f"Without it {int((comp['status'] == 'collision').sum())} of {len(comp)} grid gaps end "
+        f"in a collision; with it {int((comp['compensated_status'] == 'collision').sum())}, "
+        "and the least wall distance over the grid is "
+        f"{comp['compensated_d_col_over_w'].min():.3f} w "
+        f"(without: {comp['d_col_over_w'].min():.3f} w).",
+        "",
+        *warnings_section(result.warnings, none="No compensated run collides."),
+    ]
+    return "\n".join(lines)
+
+
+@register_writer(TetherSnaggingResult)
+def write_snagging_report(
+    result: TetherSnaggingResult,
+    directory: Path,
+    *,
+    command: str | None = None,
+    version: str | None = None,
+    study_text: str | None = None,
+) -> list[Path]:
+    """Write summary.md, snagging.csv, three PNGs (and study.yaml).
+
+    Parameters
+    ----------
+    result
+        The study's result.
+    directory
+        A fresh directory to fill.
+    command, version
+        Quoted in the summary.
+    study_text
+        The study file's text, copied to ``study.yaml`` if given.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written.
+    """
+    written = [write_csv(result.to_frame(), directory / "snagging.csv")]
+    for name, make in (
+        ("paths", paths_figure),
+        ("limits", limits_figure),
+        ("detection", detection_figure),
+    ):
+        if name != "limits" and not result.detail:
+            continue
+        fig = make(result)
+        written.append(write_png(fig, directory / f"snagging_{name}.png"))
+        plt.close(fig)
+    text = snagging_markdown(result, command=command, version=version)
+    written.append(write_markdown(text, directory / "summary.md"))
+    written += copy_study(directory, study_text)
+    return written

@@ -1,0 +1,236 @@
+"""The ``tether_snagging`` study kind: the corridor-corner study of Allan 2015 Sec. 4.5.
+
+The follower of :func:`designlab.following.tether.snag.simulate_snag` runs the
+corridor corner at every gap of a grid, without and with the snag compensation;
+the report sets the first snagging gap, the collision limits, the fit (4.6) and
+the detection points against the thesis's numbers (``docs/tether_modes.md``).
+
+Examples
+--------
+>>> from designlab.study import parse_study, run_study
+>>> r = run_study(parse_study('''
+... designlab: 1
+... kind: tether_snagging
+... name: demo
+... gaps: {low: 1.0, high: 2.5, num: 4}
+... detail_gaps: [2.5]
+... '''))
+>>> r.to_frame()["snagged"].tolist()
+[False, False, True, True]
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from typing import Any, ClassVar, Literal
+
+import numpy as np
+import pandas as pd
+from pydantic import Field, model_validator
+
+from designlab.following.tether.snag import (
+    SnagRun,
+    SnagScenario,
+    first_snag_gap,
+    simulate_snag,
+    snag_limits,
+)
+from designlab.params import params_of
+from designlab.progress import Progress
+from designlab.results import OK, Result
+from designlab.study.base import Model, StudyBase
+from designlab.study.registry import StudyKind
+from designlab.study.runner import RunContext
+from designlab.study.specs import spec_model
+
+__all__ = ["KIND", "GapGrid", "TetherSnaggingResult", "TetherSnaggingStudy", "run"]
+
+_GAP = params_of(SnagScenario)["gap"]
+
+#: Leader distance (m) around the wrap and release points counted as "near" them.
+NEAR = 0.1
+#: The detection features of eqs. 4.10-4.12 (columns of ``SnagRun.feature_rates``).
+FEATURES = {
+    "dtheta_ds_rad_per_m": "d theta / d s_L (4.10)",
+    "dl_ds": "d L / d s_L (4.11)",
+    "dbeta_ds_rad_per_m": "d beta_path / d s_L (4.12)",
+}
+
+#: The corridor and the follower (Table 4.1); the gap and the compensation are set per run.
+SnagScenarioSpec = spec_model(SnagScenario, exclude=("gap", "compensate"))
+
+
+class GapGrid(Model):
+    """Evenly spaced gaps: ``num`` of them from ``low`` to ``high`` (m)."""
+
+    low: _GAP.annotation() = 1.0  # type: ignore[valid-type]
+    high: _GAP.annotation() = 3.0  # type: ignore[valid-type]
+    num: int = Field(41, ge=2, le=400, description="number of gaps")
+
+    @model_validator(mode="after")
+    def _order(self) -> GapGrid:
+        if not self.low < self.high:
+            raise ValueError(f"low = {self.low:g} must be < high = {self.high:g}")
+        return self
+
+    def values(self) -> list[float]:
+        """The grid (rounded to 12 significant digits)."""
+        return [float(f"{x:.12g}") for x in np.linspace(self.low, self.high, self.num)]
+
+
+class TetherSnaggingStudy(StudyBase):
+    """Tether snagging on a corridor corner over a range of following gaps (Sec. 4.5)."""
+
+    kind: Literal["tether_snagging"]
+    scenario: SnagScenarioSpec = Field(default_factory=SnagScenarioSpec)  # type: ignore[valid-type]
+    gaps: GapGrid = Field(default_factory=GapGrid)
+    detail_gaps: list[_GAP.annotation()] = Field(  # type: ignore[valid-type]
+        default_factory=lambda: [2.0, 2.5, 5.0],
+        max_length=6,
+        description="gaps shown in the figures and the detection table (the thesis: 5 m)",
+    )
+
+    PRODUCES: ClassVar[tuple[str, ...]] = (
+        "summary.md",
+        "snagging.csv",
+        "snagging_*.png",
+        "study.yaml",
+    )
+    TYPICAL_DURATION: ClassVar[str] = "about 0.3 s per gap"
+
+    def size(self) -> str:
+        """Runs."""
+        return f"{2 * (self.gaps.num + len(self.detail_gaps))} runs"
+
+
+@dataclass(frozen=True)
+class TetherSnaggingResult(Result):
+    """Results of a ``tether_snagging`` study.
+
+    Attributes
+    ----------
+    study
+        The study.
+    plain, compensated
+        Runs at every grid gap without and with the compensation.
+    detail, detail_compensated
+        Runs at the detail gaps.
+    """
+
+    study: TetherSnaggingStudy
+    plain: tuple[SnagRun, ...]
+    compensated: tuple[SnagRun, ...]
+    detail: tuple[SnagRun, ...]
+    detail_compensated: tuple[SnagRun, ...]
+
+    status: ClassVar[str] = OK
+
+    @property
+    def warnings(self) -> tuple[str, ...]:  # type: ignore[override]
+        return tuple(
+            f"compensated, gap {r.scenario.gap:g} m: {w}"
+            for r in (*self.compensated, *self.detail_compensated)
+            for w in r.warnings
+        )
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row per grid gap: snag span, d_col and status, without and with compensation."""
+        rows = []
+        for r, c in zip(self.plain, self.compensated, strict=True):
+            span = r.snag_span or (np.nan, np.nan)
+            rows.append(
+                {
+                    "gap_m": r.scenario.gap,
+                    "gap_over_w": r.scenario.gap / r.scenario.width,
+                    "snagged": bool(r.snagged.any()),
+                    "snag_start_s_leader_m": span[0],
+                    "snag_end_s_leader_m": span[1],
+                    "d_col_over_w": r.d_col,
+                    "status": str(r.status),
+                    "detections_s_leader_m": " ".join(f"{d:.3f}" for d in r.detections),
+                    "compensated_d_col_over_w": c.d_col,
+                    "compensated_status": str(c.status),
+                }
+            )
+        return pd.DataFrame(rows)
+
+    def feature_prominence(self) -> pd.DataFrame:
+        """Per detail gap and feature (4.10-4.12): its largest |rate| within ``NEAR`` m (leader
+        distance) of where the string wraps or frees, against its largest |rate| elsewhere."""
+        rows = []
+        for r in self.detail:
+            if r.snag_span is None:
+                continue
+            f = r.feature_rates().dropna()
+            s = f["s_leader_m"].to_numpy()
+            near = (np.abs(s - r.snag_span[0]) < NEAR) | (np.abs(s - r.snag_span[1]) < NEAR)
+            for col, name in FEATURES.items():
+                v = f[col].abs().to_numpy()
+                top, rest = float(v[near].max()), float(v[~near].max())
+                rows.append({"gap_m": r.scenario.gap, "feature": name, "near_max": top,
+                             "elsewhere_max": rest, "ratio": top / rest})  # fmt: skip
+        return pd.DataFrame(rows)
+
+    def limits(self) -> dict[str, float]:
+        """First snagging gap, collision limits and the fit (4.6), all over w."""
+        f = self.to_frame()
+        sc = self.study.scenario.build()
+        w, rcol = sc.width, sc.collision_radius / sc.width
+        snag = f[f["snagged"]]
+        inside = snag[snag["d_col_over_w"] >= 0.0]
+        out: dict[str, float] = {
+            "first_snag_gap_over_w": float(snag["gap_over_w"].min()) if len(snag) else np.nan,
+            "geometric_snag_gap_over_w": first_snag_gap(w) / w,
+            "collision_gap_over_w": _crossing(f, rcol),
+            "wall_gap_over_w": _crossing(f, 0.0),
+            "r_col_over_w": rcol,
+        }
+        if len(inside) >= 3:
+            out.update({f"fit_{k}": v for k, v in snag_limits(
+                inside["d_col_over_w"].to_numpy(), inside["gap_over_w"].to_numpy(), rcol
+            ).items()})  # fmt: skip
+        return out
+
+
+def _crossing(frame: pd.DataFrame, level: float) -> float:
+    """The gap (/w) at which d_col first falls below ``level`` (linear interpolation)."""
+    g, d = frame["gap_over_w"].to_numpy(), frame["d_col_over_w"].to_numpy()
+    below = np.flatnonzero(d < level)
+    if len(below) == 0 or below[0] == 0:
+        return float("nan")
+    i = below[0]
+    return float(g[i - 1] + (level - d[i - 1]) * (g[i] - g[i - 1]) / (d[i] - d[i - 1]))
+
+
+def run(study: TetherSnaggingStudy, context: RunContext) -> TetherSnaggingResult:
+    """Run every gap without and with the compensation.
+
+    Parameters
+    ----------
+    study
+        The study.
+    context
+        How to run it (its progress bar).
+    """
+    base = study.scenario.build()
+    jobs: list[Any] = [*study.gaps.values(), *study.detail_gaps]
+    plain, comp = [], []
+    with context.bar(f"{study.kind}: gaps", total=len(jobs)) as hook:
+        for i, g in enumerate(jobs):
+            sc = dataclasses.replace(base, gap=float(g))
+            plain.append(simulate_snag(sc))
+            comp.append(simulate_snag(dataclasses.replace(sc, compensate=True)))
+            hook(Progress(i + 1, len(jobs), label="gap", note=f"{g:g} m"))
+    n = study.gaps.num
+    return TetherSnaggingResult(
+        study, tuple(plain[:n]), tuple(comp[:n]), tuple(plain[n:]), tuple(comp[n:])
+    )
+
+
+KIND = StudyKind(
+    name="tether_snagging",
+    schema=TetherSnaggingStudy,
+    run=run,
+    report="designlab.report.tether_snagging",
+)

@@ -1,0 +1,86 @@
+"""Hostile inputs of the Ch. 4 modes, the snagging simulation and their study kinds."""
+
+from __future__ import annotations
+
+import math
+import pickle
+
+import pytest
+
+from designlab.errors import InvalidParameterError
+from designlab.following import tether as T
+from designlab.following.tether.snag import SnagScenario, simulate_snag
+
+BAD_NUMBERS = [math.nan, math.inf, -math.inf, -1.0, 1e300, "1.0", None, True]
+
+
+@pytest.mark.parametrize("value", BAD_NUMBERS)
+@pytest.mark.parametrize(
+    "make",
+    [
+        lambda v: T.SideJoystick(desired_length=v),
+        lambda v: T.SideJoystick(speed_gain=v),
+        lambda v: T.SideTracking(offset_length=v),
+        lambda v: T.SideTracking(lookahead=v),
+        lambda v: T.FrontJoystick(turn_gain=v),
+        lambda v: T.FrontVelJoystick(turn_gain=v),
+        lambda v: SnagScenario(gap=v),
+        lambda v: SnagScenario(step=v),
+        lambda v: T.BrakeMode(T.PseudoJoystick(), release_margin=v),
+    ],
+)
+def test_bad_numbers_name_the_parameter(make, value):
+    with pytest.raises(InvalidParameterError, match=" is not allowed: "):
+        make(value)
+
+
+@pytest.mark.parametrize("value", [1.5, -3, 0, 10**9, "4"])
+def test_bad_counts(value):
+    with pytest.raises(InvalidParameterError):
+        T.SideTracking(tip_buffer_size=value)
+    with pytest.raises(InvalidParameterError):
+        T.FrontVelJoystick(samples=value)
+
+
+@pytest.mark.parametrize(
+    "mode", [None, "PseudoJoystick", 3, T.FrontJoystick(), T.FrontVelJoystick()]
+)
+def test_brake_refuses_what_it_cannot_wrap(mode):
+    with pytest.raises(InvalidParameterError, match=r"BrakeMode\.mode"):
+        T.BrakeMode(mode)
+
+
+def test_brake_refuses_itself_and_inverted_hysteresis():
+    with pytest.raises(InvalidParameterError, match=r"BrakeMode\.mode"):
+        T.BrakeMode(T.BrakeMode(T.PseudoJoystick()))
+    with pytest.raises(InvalidParameterError, match="release_margin"):
+        T.BrakeMode(T.PseudoJoystick(), engage_margin=0.05, release_margin=0.05)
+
+
+def test_side_offset_inside_the_robot_is_refused_by_simulate():
+    with pytest.raises(InvalidParameterError, match="half the robot length"):
+        T.simulate(T.SideJoystick(desired_length=0.2), T.straight_line(2.0))
+
+
+def test_mixed_stepwise_batch_is_refused():
+    with pytest.raises(InvalidParameterError, match="all of one law"):
+        T.simulate_batch([T.SideTracking(), T.FrontVelJoystick()], T.straight_line(2.0))
+
+
+def test_snag_needs_a_scenario_and_caps_its_size():
+    with pytest.raises(InvalidParameterError, match="scenario"):
+        simulate_snag({"gap": 2.0})  # type: ignore[arg-type]
+    with pytest.raises(InvalidParameterError, match="is not allowed"):
+        simulate_snag(
+            SnagScenario(exit=200.0, approach=200.0, step=1e-6, sample_time=1e-6, speed=1e-3)
+        )
+
+
+def test_results_pickle_and_stepwise_batch_with_noise_is_finite():
+    robot = T.FollowerRobot(length_noise_std=0.02, angle_noise_std=0.1, max_wheel_speed=8.0)
+    batch = T.simulate_batch(
+        [T.SideTracking(), T.SideTracking(turn_gain=5.0)], T.figure_eight(a=4.0), robot=robot
+    )
+    assert str(batch.status) == "ok"
+    pickle.loads(pickle.dumps(batch.run(1)))
+    pickle.loads(pickle.dumps(simulate_snag(SnagScenario(gap=1.0))))
