@@ -33,6 +33,7 @@ from designlab.navigation.parameters import (
     HolonomicRobot,
     NonholonomicRobot,
 )
+from designlab.navigation.recovery import critical_response
 from designlab.navigation.scenarios import Scenario
 from designlab.params import check_size
 from designlab.sx import CompiledLanes, try_compile_lanes, with_cse
@@ -115,7 +116,8 @@ def build_step(
         fparams = ca.vertcat(params[0], params[1], ca.SX(1.0 if stabilising else 0.0), params[3])
     out = field(x=_field_velocity(robot, x0), goal=goal, obs=obs, gains=gains, params=fparams)
     F = ca.if_else(fforce[0], fforce[1:3], out["F"])
-    ho = hold(x0=x0, F=F, brake=out["critical"])
+    F, brake = critical_response(geometries, robot, x0, obs, F, n_sub * dt)
+    ho = hold(x0=x0, F=F, brake=brake)
     X = ho["X"]
     if n and not lean:
         D = ca.horzcat(*[dist(X[0:2, k], osub[:, k]) for k in range(n_sub)])

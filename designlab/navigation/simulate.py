@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -42,6 +42,7 @@ from numpy.typing import ArrayLike, NDArray
 from designlab.errors import InvalidParameterError
 from designlab.navigation import engine
 from designlab.navigation.criteria import Criteria, criteria
+from designlab.navigation.hold_audit import HoldAudit, hold_audit
 from designlab.navigation.lyapunov import StabilityAudit, audit_run
 from designlab.navigation.methods import STABILISING, TIE_SIDE, NavigationMethod, method_of
 from designlab.navigation.parameters import (
@@ -130,6 +131,8 @@ class NavigationResult(Result):
         Obstacle name -> whether the robot touched it.
     critical_time
         Time spent inside a critical region in s.
+    tie, period
+        The detour tie-break side (+1/-1) and the period the force was held (s).
     status
         ``"ok"``, or ``"not_arrived"`` (collisions and critical-region entries are warnings).
     warnings
@@ -157,6 +160,23 @@ class NavigationResult(Result):
     critical_time: float = 0.0
     status: str = RunStatus.OK
     warnings: tuple[str, ...] = ()
+    tie: int = 1
+    period: float = 0.06
+
+    def hold_audit(self) -> HoldAudit:
+        """V at every dynamics step, checked over each held period (new VFF runs only).
+
+        See :func:`designlab.navigation.hold_audit.hold_audit`.
+        """
+        if self.method != "vff":
+            raise InvalidParameterError(
+                "method", self.method, "the hold audit needs the new VFF's Lyapunov function"
+            )
+        row = np.array([self.gains[k] for k in ("k1", "b", "k3", "k5")])
+        return hold_audit(
+            self.scenario, self.t, self.position, self.velocity, row,
+            stabilising=self.stabilising == "lyapunov", tie=self.tie, period=self.period,
+        )  # fmt: skip
 
     @property
     def entered_critical(self) -> bool:
@@ -298,7 +318,8 @@ def simulate(
     )
     raw = engine.run(scenario, row[None, :], record=True, **kw)
     nominal = engine.run(scenario.without_obstacles(), row[None, :], record=False, **kw)
-    return _summarise_run(scenario, strategy, row, stabilising, raw, nominal)
+    res = _summarise_run(scenario, strategy, row, stabilising, raw, nominal)
+    return replace(res, tie=int(kw["tie"]))
 
 
 def _summarise_run(
@@ -364,6 +385,7 @@ def _summarise_run(
         critical_time=float(raw.critical_time[0]),
         status=RunStatus.OK if math.isfinite(arrival) else RunStatus.NOT_ARRIVED,
         warnings=warnings,
+        period=float(rec["period"]),
     )
 
 

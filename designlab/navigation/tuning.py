@@ -40,6 +40,7 @@ True
 
 from __future__ import annotations
 
+import copy
 import logging
 import math
 import time
@@ -239,6 +240,7 @@ class _Evaluator:
     ) -> None:
         self.margin = critical_margin
         self.jit = jit
+        self.names = [s.name for s in scenarios]
         self.groups: list[list[Scenario]] = [robust.expand(s) if robust else [s] for s in scenarios]
         self.flat = [s for g in self.groups for s in g]
         self.owner = np.concatenate([[i] * len(g) for i, g in enumerate(self.groups)]).astype(int)
@@ -890,6 +892,25 @@ def _check_budget(max_evaluations: Any, popsize: int) -> int:
     return n
 
 
+def _other_mode_warnings(ev: _Evaluator, gains: VFFGains) -> list[str]:
+    """Whether the optimum is also safe with the stabilising force switched the other way.
+
+    The force can drive a robot into a critical region that the field alone keeps it out
+    of (``docs/navigation.md``, "The stabilising force is not a safety guarantee"), so an
+    optimum found with one mode is re-simulated with the other and flagged if it fails.
+    """
+    other = copy.copy(ev)
+    other.stabilising = "off" if ev.stabilising == "lyapunov" else "lyapunov"
+    e = other(gains.as_array()[None, :])
+    if bool(e.feasible[0]):
+        return []
+    bad = [n for n, ok in zip(ev.names, e.safe[:, 0] & e.arrived[:, 0], strict=True) if not ok]
+    return [
+        f"with stabilising={other.stabilising!r} the optimum enters a critical region or does "
+        f"not arrive in {bad}: do not switch the stabilising force for these gains"
+    ]
+
+
 def _optimum(
     search: _Search,
     ev: _Evaluator,
@@ -923,6 +944,7 @@ def _optimum(
             warnings.append(
                 "the compass refinement stopped on its budget before its step fell below 1e-3"
             )
+        warnings.extend(_other_mode_warnings(ev, gains))
         at_bound = [n for j, n in enumerate(GAIN_NAMES) if inc.u[j] < 1e-3 or inc.u[j] > 1 - 1e-3]
         if at_bound:
             warnings.append(
