@@ -211,7 +211,10 @@ def navigation_markdown(
         "the proof's assumptions break (force or speed saturation, critical-region braking, "
         "a detour-side switch). With the stabilising force on, every violation lies in such "
         "an interval; with it off, the thesis's own field violates the bound in free "
-        "active-region motion too.",
+        "active-region motion too. The sample check holds by construction; "
+        "`share_V_rose_over_hold` is the share of the held 60 ms active-region periods in "
+        "which V, evaluated at every 1 ms step, ended higher than it began "
+        "(`docs/navigation.md`, \"Audit over the held periods\").",
         "",
     ]
     out += [markdown_table(stab, floatfmt=".3g") if len(stab) else "No new-VFF runs.", ""]

@@ -199,12 +199,14 @@ class NavigationScenariosResult(Result):
         return pd.DataFrame([r.row() for r in self.runs])
 
     def stability_frame(self) -> pd.DataFrame:
-        """The Lyapunov audit of each new-VFF run: share satisfied and assumption breaks."""
+        """The Lyapunov audit of each new-VFF run: share satisfied at the samples, V over the
+        held periods (:meth:`NavigationResult.hold_audit`) and the assumption breaks."""
         rows = []
         for r in self.runs:
             a = r.result.stability
             if a is None:
                 continue
+            held = r.result.hold_audit()
             reasons: dict[str, float] = {}
             for reason, t0, t1 in a.intervals:
                 reasons[reason] = reasons.get(reason, 0.0) + (t1 - t0)
@@ -216,6 +218,9 @@ class NavigationScenariosResult(Result):
                     "share_satisfied": a.share_satisfied,
                     "share_satisfied_hold": a.share_satisfied_hold,
                     "active_samples": int(a.active.sum()),
+                    "held_periods": held.periods,
+                    "share_V_rose_over_hold": held.share_rose,
+                    "max_V_rise_over_hold": held.max_rise,
                     **{f"time_{k.replace(' ', '_')}_s": v for k, v in sorted(reasons.items())},
                 }
             )
