@@ -214,7 +214,7 @@ def navigation_markdown(
         "active-region motion too. The sample check holds by construction; "
         "`share_V_rose_over_hold` is the share of the held 60 ms active-region periods in "
         "which V, evaluated at every 1 ms step, ended higher than it began "
-        "(`docs/navigation.md`, \"Audit over the held periods\").",
+        '(`docs/navigation.md`, "Audit over the held periods").',
         "",
     ]
     out += [markdown_table(stab, floatfmt=".3g") if len(stab) else "No new-VFF runs.", ""]
