@@ -41,7 +41,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from designlab.errors import InvalidParameterError
 from designlab.navigation import engine
-from designlab.navigation.criteria import Criteria, criteria
+from designlab.navigation.criteria import EQUAL_WEIGHTS, Criteria, check_weights, criteria
 from designlab.navigation.hold_audit import HoldAudit, hold_audit
 from designlab.navigation.lyapunov import StabilityAudit, audit_run
 from designlab.navigation.methods import STABILISING, TIE_SIDE, NavigationMethod, method_of
@@ -240,6 +240,7 @@ def simulate(
     tie_side: str = "+y",
     cbf_gains: tuple[float, float] = (4.0, 4.0),
     jit: bool = False,
+    weights: tuple[float, float, float] = EQUAL_WEIGHTS,
 ) -> NavigationResult:
     """Simulate one scenario.
 
@@ -273,6 +274,8 @@ def simulate(
     jit
         Compile the step with CasADi's JIT (a few seconds once per scenario structure,
         then several times faster; worth it for many runs of one scenario).
+    weights
+        (w_T, w_D, w_E) of H (5.6.6): non-negative, summing to 1 (the thesis: 1/3 each).
 
     Returns
     -------
@@ -299,6 +302,7 @@ def simulate(
     STABILISING.check(stabilising)
     strategy = method_of(method)
     TIE_SIDE.check(tie_side)
+    w = check_weights(weights)
     _check_flags(force_every_step=force_every_step, jit=jit)
     cbf = _check_cbf_gains(cbf_gains)
     if not isinstance(scenario, Scenario):
@@ -318,7 +322,7 @@ def simulate(
     )
     raw = engine.run(scenario, row[None, :], record=True, **kw)
     nominal = engine.run(scenario.without_obstacles(), row[None, :], record=False, **kw)
-    res = _summarise_run(scenario, strategy, row, stabilising, raw, nominal)
+    res = _summarise_run(scenario, strategy, row, stabilising, raw, nominal, w)
     return replace(res, tie=int(kw["tie"]))
 
 
@@ -329,6 +333,7 @@ def _summarise_run(
     stabilising: str,
     raw: engine.RawRun,
     nominal: engine.RawRun,
+    weights: tuple[float, float, float] = EQUAL_WEIGHTS,
 ) -> NavigationResult:
     """The :class:`NavigationResult` of a recorded run and its nominal (obstacle-free) run."""
     rec = raw.record
@@ -348,6 +353,7 @@ def _summarise_run(
         nominal_energy=float(nominal.energy[0]),
         surface_clearance=min_surface,
         nominal_clearance=_nominal_clearance(scenario),
+        weights=weights,
     )
     pos, vel, heading = _trajectories(scenario, rec["X"])
     audit = None
@@ -589,8 +595,10 @@ def simulate_batch(
     dynamics_step: float = 1e-3,
     tie_side: str = "+y",
     jit: bool = False,
+    method: str = "vff",
+    weights: tuple[float, float, float] = EQUAL_WEIGHTS,
 ) -> BatchResult:
-    """Simulate every gain set on every scenario with the new VFF, vectorised over the gain sets.
+    """Simulate every gain set on every scenario, vectorised over the gain sets.
 
     Parameters
     ----------
@@ -607,6 +615,12 @@ def simulate_batch(
         structure, then 5-7x faster per holonomic member-period (about 2x for the
         nonholonomic robot) than CasADi's virtual machine, with results equal to it to
         the bit. Worth it for optimisations and large sweeps.
+    method
+        ``"vff"`` (default), ``"masoud"`` (columns k1, -, k3, k5; the rotational sense is
+        ``tie_side``: ``"+y"`` counter-clockwise) or ``"ge_cui"``; ``"cbf"`` is not
+        batched.
+    weights
+        (w_T, w_D, w_E) of H (5.6.6), as in :func:`simulate`.
 
     Returns
     -------
@@ -626,22 +640,35 @@ def simulate_batch(
     """
     STABILISING.check(stabilising)
     TIE_SIDE.check(tie_side)
+    strategy = method_of(method)
+    if not strategy.BATCHED:
+        raise InvalidParameterError("method", method, "is not batched: use simulate()")
+    w = check_weights(weights)
     _check_flags(jit=jit)
     scenarios = _check_scenarios(scenarios)
     g = _check_gain_array(gains)
     kw: dict[str, Any] = dict(
-        method="vff",
-        stabilising=stabilising == "lyapunov",
+        method=strategy.name,
+        stabilising=stabilising == "lyapunov" and strategy.STABILISED,
         tie=1 if tie_side == "+y" else -1,
         arrival_tolerance=arrival_tolerance,
         dynamics_step=dynamics_step,
         jit=jit,
     )
-    rows = [_batch_scenario(sc, g, kw) for sc in scenarios]
+    rows = [_batch_scenario(sc, g, kw, w) for sc in scenarios]
     return _batch_result(scenarios, g, rows)
 
 
-def _batch_scenario(sc: Scenario, g: Array, kw: dict[str, Any]) -> dict[str, Array]:
+def _weighted(w: tuple[float, float, float], h_t: Array, h_d: Array, h_e: Array) -> Array:
+    """w_T H_T + w_D H_D + w_E H_E; the equal weights as (H_T + H_D + H_E)/3, as before."""
+    if w == EQUAL_WEIGHTS:
+        return (h_t + h_d + h_e) / 3.0
+    return w[0] * h_t + w[1] * h_d + w[2] * h_e
+
+
+def _batch_scenario(
+    sc: Scenario, g: Array, kw: dict[str, Any], w: tuple[float, float, float] = EQUAL_WEIGHTS
+) -> dict[str, Array]:
     """Every gain set on one scenario and its nominal runs: the arrays of one row of S."""
     N = g.shape[0]
     raw = engine.run(sc, g, **kw)
@@ -665,7 +692,7 @@ def _batch_scenario(sc: Scenario, g: Array, kw: dict[str, Any]) -> dict[str, Arr
         "HT": h_t,
         "HD": h_d,
         "HE": h_e,
-        "H": k * (h_t + h_d + h_e) / 3.0,
+        "H": k * _weighted(w, h_t, h_d, h_e),
         "dmin": raw.min_distance,
         "crit": (raw.min_distance <= r3[None, :]).any(axis=1) if n_obs else np.zeros(N, bool),
         "coll": coll,

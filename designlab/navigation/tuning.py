@@ -53,8 +53,9 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
-from designlab.navigation.methods import STABILISING
-from designlab.navigation.parameters import GAIN, VFFGains
+from designlab.navigation.criteria import EQUAL_WEIGHTS, check_weights
+from designlab.navigation.methods import STABILISING, TIE_SIDE, method_of
+from designlab.navigation.parameters import GAIN, GeCuiGains, MasoudGains, VFFGains
 from designlab.navigation.scenarios import Disc, Scenario, Walk
 from designlab.navigation.simulate import simulate_batch
 from designlab.params import Param, declared, param
@@ -208,6 +209,9 @@ def _batch_task(task: Mapping[str, Any]) -> dict[str, Array]:
         stabilising=task["stabilising"],
         arrival_tolerance=task["arrival_tolerance"],
         jit=task.get("jit", False),
+        method=task.get("method", "vff"),
+        tie_side=task.get("tie_side", "+y"),
+        weights=task.get("weights", EQUAL_WEIGHTS),
     )
     n_obs = [len(n) for n in r.obstacle_names]
     return {
@@ -237,7 +241,11 @@ class _Evaluator:
         chunks: int,
         critical_margin: float = 0.0,
         jit: bool = False,
+        method: str = "vff",
+        weights: tuple[float, float, float] = EQUAL_WEIGHTS,
+        tie_side: str = "+y",
     ) -> None:
+        self.method, self.weights, self.tie_side = method, weights, tie_side
         self.margin = critical_margin
         self.jit = jit
         self.names = [s.name for s in scenarios]
@@ -259,6 +267,9 @@ class _Evaluator:
             "stabilising": self.stabilising,
             "arrival_tolerance": self.tol,
             "jit": self.jit,
+            "method": self.method,
+            "weights": self.weights,
+            "tie_side": self.tie_side,
         }
         if self.executor is None or self.chunks <= 1 or gains.shape[0] < 2:
             return _batch_task({**base, "gains": gains})
@@ -351,6 +362,8 @@ def evaluate_gains(
     robust_mode: str = "mean",
     arrival_tolerance: float = 0.15,
     critical_margin: float = 0.0,
+    method: str = "vff",
+    weights: tuple[float, float, float] = EQUAL_WEIGHTS,
 ) -> GainEvaluation:
     """Score gain sets as :func:`optimise_gains` does: H per scenario, H_mean and feasibility.
 
@@ -360,7 +373,7 @@ def evaluate_gains(
         The scenarios.
     gains
         A :class:`VFFGains`, a sequence of them, or an ``(N, 4)`` array of (k1, b, k3, k5).
-    stabilising, robust, robust_mode, arrival_tolerance, critical_margin
+    stabilising, robust, robust_mode, arrival_tolerance, critical_margin, method, weights
         As in :func:`optimise_gains`.
 
     Returns
@@ -392,6 +405,8 @@ def evaluate_gains(
         None,
         1,
         _check_margin(critical_margin),
+        method=_check_method(method),
+        weights=check_weights(weights),
     )
     e = ev(g)
     frame = pd.DataFrame(g, columns=list(GAIN_NAMES))
@@ -535,11 +550,14 @@ class GainOptimum(Result):
         The seed.
     critical_margin
         The clearance (m) every run had to keep outside every critical region.
+    method, weights
+        Whose gains were optimised (``"vff"``, ``"masoud"``, ``"ge_cui"``) and the
+        criterion weights (w_T, w_D, w_E).
     status, warnings
         The result contract (:class:`~designlab.results.Result`).
     """
 
-    gains: VFFGains | None
+    gains: VFFGains | MasoudGains | GeCuiGains | None
     objective: float
     scenario_names: tuple[str, ...]
     scenario_H: Array
@@ -555,6 +573,8 @@ class GainOptimum(Result):
     critical_margin: float = 0.0
     status: str = OptimumStatus.OK
     warnings: tuple[str, ...] = ()
+    method: str = "vff"
+    weights: tuple[float, float, float] = EQUAL_WEIGHTS
 
     def on_bounds(self, tolerance: float = 1e-3) -> dict[str, str]:
         """Gains of the optimum that lie on a bound of the box: ``{gain: "low" | "high"}``.
@@ -568,6 +588,8 @@ class GainOptimum(Result):
             return {}
         out = {}
         for n in GAIN_NAMES:
+            if not hasattr(self.gains, n):  # Masoud has no b
+                continue
             lo, hi = self.bounds[n]
             u = (math.log(getattr(self.gains, n)) - math.log(lo)) / (math.log(hi) - math.log(lo))
             if u < tolerance:
@@ -580,7 +602,7 @@ class GainOptimum(Result):
         """One row: the gains, H per scenario, H_mean and the search effort."""
         row: dict[str, Any] = {"stabilising": self.stabilising}
         g = self.gains
-        row.update({n: (getattr(g, n) if g is not None else math.nan) for n in GAIN_NAMES})
+        row.update({n: getattr(g, n, math.nan) if g is not None else math.nan for n in GAIN_NAMES})
         for name, h in zip(self.scenario_names, self.scenario_H, strict=True):
             row[f"H_{name}"] = float(h)
         row.update(
@@ -776,6 +798,9 @@ def optimise_gains(
     jit: bool = False,
     callback: Callable[[dict[str, Any]], None] | None = None,
     progress: ProgressHook | None = None,
+    method: str = "vff",
+    weights: tuple[float, float, float] = EQUAL_WEIGHTS,
+    tie_side: str = "+y",
 ) -> GainOptimum:
     """Maximise the mean total criterion H over scenarios with respect to (K1, b, K3, K5).
 
@@ -822,6 +847,16 @@ def optimise_gains(
     progress
         A :data:`designlab.progress.ProgressHook` called after each generation and poll
         with the gain sets evaluated and the best feasible H_mean so far.
+    method
+        Whose gains to optimise: ``"vff"`` (K1, b, K3, K5), ``"masoud"`` (K1, K3, K5; the
+        b column is not used, and the rotational sense is ``tie_side``) or ``"ge_cui"``
+        (K1, b, K3, K5 of (2.2.11)-(2.2.13)), so that the baselines of Table C.1 are
+        optimised like for like. ``gains`` is then a :class:`MasoudGains` or
+        :class:`GeCuiGains`.
+    weights
+        (w_T, w_D, w_E) of H (5.6.6); the thesis: 1/3 each.
+    tie_side
+        ``"+y"`` or ``"-y"`` (for Masoud: counter-clockwise or clockwise).
 
     Returns
     -------
@@ -842,8 +877,10 @@ def optimise_gains(
     _check_options(executor, jit)
     stab, mode = _check_stabilising(stabilising), _check_mode(robust_mode)
     rob, cm = _check_robust(robust), _check_margin(critical_margin)
+    meth, w = _check_method(method), check_weights(weights)
+    TIE_SIDE.check(tie_side)
     ev = _Evaluator(search.scenarios, stab, rob, mode, arrival_tolerance, executor, int(chunks),
-                    cm, bool(jit))  # fmt: skip
+                    cm, bool(jit), method=meth, weights=w, tie_side=tie_side)  # fmt: skip
     total = search.max_evaluations + (search.refine_evaluations if refine else 0)
     inc = _Incumbent(search, ev, callback, progress, total)
     global_converged, stop, sigma = _cma_stage(search, ev, inc)
@@ -851,7 +888,7 @@ def optimise_gains(
     if refine and inc.u is not None and search.refine_evaluations > 0:
         local_converged = _compass_stage(search, ev, inc, sigma)
     settings = dict(stabilising=stab, robust_mode=mode, walks=rob.n if rob is not None else 0,
-                    seed=search.seed, critical_margin=cm)  # fmt: skip
+                    seed=search.seed, critical_margin=cm, method=meth, weights=w)  # fmt: skip
     return _optimum(search, ev, inc, (global_converged, local_converged, refine), stop,
                     time.perf_counter() - t_start, settings)  # fmt: skip
 
@@ -890,6 +927,24 @@ def _check_budget(max_evaluations: Any, popsize: int) -> int:
             "max_evaluations", max_evaluations, f"must be an integer >= popsize = {popsize}"
         )
     return n
+
+
+def _check_method(method: Any) -> str:
+    """A batched method whose gains can be optimised (``"cbf"`` solves a QP per period)."""
+    strategy = method_of(method)
+    if not strategy.BATCHED:
+        raise InvalidParameterError("method", method, "must be 'vff', 'masoud' or 'ge_cui'")
+    return strategy.name
+
+
+def _gains_of(method: str, row: Array, tie_side: str) -> VFFGains | MasoudGains | GeCuiGains:
+    """The gains object of a decision vector (k1, b, k3, k5)."""
+    k1, b, k3, k5 = (float(v) for v in row)
+    if method == "masoud":
+        return MasoudGains(k1=k1, k3=k3, k5=k5, direction=1 if tie_side == "+y" else -1)
+    if method == "ge_cui":
+        return GeCuiGains(k1=k1, b=b, k3=k3, k5=k5)
+    return VFFGains(k1, b, k3, k5)
 
 
 def _other_mode_warnings(ev: _Evaluator, gains: VFFGains) -> list[str]:
@@ -934,7 +989,7 @@ def _optimum(
         gains = None
         H_s = np.full(len(search.scenarios), math.nan)
     else:
-        gains = VFFGains(*(float(v) for v in search.to_gains(inc.u)))
+        gains = _gains_of(ev.method, search.to_gains(inc.u), ev.tie_side)
         H_s = inc.H_s
         ok = global_converged and local_converged
         status = OptimumStatus.OK if ok else OptimumStatus.NOT_CONVERGED
@@ -944,8 +999,14 @@ def _optimum(
             warnings.append(
                 "the compass refinement stopped on its budget before its step fell below 1e-3"
             )
-        warnings.extend(_other_mode_warnings(ev, gains))
-        at_bound = [n for j, n in enumerate(GAIN_NAMES) if inc.u[j] < 1e-3 or inc.u[j] > 1 - 1e-3]
+        if ev.method == "vff":
+            warnings.extend(_other_mode_warnings(ev, gains))
+        used = [n for n in GAIN_NAMES if not (ev.method == "masoud" and n == "b")]
+        at_bound = [
+            n
+            for j, n in enumerate(GAIN_NAMES)
+            if n in used and (inc.u[j] < 1e-3 or inc.u[j] > 1 - 1e-3)
+        ]
         if at_bound:
             warnings.append(
                 f"the optimum lies on the bound of {at_bound}: widen the bounds to check"

@@ -33,10 +33,12 @@ import pandas as pd
 from pydantic import Field, model_validator
 
 from designlab.navigation import simulate
+from designlab.navigation.criteria import EQUAL_WEIGHTS
 from designlab.navigation.parameters import ARRIVAL_TOLERANCE
 from designlab.progress import Progress
 from designlab.results import OK, Result
 from designlab.study.base import Model, Number, Positive, StudyBase
+from designlab.study.kinds.navigation_gains import Weights
 from designlab.study.kinds.navigation_specs import MethodSpec, ScenarioSpec
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
@@ -76,6 +78,7 @@ class NavigationScenariosStudy(StudyBase):
     scenarios: list[ScenarioSpec] = Field(min_length=1, max_length=50)
     methods: list[MethodSpec] = Field(min_length=1, max_length=20)
     arrival_tolerance: _Tolerance = 0.15
+    weights: Weights = Field(EQUAL_WEIGHTS, description="criterion weights (w_T, w_D, w_E) of H")
     references: list[NavigationReference] = Field(default_factory=list)
 
     PRODUCES: ClassVar[tuple[str, ...]] = (
@@ -262,6 +265,7 @@ def _run_pair(
         arrival_tolerance=study.arrival_tolerance,
         tie_side=method.tie_side,
         cbf_gains=method.cbf_gains,
+        weights=study.weights,
     )
     for w in res.warnings:
         logger.info("%s / %s: %s", spec.title, method.label, w)
