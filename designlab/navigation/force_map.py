@@ -60,8 +60,8 @@ class ForceMap(Result):
     part
         ``"total"`` or ``"obstacles"`` (the total minus the attraction K1 E).
     minimum
-        ``(x, y, |F|)`` of the smallest total force outside every critical region and
-        the goal's neighbourhood (0.3 m): the candidate local minimum.
+        ``(x, y, |F|)`` of the smallest total force among the points inside some active
+        region (and no critical region): where a local minimum of Fig. 5.10 can lie.
     """
 
     x: Array = field(repr=False)
@@ -137,18 +137,18 @@ def force_map(
                     np.tile(np.asarray(params)[:, None], n))  # fmt: skip
     F = np.asarray(out[0]).T.reshape(ys.size, xs.size, 2)
     crit = np.asarray(out[1]).ravel().reshape(ys.size, xs.size) > 0.5
+    active = np.asarray(out[8]).reshape(len(geos), n).any(axis=0).reshape(ys.size, xs.size)
     F[crit] = np.nan
     total = np.linalg.norm(F, axis=2)
     if part == "obstacles":
         E = np.stack([scenario.goal[0] - X, scenario.goal[1] - Y], axis=2)
         F = F - row[0] * E
     norm = np.linalg.norm(F, axis=2)
-    return ForceMap(xs, ys, F, norm, part, _minimum(X, Y, total, scenario.goal))
+    return ForceMap(xs, ys, F, norm, part, _minimum(X, Y, total, active))
 
 
-def _minimum(X: Array, Y: Array, total: Array, goal: tuple[float, float]) -> tuple:
-    away = np.hypot(X - goal[0], Y - goal[1]) > 0.3
-    masked = np.where(away & np.isfinite(total), total, np.inf)
+def _minimum(X: Array, Y: Array, total: Array, active: NDArray[np.bool_]) -> tuple:
+    masked = np.where(active & np.isfinite(total), total, np.inf)
     if not np.isfinite(masked).any():
         return (np.nan, np.nan, np.nan)
     k = np.unravel_index(np.argmin(masked), masked.shape)

@@ -133,6 +133,8 @@ class NavigationResult(Result):
         Time spent inside a critical region in s.
     tie, period
         The detour tie-break side (+1/-1) and the period the force was held (s).
+    power
+        Copper loss per ohm (A^2) at every dynamics step (:meth:`energy_trace` integrates it).
     status
         ``"ok"``, or ``"not_arrived"`` (collisions and critical-region entries are warnings).
     warnings
@@ -162,6 +164,12 @@ class NavigationResult(Result):
     warnings: tuple[str, ...] = ()
     tie: int = 1
     period: float = 0.06
+    power: Array = field(default_factory=lambda: np.zeros(0), repr=False)
+
+    def energy_trace(self) -> Array:
+        """Cumulative L_energy per ohm (A^2 s) at every time of :attr:`t` (Fig. 7.5)."""
+        dt = float(self.t[1] - self.t[0]) if self.t.size > 1 else 0.0
+        return np.concatenate([[0.0], np.cumsum(self.power) * dt])[: self.t.size]
 
     def hold_audit(self) -> HoldAudit:
         """V at every dynamics step, checked over each held period (new VFF runs only).
@@ -392,6 +400,7 @@ def _summarise_run(
         status=RunStatus.OK if math.isfinite(arrival) else RunStatus.NOT_ARRIVED,
         warnings=warnings,
         period=float(rec["period"]),
+        power=np.asarray(rec["power"], dtype=float),
     )
 
 

@@ -87,6 +87,8 @@ class NavigationScenariosStudy(StudyBase):
         "stability.csv",
         "trajectories_*.png",
         "distances_*.png",
+        "energy_*.png",
+        "force_*.png",
         "study.yaml",
     )
 
