@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from designlab.navigation.criteria import Criteria, criteria
 from designlab.navigation.lyapunov import StabilityAudit, omega_closed_form, omega_printed
+from designlab.navigation.noise import SensorNoise
 from designlab.navigation.parameters import (
     EXPERIMENT_GAINS,
     OPTIMAL_GAINS,
@@ -61,6 +62,7 @@ __all__ = [
     "RegionSizes",
     "SampledPath",
     "Scenario",
+    "SensorNoise",
     "StabilityAudit",
     "Stationary",
     "VFFGains",

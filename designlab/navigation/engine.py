@@ -26,6 +26,7 @@ from designlab.navigation.field import (
     build_distance,
     build_field,
 )
+from designlab.navigation.noise import SensorNoise
 from designlab.navigation.parameters import (
     ARRIVAL_TOLERANCE,
     DYNAMICS_STEP,
@@ -350,6 +351,7 @@ def run(
     record: bool = False,
     jit: bool = False,
     cbf_gains: tuple[float, float] = (4.0, 4.0),
+    noise: SensorNoise | None = None,
 ) -> RawRun:
     """Simulate ``scenario`` for each row of ``gains`` (N, 4) together.
 
@@ -378,6 +380,8 @@ def run(
         virtual machine where no C compiler exists, with the same results).
     cbf_gains
         (k_0, k_1) of the CBF constraint (``method="cbf"``).
+    noise
+        Measurement noise of what the field sees (:class:`SensorNoise`; single runs only).
     """
     tol, dt, n_sub = _check_timing(scenario, arrival_tolerance, dynamics_step, force_every_step)
     period = n_sub * dt
@@ -395,12 +399,16 @@ def run(
             "Scenario.horizon", scenario.horizon, n_samples * n_sub * per_step,
             what="the recorded run (horizon / dynamics_step steps)",
         )  # fmt: skip
+    if noise is not None and N != 1:
+        raise InvalidParameterError("noise", noise, "is simulated one run at a time")
     if not record and N > 1:
         return _run_batch(
             scenario, gains, geos, method, n_sub, dt, tol, stabilising, tie, jit, n_samples
         )
     run = _SingleRun(scenario, gains, geos, method, n_sub, dt, tol, stabilising, tie, jit, record)
     run.cbf = _CBF(geos, scenario.robot, cbf_gains) if method == "cbf" else None
+    if noise is not None:
+        run.noise = (noise, noise.generator(), np.array([g.moving for g in geos], dtype=bool))
     tracks = _Tracks(scenario, n_samples, n_sub, dt, keep=record)
     k_done = run.recorded(tracks, n_samples) if record else run.lean(tracks, n_samples)
     record_out = None
@@ -466,11 +474,16 @@ class _SingleRun:
         else:
             self.arrival_period = _ArrivalPeriod(f, geos, robot, method, n_sub, dt, tol)
         self.cbf: _CBF | None = None
+        self.noise: tuple[SensorNoise, np.random.Generator, NDArray[np.bool_]] | None = None
 
     def _inputs(self, tracks: _Tracks, k: int) -> None:
-        """The obstacles of period ``k`` and, with the CBF filter, its force."""
+        """The obstacles of period ``k`` (as measured) and, with the CBF filter, its force."""
         f = self.f
         obs_k, osub_k = tracks.at(k)
+        if self.noise is not None:
+            model, rng, moving = self.noise
+            obs_k, goal = model.measure(rng, obs_k, np.asarray(self.scenario.goal), moving)
+            f.view_in(1)[:, 0] = goal
         if self.n_obs:
             f.view_in(2)[:, 0] = obs_k
             f.inp[5][:] = osub_k
@@ -478,7 +491,7 @@ class _SingleRun:
             f.view_in(0)[:, :] = self.X
         if self.cbf is not None:
             x = f.view_in(0)[:, 0].copy()
-            goal = np.asarray(self.scenario.goal)
+            goal = f.view_in(1)[:, 0].copy()  # the measured goal (with noise, seen from the robot)
             force = self.cbf.force(
                 x, goal, self.gains[0], obs_k, self.scenario.robot, self.scenario
             )

@@ -45,6 +45,7 @@ from designlab.navigation.criteria import EQUAL_WEIGHTS, Criteria, check_weights
 from designlab.navigation.hold_audit import HoldAudit, hold_audit
 from designlab.navigation.lyapunov import StabilityAudit, audit_run
 from designlab.navigation.methods import STABILISING, TIE_SIDE, NavigationMethod, method_of
+from designlab.navigation.noise import SensorNoise
 from designlab.navigation.parameters import (
     CBF_K0,
     CBF_K1,
@@ -249,6 +250,7 @@ def simulate(
     cbf_gains: tuple[float, float] = (4.0, 4.0),
     jit: bool = False,
     weights: tuple[float, float, float] = EQUAL_WEIGHTS,
+    noise: SensorNoise | None = None,
 ) -> NavigationResult:
     """Simulate one scenario.
 
@@ -284,6 +286,9 @@ def simulate(
         then several times faster; worth it for many runs of one scenario).
     weights
         (w_T, w_D, w_E) of H (5.6.6): non-negative, summing to 1 (the thesis: 1/3 each).
+    noise
+        Seeded measurement noise of what the field sees (:class:`SensorNoise`); ``None``:
+        exact measurements. The nominal run of the criteria stays noise-free.
 
     Returns
     -------
@@ -328,7 +333,9 @@ def simulate(
         cbf_gains=cbf,
         jit=jit,
     )
-    raw = engine.run(scenario, row[None, :], record=True, **kw)
+    if noise is not None and not isinstance(noise, SensorNoise):
+        raise InvalidParameterError("noise", noise, "must be a SensorNoise or None")
+    raw = engine.run(scenario, row[None, :], record=True, noise=noise, **kw)
     nominal = engine.run(scenario.without_obstacles(), row[None, :], record=False, **kw)
     res = _summarise_run(scenario, strategy, row, stabilising, raw, nominal, w)
     return replace(res, tie=int(kw["tie"]))

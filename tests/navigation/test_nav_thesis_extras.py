@@ -35,7 +35,7 @@ def test_energy_trace_integrates_to_the_runs_energy_and_shows_the_turn() -> None
     assert np.all(np.diff(e) >= 0)
     rate = np.diff(e) / np.diff(res.t)
     window = 1.0  # s: the busiest second
-    n = int(round(window / (res.t[1] - res.t[0])))
+    n = round(float(window / (res.t[1] - res.t[0])))
     busiest = np.convolve(rate, np.ones(n), "valid").max() * (res.t[1] - res.t[0])
     assert busiest > 0.5 * res.energy
 
@@ -55,5 +55,5 @@ def test_force_map_splits_the_field_into_attraction_and_obstacles() -> None:
     far = np.hypot(X - 2.45, Y - 1.4) > 0.81
     far &= (np.abs(X - 2.3) > 0.7 + 0.81) | (np.abs(Y) > 0.3 + 0.81)
     assert np.allclose(obst.norm[far], 0.0, atol=1e-9)
-    mx, my, mf = total.minimum
+    _, _, mf = total.minimum
     assert np.isfinite(mf) and mf >= 0

@@ -22,8 +22,8 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import ClassVar, Literal
+from dataclasses import dataclass, field
+from typing import Annotated, ClassVar, Literal
 
 import pandas as pd
 from pydantic import Field
@@ -32,10 +32,11 @@ from designlab.navigation.account import (
     DISTANCE_BAND,
     TIME_BAND,
     AccountResult,
+    noise_ordering,
     thesis_account,
 )
 from designlab.results import OK, Result
-from designlab.study.base import StudyBase
+from designlab.study.base import Integer, StudyBase
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
 
@@ -53,8 +54,13 @@ class NavigationAccountStudy(StudyBase):
     methods: list[_Method] | None = Field(None, min_length=1, description="default: all")
     time_band: TIME_BAND.annotation() = 0.07  # type: ignore[valid-type]
     distance_band: DISTANCE_BAND.annotation() = 0.03  # type: ignore[valid-type]
+    noise_seeds: Annotated[Integer, Field(ge=0, le=1000)] = Field(
+        0,
+        description="seeded sensor-noise draws per configuration and gain set for the "
+        "Config 2/4 ordering of the two gain sets (0: not run)",
+    )
 
-    PRODUCES: ClassVar[tuple[str, ...]] = ("summary.md", "account.csv", "study.yaml")
+    PRODUCES: ClassVar[tuple[str, ...]] = ("summary.md", "account.csv", "noise.csv", "study.yaml")
 
     def size(self) -> str:
         """What the study runs."""
@@ -71,12 +77,16 @@ class NavigationAccountResult(Result):
         The study.
     account
         The :class:`~designlab.navigation.account.AccountResult`.
+    noise
+        The gain sets' H in Configurations 2 and 4 without and with sensor noise
+        (:func:`~designlab.navigation.account.noise_ordering`; empty if not run).
     status, warnings
         ``"ok"``; how many simulated quantities have no cause found.
     """
 
     study: NavigationAccountStudy
     account: AccountResult
+    noise: pd.DataFrame = field(default_factory=pd.DataFrame, repr=False)
     status: str = OK
     warnings: tuple[str, ...] = ()
 
@@ -103,13 +113,17 @@ def run(study: NavigationAccountStudy, context: RunContext) -> NavigationAccount
             distance_band=study.distance_band,
             progress=hook,
         )
+    noise = pd.DataFrame()
+    if study.noise_seeds:
+        with context.bar(f"{study.kind}: sensor noise", None) as hook:
+            noise = noise_ordering(seeds=study.noise_seeds, progress=hook)
     missing = int((acc.frame["cause"] == "not found").sum()) if len(acc.frame) else 0
     warnings = (
         (f"{missing} simulated quantities lie outside the band with no cause found",)
         if missing
         else ()
     )
-    return NavigationAccountResult(study, acc, warnings=warnings)
+    return NavigationAccountResult(study, acc, noise, warnings=warnings)
 
 
 KIND = StudyKind(
