@@ -51,7 +51,7 @@ def test_measurement_shifts_everything_by_the_robot_error() -> None:
         {"velocity_sd": 1e9},
         {"seed": -1},
         {"seed": 1.5},
-    ],  # fmt: skip
+    ],
 )
 def test_noise_parameters_are_checked(kw: dict) -> None:
     with pytest.raises(InvalidParameterError):
