@@ -452,7 +452,8 @@ def _run_warnings(
     for a, b, overlap in scenario.intersecting_critical_regions():
         warnings.append(
             f"the critical regions of {a!r} and {b!r} overlap by {overlap:.3f} m: no path "
-            "between them stays outside both (Zeng 2011, Sec. 6.4.3 merges such obstacles)"
+            "between them stays outside both (Zeng 2011, Sec. 6.4.3 merges such obstacles: "
+            "merge_critical_regions)"
         )
     bad = sum(1 for s in rec["qp_status"] if s and s not in ("solved", "solved inaccurate"))
     if bad:
