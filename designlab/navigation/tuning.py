@@ -45,7 +45,7 @@ import logging
 import math
 import time
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -56,11 +56,17 @@ from designlab.errors import InvalidParameterError
 from designlab.navigation.criteria import EQUAL_WEIGHTS, check_weights
 from designlab.navigation.methods import STABILISING, TIE_SIDE, method_of
 from designlab.navigation.parameters import GAIN, GeCuiGains, MasoudGains, VFFGains
-from designlab.navigation.scenarios import Disc, Scenario, Walk
+from designlab.navigation.scenarios import Scenario
 from designlab.navigation.simulate import simulate_batch
-from designlab.params import Param, declared, param
+from designlab.navigation.tuning_results import (
+    GAIN_NAMES,
+    GainEvaluation,
+    GainOptimum,
+    OptimumStatus,
+)
+from designlab.navigation.walks import RandomWalks
+from designlab.params import Param
 from designlab.progress import Progress, ProgressHook, report
-from designlab.results import Result, Status
 
 __all__ = [
     "DEFAULT_BOUNDS",
@@ -77,8 +83,6 @@ logger = logging.getLogger(__name__)
 
 Array = NDArray[np.float64]
 
-#: Order of the decision vector (the batch simulator's gain columns).
-GAIN_NAMES = ("k1", "b", "k3", "k5")
 #: The thesis's search box (Zeng 2011, App. C.2: K1 <= 50, b <= 3, K3 <= 200, K5 <= 500),
 #: with lower bounds kept away from zero as the Lyapunov structure requires.
 DEFAULT_BOUNDS: dict[str, tuple[float, float]] = {
@@ -88,102 +92,6 @@ DEFAULT_BOUNDS: dict[str, tuple[float, float]] = {
     "k5": (0.5, 500.0),
 }
 _UNITS = {"k1": "N/m", "b": "s", "k3": "N/m", "k5": "N/m^2"}
-
-
-# --------------------------------------------------------------------- random walks
-
-
-@declared
-@dataclass(frozen=True)
-class RandomWalks:
-    """Randomised human walks for the robust mode.
-
-    Every obstacle that walks (a :class:`~designlab.navigation.Walk`) is replaced by
-    ``n`` walks with the cruise speed, the start time and a lateral offset (normal
-    to the walking direction) drawn uniformly from the given ranges with ``seed``.
-    Scenarios without a walking obstacle are left as they are.
-
-    Examples
-    --------
-    >>> from designlab.navigation import configuration
-    >>> walks = RandomWalks(n=3, seed=0).expand(configuration(2))
-    >>> len(walks), sorted({round(s.obstacles[0].motion.speed, 2) for s in walks}) != [1.0]
-    (3, True)
-    >>> len(RandomWalks(n=3).expand(configuration(1)))
-    1
-    """
-
-    n: int = param(doc="walks per scenario", kind="integer", ge=1, le=64, default=8)
-    speed: tuple[float, float] = param(
-        unit="m/s", doc="range (low, high) of the cruise speed, low > 0", kind="object",
-        default=(0.8, 1.2),
-    )  # fmt: skip
-    start_time: tuple[float, float] = param(
-        unit="s", doc="range of the time the walk starts, low >= 0", kind="object",
-        default=(0.0, 0.5),
-    )  # fmt: skip
-    lateral_offset: tuple[float, float] = param(
-        unit="m", doc="range of the offset of the whole walk to the left of its direction",
-        kind="object", default=(-0.1, 0.1),
-    )  # fmt: skip
-    seed: int = param(doc="seed of the draws", kind="integer", ge=0, le=2**32 - 1, default=0)
-
-    def __post_init__(self) -> None:
-        for name, unit, lo_min in (
-            ("speed", "m/s", 1e-9),
-            ("start_time", "s", 0.0),
-            ("lateral_offset", "m", -math.inf),
-        ):
-            rng = getattr(self, name)
-            try:
-                lo, hi = (float(v) for v in rng)
-            except (TypeError, ValueError):
-                raise InvalidParameterError(
-                    f"RandomWalks.{name}", rng, "must be a pair (low, high)", unit
-                ) from None
-            if not (math.isfinite(lo) and math.isfinite(hi) and lo <= hi and lo >= lo_min):
-                raise InvalidParameterError(
-                    f"RandomWalks.{name}",
-                    rng,
-                    f"must be finite with low <= high{' and low > 0' if lo_min > 0 else ''}"
-                    f"{' and low >= 0' if lo_min == 0 else ''}",
-                    unit,
-                )
-            object.__setattr__(self, name, (lo, hi))
-
-    def expand(self, scenario: Scenario) -> list[Scenario]:
-        """The scenario with its walks randomised (``[scenario]`` if nothing walks)."""
-        walking = [
-            i
-            for i, o in enumerate(scenario.obstacles)
-            if isinstance(o, Disc) and isinstance(o.motion, Walk)
-        ]
-        if not walking:
-            return [scenario]
-        rng = np.random.default_rng(self.seed)
-        out = []
-        for k in range(self.n):
-            obs = list(scenario.obstacles)
-            for i in walking:
-                o = obs[i]
-                assert isinstance(o, Disc) and isinstance(o.motion, Walk)
-                w = o.motion
-                speed = rng.uniform(*self.speed)
-                t0 = rng.uniform(*self.start_time)
-                off = rng.uniform(*self.lateral_offset)
-                d = np.subtract(w.end, w.start) / w.length
-                n = np.array([-d[1], d[0]]) * off
-                ramp = min(w.ramp_time, w.length / speed)
-                walk = Walk(
-                    tuple(np.add(w.start, n)),
-                    tuple(np.add(w.end, n)),
-                    speed=speed,
-                    ramp_time=ramp,
-                    start_time=t0,
-                )
-                obs[i] = replace(o, motion=walk)
-            out.append(scenario.replace(obstacles=tuple(obs), name=f"{scenario.name}_walk{k}"))
-        return out
 
 
 # ------------------------------------------------------------------------ evaluation
@@ -320,37 +228,6 @@ class _Evaluator:
         return _Evaluation(
             H.mean(axis=0), H, feasible, violation.astype(float), arrived, safe, T, margin
         )
-
-
-@dataclass(frozen=True)
-class GainEvaluation(Result):
-    """Gain sets scored as :func:`optimise_gains` scores them (:func:`evaluate_gains`).
-
-    Attributes
-    ----------
-    frame
-        One row per gain set (see :func:`evaluate_gains`).
-    status
-        ``"ok"`` if at least one gain set is feasible, else ``"infeasible"``
-        (:class:`OptimumStatus`).
-    warnings
-        Which gain sets are infeasible.
-    """
-
-    frame: pd.DataFrame = field(repr=False)
-    status: str = "ok"
-    warnings: tuple[str, ...] = ()
-
-    def to_frame(self) -> pd.DataFrame:
-        """The table (a copy)."""
-        return self.frame.copy()
-
-    def __getitem__(self, key: Any) -> Any:
-        """Column access, as on the DataFrame this function returned before (one release)."""
-        return self.frame[key]
-
-    def __len__(self) -> int:
-        return len(self.frame)
 
 
 def evaluate_gains(
@@ -497,124 +374,6 @@ def _check_bounds(bounds: Mapping[str, tuple[float, float]] | None) -> tuple[Arr
             )
         lo[j], hi[j] = low, high
     return lo, hi
-
-
-# ----------------------------------------------------------------------------- result
-
-
-class OptimumStatus(Status):
-    """Status of :func:`optimise_gains` (and :func:`evaluate_gains`).
-
-    ``OK``: both stages converged (a feasible point exists); ``NOT_CONVERGED``: a budget
-    ran out first; ``INFEASIBLE``: no candidate arrived and stayed out of every critical
-    region (``gains`` is then ``None``).
-    """
-
-    OK = "ok"
-    NOT_CONVERGED = "not_converged"
-    INFEASIBLE = "infeasible"
-
-
-@dataclass(frozen=True)
-class GainOptimum(Result):
-    """The optimal gains found by :func:`optimise_gains`.
-
-    Attributes
-    ----------
-    gains
-        The best feasible :class:`VFFGains` (``None`` if no feasible point was found).
-    objective
-        Its H_mean (the mean over the scenarios of H, or of the robust score); ``nan``
-        if none was feasible.
-    scenario_names
-        The scenarios optimised over.
-    scenario_H
-        H per scenario at the optimum (robust score in robust mode).
-    history
-        One row per CMA-ES generation and per refinement iteration: ``phase``,
-        ``iteration``, ``evaluations`` (cumulative), ``best_H_mean`` (best feasible so
-        far), ``iteration_best_H_mean``, ``feasible_share``, ``step`` (CMA-ES sigma or
-        the compass step, in normalised log-gain units) and the incumbent gains.
-    evaluations
-        Gain sets simulated (each over every scenario and walk).
-    simulations
-        Closed-loop runs (evaluations x scenarios x walks; the nominal runs of the
-        criteria are not counted).
-    wall_time
-        Seconds.
-    stabilising, robust_mode, walks
-        The settings (``walks`` = random walks per walking scenario, 0 if not robust).
-    bounds
-        ``{gain: (low, high)}`` searched.
-    seed
-        The seed.
-    critical_margin
-        The clearance (m) every run had to keep outside every critical region.
-    method, weights
-        Whose gains were optimised (``"vff"``, ``"masoud"``, ``"ge_cui"``) and the
-        criterion weights (w_T, w_D, w_E).
-    status, warnings
-        The result contract (:class:`~designlab.results.Result`).
-    """
-
-    gains: VFFGains | MasoudGains | GeCuiGains | None
-    objective: float
-    scenario_names: tuple[str, ...]
-    scenario_H: Array
-    history: pd.DataFrame = field(repr=False)
-    evaluations: int
-    simulations: int
-    wall_time: float
-    stabilising: str
-    robust_mode: str
-    walks: int
-    bounds: dict[str, tuple[float, float]]
-    seed: int
-    critical_margin: float = 0.0
-    status: str = OptimumStatus.OK
-    warnings: tuple[str, ...] = ()
-    method: str = "vff"
-    weights: tuple[float, float, float] = EQUAL_WEIGHTS
-
-    def on_bounds(self, tolerance: float = 1e-3) -> dict[str, str]:
-        """Gains of the optimum that lie on a bound of the box: ``{gain: "low" | "high"}``.
-
-        Parameters
-        ----------
-        tolerance
-            Distance to the bound in normalised log-gain units (the box is [0, 1]^4).
-        """
-        if self.gains is None:
-            return {}
-        out = {}
-        for n in GAIN_NAMES:
-            if not hasattr(self.gains, n):  # Masoud has no b
-                continue
-            lo, hi = self.bounds[n]
-            u = (math.log(getattr(self.gains, n)) - math.log(lo)) / (math.log(hi) - math.log(lo))
-            if u < tolerance:
-                out[n] = "low"
-            elif u > 1 - tolerance:
-                out[n] = "high"
-        return out
-
-    def to_frame(self) -> pd.DataFrame:
-        """One row: the gains, H per scenario, H_mean and the search effort."""
-        row: dict[str, Any] = {"stabilising": self.stabilising}
-        g = self.gains
-        row.update({n: getattr(g, n, math.nan) if g is not None else math.nan for n in GAIN_NAMES})
-        for name, h in zip(self.scenario_names, self.scenario_H, strict=True):
-            row[f"H_{name}"] = float(h)
-        row.update(
-            {
-                "H_mean": self.objective,
-                "evaluations": self.evaluations,
-                "wall_time_s": self.wall_time,
-                "robust_mode": self.robust_mode if self.walks else "",
-                "walks": self.walks,
-            }
-        )
-        return pd.DataFrame([row])
 
 
 # ------------------------------------------------------------- optimiser settings
