@@ -22,8 +22,8 @@ Examples
 >>> Fo, brake = critical_response(geo, HolonomicRobot(), x0, obs, F, period=0.06)
 >>> f = ca.Function("f", [x0, obs, F], [Fo, brake])
 >>> Fb, b = f([0.398, 0, 0, 0], [0, 0, 0, 0, 0, 0], [-5.0, 0])   # stopped 2 mm inside
->>> float(b), round(float(Fb[0]) / 4.4 * 0.06**2 / 2, 4)         # backs out 4 mm
-(0.0, 0.004)
+>>> float(b), round(float(Fb[0]) / 4.4 * 0.06**2 / 2, 4)   # at its 10 m/s^2 limit: 18 mm
+(0.0, 0.018)
 >>> float(f([0.398, 0, -0.1, 0], [0, 0, 0, 0, 0, 0], [-5.0, 0])[1])  # still moving: brakes
 1.0
 """

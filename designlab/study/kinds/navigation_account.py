@@ -17,7 +17,7 @@ Examples
 ... ''')
 >>> r = run_study(study)
 >>> r.to_frame().loc[0, ["quantity", "cause"]].tolist()
-['T_arrive_s', 'tolerance']
+['T_arrive_s', 'tolerance or start']
 """
 
 from __future__ import annotations

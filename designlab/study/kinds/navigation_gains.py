@@ -194,6 +194,7 @@ class NavigationGainsStudy(StudyBase):
         "global_sensitivity_*.csv",
         "appendix_c_comparison.csv",
         "appendix_c_outcomes.csv",
+        "baseline_gains.csv",
         "trajectories_*.png",
         "study.yaml",
     )
