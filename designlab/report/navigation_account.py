@@ -84,8 +84,9 @@ def account_summary(
         "A cause is demonstrated by a run that removes it and brings the quantity inside "
         "the band (`run without it`); `tried` lists the candidates that did not (the range "
         "of their runs). `thesis text`: the thesis's own text gives the value we find. "
-        "Experiment rows are compared with the simulation: the robot's vision and motors are "
-        "not modelled. H and energy are not compared (the motor data are unknown).",
+        "Experiment rows are compared with the simulation, the vision noise being one "
+        "candidate (the motors are not modelled). H and energy are not compared (the motor "
+        "data are unknown).",
         "",
         account_markdown(acc),
         "",

@@ -109,3 +109,16 @@ def test_thesis_text_is_named_when_the_text_gives_our_value() -> None:
     assert d["ours"] == run.min_distance["circle"]
     assert abs(run.min_distance["circle"] - 0.54) > 0.03 >= abs(run.min_distance["circle"] - 0.49)
     assert d["cause"] == "thesis text" and d["cause_value"] == 0.49
+
+
+def test_noise_explains_an_experiment_row_with_a_seeded_noisy_run() -> None:
+    acc = thesis_account(tables=("6.2",), methods=("New VFF",))
+    f = acc.frame
+    t = f[f["sim_or_exp"] == "exp"].set_index("quantity").loc["T_arrive_s"]
+    assert t["cause"] == "noise" and abs(t["cause_value"] / 7.4 - 1) <= 0.07
+    runs = [
+        nav.simulate(nav.configuration(1), nav.EXPERIMENT_GAINS, stabilising="off",
+                     noise=nav.SensorNoise(seed=k)).arrival_time
+        for k in range(5)
+    ]  # fmt: skip
+    assert t["cause_value"] in runs
