@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from designlab.navigation.criteria import Criteria, criteria
 from designlab.navigation.lyapunov import StabilityAudit, omega_closed_form, omega_printed
+from designlab.navigation.merge import merge_critical_regions
+from designlab.navigation.noise import SensorNoise
 from designlab.navigation.parameters import (
     EXPERIMENT_GAINS,
     OPTIMAL_GAINS,
@@ -61,6 +63,7 @@ __all__ = [
     "RegionSizes",
     "SampledPath",
     "Scenario",
+    "SensorNoise",
     "StabilityAudit",
     "Stationary",
     "VFFGains",
@@ -70,6 +73,7 @@ __all__ = [
     "evaluate_gains",
     "gain_global_sensitivity",
     "gain_sensitivity",
+    "merge_critical_regions",
     "omega_closed_form",
     "omega_printed",
     "optimise_gains",

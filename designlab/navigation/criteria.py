@@ -18,13 +18,14 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any
 
 import pandas as pd
 
 from designlab.errors import InvalidParameterError
 from designlab.results import OK, Result
 
-__all__ = ["Criteria", "criteria"]
+__all__ = ["EQUAL_WEIGHTS", "Criteria", "check_weights", "criteria"]
 
 
 @dataclass(frozen=True)
@@ -79,6 +80,38 @@ class Criteria(Result):
         )
 
 
+#: The equal weights of the thesis's H (5.6.6).
+EQUAL_WEIGHTS = (1 / 3, 1 / 3, 1 / 3)
+
+
+def check_weights(weights: Any) -> tuple[float, float, float]:
+    """The criterion weights (w_T, w_D, w_E) checked: three finite numbers >= 0 summing to 1.
+
+    Parameters
+    ----------
+    weights
+        The weights of H_T, H_D and H_E in H (5.6.6).
+
+    Examples
+    --------
+    >>> check_weights([0.5, 0.25, 0.25])
+    (0.5, 0.25, 0.25)
+    >>> check_weights([1, 1, 1])
+    Traceback (most recent call last):
+    ...
+    designlab.errors.InvalidParameterError: weights = [1, 1, 1] is not allowed: ...
+    """
+    try:
+        w = tuple(float(x) for x in weights)
+    except (TypeError, ValueError):
+        w = ()
+    if len(w) != 3 or not all(math.isfinite(x) and x >= 0 for x in w) or abs(sum(w) - 1) > 1e-9:
+        raise InvalidParameterError(
+            "weights", weights, "must be three finite non-negative numbers summing to 1"
+        )
+    return (w[0], w[1], w[2])
+
+
 def criteria(
     *,
     arrival_time: float,
@@ -87,7 +120,7 @@ def criteria(
     nominal_energy: float,
     surface_clearance: Mapping[str, float],
     nominal_clearance: Mapping[str, float],
-    weights: tuple[float, float, float] = (1 / 3, 1 / 3, 1 / 3),
+    weights: tuple[float, float, float] = EQUAL_WEIGHTS,
 ) -> Criteria:
     """Compute H from a run and its nominal run (Zeng 2011, (5.6.1)-(5.6.6)).
 
@@ -117,14 +150,7 @@ def criteria(
     >>> round(c.H_T, 3), c.H_D, c.H_E, round(c.H, 3)
     (0.9, 0.5, 0.5, 0.633)
     """
-    try:
-        w = tuple(float(x) for x in weights)
-    except (TypeError, ValueError):
-        w = ()
-    if len(w) != 3 or not all(math.isfinite(x) and x >= 0 for x in w) or abs(sum(w) - 1) > 1e-9:
-        raise InvalidParameterError(
-            "weights", weights, "must be three finite non-negative numbers summing to 1"
-        )
+    w = check_weights(weights)
     warnings: list[str] = []
     h_t = 0.0 if not math.isfinite(arrival_time) else nominal_arrival_time / arrival_time
     if not math.isfinite(arrival_time):

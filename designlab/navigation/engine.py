@@ -19,14 +19,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
+from designlab.navigation.cbf_filter import CBFFilter
 from designlab.navigation.dynamics import build_hold, state_size
 from designlab.navigation.field import (
     _EPS,
     ObstacleGeometry,
-    build_cbf_rows,
     build_distance,
     build_field,
 )
+from designlab.navigation.noise import SensorNoise
 from designlab.navigation.parameters import (
     ARRIVAL_TOLERANCE,
     DYNAMICS_STEP,
@@ -34,6 +35,7 @@ from designlab.navigation.parameters import (
     HolonomicRobot,
     NonholonomicRobot,
 )
+from designlab.navigation.recovery import critical_response
 from designlab.navigation.scenarios import Scenario
 from designlab.params import check_size
 from designlab.sx import CompiledLanes, try_compile_lanes, with_cse
@@ -117,7 +119,8 @@ def build_step(
         fparams = ca.vertcat(params[0], params[1], ca.SX(1.0 if stabilising else 0.0), params[3])
     out = field(x=_field_velocity(robot, x0), goal=goal, obs=obs, gains=gains, params=fparams)
     F = ca.if_else(fforce[0], fforce[1:3], out["F"])
-    ho = hold(x0=x0, F=F, brake=out["critical"])
+    F, brake = critical_response(geometries, robot, x0, obs, F, n_sub * dt)
+    ho = hold(x0=x0, F=F, brake=brake)
     X = ho["X"]
     if n and not lean:
         D = ca.horzcat(*[dist(X[0:2, k], osub[:, k]) for k in range(n_sub)])
@@ -354,6 +357,7 @@ def run(
     record: bool = False,
     jit: bool = False,
     cbf_gains: tuple[float, float] = (4.0, 4.0),
+    noise: SensorNoise | None = None,
 ) -> RawRun:
     """Simulate ``scenario`` for each row of ``gains`` (N, 4) together.
 
@@ -382,6 +386,8 @@ def run(
         virtual machine where no C compiler exists, with the same results).
     cbf_gains
         (k_0, k_1) of the CBF constraint (``method="cbf"``).
+    noise
+        Measurement noise of what the field sees (:class:`SensorNoise`; single runs only).
     """
     tol, dt, n_sub = _check_timing(scenario, arrival_tolerance, dynamics_step, force_every_step)
     period = n_sub * dt
@@ -399,12 +405,16 @@ def run(
             "Scenario.horizon", scenario.horizon, n_samples * n_sub * per_step,
             what="the recorded run (horizon / dynamics_step steps)",
         )  # fmt: skip
+    if noise is not None and N != 1:
+        raise InvalidParameterError("noise", noise, "is simulated one run at a time")
     if not record and N > 1:
         return _run_batch(
             scenario, gains, geos, method, n_sub, dt, tol, stabilising, tie, jit, n_samples
         )
     run = _SingleRun(scenario, gains, geos, method, n_sub, dt, tol, stabilising, tie, jit, record)
-    run.cbf = _CBF(geos, scenario.robot, cbf_gains) if method == "cbf" else None
+    run.cbf = CBFFilter(geos, scenario.robot, cbf_gains) if method == "cbf" else None
+    if noise is not None:
+        run.noise = (noise, noise.generator(), np.array([g.moving for g in geos], dtype=bool))
     tracks = _Tracks(scenario, n_samples, n_sub, dt, keep=record)
     k_done = run.recorded(tracks, n_samples) if record else run.lean(tracks, n_samples)
     record_out = None
@@ -469,12 +479,17 @@ class _SingleRun:
             self.rec = {k: [] for k in ("X", "D", "power", *_RECORDED, "x_sample", "qp_status")}
         else:
             self.arrival_period = _ArrivalPeriod(f, geos, robot, method, n_sub, dt, tol)
-        self.cbf: _CBF | None = None
+        self.cbf: CBFFilter | None = None
+        self.noise: tuple[SensorNoise, np.random.Generator, NDArray[np.bool_]] | None = None
 
     def _inputs(self, tracks: _Tracks, k: int) -> None:
-        """The obstacles of period ``k`` and, with the CBF filter, its force."""
+        """The obstacles of period ``k`` (as measured) and, with the CBF filter, its force."""
         f = self.f
         obs_k, osub_k = tracks.at(k)
+        if self.noise is not None:
+            model, rng, moving = self.noise
+            obs_k, goal = model.measure(rng, obs_k, np.asarray(self.scenario.goal), moving)
+            f.view_in(1)[:, 0] = goal
         if self.n_obs:
             f.view_in(2)[:, 0] = obs_k
             f.inp[5][:] = osub_k
@@ -482,7 +497,7 @@ class _SingleRun:
             f.view_in(0)[:, :] = self.X
         if self.cbf is not None:
             x = f.view_in(0)[:, 0].copy()
-            goal = np.asarray(self.scenario.goal)
+            goal = f.view_in(1)[:, 0].copy()  # the measured goal (with noise, seen from the robot)
             force = self.cbf.force(
                 x, goal, self.gains[0], obs_k, self.scenario.robot, self.scenario
             )
@@ -802,78 +817,3 @@ class _ArrivalPeriod:
         power = full.view_out(1).reshape(-1)
         dm = full.view_out(2)[:, :count].min(axis=1) if self.n_obs else np.zeros(0)
         return count, dm, float(power[:count].sum())
-
-
-class _CBF:
-    """Exponential control-barrier-function filter of the attractive field, one OSQP QP per step."""
-
-    def __init__(
-        self,
-        geos: tuple[ObstacleGeometry, ...],
-        robot: HolonomicRobot | NonholonomicRobot,
-        k: tuple[float, float],
-    ) -> None:
-        import osqp
-        import scipy.sparse as sp
-
-        self.rows = build_cbf_rows(geos, "critical")
-        self.field = build_field(geos, "cbf")
-        self.n = len(geos)
-        self.k = np.asarray(k, dtype=float)
-        amax = robot.max_accel
-        ang = np.arange(8) * np.pi / 4
-        self.poly = np.stack([np.cos(ang), np.sin(ang)], axis=1)  # |a| <= amax as an octagon
-        self.amax = amax * math.cos(math.pi / 8)  # inscribed octagon
-        A = np.ones((self.n + 8, 2))  # dense pattern: every entry is stored and updated
-        self.A = sp.csc_matrix(A)
-        self.solver = osqp.OSQP()
-        m = A.shape[0]
-        opts = dict(verbose=False, eps_abs=1e-6, eps_rel=1e-6)
-        new_api = int(osqp.__version__.split(".")[0]) >= 1
-        opts.update(
-            dict(warm_starting=True, polishing=False)
-            if new_api
-            else dict(warm_start=True, polish=False)
-        )
-        self.solve_kw = {"raise_error": False} if new_api else {}
-        self.solver.setup(
-            P=sp.csc_matrix(np.eye(2)),
-            q=np.zeros(2),
-            A=self.A,
-            l=-np.inf * np.ones(m),
-            u=np.inf * np.ones(m),
-            **opts,
-        )
-        self.last_status = ""
-        self.mass = robot.mass
-
-    def force(
-        self, x: Array, goal: Array, gains: Array, obs: Array, robot: Any, scenario: Scenario
-    ) -> Array:
-        if x.size == 5:
-            x4 = np.array([x[0], x[1], x[3] * math.cos(x[2]), x[3] * math.sin(x[2])])
-        else:
-            x4 = x[:4]
-        F = np.array(
-            self.field(
-                x=x4, goal=goal, obs=obs, gains=gains, params=[self.mass, 1.0, 0.0, robot.max_accel]
-            )["F"]
-        ).ravel()
-        a_nom = F / self.mass
-        rows = self.rows(x=x4, obs=obs, k=self.k)
-        Ab = np.array(rows["A"]).reshape(self.n, 2)
-        lb = np.array(rows["lb"]).ravel()
-        A = np.vstack([Ab, self.poly])
-        lower = np.concatenate([lb, -np.inf * np.ones(8)])
-        upper = np.concatenate([np.inf * np.ones(self.n), self.amax * np.ones(8)])
-        self.solver.update(q=-a_nom, Ax=A.ravel(order="F"), l=lower, u=upper)
-        res = self.solver.solve(**self.solve_kw)
-        self.last_status = str(res.info.status)
-        if res.info.status_val not in (1, 2) or res.x is None or not np.all(np.isfinite(res.x)):
-            # infeasible: brake along the velocity (the safest fallback), recorded in qp_status
-            v = x4[2:4]
-            sp_ = float(np.hypot(*v))
-            a = -v / sp_ * robot.max_accel if sp_ > 1e-9 else np.zeros(2)
-        else:
-            a = res.x
-        return np.array([1.0, *(self.mass * a)])

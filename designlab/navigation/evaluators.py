@@ -24,6 +24,7 @@ from typing import Any
 
 import numpy as np
 
+from designlab.navigation.criteria import EQUAL_WEIGHTS
 from designlab.navigation.parameters import GAIN_SETS, HolonomicRobot, NonholonomicRobot
 from designlab.navigation.scenarios import configuration
 from designlab.navigation.simulate import simulate_batch
@@ -69,7 +70,8 @@ def vff_metrics_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) ->
     options
         ``scenarios``: list of ``[configuration, chapter]`` (thesis configurations);
         ``stabilising``: ``"lyapunov"`` or ``"off"``; ``arrival_tolerance`` (m);
-        ``jit``: simulate with the four-lane compiled step (default ``False``).
+        ``jit``: simulate with the four-lane compiled step (default ``False``);
+        ``weights``: criterion weights (w_T, w_D, w_E) of H (default 1/3 each).
     """
     n = np.asarray(points["k1"]).size
     defaults = {"ramp": 0.5, "tol": float(options.get("arrival_tolerance", 0.15))}
@@ -84,6 +86,7 @@ def vff_metrics_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) ->
     specs = [tuple(s) for s in options.get("scenarios", [[1, 6], [2, 6], [3, 6]])]
     stab = options.get("stabilising", "off")
     jit = bool(options.get("jit", False))
+    weights = tuple(options.get("weights", EQUAL_WEIGHTS))
     groups = np.stack([cols[k] for k in ("v_max", "a_max", "v_h", "ramp", "tol")], axis=1)
     step = int(GAIN_SETS.le)  # type: ignore[arg-type]
     for key in np.unique(groups, axis=0):
@@ -101,7 +104,8 @@ def vff_metrics_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) ->
         for start in range(0, group.size, step):  # at most GAIN_SETS per batch
             idx = group[start : start + step]
             gains = np.stack([cols[k][idx] for k in ("k1", "b", "k3", "k5")], axis=1)
-            res = simulate_batch(scenarios, gains, stabilising=stab, arrival_tolerance=tol, jit=jit)
+            res = simulate_batch(scenarios, gains, stabilising=stab, arrival_tolerance=tol, jit=jit,
+                                 weights=weights)  # fmt: skip
             _store(out, status, idx, scenarios, res)
     out_any: dict[str, Any] = dict(out)
     out_any["status"] = status

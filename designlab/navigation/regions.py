@@ -169,6 +169,36 @@ def _turn_time(robot: Robot, turn_time: float | None) -> float:
     return 0.0
 
 
+#: The vision period of the thesis's robots (16.7 Hz), for which the sizing was written.
+THESIS_SAMPLE_TIME = 0.06
+
+
+def _sizing_warnings(
+    ts: float, stopping_time: float, r2: float, active_radius: float | None
+) -> tuple[str, ...]:
+    """What a user should know about a sizing (adopted r2 below its bound, a slow loop)."""
+    out = []
+    if active_radius is not None:
+        adopted = check_positive("active_radius", active_radius, "m")
+        if adopted < r2:
+            out.append(
+                f"the adopted active radius {adopted:g} m is below the minimum {r2:.4g} m: "
+                "the sidestep may not finish before the obstacle reaches the critical region"
+            )
+    if ts > stopping_time:
+        out.append(
+            f"the sample time {ts:g} s exceeds the stopping time {stopping_time:.3g} s: the "
+            "reaction delay dominates the critical radius"
+        )
+    if ts > 2 * THESIS_SAMPLE_TIME:
+        out.append(
+            f"the sample time {ts:g} s is more than twice the thesis's {THESIS_SAMPLE_TIME} s "
+            "(Sec. 5.3): the worst case assumes at most one period of delay, so check that "
+            "the obstacles cannot change course within one period"
+        )
+    return tuple(out)
+
+
 def region_sizes(
     obstacle: Obstacle,
     robot: Robot,
@@ -177,6 +207,7 @@ def region_sizes(
     critical_radius: float | None = None,
     sidestep_time: float | None = None,
     turn_time: float | None = None,
+    active_radius: float | None = None,
 ) -> RegionSizes:
     """Minimum critical and active region sizes for one obstacle class.
 
@@ -219,6 +250,14 @@ def region_sizes(
     >>> s = region_sizes(CircularObstacle(0.1), HolonomicRobot(), 0.06, critical_radius=0.4)
     >>> round(s.r3_min, 3), round(s.sidestep_time, 4), round(s.r2, 3)
     (0.367, 0.6064, 0.467)
+
+    The human's active region of (6.3.5): the thesis adopts 2.1 m, below the 2.108 m bound:
+
+    >>> from designlab.navigation import Human
+    >>> h = region_sizes(Human(), HolonomicRobot(), 0.06, critical_radius=0.8,
+    ...                  sidestep_time=1.18, active_radius=2.1)
+    >>> round(h.r2, 3), h.warnings[0][:40]
+    (2.108, 'the adopted active radius 2.1 m is below')
     """
     ts = SAMPLE_TIME.check(sample_time)
     _check_kinds(obstacle, robot)
@@ -239,7 +278,7 @@ def region_sizes(
     horizon = dt2 + t_turn + ts
     d_rx2 = v * horizon
     d_ox2 = v_o * horizon
-    warnings: tuple[str, ...] = ()
+    warnings = _sizing_warnings(ts, dt1, d_rx2 + d_ox2, active_radius)
     return RegionSizes(
         obstacle_kind="rectangle" if rect else "disc",
         sample_time=ts,

@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -41,9 +41,11 @@ from numpy.typing import ArrayLike, NDArray
 
 from designlab.errors import InvalidParameterError
 from designlab.navigation import engine
-from designlab.navigation.criteria import Criteria, criteria
+from designlab.navigation.criteria import EQUAL_WEIGHTS, Criteria, check_weights, criteria
+from designlab.navigation.hold_audit import HoldAudit, hold_audit
 from designlab.navigation.lyapunov import StabilityAudit, audit_run
 from designlab.navigation.methods import STABILISING, TIE_SIDE, NavigationMethod, method_of
+from designlab.navigation.noise import SensorNoise
 from designlab.navigation.parameters import (
     CBF_K0,
     CBF_K1,
@@ -130,6 +132,10 @@ class NavigationResult(Result):
         Obstacle name -> whether the robot touched it.
     critical_time
         Time spent inside a critical region in s.
+    tie, period
+        The detour tie-break side (+1/-1) and the period the force was held (s).
+    power
+        Copper loss per ohm (A^2) at every dynamics step (:meth:`energy_trace` integrates it).
     status
         ``"ok"``, or ``"not_arrived"`` (collisions and critical-region entries are warnings).
     warnings
@@ -157,6 +163,29 @@ class NavigationResult(Result):
     critical_time: float = 0.0
     status: str = RunStatus.OK
     warnings: tuple[str, ...] = ()
+    tie: int = 1
+    period: float = 0.06
+    power: Array = field(default_factory=lambda: np.zeros(0), repr=False)
+
+    def energy_trace(self) -> Array:
+        """Cumulative L_energy per ohm (A^2 s) at every time of :attr:`t` (Fig. 7.5)."""
+        dt = float(self.t[1] - self.t[0]) if self.t.size > 1 else 0.0
+        return np.concatenate([[0.0], np.cumsum(self.power) * dt])[: self.t.size]
+
+    def hold_audit(self) -> HoldAudit:
+        """V at every dynamics step, checked over each held period (new VFF runs only).
+
+        See :func:`designlab.navigation.hold_audit.hold_audit`.
+        """
+        if self.method != "vff":
+            raise InvalidParameterError(
+                "method", self.method, "the hold audit needs the new VFF's Lyapunov function"
+            )
+        row = np.array([self.gains[k] for k in ("k1", "b", "k3", "k5")])
+        return hold_audit(
+            self.scenario, self.t, self.position, self.velocity, row,
+            stabilising=self.stabilising == "lyapunov", tie=self.tie, period=self.period,
+        )  # fmt: skip
 
     @property
     def entered_critical(self) -> bool:
@@ -220,6 +249,8 @@ def simulate(
     tie_side: str = "+y",
     cbf_gains: tuple[float, float] = (4.0, 4.0),
     jit: bool = False,
+    weights: tuple[float, float, float] = EQUAL_WEIGHTS,
+    noise: SensorNoise | None = None,
 ) -> NavigationResult:
     """Simulate one scenario.
 
@@ -253,6 +284,11 @@ def simulate(
     jit
         Compile the step with CasADi's JIT (a few seconds once per scenario structure,
         then several times faster; worth it for many runs of one scenario).
+    weights
+        (w_T, w_D, w_E) of H (5.6.6): non-negative, summing to 1 (the thesis: 1/3 each).
+    noise
+        Seeded measurement noise of what the field sees (:class:`SensorNoise`); ``None``:
+        exact measurements. The nominal run of the criteria stays noise-free.
 
     Returns
     -------
@@ -279,6 +315,7 @@ def simulate(
     STABILISING.check(stabilising)
     strategy = method_of(method)
     TIE_SIDE.check(tie_side)
+    w = check_weights(weights)
     _check_flags(force_every_step=force_every_step, jit=jit)
     cbf = _check_cbf_gains(cbf_gains)
     if not isinstance(scenario, Scenario):
@@ -296,9 +333,12 @@ def simulate(
         cbf_gains=cbf,
         jit=jit,
     )
-    raw = engine.run(scenario, row[None, :], record=True, **kw)
+    if noise is not None and not isinstance(noise, SensorNoise):
+        raise InvalidParameterError("noise", noise, "must be a SensorNoise or None")
+    raw = engine.run(scenario, row[None, :], record=True, noise=noise, **kw)
     nominal = engine.run(scenario.without_obstacles(), row[None, :], record=False, **kw)
-    return _summarise_run(scenario, strategy, row, stabilising, raw, nominal)
+    res = _summarise_run(scenario, strategy, row, stabilising, raw, nominal, w)
+    return replace(res, tie=int(kw["tie"]))
 
 
 def _summarise_run(
@@ -308,6 +348,7 @@ def _summarise_run(
     stabilising: str,
     raw: engine.RawRun,
     nominal: engine.RawRun,
+    weights: tuple[float, float, float] = EQUAL_WEIGHTS,
 ) -> NavigationResult:
     """The :class:`NavigationResult` of a recorded run and its nominal (obstacle-free) run."""
     rec = raw.record
@@ -327,6 +368,7 @@ def _summarise_run(
         nominal_energy=float(nominal.energy[0]),
         surface_clearance=min_surface,
         nominal_clearance=_nominal_clearance(scenario),
+        weights=weights,
     )
     pos, vel, heading = _trajectories(scenario, rec["X"])
     audit = None
@@ -364,6 +406,8 @@ def _summarise_run(
         critical_time=float(raw.critical_time[0]),
         status=RunStatus.OK if math.isfinite(arrival) else RunStatus.NOT_ARRIVED,
         warnings=warnings,
+        period=float(rec["period"]),
+        power=np.asarray(rec["power"], dtype=float),
     )
 
 
@@ -408,7 +452,8 @@ def _run_warnings(
     for a, b, overlap in scenario.intersecting_critical_regions():
         warnings.append(
             f"the critical regions of {a!r} and {b!r} overlap by {overlap:.3f} m: no path "
-            "between them stays outside both (Zeng 2011, Sec. 6.4.3 merges such obstacles)"
+            "between them stays outside both (Zeng 2011, Sec. 6.4.3 merges such obstacles: "
+            "merge_critical_regions)"
         )
     bad = sum(1 for s in rec["qp_status"] if s and s not in ("solved", "solved inaccurate"))
     if bad:
@@ -567,8 +612,10 @@ def simulate_batch(
     dynamics_step: float = 1e-3,
     tie_side: str = "+y",
     jit: bool = False,
+    method: str = "vff",
+    weights: tuple[float, float, float] = EQUAL_WEIGHTS,
 ) -> BatchResult:
-    """Simulate every gain set on every scenario with the new VFF, vectorised over the gain sets.
+    """Simulate every gain set on every scenario, vectorised over the gain sets.
 
     Parameters
     ----------
@@ -585,6 +632,12 @@ def simulate_batch(
         structure, then 5-7x faster per holonomic member-period (about 2x for the
         nonholonomic robot) than CasADi's virtual machine, with results equal to it to
         the bit. Worth it for optimisations and large sweeps.
+    method
+        ``"vff"`` (default), ``"masoud"`` (columns k1, -, k3, k5; the rotational sense is
+        ``tie_side``: ``"+y"`` counter-clockwise) or ``"ge_cui"``; ``"cbf"`` is not
+        batched.
+    weights
+        (w_T, w_D, w_E) of H (5.6.6), as in :func:`simulate`.
 
     Returns
     -------
@@ -604,22 +657,35 @@ def simulate_batch(
     """
     STABILISING.check(stabilising)
     TIE_SIDE.check(tie_side)
+    strategy = method_of(method)
+    if not strategy.BATCHED:
+        raise InvalidParameterError("method", method, "is not batched: use simulate()")
+    w = check_weights(weights)
     _check_flags(jit=jit)
     scenarios = _check_scenarios(scenarios)
     g = _check_gain_array(gains)
     kw: dict[str, Any] = dict(
-        method="vff",
-        stabilising=stabilising == "lyapunov",
+        method=strategy.name,
+        stabilising=stabilising == "lyapunov" and strategy.STABILISED,
         tie=1 if tie_side == "+y" else -1,
         arrival_tolerance=arrival_tolerance,
         dynamics_step=dynamics_step,
         jit=jit,
     )
-    rows = [_batch_scenario(sc, g, kw) for sc in scenarios]
+    rows = [_batch_scenario(sc, g, kw, w) for sc in scenarios]
     return _batch_result(scenarios, g, rows)
 
 
-def _batch_scenario(sc: Scenario, g: Array, kw: dict[str, Any]) -> dict[str, Array]:
+def _weighted(w: tuple[float, float, float], h_t: Array, h_d: Array, h_e: Array) -> Array:
+    """w_T H_T + w_D H_D + w_E H_E; the equal weights as (H_T + H_D + H_E)/3, as before."""
+    if w == EQUAL_WEIGHTS:
+        return (h_t + h_d + h_e) / 3.0
+    return w[0] * h_t + w[1] * h_d + w[2] * h_e
+
+
+def _batch_scenario(
+    sc: Scenario, g: Array, kw: dict[str, Any], w: tuple[float, float, float] = EQUAL_WEIGHTS
+) -> dict[str, Array]:
     """Every gain set on one scenario and its nominal runs: the arrays of one row of S."""
     N = g.shape[0]
     raw = engine.run(sc, g, **kw)
@@ -643,7 +709,7 @@ def _batch_scenario(sc: Scenario, g: Array, kw: dict[str, Any]) -> dict[str, Arr
         "HT": h_t,
         "HD": h_d,
         "HE": h_e,
-        "H": k * (h_t + h_d + h_e) / 3.0,
+        "H": k * _weighted(w, h_t, h_d, h_e),
         "dmin": raw.min_distance,
         "crit": (raw.min_distance <= r3[None, :]).any(axis=1) if n_obs else np.zeros(N, bool),
         "coll": coll,

@@ -40,11 +40,12 @@ True
 
 from __future__ import annotations
 
+import copy
 import logging
 import math
 import time
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -52,13 +53,20 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
-from designlab.navigation.methods import STABILISING
-from designlab.navigation.parameters import GAIN, VFFGains
-from designlab.navigation.scenarios import Disc, Scenario, Walk
+from designlab.navigation.criteria import EQUAL_WEIGHTS, check_weights
+from designlab.navigation.methods import STABILISING, TIE_SIDE, method_of
+from designlab.navigation.parameters import GAIN, GeCuiGains, MasoudGains, VFFGains
+from designlab.navigation.scenarios import Scenario
 from designlab.navigation.simulate import simulate_batch
-from designlab.params import Param, declared, param
+from designlab.navigation.tuning_results import (
+    GAIN_NAMES,
+    GainEvaluation,
+    GainOptimum,
+    OptimumStatus,
+)
+from designlab.navigation.walks import RandomWalks
+from designlab.params import Param
 from designlab.progress import Progress, ProgressHook, report
-from designlab.results import Result, Status
 
 __all__ = [
     "DEFAULT_BOUNDS",
@@ -75,8 +83,6 @@ logger = logging.getLogger(__name__)
 
 Array = NDArray[np.float64]
 
-#: Order of the decision vector (the batch simulator's gain columns).
-GAIN_NAMES = ("k1", "b", "k3", "k5")
 #: The thesis's search box (Zeng 2011, App. C.2: K1 <= 50, b <= 3, K3 <= 200, K5 <= 500),
 #: with lower bounds kept away from zero as the Lyapunov structure requires.
 DEFAULT_BOUNDS: dict[str, tuple[float, float]] = {
@@ -86,102 +92,6 @@ DEFAULT_BOUNDS: dict[str, tuple[float, float]] = {
     "k5": (0.5, 500.0),
 }
 _UNITS = {"k1": "N/m", "b": "s", "k3": "N/m", "k5": "N/m^2"}
-
-
-# --------------------------------------------------------------------- random walks
-
-
-@declared
-@dataclass(frozen=True)
-class RandomWalks:
-    """Randomised human walks for the robust mode.
-
-    Every obstacle that walks (a :class:`~designlab.navigation.Walk`) is replaced by
-    ``n`` walks with the cruise speed, the start time and a lateral offset (normal
-    to the walking direction) drawn uniformly from the given ranges with ``seed``.
-    Scenarios without a walking obstacle are left as they are.
-
-    Examples
-    --------
-    >>> from designlab.navigation import configuration
-    >>> walks = RandomWalks(n=3, seed=0).expand(configuration(2))
-    >>> len(walks), sorted({round(s.obstacles[0].motion.speed, 2) for s in walks}) != [1.0]
-    (3, True)
-    >>> len(RandomWalks(n=3).expand(configuration(1)))
-    1
-    """
-
-    n: int = param(doc="walks per scenario", kind="integer", ge=1, le=64, default=8)
-    speed: tuple[float, float] = param(
-        unit="m/s", doc="range (low, high) of the cruise speed, low > 0", kind="object",
-        default=(0.8, 1.2),
-    )  # fmt: skip
-    start_time: tuple[float, float] = param(
-        unit="s", doc="range of the time the walk starts, low >= 0", kind="object",
-        default=(0.0, 0.5),
-    )  # fmt: skip
-    lateral_offset: tuple[float, float] = param(
-        unit="m", doc="range of the offset of the whole walk to the left of its direction",
-        kind="object", default=(-0.1, 0.1),
-    )  # fmt: skip
-    seed: int = param(doc="seed of the draws", kind="integer", ge=0, le=2**32 - 1, default=0)
-
-    def __post_init__(self) -> None:
-        for name, unit, lo_min in (
-            ("speed", "m/s", 1e-9),
-            ("start_time", "s", 0.0),
-            ("lateral_offset", "m", -math.inf),
-        ):
-            rng = getattr(self, name)
-            try:
-                lo, hi = (float(v) for v in rng)
-            except (TypeError, ValueError):
-                raise InvalidParameterError(
-                    f"RandomWalks.{name}", rng, "must be a pair (low, high)", unit
-                ) from None
-            if not (math.isfinite(lo) and math.isfinite(hi) and lo <= hi and lo >= lo_min):
-                raise InvalidParameterError(
-                    f"RandomWalks.{name}",
-                    rng,
-                    f"must be finite with low <= high{' and low > 0' if lo_min > 0 else ''}"
-                    f"{' and low >= 0' if lo_min == 0 else ''}",
-                    unit,
-                )
-            object.__setattr__(self, name, (lo, hi))
-
-    def expand(self, scenario: Scenario) -> list[Scenario]:
-        """The scenario with its walks randomised (``[scenario]`` if nothing walks)."""
-        walking = [
-            i
-            for i, o in enumerate(scenario.obstacles)
-            if isinstance(o, Disc) and isinstance(o.motion, Walk)
-        ]
-        if not walking:
-            return [scenario]
-        rng = np.random.default_rng(self.seed)
-        out = []
-        for k in range(self.n):
-            obs = list(scenario.obstacles)
-            for i in walking:
-                o = obs[i]
-                assert isinstance(o, Disc) and isinstance(o.motion, Walk)
-                w = o.motion
-                speed = rng.uniform(*self.speed)
-                t0 = rng.uniform(*self.start_time)
-                off = rng.uniform(*self.lateral_offset)
-                d = np.subtract(w.end, w.start) / w.length
-                n = np.array([-d[1], d[0]]) * off
-                ramp = min(w.ramp_time, w.length / speed)
-                walk = Walk(
-                    tuple(np.add(w.start, n)),
-                    tuple(np.add(w.end, n)),
-                    speed=speed,
-                    ramp_time=ramp,
-                    start_time=t0,
-                )
-                obs[i] = replace(o, motion=walk)
-            out.append(scenario.replace(obstacles=tuple(obs), name=f"{scenario.name}_walk{k}"))
-        return out
 
 
 # ------------------------------------------------------------------------ evaluation
@@ -207,6 +117,9 @@ def _batch_task(task: Mapping[str, Any]) -> dict[str, Array]:
         stabilising=task["stabilising"],
         arrival_tolerance=task["arrival_tolerance"],
         jit=task.get("jit", False),
+        method=task.get("method", "vff"),
+        tie_side=task.get("tie_side", "+y"),
+        weights=task.get("weights", EQUAL_WEIGHTS),
     )
     n_obs = [len(n) for n in r.obstacle_names]
     return {
@@ -236,9 +149,14 @@ class _Evaluator:
         chunks: int,
         critical_margin: float = 0.0,
         jit: bool = False,
+        method: str = "vff",
+        weights: tuple[float, float, float] = EQUAL_WEIGHTS,
+        tie_side: str = "+y",
     ) -> None:
+        self.method, self.weights, self.tie_side = method, weights, tie_side
         self.margin = critical_margin
         self.jit = jit
+        self.names = [s.name for s in scenarios]
         self.groups: list[list[Scenario]] = [robust.expand(s) if robust else [s] for s in scenarios]
         self.flat = [s for g in self.groups for s in g]
         self.owner = np.concatenate([[i] * len(g) for i, g in enumerate(self.groups)]).astype(int)
@@ -257,6 +175,9 @@ class _Evaluator:
             "stabilising": self.stabilising,
             "arrival_tolerance": self.tol,
             "jit": self.jit,
+            "method": self.method,
+            "weights": self.weights,
+            "tie_side": self.tie_side,
         }
         if self.executor is None or self.chunks <= 1 or gains.shape[0] < 2:
             return _batch_task({**base, "gains": gains})
@@ -309,37 +230,6 @@ class _Evaluator:
         )
 
 
-@dataclass(frozen=True)
-class GainEvaluation(Result):
-    """Gain sets scored as :func:`optimise_gains` scores them (:func:`evaluate_gains`).
-
-    Attributes
-    ----------
-    frame
-        One row per gain set (see :func:`evaluate_gains`).
-    status
-        ``"ok"`` if at least one gain set is feasible, else ``"infeasible"``
-        (:class:`OptimumStatus`).
-    warnings
-        Which gain sets are infeasible.
-    """
-
-    frame: pd.DataFrame = field(repr=False)
-    status: str = "ok"
-    warnings: tuple[str, ...] = ()
-
-    def to_frame(self) -> pd.DataFrame:
-        """The table (a copy)."""
-        return self.frame.copy()
-
-    def __getitem__(self, key: Any) -> Any:
-        """Column access, as on the DataFrame this function returned before (one release)."""
-        return self.frame[key]
-
-    def __len__(self) -> int:
-        return len(self.frame)
-
-
 def evaluate_gains(
     scenarios: Sequence[Scenario],
     gains: Any,
@@ -349,6 +239,8 @@ def evaluate_gains(
     robust_mode: str = "mean",
     arrival_tolerance: float = 0.15,
     critical_margin: float = 0.0,
+    method: str = "vff",
+    weights: tuple[float, float, float] = EQUAL_WEIGHTS,
 ) -> GainEvaluation:
     """Score gain sets as :func:`optimise_gains` does: H per scenario, H_mean and feasibility.
 
@@ -358,7 +250,7 @@ def evaluate_gains(
         The scenarios.
     gains
         A :class:`VFFGains`, a sequence of them, or an ``(N, 4)`` array of (k1, b, k3, k5).
-    stabilising, robust, robust_mode, arrival_tolerance, critical_margin
+    stabilising, robust, robust_mode, arrival_tolerance, critical_margin, method, weights
         As in :func:`optimise_gains`.
 
     Returns
@@ -390,6 +282,8 @@ def evaluate_gains(
         None,
         1,
         _check_margin(critical_margin),
+        method=_check_method(method),
+        weights=check_weights(weights),
     )
     e = ev(g)
     frame = pd.DataFrame(g, columns=list(GAIN_NAMES))
@@ -480,117 +374,6 @@ def _check_bounds(bounds: Mapping[str, tuple[float, float]] | None) -> tuple[Arr
             )
         lo[j], hi[j] = low, high
     return lo, hi
-
-
-# ----------------------------------------------------------------------------- result
-
-
-class OptimumStatus(Status):
-    """Status of :func:`optimise_gains` (and :func:`evaluate_gains`).
-
-    ``OK``: both stages converged (a feasible point exists); ``NOT_CONVERGED``: a budget
-    ran out first; ``INFEASIBLE``: no candidate arrived and stayed out of every critical
-    region (``gains`` is then ``None``).
-    """
-
-    OK = "ok"
-    NOT_CONVERGED = "not_converged"
-    INFEASIBLE = "infeasible"
-
-
-@dataclass(frozen=True)
-class GainOptimum(Result):
-    """The optimal gains found by :func:`optimise_gains`.
-
-    Attributes
-    ----------
-    gains
-        The best feasible :class:`VFFGains` (``None`` if no feasible point was found).
-    objective
-        Its H_mean (the mean over the scenarios of H, or of the robust score); ``nan``
-        if none was feasible.
-    scenario_names
-        The scenarios optimised over.
-    scenario_H
-        H per scenario at the optimum (robust score in robust mode).
-    history
-        One row per CMA-ES generation and per refinement iteration: ``phase``,
-        ``iteration``, ``evaluations`` (cumulative), ``best_H_mean`` (best feasible so
-        far), ``iteration_best_H_mean``, ``feasible_share``, ``step`` (CMA-ES sigma or
-        the compass step, in normalised log-gain units) and the incumbent gains.
-    evaluations
-        Gain sets simulated (each over every scenario and walk).
-    simulations
-        Closed-loop runs (evaluations x scenarios x walks; the nominal runs of the
-        criteria are not counted).
-    wall_time
-        Seconds.
-    stabilising, robust_mode, walks
-        The settings (``walks`` = random walks per walking scenario, 0 if not robust).
-    bounds
-        ``{gain: (low, high)}`` searched.
-    seed
-        The seed.
-    critical_margin
-        The clearance (m) every run had to keep outside every critical region.
-    status, warnings
-        The result contract (:class:`~designlab.results.Result`).
-    """
-
-    gains: VFFGains | None
-    objective: float
-    scenario_names: tuple[str, ...]
-    scenario_H: Array
-    history: pd.DataFrame = field(repr=False)
-    evaluations: int
-    simulations: int
-    wall_time: float
-    stabilising: str
-    robust_mode: str
-    walks: int
-    bounds: dict[str, tuple[float, float]]
-    seed: int
-    critical_margin: float = 0.0
-    status: str = OptimumStatus.OK
-    warnings: tuple[str, ...] = ()
-
-    def on_bounds(self, tolerance: float = 1e-3) -> dict[str, str]:
-        """Gains of the optimum that lie on a bound of the box: ``{gain: "low" | "high"}``.
-
-        Parameters
-        ----------
-        tolerance
-            Distance to the bound in normalised log-gain units (the box is [0, 1]^4).
-        """
-        if self.gains is None:
-            return {}
-        out = {}
-        for n in GAIN_NAMES:
-            lo, hi = self.bounds[n]
-            u = (math.log(getattr(self.gains, n)) - math.log(lo)) / (math.log(hi) - math.log(lo))
-            if u < tolerance:
-                out[n] = "low"
-            elif u > 1 - tolerance:
-                out[n] = "high"
-        return out
-
-    def to_frame(self) -> pd.DataFrame:
-        """One row: the gains, H per scenario, H_mean and the search effort."""
-        row: dict[str, Any] = {"stabilising": self.stabilising}
-        g = self.gains
-        row.update({n: (getattr(g, n) if g is not None else math.nan) for n in GAIN_NAMES})
-        for name, h in zip(self.scenario_names, self.scenario_H, strict=True):
-            row[f"H_{name}"] = float(h)
-        row.update(
-            {
-                "H_mean": self.objective,
-                "evaluations": self.evaluations,
-                "wall_time_s": self.wall_time,
-                "robust_mode": self.robust_mode if self.walks else "",
-                "walks": self.walks,
-            }
-        )
-        return pd.DataFrame([row])
 
 
 # ------------------------------------------------------------- optimiser settings
@@ -774,6 +557,9 @@ def optimise_gains(
     jit: bool = False,
     callback: Callable[[dict[str, Any]], None] | None = None,
     progress: ProgressHook | None = None,
+    method: str = "vff",
+    weights: tuple[float, float, float] = EQUAL_WEIGHTS,
+    tie_side: str = "+y",
 ) -> GainOptimum:
     """Maximise the mean total criterion H over scenarios with respect to (K1, b, K3, K5).
 
@@ -820,6 +606,16 @@ def optimise_gains(
     progress
         A :data:`designlab.progress.ProgressHook` called after each generation and poll
         with the gain sets evaluated and the best feasible H_mean so far.
+    method
+        Whose gains to optimise: ``"vff"`` (K1, b, K3, K5), ``"masoud"`` (K1, K3, K5; the
+        b column is not used, and the rotational sense is ``tie_side``) or ``"ge_cui"``
+        (K1, b, K3, K5 of (2.2.11)-(2.2.13)), so that the baselines of Table C.1 are
+        optimised like for like. ``gains`` is then a :class:`MasoudGains` or
+        :class:`GeCuiGains`.
+    weights
+        (w_T, w_D, w_E) of H (5.6.6); the thesis: 1/3 each.
+    tie_side
+        ``"+y"`` or ``"-y"`` (for Masoud: counter-clockwise or clockwise).
 
     Returns
     -------
@@ -840,8 +636,10 @@ def optimise_gains(
     _check_options(executor, jit)
     stab, mode = _check_stabilising(stabilising), _check_mode(robust_mode)
     rob, cm = _check_robust(robust), _check_margin(critical_margin)
+    meth, w = _check_method(method), check_weights(weights)
+    TIE_SIDE.check(tie_side)
     ev = _Evaluator(search.scenarios, stab, rob, mode, arrival_tolerance, executor, int(chunks),
-                    cm, bool(jit))  # fmt: skip
+                    cm, bool(jit), method=meth, weights=w, tie_side=tie_side)  # fmt: skip
     total = search.max_evaluations + (search.refine_evaluations if refine else 0)
     inc = _Incumbent(search, ev, callback, progress, total)
     global_converged, stop, sigma = _cma_stage(search, ev, inc)
@@ -849,7 +647,7 @@ def optimise_gains(
     if refine and inc.u is not None and search.refine_evaluations > 0:
         local_converged = _compass_stage(search, ev, inc, sigma)
     settings = dict(stabilising=stab, robust_mode=mode, walks=rob.n if rob is not None else 0,
-                    seed=search.seed, critical_margin=cm)  # fmt: skip
+                    seed=search.seed, critical_margin=cm, method=meth, weights=w)  # fmt: skip
     return _optimum(search, ev, inc, (global_converged, local_converged, refine), stop,
                     time.perf_counter() - t_start, settings)  # fmt: skip
 
@@ -890,6 +688,43 @@ def _check_budget(max_evaluations: Any, popsize: int) -> int:
     return n
 
 
+def _check_method(method: Any) -> str:
+    """A batched method whose gains can be optimised (``"cbf"`` solves a QP per period)."""
+    strategy = method_of(method)
+    if not strategy.BATCHED:
+        raise InvalidParameterError("method", method, "must be 'vff', 'masoud' or 'ge_cui'")
+    return strategy.name
+
+
+def _gains_of(method: str, row: Array, tie_side: str) -> VFFGains | MasoudGains | GeCuiGains:
+    """The gains object of a decision vector (k1, b, k3, k5)."""
+    k1, b, k3, k5 = (float(v) for v in row)
+    if method == "masoud":
+        return MasoudGains(k1=k1, k3=k3, k5=k5, direction=1 if tie_side == "+y" else -1)
+    if method == "ge_cui":
+        return GeCuiGains(k1=k1, b=b, k3=k3, k5=k5)
+    return VFFGains(k1, b, k3, k5)
+
+
+def _other_mode_warnings(ev: _Evaluator, gains: VFFGains) -> list[str]:
+    """Whether the optimum is also safe with the stabilising force switched the other way.
+
+    The force can drive a robot into a critical region that the field alone keeps it out
+    of (``docs/navigation.md``, "The stabilising force is not a safety guarantee"), so an
+    optimum found with one mode is re-simulated with the other and flagged if it fails.
+    """
+    other = copy.copy(ev)
+    other.stabilising = "off" if ev.stabilising == "lyapunov" else "lyapunov"
+    e = other(gains.as_array()[None, :])
+    if bool(e.feasible[0]):
+        return []
+    bad = [n for n, ok in zip(ev.names, e.safe[:, 0] & e.arrived[:, 0], strict=True) if not ok]
+    return [
+        f"with stabilising={other.stabilising!r} the optimum enters a critical region or does "
+        f"not arrive in {bad}: do not switch the stabilising force for these gains"
+    ]
+
+
 def _optimum(
     search: _Search,
     ev: _Evaluator,
@@ -913,7 +748,7 @@ def _optimum(
         gains = None
         H_s = np.full(len(search.scenarios), math.nan)
     else:
-        gains = VFFGains(*(float(v) for v in search.to_gains(inc.u)))
+        gains = _gains_of(ev.method, search.to_gains(inc.u), ev.tie_side)
         H_s = inc.H_s
         ok = global_converged and local_converged
         status = OptimumStatus.OK if ok else OptimumStatus.NOT_CONVERGED
@@ -923,7 +758,14 @@ def _optimum(
             warnings.append(
                 "the compass refinement stopped on its budget before its step fell below 1e-3"
             )
-        at_bound = [n for j, n in enumerate(GAIN_NAMES) if inc.u[j] < 1e-3 or inc.u[j] > 1 - 1e-3]
+        if ev.method == "vff":
+            warnings.extend(_other_mode_warnings(ev, gains))
+        used = [n for n in GAIN_NAMES if not (ev.method == "masoud" and n == "b")]
+        at_bound = [
+            n
+            for j, n in enumerate(GAIN_NAMES)
+            if n in used and (inc.u[j] < 1e-3 or inc.u[j] > 1 - 1e-3)
+        ]
         if at_bound:
             warnings.append(
                 f"the optimum lies on the bound of {at_bound}: widen the bounds to check"

@@ -244,6 +244,7 @@ def navigation_gains_markdown(
     out += _sensitivity_section(result)
     out += _appendix_c_section(result)
     out += _global_section(result)
+    out += _baseline_section(result)
     out += warnings_section(result.warnings)
     return "\n".join(out)
 
@@ -547,6 +548,27 @@ def _global_section(result: NavigationGainsResult) -> list[str]:
     return out
 
 
+def _baseline_section(result: NavigationGainsResult) -> list[str]:
+    """Table C.1 like for like: every method's gains optimised on the same configurations."""
+    f = result.baselines
+    if f.empty:
+        return []
+    st = result.study
+    w = ", ".join(f"{x:.3g}" for x in st.weights)
+    return [
+        "",
+        "## Table C.1 like for like: the baselines optimised too",
+        "",
+        f"Every method's gains optimised by the same search (stabilising force off, weights "
+        f"({w})) and scored with the thesis's gains on Configurations "
+        f"{', '.join(map(str, st.baseline_configurations))} (App. C.2 optimises the "
+        "baselines on 1, 2 and 4). `H_opt_table_C1` is the thesis's H_opt (its own "
+        "configurations and walk). Masoud has no b. `baseline_gains.csv` has full precision.",
+        "",
+        markdown_table(f, floatfmt=".4g"),
+    ]
+
+
 @register_writer(NavigationGainsResult)
 def write_navigation_gains_report(
     result: NavigationGainsResult,
@@ -587,6 +609,8 @@ def write_navigation_gains_report(
         written.append(write_csv(s.outcomes, directory / f"sensitivity_{label}_outcomes.csv"))
     for label, gs in result.global_sensitivities.items():
         written.append(write_csv(gs.to_frame(), directory / f"global_sensitivity_{label}.csv"))
+    if not result.baselines.empty:
+        written.append(write_csv(result.baselines, directory / "baseline_gains.csv"))
     if not result.appendix_c.empty:
         written.append(write_csv(result.appendix_c, directory / "appendix_c_comparison.csv"))
         written.append(write_csv(result.appendix_c_outcomes, directory / "appendix_c_outcomes.csv"))

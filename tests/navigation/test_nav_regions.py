@@ -220,3 +220,21 @@ def test_an_absurd_human_speed_is_refused():
 
     with pytest.raises(InvalidParameterError, match=r"Human.max_speed = 1e\+300 m/s"):
         dl.navigation.Human(radius=0.4, max_speed=1e300)
+
+
+def test_region_sizes_warnings_are_filled() -> None:
+    import designlab as dl
+
+    nav = dl.navigation
+    robot = nav.HolonomicRobot()
+    adopted = dict(critical_radius=0.8, sidestep_time=1.18)  # the thesis's (6.3.5)
+    ok = nav.region_sizes(nav.Human(), robot, 0.06, active_radius=2.2, **adopted)
+    assert ok.warnings == () and ok.r2 < 2.2
+    low = nav.region_sizes(nav.Human(), robot, 0.06, active_radius=2.1, **adopted)
+    assert len(low.warnings) == 1 and "below the minimum" in low.warnings[0]
+    # a loop slower than the stopping time: the reaction delay dominates
+    slow = nav.region_sizes(nav.Human(), robot, robot.max_speed / robot.max_accel * 2.0)
+    assert any("exceeds the stopping time" in w for w in slow.warnings)
+    assert any("twice the thesis" in w for w in slow.warnings)
+    with pytest.raises(dl.errors.InvalidParameterError, match="active_radius"):
+        nav.region_sizes(nav.Human(), robot, 0.06, active_radius=-1.0)

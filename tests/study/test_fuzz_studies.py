@@ -58,6 +58,7 @@ BASE: dict[str, dict[str, Any]] = {
                   "sweep": {"method": "grid",
                             "parameters": {"gains.k1": {"values": [3.0, 4.3]}}}},
     "vff_gains": {"modes": ["off"], "max_evaluations": 32},
+    "navigation_account": {"tables": ["6.2"], "methods": ["New VFF*"]},
     "accompanying": {"tasks": ["forward"],
                      "tuning": {"tune_on": ["forward"], "derivative_free": False}},
     "tether_stability": {"controllers": [{"type": "PseudoJoystick"}],

@@ -23,5 +23,6 @@ MODULES: tuple[str, ...] = (
     "navigation_scenarios",
     "navigation_sweep",
     "navigation_gains",
+    "navigation_account",
     "accompanying",
 )

@@ -28,10 +28,12 @@ from dataclasses import dataclass, field
 from typing import Annotated, Any, ClassVar, Literal
 
 import pandas as pd
-from pydantic import BeforeValidator, Field, model_validator
+from pydantic import AfterValidator, BeforeValidator, Field, model_validator
 
 from designlab import navigation as nav
 from designlab.navigation import tuning
+from designlab.navigation.criteria import EQUAL_WEIGHTS, check_weights
+from designlab.navigation.methods import method_of
 from designlab.navigation.parameters import EXPERIMENT_GAINS, GAIN, OPTIMAL_GAINS
 from designlab.params import params_of
 from designlab.results import OK, Result
@@ -44,6 +46,9 @@ from designlab.validation import reject_bool
 __all__ = ["KIND", "NavigationGainsResult", "NavigationGainsStudy", "run"]
 
 _Config = Annotated[Literal[1, 2, 3, 4], BeforeValidator(reject_bool)]
+#: Criterion weights (w_T, w_D, w_E) of H (5.6.6) in the navigation kinds' YAML, checked by
+#: :func:`designlab.navigation.criteria.check_weights` (non-negative, summing to 1).
+Weights = Annotated[tuple[Number, Number, Number], AfterValidator(check_weights)]
 
 
 #: Stabilising-force mode (``off`` may be written bare in YAML).
@@ -165,6 +170,20 @@ class NavigationGainsStudy(StudyBase):
     sobol_spread_pct: Annotated[Number, Field(gt=0, lt=100, allow_inf_nan=False)] = Field(
         50.0, description="half-width of the Sobol box, % of each gain"
     )
+    weights: Weights = Field(
+        EQUAL_WEIGHTS,
+        description="criterion weights (w_T, w_D, w_E) of H (5.6.6): non-negative, sum 1",
+    )
+    baselines: list[Literal["masoud", "ge_cui"]] = Field(
+        default_factory=list,
+        description="baselines whose gains are optimised too (App. C.2, Table C.1)",
+    )
+    baseline_configurations: list[_Config] = Field(
+        default_factory=lambda: [1, 2, 4],
+        min_length=1,
+        description="configurations the baselines and the new VFF are compared on "
+        "(App. C.2: 1, 2 and 4)",
+    )
 
     PRODUCES: ClassVar[tuple[str, ...]] = (
         "summary.md",
@@ -175,6 +194,7 @@ class NavigationGainsStudy(StudyBase):
         "global_sensitivity_*.csv",
         "appendix_c_comparison.csv",
         "appendix_c_outcomes.csv",
+        "baseline_gains.csv",
         "trajectories_*.png",
         "study.yaml",
     )
@@ -233,6 +253,12 @@ class NavigationGainsResult(Result):
         Configurations 1-3 with sensitivity on).
     appendix_c_outcomes
         The -100 % rows: the thesis's words next to ours.
+    baselines
+        Table C.1 like for like (``baseline_gains.csv``): the thesis's gains and our optimum
+        of every method in ``baselines`` and of the new VFF, each scored on the
+        ``baseline_configurations`` (stabilising force off).
+    baseline_optima
+        ``{method: GainOptimum}`` of the baselines.
     """
 
     study: NavigationGainsStudy
@@ -245,6 +271,8 @@ class NavigationGainsResult(Result):
     )
     appendix_c: pd.DataFrame = field(default_factory=pd.DataFrame, repr=False)
     appendix_c_outcomes: pd.DataFrame = field(default_factory=pd.DataFrame, repr=False)
+    baselines: pd.DataFrame = field(default_factory=pd.DataFrame, repr=False)
+    baseline_optima: dict[str, nav.GainOptimum] = field(default_factory=dict, repr=False)
 
     @property
     def status(self) -> str:
@@ -255,6 +283,7 @@ class NavigationGainsResult(Result):
     @property
     def warnings(self) -> tuple[str, ...]:  # type: ignore[override]
         out = [f"{m}: {w}" for m, o in self.optima.items() for w in o.warnings]
+        out += [f"baseline {m}: {w}" for m, o in self.baseline_optima.items() for w in o.warnings]
         out += [f"sensitivity {k}: {w}" for k, s in self.sensitivities.items() for w in s.warnings]
         out += [
             f"global sensitivity {k}: {w}"
@@ -329,9 +358,52 @@ def run(study: NavigationGainsStudy, context: RunContext) -> NavigationGainsResu
     if "thesis_optimum_off" in sens and sorted(study.configurations) == [1, 2, 3]:
         appc = sens["thesis_optimum_off"].compare_appendix_c()
         appc_out = sens["thesis_optimum_off"].appendix_c_outcomes()
+    base_frame, base_optima = _baseline_block(study, context, optima)
     return NavigationGainsResult(
-        study, optima, comp, sens, _runs(study, optima), glob, appc, appc_out
-    )
+        study, optima, comp, sens, _runs(study, optima), glob, appc, appc_out,
+        base_frame, base_optima,
+    )  # fmt: skip
+
+
+#: Table C.1's gains and H_opt of the baselines.
+TABLE_C1: dict[str, tuple[Any, float]] = {
+    "masoud": (nav.MasoudGains(), 0.66),
+    "ge_cui": (nav.GeCuiGains(), 0.52),
+    "vff": (OPTIMAL_GAINS, 0.69),
+}
+
+
+def _baseline_block(
+    study: NavigationGainsStudy, context: RunContext, optima: dict[str, nav.GainOptimum]
+) -> tuple[pd.DataFrame, dict[str, nav.GainOptimum]]:
+    """Table C.1 like for like: each baseline optimised, every method scored on one set."""
+    if not study.baselines:
+        return pd.DataFrame(), {}
+    scen = [nav.configuration(i) for i in study.baseline_configurations]
+    found: dict[str, nav.GainOptimum] = {}
+    rows = []
+    for method in study.baselines:
+        found[method] = _optimise(study, context, scen, method, method=method, stabilising="off")
+    ours = {m: o.gains for m, o in found.items()}
+    if "off" in optima and optima["off"].gains is not None:
+        ours["vff"] = optima["off"].gains
+    for method in ("vff", *study.baselines):
+        cands = [("table_C1", TABLE_C1[method][0])]
+        if ours.get(method) is not None:
+            cands.append(("designlab_optimum", ours[method]))
+        for label, g in cands:
+            row = method_of(method).gain_row(g)
+            row[1] = row[1] if method != "masoud" else 1.0  # b is not Masoud's
+            e = nav.evaluate_gains(scen, row[None, :], method=method, stabilising="off",
+                                   weights=study.weights).to_frame()  # fmt: skip
+            thesis_h = TABLE_C1[method][1] if label == "table_C1" else None
+            rows.append({"method": method, "gains": label,
+                         **{k: float(v) for k, v in zip(("k1", "b", "k3", "k5"), row, strict=True)},
+                         "H_mean": float(e["H_mean"][0]), "feasible": bool(e["feasible"][0]),
+                         "H_opt_table_C1": thesis_h})  # fmt: skip
+    frame = pd.DataFrame(rows)
+    frame.loc[frame["method"] == "masoud", "b"] = float("nan")
+    return frame, found
 
 
 def _optimise(
@@ -348,6 +420,7 @@ def _optimise(
         executor=context.executor,
         chunks=2 if context.executor is not None else 1,
         jit=study.jit,
+        weights=study.weights,
     )
     with context.bar(f"{study.kind}: optimise ({label})") as hook:
         return nav.optimise_gains(scen, **{**settings, **kw}, progress=hook)
@@ -377,7 +450,7 @@ def _mode_block(
         )
         if opt_w.gains is not None:
             cand.append(("designlab_optimum_wider_box", opt_w.gains))
-    kw = dict(stabilising=mode, critical_margin=study.critical_margin)
+    kw = dict(stabilising=mode, critical_margin=study.critical_margin, weights=study.weights)
     return _scored(cand, mode, scen, val, kw)
 
 

@@ -33,10 +33,12 @@ import pandas as pd
 from pydantic import Field, model_validator
 
 from designlab.navigation import simulate
+from designlab.navigation.criteria import EQUAL_WEIGHTS
 from designlab.navigation.parameters import ARRIVAL_TOLERANCE
 from designlab.progress import Progress
 from designlab.results import OK, Result
 from designlab.study.base import Model, Number, Positive, StudyBase
+from designlab.study.kinds.navigation_gains import Weights
 from designlab.study.kinds.navigation_specs import MethodSpec, ScenarioSpec
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
@@ -76,6 +78,7 @@ class NavigationScenariosStudy(StudyBase):
     scenarios: list[ScenarioSpec] = Field(min_length=1, max_length=50)
     methods: list[MethodSpec] = Field(min_length=1, max_length=20)
     arrival_tolerance: _Tolerance = 0.15
+    weights: Weights = Field(EQUAL_WEIGHTS, description="criterion weights (w_T, w_D, w_E) of H")
     references: list[NavigationReference] = Field(default_factory=list)
 
     PRODUCES: ClassVar[tuple[str, ...]] = (
@@ -84,6 +87,8 @@ class NavigationScenariosStudy(StudyBase):
         "stability.csv",
         "trajectories_*.png",
         "distances_*.png",
+        "energy_*.png",
+        "force_*.png",
         "study.yaml",
     )
     #: s: CPU time of studies/navigation_configurations.yaml run serially (fresh store), measured.
@@ -201,12 +206,14 @@ class NavigationScenariosResult(Result):
         return pd.DataFrame([r.row() for r in self.runs])
 
     def stability_frame(self) -> pd.DataFrame:
-        """The Lyapunov audit of each new-VFF run: share satisfied and assumption breaks."""
+        """The Lyapunov audit of each new-VFF run: share satisfied at the samples, V over the
+        held periods (:meth:`NavigationResult.hold_audit`) and the assumption breaks."""
         rows = []
         for r in self.runs:
             a = r.result.stability
             if a is None:
                 continue
+            held = r.result.hold_audit()
             reasons: dict[str, float] = {}
             for reason, t0, t1 in a.intervals:
                 reasons[reason] = reasons.get(reason, 0.0) + (t1 - t0)
@@ -218,6 +225,9 @@ class NavigationScenariosResult(Result):
                     "share_satisfied": a.share_satisfied,
                     "share_satisfied_hold": a.share_satisfied_hold,
                     "active_samples": int(a.active.sum()),
+                    "held_periods": held.periods,
+                    "share_V_rose_over_hold": held.share_rose,
+                    "max_V_rise_over_hold": held.max_rise,
                     **{f"time_{k.replace(' ', '_')}_s": v for k, v in sorted(reasons.items())},
                 }
             )
@@ -259,6 +269,7 @@ def _run_pair(
         arrival_tolerance=study.arrival_tolerance,
         tie_side=method.tie_side,
         cbf_gains=method.cbf_gains,
+        weights=study.weights,
     )
     for w in res.warnings:
         logger.info("%s / %s: %s", spec.title, method.label, w)

@@ -30,11 +30,13 @@ from typing import Any, ClassVar, Literal
 
 from pydantic import Field, field_validator, model_validator
 
+from designlab.navigation.criteria import EQUAL_WEIGHTS
 from designlab.navigation.evaluators import VFF_METRICS, vff_metrics_chunk
 from designlab.navigation.parameters import ARRIVAL_TOLERANCE, HolonomicRobot, VFFGains
 from designlab.navigation.scenarios import Walk
 from designlab.params import Param, params_of, sweepable
 from designlab.study.base import Flag, Integer, Model
+from designlab.study.kinds.navigation_gains import Weights
 from designlab.study.kinds.navigation_specs import GainsSpec, Stabilising
 from designlab.study.registry import StudyKind
 from designlab.study.sweep_runner import run_sweep_study
@@ -112,6 +114,7 @@ class NavigationDesign(Model):
     )
     stabilising: Stabilising = "off"  # type: ignore[valid-type]
     arrival_tolerance: _Tolerance = 0.15
+    weights: Weights = Field(EQUAL_WEIGHTS, description="criterion weights (w_T, w_D, w_E) of H")
     jit: Flag = Field(
         False,
         description="simulate with the step compiled to four gain sets per pass (needs a C "
@@ -198,6 +201,8 @@ class NavigationSweepStudy(SweepStudyBase[NavigationSweepParameters, NavigationM
         }
         if self.base.jit:  # only when on: the stored results of other studies keep their keys
             options["jit"] = True
+        if tuple(self.base.weights) != EQUAL_WEIGHTS:  # likewise
+            options["weights"] = list(self.base.weights)
         return options
 
 

@@ -1,0 +1,455 @@
+"""Every simulated row of the thesis against the model, with its difference and cause.
+
+:func:`thesis_account` simulates each row of Zeng 2011 Tables 5.1, 6.2-6.5 and 7.1-7.4
+(``designlab/data/nav_results_ch6.csv``, ``nav_results_ch7.csv``) with the model, compares
+the arrival time and every minimum distance, and for each quantity outside the agreement
+band (7 % in time, 0.03 m in distance, both parameters) tries the **candidate causes** that
+apply to the row, each as a run that removes it:
+
+* ``tolerance``: the arrival tolerance, which the thesis does not state (0.05 m instead of
+  0.15 m);
+* ``start``: the start of Ch. 6 Configurations 3-4, not stated (the Ch. 7 start
+  [3.99, 0.6] instead of Configuration 1's [3.9, 0.6]);
+* ``walk``: the synthetic walk that replaces the unpublished measured one (cruise speed
+  0.8-1.2 m/s, ramps of 0.5-1.5 s: the thesis's walk averaged 1.0 m/s and varied);
+* ``gains``: Table 5.1 does not state its gains (the optimised set instead of the
+  experiment set);
+* ``noise``: for experiment rows, the vision noise (:class:`SensorNoise` defaults, five
+  seeds);
+* ``masoud_sense``: the fixed rotational sense of Masoud's detour, not stated (clockwise
+  instead of counter-clockwise).
+
+First, where the thesis's own text gives another value for the row (``thesis text``,
+:data:`THESIS_TEXT`), the model is compared with it. A cause is *demonstrated* when one of
+its runs brings the quantity inside the band; the row names every demonstrated cause
+(``tolerance or start``) with the value of the first one's run. Where no candidate does,
+the row says ``not found``; ``tried`` lists every candidate run. Experiment rows
+(``exp``) are compared with the simulation of the same gains, vision noise being one
+candidate (``experiment: not found`` when no candidate explains them; the motors are not
+modelled).
+
+Examples
+--------
+>>> acc = thesis_account(tables=("6.4",), methods=("New VFF*",))
+>>> row = acc.frame.set_index("quantity").loc["T_arrive_s"]
+>>> t, ours, value = (float(row[k]) for k in ("thesis", "ours", "cause_value"))
+>>> t, round(ours, 2), row["cause"], round(value, 2)
+(6.2, 5.67, 'tolerance or start', 5.86)
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, field, replace
+from importlib.resources import files
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from designlab.navigation.noise import SensorNoise
+from designlab.navigation.parameters import (
+    EXPERIMENT_GAINS,
+    OPTIMAL_GAINS,
+    HolonomicRobot,
+    MasoudGains,
+)
+from designlab.navigation.scenarios import configuration
+from designlab.navigation.simulate import simulate
+from designlab.params import Param
+from designlab.progress import Progress, ProgressHook, report
+from designlab.results import Result
+
+__all__ = [
+    "CAUSES",
+    "DISTANCE_BAND",
+    "THESIS_TEXT",
+    "TIME_BAND",
+    "AccountResult",
+    "RunSetup",
+    "account_markdown",
+    "noise_ordering",
+    "thesis_account",
+    "thesis_rows",
+]
+
+#: Relative agreement band of the arrival time.
+TIME_BAND = Param("time_band", "", doc="relative agreement band of T_arrive", gt=0, le=1)
+#: Absolute agreement band of a minimum distance (m).
+DISTANCE_BAND = Param("distance_band", "m", doc="agreement band of a distance", gt=0, le=1)
+
+#: Noise draws of :func:`noise_ordering`.
+SEEDS = Param("seeds", "", doc="noise draws per configuration and gain set", kind="integer",
+              ge=1, le=1000)  # fmt: skip
+
+#: Thesis column -> our obstacle name.
+_QUANTITIES = {"d_h_min_m": "human", "d_cir_min_m": "circle", "d_rect_min_m": "rectangle"}
+
+
+@dataclass(frozen=True)
+class RunSetup:
+    """One run of the model for a thesis row (what a cause changes)."""
+
+    which: str
+    chapter: int
+    method: str
+    gains: Any
+    holonomic: bool
+    tolerance: float = 0.15
+    start: tuple[float, float] | None = None
+    human_speed: float = 1.0
+    human_ramp_time: float = 0.5
+    experiment: bool = False
+    noise_seed: int | None = None
+
+    def run(self) -> dict[str, float]:
+        """The arrival time and the minimum distances (thesis column names)."""
+        robot = HolonomicRobot() if self.holonomic else None
+        which: int | str = int(self.which) if self.which.isdigit() else self.which
+        sc = configuration(which, self.chapter, robot=robot, human_speed=self.human_speed,
+                           human_ramp_time=self.human_ramp_time)  # fmt: skip
+        if self.start is not None:
+            sc = sc.replace(start=self.start)
+        noise = None if self.noise_seed is None else SensorNoise(seed=self.noise_seed)
+        res = simulate(sc, self.gains, method=self.method, stabilising="off",
+                       arrival_tolerance=self.tolerance, noise=noise)  # fmt: skip
+        out = {"T_arrive_s": res.arrival_time}
+        for col, name in _QUANTITIES.items():
+            if name in res.min_distance:
+                out[col] = res.min_distance[name]
+        return out
+
+
+@dataclass(frozen=True)
+class Cause:
+    """A candidate cause of a difference and the runs that remove it."""
+
+    name: str
+    description: str
+    applies: Callable[[RunSetup, str], bool]
+    variants: Callable[[RunSetup], list[RunSetup]]
+
+
+def _walking(s: RunSetup) -> bool:
+    return s.which in ("2", "4")
+
+
+CAUSES: tuple[Cause, ...] = (
+    Cause(
+        "tolerance",
+        "arrival tolerance not stated: 0.05 m instead of 0.15 m",
+        lambda s, q: q == "T_arrive_s",
+        lambda s: [replace(s, tolerance=0.05)],
+    ),
+    Cause(
+        "start",
+        "start of Ch. 6 Configs 3-4 not stated: [3.99, 0.6] instead of [3.9, 0.6]",
+        lambda s, q: s.chapter == 6 and s.which in ("3", "4"),
+        lambda s: [replace(s, start=(3.99, 0.6))],
+    ),
+    Cause(
+        "walk",
+        "synthetic walk for the unpublished measured one: 0.8-1.2 m/s, ramps 0.5-1.5 s",
+        lambda s, q: _walking(s),
+        lambda s: [
+            replace(s, human_speed=v, human_ramp_time=r)
+            for v in (0.8, 1.0, 1.2)
+            for r in (0.5, 1.5)
+            if (v, r) != (s.human_speed, s.human_ramp_time)
+        ],
+    ),
+    Cause(
+        "gains",
+        "Table 5.1 does not state its gains: the optimised set instead of the experiment set",
+        lambda s, q: s.which == "unpredictable" and s.method == "vff",
+        lambda s: [replace(s, gains=OPTIMAL_GAINS)],
+    ),
+    Cause(
+        "noise",
+        "the experiment's vision noise: SensorNoise defaults, seeds 0-4",
+        lambda s, q: s.experiment,
+        lambda s: [replace(s, noise_seed=k) for k in range(5)],
+    ),
+    Cause(
+        "masoud_sense",
+        "Masoud's rotational sense not stated: clockwise instead of counter-clockwise",
+        lambda s, q: s.method == "masoud",
+        lambda s: [replace(s, gains=replace(s.gains, direction=-s.gains.direction))],
+    ),
+)
+
+#: Values the thesis's own text gives for a row, where it contradicts its table:
+#: (table, configuration, method, sim_or_exp, quantity) -> (value, where).
+THESIS_TEXT: dict[tuple[str, str, str, str, str], tuple[float, str]] = {
+    ("6.2", "1", "New VFF", "sim", "d_cir_min_m"): (0.49, "Sec. 6.4.1: 0.49 m in simulation"),
+    ("6.2", "1", "Ge & Cui*", "sim", "T_arrive_s"): (13.7, "Sec. 6.4.1: 13.7 s"),
+    ("6.4", "3", "Ge & Cui*", "sim", "T_arrive_s"): (15.9, "Sec. 6.4.3: 15.9 s"),
+    ("6.4", "3", "New VFF", "sim", "T_arrive_s"): (6.3, "Sec. 6.4.3: 6.3 s"),
+}
+
+_METHODS: dict[str, tuple[str, Any]] = {
+    "New VFF": ("vff", EXPERIMENT_GAINS),
+    "New VFF*": ("vff", OPTIMAL_GAINS),
+    "Masoud*": ("masoud", MasoudGains()),
+    "Masoud": ("masoud", MasoudGains()),
+    "Ge & Cui*": ("ge_cui", None),
+    "Ge & Cui": ("ge_cui", None),
+}
+
+
+def thesis_rows() -> pd.DataFrame:
+    """The thesis's rows (Tables 5.1, 6.2-6.5, 7.1-7.4) in one frame.
+
+    Columns: ``table``, ``configuration`` (``"unpredictable"`` for Table 5.1), ``chapter``,
+    ``method``, ``holonomic``, ``sim_or_exp``, ``H``, ``d_h_min_m``, ``d_cir_min_m``,
+    ``d_rect_min_m``, ``T_arrive_s``, ``note``.
+    """
+    data = files("designlab") / "data"
+    with (data / "nav_results_ch6.csv").open() as fh:
+        ch6 = pd.read_csv(fh, dtype={"table": str, "configuration": str})
+    with (data / "nav_results_ch7.csv").open() as fh:
+        ch7 = pd.read_csv(fh, dtype={"table": str, "configuration": str})
+    ch6["configuration"] = ch6["configuration"].where(
+        ~ch6["configuration"].str.startswith("Sec"), "unpredictable"
+    )
+    ch6["chapter"], ch6["holonomic"] = 6, True
+    ch7["chapter"] = 7
+    ch7["holonomic"] = ch7["robot"] == "holonomic"
+    ch7["method"] = "New VFF"
+    cols = ["table", "configuration", "chapter", "method", "holonomic", "sim_or_exp", "H",
+            "d_h_min_m", "d_cir_min_m", "d_rect_min_m", "T_arrive_s", "note"]  # fmt: skip
+    return pd.concat([ch6[cols], ch7[cols]], ignore_index=True)
+
+
+@dataclass(frozen=True)
+class AccountResult(Result):
+    """The account: one row per (thesis row, quantity).
+
+    Attributes
+    ----------
+    frame
+        Columns ``table``, ``configuration``, ``robot``, ``method``, ``sim_or_exp``,
+        ``quantity``, ``thesis``, ``ours``, ``difference`` (ours - thesis), ``relative``,
+        ``within`` (inside the agreement band), ``cause`` (``"-"`` when within, the
+        demonstrated cause, or ``"not found"``), ``cause_value`` (the quantity in the run
+        that removes the cause), ``tried`` (the candidate causes run and their values),
+        ``note`` (the thesis row's note).
+    time_band, distance_band
+        The agreement bands used.
+    """
+
+    frame: pd.DataFrame = field(repr=False)
+    time_band: float = 0.07
+    distance_band: float = 0.03
+
+    def to_frame(self) -> pd.DataFrame:
+        """The table (a copy)."""
+        return self.frame.copy()
+
+
+def _within(q: str, thesis: float, value: float, bands: tuple[float, float]) -> bool:
+    if not math.isfinite(value):
+        return False
+    if q == "T_arrive_s":
+        return abs(value - thesis) <= bands[0] * thesis
+    return abs(value - thesis) <= bands[1]
+
+
+def _explain(
+    setup: RunSetup,
+    key: tuple[str, str, str, str, str],
+    ours: float,
+    thesis: float,
+    bands: tuple[float, float],
+    cache: dict,
+) -> tuple[str, float, str]:
+    """(cause, value of its run, what was tried) for one quantity outside the band."""
+    q = key[-1]
+    text = THESIS_TEXT.get(key)
+    if text is not None and _within(q, text[0], ours, bands):
+        return "thesis text", text[0], text[1]
+    shown, found = [], []
+    for cause in CAUSES:
+        if not cause.applies(setup, q):
+            continue
+        values = []
+        for v in cause.variants(setup):
+            if v not in cache:
+                cache[v] = v.run()
+            values.append(cache[v].get(q, math.nan))
+        best = min(values, key=lambda x: abs(x - thesis) if math.isfinite(x) else math.inf)
+        if _within(q, thesis, best, bands):
+            found.append((cause.name, best))
+        lo, hi = np.nanmin(values), np.nanmax(values)
+        shown.append(
+            f"{cause.name}: " + (f"{lo:.3g}-{hi:.3g}" if len(values) > 1 else f"{best:.3g}")
+        )
+    if found:
+        return " or ".join(n for n, _ in found), found[0][1], "; ".join(shown)
+    return "not found", math.nan, "; ".join(shown)
+
+
+def _setup(row: pd.Series) -> RunSetup:
+    method, gains = _METHODS[row["method"]]
+    return RunSetup(str(row["configuration"]), int(row["chapter"]), method, gains,
+                    bool(row["holonomic"]), experiment=row["sim_or_exp"] == "exp")  # fmt: skip
+
+
+def thesis_account(
+    *,
+    tables: Sequence[str] | None = None,
+    methods: Iterable[str] | None = None,
+    time_band: float = 0.07,
+    distance_band: float = 0.03,
+    progress: ProgressHook | None = None,
+) -> AccountResult:
+    """Compare every thesis row with the model and look for the cause of each difference.
+
+    Parameters
+    ----------
+    tables
+        Tables to include (``"5.1"``, ``"6.2"``, ... ``"7.4"``); default all.
+    methods
+        Method labels of the thesis to include (``"New VFF"``, ``"New VFF*"``,
+        ``"Masoud*"``, ...); default all.
+    time_band
+        Relative agreement band of the arrival time (default 7 %).
+    distance_band
+        Agreement band of a minimum distance in m (default 0.03 m).
+    progress
+        Called after each thesis row.
+
+    Returns
+    -------
+    AccountResult
+    """
+    bands = (TIME_BAND.check(time_band), DISTANCE_BAND.check(distance_band))
+    rows = thesis_rows()
+    if tables is not None:
+        rows = rows[rows["table"].isin([str(t) for t in tables])]
+    if methods is not None:
+        rows = rows[rows["method"].isin(list(methods))]
+    cache: dict[RunSetup, dict[str, float]] = {}
+    out = []
+    for i, (_, row) in enumerate(rows.iterrows()):
+        out += _account_row(row, bands, cache)
+        report(progress, Progress(i + 1, len(rows), label="thesis row", note=row["table"]))
+    return AccountResult(pd.DataFrame(out), bands[0], bands[1])
+
+
+def _account_row(row: pd.Series, bands: tuple[float, float], cache: dict) -> list[dict]:
+    setup = _setup(row)
+    if setup not in cache:
+        cache[setup] = setup.run()
+    ours = cache[setup]
+    lines = []
+    for q in ("T_arrive_s", *_QUANTITIES):
+        thesis = row[q]
+        if not isinstance(thesis, float) or not math.isfinite(thesis):
+            continue
+        value = ours.get(q, math.nan)
+        ok = _within(q, thesis, value, bands)
+        key = (row["table"], str(row["configuration"]), row["method"], row["sim_or_exp"], q)
+        cause, cause_value, tried = (
+            ("-", math.nan, "") if ok else _explain(setup, key, value, thesis, bands, cache)
+        )
+        if row["sim_or_exp"] == "exp" and not ok and cause == "not found":
+            cause = "experiment: not found"
+        lines.append({
+            "table": row["table"], "configuration": row["configuration"],
+            "robot": "holonomic" if row["holonomic"] else "nonholonomic",
+            "method": row["method"], "sim_or_exp": row["sim_or_exp"], "quantity": q,
+            "thesis": float(thesis), "ours": float(value), "difference": float(value - thesis),
+            "relative": float((value - thesis) / thesis), "within": ok, "cause": cause,
+            "cause_value": float(cause_value), "tried": tried,
+            "note": row["note"] if isinstance(row["note"], str) else "",
+        })  # fmt: skip
+    return lines
+
+
+def account_markdown(result: AccountResult) -> str:
+    """The account as a Markdown table (numbers to 3 significant figures).
+
+    Parameters
+    ----------
+    result
+        From :func:`thesis_account`.
+    """
+    f = result.frame
+
+    def num(x: float) -> str:
+        return "never" if math.isinf(x) else ("" if math.isnan(x) else f"{x:.3g}")
+
+    head = ("| table | config | robot | method | sim/exp | quantity | thesis | ours | "
+            "difference | cause | run without it | tried |")  # fmt: skip
+    lines = [head, "|" + "---|" * 12]
+    for r in f.itertuples():
+        diff = f"{r.difference:+.3g}" if math.isfinite(r.difference) else "n/a"
+        if r.quantity == "T_arrive_s" and math.isfinite(r.relative):
+            diff += f" ({r.relative:+.0%})"
+        lines.append(
+            f"| {r.table} | {r.configuration} | {r.robot} | {r.method} | {r.sim_or_exp} | "
+            f"{r.quantity} | {num(r.thesis)} | {num(r.ours)} | {diff} | {r.cause} | "
+            f"{num(r.cause_value)} | {r.tried} |"
+        )
+    return "\n".join(lines)
+
+
+def noise_ordering(
+    configurations: Sequence[int] = (2, 4),
+    *,
+    seeds: int = 20,
+    noise: SensorNoise | None = None,
+    progress: ProgressHook | None = None,
+) -> pd.DataFrame:
+    """The experiment gains against the optimised ones under sensor noise (Zeng 2011, Sec. 6.4).
+
+    The thesis finds the optimised gains worse than the experiment gains in Configurations
+    2 and 4 (Tables 6.3, 6.5) and blames measurement noise. Each configuration is run with
+    both gain sets (stabilising force off) without noise and with ``seeds`` seeded noise
+    draws (seeds 0 .. seeds - 1 of ``noise``).
+
+    Parameters
+    ----------
+    configurations
+        Ch. 6 configurations.
+    seeds
+        Noise draws per (configuration, gains), 1-1000.
+    noise
+        The noise model (its seed is replaced by 0 .. seeds - 1); default :class:`SensorNoise`.
+    progress
+        Called after each (configuration, gains).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per (configuration, gains): ``H_quiet``, ``H_noise_mean``, ``H_noise_sd``,
+        ``collisions`` (noisy runs with a contact), ``critical_entries``,
+        ``T_noise_mean_s`` (arrived runs), ``thesis_H``.
+    """
+    n = SEEDS.check(seeds)
+    base = noise if noise is not None else SensorNoise()
+    thesis = thesis_rows()
+    rows = []
+    pairs = [(c, lab) for c in configurations for lab in ("New VFF", "New VFF*")]
+    for i, (c, label) in enumerate(pairs):
+        gains = _METHODS[label][1]
+        sc = configuration(int(c))
+        quiet = simulate(sc, gains, stabilising="off")
+        runs = [simulate(sc, gains, stabilising="off", noise=replace(base, seed=s))
+                for s in range(n)]  # fmt: skip
+        H = np.array([r.criteria.H for r in runs])
+        T = np.array([r.arrival_time for r in runs])
+        ref = thesis[(thesis["configuration"] == str(c)) & (thesis["method"] == label)
+                     & (thesis["sim_or_exp"] == "sim") & (thesis["chapter"] == 6)]  # fmt: skip
+        rows.append({
+            "configuration": int(c), "gains": label, "H_quiet": quiet.criteria.H,
+            "H_noise_mean": float(H.mean()), "H_noise_sd": float(H.std()),
+            "collisions": int(sum(r.collided for r in runs)),
+            "critical_entries": int(sum(r.entered_critical for r in runs)),
+            "T_noise_mean_s": float(T[np.isfinite(T)].mean()) if np.isfinite(T).any() else math.inf,
+            "thesis_H": float(ref["H"].iloc[0]) if len(ref) else math.nan,
+        })  # fmt: skip
+        report(progress, Progress(i + 1, len(pairs), label="noise", note=f"{c} {label}"))
+    return pd.DataFrame(rows)

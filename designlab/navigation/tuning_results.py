@@ -1,0 +1,170 @@
+"""What the gain optimiser returns (:mod:`designlab.navigation.tuning`, which still exports
+these names): the decision vector's names, the statuses, :class:`GainEvaluation` and
+:class:`GainOptimum`."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import pandas as pd
+from numpy.typing import NDArray
+
+from designlab.navigation.criteria import EQUAL_WEIGHTS
+from designlab.navigation.parameters import GeCuiGains, MasoudGains, VFFGains
+from designlab.results import Result, Status
+
+__all__ = ["GAIN_NAMES", "GainEvaluation", "GainOptimum", "OptimumStatus"]
+
+Array = NDArray[np.float64]
+
+#: Order of the decision vector (the batch simulator's gain columns).
+GAIN_NAMES = ("k1", "b", "k3", "k5")
+
+
+@dataclass(frozen=True)
+class GainEvaluation(Result):
+    """Gain sets scored as :func:`optimise_gains` scores them (:func:`evaluate_gains`).
+
+    Attributes
+    ----------
+    frame
+        One row per gain set (see :func:`evaluate_gains`).
+    status
+        ``"ok"`` if at least one gain set is feasible, else ``"infeasible"``
+        (:class:`OptimumStatus`).
+    warnings
+        Which gain sets are infeasible.
+    """
+
+    frame: pd.DataFrame = field(repr=False)
+    status: str = "ok"
+    warnings: tuple[str, ...] = ()
+
+    def to_frame(self) -> pd.DataFrame:
+        """The table (a copy)."""
+        return self.frame.copy()
+
+    def __getitem__(self, key: Any) -> Any:
+        """Column access, as on the DataFrame this function returned before (one release)."""
+        return self.frame[key]
+
+    def __len__(self) -> int:
+        return len(self.frame)
+
+
+class OptimumStatus(Status):
+    """Status of :func:`optimise_gains` (and :func:`evaluate_gains`).
+
+    ``OK``: both stages converged (a feasible point exists); ``NOT_CONVERGED``: a budget
+    ran out first; ``INFEASIBLE``: no candidate arrived and stayed out of every critical
+    region (``gains`` is then ``None``).
+    """
+
+    OK = "ok"
+    NOT_CONVERGED = "not_converged"
+    INFEASIBLE = "infeasible"
+
+
+@dataclass(frozen=True)
+class GainOptimum(Result):
+    """The optimal gains found by :func:`optimise_gains`.
+
+    Attributes
+    ----------
+    gains
+        The best feasible :class:`VFFGains` (``None`` if no feasible point was found).
+    objective
+        Its H_mean (the mean over the scenarios of H, or of the robust score); ``nan``
+        if none was feasible.
+    scenario_names
+        The scenarios optimised over.
+    scenario_H
+        H per scenario at the optimum (robust score in robust mode).
+    history
+        One row per CMA-ES generation and per refinement iteration: ``phase``,
+        ``iteration``, ``evaluations`` (cumulative), ``best_H_mean`` (best feasible so
+        far), ``iteration_best_H_mean``, ``feasible_share``, ``step`` (CMA-ES sigma or
+        the compass step, in normalised log-gain units) and the incumbent gains.
+    evaluations
+        Gain sets simulated (each over every scenario and walk).
+    simulations
+        Closed-loop runs (evaluations x scenarios x walks; the nominal runs of the
+        criteria are not counted).
+    wall_time
+        Seconds.
+    stabilising, robust_mode, walks
+        The settings (``walks`` = random walks per walking scenario, 0 if not robust).
+    bounds
+        ``{gain: (low, high)}`` searched.
+    seed
+        The seed.
+    critical_margin
+        The clearance (m) every run had to keep outside every critical region.
+    method, weights
+        Whose gains were optimised (``"vff"``, ``"masoud"``, ``"ge_cui"``) and the
+        criterion weights (w_T, w_D, w_E).
+    status, warnings
+        The result contract (:class:`~designlab.results.Result`).
+    """
+
+    gains: VFFGains | MasoudGains | GeCuiGains | None
+    objective: float
+    scenario_names: tuple[str, ...]
+    scenario_H: Array
+    history: pd.DataFrame = field(repr=False)
+    evaluations: int
+    simulations: int
+    wall_time: float
+    stabilising: str
+    robust_mode: str
+    walks: int
+    bounds: dict[str, tuple[float, float]]
+    seed: int
+    critical_margin: float = 0.0
+    status: str = OptimumStatus.OK
+    warnings: tuple[str, ...] = ()
+    method: str = "vff"
+    weights: tuple[float, float, float] = EQUAL_WEIGHTS
+
+    def on_bounds(self, tolerance: float = 1e-3) -> dict[str, str]:
+        """Gains of the optimum that lie on a bound of the box: ``{gain: "low" | "high"}``.
+
+        Parameters
+        ----------
+        tolerance
+            Distance to the bound in normalised log-gain units (the box is [0, 1]^4).
+        """
+        if self.gains is None:
+            return {}
+        out = {}
+        for n in GAIN_NAMES:
+            if not hasattr(self.gains, n):  # Masoud has no b
+                continue
+            lo, hi = self.bounds[n]
+            u = (math.log(getattr(self.gains, n)) - math.log(lo)) / (math.log(hi) - math.log(lo))
+            if u < tolerance:
+                out[n] = "low"
+            elif u > 1 - tolerance:
+                out[n] = "high"
+        return out
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row: the gains, H per scenario, H_mean and the search effort."""
+        row: dict[str, Any] = {"stabilising": self.stabilising}
+        g = self.gains
+        row.update({n: getattr(g, n, math.nan) if g is not None else math.nan for n in GAIN_NAMES})
+        for name, h in zip(self.scenario_names, self.scenario_H, strict=True):
+            row[f"H_{name}"] = float(h)
+        row.update(
+            {
+                "H_mean": self.objective,
+                "evaluations": self.evaluations,
+                "wall_time_s": self.wall_time,
+                "robust_mode": self.robust_mode if self.walks else "",
+                "walks": self.walks,
+            }
+        )
+        return pd.DataFrame([row])
