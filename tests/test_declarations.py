@@ -130,8 +130,6 @@ KIND_MODULES = sorted(p.stem for p in KINDS_DIR.glob("*.py") if p.stem != "__ini
 
 #: Kind modules that still restate some domain fields, with what is left to convert.
 UNCONVERTED: dict[str, str] = {
-    "navigation_specs": "navigation obstacle and scenario specs (motions, Disc/Rectangle centre "
-    "and name, Scenario start/goal/robot/obstacles) still restate their fields",
     "tether_specs": "the path spec restates LeaderPath.name",
 }
 

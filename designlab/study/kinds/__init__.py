@@ -19,5 +19,6 @@ MODULES: tuple[str, ...] = (
     "navigation_scenarios",
     "navigation_sweep",
     "navigation_gains",
+    "navigation_regions",
     "accompanying",
 )
