@@ -39,6 +39,7 @@ designlab.errors.InvalidParameterError: obstacles[0].kind = 'tree' is not allowe
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -58,7 +59,15 @@ from designlab.navigation.scenarios import (
     Walk,
 )
 
-__all__ = ["OBSTACLE_KINDS", "ROBOT_TYPES", "load_scenario", "scenario_from_dict"]
+__all__ = [
+    "OBSTACLE_KINDS",
+    "ROBOT_TYPES",
+    "load_scenario",
+    "obstacle_from_dict",
+    "robot_from_dict",
+    "scenario_from_dict",
+    "with_limits",
+]
 
 #: Robot ``type`` -> class.
 ROBOT_TYPES: dict[str, type] = {"holonomic": HolonomicRobot, "nonholonomic": NonholonomicRobot}
@@ -135,7 +144,8 @@ def _disc(where: str, data: Mapping[str, Any], human: bool) -> Disc:
 
 
 def _rectangle(where: str, data: Mapping[str, Any], _: bool) -> Rectangle:
-    _known(where, data, {"kind", "name", "center", "length", "width", "angle", "corners", "r2", "r3"})
+    keys = {"kind", "name", "center", "length", "width", "angle", "corners", "r2", "r3"}
+    _known(where, data, keys)
     regions = {"r2": data.get("r2"), "r3": data.get("r3")}
     if data.get("corners") is not None:
         if any(data.get(k) is not None for k in ("center", "length", "width", "angle")):
@@ -245,3 +255,35 @@ def load_scenario(path: str | Path) -> Scenario:
     if p.stat().st_size > MAX_FILE_BYTES:
         raise InvalidParameterError("path", str(p), f"must be at most {MAX_FILE_BYTES} bytes")
     return scenario_from_dict(yaml.safe_load(p.read_text(encoding="utf-8")))
+
+
+def with_limits(
+    scenario: Scenario,
+    max_speed: float,
+    max_accel: float,
+    walk_speed: float | None = None,
+    walk_ramp_time: float | None = None,
+) -> Scenario:
+    """The scenario with other robot limits and, for every :class:`Walk`, another cruise speed
+    and ramp time (``None``: unchanged): what a sweep point of a user's scenario varies.
+
+    Examples
+    --------
+    >>> sc = scenario_from_dict({"name": "x", "start": [4, 0], "goal": [0, 0], "obstacles": [
+    ...     {"kind": "human", "name": "h", "r2": 2.1, "r3": 0.8,
+    ...      "walk": {"start": [0, 0], "end": [4, 0]}}]})
+    >>> s2 = with_limits(sc, 1.0, 5.0, walk_speed=1.2)
+    >>> s2.robot.max_speed, s2.robot.max_accel, s2.obstacles[0].motion.speed
+    (1.0, 5.0, 1.2)
+    """
+    robot = replace(scenario.robot, max_speed=max_speed, max_accel=max_accel)
+    walk = {
+        k: v for k, v in (("speed", walk_speed), ("ramp_time", walk_ramp_time)) if v is not None
+    }
+    obstacles = tuple(
+        replace(o, motion=replace(o.motion, **walk))
+        if walk and isinstance(o, Disc) and isinstance(o.motion, Walk)
+        else o
+        for o in scenario.obstacles
+    )
+    return replace(scenario, robot=robot, obstacles=obstacles)

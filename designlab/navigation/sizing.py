@@ -110,7 +110,8 @@ class RegionPlan(Result):
         """One row per obstacle: every intermediate quantity (with its unit) and the radii."""
         rows = []
         for name, s in self.sizes.items():
-            row: dict[str, object] = {"obstacle": name, "class": type(self.obstacles[name]).__name__}
+            kind = type(self.obstacles[name]).__name__
+            row: dict[str, object] = {"obstacle": name, "class": kind}
             for q, v, u in s.to_frame().itertuples(index=False):
                 key = {"r3": "r3_used", "r2": "r2_min"}.get(q, q)
                 row[f"{key}_{u}"] = v
@@ -125,9 +126,7 @@ class RegionPlan(Result):
         return {n: {"r2": r2, "r3": r3} for n, (r2, r3) in self.radii.items()}
 
 
-def _check(
-    robot: object, obstacles: Mapping[str, object], choices: Mapping[str, object]
-) -> None:
+def _check(robot: object, obstacles: Mapping[str, object], choices: Mapping[str, object]) -> None:
     if not isinstance(robot, HolonomicRobot | NonholonomicRobot):
         raise InvalidParameterError("robot", robot, "must be a HolonomicRobot or NonholonomicRobot")
     if not isinstance(obstacles, Mapping) or not 1 <= len(obstacles) <= MAX_OBSTACLES:

@@ -44,9 +44,8 @@ def _quantities(s: RegionSizes, r2_used: float) -> pd.DataFrame:
         {"symbol": sym, "equation": eq, "value": f"{getattr(s, q):.4f}", "unit": u}
         for q, (sym, eq, u) in _ROWS.items()
     ]
-    rows.append(
-        {"symbol": "r2", "equation": "adopted active radius", "value": f"{r2_used:.4f}", "unit": "m"}
-    )
+    adopted = {"symbol": "r2", "equation": "adopted active radius"}
+    rows.append({**adopted, "value": f"{r2_used:.4f}", "unit": "m"})
     return pd.DataFrame(rows)
 
 

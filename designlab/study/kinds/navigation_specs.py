@@ -187,7 +187,8 @@ class _PathBase(_Checked):
         return SampledPath(**self.model_dump())  # type: ignore[arg-type]
 
 
-#: A sampled walk (e.g. measured), linearly interpolated (:class:`~designlab.navigation.SampledPath`).
+#: A sampled walk (e.g. measured), linearly interpolated
+#: (:class:`~designlab.navigation.SampledPath`).
 PathSpec = create_model(
     "PathSpec",
     __base__=_PathBase,
