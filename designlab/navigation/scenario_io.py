@@ -38,11 +38,13 @@ designlab.errors.InvalidParameterError: obstacles[0].kind = 'tree' is not allowe
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import yaml
 
 from designlab.errors import InvalidParameterError
@@ -63,6 +65,7 @@ __all__ = [
     "OBSTACLE_KINDS",
     "ROBOT_TYPES",
     "load_scenario",
+    "mirrored",
     "obstacle_from_dict",
     "robot_from_dict",
     "scenario_from_dict",
@@ -287,3 +290,40 @@ def with_limits(
         for o in scenario.obstacles
     )
     return replace(scenario, robot=robot, obstacles=obstacles)
+
+
+def mirrored(scenario: Scenario, dt: float = 0.02) -> Scenario:
+    """The scenario with every obstacle reflected about the line through start and goal.
+
+    The robot's task is unchanged; a human who turned to one side now turns to the other
+    (how a planner's choice of side decides whether the Sec. 5.7 human walks into it).
+    Moving discs become :class:`SampledPath` motions sampled every ``dt`` s.
+
+    Examples
+    --------
+    >>> from designlab.navigation import configuration
+    >>> m = mirrored(configuration("unpredictable"))
+    >>> m.obstacles[0].state([5.0])[0].round(3).tolist()
+    [[2.1, -2.5]]
+    """
+    a, b = np.asarray(scenario.start), np.asarray(scenario.goal)
+    u = (b - a) / np.hypot(*(b - a))
+
+    def reflect(p: Any) -> Any:
+        q = np.asarray(p, dtype=float) - a
+        return a + 2 * (q @ u)[..., None] * u - q
+
+    out: list[Obstacle] = []
+    for o in scenario.obstacles:
+        if isinstance(o, Rectangle):
+            line = math.atan2(u[1], u[0])
+            c = tuple(reflect(o.center).tolist())
+            out.append(replace(o, center=c, angle=2 * line - o.angle))
+        elif not o.motion.moving:
+            out.append(replace(o, motion=Stationary(tuple(reflect(o.state([0.0])[0][0]).tolist()))))
+        else:
+            t = np.arange(0.0, scenario.horizon + dt / 2, dt)
+            pts = reflect(o.state(t)[0])
+            path = SampledPath(tuple(t.tolist()), tuple(map(tuple, pts.tolist())))
+            out.append(replace(o, motion=path))
+    return replace(scenario, obstacles=tuple(out), name=f"{scenario.name} (mirrored)")

@@ -20,5 +20,6 @@ MODULES: tuple[str, ...] = (
     "navigation_sweep",
     "navigation_gains",
     "navigation_regions",
+    "navigation_planners",
     "accompanying",
 )
