@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 
 from designlab import navigation as nav
 from designlab.errors import InvalidParameterError
-from designlab.navigation.planners import ERRTSettings, simulate_planner
+from designlab.navigation.planners import ERRTSettings, FieldDStarSettings, simulate_planner
 from designlab.navigation.planners import errt as errt_mod
 from designlab.navigation.planners.field_dstar import compute_cost, node_costs
 from designlab.navigation.planners.velocity_obstacle import (
@@ -114,8 +114,9 @@ def test_errt_reaches_the_goal_around_a_wall_with_a_seed() -> None:
 
 @pytest.mark.parametrize("method", ["vo", "errt", "field_dstar"])
 def test_free_space_arrival_is_the_straight_run(method: str) -> None:
-    sc = nav.Scenario("free", (4.0, 0.0), (0.0, 0.0), horizon=10.0)
-    r = simulate_planner(sc, method)
+    sc = nav.Scenario("free", (4.0, 0.0), (0.0, 0.0), horizon=8.0)
+    coarse = {"field_dstar": FieldDStarSettings(cell=0.25, margin=0.5)}
+    r = simulate_planner(sc, method, coarse.get(method))
     v, a = sc.robot.max_speed, sc.robot.max_accel
     # accelerate to V (V/a s, V^2/2a m), cruise to within 0.15 m of the goal
     expected = v / a + (4.0 - 0.15 - v**2 / (2 * a)) / v

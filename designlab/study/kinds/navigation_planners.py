@@ -61,6 +61,13 @@ class PlannerSpec(Model):
 
     @model_validator(mode="after")
     def _settings(self) -> PlannerSpec:
+        spec = _SETTINGS[self.method]
+        unknown = sorted(set(self.settings) - set(spec.model_fields))
+        if unknown:
+            raise ValueError(
+                f"settings {unknown} do not apply to {self.method} "
+                f"(its settings: {', '.join(spec.model_fields)})"
+            )
         self.build()
         return self
 
