@@ -85,10 +85,20 @@ def _findings(result: NavigationPlannersResult) -> list[str]:
             out.append(f"* **{name}**: no method collides.")
         else:
             who = ", ".join(
-                f"{m} (t = {_fmt(t)} s)"
-                for m, t in zip(hit["method"], hit["first_collision_s"], strict=True)
+                f"{m} (t = {_fmt(t)} s, passing on the {side})"
+                for m, t, side in zip(
+                    hit["method"], hit["first_collision_s"], hit["passed_on"], strict=True
+                )
             )
             out.append(f"* **{name}**: {who} collide.")
+        sides = grp.groupby("passed_on")["collided"].agg(["sum", "count"])
+        if len(sides) > 1 or not hit.empty:
+            share = "; ".join(
+                f"passing on the {side}: {int(row['sum'])} of {int(row['count'])} collide"
+                for side, row in sides.iterrows()
+                if side
+            )
+            out.append(f"  ({share}; left/right looking from the start to the goal)")
     return [*out, ""]
 
 

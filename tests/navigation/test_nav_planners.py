@@ -135,3 +135,24 @@ def test_mirroring_twice_is_the_scenario() -> None:
 def test_unknown_planner_is_refused() -> None:
     with pytest.raises(InvalidParameterError, match="method"):
         simulate_planner(nav.configuration(1), "astar")
+
+
+def test_planner_study_seeds_and_their_limits() -> None:
+    from designlab.errors import StudyError
+    from designlab.study import parse_study
+
+    text = """
+designlab: 1
+kind: navigation_planners
+name: s
+scenarios: [{configuration: unpredictable}]
+planners: [{method: %s, seeds: 3}]
+methods: []
+"""
+    study = parse_study(text % "errt")
+    assert study.size() == "6 runs"
+    assert [lab for lab, _ in study.planners[0].runs()] == [
+        "errt (seed 0)", "errt (seed 1)", "errt (seed 2)",
+    ]  # fmt: skip
+    with pytest.raises(StudyError, match="seeds"):
+        parse_study(text % "vo")

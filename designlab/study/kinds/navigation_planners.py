@@ -26,8 +26,9 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, ClassVar, Literal
+from typing import Annotated, Any, ClassVar, Literal
 
+import numpy as np
 import pandas as pd
 from pydantic import Field, model_validator
 
@@ -38,7 +39,7 @@ from designlab.navigation.planners.simulate import PlannerResult, simulate_plann
 from designlab.navigation.scenario_io import mirrored
 from designlab.progress import Progress
 from designlab.results import OK, Result
-from designlab.study.base import Flag, Model, StudyBase
+from designlab.study.base import Flag, Integer, Model, StudyBase
 from designlab.study.kinds.navigation_specs import MethodSpec, ScenarioSpec
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
@@ -58,6 +59,9 @@ class PlannerSpec(Model):
 
     method: PLANNER.annotation()  # type: ignore[valid-type]
     settings: dict[str, Any] = Field(default_factory=dict, description="the planner's settings")
+    seeds: Annotated[Integer, Field(ge=1, le=50)] = Field(
+        1, description="errt: runs with the seeds seed, seed + 1, ... (a randomised planner)"
+    )
 
     @model_validator(mode="after")
     def _settings(self) -> PlannerSpec:
@@ -68,12 +72,22 @@ class PlannerSpec(Model):
                 f"settings {unknown} do not apply to {self.method} "
                 f"(its settings: {', '.join(spec.model_fields)})"
             )
+        if self.seeds > 1 and self.method != "errt":
+            raise ValueError(f"seeds apply to errt only, not to {self.method}")
         self.build()
         return self
 
     def build(self) -> Any:
         """The settings object."""
         return _SETTINGS[self.method].model_validate(self.settings).build()
+
+    def runs(self) -> list[tuple[str, Any]]:
+        """``(label, settings)`` of each run (one per seed for errt)."""
+        base = self.build()
+        if self.seeds == 1:
+            return [(self.method, base)]
+        seeds = [base.seed + k for k in range(self.seeds)]
+        return [(f"{self.method} (seed {s})", base.replace(seed=s)) for s in seeds]
 
 
 def _default_methods() -> list[MethodSpec]:
@@ -117,7 +131,7 @@ class NavigationPlannersStudy(StudyBase):
     def size(self) -> str:
         """Scenarios x (planners + methods)."""
         n = len(self.scenarios) * (2 if self.mirror else 1)
-        return f"{n * (len(self.planners) + len(self.methods))} runs"
+        return f"{n * (sum(p.seeds for p in self.planners) + len(self.methods))} runs"
 
 
 @dataclass(frozen=True)
@@ -158,8 +172,26 @@ class NavigationPlannersResult(Result):
                 any(r.critical_entries.values()))  # fmt: skip
             row["collided"] = r.collided
             row["first_collision_s"] = _first_collision(r)
+            row["passed_on"] = _side(r)
             rows.append(row)
         return pd.DataFrame(rows)
+
+
+def _side(r: Any) -> str:
+    """Which side of the start-goal line the robot was on when closest to the first moving
+    obstacle (``left``/``right`` looking from start to goal; empty without one)."""
+    sc = r.scenario
+    moving = [i for i, o in enumerate(sc.obstacles) if getattr(o, "motion", None) is not None
+              and o.motion.moving]  # fmt: skip
+    if not moving:
+        return ""
+    obs = r.obstacle_positions[moving[0]]
+    n = min(len(obs), len(r.position))
+    k = int(np.argmin(np.hypot(*(r.position[:n] - obs[:n]).T)))
+    a, b = np.asarray(sc.start), np.asarray(sc.goal)
+    d, q = b - a, r.position[k] - a
+    cross = float(d[0] * q[1] - d[1] * q[0])
+    return "left" if cross > 0 else "right"
 
 
 def _first_collision(r: Any) -> float:
@@ -184,12 +216,13 @@ def run(study: NavigationPlannersStudy, context: RunContext) -> NavigationPlanne
         sc = spec.build()
         scenarios += [sc, mirrored(sc)] if study.mirror else [sc]
     runs: list[tuple[str, str, Any]] = []
-    total = len(scenarios) * (len(study.planners) + len(study.methods))
+    total = len(scenarios) * (sum(p.seeds for p in study.planners) + len(study.methods))
     with context.bar("navigation_planners: runs", total) as hook:
         for sc in scenarios:
             for p in study.planners:
-                runs.append((sc.name, p.method, simulate_planner(sc, p.method, p.build())))
-                hook(Progress(len(runs), total, label=p.method))
+                for label, settings in p.runs():
+                    runs.append((sc.name, label, simulate_planner(sc, p.method, settings)))
+                    hook(Progress(len(runs), total, label=label))
             for m in study.methods:
                 g = m.gains.build() if m.gains is not None else None
                 res = nav.simulate(sc, g, method=m.method, stabilising=m.stabilising,
