@@ -156,3 +156,24 @@ methods: []
     ]  # fmt: skip
     with pytest.raises(StudyError, match="seeds"):
         parse_study(text % "vo")
+
+
+def test_wheel_energy_of_a_steady_run() -> None:
+    from designlab.navigation.planners.simulate import wheel_energy
+
+    robot = nav.HolonomicRobot()
+    v = np.tile([[0.5, 0.0]], (101, 1))  # 1 s at 0.5 m/s along x
+    s3 = math.sqrt(3) / 2
+    w = np.array([-s3 * 0.5, s3 * 0.5, 0.0]) / robot.wheel_radius  # (D.1.2), phi = 0
+    bk, tk = np.array([0.0019, 0.0020, 0.0024]), np.array([0.19, 0.22, 0.18])  # (D.3.2)
+    u = bk * w + tk * np.sign(w)
+    assert wheel_energy(robot, v) == pytest.approx(float(np.sum(u**2)) * 1.0, rel=1e-12)
+
+
+def test_planner_criteria_are_the_thesis_criteria() -> None:
+    r = simulate_planner(nav.configuration(1), "vo")
+    c = r.criteria
+    assert c is not None and c.k == 1
+    free = simulate_planner(nav.configuration(1).without_obstacles(), "vo")
+    assert c.H_T == pytest.approx(free.arrival_time / r.arrival_time)
+    assert c.H_E == pytest.approx(free.energy / r.energy)

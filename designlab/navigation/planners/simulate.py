@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -28,6 +28,8 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
+from designlab.navigation.criteria import Criteria, criteria
+from designlab.navigation.dynamics import HOLONOMIC_FEEDFORWARD
 from designlab.navigation.methods import PLANNER
 from designlab.navigation.planners import errt, field_dstar
 from designlab.navigation.planners.parameters import ERRTSettings, FieldDStarSettings, VOSettings
@@ -38,7 +40,13 @@ from designlab.params import check_size
 from designlab.progress import Progress, ProgressHook, report
 from designlab.results import Result, Status
 
-__all__ = ["PLANNER_SETTINGS", "PlannerResult", "PlannerStatus", "simulate_planner"]
+__all__ = [
+    "PLANNER_SETTINGS",
+    "PlannerResult",
+    "PlannerStatus",
+    "simulate_planner",
+    "wheel_energy",
+]
 
 Array = NDArray[np.float64]
 #: Settings class of each planner.
@@ -73,6 +81,11 @@ class PlannerResult(Result):
         Obstacle name -> first time of contact (s; inf: none).
     critical_entries
         Obstacle name -> whether the robot entered its critical region (d <= r3).
+    criteria
+        H_T, H_D, H_E, H (Sec. 5.6) against the planner's own obstacle-free run
+        (``None`` for a scenario without obstacles).
+    energy
+        L_energy per ohm of the feed-forward wheel currents (:func:`wheel_energy`).
     t, position, velocity, obstacle_positions
         Trajectories at every 10 ms step (obstacles ``n_obs x len(t) x 2``).
     """
@@ -84,6 +97,8 @@ class PlannerResult(Result):
     min_distance: dict[str, float]
     collision_time: dict[str, float]
     critical_entries: dict[str, bool]
+    criteria: Criteria | None
+    energy: float
     t: Array = field(repr=False)
     position: Array = field(repr=False)
     velocity: Array = field(repr=False)
@@ -113,7 +128,25 @@ class PlannerResult(Result):
         row["entered_critical"] = any(self.critical_entries.values())
         row["collided"] = self.collided
         row["first_collision_s"] = self.first_collision
+        if self.criteria is not None:
+            c = self.criteria
+            row |= {"H_T": c.H_T, "H_D": c.H_D, "H_E": c.H_E, "H": c.H}
         return pd.DataFrame([row])
+
+
+def wheel_energy(robot: Any, velocity: Array, dt: float = _STEP) -> float:
+    """L_energy per ohm of the omni-wheel feed-forward currents (App. D, (D.1.2), (D.3.2)).
+
+    The same model as the force-field simulations (constant heading, K_amp = 1 A/V):
+    u_i = J/K w_i' + B/K w_i + tau/K sgn(w_i) with w_i = R_i . v / r_w, summed u_i^2 dt.
+    """
+    s3 = math.sqrt(3.0) / 2.0
+    rows = np.array([(-s3, -0.5), (s3, -0.5), (0.0, 1.0)]) / robot.wheel_radius
+    w = velocity @ rows.T  # (n, 3) wheel speeds
+    wd = np.diff(w, axis=0, prepend=w[:1]) / dt
+    ff = np.asarray(HOLONOMIC_FEEDFORWARD)
+    u = ff[:, 0] * wd + ff[:, 1] * w + ff[:, 2] * np.sign(w)
+    return float(np.sum(u[1:] ** 2) * dt)
 
 
 def _commander(scenario: Scenario, method: str, settings: Any) -> Callable[..., Array]:
@@ -183,8 +216,24 @@ def simulate_planner(
         raise InvalidParameterError("scenario", scenario, "must be a Scenario")
     n = round(scenario.horizon / _STEP)
     check_size("horizon", scenario.horizon, n * 4.0 * (1 + len(scenario.obstacles)))
-    return _run(scenario, name, settings, _commander(scenario, name, settings), n,
-                arrival_tolerance, progress)  # fmt: skip
+    run = _run(scenario, name, settings, _commander(scenario, name, settings), n,
+               arrival_tolerance, progress)  # fmt: skip
+    if not scenario.obstacles:
+        return run
+    free = scenario.without_obstacles()
+    nominal = _run(free, name, settings, _commander(free, name, settings), n, arrival_tolerance,
+                   None)  # fmt: skip
+    rho = scenario.robot.radius
+    crit = criteria(
+        arrival_time=run.arrival_time,
+        nominal_arrival_time=nominal.arrival_time,
+        energy=run.energy,
+        nominal_energy=nominal.energy,
+        surface_clearance={o.name: run.min_distance[o.name] - o.collision_distance(rho)
+                           for o in scenario.obstacles},
+        nominal_clearance={o.name: o.r2 - o.collision_distance(rho) for o in scenario.obstacles},
+    )  # fmt: skip
+    return replace(run, criteria=crit)
 
 
 def _run(scenario: Scenario, name: str, settings: Any, command: Callable[..., Array], n: int,
@@ -234,7 +283,8 @@ def _summary(scenario: Scenario, name: str, settings: Any, t: Array, pos: Array,
         warnings.append(f"the robot did not reach the goal within {scenario.horizon} s")
     return PlannerResult(
         scenario=scenario, method=name, settings=settings, arrival_time=arrival,
-        min_distance=mind, collision_time=coll, critical_entries=crit, t=t, position=pos,
+        min_distance=mind, collision_time=coll, critical_entries=crit, criteria=None,
+        energy=wheel_energy(scenario.robot, vel), t=t, position=pos,
         velocity=vel, obstacle_positions=obs,
         status=PlannerStatus.OK if math.isfinite(arrival) else PlannerStatus.NOT_ARRIVED,
         warnings=tuple(warnings),

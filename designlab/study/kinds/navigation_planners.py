@@ -173,6 +173,7 @@ class NavigationPlannersResult(Result):
             row["collided"] = r.collided
             row["first_collision_s"] = _first_collision(r)
             row["passed_on"] = _side(r)
+            row["H"] = r.criteria.H if r.criteria is not None else float("nan")
             rows.append(row)
         return pd.DataFrame(rows)
 
