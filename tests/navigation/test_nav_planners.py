@@ -12,7 +12,12 @@ from hypothesis import strategies as st
 
 from designlab import navigation as nav
 from designlab.errors import InvalidParameterError
-from designlab.navigation.planners import ERRTSettings, FieldDStarSettings, simulate_planner
+from designlab.navigation.planners import (
+    ERRTSettings,
+    FieldDStarSettings,
+    VOSettings,
+    simulate_planner,
+)
 from designlab.navigation.planners import errt as errt_mod
 from designlab.navigation.planners.field_dstar import compute_cost, node_costs
 from designlab.navigation.planners.velocity_obstacle import (
@@ -177,3 +182,28 @@ def test_planner_criteria_are_the_thesis_criteria() -> None:
     free = simulate_planner(nav.configuration(1).without_obstacles(), "vo")
     assert c.H_T == pytest.approx(free.arrival_time / r.arrival_time)
     assert c.H_E == pytest.approx(free.energy / r.energy)
+
+
+def test_planners_are_methods_of_the_scenarios_kind() -> None:
+    from designlab.errors import StudyError
+    from designlab.study import parse_study, run_study
+
+    text = """
+designlab: 1
+kind: navigation_scenarios
+name: s
+scenarios: [{configuration: 1}]
+methods: [%s]
+"""
+    study = parse_study(text % "{label: VO, method: vo, settings: {horizon: 2.0}}")
+    run = run_study(study).runs[0].result
+    direct = simulate_planner(nav.configuration(1), "vo", VOSettings(horizon=2.0))
+    assert run.arrival_time == direct.arrival_time
+    assert run.min_distance == direct.min_distance
+    assert run.criteria.H == direct.criteria.H
+    with pytest.raises(StudyError, match="settings, not gains"):
+        parse_study(text % "{label: VO, method: vo, gains: {k1: 3, b: 0.25, k3: 20, k5: 17}}")
+    with pytest.raises(StudyError, match="planners only"):
+        parse_study(text % "{label: C, method: cbf, settings: {horizon: 2}}")
+    with pytest.raises(StudyError, match="do not apply"):
+        parse_study(text % "{label: E, method: errt, settings: {horizon: 2}}")

@@ -82,8 +82,7 @@ class PlannerResult(Result):
     critical_entries
         Obstacle name -> whether the robot entered its critical region (d <= r3).
     criteria
-        H_T, H_D, H_E, H (Sec. 5.6) against the planner's own obstacle-free run
-        (``None`` for a scenario without obstacles).
+        H_T, H_D, H_E, H (Sec. 5.6) against the planner's own obstacle-free run.
     energy
         L_energy per ohm of the feed-forward wheel currents (:func:`wheel_energy`).
     t, position, velocity, obstacle_positions
@@ -106,9 +105,27 @@ class PlannerResult(Result):
     status: str = PlannerStatus.OK
     warnings: tuple[str, ...] = ()
 
+    #: A planner has no stabilising force and no Lyapunov audit (read like a NavigationResult).
+    stabilising: str = "off"
+    stability: None = None
+
     @property
     def arrived(self) -> bool:
         return math.isfinite(self.arrival_time)
+
+    @property
+    def entered_critical(self) -> bool:
+        return any(self.critical_entries.values())
+
+    @property
+    def distance(self) -> Array:
+        """Distance to each obstacle at every step, ``n_obs x len(t)`` (m)."""
+        rows = [
+            o.contour_distance(self.position) if o.kind == "rectangle"
+            else np.hypot(*(self.position - self.obstacle_positions[i]).T)
+            for i, o in enumerate(self.scenario.obstacles)
+        ]  # fmt: skip
+        return np.asarray(rows).reshape(len(rows), len(self.t))
 
     @property
     def collided(self) -> bool:
@@ -218,8 +235,6 @@ def simulate_planner(
     check_size("horizon", scenario.horizon, n * 4.0 * (1 + len(scenario.obstacles)))
     run = _run(scenario, name, settings, _commander(scenario, name, settings), n,
                arrival_tolerance, progress)  # fmt: skip
-    if not scenario.obstacles:
-        return run
     free = scenario.without_obstacles()
     nominal = _run(free, name, settings, _commander(free, name, settings), n, arrival_tolerance,
                    None)  # fmt: skip

@@ -37,7 +37,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import BeforeValidator, Field, create_model, model_validator
 
-from designlab.navigation.methods import METHOD, STABILISING, TIE_SIDE
+from designlab.navigation.methods import METHOD, PLANNER, STABILISING, TIE_SIDE
 from designlab.navigation.parameters import (
     CBF_K0,
     CBF_K1,
@@ -47,6 +47,7 @@ from designlab.navigation.parameters import (
     NonholonomicRobot,
     VFFGains,
 )
+from designlab.navigation.planners.simulate import PLANNER_SETTINGS
 from designlab.navigation.scenario_io import (
     OBSTACLE_KINDS,
     obstacle_from_dict,
@@ -337,7 +338,9 @@ _GAIN_SPECS: dict[str, type[Model]] = {
 }
 
 
-_Method = METHOD.annotation()
+#: A force-field method (:data:`~designlab.navigation.methods.METHOD`) or a Sec. 5.7 planner
+#: (:data:`~designlab.navigation.methods.PLANNER`, docs/navigation_planners.md).
+_Method = Literal[METHOD.choices + PLANNER.choices]  # type: ignore[valid-type]
 _TieSide = TIE_SIDE.annotation()
 _CBFGains = tuple[CBF_K0.annotation(), CBF_K1.annotation()]  # type: ignore[misc]
 
@@ -368,6 +371,27 @@ class MethodSpec(Model):
     stabilising: Stabilising = "lyapunov"
     tie_side: _TieSide = "+y"
     cbf_gains: _CBFGains = (4.0, 4.0)
+    settings: dict[str, Any] | None = Field(
+        None,
+        description="a planner's settings (vo, errt, field_dstar; docs/navigation_planners.md)",
+    )
+
+    @property
+    def planner(self) -> bool:
+        """Whether the method is a Sec. 5.7 planner (simulated by ``simulate_planner``)."""
+        return self.method in PLANNER.choices
+
+    def planner_settings(self) -> Any:
+        """The planner's settings object (its defaults for keys not given)."""
+        spec = spec_model(PLANNER_SETTINGS[self.method])
+        given = self.settings or {}
+        unknown = sorted(set(given) - set(spec.model_fields))
+        if unknown:
+            raise ValueError(
+                f"method {self.label!r}: settings {unknown} do not apply to {self.method} "
+                f"(its settings: {', '.join(spec.model_fields)})"
+            )
+        return spec.model_validate(given).build()
 
     @model_validator(mode="before")
     @classmethod
@@ -380,6 +404,13 @@ class MethodSpec(Model):
 
     @model_validator(mode="after")
     def _gains(self) -> MethodSpec:
+        if self.planner:
+            if self.gains is not None:
+                raise ValueError(f"method {self.label!r}: a planner takes settings, not gains")
+            self.planner_settings()
+            return self
+        if self.settings is not None:
+            raise ValueError(f"method {self.label!r}: settings apply to the planners only")
         if self.method == "vff" and self.gains is None:
             raise ValueError(
                 f"method {self.label!r}: the vff method needs gains: {{k1, b, k3, k5}}"
