@@ -632,6 +632,11 @@ class Scenario:
             raise InvalidParameterError(
                 "Scenario.robot", self.robot, "must be a HolonomicRobot or NonholonomicRobot"
             )
+        for o in self.obstacles:
+            if not isinstance(o, Disc | Rectangle):
+                raise InvalidParameterError(
+                    "Scenario.obstacles", o, "must contain Disc or Rectangle objects"
+                )
         names = [o.name for o in self.obstacles]
         if len(set(names)) != len(names):
             raise InvalidParameterError(

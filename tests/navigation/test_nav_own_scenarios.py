@@ -201,3 +201,8 @@ def test_a_sweep_of_an_own_scenario_is_the_batch_of_that_scenario() -> None:
         [scenario_from_dict(room)], [[3.0, 0.25, 20, 17], [4.3, 0.25, 20, 17]], stabilising="off"
     )
     np.testing.assert_allclose(frame["H_mean"].to_numpy(), batch.H_mean, rtol=1e-12)
+
+
+def test_a_scenario_refuses_an_obstacle_that_is_not_one() -> None:
+    with pytest.raises(InvalidParameterError, match="Disc or Rectangle"):
+        nav.Scenario("x", (4.0, 0.0), (0.0, 0.0), obstacles=(1.0,))  # type: ignore[arg-type]
