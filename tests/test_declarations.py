@@ -171,10 +171,7 @@ KINDS_DIR = Path(designlab.__file__).parent / "study" / "kinds"
 KIND_MODULES = sorted(p.stem for p in KINDS_DIR.glob("*.py") if p.stem != "__init__")
 
 #: Kind modules that still restate some domain fields, with what is left to convert.
-UNCONVERTED: dict[str, str] = {
-    "navigation_specs": "navigation obstacle and scenario specs (motions, Disc/Rectangle centre "
-    "and name, Scenario start/goal/robot/obstacles) still restate their fields",
-}
+UNCONVERTED: dict[str, str] = {}
 
 
 def _domain_fields(obj: Any) -> set[str]:

@@ -26,6 +26,7 @@ import numpy as np
 
 from designlab.navigation.criteria import EQUAL_WEIGHTS
 from designlab.navigation.parameters import GAIN_SETS, HolonomicRobot, NonholonomicRobot
+from designlab.navigation.scenario_io import scenario_from_dict, with_limits
 from designlab.navigation.scenarios import configuration
 from designlab.navigation.simulate import simulate_batch
 from designlab.results import Status
@@ -68,7 +69,10 @@ def vff_metrics_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) ->
         the synthetic walk, s; default 0.5) and ``tol`` (arrival tolerance, m; default
         ``options["arrival_tolerance"]``).
     options
-        ``scenarios``: list of ``[configuration, chapter]`` (thesis configurations);
+        ``scenarios``: list of ``[configuration, chapter]`` (thesis configurations) or of
+        a user's scenarios as plain data
+        (:func:`~designlab.navigation.scenario_io.scenario_from_dict`; the point sets
+        their robot limits and the speed and ramp time of every walk);
         ``stabilising``: ``"lyapunov"`` or ``"off"``; ``arrival_tolerance`` (m);
         ``jit``: simulate with the four-lane compiled step (default ``False``);
         ``weights``: criterion weights (w_T, w_D, w_E) of H (default 1/3 each).
@@ -83,7 +87,10 @@ def vff_metrics_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) ->
     }
     out = {k: np.zeros(n) for k in VFF_METRICS}
     status = np.full(n, PointStatus.OK.value, dtype=object)
-    specs = [tuple(s) for s in options.get("scenarios", [[1, 6], [2, 6], [3, 6]])]
+    specs = [
+        s if isinstance(s, dict) else tuple(s)
+        for s in options.get("scenarios", [[1, 6], [2, 6], [3, 6]])
+    ]
     stab = options.get("stabilising", "off")
     jit = bool(options.get("jit", False))
     weights = tuple(options.get("weights", EQUAL_WEIGHTS))
@@ -93,7 +100,12 @@ def vff_metrics_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) ->
         group = np.flatnonzero(np.all(groups == key, axis=1))
         v_max, a_max, v_h, ramp, tol = (float(x) for x in key)
         scenarios = []
-        for which, chapter in specs:
+        for spec in specs:
+            if isinstance(spec, dict):  # a user's scenario (docs/navigation_scenarios.md)
+                own = scenario_from_dict(spec)
+                scenarios.append(with_limits(own, v_max, a_max, v_h, ramp))
+                continue
+            which, chapter = spec
             cls = HolonomicRobot if int(chapter) == 6 else NonholonomicRobot
             robot = cls(max_speed=v_max, max_accel=a_max)
             scenarios.append(

@@ -146,6 +146,12 @@ METHODS: dict[str, NavigationMethod] = {
 #: The ``method`` argument: one of :data:`METHODS`.
 METHOD = Param(doc="navigation method", kind="choice", choices=tuple(METHODS), name="method")
 
+#: The Sec. 5.7 planners (velocity obstacles, ERRT, Field D*): they command a velocity, not a
+#: force, and are simulated by :func:`designlab.navigation.planners.simulate_planner`.
+PLANNER = Param(
+    doc="Sec. 5.7 planner", kind="choice", choices=("vo", "errt", "field_dstar"), name="method"
+)
+
 
 def method_of(name: Any) -> NavigationMethod:
     """The registered method of a public name (or a clear error).

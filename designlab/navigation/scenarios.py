@@ -54,6 +54,8 @@ Array = NDArray[np.float64]
 MAX_HORIZON = 600.0
 #: Fastest scripted obstacle motion accepted (m/s).
 _MAX_MOTION_SPEED = 50.0
+#: Most samples of a :class:`SampledPath` (a measured walk at 100 Hz for 1000 s).
+MAX_PATH_SAMPLES = 100_000
 
 
 def _pt(doc: str, unit: str = "m") -> Any:
@@ -281,8 +283,49 @@ class SampledPath:
                 "must be finite, shape (len(times), 2)",
                 "m",
             )
+        if t.size > MAX_PATH_SAMPLES:
+            raise InvalidParameterError(
+                "SampledPath.times", f"{t.size} samples", f"must have <= {MAX_PATH_SAMPLES:,}"
+            )
         object.__setattr__(self, "times", tuple(t.tolist()))
         object.__setattr__(self, "positions", tuple(map(tuple, p.tolist())))
+
+    @classmethod
+    def through(
+        cls,
+        waypoints: Sequence[Sequence[float]],
+        speed: float = 1.0,
+        start_time: float = 0.0,
+    ) -> SampledPath:
+        """A walk through ``waypoints`` at a constant ``speed`` (m/s), starting at ``start_time``.
+
+        The walker waits at the first waypoint until ``start_time``, walks each leg in a
+        straight line (turning on the spot at a waypoint, as the Sec. 5.7 human does) and
+        stays at the last one.
+
+        Examples
+        --------
+        >>> path = SampledPath.through([(0, 0), (2, 0), (2, 1)], speed=1.0, start_time=1.0)
+        >>> path.times, path.state([2.0, 3.5, 9.0])[0].tolist()
+        ((0.0, 1.0, 3.0, 4.0), [[1.0, 0.0], [2.0, 0.5], [2.0, 1.0]])
+        """
+        w = np.asarray(waypoints, dtype=float)
+        if w.ndim != 2 or w.shape[1] != 2 or w.shape[0] < 2 or not np.all(np.isfinite(w)):
+            raise InvalidParameterError(
+                "route.waypoints", waypoints, "must be >= 2 finite (x, y) points", "m"
+            )
+        v = params_of(Walk)["speed"].check(speed, "route.speed")
+        t0 = params_of(Walk)["start_time"].check(start_time, "route.start_time")
+        legs = np.hypot(*np.diff(w, axis=0).T)
+        if np.any(legs <= 1e-9):
+            raise InvalidParameterError(
+                "route.waypoints", waypoints, "consecutive waypoints must differ", "m"
+            )
+        times = t0 + np.concatenate([[0.0], np.cumsum(legs) / v])
+        points = w
+        if t0 > 0:
+            times, points = np.concatenate([[0.0], times]), np.vstack([w[:1], w])
+        return cls(tuple(times.tolist()), tuple(map(tuple, points.tolist())))
 
     @property
     def moving(self) -> bool:
@@ -403,6 +446,46 @@ class Rectangle:
             round(float(hi[1] - lo[1]), 12),
             r2=r2,
             r3=r3,
+        )
+
+    @classmethod
+    def wall(
+        cls,
+        name: str,
+        start: Sequence[float],
+        end: Sequence[float],
+        thickness: float,
+        *,
+        r2: float,
+        r3: float,
+    ) -> Rectangle:
+        """A straight wall from ``start`` to ``end`` (m), ``thickness`` thick: a rotated rectangle.
+
+        Its regions are measured from the wall's contour, as for any rectangle (Sec. 5.3.5).
+
+        Examples
+        --------
+        >>> w = Rectangle.wall("wall", (0.0, 2.0), (4.0, 2.0), 0.1, r2=0.8, r3=0.4)
+        >>> w.center, w.length, w.width, w.angle
+        ((2.0, 2.0), 4.0, 0.1, 0.0)
+        >>> float(w.contour_distance(np.array([[1.0, 1.0]]))[0])
+        0.95
+        """
+        a = _point(f"{name}.start", start)
+        b = _point(f"{name}.end", end)
+        length = math.dist(a, b)
+        if length <= 1e-9:
+            raise InvalidParameterError(
+                f"{name}.end", end, f"must differ from {name}.start = {a} (a wall of length 0)", "m"
+            )
+        return cls(
+            name,
+            ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2),
+            length,
+            params_of(cls)["width"].check(thickness, f"{name}.thickness"),
+            r2=r2,
+            r3=r3,
+            angle=math.atan2(b[1] - a[1], b[0] - a[0]),
         )
 
     @property
@@ -549,6 +632,11 @@ class Scenario:
             raise InvalidParameterError(
                 "Scenario.robot", self.robot, "must be a HolonomicRobot or NonholonomicRobot"
             )
+        for o in self.obstacles:
+            if not isinstance(o, Disc | Rectangle):
+                raise InvalidParameterError(
+                    "Scenario.obstacles", o, "must contain Disc or Rectangle objects"
+                )
         names = [o.name for o in self.obstacles]
         if len(set(names)) != len(names):
             raise InvalidParameterError(

@@ -77,6 +77,7 @@ RENAMED_KINDS: dict[str, str] = {
     "vff_scenarios": "navigation_scenarios",
     "vff_sweep": "navigation_sweep",
     "vff_gains": "navigation_gains",
+    "vff_regions": "navigation_regions",
     "follower_comparison": "tether_comparison",
     "follower_tuning": "tether_tuning",
     "follower_sweep": "tether_sweep",

@@ -59,6 +59,13 @@ BASE: dict[str, dict[str, Any]] = {
                             "parameters": {"gains.k1": {"values": [3.0, 4.3]}}}},
     "vff_gains": {"modes": ["off"], "max_evaluations": 32},
     "navigation_account": {"tables": ["6.2"], "methods": ["New VFF*"]},
+    "navigation_planners": {"scenarios": [{"configuration": 1}], "mirror": False,
+                            "planners": [{"method": "vo", "settings": {"horizon": 2.0}}],
+                            "methods": []},
+    "navigation_regions": {"robot": {"type": "holonomic", "max_speed": 1.0},
+                           "obstacles": [{"name": "h", "type": "human", "max_speed": 1.4},
+                                         {"name": "b", "type": "rectangle", "offset": 0.3,
+                                          "critical_radius": 0.5, "active_radius": 1.0}]},
     "accompanying": {"tasks": ["forward"],
                      "tuning": {"tune_on": ["forward"], "derivative_free": False}},
     "tether_stability": {"controllers": [{"type": "PseudoJoystick"}],
@@ -72,7 +79,7 @@ BASE: dict[str, dict[str, Any]] = {
 }  # fmt: skip
 
 #: Kinds quick enough to run on every accepted example.
-RUN = {"impact_cases", "impact_sweep"}
+RUN = {"impact_cases", "impact_sweep", "navigation_regions"}
 
 VALUES = st.one_of(
     st.floats(allow_nan=True, allow_infinity=True),

@@ -24,5 +24,7 @@ MODULES: tuple[str, ...] = (
     "navigation_sweep",
     "navigation_gains",
     "navigation_account",
+    "navigation_regions",
+    "navigation_planners",
     "accompanying",
 )

@@ -38,7 +38,7 @@ from designlab.navigation.parameters import EXPERIMENT_GAINS, GAIN, OPTIMAL_GAIN
 from designlab.params import params_of
 from designlab.results import OK, Result
 from designlab.study.base import Flag, Integer, Model, Number, StudyBase
-from designlab.study.kinds.navigation_specs import Stabilising
+from designlab.study.kinds.navigation_specs import ScenarioSpec, Stabilising
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
 from designlab.validation import reject_bool
@@ -127,8 +127,13 @@ class NavigationGainsStudy(StudyBase):
     kind: Literal["navigation_gains"]
     configurations: list[_Config] = Field(
         default_factory=lambda: [1, 2, 3],
-        min_length=1,
         description="Ch. 6 configurations optimised together",
+    )
+    scenarios: list[ScenarioSpec] = Field(  # type: ignore[valid-type]
+        default_factory=list,
+        max_length=20,
+        description="scenarios of the user's optimised with the configurations "
+        "(docs/navigation_scenarios.md; configurations: [] optimises over these alone)",
     )
     validation: list[_Config] = Field(
         default_factory=lambda: [4], description="configurations checked but not optimised"
@@ -203,6 +208,8 @@ class NavigationGainsStudy(StudyBase):
 
     @model_validator(mode="after")
     def _check(self) -> NavigationGainsStudy:
+        if not self.configurations and not self.scenarios:
+            raise ValueError("give at least one configuration or scenario to optimise over")
         if len(set(self.configurations)) != len(self.configurations):
             raise ValueError("configurations must not repeat")
         if len(set(self.modes)) != len(self.modes):
@@ -222,7 +229,7 @@ class NavigationGainsStudy(StudyBase):
         runs = len(self.modes) * (1 + (self.robust is not None))
         return (
             f"{runs} optimisation(s) of up to {self.max_evaluations} gain sets x "
-            f"{len(self.configurations)} configs"
+            f"{len(self.configurations) + len(self.scenarios)} configs"
             + (" (+1 per mode whose optimum lies on a bound)" if self.bound_check else "")
         )
 
@@ -344,6 +351,7 @@ def run(study: NavigationGainsStudy, context: RunContext) -> NavigationGainsResu
         optimisation draws a progress bar (gain sets, best H_mean).
     """
     scen = [nav.configuration(i) for i in study.configurations]
+    scen += [s.build() for s in study.scenarios]
     val = [nav.configuration(i) for i in study.validation if i not in study.configurations]
     optima: dict[str, nav.GainOptimum] = {}
     rows: list[dict[str, object]] = []

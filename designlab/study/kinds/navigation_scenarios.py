@@ -35,6 +35,7 @@ from pydantic import Field, model_validator
 from designlab.navigation import simulate
 from designlab.navigation.criteria import EQUAL_WEIGHTS
 from designlab.navigation.parameters import ARRIVAL_TOLERANCE
+from designlab.navigation.planners import simulate_planner
 from designlab.progress import Progress
 from designlab.results import OK, Result
 from designlab.study.base import Model, Number, Positive, StudyBase
@@ -261,6 +262,14 @@ def _run_pair(
     refs: dict[tuple[str, str], NavigationReference],
 ) -> NavigationRun:
     """Simulate one (scenario, method) pair."""
+    if method.planner:  # a Sec. 5.7 planner (docs/navigation_planners.md)
+        res = simulate_planner(
+            spec.build(),
+            method.method,
+            method.planner_settings(),
+            arrival_tolerance=study.arrival_tolerance,
+        )
+        return NavigationRun(spec.title, method.label, res, refs.get((spec.title, method.label)))
     res = simulate(
         spec.build(),
         method.gains.build() if method.gains is not None else None,

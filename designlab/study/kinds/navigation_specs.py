@@ -37,7 +37,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import BeforeValidator, Field, create_model, model_validator
 
-from designlab.navigation.methods import METHOD, STABILISING, TIE_SIDE
+from designlab.navigation.methods import METHOD, PLANNER, STABILISING, TIE_SIDE
 from designlab.navigation.parameters import (
     CBF_K0,
     CBF_K1,
@@ -47,10 +47,19 @@ from designlab.navigation.parameters import (
     NonholonomicRobot,
     VFFGains,
 )
+from designlab.navigation.planners.simulate import PLANNER_SETTINGS
+from designlab.navigation.scenario_io import (
+    OBSTACLE_KINDS,
+    obstacle_from_dict,
+    robot_from_dict,
+    scenario_from_dict,
+)
 from designlab.navigation.scenarios import (
+    MAX_PATH_SAMPLES,
     ConstantVelocity,
     Disc,
     Rectangle,
+    SampledPath,
     Scenario,
     Stationary,
     Walk,
@@ -66,7 +75,9 @@ __all__ = [
     "MasoudGainsSpec",
     "MethodSpec",
     "ObstacleSpec",
+    "PathSpec",
     "RobotSpec",
+    "RouteSpec",
     "ScenarioSpec",
     "Stabilising",
     "WalkSpec",
@@ -118,13 +129,8 @@ class _RobotBase(_Checked):
     type: Literal["holonomic", "nonholonomic"] = "holonomic"
 
     def build(self) -> HolonomicRobot | NonholonomicRobot:
-        """The robot object."""
-        cls = HolonomicRobot if self.type == "holonomic" else NonholonomicRobot
-        kw = {k: v for k, v in self.model_dump(exclude={"type"}).items() if v is not None}
-        unknown = sorted(set(kw) - set(params_of(cls)))
-        if unknown:
-            raise ValueError(f"{unknown} do not apply to a {self.type} robot")
-        return cls(**kw)
+        """The robot object (:func:`designlab.navigation.scenario_io.robot_from_dict`)."""
+        return robot_from_dict(self.model_dump(exclude_none=True))
 
 
 #: ``holonomic`` (Ch. 6) or ``nonholonomic`` (Ch. 7), with optional limits (SI): the fields
@@ -141,59 +147,90 @@ RobotSpec = create_model(
 # ------------------------------------------------------------------- motions
 
 
+def _point_field(cls: type, name: str, optional: bool = True) -> tuple[Any, Any]:
+    """A point (x, y) field of a declared class, described by its declaration."""
+    doc = params_of(cls)[name].description
+    unit = params_of(cls)[name].unit
+    kind = Point | None if optional else Point
+    return (kind, Field(None if optional else ..., description=f"{doc}, {unit}"))
+
+
 #: A straight walk with smooth start and stop (:class:`~designlab.navigation.Walk`).
-WalkSpec = _checked(spec_model(Walk), "WalkSpec", start=(Point, ...), end=(Point, ...))
+WalkSpec = _checked(
+    spec_model(Walk), "WalkSpec", start=_point_field(Walk, "start", False),
+    end=_point_field(Walk, "end", False),
+)  # fmt: skip
+
+_WALK = params_of(Walk)
 
 
-class _ObstacleBase(Model):
-    name: str = Field(min_length=1, max_length=40)
-    kind: Literal["disc", "rectangle"]
-    position: Point | None = Field(None, description="disc: start (or fixed) position, m")
-    velocity: Point | None = Field(None, description="disc: constant velocity, m/s")
-    walk: WalkSpec | None = None  # type: ignore[valid-type]
-    center: Point | None = Field(None, description="rectangle: centroid, m")
+class _RouteBase(_Checked):
+    def build(self) -> SampledPath:
+        """The :class:`~designlab.navigation.SampledPath` through the waypoints."""
+        return SampledPath.through(**self.model_dump())
 
-    @model_validator(mode="after")
-    def _complete(self) -> Any:
-        if self.kind == "disc":
-            if (self.walk is None) == (self.position is None):
-                raise ValueError(
-                    f"disc {self.name!r}: give either position (and optionally velocity) or walk"
-                )
-        elif self.center is None:
-            raise ValueError(f"rectangle {self.name!r}: give center, length and width (m)")
-        self.build()
-        return self
 
-    def _motion(self) -> Walk | ConstantVelocity | Stationary:
-        if self.walk is not None:
-            return self.walk.build()  # type: ignore[no-any-return]
-        if self.velocity is not None:
-            return ConstantVelocity(tuple(self.position), tuple(self.velocity))  # type: ignore[arg-type]
-        return Stationary(tuple(self.position))  # type: ignore[arg-type]
+#: A walk through waypoints at a constant speed, turning on the spot at each
+#: (:meth:`~designlab.navigation.SampledPath.through`).
+RouteSpec = create_model(
+    "RouteSpec",
+    __base__=_RouteBase,
+    __doc__="A walk through waypoints at a constant speed (SampledPath.through).",
+    waypoints=(list[Point], Field(min_length=2, max_length=1000, description="waypoints, m")),
+    speed=(_WALK["speed"].annotation(), _WALK["speed"].default),
+    start_time=(_WALK["start_time"].annotation(), _WALK["start_time"].default),
+)
 
+
+class _PathBase(_Checked):
+    def build(self) -> SampledPath:
+        """The :class:`~designlab.navigation.SampledPath` of the samples."""
+        return SampledPath(**self.model_dump())  # type: ignore[arg-type]
+
+
+#: A sampled walk (e.g. measured), linearly interpolated
+#: (:class:`~designlab.navigation.SampledPath`).
+PathSpec = create_model(
+    "PathSpec",
+    __base__=_PathBase,
+    __doc__="A sampled walk, linearly interpolated (SampledPath).",
+    times=(list[Finite], Field(min_length=2, max_length=MAX_PATH_SAMPLES, description="s")),
+    positions=(list[Point], Field(min_length=2, max_length=MAX_PATH_SAMPLES, description="m")),
+)
+
+
+class _ObstacleBase(_Checked):
     def build(self) -> Disc | Rectangle:
-        """The obstacle object."""
-        kw = self.model_dump(include={"r2", "r3"})
-        if self.kind == "rectangle":
-            given = {k: getattr(self, k) for k in ("length", "width", "angle")}
-            kw |= {k: v for k, v in given.items() if v is not None}
-            return Rectangle(self.name, tuple(self.center), **kw)  # type: ignore[arg-type]
-        if getattr(self, "radius", None) is None:
-            raise ValueError(f"disc {self.name!r}: give radius (m)")
-        return Disc(self.name, self.radius, motion=self._motion(), **kw)  # type: ignore[attr-defined]
+        """The obstacle object (:func:`designlab.navigation.scenario_io.obstacle_from_dict`)."""
+        return obstacle_from_dict(self.model_dump(exclude_none=True), f"obstacle {self.name!r}")  # type: ignore[attr-defined]
 
 
-#: A disc (``radius``, ``r2``, ``r3``, and ``position``, ``velocity`` or ``walk``) or a
-#: rectangle (``center``, ``length``, ``width``, ``r2``, ``r3``, ``angle``): the fields of
-#: :class:`~designlab.navigation.Disc` and :class:`~designlab.navigation.Rectangle`.
+_DISC, _RECT = params_of(Disc), params_of(Rectangle)
+
+#: A disc or human (``radius``, ``r2``, ``r3`` and one motion: ``position`` (and
+#: ``velocity``), ``walk``, ``route`` or ``path``), a rectangle (``center``, ``length``,
+#: ``width``, ``angle``, or ``corners``) or a wall (``start``, ``end``, ``thickness``): the
+#: fields of :class:`~designlab.navigation.Disc`, :class:`~designlab.navigation.Rectangle`
+#: and their motions (docs/navigation_scenarios.md).
 ObstacleSpec = create_model(
     "ObstacleSpec",
     __base__=_ObstacleBase,
-    __doc__=_ObstacleBase.__doc__ or "A disc or a rectangle obstacle.",
-    r2=(params_of(Disc)["r2"].annotation(), ...),
-    r3=(params_of(Disc)["r3"].annotation(), ...),
-    **_optional(Disc, ("radius",)),
+    __doc__="A disc, human, rectangle or wall with its regions (docs/navigation_scenarios.md).",
+    name=(_DISC["name"].annotation(), Field(min_length=1, max_length=60)),
+    kind=(Literal[OBSTACLE_KINDS], ...),  # type: ignore[valid-type]
+    r2=(_DISC["r2"].annotation(), ...),
+    r3=(_DISC["r3"].annotation(), ...),
+    radius=(_DISC["radius"].annotation(optional=True), None),
+    position=_point_field(Stationary, "position"),
+    velocity=_point_field(ConstantVelocity, "velocity"),
+    walk=(WalkSpec | None, None),
+    route=(RouteSpec | None, None),
+    path=(PathSpec | None, None),
+    center=_point_field(Rectangle, "center"),
+    corners=(list[Point] | None, Field(None, min_length=4, max_length=4, description="m")),
+    start=_point_field(Walk, "start"),
+    end=_point_field(Walk, "end"),
+    thickness=(_RECT["width"].annotation(optional=True), None),
     **_optional(Rectangle, ("length", "width", "angle")),
 )
 
@@ -205,25 +242,26 @@ class _ScenarioBase(Model):
     configuration: Integer | Literal["parallel", "unpredictable", "multi"] | None = None
     chapter: Literal[6, 7] = 6
     label: str | None = Field(None, min_length=1, max_length=60, description="name in the report")
-    name: str | None = Field(None, min_length=1, max_length=60)
-    start: Point | None = None
-    goal: Point | None = None
-    obstacles: list[ObstacleSpec] = Field(default_factory=list)  # type: ignore[valid-type]
-    robot: RobotSpec | None = None  # type: ignore[valid-type]
 
     @model_validator(mode="after")
     def _one_way(self) -> Any:
+        own = self.start is not None or self.goal is not None or self.obstacles  # type: ignore[attr-defined]
         if self.configuration is not None:
-            if self.start is not None or self.goal is not None or self.obstacles:
+            if own:
                 raise ValueError("give either configuration or start/goal/obstacles, not both")
             if isinstance(self.configuration, int) and not 1 <= self.configuration <= 4:
                 raise ValueError(
                     "configuration must be 1-4, 'parallel', 'unpredictable' or 'multi'"
                 )
-        elif self.start is None or self.goal is None or self.name is None:
+        elif self.start is None or self.goal is None or self.name is None:  # type: ignore[attr-defined]
             raise ValueError("give configuration, or name, start and goal (and obstacles)")
         self.build()
         return self
+
+    @property
+    def own(self) -> bool:
+        """Whether this is a scenario of the user's (not a thesis configuration)."""
+        return self.configuration is None
 
     @property
     def title(self) -> str:
@@ -236,43 +274,50 @@ class _ScenarioBase(Model):
                 if isinstance(self.configuration, int)
                 else f"ch{self.chapter}_{self.configuration}"
             )
-        return str(self.name)
+        return str(self.name)  # type: ignore[attr-defined]
+
+    def as_dict(self) -> dict[str, Any]:
+        """A scenario of the user's as plain data (:func:`scenario_from_dict`'s input)."""
+        data = self.model_dump(
+            mode="json",
+            exclude_none=True,
+            exclude={"configuration", "chapter", "label", "human_speed"},
+        )
+        return {**data, "name": self.title}
 
     def build(self) -> Scenario:
         """The :class:`~designlab.navigation.Scenario`."""
-        robot = self.robot.build() if self.robot is not None else None
+        if self.configuration is None:
+            return scenario_from_dict(self.as_dict())
+        robot = self.robot.build() if self.robot is not None else None  # type: ignore[attr-defined]
         timing = {"sample_time": self.sample_time} if self.sample_time is not None else {}  # type: ignore[attr-defined]
-        if self.configuration is not None:
-            sc = configuration(
-                self.configuration,
-                self.chapter,
-                robot=robot,
-                human_speed=self.human_speed,  # type: ignore[attr-defined]
-                horizon=self.horizon,  # type: ignore[attr-defined]
-            )
-            return sc.replace(name=self.title, **timing)
-        return Scenario(
-            self.title,
-            tuple(self.start),  # type: ignore[arg-type]
-            tuple(self.goal),  # type: ignore[arg-type]
-            tuple(o.build() for o in self.obstacles),
-            robot if robot is not None else HolonomicRobot(),
-            self.horizon,  # type: ignore[attr-defined]
-            **timing,
+        sc = configuration(
+            self.configuration,
+            self.chapter,
+            robot=robot,
+            human_speed=self.human_speed,  # type: ignore[attr-defined]
+            horizon=self.horizon,  # type: ignore[attr-defined]
         )
+        return sc.replace(name=self.title, **timing)
 
 
 _SCENARIO = params_of(Scenario)
-_WALK_SPEED = params_of(Walk)["speed"]
 
-#: A thesis configuration, or a scenario built by hand.
+#: A thesis configuration, or a scenario of the user's (docs/navigation_scenarios.md).
 ScenarioSpec = create_model(
     "ScenarioSpec",
     __base__=_ScenarioBase,
-    __doc__="A thesis configuration, or a scenario built by hand.",
-    human_speed=(_WALK_SPEED.annotation(), _WALK_SPEED.default),
+    __doc__="A thesis configuration, or a scenario of the user's (docs/navigation_scenarios.md).",
+    name=(_SCENARIO["name"].annotation(optional=True), Field(None, min_length=1, max_length=60)),
+    start=_point_field(Scenario, "start"),
+    goal=_point_field(Scenario, "goal"),
+    obstacles=(list[ObstacleSpec], Field(default_factory=list, max_length=100)),  # type: ignore[valid-type]
+    robot=(RobotSpec | None, None),  # type: ignore[valid-type]
+    human_speed=(_WALK["speed"].annotation(), _WALK["speed"].default),
     horizon=(_SCENARIO["horizon"].annotation(), _SCENARIO["horizon"].default),
     sample_time=(_SCENARIO["sample_time"].annotation(optional=True), None),
+    initial_heading=(_SCENARIO["initial_heading"].annotation(), None),
+    description=(_SCENARIO["description"].annotation(optional=True), None),
 )
 
 
@@ -293,7 +338,9 @@ _GAIN_SPECS: dict[str, type[Model]] = {
 }
 
 
-_Method = METHOD.annotation()
+#: A force-field method (:data:`~designlab.navigation.methods.METHOD`) or a Sec. 5.7 planner
+#: (:data:`~designlab.navigation.methods.PLANNER`, docs/navigation_planners.md).
+_Method = Literal[METHOD.choices + PLANNER.choices]  # type: ignore[valid-type]
 _TieSide = TIE_SIDE.annotation()
 _CBFGains = tuple[CBF_K0.annotation(), CBF_K1.annotation()]  # type: ignore[misc]
 
@@ -324,6 +371,27 @@ class MethodSpec(Model):
     stabilising: Stabilising = "lyapunov"
     tie_side: _TieSide = "+y"
     cbf_gains: _CBFGains = (4.0, 4.0)
+    settings: dict[str, Any] | None = Field(
+        None,
+        description="a planner's settings (vo, errt, field_dstar; docs/navigation_planners.md)",
+    )
+
+    @property
+    def planner(self) -> bool:
+        """Whether the method is a Sec. 5.7 planner (simulated by ``simulate_planner``)."""
+        return self.method in PLANNER.choices
+
+    def planner_settings(self) -> Any:
+        """The planner's settings object (its defaults for keys not given)."""
+        spec = spec_model(PLANNER_SETTINGS[self.method])
+        given = self.settings or {}
+        unknown = sorted(set(given) - set(spec.model_fields))
+        if unknown:
+            raise ValueError(
+                f"method {self.label!r}: settings {unknown} do not apply to {self.method} "
+                f"(its settings: {', '.join(spec.model_fields)})"
+            )
+        return spec.model_validate(given).build()
 
     @model_validator(mode="before")
     @classmethod
@@ -336,6 +404,13 @@ class MethodSpec(Model):
 
     @model_validator(mode="after")
     def _gains(self) -> MethodSpec:
+        if self.planner:
+            if self.gains is not None:
+                raise ValueError(f"method {self.label!r}: a planner takes settings, not gains")
+            self.planner_settings()
+            return self
+        if self.settings is not None:
+            raise ValueError(f"method {self.label!r}: settings apply to the planners only")
         if self.method == "vff" and self.gains is None:
             raise ValueError(
                 f"method {self.label!r}: the vff method needs gains: {{k1, b, k3, k5}}"

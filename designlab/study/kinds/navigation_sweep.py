@@ -37,7 +37,7 @@ from designlab.navigation.scenarios import Walk
 from designlab.params import Param, params_of, sweepable
 from designlab.study.base import Flag, Integer, Model
 from designlab.study.kinds.navigation_gains import Weights
-from designlab.study.kinds.navigation_specs import GainsSpec, Stabilising
+from designlab.study.kinds.navigation_specs import GainsSpec, ScenarioSpec, Stabilising
 from designlab.study.registry import StudyKind
 from designlab.study.sweep_runner import run_sweep_study
 from designlab.study.sweeps import SensitivitySpec, SweepOf, SweepStudyBase, parameter_model
@@ -108,9 +108,13 @@ class NavigationDesign(Model):
     max_accel: _MaxAccel = _ROBOT["max_accel"].default
     human_speed: _HumanSpeed = _WALK["speed"].default
     human_ramp_time: _RampTime = _WALK["ramp_time"].default
-    scenarios: list[tuple[Integer | Literal["parallel", "unpredictable"], Literal[6, 7]]] = Field(
+    scenarios: list[
+        tuple[Integer | Literal["parallel", "unpredictable"], Literal[6, 7]] | ScenarioSpec  # type: ignore[valid-type]
+    ] = Field(
         default_factory=lambda: [(1, 6), (2, 6), (3, 6)],
-        description="thesis configurations as [configuration, chapter] (App. C uses 1-3 of Ch. 6)",
+        max_length=50,
+        description="thesis configurations as [configuration, chapter] (App. C uses 1-3 of "
+        "Ch. 6), or scenarios of the user's (docs/navigation_scenarios.md)",
     )
     stabilising: Stabilising = "off"  # type: ignore[valid-type]
     arrival_tolerance: _Tolerance = 0.15
@@ -126,7 +130,10 @@ class NavigationDesign(Model):
     def _configs(cls, v: list[Any]) -> list[Any]:
         if not v:
             raise ValueError("give at least one scenario")
-        for which, chapter in v:
+        for spec in v:
+            if not isinstance(spec, tuple):
+                continue  # a user's scenario, checked by its spec
+            which, chapter = spec
             if isinstance(which, int) and not 1 <= which <= 4:
                 raise ValueError(
                     f"configuration {which} must be 1-4, 'parallel' or 'unpredictable'"
@@ -134,6 +141,34 @@ class NavigationDesign(Model):
             if chapter == 7 and not isinstance(which, int):
                 raise ValueError(f"configuration {which!r} exists only in chapter 6")
         return v
+
+    @model_validator(mode="after")
+    def _own_limits(self) -> NavigationDesign:
+        """A user's scenario states the limits and walk speeds the sweep sets: they must agree."""
+        for spec in self.scenarios:
+            if isinstance(spec, tuple):
+                continue
+            sc = spec.build()
+            base = {"max_speed": self.max_speed, "max_accel": self.max_accel}
+            for key, value in base.items():
+                if getattr(sc.robot, key) != value:
+                    raise ValueError(
+                        f"scenario {sc.name!r}: robot.{key} = {getattr(sc.robot, key):g} differs "
+                        f"from base.{key} = {value:g}; a navigation sweep sets the robot limits "
+                        f"of every scenario from base (set base.{key}: {getattr(sc.robot, key):g})"
+                    )
+            for o in sc.obstacles:
+                walk = getattr(o, "motion", None)
+                if isinstance(walk, Walk) and (
+                    walk.speed != self.human_speed or walk.ramp_time != self.human_ramp_time
+                ):
+                    raise ValueError(
+                        f"scenario {sc.name!r}: the walk of {o.name!r} (speed {walk.speed:g} m/s, "
+                        f"ramp {walk.ramp_time:g} s) differs from base.human_speed = "
+                        f"{self.human_speed:g} / base.human_ramp_time = {self.human_ramp_time:g}; "
+                        "a navigation sweep sets every walk's from base"
+                    )
+        return self
 
 
 class NavigationSweep(SweepOf[NavigationSweepParameters]):  # type: ignore[valid-type]
@@ -195,7 +230,9 @@ class NavigationSweepStudy(SweepStudyBase[NavigationSweepParameters, NavigationM
     def evaluator_options(self) -> dict[str, Any]:
         """Scenarios, stabilising mode, arrival tolerance and ``jit`` (plain, picklable)."""
         options: dict[str, Any] = {
-            "scenarios": [list(s) for s in self.base.scenarios],
+            "scenarios": [
+                list(s) if isinstance(s, tuple) else s.as_dict() for s in self.base.scenarios
+            ],
             "stabilising": self.base.stabilising,
             "arrival_tolerance": self.base.arrival_tolerance,
         }

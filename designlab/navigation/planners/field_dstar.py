@@ -1,0 +1,163 @@
+"""Field D* on a grid (Ferguson & Stentz 2006): path costs interpolated along cell edges.
+
+Nodes are the corners of square cells of size ``h``; a cell costs 1 per metre if free
+and is impassable if an obstacle (inflated by the robot radius, as it is now) reaches
+it. The cost to the goal g of every node is computed from the goal outwards in
+Dijkstra order with Field D*'s interpolated update (:func:`compute_cost`): a path may
+leave a node towards any point of the edge between two consecutive neighbours, not only
+towards the neighbours, so paths are not restricted to the 8 grid headings. Each
+navigation period the costs are recomputed for the obstacles' new positions, which
+gives the costs Field D*'s incremental repair gives (the repair saves time, not
+changes them); expansion stops once the robot's cell is settled.
+
+Examples
+--------
+On a free grid, the cost of node (2, 1) from the goal at (0, 0) is the interpolated
+1 + sqrt(1 + y^2) + f (1 - y) with f = sqrt(2) - 1 and y = f / sqrt(1 - f^2), between
+the true distance sqrt(5) = 2.236 and the 8-connected 1 + sqrt(2) = 2.414:
+
+>>> import numpy as np
+>>> g = node_costs(np.ones((4, 3)), (0, 0))
+>>> round(float(g[2, 1]), 4)
+2.3244
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+
+from designlab.navigation.planners.parameters import FieldDStarSettings
+from designlab.navigation.planners.world import Snapshot
+
+__all__ = ["Grid", "compute_cost", "node_costs"]
+
+Array = NDArray[np.float64]
+#: The 8 neighbours of a node, counter-clockwise from +x (edge, diagonal, edge, ...).
+_NEIGHBOURS = ((1, 0), (1, 1), (0, 1), (-1, 1), (-1, 0), (-1, -1), (0, -1), (1, -1))
+_SQRT2 = math.sqrt(2.0)
+
+
+def compute_cost(c: float, b: float, g1: float, g2: float) -> float:
+    """Field D*'s cost of a node through the edge between its neighbours s1 (edge-adjacent,
+    cost ``g1``) and s2 (diagonal, ``g2``); ``c`` is the cost of the cell holding s, s1, s2
+    and ``b`` of the cell across the edge s-s1 (Ferguson & Stentz 2006, Fig. 9; unit cells).
+
+    Examples
+    --------
+    >>> compute_cost(1.0, 1.0, 1.0, 0.0) == math.sqrt(2)
+    True
+    """
+    if min(c, b) == math.inf:
+        return math.inf
+    if g1 <= g2:
+        return min(c, b) + g1
+    f = g1 - g2
+    if f <= b:
+        if c <= f:
+            return c * _SQRT2 + g2
+        y = min(f / math.sqrt(c * c - f * f), 1.0)
+        return c * math.sqrt(1 + y * y) + f * (1 - y) + g2
+    if c <= b:
+        return c * _SQRT2 + g2
+    x = 1 - min(b / math.sqrt(c * c - b * b), 1.0)
+    return c * math.sqrt(1 + (1 - x) ** 2) + b * x + g2
+
+
+def _cell(cost: Array, i: int, j: int) -> float:
+    if 0 <= i < cost.shape[0] and 0 <= j < cost.shape[1]:
+        return float(cost[i, j])
+    return math.inf
+
+
+def _update(
+    g: Array, cost: Array, i: int, j: int, pairs: tuple[int, ...] = tuple(range(8))
+) -> float:
+    """The smallest interpolated cost of node (i, j) over its neighbour pairs ``pairs``
+    (pair k: neighbours k and k + 1 counter-clockwise)."""
+    nx, ny = g.shape
+    best = math.inf
+    for k in pairs:
+        a, b_ = _NEIGHBOURS[k % 8], _NEIGHBOURS[(k + 1) % 8]
+        e, d = (a, b_) if 0 in a else (b_, a)  # e: edge neighbour, d: diagonal
+        s1, s2 = (i + e[0], j + e[1]), (i + d[0], j + d[1])
+        if not (0 <= s1[0] < nx and 0 <= s1[1] < ny and 0 <= s2[0] < nx and 0 <= s2[1] < ny):
+            continue
+        ci, cj = i + min(e[0], d[0], 0), j + min(e[1], d[1], 0)
+        if e[0] != 0:  # horizontal edge s-s1: the cells above and below it
+            bi, bj = ci, (cj - 1 if cj == j else j)
+        else:  # vertical edge: the cells left and right of it
+            bi, bj = (ci - 1 if ci == i else i), cj
+        v = compute_cost(_cell(cost, ci, cj), _cell(cost, bi, bj), g[s1], g[s2])
+        best = min(best, v)
+    return best
+
+
+def node_costs(
+    cell_cost: Array, goal: tuple[int, int], stop: tuple[tuple[int, int], ...] = ()
+) -> Array:
+    """Cost to the goal node of every node of a grid with ``cell_cost`` ``(nx, ny)`` (per cell
+    size; inf: blocked); ``(nx + 1, ny + 1)`` nodes. Stops once every node of ``stop`` is
+    settled (unsettled nodes keep inf)."""
+    g = np.full((cell_cost.shape[0] + 1, cell_cost.shape[1] + 1), math.inf)
+    g[goal] = 0.0
+    heap: list[tuple[float, tuple[int, int]]] = [(0.0, goal)]
+    settled = np.zeros(g.shape, dtype=bool)
+    wanted = set(stop)
+    while heap:
+        gv, (i, j) = heapq.heappop(heap)
+        if settled[i, j] or gv > g[i, j]:
+            continue
+        settled[i, j] = True
+        wanted.discard((i, j))
+        if stop and not wanted:
+            break
+        for k, (di, dj) in enumerate(_NEIGHBOURS):
+            n = (i + di, j + dj)
+            if 0 <= n[0] < g.shape[0] and 0 <= n[1] < g.shape[1] and not settled[n]:
+                back = (k + 4) % 8  # the popped node seen from n: in pairs back - 1 and back
+                v = _update(g, cell_cost, *n, pairs=(back - 1, back))
+                if v < g[n]:
+                    g[n] = v
+                    heapq.heappush(heap, (v, n))
+    return g
+
+
+class Grid:
+    """The grid of one plan: origin, cell size, cell costs and node costs to the goal."""
+
+    def __init__(self, world: Snapshot, robot: Array, goal: Array, s: FieldDStarSettings) -> None:
+        pts = np.vstack([robot, goal, *world.centres] + [r.corners() for r in world.rectangles])
+        self.h = s.cell
+        self.origin = pts.min(axis=0) - s.margin
+        size = np.ceil((pts.max(axis=0) + s.margin - self.origin) / self.h).astype(int)
+        centres = self.origin + (np.indices(size).reshape(2, -1).T + 0.5) * self.h
+        blocked = world.clearance(centres) <= self.h / _SQRT2
+        self.cost = np.where(blocked, math.inf, 1.0).reshape(size)
+        goal_node = tuple(np.rint((goal - self.origin) / self.h).astype(int))
+        ci, cj = np.floor((robot - self.origin) / self.h).astype(int)
+        stop = ((ci, cj), (ci + 1, cj), (ci, cj + 1), (ci + 1, cj + 1))
+        self.g = node_costs(self.cost, goal_node, stop) * self.h  # type: ignore[arg-type]
+
+    def value(self, p: Array) -> Array:
+        """Cost to the goal at points ``(n, 2)``: bilinear between the cell's node costs."""
+        q = (np.atleast_2d(p) - self.origin) / self.h
+        i = np.clip(np.floor(q[:, 0]).astype(int), 0, self.g.shape[0] - 2)
+        j = np.clip(np.floor(q[:, 1]).astype(int), 0, self.g.shape[1] - 2)
+        u, v = q[:, 0] - i, q[:, 1] - j
+        g = self.g
+        with np.errstate(invalid="ignore"):
+            out = (g[i, j] * (1 - u) * (1 - v) + g[i + 1, j] * u * (1 - v)
+                   + g[i, j + 1] * (1 - u) * v + g[i + 1, j + 1] * u * v)  # fmt: skip
+        return np.where(np.isnan(out), math.inf, out)
+
+    def next_point(self, p: Array, headings: int = 72) -> Array | None:
+        """The point one cell away that lowers the interpolated cost most (None: no path)."""
+        th = np.linspace(0.0, 2 * np.pi, headings, endpoint=False)
+        q = p[None, :] + self.h * np.stack([np.cos(th), np.sin(th)], axis=1)
+        total = self.value(q) + self.h
+        k = int(np.argmin(total))
+        return None if not math.isfinite(total[k]) else q[k]

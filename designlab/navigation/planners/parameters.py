@@ -1,0 +1,61 @@
+"""Settings of the Sec. 5.7 planners (Zeng 2011 gives none; the papers' usual values).
+
+Examples
+--------
+>>> VOSettings().horizon, ERRTSettings().goal_bias, FieldDStarSettings().cell
+(3.0, 0.1, 0.1)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from designlab.params import declared, param
+from designlab.validation import ParamsMixin
+
+__all__ = ["ERRTSettings", "FieldDStarSettings", "VOSettings"]
+
+
+@declared
+@dataclass(frozen=True)
+class VOSettings(ParamsMixin):
+    """Velocity obstacles (Fiorini & Shiller 1998; Large, Laugier & Shiller 2005).
+
+    A velocity is forbidden if, held, it brings the robot within rho_r + rho_o of an
+    obstacle moving at its current velocity within ``horizon`` (the truncated VO).
+    """
+
+    horizon: float = param(
+        "tau", "s", doc="time horizon of the velocity obstacle", gt=0, le=60.0, default=3.0
+    )
+    speeds: int = param(None, "", doc="candidate speeds (0 to V_mr)", kind="integer", ge=2,
+                        le=50, default=8)  # fmt: skip
+    headings: int = param(None, "", doc="candidate headings", kind="integer", ge=4, le=720,
+                          default=72)  # fmt: skip
+
+
+@declared
+@dataclass(frozen=True)
+class ERRTSettings(ParamsMixin):
+    """Execution-extended RRT (Bruce & Veloso 2002, 2006), replanned every period."""
+
+    step: float = param("epsilon", "m", doc="extension step", gt=0, le=5.0, default=0.2)
+    max_nodes: int = param(None, "", doc="nodes per plan", kind="integer", ge=10, le=20_000,
+                           default=800)  # fmt: skip
+    goal_bias: float = param("p_goal", "", doc="probability of extending to the goal", ge=0,
+                             le=1, default=0.1)  # fmt: skip
+    waypoint_bias: float = param("p_waypoint", "", doc="probability of extending to a cached "
+                                 "waypoint of the last plan", ge=0, le=1, default=0.6)  # fmt: skip
+    margin: float = param(None, "m", doc="sampling box margin around the scene", ge=0, le=50.0,
+                          default=1.5)  # fmt: skip
+    seed: int = param(None, "", doc="random seed", kind="integer", ge=0, le=2**32 - 1, default=0)
+
+
+@declared
+@dataclass(frozen=True)
+class FieldDStarSettings(ParamsMixin):
+    """Field D* on a grid (Ferguson & Stentz 2006), replanned every period."""
+
+    cell: float = param("h", "m", doc="grid cell size", gt=0.01, le=2.0, default=0.1)
+    margin: float = param(None, "m", doc="grid margin around the scene", ge=0, le=50.0,
+                          default=1.5)  # fmt: skip
