@@ -227,7 +227,7 @@ class SeriesJoint(ParamsMixin):
     k_cont: float = as_field(K_CONT)
     c_cont: float = as_field(C_CONT)
     lever_arm: float = param(
-        "l", "m", doc="distance from the joint axis to the impact point", gt=0, le=100
+        "l", "m", doc="distance from the joint axis to the impact point", ge=1e-6, le=100
     )
     name: str = param(kind="text", default="", doc="optional label used in reports")
 
