@@ -58,6 +58,14 @@ SMALL_STUDIES: dict[str, str] = {
     "validation_paths: [{type: square_s}]\npopsize: 4\nmaxiter: 2\n",
     "navigation_gains": 'configurations: [1]\nvalidation: [3]\nmodes: ["off"]\npopsize: 4\n'
     "max_evaluations: 8\nrefine: false\nsensitivity: false\n",
+    "tether_stability": "controllers: [{type: PseudoJoystick}]\n"
+    "lengths: {low: 0.5, high: 2.0, num: 2}\nangles: 3\nmax_time: 5\n",
+    "tether_step_size": "paths: [{type: square_s}]\nmin_steps: [0.01, 0.4]\n",
+    "tether_snagging": "gaps: {low: 1.0, high: 2.5, num: 3}\ndetail_gaps: [2.5]\n",
+    "tether_modes": "paths: [{type: straight_line, length: 3.0}]\nmodes: [SideJoystick]\n"
+    "side_offsets: [0.5]\nbrake_laws: [PseudoJoystick]\n",
+    "navigation_planners": "scenarios: [{configuration: 1}]\nmirror: false\n"
+    "planners: [{method: vo, settings: {horizon: 2.0}}]\nmethods: []\n",
 }
 
 
@@ -144,8 +152,23 @@ def test_every_kind_has_a_small_study() -> None:
     """Every study kind's figures are rendered here (old kind names count as their new ones)."""
     from designlab.study.registry import RENAMED_KINDS, study_kinds
 
-    covered = {RENAMED_KINDS.get(k, k) for k in SMALL_STUDIES}
+    covered = {RENAMED_KINDS.get(k, k) for k in SMALL_STUDIES} | set(FIGURELESS)
     assert set(study_kinds()) <= covered, sorted(set(study_kinds()) - covered)
+
+
+#: Kinds whose reports are tables only (no figure to check), with what they hold.
+FIGURELESS: dict[str, str] = {
+    "navigation_account": "the row-by-row account of the thesis tables (CSV and Markdown)",
+    "navigation_regions": "region sizes with every intermediate quantity (CSV and Markdown)",
+}
+
+
+@pytest.mark.parametrize("kind", sorted(FIGURELESS))
+def test_figureless_kinds_declare_no_figure(kind: str) -> None:
+    from designlab.study.registry import kind_of
+
+    produces = " ".join(getattr(kind_of(kind).schema, "PRODUCES", ()))
+    assert ".png" not in produces, f"{kind} produces figures: give it a small study above"
 
 
 @pytest.mark.parametrize("kind", sorted(SMALL_STUDIES))

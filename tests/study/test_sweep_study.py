@@ -275,7 +275,7 @@ def test_killed_sweep_resumes_with_only_the_missing_points(tmp_path, write_study
 
 
 def test_sigint_leaves_store_and_exit_code_130(tmp_path, write_study):
-    study = write_study(SWEEP.replace("num: 6", "num: 40"), "intr.yaml")
+    study = write_study(SWEEP.replace("num: 6", "num: 200"), "intr.yaml")
     script = tmp_path / "slow_designlab.py"
     script.write_text(SLOW_RUNNER)
     cache = tmp_path / "cache"

@@ -60,6 +60,7 @@ class NavigationAccountStudy(StudyBase):
         "Config 2/4 ordering of the two gain sets (0: not run)",
     )
 
+    TYPICAL_DURATION: ClassVar[float] = 9  # s, the committed study, serial, this machine
     PRODUCES: ClassVar[tuple[str, ...]] = ("summary.md", "account.csv", "noise.csv", "study.yaml")
 
     def size(self) -> str:

@@ -109,7 +109,7 @@ class NavigationRegionsStudy(StudyBase):
     obstacles: list[ObstacleClassSpec] = Field(min_length=1, max_length=MAX_OBSTACLES)  # type: ignore[valid-type]
 
     PRODUCES: ClassVar[tuple[str, ...]] = ("summary.md", "regions.csv", "study.yaml")
-    TYPICAL_DURATION: ClassVar[str] = "under a second"
+    TYPICAL_DURATION: ClassVar[float] = 1  # s, the committed study, serial, this machine
 
     @model_validator(mode="after")
     def _unique(self) -> NavigationRegionsStudy:

@@ -123,6 +123,7 @@ class TetherModesStudy(StudyBase):
     engage_margin: _ENGAGE.annotation() = _ENGAGE.default  # type: ignore[valid-type]
     release_margin: _RELEASE.annotation() = _RELEASE.default  # type: ignore[valid-type]
 
+    TYPICAL_DURATION: ClassVar[float] = 8  # s, the committed study, serial, this machine
     PRODUCES: ClassVar[tuple[str, ...]] = (
         "summary.md",
         "modes.csv",

@@ -82,6 +82,7 @@ class TetherStepSizeStudy(StudyBase):
         description="Delta s_min values (m); the first is the reference",
     )
 
+    TYPICAL_DURATION: ClassVar[float] = 2  # s, the committed study, serial, this machine
     PRODUCES: ClassVar[tuple[str, ...]] = (
         "summary.md",
         "step_size.csv",
