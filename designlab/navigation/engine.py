@@ -22,7 +22,7 @@ from designlab.errors import InvalidParameterError
 from designlab.navigation.cbf_filter import CBFFilter
 from designlab.navigation.dynamics import build_hold, state_size
 from designlab.navigation.field import (
-    _EPS,
+    NORM_EPS,
     ObstacleGeometry,
     build_distance,
     build_field,
@@ -70,7 +70,7 @@ def _field_velocity(robot: HolonomicRobot | NonholonomicRobot, x0: ca.SX) -> ca.
     return ca.vertcat(x0[0], x0[1], x0[3] * ca.cos(x0[2]), x0[3] * ca.sin(x0[2]))
 
 
-_EPS2 = _EPS**2  # the eps**2 of the field's norm, so lean minima equal the recorded ones
+_EPS2 = NORM_EPS**2  # the eps**2 of the field's norm, so lean minima equal the recorded ones
 # common subexpressions are evaluated once (exact: the same operation on the same operands)
 _CSE = {"cse": True}
 _LEAN_OUT = ("Xend", "critical", "Dmin", "Esum", "hit")

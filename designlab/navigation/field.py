@@ -50,7 +50,8 @@ __all__ = ["METHODS", "ObstacleGeometry", "build_cbf_rows", "build_distance", "b
 
 #: Navigation methods built by :func:`build_field` (``"cbf"`` filters the attractive field).
 METHODS = ("vff", "masoud", "ge_cui", "cbf")
-_EPS = 1e-12
+#: The epsilon of the smoothed norm sqrt(|v|^2 + eps^2) used by every field term (no 0/0 at v = 0).
+NORM_EPS = 1e-12
 _TIE_ANGLE = 1e-6
 
 
@@ -112,7 +113,7 @@ def _cross(a: ca.SX, b: ca.SX) -> ca.SX:
 
 
 def _norm(v: ca.SX) -> ca.SX:
-    return ca.sqrt(ca.sumsqr(v) + _EPS**2)
+    return ca.sqrt(ca.sumsqr(v) + NORM_EPS**2)
 
 
 def _sign_tol(x: ca.SX, tol: float | ca.SX) -> ca.SX:
