@@ -89,7 +89,36 @@ _QUANTITIES = {"d_h_min_m": "human", "d_cir_min_m": "circle", "d_rect_min_m": "r
 
 @dataclass(frozen=True)
 class RunSetup:
-    """One run of the model for a thesis row (what a cause changes)."""
+    """One run of the model for a thesis row (what a cause changes).
+
+    Parameters
+    ----------
+    which : str
+        The configuration, a key of :func:`configuration` (the thesis rows use ``"1"``-``"4"``
+        and ``"unpredictable"``; digits are passed as an int).
+    chapter : int
+        6 or 7: the thesis chapter whose configuration, regions and robot are used.
+    method : str
+        Navigation method of :func:`simulate` (``"vff"``, ``"masoud"``, ``"ge_cui"``).
+    gains : VFFGains or MasoudGains or None
+        The method's gains (``None``: the method's default, as for ``"ge_cui"``).
+    holonomic : bool
+        Run a :class:`HolonomicRobot`; False: the chapter's own robot (holonomic in Ch. 6,
+        nonholonomic in Ch. 7).
+    tolerance : float
+        Arrival tolerance in m (the radius around the goal counted as arrived).
+    start : tuple of float or None
+        Robot start (x, y) in m replacing the configuration's; ``None``: the configuration's.
+    human_speed : float
+        Cruise speed of the synthetic human walk in m/s (Configurations 2 and 4).
+    human_ramp_time : float
+        Ramp (start and stop) duration of the synthetic human walk in s.
+    experiment : bool
+        The thesis row is an experiment (``exp``): the vision-noise cause applies.
+    noise_seed : int or None
+        Seed of the :class:`SensorNoise` (default noise levels) on what the field sees;
+        ``None``: exact measurements.
+    """
 
     which: str
     chapter: int

@@ -24,7 +24,19 @@ Array = NDArray[np.float64]
 
 
 class CBFFilter:
-    """Exponential control-barrier-function filter of the attractive field, one OSQP QP per step."""
+    """Exponential control-barrier-function filter of the attractive field, one OSQP QP per step.
+
+    Parameters
+    ----------
+    geos : tuple of ObstacleGeometry
+        The scenario's obstacles; each gives one constraint on h = d - r3 (critical
+        radius r3 in m).
+    robot : HolonomicRobot or NonholonomicRobot
+        The robot: its ``max_accel`` (m/s^2) bounds |a| and its ``mass`` (kg) turns the
+        field's force into the nominal acceleration.
+    k : tuple of float
+        (k_0, k_1) of the constraint h'' + k_1 h' + k_0 h >= 0, in 1/s^2 and 1/s.
+    """
 
     def __init__(
         self,

@@ -230,6 +230,9 @@ def region_sizes(
     turn_time
         Override t_turn (s) for a nonholonomic robot (the thesis uses 0.22 and 0.23 s
         where sqrt(pi/70) = 0.212 s).
+    active_radius : float or None
+        The r2 (m) the caller adopts; it does not change the result, but a value below
+        the minimum r2 adds a warning (``None``: no check).
 
     Returns
     -------

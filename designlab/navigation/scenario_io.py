@@ -97,6 +97,12 @@ def _known(name: str, data: Mapping[str, Any], allowed: set[str]) -> None:
 def robot_from_dict(data: Mapping[str, Any] | None) -> HolonomicRobot | NonholonomicRobot:
     """The robot of ``{type: holonomic | nonholonomic, <its fields>}`` (default holonomic).
 
+    Parameters
+    ----------
+    data
+        ``type`` (``"holonomic"``, the default, or ``"nonholonomic"``) and fields of that
+        robot class in SI units (``None`` or empty: the default holonomic robot).
+
     Examples
     --------
     >>> robot_from_dict({"type": "nonholonomic", "max_angular_accel": 50}).turn_time > 0.25
@@ -189,7 +195,17 @@ OBSTACLE_KINDS = tuple(_BUILDERS)
 
 
 def obstacle_from_dict(data: Mapping[str, Any], where: str = "obstacle") -> Obstacle:
-    """One obstacle of a scenario file (see the module's documentation)."""
+    """One obstacle of a scenario file (see the module's documentation).
+
+    Parameters
+    ----------
+    data
+        The obstacle's ``kind`` (``disc``, ``human``, ``rectangle`` or ``wall``) and the
+        keys of that kind (lengths in m, speeds in m/s, times in s).
+    where
+        Where the obstacle is in the file (e.g. ``"obstacles[0]"``): the prefix of the
+        key names in errors.
+    """
     data = _mapping(where, data)
     kind = data.get("kind")
     if kind not in _BUILDERS:
@@ -246,6 +262,11 @@ def scenario_from_dict(data: Mapping[str, Any]) -> Scenario:
 def load_scenario(path: str | Path) -> Scenario:
     """Read a scenario from a YAML file (the structure of :func:`scenario_from_dict`).
 
+    Parameters
+    ----------
+    path
+        The YAML file (at most :data:`MAX_FILE_BYTES` bytes).
+
     Examples
     --------
     >>> import tempfile, pathlib
@@ -269,6 +290,19 @@ def with_limits(
 ) -> Scenario:
     """The scenario with other robot limits and, for every :class:`Walk`, another cruise speed
     and ramp time (``None``: unchanged): what a sweep point of a user's scenario varies.
+
+    Parameters
+    ----------
+    scenario
+        The scenario to change.
+    max_speed
+        The robot's speed limit V_mr (m/s).
+    max_accel
+        The robot's acceleration limit a_mr (m/s^2).
+    walk_speed
+        Cruise speed v_w of every :class:`Walk` (m/s; ``None``: unchanged).
+    walk_ramp_time
+        Duration t_ramp of each speed ramp of every :class:`Walk` (s; ``None``: unchanged).
 
     Examples
     --------
@@ -298,6 +332,13 @@ def mirrored(scenario: Scenario, dt: float = 0.02) -> Scenario:
     The robot's task is unchanged; a human who turned to one side now turns to the other
     (how a planner's choice of side decides whether the Sec. 5.7 human walks into it).
     Moving discs become :class:`SampledPath` motions sampled every ``dt`` s.
+
+    Parameters
+    ----------
+    scenario
+        The scenario to mirror (its start and goal must differ).
+    dt
+        Sampling interval of the mirrored paths of moving discs (s), up to the horizon.
 
     Examples
     --------

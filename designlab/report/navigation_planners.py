@@ -37,7 +37,13 @@ _THESIS = (
 
 
 def navigation_planners_figure(result: NavigationPlannersResult) -> Figure:
-    """The robot's path of every method, the obstacles' paths, one panel per scenario."""
+    """The robot's path of every method, the obstacles' paths, one panel per scenario.
+
+    Parameters
+    ----------
+    result
+        A ``navigation_planners`` result.
+    """
     scenarios = list(dict.fromkeys(s for s, _, _ in result.runs))
     fig, axes = plt.subplots(1, len(scenarios), figsize=(6.2 * len(scenarios), 5.2),
                              squeeze=False)  # fmt: skip
@@ -107,6 +113,15 @@ def navigation_planners_markdown(
 ) -> str:
     """The Markdown summary.
 
+    Parameters
+    ----------
+    result
+        A ``navigation_planners`` result.
+    command
+        The command line that produced the result.
+    version
+        The designlab version.
+
     Examples
     --------
     >>> from designlab.study import parse_study, run_study
@@ -165,7 +180,21 @@ def write_navigation_planners_report(
     version: str | None = None,
     study_text: str | None = None,
 ) -> list[Path]:
-    """Write ``summary.md``, ``planners.csv``, ``planners_paths.png`` and ``study.yaml``."""
+    """Write ``summary.md``, ``planners.csv``, ``planners_paths.png`` and ``study.yaml``.
+
+    Parameters
+    ----------
+    result
+        A ``navigation_planners`` result.
+    directory
+        The (new, empty) report directory.
+    command
+        The command line that produced the result.
+    version
+        The designlab version.
+    study_text
+        The study file's text, copied as ``study.yaml``.
+    """
     written = [write_csv(result.to_frame(), directory / "planners.csv")]
     fig = navigation_planners_figure(result)
     written.append(write_png(fig, directory / "planners_paths.png"))

@@ -72,6 +72,15 @@ def navigation_regions_markdown(
 ) -> str:
     """The Markdown summary.
 
+    Parameters
+    ----------
+    result
+        A ``navigation_regions`` result.
+    command
+        The command line that produced the result.
+    version
+        The designlab version.
+
     Examples
     --------
     >>> from designlab.study import parse_study, run_study
@@ -138,7 +147,21 @@ def write_navigation_regions_report(
     version: str | None = None,
     study_text: str | None = None,
 ) -> list[Path]:
-    """Write ``summary.md``, ``regions.csv`` and ``study.yaml``."""
+    """Write ``summary.md``, ``regions.csv`` and ``study.yaml``.
+
+    Parameters
+    ----------
+    result
+        A ``navigation_regions`` result.
+    directory
+        The (new, empty) report directory.
+    command
+        The command line that produced the result.
+    version
+        The designlab version.
+    study_text
+        The study file's text, copied as ``study.yaml``.
+    """
     written = [write_csv(result.to_frame(), directory / "regions.csv")]
     text = navigation_regions_markdown(result, command=command, version=version)
     written.append(write_markdown(text, directory / "summary.md"))

@@ -29,7 +29,15 @@ __all__ = ["brake_figure", "modes_figure", "modes_markdown", "write_modes_report
 
 
 def modes_figure(cases: list[ModeCase]) -> Figure:
-    """Leader and robot paths of one path, one panel per mode (offsets overlaid)."""
+    """Leader and robot paths of one path, one panel per mode (offsets overlaid).
+
+    Parameters
+    ----------
+    cases : list of ModeCase
+        The side and front runs of one leader path (the first gives the leader's path
+        and the title); one panel per mode, one line per run (labelled by its side offset
+        l_H, or its desired length l_d for a front mode, in m).
+    """
     modes = list(dict.fromkeys(c.mode for c in cases))
     fig, axes = plt.subplots(1, len(modes), figsize=(4.4 * len(modes), 4.4), squeeze=False)
     for ax, m in zip(axes[0], modes, strict=True):
@@ -55,7 +63,14 @@ def modes_figure(cases: list[ModeCase]) -> Figure:
 
 
 def brake_figure(result: TetherModesResult) -> Figure:
-    """Heading change after the leader stops, per law, without and with Brake mode."""
+    """Heading change after the leader stops, per law, without and with Brake mode.
+
+    Parameters
+    ----------
+    result : TetherModesResult
+        The study's result; its ``brakes`` runs are plotted, one panel per law, with
+        the leader's stop time (s) dotted.
+    """
     laws = list(dict.fromkeys(b.law for b in result.brakes))
     fig, axes = plt.subplots(1, len(laws), figsize=(4.4 * len(laws), 3.6), squeeze=False)
     for ax, law in zip(axes[0], laws, strict=True):

@@ -88,6 +88,12 @@ class BrakeMode(StepwiseController):
     recording its path while braked. The margins are the project's (the
     thesis gives none, A14).
 
+    Attributes
+    ----------
+    mode : TetherController
+        The wrapped follower mode (not a front mode nor a BrakeMode); its desired
+        length l_d (m) is the threshold's base and it drives the robot when not braked.
+
     Examples
     --------
     >>> from designlab.following.tether import PseudoJoystick

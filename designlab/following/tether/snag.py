@@ -275,8 +275,9 @@ class SnagRun(Result):
     snagged
         The string wraps the vertex.
     tracked_xy
-        The recorded (estimated tip) path in m, (M, 2); ``tracked_s_leader`` the
-        leader distance when each point was recorded (M,).
+        The recorded (estimated tip) path in m, (M, 2).
+    tracked_s_leader : numpy.ndarray
+        Leader path distance s_L in m when each point of ``tracked_xy`` was recorded, (M,).
     beta_change
         |change of beta_path| at each recorded point (rad), (M,); 0 for the first two.
     detections

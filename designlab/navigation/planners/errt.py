@@ -89,7 +89,15 @@ def _grow(world: Snapshot, start: Array, goal: Array, s: ERRTSettings,
 
 
 def shortcut(world: Snapshot, path: Array) -> Array:
-    """Greedy shortcuts: from each vertex, jump to the farthest one in sight."""
+    """Greedy shortcuts: from each vertex, jump to the farthest one in sight.
+
+    Parameters
+    ----------
+    world
+        The obstacles now (:class:`Snapshot`), inflated by the robot radius.
+    path
+        The path's vertices in order, ``(n, 2)`` (m); the first and last are kept.
+    """
     out, i = [path[0]], 0
     while i < len(path) - 1:
         j = len(path) - 1
@@ -108,7 +116,24 @@ def plan(
     rng: np.random.Generator,
     cache: Array,
 ) -> tuple[Array, Array]:
-    """One ERRT plan from ``start`` to ``goal`` and the waypoint cache for the next one."""
+    """One ERRT plan from ``start`` to ``goal`` and the waypoint cache for the next one.
+
+    Parameters
+    ----------
+    world
+        The obstacles now (:class:`Snapshot`), inflated by the robot radius.
+    start
+        The robot's position, ``(2,)`` (m): the root of the tree.
+    goal
+        The goal position, ``(2,)`` (m).
+    settings
+        Step, node budget, goal and waypoint biases and sampling-box margin
+        (:class:`ERRTSettings`).
+    rng
+        The random generator of the samples (advanced in place, kept across plans).
+    cache
+        Waypoints of the previous plan, ``(k, 2)`` (m; ``(0, 2)``: none).
+    """
     if world.segment_free(start, goal):
         path = np.vstack([start, goal])
         return path, path

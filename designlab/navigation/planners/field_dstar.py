@@ -46,6 +46,17 @@ def compute_cost(c: float, b: float, g1: float, g2: float) -> float:
     cost ``g1``) and s2 (diagonal, ``g2``); ``c`` is the cost of the cell holding s, s1, s2
     and ``b`` of the cell across the edge s-s1 (Ferguson & Stentz 2006, Fig. 9; unit cells).
 
+    Parameters
+    ----------
+    c
+        Cost per unit length of the cell holding s, s1 and s2 (1: free; inf: blocked).
+    b
+        Cost per unit length of the cell across the edge s-s1 (inf: blocked or off the grid).
+    g1
+        Cost to the goal of s1, the edge-adjacent neighbour (cell sizes times cell cost).
+    g2
+        Cost to the goal of s2, the diagonal neighbour (cell sizes times cell cost).
+
     Examples
     --------
     >>> compute_cost(1.0, 1.0, 1.0, 0.0) == math.sqrt(2)
@@ -101,7 +112,19 @@ def node_costs(
 ) -> Array:
     """Cost to the goal node of every node of a grid with ``cell_cost`` ``(nx, ny)`` (per cell
     size; inf: blocked); ``(nx + 1, ny + 1)`` nodes. Stops once every node of ``stop`` is
-    settled (unsettled nodes keep inf)."""
+    settled (unsettled nodes keep inf).
+
+    Parameters
+    ----------
+    cell_cost
+        Cost per unit length (cell sizes) of crossing each cell, ``(nx, ny)`` (1: free;
+        inf: blocked).
+    goal
+        Index ``(i, j)`` of the goal node, ``0 <= i <= nx``, ``0 <= j <= ny``.
+    stop
+        Nodes ``(i, j)`` whose costs are wanted: expansion stops once all are settled
+        (empty: every reachable node is settled).
+    """
     g = np.full((cell_cost.shape[0] + 1, cell_cost.shape[1] + 1), math.inf)
     g[goal] = 0.0
     heap: list[tuple[float, tuple[int, int]]] = [(0.0, goal)]
@@ -127,7 +150,21 @@ def node_costs(
 
 
 class Grid:
-    """The grid of one plan: origin, cell size, cell costs and node costs to the goal."""
+    """The grid of one plan: origin, cell size, cell costs and node costs to the goal.
+
+    Parameters
+    ----------
+    world
+        The obstacles now (:class:`Snapshot`), inflated by the robot radius; a cell is
+        blocked if the clearance at its centre is at most ``h / sqrt(2)``.
+    robot
+        The robot's position, ``(2,)`` (m); expansion stops once its cell's four nodes
+        are settled.
+    goal
+        The goal position, ``(2,)`` (m), rounded to the nearest node.
+    s
+        Cell size h (m) and margin around the scene (m) (:class:`FieldDStarSettings`).
+    """
 
     def __init__(self, world: Snapshot, robot: Array, goal: Array, s: FieldDStarSettings) -> None:
         pts = np.vstack([robot, goal, *world.centres] + [r.corners() for r in world.rectangles])

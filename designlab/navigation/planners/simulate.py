@@ -87,6 +87,15 @@ class PlannerResult(Result):
         L_energy per ohm of the feed-forward wheel currents (:func:`wheel_energy`).
     t, position, velocity, obstacle_positions
         Trajectories at every 10 ms step (obstacles ``n_obs x len(t) x 2``).
+    status
+        ``"ok"`` (arrived) or ``"not_arrived"`` (:class:`PlannerStatus`; collisions are
+        warnings).
+    warnings
+        What a user should know about the run (collisions, no arrival within the horizon).
+    stabilising
+        Always ``"off"``: a planner has no stabilising force (as in a navigation result).
+    stability
+        Always ``None``: a planner has no Lyapunov audit.
     """
 
     scenario: Scenario
@@ -156,6 +165,16 @@ def wheel_energy(robot: Any, velocity: Array, dt: float = _STEP) -> float:
 
     The same model as the force-field simulations (constant heading, K_amp = 1 A/V):
     u_i = J/K w_i' + B/K w_i + tau/K sgn(w_i) with w_i = R_i . v / r_w, summed u_i^2 dt.
+
+    Parameters
+    ----------
+    robot
+        The robot (:class:`~designlab.navigation.HolonomicRobot` or
+        :class:`~designlab.navigation.NonholonomicRobot`); its wheel radius r_w (m) is used.
+    velocity
+        The robot's velocity at every step, ``(n, 2)`` (m/s).
+    dt
+        The time step between the velocities (s; default the 10 ms simulation step).
     """
     s3 = math.sqrt(3.0) / 2.0
     rows = np.array([(-s3, -0.5), (s3, -0.5), (0.0, 1.0)]) / robot.wheel_radius

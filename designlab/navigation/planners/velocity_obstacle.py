@@ -41,6 +41,19 @@ def time_to_collision(
     """Time (s) until each candidate velocity ``(m, 2)`` meets each disc ``(n,)`` (inf: never).
 
     0 if the robot is already within a disc. Exact for constant velocities.
+
+    Parameters
+    ----------
+    position
+        The robot's position, ``(2,)`` (m).
+    centres
+        The discs' centres, ``(n, 2)`` (m).
+    velocities
+        The discs' velocities, ``(n, 2)`` (m/s), held constant.
+    radii
+        The discs' radii inflated by the robot's, rho_o + rho_r, ``(n,)`` (m).
+    candidates
+        Candidate robot velocities, ``(m, 2)`` (m/s).
     """
     p = centres[None, :, :] - position[None, None, :]  # (1, n, 2)
     w = candidates[:, None, :] - velocities[None, :, :]  # (m, n, 2)
@@ -58,13 +71,37 @@ def in_velocity_obstacle(
     position: Array, centres: Array, velocities: Array, radii: Array, candidates: Array,
     horizon: float,
 ) -> Array:  # fmt: skip
-    """``(m,)`` True where a candidate velocity lies in some disc's VO truncated at ``horizon``."""
+    """``(m,)`` True where a candidate velocity lies in some disc's VO truncated at ``horizon``.
+
+    Parameters
+    ----------
+    position
+        The robot's position, ``(2,)`` (m).
+    centres
+        The discs' centres, ``(n, 2)`` (m).
+    velocities
+        The discs' velocities, ``(n, 2)`` (m/s), held constant.
+    radii
+        The discs' radii inflated by the robot's, rho_o + rho_r, ``(n,)`` (m).
+    candidates
+        Candidate robot velocities, ``(m, 2)`` (m/s).
+    horizon
+        Time horizon tau of the truncated velocity obstacle (s).
+    """
     ttc = time_to_collision(position, centres, velocities, radii, candidates)
     return np.asarray((ttc < horizon).any(axis=1)) if ttc.size else np.zeros(len(candidates), bool)
 
 
 def candidate_velocities(max_speed: float, settings: VOSettings) -> Array:
-    """Rest plus ``speeds - 1`` speeds up to V_mr in ``headings`` directions, ``(m, 2)``."""
+    """Rest plus ``speeds - 1`` speeds up to V_mr in ``headings`` directions, ``(m, 2)``.
+
+    Parameters
+    ----------
+    max_speed
+        The robot's speed limit V_mr (m/s): the largest candidate speed.
+    settings
+        The numbers of speeds and headings (:class:`VOSettings`).
+    """
     s = np.linspace(0.0, max_speed, settings.speeds)[1:]
     th = np.linspace(0.0, 2 * np.pi, settings.headings, endpoint=False)
     grid = (s[:, None, None] * np.stack([np.cos(th), np.sin(th)], axis=1)[None]).reshape(-1, 2)
@@ -93,7 +130,28 @@ def choose_velocity(
     period: float,
     settings: VOSettings,
 ) -> Array:
-    """The commanded velocity for the next period (Fiorini-Shiller, to-goal rule)."""
+    """The commanded velocity for the next period (Fiorini-Shiller, to-goal rule).
+
+    Parameters
+    ----------
+    world
+        The obstacles now (:class:`Snapshot`), inflated by the robot radius.
+    position
+        The robot's position, ``(2,)`` (m).
+    velocity
+        The robot's velocity, ``(2,)`` (m/s): the centre of the reachable velocities.
+    goal
+        The goal position, ``(2,)`` (m).
+    max_speed
+        The robot's speed limit V_mr (m/s).
+    max_accel
+        The robot's acceleration limit a_mr (m/s^2).
+    period
+        The navigation period T_s (s): candidates within ``max_accel * period`` of
+        ``velocity`` are reachable.
+    settings
+        Horizon tau and the numbers of candidate speeds and headings (:class:`VOSettings`).
+    """
     cand = candidate_velocities(max_speed, settings)
     reach = np.hypot(*(cand - velocity).T) <= max_accel * period + 1e-12
     cand = cand[reach] if reach.any() else cand

@@ -211,7 +211,15 @@ def _first_collision(r: Any) -> float:
 
 
 def run(study: NavigationPlannersStudy, context: RunContext) -> NavigationPlannersResult:
-    """Run every scenario (and its mirror image) with every planner and method."""
+    """Run every scenario (and its mirror image) with every planner and method.
+
+    Parameters
+    ----------
+    study
+        The validated study.
+    context
+        How to run it (its progress bar; these runs are never stored).
+    """
     scenarios = []
     for spec in study.scenarios:
         sc = spec.build()

@@ -165,7 +165,15 @@ class NavigationRegionsResult(Result):
 
 
 def run(study: NavigationRegionsStudy, context: RunContext) -> NavigationRegionsResult:
-    """Size the regions (in this process; nothing is stored)."""
+    """Size the regions (in this process; nothing is stored).
+
+    Parameters
+    ----------
+    study
+        The validated study.
+    context
+        How to run it (ignored: the sizing takes well under a second).
+    """
     return NavigationRegionsResult(study, study.plan())
 
 
