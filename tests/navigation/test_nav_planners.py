@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import math
 
@@ -207,3 +208,12 @@ methods: [%s]
         parse_study(text % "{label: C, method: cbf, settings: {horizon: 2}}")
     with pytest.raises(StudyError, match="do not apply"):
         parse_study(text % "{label: E, method: errt, settings: {horizon: 2}}")
+
+
+def test_a_nonholonomic_robot_is_simulated_as_holonomic_and_the_result_says_so() -> None:
+    free = nav.Scenario("free", (4.0, 0.0), (0.0, 0.0), horizon=8.0)
+    holo = simulate_planner(free, "vo")
+    assert not any("nonholonomic" in w for w in holo.warnings)
+    robot = nav.NonholonomicRobot()
+    car = simulate_planner(dataclasses.replace(free, robot=robot), "vo")
+    assert any("simulated as holonomic" in w for w in car.warnings)

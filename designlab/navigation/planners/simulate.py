@@ -31,6 +31,7 @@ from designlab.errors import InvalidParameterError
 from designlab.navigation.criteria import Criteria, criteria
 from designlab.navigation.dynamics import HOLONOMIC_FEEDFORWARD
 from designlab.navigation.methods import PLANNER
+from designlab.navigation.parameters import NonholonomicRobot
 from designlab.navigation.planners import errt, field_dstar
 from designlab.navigation.planners.parameters import ERRTSettings, FieldDStarSettings, VOSettings
 from designlab.navigation.planners.velocity_obstacle import choose_velocity
@@ -267,7 +268,16 @@ def simulate_planner(
                            for o in scenario.obstacles},
         nominal_clearance={o.name: o.r2 - o.collision_distance(rho) for o in scenario.obstacles},
     )  # fmt: skip
-    return replace(run, criteria=crit)
+    return replace(run, criteria=crit, warnings=run.warnings + _robot_warnings(scenario))
+
+
+def _robot_warnings(scenario: Scenario) -> tuple[str, ...]:
+    """Say so when the planners' holonomic point model stands in for the scenario's robot."""
+    if isinstance(scenario.robot, NonholonomicRobot):
+        return ("the planners move a holonomic robot (velocity commands in any direction); this "
+                "scenario's nonholonomic robot was simulated as holonomic with its speed and "
+                "acceleration limits (docs/navigation_planners.md)",)  # fmt: skip
+    return ()
 
 
 def _run(scenario: Scenario, name: str, settings: Any, command: Callable[..., Array], n: int,
