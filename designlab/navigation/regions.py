@@ -230,7 +230,7 @@ def region_sizes(
     turn_time
         Override t_turn (s) for a nonholonomic robot (the thesis uses 0.22 and 0.23 s
         where sqrt(pi/70) = 0.212 s).
-    active_radius : float or None
+    active_radius
         The r2 (m) the caller adopts; it does not change the result, but a value below
         the minimum r2 adds a warning (``None``: no check).
 
@@ -265,8 +265,7 @@ def region_sizes(
     ts = SAMPLE_TIME.check(sample_time)
     _check_kinds(obstacle, robot)
     v, a = robot.max_speed, robot.max_accel
-    dt1 = v / a
-    t_a = v / a
+    dt1 = t_a = v / a
     d_r1 = v * ts + 0.5 * a * dt1**2
     rect = isinstance(obstacle, RectangularObstacle)
     v_o = 0.0 if rect else float(obstacle.max_speed)

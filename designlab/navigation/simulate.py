@@ -318,10 +318,10 @@ def simulate(
     w = check_weights(weights)
     _check_flags(force_every_step=force_every_step, jit=jit)
     cbf = _check_cbf_gains(cbf_gains)
+    if noise is not None and not isinstance(noise, SensorNoise):
+        raise InvalidParameterError("noise", noise, "must be a SensorNoise or None")
     if not isinstance(scenario, Scenario):
-        raise InvalidParameterError(
-            "scenario", scenario, "must be a Scenario (see configuration())"
-        )
+        raise InvalidParameterError("scenario", scenario, "must be a Scenario (configuration())")
     row = strategy.gain_row(gains)
     kw: dict[str, Any] = dict(
         method=strategy.name,
@@ -333,8 +333,6 @@ def simulate(
         cbf_gains=cbf,
         jit=jit,
     )
-    if noise is not None and not isinstance(noise, SensorNoise):
-        raise InvalidParameterError("noise", noise, "must be a SensorNoise or None")
     raw = engine.run(scenario, row[None, :], record=True, noise=noise, **kw)
     nominal = engine.run(scenario.without_obstacles(), row[None, :], record=False, **kw)
     res = _summarise_run(scenario, strategy, row, stabilising, raw, nominal, w)

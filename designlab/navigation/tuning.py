@@ -571,47 +571,37 @@ def optimise_gains(
         ``{"k1": (low, high), ...}`` in N/m, s, N/m, N/m^2; missing gains use
         :data:`DEFAULT_BOUNDS` (the thesis's ranges with positive lower bounds).
     stabilising
-        ``"lyapunov"`` (the stabilising force on) or ``"off"`` (how the thesis's tables
-        come back; ``docs/navigation.md``).
+        ``"lyapunov"`` (the stabilising force on) or ``"off"`` (as the thesis's tables).
     seed
         Seed of CMA-ES (nothing else is random; the same seed gives the same result).
-    x0
-        Start of the search; default the centre of the box in log-space.
-    sigma0
-        Initial CMA-ES step in normalised log units (the box is [0, 1]^4), in (0, 0.5].
-    popsize
-        Candidates per CMA-ES generation (simulated as one batch), 4-256.
-    max_evaluations
-        Budget of gain sets for the global stage (>= popsize, <= 100 000).
+    x0, sigma0
+        Start of the search (default: the box centre in log-space); the initial CMA-ES
+        step in normalised log units (the box is [0, 1]^4), in (0, 0.5].
+    popsize, max_evaluations
+        Candidates per CMA-ES generation (one batch, 4-256); the global stage's budget of
+        gain sets (>= popsize, <= 100 000).
     refine, refine_evaluations
         Run the batched compass search from the best global point; its budget.
     robust, robust_mode
-        :class:`RandomWalks` to optimise over randomised human walks (or ``None``), and
-        ``"mean"`` or ``"worst"``: the score of a scenario over its walks.
+        :class:`RandomWalks` (randomised human walks) or ``None``; ``"mean"`` or ``"worst"``.
     arrival_tolerance
         Arrival radius (m).
     critical_margin
-        Clearance (m, 0-2) the robot must keep outside every critical region: a
-        candidate is feasible only if, in every run, the smallest centre/contour
-        distance to each obstacle is at least its r3 plus this margin.
+        Clearance (m, 0-2) kept outside every critical region: feasible only if, in every
+        run, each obstacle's smallest centre/contour distance is at least r3 + this.
     executor, chunks
-        Optional executor with ``map_unordered(fn, tasks)`` (e.g. from
-        ``designlab.analysis.executors.make_executor``) and the number of parallel batches
-        each population is split into.
+        Optional executor with ``map_unordered(fn, tasks)`` (``make_executor`` of
+        ``designlab.analysis.executors``); parallel batches each population is split into.
     jit
-        Simulate with the step compiled to four gain sets per pass (needs a C compiler;
-        see :func:`~designlab.navigation.simulate_batch`): the same optimum to the bit.
+        Compiled step, four gain sets per pass (:func:`simulate_batch`): the same optimum.
     callback
         Called with each history row (a dict) as the search goes.
     progress
-        A :data:`designlab.progress.ProgressHook` called after each generation and poll
-        with the gain sets evaluated and the best feasible H_mean so far.
+        A :data:`designlab.progress.ProgressHook`: gain sets evaluated, best feasible H_mean.
     method
-        Whose gains to optimise: ``"vff"`` (K1, b, K3, K5), ``"masoud"`` (K1, K3, K5; the
-        b column is not used, and the rotational sense is ``tie_side``) or ``"ge_cui"``
-        (K1, b, K3, K5 of (2.2.11)-(2.2.13)), so that the baselines of Table C.1 are
-        optimised like for like. ``gains`` is then a :class:`MasoudGains` or
-        :class:`GeCuiGains`.
+        ``"vff"`` (K1, b, K3, K5), ``"masoud"`` (K1, K3, K5; b unused; sense ``tie_side``)
+        or ``"ge_cui"`` ((2.2.11)-(2.2.13)): Table C.1's baselines optimised like for like
+        (``gains`` is then a :class:`MasoudGains` or :class:`GeCuiGains`).
     weights
         (w_T, w_D, w_E) of H (5.6.6); the thesis: 1/3 each.
     tie_side
@@ -620,9 +610,8 @@ def optimise_gains(
     Returns
     -------
     GainOptimum
-        ``status`` (:class:`OptimumStatus`) is ``"ok"`` when both stages converged,
-        ``"not_converged"`` when a budget ran out first, ``"infeasible"`` when no
-        candidate met the constraints (``gains`` is then ``None``).
+        ``status`` (:class:`OptimumStatus`): ``"ok"`` (both stages converged),
+        ``"not_converged"`` (a budget ran out), ``"infeasible"`` (``gains`` is ``None``).
 
     Raises
     ------
@@ -630,22 +619,19 @@ def optimise_gains(
         For bad scenarios, bounds, modes or budgets.
     """
     t_start = time.perf_counter()
-    search = _check_search(
-        scenarios, bounds, x0, seed, sigma0, popsize, max_evaluations, refine_evaluations
-    )
+    search = _check_search(scenarios, bounds, x0, seed, sigma0, popsize, max_evaluations,
+                           refine_evaluations)  # fmt: skip
     _check_options(executor, jit)
     stab, mode = _check_stabilising(stabilising), _check_mode(robust_mode)
     rob, cm = _check_robust(robust), _check_margin(critical_margin)
-    meth, w = _check_method(method), check_weights(weights)
-    TIE_SIDE.check(tie_side)
+    meth, w, _ = _check_method(method), check_weights(weights), TIE_SIDE.check(tie_side)
     ev = _Evaluator(search.scenarios, stab, rob, mode, arrival_tolerance, executor, int(chunks),
                     cm, bool(jit), method=meth, weights=w, tie_side=tie_side)  # fmt: skip
     total = search.max_evaluations + (search.refine_evaluations if refine else 0)
     inc = _Incumbent(search, ev, callback, progress, total)
     global_converged, stop, sigma = _cma_stage(search, ev, inc)
-    local_converged = True
-    if refine and inc.u is not None and search.refine_evaluations > 0:
-        local_converged = _compass_stage(search, ev, inc, sigma)
+    refined = refine and inc.u is not None and search.refine_evaluations > 0
+    local_converged = _compass_stage(search, ev, inc, sigma) if refined else True
     settings = dict(stabilising=stab, robust_mode=mode, walks=rob.n if rob is not None else 0,
                     seed=search.seed, critical_margin=cm, method=meth, weights=w)  # fmt: skip
     return _optimum(search, ev, inc, (global_converged, local_converged, refine), stop,
