@@ -40,17 +40,8 @@ NOT_RUN = re.compile(r"<!--\s*example:\s*not run\b.*?-->\s*$")
 
 # Blocks of pages this file's owners do not edit, kept out of the run with the reason; the
 # key is (page, a line of the block). Each one is a gap to close in its page.
-SKIPPED = {
-    ("docs/following.md", "tuned = fol.tune(fol.FollowTheLeader"): (
-        "tunes for minutes (200 s on 2 cores); tests/following run tune with small budgets"
-    ),
-}
-BROKEN = {
-    ("docs/impact_joint.md", "m = dl.impact.full_joint.matrix_metrics(rows_of_10_parameters"): (
-        "pseudo-code: rows_of_10_parameters and v_c are not defined, and dl.impact.full_joint "
-        "is not an attribute until designlab.impact.full_joint is imported"
-    ),
-}
+SKIPPED: dict[tuple[str, str], str] = {}
+BROKEN: dict[tuple[str, str], str] = {}
 
 
 @dataclass(frozen=True)
