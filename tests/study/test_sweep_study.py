@@ -274,6 +274,10 @@ def test_killed_sweep_resumes_with_only_the_missing_points(tmp_path, write_study
         ).read_bytes()
 
 
+def _default_sigint() -> None:
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def test_sigint_leaves_store_and_exit_code_130(tmp_path, write_study):
     study = write_study(SWEEP.replace("num: 6", "num: 200"), "intr.yaml")
     script = tmp_path / "slow_designlab.py"
@@ -281,8 +285,11 @@ def test_sigint_leaves_store_and_exit_code_130(tmp_path, write_study):
     cache = tmp_path / "cache"
     args = [sys.executable, str(script), "run", str(study), "-o", str(tmp_path / "r"),
             "--cache-dir", str(cache)]  # fmt: skip
+    # A shell without job control starts background jobs with SIGINT ignored, and a child
+    # inherits that; give the run the default disposition, as a terminal's Ctrl-C finds it.
     proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            env={**os.environ, "PYTHONUNBUFFERED": "1"})  # fmt: skip
+                            env={**os.environ, "PYTHONUNBUFFERED": "1"},
+                            preexec_fn=_default_sigint)  # fmt: skip
     deadline = time.monotonic() + 60
     while time.monotonic() < deadline and _stored_points(cache / "sweep_demo.sqlite") < 5:
         time.sleep(0.05)
