@@ -159,6 +159,13 @@ def method_of(name: Any) -> NavigationMethod:
     Parameters
     ----------
     name
-        ``"vff"``, ``"masoud"``, ``"ge_cui"`` or ``"cbf"``.
+        ``"vff"``, ``"masoud"``, ``"ge_cui"`` or ``"cbf"``. A Sec. 5.7 planner's name
+        (:data:`PLANNER`) is refused with where to run it instead.
     """
+    if isinstance(name, str) and name in PLANNER.choices:
+        raise InvalidParameterError(
+            "method", name, "a Sec. 5.7 planner is not a force-field method: run it with "
+            f"designlab.navigation.planners.simulate_planner(scenario, {name!r}) "
+            "(docs/navigation_planners.md)",
+        )  # fmt: skip
     return METHODS[METHOD.check(name)]

@@ -217,3 +217,9 @@ def test_a_nonholonomic_robot_is_simulated_as_holonomic_and_the_result_says_so()
     robot = nav.NonholonomicRobot()
     car = simulate_planner(dataclasses.replace(free, robot=robot), "vo")
     assert any("simulated as holonomic" in w for w in car.warnings)
+
+
+def test_simulate_with_a_planner_name_says_where_planners_run() -> None:
+    with pytest.raises(nav.InvalidParameterError if hasattr(nav, "InvalidParameterError")
+                       else ValueError, match="simulate_planner"):  # fmt: skip
+        nav.simulate(nav.configuration(1), nav.EXPERIMENT_GAINS, method="vo")
