@@ -9,6 +9,8 @@ module                     holds
 ``parameters``             :class:`MecanumPlatform`, :class:`StringPotSensor`,
                            :class:`UserFramePID` and the declared arguments
 ``user_frame``             the user-frame error transform, eqs. (1)-(8)
+``extras``                 Sec. 6: :class:`SensorMount`, :class:`TargetAdaptation`,
+                           :class:`MotionFilter`
 ``model``                  the control period in CasADi, eq. (10)
 ``tasks``                  the nine walking tasks and recorded walks
 ``simulate``               :func:`simulate` (``accompany``) and its result
@@ -27,6 +29,7 @@ True
 
 from __future__ import annotations
 
+from designlab.following.accompanying.extras import MotionFilter, SensorMount, TargetAdaptation
 from designlab.following.accompanying.linear import LoopAnalysis, LoopStatus, loop_analysis
 from designlab.following.accompanying.metrics import AccompanyMetrics, accompany_metrics
 from designlab.following.accompanying.model import mecanum_matrix
@@ -77,9 +80,12 @@ __all__ = [
     "LoopAnalysis",
     "LoopStatus",
     "MecanumPlatform",
+    "MotionFilter",
     "PIDTuningResult",
     "PIDTuningStatus",
+    "SensorMount",
     "StringPotSensor",
+    "TargetAdaptation",
     "UserFramePID",
     "WalkingTask",
     "accompany",

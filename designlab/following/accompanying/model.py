@@ -22,7 +22,7 @@ Examples
 --------
 >>> f = period_function(4, 1, "norm", False)
 >>> f.name(), f.size1_in(0), f.size1_out(1)
-('accompany_period', 16, 10)
+('accompany_period', 16, 11)
 >>> mecanum_matrix(0.05, 0.4) @ [0.1, 0.0, 0.0]      # pure lateral right
 array([ 2., -2., -2.,  2.])
 """
@@ -37,6 +37,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
+from designlab.following.accompanying.extras import (
+    adapted_target,
+    approach_speed,
+    centre_velocity,
+    filter_step,
+    sensor_point_velocity,
+)
 from designlab.following.accompanying.user_frame import (
     sx_robot_frame_error,
     sx_robot_in_user_frame,
@@ -53,9 +60,13 @@ __all__ = [
 ]
 
 #: Length of the parameter vector ``p`` of :func:`period_function`.
-N_PARAMETERS = 28
+N_PARAMETERS = 35
 #: Length of the output ``y`` of :func:`period_function`.
-N_OUTPUTS = 10
+N_OUTPUTS = 11
+#: The Sec. 6 options of :func:`period_function`, in the order of its ``extras`` flags.
+EXTRAS = ("mount", "adaptation", "motion_filter")
+#: Extra state entries of each option (previous distance and approach speed; filtered errors).
+_EXTRA_STATES = {"mount": 0, "adaptation": 2, "motion_filter": 3}
 
 
 def mecanum_matrix(wheel_radius: float, half_length_sum: float) -> NDArray[np.float64]:
@@ -134,20 +145,34 @@ def _median(values: list) -> ca.SX:
     return v[n // 2]
 
 
-def state_size(window: int) -> int:
+def state_size(window: int, extras: tuple[bool, bool, bool] = (False, False, False)) -> int:
     """Length of the state ``x`` of :func:`period_function` for a median window.
 
     Parameters
     ----------
     window
         Median-filter window in raw samples.
+    extras
+        Flags of the Sec. 6 options (:data:`EXTRAS`).
     """
-    return 16 + 3 * (window - 1)
+    extra = sum(_EXTRA_STATES[name] for name, on in zip(EXTRAS, extras, strict=True) if on)
+    return 16 + 3 * (window - 1) + extra
 
 
-def _sample(pose: list, user: Any, noise: Any, d_last: Any, p: Any, quantize: bool) -> tuple:
+def _sensor_pose(pose: list, p: Any) -> list:
+    """World pose of the sensor point (the origin of LCS_R) at body offset (p[28], p[29])."""
+    ax, ay, psi = p[28], p[29], pose[2]
+    return [
+        pose[0] + ax * ca.sin(psi) + ay * ca.cos(psi),
+        pose[1] - ax * ca.cos(psi) + ay * ca.sin(psi),
+        psi,
+    ]
+
+
+def _sample(pose: list, user: Any, noise: Any, d_last: Any, p: Any, flags: tuple) -> tuple:
     """One raw string-pot sample: (d used, theta_U, theta_R, valid flag)."""
-    xc, yc, gc = sx_robot_in_user_frame(user, pose)
+    quantize, mount = flags
+    xc, yc, gc = sx_robot_in_user_frame(user, _sensor_pose(pose, p) if mount else pose)
     d, tu, tr = sx_string_pot(xc, yc, gc)
     d = d + noise[0]
     tu = tu + noise[1]
@@ -204,16 +229,41 @@ def _wheel_limited(cmd: list, p: Any) -> list:
     return [sc_w * c for c in cmd]
 
 
-def _control(windows: list, state: dict[str, list], p: Any, modes: tuple[str, bool]) -> tuple:
-    """The control instant: filter, eq. (8) error, three PIDs, saturation, anti-windup."""
-    limit_mode, wheel_level = modes
+def _target(filt: list, state: dict[str, Any], p: Any, extras: tuple) -> tuple[list, Any]:
+    """The target (X_T, Y_T), adapted to the user's approach speed if asked (Sec. 6)."""
+    if not extras[1]:
+        return [p[18], p[19]], 0.0
+    d_prev, va_prev = state["adapt"]
+    vel = state["vel"]
+    v_s = sensor_point_velocity(vel[:2], vel[2], (p[28], p[29])) if extras[0] else vel[:2]
+    v_a = approach_speed((filt[0] - d_prev) / p[27], filt[2], v_s)
+    va_f = filter_step(va_prev, v_a, ca.exp(-p[27] / p[33]))
+    state["adapt"] = [filt[0], va_f]
+    tx, ty = adapted_target((p[18], p[19]), va_f, gain=p[31], max_change=p[32])
+    change = ca.sqrt(tx**2 + ty**2) - ca.sqrt(p[18] ** 2 + p[19] ** 2)
+    return [tx, ty], change
+
+
+def _control(windows: list, state: dict[str, Any], p: Any, modes: tuple) -> tuple:
+    """The control instant: filter, eq. (8) error, three PIDs, saturation, anti-windup.
+
+    With the Sec. 6 options: the adapted target, the motion filter on the
+    error and the sensor-offset compensation of the command (before saturation).
+    """
+    limit_mode, wheel_level, extras = modes
     filt = _filtered(windows)
-    err = list(sx_robot_frame_error(p[18], p[19], p[20], *filt))
+    target, change = _target(filt, state, p, extras)
+    err = list(sx_robot_frame_error(target[0], target[1], p[20], *filt))
+    seen = err
+    if extras[2]:
+        b = ca.exp(-p[27] / p[34])
+        seen = [filter_step(state["mfilt"][i], err[i], b) for i in range(3)]
+        state["mfilt"] = seen
     raw_u, cand, dnew = [], [], []
     for i in range(3):
         g = p[4 * i : 4 * i + 4]
         ui, ii, di = sx_pid_axis(
-            err[i],
+            seen[i],
             state["e_prev"][i],
             state["integ"][i],
             state["deriv"][i],
@@ -226,15 +276,19 @@ def _control(windows: list, state: dict[str, list], p: Any, modes: tuple[str, bo
         raw_u.append(ui)
         cand.append(ii)
         dnew.append(di)
-    cmd, sat = _saturated(raw_u, p, limit_mode)
+    wanted = raw_u
+    if extras[0]:
+        vc = centre_velocity(raw_u[:2], raw_u[2], (p[28], p[29]))
+        wanted = [raw_u[i] + p[30] * (vc[i] - raw_u[i]) for i in range(2)] + [raw_u[2]]
+    cmd, sat = _saturated(wanted, p, limit_mode)
     state["integ"] = [
-        ca.if_else(ca.logic_and(sat[i], err[i] * raw_u[i] > 0), state["integ"][i], cand[i])
+        ca.if_else(ca.logic_and(sat[i], seen[i] * raw_u[i] > 0), state["integ"][i], cand[i])
         for i in range(3)
     ]
-    state["deriv"], state["e_prev"] = dnew, err
+    state["deriv"], state["e_prev"] = dnew, seen
     if wheel_level:
         cmd = _wheel_limited(cmd, p)
-    return cmd, err, filt
+    return cmd, err, filt, change
 
 
 def _platform_step(pose: list, vel: list, cmd: list, p: Any, h: Any, limit_mode: str) -> tuple:
@@ -260,9 +314,26 @@ def _platform_step(pose: list, vel: list, cmd: list, p: Any, h: Any, limit_mode:
     return [pose[0] + h * vxw, pose[1] + h * vyw, pose[2] + h * avg[2]], new_vel
 
 
+def _extra_state(x: Any, start: int, extras: tuple) -> dict[str, list]:
+    """The Sec. 6 options' state entries from ``x[start:]`` (see :func:`period_function`)."""
+    out: dict[str, list] = {}
+    k = start
+    if extras[1]:
+        out["adapt"] = [x[k], x[k + 1]]
+        k += 2
+    if extras[2]:
+        out["mfilt"] = [x[k], x[k + 1], x[k + 2]]
+    return out
+
+
 @lru_cache(maxsize=32)
 def period_function(
-    substeps: int, window: int, limit_mode: str, wheel_level: bool, quantize: bool = False
+    substeps: int,
+    window: int,
+    limit_mode: str,
+    wheel_level: bool,
+    quantize: bool = False,
+    extras: tuple[bool, bool, bool] = (False, False, False),
 ) -> ca.Function:
     """The CasADi function of one control period: ``(x, user, noise, p) -> (x_next, y)``.
 
@@ -278,46 +349,62 @@ def period_function(
         Apply the eq. (10) wheel-speed limit to the command.
     quantize
         Round the encoder angles to the resolution in ``p``.
+    extras
+        Flags of the Sec. 6 options (:data:`EXTRAS`): sensor mount offset,
+        target-distance adaptation, motion filter
+        (:mod:`designlab.following.accompanying.extras`).
 
     Notes
     -----
-    State ``x`` (``16 + 3 (window - 1)``): robot world pose (3), body
-    velocity (3), PID integrators (3), derivative states (3), previous errors
-    (3), last valid distance (1), then the median buffers of d, theta_U,
-    theta_R. Raw samples between control instants feed only the median filter;
-    with ``window == 1`` only the sample at the control instant is taken (the
-    others would be discarded by the down-sampling), and only it is checked
-    against the range. Input ``user`` (3 substeps): user world pose at each raw instant;
-    ``noise`` (3 substeps): additive noise on (d, theta_U, theta_R); ``p``
-    (28): gains (K_p, K_i, K_d, T_f) x 3, tau, tau_yaw, v_max, a_max,
-    omega_max, alpha_max, target (X_T, Y_T, gamma_T), range (min, max), wheel
-    radius, L1 + L2, wheel-speed limit, angle resolution, T_s.
-    Output ``y`` (10): measured errors (3), saturated command (3), filtered
-    readings (3), number of flagged raw distance samples.
+    State ``x`` (:func:`state_size`): robot world pose (3, the rotation
+    centre), body velocity (3), PID integrators (3), derivative states (3),
+    previous errors (3), last valid distance (1), the median buffers of d,
+    theta_U, theta_R, then the adaptation's previous distance and approach
+    speed (2) and the motion filter's errors (3) when on. Raw samples between
+    control instants feed only the median filter; with ``window == 1`` only
+    the sample at the control instant is taken (the others would be discarded
+    by the down-sampling), and only it is checked against the range. Input
+    ``user`` (3 substeps): user world pose at each raw instant; ``noise``
+    (3 substeps): additive noise on (d, theta_U, theta_R); ``p`` (35): gains
+    (K_p, K_i, K_d, T_f) x 3, tau, tau_yaw, v_max, a_max, omega_max,
+    alpha_max, target (X_T, Y_T, gamma_T), range (min, max), wheel radius,
+    L1 + L2, wheel-speed limit, angle resolution, T_s, sensor offset (a_x,
+    a_y), compensate (0/1), k_a, Delta_max, T_a, T_m. Output ``y`` (11):
+    measured errors (3), saturated command (3), filtered readings (3), number
+    of flagged raw distance samples, change of the target distance.
     """
-    x = ca.SX.sym("x", state_size(window))
+    x = ca.SX.sym("x", state_size(window, extras))
     user = ca.SX.sym("user", 3 * substeps)
     noise = ca.SX.sym("noise", 3 * substeps)
     p = ca.SX.sym("p", N_PARAMETERS)
     h = p[27] / substeps
     pose, vel = [x[0], x[1], x[2]], [x[3], x[4], x[5]]
-    state = {"integ": [x[6], x[7], x[8]], "deriv": [x[9], x[10], x[11]]}
+    state: dict[str, Any] = {"integ": [x[6], x[7], x[8]], "deriv": [x[9], x[10], x[11]]}
     state["e_prev"] = [x[12], x[13], x[14]]
     d_last = x[15]
     w1 = window - 1
     bufs = [[x[16 + c * w1 + k] for k in range(w1)] for c in range(3)]
+    state.update(_extra_state(x, 16 + 3 * w1, extras))
     flags: Any = 0
     for j in range(substeps):
         windows: list = [[], [], []]
         if window > 1 or j == 0:
             d_used, tu, tr, valid = _sample(
-                pose, user[3 * j : 3 * j + 3], noise[3 * j : 3 * j + 3], d_last, p, quantize
+                pose,
+                user[3 * j : 3 * j + 3],
+                noise[3 * j : 3 * j + 3],
+                d_last,
+                p,
+                (quantize, extras[0]),
             )
             flags = flags + (1 - valid)
             d_last = d_used
             windows = [bufs[0] + [d_used], bufs[1] + [tu], bufs[2] + [tr]]
         if j == 0:
-            cmd, y_err, y_read = _control(windows, state, p, (limit_mode, wheel_level))
+            state["vel"] = vel
+            cmd, y_err, y_read, change = _control(
+                windows, state, p, (limit_mode, wheel_level, extras)
+            )
         if window > 1:
             bufs = [w[1:] for w in windows]
         pose, vel = _platform_step(pose, vel, cmd, p, h, limit_mode)
@@ -329,6 +416,8 @@ def period_function(
         *state["e_prev"],
         d_last,
         *[b for buf in bufs for b in buf],
+        *state.get("adapt", []),
+        *state.get("mfilt", []),
     )
-    y = ca.vertcat(*y_err, *cmd, *y_read, flags)
+    y = ca.vertcat(*y_err, *cmd, *y_read, flags, change)
     return ca.Function("accompany_period", [x, user, noise, p], [x_next, y])

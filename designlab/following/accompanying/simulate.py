@@ -31,6 +31,7 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
+from designlab.following.accompanying.extras import MotionFilter, SensorMount, TargetAdaptation
 from designlab.following.accompanying.metrics import AccompanyMetrics, accompany_metrics
 from designlab.following.accompanying.model import N_PARAMETERS, period_function
 from designlab.following.accompanying.parameters import (
@@ -69,18 +70,19 @@ class AccompanyStatus(Status):
 
 @lru_cache(maxsize=64)
 def _run_function(
-    substeps: int, window: int, limit_mode: str, wheel_level: bool, quantize: bool, n: int
+    substeps: int,
+    window: int,
+    modes: tuple[str, bool, bool],
+    extras: tuple[bool, bool, bool],
+    n: int,
 ) -> ca.Function:
-    f = period_function(substeps, window, limit_mode, wheel_level, quantize)
+    limit_mode, wheel_level, quantize = modes
+    f = period_function(substeps, window, limit_mode, wheel_level, quantize, extras)
     return f.mapaccum("accompany_run", n)
 
 
-def _param_vector(
-    controller: UserFramePID,
-    platform: MecanumPlatform,
-    sensor: StringPotSensor,
-    task: WalkingTask,
-) -> NDArray[np.float64]:
+def _param_vector(run: _Run) -> NDArray[np.float64]:
+    controller, platform, sensor, task = run.controller, run.platform, run.sensor, run.task
     p = np.zeros(N_PARAMETERS)
     p[:12] = controller.vector()
     p[12:18] = [
@@ -100,6 +102,13 @@ def _param_vector(
     ]
     p[26] = sensor.angle_resolution
     p[27] = sensor.period
+    if run.mount is not None:
+        p[28:31] = [*run.mount.offset, float(run.mount.compensate)]
+    if run.adaptation is not None:
+        a = run.adaptation
+        p[31:34] = [a.gain, a.max_change, a.time_constant]
+    if run.motion_filter is not None:
+        p[34] = run.motion_filter.time_constant
     return p
 
 
@@ -116,9 +125,11 @@ class AccompanyResult(Result):
     time
         Control instants in s, shape (n + 1,).
     user_pose, robot_pose
-        World (x, y, psi) of user and robot at the control instants, (3, n + 1).
+        World (x, y, psi) of user and robot (its rotation centre) at the control
+        instants, (3, n + 1).
     robot_in_user
-        (X_C, Y_C, gamma_C) of the robot in LCS_U (true, not measured), (3, n + 1).
+        (X_C, Y_C, gamma_C) of the sensor point (the origin of LCS_R) in LCS_U
+        (true, not measured), (3, n + 1); the metrics are of this point.
     measured_error
         (e_x, e_y, e_theta) the controller saw (eq. 8), (3, n).
     command
@@ -133,6 +144,14 @@ class AccompanyResult(Result):
         ``"ok"`` or ``"unstable"`` (:class:`AccompanyStatus`).
     warnings
         What a user should know about the run (flagged samples, saturation).
+    sensor_pose
+        World (x, y, psi) of the sensor point, (3, n + 1); ``robot_pose``
+        without a :class:`SensorMount` offset.
+    target_change
+        Change of the target distance by the :class:`TargetAdaptation`, m, (n,)
+        (zeros without it).
+    mount, adaptation, motion_filter
+        The Sec. 6 options used (``None``: off).
     """
 
     task: WalkingTask
@@ -150,6 +169,11 @@ class AccompanyResult(Result):
     metrics: AccompanyMetrics
     status: AccompanyStatus = AccompanyStatus.OK
     warnings: tuple[str, ...] = field(default=())
+    sensor_pose: NDArray[np.float64] | None = None
+    target_change: NDArray[np.float64] | None = None
+    mount: SensorMount | None = None
+    adaptation: TargetAdaptation | None = None
+    motion_filter: MotionFilter | None = None
 
     @property
     def rms_error(self) -> float:
@@ -221,6 +245,18 @@ class _Run:
     seed: int | None
     settle_band: float
     periods: int
+    mount: SensorMount | None = None
+    adaptation: TargetAdaptation | None = None
+    motion_filter: MotionFilter | None = None
+
+    @property
+    def extras(self) -> tuple[bool, bool, bool]:
+        """Flags of the Sec. 6 options for the period function."""
+        return (
+            self.mount is not None,
+            self.adaptation is not None,
+            self.motion_filter is not None,
+        )
 
 
 def _checked(task: Any, controller: Any, platform: Any, sensor: Any, **args: Any) -> _Run:
@@ -234,9 +270,13 @@ def _checked(task: Any, controller: Any, platform: Any, sensor: Any, **args: Any
         ("controller", controller, UserFramePID),
         ("platform", platform, MecanumPlatform),
         ("sensor", sensor, StringPotSensor),
+        ("mount", args["mount"], (SensorMount, type(None))),
+        ("adaptation", args["adaptation"], (TargetAdaptation, type(None))),
+        ("motion_filter", args["motion_filter"], (MotionFilter, type(None))),
     ):
         if not isinstance(obj, cls):
-            raise InvalidParameterError(name, type(obj).__name__, f"must be a {cls.__name__}")
+            want = cls.__name__ if isinstance(cls, type) else f"{cls[0].__name__} or None"
+            raise InvalidParameterError(name, type(obj).__name__, f"must be a {want}")
     off = args["initial_offset"]
     if isinstance(off, (str, bytes)) or np.shape(off) != (2,):
         raise InvalidParameterError("initial_offset", off, "two numbers (X, Y) in m", "m")
@@ -257,6 +297,9 @@ def _checked(task: Any, controller: Any, platform: Any, sensor: Any, **args: Any
         SEED.check(args["seed"]),
         SETTLE_BAND.check(args["settle_band"]),
         n,
+        args["mount"],
+        args["adaptation"],
+        args["motion_filter"],
     )
 
 
@@ -280,8 +323,25 @@ def _inputs(run: _Run) -> tuple[NDArray, NDArray, NDArray]:
     return t_ctrl, user_in, noise
 
 
+def _sensor_to_centre(sensor: NDArray, offset: tuple[float, float]) -> NDArray:
+    """World pose of the rotation centre from that of the sensor point at ``offset``."""
+    ax, ay = offset
+    psi = sensor[2]
+    return np.array(
+        [
+            sensor[0] - ax * np.sin(psi) - ay * np.cos(psi),
+            sensor[1] + ax * np.cos(psi) - ay * np.sin(psi),
+            psi,
+        ]
+    )
+
+
 def _initial_state(run: _Run) -> NDArray[np.float64]:
-    """On target (plus the offset), at rest, the filters full of the first reading."""
+    """On target (plus the offset), at rest, the filters full of the first reading.
+
+    The sensor point is placed on the target; the Sec. 6 options start from
+    the first reading (approach speed zero, motion filter at the first error).
+    """
     task = run.task
     u0 = task.pose(0.0)
     tx, ty = task.target_position
@@ -297,7 +357,12 @@ def _initial_state(run: _Run) -> NDArray[np.float64]:
     p_c, g_c = robot_in_user_frame(u0, r0)
     d0, tu0, tr0 = string_pot_readings(p_c, g_c)
     e0 = robot_frame_error(task.target_position, task.target_heading, d0, tu0, tr0)
+    if run.mount is not None:
+        r0 = _sensor_to_centre(r0, run.mount.offset)
     w1 = run.sensor.median_window - 1
+    extra = [[d0, 0.0]] if run.adaptation is not None else []
+    if run.motion_filter is not None:
+        extra.append(list(e0))
     return np.concatenate(
         [
             r0,
@@ -308,6 +373,7 @@ def _initial_state(run: _Run) -> NDArray[np.float64]:
             np.full(w1, d0),
             np.full(w1, tu0),
             np.full(w1, tr0),
+            *extra,
         ]
     )
 
@@ -352,6 +418,9 @@ def simulate(
     initial_offset: tuple[float, float] = (0.0, 0.0),
     seed: int | None = 0,
     settle_band: float = 0.02,
+    mount: SensorMount | None = None,
+    adaptation: TargetAdaptation | None = None,
+    motion_filter: MotionFilter | None = None,
 ) -> AccompanyResult:
     """Simulate the accompanying robot keeping its pose in the user's frame during ``task``.
 
@@ -374,6 +443,13 @@ def simulate(
         Seed of the sensor noise (used only if the sensor is noisy).
     settle_band
         Error band of the settling time, m (:data:`SETTLE_BAND`).
+    mount
+        The sensor's offset from the rotation centre, with or without
+        compensation (:class:`SensorMount`; ``None``: at the centre).
+    adaptation
+        Target-distance adaptation of Sec. 6 (:class:`TargetAdaptation`; ``None``: off).
+    motion_filter
+        Low-pass on the error of Sec. 6 (:class:`MotionFilter`; ``None``: off).
 
     Returns
     -------
@@ -386,6 +462,10 @@ def simulate(
     >>> r = simulate(walking_task("right_lateral"), UserFramePID(kp=3.0, ki=1.0, kd=0.1))
     >>> r.metrics.mean_x < r.task.target_position[0]    # lags to the user's left
     True
+    >>> from designlab.following.accompanying import TargetAdaptation
+    >>> a = simulate(walking_task("forward"), adaptation=TargetAdaptation(gain=0.3))
+    >>> float(a.target_change.max()) > 0.0                  # the user approaches: longer
+    True
     """
     run = _checked(
         task,
@@ -395,30 +475,38 @@ def simulate(
         initial_offset=initial_offset,
         seed=seed,
         settle_band=settle_band,
+        mount=mount,
+        adaptation=adaptation,
+        motion_filter=motion_filter,
     )
     t_ctrl, user_in, noise = _inputs(run)
     s, p = run.sensor, run.platform
     chain = _run_function(
         s.oversampling,
         s.median_window,
-        p.limit_mode,
-        p.max_wheel_speed is not None,
-        s.angle_resolution > 0,
+        (p.limit_mode, p.max_wheel_speed is not None, s.angle_resolution > 0),
+        run.extras,
         run.periods,
     )
     x0 = _initial_state(run)
-    xs, ys = chain(x0, user_in, noise, _param_vector(run.controller, p, s, run.task))
-    xs, ys = xs.full(), ys.full()
-    robot = np.hstack([x0[:3, None], xs[:3]])
+    xs, ys = chain(x0, user_in, noise, _param_vector(run))
+    return _result(run, t_ctrl, np.hstack([x0[:3, None], xs.full()[:3]]), ys.full())
+
+
+def _result(run: _Run, t_ctrl: NDArray, robot: NDArray, ys: NDArray) -> AccompanyResult:
+    """Summarise a run: poses in the user's frame, metrics, status and warnings."""
     user = run.task.pose(t_ctrl)
-    pc, gc = robot_in_user_frame(user, robot)
+    sensor_pose = robot
+    if run.mount is not None:
+        sensor_pose = np.vstack([*_sensor_pose_np(robot, run.mount.offset), robot[2]])
+    pc, gc = robot_in_user_frame(user, sensor_pose)
     rin = np.vstack([pc, gc])
     status, warnings = _warnings(run, rin, robot, ys[9], ys[3:6])
     t = run.task
     metrics = accompany_metrics(
         t_ctrl,
         user,
-        robot,
+        sensor_pose,
         t.target_position,
         t.target_heading,
         t.walk_start,
@@ -428,8 +516,8 @@ def simulate(
     return AccompanyResult(
         task=t,
         controller=run.controller,
-        platform=p,
-        sensor=s,
+        platform=run.platform,
+        sensor=run.sensor,
         time=t_ctrl,
         user_pose=user,
         robot_pose=robot,
@@ -441,7 +529,22 @@ def simulate(
         metrics=metrics,
         status=status,
         warnings=warnings,
+        sensor_pose=sensor_pose,
+        target_change=ys[10],
+        mount=run.mount,
+        adaptation=run.adaptation,
+        motion_filter=run.motion_filter,
     )
+
+
+def _sensor_pose_np(robot: NDArray, offset: tuple[float, float]) -> list[NDArray]:
+    """World (x, y) of the sensor point for rotation-centre poses (3, n)."""
+    ax, ay = offset
+    psi = robot[2]
+    return [
+        robot[0] + ax * np.sin(psi) + ay * np.cos(psi),
+        robot[1] - ax * np.cos(psi) + ay * np.sin(psi),
+    ]
 
 
 #: :func:`simulate` under its name in the package's API (``designlab.following.accompany``).
