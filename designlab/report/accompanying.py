@@ -46,6 +46,7 @@ from designlab.following.accompanying import (
     simulate,
 )
 from designlab.report import register_writer
+from designlab.report.accompanying_extras import extras_frame, extras_section
 from designlab.report.builder import copy_study, figure_section, report_header, warnings_section
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.kinds.accompanying import AccompanyingResult
@@ -704,6 +705,7 @@ def _markdown(
     command: str | None,
     version: str | None,
     sensitivity: pd.DataFrame | None = None,
+    extras: pd.DataFrame | None = None,
 ) -> str:
     out = _header(result, command, version) + _controllers_section(result)
     if sensitivity is not None and len(sensitivity):
@@ -716,6 +718,8 @@ def _markdown(
             "",
         ]
     out += _tables_section(result)
+    if extras is not None:
+        out += extras_section(result, extras)
     out += warnings_section(result.warnings, none="None.")
     out += figure_section([(f, f) for f in figures], spaced=False)
     return "\n".join(out)
@@ -770,9 +774,13 @@ def write_accompanying_report(
     sensitivity = baseline_sensitivity(result) if len(result.runs) > 1 else None
     if sensitivity is not None:
         written.append(write_csv(sensitivity, directory / "baseline_sensitivity.csv"))
+    extras = extras_frame(result) if result.extras else None
+    if extras is not None:
+        written.append(write_csv(extras, directory / "extras.csv"))
     written.append(
         write_markdown(
-            _markdown(result, figures, command, version, sensitivity), directory / "summary.md"
+            _markdown(result, figures, command, version, sensitivity, extras),
+            directory / "summary.md",
         )
     )
     written += copy_study(directory, study_text)

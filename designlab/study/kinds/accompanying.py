@@ -28,7 +28,7 @@ Examples
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, ClassVar, Literal
 
 import pandas as pd
@@ -40,8 +40,11 @@ from designlab.following.accompanying import (
     AccompanyResult,
     LoopAnalysis,
     MecanumPlatform,
+    MotionFilter,
     PIDTuningResult,
+    SensorMount,
     StringPotSensor,
+    TargetAdaptation,
     UserFramePID,
     loop_analysis,
     simulate,
@@ -158,6 +161,54 @@ PlatformSpec = _buildable_spec(MecanumPlatform, "PlatformSpec")
 SensorSpec = _buildable_spec(StringPotSensor, "SensorSpec")
 #: PID gains (:class:`designlab.following.UserFramePID`); heading gains default to the linear.
 PIDSpec = _buildable_spec(UserFramePID, "PIDSpec")
+#: The sensor's offset from the rotation centre (:class:`SensorMount`); both
+#: settings of ``compensate`` are run, so it is not a field here.
+MountSpec = create_model(
+    "MountSpec",
+    __base__=(
+        spec_model(SensorMount, name="MountSpecFields", exclude=("compensate",)),
+        _Buildable,
+    ),
+)
+#: Target-distance adaptation (:class:`TargetAdaptation`).
+AdaptationSpec = _buildable_spec(TargetAdaptation, "AdaptationSpec")
+#: Motion filter (:class:`MotionFilter`).
+MotionFilterSpec = _buildable_spec(MotionFilter, "MotionFilterSpec")
+
+#: The runs of the Sec. 6 section, in report order.
+EXTRA_OPTIONS = ("none", "mount", "mount_compensated", "adaptation", "motion_filter")
+
+
+class _ExtrasFields(Model):
+    tasks: list[TaskName] = Field(  # type: ignore[valid-type]
+        default_factory=lambda: ["forward", "backward", "left_pivot", "circle_cw"], min_length=1
+    )
+    mount: MountSpec = Field(default_factory=lambda: MountSpec(offset_y=0.25))  # type: ignore[valid-type]
+    adaptation: AdaptationSpec = Field(default_factory=AdaptationSpec)  # type: ignore[valid-type]
+    motion_filter: MotionFilterSpec = Field(default_factory=MotionFilterSpec)  # type: ignore[valid-type]
+
+    def options(self) -> dict[str, dict[str, Any]]:
+        """Option label -> keyword arguments of :func:`simulate` (:data:`EXTRA_OPTIONS`)."""
+        mount = self.mount.build()
+        return {
+            "none": {},
+            "mount": {"mount": mount},
+            "mount_compensated": {
+                "mount": SensorMount(mount.offset_x, mount.offset_y, compensate=True)
+            },
+            "adaptation": {"adaptation": self.adaptation.build()},
+            "motion_filter": {"motion_filter": self.motion_filter.build()},
+        }
+
+
+#: The Sec. 6 options (Wu et al. 2021): each task with the default PID and each option
+#: alone, the user's pelvis sway as given here (the motion filter acts on it).
+ExtrasSpec = _of_params(
+    "ExtrasSpec",
+    "The Sec. 6 options run one by one with the default PID, with their own pelvis sway.",
+    {"sway_lateral": SWAY_LATERAL, "sway_yaw": SWAY_YAW},
+    _ExtrasFields,
+)
 
 
 class _TuningFields(Model):
@@ -191,6 +242,9 @@ class AccompanyingStudy(StudyBase):
     sensor: SensorSpec = Field(default_factory=SensorSpec)  # type: ignore[valid-type]
     controller: PIDSpec = Field(default_factory=PIDSpec)  # type: ignore[valid-type]
     tuning: TuningSpec | None = Field(default_factory=TuningSpec)  # type: ignore[valid-type]
+    extras: ExtrasSpec | None = Field(  # type: ignore[valid-type]
+        None, description="the Sec. 6 options (sensor offset, target adaptation, motion filter)"
+    )
     seed: SEED.annotation(optional=False) = 0  # type: ignore[valid-type]
 
     PRODUCES: ClassVar[tuple[str, ...]] = (
@@ -199,6 +253,7 @@ class AccompanyingStudy(StudyBase):
         "table1.csv",
         "table2.csv",
         "tuning.csv",
+        "extras.csv",
         "margins.csv",
         "baseline_sensitivity.csv",
         "trajectories_*.png",
@@ -225,6 +280,7 @@ class AccompanyingStudy(StudyBase):
         if len(set(self.tasks)) != len(self.tasks):
             raise ValueError("a task is listed twice")
         names = set(self.tasks) | set(self.tuning.tune_on if self.tuning is not None else ())
+        names |= set(self.extras.tasks if self.extras is not None else ())
         for name in sorted(names):
             try:
                 self.build_task(name)
@@ -242,6 +298,23 @@ class AccompanyingStudy(StudyBase):
         """
         return self.walking.build(name)
 
+    def build_extras_task(self, name: str) -> Any:
+        """The :class:`WalkingTask` of a Sec. 6 run: the walking settings, the extras' sway.
+
+        Parameters
+        ----------
+        name
+            The task.
+        """
+        w, e = self.walking, self.extras
+        return walking_task(
+            name,
+            speed=w.speed,
+            radius=w.radius,
+            sway=(e.sway_lateral, e.sway_yaw),
+            settle_time=w.settle_time,
+        )
+
 
 @dataclass(frozen=True, eq=False)
 class AccompanyingResult(Result):
@@ -258,12 +331,16 @@ class AccompanyingResult(Result):
         Label -> :class:`PIDTuningResult`.
     loops
         Label -> :class:`LoopAnalysis`.
+    extras
+        Option (:data:`EXTRA_OPTIONS`) -> task -> :class:`AccompanyResult`
+        (empty without the study's ``extras``).
     """
 
     study: AccompanyingStudy
     runs: dict[str, dict[str, AccompanyResult]]
     tunings: dict[str, PIDTuningResult]
     loops: dict[str, LoopAnalysis]
+    extras: dict[str, dict[str, AccompanyResult]] = field(default_factory=dict)
 
     @property
     def status(self) -> str:
@@ -291,6 +368,9 @@ class AccompanyingResult(Result):
             out.extend(f"tuning {label}: {w}" for w in t.warnings)
         for label, la in self.loops.items():
             out.extend(f"loop {label}: {w}" for w in la.warnings)
+        for label, runs in self.extras.items():
+            for task, r in runs.items():
+                out.extend(f"Sec. 6 {label} / {task}: {w}" for w in r.warnings)
         return tuple(out)
 
     def to_frame(self) -> pd.DataFrame:
@@ -392,7 +472,32 @@ def run(study: AccompanyingStudy, context: RunContext) -> AccompanyingResult:
                 step = sum(len(r) for r in runs.values())
                 hook(Progress(step, total, label="run", note=f"{label} {name}"))
     loops = {label: loop_analysis(c, platform, sensor) for label, c in controllers.items()}
-    return AccompanyingResult(study, runs, tunings, loops)
+    extras = _extras(study, controllers["default"], context)
+    return AccompanyingResult(study, runs, tunings, loops, extras)
+
+
+def _extras(
+    study: AccompanyingStudy, controller: UserFramePID, context: RunContext
+) -> dict[str, dict[str, AccompanyResult]]:
+    """Each Sec. 6 option alone on the extras' tasks, with the default PID."""
+    if study.extras is None:
+        return {}
+    common = {
+        "platform": study.platform.build(),
+        "sensor": study.sensor.build(),
+        "seed": study.seed,
+    }
+    tasks = {name: study.build_extras_task(name) for name in study.extras.tasks}
+    options = study.extras.options()
+    out: dict[str, dict[str, AccompanyResult]] = {label: {} for label in options}
+    total = len(tasks) * len(options)
+    with context.bar(f"{study.kind}: Sec. 6 options", total) as hook:
+        for label, kwargs in options.items():
+            for name, task in tasks.items():
+                out[label][name] = simulate(task, controller, **common, **kwargs)
+                step = sum(len(r) for r in out.values())
+                hook(Progress(step, total, label="run", note=f"{label} {name}"))
+    return out
 
 
 KIND = StudyKind(
