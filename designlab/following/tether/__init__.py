@@ -25,6 +25,7 @@ module                     holds
 ``side``, ``front``        Ch. 4 side and front modes (``docs/tether_modes.md``)
 ``brake``                  Brake mode and its selector (Sec. 4.4)
 ``stepwise``               the loop of the modes with memory
+``odometry``               dead reckoning with wheel slip, the marker-to-tip offset
 ``snag``                   tether snagging on a corridor corner (Sec. 4.5)
 ``wrap``                   a tether wrapping obstacle corners, with its history
 ``stability``              the convergence map of Figs. 2.9-2.10
@@ -60,6 +61,12 @@ from designlab.following.tether.linear import (
     linear_analysis,
 )
 from designlab.following.tether.metrics import FollowerMetrics, follower_metrics
+from designlab.following.tether.odometry import (
+    ErrorRun,
+    MarkerOffset,
+    WheelSlip,
+    simulate_with_errors,
+)
 from designlab.following.tether.parameters import OXYDOG, FollowerRobot
 from designlab.following.tether.path_deviation import (
     DeviationStatus,
@@ -96,6 +103,7 @@ __all__ = [
     "BrakeMode",
     "CostWeights",
     "DeviationStatus",
+    "ErrorRun",
     "FollowTheLeader",
     "FollowTheLeaderConstDistance",
     "FollowerBatch",
@@ -108,6 +116,7 @@ __all__ = [
     "LeaderPath",
     "LinearLoop",
     "LinearLoopStatus",
+    "MarkerOffset",
     "PathDeviation",
     "PseudoJoystick",
     "SideJoystick",
@@ -115,6 +124,7 @@ __all__ = [
     "TetherController",
     "TuningResult",
     "TuningStatus",
+    "WheelSlip",
     "allan_tables",
     "brake_timeline",
     "circle",
@@ -133,6 +143,7 @@ __all__ = [
     "normal_path_deviations",
     "simulate",
     "simulate_batch",
+    "simulate_with_errors",
     "slalom",
     "square_s",
     "straight_line",
