@@ -43,6 +43,7 @@ from designlab.following.tether import allan_tables, measured_ratio, normal_path
 from designlab.following.tether.reference import TABLES
 from designlab.report import register_writer
 from designlab.report.builder import copy_study, figure_section, report_header, warnings_section
+from designlab.report.tether_errors import error_section
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.kinds.tether_comparison import STEP_OFFSET, TetherComparisonResult
 from designlab.study.kinds.tether_tuning import TetherTuningResult
@@ -148,7 +149,9 @@ def ranking_column(frame: pd.DataFrame, metric: str = "npd_mean_m") -> pd.Series
 
 def _pairwise_claim(table: pd.DataFrame, law: str, reference: str) -> str:
     """How often ``law`` deviates less than ``reference``, with the factor and the exceptions."""
-    ratio = table[reference] / table[law]
+    ratio = (table[reference] / table[law]).dropna()
+    if not len(ratio):
+        return f"{law} and {reference} share no (path, l_d) case with a deviation."
     n, better = len(ratio), int((ratio > 1).sum())
     how = f"in all {n}" if better == n else f"in {better} of {n}"
     text = (
@@ -234,6 +237,13 @@ def ranking_claims(
     return out
 
 
+def _relative_change(value: float, reference: float) -> float:
+    """``value / reference - 1``; 0 when both are 0 (a run on the path), inf above a 0."""
+    if reference > 0:
+        return value / reference - 1.0
+    return 0.0 if value == 0 else math.inf
+
+
 def heuristic_frame(result: TetherComparisonResult, ratio: float = 3.0) -> pd.DataFrame:
     """Mean NPD of every case by App. A and with the opt-in ``far_hit_fallback_ratio``.
 
@@ -260,7 +270,7 @@ def heuristic_frame(result: TetherComparisonResult, ratio: float = 3.0) -> pd.Da
                 "desired_length_m": c.run.controller.desired_length,
                 "npd_mean_m": npd.mean,
                 "npd_mean_heuristic_m": alt.mean,
-                "change": alt.mean / npd.mean - 1.0,
+                "change": _relative_change(alt.mean, npd.mean),
             }
         )
     return pd.DataFrame(rows)
@@ -416,6 +426,7 @@ def comparison_markdown(
             + " Per run: `npd_heuristic.csv`.",
             "",
         ]
+    lines += error_section(result.errors, study)
     if result.linear is not None and len(result.linear):
         lines += _linear_section(result.linear, study.speed)
     lines += ["## Other figures (Allan 2015 Sec. 2.5.1)", "", _OTHER_TEXT, ""]
@@ -557,6 +568,8 @@ def write_comparison_report(
         figures[path] = names
     heuristic = heuristic_frame(result)
     written.append(write_csv(heuristic, directory / "npd_heuristic.csv"))
+    if result.errors is not None:
+        written.append(write_csv(result.errors, directory / "error_sources.csv"))
     text = comparison_markdown(
         result, figures=figures, command=command, version=version, heuristic=heuristic
     )

@@ -49,18 +49,52 @@ from designlab.following.tether import (
     simulate,
 )
 from designlab.following.tether import linear as tether_linear
-from designlab.following.tether.parameters import DURATION, LEADER_SPEED, SETTLE_TIME
+from designlab.following.tether.odometry import MarkerOffset, WheelSlip, simulate_with_errors
+from designlab.following.tether.parameters import DURATION, LEADER_SPEED, SEED, SETTLE_TIME
 from designlab.params import params_of
 from designlab.progress import Progress
 from designlab.results import OK, Result
-from designlab.study.base import StudyBase
+from designlab.study.base import Model, StudyBase
 from designlab.study.kinds.tether_specs import ControllerSpec, FollowerRobotSpec, PathSpec, built
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
+from designlab.study.specs import spec_model
 
 __all__ = ["KIND", "FollowerCase", "TetherComparisonResult", "TetherComparisonStudy", "run"]
 
 _DESIRED_LENGTH = params_of(PseudoJoystick)["desired_length"]
+
+
+#: Wheel slip of the error-source runs (:class:`WheelSlip`).
+SlipSpec = spec_model(WheelSlip, name="SlipSpec")
+#: Tether-tip offset from the measured marker (:class:`MarkerOffset`).
+MarkerSpec = spec_model(MarkerOffset, name="MarkerSpec")
+#: The error-source variants, in report order.
+ERROR_VARIANTS = ("none", "slip", "marker", "both")
+
+
+class ErrorSourcesSpec(Model):
+    """The error sources of Allan 2015 Sec. 3.4 (wheel slip, the marker offset), per law."""
+
+    paths: list[str] | None = Field(
+        None, min_length=1, description="names of the study's paths to run (default: all)"
+    )
+    desired_length: _DESIRED_LENGTH.annotation() = 1.0  # type: ignore[valid-type]
+    slip: SlipSpec = Field(  # type: ignore[valid-type]
+        default_factory=lambda: SlipSpec(left_slip=0.02, noise_std=0.02)
+    )
+    marker: MarkerSpec = Field(default_factory=lambda: MarkerSpec(left=0.15))  # type: ignore[valid-type]
+    seed: SEED.annotation(optional=False) = 0  # type: ignore[valid-type]
+
+    def variants(self) -> dict[str, dict[str, Any]]:
+        """Variant (:data:`ERROR_VARIANTS`) -> keyword arguments of ``simulate_with_errors``."""
+        slip, marker = self.slip.build(), self.marker.build()
+        return {
+            "none": {},
+            "slip": {"slip": slip},
+            "marker": {"marker": marker},
+            "both": {"slip": slip, "marker": marker},
+        }
 
 
 def _default_controllers() -> list[Any]:
@@ -86,19 +120,23 @@ class TetherComparisonStudy(StudyBase):
         max_length=50,
         description="l_d values (m) applied to every law; default: each law's own",
     )
+    error_sources: ErrorSourcesSpec | None = Field(
+        None, description="wheel slip and the marker offset (Sec. 3.4), per law and path"
+    )
 
     PRODUCES: ClassVar[tuple[str, ...]] = (
         "summary.md",
         "metrics.csv",
         "linear.csv",
         "npd_heuristic.csv",
+        "error_sources.csv",
         "allan_tables.csv",
         "trajectories_*.png",
         "npd_profiles_*.png",
         "study.yaml",
     )
     #: s: CPU time of studies/tether_comparison.yaml run serially (fresh store), measured.
-    TYPICAL_DURATION: ClassVar[float] = 19
+    TYPICAL_DURATION: ClassVar[float] = 31
 
     def size(self) -> str:
         """The number of simulated runs."""
@@ -125,6 +163,16 @@ class TetherComparisonStudy(StudyBase):
         if len(set(names)) != len(names):
             raise ValueError(f"path names must be unique (give `name:`), got {names}")
         robot = built(self.robot)
+        e = self.error_sources
+        if e is not None:
+            unknown = sorted(set(e.paths or ()) - set(names))
+            if unknown:
+                raise ValueError(f"error_sources.paths: {unknown} are not paths of the study")
+            if e.desired_length <= 0.5 * robot.body_length:
+                raise ValueError(
+                    f"error_sources.desired_length = {self.error_sources.desired_length:g} m "
+                    f"must exceed half the robot length ({0.5 * robot.body_length:g} m)"
+                )
         for path, title, ctrl in self.cases():
             if ctrl.desired_length <= 0.5 * robot.body_length:
                 raise ValueError(
@@ -186,11 +234,15 @@ class TetherComparisonResult(Result):
         One case per (path, l_d, law).
     linear
         Linearised loop next to the simulated step, per law and l_d (if asked for).
+    errors
+        Mean NPD per path, law and error-source variant (:func:`error_sources_table`),
+        or None.
     """
 
     study: TetherComparisonStudy
     cases: tuple[FollowerCase, ...]
     linear: pd.DataFrame | None = None
+    errors: pd.DataFrame | None = None
 
     @property
     def status(self) -> str:  # type: ignore[override]
@@ -230,7 +282,60 @@ def run(study: TetherComparisonStudy, context: RunContext) -> TetherComparisonRe
             r = simulate(ctrl, path, speed=study.speed, robot=robot, settle_time=study.settle_time)
             cases.append(FollowerCase(path.name, title, r, follower_metrics(r)))
             hook(Progress(i + 1, len(jobs), label="run", note=f"{path.name} {title}"))
-    return TetherComparisonResult(study, tuple(cases), linear_table(study, robot))
+    errors = error_sources_table(study, robot, context)
+    return TetherComparisonResult(study, tuple(cases), linear_table(study, robot), errors)
+
+
+def error_sources_table(
+    study: TetherComparisonStudy, robot: Any, context: RunContext
+) -> pd.DataFrame | None:
+    """Each law on each chosen path with no error, slip, the marker offset and both.
+
+    One row per (path, law, variant): mean and maximum NPD (App. A, against the
+    marker's path) in m and in wheel tracks, and the final odometry drift.
+
+    Parameters
+    ----------
+    study
+        The comparison study (its ``error_sources``; None: no table).
+    robot
+        The robot.
+    context
+        How to run it (its progress bar).
+    """
+    e = study.error_sources
+    if e is None:
+        return None
+    chosen = set(e.paths) if e.paths is not None else None
+    paths = [p.build() for p in study.paths]
+    paths = [p for p in paths if chosen is None or p.name in chosen]
+    jobs = [
+        (p, cs.title, cs.build(desired_length=float(e.desired_length)), v, kw)
+        for p in paths
+        for cs in study.controllers
+        for v, kw in e.variants().items()
+    ]
+    rows = []
+    with context.bar(f"{study.kind}: error sources", total=len(jobs)) as hook:
+        for i, (path, title, ctrl, variant, kw) in enumerate(jobs):
+            res = simulate_with_errors(
+                ctrl, path, study.speed, robot, settle_time=study.settle_time, seed=e.seed, **kw
+            )
+            npd = follower_metrics(res.run).npd
+            rows.append(
+                {
+                    "path": path.name,
+                    "controller": title,
+                    "variant": variant,
+                    "desired_length_m": float(e.desired_length),
+                    "npd_mean_m": npd.mean,
+                    "npd_max_m": npd.max,
+                    "npd_mean_over_b": npd.mean / robot.wheel_track,
+                    "odometry_drift_m": float(res.odometry_drift[-1]),
+                }
+            )
+            hook(Progress(i + 1, len(jobs), label="run", note=f"{path.name} {title} {variant}"))
+    return pd.DataFrame(rows)
 
 
 #: Lateral offset (m) and fitted window (s) of the simulated step in :func:`linear_table`.
