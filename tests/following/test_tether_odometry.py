@@ -92,9 +92,9 @@ def test_pseudo_joystick_without_errors_is_simulate():
 
 def test_slip_on_a_straight_line_turns_the_odometry_by_the_arc_of_the_lost_speed():
     """Pseudo-Joystick straight behind a walker: the true path stays straight (the tether
-    corrects), the odometry believes the robot turned: its heading error grows by
-    (V_R - V_L)/b dt, with the right rim faster by s_L V / (1 - s_L / 2) ... measured directly
-    as the difference of the odometry and true headings at the end."""
+    corrects), the odometry believes the robot turned: odometry minus true heading is the
+    running sum of (Omega commanded - Omega on the ground) dt, Omega on the ground by eq. 2.6
+    on the slipped wheel speeds."""
     s_l = 0.05
     res = simulate_with_errors(T.PseudoJoystick(), T.straight_line(6.0), slip=WheelSlip(s_l))
     true_g = res.run.heading
@@ -103,7 +103,7 @@ def test_slip_on_a_straight_line_turns_the_odometry_by_the_arc_of_the_lost_speed
     assert np.max(np.abs(true_g[200:])) < 0.02
     # odometry yaw drift = integral of the omega the robot commanded to cancel the slip
     v, om = res.run.speed, res.run.turn_rate
-    vg, omg = ground_motion(v, om, s_l, 0.0, res.run.robot.wheel_track)
+    _, omg = ground_motion(v, om, s_l, 0.0, res.run.robot.wheel_track)
     drift = np.cumsum((om - omg) * res.run.robot.sample_time)
     np.testing.assert_allclose(odo_g[1:] - true_g[1:], drift[:-1], atol=1e-9)
     assert res.odometry_drift[-1] > 0.1
