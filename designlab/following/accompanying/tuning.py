@@ -399,6 +399,18 @@ class ConvexConcaveTuner:
 
     name: ClassVar[str] = "convex"
 
+    @classmethod
+    def from_options(cls, max_evaluations: int) -> ConvexConcaveTuner:
+        """The tuner; ``max_evaluations`` is checked (the same limits for every method).
+
+        Parameters
+        ----------
+        max_evaluations
+            Checked against :data:`MAX_EVALUATIONS`, not used (the method solves cone programs).
+        """
+        MAX_EVALUATIONS.check(max_evaluations)
+        return cls()
+
     def tune(self, problem: TuningProblem) -> _Tuned:
         """Solve the linear axes' loop (and the heading loop if its lag differs).
 
@@ -466,6 +478,17 @@ class SimulationTuner:
 
     def __init__(self, max_evaluations: int = 150) -> None:
         self.max_evaluations = MAX_EVALUATIONS.check(max_evaluations)
+
+    @classmethod
+    def from_options(cls, max_evaluations: int) -> SimulationTuner:
+        """The tuner with its evaluation budget.
+
+        Parameters
+        ----------
+        max_evaluations
+            Objective evaluations (:data:`MAX_EVALUATIONS`).
+        """
+        return cls(max_evaluations)
 
     def _objective(self, problem: TuningProblem, out: _Tuned) -> Any:
         ts, tf = problem.sensor.period, problem.derivative_filter_time
@@ -676,10 +699,7 @@ def _checked_problem(tasks: Any, options: dict[str, Any]) -> TuningProblem:
 def _checked_tuner(method: Any, max_evaluations: Any) -> Any:
     if not isinstance(method, str) or method not in TUNERS:
         raise InvalidParameterError("method", method, f"one of {TUNING_METHODS}")
-    if method == "simulation":
-        return SimulationTuner(max_evaluations)
-    MAX_EVALUATIONS.check(max_evaluations)  # the same limits for every method
-    return TUNERS[method]()
+    return TUNERS[method].from_options(max_evaluations)
 
 
 def _per_task(problem: TuningProblem, base: list, tuned: list) -> pd.DataFrame:

@@ -2,11 +2,13 @@
 
 Allan 2015 tuned its gains by hand, one parameter at a time (Sec. 2.5, 6.1 of
 the project's notes); App. C holds the only numbers. :func:`tune` searches the
-gains of one law with scipy's differential evolution over several leader paths
-and speeds. Every generation is one batched simulation per (path, speed)
-scenario (:func:`designlab.following.tether.simulate_batch`), and the scenarios can
-be spread over the project's executors (anything with ``map_unordered``,
-e.g. :func:`designlab.analysis.executors.make_executor`).
+gains of one law over several leader paths and speeds with a search chosen by
+name from :data:`TUNERS` (small strategy objects: scipy's differential
+evolution, the default, or a bounded Nelder-Mead simplex from the defaults).
+Every generation is one batched simulation per (path, speed) scenario
+(:func:`designlab.following.tether.simulate_batch`), and the scenarios can be
+spread over the project's executors (anything with ``map_unordered``, e.g.
+:func:`designlab.analysis.executors.make_executor`).
 
 The cost of a gain set is the mean over the scenarios of
 
@@ -49,7 +51,7 @@ import math
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 import pandas as pd
@@ -88,8 +90,11 @@ from designlab.validation import ParamsMixin
 
 __all__ = [
     "DEFAULT_WEIGHTS",
+    "TUNERS",
     "VALIDATION_WALK_SEEDS",
     "CostWeights",
+    "DifferentialEvolutionTuner",
+    "NelderMeadTuner",
     "TuningResult",
     "TuningStatus",
     "default_validation",
@@ -462,6 +467,7 @@ class _Objective:
 
     def __init__(self, setup: _Setup, run: _Scenarios, total: int, progress: Any) -> None:
         self.setup, self.run, self.total, self.progress = setup, run, total, progress
+        self.label = "generation"
         self.evaluations = 0
         self.history: list[float] = []
 
@@ -485,38 +491,155 @@ class _Objective:
                 step=len(self.history),
                 total=self.total,
                 best=self.history[-1],
-                label="generation",
+                label=self.label,
                 note=type(self.setup.base).__name__,
             ),
         )
 
 
-def _search(
-    setup: _Setup, objective: _Objective, seed: int | None, popsize: int, maxiter: int, tol: float
-) -> Any:
-    """Seeded differential evolution from a Latin hypercube holding the defaults."""
-    from scipy.optimize import differential_evolution
-    from scipy.stats import qmc
+class DifferentialEvolutionTuner:
+    """``method="differential_evolution"`` (default): scipy's seeded differential evolution.
 
-    rng = np.random.default_rng(seed)
-    n_pop = max(popsize * len(setup.names), 5)
-    sampler = qmc.LatinHypercube(d=len(setup.names), seed=rng)
-    lows = np.array([b[0] for b in setup.bounds])
-    highs = np.array([b[1] for b in setup.bounds])
-    init = qmc.scale(sampler.random(n_pop), lows, highs)
-    init[0] = np.clip([setup.base.gains[k] for k in setup.names], lows, highs)
-    return differential_evolution(
-        objective,
-        list(setup.bounds),
-        seed=seed,
-        maxiter=maxiter,
-        tol=tol,
-        init=init,
-        polish=False,
-        vectorized=True,
-        updating="deferred",
-        callback=objective.callback,
-    )
+    A Latin-hypercube population of ``popsize x (number of gains)`` members
+    holding the defaults, ``maxiter`` generations, each one vectorised batch of
+    simulations per scenario.
+    """
+
+    name: ClassVar[str] = "differential_evolution"
+    #: What one progress step is.
+    step_label: ClassVar[str] = "generation"
+
+    @staticmethod
+    def steps(maxiter: int, popsize: int, n_gains: int) -> int:
+        """Progress steps of a search (generations).
+
+        Parameters
+        ----------
+        maxiter
+            Generations.
+        popsize
+            Population multiplier (unused: one step per generation).
+        n_gains
+            Number of tuned gains (unused).
+        """
+        return maxiter
+
+    def search(
+        self, setup: _Setup, objective: _Objective, seed: int | None, sizes: tuple[int, int, float]
+    ) -> Any:
+        """Run the search; returns scipy's result (``x``, ``success``, ``message``).
+
+        Parameters
+        ----------
+        setup
+            The checked problem.
+        objective
+            The vectorised cost and its progress callback.
+        seed
+            Seed of the optimiser.
+        sizes
+            ``(popsize, maxiter, tol)``.
+        """
+        from scipy.optimize import differential_evolution
+        from scipy.stats import qmc
+
+        popsize, maxiter, tol = sizes
+        rng = np.random.default_rng(seed)
+        n_pop = max(popsize * len(setup.names), 5)
+        sampler = qmc.LatinHypercube(d=len(setup.names), seed=rng)
+        lows, highs = _box(setup)
+        init = qmc.scale(sampler.random(n_pop), lows, highs)
+        init[0] = np.clip([setup.base.gains[k] for k in setup.names], lows, highs)
+        return differential_evolution(
+            objective,
+            list(setup.bounds),
+            seed=seed,
+            maxiter=maxiter,
+            tol=tol,
+            init=init,
+            polish=False,
+            vectorized=True,
+            updating="deferred",
+            callback=objective.callback,
+        )
+
+
+class NelderMeadTuner:
+    """``method="nelder_mead"``: a bounded Nelder-Mead simplex from the defaults (local).
+
+    The same budget of simulations as differential evolution with the same
+    ``popsize`` and ``maxiter`` (``popsize x gains x (maxiter + 1)`` cost
+    evaluations); ``tol`` is the absolute cost tolerance. Deterministic (the
+    seed is not used). A local search: it refines the defaults rather than
+    exploring the box.
+    """
+
+    name: ClassVar[str] = "nelder_mead"
+    #: What one progress step is.
+    step_label: ClassVar[str] = "iteration"
+
+    @staticmethod
+    def steps(maxiter: int, popsize: int, n_gains: int) -> int:
+        """Progress steps of a search (simplex iterations, at most one per evaluation).
+
+        Parameters
+        ----------
+        maxiter
+            Generations of the equivalent differential evolution.
+        popsize
+            Population multiplier.
+        n_gains
+            Number of tuned gains.
+        """
+        return max(popsize * n_gains, 5) * (maxiter + 1)
+
+    def search(
+        self, setup: _Setup, objective: _Objective, seed: int | None, sizes: tuple[int, int, float]
+    ) -> Any:
+        """Run the search; returns scipy's result (``x``, ``success``, ``message``).
+
+        Parameters
+        ----------
+        setup
+            The checked problem.
+        objective
+            The vectorised cost and its progress callback.
+        seed
+            Not used (the simplex is deterministic).
+        sizes
+            ``(popsize, maxiter, tol)``.
+        """
+        from scipy.optimize import minimize
+
+        popsize, maxiter, tol = sizes
+        lows, highs = _box(setup)
+        x0 = np.clip([setup.base.gains[k] for k in setup.names], lows, highs)
+        budget = self.steps(maxiter, popsize, len(setup.names))
+        return minimize(
+            lambda x: float(objective(np.asarray(x)[:, None])[0]),
+            x0,
+            method="Nelder-Mead",
+            bounds=list(setup.bounds),
+            callback=objective.callback,
+            options={"maxfev": budget, "fatol": tol, "xatol": 1e-4},
+        )
+
+
+#: The tether tuners by name: small strategy objects with ``steps`` and ``search``.
+TUNERS: dict[str, Any] = {
+    DifferentialEvolutionTuner.name: DifferentialEvolutionTuner,
+    NelderMeadTuner.name: NelderMeadTuner,
+}
+
+
+def _box(setup: _Setup) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    return np.array([b[0] for b in setup.bounds]), np.array([b[1] for b in setup.bounds])
+
+
+def _tuner(method: Any) -> Any:
+    if not isinstance(method, str) or method not in TUNERS:
+        raise InvalidParameterError("method", method, f"one of {tuple(TUNERS)}")
+    return TUNERS[method]()
 
 
 def _scenario_table(setup: _Setup, run: _Scenarios, tuned: TetherController) -> pd.DataFrame:
@@ -581,7 +704,7 @@ def _status(
     status = TuningStatus.OK
     if not result.success:
         status = TuningStatus.NOT_CONVERGED
-        warns.append(f"differential evolution stopped: {result.message}")
+        warns.append(f"the search stopped: {result.message}")
     if min(zetas.values()) < floor - 1e-9:
         status = TuningStatus.INFEASIBLE
         warns.append(f"the tuned gains violate the damping floor {floor:g}")
@@ -691,6 +814,7 @@ def tune(
     tether_range: tuple[float, float] = (0.2, 2.0),
     max_saturation: float = 0.05,
     validation_paths: Sequence[LeaderPath | str | dict[str, Any]] | None = None,
+    method: str = "differential_evolution",
     seed: int = 0,
     popsize: int = 6,
     maxiter: int = 12,
@@ -730,6 +854,10 @@ def tune(
         Paths for the improvement (default: :func:`default_validation`, paths
         that share no stretch with ``paths``; a given path that does is
         reported in the warnings).
+    method
+        The search, one of :data:`TUNERS`: ``"differential_evolution"``
+        (default, global) or ``"nelder_mead"`` (a local simplex from the defaults
+        with the same simulation budget).
     seed
         Seed of the optimiser (results are reproducible).
     popsize, maxiter, tol
@@ -760,9 +888,12 @@ def tune(
             "validation_paths": validation_paths,
         },
     )
+    tuner = _tuner(method)
     seed, popsize = SEED.check(seed), POPSIZE.check(popsize)
     maxiter, tol = MAXITER.check(maxiter), TOLERANCE.check(tol)
     run = _Scenarios(executor)
-    objective = _Objective(setup, run, maxiter, progress)
-    result = _search(setup, objective, seed, popsize, maxiter, tol)
+    total = tuner.steps(maxiter, popsize, len(setup.names))
+    objective = _Objective(setup, run, total, progress)
+    objective.label = tuner.step_label
+    result = tuner.search(setup, objective, seed, (popsize, maxiter, tol))
     return _summary(setup, run, objective, result, t_start)

@@ -47,6 +47,7 @@ from designlab.following.tether.parameters import (
     SEED,
     TETHER_LIMIT,
 )
+from designlab.following.tether.tuning import TUNERS
 from designlab.params import params_of
 from designlab.results import OK, Result
 from designlab.study.base import StudyBase
@@ -58,6 +59,8 @@ from designlab.study.specs import spec_model
 __all__ = ["KIND", "TetherTuningResult", "TetherTuningStudy", "run"]
 
 Law = Literal[tuple(CONTROLLERS)]  # type: ignore[valid-type]
+#: A tuner name (:data:`designlab.following.tether.tuning.TUNERS`).
+Tuner = Literal[tuple(TUNERS)]  # type: ignore[valid-type]
 
 #: Weights of the tuning cost (:class:`designlab.following.tether.CostWeights`).
 CostWeightsSpec = spec_model(CostWeights, name="CostWeightsSpec")
@@ -82,6 +85,9 @@ class TetherTuningStudy(StudyBase):
     weights: CostWeightsSpec = Field(default_factory=CostWeightsSpec)  # type: ignore[valid-type]
     damping_floor: DAMPING_FLOOR.annotation() = DAMPING_FLOOR.default  # type: ignore[valid-type]
     tether_range: tuple[TETHER_LIMIT.annotation(), TETHER_LIMIT.annotation()] = (0.2, 2.0)  # type: ignore[valid-type]
+    method: Tuner = Field(  # type: ignore[valid-type]
+        "differential_evolution", description="the search (designlab.following.tether.TUNERS)"
+    )
     seed: SEED.annotation(optional=False) = 0  # type: ignore[valid-type]
     popsize: POPSIZE.annotation() = POPSIZE.default  # type: ignore[valid-type]
     maxiter: MAXITER.annotation() = MAXITER.default  # type: ignore[valid-type]
@@ -201,8 +207,10 @@ def run(study: TetherTuningStudy, context: RunContext) -> TetherTuningResult:
     paths = [p.build() for p in study.paths]
     val = [p.build() for p in study.validation_paths]
     out = []
+    tuner = TUNERS[study.method]
     for law in study.laws:
-        with context.bar(f"{study.kind}: {law}", total=study.maxiter) as hook:
+        total = tuner.steps(study.maxiter, study.popsize, len(study.base(law).gains))
+        with context.bar(f"{study.kind}: {law}", total=total) as hook:
             out.append(
                 tune(
                     study.base(law),
@@ -213,6 +221,7 @@ def run(study: TetherTuningStudy, context: RunContext) -> TetherTuningResult:
                     damping_floor=study.damping_floor,
                     tether_range=study.tether_range,
                     validation_paths=val,
+                    method=study.method,
                     seed=study.seed,
                     popsize=study.popsize,
                     maxiter=study.maxiter,
