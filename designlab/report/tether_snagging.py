@@ -164,6 +164,26 @@ def _comparison(result: TetherSnaggingResult) -> pd.DataFrame:
     return pd.DataFrame(rows, columns=["quantity", "Allan 2015", "here"])
 
 
+def _span_text(span: tuple[float, float] | None) -> str:
+    if span is None:
+        return "never"
+    return f"{span[0]:.3f} to {span[1]:.3f} ({span[1] - span[0]:.2f} apart)"
+
+
+def _axis_claim(result: TetherSnaggingResult) -> str:
+    """The snag's length on both axes at the largest detail gap, computed from the runs."""
+    runs = [r for r in result.detail if r.snag_span is not None]
+    if not runs:
+        return ""
+    r = max(runs, key=lambda run: run.scenario.gap)
+    (a, b), (ra, rb) = r.snag_span, r.snag_span_recorded  # type: ignore[misc]
+    return (
+        f"At g_F = {r.scenario.gap:g} m the string stays wrapped for {rb - ra:.2f} m along the "
+        f"recorded path ({ra:.2f} to {rb:.2f} m) and {b - a:.2f} m along the leader's true path "
+        f"(thesis: {THESIS['unsnag_at_5m'] - THESIS['snag_at_5m']:.2f} m at 5 m)."
+    )
+
+
 def _detection_table(result: TetherSnaggingResult) -> pd.DataFrame:
     rows = []
     for r, c in zip(result.detail, result.detail_compensated, strict=True):
@@ -172,6 +192,7 @@ def _detection_table(result: TetherSnaggingResult) -> pd.DataFrame:
             {
                 "gap (m)": f"{r.scenario.gap:g}",
                 "string wraps (s_L, m)": f"{span[0]:.3f} to {span[1]:.3f}" if span else "never",
+                "along the recorded path (m)": _span_text(r.snag_span_recorded),
                 "detected (s_L, m)": ", ".join(f"{d:.3f}" for d in r.detections) or "—",
                 "d_col (/w)": f"{r.d_col:.3f}",
                 "compensated: wraps (s_L, m)": (
@@ -224,7 +245,10 @@ def snagging_markdown(
         f"snag at s_L = {THESIS['snag_at_5m']:g} m and unsnag at {THESIS['unsnag_at_5m']:g} m "
         f"({THESIS['unsnag_at_5m'] - THESIS['snag_at_5m']:.2f} m apart; the thesis's straight "
         "lengths are unknown, so the start point depends on them, the distance between the two "
-        "on the follower).",
+        "on the follower). s_L is the leader's distance along its true path; the follower sees "
+        "the leader only through the path it records, which the snag distorts and lengthens, "
+        "and the features (4.10-4.12) are computed on that path (`docs/tether_modes.md`). "
+        + _axis_claim(result),
         "",
         markdown_table(_detection_table(result), disable_numparse=True),
         "",

@@ -162,6 +162,16 @@ class SnagScenario:
     compensate: bool = param(
         kind="flag", doc="apply the snag compensation (Sec. 4.5.5)", default=False
     )
+    max_speed: float | None = param(
+        "v_max",
+        "m/s",
+        doc="fastest advance of the robot along the recorded path (None: it keeps the gap)",
+        gt=0,
+        le=50,
+        optional=True,
+        none="unlimited: the robot keeps the gap exactly",
+        default=None,
+    )
 
     @property
     def collision_radius(self) -> float:
@@ -314,6 +324,26 @@ class SnagRun(Result):
             return None
         return float(self.leader_s[idx[0]]), float(self.leader_s[min(idx[-1] + 1, len(self.t) - 1)])
 
+    @property
+    def tracked_s(self) -> NDArray[np.float64]:
+        """Distance (m) along the recorded (estimated) leader path at each recorded point.
+
+        The follower knows the leader only through this path, and the features
+        (4.10-4.12) are computed on it, so it is the natural axis of Figs. 4.19-4.21.
+        It starts at the first point recorded at t = 0, which is the leader's start.
+        """
+        xy = self.tracked_xy
+        return np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xy, axis=0).T))])
+
+    @property
+    def snag_span_recorded(self) -> tuple[float, float] | None:
+        """:attr:`snag_span` on the recorded-path axis (:attr:`tracked_s`), m (None: never)."""
+        span = self.snag_span
+        if span is None:
+            return None
+        s = np.interp(span, self.tracked_s_leader, self.tracked_s)
+        return float(s[0]), float(s[1])
+
     def feature_rates(self) -> pd.DataFrame:
         """Eqs. 4.10-4.12 per recorded point: d theta/ds_L, dL/ds_L, d beta_path/ds_L."""
         k = np.searchsorted(self.leader_s, self.tracked_s_leader).clip(0, len(self.t) - 1)
@@ -441,6 +471,8 @@ def simulate_snag(scenario: SnagScenario) -> SnagRun:
             s_robot = min(s_robot + rate, track.s[track.valid_end - 1])
         else:
             new = max(track.s[-1] - sc.gap, s_robot)
+            if sc.max_speed is not None:
+                new = min(new, s_robot + sc.max_speed * sc.sample_time)
             rate += _RATE_FILTER * (new - s_robot - rate)  # the robot's recent speed x dt
             s_robot = new
     return _result(sc, s_lead, leader, out, snag, track)
