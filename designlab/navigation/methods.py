@@ -164,8 +164,8 @@ def method_of(name: Any) -> NavigationMethod:
     """
     if isinstance(name, str) and name in PLANNER.choices:
         raise InvalidParameterError(
-            "method", name, "a Sec. 5.7 planner is not a force-field method: run it with "
-            f"designlab.navigation.planners.simulate_planner(scenario, {name!r}) "
-            "(docs/navigation_planners.md)",
+            "method", name, "a Sec. 5.7 planner is not a force-field method nor batched: run "
+            f"it with designlab.navigation.simulate(scenario, method={name!r}) (which calls "
+            "designlab.navigation.planners.simulate_planner; docs/navigation_planners.md)",
         )  # fmt: skip
     return METHODS[METHOD.check(name)]

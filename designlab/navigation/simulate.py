@@ -44,8 +44,15 @@ from designlab.navigation import engine
 from designlab.navigation.criteria import EQUAL_WEIGHTS, Criteria, check_weights, criteria
 from designlab.navigation.hold_audit import HoldAudit, hold_audit
 from designlab.navigation.lyapunov import StabilityAudit, audit_run
-from designlab.navigation.methods import STABILISING, TIE_SIDE, NavigationMethod, method_of
+from designlab.navigation.methods import (
+    PLANNER,
+    STABILISING,
+    TIE_SIDE,
+    NavigationMethod,
+    method_of,
+)
 from designlab.navigation.noise import SensorNoise
+from designlab.navigation.planners.simulate import PlannerResult, simulate_planner
 from designlab.navigation.parameters import (
     CBF_K0,
     CBF_K1,
@@ -239,7 +246,7 @@ class NavigationResult(Result):
 
 def simulate(
     scenario: Scenario,
-    gains: VFFGains | MasoudGains | GeCuiGains | None = None,
+    gains: VFFGains | MasoudGains | GeCuiGains | Any = None,
     *,
     stabilising: str = "lyapunov",
     method: str = "vff",
@@ -251,8 +258,8 @@ def simulate(
     jit: bool = False,
     weights: tuple[float, float, float] = EQUAL_WEIGHTS,
     noise: SensorNoise | None = None,
-) -> NavigationResult:
-    """Simulate one scenario.
+) -> NavigationResult | PlannerResult:
+    """Simulate one scenario (a force-field method or a Sec. 5.7 planner).
 
     Parameters
     ----------
@@ -261,14 +268,20 @@ def simulate(
     gains
         :class:`VFFGains` for ``"vff"`` (required) and ``"cbf"`` (its attractive part;
         default the experiment gains); :class:`MasoudGains` / :class:`GeCuiGains`
-        for the baselines (default: Table C.1).
+        for the baselines (default: Table C.1); for a planner its settings
+        (:class:`~designlab.navigation.planners.VOSettings`, ``ERRTSettings``,
+        ``FieldDStarSettings``; default theirs).
     stabilising
         ``"lyapunov"``: the stabilising force F_L of (5.4.6) is on; ``"off"``: it is
         left out (how the thesis's tables come back, ``docs/navigation.md``).
     method
         ``"vff"``, ``"masoud"``, ``"ge_cui"`` or ``"cbf"`` (exponential CBF safety filter
-        keeping d >= r3 on the attractive PD field, one OSQP QP per period); the
-        registry is :data:`designlab.navigation.methods.METHODS`.
+        keeping d >= r3 on the attractive PD field, one OSQP QP per period), ``"vff_cbf"``
+        (the new VFF with its stabilising force, filtered by the CBF); the registry is
+        :data:`designlab.navigation.methods.METHODS`. A Sec. 5.7 planner, ``"vo"``,
+        ``"errt"`` or ``"field_dstar"``, runs through
+        :func:`designlab.navigation.planners.simulate_planner` (only ``arrival_tolerance``
+        applies; the force-field options are refused) and returns its ``PlannerResult``.
     arrival_tolerance
         Arrival radius around the goal, m (first passage; at most 1 m).
     dynamics_step
@@ -292,7 +305,7 @@ def simulate(
 
     Returns
     -------
-    NavigationResult
+    NavigationResult or PlannerResult
 
     Raises
     ------
@@ -312,6 +325,9 @@ def simulate(
     ...
     designlab.errors.InvalidParameterError: method = 'bug' is not allowed: ...
     """
+    if isinstance(method, str) and method in PLANNER.choices:
+        _check_planner_options(stabilising, force_every_step, noise)
+        return simulate_planner(scenario, method, gains, arrival_tolerance=arrival_tolerance)
     STABILISING.check(stabilising)
     strategy = method_of(method)
     TIE_SIDE.check(tie_side)
@@ -538,6 +554,15 @@ class BatchResult(Result):
                 )
                 rows.append(r)
         return pd.DataFrame(rows)
+
+
+def _check_planner_options(stabilising: str, force_every_step: bool, noise: object) -> None:
+    """Refuse the force-field options a Sec. 5.7 planner does not have."""
+    for name, value, default in (("stabilising", stabilising, "lyapunov"),
+                                 ("force_every_step", force_every_step, False),
+                                 ("noise", noise, None)):  # fmt: skip
+        if value != default:
+            raise InvalidParameterError(name, value, "does not apply to a Sec. 5.7 planner")
 
 
 def _check_flags(**flags: object) -> None:

@@ -219,7 +219,20 @@ def test_a_nonholonomic_robot_is_simulated_as_holonomic_and_the_result_says_so()
     assert any("simulated as holonomic" in w for w in car.warnings)
 
 
-def test_simulate_with_a_planner_name_says_where_planners_run() -> None:
-    with pytest.raises(nav.InvalidParameterError if hasattr(nav, "InvalidParameterError")
-                       else ValueError, match="simulate_planner"):  # fmt: skip
-        nav.simulate(nav.configuration(1), nav.EXPERIMENT_GAINS, method="vo")
+def test_simulate_dispatches_a_planner_name_to_simulate_planner() -> None:
+    sc = nav.configuration(1)
+    settings = VOSettings(horizon=2.0)
+    via = nav.simulate(sc, settings, method="vo")
+    direct = simulate_planner(sc, "vo", settings)
+    assert via.arrival_time == direct.arrival_time
+    assert via.min_distance == direct.min_distance
+    assert via.criteria.H == direct.criteria.H
+    assert nav.simulate(sc, method="vo", arrival_tolerance=0.3).arrival_time < direct.arrival_time
+    for bad in ({"stabilising": "off"}, {"force_every_step": True},
+                {"noise": nav.SensorNoise(seed=1)}):  # fmt: skip
+        with pytest.raises(ValueError, match="does not apply to a Sec. 5.7 planner"):
+            nav.simulate(sc, method="vo", **bad)
+    with pytest.raises(ValueError, match="must be a VOSettings"):
+        nav.simulate(sc, nav.EXPERIMENT_GAINS, method="vo")
+    with pytest.raises(ValueError, match="nor batched"):
+        nav.simulate_batch([sc], [[3.0, 0.25, 20.0, 17.0]], method="errt")
