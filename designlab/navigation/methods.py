@@ -138,9 +138,16 @@ class _CBF(NavigationMethod):
         return EXPERIMENT_GAINS
 
 
+class _VFFCBF(_VFF):
+    """The new VFF (with its stabilising force) filtered by the CBF: one QP per period."""
+
+    BATCHED = False
+
+
 #: The registry: public name -> method.
 METHODS: dict[str, NavigationMethod] = {
-    m.name: m for m in (_VFF("vff"), _Masoud("masoud"), _GeCui("ge_cui"), _CBF("cbf"))
+    m.name: m
+    for m in (_VFF("vff"), _Masoud("masoud"), _GeCui("ge_cui"), _CBF("cbf"), _VFFCBF("vff_cbf"))
 }
 
 #: The ``method`` argument: one of :data:`METHODS`.
@@ -159,7 +166,8 @@ def method_of(name: Any) -> NavigationMethod:
     Parameters
     ----------
     name
-        ``"vff"``, ``"masoud"``, ``"ge_cui"`` or ``"cbf"``. A Sec. 5.7 planner's name
+        ``"vff"``, ``"masoud"``, ``"ge_cui"``, ``"cbf"`` or ``"vff_cbf"``. A Sec. 5.7
+        planner's name
         (:data:`PLANNER`) is refused with where to run it instead.
     """
     if isinstance(name, str) and name in PLANNER.choices:

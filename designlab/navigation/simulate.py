@@ -52,7 +52,6 @@ from designlab.navigation.methods import (
     method_of,
 )
 from designlab.navigation.noise import SensorNoise
-from designlab.navigation.planners.simulate import PlannerResult, simulate_planner
 from designlab.navigation.parameters import (
     CBF_K0,
     CBF_K1,
@@ -63,6 +62,7 @@ from designlab.navigation.parameters import (
     MasoudGains,
     VFFGains,
 )
+from designlab.navigation.planners.simulate import PlannerResult, simulate_planner
 from designlab.navigation.scenarios import Disc, Scenario
 from designlab.results import Result, Status
 
@@ -180,11 +180,11 @@ class NavigationResult(Result):
         return np.concatenate([[0.0], np.cumsum(self.power) * dt])[: self.t.size]
 
     def hold_audit(self) -> HoldAudit:
-        """V at every dynamics step, checked over each held period (new VFF runs only).
+        """V at every dynamics step, checked over each held period (new VFF runs, filtered or not).
 
         See :func:`designlab.navigation.hold_audit.hold_audit`.
         """
-        if self.method != "vff":
+        if self.method not in ("vff", "vff_cbf"):
             raise InvalidParameterError(
                 "method", self.method, "the hold audit needs the new VFF's Lyapunov function"
             )

@@ -230,7 +230,7 @@ def test_simulate_dispatches_a_planner_name_to_simulate_planner() -> None:
     assert nav.simulate(sc, method="vo", arrival_tolerance=0.3).arrival_time < direct.arrival_time
     for bad in ({"stabilising": "off"}, {"force_every_step": True},
                 {"noise": nav.SensorNoise(seed=1)}):  # fmt: skip
-        with pytest.raises(ValueError, match="does not apply to a Sec. 5.7 planner"):
+        with pytest.raises(ValueError, match=r"does not apply to a Sec\. 5\.7 planner"):
             nav.simulate(sc, method="vo", **bad)
     with pytest.raises(ValueError, match="must be a VOSettings"):
         nav.simulate(sc, nav.EXPERIMENT_GAINS, method="vo")
