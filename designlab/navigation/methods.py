@@ -153,10 +153,14 @@ METHODS: dict[str, NavigationMethod] = {
 #: The ``method`` argument: one of :data:`METHODS`.
 METHOD = Param(doc="navigation method", kind="choice", choices=tuple(METHODS), name="method")
 
-#: The Sec. 5.7 planners (velocity obstacles, ERRT, Field D*): they command a velocity, not a
-#: force, and are simulated by :func:`designlab.navigation.planners.simulate_planner`.
+#: The Sec. 5.7 planners (velocity obstacles linear and non-linear, ERRT, Field D*): they
+#: command a velocity, not a force, and are simulated by
+#: :func:`designlab.navigation.planners.simulate_planner`.
 PLANNER = Param(
-    doc="Sec. 5.7 planner", kind="choice", choices=("vo", "errt", "field_dstar"), name="method"
+    doc="Sec. 5.7 planner",
+    kind="choice",
+    choices=("vo", "nlvo", "errt", "field_dstar"),
+    name="method",
 )
 
 

@@ -266,22 +266,17 @@ def simulate(
     scenario
         From :func:`configuration` or built by hand.
     gains
-        :class:`VFFGains` for ``"vff"`` (required) and ``"cbf"`` (its attractive part;
-        default the experiment gains); :class:`MasoudGains` / :class:`GeCuiGains`
-        for the baselines (default: Table C.1); for a planner its settings
-        (:class:`~designlab.navigation.planners.VOSettings`, ``ERRTSettings``,
-        ``FieldDStarSettings``; default theirs).
+        :class:`VFFGains` for ``"vff"``/``"vff_cbf"`` (required) and ``"cbf"`` (default
+        the experiment gains); :class:`MasoudGains` / :class:`GeCuiGains` (default Table
+        C.1); a planner's settings (``VOSettings``, ... of :mod:`~.planners`).
     stabilising
         ``"lyapunov"``: the stabilising force F_L of (5.4.6) is on; ``"off"``: it is
         left out (how the thesis's tables come back, ``docs/navigation.md``).
     method
-        ``"vff"``, ``"masoud"``, ``"ge_cui"`` or ``"cbf"`` (exponential CBF safety filter
-        keeping d >= r3 on the attractive PD field, one OSQP QP per period), ``"vff_cbf"``
-        (the new VFF with its stabilising force, filtered by the CBF); the registry is
-        :data:`designlab.navigation.methods.METHODS`. A Sec. 5.7 planner, ``"vo"``,
-        ``"errt"`` or ``"field_dstar"``, runs through
-        :func:`designlab.navigation.planners.simulate_planner` (only ``arrival_tolerance``
-        applies; the force-field options are refused) and returns its ``PlannerResult``.
+        ``"vff"``, ``"masoud"``, ``"ge_cui"``, ``"cbf"`` (CBF filter, d >= r3, on the PD
+        attraction) or ``"vff_cbf"`` (the new VFF filtered by it), :data:`~.methods.METHODS`;
+        a Sec. 5.7 planner (``"vo"``, ``"nlvo"``, ``"errt"``, ``"field_dstar"``) runs through
+        :func:`~.planners.simulate_planner` (force-field options refused).
     arrival_tolerance
         Arrival radius around the goal, m (first passage; at most 1 m).
     dynamics_step
@@ -315,8 +310,7 @@ def simulate(
 
     Examples
     --------
-    >>> import designlab as dl
-    >>> nav = dl.navigation
+    >>> import designlab as dl; nav = dl.navigation
     >>> res = nav.simulate(nav.configuration(1), nav.EXPERIMENT_GAINS, stabilising="off")
     >>> round(res.arrival_time, 2), round(res.min_distance["circle"], 3), res.collided
     (6.48, 0.486, False)
@@ -334,10 +328,7 @@ def simulate(
     w = check_weights(weights)
     _check_flags(force_every_step=force_every_step, jit=jit)
     cbf = _check_cbf_gains(cbf_gains)
-    if noise is not None and not isinstance(noise, SensorNoise):
-        raise InvalidParameterError("noise", noise, "must be a SensorNoise or None")
-    if not isinstance(scenario, Scenario):
-        raise InvalidParameterError("scenario", scenario, "must be a Scenario (configuration())")
+    _check_run_inputs(scenario, noise)
     row = strategy.gain_row(gains)
     kw: dict[str, Any] = dict(
         method=strategy.name,
@@ -554,6 +545,14 @@ class BatchResult(Result):
                 )
                 rows.append(r)
         return pd.DataFrame(rows)
+
+
+def _check_run_inputs(scenario: object, noise: object) -> None:
+    """Refuse a scenario or a noise model of the wrong type."""
+    if noise is not None and not isinstance(noise, SensorNoise):
+        raise InvalidParameterError("noise", noise, "must be a SensorNoise or None")
+    if not isinstance(scenario, Scenario):
+        raise InvalidParameterError("scenario", scenario, "must be a Scenario (configuration())")
 
 
 def _check_planner_options(stabilising: str, force_every_step: bool, noise: object) -> None:
