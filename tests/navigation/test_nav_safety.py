@@ -67,11 +67,17 @@ def test_sec_7_5_5_force_off_no_longer_stalls_in_the_circles_critical_region() -
     # The nonholonomic robot enters the circle's critical region by a few mm at 3.05 s.
     # Waiting "until the obstacle leaves" never ended for the static circle (arrival inf);
     # the robot now backs out and arrives, as the thesis's robot does (15 s).
-    res = nav.simulate(nav.configuration("multi", chapter=7), EXP, stabilising="off")
+    # The entry came with the robot whose outer wheel outran V in turns (wheel_speed_limit
+    # off); with each wheel bounded (the default) the robot keeps out and arrives too.
+    robot = nav.NonholonomicRobot(wheel_speed_limit=False)
+    sc = nav.configuration("multi", chapter=7, robot=robot)
+    res = nav.simulate(sc, EXP, stabilising="off")
     assert res.arrived and res.arrival_time < 20.0
     assert res.entered_critical and not res.collided
     assert res.min_distance["circle"] > 0.4 - 0.02  # a few mm inside at most
     assert res.critical_time < 2.0
+    now = nav.simulate(nav.configuration("multi", chapter=7), EXP, stabilising="off")
+    assert now.arrived and now.arrival_time < 15.0 and not now.entered_critical
 
 
 def test_hold_audit_sees_v_rise_between_samples_that_the_sample_audit_cannot() -> None:
