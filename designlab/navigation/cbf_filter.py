@@ -18,7 +18,10 @@ from designlab.navigation.field import ObstacleGeometry, build_cbf_rows, build_f
 from designlab.navigation.parameters import HolonomicRobot, NonholonomicRobot
 from designlab.navigation.scenarios import Scenario
 
-__all__ = ["CBFFilter"]
+__all__ = ["FILTERED", "CBFFilter"]
+
+#: The methods whose force the filter corrects, and the field that gives their nominal force.
+FILTERED = {"cbf": "cbf", "vff_cbf": "vff"}
 
 Array = NDArray[np.float64]
 
@@ -36,6 +39,16 @@ class CBFFilter:
         field's force into the nominal acceleration.
     k : tuple of float
         (k_0, k_1) of the constraint h'' + k_1 h' + k_0 h >= 0, in 1/s^2 and 1/s.
+    nominal : str
+        The filtered method, a key of :data:`FILTERED`: ``"cbf"`` (the attractive PD field)
+        or ``"vff_cbf"`` (the new VFF).
+    stabilising : bool
+        With ``"vff_cbf"``: the nominal force includes the stabilising force F_L.
+    tie : int
+        Detour side (+1 / -1) of the nominal field where its rules leave it open.
+    period : float
+        The navigation period T_s in s: the barrier is tightened by the sampled-data margin
+        ``a_max T_s^2 / 2`` (h = d - r3 - margin) with ``"vff_cbf"``, see :attr:`margin`.
     """
 
     def __init__(
@@ -43,12 +56,22 @@ class CBFFilter:
         geos: tuple[ObstacleGeometry, ...],
         robot: HolonomicRobot | NonholonomicRobot,
         k: tuple[float, float],
+        *,
+        nominal: str = "cbf",
+        stabilising: bool = False,
+        tie: int = 1,
+        period: float = 0.0,
     ) -> None:
         import osqp
         import scipy.sparse as sp
 
         self.rows = build_cbf_rows(geos, "critical")
-        self.field = build_field(geos, "cbf")
+        self.field = build_field(geos, FILTERED[nominal])
+        self.params = [robot.mass, float(tie), 1.0 if stabilising else 0.0, robot.max_accel]
+        #: Sampled-data margin (m): how far the held acceleration can carry the robot from
+        #: the path a continuously updated filter would command within one period.
+        #: ``"cbf"`` keeps its earlier form (no margin), its reports unchanged.
+        self.margin = 0.5 * robot.max_accel * period**2 if nominal == "vff_cbf" else 0.0
         self.n = len(geos)
         self.k = np.asarray(k, dtype=float)
         amax = robot.max_accel
@@ -86,14 +109,12 @@ class CBFFilter:
         else:
             x4 = x[:4]
         F = np.array(
-            self.field(
-                x=x4, goal=goal, obs=obs, gains=gains, params=[self.mass, 1.0, 0.0, robot.max_accel]
-            )["F"]
+            self.field(x=x4, goal=goal, obs=obs, gains=gains, params=self.params)["F"]
         ).ravel()
         a_nom = F / self.mass
         rows = self.rows(x=x4, obs=obs, k=self.k)
         Ab = np.array(rows["A"]).reshape(self.n, 2)
-        lb = np.array(rows["lb"]).ravel()
+        lb = np.array(rows["lb"]).ravel() + self.k[0] * self.margin  # h -> h - margin
         A = np.vstack([Ab, self.poly])
         lower = np.concatenate([lb, -np.inf * np.ones(8)])
         upper = np.concatenate([np.inf * np.ones(self.n), self.amax * np.ones(8)])

@@ -10,8 +10,9 @@ call per navigation period.
 * Nonholonomic robot: a virtual holonomic reference is re-initialised to the
   measured robot state at each sample and driven by the held force; a
   differential-drive unicycle tracks it with the Klancar-Skrjanc law (7.2.2) with
-  robot-frame errors and gains xi_nh, k_nh (7.2.3); speed limited to V, linear
-  and angular accelerations to a and omega_bar.
+  robot-frame errors and gains xi_nh, k_nh (7.2.3); each wheel's rim speed limited to V
+  (``NonholonomicRobot.wheel_speed_limit``; the commanded v and omega are scaled together),
+  linear and angular accelerations to a and omega_bar.
 * Energy: wheel feed-forward voltages (D.3.2 / E.3.2) with i = 1 A/V * u, so the
   output ``power`` is sum(i^2) (copper loss per ohm; R_a cancels in H_E).
 
@@ -184,6 +185,10 @@ def _nonholonomic_steps(
         v_cmd = vd * ca.cos(ephi) + kx * ex
         w_cmd = omd + rb.k * vd * ey + kx * ephi
         v_cmd = ca.fmin(ca.fmax(v_cmd, -vmax), vmax)
+        if rb.wheel_speed_limit:  # each wheel's rim speed |v +- omega l/2| <= V (same curvature)
+            rim = ca.fabs(v_cmd) + ca.fabs(w_cmd) * (0.5 * rb.track)
+            scale = ca.fmin(1.0, vmax / ca.fmax(rim, 1e-12))
+            v_cmd, w_cmd = v_cmd * scale, w_cmd * scale
         dv = ca.fmin(ca.fmax(v_cmd - vs, -amax * dt), amax * dt)
         dw = ca.fmin(ca.fmax(w_cmd - om, -rb.max_angular_accel * dt), rb.max_angular_accel * dt)
         vs_new, om_new = vs + dv, om + dw

@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
-from designlab.navigation.cbf_filter import CBFFilter
+from designlab.navigation.cbf_filter import FILTERED, CBFFilter
 from designlab.navigation.dynamics import build_hold, state_size
 from designlab.navigation.field import (
     NORM_EPS,
@@ -368,7 +368,7 @@ def run(
     gains
         (N, 4) rows of (K1, b, K3, K5), simulated together.
     method
-        ``"vff"``, ``"masoud"``, ``"ge_cui"`` or ``"cbf"``.
+        ``"vff"``, ``"masoud"``, ``"ge_cui"``, ``"cbf"`` or ``"vff_cbf"``.
     stabilising
         Whether the Lyapunov stabilising force F_L of (5.4.6) is on.
     tie
@@ -393,9 +393,9 @@ def run(
     period = n_sub * dt
     gains = np.atleast_2d(np.asarray(gains, dtype=float))
     N = gains.shape[0]
-    if method == "cbf" and N != 1:
+    if method in FILTERED and N != 1:
         raise InvalidParameterError(
-            "method", method, "'cbf' solves one QP per step and is not batched"
+            "method", method, f"{method!r} solves one QP per step and is not batched"
         )
     geos = tuple(ObstacleGeometry.of(o) for o in scenario.obstacles)
     n_samples = math.ceil(scenario.horizon / period - 1e-9)
@@ -412,7 +412,10 @@ def run(
             scenario, gains, geos, method, n_sub, dt, tol, stabilising, tie, jit, n_samples
         )
     run = _SingleRun(scenario, gains, geos, method, n_sub, dt, tol, stabilising, tie, jit, record)
-    run.cbf = CBFFilter(geos, scenario.robot, cbf_gains) if method == "cbf" else None
+    run.cbf = None
+    if method in FILTERED:
+        run.cbf = CBFFilter(geos, scenario.robot, cbf_gains, nominal=method,
+                            stabilising=stabilising, tie=tie, period=period)  # fmt: skip
     if noise is not None:
         run.noise = (noise, noise.generator(), np.array([g.moving for g in geos], dtype=bool))
     tracks = _Tracks(scenario, n_samples, n_sub, dt, keep=record)

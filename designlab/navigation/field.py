@@ -49,7 +49,7 @@ from designlab.errors import InvalidParameterError
 __all__ = ["METHODS", "ObstacleGeometry", "build_cbf_rows", "build_distance", "build_field"]
 
 #: Navigation methods built by :func:`build_field` (``"cbf"`` filters the attractive field).
-METHODS = ("vff", "masoud", "ge_cui", "cbf")
+METHODS = ("vff", "masoud", "ge_cui", "cbf", "vff_cbf")
 #: The epsilon of the smoothed norm sqrt(|v|^2 + eps^2) used by every field term (no 0/0 at v = 0).
 NORM_EPS = 1e-12
 _TIE_ANGLE = 1e-6
@@ -367,6 +367,7 @@ _FORCES = {
     "masoud": _masoud_forces,
     "ge_cui": _ge_cui_forces,
     "cbf": _cbf_forces,
+    "vff_cbf": _vff_forces,  # the new VFF; the simulator's CBF filter corrects its force
 }
 
 
@@ -379,8 +380,9 @@ def build_field(geometries: tuple[ObstacleGeometry, ...], method: str = "vff") -
     geometries
         One :class:`ObstacleGeometry` per obstacle, in scenario order.
     method
-        ``"vff"`` (Zeng 2011), ``"masoud"``, ``"ge_cui"``, or ``"cbf"`` (the
-        attractive field alone; the CBF filter is applied by the simulator).
+        ``"vff"`` (Zeng 2011), ``"masoud"``, ``"ge_cui"``, ``"cbf"`` (the
+        attractive field alone; the CBF filter is applied by the simulator) or ``"vff_cbf"``
+        (the new VFF, whose force the simulator's CBF filter corrects).
 
     Returns
     -------

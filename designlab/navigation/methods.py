@@ -138,18 +138,29 @@ class _CBF(NavigationMethod):
         return EXPERIMENT_GAINS
 
 
+class _VFFCBF(_VFF):
+    """The new VFF (with its stabilising force) filtered by the CBF: one QP per period."""
+
+    BATCHED = False
+
+
 #: The registry: public name -> method.
 METHODS: dict[str, NavigationMethod] = {
-    m.name: m for m in (_VFF("vff"), _Masoud("masoud"), _GeCui("ge_cui"), _CBF("cbf"))
+    m.name: m
+    for m in (_VFF("vff"), _Masoud("masoud"), _GeCui("ge_cui"), _CBF("cbf"), _VFFCBF("vff_cbf"))
 }
 
 #: The ``method`` argument: one of :data:`METHODS`.
 METHOD = Param(doc="navigation method", kind="choice", choices=tuple(METHODS), name="method")
 
-#: The Sec. 5.7 planners (velocity obstacles, ERRT, Field D*): they command a velocity, not a
-#: force, and are simulated by :func:`designlab.navigation.planners.simulate_planner`.
+#: The Sec. 5.7 planners (velocity obstacles linear and non-linear, ERRT, Field D*): they
+#: command a velocity, not a force, and are simulated by
+#: :func:`designlab.navigation.planners.simulate_planner`.
 PLANNER = Param(
-    doc="Sec. 5.7 planner", kind="choice", choices=("vo", "errt", "field_dstar"), name="method"
+    doc="Sec. 5.7 planner",
+    kind="choice",
+    choices=("vo", "nlvo", "errt", "field_dstar"),
+    name="method",
 )
 
 
@@ -159,13 +170,14 @@ def method_of(name: Any) -> NavigationMethod:
     Parameters
     ----------
     name
-        ``"vff"``, ``"masoud"``, ``"ge_cui"`` or ``"cbf"``. A Sec. 5.7 planner's name
+        ``"vff"``, ``"masoud"``, ``"ge_cui"``, ``"cbf"`` or ``"vff_cbf"``. A Sec. 5.7
+        planner's name
         (:data:`PLANNER`) is refused with where to run it instead.
     """
     if isinstance(name, str) and name in PLANNER.choices:
         raise InvalidParameterError(
-            "method", name, "a Sec. 5.7 planner is not a force-field method: run it with "
-            f"designlab.navigation.planners.simulate_planner(scenario, {name!r}) "
-            "(docs/navigation_planners.md)",
+            "method", name, "a Sec. 5.7 planner is not a force-field method nor batched: run "
+            f"it with designlab.navigation.simulate(scenario, method={name!r}) (which calls "
+            "designlab.navigation.planners.simulate_planner; docs/navigation_planners.md)",
         )  # fmt: skip
     return METHODS[METHOD.check(name)]

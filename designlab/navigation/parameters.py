@@ -209,6 +209,13 @@ class NonholonomicRobot(ParamsMixin):
         "xi_nh", "", doc="Klancar-Skrjanc damping gain (7.2.3)", gt=0, lt=1, default=0.95
     )
     k: float = param("k_nh", "", doc="Klancar-Skrjanc gain (7.2.3)", gt=0, le=1e4, default=10.0)
+    wheel_speed_limit: bool = param(
+        kind="flag",
+        default=True,
+        doc="V_mr bounds each wheel's rim speed |v +- omega l_nh / 2| (the commanded v and "
+        "omega are scaled together, keeping the curvature); False: it bounds v only, the "
+        "model before issue 21, whose outer wheel exceeded V_mr in turns",
+    )
 
     @property
     def stopping_time(self) -> float:

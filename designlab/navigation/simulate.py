@@ -44,7 +44,13 @@ from designlab.navigation import engine
 from designlab.navigation.criteria import EQUAL_WEIGHTS, Criteria, check_weights, criteria
 from designlab.navigation.hold_audit import HoldAudit, hold_audit
 from designlab.navigation.lyapunov import StabilityAudit, audit_run
-from designlab.navigation.methods import STABILISING, TIE_SIDE, NavigationMethod, method_of
+from designlab.navigation.methods import (
+    PLANNER,
+    STABILISING,
+    TIE_SIDE,
+    NavigationMethod,
+    method_of,
+)
 from designlab.navigation.noise import SensorNoise
 from designlab.navigation.parameters import (
     CBF_K0,
@@ -56,6 +62,7 @@ from designlab.navigation.parameters import (
     MasoudGains,
     VFFGains,
 )
+from designlab.navigation.planners.simulate import PlannerResult, simulate_planner
 from designlab.navigation.scenarios import Disc, Scenario
 from designlab.results import Result, Status
 
@@ -173,11 +180,11 @@ class NavigationResult(Result):
         return np.concatenate([[0.0], np.cumsum(self.power) * dt])[: self.t.size]
 
     def hold_audit(self) -> HoldAudit:
-        """V at every dynamics step, checked over each held period (new VFF runs only).
+        """V at every dynamics step, checked over each held period (new VFF runs, filtered or not).
 
         See :func:`designlab.navigation.hold_audit.hold_audit`.
         """
-        if self.method != "vff":
+        if self.method not in ("vff", "vff_cbf"):
             raise InvalidParameterError(
                 "method", self.method, "the hold audit needs the new VFF's Lyapunov function"
             )
@@ -239,7 +246,7 @@ class NavigationResult(Result):
 
 def simulate(
     scenario: Scenario,
-    gains: VFFGains | MasoudGains | GeCuiGains | None = None,
+    gains: VFFGains | MasoudGains | GeCuiGains | Any = None,
     *,
     stabilising: str = "lyapunov",
     method: str = "vff",
@@ -251,24 +258,25 @@ def simulate(
     jit: bool = False,
     weights: tuple[float, float, float] = EQUAL_WEIGHTS,
     noise: SensorNoise | None = None,
-) -> NavigationResult:
-    """Simulate one scenario.
+) -> NavigationResult | PlannerResult:
+    """Simulate one scenario (a force-field method or a Sec. 5.7 planner).
 
     Parameters
     ----------
     scenario
         From :func:`configuration` or built by hand.
     gains
-        :class:`VFFGains` for ``"vff"`` (required) and ``"cbf"`` (its attractive part;
-        default the experiment gains); :class:`MasoudGains` / :class:`GeCuiGains`
-        for the baselines (default: Table C.1).
+        :class:`VFFGains` for ``"vff"``/``"vff_cbf"`` (required) and ``"cbf"`` (default
+        the experiment gains); :class:`MasoudGains` / :class:`GeCuiGains` (default Table
+        C.1); a planner's settings (``VOSettings``, ... of :mod:`~.planners`).
     stabilising
         ``"lyapunov"``: the stabilising force F_L of (5.4.6) is on; ``"off"``: it is
         left out (how the thesis's tables come back, ``docs/navigation.md``).
     method
-        ``"vff"``, ``"masoud"``, ``"ge_cui"`` or ``"cbf"`` (exponential CBF safety filter
-        keeping d >= r3 on the attractive PD field, one OSQP QP per period); the
-        registry is :data:`designlab.navigation.methods.METHODS`.
+        ``"vff"``, ``"masoud"``, ``"ge_cui"``, ``"cbf"`` (CBF filter, d >= r3, on the PD
+        attraction) or ``"vff_cbf"`` (the new VFF filtered by it), :data:`~.methods.METHODS`;
+        a Sec. 5.7 planner (``"vo"``, ``"nlvo"``, ``"errt"``, ``"field_dstar"``) runs through
+        :func:`~.planners.simulate_planner` (force-field options refused).
     arrival_tolerance
         Arrival radius around the goal, m (first passage; at most 1 m).
     dynamics_step
@@ -292,7 +300,7 @@ def simulate(
 
     Returns
     -------
-    NavigationResult
+    NavigationResult or PlannerResult
 
     Raises
     ------
@@ -302,8 +310,7 @@ def simulate(
 
     Examples
     --------
-    >>> import designlab as dl
-    >>> nav = dl.navigation
+    >>> import designlab as dl; nav = dl.navigation
     >>> res = nav.simulate(nav.configuration(1), nav.EXPERIMENT_GAINS, stabilising="off")
     >>> round(res.arrival_time, 2), round(res.min_distance["circle"], 3), res.collided
     (6.48, 0.486, False)
@@ -312,16 +319,16 @@ def simulate(
     ...
     designlab.errors.InvalidParameterError: method = 'bug' is not allowed: ...
     """
+    if isinstance(method, str) and method in PLANNER.choices:
+        _check_planner_options(stabilising, force_every_step, noise)
+        return simulate_planner(scenario, method, gains, arrival_tolerance=arrival_tolerance)
     STABILISING.check(stabilising)
     strategy = method_of(method)
     TIE_SIDE.check(tie_side)
     w = check_weights(weights)
     _check_flags(force_every_step=force_every_step, jit=jit)
     cbf = _check_cbf_gains(cbf_gains)
-    if noise is not None and not isinstance(noise, SensorNoise):
-        raise InvalidParameterError("noise", noise, "must be a SensorNoise or None")
-    if not isinstance(scenario, Scenario):
-        raise InvalidParameterError("scenario", scenario, "must be a Scenario (configuration())")
+    _check_run_inputs(scenario, noise)
     row = strategy.gain_row(gains)
     kw: dict[str, Any] = dict(
         method=strategy.name,
@@ -538,6 +545,23 @@ class BatchResult(Result):
                 )
                 rows.append(r)
         return pd.DataFrame(rows)
+
+
+def _check_run_inputs(scenario: object, noise: object) -> None:
+    """Refuse a scenario or a noise model of the wrong type."""
+    if noise is not None and not isinstance(noise, SensorNoise):
+        raise InvalidParameterError("noise", noise, "must be a SensorNoise or None")
+    if not isinstance(scenario, Scenario):
+        raise InvalidParameterError("scenario", scenario, "must be a Scenario (configuration())")
+
+
+def _check_planner_options(stabilising: str, force_every_step: bool, noise: object) -> None:
+    """Refuse the force-field options a Sec. 5.7 planner does not have."""
+    for name, value, default in (("stabilising", stabilising, "lyapunov"),
+                                 ("force_every_step", force_every_step, False),
+                                 ("noise", noise, None)):  # fmt: skip
+        if value != default:
+            raise InvalidParameterError(name, value, "does not apply to a Sec. 5.7 planner")
 
 
 def _check_flags(**flags: object) -> None:

@@ -219,7 +219,58 @@ def test_a_nonholonomic_robot_is_simulated_as_holonomic_and_the_result_says_so()
     assert any("simulated as holonomic" in w for w in car.warnings)
 
 
-def test_simulate_with_a_planner_name_says_where_planners_run() -> None:
-    with pytest.raises(nav.InvalidParameterError if hasattr(nav, "InvalidParameterError")
-                       else ValueError, match="simulate_planner"):  # fmt: skip
-        nav.simulate(nav.configuration(1), nav.EXPERIMENT_GAINS, method="vo")
+def test_simulate_dispatches_a_planner_name_to_simulate_planner() -> None:
+    sc = nav.configuration(1)
+    settings = VOSettings(horizon=2.0)
+    via = nav.simulate(sc, settings, method="vo")
+    direct = simulate_planner(sc, "vo", settings)
+    assert via.arrival_time == direct.arrival_time
+    assert via.min_distance == direct.min_distance
+    assert via.criteria.H == direct.criteria.H
+    assert nav.simulate(sc, method="vo", arrival_tolerance=0.3).arrival_time < direct.arrival_time
+    for bad in ({"stabilising": "off"}, {"force_every_step": True},
+                {"noise": nav.SensorNoise(seed=1)}):  # fmt: skip
+        with pytest.raises(ValueError, match=r"does not apply to a Sec\. 5\.7 planner"):
+            nav.simulate(sc, method="vo", **bad)
+    with pytest.raises(ValueError, match="must be a VOSettings"):
+        nav.simulate(sc, nav.EXPERIMENT_GAINS, method="vo")
+    with pytest.raises(ValueError, match="nor batched"):
+        nav.simulate_batch([sc], [[3.0, 0.25, 20.0, 17.0]], method="errt")
+
+
+def test_nlvo_prediction_stops_a_braking_walker_and_follows_an_accelerating_one() -> None:
+    from designlab.navigation.planners.velocity_obstacle import predicted_centres
+
+    c, v = np.array([[0.6, 0.0], [2.1, 0.0]]), np.array([[1.0, 0.0], [0.0, 0.0]])
+    a = np.array([[-1.0, 0.0], [0.0, 1.0]])
+    t = np.array([0.0, 0.5, 1.0, 3.0])
+    p = predicted_centres(c, v, a, t)
+    # braking at 1 m/s^2 from 1 m/s stands after 1 s, 0.5 m on; the other accelerates on
+    np.testing.assert_allclose(p[:, 0, 0], [0.6, 0.6 + 0.5 - 0.125, 1.1, 1.1])
+    np.testing.assert_allclose(p[:, 1, 1], 0.5 * t**2)
+
+
+def test_nlvo_without_accelerations_is_the_linear_vo_to_its_sampling_step() -> None:
+    from designlab.navigation.planners.velocity_obstacle import (
+        NLVO_STEP,
+        time_to_collision_nonlinear,
+    )
+
+    rng = np.random.default_rng(5)
+    centres, vel = rng.uniform(-3, 3, (4, 2)), rng.uniform(-1, 1, (4, 2))
+    radii, cand = rng.uniform(0.3, 0.7, 4), rng.uniform(-0.7, 0.7, (200, 2))
+    exact = time_to_collision(np.zeros(2), centres, vel, radii, cand)
+    nl = time_to_collision_nonlinear(np.zeros(2), centres, vel, np.zeros((4, 2)), radii, cand, 5.0)
+    finite = exact < 5.0 - NLVO_STEP
+    assert finite.any() and (exact > 5.0).any()
+    # sampled every NLVO_STEP: found no earlier than the exact time, at most one step later
+    assert np.all(nl[finite] >= exact[finite] - 1e-12)
+    assert np.all(nl[finite] <= exact[finite] + NLVO_STEP + 1e-12)
+    assert np.all(np.isinf(nl[exact > 5.0]))
+
+
+def test_nlvo_runs_through_simulate_on_the_unpredictable_human() -> None:
+    sc = nav.configuration("unpredictable")
+    nl = nav.simulate(sc, method="nlvo")
+    assert nl.arrived and not nl.collided
+    assert nl.min_distance["human"] >= 0.6  # skims it, as the linear VO does (docs)

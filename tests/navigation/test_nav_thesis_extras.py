@@ -36,8 +36,15 @@ def test_energy_trace_integrates_to_the_runs_energy_and_shows_the_turn() -> None
     rate = np.diff(e) / np.diff(res.t)
     window = 1.0  # s: the busiest second
     n = round(float(window / (res.t[1] - res.t[0])))
-    busiest = np.convolve(rate, np.ones(n), "valid").max() * (res.t[1] - res.t[0])
-    assert busiest > 0.5 * res.energy
+    sums = np.convolve(rate, np.ones(n), "valid")
+    busiest = sums.max() * (res.t[1] - res.t[0])
+    # one second of the 8 s run holds over 40 % of the energy (three times its share; half
+    # before the wheel-speed limit of issue 21 made the turn gentler), and it is the turn:
+    # the heading changes fastest inside that second
+    assert busiest > 0.4 * res.energy
+    start = int(np.argmax(sums))
+    turn = int(np.argmax(np.abs(np.diff(np.unwrap(res.trajectory_frame()["heading_rad"])))))
+    assert start <= turn <= start + n
 
 
 def test_force_map_splits_the_field_into_attraction_and_obstacles() -> None:

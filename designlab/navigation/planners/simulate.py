@@ -53,6 +53,7 @@ Array = NDArray[np.float64]
 #: Settings class of each planner.
 PLANNER_SETTINGS: dict[str, type] = {
     "vo": VOSettings,
+    "nlvo": VOSettings,
     "errt": ERRTSettings,
     "field_dstar": FieldDStarSettings,
 }
@@ -197,10 +198,10 @@ def _commander(scenario: Scenario, method: str, settings: Any) -> Callable[..., 
         speed = min(robot.max_speed, math.sqrt(2 * robot.max_accel * dist))
         return d / n * speed if n > 1e-12 else np.zeros(2) * e
 
-    if method == "vo":
+    if method in ("vo", "nlvo"):
         return lambda w, p, v: choose_velocity(
             w, p, v, goal, max_speed=robot.max_speed, max_accel=robot.max_accel, period=ts,
-            settings=settings,
+            settings=settings, nonlinear=method == "nlvo",
         )  # fmt: skip
     if method == "errt":
         rng = np.random.default_rng(settings.seed)
@@ -234,10 +235,11 @@ def simulate_planner(
     scenario
         A holonomic-robot scenario (a nonholonomic robot is simulated as holonomic).
     method
-        ``"vo"``, ``"errt"`` or ``"field_dstar"``
+        ``"vo"``, ``"nlvo"`` (the non-linear VO), ``"errt"`` or ``"field_dstar"``
         (:data:`designlab.navigation.methods.PLANNER`).
     settings
-        :class:`VOSettings`, :class:`ERRTSettings` or :class:`FieldDStarSettings`
+        :class:`VOSettings` (``"vo"``, ``"nlvo"``), :class:`ERRTSettings` or
+        :class:`FieldDStarSettings`
         (default: their defaults).
     arrival_tolerance
         Arrival radius around the goal (m).

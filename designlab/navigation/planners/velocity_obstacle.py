@@ -1,4 +1,4 @@
-"""Velocity obstacles (Fiorini & Shiller 1998; Large, Laugier & Shiller 2005).
+"""Linear and non-linear velocity obstacles (Fiorini & Shiller 1998; Large et al. 2005).
 
 The velocity obstacle of a disc obstacle is the set of robot velocities v that, held,
 bring the robot (a point after the Minkowski sum) within R = rho_o + rho_r of the
@@ -30,7 +30,17 @@ from numpy.typing import NDArray
 from designlab.navigation.planners.parameters import VOSettings
 from designlab.navigation.planners.world import Snapshot
 
-__all__ = ["candidate_velocities", "choose_velocity", "in_velocity_obstacle", "time_to_collision"]
+__all__ = [
+    "candidate_velocities",
+    "choose_velocity",
+    "in_velocity_obstacle",
+    "predicted_centres",
+    "time_to_collision",
+    "time_to_collision_nonlinear",
+]
+
+#: Time step (s) at which the NLVO samples the obstacles' predicted trajectories.
+NLVO_STEP = 0.02
 
 Array = NDArray[np.float64]
 
@@ -65,6 +75,60 @@ def time_to_collision(
         t1 = (b - np.sqrt(np.maximum(disc, 0.0))) / a
     out = np.where((disc >= 0) & (a > 0) & (t1 >= 0), t1, np.inf)
     return np.where(c <= 0, 0.0, out)
+
+
+def predicted_centres(centres: Array, velocities: Array, accelerations: Array, t: Array) -> Array:
+    """Second-order extrapolation of the discs' trajectories, ``(len(t), n, 2)`` (m).
+
+    c(t) = c + v t + a t^2 / 2, except that a disc braking (a . v < 0) stops where its
+    speed along v reaches zero instead of reversing (a walker who brakes stands).
+
+    Parameters
+    ----------
+    centres, velocities, accelerations
+        The discs' centres (m), velocities (m/s) and accelerations (m/s^2), ``(n, 2)``.
+    t
+        Times from now (s), ``(k,)``.
+    """
+    av = np.einsum("nk,nk->n", accelerations, velocities)
+    vv = np.einsum("nk,nk->n", velocities, velocities)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t_stop = np.where(av < 0, vv / -av, np.inf)  # (n,)
+    tt = np.minimum(t[:, None], t_stop[None, :])[:, :, None]  # (k, n, 1)
+    return centres[None] + velocities[None] * tt + 0.5 * accelerations[None] * tt**2
+
+
+def time_to_collision_nonlinear(
+    position: Array, centres: Array, velocities: Array, accelerations: Array, radii: Array,
+    candidates: Array, horizon: float,
+) -> Array:  # fmt: skip
+    """Time (s) until each held candidate velocity meets each disc on its predicted path.
+
+    The non-linear velocity obstacle (Large, Laugier & Shiller 2005): v is forbidden if
+    |p + v t - c(t)| < R for some t in [0, horizon], c(t) the obstacle's trajectory, here
+    :func:`predicted_centres` (second order), sampled every :data:`NLVO_STEP` s; ``(m, n)``,
+    inf when not within the horizon. With zero accelerations it is the linear VO's
+    :func:`time_to_collision` (to the sampling step).
+
+    Parameters
+    ----------
+    position
+        The robot's position, ``(2,)`` (m).
+    centres, velocities, accelerations
+        The discs' centres (m), velocities (m/s) and accelerations (m/s^2), ``(n, 2)``.
+    radii
+        The discs' radii inflated by the robot's, ``(n,)`` (m).
+    candidates
+        Candidate robot velocities, ``(m, 2)`` (m/s).
+    horizon
+        Time horizon (s).
+    """
+    t = np.arange(0.0, horizon + 1e-9, NLVO_STEP)
+    c = predicted_centres(centres, velocities, accelerations, t)  # (k, n, 2)
+    robot = position[None, None, :] + candidates[:, None, :] * t[None, :, None]  # (m, k, 2)
+    gap = robot[:, :, None, :] - c[None, :, :, :]  # (m, k, n, 2)
+    hit = np.einsum("mknj,mknj->mkn", gap, gap) < radii[None, None, :] ** 2
+    return np.where(hit.any(axis=1), t[np.argmax(hit, axis=1)], np.inf)
 
 
 def in_velocity_obstacle(
@@ -129,6 +193,7 @@ def choose_velocity(
     max_accel: float,
     period: float,
     settings: VOSettings,
+    nonlinear: bool = False,
 ) -> Array:
     """The commanded velocity for the next period (Fiorini-Shiller, to-goal rule).
 
@@ -151,6 +216,9 @@ def choose_velocity(
         ``velocity`` are reachable.
     settings
         Horizon tau and the numbers of candidate speeds and headings (:class:`VOSettings`).
+    nonlinear
+        Use the non-linear VO (:func:`time_to_collision_nonlinear`, the obstacles'
+        trajectories extrapolated with their accelerations) instead of the linear one.
     """
     cand = candidate_velocities(max_speed, settings)
     reach = np.hypot(*(cand - velocity).T) <= max_accel * period + 1e-12
@@ -159,7 +227,12 @@ def choose_velocity(
     dist = float(np.hypot(*e))
     speed = min(max_speed, np.sqrt(2 * max_accel * dist)) if dist > 0 else 0.0
     pref = e / dist * speed if dist > 0 else np.zeros(2)
-    ttc = time_to_collision(position, world.centres, world.velocities, world.radii, cand)
+    if nonlinear:
+        acc = world.accelerations if world.accelerations is not None else 0 * world.velocities
+        ttc = time_to_collision_nonlinear(position, world.centres, world.velocities, acc,
+                                          world.radii, cand, settings.horizon)  # fmt: skip
+    else:
+        ttc = time_to_collision(position, world.centres, world.velocities, world.radii, cand)
     first = ttc.min(axis=1) if ttc.size else np.full(len(cand), np.inf)
     first = np.minimum(first, _static_ttc(world, position, cand, settings.horizon))
     cost = np.hypot(*(cand - pref).T)

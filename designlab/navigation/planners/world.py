@@ -35,6 +35,8 @@ class Snapshot:
     ----------
     centres, velocities, radii
         Discs: ``(n, 2)`` centres (m), velocities (m/s) and inflated radii rho_o + rho_r (m).
+    accelerations
+        Discs: ``(n, 2)`` accelerations (m/s^2), what the NLVO extrapolates with.
     rectangles
         The scenario's rectangles (static).
     robot_radius
@@ -46,19 +48,20 @@ class Snapshot:
     radii: Array
     rectangles: tuple[Rectangle, ...]
     robot_radius: float
+    accelerations: Array | None = None
 
     @classmethod
     def of(cls, scenario: Scenario, t: float) -> Snapshot:
         """The scenario's obstacles at time ``t`` (s)."""
         discs = [o for o in scenario.obstacles if isinstance(o, Disc)]
         rho = scenario.robot.radius
-        c, v = np.zeros((len(discs), 2)), np.zeros((len(discs), 2))
+        c, v, a = (np.zeros((len(discs), 2)) for _ in range(3))
         for i, o in enumerate(discs):
-            p, vel, _ = o.state(np.array([t]))
-            c[i], v[i] = p[0], vel[0]
+            p, vel, acc = o.state(np.array([t]))
+            c[i], v[i], a[i] = p[0], vel[0], acc[0]
         radii = np.array([o.radius + rho for o in discs])
         rects = tuple(o for o in scenario.obstacles if isinstance(o, Rectangle))
-        return cls(c, v, radii, rects, rho)
+        return cls(c, v, radii, rects, rho, a)
 
     def clearance(self, points: Sequence[Sequence[float]] | Array) -> Array:
         """Configuration-space clearance of points ``(n, 2)`` (m; <= 0: in collision)."""

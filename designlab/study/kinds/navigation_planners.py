@@ -49,6 +49,7 @@ __all__ = ["KIND", "NavigationPlannersResult", "NavigationPlannersStudy", "Plann
 
 _SETTINGS = {
     "vo": spec_model(VOSettings),
+    "nlvo": spec_model(VOSettings),
     "errt": spec_model(ERRTSettings),
     "field_dstar": spec_model(FieldDStarSettings),
 }

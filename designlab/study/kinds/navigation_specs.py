@@ -333,6 +333,7 @@ GeCuiGainsSpec = _checked(spec_model(GeCuiGains), "GeCuiGainsSpec")
 _GAIN_SPECS: dict[str, type[Model]] = {
     "vff": GainsSpec,
     "cbf": GainsSpec,
+    "vff_cbf": GainsSpec,
     "masoud": MasoudGainsSpec,
     "ge_cui": GeCuiGainsSpec,
 }
@@ -411,12 +412,12 @@ class MethodSpec(Model):
             return self
         if self.settings is not None:
             raise ValueError(f"method {self.label!r}: settings apply to the planners only")
-        if self.method == "vff" and self.gains is None:
+        if self.method in ("vff", "vff_cbf") and self.gains is None:
             raise ValueError(
-                f"method {self.label!r}: the vff method needs gains: {{k1, b, k3, k5}}"
+                f"method {self.label!r}: the {self.method} method needs gains: {{k1, b, k3, k5}}"
             )
         if self.gains is not None and not isinstance(self.gains, _GAIN_SPECS[self.method]):
             raise ValueError(f"method {self.label!r}: gains of the wrong kind for {self.method}")
-        if self.method != "cbf" and "cbf_gains" in self.model_fields_set:
-            raise ValueError(f"method {self.label!r}: cbf_gains apply to method cbf only")
+        if self.method not in ("cbf", "vff_cbf") and "cbf_gains" in self.model_fields_set:
+            raise ValueError(f"method {self.label!r}: cbf_gains apply to cbf and vff_cbf only")
         return self
