@@ -29,9 +29,9 @@ if TYPE_CHECKING:
     from designlab import navigation as navigation
 
 #: Subpackages imported on first attribute access.
-SUBPACKAGES: tuple[str, ...] = ("errors", "following", "impact", "navigation")
+SUBPACKAGES: tuple[str, ...] = ("codesign", "errors", "following", "impact", "navigation")
 
-__all__ = ["__version__", "errors", "following", "impact", "navigation"]
+__all__ = ["__version__", "codesign", "errors", "following", "impact", "navigation"]
 
 
 def __getattr__(name: str) -> Any:
