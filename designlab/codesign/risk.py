@@ -246,7 +246,10 @@ class _Design:
             rows, _ = prob.robot_rows(_levers(self.points, n, rng))
         foam = np.tile([self.foam.stiffness, self.foam.damping], (n, 1))
         params = np.column_stack([rows[:, :3], foam, heads, rows[:, 3:]])
-        m1 = self.criterion.values(params, np.ones(n))
+        if np.all(params == params[0]):  # one design (a fixed head and point): one kernel call
+            m1 = np.repeat(self.criterion.values(params[:1], np.ones(1)), n)
+        else:
+            m1 = self.criterion.values(params, np.ones(n))
         with np.errstate(divide="ignore", invalid="ignore"):
             v = (self.criterion.limit / m1) ** (1.0 / self.criterion.velocity_exponent)
         return np.where(np.isfinite(m1), v, 0.0)
