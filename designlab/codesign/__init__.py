@@ -50,12 +50,6 @@ Examples
 from __future__ import annotations
 
 from designlab.codesign.braking import contact_speed, max_robot_speed, stopping_distance
-from designlab.codesign.population import ClosingSpeeds, HeadPopulation
-from designlab.codesign.risk import InjuryRisk, RiskStatus, injury_probability
-from designlab.codesign.speed import SpeedLimit, SpeedLimitStatus, speed_limit
-from designlab.codesign.speed_map import SpeedLimitMap, speed_limit_map
-
-# --- contact speeds from navigation and the Pareto front (cdfront) ---
 from designlab.codesign.contacts import (
     ContactSpeeds,
     ContactStatus,
@@ -75,35 +69,38 @@ from designlab.codesign.front import (
     nsga2,
     pareto,
 )
+from designlab.codesign.population import ClosingSpeeds, HeadPopulation
+from designlab.codesign.risk import InjuryRisk, RiskStatus, injury_probability
+from designlab.codesign.speed import SpeedLimit, SpeedLimitStatus, speed_limit
+from designlab.codesign.speed_map import SpeedLimitMap, speed_limit_map
 
 __all__ = [
-    "ClosingSpeeds",
-    "HeadPopulation",
-    "InjuryRisk",
-    "RiskStatus",
-    "SpeedLimit",
-    "SpeedLimitMap",
-    "SpeedLimitStatus",
-    "contact_speed",
-    "injury_probability",
-    "max_robot_speed",
-    "speed_limit",
-    "speed_limit_map",
-    "stopping_distance",
-    # cdfront
     "OBJECTIVES",
     "THESIS_DESIGN",
+    "ClosingSpeeds",
     "ContactSpeeds",
     "ContactStatus",
     "Design",
     "DesignScore",
     "DesignSpace",
     "FrontStatus",
+    "HeadPopulation",
+    "InjuryRisk",
     "ParetoFront",
+    "RiskStatus",
+    "SpeedLimit",
+    "SpeedLimitMap",
+    "SpeedLimitStatus",
+    "contact_speed",
     "contact_speeds",
     "evaluate_design",
+    "injury_probability",
+    "max_robot_speed",
     "navigation_contacts",
     "nondominated",
     "nsga2",
     "pareto",
+    "speed_limit",
+    "speed_limit_map",
+    "stopping_distance",
 ]
