@@ -28,6 +28,12 @@ The API (stable: names are added, never renamed)::
     cd.HeadPopulation(mass=<number or dist>, stiffness=..., damping=...)  # .uniform(), .fixed()
     cd.ClosingSpeeds.of(dist_or_samples)      # P(v_c > v | contact), conditional sampling
     cd.contact_speed(...), cd.max_robot_speed(...), cd.stopping_distance(...)  # braking model
+    speeds = cd.navigation_contacts(scenarios, gains)   # or cd.contact_speeds(runs)
+    # -> cd.ContactSpeeds: encounters (closest approach or first contact) per run and disc,
+    #    an empirical closing-speed distribution (rvs, cdf, sf, ppf), to_frame()
+    front = cd.pareto(scenarios, space=cd.DesignSpace(...), objectives=(...), seed=0)
+    # -> cd.ParetoFront: to_frame() (non-dominated designs), designs_frame(),
+    #    reference_frame() (the thesis's design and its distance from the front)
 
 What the model does not cover: head rotation (the head is a point mass on a linear
 neck), the torso and the rest of the body, clamping (a head pinned against a wall),
@@ -44,22 +50,56 @@ Examples
 from __future__ import annotations
 
 from designlab.codesign.braking import contact_speed, max_robot_speed, stopping_distance
+from designlab.codesign.contacts import (
+    ContactSpeeds,
+    ContactStatus,
+    contact_speeds,
+    navigation_contacts,
+)
+from designlab.codesign.front import (
+    OBJECTIVES,
+    THESIS_DESIGN,
+    Design,
+    DesignScore,
+    DesignSpace,
+    FrontStatus,
+    ParetoFront,
+    evaluate_design,
+    nondominated,
+    nsga2,
+    pareto,
+)
 from designlab.codesign.population import ClosingSpeeds, HeadPopulation
 from designlab.codesign.risk import InjuryRisk, RiskStatus, injury_probability
 from designlab.codesign.speed import SpeedLimit, SpeedLimitStatus, speed_limit
 from designlab.codesign.speed_map import SpeedLimitMap, speed_limit_map
 
 __all__ = [
+    "OBJECTIVES",
+    "THESIS_DESIGN",
     "ClosingSpeeds",
+    "ContactSpeeds",
+    "ContactStatus",
+    "Design",
+    "DesignScore",
+    "DesignSpace",
+    "FrontStatus",
     "HeadPopulation",
     "InjuryRisk",
+    "ParetoFront",
     "RiskStatus",
     "SpeedLimit",
     "SpeedLimitMap",
     "SpeedLimitStatus",
     "contact_speed",
+    "contact_speeds",
+    "evaluate_design",
     "injury_probability",
     "max_robot_speed",
+    "navigation_contacts",
+    "nondominated",
+    "nsga2",
+    "pareto",
     "speed_limit",
     "speed_limit_map",
     "stopping_distance",
