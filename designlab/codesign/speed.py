@@ -185,6 +185,15 @@ class Braking:
             DETECTION_DISTANCE.check(detection_distance),
         )
 
+    def notes(self) -> tuple[str, ...]:
+        """A warning when the reaction time cannot act (no detection distance)."""
+        if self.reaction_time > 0 and self.detection_distance == 0:
+            return (
+                "reaction_time has no effect without a detection_distance: the contact comes "
+                "without warning and the robot meets the person at its full speed",
+            )
+        return ()
+
     def robot_limit(self, contact_limit: float, human_speed: float) -> float:
         """The robot speed whose contact speed is ``contact_limit`` (0 if negative)."""
         if contact_limit <= 0.0:
@@ -391,6 +400,7 @@ def _summarise_fixed(
     v_h = prob.human_speed
     robot_speed = v_c - v_h
     status, warnings = _status(robot_speed, v_h, limiting)
+    warnings += brake.notes()
     speed = brake.robot_limit(robot_speed, v_h)
     return SpeedLimit(
         max_speed=speed, closing_speed=v_c, robot_speed=robot_speed, head_speed=v_h,

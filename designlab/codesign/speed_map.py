@@ -173,9 +173,9 @@ def speed_limit_map(
     v_c = np.min(stack, axis=0)
     speed = np.vectorize(lambda u: brake.robot_limit(u - v_h, v_h))(v_c).astype(float)
     unsafe = v_c <= v_h
-    warnings: tuple[str, ...] = ()
+    warnings: tuple[str, ...] = brake.notes()
     if np.any(unsafe):
-        warnings = (
+        warnings += (
             f"{int(unsafe.sum())} of {unsafe.size} foams allow no robot speed: a person moving "
             f"at {v_h:g} m/s into the robot at rest alone exceeds a limit",
         )

@@ -277,3 +277,11 @@ def test_map_equals_speed_limit_per_foam():
     a = m.per_criterion[crit[0].name]
     assert np.all(np.diff(a, axis=0) <= 1e-9)
     assert math.isclose(frame["K_c_N_per_m"].iloc[0], 12e3)
+
+
+def test_reaction_time_without_detection_distance_is_stated():
+    s = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, reaction_time=0.1)
+    assert s.max_speed == pytest.approx(s.robot_speed)
+    assert any("reaction_time has no effect" in w for w in s.warnings)
+    m = dl.codesign.speed_limit_map(MANIPULATOR_1, K_c=[2e4], C_c=[50.0], reaction_time=0.1)
+    assert any("reaction_time has no effect" in w for w in m.warnings)
