@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 from scipy import stats
 
 import designlab as dl
@@ -162,3 +164,31 @@ def test_fragility_of_one_head_is_a_step():
                                         heads=HEAD_MIN, samples=100)  # fmt: skip
     assert list(curve.probability) == [0.0, 1.0]
     assert curve.speed_at(0.5) == pytest.approx(v_star, rel=1e-9)
+
+
+@settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    m_r=st.floats(3.0, 60.0),
+    k_c=st.floats(5e3, 8e4),
+    xi=st.floats(0.05, 0.3),
+    m_h=st.floats(4.4, 5.3),
+    k_h=st.floats(3e3, 5e3),
+    c_h=st.floats(46.0, 130.2),
+    sigma=st.floats(0.2, 1.0),
+    scale=st.floats(0.3, 3.0),
+)
+def test_closed_form_over_random_designs(m_r, k_c, xi, m_h, k_h, c_h, sigma, scale):
+    """One head: P = P(v_c > v*) with v* = limit / a_h,max(1 m/s) computed here."""
+    robot = dl.impact.ContactDynamics(mass=m_r, stiffness=20e3, damping=250.0)
+    foam = dl.impact.Foam.from_damping_ratio(k_c, xi)
+    head = dl.impact.HeadNeck(m_h, k_h, c_h)
+    m = dl.impact.impact_metrics(
+        {"M_r": m_r, "C_r": 250.0, "K_r": 20e3, "K_c": foam.stiffness, "C_c": foam.damping,
+         "M_h": m_h, "C_h": c_h, "K_h": k_h},
+        1.0,
+        with_force=False,
+    )  # fmt: skip
+    v_star = HeadAcceleration(10).limit / float(m.peak_head_acceleration[0])
+    dist = stats.lognorm(s=sigma, scale=scale)
+    r = dl.codesign.injury_probability(robot, foam, dist, heads=head, samples=50)
+    assert r.probability == pytest.approx(float(dist.sf(v_star)), rel=1e-9, abs=1e-300)
