@@ -3,7 +3,8 @@
 Three model families, from Zeng 2011 (impact safety of foam-covered
 manipulators; navigation among people), Allan 2015 and Wu et al. 2021
 (robots that follow or accompany a person). The domain packages are imported
-on first use (``dl.impact``, ``dl.navigation``, ``dl.following``), so that a command touching
+on first use (``dl.impact``, ``dl.navigation``, ``dl.following``; the co-design layer
+``dl.codesign`` above them), so that a command touching
 one domain does not pay for loading the others.
 
 Examples
@@ -23,15 +24,16 @@ from typing import TYPE_CHECKING, Any
 from designlab._version import __version__
 
 if TYPE_CHECKING:
+    from designlab import codesign as codesign
     from designlab import errors as errors
     from designlab import following as following
     from designlab import impact as impact
     from designlab import navigation as navigation
 
 #: Subpackages imported on first attribute access.
-SUBPACKAGES: tuple[str, ...] = ("errors", "following", "impact", "navigation")
+SUBPACKAGES: tuple[str, ...] = ("codesign", "errors", "following", "impact", "navigation")
 
-__all__ = ["__version__", "errors", "following", "impact", "navigation"]
+__all__ = ["__version__", "codesign", "errors", "following", "impact", "navigation"]
 
 
 def __getattr__(name: str) -> Any:

@@ -66,6 +66,8 @@ SMALL_STUDIES: dict[str, str] = {
     "side_offsets: [0.5]\nbrake_laws: [PseudoJoystick]\n",
     "navigation_planners": "scenarios: [{configuration: 1}]\nmirror: false\n"
     "planners: [{method: vo, settings: {horizon: 2.0}}]\nmethods: []\n",
+    "codesign": "scenarios: [{configuration: 2}]\n"
+    "front: {objectives: [arrival_time, foam_thickness], population: 4, generations: 1}\n",
 }
 
 

@@ -76,6 +76,9 @@ BASE: dict[str, dict[str, Any]] = {
     "tether_modes": {"paths": [{"type": "straight_line", "length": 3.0}],
                      "modes": ["SideJoystick"], "side_offsets": [0.5],
                      "brake_laws": ["PseudoJoystick"]},
+    "codesign": {"scenarios": [{"configuration": 2}],
+                 "front": {"objectives": ["arrival_time", "foam_thickness"], "population": 4,
+                           "generations": 1}},
 }  # fmt: skip
 
 #: Kinds quick enough to run on every accepted example.

@@ -27,4 +27,5 @@ MODULES: tuple[str, ...] = (
     "navigation_regions",
     "navigation_planners",
     "accompanying",
+    "codesign",
 )

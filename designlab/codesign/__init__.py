@@ -1,0 +1,112 @@
+"""Co-design of a robot that moves among people: foam, speed limit and injury probability.
+
+A layer above the domains: it imports the impact (and navigation) packages, and no
+domain imports it (an import-linter contract in ``pyproject.toml``). See
+``docs/codesign.md``.
+
+The API (stable: names are added, never renamed)::
+
+    cd = dl.codesign
+    speed = cd.speed_limit(robot, foam, criteria=[...], head_range=dl.impact.THESIS_HEAD_RANGE,
+                           human_speed=1.0, reaction_time=0.0, deceleration=10.0,
+                           detection_distance=0.0, head_levels=3)
+    # -> cd.SpeedLimit: max_speed (robot, m/s), closing_speed, robot_speed / head_speed
+    #    (the Sec. 3.4 split), joint_speed (a LinkImpact), limiting_criterion,
+    #    per_criterion, worst_heads, worst_lever_arm, unit_metric, stopping_distance,
+    #    status, warnings, to_frame()
+    smap = cd.speed_limit_map(robot, K_c=[...], C_c=[...], criteria=..., linear_depth=0.02,
+                              head_range=..., human_speed=1.0, ...)
+    # -> cd.SpeedLimitMap: stiffness, damping, max_speed[i, j], closing_speed[i, j],
+    #    limiting[i, j] (index into criteria), per_criterion, to_frame() (one row per foam)
+    risk = cd.injury_probability(robot, foam, closing_speed=<scipy frozen dist or samples>,
+                                 heads=<None | HeadPopulation | HeadRange | HeadNeck>,
+                                 criterion=dl.impact.HeadAcceleration(10), points=None,
+                                 samples=100_000, method="crude" | "importance",
+                                 confidence=0.95, seed=0, progress=None)
+    # -> cd.InjuryRisk: probability, interval, standard_error, samples, method,
+    #    failed_samples, contact_fraction, status, warnings, to_frame()
+    curve = cd.fragility_curve(robot, foam, speeds=[...], heads=..., criterion=..., samples=...)
+    # -> cd.FragilityCurve: P(exceeded | contact at v) per speed, Wilson low/high,
+    #    thresholds, speed_at(p), to_frame()
+    cd.HeadPopulation(mass=<number or dist>, stiffness=..., damping=...)  # .uniform(), .fixed()
+    cd.ClosingSpeeds.of(dist_or_samples)      # P(v_c > v | contact), conditional sampling
+    cd.contact_speed(...), cd.max_robot_speed(...), cd.stopping_distance(...)  # braking model
+    speeds = cd.navigation_contacts(scenarios, gains)   # or cd.contact_speeds(runs)
+    # -> cd.ContactSpeeds: encounters (closest approach or first contact) per run and disc,
+    #    an empirical closing-speed distribution (rvs, cdf, sf, ppf), to_frame()
+    front = cd.pareto(scenarios, space=cd.DesignSpace(...), objectives=(...), seed=0)
+    # -> cd.ParetoFront: to_frame() (non-dominated designs), designs_frame(),
+    #    reference_frame() (the thesis's design and its distance from the front)
+
+What the model does not cover: head rotation (the head is a point mass on a linear
+neck), the torso and the rest of the body, clamping (a head pinned against a wall),
+foam beyond its linear depth, correlated head-neck parameters.
+
+Examples
+--------
+>>> import designlab as dl
+>>> s = dl.codesign.speed_limit(dl.impact.MANIPULATOR_1, dl.impact.FOAM_1)
+>>> s.limiting_criterion, round(s.max_speed, 3)
+('eps_max <= 20 mm', 0.807)
+"""
+
+from __future__ import annotations
+
+from designlab.codesign.braking import contact_speed, max_robot_speed, stopping_distance
+from designlab.codesign.contacts import (
+    ContactSpeeds,
+    ContactStatus,
+    contact_speeds,
+    navigation_contacts,
+)
+from designlab.codesign.fragility import FragilityCurve, fragility_curve
+from designlab.codesign.front import (
+    OBJECTIVES,
+    THESIS_DESIGN,
+    Design,
+    DesignScore,
+    DesignSpace,
+    FrontStatus,
+    ParetoFront,
+    evaluate_design,
+    nondominated,
+    nsga2,
+    pareto,
+)
+from designlab.codesign.population import ClosingSpeeds, HeadPopulation
+from designlab.codesign.risk import InjuryRisk, RiskStatus, injury_probability
+from designlab.codesign.speed import SpeedLimit, SpeedLimitStatus, speed_limit
+from designlab.codesign.speed_map import SpeedLimitMap, speed_limit_map
+
+__all__ = [
+    "OBJECTIVES",
+    "THESIS_DESIGN",
+    "ClosingSpeeds",
+    "ContactSpeeds",
+    "ContactStatus",
+    "Design",
+    "DesignScore",
+    "DesignSpace",
+    "FragilityCurve",
+    "FrontStatus",
+    "HeadPopulation",
+    "InjuryRisk",
+    "ParetoFront",
+    "RiskStatus",
+    "SpeedLimit",
+    "SpeedLimitMap",
+    "SpeedLimitStatus",
+    "contact_speed",
+    "contact_speeds",
+    "evaluate_design",
+    "fragility_curve",
+    "injury_probability",
+    "max_robot_speed",
+    "navigation_contacts",
+    "nondominated",
+    "nsga2",
+    "pareto",
+    "speed_limit",
+    "speed_limit_map",
+    "stopping_distance",
+]

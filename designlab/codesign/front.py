@@ -1,0 +1,783 @@
+"""The Pareto front of a whole design: foam, speed limit and VFF gains chosen together.
+
+A design is a foam covering (K_c, C_c, thickness T_u), the robot's speed limit V_mr in
+the navigation scenarios and the four free VFF gains (K1, b, K3, K5). It is scored on
+the navigation scenarios (simulated with the design's speed limit and gains) and, at
+the closing speeds of those runs (:mod:`designlab.codesign.contacts`), on the impact
+model. The objectives (all minimised; :data:`OBJECTIVES`) are
+
+* ``arrival_time``: mean T_arrive over the scenarios (s);
+* ``foam_thickness``: T_u (m);
+* ``closing_speed``: the largest closing speed the runs met (m/s);
+
+and the hard constraints (a design that breaks one is infeasible, never traded) are:
+no collision, no critical-region entry, arrival in every scenario, and a foam that
+does not bottom out at the largest closing speed met (the worst-case compression of
+:func:`designlab.impact.min_foam_thickness` within the linear depth).
+
+:func:`pareto` (``dl.codesign.pareto``) searches the space with pymoo's NSGA-II
+(seeded), keeps every design it evaluated, and returns a :class:`ParetoFront`: the
+non-dominated feasible designs
+(:func:`nondominated`), and the thesis's design (Foam 1, V_mr = 0.7 m/s, the
+experiment gains; :data:`THESIS_DESIGN`) evaluated the same way with its distance from
+the front.
+
+Examples
+--------
+>>> import numpy as np
+>>> nondominated(np.array([[1.0, 2.0], [2.0, 1.0], [2.0, 2.0], [1.0, 2.0]])).tolist()
+[True, True, False, True]
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any, ClassVar
+
+import numpy as np
+import pandas as pd
+from numpy.typing import ArrayLike, NDArray
+from pymoo.algorithms.moo.nsga2 import NSGA2
+from pymoo.core.problem import Problem
+from pymoo.optimize import minimize
+
+from designlab.codesign.contacts import MEASURES, ContactSpeeds, contact_speeds
+from designlab.errors import InvalidParameterError
+from designlab.impact import (
+    FOAM_1,
+    MANIPULATOR_1,
+    THESIS_HEAD_RANGE,
+    ContactDynamics,
+    Foam,
+    HeadRange,
+    min_foam_thickness,
+)
+from designlab.navigation import EXPERIMENT_GAINS, HolonomicRobot, Scenario, VFFGains, simulate
+from designlab.params import Param, declared, params_of
+from designlab.progress import Progress, ProgressHook, report
+from designlab.results import Result, Status
+
+__all__ = [
+    "OBJECTIVES",
+    "THESIS_DESIGN",
+    "Design",
+    "DesignScore",
+    "DesignSpace",
+    "FrontStatus",
+    "ParetoFront",
+    "evaluate_design",
+    "nondominated",
+    "nsga2",
+    "pareto",
+]
+
+Array = NDArray[np.float64]
+
+#: The linear fraction lambda / T_u of the Ch. 4 foam (0.02 m of 0.0254 m): a design's
+#: linear depth is this share of its thickness.
+LINEAR_FRACTION = 0.02 / 0.0254
+
+#: The design variables, in the order of a design vector, with their units.
+VARIABLES: tuple[tuple[str, str], ...] = (
+    ("K_c", "N_per_m"),
+    ("C_c", "N_s_per_m"),
+    ("T_u", "m"),
+    ("V_mr", "m_per_s"),
+    ("k1", ""),
+    ("b", ""),
+    ("k3", ""),
+    ("k5", ""),
+)
+
+#: Cap on the designs one search may evaluate (population x generations): each is a set
+#: of navigation runs.
+MAX_EVALUATIONS = 20_000
+
+POPULATION = Param(
+    None, "", "NSGA-II population size", kind="integer", ge=4, le=500, name="population"
+)
+GENERATIONS = Param(
+    None, "", "NSGA-II generations (the first is the random start)", kind="integer", ge=1,
+    le=1000, name="generations",
+)  # fmt: skip
+SEED = Param(None, "", "seed of the search", kind="integer", ge=0, le=2**32 - 1, name="seed")
+
+
+# ------------------------------------------------------------------ the design space
+
+
+def _bound(cls: type, fname: str, end: str, default: float) -> Any:
+    """A search bound carrying the domain's own declaration of the variable."""
+    decl = params_of(cls)[fname]
+    word = "lowest" if end == "min" else "highest"
+    symbol = f"{decl.symbol},{end}" if decl.symbol else f"{fname},{end}"
+    bound = dataclasses.replace(
+        decl, symbol=symbol, doc=f"{word} {decl.doc} searched", optional=False, typical=None
+    )
+    return dataclasses.field(default=default, metadata={"param": bound})
+
+
+_PAIRS = (
+    ("stiffness", Foam, "stiffness", (5.0e3, 80.0e3)),
+    ("damping", Foam, "damping", (10.0, 200.0)),
+    ("thickness", Foam, "thickness", (0.01, 0.06)),
+    ("speed", HolonomicRobot, "max_speed", (0.3, 1.5)),
+    ("k1", VFFGains, "k1", (1.0, 6.0)),
+    ("b", VFFGains, "b", (0.1, 1.0)),
+    ("k3", VFFGains, "k3", (10.0, 40.0)),
+    ("k5", VFFGains, "k5", (10.0, 300.0)),
+)
+
+
+@declared
+@dataclass(frozen=True)
+class DesignSpace:
+    """The box searched for a whole design: foam, speed limit and VFF gains.
+
+    Each variable has a lowest and a highest value, bounded by the domain's own
+    declaration (:class:`~designlab.impact.Foam`,
+    :class:`~designlab.navigation.HolonomicRobot`, :class:`~designlab.navigation.VFFGains`).
+    A variable whose bounds are equal is held fixed; a lowest value above the highest is
+    refused (naming the bound).
+
+    Examples
+    --------
+    >>> DesignSpace(speed_min=0.5, speed_max=0.5).free.tolist()
+    [True, True, True, False, True, True, True, True]
+    >>> DesignSpace(stiffness_min=9e4, stiffness_max=1e4)
+    Traceback (most recent call last):
+    ...
+    designlab.errors.InvalidParameterError: DesignSpace.stiffness_min = 90000.0 N/m is not ...
+    """
+
+    stiffness_min: float = _bound(Foam, "stiffness", "min", 5.0e3)
+    stiffness_max: float = _bound(Foam, "stiffness", "max", 80.0e3)
+    damping_min: float = _bound(Foam, "damping", "min", 10.0)
+    damping_max: float = _bound(Foam, "damping", "max", 200.0)
+    thickness_min: float = _bound(Foam, "thickness", "min", 0.01)
+    thickness_max: float = _bound(Foam, "thickness", "max", 0.06)
+    speed_min: float = _bound(HolonomicRobot, "max_speed", "min", 0.3)
+    speed_max: float = _bound(HolonomicRobot, "max_speed", "max", 1.5)
+    k1_min: float = _bound(VFFGains, "k1", "min", 1.0)
+    k1_max: float = _bound(VFFGains, "k1", "max", 6.0)
+    b_min: float = _bound(VFFGains, "b", "min", 0.1)
+    b_max: float = _bound(VFFGains, "b", "max", 1.0)
+    k3_min: float = _bound(VFFGains, "k3", "min", 10.0)
+    k3_max: float = _bound(VFFGains, "k3", "max", 40.0)
+    k5_min: float = _bound(VFFGains, "k5", "min", 10.0)
+    k5_max: float = _bound(VFFGains, "k5", "max", 300.0)
+
+    NAMES: ClassVar[tuple[str, ...]] = tuple(p[0] for p in _PAIRS)
+
+    def __post_init__(self) -> None:
+        for name in self.NAMES:
+            lo, hi = getattr(self, f"{name}_min"), getattr(self, f"{name}_max")
+            if lo > hi:
+                unit = params_of(self)[f"{name}_min"].unit
+                raise InvalidParameterError(
+                    f"DesignSpace.{name}_min",
+                    lo,
+                    f"must be <= {name}_max = {hi:g} (an empty range)",
+                    unit,
+                )
+
+    @property
+    def lower(self) -> Array:
+        """Lowest values in the order of :data:`VARIABLES`."""
+        return np.array([getattr(self, f"{n}_min") for n in self.NAMES])
+
+    @property
+    def upper(self) -> Array:
+        """Highest values in the order of :data:`VARIABLES`."""
+        return np.array([getattr(self, f"{n}_max") for n in self.NAMES])
+
+    @property
+    def free(self) -> NDArray[np.bool_]:
+        """Which variables are searched (their bounds differ)."""
+        return self.upper > self.lower
+
+
+@dataclass(frozen=True)
+class Design:
+    """One whole design: the foam covering, the speed limit and the VFF gains.
+
+    Examples
+    --------
+    >>> THESIS_DESIGN.vector().tolist()[:4]
+    [24250.0, 71.9, 0.0254, 0.7]
+    """
+
+    foam: Foam
+    speed: float
+    gains: VFFGains
+
+    def vector(self) -> Array:
+        """``[K_c, C_c, T_u, V_mr, k1, b, k3, k5]``."""
+        f = self.foam
+        return np.array([f.stiffness, f.damping, f.thickness, self.speed, *self.gains.as_array()])
+
+    @classmethod
+    def from_vector(cls, x: ArrayLike) -> Design:
+        """The design of a vector ``[K_c, C_c, T_u, V_mr, k1, b, k3, k5]``."""
+        k, c, t, v, k1, b, k3, k5 = (float(a) for a in np.asarray(x, dtype=float))
+        foam = Foam(k, c, linear_depth=t * LINEAR_FRACTION, thickness=t)
+        params_of(HolonomicRobot)["max_speed"].check(v, "Design.speed")
+        return cls(foam, v, VFFGains(k1=k1, b=b, k3=k3, k5=k5))
+
+
+#: The thesis's design: Foam 1 (Table 3.3, 25.4 mm), V_mr = 0.7 m/s (Ch. 6), the
+#: experiment gains (Sec. 6.2.4).
+THESIS_DESIGN = Design(FOAM_1, 0.7, EXPERIMENT_GAINS)
+
+
+# ---------------------------------------------------------------- non-dominated filter
+
+
+def nondominated(F: ArrayLike) -> NDArray[np.bool_]:
+    """Which rows of ``F`` (objectives to minimise) no other row dominates.
+
+    Row j dominates row i when it is no worse in every objective and better in one.
+    Equal rows do not dominate each other (both are kept).
+
+    Parameters
+    ----------
+    F
+        ``(n, m)`` objective values (finite or ``inf``; not NaN).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(n,)`` booleans.
+
+    Examples
+    --------
+    >>> nondominated([[0.0, 1.0], [1.0, 0.0], [1.0, 1.0]]).tolist()
+    [True, True, False]
+    """
+    A = np.asarray(F, dtype=float)
+    if A.ndim != 2 or np.isnan(A).any():
+        raise InvalidParameterError("F", "array", "must be an (n, m) array without NaN")
+    no_worse = (A[:, None, :] <= A[None, :, :]).all(axis=2)  # [j, i]: j no worse than i
+    better = (A[:, None, :] < A[None, :, :]).any(axis=2)
+    return ~(no_worse & better).any(axis=0)
+
+
+# ------------------------------------------------------------------------- the search
+
+
+@dataclass(frozen=True)
+class SearchOutcome:
+    """Every design a :func:`nsga2` search evaluated, in order.
+
+    Attributes
+    ----------
+    X, F, G
+        Variables ``(n, n_var)``, objectives ``(n, n_obj)`` and constraints
+        ``(n, n_constr)`` (feasible: every G <= 0).
+    generations
+        The generation of each evaluated design (1-based).
+    """
+
+    X: Array
+    F: Array
+    G: Array
+    generations: NDArray[np.int_]
+
+    @property
+    def feasible(self) -> NDArray[np.bool_]:
+        """Designs whose constraints all hold."""
+        return (self.G <= 0.0).all(axis=1) if self.G.shape[1] else np.ones(len(self.X), bool)
+
+
+class _Archived(Problem):  # type: ignore[misc]
+    """A pymoo problem that evaluates row by row and keeps every evaluation."""
+
+    def __init__(self, evaluate: Callable[[Array], tuple[Array, Array]], lower: Array,
+                 upper: Array, n_obj: int, n_constr: int, total: int,
+                 progress: ProgressHook | None) -> None:  # fmt: skip
+        super().__init__(n_var=lower.size, n_obj=n_obj, n_ieq_constr=n_constr, xl=lower, xu=upper)
+        self.evaluate_row = evaluate
+        self.rows: list[tuple[Array, Array, Array, int]] = []
+        self.batch = 0
+        self.total = total
+        self.progress = progress
+
+    def _evaluate(self, x: Array, out: dict[str, Any], *args: Any, **kwargs: Any) -> None:
+        self.batch += 1
+        F, G = zip(*(self.evaluate_row(row) for row in x), strict=True)
+        out["F"], out["G"] = np.array(F), np.array(G)
+        self.rows += [(r, f, g, self.batch) for r, f, g in zip(x, F, G, strict=True)]
+        feasible = [f[0] for _, f, g, _ in self.rows if (np.asarray(g) <= 0).all()]
+        best = float(min(feasible)) if feasible else None
+        report(self.progress, Progress(self.batch, self.total, best, "generation"))
+
+
+def nsga2(
+    evaluate: Callable[[Array], tuple[Array, Array]],
+    lower: ArrayLike,
+    upper: ArrayLike,
+    *,
+    n_obj: int,
+    n_constr: int = 0,
+    population: int = 16,
+    generations: int = 8,
+    seed: int = 0,
+    progress: ProgressHook | None = None,
+) -> SearchOutcome:
+    """Minimise several objectives in a box with pymoo's NSGA-II; keep every evaluation.
+
+    Parameters
+    ----------
+    evaluate
+        ``x -> (f, g)``: the objectives ``(n_obj,)`` and constraints ``(n_constr,)`` of one
+        point (feasible when every g <= 0).
+    lower, upper
+        The box (equal values hold a variable fixed).
+    n_obj, n_constr
+        Numbers of objectives and constraints.
+    population, generations
+        NSGA-II population size and number of generations.
+    seed
+        Seed of the search (the same seed gives the same designs).
+    progress
+        Called after each generation (:mod:`designlab.progress`).
+
+    Returns
+    -------
+    SearchOutcome
+
+    Examples
+    --------
+    >>> out = nsga2(lambda x: (np.array([x[0] ** 2, (x[0] - 2) ** 2]), np.zeros(0)),
+    ...             [-5.0], [5.0], n_obj=2, population=8, generations=3, seed=1)
+    >>> out.X.shape, int(out.generations.max())
+    ((24, 1), 3)
+    """
+    lo, hi = np.asarray(lower, dtype=float), np.asarray(upper, dtype=float)
+    pop = POPULATION.check(population)
+    gens = GENERATIONS.check(generations)
+    if pop * gens > MAX_EVALUATIONS:
+        raise InvalidParameterError(
+            "generations", gens, f"population x generations must be <= {MAX_EVALUATIONS}"
+        )
+    free = hi > lo
+    if not free.any():  # nothing to search: the one design
+        f, g = evaluate(lo)
+        one = np.array([1])
+        return SearchOutcome(
+            lo[None, :], np.reshape(f, (1, n_obj)), np.reshape(g, (1, n_constr)), one
+        )
+
+    def on_free(z: Array) -> tuple[Array, Array]:
+        x = lo.copy()
+        x[free] = z
+        return evaluate(x)
+
+    problem = _Archived(on_free, lo[free], hi[free], n_obj, n_constr, gens, progress)
+    minimize(problem, NSGA2(pop_size=pop), ("n_gen", gens), seed=SEED.check(seed), verbose=False)
+    X = np.tile(lo, (len(problem.rows), 1))
+    X[:, free] = np.array([r[0] for r in problem.rows]).reshape(len(problem.rows), -1)
+    return SearchOutcome(
+        X=X,
+        F=np.array([r[1] for r in problem.rows], dtype=float).reshape(len(X), n_obj),
+        G=np.array([r[2] for r in problem.rows], dtype=float).reshape(len(X), n_constr),
+        generations=np.array([r[3] for r in problem.rows], dtype=int),
+    )
+
+
+# ------------------------------------------------------- scoring one design
+
+
+@dataclass(frozen=True)
+class DesignScore:
+    """What one design gives: its navigation runs' outcome and its impact numbers.
+
+    Attributes
+    ----------
+    design
+        The :class:`Design`.
+    arrival_time
+        Mean T_arrive over the scenarios (s; ``inf`` if a run did not arrive).
+    collisions, critical_entries, not_arrived
+        How many runs collided, entered a critical region, did not arrive.
+    contacts
+        The runs' encounters (:class:`~designlab.codesign.ContactSpeeds`).
+    closing_speed
+        The largest closing speed met (m/s).
+    required_thickness
+        The thickness T_u the foam needs not to bottom out at that speed (m).
+    """
+
+    design: Design
+    arrival_time: float
+    collisions: int
+    critical_entries: int
+    not_arrived: int
+    contacts: ContactSpeeds = field(repr=False)
+    closing_speed: float
+    required_thickness: float
+
+    @property
+    def constraints(self) -> Array:
+        """G <= 0 when feasible: collisions, critical entries, non-arrivals, bottoming (m)."""
+        return np.array(
+            [
+                self.collisions,
+                self.critical_entries,
+                self.not_arrived,
+                self.required_thickness - self.design.foam.thickness,
+            ],
+            dtype=float,
+        )
+
+    @property
+    def feasible(self) -> bool:
+        """Every hard constraint holds."""
+        return bool((self.constraints <= 0.0).all())
+
+
+#: The hard constraints, in the order of :attr:`DesignScore.constraints`.
+CONSTRAINTS = ("collisions", "critical_entries", "not_arrived", "thickness_shortfall_m")
+
+
+@dataclass(frozen=True)
+class Objective:
+    """An objective to minimise: its name, unit and how a score gives it."""
+
+    name: str
+    unit: str
+    doc: str
+    of: Callable[[DesignScore], float]
+
+    @property
+    def column(self) -> str:
+        """Column name with the unit (``arrival_time_s``)."""
+        return f"{self.name}_{self.unit}" if self.unit else self.name
+
+
+#: The objectives :func:`pareto` knows (all minimised).
+OBJECTIVES: dict[str, Objective] = {
+    o.name: o
+    for o in (
+        Objective("arrival_time", "s", "mean arrival time over the scenarios",
+                  lambda s: s.arrival_time),
+        Objective("foam_thickness", "m", "foam thickness T_u", lambda s: s.design.foam.thickness),
+        Objective("closing_speed", "m_per_s", "largest closing speed met",
+                  lambda s: s.closing_speed),
+    )
+}  # fmt: skip
+
+
+def _check_scenarios(scenarios: Any) -> tuple[Scenario, ...]:
+    items = (scenarios,) if isinstance(scenarios, Scenario) else tuple(scenarios)
+    if not items or not all(isinstance(s, Scenario) for s in items):
+        raise InvalidParameterError("scenarios", scenarios, "must be one or more Scenario objects")
+    return items
+
+
+def _required_thickness(
+    robot: ContactDynamics, foam: Foam, speed: float, heads: HeadRange
+) -> float:
+    """T_u the foam needs so that the worst head does not bottom it out at ``speed``."""
+    if not speed > 0.0:
+        return 0.0
+    return min_foam_thickness(robot, foam, speed, head_range=heads).thickness
+
+
+def evaluate_design(
+    design: Design,
+    scenarios: Scenario | Sequence[Scenario],
+    *,
+    robot: ContactDynamics = MANIPULATOR_1,
+    heads: HeadRange = THESIS_HEAD_RANGE,
+    measure: str = "relative",
+) -> DesignScore:
+    """Simulate the scenarios with the design's speed limit and gains and score it.
+
+    Parameters
+    ----------
+    design
+        The :class:`Design`.
+    scenarios
+        Navigation scenarios (their robot's speed limit is replaced by the design's).
+    robot
+        The effective manipulator/robot body at the contact point (impact model).
+    heads
+        The head-neck range whose worst head sets the foam thickness needed.
+    measure
+        Which closing speed of the encounters counts (:func:`contact_speeds`).
+
+    Returns
+    -------
+    DesignScore
+
+    Examples
+    --------
+    >>> import designlab.navigation as nav
+    >>> s = evaluate_design(THESIS_DESIGN, [nav.configuration(2)])
+    >>> s.feasible, round(s.arrival_time, 2), round(s.closing_speed, 2)
+    (True, 12.2, 0.39)
+    """
+    if measure not in MEASURES:
+        raise InvalidParameterError("measure", measure, f"must be one of {MEASURES}")
+    runs = [
+        simulate(sc.with_robot(dataclasses.replace(sc.robot, max_speed=design.speed)),
+                 design.gains)
+        for sc in _check_scenarios(scenarios)
+    ]  # fmt: skip
+    contacts = contact_speeds(runs, measure=measure)
+    v = float(contacts.samples.max()) if len(contacts) else 0.0
+    return DesignScore(
+        design=design,
+        arrival_time=float(np.mean([r.arrival_time for r in runs])),
+        collisions=sum(r.collided for r in runs),
+        critical_entries=sum(r.entered_critical for r in runs),
+        not_arrived=sum(not r.arrived for r in runs),
+        contacts=contacts,
+        closing_speed=v,
+        required_thickness=_required_thickness(robot, design.foam, v, heads),
+    )
+
+
+# ----------------------------------------------------------------------- the front
+
+
+class FrontStatus(Status):
+    """Status of a :class:`ParetoFront`.
+
+    ``OK``: at least one feasible design; ``NO_FEASIBLE``: every design evaluated broke
+    a hard constraint (the front is empty).
+    """
+
+    OK = "ok"
+    NO_FEASIBLE = "no_feasible"
+
+
+def _variable_columns() -> list[str]:
+    return [f"{n}_{u}" if u else n for n, u in VARIABLES]
+
+
+@dataclass(frozen=True)
+class ParetoFront(Result):
+    """The designs a search evaluated, its non-dominated feasible ones, and the reference.
+
+    Attributes
+    ----------
+    objectives
+        Names of the objectives (:data:`OBJECTIVES`), all minimised.
+    X, F, G
+        Every evaluated design: variables (:data:`VARIABLES`), objectives and
+        constraints (:data:`CONSTRAINTS`; feasible: all <= 0).
+    generations
+        The generation each design was evaluated in.
+    feasible, front
+        Which designs are feasible, and which feasible ones are non-dominated.
+    reference
+        The reference design's score (the thesis's design by default), or ``None``.
+    reference_objectives
+        Its objectives.
+    reference_distance
+        Normalised distance from the reference to the nearest front design (each
+        objective divided by its span over the front and the reference); 0 on the front.
+    reference_dominated_by
+        How many front designs are no worse in every objective and better in one.
+    seed
+        The seed of the search.
+    status, warnings
+        See :class:`FrontStatus`.
+    """
+
+    objectives: tuple[str, ...]
+    X: Array = field(repr=False)
+    F: Array = field(repr=False)
+    G: Array = field(repr=False)
+    generations: NDArray[np.int_] = field(repr=False)
+    feasible: NDArray[np.bool_] = field(repr=False)
+    front: NDArray[np.bool_] = field(repr=False)
+    reference: DesignScore | None = field(repr=False)
+    reference_objectives: Array = field(repr=False)
+    reference_distance: float
+    reference_dominated_by: int
+    seed: int = 0
+    status: str = FrontStatus.OK
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def columns(self) -> list[str]:
+        """Objective columns with units."""
+        return [OBJECTIVES[o].column for o in self.objectives]
+
+    def designs(self) -> list[Design]:
+        """The front's designs, sorted by the first objective."""
+        return [Design.from_vector(x) for x in self.to_frame()[_variable_columns()].to_numpy()]
+
+    def to_frame(self) -> pd.DataFrame:
+        """The non-dominated feasible designs: variables and objectives, by the first objective."""
+        frame = self.designs_frame()
+        front = frame[frame["on_front"]].drop(columns=["on_front", "feasible", *CONSTRAINTS])
+        return front.sort_values(self.columns[0], kind="stable").reset_index(drop=True)
+
+    def designs_frame(self) -> pd.DataFrame:
+        """Every evaluated design: generation, variables, objectives, constraints, flags."""
+        frame = pd.DataFrame(self.X, columns=_variable_columns())
+        frame.insert(0, "generation", self.generations)
+        for j, col in enumerate(self.columns):
+            frame[col] = self.F[:, j]
+        for j, name in enumerate(CONSTRAINTS):
+            frame[name] = self.G[:, j]
+        frame["feasible"] = self.feasible
+        frame["on_front"] = self.front
+        return frame
+
+    def reference_frame(self) -> pd.DataFrame:
+        """One row: the reference design, its objectives, feasibility and distance."""
+        if self.reference is None:
+            return pd.DataFrame()
+        row: dict[str, Any] = dict(
+            zip(_variable_columns(), self.reference.design.vector(), strict=True)
+        )
+        row.update(zip(self.columns, self.reference_objectives, strict=True))
+        row.update(zip(CONSTRAINTS, self.reference.constraints, strict=True))
+        row["feasible"] = self.reference.feasible
+        row["distance_to_front"] = self.reference_distance
+        row["dominated_by"] = self.reference_dominated_by
+        return pd.DataFrame([row])
+
+
+def _reference_position(front_F: Array, ref: Array) -> tuple[float, int]:
+    """Normalised distance from ``ref`` to the nearest front point, and how many dominate it."""
+    if front_F.size == 0 or not np.isfinite(ref).all():
+        return math.inf, 0
+    both = np.vstack([front_F, ref])
+    span = np.ptp(both, axis=0)
+    span[span == 0.0] = 1.0
+    dist = float(np.min(np.linalg.norm((front_F - ref) / span, axis=1)))
+    dominating = (front_F <= ref).all(axis=1) & (front_F < ref).any(axis=1)
+    return dist, int(dominating.sum())
+
+
+def _check_objectives(objectives: Any) -> tuple[str, ...]:
+    names = (objectives,) if isinstance(objectives, str) else tuple(objectives)
+    bad = [o for o in names if o not in OBJECTIVES]
+    if bad or len(names) < 2 or len(set(names)) != len(names):
+        raise InvalidParameterError(
+            "objectives", objectives, f"must be two or more distinct of {tuple(OBJECTIVES)}"
+        )
+    return names
+
+
+#: What a non-finite objective (a run that never arrived) counts as inside the search;
+#: such a design is infeasible anyway.
+_PENALTY = 1.0e6
+
+
+def pareto(
+    scenarios: Scenario | Sequence[Scenario],
+    *,
+    space: DesignSpace | None = None,
+    objectives: Sequence[str] = ("arrival_time", "closing_speed", "foam_thickness"),
+    robot: ContactDynamics = MANIPULATOR_1,
+    heads: HeadRange = THESIS_HEAD_RANGE,
+    measure: str = "relative",
+    population: int = 16,
+    generations: int = 8,
+    seed: int = 0,
+    reference: Design | None = THESIS_DESIGN,
+    progress: ProgressHook | None = None,
+) -> ParetoFront:
+    """The Pareto front of foam, speed limit and VFF gains over navigation scenarios.
+
+    Parameters
+    ----------
+    scenarios
+        Navigation scenarios every design is simulated in (their robot's speed limit is
+        the design's).
+    space
+        The box searched (:class:`DesignSpace`; default its defaults).
+    objectives
+        Two or more names of :data:`OBJECTIVES` (all minimised).
+    robot
+        The effective robot body at the contact point (impact model).
+    heads
+        The head-neck range whose worst head sets the thickness the foam needs.
+    measure
+        Which closing speed of the encounters counts (:func:`contact_speeds`).
+    population, generations
+        NSGA-II population size and generations (population x generations designs,
+        each a set of navigation runs; at most :data:`MAX_EVALUATIONS`).
+    seed
+        Seed of the search.
+    reference
+        A design placed against the front (default the thesis's, :data:`THESIS_DESIGN`);
+        ``None``: none.
+    progress
+        Called after each generation (:mod:`designlab.progress`).
+
+    Returns
+    -------
+    ParetoFront
+
+    Examples
+    --------
+    >>> import designlab.navigation as nav
+    >>> front = pareto([nav.configuration(2)], population=4, generations=1,
+    ...                objectives=("arrival_time", "foam_thickness"), seed=0)
+    >>> front.status, len(front.X), list(front.to_frame().columns[-2:])
+    ('ok', 4, ['arrival_time_s', 'foam_thickness_m'])
+    """
+    box = DesignSpace() if space is None else space
+    if not isinstance(box, DesignSpace):
+        raise InvalidParameterError("space", space, "must be a DesignSpace")
+    names = _check_objectives(objectives)
+    items = _check_scenarios(scenarios)
+    if measure not in MEASURES:
+        raise InvalidParameterError("measure", measure, f"must be one of {MEASURES}")
+    if reference is not None and not isinstance(reference, Design):
+        raise InvalidParameterError("reference", reference, "must be a Design or None")
+
+    def score(x: Array) -> DesignScore:
+        return evaluate_design(
+            Design.from_vector(x), items, robot=robot, heads=heads, measure=measure
+        )
+
+    def evaluate(x: Array) -> tuple[Array, Array]:
+        s = score(x)
+        f = np.array([OBJECTIVES[o].of(s) for o in names])
+        return np.where(np.isfinite(f), f, _PENALTY), s.constraints
+
+    out = nsga2(evaluate, box.lower, box.upper, n_obj=len(names), n_constr=len(CONSTRAINTS),
+                population=population, generations=generations, seed=seed,
+                progress=progress)  # fmt: skip
+    ref = None if reference is None else score(reference.vector())
+    return _front(out, names, ref, seed)
+
+
+def _front(
+    out: SearchOutcome, names: tuple[str, ...], ref: DesignScore | None, seed: int
+) -> ParetoFront:
+    """The :class:`ParetoFront` of a search's evaluations."""
+    feasible = out.feasible
+    front = np.zeros(len(out.X), dtype=bool)
+    if feasible.any():
+        front[np.flatnonzero(feasible)] = nondominated(out.F[feasible])
+    ref_f = np.array([OBJECTIVES[o].of(ref) for o in names]) if ref is not None else np.zeros(0)
+    dist, dominated = _reference_position(out.F[front], ref_f) if ref else (math.nan, 0)
+    warnings = []
+    if not feasible.any():
+        warnings.append(
+            f"none of the {len(out.X)} designs evaluated meets every hard constraint "
+            f"({', '.join(CONSTRAINTS)}): widen the space or run more generations"
+        )
+    if ref is not None and not ref.feasible:
+        broken = [c for c, g in zip(CONSTRAINTS, ref.constraints, strict=True) if g > 0]
+        warnings.append(f"the reference design breaks {', '.join(broken)}")
+    return ParetoFront(
+        objectives=names, X=out.X, F=out.F, G=out.G, generations=out.generations,
+        feasible=feasible, front=front, reference=ref, reference_objectives=ref_f,
+        reference_distance=dist, reference_dominated_by=dominated, seed=seed,
+        status=FrontStatus.OK if feasible.any() else FrontStatus.NO_FEASIBLE,
+        warnings=tuple(warnings),
+    )  # fmt: skip

@@ -1,0 +1,90 @@
+"""The arguments of the co-design functions, declared once (:mod:`designlab.params`).
+
+The robot, foam, head-neck and criterion parameters are declared on their
+impact models (:mod:`designlab.impact.parameters`); this module declares only
+what the co-design layer adds: the braking model of the speed limit, the map's
+grid sizes and the Monte Carlo settings of the injury probability.
+
+Examples
+--------
+>>> REACTION_TIME.check(0.06)
+0.06
+>>> RISK_METHOD.check("importance")
+'importance'
+"""
+
+from __future__ import annotations
+
+from designlab.params import Param
+
+__all__ = [
+    "CONFIDENCE",
+    "CURVE_POINTS",
+    "DECELERATION",
+    "DETECTION_DISTANCE",
+    "HEAD_LEVELS",
+    "MAP_POINTS",
+    "REACTION_TIME",
+    "RISK_METHOD",
+    "RISK_SAMPLES",
+    "SEED",
+]
+
+#: Time between the robot's detection of a person and the start of its braking: the
+#: robot keeps its speed meanwhile (Zeng 2011, Sec. 5.3 treats the period T_s so).
+REACTION_TIME = Param(
+    "T_r", "s", "reaction time: the robot keeps its speed before it brakes", ge=0, le=10,
+    typical=(0.0, 0.1), default=0.0, name="reaction_time",
+)  # fmt: skip
+
+#: The robot's braking deceleration after the reaction time.
+DECELERATION = Param(
+    "a_b", "m/s^2", "braking deceleration of the robot", ge=1e-3, le=100, typical=(1.0, 10.0),
+    default=10.0, name="deceleration",
+)  # fmt: skip
+
+#: Distance between robot and person when the robot detects the person (0: a contact
+#: without warning, the robot's speed at contact is its speed limit).
+DETECTION_DISTANCE = Param(
+    "d_det", "m", "separation at which the robot detects the person (0: no warning)", ge=0,
+    le=100, typical=(0.0, 1.0), default=0.0, name="detection_distance",
+)  # fmt: skip
+
+#: Values per parameter of the head-range grid on which the worst head is sought.
+HEAD_LEVELS = Param(
+    None, "", "values per head-neck parameter of the worst-head grid", kind="integer", ge=2,
+    le=9, default=3, name="head_levels",
+)  # fmt: skip
+
+#: Points per axis of a speed-limit map (the map has their product).
+MAP_POINTS = Param(
+    None, "", "points per axis of the speed-limit map", kind="integer", ge=1, le=400,
+    name="map_points",
+)  # fmt: skip
+
+#: Monte Carlo samples of an injury probability (each costs one impact-kernel call).
+RISK_SAMPLES = Param(
+    None, "", "Monte Carlo samples", kind="integer", ge=10, le=100_000_000, default=100_000,
+    name="samples",
+)  # fmt: skip
+
+#: Estimator of an injury probability.
+RISK_METHOD = Param(
+    None, "", "Monte Carlo estimator", kind="choice", choices=("crude", "importance"),
+    default="importance", name="method",
+)  # fmt: skip
+
+#: Two-sided confidence level of the probability's interval.
+CONFIDENCE = Param(
+    None, "", "confidence level of the interval", gt=0.5, lt=1, default=0.95, name="confidence"
+)
+
+#: Seed of the random samples.
+SEED = Param(None, "", "seed of the random samples", kind="integer", ge=0, le=2**32 - 1,
+             default=0, name="seed")  # fmt: skip
+
+#: Closing speeds of a fragility curve (each a point of the curve).
+CURVE_POINTS = Param(
+    None, "", "closing speeds of a fragility curve", kind="integer", ge=1, le=10_000,
+    name="speeds",
+)  # fmt: skip

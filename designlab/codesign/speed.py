@@ -1,0 +1,451 @@
+"""Speed limit from safety: the fastest a robot may move so that any contact stays within limits.
+
+For a foam-covered robot and a head-neck range, :func:`speed_limit` finds the
+largest robot speed for which a contact with any head of the range meets every
+criterion (head acceleration, force, HIC, ISO/TS 15066 force limits) and the
+foam's thickness limit (eps_max <= lambda, so the foam never bottoms out). It
+uses the impact package's worst-case evaluation
+(:func:`designlab.impact.max_safe_velocity`'s problem: the worst head of a grid
+over the range and, for a robot at joint level, the worst impact point along
+the link), polishes a fixed robot's worst head off the grid with a bounded local
+search (:mod:`designlab.codesign.worst_head`), and uses the linearity of the
+model: every peak metric scales exactly as ``v_c ** e`` (``e = 1`` for acceleration,
+force and compression, 2.5 for HIC), so the closing speed allowed by criterion
+``i`` is ``(limit_i / metric_i(1 m/s)) ** (1/e)``.
+
+The closing speed is split into the robot's and the head's parts (Zeng 2011,
+Sec. 3.4, (3.4.13) at the worst angle gamma_c = 0): ``v_c = v_r + v_h``. With a
+detection distance, a reaction time and a braking deceleration, the robot's
+speed limit is the largest speed whose speed *at contact* stays within
+``v_c - v_h`` (:mod:`designlab.codesign.braking`); without one (the default) a
+contact comes without warning and the limit is ``v_c - v_h``.
+
+What the model does not cover: head rotation (the head is a point mass on a
+linear neck), the torso and the rest of the body, clamping (a head pinned
+against a wall: use the impact package's ``constrained`` impact for force
+criteria), nonlinear foam beyond its linear depth, and heads outside the range.
+
+Examples
+--------
+>>> import designlab as dl
+>>> s = dl.codesign.speed_limit(dl.impact.MANIPULATOR_1, dl.impact.FOAM_1)
+>>> s.limiting_criterion, round(s.closing_speed, 3), round(s.max_speed, 3)
+('eps_max <= 20 mm', 1.807, 0.807)
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+from scipy.optimize import brentq
+
+from designlab.codesign.braking import max_robot_speed, stopping_distance
+from designlab.codesign.parameters import (
+    DECELERATION,
+    DETECTION_DISTANCE,
+    HEAD_LEVELS,
+    REACTION_TIME,
+)
+from designlab.codesign.worst_head import refine_worst_head
+from designlab.errors import InvalidParameterError
+from designlab.impact import (
+    THESIS_HEAD_RANGE,
+    ContactDynamics,
+    Criterion,
+    Foam,
+    FullJointContact,
+    HeadNeck,
+    HeadRange,
+    LinkImpact,
+)
+from designlab.impact.parameters import HUMAN_SPEED
+from designlab.impact.problem import FoamProblem, make_problem
+from designlab.results import Result, Status
+
+__all__ = ["SpeedLimit", "SpeedLimitStatus", "speed_limit"]
+
+#: Largest closing speed the impact model takes, m/s (its declaration's cap).
+_MAX_CLOSING_SPEED = 20.0
+
+
+class SpeedLimitStatus(Status):
+    """Status of :func:`speed_limit` and :func:`~designlab.codesign.speed_limit_map`.
+
+    Attributes
+    ----------
+    OK
+        A positive robot speed limit was found.
+    UNSAFE_AT_REST
+        No robot speed is safe: the person's own speed already exceeds a limit
+        (``max_speed`` is 0).
+    """
+
+    OK = "ok"
+    UNSAFE_AT_REST = "unsafe_at_rest"
+
+
+@dataclass(frozen=True)
+class SpeedLimit(Result):
+    """Result of :func:`speed_limit`.
+
+    Attributes
+    ----------
+    max_speed
+        The robot's speed limit, m/s (for a :class:`~designlab.impact.LinkImpact`
+        the speed of its farthest impact point, ``joint_speed * lever_arm_max``).
+    closing_speed
+        The largest closing speed v_c at contact, m/s (at the worst impact point).
+    robot_speed, head_speed
+        The split of ``closing_speed`` (Sec. 3.4): the robot's speed at contact
+        ``v_c - v_h`` and the head's speed toward the robot ``v_h``, m/s.
+    joint_speed
+        For a LinkImpact, the largest joint speed, rad/s (NaN otherwise).
+    limiting_criterion
+        Name of the constraint that sets the limit.
+    per_criterion
+        Per constraint name: the largest closing speed it allows alone, m/s.
+    worst_heads
+        Per constraint name: the head-neck set at which it is worst.
+    worst_lever_arm
+        Per constraint name: the worst impact point, m (NaN for a fixed robot).
+    unit_metric
+        Per constraint name: its worst-case metric at v_c = 1 m/s (SI).
+    reaction_time, deceleration, detection_distance
+        The braking model (s, m/s^2, m; :mod:`designlab.codesign.braking`).
+    stopping_distance
+        Robot travel from detection to standstill at ``max_speed``, m.
+    head_range
+        The head-neck range searched.
+    status
+        A :class:`SpeedLimitStatus`.
+    warnings
+        What a user should know.
+    """
+
+    max_speed: float
+    closing_speed: float
+    robot_speed: float
+    head_speed: float
+    joint_speed: float
+    limiting_criterion: str
+    per_criterion: dict[str, float]
+    worst_heads: dict[str, HeadNeck]
+    worst_lever_arm: dict[str, float]
+    unit_metric: dict[str, float]
+    reaction_time: float
+    deceleration: float
+    detection_distance: float
+    stopping_distance: float
+    head_range: HeadRange
+    status: str = SpeedLimitStatus.OK
+    warnings: tuple[str, ...] = ()
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row per constraint: the closing speed it allows and its worst case.
+
+        Returns
+        -------
+        pandas.DataFrame
+        """
+        names = list(self.per_criterion)
+        heads = [self.worst_heads[n] for n in names]
+        return pd.DataFrame(
+            {
+                "criterion": names,
+                "v_c_max_m_per_s": [self.per_criterion[n] for n in names],
+                "limiting": [n == self.limiting_criterion for n in names],
+                "metric_at_1_m_per_s": [self.unit_metric[n] for n in names],
+                "worst_M_h_kg": [h.mass for h in heads],
+                "worst_K_h_N_per_m": [h.stiffness for h in heads],
+                "worst_C_h_N_s_per_m": [h.damping for h in heads],
+                "worst_lever_arm_m": [self.worst_lever_arm[n] for n in names],
+            }
+        )
+
+
+@dataclass(frozen=True)
+class Braking:
+    """The checked braking model of a speed limit (:mod:`designlab.codesign.braking`)."""
+
+    reaction_time: float
+    deceleration: float
+    detection_distance: float
+
+    @classmethod
+    def check(cls, reaction_time: float, deceleration: float, detection_distance: float) -> Braking:
+        """Each value against its declaration."""
+        return cls(
+            REACTION_TIME.check(reaction_time),
+            DECELERATION.check(deceleration),
+            DETECTION_DISTANCE.check(detection_distance),
+        )
+
+    def notes(self) -> tuple[str, ...]:
+        """A warning when the reaction time cannot act (no detection distance)."""
+        if self.reaction_time > 0 and self.detection_distance == 0:
+            return (
+                "reaction_time has no effect without a detection_distance: the contact comes "
+                "without warning and the robot meets the person at its full speed",
+            )
+        return ()
+
+    def robot_limit(self, contact_limit: float, human_speed: float) -> float:
+        """The robot speed whose contact speed is ``contact_limit`` (0 if negative)."""
+        if contact_limit <= 0.0:
+            return 0.0
+        return max_robot_speed(
+            contact_limit,
+            human_speed=human_speed,
+            reaction_time=self.reaction_time,
+            deceleration=self.deceleration,
+            detection_distance=self.detection_distance,
+        )
+
+
+def check_robot_foam(robot: object, foam: object) -> None:
+    """The robot (fixed, full joint or a link) and the foam of a co-design answer.
+
+    Parameters
+    ----------
+    robot
+        The object given as the robot.
+    foam
+        The object given as the foam.
+    """
+    if not isinstance(robot, (ContactDynamics, FullJointContact, LinkImpact)):
+        raise InvalidParameterError(
+            "robot", robot, "must be a ContactDynamics, a FullJointContact or a LinkImpact"
+        )
+    if not isinstance(foam, Foam):
+        raise InvalidParameterError("foam", foam, "must be a Foam")
+
+
+def problem_for(
+    robot: ContactDynamics | FullJointContact | LinkImpact,
+    criteria: Sequence[Criterion] | None,
+    max_compression: float,
+    head_range: HeadRange | None,
+    human_speed: float,
+    head_levels: int,
+) -> FoamProblem:
+    """The impact package's worst-case problem at v_c = 1 m/s (a link: at its joint speed).
+
+    Parameters
+    ----------
+    robot, criteria, head_range, human_speed
+        As in :func:`speed_limit`.
+    max_compression
+        lambda, m.
+    head_levels
+        Values per head-neck parameter of the worst-head grid.
+
+    Returns
+    -------
+    FoamProblem
+    """
+    if head_range is None:
+        head_range = THESIS_HEAD_RANGE
+    v = None if isinstance(robot, LinkImpact) else 1.0
+    prob = make_problem(robot, v, criteria, max_compression, head_range, False, human_speed, 0.05)
+    prob.head_levels = HEAD_LEVELS.check(head_levels)
+    return prob
+
+
+def _worst_head(prob: FoamProblem, key: Criterion, foam: Foam, lever: float) -> HeadNeck:
+    """The head of the grid at which ``key`` is worst (for a link, at ``lever``)."""
+    k, c = np.array([foam.stiffness]), np.array([foam.damping])
+    levers = None if math.isnan(lever) else np.array([lever])
+    params, vv, _ = prob.designs(key, k, c, levers)
+    j = int(np.argmax(key.values(params, vv)))
+    return HeadNeck(mass=float(params[j, 5]), stiffness=float(params[j, 7]),
+                    damping=float(params[j, 6]))  # fmt: skip
+
+
+def _fixed_limits(
+    prob: FoamProblem, foam: Foam, refine: bool
+) -> dict[str, tuple[float, float, HeadNeck]]:
+    """Per constraint of a fixed robot: (v_c allowed, metric at 1 m/s, worst head)."""
+    k, c = np.array([foam.stiffness]), np.array([foam.damping])
+    out = {}
+    for key in prob.keys():
+        vals, _ = prob.worst(key, k, c)
+        m1, head = float(vals[0]), _worst_head(prob, key, foam, math.nan)
+        if refine:
+            m1, head = refine_worst_head(prob, key, foam, head, m1)
+        v = math.inf if m1 <= 0 else (key.limit / m1) ** (1.0 / key.velocity_exponent)
+        out[key.name] = (v, m1, head)
+    return out
+
+
+def _link_excess(
+    prob: FoamProblem, key: Criterion, foam: Foam, omega: float
+) -> tuple[float, float]:
+    """``log(worst metric / limit)`` of a link at joint speed ``omega``, and the worst lever."""
+    robot = dataclasses.replace(prob.robot, joint_speed=omega)
+    at = dataclasses.replace(prob, robot=robot)
+    vals, lev = at.worst(key, np.array([foam.stiffness]), np.array([foam.damping]))
+    return math.log(max(float(vals[0]), 1e-300) / key.limit), float(lev[0])
+
+
+def _link_limits(prob: FoamProblem, foam: Foam) -> dict[str, tuple[float, float, float]]:
+    """Per constraint of a link: (joint speed allowed, v_c at its worst point, that lever).
+
+    The worst metric rises with the joint speed (``v_c = theta_dot l + v_h`` at every
+    point), so the largest joint speed is a root of ``log(metric / limit)`` (Brent).
+    """
+    out = {}
+    top_speed = (_MAX_CLOSING_SPEED - prob.human_speed) / prob.robot.lever_arm_max
+    for key in prob.keys():
+        at_rest, _ = _link_excess(prob, key, foam, 0.0)
+        top, _ = _link_excess(prob, key, foam, top_speed)
+        if at_rest > 0:
+            omega = 0.0
+        elif top <= 0:
+            omega = top_speed
+        else:
+            omega = brentq(lambda w, k=key: _link_excess(prob, k, foam, w)[0], 0.0,
+                           top_speed, xtol=1e-12, rtol=1e-10)  # fmt: skip
+        _, lever = _link_excess(prob, key, foam, omega)
+        out[key.name] = (omega, omega * lever + prob.human_speed, lever)
+    return out
+
+
+def speed_limit(
+    robot: ContactDynamics | FullJointContact | LinkImpact,
+    foam: Foam,
+    criteria: Sequence[Criterion] | None = None,
+    *,
+    head_range: HeadRange | None = None,
+    human_speed: float = 1.0,
+    reaction_time: float = 0.0,
+    deceleration: float = 10.0,
+    detection_distance: float = 0.0,
+    head_levels: int = 3,
+    refine: bool = True,
+) -> SpeedLimit:
+    """The largest robot speed for which any contact meets every criterion.
+
+    Parameters
+    ----------
+    robot
+        The effective manipulator at the impact point (a
+        :class:`~designlab.impact.ContactDynamics` or
+        :class:`~designlab.impact.FullJointContact`), or a
+        :class:`~designlab.impact.LinkImpact` struck anywhere along its link.
+    foam
+        The foam covering; its linear depth is the thickness limit.
+    criteria
+        Safety criteria (default: a_h,max <= 10 g); the foam's thickness limit is always
+        added. For ISO/TS 15066 transient contact with the head, state the factor:
+        ``IsoTransientForce("skull_forehead", transient_factor=2.0)``.
+    head_range
+        The head-neck range (default: the thesis's ranges, Sec. 3.5); the worst head is
+        sought on a grid of ``head_levels`` values per parameter.
+    human_speed
+        The head's speed toward the robot, m/s (Sec. 3.4; the thesis: 1 m/s).
+    reaction_time
+        Time the robot keeps its speed after detecting the person, s.
+    deceleration
+        The robot's braking deceleration, m/s^2.
+    detection_distance
+        Separation at which the robot detects the person, m (0: contact without warning,
+        the robot meets the person at its full speed).
+    head_levels
+        Values per head-neck parameter of the worst-head grid (3: 27 heads).
+    refine
+        Polish each criterion's worst head off the grid with a bounded local search
+        (:mod:`designlab.codesign.worst_head`; a fixed robot only: a link keeps the grid).
+
+    Returns
+    -------
+    SpeedLimit
+
+    Examples
+    --------
+    >>> import designlab as dl
+    >>> crit = [dl.impact.HeadAcceleration(10), dl.impact.HeadInjuryCriterion(650)]
+    >>> s = dl.codesign.speed_limit(dl.impact.MANIPULATOR_1, dl.impact.FOAM_1, crit,
+    ...                             human_speed=0.0)
+    >>> s.limiting_criterion, round(s.max_speed, 3)
+    ('eps_max <= 20 mm', 1.807)
+    """
+    check_robot_foam(robot, foam)
+    human_speed = HUMAN_SPEED.check(human_speed)
+    brake = Braking.check(reaction_time, deceleration, detection_distance)
+    prob = problem_for(robot, criteria, foam.linear_depth, head_range, human_speed, head_levels)
+    if isinstance(robot, LinkImpact):
+        return _summarise_link(prob, foam, brake, _link_limits(prob, foam))
+    if not isinstance(refine, (bool, np.bool_)):
+        raise InvalidParameterError("refine", refine, "must be True or False")
+    return _summarise_fixed(prob, foam, brake, _fixed_limits(prob, foam, bool(refine)))
+
+
+def _common(prob: FoamProblem, foam: Foam, levers: dict[str, float]) -> dict:
+    """The worst heads of every constraint (shared by both summaries)."""
+    return {key.name: _worst_head(prob, key, foam, levers[key.name]) for key in prob.keys()}
+
+
+def _summarise_fixed(
+    prob: FoamProblem, foam: Foam, brake: Braking, lim: dict[str, tuple[float, float, HeadNeck]]
+) -> SpeedLimit:
+    """The speed limit of a fixed robot from the per-constraint closing speeds."""
+    per = {n: v for n, (v, _, _) in lim.items()}
+    limiting = min(per, key=lambda n: per[n])
+    v_c = per[limiting]
+    v_h = prob.human_speed
+    robot_speed = v_c - v_h
+    status, warnings = _status(robot_speed, v_h, limiting)
+    warnings += brake.notes()
+    speed = brake.robot_limit(robot_speed, v_h)
+    return SpeedLimit(
+        max_speed=speed, closing_speed=v_c, robot_speed=robot_speed, head_speed=v_h,
+        joint_speed=math.nan, limiting_criterion=limiting, per_criterion=per,
+        worst_heads={n: h for n, (_, _, h) in lim.items()},
+        worst_lever_arm={n: math.nan for n in per},
+        unit_metric={n: m for n, (_, m, _) in lim.items()},
+        reaction_time=brake.reaction_time, deceleration=brake.deceleration,
+        detection_distance=brake.detection_distance,
+        stopping_distance=stopping_distance(speed, brake.reaction_time, brake.deceleration),
+        head_range=prob.head_range, status=status, warnings=warnings,
+    )  # fmt: skip
+
+
+def _summarise_link(
+    prob: FoamProblem, foam: Foam, brake: Braking, lim: dict[str, tuple[float, float, float]]
+) -> SpeedLimit:
+    """The speed limit of a link from the per-constraint joint speeds."""
+    omegas = {n: w for n, (w, _, _) in lim.items()}
+    limiting = min(omegas, key=lambda n: omegas[n])
+    omega, v_c, _ = lim[limiting]
+    v_h = prob.human_speed
+    levers = {n: lv for n, (_, _, lv) in lim.items()}
+    status, warnings = _status(omega, v_h, limiting)
+    if brake.detection_distance > 0:
+        warnings += ("the braking model is not applied to a LinkImpact (a joint speed limit)",)
+    speed = omega * prob.robot.lever_arm_max
+    return SpeedLimit(
+        max_speed=speed, closing_speed=v_c, robot_speed=v_c - v_h, head_speed=v_h,
+        joint_speed=omega, limiting_criterion=limiting,
+        per_criterion={n: v for n, (_, v, _) in lim.items()},
+        worst_heads=_common(prob, foam, levers), worst_lever_arm=levers,
+        unit_metric={n: math.nan for n in omegas},
+        reaction_time=brake.reaction_time, deceleration=brake.deceleration,
+        detection_distance=brake.detection_distance,
+        stopping_distance=stopping_distance(speed, brake.reaction_time, brake.deceleration),
+        head_range=prob.head_range, status=status, warnings=warnings,
+    )  # fmt: skip
+
+
+def _status(robot_part: float, human_speed: float, limiting: str) -> tuple[str, tuple[str, ...]]:
+    """``unsafe_at_rest`` when the robot may not move at all."""
+    if robot_part > 0:
+        return SpeedLimitStatus.OK, ()
+    return SpeedLimitStatus.UNSAFE_AT_REST, (
+        f"no robot speed is safe: a person moving at {human_speed:g} m/s into the robot at "
+        f"rest alone exceeds {limiting}",
+    )

@@ -1,0 +1,187 @@
+"""The speed limit over foam stiffness x damping: which covering allows how fast a robot.
+
+:func:`speed_limit_map` evaluates :func:`~designlab.codesign.speed_limit` on a grid of
+foams (K_c, C_c) at once: the worst-case metric of every constraint at 1 m/s over the
+head range, for all foams in one batch of the impact kernel, then the closing speed
+each allows, ``(limit / metric) ** (1/e)``, the smallest of them (the worst head of
+the grid, not polished by the local search of ``speed_limit(refine=True)``), and the robot's
+share ``v_c - v_h`` (with the braking model, the robot speed whose contact speed is that).
+
+Examples
+--------
+>>> import designlab as dl
+>>> m = dl.codesign.speed_limit_map(dl.impact.MANIPULATOR_1, K_c=[10e3, 40e3], C_c=[50.0, 100.0])
+>>> m.max_speed.shape, m.to_frame().shape
+((2, 2), (4, 8))
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import pandas as pd
+from numpy.typing import NDArray
+
+from designlab.codesign.parameters import MAP_POINTS
+from designlab.codesign.speed import Braking, SpeedLimitStatus, problem_for
+from designlab.errors import InvalidParameterError
+from designlab.impact import ContactDynamics, Criterion, Foam, FullJointContact, HeadRange
+from designlab.impact.parameters import HUMAN_SPEED
+from designlab.params import params_of
+from designlab.results import Result
+
+__all__ = ["SpeedLimitMap", "speed_limit_map"]
+
+_FOAM = params_of(Foam)
+
+
+@dataclass(frozen=True)
+class SpeedLimitMap(Result):
+    """Result of :func:`speed_limit_map`: arrays indexed ``[i, j]`` = ``(K_c[i], C_c[j])``.
+
+    Attributes
+    ----------
+    stiffness, damping
+        The grid's K_c (N/m) and C_c (N s/m) axes.
+    max_speed
+        The robot's speed limit, m/s (0 where no speed is safe).
+    closing_speed
+        The largest closing speed at contact, m/s.
+    limiting
+        Index into ``criteria`` of the constraint that sets the limit.
+    criteria
+        Names of the constraints (the criteria, then the thickness limit).
+    per_criterion
+        Per constraint name: the closing speed it allows alone, m/s.
+    head_speed
+        The head's speed toward the robot, m/s.
+    linear_depth
+        The foams' linear depth lambda (the thickness limit), m.
+    status
+        ``"ok"``, or ``"unsafe_at_rest"`` when some foam of the grid allows no robot speed.
+    warnings
+        What a user should know.
+    """
+
+    stiffness: NDArray[np.float64]
+    damping: NDArray[np.float64]
+    max_speed: NDArray[np.float64]
+    closing_speed: NDArray[np.float64]
+    limiting: NDArray[np.int64]
+    criteria: tuple[str, ...]
+    per_criterion: dict[str, NDArray[np.float64]]
+    head_speed: float
+    linear_depth: float
+    status: str = SpeedLimitStatus.OK
+    warnings: tuple[str, ...] = ()
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row per foam of the grid.
+
+        Returns
+        -------
+        pandas.DataFrame
+        """
+        kk, cc = np.meshgrid(self.stiffness, self.damping, indexing="ij")
+        frame = pd.DataFrame(
+            {
+                "K_c_N_per_m": kk.ravel(),
+                "C_c_N_s_per_m": cc.ravel(),
+                "max_speed_m_per_s": self.max_speed.ravel(),
+                "v_c_max_m_per_s": self.closing_speed.ravel(),
+                "limiting": [self.criteria[i] for i in self.limiting.ravel()],
+            }
+        )
+        frame["head_speed_m_per_s"] = self.head_speed
+        frame["linear_depth_m"] = self.linear_depth
+        frame["xi_c"] = cc.ravel() / (2.0 * np.sqrt(4.4 * kk.ravel()))
+        return frame
+
+
+def _axis(decl: Any, value: object, name: str) -> NDArray[np.float64]:
+    """A grid axis: non-empty, each value within the declaration, at most the cap."""
+    try:
+        arr = np.atleast_1d(np.asarray(value, dtype=float)).ravel()
+    except (TypeError, ValueError):
+        raise InvalidParameterError(name, value, "must be an array of real numbers") from None
+    if arr.size == 0:
+        raise InvalidParameterError(name, [], "needs at least one value (the range is empty)")
+    MAP_POINTS.check(int(arr.size), f"len({name})")
+    for x in arr:
+        decl.check(float(x), name)
+    return arr
+
+
+def speed_limit_map(
+    robot: ContactDynamics | FullJointContact,
+    *,
+    K_c: Sequence[float] | NDArray,
+    C_c: Sequence[float] | NDArray,
+    criteria: Sequence[Criterion] | None = None,
+    linear_depth: float = 0.02,
+    head_range: HeadRange | None = None,
+    human_speed: float = 1.0,
+    reaction_time: float = 0.0,
+    deceleration: float = 10.0,
+    detection_distance: float = 0.0,
+    head_levels: int = 3,
+) -> SpeedLimitMap:
+    """The robot's speed limit over a grid of foams (K_c x C_c).
+
+    Parameters
+    ----------
+    robot
+        The effective manipulator at the impact point (a fixed impact point; for a link,
+        call :func:`~designlab.codesign.speed_limit` per foam).
+    K_c
+        Foam stiffnesses, N/m (at most 400).
+    C_c
+        Foam dampings, N s/m (at most 400).
+    criteria, head_range, human_speed, reaction_time, deceleration, detection_distance
+        As in :func:`~designlab.codesign.speed_limit`.
+    linear_depth
+        The foams' linear depth lambda, m (the thickness limit eps_max <= lambda).
+    head_levels
+        As in :func:`~designlab.codesign.speed_limit`.
+
+    Returns
+    -------
+    SpeedLimitMap
+    """
+    if not isinstance(robot, (ContactDynamics, FullJointContact)):
+        raise InvalidParameterError(
+            "robot", robot, "must be a ContactDynamics or a FullJointContact (a fixed point)"
+        )
+    ks = _axis(_FOAM["stiffness"], K_c, "K_c")
+    cs = _axis(_FOAM["damping"], C_c, "C_c")
+    lam = _FOAM["linear_depth"].check(linear_depth, "linear_depth")
+    v_h = HUMAN_SPEED.check(human_speed)
+    brake = Braking.check(reaction_time, deceleration, detection_distance)
+    prob = problem_for(robot, criteria, lam, head_range, v_h, head_levels)
+    kk, cc = np.meshgrid(ks, cs, indexing="ij")
+    per: dict[str, NDArray[np.float64]] = {}
+    for key in prob.keys():
+        vals, _ = prob.worst(key, kk.ravel(), cc.ravel())
+        with np.errstate(divide="ignore"):
+            v = (key.limit / vals) ** (1.0 / key.velocity_exponent)
+        per[key.name] = np.where(vals > 0, v, np.inf).reshape(kk.shape)
+    stack = np.stack(list(per.values()))
+    limiting = np.argmin(stack, axis=0)
+    v_c = np.min(stack, axis=0)
+    speed = np.vectorize(lambda u: brake.robot_limit(u - v_h, v_h))(v_c).astype(float)
+    unsafe = v_c <= v_h
+    warnings: tuple[str, ...] = brake.notes()
+    if np.any(unsafe):
+        warnings += (
+            f"{int(unsafe.sum())} of {unsafe.size} foams allow no robot speed: a person moving "
+            f"at {v_h:g} m/s into the robot at rest alone exceeds a limit",
+        )
+    return SpeedLimitMap(
+        stiffness=ks, damping=cs, max_speed=speed, closing_speed=v_c, limiting=limiting,
+        criteria=tuple(per), per_criterion=per, head_speed=v_h, linear_depth=lam,
+        status=SpeedLimitStatus.UNSAFE_AT_REST if np.any(unsafe) else SpeedLimitStatus.OK,
+        warnings=warnings,
+    )  # fmt: skip

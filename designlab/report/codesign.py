@@ -1,0 +1,246 @@
+"""Report of a ``codesign`` study: contact speeds, the Pareto front and the thesis's design.
+
+Files written into the report directory:
+
+``contacts.csv``
+    The thesis design's encounters: scenario, obstacle, contact, time, distances,
+    relative / normal / approach speed, angle, robot and obstacle speed.
+``front.csv``
+    The non-dominated feasible designs: K_c, C_c, T_u, V_mr, the gains, the objectives.
+``designs.csv``
+    Every design the search evaluated, with its constraints and flags.
+``reference.csv``
+    The thesis's design: its objectives, constraints, distance from the front.
+``contacts.png``, ``front.png``
+    The closing speeds of the encounters; the front in pairs of objectives with every
+    feasible design and the thesis's design.
+``summary.md``
+    What the tables say (every sentence computed from them) and the figures.
+``study.yaml``
+    The study file as it was run (when given).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+import pandas as pd
+from matplotlib.figure import Figure
+
+from designlab.codesign import OBJECTIVES, ContactSpeeds, ParetoFront
+from designlab.report import register_writer
+from designlab.report.builder import copy_study, figure_section, report_header, warnings_section
+from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
+from designlab.study.kinds.codesign import CodesignResult
+
+__all__ = [
+    "codesign_markdown",
+    "contacts_figure",
+    "front_claims",
+    "front_figure",
+    "write_codesign_report",
+]
+
+_LABELS = {
+    "arrival_time": "mean arrival time (s)",
+    "foam_thickness": "foam thickness T_u (m)",
+    "closing_speed": "largest closing speed (m/s)",
+}
+
+
+def contacts_figure(contacts: ContactSpeeds) -> Figure:
+    """Closing speeds of the encounters: relative, normal and approach speed per encounter.
+
+    Parameters
+    ----------
+    contacts
+        The encounters.
+    """
+    fig, ax = plt.subplots(figsize=(7.0, 3.8))
+    x = np.arange(len(contacts))
+    for k, (label, values) in enumerate(
+        [
+            ("|v_rel| at the encounter", contacts.relative_speed),
+            ("normal speed at the encounter", contacts.normal_speed),
+            ("largest approach speed inside r2", contacts.approach_speed),
+        ]
+    ):
+        ax.bar(x + (k - 1) * 0.27, values, width=0.27, label=label)
+    names = [f"{s}\n{o}" for s, o in zip(contacts.scenario, contacts.obstacle, strict=True)]
+    ax.set_xticks(x, names, fontsize=7)
+    ax.set_ylabel("speed (m/s)")
+    ax.set_title("Closing speeds of the thesis design's encounters")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
+def front_figure(front: ParetoFront) -> Figure:
+    """The first objective against each other one: feasible designs, the front, the thesis's.
+
+    Parameters
+    ----------
+    front
+        The Pareto front.
+    """
+    names = front.objectives
+    fig, axes = plt.subplots(1, len(names) - 1, figsize=(4.6 * (len(names) - 1), 4.0),
+                             squeeze=False)  # fmt: skip
+    for j, ax in enumerate(axes[0], start=1):
+        ok = front.feasible & ~front.front
+        ax.scatter(front.F[ok, 0], front.F[ok, j], s=12, c="0.7", label="feasible design")
+        ax.scatter(front.F[front.front, 0], front.F[front.front, j], s=28, c="C0",
+                   label="non-dominated")  # fmt: skip
+        if front.reference is not None:
+            ref = front.reference_objectives
+            ax.scatter([ref[0]], [ref[j]], marker="*", s=160, c="C3", label="thesis design")
+        ax.set_xlabel(_LABELS.get(names[0], names[0]))
+        ax.set_ylabel(_LABELS.get(names[j], names[j]))
+        ax.legend(fontsize=8)
+    fig.suptitle("Pareto front (all objectives minimised)")
+    fig.tight_layout()
+    return fig
+
+
+def _contacts_claims(frame: pd.DataFrame) -> list[str]:
+    """Sentences computed from contacts.csv."""
+    if frame.empty:
+        return ["The scenarios have no disc obstacle: no closing speed was met."]
+    worst = frame.loc[frame["v_rel_m_per_s"].idxmax()]
+    return [
+        f"{len(frame)} encounters, {int(frame['contact'].sum())} of them contacts. The "
+        f"relative speed at the encounter ranges from {frame['v_rel_m_per_s'].min():.3f} to "
+        f"{frame['v_rel_m_per_s'].max():.3f} m/s (largest: {worst['obstacle']} in "
+        f"{worst['scenario']}, at {worst['d_surface_m']:.3f} m surface distance); the "
+        f"largest approach speed inside an active region is "
+        f"{frame['v_approach_m_per_s'].max():.3f} m/s.",
+        "",
+    ]
+
+
+def front_claims(front: ParetoFront) -> list[str]:
+    """Sentences computed from the front's tables (designs.csv, front.csv, reference.csv).
+
+    Parameters
+    ----------
+    front
+        The Pareto front.
+    """
+    designs, table, ref = front.designs_frame(), front.to_frame(), front.reference_frame()
+    out = [
+        f"The search evaluated {len(designs)} designs (seed {front.seed}); "
+        f"{int(designs['feasible'].sum())} meet every hard constraint and "
+        f"{len(table)} of those are non-dominated.",
+    ]
+    for col in front.columns:
+        if len(table):
+            out[-1] += (
+                f" On the front, {col} ranges from {table[col].min():.4g} to "
+                f"{table[col].max():.4g}."
+            )
+    if not ref.empty:
+        out.append("")
+        r = ref.iloc[0]
+        verdict = "feasible" if bool(r["feasible"]) else "infeasible"
+        out.append(
+            f"The thesis's design (Foam 1, T_u = {r['T_u_m']:.4g} m, V_mr = "
+            f"{r['V_mr_m_per_s']:.3g} m/s, experiment gains) is {verdict}; "
+            f"{int(r['dominated_by'])} front designs dominate it, and its normalised "
+            f"distance from the front is {r['distance_to_front']:.3f}."
+        )
+    return [*out, ""]
+
+
+def codesign_markdown(
+    result: CodesignResult, *, command: str | None = None, version: str | None = None
+) -> str:
+    """The Markdown summary.
+
+    Parameters
+    ----------
+    result
+        A ``codesign`` result.
+    command
+        The command line that produced the result.
+    version
+        The designlab version.
+    """
+    study, front = result.study, result.front
+    contacts = result.contacts.to_frame()
+    out = report_header(study.name, study.description, command=command, version=version)
+    objectives = ", ".join(f"{o} ({OBJECTIVES[o].doc})" for o in front.objectives)
+    out += [
+        "## Contact speeds",
+        "",
+        f"The thesis's design driven through the scenarios (closing speed: `{study.measure}`;"
+        " docs/codesign.md).",
+        "",
+        *_contacts_claims(contacts),
+        markdown_table(contacts.drop(columns=["t_s"]), floatfmt=".3f", index=False),
+        "",
+        "## Pareto front",
+        "",
+        f"Objectives, all minimised: {objectives}. Hard constraints: no collision, no "
+        "critical-region entry, arrival in every scenario, no foam bottoming at the largest "
+        "closing speed met.",
+        "",
+        *front_claims(front),
+        markdown_table(front.to_frame(), floatfmt=".4g", index=False),
+        "",
+        "The thesis's design:",
+        "",
+        markdown_table(front.reference_frame(), floatfmt=".4g", index=False),
+        "",
+    ]
+    out += figure_section({"closing speeds": "contacts.png", "Pareto front": "front.png"})
+    out += warnings_section(result.warnings)
+    return "\n".join(out)
+
+
+@register_writer(CodesignResult)
+def write_codesign_report(
+    result: CodesignResult,
+    directory: Path,
+    *,
+    command: str | None = None,
+    version: str | None = None,
+    study_text: str | None = None,
+) -> list[Path]:
+    """Write the CSV tables, the figures, summary.md (and study.yaml).
+
+    Parameters
+    ----------
+    result
+        A ``codesign`` result.
+    directory
+        A fresh directory to fill.
+    command, version
+        Quoted in the summary.
+    study_text
+        The study file's text, copied to ``study.yaml`` if given.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written.
+    """
+    front = result.front
+    written = [
+        write_csv(result.contacts.to_frame(), directory / "contacts.csv"),
+        write_csv(front.to_frame(), directory / "front.csv"),
+        write_csv(front.designs_frame(), directory / "designs.csv"),
+        write_csv(front.reference_frame(), directory / "reference.csv"),
+    ]
+    for name, fig in (("contacts.png", contacts_figure(result.contacts)),
+                      ("front.png", front_figure(front))):  # fmt: skip
+        written.append(write_png(fig, directory / name))
+        plt.close(fig)
+    text = codesign_markdown(result, command=command, version=version)
+    written.append(write_markdown(text, directory / "summary.md"))
+    written += copy_study(directory, study_text)
+    return written

@@ -1,0 +1,182 @@
+"""Hostile inputs to the co-design layer: each fails early, naming the parameter."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy import stats
+
+import designlab as dl
+from designlab.errors import DesignlabError, InvalidParameterError
+from designlab.impact import FOAM_1, HEAD_MIN, MANIPULATOR_1, HeadAcceleration, LinkImpact
+
+cd = dl.codesign
+RAYLEIGH = stats.rayleigh(scale=1.0)
+
+
+def _raises(name, fn, *args, **kwargs):
+    with pytest.raises(InvalidParameterError) as exc:
+        fn(*args, **kwargs)
+    assert isinstance(exc.value, DesignlabError) and isinstance(exc.value, ValueError)
+    assert name in str(exc.value)
+    return exc.value
+
+
+# --- speed_limit -----------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "name"),
+    [
+        ({"human_speed": math.nan}, "human_speed"),
+        ({"human_speed": -1.0}, "human_speed"),
+        ({"human_speed": math.inf}, "human_speed"),
+        ({"reaction_time": -0.1}, "reaction_time"),
+        ({"reaction_time": math.nan}, "reaction_time"),
+        ({"deceleration": 0.0}, "deceleration"),
+        ({"detection_distance": -1.0}, "detection_distance"),
+        ({"detection_distance": 1e9}, "detection_distance"),
+        ({"head_levels": 1}, "head_levels"),
+        ({"head_levels": 10**6}, "head_levels"),
+        ({"head_levels": 2.5}, "head_levels"),
+        ({"head_range": (4.4, 5.3)}, "head_range"),
+        ({"criteria": "a_h"}, "criteria"),
+        ({"criteria": [1.0]}, "criteria"),
+        ({"criteria": [dl.impact.CompressionLimit(0.02)]}, "criteria"),
+    ],
+)
+def test_speed_limit_bad_settings(kwargs, name):
+    _raises(name, cd.speed_limit, MANIPULATOR_1, FOAM_1, **kwargs)
+
+
+def test_speed_limit_bad_robot_and_foam():
+    _raises("robot", cd.speed_limit, "MANIPULATOR_1", FOAM_1)
+    _raises("foam", cd.speed_limit, MANIPULATOR_1, {"stiffness": 1e4})
+    _raises("foam", cd.speed_limit, MANIPULATOR_1, None)
+
+
+def test_contradictory_bounds():
+    _raises("HeadRange.mass", dl.impact.HeadRange, mass=(5.3, 4.4))
+    _raises("lever_arm_max", LinkImpact, 0.05, 1e3, 10.0, 1.0, 0.1, 0.05)
+
+
+# --- speed_limit_map -------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "name"),
+    [
+        ({"K_c": [], "C_c": [50.0]}, "K_c"),
+        ({"K_c": [1e4], "C_c": []}, "C_c"),
+        ({"K_c": [math.nan], "C_c": [50.0]}, "K_c"),
+        ({"K_c": [1e4], "C_c": [-1.0]}, "C_c"),
+        ({"K_c": [-1e4], "C_c": [1.0]}, "K_c"),
+        ({"K_c": np.linspace(1e3, 1e5, 401), "C_c": [1.0]}, "len(K_c)"),
+        ({"K_c": "soft", "C_c": [1.0]}, "K_c"),
+        ({"K_c": [1e4], "C_c": [1.0], "linear_depth": 0.0}, "linear_depth"),
+        ({"K_c": [1e4], "C_c": [1.0], "human_speed": math.nan}, "human_speed"),
+    ],
+)
+def test_map_bad_input(kwargs, name):
+    _raises(name, cd.speed_limit_map, MANIPULATOR_1, **kwargs)
+
+
+def test_map_refuses_a_link():
+    link = LinkImpact.from_contact(MANIPULATOR_1, joint_speed=1.0, lever_arm_min=0.02,
+                                   lever_arm_max=0.078)  # fmt: skip
+    _raises("robot", cd.speed_limit_map, link, K_c=[1e4], C_c=[50.0])
+
+
+# --- injury_probability ----------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("speeds", "name"),
+    [
+        (np.array([]), "closing_speed"),
+        (np.array([1.0, math.nan]), "closing_speed"),
+        (np.array([1.0, math.inf]), "closing_speed"),
+        (np.array([-1.0, 0.0]), "closing_speed"),
+        (stats.uniform(-2.0, 1.0), "closing_speed"),
+        ("fast", "closing_speed"),
+        (np.array([True, False]), "closing_speed"),
+    ],
+)
+def test_bad_closing_speeds(speeds, name):
+    _raises(name, cd.injury_probability, MANIPULATOR_1, FOAM_1, speeds, samples=10)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "name"),
+    [
+        ({"samples": 0}, "samples"),
+        ({"samples": 10**12}, "samples"),
+        ({"samples": 100.5}, "samples"),
+        ({"method": "subset"}, "method"),
+        ({"confidence": 1.0}, "confidence"),
+        ({"confidence": math.nan}, "confidence"),
+        ({"seed": -1}, "seed"),
+        ({"criterion": "a_h <= 10 g"}, "criterion"),
+        ({"heads": (4.4, 5.3)}, "heads"),
+        ({"points": stats.uniform(0.0, 0.1)}, "points"),
+    ],
+)
+def test_risk_bad_settings(kwargs, name):
+    _raises(name, cd.injury_probability, MANIPULATOR_1, FOAM_1, RAYLEIGH, **kwargs)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "name"),
+    [
+        ({"mass": stats.norm(4.8, 0.3)}, "HeadPopulation.mass"),  # reaches M_h <= 0
+        ({"mass": stats.uniform(-1.0, 6.0)}, "HeadPopulation.mass"),
+        ({"mass": stats.uniform(0.0, 5.0)}, "HeadPopulation.mass"),  # M_h = 0 is in the support
+        ({"mass": -4.4}, "HeadPopulation.mass"),
+        ({"mass": math.nan}, "HeadPopulation.mass"),
+        ({"stiffness": stats.norm(4e3, 500.0)}, "HeadPopulation.stiffness"),
+        ({"damping": stats.expon(loc=-1.0)}, "HeadPopulation.damping"),
+        ({"damping": "soft"}, "HeadPopulation.damping"),
+    ],
+)
+def test_population_refuses_non_physical_support(kwargs, name):
+    base = {"mass": 4.8, "stiffness": 4e3, "damping": 80.0}
+    err = _raises(name, cd.HeadPopulation, **{**base, **kwargs})
+    if "support" in str(err.value):
+        assert "truncnorm" in str(err)
+
+
+def test_points_outside_the_link():
+    link = LinkImpact.from_contact(MANIPULATOR_1, joint_speed=1.0, lever_arm_min=0.02,
+                                   lever_arm_max=0.078)  # fmt: skip
+    _raises("points", cd.injury_probability, link, FOAM_1, RAYLEIGH,
+            points=stats.uniform(0.0, 0.078), samples=10)  # fmt: skip
+    _raises("points", cd.injury_probability, link, FOAM_1, RAYLEIGH, points=0.05, samples=10)
+
+
+def test_a_fixed_head_with_a_criterion_far_out_gives_zero():
+    risk = cd.injury_probability(MANIPULATOR_1, FOAM_1, np.array([0.1, 0.2]), heads=HEAD_MIN,
+                                 criterion=HeadAcceleration(500), samples=10)  # fmt: skip
+    assert risk.probability == 0.0 and risk.status == "ok"
+
+
+@pytest.mark.parametrize(
+    ("speeds", "name"),
+    [
+        ([], "speeds"),
+        ([1.0, math.nan], "speeds"),
+        ([0.0], "speeds"),
+        ([-1.0], "speeds"),
+        ([25.0], "speeds"),
+        (np.ones(10_001), "len(speeds)"),
+    ],
+)
+def test_fragility_bad_speeds(speeds, name):
+    _raises(name, cd.fragility_curve, MANIPULATOR_1, FOAM_1, speeds, samples=10)
+
+
+def test_fragility_speed_at_bad_probability():
+    curve = cd.fragility_curve(MANIPULATOR_1, FOAM_1, [1.0], heads=HEAD_MIN, samples=10)
+    _raises("probability", curve.speed_at, 0.0)
+    _raises("probability", curve.speed_at, math.nan)
