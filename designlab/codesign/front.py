@@ -9,6 +9,9 @@ model. The objectives (all minimised; :data:`OBJECTIVES`) are
 * ``arrival_time``: mean T_arrive over the scenarios (s);
 * ``foam_thickness``: T_u (m);
 * ``closing_speed``: the largest closing speed the runs met (m/s);
+* ``injury_probability``: P(criterion exceeded | contact) at the closing speeds the runs
+  met, over the head-neck range (:func:`designlab.codesign.injury_probability`; a design
+  that meets nobody scores 0);
 
 and the hard constraints (a design that breaks one is infeasible, never traded) are:
 no collision, no critical-region entry, arrival in every scenario, and a foam that
@@ -45,13 +48,17 @@ from pymoo.core.problem import Problem
 from pymoo.optimize import minimize
 
 from designlab.codesign.contacts import MEASURES, ContactSpeeds, contact_speeds
+from designlab.codesign.parameters import RISK_SAMPLES
+from designlab.codesign.risk import injury_probability
 from designlab.errors import InvalidParameterError
 from designlab.impact import (
     FOAM_1,
     MANIPULATOR_1,
     THESIS_HEAD_RANGE,
     ContactDynamics,
+    Criterion,
     Foam,
+    HeadAcceleration,
     HeadRange,
     min_foam_thickness,
 )
@@ -409,6 +416,9 @@ class DesignScore:
         The largest closing speed met (m/s).
     required_thickness
         The thickness T_u the foam needs not to bottom out at that speed (m).
+    injury_probability
+        P(criterion exceeded | contact) at the encounters' closing speeds (``nan`` when
+        not asked for).
     """
 
     design: Design
@@ -419,6 +429,7 @@ class DesignScore:
     contacts: ContactSpeeds = field(repr=False)
     closing_speed: float
     required_thickness: float
+    injury_probability: float = math.nan
 
     @property
     def constraints(self) -> Array:
@@ -467,6 +478,8 @@ OBJECTIVES: dict[str, Objective] = {
         Objective("foam_thickness", "m", "foam thickness T_u", lambda s: s.design.foam.thickness),
         Objective("closing_speed", "m_per_s", "largest closing speed met",
                   lambda s: s.closing_speed),
+        Objective("injury_probability", "", "P(criterion exceeded | contact)",
+                  lambda s: s.injury_probability),
     )
 }  # fmt: skip
 
@@ -494,6 +507,9 @@ def evaluate_design(
     robot: ContactDynamics = MANIPULATOR_1,
     heads: HeadRange = THESIS_HEAD_RANGE,
     measure: str = "relative",
+    criterion: Criterion | None = None,
+    risk_samples: int = 20_000,
+    seed: int = 0,
 ) -> DesignScore:
     """Simulate the scenarios with the design's speed limit and gains and score it.
 
@@ -509,6 +525,11 @@ def evaluate_design(
         The head-neck range whose worst head sets the foam thickness needed.
     measure
         Which closing speed of the encounters counts (:func:`contact_speeds`).
+    criterion
+        The injury criterion of :attr:`DesignScore.injury_probability`; ``None``: the
+        probability is not computed.
+    risk_samples, seed
+        Monte Carlo samples and seed of :func:`designlab.codesign.injury_probability`.
 
     Returns
     -------
@@ -530,6 +551,14 @@ def evaluate_design(
     ]  # fmt: skip
     contacts = contact_speeds(runs, measure=measure)
     v = float(contacts.samples.max()) if len(contacts) else 0.0
+    risk = math.nan
+    if criterion is not None:
+        risk = 0.0  # nobody met: no contact
+        if len(contacts):
+            risk = injury_probability(
+                robot, design.foam, closing_speed=contacts, heads=heads, criterion=criterion,
+                samples=risk_samples, seed=seed,
+            ).probability  # fmt: skip
     return DesignScore(
         design=design,
         arrival_time=float(np.mean([r.arrival_time for r in runs])),
@@ -539,6 +568,7 @@ def evaluate_design(
         contacts=contacts,
         closing_speed=v,
         required_thickness=_required_thickness(robot, design.foam, v, heads),
+        injury_probability=float(risk),
     )
 
 
@@ -678,10 +708,12 @@ def pareto(
     scenarios: Scenario | Sequence[Scenario],
     *,
     space: DesignSpace | None = None,
-    objectives: Sequence[str] = ("arrival_time", "closing_speed", "foam_thickness"),
+    objectives: Sequence[str] = ("arrival_time", "injury_probability", "foam_thickness"),
     robot: ContactDynamics = MANIPULATOR_1,
     heads: HeadRange = THESIS_HEAD_RANGE,
     measure: str = "relative",
+    criterion: Criterion | None = None,
+    risk_samples: int = 20_000,
     population: int = 16,
     generations: int = 8,
     seed: int = 0,
@@ -702,9 +734,15 @@ def pareto(
     robot
         The effective robot body at the contact point (impact model).
     heads
-        The head-neck range whose worst head sets the thickness the foam needs.
+        The head-neck range whose worst head sets the thickness the foam needs (and over
+        which the injury probability is taken).
     measure
         Which closing speed of the encounters counts (:func:`contact_speeds`).
+    criterion
+        The injury criterion of the ``injury_probability`` objective (default
+        :class:`~designlab.impact.HeadAcceleration` of 10 g).
+    risk_samples
+        Monte Carlo samples of each design's injury probability (the search's seed).
     population, generations
         NSGA-II population size and generations (population x generations designs,
         each a set of navigation runs; at most :data:`MAX_EVALUATIONS`).
@@ -738,10 +776,18 @@ def pareto(
     if reference is not None and not isinstance(reference, Design):
         raise InvalidParameterError("reference", reference, "must be a Design or None")
 
+    if criterion is not None and not isinstance(criterion, Criterion):
+        raise InvalidParameterError("criterion", criterion, "must be an impact Criterion or None")
+    RISK_SAMPLES.check(risk_samples, "risk_samples")
+    risk = None
+    if "injury_probability" in names:
+        risk = HeadAcceleration(10.0) if criterion is None else criterion
+
     def score(x: Array) -> DesignScore:
         return evaluate_design(
-            Design.from_vector(x), items, robot=robot, heads=heads, measure=measure
-        )
+            Design.from_vector(x), items, robot=robot, heads=heads, measure=measure,
+            criterion=risk, risk_samples=risk_samples, seed=seed,
+        )  # fmt: skip
 
     def evaluate(x: Array) -> tuple[Array, Array]:
         s = score(x)
