@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
@@ -62,7 +62,14 @@ from designlab.impact import (
     HeadRange,
     min_foam_thickness,
 )
-from designlab.navigation import EXPERIMENT_GAINS, HolonomicRobot, Scenario, VFFGains, simulate
+from designlab.navigation import (
+    EXPERIMENT_GAINS,
+    OPTIMAL_GAINS,
+    HolonomicRobot,
+    Scenario,
+    VFFGains,
+    simulate,
+)
 from designlab.params import Param, declared, params_of
 from designlab.progress import Progress, ProgressHook, report
 from designlab.results import Result, Status
@@ -70,11 +77,13 @@ from designlab.results import Result, Status
 __all__ = [
     "OBJECTIVES",
     "THESIS_DESIGN",
+    "THESIS_DESIGNS",
     "Design",
     "DesignScore",
     "DesignSpace",
     "FrontStatus",
     "ParetoFront",
+    "ReferencePoint",
     "evaluate_design",
     "nondominated",
     "nsga2",
@@ -238,6 +247,13 @@ class Design:
 #: The thesis's design: Foam 1 (Table 3.3, 25.4 mm), V_mr = 0.7 m/s (Ch. 6), the
 #: experiment gains (Sec. 6.2.4).
 THESIS_DESIGN = Design(FOAM_1, 0.7, EXPERIMENT_GAINS)
+
+#: The thesis's designs placed against a front by default: Foam 1 at V_mr = 0.7 m/s with
+#: the experiment gains and with the optimised gains of Table C.1.
+THESIS_DESIGNS: dict[str, Design] = {
+    "thesis, experiment gains": THESIS_DESIGN,
+    "thesis, optimal gains": Design(FOAM_1, 0.7, OPTIMAL_GAINS),
+}
 
 
 # ---------------------------------------------------------------- non-dominated filter
@@ -591,6 +607,32 @@ def _variable_columns() -> list[str]:
 
 
 @dataclass(frozen=True)
+class ReferencePoint:
+    """A design placed against a front.
+
+    Attributes
+    ----------
+    label
+        Its name (``"thesis, experiment gains"``).
+    score
+        Its :class:`DesignScore`.
+    objectives
+        Its objectives, in the front's order.
+    distance
+        Normalised distance to the nearest front design (each objective divided by its span
+        over the front and this point); 0 on the front, ``inf`` with an empty front.
+    dominated_by
+        How many front designs are no worse in every objective and better in one.
+    """
+
+    label: str
+    score: DesignScore
+    objectives: Array
+    distance: float
+    dominated_by: int
+
+
+@dataclass(frozen=True)
 class ParetoFront(Result):
     """The designs a search evaluated, its non-dominated feasible ones, and the reference.
 
@@ -605,15 +647,10 @@ class ParetoFront(Result):
         The generation each design was evaluated in.
     feasible, front
         Which designs are feasible, and which feasible ones are non-dominated.
-    reference
-        The reference design's score (the thesis's design by default), or ``None``.
-    reference_objectives
-        Its objectives.
-    reference_distance
-        Normalised distance from the reference to the nearest front design (each
-        objective divided by its span over the front and the reference); 0 on the front.
-    reference_dominated_by
-        How many front designs are no worse in every objective and better in one.
+    references
+        The designs placed against the front (:class:`ReferencePoint`; by default the
+        thesis's, :data:`THESIS_DESIGNS`); :attr:`reference` and the ``reference_*``
+        properties are the first one's.
     seed
         The seed of the search.
     status, warnings
@@ -627,13 +664,30 @@ class ParetoFront(Result):
     generations: NDArray[np.int_] = field(repr=False)
     feasible: NDArray[np.bool_] = field(repr=False)
     front: NDArray[np.bool_] = field(repr=False)
-    reference: DesignScore | None = field(repr=False)
-    reference_objectives: Array = field(repr=False)
-    reference_distance: float
-    reference_dominated_by: int
+    references: tuple[ReferencePoint, ...] = field(repr=False)
     seed: int = 0
     status: str = FrontStatus.OK
     warnings: tuple[str, ...] = ()
+
+    @property
+    def reference(self) -> DesignScore | None:
+        """The first reference design's score, or ``None``."""
+        return self.references[0].score if self.references else None
+
+    @property
+    def reference_objectives(self) -> Array:
+        """The first reference's objectives (empty without one)."""
+        return self.references[0].objectives if self.references else np.zeros(0)
+
+    @property
+    def reference_distance(self) -> float:
+        """The first reference's normalised distance from the front (``nan`` without one)."""
+        return self.references[0].distance if self.references else math.nan
+
+    @property
+    def reference_dominated_by(self) -> int:
+        """How many front designs dominate the first reference."""
+        return self.references[0].dominated_by if self.references else 0
 
     @property
     def columns(self) -> list[str]:
@@ -663,18 +717,18 @@ class ParetoFront(Result):
         return frame
 
     def reference_frame(self) -> pd.DataFrame:
-        """One row: the reference design, its objectives, feasibility and distance."""
-        if self.reference is None:
-            return pd.DataFrame()
-        row: dict[str, Any] = dict(
-            zip(_variable_columns(), self.reference.design.vector(), strict=True)
-        )
-        row.update(zip(self.columns, self.reference_objectives, strict=True))
-        row.update(zip(CONSTRAINTS, self.reference.constraints, strict=True))
-        row["feasible"] = self.reference.feasible
-        row["distance_to_front"] = self.reference_distance
-        row["dominated_by"] = self.reference_dominated_by
-        return pd.DataFrame([row])
+        """One row per reference: its design, objectives, constraints and distance."""
+        rows = []
+        for ref in self.references:
+            row: dict[str, Any] = {"label": ref.label}
+            row.update(zip(_variable_columns(), ref.score.design.vector(), strict=True))
+            row.update(zip(self.columns, ref.objectives, strict=True))
+            row.update(zip(CONSTRAINTS, ref.score.constraints, strict=True))
+            row["feasible"] = ref.score.feasible
+            row["distance_to_front"] = ref.distance
+            row["dominated_by"] = ref.dominated_by
+            rows.append(row)
+        return pd.DataFrame(rows)
 
 
 def _reference_position(front_F: Array, ref: Array) -> tuple[float, int]:
@@ -717,7 +771,7 @@ def pareto(
     population: int = 16,
     generations: int = 8,
     seed: int = 0,
-    reference: Design | None = THESIS_DESIGN,
+    reference: Design | Mapping[str, Design] | None = None,
     progress: ProgressHook | None = None,
 ) -> ParetoFront:
     """The Pareto front of foam, speed limit and VFF gains over navigation scenarios.
@@ -749,8 +803,8 @@ def pareto(
     seed
         Seed of the search.
     reference
-        A design placed against the front (default the thesis's, :data:`THESIS_DESIGN`);
-        ``None``: none.
+        Designs placed against the front: a :class:`Design`, a mapping label -> design,
+        or ``None`` (default): the thesis's two, :data:`THESIS_DESIGNS`; ``{}``: none.
     progress
         Called after each generation (:mod:`designlab.progress`).
 
@@ -773,8 +827,7 @@ def pareto(
     items = _check_scenarios(scenarios)
     if measure not in MEASURES:
         raise InvalidParameterError("measure", measure, f"must be one of {MEASURES}")
-    if reference is not None and not isinstance(reference, Design):
-        raise InvalidParameterError("reference", reference, "must be a Design or None")
+    refs = _check_references(reference)
 
     if criterion is not None and not isinstance(criterion, Criterion):
         raise InvalidParameterError("criterion", criterion, "must be an impact Criterion or None")
@@ -797,33 +850,50 @@ def pareto(
     out = nsga2(evaluate, box.lower, box.upper, n_obj=len(names), n_constr=len(CONSTRAINTS),
                 population=population, generations=generations, seed=seed,
                 progress=progress)  # fmt: skip
-    ref = None if reference is None else score(reference.vector())
-    return _front(out, names, ref, seed)
+    scored = {label: score(d.vector()) for label, d in refs.items()}
+    return _front(out, names, scored, seed)
+
+
+def _check_references(reference: Any) -> dict[str, Design]:
+    if reference is None:
+        return dict(THESIS_DESIGNS)
+    if isinstance(reference, Design):
+        return {"reference": reference}
+    if isinstance(reference, Mapping) and all(
+        isinstance(k, str) and isinstance(v, Design) for k, v in reference.items()
+    ):
+        return dict(reference)
+    raise InvalidParameterError(
+        "reference", reference, "must be a Design, a mapping label -> Design, or None"
+    )
 
 
 def _front(
-    out: SearchOutcome, names: tuple[str, ...], ref: DesignScore | None, seed: int
+    out: SearchOutcome, names: tuple[str, ...], refs: dict[str, DesignScore], seed: int
 ) -> ParetoFront:
     """The :class:`ParetoFront` of a search's evaluations."""
     feasible = out.feasible
     front = np.zeros(len(out.X), dtype=bool)
     if feasible.any():
         front[np.flatnonzero(feasible)] = nondominated(out.F[feasible])
-    ref_f = np.array([OBJECTIVES[o].of(ref) for o in names]) if ref is not None else np.zeros(0)
-    dist, dominated = _reference_position(out.F[front], ref_f) if ref else (math.nan, 0)
+    points = []
+    for label, ref in refs.items():
+        ref_f = np.array([OBJECTIVES[o].of(ref) for o in names])
+        dist, dominated = _reference_position(out.F[front], ref_f)
+        points.append(ReferencePoint(label, ref, ref_f, dist, dominated))
     warnings = []
     if not feasible.any():
         warnings.append(
             f"none of the {len(out.X)} designs evaluated meets every hard constraint "
             f"({', '.join(CONSTRAINTS)}): widen the space or run more generations"
         )
-    if ref is not None and not ref.feasible:
-        broken = [c for c, g in zip(CONSTRAINTS, ref.constraints, strict=True) if g > 0]
-        warnings.append(f"the reference design breaks {', '.join(broken)}")
+    for label, ref in refs.items():
+        if not ref.feasible:
+            broken = [c for c, g in zip(CONSTRAINTS, ref.constraints, strict=True) if g > 0]
+            warnings.append(f"the reference design {label!r} breaks {', '.join(broken)}")
     return ParetoFront(
         objectives=names, X=out.X, F=out.F, G=out.G, generations=out.generations,
-        feasible=feasible, front=front, reference=ref, reference_objectives=ref_f,
-        reference_distance=dist, reference_dominated_by=dominated, seed=seed,
+        feasible=feasible, front=front, references=tuple(points), seed=seed,
         status=FrontStatus.OK if feasible.any() else FrontStatus.NO_FEASIBLE,
         warnings=tuple(warnings),
     )  # fmt: skip

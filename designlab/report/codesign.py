@@ -189,9 +189,10 @@ def front_figure(front: ParetoFront) -> Figure:
         ax.scatter(front.F[ok, 0], front.F[ok, j], s=12, c="0.7", label="feasible design")
         ax.scatter(front.F[front.front, 0], front.F[front.front, j], s=28, c="C0",
                    label="non-dominated")  # fmt: skip
-        if front.reference is not None:
-            ref = front.reference_objectives
-            ax.scatter([ref[0]], [ref[j]], marker="*", s=160, c="C3", label="thesis design")
+        for k, ref in enumerate(front.references):
+            f = ref.objectives
+            ax.scatter([f[0]], [f[j]], marker="*^sD"[k % 4], s=150 if k == 0 else 70,
+                       c=f"C{3 + k}", label=ref.label)  # fmt: skip
         ax.set_xlabel(_LABELS.get(names[0], names[0]))
         ax.set_ylabel(_LABELS.get(names[j], names[j]))
         ax.legend(fontsize=8)
@@ -236,16 +237,22 @@ def front_claims(front: ParetoFront) -> list[str]:
                 f" On the front, {col} ranges from {table[col].min():.4g} to "
                 f"{table[col].max():.4g}."
             )
-    if not ref.empty:
-        out.append("")
-        r = ref.iloc[0]
+    for _, r in ref.iterrows():
         verdict = "feasible" if bool(r["feasible"]) else "infeasible"
-        out.append(
-            f"The thesis's design (Foam 1, T_u = {r['T_u_m']:.4g} m, V_mr = "
-            f"{r['V_mr_m_per_s']:.3g} m/s, experiment gains) is {verdict}; "
+        out += [
+            "",
+            f"The design '{r['label']}' (K_c = {r['K_c_N_per_m']:.4g} N/m, T_u = "
+            f"{r['T_u_m']:.4g} m, V_mr = {r['V_mr_m_per_s']:.3g} m/s, k1 = {r['k1']:.3g}, "
+            f"b = {r['b']:.3g}, k3 = {r['k3']:.3g}, k5 = {r['k5']:.4g}) is {verdict}; "
             f"{int(r['dominated_by'])} front designs dominate it, and its normalised "
             f"distance from the front is {r['distance_to_front']:.3f}."
-        )
+            + (
+                " Being feasible and dominated by no design found, it lies on or beyond the "
+                "front the search reached (a larger search may find designs near it)."
+                if bool(r["feasible"]) and int(r["dominated_by"]) == 0
+                else ""
+            ),
+        ]
     return [*out, ""]
 
 
@@ -298,7 +305,7 @@ def codesign_markdown(
         *front_claims(front),
         markdown_table(front.to_frame(), floatfmt=".4g", index=False),
         "",
-        "The thesis's design:",
+        "The thesis's designs (Foam 1, V_mr = 0.7 m/s; experiment and Table C.1 gains):",
         "",
         markdown_table(front.reference_frame(), floatfmt=".4g", index=False),
         "",

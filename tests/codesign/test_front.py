@@ -150,7 +150,7 @@ def test_pareto_front_is_feasible_and_non_dominated() -> None:
          & (F < front.reference_objectives).any(axis=1)).sum()
     )  # fmt: skip
     assert math.isnan(pareto([nav.configuration(2)], population=4, generations=1,
-                             reference=None).reference_distance)  # fmt: skip
+                             reference={}).reference_distance)  # fmt: skip
 
 
 def test_bad_input_names_the_parameter() -> None:
