@@ -220,6 +220,15 @@ class DesignSpace:
 class Design:
     """One whole design: the foam covering, the speed limit and the VFF gains.
 
+    Attributes
+    ----------
+    foam
+        The foam covering (K_c, C_c, linear depth and thickness T_u).
+    speed
+        The robot's speed limit V_mr in the navigation scenarios (m/s).
+    gains
+        The VFF gains.
+
     Examples
     --------
     >>> THESIS_DESIGN.vector().tolist()[:4]
@@ -472,7 +481,15 @@ CONSTRAINTS = ("collisions", "critical_entries", "not_arrived", "thickness_short
 
 @dataclass(frozen=True)
 class Objective:
-    """An objective to minimise: its name, unit and how a score gives it."""
+    """An objective to minimise: its name, unit and how a score gives it.
+
+    Attributes
+    ----------
+    name, unit, doc
+        Its name (a key of :data:`OBJECTIVES`), unit (in column names) and meaning.
+    of
+        ``score -> value`` for a :class:`DesignScore`.
+    """
 
     name: str
     unit: str
