@@ -171,3 +171,29 @@ def test_bad_input_names_the_parameter() -> None:
         pareto([])
     with pytest.raises(DesignlabError, match="F"):
         nondominated([[np.nan, 1.0]])
+
+
+@settings(max_examples=30, deadline=None)
+@given(
+    hst.sampled_from([n for n in DesignSpace.NAMES]).flatmap(
+        lambda n: hst.tuples(
+            hst.just(n),
+            hst.sampled_from(["min", "max"]),
+            hst.one_of(
+                hst.sampled_from([math.nan, math.inf, -math.inf, -1.0, 0.0, 1e300]),
+                hst.text(max_size=3),
+                hst.none(),
+            ),
+        )
+    )
+)
+def test_hostile_bounds_name_their_field(case: tuple[str, str, object]) -> None:
+    name, end, value = case
+    field = f"{name}_{end}"
+    try:
+        space = DesignSpace(**{field: value})
+    except DesignlabError as exc:
+        assert f"DesignSpace.{name}_" in str(exc)
+        return
+    assert np.isfinite(space.lower).all() and np.isfinite(space.upper).all()
+    assert (space.lower <= space.upper).all()
