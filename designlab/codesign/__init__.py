@@ -25,6 +25,9 @@ The API (stable: names are added, never renamed)::
                                  confidence=0.95, seed=0, progress=None)
     # -> cd.InjuryRisk: probability, interval, standard_error, samples, method,
     #    failed_samples, contact_fraction, status, warnings, to_frame()
+    curve = cd.fragility_curve(robot, foam, speeds=[...], heads=..., criterion=..., samples=...)
+    # -> cd.FragilityCurve: P(exceeded | contact at v) per speed, Wilson low/high,
+    #    thresholds, speed_at(p), to_frame()
     cd.HeadPopulation(mass=<number or dist>, stiffness=..., damping=...)  # .uniform(), .fixed()
     cd.ClosingSpeeds.of(dist_or_samples)      # P(v_c > v | contact), conditional sampling
     cd.contact_speed(...), cd.max_robot_speed(...), cd.stopping_distance(...)  # braking model
@@ -56,6 +59,7 @@ from designlab.codesign.contacts import (
     contact_speeds,
     navigation_contacts,
 )
+from designlab.codesign.fragility import FragilityCurve, fragility_curve
 from designlab.codesign.front import (
     OBJECTIVES,
     THESIS_DESIGN,
@@ -83,6 +87,7 @@ __all__ = [
     "Design",
     "DesignScore",
     "DesignSpace",
+    "FragilityCurve",
     "FrontStatus",
     "HeadPopulation",
     "InjuryRisk",
@@ -94,6 +99,7 @@ __all__ = [
     "contact_speed",
     "contact_speeds",
     "evaluate_design",
+    "fragility_curve",
     "injury_probability",
     "max_robot_speed",
     "navigation_contacts",

@@ -19,6 +19,7 @@ from designlab.params import Param
 
 __all__ = [
     "CONFIDENCE",
+    "CURVE_POINTS",
     "DECELERATION",
     "DETECTION_DISTANCE",
     "HEAD_LEVELS",
@@ -81,3 +82,9 @@ CONFIDENCE = Param(
 #: Seed of the random samples.
 SEED = Param(None, "", "seed of the random samples", kind="integer", ge=0, le=2**32 - 1,
              default=0, name="seed")  # fmt: skip
+
+#: Closing speeds of a fragility curve (each a point of the curve).
+CURVE_POINTS = Param(
+    None, "", "closing speeds of a fragility curve", kind="integer", ge=1, le=10_000,
+    name="speeds",
+)  # fmt: skip

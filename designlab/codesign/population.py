@@ -22,7 +22,7 @@ Examples
 Traceback (most recent call last):
 ...
 designlab.errors.InvalidParameterError: HeadPopulation.mass = ... reaches outside ...
->>> v = ClosingSpeeds.of(stats.uniform(-1.0, 3.0))     # half the mass at v_c <= 1 ... 2 m/s
+>>> v = ClosingSpeeds.of(stats.uniform(-1.0, 3.0))   # v_c uniform on [-1, 2] m/s
 >>> round(v.contact_fraction, 3), round(float(v.sf(np.array([1.0]))[0]), 3)
 (0.667, 0.5)
 """
@@ -35,6 +35,7 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy import stats
 
 from designlab.errors import InvalidParameterError
 from designlab.impact import THESIS_HEAD_RANGE, HeadNeck, HeadRange, LinkImpact
@@ -123,8 +124,6 @@ class HeadPopulation:
         -------
         HeadPopulation
         """
-        from scipy import stats
-
         if not isinstance(head_range, HeadRange):
             raise InvalidParameterError("heads", head_range, "must be a HeadRange")
 
@@ -304,8 +303,6 @@ def lever_sampler(robot: object, points: object) -> Any:
     scipy frozen distribution or float or None
         ``None`` for a robot with one impact point.
     """
-    from scipy import stats
-
     if not isinstance(robot, LinkImpact):
         if points is not None:
             raise InvalidParameterError(

@@ -71,7 +71,14 @@ from designlab.impact.problem import make_problem
 from designlab.progress import Progress, ProgressHook, report
 from designlab.results import Result, Status
 
-__all__ = ["BLOCK", "ESTIMATORS", "InjuryRisk", "RiskStatus", "injury_probability"]
+__all__ = [
+    "BLOCK",
+    "ESTIMATORS",
+    "InjuryRisk",
+    "RiskStatus",
+    "ThresholdModel",
+    "injury_probability",
+]
 
 #: Samples evaluated per kernel call (memory stays bounded).
 BLOCK = 1 << 18
@@ -226,16 +233,59 @@ def _check_criterion(criterion: object) -> Criterion:
 
 
 @dataclass(frozen=True)
-class _Design:
-    """The fixed part of every sample: robot rows (or the link), the foam, the criterion."""
+class ThresholdModel:
+    """The fixed part of every sample: the robot (or the link), the foam, the criterion.
+
+    Attributes
+    ----------
+    robot
+        The robot.
+    foam
+        The foam.
+    criterion
+        The criterion.
+    points
+        The lever-arm distribution of a link (:func:`lever_sampler`), else ``None``.
+    """
 
     robot: ContactDynamics | FullJointContact | LinkImpact
     foam: Foam
     criterion: Criterion
     points: Any
 
+    @classmethod
+    def of(cls, robot: object, foam: object, criterion: object, points: object) -> ThresholdModel:
+        """Check the inputs (default criterion: a_h,max <= 10 g) and build the model.
+
+        Parameters
+        ----------
+        robot, foam, criterion, points
+            As in :func:`injury_probability`.
+
+        Returns
+        -------
+        ThresholdModel
+        """
+        check_robot_foam(robot, foam)
+        crit = _check_criterion(HeadAcceleration(10.0) if criterion is None else criterion)
+        return cls(robot, foam, crit, lever_sampler(robot, points))  # type: ignore[arg-type]
+
     def thresholds(self, heads: NDArray, rng: np.random.Generator) -> NDArray[np.float64]:
-        """The threshold closing speeds ``v*`` of a block of heads (NaN metric -> 0)."""
+        """The threshold closing speeds ``v*`` of a block of ``(n, 3)`` heads ``[M_h, C_h, K_h]``.
+
+        A sample whose metric cannot be computed gets ``v* = 0`` (exceeded at any contact).
+
+        Parameters
+        ----------
+        heads
+            The heads.
+        rng
+            The generator of the impact points (a link).
+
+        Returns
+        -------
+        numpy.ndarray
+        """
         n = heads.shape[0]
         prob = make_problem(self.robot, None if isinstance(self.robot, LinkImpact) else 1.0,
                             None, 1.0, None, False, 0.0, 0.05)  # fmt: skip
@@ -312,9 +362,8 @@ def injury_probability(
     -------
     InjuryRisk
     """
-    check_robot_foam(robot, foam)
-    crit = _check_criterion(HeadAcceleration(10.0) if criterion is None else criterion)
-    design = _Design(robot, foam, crit, lever_sampler(robot, points))
+    design = ThresholdModel.of(robot, foam, criterion, points)
+    crit = design.criterion
     speeds = ClosingSpeeds.of(closing_speed)
     population = HeadPopulation.of(heads)
     n = RISK_SAMPLES.check(samples)

@@ -7,9 +7,11 @@ foam's thickness limit (eps_max <= lambda, so the foam never bottoms out). It
 uses the impact package's worst-case evaluation
 (:func:`designlab.impact.max_safe_velocity`'s problem: the worst head of a grid
 over the range and, for a robot at joint level, the worst impact point along
-the link) and the linearity of the model: every peak metric scales exactly as
-``v_c ** e`` (``e = 1`` for acceleration, force and compression, 2.5 for HIC), so
-the closing speed allowed by criterion ``i`` is ``(limit_i / metric_i(1 m/s)) ** (1/e)``.
+the link), polishes a fixed robot's worst head off the grid with a bounded local
+search (:mod:`designlab.codesign.worst_head`), and uses the linearity of the
+model: every peak metric scales exactly as ``v_c ** e`` (``e = 1`` for acceleration,
+force and compression, 2.5 for HIC), so the closing speed allowed by criterion
+``i`` is ``(limit_i / metric_i(1 m/s)) ** (1/e)``.
 
 The closing speed is split into the robot's and the head's parts (Zeng 2011,
 Sec. 3.4, (3.4.13) at the worst angle gamma_c = 0): ``v_c = v_r + v_h``. With a
@@ -49,6 +51,7 @@ from designlab.codesign.parameters import (
     HEAD_LEVELS,
     REACTION_TIME,
 )
+from designlab.codesign.worst_head import refine_worst_head
 from designlab.errors import InvalidParameterError
 from designlab.impact import (
     THESIS_HEAD_RANGE,
@@ -182,6 +185,15 @@ class Braking:
             DETECTION_DISTANCE.check(detection_distance),
         )
 
+    def notes(self) -> tuple[str, ...]:
+        """A warning when the reaction time cannot act (no detection distance)."""
+        if self.reaction_time > 0 and self.detection_distance == 0:
+            return (
+                "reaction_time has no effect without a detection_distance: the contact comes "
+                "without warning and the robot meets the person at its full speed",
+            )
+        return ()
+
     def robot_limit(self, contact_limit: float, human_speed: float) -> float:
         """The robot speed whose contact speed is ``contact_limit`` (0 if negative)."""
         if contact_limit <= 0.0:
@@ -254,15 +266,19 @@ def _worst_head(prob: FoamProblem, key: Criterion, foam: Foam, lever: float) -> 
                     damping=float(params[j, 6]))  # fmt: skip
 
 
-def _fixed_limits(prob: FoamProblem, foam: Foam) -> dict[str, tuple[float, float, float]]:
-    """Per constraint of a fixed robot: (v_c allowed, metric at 1 m/s, NaN lever)."""
+def _fixed_limits(
+    prob: FoamProblem, foam: Foam, refine: bool
+) -> dict[str, tuple[float, float, HeadNeck]]:
+    """Per constraint of a fixed robot: (v_c allowed, metric at 1 m/s, worst head)."""
     k, c = np.array([foam.stiffness]), np.array([foam.damping])
     out = {}
     for key in prob.keys():
         vals, _ = prob.worst(key, k, c)
-        m1 = float(vals[0])
+        m1, head = float(vals[0]), _worst_head(prob, key, foam, math.nan)
+        if refine:
+            m1, head = refine_worst_head(prob, key, foam, head, m1)
         v = math.inf if m1 <= 0 else (key.limit / m1) ** (1.0 / key.velocity_exponent)
-        out[key.name] = (v, m1, math.nan)
+        out[key.name] = (v, m1, head)
     return out
 
 
@@ -310,6 +326,7 @@ def speed_limit(
     deceleration: float = 10.0,
     detection_distance: float = 0.0,
     head_levels: int = 3,
+    refine: bool = True,
 ) -> SpeedLimit:
     """The largest robot speed for which any contact meets every criterion.
 
@@ -340,6 +357,9 @@ def speed_limit(
         the robot meets the person at its full speed).
     head_levels
         Values per head-neck parameter of the worst-head grid (3: 27 heads).
+    refine
+        Polish each criterion's worst head off the grid with a bounded local search
+        (:mod:`designlab.codesign.worst_head`; a fixed robot only: a link keeps the grid).
 
     Returns
     -------
@@ -360,7 +380,9 @@ def speed_limit(
     prob = problem_for(robot, criteria, foam.linear_depth, head_range, human_speed, head_levels)
     if isinstance(robot, LinkImpact):
         return _summarise_link(prob, foam, brake, _link_limits(prob, foam))
-    return _summarise_fixed(prob, foam, brake, _fixed_limits(prob, foam))
+    if not isinstance(refine, (bool, np.bool_)):
+        raise InvalidParameterError("refine", refine, "must be True or False")
+    return _summarise_fixed(prob, foam, brake, _fixed_limits(prob, foam, bool(refine)))
 
 
 def _common(prob: FoamProblem, foam: Foam, levers: dict[str, float]) -> dict:
@@ -369,7 +391,7 @@ def _common(prob: FoamProblem, foam: Foam, levers: dict[str, float]) -> dict:
 
 
 def _summarise_fixed(
-    prob: FoamProblem, foam: Foam, brake: Braking, lim: dict[str, tuple[float, float, float]]
+    prob: FoamProblem, foam: Foam, brake: Braking, lim: dict[str, tuple[float, float, HeadNeck]]
 ) -> SpeedLimit:
     """The speed limit of a fixed robot from the per-constraint closing speeds."""
     per = {n: v for n, (v, _, _) in lim.items()}
@@ -378,12 +400,13 @@ def _summarise_fixed(
     v_h = prob.human_speed
     robot_speed = v_c - v_h
     status, warnings = _status(robot_speed, v_h, limiting)
+    warnings += brake.notes()
     speed = brake.robot_limit(robot_speed, v_h)
-    levers = {n: math.nan for n in per}
     return SpeedLimit(
         max_speed=speed, closing_speed=v_c, robot_speed=robot_speed, head_speed=v_h,
         joint_speed=math.nan, limiting_criterion=limiting, per_criterion=per,
-        worst_heads=_common(prob, foam, levers), worst_lever_arm=levers,
+        worst_heads={n: h for n, (_, _, h) in lim.items()},
+        worst_lever_arm={n: math.nan for n in per},
         unit_metric={n: m for n, (_, m, _) in lim.items()},
         reaction_time=brake.reaction_time, deceleration=brake.deceleration,
         detection_distance=brake.detection_distance,

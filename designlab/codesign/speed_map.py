@@ -3,7 +3,8 @@
 :func:`speed_limit_map` evaluates :func:`~designlab.codesign.speed_limit` on a grid of
 foams (K_c, C_c) at once: the worst-case metric of every constraint at 1 m/s over the
 head range, for all foams in one batch of the impact kernel, then the closing speed
-each allows, ``(limit / metric) ** (1/e)``, the smallest of them, and the robot's
+each allows, ``(limit / metric) ** (1/e)``, the smallest of them (the worst head of
+the grid, not polished by the local search of ``speed_limit(refine=True)``), and the robot's
 share ``v_c - v_h`` (with the braking model, the robot speed whose contact speed is that).
 
 Examples
@@ -172,9 +173,9 @@ def speed_limit_map(
     v_c = np.min(stack, axis=0)
     speed = np.vectorize(lambda u: brake.robot_limit(u - v_h, v_h))(v_c).astype(float)
     unsafe = v_c <= v_h
-    warnings: tuple[str, ...] = ()
+    warnings: tuple[str, ...] = brake.notes()
     if np.any(unsafe):
-        warnings = (
+        warnings += (
             f"{int(unsafe.sum())} of {unsafe.size} foams allow no robot speed: a person moving "
             f"at {v_h:g} m/s into the robot at rest alone exceeds a limit",
         )

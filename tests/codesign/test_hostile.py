@@ -159,3 +159,24 @@ def test_a_fixed_head_with_a_criterion_far_out_gives_zero():
     risk = cd.injury_probability(MANIPULATOR_1, FOAM_1, np.array([0.1, 0.2]), heads=HEAD_MIN,
                                  criterion=HeadAcceleration(500), samples=10)  # fmt: skip
     assert risk.probability == 0.0 and risk.status == "ok"
+
+
+@pytest.mark.parametrize(
+    ("speeds", "name"),
+    [
+        ([], "speeds"),
+        ([1.0, math.nan], "speeds"),
+        ([0.0], "speeds"),
+        ([-1.0], "speeds"),
+        ([25.0], "speeds"),
+        (np.ones(10_001), "len(speeds)"),
+    ],
+)
+def test_fragility_bad_speeds(speeds, name):
+    _raises(name, cd.fragility_curve, MANIPULATOR_1, FOAM_1, speeds, samples=10)
+
+
+def test_fragility_speed_at_bad_probability():
+    curve = cd.fragility_curve(MANIPULATOR_1, FOAM_1, [1.0], heads=HEAD_MIN, samples=10)
+    _raises("probability", curve.speed_at, 0.0)
+    _raises("probability", curve.speed_at, math.nan)

@@ -134,3 +134,31 @@ def test_progress_is_reported():
     dl.codesign.injury_probability(MANIPULATOR_1, FOAM_1, stats.rayleigh(), samples=100,
                                    progress=seen.append)  # fmt: skip
     assert seen and seen[-1].step == seen[-1].total
+
+
+# --- fragility curve -----------------------------------------------------------------
+
+
+def test_fragility_is_the_threshold_cdf_and_matches_injury_probability():
+    """P(exceeded | v) from the curve equals injury_probability at a one-value speed input."""
+    speeds = [1.9, 2.1, 2.3, 2.5]
+    curve = dl.codesign.fragility_curve(MANIPULATOR_1, FOAM_1, speeds, samples=3000, seed=9)
+    for v, p in zip(speeds, curve.probability, strict=True):
+        r = dl.codesign.injury_probability(MANIPULATOR_1, FOAM_1, np.array([v]), samples=3000,
+                                           seed=9)  # fmt: skip
+        assert p == pytest.approx(r.probability, abs=1e-12)
+    assert np.all(np.diff(curve.probability) >= 0)
+    assert np.all(curve.low <= curve.probability) and np.all(curve.probability <= curve.high)
+    # below the worst head's threshold no head exceeds: the speed limit's answer
+    s = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, [HeadAcceleration(10)], human_speed=0.0)
+    assert curve.thresholds.min() >= s.per_criterion[HeadAcceleration(10).name] * (1 - 1e-9)
+    assert len(curve.to_frame()) == 4
+
+
+def test_fragility_of_one_head_is_a_step():
+    key = HeadAcceleration(10)
+    v_star = _threshold(HEAD_MIN, key)
+    curve = dl.codesign.fragility_curve(MANIPULATOR_1, FOAM_1, [0.99 * v_star, 1.01 * v_star],
+                                        heads=HEAD_MIN, samples=100)  # fmt: skip
+    assert list(curve.probability) == [0.0, 1.0]
+    assert curve.speed_at(0.5) == pytest.approx(v_star, rel=1e-9)

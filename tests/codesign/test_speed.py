@@ -95,7 +95,7 @@ def test_limit_is_limit_over_unit_metric_at_worst_head(d):
     robot = ContactDynamics(mass=d["m_r"], stiffness=d["k_r"], damping=d["c_r"])
     foam = Foam.from_damping_ratio(d["k_c"], d["xi"])
     criteria = [HeadAcceleration(10), ImpactForce(660), HeadInjuryCriterion(650)]
-    s = dl.codesign.speed_limit(robot, foam, criteria, human_speed=d["v_h"])
+    s = dl.codesign.speed_limit(robot, foam, criteria, human_speed=d["v_h"], refine=False)
     per = _expected(robot, foam, criteria, THESIS_HEAD_RANGE, 3)
     assert set(per) == set(s.per_criterion)
     for name, v in per.items():
@@ -135,10 +135,11 @@ def test_hic_scales_as_power_two_and_a_half():
 def test_head_levels_and_a_narrow_range():
     one = HeadRange(mass=(4.4, 4.4), stiffness=(3e3, 3e3), damping=(46.0, 46.0))
     s = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, head_range=one, human_speed=0.0)
+    assert s.worst_heads[HeadAcceleration(10).name].mass == 4.4
     expected = _expected(MANIPULATOR_1, FOAM_1, [HeadAcceleration(10)], one, 2)
     assert s.per_criterion == pytest.approx(expected, rel=1e-9)
-    fine = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, head_levels=5)
-    coarse = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, head_levels=2)
+    fine = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, head_levels=5, refine=False)
+    coarse = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, head_levels=2, refine=False)
     # a finer grid contains the corners: it can only find a worse head
     assert fine.closing_speed <= coarse.closing_speed * (1 + 1e-12)
 
@@ -157,6 +158,32 @@ def test_unsafe_at_rest():
     iso = IsoTransientForce("skull_forehead", transient_factor=1.0)  # 130 N
     s = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, [iso], human_speed=1.0)
     assert s.status == "unsafe_at_rest" and s.max_speed == 0.0 and s.warnings
+
+
+def test_refined_worst_head_beats_the_grid_and_random_heads():
+    """A strongly damped foam whose largest compression lies inside the head range."""
+    robot = ContactDynamics(mass=9.57, stiffness=30.7e3, damping=221.3)
+    foam = Foam(52.4e3, 450.3, 0.02)
+    key = CompressionLimit(0.02)
+    grid = dl.codesign.speed_limit(robot, foam, human_speed=0.0, refine=False)
+    best = dl.codesign.speed_limit(robot, foam, human_speed=0.0)
+    assert best.unit_metric[key.name] > grid.unit_metric[key.name] * (1 + 1e-4)
+    assert best.per_criterion[key.name] < grid.per_criterion[key.name]
+    heads = THESIS_HEAD_RANGE.sample(2000, np.random.default_rng(0))
+    n = len(heads)
+    m = dl.impact.impact_metrics(
+        {"M_r": robot.mass, "C_r": robot.damping, "K_r": robot.stiffness, "K_c": foam.stiffness,
+         "C_c": foam.damping, "M_h": heads[:, 0], "C_h": heads[:, 1], "K_h": heads[:, 2]},
+        np.ones(n),
+    )  # fmt: skip
+    assert np.nanmax(m.max_compression) <= best.unit_metric[key.name] * (1 + 1e-9)
+    h = best.worst_heads[key.name]
+    one = dl.impact.impact_metrics(
+        {"M_r": robot.mass, "C_r": robot.damping, "K_r": robot.stiffness, "K_c": foam.stiffness,
+         "C_c": foam.damping, "M_h": h.mass, "C_h": h.damping, "K_h": h.stiffness},
+        best.per_criterion[key.name],
+    )  # fmt: skip
+    assert float(one.max_compression[0]) == pytest.approx(0.02, rel=1e-9)
 
 
 # --- braking (reaction time) --------------------------------------------------------
@@ -242,10 +269,19 @@ def test_map_equals_speed_limit_per_foam():
     assert len(frame) == 6
     for i, k in enumerate(ks):
         for j, c in enumerate(cs):
-            s = dl.codesign.speed_limit(MANIPULATOR_1, Foam(k, c, 0.02), crit, human_speed=0.5)
+            s = dl.codesign.speed_limit(MANIPULATOR_1, Foam(k, c, 0.02), crit, human_speed=0.5,
+                                        refine=False)  # fmt: skip
             assert m.max_speed[i, j] == pytest.approx(s.max_speed, rel=1e-9, abs=1e-12)
             assert m.criteria[m.limiting[i, j]] == s.limiting_criterion
     # a stiffer foam at the same damping is never faster-safe for the head acceleration
     a = m.per_criterion[crit[0].name]
     assert np.all(np.diff(a, axis=0) <= 1e-9)
     assert math.isclose(frame["K_c_N_per_m"].iloc[0], 12e3)
+
+
+def test_reaction_time_without_detection_distance_is_stated():
+    s = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, reaction_time=0.1)
+    assert s.max_speed == pytest.approx(s.robot_speed)
+    assert any("reaction_time has no effect" in w for w in s.warnings)
+    m = dl.codesign.speed_limit_map(MANIPULATOR_1, K_c=[2e4], C_c=[50.0], reaction_time=0.1)
+    assert any("reaction_time has no effect" in w for w in m.warnings)
