@@ -7,7 +7,7 @@ Files written into the report directory:
     closing speed at contact and the limiting criterion.
 ``risk.csv``
     The risk curves: per foam and closing speed, P(criterion exceeded | contact) and its
-    confidence interval.
+    Wilson confidence interval (:func:`designlab.codesign.fragility_curve`).
 ``contacts.csv``
     The thesis design's encounters: scenario, obstacle, contact, time, distances,
     relative / normal / approach speed, angle, robot and obstacle speed.

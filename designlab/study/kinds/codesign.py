@@ -3,7 +3,7 @@
 Computes the speed-limit map over foam stiffness x damping
 (:func:`designlab.codesign.speed_limit_map`) and the risk curves P(criterion exceeded |
 contact) against the closing speed for a few foams
-(:func:`designlab.codesign.injury_probability`), then searches the Pareto front of foam
+(:func:`designlab.codesign.fragility_curve`), then searches the Pareto front of foam
 (K_c, C_c, T_u), speed limit and VFF gains
 (:func:`designlab.codesign.pareto`) and places the thesis's design against it; the
 closing speeds of the thesis design's encounters with people
@@ -47,7 +47,7 @@ from designlab.codesign import (
     DesignSpace,
     ParetoFront,
     SpeedLimitMap,
-    injury_probability,
+    fragility_curve,
     pareto,
     speed_limit_map,
 )
@@ -309,22 +309,20 @@ def risk_curves(
     """
     spec = study.risk
     crit = None if spec.criterion is None else spec.criterion.build()
-    rows = []
+    frames = []
     foams = [f.build() for f in spec.foams]
     for k, foam in enumerate(foams):
-        for v in spec.speeds.values():
-            r = injury_probability(
-                robot, foam, closing_speed=np.array([v]), heads=heads, criterion=crit,
-                samples=spec.samples, seed=study.front.seed,
-            )  # fmt: skip
-            lo, hi = r.interval
-            rows.append({
-                "foam": _foam_label(foam, k), "K_c_N_per_m": foam.stiffness,
-                "C_c_N_s_per_m": foam.damping, "v_c_m_per_s": v,
-                "probability": r.probability, "low": lo, "high": hi, "method": r.method,
-            })  # fmt: skip
+        curve = fragility_curve(
+            robot, foam, spec.speeds.values(), heads=heads, criterion=crit,
+            samples=spec.samples, seed=study.front.seed,
+        )  # fmt: skip
+        frames.append(pd.DataFrame({
+            "foam": _foam_label(foam, k), "K_c_N_per_m": foam.stiffness,
+            "C_c_N_s_per_m": foam.damping, "v_c_m_per_s": curve.speeds,
+            "probability": curve.probability, "low": curve.low, "high": curve.high,
+        }))  # fmt: skip
         report(progress, Progress(k + 1, len(foams), label="foam"))
-    return pd.DataFrame(rows)
+    return pd.concat(frames, ignore_index=True)
 
 
 def run(study: CodesignStudy, context: RunContext) -> CodesignResult:
