@@ -125,6 +125,10 @@ class ContactSpeeds(Result):
     status: str = ContactStatus.OK
     warnings: tuple[str, ...] = ()
 
+    def __post_init__(self) -> None:
+        if self.measure not in MEASURES:
+            raise InvalidParameterError("measure", self.measure, f"must be one of {MEASURES}")
+
     @property
     def samples(self) -> Array:
         """The closing-speed samples (m/s) of :attr:`measure`, clipped at 0."""

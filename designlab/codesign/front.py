@@ -9,6 +9,9 @@ model. The objectives (all minimised; :data:`OBJECTIVES`) are
 * ``arrival_time``: mean T_arrive over the scenarios (s);
 * ``foam_thickness``: T_u (m);
 * ``closing_speed``: the largest closing speed the runs met (m/s);
+* ``injury_probability``: P(criterion exceeded | contact) at the closing speeds the runs
+  met, over the head-neck range (:func:`designlab.codesign.injury_probability`; a design
+  that meets nobody scores 0);
 
 and the hard constraints (a design that breaks one is infeasible, never traded) are:
 no collision, no critical-region entry, arrival in every scenario, and a foam that
@@ -33,7 +36,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
@@ -45,17 +48,28 @@ from pymoo.core.problem import Problem
 from pymoo.optimize import minimize
 
 from designlab.codesign.contacts import MEASURES, ContactSpeeds, contact_speeds
+from designlab.codesign.parameters import RISK_SAMPLES
+from designlab.codesign.risk import injury_probability
 from designlab.errors import InvalidParameterError
 from designlab.impact import (
     FOAM_1,
     MANIPULATOR_1,
     THESIS_HEAD_RANGE,
     ContactDynamics,
+    Criterion,
     Foam,
+    HeadAcceleration,
     HeadRange,
     min_foam_thickness,
 )
-from designlab.navigation import EXPERIMENT_GAINS, HolonomicRobot, Scenario, VFFGains, simulate
+from designlab.navigation import (
+    EXPERIMENT_GAINS,
+    OPTIMAL_GAINS,
+    HolonomicRobot,
+    Scenario,
+    VFFGains,
+    simulate,
+)
 from designlab.params import Param, declared, params_of
 from designlab.progress import Progress, ProgressHook, report
 from designlab.results import Result, Status
@@ -63,11 +77,13 @@ from designlab.results import Result, Status
 __all__ = [
     "OBJECTIVES",
     "THESIS_DESIGN",
+    "THESIS_DESIGNS",
     "Design",
     "DesignScore",
     "DesignSpace",
     "FrontStatus",
     "ParetoFront",
+    "ReferencePoint",
     "evaluate_design",
     "nondominated",
     "nsga2",
@@ -204,6 +220,15 @@ class DesignSpace:
 class Design:
     """One whole design: the foam covering, the speed limit and the VFF gains.
 
+    Attributes
+    ----------
+    foam
+        The foam covering (K_c, C_c, linear depth and thickness T_u).
+    speed
+        The robot's speed limit V_mr in the navigation scenarios (m/s).
+    gains
+        The VFF gains.
+
     Examples
     --------
     >>> THESIS_DESIGN.vector().tolist()[:4]
@@ -231,6 +256,13 @@ class Design:
 #: The thesis's design: Foam 1 (Table 3.3, 25.4 mm), V_mr = 0.7 m/s (Ch. 6), the
 #: experiment gains (Sec. 6.2.4).
 THESIS_DESIGN = Design(FOAM_1, 0.7, EXPERIMENT_GAINS)
+
+#: The thesis's designs placed against a front by default: Foam 1 at V_mr = 0.7 m/s with
+#: the experiment gains and with the optimised gains of Table C.1.
+THESIS_DESIGNS: dict[str, Design] = {
+    "thesis, experiment gains": THESIS_DESIGN,
+    "thesis, optimal gains": Design(FOAM_1, 0.7, OPTIMAL_GAINS),
+}
 
 
 # ---------------------------------------------------------------- non-dominated filter
@@ -409,6 +441,9 @@ class DesignScore:
         The largest closing speed met (m/s).
     required_thickness
         The thickness T_u the foam needs not to bottom out at that speed (m).
+    injury_probability
+        P(criterion exceeded | contact) at the encounters' closing speeds (``nan`` when
+        not asked for).
     """
 
     design: Design
@@ -419,6 +454,7 @@ class DesignScore:
     contacts: ContactSpeeds = field(repr=False)
     closing_speed: float
     required_thickness: float
+    injury_probability: float = math.nan
 
     @property
     def constraints(self) -> Array:
@@ -445,7 +481,15 @@ CONSTRAINTS = ("collisions", "critical_entries", "not_arrived", "thickness_short
 
 @dataclass(frozen=True)
 class Objective:
-    """An objective to minimise: its name, unit and how a score gives it."""
+    """An objective to minimise: its name, unit and how a score gives it.
+
+    Attributes
+    ----------
+    name, unit, doc
+        Its name (a key of :data:`OBJECTIVES`), unit (in column names) and meaning.
+    of
+        ``score -> value`` for a :class:`DesignScore`.
+    """
 
     name: str
     unit: str
@@ -467,6 +511,8 @@ OBJECTIVES: dict[str, Objective] = {
         Objective("foam_thickness", "m", "foam thickness T_u", lambda s: s.design.foam.thickness),
         Objective("closing_speed", "m_per_s", "largest closing speed met",
                   lambda s: s.closing_speed),
+        Objective("injury_probability", "", "P(criterion exceeded | contact)",
+                  lambda s: s.injury_probability),
     )
 }  # fmt: skip
 
@@ -494,6 +540,9 @@ def evaluate_design(
     robot: ContactDynamics = MANIPULATOR_1,
     heads: HeadRange = THESIS_HEAD_RANGE,
     measure: str = "relative",
+    criterion: Criterion | None = None,
+    risk_samples: int = 20_000,
+    seed: int = 0,
 ) -> DesignScore:
     """Simulate the scenarios with the design's speed limit and gains and score it.
 
@@ -509,6 +558,11 @@ def evaluate_design(
         The head-neck range whose worst head sets the foam thickness needed.
     measure
         Which closing speed of the encounters counts (:func:`contact_speeds`).
+    criterion
+        The injury criterion of :attr:`DesignScore.injury_probability`; ``None``: the
+        probability is not computed.
+    risk_samples, seed
+        Monte Carlo samples and seed of :func:`designlab.codesign.injury_probability`.
 
     Returns
     -------
@@ -530,6 +584,14 @@ def evaluate_design(
     ]  # fmt: skip
     contacts = contact_speeds(runs, measure=measure)
     v = float(contacts.samples.max()) if len(contacts) else 0.0
+    risk = math.nan
+    if criterion is not None:
+        risk = 0.0  # nobody met: no contact
+        if len(contacts):
+            risk = injury_probability(
+                robot, design.foam, closing_speed=contacts, heads=heads, criterion=criterion,
+                samples=risk_samples, seed=seed,
+            ).probability  # fmt: skip
     return DesignScore(
         design=design,
         arrival_time=float(np.mean([r.arrival_time for r in runs])),
@@ -539,6 +601,7 @@ def evaluate_design(
         contacts=contacts,
         closing_speed=v,
         required_thickness=_required_thickness(robot, design.foam, v, heads),
+        injury_probability=float(risk),
     )
 
 
@@ -561,6 +624,32 @@ def _variable_columns() -> list[str]:
 
 
 @dataclass(frozen=True)
+class ReferencePoint:
+    """A design placed against a front.
+
+    Attributes
+    ----------
+    label
+        Its name (``"thesis, experiment gains"``).
+    score
+        Its :class:`DesignScore`.
+    objectives
+        Its objectives, in the front's order.
+    distance
+        Normalised distance to the nearest front design (each objective divided by its span
+        over the front and this point); 0 on the front, ``inf`` with an empty front.
+    dominated_by
+        How many front designs are no worse in every objective and better in one.
+    """
+
+    label: str
+    score: DesignScore
+    objectives: Array
+    distance: float
+    dominated_by: int
+
+
+@dataclass(frozen=True)
 class ParetoFront(Result):
     """The designs a search evaluated, its non-dominated feasible ones, and the reference.
 
@@ -575,15 +664,10 @@ class ParetoFront(Result):
         The generation each design was evaluated in.
     feasible, front
         Which designs are feasible, and which feasible ones are non-dominated.
-    reference
-        The reference design's score (the thesis's design by default), or ``None``.
-    reference_objectives
-        Its objectives.
-    reference_distance
-        Normalised distance from the reference to the nearest front design (each
-        objective divided by its span over the front and the reference); 0 on the front.
-    reference_dominated_by
-        How many front designs are no worse in every objective and better in one.
+    references
+        The designs placed against the front (:class:`ReferencePoint`; by default the
+        thesis's, :data:`THESIS_DESIGNS`); :attr:`reference` and the ``reference_*``
+        properties are the first one's.
     seed
         The seed of the search.
     status, warnings
@@ -597,13 +681,30 @@ class ParetoFront(Result):
     generations: NDArray[np.int_] = field(repr=False)
     feasible: NDArray[np.bool_] = field(repr=False)
     front: NDArray[np.bool_] = field(repr=False)
-    reference: DesignScore | None = field(repr=False)
-    reference_objectives: Array = field(repr=False)
-    reference_distance: float
-    reference_dominated_by: int
+    references: tuple[ReferencePoint, ...] = field(repr=False)
     seed: int = 0
     status: str = FrontStatus.OK
     warnings: tuple[str, ...] = ()
+
+    @property
+    def reference(self) -> DesignScore | None:
+        """The first reference design's score, or ``None``."""
+        return self.references[0].score if self.references else None
+
+    @property
+    def reference_objectives(self) -> Array:
+        """The first reference's objectives (empty without one)."""
+        return self.references[0].objectives if self.references else np.zeros(0)
+
+    @property
+    def reference_distance(self) -> float:
+        """The first reference's normalised distance from the front (``nan`` without one)."""
+        return self.references[0].distance if self.references else math.nan
+
+    @property
+    def reference_dominated_by(self) -> int:
+        """How many front designs dominate the first reference."""
+        return self.references[0].dominated_by if self.references else 0
 
     @property
     def columns(self) -> list[str]:
@@ -633,18 +734,18 @@ class ParetoFront(Result):
         return frame
 
     def reference_frame(self) -> pd.DataFrame:
-        """One row: the reference design, its objectives, feasibility and distance."""
-        if self.reference is None:
-            return pd.DataFrame()
-        row: dict[str, Any] = dict(
-            zip(_variable_columns(), self.reference.design.vector(), strict=True)
-        )
-        row.update(zip(self.columns, self.reference_objectives, strict=True))
-        row.update(zip(CONSTRAINTS, self.reference.constraints, strict=True))
-        row["feasible"] = self.reference.feasible
-        row["distance_to_front"] = self.reference_distance
-        row["dominated_by"] = self.reference_dominated_by
-        return pd.DataFrame([row])
+        """One row per reference: its design, objectives, constraints and distance."""
+        rows = []
+        for ref in self.references:
+            row: dict[str, Any] = {"label": ref.label}
+            row.update(zip(_variable_columns(), ref.score.design.vector(), strict=True))
+            row.update(zip(self.columns, ref.objectives, strict=True))
+            row.update(zip(CONSTRAINTS, ref.score.constraints, strict=True))
+            row["feasible"] = ref.score.feasible
+            row["distance_to_front"] = ref.distance
+            row["dominated_by"] = ref.dominated_by
+            rows.append(row)
+        return pd.DataFrame(rows)
 
 
 def _reference_position(front_F: Array, ref: Array) -> tuple[float, int]:
@@ -678,14 +779,16 @@ def pareto(
     scenarios: Scenario | Sequence[Scenario],
     *,
     space: DesignSpace | None = None,
-    objectives: Sequence[str] = ("arrival_time", "closing_speed", "foam_thickness"),
+    objectives: Sequence[str] = ("arrival_time", "injury_probability", "foam_thickness"),
     robot: ContactDynamics = MANIPULATOR_1,
     heads: HeadRange = THESIS_HEAD_RANGE,
     measure: str = "relative",
+    criterion: Criterion | None = None,
+    risk_samples: int = 20_000,
     population: int = 16,
     generations: int = 8,
     seed: int = 0,
-    reference: Design | None = THESIS_DESIGN,
+    reference: Design | Mapping[str, Design] | None = None,
     progress: ProgressHook | None = None,
 ) -> ParetoFront:
     """The Pareto front of foam, speed limit and VFF gains over navigation scenarios.
@@ -702,17 +805,23 @@ def pareto(
     robot
         The effective robot body at the contact point (impact model).
     heads
-        The head-neck range whose worst head sets the thickness the foam needs.
+        The head-neck range whose worst head sets the thickness the foam needs (and over
+        which the injury probability is taken).
     measure
         Which closing speed of the encounters counts (:func:`contact_speeds`).
+    criterion
+        The injury criterion of the ``injury_probability`` objective (default
+        :class:`~designlab.impact.HeadAcceleration` of 10 g).
+    risk_samples
+        Monte Carlo samples of each design's injury probability (the search's seed).
     population, generations
         NSGA-II population size and generations (population x generations designs,
         each a set of navigation runs; at most :data:`MAX_EVALUATIONS`).
     seed
         Seed of the search.
     reference
-        A design placed against the front (default the thesis's, :data:`THESIS_DESIGN`);
-        ``None``: none.
+        Designs placed against the front: a :class:`Design`, a mapping label -> design,
+        or ``None`` (default): the thesis's two, :data:`THESIS_DESIGNS`; ``{}``: none.
     progress
         Called after each generation (:mod:`designlab.progress`).
 
@@ -735,13 +844,20 @@ def pareto(
     items = _check_scenarios(scenarios)
     if measure not in MEASURES:
         raise InvalidParameterError("measure", measure, f"must be one of {MEASURES}")
-    if reference is not None and not isinstance(reference, Design):
-        raise InvalidParameterError("reference", reference, "must be a Design or None")
+    refs = _check_references(reference)
+
+    if criterion is not None and not isinstance(criterion, Criterion):
+        raise InvalidParameterError("criterion", criterion, "must be an impact Criterion or None")
+    RISK_SAMPLES.check(risk_samples, "risk_samples")
+    risk = None
+    if "injury_probability" in names:
+        risk = HeadAcceleration(10.0) if criterion is None else criterion
 
     def score(x: Array) -> DesignScore:
         return evaluate_design(
-            Design.from_vector(x), items, robot=robot, heads=heads, measure=measure
-        )
+            Design.from_vector(x), items, robot=robot, heads=heads, measure=measure,
+            criterion=risk, risk_samples=risk_samples, seed=seed,
+        )  # fmt: skip
 
     def evaluate(x: Array) -> tuple[Array, Array]:
         s = score(x)
@@ -751,33 +867,50 @@ def pareto(
     out = nsga2(evaluate, box.lower, box.upper, n_obj=len(names), n_constr=len(CONSTRAINTS),
                 population=population, generations=generations, seed=seed,
                 progress=progress)  # fmt: skip
-    ref = None if reference is None else score(reference.vector())
-    return _front(out, names, ref, seed)
+    scored = {label: score(d.vector()) for label, d in refs.items()}
+    return _front(out, names, scored, seed)
+
+
+def _check_references(reference: Any) -> dict[str, Design]:
+    if reference is None:
+        return dict(THESIS_DESIGNS)
+    if isinstance(reference, Design):
+        return {"reference": reference}
+    if isinstance(reference, Mapping) and all(
+        isinstance(k, str) and isinstance(v, Design) for k, v in reference.items()
+    ):
+        return dict(reference)
+    raise InvalidParameterError(
+        "reference", reference, "must be a Design, a mapping label -> Design, or None"
+    )
 
 
 def _front(
-    out: SearchOutcome, names: tuple[str, ...], ref: DesignScore | None, seed: int
+    out: SearchOutcome, names: tuple[str, ...], refs: dict[str, DesignScore], seed: int
 ) -> ParetoFront:
     """The :class:`ParetoFront` of a search's evaluations."""
     feasible = out.feasible
     front = np.zeros(len(out.X), dtype=bool)
     if feasible.any():
         front[np.flatnonzero(feasible)] = nondominated(out.F[feasible])
-    ref_f = np.array([OBJECTIVES[o].of(ref) for o in names]) if ref is not None else np.zeros(0)
-    dist, dominated = _reference_position(out.F[front], ref_f) if ref else (math.nan, 0)
+    points = []
+    for label, ref in refs.items():
+        ref_f = np.array([OBJECTIVES[o].of(ref) for o in names])
+        dist, dominated = _reference_position(out.F[front], ref_f)
+        points.append(ReferencePoint(label, ref, ref_f, dist, dominated))
     warnings = []
     if not feasible.any():
         warnings.append(
             f"none of the {len(out.X)} designs evaluated meets every hard constraint "
             f"({', '.join(CONSTRAINTS)}): widen the space or run more generations"
         )
-    if ref is not None and not ref.feasible:
-        broken = [c for c, g in zip(CONSTRAINTS, ref.constraints, strict=True) if g > 0]
-        warnings.append(f"the reference design breaks {', '.join(broken)}")
+    for label, ref in refs.items():
+        if not ref.feasible:
+            broken = [c for c, g in zip(CONSTRAINTS, ref.constraints, strict=True) if g > 0]
+            warnings.append(f"the reference design {label!r} breaks {', '.join(broken)}")
     return ParetoFront(
         objectives=names, X=out.X, F=out.F, G=out.G, generations=out.generations,
-        feasible=feasible, front=front, reference=ref, reference_objectives=ref_f,
-        reference_distance=dist, reference_dominated_by=dominated, seed=seed,
+        feasible=feasible, front=front, references=tuple(points), seed=seed,
         status=FrontStatus.OK if feasible.any() else FrontStatus.NO_FEASIBLE,
         warnings=tuple(warnings),
     )  # fmt: skip

@@ -2,6 +2,12 @@
 
 Files written into the report directory:
 
+``speed_map.csv``
+    The speed-limit map: per foam (K_c, C_c) of the grid, the robot's speed limit, the
+    closing speed at contact and the limiting criterion.
+``risk.csv``
+    The risk curves: per foam and closing speed, P(criterion exceeded | contact) and its
+    Wilson confidence interval (:func:`designlab.codesign.fragility_curve`).
 ``contacts.csv``
     The thesis design's encounters: scenario, obstacle, contact, time, distances,
     relative / normal / approach speed, angle, robot and obstacle speed.
@@ -11,9 +17,10 @@ Files written into the report directory:
     Every design the search evaluated, with its constraints and flags.
 ``reference.csv``
     The thesis's design: its objectives, constraints, distance from the front.
-``contacts.png``, ``front.png``
-    The closing speeds of the encounters; the front in pairs of objectives with every
-    feasible design and the thesis's design.
+``speed_map.png``, ``risk.png``, ``contacts.png``, ``front.png``
+    The speed-limit map (with Foam 1 and the front's foams); the risk curves; the closing
+    speeds of the encounters; the front in pairs of objectives with every feasible design
+    and the thesis's design.
 ``summary.md``
     What the tables say (every sentence computed from them) and the figures.
 ``study.yaml``
@@ -32,7 +39,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from designlab.codesign import OBJECTIVES, ContactSpeeds, ParetoFront
+from designlab.codesign import OBJECTIVES, ContactSpeeds, ParetoFront, SpeedLimitMap
 from designlab.report import register_writer
 from designlab.report.builder import copy_study, figure_section, report_header, warnings_section
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
@@ -43,6 +50,8 @@ __all__ = [
     "contacts_figure",
     "front_claims",
     "front_figure",
+    "risk_figure",
+    "speed_map_figure",
     "write_codesign_report",
 ]
 
@@ -50,7 +59,91 @@ _LABELS = {
     "arrival_time": "mean arrival time (s)",
     "foam_thickness": "foam thickness T_u (m)",
     "closing_speed": "largest closing speed (m/s)",
+    "injury_probability": "P(criterion exceeded | contact)",
 }
+
+
+def speed_map_figure(smap: SpeedLimitMap, front: ParetoFront) -> Figure:
+    """The robot speed limit over K_c x C_c, with Foam 1 and the front's foams.
+
+    Parameters
+    ----------
+    smap
+        The speed-limit map.
+    front
+        The Pareto front (its foams are marked).
+    """
+    fig, ax = plt.subplots(figsize=(6.4, 4.6))
+    mesh = ax.pcolormesh(smap.stiffness / 1e3, smap.damping, smap.max_speed.T, shading="auto")
+    fig.colorbar(mesh, ax=ax, label="robot speed limit (m/s)")
+    table = front.to_frame()
+    if len(table):
+        ax.scatter(table["K_c_N_per_m"] / 1e3, table["C_c_N_s_per_m"], s=22, c="white",
+                   edgecolors="k", label="front designs' foams")  # fmt: skip
+    if front.reference is not None:
+        f = front.reference.design.foam
+        ax.scatter([f.stiffness / 1e3], [f.damping], marker="*", s=180, c="C3", label="Foam 1")
+    ax.set_xlabel("foam stiffness K_c (kN/m)")
+    ax.set_ylabel("foam damping C_c (N s/m)")
+    ax.set_title(f"Speed limit (head moving at {smap.head_speed:g} m/s towards the robot)")
+    ax.legend(fontsize=8, loc="upper right")
+    fig.tight_layout()
+    return fig
+
+
+def risk_figure(risk: pd.DataFrame) -> Figure:
+    """P(criterion exceeded | contact) against the closing speed, one curve per foam.
+
+    Parameters
+    ----------
+    risk
+        The risk curves (``risk.csv``).
+    """
+    fig, ax = plt.subplots(figsize=(6.4, 4.0))
+    for name, g in risk.groupby("foam", sort=False):
+        ax.plot(g["v_c_m_per_s"], g["probability"], marker="o", label=str(name))
+        ax.fill_between(g["v_c_m_per_s"], g["low"], g["high"], alpha=0.2)
+    ax.set_xlabel("closing speed v_c (m/s)")
+    ax.set_ylabel("P(criterion exceeded | contact)")
+    ax.set_ylim(-0.02, 1.02)
+    ax.set_title("Risk curves over the head-neck range")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
+def _speed_map_claims(frame: pd.DataFrame) -> list[str]:
+    """Sentences computed from speed_map.csv."""
+    best = frame.loc[frame["max_speed_m_per_s"].idxmax()]
+    none = int((frame["max_speed_m_per_s"] <= 0.0).sum())
+    limiting = frame["limiting"].value_counts()
+    return [
+        f"Over the {len(frame)} foams of the grid the robot's speed limit ranges from "
+        f"{frame['max_speed_m_per_s'].min():.3f} to {frame['max_speed_m_per_s'].max():.3f} "
+        f"m/s, highest at K_c = {best['K_c_N_per_m']:.4g} N/m, C_c = "
+        f"{best['C_c_N_s_per_m']:.4g} N s/m; {none} foams allow no robot speed. Limiting: "
+        + ", ".join(f"{k} ({v} foams)" for k, v in limiting.items())
+        + ".",
+        "",
+    ]
+
+
+def _risk_claims(frame: pd.DataFrame) -> list[str]:
+    """Sentences computed from risk.csv."""
+    out = []
+    for name, g in frame.groupby("foam", sort=False):
+        hit = g[g["probability"] > 0.0]
+        top = g.iloc[-1]
+        first = (
+            f"P > 0 from v_c = {hit['v_c_m_per_s'].iloc[0]:.3g} m/s"
+            if len(hit)
+            else "P = 0 over the whole grid"
+        )
+        out.append(
+            f"- {name}: {first}; at {top['v_c_m_per_s']:.3g} m/s, P = {top['probability']:.3g} "
+            f"[{top['low']:.3g}, {top['high']:.3g}]."
+        )
+    return [*out, ""]
 
 
 def contacts_figure(contacts: ContactSpeeds) -> Figure:
@@ -96,9 +189,10 @@ def front_figure(front: ParetoFront) -> Figure:
         ax.scatter(front.F[ok, 0], front.F[ok, j], s=12, c="0.7", label="feasible design")
         ax.scatter(front.F[front.front, 0], front.F[front.front, j], s=28, c="C0",
                    label="non-dominated")  # fmt: skip
-        if front.reference is not None:
-            ref = front.reference_objectives
-            ax.scatter([ref[0]], [ref[j]], marker="*", s=160, c="C3", label="thesis design")
+        for k, ref in enumerate(front.references):
+            f = ref.objectives
+            ax.scatter([f[0]], [f[j]], marker="*^sD"[k % 4], s=150 if k == 0 else 70,
+                       c=f"C{3 + k}", label=ref.label)  # fmt: skip
         ax.set_xlabel(_LABELS.get(names[0], names[0]))
         ax.set_ylabel(_LABELS.get(names[j], names[j]))
         ax.legend(fontsize=8)
@@ -143,16 +237,22 @@ def front_claims(front: ParetoFront) -> list[str]:
                 f" On the front, {col} ranges from {table[col].min():.4g} to "
                 f"{table[col].max():.4g}."
             )
-    if not ref.empty:
-        out.append("")
-        r = ref.iloc[0]
+    for _, r in ref.iterrows():
         verdict = "feasible" if bool(r["feasible"]) else "infeasible"
-        out.append(
-            f"The thesis's design (Foam 1, T_u = {r['T_u_m']:.4g} m, V_mr = "
-            f"{r['V_mr_m_per_s']:.3g} m/s, experiment gains) is {verdict}; "
+        out += [
+            "",
+            f"The design '{r['label']}' (K_c = {r['K_c_N_per_m']:.4g} N/m, T_u = "
+            f"{r['T_u_m']:.4g} m, V_mr = {r['V_mr_m_per_s']:.3g} m/s, k1 = {r['k1']:.3g}, "
+            f"b = {r['b']:.3g}, k3 = {r['k3']:.3g}, k5 = {r['k5']:.4g}) is {verdict}; "
             f"{int(r['dominated_by'])} front designs dominate it, and its normalised "
             f"distance from the front is {r['distance_to_front']:.3f}."
-        )
+            + (
+                " Being feasible and dominated by no design found, it lies on or beyond the "
+                "front the search reached (a larger search may find designs near it)."
+                if bool(r["feasible"]) and int(r["dominated_by"]) == 0
+                else ""
+            ),
+        ]
     return [*out, ""]
 
 
@@ -175,6 +275,19 @@ def codesign_markdown(
     out = report_header(study.name, study.description, command=command, version=version)
     objectives = ", ".join(f"{o} ({OBJECTIVES[o].doc})" for o in front.objectives)
     out += [
+        "## Speed-limit map",
+        "",
+        "The largest robot speed at which a contact with any head of the range meets every "
+        f"criterion ({', '.join(result.speed_map.criteria)}), for each foam of the grid "
+        "(`speed_map.csv`; docs/codesign.md).",
+        "",
+        *_speed_map_claims(result.speed_map.to_frame()),
+        "## Risk curves",
+        "",
+        f"P(criterion exceeded | contact) at a fixed closing speed, heads uniform over the "
+        f"range ({int(result.risk['probability'].size)} points, `risk.csv`):",
+        "",
+        *_risk_claims(result.risk),
         "## Contact speeds",
         "",
         f"The thesis's design driven through the scenarios (closing speed: `{study.measure}`;"
@@ -192,12 +305,19 @@ def codesign_markdown(
         *front_claims(front),
         markdown_table(front.to_frame(), floatfmt=".4g", index=False),
         "",
-        "The thesis's design:",
+        "The thesis's designs (Foam 1, V_mr = 0.7 m/s; experiment and Table C.1 gains):",
         "",
         markdown_table(front.reference_frame(), floatfmt=".4g", index=False),
         "",
     ]
-    out += figure_section({"closing speeds": "contacts.png", "Pareto front": "front.png"})
+    out += figure_section(
+        {
+            "speed-limit map": "speed_map.png",
+            "risk curves": "risk.png",
+            "closing speeds": "contacts.png",
+            "Pareto front": "front.png",
+        }
+    )
     out += warnings_section(result.warnings)
     return "\n".join(out)
 
@@ -231,13 +351,20 @@ def write_codesign_report(
     """
     front = result.front
     written = [
+        write_csv(result.speed_map.to_frame(), directory / "speed_map.csv"),
+        write_csv(result.risk, directory / "risk.csv"),
         write_csv(result.contacts.to_frame(), directory / "contacts.csv"),
         write_csv(front.to_frame(), directory / "front.csv"),
         write_csv(front.designs_frame(), directory / "designs.csv"),
         write_csv(front.reference_frame(), directory / "reference.csv"),
     ]
-    for name, fig in (("contacts.png", contacts_figure(result.contacts)),
-                      ("front.png", front_figure(front))):  # fmt: skip
+    figures = {
+        "speed_map.png": speed_map_figure(result.speed_map, front),
+        "risk.png": risk_figure(result.risk),
+        "contacts.png": contacts_figure(result.contacts),
+        "front.png": front_figure(front),
+    }
+    for name, fig in figures.items():
         written.append(write_png(fig, directory / name))
         plt.close(fig)
     text = codesign_markdown(result, command=command, version=version)

@@ -24,6 +24,8 @@ front:
   population: 4
   generations: 2
   seed: 3
+speed_map: {stiffness: {low: 1.0e+4, high: 6.0e+4, num: 4}, damping: {num: 3}}
+risk: {foams: [FOAM_1, FOAM_3], speeds: {low: 0.5, high: 3.5, num: 4}, samples: 2000}
 """
 
 
@@ -36,7 +38,13 @@ def report(tmp_path_factory: pytest.TempPathFactory) -> Path:
 def test_the_report_holds_its_tables_and_figures(report: Path) -> None:
     names = {p.name for p in report.iterdir()}
     assert {"summary.md", "contacts.csv", "front.csv", "designs.csv", "reference.csv",
-            "contacts.png", "front.png"} <= names  # fmt: skip
+            "speed_map.csv", "risk.csv", "speed_map.png", "risk.png", "contacts.png",
+            "front.png"} <= names  # fmt: skip
+    assert len(pd.read_csv(report / "speed_map.csv")) == 12
+    risk = pd.read_csv(report / "risk.csv")
+    assert len(risk) == 8 and set(risk["foam"]) == {"Foam 1", "Foam 3"}
+    for _, g in risk.groupby("foam"):  # the linear model: the risk never falls with speed
+        assert g["probability"].is_monotonic_increasing
     designs = pd.read_csv(report / "designs.csv")
     assert len(designs) == 8 and (designs["T_u_m"] == 0.03).all()  # the fixed variable
     contacts = pd.read_csv(report / "contacts.csv")
@@ -64,3 +72,11 @@ def test_claims_are_computed_from_the_tables(report: Path) -> None:
     assert f"{dominating} front designs dominate it" in text
     contacts = pd.read_csv(report / "contacts.csv")
     assert f"to {contacts['v_rel_m_per_s'].max():.3f} m/s" in text
+    smap = pd.read_csv(report / "speed_map.csv")
+    lo, hi = smap["max_speed_m_per_s"].min(), smap["max_speed_m_per_s"].max()
+    assert f"ranges from {lo:.3f} to {hi:.3f} m/s" in text
+    assert f"{int((smap['max_speed_m_per_s'] <= 0).sum())} foams allow no robot speed" in text
+    risk = pd.read_csv(report / "risk.csv")
+    for name, g in risk.groupby("foam"):
+        top = g.iloc[-1]
+        assert f"- {name}: " in text and f"P = {top['probability']:.3g}" in text

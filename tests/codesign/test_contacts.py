@@ -119,6 +119,8 @@ def test_bad_input_names_the_parameter() -> None:
         contact_speeds(run, obstacles=[])
     with pytest.raises(DesignlabError, match="scenarios"):
         navigation_contacts([], nav.EXPERIMENT_GAINS)
+    with pytest.raises(DesignlabError, match="measure"):
+        ContactSpeeds((), (), *([np.zeros(0)] * 10), measure="speedy")  # type: ignore[arg-type]
     empty = contact_speeds(run, obstacles="nobody")
     assert empty.status == "empty" and len(empty) == 0
     with pytest.raises(DesignlabError, match="closing_speed"):

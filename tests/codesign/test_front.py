@@ -9,6 +9,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as hst
 
+import designlab as dl
 import designlab.navigation as nav
 from designlab.codesign import (
     THESIS_DESIGN,
@@ -106,6 +107,28 @@ def test_the_thesis_design_scores_as_its_runs() -> None:
     assert s.collisions == 0 and s.critical_entries == 0 and s.not_arrived == 0
     assert s.closing_speed == pytest.approx(s.contacts.relative_speed.max())
     assert 0.0 < s.required_thickness < THESIS_DESIGN.foam.thickness and s.feasible
+    assert math.isnan(s.injury_probability)  # not asked for
+
+
+def test_injury_objective_counts_the_encounters_above_the_limit() -> None:
+    # A fixed head: the model is linear in v_c, so the criterion is exceeded exactly by the
+    # encounters whose closing speed is above v* = limit / a_h,max(1 m/s); the injury
+    # probability is their share (the closing speeds are the encounters' empirical law).
+    head = dl.impact.HEAD_MIN
+    crit = dl.impact.HeadAcceleration(max_g=4.0)
+    design = Design(dl.impact.FOAM_1, 0.7, nav.EXPERIMENT_GAINS)
+    s = evaluate_design(design, [nav.configuration(4)], heads=dl.impact.HeadRange(
+        mass=(head.mass, head.mass), stiffness=(head.stiffness, head.stiffness),
+        damping=(head.damping, head.damping)), measure="approach", criterion=crit,
+        risk_samples=20_000, seed=1)  # fmt: skip
+    unit = dl.impact.impact_metrics(
+        {"M_r": 9.6, "C_r": 250.0, "K_r": 20.0e3, "K_c": 24.25e3, "C_c": 71.9,
+         "M_h": head.mass, "C_h": head.damping, "K_h": head.stiffness}, 1.0,
+    ).peak_head_acceleration_g[0]  # fmt: skip
+    v_star = 4.0 / unit
+    share = float(np.mean(s.contacts.samples > v_star))
+    assert 0.0 < share < 1.0  # the test means something: some encounters on each side
+    assert abs(s.injury_probability - share) < 0.02
 
 
 def test_pareto_front_is_feasible_and_non_dominated() -> None:
@@ -127,7 +150,7 @@ def test_pareto_front_is_feasible_and_non_dominated() -> None:
          & (F < front.reference_objectives).any(axis=1)).sum()
     )  # fmt: skip
     assert math.isnan(pareto([nav.configuration(2)], population=4, generations=1,
-                             reference=None).reference_distance)  # fmt: skip
+                             reference={}).reference_distance)  # fmt: skip
 
 
 def test_bad_input_names_the_parameter() -> None:
@@ -148,3 +171,29 @@ def test_bad_input_names_the_parameter() -> None:
         pareto([])
     with pytest.raises(DesignlabError, match="F"):
         nondominated([[np.nan, 1.0]])
+
+
+@settings(max_examples=30, deadline=None)
+@given(
+    hst.sampled_from([n for n in DesignSpace.NAMES]).flatmap(
+        lambda n: hst.tuples(
+            hst.just(n),
+            hst.sampled_from(["min", "max"]),
+            hst.one_of(
+                hst.sampled_from([math.nan, math.inf, -math.inf, -1.0, 0.0, 1e300]),
+                hst.text(max_size=3),
+                hst.none(),
+            ),
+        )
+    )
+)
+def test_hostile_bounds_name_their_field(case: tuple[str, str, object]) -> None:
+    name, end, value = case
+    field = f"{name}_{end}"
+    try:
+        space = DesignSpace(**{field: value})
+    except DesignlabError as exc:
+        assert f"DesignSpace.{name}_" in str(exc)
+        return
+    assert np.isfinite(space.lower).all() and np.isfinite(space.upper).all()
+    assert (space.lower <= space.upper).all()

@@ -67,7 +67,9 @@ SMALL_STUDIES: dict[str, str] = {
     "navigation_planners": "scenarios: [{configuration: 1}]\nmirror: false\n"
     "planners: [{method: vo, settings: {horizon: 2.0}}]\nmethods: []\n",
     "codesign": "scenarios: [{configuration: 2}]\n"
-    "front: {objectives: [arrival_time, foam_thickness], population: 4, generations: 1}\n",
+    "front: {objectives: [arrival_time, foam_thickness], population: 4, generations: 1}\n"
+    "speed_map: {stiffness: {num: 3}, damping: {num: 3}}\n"
+    "risk: {foams: [FOAM_1], speeds: {num: 3}, samples: 1000}\n",
 }
 
 

@@ -78,7 +78,9 @@ BASE: dict[str, dict[str, Any]] = {
                      "brake_laws": ["PseudoJoystick"]},
     "codesign": {"scenarios": [{"configuration": 2}],
                  "front": {"objectives": ["arrival_time", "foam_thickness"], "population": 4,
-                           "generations": 1}},
+                           "generations": 1},
+                 "speed_map": {"stiffness": {"num": 3}, "damping": {"num": 3}},
+                 "risk": {"foams": ["FOAM_1"], "speeds": {"num": 3}, "samples": 1000}},
 }  # fmt: skip
 
 #: Kinds quick enough to run on every accepted example.

@@ -1,6 +1,10 @@
 """The ``codesign`` study kind: foam, speed limit and VFF gains chosen together (issue 24).
 
-Searches the Pareto front of foam (K_c, C_c, T_u), speed limit and VFF gains
+Computes the speed-limit map over foam stiffness x damping
+(:func:`designlab.codesign.speed_limit_map`) and the risk curves P(criterion exceeded |
+contact) against the closing speed for a few foams
+(:func:`designlab.codesign.fragility_curve`), then searches the Pareto front of foam
+(K_c, C_c, T_u), speed limit and VFF gains
 (:func:`designlab.codesign.pareto`) and places the thesis's design against it; the
 closing speeds of the thesis design's encounters with people
 (:func:`designlab.codesign.contact_speeds`) are reported with it. Every
@@ -17,10 +21,14 @@ Examples
 ... name: demo
 ... scenarios: [{configuration: 2}]
 ... front: {objectives: [arrival_time, foam_thickness], population: 4, generations: 1}
+... speed_map: {stiffness: {low: 1.0e+4, high: 6.0e+4, num: 3}, damping: {num: 3}}
+... risk: {foams: [FOAM_1], speeds: {low: 1.0, high: 3.0, num: 3}, samples: 2000}
 ... ''')
 >>> r = run_study(study)
->>> r.front.status, len(r.front.X), r.contacts.obstacle
-('ok', 4, ('human',))
+>>> r.front.status, len(r.front.X), r.contacts.obstacle, r.speed_map.max_speed.shape
+('ok', 4, ('human',), (3, 3))
+>>> len(r.risk)
+3
 """
 
 from __future__ import annotations
@@ -28,8 +36,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, ClassVar, Literal
 
+import numpy as np
 import pandas as pd
-from pydantic import Field
+from pydantic import Field, model_validator
 
 import designlab.navigation as nav
 from designlab.codesign import (
@@ -37,16 +46,23 @@ from designlab.codesign import (
     ContactSpeeds,
     DesignSpace,
     ParetoFront,
+    SpeedLimitMap,
+    fragility_curve,
     pareto,
+    speed_limit_map,
 )
 from designlab.codesign.contacts import MEASURES
 from designlab.codesign.front import GENERATIONS, MAX_EVALUATIONS, POPULATION, SEED
+from designlab.codesign.parameters import MAP_POINTS, RISK_SAMPLES
 from designlab.errors import StudyError
+from designlab.impact import Foam
+from designlab.impact.parameters import IMPACT_VELOCITY
 from designlab.params import params_of
+from designlab.progress import Progress, ProgressHook, report
 from designlab.results import Result, Status
 from designlab.study.base import Model, StudyBase
-from designlab.study.kinds.foam_design import HeadRangeSpec
-from designlab.study.kinds.impact_specs import RobotSpec
+from designlab.study.kinds.foam_design import CriterionSpec, HeadRangeSpec
+from designlab.study.kinds.impact_specs import DampingGrid, FoamSpec, RobotSpec
 from designlab.study.kinds.navigation_specs import ScenarioSpec
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
@@ -62,6 +78,10 @@ _WalksSeed = _WALKS["seed"].annotation()
 _Population = POPULATION.annotation()
 _Generations = GENERATIONS.annotation()
 _Seed = SEED.annotation()
+_Stiffness = params_of(Foam)["stiffness"].annotation()
+_Speed = IMPACT_VELOCITY.annotation()
+_Points = MAP_POINTS.annotation()
+_Samples = RISK_SAMPLES.annotation()
 
 #: The design space of the front: the bounds are the domains' declarations.
 DesignSpaceSpec = spec_model(DesignSpace, name="DesignSpaceSpec")
@@ -76,6 +96,69 @@ class WalksSpec(Model):
     def build(self) -> nav.RandomWalks:
         """The :class:`~designlab.navigation.RandomWalks`."""
         return nav.RandomWalks(n=self.n, seed=self.seed)
+
+
+class StiffnessGrid(Model):
+    """The K_c axis of the speed-limit map, N/m: ``num`` values from ``low`` to ``high``."""
+
+    low: _Stiffness = 5.0e3  # type: ignore[valid-type]
+    high: _Stiffness = 80.0e3  # type: ignore[valid-type]
+    num: _Points = 9  # type: ignore[valid-type]
+
+    @model_validator(mode="after")
+    def _order(self) -> StiffnessGrid:
+        if not self.low < self.high:
+            raise ValueError(f"low = {self.low:g} N/m must be < high = {self.high:g} N/m")
+        return self
+
+    def values(self) -> list[float]:
+        """The grid."""
+        return np.linspace(self.low, self.high, self.num).tolist()
+
+
+class SpeedGrid(Model):
+    """Closing speeds of the risk curves, m/s: ``num`` values from ``low`` to ``high``."""
+
+    low: _Speed = 0.25  # type: ignore[valid-type]
+    high: _Speed = 4.0  # type: ignore[valid-type]
+    num: _Points = 12  # type: ignore[valid-type]
+
+    @model_validator(mode="after")
+    def _order(self) -> SpeedGrid:
+        if not self.low < self.high:
+            raise ValueError(f"low = {self.low:g} m/s must be < high = {self.high:g} m/s")
+        return self
+
+    def values(self) -> list[float]:
+        """The grid."""
+        return np.linspace(self.low, self.high, self.num).tolist()
+
+
+class SpeedMapSpec(Model):
+    """The speed-limit map: the robot speed every contact allows, over K_c x C_c."""
+
+    stiffness: StiffnessGrid = Field(default_factory=StiffnessGrid)
+    damping: DampingGrid = Field(default_factory=lambda: DampingGrid(low=10.0, num=9))
+    criteria: list[CriterionSpec] | None = Field(  # type: ignore[valid-type]
+        None, min_length=1, description="default: a_h,max <= 10 g (and the thickness limit)"
+    )
+
+
+class RiskSpec(Model):
+    """Risk curves: P(criterion exceeded | contact) against a fixed closing speed."""
+
+    foams: list[FoamSpec] = Field(  # type: ignore[valid-type]
+        default_factory=lambda: [
+            FoamSpec.model_validate(n) for n in ("FOAM_1", "FOAM_2", "FOAM_3")
+        ],
+        min_length=1,
+        max_length=8,
+    )
+    criterion: CriterionSpec | None = Field(  # type: ignore[valid-type]
+        None, description="also the front's injury criterion; default: a_h,max <= 10 g"
+    )
+    speeds: SpeedGrid = Field(default_factory=SpeedGrid)
+    samples: _Samples = 20_000  # type: ignore[valid-type]
 
 
 class FrontSpec(Model):
@@ -111,10 +194,14 @@ class CodesignStudy(StudyBase):
     )
     measure: _Measure = Field("relative", description="which closing speed counts")
     front: FrontSpec = Field(default_factory=FrontSpec)
+    speed_map: SpeedMapSpec = Field(default_factory=SpeedMapSpec)
+    risk: RiskSpec = Field(default_factory=RiskSpec)
 
-    TYPICAL_DURATION: ClassVar[float] = 66  # s, the committed study, serial, loaded machine
+    TYPICAL_DURATION: ClassVar[float] = 98  # s, fastest wall time measured (loaded; 50 s CPU)
     PRODUCES: ClassVar[tuple[str, ...]] = (
         "summary.md",
+        "speed_map.csv",
+        "risk.csv",
         "contacts.csv",
         "front.csv",
         "designs.csv",
@@ -135,6 +222,12 @@ class CodesignStudy(StudyBase):
             )
         if len(set(self.front.objectives)) != len(self.front.objectives):
             raise StudyError("objectives repeat", path=("front", "objectives"))
+        points = len(self.risk.foams) * self.risk.speeds.num * self.risk.samples
+        if points > 10**8:
+            raise StudyError(
+                f"risk: {points} Monte Carlo samples in all is above the cap 1e8",
+                path=("risk", "samples"),
+            )
 
     def size(self) -> str:
         """What the study runs."""
@@ -165,6 +258,10 @@ class CodesignResult(Result):
         (:class:`~designlab.codesign.ContactSpeeds`).
     front
         The :class:`~designlab.codesign.ParetoFront`.
+    speed_map
+        The :class:`~designlab.codesign.SpeedLimitMap`.
+    risk
+        The risk curves: foam, closing speed, probability and its interval.
     status, warnings
         The front's status; the warnings of the contacts and the front.
     """
@@ -172,6 +269,8 @@ class CodesignResult(Result):
     study: CodesignStudy
     contacts: ContactSpeeds = field(repr=False)
     front: ParetoFront = field(repr=False)
+    speed_map: SpeedLimitMap = field(repr=False)
+    risk: pd.DataFrame = field(repr=False)
     status: str = CodesignStatus.OK
     warnings: tuple[str, ...] = ()
 
@@ -188,6 +287,44 @@ def _scenarios(study: CodesignStudy) -> list[nav.Scenario]:
     return [w for sc in built for w in walks.expand(sc)]
 
 
+def _foam_label(foam: Foam, k: int) -> str:
+    return foam.name or f"foam {k + 1}"
+
+
+def risk_curves(
+    study: CodesignStudy, robot: Any, heads: Any, progress: ProgressHook | None = None
+) -> pd.DataFrame:
+    """P(criterion exceeded | contact) at each closing speed of the grid, for each foam.
+
+    Parameters
+    ----------
+    study
+        The study (its ``risk`` section).
+    robot
+        The impact robot.
+    heads
+        The head-neck range (``None``: the injury model's default).
+    progress
+        Called after each foam.
+    """
+    spec = study.risk
+    crit = None if spec.criterion is None else spec.criterion.build()
+    frames = []
+    foams = [f.build() for f in spec.foams]
+    for k, foam in enumerate(foams):
+        curve = fragility_curve(
+            robot, foam, spec.speeds.values(), heads=heads, criterion=crit,
+            samples=spec.samples, seed=study.front.seed,
+        )  # fmt: skip
+        frames.append(pd.DataFrame({
+            "foam": _foam_label(foam, k), "K_c_N_per_m": foam.stiffness,
+            "C_c_N_s_per_m": foam.damping, "v_c_m_per_s": curve.speeds,
+            "probability": curve.probability, "low": curve.low, "high": curve.high,
+        }))  # fmt: skip
+        report(progress, Progress(k + 1, len(foams), label="foam"))
+    return pd.concat(frames, ignore_index=True)
+
+
 def run(study: CodesignStudy, context: RunContext) -> CodesignResult:
     """Collect the contact speeds and search the front, with progress bars.
 
@@ -200,9 +337,20 @@ def run(study: CodesignStudy, context: RunContext) -> CodesignResult:
     """
     scenarios = _scenarios(study)
     robot = study.robot.build()
-    kw: dict[str, Any] = {"measure": study.measure}
-    if study.head_range is not None:
-        kw["heads"] = study.head_range.build()
+    heads = None if study.head_range is None else study.head_range.build()
+    kw: dict[str, Any] = {"measure": study.measure, "risk_samples": study.risk.samples}
+    if study.risk.criterion is not None:
+        kw["criterion"] = study.risk.criterion.build()
+    if heads is not None:
+        kw["heads"] = heads
+    sm = study.speed_map
+    smap = speed_limit_map(
+        robot, K_c=sm.stiffness.values(), C_c=sm.damping.values(),
+        criteria=None if sm.criteria is None else [c.build() for c in sm.criteria],
+        **({} if heads is None else {"head_range": heads}),
+    )  # fmt: skip
+    with context.bar(f"{study.kind}: risk curves", len(study.risk.foams)) as hook:
+        risk = risk_curves(study, robot, heads, hook)
     f = study.front
     with context.bar(f"{study.kind}: Pareto front", f.generations) as hook:
         front = pareto(
@@ -215,8 +363,10 @@ def run(study: CodesignStudy, context: RunContext) -> CodesignResult:
         study,
         contacts,
         front,
+        smap,
+        risk,
         status=CodesignStatus(str(front.status)),
-        warnings=(*contacts.warnings, *front.warnings),
+        warnings=(*smap.warnings, *contacts.warnings, *front.warnings),
     )
 
 
