@@ -186,7 +186,7 @@ class PedestrianSim:
         ids, pts = [], []
         rid = self.robot_id
         parked = self.parked
-        for a in self.sim.agents():
+        for a in self._agents():
             jid = a.id
             if jid != rid:
                 i = self.index[jid]
@@ -199,6 +199,12 @@ class PedestrianSim:
         if not ids:
             return np.zeros(0, np.int64), np.zeros((0, 2))
         return np.asarray(ids, np.int64), np.asarray(pts, dtype=float)
+
+    def _agents(self) -> Any:
+        """The agents, read through JuPedSim's native simulation where it is exposed (twice as
+        fast as through its Python handles, which resolve the agent again on every access)."""
+        native = getattr(self.sim, "_obj", None)
+        return native.agents() if native is not None else self.sim.agents()
 
     def robot_agent_position(self) -> Array | None:
         """Where JuPedSim has the robot's agent (``None`` when the pedestrians ignore it)."""

@@ -20,6 +20,7 @@ Neither side reads the other's state from the future nor from the past period: s
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -165,6 +166,9 @@ class CrowdResult(Result):
         :class:`CrowdStatus`.
     warnings
         What a user should know.
+    pedestrian_seconds, robot_seconds
+        Wall time spent in JuPedSim (stepping and reading the pedestrians) and on the robot's
+        side (slots, compiled step, CBF, distances and records), s.
     """
 
     crowd: CrowdScenario
@@ -190,6 +194,8 @@ class CrowdResult(Result):
     desired_speeds: Array = field(repr=False)
     status: str = CrowdStatus.OK
     warnings: tuple[str, ...] = ()
+    pedestrian_seconds: float = field(default=0.0, repr=False, compare=False)
+    robot_seconds: float = field(default=0.0, repr=False, compare=False)
 
     @property
     def arrived(self) -> bool:
@@ -359,6 +365,7 @@ class _Run:
         self.w2, self.w3 = c.wall_regions()
         self.ped = PedestrianSim(c, c.robot_start)
         self.frames = _Frames(s.n_ped)
+        self.scratch = np.full((s.n_ped, 2), np.nan)
         self.rec_t: list[float] = [0.0]
         self.rec_ped: list[tuple[NDArray[np.int64], Array]] = []
         self.rec_X: list[Array] = [x0[:, None]]
@@ -370,6 +377,7 @@ class _Run:
         self.agent_offset = 0.0
         self.arrival = math.inf
         self.failure = ""
+        self.ped_time = self.total_time = 0.0
         ids, P = self.ped.positions()
         self._push(ids, P)
         self._measure_start(x0[:2], P)
@@ -390,10 +398,15 @@ class _Run:
             self.wmin = min(self.wmin, float(w.contour_distance(p[None, :])[0]))
 
     # ---------------------------------------------------------------- period
-    def robot_period(self) -> Array:
-        """The robot over one period from the pedestrians sensed at its start."""
+    def sense(self) -> tuple[Array, Array, Array]:
+        """The pedestrians as the robot senses them now (copies: later steps do not touch them)."""
+        P, V, A = self.frames.sensed(self.s.crowd.pedestrian_step)
+        return P.copy(), V, A
+
+    def robot_period(self, sensed: tuple[Array, Array, Array]) -> Array:
+        """The robot over one period from the pedestrians ``sensed`` at its start."""
         s, inp = self.s, self.step.inp
-        P, V, A = self.frames.sensed(s.crowd.pedestrian_step)
+        P, V, A = sensed
         slots, _n, over = fill_slots(inp[0][:2], P, V, A, r2=self.r2, slots=s.crowd.neighbours)
         self.overflow += int(over)
         inp[2][:] = np.concatenate([self.wall_obs, slots])
@@ -427,31 +440,14 @@ class _Run:
         return True
 
     def measure(self, k: int, X: Array) -> bool:
-        """Distances at every dynamics step of period ``k``; True once the robot arrived."""
+        """Distances over period ``k`` (see :meth:`_pedestrian_distances`); True on arrival."""
         s = self.s
-        q = s.n_sub // s.per_ped
-        pts = X[0:2, :].T  # (n_sub, 2)
+        pts = X[0:2, :].T  # (n_sub, 2): the robot at the end of each dynamics step
         goal = np.asarray(s.crowd.robot_goal)
         gd = np.hypot(pts[:, 0] - goal[0], pts[:, 1] - goal[1])
         hit = np.flatnonzero(gd <= s.tol)
         upto = int(hit[0]) + 1 if hit.size else s.n_sub
-        frames = self.rec_ped[-(s.per_ped + 1) :]
-        full = self.frames.now.shape[0]
-        for j in range(s.per_ped):
-            lo = j * q
-            if lo >= upto:
-                break
-            P0, P1 = _dense(frames[j], full), _dense(frames[j + 1], full)
-            both = ~(np.isnan(P0[:, 0]) | np.isnan(P1[:, 0]))
-            if both.any():
-                frac = (np.arange(1, q + 1) / q)[:, None, None]
-                Ps = P0[both][None] + frac * (P1[both] - P0[both])[None]  # (q, n, 2)
-                seg = pts[lo : min(lo + q, upto)]
-                d = np.hypot(
-                    Ps[: seg.shape[0], :, 0] - seg[:, None, 0],
-                    Ps[: seg.shape[0], :, 1] - seg[:, None, 1],
-                )
-                self.dmin = min(self.dmin, float(d.min()))
+        self._pedestrian_distances(pts[:upto])
         for w in self.walls:
             self.wmin = min(self.wmin, float(w.contour_distance(pts[:upto]).min()))
         self.energy += float(self.step.out[1][:upto].sum()) * s.dt
@@ -461,29 +457,67 @@ class _Run:
             return True
         return False
 
+    def _pedestrian_distances(self, pts: Array) -> None:
+        """The running minimum of the centre distances to the pedestrians.
 
-def _dense(frame: tuple[NDArray[np.int64], Array], n: int) -> Array:
-    ids, P = frame
-    out = np.full((n, 2), np.nan)
-    out[ids] = P
-    return out
+        Exact at every dynamics step for the pedestrians within R = r2 + (V_mr + v_0,max) T_s
+        of the robot at the period's start (positions interpolated linearly within a
+        pedestrian step): no other can come within r2 during the period, so every
+        critical-region entry and collision is seen. The others count at the sample.
+        """
+        s = self.s
+        q = s.n_sub // s.per_ped
+        frames = self.rec_ped[-(s.per_ped + 1) :]
+        ids0, P0 = frames[0]
+        if not ids0.size:
+            return
+        p = self.rec_X[-1][0:2, -1]  # the robot at the period's start
+        d0 = np.hypot(P0[:, 0] - p[0], P0[:, 1] - p[1])
+        self.dmin = min(self.dmin, float(d0.min()))
+        reach = self.r2 + (self.s.crowd.robot.max_speed + self.s.crowd.max_desired_speed) * (
+            s.n_sub * s.dt
+        )
+        near = ids0[d0 < reach]
+        if not near.size:
+            return
+        scratch = self.scratch
+        G = np.empty((len(frames), near.size, 2))
+        for j, (ids, P) in enumerate(frames):
+            scratch[ids] = P
+            G[j] = scratch[near]
+            scratch[ids] = np.nan
+        frac = (np.arange(1, q + 1) / q)[None, :, None, None]
+        Ps = G[:-1, None] + frac * (G[1:] - G[:-1])[:, None]  # (per, q, n_near, 2)
+        Ps = Ps.reshape(-1, near.size, 2)[: pts.shape[0]]
+        d = np.hypot(Ps[:, :, 0] - pts[:, None, 0], Ps[:, :, 1] - pts[:, None, 1])
+        if not np.isnan(d).all():
+            self.dmin = min(self.dmin, float(np.nanmin(d)))
 
 
 def _loop(run: _Run) -> int:
     s = run.s
     k_done = 0
+    clock = time.perf_counter
     for k in range(s.n_samples):
+        t0 = clock()
+        sensed = run.sense()  # the pedestrians at t_k, whichever side moves first
         if s.order == "robot_first":
-            X = run.robot_period()
+            X = run.robot_period(sensed)
+            t1 = clock()
             ok = run.pedestrians_period(X)
+            t2 = clock()
         else:
             ok = run.pedestrians_period(None)
-            X = run.robot_period() if ok else None
+            t1 = clock()
+            X = run.robot_period(sensed) if ok else None
+            t2 = clock()
+        run.ped_time += t2 - t1 if s.order == "robot_first" else t1 - t0
         if not ok or X is None:
             break
         k_done = k + 1
         arrived = run.measure(k, X)
         np.copyto(run.step.inp[0], X[:, -1])
+        run.total_time += clock() - t0
         if arrived:
             break
     return k_done
@@ -616,7 +650,8 @@ def simulate_crowd(
     return CrowdResult(
         crowd=crowd, method=s.method, stabilising=s.stabilising,
         gains=strategy.gains_dict(s.row), **_outcome(run), **_records(run, k_done),
-        desired_speeds=_speeds(run.ped),
+        desired_speeds=_speeds(run.ped), pedestrian_seconds=run.ped_time,
+        robot_seconds=run.total_time - run.ped_time,
     )  # fmt: skip
 
 
