@@ -19,8 +19,10 @@ Neither side reads the other's state from the future nor from the past period: s
 
 from __future__ import annotations
 
+import functools
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -31,6 +33,7 @@ from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
 from designlab.navigation.cbf_filter import CBFFilter
+from designlab.navigation.criteria import EQUAL_WEIGHTS
 from designlab.navigation.crowds.pedestrians import PedestrianSim
 from designlab.navigation.crowds.scenario import CrowdScenario
 from designlab.navigation.crowds.slots import crowd_step, fill_slots
@@ -45,6 +48,7 @@ __all__ = [
     "CrowdResult",
     "CrowdStatus",
     "PedestrianRun",
+    "accepts_crowds",
     "simulate_crowd",
     "simulate_pedestrians",
 ]
@@ -711,3 +715,35 @@ def simulate_pedestrians(crowd: CrowdScenario) -> PedestrianRun:
         _speeds(ped), CrowdStatus.PEDESTRIAN_SIMULATOR_FAILED if failure else CrowdStatus.OK,
         (failure,) if failure else (),
     )  # fmt: skip
+
+
+#: Arguments of ``navigation.simulate`` that do not apply to a crowd, with their defaults.
+_NOT_FOR_CROWDS = {"force_every_step": False, "jit": False, "weights": EQUAL_WEIGHTS, "noise": None}
+
+
+def accepts_crowds(simulate: Callable[..., Any]) -> Callable[..., Any]:
+    """Let ``simulate(scenario, ...)`` take a :class:`CrowdScenario` (run by simulate_crowd).
+
+    Parameters
+    ----------
+    simulate
+        The scenario simulator (:func:`designlab.navigation.simulate`).
+
+    Returns
+    -------
+    callable
+        The same function, dispatching a :class:`CrowdScenario` to :func:`simulate_crowd`;
+        an argument that does not apply to a crowd (``jit``, ``noise``, ``weights``,
+        ``force_every_step``) is refused unless left at its default.
+    """
+
+    @functools.wraps(simulate)
+    def dispatch(scenario: Any, gains: Any = None, **kw: Any) -> Any:
+        if not isinstance(scenario, CrowdScenario):
+            return simulate(scenario, gains, **kw)
+        for name, default in _NOT_FOR_CROWDS.items():
+            if name in kw and kw.pop(name) != default:
+                raise InvalidParameterError(name, "given", "does not apply to a CrowdScenario")
+        return simulate_crowd(scenario, gains, **kw)
+
+    return dispatch

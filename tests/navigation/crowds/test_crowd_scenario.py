@@ -61,7 +61,7 @@ def test_density_gives_the_number_on_the_walkable_area():
 def test_placement_speeds_and_seeds():
     c = nav.crowd("corridor_counterflow", 30, seed=7)
     a, b = PedestrianSim(c), PedestrianSim(c)
-    ids, P = a.positions()
+    _ids, P = a.positions()
     assert np.array_equal(P, b.positions()[1])  # the seed fixes the crowd
     assert not np.array_equal(P, PedestrianSim(c.replace(seed=8)).positions()[1])
     d = np.hypot(*(P[:, None, :] - P[None, :, :]).transpose(2, 0, 1))

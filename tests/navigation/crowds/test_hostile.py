@@ -92,7 +92,7 @@ def test_paths_refused_by_jupedsim_name_the_path():
                 length=10.0,
                 horizon=0.1,
                 paths=(((5.0, 5.0), (8.0, 5.0)), ((5.1, 5.0), (8.0, 6.0))),
-            )  # fmt: skip
+            )
         )
 
 
@@ -104,3 +104,11 @@ def test_every_method_runs_in_a_crowd_and_reports_its_outcome(method):
     assert res.method == method and res.status in ("ok", "not_arrived")
     assert math.isfinite(res.min_wall_distance) and res.robot_positions.shape == (61, 2)
     assert res.to_frame().shape[0] == 1
+
+
+def test_scenario_options_that_do_not_apply_to_a_crowd_are_refused():
+    c = nav.crowd("corridor_counterflow", 5, length=10.0, horizon=0.12)
+    for kw in ({"jit": True}, {"noise": nav.SensorNoise()}, {"weights": (0.5, 0.5, 0.0)}):
+        with pytest.raises(InvalidParameterError, match=next(iter(kw))):
+            nav.simulate(c, GAINS, **kw)
+    assert nav.simulate(c, GAINS, jit=False).status == "not_arrived"  # defaults pass
