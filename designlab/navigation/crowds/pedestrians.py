@@ -29,6 +29,7 @@ from typing import Any
 
 import jupedsim as jps
 import numpy as np
+import shapely
 from numpy.typing import NDArray
 from shapely.geometry import Polygon, box
 
@@ -222,7 +223,11 @@ class PedestrianSim:
             Where the robot will be at the end of the step (its agent is steered there).
         """
         if self.robot_id is not None and robot_target is not None:
-            self.model.steer(self.sim.agent(self.robot_id), robot_target, self.dt)
+            agent = self.sim.agent(self.robot_id)
+            if shapely.contains_xy(self.crowd.geometry.area, *robot_target):
+                self.model.steer(agent, robot_target, self.dt)
+            else:  # the robot has left the walkable area: its agent waits at the edge
+                self.model.steer(agent, agent.position, self.dt)
         self.sim.iterate()
         self.steps += 1
         for jid in self._leaving:  # reached their exit in the previous step: gone now

@@ -29,6 +29,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 import pandas as pd
+import shapely
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
@@ -230,26 +231,35 @@ class CrowdResult(Result):
 
 # ------------------------------------------------------------------ the run
 class _Frames:
-    """Pedestrian positions by index at the last three pedestrian steps (for differences)."""
+    """Pedestrian positions by index at the last ``depth`` pedestrian steps (a ring)."""
 
-    def __init__(self, capacity: int) -> None:
-        self.now = np.full((capacity, 2), np.nan)
-        self.prev = self.now.copy()
-        self.prev2 = self.now.copy()
+    def __init__(self, capacity: int, depth: int) -> None:
+        self.ring = np.full((max(depth, 3), capacity, 2), np.nan)
+        self.ptr = -1
+        self.count = 0  # rows in use (pedestrians that have entered)
 
     def push(self, ids: NDArray[np.int64], P: Array) -> None:
-        self.prev2, self.prev, self.now = self.prev, self.now, self.prev2
-        self.now.fill(np.nan)
-        self.now[ids] = P
+        self.ptr = (self.ptr + 1) % self.ring.shape[0]
+        now = self.ring[self.ptr]
+        now[: self.count].fill(np.nan)
+        now[ids] = P
+        if ids.size:
+            self.count = max(self.count, int(ids.max()) + 1)
+
+    def last(self, n: int) -> Array:
+        """The last ``n`` frames, oldest first, ``(n, count, 2)``."""
+        idx = (self.ptr - np.arange(n - 1, -1, -1)) % self.ring.shape[0]
+        return self.ring[idx, : self.count]
 
     def sensed(self, dt: float) -> tuple[Array, Array, Array]:
         """Positions, velocities and accelerations now (backward differences; 0 where unknown)."""
-        V = (self.now - self.prev) / dt
-        V1 = (self.prev - self.prev2) / dt
-        A = (V - V1) / dt
-        V = np.where(np.isnan(V) & ~np.isnan(self.now), 0.0, V)
-        A = np.where(np.isnan(A) & ~np.isnan(self.now), 0.0, A)
-        return self.now, V, A
+        prev2, prev, now = self.last(3)
+        V = (now - prev) / dt
+        A = (V - (prev - prev2) / dt) / dt
+        known = ~np.isnan(now)
+        V = np.where(np.isnan(V) & known, 0.0, V)
+        A = np.where(np.isnan(A) & known, 0.0, A)
+        return now.copy(), V, A
 
 
 class _Step:
@@ -368,8 +378,11 @@ class _Run:
         self.r2, self.r3 = c.pedestrian_regions()
         self.w2, self.w3 = c.wall_regions()
         self.ped = PedestrianSim(c, c.robot_start)
-        self.frames = _Frames(s.n_ped)
-        self.scratch = np.full((s.n_ped, 2), np.nan)
+        self.frames = _Frames(s.n_ped, s.per_ped + 1)
+        self.wall_frames = np.array(
+            [[*w.center, math.cos(w.angle), math.sin(w.angle), w.length / 2, w.width / 2]
+             for w in self.walls]
+        ).reshape(-1, 6)  # fmt: skip
         self.rec_t: list[float] = [0.0]
         self.rec_ped: list[tuple[NDArray[np.int64], Array]] = []
         self.rec_X: list[Array] = [x0[:, None]]
@@ -382,12 +395,14 @@ class _Run:
         self.arrival = math.inf
         self.failure = ""
         self.ped_time = self.total_time = 0.0
+        self.area = c.geometry.area
+        self.left_area = 0.0  # when the robot was first outside the walkable area (0: never)
         ids, P = self.ped.positions()
         self._push(ids, P)
         self._measure_start(x0[:2], P)
 
     def _push(self, ids: NDArray[np.int64], P: Array) -> None:
-        if ids.size and ids.max() >= self.frames.now.shape[0]:
+        if ids.size and ids.max() >= self.frames.ring.shape[1]:
             raise InvalidParameterError(
                 "CrowdScenario.horizon", self.s.crowd.horizon,
                 f"lets more than {self.s.n_ped} pedestrians enter (the records' cap); shorten it",
@@ -398,14 +413,13 @@ class _Run:
     def _measure_start(self, p: Array, P: Array) -> None:
         if P.shape[0]:
             self.dmin = float(np.min(np.hypot(P[:, 0] - p[0], P[:, 1] - p[1])))
-        for w in self.walls:
-            self.wmin = min(self.wmin, float(w.contour_distance(p[None, :])[0]))
+        if self.walls:
+            self.wmin = _wall_distance(self.wall_frames, p[None, :])
 
     # ---------------------------------------------------------------- period
     def sense(self) -> tuple[Array, Array, Array]:
         """The pedestrians as the robot senses them now (copies: later steps do not touch them)."""
-        P, V, A = self.frames.sensed(self.s.crowd.pedestrian_step)
-        return P.copy(), V, A
+        return self.frames.sensed(self.s.crowd.pedestrian_step)
 
     def robot_period(self, sensed: tuple[Array, Array, Array]) -> Array:
         """The robot over one period from the pedestrians ``sensed`` at its start."""
@@ -452,9 +466,11 @@ class _Run:
         hit = np.flatnonzero(gd <= s.tol)
         upto = int(hit[0]) + 1 if hit.size else s.n_sub
         self._pedestrian_distances(pts[:upto])
-        for w in self.walls:
-            self.wmin = min(self.wmin, float(w.contour_distance(pts[:upto]).min()))
+        if self.walls:
+            self.wmin = min(self.wmin, _wall_distance(self.wall_frames, pts[:upto]))
         self.energy += float(self.step.out[1][:upto].sum()) * s.dt
+        if not self.left_area and not shapely.contains_xy(self.area, pts[-1, 0], pts[-1, 1]):
+            self.left_area = k * s.n_sub * s.dt + s.n_sub * s.dt
         self.rec_X.append(X)
         if hit.size:
             self.arrival = (k * s.n_sub + upto) * s.dt
@@ -471,31 +487,37 @@ class _Run:
         """
         s = self.s
         q = s.n_sub // s.per_ped
-        frames = self.rec_ped[-(s.per_ped + 1) :]
-        ids0, P0 = frames[0]
-        if not ids0.size:
-            return
+        F = self.frames.last(s.per_ped + 1)  # (per + 1, n, 2): the period's pedestrian steps
+        P0 = F[0]
         p = self.rec_X[-1][0:2, -1]  # the robot at the period's start
         d0 = np.hypot(P0[:, 0] - p[0], P0[:, 1] - p[1])
-        self.dmin = min(self.dmin, float(d0.min()))
+        if np.isnan(d0).all():
+            return
+        self.dmin = min(self.dmin, float(np.nanmin(d0)))
         reach = self.r2 + (self.s.crowd.robot.max_speed + self.s.crowd.max_desired_speed) * (
             s.n_sub * s.dt
         )
-        near = ids0[d0 < reach]
+        near = np.flatnonzero(d0 < reach)
         if not near.size:
             return
-        scratch = self.scratch
-        G = np.empty((len(frames), near.size, 2))
-        for j, (ids, P) in enumerate(frames):
-            scratch[ids] = P
-            G[j] = scratch[near]
-            scratch[ids] = np.nan
+        G = F[:, near]
         frac = (np.arange(1, q + 1) / q)[None, :, None, None]
         Ps = G[:-1, None] + frac * (G[1:] - G[:-1])[:, None]  # (per, q, n_near, 2)
         Ps = Ps.reshape(-1, near.size, 2)[: pts.shape[0]]
         d = np.hypot(Ps[:, :, 0] - pts[:, None, 0], Ps[:, :, 1] - pts[:, None, 1])
         if not np.isnan(d).all():
             self.dmin = min(self.dmin, float(np.nanmin(d)))
+
+
+def _wall_distance(walls: Array, pts: Array) -> float:
+    """Smallest contour distance from ``pts`` ``(n, 2)`` to the walls (rows: centre, cos,
+    sin, half length, half width), as :meth:`Rectangle.contour_distance` for all at once."""
+    rx = pts[None, :, 0] - walls[:, 0:1]
+    ry = pts[None, :, 1] - walls[:, 1:2]
+    c, s = walls[:, 2:3], walls[:, 3:4]
+    dx = np.maximum(np.abs(c * rx + s * ry) - walls[:, 4:5], 0.0)
+    dy = np.maximum(np.abs(-s * rx + c * ry) - walls[:, 5:6], 0.0)
+    return float(np.hypot(dx, dy).min())
 
 
 def _loop(run: _Run) -> int:
@@ -578,6 +600,10 @@ def _outcome(run: _Run) -> dict[str, Any]:
         warnings.append(f"entered a pedestrian's critical region: distance {run.dmin:.3f} m")
     if run.wmin <= rho:
         warnings.append(f"collision with a wall: distance {run.wmin:.3f} m")
+    if run.left_area:
+        warnings.append(
+            f"the robot left the walkable area by t = {run.left_area:.2f} s (pushed out)"
+        )
     if run.overflow:
         warnings.append(
             f"in {run.overflow} periods more than {c.neighbours} pedestrians were in the active "

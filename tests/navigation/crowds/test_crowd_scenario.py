@@ -78,3 +78,20 @@ def test_streams_keep_the_crowd_size():
     present = (~np.isnan(run.pedestrian_positions[:, :, 0])).sum(axis=1)
     assert run.pedestrian_positions.shape[1] > 20  # some left and were replaced
     assert present[-1] >= 17 and present.max() <= 20 + 2  # leaving ones stay one step
+
+
+def test_records_and_wall_distance_of_a_run():
+    c = nav.crowd("bottleneck", 6, width=4.0, length=10.0, seed=3, horizon=1.2)
+    res = nav.simulate(c, nav.VFFGains(4.3, 0.68, 20.3, 240.7))
+    n = res.times.size
+    np.testing.assert_allclose(res.times, np.arange(n) * c.pedestrian_step, atol=1e-12)
+    assert res.robot_positions.shape == res.robot_velocities.shape == (n, 2)
+    walls = c.walls()
+    at_records = min(float(w.contour_distance(res.robot_positions).min()) for w in walls)
+    # the run's minimum is taken at every 1 ms step: at most the records' minimum
+    assert res.min_wall_distance <= at_records + 1e-12
+    assert res.min_wall_distance >= at_records - c.robot.max_speed * c.pedestrian_step
+    finite = np.isfinite(res.nearest_distance)
+    d = np.hypot(*(res.pedestrian_positions - res.robot_positions[:, None, :]).transpose(2, 0, 1))
+    np.testing.assert_allclose(res.nearest_distance[finite], np.nanmin(d, axis=1)[finite])
+    assert res.min_distance <= res.nearest_distance.min() + 1e-12
