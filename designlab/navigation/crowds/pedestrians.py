@@ -100,6 +100,8 @@ class PedestrianSim:
         self.steps = 0
         self._leaving: list[int] = []
         self.parked: dict[int, tuple[float, float]] = {}  # given pedestrians at their destination
+        self._order: NDArray[np.int64] | None = None  # pedestrian index of each agent, in order
+        self._keep = self._ids = np.zeros(0, np.int64)
         self._journeys: list[tuple[int, int]] = []
         if crowd.paths:
             self._add_given()
@@ -120,6 +122,7 @@ class PedestrianSim:
             self.model.agent(position, float(speed), self.crowd.pedestrian_radius, journey, stage)
         )
         self.index[jid] = len(self.stream_of)
+        self._order = None  # the agents changed: read everything next time
         self.stream_of.append(stream)
         self.speeds.append(float(speed))
         return jid
@@ -166,6 +169,7 @@ class PedestrianSim:
             self.robot_id = self.sim.add_agent(
                 self.model.agent(position, 0.0, self.crowd.robot.radius, journey, stage)
             )
+            self._order = None
         except RuntimeError as exc:
             raise InvalidParameterError(
                 "CrowdScenario.start", position, f"JuPedSim refuses the robot's agent: {exc}", "m"
@@ -183,17 +187,36 @@ class PedestrianSim:
         return len(self.stream_of)
 
     def positions(self) -> tuple[NDArray[np.int64], Array]:
-        """(indices, positions ``(n, 2)``) of the pedestrians in the simulation now."""
-        ids, pts = [], []
+        """(indices, positions ``(n, 2)``) of the pedestrians in the simulation now.
+
+        JuPedSim keeps its agents in order (an agent that leaves drops out, a new one comes
+        last), so while no agent has entered or left only the positions are read (the
+        indices of the last full read are reused; a changed count reads everything again).
+        """
+        if self._order is not None and not self.parked:
+            pts = [a.position for a in self._agents()]
+            if len(pts) == self._order.size:
+                if not pts:
+                    return np.zeros(0, np.int64), np.zeros((0, 2))
+                return self._ids, np.asarray(pts, dtype=float)[self._keep]
+        return self._read_all()
+
+    def _read_all(self) -> tuple[NDArray[np.int64], Array]:
+        """Indices and positions from a full read (and the order reused until it changes)."""
+        ids, pts, order = [], [], []
         rid = self.robot_id
         parked = self.parked
         for a in self._agents():
             jid = a.id
+            order.append(self.index.get(jid, -1) if jid != rid else -1)
             if jid != rid:
                 i = self.index[jid]
                 if i not in parked:
                     ids.append(i)
                     pts.append(a.position)
+        self._order = np.asarray(order, np.int64)
+        self._keep = self._order >= 0
+        self._ids = self._order[self._keep]
         for i, p in parked.items():
             ids.append(i)
             pts.append(p)
@@ -232,6 +255,7 @@ class PedestrianSim:
         self.steps += 1
         for jid in self._leaving:  # reached their exit in the previous step: gone now
             self.index.pop(jid, None)
+            self._order = None
         # JuPedSim lists the agents that reached their exit; they go at the next step
         self._leaving = [j for j in self.sim.removed_agents() if j in self.index]
         if not self.crowd.paths:

@@ -95,3 +95,16 @@ def test_records_and_wall_distance_of_a_run():
     d = np.hypot(*(res.pedestrian_positions - res.robot_positions[:, None, :]).transpose(2, 0, 1))
     np.testing.assert_allclose(res.nearest_distance[finite], np.nanmin(d, axis=1)[finite])
     assert res.min_distance <= res.nearest_distance.min() + 1e-12
+
+
+def test_fast_reads_equal_full_reads_while_pedestrians_come_and_go():
+    sim = PedestrianSim(nav.crowd("corridor_counterflow", 25, length=8.0, seed=5,
+                                  react_to_robot=True))  # fmt: skip
+    changes = 0
+    for _ in range(600):
+        sim.step((1.5, 2.0))
+        changes += sim._order is None  # someone left or entered: a full read comes
+        fast = sim.positions()
+        full = sim._read_all()
+        assert np.array_equal(fast[0], full[0]) and np.array_equal(fast[1], full[1])
+    assert changes > 0  # pedestrians left and entered
