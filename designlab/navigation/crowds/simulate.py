@@ -238,13 +238,13 @@ class _Frames:
         self.ptr = -1
         self.count = 0  # rows in use (pedestrians that have entered)
 
-    def push(self, ids: NDArray[np.int64], P: Array) -> None:
+    def push(self, ids: NDArray[np.int64], P: Array, count: int) -> None:
+        """Add the positions of a step; ``count``: pedestrians that have entered so far."""
         self.ptr = (self.ptr + 1) % self.ring.shape[0]
         now = self.ring[self.ptr]
         now[: self.count].fill(np.nan)
         now[ids] = P
-        if ids.size:
-            self.count = max(self.count, int(ids.max()) + 1)
+        self.count = count
 
     def last(self, n: int) -> Array:
         """The last ``n`` frames, oldest first, ``(n, count, 2)``."""
@@ -402,12 +402,13 @@ class _Run:
         self._measure_start(x0[:2], P)
 
     def _push(self, ids: NDArray[np.int64], P: Array) -> None:
-        if ids.size and ids.max() >= self.frames.ring.shape[1]:
+        count = self.ped.count
+        if count > self.frames.ring.shape[1]:
             raise InvalidParameterError(
                 "CrowdScenario.horizon", self.s.crowd.horizon,
                 f"lets more than {self.s.n_ped} pedestrians enter (the records' cap); shorten it",
             )  # fmt: skip
-        self.frames.push(ids, P)
+        self.frames.push(ids, P, count)
         self.rec_ped.append((ids, P))
 
     def _measure_start(self, p: Array, P: Array) -> None:
