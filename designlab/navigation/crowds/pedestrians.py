@@ -131,9 +131,16 @@ class PedestrianSim:
         speeds = desired_speeds(self.crowd, self.rng, len(self.crowd.paths))
         h = _DESTINATION_HALF * self.crowd.max_desired_speed * self.dt
         for i, ((a, b), v) in enumerate(zip(self.crowd.paths, speeds, strict=True)):
-            self._journeys.append(self._journey(box(b[0] - h, b[1] - h, b[0] + h, b[1] + h)))
+            standing = max(abs(a[0] - b[0]), abs(a[1] - b[1])) <= h
+            if standing:  # already at its destination: an agent that stands (steered to itself)
+                stage = self.sim.add_direct_steering_stage()
+                self._journeys.append(
+                    (self.sim.add_journey(jps.JourneyDescription([stage])), stage)
+                )
+            else:
+                self._journeys.append(self._journey(box(b[0] - h, b[1] - h, b[0] + h, b[1] + h)))
             try:
-                self._add(a, v, i)
+                self._add(a, 0.0 if standing else v, i)
             except RuntimeError as exc:
                 raise InvalidParameterError(
                     f"CrowdScenario.paths[{i}]", a, f"JuPedSim refuses the pedestrian: {exc}", "m"

@@ -103,7 +103,8 @@ class CrowdScenario:
     """A robot's task among pedestrians simulated by JuPedSim (see the module's text).
 
     Build one with :func:`crowd`. ``paths`` replaces the layout's random crowd by given
-    pedestrians (each walks from its start to its destination and leaves; none enter).
+    pedestrians: each walks from its start to its destination and stands there (a pedestrian
+    whose start is its destination stands from the start); none enter.
 
     Attributes
     ----------

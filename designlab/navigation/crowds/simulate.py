@@ -171,6 +171,11 @@ class CrowdResult(Result):
         :class:`CrowdStatus`.
     warnings
         What a user should know.
+    critical_overlaps
+        Navigation periods in which two pedestrians in the active region had intersecting
+        critical regions (Sec. 6.4.3: no path between them stays outside both; the thesis
+        merges such obstacles, which for pedestrians would change from period to period, so
+        their fields are summed and the critical-region rule applies to each).
     pedestrian_seconds, robot_seconds
         CPU time spent in JuPedSim (stepping and reading the pedestrians) and on the robot's
         side (slots, compiled step, CBF, distances and records), s.
@@ -199,6 +204,7 @@ class CrowdResult(Result):
     desired_speeds: Array = field(repr=False)
     status: str = CrowdStatus.OK
     warnings: tuple[str, ...] = ()
+    critical_overlaps: int = 0
     pedestrian_seconds: float = field(default=0.0, repr=False, compare=False)
     robot_seconds: float = field(default=0.0, repr=False, compare=False)
 
@@ -224,7 +230,8 @@ class CrowdResult(Result):
             "d_surface_min_m": self.min_surface_distance, "d_wall_min_m": self.min_wall_distance,
             "entered_critical": self.entered_critical, "collided": self.collided,
             "critical_time_s": self.critical_time, "L_energy_J_per_ohm": self.energy,
-            "slot_overflow": self.slot_overflow, "status": str(self.status),
+            "slot_overflow": self.slot_overflow, "critical_overlaps": self.critical_overlaps,
+            "status": str(self.status),
         }  # fmt: skip
         return pd.DataFrame([row])
 
@@ -391,6 +398,7 @@ class _Run:
         self.crit_time = 0.0
         self.energy = 0.0
         self.overflow = 0
+        self.overlaps = 0
         self.agent_offset = 0.0
         self.arrival = math.inf
         self.failure = ""
@@ -426,8 +434,12 @@ class _Run:
         """The robot over one period from the pedestrians ``sensed`` at its start."""
         s, inp = self.s, self.step.inp
         P, V, A = sensed
-        slots, _n, over = fill_slots(inp[0][:2], P, V, A, r2=self.r2, slots=s.crowd.neighbours)
+        slots, n, over = fill_slots(inp[0][:2], P, V, A, r2=self.r2, slots=s.crowd.neighbours)
         self.overflow += int(over)
+        if n > 1:  # Sec. 6.4.3: two critical regions intersect, no path between them is safe
+            Q = slots.reshape(-1, 6)[: min(n, s.crowd.neighbours), 0:2]
+            gap = np.hypot(Q[:, None, 0] - Q[None, :, 0], Q[:, None, 1] - Q[None, :, 1])
+            self.overlaps += int((gap[np.triu_indices(Q.shape[0], 1)] < 2 * self.r3).any())
         inp[2][:] = np.concatenate([self.wall_obs, slots])
         if self.cbf is not None:
             x = inp[0].copy()
@@ -618,7 +630,8 @@ def _outcome(run: _Run) -> dict[str, Any]:
         "arrival_time": run.arrival, "min_distance": run.dmin, "min_surface_distance": surf,
         "min_wall_distance": run.wmin, "entered_critical": bool(crit), "collided": bool(coll),
         "critical_time": run.crit_time, "energy": run.energy, "slot_overflow": run.overflow,
-        "robot_agent_offset": run.agent_offset, "status": status, "warnings": tuple(warnings),
+        "robot_agent_offset": run.agent_offset, "critical_overlaps": run.overlaps,
+        "status": status, "warnings": tuple(warnings),
     }  # fmt: skip
 
 
