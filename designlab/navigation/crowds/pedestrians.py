@@ -221,6 +221,7 @@ class PedestrianSim:
                 if i not in parked:
                     ids.append(i)
                     pts.append(a.position)
+        self._forget_unreported(len(order) - (rid is not None))
         self._order = np.asarray(order, np.int64)
         self._keep = self._order >= 0
         self._ids = self._order[self._keep]
@@ -230,6 +231,17 @@ class PedestrianSim:
         if not ids:
             return np.zeros(0, np.int64), np.zeros((0, 2))
         return np.asarray(ids, np.int64), np.asarray(pts, dtype=float)
+
+    def _forget_unreported(self, present: int) -> None:
+        """Agents JuPedSim removed without listing them (none seen so far in random crowds):
+        forget them, and their streams get replacements."""
+        if present >= len(self.index) - len(self._leaving):
+            return
+        alive = {a.id for a in self._agents()}
+        for jid in [j for j in self.index if j not in alive and j not in self._leaving]:
+            i = self.index.pop(jid)
+            if not self.crowd.paths:
+                self.waiting.append(self.stream_of[i])
 
     def _agents(self) -> Any:
         """The agents, read through JuPedSim's native simulation where it is exposed (twice as
