@@ -174,7 +174,7 @@ class PedestrianSim:
         journey = self.sim.add_journey(jps.JourneyDescription([stage]))
         try:
             self.robot_id = self.sim.add_agent(
-                self.model.agent(position, 0.0, self.crowd.robot.radius, journey, stage)
+                self.model.robot_agent(position, self.crowd.robot.radius, journey, stage, self.dt)
             )
             self._order = None
         except RuntimeError as exc:
