@@ -287,6 +287,12 @@ class CrowdScenario:
     def _check_capacity(self) -> None:
         if self.paths:
             return
+        if self.density is not None and self.pedestrians != round(self.density * self.area_m2):
+            raise InvalidParameterError(
+                "CrowdScenario.pedestrians", self.pedestrians,
+                f"must be density x area = {round(self.density * self.area_m2)} for density "
+                f"{self.density} on {self.area_m2:.1f} m^2 (build it with crowd(density=...))",
+            )  # fmt: skip
         cap = self.capacity()
         if self.pedestrians > cap:
             area = self.placement_area().area
