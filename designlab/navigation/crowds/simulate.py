@@ -404,6 +404,9 @@ class _Run:
         self.failure = ""
         self.ped_time = self.total_time = 0.0
         self.area = c.geometry.area
+        shapely.prepare(self.area)  # point-in-area tests every period
+        self.goal = np.asarray(c.robot_goal)
+        self.reach = self.r2 + (robot.max_speed + c.max_desired_speed) * s.n_sub * s.dt
         self.left_area = 0.0  # when the robot was first outside the walkable area (0: never)
         ids, P = self.ped.positions()
         self._push(ids, P)
@@ -439,7 +442,8 @@ class _Run:
         if n > 1:  # Sec. 6.4.3: two critical regions intersect, no path between them is safe
             Q = slots.reshape(-1, 6)[: min(n, s.crowd.neighbours), 0:2]
             gap = np.hypot(Q[:, None, 0] - Q[None, :, 0], Q[:, None, 1] - Q[None, :, 1])
-            self.overlaps += int((gap[np.triu_indices(Q.shape[0], 1)] < 2 * self.r3).any())
+            np.fill_diagonal(gap, np.inf)
+            self.overlaps += int((gap < 2 * self.r3).any())
         inp[2][:] = np.concatenate([self.wall_obs, slots])
         if self.cbf is not None:
             x = inp[0].copy()
@@ -474,7 +478,7 @@ class _Run:
         """Distances over period ``k`` (see :meth:`_pedestrian_distances`); True on arrival."""
         s = self.s
         pts = X[0:2, :].T  # (n_sub, 2): the robot at the end of each dynamics step
-        goal = np.asarray(s.crowd.robot_goal)
+        goal = self.goal
         gd = np.hypot(pts[:, 0] - goal[0], pts[:, 1] - goal[1])
         hit = np.flatnonzero(gd <= s.tol)
         upto = int(hit[0]) + 1 if hit.size else s.n_sub
@@ -507,10 +511,7 @@ class _Run:
         if np.isnan(d0).all():
             return
         self.dmin = min(self.dmin, float(np.nanmin(d0)))
-        reach = self.r2 + (self.s.crowd.robot.max_speed + self.s.crowd.max_desired_speed) * (
-            s.n_sub * s.dt
-        )
-        near = np.flatnonzero(d0 < reach)
+        near = np.flatnonzero(d0 < self.reach)
         if not near.size:
             return
         G = F[:, near]
