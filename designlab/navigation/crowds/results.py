@@ -119,7 +119,9 @@ class CrowdResult(Result):
     slot_overflow
         Navigation periods with more pedestrians in the active region than slots.
     robot_agent_offset
-        Largest distance between the robot and its JuPedSim agent, m (0 when ignored).
+        Largest distance between the robot's JuPedSim agent and where it was steered (the
+        robot at the end of each pedestrian step; with ``order="pedestrians_first"``, the
+        robot at the period's start), m (0 when the pedestrians ignore the robot).
     times
         ``(T,)`` times of the records, s: every pedestrian step.
     robot_positions, robot_velocities
