@@ -222,7 +222,8 @@ class _Run:
         self.rec_ped: list[tuple[NDArray[np.int64], Array]] = []
         self.rec_X: list[Array] = [x0[:, None]]
         self.dmin = math.inf
-        self.wmin = math.inf
+        self.wmin = self.wall_last = math.inf
+        self.wall_rows = [tuple(float(v) for v in row) for row in self.wall_frames]
         self.crit_time = 0.0
         self.energy = 0.0
         self.overflow = 0
@@ -254,7 +255,7 @@ class _Run:
         if P.shape[0]:
             self.dmin = float(np.min(np.hypot(P[:, 0] - p[0], P[:, 1] - p[1])))
         if self.walls:
-            self.wmin = _wall_distance(self.wall_frames, p[None, :])
+            self.wmin = self.wall_last = _wall_distance(self.wall_frames, p[None, :])
 
     # ---------------------------------------------------------------- period
     def sense(self) -> tuple[Array, Array, Array]:
@@ -312,7 +313,7 @@ class _Run:
         upto = int(hit[0]) + 1 if hit.size else s.n_sub
         self._pedestrian_distances(pts[:upto])
         if self.walls:
-            self.wmin = min(self.wmin, _wall_distance(self.wall_frames, pts[:upto]))
+            self._wall_distances(pts[:upto])
         self.energy += float(self.step.out[1][:upto].sum()) * s.dt
         if not self.left_area and not shapely.contains_xy(self.area, pts[-1, 0], pts[-1, 1]):
             self.left_area = k * s.n_sub * s.dt + s.n_sub * s.dt
@@ -321,6 +322,17 @@ class _Run:
             self.arrival = (k * s.n_sub + upto) * s.dt
             return True
         return False
+
+    def _wall_distances(self, pts: Array) -> None:
+        """The running minimum of the distances to the walls' contours: at every dynamics step
+        when a wall may come within its active distance r2 + V_mr T_s during the period, at the
+        period's ends otherwise (every critical-region entry and collision is seen)."""
+        start = self.wall_last
+        self.wall_last = _wall_distance_point(self.wall_rows, float(pts[-1, 0]), float(pts[-1, 1]))
+        if start - self.s.crowd.robot.max_speed * self.s.crowd.sample_time > self.w2:
+            self.wmin = min(self.wmin, start, self.wall_last)
+        else:
+            self.wmin = min(self.wmin, _wall_distance(self.wall_frames, pts))
 
     def _pedestrian_distances(self, pts: Array) -> None:
         """The running minimum of the centre distances to the pedestrians.
@@ -349,6 +361,17 @@ class _Run:
         d = np.hypot(Ps[:, :, 0] - pts[:, None, 0], Ps[:, :, 1] - pts[:, None, 1])
         if not np.isnan(d).all():
             self.dmin = min(self.dmin, float(np.nanmin(d)))
+
+
+def _wall_distance_point(walls: list[tuple[float, ...]], x: float, y: float) -> float:
+    """The contour distance from one point to the nearest wall (plain floats: a few walls)."""
+    best = math.inf
+    for cx, cy, c, s, hl, hw in walls:
+        rx, ry = x - cx, y - cy
+        dx = max(abs(c * rx + s * ry) - hl, 0.0)
+        dy = max(abs(-s * rx + c * ry) - hw, 0.0)
+        best = min(best, math.hypot(dx, dy))
+    return best
 
 
 def _wall_distance(walls: Array, pts: Array) -> float:
