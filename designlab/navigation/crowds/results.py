@@ -103,11 +103,13 @@ class CrowdResult(Result):
     arrival_time
         First time within the arrival tolerance of the goal, s (inf if never).
     min_distance
-        Smallest centre distance to any pedestrian at any dynamics step before arrival, m.
+        Smallest centre distance to any pedestrian before arrival, m: at every dynamics step
+        for the pedestrians that may come within r2 in a period, at the navigation samples
+        for the others (so exact whenever it is below r2).
     min_surface_distance
         ``min_distance`` minus rho_r + rho_p, m (<= 0: a collision).
     min_wall_distance
-        Smallest distance to a wall's contour, m.
+        Smallest distance to a wall's contour, m (exact whenever it is below the walls' r2).
     entered_critical
         Whether the robot entered a pedestrian's (d <= r3) or a wall's critical region.
     collided
