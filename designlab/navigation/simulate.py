@@ -42,6 +42,7 @@ from numpy.typing import ArrayLike, NDArray
 from designlab.errors import InvalidParameterError
 from designlab.navigation import engine
 from designlab.navigation.criteria import EQUAL_WEIGHTS, Criteria, check_weights, criteria
+from designlab.navigation.crowds import CrowdResult, CrowdScenario, accepts_crowds
 from designlab.navigation.hold_audit import HoldAudit, hold_audit
 from designlab.navigation.lyapunov import StabilityAudit, audit_run
 from designlab.navigation.methods import (
@@ -244,8 +245,9 @@ class NavigationResult(Result):
         return pd.DataFrame(data)
 
 
+@accepts_crowds  # a CrowdScenario runs among JuPedSim's pedestrians (navigation.crowds)
 def simulate(
-    scenario: Scenario,
+    scenario: Scenario | CrowdScenario,
     gains: VFFGains | MasoudGains | GeCuiGains | Any = None,
     *,
     stabilising: str = "lyapunov",
@@ -258,13 +260,13 @@ def simulate(
     jit: bool = False,
     weights: tuple[float, float, float] = EQUAL_WEIGHTS,
     noise: SensorNoise | None = None,
-) -> NavigationResult | PlannerResult:
-    """Simulate one scenario (a force-field method or a Sec. 5.7 planner).
+) -> NavigationResult | PlannerResult | CrowdResult:
+    """Simulate one scenario (a force-field method, a Sec. 5.7 planner, or a crowd).
 
     Parameters
     ----------
     scenario
-        From :func:`configuration` or built by hand.
+        From :func:`configuration`, by hand, or a :class:`CrowdScenario` (-> :class:`CrowdResult`).
     gains
         :class:`VFFGains` for ``"vff"``/``"vff_cbf"`` (required) and ``"cbf"`` (default
         the experiment gains); :class:`MasoudGains` / :class:`GeCuiGains` (default Table

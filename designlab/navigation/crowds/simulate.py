@@ -1,0 +1,641 @@
+"""The robot among JuPedSim's pedestrians, advanced in lock-step (see the package's text).
+
+Per navigation period [t_k, t_k + T_s]:
+
+1. the robot's field reads the pedestrians' state at t_k (positions, and velocities and
+   accelerations from backward differences of positions up to t_k) through the K nearest
+   slots (:mod:`~designlab.navigation.crowds.slots`) and the walls, and the compiled step
+   integrates the robot over the period (the force held, 1 ms dynamics steps);
+2. JuPedSim advances the pedestrians by T_s / dt_p steps; when they avoid the robot, its
+   agent is steered before every pedestrian step to where the robot is at the end of that
+   step (known from 1), so the pedestrians see the robot of the same instant;
+3. distances to every pedestrian (positions interpolated linearly within a pedestrian step)
+   and wall are measured at every dynamics step.
+
+Neither side reads the other's state from the future nor from the past period: swapping 1 and
+2 (``order="pedestrians_first"``) gives the same run when the pedestrians ignore the robot
+(when they avoid it they then see the robot's position at t_k over the whole period).
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import casadi as ca
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+
+from designlab.errors import InvalidParameterError
+from designlab.navigation.cbf_filter import CBFFilter
+from designlab.navigation.criteria import EQUAL_WEIGHTS
+from designlab.navigation.crowds.pedestrians import PedestrianSim
+from designlab.navigation.crowds.results import CrowdResult, CrowdStatus, PedestrianRun
+from designlab.navigation.crowds.scenario import CrowdScenario
+from designlab.navigation.crowds.slots import crowd_step, fill_slots
+from designlab.navigation.field import ObstacleGeometry
+from designlab.navigation.methods import STABILISING, TIE_SIDE, method_of
+from designlab.navigation.parameters import ARRIVAL_TOLERANCE, DYNAMICS_STEP, HolonomicRobot
+from designlab.params import Param, check_size
+
+__all__ = [
+    "ORDER",
+    "CrowdResult",
+    "CrowdStatus",
+    "PedestrianRun",
+    "accepts_crowds",
+    "simulate_crowd",
+    "simulate_pedestrians",
+]
+
+Array = NDArray[np.float64]
+
+#: Which side of the lock-step moves first in a period (the same run when pedestrians ignore
+#: the robot; ``"robot_first"`` lets avoiding pedestrians see the robot of the same instant).
+ORDER = Param(
+    doc="lock-step order", kind="choice", choices=("robot_first", "pedestrians_first"), name="order"
+)
+#: Pedestrians that may enter a run per pedestrian initially in it (a cap of the records).
+_INFLOW_FACTOR = 8
+
+
+# ------------------------------------------------------------------ the run
+class _Frames:
+    """Pedestrian positions by index at the last ``depth`` pedestrian steps (a ring)."""
+
+    def __init__(self, capacity: int, depth: int) -> None:
+        self.ring = np.full((max(depth, 3), capacity, 2), np.nan)
+        self.ptr = -1
+        self.count = 0  # rows in use (pedestrians that have entered)
+
+    def push(self, ids: NDArray[np.int64], P: Array, count: int) -> None:
+        """Add the positions of a step; ``count``: pedestrians that have entered so far."""
+        self.ptr = (self.ptr + 1) % self.ring.shape[0]
+        now = self.ring[self.ptr]
+        now[: self.count].fill(np.nan)
+        now[ids] = P
+        self.count = count
+
+    def last(self, n: int) -> Array:
+        """The last ``n`` frames, oldest first, ``(n, count, 2)``."""
+        idx = (self.ptr - np.arange(n - 1, -1, -1)) % self.ring.shape[0]
+        return self.ring[idx, : self.count]
+
+    def sensed(self, dt: float) -> tuple[Array, Array, Array]:
+        """Positions, velocities and accelerations now (backward differences; 0 where unknown)."""
+        prev2, prev, now = self.last(3)
+        V = (now - prev) / dt
+        A = (V - (prev - prev2) / dt) / dt
+        known = ~np.isnan(now)
+        V = np.where(np.isnan(V) & known, 0.0, V)
+        A = np.where(np.isnan(A) & known, 0.0, A)
+        return now.copy(), V, A
+
+
+class _Step:
+    """The compiled period step on preallocated buffers."""
+
+    def __init__(self, f: ca.Function) -> None:
+        self.f = f
+        self._buf, self._trigger = f.buffer()
+        self.inp = [np.zeros(f.nnz_in(i)) for i in range(f.n_in())]
+        self.out = [np.zeros(f.nnz_out(i)) for i in range(f.n_out())]
+        for i, a in enumerate(self.inp):
+            self._buf.set_arg(i, memoryview(a))
+        for i, a in enumerate(self.out):
+            self._buf.set_res(i, memoryview(a))
+        self.nx = f.size1_out(0)
+
+    def __call__(self) -> Array:
+        self._trigger()
+        return self.out[0].reshape((-1, self.nx)).T.copy()  # (nx, n_sub)
+
+
+@dataclass
+class _Setup:
+    """What a run needs, checked."""
+
+    crowd: CrowdScenario
+    method: str
+    row: Array
+    stabilising: str
+    tie: int
+    tol: float
+    dt: float
+    n_sub: int
+    per_ped: int
+    n_ped: int
+    n_samples: int
+    order: str
+    cbf_gains: tuple[float, float]
+
+
+def _setup(crowd: Any, gains: Any, kw: dict[str, Any]) -> _Setup:
+    if not isinstance(crowd, CrowdScenario):
+        raise InvalidParameterError("crowd", crowd, "must be a CrowdScenario (navigation.crowd())")
+    STABILISING.check(kw["stabilising"])
+    TIE_SIDE.check(kw["tie_side"])
+    ORDER.check(kw["order"])
+    strategy = method_of(kw["method"])
+    row = strategy.gain_row(gains)
+    tol = ARRIVAL_TOLERANCE.check(kw["arrival_tolerance"])
+    dt = DYNAMICS_STEP.check(kw["dynamics_step"])
+    ts, dtp = crowd.sample_time, crowd.pedestrian_step
+    n_sub, per = round(ts / dt), round(ts / dtp)
+    q = n_sub / per
+    if abs(ts / dt - n_sub) > 1e-6 or abs(q - round(q)) > 1e-9 or n_sub > 1000:
+        raise InvalidParameterError(
+            "dynamics_step", kw["dynamics_step"],
+            f"must divide the pedestrian step {dtp} s (and T_s = {ts} s) into whole steps",
+            "s",
+        )  # fmt: skip
+    n_samples = math.ceil(crowd.horizon / ts - 1e-9)
+    cap = crowd.pedestrians * _INFLOW_FACTOR
+    check_size(
+        "CrowdScenario.horizon", crowd.horizon, (n_samples * per + 1) * cap * 2,
+        what="the recorded pedestrian positions",
+    )  # fmt: skip
+    stab = kw["stabilising"] if strategy.STABILISED else "off"
+    return _Setup(
+        crowd, strategy.name, row, stab, strategy.tie(gains, kw["tie_side"]), tol, dt, n_sub, per,
+        cap, n_samples, kw["order"], tuple(kw["cbf_gains"]),
+    )  # fmt: skip
+
+
+class _Run:
+    """The lock-step loop and its running results."""
+
+    def __init__(self, s: _Setup) -> None:
+        c = s.crowd
+        self.s = s
+        self.walls = c.walls()
+        self.geos = (
+            tuple(ObstacleGeometry.of(w) for w in self.walls)
+            + (c.pedestrian_geometry(),) * c.neighbours
+        )
+        robot = c.robot
+        self.step = _Step(crowd_step(self.geos, robot, s.method, s.n_sub, s.dt))
+        inp = self.step.inp
+        x0 = (
+            np.array([*c.robot_start, 0.0, 0.0])
+            if isinstance(robot, HolonomicRobot)
+            else np.array(
+                [
+                    *c.robot_start,
+                    math.atan2(
+                        c.robot_goal[1] - c.robot_start[1], c.robot_goal[0] - c.robot_start[0]
+                    ),
+                    0.0,
+                    0.0,
+                ]
+            )
+        )
+        inp[0][:] = x0
+        inp[1][:] = c.robot_goal
+        self.wall_obs = (
+            np.concatenate([[*w.center, 0, 0, 0, 0] for w in self.walls])
+            if self.walls
+            else np.zeros(0)
+        )
+        inp[3][:] = s.row
+        inp[4][:] = (
+            robot.mass,
+            float(s.tie),
+            1.0 if s.stabilising == "lyapunov" else 0.0,
+            robot.max_accel,
+        )
+        self.cbf = CBFFilter(self.geos, robot, s.cbf_gains) if s.method == "cbf" else None
+        self.r2, self.r3 = c.pedestrian_regions()
+        self.w2, self.w3 = c.wall_regions()
+        self.ped = PedestrianSim(c, c.robot_start)
+        self.frames = _Frames(s.n_ped, s.per_ped + 1)
+        self.wall_frames = np.array(
+            [[*w.center, math.cos(w.angle), math.sin(w.angle), w.length / 2, w.width / 2]
+             for w in self.walls]
+        ).reshape(-1, 6)  # fmt: skip
+        self.rec_t: list[float] = [0.0]
+        self.rec_ped: list[tuple[NDArray[np.int64], Array]] = []
+        self.rec_X: list[Array] = [x0[:, None]]
+        self.dmin = math.inf
+        self.wmin = self.wall_last = math.inf
+        self.wall_rows = [tuple(float(v) for v in row) for row in self.wall_frames]
+        self.crit_time = 0.0
+        self.energy = 0.0
+        self.overflow = 0
+        self.overlaps = 0
+        self.agent_offset = 0.0
+        self.arrival = math.inf
+        self.failure = ""
+        self.ped_time = self.total_time = 0.0
+        self.area = c.geometry.area
+        shapely.prepare(self.area)  # point-in-area tests every period
+        self.goal = np.asarray(c.robot_goal)
+        self.reach = self.r2 + (robot.max_speed + c.max_desired_speed) * s.n_sub * s.dt
+        self.left_area = 0.0  # when the robot was first outside the walkable area (0: never)
+        ids, P = self.ped.positions()
+        self._push(ids, P)
+        self._measure_start(x0[:2], P)
+
+    def _push(self, ids: NDArray[np.int64], P: Array) -> None:
+        count = self.ped.count
+        if count > self.frames.ring.shape[1]:
+            raise InvalidParameterError(
+                "CrowdScenario.horizon", self.s.crowd.horizon,
+                f"lets more than {self.s.n_ped} pedestrians enter (the records' cap); shorten it",
+            )  # fmt: skip
+        self.frames.push(ids, P, count)
+        self.rec_ped.append((ids, P))
+
+    def _measure_start(self, p: Array, P: Array) -> None:
+        if P.shape[0]:
+            self.dmin = float(np.min(np.hypot(P[:, 0] - p[0], P[:, 1] - p[1])))
+        if self.walls:
+            self.wmin = self.wall_last = _wall_distance(self.wall_frames, p[None, :])
+
+    # ---------------------------------------------------------------- period
+    def sense(self) -> tuple[Array, Array, Array]:
+        """The pedestrians as the robot senses them now (copies: later steps do not touch them)."""
+        return self.frames.sensed(self.s.crowd.pedestrian_step)
+
+    def robot_period(self, sensed: tuple[Array, Array, Array]) -> Array:
+        """The robot over one period from the pedestrians ``sensed`` at its start."""
+        s, inp = self.s, self.step.inp
+        P, V, A = sensed
+        slots, n, over = fill_slots(inp[0][:2], P, V, A, r2=self.r2, slots=s.crowd.neighbours)
+        self.overflow += int(over)
+        if n > 1:  # Sec. 6.4.3: two critical regions intersect, no path between them is safe
+            Q = slots.reshape(-1, 6)[: min(n, s.crowd.neighbours), 0:2]
+            gap = np.hypot(Q[:, None, 0] - Q[None, :, 0], Q[:, None, 1] - Q[None, :, 1])
+            np.fill_diagonal(gap, np.inf)
+            self.overlaps += int((gap < 2 * self.r3).any())
+        inp[2][:] = np.concatenate([self.wall_obs, slots])
+        if self.cbf is not None:
+            x = inp[0].copy()
+            inp[5][:] = self.cbf.force(x, inp[1].copy(), s.row, inp[2].copy(), s.crowd.robot, None)
+        X = self.step()
+        self.crit_time += float(self.step.out[3][0]) * s.n_sub * s.dt
+        return X
+
+    def pedestrians_period(self, X: Array | None) -> bool:
+        """Advance the pedestrians one period; ``X``: the robot's states over it (or None)."""
+        s = self.s
+        q = s.n_sub // s.per_ped
+        for j in range(s.per_ped):
+            target = None
+            if X is not None:
+                target = (float(X[0, (j + 1) * q - 1]), float(X[1, (j + 1) * q - 1]))
+            elif self.ped.robot_id is not None:
+                target = (float(self.step.inp[0][0]), float(self.step.inp[0][1]))
+            try:
+                self.ped.step(target)
+            except RuntimeError as exc:
+                self.failure = f"JuPedSim stopped at t = {self.ped.time:.2f} s: {exc}"
+                return False
+            ids, P = self.ped.positions()
+            self._push(ids, P)
+            if target is not None and self.ped.robot_id is not None:
+                off = self.ped.robot_agent_position() - np.asarray(target)
+                self.agent_offset = max(self.agent_offset, float(np.hypot(*off)))
+        return True
+
+    def measure(self, k: int, X: Array) -> bool:
+        """Distances over period ``k`` (see :meth:`_pedestrian_distances`); True on arrival."""
+        s = self.s
+        pts = X[0:2, :].T  # (n_sub, 2): the robot at the end of each dynamics step
+        goal = self.goal
+        gd = np.hypot(pts[:, 0] - goal[0], pts[:, 1] - goal[1])
+        hit = np.flatnonzero(gd <= s.tol)
+        upto = int(hit[0]) + 1 if hit.size else s.n_sub
+        self._pedestrian_distances(pts[:upto])
+        if self.walls:
+            self._wall_distances(pts[:upto])
+        self.energy += float(self.step.out[1][:upto].sum()) * s.dt
+        if not self.left_area and not shapely.contains_xy(self.area, pts[-1, 0], pts[-1, 1]):
+            self.left_area = k * s.n_sub * s.dt + s.n_sub * s.dt
+        self.rec_X.append(X)
+        if hit.size:
+            self.arrival = (k * s.n_sub + upto) * s.dt
+            return True
+        return False
+
+    def _wall_distances(self, pts: Array) -> None:
+        """The running minimum of the distances to the walls' contours: at every dynamics step
+        when a wall may come within its active distance r2 + V_mr T_s during the period, at the
+        period's ends otherwise (every critical-region entry and collision is seen)."""
+        start = self.wall_last
+        self.wall_last = _wall_distance_point(self.wall_rows, float(pts[-1, 0]), float(pts[-1, 1]))
+        if start - self.s.crowd.robot.max_speed * self.s.crowd.sample_time > self.w2:
+            self.wmin = min(self.wmin, start, self.wall_last)
+        else:
+            self.wmin = min(self.wmin, _wall_distance(self.wall_frames, pts))
+
+    def _pedestrian_distances(self, pts: Array) -> None:
+        """The running minimum of the centre distances to the pedestrians.
+
+        Exact at every dynamics step for the pedestrians within R = r2 + (V_mr + v_0,max) T_s
+        of the robot at the period's start (positions interpolated linearly within a
+        pedestrian step): no other can come within r2 during the period, so every
+        critical-region entry and collision is seen. The others count at the sample.
+        """
+        s = self.s
+        q = s.n_sub // s.per_ped
+        F = self.frames.last(s.per_ped + 1)  # (per + 1, n, 2): the period's pedestrian steps
+        P0 = F[0]
+        p = self.rec_X[-1][0:2, -1]  # the robot at the period's start
+        d0 = np.hypot(P0[:, 0] - p[0], P0[:, 1] - p[1])
+        if np.isnan(d0).all():
+            return
+        self.dmin = min(self.dmin, float(np.nanmin(d0)))
+        near = np.flatnonzero(d0 < self.reach)
+        if not near.size:
+            return
+        G = F[:, near]
+        frac = (np.arange(1, q + 1) / q)[None, :, None, None]
+        Ps = G[:-1, None] + frac * (G[1:] - G[:-1])[:, None]  # (per, q, n_near, 2)
+        Ps = Ps.reshape(-1, near.size, 2)[: pts.shape[0]]
+        d = np.hypot(Ps[:, :, 0] - pts[:, None, 0], Ps[:, :, 1] - pts[:, None, 1])
+        if not np.isnan(d).all():
+            self.dmin = min(self.dmin, float(np.nanmin(d)))
+
+
+def _wall_distance_point(walls: list[tuple[float, ...]], x: float, y: float) -> float:
+    """The contour distance from one point to the nearest wall (plain floats: a few walls)."""
+    best = math.inf
+    for cx, cy, c, s, hl, hw in walls:
+        rx, ry = x - cx, y - cy
+        dx = max(abs(c * rx + s * ry) - hl, 0.0)
+        dy = max(abs(-s * rx + c * ry) - hw, 0.0)
+        best = min(best, math.hypot(dx, dy))
+    return best
+
+
+def _wall_distance(walls: Array, pts: Array) -> float:
+    """Smallest contour distance from ``pts`` ``(n, 2)`` to the walls (rows: centre, cos,
+    sin, half length, half width), as :meth:`Rectangle.contour_distance` for all at once."""
+    rx = pts[None, :, 0] - walls[:, 0:1]
+    ry = pts[None, :, 1] - walls[:, 1:2]
+    c, s = walls[:, 2:3], walls[:, 3:4]
+    dx = np.maximum(np.abs(c * rx + s * ry) - walls[:, 4:5], 0.0)
+    dy = np.maximum(np.abs(-s * rx + c * ry) - walls[:, 5:6], 0.0)
+    return float(np.hypot(dx, dy).min())
+
+
+def _loop(run: _Run) -> int:
+    s = run.s
+    k_done = 0
+    clock = time.process_time  # CPU time: the cost on one core, whatever the load
+    for k in range(s.n_samples):
+        t0 = clock()
+        sensed = run.sense()  # the pedestrians at t_k, whichever side moves first
+        if s.order == "robot_first":
+            X = run.robot_period(sensed)
+            t1 = clock()
+            ok = run.pedestrians_period(X)
+            t2 = clock()
+        else:
+            ok = run.pedestrians_period(None)
+            t1 = clock()
+            X = run.robot_period(sensed) if ok else None
+            t2 = clock()
+        run.ped_time += t2 - t1 if s.order == "robot_first" else t1 - t0
+        if not ok or X is None:
+            break
+        k_done = k + 1
+        arrived = run.measure(k, X)
+        np.copyto(run.step.inp[0], X[:, -1])
+        run.total_time += clock() - t0
+        if arrived:
+            break
+    return k_done
+
+
+def _records(run: _Run, k_done: int) -> dict[str, Any]:
+    s = run.s
+    q = s.n_sub // s.per_ped
+    X = np.concatenate(run.rec_X, axis=1)  # (nx, 1 + k_done n_sub)
+    idx = np.arange(0, X.shape[1], q)
+    T = idx.size
+    frames = run.rec_ped[:T]
+    n = run.ped.count
+    P = np.full((T, n, 2), np.nan)
+    for t, (ids, Pt) in enumerate(frames):
+        P[t, ids] = Pt
+    Xr = X[:, idx]
+    if isinstance(s.crowd.robot, HolonomicRobot):
+        vel = Xr[2:4].T
+    else:
+        vel = (Xr[3] * np.stack([np.cos(Xr[2]), np.sin(Xr[2])])).T
+    pos = Xr[0:2].T
+    near = np.hypot(P[:, :, 0] - pos[:, None, 0], P[:, :, 1] - pos[:, None, 1])
+    nearest = np.where(
+        np.isnan(near).all(axis=1),
+        np.inf,
+        np.nanmin(np.where(np.isnan(near), np.inf, near), axis=1),
+    )
+    return {
+        "times": idx * s.dt, "robot_positions": pos, "robot_velocities": vel,
+        "pedestrian_positions": P, "pedestrian_ids": np.arange(n, dtype=np.int64),
+        "nearest_distance": nearest,
+    }  # fmt: skip
+
+
+def _outcome(run: _Run) -> dict[str, Any]:
+    c = run.s.crowd
+    rho = c.robot.radius
+    surf = run.dmin - rho - c.pedestrian_radius
+    crit = run.dmin <= run.r3 or run.wmin <= run.w3
+    coll = surf <= 0 or run.wmin <= rho
+    warnings = []
+    if run.failure:
+        warnings.append(run.failure)
+        status = CrowdStatus.PEDESTRIAN_SIMULATOR_FAILED
+    elif math.isfinite(run.arrival):
+        status = CrowdStatus.OK
+    else:
+        status = CrowdStatus.NOT_ARRIVED
+        warnings.append(f"the robot did not reach the goal within {c.horizon} s")
+    if surf <= 0:
+        warnings.append(f"collision with a pedestrian: surface distance {surf:.3f} m")
+    elif run.dmin <= run.r3:
+        warnings.append(f"entered a pedestrian's critical region: distance {run.dmin:.3f} m")
+    if run.wmin <= rho:
+        warnings.append(f"collision with a wall: distance {run.wmin:.3f} m")
+    if run.left_area:
+        warnings.append(
+            f"the robot left the walkable area by t = {run.left_area:.2f} s (pushed out)"
+        )
+    if run.overflow:
+        warnings.append(
+            f"in {run.overflow} periods more than {c.neighbours} pedestrians were in the active "
+            "region: the farthest were left out of the field (raise neighbours)"
+        )
+    if run.agent_offset > 0.05:
+        warnings.append(
+            f"JuPedSim held the robot's agent up to {run.agent_offset:.3f} m from the robot"
+        )
+    return {
+        "arrival_time": run.arrival, "min_distance": run.dmin, "min_surface_distance": surf,
+        "min_wall_distance": run.wmin, "entered_critical": bool(crit), "collided": bool(coll),
+        "critical_time": run.crit_time, "energy": run.energy, "slot_overflow": run.overflow,
+        "robot_agent_offset": run.agent_offset, "critical_overlaps": run.overlaps,
+        "status": status, "warnings": tuple(warnings),
+    }  # fmt: skip
+
+
+def simulate_crowd(
+    crowd: CrowdScenario,
+    gains: Any = None,
+    *,
+    method: str = "vff",
+    stabilising: str = "lyapunov",
+    tie_side: str = "+y",
+    arrival_tolerance: float = 0.15,
+    dynamics_step: float = 1e-3,
+    cbf_gains: tuple[float, float] = (4.0, 4.0),
+    order: str = "robot_first",
+) -> CrowdResult:
+    """Simulate the robot among the pedestrians of ``crowd`` (also ``navigation.simulate``).
+
+    Parameters
+    ----------
+    crowd
+        From :func:`~designlab.navigation.crowd`.
+    gains
+        As for :func:`~designlab.navigation.simulate` (:class:`VFFGains` required for VFF).
+    method
+        ``"vff"``, ``"masoud"``, ``"ge_cui"`` or ``"cbf"``.
+    stabilising
+        ``"lyapunov"`` or ``"off"`` (VFF's stabilising force F_L).
+    tie_side
+        ``"+y"`` or ``"-y"``: the detour side where the rules leave it open.
+    arrival_tolerance
+        Arrival radius around the goal, m.
+    dynamics_step
+        Integration step, s (divides the pedestrian step).
+    cbf_gains
+        (k_0, k_1) of the CBF constraint.
+    order
+        ``"robot_first"`` (default) or ``"pedestrians_first"`` (see the module's text).
+
+    Returns
+    -------
+    CrowdResult
+
+    Examples
+    --------
+    >>> import designlab as dl
+    >>> nav = dl.navigation
+    >>> c = nav.crowd("corridor_counterflow", 6, length=10.0, seed=2, horizon=3.0)
+    >>> res = nav.simulate(c, nav.VFFGains(4.3, 0.68, 20.3, 240.7))
+    >>> res.status, res.robot_positions.shape, res.pedestrian_positions.shape[1] >= 6
+    ('not_arrived', (301, 2), True)
+    """
+    s = _setup(crowd, gains, dict(
+        method=method, stabilising=stabilising, tie_side=tie_side,
+        arrival_tolerance=arrival_tolerance, dynamics_step=dynamics_step,
+        cbf_gains=cbf_gains, order=order,
+    ))  # fmt: skip
+    run = _Run(s)
+    k_done = _loop(run)
+    strategy = method_of(s.method)
+    return CrowdResult(
+        crowd=crowd, method=s.method, stabilising=s.stabilising,
+        gains=strategy.gains_dict(s.row), **_outcome(run), **_records(run, k_done),
+        desired_speeds=_speeds(run.ped), pedestrian_seconds=run.ped_time,
+        robot_seconds=run.total_time - run.ped_time,
+    )  # fmt: skip
+
+
+def _speeds(ped: PedestrianSim) -> Array:
+    return np.asarray(ped.speeds, dtype=float)
+
+
+def simulate_pedestrians(crowd: CrowdScenario) -> PedestrianRun:
+    """The pedestrians of ``crowd`` alone (the same seed, no robot) over its horizon.
+
+    With ``react_to_robot=False`` these are exactly the pedestrians of
+    :func:`simulate_crowd` (they ignore the robot); the difference of the two shows what the
+    robot costs the pedestrians when they avoid it.
+
+    Parameters
+    ----------
+    crowd
+        The scenario.
+
+    Returns
+    -------
+    PedestrianRun
+
+    Examples
+    --------
+    >>> import designlab as dl
+    >>> c = dl.navigation.crowd("bottleneck", 8, length=10.0, seed=1, horizon=1.0)
+    >>> run = dl.navigation.simulate_pedestrians(c)
+    >>> run.times.shape, run.pedestrian_positions.shape[1:]
+    ((101,), (8, 2))
+    """
+    if not isinstance(crowd, CrowdScenario):
+        raise InvalidParameterError("crowd", crowd, "must be a CrowdScenario (navigation.crowd())")
+    alone = crowd.replace(react_to_robot=False)
+    ped = PedestrianSim(alone)
+    n_steps = round(crowd.horizon / crowd.pedestrian_step)
+    check_size(
+        "CrowdScenario.horizon", crowd.horizon,
+        (n_steps + 1) * crowd.pedestrians * _INFLOW_FACTOR * 2,
+        what="the recorded pedestrian positions",
+    )  # fmt: skip
+    frames = [ped.positions()]
+    failure = ""
+    for _ in range(n_steps):
+        try:
+            ped.step()
+        except RuntimeError as exc:
+            failure = f"JuPedSim stopped at t = {ped.time:.2f} s: {exc}"
+            break
+        frames.append(ped.positions())
+    n = ped.count
+    P = np.full((len(frames), n, 2), np.nan)
+    for t, (ids, Pt) in enumerate(frames):
+        P[t, ids] = Pt
+    return PedestrianRun(
+        crowd, np.arange(len(frames)) * crowd.pedestrian_step, P, np.arange(n, dtype=np.int64),
+        _speeds(ped), CrowdStatus.PEDESTRIAN_SIMULATOR_FAILED if failure else CrowdStatus.OK,
+        (failure,) if failure else (),
+    )  # fmt: skip
+
+
+#: Arguments of ``navigation.simulate`` that do not apply to a crowd, with their defaults.
+_NOT_FOR_CROWDS = {"force_every_step": False, "jit": False, "weights": EQUAL_WEIGHTS, "noise": None}
+
+
+def accepts_crowds(simulate: Callable[..., Any]) -> Callable[..., Any]:
+    """Let ``simulate(scenario, ...)`` take a :class:`CrowdScenario` (run by simulate_crowd).
+
+    Parameters
+    ----------
+    simulate
+        The scenario simulator (:func:`designlab.navigation.simulate`).
+
+    Returns
+    -------
+    callable
+        The same function, dispatching a :class:`CrowdScenario` to :func:`simulate_crowd`;
+        an argument that does not apply to a crowd (``jit``, ``noise``, ``weights``,
+        ``force_every_step``) is refused unless left at its default.
+    """
+
+    @functools.wraps(simulate)
+    def dispatch(scenario: Any, gains: Any = None, **kw: Any) -> Any:
+        if not isinstance(scenario, CrowdScenario):
+            return simulate(scenario, gains, **kw)
+        for name, default in _NOT_FOR_CROWDS.items():
+            if name in kw and kw.pop(name) != default:
+                raise InvalidParameterError(name, "given", "does not apply to a CrowdScenario")
+        return simulate_crowd(scenario, gains, **kw)
+
+    return dispatch
