@@ -1,0 +1,123 @@
+"""Crowd study summaries: rates and intervals counted from the runs, worst and typical runs."""
+
+from __future__ import annotations
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from designlab.errors import DesignlabError
+from designlab.navigation.crowds.metrics import wilson_interval
+from designlab.navigation.crowds.study import (
+    CrowdStudy,
+    decode_gains,
+    encode_gains,
+    representative_run,
+    run_row,
+    worst_run,
+)
+from designlab.navigation.parameters import GeCuiGains, MasoudGains, VFFGains
+
+
+def _runs(rng: np.random.Generator, n: int = 40) -> pd.DataFrame:
+    outcome = rng.choice(["success", "collision", "timeout"], size=n, p=[0.6, 0.2, 0.2])
+    return pd.DataFrame({
+        "scenario": rng.choice(["corridor", "plaza"], size=n),
+        "density": rng.choice([0.1, 0.3], size=n),
+        "seed": np.arange(n),
+        "method": rng.choice(["vff", "cbf"], size=n),
+        "outcome": outcome,
+        "success": (outcome == "success").astype(float),
+        "collided": (outcome == "collision").astype(float),
+        "timeout": (outcome == "timeout").astype(float),
+        "critical": rng.integers(0, 2, size=n).astype(float),
+        "arrival_time_s": np.where(outcome == "success", rng.uniform(5, 20, size=n), np.inf),
+        "min_centre_distance_m": rng.uniform(0.2, 2.0, size=n),
+        "personal_space_s": rng.uniform(0, 3, size=n),
+        "ped_delay_mean_s": rng.uniform(0, 1, size=n),
+        "ped_deviation_mean_m": rng.uniform(0, 1, size=n),
+        "status": np.where(rng.uniform(size=n) < 0.1, "error", "ok"),
+    })  # fmt: skip
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_summary_counts_every_group(seed: int) -> None:
+    runs = _runs(np.random.default_rng(seed))
+    summary = CrowdStudy(runs=runs).to_frame()
+    assert summary["runs"].sum() + summary["failed"].sum() == len(runs)
+    for _, row in summary.iterrows():
+        g = runs[(runs.scenario == row.scenario) & (runs.density == row.density)
+                 & (runs.method == row.method) & (runs.status == "ok")]  # fmt: skip
+        assert row.runs == len(g)
+        k = int(g.collided.sum())
+        assert (
+            row.collision_rate == pytest.approx(k / len(g))
+            if len(g)
+            else math.isnan(row.collision_rate)
+        )
+        if len(g):
+            assert (row.collision_low, row.collision_high) == pytest.approx(
+                wilson_interval(k, len(g))
+            )
+            assert row.success_rate + row.collision_rate + row.timeout_rate == pytest.approx(1.0)
+            ok = g[g.success > 0]
+            want = ok.arrival_time_s.mean() if len(ok) else math.nan
+            assert row.time_to_goal_mean_s == pytest.approx(want, nan_ok=True)
+            assert row.clearance_min_m == g.min_centre_distance_m.min()
+
+
+def test_worst_and_representative() -> None:
+    runs = pd.DataFrame({
+        "method": ["vff"] * 4,
+        "collided": [0.0, 0.0, 1.0, 0.0],
+        "critical": [1.0, 0.0, 0.0, 0.0],
+        "timeout": [0.0, 0.0, 0.0, 0.0],
+        "success": [1.0, 1.0, 0.0, 1.0],
+        "arrival_time_s": [9.0, 10.0, np.inf, 30.0],
+        "min_centre_distance_m": [0.5, 1.0, 0.1, 2.0],
+        "status": ["ok"] * 4,
+    })  # fmt: skip
+    assert worst_run(runs, "vff").name == 2
+    assert representative_run(runs, "vff").name == 1
+    with pytest.raises(DesignlabError):
+        worst_run(runs, "cbf")
+
+
+def test_run_row_of_a_synthetic_run() -> None:
+    t = np.arange(4) * 0.5
+    robot = np.stack([t, np.zeros(4)], axis=1)
+    peds = np.array([[[3.0, 0.0]], [[2.0, 0.0]], [[1.5, 0.5]], [[np.nan, np.nan]]])
+    res = SimpleNamespace(
+        times=t, robot_positions=robot, pedestrian_positions=peds, collided=False,
+        arrival_time=1.5, entered_critical=True, min_distance=0.4, status="ok",
+    )  # fmt: skip
+    alone = SimpleNamespace(
+        pedestrian_positions=np.array([[[3.0, 0.0]], [[2.0, 0.0]], [[np.nan] * 2], [[np.nan] * 2]])
+    )
+    row = run_row(res, alone)
+    assert row["outcome"] == "success" and row["critical"] == 1.0
+    assert row["min_centre_distance_m"] == pytest.approx(math.sqrt(0.5))  # (1, 0) to (1.5, 0.5)
+    assert row["personal_space_s"] == pytest.approx(0.5)  # only t = 1.0 s is inside 1.2 m
+    assert row["ped_delay_mean_s"] == pytest.approx(0.5)  # leaves at 1.5 s instead of 1.0 s
+    assert row["ped_deviation_max_m"] == pytest.approx(
+        math.sqrt(0.5)
+    )  # (1.5, 0.5) to the end (2, 0)
+    timeout = run_row(SimpleNamespace(**{**vars(res), "arrival_time": math.inf}))
+    assert timeout["outcome"] == "timeout" and math.isnan(timeout["ped_delay_mean_s"])
+
+
+@pytest.mark.parametrize(
+    "gains", [VFFGains(4.3, 0.68, 20.3, 240.7), MasoudGains(), GeCuiGains(), None]
+)
+def test_gains_round_trip(gains: object) -> None:
+    assert decode_gains(encode_gains(gains)) == gains
+
+
+def test_gains_bad() -> None:
+    with pytest.raises(DesignlabError):
+        encode_gains("fast")
+    with pytest.raises(DesignlabError):
+        decode_gains({"type": "pid"})
