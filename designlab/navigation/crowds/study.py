@@ -22,14 +22,16 @@ from __future__ import annotations
 
 import logging
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
 import numpy as np
 import pandas as pd
 
+from designlab.analysis.engine import run_points
 from designlab.errors import InvalidParameterError
+from designlab.navigation.crowds.layouts import LAYOUTS
 from designlab.navigation.crowds.metrics import (
     PERSONAL_SPACE,
     clearance,
@@ -38,7 +40,12 @@ from designlab.navigation.crowds.metrics import (
     personal_space_time,
     wilson_interval,
 )
+from designlab.navigation.crowds.scenario import DENSITY, CrowdScenario, crowd
+from designlab.navigation.crowds.simulate import simulate_crowd, simulate_pedestrians
+from designlab.navigation.methods import STABILISING, method_of
 from designlab.navigation.parameters import GeCuiGains, MasoudGains, VFFGains
+from designlab.params import Param
+from designlab.progress import Progress, ProgressHook, report
 from designlab.results import Result, Status
 
 __all__ = [
@@ -359,4 +366,229 @@ class CrowdStudy(Result):
         return representative_run(self.runs, method)
 
 
-__all__ += ["PERSONAL_SPACE", "representative_run"]
+#: Runs of one study at most (each is a pedestrian simulation of up to a minute).
+MAX_RUNS = Param("runs", "", "runs of a crowd study (scenarios x densities x seeds x methods)",
+                 kind="integer", ge=1, le=100_000, name="runs")  # fmt: skip
+#: Seeds accepted (JuPedSim's and numpy's seeds are 32-bit).
+SEED = Param("seed", "", "seed of a crowd", kind="integer", ge=0, le=2**31 - 1, name="seeds")
+#: Columns of a run row besides the point keys (for the chunk evaluator's result).
+RUN_COLUMNS = (
+    "outcome", "success", "collided", "critical", "timeout", "arrival_time_s", "min_distance_m",
+    "min_centre_distance_m", "personal_space_s", "ped_delay_mean_s", "ped_delay_max_s",
+    "ped_beyond_window", "ped_deviation_mean_m", "ped_deviation_max_m", "run_status",
+)  # fmt: skip
+
+
+def crowd_of(options: Mapping[str, Any], scenario: str, density: float, seed: int) -> CrowdScenario:
+    """The crowd of one run: ``options["crowd"]`` (keywords of
+    :func:`~designlab.navigation.crowd`) with the run's layout, density and seed.
+
+    Parameters
+    ----------
+    options
+        The study's evaluator options.
+    scenario, density, seed
+        Layout name, persons/m^2 and seed.
+    """
+    return crowd(scenario, density=float(density), seed=int(seed), **dict(options.get("crowd", {})))
+
+
+def simulate_run(options: Mapping[str, Any], scenario: str, density: float, seed: int,
+                 label: str) -> Any:  # fmt: skip
+    """Simulate one run of a study again (runs are deterministic: the same result).
+
+    Parameters
+    ----------
+    options
+        The study's evaluator options (:attr:`CrowdStudy.settings` ``["options"]``).
+    scenario, density, seed, label
+        The run: layout, persons/m^2, seed and method label.
+
+    Returns
+    -------
+    CrowdResult
+    """
+    gains = decode_gains(dict(options.get("gains", {})).get(label))
+    return simulate_crowd(crowd_of(options, scenario, density, seed), gains,
+                          method=method_name(label),
+                          stabilising=str(options.get("stabilising", "lyapunov")))  # fmt: skip
+
+
+def crowd_runs_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) -> dict[str, Any]:
+    """Sweep-engine evaluator: one row of :func:`run_row` per point.
+
+    Parameters
+    ----------
+    points
+        Columns ``scenario`` (index into ``options["scenarios"]``), ``density`` (1/m^2),
+        ``seed`` and ``method`` (index into ``options["methods"]``).
+    options
+        ``scenarios``, ``methods`` (labels), ``gains`` (label -> plain gains),
+        ``crowd`` (keywords of :func:`~designlab.navigation.crowd`), ``stabilising``,
+        ``personal_space`` (m). Points of one crowd share its robot-free run (only
+        simulated when the pedestrians avoid the robot: when they ignore it the robot
+        changes nothing and the delay and deviation are exactly 0).
+    """
+    n = np.asarray(points["seed"]).size
+    out: dict[str, list[Any]] = {k: [] for k in RUN_COLUMNS}
+    alone: dict[tuple[int, float, int], Any] = {}
+    reacts = bool(dict(options.get("crowd", {})).get("react_to_robot", False))
+    for i in range(n):
+        key = (int(points["scenario"][i]), float(points["density"][i]), int(points["seed"][i]))
+        scenario, label = options["scenarios"][key[0]], options["methods"][int(points["method"][i])]
+        res = simulate_run(options, scenario, key[1], key[2], label)
+        if reacts and key not in alone:
+            alone[key] = simulate_pedestrians(res.crowd)
+        row = run_row(res, alone.get(key), personal_space=float(options.get("personal_space", 1.2)),
+                      robot_radius=float(res.crowd.robot.radius))  # fmt: skip
+        if not reacts:
+            row.update(ped_delay_mean_s=0.0, ped_delay_max_s=0.0, ped_beyond_window=0.0,
+                       ped_deviation_mean_m=0.0, ped_deviation_max_m=0.0)  # fmt: skip
+        for k in RUN_COLUMNS:
+            out[k].append(row[k])
+    cols: dict[str, Any] = {k: np.asarray(v) for k, v in out.items()}
+    cols["status"] = np.full(n, "ok", dtype=object)
+    return cols
+
+
+def _check_labels(methods: Any, gains: Any) -> tuple[list[str], dict[str, Any]]:
+    if isinstance(methods, str) or not isinstance(methods, Sequence) or not methods:
+        raise InvalidParameterError("methods", methods, "must be a non-empty list of method labels")
+    labels = [str(m) for m in methods]
+    if len(set(labels)) != len(labels):
+        raise InvalidParameterError("methods", methods, "must not repeat a label")
+    for m in labels:
+        method_of(method_name(m))
+    table = dict(gains or {})
+    unknown = sorted(set(table) - set(labels))
+    if unknown:
+        raise InvalidParameterError("gains", unknown, f"name labels not in methods {labels}")
+    return labels, {m: encode_gains(table.get(m)) for m in labels}
+
+
+def _check_grid(
+    scenarios: Any, densities: Any, seeds: Any
+) -> tuple[list[str], list[float], list[int]]:
+    names = [scenarios] if isinstance(scenarios, str) else list(scenarios)
+    for s in names:
+        if s not in LAYOUTS:
+            raise InvalidParameterError("scenarios", s, f"must be one of {list(LAYOUTS)}")
+    rho = [DENSITY.check(d) for d in densities]
+    seed_list = [SEED.check(s) for s in seeds]
+    for name, vals in (("scenarios", names), ("densities", rho), ("seeds", seed_list)):
+        if not vals or len(set(vals)) != len(vals):
+            raise InvalidParameterError(name, vals, "must be non-empty with no repeats")
+    return names, rho, seed_list
+
+
+def _points(n_scen: int, density: float, seeds: list[int], n_methods: int) -> dict[str, np.ndarray]:
+    """The runs of one layout and density: seed-major, so a chunk of ``n_methods`` is a crowd."""
+    seed_col = np.repeat(np.asarray(seeds, dtype=float), n_methods)
+    return {
+        "scenario": np.full(seed_col.size, float(n_scen)),
+        "density": np.full(seed_col.size, density),
+        "seed": seed_col,
+        "method": np.tile(np.arange(n_methods, dtype=float), len(seeds)),
+    }
+
+
+def crowd_study(
+    scenarios: Sequence[str] | str,
+    densities: Sequence[float],
+    seeds: Sequence[int] | range,
+    methods: Sequence[str] = ("vff",),
+    *,
+    gains: Mapping[str, Any] | None = None,
+    stabilising: str = "lyapunov",
+    crowd_options: Mapping[str, Any] | None = None,
+    personal_space: float = 1.2,
+    confidence: float = 0.95,
+    executor: Any = None,
+    store: Any = None,
+    resume: bool = False,
+    cache_only: bool = False,
+    progress: ProgressHook | None = None,
+) -> CrowdStudy:
+    """Simulate every layout x density x seed x method and measure each run.
+
+    Parameters
+    ----------
+    scenarios
+        Layout names (:data:`~designlab.navigation.crowds.layouts.LAYOUTS`).
+    densities
+        Pedestrian densities, persons per m^2 of walkable area.
+    seeds
+        Crowd seeds (placement, streams, desired speeds); every method meets the same crowds.
+    methods
+        Method labels (``"vff"``, ``"cbf"``, ``"masoud"``, ``"ge_cui"``, ``"vff:<tag>"``).
+    gains
+        Label -> gains (defaults: see the module text).
+    stabilising
+        ``"lyapunov"`` or ``"off"``: VFF's stabilising force.
+    crowd_options
+        Other keywords of :func:`~designlab.navigation.crowd` (``width``, ``length``,
+        ``model``, ``react_to_robot``, ``horizon``, ...).
+    personal_space
+        Personal-space radius, m (:data:`~designlab.navigation.crowds.metrics.PERSONAL_SPACE`).
+    confidence
+        Confidence level of the Wilson intervals.
+    executor, store, resume, cache_only
+        As for :func:`designlab.analysis.engine.run_points`: an executor (serial, processes,
+        Dask), a chunk store, reuse stored chunks, compute nothing not stored.
+    progress
+        A :data:`designlab.progress.ProgressHook`: runs done after each layout and density.
+
+    Returns
+    -------
+    CrowdStudy
+
+    Examples
+    --------
+    >>> st = crowd_study(["corridor_counterflow"], [0.1], [0], ["vff"],
+    ...                  crowd_options={"length": 8.0, "horizon": 1.0})
+    >>> st.to_frame()[["method", "runs", "timeout_rate"]].to_dict("records")
+    [{'method': 'vff', 'runs': 1.0, 'timeout_rate': 1.0}]
+    """
+    names, rho, seed_list = _check_grid(scenarios, densities, seeds)
+    labels, coded = _check_labels(methods, gains)
+    total = MAX_RUNS.check(len(names) * len(rho) * len(seed_list) * len(labels))
+    options = {
+        "scenarios": names, "methods": labels, "gains": coded,
+        "crowd": dict(crowd_options or {}), "stabilising": STABILISING.check(stabilising),
+        "personal_space": PERSONAL_SPACE.check(personal_space),
+    }  # fmt: skip
+    crowd_of(options, names[0], rho[0], seed_list[0])  # bad crowd options fail before any run
+    frames, done = [], 0
+    for si, name in enumerate(names):
+        for d in rho:
+            pts = _points(si, d, seed_list, len(labels))
+            run = run_points(pts, crowd_runs_chunk, options, executor=executor, store=store,
+                             resume=resume, cache_only=cache_only, chunk_size=len(labels),
+                             desc=f"crowds {name} {d:g}")  # fmt: skip
+            frames.append(_named(run.frame, names, labels))
+            done += len(seed_list) * len(labels)
+            report(progress, Progress(done, total, label="runs", note=f"{name} {d:g}/m^2"))
+    return _study(pd.concat(frames, ignore_index=True), options, confidence)
+
+
+def _named(frame: pd.DataFrame, names: list[str], labels: list[str]) -> pd.DataFrame:
+    out = frame.copy()
+    out["scenario"] = [names[int(i)] for i in frame["scenario"]]
+    out["method"] = [labels[int(i)] for i in frame["method"]]
+    out["seed"] = frame["seed"].astype(int)
+    return out
+
+
+def _study(runs: pd.DataFrame, options: dict[str, Any], confidence: float) -> CrowdStudy:
+    failed = int((runs["status"].astype(str) == "error").sum())
+    warnings = []
+    if failed:
+        first = runs.loc[runs["status"].astype(str) == "error", "error"].iloc[0]
+        warnings.append(f"{failed} of {len(runs)} runs raised (first: {first})")
+    status = CrowdStudyStatus.FAILED_RUNS if failed else CrowdStudyStatus.OK
+    return CrowdStudy(runs=runs, settings={"options": options}, confidence=confidence,
+                      status=status, warnings=tuple(warnings))  # fmt: skip
+
+
+__all__ += ["MAX_RUNS", "PERSONAL_SPACE", "crowd_runs_chunk", "crowd_study", "representative_run",
+            "simulate_run"]  # fmt: skip
