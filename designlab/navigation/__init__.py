@@ -3,6 +3,14 @@
 from __future__ import annotations
 
 from designlab.navigation.criteria import Criteria, criteria
+from designlab.navigation.crowds import (
+    CrowdResult,
+    CrowdScenario,
+    CrowdStatus,
+    PedestrianRun,
+    crowd,
+    simulate_pedestrians,
+)
 from designlab.navigation.lyapunov import StabilityAudit, omega_closed_form, omega_printed
 from designlab.navigation.merge import merge_critical_regions
 from designlab.navigation.noise import SensorNoise
@@ -46,6 +54,9 @@ __all__ = [
     "CircularObstacle",
     "ConstantVelocity",
     "Criteria",
+    "CrowdResult",
+    "CrowdScenario",
+    "CrowdStatus",
     "Disc",
     "GainGlobalSensitivity",
     "GainOptimum",
@@ -57,6 +68,7 @@ __all__ = [
     "NavigationResult",
     "NonholonomicRobot",
     "ObstacleRobot",
+    "PedestrianRun",
     "RandomWalks",
     "Rectangle",
     "RectangularObstacle",
@@ -70,6 +82,7 @@ __all__ = [
     "Walk",
     "configuration",
     "criteria",
+    "crowd",
     "evaluate_gains",
     "gain_global_sensitivity",
     "gain_sensitivity",
@@ -80,4 +93,5 @@ __all__ = [
     "region_sizes",
     "simulate",
     "simulate_batch",
+    "simulate_pedestrians",
 ]

@@ -42,6 +42,7 @@ from numpy.typing import ArrayLike, NDArray
 from designlab.errors import InvalidParameterError
 from designlab.navigation import engine
 from designlab.navigation.criteria import EQUAL_WEIGHTS, Criteria, check_weights, criteria
+from designlab.navigation.crowds import CrowdResult, CrowdScenario, simulate_crowd
 from designlab.navigation.hold_audit import HoldAudit, hold_audit
 from designlab.navigation.lyapunov import StabilityAudit, audit_run
 from designlab.navigation.methods import STABILISING, TIE_SIDE, NavigationMethod, method_of
@@ -238,7 +239,7 @@ class NavigationResult(Result):
 
 
 def simulate(
-    scenario: Scenario,
+    scenario: Scenario | CrowdScenario,
     gains: VFFGains | MasoudGains | GeCuiGains | None = None,
     *,
     stabilising: str = "lyapunov",
@@ -251,13 +252,16 @@ def simulate(
     jit: bool = False,
     weights: tuple[float, float, float] = EQUAL_WEIGHTS,
     noise: SensorNoise | None = None,
-) -> NavigationResult:
+) -> NavigationResult | CrowdResult:
     """Simulate one scenario.
 
     Parameters
     ----------
     scenario
-        From :func:`configuration` or built by hand.
+        From :func:`configuration` or built by hand; a :class:`CrowdScenario` (from
+        :func:`crowd`) runs among JuPedSim's pedestrians and returns a :class:`CrowdResult`
+        (:func:`designlab.navigation.crowds.simulate_crowd`; ``weights``, ``noise``, ``jit``
+        and ``force_every_step`` do not apply).
     gains
         :class:`VFFGains` for ``"vff"`` (required) and ``"cbf"`` (its attractive part;
         default the experiment gains); :class:`MasoudGains` / :class:`GeCuiGains`
@@ -312,6 +316,10 @@ def simulate(
     ...
     designlab.errors.InvalidParameterError: method = 'bug' is not allowed: ...
     """
+    if isinstance(scenario, CrowdScenario):  # pedestrians from JuPedSim (navigation.crowds)
+        return simulate_crowd(scenario, gains, method=method, stabilising=stabilising,
+                              tie_side=tie_side, arrival_tolerance=arrival_tolerance,
+                              dynamics_step=dynamics_step, cbf_gains=cbf_gains)  # fmt: skip
     STABILISING.check(stabilising)
     strategy = method_of(method)
     TIE_SIDE.check(tie_side)

@@ -1,0 +1,130 @@
+"""JuPedSim's four pedestrian models by name, and how each carries the robot as an agent.
+
+Each model is a small strategy object: the JuPedSim model, the parameters of a pedestrian
+(desired speed, body radius, journey) and how the robot's agent is steered when the
+pedestrians avoid the robot.
+
+The robot in JuPedSim (``react_to_robot=True``)
+    JuPedSim (1.4) cannot place an agent at a given position, so the robot is an agent of
+    radius rho_r on a direct-steering stage: before every pedestrian step its target is set
+    to the robot's position at the end of that step and its desired speed (and, for the force
+    models, its current velocity) to the speed that reaches it in one step. The pedestrians
+    then see it as one of them (a neighbour to keep their distance from). The model may still
+    hold it back (e.g. when a pedestrian blocks it); the simulator reports the largest offset
+    between the agent and the robot (``CrowdResult.robot_agent_offset``).
+
+Examples
+--------
+>>> sorted(MODELS)
+['anticipation_velocity', 'collision_free_speed', 'generalized_centrifugal_force', 'social_force']
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import jupedsim as jps
+
+__all__ = ["MODELS", "PedestrianModel"]
+
+
+@dataclass(frozen=True)
+class PedestrianModel:
+    """A JuPedSim model (the collision-free speed model; subclasses for the others).
+
+    Attributes
+    ----------
+    name
+        The public name.
+    """
+
+    name: str
+
+    def simulation_model(self, seed: int) -> Any:
+        """The JuPedSim model object."""
+        return jps.CollisionFreeSpeedModel()
+
+    def agent(
+        self, position: tuple[float, float], speed: float, radius: float, journey: int, stage: int
+    ) -> Any:
+        """The parameters of one agent (a pedestrian, or the robot with ``speed`` 0)."""
+        return jps.CollisionFreeSpeedModelAgentParameters(
+            journey_id=journey, stage_id=stage, position=position, desired_speed=speed,
+            radius=radius,
+        )  # fmt: skip
+
+    def steer(self, agent: Any, target: tuple[float, float], dt: float) -> None:
+        """Steer the robot's agent to reach ``target`` in one step of ``dt``."""
+        x, y = agent.position
+        agent.target = target
+        agent.model.desired_speed = math.hypot(target[0] - x, target[1] - y) / dt
+
+
+class _SocialForce(PedestrianModel):
+    def simulation_model(self, seed: int) -> Any:
+        return jps.SocialForceModel()
+
+    def agent(
+        self, position: tuple[float, float], speed: float, radius: float, journey: int, stage: int
+    ) -> Any:
+        return jps.SocialForceModelAgentParameters(
+            journey_id=journey, stage_id=stage, position=position, desired_speed=speed,
+            radius=radius,
+        )  # fmt: skip
+
+    def steer(self, agent: Any, target: tuple[float, float], dt: float) -> None:
+        x, y = agent.position
+        super().steer(agent, target, dt)
+        agent.model.velocity = ((target[0] - x) / dt, (target[1] - y) / dt)
+
+
+class _GeneralizedCentrifugalForce(PedestrianModel):
+    def simulation_model(self, seed: int) -> Any:
+        return jps.GeneralizedCentrifugalForceModel()
+
+    def agent(
+        self, position: tuple[float, float], speed: float, radius: float, journey: int, stage: int
+    ) -> Any:
+        # an ellipse: its semi-axes are set to the body radius (a disc at rest)
+        return jps.GeneralizedCentrifugalForceModelAgentParameters(
+            journey_id=journey, stage_id=stage, position=position, desired_speed=speed,
+            a_min=radius, b_min=radius, b_max=radius,
+        )  # fmt: skip
+
+    def steer(self, agent: Any, target: tuple[float, float], dt: float) -> None:
+        x, y = agent.position
+        dx, dy = target[0] - x, target[1] - y
+        dist = math.hypot(dx, dy)
+        agent.target = target
+        m = agent.model
+        m.desired_speed = m.speed = dist / dt
+        m.tau = dt
+        if dist > 0:
+            m.desired_direction = (dx / dist, dy / dist)
+
+
+class _AnticipationVelocity(PedestrianModel):
+    def simulation_model(self, seed: int) -> Any:
+        return jps.AnticipationVelocityModel(rng_seed=seed)
+
+    def agent(
+        self, position: tuple[float, float], speed: float, radius: float, journey: int, stage: int
+    ) -> Any:
+        return jps.AnticipationVelocityModelAgentParameters(
+            journey_id=journey, stage_id=stage, position=position, desired_speed=speed,
+            radius=radius,
+        )  # fmt: skip
+
+
+#: The models by name (JuPedSim 1.4).
+MODELS: dict[str, PedestrianModel] = {
+    m.name: m
+    for m in (
+        PedestrianModel("collision_free_speed"),
+        _GeneralizedCentrifugalForce("generalized_centrifugal_force"),
+        _SocialForce("social_force"),
+        _AnticipationVelocity("anticipation_velocity"),
+    )
+}

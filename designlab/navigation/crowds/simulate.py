@@ -1,0 +1,678 @@
+"""The robot among JuPedSim's pedestrians, advanced in lock-step (see the package's text).
+
+Per navigation period [t_k, t_k + T_s]:
+
+1. the robot's field reads the pedestrians' state at t_k (positions, and velocities and
+   accelerations from backward differences of positions up to t_k) through the K nearest
+   slots (:mod:`~designlab.navigation.crowds.slots`) and the walls, and the compiled step
+   integrates the robot over the period (the force held, 1 ms dynamics steps);
+2. JuPedSim advances the pedestrians by T_s / dt_p steps; when they avoid the robot, its
+   agent is steered before every pedestrian step to where the robot is at the end of that
+   step (known from 1), so the pedestrians see the robot of the same instant;
+3. distances to every pedestrian (positions interpolated linearly within a pedestrian step)
+   and wall are measured at every dynamics step.
+
+Neither side reads the other's state from the future nor from the past period: swapping 1 and
+2 (``order="pedestrians_first"``) gives the same run when the pedestrians ignore the robot
+(when they avoid it they then see the robot's position at t_k over the whole period).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import casadi as ca
+import numpy as np
+import pandas as pd
+from numpy.typing import NDArray
+
+from designlab.errors import InvalidParameterError
+from designlab.navigation.cbf_filter import CBFFilter
+from designlab.navigation.crowds.pedestrians import PedestrianSim
+from designlab.navigation.crowds.scenario import CrowdScenario
+from designlab.navigation.crowds.slots import crowd_step, fill_slots
+from designlab.navigation.field import ObstacleGeometry
+from designlab.navigation.methods import STABILISING, TIE_SIDE, method_of
+from designlab.navigation.parameters import ARRIVAL_TOLERANCE, DYNAMICS_STEP, HolonomicRobot
+from designlab.params import Param, check_size
+from designlab.results import Result, Status
+
+__all__ = [
+    "ORDER",
+    "CrowdResult",
+    "CrowdStatus",
+    "PedestrianRun",
+    "simulate_crowd",
+    "simulate_pedestrians",
+]
+
+Array = NDArray[np.float64]
+
+#: Which side of the lock-step moves first in a period (the same run when pedestrians ignore
+#: the robot; ``"robot_first"`` lets avoiding pedestrians see the robot of the same instant).
+ORDER = Param(
+    doc="lock-step order", kind="choice", choices=("robot_first", "pedestrians_first"), name="order"
+)
+#: Pedestrians that may enter a run per pedestrian initially in it (a cap of the records).
+_INFLOW_FACTOR = 8
+
+
+class CrowdStatus(Status):
+    """Status of a crowd run (:class:`CrowdResult`, :class:`PedestrianRun`).
+
+    ``OK``: the robot arrived (a pedestrian-only run: simulated to the horizon);
+    ``NOT_ARRIVED``: the robot did not reach the goal within the horizon;
+    ``PEDESTRIAN_SIMULATOR_FAILED``: JuPedSim stopped with an error (in ``warnings``); the
+    run is kept up to that time. Collisions and critical-region entries are flags and warnings.
+    """
+
+    OK = "ok"
+    NOT_ARRIVED = "not_arrived"
+    PEDESTRIAN_SIMULATOR_FAILED = "pedestrian_simulator_failed"
+
+
+@dataclass(frozen=True)
+class PedestrianRun(Result):
+    """The pedestrians of a crowd scenario over time (with or without the robot).
+
+    Attributes
+    ----------
+    crowd
+        The :class:`CrowdScenario`.
+    times
+        Times of the records, s ``(T,)``: every pedestrian step.
+    pedestrian_positions
+        ``(T, N, 2)`` positions in m; NaN where a pedestrian is not in the simulation.
+    pedestrian_ids
+        ``(N,)`` the pedestrians' indices (in the order they entered).
+    desired_speeds
+        ``(N,)`` their desired speeds, m/s.
+    status
+        ``"ok"`` or ``"pedestrian_simulator_failed"``.
+    warnings
+        What a user should know.
+    """
+
+    crowd: CrowdScenario
+    times: Array = field(repr=False)
+    pedestrian_positions: Array = field(repr=False)
+    pedestrian_ids: NDArray[np.int64] = field(repr=False)
+    desired_speeds: Array = field(repr=False)
+    status: str = CrowdStatus.OK
+    warnings: tuple[str, ...] = ()
+
+    def to_frame(self) -> pd.DataFrame:
+        """Long format: ``t_s``, ``pedestrian``, ``x_m``, ``y_m`` (rows where it is present)."""
+        return _long_frame(self.times, self.pedestrian_positions, self.pedestrian_ids)
+
+
+def _long_frame(times: Array, P: Array, ids: NDArray[np.int64]) -> pd.DataFrame:
+    T, N = P.shape[:2]
+    tt = np.repeat(times, N)
+    ii = np.tile(ids, T)
+    xy = P.reshape(T * N, 2)
+    keep = ~np.isnan(xy[:, 0])
+    return pd.DataFrame(
+        {"t_s": tt[keep], "pedestrian": ii[keep], "x_m": xy[keep, 0], "y_m": xy[keep, 1]}
+    )
+
+
+@dataclass(frozen=True)
+class CrowdResult(Result):
+    """One run of the robot among the pedestrians.
+
+    Attributes
+    ----------
+    crowd
+        The :class:`CrowdScenario`.
+    method, stabilising, gains
+        Navigation method, stabilising-force mode and gains.
+    arrival_time
+        First time within the arrival tolerance of the goal, s (inf if never).
+    min_distance
+        Smallest centre distance to any pedestrian at any dynamics step before arrival, m.
+    min_surface_distance
+        ``min_distance`` minus rho_r + rho_p, m (<= 0: a collision).
+    min_wall_distance
+        Smallest distance to a wall's contour, m.
+    entered_critical
+        Whether the robot entered a pedestrian's (d <= r3) or a wall's critical region.
+    collided
+        Whether it touched a pedestrian or a wall.
+    critical_time
+        Time spent inside critical regions, s.
+    energy
+        L_energy per ohm of winding resistance (A^2 s).
+    slot_overflow
+        Navigation periods with more pedestrians in the active region than slots.
+    robot_agent_offset
+        Largest distance between the robot and its JuPedSim agent, m (0 when ignored).
+    times
+        ``(T,)`` times of the records, s: every pedestrian step.
+    robot_positions, robot_velocities
+        ``(T, 2)`` in m and m/s.
+    pedestrian_positions
+        ``(T, N, 2)`` in m; NaN where a pedestrian is not in the simulation.
+    pedestrian_ids
+        ``(N,)`` the pedestrians' indices.
+    nearest_distance
+        ``(T,)`` centre distance to the nearest pedestrian, m (inf when there is none).
+    desired_speeds
+        ``(N,)`` the pedestrians' desired speeds, m/s.
+    status
+        :class:`CrowdStatus`.
+    warnings
+        What a user should know.
+    """
+
+    crowd: CrowdScenario
+    method: str
+    stabilising: str
+    gains: dict[str, float]
+    arrival_time: float
+    min_distance: float
+    min_surface_distance: float
+    min_wall_distance: float
+    entered_critical: bool
+    collided: bool
+    critical_time: float
+    energy: float
+    slot_overflow: int
+    robot_agent_offset: float
+    times: Array = field(repr=False)
+    robot_positions: Array = field(repr=False)
+    robot_velocities: Array = field(repr=False)
+    pedestrian_positions: Array = field(repr=False)
+    pedestrian_ids: NDArray[np.int64] = field(repr=False)
+    nearest_distance: Array = field(repr=False)
+    desired_speeds: Array = field(repr=False)
+    status: str = CrowdStatus.OK
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def arrived(self) -> bool:
+        return math.isfinite(self.arrival_time)
+
+    def pedestrians(self) -> PedestrianRun:
+        """The pedestrians of this run as a :class:`PedestrianRun`."""
+        return PedestrianRun(
+            self.crowd, self.times, self.pedestrian_positions, self.pedestrian_ids,
+            self.desired_speeds, self.status, self.warnings,
+        )  # fmt: skip
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row: the scenario's settings, the method and the run's outcome."""
+        c = self.crowd
+        row: dict[str, Any] = {
+            "layout": c.layout, "pedestrians": c.pedestrians, "density": c.density,
+            "seed": c.seed, "model": c.model, "react_to_robot": c.react_to_robot,
+            "method": self.method, "stabilising": self.stabilising,
+            "T_arrive_s": self.arrival_time, "d_min_m": self.min_distance,
+            "d_surface_min_m": self.min_surface_distance, "d_wall_min_m": self.min_wall_distance,
+            "entered_critical": self.entered_critical, "collided": self.collided,
+            "critical_time_s": self.critical_time, "L_energy_J_per_ohm": self.energy,
+            "slot_overflow": self.slot_overflow, "status": str(self.status),
+        }  # fmt: skip
+        return pd.DataFrame([row])
+
+
+# ------------------------------------------------------------------ the run
+class _Frames:
+    """Pedestrian positions by index at the last three pedestrian steps (for differences)."""
+
+    def __init__(self, capacity: int) -> None:
+        self.now = np.full((capacity, 2), np.nan)
+        self.prev = self.now.copy()
+        self.prev2 = self.now.copy()
+
+    def push(self, ids: NDArray[np.int64], P: Array) -> None:
+        self.prev2, self.prev, self.now = self.prev, self.now, self.prev2
+        self.now.fill(np.nan)
+        self.now[ids] = P
+
+    def sensed(self, dt: float) -> tuple[Array, Array, Array]:
+        """Positions, velocities and accelerations now (backward differences; 0 where unknown)."""
+        V = (self.now - self.prev) / dt
+        V1 = (self.prev - self.prev2) / dt
+        A = (V - V1) / dt
+        V = np.where(np.isnan(V) & ~np.isnan(self.now), 0.0, V)
+        A = np.where(np.isnan(A) & ~np.isnan(self.now), 0.0, A)
+        return self.now, V, A
+
+
+class _Step:
+    """The compiled period step on preallocated buffers."""
+
+    def __init__(self, f: ca.Function) -> None:
+        self.f = f
+        self._buf, self._trigger = f.buffer()
+        self.inp = [np.zeros(f.nnz_in(i)) for i in range(f.n_in())]
+        self.out = [np.zeros(f.nnz_out(i)) for i in range(f.n_out())]
+        for i, a in enumerate(self.inp):
+            self._buf.set_arg(i, memoryview(a))
+        for i, a in enumerate(self.out):
+            self._buf.set_res(i, memoryview(a))
+        self.nx = f.size1_out(0)
+
+    def __call__(self) -> Array:
+        self._trigger()
+        return self.out[0].reshape((-1, self.nx)).T.copy()  # (nx, n_sub)
+
+
+@dataclass
+class _Setup:
+    """What a run needs, checked."""
+
+    crowd: CrowdScenario
+    method: str
+    row: Array
+    stabilising: str
+    tie: int
+    tol: float
+    dt: float
+    n_sub: int
+    per_ped: int
+    n_ped: int
+    n_samples: int
+    order: str
+    cbf_gains: tuple[float, float]
+
+
+def _setup(crowd: Any, gains: Any, kw: dict[str, Any]) -> _Setup:
+    if not isinstance(crowd, CrowdScenario):
+        raise InvalidParameterError("crowd", crowd, "must be a CrowdScenario (navigation.crowd())")
+    STABILISING.check(kw["stabilising"])
+    TIE_SIDE.check(kw["tie_side"])
+    ORDER.check(kw["order"])
+    strategy = method_of(kw["method"])
+    row = strategy.gain_row(gains)
+    tol = ARRIVAL_TOLERANCE.check(kw["arrival_tolerance"])
+    dt = DYNAMICS_STEP.check(kw["dynamics_step"])
+    ts, dtp = crowd.sample_time, crowd.pedestrian_step
+    n_sub, per = round(ts / dt), round(ts / dtp)
+    q = n_sub / per
+    if abs(ts / dt - n_sub) > 1e-6 or abs(q - round(q)) > 1e-9 or n_sub > 1000:
+        raise InvalidParameterError(
+            "dynamics_step", kw["dynamics_step"],
+            f"must divide the pedestrian step {dtp} s (and T_s = {ts} s) into whole steps",
+            "s",
+        )  # fmt: skip
+    n_samples = math.ceil(crowd.horizon / ts - 1e-9)
+    cap = crowd.pedestrians * _INFLOW_FACTOR
+    check_size(
+        "CrowdScenario.horizon", crowd.horizon, (n_samples * per + 1) * cap * 2,
+        what="the recorded pedestrian positions",
+    )  # fmt: skip
+    stab = kw["stabilising"] if strategy.STABILISED else "off"
+    return _Setup(
+        crowd, strategy.name, row, stab, strategy.tie(gains, kw["tie_side"]), tol, dt, n_sub, per,
+        cap, n_samples, kw["order"], tuple(kw["cbf_gains"]),
+    )  # fmt: skip
+
+
+class _Run:
+    """The lock-step loop and its running results."""
+
+    def __init__(self, s: _Setup) -> None:
+        c = s.crowd
+        self.s = s
+        self.walls = c.walls()
+        self.geos = (
+            tuple(ObstacleGeometry.of(w) for w in self.walls)
+            + (c.pedestrian_geometry(),) * c.neighbours
+        )
+        robot = c.robot
+        self.step = _Step(crowd_step(self.geos, robot, s.method, s.n_sub, s.dt))
+        inp = self.step.inp
+        x0 = (
+            np.array([*c.robot_start, 0.0, 0.0])
+            if isinstance(robot, HolonomicRobot)
+            else np.array(
+                [
+                    *c.robot_start,
+                    math.atan2(
+                        c.robot_goal[1] - c.robot_start[1], c.robot_goal[0] - c.robot_start[0]
+                    ),
+                    0.0,
+                    0.0,
+                ]
+            )
+        )
+        inp[0][:] = x0
+        inp[1][:] = c.robot_goal
+        self.wall_obs = (
+            np.concatenate([[*w.center, 0, 0, 0, 0] for w in self.walls])
+            if self.walls
+            else np.zeros(0)
+        )
+        inp[3][:] = s.row
+        inp[4][:] = (
+            robot.mass,
+            float(s.tie),
+            1.0 if s.stabilising == "lyapunov" else 0.0,
+            robot.max_accel,
+        )
+        self.cbf = CBFFilter(self.geos, robot, s.cbf_gains) if s.method == "cbf" else None
+        self.r2, self.r3 = c.pedestrian_regions()
+        self.w2, self.w3 = c.wall_regions()
+        self.ped = PedestrianSim(c, c.robot_start)
+        self.frames = _Frames(s.n_ped)
+        self.rec_t: list[float] = [0.0]
+        self.rec_ped: list[tuple[NDArray[np.int64], Array]] = []
+        self.rec_X: list[Array] = [x0[:, None]]
+        self.dmin = math.inf
+        self.wmin = math.inf
+        self.crit_time = 0.0
+        self.energy = 0.0
+        self.overflow = 0
+        self.agent_offset = 0.0
+        self.arrival = math.inf
+        self.failure = ""
+        ids, P = self.ped.positions()
+        self._push(ids, P)
+        self._measure_start(x0[:2], P)
+
+    def _push(self, ids: NDArray[np.int64], P: Array) -> None:
+        if ids.size and ids.max() >= self.frames.now.shape[0]:
+            raise InvalidParameterError(
+                "CrowdScenario.horizon", self.s.crowd.horizon,
+                f"lets more than {self.s.n_ped} pedestrians enter (the records' cap); shorten it",
+            )  # fmt: skip
+        self.frames.push(ids, P)
+        self.rec_ped.append((ids, P))
+
+    def _measure_start(self, p: Array, P: Array) -> None:
+        if P.shape[0]:
+            self.dmin = float(np.min(np.hypot(P[:, 0] - p[0], P[:, 1] - p[1])))
+        for w in self.walls:
+            self.wmin = min(self.wmin, float(w.contour_distance(p[None, :])[0]))
+
+    # ---------------------------------------------------------------- period
+    def robot_period(self) -> Array:
+        """The robot over one period from the pedestrians sensed at its start."""
+        s, inp = self.s, self.step.inp
+        P, V, A = self.frames.sensed(s.crowd.pedestrian_step)
+        slots, _n, over = fill_slots(inp[0][:2], P, V, A, r2=self.r2, slots=s.crowd.neighbours)
+        self.overflow += int(over)
+        inp[2][:] = np.concatenate([self.wall_obs, slots])
+        if self.cbf is not None:
+            x = inp[0].copy()
+            inp[5][:] = self.cbf.force(x, inp[1].copy(), s.row, inp[2].copy(), s.crowd.robot, None)
+        X = self.step()
+        self.crit_time += float(self.step.out[3][0]) * s.n_sub * s.dt
+        return X
+
+    def pedestrians_period(self, X: Array | None) -> bool:
+        """Advance the pedestrians one period; ``X``: the robot's states over it (or None)."""
+        s = self.s
+        q = s.n_sub // s.per_ped
+        for j in range(s.per_ped):
+            target = None
+            if X is not None:
+                target = (float(X[0, (j + 1) * q - 1]), float(X[1, (j + 1) * q - 1]))
+            elif self.ped.robot_id is not None:
+                target = (float(self.step.inp[0][0]), float(self.step.inp[0][1]))
+            try:
+                self.ped.step(target)
+            except RuntimeError as exc:
+                self.failure = f"JuPedSim stopped at t = {self.ped.time:.2f} s: {exc}"
+                return False
+            ids, P = self.ped.positions()
+            self._push(ids, P)
+            if target is not None and self.ped.robot_id is not None:
+                off = self.ped.robot_agent_position() - np.asarray(target)
+                self.agent_offset = max(self.agent_offset, float(np.hypot(*off)))
+        return True
+
+    def measure(self, k: int, X: Array) -> bool:
+        """Distances at every dynamics step of period ``k``; True once the robot arrived."""
+        s = self.s
+        q = s.n_sub // s.per_ped
+        pts = X[0:2, :].T  # (n_sub, 2)
+        goal = np.asarray(s.crowd.robot_goal)
+        gd = np.hypot(pts[:, 0] - goal[0], pts[:, 1] - goal[1])
+        hit = np.flatnonzero(gd <= s.tol)
+        upto = int(hit[0]) + 1 if hit.size else s.n_sub
+        frames = self.rec_ped[-(s.per_ped + 1) :]
+        full = self.frames.now.shape[0]
+        for j in range(s.per_ped):
+            lo = j * q
+            if lo >= upto:
+                break
+            P0, P1 = _dense(frames[j], full), _dense(frames[j + 1], full)
+            both = ~(np.isnan(P0[:, 0]) | np.isnan(P1[:, 0]))
+            if both.any():
+                frac = (np.arange(1, q + 1) / q)[:, None, None]
+                Ps = P0[both][None] + frac * (P1[both] - P0[both])[None]  # (q, n, 2)
+                seg = pts[lo : min(lo + q, upto)]
+                d = np.hypot(
+                    Ps[: seg.shape[0], :, 0] - seg[:, None, 0],
+                    Ps[: seg.shape[0], :, 1] - seg[:, None, 1],
+                )
+                self.dmin = min(self.dmin, float(d.min()))
+        for w in self.walls:
+            self.wmin = min(self.wmin, float(w.contour_distance(pts[:upto]).min()))
+        self.energy += float(self.step.out[1][:upto].sum()) * s.dt
+        self.rec_X.append(X)
+        if hit.size:
+            self.arrival = (k * s.n_sub + upto) * s.dt
+            return True
+        return False
+
+
+def _dense(frame: tuple[NDArray[np.int64], Array], n: int) -> Array:
+    ids, P = frame
+    out = np.full((n, 2), np.nan)
+    out[ids] = P
+    return out
+
+
+def _loop(run: _Run) -> int:
+    s = run.s
+    k_done = 0
+    for k in range(s.n_samples):
+        if s.order == "robot_first":
+            X = run.robot_period()
+            ok = run.pedestrians_period(X)
+        else:
+            ok = run.pedestrians_period(None)
+            X = run.robot_period() if ok else None
+        if not ok or X is None:
+            break
+        k_done = k + 1
+        arrived = run.measure(k, X)
+        np.copyto(run.step.inp[0], X[:, -1])
+        if arrived:
+            break
+    return k_done
+
+
+def _records(run: _Run, k_done: int) -> dict[str, Any]:
+    s = run.s
+    q = s.n_sub // s.per_ped
+    X = np.concatenate(run.rec_X, axis=1)  # (nx, 1 + k_done n_sub)
+    idx = np.arange(0, X.shape[1], q)
+    T = idx.size
+    frames = run.rec_ped[:T]
+    n = run.ped.count
+    P = np.full((T, n, 2), np.nan)
+    for t, (ids, Pt) in enumerate(frames):
+        P[t, ids] = Pt
+    Xr = X[:, idx]
+    if isinstance(s.crowd.robot, HolonomicRobot):
+        vel = Xr[2:4].T
+    else:
+        vel = (Xr[3] * np.stack([np.cos(Xr[2]), np.sin(Xr[2])])).T
+    pos = Xr[0:2].T
+    near = np.hypot(P[:, :, 0] - pos[:, None, 0], P[:, :, 1] - pos[:, None, 1])
+    nearest = np.where(
+        np.isnan(near).all(axis=1),
+        np.inf,
+        np.nanmin(np.where(np.isnan(near), np.inf, near), axis=1),
+    )
+    return {
+        "times": idx * s.dt, "robot_positions": pos, "robot_velocities": vel,
+        "pedestrian_positions": P, "pedestrian_ids": np.arange(n, dtype=np.int64),
+        "nearest_distance": nearest,
+    }  # fmt: skip
+
+
+def _outcome(run: _Run) -> dict[str, Any]:
+    c = run.s.crowd
+    rho = c.robot.radius
+    surf = run.dmin - rho - c.pedestrian_radius
+    crit = run.dmin <= run.r3 or run.wmin <= run.w3
+    coll = surf <= 0 or run.wmin <= rho
+    warnings = []
+    if run.failure:
+        warnings.append(run.failure)
+        status = CrowdStatus.PEDESTRIAN_SIMULATOR_FAILED
+    elif math.isfinite(run.arrival):
+        status = CrowdStatus.OK
+    else:
+        status = CrowdStatus.NOT_ARRIVED
+        warnings.append(f"the robot did not reach the goal within {c.horizon} s")
+    if surf <= 0:
+        warnings.append(f"collision with a pedestrian: surface distance {surf:.3f} m")
+    elif run.dmin <= run.r3:
+        warnings.append(f"entered a pedestrian's critical region: distance {run.dmin:.3f} m")
+    if run.wmin <= rho:
+        warnings.append(f"collision with a wall: distance {run.wmin:.3f} m")
+    if run.overflow:
+        warnings.append(
+            f"in {run.overflow} periods more than {c.neighbours} pedestrians were in the active "
+            "region: the farthest were left out of the field (raise neighbours)"
+        )
+    if run.agent_offset > 0.05:
+        warnings.append(
+            f"JuPedSim held the robot's agent up to {run.agent_offset:.3f} m from the robot"
+        )
+    return {
+        "arrival_time": run.arrival, "min_distance": run.dmin, "min_surface_distance": surf,
+        "min_wall_distance": run.wmin, "entered_critical": bool(crit), "collided": bool(coll),
+        "critical_time": run.crit_time, "energy": run.energy, "slot_overflow": run.overflow,
+        "robot_agent_offset": run.agent_offset, "status": status, "warnings": tuple(warnings),
+    }  # fmt: skip
+
+
+def simulate_crowd(
+    crowd: CrowdScenario,
+    gains: Any = None,
+    *,
+    method: str = "vff",
+    stabilising: str = "lyapunov",
+    tie_side: str = "+y",
+    arrival_tolerance: float = 0.15,
+    dynamics_step: float = 1e-3,
+    cbf_gains: tuple[float, float] = (4.0, 4.0),
+    order: str = "robot_first",
+) -> CrowdResult:
+    """Simulate the robot among the pedestrians of ``crowd`` (also ``navigation.simulate``).
+
+    Parameters
+    ----------
+    crowd
+        From :func:`~designlab.navigation.crowd`.
+    gains
+        As for :func:`~designlab.navigation.simulate` (:class:`VFFGains` required for VFF).
+    method
+        ``"vff"``, ``"masoud"``, ``"ge_cui"`` or ``"cbf"``.
+    stabilising
+        ``"lyapunov"`` or ``"off"`` (VFF's stabilising force F_L).
+    tie_side
+        ``"+y"`` or ``"-y"``: the detour side where the rules leave it open.
+    arrival_tolerance
+        Arrival radius around the goal, m.
+    dynamics_step
+        Integration step, s (divides the pedestrian step).
+    cbf_gains
+        (k_0, k_1) of the CBF constraint.
+    order
+        ``"robot_first"`` (default) or ``"pedestrians_first"`` (see the module's text).
+
+    Returns
+    -------
+    CrowdResult
+
+    Examples
+    --------
+    >>> import designlab as dl
+    >>> nav = dl.navigation
+    >>> c = nav.crowd("corridor_counterflow", 6, length=10.0, seed=2, horizon=3.0)
+    >>> res = nav.simulate(c, nav.VFFGains(4.3, 0.68, 20.3, 240.7))
+    >>> res.status, res.robot_positions.shape, res.pedestrian_positions.shape[1] >= 6
+    ('not_arrived', (301, 2), True)
+    """
+    s = _setup(crowd, gains, dict(
+        method=method, stabilising=stabilising, tie_side=tie_side,
+        arrival_tolerance=arrival_tolerance, dynamics_step=dynamics_step,
+        cbf_gains=cbf_gains, order=order,
+    ))  # fmt: skip
+    run = _Run(s)
+    k_done = _loop(run)
+    strategy = method_of(s.method)
+    return CrowdResult(
+        crowd=crowd, method=s.method, stabilising=s.stabilising,
+        gains=strategy.gains_dict(s.row), **_outcome(run), **_records(run, k_done),
+        desired_speeds=_speeds(run.ped),
+    )  # fmt: skip
+
+
+def _speeds(ped: PedestrianSim) -> Array:
+    return np.asarray(ped.speeds, dtype=float)
+
+
+def simulate_pedestrians(crowd: CrowdScenario) -> PedestrianRun:
+    """The pedestrians of ``crowd`` alone (the same seed, no robot) over its horizon.
+
+    With ``react_to_robot=False`` these are exactly the pedestrians of
+    :func:`simulate_crowd` (they ignore the robot); the difference of the two shows what the
+    robot costs the pedestrians when they avoid it.
+
+    Parameters
+    ----------
+    crowd
+        The scenario.
+
+    Returns
+    -------
+    PedestrianRun
+
+    Examples
+    --------
+    >>> import designlab as dl
+    >>> c = dl.navigation.crowd("bottleneck", 8, length=10.0, seed=1, horizon=1.0)
+    >>> run = dl.navigation.simulate_pedestrians(c)
+    >>> run.times.shape, run.pedestrian_positions.shape[1:]
+    ((101,), (8, 2))
+    """
+    if not isinstance(crowd, CrowdScenario):
+        raise InvalidParameterError("crowd", crowd, "must be a CrowdScenario (navigation.crowd())")
+    alone = crowd.replace(react_to_robot=False)
+    ped = PedestrianSim(alone)
+    n_steps = round(crowd.horizon / crowd.pedestrian_step)
+    check_size(
+        "CrowdScenario.horizon", crowd.horizon,
+        (n_steps + 1) * crowd.pedestrians * _INFLOW_FACTOR * 2,
+        what="the recorded pedestrian positions",
+    )  # fmt: skip
+    frames = [ped.positions()]
+    failure = ""
+    for _ in range(n_steps):
+        try:
+            ped.step()
+        except RuntimeError as exc:
+            failure = f"JuPedSim stopped at t = {ped.time:.2f} s: {exc}"
+            break
+        frames.append(ped.positions())
+    n = ped.count
+    P = np.full((len(frames), n, 2), np.nan)
+    for t, (ids, Pt) in enumerate(frames):
+        P[t, ids] = Pt
+    return PedestrianRun(
+        crowd, np.arange(len(frames)) * crowd.pedestrian_step, P, np.arange(n, dtype=np.int64),
+        _speeds(ped), CrowdStatus.PEDESTRIAN_SIMULATOR_FAILED if failure else CrowdStatus.OK,
+        (failure,) if failure else (),
+    )  # fmt: skip
