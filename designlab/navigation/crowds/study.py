@@ -43,7 +43,7 @@ from designlab.navigation.crowds.metrics import (
 from designlab.navigation.crowds.scenario import DENSITY, CrowdScenario, crowd
 from designlab.navigation.crowds.simulate import simulate_crowd, simulate_pedestrians
 from designlab.navigation.methods import STABILISING, method_of
-from designlab.navigation.parameters import GeCuiGains, MasoudGains, VFFGains
+from designlab.navigation.parameters import OPTIMAL_GAINS, GeCuiGains, MasoudGains, VFFGains
 from designlab.params import Param
 from designlab.progress import Progress, ProgressHook, report
 from designlab.results import Result, Status
@@ -463,7 +463,8 @@ def _check_labels(methods: Any, gains: Any) -> tuple[list[str], dict[str, Any]]:
     unknown = sorted(set(table) - set(labels))
     if unknown:
         raise InvalidParameterError("gains", unknown, f"name labels not in methods {labels}")
-    return labels, {m: encode_gains(table.get(m)) for m in labels}
+    default = {"vff": OPTIMAL_GAINS}
+    return labels, {m: encode_gains(table.get(m, default.get(method_name(m)))) for m in labels}
 
 
 def _check_grid(
@@ -565,7 +566,7 @@ def crowd_study(
             run = run_points(pts, crowd_runs_chunk, options, executor=executor, store=store,
                              resume=resume, cache_only=cache_only, chunk_size=len(labels),
                              desc=f"crowds {name} {d:g}")  # fmt: skip
-            frames.append(_named(run.frame, names, labels))
+            frames.append(_named(pd.concat([pd.DataFrame(pts), run.frame], axis=1), names, labels))
             done += len(seed_list) * len(labels)
             report(progress, Progress(done, total, label="runs", note=f"{name} {d:g}/m^2"))
     return _study(pd.concat(frames, ignore_index=True), options, confidence)

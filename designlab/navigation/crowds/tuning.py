@@ -394,8 +394,8 @@ def crowd_sets(default_bounds: Mapping[str, tuple[float, float]]) -> Callable[[C
                 return optimise(scenarios, *args, **kw)
             other = sorted(set(kw) - set(CROWD_KEYWORDS))
             if args or other:
-                raise InvalidParameterError("optimise_gains", other or args,
-                                            f"a CrowdSet takes only {list(CROWD_KEYWORDS)}")  # fmt: skip
+                allowed = f"a CrowdSet takes only {list(CROWD_KEYWORDS)}"
+                raise InvalidParameterError("optimise_gains", other or args, allowed)
             kw["bounds"] = {**default_bounds, **dict(kw.get("bounds") or {})}
             kw["robust"] = kw.get("robust") or "mean"
             return optimise_crowd_gains(scenarios, **kw)
