@@ -49,6 +49,7 @@ __all__ = [
     "check_disjoint",
     "crowd_sets",
     "optimise_crowd_gains",
+    "score_runs",
     "validate_gains",
 ]
 
@@ -206,8 +207,27 @@ def _costs(runs: pd.DataFrame, horizon: float) -> np.ndarray:
     return np.where(runs["success"].to_numpy() > 0, t, 2.0 * horizon)
 
 
-def _score(runs: pd.DataFrame, training: CrowdSet, horizon: float, robust: str,
-           alpha: float) -> dict[str, float]:  # fmt: skip
+def score_runs(runs: pd.DataFrame, training: CrowdSet, horizon: float, robust: str,
+               alpha: float) -> dict[str, float]:  # fmt: skip
+    """The robust cost and rates of one gain set's runs, and its CMA-ES fitness.
+
+    Parameters
+    ----------
+    runs
+        The gain set's runs (``arrival_time_s``, ``success``, ``collided``, ``critical``).
+    training
+        The set (its rate bounds).
+    horizon
+        Horizon of a run (s): a run that did not arrive costs twice this.
+    robust, alpha
+        ``"mean"`` or ``"cvar"``; the CVaR level.
+
+    Returns
+    -------
+    dict
+        ``cost_s``, ``collision_rate``, ``critical_rate``, ``feasible`` and ``fitness``: the
+        cost when the rates are kept, else ``4 horizon (1 + violation)``, above any kept one.
+    """
     costs = _costs(runs, horizon)
     cost = float(costs.mean()) if robust == "mean" else cvar(costs, alpha)
     coll, crit = float(runs["collided"].mean()), float(runs["critical"].mean())
@@ -302,7 +322,7 @@ def optimise_crowd_gains(
     for g in range(gens):
         U = np.array(es.ask())
         gains, runs = _generation(training, U, box, kw)
-        scores = [_score(runs[runs["method"] == f"vff:c{i}"], training, horizon, mode, a)
+        scores = [score_runs(runs[runs["method"] == f"vff:c{i}"], training, horizon, mode, a)
                   for i in range(len(gains))]  # fmt: skip
         es.tell(list(U), [s["fitness"] for s in scores])
         rows += [
