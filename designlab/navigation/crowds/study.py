@@ -193,16 +193,29 @@ def run_row(result: Any, pedestrians: Any = None, *, personal_space: float = 1.2
         "personal_space_s": personal_space_time(t, robot, peds, personal_space, robot_radius),
         "run_status": str(result.status),
     }
-    row.update(_caused(t, peds, pedestrians))
+    row.update(_caused(t, peds, pedestrians, getattr(result, "pedestrian_ids", None)))
     return row
 
 
-def _caused(t: np.ndarray, peds: Any, alone: Any) -> dict[str, float]:
+def _common(peds: Any, ids: Any, alone: Any) -> tuple[np.ndarray, np.ndarray]:
+    """Both runs' positions of the pedestrians present in both, matched by id (a stream may
+    spawn a different number of pedestrians once the robot changes the flow)."""
+    a = np.asarray(peds, dtype=float)
+    b = np.asarray(alone.pedestrian_positions, dtype=float)
+    ia = np.arange(a.shape[1]) if ids is None else np.asarray(ids)
+    ib = np.asarray(getattr(alone, "pedestrian_ids", np.arange(b.shape[1])))
+    both = np.intersect1d(ia, ib)
+    pos_a = {v: k for k, v in enumerate(ia.tolist())}
+    pos_b = {v: k for k, v in enumerate(ib.tolist())}
+    return a[:, [pos_a[v] for v in both.tolist()]], b[:, [pos_b[v] for v in both.tolist()]]
+
+
+def _caused(t: np.ndarray, peds: Any, alone: Any, ids: Any = None) -> dict[str, float]:
     """Delay and path deviation of the pedestrians caused by the robot (NaN without ``alone``)."""
     if alone is None:
         return dict.fromkeys(("ped_delay_mean_s", "ped_delay_max_s", "ped_beyond_window",
                               "ped_deviation_mean_m", "ped_deviation_max_m"), math.nan)  # fmt: skip
-    other = np.asarray(alone.pedestrian_positions, dtype=float)
+    peds, other = _common(peds, ids, alone)
     n = min(t.size, other.shape[0])
     delay = pedestrian_delay(t[:n], peds, other)
     dev = path_deviation(t[:n], peds, other)

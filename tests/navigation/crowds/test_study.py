@@ -121,3 +121,65 @@ def test_gains_bad() -> None:
         encode_gains("fast")
     with pytest.raises(DesignlabError):
         decode_gains({"type": "pid"})
+
+
+SHORT = {"length": 8.0, "horizon": 1.5}
+
+
+def test_crowd_study_runs_every_combination_and_stores_them(tmp_path) -> None:
+    from designlab.analysis.store import open_store
+    from designlab.navigation.crowds.study import crowd_study
+
+    args = (["corridor_counterflow"], [0.1, 0.2], [0, 1], ["vff", "masoud"])
+    with open_store(tmp_path, "crowds") as store:
+        st = crowd_study(*args, crowd_options={**SHORT, "react_to_robot": True}, store=store)
+        again = crowd_study(*args, crowd_options={**SHORT, "react_to_robot": True}, store=store,
+                            cache_only=True)  # fmt: skip
+    runs = st.runs
+    assert len(runs) == 8 and st.status == "ok"
+    assert set(zip(runs.density, runs.seed, runs.method, strict=True)) == {
+        (d, s, m) for d in (0.1, 0.2) for s in (0, 1) for m in ("vff", "masoud")
+    }
+    pd.testing.assert_frame_equal(runs, again.runs)
+    summary = st.to_frame()
+    assert len(summary) == 4 and (summary["runs"] == 2).all()
+    assert np.isfinite(runs["ped_delay_mean_s"]).all() or runs["ped_beyond_window"].notna().all()
+
+
+def test_pedestrians_that_ignore_the_robot_are_not_delayed() -> None:
+    from designlab.navigation.crowds.study import crowd_study
+
+    st = crowd_study("open_plaza", [0.1], [3], ["vff"], crowd_options=SHORT)
+    assert st.runs["ped_delay_mean_s"].tolist() == [0.0]
+    assert st.runs["ped_deviation_max_m"].tolist() == [0.0]
+
+
+@pytest.mark.parametrize(
+    "kwargs",
+    [
+        {"scenarios": ["hallway"]},
+        {"scenarios": []},
+        {"densities": [0.1, 0.1]},
+        {"densities": [-0.1]},
+        {"densities": [50.0]},
+        {"seeds": [-1]},
+        {"seeds": [1.5]},
+        {"methods": ["teleport"]},
+        {"methods": "vff"},
+        {"methods": ["vff", "vff"]},
+        {"gains": {"cbf": VFFGains(3.0, 0.25, 20.0, 17.0)}},
+        {"gains": {"vff": "fast"}},
+        {"seeds": range(100_001)},
+        {"crowd_options": {"model": "teleport"}},
+        {"stabilising": "sometimes"},
+        {"personal_space": 0.0},
+    ],
+)
+def test_crowd_study_bad_input(kwargs: dict) -> None:
+    from designlab.navigation.crowds.study import crowd_study
+
+    args = {"scenarios": ["crossing"], "densities": [0.1], "seeds": [0], "methods": ["vff"],
+            "crowd_options": SHORT}  # fmt: skip
+    args.update(kwargs)
+    with pytest.raises(DesignlabError):
+        crowd_study(**args)
