@@ -26,5 +26,6 @@ MODULES: tuple[str, ...] = (
     "navigation_account",
     "navigation_regions",
     "navigation_planners",
+    "navigation_crowds",
     "accompanying",
 )
