@@ -66,6 +66,9 @@ SMALL_STUDIES: dict[str, str] = {
     "side_offsets: [0.5]\nbrake_laws: [PseudoJoystick]\n",
     "navigation_planners": "scenarios: [{configuration: 1}]\nmirror: false\n"
     "planners: [{method: vo, settings: {horizon: 2.0}}]\nmethods: []\n",
+    "navigation_crowds": "scenarios: [corridor_counterflow, crossing]\ndensities: [0.1, 0.2]\n"
+    "seeds: [0]\nmethods: [{method: vff}, {method: masoud}]\n"
+    "crowd: {length: 8.0, horizon: 0.5}\nanimations: false\n",
 }
 
 
