@@ -42,7 +42,7 @@ from numpy.typing import ArrayLike, NDArray
 from designlab.errors import InvalidParameterError
 from designlab.navigation import engine
 from designlab.navigation.criteria import EQUAL_WEIGHTS, Criteria, check_weights, criteria
-from designlab.navigation.crowds import CrowdResult, CrowdScenario, simulate_crowd
+from designlab.navigation.crowds import CrowdResult, CrowdScenario, accepts_crowds
 from designlab.navigation.hold_audit import HoldAudit, hold_audit
 from designlab.navigation.lyapunov import StabilityAudit, audit_run
 from designlab.navigation.methods import STABILISING, TIE_SIDE, NavigationMethod, method_of
@@ -238,6 +238,7 @@ class NavigationResult(Result):
         return pd.DataFrame(data)
 
 
+@accepts_crowds  # a CrowdScenario runs among JuPedSim's pedestrians (navigation.crowds)
 def simulate(
     scenario: Scenario | CrowdScenario,
     gains: VFFGains | MasoudGains | GeCuiGains | None = None,
@@ -258,10 +259,7 @@ def simulate(
     Parameters
     ----------
     scenario
-        From :func:`configuration` or built by hand; a :class:`CrowdScenario` (from
-        :func:`crowd`) runs among JuPedSim's pedestrians and returns a :class:`CrowdResult`
-        (:func:`designlab.navigation.crowds.simulate_crowd`; ``weights``, ``noise``, ``jit``
-        and ``force_every_step`` do not apply).
+        From :func:`configuration`, by hand, or a :class:`CrowdScenario` (-> :class:`CrowdResult`).
     gains
         :class:`VFFGains` for ``"vff"`` (required) and ``"cbf"`` (its attractive part;
         default the experiment gains); :class:`MasoudGains` / :class:`GeCuiGains`
@@ -316,10 +314,6 @@ def simulate(
     ...
     designlab.errors.InvalidParameterError: method = 'bug' is not allowed: ...
     """
-    if isinstance(scenario, CrowdScenario):  # pedestrians from JuPedSim (navigation.crowds)
-        return simulate_crowd(scenario, gains, method=method, stabilising=stabilising,
-                              tie_side=tie_side, arrival_tolerance=arrival_tolerance,
-                              dynamics_step=dynamics_step, cbf_gains=cbf_gains)  # fmt: skip
     STABILISING.check(stabilising)
     strategy = method_of(method)
     TIE_SIDE.check(tie_side)

@@ -48,6 +48,7 @@ from designlab.navigation.crowds.simulate import (
     CrowdResult,
     CrowdStatus,
     PedestrianRun,
+    accepts_crowds,
     simulate_crowd,
     simulate_pedestrians,
 )
@@ -61,6 +62,7 @@ __all__ = [
     "CrowdScenario",
     "CrowdStatus",
     "PedestrianRun",
+    "accepts_crowds",
     "crowd",
     "simulate_crowd",
     "simulate_pedestrians",

@@ -29,6 +29,7 @@ from typing import Any
 
 import jupedsim as jps
 import numpy as np
+import shapely
 from numpy.typing import NDArray
 from shapely.geometry import Polygon, box
 
@@ -186,7 +187,7 @@ class PedestrianSim:
         ids, pts = [], []
         rid = self.robot_id
         parked = self.parked
-        for a in self.sim.agents():
+        for a in self._agents():
             jid = a.id
             if jid != rid:
                 i = self.index[jid]
@@ -199,6 +200,12 @@ class PedestrianSim:
         if not ids:
             return np.zeros(0, np.int64), np.zeros((0, 2))
         return np.asarray(ids, np.int64), np.asarray(pts, dtype=float)
+
+    def _agents(self) -> Any:
+        """The agents, read through JuPedSim's native simulation where it is exposed (twice as
+        fast as through its Python handles, which resolve the agent again on every access)."""
+        native = getattr(self.sim, "_obj", None)
+        return native.agents() if native is not None else self.sim.agents()
 
     def robot_agent_position(self) -> Array | None:
         """Where JuPedSim has the robot's agent (``None`` when the pedestrians ignore it)."""
@@ -216,7 +223,11 @@ class PedestrianSim:
             Where the robot will be at the end of the step (its agent is steered there).
         """
         if self.robot_id is not None and robot_target is not None:
-            self.model.steer(self.sim.agent(self.robot_id), robot_target, self.dt)
+            agent = self.sim.agent(self.robot_id)
+            if shapely.contains_xy(self.crowd.geometry.area, *robot_target):
+                self.model.steer(agent, robot_target, self.dt)
+            else:  # the robot has left the walkable area: its agent waits at the edge
+                self.model.steer(agent, agent.position, self.dt)
         self.sim.iterate()
         self.steps += 1
         for jid in self._leaving:  # reached their exit in the previous step: gone now

@@ -19,17 +19,22 @@ Neither side reads the other's state from the future nor from the past period: s
 
 from __future__ import annotations
 
+import functools
 import math
+import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
 import casadi as ca
 import numpy as np
 import pandas as pd
+import shapely
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
 from designlab.navigation.cbf_filter import CBFFilter
+from designlab.navigation.criteria import EQUAL_WEIGHTS
 from designlab.navigation.crowds.pedestrians import PedestrianSim
 from designlab.navigation.crowds.scenario import CrowdScenario
 from designlab.navigation.crowds.slots import crowd_step, fill_slots
@@ -44,6 +49,7 @@ __all__ = [
     "CrowdResult",
     "CrowdStatus",
     "PedestrianRun",
+    "accepts_crowds",
     "simulate_crowd",
     "simulate_pedestrians",
 ]
@@ -165,6 +171,9 @@ class CrowdResult(Result):
         :class:`CrowdStatus`.
     warnings
         What a user should know.
+    pedestrian_seconds, robot_seconds
+        Wall time spent in JuPedSim (stepping and reading the pedestrians) and on the robot's
+        side (slots, compiled step, CBF, distances and records), s.
     """
 
     crowd: CrowdScenario
@@ -190,6 +199,8 @@ class CrowdResult(Result):
     desired_speeds: Array = field(repr=False)
     status: str = CrowdStatus.OK
     warnings: tuple[str, ...] = ()
+    pedestrian_seconds: float = field(default=0.0, repr=False, compare=False)
+    robot_seconds: float = field(default=0.0, repr=False, compare=False)
 
     @property
     def arrived(self) -> bool:
@@ -220,26 +231,35 @@ class CrowdResult(Result):
 
 # ------------------------------------------------------------------ the run
 class _Frames:
-    """Pedestrian positions by index at the last three pedestrian steps (for differences)."""
+    """Pedestrian positions by index at the last ``depth`` pedestrian steps (a ring)."""
 
-    def __init__(self, capacity: int) -> None:
-        self.now = np.full((capacity, 2), np.nan)
-        self.prev = self.now.copy()
-        self.prev2 = self.now.copy()
+    def __init__(self, capacity: int, depth: int) -> None:
+        self.ring = np.full((max(depth, 3), capacity, 2), np.nan)
+        self.ptr = -1
+        self.count = 0  # rows in use (pedestrians that have entered)
 
     def push(self, ids: NDArray[np.int64], P: Array) -> None:
-        self.prev2, self.prev, self.now = self.prev, self.now, self.prev2
-        self.now.fill(np.nan)
-        self.now[ids] = P
+        self.ptr = (self.ptr + 1) % self.ring.shape[0]
+        now = self.ring[self.ptr]
+        now[: self.count].fill(np.nan)
+        now[ids] = P
+        if ids.size:
+            self.count = max(self.count, int(ids.max()) + 1)
+
+    def last(self, n: int) -> Array:
+        """The last ``n`` frames, oldest first, ``(n, count, 2)``."""
+        idx = (self.ptr - np.arange(n - 1, -1, -1)) % self.ring.shape[0]
+        return self.ring[idx, : self.count]
 
     def sensed(self, dt: float) -> tuple[Array, Array, Array]:
         """Positions, velocities and accelerations now (backward differences; 0 where unknown)."""
-        V = (self.now - self.prev) / dt
-        V1 = (self.prev - self.prev2) / dt
-        A = (V - V1) / dt
-        V = np.where(np.isnan(V) & ~np.isnan(self.now), 0.0, V)
-        A = np.where(np.isnan(A) & ~np.isnan(self.now), 0.0, A)
-        return self.now, V, A
+        prev2, prev, now = self.last(3)
+        V = (now - prev) / dt
+        A = (V - (prev - prev2) / dt) / dt
+        known = ~np.isnan(now)
+        V = np.where(np.isnan(V) & known, 0.0, V)
+        A = np.where(np.isnan(A) & known, 0.0, A)
+        return now.copy(), V, A
 
 
 class _Step:
@@ -358,7 +378,11 @@ class _Run:
         self.r2, self.r3 = c.pedestrian_regions()
         self.w2, self.w3 = c.wall_regions()
         self.ped = PedestrianSim(c, c.robot_start)
-        self.frames = _Frames(s.n_ped)
+        self.frames = _Frames(s.n_ped, s.per_ped + 1)
+        self.wall_frames = np.array(
+            [[*w.center, math.cos(w.angle), math.sin(w.angle), w.length / 2, w.width / 2]
+             for w in self.walls]
+        ).reshape(-1, 6)  # fmt: skip
         self.rec_t: list[float] = [0.0]
         self.rec_ped: list[tuple[NDArray[np.int64], Array]] = []
         self.rec_X: list[Array] = [x0[:, None]]
@@ -370,12 +394,15 @@ class _Run:
         self.agent_offset = 0.0
         self.arrival = math.inf
         self.failure = ""
+        self.ped_time = self.total_time = 0.0
+        self.area = c.geometry.area
+        self.left_area = 0.0  # when the robot was first outside the walkable area (0: never)
         ids, P = self.ped.positions()
         self._push(ids, P)
         self._measure_start(x0[:2], P)
 
     def _push(self, ids: NDArray[np.int64], P: Array) -> None:
-        if ids.size and ids.max() >= self.frames.now.shape[0]:
+        if ids.size and ids.max() >= self.frames.ring.shape[1]:
             raise InvalidParameterError(
                 "CrowdScenario.horizon", self.s.crowd.horizon,
                 f"lets more than {self.s.n_ped} pedestrians enter (the records' cap); shorten it",
@@ -386,14 +413,18 @@ class _Run:
     def _measure_start(self, p: Array, P: Array) -> None:
         if P.shape[0]:
             self.dmin = float(np.min(np.hypot(P[:, 0] - p[0], P[:, 1] - p[1])))
-        for w in self.walls:
-            self.wmin = min(self.wmin, float(w.contour_distance(p[None, :])[0]))
+        if self.walls:
+            self.wmin = _wall_distance(self.wall_frames, p[None, :])
 
     # ---------------------------------------------------------------- period
-    def robot_period(self) -> Array:
-        """The robot over one period from the pedestrians sensed at its start."""
+    def sense(self) -> tuple[Array, Array, Array]:
+        """The pedestrians as the robot senses them now (copies: later steps do not touch them)."""
+        return self.frames.sensed(self.s.crowd.pedestrian_step)
+
+    def robot_period(self, sensed: tuple[Array, Array, Array]) -> Array:
+        """The robot over one period from the pedestrians ``sensed`` at its start."""
         s, inp = self.s, self.step.inp
-        P, V, A = self.frames.sensed(s.crowd.pedestrian_step)
+        P, V, A = sensed
         slots, _n, over = fill_slots(inp[0][:2], P, V, A, r2=self.r2, slots=s.crowd.neighbours)
         self.overflow += int(over)
         inp[2][:] = np.concatenate([self.wall_obs, slots])
@@ -427,63 +458,92 @@ class _Run:
         return True
 
     def measure(self, k: int, X: Array) -> bool:
-        """Distances at every dynamics step of period ``k``; True once the robot arrived."""
+        """Distances over period ``k`` (see :meth:`_pedestrian_distances`); True on arrival."""
         s = self.s
-        q = s.n_sub // s.per_ped
-        pts = X[0:2, :].T  # (n_sub, 2)
+        pts = X[0:2, :].T  # (n_sub, 2): the robot at the end of each dynamics step
         goal = np.asarray(s.crowd.robot_goal)
         gd = np.hypot(pts[:, 0] - goal[0], pts[:, 1] - goal[1])
         hit = np.flatnonzero(gd <= s.tol)
         upto = int(hit[0]) + 1 if hit.size else s.n_sub
-        frames = self.rec_ped[-(s.per_ped + 1) :]
-        full = self.frames.now.shape[0]
-        for j in range(s.per_ped):
-            lo = j * q
-            if lo >= upto:
-                break
-            P0, P1 = _dense(frames[j], full), _dense(frames[j + 1], full)
-            both = ~(np.isnan(P0[:, 0]) | np.isnan(P1[:, 0]))
-            if both.any():
-                frac = (np.arange(1, q + 1) / q)[:, None, None]
-                Ps = P0[both][None] + frac * (P1[both] - P0[both])[None]  # (q, n, 2)
-                seg = pts[lo : min(lo + q, upto)]
-                d = np.hypot(
-                    Ps[: seg.shape[0], :, 0] - seg[:, None, 0],
-                    Ps[: seg.shape[0], :, 1] - seg[:, None, 1],
-                )
-                self.dmin = min(self.dmin, float(d.min()))
-        for w in self.walls:
-            self.wmin = min(self.wmin, float(w.contour_distance(pts[:upto]).min()))
+        self._pedestrian_distances(pts[:upto])
+        if self.walls:
+            self.wmin = min(self.wmin, _wall_distance(self.wall_frames, pts[:upto]))
         self.energy += float(self.step.out[1][:upto].sum()) * s.dt
+        if not self.left_area and not shapely.contains_xy(self.area, pts[-1, 0], pts[-1, 1]):
+            self.left_area = k * s.n_sub * s.dt + s.n_sub * s.dt
         self.rec_X.append(X)
         if hit.size:
             self.arrival = (k * s.n_sub + upto) * s.dt
             return True
         return False
 
+    def _pedestrian_distances(self, pts: Array) -> None:
+        """The running minimum of the centre distances to the pedestrians.
 
-def _dense(frame: tuple[NDArray[np.int64], Array], n: int) -> Array:
-    ids, P = frame
-    out = np.full((n, 2), np.nan)
-    out[ids] = P
-    return out
+        Exact at every dynamics step for the pedestrians within R = r2 + (V_mr + v_0,max) T_s
+        of the robot at the period's start (positions interpolated linearly within a
+        pedestrian step): no other can come within r2 during the period, so every
+        critical-region entry and collision is seen. The others count at the sample.
+        """
+        s = self.s
+        q = s.n_sub // s.per_ped
+        F = self.frames.last(s.per_ped + 1)  # (per + 1, n, 2): the period's pedestrian steps
+        P0 = F[0]
+        p = self.rec_X[-1][0:2, -1]  # the robot at the period's start
+        d0 = np.hypot(P0[:, 0] - p[0], P0[:, 1] - p[1])
+        if np.isnan(d0).all():
+            return
+        self.dmin = min(self.dmin, float(np.nanmin(d0)))
+        reach = self.r2 + (self.s.crowd.robot.max_speed + self.s.crowd.max_desired_speed) * (
+            s.n_sub * s.dt
+        )
+        near = np.flatnonzero(d0 < reach)
+        if not near.size:
+            return
+        G = F[:, near]
+        frac = (np.arange(1, q + 1) / q)[None, :, None, None]
+        Ps = G[:-1, None] + frac * (G[1:] - G[:-1])[:, None]  # (per, q, n_near, 2)
+        Ps = Ps.reshape(-1, near.size, 2)[: pts.shape[0]]
+        d = np.hypot(Ps[:, :, 0] - pts[:, None, 0], Ps[:, :, 1] - pts[:, None, 1])
+        if not np.isnan(d).all():
+            self.dmin = min(self.dmin, float(np.nanmin(d)))
+
+
+def _wall_distance(walls: Array, pts: Array) -> float:
+    """Smallest contour distance from ``pts`` ``(n, 2)`` to the walls (rows: centre, cos,
+    sin, half length, half width), as :meth:`Rectangle.contour_distance` for all at once."""
+    rx = pts[None, :, 0] - walls[:, 0:1]
+    ry = pts[None, :, 1] - walls[:, 1:2]
+    c, s = walls[:, 2:3], walls[:, 3:4]
+    dx = np.maximum(np.abs(c * rx + s * ry) - walls[:, 4:5], 0.0)
+    dy = np.maximum(np.abs(-s * rx + c * ry) - walls[:, 5:6], 0.0)
+    return float(np.hypot(dx, dy).min())
 
 
 def _loop(run: _Run) -> int:
     s = run.s
     k_done = 0
+    clock = time.perf_counter
     for k in range(s.n_samples):
+        t0 = clock()
+        sensed = run.sense()  # the pedestrians at t_k, whichever side moves first
         if s.order == "robot_first":
-            X = run.robot_period()
+            X = run.robot_period(sensed)
+            t1 = clock()
             ok = run.pedestrians_period(X)
+            t2 = clock()
         else:
             ok = run.pedestrians_period(None)
-            X = run.robot_period() if ok else None
+            t1 = clock()
+            X = run.robot_period(sensed) if ok else None
+            t2 = clock()
+        run.ped_time += t2 - t1 if s.order == "robot_first" else t1 - t0
         if not ok or X is None:
             break
         k_done = k + 1
         arrived = run.measure(k, X)
         np.copyto(run.step.inp[0], X[:, -1])
+        run.total_time += clock() - t0
         if arrived:
             break
     return k_done
@@ -540,6 +600,10 @@ def _outcome(run: _Run) -> dict[str, Any]:
         warnings.append(f"entered a pedestrian's critical region: distance {run.dmin:.3f} m")
     if run.wmin <= rho:
         warnings.append(f"collision with a wall: distance {run.wmin:.3f} m")
+    if run.left_area:
+        warnings.append(
+            f"the robot left the walkable area by t = {run.left_area:.2f} s (pushed out)"
+        )
     if run.overflow:
         warnings.append(
             f"in {run.overflow} periods more than {c.neighbours} pedestrians were in the active "
@@ -616,7 +680,8 @@ def simulate_crowd(
     return CrowdResult(
         crowd=crowd, method=s.method, stabilising=s.stabilising,
         gains=strategy.gains_dict(s.row), **_outcome(run), **_records(run, k_done),
-        desired_speeds=_speeds(run.ped),
+        desired_speeds=_speeds(run.ped), pedestrian_seconds=run.ped_time,
+        robot_seconds=run.total_time - run.ped_time,
     )  # fmt: skip
 
 
@@ -676,3 +741,35 @@ def simulate_pedestrians(crowd: CrowdScenario) -> PedestrianRun:
         _speeds(ped), CrowdStatus.PEDESTRIAN_SIMULATOR_FAILED if failure else CrowdStatus.OK,
         (failure,) if failure else (),
     )  # fmt: skip
+
+
+#: Arguments of ``navigation.simulate`` that do not apply to a crowd, with their defaults.
+_NOT_FOR_CROWDS = {"force_every_step": False, "jit": False, "weights": EQUAL_WEIGHTS, "noise": None}
+
+
+def accepts_crowds(simulate: Callable[..., Any]) -> Callable[..., Any]:
+    """Let ``simulate(scenario, ...)`` take a :class:`CrowdScenario` (run by simulate_crowd).
+
+    Parameters
+    ----------
+    simulate
+        The scenario simulator (:func:`designlab.navigation.simulate`).
+
+    Returns
+    -------
+    callable
+        The same function, dispatching a :class:`CrowdScenario` to :func:`simulate_crowd`;
+        an argument that does not apply to a crowd (``jit``, ``noise``, ``weights``,
+        ``force_every_step``) is refused unless left at its default.
+    """
+
+    @functools.wraps(simulate)
+    def dispatch(scenario: Any, gains: Any = None, **kw: Any) -> Any:
+        if not isinstance(scenario, CrowdScenario):
+            return simulate(scenario, gains, **kw)
+        for name, default in _NOT_FOR_CROWDS.items():
+            if name in kw and kw.pop(name) != default:
+                raise InvalidParameterError(name, "given", "does not apply to a CrowdScenario")
+        return simulate_crowd(scenario, gains, **kw)
+
+    return dispatch

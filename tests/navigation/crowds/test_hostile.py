@@ -1,0 +1,114 @@
+"""Hostile inputs to the crowd simulator: a clear error naming the parameter."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+import designlab as dl
+from designlab.errors import InvalidParameterError
+
+nav = dl.navigation
+GAINS = nav.VFFGains(4.3, 0.68, 20.3, 240.7)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "name"),
+    [
+        ({"pedestrians": 0}, "pedestrians"),
+        ({"pedestrians": -3}, "pedestrians"),
+        ({"pedestrians": 2.5}, "pedestrians"),
+        ({"pedestrians": "many"}, "pedestrians"),
+        ({"pedestrians": 10**6}, "pedestrians"),
+        ({"density": 5.0}, "density"),  # more than the corridor holds
+        ({"density": -0.1}, "density"),
+        ({"density": math.nan}, "density"),
+        ({"density": 1e-6}, "density"),  # no pedestrian at all
+        ({"pedestrians": 300}, "pedestrians"),  # 30 m x 4 m holds about 230
+        ({"model": "boids"}, "model"),
+        ({"width": math.nan}, "width"),
+        ({"length": math.inf}, "length"),
+        ({"width": -4.0}, "width"),
+        ({"seed": -1}, "seed"),
+        ({"react_to_robot": "yes"}, "react_to_robot"),
+        ({"goal": (1.5, 0.1)}, "goal"),  # inside the south wall's critical region
+        ({"goal": (50.0, 2.0)}, "goal"),  # outside the corridor
+        ({"goal": (math.nan, 2.0)}, "goal"),
+        ({"start": "here"}, "start"),
+        ({"pedestrian_step": 0.025}, "pedestrian_step"),  # does not divide 0.06 s
+        ({"desired_speed": 2.0, "max_desired_speed": 1.5}, "max_desired_speed"),
+        ({"neighbours": 0}, "neighbours"),
+        ({"horizon": 1e9}, "horizon"),
+        ({"critical_radius": 3.0, "active_radius": 2.0}, "active_radius"),
+        ({"paths": (((1.0, 1.0), (5.0, 1.0)),)}, "pedestrians"),  # 40 pedestrians, 1 path
+        ({"paths": "nowhere", "pedestrians": 1}, "paths"),
+        ({"robot": "R2D2"}, "robot"),
+    ],
+)
+def test_bad_crowds_name_the_parameter(kwargs, name):
+    kw = {"pedestrians": 40, **kwargs}
+    if "density" in kw:
+        kw.pop("pedestrians")
+    with pytest.raises(InvalidParameterError, match=name):
+        nav.crowd("corridor_counterflow", **kw)
+
+
+def test_unknown_layout_and_both_counts():
+    with pytest.raises(InvalidParameterError, match="layout"):
+        nav.crowd("stadium", 10)
+    with pytest.raises(InvalidParameterError, match="density"):
+        nav.crowd("open_plaza", 10, density=0.2, width=10.0, length=10.0)
+
+
+def test_bottleneck_narrower_than_two_critical_distances_is_refused():
+    with pytest.raises(InvalidParameterError, match="bottleneck_width"):
+        nav.crowd("bottleneck", 10, bottleneck_width=0.5)
+
+
+def test_bad_run_arguments():
+    c = nav.crowd("corridor_counterflow", 5, length=10.0, horizon=0.12)
+    with pytest.raises(InvalidParameterError, match="order"):
+        nav.crowds.simulate_crowd(c, GAINS, order="sideways")
+    with pytest.raises(InvalidParameterError, match="method"):
+        nav.simulate(c, GAINS, method="teleport")
+    with pytest.raises(InvalidParameterError, match="gains"):
+        nav.simulate(c, nav.MasoudGains())
+    with pytest.raises(InvalidParameterError, match="dynamics_step"):
+        nav.simulate(c, GAINS, dynamics_step=0.004)  # does not divide the 0.01 s step
+    with pytest.raises(InvalidParameterError, match="crowd"):
+        nav.simulate_pedestrians("corridor")
+    with pytest.raises(InvalidParameterError, match="crowd"):
+        nav.crowds.simulate_crowd(nav.configuration(1), GAINS)
+
+
+def test_paths_refused_by_jupedsim_name_the_path():
+    with pytest.raises(InvalidParameterError, match=r"paths\[1\]"):
+        nav.simulate_pedestrians(
+            nav.crowd(
+                "open_plaza",
+                2,
+                width=10.0,
+                length=10.0,
+                horizon=0.1,
+                paths=(((5.0, 5.0), (8.0, 5.0)), ((5.1, 5.0), (8.0, 6.0))),
+            )
+        )
+
+
+@pytest.mark.parametrize("method", ["vff", "masoud", "ge_cui", "cbf"])
+def test_every_method_runs_in_a_crowd_and_reports_its_outcome(method):
+    c = nav.crowd("crossing", 8, width=4.0, length=12.0, seed=2, horizon=0.6)
+    gains = {"vff": GAINS, "cbf": GAINS}.get(method)
+    res = nav.simulate(c, gains, method=method)
+    assert res.method == method and res.status in ("ok", "not_arrived")
+    assert math.isfinite(res.min_wall_distance) and res.robot_positions.shape == (61, 2)
+    assert res.to_frame().shape[0] == 1
+
+
+def test_scenario_options_that_do_not_apply_to_a_crowd_are_refused():
+    c = nav.crowd("corridor_counterflow", 5, length=10.0, horizon=0.12)
+    for kw in ({"jit": True}, {"noise": nav.SensorNoise()}, {"weights": (0.5, 0.5, 0.0)}):
+        with pytest.raises(InvalidParameterError, match=next(iter(kw))):
+            nav.simulate(c, GAINS, **kw)
+    assert nav.simulate(c, GAINS, jit=False).status == "not_arrived"  # defaults pass
