@@ -76,6 +76,9 @@ BASE: dict[str, dict[str, Any]] = {
     "tether_modes": {"paths": [{"type": "straight_line", "length": 3.0}],
                      "modes": ["SideJoystick"], "side_offsets": [0.5],
                      "brake_laws": ["PseudoJoystick"]},
+    "navigation_crowds": {"scenarios": ["corridor_counterflow"], "densities": [0.1],
+                          "seeds": [0], "methods": [{"method": "vff"}],
+                          "crowd": {"length": 8.0, "horizon": 0.5}, "animations": False},
 }  # fmt: skip
 
 #: Kinds quick enough to run on every accepted example.
