@@ -201,7 +201,8 @@ def _tuning_lines(result: NavigationCrowdsResult) -> list[str]:
         f"(training densities {t.training.densities}, seeds {t.training.seeds}); cost: "
         f"{opt.robust}{f' (alpha {opt.alpha:g})' if opt.robust == 'cvar' else ''} of the arrival "
         "times (twice the horizon for a run that did not arrive); rates kept: collision <= "
-        f"{t.collision_rate:g}, critical entry <= {t.critical_rate:g}. Status: {opt.status}.", "",
+        f"{opt.collision_bound:g}, critical entry <= {opt.critical_bound:g}. "
+        f"Status: {opt.status}.", "",
         f"Optimum: K1 = {g.k1:.3g}, b = {g.b:.3g}, K3 = {g.k3:.3g}, K5 = {g.k5:.3g} "
         f"(cost {opt.cost:.2f} s, training collision rate {opt.collision_rate:.2f}, critical "
         f"{opt.critical_rate:.2f}).", "",

@@ -23,7 +23,7 @@ import logging
 import math
 import time
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -180,6 +180,8 @@ class CrowdGainOptimum(Result):
         Gain sets simulated (each on every training crowd) and the wall time.
     history
         One row per candidate: ``generation``, the gains, ``cost_s``, the rates, ``feasible``.
+    collision_bound, critical_bound
+        The rates required (the training set's).
     status, warnings
         :class:`CrowdOptimumStatus` and what a user should know.
     """
@@ -193,6 +195,8 @@ class CrowdGainOptimum(Result):
     evaluations: int
     seconds: float
     history: pd.DataFrame = field(repr=False)
+    collision_bound: float = 0.0
+    critical_bound: float = 0.2
     status: str = CrowdOptimumStatus.OK
     warnings: tuple[str, ...] = ()
 
@@ -330,7 +334,10 @@ def optimise_crowd_gains(
         ]
         best = min((r["cost_s"] for r in rows if r["feasible"]), default=None)
         report(progress, Progress(g + 1, gens, best=best, label="generation"))
-    return _optimum(pd.DataFrame(rows), mode, a, time.perf_counter() - t0)
+    opt = _optimum(pd.DataFrame(rows), mode, a, time.perf_counter() - t0)
+    return replace(
+        opt, collision_bound=training.collision_rate, critical_bound=training.critical_rate
+    )
 
 
 def vars_of(gains: VFFGains) -> dict[str, float]:

@@ -41,6 +41,7 @@ from designlab.navigation.crowds.metrics import CONFIDENCE, CVAR_ALPHA, PERSONAL
 from designlab.navigation.crowds.scenario import DENSITY, CrowdScenario, crowd
 from designlab.navigation.crowds.study import MAX_RUNS, CrowdStudy, crowd_study, simulate_run
 from designlab.navigation.crowds.tuning import (
+    RATE,
     CrowdGainOptimum,
     CrowdSet,
     check_disjoint,
@@ -110,8 +111,12 @@ class TuningSpec(Model):
     validation: CrowdSetSpec
     robust: Literal["mean", "cvar"] = "mean"
     alpha: CVAR_ALPHA.annotation() = 0.8  # type: ignore[valid-type]
-    collision_rate: Annotated[float, Field(ge=0, le=1)] = 0.0
-    critical_rate: Annotated[float, Field(ge=0, le=1)] = 0.2
+    collision_rate: RATE.annotation() | None = Field(  # type: ignore[valid-type]
+        None, description="largest collision rate over the training runs (default: CrowdSet's, 0)"
+    )
+    critical_rate: RATE.annotation() | None = Field(  # type: ignore[valid-type]
+        None, description="largest critical-entry rate over the training runs (default: CrowdSet's)"
+    )
     popsize: Annotated[Integer, Field(ge=4, le=64)] = 6
     generations: Annotated[Integer, Field(ge=1, le=100)] = 4
     seed: _Seed = 0
@@ -121,13 +126,16 @@ class TuningSpec(Model):
 
     @model_validator(mode="after")
     def _disjoint(self) -> TuningSpec:
-        check_disjoint(self.set_of(self.training, {}), self.set_of(self.validation, {}))
+        check_disjoint(crowd_set(self, self.training, {}), crowd_set(self, self.validation, {}))
         return self
 
-    def set_of(self, spec: CrowdSetSpec, crowd: dict[str, Any]) -> CrowdSet:
-        """The :class:`CrowdSet` of ``spec`` with the study's crowd options and these rates."""
-        return CrowdSet(tuple(spec.scenarios), tuple(spec.densities), tuple(spec.seeds), crowd,
-                        self.collision_rate, self.critical_rate)  # fmt: skip
+
+def crowd_set(tuning: TuningSpec, spec: CrowdSetSpec, crowd: dict[str, Any]) -> CrowdSet:
+    """The :class:`CrowdSet` of ``spec`` with the study's crowd options and the rates of
+    ``tuning`` (those not given keep CrowdSet's defaults)."""
+    rates = {k: getattr(tuning, k) for k in ("collision_rate", "critical_rate")}
+    return CrowdSet(tuple(spec.scenarios), tuple(spec.densities), tuple(spec.seeds), crowd,
+                    **{k: v for k, v in rates.items() if v is not None})  # fmt: skip
 
 
 class NavigationCrowdsStudy(StudyBase):
@@ -263,7 +271,7 @@ def _tune(study: NavigationCrowdsStudy, context: RunContext) -> tuple[Any, Any]:
     if t is None:
         return None, None
     crowd = study.crowd.model_dump()
-    training, validation = t.set_of(t.training, crowd), t.set_of(t.validation, crowd)
+    training, validation = crowd_set(t, t.training, crowd), crowd_set(t, t.validation, crowd)
     with context.bar("navigation_crowds: tune", t.generations) as hook:
         opt = optimise_crowd_gains(training, bounds=DEFAULT_BOUNDS, robust=t.robust, alpha=t.alpha,
                                    popsize=t.popsize, generations=t.generations, seed=t.seed,
