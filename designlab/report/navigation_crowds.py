@@ -203,7 +203,8 @@ def _tuning_lines(result: NavigationCrowdsResult) -> list[str]:
         "times (twice the horizon for a run that did not arrive); rates kept: collision <= "
         f"{opt.collision_bound:g}, critical entry <= {opt.critical_bound:g}. "
         f"Status: {opt.status}.", "",
-        f"Optimum: K1 = {g.k1:.3g}, b = {g.b:.3g}, K3 = {g.k3:.3g}, K5 = {g.k5:.3g} "
+        f"{'Optimum' if opt.status == 'ok' else 'Least-violating gains (not an optimum)'}: "
+        f"K1 = {g.k1:.3g}, b = {g.b:.3g}, K3 = {g.k3:.3g}, K5 = {g.k5:.3g} "
         f"(cost {opt.cost:.2f} s, training collision rate {opt.collision_rate:.2f}, critical "
         f"{opt.critical_rate:.2f}).", "",
         f"Validation on crowds sharing no seed and no density with the training set (densities "

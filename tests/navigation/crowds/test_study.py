@@ -183,3 +183,39 @@ def test_crowd_study_bad_input(kwargs: dict) -> None:
     args.update(kwargs)
     with pytest.raises(DesignlabError):
         crowd_study(**args)
+
+
+def test_the_report_is_written_from_its_tables(tmp_path) -> None:
+    """The kind runs, the writer writes every file, and each finding's counts are the table's."""
+    import re
+
+    from designlab.report import write_report
+    from designlab.study import parse_study, run_study
+
+    study = parse_study(
+        "designlab: 1\nkind: navigation_crowds\nname: demo\nscenarios: [corridor_counterflow]\n"
+        "densities: [0.1]\nseeds: [0, 1]\nmethods: [{method: vff}, {method: masoud}]\n"
+        "crowd: {length: 8.0, horizon: 0.5}\nanimations: false\n"
+    )
+    result = run_study(study)
+    out = write_report(result, tmp_path, index=False)
+    written = {p.name for p in out.iterdir()}
+    assert {
+        "summary.md",
+        "rates.csv",
+        "runs.csv",
+        "rates_vs_density.png",
+        "trajectories.png",
+    } <= written
+    assert not any(name.endswith(".gif") for name in written)  # animations: false
+    text = (out / "summary.md").read_text()
+    runs = pd.read_csv(out / "runs.csv")
+    for method in ("vff", "masoud"):
+        got = re.search(rf"- {method}: (\d+) of (\d+) runs arrived, (\d+) collided", text)
+        sub = runs[runs["method"] == method]
+        assert got is not None
+        assert [int(g) for g in got.groups()] == [
+            int(sub.success.sum()),
+            len(sub),
+            int(sub.collided.sum()),
+        ]
