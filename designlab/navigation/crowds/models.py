@@ -55,6 +55,12 @@ class PedestrianModel:
             radius=radius,
         )  # fmt: skip
 
+    def robot_agent(
+        self, position: tuple[float, float], radius: float, journey: int, stage: int, dt: float
+    ) -> Any:
+        """The parameters of the robot's agent (at rest; ``dt``: the pedestrian step)."""
+        return self.agent(position, 0.0, radius, journey, stage)
+
     def steer(self, agent: Any, target: tuple[float, float], dt: float) -> None:
         """Steer the robot's agent to reach ``target`` in one step of ``dt``."""
         x, y = agent.position
@@ -108,6 +114,15 @@ class _GeneralizedCentrifugalForce(PedestrianModel):
 class _AnticipationVelocity(PedestrianModel):
     def simulation_model(self, seed: int) -> Any:
         return jps.AnticipationVelocityModel(rng_seed=seed)
+
+    def robot_agent(
+        self, position: tuple[float, float], radius: float, journey: int, stage: int, dt: float
+    ) -> Any:
+        # no anticipation and a reaction within one step: the agent goes where it is steered
+        return jps.AnticipationVelocityModelAgentParameters(
+            journey_id=journey, stage_id=stage, position=position, desired_speed=0.0,
+            radius=radius, reaction_time=dt, anticipation_time=0.0,
+        )  # fmt: skip
 
     def agent(
         self, position: tuple[float, float], speed: float, radius: float, journey: int, stage: int

@@ -100,6 +100,8 @@ class PedestrianSim:
         self.steps = 0
         self._leaving: list[int] = []
         self.parked: dict[int, tuple[float, float]] = {}  # given pedestrians at their destination
+        self._order: NDArray[np.int64] | None = None  # pedestrian index of each agent, in order
+        self._keep = self._ids = np.zeros(0, np.int64)
         self._journeys: list[tuple[int, int]] = []
         if crowd.paths:
             self._add_given()
@@ -120,6 +122,7 @@ class PedestrianSim:
             self.model.agent(position, float(speed), self.crowd.pedestrian_radius, journey, stage)
         )
         self.index[jid] = len(self.stream_of)
+        self._order = None  # the agents changed: read everything next time
         self.stream_of.append(stream)
         self.speeds.append(float(speed))
         return jid
@@ -128,9 +131,16 @@ class PedestrianSim:
         speeds = desired_speeds(self.crowd, self.rng, len(self.crowd.paths))
         h = _DESTINATION_HALF * self.crowd.max_desired_speed * self.dt
         for i, ((a, b), v) in enumerate(zip(self.crowd.paths, speeds, strict=True)):
-            self._journeys.append(self._journey(box(b[0] - h, b[1] - h, b[0] + h, b[1] + h)))
+            standing = max(abs(a[0] - b[0]), abs(a[1] - b[1])) <= h
+            if standing:  # already at its destination: an agent that stands (steered to itself)
+                stage = self.sim.add_direct_steering_stage()
+                self._journeys.append(
+                    (self.sim.add_journey(jps.JourneyDescription([stage])), stage)
+                )
+            else:
+                self._journeys.append(self._journey(box(b[0] - h, b[1] - h, b[0] + h, b[1] + h)))
             try:
-                self._add(a, v, i)
+                self._add(a, 0.0 if standing else v, i)
             except RuntimeError as exc:
                 raise InvalidParameterError(
                     f"CrowdScenario.paths[{i}]", a, f"JuPedSim refuses the pedestrian: {exc}", "m"
@@ -164,8 +174,9 @@ class PedestrianSim:
         journey = self.sim.add_journey(jps.JourneyDescription([stage]))
         try:
             self.robot_id = self.sim.add_agent(
-                self.model.agent(position, 0.0, self.crowd.robot.radius, journey, stage)
+                self.model.robot_agent(position, self.crowd.robot.radius, journey, stage, self.dt)
             )
+            self._order = None
         except RuntimeError as exc:
             raise InvalidParameterError(
                 "CrowdScenario.start", position, f"JuPedSim refuses the robot's agent: {exc}", "m"
@@ -183,23 +194,54 @@ class PedestrianSim:
         return len(self.stream_of)
 
     def positions(self) -> tuple[NDArray[np.int64], Array]:
-        """(indices, positions ``(n, 2)``) of the pedestrians in the simulation now."""
-        ids, pts = [], []
+        """(indices, positions ``(n, 2)``) of the pedestrians in the simulation now.
+
+        JuPedSim keeps its agents in order (an agent that leaves drops out, a new one comes
+        last), so while no agent has entered or left only the positions are read (the
+        indices of the last full read are reused; a changed count reads everything again).
+        """
+        if self._order is not None and not self.parked:
+            pts = [a.position for a in self._agents()]
+            if len(pts) == self._order.size:
+                if not pts:
+                    return np.zeros(0, np.int64), np.zeros((0, 2))
+                return self._ids, np.asarray(pts, dtype=float)[self._keep]
+        return self._read_all()
+
+    def _read_all(self) -> tuple[NDArray[np.int64], Array]:
+        """Indices and positions from a full read (and the order reused until it changes)."""
+        ids, pts, order = [], [], []
         rid = self.robot_id
         parked = self.parked
         for a in self._agents():
             jid = a.id
+            order.append(self.index.get(jid, -1) if jid != rid else -1)
             if jid != rid:
                 i = self.index[jid]
                 if i not in parked:
                     ids.append(i)
                     pts.append(a.position)
+        self._forget_unreported(len(order) - (rid is not None))
+        self._order = np.asarray(order, np.int64)
+        self._keep = self._order >= 0
+        self._ids = self._order[self._keep]
         for i, p in parked.items():
             ids.append(i)
             pts.append(p)
         if not ids:
             return np.zeros(0, np.int64), np.zeros((0, 2))
         return np.asarray(ids, np.int64), np.asarray(pts, dtype=float)
+
+    def _forget_unreported(self, present: int) -> None:
+        """Agents JuPedSim removed without listing them (none seen so far in random crowds):
+        forget them, and their streams get replacements."""
+        if present >= len(self.index) - len(self._leaving):
+            return
+        alive = {a.id for a in self._agents()}
+        for jid in [j for j in self.index if j not in alive and j not in self._leaving]:
+            i = self.index.pop(jid)
+            if not self.crowd.paths:
+                self.waiting.append(self.stream_of[i])
 
     def _agents(self) -> Any:
         """The agents, read through JuPedSim's native simulation where it is exposed (twice as
@@ -232,6 +274,7 @@ class PedestrianSim:
         self.steps += 1
         for jid in self._leaving:  # reached their exit in the previous step: gone now
             self.index.pop(jid, None)
+            self._order = None
         # JuPedSim lists the agents that reached their exit; they go at the next step
         self._leaving = [j for j in self.sim.removed_agents() if j in self.index]
         if not self.crowd.paths:

@@ -103,7 +103,8 @@ class CrowdScenario:
     """A robot's task among pedestrians simulated by JuPedSim (see the module's text).
 
     Build one with :func:`crowd`. ``paths`` replaces the layout's random crowd by given
-    pedestrians (each walks from its start to its destination and leaves; none enter).
+    pedestrians: each walks from its start to its destination and stands there (a pedestrian
+    whose start is its destination stands from the start); none enter.
 
     Attributes
     ----------
@@ -286,6 +287,12 @@ class CrowdScenario:
     def _check_capacity(self) -> None:
         if self.paths:
             return
+        if self.density is not None and self.pedestrians != round(self.density * self.area_m2):
+            raise InvalidParameterError(
+                "CrowdScenario.pedestrians", self.pedestrians,
+                f"must be density x area = {round(self.density * self.area_m2)} for density "
+                f"{self.density} on {self.area_m2:.1f} m^2 (build it with crowd(density=...))",
+            )  # fmt: skip
         cap = self.capacity()
         if self.pedestrians > cap:
             area = self.placement_area().area

@@ -95,3 +95,33 @@ def test_records_and_wall_distance_of_a_run():
     d = np.hypot(*(res.pedestrian_positions - res.robot_positions[:, None, :]).transpose(2, 0, 1))
     np.testing.assert_allclose(res.nearest_distance[finite], np.nanmin(d, axis=1)[finite])
     assert res.min_distance <= res.nearest_distance.min() + 1e-12
+
+
+def test_fast_reads_equal_full_reads_while_pedestrians_come_and_go():
+    sim = PedestrianSim(nav.crowd("corridor_counterflow", 25, length=8.0, seed=5,
+                                  react_to_robot=True))  # fmt: skip
+    changes = 0
+    for _ in range(600):
+        sim.step((1.5, 2.0))
+        changes += sim._order is None  # someone left or entered: a full read comes
+        fast = sim.positions()
+        full = sim._read_all()
+        assert np.array_equal(fast[0], full[0]) and np.array_equal(fast[1], full[1])
+    assert changes > 0  # pedestrians left and entered
+
+
+def test_results_honour_the_contract_and_pickle():
+    import pickle
+
+    from designlab.results import check_result
+
+    c = nav.crowd("open_plaza", 6, width=8.0, length=8.0, seed=1, horizon=0.3)
+    res = nav.simulate(c, nav.VFFGains(4.3, 0.68, 20.3, 240.7))
+    peds = nav.simulate_pedestrians(c)
+    for r in (res, peds, res.pedestrians()):
+        check_result(r)
+    back = pickle.loads(pickle.dumps(res))  # process executors send results between processes
+    assert back.crowd == c and np.array_equal(back.robot_positions, res.robot_positions)
+    frame = peds.to_frame()
+    assert set(frame.columns) == {"t_s", "pedestrian", "x_m", "y_m"}
+    assert len(frame) == int((~np.isnan(peds.pedestrian_positions[:, :, 0])).sum())

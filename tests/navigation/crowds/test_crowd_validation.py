@@ -101,3 +101,14 @@ def test_pedestrians_avoiding_the_robot_see_it_where_it_is(model):
         )
         or res.pedestrian_positions.shape != ignore.pedestrian_positions.shape
     )
+
+
+def test_intersecting_critical_regions_are_counted():
+    pair = (((4.0, 4.6), (4.0, 4.6)), ((4.0, 5.6), (4.0, 5.6)))  # standing 1 m apart
+    c = nav.crowd("open_plaza", 2, width=10.0, length=10.0, start=(2.5, 5.1), goal=(8.0, 5.1),
+                  paths=pair, horizon=0.3)  # fmt: skip
+    assert 1.0 < 2 * c.pedestrian_regions()[1]
+    res = nav.simulate(c, GAINS)
+    assert res.critical_overlaps == 5  # every period: both are within r2 of the robot
+    apart = c.replace(paths=(pair[0], ((4.0, 8.6), (4.0, 8.6))))
+    assert nav.simulate(apart, GAINS).critical_overlaps == 0

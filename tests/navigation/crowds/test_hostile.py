@@ -112,3 +112,10 @@ def test_scenario_options_that_do_not_apply_to_a_crowd_are_refused():
         with pytest.raises(InvalidParameterError, match=next(iter(kw))):
             nav.simulate(c, GAINS, **kw)
     assert nav.simulate(c, GAINS, jit=False).status == "not_arrived"  # defaults pass
+
+
+def test_a_density_that_does_not_match_the_number_is_refused():
+    c = nav.crowd("open_plaza", density=0.2, width=10.0, length=10.0)
+    with pytest.raises(InvalidParameterError, match="pedestrians"):
+        c.replace(width=12.0)  # the area changed, the number did not
+    assert c.replace(seed=3).pedestrians == 20
