@@ -250,7 +250,9 @@ def navigation_crowds_markdown(result: NavigationCrowdsResult, *, command: str |
     figs = [("rates against density", "rates_vs_density.png"),
             ("representative runs", "trajectories.png")]  # fmt: skip
     if st.animations:
-        figs += [(f"animation: {n}", f) for n, f in _animations(result)]
+        shown = {f"animation_worst_{k[1].replace(':', '_')}.gif" for k in result.tracks}
+        shown.add("animation_representative.gif")
+        figs += [(f"animation: {n}", f) for n, f in _animations(result) if f in shown]
     out += figure_section(figs, title="Figures and animations")
     return "\n".join(out)
 
@@ -269,7 +271,9 @@ def _write_gifs(result: NavigationCrowdsResult, directory: Path) -> list[Path]:
     labels = [m.label for m in result.study.methods]
     keys = [("representative", labels[0])] + [("worst", m) for m in labels]
     for (caption, name), key in zip(_animations(result), keys, strict=True):
-        r = result.tracks[key]
+        r = result.tracks.get(key)
+        if r is None:  # every run of the method failed (said in the warnings)
+            continue
         written.append(animate(r.times, r.robot_positions, r.pedestrian_positions,
                                directory / name, goal=r.crowd.robot_goal,
                                walls=wall_polygons(r.crowd),
