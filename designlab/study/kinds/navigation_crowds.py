@@ -52,7 +52,7 @@ from designlab.navigation.methods import STABILISING
 from designlab.navigation.tuning import DEFAULT_BOUNDS
 from designlab.progress import Progress
 from designlab.results import Result
-from designlab.study.base import Integer, Model, StudyBase
+from designlab.study.base import Flag, Integer, Model, StudyBase
 from designlab.study.kinds.navigation_specs import GainsSpec, GeCuiGainsSpec, MasoudGainsSpec
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
@@ -161,7 +161,7 @@ class NavigationCrowdsStudy(StudyBase):
     personal_space: PERSONAL_SPACE.annotation() = 1.2  # type: ignore[valid-type]
     confidence: CONFIDENCE.annotation() = 0.95  # type: ignore[valid-type]
     tuning: TuningSpec | None = None
-    animations: bool = Field(True, description="GIFs of the representative and worst runs")
+    animations: Flag = Field(True, description="GIFs of the representative and worst runs")
 
     PRODUCES: ClassVar[tuple[str, ...]] = (
         "summary.md", "runs.csv", "rates.csv", "rates_vs_density.png", "trajectories.png",
