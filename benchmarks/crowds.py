@@ -21,11 +21,11 @@ time on one core, pedestrian simulation included. In the 30 m corridor the robot
 arrive within the default 20 s, so every run lasts the whole horizon.
 
 Measured on 2026-12-02 (2 cores shared with seven other jobs, load about 10; CPU seconds, 20 s
-runs, best of 3): JuPedSim alone 144-204x / 44-50x / 19-20x real time for 10 / 50 / 100
-pedestrians; coupled 47-74x / 25-31x / 14-15x; robot side 70-110 % / 31-44 % / 18-23 % of the
-pedestrian side. The 50 % target holds from 50 pedestrians on; at 10 the robot's fixed cost
-per period (about 0.4 ms, mostly numpy calls around a 45 us compiled step) exceeds JuPedSim's
-cheap 10-agent step.
+runs, best of 3, four runs of the benchmark): JuPedSim alone 144-204x / 35-50x / 16-20x real
+time for 10 / 50 / 100 pedestrians; coupled 47-74x / 21-31x / 11-15x; robot side 70-110 % /
+31-44 % / 18-23 % of the pedestrian side. The 50 % target holds from 50 pedestrians on; at
+10 the robot's fixed cost per period (about 0.3-0.4 ms, mostly numpy calls around a 45 us
+compiled step) exceeds JuPedSim's cheap 10-agent step.
 """
 
 from __future__ import annotations

@@ -26,7 +26,8 @@ pedestrian step (``pedestrian_step``, 0.01 s): ``times[i] = i * pedestrian_step`
 Modules: :mod:`~.layouts` (the four layouts), :mod:`~.scenario` (:class:`CrowdScenario`,
 regions of pedestrians and walls), :mod:`~.models` (JuPedSim's four models, the robot as an
 agent), :mod:`~.pedestrians` (the JuPedSim simulation), :mod:`~.slots` (N obstacles through
-K slots of one compiled step), :mod:`~.simulate` (the lock-step and the results).
+K slots of one compiled step), :mod:`~.simulate` (the lock-step), :mod:`~.results` (what a run
+returns).
 
 Examples
 --------

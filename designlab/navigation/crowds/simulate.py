@@ -23,12 +23,11 @@ import functools
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import casadi as ca
 import numpy as np
-import pandas as pd
 import shapely
 from numpy.typing import NDArray
 
@@ -36,13 +35,13 @@ from designlab.errors import InvalidParameterError
 from designlab.navigation.cbf_filter import CBFFilter
 from designlab.navigation.criteria import EQUAL_WEIGHTS
 from designlab.navigation.crowds.pedestrians import PedestrianSim
+from designlab.navigation.crowds.results import CrowdResult, CrowdStatus, PedestrianRun
 from designlab.navigation.crowds.scenario import CrowdScenario
 from designlab.navigation.crowds.slots import crowd_step, fill_slots
 from designlab.navigation.field import ObstacleGeometry
 from designlab.navigation.methods import STABILISING, TIE_SIDE, method_of
 from designlab.navigation.parameters import ARRIVAL_TOLERANCE, DYNAMICS_STEP, HolonomicRobot
 from designlab.params import Param, check_size
-from designlab.results import Result, Status
 
 __all__ = [
     "ORDER",
@@ -63,177 +62,6 @@ ORDER = Param(
 )
 #: Pedestrians that may enter a run per pedestrian initially in it (a cap of the records).
 _INFLOW_FACTOR = 8
-
-
-class CrowdStatus(Status):
-    """Status of a crowd run (:class:`CrowdResult`, :class:`PedestrianRun`).
-
-    ``OK``: the robot arrived (a pedestrian-only run: simulated to the horizon);
-    ``NOT_ARRIVED``: the robot did not reach the goal within the horizon;
-    ``PEDESTRIAN_SIMULATOR_FAILED``: JuPedSim stopped with an error (in ``warnings``); the
-    run is kept up to that time. Collisions and critical-region entries are flags and warnings.
-    """
-
-    OK = "ok"
-    NOT_ARRIVED = "not_arrived"
-    PEDESTRIAN_SIMULATOR_FAILED = "pedestrian_simulator_failed"
-
-
-@dataclass(frozen=True)
-class PedestrianRun(Result):
-    """The pedestrians of a crowd scenario over time (with or without the robot).
-
-    Attributes
-    ----------
-    crowd
-        The :class:`CrowdScenario`.
-    times
-        Times of the records, s ``(T,)``: every pedestrian step.
-    pedestrian_positions
-        ``(T, N, 2)`` positions in m; NaN where a pedestrian is not in the simulation.
-    pedestrian_ids
-        ``(N,)`` the pedestrians' indices (in the order they entered).
-    desired_speeds
-        ``(N,)`` their desired speeds, m/s.
-    status
-        ``"ok"`` or ``"pedestrian_simulator_failed"``.
-    warnings
-        What a user should know.
-    """
-
-    crowd: CrowdScenario
-    times: Array = field(repr=False)
-    pedestrian_positions: Array = field(repr=False)
-    pedestrian_ids: NDArray[np.int64] = field(repr=False)
-    desired_speeds: Array = field(repr=False)
-    status: str = CrowdStatus.OK
-    warnings: tuple[str, ...] = ()
-
-    def to_frame(self) -> pd.DataFrame:
-        """Long format: ``t_s``, ``pedestrian``, ``x_m``, ``y_m`` (rows where it is present)."""
-        return _long_frame(self.times, self.pedestrian_positions, self.pedestrian_ids)
-
-
-def _long_frame(times: Array, P: Array, ids: NDArray[np.int64]) -> pd.DataFrame:
-    T, N = P.shape[:2]
-    tt = np.repeat(times, N)
-    ii = np.tile(ids, T)
-    xy = P.reshape(T * N, 2)
-    keep = ~np.isnan(xy[:, 0])
-    return pd.DataFrame(
-        {"t_s": tt[keep], "pedestrian": ii[keep], "x_m": xy[keep, 0], "y_m": xy[keep, 1]}
-    )
-
-
-@dataclass(frozen=True)
-class CrowdResult(Result):
-    """One run of the robot among the pedestrians.
-
-    Attributes
-    ----------
-    crowd
-        The :class:`CrowdScenario`.
-    method, stabilising, gains
-        Navigation method, stabilising-force mode and gains.
-    arrival_time
-        First time within the arrival tolerance of the goal, s (inf if never).
-    min_distance
-        Smallest centre distance to any pedestrian at any dynamics step before arrival, m.
-    min_surface_distance
-        ``min_distance`` minus rho_r + rho_p, m (<= 0: a collision).
-    min_wall_distance
-        Smallest distance to a wall's contour, m.
-    entered_critical
-        Whether the robot entered a pedestrian's (d <= r3) or a wall's critical region.
-    collided
-        Whether it touched a pedestrian or a wall.
-    critical_time
-        Time spent inside critical regions, s.
-    energy
-        L_energy per ohm of winding resistance (A^2 s).
-    slot_overflow
-        Navigation periods with more pedestrians in the active region than slots.
-    robot_agent_offset
-        Largest distance between the robot and its JuPedSim agent, m (0 when ignored).
-    times
-        ``(T,)`` times of the records, s: every pedestrian step.
-    robot_positions, robot_velocities
-        ``(T, 2)`` in m and m/s.
-    pedestrian_positions
-        ``(T, N, 2)`` in m; NaN where a pedestrian is not in the simulation.
-    pedestrian_ids
-        ``(N,)`` the pedestrians' indices.
-    nearest_distance
-        ``(T,)`` centre distance to the nearest pedestrian, m (inf when there is none).
-    desired_speeds
-        ``(N,)`` the pedestrians' desired speeds, m/s.
-    status
-        :class:`CrowdStatus`.
-    warnings
-        What a user should know.
-    critical_overlaps
-        Navigation periods in which two pedestrians in the active region had intersecting
-        critical regions (Sec. 6.4.3: no path between them stays outside both; the thesis
-        merges such obstacles, which for pedestrians would change from period to period, so
-        their fields are summed and the critical-region rule applies to each).
-    pedestrian_seconds, robot_seconds
-        CPU time spent in JuPedSim (stepping and reading the pedestrians) and on the robot's
-        side (slots, compiled step, CBF, distances and records), s.
-    """
-
-    crowd: CrowdScenario
-    method: str
-    stabilising: str
-    gains: dict[str, float]
-    arrival_time: float
-    min_distance: float
-    min_surface_distance: float
-    min_wall_distance: float
-    entered_critical: bool
-    collided: bool
-    critical_time: float
-    energy: float
-    slot_overflow: int
-    robot_agent_offset: float
-    times: Array = field(repr=False)
-    robot_positions: Array = field(repr=False)
-    robot_velocities: Array = field(repr=False)
-    pedestrian_positions: Array = field(repr=False)
-    pedestrian_ids: NDArray[np.int64] = field(repr=False)
-    nearest_distance: Array = field(repr=False)
-    desired_speeds: Array = field(repr=False)
-    status: str = CrowdStatus.OK
-    warnings: tuple[str, ...] = ()
-    critical_overlaps: int = 0
-    pedestrian_seconds: float = field(default=0.0, repr=False, compare=False)
-    robot_seconds: float = field(default=0.0, repr=False, compare=False)
-
-    @property
-    def arrived(self) -> bool:
-        return math.isfinite(self.arrival_time)
-
-    def pedestrians(self) -> PedestrianRun:
-        """The pedestrians of this run as a :class:`PedestrianRun`."""
-        return PedestrianRun(
-            self.crowd, self.times, self.pedestrian_positions, self.pedestrian_ids,
-            self.desired_speeds, self.status, self.warnings,
-        )  # fmt: skip
-
-    def to_frame(self) -> pd.DataFrame:
-        """One row: the scenario's settings, the method and the run's outcome."""
-        c = self.crowd
-        row: dict[str, Any] = {
-            "layout": c.layout, "pedestrians": c.pedestrians, "density": c.density,
-            "seed": c.seed, "model": c.model, "react_to_robot": c.react_to_robot,
-            "method": self.method, "stabilising": self.stabilising,
-            "T_arrive_s": self.arrival_time, "d_min_m": self.min_distance,
-            "d_surface_min_m": self.min_surface_distance, "d_wall_min_m": self.min_wall_distance,
-            "entered_critical": self.entered_critical, "collided": self.collided,
-            "critical_time_s": self.critical_time, "L_energy_J_per_ohm": self.energy,
-            "slot_overflow": self.slot_overflow, "critical_overlaps": self.critical_overlaps,
-            "status": str(self.status),
-        }  # fmt: skip
-        return pd.DataFrame([row])
 
 
 # ------------------------------------------------------------------ the run
@@ -394,7 +222,8 @@ class _Run:
         self.rec_ped: list[tuple[NDArray[np.int64], Array]] = []
         self.rec_X: list[Array] = [x0[:, None]]
         self.dmin = math.inf
-        self.wmin = math.inf
+        self.wmin = self.wall_last = math.inf
+        self.wall_rows = [tuple(float(v) for v in row) for row in self.wall_frames]
         self.crit_time = 0.0
         self.energy = 0.0
         self.overflow = 0
@@ -426,7 +255,7 @@ class _Run:
         if P.shape[0]:
             self.dmin = float(np.min(np.hypot(P[:, 0] - p[0], P[:, 1] - p[1])))
         if self.walls:
-            self.wmin = _wall_distance(self.wall_frames, p[None, :])
+            self.wmin = self.wall_last = _wall_distance(self.wall_frames, p[None, :])
 
     # ---------------------------------------------------------------- period
     def sense(self) -> tuple[Array, Array, Array]:
@@ -484,7 +313,7 @@ class _Run:
         upto = int(hit[0]) + 1 if hit.size else s.n_sub
         self._pedestrian_distances(pts[:upto])
         if self.walls:
-            self.wmin = min(self.wmin, _wall_distance(self.wall_frames, pts[:upto]))
+            self._wall_distances(pts[:upto])
         self.energy += float(self.step.out[1][:upto].sum()) * s.dt
         if not self.left_area and not shapely.contains_xy(self.area, pts[-1, 0], pts[-1, 1]):
             self.left_area = k * s.n_sub * s.dt + s.n_sub * s.dt
@@ -493,6 +322,17 @@ class _Run:
             self.arrival = (k * s.n_sub + upto) * s.dt
             return True
         return False
+
+    def _wall_distances(self, pts: Array) -> None:
+        """The running minimum of the distances to the walls' contours: at every dynamics step
+        when a wall may come within its active distance r2 + V_mr T_s during the period, at the
+        period's ends otherwise (every critical-region entry and collision is seen)."""
+        start = self.wall_last
+        self.wall_last = _wall_distance_point(self.wall_rows, float(pts[-1, 0]), float(pts[-1, 1]))
+        if start - self.s.crowd.robot.max_speed * self.s.crowd.sample_time > self.w2:
+            self.wmin = min(self.wmin, start, self.wall_last)
+        else:
+            self.wmin = min(self.wmin, _wall_distance(self.wall_frames, pts))
 
     def _pedestrian_distances(self, pts: Array) -> None:
         """The running minimum of the centre distances to the pedestrians.
@@ -521,6 +361,17 @@ class _Run:
         d = np.hypot(Ps[:, :, 0] - pts[:, None, 0], Ps[:, :, 1] - pts[:, None, 1])
         if not np.isnan(d).all():
             self.dmin = min(self.dmin, float(np.nanmin(d)))
+
+
+def _wall_distance_point(walls: list[tuple[float, ...]], x: float, y: float) -> float:
+    """The contour distance from one point to the nearest wall (plain floats: a few walls)."""
+    best = math.inf
+    for cx, cy, c, s, hl, hw in walls:
+        rx, ry = x - cx, y - cy
+        dx = max(abs(c * rx + s * ry) - hl, 0.0)
+        dy = max(abs(-s * rx + c * ry) - hw, 0.0)
+        best = min(best, math.hypot(dx, dy))
+    return best
 
 
 def _wall_distance(walls: Array, pts: Array) -> float:

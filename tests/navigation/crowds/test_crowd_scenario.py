@@ -125,3 +125,13 @@ def test_results_honour_the_contract_and_pickle():
     frame = peds.to_frame()
     assert set(frame.columns) == {"t_s", "pedestrian", "x_m", "y_m"}
     assert len(frame) == int((~np.isnan(peds.pedestrian_positions[:, :, 0])).sum())
+
+
+@pytest.mark.parametrize("y", [0.34, 1.2])  # near the south wall (inside r2 + V T_s), and away
+def test_wall_distance_is_exact_where_it_matters(y):
+    c = nav.crowd("corridor_counterflow", 2, length=10.0, start=(1.5, y), goal=(8.5, y),
+                  horizon=1.2, seed=9)  # fmt: skip
+    res = nav.simulate(c, nav.VFFGains(4.3, 0.68, 20.3, 240.7))
+    at_records = min(float(w.contour_distance(res.robot_positions).min()) for w in c.walls())
+    assert res.min_wall_distance <= at_records + 1e-12 or y > 1.0
+    assert res.min_wall_distance >= at_records - c.robot.max_speed * c.sample_time

@@ -112,3 +112,19 @@ def test_intersecting_critical_regions_are_counted():
     assert res.critical_overlaps == 5  # every period: both are within r2 of the robot
     apart = c.replace(paths=(pair[0], ((4.0, 8.6), (4.0, 8.6))))
     assert nav.simulate(apart, GAINS).critical_overlaps == 0
+
+
+def test_nonholonomic_robot_in_a_crowd():
+    c = nav.crowd("open_plaza", 8, width=8.0, length=8.0, seed=2, horizon=0.6,
+                  robot=nav.NonholonomicRobot())  # fmt: skip
+    res = nav.simulate(c, GAINS)
+    v = res.robot_velocities
+    speed = np.hypot(v[:, 0], v[:, 1])
+    assert speed.max() <= c.robot.max_speed + 1e-9 and speed[-1] > 0
+    step = np.diff(res.robot_positions, axis=0)  # moves along its (mean) velocity
+    mean_v = (v[1:] + v[:-1]) / 2
+    vs = np.hypot(mean_v[:, 0], mean_v[:, 1])
+    ds = np.hypot(step[:, 0], step[:, 1])
+    moving = (ds > 1e-4) & (vs > 1e-3)
+    cos = (step * mean_v).sum(axis=1)[moving] / (ds[moving] * vs[moving])
+    assert moving.sum() > 20 and cos.min() > 0.99
