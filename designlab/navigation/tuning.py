@@ -54,6 +54,7 @@ from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
 from designlab.navigation.criteria import EQUAL_WEIGHTS, check_weights
+from designlab.navigation.crowds.tuning import crowd_sets
 from designlab.navigation.methods import STABILISING, TIE_SIDE, method_of
 from designlab.navigation.parameters import GAIN, GeCuiGains, MasoudGains, VFFGains
 from designlab.navigation.scenarios import Scenario
@@ -536,6 +537,7 @@ def _compass_stage(search: _Search, ev: _Evaluator, inc: _Incumbent, sigma: floa
     return False
 
 
+@crowd_sets(DEFAULT_BOUNDS)  # a CrowdSet: crowds.tuning.optimise_crowd_gains (issue 23)
 def optimise_gains(
     scenarios: Sequence[Scenario],
     *,

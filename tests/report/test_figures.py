@@ -70,6 +70,9 @@ SMALL_STUDIES: dict[str, str] = {
     "front: {objectives: [arrival_time, foam_thickness], population: 4, generations: 1}\n"
     "speed_map: {stiffness: {num: 3}, damping: {num: 3}}\n"
     "risk: {foams: [FOAM_1], speeds: {num: 3}, samples: 1000}\n",
+    "navigation_crowds": "scenarios: [corridor_counterflow, crossing]\ndensities: [0.1, 0.2]\n"
+    "seeds: [0]\nmethods: [{method: vff}, {method: masoud}]\n"
+    "crowd: {length: 8.0, horizon: 0.5}\nanimations: false\n",
 }
 
 

@@ -81,6 +81,9 @@ BASE: dict[str, dict[str, Any]] = {
                            "generations": 1},
                  "speed_map": {"stiffness": {"num": 3}, "damping": {"num": 3}},
                  "risk": {"foams": ["FOAM_1"], "speeds": {"num": 3}, "samples": 1000}},
+    "navigation_crowds": {"scenarios": ["corridor_counterflow"], "densities": [0.1],
+                          "seeds": [0], "methods": [{"method": "vff"}],
+                          "crowd": {"length": 8.0, "horizon": 0.5}, "animations": False},
 }  # fmt: skip
 
 #: Kinds quick enough to run on every accepted example.

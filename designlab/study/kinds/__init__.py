@@ -26,6 +26,7 @@ MODULES: tuple[str, ...] = (
     "navigation_account",
     "navigation_regions",
     "navigation_planners",
+    "navigation_crowds",
     "accompanying",
     "codesign",
 )

@@ -1,0 +1,325 @@
+"""Report of a ``navigation_crowds`` study: methods among crowds, rates against density.
+
+Files: ``summary.md`` (sizes, the rates with their Wilson intervals, findings written from the
+tables, the gains for crowds and their validation), ``rates.csv`` (one row per layout, density
+and method), ``runs.csv`` (one row per run), ``rates_vs_density.png``, ``trajectories.png``
+(the representative run of each method), ``animation_representative.gif`` and
+``animation_worst_<method>.gif`` (GIFs through matplotlib's PillowWriter), and with tuning
+``tuning_history.csv`` and ``gains_validation.csv``.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+import pandas as pd
+from matplotlib.figure import Figure
+
+from designlab.navigation.crowds.animation import animate
+from designlab.report import register_writer
+from designlab.report.builder import copy_study, figure_section, report_header, warnings_section
+from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
+from designlab.study.kinds.navigation_crowds import NavigationCrowdsResult
+
+__all__ = [
+    "navigation_crowds_markdown",
+    "rates_figure",
+    "trajectories_figure",
+    "wall_polygons",
+    "write_navigation_crowds_report",
+]
+
+_RATES = (("success", "success rate"), ("collision", "collision rate"),
+          ("critical", "critical-entry rate"))  # fmt: skip
+
+
+def wall_polygons(crowd: Any) -> list[np.ndarray]:
+    """The walls of a crowd's layout as closed rectangles ``(4, 2)`` (m).
+
+    Parameters
+    ----------
+    crowd
+        A :class:`~designlab.navigation.CrowdScenario`.
+    """
+    out = []
+    for (x0, y0), (x1, y1) in crowd.geometry.walls:
+        out.append(np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]], dtype=float))
+    return out
+
+
+def rates_figure(summary: pd.DataFrame) -> Figure:
+    """Success, collision and critical-entry rates against density, one column per layout,
+    one line per method, with the Wilson intervals as error bars.
+
+    Parameters
+    ----------
+    summary
+        The study's summary (:meth:`~designlab.navigation.crowds.study.CrowdStudy.to_frame`).
+    """
+    layouts = list(dict.fromkeys(summary["scenario"]))
+    fig, axes = plt.subplots(len(_RATES), len(layouts), figsize=(4.2 * len(layouts), 7.5),
+                             squeeze=False, sharex=True, sharey=True)  # fmt: skip
+    for j, layout in enumerate(layouts):
+        sub = summary[summary["scenario"] == layout]
+        for i, (rate, name) in enumerate(_RATES):
+            ax = axes[i, j]
+            for k, (method, g) in enumerate(sub.groupby("method", sort=False)):
+                g = g.sort_values("density")
+                x = g["density"].to_numpy() * (1 + 0.02 * k)  # offset so the bars do not hide
+                y = g[f"{rate}_rate"].to_numpy()
+                err = [y - g[f"{rate}_low"].to_numpy(), g[f"{rate}_high"].to_numpy() - y]
+                ax.errorbar(x, y, yerr=err, marker="o", capsize=3, label=method)
+            ax.set_ylim(-0.05, 1.05)
+            ax.grid(alpha=0.3)
+            if j == 0:
+                ax.set_ylabel(name)
+            if i == 0:
+                ax.set_title(layout)
+            if i == len(_RATES) - 1:
+                ax.set_xlabel("density (persons/m^2)")
+    axes[0, 0].legend(fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
+def trajectories_figure(result: NavigationCrowdsResult) -> Figure:
+    """The representative run of each method: the robot's path over the pedestrians' paths.
+
+    Parameters
+    ----------
+    result
+        A ``navigation_crowds`` result.
+    """
+    runs = [(label, r) for (kind, label), r in result.tracks.items() if kind == "representative"]
+    fig, axes = plt.subplots(len(runs), 1, figsize=(8.0, 2.6 * len(runs) + 0.6), squeeze=False)
+    for ax, (label, r) in zip(axes[:, 0], runs, strict=True):
+        for poly in wall_polygons(r.crowd):
+            ax.fill(poly[:, 0], poly[:, 1], color="0.6")
+        p = r.pedestrian_positions
+        for i in range(p.shape[1]):
+            ax.plot(p[:, i, 0], p[:, i, 1], color="tab:orange", lw=0.6, alpha=0.5)
+        ax.plot(r.robot_positions[:, 0], r.robot_positions[:, 1], color="tab:blue", lw=2)
+        ax.plot(*r.crowd.robot_goal, "x", color="green", ms=9, mew=2)
+        ax.set_aspect("equal")
+        ax.set_title(f"{label}: {r.crowd.layout}, {_density(r)}, seed {r.crowd.seed}, "
+                     f"{_outcome(r)}", fontsize=9)  # fmt: skip
+    axes[-1, 0].set_xlabel("x (m)")
+    fig.tight_layout()
+    return fig
+
+
+def _density(r: Any) -> str:
+    return (
+        f"{r.crowd.density:g}/m^2"
+        if r.crowd.density is not None
+        else f"{r.crowd.pedestrians} people"
+    )
+
+
+def _outcome(r: Any) -> str:
+    if r.collided:
+        return "collision"
+    return f"arrived at {r.arrival_time:.1f} s" if math.isfinite(r.arrival_time) else "timeout"
+
+
+def _ci(row: pd.Series, rate: str) -> str:
+    v, lo, hi = row[f"{rate}_rate"], row[f"{rate}_low"], row[f"{rate}_high"]
+    return "n/a" if not math.isfinite(v) else f"{v:.2f} [{lo:.2f}, {hi:.2f}]"
+
+
+def rates_table(summary: pd.DataFrame) -> pd.DataFrame:
+    """The summary as shown: rates with their intervals, time to goal, clearance, delay.
+
+    Parameters
+    ----------
+    summary
+        The study's summary.
+    """
+    rows = []
+    clear = ("clearance_min_m", "clearance_p05_m", "clearance_median_m")
+    for _, r in summary.iterrows():
+        row = {"layout": r["scenario"], "density (1/m^2)": f"{r['density']:g}",
+               "method": r["method"], "runs": int(r["runs"])}  # fmt: skip
+        for rate, name in (("success", "success"), ("collision", "collision"),
+                           ("critical", "critical entry"), ("timeout", "timeout")):  # fmt: skip
+            row[name] = _ci(r, rate)
+        row["time to goal (s)"] = _num(r["time_to_goal_mean_s"])
+        row["clearance min / p5 / median (m)"] = " / ".join(_num(r[c]) for c in clear)
+        row["personal space (s)"] = _num(r["personal_space_mean_s"])
+        row["ped. delay (s)"] = _num(r["ped_delay_mean_s"])
+        row["ped. deviation (m)"] = _num(r["ped_deviation_mean_m"])
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def _num(x: float) -> str:
+    return "n/a" if not math.isfinite(float(x)) else f"{float(x):.2f}"
+
+
+def findings(summary: pd.DataFrame) -> list[str]:
+    """Sentences computed from the summary: the best and worst method per rate over all runs.
+
+    Parameters
+    ----------
+    summary
+        The study's summary.
+    """
+    out = []
+    per = summary.assign(s=summary["success_rate"] * summary["runs"],
+                         c=summary["collision_rate"] * summary["runs"],
+                         k=summary["critical_rate"] * summary["runs"])  # fmt: skip
+    tot = per.groupby("method", sort=False)[["runs", "s", "c", "k"]].sum()
+    for method, r in tot.iterrows():
+        out.append(f"- {method}: {int(r.s)} of {int(r.runs)} runs arrived, {int(r.c)} collided, "
+                   f"{int(r.k)} entered a critical region.")  # fmt: skip
+    worst = summary.sort_values(["collision_rate", "success_rate"], ascending=[False, True]).iloc[0]
+    out.append(f"- Hardest cell: {worst['method']} in {worst['scenario']} at "
+               f"{worst['density']:g}/m^2 (success {_ci(worst, 'success')}, collision "
+               f"{_ci(worst, 'collision')}).")  # fmt: skip
+    return out
+
+
+def _tuning_lines(result: NavigationCrowdsResult) -> list[str]:
+    opt, val = result.tuning, result.validation
+    if opt is None or val is None:
+        return []
+    t = result.study.tuning
+    g = opt.gains
+    out = [
+        "## Gains for crowds", "",
+        f"CMA-ES over log-gains in the thesis's box, {t.popsize} candidates x {t.generations} "
+        f"generations = {opt.evaluations} gain sets, each on "
+        f"{len(t.training.scenarios)} layout(s) x "
+        f"{len(t.training.densities)} density(ies) x {len(t.training.seeds)} seed(s) "
+        f"(training densities {t.training.densities}, seeds {t.training.seeds}); cost: "
+        f"{opt.robust}{f' (alpha {opt.alpha:g})' if opt.robust == 'cvar' else ''} of the arrival "
+        "times (twice the horizon for a run that did not arrive); rates kept: collision <= "
+        f"{opt.collision_bound:g}, critical entry <= {opt.critical_bound:g}. "
+        f"Status: {opt.status}.", "",
+        f"{'Optimum' if opt.status == 'ok' else 'Least-violating gains (not an optimum)'}: "
+        f"K1 = {g.k1:.3g}, b = {g.b:.3g}, K3 = {g.k3:.3g}, K5 = {g.k5:.3g} "
+        f"(cost {opt.cost:.2f} s, training collision rate {opt.collision_rate:.2f}, critical "
+        f"{opt.critical_rate:.2f}).", "",
+        f"Validation on crowds sharing no seed and no density with the training set (densities "
+        f"{t.validation.densities}, seeds {t.validation.seeds}):", "",
+        markdown_table(rates_table(val.to_frame())), "",
+    ]  # fmt: skip
+    return out
+
+
+def navigation_crowds_markdown(result: NavigationCrowdsResult, *, command: str | None = None,
+                               version: str | None = None) -> str:  # fmt: skip
+    """The report's text: sizes, rates with intervals, findings, gains, figures.
+
+    Parameters
+    ----------
+    result
+        A ``navigation_crowds`` result.
+    command, version
+        The command line and the designlab version (provenance).
+    """
+    st = result.study
+    summary = result.to_frame()
+    out = report_header(f"Navigation among crowds: {st.name}", st.description, command=command,
+                        version=version)  # fmt: skip
+    c = st.crowd
+    out += [
+        "## What was simulated", "",
+        f"{st.size()}: layouts {st.scenarios}, densities {st.densities} persons/m^2, "
+        f"seeds {st.seeds}, methods {[m.label for m in st.methods]} (VFF stabilising force: "
+        f"{st.stabilising}). Pedestrians: JuPedSim's {c.model}, "
+        f"{'avoiding' if c.react_to_robot else 'ignoring'} the robot, {c.width:g} m x "
+        f"{c.length:g} m layouts, horizon {c.horizon:g} s. Rates are counted over runs; "
+        f"intervals are {st.confidence:.0%} Wilson intervals. Personal space: "
+        f"{st.personal_space:g} m around a pedestrian's centre (Hall's personal distance). "
+        "Outcomes are exclusive: collision, else success (arrived), else timeout.", "",
+        "## Rates, times and clearances", "",
+        markdown_table(rates_table(summary)), "",
+        "## Findings (computed from the table above)", "",
+        *findings(summary), "",
+    ]  # fmt: skip
+    out += _tuning_lines(result)
+    out += warnings_section(result.warnings, none="None.")
+    figs = [("rates against density", "rates_vs_density.png"),
+            ("representative runs", "trajectories.png")]  # fmt: skip
+    if st.animations:
+        shown = {f"animation_worst_{k[1].replace(':', '_')}.gif" for k in result.tracks}
+        shown.add("animation_representative.gif")
+        figs += [(f"animation: {n}", f) for n, f in _animations(result) if f in shown]
+    out += figure_section(figs, title="Figures and animations")
+    return "\n".join(out)
+
+
+def _animations(result: NavigationCrowdsResult) -> list[tuple[str, str]]:
+    """(caption, file) of each GIF: the representative run of the first method, the worst run
+    of every method."""
+    labels = [m.label for m in result.study.methods]
+    out = [(f"representative run of {labels[0]}", "animation_representative.gif")]
+    out += [(f"worst run of {m}", f"animation_worst_{m.replace(':', '_')}.gif") for m in labels]
+    return out
+
+
+def _write_gifs(result: NavigationCrowdsResult, directory: Path) -> list[Path]:
+    written = []
+    labels = [m.label for m in result.study.methods]
+    keys = [("representative", labels[0])] + [("worst", m) for m in labels]
+    for (caption, name), key in zip(_animations(result), keys, strict=True):
+        r = result.tracks.get(key)
+        if r is None:  # every run of the method failed (said in the warnings)
+            continue
+        written.append(animate(r.times, r.robot_positions, r.pedestrian_positions,
+                               directory / name, goal=r.crowd.robot_goal,
+                               walls=wall_polygons(r.crowd),
+                               robot_radius=r.crowd.robot.radius,
+                               person_radius=r.crowd.pedestrian_radius,
+                               title=f"{caption}: {_outcome(r)}", max_frames=80))  # fmt: skip
+    return written
+
+
+@register_writer(NavigationCrowdsResult)
+def write_navigation_crowds_report(
+    result: NavigationCrowdsResult,
+    directory: Path,
+    *,
+    command: str | None = None,
+    version: str | None = None,
+    study_text: str | None = None,
+) -> list[Path]:
+    """Write the files listed in the module text.
+
+    Parameters
+    ----------
+    result
+        A ``navigation_crowds`` result.
+    directory
+        The (new, empty) report directory.
+    command
+        The command line that produced the result.
+    version
+        The designlab version.
+    study_text
+        The study file's text, copied as ``study.yaml``.
+    """
+    summary = result.to_frame()
+    written = [write_csv(summary, directory / "rates.csv"),
+               write_csv(result.crowds.runs, directory / "runs.csv")]  # fmt: skip
+    if result.tuning is not None and result.validation is not None:
+        written.append(write_csv(result.tuning.to_frame(), directory / "tuning_history.csv"))
+        written.append(write_csv(result.validation.to_frame(), directory / "gains_validation.csv"))
+    for fig, name in ((rates_figure(summary), "rates_vs_density.png"),
+                      (trajectories_figure(result), "trajectories.png")):  # fmt: skip
+        written.append(write_png(fig, directory / name))
+        plt.close(fig)
+    if result.study.animations:
+        written += _write_gifs(result, directory)
+    text = navigation_crowds_markdown(result, command=command, version=version)
+    written.append(write_markdown(text, directory / "summary.md"))
+    written += copy_study(directory, study_text)
+    return written
