@@ -349,3 +349,15 @@ def test_the_old_kind_names_are_still_read(old: str) -> None:
     with pytest.warns(DeprecationWarning, match=old):
         study = parse_study(texts[old].replace(f"kind: {new}", f"kind: {old}"))
     assert study.kind == new
+
+
+@given(gap=st.floats(min_value=0.0, max_value=0.05))
+@settings(max_examples=20, deadline=None)
+def test_an_active_region_inside_contact_is_refused_naming_r2(gap: float) -> None:
+    # r2 at or below radius + robot radius leaves no clearance to score (was a ZeroDivisionError)
+    nav = dl.navigation
+    robot = nav.HolonomicRobot()
+    r2 = 0.2 + robot.radius - gap
+    human = nav.Disc(name="h", radius=0.2, r2=r2, r3=r2 / 2, motion=nav.Stationary((2.0, 1.0)))
+    with pytest.raises(InvalidParameterError, match=r"Disc\.r2.*contact distance"):
+        nav.Scenario(name="x", start=(0.0, 0.0), goal=(5.0, 0.0), obstacles=(human,), robot=robot)
