@@ -51,6 +51,7 @@ NO_JIT_ENV = "DESIGNLAB_NO_JIT"
 
 #: the modules (relative to the package) whose functions are compiled by :func:`kernel`
 KERNEL_MODULES = (
+    "analysis/lhs_kernel.py",
     "impact/kernel.py",
     "impact/kernel_lobe.py",
     "impact/kernel_modal.py",
