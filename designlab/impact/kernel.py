@@ -27,7 +27,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from designlab.impact.kernel_lobe import lobe_end, maximum, scratch
+from designlab.impact.kernel_lobe import lobe_end, maximum_on_nodes, node_count, scratch
+from designlab.impact.kernel_modal import exponentials
 from designlab.impact.kernel_poles import coefficients, modal_solution, quartic_roots, separate
 from designlab.sx.jit import AVAILABLE, kernel
 
@@ -64,9 +65,11 @@ def _design(p, r, c, nk, h, outputs, lobe, window, max_steps, diag, row, work): 
         h = min(h, window / 64.0)
     row[3] = t_imp
     status = 0
+    count = node_count(t_imp, 3.0 * h)
+    exponentials(p, nk, t_imp, count, work[2])  # shared by the outputs
     for o in range(3):
         if outputs[o]:
-            t, y = maximum(p, r, c, o, nk, t_imp, 3.0 * h, work)
+            t, y = maximum_on_nodes(p, r, c, o, nk, t_imp, count, work)
             row[_COL[o][0]], row[_COL[o][1]] = y, t
             if o == 1 and t <= 0.0:
                 status = 2

@@ -41,18 +41,19 @@ import numpy as np
 from designlab.impact.kernel_modal import (
     cell_bound,
     curvature,
+    exponentials,
     grid,
     jerk,
+    mag,
     newton,
     noise,
     shape,
     stable,
-    triple,
     value,
 )
 from designlab.sx.jit import kernel
 
-__all__ = ["crossing", "lobe_end", "march", "maximum", "scratch"]
+__all__ = ["crossing", "lobe_end", "march", "maximum", "maximum_on_nodes", "node_count", "scratch"]
 
 LOW_FRACTION = 0.05
 #: Newton on y' stops after a step below this (relative): the quadratic convergence leaves
@@ -69,10 +70,11 @@ _TL, _TR, _YL, _YR, _DL, _DR, _QL, _QR, _LEVEL, _M2L, _M3L, _M2R, _M3R = range(1
 
 @kernel
 def scratch():  # type: ignore[no-untyped-def]
-    """Work arrays of one block: six node arrays (:func:`.kernel_modal.grid`) and the stack."""
+    """Work arrays of one block: six node arrays (:func:`.kernel_modal.grid`), the stack
+    and the nodes' exponentials (:func:`.kernel_modal.exponentials`, at most 5 poles)."""
     n = MAX_CELLS + 2
     nodes = (np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n))
-    return nodes, np.empty((_STACK, 13))
+    return nodes, np.empty((_STACK, 13)), np.empty((n, 5), dtype=np.complex128)
 
 
 @kernel
@@ -144,24 +146,48 @@ def _push_grid(stack, nodes, j):  # type: ignore[no-untyped-def]
 
 @kernel(inline=True)
 def _split(p, r, c, o, nk, stack, n):  # type: ignore[no-untyped-def]
-    """Replace the cell ``stack[n]`` by its PARTS sub-cells (earliest on top); new size."""
+    """Replace the cell ``stack[n]`` by its PARTS sub-cells (earliest on top); new size.
+
+    The sub-nodes come by recurrence from ``exp(p_k tl)`` and ``exp(p_k w / PARTS)``
+    (two exponentials per pole); the right end keeps its values.
+    """
     tl, tr, level = stack[n, _TL], stack[n, _TR], stack[n, _LEVEL] + 1.0
     yl, dl, ql, al, bl = stack[n, _YL], stack[n, _DL], stack[n, _QL], stack[n, _M2L], stack[n, _M3L]
     yr, dr, qr, ar, br = stack[n, _YR], stack[n, _DR], stack[n, _QR], stack[n, _M2R], stack[n, _M3R]
+    for i in range(PARTS - 1):  # the interior nodes' values, into the rows they end
+        b = tl + (tr - tl) * ((i + 1) / PARTS)
+        row = n + PARTS - 1 - i
+        stack[row, _TR], stack[row, _LEVEL] = b, level
+        stack[row, _YR] = c[o, 0] * b + c[o, 1]
+        stack[row, _DR] = c[o, 0]
+        stack[row, _QR], stack[row, _M2R], stack[row, _M3R] = 0.0, 0.0, 0.0
+    dt = (tr - tl) / PARTS
+    for k in range(nk):
+        pk = p[k]
+        a = mag(pk)
+        z = cmath.exp(pk * dt)
+        e = r[o, k] * cmath.exp(pk * tl)
+        for i in range(PARTS - 1):
+            e = e * z
+            row = n + PARTS - 1 - i
+            ep = e * pk
+            g = mag(e) * a * a
+            stack[row, _YR] += e.real
+            stack[row, _DR] += ep.real
+            stack[row, _QR] += (ep * pk).real
+            stack[row, _M2R] += g
+            stack[row, _M3R] += g * a
     for i in range(PARTS):
         row = n + PARTS - 1 - i
-        a = tl + (tr - tl) * (i / PARTS)
         if i == PARTS - 1:
-            b, y, d, q, m2, m3 = tr, yr, dr, qr, ar, br
-        else:
-            b = tl + (tr - tl) * ((i + 1) / PARTS)
-            y, d, q, m2, m3 = triple(p, r, c, o, nk, b)
-        stack[row, _TL], stack[row, _TR], stack[row, _LEVEL] = a, b, level
+            stack[row, _TR], stack[row, _LEVEL] = tr, level
+            stack[row, _YR], stack[row, _DR], stack[row, _QR] = yr, dr, qr
+            stack[row, _M2R], stack[row, _M3R] = ar, br
+        stack[row, _TL] = tl + (tr - tl) * (i / PARTS)
         stack[row, _YL], stack[row, _DL], stack[row, _QL] = yl, dl, ql
         stack[row, _M2L], stack[row, _M3L] = al, bl
-        stack[row, _YR], stack[row, _DR], stack[row, _QR] = y, d, q
-        stack[row, _M2R], stack[row, _M3R] = m2, m3
-        yl, dl, ql, al, bl = y, d, q, m2, m3
+        yl, dl, ql = stack[row, _YR], stack[row, _DR], stack[row, _QR]
+        al, bl = stack[row, _M2R], stack[row, _M3R]
     return n + PARTS
 
 
@@ -182,10 +208,11 @@ def crossing(p, r, c, o, nk, hi, h, levels, work):  # type: ignore[no-untyped-de
     cells of width <= h in time order: a local minimum between positive nodes is
     solved by Newton on -y'; a cell that may dip to zero otherwise is split.
     """
-    nodes, stack = work
+    nodes, stack, ex = work
     steady = stable(p, nk)
     count = min(max(int(math.ceil(hi / h)), 1), MAX_CELLS)  # noqa: RUF046 (numba)
-    grid(p, r, c, o, nk, 0.0, hi, count, nodes)
+    exponentials(p, nk, hi, count, ex)
+    grid(p, r, c, o, nk, hi, count, ex, nodes)
     lo_b = nodes[0][count - 1]
     hi_b = hi
     for j in range(count):
@@ -203,7 +230,7 @@ def crossing(p, r, c, o, nk, hi, h, levels, work):  # type: ignore[no-untyped-de
             w = tr - tl
             if dl < 0 and dr >= 0:
                 g = tl + w * dl / (dl - dr)
-                tm = newton(p, r, c, o, nk, tl, tr, 1, -1.0, 60, STATIONARY_RTOL, g)
+                tm, _ = newton(p, r, c, o, nk, tl, tr, 1, -1.0, 60, STATIONARY_RTOL, g)
                 if tm < hi_b and _below(p, r, c, o, nk, tm, value(p, r, c, o, nk, tm)):
                     lo_b, hi_b = tl, tm
             m2, m3 = _scales(p, r, o, nk, stack, n, steady)
@@ -225,14 +252,15 @@ def lobe_end(p, r, c, o, nk, h, max_steps, diag, work):  # type: ignore[no-untyp
         return np.nan, t_low
     lo_c, hi_c = crossing(p, r, c, o, nk, hi, h, 6, work)
     g = 0.5 * (lo_c + hi_c) if hi_c < hi else guess
-    return newton(p, r, c, o, nk, lo_c, hi_c, 0, 1.0, 60, 1e-11, g), t_low
+    return newton(p, r, c, o, nk, lo_c, hi_c, 0, 1.0, 60, 1e-11, g)[0], t_low
 
 
 @kernel(inline=True)
 def _stationary(p, r, c, o, nk, tl, tr, dl, dr):  # type: ignore[no-untyped-def]
     """``(t, y)`` of the maximum where y' goes from + at tl to - at tr (secant start)."""
-    t = newton(p, r, c, o, nk, tl, tr, 1, 1.0, 60, STATIONARY_RTOL, tl + (tr - tl) * dl / (dl - dr))
-    return t, value(p, r, c, o, nk, t)
+    return newton(
+        p, r, c, o, nk, tl, tr, 1, 1.0, 60, STATIONARY_RTOL, tl + (tr - tl) * dl / (dl - dr)
+    )
 
 
 @kernel
@@ -242,11 +270,24 @@ def maximum(p, r, c, o, nk, hi, w, work):  # type: ignore[no-untyped-def]
     :func:`designlab.impact.modal.certified_maximum` depth first: cells of width
     <= w; every node and every stationary maximum (Newton on y') is a candidate.
     """
-    nodes, stack = work
+    count = node_count(hi, w)
+    exponentials(p, nk, hi, count, work[2])
+    return maximum_on_nodes(p, r, c, o, nk, hi, count, work)
+
+
+@kernel(inline=True)
+def node_count(hi, w):  # type: ignore[no-untyped-def]
+    """Cells of width <= w over ``[0, hi]`` (at most :data:`MAX_CELLS`)."""
+    return min(max(int(math.ceil(hi / w)), 1), MAX_CELLS)  # noqa: RUF046 (numba)
+
+
+@kernel
+def maximum_on_nodes(p, r, c, o, nk, hi, count, work):  # type: ignore[no-untyped-def]
+    """:func:`maximum` once the nodes' exponentials are in ``work`` (shared by the outputs)."""
+    nodes, stack, ex = work
     ts, ys, ds = nodes[0], nodes[1], nodes[2]
     steady = stable(p, nk)
-    count = min(max(int(math.ceil(hi / w)), 1), MAX_CELLS)  # noqa: RUF046 (numba)
-    grid(p, r, c, o, nk, 0.0, hi, count, nodes)
+    grid(p, r, c, o, nk, hi, count, ex, nodes)
     bt, by = 0.0, -np.inf
     for j in range(count + 1):
         if ys[j] > by:

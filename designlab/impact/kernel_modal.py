@@ -26,8 +26,8 @@ import numpy as np
 from designlab.sx.jit import kernel
 
 __all__ = [
-    "NOISE", "cell_bound", "curvature", "grid", "jerk", "mag", "newton", "noise", "pair", "shape",
-    "stable", "triple", "value",
+    "NOISE", "cell_bound", "curvature", "derivatives", "exponentials", "grid", "jerk", "mag",
+    "newton", "noise", "pair", "shape", "stable", "triple", "value",
 ]  # fmt: skip
 
 #: a value y(t) is provably negative when y < -NOISE * (sum of the magnitudes of its terms)
@@ -134,32 +134,69 @@ def shape(ddl, ddr, m3, w):  # type: ignore[no-untyped-def]
 
 
 @kernel(inline=True)
-def newton(p, r, c, o, nk, lo, hi, order, sign, iterations, rtol, guess):  # type: ignore[no-untyped-def]
-    """Root of ``sign * y^(order)`` in ``[lo, hi]`` (``+`` at lo, ``-`` at hi), safeguarded.
+def derivatives(p, r, c, o, nk, t):  # type: ignore[no-untyped-def]
+    """Output ``o`` and its first three derivatives at ``t`` (one exponential per pole)."""
+    y = c[o, 0] * t + c[o, 1]
+    d1 = c[o, 0]
+    d2 = 0.0
+    d3 = 0.0
+    for k in range(nk):
+        pk = p[k]
+        e = r[o, k] * cmath.exp(pk * t)
+        y += e.real
+        e = e * pk
+        d1 += e.real
+        e = e * pk
+        d2 += e.real
+        d3 += (e * pk).real
+    return y, d1, d2, d3
 
-    The iteration of :func:`designlab.impact.modal._safeguarded_newton`: Newton
-    steps that leave the bracket become bisections.
+
+@kernel(inline=True)
+def newton(p, r, c, o, nk, lo, hi, order, sign, iterations, rtol, guess):  # type: ignore[no-untyped-def]
+    """Root ``t`` of ``sign * y^(order)`` in ``[lo, hi]`` (``+`` at lo, ``-`` at hi) and ``y(t)``.
+
+    The safeguarded iteration of :func:`designlab.impact.modal._safeguarded_newton`
+    with Halley's step (the derivatives come with the same exponentials): steps
+    that leave the bracket become bisections. It stops when a step is below
+    ``rtol |t|``, or earlier when two successive Halley steps show cubic
+    convergence and predict the next step below 1e-14 |t|. ``y(t)``
+    is the third-order Taylor value from the last evaluation (its error is of
+    the fourth order in the last step).
     """
     t = min(max(guess, lo), hi)
+    width = hi - lo
+    prev = np.inf
     for _ in range(iterations):
-        y, dy = pair(p, r, c, o, nk, t, order)
-        y *= sign
-        dy *= sign
-        if y > 0:
+        y, d1, d2, d3 = derivatives(p, r, c, o, nk, t)
+        if order == 0:
+            f, g, q = sign * y, sign * d1, sign * d2
+        else:
+            f, g, q = sign * d1, sign * d2, sign * d3
+        if f > 0:
             lo = t
         else:
             hi = t
-        tn = t - y / dy
+        s = -2.0 * f * g / (2.0 * g * g - f * q)
+        if not np.isfinite(s) or s * g * f > 0:
+            s = -f / g
         tol = rtol * abs(t) + 1e-300
-        done = abs(tn - t) <= tol or hi - lo <= tol or y == 0
-        if not done and (not np.isfinite(tn) or tn <= lo or tn >= hi):
-            tn = 0.5 * (lo + hi)
-        if done and not np.isfinite(tn):
-            tn = t
-        t = tn
+        a = abs(s)
+        done = a <= tol or hi - lo <= tol or f == 0
+        if not done and prev < np.inf and a <= 1e-3 * width and a <= 1e-2 * prev:
+            done = a * (a / prev) ** 3 <= 1e-14 * abs(t)  # the next step, at cubic convergence
+        if not np.isfinite(s):
+            s = 0.0
+        tn = t + s
         if done:
-            break
-    return t
+            return tn, y + s * (d1 + s * (0.5 * d2 + s * d3 / 6.0))
+        if tn <= lo or tn >= hi:
+            tn = 0.5 * (lo + hi)
+            prev = np.inf
+        else:
+            prev = a
+        t = tn
+    return t, value(p, r, c, o, nk, t)
 
 
 @kernel(inline=True)
@@ -177,39 +214,51 @@ def cell_bound(yl, yr, dl, dr, w, m):  # type: ignore[no-untyped-def]
 
 
 @kernel(inline=True)
-def grid(p, r, c, o, nk, lo, hi, count, work):  # type: ignore[no-untyped-def]
-    """Nodes ``lo + (hi - lo) j / count`` (j = 0..count) into ``work``.
+def exponentials(p, nk, hi, count, ex):  # type: ignore[no-untyped-def]
+    """``exp(p_k t_j)`` at the nodes ``t_j = hi j / count`` (j = 0..count) into ``ex[j, k]``.
+
+    By recurrence from ``exp(p_k hi / count)``; the last node is evaluated directly.
+    Shared by every output of a design (they have the same poles).
+    """
+    w = hi / count
+    for k in range(nk):
+        z = cmath.exp(p[k] * w)
+        e = 1.0 + 0j
+        for j in range(count):
+            ex[j, k] = e
+            e = e * z
+        ex[count, k] = cmath.exp(p[k] * hi)
+
+
+@kernel(inline=True)
+def grid(p, r, c, o, nk, hi, count, ex, work):  # type: ignore[no-untyped-def]
+    """Nodes ``hi j / count`` (j = 0..count) of output ``o`` into ``work``.
 
     Times, values, first and second derivatives and the scales of :func:`triple`
-    (exponentials by recurrence); the last node is ``hi`` exactly, evaluated directly.
+    from the exponentials ``ex`` (:func:`exponentials`); the last node is ``hi``.
     """
     ts, ys, ds, qs, m2s, m3s = work[0], work[1], work[2], work[3], work[4], work[5]
-    w = (hi - lo) / count
     for j in range(count + 1):
-        ts[j] = lo + (hi - lo) * (j / count)
+        ts[j] = hi * (j / count)
         ys[j] = c[o, 0] * ts[j] + c[o, 1]
         ds[j] = c[o, 0]
         qs[j] = 0.0
         m2s[j] = 0.0
         m3s[j] = 0.0
     for k in range(nk):
-        z = cmath.exp(p[k] * w)
-        e = r[o, k] * cmath.exp(p[k] * lo)
         pk = p[k]
+        rk = r[o, k]
         a = mag(pk)
-        gz = math.exp(pk.real * w)
-        g = mag(e) * a * a
-        for j in range(count):
+        g = mag(rk) * a * a
+        for j in range(count + 1):
+            e = rk * ex[j, k]
             ys[j] += e.real
             ep = e * pk
             ds[j] += ep.real
             qs[j] += (ep * pk).real
-            m2s[j] += g
-            m3s[j] += g * a
-            e = e * z
-            g = g * gz
-    ts[count] = hi
-    ys[count], ds[count], qs[count], m2s[count], m3s[count] = triple(p, r, c, o, nk, hi)
+            gj = g * mag(ex[j, k])
+            m2s[j] += gj
+            m3s[j] += gj * a
 
 
 @kernel(inline=True)

@@ -8,6 +8,13 @@ designlab cache directory (:func:`designlab.sx.cache.cache_dir`:
 lanes, so worker processes and later runs load the machine code instead of
 compiling it again. ``NUMBA_CACHE_DIR``, if set, wins.
 
+numba checks only the file that defines a cached function, not the files of
+the functions it calls (inlined into it): a kernel whose helper in another
+module changed would load stale machine code. The cache therefore lives in a
+subdirectory named by a hash of every module that defines kernels
+(:data:`KERNEL_MODULES`, :func:`sources_key`): changing any of them compiles
+afresh.
+
 Where numba is not installed (or ``DESIGNLAB_NO_JIT`` is set to a non-empty
 value) :data:`AVAILABLE` is False and :func:`kernel` returns the Python function
 unchanged: callers check :data:`AVAILABLE`, keep their numpy path and say so once
@@ -18,28 +25,76 @@ Examples
 >>> from designlab.impact.kernel_modal import shape
 >>> shape(-1.0, -2.0, 1.0, 1.0)        # y'' < 0 on a cell of width 1 with |y'''| <= 1
 -1
->>> isinstance(AVAILABLE, bool) and jit_cache_dir().endswith("numba")
+>>> isinstance(AVAILABLE, bool) and jit_cache_dir().endswith(sources_key())
 True
 """
 
 from __future__ import annotations
 
+import hashlib
 import logging
 import os
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 from designlab.sx.cache import cache_dir, say_once
 
-__all__ = ["AVAILABLE", "NO_JIT_ENV", "jit_cache_dir", "kernel", "reason", "say_no_jit"]
+__all__ = [
+    "AVAILABLE", "KERNEL_MODULES", "NO_JIT_ENV", "jit_cache_dir", "kernel", "reason",
+    "say_no_jit", "sources_key",
+]  # fmt: skip
 
 #: Set to a non-empty value to disable the compiled kernels (numpy paths only).
 NO_JIT_ENV = "DESIGNLAB_NO_JIT"
 
 
+#: the modules (relative to the package) whose functions are compiled by :func:`kernel`
+KERNEL_MODULES = (
+    "analysis/lhs_kernel.py",
+    "impact/kernel.py",
+    "impact/kernel_lobe.py",
+    "impact/kernel_modal.py",
+    "impact/kernel_poles.py",
+    "sx/jit.py",
+)
+
+
+def sources_key(root: Path | None = None) -> str:
+    """Hash (16 hex digits) of the :data:`KERNEL_MODULES` sources under ``root``.
+
+    Parameters
+    ----------
+    root
+        The package directory (default: this installation's ``designlab/``).
+
+    Returns
+    -------
+    str
+        Changes whenever one of the kernel modules changes.
+
+    Examples
+    --------
+    >>> len(sources_key())
+    16
+    """
+    base = Path(__file__).resolve().parent.parent if root is None else Path(root)
+    digest = hashlib.sha256()
+    for rel in KERNEL_MODULES:
+        digest.update(rel.encode())
+        try:
+            digest.update((base / rel).read_bytes())
+        except OSError:
+            digest.update(b"missing")
+    return digest.hexdigest()[:16]
+
+
 def jit_cache_dir() -> str:
-    """Where numba stores compiled kernels: ``$NUMBA_CACHE_DIR`` or ``<cache_dir>/numba``."""
-    return os.environ.get("NUMBA_CACHE_DIR") or str(cache_dir() / "numba")
+    """Where numba stores compiled kernels.
+
+    ``$NUMBA_CACHE_DIR``, else ``<cache_dir>/numba/<sources_key()>``.
+    """
+    return os.environ.get("NUMBA_CACHE_DIR") or str(cache_dir() / "numba" / sources_key())
 
 
 def _load() -> tuple[Any, str]:

@@ -10,6 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.stats import qmc
 
+from designlab.analysis import lhs_kernel
 from designlab.analysis.points import ArrayPoints, ConcatPoints
 from designlab.analysis.sampling import (
     GridPoints,
@@ -38,6 +39,20 @@ def test_latin_hypercube_has_one_point_per_stratum_in_every_chunking(n, d, seed,
     parts = [src.take(0, s), src.take(s, n)]
     for k in names:
         assert np.array_equal(np.concatenate([p[k] for p in parts]), whole[k])
+
+
+@pytest.mark.skipif(not lhs_kernel.AVAILABLE, reason="compiled kernels unavailable")
+@settings(max_examples=30, deadline=None)
+@given(n=st.integers(1, 5000), seed=st.integers(0, 2**64 - 1), start=st.floats(0.0, 1.0))
+def test_compiled_latin_hypercube_equals_the_numpy_path_bit_for_bit(n, seed, start):
+    src = LatinHypercubePoints({"a": (1.0, 9.0), "b": (1e3, 1e5)}, n, seed=seed, log={"b": True})
+    lo = round(start * n)
+    fast = src.take(lo, n)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(lhs_kernel, "AVAILABLE", False)
+        slow = src.take(lo, n)
+    for k in fast:
+        assert np.array_equal(fast[k], slow[k])
 
 
 def test_latin_hypercube_is_seeded_scaled_and_uncorrelated():

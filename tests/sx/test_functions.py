@@ -58,7 +58,7 @@ def test_damaged_entry_is_rebuilt(tmp_path: Path, _private_cache: Path) -> None:
 
 @pytest.mark.skipif(not jit.AVAILABLE, reason=f"no compiled kernels: {jit.reason()}")
 def test_compiled_kernels_are_cached_under_the_designlab_cache(_private_cache: Path) -> None:
-    """A fresh process compiles into <cache>/numba; numba's index files are stored there."""
+    """A fresh process compiles into <cache>/numba/<sources key>; numba's index files are there."""
     env = {**os.environ, "DESIGNLAB_CACHE_DIR": str(_private_cache)}
     env.pop("NUMBA_CACHE_DIR", None)
     code = (
@@ -68,5 +68,25 @@ def test_compiled_kernels_are_cached_under_the_designlab_cache(_private_cache: P
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
     assert out.returncode == 0, out.stderr
     where, value = out.stdout.splitlines()
-    assert Path(where) == _private_cache / "numba" and value == "-1"
+    assert Path(where) == _private_cache / "numba" / jit.sources_key() and value == "-1"
     assert any(Path(where).rglob("*.nbi"))
+
+
+def test_kernel_cache_is_keyed_by_every_kernel_module(tmp_path: Path) -> None:
+    """numba tracks only a function's own file: a helper changed elsewhere changes the key."""
+    package = Path(jit.__file__).resolve().parent.parent
+    users = {
+        p.relative_to(package).as_posix()
+        for p in package.rglob("*.py")
+        if "@kernel" in p.read_text(encoding="utf-8") and p.name != "jit.py"
+    }
+    assert users <= set(jit.KERNEL_MODULES)
+    for rel in jit.KERNEL_MODULES:
+        dest = tmp_path / rel
+        dest.parent.mkdir(parents=True, exist_ok=True)
+        dest.write_bytes((package / rel).read_bytes())
+    key = jit.sources_key(tmp_path)
+    assert key == jit.sources_key(package)
+    helper = tmp_path / "impact" / "kernel_modal.py"
+    helper.write_text(helper.read_text(encoding="utf-8") + "\n# changed\n", encoding="utf-8")
+    assert jit.sources_key(tmp_path) != key
