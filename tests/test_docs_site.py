@@ -165,6 +165,21 @@ def test_pages_load_nothing_from_the_network(site: Path) -> None:
         assert "fonts.googleapis" not in text
 
 
+@pytest.mark.slow
+def test_the_api_pages_link_their_cross_references(site: Path) -> None:
+    """No role is left as text anywhere on the site; the API pages hold the links."""
+    left = re.compile(r":(?:func|class|mod|meth|attr|data|obj|exc|const):<code>")
+    for page in site.rglob("*.html"):
+        text = page.read_text(encoding="utf-8")
+        assert not left.search(text), page.relative_to(site)
+    page = (site / "reference/api/designlab/impact/problem/index.html").read_text(encoding="utf-8")
+    assert re.search(r'<a class="autorefs autorefs-internal"[^>]*href="[^"]*boundaries/#', page)
+    links = 0
+    for page in (site / "reference/api").rglob("*.html"):
+        links += page.read_text(encoding="utf-8").count('class="autorefs autorefs-internal"')
+    assert links > 500
+
+
 def test_mathml_hook_converts_arithmatex_output() -> None:
     hook = load_hook("mathml")
     text = (
@@ -193,16 +208,6 @@ def load_hook(name: str):
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
-
-
-def test_roles_hook_reads_sphinx_roles_as_code() -> None:
-    hook = load_hook("roles")
-    text = "<p>:func:<code>simulate</code> and :class:<code>~designlab.impact.Foam</code></p>"
-    assert hook.strip_roles(text) == "<p><code>simulate</code> and <code>Foam</code></p>"
-    assert (
-        hook.strip_roles("<p>ratio 1:2, <code>a:b</code></p>")
-        == "<p>ratio 1:2, <code>a:b</code></p>"
-    )
 
 
 def test_griffe_extension_shows_declared_defaults() -> None:
