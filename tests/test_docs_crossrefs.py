@@ -165,7 +165,8 @@ def test_page_roles_link_full_paths_and_warn_on_broken(caplog: pytest.LogCapture
     text = (
         "A :func:`designlab.impact.foam_envelope` and :class:`~designlab.impact.HeadNeck`.\n"
         "```python\n:func:`not.touched`\n```\n"
-        ":data:`math.pi` and :func:`designlab.impact.nothing_here`."
+        ":data:`math.pi` and :func:`designlab.impact.nothing_here`.\n"
+        "Quoted: ``:func:`simulate` `` stays as written."
     )
     with caplog.at_level(logging.WARNING, logger="mkdocs.hooks.crossrefs"):
         out = hook.page_roles(text, "page.md")
@@ -175,6 +176,7 @@ def test_page_roles_link_full_paths_and_warn_on_broken(caplog: pytest.LogCapture
     ) in out
     assert ">HeadNeck</code></autoref>" in out
     assert ":func:`not.touched`" in out and "<code>math.pi</code>" in out
+    assert "``:func:`simulate` ``" in out
     assert "page.md" in caplog.text and "designlab.impact.nothing_here" in caplog.text
 
 
@@ -231,3 +233,12 @@ def test_a_broken_cross_reference_fails_the_strict_build(tmp_path: Path) -> None
     assert proc.returncode != 0
     assert "broken cross-reference :func:`solve`" in proc.stderr
     assert "badxref" in proc.stderr
+
+
+def test_rest_literal_markers_read_as_sphinx_shows_them() -> None:
+    hook = load_hook()
+    assert hook.literal_marker("Every quantity is a symbol::") == "Every quantity is a symbol:"
+    assert hook.literal_marker("    ::") == ""
+    assert hook.literal_marker("A table ::") == "A table"
+    assert hook.literal_marker("::: designlab.impact") == "::: designlab.impact"
+    assert hook.literal_marker("a::b") == "a::b"

@@ -199,6 +199,16 @@ def inherited(candidates: list[griffe.Object]) -> list[griffe.Object]:
     return candidates
 
 
+def literal_marker(line: str) -> str:
+    """A line ending in reST's ``::`` as Sphinx shows it (``a::`` -> ``a:``, ``a ::`` -> ``a``)."""
+    stripped = line.rstrip()
+    if not stripped.endswith("::") or stripped.endswith(":::"):
+        return line
+    if stripped.strip() == "::":
+        return ""
+    return stripped[:-3] if stripped.endswith(" ::") else stripped[:-1]
+
+
 def rendered(obj: griffe.Object) -> bool:
     """Whether the API pages render ``obj``: public, and a module or documented."""
     return not private(obj) and (obj.is_module or obj.has_docstring)
@@ -250,11 +260,16 @@ class CrossReferences:
         self.broken.append(f"{scope.path}: {message}")
 
     def roles(self, scope: griffe.Object, text: str) -> str:
-        """Every role of a docstring as a link (doctest lines kept as written)."""
+        """Every role of a docstring as a link (doctest lines kept as written).
+
+        A reST literal-block marker is read as Sphinx does: ``text::`` shows ``text:`` and a
+        line ``::`` alone shows nothing (the indented block after it is code either way).
+        """
         lines = []
         for line in text.split("\n"):
             if not line.lstrip().startswith((">>>", "...")):
                 line = ROLE.sub(lambda m: self.link(scope, m["text"], m["role"]), line)
+                line = literal_marker(line)
             lines.append(line)
         return "\n".join(lines)
 
@@ -315,6 +330,7 @@ def private(obj: griffe.Object) -> bool:
 
 # --------------------------------------------------------------------------- MkDocs hook
 FENCE = re.compile(r"^\s*(```|~~~)")
+DOUBLE_CODE = re.compile(r"(``.+?``)")
 LEFTOVER = re.compile(
     r":(?:py:)?(?:func|class|mod|meth|attr|data|obj|exc|const|type):<code>[^<]*</code>"
 )
@@ -347,7 +363,13 @@ def page_roles(markdown: str, where: str) -> str:
         if FENCE.match(line):
             fenced = not fenced
         elif not fenced and ":`" in line:
-            line = ROLE.sub(lambda m: page_link(m["text"], m["role"], where), line)
+            # a role quoted in a ``double-backtick`` code span is text, not a reference
+            parts = DOUBLE_CODE.split(line)
+            parts[::2] = [
+                ROLE.sub(lambda m: page_link(m["text"], m["role"], where), part)
+                for part in parts[::2]
+            ]
+            line = "".join(parts)
         lines.append(line)
     return "\n".join(lines)
 
