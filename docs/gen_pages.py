@@ -18,6 +18,7 @@ from typing import Any
 
 import mkdocs_gen_files
 import typer
+import yaml
 
 import designlab
 import designlab.cli
@@ -62,7 +63,10 @@ def write_api() -> list[str]:
     for name in public_modules():
         path = Path("reference", "api", *name.split(".")).with_suffix(".md")
         with mkdocs_gen_files.open(path, "w") as fd:
-            fd.write(f"::: {name}\n    options:\n      heading_level: 1\n")
+            # the title names the package's own page in the navigation (not "Impact")
+            fd.write(
+                f"---\ntitle: {name}\n---\n\n::: {name}\n    options:\n      heading_level: 1\n"
+            )
         depth = name.count(".")
         target = path.relative_to("reference/api").as_posix()
         nav.append(f"{'    ' * depth}* [{name.rsplit('.', 1)[-1]}]({target})")
@@ -376,36 +380,103 @@ def report_markdown(report: Path) -> tuple[str, list[str], set[str]]:
     return title, lines, linked
 
 
+#: Gallery sections: a report goes to the first whose kind prefix its study's kind has; a
+#: report of any other kind goes to "Other studies", so a new report needs no edit here.
+GALLERY_SECTIONS = (
+    ("Impact safety", ("impact", "foam", "joint", "zeng")),
+    ("Navigation among people", ("navigation", "vff", "crowd")),
+    ("Tether follower", ("tether", "follower")),
+    ("Accompanying robot", ("accompanying",)),
+)
+OTHER_SECTION = "Other studies"
+
+
+def report_study(report: Path) -> dict[str, Any]:
+    """The study a report was made from: its copy ``study.yaml`` (else ``studies/<name>.yaml``)."""
+    for path in (report / "study.yaml", ROOT / "studies" / f"{report.name}.yaml"):
+        if path.is_file():
+            loaded = yaml.safe_load(path.read_text(encoding="utf-8"))
+            if isinstance(loaded, dict):
+                return {**loaded, "_path": path}
+    return {}
+
+
+def gallery_section(kind: str) -> str:
+    """The gallery section of a study kind (``OTHER_SECTION`` for an unknown one)."""
+    for title, prefixes in GALLERY_SECTIONS:
+        if kind.startswith(prefixes):
+            return title
+    return OTHER_SECTION
+
+
+def first_sentence(text: str) -> str:
+    """The first sentence of a description (the whole text if it has one sentence)."""
+    text = " ".join(str(text).split())
+    match = re.match(r"^(.+?[.?!])(\s|$)", text)
+    return match.group(1) if match else text
+
+
+def gallery_page(report: Path, study: dict[str, Any]) -> tuple[str, list[str]]:
+    """The title and the Markdown of one report's gallery page (files copied alongside)."""
+    name = report.name
+    title, body, linked = report_markdown(report)
+    for source in sorted(report.iterdir()):
+        if source.suffix in (".png", ".csv") and source.is_file():
+            copy_binary(source, f"gallery/{name}/{source.name}")
+    page = [f"# {title}", "", '<div class="dl-report" markdown>', "", *body]
+    csvs = sorted(report.glob("*.csv"))
+    if csvs:
+        page += ["## Tables (CSV)", "", *(f"- [{c.name}]({c.name})" for c in csvs), ""]
+    figures = [png for png in sorted(report.glob("*.png")) if png.name not in linked]
+    if figures:
+        page += ["## Figures", ""]
+        for png in figures:
+            page += [f"### {png.stem}", "", f"![{png.stem}]({png.name})", ""]
+    page += ["</div>", ""]
+    path = study.get("_path")
+    if path is not None:
+        text = path.read_text(encoding="utf-8").rstrip()
+        shown = path.relative_to(ROOT).as_posix()
+        page += [f'??? note "Study file `{shown}`"', "", "    ```yaml"]
+        page += [f"    {line}".rstrip() for line in text.splitlines()]
+        page += ["    ```", ""]
+    return title, page
+
+
 def write_gallery() -> list[str]:
-    """One gallery page per report directory (its Markdown, tables, figures, study) and an index."""
-    index = ["# Report gallery", "", "The committed reports under `reports/`, one per study.", ""]
-    nav = ["* [Overview](index.md)"]
-    for report in sorted(p for p in REPORTS.iterdir() if p.is_dir()):
-        name = report.name
-        title, page, linked = report_markdown(report)
-        for source in sorted(report.iterdir()):
-            if source.suffix in (".png", ".csv") and source.is_file():
-                copy_binary(source, f"gallery/{name}/{source.name}")
-        page = [f"# {title}", "", *page]
-        csvs = sorted(report.glob("*.csv"))
-        if csvs:
-            page += ["## Tables (CSV)", "", *(f"- [{c.name}]({c.name})" for c in csvs), ""]
-        figures = [png for png in sorted(report.glob("*.png")) if png.name not in linked]
-        if figures:
-            page += ["## Figures", ""]
-            for png in figures:
-                page += [f"### {png.stem}", "", f"![{png.stem}]({png.name})", ""]
-        study = ROOT / "studies" / f"{name}.yaml"
-        if study.exists():
-            text = study.read_text(encoding="utf-8").rstrip()
-            page += [f'??? note "Study file `studies/{study.name}`"', "", "    ```yaml"]
-            page += [f"    {line}".rstrip() for line in text.splitlines()]
-            page += ["    ```", ""]
-        with mkdocs_gen_files.open(f"gallery/{name}/index.md", "w") as fd:
+    """One gallery page per report directory under ``reports/``, grouped, and an index.
+
+    Every directory of ``reports/`` with a Markdown page is a report: a report another study
+    adds appears on the next build, in the section of its study's kind.
+    """
+    sections: dict[str, list[tuple[str, str, int, int]]] = {}
+    for report in sorted(p for p in REPORTS.iterdir() if p.is_dir() and any(p.glob("*.md"))):
+        study = report_study(report)
+        _, page = gallery_page(report, study)
+        with mkdocs_gen_files.open(f"gallery/{report.name}/index.md", "w") as fd:
             fd.write("\n".join(page))
-        pngs = len(list(report.glob("*.png")))
-        index.append(f"- [{name}]({name}/index.md): {title}; {pngs} figures, {len(csvs)} tables")
-        nav.append(f"* [{name}]({name}/index.md)")
+        what = first_sentence(study.get("description", "")) or report.name
+        counts = (len(list(report.glob("*.png"))), len(list(report.glob("*.csv"))))
+        section = gallery_section(str(study.get("kind", "")))
+        sections.setdefault(section, []).append((report.name, what, *counts))
+    order = [title for title, _ in GALLERY_SECTIONS] + [OTHER_SECTION]
+    index = [
+        "# Report gallery",
+        "",
+        "The committed reports under `reports/`, one per study, generated from that directory",
+        "at build time: each page shows the report's text, tables and figures and the study",
+        "file that made it (`designlab run` regenerates it).",
+        "",
+    ]
+    nav = ["* [Overview](index.md)"]
+    for title in [t for t in order if t in sections]:
+        index += [f"## {title}", "", "| report | what it asks | figures | tables |"]
+        index.append("|---|---|---|---|")
+        nav.append(f"* {title}")
+        for name, what, pngs, csvs in sections[title]:
+            index.append(f"| [{name}]({name}/index.md) | {cell(what)} | {pngs} | {csvs} |")
+            nav.append(f"    * [{name}]({name}/index.md)")
+        index.append("")
     with mkdocs_gen_files.open("gallery/index.md", "w") as fd:
         fd.write("\n".join(index) + "\n")
     with mkdocs_gen_files.open("gallery/SUMMARY.md", "w") as fd:
@@ -440,9 +511,17 @@ def write_nav() -> None:
         fd.write("\n".join(nav) + "\n")
 
 
-write_api()
-write_studies()
-write_cli()
-write_parameters()
-write_gallery()
-write_nav()
+def main() -> None:
+    """Write every generated page of the site."""
+    write_api()
+    write_studies()
+    write_cli()
+    write_parameters()
+    write_gallery()
+    write_nav()
+
+
+# mkdocs-gen-files runs this file with runpy.run_path (module name "<run_path>"); importing
+# it (the tests do) writes nothing.
+if __name__ in ("__main__", "<run_path>"):
+    main()

@@ -165,6 +165,21 @@ def test_pages_load_nothing_from_the_network(site: Path) -> None:
         assert "fonts.googleapis" not in text
 
 
+@pytest.mark.slow
+def test_the_api_pages_link_their_cross_references(site: Path) -> None:
+    """No role is left as text anywhere on the site; the API pages hold the links."""
+    left = re.compile(r":(?:func|class|mod|meth|attr|data|obj|exc|const):<code>")
+    for page in site.rglob("*.html"):
+        text = page.read_text(encoding="utf-8")
+        assert not left.search(text), page.relative_to(site)
+    page = (site / "reference/api/designlab/impact/problem/index.html").read_text(encoding="utf-8")
+    assert re.search(r'<a class="autorefs autorefs-internal"[^>]*href="[^"]*boundaries/#', page)
+    links = 0
+    for page in (site / "reference/api").rglob("*.html"):
+        links += page.read_text(encoding="utf-8").count('class="autorefs autorefs-internal"')
+    assert links > 500
+
+
 def test_mathml_hook_converts_arithmatex_output() -> None:
     hook = load_hook("mathml")
     text = (
@@ -193,16 +208,6 @@ def load_hook(name: str):
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
-
-
-def test_roles_hook_reads_sphinx_roles_as_code() -> None:
-    hook = load_hook("roles")
-    text = "<p>:func:<code>simulate</code> and :class:<code>~designlab.impact.Foam</code></p>"
-    assert hook.strip_roles(text) == "<p><code>simulate</code> and <code>Foam</code></p>"
-    assert (
-        hook.strip_roles("<p>ratio 1:2, <code>a:b</code></p>")
-        == "<p>ratio 1:2, <code>a:b</code></p>"
-    )
 
 
 def test_griffe_extension_shows_declared_defaults() -> None:
@@ -261,3 +266,57 @@ def test_a_docstring_that_does_not_parse_fails_the_strict_build(tmp_path: Path) 
     )
     assert proc.returncode != 0
     assert "'depth' does not appear in the function signature" in proc.stderr
+
+
+def load_tool(name: str):
+    spec = importlib.util.spec_from_file_location(f"{name}_tool", ROOT / f"docs/tools/{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.mark.slow
+def test_rendered_pages_in_chromium(site: Path, tmp_path: Path) -> None:
+    """Home, an API page and a gallery page in headless Chromium: maths, navigation, search.
+
+    ``docs/tools/screenshots.py`` serves the built site on localhost, saves the screenshots
+    (look at them when changing the site's layout) and checks the rendered DOM: MathML, every
+    navigation link answering 200, images loaded and within the page, no page scrolling
+    sideways, no script error, and a search that returns results.
+    """
+    tool = load_tool("screenshots")
+    chromium = tool.find_chromium()
+    if chromium is None:
+        pytest.skip("no Chromium on this machine (chromium, $DESIGNLAB_CHROMIUM): not rendered")
+    pytest.importorskip("playwright.sync_api", reason="playwright is not installed")
+    report = tool.render(site, tmp_path, chromium)
+    assert not report["problems"], report["problems"]
+    for name in (*tool.PAGES, "search"):
+        assert (tmp_path / f"{name}.png").stat().st_size > 10_000, name
+    assert report["pages"]["home"]["math"] >= 5
+    assert report["pages"]["gallery"]["images"] and report["pages"]["gallery"]["tables"]
+    assert len(report["nav"]) > 20 and set(report["nav"].values()) == {200}
+    assert report["search"]["results"] > 0 and report["search_index"]["docs"] > 100
+
+
+@pytest.mark.slow
+def test_the_gallery_groups_every_report_by_its_study_kind(site: Path) -> None:
+    """A report added under reports/ appears in the gallery with no edit (its section from its
+    study's kind, an unknown kind under "Other studies")."""
+    index = (site / "gallery/index.html").read_text(encoding="utf-8")
+    for report in (p for p in (ROOT / "reports").iterdir() if p.is_dir() and any(p.glob("*.md"))):
+        assert f'href="{report.name}/"' in index, report.name
+    assert "Impact safety" in index and "Tether follower" in index
+
+
+def test_gallery_sections_follow_the_kind() -> None:
+    pytest.importorskip("mkdocs_gen_files")
+    spec = importlib.util.spec_from_file_location("gen_pages", ROOT / "docs/gen_pages.py")
+    gen_pages = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(gen_pages)  # imported, it writes nothing
+    assert gen_pages.gallery_section("impact_cases") == "Impact safety"
+    assert gen_pages.gallery_section("foam_envelope_sweep") == "Impact safety"
+    assert gen_pages.gallery_section("navigation_gains") == "Navigation among people"
+    assert gen_pages.gallery_section("tether_modes") == "Tether follower"
+    assert gen_pages.gallery_section("codesign") == "Other studies"
+    assert gen_pages.first_sentence("Does it work? It does.") == "Does it work?"

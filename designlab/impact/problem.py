@@ -288,8 +288,8 @@ def same_but_limits(a: FoamProblem, b: FoamProblem) -> bool:
 class FoamLanes(FoamProblem):
     """Several fixed-robot problems solved together: one lane per (problem, damping value).
 
-    The lane context carried by :func:`_boundary` and :func:`_illinois` is a lane
-    index (a float, exact): lane ``i`` is the robot row ``rows[i]`` at v_c
+    The lane context carried by :func:`~.boundaries.boundary` and :func:`~.boundaries.illinois`
+    is a lane index (a float, exact): lane ``i`` is the robot row ``rows[i]`` at v_c
     ``velocity[i]`` and C_c ``damping[i]``, with ``log_limits[i]`` (one column per
     :meth:`keys`). The criteria evaluated are the first problem's; the others
     differ from them in their limits only (:func:`same_but_limits`).

@@ -5,8 +5,10 @@ Every report writer opens its main Markdown file with :func:`report_header`
 and designlab version that produced it, and that the file is generated), lists
 its figures with :func:`figure_section`, ends its sections with
 :func:`warnings_section` where it lists warnings, and copies the study file
-next to the report with :func:`copy_study`. The wording lives
-here once, so every report says it the same way.
+next to the report with :func:`copy_study`. :func:`write_report` writes a
+report's files in the order every writer uses (tables, figures, Markdown pages,
+the study's copy). The wording lives here once, so every report says it the
+same way.
 
 Examples
 --------
@@ -26,11 +28,17 @@ from __future__ import annotations
 import json
 import math
 import os
-from collections.abc import Iterable, Mapping
+import re
+from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from designlab.report.atomic import atomic_write_text
+from designlab.report.writers import write_csv, write_markdown, write_png
+
+if TYPE_CHECKING:
+    import pandas as pd
+    from matplotlib.figure import Figure
 
 __all__ = [
     "RUN_RECORD",
@@ -42,7 +50,9 @@ __all__ = [
     "record_run",
     "recorded_run",
     "report_header",
+    "slug",
     "warnings_section",
+    "write_report",
 ]
 
 #: The name of the study file's copy inside a report directory.
@@ -212,6 +222,79 @@ def copy_study(directory: str | os.PathLike[str], study_text: str | None) -> lis
     if study_text is None:
         return []
     return [atomic_write_text(Path(directory) / STUDY_COPY, study_text)]
+
+
+def slug(text: str) -> str:
+    """A file-name part made of ``text``: letters and digits, ``_`` between, lower case.
+
+    Parameters
+    ----------
+    text
+        A label (a path name, a law's title).
+
+    Examples
+    --------
+    >>> slug("Figure-eight (5 m)")
+    'figure_eight_5_m'
+    """
+    return re.sub(r"[^A-Za-z0-9]+", "_", text).strip("_").lower()
+
+
+def write_report(
+    directory: str | os.PathLike[str],
+    *,
+    tables: Mapping[str, pd.DataFrame] | None = None,
+    figures: Mapping[str, Callable[[], Figure]] | None = None,
+    pages: Mapping[str, str] | None = None,
+    study_text: str | None = None,
+) -> list[Path]:
+    """Write a report's files, in the order every report uses, and list them.
+
+    The tables (CSV), then the figures (each made, written as PNG and closed in
+    turn, so one figure at a time is in memory), then the Markdown pages, then the
+    study's copy (:func:`copy_study`).
+
+    Parameters
+    ----------
+    directory
+        The report directory (it exists).
+    tables
+        File name -> table, written with :func:`designlab.report.writers.write_csv`.
+    figures
+        File name -> function making the figure, written with
+        :func:`designlab.report.writers.write_png`.
+    pages
+        File name -> Markdown text, written with
+        :func:`designlab.report.writers.write_markdown`.
+    study_text
+        The study file's text (``None``: not copied).
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written, in that order.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> import pandas as pd
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     files = write_report(d, tables={"t.csv": pd.DataFrame({"a": [1]})},
+    ...                          pages={"summary.md": "# demo"}, study_text="designlab: 1\\n")
+    ...     [f.name for f in files]
+    ['t.csv', 'summary.md', 'study.yaml']
+    """
+    folder = Path(directory)
+    written = [write_csv(frame, folder / name) for name, frame in (tables or {}).items()]
+    if figures:
+        import matplotlib.pyplot as plt  # only when drawing (keeps the CLI's start light)
+
+        for name, make in figures.items():
+            fig = make()
+            written.append(write_png(fig, folder / name))
+            plt.close(fig)
+    written += [write_markdown(text, folder / name) for name, text in (pages or {}).items()]
+    return written + copy_study(folder, study_text)
 
 
 #: Inside a report directory: how long the run that wrote it took (for ``designlab list``).

@@ -4,7 +4,7 @@ Files written into the report directory:
 
 ``metrics.csv``
     One row per case: model metrics, reference and experimental values,
-    errors (see :meth:`designlab.study.ImpactCasesResult.to_frame`).
+    errors (see :meth:`designlab.study.kinds.impact_cases.ImpactCasesResult.to_frame`).
 ``summary.md``
     Inputs, model vs reference and vs experiment tables, warnings, the
     command and designlab version that produced the report, the figures.

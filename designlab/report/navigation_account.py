@@ -17,8 +17,8 @@ from pathlib import Path
 
 from designlab.navigation.account import account_markdown
 from designlab.report import register_writer
-from designlab.report.builder import copy_study, report_header
-from designlab.report.writers import markdown_table, write_csv, write_markdown
+from designlab.report.builder import report_header, write_report
+from designlab.report.writers import markdown_table
 from designlab.study.kinds.navigation_account import NavigationAccountResult
 
 __all__ = [
@@ -144,14 +144,13 @@ def write_navigation_account_report(
     list of Path
         The files written.
     """
-    written = [write_csv(result.noise, directory / "noise.csv")] if len(result.noise) else []
-    written += [
-        write_csv(result.to_frame(), directory / "account.csv"),
-        write_markdown(
-            account_summary(result, command=command, version=version), directory / "summary.md"
-        ),
-    ]
-    return written + copy_study(directory, study_text)
+    tables = {"noise.csv": result.noise} if len(result.noise) else {}
+    return write_report(
+        directory,
+        tables={**tables, "account.csv": result.to_frame()},
+        pages={"summary.md": account_summary(result, command=command, version=version)},
+        study_text=study_text,
+    )
 
 
 def regenerate_docs(page: str | Path, study: str | Path) -> None:

@@ -8,6 +8,7 @@ method and the obstacles' paths, one panel per scenario).
 from __future__ import annotations
 
 import math
+from functools import partial
 from pathlib import Path
 
 import matplotlib
@@ -18,8 +19,8 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from designlab.report import register_writer
-from designlab.report.builder import copy_study, report_header, warnings_section
-from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
+from designlab.report.builder import report_header, warnings_section, write_report
+from designlab.report.writers import markdown_table
 from designlab.study.kinds.navigation_planners import NavigationPlannersResult
 
 __all__ = [
@@ -195,11 +196,11 @@ def write_navigation_planners_report(
     study_text
         The study file's text, copied as ``study.yaml``.
     """
-    written = [write_csv(result.to_frame(), directory / "planners.csv")]
-    fig = navigation_planners_figure(result)
-    written.append(write_png(fig, directory / "planners_paths.png"))
-    plt.close(fig)
     text = navigation_planners_markdown(result, command=command, version=version)
-    written.append(write_markdown(text, directory / "summary.md"))
-    written += copy_study(directory, study_text)
-    return written
+    return write_report(
+        directory,
+        tables={"planners.csv": result.to_frame()},
+        figures={"planners_paths.png": partial(navigation_planners_figure, result)},
+        pages={"summary.md": text},
+        study_text=study_text,
+    )

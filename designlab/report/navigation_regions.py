@@ -14,8 +14,8 @@ import yaml
 
 from designlab.navigation.regions import RegionSizes
 from designlab.report import register_writer
-from designlab.report.builder import copy_study, report_header, warnings_section
-from designlab.report.writers import markdown_table, write_csv, write_markdown
+from designlab.report.builder import report_header, warnings_section, write_report
+from designlab.report.writers import markdown_table
 from designlab.study.kinds.navigation_regions import NavigationRegionsResult
 
 __all__ = ["navigation_regions_markdown", "write_navigation_regions_report"]
@@ -162,8 +162,10 @@ def write_navigation_regions_report(
     study_text
         The study file's text, copied as ``study.yaml``.
     """
-    written = [write_csv(result.to_frame(), directory / "regions.csv")]
     text = navigation_regions_markdown(result, command=command, version=version)
-    written.append(write_markdown(text, directory / "summary.md"))
-    written += copy_study(directory, study_text)
-    return written
+    return write_report(
+        directory,
+        tables={"regions.csv": result.to_frame()},
+        pages={"summary.md": text},
+        study_text=study_text,
+    )

@@ -10,7 +10,7 @@ Brake mode).
 from __future__ import annotations
 
 import math
-import re
+from functools import partial
 from pathlib import Path
 
 import matplotlib
@@ -21,8 +21,8 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from designlab.report import register_writer
-from designlab.report.builder import copy_study, report_header, warnings_section
-from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
+from designlab.report.builder import report_header, slug, warnings_section, write_report
+from designlab.report.writers import markdown_table
 from designlab.study.kinds.tether_modes import ModeCase, TetherModesResult
 
 __all__ = ["brake_figure", "modes_figure", "modes_markdown", "write_modes_report"]
@@ -227,21 +227,16 @@ def write_modes_report(
     list of pathlib.Path
         The files written.
     """
-    written = [write_csv(result.to_frame(), directory / "modes.csv")]
-    written.append(write_csv(result.brake_frame(), directory / "brake.csv"))
     by_path: dict[str, list[ModeCase]] = {}
     for c in result.cases:
         by_path.setdefault(c.path, []).append(c)
-    for path, cases in by_path.items():
-        fig = modes_figure(cases)
-        slug = re.sub(r"[^A-Za-z0-9]+", "_", path).strip("_").lower()
-        written.append(write_png(fig, directory / f"modes_{slug}.png"))
-        plt.close(fig)
+    figures = {f"modes_{slug(p)}.png": partial(modes_figure, cases) for p, cases in by_path.items()}
     if result.brakes:
-        fig = brake_figure(result)
-        written.append(write_png(fig, directory / "brake.png"))
-        plt.close(fig)
-    text = modes_markdown(result, command=command, version=version)
-    written.append(write_markdown(text, directory / "summary.md"))
-    written += copy_study(directory, study_text)
-    return written
+        figures["brake.png"] = partial(brake_figure, result)
+    return write_report(
+        directory,
+        tables={"modes.csv": result.to_frame(), "brake.csv": result.brake_frame()},
+        figures=figures,
+        pages={"summary.md": modes_markdown(result, command=command, version=version)},
+        study_text=study_text,
+    )

@@ -12,6 +12,7 @@ distance, with the threshold of (4.13)).
 from __future__ import annotations
 
 import math
+from functools import partial
 from pathlib import Path
 
 import matplotlib
@@ -24,8 +25,8 @@ from matplotlib.figure import Figure
 
 from designlab.following.tether.snag import SNAG_FIT
 from designlab.report import register_writer
-from designlab.report.builder import copy_study, report_header, warnings_section
-from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
+from designlab.report.builder import report_header, warnings_section, write_report
+from designlab.report.writers import markdown_table
 from designlab.study.kinds.tether_snagging import NEAR, TetherSnaggingResult
 
 __all__ = ["snagging_markdown", "write_snagging_report"]
@@ -299,18 +300,16 @@ def write_snagging_report(
     list of pathlib.Path
         The files written.
     """
-    written = [write_csv(result.to_frame(), directory / "snagging.csv")]
-    for name, make in (
-        ("paths", paths_figure),
-        ("limits", limits_figure),
-        ("detection", detection_figure),
-    ):
-        if name != "limits" and not result.detail:
-            continue
-        fig = make(result)
-        written.append(write_png(fig, directory / f"snagging_{name}.png"))
-        plt.close(fig)
-    text = snagging_markdown(result, command=command, version=version)
-    written.append(write_markdown(text, directory / "summary.md"))
-    written += copy_study(directory, study_text)
-    return written
+    makers = {"paths": paths_figure, "limits": limits_figure, "detection": detection_figure}
+    figures = {
+        f"snagging_{name}.png": partial(make, result)
+        for name, make in makers.items()
+        if name == "limits" or result.detail
+    }
+    return write_report(
+        directory,
+        tables={"snagging.csv": result.to_frame()},
+        figures=figures,
+        pages={"summary.md": snagging_markdown(result, command=command, version=version)},
+        study_text=study_text,
+    )

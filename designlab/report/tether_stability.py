@@ -10,7 +10,7 @@ tether angle and length; grid points that did not converge in black).
 from __future__ import annotations
 
 import math
-import re
+from functools import partial
 from pathlib import Path
 
 import matplotlib
@@ -23,15 +23,11 @@ from matplotlib.figure import Figure
 
 from designlab.following.tether.stability import ConvergenceMap
 from designlab.report import register_writer
-from designlab.report.builder import copy_study, report_header, warnings_section
-from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
+from designlab.report.builder import report_header, slug, warnings_section, write_report
+from designlab.report.writers import markdown_table
 from designlab.study.kinds.tether_stability import TetherStabilityResult
 
 __all__ = ["convergence_figure", "stability_markdown", "write_stability_report"]
-
-
-def _slug(title: str) -> str:
-    return re.sub(r"[^A-Za-z0-9]+", "_", title).strip("_").lower() or "law"
 
 
 def convergence_figure(title: str, m: ConvergenceMap) -> Figure:
@@ -184,12 +180,14 @@ def write_stability_report(
     list of pathlib.Path
         The files written.
     """
-    written = [write_csv(result.to_frame(), directory / "convergence.csv")]
-    for title, m in zip(result.titles, result.maps, strict=True):
-        fig = convergence_figure(title, m)
-        written.append(write_png(fig, directory / f"convergence_{_slug(title)}.png"))
-        plt.close(fig)
-    text = stability_markdown(result, command=command, version=version)
-    written.append(write_markdown(text, directory / "summary.md"))
-    written += copy_study(directory, study_text)
-    return written
+    figures = {
+        f"convergence_{slug(title) or 'law'}.png": partial(convergence_figure, title, m)
+        for title, m in zip(result.titles, result.maps, strict=True)
+    }
+    return write_report(
+        directory,
+        tables={"convergence.csv": result.to_frame()},
+        figures=figures,
+        pages={"summary.md": stability_markdown(result, command=command, version=version)},
+        study_text=study_text,
+    )

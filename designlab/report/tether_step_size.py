@@ -8,7 +8,7 @@ robot's distance).
 
 from __future__ import annotations
 
-import re
+from functools import partial
 from pathlib import Path
 
 import matplotlib
@@ -20,8 +20,8 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from designlab.report import register_writer
-from designlab.report.builder import copy_study, report_header, warnings_section
-from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
+from designlab.report.builder import report_header, slug, warnings_section, write_report
+from designlab.report.writers import markdown_table
 from designlab.study.kinds.tether_step_size import TRANSIENT, StepSizeCase, TetherStepSizeResult
 
 __all__ = ["step_size_claims", "step_size_figure", "step_size_markdown", "write_step_size_report"]
@@ -186,16 +186,16 @@ def write_step_size_report(
     list of pathlib.Path
         The files written.
     """
-    written = [write_csv(result.to_frame(), directory / "step_size.csv")]
     by_path: dict[str, list[StepSizeCase]] = {}
     for c in result.cases:
         by_path.setdefault(c.path, []).append(c)
-    for path, cases in by_path.items():
-        fig = step_size_figure(cases)
-        slug = re.sub(r"[^A-Za-z0-9]+", "_", path).strip("_").lower()
-        written.append(write_png(fig, directory / f"step_size_{slug}.png"))
-        plt.close(fig)
-    text = step_size_markdown(result, command=command, version=version)
-    written.append(write_markdown(text, directory / "summary.md"))
-    written += copy_study(directory, study_text)
-    return written
+    figures = {
+        f"step_size_{slug(p)}.png": partial(step_size_figure, cases) for p, cases in by_path.items()
+    }
+    return write_report(
+        directory,
+        tables={"step_size.csv": result.to_frame()},
+        figures=figures,
+        pages={"summary.md": step_size_markdown(result, command=command, version=version)},
+        study_text=study_text,
+    )

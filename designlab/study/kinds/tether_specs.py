@@ -172,7 +172,8 @@ def _shape_spec(shape: str) -> Any:
     return create_model(
         f"{camel}PathSpec",
         __base__=_PathSpec,
-        __doc__=f"The {shape} leader path (:func:`designlab.following.tether.{shape}`), SI units.",
+        __doc__=f"The {shape} leader path (:func:`designlab.following.tether.paths.{shape}`), SI"
+        " units.",
         type=(Literal[shape], Field(description="the path shape")),  # type: ignore[valid-type]
         **fields,
     )
