@@ -421,7 +421,7 @@ def gallery_page(report: Path, study: dict[str, Any]) -> tuple[str, list[str]]:
     name = report.name
     title, body, linked = report_markdown(report)
     for source in sorted(report.iterdir()):
-        if source.suffix in (".png", ".csv") and source.is_file():
+        if source.suffix in (".png", ".gif", ".csv") and source.is_file():
             copy_binary(source, f"gallery/{name}/{source.name}")
     page = [f"# {title}", "", '<div class="dl-report" markdown>', "", *body]
     csvs = sorted(report.glob("*.csv"))

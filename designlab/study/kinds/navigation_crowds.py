@@ -1,7 +1,8 @@
 """The ``navigation_crowds`` study kind: robots among crowds from a pedestrian simulator.
 
-Every layout x density x seed x method is simulated (:func:`designlab.navigation.crowds.study.
-crowd_study`, through the run's executor and result store) and summarised with Wilson
+Every layout x density x seed x method is simulated
+(:func:`designlab.navigation.crowds.study.crowd_study`, through the run's executor and result
+store) and summarised with Wilson
 intervals; optionally VFF's gains are optimised over a training set of crowds
 (:func:`designlab.navigation.crowds.tuning.optimise_crowd_gains`, robust mean or CVaR) and
 validated on crowds sharing no seed and no density with it, beside the gains to compare
