@@ -39,8 +39,11 @@ GUIDE_ORDER = (
     "navigation_scenarios.md",
     "navigation_planners.md",
     "navigation_gains.md",
+    "navigation_crowds.md",
     "following.md",
     "tether_modes.md",
+    "accompanying.md",
+    "codesign.md",
     "sweeps.md",
 )
 
@@ -387,6 +390,7 @@ GALLERY_SECTIONS = (
     ("Navigation among people", ("navigation", "vff", "crowd")),
     ("Tether follower", ("tether", "follower")),
     ("Accompanying robot", ("accompanying",)),
+    ("Co-design", ("codesign",)),
 )
 OTHER_SECTION = "Other studies"
 
