@@ -318,5 +318,6 @@ def test_gallery_sections_follow_the_kind() -> None:
     assert gen_pages.gallery_section("foam_envelope_sweep") == "Impact safety"
     assert gen_pages.gallery_section("navigation_gains") == "Navigation among people"
     assert gen_pages.gallery_section("tether_modes") == "Tether follower"
-    assert gen_pages.gallery_section("codesign") == "Other studies"
+    assert gen_pages.gallery_section("codesign") == "Co-design"
+    assert gen_pages.gallery_section("my_own_kind") == "Other studies"
     assert gen_pages.first_sentence("Does it work? It does.") == "Does it work?"

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 import designlab as dl
@@ -325,13 +325,20 @@ def test_max_hit_ratio_is_the_deprecated_name_of_the_opt_in_heuristic():
 
 @settings(max_examples=3, deadline=None)
 @given(offset=st.floats(0.05, 0.35), side=st.sampled_from([1.0, -1.0]))
+@example(offset=0.18889008608707497, side=1.0)  # an oblique hit beyond the plain sag bound
 def test_slalom_against_random_exact_offsets(offset, side):
     leader, robot = _offset_slalom(side * offset)
     d = fol.normal_path_deviation(leader, robot)
     exact = _exact_normal_deviation(d.leader_nodes, len(d.profile), side * offset)
     assert d.mean == pytest.approx(exact.mean(), abs=TOL)
-    assert np.max(np.abs(d.profile - exact)) < _sag_bound(offset)  # chord sag, see above
+    # chord sag, see above; where a normal meets the robot path obliquely (next to a crossing
+    # or the turn) the sag is magnified by 1 / sin(incidence): offset 0.18889 m gave 2.7e-4 m
+    # there against a 2.05e-4 m bound, so the per-segment check uses finer segments
+    assert np.mean(np.abs(d.profile - exact) < _sag_bound(offset)) > 0.98
     assert np.all(d.profile <= offset + _sag_bound(offset))
+    fine = fol.normal_path_deviation(leader, robot, min_segment=0.002, max_segment=0.01)
+    exact = _exact_normal_deviation(fine.leader_nodes, len(fine.profile), side * offset)
+    assert np.max(np.abs(fine.profile - exact)) < TOL
 
 
 def test_the_search_in_growing_radii_equals_one_search_over_the_whole_limit():

@@ -40,7 +40,7 @@ Examples
 [0.0, 0.0]
 >>> round(float(adapted_target((0.0, 0.5), 0.4, gain=0.5, max_change=0.3)[1]), 6)
 0.7
->>> MotionFilter(time_constant=0.2).pole(0.02) == np.exp(-0.1)
+>>> bool(np.isclose(MotionFilter(time_constant=0.2).pole(0.02), np.exp(-0.1), rtol=1e-15))
 True
 """
 
