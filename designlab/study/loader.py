@@ -40,7 +40,7 @@ from pydantic import BaseModel, ValidationError
 
 from designlab.errors import DesignlabError, StudyError
 from designlab.study.base import FORMAT_VERSION, StudyBase, did_you_mean, format_path
-from designlab.study.registry import RENAMED_KINDS, study_kinds
+from designlab.study.registry import RENAMED_KINDS, kind_of, study_kinds
 from designlab.study.yamlio import YamlPath, YamlSyntaxError, load_yaml_with_lines
 
 __all__ = ["format_path", "load_study", "parse_study"]
@@ -115,7 +115,7 @@ def parse_study(text: str, file: str = "<string>") -> StudyBase:
     _check_format(data, lines, file)
     kind = _kind_name(data, lines, file)
     data = {**data, "kind": kind}
-    model = study_kinds()[kind].schema
+    model = kind_of(kind).schema
     try:
         study = model.model_validate(data)
     except ValidationError as exc:
@@ -166,8 +166,6 @@ def _check_format(data: Any, lines: dict[YamlPath, int], file: str) -> None:
 def _kind_name(data: dict[str, Any], lines: dict[YamlPath, int], file: str) -> str:
     """The registered kind the study names (an old name read with a DeprecationWarning)."""
     kind = data.get("kind")
-    registry = study_kinds()
-    known = ", ".join(registry)
     if isinstance(kind, str) and kind in RENAMED_KINDS:
         new = RENAMED_KINDS[kind]
         where = f"{file}: " if file else ""
@@ -178,6 +176,10 @@ def _kind_name(data: dict[str, Any], lines: dict[YamlPath, int], file: str) -> s
             stacklevel=3,
         )
         kind = new
+    if isinstance(kind, str) and _known(kind):
+        return kind
+    registry = study_kinds()
+    known = ", ".join(registry)
     if kind is None:
         raise StudyError(
             f"missing required field (the study kind, one of: {known})",
@@ -194,6 +196,15 @@ def _kind_name(data: dict[str, Any], lines: dict[YamlPath, int], file: str) -> s
             line=lines.get(("kind",)),
         )
     return kind
+
+
+def _known(kind: str) -> bool:
+    """Whether ``kind`` is registered (importing only its own module when it is shipped)."""
+    try:
+        kind_of(kind)
+    except KeyError:
+        return False
+    return True
 
 
 def _check(study: StudyBase, lines: dict[YamlPath, int], file: str) -> None:

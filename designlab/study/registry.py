@@ -133,14 +133,31 @@ def study_kinds() -> dict[str, StudyKind]:
     return dict(_KINDS)
 
 
+def _shipped(name: str) -> StudyKind | None:
+    """The shipped kind whose module is called ``name``, imported alone (no other kind)."""
+    from designlab.study.kinds import MODULES
+
+    if name not in MODULES:
+        return None
+    kind: StudyKind = importlib.import_module(f"designlab.study.kinds.{name}").KIND
+    return kind if kind.name == name else None
+
+
 def kind_of(name: str) -> StudyKind:
     """The kind called ``name`` (``KeyError`` if there is none).
+
+    A shipped kind whose module bears its name is imported on its own, so that
+    running one study does not import every domain (navigation, crowds, ...).
 
     Parameters
     ----------
     name
         The ``kind:`` value.
     """
+    if name in _KINDS:
+        return _KINDS[name]
+    if not _LOADED and (kind := _shipped(name)) is not None:
+        return kind
     _load()
     return _KINDS[name]
 

@@ -422,3 +422,29 @@ def test_jit_1_in_a_study_is_refused_with_the_line():
         StudyError, match=r"navigation_gains.yaml:\d+: jit: Input should be a valid boolean"
     ):
         parse_study(text, file="navigation_gains.yaml")
+
+
+def test_loading_a_study_imports_only_its_own_kind():
+    """Running one study does not import the other domains' kinds (CLI start-up cost)."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys\n"
+        "from designlab.study import parse_study\n"
+        "s = parse_study('designlab: 1\\nkind: impact_sweep\\nname: x\\n"
+        "base: {robot: MANIPULATOR_1, foam: FOAM_1, head: HEAD_MIN, impact_velocity: 1.0}\\n"
+        "sweep: {method: grid, parameters: {head.mass: {low: 4.4, high: 5.3, num: 2}}}\\n')\n"
+        "print(s.kind, 'designlab.study.kinds.navigation_crowds' in sys.modules,"
+        " 'designlab.navigation' in sys.modules)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.split() == ["impact_sweep", "False", "False"]
+
+
+def test_kind_of_after_the_lazy_path_still_lists_every_kind():
+    from designlab.study.kinds import MODULES
+    from designlab.study.registry import kind_of, study_kinds
+
+    assert kind_of("impact_sweep").name == "impact_sweep"
+    assert len(study_kinds()) >= len(MODULES)
