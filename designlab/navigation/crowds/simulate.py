@@ -86,15 +86,21 @@ class _Frames:
         idx = (self.ptr - np.arange(n - 1, -1, -1)) % self.ring.shape[0]
         return self.ring[idx, : self.count]
 
-    def sensed(self, dt: float) -> tuple[Array, Array, Array]:
-        """Positions, velocities and accelerations now (backward differences; 0 where unknown)."""
-        prev2, prev, now = self.last(3)
-        V = (now - prev) / dt
-        A = (V - (prev - prev2) / dt) / dt
-        known = ~np.isnan(now)
-        V = np.where(np.isnan(V) & known, 0.0, V)
-        A = np.where(np.isnan(A) & known, 0.0, A)
-        return now.copy(), V, A
+    def sensed(self) -> Array:
+        """The last three frames ``(3, count, 2)`` (a copy: later steps do not touch it)."""
+        return self.last(3)
+
+
+def _derivatives(F: Array, dt: float) -> tuple[Array, Array, Array]:
+    """Positions, velocities and accelerations at the last of three frames ``F``
+    ``(3, n, 2)`` (backward differences; 0 where unknown)."""
+    prev2, prev, now = F
+    V = (now - prev) / dt
+    A = (V - (prev - prev2) / dt) / dt
+    known = ~np.isnan(now)
+    V[np.isnan(V) & known] = 0.0
+    A[np.isnan(A) & known] = 0.0
+    return now, V, A
 
 
 class _Step:
@@ -202,6 +208,7 @@ class _Run:
             if self.walls
             else np.zeros(0)
         )
+        inp[2][: self.wall_obs.size] = self.wall_obs
         inp[3][:] = s.row
         inp[4][:] = (
             robot.mass,
@@ -214,6 +221,9 @@ class _Run:
         self.w2, self.w3 = c.wall_regions()
         self.ped = PedestrianSim(c, c.robot_start)
         self.frames = _Frames(s.n_ped, s.per_ped + 1)
+        self.ped_dt = c.pedestrian_step
+        q = s.n_sub // s.per_ped
+        self.frac = (np.arange(1, q + 1) / q)[None, :, None, None]
         self.wall_frames = np.array(
             [[*w.center, math.cos(w.angle), math.sin(w.angle), w.length / 2, w.width / 2]
              for w in self.walls]
@@ -258,14 +268,21 @@ class _Run:
             self.wmin = self.wall_last = _wall_distance(self.wall_frames, p[None, :])
 
     # ---------------------------------------------------------------- period
-    def sense(self) -> tuple[Array, Array, Array]:
-        """The pedestrians as the robot senses them now (copies: later steps do not touch them)."""
-        return self.frames.sensed(self.s.crowd.pedestrian_step)
+    def sense(self) -> Array:
+        """The pedestrians' last three frames as the robot senses them now (a copy)."""
+        return self.frames.sensed()
 
-    def robot_period(self, sensed: tuple[Array, Array, Array]) -> Array:
-        """The robot over one period from the pedestrians ``sensed`` at its start."""
+    def robot_period(self, sensed: Array) -> Array:
+        """The robot over one period from the pedestrians ``sensed`` at its start.
+
+        Only the pedestrians within r2 (the candidates of the slots) get their velocities and
+        accelerations differenced: the slots are the same as from every pedestrian's.
+        """
         s, inp = self.s, self.step.inp
-        P, V, A = sensed
+        x, y = inp[0][0], inp[0][1]
+        now = sensed[2]
+        d2 = (now[:, 0] - x) ** 2 + (now[:, 1] - y) ** 2
+        P, V, A = _derivatives(sensed[:, np.flatnonzero(d2 < self.r2 * self.r2)], self.ped_dt)
         slots, n, over = fill_slots(inp[0][:2], P, V, A, r2=self.r2, slots=s.crowd.neighbours)
         self.overflow += int(over)
         if n > 1:  # Sec. 6.4.3: two critical regions intersect, no path between them is safe
@@ -273,7 +290,7 @@ class _Run:
             gap = np.hypot(Q[:, None, 0] - Q[None, :, 0], Q[:, None, 1] - Q[None, :, 1])
             np.fill_diagonal(gap, np.inf)
             self.overlaps += int((gap < 2 * self.r3).any())
-        inp[2][:] = np.concatenate([self.wall_obs, slots])
+        inp[2][self.wall_obs.size :] = slots
         if self.cbf is not None:
             x = inp[0].copy()
             inp[5][:] = self.cbf.force(x, inp[1].copy(), s.row, inp[2].copy(), s.crowd.robot, None)
@@ -342,25 +359,24 @@ class _Run:
         pedestrian step): no other can come within r2 during the period, so every
         critical-region entry and collision is seen. The others count at the sample.
         """
-        s = self.s
-        q = s.n_sub // s.per_ped
-        F = self.frames.last(s.per_ped + 1)  # (per + 1, n, 2): the period's pedestrian steps
+        F = self.frames.last(self.s.per_ped + 1)  # (per + 1, n, 2): the period's pedestrian steps
         P0 = F[0]
         p = self.rec_X[-1][0:2, -1]  # the robot at the period's start
         d0 = np.hypot(P0[:, 0] - p[0], P0[:, 1] - p[1])
-        if np.isnan(d0).all():
+        m = float(np.fmin.reduce(d0)) if d0.size else math.nan  # NaN: nobody is in
+        if m != m:
             return
-        self.dmin = min(self.dmin, float(np.nanmin(d0)))
+        self.dmin = min(self.dmin, m)
         near = np.flatnonzero(d0 < self.reach)
         if not near.size:
             return
         G = F[:, near]
-        frac = (np.arange(1, q + 1) / q)[None, :, None, None]
-        Ps = G[:-1, None] + frac * (G[1:] - G[:-1])[:, None]  # (per, q, n_near, 2)
+        Ps = G[:-1, None] + self.frac * (G[1:] - G[:-1])[:, None]  # (per, q, n_near, 2)
         Ps = Ps.reshape(-1, near.size, 2)[: pts.shape[0]]
         d = np.hypot(Ps[:, :, 0] - pts[:, None, 0], Ps[:, :, 1] - pts[:, None, 1])
-        if not np.isnan(d).all():
-            self.dmin = min(self.dmin, float(np.nanmin(d)))
+        m = float(np.fmin.reduce(d, axis=None))
+        if m == m:
+            self.dmin = min(self.dmin, m)
 
 
 def _wall_distance_point(walls: list[tuple[float, ...]], x: float, y: float) -> float:
