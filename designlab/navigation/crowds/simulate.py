@@ -72,6 +72,7 @@ class _Frames:
         self.ring = np.full((max(depth, 3), capacity, 2), np.nan)
         self.ptr = -1
         self.count = 0  # rows in use (pedestrians that have entered)
+        self._idx: dict[tuple[int, int], NDArray[np.int64]] = {}  # (n, ptr) -> ring rows
 
     def push(self, ids: NDArray[np.int64], P: Array, count: int) -> None:
         """Add the positions of a step; ``count``: pedestrians that have entered so far."""
@@ -83,7 +84,10 @@ class _Frames:
 
     def last(self, n: int) -> Array:
         """The last ``n`` frames, oldest first, ``(n, count, 2)``."""
-        idx = (self.ptr - np.arange(n - 1, -1, -1)) % self.ring.shape[0]
+        idx = self._idx.get((n, self.ptr))
+        if idx is None:
+            idx = (self.ptr - np.arange(n - 1, -1, -1)) % self.ring.shape[0]
+            self._idx[n, self.ptr] = idx
         return self.ring[idx, : self.count]
 
     def sensed(self) -> Array:
@@ -93,13 +97,13 @@ class _Frames:
 
 def _derivatives(F: Array, dt: float) -> tuple[Array, Array, Array]:
     """Positions, velocities and accelerations at the last of three frames ``F``
-    ``(3, n, 2)`` (backward differences; 0 where unknown)."""
+    ``(3, n, 2)`` of pedestrians in the simulation now (backward differences; 0 where an
+    earlier frame is unknown)."""
     prev2, prev, now = F
     V = (now - prev) / dt
     A = (V - (prev - prev2) / dt) / dt
-    known = ~np.isnan(now)
-    V[np.isnan(V) & known] = 0.0
-    A[np.isnan(A) & known] = 0.0
+    np.nan_to_num(V, copy=False, nan=0.0)  # positions are finite: only NaN is replaced
+    np.nan_to_num(A, copy=False, nan=0.0)
     return now, V, A
 
 
@@ -222,6 +226,8 @@ class _Run:
         self.ped = PedestrianSim(c, c.robot_start)
         self.frames = _Frames(s.n_ped, s.per_ped + 1)
         self.ped_dt = c.pedestrian_step
+        self.parked = fill_slots(np.zeros(2), np.zeros((0, 2)), *np.zeros((2, 0, 2)), r2=1.0,
+                                 slots=c.neighbours)[0]  # fmt: skip
         q = s.n_sub // s.per_ped
         self.frac = (np.arange(1, q + 1) / q)[None, :, None, None]
         self.wall_frames = np.array(
@@ -282,7 +288,11 @@ class _Run:
         x, y = inp[0][0], inp[0][1]
         now = sensed[2]
         d2 = (now[:, 0] - x) ** 2 + (now[:, 1] - y) ** 2
-        P, V, A = _derivatives(sensed[:, np.flatnonzero(d2 < self.r2 * self.r2)], self.ped_dt)
+        inside = np.flatnonzero(d2 < self.r2 * self.r2)  # NaN rows (not in) compare False
+        if not inside.size:  # nobody in the active region: every slot parked
+            inp[2][self.wall_obs.size :] = self.parked
+            return self._step_robot()
+        P, V, A = _derivatives(sensed[:, inside], self.ped_dt)
         slots, n, over = fill_slots(inp[0][:2], P, V, A, r2=self.r2, slots=s.crowd.neighbours)
         self.overflow += int(over)
         if n > 1:  # Sec. 6.4.3: two critical regions intersect, no path between them is safe
@@ -291,6 +301,11 @@ class _Run:
             np.fill_diagonal(gap, np.inf)
             self.overlaps += int((gap < 2 * self.r3).any())
         inp[2][self.wall_obs.size :] = slots
+        return self._step_robot()
+
+    def _step_robot(self) -> Array:
+        """The compiled step on the inputs set (with the CBF filter's force for CBF)."""
+        s, inp = self.s, self.step.inp
         if self.cbf is not None:
             x = inp[0].copy()
             inp[5][:] = self.cbf.force(x, inp[1].copy(), s.row, inp[2].copy(), s.crowd.robot, None)
