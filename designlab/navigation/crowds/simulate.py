@@ -24,6 +24,7 @@ import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from itertools import combinations
 from typing import Any
 
 import casadi as ca
@@ -317,10 +318,9 @@ class _Run:
             )
             self.overflow += 1
         if n > 1:  # Sec. 6.4.3: two critical regions intersect, no path between them is safe
-            Q = obs[: min(n, s.crowd.neighbours), 0:2]
-            gap = np.hypot(Q[:, None, 0] - Q[None, :, 0], Q[:, None, 1] - Q[None, :, 1])
-            np.fill_diagonal(gap, np.inf)
-            self.overlaps += int((gap < 2 * self.r3).any())
+            Q = obs[: min(n, s.crowd.neighbours), 0:2].tolist()
+            dx, dy = zip(*((a[0] - b[0], a[1] - b[1]) for a, b in combinations(Q, 2)), strict=True)
+            self.overlaps += int((np.hypot(dx, dy) < 2 * self.r3).any())
         return self._step_robot()
 
     def _step_robot(self) -> Array:
