@@ -23,9 +23,17 @@ arrive within the default 20 s, so every run lasts the whole horizon.
 Measured on 2026-12-02 (2 cores shared with seven other jobs, load about 10; CPU seconds, 20 s
 runs, best of 3, four runs of the benchmark): JuPedSim alone 144-204x / 35-50x / 16-20x real
 time for 10 / 50 / 100 pedestrians; coupled 47-74x / 21-31x / 11-15x; robot side 70-110 % /
-31-44 % / 18-23 % of the pedestrian side. The 50 % target holds from 50 pedestrians on; at
-10 the robot's fixed cost per period (about 0.3-0.4 ms, mostly numpy calls around a 45 us
-compiled step) exceeds JuPedSim's cheap 10-agent step.
+31-44 % / 18-23 % of the pedestrian side.
+
+After the robot side's per-period cost was cut (issue 23 item 5: velocities differenced for
+the slot candidates only, slot rows in plain floats written into the step's input, running
+minima with one reduction, cached ring rows; results bit-identical), same day, same load,
+the old and new code run alternately: robot side at 10 pedestrians 84-85 % -> 57-61 % of the
+pedestrian side, at 50 pedestrians 32-36 % -> 24 %, at 100 (one run) 15 %; coupled
+53-75x / 21-27x / 11x real time. The 50 % target holds from 50 pedestrians on; at 10 it is
+still missed: the compiled step itself costs about 60-70 us of CPU per period on this loaded
+machine and the remaining numpy calls (distances at every dynamics step, arrival, records)
+about 0.1-0.2 ms, against JuPedSim's cheap 10-agent step (about 0.5-0.6 ms per period).
 """
 
 from __future__ import annotations

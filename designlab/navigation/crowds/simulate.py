@@ -24,6 +24,7 @@ import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from itertools import combinations
 from typing import Any
 
 import casadi as ca
@@ -72,6 +73,7 @@ class _Frames:
         self.ring = np.full((max(depth, 3), capacity, 2), np.nan)
         self.ptr = -1
         self.count = 0  # rows in use (pedestrians that have entered)
+        self._idx: dict[tuple[int, int], NDArray[np.int64]] = {}  # (n, ptr) -> ring rows
 
     def push(self, ids: NDArray[np.int64], P: Array, count: int) -> None:
         """Add the positions of a step; ``count``: pedestrians that have entered so far."""
@@ -83,18 +85,41 @@ class _Frames:
 
     def last(self, n: int) -> Array:
         """The last ``n`` frames, oldest first, ``(n, count, 2)``."""
-        idx = (self.ptr - np.arange(n - 1, -1, -1)) % self.ring.shape[0]
+        idx = self._idx.get((n, self.ptr))
+        if idx is None:
+            idx = (self.ptr - np.arange(n - 1, -1, -1)) % self.ring.shape[0]
+            self._idx[n, self.ptr] = idx
         return self.ring[idx, : self.count]
 
-    def sensed(self, dt: float) -> tuple[Array, Array, Array]:
-        """Positions, velocities and accelerations now (backward differences; 0 where unknown)."""
-        prev2, prev, now = self.last(3)
-        V = (now - prev) / dt
-        A = (V - (prev - prev2) / dt) / dt
-        known = ~np.isnan(now)
-        V = np.where(np.isnan(V) & known, 0.0, V)
-        A = np.where(np.isnan(A) & known, 0.0, A)
-        return now.copy(), V, A
+    def sensed(self) -> Array:
+        """The last three frames ``(3, count, 2)`` (a copy: later steps do not touch it)."""
+        return self.last(3)
+
+
+def _derivatives(F: Array, dt: float) -> tuple[Array, Array, Array]:
+    """Positions, velocities and accelerations at the last of three frames ``F``
+    ``(3, n, 2)`` of pedestrians in the simulation now (backward differences; 0 where an
+    earlier frame is unknown)."""
+    prev2, prev, now = F
+    V = (now - prev) / dt
+    A = (V - (prev - prev2) / dt) / dt
+    np.copyto(V, 0.0, where=np.isnan(V))
+    np.copyto(A, 0.0, where=np.isnan(A))
+    return now, V, A
+
+
+def _slot_rows(F: Array, d2: list[float], dt: float) -> list[list[float]]:
+    """Slot rows (position, velocity, acceleration) of the few pedestrians of ``F``
+    ``(3, n, 2)``, nearest first (a stable sort of ``d2``): :func:`_derivatives` in plain
+    floats, the same IEEE operations without a numpy call per step of the sum."""
+    rows = []
+    prev2, prev, now = F.tolist()
+    for i in sorted(range(len(d2)), key=d2.__getitem__):
+        (a, b), (c, d), (x, y) = prev2[i], prev[i], now[i]
+        vx, vy = (x - c) / dt, (y - d) / dt
+        ax, ay = (vx - (c - a) / dt) / dt, (vy - (d - b) / dt) / dt
+        rows.append([x, y, *(0.0 if v != v else v for v in (vx, vy, ax, ay))])
+    return rows
 
 
 class _Step:
@@ -202,6 +227,8 @@ class _Run:
             if self.walls
             else np.zeros(0)
         )
+        inp[2][: self.wall_obs.size] = self.wall_obs
+        self.slots = inp[2][self.wall_obs.size :].reshape(-1, 6)  # a view
         inp[3][:] = s.row
         inp[4][:] = (
             robot.mass,
@@ -214,6 +241,11 @@ class _Run:
         self.w2, self.w3 = c.wall_regions()
         self.ped = PedestrianSim(c, c.robot_start)
         self.frames = _Frames(s.n_ped, s.per_ped + 1)
+        self.ped_dt = c.pedestrian_step
+        self.parked = fill_slots(np.zeros(2), np.zeros((0, 2)), *np.zeros((2, 0, 2)), r2=1.0,
+                                 slots=c.neighbours)[0].reshape(-1, 6)  # fmt: skip
+        q = s.n_sub // s.per_ped
+        self.frac = (np.arange(1, q + 1) / q)[None, :, None, None]
         self.wall_frames = np.array(
             [[*w.center, math.cos(w.angle), math.sin(w.angle), w.length / 2, w.width / 2]
              for w in self.walls]
@@ -258,22 +290,42 @@ class _Run:
             self.wmin = self.wall_last = _wall_distance(self.wall_frames, p[None, :])
 
     # ---------------------------------------------------------------- period
-    def sense(self) -> tuple[Array, Array, Array]:
-        """The pedestrians as the robot senses them now (copies: later steps do not touch them)."""
-        return self.frames.sensed(self.s.crowd.pedestrian_step)
+    def sense(self) -> Array:
+        """The pedestrians' last three frames as the robot senses them now (a copy)."""
+        return self.frames.sensed()
 
-    def robot_period(self, sensed: tuple[Array, Array, Array]) -> Array:
-        """The robot over one period from the pedestrians ``sensed`` at its start."""
+    def robot_period(self, sensed: Array) -> Array:
+        """The robot over one period from the pedestrians ``sensed`` at its start.
+
+        Only the pedestrians within r2 (the candidates of the slots) get their velocities and
+        accelerations differenced: the slots are the same as from every pedestrian's.
+        """
         s, inp = self.s, self.step.inp
-        P, V, A = sensed
-        slots, n, over = fill_slots(inp[0][:2], P, V, A, r2=self.r2, slots=s.crowd.neighbours)
-        self.overflow += int(over)
+        x, y = inp[0][0], inp[0][1]
+        now = sensed[2]
+        d2 = (now[:, 0] - x) ** 2 + (now[:, 1] - y) ** 2
+        inside = np.flatnonzero(d2 < self.r2 * self.r2)  # NaN rows (not in) compare False
+        n = inside.size
+        obs = self.slots  # a view of the step's obstacle input
+        if n <= s.crowd.neighbours:  # as fill_slots, on the candidates only
+            obs[n:] = self.parked[n:]
+            if n:
+                obs[:n] = _slot_rows(sensed[:, inside], d2[inside].tolist(), self.ped_dt)
+        else:
+            P, V, A = _derivatives(sensed[:, inside], self.ped_dt)
+            obs[:] = fill_slots(inp[0][:2], P, V, A, r2=self.r2, slots=obs.shape[0])[0].reshape(
+                -1, 6
+            )
+            self.overflow += 1
         if n > 1:  # Sec. 6.4.3: two critical regions intersect, no path between them is safe
-            Q = slots.reshape(-1, 6)[: min(n, s.crowd.neighbours), 0:2]
-            gap = np.hypot(Q[:, None, 0] - Q[None, :, 0], Q[:, None, 1] - Q[None, :, 1])
-            np.fill_diagonal(gap, np.inf)
-            self.overlaps += int((gap < 2 * self.r3).any())
-        inp[2][:] = np.concatenate([self.wall_obs, slots])
+            Q = obs[: min(n, s.crowd.neighbours), 0:2].tolist()
+            dx, dy = zip(*((a[0] - b[0], a[1] - b[1]) for a, b in combinations(Q, 2)), strict=True)
+            self.overlaps += int((np.hypot(dx, dy) < 2 * self.r3).any())
+        return self._step_robot()
+
+    def _step_robot(self) -> Array:
+        """The compiled step on the inputs set (with the CBF filter's force for CBF)."""
+        s, inp = self.s, self.step.inp
         if self.cbf is not None:
             x = inp[0].copy()
             inp[5][:] = self.cbf.force(x, inp[1].copy(), s.row, inp[2].copy(), s.crowd.robot, None)
@@ -342,25 +394,24 @@ class _Run:
         pedestrian step): no other can come within r2 during the period, so every
         critical-region entry and collision is seen. The others count at the sample.
         """
-        s = self.s
-        q = s.n_sub // s.per_ped
-        F = self.frames.last(s.per_ped + 1)  # (per + 1, n, 2): the period's pedestrian steps
+        F = self.frames.last(self.s.per_ped + 1)  # (per + 1, n, 2): the period's pedestrian steps
         P0 = F[0]
         p = self.rec_X[-1][0:2, -1]  # the robot at the period's start
         d0 = np.hypot(P0[:, 0] - p[0], P0[:, 1] - p[1])
-        if np.isnan(d0).all():
+        m = float(np.fmin.reduce(d0)) if d0.size else math.nan  # NaN: nobody is in
+        if m != m:
             return
-        self.dmin = min(self.dmin, float(np.nanmin(d0)))
+        self.dmin = min(self.dmin, m)
         near = np.flatnonzero(d0 < self.reach)
         if not near.size:
             return
         G = F[:, near]
-        frac = (np.arange(1, q + 1) / q)[None, :, None, None]
-        Ps = G[:-1, None] + frac * (G[1:] - G[:-1])[:, None]  # (per, q, n_near, 2)
+        Ps = G[:-1, None] + self.frac * (G[1:] - G[:-1])[:, None]  # (per, q, n_near, 2)
         Ps = Ps.reshape(-1, near.size, 2)[: pts.shape[0]]
         d = np.hypot(Ps[:, :, 0] - pts[:, None, 0], Ps[:, :, 1] - pts[:, None, 1])
-        if not np.isnan(d).all():
-            self.dmin = min(self.dmin, float(np.nanmin(d)))
+        m = float(np.fmin.reduce(d, axis=None))
+        if m == m:
+            self.dmin = min(self.dmin, m)
 
 
 def _wall_distance_point(walls: list[tuple[float, ...]], x: float, y: float) -> float:
