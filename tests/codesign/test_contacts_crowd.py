@@ -107,3 +107,20 @@ def test_crowd_gives_one_encounter_per_pedestrian_present() -> None:
 def test_bad_runs_are_refused() -> None:
     with pytest.raises(DesignlabError, match="CrowdResult"):
         contact_speeds(["not a run"])
+
+
+def test_codesign_study_crowds_feed_the_risk(passing) -> None:
+    from designlab.study.kinds.codesign import CodesignStudy, crowd_risk
+
+    study = CodesignStudy.model_validate({
+        "designlab": 1, "kind": "codesign", "name": "t", "scenarios": [{"configuration": 2}],
+        "risk": {"foams": ["FOAM_1"], "samples": 2000},
+        "crowds": {"layout": "corridor_counterflow", "pedestrians": 6, "seeds": [4],
+                   "options": {"length": 12.0, "horizon": 2.4}},
+    })  # fmt: skip
+    frame = crowd_risk(study, dl.impact.MANIPULATOR_1, None)
+    c = nav.crowd("corridor_counterflow", 6, length=12.0, seed=4, horizon=2.4)
+    s = contact_speeds(nav.simulate(c, nav.EXPERIMENT_GAINS))
+    r = injury_probability(dl.impact.MANIPULATOR_1, dl.impact.FOAM_1, s, samples=2000, seed=0)
+    assert frame is not None and len(frame) == 1 and frame["encounters"][0] == len(s)
+    assert frame["probability"][0] == r.probability
