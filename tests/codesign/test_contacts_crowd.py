@@ -4,6 +4,7 @@ the exact encounter, and a crowd gives one encounter per pedestrian present."""
 from __future__ import annotations
 
 import numpy as np
+import pandas as pd
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as hst
@@ -12,6 +13,8 @@ import designlab as dl
 from designlab.codesign import contact_speeds, injury_probability
 from designlab.codesign.contacts import pedestrian_velocity
 from designlab.errors import DesignlabError
+from designlab.report.codesign import crowd_risk_section
+from designlab.study.kinds.codesign import CodesignStudy, crowd_risk
 
 nav = dl.navigation
 GAINS = nav.VFFGains(4.3, 0.68, 20.3, 240.7)
@@ -110,8 +113,6 @@ def test_bad_runs_are_refused() -> None:
 
 
 def test_codesign_study_crowds_feed_the_risk(passing) -> None:
-    from designlab.study.kinds.codesign import CodesignStudy, crowd_risk
-
     study = CodesignStudy.model_validate({
         "designlab": 1, "kind": "codesign", "name": "t", "scenarios": [{"configuration": 2}],
         "risk": {"foams": ["FOAM_1"], "samples": 2000},
@@ -124,3 +125,17 @@ def test_codesign_study_crowds_feed_the_risk(passing) -> None:
     r = injury_probability(dl.impact.MANIPULATOR_1, dl.impact.FOAM_1, s, samples=2000, seed=0)
     assert frame is not None and len(frame) == 1 and frame["encounters"][0] == len(s)
     assert frame["probability"][0] == r.probability
+
+
+def test_report_has_the_crowd_section_only_with_crowds() -> None:
+    class _Result:  # the two attributes the section reads
+        def __init__(self, study, frame):
+            self.study, self.crowd_risk = study, frame
+
+    base = {"designlab": 1, "kind": "codesign", "name": "t", "scenarios": [{"configuration": 2}]}
+    crowds = {"crowds": {"layout": "crossing", "pedestrians": 3, "seeds": [1, 2]}}
+    study = CodesignStudy.model_validate({**base, **crowds})
+    frame = pd.DataFrame({"foam": ["Foam 1"], "probability": [0.25]})
+    text = "\n".join(crowd_risk_section(_Result(study, frame)))
+    assert "`crossing` crowds of 3 pedestrians (seeds 1, 2)" in text and "0.25" in text
+    assert crowd_risk_section(_Result(CodesignStudy.model_validate(base), None)) == []
