@@ -139,3 +139,20 @@ def test_report_has_the_crowd_section_only_with_crowds() -> None:
     text = "\n".join(crowd_risk_section(_Result(study, frame)))
     assert "`crossing` crowds of 3 pedestrians (seeds 1, 2)" in text and "0.25" in text
     assert crowd_risk_section(_Result(CodesignStudy.model_validate(base), None)) == []
+
+
+@pytest.mark.parametrize(
+    "bad",
+    [
+        {"layout": "crossing", "pedestrians": 0},
+        {"layout": "crossing", "pedestrians": 10**6},
+        {"layout": "crossing", "seeds": [-1]},
+        {"layout": "crossing", "seeds": []},
+        {"layout": "nowhere"},
+        {"layout": "crossing", "options": {"horizon": float("nan")}},
+    ],
+)
+def test_bad_crowds_section_is_refused(bad) -> None:
+    base = {"designlab": 1, "kind": "codesign", "name": "t", "scenarios": [{"configuration": 2}]}
+    with pytest.raises(ValueError, match="crowds"):
+        CodesignStudy.model_validate({**base, "crowds": bad})

@@ -85,6 +85,9 @@ _Stiffness = params_of(Foam)["stiffness"].annotation()
 _Speed = IMPACT_VELOCITY.annotation()
 _Points = MAP_POINTS.annotation()
 _Samples = RISK_SAMPLES.annotation()
+_CROWD = params_of(nav.CrowdScenario)
+_Pedestrians = _CROWD["pedestrians"].annotation()
+_CrowdSeed = _CROWD["seed"].annotation()
 
 #: The design space of the front: the bounds are the domains' declarations.
 DesignSpaceSpec = spec_model(DesignSpace, name="DesignSpaceSpec")
@@ -153,8 +156,8 @@ class CrowdEncountersSpec(Model):
     layout: Literal["corridor_counterflow", "crossing", "bottleneck", "open_plaza"] = Field(
         description="crowd layout (:func:`designlab.navigation.crowd`)"
     )
-    pedestrians: int = Field(20, ge=1, le=200, description="pedestrians in each crowd")
-    seeds: list[int] = Field(
+    pedestrians: _Pedestrians = Field(20, description="pedestrians in each crowd")  # type: ignore[valid-type]
+    seeds: list[_CrowdSeed] = Field(  # type: ignore[valid-type]
         default_factory=lambda: [0], min_length=1, max_length=16, description="one run per seed"
     )
     options: CrowdSpec = Field(  # type: ignore[valid-type]
