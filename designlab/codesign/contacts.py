@@ -52,12 +52,18 @@ import scipy.stats as st
 from numpy.typing import ArrayLike, NDArray
 
 from designlab.errors import InvalidParameterError
-from designlab.navigation import NavigationResult, Scenario, VFFGains, simulate
+from designlab.navigation import CrowdResult, NavigationResult, Scenario, VFFGains, simulate
 from designlab.navigation.scenarios import Disc
 from designlab.progress import Progress, ProgressHook, report
 from designlab.results import Result, Status
 
-__all__ = ["ContactSpeeds", "ContactStatus", "contact_speeds", "navigation_contacts"]
+__all__ = [
+    "ContactSpeeds",
+    "ContactStatus",
+    "contact_speeds",
+    "navigation_contacts",
+    "pedestrian_velocity",
+]
 
 Array = NDArray[np.float64]
 
@@ -223,6 +229,47 @@ class ContactSpeeds(Result):
         )
 
 
+def _encounter_at(
+    rel_p: Array, rel_v: Array, touch: float, r2: float
+) -> tuple[int, bool, float, float, float]:
+    """Index of the first contact (else the closest approach) of a relative track, whether it
+    is a contact, and the relative, normal and approach speeds there."""
+    d = np.hypot(rel_p[:, 0], rel_p[:, 1])
+    hits = np.flatnonzero(d - touch <= 0.0)
+    i = int(hits[0]) if hits.size else int(np.argmin(d))
+    speed = float(np.hypot(*rel_v[i]))
+    normal = -float(rel_p[i] @ rel_v[i]) / d[i] if d[i] > 0 else speed
+    closing = -np.einsum("ij,ij->i", rel_p[: i + 1], rel_v[: i + 1]) / np.maximum(d[: i + 1], 1e-12)
+    inside = d[: i + 1] <= r2
+    approach = float(max(0.0, closing[inside].max())) if inside.any() else 0.0
+    return i, bool(hits.size), speed, normal, approach
+
+
+def _row(
+    names: tuple[str, str], t: Array, p_r: Array, v_r: Array, p_o: Array, v_o: Array,
+    touch: float, r2: float,
+) -> dict[str, Any]:  # fmt: skip
+    """One encounter row from aligned robot and obstacle tracks."""
+    rel_p, rel_v = p_r - p_o, v_r - v_o
+    i, contact, speed, normal, approach = _encounter_at(rel_p, rel_v, touch, r2)
+    d = float(np.hypot(*rel_p[i]))
+    angle = math.acos(min(1.0, max(-1.0, normal / speed))) if speed > 0 else 0.0
+    return {
+        "scenario": names[0],
+        "obstacle": names[1],
+        "contact": contact,
+        "time": float(t[i]),
+        "distance": d,
+        "surface_distance": d - touch,
+        "relative_speed": speed,
+        "normal_speed": normal,
+        "approach_speed": approach,
+        "angle": angle,
+        "robot_speed": float(np.hypot(*v_r[i])),
+        "obstacle_speed": float(np.hypot(*v_o[i])),
+    }
+
+
 def _encounter(run: NavigationResult, obstacle: Disc) -> dict[str, Any]:
     """The closest approach (or first contact) of ``run`` with one disc obstacle."""
     t = np.asarray(run.t, dtype=float)
@@ -230,44 +277,101 @@ def _encounter(run: NavigationResult, obstacle: Disc) -> dict[str, Any]:
     end = max(int(end), 1)
     t = t[:end]
     p_o, v_o, _ = obstacle.state(t)
-    rel_p = run.position[:end] - p_o
-    rel_v = run.velocity[:end] - v_o
-    d = np.hypot(rel_p[:, 0], rel_p[:, 1])
     touch = obstacle.collision_distance(run.scenario.robot.radius)
-    hits = np.flatnonzero(d - touch <= 0.0)
-    i = int(hits[0]) if hits.size else int(np.argmin(d))
-    speed = float(np.hypot(*rel_v[i]))
-    normal = -float(rel_p[i] @ rel_v[i]) / d[i] if d[i] > 0 else speed
-    closing = -np.einsum("ij,ij->i", rel_p[: i + 1], rel_v[: i + 1]) / np.maximum(d[: i + 1], 1e-12)
-    inside = d[: i + 1] <= obstacle.r2
-    approach = float(max(0.0, closing[inside].max())) if inside.any() else 0.0
-    angle = math.acos(min(1.0, max(-1.0, normal / speed))) if speed > 0 else 0.0
-    return {
-        "scenario": run.scenario.name,
-        "obstacle": obstacle.name,
-        "contact": bool(hits.size),
-        "time": float(t[i]),
-        "distance": float(d[i]),
-        "surface_distance": float(d[i] - touch),
-        "relative_speed": speed,
-        "normal_speed": normal,
-        "approach_speed": approach,
-        "angle": angle,
-        "robot_speed": float(np.hypot(*run.velocity[i])),
-        "obstacle_speed": float(np.hypot(*v_o[i])),
-    }
+    names = (run.scenario.name, obstacle.name)
+    return _row(names, t, run.position[:end], run.velocity[:end], p_o, v_o, touch, obstacle.r2)
 
 
-def _check_runs(runs: Any) -> list[NavigationResult]:
-    if isinstance(runs, NavigationResult):
+def pedestrian_velocity(times: Array, positions: Array) -> Array:
+    """Velocities ``(T, 2)`` of one pedestrian from its positions ``(T, 2)`` (NaN when absent).
+
+    Second-order differences (:func:`numpy.gradient`, central inside, one-sided at the
+    ends) over each stretch the pedestrian is present: exact for straight walking at
+    constant speed, whatever the spacing of the records. NaN where absent, and 0 for a
+    stretch of a single record.
+
+    Parameters
+    ----------
+    times
+        ``(T,)`` record times (s).
+    positions
+        ``(T, 2)`` positions (m), NaN where the pedestrian is absent.
+
+    Returns
+    -------
+    numpy.ndarray
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.array([0.0, 0.1, 0.3, 0.4])
+    >>> p = np.c_[1.0 + 1.2 * t, 2.0 - 0.5 * t]
+    >>> pedestrian_velocity(t, p).round(12).tolist()[2]
+    [1.2, -0.5]
+    """
+    v = np.full_like(positions, np.nan)
+    idx = np.flatnonzero(np.isfinite(positions).all(axis=1))
+    for part in np.split(idx, np.flatnonzero(np.diff(idx) > 1) + 1):
+        if part.size == 1:
+            v[part] = 0.0
+        elif part.size > 1:
+            edge = 2 if part.size > 2 else 1
+            v[part] = np.gradient(positions[part], times[part], axis=0, edge_order=edge)
+    return v
+
+
+def _crowd_encounters(run: CrowdResult) -> list[dict[str, Any]]:
+    """The closest approach (or first contact) of a crowd run with each pedestrian present
+    before arrival (records at every pedestrian step)."""
+    t = np.asarray(run.times, dtype=float)
+    end = np.searchsorted(t, run.arrival_time, side="right") if run.arrived else t.size
+    end = max(int(end), 1)
+    c = run.crowd
+    r2, _ = c.pedestrian_regions()
+    touch = c.robot.radius + c.pedestrian_radius
+    rows = []
+    for n, pid in enumerate(np.asarray(run.pedestrian_ids)):
+        P = np.asarray(run.pedestrian_positions[:, n], dtype=float)
+        V = pedestrian_velocity(t, P)[:end]
+        present = np.isfinite(P[:end]).all(axis=1)
+        if not present.any():
+            continue
+        names = (f"crowd {c.layout} seed {c.seed}", f"pedestrian {int(pid)}")
+        tr, pr, vr = (
+            t[:end][present],
+            run.robot_positions[:end][present],
+            run.robot_velocities[:end][present],
+        )
+        rows.append(_row(names, tr, pr, vr, P[:end][present], V[present], touch, r2))
+    return rows
+
+
+def _check_runs(runs: Any) -> list[NavigationResult | CrowdResult]:
+    if isinstance(runs, NavigationResult | CrowdResult):
         return [runs]
     if isinstance(runs, str | bytes) or not isinstance(runs, Iterable):
-        raise InvalidParameterError("runs", runs, "must be NavigationResult objects")
+        raise InvalidParameterError("runs", runs, "must be NavigationResult or CrowdResult objects")
     out = list(runs)
     for r in out:
-        if not isinstance(r, NavigationResult):
-            raise InvalidParameterError("runs", r, "must contain NavigationResult objects")
+        if not isinstance(r, NavigationResult | CrowdResult):
+            raise InvalidParameterError(
+                "runs", r, "must contain NavigationResult or CrowdResult objects"
+            )
     return out
+
+
+def _run_encounters(
+    run: NavigationResult | CrowdResult, keep: frozenset[str] | None
+) -> list[dict[str, Any]]:
+    """The encounters of one run with its kept disc obstacles or pedestrians."""
+    if isinstance(run, CrowdResult):
+        rows = _crowd_encounters(run)
+        return [r for r in rows if keep is None or r["obstacle"] in keep]
+    return [
+        _encounter(run, o)
+        for o in run.scenario.obstacles
+        if isinstance(o, Disc) and (keep is None or o.name in keep)
+    ]
 
 
 def _check_names(obstacles: Any) -> frozenset[str] | None:
@@ -321,12 +425,7 @@ def contact_speeds(
     if measure not in MEASURES:
         raise InvalidParameterError("measure", measure, f"must be one of {MEASURES}")
     keep = _check_names(obstacles)
-    rows = [
-        _encounter(run, o)
-        for run in _check_runs(runs)
-        for o in run.scenario.obstacles
-        if isinstance(o, Disc) and (keep is None or o.name in keep)
-    ]
+    rows = [row for run in _check_runs(runs) for row in _run_encounters(run, keep)]
     return _from_rows(rows, measure)
 
 

@@ -48,6 +48,7 @@ from designlab.study.kinds.codesign import CodesignResult
 __all__ = [
     "codesign_markdown",
     "contacts_figure",
+    "crowd_risk_section",
     "front_claims",
     "front_figure",
     "risk_figure",
@@ -256,6 +257,32 @@ def front_claims(front: ParetoFront) -> list[str]:
     return [*out, ""]
 
 
+def crowd_risk_section(result: CodesignResult) -> list[str]:
+    """The Markdown section of the crowd encounters' risk (empty without ``crowds``).
+
+    Parameters
+    ----------
+    result
+        A ``codesign`` result.
+    """
+    frame = result.crowd_risk
+    if frame is None:
+        return []
+    c = result.study.crowds
+    assert c is not None  # crowd_risk is only computed with a crowds section
+    return [
+        "## Risk over crowd encounters",
+        "",
+        f"The thesis's design (experiment gains) driven through `{c.layout}` crowds of "
+        f"{c.pedestrians} pedestrians (seeds {', '.join(map(str, c.seeds))}); the closing "
+        f"speeds (`{result.study.measure}`) at each pedestrian's closest approach or first "
+        "contact are the distribution of P(criterion exceeded | contact) (docs/codesign.md).",
+        "",
+        markdown_table(frame, floatfmt=".4g", index=False),
+        "",
+    ]
+
+
 def codesign_markdown(
     result: CodesignResult, *, command: str | None = None, version: str | None = None
 ) -> str:
@@ -296,6 +323,7 @@ def codesign_markdown(
         *_contacts_claims(contacts),
         markdown_table(contacts.drop(columns=["t_s"]), floatfmt=".3f", index=False),
         "",
+        *crowd_risk_section(result),
         "## Pareto front",
         "",
         f"Objectives, all minimised: {objectives}. Hard constraints: no collision, no "

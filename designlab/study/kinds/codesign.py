@@ -47,7 +47,9 @@ from designlab.codesign import (
     DesignSpace,
     ParetoFront,
     SpeedLimitMap,
+    contact_speeds,
     fragility_curve,
+    injury_probability,
     pareto,
     speed_limit_map,
 )
@@ -63,6 +65,7 @@ from designlab.results import Result, Status
 from designlab.study.base import Model, StudyBase
 from designlab.study.kinds.foam_design import CriterionSpec, HeadRangeSpec
 from designlab.study.kinds.impact_specs import DampingGrid, FoamSpec, RobotSpec
+from designlab.study.kinds.navigation_crowds import CrowdSpec
 from designlab.study.kinds.navigation_specs import ScenarioSpec
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
@@ -82,6 +85,9 @@ _Stiffness = params_of(Foam)["stiffness"].annotation()
 _Speed = IMPACT_VELOCITY.annotation()
 _Points = MAP_POINTS.annotation()
 _Samples = RISK_SAMPLES.annotation()
+_CROWD = params_of(nav.CrowdScenario)
+_Pedestrians = _CROWD["pedestrians"].annotation()
+_CrowdSeed = _CROWD["seed"].annotation()
 
 #: The design space of the front: the bounds are the domains' declarations.
 DesignSpaceSpec = spec_model(DesignSpace, name="DesignSpaceSpec")
@@ -144,6 +150,26 @@ class SpeedMapSpec(Model):
     )
 
 
+class CrowdEncountersSpec(Model):
+    """Crowd runs of the thesis's design (experiment gains) whose encounters feed the risk."""
+
+    layout: Literal["corridor_counterflow", "crossing", "bottleneck", "open_plaza"] = Field(
+        description="crowd layout (:func:`designlab.navigation.crowd`)"
+    )
+    pedestrians: _Pedestrians = Field(20, description="pedestrians in each crowd")  # type: ignore[valid-type]
+    seeds: list[_CrowdSeed] = Field(  # type: ignore[valid-type]
+        default_factory=lambda: [0], min_length=1, max_length=16, description="one run per seed"
+    )
+    options: CrowdSpec = Field(  # type: ignore[valid-type]
+        default_factory=CrowdSpec, description="the other crowd options"
+    )
+
+    def build(self) -> list[nav.CrowdScenario]:
+        """The crowds, one per seed."""
+        kw = self.options.build()
+        return [nav.crowd(self.layout, self.pedestrians, seed=s, **kw) for s in self.seeds]
+
+
 class RiskSpec(Model):
     """Risk curves: P(criterion exceeded | contact) against a fixed closing speed."""
 
@@ -193,6 +219,9 @@ class CodesignStudy(StudyBase):
         None, description="randomised human walks for the contact speeds (none: as given)"
     )
     measure: _Measure = Field("relative", description="which closing speed counts")
+    crowds: CrowdEncountersSpec | None = Field(
+        None, description="crowd encounters as a closing-speed distribution of the risk"
+    )
     front: FrontSpec = Field(default_factory=FrontSpec)
     speed_map: SpeedMapSpec = Field(default_factory=SpeedMapSpec)
     risk: RiskSpec = Field(default_factory=RiskSpec)
@@ -262,6 +291,8 @@ class CodesignResult(Result):
         The :class:`~designlab.codesign.SpeedLimitMap`.
     risk
         The risk curves: foam, closing speed, probability and its interval.
+    crowd_risk
+        With ``crowds``: per foam, the probability over the crowd encounters' closing speeds.
     status, warnings
         The front's status; the warnings of the contacts and the front.
     """
@@ -273,6 +304,7 @@ class CodesignResult(Result):
     risk: pd.DataFrame = field(repr=False)
     status: str = CodesignStatus.OK
     warnings: tuple[str, ...] = ()
+    crowd_risk: pd.DataFrame | None = field(default=None, repr=False)
 
     def to_frame(self) -> pd.DataFrame:
         """The front's non-dominated designs."""
@@ -325,6 +357,43 @@ def risk_curves(
     return pd.concat(frames, ignore_index=True)
 
 
+def crowd_risk(study: CodesignStudy, robot: Any, heads: Any) -> pd.DataFrame | None:
+    """P(criterion exceeded | contact) for each risk foam over the crowd encounters.
+
+    The thesis's design (experiment gains) runs each crowd; the encounters
+    (:func:`~designlab.codesign.contact_speeds` with the study's ``measure``) are the
+    closing-speed distribution of :func:`~designlab.codesign.injury_probability`.
+
+    Parameters
+    ----------
+    study
+        The study (its ``crowds``, ``risk`` and ``measure``).
+    robot
+        The impact robot.
+    heads
+        The head-neck range (``None``: the injury model's default).
+    """
+    if study.crowds is None:
+        return None
+    runs = [nav.simulate(c, nav.EXPERIMENT_GAINS) for c in study.crowds.build()]
+    speeds = contact_speeds(runs, measure=study.measure)
+    if speeds.status != "ok":
+        return None
+    crit = None if study.risk.criterion is None else study.risk.criterion.build()
+    rows = []
+    for k, foam in enumerate(f.build() for f in study.risk.foams):
+        r = injury_probability(
+            robot, foam, speeds, heads=heads, criterion=crit, samples=study.risk.samples,
+            seed=study.front.seed,
+        )  # fmt: skip
+        rows.append({
+            "foam": _foam_label(foam, k), "encounters": len(speeds),
+            "contacts": speeds.n_contacts, "v_mean_m_per_s": speeds.mean(),
+            "probability": r.probability, "low": r.interval[0], "high": r.interval[1],
+        })  # fmt: skip
+    return pd.DataFrame(rows)
+
+
 def run(study: CodesignStudy, context: RunContext) -> CodesignResult:
     """Collect the contact speeds and search the front, with progress bars.
 
@@ -367,6 +436,7 @@ def run(study: CodesignStudy, context: RunContext) -> CodesignResult:
         risk,
         status=CodesignStatus(str(front.status)),
         warnings=(*smap.warnings, *contacts.warnings, *front.warnings),
+        crowd_risk=crowd_risk(study, robot, heads),
     )
 
 
