@@ -428,8 +428,8 @@ def gallery_page(report: Path, study: dict[str, Any]) -> tuple[str, list[str]]:
         if source.suffix in (".png", ".gif", ".csv") and source.is_file():
             copy_binary(source, f"gallery/{name}/{source.name}")
     # the table of contents on the right is hidden: report tables need the width
-    page = ["---", "hide:", "  - toc", "---", "", f"# {title}", "", '<div class="dl-report" markdown>']
-    page += ["", *body]
+    page = ["---", "hide:", "  - toc", "---", "", f"# {title}", ""]
+    page += ['<div class="dl-report" markdown>', "", *body]
     csvs = sorted(report.glob("*.csv"))
     if csvs:
         page += ["## Tables (CSV)", "", *(f"- [{c.name}]({c.name})" for c in csvs), ""]

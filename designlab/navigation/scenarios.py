@@ -647,13 +647,13 @@ class Scenario:
                 raise InvalidParameterError(
                     "Scenario.obstacles", o, "must contain Disc or Rectangle objects"
                 )
-            if o.r2 <= o.collision_distance(self.robot.radius):
+            contact = o.collision_distance(self.robot.radius)
+            if o.r2 <= contact:
                 raise InvalidParameterError(
                     f"{type(o).__name__}.r2",
                     o.r2,
-                    f"must exceed the contact distance {o.collision_distance(self.robot.radius):.3f}"
-                    f" m of {o.name!r} and the robot (an active region inside contact has no"
-                    " clearance to score, Sec. 5.6)",
+                    f"must exceed the contact distance {contact:.3f} m of {o.name!r} and the"
+                    " robot (an active region inside contact has no clearance to score, Sec. 5.6)",
                     "m",
                 )
             d_start = float(o.contour_distance(np.array([self.start]), 0.0)[0])
