@@ -13,10 +13,14 @@ from __future__ import annotations
 
 import ast
 import dataclasses
+import doctest
+import functools
 import importlib
 import inspect
 import math
 import pkgutil
+import typing
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -27,6 +31,8 @@ import designlab
 from designlab.errors import InvalidParameterError
 from designlab.params import Param, params_of
 from designlab.study.specs import spec_model
+
+_MISSING: Any = dataclasses.MISSING
 
 
 def _modules() -> list[Any]:
@@ -47,26 +53,108 @@ DECLARED = {
 }
 
 
-def _example(cls: type) -> Any:
-    """A valid instance: a preset of the class in its module, else the defaults."""
-    module = importlib.import_module(cls.__module__)
-    for value in vars(module).values():
+#: Valid instances of the classes whose required fields no rule below can fill (a controller
+#: to wrap, arrays that must agree), each built by the package's own factory.
+EXAMPLES: dict[str, Callable[[], Any]] = {
+    "BrakeMode": lambda: designlab.following.tether.BrakeMode(
+        designlab.following.tether.PseudoJoystick()
+    ),
+    "LeaderPath": lambda: designlab.following.tether.straight_line(2.0),
+    "WalkingTask": lambda: designlab.following.accompanying.walking_task("forward"),
+}
+
+
+def _preset(cls: type) -> Any:
+    """An instance of ``cls`` kept in its module (a named preset such as ``OXYDOG``)."""
+    for value in vars(importlib.import_module(cls.__module__)).values():
         if type(value) is cls:
             return value
+    return None
+
+
+def _documented(cls: type) -> Any:
+    """The first instance of ``cls`` that its docstring's examples make (bound or not)."""
+    namespace = dict(vars(importlib.import_module(cls.__module__)))
+    for example in doctest.DocTestParser().get_examples(cls.__doc__ or ""):
+        if example.exc_msg is not None:
+            continue
+        try:
+            exec(compile(example.source, f"<{cls.__name__} docstring>", "exec"), namespace)
+            calls = [n for n in ast.walk(ast.parse(example.source)) if isinstance(n, ast.Call)]
+            made = [eval(compile(ast.Expression(c), "<call>", "eval"), namespace) for c in calls]
+        except Exception:  # an example that needs what came before it in a module doctest
+            return None
+        found = [v for v in [*namespace.values(), *made] if type(v) is cls]
+        if found:
+            return found[0]
+    return None
+
+
+def _field_value(cls: type, name: str, decl: Param) -> Any:
+    """A valid value of a required field from its declaration alone (``_MISSING``: none)."""
+    if decl.kind == "choice":
+        return decl.choices[0]
+    if decl.kind == "flag":
+        return False
+    if decl.kind == "text":
+        return "x" * (decl.min_length or 1)
+    if decl.kind == "object":
+        nested = typing.get_type_hints(cls).get(name)
+        if inspect.isclass(nested) and "__params__" in vars(nested):
+            return _example(nested)  # a required nested model: its own example
+        return _MISSING
+    if decl.typical is not None:
+        return sum(decl.typical) / 2
+    lo = decl.ge if decl.ge is not None else decl.gt
+    hi = decl.le if decl.le is not None else decl.lt
+    return ((lo or 0.0) + (hi if hi is not None else (lo or 0.0) + 2.0)) / 2
+
+
+def _built(cls: type) -> Any:
+    """An instance built from the declarations (defaults kept), or ``None``."""
     values = {}
     for name, decl in params_of(cls).items():
         if decl.default is not None or decl.optional:
             continue
-        if decl.typical is not None:
-            values[name] = sum(decl.typical) / 2
-        else:
-            lo = decl.ge if decl.ge is not None else decl.gt
-            hi = decl.le if decl.le is not None else decl.lt
-            values[name] = ((lo or 0.0) + (hi if hi is not None else (lo or 0.0) + 2.0)) / 2
+        field = next(f for f in dataclasses.fields(cls) if f.name == name)
+        if field.default is not _MISSING or field.default_factory is not _MISSING:
+            continue
+        value = _field_value(cls, name, decl)
+        if value is _MISSING:
+            return None
+        values[name] = value
     try:
         return cls(**values)
-    except (TypeError, ValueError) as exc:
-        pytest.skip(f"no valid {cls.__name__} to start from: {exc}")
+    except (TypeError, ValueError):
+        return None
+
+
+@functools.cache
+def _example(cls: type) -> Any:
+    """A valid instance to start from: the registry, a preset, the declarations, the docstring."""
+    make = EXAMPLES.get(cls.__name__)
+    for candidate in (
+        make() if make is not None else None,
+        _preset(cls),
+        _built(cls),
+        _documented(cls),
+    ):
+        if type(candidate) is cls:
+            return candidate
+    raise AssertionError(
+        f"no valid {cls.__name__} to start from: add a preset, a docstring example that "
+        "binds one, or an entry of EXAMPLES"
+    )
+
+
+def test_every_declared_class_has_an_example() -> None:
+    missing = []
+    for name, cls in DECLARED.items():
+        try:
+            _example(cls)
+        except AssertionError:
+            missing.append(name)
+    assert not missing
 
 
 def _boundary_values(decl: Param) -> list[Any]:
@@ -131,10 +219,6 @@ TEXT_CASES = [
 ]
 
 
-#: A valid instance of the classes :func:`_example` cannot make (an object field).
-TEXT_EXAMPLES = {"LeaderPath": lambda: designlab.following.tether.straight_line(2.0)}
-
-
 def test_text_lengths_are_declared_somewhere() -> None:
     assert ("designlab.following.tether.paths.LeaderPath", "name") in TEXT_CASES
 
@@ -145,8 +229,7 @@ def test_text_lengths_are_declared_somewhere() -> None:
 def test_schema_and_constructor_agree_on_text_lengths(name: str, field: str) -> None:
     cls = DECLARED[name]
     decl = params_of(cls)[field]
-    make = TEXT_EXAMPLES.get(cls.__name__)
-    base = make() if make is not None else _example(cls)
+    base = _example(cls)
     validator = jsonschema.Draft202012Validator(
         spec_model(cls).model_json_schema()["properties"][field]
     )

@@ -224,20 +224,24 @@ def copy_study(directory: str | os.PathLike[str], study_text: str | None) -> lis
     return [atomic_write_text(Path(directory) / STUDY_COPY, study_text)]
 
 
-def slug(text: str) -> str:
+def slug(text: str, empty: str = "") -> str:
     """A file-name part made of ``text``: letters and digits, ``_`` between, lower case.
 
     Parameters
     ----------
     text
         A label (a path name, a law's title).
+    empty
+        What to return when ``text`` has no letter or digit.
 
     Examples
     --------
     >>> slug("Figure-eight (5 m)")
     'figure_eight_5_m'
+    >>> slug("--", empty="all")
+    'all'
     """
-    return re.sub(r"[^A-Za-z0-9]+", "_", text).strip("_").lower()
+    return re.sub(r"[^A-Za-z0-9]+", "_", text).strip("_").lower() or empty
 
 
 def write_report(

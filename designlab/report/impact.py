@@ -18,7 +18,6 @@ Files written into the report directory:
 from __future__ import annotations
 
 import math
-import re
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -28,7 +27,13 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from designlab.report import register_writer
-from designlab.report.builder import copy_study, figure_section, report_header, warnings_section
+from designlab.report.builder import (
+    copy_study,
+    figure_section,
+    report_header,
+    slug,
+    warnings_section,
+)
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.kinds.impact_cases import ImpactCaseResult, ImpactCasesResult
 from designlab.units import STANDARD_GRAVITY
@@ -49,11 +54,6 @@ cases:
 G = STANDARD_GRAVITY
 
 
-def _slug(text: str) -> str:
-    """``"Table 4.1"`` -> ``"table_4_1"``."""
-    return re.sub(r"[^a-z0-9]+", "_", text.lower()).strip("_") or "all"
-
-
 def _groups(result: ImpactCasesResult) -> dict[str, list[ImpactCaseResult]]:
     groups: dict[str, list[ImpactCaseResult]] = {}
     for c in result.cases:
@@ -68,7 +68,7 @@ def figure_names(result: ImpactCasesResult) -> dict[str, str]:
         return {next(iter(groups)): "time_histories.png"}
     names: dict[str, str] = {}
     for g in groups:
-        base = f"time_histories_{_slug(g)}"
+        base = f"time_histories_{slug(g, 'all')}"
         name, n = f"{base}.png", 2
         while name in names.values():
             name, n = f"{base}_{n}.png", n + 1

@@ -27,13 +27,18 @@ Files written into the report directory:
 from __future__ import annotations
 
 import math
-import re
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from designlab.navigation.parameters import VFFGains
 from designlab.report import register_writer
-from designlab.report.builder import copy_study, figure_section, report_header, warnings_section
+from designlab.report.builder import (
+    copy_study,
+    figure_section,
+    report_header,
+    slug,
+    warnings_section,
+)
 from designlab.report.navigation_figures import energy_figure, force_figure
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.kinds.navigation_scenarios import NavigationScenariosResult
@@ -42,10 +47,6 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 __all__ = ["distance_figure", "navigation_markdown", "trajectory_figure", "write_navigation_report"]
-
-
-def _slug(text: str) -> str:
-    return re.sub(r"[^a-z0-9]+", "_", text.lower()).strip("_") or "scenario"
 
 
 def _region_patch(o: Any, r: float, **kw: Any) -> Any:
@@ -276,17 +277,17 @@ def write_navigation_report(
     figures: dict[str, tuple[str, str]] = {}
     extra: dict[str, list[str]] = {}
     for scen, runs in by_scen.items():
-        slug = _slug(scen)
-        traj, dist = f"trajectories_{slug}.png", f"distances_{slug}.png"
+        part = slug(scen, "scenario")
+        traj, dist = f"trajectories_{part}.png", f"distances_{part}.png"
         written.append(write_png(trajectory_figure(runs, scen), directory / traj))
         written.append(write_png(distance_figure(runs, scen), directory / dist))
         figures[scen] = (traj, dist)
-        energy = f"energy_{slug}.png"
+        energy = f"energy_{part}.png"
         written.append(write_png(energy_figure(runs, scen), directory / energy))
         extra[scen] = [energy]
         vff = [r for r in runs if r.result.method == "vff"]
         if vff:
-            force = f"force_{slug}.png"
+            force = f"force_{part}.png"
             sc = vff[0].result.scenario
             g = VFFGains(**vff[0].result.gains)
             written.append(

@@ -31,7 +31,6 @@ optimiser's progress).
 from __future__ import annotations
 
 import math
-import re
 from pathlib import Path
 from typing import Any
 
@@ -42,7 +41,13 @@ from matplotlib.figure import Figure
 from designlab.following.tether import allan_tables, measured_ratio, normal_path_deviation
 from designlab.following.tether.reference import TABLES
 from designlab.report import register_writer
-from designlab.report.builder import copy_study, figure_section, report_header, warnings_section
+from designlab.report.builder import (
+    copy_study,
+    figure_section,
+    report_header,
+    slug,
+    warnings_section,
+)
 from designlab.report.tether_errors import error_section
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 from designlab.study.kinds.tether_comparison import STEP_OFFSET, TetherComparisonResult
@@ -87,10 +92,6 @@ floor {s.damping_floor:g} from the linear lateral loop at every speed; tether ra
 """
 
 _COLOURS = ("tab:red", "tab:blue", "tab:green", "tab:orange", "tab:purple", "tab:brown")
-
-
-def _slug(text: str) -> str:
-    return re.sub(r"[^a-z0-9]+", "_", text.lower()).strip("_") or "path"
 
 
 def _pivot(frame: pd.DataFrame, controllers: list[str]) -> pd.DataFrame:
@@ -562,7 +563,8 @@ def write_comparison_report(
     figures: dict[str, tuple[str, str]] = {}
     for path in dict.fromkeys(c.path for c in result.cases):
         traj, prof = _comparison_figures(result, path)
-        names = (f"trajectories_{_slug(path)}.png", f"npd_profiles_{_slug(path)}.png")
+        part = slug(path, "path")
+        names = (f"trajectories_{part}.png", f"npd_profiles_{part}.png")
         written.append(write_png(traj, directory / names[0]))
         written.append(write_png(prof, directory / names[1]))
         figures[path] = names
@@ -823,7 +825,7 @@ def write_tuning_report(
     lines += ["## Per scenario", "", markdown_table(scen[_SCENARIO_COLUMNS].round(3)), ""]
     figures = {}
     for r in result.results:
-        name = f"tuning_{_slug(type(r.controller).__name__)}.png"
+        name = f"tuning_{slug(type(r.controller).__name__)}.png"
         written.append(write_png(_tuning_figure(r), directory / name))
         figures[type(r.controller).__name__] = name
     lines += figure_section(figures)

@@ -181,7 +181,7 @@ def write_stability_report(
         The files written.
     """
     figures = {
-        f"convergence_{slug(title) or 'law'}.png": partial(convergence_figure, title, m)
+        f"convergence_{slug(title, 'law')}.png": partial(convergence_figure, title, m)
         for title, m in zip(result.titles, result.maps, strict=True)
     }
     return write_report(

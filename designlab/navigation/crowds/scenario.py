@@ -231,7 +231,7 @@ class CrowdScenario:
 
     def _check_timing(self) -> None:
         ratio = self.sample_time / self.pedestrian_step
-        if abs(ratio - round(ratio)) > 1e-6 or round(ratio) < 1:
+        if not math.isfinite(ratio) or abs(ratio - round(ratio)) > 1e-6 or round(ratio) < 1:
             raise InvalidParameterError(
                 "CrowdScenario.pedestrian_step", self.pedestrian_step,
                 f"must divide the sample time {self.sample_time} s into whole steps", "s",
