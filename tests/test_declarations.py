@@ -215,7 +215,7 @@ TEXT_CASES = [
     (name, field)
     for name, cls in DECLARED.items()
     for field, decl in params_of(cls).items()
-    if decl.kind == "text" and (decl.min_length is not None or decl.max_length is not None)
+    if decl.kind == "text"
 ]
 
 

@@ -365,7 +365,9 @@ class Disc:
     ('human', 0.8)
     """
 
-    name: str = param(kind="text", doc="label used in results (circle, human, robot)")
+    name: str = param(
+        kind="text", doc="label used in results (circle, human, robot)", min_length=1, max_length=60
+    )
     radius: float = param("rho_o", "m", doc="model radius", gt=0, le=5.0)
     r2: float = param("r_2", "m", doc="active radius (centre distance, > r3)", gt=0, le=_MAX_REGION)
     r3: float = param("r_3", "m", doc="critical radius (centre distance)", gt=0, le=_MAX_REGION)
@@ -407,7 +409,7 @@ class Rectangle:
     ((2.3, 0.0), 1.4, 0.6)
     """
 
-    name: str = param(kind="text", doc="label used in results")
+    name: str = param(kind="text", doc="label used in results", min_length=1, max_length=60)
     center: tuple[float, float] = _pt("centroid")
     length: float = param("L", "m", doc="side along the local x axis", gt=0, le=_MAX_REGION)
     width: float = param("W", "m", doc="side along the local y axis", gt=0, le=_MAX_REGION)
@@ -558,8 +560,6 @@ def _static_gap(a: Obstacle, b: Obstacle) -> float:
 
 def _check_regions(o: Any) -> None:
     cls = type(o).__name__
-    if not o.name or len(o.name) > 60:
-        raise InvalidParameterError(f"{cls}.name", o.name, "must be a text of 1-60 characters")
     if o.r2 <= o.r3:
         raise InvalidParameterError(
             f"{cls}.r2", o.r2, f"must exceed {cls}.r3 = {o.r3} m (obstacle {o.name!r})", "m"
