@@ -32,6 +32,8 @@ Files written into the report directory:
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -47,8 +49,13 @@ from designlab.following.accompanying import (
 )
 from designlab.report import register_writer
 from designlab.report.accompanying_extras import extras_frame, extras_section
-from designlab.report.builder import copy_study, figure_section, report_header, warnings_section
-from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
+from designlab.report.builder import (
+    figure_section,
+    report_header,
+    warnings_section,
+    write_report,
+)
+from designlab.report.writers import markdown_table
 from designlab.study.kinds.accompanying import AccompanyingResult
 
 __all__ = [
@@ -749,39 +756,35 @@ def write_accompanying_report(
     study_text
         The study file's text, copied as ``study.yaml``.
     """
-    written = [write_csv(result.to_frame(), directory / "metrics.csv")]
-    written.append(write_csv(table1_frame(result), directory / "table1.csv"))
-    written.append(write_csv(table2_frame(result), directory / "table2.csv"))
-    written.append(write_csv(result.tuning_frame(), directory / "tuning.csv"))
     margins = pd.concat(
         [la.to_frame().assign(controller=label) for label, la in result.loops.items()],
         ignore_index=True,
     )
-    written.append(write_csv(margins, directory / "margins.csv"))
-    figures = []
-    for label in result.runs:
-        name = f"trajectories_{label}.png"
-        written.append(write_png(trajectory_figure(result, label), directory / name))
-        figures.append(name)
-    for name, fig in (
-        ("errors.png", errors_figure(result)),
-        ("readings.png", readings_figure(result)),
-        ("bode.png", bode_figure(result)),
-        ("nyquist.png", nyquist_figure(result)),
+    tables = {
+        "metrics.csv": result.to_frame(),
+        "table1.csv": table1_frame(result),
+        "table2.csv": table2_frame(result),
+        "tuning.csv": result.tuning_frame(),
+        "margins.csv": margins,
+    }
+    figures: dict[str, Callable[[], Figure]] = {
+        f"trajectories_{label}.png": partial(trajectory_figure, result, label)
+        for label in result.runs
+    }
+    for name, make in (
+        ("errors.png", errors_figure),
+        ("readings.png", readings_figure),
+        ("bode.png", bode_figure),
+        ("nyquist.png", nyquist_figure),
     ):
-        written.append(write_png(fig, directory / name))
-        figures.append(name)
+        figures[name] = partial(make, result)
     sensitivity = baseline_sensitivity(result) if len(result.runs) > 1 else None
     if sensitivity is not None:
-        written.append(write_csv(sensitivity, directory / "baseline_sensitivity.csv"))
+        tables["baseline_sensitivity.csv"] = sensitivity
     extras = extras_frame(result) if result.extras else None
     if extras is not None:
-        written.append(write_csv(extras, directory / "extras.csv"))
-    written.append(
-        write_markdown(
-            _markdown(result, figures, command, version, sensitivity, extras),
-            directory / "summary.md",
-        )
+        tables["extras.csv"] = extras
+    text = _markdown(result, list(figures), command, version, sensitivity, extras)
+    return write_report(
+        directory, tables=tables, figures=figures, pages={"summary.md": text}, study_text=study_text
     )
-    written += copy_study(directory, study_text)
-    return written

@@ -28,6 +28,7 @@ True
 from __future__ import annotations
 
 import math
+from functools import partial
 from pathlib import Path
 
 import matplotlib
@@ -41,8 +42,8 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
 from designlab.report import register_writer
-from designlab.report.builder import copy_study, figure_section, report_header
-from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
+from designlab.report.builder import figure_section, report_header, write_report
+from designlab.report.writers import markdown_table
 from designlab.study.kinds.foam_design import FoamDesignResult, RobotDesign
 
 __all__ = ["envelope_figure", "envelope_markdown", "write_envelope_report"]
@@ -496,13 +497,10 @@ def write_envelope_report(
     ...     sorted(p.name for p in write_envelope_report(r, pathlib.Path(tmp)))
     ['envelope.csv', 'envelope.md', 'envelope.png', 'verdicts.csv']
     """
-    frame = result.envelope_frame()
-    written = [write_csv(frame, directory / "envelope.csv")]
-    written.append(write_csv(result.verdicts(), directory / "verdicts.csv"))
-    fig = envelope_figure(result)
-    written.append(write_png(fig, directory / "envelope.png"))
-    plt.close(fig)
-    text = envelope_markdown(result, command=command, version=version)
-    written.append(write_markdown(text, directory / "envelope.md"))
-    written += copy_study(directory, study_text)
-    return written
+    return write_report(
+        directory,
+        tables={"envelope.csv": result.envelope_frame(), "verdicts.csv": result.verdicts()},
+        figures={"envelope.png": partial(envelope_figure, result)},
+        pages={"envelope.md": envelope_markdown(result, command=command, version=version)},
+        study_text=study_text,
+    )

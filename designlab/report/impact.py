@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -28,13 +29,13 @@ from matplotlib.figure import Figure
 
 from designlab.report import register_writer
 from designlab.report.builder import (
-    copy_study,
     figure_section,
     report_header,
     slug,
     warnings_section,
+    write_report,
 )
-from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
+from designlab.report.writers import markdown_table
 from designlab.study.kinds.impact_cases import ImpactCaseResult, ImpactCasesResult
 from designlab.units import STANDARD_GRAVITY
 
@@ -418,13 +419,19 @@ def write_impact_report(
     ...     sorted(p.name for p in write_impact_report(r, pathlib.Path(tmp)))
     ['metrics.csv', 'summary.md', 'time_histories.png']
     """
-    written = [write_csv(result.to_frame(), directory / "metrics.csv")]
     names = figure_names(result)
     groups = _groups(result)
-    for group, name in names.items():
-        fig = impact_figure(groups[group], title=f"{result.study.name}: {group or 'all cases'}")
-        written.append(write_png(fig, directory / name))
+    figures = {
+        name: partial(
+            impact_figure, groups[group], title=f"{result.study.name}: {group or 'all cases'}"
+        )
+        for group, name in names.items()
+    }
     text = impact_markdown(result, figures=names, command=command, version=version)
-    written.append(write_markdown(text, directory / "summary.md"))
-    written += copy_study(directory, study_text)
-    return written
+    return write_report(
+        directory,
+        tables={"metrics.csv": result.to_frame()},
+        figures=figures,
+        pages={"summary.md": text},
+        study_text=study_text,
+    )

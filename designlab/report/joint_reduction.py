@@ -11,6 +11,7 @@ harm metric shaded).
 from __future__ import annotations
 
 import math
+from functools import partial
 from pathlib import Path
 
 import matplotlib
@@ -23,8 +24,13 @@ from matplotlib.figure import Figure
 
 from designlab.impact.joint_reduction import default_band
 from designlab.report import register_writer
-from designlab.report.builder import copy_study, figure_section, report_header, warnings_section
-from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
+from designlab.report.builder import (
+    figure_section,
+    report_header,
+    warnings_section,
+    write_report,
+)
+from designlab.report.writers import markdown_table
 from designlab.study.kinds.joint_reduction import JointReductionResult
 
 __all__ = ["joint_reduction_figure", "joint_reduction_markdown", "write_joint_reduction_report"]
@@ -395,12 +401,10 @@ def write_joint_reduction_report(
     ...     sorted(p.name for p in write_joint_reduction_report(result, pathlib.Path(d)))
     ['joint_reduction.csv', 'joint_reduction.png', 'nominal.csv', 'summary.md']
     """
-    written = [write_csv(result.to_frame(), directory / "joint_reduction.csv")]
-    written.append(write_csv(result.nominal_frame(), directory / "nominal.csv"))
-    fig = joint_reduction_figure(result)
-    written.append(write_png(fig, directory / "joint_reduction.png"))
-    plt.close(fig)
-    text = joint_reduction_markdown(result, command=command, version=version)
-    written.append(write_markdown(text, directory / "summary.md"))
-    written += copy_study(directory, study_text)
-    return written
+    return write_report(
+        directory,
+        tables={"joint_reduction.csv": result.to_frame(), "nominal.csv": result.nominal_frame()},
+        figures={"joint_reduction.png": partial(joint_reduction_figure, result)},
+        pages={"summary.md": joint_reduction_markdown(result, command=command, version=version)},
+        study_text=study_text,
+    )

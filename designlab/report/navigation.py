@@ -27,20 +27,22 @@ Files written into the report directory:
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from designlab.navigation.parameters import VFFGains
 from designlab.report import register_writer
 from designlab.report.builder import (
-    copy_study,
     figure_section,
     report_header,
     slug,
     warnings_section,
+    write_report,
 )
 from designlab.report.navigation_figures import energy_figure, force_figure
-from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
+from designlab.report.writers import markdown_table
 from designlab.study.kinds.navigation_scenarios import NavigationScenariosResult
 
 if TYPE_CHECKING:
@@ -267,40 +269,36 @@ def write_navigation_report(
     list of Path
         The files written.
     """
-    written = [
-        write_csv(result.to_frame(), directory / "results.csv"),
-        write_csv(result.stability_frame(), directory / "stability.csv"),
-    ]
     by_scen: dict[str, list[Any]] = {}
     for r in result.runs:
         by_scen.setdefault(r.scenario, []).append(r)
+    makers: dict[str, Callable[[], Figure]] = {}
     figures: dict[str, tuple[str, str]] = {}
     extra: dict[str, list[str]] = {}
     for scen, runs in by_scen.items():
         part = slug(scen, "scenario")
         traj, dist = f"trajectories_{part}.png", f"distances_{part}.png"
-        written.append(write_png(trajectory_figure(runs, scen), directory / traj))
-        written.append(write_png(distance_figure(runs, scen), directory / dist))
+        makers[traj] = partial(trajectory_figure, runs, scen)
+        makers[dist] = partial(distance_figure, runs, scen)
         figures[scen] = (traj, dist)
         energy = f"energy_{part}.png"
-        written.append(write_png(energy_figure(runs, scen), directory / energy))
+        makers[energy] = partial(energy_figure, runs, scen)
         extra[scen] = [energy]
         vff = [r for r in runs if r.result.method == "vff"]
         if vff:
             force = f"force_{part}.png"
-            sc = vff[0].result.scenario
             g = VFFGains(**vff[0].result.gains)
-            written.append(
-                write_png(force_figure(sc, g, f"{scen}, {vff[0].method}"), directory / force)
+            makers[force] = partial(
+                force_figure, vff[0].result.scenario, g, f"{scen}, {vff[0].method}"
             )
             extra[scen].append(force)
-    written.append(
-        write_markdown(
-            navigation_markdown(
-                result, figures=figures, command=command, version=version, extra=extra
-            ),
-            directory / "summary.md",
-        )
+    text = navigation_markdown(
+        result, figures=figures, command=command, version=version, extra=extra
     )
-    written += copy_study(directory, study_text)
-    return written
+    return write_report(
+        directory,
+        tables={"results.csv": result.to_frame(), "stability.csv": result.stability_frame()},
+        figures=makers,
+        pages={"summary.md": text},
+        study_text=study_text,
+    )

@@ -4,6 +4,7 @@ the Appendix-C sensitivity tables (Zeng 2011, App. C)."""
 from __future__ import annotations
 
 import math
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -12,8 +13,8 @@ import pandas as pd
 
 from designlab.navigation import Disc, NavigationResult
 from designlab.report import register_writer
-from designlab.report.builder import copy_study, report_header, warnings_section
-from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
+from designlab.report.builder import report_header, warnings_section, write_report
+from designlab.report.writers import markdown_table
 from designlab.study.kinds.navigation_gains import WIDER, NavigationGainsResult
 
 if TYPE_CHECKING:
@@ -593,32 +594,30 @@ def write_navigation_gains_report(
     study_text
         The study file's text, copied to study.yaml (``None``: no copy).
     """
-    written = [write_csv(result.comparison, directory / "gains.csv")]
-    hist = pd.concat(
-        [o.history.assign(optimisation=m) for m, o in result.optima.items()], ignore_index=True
-    )
-    written.append(write_csv(hist, directory / "history.csv"))
-    fig = convergence_figure(result)
-    written.append(write_png(fig, directory / "convergence.png"))
-    for mode in result.study.modes:
-        fig = trajectory_figure(result, mode)
-        written.append(write_png(fig, directory / f"trajectories_{mode}.png"))
+    tables = {
+        "gains.csv": result.comparison,
+        "history.csv": pd.concat(
+            [o.history.assign(optimisation=m) for m, o in result.optima.items()],
+            ignore_index=True,
+        ),
+    }
     for label, s in result.sensitivities.items():
-        frame = s.to_frame()
-        written.append(write_csv(frame, directory / f"sensitivity_{label}.csv"))
-        written.append(write_csv(s.outcomes, directory / f"sensitivity_{label}_outcomes.csv"))
+        tables[f"sensitivity_{label}.csv"] = s.to_frame()
+        tables[f"sensitivity_{label}_outcomes.csv"] = s.outcomes
     for label, gs in result.global_sensitivities.items():
-        written.append(write_csv(gs.to_frame(), directory / f"global_sensitivity_{label}.csv"))
+        tables[f"global_sensitivity_{label}.csv"] = gs.to_frame()
     if not result.baselines.empty:
-        written.append(write_csv(result.baselines, directory / "baseline_gains.csv"))
+        tables["baseline_gains.csv"] = result.baselines
     if not result.appendix_c.empty:
-        written.append(write_csv(result.appendix_c, directory / "appendix_c_comparison.csv"))
-        written.append(write_csv(result.appendix_c_outcomes, directory / "appendix_c_outcomes.csv"))
-    written.append(
-        write_markdown(
-            navigation_gains_markdown(result, command=command, version=version),
-            directory / "summary.md",
-        )
+        tables["appendix_c_comparison.csv"] = result.appendix_c
+        tables["appendix_c_outcomes.csv"] = result.appendix_c_outcomes
+    figures = {"convergence.png": partial(convergence_figure, result)}
+    for mode in result.study.modes:
+        figures[f"trajectories_{mode}.png"] = partial(trajectory_figure, result, mode)
+    return write_report(
+        directory,
+        tables=tables,
+        figures=figures,
+        pages={"summary.md": navigation_gains_markdown(result, command=command, version=version)},
+        study_text=study_text,
     )
-    written += copy_study(directory, study_text)
-    return written

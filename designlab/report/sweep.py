@@ -20,6 +20,8 @@ Files written into the report directory:
 from __future__ import annotations
 
 import textwrap
+from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -30,8 +32,13 @@ from matplotlib.figure import Figure
 from designlab.analysis.sensitivity import tornado_figure
 from designlab.report import register_writer
 from designlab.report.atomic import atomic_write_text
-from designlab.report.builder import copy_study, figure_section, report_header, warnings_section
-from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
+from designlab.report.builder import (
+    figure_section,
+    report_header,
+    warnings_section,
+    write_report,
+)
+from designlab.report.writers import markdown_table, write_csv
 from designlab.study.points_table import FrameTable, PointsTable
 from designlab.study.sweep_runner import SweepStudyResult, unit_slug
 
@@ -383,24 +390,26 @@ def write_sweep_report(
     study_text
         The study file's text, copied as ``study.yaml``.
     """
-    written = []
-    if len(result.table):
-        written += _write_table(result, directory)
-    figures: dict[str, str] = {}
+    written = _write_table(result, directory) if len(result.table) else []
+    # indexed by parameter, unlike write_csv's tables: written as pandas prints them
     for kind, table in result.sensitivity.items():
         written.append(atomic_write_text(directory / f"sensitivity_{kind}.csv", table.to_csv()))
+    makers: dict[str, Callable[[], Figure]] = {}
+    figures: dict[str, str] = {}
     rng = result.sensitivity.get("range")
     if rng is not None:
         for m in rng.metrics:
-            name = f"tornado_{m}.png"
-            fig = _readable_tornado(tornado_figure(rng, m), result.study, m)
-            written.append(write_png(fig, directory / name))
-            figures[f"tornado: {m}"] = name
-    fig = _scatter_figure(result)
-    if fig is not None:
-        written.append(write_png(fig, directory / "sweep.png"))
+            makers[f"tornado_{m}.png"] = partial(_tornado, rng, result.study, m)
+            figures[f"tornado: {m}"] = f"tornado_{m}.png"
+    scatter = _scatter_figure(result)
+    if scatter is not None:
+        makers["sweep.png"] = lambda: scatter
         figures["sweep: metrics against the swept parameters"] = "sweep.png"
     text = sweep_markdown(result, figures=figures, command=command, version=version)
-    written.append(write_markdown(text, directory / "summary.md"))
-    written += copy_study(directory, study_text)
-    return written
+    return written + write_report(
+        directory, figures=makers, pages={"summary.md": text}, study_text=study_text
+    )
+
+
+def _tornado(rng: Any, study: Any, metric: str) -> Figure:
+    return _readable_tornado(tornado_figure(rng, metric), study, metric)

@@ -31,6 +31,8 @@ optimiser's progress).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -42,14 +44,14 @@ from designlab.following.tether import allan_tables, measured_ratio, normal_path
 from designlab.following.tether.reference import TABLES
 from designlab.report import register_writer
 from designlab.report.builder import (
-    copy_study,
     figure_section,
     report_header,
     slug,
     warnings_section,
+    write_report,
 )
 from designlab.report.tether_errors import error_section
-from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
+from designlab.report.writers import markdown_table
 from designlab.study.kinds.tether_comparison import STEP_OFFSET, TetherComparisonResult
 from designlab.study.kinds.tether_tuning import TetherTuningResult
 
@@ -554,30 +556,32 @@ def write_comparison_report(
     study_text
         The study file's text, copied as ``study.yaml``.
     """
-    written = [write_csv(result.to_frame(), directory / "metrics.csv")]
+    tables = {"metrics.csv": result.to_frame()}
     if result.linear is not None:
-        written.append(write_csv(result.linear, directory / "linear.csv"))
-    tables = allan_tables()
-    both = pd.concat([t.assign(table=k) for k, t in tables.items()], ignore_index=True)
-    written.append(write_csv(both, directory / "allan_tables.csv"))
+        tables["linear.csv"] = result.linear
+    allan = allan_tables()
+    tables["allan_tables.csv"] = pd.concat(
+        [t.assign(table=k) for k, t in allan.items()], ignore_index=True
+    )
+    makers: dict[str, Callable[[], Figure]] = {}
     figures: dict[str, tuple[str, str]] = {}
     for path in dict.fromkeys(c.path for c in result.cases):
-        traj, prof = _comparison_figures(result, path)
         part = slug(path, "path")
         names = (f"trajectories_{part}.png", f"npd_profiles_{part}.png")
-        written.append(write_png(traj, directory / names[0]))
-        written.append(write_png(prof, directory / names[1]))
+        made = partial(_comparison_figures, result, path)  # draws both; each maker keeps one
+        makers[names[0]] = lambda made=made: made()[0]
+        makers[names[1]] = lambda made=made: made()[1]
         figures[path] = names
     heuristic = heuristic_frame(result)
-    written.append(write_csv(heuristic, directory / "npd_heuristic.csv"))
+    tables["npd_heuristic.csv"] = heuristic
     if result.errors is not None:
-        written.append(write_csv(result.errors, directory / "error_sources.csv"))
+        tables["error_sources.csv"] = result.errors
     text = comparison_markdown(
         result, figures=figures, command=command, version=version, heuristic=heuristic
     )
-    written.append(write_markdown(text, directory / "summary.md"))
-    written += copy_study(directory, study_text)
-    return written
+    return write_report(
+        directory, tables=tables, figures=makers, pages={"summary.md": text}, study_text=study_text
+    )
 
 
 def _tuning_figure(r: Any) -> Figure:
@@ -809,27 +813,33 @@ def write_tuning_report(
     study_text
         The study file's text, copied as ``study.yaml``.
     """
-    written = [write_csv(result.to_frame(), directory / "gains.csv")]
     scen = pd.concat(
         [r.scenarios.assign(law=type(r.controller).__name__) for r in result.results],
         ignore_index=True,
     )
-    written.append(write_csv(scen, directory / "scenarios.csv"))
     lines = _tuning_intro(result, command, version)
     lines += ["## Gains", "", markdown_table(_gains_table(result)), ""]
     lines += ["## Improvement over the thesis defaults", ""]
     improvement = improvement_frame(result)
-    written.append(write_csv(improvement, directory / "improvement.csv"))
     lines += [markdown_table(_improvement_table(improvement)), "", _IMPROVEMENT_TEXT, ""]
     lines += ["Computed from the table:", "", *[f"- {c}" for c in tuning_claims(improvement)], ""]
     lines += ["## Per scenario", "", markdown_table(scen[_SCENARIO_COLUMNS].round(3)), ""]
+    makers: dict[str, Callable[[], Figure]] = {}
     figures = {}
     for r in result.results:
         name = f"tuning_{slug(type(r.controller).__name__)}.png"
-        written.append(write_png(_tuning_figure(r), directory / name))
+        makers[name] = partial(_tuning_figure, r)
         figures[type(r.controller).__name__] = name
     lines += figure_section(figures)
     lines += warnings_section(result.warnings)
-    written.append(write_markdown("\n".join(lines), directory / "summary.md"))
-    written += copy_study(directory, study_text)
-    return written
+    return write_report(
+        directory,
+        tables={
+            "gains.csv": result.to_frame(),
+            "scenarios.csv": scen,
+            "improvement.csv": improvement,
+        },
+        figures=makers,
+        pages={"summary.md": "\n".join(lines)},
+        study_text=study_text,
+    )

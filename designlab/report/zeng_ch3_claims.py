@@ -9,6 +9,7 @@ local maximum and first-lobe maximum marked).
 
 from __future__ import annotations
 
+from functools import partial
 from pathlib import Path
 
 import matplotlib
@@ -19,8 +20,13 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from designlab.report import register_writer
-from designlab.report.builder import copy_study, figure_section, report_header, warnings_section
-from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
+from designlab.report.builder import (
+    figure_section,
+    report_header,
+    warnings_section,
+    write_report,
+)
+from designlab.report.writers import markdown_table
 from designlab.study.kinds.zeng_ch3_claims import Ch3ClaimsResult
 
 __all__ = ["ch3_claims_figure", "ch3_claims_markdown", "write_ch3_claims_report"]
@@ -304,16 +310,15 @@ def write_ch3_claims_report(
     ...     len(write_ch3_claims_report(result, pathlib.Path(d)))
     6
     """
-    written = [
-        write_csv(result.profiles_frame(), directory / "sec_3_8.csv"),
-        write_csv(result.worst_frame(), directory / "fig_3_16.csv"),
-        write_csv(result.q2_frame(), directory / "q2.csv"),
-        write_csv(result.table_3_1_frame(), directory / "table_3_1.csv"),
-    ]
-    fig = ch3_claims_figure(result)
-    written.append(write_png(fig, directory / "zeng_ch3_claims.png"))
-    plt.close(fig)
-    text = ch3_claims_markdown(result, command=command, version=version)
-    written.append(write_markdown(text, directory / "summary.md"))
-    written += copy_study(directory, study_text)
-    return written
+    return write_report(
+        directory,
+        tables={
+            "sec_3_8.csv": result.profiles_frame(),
+            "fig_3_16.csv": result.worst_frame(),
+            "q2.csv": result.q2_frame(),
+            "table_3_1.csv": result.table_3_1_frame(),
+        },
+        figures={"zeng_ch3_claims.png": partial(ch3_claims_figure, result)},
+        pages={"summary.md": ch3_claims_markdown(result, command=command, version=version)},
+        study_text=study_text,
+    )

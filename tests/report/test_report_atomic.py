@@ -6,8 +6,7 @@ import os
 
 import pytest
 
-from designlab.report import ReportError, atomic_write_text, report_directory, write_report
-from designlab.report import impact as impact_report
+from designlab.report import ReportError, atomic_write_text, builder, report_directory, write_report
 from designlab.study import parse_study, run_study
 
 
@@ -82,7 +81,7 @@ def test_write_report_failure_mid_report_keeps_previous(tmp_path, tiny_study_tex
     def fail_png(fig, path, **kwargs):
         raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr(impact_report, "write_png", fail_png)
+    monkeypatch.setattr(builder, "write_png", fail_png)  # what every writer draws with
     with pytest.raises(ReportError, match="No space left"):
         write_report(result, tmp_path, command="second run")
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before
