@@ -24,7 +24,8 @@ import inspect
 from collections.abc import Hashable, Iterator, Sequence
 from typing import Annotated, Any, ClassVar, Literal
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, field_validator
+import numpy as np
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, field_validator, model_validator
 
 from designlab.errors import DesignlabError, StudyError
 from designlab.params import Param, numbers_only
@@ -35,6 +36,7 @@ __all__ = [
     "RESERVED_NAMES",
     "Finite",
     "Flag",
+    "Grid",
     "Integer",
     "Model",
     "NonNegative",
@@ -174,6 +176,47 @@ class Model(BaseModel):
     """Base of every study model: unknown fields are errors, values are frozen."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class Grid(Model):
+    """Base of a study file's grid of values: ``num`` of them from ``low`` to ``high``.
+
+    A subclass declares the three fields (their bounds, units and defaults) and says with
+    ``LOG`` whether the values are evenly spaced in log rather than linearly.
+
+    Examples
+    --------
+    >>> class Demo(Grid):
+    ...     low: float = 1.0
+    ...     high: float = 100.0
+    ...     num: int = 3
+    ...     LOG: ClassVar[bool] = True
+    >>> Demo().values()
+    [1.0, 10.0, 100.0]
+    >>> Demo(low=5, high=1)
+    Traceback (most recent call last):
+    ...
+    pydantic_core._pydantic_core.ValidationError: 1 validation error for Demo
+    ...
+    """
+
+    low: float
+    high: float
+    num: int
+
+    #: Evenly spaced in log (``numpy.geomspace``) rather than linearly.
+    LOG: ClassVar[bool] = False
+
+    @model_validator(mode="after")
+    def _order(self) -> Grid:
+        if not self.low < self.high:
+            raise ValueError(f"low = {self.low:g} must be < high = {self.high:g}")
+        return self
+
+    def values(self) -> list[float]:
+        """The grid (rounded to 12 significant digits so reports diff cleanly)."""
+        grid = (np.geomspace if self.LOG else np.linspace)(self.low, self.high, self.num)
+        return [float(f"{x:.12g}") for x in grid]
 
 
 class StudyBase(Model):

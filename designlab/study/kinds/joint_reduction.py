@@ -28,7 +28,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, ClassVar, Literal
 
-import numpy as np
 import pandas as pd
 from pydantic import Field, model_validator
 
@@ -48,7 +47,7 @@ from designlab.impact.parameters import (
     USABLE_TOLERANCE,
 )
 from designlab.results import OK, Result
-from designlab.study.base import Model, StudyBase
+from designlab.study.base import Grid, StudyBase
 from designlab.study.kinds.impact_specs import FoamSpec, HeadSpec
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
@@ -95,7 +94,7 @@ class JointSpec(_JointFields):  # type: ignore[misc, valid-type]
         return SeriesJoint(**fields).contact()
 
 
-class RatioGrid(Model):
+class RatioGrid(Grid):
     """Log-spaced K_mech/K_cont values: ``num`` of them from ``low`` to ``high``.
 
     Each value and their number are the declarations of
@@ -106,16 +105,7 @@ class RatioGrid(Model):
     high: _Ratio = 3000.0
     num: _RatioPoints = 41
 
-    @model_validator(mode="after")
-    def _order(self) -> RatioGrid:
-        if not self.low < self.high:
-            raise ValueError(f"low = {self.low:g} must be < high = {self.high:g}")
-        return self
-
-    def values(self) -> list[float]:
-        """The grid (rounded to 12 significant digits so reports diff cleanly)."""
-        grid = np.geomspace(self.low, self.high, self.num)
-        return [float(f"{x:.12g}") for x in grid]
+    LOG: ClassVar[bool] = True
 
 
 class JointReductionStudy(StudyBase):

@@ -27,7 +27,7 @@ from typing import Any, ClassVar, Literal
 
 import numpy as np
 import pandas as pd
-from pydantic import Field, model_validator
+from pydantic import Field
 
 from designlab.following.tether.snag import (
     SnagRun,
@@ -39,7 +39,7 @@ from designlab.following.tether.snag import (
 from designlab.params import params_of
 from designlab.progress import Progress
 from designlab.results import OK, Result
-from designlab.study.base import Model, StudyBase
+from designlab.study.base import Grid, StudyBase
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
 from designlab.study.specs import spec_model
@@ -61,22 +61,12 @@ FEATURES = {
 SnagScenarioSpec = spec_model(SnagScenario, exclude=("gap", "compensate"))
 
 
-class GapGrid(Model):
+class GapGrid(Grid):
     """Evenly spaced gaps: ``num`` of them from ``low`` to ``high`` (m)."""
 
     low: _GAP.annotation() = 1.0  # type: ignore[valid-type]
     high: _GAP.annotation() = 3.0  # type: ignore[valid-type]
     num: int = Field(41, ge=2, le=400, description="number of gaps")
-
-    @model_validator(mode="after")
-    def _order(self) -> GapGrid:
-        if not self.low < self.high:
-            raise ValueError(f"low = {self.low:g} must be < high = {self.high:g}")
-        return self
-
-    def values(self) -> list[float]:
-        """The grid (rounded to 12 significant digits)."""
-        return [float(f"{x:.12g}") for x in np.linspace(self.low, self.high, self.num)]
 
 
 class TetherSnaggingStudy(StudyBase):

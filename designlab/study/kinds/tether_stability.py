@@ -45,7 +45,7 @@ from designlab.following.tether.stability import (
 )
 from designlab.progress import Progress
 from designlab.results import OK, Result
-from designlab.study.base import Model, StudyBase
+from designlab.study.base import Grid, StudyBase
 from designlab.study.kinds.tether_specs import ControllerSpec, FollowerRobotSpec
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
@@ -58,22 +58,12 @@ def _default_controllers() -> list[Any]:
     return TypeAdapter(list[ControllerSpec]).validate_python([{"type": t} for t in laws])
 
 
-class LengthGrid(Model):
+class LengthGrid(Grid):
     """Evenly spaced initial tether lengths: ``num`` of them from ``low`` to ``high`` (m)."""
 
     low: GRID_LENGTH.annotation() = 0.25  # type: ignore[valid-type]
     high: GRID_LENGTH.annotation() = 10.0  # type: ignore[valid-type]
     num: GRID_POINTS.annotation() = 40  # type: ignore[valid-type]
-
-    @model_validator(mode="after")
-    def _order(self) -> LengthGrid:
-        if not self.low < self.high:
-            raise ValueError(f"low = {self.low:g} must be < high = {self.high:g}")
-        return self
-
-    def values(self) -> list[float]:
-        """The grid (rounded to 12 significant digits so reports diff cleanly)."""
-        return [float(f"{x:.12g}") for x in np.linspace(self.low, self.high, self.num)]
 
 
 class TetherStabilityStudy(StudyBase):
