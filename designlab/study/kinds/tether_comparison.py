@@ -35,7 +35,7 @@ from dataclasses import dataclass
 from typing import Any, ClassVar, Literal
 
 import pandas as pd
-from pydantic import Field, TypeAdapter, model_validator
+from pydantic import Field, model_validator
 
 from designlab.errors import DesignlabError
 from designlab.following.tether import (
@@ -55,7 +55,14 @@ from designlab.params import params_of
 from designlab.progress import Progress
 from designlab.results import OK, Result
 from designlab.study.base import Model, StudyBase
-from designlab.study.kinds.tether_specs import ControllerSpec, FollowerRobotSpec, PathSpec, built
+from designlab.study.kinds.tether_specs import (
+    ControllerSpec,
+    FollowerRobotSpec,
+    PathSpec,
+    built,
+    controllers_field,
+    robot_field,
+)
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
 from designlab.study.specs import spec_model
@@ -97,22 +104,15 @@ class ErrorSourcesSpec(Model):
         }
 
 
-def _default_controllers() -> list[Any]:
-    laws = ("PseudoJoystick", "FollowTheLeader", "FollowTheLeaderConstDistance")
-    return TypeAdapter(list[ControllerSpec]).validate_python([{"type": t} for t in laws])
-
-
 class TetherComparisonStudy(StudyBase):
     """Simulate tether-follower laws on leader paths and compare their accuracy."""
 
     kind: Literal["tether_comparison"]
-    robot: FollowerRobotSpec = Field(  # type: ignore[valid-type]
-        default_factory=lambda: FollowerRobotSpec(preset="DEFAULT")
-    )
+    robot: FollowerRobotSpec = robot_field()  # type: ignore[valid-type]
     speed: LEADER_SPEED.annotation() = LEADER_SPEED.default  # type: ignore[valid-type]
     settle_time: SETTLE_TIME.annotation() = SETTLE_TIME.default  # type: ignore[valid-type]
-    controllers: list[ControllerSpec] = Field(  # type: ignore[valid-type]
-        default_factory=_default_controllers, min_length=1, max_length=20
+    controllers: list[ControllerSpec] = controllers_field(  # type: ignore[valid-type]
+        "PseudoJoystick", "FollowTheLeader", "FollowTheLeaderConstDistance", max_length=20
     )
     paths: list[PathSpec] = Field(min_length=1, max_length=50)  # type: ignore[valid-type]
     desired_lengths: list[_DESIRED_LENGTH.annotation()] | None = Field(  # type: ignore[valid-type]

@@ -55,7 +55,7 @@ from designlab.params import params_of
 from designlab.progress import Progress
 from designlab.results import OK, Result
 from designlab.study.base import StudyBase
-from designlab.study.kinds.tether_specs import FollowerRobotSpec, PathSpec
+from designlab.study.kinds.tether_specs import FollowerRobotSpec, PathSpec, robot_field
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
 
@@ -88,9 +88,7 @@ class TetherModesStudy(StudyBase):
     """Side, front and Brake modes of Allan 2015 Ch. 4 on leader paths."""
 
     kind: Literal["tether_modes"]
-    robot: FollowerRobotSpec = Field(  # type: ignore[valid-type]
-        default_factory=lambda: FollowerRobotSpec(preset="DEFAULT")
-    )
+    robot: FollowerRobotSpec = robot_field()  # type: ignore[valid-type]
     speed: LEADER_SPEED.annotation() = LEADER_SPEED.default  # type: ignore[valid-type]
     paths: list[PathSpec] = Field(default_factory=_default_paths, min_length=1, max_length=10)  # type: ignore[valid-type]
     modes: list[Literal["SideJoystick", "SideTracking", "FrontJoystick", "FrontVelJoystick"]] = (

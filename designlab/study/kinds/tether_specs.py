@@ -31,7 +31,7 @@ from __future__ import annotations
 
 from typing import Annotated, Any, Literal, Union
 
-from pydantic import Field, create_model, model_validator
+from pydantic import Field, TypeAdapter, create_model, model_validator
 
 from designlab.errors import DesignlabError
 from designlab.following.tether import (
@@ -47,7 +47,14 @@ from designlab.params import params_of
 from designlab.study.base import Finite, Model
 from designlab.study.specs import spec_model
 
-__all__ = ["ControllerSpec", "FollowerRobotSpec", "PathSpec", "built"]
+__all__ = [
+    "ControllerSpec",
+    "FollowerRobotSpec",
+    "PathSpec",
+    "built",
+    "controllers_field",
+    "robot_field",
+]
 
 #: Short names of the laws (the default labels).
 SHORT_NAMES = {
@@ -195,3 +202,47 @@ PathSpec = Annotated[
     Union[(*(_shape_spec(s) for s in SHAPE_PARAMETERS), PointsPathSpec)],  # type: ignore[misc]
     Field(discriminator="type"),
 ]
+
+
+def robot_field(preset: str = "DEFAULT") -> Any:
+    """The ``robot`` block of a tether study kind: a follower robot, by default a preset.
+
+    Parameters
+    ----------
+    preset
+        The preset the block defaults to (``DEFAULT`` or ``OXYDOG``).
+
+    Examples
+    --------
+    >>> from designlab.study.base import Model
+    >>> class Demo(Model):
+    ...     robot: FollowerRobotSpec = robot_field("OXYDOG")
+    >>> Demo().robot.build().max_speed
+    1.0
+    """
+    return Field(default_factory=lambda: FollowerRobotSpec(preset=preset))
+
+
+def controllers_field(*laws: str, max_length: int) -> Any:
+    """The ``controllers`` list of a tether study kind: by default the named laws, thesis gains.
+
+    Parameters
+    ----------
+    *laws
+        The laws of the default list (``"PseudoJoystick"``, ...).
+    max_length
+        The most laws a study may list.
+
+    Examples
+    --------
+    >>> from designlab.study.base import Model
+    >>> class Demo(Model):
+    ...     controllers: list[ControllerSpec] = controllers_field("PseudoJoystick", max_length=2)
+    >>> [c.title for c in Demo().controllers]
+    ['PJ']
+    """
+
+    def default() -> list[Any]:
+        return TypeAdapter(list[ControllerSpec]).validate_python([{"type": t} for t in laws])
+
+    return Field(default_factory=default, min_length=1, max_length=max_length)

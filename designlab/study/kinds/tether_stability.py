@@ -25,11 +25,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, ClassVar, Literal
+from typing import ClassVar, Literal
 
 import numpy as np
 import pandas as pd
-from pydantic import Field, TypeAdapter, model_validator
+from pydantic import Field, model_validator
 
 from designlab.following.tether.stability import (
     GRID_LENGTH,
@@ -46,16 +46,16 @@ from designlab.following.tether.stability import (
 from designlab.progress import Progress
 from designlab.results import OK, Result
 from designlab.study.base import Grid, StudyBase
-from designlab.study.kinds.tether_specs import ControllerSpec, FollowerRobotSpec
+from designlab.study.kinds.tether_specs import (
+    ControllerSpec,
+    FollowerRobotSpec,
+    controllers_field,
+    robot_field,
+)
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
 
 __all__ = ["KIND", "LengthGrid", "TetherStabilityResult", "TetherStabilityStudy", "run"]
-
-
-def _default_controllers() -> list[Any]:
-    laws = ("PseudoJoystick", "FollowTheLeader")
-    return TypeAdapter(list[ControllerSpec]).validate_python([{"type": t} for t in laws])
 
 
 class LengthGrid(Grid):
@@ -70,11 +70,9 @@ class TetherStabilityStudy(StudyBase):
     """Convergence time over initial tether readings, static leader (Figs. 2.9-2.10)."""
 
     kind: Literal["tether_stability"]
-    robot: FollowerRobotSpec = Field(  # type: ignore[valid-type]
-        default_factory=lambda: FollowerRobotSpec(preset="DEFAULT")
-    )
-    controllers: list[ControllerSpec] = Field(  # type: ignore[valid-type]
-        default_factory=_default_controllers, min_length=1, max_length=8
+    robot: FollowerRobotSpec = robot_field()  # type: ignore[valid-type]
+    controllers: list[ControllerSpec] = controllers_field(  # type: ignore[valid-type]
+        "PseudoJoystick", "FollowTheLeader", max_length=8
     )
     lengths: LengthGrid = Field(default_factory=LengthGrid)
     angles: GRID_POINTS.annotation() = Field(  # type: ignore[valid-type]

@@ -43,7 +43,12 @@ from designlab.params import params_of
 from designlab.progress import Progress
 from designlab.results import OK, Result
 from designlab.study.base import StudyBase
-from designlab.study.kinds.tether_specs import ControllerSpec, FollowerRobotSpec, PathSpec
+from designlab.study.kinds.tether_specs import (
+    ControllerSpec,
+    FollowerRobotSpec,
+    PathSpec,
+    robot_field,
+)
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
 
@@ -68,9 +73,7 @@ class TetherStepSizeStudy(StudyBase):
     """FTL (or FTL-CD) with several recording steps Delta s_min on leader paths."""
 
     kind: Literal["tether_step_size"]
-    robot: FollowerRobotSpec = Field(  # type: ignore[valid-type]
-        default_factory=lambda: FollowerRobotSpec(preset="DEFAULT")
-    )
+    robot: FollowerRobotSpec = robot_field()  # type: ignore[valid-type]
     speed: LEADER_SPEED.annotation() = LEADER_SPEED.default  # type: ignore[valid-type]
     settle_time: SETTLE_TIME.annotation() = SETTLE_TIME.default  # type: ignore[valid-type]
     controller: ControllerSpec = Field(default_factory=_default_controller)  # type: ignore[valid-type]

@@ -51,7 +51,7 @@ from designlab.following.tether.tuning import TUNERS
 from designlab.params import params_of
 from designlab.results import OK, Result
 from designlab.study.base import StudyBase
-from designlab.study.kinds.tether_specs import FollowerRobotSpec, PathSpec
+from designlab.study.kinds.tether_specs import FollowerRobotSpec, PathSpec, robot_field
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
 from designlab.study.specs import spec_model
@@ -76,9 +76,7 @@ class TetherTuningStudy(StudyBase):
     desired_length: _DESIRED_LENGTH.annotation(optional=True) = Field(  # type: ignore[valid-type]
         None, description="l_d for every law, m (default: each law's own)"
     )
-    robot: FollowerRobotSpec = Field(  # type: ignore[valid-type]
-        default_factory=lambda: FollowerRobotSpec(preset="OXYDOG")
-    )
+    robot: FollowerRobotSpec = robot_field("OXYDOG")  # type: ignore[valid-type]
     paths: list[PathSpec] = Field(min_length=1, max_length=100)  # type: ignore[valid-type]
     speeds: list[LEADER_SPEED.annotation()] = Field([0.5], min_length=1, max_length=100)  # type: ignore[valid-type]
     validation_paths: list[PathSpec] = Field(min_length=1, max_length=100)  # type: ignore[valid-type]
