@@ -34,47 +34,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from designlab.errors import InvalidParameterError
-from designlab.impact.modal import ModalResponse, point_values
+from designlab.impact.modal import ModalResponse, _safeguarded_newton, point_values
 
 __all__ = ["first_local_maximum", "first_peak"]
-
-
-def _stationary_point(
-    resp: ModalResponse,
-    lo: NDArray,
-    hi: NDArray,
-    iterations: int = 60,
-    rtol: float = 1e-11,
-    guess: NDArray | None = None,
-) -> NDArray[np.float64]:
-    """Root of y' in ``[lo, hi]`` with y'(lo) > 0 >= y'(hi), per response (safeguarded Newton).
-
-    Newton steps on y' that leave the bracket become bisections; converged rows
-    leave the active set.
-    """
-    lo = np.asarray(lo, dtype=float).copy()
-    hi = np.asarray(hi, dtype=float).copy()
-    t = 0.5 * (lo + hi) if guess is None else np.clip(guess, lo, hi)
-    act = np.arange(t.shape[0])
-    sub = resp
-    for _ in range(iterations):
-        if act.size == 0:
-            break
-        ta, la, ha = t[act], lo[act], hi[act]
-        d1, d2 = point_values(sub, ta, (1, 2))
-        pos = d1 > 0
-        la, ha = np.where(pos, ta, la), np.where(pos, ha, ta)
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            tn = ta - d1 / d2
-        tol = rtol * np.abs(ta) + 1e-300
-        done = (np.abs(tn - ta) <= tol) | (ha - la <= tol) | (d1 == 0)
-        bad = ~done & (~np.isfinite(tn) | (tn <= la) | (tn >= ha))
-        tn = np.where(bad, 0.5 * (la + ha), tn)
-        tn = np.where(done & ~np.isfinite(tn), ta, tn)
-        t[act], lo[act], hi[act] = tn, la, ha
-        act = act[~done]
-        sub = sub.take(~done)
-    return t
 
 
 def _refine_maximum(
@@ -90,7 +52,7 @@ def _refine_maximum(
     if idx.size:
         sub = resp.take(idx)
         g = None if guess is None else np.asarray(guess, dtype=float)[idx]
-        ts = _stationary_point(sub, lo[idx], hi[idx], guess=g)
+        ts = _safeguarded_newton(sub, lo[idx], hi[idx], 1, 60, 1e-11, guess=g)  # root of y'
         (ys,) = point_values(sub, ts, (0,))
         better = ys >= y[idx]
         t[idx] = np.where(better, ts, t[idx])
