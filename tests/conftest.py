@@ -53,3 +53,18 @@ def write_study(tmp_path: Path) -> Callable[..., Path]:
         return path
 
     return _write
+
+
+@pytest.fixture
+def refuses_edit(write_study: Callable[..., Path]) -> Callable[[str, str, str, str], None]:
+    """Check that a study, with ``old`` replaced by ``new``, is refused naming ``field``."""
+    from designlab.errors import StudyError
+    from designlab.study import load_study
+
+    def _check(text: str, old: str, new: str, field: str) -> None:
+        edited = text.replace(old, new)
+        assert edited != text
+        with pytest.raises(StudyError, match=field):
+            load_study(write_study(edited, "bad.yaml"))
+
+    return _check

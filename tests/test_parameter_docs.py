@@ -55,18 +55,7 @@ def _documented_list(obj) -> list[str]:
 
 
 def _documented(obj) -> set[str]:
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        if inspect.isclass(obj):
-            doc = numpydoc.ClassDoc(obj, config={"show_class_members": False})
-        else:
-            doc = numpydoc.FunctionDoc(obj)
-    names: set[str] = set()
-    for section in ("Parameters", "Other Parameters", "Attributes"):
-        for p in doc[section]:
-            for part in p.name.replace("*", "").split(","):
-                names.add(part.strip())
-    return names
+    return set(_documented_list(obj))
 
 
 def _signature_params(obj) -> list[str]:

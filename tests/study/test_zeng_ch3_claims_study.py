@@ -59,13 +59,8 @@ def test_run_and_report(tmp_path: Path) -> None:
         ("speed_ratios:", "head: HEAD_MAX\nspeed_ratios:", "head"),
     ],
 )
-def test_schema_errors(tmp_path: Path, old: str, new: str, field: str) -> None:
-    text = SMALL.replace(old, new)
-    assert text != SMALL
-    f = tmp_path / "bad.yaml"
-    f.write_text(text)
-    with pytest.raises(StudyError, match=field):
-        load_study(f)
+def test_schema_errors(refuses_edit, old: str, new: str, field: str) -> None:
+    refuses_edit(SMALL, old, new, field)
 
 
 def test_duplicate_reading_names() -> None:
