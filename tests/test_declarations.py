@@ -174,6 +174,13 @@ CASES = [
 ]
 
 
+def _start(name: str, field: str) -> tuple[Param, Any, Any]:
+    """A field's declaration, a valid instance to vary, the field's JSON Schema validator."""
+    cls = DECLARED[name]
+    schema = spec_model(cls).model_json_schema()["properties"][field]
+    return params_of(cls)[field], _example(cls), jsonschema.Draft202012Validator(schema)
+
+
 def test_declared_classes_are_found() -> None:
     assert "designlab.impact.parameters.Foam" in DECLARED
 
@@ -182,12 +189,7 @@ def test_declared_classes_are_found() -> None:
     ("name", "field"), CASES, ids=[f"{n.split('.')[-1]}.{f}" for n, f in CASES]
 )
 def test_schema_and_constructor_agree_on_the_boundaries(name: str, field: str) -> None:
-    cls = DECLARED[name]
-    decl = params_of(cls)[field]
-    base = _example(cls)
-    schema = spec_model(cls).model_json_schema()
-    prop = schema["properties"][field]
-    validator = jsonschema.Draft202012Validator(prop)
+    decl, base, validator = _start(name, field)
     disagree = []
     for value in _boundary_values(decl):
         by_schema = validator.is_valid(value)  # JSON has no NaN/inf: the schema says "number"
@@ -227,12 +229,7 @@ def test_text_lengths_are_declared_somewhere() -> None:
     ("name", "field"), TEXT_CASES, ids=[f"{n.split('.')[-1]}.{f}" for n, f in TEXT_CASES]
 )
 def test_schema_and_constructor_agree_on_text_lengths(name: str, field: str) -> None:
-    cls = DECLARED[name]
-    decl = params_of(cls)[field]
-    base = _example(cls)
-    validator = jsonschema.Draft202012Validator(
-        spec_model(cls).model_json_schema()["properties"][field]
-    )
+    decl, base, validator = _start(name, field)
     lengths = {0, 1}
     for bound in (decl.min_length, decl.max_length):
         if bound is not None:

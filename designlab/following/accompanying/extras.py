@@ -118,9 +118,25 @@ class SensorMount(ParamsMixin):
         return (self.offset_x, self.offset_y)
 
 
+class _LowPass:
+    """A first-order low-pass of time constant ``time_constant`` (s), sampled."""
+
+    time_constant: float
+
+    def pole(self, period: float) -> float:
+        """Pole ``exp(-T_s / time_constant)`` of the sampled low-pass for a control period.
+
+        Parameters
+        ----------
+        period
+            Control period T_s in s.
+        """
+        return math.exp(-period / self.time_constant)
+
+
 @declared
 @dataclass(frozen=True)
-class TargetAdaptation(ParamsMixin):
+class TargetAdaptation(_LowPass, ParamsMixin):
     """Target-distance adaptation (Wu et al. 2021, Sec. 6).
 
     The target moves along its bearing by ``clip(gain * v_a, -max_change,
@@ -165,20 +181,10 @@ class TargetAdaptation(ParamsMixin):
         default=0.3,
     )
 
-    def pole(self, period: float) -> float:
-        """Pole ``exp(-T_s / T_a)`` of the estimate's low-pass for a control period.
-
-        Parameters
-        ----------
-        period
-            Control period T_s in s.
-        """
-        return math.exp(-period / self.time_constant)
-
 
 @declared
 @dataclass(frozen=True)
-class MotionFilter(ParamsMixin):
+class MotionFilter(_LowPass, ParamsMixin):
     """First-order low-pass on the eq. (8) error before the PIDs (Wu et al. 2021, Sec. 6).
 
     Examples
@@ -200,16 +206,6 @@ class MotionFilter(ParamsMixin):
         typical=(0.05, 0.5),
         default=0.2,
     )
-
-    def pole(self, period: float) -> float:
-        """Pole ``b = exp(-T_s / T_m)`` of the filter for a control period.
-
-        Parameters
-        ----------
-        period
-            Control period T_s in s.
-        """
-        return math.exp(-period / self.time_constant)
 
     def gain_at(self, frequency: float, period: float) -> float:
         """Magnitude of the discrete filter ``(1 - b) / (1 - b z^-1)`` at a frequency.
