@@ -35,6 +35,16 @@ from designlab.study.kinds.joint_reduction import JointReductionResult
 
 __all__ = ["joint_reduction_figure", "joint_reduction_markdown", "write_joint_reduction_report"]
 
+#: The small study of the examples below.
+_EXAMPLE = """
+designlab: 1
+kind: joint_reduction
+name: demo
+joints: [{name: g, inertia: 0.059, k_mech: 2000, c_mech: 2.0, k_cont: 1500,
+          c_cont: 30, lever_arm: 0.2}]
+ratios: {low: 0.1, high: 10, num: 3}
+"""
+
 #: Metric labels, in report order.
 _LABELS = {
     "a_h_max": "a_h,max",
@@ -88,14 +98,7 @@ def joint_reduction_figure(result: JointReductionResult) -> Figure:
     Examples
     --------
     >>> from designlab.study import parse_study, run_study
-    >>> result = run_study(parse_study('''
-    ... designlab: 1
-    ... kind: joint_reduction
-    ... name: demo
-    ... joints: [{name: g, inertia: 0.059, k_mech: 2000, c_mech: 2.0, k_cont: 1500,
-    ...           c_cont: 30, lever_arm: 0.2}]
-    ... ratios: {low: 0.1, high: 10, num: 3}
-    ... '''))
+    >>> result = run_study(parse_study(_EXAMPLE))
     >>> fig = joint_reduction_figure(result)
     >>> len(fig.axes)
     2
@@ -209,14 +212,7 @@ def joint_reduction_markdown(
     Examples
     --------
     >>> from designlab.study import parse_study, run_study
-    >>> result = run_study(parse_study('''
-    ... designlab: 1
-    ... kind: joint_reduction
-    ... name: demo
-    ... joints: [{name: g, inertia: 0.059, k_mech: 2000, c_mech: 2.0, k_cont: 1500,
-    ...           c_cont: 30, lever_arm: 0.2}]
-    ... ratios: {low: 0.1, high: 10, num: 3}
-    ... '''))
+    >>> result = run_study(parse_study(_EXAMPLE))
     >>> "## Where the reduction is conservative" in joint_reduction_markdown(result)
     True
     """
@@ -388,14 +384,7 @@ def write_joint_reduction_report(
     Examples
     --------
     >>> from designlab.study import parse_study, run_study
-    >>> result = run_study(parse_study('''
-    ... designlab: 1
-    ... kind: joint_reduction
-    ... name: demo
-    ... joints: [{name: g, inertia: 0.059, k_mech: 2000, c_mech: 2.0, k_cont: 1500,
-    ...           c_cont: 30, lever_arm: 0.2}]
-    ... ratios: {low: 0.1, high: 10, num: 3}
-    ... '''))
+    >>> result = run_study(parse_study(_EXAMPLE))
     >>> import tempfile, pathlib
     >>> with tempfile.TemporaryDirectory() as d:
     ...     sorted(p.name for p in write_joint_reduction_report(result, pathlib.Path(d)))

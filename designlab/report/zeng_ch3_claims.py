@@ -31,6 +31,15 @@ from designlab.study.kinds.zeng_ch3_claims import Ch3ClaimsResult
 
 __all__ = ["ch3_claims_figure", "ch3_claims_markdown", "write_ch3_claims_report"]
 
+#: The small study of the examples below.
+_EXAMPLE = """
+designlab: 1
+kind: zeng_ch3_claims
+name: demo
+readings: [{name: b, impact_velocity: 0.25, feedforward: false}]
+speed_ratios: [1.0]
+"""
+
 
 def ch3_claims_figure(result: Ch3ClaimsResult) -> Figure:
     """Fig. 3.16 curves and the Sec. 3.8 force histories.
@@ -48,13 +57,7 @@ def ch3_claims_figure(result: Ch3ClaimsResult) -> Figure:
     Examples
     --------
     >>> from designlab.study import parse_study, run_study
-    >>> result = run_study(parse_study('''
-    ... designlab: 1
-    ... kind: zeng_ch3_claims
-    ... name: demo
-    ... readings: [{name: b, impact_velocity: 0.25, feedforward: false}]
-    ... speed_ratios: [1.0]
-    ... '''))
+    >>> result = run_study(parse_study(_EXAMPLE))
     >>> len(ch3_claims_figure(result).axes)
     2
     """
@@ -118,13 +121,7 @@ def ch3_claims_markdown(
     Examples
     --------
     >>> from designlab.study import parse_study, run_study
-    >>> result = run_study(parse_study('''
-    ... designlab: 1
-    ... kind: zeng_ch3_claims
-    ... name: demo
-    ... readings: [{name: b, impact_velocity: 0.25, feedforward: false}]
-    ... speed_ratios: [1.0]
-    ... '''))
+    >>> result = run_study(parse_study(_EXAMPLE))
     >>> "## Fig. 3.16" in ch3_claims_markdown(result)
     True
     """
@@ -298,13 +295,7 @@ def write_ch3_claims_report(
     Examples
     --------
     >>> from designlab.study import parse_study, run_study
-    >>> result = run_study(parse_study('''
-    ... designlab: 1
-    ... kind: zeng_ch3_claims
-    ... name: demo
-    ... readings: [{name: b, impact_velocity: 0.25, feedforward: false}]
-    ... speed_ratios: [1.0]
-    ... '''))
+    >>> result = run_study(parse_study(_EXAMPLE))
     >>> import tempfile, pathlib
     >>> with tempfile.TemporaryDirectory() as d:
     ...     len(write_ch3_claims_report(result, pathlib.Path(d)))
