@@ -67,8 +67,13 @@ _WRITERS: dict[type, Writer] = {}
 def register_writer(result_type: type) -> Callable[[Writer], Writer]:
     """Decorator: register the report writer of a result type.
 
-    The writer receives the result and a fresh directory to fill, and the
-    keywords ``command``, ``version`` and ``study_text``.
+    A writer is called ``writer(result, directory, *, command, version, study_text)`` and
+    returns the files it wrote (a list of :class:`pathlib.Path`), usually through
+    :func:`designlab.report.builder.write_report`. ``result`` is the study's result;
+    ``directory`` a fresh report directory to fill (made atomic by the caller); ``command``
+    and ``version`` the command line and designlab version quoted in the report's provenance
+    sentence (``None``: not quoted); ``study_text`` the study file's text, copied to
+    ``study.yaml`` (``None``: no copy).
 
     Parameters
     ----------

@@ -745,16 +745,8 @@ def write_accompanying_report(
 
     Parameters
     ----------
-    result
-        An accompanying study result.
-    directory
-        The (new, empty) report directory.
-    command
-        The command line that produced the result.
-    version
-        The designlab version.
-    study_text
-        The study file's text, copied as ``study.yaml``.
+    result, directory, command, version, study_text
+        As every report writer takes them (:func:`designlab.report.register_writer`).
     """
     margins = pd.concat(
         [la.to_frame().assign(controller=label) for label, la in result.loops.items()],

@@ -464,21 +464,8 @@ def write_envelope_report(
 
     Parameters
     ----------
-    result
-        The computed study.
-    directory
-        The report directory (exists).
-    command
-        The command line, quoted in the Markdown.
-    version
-        The designlab version, quoted in the Markdown.
-    study_text
-        The study file's text, copied to ``study.yaml``.
-
-    Returns
-    -------
-    list of pathlib.Path
-        The files written.
+    result, directory, command, version, study_text
+        As every report writer takes them (:func:`designlab.report.register_writer`).
 
     Examples
     --------

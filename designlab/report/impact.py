@@ -394,21 +394,8 @@ def write_impact_report(
 
     Parameters
     ----------
-    result
-        The computed study.
-    directory
-        The report directory.
-    command
-        The command line, quoted in the Markdown.
-    version
-        The designlab version, quoted in the Markdown.
-    study_text
-        The study file's text, copied to ``study.yaml``.
-
-    Returns
-    -------
-    list of Path
-        The files written.
+    result, directory, command, version, study_text
+        As every report writer takes them (:func:`designlab.report.register_writer`).
 
     Examples
     --------

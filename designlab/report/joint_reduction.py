@@ -367,19 +367,8 @@ def write_joint_reduction_report(
 
     Parameters
     ----------
-    result
-        The study's result.
-    directory
-        A fresh directory to fill (made atomic by the caller).
-    command, version
-        Quoted at the end of the summary.
-    study_text
-        The study file's text, copied to ``study.yaml`` if given.
-
-    Returns
-    -------
-    list of pathlib.Path
-        The files written.
+    result, directory, command, version, study_text
+        As every report writer takes them (:func:`designlab.report.register_writer`).
 
     Examples
     --------

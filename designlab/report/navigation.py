@@ -253,21 +253,8 @@ def write_navigation_report(
 
     Parameters
     ----------
-    result
-        A ``navigation_scenarios`` result.
-    directory
-        The (new, empty) report directory.
-    command
-        The command line that produced the result.
-    version
-        The designlab version.
-    study_text
-        The study file's text, copied as ``study.yaml``.
-
-    Returns
-    -------
-    list of Path
-        The files written.
+    result, directory, command, version, study_text
+        As every report writer takes them (:func:`designlab.report.register_writer`).
     """
     by_scen: dict[str, list[Any]] = {}
     for r in result.runs:

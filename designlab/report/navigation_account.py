@@ -128,21 +128,8 @@ def write_navigation_account_report(
 
     Parameters
     ----------
-    result
-        A ``navigation_account`` result.
-    directory
-        The (new, empty) report directory.
-    command
-        The command line that produced the result.
-    version
-        The designlab version.
-    study_text
-        The study file's text, copied as ``study.yaml``.
-
-    Returns
-    -------
-    list of Path
-        The files written.
+    result, directory, command, version, study_text
+        As every report writer takes them (:func:`designlab.report.register_writer`).
     """
     tables = {"noise.csv": result.noise} if len(result.noise) else {}
     return write_report(

@@ -583,16 +583,8 @@ def write_navigation_gains_report(
 
     Parameters
     ----------
-    result
-        The study result.
-    directory
-        The report directory (written into as it is).
-    command
-        The command that produced the result, quoted in summary.md.
-    version
-        designlab's version, quoted in summary.md.
-    study_text
-        The study file's text, copied to study.yaml (``None``: no copy).
+    result, directory, command, version, study_text
+        As every report writer takes them (:func:`designlab.report.register_writer`).
     """
     tables = {
         "gains.csv": result.comparison,

@@ -185,16 +185,8 @@ def write_navigation_planners_report(
 
     Parameters
     ----------
-    result
-        A ``navigation_planners`` result.
-    directory
-        The (new, empty) report directory.
-    command
-        The command line that produced the result.
-    version
-        The designlab version.
-    study_text
-        The study file's text, copied as ``study.yaml``.
+    result, directory, command, version, study_text
+        As every report writer takes them (:func:`designlab.report.register_writer`).
     """
     text = navigation_planners_markdown(result, command=command, version=version)
     return write_report(

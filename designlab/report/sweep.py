@@ -379,16 +379,8 @@ def write_sweep_report(
 
     Parameters
     ----------
-    result
-        A :class:`~designlab.study.sweep_runner.SweepStudyResult`.
-    directory
-        The (new, empty) report directory.
-    command
-        The command line that produced the result.
-    version
-        The designlab version.
-    study_text
-        The study file's text, copied as ``study.yaml``.
+    result, directory, command, version, study_text
+        As every report writer takes them (:func:`designlab.report.register_writer`).
     """
     written = _write_table(result, directory) if len(result.table) else []
     # indexed by parameter, unlike write_csv's tables: written as pandas prints them

@@ -545,16 +545,8 @@ def write_comparison_report(
 
     Parameters
     ----------
-    result
-        A follower comparison result.
-    directory
-        The (new, empty) report directory.
-    command
-        The command line that produced the result.
-    version
-        The designlab version.
-    study_text
-        The study file's text, copied as ``study.yaml``.
+    result, directory, command, version, study_text
+        As every report writer takes them (:func:`designlab.report.register_writer`).
     """
     tables = {"metrics.csv": result.to_frame()}
     if result.linear is not None:
@@ -802,16 +794,8 @@ def write_tuning_report(
 
     Parameters
     ----------
-    result
-        A follower tuning result.
-    directory
-        The (new, empty) report directory.
-    command
-        The command line that produced the result.
-    version
-        The designlab version.
-    study_text
-        The study file's text, copied as ``study.yaml``.
+    result, directory, command, version, study_text
+        As every report writer takes them (:func:`designlab.report.register_writer`).
     """
     scen = pd.concat(
         [r.scenarios.assign(law=type(r.controller).__name__) for r in result.results],

@@ -213,19 +213,8 @@ def write_modes_report(
 
     Parameters
     ----------
-    result
-        The study's result.
-    directory
-        A fresh directory to fill.
-    command, version
-        Quoted in the summary.
-    study_text
-        The study file's text, copied to ``study.yaml`` if given.
-
-    Returns
-    -------
-    list of pathlib.Path
-        The files written.
+    result, directory, command, version, study_text
+        As every report writer takes them (:func:`designlab.report.register_writer`).
     """
     by_path: dict[str, list[ModeCase]] = {}
     for c in result.cases:

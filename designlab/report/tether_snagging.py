@@ -286,19 +286,8 @@ def write_snagging_report(
 
     Parameters
     ----------
-    result
-        The study's result.
-    directory
-        A fresh directory to fill.
-    command, version
-        Quoted in the summary.
-    study_text
-        The study file's text, copied to ``study.yaml`` if given.
-
-    Returns
-    -------
-    list of pathlib.Path
-        The files written.
+    result, directory, command, version, study_text
+        As every report writer takes them (:func:`designlab.report.register_writer`).
     """
     makers = {"paths": paths_figure, "limits": limits_figure, "detection": detection_figure}
     figures = {

@@ -166,19 +166,8 @@ def write_stability_report(
 
     Parameters
     ----------
-    result
-        The study's result.
-    directory
-        A fresh directory to fill.
-    command, version
-        Quoted in the summary.
-    study_text
-        The study file's text, copied to ``study.yaml`` if given.
-
-    Returns
-    -------
-    list of pathlib.Path
-        The files written.
+    result, directory, command, version, study_text
+        As every report writer takes them (:func:`designlab.report.register_writer`).
     """
     figures = {
         f"convergence_{slug(title, 'law')}.png": partial(convergence_figure, title, m)

@@ -172,19 +172,8 @@ def write_step_size_report(
 
     Parameters
     ----------
-    result
-        The study's result.
-    directory
-        A fresh directory to fill.
-    command, version
-        Quoted in the summary.
-    study_text
-        The study file's text, copied to ``study.yaml`` if given.
-
-    Returns
-    -------
-    list of pathlib.Path
-        The files written.
+    result, directory, command, version, study_text
+        As every report writer takes them (:func:`designlab.report.register_writer`).
     """
     by_path: dict[str, list[StepSizeCase]] = {}
     for c in result.cases:
