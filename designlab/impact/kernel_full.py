@@ -1,0 +1,408 @@
+"""Compiled exact modal solution of the full-joint impact model, one design at a time (numba).
+
+The full series joint (Zeng 2011, eq. 3.4.6; :mod:`designlab.impact.full_joint_model`)
+in closed form. With the Laplace variable ``s``, ``C = C_mech + C_cont`` and
+``K = K_mech + K_cont``, the transmission ``z_m = C_mech s + K_mech``, the
+controller ``z_q = C_cont s + K_cont``, the motor node ``z_e = C s + K``, the foam
+``z_c = C_c s + K_c`` and the head ``P_h = M_h s^2 + C_h s + K_h``, the arm's
+impedance times the node's is ``Q_r = M_r s^2 z_e + z_m z_q`` (the joint's force is
+``z_m z_q / z_e`` times the arm's deflection, eq. 3.4.6 over l^2). The responses
+to the unit ramp (v_c = 1 m/s) are ``N(s) / (s^2 D(s))`` with
+
+* unconstrained (5 poles): ``D = Q_r P_h + z_c (P_h z_e + Q_r)``; force
+  ``N = z_c Q_r P_h``, compression ``N = Q_r P_h``, head acceleration
+  ``N = s^2 z_c Q_r``;
+* constrained, the head against a wall (3 poles): ``D = Q_r + z_c z_e``; force
+  ``N = z_c Q_r``, compression ``N = Q_r``.
+
+Every coefficient is a sum of products of non-negative parameters (no
+cancellation), and ``D(0) > 0`` because K_mech, K_cont and K_c are positive: the
+model has no pole at ``s = 0``.
+
+**Poles.** ``D`` has odd degree, so it has a real root: a safeguarded Newton
+iteration on a bracket (from the motor node's own pole ``-K/C``, which a stiff
+transmission puts decades above the impact modes) finds one, it is divided out
+(forwards or backwards, whichever is stable for its size), the rest is the
+quartic of :func:`designlab.impact.kernel_poles.quartic_roots` or a quadratic,
+and every root is polished by Newton on ``D`` itself. A design is **certified**
+when its roots are distinct (relative gap above :data:`MIN_GAP`), each is well
+conditioned (relative condition number below :data:`MAX_CONDITION`) and they
+sum to ``-D``'s second coefficient; a design that is not (nearly repeated
+poles, a near-critically damped mode) gets the status :data:`FALLBACK` and its
+caller evaluates it from the eigen-decomposition instead
+(:mod:`designlab.impact.state_space`).
+
+Residues and the polynomial part follow as in :mod:`.kernel_poles`; the lobe end
+and the certified maxima are those of the reduced model (:mod:`.kernel`,
+:mod:`.kernel_lobe`) on a grid that does not resolve the stiff motor node
+(:func:`designlab.impact.full_joint_model.grid_rate`).
+
+Examples
+--------
+>>> import numpy as np
+>>> p = np.array([[1.475, 50.0, 5e4, 24250.0, 71.9, 4.4, 46.0, 3e3, 750.0, 37500.0]])
+>>> out, status = full_metrics(p, (True, True, True), constrained=False, stop_time=0.05,
+...                            max_lobe_steps=4096, diagnostics=False)
+>>> int(status[0]), round(float(out[0, 0]) * 1.25 / 9.80665, 3)   # ok, a_h,max in g
+(0, 4.079)
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+
+from designlab.impact.kernel import _design
+from designlab.impact.kernel_lobe import scratch
+from designlab.impact.kernel_poles import quartic_roots
+from designlab.sx.jit import kernel
+
+__all__ = [
+    "FALLBACK",
+    "MAX_CONDITION",
+    "MIN_GAP",
+    "RESIDUAL",
+    "certify",
+    "full_coefficients",
+    "full_metrics",
+    "full_roots",
+    "grid_step",
+    "modal_solution",
+]
+
+#: status code of a design the compiled path does not certify (evaluated elsewhere)
+FALLBACK = 4
+#: smallest relative gap ``|p_i - p_j| / max(|p_i|, |p_j|)`` between two certified poles
+MIN_GAP = 1e-3
+#: largest relative condition number of a certified pole,
+#: ``sum_k |d_k| |p|^(n-k) / (|p| |D'(p)|)``
+MAX_CONDITION = 1e4
+#: largest backward error of a certified pole, ``|D(p)|`` over ``sum_k |d_k| |p|^(n-k)``
+RESIDUAL = 1e-13
+_EPS = 2.220446049250313e-16
+
+
+@kernel(inline=True)
+def _conv(a, na, b, nb, out):  # type: ignore[no-untyped-def]
+    """``out[:na + nb - 1] = a[:na] * b[:nb]`` (ascending polynomial product)."""
+    for k in range(na + nb - 1):
+        out[k] = 0.0
+    for i in range(na):
+        for j in range(nb):
+            out[i + j] += a[i] * b[j]
+
+
+@kernel
+def full_coefficients(q, constrained, den, num):  # type: ignore[no-untyped-def]
+    """Monic ``den`` (n+1) and numerators ``num`` (3, n+2) of one design (descending); n.
+
+    ``q`` is a row of :data:`~designlab.impact.full_joint_model.FULL_PARAM_NAMES`;
+    the numerators are those of force, head acceleration and compression (zero
+    for the head when ``constrained``), and ``n`` is 5 (3 when ``constrained``).
+    """
+    m_r, c_m, k_m, k_c, c_c, m_h, c_h, k_h, c_q, k_q = q
+    c_s, k_s = c_m + c_q, k_m + k_q
+    zc = np.array([k_c, c_c])
+    ze = np.array([k_s, c_s])
+    ph = np.array([k_h, c_h, m_h])
+    qr = np.array([k_m * k_q, k_m * c_q + c_m * k_q, c_m * c_q + m_r * k_s, m_r * c_s])
+    d = np.zeros(6)
+    nf = np.zeros(7)
+    na = np.zeros(7)
+    ne = np.zeros(7)
+    if constrained:
+        n = 3
+        _conv(zc, 2, ze, 2, d)
+        for k in range(4):
+            d[k] += qr[k]
+            ne[k] = qr[k]
+        _conv(zc, 2, qr, 4, nf)
+    else:
+        n = 5
+        w = np.zeros(4)
+        _conv(ph, 3, ze, 2, w)
+        for k in range(4):
+            w[k] += qr[k]
+        _conv(qr, 4, ph, 3, ne)
+        _conv(zc, 2, w, 4, d)
+        for k in range(6):
+            d[k] += ne[k]
+        _conv(zc, 2, ne, 6, nf)
+        _conv(zc, 2, qr, 4, na[2:])
+    lead = d[n]
+    for k in range(n + 1):
+        den[k] = d[n - k] / lead
+    for k in range(n + 2):
+        num[0, k] = nf[n + 1 - k] / lead
+        num[1, k] = na[n + 1 - k] / lead
+        num[2, k] = ne[n + 1 - k] / lead
+    return n
+
+
+@kernel(inline=True)
+def _horner(a, n, x):  # type: ignore[no-untyped-def]
+    """``D(x)`` and ``D'(x)`` of the monic ``a`` (descending, degree ``n``)."""
+    f = x + a[1]
+    df = 1.0 + 0.0 * x
+    for k in range(2, n + 1):
+        df = df * x + f
+        f = f * x + a[k]
+    return f, df
+
+
+@kernel
+def _real_root(a, n, guess):  # type: ignore[no-untyped-def]
+    """A real root of the monic ``a`` of odd degree with ``a[n] > 0`` (so it is negative).
+
+    Newton's iteration kept inside a shrinking bracket ``D(lo) < 0 < D(hi)``; a
+    step that leaves it is replaced by the bracket's (geometric) midpoint.
+    """
+    bound = abs(a[1])  # Fujiwara's bound on the roots' moduli
+    for k in range(2, n + 1):
+        bound = max(bound, abs(a[k]) ** (1.0 / k))
+    lo = -2.0 * bound - 1e-300
+    for _ in range(64):
+        if _horner(a, n, lo)[0] < 0:
+            break
+        lo *= 2.0
+    hi = 0.0
+    x = guess if lo < guess < hi else 0.5 * lo
+    for _ in range(200):
+        f, df = _horner(a, n, x)
+        if f == 0:
+            return x
+        if f < 0:
+            lo = x
+        else:
+            hi = x
+        xn = x - f / df if df != 0 else lo
+        if not lo < xn < hi:
+            xn = -math.sqrt(lo * hi) if hi < 0 else 0.5 * lo
+        if abs(xn - x) <= 2.0 * _EPS * abs(xn) or lo == hi:
+            return xn
+        x = xn
+    return x
+
+
+@kernel(inline=True)
+def _deflate(a, n, r, b):  # type: ignore[no-untyped-def]
+    """``b`` (degree n-1, monic) = ``a / (s - r)``: forwards for a small root, else backwards."""
+    b[0] = 1.0
+    if abs(r) ** n <= a[n]:  # |r| below the geometric mean of the roots' moduli
+        for k in range(1, n):
+            b[k] = a[k] + r * b[k - 1]
+    else:
+        b[n - 1] = -a[n] / r
+        for k in range(n - 1, 1, -1):
+            b[k - 1] = (b[k] - a[k]) / r
+
+
+@kernel(inline=True)
+def _polish(a, n, x):  # type: ignore[no-untyped-def]
+    """Newton on ``D`` itself from ``x`` (real stays real), at most 4 steps."""
+    for _ in range(4):
+        f, df = _horner(a, n, x)
+        if df == 0:
+            return x
+        dx = f / df
+        x = x - dx
+        if abs(dx) <= 2.0 * _EPS * abs(x):
+            return x
+    return x
+
+
+@kernel
+def full_roots(a, n, guess, u0, v0, roots):  # type: ignore[no-untyped-def]
+    """The ``n`` (3 or 5) roots of the monic ``a`` into ``roots`` (conjugates exact).
+
+    A real root from ``guess`` (:func:`_real_root`), the deflated quartic by
+    :func:`~designlab.impact.kernel_poles.quartic_roots` from the factor guess
+    ``s^2 + u0 s + v0`` (or the deflated quadratic), each root polished on ``a``.
+    """
+    r = _real_root(a, n, guess)
+    roots[0] = _polish(a, n, r)
+    b = np.empty(5)
+    found = np.empty(5, dtype=np.complex128)
+    _deflate(a, n, roots[0].real, b)
+    if n == 5:
+        four = np.empty(4, dtype=np.complex128)
+        quartic_roots(b, u0, v0, four)
+        for k in range(4):
+            roots[k + 1] = four[k]
+    else:
+        disc = 0.25 * b[1] * b[1] - b[2]
+        if disc < 0:
+            roots[1] = complex(-0.5 * b[1], math.sqrt(-disc))
+            roots[2] = complex(-0.5 * b[1], -math.sqrt(-disc))
+        else:
+            big = -0.5 * b[1] - math.copysign(math.sqrt(disc), b[1])
+            roots[1] = big
+            roots[2] = b[2] / big if big != 0 else 0.0
+    # polish the rest on ``a``; keep real roots real and conjugates exact
+    m = 1
+    for k in range(1, n):
+        z = roots[k]
+        if z.imag == 0:
+            found[m] = _polish(a, n, z.real)
+            m += 1
+        elif z.imag > 0 and m + 1 < n:
+            x = _polish(a, n, z)
+            found[m] = complex(x.real, abs(x.imag))
+            found[m + 1] = complex(x.real, -abs(x.imag))
+            m += 2
+    for k in range(1, n):
+        roots[k] = found[k] if m == n else complex(np.nan, 0.0)
+
+
+@kernel
+def certify(a, n, roots):  # type: ignore[no-untyped-def]
+    """Whether the ``n`` roots are distinct, well conditioned and complete (see module)."""
+    total = 0.0
+    size = 0.0
+    for i in range(n):
+        z = roots[i]
+        m = abs(z)
+        if not (np.isfinite(z.real) and np.isfinite(z.imag)) or z.real > 0:
+            return False
+        mags = 1.0
+        for k in range(1, n + 1):
+            mags = mags * m + abs(a[k])
+        f, df = _horner(a, n, z)
+        if not (abs(f) <= RESIDUAL * mags and mags <= MAX_CONDITION * m * abs(df)):
+            return False
+        for j in range(i + 1, n):
+            if not abs(z - roots[j]) >= MIN_GAP * max(m, abs(roots[j])):
+                return False
+        total -= z.real
+        size += m
+    return abs(total - a[1]) <= 1e-10 * size
+
+
+@kernel
+def modal_solution(den, num, roots, n, p, r, c, outputs):  # type: ignore[no-untyped-def]
+    """Folded poles ``p``, residues ``r`` (3, 5), polynomial parts ``c`` (3, 2); pole count.
+
+    One pole per conjugate pair with a doubled residue
+    (:func:`designlab.impact.modal.fold_conjugates`); residues of ``N / (s^2 D)``
+    at the simple roots ``roots`` of ``den``.
+    """
+    nk = 0
+    for i in range(n):
+        pi = roots[i]
+        if pi.imag < 0:
+            continue
+        w = 2.0 if pi.imag > 0 else 1.0
+        prod = pi * pi
+        for j in range(n):
+            if j != i:
+                prod = prod * (pi - roots[j])
+        p[nk] = pi
+        for o in range(3):
+            r[o, nk] = 0.0
+            if outputs[o]:
+                acc = complex(num[o, 0], 0.0)
+                for k in range(1, n + 2):
+                    acc = acc * pi + num[o, k]
+                r[o, nk] = acc / prod * w
+        nk += 1
+    for o in range(3):
+        c[o, 0] = c[o, 1] = 0.0
+        if outputs[o]:
+            c[o, 0] = num[o, n + 1] / den[n]
+            c[o, 1] = (num[o, n] - den[n - 1] * c[o, 0]) / den[n]
+    return nk
+
+
+@kernel
+def grid_step(p, nk):  # type: ignore[no-untyped-def]
+    """``0.4`` over :func:`designlab.impact.full_joint_model.grid_rate` of the folded poles.
+
+    Real poles faster than ten times the fastest oscillatory pole (or, without
+    one, the slowest pole) are not resolved.
+    """
+    base = 0.0
+    slow = np.inf
+    any_osc = False
+    for k in range(nk):
+        m = abs(p[k])
+        if abs(p[k].imag) > 1e-9 * max(m, 1e-300):
+            any_osc = True
+            base = max(base, m)
+        slow = min(slow, m)
+    if not any_osc:
+        base = slow
+    rate = 0.0
+    for k in range(nk):
+        m = abs(p[k])
+        if abs(p[k].imag) > 1e-9 * max(m, 1e-300) or m <= 10.0 * base:
+            rate = max(rate, m)
+    return 0.4 / rate
+
+
+@kernel
+def _full_block(params, constrained, outputs, stop_time, max_steps, diag, out, status):  # type: ignore[no-untyped-def]
+    work = scratch()
+    den = np.empty(6)
+    num = np.zeros((3, 7))
+    roots = np.zeros(5, dtype=np.complex128)
+    p = np.zeros(5, dtype=np.complex128)
+    r = np.zeros((3, 5), dtype=np.complex128)
+    c = np.zeros((3, 2))
+    for i in range(params.shape[0]):
+        q = params[i]
+        n = full_coefficients(q, constrained, den, num)
+        c_s = q[1] + q[8]
+        full_roots(den, n, -(q[2] + q[9]) / c_s, (q[4] + q[6]) / q[5], (q[3] + q[7]) / q[5], roots)
+        if not certify(den, n, roots):
+            for k in range(out.shape[1]):
+                out[i, k] = np.nan
+            status[i] = FALLBACK
+            continue
+        nk = modal_solution(den, num, roots, n, p, r, c, outputs)
+        status[i] = _design(
+            p, r, c, nk, grid_step(p, nk), outputs, not constrained, stop_time, max_steps,
+            diag, out[i], work,
+        )  # fmt: skip
+
+
+def full_metrics(
+    params: NDArray[np.float64],
+    outputs: tuple[bool, bool, bool],
+    *,
+    constrained: bool,
+    stop_time: float,
+    max_lobe_steps: int,
+    diagnostics: bool,
+) -> tuple[NDArray[np.float64], NDArray[np.int8]]:
+    """Unit-v_c first-lobe metrics of ``(N, 10)`` full-joint designs.
+
+    Parameters
+    ----------
+    params
+        ``(N, 10)`` rows ordered as
+        :data:`~designlab.impact.full_joint_model.FULL_PARAM_NAMES` (checked by
+        the caller: K_mech, K_cont, K_c, M_r, M_h > 0, C_mech + C_cont > 0).
+    outputs
+        Whether to compute the force, the head acceleration and the compression
+        maxima (the head acceleration is needed for the lobe end unless constrained).
+    constrained
+        The head against a wall: no lobe end, the window ``[0, stop_time]``.
+    stop_time, max_lobe_steps, diagnostics
+        As in :func:`designlab.impact.metrics.impact_metrics` (``lobe_diagnostics``).
+
+    Returns
+    -------
+    tuple
+        ``(N, 8)`` rows of :data:`designlab.impact.kernel.COLUMNS` and ``(N,)``
+        status codes: those of :data:`designlab.impact.kernel.STATUS_CODES`, or
+        :data:`FALLBACK` where the design was not certified (rows NaN).
+    """
+    p = np.ascontiguousarray(params, dtype=np.float64)
+    out = np.empty((p.shape[0], 8))
+    status = np.zeros(p.shape[0], dtype=np.int8)
+    sel = np.array(outputs, dtype=np.bool_)
+    _full_block(p, bool(constrained), sel, float(stop_time), int(max_lobe_steps),
+                bool(diagnostics), out, status)  # fmt: skip
+    return out, status
