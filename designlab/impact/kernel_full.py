@@ -143,44 +143,50 @@ def full_coefficients(q, constrained, den, num):  # type: ignore[no-untyped-def]
 
 @kernel(inline=True)
 def _horner(a, n, x):  # type: ignore[no-untyped-def]
-    """``D(x)`` and ``D'(x)`` of the monic ``a`` (descending, degree ``n``)."""
+    """``D(x)``, ``D'(x)`` of the monic ``a`` (descending, degree ``n``) and the rounding
+    scale ``sum_k |a_k| |x|^(n-k)`` of ``D(x)``."""
     f = x + a[1]
     df = 1.0 + 0.0 * x
+    m = abs(x)
+    mags = m + abs(a[1])
     for k in range(2, n + 1):
         df = df * x + f
         f = f * x + a[k]
-    return f, df
+        mags = mags * m + abs(a[k])
+    return f, df, mags
 
 
 @kernel
 def _real_root(a, n, guess):  # type: ignore[no-untyped-def]
-    """A real root of the monic ``a`` of odd degree with ``a[n] > 0`` (so it is negative).
+    """A real root of the monic ``a`` of odd degree with positive coefficients (a negative one).
 
-    Newton's iteration kept inside a shrinking bracket ``D(lo) < 0 < D(hi)``; a
-    step that leaves it is replaced by the bracket's (geometric) midpoint.
+    Newton's iteration inside a shrinking bracket ``D(lo) < 0 < D(hi)``, started
+    from Fujiwara's bounds on the roots' moduli; a step that leaves the bracket
+    or does not halve the previous one is replaced by the bracket's geometric
+    midpoint. Stops where ``D(x)`` is within its rounding noise.
     """
-    bound = abs(a[1])  # Fujiwara's bound on the roots' moduli
+    big = abs(a[1])  # Fujiwara: every root has |x| <= 2 big and |x| >= 1 / (2 small)
+    small = abs(a[n - 1] / a[n])
     for k in range(2, n + 1):
-        bound = max(bound, abs(a[k]) ** (1.0 / k))
-    lo = -2.0 * bound - 1e-300
-    for _ in range(64):
-        if _horner(a, n, lo)[0] < 0:
-            break
-        lo *= 2.0
-    hi = 0.0
-    x = guess if lo < guess < hi else 0.5 * lo
+        big = max(big, abs(a[k]) ** (1.0 / k))
+        small = max(small, abs(a[n - k] / a[n]) ** (1.0 / k))
+    lo, hi = -2.0 * big, -0.5 / small
+    x = guess if lo < guess < hi else -math.sqrt(lo * hi)
+    step = old = hi - lo
     for _ in range(200):
-        f, df = _horner(a, n, x)
-        if f == 0:
+        f, df, mags = _horner(a, n, x)
+        if abs(f) <= 8.0 * _EPS * mags or not np.isfinite(f):
             return x
         if f < 0:
             lo = x
         else:
             hi = x
         xn = x - f / df if df != 0 else lo
-        if not lo < xn < hi:
-            xn = -math.sqrt(lo * hi) if hi < 0 else 0.5 * lo
-        if abs(xn - x) <= 2.0 * _EPS * abs(xn) or lo == hi:
+        if not lo < xn < hi or abs(2.0 * f) > abs(old * df):
+            xn = -math.sqrt(lo * hi)
+        old = step
+        step = xn - x
+        if abs(step) <= 2.0 * _EPS * abs(xn):
             return xn
         x = xn
     return x
@@ -201,15 +207,13 @@ def _deflate(a, n, r, b):  # type: ignore[no-untyped-def]
 
 @kernel(inline=True)
 def _polish(a, n, x):  # type: ignore[no-untyped-def]
-    """Newton on ``D`` itself from ``x`` (real stays real), at most 4 steps."""
+    """Newton on ``D`` itself from ``x`` (real stays real), until ``D(x)`` is rounding noise
+    (at most 4 steps)."""
     for _ in range(4):
-        f, df = _horner(a, n, x)
-        if df == 0:
+        f, df, mags = _horner(a, n, x)
+        if abs(f) <= 8.0 * _EPS * mags or df == 0:
             return x
-        dx = f / df
-        x = x - dx
-        if abs(dx) <= 2.0 * _EPS * abs(x):
-            return x
+        x = x - f / df
     return x
 
 
@@ -226,6 +230,11 @@ def full_roots(a, n, guess, u0, v0, roots):  # type: ignore[no-untyped-def]
     b = np.empty(5)
     found = np.empty(5, dtype=np.complex128)
     _deflate(a, n, roots[0].real, b)
+    for k in range(n):
+        if not np.isfinite(b[k]):
+            for j in range(n):
+                roots[j] = complex(np.nan, 0.0)
+            return
     if n == 5:
         four = np.empty(4, dtype=np.complex128)
         quartic_roots(b, u0, v0, four)
@@ -266,10 +275,7 @@ def certify(a, n, roots):  # type: ignore[no-untyped-def]
         m = abs(z)
         if not (np.isfinite(z.real) and np.isfinite(z.imag)) or z.real > 0:
             return False
-        mags = 1.0
-        for k in range(1, n + 1):
-            mags = mags * m + abs(a[k])
-        f, df = _horner(a, n, z)
+        f, df, mags = _horner(a, n, z)
         if not (abs(f) <= RESIDUAL * mags and mags <= MAX_CONDITION * m * abs(df)):
             return False
         for j in range(i + 1, n):
