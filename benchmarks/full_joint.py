@@ -133,9 +133,8 @@ def random_comparison(n: int) -> None:
     fallback = sum(int(w.split()[0]) for w in m.warnings if "nearly repeated" in w)
     print(f"{n:,} random designs (CPU s per design)")
     print(f"  compiled kernel          : {t_fast / n * 1e6:9.2f} us  ({n / t_fast:,.0f} designs/s)")
-    print(
-        f"  eigen path (numpy eig)   : {t_eig / n * 1e6:9.2f} us  ({t_eig / t_fast:6.1f} x compiled)"
-    )
+    ratio = t_eig / t_fast
+    print(f"  eigen path (numpy eig)   : {t_eig / n * 1e6:9.2f} us  ({ratio:6.1f} x compiled)")
     print(f"  status differs           : {int(np.sum(m.design_status != e.design_status))}")
     print(
         f"  within 1e-12 relative    : {100 * np.mean(rel <= 1e-12):.2f} %; largest {rel.max():.1e}"
