@@ -102,16 +102,22 @@ def full_coefficients(q, constrained, den, num):  # type: ignore[no-untyped-def]
     the numerators are those of force, head acceleration and compression (zero
     for the head when ``constrained``), and ``n`` is 5 (3 when ``constrained``).
     """
+    return _coefficients(q, constrained, den, num, np.zeros((8, 7)))
+
+
+@kernel
+def _coefficients(q, constrained, den, num, work):  # type: ignore[no-untyped-def]
+    """:func:`full_coefficients` with the scratch ``work`` (8, 7) (ascending polynomials)."""
     m_r, c_m, k_m, k_c, c_c, m_h, c_h, k_h, c_q, k_q = q
-    c_s, k_s = c_m + c_q, k_m + k_q
-    zc = np.array([k_c, c_c])
-    ze = np.array([k_s, c_s])
-    ph = np.array([k_h, c_h, m_h])
-    qr = np.array([k_m * k_q, k_m * c_q + c_m * k_q, c_m * c_q + m_r * k_s, m_r * c_s])
-    d = np.zeros(6)
-    nf = np.zeros(7)
-    na = np.zeros(7)
-    ne = np.zeros(7)
+    zc, ze, ph, qr = work[0], work[1], work[2], work[3]
+    d, nf, na, ne = work[4], work[5], work[6], work[7]
+    for k in range(7):
+        d[k] = nf[k] = na[k] = ne[k] = 0.0
+    zc[0], zc[1] = k_c, c_c
+    ze[0], ze[1] = k_m + k_q, c_m + c_q
+    ph[0], ph[1], ph[2] = k_h, c_h, m_h
+    qr[0], qr[1] = k_m * k_q, k_m * c_q + c_m * k_q
+    qr[2], qr[3] = c_m * c_q + m_r * ze[0], m_r * ze[1]
     if constrained:
         n = 3
         _conv(zc, 2, ze, 2, d)
@@ -121,15 +127,15 @@ def full_coefficients(q, constrained, den, num):  # type: ignore[no-untyped-def]
         _conv(zc, 2, qr, 4, nf)
     else:
         n = 5
-        w = np.zeros(4)
-        _conv(ph, 3, ze, 2, w)
+        _conv(ph, 3, ze, 2, na)  # P_h z_e + Q_r, held in na for now
         for k in range(4):
-            w[k] += qr[k]
+            na[k] += qr[k]
+        _conv(zc, 2, na, 4, d)
         _conv(qr, 4, ph, 3, ne)
-        _conv(zc, 2, w, 4, d)
         for k in range(6):
             d[k] += ne[k]
         _conv(zc, 2, ne, 6, nf)
+        na[0] = na[1] = 0.0
         _conv(zc, 2, qr, 4, na[2:])
     lead = d[n]
     for k in range(n + 1):
@@ -225,10 +231,15 @@ def full_roots(a, n, guess, u0, v0, roots):  # type: ignore[no-untyped-def]
     :func:`~designlab.impact.kernel_poles.quartic_roots` from the factor guess
     ``s^2 + u0 s + v0`` (or the deflated quadratic), each root polished on ``a``.
     """
+    _roots(a, n, guess, u0, v0, roots, np.empty(5), np.empty(5, dtype=np.complex128),
+           np.empty(4, dtype=np.complex128))  # fmt: skip
+
+
+@kernel
+def _roots(a, n, guess, u0, v0, roots, b, found, four):  # type: ignore[no-untyped-def]
+    """:func:`full_roots` with the scratch ``b`` (5), ``found`` (5) and ``four`` (4)."""
     r = _real_root(a, n, guess)
     roots[0] = _polish(a, n, r)
-    b = np.empty(5)
-    found = np.empty(5, dtype=np.complex128)
     _deflate(a, n, roots[0].real, b)
     for k in range(n):
         if not np.isfinite(b[k]):
@@ -236,7 +247,6 @@ def full_roots(a, n, guess, u0, v0, roots):  # type: ignore[no-untyped-def]
                 roots[j] = complex(np.nan, 0.0)
             return
     if n == 5:
-        four = np.empty(4, dtype=np.complex128)
         quartic_roots(b, u0, v0, four)
         for k in range(4):
             roots[k + 1] = four[k]
@@ -279,7 +289,11 @@ def certify(a, n, roots):  # type: ignore[no-untyped-def]
         if not (abs(f) <= RESIDUAL * mags and mags <= MAX_CONDITION * m * abs(df)):
             return False
         for j in range(i + 1, n):
-            if not abs(z - roots[j]) >= MIN_GAP * max(m, abs(roots[j])):
+            w = roots[j]
+            dz = z - w
+            gap = dz.real * dz.real + dz.imag * dz.imag
+            size2 = max(m * m, w.real * w.real + w.imag * w.imag)
+            if not gap >= MIN_GAP * MIN_GAP * size2:
                 return False
         total -= z.real
         size += m
@@ -352,15 +366,20 @@ def _full_block(params, constrained, outputs, stop_time, max_steps, diag, out, s
     work = scratch()
     den = np.empty(6)
     num = np.zeros((3, 7))
+    poly = np.zeros((8, 7))
     roots = np.zeros(5, dtype=np.complex128)
+    b = np.empty(5)
+    found = np.empty(5, dtype=np.complex128)
+    four = np.empty(4, dtype=np.complex128)
     p = np.zeros(5, dtype=np.complex128)
     r = np.zeros((3, 5), dtype=np.complex128)
     c = np.zeros((3, 2))
     for i in range(params.shape[0]):
         q = params[i]
-        n = full_coefficients(q, constrained, den, num)
-        c_s = q[1] + q[8]
-        full_roots(den, n, -(q[2] + q[9]) / c_s, (q[4] + q[6]) / q[5], (q[3] + q[7]) / q[5], roots)
+        n = _coefficients(q, constrained, den, num, poly)
+        guess = -(q[2] + q[9]) / (q[1] + q[8])  # the motor node's own pole
+        u0, v0 = (q[4] + q[6]) / q[5], (q[3] + q[7]) / q[5]  # the head's mode
+        _roots(den, n, guess, u0, v0, roots, b, found, four)
         if not certify(den, n, roots):
             for k in range(out.shape[1]):
                 out[i, k] = np.nan
