@@ -13,7 +13,10 @@ to the unit ramp (v_c = 1 m/s) are ``N(s) / (s^2 D(s))`` with
   ``N = z_c Q_r P_h``, compression ``N = Q_r P_h``, head acceleration
   ``N = s^2 z_c Q_r``;
 * constrained, the head against a wall (3 poles): ``D = Q_r + z_c z_e``; force
-  ``N = z_c Q_r``, compression ``N = Q_r``.
+  ``N = z_c Q_r``, compression ``N = Q_r``;
+* the reduced model's constrained impact (2 poles, Zeng 2011, (3.9.2)) has the same
+  form with ``z_r = M_r s^2 + C_r s + K_r`` for ``Q_r`` and 1 for ``z_e``
+  (:func:`reduced_coefficients`).
 
 Every coefficient is a sum of products of non-negative parameters (no
 cancellation), and ``D(0) > 0`` because K_mech, K_cont and K_c are positive: the
@@ -70,6 +73,7 @@ __all__ = [
     "full_roots",
     "grid_step",
     "modal_solution",
+    "reduced_coefficients",
 ]
 
 #: status code of a design the compiled path does not certify (evaluated elsewhere)
@@ -145,6 +149,23 @@ def _coefficients(q, constrained, den, num, work):  # type: ignore[no-untyped-de
         num[1, k] = na[n + 1 - k] / lead
         num[2, k] = ne[n + 1 - k] / lead
     return n
+
+
+@kernel
+def reduced_coefficients(q, den, num):  # type: ignore[no-untyped-def]
+    """:func:`full_coefficients` of the reduced model's constrained impact (n = 2).
+
+    ``q`` is a row of :data:`~designlab.impact.model.PARAM_NAMES`; with
+    ``z_r = M_r s^2 + C_r s + K_r``, ``D = z_r + z_c``, force ``N = z_c z_r`` and
+    compression ``N = z_r`` (Zeng 2011, (3.9.2)).
+    """
+    m_r, c_r, k_r, k_c, c_c = q[0], q[1], q[2], q[3], q[4]
+    den[0], den[1], den[2] = 1.0, (c_r + c_c) / m_r, (k_r + k_c) / m_r
+    num[0, 0], num[0, 1] = c_c, (c_c * c_r + k_c * m_r) / m_r
+    num[0, 2], num[0, 3] = (c_c * k_r + k_c * c_r) / m_r, k_c * k_r / m_r
+    num[1, 0] = num[1, 1] = num[1, 2] = num[1, 3] = 0.0
+    num[2, 0], num[2, 1], num[2, 2], num[2, 3] = 0.0, 1.0, c_r / m_r, k_r / m_r
+    return 2
 
 
 @kernel(inline=True)
@@ -235,9 +256,45 @@ def full_roots(a, n, guess, u0, v0, roots):  # type: ignore[no-untyped-def]
            np.empty(4, dtype=np.complex128))  # fmt: skip
 
 
+@kernel(inline=True)
+def _quadratic(b1, b2, roots, i):  # type: ignore[no-untyped-def]
+    """Roots of ``s^2 + b1 s + b2`` into ``roots[i], roots[i + 1]`` (conjugates exact)."""
+    disc = 0.25 * b1 * b1 - b2
+    if disc < 0:
+        roots[i] = complex(-0.5 * b1, math.sqrt(-disc))
+        roots[i + 1] = complex(-0.5 * b1, -math.sqrt(-disc))
+    else:
+        big = -0.5 * b1 - math.copysign(math.sqrt(disc), b1)
+        roots[i] = big
+        roots[i + 1] = b2 / big if big != 0 else 0.0
+
+
+@kernel
+def _polish_from(a, n, roots, start, found):  # type: ignore[no-untyped-def]
+    """Polish ``roots[start:n]`` on ``a``; real roots stay real, conjugates exact (else NaN)."""
+    m = start
+    for k in range(start, n):
+        z = roots[k]
+        if z.imag == 0:
+            found[m] = _polish(a, n, z.real)
+            m += 1
+        elif z.imag > 0 and m + 1 < n:
+            x = _polish(a, n, z)
+            found[m] = complex(x.real, abs(x.imag))
+            found[m + 1] = complex(x.real, -abs(x.imag))
+            m += 2
+    for k in range(start, n):
+        roots[k] = found[k] if m == n else complex(np.nan, 0.0)
+
+
 @kernel
 def _roots(a, n, guess, u0, v0, roots, b, found, four):  # type: ignore[no-untyped-def]
-    """:func:`full_roots` with the scratch ``b`` (5), ``found`` (5) and ``four`` (4)."""
+    """:func:`full_roots` with the scratch ``b`` (5), ``found`` (5) and ``four`` (4);
+    ``n = 2`` (the reduced constrained impact) is solved directly."""
+    if n == 2:
+        _quadratic(a[1], a[2], roots, 0)
+        _polish_from(a, n, roots, 0, found)
+        return
     r = _real_root(a, n, guess)
     roots[0] = _polish(a, n, r)
     _deflate(a, n, roots[0].real, b)
@@ -251,28 +308,8 @@ def _roots(a, n, guess, u0, v0, roots, b, found, four):  # type: ignore[no-untyp
         for k in range(4):
             roots[k + 1] = four[k]
     else:
-        disc = 0.25 * b[1] * b[1] - b[2]
-        if disc < 0:
-            roots[1] = complex(-0.5 * b[1], math.sqrt(-disc))
-            roots[2] = complex(-0.5 * b[1], -math.sqrt(-disc))
-        else:
-            big = -0.5 * b[1] - math.copysign(math.sqrt(disc), b[1])
-            roots[1] = big
-            roots[2] = b[2] / big if big != 0 else 0.0
-    # polish the rest on ``a``; keep real roots real and conjugates exact
-    m = 1
-    for k in range(1, n):
-        z = roots[k]
-        if z.imag == 0:
-            found[m] = _polish(a, n, z.real)
-            m += 1
-        elif z.imag > 0 and m + 1 < n:
-            x = _polish(a, n, z)
-            found[m] = complex(x.real, abs(x.imag))
-            found[m + 1] = complex(x.real, -abs(x.imag))
-            m += 2
-    for k in range(1, n):
-        roots[k] = found[k] if m == n else complex(np.nan, 0.0)
+        _quadratic(b[1], b[2], roots, 1)
+    _polish_from(a, n, roots, 1, found)
 
 
 @kernel
@@ -374,11 +411,16 @@ def _full_block(params, constrained, outputs, stop_time, max_steps, diag, out, s
     p = np.zeros(5, dtype=np.complex128)
     r = np.zeros((3, 5), dtype=np.complex128)
     c = np.zeros((3, 2))
+    reduced = params.shape[1] == 8
     for i in range(params.shape[0]):
         q = params[i]
-        n = _coefficients(q, constrained, den, num, poly)
-        guess = -(q[2] + q[9]) / (q[1] + q[8])  # the motor node's own pole
-        u0, v0 = (q[4] + q[6]) / q[5], (q[3] + q[7]) / q[5]  # the head's mode
+        guess = u0 = v0 = 0.0
+        if reduced:
+            n = reduced_coefficients(q, den, num)
+        else:
+            n = _coefficients(q, constrained, den, num, poly)
+            guess = -(q[2] + q[9]) / (q[1] + q[8])  # the motor node's own pole
+            u0, v0 = (q[4] + q[6]) / q[5], (q[3] + q[7]) / q[5]  # the head's mode
         _roots(den, n, guess, u0, v0, roots, b, found, four)
         if not certify(den, n, roots):
             for k in range(out.shape[1]):
@@ -386,10 +428,15 @@ def _full_block(params, constrained, outputs, stop_time, max_steps, diag, out, s
             status[i] = FALLBACK
             continue
         nk = modal_solution(den, num, roots, n, p, r, c, outputs)
+        h = grid_step(p, nk)
+        if reduced:  # every pole resolved, as in metrics_from_responses
+            fast = 0.0
+            for k in range(nk):
+                fast = max(fast, abs(p[k]))
+            h = 0.4 / fast
         status[i] = _design(
-            p, r, c, nk, grid_step(p, nk), outputs, not constrained, stop_time, max_steps,
-            diag, out[i], work,
-        )  # fmt: skip
+            p, r, c, nk, h, outputs, not constrained, stop_time, max_steps, diag, out[i], work
+        )
 
 
 def full_metrics(
@@ -401,14 +448,16 @@ def full_metrics(
     max_lobe_steps: int,
     diagnostics: bool,
 ) -> tuple[NDArray[np.float64], NDArray[np.int8]]:
-    """Unit-v_c first-lobe metrics of ``(N, 10)`` full-joint designs.
+    """Unit-v_c first-lobe metrics of ``(N, 10)`` full-joint designs (or reduced, constrained).
 
     Parameters
     ----------
     params
         ``(N, 10)`` rows ordered as
         :data:`~designlab.impact.full_joint_model.FULL_PARAM_NAMES` (checked by
-        the caller: K_mech, K_cont, K_c, M_r, M_h > 0, C_mech + C_cont > 0).
+        the caller: K_mech, K_cont, K_c, M_r, M_h > 0, C_mech + C_cont > 0), or
+        ``(N, 8)`` reduced rows (:data:`~designlab.impact.model.PARAM_NAMES`)
+        with ``constrained``.
     outputs
         Whether to compute the force, the head acceleration and the compression
         maxima (the head acceleration is needed for the lobe end unless constrained).
@@ -425,6 +474,8 @@ def full_metrics(
         :data:`FALLBACK` where the design was not certified (rows NaN).
     """
     p = np.ascontiguousarray(params, dtype=np.float64)
+    if p.ndim != 2 or p.shape[1] not in (8, 10) or (p.shape[1] == 8 and not constrained):
+        raise ValueError(f"full_metrics takes (N, 10) rows, or (N, 8) constrained: {p.shape}")
     out = np.empty((p.shape[0], 8))
     status = np.zeros(p.shape[0], dtype=np.int8)
     sel = np.array(outputs, dtype=np.bool_)

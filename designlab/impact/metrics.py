@@ -562,7 +562,8 @@ def metrics_of_matrix(
         names = ("force", *names)
     if kernel.AVAILABLE and model.name == "unconstrained":
         return _reduced_kernel(p, v, names, q2, stop_time, max_lobe_steps, lobe_diagnostics)
-    if kernel.AVAILABLE and model.name.startswith("full_joint") and check_q2(q2) == "correct":
+    closed = model.name.startswith("full_joint") or model.name == "constrained"
+    if kernel.AVAILABLE and closed and check_q2(q2) == "correct":
         full = _full_kernel(p, v, names, constrained, stop_time, max_lobe_steps, lobe_diagnostics)
         if full is not None:
             return full
@@ -737,11 +738,12 @@ def _full_kernel(
     max_lobe_steps: int,
     diagnostics: bool,
 ) -> ImpactMetrics | None:
-    """:func:`metrics_of_matrix` of full-joint rows by the compiled kernel (:mod:`.kernel_full`).
+    """:func:`metrics_of_matrix` of full-joint rows (or reduced, constrained) by the compiled
+    kernel (:mod:`.kernel_full`).
 
     A design the kernel does not certify (nearly repeated or ill-conditioned
-    poles) is evaluated from the eigen-decomposition (:func:`ramp_responses`),
-    and a warning counts them.
+    poles) is evaluated from the responses of :func:`ramp_responses` (the
+    eigen-decomposition for the full joint), and a warning counts them.
     """
     sel = tuple(k in names for k in _KERNEL_OUTPUTS)
     rows, codes = kernel_full.full_metrics(
@@ -751,7 +753,8 @@ def _full_kernel(
     back = np.flatnonzero(codes == kernel_full.FALLBACK)
     if back.size:
         resp = ramp_responses(response_model(p, constrained), p[back], names)
-        h = 0.4 / grid_rate(resp[names[0]].poles)
+        poles = resp[names[0]].poles
+        h = 0.4 / (grid_rate(poles) if p.shape[1] == 10 else np.abs(poles).max(axis=1))
         part = _modal_rows(resp, h, constrained, stop_time, max_lobe_steps, diagnostics)
         if part is None:
             return None
@@ -760,7 +763,7 @@ def _full_kernel(
     if back.size:
         note = (
             f"{back.size} design(s): poles nearly repeated or ill-conditioned; evaluated "
-            'from the eigen-decomposition of A (docs/impact_joint.md, "Compiled path")'
+            'by the numpy modal path (docs/impact_joint.md, "Compiled path")'
         )
         m = replace(m, warnings=(*m.warnings, note))
     return m

@@ -72,7 +72,8 @@ def _relative(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _state_space(q, constrained: bool = False, dps: int = 50):  # type: ignore[no-untyped-def]
-    """``A``, ``b1``, ``b0`` (x' = A x + b1 t + b0 under the unit ramp) to ``dps`` digits.
+    """``A``, ``b1``, ``b0`` (x' = A x + b1 t + b0 under the unit ramp) to ``dps`` digits
+    (and K_c, C_c). Ten parameters: the full joint; eight: the reduced model, constrained.
 
     The state space of the full joint written out here, x = [d_r, d_r', d_e, d_h, d_h'],
     with the massless motor node C d_e' = K_m (d_r - d_e) + C_m d_r' - K_q d_e and the
@@ -80,6 +81,10 @@ def _state_space(q, constrained: bool = False, dps: int = 50):  # type: ignore[n
     """
     mp = mpmath.mp
     mp.dps = dps
+    if len(q) == 8:  # the reduced model's constrained impact: x = [d_r, d_r']
+        m_r, c_r, k_r, k_c, c_c = (mp.mpf(float(x)) for x in q[:5])
+        a = mp.matrix([[0, 1], [-(k_r + k_c) / m_r, -(c_r + c_c) / m_r]])
+        return a, mp.matrix([0, -k_c / m_r]), mp.matrix([0, -c_c / m_r]), k_c, c_c
     m_r, c_m, k_m, k_c, c_c, m_h, c_h, k_h, c_q, k_q = (mp.mpf(float(x)) for x in q)
     c_s = c_m + c_q
     n = 3 if constrained else 5
@@ -347,3 +352,34 @@ def test_hostile_sizes_do_not_break_the_kernel() -> None:
     for i in range(4):
         _check_exact(q[i], m, i)
     assert m.design_status[4] == slow.design_status[0]
+
+
+# --- the reduced model's constrained impact (2 poles) -------------------------------------
+
+
+def _reduced(n: int, seed: int) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    ranges = [(2, 20), (0, 800), (5e3, 5e4), (5e3, 8e4), (0, 300), (3, 6), (0, 150), (1e3, 1e4)]
+    return np.stack([rng.uniform(a, b, n) for a, b in ranges], axis=1)
+
+
+@needs_jit
+def test_reduced_constrained_matches_the_numpy_modal_path() -> None:
+    """(3.9.2) in closed form: 10,000 designs as the polynomial route gives them, 3 exact."""
+    p = _reduced(10_000, 5)
+    fast = matrix_metrics(p, 1.0, constrained=True)
+    names = ("force", "compression")
+    resp = ramp_responses(response_model(p, True), p, names)
+    slow = metrics_from_responses(resp, p, np.ones(p.shape[0]), constrained=True)
+    np.testing.assert_array_equal(fast.design_status, slow.design_status)
+    rel = np.nanmax(_relative(_rows(fast), _rows(slow))[:, 1:], axis=1)
+    assert np.mean(rel <= 1e-12) > 0.99 and rel.max() < 1e-10
+    for i in np.argsort(-rel)[:3]:
+        _check_exact(p[i], matrix_metrics(p[i], 1.0, constrained=True), 0, constrained=True)
+    _, codes = kernel_full.full_metrics(p[:50], (True, False, True), constrained=True,
+                                        stop_time=0.05, max_lobe_steps=4096,
+                                        diagnostics=False)  # fmt: skip
+    assert np.all(codes == 0)
+    with pytest.raises(ValueError, match="constrained"):
+        kernel_full.full_metrics(p[:2], (True, True, True), constrained=False, stop_time=0.05,
+                                 max_lobe_steps=4096, diagnostics=False)  # fmt: skip
