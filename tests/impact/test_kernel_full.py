@@ -373,7 +373,7 @@ def test_reduced_constrained_matches_the_numpy_modal_path() -> None:
     slow = metrics_from_responses(resp, p, np.ones(p.shape[0]), constrained=True)
     np.testing.assert_array_equal(fast.design_status, slow.design_status)
     rel = np.nanmax(_relative(_rows(fast), _rows(slow))[:, 1:], axis=1)
-    assert np.mean(rel <= 1e-12) > 0.99 and rel.max() < 1e-10
+    assert rel.max() < 1e-12  # 1.5e-15 when written
     for i in np.argsort(-rel)[:3]:
         _check_exact(p[i], matrix_metrics(p[i], 1.0, constrained=True), 0, constrained=True)
     _, codes = kernel_full.full_metrics(p[:50], (True, False, True), constrained=True,
