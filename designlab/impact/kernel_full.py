@@ -22,7 +22,7 @@ Every coefficient is a sum of products of non-negative parameters (no
 cancellation), and ``D(0) > 0`` because K_mech, K_cont and K_c are positive: the
 model has no pole at ``s = 0``.
 
-**Poles.** ``D`` has odd degree, so it has a real root: a safeguarded Newton
+**Poles.** The full joint's ``D`` has odd degree, so it has a real root: a safeguarded Newton
 iteration on a bracket (from the motor node's own pole ``-K/C``, which a stiff
 transmission puts decades above the impact modes) finds one, it is divided out
 (forwards or backwards, whichever is stable for its size), the rest is the
@@ -30,10 +30,11 @@ quartic of :func:`designlab.impact.kernel_poles.quartic_roots` or a quadratic,
 and every root is polished by Newton on ``D`` itself. A design is **certified**
 when its roots are distinct (relative gap above :data:`MIN_GAP`), each is well
 conditioned (relative condition number below :data:`MAX_CONDITION`) and they
-sum to ``-D``'s second coefficient; a design that is not (nearly repeated
-poles, a near-critically damped mode) gets the status :data:`FALLBACK` and its
-caller evaluates it from the eigen-decomposition instead
-(:mod:`designlab.impact.state_space`).
+sum to ``-D``'s second coefficient (the reduced constrained quadratic is solved
+directly and certified alike); a design that is not (nearly repeated poles, a
+near-critically damped mode) gets the status :data:`FALLBACK` and its caller
+evaluates it by the numpy modal path instead (for the full joint, the
+eigen-decomposition of :mod:`designlab.impact.state_space`).
 
 Residues and the polynomial part follow as in :mod:`.kernel_poles`; the lobe end
 and the certified maxima are those of the reduced model (:mod:`.kernel`,
