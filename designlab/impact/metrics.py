@@ -31,7 +31,7 @@ array([33.22, 33.22])
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, ClassVar
 
 import numpy as np
@@ -39,7 +39,7 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from designlab.errors import InvalidParameterError, ModelError
-from designlab.impact import kernel
+from designlab.impact import kernel, kernel_full
 from designlab.impact.full_joint_model import FULL_PARAM_NAMES, full_joint_model, grid_rate
 from designlab.impact.metric_names import PARAMETERS
 from designlab.impact.modal import (
@@ -562,6 +562,11 @@ def metrics_of_matrix(
         names = ("force", *names)
     if kernel.AVAILABLE and model.name == "unconstrained":
         return _reduced_kernel(p, v, names, q2, stop_time, max_lobe_steps, lobe_diagnostics)
+    closed = model.name.startswith("full_joint") or model.name == "constrained"
+    if kernel.AVAILABLE and closed and check_q2(q2) == "correct":
+        full = _full_kernel(p, v, names, constrained, stop_time, max_lobe_steps, lobe_diagnostics)
+        if full is not None:
+            return full
     resp = ramp_responses(model, p, names, q2=q2)
     rate = None
     if model.name.startswith("full_joint"):
@@ -679,7 +684,23 @@ def _modal_kernel(
     max_lobe_steps: int,
     diagnostics: bool,
 ) -> ImpactMetrics | None:
-    """:func:`metrics_from_responses` by the compiled kernel (None if it does not apply).
+    """:func:`metrics_from_responses` by the compiled kernel (None if it does not apply)."""
+    part = _modal_rows(resp, h, constrained, stop_time, max_lobe_steps, diagnostics)
+    if part is None:
+        return None
+    names = tuple(k for k in _KERNEL_OUTPUTS if k in resp)
+    return _from_kernel(p, v, names, *part, constrained, diagnostics)
+
+
+def _modal_rows(
+    resp: dict[str, ModalResponse],
+    h: NDArray,
+    constrained: bool,
+    stop_time: float,
+    max_lobe_steps: int,
+    diagnostics: bool,
+) -> tuple[NDArray, NDArray] | None:
+    """The kernel's rows and status codes of responses built elsewhere (None if it does not apply).
 
     The outputs must share their poles, at most :data:`kernel.MAX_POLES` of them.
     """
@@ -696,7 +717,7 @@ def _modal_kernel(
         if k in resp:
             res[:, o] = resp[k].residues
             poly[:, o, 2 - resp[k].poly.shape[1] :] = resp[k].poly
-    rows, codes = kernel.modal_metrics(
+    return kernel.modal_metrics(
         poles,
         res,
         poly,
@@ -706,7 +727,46 @@ def _modal_kernel(
         max_lobe_steps=max_lobe_steps,
         diagnostics=diagnostics,
     )
-    return _from_kernel(p, v, names, rows, codes, constrained, diagnostics)
+
+
+def _full_kernel(
+    p: NDArray,
+    v: NDArray,
+    names: tuple[str, ...],
+    constrained: bool,
+    stop_time: float,
+    max_lobe_steps: int,
+    diagnostics: bool,
+) -> ImpactMetrics | None:
+    """:func:`metrics_of_matrix` of full-joint rows (or reduced, constrained) by the compiled
+    kernel (:mod:`.kernel_full`).
+
+    A design the kernel does not certify (nearly repeated or ill-conditioned
+    poles) is evaluated from the responses of :func:`ramp_responses` (the
+    eigen-decomposition for the full joint), and a warning counts them.
+    """
+    sel = tuple(k in names for k in _KERNEL_OUTPUTS)
+    rows, codes = kernel_full.full_metrics(
+        p, sel, constrained=constrained, stop_time=stop_time,  # type: ignore[arg-type]
+        max_lobe_steps=max_lobe_steps, diagnostics=diagnostics,
+    )  # fmt: skip
+    back = np.flatnonzero(codes == kernel_full.FALLBACK)
+    if back.size:
+        resp = ramp_responses(response_model(p, constrained), p[back], names)
+        poles = resp[names[0]].poles
+        h = 0.4 / (grid_rate(poles) if p.shape[1] == 10 else np.abs(poles).max(axis=1))
+        part = _modal_rows(resp, h, constrained, stop_time, max_lobe_steps, diagnostics)
+        if part is None:
+            return None
+        rows[back], codes[back] = part
+    m = _from_kernel(p, v, names, rows, codes, constrained, diagnostics)
+    if back.size:
+        note = (
+            f"{back.size} design(s): poles nearly repeated or ill-conditioned; evaluated "
+            'by the numpy modal path (docs/impact_joint.md, "Compiled path")'
+        )
+        m = replace(m, warnings=(*m.warnings, note))
+    return m
 
 
 def metrics_from_responses(
