@@ -110,6 +110,9 @@ Evaluator = Callable[[Columns, dict[str, Any]], Mapping[str, Any]]
 STATUS_ERROR = "error"
 #: Points per chunk unless the evaluator sets ``chunk_size``.
 DEFAULT_CHUNK_SIZE = 2048
+#: Leading points of a chunk hashed into its stored summary: a resume draws these of one
+#: finished chunk to check that the source still draws the points the chunk was computed from.
+HEAD_POINTS = 16
 
 
 class CacheIncompleteError(DesignlabError, LookupError):
@@ -667,9 +670,9 @@ class _Pass:
     def _summaries(self, todo: list[int]) -> dict[str, tuple[int, dict[str, Any]]]:
         """Summaries of the stored chunks among ``todo`` (indexed keys and a store with them).
 
-        One chunk's points are drawn and compared with the hash kept in its
-        summary: a source whose identity does not fix its points (which would be
-        a defect) reuses nothing.
+        The first :data:`HEAD_POINTS` points of one chunk are drawn and compared
+        with the hash kept in its summary: a source whose identity does not fix
+        its points (which would be a defect) reuses nothing.
         """
         if not self.indexed or not _summarises(self.store):
             return {}
@@ -679,7 +682,9 @@ class _Pass:
             kept = found.get(self.keys[c])  # type: ignore[arg-type]
             if kept is None or "points" not in kept[1]:
                 continue
-            if kept[1]["points"] != _points_hash(self.distinct.take(*self.bounds[c])):
+            start, stop = self.bounds[c]
+            head = self.distinct.take(start, min(stop, start + HEAD_POINTS))
+            if kept[1]["points"] != _points_hash(head, HEAD_POINTS):
                 logger.warning(
                     "stored chunk %d was computed from other points than this run draws "
                     "for it (same sampler, seed and code): recomputing every chunk", c,
@@ -773,7 +778,7 @@ class _Pass:
         """Chunk ``c``'s points, as the evaluator's own arrays (hashed when keyed by index)."""
         points = _own(self.distinct.take(*self.bounds[c]))
         if self.indexed:
-            self.point_hashes[c] = _points_hash(points)
+            self.point_hashes[c] = _points_hash(points, HEAD_POINTS)
         return points
 
 
@@ -782,12 +787,12 @@ def _summarises(store: ResultStore | None) -> bool:
     return callable(getattr(store, "summaries", None))
 
 
-def _points_hash(points: Columns) -> str:
-    """A hash of point columns (names and values, bit for bit)."""
+def _points_hash(points: Columns, head: int) -> str:
+    """A hash of the first ``head`` points of some columns (names and values, bit for bit)."""
     h = hashlib.sha256()
     for name in sorted(points):
         h.update(name.encode() + b"\0")
-        h.update(np.ascontiguousarray(points[name], dtype="<f8").tobytes())
+        h.update(np.ascontiguousarray(points[name][:head], dtype="<f8").tobytes())
     return h.hexdigest()
 
 

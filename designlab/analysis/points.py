@@ -26,15 +26,17 @@ True
 from __future__ import annotations
 
 import hashlib
+import importlib
 import json
+import sys
 from abc import ABC, abstractmethod
 from collections.abc import Mapping, Sequence
+from functools import cache
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
-
-from designlab.analysis.keys import package_hash
 
 __all__ = ["ArrayPoints", "ConcatPoints", "PointSource", "source_identity"]
 
@@ -49,6 +51,9 @@ class PointSource(ABC):
     """
 
     names: tuple[str, ...]
+    #: Modules, besides those defining the class and its bases, whose code fixes the
+    #: points (part of :meth:`identity`).
+    code_modules: tuple[str, ...] = ()
 
     @abstractmethod
     def __len__(self) -> int:
@@ -89,12 +94,21 @@ class PointSource(ABC):
         return None
 
 
+@cache
+def _module_hash(name: str) -> str:
+    """A hash of a module's source file (cached per process)."""
+    module = sys.modules.get(name) or importlib.import_module(name)
+    path = getattr(module, "__file__", None)
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()[:16] if path else "no file"
+
+
 def source_identity(source: PointSource, fields: Mapping[str, Any]) -> str:
     """The identity of ``source`` from the ``fields`` that determine its points.
 
-    The hash covers the class, the source code of the package that defines it
-    (:func:`~designlab.analysis.keys.package_hash`: an edited sampler draws other
-    points) and numpy's version, then ``fields`` (JSON; arrays by their bytes).
+    The hash covers the class, the source files of the modules that define it and
+    its bases and of those it names in :attr:`PointSource.code_modules` (an edited
+    sampler may draw other points), numpy's version, then ``fields`` (JSON; arrays
+    by their bytes).
 
     Parameters
     ----------
@@ -105,8 +119,10 @@ def source_identity(source: PointSource, fields: Mapping[str, Any]) -> str:
     """
     cls = type(source)
     h = hashlib.sha256()
+    modules = {c.__module__ for c in cls.__mro__ if c.__module__ not in ("builtins", "abc")}
+    modules |= {m for c in cls.__mro__ for m in getattr(c, "code_modules", ())}
     head = {"class": f"{cls.__module__}.{cls.__qualname__}", "numpy": np.__version__,
-            "code": package_hash(cls.__module__)}  # fmt: skip
+            "code": {m: _module_hash(m) for m in sorted(modules)}}  # fmt: skip
     arrays: list[NDArray] = []
 
     def plain(v: Any) -> Any:
