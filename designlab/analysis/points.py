@@ -8,9 +8,10 @@ split. Points held in memory are an :class:`ArrayPoints`; several point sets
 evaluated in one pass are a :class:`ConcatPoints`.
 
 A source that knows what determines its points (a sampler's kind, bounds, sample
-count, seed and code) says so in :meth:`PointSource.identity`: the sweep engine
-then keys its stored chunks by index (chunk i covers points ``[i c, (i + 1) c)``),
-so that a resumed run finds its finished chunks without drawing their points.
+count, seed and code) says so in
+:meth:`~designlab.analysis.points.PointSource.identity`: the sweep engine then keys
+its stored chunks by index (chunk i covers points ``[i c, (i + 1) c)``), so that a
+resumed run finds its finished chunks without drawing their points.
 
 Examples
 --------
@@ -52,7 +53,7 @@ class PointSource(ABC):
 
     names: tuple[str, ...]
     #: Modules, besides those defining the class and its bases, whose code fixes the
-    #: points (part of :meth:`identity`).
+    #: points (part of :meth:`~designlab.analysis.points.PointSource.identity`).
     code_modules: tuple[str, ...] = ()
 
     @abstractmethod
@@ -106,9 +107,10 @@ def source_identity(source: PointSource, fields: Mapping[str, Any]) -> str:
     """The identity of ``source`` from the ``fields`` that determine its points.
 
     The hash covers the class, the source files of the modules that define it and
-    its bases and of those it names in :attr:`PointSource.code_modules` (an edited
-    sampler may draw other points), numpy's version, then ``fields`` (JSON; arrays
-    by their bytes).
+    its bases and of those it names in
+    :attr:`~designlab.analysis.points.PointSource.code_modules` (an edited sampler
+    may draw other points), numpy's version, then ``fields`` (JSON; arrays by their
+    bytes).
 
     Parameters
     ----------

@@ -77,7 +77,10 @@ class GridPoints(PointSource):
         return math.prod(self._shape) if self._shape else 0
 
     def identity(self) -> str:
-        """A hash of the axes' names and values (see :meth:`PointSource.identity`)."""
+        """A hash of the axes' names and values.
+
+        See :meth:`~designlab.analysis.points.PointSource.identity`.
+        """
         axes = {f"axis {k}": a for k, a in zip(self.names, self._axes, strict=True)}
         return source_identity(self, {"names": list(self.names), **axes})
 
@@ -174,7 +177,10 @@ class LatinHypercubePoints(_Box):
         self._mask = np.uint64((1 << int(self._half)) - 1)
 
     def identity(self) -> str:
-        """A hash of the box, the sample count and the seed (see :meth:`PointSource.identity`)."""
+        """A hash of the box, the sample count and the seed.
+
+        See :meth:`~designlab.analysis.points.PointSource.identity`.
+        """
         return source_identity(self, {**self._fields(), "seed": self._seed})
 
     def _feistel(self, x: NDArray[np.uint64], keys: NDArray[np.uint64]) -> NDArray[np.uint64]:
