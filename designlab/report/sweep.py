@@ -254,7 +254,7 @@ def _inputs_md(result: Any) -> list[str]:
             parts.append(f"Sobol indices (N = {sens.sobol.samples}, seed {sens.sobol.seed})")
         if sens.tornado:
             parts.append("tornado")
-        out += [f"Sensitivity of {', '.join(sens.metrics)}: {', '.join(parts)}.", ""]
+        out += [f"Sensitivity of {', '.join(study.metrics)}: {', '.join(parts)}.", ""]
     return out
 
 

@@ -245,3 +245,65 @@ def test_identities_of_grids_arrays_and_joined_sets():
             return None
 
     assert ConcatPoints([a, Unknown({"p": [5.0], "q": [6.0]})]).identity() is None
+
+
+STUDY = """\
+designlab: 1
+kind: impact_sweep
+name: lhs_demo
+base: {robot: MANIPULATOR_1, foam: FOAM_1, head: HEAD_MIN, impact_velocity: 1.25}
+sweep:
+  method: lhs
+  samples: 300
+  seed: 7
+  parameters:
+    head.mass: {low: 4.4, high: 5.3}
+    foam.stiffness: {low: 13.48e3, high: 60.6e3, scale: log}
+sensitivity: {tornado: true}
+"""
+
+
+def test_a_streamed_study_resumes_from_the_cli_without_drawing_its_sample(tmp_path, monkeypatch):
+    """`designlab run` then `--resume` of a streamed LHS study (with its tornado set)."""
+    from typer.testing import CliRunner
+
+    from designlab.cli import app
+    from designlab.report import sweep as report_sweep
+    from designlab.study import sweep_runner
+
+    monkeypatch.setattr(sweep_runner, "STREAM_FROM", 100)  # stream (index keys) from 100 points
+    monkeypatch.setattr(report_sweep, "LARGE_SWEEP", 100)  # and write Parquet
+    drawn = []
+    take = LatinHypercubePoints._take
+    monkeypatch.setattr(LatinHypercubePoints, "_take",
+                        lambda self, s, e: drawn.append(e - s) or take(self, s, e))  # fmt: skip
+    study = tmp_path / "lhs_demo.yaml"
+    study.write_text(STUDY)
+    out, cache = tmp_path / "out", tmp_path / "cache"
+    args = ["run", str(study), "-o", str(out), "--cache-dir", str(cache)]
+    first = CliRunner().invoke(app, args)
+    assert first.exit_code == 0, first.output
+    n = 1 + 300 + 4 + 1  # base, sample, tornado ends, the local elasticities' base
+    assert f"({n} computed, 0 from the store" in first.output
+    table = (out / "lhs_demo" / "results.parquet").read_bytes()
+    drawn.clear()
+    again = CliRunner().invoke(app, [*args, "--resume"])
+    assert again.exit_code == 0, again.output
+    assert f"(0 computed, {n} from the store" in again.output
+    assert "report up to date" in again.output
+    assert sum(drawn) <= HEAD_POINTS  # the check of one chunk's head, nothing else
+    assert (out / "lhs_demo" / "results.parquet").read_bytes() == table
+    # the table against the evaluator called on the sample directly
+    got = pd.read_parquet(out / "lhs_demo" / "results.parquet")
+    box = {"foam.stiffness": (13.48e3, 60.6e3), "head.mass": (4.4, 5.3)}  # the kind's order
+    src = LatinHypercubePoints(box, 300, seed=7, log={"foam.stiffness": True}).columns()
+    from designlab.impact import FOAM_1, HEAD_MIN, MANIPULATOR_1, impact_metrics
+
+    r, f, h = MANIPULATOR_1, FOAM_1, HEAD_MIN
+    want = impact_metrics({"M_r": r.mass, "C_r": r.damping, "K_r": r.stiffness,
+                           "K_c": src["foam.stiffness"], "C_c": f.damping,
+                           "M_h": src["head.mass"], "C_h": h.damping, "K_h": h.stiffness},
+                          1.25)  # fmt: skip
+    np.testing.assert_array_equal(got["K_c_N_per_m"].to_numpy(), src["foam.stiffness"])
+    np.testing.assert_allclose(got["a_h_max_g"].to_numpy(), want.peak_head_acceleration_g,
+                               rtol=1e-12)  # fmt: skip
