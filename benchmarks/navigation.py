@@ -160,7 +160,8 @@ def main(argv: list[str] | None = None) -> int:
         print(
             f"{'designlab ' + label:24s}: {sim:7.2f} s simulated in {w:7.3f} s "
             f"-> {sim / w:7.0f} x real time ({sim / c:.0f} x per CPU s); "
-            f"{(sim / w) / base_w:.0f}x the baseline; target {target}"
+            f"{(sim / w) / base_w:.0f}x the baseline ({(sim / c) / base_c:.0f}x per CPU s); "
+            f"target {target}"
         )
     # the objective of a gain optimisation (App. C): H_mean over Configurations 1-3, force off
     scs = [nav.configuration(i) for i in (1, 2, 3)]

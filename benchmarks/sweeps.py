@@ -18,12 +18,16 @@ its peak memory is its own):
     ``designlab report``: the report rebuilt from the store (no target; shown
     for what a forced rebuild costs).
 
-It prints the ratios (targets: run <= 2x kernel, resume <= 0.25x kernel), the
-store's bytes per point (target < 100) and each phase's peak resident memory.
+A first, untimed call of the kernel on a few designs fills numba's disk cache, so that no
+phase pays a compilation the others do not. It prints the ratios (targets: run <= 2x
+kernel, resume <= 0.25x kernel), the store's bytes per point (target < 100) and each
+phase's peak resident memory.
 ``--envelope-points N`` adds a foam-envelope sweep on the serial and process
 executors (every point solves an envelope, 14-25 ms with the chunk's designs solved
 together: 100 000 points take about 1.8 hours for all phases here, so the default is 2 000;
 ``--points 0`` skips the impact sweep).
+
+``--no-memory`` skips the memory scaling (run and resume again at n and 2 n points).
 
 Run:  python benchmarks/sweeps.py [--points 1000000] [--envelope-points 2000] [--workers 2]
 """
@@ -133,10 +137,11 @@ def _store_bytes(cache: Path) -> int:
     return sum(p.stat().st_size for p in cache.glob("*.sqlite*"))
 
 
-def impact_sweep(n: int, tmp: Path) -> None:
+def impact_sweep(n: int, tmp: Path, memory: bool = True) -> None:
     study = tmp / "bench_sweep.yaml"
     study.write_text(STUDY.format(n=n))
     cache, out = tmp / "cache", tmp / "reports"
+    _bench(KERNEL, "4096")  # warm-up: numba's disk cache filled before any phase is timed
     kernel = _bench(KERNEL, str(n))
     args = ["run", str(study), "-o", str(out), "--cache-dir", str(cache)]
     run = _bench(CLI, *args)
@@ -174,7 +179,7 @@ def impact_sweep(n: int, tmp: Path) -> None:
         "(target < 100)"
     )
     print(f"  report files: {', '.join(files)}")
-    if n >= 10_000:
+    if n >= 10_000 and memory:
         _memory_scaling(n, tmp)
 
 
@@ -278,12 +283,13 @@ def main() -> None:
     parser.add_argument("--points", type=int, default=1_000_000)
     parser.add_argument("--envelope-points", type=int, default=2000)
     parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--no-memory", action="store_true", help="skip the memory scaling")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as d:
         tmp = Path(d)
         t0 = time.perf_counter()
         if args.points:
-            impact_sweep(args.points, tmp)
+            impact_sweep(args.points, tmp, memory=not args.no_memory)
         if args.envelope_points:
             print(f"foam_envelope, {args.envelope_points:,} points (11-value damping grid):")
             envelope_sweep(args.envelope_points, args.workers, tmp)

@@ -23,7 +23,11 @@ The engine
 * keys each chunk by a hash of its points, the evaluator's qualified name, its
   options and the *source* of the package that holds the evaluator
   (:func:`~designlab.analysis.keys.code_version`): editing navigation code
-  invalidates navigation points and nothing else,
+  invalidates navigation points and nothing else; points streamed from a source
+  that states its identity (a seeded sampler: kind, bounds, count, seed, code) are
+  keyed by chunk index instead (:func:`~designlab.analysis.keys.indexed_chunk_keys`),
+  and the store keeps a summary of each chunk, so a resumed run neither draws the
+  points of its finished chunks nor unpacks them,
 * reads finished chunks from the store (``resume``), and writes each chunk to
   the store as soon as it comes back (the client is the only writer); a
   damaged stored chunk is recomputed on ``resume`` and named, never recomputed,
@@ -59,6 +63,7 @@ from __future__ import annotations
 import hashlib
 import logging
 import sys
+from collections import Counter
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Protocol
@@ -75,7 +80,7 @@ from designlab.analysis.columns import (
     take_rows,
 )
 from designlab.analysis.executors import SerialExecutor
-from designlab.analysis.keys import chunk_key, code_version, evaluator_id
+from designlab.analysis.keys import chunk_key, code_version, evaluator_id, indexed_chunk_keys
 from designlab.analysis.points import ArrayPoints, PointSource
 from designlab.errors import DesignlabError
 
@@ -105,6 +110,9 @@ Evaluator = Callable[[Columns, dict[str, Any]], Mapping[str, Any]]
 STATUS_ERROR = "error"
 #: Points per chunk unless the evaluator sets ``chunk_size``.
 DEFAULT_CHUNK_SIZE = 2048
+#: Leading points of a chunk hashed into its stored summary: a resume draws these of one
+#: finished chunk to check that the source still draws the points the chunk was computed from.
+HEAD_POINTS = 16
 
 
 class CacheIncompleteError(DesignlabError, LookupError):
@@ -112,7 +120,14 @@ class CacheIncompleteError(DesignlabError, LookupError):
 
 
 class ResultStore(Protocol):
-    """What the engine needs of a result store (see :mod:`designlab.analysis.store`)."""
+    """What the engine needs of a result store (see :mod:`designlab.analysis.store`).
+
+    A store may also keep a summary per chunk (points per status, column kinds,
+    a hash of the chunk's points), as :class:`~designlab.analysis.store.ChunkStore`
+    does: ``put_chunk(key, columns, summary)`` and ``summaries(keys) -> {key: (n,
+    summary)}``. A resumed run whose chunks are keyed by index then reads no chunk
+    at all (see :func:`run_points`).
+    """
 
     def get_chunk(self, key: str) -> tuple[str, Any]:
         """``("ok", columns)``, ``("missing", None)`` or ``("corrupt", reason)``.
@@ -287,17 +302,39 @@ class _StatusCounter:
         """Columns that some chunk lacks (NaN or ``None`` there)."""
         return {k for k in self.kinds if self.seen.get(k, 0) < self.chunks}
 
-    def add(self, start: int, part: Columns) -> None:
-        self.chunks += 1
+    @staticmethod
+    def summarise(part: Columns) -> dict[str, Any]:
+        """A chunk's column kinds and points per status (what a resume needs of it)."""
+        kinds: dict[str, str] = {}
         for name, values in part.items():
-            self.seen[name] = self.seen.get(name, 0) + 1
             kind = np.asarray(values).dtype.kind
-            kind = "f" if kind in "fiu" else kind if kind == "b" else "O"
+            kinds[name] = "f" if kind in "fiu" else kind if kind == "b" else "O"
+        counts: dict[str, int] = {}
+        status = np.asarray(part.get("status", ()), dtype=object).tolist()
+        for value, times in Counter(status).items():
+            counts[str(value)] = counts.get(str(value), 0) + times
+        return {"kinds": kinds, "status": dict(sorted(counts.items()))}
+
+    def add_summary(self, summary: Mapping[str, Any]) -> None:
+        """Count a chunk from its :meth:`summarise` (unweighted: no merged duplicates)."""
+        self.chunks += 1
+        for name, kind in summary["kinds"].items():
+            self.seen[name] = self.seen.get(name, 0) + 1
             if self.kinds.setdefault(name, kind) != kind:
                 self.kinds[name] = "O"
+        for value, total in summary["status"].items():
+            self.counts[value] = self.counts.get(value, 0) + int(total)
+
+    def add(self, start: int, part: Columns) -> dict[str, Any] | None:
+        """Count a chunk starting at distinct point ``start``; its summary when unweighted."""
+        summary = self.summarise(part)
+        if self.multiplicity is None:
+            self.add_summary(summary)
+            return summary
+        self.add_summary({"kinds": summary["kinds"], "status": {}})
         status = np.asarray(part.get("status", ()), dtype=object)
         if not len(status):
-            return
+            return None
         values, inverse = np.unique(status.astype(str), return_inverse=True)
         weights = (
             None if self.multiplicity is None else self.multiplicity[start : start + len(status)]
@@ -305,6 +342,7 @@ class _StatusCounter:
         totals = np.bincount(inverse.ravel(), weights=weights, minlength=len(values))
         for v, t in zip(values, totals, strict=True):
             self.counts[str(v)] = self.counts.get(str(v), 0) + round(float(t))
+        return None
 
 
 def _digest(
@@ -504,6 +542,10 @@ def run_points(
         ``PointSource`` are then drawn from it a chunk at a time and not merged
         when identical, so memory is bounded by the chunks in flight, not by
         the number of points. Otherwise identical points are evaluated once.
+        A streamed source with an
+        :meth:`~designlab.analysis.points.PointSource.identity` has its chunks
+        keyed by index: a resume finds the finished ones (from the store's
+        chunk summaries, checksums verified) without drawing their points.
 
     Returns
     -------
@@ -530,6 +572,10 @@ def run_points(
         evaluator, options, distinct, size, store, collect,
         _StatusCounter(None if inverse is None else np.bincount(inverse, minlength=m)),
     )  # fmt: skip
+    identity = distinct.identity() if cols is None and store is not None else None
+    if identity is not None:  # streamed from a known sampler: chunks keyed by index
+        state.keys = list(indexed_chunk_keys(evaluator, options, identity, m, size))
+        state.indexed = True
     run = SweepRun(pd.DataFrame(), points=n, distinct=m, chunks=len(state.bounds))
     todo = state.read_store(run, reuse=resume or cache_only, repair=not cache_only)
     if cache_only and todo:
@@ -603,17 +649,50 @@ class _Pass:
         )
         self.bounds = [(s, min(s + size, m)) for s in range(0, m, size)]
         self.keys: list[str | None] = [None] * len(self.bounds)
+        #: Whether :attr:`keys` come by index from the source's identity (no points drawn).
+        self.indexed = False
+        #: A hash of each chunk's points, drawn for computing (kept in indexed summaries).
+        self.point_hashes: dict[int, str] = {}
         self.size = size
         self.assembled = Assembler(m) if collect else None
         self.counter = counter
         #: ``(chunk, reason)`` of every damaged chunk found in the store.
         self.damaged: list[tuple[int, str]] = []
+        #: Whether the stored chunks of these keys hold other points (never reused).
+        self.stale = False
 
-    def _keep(self, c: int, columns: Columns) -> None:
+    def _keep(self, c: int, columns: Columns) -> dict[str, Any] | None:
         start = self.bounds[c][0]
         if self.assembled is not None:
             self.assembled.put(start, columns)
-        self.counter.add(start, columns)
+        return self.counter.add(start, columns)
+
+    def _summaries(self, todo: list[int]) -> dict[str, tuple[int, dict[str, Any]]]:
+        """Summaries of the stored chunks among ``todo`` (indexed keys and a store with them).
+
+        The first :data:`HEAD_POINTS` points of one chunk are drawn and compared
+        with the hash kept in its summary: a source whose identity does not fix
+        its points (which would be a defect) reuses nothing.
+        """
+        if not self.indexed or not _summarises(self.store):
+            return {}
+        keys = [self.keys[c] for c in todo]
+        found: dict[str, tuple[int, dict[str, Any]]] = self.store.summaries(keys)  # type: ignore[union-attr]
+        for c in todo:
+            kept = found.get(self.keys[c])  # type: ignore[arg-type]
+            if kept is None or "points" not in kept[1]:
+                continue
+            start, stop = self.bounds[c]
+            head = self.distinct.take(start, min(stop, start + HEAD_POINTS))
+            if kept[1]["points"] != _points_hash(head, HEAD_POINTS):
+                logger.warning(
+                    "stored chunk %d was computed from other points than this run draws "
+                    "for it (same sampler, seed and code): recomputing every chunk", c,
+                )  # fmt: skip
+                self.stale = True
+                return {}
+            break
+        return found
 
     def read_store(self, run: SweepRun, *, reuse: bool, repair: bool = True) -> list[int]:
         """Key every chunk; with ``reuse``, take finished ones from the store. The rest to do.
@@ -622,12 +701,19 @@ class _Pass:
         without (rebuilding from the store only), it is left as it is and
         listed in :attr:`damaged`.
         """
+        if self.store is None:
+            return list(range(len(self.bounds)))
         todo: list[int] = []
+        summaries = self._summaries(list(range(len(self.bounds)))) if reuse else {}
+        reuse = reuse and not self.stale
         for c, (s, e) in enumerate(self.bounds):
-            if self.store is None:
-                todo.append(c)
+            if not self.indexed:
+                self.keys[c] = chunk_key(self.evaluator, self.options, self.distinct.take(s, e))
+            key: str = self.keys[c]  # type: ignore[assignment]
+            if key in summaries and summaries[key][0] == e - s:
+                self.counter.add_summary(summaries[key][1])
+                run.cached += e - s
                 continue
-            key = self.keys[c] = chunk_key(self.evaluator, self.options, self.distinct.take(s, e))
             if reuse:
                 state, value = self.store.get_chunk(key)
                 if state == "ok" and column_length(value) == e - s:
@@ -669,21 +755,45 @@ class _Pass:
     def compute(self, run: SweepRun, todo: list[int], executor: Any, bar: Any) -> None:
         """Evaluate the chunks ``todo``; store and keep each as it comes back."""
         tasks = (  # a generator: only the chunks in flight exist as tasks
-            {"evaluator": self.evaluator, "options": self.options,
-             "points": _own(self.distinct.take(*self.bounds[c]))}
+            {"evaluator": self.evaluator, "options": self.options, "points": self._draw(c)}
             for c in todo
         )  # fmt: skip
         try:
             for t, out in _as_completed(executor, tasks):
                 c = todo[t]
-                if self.store is not None:
+                summary = self._keep(c, out)
+                drawn = self.point_hashes.pop(c, None)
+                if drawn is not None and summary is not None and _summarises(self.store):
+                    summary["points"] = drawn
+                    self.store.put_chunk(self.keys[c], out, summary)  # type: ignore[call-arg, union-attr]
+                elif self.store is not None:
                     self.store.put_chunk(self.keys[c], out)  # type: ignore[arg-type]
-                self._keep(c, out)
                 k = self.bounds[c][1] - self.bounds[c][0]
                 run.computed += k
                 bar.update(k)
         finally:
             bar.close()
+
+    def _draw(self, c: int) -> Columns:
+        """Chunk ``c``'s points, as the evaluator's own arrays (hashed when keyed by index)."""
+        points = _own(self.distinct.take(*self.bounds[c]))
+        if self.indexed:
+            self.point_hashes[c] = _points_hash(points, HEAD_POINTS)
+        return points
+
+
+def _summarises(store: ResultStore | None) -> bool:
+    """Whether ``store`` keeps chunk summaries (``summaries``, ``put_chunk(..., summary)``)."""
+    return callable(getattr(store, "summaries", None))
+
+
+def _points_hash(points: Columns, head: int) -> str:
+    """A hash of the first ``head`` points of some columns (names and values, bit for bit)."""
+    h = hashlib.sha256()
+    for name in sorted(points):
+        h.update(name.encode() + b"\0")
+        h.update(np.ascontiguousarray(points[name][:head], dtype="<f8").tobytes())
+    return h.hexdigest()
 
 
 def _as_completed(ex: Any, tasks: Iterable[dict[str, Any]]) -> Iterator[tuple[int, Columns]]:

@@ -41,6 +41,7 @@ __all__ = [
     "chunk_key",
     "code_version",
     "evaluator_id",
+    "indexed_chunk_keys",
     "package_hash",
     "source_files",
 ]
@@ -170,3 +171,48 @@ def chunk_key(
     for name in sorted(points):
         h.update(np.ascontiguousarray(points[name], dtype="<f8").tobytes())
     return h.hexdigest()
+
+
+def indexed_chunk_keys(
+    fn: Callable[..., Any], options: Mapping[str, Any], identity: str, n: int, size: int
+) -> list[str]:
+    """Keys of the chunks of ``n`` points whose values are fixed by ``identity``, by index.
+
+    Chunk ``i`` holds points ``[i size, min((i + 1) size, n))``; its key hashes
+    the evaluator, its code, its options, the source's identity
+    (:meth:`~designlab.analysis.points.PointSource.identity`), ``n``, ``size``
+    and ``i``, so it is known without drawing the chunk's points.
+
+    Parameters
+    ----------
+    fn
+        The evaluator.
+    options
+        The evaluator options.
+    identity
+        The identity of the point source.
+    n
+        The number of points.
+    size
+        Points per chunk.
+
+    Examples
+    --------
+    >>> keys = indexed_chunk_keys(evaluator_id, {}, "a sampler", 5, 2)
+    >>> len(keys), len(set(keys)), keys == indexed_chunk_keys(evaluator_id, {}, "other", 5, 2)
+    (3, 3, False)
+    """
+    header = {
+        "format": KEY_FORMAT,
+        "indexed": True,
+        "evaluator": evaluator_id(fn),
+        "code": code_version(fn),
+        "options": options,
+        "points": identity,
+        "n": int(n),
+        "size": int(size),
+    }
+    run = hashlib.sha256(_canonical(header).encode()).hexdigest()
+    return [
+        hashlib.sha256(f"{run}:{i}".encode()).hexdigest() for i in range(-(-int(n) // int(size)))
+    ]

@@ -7,6 +7,12 @@ chunk by chunk, and the same chunk comes back identical however the points are
 split. Points held in memory are an :class:`ArrayPoints`; several point sets
 evaluated in one pass are a :class:`ConcatPoints`.
 
+A source that knows what determines its points (a sampler's kind, bounds, sample
+count, seed and code) says so in
+:meth:`~designlab.analysis.points.PointSource.identity`: the sweep engine then keys
+its stored chunks by index (chunk i covers points ``[i c, (i + 1) c)``), so that a
+resumed run finds its finished chunks without drawing their points.
+
 Examples
 --------
 >>> import numpy as np
@@ -14,17 +20,26 @@ Examples
 >>> both = ConcatPoints([a, ArrayPoints({"x": np.array([10.0, 11.0])})])
 >>> len(both), both.take(2, 4)["x"].tolist()
 (5, [2.0, 10.0])
+>>> both.identity() == ConcatPoints([a, ArrayPoints({"x": [10.0, 11.0]})]).identity()
+True
 """
 
 from __future__ import annotations
 
+import hashlib
+import importlib
+import json
+import sys
 from abc import ABC, abstractmethod
 from collections.abc import Mapping, Sequence
+from functools import cache
+from pathlib import Path
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["ArrayPoints", "ConcatPoints", "PointSource"]
+__all__ = ["ArrayPoints", "ConcatPoints", "PointSource", "source_identity"]
 
 Columns = dict[str, NDArray[np.float64]]
 
@@ -37,6 +52,9 @@ class PointSource(ABC):
     """
 
     names: tuple[str, ...]
+    #: Modules, besides those defining the class and its bases, whose code fixes the
+    #: points (part of :meth:`~designlab.analysis.points.PointSource.identity`).
+    code_modules: tuple[str, ...] = ()
 
     @abstractmethod
     def __len__(self) -> int:
@@ -67,6 +85,62 @@ class PointSource(ABC):
         """Every point at once (memory grows with the number of points)."""
         return self.take(0, len(self))
 
+    def identity(self) -> str | None:
+        """A hash of everything that determines the points, or ``None`` when unknown.
+
+        Two sources with the same identity give the same points, bit for bit,
+        for every range. The default, ``None``, says nothing is known: the sweep
+        engine then keys stored chunks by a hash of their points.
+        """
+        return None
+
+
+@cache
+def _module_hash(name: str) -> str:
+    """A hash of a module's source file (cached per process)."""
+    module = sys.modules.get(name) or importlib.import_module(name)
+    path = getattr(module, "__file__", None)
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()[:16] if path else "no file"
+
+
+def source_identity(source: PointSource, fields: Mapping[str, Any]) -> str:
+    """The identity of ``source`` from the ``fields`` that determine its points.
+
+    The hash covers the class, the source files of the modules that define it and
+    its bases and of those it names in
+    :attr:`~designlab.analysis.points.PointSource.code_modules` (an edited sampler
+    may draw other points), numpy's version, then ``fields`` (JSON; arrays by their
+    bytes).
+
+    Parameters
+    ----------
+    source
+        The point source.
+    fields
+        Its parameters: numbers, strings, lists, dicts, or float arrays.
+    """
+    cls = type(source)
+    h = hashlib.sha256()
+    modules = {c.__module__ for c in cls.__mro__ if c.__module__ not in ("builtins", "abc")}
+    modules |= {m for c in cls.__mro__ for m in getattr(c, "code_modules", ())}
+    head = {"class": f"{cls.__module__}.{cls.__qualname__}", "numpy": np.__version__,
+            "code": {m: _module_hash(m) for m in sorted(modules)}}  # fmt: skip
+    arrays: list[NDArray] = []
+
+    def plain(v: Any) -> Any:
+        if isinstance(v, np.ndarray):
+            arrays.append(np.ascontiguousarray(v, dtype="<f8"))
+            return ["array", v.shape]
+        return v
+
+    body = {k: plain(fields[k]) for k in sorted(fields)}  # arrays hashed in the order of names
+    text = json.dumps({**head, **body}, sort_keys=True,
+                      separators=(",", ":"), allow_nan=True, default=float)  # fmt: skip
+    h.update(text.encode())
+    for a in arrays:
+        h.update(a.tobytes())
+    return h.hexdigest()
+
 
 class ArrayPoints(PointSource):
     """Points held in memory as equal-length columns.
@@ -95,6 +169,10 @@ class ArrayPoints(PointSource):
         """The columns themselves (no copy)."""
         return dict(self._cols)
 
+    def identity(self) -> str:
+        """A hash of the names and values of the columns (in order)."""
+        return source_identity(self, {f"column {k}": v for k, v in self._cols.items()})
+
 
 class ConcatPoints(PointSource):
     """Several point sets with the same columns, one after the other.
@@ -115,6 +193,13 @@ class ConcatPoints(PointSource):
 
     def __len__(self) -> int:
         return int(self.offsets[-1])
+
+    def identity(self) -> str | None:
+        """The parts' identities, in order (``None`` if a part's is unknown)."""
+        parts = [p.identity() for p in self.parts]
+        if any(p is None for p in parts):
+            return None
+        return source_identity(self, {"parts": parts})
 
     def _take(self, start: int, stop: int) -> Columns:
         pieces: list[Columns] = []

@@ -31,7 +31,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from designlab.analysis import lhs_kernel
-from designlab.analysis.points import PointSource
+from designlab.analysis.points import PointSource, source_identity
 
 __all__ = [
     "GridPoints",
@@ -76,6 +76,14 @@ class GridPoints(PointSource):
     def __len__(self) -> int:
         return math.prod(self._shape) if self._shape else 0
 
+    def identity(self) -> str:
+        """A hash of the axes' names and values.
+
+        See :meth:`~designlab.analysis.points.PointSource.identity`.
+        """
+        axes = {f"axis {k}": a for k, a in zip(self.names, self._axes, strict=True)}
+        return source_identity(self, {"names": list(self.names), **axes})
+
     def _take(self, start: int, stop: int) -> Columns:
         idx = np.unravel_index(np.arange(start, stop), self._shape)
         return {k: a[i] for k, a, i in zip(self.names, self._axes, idx, strict=True)}
@@ -93,6 +101,10 @@ class _Box(PointSource):
     def __len__(self) -> int:
         return self._n
 
+    def _fields(self) -> dict[str, object]:
+        """What determines the points besides the class: names, bounds, scales, count."""
+        return {"names": list(self.names), "bounds": self._bounds, "log": self._log, "n": self._n}
+
     @abstractmethod
     def _unit(self, start: int, stop: int) -> NDArray[np.float64]:
         """Points ``start .. stop - 1`` of the unit cube, shape ``(stop - start, d)``."""
@@ -108,6 +120,11 @@ class _Box(PointSource):
                 out[name] = lo + unit[:, j] * (hi - lo)
         return out
 
+
+#: Latin-hypercube ranges of at least this many points use the compiled kernel; smaller ones
+#: (a resumed run's check of a few points) the numpy path, which gives the same points and
+#: spares a process numba's start-up (about 0.6 CPU s on the first compiled call).
+COMPILED_FROM = 64
 
 _M1, _M2 = np.uint64(0xBF58476D1CE4E5B9), np.uint64(0x94D049BB133111EB)
 _FEISTEL_ROUNDS = 6
@@ -145,16 +162,26 @@ class LatinHypercubePoints(_Box):
         ``log[name]`` samples that parameter uniformly in its logarithm.
     """
 
+    code_modules = ("designlab.analysis.lhs_kernel",)
+
     def __init__(
         self, bounds: Bounds, samples: int, *, seed: int = 0, log: Mapping[str, bool] | None = None
     ) -> None:
         super().__init__(bounds, samples, log)
+        self._seed = int(seed)
         d = len(self.names)
         keys = np.random.SeedSequence(int(seed)).generate_state(d * (_FEISTEL_ROUNDS + 1), "u8")
         self._keys = keys.reshape(d, _FEISTEL_ROUNDS + 1)
         bits = max(2, math.ceil(math.log2(max(self._n, 2))))
         self._half = np.uint64((bits + 1) // 2)
         self._mask = np.uint64((1 << int(self._half)) - 1)
+
+    def identity(self) -> str:
+        """A hash of the box, the sample count and the seed.
+
+        See :meth:`~designlab.analysis.points.PointSource.identity`.
+        """
+        return source_identity(self, {**self._fields(), "seed": self._seed})
 
     def _feistel(self, x: NDArray[np.uint64], keys: NDArray[np.uint64]) -> NDArray[np.uint64]:
         left, right = x >> self._half, x & self._mask
@@ -171,7 +198,7 @@ class LatinHypercubePoints(_Box):
         return x
 
     def _unit(self, start: int, stop: int) -> NDArray[np.float64]:
-        if lhs_kernel.AVAILABLE:  # compiled: the same points, bit for bit
+        if lhs_kernel.AVAILABLE and stop - start >= COMPILED_FROM:  # the same points, bit for bit
             cols = np.empty((len(self.names), stop - start))
             for j, keys in enumerate(self._keys):
                 lhs_kernel.lhs_column(start, keys, self._half, self._mask, self._n, cols[j])
@@ -212,7 +239,16 @@ class SobolPoints(_Box):
         if m < 0 or 2**m != samples:
             raise ValueError(f"samples must be a power of two, got {samples}")
         super().__init__(bounds, samples, log)
+        self._seed = int(seed)
         self._engine = qmc.Sobol(d=len(self.names), scramble=True, rng=np.random.default_rng(seed))
+
+    def identity(self) -> str:
+        """A hash of the box, the count, the seed and scipy's version (its scrambling)."""
+        import scipy
+
+        return source_identity(
+            self, {**self._fields(), "seed": self._seed, "scipy": scipy.__version__}
+        )
 
     def _unit(self, start: int, stop: int) -> NDArray[np.float64]:
         self._engine.reset()

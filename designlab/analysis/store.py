@@ -91,6 +91,17 @@ CREATE TABLE chunks (
 );
 """
 
+# What a resumed run needs of a finished chunk without unpacking it: its point count and a
+# JSON summary (points per status, result columns and their kinds, a hash of its points).
+# Written in the chunk's own transaction; a store without it (older, or repaired) still works.
+_SUMMARIES = """
+CREATE TABLE IF NOT EXISTS summaries (key TEXT PRIMARY KEY, n INTEGER NOT NULL,
+                                      summary TEXT NOT NULL)
+"""
+
+#: Chunk keys per query when reading summaries (SQLite's bound-variable limit is higher).
+_KEYS_PER_QUERY = 500
+
 T = TypeVar("T")
 
 
@@ -129,6 +140,22 @@ def _writable(path: Path) -> bool:
     return not path.exists() or os.access(path, os.W_OK)
 
 
+def _has_summaries(db: sqlite3.Connection) -> bool:
+    return bool(
+        db.execute(
+            "SELECT 1 FROM sqlite_master WHERE type = 'table' AND name = 'summaries'"
+        ).fetchall()
+    )
+
+
+def _sha256(data: bytes) -> bytes:
+    return hashlib.sha256(data).digest()
+
+
+#: Types that :func:`_pack` writes to JSON as they are.
+_JSON_TYPES = frozenset({str, bool, int, float, type(None)})
+
+
 def _pack(columns: dict[str, Any]) -> tuple[int, bytes]:
     """Columns -> ``(n, compressed bytes)``."""
     header: list[list[Any]] = []
@@ -144,11 +171,11 @@ def _pack(columns: dict[str, Any]) -> tuple[int, bytes]:
             blob = np.ascontiguousarray(arr, dtype=np.uint8).tobytes()
             header.append([name, "b1", len(blob)])
         else:
-            blob = json.dumps(
-                [None if v is None else v if isinstance(v, (bool, int, float, str)) else str(v)
-                 for v in arr.tolist()],
-                allow_nan=True, separators=(",", ":"),
-            ).encode()  # fmt: skip
+            values = arr.tolist()
+            if not set(map(type, values)) <= _JSON_TYPES:  # else kept as they are (fast)
+                values = [None if v is None else v if isinstance(v, (bool, int, float, str))
+                          else str(v) for v in values]  # fmt: skip
+            blob = json.dumps(values, allow_nan=True, separators=(",", ":")).encode()
             header.append([name, "json", len(blob)])
         blobs.append(blob)
     head = json.dumps({"n": n, "columns": header}, separators=(",", ":")).encode()
@@ -273,6 +300,7 @@ class ChunkStore:
             if db.execute("PRAGMA journal_mode").fetchone()[0] != "wal":
                 db.execute("PRAGMA journal_mode = WAL")
             self._check(db)
+            db.execute(_SUMMARIES)
             db.execute("PRAGMA synchronous = NORMAL")
         except BaseException:
             db.close()
@@ -522,8 +550,10 @@ class ChunkStore:
             return "corrupt", "column lengths differ from the recorded count"
         return "ok", cols
 
-    def put_chunk(self, key: str, columns: dict[str, Any]) -> None:
-        """Store a finished chunk in its own transaction.
+    def put_chunk(
+        self, key: str, columns: dict[str, Any], summary: dict[str, Any] | None = None
+    ) -> None:
+        """Store a finished chunk (and its summary) in its own transaction.
 
         Parameters
         ----------
@@ -531,6 +561,9 @@ class ChunkStore:
             The chunk key.
         columns
             The chunk's result columns (numbers, booleans or strings).
+        summary
+            What a resumed run reads instead of the chunk (:meth:`summaries`);
+            JSON-serialisable.
 
         Raises
         ------
@@ -548,6 +581,11 @@ class ChunkStore:
             try:
                 db.execute("INSERT OR REPLACE INTO chunks VALUES (?, ?, ?, ?)",
                            (key, n, data, digest))  # fmt: skip
+                if summary is not None:
+                    db.execute("INSERT OR REPLACE INTO summaries VALUES (?, ?, ?)",
+                               (key, n, json.dumps(summary, separators=(",", ":"))))  # fmt: skip
+                else:
+                    db.execute("DELETE FROM summaries WHERE key = ?", (key,))
                 db.execute("COMMIT")
             finally:
                 if db.in_transaction:
@@ -564,8 +602,54 @@ class ChunkStore:
             The chunk key.
         """
         self._connect()
-        if not self.read_only:
-            self._run("write", lambda db: db.execute("DELETE FROM chunks WHERE key = ?", (key,)))
+        if self.read_only:
+            return
+
+        def delete(db: sqlite3.Connection) -> None:
+            db.execute("BEGIN IMMEDIATE")
+            try:
+                db.execute("DELETE FROM chunks WHERE key = ?", (key,))
+                if _has_summaries(db):
+                    db.execute("DELETE FROM summaries WHERE key = ?", (key,))
+                db.execute("COMMIT")
+            finally:
+                if db.in_transaction:
+                    db.execute("ROLLBACK")
+
+        self._run("write", delete)
+
+    def summaries(self, keys: Sequence[str]) -> dict[str, tuple[int, dict[str, Any]]]:
+        """``{key: (n, summary)}`` of the chunks ``keys`` that are stored intact with a summary.
+
+        A chunk counts only when its checksum matches (its data is read and
+        hashed, not unpacked); a chunk stored without a summary, or damaged,
+        is left out (the engine then reads it with :meth:`get_chunk`).
+
+        Parameters
+        ----------
+        keys
+            Chunk keys.
+        """
+        if not keys or (self._db is None and not self.path.exists()):
+            return {}
+        out: dict[str, tuple[int, dict[str, Any]]] = {}
+
+        def select(db: sqlite3.Connection) -> None:
+            if not _has_summaries(db):
+                return
+            for i in range(0, len(keys), _KEYS_PER_QUERY):
+                part = list(keys[i : i + _KEYS_PER_QUERY])
+                rows = db.execute(
+                    "SELECT c.key, c.n, c.data, c.sha256, s.n, s.summary FROM chunks c JOIN "
+                    f"summaries s ON s.key = c.key WHERE c.key IN ({','.join('?' * len(part))})",
+                    part,
+                ).fetchall()
+                for key, n, data, digest, sn, text in rows:
+                    if n == sn and isinstance(data, bytes) and _sha256(data) == digest:
+                        out[key] = (int(n), json.loads(text))
+
+        self._run("read", select)
+        return out
 
     def keys(self) -> list[str]:
         """The keys of every stored chunk."""

@@ -33,7 +33,7 @@ import pandas as pd
 
 from designlab.analysis import sampling
 from designlab.analysis.engine import STATUS_ERROR, SweepRun, run_points
-from designlab.analysis.points import ArrayPoints, ConcatPoints, PointSource
+from designlab.analysis.points import ArrayPoints, ConcatPoints, PointSource, source_identity
 from designlab.analysis.sensitivity import (
     SensitivityTable,
     elasticity_table,
@@ -204,6 +204,13 @@ class _Designs(PointSource):
 
     def __len__(self) -> int:
         return 1 if self.values is None else len(self.values)
+
+    def identity(self) -> str | None:
+        """The base point, the column names and the identity of the values."""
+        values = None if self.values is None else self.values.identity()
+        if self.values is not None and values is None:
+            return None
+        return source_identity(self, {"base": self.base, "key_of": self.key_of, "values": values})
 
     def _take(self, start: int, stop: int) -> Columns:
         n = stop - start
