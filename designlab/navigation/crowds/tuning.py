@@ -316,7 +316,7 @@ def optimise_crowd_gains(
     pop, gens = POPULATION.check(popsize), GENERATIONS.check(generations)
     box = _log_box(bounds)
     horizon = crowd_of({"crowd": dict(training.crowd_options)}, training.scenarios[0],
-                       training.densities[0], training.seeds[0]).horizon  # fmt: skip
+                       training.densities[0], training.seeds[0]).time_limit  # fmt: skip
     u0 = _start(x0, box)
     es = cma.CMAEvolutionStrategy(u0.tolist(), float(sigma0), {"bounds": [0.0, 1.0], "popsize": pop,
                                   "seed": int(seed) + 1, "verbose": -9})  # fmt: skip
