@@ -1,11 +1,12 @@
 """Report of a ``navigation_crowds`` study: methods among crowds, rates against density.
 
 Files: ``summary.md`` (sizes, the rates with their Wilson intervals, findings written from the
-tables, the gains for crowds and their validation), ``rates.csv`` (one row per layout, density
-and method), ``runs.csv`` (one row per run), ``rates_vs_density.png``, ``trajectories.png``
-(the representative run of each method), ``animation_representative.gif`` and
-``animation_worst_<method>.gif`` (GIFs through matplotlib's PillowWriter), and with tuning
-``tuning_history.csv`` and ``gains_validation.csv``.
+tables, why the runs shown are slow, the gains for crowds and their validation), ``rates.csv``
+(one row per layout, density and method), ``runs.csv`` (one row per run), ``stalls.csv`` (the
+:func:`~designlab.navigation.crowds.diagnosis.stall_summary` of each run shown),
+``rates_vs_density.png``, ``trajectories.png`` (the representative run of each method),
+``animation_representative.gif`` and ``animation_worst_<method>.gif`` (GIFs through
+matplotlib's PillowWriter), and with tuning ``tuning_history.csv`` and ``gains_validation.csv``.
 """
 
 from __future__ import annotations
