@@ -208,7 +208,7 @@ def _tuning_lines(result: NavigationCrowdsResult) -> list[str]:
         f"{len(t.training.densities)} density(ies) x {len(t.training.seeds)} seed(s) "
         f"(training densities {t.training.densities}, seeds {t.training.seeds}); cost: "
         f"{opt.robust}{f' (alpha {opt.alpha:g})' if opt.robust == 'cvar' else ''} of the arrival "
-        "times (twice the horizon for a run that did not arrive); rates kept: collision <= "
+        "times (twice the time limit for a run that did not arrive); rates kept: collision <= "
         f"{opt.collision_bound:g}, critical entry <= {opt.critical_bound:g}. "
         f"Status: {opt.status}.", "",
         f"{'Optimum' if opt.status == 'ok' else 'Least-violating gains (not an optimum)'}: "
@@ -219,6 +219,7 @@ def _tuning_lines(result: NavigationCrowdsResult) -> list[str]:
         f"Validation on crowds sharing no seed and no density with the training set (densities "
         f"{t.validation.densities}, seeds {t.validation.seeds}):", "",
         markdown_table(rates_table(val.to_frame())), "",
+        *findings(val.to_frame()), "",
     ]  # fmt: skip
     return out
 
@@ -229,12 +230,16 @@ def _feasibility(history: pd.DataFrame, coll: float, crit: float) -> list[str]:
     keep_c = int((history["collision_rate"] <= coll).sum())
     keep_k = int((history["critical_rate"] <= crit).sum())
     both = int(history["feasible"].sum())
+    cheap = history.sort_values("cost_s", kind="stable").iloc[0]
     return [
         f"Of the {n} candidates, {keep_c} kept the collision rate, {keep_k} the critical-entry "
         f"rate and {both} both; lowest rates reached: collision "
         f"{history['collision_rate'].min():.2f}, critical entry "
         f"{history['critical_rate'].min():.2f}; costs from {history['cost_s'].min():.1f} to "
-        f"{history['cost_s'].max():.1f} s."
+        f"{history['cost_s'].max():.1f} s. The cheapest candidate (K1 = {cheap['k1']:.3g}, "
+        f"b = {cheap['b']:.3g}, K3 = {cheap['k3']:.3g}, K5 = {cheap['k5']:.3g}, cost "
+        f"{cheap['cost_s']:.1f} s) had collision rate {cheap['collision_rate']:.2f} and "
+        f"critical-entry rate {cheap['critical_rate']:.2f}."
     ]
 
 
@@ -339,7 +344,8 @@ def _stall_lines(table: pd.DataFrame) -> list[str]:
            "(`designlab.navigation.crowds.diagnosis`). Slow: progress towards the goal below "
            "half the speed limit; receding: moving away from the goal; held by: among the "
            "slow samples, braking in a critical region, else the part pulling away from the "
-           "goal the most.", "", markdown_table(shown), ""]  # fmt: skip
+           "goal the most (for CBF, whose nominal force is the attraction alone, the "
+           "filter's correction shows as none).", "", markdown_table(shown), ""]  # fmt: skip
     for method, g in table.groupby("method", sort=False):
         top = g[causes].mean().idxmax()
         out.append(f"- {method}: slow {g['slow'].mean():.0%} and receding "
