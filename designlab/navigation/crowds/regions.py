@@ -48,7 +48,7 @@ Examples
 >>> P = np.array([[3.0, 2.0], [3.0, 2.0]])
 >>> V = np.array([[-1.2, 0.0], [1.2, 0.0]])          # towards the robot at (1.5, 2), away
 >>> s.active_radii(np.array([1.5, 2.0]), P, V).round(3).tolist()
-[2.198, 0.767]
+[2.082, 0.767]
 """
 
 from __future__ import annotations
