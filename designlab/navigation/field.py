@@ -78,6 +78,10 @@ class ObstacleGeometry:
         Rectangle rotation in rad.
     moving
         Whether the walking-human direction rule applies.
+    r2_input
+        Whether the active radius is an input of the field, set at every sample (the
+        closing-speed sizing of a crowd, :mod:`designlab.navigation.crowds.regions`); ``r2``
+        is then its largest value.
     """
 
     kind: str
@@ -87,6 +91,7 @@ class ObstacleGeometry:
     half_width: float = 0.0
     angle: float = 0.0
     moving: bool = False
+    r2_input: bool = False
 
     @classmethod
     def of(cls, obstacle: Any) -> ObstacleGeometry:
@@ -164,8 +169,10 @@ class _Obs:
         po: ca.SX,
         vo: ca.SX,
         ao: ca.SX,
+        r2: float | ca.SX,
     ) -> None:
         self.geo, self.p, self.v, self.goal, self.po, self.vo, self.ao = geo, p, v, goal, po, vo, ao
+        self.r2 = r2  # geo.r2, or the field's input for an r2_input obstacle
         self.z = ca.vertcat(p, po)
         self.zdot = ca.vertcat(v, vo)
         q = _reference_point(geo, p, po)
@@ -174,11 +181,9 @@ class _Obs:
         self.u = self.D / self.d
         self.u_perp = _rot90(self.u)
         self.W = goal - q
-        self.c = ca.logic_and(self.d > geo.r3, self.d < geo.r2)
+        self.c = ca.logic_and(self.d > geo.r3, self.d < r2)
         self.critical = self.d <= geo.r3
-        self.dd = ca.if_else(
-            self.c, self.d, geo.r2
-        )  # safe distance: every term vanishes outside C2
+        self.dd = ca.if_else(self.c, self.d, r2)  # safe distance: every term vanishes outside C2
         self.d_rate = ca.jtimes(self.d, self.z, self.zdot)
         alpha = ca.atan2(self.W[1], self.W[0])
         beta = ca.atan2(self.D[1], self.D[0])
@@ -267,7 +272,7 @@ def _vff_sides(items: list[_Obs], s: _Symbols) -> list[ca.SX]:
 
     def psi_force(it: _Obs, sigma: ca.SX) -> ca.SX:
         phi, phi_rate, u_psi = it.detour_terms(sigma)
-        w2 = (it.geo.r2 - it.dd) ** 2
+        w2 = (it.r2 - it.dd) ** 2
         return (s.k5 * w2 * phi + s.b * s.k5 * w2 * phi_rate) * u_psi
 
     rule_forces = [ca.if_else(it.c, psi_force(it, it.sigma_rule), zeros2) for it in items]
@@ -294,7 +299,7 @@ def _vff_forces(items: list[_Obs], s: _Symbols) -> _Forces:
     V = 0.5 * k1**2 * ca.dot(s.E, s.E) + 0.5 * m * k1 * ca.dot(s.Edot, s.Edot)
     vL = k1 * s.Edot
     for it, sigma in zip(items, sigmas, strict=True):
-        r2, r3 = it.geo.r2, it.geo.r3
+        r2, r3 = it.r2, it.geo.r3
         dd = it.dd
         lam = (r2 - dd) ** 2 / (dd - r3)
         k_lam = (r2 - dd) ** 2 / (dd - r3) ** 2
@@ -390,7 +395,9 @@ def build_field(geometries: tuple[ObstacleGeometry, ...], method: str = "vff") -
         Inputs ``x`` (p_x, p_y, v_x, v_y), ``goal`` (2), ``obs`` (6 per obstacle:
         position or rectangle centre, velocity, acceleration), ``gains`` (k1, b, k3,
         k5; for Masoud k1, -, k3, k5), ``params`` (mass m, tie side +1/-1,
-        stabilising 1/0, acceleration limit a_mr used by Ge & Cui's (2.2.12)). Outputs
+        stabilising 1/0, acceleration limit a_mr used by Ge & Cui's (2.2.12)) and, if an
+        obstacle has ``r2_input``, ``r2`` (one active radius per obstacle, m; read for those
+        obstacles only). Outputs
         ``F`` (2, the virtual force before the robot's limits), ``critical`` (1 if the
         robot is in any critical region), ``V``, ``Vdot0`` (dV/dt without F_L),
         ``Omega``, ``vL2`` (|v_L|^2), ``FL`` (2), ``g`` (dV/dV_mr, 2),
@@ -406,6 +413,8 @@ def build_field(geometries: tuple[ObstacleGeometry, ...], method: str = "vff") -
     obs = ca.SX.sym("obs", 6 * n)
     gains = ca.SX.sym("gains", 4)
     params = ca.SX.sym("params", 4)
+    r2 = ca.SX.sym("r2", n)  # an input only if some obstacle's active radius is
+    extra = [r2] if any(g.r2_input for g in geometries) else []
     p, v = x[0:2], x[2:4]
     k1, b, k3, k5 = gains[0], gains[1], gains[2], gains[3]
     m, tie, stab, amax = params[0], params[1], params[2], params[3]
@@ -419,6 +428,7 @@ def build_field(geometries: tuple[ObstacleGeometry, ...], method: str = "vff") -
             obs[6 * i : 6 * i + 2],
             obs[6 * i + 2 : 6 * i + 4],
             obs[6 * i + 4 : 6 * i + 6],
+            r2[i] if g.r2_input else g.r2,
         )
         for i, g in enumerate(geometries)
     ]
@@ -433,7 +443,7 @@ def build_field(geometries: tuple[ObstacleGeometry, ...], method: str = "vff") -
     sig = ca.vertcat(*sigmas) if n else ca.SX(0, 1)
     return ca.Function(
         f"field_{method}_{n}",
-        [x, goal, obs, gains, params],
+        [x, goal, obs, gains, params, *extra],
         [
             F,
             critical,
@@ -447,7 +457,7 @@ def build_field(geometries: tuple[ObstacleGeometry, ...], method: str = "vff") -
             dist,
             sig,
         ],
-        ["x", "goal", "obs", "gains", "params"],
+        ["x", "goal", "obs", "gains", "params"] + ["r2"] * len(extra),
         ["F", "critical", "V", "Vdot0", "Omega", "vL2", "FL", "g", "active", "d", "sigma"],
     )
 

@@ -1,11 +1,12 @@
 """Report of a ``navigation_crowds`` study: methods among crowds, rates against density.
 
 Files: ``summary.md`` (sizes, the rates with their Wilson intervals, findings written from the
-tables, the gains for crowds and their validation), ``rates.csv`` (one row per layout, density
-and method), ``runs.csv`` (one row per run), ``rates_vs_density.png``, ``trajectories.png``
-(the representative run of each method), ``animation_representative.gif`` and
-``animation_worst_<method>.gif`` (GIFs through matplotlib's PillowWriter), and with tuning
-``tuning_history.csv`` and ``gains_validation.csv``.
+tables, why the runs shown are slow, the gains for crowds and their validation), ``rates.csv``
+(one row per layout, density and method), ``runs.csv`` (one row per run), ``stalls.csv`` (the
+:func:`~designlab.navigation.crowds.diagnosis.stall_summary` of each run shown),
+``rates_vs_density.png``, ``trajectories.png`` (the representative run of each method),
+``animation_representative.gif`` and ``animation_worst_<method>.gif`` (GIFs through
+matplotlib's PillowWriter), and with tuning ``tuning_history.csv`` and ``gains_validation.csv``.
 """
 
 from __future__ import annotations
@@ -23,9 +24,16 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from designlab.navigation.crowds.animation import animate
+from designlab.navigation.crowds.diagnosis import force_breakdown, stall_summary
+from designlab.navigation.crowds.scenario import crowd
 from designlab.report import register_writer
-from designlab.report.builder import copy_study, figure_section, report_header, warnings_section
-from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
+from designlab.report.builder import (
+    figure_section,
+    report_header,
+    warnings_section,
+    write_report,
+)
+from designlab.report.writers import markdown_table
 from designlab.study.kinds.navigation_crowds import NavigationCrowdsResult
 
 __all__ = [
@@ -200,22 +208,44 @@ def _tuning_lines(result: NavigationCrowdsResult) -> list[str]:
         f"{len(t.training.densities)} density(ies) x {len(t.training.seeds)} seed(s) "
         f"(training densities {t.training.densities}, seeds {t.training.seeds}); cost: "
         f"{opt.robust}{f' (alpha {opt.alpha:g})' if opt.robust == 'cvar' else ''} of the arrival "
-        "times (twice the horizon for a run that did not arrive); rates kept: collision <= "
+        "times (twice the time limit for a run that did not arrive); rates kept: collision <= "
         f"{opt.collision_bound:g}, critical entry <= {opt.critical_bound:g}. "
         f"Status: {opt.status}.", "",
         f"{'Optimum' if opt.status == 'ok' else 'Least-violating gains (not an optimum)'}: "
         f"K1 = {g.k1:.3g}, b = {g.b:.3g}, K3 = {g.k3:.3g}, K5 = {g.k5:.3g} "
         f"(cost {opt.cost:.2f} s, training collision rate {opt.collision_rate:.2f}, critical "
         f"{opt.critical_rate:.2f}).", "",
+        *_feasibility(opt.history, opt.collision_bound, opt.critical_bound), "",
         f"Validation on crowds sharing no seed and no density with the training set (densities "
         f"{t.validation.densities}, seeds {t.validation.seeds}):", "",
         markdown_table(rates_table(val.to_frame())), "",
+        *findings(val.to_frame()), "",
     ]  # fmt: skip
     return out
 
 
+def _feasibility(history: pd.DataFrame, coll: float, crit: float) -> list[str]:
+    """How many candidates kept each rate, from the search's history."""
+    n = len(history)
+    keep_c = int((history["collision_rate"] <= coll).sum())
+    keep_k = int((history["critical_rate"] <= crit).sum())
+    both = int(history["feasible"].sum())
+    cheap = history.sort_values("cost_s", kind="stable").iloc[0]
+    return [
+        f"Of the {n} candidates, {keep_c} kept the collision rate, {keep_k} the critical-entry "
+        f"rate and {both} both; lowest rates reached: collision "
+        f"{history['collision_rate'].min():.2f}, critical entry "
+        f"{history['critical_rate'].min():.2f}; costs from {history['cost_s'].min():.1f} to "
+        f"{history['cost_s'].max():.1f} s. The cheapest candidate (K1 = {cheap['k1']:.3g}, "
+        f"b = {cheap['b']:.3g}, K3 = {cheap['k3']:.3g}, K5 = {cheap['k5']:.3g}, cost "
+        f"{cheap['cost_s']:.1f} s) had collision rate {cheap['collision_rate']:.2f} and "
+        f"critical-entry rate {cheap['critical_rate']:.2f}."
+    ]
+
+
 def navigation_crowds_markdown(result: NavigationCrowdsResult, *, command: str | None = None,
-                               version: str | None = None) -> str:  # fmt: skip
+                               version: str | None = None,
+                               stalls: pd.DataFrame | None = None) -> str:  # fmt: skip
     """The report's text: sizes, rates with intervals, findings, gains, figures.
 
     Parameters
@@ -224,6 +254,8 @@ def navigation_crowds_markdown(result: NavigationCrowdsResult, *, command: str |
         A ``navigation_crowds`` result.
     command, version
         The command line and the designlab version (provenance).
+    stalls
+        :func:`stall_table` of the result if already computed.
     """
     st = result.study
     summary = result.to_frame()
@@ -236,7 +268,8 @@ def navigation_crowds_markdown(result: NavigationCrowdsResult, *, command: str |
         f"seeds {st.seeds}, methods {[m.label for m in st.methods]} (VFF stabilising force: "
         f"{st.stabilising}). Pedestrians: JuPedSim's {c.model}, "
         f"{'avoiding' if c.react_to_robot else 'ignoring'} the robot, {c.width:g} m x "
-        f"{c.length:g} m layouts, horizon {c.horizon:g} s. Rates are counted over runs; "
+        f"{c.length:g} m layouts, {_limits(st)}; pedestrians' regions sized "
+        f"{_SIZING[c.region_sizing]}. Rates are counted over runs; "
         f"intervals are {st.confidence:.0%} Wilson intervals. Personal space: "
         f"{st.personal_space:g} m around a pedestrian's centre (Hall's personal distance). "
         "Outcomes are exclusive: collision, else success (arrived), else timeout.", "",
@@ -245,6 +278,7 @@ def navigation_crowds_markdown(result: NavigationCrowdsResult, *, command: str |
         "## Findings (computed from the table above)", "",
         *findings(summary), "",
     ]  # fmt: skip
+    out += _stall_lines(stall_table(result) if stalls is None else stalls)
     out += _tuning_lines(result)
     out += warnings_section(result.warnings, none="None.")
     figs = [("rates against density", "rates_vs_density.png"),
@@ -255,6 +289,70 @@ def navigation_crowds_markdown(result: NavigationCrowdsResult, *, command: str |
         figs += [(f"animation: {n}", f) for n, f in _animations(result) if f in shown]
     out += figure_section(figs, title="Figures and animations")
     return "\n".join(out)
+
+
+_SIZING = {
+    "worst_case": "for the worst case (Zeng 2011, Sec. 5.3: every pedestrian at its top speed)",
+    "closing_speed": "from each pedestrian's closing speed (the thesis's critical radius, the "
+    "active radius at the measured speed towards the robot: docs/navigation_crowds.md)",
+}
+
+
+def _limits(study: Any) -> str:
+    """The time limit of each layout, said as it was set."""
+    c = study.crowd
+    crowds = [crowd(name, density=study.densities[0], seed=0, **c.model_dump())
+              for name in study.scenarios]  # fmt: skip
+    if c.horizon is not None:
+        return f"time limit {c.horizon:g} s"
+    each = ", ".join(f"{x.layout} {x.time_limit:.1f} s (free run {x.free_run_time:.2f} s)"
+                     for x in crowds)  # fmt: skip
+    return f"time limit {c.horizon_factor:g} x the robot's free-run time: {each}"
+
+
+def stall_table(result: NavigationCrowdsResult) -> pd.DataFrame:
+    """Why the runs shown are slow: :func:`~designlab.navigation.crowds.diagnosis.stall_summary`
+    of the representative and the worst run of each method (one row per run).
+
+    Parameters
+    ----------
+    result
+        A ``navigation_crowds`` result.
+    """
+    rows = []
+    for (kind, label), r in result.tracks.items():
+        s = stall_summary(force_breakdown(r), r.crowd.robot.max_speed)
+        rows.append({"run": kind, "method": label, "layout": r.crowd.layout,
+                     "density": r.crowd.density, "seed": r.crowd.seed, "outcome": _outcome(r),
+                     **s})  # fmt: skip
+    return pd.DataFrame(rows)
+
+
+def _stall_lines(table: pd.DataFrame) -> list[str]:
+    """The stall table as shown, and one sentence per method computed from it."""
+    if table.empty:
+        return []
+    shown = table.copy()
+    causes = [c for c in shown.columns if c.startswith("slow_by_")]
+    for c in ("stopped", "slow", "receding", *causes):
+        shown[c] = (100 * shown[c]).round(0).astype(int).astype(str) + " %"
+    shown["progress_mps"] = shown["progress_mps"].map(lambda v: f"{v:.2f}")
+    shown = shown.rename(columns={c: c.replace("slow_by_", "held by ") for c in causes})
+    out = ["## Why the robot is slow (the runs shown)", "",
+           "The field's force at every navigation sample of the runs shown, split into "
+           "attraction, walls, pedestrians and the stabilising force F_L "
+           "(`designlab.navigation.crowds.diagnosis`). Slow: progress towards the goal below "
+           "half the speed limit; receding: moving away from the goal; held by: among the "
+           "slow samples, braking in a critical region, else the part pulling away from the "
+           "goal the most (for CBF, whose nominal force is the attraction alone, the "
+           "filter's correction shows as none).", "", markdown_table(shown), ""]  # fmt: skip
+    for method, g in table.groupby("method", sort=False):
+        top = g[causes].mean().idxmax()
+        out.append(f"- {method}: slow {g['slow'].mean():.0%} and receding "
+                   f"{g['receding'].mean():.0%} of the time on average over its runs shown; "
+                   f"the main hold: {top.replace('slow_by_', '')} "
+                   f"({g[top].mean():.0%} of the slow samples).")  # fmt: skip
+    return [*out, ""]
 
 
 def _animations(result: NavigationCrowdsResult) -> list[tuple[str, str]]:
@@ -292,7 +390,8 @@ def write_navigation_crowds_report(
     version: str | None = None,
     study_text: str | None = None,
 ) -> list[Path]:
-    """Write the files listed in the module text.
+    """Write the files listed in the module text (through
+    :func:`~designlab.report.builder.write_report`; the GIFs first).
 
     Parameters
     ----------
@@ -308,18 +407,16 @@ def write_navigation_crowds_report(
         The study file's text, copied as ``study.yaml``.
     """
     summary = result.to_frame()
-    written = [write_csv(summary, directory / "rates.csv"),
-               write_csv(result.crowds.runs, directory / "runs.csv")]  # fmt: skip
+    stalls = stall_table(result)
+    tables = {"rates.csv": summary, "runs.csv": result.crowds.runs, "stalls.csv": stalls}
     if result.tuning is not None and result.validation is not None:
-        written.append(write_csv(result.tuning.to_frame(), directory / "tuning_history.csv"))
-        written.append(write_csv(result.validation.to_frame(), directory / "gains_validation.csv"))
-    for fig, name in ((rates_figure(summary), "rates_vs_density.png"),
-                      (trajectories_figure(result), "trajectories.png")):  # fmt: skip
-        written.append(write_png(fig, directory / name))
-        plt.close(fig)
-    if result.study.animations:
-        written += _write_gifs(result, directory)
-    text = navigation_crowds_markdown(result, command=command, version=version)
-    written.append(write_markdown(text, directory / "summary.md"))
-    written += copy_study(directory, study_text)
-    return written
+        tables["tuning_history.csv"] = result.tuning.to_frame()
+        tables["gains_validation.csv"] = result.validation.to_frame()
+    gifs = _write_gifs(result, Path(directory)) if result.study.animations else []
+    text = navigation_crowds_markdown(result, command=command, version=version, stalls=stalls)
+    return gifs + write_report(
+        directory, tables=tables,
+        figures={"rates_vs_density.png": lambda: rates_figure(summary),
+                 "trajectories.png": lambda: trajectories_figure(result)},
+        pages={"summary.md": text}, study_text=study_text,
+    )  # fmt: skip

@@ -52,6 +52,7 @@ from shapely.ops import unary_union
 from designlab.errors import InvalidParameterError
 from designlab.navigation.crowds.layouts import LAYOUTS, Layout, build_layout
 from designlab.navigation.crowds.models import MODELS
+from designlab.navigation.crowds.regions import REGION_SIZING, closing_speed_sizing
 from designlab.navigation.field import ObstacleGeometry
 from designlab.navigation.parameters import (
     MAX_HUMAN_SPEED,
@@ -158,9 +159,18 @@ class CrowdScenario:
     robot: HolonomicRobot | NonholonomicRobot = param(  # noqa: RUF009
         doc="HolonomicRobot or NonholonomicRobot", kind="object", default_factory=HolonomicRobot
     )
-    horizon: float = param(
-        "T_max", "s", doc="simulated time limit", gt=0, le=MAX_HORIZON, default=60.0
-    )
+    horizon: float | None = param(
+        "T_max", "s", doc="simulated time limit", gt=0, le=MAX_HORIZON, optional=True,
+        none="horizon_factor x the free-run time", default=None,
+    )  # fmt: skip
+    horizon_factor: float = param(
+        "k_T", "", doc="time limit as a multiple of the robot's free-run time", gt=1.0, le=50.0,
+        default=2.5,
+    )  # fmt: skip
+    region_sizing: str = param(
+        doc=REGION_SIZING.doc, kind="choice", choices=REGION_SIZING.choices,
+        default=REGION_SIZING.default,
+    )  # fmt: skip
     sample_time: float = declared_field(SAMPLE_TIME, 0.06)
     pedestrian_step: float = param(
         "dt_p", "s", doc="JuPedSim time step (divides the sample time)", gt=0, le=0.1, default=0.01
@@ -243,6 +253,12 @@ class CrowdScenario:
             )  # fmt: skip
 
     def _check_regions(self) -> None:
+        if self.region_sizing == "closing_speed" and self.active_radius is not None:
+            raise InvalidParameterError(
+                "CrowdScenario.active_radius", self.active_radius,
+                "must be None with region_sizing='closing_speed' (the active radius is sized "
+                "from each pedestrian's closing speed)", "m",
+            )  # fmt: skip
         r2, r3 = self.pedestrian_regions()
         if r2 <= r3:
             raise InvalidParameterError(
@@ -342,6 +358,26 @@ class CrowdScenario:
         return self.goal if self.goal is not None else self.geometry.goal
 
     @property
+    def free_run_time(self) -> float:
+        """The robot's free-run time, s: the shortest time from rest at the start to rest at
+        the goal along the straight line, at its speed and acceleration limits,
+        |goal - start| / V_mr + V_mr / a_mr (no pedestrian, no gains: a property of the task).
+        """
+        r = self.robot
+        (x0, y0), (x1, y1) = self.robot_start, self.robot_goal
+        d = math.hypot(x1 - x0, y1 - y0)
+        v, a = r.max_speed, r.max_accel
+        return d / v + v / a if d >= v * v / a else 2.0 * math.sqrt(d / a)
+
+    @property
+    def time_limit(self) -> float:
+        """The simulated time limit, s: ``horizon``, else ``horizon_factor`` x
+        :attr:`free_run_time` (capped at the largest horizon)."""
+        if self.horizon is not None:
+            return float(self.horizon)
+        return min(self.horizon_factor * self.free_run_time, MAX_HORIZON)
+
+    @property
     def area_m2(self) -> float:
         return float(self.geometry.area.area)
 
@@ -391,13 +427,20 @@ class CrowdScenario:
     def pedestrian_geometry(self) -> ObstacleGeometry:
         """The compiled step's geometry of one pedestrian slot."""
         r2, r3 = self.pedestrian_regions()
-        return ObstacleGeometry("disc", r2, r3, moving=True)
+        return ObstacleGeometry(
+            "disc", r2, r3, moving=True, r2_input=self.region_sizing == "closing_speed"
+        )
+
+    def closing_speed_sizing(self) -> Any:
+        """The :class:`~designlab.navigation.crowds.regions.ClosingSpeedSizing` of the
+        pedestrians (used when ``region_sizing="closing_speed"``)."""
+        return closing_speed_sizing(self)
 
     def robot_scenario(self) -> Scenario:
         """The robot's task with the walls alone (the nominal run has no pedestrians)."""
         return Scenario(
             f"{self.layout} (walls)", self.robot_start, self.robot_goal, self.walls(),
-            self.robot, self.horizon, self.sample_time,
+            self.robot, self.time_limit, self.sample_time,
         )  # fmt: skip
 
     def replace(self, **changes: Any) -> CrowdScenario:

@@ -23,7 +23,7 @@ import functools
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from itertools import combinations
 from typing import Any
 
@@ -179,10 +179,10 @@ def _setup(crowd: Any, gains: Any, kw: dict[str, Any]) -> _Setup:
             f"must divide the pedestrian step {dtp} s (and T_s = {ts} s) into whole steps",
             "s",
         )  # fmt: skip
-    n_samples = math.ceil(crowd.horizon / ts - 1e-9)
+    n_samples = math.ceil(crowd.time_limit / ts - 1e-9)
     cap = crowd.pedestrians * _INFLOW_FACTOR
     check_size(
-        "CrowdScenario.horizon", crowd.horizon, (n_samples * per + 1) * cap * 2,
+        "CrowdScenario.horizon", crowd.time_limit, (n_samples * per + 1) * cap * 2,
         what="the recorded pedestrian positions",
     )  # fmt: skip
     stab = kw["stabilising"] if strategy.STABILISED else "off"
@@ -236,8 +236,14 @@ class _Run:
             1.0 if s.stabilising == "lyapunov" else 0.0,
             robot.max_accel,
         )
-        self.cbf = CBFFilter(self.geos, robot, s.cbf_gains) if s.method == "cbf" else None
+        fixed = tuple(replace(g, r2_input=False) for g in self.geos)  # CBF reads r3 alone
+        self.cbf = CBFFilter(fixed, robot, s.cbf_gains) if s.method == "cbf" else None
         self.r2, self.r3 = c.pedestrian_regions()
+        sized = c.region_sizing == "closing_speed"
+        if sized:  # the walls' radii (fixed), then one per slot (the largest until filled)
+            inp[6][:] = [g.r2 for g in self.geos]
+        # CBF has no active region (its filter sees every pedestrian within the largest r2)
+        self.sizing = c.closing_speed_sizing() if sized and s.method != "cbf" else None
         self.w2, self.w3 = c.wall_regions()
         self.ped = PedestrianSim(c, c.robot_start)
         self.frames = _Frames(s.n_ped, s.per_ped + 1)
@@ -277,7 +283,7 @@ class _Run:
         count = self.ped.count
         if count > self.frames.ring.shape[1]:
             raise InvalidParameterError(
-                "CrowdScenario.horizon", self.s.crowd.horizon,
+                "CrowdScenario.horizon", self.s.crowd.time_limit,
                 f"lets more than {self.s.n_ped} pedestrians enter (the records' cap); shorten it",
             )  # fmt: skip
         self.frames.push(ids, P, count)
@@ -307,7 +313,9 @@ class _Run:
         inside = np.flatnonzero(d2 < self.r2 * self.r2)  # NaN rows (not in) compare False
         n = inside.size
         obs = self.slots  # a view of the step's obstacle input
-        if n <= s.crowd.neighbours:  # as fill_slots, on the candidates only
+        if self.sizing is not None:
+            n = self._sized_slots(sensed[:, inside], d2[inside])
+        elif n <= s.crowd.neighbours:  # as fill_slots, on the candidates only
             obs[n:] = self.parked[n:]
             if n:
                 obs[:n] = _slot_rows(sensed[:, inside], d2[inside].tolist(), self.ped_dt)
@@ -322,6 +330,27 @@ class _Run:
             dx, dy = zip(*((a[0] - b[0], a[1] - b[1]) for a, b in combinations(Q, 2)), strict=True)
             self.overlaps += int((np.hypot(dx, dy) < 2 * self.r3).any())
         return self._step_robot()
+
+    def _sized_slots(self, F: Array, d2: Array) -> int:
+        """Fill the slots with the pedestrians of ``F`` ``(3, n, 2)`` (those within the largest
+        r2) that are inside their own closing-speed active radius, nearest first, and set
+        the slots' radii (:mod:`~designlab.navigation.crowds.regions`); returns how many."""
+        robot = self.step.inp[0][:2]
+        P, V, A = _derivatives(F, self.ped_dt)
+        r2 = self.sizing.active_radii(robot, P, V)
+        keep = np.flatnonzero(d2 < r2 * r2)
+        keep = keep[np.argsort(d2[keep], kind="stable")]
+        K = self.s.crowd.neighbours
+        if keep.size > K:
+            self.overflow += 1
+        use = keep[:K]
+        m = use.size
+        obs, radii = self.slots, self.step.inp[6][len(self.walls) :]
+        obs[m:] = self.parked[m:]
+        obs[:m, 0:2], obs[:m, 2:4], obs[:m, 4:6] = P[use], V[use], A[use]
+        radii[:] = self.r2
+        radii[:m] = r2[use]
+        return int(keep.size)
 
     def _step_robot(self) -> Array:
         """The compiled step on the inputs set (with the CBF filter's force for CBF)."""
@@ -509,7 +538,7 @@ def _outcome(run: _Run) -> dict[str, Any]:
         status = CrowdStatus.OK
     else:
         status = CrowdStatus.NOT_ARRIVED
-        warnings.append(f"the robot did not reach the goal within {c.horizon} s")
+        warnings.append(f"the robot did not reach the goal within {c.time_limit:g} s")
     if surf <= 0:
         warnings.append(f"collision with a pedestrian: surface distance {surf:.3f} m")
     elif run.dmin <= run.r3:
@@ -634,9 +663,9 @@ def simulate_pedestrians(crowd: CrowdScenario) -> PedestrianRun:
         raise InvalidParameterError("crowd", crowd, "must be a CrowdScenario (navigation.crowd())")
     alone = crowd.replace(react_to_robot=False)
     ped = PedestrianSim(alone)
-    n_steps = round(crowd.horizon / crowd.pedestrian_step)
+    n_steps = round(crowd.time_limit / crowd.pedestrian_step)
     check_size(
-        "CrowdScenario.horizon", crowd.horizon,
+        "CrowdScenario.horizon", crowd.time_limit,
         (n_steps + 1) * crowd.pedestrians * _INFLOW_FACTOR * 2,
         what="the recorded pedestrian positions",
     )  # fmt: skip

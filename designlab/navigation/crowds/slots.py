@@ -105,7 +105,8 @@ def crowd_step(
     (:mod:`designlab.navigation.engine`), without its distances (the crowd simulator measures
     them against every pedestrian). Inputs ``x0``, ``goal``, ``obs`` (6 per obstacle),
     ``gains``, ``params`` (mass, tie, stabilising 1/0, a_max), ``fforce`` (use, F_x, F_y: the
-    CBF filter's force); outputs the states of the ``n_sub`` dynamics steps ``X``, the
+    CBF filter's force) and, with obstacles of ``r2_input``, ``r2`` (their active radii);
+    outputs the states of the ``n_sub`` dynamics steps ``X``, the
     copper loss ``power``, the force ``F``, ``critical`` and the Lyapunov terms.
 
     Parameters
@@ -129,8 +130,10 @@ def crowd_step(
     gains = ca.SX.sym("gains", 4)
     params = ca.SX.sym("params", 4)
     fforce = ca.SX.sym("fforce", 3)
+    r2 = ca.SX.sym("r2", n)  # an input only with r2_input obstacles (after fforce)
+    extra = {"r2": r2} if any(g.r2_input for g in geometries) else {}
     out = build_field(geometries, method)(
-        x=_field_velocity(robot, x0), goal=goal, obs=obs, gains=gains, params=params
+        x=_field_velocity(robot, x0), goal=goal, obs=obs, gains=gains, params=params, **extra
     )
     F = ca.if_else(fforce[0], fforce[1:3], out["F"])
     F, brake = critical_response(geometries, robot, x0, obs, F, n_sub * dt)
@@ -147,9 +150,9 @@ def crowd_step(
     ]
     return ca.Function(
         f"crowd_step_{method}_{robot.kind}_{n}",
-        [x0, goal, obs, gains, params, fforce],
+        [x0, goal, obs, gains, params, fforce, *extra.values()],
         outs,
-        ["x0", "goal", "obs", "gains", "params", "fforce"],
+        ["x0", "goal", "obs", "gains", "params", "fforce", *extra],
         list(_OUT),
         {"cse": True},
     )

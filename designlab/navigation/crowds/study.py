@@ -422,9 +422,10 @@ def simulate_run(options: Mapping[str, Any], scenario: str, density: float, seed
     CrowdResult
     """
     gains = decode_gains(dict(options.get("gains", {})).get(label))
+    stab = options.get("stabilising", "lyapunov")  # one setting, or label -> setting
+    stab = dict(stab).get(label, "lyapunov") if isinstance(stab, Mapping) else stab
     return simulate_crowd(crowd_of(options, scenario, density, seed), gains,
-                          method=method_name(label),
-                          stabilising=str(options.get("stabilising", "lyapunov")))  # fmt: skip
+                          method=method_name(label), stabilising=str(stab))  # fmt: skip
 
 
 def crowd_runs_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) -> dict[str, Any]:
@@ -513,7 +514,7 @@ def crowd_study(
     methods: Sequence[str] = ("vff",),
     *,
     gains: Mapping[str, Any] | None = None,
-    stabilising: str = "lyapunov",
+    stabilising: str | Mapping[str, str] = "lyapunov",
     crowd_options: Mapping[str, Any] | None = None,
     personal_space: float = 1.2,
     confidence: float = 0.95,
@@ -538,7 +539,8 @@ def crowd_study(
     gains
         Label -> gains (defaults: see the module text).
     stabilising
-        ``"lyapunov"`` or ``"off"``: VFF's stabilising force.
+        ``"lyapunov"`` or ``"off"``: VFF's stabilising force; or label -> setting (a label
+        not listed: ``"lyapunov"``).
     crowd_options
         Other keywords of :func:`~designlab.navigation.crowd` (``width``, ``length``,
         ``model``, ``react_to_robot``, ``horizon``, ...).
@@ -568,7 +570,7 @@ def crowd_study(
     total = MAX_RUNS.check(len(names) * len(rho) * len(seed_list) * len(labels))
     options = {
         "scenarios": names, "methods": labels, "gains": coded,
-        "crowd": dict(crowd_options or {}), "stabilising": STABILISING.check(stabilising),
+        "crowd": dict(crowd_options or {}), "stabilising": _stabilising(stabilising, labels),
         "personal_space": PERSONAL_SPACE.check(personal_space),
     }  # fmt: skip
     crowd_of(options, names[0], rho[0], seed_list[0])  # bad crowd options fail before any run
@@ -583,6 +585,16 @@ def crowd_study(
             done += len(seed_list) * len(labels)
             report(progress, Progress(done, total, label="runs", note=f"{name} {d:g}/m^2"))
     return _study(pd.concat(frames, ignore_index=True), options, confidence)
+
+
+def _stabilising(value: Any, labels: list[str]) -> str | dict[str, str]:
+    """The stabilising setting checked: one for every label, or label -> setting."""
+    if not isinstance(value, Mapping):
+        return str(STABILISING.check(value))
+    unknown = sorted(set(value) - set(labels))
+    if unknown:
+        raise InvalidParameterError("stabilising", unknown, f"must name labels of {labels}")
+    return {str(k): str(STABILISING.check(v)) for k, v in value.items()}
 
 
 def _named(frame: pd.DataFrame, names: list[str], labels: list[str]) -> pd.DataFrame:

@@ -6,7 +6,8 @@ collision in any training run) and critical-entry rate at most ``critical_rate``
 :func:`optimise_crowd_gains` (also ``navigation.optimise_gains(crowd_set, robust=...)``)
 searches log-gain space with CMA-ES; a candidate's cost is the ``"mean"`` or the ``"cvar"``
 (mean of the worst ``1 - alpha`` of the runs, :func:`~designlab.navigation.crowds.metrics.cvar`)
-of its runs' costs: the arrival time, or twice the horizon for a run that did not arrive.
+of its runs' costs: the arrival time, or twice the time limit (the longest of the training
+layouts') for a run that did not arrive.
 A candidate breaking a rate ranks below every candidate that keeps them, by how much it
 breaks them.
 
@@ -315,8 +316,9 @@ def optimise_crowd_gains(
     mode, a = ROBUST.check(robust), CVAR_ALPHA.check(alpha)
     pop, gens = POPULATION.check(popsize), GENERATIONS.check(generations)
     box = _log_box(bounds)
-    horizon = crowd_of({"crowd": dict(training.crowd_options)}, training.scenarios[0],
-                       training.densities[0], training.seeds[0]).horizon  # fmt: skip
+    opts = {"crowd": dict(training.crowd_options)}
+    horizon = max(crowd_of(opts, name, training.densities[0], training.seeds[0]).time_limit
+                  for name in training.scenarios)  # fmt: skip
     u0 = _start(x0, box)
     es = cma.CMAEvolutionStrategy(u0.tolist(), float(sigma0), {"bounds": [0.0, 1.0], "popsize": pop,
                                   "seed": int(seed) + 1, "verbose": -9})  # fmt: skip

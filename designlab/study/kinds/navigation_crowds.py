@@ -90,6 +90,9 @@ class CrowdMethodSpec(Model):
     gains: GainsSpec | MasoudGainsSpec | GeCuiGainsSpec | None = Field(  # type: ignore[valid-type]
         None, description="vff/cbf {k1, b, k3, k5}; the baselines default to Table C.1"
     )
+    stabilising: STABILISING.annotation() | None = Field(  # type: ignore[valid-type]
+        None, description="VFF's stabilising force for this method (default: the study's)"
+    )
 
     @property
     def label(self) -> str:
@@ -121,6 +124,10 @@ class TuningSpec(Model):
     popsize: Annotated[Integer, Field(ge=4, le=64)] = 6
     generations: Annotated[Integer, Field(ge=1, le=100)] = 4
     seed: _Seed = 0
+    stabilising: STABILISING.annotation() | None = Field(  # type: ignore[valid-type]
+        None, description="VFF's stabilising force while tuning and validating (default: the "
+        "study's)",
+    )  # fmt: skip
     compare: dict[str, GainsSpec] = Field(  # type: ignore[valid-type]
         default_factory=dict, max_length=6, description="tag -> gains validated beside the optimum"
     )
@@ -168,7 +175,9 @@ class NavigationCrowdsStudy(StudyBase):
         "summary.md", "runs.csv", "rates.csv", "rates_vs_density.png", "trajectories.png",
         "study.yaml",
     )  # fmt: skip
-    TYPICAL_DURATION: ClassVar[float] = 180  # s, the committed study, serial: ~150 s CPU measured
+    #: s, the committed study: ~270 s CPU measured (2 worker processes: 19.5 min of wall time
+    #: at load 13-18 on two shared cores)
+    TYPICAL_DURATION: ClassVar[float] = 300
     MAX_POINTS: ClassVar[int] = int(MAX_RUNS.le)  # type: ignore[arg-type]
 
     @model_validator(mode="after")
@@ -258,7 +267,8 @@ class NavigationCrowdsResult(Result):
 
 
 def _grid_options(study: NavigationCrowdsStudy) -> dict[str, Any]:
-    return {"crowd_options": study.crowd.model_dump(), "stabilising": study.stabilising,
+    stab = {m.label: m.stabilising or study.stabilising for m in study.methods}
+    return {"crowd_options": study.crowd.model_dump(), "stabilising": stab,
             "personal_space": study.personal_space, "confidence": study.confidence}  # fmt: skip
 
 
@@ -284,15 +294,16 @@ def _tune(study: NavigationCrowdsStudy, context: RunContext) -> tuple[Any, Any]:
         return None, None
     crowd = study.crowd.model_dump()
     training, validation = crowd_set(t, t.training, crowd), crowd_set(t, t.validation, crowd)
+    stab = t.stabilising or study.stabilising
     with context.bar("navigation_crowds: tune", t.generations) as hook:
         opt = optimise_crowd_gains(training, bounds=DEFAULT_BOUNDS, robust=t.robust, alpha=t.alpha,
                                    popsize=t.popsize, generations=t.generations, seed=t.seed,
-                                   stabilising=study.stabilising, executor=context.executor,
+                                   stabilising=stab, executor=context.executor,
                                    store=context.store, progress=hook)  # fmt: skip
     tag = "crowd_optimum" if opt.status == "ok" else "crowd_least_violating"  # said as it is
     candidates = {tag: opt.gains, **{k: g.build() for k, g in t.compare.items()}}
     val = validate_gains(
-        candidates, validation, training, stabilising=study.stabilising,
+        candidates, validation, training, stabilising=stab,
         executor=context.executor, store=context.store, personal_space=study.personal_space,
         confidence=study.confidence,
     )  # fmt: skip

@@ -206,6 +206,7 @@ def test_the_report_is_written_from_its_tables(tmp_path) -> None:
         "runs.csv",
         "rates_vs_density.png",
         "trajectories.png",
+        "stalls.csv",
     } <= written
     assert not any(name.endswith(".gif") for name in written)  # animations: false
     text = (out / "summary.md").read_text()
@@ -219,3 +220,26 @@ def test_the_report_is_written_from_its_tables(tmp_path) -> None:
             len(sub),
             int(sub.collided.sum()),
         ]
+    stalls = pd.read_csv(out / "stalls.csv")
+    for method, g in stalls.groupby("method"):
+        line = re.search(rf"- {method}: slow (\d+)% and receding (\d+)%", text)
+        assert line is not None
+        assert [int(x) for x in line.groups()] == [
+            round(100 * g["slow"].mean()),
+            round(100 * g["receding"].mean()),
+        ]
+
+
+def test_stabilising_per_method_label() -> None:
+    from designlab.navigation.crowds.study import crowd_study, encode_gains, simulate_run
+
+    g = encode_gains(VFFGains(4.3, 0.68, 20.3, 240.7))
+    options = {"crowd": {"length": 8.0, "horizon": 0.12}, "stabilising": {"vff:off": "off"},
+               "gains": {"vff": g, "vff:off": g}}  # fmt: skip
+    assert simulate_run(options, "crossing", 0.1, 0, "vff:off").stabilising == "off"
+    assert simulate_run(options, "crossing", 0.1, 0, "vff").stabilising == "lyapunov"
+    args = {"scenarios": ["crossing"], "densities": [0.1], "seeds": [0],
+            "methods": ["vff", "vff:off"], "crowd_options": SHORT}  # fmt: skip
+    for bad in ({"vff:on": "off"}, {"vff:off": "sometimes"}):
+        with pytest.raises(DesignlabError, match="stabilising"):
+            crowd_study(**args, stabilising=bad)
