@@ -120,6 +120,7 @@ def test_placements_in_threads_equal_placements_alone():
     after = np.random.random()  # noqa: NPY002
     with ThreadPoolExecutor(3) as ex:
         for _ in range(3):
-            assert all(np.array_equal(a, b) for a, b in zip(alone, ex.map(placed, range(6)), strict=True))
+            threaded = list(ex.map(placed, range(6)))
+            assert all(np.array_equal(a, b) for a, b in zip(alone, threaded, strict=True))
     np.random.seed(123)  # noqa: NPY002
     assert np.random.random() == after  # noqa: NPY002
