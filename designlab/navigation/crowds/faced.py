@@ -169,12 +169,20 @@ def measurement_band(
     return Polygon([(x0 + nx, y0 + ny), (x0 - nx, y0 - ny), (x1 - nx, y1 - ny), (x1 + nx, y1 + ny)])
 
 
-def _trajectories(times: Array, P: Array) -> tuple[pd.DataFrame, float, Array]:
+def _trajectories(
+    times: Array, P: Array, bounds: tuple[float, ...]
+) -> tuple[pd.DataFrame, float, Array]:
     """pedpy's trajectory table of the records thinned to :data:`FRAME_RATE` (id, frame, x,
-    y; rows where a pedestrian is present), its frame rate and the thinned times."""
+    y; rows where a pedestrian is present), its frame rate and the thinned times. Pedestrians
+    never within ``bounds`` (the band's bounding box) are left out: they change neither
+    measure (a pedestrian's speed is its own)."""
     dt = float(np.median(np.diff(times))) if times.size > 1 else math.inf
     stride = max(1, round(1.0 / (FRAME_RATE * dt))) if math.isfinite(dt) and dt > 0 else 1
     t, Q = times[::stride], P[::stride]
+    x0, y0, x1, y1 = bounds
+    with np.errstate(invalid="ignore"):
+        near = (Q[..., 0] >= x0) & (Q[..., 0] <= x1) & (Q[..., 1] >= y0) & (Q[..., 1] <= y1)
+    Q = Q[:, near.any(axis=0)]
     T, N = Q.shape[:2]
     frame, ped = np.repeat(np.arange(T), N), np.tile(np.arange(N), T)
     xy = Q.reshape(T * N, 2)
@@ -208,18 +216,15 @@ def faced_crowd(times: ArrayLike, pedestrian_positions: ArrayLike, band: Polygon
         raise InvalidParameterError(
             "pedestrian_positions", P.shape, f"must be (T, N, 2) with T = {t.size} (the times)"
         )
-    table, rate, tt = _trajectories(t, P)
+    table, rate, tt = _trajectories(t, P, band.bounds)
     area = pedpy.MeasurementArea(band)
     h = _half_width(band)
     if tt.size < 2:
         empty = pd.DataFrame({"t_s": tt, "density_per_m2": np.nan, "speed_m_per_s": np.nan})
         return FacedCrowd(math.nan, math.nan, area.area, h, empty, FacedStatus.TOO_SHORT,
                           ("fewer than two frames: nothing measured",))  # fmt: skip
-    frames = pd.DataFrame({"frame": np.arange(tt.size), "t_s": tt})
     if table.empty:
-        frames["density_per_m2"], frames["speed_m_per_s"] = 0.0, 0.0
-        return FacedCrowd(0.0, math.nan, area.area, h, frames.drop(columns="frame"),
-                          FacedStatus.NO_PEDESTRIANS, ("no pedestrian in the band",))  # fmt: skip
+        return _nobody(tt, 0.0, area.area, h)
     traj = pedpy.TrajectoryData(data=table, frame_rate=rate)
     density = pedpy.compute_classic_density(traj_data=traj, measurement_area=area)
     speed = pedpy.compute_individual_speed(
@@ -229,16 +234,20 @@ def faced_crowd(times: ArrayLike, pedestrian_positions: ArrayLike, band: Polygon
     mean = pedpy.compute_mean_speed_per_frame(
         traj_data=traj, individual_speed=speed, measurement_area=area
     )
-    frames = frames.merge(density, on="frame", how="left").merge(mean, on="frame", how="left")
-    frames = frames.rename(columns={"density": "density_per_m2", "speed": "speed_m_per_s"})
-    frames = frames.fillna({"density_per_m2": 0.0, "speed_m_per_s": 0.0})
-    occupied = frames["density_per_m2"].to_numpy() > 0
-    rho = float(frames["density_per_m2"].mean())
-    if not occupied.any():
-        return FacedCrowd(rho, math.nan, area.area, h, frames.drop(columns="frame"),
-                          FacedStatus.NO_PEDESTRIANS, ("no pedestrian in the band",))  # fmt: skip
-    v = float(frames.loc[occupied, "speed_m_per_s"].mean())
-    return FacedCrowd(rho, v, area.area, h, frames.drop(columns="frame"))
+    rho, v = np.zeros(tt.size), np.zeros(tt.size)  # pedpy's frames: those with anyone in
+    rho[density["frame"].to_numpy()] = density["density"].to_numpy()
+    v[mean["frame"].to_numpy()] = mean["speed"].to_numpy()
+    if not (rho > 0).any():
+        return _nobody(tt, float(rho.mean()), area.area, h)
+    frames = pd.DataFrame({"t_s": tt, "density_per_m2": rho, "speed_m_per_s": v})
+    return FacedCrowd(float(rho.mean()), float(v[rho > 0].mean()), area.area, h, frames)
+
+
+def _nobody(t: Array, rho: float, area: float, h: float) -> FacedCrowd:
+    """Nobody in the band at any frame."""
+    frames = pd.DataFrame({"t_s": t, "density_per_m2": 0.0, "speed_m_per_s": 0.0})
+    return FacedCrowd(rho, math.nan, area, h, frames, FacedStatus.NO_PEDESTRIANS,
+                      ("no pedestrian in the band",))  # fmt: skip
 
 
 def _half_width(band: Polygon) -> float:
