@@ -75,12 +75,15 @@ class FacedStatus(Status):
     """Status of a :class:`FacedCrowd`.
 
     ``OK``: measured; ``NO_PEDESTRIANS``: nobody was ever in the band (density 0, speed NaN);
-    ``TOO_SHORT``: fewer than two frames after thinning (both NaN).
+    ``TOO_SHORT``: fewer than two frames after thinning (both NaN); ``NO_BAND``: the straight
+    path from the robot's start to its goal leaves the walkable area or runs along its
+    boundary, so there is no band to measure in (both NaN; :func:`faced_by`).
     """
 
     OK = "ok"
     NO_PEDESTRIANS = "no_pedestrians"
     TOO_SHORT = "too_short"
+    NO_BAND = "no_band"
 
 
 @dataclass(frozen=True)
@@ -281,5 +284,11 @@ def faced_by(result: Any, half_width: float = MEASURE_HALF_WIDTH.default) -> Fac
     (14.0, True, True)
     """
     c = result.crowd
-    band = measurement_band(c.robot_start, c.robot_goal, c.geometry.area, half_width)
+    MEASURE_HALF_WIDTH.check(half_width)
+    try:
+        band = measurement_band(c.robot_start, c.robot_goal, c.geometry.area, half_width)
+    except InvalidParameterError as exc:  # a path around a corner: no straight band
+        frames = pd.DataFrame({"t_s": np.asarray(result.times, dtype=float)})
+        return FacedCrowd(math.nan, math.nan, math.nan, math.nan, frames, FacedStatus.NO_BAND,
+                          (f"no measurement band: {exc}",))  # fmt: skip
     return faced_crowd(result.times, result.pedestrian_positions, band)

@@ -118,6 +118,20 @@ def test_empty_and_too_short_records():
     assert one.status == FacedStatus.TOO_SHORT and math.isnan(one.measured_density_per_m2)
 
 
+def test_a_path_around_a_corner_has_no_band_and_says_so():
+    """A start and goal whose straight path crosses a wall: NaN measures, not an error."""
+    c = nav.crowd("crossing", 4, length=12.0, width=4.0, seed=0, horizon=0.5,
+                  start=(5.0, 1.0), goal=(1.0, 5.0))  # fmt: skip
+    res = nav.simulate(c, nav.OPTIMAL_GAINS)
+    f = res.faced()
+    assert f.status == FacedStatus.NO_BAND and "no measurement band" in f.warnings[0]
+    assert math.isnan(f.measured_density_per_m2) and math.isnan(
+        run_row(res)["mean_ped_speed_m_per_s"]
+    )
+    with pytest.raises(DesignlabError):
+        res.faced(half_width=-1.0)
+
+
 def test_a_run_and_the_study_table_report_the_crowd_met():
     """The per-run columns equal faced_by of the same run; the table averages them."""
     opts = {"length": 10.0, "horizon": 1.0}
