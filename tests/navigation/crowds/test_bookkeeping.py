@@ -15,7 +15,12 @@ from shapely.geometry import Polygon, box
 
 import designlab as dl
 from designlab.navigation.crowds import simulate as crowd_sim
-from designlab.navigation.crowds.bookkeeping import area_edges, inside_area, pairwise_sum
+from designlab.navigation.crowds.bookkeeping import (
+    area_edges,
+    fill_candidates,
+    inside_area,
+    pairwise_sum,
+)
 from designlab.navigation.crowds.layouts import LAYOUTS, build_layout
 
 nav = dl.navigation
@@ -118,3 +123,40 @@ def test_compiled_runs_equal_the_numpy_path_bit_for_bit(case, monkeypatch):
         assert fast.slot_overflow > 0  # the numpy fill of an overflowing period is covered
     if length == 8.0:
         assert fast.arrived
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    n=st.integers(0, 30),
+    k=st.integers(1, 8),
+    absent=st.floats(0.0, 0.5),
+    seed=st.integers(0, 2**32 - 1),
+)
+def test_fill_candidates_is_the_numpy_slots_with_ties_and_absent_pedestrians(n, k, absent, seed):
+    """The slots (nearest first, a stable order on ties), the empty slots and the overlap flag
+    as the numpy path writes them; NaN rows (not in the simulation) are never candidates."""
+    rng = np.random.default_rng(seed)
+    F = np.round(rng.uniform(-3.0, 3.0, (3, n, 2)), 1)  # a 0.1 m grid: equal distances occur
+    F[:, rng.uniform(size=n) < absent] = np.nan
+    F[0, rng.uniform(size=n) < absent] = np.nan  # entered a step ago: no acceleration yet
+    x, y, r2, r3, dt = 0.05, -0.05, 2.0, 0.4, 0.01
+    parked = np.tile(np.arange(6.0) + 100.0, (k, 1))
+    obs = np.full((k, 6), -1.0)
+    got_n, overlap = fill_candidates(
+        F, np.arange(3, dtype=np.int64), n, x, y, r2 * r2, dt, obs, parked, 2 * r3,
+        np.empty(n), np.empty(n, np.int64),
+    )  # fmt: skip
+    d2 = (F[2, :, 0] - x) ** 2 + (F[2, :, 1] - y) ** 2
+    inside = np.flatnonzero(d2 < r2 * r2)
+    assert got_n == inside.size
+    if inside.size > k:
+        assert (obs == -1.0).all() and not overlap  # left to the numpy fill
+        return
+    want = np.array(crowd_sim._slot_rows(F[:, inside], d2[inside].tolist(), dt)).reshape(-1, 6)
+    assert (
+        np.array_equal(obs[: inside.size], want)
+        and (obs[inside.size :] == parked[inside.size :]).all()
+    )
+    Q = want[:, :2]
+    pairs = [np.hypot(*(Q[i] - Q[j])) < 2 * r3 for i in range(len(Q)) for j in range(i + 1, len(Q))]
+    assert overlap == any(pairs)
