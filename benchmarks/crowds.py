@@ -13,9 +13,12 @@ ignore the robot, collision-free speed model, dt_p = 0.01 s, T_s = 0.06 s, 1 ms 
    force), split into the pedestrian side and the robot side (slots, compiled step,
    distances to every pedestrian and wall at every dynamics step, records).
 
+3. a study's per-run metrics of that run (``run_row``: clearance, personal space and the
+   crowd met, by pedpy).
+
 It prints simulated seconds per CPU second (``time.process_time``: the cost on one core,
-whatever else runs on the machine; the best of ``--repeats`` runs) and the ratio robot side /
-pedestrian side.
+whatever else runs on the machine; the best of ``--repeats`` runs), the ratio robot side /
+pedestrian side, and the same with the per-run metrics added.
 Targets: robot side <= 50 % of the pedestrian simulator's cost; 50 pedestrians >= 20x real
 time on one core, pedestrian simulation included. In the 30 m corridor the robot cannot
 arrive within the default 20 s, so every run lasts the whole horizon.
@@ -34,6 +37,24 @@ pedestrian side, at 50 pedestrians 32-36 % -> 24 %, at 100 (one run) 15 %; coupl
 still missed: the compiled step itself costs about 60-70 us of CPU per period on this loaded
 machine and the remaining numpy calls (distances at every dynamics step, arrival, records)
 about 0.1-0.2 ms, against JuPedSim's cheap 10-agent step (about 0.5-0.6 ms per period).
+
+Measured on 2026-12-05 after the bookkeeping was compiled (numba, one call for the slots and
+one for the period's arrival, distance, energy and walkable-area measures; runs bit-identical
+to the numpy path and to the code before on 68 compared runs), 2 cores shared with seven
+other jobs, load average 12-15, the code before (same commit's benchmark script) and after run
+alternately, two rounds each:
+
+| pedestrians | robot / ped side, before | after | coupled x real time, before | after |
+|---|---|---|---|---|
+| 10 | 61-62 % | 28 % | 88-102x | 126-140x |
+| 50 | 20-23 % | 8-9 % | 34-39x | 42-46x |
+| 100 | 12-18 % | 5 % | 15-17x | 17-20x |
+
+What is left on the robot side is the compiled step itself (about 0.1 ms per period). A
+study adds its per-run metrics after a run: 3 ms before pedpy, now 29-31 / 64-78 /
+102-123 ms for 10 / 50 / 100 pedestrians (pedpy's pandas calls cost about 25 ms whatever
+the size); with them, the robot side and metrics are 55-58 % / 25-28 % / 15-18 % of the
+pedestrian side (63-64 % / 24-27 % / 16-19 % before).
 """
 
 from __future__ import annotations
@@ -42,6 +63,7 @@ import argparse
 import time
 
 import designlab as dl
+from designlab.navigation.crowds.study import run_row
 
 nav = dl.navigation
 GAINS = nav.VFFGains(4.3, 0.68, 20.3, 240.7)
@@ -64,6 +86,11 @@ def measure(n: int, horizon: float, seed: int, repeats: int) -> dict[str, float]
             best = (total, res)
     total, res = best
     sim_t = float(res.times[-1])
+    metrics = []
+    for _ in range(repeats):  # a study's per-run metrics (clearance, personal space, pedpy)
+        t0 = time.process_time()
+        run_row(res, robot_radius=res.crowd.robot.radius)
+        metrics.append(time.process_time() - t0)
     return {
         "n": n,
         "alone_x": horizon / min(alone),
@@ -71,6 +98,8 @@ def measure(n: int, horizon: float, seed: int, repeats: int) -> dict[str, float]
         "ped_s": res.pedestrian_seconds,
         "robot_s": res.robot_seconds,
         "ratio": res.robot_seconds / res.pedestrian_seconds,
+        "metrics_s": min(metrics),
+        "with_metrics": (res.robot_seconds + min(metrics)) / res.pedestrian_seconds,
     }
 
 
@@ -83,13 +112,14 @@ def main() -> None:
     args = ap.parse_args()
     print(
         f"{'N':>4} {'JuPedSim alone':>15} {'coupled':>9} {'ped side s':>11} {'robot side s':>13} "
-        f"{'robot/ped':>10}"
+        f"{'robot/ped':>10} {'metrics s':>10} {'(robot+metrics)/ped':>20}"
     )
     for n in args.sizes:
         m = measure(n, args.horizon, args.seed, args.repeats)
         print(
             f"{m['n']:>4} {m['alone_x']:>13.1f}x {m['coupled_x']:>8.1f}x {m['ped_s']:>11.3f} "
-            f"{m['robot_s']:>13.3f} {m['ratio']:>9.0%}"
+            f"{m['robot_s']:>13.3f} {m['ratio']:>9.0%} {m['metrics_s']:>10.3f} "
+            f"{m['with_metrics']:>19.0%}"
         )
     print("targets: robot/ped <= 50 %; 50 pedestrians coupled >= 20x real time")
 

@@ -57,6 +57,7 @@ KERNEL_MODULES = (
     "impact/kernel_lobe.py",
     "impact/kernel_modal.py",
     "impact/kernel_poles.py",
+    "navigation/crowds/bookkeeping.py",
     "sx/jit.py",
 )
 

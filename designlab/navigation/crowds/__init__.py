@@ -11,6 +11,7 @@ The API (stable; later additions never rename)::
     res.warnings, res.times (T,), res.robot_positions (T, 2), res.robot_velocities (T, 2)
     res.pedestrian_positions (T, N, 2)   # NaN where a pedestrian is not in the simulation
     res.pedestrian_ids (N,), res.nearest_distance (T,), res.desired_speeds (N,), res.to_frame()
+    res.faced()    # the crowd the robot met (pedpy): measured density and pedestrian speed
     peds = nav.simulate_pedestrians(crowd)  # the same seed, no robot -> nav.PedestrianRun:
     peds.times (T,), peds.pedestrian_positions (T, N, 2), peds.pedestrian_ids, peds.to_frame()
 
@@ -26,8 +27,9 @@ pedestrian step (``pedestrian_step``, 0.01 s): ``times[i] = i * pedestrian_step`
 Modules: :mod:`~.layouts` (the four layouts), :mod:`~.scenario` (:class:`CrowdScenario`,
 regions of pedestrians and walls), :mod:`~.models` (JuPedSim's four models, the robot as an
 agent), :mod:`~.pedestrians` (the JuPedSim simulation), :mod:`~.slots` (N obstacles through
-K slots of one compiled step), :mod:`~.simulate` (the lock-step), :mod:`~.results` (what a run
-returns).
+K slots of one compiled step), :mod:`~.simulate` (the lock-step), :mod:`~.bookkeeping` (its
+per-period bookkeeping, compiled), :mod:`~.results` (what a run returns), :mod:`~.faced` (the
+density and speed of the crowd the robot met, by pedpy).
 
 Examples
 --------

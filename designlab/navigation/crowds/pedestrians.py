@@ -25,6 +25,7 @@ Examples
 from __future__ import annotations
 
 import logging
+import threading
 from typing import Any
 
 import jupedsim as jps
@@ -49,6 +50,20 @@ _SPAWN_TRIES = 20
 _DESTINATION_HALF = 0.6
 #: Lowest desired speed drawn, m/s.
 MIN_DESIRED_SPEED = 0.3
+#: JuPedSim's placement seeds and draws numpy's global generator (``np.random.seed``): one
+#: placement at a time, so runs in threads (Dask workers) place as runs alone do.
+_PLACEMENT_LOCK = threading.Lock()
+
+
+def _distribute(**kw: Any) -> Any:
+    """``jupedsim.distribute_by_number`` alone (under :data:`_PLACEMENT_LOCK`), leaving numpy's
+    global generator as it found it."""
+    with _PLACEMENT_LOCK:
+        state = np.random.get_state()  # noqa: NPY002 - the legacy generator JuPedSim uses
+        try:
+            return jps.distribute_by_number(**kw)
+        finally:
+            np.random.set_state(state)  # noqa: NPY002
 
 
 def desired_speeds(crowd: CrowdScenario, rng: np.random.Generator, n: int) -> Array:
@@ -152,7 +167,7 @@ class PedestrianSim:
         self._journeys = [self._journey(s.exit) for s in streams]
         r = c.pedestrian_radius
         try:
-            points = jps.distribute_by_number(
+            points = _distribute(
                 polygon=c.placement_area(), number_of_agents=c.pedestrians,
                 distance_to_agents=2 * r + PLACEMENT_GAP, distance_to_polygon=r + 0.05,
                 seed=c.seed, max_iterations=20_000,

@@ -11,6 +11,7 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
+from designlab.navigation.crowds.faced import MEASURE_HALF_WIDTH, FacedCrowd, faced_by
 from designlab.navigation.crowds.scenario import CrowdScenario
 from designlab.results import Result, Status
 
@@ -188,9 +189,23 @@ class CrowdResult(Result):
             self.desired_speeds, self.status, self.warnings,
         )  # fmt: skip
 
+    def faced(self, half_width: float = MEASURE_HALF_WIDTH.default) -> FacedCrowd:
+        """The density and speed of the pedestrians the robot met (pedpy, in the band of half
+        width ``half_width`` m along its straight path), as
+        :func:`~designlab.navigation.crowds.faced.faced_by`.
+
+        Parameters
+        ----------
+        half_width
+            h_M in m (cut to the path's clearance from the walls).
+        """
+        return faced_by(self, half_width)
+
     def to_frame(self) -> pd.DataFrame:
-        """One row: the scenario's settings, the method and the run's outcome."""
+        """One row: the scenario's settings, the method, the run's outcome and the crowd it
+        met (``measured_density_per_m2``, ``mean_ped_speed_m_per_s``: :meth:`faced`)."""
         c = self.crowd
+        met = self.faced()
         row: dict[str, Any] = {
             "layout": c.layout, "pedestrians": c.pedestrians, "density": c.density,
             "seed": c.seed, "model": c.model, "react_to_robot": c.react_to_robot,
@@ -200,6 +215,7 @@ class CrowdResult(Result):
             "entered_critical": self.entered_critical, "collided": self.collided,
             "critical_time_s": self.critical_time, "L_energy_J_per_ohm": self.energy,
             "slot_overflow": self.slot_overflow, "critical_overlaps": self.critical_overlaps,
-            "status": str(self.status),
+            "measured_density_per_m2": met.measured_density_per_m2,
+            "mean_ped_speed_m_per_s": met.mean_ped_speed_m_per_s, "status": str(self.status),
         }  # fmt: skip
         return pd.DataFrame([row])

@@ -35,6 +35,7 @@ from numpy.typing import NDArray
 from designlab.errors import InvalidParameterError
 from designlab.navigation.cbf_filter import CBFFilter
 from designlab.navigation.criteria import EQUAL_WEIGHTS
+from designlab.navigation.crowds.bookkeeping import area_edges, fill_candidates, period_measures
 from designlab.navigation.crowds.pedestrians import PedestrianSim
 from designlab.navigation.crowds.results import CrowdResult, CrowdStatus, PedestrianRun
 from designlab.navigation.crowds.scenario import CrowdScenario
@@ -43,6 +44,7 @@ from designlab.navigation.field import ObstacleGeometry
 from designlab.navigation.methods import STABILISING, TIE_SIDE, method_of
 from designlab.navigation.parameters import ARRIVAL_TOLERANCE, DYNAMICS_STEP, HolonomicRobot
 from designlab.params import Param, check_size
+from designlab.sx.jit import AVAILABLE, say_no_jit
 
 __all__ = [
     "ORDER",
@@ -63,6 +65,9 @@ ORDER = Param(
 )
 #: Pedestrians that may enter a run per pedestrian initially in it (a cap of the records).
 _INFLOW_FACTOR = 8
+#: Whether runs use the compiled bookkeeping (:mod:`~designlab.navigation.crowds.bookkeeping`);
+#: without numba, the numpy path (the same results, bit for bit).
+COMPILED = AVAILABLE
 
 
 # ------------------------------------------------------------------ the run
@@ -83,13 +88,17 @@ class _Frames:
         now[ids] = P
         self.count = count
 
-    def last(self, n: int) -> Array:
-        """The last ``n`` frames, oldest first, ``(n, count, 2)``."""
+    def rows(self, n: int) -> NDArray[np.int64]:
+        """The ring rows of the last ``n`` frames, oldest first."""
         idx = self._idx.get((n, self.ptr))
         if idx is None:
             idx = (self.ptr - np.arange(n - 1, -1, -1)) % self.ring.shape[0]
             self._idx[n, self.ptr] = idx
-        return self.ring[idx, : self.count]
+        return idx
+
+    def last(self, n: int) -> Array:
+        """The last ``n`` frames, oldest first, ``(n, count, 2)``."""
+        return self.ring[self.rows(n), : self.count]
 
     def sensed(self) -> Array:
         """The last three frames ``(3, count, 2)`` (a copy: later steps do not touch it)."""
@@ -251,7 +260,8 @@ class _Run:
         self.parked = fill_slots(np.zeros(2), np.zeros((0, 2)), *np.zeros((2, 0, 2)), r2=1.0,
                                  slots=c.neighbours)[0].reshape(-1, 6)  # fmt: skip
         q = s.n_sub // s.per_ped
-        self.frac = (np.arange(1, q + 1) / q)[None, :, None, None]
+        self.frac_flat = np.arange(1, q + 1) / q
+        self.frac = self.frac_flat[None, :, None, None]
         self.wall_frames = np.array(
             [[*w.center, math.cos(w.angle), math.sin(w.angle), w.length / 2, w.width / 2]
              for w in self.walls]
@@ -278,6 +288,22 @@ class _Run:
         ids, P = self.ped.positions()
         self._push(ids, P)
         self._measure_start(x0[:2], P)
+        self._compiled_setup()
+
+    def _compiled_setup(self) -> None:
+        """Buffers of the compiled bookkeeping (or the numpy path, said once, without numba)."""
+        self.compiled = COMPILED
+        if not COMPILED:
+            say_no_jit("crowd runs' bookkeeping")
+            return
+        cap = self.frames.ring.shape[1]
+        self.d0, self.d2 = np.empty(cap), np.empty(cap)
+        self.order = np.empty(cap, np.int64)
+        self.state = np.array([self.dmin, self.wmin, self.wall_last, 0.0, 0.0])
+        self.edges = area_edges(self.area)  # None: not axis-aligned, shapely tests the area
+        self.no_edges = np.zeros((0, 4))
+        self.sense_rows = np.arange(3, dtype=np.int64)
+        self.wall_slack = self.s.crowd.robot.max_speed * self.s.crowd.sample_time
 
     def _push(self, ids: NDArray[np.int64], P: Array) -> None:
         count = self.ped.count
@@ -308,6 +334,14 @@ class _Run:
         """
         s, inp = self.s, self.step.inp
         x, y = inp[0][0], inp[0][1]
+        if self.compiled:
+            n, overlap = fill_candidates(
+                sensed, self.sense_rows, sensed.shape[1], x, y, self.r2 * self.r2, self.ped_dt,
+                self.slots, self.parked, 2 * self.r3, self.d2, self.order,
+            )  # fmt: skip
+            if n <= s.crowd.neighbours:
+                self.overlaps += int(overlap)
+                return self._step_robot()
         now = sensed[2]
         d2 = (now[:, 0] - x) ** 2 + (now[:, 1] - y) ** 2
         inside = np.flatnonzero(d2 < self.r2 * self.r2)  # NaN rows (not in) compare False
@@ -386,6 +420,8 @@ class _Run:
 
     def measure(self, k: int, X: Array) -> bool:
         """Distances over period ``k`` (see :meth:`_pedestrian_distances`); True on arrival."""
+        if self.compiled:
+            return self._measure_compiled(k, X)
         s = self.s
         pts = X[0:2, :].T  # (n_sub, 2): the robot at the end of each dynamics step
         goal = self.goal
@@ -401,6 +437,30 @@ class _Run:
         self.rec_X.append(X)
         if hit.size:
             self.arrival = (k * s.n_sub + upto) * s.dt
+            return True
+        return False
+
+    def _measure_compiled(self, k: int, X: Array) -> bool:
+        """:meth:`measure` in one call of the compiled
+        :func:`~designlab.navigation.crowds.bookkeeping.period_measures` (bit-identical)."""
+        s, st, fr = self.s, self.state, self.frames
+        st[3], st[4] = self.rec_X[-1][0, -1], self.rec_X[-1][1, -1]  # the period's start
+        check = not self.left_area
+        edges = self.edges if self.edges is not None else self.no_edges
+        hit, esum, outside = period_measures(
+            X, self.goal, s.tol, fr.ring, fr.rows(s.per_ped + 1), fr.count, st,
+            self.frac_flat, self.reach, self.d0, self.wall_frames, self.wall_slack, self.w2,
+            self.step.out[1], edges, check and self.edges is not None,
+        )  # fmt: skip
+        self.dmin, self.wmin, self.wall_last = float(st[0]), float(st[1]), float(st[2])
+        self.energy += esum * s.dt
+        if check and self.edges is None:
+            outside = not shapely.contains_xy(self.area, X[0, -1], X[1, -1])
+        if outside:
+            self.left_area = k * s.n_sub * s.dt + s.n_sub * s.dt
+        self.rec_X.append(X)
+        if hit >= 0:
+            self.arrival = (k * s.n_sub + hit + 1) * s.dt
             return True
         return False
 

@@ -31,6 +31,7 @@ import pandas as pd
 
 from designlab.analysis.engine import run_points
 from designlab.errors import InvalidParameterError
+from designlab.navigation.crowds.faced import faced_by
 from designlab.navigation.crowds.layouts import LAYOUTS
 from designlab.navigation.crowds.metrics import (
     PERSONAL_SPACE,
@@ -175,7 +176,10 @@ def run_row(result: Any, pedestrians: Any = None, *, personal_space: float = 1.2
         ``arrival_time_s``, ``min_distance_m`` (the run's own), ``min_centre_distance_m``
         (robot to nearest pedestrian centre), ``personal_space_s``, ``ped_delay_mean_s``,
         ``ped_delay_max_s``, ``ped_beyond_window``, ``ped_deviation_mean_m``,
-        ``ped_deviation_max_m``, ``run_status``.
+        ``ped_deviation_max_m``, ``run_status``; ``measured_density_per_m2`` and
+        ``mean_ped_speed_m_per_s``: the density and speed of the pedestrians the robot met
+        (pedpy, in the band along its path: :func:`~designlab.navigation.crowds.faced.faced_by`;
+        NaN for a result without its ``crowd``).
     """
     t = np.asarray(result.times, dtype=float)
     robot, peds = result.robot_positions, result.pedestrian_positions
@@ -194,7 +198,19 @@ def run_row(result: Any, pedestrians: Any = None, *, personal_space: float = 1.2
         "run_status": str(result.status),
     }
     row.update(_caused(t, peds, pedestrians, getattr(result, "pedestrian_ids", None)))
+    row.update(_faced(result))
     return row
+
+
+def _faced(result: Any) -> dict[str, float]:
+    """The measured density and pedestrian speed of :func:`faced_by` (NaN without a crowd)."""
+    if getattr(result, "crowd", None) is None:
+        return {"measured_density_per_m2": math.nan, "mean_ped_speed_m_per_s": math.nan}
+    f = faced_by(result)
+    return {
+        "measured_density_per_m2": f.measured_density_per_m2,
+        "mean_ped_speed_m_per_s": f.mean_ped_speed_m_per_s,
+    }
 
 
 def _common(peds: Any, ids: Any, alone: Any) -> tuple[np.ndarray, np.ndarray]:
@@ -252,7 +268,18 @@ def _distribution_columns(group: pd.DataFrame) -> dict[str, float]:
         "personal_space_mean_s": float(group["personal_space_s"].mean()),
         "ped_delay_mean_s": float(group["ped_delay_mean_s"].mean()),
         "ped_deviation_mean_m": float(group["ped_deviation_mean_m"].mean()),
+        "measured_density_per_m2": _mean(group, "measured_density_per_m2"),
+        "mean_ped_speed_m_per_s": _mean(group, "mean_ped_speed_m_per_s"),
     }
+
+
+def _mean(group: pd.DataFrame, column: str) -> float:
+    """Mean of a column over the runs that have it (NaN if none; absent in old stores)."""
+    if column not in group:
+        return math.nan
+    v = group[column].to_numpy(dtype=float)
+    v = v[np.isfinite(v)]
+    return float(v.mean()) if v.size else math.nan
 
 
 def summarise_runs(runs: pd.DataFrame, confidence: float = 0.95) -> pd.DataFrame:
@@ -273,7 +300,9 @@ def summarise_runs(runs: pd.DataFrame, confidence: float = 0.95) -> pd.DataFrame
         collision, critical and timeout, ``time_to_goal_mean_s``, ``time_to_goal_median_s``
         (successful runs), ``clearance_min_m``, ``clearance_p05_m``, ``clearance_median_m``
         (robot to nearest pedestrian centre over a run, distribution over runs),
-        ``personal_space_mean_s``, ``ped_delay_mean_s``, ``ped_deviation_mean_m``.
+        ``personal_space_mean_s``, ``ped_delay_mean_s``, ``ped_deviation_mean_m``,
+        ``measured_density_per_m2`` and ``mean_ped_speed_m_per_s`` (the crowd the robot met,
+        pedpy: mean over the runs; compare with the nominal ``density``).
     """
     keys = ["scenario", "density", "method"]
     failed = (
@@ -389,6 +418,7 @@ RUN_COLUMNS = (
     "outcome", "success", "collided", "critical", "timeout", "arrival_time_s", "min_distance_m",
     "min_centre_distance_m", "personal_space_s", "ped_delay_mean_s", "ped_delay_max_s",
     "ped_beyond_window", "ped_deviation_mean_m", "ped_deviation_max_m", "run_status",
+    "measured_density_per_m2", "mean_ped_speed_m_per_s",
 )  # fmt: skip
 
 
