@@ -51,7 +51,7 @@ MAX_POLES = 5
 _COL = ((2, 6), (0, 4), (1, 5))
 
 
-@kernel
+@kernel(borrows=True)
 def _design(p, r, c, nk, h, outputs, lobe, window, max_steps, diag, row, work):  # type: ignore[no-untyped-def]
     """Metrics of one design from its folded modal solution; returns the status code."""
     for k in range(8):

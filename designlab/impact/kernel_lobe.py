@@ -77,7 +77,7 @@ def scratch():  # type: ignore[no-untyped-def]
     return nodes, np.empty((_STACK, 13)), np.empty((n, 5), dtype=np.complex128)
 
 
-@kernel
+@kernel(borrows=True)
 def march(p, r, c, o, nk, h, max_steps, diag):  # type: ignore[no-untyped-def]
     """March ``t_j = j h`` to the first node (t > 0) where output ``o`` is provably <= 0.
 
@@ -200,7 +200,7 @@ def _scales(p, r, o, nk, stack, n, steady):  # type: ignore[no-untyped-def]
     return curvature(p, r, o, nk, tl, tr), jerk(p, r, o, nk, tl, tr)
 
 
-@kernel
+@kernel(borrows=True)
 def crossing(p, r, c, o, nk, hi, h, levels, work):  # type: ignore[no-untyped-def]
     """Bracket ``(lo, hi)`` of the first provable zero of output ``o`` in ``(0, hi]``.
 
@@ -244,7 +244,7 @@ def crossing(p, r, c, o, nk, hi, h, levels, work):  # type: ignore[no-untyped-de
     return lo_b, hi_b
 
 
-@kernel
+@kernel(borrows=True)
 def lobe_end(p, r, c, o, nk, h, max_steps, diag, work):  # type: ignore[no-untyped-def]
     """``(t_imp, t_low)`` of output ``o`` (a_h): NaN t_imp when no provable lobe end."""
     found, _lo, hi, guess, t_low = march(p, r, c, o, nk, h, max_steps, diag)
@@ -263,7 +263,7 @@ def _stationary(p, r, c, o, nk, tl, tr, dl, dr):  # type: ignore[no-untyped-def]
     )
 
 
-@kernel
+@kernel(borrows=True)
 def maximum(p, r, c, o, nk, hi, w, work):  # type: ignore[no-untyped-def]
     """``(t, y)`` maximum of output ``o`` over ``[0, hi]``, certified to 1e-8 (relative).
 
@@ -281,7 +281,7 @@ def node_count(hi, w):  # type: ignore[no-untyped-def]
     return min(max(int(math.ceil(hi / w)), 1), MAX_CELLS)  # noqa: RUF046 (numba)
 
 
-@kernel
+@kernel(borrows=True)
 def maximum_on_nodes(p, r, c, o, nk, hi, count, work):  # type: ignore[no-untyped-def]
     """:func:`maximum` once the nodes' exponentials are in ``work`` (shared by the outputs)."""
     nodes, stack, ex = work
