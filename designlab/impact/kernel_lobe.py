@@ -47,6 +47,7 @@ from designlab.impact.kernel_modal import (
     mag,
     newton,
     noise,
+    real_product,
     shape,
     stable,
     value,
@@ -164,17 +165,17 @@ def _split(p, r, c, o, nk, stack, n):  # type: ignore[no-untyped-def]
     dt = (tr - tl) / PARTS
     for k in range(nk):
         pk = p[k]
+        p2 = pk * pk
         a = mag(pk)
         z = cmath.exp(pk * dt)
         e = r[o, k] * cmath.exp(pk * tl)
         for i in range(PARTS - 1):
             e = e * z
             row = n + PARTS - 1 - i
-            ep = e * pk
             g = mag(e) * a * a
             stack[row, _YR] += e.real
-            stack[row, _DR] += ep.real
-            stack[row, _QR] += (ep * pk).real
+            stack[row, _DR] += real_product(e, pk)
+            stack[row, _QR] += real_product(e, p2)
             stack[row, _M2R] += g
             stack[row, _M3R] += g * a
     for i in range(PARTS):

@@ -116,6 +116,12 @@ def _quadratic(b1, b2, roots, i):  # type: ignore[no-untyped-def]
 
 
 @kernel(inline=True)
+def _square(z):  # type: ignore[no-untyped-def]
+    """``|z|^2`` of a real or complex number (no hypot: the moduli here are far from overflow)."""
+    return z.real * z.real + z.imag * z.imag
+
+
+@kernel(inline=True)
 def _polish(a, x):  # type: ignore[no-untyped-def]
     """Two Newton steps of the root ``x`` of the monic quartic ``a`` (kept if they help)."""
     for _ in range(2):
@@ -128,7 +134,7 @@ def _polish(a, x):  # type: ignore[no-untyped-def]
             return x
         xn = x - f / df
         fn = (((xn + a[1]) * xn + a[2]) * xn + a[3]) * xn + a[4]
-        if not abs(fn) < abs(f):
+        if not _square(fn) < _square(f):  # |fn| < |f| without hypot
             return x
         x = xn
     return x
@@ -183,12 +189,13 @@ def _factor_roots(a, u0, v0, roots):  # type: ignore[no-untyped-def]
 @kernel(inline=True)
 def separate(poles, n):  # type: ignore[no-untyped-def]
     """Move roots closer than a relative 1e-6 apart (:func:`designlab.impact.modal.poles_of`)."""
-    scale = 1e-300
+    big = 0.0
     for i in range(n):
-        scale = max(scale, abs(poles[i]))
+        big = max(big, _square(poles[i]))
+    scale = max(math.sqrt(big), 1e-300)
     for i in range(n):
         for j in range(i + 1, n):
-            if abs(poles[i] - poles[j]) < SEPARATION * scale:
+            if _square(poles[i] - poles[j]) < (SEPARATION * scale) ** 2:
                 mid = 0.5 * (poles[i] + poles[j])
                 d = SEPARATION * scale
                 poles[i] = mid - d
