@@ -220,12 +220,13 @@ def modal_solution(den, num, roots, p, r, c, outputs):  # type: ignore[no-untype
             if j != i:
                 prod = prod * (pi - roots[j])
         p[nk] = pi
+        scale = w / prod  # one complex division per pole, shared by the outputs
         for o in range(3):
             if outputs[o]:
                 acc = complex(num[o, 0], 0.0)
                 for k in range(1, 6):
                     acc = acc * pi + num[o, k]
-                r[o, nk] = acc / prod * w
+                r[o, nk] = acc * scale
         nk += 1
     for o in range(3):
         if outputs[o]:
