@@ -22,10 +22,10 @@ Examples
 >>> import numpy as np
 >>> p = np.array([-1.0 + 2.0j]); r = np.array([[-1.0j]]); c = np.zeros((1, 2))
 >>> # y = Re(-i e^((-1+2i)t)) = e^-t sin 2t: first zero at pi/2, maximum at atan(2)/2
->>> found, lo, hi, guess, low = march(p, r, c, 0, 1, 0.1, 4096, False)
+>>> s = scratch()
+>>> found, lo, hi, guess, low = march(p, r, c, 0, 1, 0.1, 4096, False, s[2])
 >>> bool(found and lo < np.pi / 2 <= hi)
 True
->>> s = scratch()
 >>> t, y = maximum(p, r, c, 0, 1, np.pi / 2, 0.3, s)
 >>> bool(abs(t - np.arctan(2) / 2) < 1e-12)
 True
@@ -79,39 +79,49 @@ def scratch():  # type: ignore[no-untyped-def]
 
 
 @kernel(borrows=True)
-def march(p, r, c, o, nk, h, max_steps, diag):  # type: ignore[no-untyped-def]
+def march(p, r, c, o, nk, h, max_steps, diag, ex):  # type: ignore[no-untyped-def]
     """March ``t_j = j h`` to the first node (t > 0) where output ``o`` is provably <= 0.
 
     Returns ``(found, lo, hi, guess, t_low)``: the bracket ``[hi - h, hi]``, a
     secant guess of the crossing and (``diag``) the first node where y fell below
-    :data:`LOW_FRACTION` of its running peak.
+    :data:`LOW_FRACTION` of its running peak. The nodes' exponentials
+    ``exp(p_k t_j)`` (by recurrence, the last one evaluated directly) are left in
+    ``ex[j, k]`` for ``j <= MAX_CELLS``: :func:`crossing` takes them over.
     """
     last = (max_steps // 12) * 12 + 11
     peak = 0.0
     y_prev = 0.0
     t_low = np.nan
-    zs = (0j, 0j, 0j, 0j, 0j)
-    es = (0j, 0j, 0j, 0j, 0j)
-    z0, z1, z2, z3, z4 = zs
-    e0, e1, e2, e3, e4 = es
+    z0 = z1 = z2 = z3 = z4 = 0j
+    r0 = r1 = r2 = r3 = r4 = 0j
     for k in range(nk):  # at most 5 poles (full joint): registers, not arrays
-        z, e = cmath.exp(p[k] * h), r[o, k] + 0j
+        z, q = cmath.exp(p[k] * h), r[o, k] + 0j
         if k == 0:
-            z0, e0 = z, e
+            z0, r0 = z, q
         elif k == 1:
-            z1, e1 = z, e
+            z1, r1 = z, q
         elif k == 2:
-            z2, e2 = z, e
+            z2, r2 = z, q
         elif k == 3:
-            z3, e3 = z, e
+            z3, r3 = z, q
         else:
-            z4, e4 = z, e
+            z4, r4 = z, q
+    e0 = e1 = e2 = e3 = e4 = 1.0 + 0j
     for j in range(last + 1):
         t = j * h
-        y = c[o, 0] * t + c[o, 1] + e0.real + e1.real + e2.real + e3.real + e4.real
+        y = c[o, 0] * t + c[o, 1]
+        y += real_product(r0, e0) + real_product(r1, e1) + real_product(r2, e2)
+        y += real_product(r3, e3) + real_product(r4, e4)
+        if j <= MAX_CELLS:
+            _store(ex, j, nk, e0, e1, e2, e3, e4)
         e0, e1, e2, e3, e4 = e0 * z0, e1 * z1, e2 * z2, e3 * z3, e4 * z4
         if t > 0 and y <= 0:
-            yd = value(p, r, c, o, nk, t)
+            yd = c[o, 0] * t + c[o, 1]
+            for k in range(nk):
+                x = cmath.exp(p[k] * t)
+                yd += real_product(r[o, k], x)
+                if j <= MAX_CELLS:
+                    ex[j, k] = x
             if yd < -noise(p, r, c, o, nk, t):
                 lo = max(t - h, 0.0)
                 frac = y_prev / (y_prev - yd)
@@ -124,6 +134,20 @@ def march(p, r, c, o, nk, h, max_steps, diag):  # type: ignore[no-untyped-def]
                 t_low = t
         y_prev = y
     return False, np.nan, np.nan, np.nan, t_low
+
+
+@kernel(inline=True)
+def _store(ex, j, nk, e0, e1, e2, e3, e4):  # type: ignore[no-untyped-def]
+    """``ex[j, :nk] = e0 .. e4``."""
+    ex[j, 0] = e0
+    if nk > 1:
+        ex[j, 1] = e1
+    if nk > 2:
+        ex[j, 2] = e2
+    if nk > 3:
+        ex[j, 3] = e3
+    if nk > 4:
+        ex[j, 4] = e4
 
 
 @kernel(inline=True)
@@ -202,17 +226,22 @@ def _scales(p, r, o, nk, stack, n, steady):  # type: ignore[no-untyped-def]
 
 
 @kernel(borrows=True)
-def crossing(p, r, c, o, nk, hi, h, levels, work):  # type: ignore[no-untyped-def]
+def crossing(p, r, c, o, nk, hi, h, levels, work, marched):  # type: ignore[no-untyped-def]
     """Bracket ``(lo, hi)`` of the first provable zero of output ``o`` in ``(0, hi]``.
 
     :func:`designlab.impact.modal.certified_first_crossing`, depth first over
     cells of width <= h in time order: a local minimum between positive nodes is
     solved by Newton on -y'; a cell that may dip to zero otherwise is split.
+    ``marched`` (> 0) is the number of steps of :func:`march` that ended at ``hi``:
+    the nodes' exponentials are then already in ``work[2]``.
     """
     nodes, stack, ex = work
     steady = stable(p, nk)
-    count = min(max(int(math.ceil(hi / h)), 1), MAX_CELLS)  # noqa: RUF046 (numba)
-    exponentials(p, nk, hi, count, ex)
+    if 0 < marched <= MAX_CELLS:
+        count = marched
+    else:
+        count = min(max(int(math.ceil(hi / h)), 1), MAX_CELLS)  # noqa: RUF046 (numba)
+        exponentials(p, nk, hi, count, ex)
     grid(p, r, c, o, nk, hi, count, ex, nodes)
     lo_b = nodes[0][count - 1]
     hi_b = hi
@@ -248,10 +277,10 @@ def crossing(p, r, c, o, nk, hi, h, levels, work):  # type: ignore[no-untyped-de
 @kernel(borrows=True)
 def lobe_end(p, r, c, o, nk, h, max_steps, diag, work):  # type: ignore[no-untyped-def]
     """``(t_imp, t_low)`` of output ``o`` (a_h): NaN t_imp when no provable lobe end."""
-    found, _lo, hi, guess, t_low = march(p, r, c, o, nk, h, max_steps, diag)
+    found, _lo, hi, guess, t_low = march(p, r, c, o, nk, h, max_steps, diag, work[2])
     if not found:
         return np.nan, t_low
-    lo_c, hi_c = crossing(p, r, c, o, nk, hi, h, 6, work)
+    lo_c, hi_c = crossing(p, r, c, o, nk, hi, h, 6, work, round(hi / h))
     g = 0.5 * (lo_c + hi_c) if hi_c < hi else guess
     return newton(p, r, c, o, nk, lo_c, hi_c, 0, 1.0, 60, 1e-11, g)[0], t_low
 
