@@ -246,6 +246,8 @@ def crossing(p, r, c, o, nk, hi, h, levels, work, marched):  # type: ignore[no-u
     lo_b = nodes[0][count - 1]
     hi_b = hi
     for j in range(count):
+        if steady and _positive_cell(nodes, j, hi_b):
+            continue  # what the stack would conclude at once, without pushing the cell
         n = _push_grid(stack, nodes, j)
         while n > 0:
             n -= 1
@@ -354,9 +356,41 @@ def maximum_on_nodes(p, r, c, o, nk, hi, count, work):  # type: ignore[no-untype
                 bt, by = t, y
     for j in range(count):
         if not (ds[j] > 0 and ds[j + 1] <= 0):
+            if steady and _bounded_cell(nodes, j, by):
+                continue  # what _refine would conclude at once, without pushing the cell
             _push_grid(stack, nodes, j)
             bt, by = _refine(p, r, c, o, nk, bt, by, stack, steady)
     return bt, by
+
+
+@kernel(inline=True)
+def _bounded_cell(nodes, j, by):  # type: ignore[no-untyped-def]
+    """Whether the grid cell ``j`` (no +/- change of y' at its ends, no unstable pole)
+    cannot hold a maximum above ``by``: :func:`_refine`'s tests on its first cell."""
+    ts, ys, ds, qs, m2s, m3s = nodes
+    w = ts[j + 1] - ts[j]
+    dl, dr, m2 = ds[j], ds[j + 1], m2s[j]
+    if w <= 0 or (dl * dr > 0 and abs(dl + dr) > m2 * w):
+        return True
+    if shape(qs[j], qs[j + 1], m3s[j], w) != 0:
+        return True
+    return not cell_bound(ys[j], ys[j + 1], dl, dr, w, m2) > by + 1e-8 * max(abs(by), 1e-300)
+
+
+@kernel(inline=True)
+def _positive_cell(nodes, j, hi_b):  # type: ignore[no-untyped-def]
+    """Whether the grid cell ``j`` (no unstable pole) provably stays positive, or lies
+    past ``hi_b``: :func:`crossing`'s tests on a cell that is neither split nor solved."""
+    ts, ys, ds, qs, m2s, m3s = nodes
+    tl, tr, yl, yr, dl, dr = ts[j], ts[j + 1], ys[j], ys[j + 1], ds[j], ds[j + 1]
+    if tl >= hi_b:
+        return True
+    if not (yl > 0 and yr > 0) or (dl < 0 and dr >= 0):
+        return False
+    w, m2 = tr - tl, m2s[j]
+    if dl * dr > 0 and abs(dl + dr) > m2 * w:
+        return True
+    return shape(qs[j], qs[j + 1], m3s[j], w) != 0 or min(yl, yr) - m2 * w * w / 8.0 > 0
 
 
 @kernel(inline=True)

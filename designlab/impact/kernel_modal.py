@@ -12,8 +12,8 @@ Examples
 >>> import numpy as np
 >>> p = np.array([-1.0 + 0j]); r = np.array([[-1.0 + 0j]]); c = np.array([[0.0, 1.0]])
 >>> y, dy, ddy, _, _ = triple(p, r, c, 0, 1, 1.0)          # y = 1 - exp(-t)
->>> round(y, 6), round(dy, 6), round(ddy, 6)
-(0.632121, 0.367879, -0.367879)
+>>> [round(float(x), 6) for x in (y, dy, ddy)]
+[0.632121, 0.367879, -0.367879]
 """
 
 from __future__ import annotations
