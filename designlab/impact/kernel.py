@@ -28,7 +28,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from designlab.impact.kernel_lobe import lobe_end, maximum_on_nodes, node_count, scratch
-from designlab.impact.kernel_modal import exponentials
+from designlab.impact.kernel_modal import exponentials, mag
 from designlab.impact.kernel_poles import coefficients, modal_solution, quartic_roots, separate
 from designlab.sx.jit import AVAILABLE, kernel
 
@@ -51,7 +51,7 @@ MAX_POLES = 5
 _COL = ((2, 6), (0, 4), (1, 5))
 
 
-@kernel
+@kernel(borrows=True)
 def _design(p, r, c, nk, h, outputs, lobe, window, max_steps, diag, row, work):  # type: ignore[no-untyped-def]
     """Metrics of one design from its folded modal solution; returns the status code."""
     for k in range(8):
@@ -93,7 +93,7 @@ def _reduced_block(params, outputs, printed, stop_time, max_steps, diag, out, st
         nk = modal_solution(den, num, roots, p, r, c, outputs)
         fast = 0.0
         for k in range(nk):
-            fast = max(fast, abs(p[k]))
+            fast = max(fast, mag(p[k]))
         status[i] = _design(
             p, r, c, nk, 0.4 / fast, outputs, True, stop_time, max_steps, diag, out[i], work
         )

@@ -22,10 +22,10 @@ Examples
 >>> import numpy as np
 >>> p = np.array([-1.0 + 2.0j]); r = np.array([[-1.0j]]); c = np.zeros((1, 2))
 >>> # y = Re(-i e^((-1+2i)t)) = e^-t sin 2t: first zero at pi/2, maximum at atan(2)/2
->>> found, lo, hi, guess, low = march(p, r, c, 0, 1, 0.1, 4096, False)
+>>> s = scratch()
+>>> found, lo, hi, guess, low = march(p, r, c, 0, 1, 0.1, 4096, False, s[2])
 >>> bool(found and lo < np.pi / 2 <= hi)
 True
->>> s = scratch()
 >>> t, y = maximum(p, r, c, 0, 1, np.pi / 2, 0.3, s)
 >>> bool(abs(t - np.arctan(2) / 2) < 1e-12)
 True
@@ -47,6 +47,7 @@ from designlab.impact.kernel_modal import (
     mag,
     newton,
     noise,
+    real_product,
     shape,
     stable,
     value,
@@ -77,40 +78,50 @@ def scratch():  # type: ignore[no-untyped-def]
     return nodes, np.empty((_STACK, 13)), np.empty((n, 5), dtype=np.complex128)
 
 
-@kernel
-def march(p, r, c, o, nk, h, max_steps, diag):  # type: ignore[no-untyped-def]
+@kernel(borrows=True)
+def march(p, r, c, o, nk, h, max_steps, diag, ex):  # type: ignore[no-untyped-def]
     """March ``t_j = j h`` to the first node (t > 0) where output ``o`` is provably <= 0.
 
     Returns ``(found, lo, hi, guess, t_low)``: the bracket ``[hi - h, hi]``, a
     secant guess of the crossing and (``diag``) the first node where y fell below
-    :data:`LOW_FRACTION` of its running peak.
+    :data:`LOW_FRACTION` of its running peak. The nodes' exponentials
+    ``exp(p_k t_j)`` (by recurrence, the last one evaluated directly) are left in
+    ``ex[j, k]`` for ``j <= MAX_CELLS``: :func:`crossing` takes them over.
     """
     last = (max_steps // 12) * 12 + 11
     peak = 0.0
     y_prev = 0.0
     t_low = np.nan
-    zs = (0j, 0j, 0j, 0j, 0j)
-    es = (0j, 0j, 0j, 0j, 0j)
-    z0, z1, z2, z3, z4 = zs
-    e0, e1, e2, e3, e4 = es
+    z0 = z1 = z2 = z3 = z4 = 0j
+    r0 = r1 = r2 = r3 = r4 = 0j
     for k in range(nk):  # at most 5 poles (full joint): registers, not arrays
-        z, e = cmath.exp(p[k] * h), r[o, k] + 0j
+        z, q = cmath.exp(p[k] * h), r[o, k] + 0j
         if k == 0:
-            z0, e0 = z, e
+            z0, r0 = z, q
         elif k == 1:
-            z1, e1 = z, e
+            z1, r1 = z, q
         elif k == 2:
-            z2, e2 = z, e
+            z2, r2 = z, q
         elif k == 3:
-            z3, e3 = z, e
+            z3, r3 = z, q
         else:
-            z4, e4 = z, e
+            z4, r4 = z, q
+    e0 = e1 = e2 = e3 = e4 = 1.0 + 0j
     for j in range(last + 1):
         t = j * h
-        y = c[o, 0] * t + c[o, 1] + e0.real + e1.real + e2.real + e3.real + e4.real
+        y = c[o, 0] * t + c[o, 1]
+        y += real_product(r0, e0) + real_product(r1, e1) + real_product(r2, e2)
+        y += real_product(r3, e3) + real_product(r4, e4)
+        if j <= MAX_CELLS:
+            _store(ex, j, nk, e0, e1, e2, e3, e4)
         e0, e1, e2, e3, e4 = e0 * z0, e1 * z1, e2 * z2, e3 * z3, e4 * z4
         if t > 0 and y <= 0:
-            yd = value(p, r, c, o, nk, t)
+            yd = c[o, 0] * t + c[o, 1]
+            for k in range(nk):
+                x = cmath.exp(p[k] * t)
+                yd += real_product(r[o, k], x)
+                if j <= MAX_CELLS:
+                    ex[j, k] = x
             if yd < -noise(p, r, c, o, nk, t):
                 lo = max(t - h, 0.0)
                 frac = y_prev / (y_prev - yd)
@@ -123,6 +134,20 @@ def march(p, r, c, o, nk, h, max_steps, diag):  # type: ignore[no-untyped-def]
                 t_low = t
         y_prev = y
     return False, np.nan, np.nan, np.nan, t_low
+
+
+@kernel(inline=True)
+def _store(ex, j, nk, e0, e1, e2, e3, e4):  # type: ignore[no-untyped-def]
+    """``ex[j, :nk] = e0 .. e4``."""
+    ex[j, 0] = e0
+    if nk > 1:
+        ex[j, 1] = e1
+    if nk > 2:
+        ex[j, 2] = e2
+    if nk > 3:
+        ex[j, 3] = e3
+    if nk > 4:
+        ex[j, 4] = e4
 
 
 @kernel(inline=True)
@@ -164,17 +189,17 @@ def _split(p, r, c, o, nk, stack, n):  # type: ignore[no-untyped-def]
     dt = (tr - tl) / PARTS
     for k in range(nk):
         pk = p[k]
+        p2 = pk * pk
         a = mag(pk)
         z = cmath.exp(pk * dt)
         e = r[o, k] * cmath.exp(pk * tl)
         for i in range(PARTS - 1):
             e = e * z
             row = n + PARTS - 1 - i
-            ep = e * pk
             g = mag(e) * a * a
             stack[row, _YR] += e.real
-            stack[row, _DR] += ep.real
-            stack[row, _QR] += (ep * pk).real
+            stack[row, _DR] += real_product(e, pk)
+            stack[row, _QR] += real_product(e, p2)
             stack[row, _M2R] += g
             stack[row, _M3R] += g * a
     for i in range(PARTS):
@@ -200,22 +225,29 @@ def _scales(p, r, o, nk, stack, n, steady):  # type: ignore[no-untyped-def]
     return curvature(p, r, o, nk, tl, tr), jerk(p, r, o, nk, tl, tr)
 
 
-@kernel
-def crossing(p, r, c, o, nk, hi, h, levels, work):  # type: ignore[no-untyped-def]
+@kernel(borrows=True)
+def crossing(p, r, c, o, nk, hi, h, levels, work, marched):  # type: ignore[no-untyped-def]
     """Bracket ``(lo, hi)`` of the first provable zero of output ``o`` in ``(0, hi]``.
 
     :func:`designlab.impact.modal.certified_first_crossing`, depth first over
     cells of width <= h in time order: a local minimum between positive nodes is
     solved by Newton on -y'; a cell that may dip to zero otherwise is split.
+    ``marched`` (> 0) is the number of steps of :func:`march` that ended at ``hi``:
+    the nodes' exponentials are then already in ``work[2]``.
     """
     nodes, stack, ex = work
     steady = stable(p, nk)
-    count = min(max(int(math.ceil(hi / h)), 1), MAX_CELLS)  # noqa: RUF046 (numba)
-    exponentials(p, nk, hi, count, ex)
+    if 0 < marched <= MAX_CELLS:
+        count = marched
+    else:
+        count = min(max(int(math.ceil(hi / h)), 1), MAX_CELLS)  # noqa: RUF046 (numba)
+        exponentials(p, nk, hi, count, ex)
     grid(p, r, c, o, nk, hi, count, ex, nodes)
     lo_b = nodes[0][count - 1]
     hi_b = hi
     for j in range(count):
+        if steady and _positive_cell(nodes, j, hi_b):
+            continue  # what the stack would conclude at once, without pushing the cell
         n = _push_grid(stack, nodes, j)
         while n > 0:
             n -= 1
@@ -244,26 +276,51 @@ def crossing(p, r, c, o, nk, hi, h, levels, work):  # type: ignore[no-untyped-de
     return lo_b, hi_b
 
 
-@kernel
+@kernel(borrows=True)
 def lobe_end(p, r, c, o, nk, h, max_steps, diag, work):  # type: ignore[no-untyped-def]
     """``(t_imp, t_low)`` of output ``o`` (a_h): NaN t_imp when no provable lobe end."""
-    found, _lo, hi, guess, t_low = march(p, r, c, o, nk, h, max_steps, diag)
+    found, _lo, hi, guess, t_low = march(p, r, c, o, nk, h, max_steps, diag, work[2])
     if not found:
         return np.nan, t_low
-    lo_c, hi_c = crossing(p, r, c, o, nk, hi, h, 6, work)
+    lo_c, hi_c = crossing(p, r, c, o, nk, hi, h, 6, work, round(hi / h))
     g = 0.5 * (lo_c + hi_c) if hi_c < hi else guess
     return newton(p, r, c, o, nk, lo_c, hi_c, 0, 1.0, 60, 1e-11, g)[0], t_low
 
 
 @kernel(inline=True)
-def _stationary(p, r, c, o, nk, tl, tr, dl, dr):  # type: ignore[no-untyped-def]
-    """``(t, y)`` of the maximum where y' goes from + at tl to - at tr (secant start)."""
+def _stationary(p, r, c, o, nk, tl, tr, dl, dr, ql, qr):  # type: ignore[no-untyped-def]
+    """``(t, y)`` of the maximum where y' goes from + at tl to - at tr.
+
+    Newton starts from the root of the cubic Hermite interpolant of y' (slopes
+    ``dl, dr`` and second derivatives ``ql, qr`` at the ends; no exponential): an
+    error of the fourth order in the cell width instead of the secant's second.
+    """
     return newton(
-        p, r, c, o, nk, tl, tr, 1, 1.0, 60, STATIONARY_RTOL, tl + (tr - tl) * dl / (dl - dr)
+        p, r, c, o, nk, tl, tr, 1, 1.0, 60, STATIONARY_RTOL, _hermite_root(tl, tr, dl, dr, ql, qr)
     )
 
 
-@kernel
+@kernel(inline=True)
+def _hermite_root(tl, tr, dl, dr, ql, qr):  # type: ignore[no-untyped-def]
+    """Root in ``[tl, tr]`` of the cubic Hermite interpolant of values ``dl > 0 >= dr`` and
+    slopes ``ql, qr``: two Newton steps from the secant root (the secant root if they
+    leave the cell)."""
+    w = tr - tl
+    x = w * dl / (dl - dr)
+    m = (dr - dl) / w
+    a2 = (3.0 * m - 2.0 * ql - qr) / w
+    a3 = (ql + qr - 2.0 * m) / (w * w)
+    g = x
+    for _ in range(2):
+        f = dl + g * (ql + g * (a2 + g * a3))
+        df = ql + g * (2.0 * a2 + g * 3.0 * a3)
+        g = g - f / df
+    if not (0.0 <= g <= w):  # also NaN
+        g = x
+    return tl + g
+
+
+@kernel(borrows=True)
 def maximum(p, r, c, o, nk, hi, w, work):  # type: ignore[no-untyped-def]
     """``(t, y)`` maximum of output ``o`` over ``[0, hi]``, certified to 1e-8 (relative).
 
@@ -281,11 +338,11 @@ def node_count(hi, w):  # type: ignore[no-untyped-def]
     return min(max(int(math.ceil(hi / w)), 1), MAX_CELLS)  # noqa: RUF046 (numba)
 
 
-@kernel
+@kernel(borrows=True)
 def maximum_on_nodes(p, r, c, o, nk, hi, count, work):  # type: ignore[no-untyped-def]
     """:func:`maximum` once the nodes' exponentials are in ``work`` (shared by the outputs)."""
     nodes, stack, ex = work
-    ts, ys, ds = nodes[0], nodes[1], nodes[2]
+    ts, ys, ds, qs = nodes[0], nodes[1], nodes[2], nodes[3]
     steady = stable(p, nk)
     grid(p, r, c, o, nk, hi, count, ex, nodes)
     bt, by = 0.0, -np.inf
@@ -294,14 +351,46 @@ def maximum_on_nodes(p, r, c, o, nk, hi, count, work):  # type: ignore[no-untype
             bt, by = ts[j], ys[j]
     for j in range(count):
         if ds[j] > 0 and ds[j + 1] <= 0:
-            t, y = _stationary(p, r, c, o, nk, ts[j], ts[j + 1], ds[j], ds[j + 1])
+            t, y = _stationary(p, r, c, o, nk, ts[j], ts[j + 1], ds[j], ds[j + 1], qs[j], qs[j + 1])
             if y > by:
                 bt, by = t, y
     for j in range(count):
         if not (ds[j] > 0 and ds[j + 1] <= 0):
+            if steady and _bounded_cell(nodes, j, by):
+                continue  # what _refine would conclude at once, without pushing the cell
             _push_grid(stack, nodes, j)
             bt, by = _refine(p, r, c, o, nk, bt, by, stack, steady)
     return bt, by
+
+
+@kernel(inline=True)
+def _bounded_cell(nodes, j, by):  # type: ignore[no-untyped-def]
+    """Whether the grid cell ``j`` (no +/- change of y' at its ends, no unstable pole)
+    cannot hold a maximum above ``by``: :func:`_refine`'s tests on its first cell."""
+    ts, ys, ds, qs, m2s, m3s = nodes
+    w = ts[j + 1] - ts[j]
+    dl, dr, m2 = ds[j], ds[j + 1], m2s[j]
+    if w <= 0 or (dl * dr > 0 and abs(dl + dr) > m2 * w):
+        return True
+    if shape(qs[j], qs[j + 1], m3s[j], w) != 0:
+        return True
+    return not cell_bound(ys[j], ys[j + 1], dl, dr, w, m2) > by + 1e-8 * max(abs(by), 1e-300)
+
+
+@kernel(inline=True)
+def _positive_cell(nodes, j, hi_b):  # type: ignore[no-untyped-def]
+    """Whether the grid cell ``j`` (no unstable pole) provably stays positive, or lies
+    past ``hi_b``: :func:`crossing`'s tests on a cell that is neither split nor solved."""
+    ts, ys, ds, qs, m2s, m3s = nodes
+    tl, tr, yl, yr, dl, dr = ts[j], ts[j + 1], ys[j], ys[j + 1], ds[j], ds[j + 1]
+    if tl >= hi_b:
+        return True
+    if not (yl > 0 and yr > 0) or (dl < 0 and dr >= 0):
+        return False
+    w, m2 = tr - tl, m2s[j]
+    if dl * dr > 0 and abs(dl + dr) > m2 * w:
+        return True
+    return shape(qs[j], qs[j + 1], m3s[j], w) != 0 or min(yl, yr) - m2 * w * w / 8.0 > 0
 
 
 @kernel(inline=True)
@@ -317,7 +406,8 @@ def _refine(p, r, c, o, nk, bt, by, stack, steady):  # type: ignore[no-untyped-d
             if yl > by:
                 bt, by = tl, yl
             if dl > 0 and dr <= 0:
-                t, y = _stationary(p, r, c, o, nk, tl, tr, dl, dr)
+                ql, qr = stack[n, _QL], stack[n, _QR]
+                t, y = _stationary(p, r, c, o, nk, tl, tr, dl, dr, ql, qr)
                 if y > by:
                     bt, by = t, y
                 continue

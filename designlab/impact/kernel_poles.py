@@ -38,7 +38,7 @@ __all__ = ["coefficients", "modal_solution", "quartic_roots"]
 SEPARATION = 1e-6
 
 
-@kernel
+@kernel(borrows=True)
 def coefficients(m_r, c_r, k_r, k_c, c_c, m_h, c_h, k_h, printed, den, num):  # type: ignore[no-untyped-def]
     """Fill ``den`` (5,) and ``num`` (3, 6): force, head acceleration, compression (descending)."""
     mm = m_r * m_h
@@ -70,7 +70,7 @@ def coefficients(m_r, c_r, k_r, k_c, c_c, m_h, c_h, k_h, printed, den, num):  # 
     num[1, 5] = 0.0
 
 
-@kernel
+@kernel(borrows=True)
 def _bairstow(a, u, v):  # type: ignore[no-untyped-def]
     """Quadratic factor ``s^2 + u s + v`` of the monic quartic ``a``; ``(u, v, converged)``.
 
@@ -116,6 +116,12 @@ def _quadratic(b1, b2, roots, i):  # type: ignore[no-untyped-def]
 
 
 @kernel(inline=True)
+def _square(z):  # type: ignore[no-untyped-def]
+    """``|z|^2`` of a real or complex number (no hypot: the moduli here are far from overflow)."""
+    return z.real * z.real + z.imag * z.imag
+
+
+@kernel(inline=True)
 def _polish(a, x):  # type: ignore[no-untyped-def]
     """Two Newton steps of the root ``x`` of the monic quartic ``a`` (kept if they help)."""
     for _ in range(2):
@@ -128,13 +134,26 @@ def _polish(a, x):  # type: ignore[no-untyped-def]
             return x
         xn = x - f / df
         fn = (((xn + a[1]) * xn + a[2]) * xn + a[3]) * xn + a[4]
-        if not abs(fn) < abs(f):
+        if not _square(fn) < _square(f):  # |fn| < |f| without hypot
             return x
         x = xn
     return x
 
 
 @kernel
+def _companion_roots(a, roots):  # type: ignore[no-untyped-def]
+    """The roots of the monic quartic ``a`` as eigenvalues of its companion matrix."""
+    comp = np.zeros((4, 4), dtype=np.complex128)
+    for k in range(4):
+        comp[0, k] = -a[k + 1]
+    for k in range(3):
+        comp[k + 1, k] = 1.0
+    ev = np.linalg.eigvals(comp)
+    for k in range(4):
+        roots[k] = ev[k]
+
+
+@kernel(inline=True)
 def quartic_roots(a, u0, v0, roots):  # type: ignore[no-untyped-def]
     """The four roots of the monic quartic ``a`` (descending) into ``roots``.
 
@@ -142,17 +161,16 @@ def quartic_roots(a, u0, v0, roots):  # type: ignore[no-untyped-def]
     companion matrix if it fails); real roots stay real, complex ones come in
     exact conjugate pairs.
     """
+    if not _factor_roots(a, u0, v0, roots):
+        _companion_roots(a, roots)
+
+
+@kernel(borrows=True)
+def _factor_roots(a, u0, v0, roots):  # type: ignore[no-untyped-def]
+    """:func:`quartic_roots` by Bairstow; False (``roots`` untouched) where it fails."""
     u, v, ok = _bairstow(a, u0, v0)
     if not ok:
-        comp = np.zeros((4, 4), dtype=np.complex128)
-        for k in range(4):
-            comp[0, k] = -a[k + 1]
-        for k in range(3):
-            comp[k + 1, k] = 1.0
-        ev = np.linalg.eigvals(comp)
-        for k in range(4):
-            roots[k] = ev[k]
-        return
+        return False
     g1 = a[1] - u
     g2 = a[2] - u * g1 - v
     _quadratic(u, v, roots, 0)
@@ -165,24 +183,26 @@ def quartic_roots(a, u0, v0, roots):  # type: ignore[no-untyped-def]
             x = _polish(a, roots[i])
             roots[i] = complex(x.real, abs(x.imag))
             roots[i + 1] = complex(x.real, -abs(x.imag))
+    return True
 
 
 @kernel(inline=True)
 def separate(poles, n):  # type: ignore[no-untyped-def]
     """Move roots closer than a relative 1e-6 apart (:func:`designlab.impact.modal.poles_of`)."""
-    scale = 1e-300
+    big = 0.0
     for i in range(n):
-        scale = max(scale, abs(poles[i]))
+        big = max(big, _square(poles[i]))
+    scale = max(math.sqrt(big), 1e-300)
     for i in range(n):
         for j in range(i + 1, n):
-            if abs(poles[i] - poles[j]) < SEPARATION * scale:
+            if _square(poles[i] - poles[j]) < (SEPARATION * scale) ** 2:
                 mid = 0.5 * (poles[i] + poles[j])
                 d = SEPARATION * scale
                 poles[i] = mid - d
                 poles[j] = mid + d
 
 
-@kernel
+@kernel(borrows=True)
 def modal_solution(den, num, roots, p, r, c, outputs):  # type: ignore[no-untyped-def]
     """Folded poles ``p``, residues ``r`` (3, 4) and polynomial parts ``c`` (3, 2); pole count.
 
@@ -200,12 +220,13 @@ def modal_solution(den, num, roots, p, r, c, outputs):  # type: ignore[no-untype
             if j != i:
                 prod = prod * (pi - roots[j])
         p[nk] = pi
+        scale = w / prod  # one complex division per pole, shared by the outputs
         for o in range(3):
             if outputs[o]:
                 acc = complex(num[o, 0], 0.0)
                 for k in range(1, 6):
                     acc = acc * pi + num[o, k]
-                r[o, nk] = acc / prod * w
+                r[o, nk] = acc * scale
         nk += 1
     for o in range(3):
         if outputs[o]:

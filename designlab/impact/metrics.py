@@ -652,7 +652,7 @@ def _reduced_kernel(
 
 #: the kernel's outputs, in its order
 _KERNEL_OUTPUTS = ("force", "head_acceleration", "compression")
-_KERNEL_STATUS = np.array(kernel.STATUS_CODES, dtype=object)
+_KERNEL_STATUS = np.array(kernel.STATUS_CODES, dtype=str)  # fixed width: fast compares
 
 
 def _from_kernel(

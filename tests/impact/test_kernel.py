@@ -16,8 +16,11 @@ import logging
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from designlab.impact import kernel
+from designlab.impact.kernel_lobe import _hermite_root
 from designlab.impact.metrics import metrics_of_matrix
 from designlab.sx import cache as sx_cache
 
@@ -176,3 +179,42 @@ def test_slow_crossing_matches_mpmath_where_the_numpy_path_drifts() -> None:
     m = metrics_of_matrix(np.array([params]), 1.0)
     root = mpmath.findroot(_head_acceleration_mp(params, 1.0), 0.1734226387)
     assert float(abs((m.impact_duration[0] - root) / root)) < 1e-14
+
+
+_finite = st.floats(-1e6, 1e6, allow_nan=False)
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    st.floats(0.0, 10.0),
+    st.floats(1e-6, 1.0),
+    st.floats(-3.0, 3.0),
+    st.floats(0.05, 0.95),
+    _finite,
+    _finite,
+)
+def test_hermite_start_of_a_cubic_slope_is_its_root(
+    tl: float, w: float, curve: float, frac: float, ql_noise: float, qr_noise: float
+) -> None:
+    """y' = (t - t*) (1 + curve ((t - tl) / w)^2 / 2): a cubic, so its Hermite interpolant is
+    exact and two Newton steps from the secant root land on t*; hostile slopes at the ends
+    (any finite ``ql``, ``qr``, NaN) still give a start inside the cell."""
+    tr = tl + w
+    root = tl + frac * w
+
+    def slope(t: float) -> float:
+        return -(t - root) * (1.0 + 0.5 * curve * ((t - tl) / w) ** 2)
+
+    def second(t: float) -> float:
+        u = (t - tl) / w
+        return -(1.0 + 0.5 * curve * u * u) - (t - root) * curve * u / w
+
+    dl, dr = slope(tl), slope(tr)
+    if not (dl > 0 >= dr):
+        return
+    guess = _hermite_root(tl, tr, dl, dr, second(tl), second(tr))
+    assert tl <= guess <= tr
+    if abs(curve) < 0.5:  # y' monotone on the cell and the root simple: Newton converges
+        assert abs(guess - root) <= 1e-6 * w
+    for ql, qr in ((ql_noise, qr_noise), (np.nan, 0.0), (0.0, np.inf)):
+        assert tl <= _hermite_root(tl, tr, dl, dr, ql, qr) <= tr
