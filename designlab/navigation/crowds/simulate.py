@@ -334,7 +334,7 @@ class _Run:
         """
         s, inp = self.s, self.step.inp
         x, y = inp[0][0], inp[0][1]
-        if self.compiled:
+        if self.compiled and self.sizing is None:  # closing-speed radii: _sized_slots
             n, overlap = fill_candidates(
                 sensed, self.sense_rows, sensed.shape[1], x, y, self.r2 * self.r2, self.ped_dt,
                 self.slots, self.parked, 2 * self.r3, self.d2, self.order,
