@@ -22,7 +22,7 @@ The API (stable: names are added, never renamed)::
     risk = cd.injury_probability(robot, foam, closing_speed=<scipy frozen dist or samples>,
                                  heads=<None | HeadPopulation | HeadRange | HeadNeck>,
                                  criterion=dl.impact.HeadAcceleration(10), points=None,
-                                 samples=100_000, method="crude" | "importance",
+                                 samples=100_000, method="crude" | "importance" | "subset",
                                  confidence=0.95, seed=0, progress=None)
     # -> cd.InjuryRisk: probability, interval, standard_error, samples, method,
     #    failed_samples, contact_fraction, status, warnings, to_frame()

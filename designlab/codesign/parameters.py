@@ -71,7 +71,8 @@ RISK_SAMPLES = Param(
 
 #: Estimator of an injury probability.
 RISK_METHOD = Param(
-    None, "", "Monte Carlo estimator", kind="choice", choices=("crude", "importance"),
+    None, "", "Monte Carlo estimator", kind="choice",
+    choices=("crude", "importance", "subset"),
     default="importance", name="method",
 )  # fmt: skip
 

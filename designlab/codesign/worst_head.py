@@ -40,6 +40,7 @@ from designlab.impact.problem import FoamProblem
 
 __all__ = [
     "MAX_STEPS",
+    "ROUNDS",
     "STEP_TOLERANCE",
     "compass_search",
     "grid_worst_heads",
@@ -54,6 +55,9 @@ MAX_STEPS = 400
 
 #: The pattern search stops when its step is below this share of the range.
 STEP_TOLERANCE = 1e-9
+
+#: Rounds of the pattern search (the first along the axes and diagonals, then rotated).
+ROUNDS = 4
 
 Array = NDArray[np.float64]
 
@@ -73,16 +77,33 @@ def _directions(d: int) -> Array:
     return np.vstack([axes, diag])
 
 
+def _direction_sets(d: int) -> list[Array]:
+    """The pattern of each round: axes and diagonals, then seeded random rotations of it.
+
+    A non-smooth metric (a peak over time whose two largest peaks swap) has ridges along
+    which no fixed pattern climbs; the rotated patterns of the later rounds do.
+    """
+    base = _directions(d)
+    sets = [base]
+    for r in range(1, ROUNDS):
+        q, _ = np.linalg.qr(np.random.default_rng(r).standard_normal((d, d)))
+        sets.append(base @ q.T)
+    return sets
+
+
 def compass_search(
     values: Callable[[NDArray[np.int_], Array], Array], x0: Array, f0: Array,
     step: float = 0.25,
 ) -> tuple[Array, Array]:  # fmt: skip
     """Maximise a function over the unit box from each row of ``x0``, all rows in lock-step.
 
-    Each step tries, for every start still searching, a step along each axis and each
-    diagonal (clipped to the box), in one call of ``values``; a point moves to its best
-    trial if that beats it, else halves its step, until the step is below
-    :data:`STEP_TOLERANCE` (or after :data:`MAX_STEPS`). The value never falls.
+    Each step tries, for every start still searching, a step along each direction of the
+    round's pattern (clipped to the box), in one call of ``values``; a point moves to its
+    best trial if that beats it, else halves its step, until the step is below
+    :data:`STEP_TOLERANCE` (or after :data:`MAX_STEPS`). The first round's pattern is the
+    axes and the diagonals; each of the :data:`ROUNDS` - 1 later rounds restarts the step
+    with a seeded random rotation of it (the same for every row, so a row's result does not
+    depend on the others). The value never falls.
 
     Parameters
     ----------
@@ -92,7 +113,7 @@ def compass_search(
     x0, f0
         ``(n, d)`` starts and their values.
     step
-        The first step, a share of the range.
+        The first step of each round, a share of the range.
 
     Returns
     -------
@@ -107,20 +128,20 @@ def compass_search(
     ([[0.3, 0.3], [0.3, 0.3]], True)
     """
     x, f = np.array(x0, dtype=float), np.array(f0, dtype=float)
-    dirs = _directions(x.shape[1])
-    s = np.full(len(x), float(step))
-    for _ in range(MAX_STEPS):
-        idx = np.flatnonzero(s >= STEP_TOLERANCE)
-        if idx.size == 0:
-            break
-        trial = np.clip(x[idx, None, :] + s[idx, None, None] * dirs[None], 0.0, 1.0)
-        ft = values(idx, trial)
-        j = np.argmax(ft, axis=1)
-        best = ft[np.arange(idx.size), j]
-        up = best > f[idx]
-        x[idx[up]] = trial[np.flatnonzero(up), j[up]]
-        f[idx[up]] = best[up]
-        s[idx[~up]] *= 0.5
+    for dirs in _direction_sets(x.shape[1]):
+        s = np.full(len(x), float(step))
+        for _ in range(MAX_STEPS):
+            idx = np.flatnonzero(s >= STEP_TOLERANCE)
+            if idx.size == 0:
+                break
+            trial = np.clip(x[idx, None, :] + s[idx, None, None] * dirs[None], 0.0, 1.0)
+            ft = values(idx, trial)
+            j = np.argmax(ft, axis=1)
+            best = ft[np.arange(idx.size), j]
+            up = best > f[idx]
+            x[idx[up]] = trial[np.flatnonzero(up), j[up]]
+            f[idx[up]] = best[up]
+            s[idx[~up]] *= 0.5
     return x, f
 
 
