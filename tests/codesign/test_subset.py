@@ -85,3 +85,16 @@ def test_samples_per_level_must_give_chains() -> None:
                           level_probability=0.9)  # fmt: skip
     with pytest.raises(InvalidParameterError, match="method"):
         dl.codesign.injury_probability(MANIPULATOR_1, FOAM_1, stats.rayleigh(), method="ss")
+
+
+def test_link_points_and_sampled_speeds_agree_with_importance_sampling() -> None:
+    link = dl.impact.LinkImpact.from_contact(MANIPULATOR_1, joint_speed=1.0,
+                                             lever_arm_min=0.02, lever_arm_max=0.078)  # fmt: skip
+    speeds = np.random.default_rng(7).rayleigh(1.0, 5000)  # samples, not a distribution
+    kw = {"closing_speed": speeds, "criterion": HeadAcceleration(10)}
+    imp = dl.codesign.injury_probability(link, FOAM_1, samples=40_000, seed=8, **kw)
+    sub = dl.codesign.injury_probability(link, FOAM_1, samples=4000, method="subset", seed=9,
+                                         **kw)  # fmt: skip
+    assert 0.01 < imp.probability < 0.5
+    se = math.hypot(imp.standard_error, 2 * sub.standard_error)
+    assert abs(sub.probability - imp.probability) < 4 * se
