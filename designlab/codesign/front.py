@@ -601,6 +601,8 @@ def evaluate_design(
     """
     if measure not in MEASURES:
         raise InvalidParameterError("measure", measure, f"must be one of {MEASURES}")
+    if crowds is not None and not isinstance(crowds, CrowdEncounters):
+        raise InvalidParameterError("crowds", crowds, "must be a CrowdEncounters or None")
     items = _check_scenarios(scenarios)
     runs = [
         simulate(sc.with_robot(dataclasses.replace(sc.robot, max_speed=design.speed)),
@@ -621,8 +623,6 @@ def evaluate_design(
             samples=risk_samples, seed=seed,
         ).probability  # fmt: skip
 
-    if crowds is not None and not isinstance(crowds, CrowdEncounters):
-        raise InvalidParameterError("crowds", crowds, "must be a CrowdEncounters or None")
     crowd = None if crowds is None else crowds.of(design.speed, design.gains)
     return DesignScore(
         design=design,

@@ -71,7 +71,7 @@ _DOCS = ("foam stiffness", "foam damping", "foam thickness", "robot speed limit"
 
 #: Design variable -> description with its unit (the rows of the tables).
 DESCRIPTIONS: dict[str, str] = {
-    name: f"{doc} {name}" + (f" ({_UNITS[unit]})" if unit else "")
+    name: doc + (f" ({_UNITS[unit]})" if unit else "")
     for (name, unit), doc in zip(VARIABLES, _DOCS, strict=True)
 }
 

@@ -3,18 +3,20 @@
 The impact package's worst case (:mod:`designlab.impact.problem`) takes the worst
 head of a grid over the range (the corners and, with 3 levels, the mid-points). The
 worst head need not be on that grid: with a strongly damped foam the largest
-compression can lie inside the range (a fraction of a percent above the grid's).
-:func:`refine_worst_head` starts from the grid's worst head and maximises the
-metric at v_c = 1 m/s over the box with a derivative-free bounded pattern search
-(compass search along the axes and the diagonals, halving the step down to 1e-9 of the
-range; Kolda, Lewis and Torczon 2003), keeping the better of the two. The search of
-many foams runs in lock-step, one kernel batch per step.
-:func:`grid_worst_heads` gives the grid's worst head of many foams in one kernel
-batch, and :func:`worst_heads` polishes each: the speed limit of one foam
-(:func:`~designlab.codesign.speed_limit`) and the map over many
-(:func:`~designlab.codesign.speed_limit_map`) both call it, so they agree exactly.
-For a link struck anywhere, :func:`refine_link_worst` searches the impact point and
-the head together at a joint speed.
+compression lies inside the range, and a peak force or acceleration can peak on a ridge
+between grid points (where the two largest peaks in time swap). :func:`refine_worst_head`
+starts from the grid's worst head and maximises the metric at v_c = 1 m/s over the box
+with a derivative-free bounded pattern search (:func:`compass_search`: steps along the
+axes and the diagonals, halving down to 1e-9 of the range, then :data:`ROUNDS` - 1
+restarts along seeded rotations of that pattern, which climb ridges no fixed pattern
+climbs; Kolda, Lewis and Torczon 2003), keeping the better of the two. The search of many
+foams runs in lock-step, one kernel batch per step. :func:`grid_worst_heads` gives the
+grid's worst head of many foams in one kernel batch, and :func:`refine_heads` polishes
+each: the speed limit of one foam (:func:`~designlab.codesign.speed_limit`, through
+:func:`worst_heads`) and the map over many (:func:`~designlab.codesign.speed_limit_map`)
+both call it, so they agree exactly. For a link struck anywhere,
+:func:`refine_link_worst` searches the impact point and the head together at a joint
+speed. A local search can still miss a separate maximum far from the grid's worst head.
 
 Examples
 --------

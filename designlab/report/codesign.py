@@ -342,11 +342,14 @@ def _sensitivity_claims(table: SensitivityTable) -> list[str]:
             out.append(f"- {m}: constant over the sample (no index).")
             continue
         top = rows.iloc[0]
-        nil = rows[rows["ST"] - rows["ST_conf"] <= 0.0]["parameter"].tolist()
+        exact = (rows["ST"] == 0.0) & (rows["ST_conf"] == 0.0)
+        vague = ~exact & (rows["ST"] - rows["ST_conf"] <= 0.0)
         out.append(
             f"- {m}: most influential {top['parameter']} (S_T = {top['ST']:.3g} +- "
-            f"{top['ST_conf']:.2g}); S_T not distinguishable from 0 for "
-            + (", ".join(nil) if nil else "no variable")
+            f"{top['ST_conf']:.2g}); S_T = 0 exactly (the variable does not enter) for "
+            + (", ".join(rows.loc[exact, "parameter"]) or "no variable")
+            + "; the 95 % interval of S_T includes 0 for "
+            + (", ".join(rows.loc[vague, "parameter"]) or "no other variable")
             + "."
         )
     return [*out, ""]

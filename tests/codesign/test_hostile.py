@@ -114,7 +114,7 @@ def test_bad_closing_speeds(speeds, name):
         ({"samples": 0}, "samples"),
         ({"samples": 10**12}, "samples"),
         ({"samples": 100.5}, "samples"),
-        ({"method": "subset"}, "method"),
+        ({"method": "Subset"}, "method"),
         ({"confidence": 1.0}, "confidence"),
         ({"confidence": math.nan}, "confidence"),
         ({"seed": -1}, "seed"),
