@@ -346,7 +346,8 @@ def _sensitivity_claims(table: SensitivityTable) -> list[str]:
         vague = ~exact & (rows["ST"] - rows["ST_conf"] <= 0.0)
         out.append(
             f"- {m}: most influential {top['parameter']} (S_T = {top['ST']:.3g} +- "
-            f"{top['ST_conf']:.2g}); S_T = 0 exactly (the variable does not enter) for "
+            f"{top['ST_conf']:.2g}); S_T = 0 exactly (changing it alone never changed the metric "
+            "in the sample) for "
             + (", ".join(rows.loc[exact, "parameter"]) or "no variable")
             + "; the 95 % interval of S_T includes 0 for "
             + (", ".join(rows.loc[vague, "parameter"]) or "no other variable")
