@@ -164,7 +164,7 @@ def speed_limit_map(
         The foams' linear depth lambda, m (the thickness limit eps_max <= lambda).
     head_levels, refine
         As in :func:`~designlab.codesign.speed_limit` (``refine=False``: the grid's worst
-        heads only, one kernel batch, about 7 times faster on a 40 x 40 grid).
+        heads only, one kernel batch, about 20 times faster on a 40 x 40 grid).
 
     Returns
     -------
