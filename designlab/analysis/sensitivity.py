@@ -276,11 +276,15 @@ def sobol_table(
     from SALib.analyze import sobol
 
     problem = {"num_vars": len(names), "names": list(names), "bounds": [list(b) for b in bounds]}
+    # SALib seeds its bootstrap only for a truthy seed (``if seed:``): seed 0 would leave the
+    # intervals unseeded (different on every run), so 0 is passed as 2**32 (not a valid seed
+    # of the sample, so no other seed maps to it).
+    boot = seed if seed else 2**32
     rows = []
     for metric, y in outputs.items():
         y = np.asarray(y, dtype=float)
         if np.all(np.isfinite(y)) and np.ptp(y) > 0:
-            res = sobol.analyze(problem, y, calc_second_order=False, seed=seed)
+            res = sobol.analyze(problem, y, calc_second_order=False, seed=boot)
             vals = {k: res[k] for k in ("S1", "S1_conf", "ST", "ST_conf")}
         else:
             vals = {k: np.full(len(names), np.nan) for k in ("S1", "S1_conf", "ST", "ST_conf")}

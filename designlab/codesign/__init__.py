@@ -17,11 +17,12 @@ The API (stable: names are added, never renamed)::
     smap = cd.speed_limit_map(robot, K_c=[...], C_c=[...], criteria=..., linear_depth=0.02,
                               head_range=..., human_speed=1.0, ...)
     # -> cd.SpeedLimitMap: stiffness, damping, max_speed[i, j], closing_speed[i, j],
-    #    limiting[i, j] (index into criteria), per_criterion, to_frame() (one row per foam)
+    #    limiting[i, j] (index into criteria), per_criterion, grid_closing_speed (the head
+    #    grid's alone; refine=True searches off it), to_frame() (one row per foam)
     risk = cd.injury_probability(robot, foam, closing_speed=<scipy frozen dist or samples>,
                                  heads=<None | HeadPopulation | HeadRange | HeadNeck>,
                                  criterion=dl.impact.HeadAcceleration(10), points=None,
-                                 samples=100_000, method="crude" | "importance",
+                                 samples=100_000, method="crude" | "importance" | "subset",
                                  confidence=0.95, seed=0, progress=None)
     # -> cd.InjuryRisk: probability, interval, standard_error, samples, method,
     #    failed_samples, contact_fraction, status, warnings, to_frame()
@@ -34,9 +35,13 @@ The API (stable: names are added, never renamed)::
     speeds = cd.navigation_contacts(scenarios, gains)   # or cd.contact_speeds(runs)
     # -> cd.ContactSpeeds: encounters (closest approach or first contact) per run and disc,
     #    an empirical closing-speed distribution (rvs, cdf, sf, ppf), to_frame()
-    front = cd.pareto(scenarios, space=cd.DesignSpace(...), objectives=(...), seed=0)
+    front = cd.pareto(scenarios, space=cd.DesignSpace(...), objectives=(...), seed=0,
+                      crowds=None)  # crowds: for the objective crowd_injury_probability
     # -> cd.ParetoFront: to_frame() (non-dominated designs), designs_frame(),
     #    reference_frame() (the thesis's design and its distance from the front)
+    sens = cd.front_sensitivity(scenarios, space=..., objectives=(...), samples=16, seed=0)
+    # -> designlab.analysis.sensitivity.SensitivityTable: Sobol S1, ST and their 95 %
+    #    half-widths of each objective (and ``infeasible``) per design variable
 
 What the model does not cover: head rotation (the head is a point mass on a linear
 neck), the torso and the rest of the body, clamping (a head pinned against a wall),
@@ -59,6 +64,7 @@ from designlab.codesign.contacts import (
     contact_speeds,
     navigation_contacts,
 )
+from designlab.codesign.crowd_encounters import CrowdEncounters
 from designlab.codesign.fragility import FragilityCurve, fragility_curve
 from designlab.codesign.front import (
     OBJECTIVES,
@@ -75,6 +81,7 @@ from designlab.codesign.front import (
 )
 from designlab.codesign.population import ClosingSpeeds, HeadPopulation
 from designlab.codesign.risk import InjuryRisk, RiskStatus, injury_probability
+from designlab.codesign.sensitivity import design_sobol, front_sensitivity
 from designlab.codesign.speed import SpeedLimit, SpeedLimitStatus, speed_limit
 from designlab.codesign.speed_map import SpeedLimitMap, speed_limit_map
 
@@ -84,6 +91,7 @@ __all__ = [
     "ClosingSpeeds",
     "ContactSpeeds",
     "ContactStatus",
+    "CrowdEncounters",
     "Design",
     "DesignScore",
     "DesignSpace",
@@ -98,8 +106,10 @@ __all__ = [
     "SpeedLimitStatus",
     "contact_speed",
     "contact_speeds",
+    "design_sobol",
     "evaluate_design",
     "fragility_curve",
+    "front_sensitivity",
     "injury_probability",
     "max_robot_speed",
     "navigation_contacts",

@@ -12,6 +12,9 @@ model. The objectives (all minimised; :data:`OBJECTIVES`) are
 * ``injury_probability``: P(criterion exceeded | contact) at the closing speeds the runs
   met, over the head-neck range (:func:`designlab.codesign.injury_probability`; a design
   that meets nobody scores 0);
+* ``crowd_injury_probability``: the same over the design's own encounters in a small set
+  of crowds (its gains and speed limit; :class:`~designlab.codesign.CrowdEncounters`,
+  optional: only with ``crowds=``);
 
 and the hard constraints (a design that breaks one is infeasible, never traded) are:
 no collision, no critical-region entry, arrival in every scenario, and a foam that
@@ -48,6 +51,7 @@ from pymoo.core.problem import Problem
 from pymoo.optimize import minimize
 
 from designlab.codesign.contacts import MEASURES, ContactSpeeds, contact_speeds
+from designlab.codesign.crowd_encounters import CrowdEncounters
 from designlab.codesign.parameters import RISK_SAMPLES
 from designlab.codesign.risk import injury_probability
 from designlab.errors import InvalidParameterError
@@ -65,6 +69,7 @@ from designlab.impact import (
 from designlab.navigation import (
     EXPERIMENT_GAINS,
     OPTIMAL_GAINS,
+    CrowdScenario,
     HolonomicRobot,
     Scenario,
     VFFGains,
@@ -444,6 +449,14 @@ class DesignScore:
     injury_probability
         P(criterion exceeded | contact) at the encounters' closing speeds (``nan`` when
         not asked for).
+    capped_arrival_time
+        Mean T_arrive with a run that did not arrive counted at its horizon T_max (s;
+        finite, for the sensitivity of the front, :mod:`designlab.codesign.sensitivity`).
+    crowd_contacts
+        The design's encounters in the crowds (``None`` without crowds).
+    crowd_injury_probability
+        P(criterion exceeded | contact) over them (``nan`` without crowds or criterion; 0
+        when it met nobody).
     """
 
     design: Design
@@ -455,6 +468,9 @@ class DesignScore:
     closing_speed: float
     required_thickness: float
     injury_probability: float = math.nan
+    capped_arrival_time: float = math.nan
+    crowd_contacts: ContactSpeeds | None = field(default=None, repr=False)
+    crowd_injury_probability: float = math.nan
 
     @property
     def constraints(self) -> Array:
@@ -513,6 +529,9 @@ OBJECTIVES: dict[str, Objective] = {
                   lambda s: s.closing_speed),
         Objective("injury_probability", "", "P(criterion exceeded | contact)",
                   lambda s: s.injury_probability),
+        Objective("crowd_injury_probability", "",
+                  "P(criterion exceeded | contact) over the design's crowd encounters",
+                  lambda s: s.crowd_injury_probability),
     )
 }  # fmt: skip
 
@@ -543,6 +562,7 @@ def evaluate_design(
     criterion: Criterion | None = None,
     risk_samples: int = 20_000,
     seed: int = 0,
+    crowds: CrowdEncounters | None = None,
 ) -> DesignScore:
     """Simulate the scenarios with the design's speed limit and gains and score it.
 
@@ -563,6 +583,10 @@ def evaluate_design(
         probability is not computed.
     risk_samples, seed
         Monte Carlo samples and seed of :func:`designlab.codesign.injury_probability`.
+    crowds
+        Crowd encounters of the design's gains and speed limit
+        (:class:`~designlab.codesign.CrowdEncounters`), for
+        :attr:`DesignScore.crowd_injury_probability`; ``None``: no crowd runs.
 
     Returns
     -------
@@ -577,21 +601,29 @@ def evaluate_design(
     """
     if measure not in MEASURES:
         raise InvalidParameterError("measure", measure, f"must be one of {MEASURES}")
+    if crowds is not None and not isinstance(crowds, CrowdEncounters):
+        raise InvalidParameterError("crowds", crowds, "must be a CrowdEncounters or None")
+    items = _check_scenarios(scenarios)
     runs = [
         simulate(sc.with_robot(dataclasses.replace(sc.robot, max_speed=design.speed)),
                  design.gains)
-        for sc in _check_scenarios(scenarios)
+        for sc in items
     ]  # fmt: skip
+    capped = [min(r.arrival_time, sc.horizon) for r, sc in zip(runs, items, strict=True)]
     contacts = contact_speeds(runs, measure=measure)
     v = float(contacts.samples.max()) if len(contacts) else 0.0
-    risk = math.nan
-    if criterion is not None:
-        risk = 0.0  # nobody met: no contact
-        if len(contacts):
-            risk = injury_probability(
-                robot, design.foam, closing_speed=contacts, heads=heads, criterion=criterion,
-                samples=risk_samples, seed=seed,
-            ).probability  # fmt: skip
+
+    def risk_over(c: ContactSpeeds) -> float:
+        if criterion is None:
+            return math.nan
+        if not len(c):
+            return 0.0  # nobody met: no contact
+        return injury_probability(
+            robot, design.foam, closing_speed=c, heads=heads, criterion=criterion,
+            samples=risk_samples, seed=seed,
+        ).probability  # fmt: skip
+
+    crowd = None if crowds is None else crowds.of(design.speed, design.gains)
     return DesignScore(
         design=design,
         arrival_time=float(np.mean([r.arrival_time for r in runs])),
@@ -601,7 +633,10 @@ def evaluate_design(
         contacts=contacts,
         closing_speed=v,
         required_thickness=_required_thickness(robot, design.foam, v, heads),
-        injury_probability=float(risk),
+        injury_probability=float(risk_over(contacts)),
+        capped_arrival_time=float(np.mean(capped)),
+        crowd_contacts=crowd,
+        crowd_injury_probability=math.nan if crowd is None else float(risk_over(crowd)),
     )
 
 
@@ -790,6 +825,7 @@ def pareto(
     seed: int = 0,
     reference: Design | Mapping[str, Design] | None = None,
     progress: ProgressHook | None = None,
+    crowds: CrowdScenario | Sequence[CrowdScenario] | CrowdEncounters | None = None,
 ) -> ParetoFront:
     """The Pareto front of foam, speed limit and VFF gains over navigation scenarios.
 
@@ -824,6 +860,10 @@ def pareto(
         or ``None`` (default): the thesis's two, :data:`THESIS_DESIGNS`; ``{}``: none.
     progress
         Called after each generation (:mod:`designlab.progress`).
+    crowds
+        Crowd scenarios each design also drives through with its own gains and speed limit
+        (:class:`~designlab.codesign.CrowdEncounters`, runs cached per gains and speed),
+        needed by the objective ``crowd_injury_probability`` and only run for it.
 
     Returns
     -------
@@ -846,17 +886,14 @@ def pareto(
         raise InvalidParameterError("measure", measure, f"must be one of {MEASURES}")
     refs = _check_references(reference)
 
-    if criterion is not None and not isinstance(criterion, Criterion):
-        raise InvalidParameterError("criterion", criterion, "must be an impact Criterion or None")
+    risk = risk_criterion(names, criterion)
     RISK_SAMPLES.check(risk_samples, "risk_samples")
-    risk = None
-    if "injury_probability" in names:
-        risk = HeadAcceleration(10.0) if criterion is None else criterion
+    encounters = crowd_encounters(names, crowds, measure)
 
     def score(x: Array) -> DesignScore:
         return evaluate_design(
             Design.from_vector(x), items, robot=robot, heads=heads, measure=measure,
-            criterion=risk, risk_samples=risk_samples, seed=seed,
+            criterion=risk, risk_samples=risk_samples, seed=seed, crowds=encounters,
         )  # fmt: skip
 
     def evaluate(x: Array) -> tuple[Array, Array]:
@@ -869,6 +906,44 @@ def pareto(
                 progress=progress)  # fmt: skip
     scored = {label: score(d.vector()) for label, d in refs.items()}
     return _front(out, names, scored, seed)
+
+
+def risk_criterion(names: Sequence[str], criterion: Any) -> Criterion | None:
+    """The injury criterion the objectives ``names`` need (default a_h,max <= 10 g), or None.
+
+    Parameters
+    ----------
+    names
+        The objectives.
+    criterion
+        The criterion given (``None``: the default).
+    """
+    if criterion is not None and not isinstance(criterion, Criterion):
+        raise InvalidParameterError("criterion", criterion, "must be an impact Criterion or None")
+    if not {"injury_probability", "crowd_injury_probability"} & set(names):
+        return None
+    return HeadAcceleration(10.0) if criterion is None else criterion
+
+
+def crowd_encounters(names: Sequence[str], crowds: Any, measure: str) -> CrowdEncounters | None:
+    """The crowd encounters of ``crowd_injury_probability`` (``None`` when not asked for).
+
+    Parameters
+    ----------
+    names
+        The objectives.
+    crowds
+        Crowd scenarios, a :class:`~designlab.codesign.CrowdEncounters` or ``None``.
+    measure
+        Which closing speed counts.
+    """
+    if "crowd_injury_probability" not in names:
+        return None
+    if crowds is None:
+        raise InvalidParameterError(
+            "crowds", None, "is needed by the objective crowd_injury_probability"
+        )
+    return crowds if isinstance(crowds, CrowdEncounters) else CrowdEncounters(crowds, measure)
 
 
 def _check_references(reference: Any) -> dict[str, Design]:

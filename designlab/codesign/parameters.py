@@ -28,6 +28,7 @@ __all__ = [
     "RISK_METHOD",
     "RISK_SAMPLES",
     "SEED",
+    "SENSITIVITY_SAMPLES",
 ]
 
 #: Time between the robot's detection of a person and the start of its braking: the
@@ -70,7 +71,8 @@ RISK_SAMPLES = Param(
 
 #: Estimator of an injury probability.
 RISK_METHOD = Param(
-    None, "", "Monte Carlo estimator", kind="choice", choices=("crude", "importance"),
+    None, "", "Monte Carlo estimator", kind="choice",
+    choices=("crude", "importance", "subset"),
     default="importance", name="method",
 )  # fmt: skip
 
@@ -87,4 +89,11 @@ SEED = Param(None, "", "seed of the random samples", kind="integer", ge=0, le=2*
 CURVE_POINTS = Param(
     None, "", "closing speeds of a fragility curve", kind="integer", ge=1, le=10_000,
     name="speeds",
+)  # fmt: skip
+
+#: Saltelli base sample size of the front's Sobol indices (N (D + 2) designs, each a set
+#: of navigation runs; a power of two).
+SENSITIVITY_SAMPLES = Param(
+    None, "", "Saltelli base sample size N of the front's Sobol indices (a power of two)",
+    kind="integer", ge=2, le=4096, default=16, name="samples",
 )  # fmt: skip

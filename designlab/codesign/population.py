@@ -190,6 +190,38 @@ class HeadPopulation:
         cols = [_draw(getattr(self, name), n, rng) for name in ("mass", "damping", "stiffness")]
         return np.column_stack(cols)
 
+    @property
+    def dimension(self) -> int:
+        """How many parameters are random (a distribution, not a number)."""
+        return sum(is_distribution(getattr(self, n)) for n in ("mass", "damping", "stiffness"))
+
+    def from_normal(self, u: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``(n, 3)`` heads ``[M_h, C_h, K_h]`` from ``(n, dimension)`` standard normals.
+
+        Each random parameter is ``isf(Phi(-u))`` of its distribution (the Rosenblatt
+        transform of independent parameters, exact in the upper tail); a fixed one keeps
+        its number. Used by subset simulation (:mod:`designlab.codesign.subset`).
+
+        Parameters
+        ----------
+        u
+            Standard normal coordinates, one column per random parameter (in the order
+            mass, damping, stiffness).
+
+        Returns
+        -------
+        numpy.ndarray
+        """
+        cols, j = [], 0
+        for name in ("mass", "damping", "stiffness"):
+            entry = getattr(self, name)
+            if is_distribution(entry):
+                cols.append(np.asarray(entry.isf(stats.norm.sf(u[:, j])), dtype=float))
+                j += 1
+            else:
+                cols.append(np.full(u.shape[0], float(entry)))
+        return np.column_stack(cols)
+
 
 def _draw(entry: Any, n: int, rng: np.random.Generator) -> NDArray[np.float64]:
     if is_distribution(entry):
@@ -267,6 +299,25 @@ class ClosingSpeeds:
             return self.values[rng.integers(0, self.values.size, n)]
         u = rng.random(n) * self.contact_fraction
         return np.asarray(self.dist.isf(u), dtype=float)
+
+    def from_normal(self, u: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Closing speeds given a contact from standard normals ``u`` (the transform of
+        :meth:`sample`: ``isf(Phi(-u) P(v_c > 0))``; samples: their empirical quantile).
+
+        Parameters
+        ----------
+        u
+            Standard normal coordinates.
+
+        Returns
+        -------
+        numpy.ndarray
+        """
+        tail = stats.norm.sf(np.asarray(u, dtype=float))
+        if self.dist is None:
+            k = np.floor((1.0 - tail) * self.values.size).astype(int)
+            return self.values[np.clip(k, 0, self.values.size - 1)]
+        return np.asarray(self.dist.isf(tail * self.contact_fraction), dtype=float)
 
     def sf(self, v: NDArray[np.float64]) -> NDArray[np.float64]:
         """``P(v_c > v | v_c > 0)`` for an array of speeds ``v >= 0``.

@@ -51,7 +51,7 @@ from designlab.codesign.parameters import (
     HEAD_LEVELS,
     REACTION_TIME,
 )
-from designlab.codesign.worst_head import refine_worst_head
+from designlab.codesign.worst_head import refine_link_worst, worst_heads
 from designlab.errors import InvalidParameterError
 from designlab.impact import (
     THESIS_HEAD_RANGE,
@@ -273,10 +273,8 @@ def _fixed_limits(
     k, c = np.array([foam.stiffness]), np.array([foam.damping])
     out = {}
     for key in prob.keys():
-        vals, _ = prob.worst(key, k, c)
-        m1, head = float(vals[0]), _worst_head(prob, key, foam, math.nan)
-        if refine:
-            m1, head = refine_worst_head(prob, key, foam, head, m1)
+        vals, heads = worst_heads(prob, key, k, c, refine)
+        m1, head = float(vals[0]), heads[0]
         v = math.inf if m1 <= 0 else (key.limit / m1) ** (1.0 / key.velocity_exponent)
         out[key.name] = (v, m1, head)
     return out
@@ -292,26 +290,52 @@ def _link_excess(
     return math.log(max(float(vals[0]), 1e-300) / key.limit), float(lev[0])
 
 
-def _link_limits(prob: FoamProblem, foam: Foam) -> dict[str, tuple[float, float, float]]:
-    """Per constraint of a link: (joint speed allowed, v_c at its worst point, that lever).
+def _link_joint_speed(prob: FoamProblem, key: Criterion, foam: Foam, top_speed: float) -> float:
+    """The largest joint speed at which the grid's worst case of a link meets ``key``.
 
     The worst metric rises with the joint speed (``v_c = theta_dot l + v_h`` at every
-    point), so the largest joint speed is a root of ``log(metric / limit)`` (Brent).
+    point), so it is a root of ``log(metric / limit)`` (Brent).
+    """
+    at_rest, _ = _link_excess(prob, key, foam, 0.0)
+    top, _ = _link_excess(prob, key, foam, top_speed)
+    if at_rest > 0:
+        return 0.0
+    if top <= 0:
+        return top_speed
+    return float(brentq(lambda w: _link_excess(prob, key, foam, w)[0], 0.0, top_speed,
+                        xtol=1e-12, rtol=1e-10))  # fmt: skip
+
+
+#: Rounds of the off-grid correction of a link's joint speed (each lowers it).
+_LINK_ROUNDS = 8
+
+
+def _link_limits(
+    prob: FoamProblem, foam: Foam, refine: bool
+) -> dict[str, tuple[float, float, float, HeadNeck | None]]:
+    """Per constraint of a link: (joint speed allowed, v_c at its worst point, lever, head).
+
+    With ``refine``, the worst impact point and head are then sought off the grids together
+    (:func:`~designlab.codesign.worst_head.refine_link_worst`); at a fixed point and head
+    the metric scales exactly as ``v_c ** e``, so a worse case found lowers the joint speed
+    in closed form, and the search repeats at the lower speed until it finds none.
     """
     out = {}
-    top_speed = (_MAX_CLOSING_SPEED - prob.human_speed) / prob.robot.lever_arm_max
+    v_h = prob.human_speed
+    top_speed = (_MAX_CLOSING_SPEED - v_h) / prob.robot.lever_arm_max
     for key in prob.keys():
-        at_rest, _ = _link_excess(prob, key, foam, 0.0)
-        top, _ = _link_excess(prob, key, foam, top_speed)
-        if at_rest > 0:
-            omega = 0.0
-        elif top <= 0:
-            omega = top_speed
-        else:
-            omega = brentq(lambda w, k=key: _link_excess(prob, k, foam, w)[0], 0.0,
-                           top_speed, xtol=1e-12, rtol=1e-10)  # fmt: skip
+        omega = _link_joint_speed(prob, key, foam, top_speed)
         _, lever = _link_excess(prob, key, foam, omega)
-        out[key.name] = (omega, omega * lever + prob.human_speed, lever)
+        head = None
+        for _ in range(_LINK_ROUNDS if refine and omega > 0 else 0):
+            at = dataclasses.replace(prob, robot=dataclasses.replace(prob.robot, joint_speed=omega))
+            vals, lev = at.worst(key, np.array([foam.stiffness]), np.array([foam.damping]))
+            m, lv, h = refine_link_worst(at, key, foam, float(lev[0]), float(vals[0]))
+            if h is None or m <= key.limit * (1.0 + 1e-12):
+                break
+            allowed = (omega * lv + v_h) * (key.limit / m) ** (1.0 / key.velocity_exponent)
+            omega, lever, head = max((allowed - v_h) / lv, 0.0), lv, h
+        out[key.name] = (omega, omega * lever + v_h, lever, head)
     return out
 
 
@@ -359,7 +383,8 @@ def speed_limit(
         Values per head-neck parameter of the worst-head grid (3: 27 heads).
     refine
         Polish each criterion's worst head off the grid with a bounded local search
-        (:mod:`designlab.codesign.worst_head`; a fixed robot only: a link keeps the grid).
+        (:mod:`designlab.codesign.worst_head`; for a link, the head and the impact point
+        together, lowering the joint speed when a worse case is found).
 
     Returns
     -------
@@ -378,16 +403,25 @@ def speed_limit(
     human_speed = HUMAN_SPEED.check(human_speed)
     brake = Braking.check(reaction_time, deceleration, detection_distance)
     prob = problem_for(robot, criteria, foam.linear_depth, head_range, human_speed, head_levels)
-    if isinstance(robot, LinkImpact):
-        return _summarise_link(prob, foam, brake, _link_limits(prob, foam))
     if not isinstance(refine, (bool, np.bool_)):
         raise InvalidParameterError("refine", refine, "must be True or False")
+    if isinstance(robot, LinkImpact):
+        return _summarise_link(prob, foam, brake, _link_limits(prob, foam, bool(refine)))
     return _summarise_fixed(prob, foam, brake, _fixed_limits(prob, foam, bool(refine)))
 
 
-def _common(prob: FoamProblem, foam: Foam, levers: dict[str, float]) -> dict:
-    """The worst heads of every constraint (shared by both summaries)."""
-    return {key.name: _worst_head(prob, key, foam, levers[key.name]) for key in prob.keys()}
+def _link_heads(
+    prob: FoamProblem, foam: Foam, lim: dict[str, tuple[float, float, float, HeadNeck | None]]
+) -> dict[str, HeadNeck]:
+    """The worst head of each constraint of a link: off the grid, or the grid's at its lever."""
+    out = {}
+    for key in prob.keys():
+        omega, _, lever, head = lim[key.name]
+        if head is None:
+            at = dataclasses.replace(prob, robot=dataclasses.replace(prob.robot, joint_speed=omega))
+            head = _worst_head(at, key, foam, lever)
+        out[key.name] = head
+    return out
 
 
 def _summarise_fixed(
@@ -416,14 +450,17 @@ def _summarise_fixed(
 
 
 def _summarise_link(
-    prob: FoamProblem, foam: Foam, brake: Braking, lim: dict[str, tuple[float, float, float]]
+    prob: FoamProblem,
+    foam: Foam,
+    brake: Braking,
+    lim: dict[str, tuple[float, float, float, HeadNeck | None]],
 ) -> SpeedLimit:
     """The speed limit of a link from the per-constraint joint speeds."""
-    omegas = {n: w for n, (w, _, _) in lim.items()}
+    omegas = {n: w for n, (w, _, _, _) in lim.items()}
     limiting = min(omegas, key=lambda n: omegas[n])
-    omega, v_c, _ = lim[limiting]
+    omega, v_c, _, _ = lim[limiting]
     v_h = prob.human_speed
-    levers = {n: lv for n, (_, _, lv) in lim.items()}
+    levers = {n: lv for n, (_, _, lv, _) in lim.items()}
     status, warnings = _status(omega, v_h, limiting)
     if brake.detection_distance > 0:
         warnings += ("the braking model is not applied to a LinkImpact (a joint speed limit)",)
@@ -431,8 +468,8 @@ def _summarise_link(
     return SpeedLimit(
         max_speed=speed, closing_speed=v_c, robot_speed=v_c - v_h, head_speed=v_h,
         joint_speed=omega, limiting_criterion=limiting,
-        per_criterion={n: v for n, (_, v, _) in lim.items()},
-        worst_heads=_common(prob, foam, levers), worst_lever_arm=levers,
+        per_criterion={n: v for n, (_, v, _, _) in lim.items()},
+        worst_heads=_link_heads(prob, foam, lim), worst_lever_arm=levers,
         unit_metric={n: math.nan for n in omegas},
         reaction_time=brake.reaction_time, deceleration=brake.deceleration,
         detection_distance=brake.detection_distance,

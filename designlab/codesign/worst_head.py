@@ -3,10 +3,20 @@
 The impact package's worst case (:mod:`designlab.impact.problem`) takes the worst
 head of a grid over the range (the corners and, with 3 levels, the mid-points). The
 worst head need not be on that grid: with a strongly damped foam the largest
-compression can lie inside the range (a fraction of a percent above the grid's).
-:func:`refine_worst_head` starts from the grid's worst head and maximises the
-metric at v_c = 1 m/s over the box with a derivative-free bounded search
-(``scipy.optimize.minimize``, Powell), keeping the better of the two.
+compression lies inside the range, and a peak force or acceleration can peak on a ridge
+between grid points (where the two largest peaks in time swap). :func:`refine_worst_head`
+starts from the grid's worst head and maximises the metric at v_c = 1 m/s over the box
+with a derivative-free bounded pattern search (:func:`compass_search`: steps along the
+axes and the diagonals, halving down to 1e-9 of the range, then :data:`ROUNDS` - 1
+restarts along seeded rotations of that pattern, which climb ridges no fixed pattern
+climbs; Kolda, Lewis and Torczon 2003), keeping the better of the two. The search of many
+foams runs in lock-step, one kernel batch per step. :func:`grid_worst_heads` gives the
+grid's worst head of many foams in one kernel batch, and :func:`refine_heads` polishes
+each: the speed limit of one foam (:func:`~designlab.codesign.speed_limit`, through
+:func:`worst_heads`) and the map over many (:func:`~designlab.codesign.speed_limit_map`)
+both call it, so they agree exactly. For a link struck anywhere,
+:func:`refine_link_worst` searches the impact point and the head together at a joint
+speed. A local search can still miss a separate maximum far from the grid's worst head.
 
 Examples
 --------
@@ -21,25 +31,124 @@ Examples
 
 from __future__ import annotations
 
+import itertools
+from collections.abc import Callable
+
 import numpy as np
 from numpy.typing import NDArray
-from scipy.optimize import minimize
 
 from designlab.impact import Criterion, Foam, HeadNeck
 from designlab.impact.problem import FoamProblem
 
-__all__ = ["MAX_EVALUATIONS", "refine_worst_head"]
+__all__ = [
+    "MAX_STEPS",
+    "ROUNDS",
+    "STEP_TOLERANCE",
+    "compass_search",
+    "grid_worst_heads",
+    "refine_heads",
+    "refine_link_worst",
+    "refine_worst_head",
+    "worst_heads",
+]
 
-#: Metric evaluations of the local search per criterion.
-MAX_EVALUATIONS = 150
+#: Steps of the pattern search (each one kernel batch over the foams still searching).
+MAX_STEPS = 400
+
+#: The pattern search stops when its step is below this share of the range.
+STEP_TOLERANCE = 1e-9
+
+#: Rounds of the pattern search (the first along the axes and diagonals, then rotated).
+ROUNDS = 4
+
+Array = NDArray[np.float64]
 
 
-def _box(prob: FoamProblem) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def _box(prob: FoamProblem) -> tuple[Array, Array]:
     """Lower and upper ends ``[M_h, C_h, K_h]`` of the head range."""
     hr = prob.head_range
     lo = np.array([hr.mass[0], hr.damping[0], hr.stiffness[0]], dtype=float)
     hi = np.array([hr.mass[1], hr.damping[1], hr.stiffness[1]], dtype=float)
     return lo, hi
+
+
+def _directions(d: int) -> Array:
+    """The 2d axis directions and the 2**d diagonals (unit steps) of a d-cube."""
+    axes = np.vstack([np.eye(d), -np.eye(d)])
+    diag = np.array(list(itertools.product((-1.0, 1.0), repeat=d)))
+    return np.vstack([axes, diag])
+
+
+def _direction_sets(d: int) -> list[Array]:
+    """The pattern of each round: axes and diagonals, then seeded random rotations of it.
+
+    A non-smooth metric (a peak over time whose two largest peaks swap) has ridges along
+    which no fixed pattern climbs; the rotated patterns of the later rounds do.
+    """
+    base = _directions(d)
+    sets = [base]
+    for r in range(1, ROUNDS):
+        q, _ = np.linalg.qr(np.random.default_rng(r).standard_normal((d, d)))
+        sets.append(base @ q.T)
+    return sets
+
+
+def compass_search(
+    values: Callable[[NDArray[np.int_], Array], Array], x0: Array, f0: Array,
+    step: float = 0.25,
+) -> tuple[Array, Array]:  # fmt: skip
+    """Maximise a function over the unit box from each row of ``x0``, all rows in lock-step.
+
+    Each step tries, for every start still searching, a step along each direction of the
+    round's pattern (clipped to the box), in one call of ``values``; a point moves to its
+    best trial if that beats it, else halves its step, until the step is below
+    :data:`STEP_TOLERANCE` (or after :data:`MAX_STEPS`). The first round's pattern is the
+    axes and the diagonals; each of the :data:`ROUNDS` - 1 later rounds restarts the step
+    with a seeded random rotation of it (the same for every row, so a row's result does not
+    depend on the others). The value never falls.
+
+    Parameters
+    ----------
+    values
+        ``values(rows, z)``: ``z`` is ``(m, t, d)``, trial points of the starts ``rows``
+        (``(m,)`` indices into ``x0``); returns ``(m, t)`` finite values.
+    x0, f0
+        ``(n, d)`` starts and their values.
+    step
+        The first step of each round, a share of the range.
+
+    Returns
+    -------
+    tuple
+        ``(x, f)``: the points found and their values.
+
+    Examples
+    --------
+    >>> peak = lambda rows, z: -((z - 0.3) ** 2).sum(axis=2)
+    >>> x, f = compass_search(peak, np.zeros((2, 2)), np.full(2, -0.18))
+    >>> np.round(x, 6).tolist(), bool(abs(f).max() < 1e-15)
+    ([[0.3, 0.3], [0.3, 0.3]], True)
+    """
+    x, f = np.array(x0, dtype=float), np.array(f0, dtype=float)
+    for dirs in _direction_sets(x.shape[1]):
+        s = np.full(len(x), float(step))
+        for _ in range(MAX_STEPS):
+            idx = np.flatnonzero(s >= STEP_TOLERANCE)
+            if idx.size == 0:
+                break
+            trial = np.clip(x[idx, None, :] + s[idx, None, None] * dirs[None], 0.0, 1.0)
+            ft = values(idx, trial)
+            j = np.argmax(ft, axis=1)
+            best = ft[np.arange(idx.size), j]
+            up = best > f[idx]
+            x[idx[up]] = trial[np.flatnonzero(up), j[up]]
+            f[idx[up]] = best[up]
+            s[idx[~up]] *= 0.5
+    return x, f
+
+
+def _head(h: Array) -> HeadNeck:
+    return HeadNeck(mass=float(h[0]), stiffness=float(h[2]), damping=float(h[1]))
 
 
 def refine_worst_head(
@@ -65,25 +174,158 @@ def refine_worst_head(
     tuple
         ``(metric, head)``: the larger of the grid's and the search's.
     """
+    m, heads = refine_heads(prob, key, np.array([foam.stiffness]), np.array([foam.damping]),
+                             [head], np.array([metric]))  # fmt: skip
+    return float(m[0]), heads[0]
+
+
+def refine_heads(
+    prob: FoamProblem, key: Criterion, k: Array, c: Array, heads: list[HeadNeck], f0: Array
+) -> tuple[Array, list[HeadNeck]]:
+    """The pattern search from each foam's start head (kept unless beaten), in lock-step.
+
+    Parameters
+    ----------
+    prob
+        The worst-case problem of a fixed robot.
+    key
+        The criterion.
+    k, c
+        Foam stiffnesses and dampings, paired.
+    heads, f0
+        Each foam's start head and its metric at v_c = 1 m/s.
+
+    Returns
+    -------
+    tuple
+        ``(metrics, heads)``, one per foam.
+    """
     lo, hi = _box(prob)
     span = hi - lo
     rows, _ = prob.robot_rows(None)
-    fixed = np.concatenate([rows[0, :3], [foam.stiffness, foam.damping]])
+    fixed = np.column_stack([np.tile(rows[0, :3], (k.size, 1)), k, c])
     extra = rows[0, 3:]
+    unit = np.where(span > 0, 1.0 / np.where(span > 0, span, 1.0), 0.0)
+    x0 = (np.array([[h.mass, h.damping, h.stiffness] for h in heads]) - lo) * unit
 
-    def value(x: NDArray[np.float64]) -> float:
-        h = lo + np.clip(x, 0.0, 1.0) * span
-        p = np.concatenate([fixed, h, extra])[None, :]
-        out = float(key.values(p, np.ones(1))[0])
-        return out if np.isfinite(out) else 0.0
+    def values(idx: NDArray[np.int_], z: Array) -> Array:
+        m, t, _ = z.shape
+        flat = z.reshape(m * t, 3)
+        foams = np.repeat(fixed[idx], t, axis=0)
+        p = np.column_stack([foams, lo + flat * span, np.tile(extra, (m * t, 1))])
+        out = key.values(p, np.ones(m * t))
+        return np.where(np.isfinite(out), out, 0.0).reshape(m, t)
 
-    start = np.array([head.mass, head.damping, head.stiffness])
-    x0 = np.where(span > 0, (start - lo) / np.where(span > 0, span, 1.0), 0.0)
-    scale = max(metric, 1e-300)
-    res = minimize(lambda x: -value(x) / scale, x0, method="Powell", bounds=[(0.0, 1.0)] * 3,
-                   options={"maxfev": MAX_EVALUATIONS, "xtol": 1e-6, "ftol": 1e-10})  # fmt: skip
-    best = -float(res.fun) * scale
-    if not best > metric:
-        return metric, head
-    h = lo + np.clip(res.x, 0.0, 1.0) * span
-    return best, HeadNeck(mass=float(h[0]), stiffness=float(h[2]), damping=float(h[1]))
+    x, f = compass_search(values, x0, np.asarray(f0, dtype=float))
+    better = f > f0
+    out = [_head(lo + xi * span) if b else h for xi, b, h in zip(x, better, heads, strict=True)]
+    return np.where(better, f, f0), out
+
+
+def grid_worst_heads(
+    prob: FoamProblem, key: Criterion, k: Array, c: Array
+) -> tuple[Array, list[HeadNeck]]:
+    """The worst metric at 1 m/s on the head grid of each foam ``(k[i], c[i])``, and its head.
+
+    Parameters
+    ----------
+    prob
+        The worst-case problem of a fixed robot.
+    key
+        The criterion.
+    k, c
+        Foam stiffnesses (N/m) and dampings (N s/m), paired.
+
+    Returns
+    -------
+    tuple
+        ``(metrics, heads)``, one per foam.
+    """
+    params, vv, nh = prob.designs(key, np.asarray(k, float), np.asarray(c, float))
+    vals = key.values(params, vv).reshape(-1, nh)
+    j = np.argmax(vals, axis=1)
+    rows = params.reshape(-1, nh, params.shape[1])[np.arange(len(j)), j]
+    heads = [HeadNeck(mass=float(r[5]), stiffness=float(r[7]), damping=float(r[6])) for r in rows]
+    return vals[np.arange(len(j)), j], heads
+
+
+def worst_heads(
+    prob: FoamProblem, key: Criterion, k: Array, c: Array, refine: bool
+) -> tuple[Array, list[HeadNeck]]:
+    """The worst metric at 1 m/s over the head range of each foam, polished when asked.
+
+    Parameters
+    ----------
+    prob
+        The worst-case problem of a fixed robot.
+    key
+        The criterion.
+    k, c
+        Foam stiffnesses and dampings, paired.
+    refine
+        Polish each foam's grid worst head with :func:`refine_worst_head`.
+
+    Returns
+    -------
+    tuple
+        ``(metrics, heads)``, one per foam.
+    """
+    vals, heads = grid_worst_heads(prob, key, k, c)
+    if not refine:
+        return vals, heads
+    k, c = np.asarray(k, dtype=float).ravel(), np.asarray(c, dtype=float).ravel()
+    return refine_heads(prob, key, k, c, heads, vals)
+
+
+def refine_link_worst(
+    prob: FoamProblem, key: Criterion, foam: Foam, lever: float, metric: float
+) -> tuple[float, float, HeadNeck | None]:
+    """The worst metric of a link at its joint speed over the impact point and the head.
+
+    Starts at the worst lever arm of the grid search with each head of the grid and
+    polishes the best start over ``(lever arm, M_h, C_h, K_h)`` with the bounded search.
+
+    Parameters
+    ----------
+    prob
+        The worst-case problem of a :class:`~designlab.impact.LinkImpact` (its joint speed
+        set).
+    key
+        The criterion.
+    foam
+        The foam.
+    lever
+        The grid search's worst lever arm, m.
+    metric
+        Its worst metric there (over the head grid).
+
+    Returns
+    -------
+    tuple
+        ``(metric, lever, head)``: the search's when it beats ``metric``, else
+        ``(metric, lever, None)``.
+    """
+    lo_h, hi_h = _box(prob)
+    lr = prob.robot
+    lo = np.concatenate([[lr.lever_arm_min], lo_h])
+    span = np.concatenate([[lr.lever_arm_max], hi_h]) - lo
+    kc = np.array([foam.stiffness, foam.damping])
+
+    def values(_: NDArray[np.int_], u: Array) -> Array:
+        m, t, _d = u.shape
+        z = lo + u.reshape(m * t, 4) * span
+        rows, v = prob.robot_rows(z[:, 0])
+        p = np.column_stack([rows[:, :3], np.tile(kc, (len(z), 1)), z[:, 1:], rows[:, 3:]])
+        out = key.values(p, v)
+        return np.where(np.isfinite(out), out, 0.0).reshape(m, t)
+
+    heads = prob.heads_for(key)
+    unit = np.where(span > 0, 1.0 / np.where(span > 0, span, 1.0), 0.0)
+    starts = (np.column_stack([np.full(len(heads), lever), heads]) - lo) * unit
+    f_starts = values(np.zeros(1, dtype=int), starts[None])[0]
+    j = int(np.argmax(f_starts))
+    x, f = compass_search(values, starts[j : j + 1], f_starts[j : j + 1])
+    if not f[0] > metric:
+        return metric, lever, None
+    z = lo + x[0] * span
+    return float(f[0]), float(z[0]), _head(z[1:])

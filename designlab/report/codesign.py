@@ -17,10 +17,15 @@ Files written into the report directory:
     Every design the search evaluated, with its constraints and flags.
 ``reference.csv``
     The thesis's design: its objectives, constraints, distance from the front.
+``sensitivity.csv``
+    With a ``sensitivity`` section: the Sobol indices (S1, ST and their 95 % half-widths)
+    of each objective and of ``infeasible`` per design variable
+    (:func:`designlab.codesign.front_sensitivity`).
 ``speed_map.png``, ``risk.png``, ``contacts.png``, ``front.png``
     The speed-limit map (with Foam 1 and the front's foams); the risk curves; the closing
     speeds of the encounters; the front in pairs of objectives with every feasible design
-    and the thesis's design.
+    and the thesis's design; ``sensitivity.png`` (with a ``sensitivity`` section) the
+    Sobol indices.
 ``summary.md``
     What the tables say (every sentence computed from them) and the figures.
 ``study.yaml``
@@ -29,6 +34,7 @@ Files written into the report directory:
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 
 import matplotlib
@@ -39,10 +45,16 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
+from designlab.analysis.sensitivity import SensitivityTable
 from designlab.codesign import OBJECTIVES, ContactSpeeds, ParetoFront, SpeedLimitMap
 from designlab.report import register_writer
-from designlab.report.builder import copy_study, figure_section, report_header, warnings_section
-from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
+from designlab.report.builder import (
+    figure_section,
+    report_header,
+    warnings_section,
+    write_report,
+)
+from designlab.report.writers import markdown_table
 from designlab.study.kinds.codesign import CodesignResult
 
 __all__ = [
@@ -52,6 +64,8 @@ __all__ = [
     "front_claims",
     "front_figure",
     "risk_figure",
+    "sensitivity_figure",
+    "sensitivity_section",
     "speed_map_figure",
     "write_codesign_report",
 ]
@@ -118,13 +132,21 @@ def _speed_map_claims(frame: pd.DataFrame) -> list[str]:
     best = frame.loc[frame["max_speed_m_per_s"].idxmax()]
     none = int((frame["max_speed_m_per_s"] <= 0.0).sum())
     limiting = frame["limiting"].value_counts()
+    v, grid = frame["v_c_max_m_per_s"], frame["v_c_max_grid_m_per_s"]
+    lower = (grid - v) / grid
+    off = int((lower > 1e-9).sum())
     return [
         f"Over the {len(frame)} foams of the grid the robot's speed limit ranges from "
         f"{frame['max_speed_m_per_s'].min():.3f} to {frame['max_speed_m_per_s'].max():.3f} "
         f"m/s, highest at K_c = {best['K_c_N_per_m']:.4g} N/m, C_c = "
         f"{best['C_c_N_s_per_m']:.4g} N s/m; {none} foams allow no robot speed. Limiting: "
-        + ", ".join(f"{k} ({v} foams)" for k, v in limiting.items())
+        + ", ".join(f"{k} ({n} foams)" for k, n in limiting.items())
         + ".",
+        "",
+        f"Each foam's worst head is sought off the head grid as well (docs/codesign.md): for "
+        f"{off} of the {len(frame)} foams a head between the grid's points is worse, and the "
+        f"allowed closing speed is lower than the grid's alone by up to "
+        f"{100 * max(float(lower.max()), 0.0):.2f} % (`v_c_max_grid_m_per_s`).",
         "",
     ]
 
@@ -283,6 +305,88 @@ def crowd_risk_section(result: CodesignResult) -> list[str]:
     ]
 
 
+def sensitivity_figure(table: SensitivityTable) -> Figure:
+    """Total (bars) and first-order (dots) Sobol indices with 95 % half-widths, per metric.
+
+    Parameters
+    ----------
+    table
+        The Sobol table (:func:`designlab.codesign.front_sensitivity`).
+    """
+    metrics = table.metrics
+    fig, axes = plt.subplots(1, len(metrics), figsize=(3.4 * len(metrics), 3.8), sharey=True,
+                             squeeze=False)  # fmt: skip
+    for ax, m in zip(axes[0], metrics, strict=True):
+        rows = table.frame[table.frame["metric"] == m]
+        y = np.arange(len(rows))
+        ax.barh(y, rows["ST"].fillna(0.0), xerr=rows["ST_conf"].fillna(0.0), color="C0",
+                alpha=0.7, label="total S_T")  # fmt: skip
+        ax.errorbar(rows["S1"].fillna(0.0), y, xerr=rows["S1_conf"].fillna(0.0), fmt="o",
+                    color="C3", ms=4, label="first-order S_1")  # fmt: skip
+        ax.set_yticks(y, rows["parameter"])
+        ax.axvline(0.0, color="k", lw=0.6)
+        ax.set_title(_LABELS.get(m, m), fontsize=9)
+        ax.set_xlabel("Sobol index")
+    axes[0][0].legend(fontsize=7)
+    fig.suptitle("Sensitivity of the front's objectives to the design variables")
+    fig.tight_layout()
+    return fig
+
+
+def _sensitivity_claims(table: SensitivityTable) -> list[str]:
+    """One sentence per metric, computed from sensitivity.csv."""
+    out = []
+    for m in table.metrics:
+        rows = table.ranked(m)
+        if rows["ST"].isna().all():
+            out.append(f"- {m}: constant over the sample (no index).")
+            continue
+        top = rows.iloc[0]
+        exact = (rows["ST"] == 0.0) & (rows["ST_conf"] == 0.0)
+        vague = ~exact & (rows["ST"] - rows["ST_conf"] <= 0.0)
+        out.append(
+            f"- {m}: most influential {top['parameter']} (S_T = {top['ST']:.3g} +- "
+            f"{top['ST_conf']:.2g}); S_T = 0 exactly (changing it alone never changed the metric "
+            "in the sample) for "
+            + (", ".join(rows.loc[exact, "parameter"]) or "no variable")
+            + "; the 95 % interval of S_T includes 0 for "
+            + (", ".join(rows.loc[vague, "parameter"]) or "no other variable")
+            + "."
+        )
+    return [*out, ""]
+
+
+def sensitivity_section(result: CodesignResult) -> list[str]:
+    """The Markdown section of the front's Sobol indices (empty without ``sensitivity``).
+
+    Parameters
+    ----------
+    result
+        A ``codesign`` result.
+    """
+    table = result.sensitivity
+    if table is None:
+        return []
+    spec = result.study.sensitivity
+    assert spec is not None  # the table is only computed with a sensitivity section
+    n_vars = len(set(table.frame["parameter"]))
+    return [
+        "## Sensitivity of the front",
+        "",
+        f"First-order (S1) and total (ST) Sobol indices with 95 % bootstrap half-widths "
+        f"(`sensitivity.csv`; SALib through designlab.analysis.sensitivity): "
+        f"{spec.samples * (n_vars + 2)} designs ({spec.samples} x ({n_vars} + 2), seed "
+        f"{spec.seed}) scored as the front scores them; `arrival_time` counts a run that "
+        "did not arrive at its horizon, `infeasible` is 1 for a design breaking a hard "
+        "constraint (docs/codesign.md). With few samples the half-widths are wide: read the "
+        "ranking, not the digits.",
+        "",
+        *_sensitivity_claims(table),
+        table.to_markdown(floatfmt=".3g"),
+        "",
+    ]
+
+
 def codesign_markdown(
     result: CodesignResult, *, command: str | None = None, version: str | None = None
 ) -> str:
@@ -337,15 +441,17 @@ def codesign_markdown(
         "",
         markdown_table(front.reference_frame(), floatfmt=".4g", index=False),
         "",
+        *sensitivity_section(result),
     ]
-    out += figure_section(
-        {
-            "speed-limit map": "speed_map.png",
-            "risk curves": "risk.png",
-            "closing speeds": "contacts.png",
-            "Pareto front": "front.png",
-        }
-    )
+    figures = {
+        "speed-limit map": "speed_map.png",
+        "risk curves": "risk.png",
+        "closing speeds": "contacts.png",
+        "Pareto front": "front.png",
+    }
+    if result.sensitivity is not None:
+        figures["Sobol indices"] = "sensitivity.png"
+    out += figure_section(figures)
     out += warnings_section(result.warnings)
     return "\n".join(out)
 
@@ -378,24 +484,24 @@ def write_codesign_report(
         The files written.
     """
     front = result.front
-    written = [
-        write_csv(result.speed_map.to_frame(), directory / "speed_map.csv"),
-        write_csv(result.risk, directory / "risk.csv"),
-        write_csv(result.contacts.to_frame(), directory / "contacts.csv"),
-        write_csv(front.to_frame(), directory / "front.csv"),
-        write_csv(front.designs_frame(), directory / "designs.csv"),
-        write_csv(front.reference_frame(), directory / "reference.csv"),
-    ]
-    figures = {
-        "speed_map.png": speed_map_figure(result.speed_map, front),
-        "risk.png": risk_figure(result.risk),
-        "contacts.png": contacts_figure(result.contacts),
-        "front.png": front_figure(front),
+    tables = {
+        "speed_map.csv": result.speed_map.to_frame(),
+        "risk.csv": result.risk,
+        "contacts.csv": result.contacts.to_frame(),
+        "front.csv": front.to_frame(),
+        "designs.csv": front.designs_frame(),
+        "reference.csv": front.reference_frame(),
     }
-    for name, fig in figures.items():
-        written.append(write_png(fig, directory / name))
-        plt.close(fig)
+    figures: dict[str, Callable[[], Figure]] = {
+        "speed_map.png": lambda: speed_map_figure(result.speed_map, front),
+        "risk.png": lambda: risk_figure(result.risk),
+        "contacts.png": lambda: contacts_figure(result.contacts),
+        "front.png": lambda: front_figure(front),
+    }
+    sens = result.sensitivity
+    if sens is not None:
+        tables["sensitivity.csv"] = sens.to_frame()
+        figures["sensitivity.png"] = lambda: sensitivity_figure(sens)
     text = codesign_markdown(result, command=command, version=version)
-    written.append(write_markdown(text, directory / "summary.md"))
-    written += copy_study(directory, study_text)
-    return written
+    return write_report(directory, tables=tables, figures=figures,
+                        pages={"summary.md": text}, study_text=study_text)  # fmt: skip

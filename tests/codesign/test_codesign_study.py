@@ -26,6 +26,7 @@ front:
   seed: 3
 speed_map: {stiffness: {low: 1.0e+4, high: 6.0e+4, num: 4}, damping: {num: 3}}
 risk: {foams: [FOAM_1, FOAM_3], speeds: {low: 0.5, high: 3.5, num: 4}, samples: 2000}
+sensitivity: {samples: 2, seed: 1}
 """
 
 
@@ -39,7 +40,7 @@ def test_the_report_holds_its_tables_and_figures(report: Path) -> None:
     names = {p.name for p in report.iterdir()}
     assert {"summary.md", "contacts.csv", "front.csv", "designs.csv", "reference.csv",
             "speed_map.csv", "risk.csv", "speed_map.png", "risk.png", "contacts.png",
-            "front.png"} <= names  # fmt: skip
+            "front.png", "sensitivity.csv", "sensitivity.png"} <= names  # fmt: skip
     assert len(pd.read_csv(report / "speed_map.csv")) == 12
     risk = pd.read_csv(report / "risk.csv")
     assert len(risk) == 8 and set(risk["foam"]) == {"Foam 1", "Foam 3"}
@@ -76,7 +77,31 @@ def test_claims_are_computed_from_the_tables(report: Path) -> None:
     lo, hi = smap["max_speed_m_per_s"].min(), smap["max_speed_m_per_s"].max()
     assert f"ranges from {lo:.3f} to {hi:.3f} m/s" in text
     assert f"{int((smap['max_speed_m_per_s'] <= 0).sum())} foams allow no robot speed" in text
+    lower = 1 - smap["v_c_max_m_per_s"] / smap["v_c_max_grid_m_per_s"]
+    assert (lower >= 0).all()  # off the grid, never a better head than the grid's
+    assert f"for {int((lower > 1e-9).sum())} of the {len(smap)} foams" in text
+    assert f"by up to {100 * lower.max():.2f} %" in text
     risk = pd.read_csv(report / "risk.csv")
     for name, g in risk.groupby("foam"):
         top = g.iloc[-1]
         assert f"- {name}: " in text and f"P = {top['probability']:.3g}" in text
+
+
+def test_sensitivity_table_and_claims(report: Path) -> None:
+    sens = pd.read_csv(report / "sensitivity.csv")
+    # 7 free variables (T_u is fixed) x (2 objectives + infeasible)
+    assert len(sens) == 21 and "T_u" not in set(sens["parameter"])
+    assert set(sens["metric"]) == {"arrival_time", "closing_speed", "infeasible"}
+    f = sens.set_index(["metric", "parameter"])
+    for metric in ("arrival_time", "closing_speed"):  # the foam does not steer the robot
+        for var in ("K_c", "C_c"):
+            assert f.loc[(metric, var), "ST"] == 0.0
+    text = (report / "summary.md").read_text(encoding="utf-8")
+    assert "## Sensitivity of the front" in text and "18 designs (2 x (7 + 2)" in text
+    rows = sens[sens["metric"] == "arrival_time"]
+    if rows["ST"].notna().any():
+        top = rows.loc[rows["ST"].abs().idxmax()]
+        assert f"- arrival_time: most influential {top['parameter']} (S_T = {top['ST']:.3g}" in text
+        zero = rows[(rows["ST"] == 0) & (rows["ST_conf"] == 0)]["parameter"]
+        assert "K_c" in set(zero) and "C_c" in set(zero)
+        assert "S_T = 0 exactly (changing it alone never changed the metric in the sample)" in text

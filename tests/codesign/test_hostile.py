@@ -114,7 +114,7 @@ def test_bad_closing_speeds(speeds, name):
         ({"samples": 0}, "samples"),
         ({"samples": 10**12}, "samples"),
         ({"samples": 100.5}, "samples"),
-        ({"method": "subset"}, "method"),
+        ({"method": "Subset"}, "method"),
         ({"confidence": 1.0}, "confidence"),
         ({"confidence": math.nan}, "confidence"),
         ({"seed": -1}, "seed"),
@@ -180,3 +180,43 @@ def test_fragility_speed_at_bad_probability():
     curve = cd.fragility_curve(MANIPULATOR_1, FOAM_1, [1.0], heads=HEAD_MIN, samples=10)
     _raises("probability", curve.speed_at, 0.0)
     _raises("probability", curve.speed_at, math.nan)
+
+
+# --- front_sensitivity -----------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "name"),
+    [
+        ({"samples": 3}, "samples"),
+        ({"samples": 0}, "samples"),
+        ({"samples": 2**20}, "samples"),
+        ({"samples": math.nan}, "samples"),
+        ({"objectives": ("speed",)}, "objectives"),
+        ({"objectives": ()}, "objectives"),
+        ({"measure": "fast"}, "measure"),
+        ({"criterion": "10 g"}, "criterion"),
+        ({"risk_samples": 1}, "risk_samples"),
+        ({"space": {"speed_min": 0.5}}, "space"),
+        (
+            {
+                "space": cd.DesignSpace(
+                    **{
+                        f"{n}_max": getattr(cd.DesignSpace(), f"{n}_min")
+                        for n in cd.DesignSpace.NAMES[1:]
+                    }
+                )
+            },
+            "space",
+        ),
+    ],
+)
+def test_front_sensitivity_bad_settings(kwargs, name):
+    import designlab.navigation as nav
+
+    _raises(name, cd.front_sensitivity, [nav.configuration(2)], **kwargs)
+
+
+def test_front_sensitivity_bad_scenarios():
+    _raises("scenarios", cd.front_sensitivity, [])
+    _raises("scenarios", cd.front_sensitivity, ["configuration 2"])

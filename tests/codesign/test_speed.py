@@ -269,8 +269,7 @@ def test_map_equals_speed_limit_per_foam():
     assert len(frame) == 6
     for i, k in enumerate(ks):
         for j, c in enumerate(cs):
-            s = dl.codesign.speed_limit(MANIPULATOR_1, Foam(k, c, 0.02), crit, human_speed=0.5,
-                                        refine=False)  # fmt: skip
+            s = dl.codesign.speed_limit(MANIPULATOR_1, Foam(k, c, 0.02), crit, human_speed=0.5)
             assert m.max_speed[i, j] == pytest.approx(s.max_speed, rel=1e-9, abs=1e-12)
             assert m.criteria[m.limiting[i, j]] == s.limiting_criterion
     # a stiffer foam at the same damping is never faster-safe for the head acceleration

@@ -41,9 +41,11 @@ import pandas as pd
 from pydantic import Field, model_validator
 
 import designlab.navigation as nav
+from designlab.analysis.sensitivity import SensitivityTable
 from designlab.codesign import (
     OBJECTIVES,
     ContactSpeeds,
+    CrowdEncounters,
     DesignSpace,
     ParetoFront,
     SpeedLimitMap,
@@ -55,7 +57,8 @@ from designlab.codesign import (
 )
 from designlab.codesign.contacts import MEASURES
 from designlab.codesign.front import GENERATIONS, MAX_EVALUATIONS, POPULATION, SEED
-from designlab.codesign.parameters import MAP_POINTS, RISK_SAMPLES
+from designlab.codesign.parameters import MAP_POINTS, RISK_SAMPLES, SENSITIVITY_SAMPLES
+from designlab.codesign.sensitivity import front_sensitivity
 from designlab.errors import StudyError
 from designlab.impact import Foam
 from designlab.impact.parameters import IMPACT_VELOCITY
@@ -85,6 +88,7 @@ _Stiffness = params_of(Foam)["stiffness"].annotation()
 _Speed = IMPACT_VELOCITY.annotation()
 _Points = MAP_POINTS.annotation()
 _Samples = RISK_SAMPLES.annotation()
+_SobolN = SENSITIVITY_SAMPLES.annotation()
 _CROWD = params_of(nav.CrowdScenario)
 _Pedestrians = _CROWD["pedestrians"].annotation()
 _CrowdSeed = _CROWD["seed"].annotation()
@@ -151,7 +155,12 @@ class SpeedMapSpec(Model):
 
 
 class CrowdEncountersSpec(Model):
-    """Crowd runs of the thesis's design (experiment gains) whose encounters feed the risk."""
+    """Crowd runs whose encounters feed the risk.
+
+    The thesis's design (experiment gains) runs them for the crowd risk table; with the
+    front objective ``crowd_injury_probability`` every candidate design also runs them
+    with its own gains and speed limit (cached per gains and speed limit).
+    """
 
     layout: Literal["corridor_counterflow", "crossing", "bottleneck", "open_plaza"] = Field(
         description="crowd layout (:func:`designlab.navigation.crowd`)"
@@ -201,6 +210,23 @@ class FrontSpec(Model):
     seed: _Seed = 0  # type: ignore[valid-type]
 
 
+class SensitivitySpec(Model):
+    """Sobol indices of the front's objectives (and feasibility) to the design variables.
+
+    Over the front's space and objectives (docs/codesign.md): ``samples * (D + 2)``
+    designs for D free variables, each a set of navigation runs.
+    """
+
+    samples: _SobolN = SENSITIVITY_SAMPLES.default  # type: ignore[valid-type]
+    seed: _Seed = 0  # type: ignore[valid-type]
+
+    @model_validator(mode="after")
+    def _power_of_two(self) -> SensitivitySpec:
+        if self.samples & (self.samples - 1):
+            raise ValueError(f"samples = {self.samples} must be a power of two (Saltelli)")
+        return self
+
+
 class CodesignStudy(StudyBase):
     """Foam, speed limit and VFF gains chosen together: contact speeds and the Pareto front."""
 
@@ -223,10 +249,13 @@ class CodesignStudy(StudyBase):
         None, description="crowd encounters as a closing-speed distribution of the risk"
     )
     front: FrontSpec = Field(default_factory=FrontSpec)
+    sensitivity: SensitivitySpec | None = Field(
+        None, description="Sobol indices of the front's objectives (none: not computed)"
+    )
     speed_map: SpeedMapSpec = Field(default_factory=SpeedMapSpec)
     risk: RiskSpec = Field(default_factory=RiskSpec)
 
-    TYPICAL_DURATION: ClassVar[float] = 98  # s, fastest wall time measured (loaded; 50 s CPU)
+    TYPICAL_DURATION: ClassVar[float] = 608  # s, wall time measured at load 14 (108 s CPU)
     PRODUCES: ClassVar[tuple[str, ...]] = (
         "summary.md",
         "speed_map.csv",
@@ -235,6 +264,7 @@ class CodesignStudy(StudyBase):
         "front.csv",
         "designs.csv",
         "reference.csv",
+        "sensitivity.csv",
         "*.png",
         "study.yaml",
     )
@@ -242,7 +272,8 @@ class CodesignStudy(StudyBase):
     def check(self) -> None:
         """The search budget within its cap, and every spec built."""
         super().check()
-        n = self.front.population * self.front.generations
+        f = self.front
+        n = f.population * f.generations
         if n > MAX_EVALUATIONS:
             raise StudyError(
                 f"front.population x front.generations = {n} designs is above the cap "
@@ -251,6 +282,20 @@ class CodesignStudy(StudyBase):
             )
         if len(set(self.front.objectives)) != len(self.front.objectives):
             raise StudyError("objectives repeat", path=("front", "objectives"))
+        if "crowd_injury_probability" in f.objectives and self.crowds is None:
+            raise StudyError(
+                "the objective crowd_injury_probability needs a crowds section",
+                path=("front", "objectives"),
+            )
+        if self.sensitivity is not None:
+            free = int(f.space.build().free.sum())
+            m = self.sensitivity.samples * (free + 2)
+            if free < 2 or m > MAX_EVALUATIONS:
+                raise StudyError(
+                    f"sensitivity: {m} designs ({free} free variables) must have at least two "
+                    f"free variables and be at most {MAX_EVALUATIONS}",
+                    path=("sensitivity", "samples"),
+                )
         points = len(self.risk.foams) * self.risk.speeds.num * self.risk.samples
         if points > 10**8:
             raise StudyError(
@@ -293,6 +338,9 @@ class CodesignResult(Result):
         The risk curves: foam, closing speed, probability and its interval.
     crowd_risk
         With ``crowds``: per foam, the probability over the crowd encounters' closing speeds.
+    sensitivity
+        With ``sensitivity``: the Sobol indices of the front's objectives
+        (:func:`designlab.codesign.front_sensitivity`).
     status, warnings
         The front's status; the warnings of the contacts and the front.
     """
@@ -305,6 +353,7 @@ class CodesignResult(Result):
     status: str = CodesignStatus.OK
     warnings: tuple[str, ...] = ()
     crowd_risk: pd.DataFrame | None = field(default=None, repr=False)
+    sensitivity: SensitivityTable | None = field(default=None, repr=False)
 
     def to_frame(self) -> pd.DataFrame:
         """The front's non-dominated designs."""
@@ -412,6 +461,8 @@ def run(study: CodesignStudy, context: RunContext) -> CodesignResult:
         kw["criterion"] = study.risk.criterion.build()
     if heads is not None:
         kw["heads"] = heads
+    if study.crowds is not None and "crowd_injury_probability" in study.front.objectives:
+        kw["crowds"] = CrowdEncounters(study.crowds.build(), study.measure)
     sm = study.speed_map
     smap = speed_limit_map(
         robot, K_c=sm.stiffness.values(), C_c=sm.damping.values(),
@@ -427,6 +478,14 @@ def run(study: CodesignStudy, context: RunContext) -> CodesignResult:
             population=f.population, generations=f.generations, seed=f.seed, progress=hook, **kw,
         )  # fmt: skip
     assert front.reference is not None  # the thesis's design is always placed
+    sens = None
+    if study.sensitivity is not None:
+        s = study.sensitivity
+        with context.bar(f"{study.kind}: sensitivity", None) as hook:
+            sens = front_sensitivity(
+                scenarios, space=f.space.build(), objectives=tuple(f.objectives), robot=robot,
+                samples=s.samples, seed=s.seed, progress=hook, **kw,
+            )  # fmt: skip
     contacts = front.reference.contacts
     return CodesignResult(
         study,
@@ -437,6 +496,7 @@ def run(study: CodesignStudy, context: RunContext) -> CodesignResult:
         status=CodesignStatus(str(front.status)),
         warnings=(*smap.warnings, *contacts.warnings, *front.warnings),
         crowd_risk=crowd_risk(study, robot, heads),
+        sensitivity=sens,
     )
 
 
