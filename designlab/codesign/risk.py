@@ -189,6 +189,9 @@ class _Tally:
     total: float = 0.0
     squares: float = 0.0
     positive: int = 0
+    #: the first value seen: the squares are summed about it, so that equal values give a
+    #: variance of exactly 0 (no cancellation of sum(w^2)/n - mean^2)
+    shift: float | None = None
 
 
 class CrudeEstimator:
@@ -217,16 +220,19 @@ class ImportanceEstimator:
             rng: np.random.Generator) -> None:  # fmt: skip
         """The weights of a block."""
         w = speeds.sf(thresholds)
+        if tally.shift is None and w.size:
+            tally.shift = float(w[0])
         tally.n += w.size
         tally.total += float(w.sum())
-        tally.squares += float(np.square(w).sum())
+        tally.squares += float(np.square(w - (tally.shift or 0.0)).sum())
         tally.positive += int(np.count_nonzero(w > 0))
 
     def finish(self, tally: _Tally, confidence: float) -> tuple[float, tuple[float, float], float]:
         """Estimate, normal interval from the weights' standard error, standard error."""
         n = tally.n
         p = tally.total / n
-        var = max(tally.squares / n - p * p, 0.0) * n / max(n - 1, 1)
+        d = p - (tally.shift or 0.0)  # the mean about the shift
+        var = max(tally.squares / n - d * d, 0.0) * n / max(n - 1, 1)
         se = math.sqrt(var / n)
         z = float(stats.norm.isf((1 - confidence) / 2))
         return p, (max(0.0, p - z * se), min(1.0, p + z * se)), se

@@ -192,3 +192,31 @@ def test_closed_form_over_random_designs(m_r, k_c, xi, m_h, k_h, c_h, sigma, sca
     dist = stats.lognorm(s=sigma, scale=scale)
     r = dl.codesign.injury_probability(robot, foam, dist, heads=head, samples=50)
     assert r.probability == pytest.approx(float(dist.sf(v_star)), rel=1e-9, abs=1e-300)
+
+
+@settings(max_examples=40, deadline=None)
+@given(w=st.floats(1e-12, 1.0), n=st.integers(2, 3000), seed=st.integers(0, 2**31))
+def test_importance_standard_error_is_stable(w, n, seed):
+    """Equal weights have a standard error of exactly 0 (no cancellation in the one-pass
+    variance); random weights give numpy's ``std(ddof=1) / sqrt(n)``, over several blocks."""
+    from designlab.codesign.risk import ImportanceEstimator, _Tally
+
+    class Fixed:
+        def __init__(self, values):
+            self.values = values
+
+        def sf(self, thresholds):
+            return self.values[: thresholds.size]
+
+    est = ImportanceEstimator()
+    tally = _Tally()
+    est.add(tally, np.zeros(n), Fixed(np.full(n, w)), np.random.default_rng(0))
+    p, _, se = est.finish(tally, 0.95)
+    assert se == 0.0 and p == pytest.approx(w, rel=1e-12)
+    ws = np.random.default_rng(seed).uniform(0.0, w, n)
+    tally = _Tally()
+    for block in np.array_split(ws, 3):
+        est.add(tally, np.zeros(block.size), Fixed(block), np.random.default_rng(0))
+    p, _, se = est.finish(tally, 0.95)
+    assert p == pytest.approx(ws.mean(), rel=1e-9)
+    assert se == pytest.approx(ws.std(ddof=1) / np.sqrt(n), rel=1e-6, abs=1e-15 * w)
