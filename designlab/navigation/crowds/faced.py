@@ -54,7 +54,9 @@ __all__ = [
     "FacedCrowd",
     "FacedStatus",
     "faced_by",
+    "faced_by_runs",
     "faced_crowd",
+    "faced_crowds",
     "measurement_band",
 ]
 
@@ -69,6 +71,13 @@ SPEED_FRAMES = 5
 MEASURE_HALF_WIDTH = Param("h_M", "m", "half width of the measurement band along the robot's "
                            "straight path (cut to the path's clearance from the walls)",
                            gt=0, le=50, default=1.0, name="half_width")  # fmt: skip
+
+#: Rows (pedestrian-frames) of the runs measured in one pedpy call at most. Below, one call
+#: costs about what one run's does (pandas' fixed cost, about 20 ms); above, a call costs
+#: more per row than calls apart (2026-12-05, 2-core VM, benchmarks/crowds.py: a 20 s run
+#: with 10 pedestrians gives 2,000 rows, 10-16 of them together cost 5-7 ms each against
+#: 21-24 ms alone; with 50 it gives 9,000 rows, 3 together cost more than alone).
+_BATCH_ROWS = 20_000
 
 
 class FacedStatus(Status):
@@ -172,13 +181,22 @@ def measurement_band(
     return Polygon([(x0 + nx, y0 + ny), (x0 - nx, y0 - ny), (x1 - nx, y1 - ny), (x1 + nx, y1 + ny)])
 
 
-def _trajectories(
-    times: Array, P: Array, bounds: tuple[float, ...]
-) -> tuple[pd.DataFrame, float, Array]:
-    """pedpy's trajectory table of the records thinned to :data:`FRAME_RATE` (id, frame, x,
-    y; rows where a pedestrian is present), its frame rate and the thinned times. Pedestrians
-    never within ``bounds`` (the band's bounding box) are left out: they change neither
-    measure (a pedestrian's speed is its own)."""
+@dataclass(frozen=True)
+class _Thinned:
+    """One run's records thinned to :data:`FRAME_RATE` for pedpy: the rows (pedestrian,
+    frame, x, y) where a pedestrian is present, its frame rate and the thinned times."""
+
+    ped: NDArray[np.int64]
+    frame: NDArray[np.int64]
+    xy: Array
+    rate: float
+    t: Array
+
+
+def _thinned(times: Array, P: Array, bounds: tuple[float, ...]) -> _Thinned:
+    """The records thinned to :data:`FRAME_RATE`. Pedestrians never within ``bounds`` (the
+    band's bounding box) are left out: they change neither measure (a pedestrian's speed is
+    its own)."""
     dt = float(np.median(np.diff(times))) if times.size > 1 else math.inf
     stride = max(1, round(1.0 / (FRAME_RATE * dt))) if math.isfinite(dt) and dt > 0 else 1
     t, Q = times[::stride], P[::stride]
@@ -190,10 +208,19 @@ def _trajectories(
     frame, ped = np.repeat(np.arange(T), N), np.tile(np.arange(N), T)
     xy = Q.reshape(T * N, 2)
     keep = np.isfinite(xy).all(axis=1)
-    table = pd.DataFrame(
-        {"id": ped[keep], "frame": frame[keep], "x": xy[keep, 0], "y": xy[keep, 1]}
-    )
-    return table, 1.0 / (stride * dt) if math.isfinite(dt) else 1.0, t
+    rate = 1.0 / (stride * dt) if math.isfinite(dt) else 1.0
+    return _Thinned(ped[keep], frame[keep], xy[keep], rate, t)
+
+
+def _check_records(times: ArrayLike, pedestrian_positions: ArrayLike) -> tuple[Array, Array]:
+    """``times`` as ``(T,)`` and the positions as ``(T, N, 2)`` floats, or a clear error."""
+    t = np.asarray(times, dtype=float).ravel()
+    P = np.asarray(pedestrian_positions, dtype=float)
+    if P.ndim != 3 or P.shape[2] != 2 or P.shape[0] != t.size:
+        raise InvalidParameterError(
+            "pedestrian_positions", P.shape, f"must be (T, N, 2) with T = {t.size} (the times)"
+        )
+    return t, P
 
 
 def faced_crowd(times: ArrayLike, pedestrian_positions: ArrayLike, band: Polygon) -> FacedCrowd:
@@ -213,21 +240,83 @@ def faced_crowd(times: ArrayLike, pedestrian_positions: ArrayLike, band: Polygon
     FacedCrowd
         See the module's text for the two measures.
     """
-    t = np.asarray(times, dtype=float).ravel()
-    P = np.asarray(pedestrian_positions, dtype=float)
-    if P.ndim != 3 or P.shape[2] != 2 or P.shape[0] != t.size:
-        raise InvalidParameterError(
-            "pedestrian_positions", P.shape, f"must be (T, N, 2) with T = {t.size} (the times)"
-        )
-    table, rate, tt = _trajectories(t, P, band.bounds)
-    area = pedpy.MeasurementArea(band)
-    h = _half_width(band)
-    if tt.size < 2:
-        empty = pd.DataFrame({"t_s": tt, "density_per_m2": np.nan, "speed_m_per_s": np.nan})
-        return FacedCrowd(math.nan, math.nan, area.area, h, empty, FacedStatus.TOO_SHORT,
-                          ("fewer than two frames: nothing measured",))  # fmt: skip
-    if table.empty:
-        return _nobody(tt, 0.0, area.area, h)
+    return faced_crowds([(times, pedestrian_positions)], band)[0]
+
+
+def faced_crowds(runs: Sequence[tuple[ArrayLike, ArrayLike]], band: Polygon) -> list[FacedCrowd]:
+    """:func:`faced_crowd` of several runs in one band, with one call of each pedpy method.
+
+    pedpy's per-call cost (its pandas tables, about 20 ms) is paid once for all the runs:
+    their pedestrians get distinct ids and their frames distinct numbers (run k's after run
+    k-1's), so the measures of each run are those :func:`faced_crowd` gives it alone.
+
+    Parameters
+    ----------
+    runs
+        ``(times, pedestrian_positions)`` of each run, as in :func:`faced_crowd`.
+    band
+        The measurement area shared by the runs (convex; :func:`measurement_band`).
+
+    Returns
+    -------
+    list of FacedCrowd
+        One per run, in order.
+
+    Examples
+    --------
+    >>> t = np.arange(11) * 0.1
+    >>> P = np.stack([1.0 + 1.2 * t, np.full(11, 0.5)], axis=1)[:, None, :]
+    >>> band = measurement_band((0.0, 0.5), (4.0, 0.5), half_width=1.0)
+    >>> [round(f.mean_ped_speed_m_per_s, 6) for f in faced_crowds([(t, P), (t, 0.5 * P)], band)]
+    [1.2, 0.6]
+    """
+    thin = [_thinned(*_check_records(t, P), band.bounds) for t, P in runs]
+    area, h = pedpy.MeasurementArea(band), _half_width(band)
+    out: list[FacedCrowd | None] = [None] * len(thin)
+    by_rate: dict[float, list[int]] = {}
+    for k, th in enumerate(thin):
+        if th.t.size < 2:
+            empty = pd.DataFrame({"t_s": th.t, "density_per_m2": np.nan, "speed_m_per_s": np.nan})
+            out[k] = FacedCrowd(math.nan, math.nan, area.area, h, empty, FacedStatus.TOO_SHORT,
+                                ("fewer than two frames: nothing measured",))  # fmt: skip
+        elif th.ped.size == 0:
+            out[k] = _nobody(th.t, 0.0, area.area, h)
+        else:
+            by_rate.setdefault(th.rate, []).append(k)
+    for rate, ks in by_rate.items():  # runs of one frame rate share the pedpy calls
+        for part in _parts([thin[k].ped.size for k in ks]):
+            batch = [ks[i] for i in part]
+            for k, f in zip(batch, _measured([thin[k] for k in batch], rate, area, h), strict=True):
+                out[k] = f
+    return [f for f in out if f is not None]
+
+
+def _parts(rows: list[int]) -> list[list[int]]:
+    """Consecutive runs, as index lists, of at most :data:`_BATCH_ROWS` rows together (a run
+    with more is a part of its own)."""
+    parts: list[list[int]] = [[]]
+    total = 0
+    for i, r in enumerate(rows):
+        if parts[-1] and total + r > _BATCH_ROWS:
+            parts.append([])
+            total = 0
+        parts[-1].append(i)
+        total += r
+    return parts
+
+
+def _measured(
+    thin: list[_Thinned], rate: float, area: pedpy.MeasurementArea, h: float
+) -> list[FacedCrowd]:
+    """pedpy's measures of the runs ``thin`` (each with somebody), in one table."""
+    frames = np.cumsum([0] + [th.t.size for th in thin])  # first frame of each run
+    ids = np.cumsum([0] + [int(th.ped.max()) + 1 for th in thin])
+    xy = np.concatenate([th.xy for th in thin])
+    table = pd.DataFrame({
+        "id": np.concatenate([th.ped + i for th, i in zip(thin, ids, strict=False)]),
+        "frame": np.concatenate([th.frame + f for th, f in zip(thin, frames, strict=False)]),
+        "x": xy[:, 0], "y": xy[:, 1],
+    })  # fmt: skip
     traj = pedpy.TrajectoryData(data=table, frame_rate=rate)
     density = pedpy.compute_classic_density(traj_data=traj, measurement_area=area)
     speed = pedpy.compute_individual_speed(
@@ -237,13 +326,18 @@ def faced_crowd(times: ArrayLike, pedestrian_positions: ArrayLike, band: Polygon
     mean = pedpy.compute_mean_speed_per_frame(
         traj_data=traj, individual_speed=speed, measurement_area=area
     )
-    rho, v = np.zeros(tt.size), np.zeros(tt.size)  # pedpy's frames: those with anyone in
+    rho, v = np.zeros(frames[-1]), np.zeros(frames[-1])  # pedpy's frames: those with anyone in
     rho[density["frame"].to_numpy()] = density["density"].to_numpy()
     v[mean["frame"].to_numpy()] = mean["speed"].to_numpy()
-    if not (rho > 0).any():
-        return _nobody(tt, float(rho.mean()), area.area, h)
-    frames = pd.DataFrame({"t_s": tt, "density_per_m2": rho, "speed_m_per_s": v})
-    return FacedCrowd(float(rho.mean()), float(v[rho > 0].mean()), area.area, h, frames)
+    out = []
+    for k, th in enumerate(thin):
+        r, s = rho[frames[k] : frames[k + 1]], v[frames[k] : frames[k + 1]]
+        if not (r > 0).any():
+            out.append(_nobody(th.t, float(r.mean()), area.area, h))
+            continue
+        series = pd.DataFrame({"t_s": th.t, "density_per_m2": r, "speed_m_per_s": s})
+        out.append(FacedCrowd(float(r.mean()), float(s[r > 0].mean()), area.area, h, series))
+    return out
 
 
 def _nobody(t: Array, rho: float, area: float, h: float) -> FacedCrowd:
@@ -292,3 +386,42 @@ def faced_by(result: Any, half_width: float = MEASURE_HALF_WIDTH.default) -> Fac
         return FacedCrowd(math.nan, math.nan, math.nan, math.nan, frames, FacedStatus.NO_BAND,
                           (f"no measurement band: {exc}",))  # fmt: skip
     return faced_crowd(result.times, result.pedestrian_positions, band)
+
+
+def faced_by_runs(
+    results: Sequence[Any], half_width: float = MEASURE_HALF_WIDTH.default
+) -> list[FacedCrowd]:
+    """:func:`faced_by` of several crowd runs, runs in one band measured in one pedpy call.
+
+    The runs whose robots share a start, goal and walkable area (a study's seeds and methods
+    in one scenario) share their band; :func:`faced_crowds` measures them together, which
+    pays pedpy's per-call cost once. The measures are those :func:`faced_by` gives each run.
+
+    Parameters
+    ----------
+    results
+        :class:`~designlab.navigation.crowds.results.CrowdResult` objects.
+    half_width
+        h_M in m (:data:`MEASURE_HALF_WIDTH`; cut to each path's clearance).
+
+    Returns
+    -------
+    list of FacedCrowd
+        One per run, in order.
+    """
+    MEASURE_HALF_WIDTH.check(half_width)
+    out: list[FacedCrowd | None] = [None] * len(results)
+    groups: dict[bytes, tuple[Polygon, list[int]]] = {}
+    for k, result in enumerate(results):
+        c = result.crowd
+        try:
+            band = measurement_band(c.robot_start, c.robot_goal, c.geometry.area, half_width)
+        except InvalidParameterError:
+            out[k] = faced_by(result, half_width)  # no straight band: NO_BAND
+            continue
+        groups.setdefault(band.wkb, (band, []))[1].append(k)
+    for band, ks in groups.values():
+        runs = [(results[k].times, results[k].pedestrian_positions) for k in ks]
+        for k, f in zip(ks, faced_crowds(runs, band), strict=True):
+            out[k] = f
+    return [f for f in out if f is not None]

@@ -31,7 +31,7 @@ import pandas as pd
 
 from designlab.analysis.engine import run_points
 from designlab.errors import InvalidParameterError
-from designlab.navigation.crowds.faced import faced_by
+from designlab.navigation.crowds.faced import faced_by, faced_by_runs
 from designlab.navigation.crowds.layouts import LAYOUTS
 from designlab.navigation.crowds.metrics import (
     PERSONAL_SPACE,
@@ -66,6 +66,10 @@ logger = logging.getLogger(__name__)
 
 #: Exclusive outcomes of a run (see the module text).
 OUTCOMES = ("success", "collision", "timeout")
+#: Runs of a study chunk whose crowd met is measured in one pedpy call
+#: (:func:`~designlab.navigation.crowds.faced.faced_by_runs`: pedpy's per-call cost, about
+#: 20 ms, is paid once for them; the records of that many runs are held until then).
+FACED_BATCH = 16
 #: Rates summarised with Wilson intervals: column of the runs -> rate name.
 RATES = {
     "success": "success",
@@ -153,7 +157,7 @@ def decode_gains(data: Mapping[str, Any] | None) -> Any:
 
 
 def run_row(result: Any, pedestrians: Any = None, *, personal_space: float = 1.2,
-            robot_radius: float = 0.0) -> dict[str, Any]:  # fmt: skip
+            robot_radius: float = 0.0, faced: bool = True) -> dict[str, Any]:  # fmt: skip
     """The metrics of one crowd run, as one row.
 
     Parameters
@@ -168,6 +172,9 @@ def run_row(result: Any, pedestrians: Any = None, *, personal_space: float = 1.2
         Radius of a pedestrian's personal space (m, :data:`PERSONAL_SPACE`).
     robot_radius
         The robot's radius (m): personal space counts when its disc enters.
+    faced
+        ``False``: leave out the two measures of the crowd met (a study measures its runs
+        together with :func:`~designlab.navigation.crowds.faced.faced_by_runs`).
 
     Returns
     -------
@@ -198,7 +205,8 @@ def run_row(result: Any, pedestrians: Any = None, *, personal_space: float = 1.2
         "run_status": str(result.status),
     }
     row.update(_caused(t, peds, pedestrians, getattr(result, "pedestrian_ids", None)))
-    row.update(_faced(result))
+    if faced:
+        row.update(_faced(result))
     return row
 
 
@@ -477,6 +485,7 @@ def crowd_runs_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) -> 
     out: dict[str, list[Any]] = {k: [] for k in RUN_COLUMNS}
     alone: dict[tuple[int, float, int], Any] = {}
     reacts = bool(dict(options.get("crowd", {})).get("react_to_robot", False))
+    pending: list[tuple[Any, dict[str, Any]]] = []  # runs whose crowd met is still to measure
     for i in range(n):
         key = (int(points["scenario"][i]), float(points["density"][i]), int(points["seed"][i]))
         scenario, label = options["scenarios"][key[0]], options["methods"][int(points["method"][i])]
@@ -484,12 +493,18 @@ def crowd_runs_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) -> 
         if reacts and key not in alone:
             alone[key] = simulate_pedestrians(res.crowd)
         row = run_row(res, alone.get(key), personal_space=float(options.get("personal_space", 1.2)),
-                      robot_radius=float(res.crowd.robot.radius))  # fmt: skip
+                      robot_radius=float(res.crowd.robot.radius), faced=False)  # fmt: skip
         if not reacts:
             row.update(ped_delay_mean_s=0.0, ped_delay_max_s=0.0, ped_beyond_window=0.0,
                        ped_deviation_mean_m=0.0, ped_deviation_max_m=0.0)  # fmt: skip
-        for k in RUN_COLUMNS:
-            out[k].append(row[k])
+        pending.append((res, row))
+        if len(pending) == FACED_BATCH or i == n - 1:
+            for (_, done), f in zip(pending, faced_by_runs([r for r, _ in pending]), strict=True):
+                done.update(measured_density_per_m2=f.measured_density_per_m2,
+                            mean_ped_speed_m_per_s=f.mean_ped_speed_m_per_s)  # fmt: skip
+                for k in RUN_COLUMNS:
+                    out[k].append(done[k])
+            pending = []
     cols: dict[str, Any] = {k: np.asarray(v) for k, v in out.items()}
     cols["status"] = np.full(n, "ok", dtype=object)
     return cols

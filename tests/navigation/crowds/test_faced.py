@@ -12,15 +12,18 @@ from hypothesis import strategies as st
 from shapely.geometry import box
 
 import designlab as dl
+import designlab.navigation.crowds.faced as faced_module
 from designlab.errors import DesignlabError
 from designlab.navigation.crowds.faced import (
     FRAME_RATE,
     FacedStatus,
     faced_by,
+    faced_by_runs,
     faced_crowd,
+    faced_crowds,
     measurement_band,
 )
-from designlab.navigation.crowds.study import crowd_study, run_row
+from designlab.navigation.crowds.study import crowd_study, run_row, simulate_run
 
 nav = dl.navigation
 
@@ -145,3 +148,84 @@ def test_a_run_and_the_study_table_report_the_crowd_met():
                       ("mean_ped_speed_m_per_s", f.mean_ped_speed_m_per_s)):  # fmt: skip
         assert row[col] == want == frame[col] == st_.runs[col].iloc[0] == st_.to_frame()[col][0]
     assert 0.0 < f.measured_density_per_m2 < 3.0 and 0.2 < f.mean_ped_speed_m_per_s < 2.0
+
+
+def _same(f, g):
+    """Two FacedCrowd measures and series agree to 1e-12 (NaN where the other is NaN)."""
+    assert f.status == g.status
+    for x, y in ((f.measured_density_per_m2, g.measured_density_per_m2),
+                 (f.mean_ped_speed_m_per_s, g.mean_ped_speed_m_per_s),
+                 (f.band_area_m2, g.band_area_m2)):  # fmt: skip
+        assert (math.isnan(x) and math.isnan(y)) or abs(x - y) <= 1e-12
+    np.testing.assert_allclose(
+        f.frames.to_numpy(float), g.frames.to_numpy(float), rtol=0, atol=1e-12
+    )
+
+
+@settings(max_examples=8, deadline=None)
+@given(
+    runs=st.lists(st.tuples(st.floats(0.4, 2.0), st.floats(0.2, 2.0), st.integers(2, 201),
+                            st.sampled_from([0.01, 0.02, 0.1]), st.floats(-3.0, 3.0)),
+                  min_size=1, max_size=5),
+    seed=st.integers(0, 2**16),
+)  # fmt: skip
+def test_runs_measured_together_are_measured_as_alone(runs, seed):
+    """faced_crowds == faced_crowd of each run (lattices of random spacing, speed, length,
+    record step and offset; some pedestrians leave, one run empty, one a single record)."""
+    band = measurement_band((0.0, 1.0), (4.0, 1.0), half_width=1.0)
+    rng = np.random.default_rng(seed)
+    recs = []
+    for a, v, T, dt, x in runs:
+        t, P = _lattice(a, 0.5, 4, 12, v, x - 6.0, T, dt)
+        P[rng.random(P.shape[:2]) < 0.05] = np.nan  # gaps: pedestrians out of the simulation
+        recs.append((t, P))
+    t = np.arange(101) * 0.01
+    recs += [(t, np.full((101, 3, 2), np.nan)), (t[:1], np.zeros((1, 1, 2)))]
+    together = faced_crowds(recs, band)
+    assert len(together) == len(recs)
+    for (t, P), f in zip(recs, together, strict=True):
+        _same(f, faced_crowd(t, P, band))
+    assert together[-2].status == FacedStatus.NO_PEDESTRIANS
+    assert together[-1].status == FacedStatus.TOO_SHORT
+
+
+def test_a_studys_runs_measured_together_equal_faced_by_of_each():
+    """faced_by_runs (bands shared, a path around a corner among them) == faced_by of each
+    run, and a study's columns == faced_by of its runs (several seeds and methods)."""
+    opts = {"length": 10.0, "horizon": 1.0}
+    res = [nav.simulate(nav.crowd("corridor_counterflow", density=d, seed=s, **opts),
+                        nav.OPTIMAL_GAINS) for d, s in ((0.5, 3), (0.8, 4), (0.5, 5))]  # fmt: skip
+    corner = nav.crowd("crossing", 4, length=12.0, width=4.0, seed=0, horizon=0.5,
+                       start=(5.0, 1.0), goal=(1.0, 5.0))  # fmt: skip
+    res.append(nav.simulate(corner, nav.OPTIMAL_GAINS))
+    for half_width in (1.0, 0.5):
+        for r, f in zip(res, faced_by_runs(res, half_width), strict=True):
+            _same(f, faced_by(r, half_width))
+    study = crowd_study(["corridor_counterflow"], [0.5], [3, 5], ["vff", "cbf"], crowd_options=opts)
+    for _, row in study.runs.iterrows():
+        run = simulate_run(study.settings["options"], "corridor_counterflow", 0.5,
+                           int(row["seed"]), str(row["method"]))  # fmt: skip
+        f = faced_by(run)
+        assert row["measured_density_per_m2"] == f.measured_density_per_m2
+        assert row["mean_ped_speed_m_per_s"] == f.mean_ped_speed_m_per_s
+
+
+def test_runs_split_into_pedpy_calls_are_measured_as_alone(monkeypatch):
+    """Runs beyond the rows of one pedpy call are split into consecutive parts (each run in
+    one part, a run with more rows alone) and measured as alone."""
+    assert faced_module._parts([3, 3, 3]) == [[0, 1, 2]]
+    monkeypatch.setattr(faced_module, "_BATCH_ROWS", 5)
+    assert faced_module._parts([2, 3, 1, 9, 4, 4]) == [[0, 1], [2], [3], [4], [5]]
+    assert faced_module._parts([]) == [[]]
+    band = measurement_band((0.0, 1.0), (4.0, 1.0), half_width=1.0)
+    recs = [_lattice(a, 0.5, 4, 12, v, -6.0, 101, 0.01) for a, v in ((0.5, 1.0), (0.9, 0.4))]
+    rows = [faced_module._thinned(t, P, band.bounds).ped.size for t, P in recs]
+    monkeypatch.setattr(faced_module, "_BATCH_ROWS", sum(rows))  # two calls of two runs
+    calls = []
+    measured = faced_module._measured
+    monkeypatch.setattr(
+        faced_module, "_measured", lambda th, *a: calls.append(len(th)) or measured(th, *a)
+    )
+    for (t, P), f in zip(recs * 2, faced_crowds(recs * 2, band), strict=True):
+        _same(f, faced_crowd(t, P, band))
+    assert calls[:2] == [2, 2]
