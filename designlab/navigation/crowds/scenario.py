@@ -173,8 +173,9 @@ class CrowdScenario:
     )  # fmt: skip
     sample_time: float = declared_field(SAMPLE_TIME, 0.06)
     pedestrian_step: float = param(
-        "dt_p", "s", doc="JuPedSim time step (divides the sample time)", gt=0, le=0.1, default=0.01
-    )
+        "dt_p", "s", doc="JuPedSim time step (divides the sample time; at least 1 ms, so a run's "
+        "step count stays bounded)", ge=1e-3, le=0.1, default=0.01,
+    )  # fmt: skip
     neighbours: int = param(
         "K", "", doc="pedestrian slots of the compiled step (nearest within r2)", kind="integer",
         ge=1, le=64, default=16,
