@@ -24,10 +24,13 @@ Examples
 
 from __future__ import annotations
 
+import cmath
+import math
+
 import numpy as np
 from numpy.typing import NDArray
 
-from designlab.impact.kernel_lobe import lobe_end, maximum_on_nodes, node_count, scratch
+from designlab.impact.kernel_lobe import STRIDE, lobe_end, maximum_on_nodes, node_count, scratch
 from designlab.impact.kernel_modal import exponentials, mag
 from designlab.impact.kernel_poles import coefficients, modal_solution, quartic_roots, separate
 from designlab.sx.jit import AVAILABLE, kernel
@@ -56,8 +59,9 @@ def _design(p, r, c, nk, h, outputs, lobe, window, max_steps, diag, row, work): 
     """Metrics of one design from its folded modal solution; returns the status code."""
     for k in range(8):
         row[k] = np.nan
+    step = 0.0
     if lobe:
-        t_imp, row[7] = lobe_end(p, r, c, 1, nk, h, max_steps, diag, work)
+        t_imp, row[7], step = lobe_end(p, r, c, 1, nk, h, max_steps, diag, work)
         if not np.isfinite(t_imp):
             return 3
     else:
@@ -65,11 +69,17 @@ def _design(p, r, c, nk, h, outputs, lobe, window, max_steps, diag, row, work): 
         h = min(h, window / 64.0)
     row[3] = t_imp
     status = 0
-    count = node_count(t_imp, 3.0 * h)
-    exponentials(p, nk, t_imp, count, work[2])  # shared by the outputs
+    if step > 0:  # the march's nodes before t_imp and their exponentials, then t_imp
+        count = max(int(math.ceil(t_imp / step)), 1)  # noqa: RUF046 (numba)
+        for k in range(nk):
+            work[2][count, k] = cmath.exp(p[k] * t_imp)
+    else:
+        count = node_count(t_imp, STRIDE * h)
+        step = t_imp / count
+        exponentials(p, nk, t_imp, count, work[2])  # shared by the outputs
     for o in range(3):
         if outputs[o]:
-            t, y = maximum_on_nodes(p, r, c, o, nk, t_imp, count, work)
+            t, y = maximum_on_nodes(p, r, c, o, nk, t_imp, count, step, work)
             row[_COL[o][0]], row[_COL[o][1]] = y, t
             if o == 1 and t <= 0.0:
                 status = 2

@@ -1,17 +1,21 @@
 """Compiled first-lobe search and certified maxima of one design (numba; see :mod:`.kernel`).
 
 The algorithms of :mod:`designlab.impact.metrics` and :mod:`designlab.impact.modal`
-for one design at a time: march a grid of step ``h`` to the first node where
+for one design at a time: march a grid of step ``STRIDE h`` to the first node where
 a_h is *provably* <= 0 (below minus its rounding noise, :data:`.kernel_modal.NOISE`),
 certify that no dip between nodes ends the lobe earlier, polish the lobe end by
-safeguarded Newton, and take every maximum over the lobe by branch and bound.
+safeguarded Newton, and take every maximum over the lobe by branch and bound on
+the same nodes (their exponentials are the march's).
 
-Cells are certified by bounds on the second and third derivatives over the cell
-(:func:`.kernel_modal.curvature`, :func:`.kernel_modal.jerk`): a cell where y'
-keeps its sign, or where y'' does (y' monotone: at most one stationary point,
-found by Newton when y' changes sign), holds its extremes at its ends or at that
-point; any other cell whose curvature bound allows a better value is split in
-16, depth first in time order (8 levels for maxima, 6 for the lobe end).
+Cells are certified by bounds on the second, third and fourth derivatives over
+the cell (:func:`.kernel_modal.curvature`, :func:`.kernel_modal.jerk`; the
+fourth at most ``max|p_k|`` times the third): a cell where y' keeps its sign, or
+where y'' does (y' monotone: at most one stationary point, found by Newton when
+y' changes sign), holds its extremes at its ends or at that point; a cell whose
+bound (the lower of a quadratic bound and the cubic Hermite interpolant plus its
+error ``|y''''| w^4 / 384``, :func:`.kernel_modal.cell_bound`) allows a better
+value is split in 4, depth first in time order (16 levels for maxima, 13 for
+the lobe end).
 
 A lobe is closed only where the response provably returns to zero: a node
 whose value is <= 0 but within the rounding noise of its terms does not end the
@@ -23,7 +27,7 @@ Examples
 >>> p = np.array([-1.0 + 2.0j]); r = np.array([[-1.0j]]); c = np.zeros((1, 2))
 >>> # y = Re(-i e^((-1+2i)t)) = e^-t sin 2t: first zero at pi/2, maximum at atan(2)/2
 >>> s = scratch()
->>> found, lo, hi, guess, low = march(p, r, c, 0, 1, 0.1, 4096, False, s[2])
+>>> found, lo, hi, guess, low = march(p, r, c, 0, 1, 0.1, 4091, False, s[2])
 >>> bool(found and lo < np.pi / 2 <= hi)
 True
 >>> t, y = maximum(p, r, c, 0, 1, np.pi / 2, 0.3, s)
@@ -43,6 +47,7 @@ from designlab.impact.kernel_modal import (
     curvature,
     exponentials,
     grid,
+    hermite_bound,
     jerk,
     mag,
     newton,
@@ -60,7 +65,15 @@ LOW_FRACTION = 0.05
 #: Newton on y' stops after a step below this (relative): the quadratic convergence leaves
 #: an error of its square, and the value at a stationary point is second-order in it
 STATIONARY_RTOL = 1e-7
-PARTS = 16
+PARTS = 4
+#: the march's step (and the maxima's cell width) in grid steps h
+STRIDE = 3
+#: up to this many steps the march's exponentials by recurrence err by less than
+#: EXACT_STEPS * 4.4e-16 of the terms (a tenth of :data:`.kernel_modal.NOISE`): the
+#: node that ends the march is then not re-evaluated
+EXACT_STEPS = 256
+#: most levels of splitting in the lobe-end certification
+LEVELS = 13
 MAX_CELLS = 4096
 _STACK = 200
 
@@ -79,16 +92,17 @@ def scratch():  # type: ignore[no-untyped-def]
 
 
 @kernel(borrows=True)
-def march(p, r, c, o, nk, h, max_steps, diag, ex):  # type: ignore[no-untyped-def]
+def march(p, r, c, o, nk, h, last, diag, ex):  # type: ignore[no-untyped-def]
     """March ``t_j = j h`` to the first node (t > 0) where output ``o`` is provably <= 0.
 
     Returns ``(found, lo, hi, guess, t_low)``: the bracket ``[hi - h, hi]``, a
     secant guess of the crossing and (``diag``) the first node where y fell below
     :data:`LOW_FRACTION` of its running peak. The nodes' exponentials
-    ``exp(p_k t_j)`` (by recurrence, the last one evaluated directly) are left in
-    ``ex[j, k]`` for ``j <= MAX_CELLS``: :func:`crossing` takes them over.
+    ``exp(p_k t_j)`` (by recurrence; the last one evaluated directly after more than
+    :data:`EXACT_STEPS` steps) are left in
+    ``ex[j, k]`` for ``j <= MAX_CELLS``: :func:`crossing` takes them over. The last
+    node is ``t = last h``.
     """
-    last = (max_steps // 12) * 12 + 11
     peak = 0.0
     y_prev = 0.0
     t_low = np.nan
@@ -116,12 +130,14 @@ def march(p, r, c, o, nk, h, max_steps, diag, ex):  # type: ignore[no-untyped-de
             _store(ex, j, nk, e0, e1, e2, e3, e4)
         e0, e1, e2, e3, e4 = e0 * z0, e1 * z1, e2 * z2, e3 * z3, e4 * z4
         if t > 0 and y <= 0:
-            yd = c[o, 0] * t + c[o, 1]
-            for k in range(nk):
-                x = cmath.exp(p[k] * t)
-                yd += real_product(r[o, k], x)
-                if j <= MAX_CELLS:
-                    ex[j, k] = x
+            yd = y
+            if j > EXACT_STEPS:  # the recurrence's rounding may near the noise level
+                yd = c[o, 0] * t + c[o, 1]
+                for k in range(nk):
+                    x = cmath.exp(p[k] * t)
+                    yd += real_product(r[o, k], x)
+                    if j <= MAX_CELLS:
+                        ex[j, k] = x
             if yd < -noise(p, r, c, o, nk, t):
                 lo = max(t - h, 0.0)
                 frac = y_prev / (y_prev - yd)
@@ -227,26 +243,30 @@ def _scales(p, r, o, nk, stack, n, steady):  # type: ignore[no-untyped-def]
 
 @kernel(borrows=True)
 def crossing(p, r, c, o, nk, hi, h, levels, work, marched):  # type: ignore[no-untyped-def]
-    """Bracket ``(lo, hi)`` of the first provable zero of output ``o`` in ``(0, hi]``.
+    """Bracket ``(lo, hi, count)`` of the first provable zero of output ``o`` in ``(0, hi]``.
 
     :func:`designlab.impact.modal.certified_first_crossing`, depth first over
     cells of width <= h in time order: a local minimum between positive nodes is
     solved by Newton on -y'; a cell that may dip to zero otherwise is split.
     ``marched`` (> 0) is the number of steps of :func:`march` that ended at ``hi``:
-    the nodes' exponentials are then already in ``work[2]``.
+    the nodes' exponentials are then already in ``work[2]``. ``count`` is the number of
+    grid cells over ``[0, hi]`` (the grid stays in ``work[0]``).
     """
     nodes, stack, ex = work
     steady = stable(p, nk)
+    fastest = _fastest(p, nk)
     if 0 < marched <= MAX_CELLS:
         count = marched
+        w = h
     else:
         count = min(max(int(math.ceil(hi / h)), 1), MAX_CELLS)  # noqa: RUF046 (numba)
+        w = hi / count
         exponentials(p, nk, hi, count, ex)
-    grid(p, r, c, o, nk, hi, count, ex, nodes)
+    grid(p, r, c, o, nk, hi, count, w, ex, nodes)
     lo_b = nodes[0][count - 1]
     hi_b = hi
     for j in range(count):
-        if steady and _positive_cell(nodes, j, hi_b):
+        if steady and _positive_cell(nodes, j, hi_b, fastest):
             continue  # what the stack would conclude at once, without pushing the cell
         n = _push_grid(stack, nodes, j)
         while n > 0:
@@ -270,21 +290,42 @@ def crossing(p, r, c, o, nk, hi, h, levels, work, marched):  # type: ignore[no-u
                 continue  # y monotone between positive ends
             if shape(stack[n, _QL], stack[n, _QR], m3, w) != 0:
                 continue  # y' monotone: its one minimum, if any, was solved above
-            if min(yl, yr) - m2 * w * w / 8.0 > 0:
+            if _positive(yl, yr, dl, dr, w, m2, fastest * m3):
                 continue
             n = _split(p, r, c, o, nk, stack, n)
-    return lo_b, hi_b
+    return lo_b, hi_b, count
 
 
 @kernel(borrows=True)
 def lobe_end(p, r, c, o, nk, h, max_steps, diag, work):  # type: ignore[no-untyped-def]
-    """``(t_imp, t_low)`` of output ``o`` (a_h): NaN t_imp when no provable lobe end."""
-    found, _lo, hi, guess, t_low = march(p, r, c, o, nk, h, max_steps, diag, work[2])
+    """``(t_imp, t_low, step)`` of output ``o`` (a_h): NaN t_imp when no provable lobe end.
+
+    The march takes steps of ``STRIDE h`` (of ``h`` with ``diag``, so that the
+    diagnostic's nodes are the numpy path's) up to the numpy path's horizon
+    ``((max_steps // 12) 12 + 11) h``; a lobe end beyond it is not accepted.
+    ``step`` > 0 when ``work[2]`` holds ``exp(p_k j step)`` for the nodes before
+    ``t_imp`` (the maxima's grid reuses them).
+    """
+    horizon = ((max_steps // 12) * 12 + 11) * h
+    step = h if diag else STRIDE * h
+    last = int(math.ceil(horizon / step))  # noqa: RUF046 (numba)
+    found, _lo, hi, guess, t_low = march(p, r, c, o, nk, step, last, diag, work[2])
     if not found:
-        return np.nan, t_low
-    lo_c, hi_c = crossing(p, r, c, o, nk, hi, h, 6, work, round(hi / h))
-    g = 0.5 * (lo_c + hi_c) if hi_c < hi else guess
-    return newton(p, r, c, o, nk, lo_c, hi_c, 0, 1.0, 60, 1e-11, g)[0], t_low
+        return np.nan, t_low, 0.0
+    marched = round(hi / step)
+    lo_c, hi_c, count = crossing(p, r, c, o, nk, hi, step, LEVELS, work, marched)
+    if hi_c < hi:
+        g = 0.5 * (lo_c + hi_c)
+    else:  # the last grid cell: Newton from its cubic Hermite root (values and slopes known)
+        ts, ys, ds = work[0][0], work[0][1], work[0][2]
+        j = count - 1
+        g = _hermite_root(ts[j], ts[j + 1], ys[j], ys[j + 1], ds[j], ds[j + 1])
+        if not np.isfinite(g):
+            g = guess
+    t = newton(p, r, c, o, nk, lo_c, hi_c, 0, 1.0, 60, 1e-11, g)[0]
+    if t > horizon:
+        return np.nan, t_low, 0.0
+    return t, t_low, (0.0 if diag or marched > MAX_CELLS else step)
 
 
 @kernel(inline=True)
@@ -306,10 +347,11 @@ def _hermite_root(tl, tr, dl, dr, ql, qr):  # type: ignore[no-untyped-def]
     slopes ``ql, qr``: two Newton steps from the secant root (the secant root if they
     leave the cell)."""
     w = tr - tl
+    iw = 1.0 / w
     x = w * dl / (dl - dr)
-    m = (dr - dl) / w
-    a2 = (3.0 * m - 2.0 * ql - qr) / w
-    a3 = (ql + qr - 2.0 * m) / (w * w)
+    m = (dr - dl) * iw
+    a2 = (3.0 * m - 2.0 * ql - qr) * iw
+    a3 = (ql + qr - 2.0 * m) * (iw * iw)
     g = x
     for _ in range(2):
         f = dl + g * (ql + g * (a2 + g * a3))
@@ -329,7 +371,7 @@ def maximum(p, r, c, o, nk, hi, w, work):  # type: ignore[no-untyped-def]
     """
     count = node_count(hi, w)
     exponentials(p, nk, hi, count, work[2])
-    return maximum_on_nodes(p, r, c, o, nk, hi, count, work)
+    return maximum_on_nodes(p, r, c, o, nk, hi, count, hi / count, work)
 
 
 @kernel(inline=True)
@@ -339,12 +381,14 @@ def node_count(hi, w):  # type: ignore[no-untyped-def]
 
 
 @kernel(borrows=True)
-def maximum_on_nodes(p, r, c, o, nk, hi, count, work):  # type: ignore[no-untyped-def]
-    """:func:`maximum` once the nodes' exponentials are in ``work`` (shared by the outputs)."""
+def maximum_on_nodes(p, r, c, o, nk, hi, count, w, work):  # type: ignore[no-untyped-def]
+    """:func:`maximum` once the nodes' exponentials are in ``work`` (shared by the outputs):
+    nodes ``j w`` (j < count) and ``hi``."""
     nodes, stack, ex = work
     ts, ys, ds, qs = nodes[0], nodes[1], nodes[2], nodes[3]
     steady = stable(p, nk)
-    grid(p, r, c, o, nk, hi, count, ex, nodes)
+    fastest = _fastest(p, nk)
+    grid(p, r, c, o, nk, hi, count, w, ex, nodes)
     bt, by = 0.0, -np.inf
     for j in range(count + 1):
         if ys[j] > by:
@@ -356,15 +400,15 @@ def maximum_on_nodes(p, r, c, o, nk, hi, count, work):  # type: ignore[no-untype
                 bt, by = t, y
     for j in range(count):
         if not (ds[j] > 0 and ds[j + 1] <= 0):
-            if steady and _bounded_cell(nodes, j, by):
+            if steady and _bounded_cell(nodes, j, by, fastest):
                 continue  # what _refine would conclude at once, without pushing the cell
             _push_grid(stack, nodes, j)
-            bt, by = _refine(p, r, c, o, nk, bt, by, stack, steady)
+            bt, by = _refine(p, r, c, o, nk, bt, by, stack, steady, fastest)
     return bt, by
 
 
 @kernel(inline=True)
-def _bounded_cell(nodes, j, by):  # type: ignore[no-untyped-def]
+def _bounded_cell(nodes, j, by, fastest):  # type: ignore[no-untyped-def]
     """Whether the grid cell ``j`` (no +/- change of y' at its ends, no unstable pole)
     cannot hold a maximum above ``by``: :func:`_refine`'s tests on its first cell."""
     ts, ys, ds, qs, m2s, m3s = nodes
@@ -374,11 +418,12 @@ def _bounded_cell(nodes, j, by):  # type: ignore[no-untyped-def]
         return True
     if shape(qs[j], qs[j + 1], m3s[j], w) != 0:
         return True
-    return not cell_bound(ys[j], ys[j + 1], dl, dr, w, m2) > by + 1e-8 * max(abs(by), 1e-300)
+    bound = cell_bound(ys[j], ys[j + 1], dl, dr, w, m2, fastest * m3s[j])
+    return not bound > by + 1e-8 * max(abs(by), 1e-300)
 
 
 @kernel(inline=True)
-def _positive_cell(nodes, j, hi_b):  # type: ignore[no-untyped-def]
+def _positive_cell(nodes, j, hi_b, fastest):  # type: ignore[no-untyped-def]
     """Whether the grid cell ``j`` (no unstable pole) provably stays positive, or lies
     past ``hi_b``: :func:`crossing`'s tests on a cell that is neither split nor solved."""
     ts, ys, ds, qs, m2s, m3s = nodes
@@ -390,11 +435,30 @@ def _positive_cell(nodes, j, hi_b):  # type: ignore[no-untyped-def]
     w, m2 = tr - tl, m2s[j]
     if dl * dr > 0 and abs(dl + dr) > m2 * w:
         return True
-    return shape(qs[j], qs[j + 1], m3s[j], w) != 0 or min(yl, yr) - m2 * w * w / 8.0 > 0
+    if shape(qs[j], qs[j + 1], m3s[j], w) != 0:
+        return True
+    return _positive(yl, yr, dl, dr, w, m2, fastest * m3s[j])
 
 
 @kernel(inline=True)
-def _refine(p, r, c, o, nk, bt, by, stack, steady):  # type: ignore[no-untyped-def]
+def _positive(yl, yr, dl, dr, w, m2, m4):  # type: ignore[no-untyped-def]
+    """Whether y > 0 over a cell with positive ends (``|y''| <= m2``, ``|y''''| <= m4``)."""
+    if min(yl, yr) - m2 * w * w / 8.0 > 0:
+        return True
+    return hermite_bound(-yl, -yr, -dl, -dr, w, m4) < 0
+
+
+@kernel(inline=True)
+def _fastest(p, nk):  # type: ignore[no-untyped-def]
+    """``max_k |p_k|``."""
+    fastest = 0.0
+    for k in range(nk):
+        fastest = max(fastest, mag(p[k]))
+    return fastest
+
+
+@kernel(inline=True)
+def _refine(p, r, c, o, nk, bt, by, stack, steady, fastest):  # type: ignore[no-untyped-def]
     """Branch and bound inside the cell ``stack[0]`` (no +/- sign change of y' at its ends)."""
     n = 1
     first = True
@@ -413,13 +477,13 @@ def _refine(p, r, c, o, nk, bt, by, stack, steady):  # type: ignore[no-untyped-d
                 continue
         first = False
         w = tr - tl
-        if stack[n, _LEVEL] >= 8 or w <= 0:
+        if stack[n, _LEVEL] >= 16 or w <= 0:
             continue
         m2, m3 = _scales(p, r, o, nk, stack, n, steady)
         if dl * dr > 0 and abs(dl + dr) > m2 * w:
             continue  # y' keeps its sign: the maximum is at an end node
         if shape(stack[n, _QL], stack[n, _QR], m3, w) != 0:
             continue  # y' monotone without a +/- change: the maximum is at an end node
-        if cell_bound(yl, yr, dl, dr, w, m2) > by + 1e-8 * max(abs(by), 1e-300):
+        if cell_bound(yl, yr, dl, dr, w, m2, fastest * m3) > by + 1e-8 * max(abs(by), 1e-300):
             n = _split(p, r, c, o, nk, stack, n)
     return bt, by

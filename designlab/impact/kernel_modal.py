@@ -26,12 +26,19 @@ import numpy as np
 from designlab.sx.jit import kernel
 
 __all__ = [
-    "NOISE", "cell_bound", "curvature", "derivatives", "exponentials", "grid", "jerk", "mag",
-    "newton", "noise", "pair", "real_product", "shape", "stable", "triple", "value",
+    "NOISE", "cell_bound", "curvature", "derivatives", "exponentials", "grid", "hermite_bound",
+    "jerk", "mag", "newton", "noise", "pair", "real_product", "shape", "stable", "triple", "value",
 ]  # fmt: skip
 
 #: a value y(t) is provably negative when y < -NOISE * (sum of the magnitudes of its terms)
 NOISE = 1e-12
+#: Newton stops without a further exponential when the Halley step ``s`` has
+#: ``|s| max|p_k|`` <= TAYLOR_STEP and the root of the local Taylor polynomial near it
+#: (:func:`_taylor_root`) is provably within TAYLOR_ERROR / max|p_k| of the true root
+#: (a stationary value is then exact to ~TAYLOR_ERROR^2 of its terms) or, for a zero,
+#: within 1e-2 of the tolerance
+TAYLOR_STEP = 5e-3
+TAYLOR_ERROR = 1e-8
 
 
 @kernel(inline=True)
@@ -141,20 +148,49 @@ def real_product(a, b):  # type: ignore[no-untyped-def]
 
 @kernel(inline=True)
 def derivatives(p, r, c, o, nk, t):  # type: ignore[no-untyped-def]
-    """Output ``o`` and its first three derivatives at ``t`` (one exponential per pole)."""
+    """Output ``o``, its first five derivatives and the sum of its terms' magnitudes at ``t``
+    (one exponential per pole)."""
     y = c[o, 0] * t + c[o, 1]
     d1 = c[o, 0]
     d2 = 0.0
     d3 = 0.0
+    d4 = 0.0
+    d5 = 0.0
+    m = 0.0
     for k in range(nk):
         pk = p[k]
-        p2 = pk * pk  # off the exponential's critical path: the three products in parallel
+        p2 = pk * pk  # off the exponential's critical path: the products in parallel
         e = r[o, k] * cmath.exp(pk * t)
         y += e.real
         d1 += real_product(e, pk)
         d2 += real_product(e, p2)
         d3 += real_product(e, p2 * pk)
-    return y, d1, d2, d3
+        d4 += real_product(e, p2 * p2)
+        d5 += real_product(e, p2 * p2 * pk)
+        m += mag(e)
+    return y, d1, d2, d3, d4, d5, m
+
+
+@kernel(inline=True)
+def _taylor_root(f, g, q, u, v, s, scale, z):  # type: ignore[no-untyped-def]
+    """Root near the Halley step ``s`` of ``T(x) = f + g x + q x^2/2 + u x^3/6 + v x^4/24``
+    and a bound of its distance to the true root.
+
+    ``s`` is first corrected by Halley's error term ``C s^3`` (``C = (q/2g)^2 - u/6g``),
+    then one Newton step on ``T``. The bound adds the step's quadratic error and
+    the remainder of ``T`` over ``|x| <= 1.25 |s|`` (``scale (1.25 z)^5 / 120`` with
+    ``scale = sum |terms| max|p_k|^order`` and ``z = |s| max|p_k|``) over the slope.
+    """
+    ig = 1.0 / g
+    x = s + ((0.5 * q * ig) ** 2 - u * ig / 6.0) * s * s * s
+    fx = f + x * (g + x * (0.5 * q + x * (u / 6.0 + x * v / 24.0)))
+    igx = 1.0 / (g + x * (q + x * (0.5 * u + x * v / 6.0)))
+    d = fx * igx
+    w = 1.25 * z
+    err = (abs(d) * abs(d) * abs(q) + scale * w * w * w * w * w / 120.0) * abs(igx)
+    if not abs(x - d) <= 1.25 * abs(s):  # outside the remainder's interval (also NaN)
+        err = np.inf
+    return x - d, err
 
 
 @kernel(inline=True)
@@ -165,19 +201,25 @@ def newton(p, r, c, o, nk, lo, hi, order, sign, iterations, rtol, guess):  # typ
     with Halley's step (the derivatives come with the same exponentials): steps
     that leave the bracket become bisections. It stops when a step is below
     ``rtol |t|``, or earlier when two successive Halley steps show cubic
-    convergence and predict the next step below 1e-14 |t|. ``y(t)``
-    is the third-order Taylor value from the last evaluation (its error is of
-    the fourth order in the last step).
+    convergence and predict the next step below 1e-14 |t|, or at once when the
+    step is short (:data:`TAYLOR_STEP`) and the root of the Taylor polynomial at
+    ``t`` is provably close enough (:func:`_taylor_root`, :data:`TAYLOR_ERROR`):
+    one evaluation from a good start (the cubic Hermite root of the grid cell)
+    is then enough. ``y(t)`` is the fifth-order Taylor value from the last
+    evaluation (its error is of the sixth order in the last step).
     """
     t = min(max(guess, lo), hi)
     width = hi - lo
     prev = np.inf
+    fastest = 0.0
+    for k in range(nk):
+        fastest = max(fastest, mag(p[k]))
     for _ in range(iterations):
-        y, d1, d2, d3 = derivatives(p, r, c, o, nk, t)
+        y, d1, d2, d3, d4, d5, m = derivatives(p, r, c, o, nk, t)
         if order == 0:
-            f, g, q = sign * y, sign * d1, sign * d2
+            f, g, q, u, v = sign * y, sign * d1, sign * d2, sign * d3, sign * d4
         else:
-            f, g, q = sign * d1, sign * d2, sign * d3
+            f, g, q, u, v = sign * d1, sign * d2, sign * d3, sign * d4, sign * d5
         if f > 0:
             lo = t
         else:
@@ -188,13 +230,18 @@ def newton(p, r, c, o, nk, lo, hi, order, sign, iterations, rtol, guess):  # typ
         tol = rtol * abs(t) + 1e-300
         a = abs(s)
         done = a <= tol or hi - lo <= tol or f == 0
+        if not done and a * fastest <= TAYLOR_STEP:
+            x, err = _taylor_root(f, g, q, u, v, s, m * fastest**order, a * fastest)
+            if err <= (1e-2 * tol if order == 0 else TAYLOR_ERROR / fastest) and lo < t + x < hi:
+                s, done = x, True
         if not done and prev < np.inf and a <= 1e-3 * width and a <= 1e-2 * prev:
             done = a * (a / prev) ** 3 <= 1e-14 * abs(t)  # the next step, at cubic convergence
         if not np.isfinite(s):
             s = 0.0
         tn = t + s
         if done:
-            return tn, y + s * (d1 + s * (0.5 * d2 + s * d3 / 6.0))
+            taylor = d3 / 6.0 + s * (d4 / 24.0 + s * d5 / 120.0)
+            return tn, y + s * (d1 + s * (0.5 * d2 + s * taylor))
         if tn <= lo or tn >= hi:
             tn = 0.5 * (lo + hi)
             prev = np.inf
@@ -205,8 +252,37 @@ def newton(p, r, c, o, nk, lo, hi, order, sign, iterations, rtol, guess):  # typ
 
 
 @kernel(inline=True)
-def cell_bound(yl, yr, dl, dr, w, m):  # type: ignore[no-untyped-def]
-    """Upper bound of y over a cell (:func:`designlab.impact.modal._cell_bound`)."""
+def cell_bound(yl, yr, dl, dr, w, m, m4):  # type: ignore[no-untyped-def]
+    """Upper bound of y over a cell: the lower of :func:`designlab.impact.modal._cell_bound`
+    (``|y''| <= m``) and :func:`hermite_bound` (``|y''''| <= m4``)."""
+    return min(_quadratic_bound(yl, yr, dl, dr, w, m), hermite_bound(yl, yr, dl, dr, w, m4))
+
+
+@kernel(inline=True)
+def hermite_bound(yl, yr, dl, dr, w, m4):  # type: ignore[no-untyped-def]
+    """Upper bound of y over a cell of width ``w``: the maximum of the cubic Hermite
+    interpolant of the end values and slopes plus its error bound ``m4 w^4 / 384``."""
+    iw = 1.0 / w
+    m = (yr - yl) * iw
+    a2 = (3.0 * m - 2.0 * dl - dr) * iw
+    a3 = (dl + dr - 2.0 * m) * (iw * iw)
+    best = max(yl, yr)
+    disc = a2 * a2 - 3.0 * a3 * dl  # stationary points: dl + 2 a2 x + 3 a3 x^2 = 0
+    if disc >= 0.0 and a3 != 0.0:
+        q = -(a2 + math.copysign(math.sqrt(disc), a2))
+        for x in (q / (3.0 * a3), dl / q if q != 0.0 else -1.0):
+            if 0.0 < x < w:
+                best = max(best, yl + x * (dl + x * (a2 + x * a3)))
+    elif a3 == 0.0 and a2 != 0.0:
+        x = -dl / (2.0 * a2)
+        if 0.0 < x < w:
+            best = max(best, yl + x * (dl + x * a2))
+    return best + m4 * w * w * w * w / 384.0
+
+
+@kernel(inline=True)
+def _quadratic_bound(yl, yr, dl, dr, w, m):  # type: ignore[no-untyped-def]
+    """Upper bound of y over a cell from ``|y''| <= m``."""
     ends = max(min(yl, yr - dr * w + 0.5 * m * w * w), min(yl + dl * w + 0.5 * m * w * w, yr))
     slope = dl - dr + m * w
     x = -(yl - yr + dr * w - 0.5 * m * w * w) / slope
@@ -236,15 +312,15 @@ def exponentials(p, nk, hi, count, ex):  # type: ignore[no-untyped-def]
 
 
 @kernel(inline=True)
-def grid(p, r, c, o, nk, hi, count, ex, work):  # type: ignore[no-untyped-def]
-    """Nodes ``hi j / count`` (j = 0..count) of output ``o`` into ``work``.
+def grid(p, r, c, o, nk, hi, count, w, ex, work):  # type: ignore[no-untyped-def]
+    """Nodes ``j w`` (j < count) and ``hi`` of output ``o`` into ``work``.
 
     Times, values, first and second derivatives and the scales of :func:`triple`
     from the exponentials ``ex`` (:func:`exponentials`); the last node is ``hi``.
     """
     ts, ys, ds, qs, m2s, m3s = work[0], work[1], work[2], work[3], work[4], work[5]
     for j in range(count + 1):
-        ts[j] = hi * (j / count)
+        ts[j] = j * w if j < count else hi
         ys[j] = c[o, 0] * ts[j] + c[o, 1]
         ds[j] = c[o, 0]
         qs[j] = 0.0

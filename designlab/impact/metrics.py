@@ -187,6 +187,9 @@ def _check_params(p: NDArray) -> NDArray:
         raise InvalidParameterError(
             f"C_mech[{j}] + C_cont[{j}]", 0.0, "must be > 0 for the full joint", "N s/m"
         )
+    positive = np.array([name in _POSITIVE for name in names])
+    if np.all(np.isfinite(p)) and not np.any(np.where(positive, p <= 0, p < 0)):
+        return p  # one pass over the batch; the loop below names the first bad value
     for i, name in enumerate(names):
         col = p[:, i]
         bad = ~np.isfinite(col) | ((col <= 0) if name in _POSITIVE else (col < 0))
@@ -915,17 +918,20 @@ def _scaled(
     else:
         t_a, a_max = out["head_acceleration"]
 
-    with np.errstate(divide="ignore", invalid="ignore"):
-        tail = np.where(np.isfinite(t_low), (t_imp - t_low) / t_imp, 0.0)
+    tail = None
+    if lobe_diagnostics:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            tail = np.where(np.isfinite(t_low), (t_imp - t_low) / t_imp, 0.0)
 
     # linearity in v_c; zero response for v_c <= 0
     scale = np.where(v > 0, v, 0.0)
     status[v <= 0] = STATUS_NO_IMPACT
     none = v <= 0
-    t_imp_out = np.where(none, 0.0, t_imp)
+    some = bool(np.any(none))
+    t_imp_out = np.where(none, 0.0, t_imp) if some else t_imp.copy()
 
     def _z(arr: NDArray) -> NDArray:
-        return np.where(none, 0.0, arr)
+        return np.where(none, 0.0, arr) if some else arr.copy()
 
     nan = np.full(n, np.nan)
 
@@ -939,9 +945,9 @@ def _scaled(
         time_of_peak_acceleration=_z(t_a),
         time_of_max_compression=_z(out["compression"][0]) if "compression" in out else nan,
         time_of_peak_force=_z(out["force"][0]) if "force" in out else nan,
-        design_status=status.astype(str),
+        design_status=status if status.dtype.kind == "U" else status.astype(str),
         constrained=constrained,
-        lobe_tail=np.where(none | constrained, np.nan, tail) if lobe_diagnostics else None,
+        lobe_tail=None if tail is None else np.where(none | constrained, np.nan, tail),
         status=ImpactStatus.LOBE_NOT_CLOSED if np.any(status == STATUS_LOBE_OPEN) else OK,
         warnings=_batch_warnings(status),
     )

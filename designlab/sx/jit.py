@@ -107,6 +107,10 @@ def _load() -> tuple[Any, str]:
         import numba
     except ImportError as exc:  # pragma: no cover - numba is a declared dependency
         return None, f"numba is not installed ({exc})"
+    # numba reads its configuration when first imported: a program that imported it
+    # before designlab would otherwise cache next to the sources, keyed by each
+    # file's own time stamp only (stale code after a change in another module)
+    numba.config.CACHE_DIR = os.environ["NUMBA_CACHE_DIR"]
     return numba, ""
 
 

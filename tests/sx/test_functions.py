@@ -90,3 +90,20 @@ def test_kernel_cache_is_keyed_by_every_kernel_module(tmp_path: Path) -> None:
     helper = tmp_path / "impact" / "kernel_modal.py"
     helper.write_text(helper.read_text(encoding="utf-8") + "\n# changed\n", encoding="utf-8")
     assert jit.sources_key(tmp_path) != key
+
+
+@pytest.mark.skipif(not jit.AVAILABLE, reason=f"no compiled kernels: {jit.reason()}")
+def test_kernel_cache_is_ours_when_numba_was_imported_first(_private_cache: Path) -> None:
+    """A program that imports numba before designlab still gets the keyed cache (not
+    numba's default next to the sources, keyed by each file's own time stamp only)."""
+    env = {**os.environ, "DESIGNLAB_CACHE_DIR": str(_private_cache)}
+    env.pop("NUMBA_CACHE_DIR", None)
+    code = (
+        "import numba; from designlab.sx import jit;"
+        "from designlab.impact.kernel_modal import shape; shape(-1.0, -2.0, 1.0, 1.0);"
+        "print(numba.config.CACHE_DIR)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    assert Path(out.stdout.strip()) == _private_cache / "numba" / jit.sources_key()
+    assert any(Path(out.stdout.strip()).rglob("*.nbi"))
