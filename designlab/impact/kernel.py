@@ -39,6 +39,7 @@ __all__ = [
     "AVAILABLE",
     "COLUMNS",
     "MAX_POLES",
+    "OVERFLOW",
     "STATUS_CODES",
     "modal_metrics",
     "reduced_metrics",
@@ -48,6 +49,8 @@ __all__ = [
 COLUMNS = ("a_max", "eps_max", "f_max", "t_imp", "t_a", "t_eps", "t_f", "t_low")
 #: status codes of the kernel -> :class:`designlab.impact.metrics.ImpactStatus` values
 STATUS_CODES = ("ok", "no_impact", "peak_at_contact", "lobe_not_closed")
+#: status of a design whose model coefficients are not finite (overflow): the caller raises
+OVERFLOW = 4
 #: most folded poles of a response the kernel takes (the full joint has 5 states)
 MAX_POLES = 5
 #: column of each output's maximum and its time: force, head acceleration, compression
@@ -98,9 +101,18 @@ def _reduced_block(params, outputs, printed, stop_time, max_steps, diag, out, st
     for i in range(params.shape[0]):
         m_r, c_r, k_r, k_c, c_c, m_h, c_h, k_h = params[i]
         coefficients(m_r, c_r, k_r, k_c, c_c, m_h, c_h, k_h, printed, den, num)
+        if not (np.isfinite(den[1]) and np.isfinite(den[2]) and np.isfinite(den[3])
+                and np.isfinite(den[4])):  # fmt: skip
+            out[i, :] = np.nan
+            status[i] = OVERFLOW
+            continue
         quartic_roots(den, (c_c + c_h) / m_h, (k_c + k_h) / m_h, roots)
         separate(roots, 4)
         nk = modal_solution(den, num, roots, p, r, c, outputs)
+        if nk < 0:
+            out[i, :] = np.nan
+            status[i] = OVERFLOW
+            continue
         fast = 0.0
         for k in range(nk):
             fast = max(fast, mag(p[k]))
@@ -147,7 +159,8 @@ def reduced_metrics(
     -------
     tuple
         ``(N, 8)`` rows of :data:`COLUMNS` and ``(N,)`` status codes
-        (:data:`STATUS_CODES`).
+        (:data:`STATUS_CODES`, or :data:`OVERFLOW` where the model's coefficients are
+        not finite).
     """
     p = np.ascontiguousarray(params, dtype=np.float64)
     out = np.empty((p.shape[0], len(COLUMNS)))

@@ -46,6 +46,7 @@ from designlab.impact.kernel_modal import (
     cell_bound,
     curvature,
     exponentials,
+    fastest_rate,
     grid,
     hermite_bound,
     jerk,
@@ -254,7 +255,7 @@ def crossing(p, r, c, o, nk, hi, h, levels, work, marched):  # type: ignore[no-u
     """
     nodes, stack, ex = work
     steady = stable(p, nk)
-    fastest = _fastest(p, nk)
+    fastest = fastest_rate(p, nk)
     if 0 < marched <= MAX_CELLS:
         count = marched
         w = h
@@ -387,7 +388,7 @@ def maximum_on_nodes(p, r, c, o, nk, hi, count, w, work):  # type: ignore[no-unt
     nodes, stack, ex = work
     ts, ys, ds, qs = nodes[0], nodes[1], nodes[2], nodes[3]
     steady = stable(p, nk)
-    fastest = _fastest(p, nk)
+    fastest = fastest_rate(p, nk)
     grid(p, r, c, o, nk, hi, count, w, ex, nodes)
     bt, by = 0.0, -np.inf
     for j in range(count + 1):
@@ -446,15 +447,6 @@ def _positive(yl, yr, dl, dr, w, m2, m4):  # type: ignore[no-untyped-def]
     if min(yl, yr) - m2 * w * w / 8.0 > 0:
         return True
     return hermite_bound(-yl, -yr, -dl, -dr, w, m4) < 0
-
-
-@kernel(inline=True)
-def _fastest(p, nk):  # type: ignore[no-untyped-def]
-    """``max_k |p_k|``."""
-    fastest = 0.0
-    for k in range(nk):
-        fastest = max(fastest, mag(p[k]))
-    return fastest
 
 
 @kernel(inline=True)

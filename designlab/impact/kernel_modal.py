@@ -26,8 +26,9 @@ import numpy as np
 from designlab.sx.jit import kernel
 
 __all__ = [
-    "NOISE", "cell_bound", "curvature", "derivatives", "exponentials", "grid", "hermite_bound",
-    "jerk", "mag", "newton", "noise", "pair", "real_product", "shape", "stable", "triple", "value",
+    "NOISE", "cell_bound", "curvature", "derivatives", "exponentials", "fastest_rate", "grid",
+    "hermite_bound", "jerk", "mag", "newton", "noise", "pair", "real_product", "shape", "stable",
+    "triple", "value",
 ]  # fmt: skip
 
 #: a value y(t) is provably negative when y < -NOISE * (sum of the magnitudes of its terms)
@@ -194,6 +195,15 @@ def _taylor_root(f, g, q, u, v, s, scale, z):  # type: ignore[no-untyped-def]
 
 
 @kernel(inline=True)
+def fastest_rate(p, nk):  # type: ignore[no-untyped-def]
+    """``max_k |p_k|``."""
+    fastest = 0.0
+    for k in range(nk):
+        fastest = max(fastest, mag(p[k]))
+    return fastest
+
+
+@kernel(inline=True)
 def newton(p, r, c, o, nk, lo, hi, order, sign, iterations, rtol, guess):  # type: ignore[no-untyped-def]
     """Root ``t`` of ``sign * y^(order)`` in ``[lo, hi]`` (``+`` at lo, ``-`` at hi) and ``y(t)``.
 
@@ -211,9 +221,7 @@ def newton(p, r, c, o, nk, lo, hi, order, sign, iterations, rtol, guess):  # typ
     t = min(max(guess, lo), hi)
     width = hi - lo
     prev = np.inf
-    fastest = 0.0
-    for k in range(nk):
-        fastest = max(fastest, mag(p[k]))
+    fastest = fastest_rate(p, nk)
     for _ in range(iterations):
         y, d1, d2, d3, d4, d5, m = derivatives(p, r, c, o, nk, t)
         if order == 0:

@@ -204,7 +204,8 @@ def separate(poles, n):  # type: ignore[no-untyped-def]
 
 @kernel(borrows=True)
 def modal_solution(den, num, roots, p, r, c, outputs):  # type: ignore[no-untyped-def]
-    """Folded poles ``p``, residues ``r`` (3, 4) and polynomial parts ``c`` (3, 2); pole count.
+    """Folded poles ``p``, residues ``r`` (3, 4) and polynomial parts ``c`` (3, 2); pole count
+    (-1 where the poles are not representable: coefficients beyond double precision).
 
     ``roots`` (4,) are the roots of ``den``; ``outputs[o]`` selects the outputs built.
     """
@@ -219,6 +220,8 @@ def modal_solution(den, num, roots, p, r, c, outputs):  # type: ignore[no-untype
         for j in range(n):
             if j != i:
                 prod = prod * (pi - roots[j])
+        if not (prod.real != 0.0 or prod.imag != 0.0) or not np.isfinite(prod):
+            return -1  # coefficients beyond double precision (poles underflow or overflow)
         p[nk] = pi
         scale = w / prod  # one complex division per pole, shared by the outputs
         for o in range(3):

@@ -235,6 +235,9 @@ def ramp_responses(
     if check_q2(q2) == "printed" and model.name == "unconstrained":
         den = den.copy()
         den[:, 2] -= printed_q2_correction(params)
+    finite = np.all(np.isfinite(den), axis=1)
+    if not np.all(finite):
+        _overflow(params, int(np.flatnonzero(~finite)[0]))
     if np.any(den[:, -1] <= 0):
         j = int(np.flatnonzero(den[:, -1] <= 0)[0])
         raise ModelError(
@@ -650,7 +653,19 @@ def _reduced_kernel(
         max_lobe_steps=max_lobe_steps,
         diagnostics=diagnostics,
     )
+    if np.any(codes == kernel.OVERFLOW):
+        _overflow(p, int(np.flatnonzero(codes == kernel.OVERFLOW)[0]))
     return _from_kernel(p, v, names, rows, codes, False, diagnostics)
+
+
+def _overflow(p: NDArray, j: int) -> None:
+    """Raise the error of a design whose model coefficients overflow double precision."""
+    raise InvalidParameterError(
+        f"params[{j}]",
+        p[j].tolist(),
+        "gives model coefficients beyond double precision (stiffness or damping over mass "
+        "near 1e308): give the parameters in SI units of physical size",
+    )
 
 
 #: the kernel's outputs, in its order

@@ -271,3 +271,22 @@ def test_newton_finds_the_exact_maximum_from_one_evaluation_or_more(
         t, val = newton(p, r, c, 0, 1, lo, hi, 1, 1.0, 60, 1e-7, guess)
         assert abs(t - t_star) * scale <= 1e-9
         assert abs(val - y_star) <= 1e-14 * y_star
+
+
+@pytest.mark.parametrize("compiled", [True, False])
+@pytest.mark.parametrize("column, value", [(0, 1e-300), (0, 1e-160), (5, 1e-200)])
+def test_coefficients_beyond_double_precision_are_a_clear_error(
+    monkeypatch: pytest.MonkeyPatch, compiled: bool, column: int, value: float
+) -> None:
+    """A mass of 1e-160 kg passes the range checks but overflows the model: both paths say so
+    naming the design (the kernel raised ZeroDivisionError, the numpy path LinAlgError)."""
+    from designlab.errors import InvalidParameterError
+    from designlab.impact import PARAM_NAMES, impact_metrics
+
+    if compiled and not kernel.AVAILABLE:
+        pytest.skip("compiled kernels unavailable")
+    monkeypatch.setattr(kernel, "AVAILABLE", compiled)
+    rows = np.array([[9.6, 250, 20e3, 24.25e3, 71.9, 4.4, 0.0, 4e3]] * 3)
+    rows[1, column] = value
+    with pytest.raises(InvalidParameterError, match=r"params\[1\].*double precision"):
+        impact_metrics(rows, 1.25, columns=PARAM_NAMES)
