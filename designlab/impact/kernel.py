@@ -2,7 +2,8 @@
 
 :func:`reduced_metrics` computes, per design and without temporaries, what
 :func:`designlab.impact.metrics.metrics_of_matrix` computes with numpy for the
-reduced model: the exact modal solution (:mod:`.kernel_poles`), the lobe end and
+reduced model: the exact modal solution (:mod:`.kernel_poles`; the quadratic
+factors of :data:`~.kernel_poles.LANES` designs side by side), the lobe end and
 the certified maxima (:mod:`.kernel_lobe`). :func:`modal_metrics` does the
 second half for responses built elsewhere (the full joint's eigen-decomposition,
 the constrained impact). Designs are processed in blocks, so memory stays
@@ -24,15 +25,23 @@ Examples
 
 from __future__ import annotations
 
-import cmath
 import math
 
 import numpy as np
 from numpy.typing import NDArray
 
+from designlab.impact.kernel_exp import cexp
 from designlab.impact.kernel_lobe import STRIDE, lobe_end, maximum_on_nodes, node_count, scratch
-from designlab.impact.kernel_modal import exponentials, mag
-from designlab.impact.kernel_poles import coefficients, modal_solution, quartic_roots, separate
+from designlab.impact.kernel_modal import exponentials, fastest_rate
+from designlab.impact.kernel_poles import (
+    LANES,
+    bairstow_lanes,
+    coefficients,
+    factor_roots,
+    modal_solution,
+    quartic_roots,
+    separate,
+)
 from designlab.sx.jit import AVAILABLE, kernel
 
 __all__ = [
@@ -75,7 +84,7 @@ def _design(p, r, c, nk, h, outputs, lobe, window, max_steps, diag, row, work): 
     if step > 0:  # the march's nodes before t_imp and their exponentials, then t_imp
         count = max(int(math.ceil(t_imp / step)), 1)  # noqa: RUF046 (numba)
         for k in range(nk):
-            work[2][count, k] = cmath.exp(p[k] * t_imp)
+            work[2][count, k] = cexp(p[k] * t_imp)
     else:
         count = node_count(t_imp, STRIDE * h)
         step = t_imp / count
@@ -92,33 +101,73 @@ def _design(p, r, c, nk, h, outputs, lobe, window, max_steps, diag, row, work): 
 @kernel
 def _reduced_block(params, outputs, printed, stop_time, max_steps, diag, out, status):  # type: ignore[no-untyped-def]
     work = scratch()
-    den = np.empty(5)
-    num = np.zeros((3, 6))
-    roots = np.empty(4, dtype=np.complex128)
+    den = np.empty((LANES, 5))
+    num = np.zeros((LANES, 3, 6))
+    guess = np.empty((2, LANES))
+    state = np.empty(LANES, dtype=np.int8)
+    roots = np.empty((LANES, 4), dtype=np.complex128)
     p = np.zeros(4, dtype=np.complex128)
     r = np.zeros((3, 4), dtype=np.complex128)
     c = np.zeros((3, 2))
-    for i in range(params.shape[0]):
-        m_r, c_r, k_r, k_c, c_c, m_h, c_h, k_h = params[i]
-        coefficients(m_r, c_r, k_r, k_c, c_c, m_h, c_h, k_h, printed, den, num)
-        if not (np.isfinite(den[1]) and np.isfinite(den[2]) and np.isfinite(den[3])
-                and np.isfinite(den[4])):  # fmt: skip
+    for i0 in range(0, params.shape[0], LANES):
+        m = min(LANES, params.shape[0] - i0)
+        _lane_roots(params, i0, m, printed, den, num, guess, state, roots)
+        for k in range(m):  # Bairstow failed: as alone (numpy's eigenvalues where it fails again)
+            if state[k] != 1 and _finite(den[k]):
+                u, v = _head_mode(params[i0 + k])
+                quartic_roots(den[k], u, v, roots[k])
+        _lane_metrics(i0, m, outputs, stop_time, max_steps, diag, out, status,
+                      work, den, num, roots, p, r, c)  # fmt: skip
+
+
+@kernel(inline=True)
+def _head_mode(q):  # type: ignore[no-untyped-def]
+    """Bairstow's start for the design ``q``: the head's own mode
+    ``s^2 + (C_c + C_h) s / M_h + (K_c + K_h) / M_h``."""
+    return (q[4] + q[6]) / q[5], (q[3] + q[7]) / q[5]
+
+
+@kernel(inline=True)
+def _finite(den):  # type: ignore[no-untyped-def]
+    """Whether the quartic's coefficients are finite (no overflow)."""
+    return (
+        np.isfinite(den[1]) and np.isfinite(den[2]) and np.isfinite(den[3]) and np.isfinite(den[4])
+    )
+
+
+@kernel(borrows=True)
+def _lane_roots(params, i0, m, printed, den, num, guess, state, roots):  # type: ignore[no-untyped-def]
+    """The poles of designs ``i0 .. i0 + m``: their quadratic factors side by side
+    (:func:`.kernel_poles.bairstow_lanes`); ``state[k]`` 1 where the roots are in."""
+    for k in range(m):
+        m_r, c_r, k_r, k_c, c_c, m_h, c_h, k_h = params[i0 + k]
+        coefficients(m_r, c_r, k_r, k_c, c_c, m_h, c_h, k_h, printed, den[k], num[k])
+        guess[0, k], guess[1, k] = _head_mode(params[i0 + k])
+    bairstow_lanes(den, guess[0], guess[1], state, m)
+    for k in range(m):
+        if state[k] == 1:
+            factor_roots(den[k], guess[0, k], guess[1, k], roots[k])
+
+
+@kernel(borrows=True)
+def _lane_metrics(i0, m, outputs, stop_time, max_steps, diag, out, status,
+                  work, den, num, roots, p, r, c):  # type: ignore[no-untyped-def]  # fmt: skip
+    """The metrics of designs ``i0 .. i0 + m`` from their poles, one by one."""
+    for k in range(m):
+        i = i0 + k
+        a = den[k]
+        if not _finite(a):
             out[i, :] = np.nan
             status[i] = OVERFLOW
             continue
-        quartic_roots(den, (c_c + c_h) / m_h, (k_c + k_h) / m_h, roots)
-        separate(roots, 4)
-        nk = modal_solution(den, num, roots, p, r, c, outputs)
+        separate(roots[k], 4)
+        nk = modal_solution(a, num[k], roots[k], p, r, c, outputs)
         if nk < 0:
             out[i, :] = np.nan
             status[i] = OVERFLOW
             continue
-        fast = 0.0
-        for k in range(nk):
-            fast = max(fast, mag(p[k]))
-        status[i] = _design(
-            p, r, c, nk, 0.4 / fast, outputs, True, stop_time, max_steps, diag, out[i], work
-        )
+        h = 0.4 / fastest_rate(p, nk)
+        status[i] = _design(p, r, c, nk, h, outputs, True, stop_time, max_steps, diag, out[i], work)
 
 
 @kernel

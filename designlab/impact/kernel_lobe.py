@@ -37,11 +37,11 @@ True
 
 from __future__ import annotations
 
-import cmath
 import math
 
 import numpy as np
 
+from designlab.impact.kernel_exp import cexp
 from designlab.impact.kernel_modal import (
     cell_bound,
     curvature,
@@ -110,7 +110,7 @@ def march(p, r, c, o, nk, h, last, diag, ex):  # type: ignore[no-untyped-def]
     z0 = z1 = z2 = z3 = z4 = 0j
     r0 = r1 = r2 = r3 = r4 = 0j
     for k in range(nk):  # at most 5 poles (full joint): registers, not arrays
-        z, q = cmath.exp(p[k] * h), r[o, k] + 0j
+        z, q = cexp(p[k] * h), r[o, k] + 0j
         if k == 0:
             z0, r0 = z, q
         elif k == 1:
@@ -135,7 +135,7 @@ def march(p, r, c, o, nk, h, last, diag, ex):  # type: ignore[no-untyped-def]
             if j > EXACT_STEPS:  # the recurrence's rounding may near the noise level
                 yd = c[o, 0] * t + c[o, 1]
                 for k in range(nk):
-                    x = cmath.exp(p[k] * t)
+                    x = cexp(p[k] * t)
                     yd += real_product(r[o, k], x)
                     if j <= MAX_CELLS:
                         ex[j, k] = x
@@ -208,8 +208,8 @@ def _split(p, r, c, o, nk, stack, n):  # type: ignore[no-untyped-def]
         pk = p[k]
         p2 = pk * pk
         a = mag(pk)
-        z = cmath.exp(pk * dt)
-        e = r[o, k] * cmath.exp(pk * tl)
+        z = cexp(pk * dt)
+        e = r[o, k] * cexp(pk * tl)
         for i in range(PARTS - 1):
             e = e * z
             row = n + PARTS - 1 - i

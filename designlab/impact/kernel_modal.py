@@ -18,11 +18,11 @@ Examples
 
 from __future__ import annotations
 
-import cmath
 import math
 
 import numpy as np
 
+from designlab.impact.kernel_exp import cexp
 from designlab.sx.jit import kernel
 
 __all__ = [
@@ -40,6 +40,11 @@ NOISE = 1e-12
 #: within 1e-2 of the tolerance
 TAYLOR_STEP = 5e-3
 TAYLOR_ERROR = 1e-8
+#: reciprocals of the Taylor coefficients' factorials (multiplications instead of divisions)
+_I6 = 1.0 / 6.0
+_I24 = 1.0 / 24.0
+_I120 = 1.0 / 120.0
+_I384 = 1.0 / 384.0
 
 
 @kernel(inline=True)
@@ -53,7 +58,7 @@ def value(p, r, c, o, nk, t):  # type: ignore[no-untyped-def]
     """Output ``o`` at ``t``."""
     s = c[o, 0] * t + c[o, 1]
     for k in range(nk):
-        s += (r[o, k] * cmath.exp(p[k] * t)).real
+        s += (r[o, k] * cexp(p[k] * t)).real
     return s
 
 
@@ -63,7 +68,7 @@ def pair(p, r, c, o, nk, t, d):  # type: ignore[no-untyped-def]
     y = 0.0
     dy = 0.0
     for k in range(nk):
-        e = r[o, k] * cmath.exp(p[k] * t)
+        e = r[o, k] * cexp(p[k] * t)
         if d == 1:
             e = e * p[k]
         y += e.real
@@ -90,7 +95,7 @@ def triple(p, r, c, o, nk, t):  # type: ignore[no-untyped-def]
     m2 = 0.0
     m3 = 0.0
     for k in range(nk):
-        e = r[o, k] * cmath.exp(p[k] * t)
+        e = r[o, k] * cexp(p[k] * t)
         a = mag(p[k])
         g = mag(e) * a * a
         m2 += g
@@ -161,7 +166,7 @@ def derivatives(p, r, c, o, nk, t):  # type: ignore[no-untyped-def]
     for k in range(nk):
         pk = p[k]
         p2 = pk * pk  # off the exponential's critical path: the products in parallel
-        e = r[o, k] * cmath.exp(pk * t)
+        e = r[o, k] * cexp(pk * t)
         y += e.real
         d1 += real_product(e, pk)
         d2 += real_product(e, p2)
@@ -183,12 +188,12 @@ def _taylor_root(f, g, q, u, v, s, scale, z):  # type: ignore[no-untyped-def]
     ``scale = sum |terms| max|p_k|^order`` and ``z = |s| max|p_k|``) over the slope.
     """
     ig = 1.0 / g
-    x = s + ((0.5 * q * ig) ** 2 - u * ig / 6.0) * s * s * s
-    fx = f + x * (g + x * (0.5 * q + x * (u / 6.0 + x * v / 24.0)))
-    igx = 1.0 / (g + x * (q + x * (0.5 * u + x * v / 6.0)))
+    x = s + ((0.5 * q * ig) ** 2 - u * ig * _I6) * s * s * s
+    fx = f + x * (g + x * (0.5 * q + x * (u * _I6 + x * v * _I24)))
+    igx = 1.0 / (g + x * (q + x * (0.5 * u + x * v * _I6)))
     d = fx * igx
     w = 1.25 * z
-    err = (abs(d) * abs(d) * abs(q) + scale * w * w * w * w * w / 120.0) * abs(igx)
+    err = (abs(d) * abs(d) * abs(q) + scale * w * w * w * w * w * _I120) * abs(igx)
     if not abs(x - d) <= 1.25 * abs(s):  # outside the remainder's interval (also NaN)
         err = np.inf
     return x - d, err
@@ -248,7 +253,7 @@ def newton(p, r, c, o, nk, lo, hi, order, sign, iterations, rtol, guess):  # typ
             s = 0.0
         tn = t + s
         if done:
-            taylor = d3 / 6.0 + s * (d4 / 24.0 + s * d5 / 120.0)
+            taylor = d3 * _I6 + s * (d4 * _I24 + s * d5 * _I120)
             return tn, y + s * (d1 + s * (0.5 * d2 + s * taylor))
         if tn <= lo or tn >= hi:
             tn = 0.5 * (lo + hi)
@@ -285,7 +290,7 @@ def hermite_bound(yl, yr, dl, dr, w, m4):  # type: ignore[no-untyped-def]
         x = -dl / (2.0 * a2)
         if 0.0 < x < w:
             best = max(best, yl + x * (dl + x * a2))
-    return best + m4 * w * w * w * w / 384.0
+    return best + m4 * w * w * w * w * _I384
 
 
 @kernel(inline=True)
@@ -311,12 +316,12 @@ def exponentials(p, nk, hi, count, ex):  # type: ignore[no-untyped-def]
     """
     w = hi / count
     for k in range(nk):
-        z = cmath.exp(p[k] * w)
+        z = cexp(p[k] * w)
         e = 1.0 + 0j
         for j in range(count):
             ex[j, k] = e
             e = e * z
-        ex[count, k] = cmath.exp(p[k] * hi)
+        ex[count, k] = cexp(p[k] * hi)
 
 
 @kernel(inline=True)
@@ -340,14 +345,17 @@ def grid(p, r, c, o, nk, hi, count, w, ex, work):  # type: ignore[no-untyped-def
         rp, rp2 = rk * pk, rk * pk * pk
         a = mag(pk)
         g = mag(rk) * a * a
+        rho = mag(ex[1, k]) if count > 1 else 0.0  # |exp(p_k w)|: the nodes' moduli by recurrence
         for j in range(count + 1):
             x = ex[j, k]
             ys[j] += real_product(rk, x)
             ds[j] += real_product(rp, x)
             qs[j] += real_product(rp2, x)
-            gj = g * mag(x)
-            m2s[j] += gj
-            m3s[j] += gj * a
+            if j == count:  # evaluated directly
+                g = mag(rk) * a * a * mag(x)
+            m2s[j] += g
+            m3s[j] += g * a
+            g *= rho
 
 
 @kernel(inline=True)

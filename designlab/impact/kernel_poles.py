@@ -36,6 +36,8 @@ from designlab.sx.jit import kernel
 __all__ = ["coefficients", "modal_solution", "quartic_roots"]
 
 SEPARATION = 1e-6
+#: designs whose quadratic factors are found side by side (:func:`bairstow_lanes`)
+LANES = 16
 
 
 @kernel(borrows=True)
@@ -122,6 +124,12 @@ def _square(z):  # type: ignore[no-untyped-def]
 
 
 @kernel(inline=True)
+def _reciprocal(z):  # type: ignore[no-untyped-def]
+    """``1 / z`` of a real or complex number with one real division (no overflow care)."""
+    return z.conjugate() * (1.0 / _square(z))
+
+
+@kernel(inline=True)
 def _polish(a, x):  # type: ignore[no-untyped-def]
     """Two Newton steps of the root ``x`` of the monic quartic ``a`` (kept if they help)."""
     for _ in range(2):
@@ -132,7 +140,7 @@ def _polish(a, x):  # type: ignore[no-untyped-def]
             f = f * x + a[k]
         if df == 0:
             return x
-        xn = x - f / df
+        xn = x - f * _reciprocal(df)
         fn = (((xn + a[1]) * xn + a[2]) * xn + a[3]) * xn + a[4]
         if not _square(fn) < _square(f):  # |fn| < |f| without hypot
             return x
@@ -169,8 +177,15 @@ def quartic_roots(a, u0, v0, roots):  # type: ignore[no-untyped-def]
 def _factor_roots(a, u0, v0, roots):  # type: ignore[no-untyped-def]
     """:func:`quartic_roots` by Bairstow; False (``roots`` untouched) where it fails."""
     u, v, ok = _bairstow(a, u0, v0)
-    if not ok:
-        return False
+    if ok:
+        factor_roots(a, u, v, roots)
+    return ok
+
+
+@kernel(borrows=True)
+def factor_roots(a, u, v, roots):  # type: ignore[no-untyped-def]
+    """The roots of the monic quartic ``a`` from its quadratic factor ``s^2 + u s + v``,
+    each polished by Newton on ``a`` (real roots stay real, complex ones conjugate)."""
     g1 = a[1] - u
     g2 = a[2] - u * g1 - v
     _quadratic(u, v, roots, 0)
@@ -183,7 +198,45 @@ def _factor_roots(a, u0, v0, roots):  # type: ignore[no-untyped-def]
             x = _polish(a, roots[i])
             roots[i] = complex(x.real, abs(x.imag))
             roots[i + 1] = complex(x.real, -abs(x.imag))
-    return True
+
+
+@kernel(borrows=True)
+def bairstow_lanes(den, u, v, state, m):  # type: ignore[no-untyped-def]
+    """:func:`_bairstow` on the quartics ``den[l]`` (l < m) at once, in lockstep.
+
+    Independent designs side by side keep the processor's arithmetic units busy
+    (one design's iteration is a chain of dependent operations). Each lane stops
+    where :func:`_bairstow` stops, so ``u[l], v[l]`` are its values bit for bit;
+    ``state[l]`` ends 1 where it converged, 0 where it failed and 2 where it ran
+    out of steps (:func:`quartic_roots` then decides, as it would alone).
+    """
+    for k in range(m):
+        state[k] = 2
+    for _ in range(60):
+        live = 0
+        for k in range(m):
+            uk, vk = u[k], v[k]
+            b1 = den[k, 1] - uk
+            b2 = den[k, 2] - uk * b1 - vk
+            b3 = den[k, 3] - uk * b2 - vk * b1
+            b4 = den[k, 4] - uk * b3 - vk * b2
+            d2 = -b1 + uk
+            d3 = -b2 - uk * d2 + vk
+            d4 = -b3 - uk * d3 - vk * d2
+            det = d3 * d3 - d2 * d4
+            du = (-b3 * d3 + b4 * d2) / det
+            dv = (-b4 * d3 + b3 * d4) / det
+            un, vn = uk + du, vk + dv
+            going = state[k] == 2
+            bad = (det == 0.0) | (not np.isfinite(det))
+            done = (abs(du) <= 1e-14 * abs(un) + 1e-300) & (abs(dv) <= 1e-14 * abs(vn))
+            step = going & (not bad)
+            u[k] = un if step else uk
+            v[k] = vn if step else vk
+            state[k] = (0 if bad else (1 if done else 2)) if going else state[k]
+            live += state[k] == 2
+        if live == 0:
+            return
 
 
 @kernel(inline=True)
