@@ -230,14 +230,14 @@ def ramp_responses(
             raise InvalidParameterError(
                 "q2", q2, "the printed q2 of (3.5.14) belongs to the reduced joint; use 'correct'"
             )
+        with np.errstate(all="ignore"):
+            _check_finite(params, model.tf_coefficients(params)[0])
         return modal_families(model, params, outputs)["ramp"]
     den, num = model.ramp_coefficients(params)
     if check_q2(q2) == "printed" and model.name == "unconstrained":
         den = den.copy()
         den[:, 2] -= printed_q2_correction(params)
-    finite = np.all(np.isfinite(den), axis=1)
-    if not np.all(finite):
-        _overflow(params, int(np.flatnonzero(~finite)[0]))
+    _check_finite(params, den)
     if np.any(den[:, -1] <= 0):
         j = int(np.flatnonzero(den[:, -1] <= 0)[0])
         raise ModelError(
@@ -658,6 +658,15 @@ def _reduced_kernel(
     return _from_kernel(p, v, names, rows, codes, False, diagnostics)
 
 
+def _check_finite(p: NDArray, den: NDArray, rows: NDArray | None = None) -> None:
+    """Raise :func:`_overflow`'s error for the first design whose denominator is not finite
+    (``den`` of the designs ``p[rows]`` when ``rows`` is given)."""
+    finite = np.all(np.isfinite(den), axis=1)
+    if not np.all(finite):
+        j = int(np.flatnonzero(~finite)[0])
+        _overflow(p, j if rows is None else int(rows[j]))
+
+
 def _overflow(p: NDArray, j: int) -> None:
     """Raise the error of a design whose model coefficients overflow double precision."""
     raise InvalidParameterError(
@@ -770,7 +779,10 @@ def _full_kernel(
     )  # fmt: skip
     back = np.flatnonzero(codes == kernel_full.FALLBACK)
     if back.size:
-        resp = ramp_responses(response_model(p, constrained), p[back], names)
+        model = response_model(p, constrained)
+        with np.errstate(all="ignore"):
+            _check_finite(p, model.tf_coefficients(p[back])[0], back)
+        resp = ramp_responses(model, p[back], names)
         poles = resp[names[0]].poles
         h = 0.4 / (grid_rate(poles) if p.shape[1] == 10 else np.abs(poles).max(axis=1))
         part = _modal_rows(resp, h, constrained, stop_time, max_lobe_steps, diagnostics)

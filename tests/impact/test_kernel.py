@@ -290,3 +290,22 @@ def test_coefficients_beyond_double_precision_are_a_clear_error(
     rows[1, column] = value
     with pytest.raises(InvalidParameterError, match=r"params\[1\].*double precision"):
         impact_metrics(rows, 1.25, columns=PARAM_NAMES)
+
+
+@pytest.mark.parametrize("compiled", [True, False])
+@pytest.mark.parametrize("column, value", [(0, 1e-200), (5, 1e-160)])
+def test_full_joint_beyond_double_precision_is_a_clear_error(
+    monkeypatch: pytest.MonkeyPatch, compiled: bool, column: int, value: float
+) -> None:
+    """The same for the full joint (10 parameters), which ended in LinAlgError."""
+    from designlab.errors import InvalidParameterError
+    from designlab.impact import impact_metrics
+    from designlab.impact.full_joint_model import FULL_PARAM_NAMES
+
+    if compiled and not kernel.AVAILABLE:
+        pytest.skip("compiled kernels unavailable")
+    monkeypatch.setattr(kernel, "AVAILABLE", compiled)
+    rows = np.array([[9.6, 10.0, 5e5, 24.25e3, 71.9, 4.4, 0.0, 4e3, 250.0, 20e3]] * 3)
+    rows[1, column] = value
+    with pytest.raises(InvalidParameterError, match=r"params\[1\].*double precision"):
+        impact_metrics(rows, 1.25, columns=FULL_PARAM_NAMES)
