@@ -211,6 +211,7 @@ def ramp_responses(
     outputs: tuple[str, ...],
     *,
     q2: str = "correct",
+    rows: NDArray[np.intp] | None = None,
 ) -> dict[str, ModalResponse]:
     """Exact responses of ``outputs`` to the unit constant-velocity impact (v_c = 1 m/s).
 
@@ -224,20 +225,26 @@ def ramp_responses(
         Output names of ``model``.
     q2
         ``"correct"`` or ``"printed"`` (docs/impact.md, "q2"; unconstrained model only).
+    rows
+        The designs' rows in the caller's batch, for error messages (default: their
+        rows in ``params``).
+
+    Raises
+    ------
+    InvalidParameterError
+        For the first design whose model leaves double precision (a mass of 1e-200 kg).
     """
     if model.name.startswith("full_joint"):
         if check_q2(q2) != "correct":
             raise InvalidParameterError(
                 "q2", q2, "the printed q2 of (3.5.14) belongs to the reduced joint; use 'correct'"
             )
-        with np.errstate(all="ignore"):
-            _check_finite(params, model.tf_coefficients(params)[0])
-        return modal_families(model, params, outputs)["ramp"]
+        return _eigen_ramp(model, params, outputs, rows)
     den, num = model.ramp_coefficients(params)
     if check_q2(q2) == "printed" and model.name == "unconstrained":
         den = den.copy()
         den[:, 2] -= printed_q2_correction(params)
-    _check_finite(params, den)
+    _check_finite(params, den, rows)
     if np.any(den[:, -1] <= 0):
         j = int(np.flatnonzero(den[:, -1] <= 0)[0])
         raise ModelError(
@@ -658,19 +665,42 @@ def _reduced_kernel(
     return _from_kernel(p, v, names, rows, codes, False, diagnostics)
 
 
+def _eigen_ramp(
+    model: LinearImpactModel, params: NDArray, outputs: tuple[str, ...], rows: NDArray | None
+) -> dict[str, ModalResponse]:
+    """:func:`ramp_responses` of the full joint by the eigen-decomposition; a design where it
+    fails (a singular eigenvector matrix) or gives non-finite responses is
+    :func:`_overflow`'s error."""
+    try:
+        with np.errstate(all="ignore"):
+            resp = modal_families(model, params, outputs)["ramp"]
+    except np.linalg.LinAlgError:
+        for j in range(params.shape[0]):  # the first design that fails alone
+            try:
+                with np.errstate(all="ignore"):
+                    modal_families(model, params[j : j + 1], outputs)
+            except np.linalg.LinAlgError:
+                _overflow(params, j, rows)
+        raise
+    for r in resp.values():
+        parts = (r.poles, r.residues, r.poly)
+        _check_finite(params, np.concatenate([np.abs(x) for x in parts], axis=1), rows)
+    return resp
+
+
 def _check_finite(p: NDArray, den: NDArray, rows: NDArray | None = None) -> None:
     """Raise :func:`_overflow`'s error for the first design whose denominator is not finite
     (``den`` of the designs ``p[rows]`` when ``rows`` is given)."""
     finite = np.all(np.isfinite(den), axis=1)
     if not np.all(finite):
-        j = int(np.flatnonzero(~finite)[0])
-        _overflow(p, j if rows is None else int(rows[j]))
+        _overflow(p, int(np.flatnonzero(~finite)[0]), rows)
 
 
-def _overflow(p: NDArray, j: int) -> None:
-    """Raise the error of a design whose model coefficients overflow double precision."""
+def _overflow(p: NDArray, j: int, rows: NDArray | None = None) -> None:
+    """Raise the error of the design ``p[j]`` (row ``rows[j]`` of the caller's batch, if
+    given) whose model coefficients overflow double precision."""
     raise InvalidParameterError(
-        f"params[{j}]",
+        f"params[{j if rows is None else int(rows[j])}]",
         p[j].tolist(),
         "gives model coefficients beyond double precision (stiffness or damping over mass "
         "near 1e308): give the parameters in SI units of physical size",
@@ -779,10 +809,7 @@ def _full_kernel(
     )  # fmt: skip
     back = np.flatnonzero(codes == kernel_full.FALLBACK)
     if back.size:
-        model = response_model(p, constrained)
-        with np.errstate(all="ignore"):
-            _check_finite(p, model.tf_coefficients(p[back])[0], back)
-        resp = ramp_responses(model, p[back], names)
+        resp = ramp_responses(response_model(p, constrained), p[back], names, rows=back)
         poles = resp[names[0]].poles
         h = 0.4 / (grid_rate(poles) if p.shape[1] == 10 else np.abs(poles).max(axis=1))
         part = _modal_rows(resp, h, constrained, stop_time, max_lobe_steps, diagnostics)
