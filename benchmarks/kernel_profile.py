@@ -24,6 +24,7 @@ import argparse
 import bisect
 import collections
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -85,7 +86,8 @@ def time_shares(seconds: float) -> None:
     print(f"compiled in {time.process_time() - t0:.0f} s CPU")
     table = _addresses(kernel._reduced_block)
     starts = [a for a, _ in table]
-    data = tempfile.mktemp(suffix=".perf")
+    fd, data = tempfile.mkstemp(suffix=".perf")
+    os.close(fd)
     perf = subprocess.Popen(["perf", "record", "-q", "-o", data, "-p", str(os.getpid())],
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)  # fmt: skip
     time.sleep(1.0)
@@ -167,16 +169,19 @@ def main() -> None:
     args = ap.parse_args()
     print(f"work per design ({args.designs} wide-range designs, the kernel's Python source):")
     work_counts(args.designs)
-    if "NUMBA_CACHE_DIR" not in os.environ:  # a fresh compile: cached code has no addresses
-        os.environ["NUMBA_CACHE_DIR"] = tempfile.mkdtemp(prefix="designlab-profile-")
-    from designlab.impact import kernel
+    cache = tempfile.mkdtemp(prefix="designlab-profile-")
+    os.environ["NUMBA_CACHE_DIR"] = cache  # a fresh compile: cached code carries no addresses
+    try:
+        from designlab.impact import kernel
 
-    if not kernel.AVAILABLE:
-        print("time shares: no compiled kernel on this machine (numba missing or disabled)")
-    elif subprocess.run(["sh", "-c", "command -v perf"], capture_output=True).returncode:
-        print("time shares: Linux perf is not installed")
-    else:
-        time_shares(args.seconds)
+        if not kernel.AVAILABLE:
+            print("time shares: no compiled kernel on this machine (numba missing or disabled)")
+        elif shutil.which("perf") is None:
+            print("time shares: Linux perf is not installed")
+        else:
+            time_shares(args.seconds)
+    finally:
+        shutil.rmtree(cache, ignore_errors=True)
 
 
 if __name__ == "__main__":
