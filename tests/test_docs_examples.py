@@ -104,7 +104,8 @@ README_RUN = (
     ".venv/bin/designlab run studies/zeng_ch4_validation.yaml"
 )
 README_TEST = (
-    "python3 -m venv .venv && .venv/bin/pip install -e '.[dev]' && .venv/bin/python -m pytest"
+    "python3 -m venv .venv && .venv/bin/pip install -e '.[dev]' && "
+    ".venv/bin/python -m pytest -n auto"
 )
 
 
@@ -116,7 +117,7 @@ def test_readme_starts_with_the_two_commands() -> None:
     assert load_study(ROOT / "studies/zeng_ch4_validation.yaml").name == "zeng_ch4_validation"
     ci = (ROOT / ".ci/run").read_text(encoding="utf-8")
     assert "-m venv" in ci and "pip install --quiet -e '.[dev]'" in ci
-    assert '"$VENV/bin/python" -m pytest </dev/null' in ci
+    assert '"$VENV/bin/python" -m pytest -n auto </dev/null' in ci
 
 
 def test_readme_links_exist() -> None:

@@ -44,7 +44,9 @@ def _documented(section: str) -> set[str]:
     return names
 
 
-@pytest.mark.parametrize(("name", "fn"), _public_functions(), ids=lambda x: str(x))
+@pytest.mark.parametrize(
+    ("name", "fn"), _public_functions(), ids=lambda x: x if isinstance(x, str) else "fn"
+)
 def test_every_parameter_is_documented_with_an_example(name: str, fn) -> None:
     doc = inspect.getdoc(fn) or ""
     doc = "\n".join("    " + ln if ln else ln for ln in doc.splitlines())
