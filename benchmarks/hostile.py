@@ -67,6 +67,12 @@ NOVALUE: Any = object()
 # ------------------------------------------------------------------------ cases
 
 
+#: Names of the fields that are non-finite in the base answer of the running case's target
+#: (a NaN there is by design, not caused by the hostile value); set by :func:`judge`.
+_BASELINE: dict[int, frozenset[str]] = {}
+_IGNORE: list[frozenset[str]] = [frozenset()]
+
+
 @dataclasses.dataclass
 class Case:
     """One hostile input: how to run it, what a clear refusal names, how to judge an answer.
@@ -86,6 +92,7 @@ class Case:
     oracle: Callable[[Any], str | None] | None = None
     repro: str = ""
     judge: Callable[[Any], tuple[str, str]] | None = None
+    baseline: Callable[[], Any] | None = None
 
 
 def _value_texts(value: Any) -> list[str]:
@@ -111,6 +118,10 @@ def _value_texts(value: Any) -> list[str]:
         out |= {"list", "sequence", "pair", "array", "mapping", "dict", "tuple", "1-D"}
     if isinstance(value, dict):
         out |= {str(k) for k in value}
+    if isinstance(value, (list, tuple)) and len(value) <= 10:
+        out |= {t for v in value for t in _value_texts(v) if len(t) > 1 or t.isalnum()}
+    if isinstance(value, str) and value:
+        out.add(repr(value[0]))
     if isinstance(value, (list, tuple)) and len(value) > 10:
         out |= {str(len(value)), "values", "elements", "size", "length"}
     if isinstance(value, str):
@@ -163,17 +174,32 @@ def judge(case: Case) -> tuple[str, str]:
         return judge_error(case, exc)
     if case.judge is not None:
         return case.judge(result)
+    _IGNORE[0] = _baseline_nonfinite(case.baseline)
     return judge_answer(case, result)
+
+
+def _baseline_nonfinite(baseline: Callable[[], Any] | None) -> frozenset[str]:
+    """The non-finite fields of a target's base answer (computed once per worker)."""
+    if baseline is None:
+        return frozenset()
+    key = id(getattr(baseline, "__self__", baseline))  # one per target, not per case
+    if key not in _BASELINE:
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                base = baseline()
+            bad = {n for n, a in numbers_of(base) if not np.isfinite(a).all()}
+        except Exception:  # a base that fails: nothing to ignore
+            bad = set()
+        _BASELINE[key] = frozenset(bad)
+    return _BASELINE[key]
 
 
 def judge_answer(case: Case, result: Any) -> tuple[str, str]:
     """An answered case: silent if the declaration refuses the value or the oracle objects."""
-    if case.expect.startswith("refuse"):
-        note = _oracle_note(case, result)
-        if case.expect == "refuse" and _finite_real(case.value) and not note:
-            # a number out of bounds, answered right: noted, not a wrong answer
-            return "accepted", OUTSIDE
-        return "silent", "accepted a value its declaration refuses" + note
+    if case.expect == "refuse":
+        # outside the declared domain no answer is vouched for, right or not
+        return "silent", "accepted a value its declaration refuses" + _oracle_note(case, result)
     if case.oracle is None:
         return "accepted", ""
     try:
@@ -181,15 +207,6 @@ def judge_answer(case: Case, result: Any) -> tuple[str, str]:
     except Exception as exc:
         return "silent", f"answer unreadable by the oracle: {type(exc).__name__}: {exc}"[:240]
     return ("silent", problem) if problem else ("accepted", "")
-
-
-#: The detail of a number outside its declared bounds that was answered (right).
-OUTSIDE = "answered a number outside its declared bounds (the oracle finds no fault)"
-
-
-def _finite_real(value: Any) -> bool:
-    return (isinstance(value, (int, float, np.integer, np.floating))
-            and not isinstance(value, (bool, np.bool_)) and math.isfinite(value))  # fmt: skip
 
 
 def _oracle_note(case: Case, result: Any) -> str:
@@ -439,27 +456,18 @@ def hostile_values(
 
 
 def expectation(decl: Any, value: Any, check: Callable[[Any], Any] | None = None) -> str:
-    """Whether the declaration admits ``value``: ``"accept"``, ``"refuse"`` or ``"refuse!"``.
+    """Whether the declaration admits ``value`` (``"accept"``) or refuses it (``"refuse"``).
 
-    ``"refuse!"``: no answer can be right (not a finite real, or a sign the quantity cannot
-    have: a negative time, a zero mass); an answer is then a silent wrong answer. A plain
-    ``"refuse"`` (beyond a cap) answered right is only noted.
+    ``"either"`` where there is no declaration to tell. An answer to a refused value is a
+    silent wrong answer: outside its declared domain no answer is vouched for.
     """
     if check is None and decl is None:
         return "either"
     try:
         (check or decl.check)(value)
-    except Exception:
-        if not _finite_real(value) or _wrong_sign(decl, value):
-            return "refuse!"
+    except Exception:  # any refusal
         return "refuse"
     return "accept"
-
-
-def _wrong_sign(decl: Any, value: float) -> bool:
-    if decl is None:
-        return False
-    return (decl.ge == 0 and value < 0) or (decl.gt == 0 and value <= 0)
 
 
 def fmt(value: Any) -> str:
@@ -542,6 +550,10 @@ class Target:
     tag: str = ""
     given: Callable[[Any, dict[str, Any]], str | None] | None = None
     template: str = ""
+
+    def base_call(self) -> Any:
+        """The base call (its answer tells which NaN fields are by design)."""
+        return self.call({})
 
     def arguments(self, over: dict[str, Any]) -> dict[str, Any]:
         """The plain arguments of a call (objects left out), ``over`` applied."""
@@ -640,6 +652,7 @@ def _case(t: Target, path: str, names: tuple[str, ...], label: str, v: Any, expe
         expect=expect,
         oracle=t.judge_with(over),
         repro=t.repro(over),
+        baseline=t.base_call,
     )
 
 
@@ -671,8 +684,9 @@ def numbers_of(obj: Any, prefix: str = "", depth: int = 0) -> list[tuple[str, np
         return [(f"{prefix}.{c}", num[c].to_numpy(dtype=float)) for c in num.columns]
     if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
         for f in dataclasses.fields(obj):
-            if f.name.startswith("_"):
-                continue
+            child = getattr(obj, f.name)
+            if f.name.startswith("_") or (depth == 0 and hasattr(child, "__params__")):
+                continue  # an input model echoed on the answer is not part of the answer
             out += numbers_of(getattr(obj, f.name), f"{prefix}.{f.name}".lstrip("."), depth + 1)
     return out
 
@@ -696,7 +710,8 @@ def finite_oracle(
         honest = _honest(result)
         for name, arr in numbers_of(result):
             leaf = name.split(".")[-1]
-            if not honest and leaf not in allow_nan and not np.isfinite(arr).all():
+            expected = name in _IGNORE[0] or any(p in allow_nan for p in name.split("."))
+            if not honest and not expected and not np.isfinite(arr).all():
                 return f"{name} is not finite ({_first_bad(arr)}) with status ok"
             finite = arr[np.isfinite(arr)]
             if leaf in nonneg and (finite < 0).any():
@@ -1302,7 +1317,7 @@ def navigation_targets() -> list[Target]:
     small = {
         "vo": (pl.VOSettings, {"horizon": 2.0}),
         "errt": (pl.ERRTSettings, {}),
-        "fielddstar": (pl.FieldDStarSettings, {}),
+        "field_dstar": (pl.FieldDStarSettings, {}),
     }
     out = [
         Target("navigation", "dl.navigation.simulate", nav.simulate,
@@ -1421,8 +1436,8 @@ def navigation_extra_cases() -> list[Case]:
         ("Rectangle.from_corners of 3 points",
          "dl.navigation.Rectangle.from_corners('r', [(0, 0), (1, 0), (0.3, 2)], r2=1, r3=0.5)",
          ("corners",), "refuse"),
-        ("fielddstar cell=0.0101",
-         "dl.navigation.planners.simulate_planner(dl.navigation.configuration(1), 'fielddstar', "
+        ("field_dstar cell=0.0101",
+         "dl.navigation.planners.simulate_planner(dl.navigation.configuration(1), 'field_dstar', "
          "dl.navigation.planners.FieldDStarSettings(cell=0.0101))", ("cell",), "either"),
     ]  # fmt: skip
     return [simple_case("navigation", n, _eval(e), e, names=k, expect=x, oracle=_nav_oracle())
@@ -1452,7 +1467,8 @@ def crowd_constructor_cases() -> list[Case]:
     decls = params_of(nav.CrowdScenario)
     for name, spec in t.args.items():
         if isinstance(spec, Val) and spec.decl is None and name in decls:
-            spec.decl = decls[name]
+            optional = name in ("pedestrians", "density")  # one of the two, the other None
+            spec.decl = dataclasses.replace(decls[name], optional=optional)
     return target_cases(t)
 
 
@@ -1463,7 +1479,7 @@ def _navigation_warmup() -> None:
     sc = nav.configuration(1)
     nav.simulate(sc, nav.EXPERIMENT_GAINS)
     nav.simulate(sc, method="cbf")
-    for m in ("vo", "errt", "fielddstar"):
+    for m in ("vo", "errt", "field_dstar"):
         simulate_planner(sc, m)
     nav.simulate(nav.crowd("corridor_counterflow", 4, length=8.0, horizon=0.5),
                  nav.EXPERIMENT_GAINS)  # fmt: skip
@@ -2040,19 +2056,11 @@ def table(rows: Sequence[dict[str, Any]]) -> str:
 def findings(rows: Sequence[dict[str, Any]]) -> str:
     """One Markdown line per non-clean case: outcome, case, what happened, reproduction."""
     lines = []
-    outside = [r for r in rows if r["outcome"] == "accepted" and r["detail"] == OUTSIDE]
     for r in rows:
         if r["outcome"] in ("clear", "accepted"):
             continue
         lines.append(f"- **{r['outcome']}** `{r['name']}`: {r['detail']}  \n"
                      f"  repro: `{r['repro']}`")  # fmt: skip
-    if outside:
-        names = ", ".join(f"`{r['name']}`" for r in outside[:40])
-        more = f" and {len(outside) - 40} more" if len(outside) > 40 else ""
-        lines.append(
-            f"- note: {len(outside)} numbers outside their declared bounds were "
-            f"answered, right by the oracles (counted as accepted): {names}{more}"
-        )
     return "\n".join(lines)
 
 
