@@ -314,14 +314,21 @@ def run_cases(
     verbose
         Print each non-clean case as it is found.
     warmup
-        Run by each new worker before its first case (compiles; not timed).
+        Run once before the first worker is forked (compiles; not timed).
 
     Returns
     -------
     list of dict
         ``domain, name, outcome, detail, seconds, repro`` per case.
     """
-    pool = Pool(cases, memory_gib, warmup)
+    if warmup is not None:  # once, here: every forked worker inherits what it compiled
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                warmup()
+        except Exception as exc:  # the cases will show it
+            print(f"  warm-up failed: {type(exc).__name__}: {exc}", flush=True)
+    pool = Pool(cases, memory_gib)
     rows = []
     try:
         for i, case in enumerate(cases):
@@ -766,14 +773,43 @@ def _impact_matrix(p: Sequence[float], v: float) -> Any:
     return a, fc
 
 
-def impact_reference(
-    p: Sequence[float], v: float, max_steps: int = 6000
-) -> dict[str, float] | None:
-    """First-lobe metrics of the unconstrained impact at 40 digits (mpmath), or ``None``.
+def _full_joint_matrix(p: Sequence[float]) -> Any:
+    """The full series joint (docs/impact_joint.md), v_c = 1: z = [d_r, d_r', d_e, d_h, d_h', s, 1].
 
-    The lobe ends at the first t > 0 where the head acceleration is <= 0
-    (docs/impact.md, "Metrics"); eps_max, a_h,max and f_c,max are maxima over it.
-    ``None`` where the lobe is not found within ``max_steps`` grid steps.
+    ``None`` where C_mech + C_cont = 0 (the node's equation is then algebraic).
+    """
+    import mpmath
+
+    m_r, c_m, k_m, k_c, c_c, m_h, c_h, k_h, c_k, k_k = (mpmath.mpf(x) for x in p)
+    if c_m + c_k == 0:
+        return None
+    a = mpmath.zeros(7, 7)
+    fc = [k_c, c_c, 0, -k_c, -c_c, k_c, c_c]
+    # K_m (d_r - d_e) + C_m (d_r' - d_e') = K_k d_e + C_k d_e'
+    de = [k_m / (c_m + c_k), c_m / (c_m + c_k), -(k_m + k_k) / (c_m + c_k), 0, 0, 0, 0]
+    ft = [c_k * de[j] for j in range(7)]
+    ft[2] += k_k
+    for j in range(7):
+        a[1, j] = -(fc[j] + ft[j]) / m_r
+        a[2, j] = de[j]
+        a[4, j] = fc[j] / m_h
+    a[0, 1] = 1
+    a[3, 4] = 1
+    a[4, 4] -= c_h / m_h
+    a[4, 3] -= k_h / m_h
+    a[5, 6] = 1
+    return a, fc
+
+
+def impact_reference(
+    p: Sequence[float], v: float, max_steps: int = 6000, full: bool = False
+) -> dict[str, float] | None:
+    """First-lobe metrics of an impact at 40 digits (mpmath), or ``None``.
+
+    ``p`` is the reduced model's parameter row (``PARAM_NAMES``), or with ``full`` the
+    full joint's (``FULL_PARAM_NAMES``). The lobe ends at the first t > 0 where the head
+    acceleration is <= 0 (docs/impact.md, "Metrics"); eps_max, a_h,max and f_c,max are
+    maxima over it. ``None`` where the lobe is not found within ``max_steps`` grid steps.
     """
     import mpmath
 
@@ -781,34 +817,48 @@ def impact_reference(
         return None
     # The model is linear in v_c: evaluate at 1 m/s and scale (the lobe does not move).
     with mpmath.workdps(40):
-        a, fc = _impact_matrix(p, 1.0)
+        built = _full_joint_matrix(p) if full else _impact_matrix(p, 1.0)
+        if built is None:
+            return None
+        a, fc = built
+        n = a.rows
+        eps = [0] * n
+        head = 3 if full else 2
+        eps[0], eps[head], eps[n - 2] = 1, -1, 1
         rows = {
-            "max_compression": mpmath.matrix([[1, 0, -1, 0, 1, 0]]),
-            "peak_head_acceleration": a[3, :],
+            "max_compression": mpmath.matrix([eps]),
+            "peak_head_acceleration": a[head + 1, :],
             "peak_force": mpmath.matrix([fc]),
         }
-        ah = rows["peak_head_acceleration"]
-        lam = np.linalg.eigvals(np.array(a.tolist(), dtype=float)[:4, :4])
-        w = float(np.max(np.abs(lam))) if np.all(np.isfinite(lam)) else 0.0
-        if not w > 0:
-            return None
-        h = mpmath.mpf(1) / (24 * w)
-        step = mpmath.expm(a * h)
-        zs = [mpmath.matrix([0, 0, 0, 0, 0, 1])]
-        for _ in range(max_steps):
-            zs.append(step * zs[-1])
-            if len(zs) > 2 and (ah * zs[-1])[0] <= 0:
-                break
-        else:
-            return None
-        k = len(zs) - 2
-        grid = _Grid(a, zs, h)
-        t_end = mpmath.findroot(lambda t: grid.value(ah, t), (k * h, (k + 1) * h),
-                                solver="anderson")  # fmt: skip
-        out = {"impact_duration": float(t_end)}
-        for key, row in rows.items():
-            out[key] = float(grid.maximum(row, t_end) * mpmath.mpf(v))
-        return out
+        return _first_lobe(a, rows, max_steps, v)
+
+
+def _first_lobe(a: Any, rows: dict[str, Any], max_steps: int, v: float) -> dict[str, float] | None:
+    import mpmath
+
+    ah = rows["peak_head_acceleration"]
+    n = a.rows
+    lam = np.linalg.eigvals(np.array(a.tolist(), dtype=float)[: n - 2, : n - 2])
+    w = float(np.max(np.abs(lam))) if np.all(np.isfinite(lam)) else 0.0
+    if not w > 0:
+        return None
+    h = mpmath.mpf(1) / (24 * w)
+    step = mpmath.expm(a * h)
+    zs = [mpmath.matrix([0] * (n - 1) + [1])]
+    for _ in range(max_steps):
+        zs.append(step * zs[-1])
+        if len(zs) > 2 and (ah * zs[-1])[0] <= 0:
+            break
+    else:
+        return None
+    k = len(zs) - 2
+    grid = _Grid(a, zs, h)
+    t_end = mpmath.findroot(lambda t: grid.value(ah, t), (k * h, (k + 1) * h),
+                            solver="anderson")  # fmt: skip
+    out = {"impact_duration": float(t_end)}
+    for key, row in rows.items():
+        out[key] = float(grid.maximum(row, t_end) * mpmath.mpf(v))
+    return out
 
 
 class _Grid:
@@ -853,40 +903,44 @@ class _Grid:
 
 
 def reference_oracle(
-    params_of_result: Callable[[Any], tuple[list[list[float]], list[float]]], rtol: float = 1e-6
+    params_of_result: Callable[[Any], tuple[list[list[float]], list[float], bool]],
+    rtol: float = 1e-6,
 ) -> Callable[[Any], str | None]:
-    """An impact answer (status ok) within ``rtol`` of the 40-digit reference, each metric."""
+    """An impact answer within ``rtol`` of the 40-digit reference, each finite metric."""
 
     def oracle(result: Any) -> str | None:
-        rows, velocities = params_of_result(result)
+        rows, velocities, full = params_of_result(result)
         for i, (p, v) in enumerate(zip(rows, velocities, strict=True)):
             if not v > 0:
                 continue
             got = _metric_row(result, i)
             if got is None:
                 continue
-            ref = impact_reference(p, v)
+            ref = impact_reference(p, v, full=full)
             if ref is None:
                 continue
             for key, want in ref.items():
                 have = got.get(key)
-                if have is None or key == "impact_duration":
+                if have is None or key == "impact_duration" or not math.isfinite(have):
                     continue
                 if not math.isclose(have, want, rel_tol=rtol, abs_tol=1e-300):
                     return (f"{key} = {have:.8g} where a 40-digit evaluation gives {want:.8g} "
-                            f"(status ok)")  # fmt: skip
+                            f"(status {_status_of(result, i)})")  # fmt: skip
         return None
 
     return oracle
 
 
-def _metric_row(result: Any, i: int) -> dict[str, float] | None:
+def _status_of(result: Any, i: int) -> str:
     status = getattr(result, "design_status", None)
     if status is not None:
-        if str(np.ravel(status)[i]) != "ok":
-            return None
-    elif str(getattr(result, "status", "ok")) != "ok":
-        return None
+        return str(np.ravel(status)[i])
+    return str(getattr(result, "status", "?"))
+
+
+def _metric_row(result: Any, i: int) -> dict[str, float] | None:
+    """The finite metrics of design ``i`` (a status flags a design, it does not excuse a
+    wrong number; a metric the result leaves NaN is its own business)."""
     keys = ("max_compression", "peak_head_acceleration", "peak_force", "impact_duration")
     out = {}
     for key in keys:
@@ -911,20 +965,26 @@ BASE_JOINT = {
 IMPACT_METRICS = ("peak_head_acceleration", "max_compression", "peak_force", "impact_duration")
 
 
-def _response_params(r: Any) -> tuple[list[list[float]], list[float]]:
+def _response_params(r: Any) -> tuple[list[list[float]], list[float], bool]:
+    from designlab.impact.full_joint_model import full_joint_params
     from designlab.impact.model import param_vector
 
-    if type(r.robot).__name__ != "ContactDynamics" or r.head is None or r.profile is not None:
-        return [], []
-    return [list(param_vector(r.robot, r.foam, r.head))], [float(r.impact_velocity)]
+    if r.head is None or r.profile is not None:
+        return [], [], False
+    v = [float(r.impact_velocity)]
+    if type(r.robot).__name__ == "FullJointContact":
+        return [list(full_joint_params(r.robot, r.foam, r.head))], v, True
+    if type(r.robot).__name__ != "ContactDynamics":
+        return [], [], False
+    return [list(param_vector(r.robot, r.foam, r.head))], v, False
 
 
-def _metrics_params(m: Any) -> tuple[list[list[float]], list[float]]:
+def _metrics_params(m: Any) -> tuple[list[list[float]], list[float], bool]:
     if m.constrained:
-        return [], []
+        return [], [], False
     p = np.atleast_2d(np.asarray(m.params, dtype=float))
     v = np.broadcast_to(np.asarray(m.impact_velocity, dtype=float), (p.shape[0],))
-    return p.tolist(), v.tolist()
+    return p.tolist(), v.tolist(), p.shape[1] == 10
 
 
 def impact_targets() -> list[Target]:
@@ -948,7 +1008,8 @@ def impact_targets() -> list[Target]:
                ("robot", "foam", "head", "impact_velocity"),
                all_of(nonneg, reference_oracle(_response_params))),
         Target("impact", "dl.impact.simulate", im.simulate, joint_args,
-               ("robot", "foam", "head", "impact_velocity"), nonneg, attack=("robot",),
+               ("robot", "foam", "head", "impact_velocity"),
+               all_of(nonneg, reference_oracle(_response_params)), attack=("robot",),
                tag="[full joint]"),
         Target("impact", "dl.impact.foam_envelope", im.foam_envelope,
                {"robot": Obj(im.ContactDynamics, BASE_ROBOT), "impact_velocity": Val(1.25),
@@ -1096,7 +1157,7 @@ def _speed_limit_reference(r: Any) -> str | None:
     """unit metrics of the worst heads against the 40-digit impact reference."""
     keys = {"a_h": "peak_head_acceleration", "eps": "max_compression", "f_c": "peak_force"}
     robot = getattr(r, "_robot", None)
-    if robot is None or type(robot).__name__ != "ContactDynamics" or str(r.status) != "ok":
+    if robot is None or type(robot).__name__ != "ContactDynamics":
         return None
     for crit, unit in r.unit_metric.items():
         key = next((v for k, v in keys.items() if crit.startswith(k)), None)
@@ -1106,9 +1167,15 @@ def _speed_limit_reference(r: Any) -> str | None:
         p = [robot.mass, robot.damping, robot.stiffness, r._foam.stiffness, r._foam.damping,
              head.mass, head.damping, head.stiffness]  # fmt: skip
         ref = impact_reference(p, 1.0)
-        if ref is not None and not math.isclose(unit, ref[key], rel_tol=1e-5):
-            return (f"{crit}: metric per unit closing speed {unit:.8g}, 40-digit evaluation "
-                    f"{ref[key]:.8g} (status ok)")  # fmt: skip
+        if (
+            ref is not None
+            and math.isfinite(unit)
+            and not math.isclose(unit, ref[key], rel_tol=1e-5)
+        ):
+            return (
+                f"{crit}: metric per unit closing speed {unit:.8g}, 40-digit evaluation "
+                f"{ref[key]:.8g} (status {r.status}, max_speed {r.max_speed:.6g})"
+            )
     return None
 
 
@@ -1706,7 +1773,7 @@ STUDY_RUN = {"impact_cases", "impact_sweep", "foam_envelope", "foam_design", "vf
 YAML_ATTACKS: list[tuple[str, Any]] = [
     ("nan", math.nan), ("inf", math.inf), ("-1", -1), ("0", 0), ("1e300", 1e300),
     ("1e-300", 1e-300), ("text", "abc"), ("bool", True), ("null", None), ("list", [1, 2]),
-    ("mapping", {"x": 1}), ("10**12", 10**12),
+    ("mapping", {"x": 1}), ("10**12", 10**12), ("[]", []),
 ]  # fmt: skip
 
 
@@ -1801,6 +1868,30 @@ def yaml_cases() -> list[Case]:
                 out.append(Case("yaml", f"{kind} {dotted}={label}", _study_call(mutated, run),
                                 (key, dotted), v, "either", _study_oracle(kind),
                                 f"kind {kind}, small study with {dotted}: {fmt(v)}"))  # fmt: skip
+    return out
+
+
+def yaml_extra_cases() -> list[Case]:
+    """The reported study cases and their siblings: valid files that must run or be refused."""
+    nav = STUDY_BASE["navigation_scenarios"]
+    bare = {**nav, "scenarios": [{k: v for k, v in nav["scenarios"][0].items()
+                                  if k != "obstacles"}]}  # fmt: skip
+    crowds = STUDY_BASE["navigation_crowds"]
+    masoud = {**crowds, "methods": [{"method": "masoud", "gains": {"direction": -1}}]}
+    cbf = {**crowds, "methods": [{"method": "cbf"}]}
+    code = STUDY_BASE["codesign"]
+    sobol = {**code, "sensitivity": {"samples": 2**20}}
+    rows = [
+        ("navigation_scenarios", "no obstacles", bare, ("obstacles",)),
+        ("navigation_crowds", "masoud gains direction -1", masoud, ("direction",)),
+        ("navigation_crowds", "cbf method", cbf, ("cbf",)),
+        ("codesign", "sensitivity.samples=2**20", sobol, ("samples",)),
+    ]
+    out = []
+    for kind, label, body, names in rows:
+        text = study_text(kind, body)
+        out.append(Case("yaml", f"{kind} {label}", _study_call(text, True), names, NOVALUE,
+                        "either", _study_oracle(kind), f"kind {kind}: {label}"))  # fmt: skip
     return out
 
 
@@ -2024,7 +2115,7 @@ DOMAINS: dict[str, tuple[Callable[[], list[Case]], Callable[[], None] | None]] =
     "codesign": (codesign_cases, _codesign_warmup),
     "navigation": (navigation_cases, _navigation_warmup),
     "following": (following_cases, _following_warmup),
-    "yaml": (yaml_cases, _yaml_warmup),
+    "yaml": (lambda: yaml_extra_cases() + yaml_cases(), _yaml_warmup),
     "cli": (cli_cases, None),
 }
 
@@ -2064,34 +2155,49 @@ def findings(rows: Sequence[dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
-def main(argv: Sequence[str] | None = None) -> int:
-    """Command line: run one domain's cases, print the tally and the non-clean cases."""
+def _arguments(argv: Sequence[str] | None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--domain", required=True, choices=sorted(DOMAINS))
+    parser.add_argument("--domain", choices=sorted(DOMAINS), help="the domain to run")
     parser.add_argument("--timeout", type=float, default=20.0, help="seconds per case")
     parser.add_argument("--memory", type=float, default=6.0, help="GiB per worker")
     parser.add_argument("--filter", default="", help="only cases whose name contains this")
     parser.add_argument("--limit", type=int, default=0, help="at most this many cases")
     parser.add_argument("--json", help="write every row to this JSON file")
     parser.add_argument("--findings", help="append the non-clean cases (Markdown) to this file")
+    parser.add_argument("--title", default="", help="the heading of the appended findings")
     parser.add_argument("--quiet", action="store_true", help="no line per non-clean case")
+    parser.add_argument("--merge", nargs="+", metavar="JSON",
+                        help="no run: the table and findings of earlier --json files")  # fmt: skip
     args = parser.parse_args(argv)
-    make, warmup = DOMAINS[args.domain]
-    cases = [c for c in make() if args.filter in c.name]
-    if args.limit:
-        cases = cases[: args.limit]
-    start = time.monotonic()
-    print(f"{args.domain}: {len(cases)} cases, {args.timeout:g} s each at most", flush=True)
-    rows = run_cases(cases, args.timeout, args.memory, not args.quiet, warmup)
-    print(f"\n{len(rows)} cases in {time.monotonic() - start:.0f} s\n\n{table(rows)}\n")
+    if not args.domain and not args.merge:
+        parser.error("give --domain (to run) or --merge (earlier runs)")
+    return args
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Command line: run one domain's cases, print the tally and the non-clean cases."""
+    args = _arguments(argv)
+    if args.merge:
+        rows = [r for f in args.merge for r in json.loads(Path(f).read_text())]
+    else:
+        make, warmup = DOMAINS[args.domain]
+        cases = [c for c in make() if args.filter in c.name]
+        if args.limit:
+            cases = cases[: args.limit]
+        start = time.monotonic()
+        print(f"{args.domain}: {len(cases)} cases, {args.timeout:g} s each at most", flush=True)
+        rows = run_cases(cases, args.timeout, args.memory, not args.quiet, warmup)
+        print(f"\n{len(rows)} cases in {time.monotonic() - start:.0f} s")
+    print(f"\n{table(rows)}\n")
     found = findings(rows)
     print(found or "no non-clean case")
     if args.json:
         Path(args.json).write_text(json.dumps(rows, indent=1, default=str))
-    if args.findings and found:
+    if args.findings:
         stamp = datetime.datetime.now().strftime("%Y-%m-%d %H:%M")
+        title = args.title or f"hostile.py {args.domain or 'merged'}"
         with open(args.findings, "a", encoding="utf-8") as fh:
-            fh.write(f"\n### {args.domain}: hostile.py, {stamp}\n\n{table(rows)}\n\n{found}\n")
+            fh.write(f"\n## {stamp}: {title}\n\n{table(rows)}\n\n{found}\n")
     return 0
 
 
