@@ -38,6 +38,7 @@ __all__ = [
     "MAX_GAIN",
     "MAX_HUMAN_SPEED",
     "MAX_SUBSTEPS",
+    "OBSTACLES",
     "OPTIMAL_GAINS",
     "SAMPLE_TIME",
     "CircularObstacle",
@@ -94,6 +95,12 @@ MAX_SUBSTEPS = 1000
 #: about a minute per scenario; split larger sets into several calls.
 GAIN_SETS = Param(
     None, "", "gain sets simulated in one batch", kind="integer", ge=1, le=4096, name="gains"
+)
+#: Obstacles of one scenario at most: each adds its terms to the compiled field and its
+#: distances to every recorded step (2,000 discs ran for minutes, then out of memory). The
+#: cap of :class:`~designlab.navigation.Scenario` and of the study files' ``obstacles``.
+OBSTACLES = Param(
+    None, "", "obstacles of a scenario", kind="integer", ge=0, le=100, name="Scenario.obstacles"
 )
 #: (k_0, k_1) of the CBF constraint h'' + k_1 h' + k_0 h >= 0 (``method="cbf"``).
 CBF_K0 = Param("k_0", "1/s^2", "CBF gain on h", gt=0, le=1e4, name="cbf_gains[0]")

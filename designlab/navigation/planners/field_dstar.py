@@ -179,7 +179,7 @@ def check_grid(points: Array, plans: int, s: FieldDStarSettings) -> int:
     --------
     >>> pts = np.array([[0.0, 0.0], [4.0, 1.0]])
     >>> check_grid(pts, 100, FieldDStarSettings())
-    2100
+    2800
     >>> check_grid(pts, 100, FieldDStarSettings(cell=0.0101))
     Traceback (most recent call last):
     ...
