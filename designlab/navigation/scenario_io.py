@@ -51,6 +51,7 @@ import numpy as np
 from designlab.errors import InvalidParameterError, StudyError
 from designlab.navigation.parameters import OBSTACLES, HolonomicRobot, Human, NonholonomicRobot
 from designlab.navigation.scenarios import (
+    MAX_PATH_SAMPLES,
     ConstantVelocity,
     Disc,
     Motion,
@@ -61,6 +62,7 @@ from designlab.navigation.scenarios import (
     Stationary,
     Walk,
 )
+from designlab.params import Param
 
 __all__ = [
     "OBSTACLE_KINDS",
@@ -389,6 +391,10 @@ def with_limits(
     return replace(scenario, robot=robot, obstacles=obstacles)
 
 
+#: The sampling interval of a mirrored scenario's moving discs (:func:`mirrored`).
+MIRROR_STEP = Param(None, "s", "sampling interval of the mirrored paths", gt=0, le=1.0, name="dt")
+
+
 def mirrored(scenario: Scenario, dt: float = 0.02) -> Scenario:
     """The scenario with every obstacle reflected about the line through start and goal.
 
@@ -410,6 +416,19 @@ def mirrored(scenario: Scenario, dt: float = 0.02) -> Scenario:
     >>> m.obstacles[0].state([5.0])[0].round(3).tolist()
     [[2.1, -2.5]]
     """
+    if not isinstance(scenario, Scenario):
+        raise InvalidParameterError("scenario", scenario, "must be a Scenario")
+    dt = MIRROR_STEP.check(dt)
+    samples = scenario.horizon / dt + 1
+    if samples > MAX_PATH_SAMPLES:
+        raise InvalidParameterError(
+            "dt", dt, f"gives {samples:.3g} samples over the {scenario.horizon:g} s horizon; "
+            f"a path holds at most {MAX_PATH_SAMPLES:,}", "s",
+        )  # fmt: skip
+    if scenario.start == scenario.goal:
+        raise InvalidParameterError(
+            "scenario", scenario.name, "must have a goal apart from its start (the mirror line)"
+        )
     a, b = np.asarray(scenario.start), np.asarray(scenario.goal)
     u = (b - a) / np.hypot(*(b - a))
 
@@ -422,7 +441,7 @@ def mirrored(scenario: Scenario, dt: float = 0.02) -> Scenario:
         if isinstance(o, Rectangle):
             line = math.atan2(u[1], u[0])
             c = tuple(reflect(o.center).tolist())
-            out.append(replace(o, center=c, angle=2 * line - o.angle))
+            out.append(replace(o, center=c, angle=math.remainder(2 * line - o.angle, 2 * math.pi)))
         elif not o.motion.moving:
             out.append(replace(o, motion=Stationary(tuple(reflect(o.state([0.0])[0][0]).tolist()))))
         else:

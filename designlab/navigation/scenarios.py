@@ -271,17 +271,26 @@ class SampledPath:
     positions: tuple[tuple[float, float], ...]
 
     def __post_init__(self) -> None:
-        t = np.asarray(self.times, dtype=float)
-        p = np.asarray(self.positions, dtype=float)
+        try:
+            t = np.asarray(self.times, dtype=float)
+            p = np.asarray(self.positions, dtype=float)
+        except (TypeError, ValueError):
+            raise InvalidParameterError(
+                "SampledPath", (self.times, self.positions), "must be numbers: times, (x, y)"
+            ) from None
         if t.ndim != 1 or t.size < 2 or not np.all(np.isfinite(t)) or np.any(np.diff(t) <= 0):
             raise InvalidParameterError(
                 "SampledPath.times", self.times, "must be >= 2 increasing finite times", "s"
             )
-        if p.shape != (t.size, 2) or not np.all(np.isfinite(p)):
+        if t.size and (t[0] < 0 or t[-1] > MAX_HORIZON):
+            raise InvalidParameterError(
+                "SampledPath.times", self.times, f"must lie within 0 to {MAX_HORIZON:g} s", "s"
+            )
+        if p.shape != (t.size, 2) or not np.all(np.abs(p) <= _MAX_COORD):
             raise InvalidParameterError(
                 "SampledPath.positions",
                 self.positions,
-                "must be finite, shape (len(times), 2)",
+                f"must be finite, within +-{_MAX_COORD:g} m, shape (len(times), 2)",
                 "m",
             )
         if t.size > MAX_PATH_SAMPLES:
