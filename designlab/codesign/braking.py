@@ -30,6 +30,15 @@ from __future__ import annotations
 
 import math
 
+from designlab.codesign.parameters import (
+    BRAKING_SPEED,
+    CONTACT_LIMIT,
+    DECELERATION,
+    DETECTION_DISTANCE,
+    REACTION_TIME,
+)
+from designlab.impact.parameters import HUMAN_SPEED
+
 __all__ = ["contact_speed", "max_robot_speed", "stopping_distance"]
 
 
@@ -58,7 +67,17 @@ def contact_speed(
     Returns
     -------
     float
+
+    Raises
+    ------
+    InvalidParameterError
+        For a value outside its declaration (:mod:`designlab.codesign.parameters`).
     """
+    speed = BRAKING_SPEED.check(speed)
+    human_speed = HUMAN_SPEED.check(human_speed)
+    reaction_time = REACTION_TIME.check(reaction_time)
+    deceleration = DECELERATION.check(deceleration)
+    detection_distance = DETECTION_DISTANCE.check(detection_distance)
     gap = detection_distance - (speed + human_speed) * reaction_time
     if gap <= 0.0:
         return speed
@@ -93,8 +112,16 @@ def max_robot_speed(
     float
         ``max(u, v)`` with ``v`` the positive root of
         ``v^2/(2a) + v (v_h/a + T_r) - u^2/(2a) - v_h u/a + v_h T_r - d = 0``.
+
+    Raises
+    ------
+    InvalidParameterError
+        For a value outside its declaration (:mod:`designlab.codesign.parameters`).
     """
-    u, a = contact_limit, deceleration
+    u, a = CONTACT_LIMIT.check(contact_limit), DECELERATION.check(deceleration)
+    human_speed = HUMAN_SPEED.check(human_speed)
+    reaction_time = REACTION_TIME.check(reaction_time)
+    detection_distance = DETECTION_DISTANCE.check(detection_distance)
     b = human_speed / a + reaction_time
     c0 = -(u * u) / (2.0 * a) - human_speed * u / a + human_speed * reaction_time
     c0 -= detection_distance
@@ -118,5 +145,22 @@ def stopping_distance(speed: float, reaction_time: float, deceleration: float) -
     Returns
     -------
     float
+
+    Raises
+    ------
+    InvalidParameterError
+        For a value outside its declaration (:mod:`designlab.codesign.parameters`).
+
+    Examples
+    --------
+    >>> stopping_distance(1.0, 0.1, 5.0)
+    0.2
+    >>> stopping_distance(1.0, 0.1, 0.0)
+    Traceback (most recent call last):
+    ...
+    designlab.errors.InvalidParameterError: deceleration = 0.0 m/s^2 is not allowed: ...
     """
+    speed = BRAKING_SPEED.check(speed)
+    reaction_time = REACTION_TIME.check(reaction_time)
+    deceleration = DECELERATION.check(deceleration)
     return speed * reaction_time + speed * speed / (2.0 * deceleration)

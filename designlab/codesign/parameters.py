@@ -18,7 +18,9 @@ from __future__ import annotations
 from designlab.params import Param
 
 __all__ = [
+    "BRAKING_SPEED",
     "CONFIDENCE",
+    "CONTACT_LIMIT",
     "CURVE_POINTS",
     "DECELERATION",
     "DETECTION_DISTANCE",
@@ -50,6 +52,19 @@ DETECTION_DISTANCE = Param(
     "d_det", "m", "separation at which the robot detects the person (0: no warning)", ge=0,
     le=100, typical=(0.0, 1.0), default=0.0, name="detection_distance",
 )  # fmt: skip
+
+#: A robot speed of the braking model: the speed before braking (at most what a speed limit
+#: can give, sqrt(20^2 + 2 x 100 m/s^2 x 100 m) = 143 m/s with the largest declared contact
+#: speed, deceleration and detection distance).
+BRAKING_SPEED = Param(
+    "v", "m/s", "robot speed before it brakes", ge=0, le=150, typical=(0.0, 2.0), name="speed"
+)
+
+#: The largest robot speed allowed at contact (a speed limit's answer, at most the largest
+#: closing velocity of the impact models, 20 m/s).
+CONTACT_LIMIT = Param(
+    "u", "m/s", "largest robot speed allowed at contact", ge=0, le=20, name="contact_limit"
+)
 
 #: Values per parameter of the head-range grid on which the worst head is sought.
 HEAD_LEVELS = Param(

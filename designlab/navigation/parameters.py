@@ -38,6 +38,7 @@ __all__ = [
     "MAX_GAIN",
     "MAX_HUMAN_SPEED",
     "MAX_SUBSTEPS",
+    "OBSTACLES",
     "OPTIMAL_GAINS",
     "SAMPLE_TIME",
     "CircularObstacle",
@@ -49,6 +50,7 @@ __all__ = [
     "ObstacleRobot",
     "RectangularObstacle",
     "VFFGains",
+    "check_cbf_gains",
 ]
 
 
@@ -94,9 +96,45 @@ MAX_SUBSTEPS = 1000
 GAIN_SETS = Param(
     None, "", "gain sets simulated in one batch", kind="integer", ge=1, le=4096, name="gains"
 )
+#: Obstacles of one scenario at most: each adds its terms to the compiled field and its
+#: distances to every recorded step (2,000 discs ran for minutes, then out of memory). The
+#: cap of :class:`~designlab.navigation.Scenario` and of the study files' ``obstacles``.
+OBSTACLES = Param(
+    None, "", "obstacles of a scenario", kind="integer", ge=0, le=100, name="Scenario.obstacles"
+)
 #: (k_0, k_1) of the CBF constraint h'' + k_1 h' + k_0 h >= 0 (``method="cbf"``).
 CBF_K0 = Param("k_0", "1/s^2", "CBF gain on h", gt=0, le=1e4, name="cbf_gains[0]")
 CBF_K1 = Param("k_1", "1/s", "CBF gain on h'", gt=0, le=1e4, name="cbf_gains[1]")
+
+
+def check_cbf_gains(k: Any) -> tuple[float, float]:
+    """``(k_0, k_1)`` checked against :data:`CBF_K0` and :data:`CBF_K1` (every run that
+    takes them: :func:`~designlab.navigation.simulate` and the crowd runs).
+
+    Parameters
+    ----------
+    k
+        The pair given.
+
+    Returns
+    -------
+    tuple of float
+
+    Examples
+    --------
+    >>> check_cbf_gains((4, 4.0))
+    (4.0, 4.0)
+    >>> check_cbf_gains("ab")
+    Traceback (most recent call last):
+    ...
+    designlab.errors.InvalidParameterError: cbf_gains = 'ab' is not allowed: must be two ...
+    """
+    if isinstance(k, (str, bytes)) or not hasattr(k, "__len__") or len(k) != 2:
+        raise InvalidParameterError(
+            "cbf_gains", k, "must be two finite numbers (k_0, k_1) > 0 and <= 1e+04 (1/s^2, 1/s)"
+        )
+    return (CBF_K0.check(k[0]), CBF_K1.check(k[1]))
+
 
 #: Fastest human accepted (m/s): above a sprint (the thesis uses 1 m/s walkers).
 MAX_HUMAN_SPEED = 12.0

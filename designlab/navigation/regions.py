@@ -23,7 +23,7 @@ from typing import Any
 
 import pandas as pd
 
-from designlab.errors import InvalidParameterError, check_positive
+from designlab.errors import InvalidParameterError
 from designlab.navigation.parameters import (
     SAMPLE_TIME,
     CircularObstacle,
@@ -33,6 +33,7 @@ from designlab.navigation.parameters import (
     ObstacleRobot,
     RectangularObstacle,
 )
+from designlab.params import Param
 from designlab.results import OK, Result
 
 __all__ = ["RegionSizes", "region_sizes"]
@@ -136,6 +137,26 @@ class RegionSizes(Result):
         )
 
 
+#: The values a user adopts instead of the minima: the arguments of :func:`region_sizes` and
+#: the fields of :class:`~designlab.navigation.sizing.RegionChoice` (one declaration each).
+ADOPTED_R3 = Param(
+    "r_3", "m", "adopted critical radius (>= the minimum)", gt=0, le=100.0, optional=True,
+    none="the minimum r3", name="critical_radius",
+)  # fmt: skip
+ADOPTED_SIDESTEP = Param(
+    "Delta t_2", "s", "adopted sidestep time (>= the minimum)", gt=0, le=1e3, optional=True,
+    none="the minimum Delta t2", name="sidestep_time",
+)  # fmt: skip
+ADOPTED_TURN = Param(
+    "t_turn", "s", "quarter-turn time of a nonholonomic robot", gt=0, le=1e3, optional=True,
+    none="sqrt(pi / omega_bar)", name="turn_time",
+)  # fmt: skip
+ADOPTED_R2 = Param(
+    "r_2", "m", "active radius to be used (a warning if below the minimum)", gt=0, le=100.0,
+    optional=True, none="the minimum r2", name="active_radius",
+)  # fmt: skip
+
+
 def _check_kinds(obstacle: Any, robot: Any) -> None:
     if not isinstance(robot, HolonomicRobot | NonholonomicRobot):
         raise InvalidParameterError("robot", robot, "must be a HolonomicRobot or NonholonomicRobot")
@@ -151,7 +172,8 @@ def _adopted(name: str, value: float | None, minimum: float, unit: str) -> float
     """The adopted value (>= the minimum), or the minimum."""
     if value is None:
         return minimum
-    out = check_positive(name, value, unit)
+    decl = ADOPTED_R3 if name == "critical_radius" else ADOPTED_SIDESTEP
+    out = decl.check(value)
     if out < minimum - 1e-12:
         shown = f"{minimum:.4f} {unit}"
         what = "the minimum r3 = " if name == "critical_radius" else "the minimum "
@@ -161,7 +183,7 @@ def _adopted(name: str, value: float | None, minimum: float, unit: str) -> float
 
 def _turn_time(robot: Robot, turn_time: float | None) -> float:
     if isinstance(robot, NonholonomicRobot):
-        return robot.turn_time if turn_time is None else check_positive("turn_time", turn_time, "s")
+        return robot.turn_time if turn_time is None else ADOPTED_TURN.check(turn_time)
     if turn_time is not None:
         raise InvalidParameterError(
             "turn_time", turn_time, "applies only to a NonholonomicRobot", "s"
@@ -179,7 +201,7 @@ def _sizing_warnings(
     """What a user should know about a sizing (adopted r2 below its bound, a slow loop)."""
     out = []
     if active_radius is not None:
-        adopted = check_positive("active_radius", active_radius, "m")
+        adopted = ADOPTED_R2.check(active_radius)
         if adopted < r2:
             out.append(
                 f"the adopted active radius {adopted:g} m is below the minimum {r2:.4g} m: "
@@ -264,6 +286,7 @@ def region_sizes(
     """
     ts = SAMPLE_TIME.check(sample_time)
     _check_kinds(obstacle, robot)
+    ADOPTED_R2.check(active_radius)
     v, a = robot.max_speed, robot.max_accel
     dt1 = t_a = v / a
     d_r1 = v * ts + 0.5 * a * dt1**2

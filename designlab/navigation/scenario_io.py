@@ -39,17 +39,19 @@ designlab.errors.InvalidParameterError: obstacles[0].kind = 'tree' is not allowe
 from __future__ import annotations
 
 import math
+import os
+import stat
 from collections.abc import Callable, Mapping
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-import yaml
 
-from designlab.errors import InvalidParameterError
-from designlab.navigation.parameters import HolonomicRobot, Human, NonholonomicRobot
+from designlab.errors import InvalidParameterError, StudyError
+from designlab.navigation.parameters import OBSTACLES, HolonomicRobot, Human, NonholonomicRobot
 from designlab.navigation.scenarios import (
+    MAX_PATH_SAMPLES,
     ConstantVelocity,
     Disc,
     Motion,
@@ -60,6 +62,7 @@ from designlab.navigation.scenarios import (
     Stationary,
     Walk,
 )
+from designlab.params import Param
 
 __all__ = [
     "OBSTACLE_KINDS",
@@ -243,6 +246,7 @@ def scenario_from_dict(data: Mapping[str, Any]) -> Scenario:
     items = data.get("obstacles") or []
     if not isinstance(items, list | tuple):
         raise InvalidParameterError("scenario.obstacles", items, "must be a list")
+    OBSTACLES.check(len(items), "scenario.obstacles (how many)")
     obstacles = tuple(obstacle_from_dict(o, f"obstacles[{i}]") for i, o in enumerate(items))
     extra = {
         k: data[k]
@@ -262,10 +266,28 @@ def scenario_from_dict(data: Mapping[str, Any]) -> Scenario:
 def load_scenario(path: str | Path) -> Scenario:
     """Read a scenario from a YAML file (the structure of :func:`scenario_from_dict`).
 
+    The file is read as a study is (:func:`designlab.study.yamlio.load_yaml_with_lines`): a
+    repeated key, a YAML syntax error or nesting deeper than
+    :data:`~designlab.study.yamlio.MAX_DEPTH` is refused with the file and the line; only a
+    regular file of at most :data:`MAX_FILE_BYTES` bytes of UTF-8 text without NUL bytes is
+    read (in bounded chunks: a FIFO or a device is refused, never waited on).
+
     Parameters
     ----------
     path
         The YAML file (at most :data:`MAX_FILE_BYTES` bytes).
+
+    Returns
+    -------
+    Scenario
+
+    Raises
+    ------
+    StudyError
+        For a file that is not YAML text, repeats a key or nests too deeply (file and line).
+    InvalidParameterError
+        For a file that is not a regular file or too large, and for the scenario's content
+        (as :func:`scenario_from_dict`).
 
     Examples
     --------
@@ -274,11 +296,54 @@ def load_scenario(path: str | Path) -> Scenario:
     >>> _ = f.write_text("name: room\\nstart: [3, 0]\\ngoal: [0, 0]\\n")
     >>> load_scenario(f).obstacle_names
     ()
+    >>> _ = f.write_text("name: room\\nstart: [3, 0]\\ngoal: [0, 0]\\nname: hall\\n")
+    >>> load_scenario(f)
+    Traceback (most recent call last):
+    ...
+    designlab.errors.StudyError: ...room.yaml:4: key 'name' appears twice ...
     """
+    from designlab.study.yamlio import YamlSyntaxError, load_yaml_with_lines
+
     p = Path(path)
-    if p.stat().st_size > MAX_FILE_BYTES:
+    text = _read_text(p)
+    try:
+        data, _ = load_yaml_with_lines(text)
+    except YamlSyntaxError as exc:
+        raise StudyError(str(exc), file=str(p), line=exc.line) from None
+    return scenario_from_dict(data)
+
+
+def _read_text(p: Path) -> str:
+    """The UTF-8 text of a regular file of at most :data:`MAX_FILE_BYTES` bytes, read in
+    bounded chunks (opened without blocking: a FIFO is refused, not waited on)."""
+    try:
+        fd = os.open(p, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    except OSError as exc:
+        raise InvalidParameterError("path", str(p), f"cannot be opened: {exc.strerror}") from None
+    if not stat.S_ISREG(os.fstat(fd).st_mode):
+        os.close(fd)
+        raise InvalidParameterError(
+            "path", str(p), "must be a regular file (not a FIFO, device or directory)"
+        )
+    with os.fdopen(fd, "rb") as f:
+        chunks, size = [], 0
+        while size <= MAX_FILE_BYTES:
+            chunk = f.read(min(1 << 16, MAX_FILE_BYTES + 1 - size))
+            if not chunk:
+                break
+            chunks.append(chunk)
+            size += len(chunk)
+    if size > MAX_FILE_BYTES:
         raise InvalidParameterError("path", str(p), f"must be at most {MAX_FILE_BYTES} bytes")
-    return scenario_from_dict(yaml.safe_load(p.read_text(encoding="utf-8")))
+    raw = b"".join(chunks)
+    if b"\0" in raw:
+        raise InvalidParameterError("path", str(p), "must be text: it holds a NUL byte")
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise InvalidParameterError(
+            "path", str(p), f"must be UTF-8 text (byte {exc.start} is not)"
+        ) from None
 
 
 def with_limits(
@@ -326,6 +391,10 @@ def with_limits(
     return replace(scenario, robot=robot, obstacles=obstacles)
 
 
+#: The sampling interval of a mirrored scenario's moving discs (:func:`mirrored`).
+MIRROR_STEP = Param(None, "s", "sampling interval of the mirrored paths", gt=0, le=1.0, name="dt")
+
+
 def mirrored(scenario: Scenario, dt: float = 0.02) -> Scenario:
     """The scenario with every obstacle reflected about the line through start and goal.
 
@@ -347,6 +416,19 @@ def mirrored(scenario: Scenario, dt: float = 0.02) -> Scenario:
     >>> m.obstacles[0].state([5.0])[0].round(3).tolist()
     [[2.1, -2.5]]
     """
+    if not isinstance(scenario, Scenario):
+        raise InvalidParameterError("scenario", scenario, "must be a Scenario")
+    dt = MIRROR_STEP.check(dt)
+    samples = scenario.horizon / dt + 1
+    if samples > MAX_PATH_SAMPLES:
+        raise InvalidParameterError(
+            "dt", dt, f"gives {samples:.3g} samples over the {scenario.horizon:g} s horizon; "
+            f"a path holds at most {MAX_PATH_SAMPLES:,}", "s",
+        )  # fmt: skip
+    if scenario.start == scenario.goal:
+        raise InvalidParameterError(
+            "scenario", scenario.name, "must have a goal apart from its start (the mirror line)"
+        )
     a, b = np.asarray(scenario.start), np.asarray(scenario.goal)
     u = (b - a) / np.hypot(*(b - a))
 
@@ -359,7 +441,7 @@ def mirrored(scenario: Scenario, dt: float = 0.02) -> Scenario:
         if isinstance(o, Rectangle):
             line = math.atan2(u[1], u[0])
             c = tuple(reflect(o.center).tolist())
-            out.append(replace(o, center=c, angle=2 * line - o.angle))
+            out.append(replace(o, center=c, angle=math.remainder(2 * line - o.angle, 2 * math.pi)))
         elif not o.motion.moving:
             out.append(replace(o, motion=Stationary(tuple(reflect(o.state([0.0])[0][0]).tolist()))))
         else:

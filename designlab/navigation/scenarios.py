@@ -29,6 +29,7 @@ from numpy.typing import NDArray
 from designlab.errors import InvalidParameterError
 from designlab.navigation.parameters import (
     MAX_HUMAN_SPEED,
+    OBSTACLES,
     SAMPLE_TIME,
     HolonomicRobot,
     NonholonomicRobot,
@@ -270,17 +271,26 @@ class SampledPath:
     positions: tuple[tuple[float, float], ...]
 
     def __post_init__(self) -> None:
-        t = np.asarray(self.times, dtype=float)
-        p = np.asarray(self.positions, dtype=float)
+        try:
+            t = np.asarray(self.times, dtype=float)
+            p = np.asarray(self.positions, dtype=float)
+        except (TypeError, ValueError):
+            raise InvalidParameterError(
+                "SampledPath", (self.times, self.positions), "must be numbers: times, (x, y)"
+            ) from None
         if t.ndim != 1 or t.size < 2 or not np.all(np.isfinite(t)) or np.any(np.diff(t) <= 0):
             raise InvalidParameterError(
                 "SampledPath.times", self.times, "must be >= 2 increasing finite times", "s"
             )
-        if p.shape != (t.size, 2) or not np.all(np.isfinite(p)):
+        if t.size and (t[0] < 0 or t[-1] > MAX_HORIZON):
+            raise InvalidParameterError(
+                "SampledPath.times", self.times, f"must lie within 0 to {MAX_HORIZON:g} s", "s"
+            )
+        if p.shape != (t.size, 2) or not np.all(np.abs(p) <= _MAX_COORD):
             raise InvalidParameterError(
                 "SampledPath.positions",
                 self.positions,
-                "must be finite, shape (len(times), 2)",
+                f"must be finite, within +-{_MAX_COORD:g} m, shape (len(times), 2)",
                 "m",
             )
         if t.size > MAX_PATH_SAMPLES:
@@ -434,13 +444,46 @@ class Rectangle:
     def from_corners(
         cls, name: str, corners: Sequence[Sequence[float]], *, r2: float, r3: float
     ) -> Rectangle:
-        """Axis-aligned rectangle from its corner points (m)."""
-        c = np.asarray(corners, dtype=float)
-        if c.ndim != 2 or c.shape[1] != 2 or not np.all(np.isfinite(c)):
+        """Axis-aligned rectangle from its four corner points (m), in any order.
+
+        The points must be the corners of one axis-aligned rectangle (within 1e-9 of its
+        size): any other four points are refused, not replaced by their bounding box.
+
+        Examples
+        --------
+        >>> Rectangle.from_corners("r", [(0, 0), (2, 0), (2, 1), (0, 1)], r2=1, r3=0.5).center
+        (1.0, 0.5)
+        >>> Rectangle.from_corners("r", [(0, 0), (1, 2), (3, 1), (2, 5)], r2=1, r3=0.5)
+        Traceback (most recent call last):
+        ...
+        designlab.errors.InvalidParameterError: r.corners = ... is not allowed: must be the ...
+        """
+        try:
+            c = np.asarray(corners, dtype=float)
+        except (TypeError, ValueError):
+            c = np.empty((0,))
+        if c.shape != (4, 2) or not np.all(np.isfinite(c)):
             raise InvalidParameterError(
-                f"{name}.corners", corners, "must be finite (x, y) points", "m"
+                f"{name}.corners", corners, "must be four finite (x, y) points", "m"
             )
         lo, hi = c.min(axis=0), c.max(axis=0)
+        tol = 1e-9 * max(1.0, float(np.abs(c).max()))
+        at = [
+            np.where(
+                np.abs(c[:, k] - lo[k]) <= tol, 0, np.where(np.abs(c[:, k] - hi[k]) <= tol, 1, -1)
+            )
+            for k in (0, 1)
+        ]
+        if (
+            (at[0] < 0).any()
+            or (at[1] < 0).any()
+            or len(set(zip(at[0].tolist(), at[1].tolist(), strict=True))) != 4
+        ):
+            raise InvalidParameterError(
+                f"{name}.corners", corners,
+                "must be the four corners of one axis-aligned rectangle (for a rotated one give "
+                "center, length, width and angle)", "m",
+            )  # fmt: skip
         return cls(
             name,
             (round(float(lo[0] + hi[0]) / 2, 12), round(float(lo[1] + hi[1]) / 2, 12)),
@@ -628,6 +671,7 @@ class Scenario:
                 "Scenario.obstacles", self.obstacles, "must be a sequence of Disc or Rectangle"
             )
         object.__setattr__(self, "obstacles", tuple(self.obstacles))
+        OBSTACLES.check(len(self.obstacles), "Scenario.obstacles (how many)")
         if not isinstance(self.robot, HolonomicRobot | NonholonomicRobot):
             raise InvalidParameterError(
                 "Scenario.robot", self.robot, "must be a HolonomicRobot or NonholonomicRobot"

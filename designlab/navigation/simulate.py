@@ -54,14 +54,13 @@ from designlab.navigation.methods import (
 )
 from designlab.navigation.noise import SensorNoise
 from designlab.navigation.parameters import (
-    CBF_K0,
-    CBF_K1,
     GAIN,
     GAIN_SETS,
     GeCuiGains,
     HolonomicRobot,
     MasoudGains,
     VFFGains,
+    check_cbf_gains,
 )
 from designlab.navigation.planners.simulate import PlannerResult, simulate_planner
 from designlab.navigation.scenarios import Disc, Scenario
@@ -329,7 +328,7 @@ def simulate(
     TIE_SIDE.check(tie_side)
     w = check_weights(weights)
     _check_flags(force_every_step=force_every_step, jit=jit)
-    cbf = _check_cbf_gains(cbf_gains)
+    cbf = check_cbf_gains(cbf_gains)
     _check_run_inputs(scenario, noise)
     row = strategy.gain_row(gains)
     kw: dict[str, Any] = dict(
@@ -570,16 +569,6 @@ def _check_flags(**flags: object) -> None:
     for name, value in flags.items():
         if not isinstance(value, bool | np.bool_):
             raise InvalidParameterError(name, value, "must be True or False")
-
-
-def _check_cbf_gains(k: object) -> tuple[float, float]:
-    try:
-        k0, k1 = k  # type: ignore[misc]
-    except (TypeError, ValueError):
-        raise InvalidParameterError(
-            "cbf_gains", k, "must be two finite numbers (k_0, k_1) > 0 (1/s^2, 1/s)"
-        ) from None
-    return (CBF_K0.check(k0), CBF_K1.check(k1))
 
 
 def _check_gain_array(gains: ArrayLike) -> Array:

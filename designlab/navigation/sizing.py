@@ -29,15 +29,24 @@ import pandas as pd
 
 from designlab.errors import InvalidParameterError
 from designlab.navigation.parameters import (
+    SAMPLE_TIME,
     CircularObstacle,
     HolonomicRobot,
     Human,
     NonholonomicRobot,
     ObstacleRobot,
     RectangularObstacle,
+    declared_field,
 )
-from designlab.navigation.regions import RegionSizes, region_sizes
-from designlab.params import declared, param
+from designlab.navigation.regions import (
+    ADOPTED_R2,
+    ADOPTED_R3,
+    ADOPTED_SIDESTEP,
+    ADOPTED_TURN,
+    RegionSizes,
+    region_sizes,
+)
+from designlab.params import declared
 from designlab.results import OK, Result
 
 __all__ = ["MAX_OBSTACLES", "RegionChoice", "RegionPlan", "size_regions"]
@@ -45,7 +54,6 @@ __all__ = ["MAX_OBSTACLES", "RegionChoice", "RegionPlan", "size_regions"]
 ObstacleClass = Human | CircularObstacle | ObstacleRobot | RectangularObstacle
 #: Most obstacle classes sized at once.
 MAX_OBSTACLES = 100
-_MAX_RADIUS = 100.0
 
 
 @declared
@@ -59,22 +67,10 @@ class RegionChoice:
     True
     """
 
-    critical_radius: float | None = param(
-        "r_3", "m", doc="adopted critical radius (>= the minimum)", gt=0, le=_MAX_RADIUS,
-        optional=True, none="the minimum r3", default=None,
-    )  # fmt: skip
-    sidestep_time: float | None = param(
-        "Delta t_2", "s", doc="adopted sidestep time (>= the minimum)", gt=0, le=1e3,
-        optional=True, none="the minimum Delta t2", default=None,
-    )  # fmt: skip
-    turn_time: float | None = param(
-        "t_turn", "s", doc="quarter-turn time of a nonholonomic robot", gt=0, le=1e3,
-        optional=True, none="sqrt(pi / omega_bar)", default=None,
-    )  # fmt: skip
-    active_radius: float | None = param(
-        "r_2", "m", doc="active radius to be used (a warning if below the minimum)", gt=0,
-        le=_MAX_RADIUS, optional=True, none="the minimum r2", default=None,
-    )  # fmt: skip
+    critical_radius: float | None = declared_field(ADOPTED_R3, None)
+    sidestep_time: float | None = declared_field(ADOPTED_SIDESTEP, None)
+    turn_time: float | None = declared_field(ADOPTED_TURN, None)
+    active_radius: float | None = declared_field(ADOPTED_R2, None)
 
 
 @dataclass(frozen=True)
@@ -126,7 +122,9 @@ class RegionPlan(Result):
         return {n: {"r2": r2, "r3": r3} for n, (r2, r3) in self.radii.items()}
 
 
-def _check(robot: object, obstacles: Mapping[str, object], choices: Mapping[str, object]) -> None:
+def _check(robot: object, obstacles: Mapping[str, object], choices: object) -> None:
+    if not isinstance(choices, Mapping):
+        raise InvalidParameterError("choices", choices, "must map obstacle names to RegionChoice")
     if not isinstance(robot, HolonomicRobot | NonholonomicRobot):
         raise InvalidParameterError("robot", robot, "must be a HolonomicRobot or NonholonomicRobot")
     if not isinstance(obstacles, Mapping) or not 1 <= len(obstacles) <= MAX_OBSTACLES:
@@ -138,6 +136,14 @@ def _check(robot: object, obstacles: Mapping[str, object], choices: Mapping[str,
             raise InvalidParameterError("choices", name, f"is not one of {sorted(obstacles)}")
         if not isinstance(c, RegionChoice):
             raise InvalidParameterError(f"choices[{name}]", c, "must be a RegionChoice")
+    for name, o in obstacles.items():
+        if not isinstance(name, str) or not name:
+            raise InvalidParameterError("obstacles", name, "names must be non-empty texts")
+        if not isinstance(o, ObstacleClass):
+            raise InvalidParameterError(
+                f"obstacles[{name!r}]", o,
+                "must be a Human, CircularObstacle, ObstacleRobot or RectangularObstacle",
+            )  # fmt: skip
 
 
 def size_regions(
@@ -169,8 +175,9 @@ def size_regions(
     InvalidParameterError
         For a wrong type, or an adopted r3 or Delta t2 below its minimum.
     """
-    choices = dict(choices or {})
+    choices = {} if choices is None else choices
     _check(robot, obstacles, choices)
+    choices = dict(choices)
     sizes: dict[str, RegionSizes] = {}
     radii: dict[str, tuple[float, float]] = {}
     warnings: list[str] = []
@@ -195,7 +202,7 @@ def size_regions(
         sizes[name], radii[name] = s, (r2, s.r3)
     return RegionPlan(
         robot=robot,
-        sample_time=float(sample_time),
+        sample_time=SAMPLE_TIME.check(sample_time),
         obstacles=dict(obstacles),
         sizes=sizes,
         radii=radii,

@@ -84,3 +84,57 @@ def test_results_pickle_and_stepwise_batch_with_noise_is_finite():
     assert str(batch.status) == "ok"
     pickle.loads(pickle.dumps(batch.run(1)))
     pickle.loads(pickle.dumps(simulate_snag(SnagScenario(gap=1.0))))
+
+
+# ----------------------------------------------------------- issue 41: snagging's functions
+@pytest.mark.parametrize("width", [-1, 0, math.nan, math.inf, 1e300, "1", True, None])
+def test_first_snag_gap_refuses_what_is_not_a_corridor_width(width):
+    """first_snag_gap(-1) was -1.785 m; a width outside its declaration is refused."""
+    from designlab.following.tether.snag import first_snag_gap
+
+    with pytest.raises(InvalidParameterError, match="width"):
+        first_snag_gap(width)
+    assert first_snag_gap(2.0) == 2.0 * (1.0 + math.pi / 4)
+
+
+def test_snagging_building_blocks_refuse_non_finite_inputs():
+    import numpy as np
+
+    from designlab.following.tether.snag import (
+        corridor_leader,
+        snag_limits,
+        string,
+        wall_distance,
+    )
+
+    with pytest.raises(InvalidParameterError, match="lx"):
+        string(-1.0, -0.5, math.nan, 1.0)
+    with pytest.raises(InvalidParameterError, match="width"):
+        wall_distance(np.zeros(2), np.zeros(2), -1.0)
+    with pytest.raises(InvalidParameterError, match="x"):
+        wall_distance(np.array([math.inf]), np.zeros(1), 1.0)
+    with pytest.raises(InvalidParameterError, match="s"):
+        corridor_leader(SnagScenario(), np.array([-1.0]))
+    with pytest.raises(InvalidParameterError, match="sc"):
+        corridor_leader("corner", np.array([1.0]))  # type: ignore[arg-type]
+    d = np.linspace(0.0, 0.5, 6)
+    with pytest.raises(InvalidParameterError, match="r_col"):
+        snag_limits(d, 2.0 - d, -0.2)
+    with pytest.raises(InvalidParameterError, match="d_col"):
+        snag_limits(d[:2], (2.0 - d)[:2], 0.2)  # a quadratic needs 3 runs
+    with pytest.raises(InvalidParameterError, match="gaps"):
+        snag_limits(d, np.full(6, math.nan), 0.2)
+
+
+def test_brake_walk_shorter_than_the_settling_time_is_refused_by_the_study():
+    """brake_walk: 1.0 at 0.5 m/s gave a NaN braked-while-walking share (no sample after the
+    2 s start-up): refused by the study's validation, naming brake_walk."""
+    from designlab.errors import StudyError
+    from designlab.study import parse_study
+    from designlab.study.kinds.tether_modes import BRAKE_SETTLE
+
+    head = "designlab: 1\nkind: tether_modes\nname: m\nspeed: 0.5\n"
+    with pytest.raises(StudyError, match="brake_walk"):
+        parse_study(head + "brake_walk: 1.0\n")
+    ok = parse_study(head + "brake_walk: 1.1\n")
+    assert ok.brake_walk / ok.speed > BRAKE_SETTLE

@@ -62,6 +62,7 @@ from numpy.typing import NDArray
 from designlab.errors import InvalidParameterError
 from designlab.params import Param, check_size, declared, param
 from designlab.results import Result, Status
+from designlab.validation import real_array
 
 __all__ = [
     "SNAG_FIT",
@@ -80,6 +81,9 @@ __all__ = [
 #: The arguments of :func:`thesis_gap_limits` (declared once, as the scenario's fields).
 SNAG_WIDTH = Param("w", "m", "corridor width", gt=0, le=20, name="width")
 SNAG_VEHICLE = Param("L_v", "m", "vehicle length", gt=0, le=10, name="vehicle_length")
+#: The bounding-circle radius of :func:`snag_limits`, in corridor widths (the fit's range).
+SNAG_RADIUS = Param("r_col/w", "", "bounding-circle radius over the width", ge=0, le=0.5,
+                    name="r_col")  # fmt: skip
 
 #: The thesis's fit (4.6), g_F = a d_col^2 + b d_col + c, normalised by w.
 SNAG_FIT = (-0.664, -1.4, 2.565)
@@ -194,9 +198,14 @@ def corridor_leader(sc: SnagScenario, s: NDArray[np.float64]) -> NDArray[np.floa
     >>> corridor_leader(SnagScenario(), np.array([0.0, 7.0])).round(6).tolist()
     [[-7.0, -0.5], [0.0, -0.5]]
     """
+    if not isinstance(sc, SnagScenario):
+        raise InvalidParameterError("sc", sc, "must be a SnagScenario")
+    s = np.atleast_1d(real_array("s", s, "m"))
+    if s.ndim != 1 or (s < 0).any():
+        raise InvalidParameterError("s", s, "must be path distances >= 0 (one axis)", "m")
     r, a = 0.5 * sc.width, sc.approach
     arc = 0.5 * math.pi * r
-    s = np.clip(np.asarray(s, dtype=float), None, a + arc + sc.exit)
+    s = np.clip(s, None, a + arc + sc.exit)
     out = np.empty((len(s), 2))
     leg1, on_arc, leg2 = s <= a, (s > a) & (s <= a + arc), s > a + arc
     out[leg1] = np.column_stack([s[leg1] - a, np.full(leg1.sum(), -r)])
@@ -225,6 +234,17 @@ def string(px: float, py: float, lx: float, ly: float) -> tuple[float, float, bo
     >>> [round(v, 6) for v in string(-1.0, -0.5, 0.5, 1.0)[:2]], string(-1.0, -0.5, 0.5, 1.0)[2]
     ([2.236068, 0.463648], True)
     """
+    for name, v in (("px", px), ("py", py), ("lx", lx), ("ly", ly)):
+        if (
+            isinstance(v, (bool, np.bool_))
+            or not isinstance(v, (int, float, np.number))
+            or (not math.isfinite(v))
+        ):
+            raise InvalidParameterError(name, v, "must be a finite number", "m")
+    return _string(px, py, lx, ly)
+
+
+def _string(px: float, py: float, lx: float, ly: float) -> tuple[float, float, bool]:
     dx, dy = lx - px, ly - py
     lo, hi = 0.0, 1.0
     for p, d, sign in ((px, dx, -1.0), (py, dy, 1.0)):  # x(t) < 0 and y(t) > 0
@@ -258,7 +278,7 @@ def wall_distance(
     >>> wall_distance(np.array([-3.0, 0.5, 0.5]), np.array([-0.5, 3.0, -0.5]), 1.0).tolist()
     [0.5, 0.5, 0.5]
     """
-    x, y = np.asarray(x, float), np.asarray(y, float)
+    x, y, width = real_array("x", x, "m"), real_array("y", y, "m"), SNAG_WIDTH.check(width)
     # inner wall block x < 0, y > 0: distance to the quadrant (negative inside)
     outside = np.hypot(np.maximum(x, 0.0), np.minimum(y, 0.0))
     inner = np.where((x < 0) & (y > 0), -np.minimum(-x, y), outside)
@@ -464,7 +484,7 @@ def simulate_snag(scenario: SnagScenario) -> SnagRun:
     rate = sc.speed * sc.sample_time
     for k in range(n):
         x, y, g = track.point_at(s_robot)
-        lm, direction, snag[k] = string(x, y, leader[k, 0], leader[k, 1])
+        lm, direction, snag[k] = _string(x, y, leader[k, 0], leader[k, 1])
         out[k] = (x, y, g, lm, math.atan2(math.sin(direction - g), math.cos(direction - g)))
         track.observe(x + lm * math.cos(direction), y + lm * math.sin(direction), float(s_lead[k]))
         if sc.compensate and track.snag_flag:
@@ -529,8 +549,12 @@ def first_snag_gap(width: float = 1.0) -> float:
     --------
     >>> round(first_snag_gap(1.0), 4)
     1.7854
+    >>> first_snag_gap(-1)
+    Traceback (most recent call last):
+    ...
+    designlab.errors.InvalidParameterError: width = -1 m is not allowed: must be a finite ...
     """
-    return width * (1.0 + 0.25 * math.pi)
+    return SNAG_WIDTH.check(width) * (1.0 + 0.25 * math.pi)
 
 
 def thesis_gap_limits(width: float, vehicle_length: float) -> dict[str, float]:
@@ -593,7 +617,17 @@ def snag_limits(
     >>> round(fit["a"], 6), round(fit["gap_limit"], 4)
     (-0.664, 2.2584)
     """
-    a, b, c = np.polyfit(np.asarray(d_col, float), np.asarray(gaps, float), 2)
+    d_col, gaps = real_array("d_col", d_col), real_array("gaps", gaps)
+    if d_col.ndim != 1 or d_col.shape != gaps.shape or d_col.size < 3:
+        raise InvalidParameterError(
+            "d_col", d_col, f"must be one value per gap ({np.shape(gaps)}), at least 3 runs"
+        )
+    if np.unique(d_col).size < 3:
+        raise InvalidParameterError(
+            "d_col", d_col, "must hold at least 3 distinct wall distances to fit a quadratic"
+        )
+    r_col = SNAG_RADIUS.check(r_col)
+    a, b, c = np.polyfit(d_col, gaps, 2)
     resid = np.polyval([a, b, c], d_col) - gaps
     return {
         "a": float(a),

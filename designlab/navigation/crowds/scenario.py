@@ -41,7 +41,8 @@ Examples
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from collections.abc import Mapping
+from dataclasses import dataclass, fields, replace
 from functools import cached_property
 from typing import Any
 
@@ -67,7 +68,7 @@ from designlab.navigation.regions import region_sizes
 from designlab.navigation.scenarios import MAX_HORIZON, Rectangle, Scenario
 from designlab.params import Param, declared, param
 
-__all__ = ["DENSITY", "CrowdScenario", "crowd"]
+__all__ = ["DENSITY", "CrowdScenario", "check_crowd_options", "crowd"]
 
 #: Most pedestrians a scenario holds (the recorded positions grow with it).
 MAX_PEDESTRIANS = 1000
@@ -449,6 +450,37 @@ class CrowdScenario:
         return replace(self, **changes)
 
 
+def check_crowd_options(
+    options: Any, name: str = "options", reserved: tuple[str, ...] = ()
+) -> None:
+    """Refuse a keyword that is not a field of :class:`CrowdScenario` (naming the allowed ones).
+
+    Parameters
+    ----------
+    options
+        The keywords given (a mapping).
+    name
+        How the error names them (``"crowd_options"`` in a study).
+    reserved
+        Fields set otherwise (by a study's grid), refused too.
+
+    Examples
+    --------
+    >>> check_crowd_options({"lenght": 8.0})
+    Traceback (most recent call last):
+    ...
+    designlab.errors.InvalidParameterError: options = 'lenght' is not allowed: is not a ...
+    """
+    if not isinstance(options, Mapping):
+        raise InvalidParameterError(name, options, "must be a mapping of CrowdScenario fields")
+    allowed = [f.name for f in fields(CrowdScenario) if f.name not in reserved]
+    for key in options:
+        if key not in allowed:
+            raise InvalidParameterError(
+                name, key, f"is not a keyword of navigation.crowd(); allowed: {', '.join(allowed)}"
+            )
+
+
 def crowd(
     layout: str,
     pedestrians: int | None = None,
@@ -500,6 +532,7 @@ def crowd(
     """
     if isinstance(layout, str) and layout not in LAYOUTS:
         raise InvalidParameterError("layout", layout, f"must be one of {tuple(LAYOUTS)}")
+    check_crowd_options(options)
     if density is not None:
         if pedestrians is not None:
             raise InvalidParameterError(

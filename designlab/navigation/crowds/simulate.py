@@ -42,11 +42,17 @@ from designlab.navigation.crowds.scenario import CrowdScenario
 from designlab.navigation.crowds.slots import crowd_step, fill_slots
 from designlab.navigation.field import ObstacleGeometry
 from designlab.navigation.methods import STABILISING, TIE_SIDE, method_of
-from designlab.navigation.parameters import ARRIVAL_TOLERANCE, DYNAMICS_STEP, HolonomicRobot
+from designlab.navigation.parameters import (
+    ARRIVAL_TOLERANCE,
+    DYNAMICS_STEP,
+    HolonomicRobot,
+    check_cbf_gains,
+)
 from designlab.params import Param, check_size
 from designlab.sx.jit import AVAILABLE, say_no_jit
 
 __all__ = [
+    "CROWD_METHOD",
     "ORDER",
     "CrowdResult",
     "CrowdStatus",
@@ -63,6 +69,12 @@ Array = NDArray[np.float64]
 ORDER = Param(
     doc="lock-step order", kind="choice", choices=("robot_first", "pedestrians_first"), name="order"
 )
+#: The force-field methods a robot can run among a crowd (``"vff_cbf"`` and the Sec. 5.7
+#: planners are not simulated among pedestrians).
+CROWD_METHOD = Param(
+    doc="navigation method among a crowd", kind="choice",
+    choices=("vff", "masoud", "ge_cui", "cbf"), name="method",
+)  # fmt: skip
 #: Pedestrians that may enter a run per pedestrian initially in it (a cap of the records).
 _INFLOW_FACTOR = 8
 #: Whether runs use the compiled bookkeeping (:mod:`~designlab.navigation.crowds.bookkeeping`);
@@ -175,8 +187,9 @@ def _setup(crowd: Any, gains: Any, kw: dict[str, Any]) -> _Setup:
     STABILISING.check(kw["stabilising"])
     TIE_SIDE.check(kw["tie_side"])
     ORDER.check(kw["order"])
-    strategy = method_of(kw["method"])
+    strategy = method_of(CROWD_METHOD.check(kw["method"]))
     row = strategy.gain_row(gains)
+    cbf = check_cbf_gains(kw["cbf_gains"])
     tol = ARRIVAL_TOLERANCE.check(kw["arrival_tolerance"])
     dt = DYNAMICS_STEP.check(kw["dynamics_step"])
     ts, dtp = crowd.sample_time, crowd.pedestrian_step
@@ -197,7 +210,7 @@ def _setup(crowd: Any, gains: Any, kw: dict[str, Any]) -> _Setup:
     stab = kw["stabilising"] if strategy.STABILISED else "off"
     return _Setup(
         crowd, strategy.name, row, stab, strategy.tie(gains, kw["tie_side"]), tol, dt, n_sub, per,
-        cap, n_samples, kw["order"], tuple(kw["cbf_gains"]),
+        cap, n_samples, kw["order"], cbf,
     )  # fmt: skip
 
 
@@ -359,7 +372,8 @@ class _Run:
                 -1, 6
             )
             self.overflow += 1
-        if n > 1:  # Sec. 6.4.3: two critical regions intersect, no path between them is safe
+        if min(n, s.crowd.neighbours) > 1:  # Sec. 6.4.3: two critical regions of the slots
+            # intersect, no path between them is safe
             Q = obs[: min(n, s.crowd.neighbours), 0:2].tolist()
             dx, dy = zip(*((a[0] - b[0], a[1] - b[1]) for a, b in combinations(Q, 2)), strict=True)
             self.overlaps += int((np.hypot(dx, dy) < 2 * self.r3).any())

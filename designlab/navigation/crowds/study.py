@@ -41,9 +41,9 @@ from designlab.navigation.crowds.metrics import (
     personal_space_time,
     wilson_interval,
 )
-from designlab.navigation.crowds.scenario import DENSITY, CrowdScenario, crowd
-from designlab.navigation.crowds.simulate import simulate_crowd, simulate_pedestrians
-from designlab.navigation.methods import STABILISING, method_of
+from designlab.navigation.crowds.scenario import DENSITY, CrowdScenario, check_crowd_options, crowd
+from designlab.navigation.crowds.simulate import CROWD_METHOD, simulate_crowd, simulate_pedestrians
+from designlab.navigation.methods import STABILISING
 from designlab.navigation.parameters import OPTIMAL_GAINS, GeCuiGains, MasoudGains, VFFGains
 from designlab.params import Param
 from designlab.progress import Progress, ProgressHook, report
@@ -416,6 +416,8 @@ class CrowdStudy(Result):
         return representative_run(self.runs, method)
 
 
+#: The fields of a crowd a study's grid sets (not crowd options).
+_GRID_FIELDS = ("layout", "pedestrians", "density", "seed")
 #: Runs of one study at most (each is a pedestrian simulation of up to a minute).
 MAX_RUNS = Param("runs", "", "runs of a crowd study (scenarios x densities x seeds x methods)",
                  kind="integer", ge=1, le=100_000, name="runs")  # fmt: skip
@@ -517,7 +519,7 @@ def _check_labels(methods: Any, gains: Any) -> tuple[list[str], dict[str, Any]]:
     if len(set(labels)) != len(labels):
         raise InvalidParameterError("methods", methods, "must not repeat a label")
     for m in labels:
-        method_of(method_name(m))
+        CROWD_METHOD.check(method_name(m))
     table = dict(gains or {})
     unknown = sorted(set(table) - set(labels))
     if unknown:
@@ -612,6 +614,8 @@ def crowd_study(
     """
     names, rho, seed_list = _check_grid(scenarios, densities, seeds)
     labels, coded = _check_labels(methods, gains)
+    if crowd_options is not None:
+        check_crowd_options(crowd_options, "crowd_options", _GRID_FIELDS)
     total = MAX_RUNS.check(len(names) * len(rho) * len(seed_list) * len(labels))
     options = {
         "scenarios": names, "methods": labels, "gains": coded,

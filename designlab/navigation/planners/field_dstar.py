@@ -30,10 +30,11 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from designlab.navigation.planners.parameters import FieldDStarSettings
+from designlab.errors import InvalidParameterError
+from designlab.navigation.planners.parameters import GRID_CELLS, PLANNED_CELLS, FieldDStarSettings
 from designlab.navigation.planners.world import Snapshot
 
-__all__ = ["Grid", "compute_cost", "node_costs"]
+__all__ = ["Grid", "check_grid", "compute_cost", "node_costs"]
 
 Array = NDArray[np.float64]
 #: The 8 neighbours of a node, counter-clockwise from +x (edge, diagonal, edge, ...).
@@ -149,6 +150,61 @@ def node_costs(
     return g
 
 
+def _cells(lo: Array, hi: Array, s: FieldDStarSettings) -> int:
+    """Cells of the grid over the box ``lo``-``hi`` (m) with the margin."""
+    size = np.ceil((hi - lo + 2 * s.margin) / s.cell)
+    return int(max(size[0], 1.0) * max(size[1], 1.0))
+
+
+def check_grid(points: Array, plans: int, s: FieldDStarSettings) -> int:
+    """Refuse a cell size whose grids exceed :data:`GRID_CELLS` or whose run would plan more
+    than :data:`PLANNED_CELLS`, before the run (named: ``FieldDStarSettings.cell``).
+
+    Parameters
+    ----------
+    points
+        Every point a grid must hold over the run, ``(n, 2)`` in m (start, goal, the
+        obstacles' centres at each period and the rectangles' corners).
+    plans
+        Plans of the run (one a navigation period).
+    s
+        The settings.
+
+    Returns
+    -------
+    int
+        Cells of the largest grid.
+
+    Examples
+    --------
+    >>> pts = np.array([[0.0, 0.0], [4.0, 1.0]])
+    >>> check_grid(pts, 100, FieldDStarSettings())
+    2800
+    >>> check_grid(pts, 100, FieldDStarSettings(cell=0.0101))
+    Traceback (most recent call last):
+    ...
+    designlab.errors.InvalidParameterError: FieldDStarSettings.cell = 0.0101 m is not allowed: ...
+    """
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    cells = _cells(lo, hi, s)
+    extent = f"{hi[0] - lo[0] + 2 * s.margin:.3g} m x {hi[1] - lo[1] + 2 * s.margin:.3g} m"
+    if not GRID_CELLS.within(cells):
+        raise InvalidParameterError(
+            "FieldDStarSettings.cell", s.cell,
+            f"gives a grid of {cells} cells over the scene's {extent} (with the margin); at most "
+            f"{GRID_CELLS.le:.0f} cells are allowed: a larger cell or a smaller margin "
+            "(docs/navigation_planners.md)", "m",
+        )  # fmt: skip
+    if not PLANNED_CELLS.within(cells * plans):
+        raise InvalidParameterError(
+            "FieldDStarSettings.cell", s.cell,
+            f"gives {cells} cells a plan over {plans} plans ({cells * plans} cells); at most "
+            f"{PLANNED_CELLS.le:.0f} are allowed: a larger cell or a shorter horizon "
+            "(docs/navigation_planners.md)", "m",
+        )  # fmt: skip
+    return cells
+
+
 class Grid:
     """The grid of one plan: origin, cell size, cell costs and node costs to the goal.
 
@@ -171,6 +227,7 @@ class Grid:
         self.h = s.cell
         self.origin = pts.min(axis=0) - s.margin
         size = np.ceil((pts.max(axis=0) + s.margin - self.origin) / self.h).astype(int)
+        check_grid(pts, 1, s)  # the robot may have left the box checked before the run
         centres = self.origin + (np.indices(size).reshape(2, -1).T + 0.5) * self.h
         blocked = world.clearance(centres) <= self.h / _SQRT2
         self.cost = np.where(blocked, math.inf, 1.0).reshape(size)

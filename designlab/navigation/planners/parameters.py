@@ -10,10 +10,21 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from designlab.params import declared, param
+from designlab.params import Param, declared, param
 from designlab.validation import ParamsMixin
 
-__all__ = ["ERRTSettings", "FieldDStarSettings", "VOSettings"]
+__all__ = ["GRID_CELLS", "PLANNED_CELLS", "ERRTSettings", "FieldDStarSettings", "VOSettings"]
+
+#: Cells of one Field D* grid at most: each plan settles cells in plain Python (about 50 us
+#: a cell), so a 200 x 200 grid takes up to 2 s a plan (docs/navigation_planners.md).
+GRID_CELLS = Param(
+    None, "", "cells of one Field D* grid (the scene with its margin over the cell size squared)",
+    kind="integer", ge=1, le=40_000, name="grid cells",
+)  # fmt: skip
+#: Cells a Field D* run plans at most (cells of the grid x plans, one a navigation period):
+#: about 4 minutes of planning (Configuration 1 at the default cell: 1.1 million).
+PLANNED_CELLS = Param(None, "", "cells planned in one Field D* run (grid cells x plans)",
+                      kind="integer", ge=1, le=5_000_000, name="planned cells")  # fmt: skip
 
 
 @declared

@@ -31,12 +31,12 @@ from designlab.errors import InvalidParameterError
 from designlab.navigation.criteria import Criteria, criteria
 from designlab.navigation.dynamics import HOLONOMIC_FEEDFORWARD
 from designlab.navigation.methods import PLANNER
-from designlab.navigation.parameters import NonholonomicRobot
+from designlab.navigation.parameters import ARRIVAL_TOLERANCE, NonholonomicRobot
 from designlab.navigation.planners import errt, field_dstar
 from designlab.navigation.planners.parameters import ERRTSettings, FieldDStarSettings, VOSettings
 from designlab.navigation.planners.velocity_obstacle import choose_velocity
 from designlab.navigation.planners.world import Snapshot
-from designlab.navigation.scenarios import Scenario
+from designlab.navigation.scenarios import Rectangle, Scenario
 from designlab.params import check_size
 from designlab.progress import Progress, ProgressHook, report
 from designlab.results import Result, Status
@@ -253,12 +253,15 @@ def simulate_planner(
         raise InvalidParameterError("settings", settings, f"must be a {cls.__name__}")
     if not isinstance(scenario, Scenario):
         raise InvalidParameterError("scenario", scenario, "must be a Scenario")
+    tol = ARRIVAL_TOLERANCE.check(arrival_tolerance)
     n = round(scenario.horizon / _STEP)
     check_size("horizon", scenario.horizon, n * 4.0 * (1 + len(scenario.obstacles)))
-    run = _run(scenario, name, settings, _commander(scenario, name, settings), n,
-               arrival_tolerance, progress)  # fmt: skip
+    if name == "field_dstar":
+        _check_dstar_grid(scenario, settings, n)
+    run = _run(scenario, name, settings, _commander(scenario, name, settings), n, tol,
+               progress)  # fmt: skip
     free = scenario.without_obstacles()
-    nominal = _run(free, name, settings, _commander(free, name, settings), n, arrival_tolerance,
+    nominal = _run(free, name, settings, _commander(free, name, settings), n, tol,
                    None)  # fmt: skip
     rho = scenario.robot.radius
     crit = criteria(
@@ -271,6 +274,16 @@ def simulate_planner(
         nominal_clearance={o.name: o.r2 - o.collision_distance(rho) for o in scenario.obstacles},
     )  # fmt: skip
     return replace(run, criteria=crit, warnings=run.warnings + _robot_warnings(scenario))
+
+
+def _check_dstar_grid(scenario: Scenario, settings: FieldDStarSettings, n: int) -> None:
+    """Field D*'s grids over the run (and its obstacle-free nominal run) bounded before it."""
+    hold = max(1, round(scenario.sample_time / _STEP))
+    t = np.arange(0, n + 1, hold) * _STEP
+    pts = [np.asarray([scenario.start, scenario.goal], dtype=float)]
+    for o in scenario.obstacles:
+        pts.append(o.corners() if isinstance(o, Rectangle) else o.state(t)[0])
+    field_dstar.check_grid(np.vstack(pts), 2 * t.size, settings)
 
 
 def _robot_warnings(scenario: Scenario) -> tuple[str, ...]:

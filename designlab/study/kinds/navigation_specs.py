@@ -41,6 +41,7 @@ from designlab.navigation.methods import METHOD, PLANNER, STABILISING, TIE_SIDE
 from designlab.navigation.parameters import (
     CBF_K0,
     CBF_K1,
+    OBSTACLES,
     GeCuiGains,
     HolonomicRobot,
     MasoudGains,
@@ -311,7 +312,7 @@ ScenarioSpec = create_model(
     name=(_SCENARIO["name"].annotation(optional=True), Field(None, min_length=1, max_length=60)),
     start=_point_field(Scenario, "start"),
     goal=_point_field(Scenario, "goal"),
-    obstacles=(list[ObstacleSpec], Field(default_factory=list, max_length=100)),  # type: ignore[valid-type]
+    obstacles=(list[ObstacleSpec], Field(default_factory=list, max_length=int(OBSTACLES.le))),  # type: ignore[valid-type]
     robot=(RobotSpec | None, None),  # type: ignore[valid-type]
     human_speed=(_WALK["speed"].annotation(), _WALK["speed"].default),
     horizon=(_SCENARIO["horizon"].annotation(), _SCENARIO["horizon"].default),

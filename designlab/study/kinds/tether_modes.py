@@ -75,6 +75,9 @@ _LNOISE = params_of(FollowerRobot)["length_noise_std"]
 _ANOISE = params_of(FollowerRobot)["angle_noise_std"]
 #: Leader curvature (1/m) above which a path segment counts as a turn (inside or outside).
 TURN_CURVATURE = 0.1
+#: The Brake runs' start-up (s) left out of ``braked_while_walking_pct``: the leader must
+#: walk longer than this before it stops (``brake_walk / speed``), or the share has no sample.
+BRAKE_SETTLE = 2.0
 #: A robot farther than this many side offsets (or l_d) from the leader at the end has lost it.
 LOST_FACTOR = 3.0
 
@@ -158,6 +161,12 @@ class TetherModesStudy(StudyBase):
             raise ValueError(
                 f"release_margin = {self.release_margin:g} m must exceed engage_margin = "
                 f"{self.engage_margin:g} m"
+            )
+        if not self.brake_walk / self.speed > BRAKE_SETTLE:
+            raise ValueError(
+                f"brake_walk = {self.brake_walk:g} m must exceed {BRAKE_SETTLE:g} s x speed "
+                f"({BRAKE_SETTLE * self.speed:g} m): the Brake runs' share braked while walking "
+                f"leaves out the first {BRAKE_SETTLE:g} s"
             )
         robot = self.robot.build()
         self.brake_robot(robot)
@@ -287,7 +296,7 @@ class BrakeCase:
             "brake": self.brake,
             "turned_after_stop_rad": float(np.abs(np.diff(r.heading[after])).sum()),
             "travel_after_stop_m": float(step.sum()),
-            "braked_while_walking_pct": 100.0 * float(braked[walking & (r.t > 2.0)].mean())
+            "braked_while_walking_pct": 100.0 * float(braked[walking & (r.t > BRAKE_SETTLE)].mean())
             if self.brake
             else 0.0,
             "braked_after_stop_pct": 100.0 * float(braked[after].mean()) if self.brake else 0.0,

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 import designlab as dl
@@ -119,3 +120,86 @@ def test_a_density_that_does_not_match_the_number_is_refused():
     with pytest.raises(InvalidParameterError, match="pedestrians"):
         c.replace(width=12.0)  # the area changed, the number did not
     assert c.replace(seed=3).pedestrians == 20
+
+
+# --------------------------------------------------------------------------- issue 41
+from designlab.navigation.crowds.study import crowd_study  # noqa: E402
+
+SMALL = {"length": 10.0, "seed": 2, "horizon": 0.3}
+
+
+@pytest.mark.parametrize(
+    ("cbf_gains", "match"),
+    [
+        ((math.nan, 4.0), r"cbf_gains\[0\]"),
+        ((-4.0, 4.0), r"cbf_gains\[0\]"),
+        ((1e300, 4.0), r"cbf_gains\[0\]"),
+        ((4.0, math.inf), r"cbf_gains\[1\]"),
+        ((4.0, "4"), r"cbf_gains\[1\]"),
+        ("ab", "cbf_gains"),
+        ((4.0,), "cbf_gains"),
+        (None, "cbf_gains"),
+    ],
+)
+@pytest.mark.parametrize("method", ["cbf", "vff"])
+def test_crowd_runs_check_cbf_gains_as_simulate_does(cbf_gains, match, method):
+    """Crowd runs accepted NaN, -4 and 1e300 (and 'ab' was a traceback): the same
+    declarations as plain simulate refuse them, before any pedestrian moves."""
+    c = nav.crowd("corridor_counterflow", 4, **SMALL)
+    with pytest.raises(InvalidParameterError, match=match):
+        nav.simulate(c, GAINS, method=method, cbf_gains=cbf_gains)
+    with pytest.raises(InvalidParameterError, match=match):  # the same as without a crowd
+        nav.simulate(nav.configuration(1), GAINS, method=method, cbf_gains=cbf_gains)
+
+
+@pytest.mark.parametrize("method", ["vff_cbf", "vo", "field_dstar", "VFF", "", 3, None])
+def test_crowd_runs_refuse_a_method_they_do_not_simulate(method):
+    """method="vff_cbf" ran plain VFF among a crowd, silently: every method a crowd does not
+    simulate is refused naming the allowed ones (as the navigation_crowds study file does)."""
+    from designlab.navigation.crowds.simulate import CROWD_METHOD
+
+    c = nav.crowd("corridor_counterflow", 4, **SMALL)
+    with pytest.raises(InvalidParameterError, match="method") as exc:
+        nav.simulate(c, GAINS, method=method)
+    assert all(m in str(exc.value) for m in CROWD_METHOD.choices)
+    with pytest.raises(InvalidParameterError, match="method"):
+        crowd_study(["corridor_counterflow"], [0.1], [0], [f"{method}:x"])
+
+
+def test_the_study_file_and_python_allow_the_same_crowd_methods():
+    import typing
+
+    from designlab.navigation.crowds.simulate import CROWD_METHOD
+    from designlab.study.kinds.navigation_crowds import CrowdMethodSpec
+
+    assert set(typing.get_args(CrowdMethodSpec.model_fields["method"].annotation)) == set(
+        CROWD_METHOD.choices
+    )
+
+
+def test_one_neighbour_slot_runs_among_a_dense_crowd():
+    """neighbours=1 raised ValueError (unpacking the pairs of one slot) once two pedestrians
+    were inside r2: with one slot no pair of slots can overlap, the run goes on."""
+    c = nav.crowd("corridor_counterflow", 20, length=10.0, seed=2, horizon=3.0, neighbours=1)
+    res = nav.simulate(c, GAINS)
+    assert res.robot_positions.shape == (301, 2)  # 3 s at the 10 ms pedestrian step
+    assert np.isfinite(res.robot_positions).all()
+    assert res.critical_overlaps >= 0 and res.status in ("arrived", "not_arrived", "collision")
+
+
+@pytest.mark.parametrize(
+    ("options", "key"),
+    [({"lenght": 8.0}, "lenght"), ({"seed": 3}, "seed"), ({"density": 0.2}, "density")],
+)
+def test_crowd_study_names_an_unknown_or_grid_crowd_option(options, key):
+    """crowd_options={'lenght': 8} was a TypeError: the key is named with the allowed ones."""
+    with pytest.raises(InvalidParameterError, match="crowd_options") as exc:
+        crowd_study(["corridor_counterflow"], [0.1], [0], ["vff"], crowd_options=options)
+    assert repr(key) in str(exc.value) and "length" in str(exc.value)
+    with pytest.raises(InvalidParameterError, match="crowd_options"):
+        crowd_study(["corridor_counterflow"], [0.1], [0], ["vff"], crowd_options=[1])
+
+
+def test_crowd_names_an_unknown_keyword():
+    with pytest.raises(InvalidParameterError, match=r"'lenght'.*allowed: .*length"):
+        nav.crowd("corridor_counterflow", 4, lenght=8.0)

@@ -1,0 +1,243 @@
+"""Hostile inputs to the Sec. 5.7 planners, the user's scenarios and the region sizing
+(issue 41): a clear error naming the parameter, its value and what is allowed, before any
+work; sizes (grid cells, obstacles, path samples, nesting, file size) bounded on one
+declaration shared by Python and the study files."""
+
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import designlab as dl
+from designlab.errors import InvalidParameterError, StudyError
+from designlab.navigation import scenario_io as io
+from designlab.navigation.parameters import OBSTACLES
+from designlab.navigation.planners import FieldDStarSettings, simulate_planner
+from designlab.navigation.planners.parameters import GRID_CELLS
+from designlab.navigation.scenarios import Disc, Rectangle, SampledPath, Scenario, Stationary
+
+nav = dl.navigation
+
+
+# ------------------------------------------------------------------------------ planners
+@pytest.mark.parametrize("tol", [1e9, 1.5, math.nan, math.inf, -1.0, 0.0, "0.1", True, None])
+@pytest.mark.parametrize("method", ["vo", "errt"])
+def test_planner_arrival_tolerance_is_checked_by_its_declaration(tol, method):
+    """arrival_tolerance=1e9 'arrived at 0.01 s'; NaN or -1 could never arrive: refused."""
+    with pytest.raises(InvalidParameterError, match="arrival_tolerance"):
+        simulate_planner(nav.configuration(1), method, arrival_tolerance=tol)
+    with pytest.raises(InvalidParameterError, match="arrival_tolerance"):
+        nav.simulate(nav.configuration(1), method=method, arrival_tolerance=tol)
+
+
+def test_field_dstar_refuses_a_grid_too_fine_before_planning():
+    """cell=0.0101 planned for 448 s on a 3 s scenario: the grid it would give is named."""
+    sc = nav.configuration(1)
+    with pytest.raises(InvalidParameterError, match=r"FieldDStarSettings\.cell") as exc:
+        simulate_planner(sc, "field_dstar", FieldDStarSettings(cell=0.0101))
+    assert "cells" in str(exc.value) and f"{GRID_CELLS.le:.0f}" in str(exc.value)
+    with pytest.raises(InvalidParameterError, match=r"FieldDStarSettings\.cell"):
+        simulate_planner(sc, "field_dstar", FieldDStarSettings(cell=0.02, margin=50.0))
+
+
+def test_field_dstar_refuses_a_run_that_plans_too_many_cells():
+    """A grid within its cap planned every period of a long horizon is refused as a whole."""
+    sc = nav.configuration(1).replace(horizon=600.0)
+    with pytest.raises(InvalidParameterError, match="plans"):
+        simulate_planner(sc, "field_dstar", FieldDStarSettings(cell=0.05))
+
+
+def test_check_grid_counts_the_grid_the_planner_builds():
+    from designlab.navigation.planners.field_dstar import Grid, check_grid
+    from designlab.navigation.planners.world import Snapshot
+
+    sc = nav.configuration(3)
+    s = FieldDStarSettings(cell=0.1)
+    rects = [o.corners() for o in sc.obstacles if o.kind == "rectangle"]
+    discs = [o.state([0.0])[0] for o in sc.obstacles if o.kind != "rectangle"]
+    pts = np.vstack([[sc.start, sc.goal], *rects, *discs])
+    g = Grid(Snapshot.of(sc, 0.0), np.asarray(sc.start), np.asarray(sc.goal), s)
+    assert check_grid(pts, 1, s) == g.cost.size
+
+
+# ----------------------------------------------------------------------------- scenarios
+def _disc(i: int) -> Disc:
+    return Disc(f"d{i}", 0.1, r2=0.5, r3=0.3, motion=Stationary((10.0 + i, 10.0)))
+
+
+def test_a_python_scenario_caps_its_obstacles_on_the_study_files_declaration():
+    """2,000 discs ran 406 s then out of memory (the study files capped 100): one declaration."""
+    from designlab.study.kinds import navigation_specs as specs
+
+    cap = int(OBSTACLES.le)
+    Scenario("ok", (0.0, 0.0), (1.0, 0.0), tuple(_disc(i) for i in range(cap)))
+    with pytest.raises(InvalidParameterError, match=r"Scenario\.obstacles") as exc:
+        Scenario("x", (0.0, 0.0), (1.0, 0.0), tuple(_disc(i) for i in range(2000)))
+    assert "2000" in str(exc.value) and f"<= {cap}" in str(exc.value)
+    items = [{"kind": "disc", "name": f"d{i}", "radius": 0.1, "r2": 0.5, "r3": 0.3,
+              "position": [10 + i, 10]} for i in range(cap + 1)]  # fmt: skip
+    with pytest.raises(InvalidParameterError, match="obstacles"):
+        io.scenario_from_dict({"name": "x", "start": [0, 0], "goal": [1, 0], "obstacles": items})
+    spec = specs.ScenarioSpec.model_json_schema()
+    assert spec["properties"]["obstacles"]["maxItems"] == cap
+
+
+@pytest.mark.parametrize(
+    "corners",
+    [
+        [(0, 0), (1, 2), (3, 1), (2, 5)],  # any four points: was their bounding box
+        [(0, 0), (2, 0), (2, 1), (0, 1.5)],  # one corner off
+        [(0, 0), (2, 0), (2, 1), (2, 1)],  # a corner twice
+        [(0, 0), (2, 0), (2, 1)],  # three
+        [(0, 0), (2, 0), (2, 1), (0, 1), (1, 1)],  # five
+        [(0, 0), (0, 0), (0, 0), (0, 0)],  # a point
+        [(1, 0), (2, 1), (1, 2), (0, 1)],  # a rotated square: not axis-aligned
+        [(0, 0), (2, 0), (2, math.nan), (0, 1)],
+        "abcd",
+    ],
+)
+def test_rectangle_from_corners_refuses_what_is_not_an_axis_aligned_rectangle(corners):
+    with pytest.raises(InvalidParameterError, match=r"r\.corners"):
+        Rectangle.from_corners("r", corners, r2=1.0, r3=0.5)
+
+
+def test_rectangle_from_corners_takes_the_corners_in_any_order():
+    a = Rectangle.from_corners("r", [(2, 1), (0, 0), (0, 1), (2, 0)], r2=1.0, r3=0.5)
+    assert (a.center, a.length, a.width) == ((1.0, 0.5), 2.0, 1.0)
+
+
+def _write(tmp_path: Path, text: str | bytes) -> Path:
+    f = tmp_path / "room.yaml"
+    if isinstance(text, bytes):
+        f.write_bytes(text)
+    else:
+        f.write_text(text)
+    return f
+
+
+ROOM = "name: room\nstart: [3, 0]\ngoal: [0, 0]\n"
+
+
+@pytest.mark.parametrize(
+    ("text", "match"),
+    [
+        (ROOM + "name: hall\n", r"room\.yaml:4: key 'name' appears twice"),
+        ("name: [room\n", r"room\.yaml:\d+: YAML syntax error"),
+        ("name: " + "[" * 5000 + "]" * 5000 + "\n", r"room\.yaml:1: .*nests"),
+        ("a: &a [1]\nb: *a\n" + ROOM, "is not a key here"),
+    ],
+)
+def test_load_scenario_refuses_bad_yaml_with_the_file_and_line(tmp_path, text, match):
+    """5,000 levels of nesting were a RecursionError, YAML errors raw, duplicate keys
+    silently accepted; now the study files' loader refuses them with file and line."""
+    with pytest.raises((StudyError, InvalidParameterError), match=match):
+        io.load_scenario(_write(tmp_path, text))
+
+
+@pytest.mark.parametrize(
+    ("data", "match"),
+    [
+        (b"name: room\0\n", "NUL"),
+        (b"name: \xff\xfe\n", "UTF-8"),
+        (b"#" * (io.MAX_FILE_BYTES + 1), "bytes"),
+    ],
+)
+def test_load_scenario_reads_only_bounded_text(tmp_path, data, match):
+    with pytest.raises(InvalidParameterError, match=match):
+        io.load_scenario(_write(tmp_path, data))
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs here")
+def test_load_scenario_refuses_a_fifo_a_device_and_a_directory_without_waiting(tmp_path):
+    fifo = tmp_path / "pipe.yaml"
+    os.mkfifo(fifo)
+    for path in (fifo, Path("/dev/zero"), tmp_path):
+        if path.exists():
+            with pytest.raises(InvalidParameterError, match="regular file"):
+                io.load_scenario(path)
+    with pytest.raises(InvalidParameterError, match="cannot be opened"):
+        io.load_scenario(tmp_path / "missing.yaml")
+
+
+def test_load_scenario_still_reads_a_scenario(tmp_path):
+    sc = io.load_scenario(_write(tmp_path, ROOM))
+    assert (sc.start, sc.goal, sc.obstacle_names) == ((3.0, 0.0), (0.0, 0.0), ())
+
+
+def test_mirrored_checks_its_scenario_and_sampling_interval():
+    with pytest.raises(InvalidParameterError, match="scenario"):
+        io.mirrored("room")  # type: ignore[arg-type]
+    sc = nav.configuration("unpredictable")
+    for dt in (0.0, -0.02, math.nan, 2.0):
+        with pytest.raises(InvalidParameterError, match="dt"):
+            io.mirrored(sc, dt)
+    with pytest.raises(InvalidParameterError, match="samples"):
+        io.mirrored(sc.replace(horizon=600.0), 1e-3)
+    rect = nav.configuration(3)
+    twice = io.mirrored(io.mirrored(rect))  # an angle kept within its declaration
+    assert [o.name for o in twice.obstacles] == [o.name for o in rect.obstacles]
+
+
+@pytest.mark.parametrize(
+    ("times", "positions", "match"),
+    [
+        ((0.0, 1.0, 2.0), ((0, 0), (1, 0), (1e308, 0)), "positions"),  # was accepted
+        ((0.0, 1.0), ((0, 0), (math.nan, 0)), "positions"),
+        ((-1.0, 1.0), ((0, 0), (1, 0)), "times"),
+        ((0.0, 1e9), ((0, 0), (1, 0)), "times"),
+        (("a", "b"), ((0, 0), (1, 0)), "SampledPath"),
+    ],
+)
+def test_sampled_path_refuses_positions_and_times_outside_the_scene(times, positions, match):
+    with pytest.raises(InvalidParameterError, match=match):
+        SampledPath(times, positions)
+
+
+# ------------------------------------------------------------------------ region sizing
+@pytest.mark.parametrize(
+    ("kwargs", "name"),
+    [
+        ({"critical_radius": 1e300}, "critical_radius"),
+        ({"sidestep_time": 1e300}, "sidestep_time"),
+        ({"active_radius": 1e300}, "active_radius"),
+        ({"active_radius": math.nan}, "active_radius"),
+        ({"critical_radius": "1"}, "critical_radius"),
+    ],
+)
+def test_region_sizes_check_adopted_values_on_their_declarations(kwargs, name):
+    """An adopted r3 of 1e300 m gave r2 = 2.4e300 m: the adopted values have the bounds of
+    RegionChoice's fields (one declaration)."""
+    from designlab.navigation.regions import region_sizes
+    from designlab.navigation.sizing import RegionChoice
+
+    with pytest.raises(InvalidParameterError, match=name):
+        region_sizes(nav.Human(), nav.HolonomicRobot(), 0.06, **kwargs)
+    with pytest.raises(InvalidParameterError, match=name):
+        RegionChoice(**kwargs)
+
+
+def test_region_sizes_check_a_nonholonomic_turn_time():
+    from designlab.navigation.regions import region_sizes
+
+    with pytest.raises(InvalidParameterError, match="turn_time"):
+        region_sizes(nav.Human(), nav.NonholonomicRobot(), 0.06, turn_time=1e300)
+
+
+@pytest.mark.parametrize(
+    ("args", "name"),
+    [
+        (({"h": None}, 0.06, None), "obstacles"),
+        (({"h": dl.navigation.Human()}, 0.06, [1]), "choices"),
+        (({1: dl.navigation.Human()}, 0.06, None), "obstacles"),
+        (({"h": dl.navigation.Human()}, math.nan, None), "sample_time"),
+    ],
+)
+def test_size_regions_names_what_is_wrong(args, name):
+    from designlab.navigation.sizing import size_regions
+
+    with pytest.raises(InvalidParameterError, match=name):
+        size_regions(nav.HolonomicRobot(), *args)
