@@ -129,7 +129,7 @@ def force_map(
     n = X.size
     state = np.vstack([X.ravel(), Y.ravel(), np.zeros(n), np.zeros(n)])
     P, V, A = obstacle_tracks(scenario, np.array([float(t)]))
-    obs = np.concatenate([np.concatenate([P[i, 0], V[i, 0], A[i, 0]]) for i in range(len(geos))])
+    obs = np.concatenate([P[:, 0], V[:, 0], A[:, 0]], axis=1).ravel()  # 6 per obstacle (or 0)
     robot = scenario.robot
     params = [robot.mass, float(strategy.tie(gains, tie_side)), 0.0, robot.max_accel]
     out = fn.map(n)(state, np.tile(np.asarray(scenario.goal, float)[:, None], n),
@@ -137,7 +137,8 @@ def force_map(
                     np.tile(np.asarray(params)[:, None], n))  # fmt: skip
     F = np.asarray(out[0]).T.reshape(ys.size, xs.size, 2)
     crit = np.asarray(out[1]).ravel().reshape(ys.size, xs.size) > 0.5
-    active = np.asarray(out[8]).reshape(len(geos), n).any(axis=0).reshape(ys.size, xs.size)
+    flags = np.asarray(out[8]).reshape(len(geos), n)  # no obstacle: no active region
+    active = flags.any(axis=0).reshape(ys.size, xs.size)
     F[crit] = np.nan
     total = np.linalg.norm(F, axis=2)
     if part == "obstacles":

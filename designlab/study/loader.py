@@ -33,7 +33,6 @@ import types
 import warnings
 from collections.abc import Hashable
 from os import PathLike
-from pathlib import Path
 from typing import Annotated, Any, Union, get_args, get_origin
 
 from pydantic import BaseModel, ValidationError
@@ -41,7 +40,7 @@ from pydantic import BaseModel, ValidationError
 from designlab.errors import DesignlabError, StudyError
 from designlab.study.base import FORMAT_VERSION, StudyBase, did_you_mean, format_path
 from designlab.study.registry import RENAMED_KINDS, kind_of, study_kinds
-from designlab.study.yamlio import YamlPath, YamlSyntaxError, load_yaml_with_lines
+from designlab.yamlio import YamlError, YamlPath, load_yaml, read_text_file
 
 __all__ = ["format_path", "load_study", "parse_study"]
 
@@ -72,18 +71,16 @@ def load_study(path: str | PathLike[str]) -> StudyBase:
     ...
     designlab.errors.StudyError: no/such/study.yaml: study file not found
     """
-    p = Path(path)
     try:
-        text = p.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise StudyError("study file not found", file=str(path)) from None
-    except IsADirectoryError:
-        raise StudyError("is a directory, not a study file", file=str(path)) from None
-    except UnicodeDecodeError as exc:
-        raise StudyError(f"study file is not UTF-8 text ({exc.reason})", file=str(path)) from None
-    except OSError as exc:
-        raise StudyError(f"cannot read study file: {exc.strerror}", file=str(path)) from None
+        text = read_text_file(path)
+    except YamlError as exc:
+        raise StudyError(_study_file(exc.message), file=str(path), line=exc.line) from None
     return parse_study(text, file=str(path))
+
+
+def _study_file(message: str) -> str:
+    """The reader's message about a study file ("file not found" -> "study file not found")."""
+    return {"file not found": "study file not found"}.get(message, message)
 
 
 def parse_study(text: str, file: str = "<string>") -> StudyBase:
@@ -107,10 +104,10 @@ def parse_study(text: str, file: str = "<string>") -> StudyBase:
         did you mean 'impact_cases'? (known: impact_cases, ...)
     """
     try:
-        data, lines = load_yaml_with_lines(text)
-    except YamlSyntaxError as exc:
+        data, lines = load_yaml(text)
+    except YamlError as exc:
         raise StudyError(
-            str(exc), file=file, line=exc.line, field=format_path(exc.path) or None
+            exc.message, file=file, line=exc.line, field=format_path(exc.path) or None
         ) from None
     _check_format(data, lines, file)
     kind = _kind_name(data, lines, file)

@@ -152,7 +152,11 @@ ERRORS = [
         "designlab: 1\nkind: impact_cases\ncases: [\n", None, 4, ["YAML syntax"], id="yaml-syntax"
     ),
     pytest.param(
-        HEADER + "name: t\ncases: []\n", "name", 4, ["appears twice", "line 3"], id="duplicate-key"
+        HEADER + "name: t\ncases: []\n",
+        "name",
+        4,
+        ["appears twice", "lines 3 and 4"],
+        id="duplicate-key",
     ),
     pytest.param(
         "designlab: 1\nkind: impact_case\nname: s\n",

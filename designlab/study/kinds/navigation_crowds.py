@@ -54,7 +54,13 @@ from designlab.navigation.tuning import DEFAULT_BOUNDS
 from designlab.progress import Progress
 from designlab.results import Result
 from designlab.study.base import Flag, Integer, Model, StudyBase
-from designlab.study.kinds.navigation_specs import GainsSpec, GeCuiGainsSpec, MasoudGainsSpec
+from designlab.study.kinds.navigation_specs import (
+    _GAIN_SPECS,
+    GainsSpec,
+    GeCuiGainsSpec,
+    MasoudGainsSpec,
+    typed_gains,
+)
 from designlab.study.registry import StudyKind
 from designlab.study.runner import RunContext
 from designlab.study.specs import spec_model
@@ -98,6 +104,18 @@ class CrowdMethodSpec(Model):
     def label(self) -> str:
         """``method`` or ``method:tag``."""
         return f"{self.method}:{self.tag}" if self.tag else self.method
+
+    @model_validator(mode="before")
+    @classmethod
+    def _typed_gains(cls, data: Any) -> Any:
+        """Read ``gains`` as the method's own kind ({direction: -1} is Masoud's, not VFF's)."""
+        return typed_gains(data)
+
+    @model_validator(mode="after")
+    def _gains_of_the_method(self) -> CrowdMethodSpec:
+        if self.gains is not None and not isinstance(self.gains, _GAIN_SPECS[self.method]):
+            raise ValueError(f"method {self.label!r}: gains of the wrong kind for {self.method}")
+        return self
 
 
 class CrowdSetSpec(Model):

@@ -35,7 +35,7 @@ from __future__ import annotations
 
 from typing import Annotated, Any, Literal
 
-from pydantic import BeforeValidator, Field, create_model, model_validator
+from pydantic import BeforeValidator, Field, ValidationError, create_model, model_validator
 
 from designlab.navigation.methods import METHOD, PLANNER, STABILISING, TIE_SIDE
 from designlab.navigation.parameters import (
@@ -340,6 +340,39 @@ _GAIN_SPECS: dict[str, type[Model]] = {
 }
 
 
+def typed_gains(data: Any) -> Any:
+    """A method's mapping with its ``gains`` read as that method's kind of gains.
+
+    ``{direction: -1}`` is Masoud's; given to ``vff`` it is refused here, naming what
+    ``vff`` takes, rather than read as another method's gains and refused at run time.
+
+    Examples
+    --------
+    >>> typed_gains({"method": "vff", "gains": {"direction": -1}})
+    Traceback (most recent call last):
+    ...
+    ValueError: gains: {'direction': -1} are not vff gains (vff takes k1, b, k3, k5): ...
+    """
+    if not (isinstance(data, dict) and isinstance(data.get("gains"), dict)):
+        return data
+    method = str(data.get("method", "vff"))
+    spec = _GAIN_SPECS.get(method)
+    if spec is None:
+        return data
+    try:
+        return {**data, "gains": spec.model_validate(data["gains"])}
+    except ValidationError as exc:
+        problems = "; ".join(
+            f"{'.'.join(map(str, e['loc'])) or 'gains'}: "
+            + {"extra_forbidden": "unknown field", "missing": "missing"}.get(e["type"], e["msg"])
+            for e in exc.errors(include_url=False)
+        )
+        takes = ", ".join(spec.model_fields)
+        raise ValueError(
+            f"gains: {data['gains']!r} are not {method} gains ({method} takes {takes}): {problems}"
+        ) from None
+
+
 #: A force-field method (:data:`~designlab.navigation.methods.METHOD`) or a Sec. 5.7 planner
 #: (:data:`~designlab.navigation.methods.PLANNER`, docs/navigation_planners.md).
 _Method = Literal[METHOD.choices + PLANNER.choices]  # type: ignore[valid-type]
@@ -398,11 +431,7 @@ class MethodSpec(Model):
     @model_validator(mode="before")
     @classmethod
     def _typed_gains(cls, data: Any) -> Any:
-        if isinstance(data, dict) and isinstance(data.get("gains"), dict):
-            spec = _GAIN_SPECS.get(str(data.get("method", "vff")))
-            if spec is not None:
-                data = {**data, "gains": spec.model_validate(data["gains"])}
-        return data
+        return typed_gains(data)
 
     @model_validator(mode="after")
     def _gains(self) -> MethodSpec:
