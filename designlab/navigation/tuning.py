@@ -445,9 +445,16 @@ class _Incumbent:
         self.H = -math.inf
         self.H_s: Array | None = None
         self.history: list[dict[str, Any]] = []
+        self.feasible: list[tuple[Array, Array]] = []  # (gains, H_mean) of feasible candidates
+
+    def keep_feasible(self, U: Array, e: _Evaluation) -> None:
+        """Keep every feasible candidate's gains and H_mean (for the near-optimal ranges)."""
+        if e.feasible.any():
+            self.feasible.append((self.search.to_gains(U[e.feasible]), e.H_mean[e.feasible]))
 
     def consider(self, U: Array, e: _Evaluation) -> bool:
         """Take the best feasible candidate of ``U`` if it beats the incumbent."""
+        self.keep_feasible(U, e)
         feas_H = np.where(e.feasible, e.H_mean, -np.inf)
         j = int(np.argmax(feas_H))
         if feas_H[j] > self.H:
@@ -713,6 +720,17 @@ def _other_mode_warnings(ev: _Evaluator, gains: VFFGains) -> list[str]:
     ]
 
 
+def _feasible_frame(parts: list[tuple[Array, Array]]) -> pd.DataFrame:
+    """Every feasible candidate evaluated: the gains and H_mean, best first."""
+    cols = [*GAIN_NAMES, "H_mean"]
+    if not parts:
+        return pd.DataFrame(columns=cols, dtype=float)
+    g = np.vstack([p[0] for p in parts])
+    h = np.concatenate([p[1] for p in parts])
+    frame = pd.DataFrame(np.column_stack([g, h]), columns=cols)
+    return frame.sort_values("H_mean", ascending=False, kind="stable", ignore_index=True)
+
+
 def _optimum(
     search: _Search,
     ev: _Evaluator,
@@ -764,6 +782,7 @@ def _optimum(
         scenario_names=tuple(s.name for s in search.scenarios),
         scenario_H=np.asarray(H_s, dtype=float),
         history=pd.DataFrame(inc.history),
+        feasible=_feasible_frame(inc.feasible),
         evaluations=ev.evaluations,
         simulations=ev.simulations,
         wall_time=wall_time,

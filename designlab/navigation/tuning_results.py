@@ -12,16 +12,41 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
+from designlab.errors import InvalidParameterError
 from designlab.navigation.criteria import EQUAL_WEIGHTS
 from designlab.navigation.parameters import GeCuiGains, MasoudGains, VFFGains
 from designlab.results import Result, Status
 
-__all__ = ["GAIN_NAMES", "GainEvaluation", "GainOptimum", "OptimumStatus"]
+__all__ = [
+    "GAIN_NAMES",
+    "NEAR_OPTIMAL_H_MEAN",
+    "REPRO_H_FIXED",
+    "REPRO_H_OPTIMUM",
+    "GainEvaluation",
+    "GainOptimum",
+    "OptimumStatus",
+]
 
 Array = NDArray[np.float64]
 
 #: Order of the decision vector (the batch simulator's gain columns).
 GAIN_NAMES = ("k1", "b", "k3", "k5")
+
+#: Gain sets whose H_mean is within this of the best are near-optimal
+#: (:meth:`GainOptimum.near_optimal`): H_mean is flat there, so which of them a seeded search
+#: returns depends on the last bits of the arithmetic (another CPU, libm or compiler), and
+#: a report gives their range instead of the optimum's digits (docs/navigation_gains.md).
+NEAR_OPTIMAL_H_MEAN = 1e-4
+
+#: How far H (per configuration) and H_mean of a fixed gain set may move on another machine:
+#: a last-bit change can move an arrival by one 1 ms dynamics step (H_T ~ T_0/T changes by
+#: ~1e-4 at T ~ 6-12 s).
+REPRO_H_FIXED = 2e-4
+
+#: How far the best H_mean of a seeded optimisation may move on another machine (the search
+#: may end at another gain set of the flat optimum; measured: 1e-4 on an AMD EPYC against
+#: the committed report, issue 34).
+REPRO_H_OPTIMUM = 1e-3
 
 
 @dataclass(frozen=True)
@@ -103,6 +128,9 @@ class GainOptimum(Result):
         The seed.
     critical_margin
         The clearance (m) every run had to keep outside every critical region.
+    feasible
+        Every feasible gain set evaluated (columns ``k1``, ``b``, ``k3``, ``k5``,
+        ``H_mean``), best first: the data of :meth:`near_optimal`.
     method, weights
         Whose gains were optimised (``"vff"``, ``"masoud"``, ``"ge_cui"``) and the
         criterion weights (w_T, w_D, w_E).
@@ -128,6 +156,58 @@ class GainOptimum(Result):
     warnings: tuple[str, ...] = ()
     method: str = "vff"
     weights: tuple[float, float, float] = EQUAL_WEIGHTS
+    feasible: pd.DataFrame = field(
+        default_factory=lambda: pd.DataFrame(columns=[*GAIN_NAMES, "H_mean"], dtype=float),
+        repr=False,
+    )
+
+    def near_optimal(self, tolerance: float = NEAR_OPTIMAL_H_MEAN) -> pd.DataFrame:
+        """The evaluated feasible gain sets within ``tolerance`` of the best H_mean, as ranges.
+
+        Where H_mean is this flat, the optimum's digits are not reproducible (another CPU
+        changes the last bits of each run and the seeded search may end at another of these
+        sets); the range is.
+
+        Parameters
+        ----------
+        tolerance
+            Absolute H_mean below the best that still counts as near-optimal (>= 0).
+
+        Returns
+        -------
+        pandas.DataFrame
+            One row per gain (``gain``, ``low``, ``high``, ``optimum``) and the attribute
+            ``attrs["sets"]``: how many evaluated gain sets lie within ``tolerance``
+            (empty if no feasible set was found).
+
+        Examples
+        --------
+        >>> import pandas as pd
+        >>> o = GainOptimum(None, 0.6, ("c1",), np.array([0.6]), pd.DataFrame(), 3, 3, 0.0,
+        ...                 "off", "", 0, {}, 0, feasible=pd.DataFrame(
+        ...                     {"k1": [8.3, 7.8, 3.0], "b": [0.05] * 3, "k3": [16.0] * 3,
+        ...                      "k5": [29.0] * 3, "H_mean": [0.55054, 0.55049, 0.4]}))
+        >>> r = o.near_optimal(1e-4)
+        >>> r.attrs["sets"], r.loc[0, "gain"], float(r.loc[0, "low"]), float(r.loc[0, "high"])
+        (2, 'k1', 7.8, 8.3)
+        """
+        if not (isinstance(tolerance, int | float) and math.isfinite(tolerance)) or tolerance < 0:
+            raise InvalidParameterError("tolerance", tolerance, "must be a finite number >= 0")
+        f = self.feasible
+        cols = ["gain", "low", "high", "optimum"]
+        if f.empty:
+            out = pd.DataFrame(columns=cols)
+            out.attrs["sets"] = 0
+            return out
+        near = f[f["H_mean"] >= f["H_mean"].max() - tolerance]
+        rows = [
+            (n, float(near[n].min()), float(near[n].max()), float(f[n].iloc[0]))
+            for n in GAIN_NAMES
+            if not (self.method == "masoud" and n == "b")
+        ]
+        out = pd.DataFrame(rows, columns=cols)
+        out.attrs["sets"] = len(near)
+        return out
 
     def on_bounds(self, tolerance: float = 1e-3) -> dict[str, str]:
         """Gains of the optimum that lie on a bound of the box: ``{gain: "low" | "high"}``.

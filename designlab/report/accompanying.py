@@ -51,6 +51,7 @@ from designlab.report import register_writer
 from designlab.report.accompanying_extras import extras_frame, extras_section
 from designlab.report.builder import (
     figure_section,
+    record_timings,
     report_header,
     warnings_section,
     write_report,
@@ -602,7 +603,6 @@ _CONTROLLER_COLUMNS = (
     "improvement_all_tasks",
     "iterations",
     "simulations",
-    "elapsed_s",
     "status",
 )
 _TRACKING_COLUMNS = [
@@ -669,8 +669,8 @@ def _controllers_section(result: AccompanyingResult) -> list[str]:
             f"checked with python-control margins. `derivative_free`: Nelder-Mead on the "
             f"simulated mean RMS error of the tuning tasks ({', '.join(s.tuning.tune_on)}) "
             "with the same Ms and Mt limits as penalties. `improvement_all_tasks` is "
-            "1 - mean RMS / mean RMS of the default over every task of the study; "
-            "`elapsed_s` is the tuner's wall time.",
+            "1 - mean RMS / mean RMS of the default over every task of the study. The tuners' "
+            "wall times are in the run record (`.designlab-run.json`), not in the report.",
             "",
         ]
     return out
@@ -752,11 +752,16 @@ def write_accompanying_report(
         [la.to_frame().assign(controller=label) for label, la in result.loops.items()],
         ignore_index=True,
     )
+    tuning = result.tuning_frame()
+    if "elapsed_s" in tuning.columns:  # a wall time: to the run record, never the report
+        elapsed = tuning.set_index("method")["elapsed_s"].dropna()
+        record_timings(directory, {f"tune {m}": float(v) for m, v in elapsed.items()})
+        tuning = tuning.drop(columns="elapsed_s")
     tables = {
         "metrics.csv": result.to_frame(),
         "table1.csv": table1_frame(result),
         "table2.csv": table2_frame(result),
-        "tuning.csv": result.tuning_frame(),
+        "tuning.csv": tuning,
         "margins.csv": margins,
     }
     figures: dict[str, Callable[[], Figure]] = {

@@ -48,6 +48,7 @@ __all__ = [
     "format_duration",
     "provenance",
     "record_run",
+    "record_timings",
     "recorded_run",
     "report_header",
     "slug",
@@ -325,7 +326,50 @@ def record_run(directory: str | os.PathLike[str], seconds: float, **extra: Any) 
     ...     recorded_run(d)
     83.2
     """
-    record = {"seconds": round(float(seconds), 1), **extra}
+    record = {**_timings_of(directory), "seconds": round(float(seconds), 1), **extra}
+    text = json.dumps(record, sort_keys=True) + "\n"
+    return atomic_write_text(Path(directory) / RUN_RECORD, text)
+
+
+def _timings_of(directory: str | os.PathLike[str]) -> dict[str, Any]:
+    """``{"timings": {...}}`` kept by :func:`record_timings`, or ``{}``."""
+    try:
+        old = json.loads((Path(directory) / RUN_RECORD).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return {}
+    timings = old.get("timings") if isinstance(old, dict) else None
+    return {"timings": timings} if isinstance(timings, dict) else {}
+
+
+def record_timings(directory: str | os.PathLike[str], timings: Mapping[str, float]) -> Path:
+    """Keep the wall times of a run's parts in its run record, not in the report.
+
+    Wall times depend on the machine and its load, so a report's tables and Markdown never
+    carry them (they would not reproduce); a report writer hands them here instead, and
+    :func:`record_run` keeps them when it adds the whole run's time.
+
+    Parameters
+    ----------
+    directory
+        The report directory.
+    timings
+        ``{part: seconds}``; replaces the timings recorded before.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     _ = record_timings(d, {"optimise off": 52.31})
+    ...     _ = record_run(d, 83.2, executor="serial")
+    ...     json.loads((Path(d) / RUN_RECORD).read_text())["timings"]
+    {'optimise off': 52.3}
+    """
+    try:
+        old = json.loads((Path(directory) / RUN_RECORD).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        old = {}
+    record = old if isinstance(old, dict) else {}
+    record["timings"] = {str(k): round(float(v), 1) for k, v in timings.items()}
     text = json.dumps(record, sort_keys=True) + "\n"
     return atomic_write_text(Path(directory) / RUN_RECORD, text)
 

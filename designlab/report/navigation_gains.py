@@ -11,9 +11,19 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pandas as pd
 
-from designlab.navigation import Disc, NavigationResult
+from designlab.navigation import Disc, GainOptimum, NavigationResult
+from designlab.navigation.tuning_results import (
+    NEAR_OPTIMAL_H_MEAN,
+    REPRO_H_FIXED,
+    REPRO_H_OPTIMUM,
+)
 from designlab.report import register_writer
-from designlab.report.builder import report_header, warnings_section, write_report
+from designlab.report.builder import (
+    record_timings,
+    report_header,
+    warnings_section,
+    write_report,
+)
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.navigation_gains import WIDER, NavigationGainsResult
 
@@ -23,11 +33,11 @@ if TYPE_CHECKING:
 __all__ = [
     "convergence_figure",
     "navigation_gains_markdown",
+    "near_optimal_frame",
     "trajectory_figure",
     "write_navigation_gains_report",
 ]
 
-WEEK_S = 7 * 24 * 3600.0
 _COLOURS = {"off": "tab:blue", "lyapunov": "tab:red", "robust": "tab:green", "wider": "tab:purple"}
 
 
@@ -242,6 +252,7 @@ def navigation_gains_markdown(
     for mode in st.modes:
         out += _mode_line(result, mode)
     out += _effort_section(result)
+    out += _reproduction_section(result)
     out += _sensitivity_section(result)
     out += _appendix_c_section(result)
     out += _global_section(result)
@@ -285,12 +296,7 @@ def _gains_section(result: NavigationGainsResult) -> list[str]:
     out: list[str] = []
     extra = [c for c in comp.columns if c.startswith(("T_arrive_s_", "critical_margin_m_"))]
     main = comp[[c for c in comp.columns if c not in extra]]
-    out += [
-        markdown_table(
-            main.map(lambda v: _fmt(v, ".4g") if isinstance(v, float) else v), index=False
-        ),
-        "",
-    ]
+    out += [markdown_table(_ranged_gains(result, main), index=False), ""]
     if extra:
         key = ["gains", "stabilising", "robust"]
         out += [
@@ -367,41 +373,57 @@ def _mode_line(result: NavigationGainsResult, mode: str) -> list[str]:
             " Bound check: ours lies on the bound of "
             f"{sorted(result.optima[mode].on_bounds())}; "
             f"optimised again in a wider box{_box_change(result, mode + WIDER)}: "
-            f"K1 = {w['k1']:.3g}, b = {w['b']:.3g}, K3 = {w['k3']:.3g}, K5 = {w['k5']:.4g}, "
+            f"{_gains_text(result, mode + WIDER, w)}, "
             f"H_mean {w['H_mean']:.4f} ({d:+.2f} % against the optimum in the study's box)."
         )
     out.append(line)
     return out
 
 
+def _optimisation_label(result: NavigationGainsResult, mode: str) -> str:
+    """'off', 'lyapunov, wider box (b >= 0.005)', 'robust (mean, 8 walks, stabilising off)'."""
+    o = result.optima[mode]
+    if mode.endswith(WIDER):
+        return f"{o.stabilising}, wider box{_box_change(result, mode)}"
+    if mode == "robust":
+        return f"robust ({o.robust_mode}, {o.walks} walks, stabilising {o.stabilising})"
+    return mode
+
+
+def _gains_text(result: NavigationGainsResult, mode: str, row: pd.Series) -> str:
+    """'K1 = 8.69, b = 0.00956, ...', a flat gain as its near-optimal range (~)."""
+    near = near_optimal_frame(result)
+    near = near[near["optimisation"] == _optimisation_label(result, mode)].set_index("gain")
+    parts = []
+    for n in ("k1", "b", "k3", "k5"):
+        shown = n.upper() if n != "b" else n
+        if n in near.index and _flat(near.loc[n, "low"], near.loc[n, "high"]):
+            parts.append(f"{shown} ~ {near.loc[n, 'low']:.4g}-{near.loc[n, 'high']:.4g}")
+        else:
+            parts.append(f"{shown} = {row[n]:.4g}")
+    return ", ".join(parts)
+
+
 def _effort_section(result: NavigationGainsResult) -> list[str]:
-    """Search effort and the figures."""
+    """Search effort (no wall times: they go to the run record) and the figures."""
     st = result.study
     out: list[str] = []
     out += ["", "## Search effort", ""]
-    eff = []
-    for mode, o in result.optima.items():
-        eff.append(
-            {
-                "optimisation": f"{o.stabilising}, wider box{_box_change(result, mode)}"
-                if mode.endswith(WIDER)
-                else mode
-                if mode != "robust"
-                else f"robust ({o.robust_mode}, {o.walks} walks, stabilising {o.stabilising})",
-                "status": o.status,
-                "gain sets": o.evaluations,
-                "closed-loop runs": o.simulations,
-                "wall time (s)": f"{o.wall_time:.1f}",
-                "per gain set (ms)": f"{1e3 * o.wall_time / o.evaluations:.1f}",
-                "vs one week": f"{WEEK_S / o.wall_time:,.0f}x",
-            }
-        )
+    eff = [
+        {
+            "optimisation": _optimisation_label(result, mode),
+            "status": o.status,
+            "gain sets": o.evaluations,
+            "closed-loop runs": o.simulations,
+        }
+        for mode, o in result.optima.items()
+    ]
     out += [
         markdown_table(pd.DataFrame(eff), index=False),
         "",
-        "The thesis's grid search and fmincon took one week (App. C.2). "
-        "Wall times are those of the run "
-        "that produced this report (shared 2-core machine).",
+        "The thesis's grid search and fmincon took one week (App. C.2). How long each "
+        "optimisation took here depends on the machine and its load: the times are kept with "
+        "the run record (`.designlab-run.json`), not in the report.",
         "",
         "![convergence](convergence.png)",
         "",
@@ -409,6 +431,110 @@ def _effort_section(result: NavigationGainsResult) -> list[str]:
     for mode in st.modes:
         out += [f"![trajectories, stabilising {mode}](trajectories_{mode}.png)", ""]
     return out
+
+
+def _all_optima(result: NavigationGainsResult) -> dict[str, GainOptimum]:
+    """Every optimisation of the study by its label (the baselines' too)."""
+    found = {_optimisation_label(result, m): o for m, o in result.optima.items()}
+    found.update({f"baseline {m}": o for m, o in result.baseline_optima.items()})
+    return found
+
+
+def near_optimal_frame(
+    result: NavigationGainsResult, tolerance: float = NEAR_OPTIMAL_H_MEAN
+) -> pd.DataFrame:
+    """Per optimisation and gain: the range of the evaluated gain sets near the best H_mean.
+
+    Parameters
+    ----------
+    result
+        The study result.
+    tolerance
+        Absolute H_mean below the best that counts as near-optimal
+        (:data:`~designlab.navigation.tuning_results.NEAR_OPTIMAL_H_MEAN`).
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``optimisation``, ``gain``, ``low``, ``high``, ``optimum``, ``sets`` (gain sets
+        within the tolerance), ``H_mean_best``, ``tolerance`` (``near_optimal.csv``).
+    """
+    rows = []
+    for label, o in _all_optima(result).items():
+        r = o.near_optimal(tolerance)
+        for _, g in r.iterrows():
+            rows.append(
+                {"optimisation": label, **g.to_dict(), "sets": r.attrs["sets"],
+                 "H_mean_best": o.objective, "tolerance": tolerance}
+            )  # fmt: skip
+    cols = ["optimisation", "gain", "low", "high", "optimum", "sets", "H_mean_best", "tolerance"]
+    return pd.DataFrame(rows, columns=cols)
+
+
+def _flat(low: float, high: float) -> bool:
+    """True if the range changes the optimum's 4 significant digits."""
+    return f"{low:.4g}" != f"{high:.4g}"
+
+
+def _reproduction_section(result: NavigationGainsResult) -> list[str]:
+    """How far the tables reproduce on another CPU, and the near-optimal ranges."""
+    near = near_optimal_frame(result)
+    out = [
+        "## Reproduction on another machine",
+        "",
+        "The search is seeded, so the same machine and build give these numbers to the bit. "
+        "Another CPU (or libm, compiler, numba build) changes the last bits of each closed-loop "
+        "run, and the search may then end at another gain set of equal merit. The tables "
+        f"reproduce within: H and H_mean of fixed gain sets {REPRO_H_FIXED:g}; the best H_mean "
+        f"of an optimisation {REPRO_H_OPTIMUM:g}; arrival times one dynamics step (1 ms); the "
+        "optimum's gains only within the near-optimal ranges below. Where H_mean is flat "
+        f"(gain sets within {NEAR_OPTIMAL_H_MEAN:g} of the best, every feasible gain set the "
+        "search evaluated), the digits of the optimum's gains depend on the last bit; the gains "
+        "table then shows the range (marked ~); near_optimal.csv has every range. Wall times "
+        "are not reproducible and are not in the report (run record).",
+        "",
+    ]
+    if near.empty:
+        return out
+    table = []
+    for label, grp in near.groupby("optimisation", sort=False):
+        row: dict[str, object] = {
+            "optimisation": label,
+            "best H_mean": f"{grp['H_mean_best'].iloc[0]:.4f}",
+            "sets within tolerance": int(grp["sets"].iloc[0]),
+        }
+        flat = False
+        for _, g in grp.iterrows():
+            name = g["gain"].upper() if g["gain"] != "b" else "b"
+            wide = _flat(g["low"], g["high"])
+            row[name] = f"{g['low']:.4g} - {g['high']:.4g}" if wide else f"{g['optimum']:.4g}"
+            flat = flat or wide
+        row["flat"] = "yes" if flat else "no"
+        table.append(row)
+    out += [markdown_table(pd.DataFrame(table).fillna("—"), index=False), ""]
+    return out
+
+
+def _ranged_gains(result: NavigationGainsResult, main: pd.DataFrame) -> pd.DataFrame:
+    """The gains table for Markdown, an optimum's flat gains shown as their range (~)."""
+    near = near_optimal_frame(result)
+    shown = main.map(lambda v: _fmt(v, ".4g") if isinstance(v, float) else v)
+    for i, row in main.iterrows():
+        label = _row_optimisation(result, row)
+        if label is None:
+            continue
+        for _, g in near[near["optimisation"] == label].iterrows():
+            if g["gain"] in shown.columns and _flat(g["low"], g["high"]):
+                shown.loc[i, g["gain"]] = f"~{g['low']:.4g}-{g['high']:.4g}"
+    return shown
+
+
+def _row_optimisation(result: NavigationGainsResult, row: pd.Series) -> str | None:
+    """The optimisation a gains-table row shows (None for fixed gains)."""
+    gains, stab = row["gains"], row["stabilising"]
+    key = {"designlab_optimum": stab, "designlab_optimum_wider_box": f"{stab}{WIDER}",
+           "designlab_robust_optimum": "robust"}.get(gains)  # fmt: skip
+    return _optimisation_label(result, key) if key in result.optima else None
 
 
 def _sensitivity_section(result: NavigationGainsResult) -> list[str]:
@@ -566,8 +692,22 @@ def _baseline_section(result: NavigationGainsResult) -> list[str]:
         "baselines on 1, 2 and 4). `H_opt_table_C1` is the thesis's H_opt (its own "
         "configurations and walk). Masoud has no b. `baseline_gains.csv` has full precision.",
         "",
-        markdown_table(f, floatfmt=".4g"),
+        markdown_table(_ranged_baselines(result, f), index=False),
     ]
+
+
+def _ranged_baselines(result: NavigationGainsResult, f: pd.DataFrame) -> pd.DataFrame:
+    """The baselines table for Markdown, each optimum's flat gains shown as their range (~)."""
+    near = near_optimal_frame(result)
+    shown = f.map(lambda v: _fmt(v, ".4g") if isinstance(v, float) else v)
+    for i, row in f.iterrows():
+        if row["gains"] != "designlab_optimum":
+            continue
+        label = "off" if row["method"] == "vff" else f"baseline {row['method']}"
+        for _, g in near[near["optimisation"] == label].iterrows():
+            if g["gain"] in shown.columns and _flat(g["low"], g["high"]):
+                shown.loc[i, g["gain"]] = f"~{g['low']:.4g}-{g['high']:.4g}"
+    return shown
 
 
 @register_writer(NavigationGainsResult)
@@ -600,12 +740,16 @@ def write_navigation_gains_report(
         tables[f"global_sensitivity_{label}.csv"] = gs.to_frame()
     if not result.baselines.empty:
         tables["baseline_gains.csv"] = result.baselines
+    tables["near_optimal.csv"] = near_optimal_frame(result)
     if not result.appendix_c.empty:
         tables["appendix_c_comparison.csv"] = result.appendix_c
         tables["appendix_c_outcomes.csv"] = result.appendix_c_outcomes
     figures = {"convergence.png": partial(convergence_figure, result)}
     for mode in result.study.modes:
         figures[f"trajectories_{mode}.png"] = partial(trajectory_figure, result, mode)
+    record_timings(
+        directory, {f"optimise {k}": o.wall_time for k, o in _all_optima(result).items()}
+    )
     return write_report(
         directory,
         tables=tables,

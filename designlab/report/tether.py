@@ -45,6 +45,7 @@ from designlab.following.tether.reference import TABLES
 from designlab.report import register_writer
 from designlab.report.builder import (
     figure_section,
+    record_timings,
     report_header,
     slug,
     warnings_section,
@@ -602,6 +603,16 @@ def _tuning_figure(r: Any) -> Figure:
     return fig
 
 
+def _tuned_text(r: Any, name: str, value: float) -> object:
+    """A tuned gain to 3 decimals, or ``~low-high`` where the cost is flat around it."""
+    near = r.near_optimal().set_index("gain") if hasattr(r, "near_optimal") else pd.DataFrame()
+    if name in near.index:
+        lo, hi = float(near.loc[name, "low"]), float(near.loc[name, "high"])
+        if round(lo, 3) != round(hi, 3):
+            return f"~{lo:.3f}-{hi:.3f}"
+    return round(value, 3)
+
+
 def _gains_table(result: TetherTuningResult) -> pd.DataFrame:
     rows = []
     for r in result.results:
@@ -609,10 +620,55 @@ def _gains_table(result: TetherTuningResult) -> pd.DataFrame:
             {
                 "law": type(r.controller).__name__,
                 **{f"default {k}": round(v, 3) for k, v in r.default.gains.items()},
-                **{f"tuned {k}": round(v, 3) for k, v in r.controller.gains.items()},
+                **{f"tuned {k}": _tuned_text(r, k, v) for k, v in r.controller.gains.items()},
             }
         )
     return pd.DataFrame(rows)
+
+
+def near_optimal_frame(result: TetherTuningResult) -> pd.DataFrame:
+    """Per law and gain: the range of the evaluated gain sets near the best cost.
+
+    Parameters
+    ----------
+    result
+        A ``tether_tuning`` result.
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``law``, ``gain``, ``low``, ``high``, ``tuned``, ``sets``, ``tolerance``
+        (``near_optimal.csv``).
+    """
+    from designlab.following.tether.tuning import NEAR_OPTIMAL_COST
+
+    frames = []
+    for r in result.results:
+        near = r.near_optimal()
+        frames.append(
+            near.assign(
+                law=type(r.controller).__name__,
+                sets=near.attrs["sets"],
+                tolerance=NEAR_OPTIMAL_COST,
+            )
+        )
+    cols = ["law", "gain", "low", "high", "tuned", "sets", "tolerance"]
+    if not frames:
+        return pd.DataFrame(columns=cols)
+    return pd.concat(frames, ignore_index=True)[cols]
+
+
+_REPRODUCTION_TEXT = (
+    "Reproduction on another machine: the search is seeded, so the same machine and build "
+    "give these tables to the bit. Another CPU (or libm, compiler, numba build) changes the "
+    "last bits of each simulation; the rows of the default gains then reproduce to the digits "
+    "shown (costs to 1e-3 relative), but differential evolution may take another path and end "
+    "at another gain set: the tuned gains, costs and improvements are the result of this run, "
+    "not digits to reproduce. Where the evaluated gain sets within {tol:g} (relative) of the "
+    "best cost spread beyond the digits shown, the gains table gives their range (~low-high; "
+    "every range in near_optimal.csv). Wall times are in the run record "
+    "(`.designlab-run.json`), not in the report."
+)
 
 
 def improvement_frame(result: TetherTuningResult) -> pd.DataFrame:
@@ -644,7 +700,6 @@ def improvement_frame(result: TetherTuningResult) -> pd.DataFrame:
                 "saturation_bound": r.max_saturation,
                 "min_damping_ratio": min(r.damping_ratios.values()),
                 "gain_sets": r.evaluations,
-                "wall_time_s": r.wall_time,
                 "status": str(r.status),
             }
         )
@@ -688,7 +743,6 @@ def _improvement_table(frame: pd.DataFrame) -> pd.DataFrame:
             ],
             "min damping ratio (tuned)": frame["min_damping_ratio"].round(3),
             "gain sets": frame["gain_sets"],
-            "wall time [s]": frame["wall_time_s"].round(1),
             "status": frame["status"],
         }
     )
@@ -802,7 +856,10 @@ def write_tuning_report(
         ignore_index=True,
     )
     lines = _tuning_intro(result, command, version)
+    from designlab.following.tether.tuning import NEAR_OPTIMAL_COST
+
     lines += ["## Gains", "", markdown_table(_gains_table(result)), ""]
+    lines += [_REPRODUCTION_TEXT.format(tol=NEAR_OPTIMAL_COST), ""]
     lines += ["## Improvement over the thesis defaults", ""]
     improvement = improvement_frame(result)
     lines += [markdown_table(_improvement_table(improvement)), "", _IMPROVEMENT_TEXT, ""]
@@ -816,12 +873,16 @@ def write_tuning_report(
         figures[type(r.controller).__name__] = name
     lines += figure_section(figures)
     lines += warnings_section(result.warnings)
+    record_timings(
+        directory, {f"tune {type(r.controller).__name__}": r.wall_time for r in result.results}
+    )
     return write_report(
         directory,
         tables={
             "gains.csv": result.to_frame(),
             "scenarios.csv": scen,
             "improvement.csv": improvement,
+            "near_optimal.csv": near_optimal_frame(result),
         },
         figures=makers,
         pages={"summary.md": "\n".join(lines)},

@@ -50,7 +50,7 @@ import logging
 import math
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
 import numpy as np
@@ -90,6 +90,7 @@ from designlab.validation import ParamsMixin
 
 __all__ = [
     "DEFAULT_WEIGHTS",
+    "NEAR_OPTIMAL_COST",
     "TUNERS",
     "VALIDATION_WALK_SEEDS",
     "CostWeights",
@@ -105,6 +106,11 @@ __all__ = [
 logger = logging.getLogger(__name__)
 
 _FAILED = 1e3
+
+#: Gain sets whose cost is within this (relative) of the best are near-optimal
+#: (:meth:`TuningResult.near_optimal`): which of them a seeded search returns depends on the
+#: last bits of the arithmetic, so a report gives their range (docs/following.md).
+NEAR_OPTIMAL_COST = 1e-4
 
 
 @declared
@@ -179,7 +185,7 @@ class TuningResult(Result):
     evaluations
         Gain sets simulated (per scenario).
     wall_time
-        Seconds.
+        Seconds (for the run record; a report never shows it).
     status
         ``"ok"``, ``"not_converged"`` or ``"infeasible"`` (:class:`TuningStatus`).
     warnings
@@ -204,10 +210,46 @@ class TuningResult(Result):
     improvement_unpenalised: float = math.nan
     saturation: dict[str, dict[str, float]] | None = None
     max_saturation: float = 0.05
+    evaluated: pd.DataFrame = field(default_factory=pd.DataFrame, repr=False)
 
     def to_frame(self) -> pd.DataFrame:
         """The per-scenario table (``set`` is ``tuning`` or ``validation``)."""
         return self.scenarios
+
+    def near_optimal(self, tolerance: float = NEAR_OPTIMAL_COST) -> pd.DataFrame:
+        """Per gain, the range of the evaluated gain sets within ``tolerance`` of the best cost.
+
+        Where the cost is this flat, which of these sets a seeded search returns depends on
+        the last bits of the arithmetic (another CPU), so a report gives the range.
+
+        Parameters
+        ----------
+        tolerance
+            Relative cost above the best that still counts as near-optimal (>= 0).
+
+        Returns
+        -------
+        pandas.DataFrame
+            ``gain``, ``low``, ``high``, ``tuned`` per gain; ``attrs["sets"]``: how many
+            evaluated gain sets lie within the tolerance (0 if none was recorded).
+        """
+        if not (isinstance(tolerance, int | float) and math.isfinite(tolerance)) or tolerance < 0:
+            raise InvalidParameterError("tolerance", tolerance, "must be a finite number >= 0")
+        f = self.evaluated
+        tuned = self.controller.gains
+        if f.empty or "cost" not in f:
+            out = pd.DataFrame(columns=["gain", "low", "high", "tuned"])
+            out.attrs["sets"] = 0
+            return out
+        best = float(f["cost"].min())
+        near = f[f["cost"] <= best + tolerance * abs(best)]
+        names = [c for c in f.columns if c != "cost"]
+        out = pd.DataFrame(
+            [(n, float(near[n].min()), float(near[n].max()), float(tuned[n])) for n in names],
+            columns=["gain", "low", "high", "tuned"],
+        )
+        out.attrs["sets"] = len(near)
+        return out
 
 
 # --- the cost of a batch of gain sets on one scenario (a plain function for executors) ----
@@ -470,6 +512,18 @@ class _Objective:
         self.label = "generation"
         self.evaluations = 0
         self.history: list[float] = []
+        self.evaluated: list[tuple[list[dict[str, float]], NDArray[np.float64]]] = []
+
+    def evaluated_frame(self) -> pd.DataFrame:
+        """Every gain set evaluated and its cost, best first."""
+        rows = [
+            {**g, "cost": float(c)}
+            for gs, cs in self.evaluated
+            for g, c in zip(gs, cs, strict=True)
+        ]
+        if not rows:
+            return pd.DataFrame(columns=[*self.setup.names, "cost"], dtype=float)
+        return pd.DataFrame(rows).sort_values("cost", kind="stable", ignore_index=True)
 
     def gain_sets(self, x: NDArray[np.float64]) -> list[dict[str, float]]:
         return [
@@ -481,7 +535,9 @@ class _Objective:
         gain_sets = self.gain_sets(x)
         self.evaluations += len(gain_sets)
         parts = self.run(self.setup.tasks(gain_sets, self.setup.paths))
-        return np.mean([p["cost"] for p in parts], axis=0) + self.setup.damping_penalty(gain_sets)
+        cost = np.mean([p["cost"] for p in parts], axis=0) + self.setup.damping_penalty(gain_sets)
+        self.evaluated.append((gain_sets, np.atleast_1d(np.asarray(cost, dtype=float))))
+        return cost
 
     def callback(self, intermediate_result: Any) -> None:
         self.history.append(float(intermediate_result.fun))
@@ -794,6 +850,7 @@ def _summary(
         history=tuple(objective.history),
         evaluations=objective.evaluations,
         wall_time=time.perf_counter() - t_start,
+        evaluated=objective.evaluated_frame(),
         status=status,
         warnings=tuple(warns),
         improvement_unpenalised=unpenalised,
