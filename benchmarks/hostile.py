@@ -1010,7 +1010,7 @@ def impact_targets() -> list[Target]:
         Target("impact", "dl.impact.simulate", im.simulate, joint_args,
                ("robot", "foam", "head", "impact_velocity"),
                all_of(nonneg, reference_oracle(_response_params)), attack=("robot",),
-               tag="[full joint]"),
+               tag="[full-joint]"),
         Target("impact", "dl.impact.foam_envelope", im.foam_envelope,
                {"robot": Obj(im.ContactDynamics, BASE_ROBOT), "impact_velocity": Val(1.25),
                 "damping": Val([0.0, 60.0, 120.0]), "max_compression": Val(0.02),
@@ -1384,7 +1384,7 @@ def navigation_targets() -> list[Target]:
     small = {
         "vo": (pl.VOSettings, {"horizon": 2.0}),
         "errt": (pl.ERRTSettings, {}),
-        "field_dstar": (pl.FieldDStarSettings, {}),
+        "field_dstar": (pl.FieldDStarSettings, {"cell": 0.5, "margin": 0.5}),  # 1 s, not 15
     }
     out = [
         Target("navigation", "dl.navigation.simulate", nav.simulate,
@@ -1422,7 +1422,7 @@ def navigation_targets() -> list[Target]:
                {"obstacle": Obj(nav.RectangularObstacle, {}),
                 "robot": Obj(nav.NonholonomicRobot, {}), "sample_time": Val(0.06)},
                ("obstacle", "robot", "sample_time"), finite_oracle(), given=_regions_given,
-               tag="[rect, nonholonomic]"),
+               tag="[rect,nonholonomic]"),
     ]  # fmt: skip
     for method, (cls, fields) in small.items():
         out.append(
@@ -1541,13 +1541,15 @@ def crowd_constructor_cases() -> list[Case]:
 
 def _navigation_warmup() -> None:
     import designlab.navigation as nav
+    import designlab.navigation.planners as pl
     from designlab.navigation.planners import simulate_planner
 
     sc = nav.configuration(1)
     nav.simulate(sc, nav.EXPERIMENT_GAINS)
     nav.simulate(sc, method="cbf")
-    for m in ("vo", "errt", "field_dstar"):
-        simulate_planner(sc, m)
+    simulate_planner(sc, "vo")
+    simulate_planner(sc, "errt")
+    simulate_planner(sc, "field_dstar", pl.FieldDStarSettings(cell=0.5, margin=0.5))
     nav.simulate(nav.crowd("corridor_counterflow", 4, length=8.0, horizon=0.5),
                  nav.EXPERIMENT_GAINS)  # fmt: skip
 
@@ -2144,14 +2146,37 @@ def table(rows: Sequence[dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
-def findings(rows: Sequence[dict[str, Any]]) -> str:
-    """One Markdown line per non-clean case: outcome, case, what happened, reproduction."""
+#: Outcomes in the order the findings list them (the worst first).
+_ORDER = ("hang", "traceback", "silent", "unclear")
+
+
+def _pattern(row: dict[str, Any]) -> tuple[str, str, str]:
+    """(outcome, function, detail with its numbers and quoted values blanked): a group key."""
+    func = row["name"].split(" ")[0]
+    detail = re.sub(r"'[^']*'|\"[^\"]*\"|\(.*?\)|[-+]?\d[\d.e+-]*", "#", row["detail"])
+    return row["outcome"], func, detail[:160]
+
+
+def findings(rows: Sequence[dict[str, Any]], group: bool = True) -> str:
+    """The non-clean cases as Markdown: per outcome and function, one line per kind of fault.
+
+    Cases with the same outcome, function and detail (numbers aside) are one line with
+    their count, the cases' names and the first one's reproduction (``group=False``: one
+    line per case).
+    """
+    bad = [r for r in rows if r["outcome"] not in ("clear", "accepted")]
+    bad.sort(key=lambda r: (_ORDER.index(r["outcome"]), r["domain"], r["name"]))
+    groups: dict[tuple[str, str, str], list[dict[str, Any]]] = {}
+    for r in bad:
+        groups.setdefault(_pattern(r) if group else (r["name"], "", ""), []).append(r)
     lines = []
-    for r in rows:
-        if r["outcome"] in ("clear", "accepted"):
-            continue
-        lines.append(f"- **{r['outcome']}** `{r['name']}`: {r['detail']}  \n"
-                     f"  repro: `{r['repro']}`")  # fmt: skip
+    for members in groups.values():
+        first = members[0]
+        names = ", ".join(m["name"].split(" ", 1)[-1] for m in members[:8])
+        more = f" and {len(members) - 8} more" if len(members) > 8 else ""
+        count = f" (x{len(members)}: {names}{more})" if len(members) > 1 else ""
+        lines.append(f"- **{first['outcome']}** `{first['name']}`{count}: {first['detail']}  \n"
+                     f"  repro: `{first['repro']}`")  # fmt: skip
     return "\n".join(lines)
 
 
