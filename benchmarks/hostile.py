@@ -537,12 +537,19 @@ class Obj:
 
 @dataclasses.dataclass
 class Val:
-    """A plain argument; ``decl`` is its declaration (``None``: derived from the name)."""
+    """A plain argument; ``decl`` is its declaration (``None``: found by the argument's name
+    in the domain's parameter modules; :data:`UNDECLARED`: none). ``text`` shows the base
+    value in reproductions."""
 
     value: Any
     decl: Any = None
     attacks: list[tuple[str, Any]] | None = None
     check: Callable[[Any], Any] | None = None
+    text: str = ""
+
+
+#: The ``decl`` of an argument without a declaration (not to be looked up by its name).
+UNDECLARED: Any = "undeclared"
 
 
 @dataclasses.dataclass
@@ -597,7 +604,9 @@ class Target:
         parts, named = [], {}
         for name, spec in self.args.items():
             if isinstance(spec, Val):
-                text = fmt(over.get(name, spec.value))
+                text = (
+                    spec.text if name not in over and spec.text else fmt(over.get(name, spec.value))
+                )
             else:
                 fields = dict(spec.fields)
                 fields.update({k[len(name) + 1 :]: v for k, v in over.items()
@@ -643,6 +652,7 @@ def target_cases(t: Target, decl_modules: Sequence[Any] = ()) -> list[Case]:
                     cases.append(_case(t, path, (field, path), label, v, expectation(decl, v)))
             continue
         decl = spec.decl if spec.decl is not None else _decl_for(t.func, name, decl_modules)
+        decl = None if decl is UNDECLARED else decl
         attacks = spec.attacks if spec.attacks is not None else hostile_values(decl, spec.value)
         for label, v in attacks:
             names = (name,) + ((decl.name,) if decl is not None and decl.name else ())
@@ -1333,6 +1343,12 @@ def _regions_given(r: Any, a: dict[str, Any]) -> str | None:
     return None
 
 
+#: The base scenario of the navigation cases, as Python.
+SC_TEXT = (
+    "dl.navigation.Scenario('hostile', start=(3.9, 0.6), goal=(0.0, 0.6), horizon=15.0, "
+    "obstacles=dl.navigation.configuration(1).obstacles)"
+)
+
 #: The reproduction of a run with one obstacle.
 OBSTACLE_RUN = (
     "dl.navigation.simulate(Scenario('hostile', start=(3.9, 0.6), goal=(0.0, 0.6), "
@@ -1390,7 +1406,7 @@ def navigation_targets() -> list[Target]:
     }
     out = [
         Target("navigation", "dl.navigation.simulate", nav.simulate,
-               {"scenario": Val(sc), "gains": Obj(nav.VFFGains, gains),
+               {"scenario": Val(sc, text=SC_TEXT), "gains": Obj(nav.VFFGains, gains),
                 "arrival_tolerance": Val(0.15), "dynamics_step": Val(0.001),
                 "cbf_gains": Val((4.0, 4.0), attacks=pairs), "weights": Val(
                     (1 / 3, 1 / 3, 1 / 3), attacks=weights),
@@ -1400,7 +1416,7 @@ def navigation_targets() -> list[Target]:
                attack=("gains", "arrival_tolerance", "dynamics_step", "weights", "method",
                        "stabilising", "tie_side")),
         Target("navigation", "dl.navigation.simulate", nav.simulate,
-               {"scenario": Val(sc), "gains": Val(None), "method": Val("cbf"),
+               {"scenario": Val(sc, text=SC_TEXT), "gains": Val(None), "method": Val("cbf"),
                 "cbf_gains": Val((4.0, 4.0), attacks=pairs)}, ("scenario",), oracle,
                attack=("cbf_gains",), tag="[cbf]"),
         Target("navigation", "dl.navigation.simulate", _scenario_run,
@@ -1433,7 +1449,7 @@ def navigation_targets() -> list[Target]:
                 "dl.navigation.planners.simulate_planner",
                 pl.simulate_planner,
                 {
-                    "scenario": Val(sc),
+                    "scenario": Val(sc, text=SC_TEXT),
                     "method": Val(method),
                     "settings": Obj(cls, fields),
                     "arrival_tolerance": Val(0.15),
@@ -1587,11 +1603,13 @@ def _path_given(r: Any, a: dict[str, Any]) -> str | None:
 def following_targets() -> list[Target]:
     import designlab.following as fo
     import designlab.following.tether as te
+    import designlab.following.tether.parameters as tp
     from designlab.following.tether import snag
 
     oracle = _follow_oracle()
     fol_args = {"controller": Obj(te.PseudoJoystick, {}), "path": Val("slalom"),
-                "speed": Val(0.5), "robot": Obj(te.FollowerRobot, {}), "duration": Val(8.0),
+                "speed": Val(0.5), "robot": Obj(te.FollowerRobot, {}),
+                "duration": Val(8.0, decl=dataclasses.replace(tp.DURATION, optional=True)),
                 "settle_time": Val(5.0), "lead_in": Val(0.0), "seed": Val(0)}  # fmt: skip
     pid = {"kp": 2.0}
     return [
@@ -1604,7 +1622,7 @@ def following_targets() -> list[Target]:
                {**fol_args, "controller": Obj(te.SideJoystick, {})}, ("controller", "path"),
                oracle, attack=("controller",), tag="[SideJoystick]"),
         Target("following", "dl.following.simulate", _brake_run,
-               {"mode": Val(te.SideJoystick()), "engage_margin": Val(0.02),
+               {"mode": Val(te.SideJoystick(), text="SideJoystick()"), "engage_margin": Val(0.02),
                 "release_margin": Val(0.05)}, (), oracle, tag="[BrakeMode]",
                template="dl.following.simulate(BrakeMode(SideJoystick(), engage_margin="
                         "{engage_margin}, release_margin={release_margin}), 'slalom', 0.5, "
@@ -1617,7 +1635,8 @@ def following_targets() -> list[Target]:
         Target("following", "simulate_snag", snag.simulate_snag,
                {"scenario": Obj(snag.SnagScenario, {"gap": 2.0})}, ("scenario",), oracle),
         Target("following", "dl.following.accompany", fo.accompany,
-               {"task": Val(fo.walking_task("forward")), "controller": Obj(fo.UserFramePID, pid),
+               {"task": Val(fo.walking_task("forward"), text="walking_task('forward')"),
+                "controller": Obj(fo.UserFramePID, pid),
                 "platform": Obj(fo.MecanumPlatform, {}), "sensor": Obj(fo.StringPotSensor, {}),
                 "initial_offset": Val((0.0, 0.0), attacks=PAIR_ATTACKS), "seed": Val(0),
                 "settle_band": Val(0.02)}, ("task", "controller"), oracle,
@@ -1628,10 +1647,11 @@ def following_targets() -> list[Target]:
                 "radius": Val(0.9), "ramp_time": Val(0.6), "pause": Val(0.5),
                 "settle_time": Val(10.0), "step_frequency": Val(1.8)}, ("name",), None),
         Target("following", "dl.following.tether.circle", te.circle,
-               {"radius": Val(2.0), "turns": Val(1.0), "points_per_turn": Val(720)}, (),
-               given=_path_given),
+               {"radius": Val(2.0, decl=UNDECLARED), "turns": Val(1.0, decl=UNDECLARED),
+                "points_per_turn": Val(720, decl=UNDECLARED)}, (), given=_path_given),
         Target("following", "dl.following.tether.corridor_corner", te.corridor_corner,
-               {"width": Val(1.0), "leg": Val(3.0), "radius": Val(None)}, (), given=_path_given),
+               {"width": Val(1.0, decl=UNDECLARED), "leg": Val(3.0, decl=UNDECLARED),
+                "radius": Val(None, decl=UNDECLARED)}, (), given=_path_given),
     ]  # fmt: skip
 
 
