@@ -2184,7 +2184,8 @@ _ORDER = ("hang", "traceback", "silent", "unclear")
 def _pattern(row: dict[str, Any]) -> tuple[str, str, str]:
     """(outcome, function, detail with its numbers and quoted values blanked): a group key."""
     func = row["name"].split(" ")[0]
-    detail = re.sub(r"'[^']*'|\"[^\"]*\"|\(.*?\)|[-+]?\d[\d.e+-]*", "#", row["detail"])
+    detail = re.sub(r"hostile\.yaml:\d+: [^:]*: ", "", row["detail"])
+    detail = re.sub(r"'[^']*'|\"[^\"]*\"|\(.*?\)|[-+]?\d[\d.e+-]*", "#", detail)
     return row["outcome"], func, detail[:160]
 
 
@@ -2245,7 +2246,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         rows = run_cases(cases, args.timeout, args.memory, not args.quiet, warmup)
         print(f"\n{len(rows)} cases in {time.monotonic() - start:.0f} s")
     print(f"\n{table(rows)}\n")
-    found = findings(rows)
+    found = "\n\n".join(
+        f"### {d}\n\n{f}" for d in sorted({r["domain"] for r in rows})
+        if (f := findings([r for r in rows if r["domain"] == d]))
+    )  # fmt: skip
     print(found or "no non-clean case")
     if args.json:
         Path(args.json).write_text(json.dumps(rows, indent=1, default=str))
