@@ -93,6 +93,7 @@ class Case:
     repro: str = ""
     judge: Callable[[Any], tuple[str, str]] | None = None
     baseline: Callable[[], Any] | None = None
+    timeout: float | None = None
 
 
 def _value_texts(value: Any) -> list[str]:
@@ -334,7 +335,7 @@ def run_cases(
     rows = []
     try:
         for i, case in enumerate(cases):
-            outcome, detail, seconds = pool.run(i, timeout)
+            outcome, detail, seconds = pool.run(i, case.timeout or timeout)
             rows.append(
                 {
                     "domain": case.domain,
@@ -2051,7 +2052,12 @@ def cli_judge(words: tuple[str, ...], expect: str, names: tuple[str, ...] = ()):
     return judge
 
 
-def cli_cases(timeout: float = 20.0) -> list[Case]:
+#: Seconds a command may take: a fresh interpreter that imports every domain (to list the
+#: study kinds, say) takes 5 s of CPU, 25 s of wall time on a busy machine.
+CLI_TIMEOUT = 45.0
+
+
+def cli_cases(timeout: float = CLI_TIMEOUT) -> list[Case]:
     """File-level attacks on validate and run, and hostile command-line options."""
     tmp = Path(tempfile.mkdtemp(prefix="hostile-cli-"))
     out = []
@@ -2061,7 +2067,7 @@ def cli_cases(timeout: float = 20.0) -> list[Case]:
             args = [command, str(path)] + (["-o", str(tmp / "reports")] if command == "run" else [])
             out.append(Case("cli", f"designlab {command} <{label}>",
                             _cli_call(args, timeout - 2), judge=cli_judge(words, expect),
-                            repro=f"designlab {' '.join(args)}"))  # fmt: skip
+                            repro=f"designlab {' '.join(args)}", timeout=timeout))  # fmt: skip
     small = _materialise(tmp, "small", SMALL_STUDY)
     options = [
         ("-j 0", ["-j", "0"], "workers"),
@@ -2078,7 +2084,7 @@ def cli_cases(timeout: float = 20.0) -> list[Case]:
         args = ["run", str(small), "-o", str(tmp / "reports"), *extra]
         out.append(Case("cli", f"designlab run {label}", _cli_call(args, timeout - 2),
                         judge=cli_judge((), "either", (name,)),
-                        repro=f"designlab {' '.join(args)}"))  # fmt: skip
+                        repro=f"designlab {' '.join(args)}", timeout=timeout))  # fmt: skip
     return out + scenario_file_cases(tmp)
 
 
