@@ -1580,7 +1580,9 @@ def _follow_oracle() -> Callable[[Any], str | None]:
     return finite_oracle(nonneg=("tether_length",),
                          allow_nan=("tether_angle", "beta_change", "tracked_xy",
                                     "tracked_s_leader", "d_col", "readings", "measured_error",
-                                    "sensor_pose", "target_change"))  # fmt: skip
+                                    "sensor_pose", "target_change",
+                                    # NaN by definition (accompanying/metrics.py):
+                                    "settling_time", "overshoot"))  # fmt: skip
 
 
 def _snag_gap_given(r: Any, a: dict[str, Any]) -> str | None:
