@@ -148,6 +148,10 @@ def judge_error(case: Case, exc: BaseException) -> tuple[str, str]:
     if named and shown:
         return "clear", line
     missing = [w for w, ok in (("parameter", named), ("value", shown)) if not ok]
+    if not isinstance(exc, DesignlabError) and not named:
+        # a bare ValueError about something else escaped from the inside ('need at least
+        # one array to concatenate', 'not enough values to unpack'): a crash, not a refusal
+        return "traceback", f"an internal {line}"
     return "unclear", f"names no {' or '.join(missing)}: {line}"
 
 
