@@ -2112,10 +2112,21 @@ def scenario_file_cases(tmp: Path) -> list[Case]:
     out = []
     for label, content, words in files:
         path = _materialise(tmp, "scenario_" + label, content)
-        expr = f"dl.navigation.scenario_io.load_scenario({str(path)!r})"
-        out.append(Case("cli", f"load_scenario <{label}>", _eval(expr), (), NOVALUE, "refuse",
-                        None, expr, judge=_scenario_judge(words)))  # fmt: skip
+        expr = f"load_scenario({str(path)!r})"
+        out.append(Case("cli", f"load_scenario <{label}>", _load_scenario_call(path), (),
+                        NOVALUE, "refuse", None,
+                        f"from designlab.navigation.scenario_io import load_scenario; {expr}",
+                        judge=_scenario_judge(words)))  # fmt: skip
     return out
+
+
+def _load_scenario_call(path: Path) -> Callable[[], Any]:
+    def call() -> Any:
+        from designlab.navigation.scenario_io import load_scenario
+
+        return load_scenario(path)
+
+    return call
 
 
 def _scenario_judge(words: tuple[str, ...]) -> Callable[[Any], tuple[str, str]]:
