@@ -209,3 +209,13 @@ def test_fit_damping_of_a_two_pole_response():
 def test_follower_metrics_needs_a_run():
     with pytest.raises(InvalidParameterError, match="run"):
         T.follower_metrics("run")  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("body", ["modes: []\n", "brake_laws: []\n"])
+def test_tether_modes_refuses_empty_lists_its_report_needs(body):
+    """modes: [] and brake_laws: [] validated, then the report writer raised KeyError."""
+    from designlab.errors import StudyError
+    from designlab.study import parse_study
+
+    with pytest.raises(StudyError, match=body.split(":")[0]):
+        parse_study("designlab: 1\nkind: tether_modes\nname: m\n" + body)

@@ -258,3 +258,19 @@ def test_diagnosis_and_faced_crowd_need_a_crowd_run():
     with pytest.raises(InvalidParameterError, match="max_speed"):
         stall_summary(frame, math.nan)
     assert 0.0 <= stall_summary(frame, 0.7)["stopped"] <= 1.0
+
+
+@pytest.mark.parametrize("horizon", [1e-300, 0.01, 0.059])
+def test_a_crowd_horizon_shorter_than_a_period_is_refused(horizon):
+    """horizon: 1e-300 gave a run of no period and a NaN measured density with status ok."""
+    with pytest.raises(InvalidParameterError, match="horizon"):
+        nav.crowd("corridor_counterflow", 4, length=10.0, horizon=horizon)
+    nav.crowd("corridor_counterflow", 4, length=10.0, horizon=0.06)
+
+
+def test_an_audit_that_never_applies_says_so():
+    """A run that never enters an active region has an undefined share (nan) and a warning."""
+    sc = nav.configuration(1).replace(obstacles=())
+    res = nav.simulate(sc, GAINS)
+    assert math.isnan(res.stability.share_satisfied)
+    assert any("never entered an active region" in w for w in res.stability.warnings)
