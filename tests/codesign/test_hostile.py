@@ -368,3 +368,33 @@ def test_design_sobol_names_a_metric_that_is_not_a_finite_number():
     _raises("metric", cd.design_sobol, 3, space, samples=2)
     _raises("metric['a']", cd.design_sobol, lambda d: {"a": math.nan}, space, samples=2)
     _raises("metric", cd.design_sobol, lambda d: [1.0], space, samples=2)
+
+
+@pytest.mark.parametrize(
+    ("call", "name", "shown"),
+    [
+        (
+            lambda: cd.fragility_curve(
+                MANIPULATOR_1, FOAM_1, [[1.0, 2.0], [3.0, 4.0]], samples=100
+            ),
+            "speeds",
+            "flat",
+        ),  # was accepted
+        (
+            lambda: cd.fragility_curve(MANIPULATOR_1, FOAM_1, [True, False], samples=100),
+            "speeds",
+            "booleans",
+        ),  # named 0.0, not the booleans
+        (lambda: cd.speed_limit_map(MANIPULATOR_1, K_c=None, C_c=[50.0]), "K_c", "None"),
+        (lambda: cd.speed_limit_map(MANIPULATOR_1, K_c=[True], C_c=[50.0]), "K_c", "True"),
+        (lambda: cd.speed_limit_map(MANIPULATOR_1, K_c=[[1e4]], C_c=[50.0]), "K_c", "flat"),
+        (
+            lambda: cd.injury_probability(MANIPULATOR_1, FOAM_1, -1.0, samples=100),
+            "closing_speed",
+            "[-1.0]",
+        ),  # named '1 samples', not the value
+    ],
+)
+def test_errors_show_the_value_given(call, name, shown):
+    e = _raises(name, call)
+    assert shown in str(e)

@@ -137,3 +137,13 @@ def test_accompany_metrics_refuse_a_walk_that_stops_before_it_starts():
         acc.accompany_metrics(t, pose, pose, (0.0, 0.6), 0.0, 0.0, math.nan)  # a traceback
     with pytest.raises(InvalidParameterError, match="target_position"):
         acc.accompany_metrics(t, pose, pose, (math.inf, 0.6), 0.0, 0.0, 1.0)
+
+
+def test_a_settle_band_never_met_says_so():
+    """settle_band=1e-6 gave settling_time NaN with status ok and no word about it."""
+    import math
+
+    r = acc.simulate(acc.walking_task("forward"), settle_band=1e-6)
+    assert math.isnan(r.metrics.settling_time)
+    assert any("settle_band" in w for w in r.warnings)
+    assert not any("settle_band" in w for w in acc.simulate(acc.walking_task("forward")).warnings)

@@ -219,3 +219,12 @@ def test_tether_modes_refuses_empty_lists_its_report_needs(body):
 
     with pytest.raises(StudyError, match=body.split(":")[0]):
         parse_study("designlab: 1\nkind: tether_modes\nname: m\n" + body)
+
+
+def test_tether_length_noise_is_bounded_below_a_negative_length():
+    """sigma_l up to 1 m gave negative measured tether lengths (-3.8 m)."""
+    with pytest.raises(InvalidParameterError, match="length_noise_std"):
+        T.FollowerRobot(length_noise_std=0.5)
+    robot = T.FollowerRobot(length_noise_std=0.1, max_wheel_speed=8.0)
+    run = T.simulate(T.PseudoJoystick(), T.straight_line(3.0), robot=robot)
+    assert (run.tether_length > 0).all()
