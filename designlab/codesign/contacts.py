@@ -41,6 +41,7 @@ Examples
 
 from __future__ import annotations
 
+import inspect
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
@@ -425,8 +426,24 @@ def contact_speeds(
     if measure not in MEASURES:
         raise InvalidParameterError("measure", measure, f"must be one of {MEASURES}")
     keep = _check_names(obstacles)
-    rows = [row for run in _check_runs(runs) for row in _run_encounters(run, keep)]
+    checked = _check_runs(runs)
+    if checked and all(isinstance(r, NavigationResult) for r in checked):
+        _check_known(keep, [r.scenario for r in checked])
+    rows = [row for run in checked for row in _run_encounters(run, keep)]
     return _from_rows(rows, measure)
+
+
+def _check_known(keep: frozenset[str] | None, scenarios: list[Scenario]) -> None:
+    """Refuse an obstacle name that is no disc obstacle of the scenarios (a typo kept
+    nothing: an empty answer, not an error, before)."""
+    if keep is None:
+        return
+    discs = {o.name for sc in scenarios for o in sc.obstacles if isinstance(o, Disc)}
+    unknown = sorted(keep - discs)
+    if unknown:
+        raise InvalidParameterError(
+            "obstacles", unknown, f"must name disc obstacles of the runs: {sorted(discs)}"
+        )
 
 
 def _from_rows(rows: list[dict[str, Any]], measure: str) -> ContactSpeeds:
@@ -499,9 +516,20 @@ def navigation_contacts(
     >>> len(speeds), speeds.status
     (2, 'ok')
     """
+    if isinstance(scenarios, (str, bytes)) or not isinstance(scenarios, Scenario | Iterable):
+        raise InvalidParameterError("scenarios", scenarios, "must be one or more Scenario objects")
     items = [scenarios] if isinstance(scenarios, Scenario) else list(scenarios)
-    if not items:
-        raise InvalidParameterError("scenarios", scenarios, "must hold at least one Scenario")
+    if not items or not all(isinstance(sc, Scenario) for sc in items):
+        raise InvalidParameterError("scenarios", scenarios, "must hold one or more Scenario")
+    if not isinstance(measure, str) or measure not in MEASURES:
+        raise InvalidParameterError("measure", measure, f"must be one of {MEASURES}")
+    _check_known(_check_names(obstacles), items)
+    allowed = [k for k in inspect.signature(simulate).parameters if k not in ("scenario", "gains")]
+    for key in simulate_options:
+        if key not in allowed:
+            raise InvalidParameterError(
+                "simulate_options", key, f"is not an option of simulate; allowed: {allowed}"
+            )
     runs = []
     for k, sc in enumerate(items):
         runs.append(simulate(sc, gains, **simulate_options))

@@ -118,7 +118,12 @@ class FragilityCurve(Result):
 
 
 def _speeds(value: object) -> NDArray[np.float64]:
-    v = np.atleast_1d(real_array("speeds", value, "m/s")).ravel()
+    raw = np.asarray(value, dtype=object) if not isinstance(value, np.ndarray) else value
+    if raw.dtype == bool or any(isinstance(x, bool | np.bool_) for x in np.ravel(raw)):
+        raise InvalidParameterError("speeds", value, "must be closing speeds, not booleans", "m/s")
+    v = np.atleast_1d(real_array("speeds", value, "m/s"))
+    if v.ndim != 1:
+        raise InvalidParameterError("speeds", value, "must be a flat list of closing speeds", "m/s")
     if v.size == 0:
         raise InvalidParameterError("speeds", [], "needs at least one closing speed", "m/s")
     CURVE_POINTS.check(int(v.size), "len(speeds)")

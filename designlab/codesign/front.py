@@ -75,9 +75,10 @@ from designlab.navigation import (
     VFFGains,
     simulate,
 )
-from designlab.params import Param, declared, params_of
+from designlab.params import Param, check_size, declared, params_of
 from designlab.progress import Progress, ProgressHook, report
 from designlab.results import Result, Status
+from designlab.validation import real_array
 
 __all__ = [
     "OBJECTIVES",
@@ -244,6 +245,14 @@ class Design:
     speed: float
     gains: VFFGains
 
+    def __post_init__(self) -> None:
+        if not isinstance(self.foam, Foam):
+            raise InvalidParameterError("Design.foam", self.foam, "must be an impact Foam")
+        if not isinstance(self.gains, VFFGains):
+            raise InvalidParameterError("Design.gains", self.gains, "must be VFFGains")
+        speed = params_of(HolonomicRobot)["max_speed"].check(self.speed, "Design.speed")
+        object.__setattr__(self, "speed", speed)
+
     def vector(self) -> Array:
         """``[K_c, C_c, T_u, V_mr, k1, b, k3, k5]``."""
         f = self.foam
@@ -252,9 +261,13 @@ class Design:
     @classmethod
     def from_vector(cls, x: ArrayLike) -> Design:
         """The design of a vector ``[K_c, C_c, T_u, V_mr, k1, b, k3, k5]``."""
-        k, c, t, v, k1, b, k3, k5 = (float(a) for a in np.asarray(x, dtype=float))
+        vec = real_array("x", x)
+        if vec.shape != (len(VARIABLES),):
+            raise InvalidParameterError(
+                "x", vec, f"must be {len(VARIABLES)} values {[n for n, _ in VARIABLES]}"
+            )
+        k, c, t, v, k1, b, k3, k5 = (float(a) for a in vec)
         foam = Foam(k, c, linear_depth=t * LINEAR_FRACTION, thickness=t)
-        params_of(HolonomicRobot)["max_speed"].check(v, "Design.speed")
         return cls(foam, v, VFFGains(k1=k1, b=b, k3=k3, k5=k5))
 
 
@@ -294,9 +307,14 @@ def nondominated(F: ArrayLike) -> NDArray[np.bool_]:
     >>> nondominated([[0.0, 1.0], [1.0, 0.0], [1.0, 1.0]]).tolist()
     [True, True, False]
     """
-    A = np.asarray(F, dtype=float)
+    try:
+        A = np.asarray(F, dtype=float)
+    except (TypeError, ValueError):
+        raise InvalidParameterError("F", F, "must be an (n, m) array of numbers") from None
     if A.ndim != 2 or np.isnan(A).any():
         raise InvalidParameterError("F", "array", "must be an (n, m) array without NaN")
+    check_size("F", f"{A.shape[0]} rows", 2.0 * A.shape[0] ** 2 * A.shape[1],
+               what="the pairwise comparison of its rows")  # fmt: skip
     no_worse = (A[:, None, :] <= A[None, :, :]).all(axis=2)  # [j, i]: j no worse than i
     better = (A[:, None, :] < A[None, :, :]).any(axis=2)
     return ~(no_worse & better).any(axis=0)
@@ -352,6 +370,59 @@ class _Archived(Problem):  # type: ignore[misc]
         report(self.progress, Progress(self.batch, self.total, best, "generation"))
 
 
+#: Objectives and constraints of one :func:`nsga2` search.
+N_OBJ = Param(None, "", "objectives of the search", kind="integer", ge=1, le=20, name="n_obj")
+N_CONSTR = Param(
+    None, "", "constraints of the search", kind="integer", ge=0, le=100, name="n_constr"
+)
+#: Variables of one :func:`nsga2` search.
+N_VAR = Param(None, "", "variables of the search", kind="integer", ge=1, le=1000, name="lower")
+
+
+def _check_box(lower: ArrayLike, upper: ArrayLike) -> tuple[Array, Array]:
+    """The box of a search: two finite 1-d arrays of one length with lower <= upper."""
+    lo, hi = real_array("lower", lower), real_array("upper", upper)
+    if lo.ndim != 1 or hi.shape != lo.shape:
+        raise InvalidParameterError(
+            "upper", hi, f"must be a 1-d array of the length of lower ({lo.shape})"
+        )
+    N_VAR.check(lo.size, "lower (how many variables)")
+    if (lo > hi).any():
+        i = int(np.argmax(lo > hi))
+        raise InvalidParameterError(f"lower[{i}]", float(lo[i]), f"must be <= upper[{i}] = "
+                                    f"{float(hi[i]):g} (an empty range)")  # fmt: skip
+    return lo, hi
+
+
+def _checked_evaluate(
+    evaluate: Callable[[Array], tuple[Array, Array]], n_obj: int, n_constr: int
+) -> Callable[[Array], tuple[Array, Array]]:
+    """``evaluate`` whose answers are checked: ``n_obj`` objectives (no NaN) and
+    ``n_constr`` constraints (a wrong answer names the point, not pymoo's internals)."""
+
+    def checked(x: Array) -> tuple[Array, Array]:
+        try:
+            f, g = evaluate(x)
+        except (TypeError, ValueError) as exc:
+            if isinstance(exc, InvalidParameterError):
+                raise
+            raise InvalidParameterError(
+                "evaluate", x.tolist(), f"must return (f, g); it raised {exc!r}"
+            ) from None
+        f, g = np.asarray(f, dtype=float).ravel(), np.asarray(g, dtype=float).ravel()
+        if f.shape != (n_obj,) or np.isnan(f).any():
+            raise InvalidParameterError(
+                "evaluate", x.tolist(), f"must return {n_obj} objectives without NaN, got {f}"
+            )
+        if g.shape != (n_constr,) or np.isnan(g).any():
+            raise InvalidParameterError(
+                "evaluate", x.tolist(), f"must return {n_constr} constraints without NaN, got {g}"
+            )
+        return f, g
+
+    return checked
+
+
 def nsga2(
     evaluate: Callable[[Array], tuple[Array, Array]],
     lower: ArrayLike,
@@ -393,7 +464,11 @@ def nsga2(
     >>> out.X.shape, int(out.generations.max())
     ((24, 1), 3)
     """
-    lo, hi = np.asarray(lower, dtype=float), np.asarray(upper, dtype=float)
+    lo, hi = _check_box(lower, upper)
+    if not callable(evaluate):
+        raise InvalidParameterError("evaluate", evaluate, "must be a function x -> (f, g)")
+    n_obj, n_constr = N_OBJ.check(n_obj), N_CONSTR.check(n_constr)
+    evaluate = _checked_evaluate(evaluate, n_obj, n_constr)
     pop = POPULATION.check(population)
     gens = GENERATIONS.check(generations)
     if pop * gens > MAX_EVALUATIONS:
@@ -536,11 +611,33 @@ OBJECTIVES: dict[str, Objective] = {
 }  # fmt: skip
 
 
+#: Navigation scenarios every design is simulated in (each design runs each of them).
+SCENARIOS = Param(None, "", "navigation scenarios of a design's score", kind="integer", ge=1,
+                  le=100, name="scenarios")  # fmt: skip
+
+
 def _check_scenarios(scenarios: Any) -> tuple[Scenario, ...]:
-    items = (scenarios,) if isinstance(scenarios, Scenario) else tuple(scenarios)
+    if isinstance(scenarios, Scenario):
+        return (scenarios,)
+    if isinstance(scenarios, (str, bytes)) or not hasattr(scenarios, "__len__"):
+        raise InvalidParameterError("scenarios", scenarios, "must be one or more Scenario objects")
+    SCENARIOS.check(len(scenarios), "scenarios (how many)")
+    items = tuple(scenarios)
     if not items or not all(isinstance(s, Scenario) for s in items):
         raise InvalidParameterError("scenarios", scenarios, "must be one or more Scenario objects")
     return items
+
+
+def _check_scoring(robot: Any, heads: Any, measure: Any, risk_samples: Any, seed: Any) -> None:
+    """The impact side of a design's score, checked before any run."""
+    if not isinstance(robot, ContactDynamics):
+        raise InvalidParameterError("robot", robot, "must be an impact ContactDynamics")
+    if not isinstance(heads, HeadRange):
+        raise InvalidParameterError("heads", heads, "must be an impact HeadRange")
+    if not isinstance(measure, str) or measure not in MEASURES:
+        raise InvalidParameterError("measure", measure, f"must be one of {MEASURES}")
+    RISK_SAMPLES.check(risk_samples, "risk_samples")
+    SEED.check(seed)
 
 
 def _required_thickness(
@@ -599,8 +696,9 @@ def evaluate_design(
     >>> s.feasible, round(s.arrival_time, 2), round(s.closing_speed, 2)
     (True, 12.2, 0.39)
     """
-    if measure not in MEASURES:
-        raise InvalidParameterError("measure", measure, f"must be one of {MEASURES}")
+    if not isinstance(design, Design):
+        raise InvalidParameterError("design", design, "must be a Design")
+    _check_scoring(robot, heads, measure, risk_samples, seed)
     if crowds is not None and not isinstance(crowds, CrowdEncounters):
         raise InvalidParameterError("crowds", crowds, "must be a CrowdEncounters or None")
     items = _check_scenarios(scenarios)
@@ -882,12 +980,10 @@ def pareto(
         raise InvalidParameterError("space", space, "must be a DesignSpace")
     names = _check_objectives(objectives)
     items = _check_scenarios(scenarios)
-    if measure not in MEASURES:
-        raise InvalidParameterError("measure", measure, f"must be one of {MEASURES}")
+    _check_scoring(robot, heads, measure, risk_samples, seed)
     refs = _check_references(reference)
 
     risk = risk_criterion(names, criterion)
-    RISK_SAMPLES.check(risk_samples, "risk_samples")
     encounters = crowd_encounters(names, crowds, measure)
 
     def score(x: Array) -> DesignScore:
@@ -938,6 +1034,16 @@ def crowd_encounters(names: Sequence[str], crowds: Any, measure: str) -> CrowdEn
         Which closing speed counts.
     """
     if "crowd_injury_probability" not in names:
+        many = isinstance(crowds, Sequence) and not isinstance(crowds, (str, bytes))
+        if not (
+            crowds is None
+            or isinstance(crowds, CrowdEncounters | CrowdScenario)
+            or (many and crowds and all(isinstance(c, CrowdScenario) for c in crowds))
+        ):
+            raise InvalidParameterError(
+                "crowds", crowds, "must be a CrowdScenario, a list of them, a CrowdEncounters "
+                "or None",
+            )  # fmt: skip
         return None
     if crowds is None:
         raise InvalidParameterError(

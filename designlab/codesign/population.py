@@ -277,7 +277,9 @@ class ClosingSpeeds:
         pos = np.sort(v[v > 0])
         if pos.size == 0:
             raise InvalidParameterError(
-                "closing_speed", f"{v.size} samples", "has no sample with v_c > 0 (no contact)"
+                "closing_speed",
+                v.tolist() if v.size <= 8 else f"{v.size} samples (all <= 0)",
+                "has no sample with v_c > 0 (no contact)",
             )
         return cls(None, pos, pos.size / v.size)
 

@@ -33,6 +33,7 @@ Examples
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
@@ -114,6 +115,8 @@ def design_sobol(
     """
     if not isinstance(space, DesignSpace):
         raise InvalidParameterError("space", space, "must be a DesignSpace")
+    if not callable(metric):
+        raise InvalidParameterError("metric", metric, "must be a function Design -> {name: value}")
     n = _check_samples(samples)
     names = [v for v, _ in VARIABLES]
     lo, hi, free = space.lower, space.upper, space.free
@@ -128,12 +131,37 @@ def design_sobol(
         X = np.column_stack([points[v] for v in names])
         rows = []
         for i, x in enumerate(X, start=1):
-            rows.append(dict(metric(Design.from_vector(x))))
+            rows.append(_metric_row(metric, Design.from_vector(x), rows[0] if rows else None))
             report(progress, Progress(i, len(X), label="design"))
         return {k: np.array([r[k] for r in rows], dtype=float) for k in rows[0]}
 
     return sobol_indices(columns, base, bounds, n, seed=seed,
                          descriptions={k: DESCRIPTIONS[k] for k in bounds})  # fmt: skip
+
+
+def _metric_row(
+    metric: Callable[[Design], Mapping[str, float]], design: Design, first: dict | None
+) -> dict[str, float]:
+    """One design's metrics: finite numbers under the names of the first design's."""
+    row = metric(design)
+    if not isinstance(row, Mapping) or not row:
+        raise InvalidParameterError("metric", row, "must return a non-empty {name: value}")
+    if first is not None and set(row) != set(first):
+        raise InvalidParameterError(
+            "metric", sorted(row), f"must return the same names for every design {sorted(first)}"
+        )
+    out = {}
+    for k, v in row.items():
+        if (
+            isinstance(v, bool)
+            or not isinstance(v, (int, float, np.number))
+            or not math.isfinite(float(v))
+        ):
+            raise InvalidParameterError(
+                f"metric[{k!r}]", v, f"must be a finite number (design {design.vector().tolist()})"
+            )
+        out[k] = float(v)
+    return out
 
 
 def sensitivity_metrics(score: DesignScore, objectives: Sequence[str]) -> dict[str, float]:

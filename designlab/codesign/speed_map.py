@@ -113,10 +113,19 @@ class SpeedLimitMap(Result):
 
 def _axis(decl: Any, value: object, name: str) -> NDArray[np.float64]:
     """A grid axis: non-empty, each value within the declaration, at most the cap."""
+    raw = np.asarray(value, dtype=object) if not isinstance(value, np.ndarray) else value
+    if (
+        value is None
+        or raw.dtype == bool
+        or any(x is None or isinstance(x, bool | np.bool_) for x in np.ravel(raw))
+    ):
+        raise InvalidParameterError(name, value, "must be an array of real numbers")
     try:
-        arr = np.atleast_1d(np.asarray(value, dtype=float)).ravel()
+        arr = np.atleast_1d(np.asarray(value, dtype=float))
     except (TypeError, ValueError):
         raise InvalidParameterError(name, value, "must be an array of real numbers") from None
+    if arr.ndim != 1:
+        raise InvalidParameterError(name, value, "must be a flat list of values (one axis)")
     if arr.size == 0:
         raise InvalidParameterError(name, [], "needs at least one value (the range is empty)")
     MAP_POINTS.check(int(arr.size), f"len({name})")

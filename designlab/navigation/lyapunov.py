@@ -410,6 +410,11 @@ def audit_run(
             "nonholonomic robot: the tracking layer is outside the Lyapunov proof "
             "(Zeng 2011, Sec. 5.5)"
         )
+    if not n_act:
+        warnings.append(
+            "the robot never entered an active region without a critical one: the condition "
+            "(5.4.9) was never in force, its share satisfied is undefined (nan)"
+        )
     return StabilityAudit(
         t,
         V,

@@ -70,6 +70,7 @@ __all__ = [
     "load_scenario",
     "mirrored",
     "obstacle_from_dict",
+    "read_text_bounded",
     "robot_from_dict",
     "scenario_from_dict",
     "with_limits",
@@ -305,7 +306,7 @@ def load_scenario(path: str | Path) -> Scenario:
     from designlab.study.yamlio import YamlSyntaxError, load_yaml_with_lines
 
     p = Path(path)
-    text = _read_text(p)
+    text = read_text_bounded(p)
     try:
         data, _ = load_yaml_with_lines(text)
     except YamlSyntaxError as exc:
@@ -313,9 +314,27 @@ def load_scenario(path: str | Path) -> Scenario:
     return scenario_from_dict(data)
 
 
-def _read_text(p: Path) -> str:
-    """The UTF-8 text of a regular file of at most :data:`MAX_FILE_BYTES` bytes, read in
-    bounded chunks (opened without blocking: a FIFO is refused, not waited on)."""
+def read_text_bounded(p: str | Path, max_bytes: int = MAX_FILE_BYTES) -> str:
+    """The UTF-8 text of a regular file of at most ``max_bytes`` bytes, read in bounded
+    chunks (opened without blocking: a FIFO or a device is refused, not waited on).
+
+    Parameters
+    ----------
+    p
+        The file.
+    max_bytes
+        The largest file read (default :data:`MAX_FILE_BYTES`).
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    InvalidParameterError
+        Naming ``path``: not a regular file, too large, a NUL byte, not UTF-8.
+    """
+    p = Path(p)
     try:
         fd = os.open(p, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
     except OSError as exc:
@@ -327,14 +346,14 @@ def _read_text(p: Path) -> str:
         )
     with os.fdopen(fd, "rb") as f:
         chunks, size = [], 0
-        while size <= MAX_FILE_BYTES:
-            chunk = f.read(min(1 << 16, MAX_FILE_BYTES + 1 - size))
+        while size <= max_bytes:
+            chunk = f.read(min(1 << 16, max_bytes + 1 - size))
             if not chunk:
                 break
             chunks.append(chunk)
             size += len(chunk)
-    if size > MAX_FILE_BYTES:
-        raise InvalidParameterError("path", str(p), f"must be at most {MAX_FILE_BYTES} bytes")
+    if size > max_bytes:
+        raise InvalidParameterError("path", str(p), f"must be at most {max_bytes} bytes")
     raw = b"".join(chunks)
     if b"\0" in raw:
         raise InvalidParameterError("path", str(p), "must be text: it holds a NUL byte")

@@ -121,7 +121,10 @@ def test_bad_input_names_the_parameter() -> None:
         navigation_contacts([], nav.EXPERIMENT_GAINS)
     with pytest.raises(DesignlabError, match="measure"):
         ContactSpeeds((), (), *([np.zeros(0)] * 10), measure="speedy")  # type: ignore[arg-type]
-    empty = contact_speeds(run, obstacles="nobody")
+    with pytest.raises(DesignlabError, match=r"obstacles = \['nobody'\].*\['circle'\]"):
+        contact_speeds(run, obstacles="nobody")  # a name no run has: refused (issue 41)
+    alone = nav.simulate(nav.configuration(1).without_obstacles(), nav.EXPERIMENT_GAINS)
+    empty = contact_speeds(alone)
     assert empty.status == "empty" and len(empty) == 0
     with pytest.raises(DesignlabError, match="closing_speed"):
         empty.rvs(3)

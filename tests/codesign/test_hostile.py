@@ -220,3 +220,181 @@ def test_front_sensitivity_bad_settings(kwargs, name):
 def test_front_sensitivity_bad_scenarios():
     _raises("scenarios", cd.front_sensitivity, [])
     _raises("scenarios", cd.front_sensitivity, ["configuration 2"])
+
+
+# --- issue 41: the braking model, designs, the search and the contacts ---------------------
+@pytest.mark.parametrize(
+    ("args", "name"),
+    [
+        ((1.0, 0.1, 0.0), "deceleration"),  # was a ZeroDivisionError
+        ((1.0, -1.0, 5.0), "reaction_time"),  # was -0.9 m
+        ((math.nan, 0.1, 5.0), "speed"),
+        ((1e300, 0.1, 5.0), "speed"),
+        ((-1.0, 0.1, 5.0), "speed"),
+        (("1", 0.1, 5.0), "speed"),
+        ((1.0, math.inf, 5.0), "reaction_time"),
+        ((1.0, 0.1, 1e9), "deceleration"),
+    ],
+)
+def test_stopping_distance_refuses_what_its_declarations_refuse(args, name):
+    _raises(name, cd.stopping_distance, *args)
+
+
+def test_stopping_distance_is_the_closed_form():
+    assert cd.stopping_distance(1.0, 0.1, 5.0) == 1.0 * 0.1 + 1.0 / 10.0
+    assert cd.stopping_distance(0.0, 0.1, 5.0) == 0.0
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "name"),
+    [
+        ({"speed": math.nan}, "speed"),
+        ({"human_speed": -1.0}, "human_speed"),
+        ({"reaction_time": -0.1}, "reaction_time"),
+        ({"deceleration": 0.0}, "deceleration"),
+        ({"detection_distance": math.inf}, "detection_distance"),
+    ],
+)
+def test_contact_speed_checks_every_argument(kwargs, name):
+    base = {"speed": 1.0, "human_speed": 1.0, "reaction_time": 0.1, "deceleration": 5.0,
+            "detection_distance": 0.6}  # fmt: skip
+    _raises(name, cd.contact_speed, **{**base, **kwargs})
+
+
+@pytest.mark.parametrize(
+    ("u", "kwargs", "name"),
+    [
+        (math.nan, {}, "contact_limit"),
+        (-1.0, {}, "contact_limit"),
+        (1e300, {}, "contact_limit"),
+        (0.5, {"deceleration": -5.0}, "deceleration"),
+        (0.5, {"human_speed": math.nan}, "human_speed"),
+    ],
+)
+def test_max_robot_speed_checks_every_argument(u, kwargs, name):
+    base = {"human_speed": 1.0, "reaction_time": 0.1, "deceleration": 5.0,
+            "detection_distance": 0.6}  # fmt: skip
+    _raises(name, cd.max_robot_speed, u, **{**base, **kwargs})
+
+
+def test_the_largest_speed_limit_is_a_braking_speed():
+    """The braking speed's bound admits every speed limit the declarations allow."""
+    from designlab.codesign.parameters import BRAKING_SPEED, CONTACT_LIMIT, DECELERATION
+    from designlab.codesign.parameters import DETECTION_DISTANCE as D
+
+    v = cd.max_robot_speed(CONTACT_LIMIT.le, human_speed=0.0, reaction_time=0.0,
+                           deceleration=DECELERATION.le, detection_distance=D.le)  # fmt: skip
+    assert v == pytest.approx(math.sqrt(CONTACT_LIMIT.le**2 + 2 * DECELERATION.le * D.le))
+    assert cd.stopping_distance(v, 0.0, DECELERATION.le) == pytest.approx(D.le + 2.0)
+    assert BRAKING_SPEED.within(v)
+
+
+@pytest.mark.parametrize(
+    ("make", "name"),
+    [
+        (lambda: cd.Design(FOAM_1, math.nan, dl.navigation.EXPERIMENT_GAINS), "Design.speed"),
+        (lambda: cd.Design(FOAM_1, -1.0, dl.navigation.EXPERIMENT_GAINS), "Design.speed"),
+        (lambda: cd.Design(FOAM_1, 1e300, dl.navigation.EXPERIMENT_GAINS), "Design.speed"),
+        (lambda: cd.Design("foam", 0.7, dl.navigation.EXPERIMENT_GAINS), "Design.foam"),
+        (lambda: cd.Design(FOAM_1, 0.7, (3.0, 0.25, 20.0, 17.0)), "Design.gains"),
+        (lambda: cd.Design.from_vector([1.0, 2.0]), "x"),
+        (lambda: cd.evaluate_design("thesis", [dl.navigation.configuration(2)]), "design"),
+        (
+            lambda: cd.evaluate_design(
+                cd.THESIS_DESIGN, [dl.navigation.configuration(2)], risk_samples=10**12
+            ),
+            "risk_samples",
+        ),
+        (
+            lambda: cd.evaluate_design(
+                cd.THESIS_DESIGN, [dl.navigation.configuration(2)], robot="arm"
+            ),
+            "robot",
+        ),
+        (
+            lambda: cd.evaluate_design(cd.THESIS_DESIGN, [dl.navigation.configuration(2)] * 101),
+            "scenarios",
+        ),
+        (lambda: cd.pareto(dl.navigation.configuration(2), crowds="plaza"), "crowds"),
+        (lambda: cd.pareto(dl.navigation.configuration(2), seed=-1), "seed"),
+    ],
+)
+def test_designs_and_their_scores_check_their_inputs(make, name):
+    _raises(name, make)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "name"),
+    [
+        ({"lower": [1.0], "upper": [0.0]}, "lower[0]"),
+        ({"lower": [math.nan], "upper": [1.0]}, "lower"),
+        ({"lower": [0.0, 0.0], "upper": [1.0]}, "upper"),
+        ({"n_obj": 0}, "n_obj"),
+        ({"n_constr": -1}, "n_constr"),
+        ({"evaluate": 3}, "evaluate"),
+        ({"evaluate": lambda x: (np.array([math.nan]), np.zeros(0))}, "evaluate"),
+        ({"evaluate": lambda x: (np.zeros(3), np.zeros(0))}, "evaluate"),
+        ({"evaluate": lambda x: np.zeros(1)}, "evaluate"),
+    ],
+)
+def test_nsga2_refuses_an_empty_box_and_wrong_answers(kwargs, name):
+    base = {"evaluate": lambda x: (np.array([float(x[0])]), np.zeros(0)), "lower": [0.0],
+            "upper": [1.0], "n_obj": 1, "population": 4, "generations": 1}  # fmt: skip
+    args = {**base, **kwargs}
+    _raises(name, cd.nsga2, args.pop("evaluate"), args.pop("lower"), args.pop("upper"), **args)
+
+
+def test_nondominated_refuses_text_and_an_unbounded_comparison():
+    _raises("F", cd.nondominated, "ab")
+    _raises("F", cd.nondominated, np.zeros((10**5, 2)))  # 2e10 comparisons
+    assert cd.nondominated([[0.0, math.inf], [1.0, 0.0]]).tolist() == [True, True]
+
+
+def test_navigation_contacts_name_unknown_obstacles_and_options():
+    """An obstacle name that is none of the scenarios' discs gave an empty answer; an
+    unknown simulate option was a TypeError after the first run."""
+    sc = dl.navigation.configuration(1)
+    gains = dl.navigation.EXPERIMENT_GAINS
+    e = _raises("obstacles", cd.navigation_contacts, sc, gains, obstacles="human")
+    assert "circle" in str(e)
+    e = _raises("simulate_options", cd.navigation_contacts, sc, gains, stabilize="off")
+    assert "stabilising" in str(e)
+    _raises("scenarios", cd.navigation_contacts, "configuration 1", gains)
+    _raises("measure", cd.navigation_contacts, sc, gains, measure="speed")
+
+
+def test_design_sobol_names_a_metric_that_is_not_a_finite_number():
+    space = cd.DesignSpace()
+    _raises("metric", cd.design_sobol, 3, space, samples=2)
+    _raises("metric['a']", cd.design_sobol, lambda d: {"a": math.nan}, space, samples=2)
+    _raises("metric", cd.design_sobol, lambda d: [1.0], space, samples=2)
+
+
+@pytest.mark.parametrize(
+    ("call", "name", "shown"),
+    [
+        (
+            lambda: cd.fragility_curve(
+                MANIPULATOR_1, FOAM_1, [[1.0, 2.0], [3.0, 4.0]], samples=100
+            ),
+            "speeds",
+            "flat",
+        ),  # was accepted
+        (
+            lambda: cd.fragility_curve(MANIPULATOR_1, FOAM_1, [True, False], samples=100),
+            "speeds",
+            "booleans",
+        ),  # named 0.0, not the booleans
+        (lambda: cd.speed_limit_map(MANIPULATOR_1, K_c=None, C_c=[50.0]), "K_c", "None"),
+        (lambda: cd.speed_limit_map(MANIPULATOR_1, K_c=[True], C_c=[50.0]), "K_c", "True"),
+        (lambda: cd.speed_limit_map(MANIPULATOR_1, K_c=[[1e4]], C_c=[50.0]), "K_c", "flat"),
+        (
+            lambda: cd.injury_probability(MANIPULATOR_1, FOAM_1, -1.0, samples=100),
+            "closing_speed",
+            "[-1.0]",
+        ),  # named '1 samples', not the value
+    ],
+)
+def test_errors_show_the_value_given(call, name, shown):
+    e = _raises(name, call)
+    assert shown in str(e)

@@ -80,3 +80,70 @@ def test_tuning_result_frame_holds_the_gains_and_progress_is_reported():
     assert [p.step for p in seen] == list(range(1, res.iterations + 1))
     assert seen[-1].best == pytest.approx(res.controller.ki)
     assert isinstance(res.status, acc.PIDTuningStatus) and res.status == "ok"
+
+
+# --------------------------------------------------------------------------- issue 41
+def test_a_walk_file_is_read_only_when_it_is_a_bounded_regular_file(tmp_path):
+    """/dev/zero as a walk file was read whole until the machine ran out of memory."""
+    import os
+    from pathlib import Path
+
+    for path in (Path("/dev/zero"), tmp_path):
+        if path.exists():
+            with pytest.raises(InvalidParameterError, match="regular file"):
+                acc.walking_task_from_csv(path, target_position=(0.0, 0.6))
+    if hasattr(os, "mkfifo"):
+        fifo = tmp_path / "walk.csv"
+        os.mkfifo(fifo)
+        with pytest.raises(InvalidParameterError, match="regular file"):
+            acc.walking_task_from_csv(fifo, target_position=(0.0, 0.6))
+    with pytest.raises(InvalidParameterError, match="cannot be opened"):
+        acc.walking_task_from_csv(tmp_path / "missing.csv", target_position=(0.0, 0.6))
+    nul = tmp_path / "nul.csv"
+    nul.write_bytes(b"time_s,x_m,y_m,heading_rad\n0,0,0,0\x00\n")
+    with pytest.raises(InvalidParameterError, match="NUL"):
+        acc.walking_task_from_csv(nul, target_position=(0.0, 0.6))
+
+
+def test_user_frame_functions_refuse_nan_and_mismatched_shapes():
+    import math
+
+    import numpy as np
+
+    with pytest.raises(InvalidParameterError, match="target_gamma"):
+        acc.robot_frame_error((0.0, 0.6), math.nan, [1.0], [0.0], [0.0])  # was a NaN row
+    with pytest.raises(InvalidParameterError, match="d, theta_u, theta_r"):
+        acc.robot_frame_error((0.0, 0.6), 0.0, [1.0, 2.0], [0.0], [0.0])
+    with pytest.raises(InvalidParameterError, match="p_c"):
+        acc.string_pot_readings([math.nan, 0.0], 0.0)  # was NaN readings
+    with pytest.raises(InvalidParameterError, match="p_c, gamma_c"):
+        acc.string_pot_readings(np.zeros((2, 2)), [0.0])
+    with pytest.raises(InvalidParameterError, match="user_pose, robot_pose"):
+        acc.robot_in_user_frame(np.zeros((3, 2)), np.zeros((3, 3)))
+    readings = acc.string_pot_readings([0.2, 0.6], 0.3)
+    err = acc.robot_frame_error((0.2, 0.6), 0.3, *readings)  # the robot on its target
+    assert np.abs(err).max() < 1e-12
+
+
+def test_accompany_metrics_refuse_a_walk_that_stops_before_it_starts():
+    import math
+
+    import numpy as np
+
+    t, pose = np.arange(3.0), np.zeros((3, 3))
+    with pytest.raises(InvalidParameterError, match="walk_stop"):
+        acc.accompany_metrics(t, pose, pose, (0.0, 0.6), 0.0, 2.0, 1.0)  # was accepted
+    with pytest.raises(InvalidParameterError, match="walk_stop"):
+        acc.accompany_metrics(t, pose, pose, (0.0, 0.6), 0.0, 0.0, math.nan)  # a traceback
+    with pytest.raises(InvalidParameterError, match="target_position"):
+        acc.accompany_metrics(t, pose, pose, (math.inf, 0.6), 0.0, 0.0, 1.0)
+
+
+def test_a_settle_band_never_met_says_so():
+    """settle_band=1e-6 gave settling_time NaN with status ok and no word about it."""
+    import math
+
+    r = acc.simulate(acc.walking_task("forward"), settle_band=1e-6)
+    assert math.isnan(r.metrics.settling_time)
+    assert any("settle_band" in w for w in r.warnings)
+    assert not any("settle_band" in w for w in acc.simulate(acc.walking_task("forward")).warnings)

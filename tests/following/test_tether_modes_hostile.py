@@ -138,3 +138,93 @@ def test_brake_walk_shorter_than_the_settling_time_is_refused_by_the_study():
         parse_study(head + "brake_walk: 1.0\n")
     ok = parse_study(head + "brake_walk: 1.1\n")
     assert ok.brake_walk / ok.speed > BRAKE_SETTLE
+
+
+@pytest.mark.parametrize(
+    ("args", "name"),
+    [
+        (([1.0, math.nan], 1.0, 0.02, 0.05), "tether_length"),
+        (("abc", 1.0, 0.02, 0.05), "tether_length"),
+        (([1.0], math.nan, 0.02, 0.05), "desired_length"),  # was all False, silently
+        (([1.0], 1.0, 0.1, 0.05), "release_margin"),  # inverted hysteresis: was accepted
+        (([1.0], 1.0, -1e300, 0.05), "engage_margin"),
+    ],
+)
+def test_brake_timeline_checks_its_arguments_as_brake_mode_does(args, name):
+    with pytest.raises(InvalidParameterError, match=name):
+        T.brake_timeline(*args)
+
+
+def test_brake_timeline_is_the_selector_of_a_brake_run():
+    """The timeline of a Brake run's own tether lengths is the run's braking record."""
+    import numpy as np
+
+    c = T.BrakeMode(T.PseudoJoystick(), engage_margin=0.02, release_margin=0.05)
+    run = T.simulate(c, T.straight_line(2.0), settle_time=3.0)
+    on = T.brake_timeline(run.tether_length, 1.0, 0.02, 0.05)
+    assert on.dtype == bool and on.shape == run.tether_length.shape
+    assert on.any()  # the leader stops: the robot brakes
+    stopped = np.hypot(*np.diff(run.robot_xy, axis=0).T)[on[1:]]
+    assert stopped.max() < 0.05  # braking periods do not drive on
+
+
+@pytest.mark.parametrize(
+    ("spec", "name"),
+    [
+        ([1], "controller"),
+        ({"type": "FollowTheLeader", "lookahed": 0.3}, r"controller\.lookahed"),  # TypeError
+        ({"type": 3}, r"controller\.type"),
+    ],
+)
+def test_controller_from_dict_names_the_key(spec, name):
+    with pytest.raises(InvalidParameterError, match=name):
+        T.controller_from_dict(spec)
+
+
+@pytest.mark.parametrize(
+    ("t", "e", "name"),
+    [
+        ([0.0, 1.0, 2.0], [1.0, math.nan, 0.1], "e"),  # was (nan, nan)
+        ([0.0], [1.0], "e"),  # was an IndexError
+        ([0.0, 0.1, 0.2], [1.0, 0.5], "e"),
+        ([0.0, 0.1, 0.3, 0.4] * 3, [1.0] * 12, "t"),  # not equally spaced
+    ],
+)
+def test_fit_damping_refuses_what_is_not_a_sampled_response(t, e, name):
+    with pytest.raises(InvalidParameterError, match=f"^{name} "):
+        T.fit_damping(t, e)
+
+
+def test_fit_damping_of_a_two_pole_response():
+    import numpy as np
+
+    zeta, wn = 0.6, 2.0
+    t = np.arange(0.0, 8.0, 0.01)
+    wd = wn * math.sqrt(1 - zeta**2)
+    e = np.exp(-zeta * wn * t) * np.cos(wd * t)
+    z, w = T.fit_damping(t, e)
+    assert z == pytest.approx(zeta, rel=1e-8) and w == pytest.approx(wn, rel=1e-8)
+
+
+def test_follower_metrics_needs_a_run():
+    with pytest.raises(InvalidParameterError, match="run"):
+        T.follower_metrics("run")  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("body", ["modes: []\n", "brake_laws: []\n"])
+def test_tether_modes_refuses_empty_lists_its_report_needs(body):
+    """modes: [] and brake_laws: [] validated, then the report writer raised KeyError."""
+    from designlab.errors import StudyError
+    from designlab.study import parse_study
+
+    with pytest.raises(StudyError, match=body.split(":")[0]):
+        parse_study("designlab: 1\nkind: tether_modes\nname: m\n" + body)
+
+
+def test_tether_length_noise_is_bounded_below_a_negative_length():
+    """sigma_l up to 1 m gave negative measured tether lengths (-3.8 m)."""
+    with pytest.raises(InvalidParameterError, match="length_noise_std"):
+        T.FollowerRobot(length_noise_std=0.5)
+    robot = T.FollowerRobot(length_noise_std=0.1, max_wheel_speed=8.0)
+    run = T.simulate(T.PseudoJoystick(), T.straight_line(3.0), robot=robot)
+    assert (run.tether_length > 0).all()

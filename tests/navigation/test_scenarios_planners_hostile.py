@@ -241,3 +241,41 @@ def test_size_regions_names_what_is_wrong(args, name):
 
     with pytest.raises(InvalidParameterError, match=name):
         size_regions(nav.HolonomicRobot(), *args)
+
+
+# ------------------------------------------------------------ the planners' building blocks
+def test_field_dstar_building_blocks_check_their_arguments():
+    from designlab.navigation.planners.field_dstar import compute_cost, node_costs
+
+    with pytest.raises(InvalidParameterError, match="c"):
+        compute_cost(math.nan, 1.0, 1.0, 0.0)  # was nan
+    with pytest.raises(InvalidParameterError, match="g1"):
+        compute_cost(1.0, 1.0, -1.0, 0.0)
+    assert compute_cost(1.0, math.inf, 1.0, 0.0) == math.sqrt(2)
+    with pytest.raises(InvalidParameterError, match="goal"):
+        node_costs(np.ones((3, 3)), (10, 10))  # was an IndexError
+    with pytest.raises(InvalidParameterError, match=r"stop\[0\]"):
+        node_costs(np.ones((3, 3)), (0, 0), ((4, 0),))
+    with pytest.raises(InvalidParameterError, match="cell_cost"):
+        node_costs(np.ones((10**3, 10**3)), (0, 0))  # over GRID_CELLS: was minutes
+    with pytest.raises(InvalidParameterError, match="cell_cost"):
+        node_costs(-np.ones((3, 3)), (0, 0))
+
+
+def test_vo_candidates_and_wheel_energy_check_their_arguments():
+    from designlab.navigation.planners import VOSettings
+    from designlab.navigation.planners.simulate import wheel_energy
+    from designlab.navigation.planners.velocity_obstacle import candidate_velocities
+
+    for v in (math.nan, -1.0, 1e300):
+        with pytest.raises(InvalidParameterError, match="max_speed"):
+            candidate_velocities(v, VOSettings())  # NaN and -1 gave NaN or reversed candidates
+    with pytest.raises(InvalidParameterError, match="settings"):
+        candidate_velocities(0.7, "vo")
+    robot = nav.HolonomicRobot()
+    with pytest.raises(InvalidParameterError, match="dt"):
+        wheel_energy(robot, np.zeros((3, 2)), dt=-1.0)  # was -0.0
+    with pytest.raises(InvalidParameterError, match="velocity"):
+        wheel_energy(robot, np.array([[math.nan, 0.0]]))
+    with pytest.raises(InvalidParameterError, match="robot"):
+        wheel_energy("robot", np.zeros((3, 2)))

@@ -48,6 +48,7 @@ from designlab.errors import InvalidParameterError
 from designlab.following.accompanying.parameters import SETTLE_BAND
 from designlab.following.accompanying.user_frame import robot_in_user_frame
 from designlab.params import Param
+from designlab.validation import real_array
 
 __all__ = ["MAX_LAG", "SETTLE_WINDOW", "AccompanyMetrics", "accompany_metrics", "path_length"]
 
@@ -252,14 +253,30 @@ def accompany_metrics(
     """
     settle_window, max_lag = SETTLE_WINDOW.check(settle_window), MAX_LAG.check(max_lag)
     settle_band = SETTLE_BAND.check(settle_band)
-    t = np.asarray(time, dtype=float)
-    if t.ndim != 1 or t.size < 2:
-        raise InvalidParameterError("time", t.shape, "at least 2 samples", "s")
-    u = np.asarray(user_pose, dtype=float)
-    r = np.asarray(robot_pose, dtype=float)
+    t = real_array("time", time, "s")
+    if t.ndim != 1 or t.size < 2 or (np.diff(t) <= 0).any():
+        raise InvalidParameterError("time", t.shape, "at least 2 increasing samples", "s")
+    u = real_array("user_pose", user_pose, "m")
+    r = real_array("robot_pose", robot_pose, "m")
+    if u.shape != (3, t.size) or r.shape != (3, t.size):
+        raise InvalidParameterError(
+            "user_pose, robot_pose", (u.shape, r.shape), f"3 rows (x, y, psi) of {t.size} samples"
+        )
+    walk_start, walk_stop, target_heading = (
+        float(real_array(n, v, "s" if n != "target_heading" else "rad"))
+        for n, v in (("walk_start", walk_start), ("walk_stop", walk_stop),
+                     ("target_heading", target_heading))
+    )  # fmt: skip
+    if not walk_start <= walk_stop:
+        raise InvalidParameterError(
+            "walk_stop", walk_stop, f"must not be before walk_start = {walk_start:g} s", "s"
+        )
+    tp = real_array("target_position", target_position, "m")
+    if tp.shape != (2,):
+        raise InvalidParameterError("target_position", target_position, "must be (x, y)", "m")
     p_c, g = robot_in_user_frame(u, r)
     xc, yc = p_c[0], p_c[1]
-    tx, ty = target_position
+    tx, ty = float(tp[0]), float(tp[1])
     err = np.hypot(tx - xc, ty - yc)
     bearing = -np.arctan2(xc, yc)
     walking = (t >= walk_start) & (t <= walk_stop)

@@ -513,6 +513,9 @@ def _result(run: _Run, t_ctrl: NDArray, robot: NDArray, ys: NDArray) -> Accompan
         t.walk_stop,
         settle_band=run.settle_band,
     )
+    if math.isnan(metrics.settling_time):
+        warnings = (*warnings, f"the error never stays within settle_band = {run.settle_band:g} m "
+                    "after the stop: settling_time is undefined (nan)")  # fmt: skip
     return AccompanyResult(
         task=t,
         controller=run.controller,

@@ -31,6 +31,7 @@ Examples
 
 from __future__ import annotations
 
+import io
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -152,6 +153,8 @@ TARGET_COORDINATE = Param(
 )
 #: The most samples of a task's trajectory.
 _MAX_SAMPLES = 10_000_000
+#: Largest walk file read (bytes; a FIFO or a device is refused, never read whole).
+_MAX_BYTES = 200_000_000
 
 
 def _trajectory_array(label: str, value: Any) -> NDArray[np.float64]:
@@ -560,8 +563,11 @@ def walking_task(
 
 def _read_walk(p: Path) -> tuple[NDArray, NDArray, NDArray, NDArray]:
     """Time, x, y and heading (rad) of a recorded walk; errors name the file, line and column."""
+    from designlab.navigation.scenario_io import read_text_bounded
+
+    text = read_text_bounded(p, _MAX_BYTES)  # a regular file, read in bounded chunks
     try:
-        frame = pd.read_csv(p)
+        frame = pd.read_csv(io.StringIO(text))
     except pd.errors.EmptyDataError:
         raise InvalidParameterError("path", str(p), "a CSV file with a header row") from None
     except (pd.errors.ParserError, UnicodeDecodeError) as exc:

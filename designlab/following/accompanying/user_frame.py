@@ -40,6 +40,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from designlab.errors import InvalidParameterError
 from designlab.symbolic import vectorize
+from designlab.validation import real_array
 
 __all__ = [
     "robot_frame_error",
@@ -173,9 +174,14 @@ def robot_in_user_frame(
     p_c, gamma_c
         Shape (2,) / scalar, or (2, n) / (n,).
     """
-    u = np.asarray(user_pose, dtype=float)
-    r = np.asarray(robot_pose, dtype=float)
-    if u.ndim == 0 or r.ndim == 0 or u.shape[0] != 3 or r.shape[0] != 3:
+    u, r = real_array("user_pose", user_pose), real_array("robot_pose", robot_pose)
+    if (
+        u.ndim not in (1, 2)
+        or r.ndim not in (1, 2)
+        or u.shape[0] != 3
+        or r.shape[0] != 3
+        or (u.ndim == r.ndim == 2 and u.shape != r.shape)
+    ):
         raise InvalidParameterError(
             "user_pose, robot_pose", (u.shape, r.shape), "3 rows (x, y, psi) each"
         )
@@ -197,8 +203,17 @@ def string_pot_readings(
     gamma_c
         Robot orientation in LCS_U in rad; scalar or (n,).
     """
-    pc = np.asarray(p_c, dtype=float)
-    pose = np.vstack([pc.reshape(2, -1), np.asarray(gamma_c, dtype=float).reshape(1, -1)])
+    pc, gc = real_array("p_c", p_c, "m"), real_array("gamma_c", gamma_c, "rad")
+    if (
+        pc.ndim not in (1, 2)
+        or pc.shape[0] != 2
+        or gc.size != pc.size // 2
+        or (pc.ndim == 1 and gc.ndim != 0)
+    ):
+        raise InvalidParameterError(
+            "p_c, gamma_c", (pc.shape, gc.shape), "(2,) and a scalar, or (2, n) and (n,)"
+        )
+    pose = np.vstack([pc.reshape(2, -1), gc.reshape(1, -1)])
     res = _functions()[1](pose)[0]
     if pc.ndim == 1:
         return float(res[0, 0]), float(res[1, 0]), float(res[2, 0])
@@ -219,7 +234,16 @@ def robot_frame_error(
     d, theta_u, theta_r
         String-pot readings in m, rad, rad (scalars or arrays of one length).
     """
-    m = np.vstack([np.atleast_1d(np.asarray(v, dtype=float)) for v in (d, theta_u, theta_r)])
-    t = np.array([float(target[0]), float(target[1]), float(target_gamma)])  # type: ignore[index]
+    rows = [np.atleast_1d(real_array(n, v)) for n, v in (("d", d), ("theta_u", theta_u),
+                                                          ("theta_r", theta_r))]  # fmt: skip
+    if any(r.ndim != 1 or r.shape != rows[0].shape for r in rows):
+        raise InvalidParameterError(
+            "d, theta_u, theta_r", [r.shape for r in rows], "scalars or arrays of one length"
+        )
+    m = np.vstack(rows)
+    tp = real_array("target", target, "m")
+    if tp.shape != (2,):
+        raise InvalidParameterError("target", target, "must be (X_T, Y_T)", "m")
+    t = np.array([tp[0], tp[1], float(real_array("target_gamma", target_gamma, "rad"))])
     res = _functions()[2](t, m)[0]
     return res[:, 0] if np.ndim(d) == 0 else res

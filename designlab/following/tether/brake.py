@@ -31,11 +31,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
-from designlab.following.tether.controllers import TetherController
+from designlab.following.tether.controllers import PseudoJoystick, TetherController
 from designlab.following.tether.front import FrontJoystick, FrontVelJoystick
 from designlab.following.tether.parameters import FollowerRobot
 from designlab.following.tether.stepwise import ModeState, StepwiseController, start_state
-from designlab.params import declared, param
+from designlab.params import declared, param, params_of
+from designlab.validation import real_array
 
 __all__ = ["BrakeMode", "brake_timeline"]
 
@@ -52,10 +53,30 @@ def brake_timeline(
     desired_length
         The wrapped mode's l_d in m.
     engage_margin, release_margin
-        Brake when ``l_m < l_d + engage_margin``; resume when ``l_m > l_d + release_margin``.
+        Brake when ``l_m < l_d + engage_margin``; resume when ``l_m > l_d + release_margin``
+        (each checked against the declarations of :class:`BrakeMode`; release above engage).
+
+    Examples
+    --------
+    >>> brake_timeline([1.1, 1.01, 1.04, 1.06], 1.0, 0.02, 0.05).tolist()
+    [False, True, True, False]
     """
+    lengths = real_array("tether_length", tether_length, "m")
+    if lengths.ndim != 1:
+        raise InvalidParameterError("tether_length", lengths.shape, "must be one value a period")
+    decls = params_of(BrakeMode)
+    desired_length = params_of(PseudoJoystick)["desired_length"].check(
+        desired_length, "desired_length"
+    )
+    engage_margin = decls["engage_margin"].check(engage_margin, "engage_margin")
+    release_margin = decls["release_margin"].check(release_margin, "release_margin")
+    if not release_margin > engage_margin:
+        raise InvalidParameterError(
+            "release_margin", release_margin,
+            f"must be greater than engage_margin ({engage_margin:g} m): the hysteresis", "m",
+        )  # fmt: skip
     on, out = False, []
-    for lm in np.asarray(tether_length, dtype=float).tolist():
+    for lm in lengths.tolist():
         on = lm <= desired_length + release_margin if on else lm < desired_length + engage_margin
         out.append(on)
     return np.array(out, dtype=bool)

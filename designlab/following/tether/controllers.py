@@ -37,7 +37,8 @@ designlab.errors.InvalidParameterError: PseudoJoystick.turn_gain = -1.0 1/s is n
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, replace
+from collections.abc import Mapping
+from dataclasses import asdict, dataclass, fields, replace
 from functools import cache
 from typing import Any, ClassVar
 
@@ -362,8 +363,15 @@ def controller_from_dict(spec: dict[str, Any]) -> TetherController:
     >>> controller_from_dict({"type": "FollowTheLeader", "lookahead": 0.3}).lookahead
     0.3
     """
+    if not isinstance(spec, Mapping):
+        raise InvalidParameterError("controller", spec, "a mapping {type: ..., field: value}")
     spec = dict(spec)
     name = spec.pop("type", None)
-    if name not in CONTROLLERS:
+    if not isinstance(name, str) or name not in CONTROLLERS:
         raise InvalidParameterError("controller.type", name, f"one of {sorted(CONTROLLERS)}")
+    allowed = [f.name for f in fields(CONTROLLERS[name])]
+    for key in spec:
+        if key not in allowed:
+            raise InvalidParameterError(f"controller.{key}", spec[key], f"a field of {name}: "
+                                        f"one of {allowed}")  # fmt: skip
     return CONTROLLERS[name](**spec)  # type: ignore[call-arg,no-any-return]

@@ -51,6 +51,7 @@ from designlab.following.tether.paths import straight_line
 from designlab.following.tether.simulate import simulate
 from designlab.params import Param
 from designlab.results import Result, Status
+from designlab.validation import real_array
 
 __all__ = [
     "STEP_OFFSET",
@@ -331,6 +332,11 @@ def lateral_step_response(
     return run.t, run.robot_xy[:, 1]
 
 
+#: Samples :func:`identify_poles` leaves out at the start.
+_SKIP = Param(None, "", "samples left out at the start", kind="integer", ge=0, le=10**6,
+              name="skip")  # fmt: skip
+
+
 def identify_poles(t: Any, e: Any, skip: int = 5) -> NDArray[np.complex128]:
     """The two poles (1/s) of a sampled free response, by a second-order autoregressive fit.
 
@@ -360,9 +366,17 @@ def identify_poles(t: Any, e: Any, skip: int = 5) -> NDArray[np.complex128]:
     >>> np.round(p.real, 6).tolist()
     [-0.5, -4.0]
     """
-    t = np.asarray(t, dtype=float)
-    e = np.asarray(e, dtype=float)[skip:]
+    t, e = real_array("t", t, "s"), real_array("e", e)
+    skip = _SKIP.check(skip)
+    if t.ndim != 1 or e.shape != t.shape or t.size < skip + 4:
+        raise InvalidParameterError(
+            "e", e.shape, f"must be one value per time of t {t.shape}, at least skip + 4 = "
+            f"{skip + 4} samples",
+        )  # fmt: skip
     dt = float(t[1] - t[0])
+    if not dt > 0 or np.abs(np.diff(t) - dt).max() > 1e-6 * dt:
+        raise InvalidParameterError("t", t[:3].tolist(), "must be increasing and equally spaced")
+    e = e[skip:]
     a = np.column_stack([e[1:-1], e[:-2]])
     (a1, a2), *_ = np.linalg.lstsq(a, e[2:], rcond=None)
     z = np.roots([1.0, -a1, -a2]).astype(complex)

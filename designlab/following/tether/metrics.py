@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from designlab.errors import InvalidParameterError
 from designlab.following.tether.path_deviation import PathDeviation, normal_path_deviation
 from designlab.following.tether.simulate import FollowerRun, FollowerStatus
 from designlab.results import Result
@@ -112,6 +113,8 @@ def follower_metrics(run: FollowerRun, **npd_options: Any) -> FollowerMetrics:
         Passed to :func:`normal_path_deviation` (``wheel_track`` defaults to
         the robot's).
     """
+    if not isinstance(run, FollowerRun):
+        raise InvalidParameterError("run", run, "must be a FollowerRun (tether.simulate())")
     npd_options.setdefault("wheel_track", run.robot.wheel_track)
     npd = normal_path_deviation(run.leader_xy, run.robot_xy, **npd_options)
     dt = run.robot.sample_time

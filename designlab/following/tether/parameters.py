@@ -224,8 +224,10 @@ class FollowerRobot(ParamsMixin):
         default=0.0,
     )
     length_noise_std: float = param(
-        "sigma_l", "m", doc="standard deviation of Gaussian noise on l_m", ge=0, le=1, default=0.0
-    )
+        "sigma_l", "m", doc="standard deviation of Gaussian noise on l_m (at most 0.1 m: a "
+        "larger noise makes the measured length of a 1 m tether negative)", ge=0, le=0.1,
+        default=0.0,
+    )  # fmt: skip
     angle_noise_std: float = param(
         "sigma_theta",
         "rad",

@@ -36,9 +36,13 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from designlab.errors import InvalidParameterError
+from designlab.navigation.crowds.results import CrowdResult
 from designlab.navigation.crowds.slots import PARKED, fill_slots
 from designlab.navigation.field import ObstacleGeometry, build_field
 from designlab.navigation.methods import method_of
+from designlab.navigation.parameters import HolonomicRobot
+from designlab.params import params_of
 
 __all__ = ["COMPONENTS", "force_breakdown", "stall_summary"]
 
@@ -73,6 +77,8 @@ def force_breakdown(result: Any) -> pd.DataFrame:
         critical radius of a pedestrian or wall), ``active_pedestrians``, and per part of
         :data:`COMPONENTS` its component towards the goal ``<part>_n`` (N).
     """
+    if not isinstance(result, CrowdResult):
+        raise InvalidParameterError("result", result, "must be a CrowdResult (a crowd run)")
     c = result.crowd
     strategy = method_of(result.method)
     walls = c.walls()
@@ -161,6 +167,15 @@ def stall_summary(frame: pd.DataFrame, max_speed: float) -> dict[str, float]:
         :data:`COMPONENTS` (walls, pedestrians, stabilising) pulling away from the goal the
         most (``none`` if no part does: the robot is slow while every part pulls it on).
     """
+    if not isinstance(frame, pd.DataFrame):
+        raise InvalidParameterError("frame", frame, "must be the DataFrame of force_breakdown()")
+    need = ["speed_mps", "progress_mps", "critical", *(f"{p}_n" for p in COMPONENTS[1:])]
+    missing = [c for c in need if c not in frame.columns]
+    if missing:
+        raise InvalidParameterError(
+            "frame", list(frame.columns), f"must have the columns {missing}"
+        )
+    max_speed = params_of(HolonomicRobot)["max_speed"].check(max_speed, "max_speed")
     n = max(len(frame), 1)
     slow = frame[frame["progress_mps"] < SLOW * max_speed]
     out = {

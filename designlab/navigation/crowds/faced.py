@@ -377,6 +377,10 @@ def faced_by(result: Any, half_width: float = MEASURE_HALF_WIDTH.default) -> Fac
     >>> f.band_area_m2, 0.1 < f.measured_density_per_m2 < 1.5, 0.3 < f.mean_ped_speed_m_per_s < 2
     (14.0, True, True)
     """
+    from designlab.navigation.crowds.results import CrowdResult  # results import this module
+
+    if not isinstance(result, CrowdResult):
+        raise InvalidParameterError("result", result, "must be a CrowdResult (a crowd run)")
     c = result.crowd
     MEASURE_HALF_WIDTH.check(half_width)
     try:

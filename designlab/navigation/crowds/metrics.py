@@ -35,6 +35,7 @@ from scipy.stats import binomtest
 
 from designlab.errors import InvalidParameterError
 from designlab.params import Param
+from designlab.validation import real_array
 
 __all__ = [
     "CONFIDENCE",
@@ -168,8 +169,15 @@ def clearance(robot: ArrayLike, pedestrians: ArrayLike) -> Array:
 
 
 def _tracks(robot: ArrayLike, pedestrians: ArrayLike) -> tuple[Array, Array]:
-    r = np.asarray(robot, dtype=float)
-    p = np.asarray(pedestrians, dtype=float)
+    r = real_array("robot", robot, "m")  # finite: the robot is always somewhere
+    try:
+        p = np.asarray(pedestrians, dtype=float)  # NaN: a pedestrian not (yet) present
+    except (TypeError, ValueError):
+        raise InvalidParameterError(
+            "pedestrians", pedestrians, "must be numbers (T, N, 2)"
+        ) from None
+    if np.isinf(p).any():
+        raise InvalidParameterError("pedestrians", "inf", "must be finite or NaN (absent)", "m")
     if r.ndim != 2 or r.shape[1] != 2:
         raise InvalidParameterError("robot", r.shape, "must have shape (T, 2)")
     if p.ndim != 3 or p.shape[2] != 2 or p.shape[0] != r.shape[0]:
@@ -342,8 +350,11 @@ def point_to_path(points: ArrayLike, path: ArrayLike) -> Array:
     >>> point_to_path([[1.0, 2.0], [-1.0, 0.0]], [[0.0, 0.0], [3.0, 0.0]]).tolist()
     [2.0, 1.0]
     """
-    q = np.asarray(points, dtype=float).reshape(-1, 2)
-    v = np.asarray(path, dtype=float).reshape(-1, 2)
+    q, v = real_array("points", points, "m"), real_array("path", path, "m")
+    if q.ndim != 2 or q.shape[1] != 2 or v.ndim != 2 or v.shape[1] != 2 or not v.shape[0]:
+        raise InvalidParameterError(
+            "path", (q.shape, v.shape), "points (P, 2) and path (S + 1, 2) with S + 1 >= 1", "m"
+        )
     if v.shape[0] == 1:
         return np.linalg.norm(q - v[0], axis=1)
     a, ab = v[:-1], np.diff(v, axis=0)

@@ -242,6 +242,12 @@ class CrowdScenario:
         return paths
 
     def _check_timing(self) -> None:
+        if self.horizon is not None and self.horizon < self.sample_time:
+            raise InvalidParameterError(
+                "CrowdScenario.horizon", self.horizon,
+                f"must hold at least one navigation period (sample_time = {self.sample_time} s)",
+                "s",
+            )  # fmt: skip
         ratio = self.sample_time / self.pedestrian_step
         if not math.isfinite(ratio) or abs(ratio - round(ratio)) > 1e-6 or round(ratio) < 1:
             raise InvalidParameterError(

@@ -34,6 +34,7 @@ from designlab.errors import InvalidParameterError
 from designlab.navigation.crowds.faced import faced_by, faced_by_runs
 from designlab.navigation.crowds.layouts import LAYOUTS
 from designlab.navigation.crowds.metrics import (
+    CONFIDENCE,
     PERSONAL_SPACE,
     clearance,
     path_deviation,
@@ -290,6 +291,25 @@ def _mean(group: pd.DataFrame, column: str) -> float:
     return float(v.mean()) if v.size else math.nan
 
 
+def check_runs_frame(runs: Any, columns: Sequence[str]) -> None:
+    """Refuse what is not a runs frame of a crowd study (naming the missing columns).
+
+    Parameters
+    ----------
+    runs
+        The frame given.
+    columns
+        The columns it must have.
+    """
+    if not isinstance(runs, pd.DataFrame):
+        raise InvalidParameterError("runs", runs, "must be the runs DataFrame of a CrowdStudy")
+    missing = [c for c in columns if c not in runs.columns]
+    if missing:
+        raise InvalidParameterError(
+            "runs", f"columns {list(runs.columns)[:12]}", f"must have the columns {missing}"
+        )
+
+
 def summarise_runs(runs: pd.DataFrame, confidence: float = 0.95) -> pd.DataFrame:
     """One row per scenario, density and method: rates with Wilson intervals and distributions.
 
@@ -312,6 +332,8 @@ def summarise_runs(runs: pd.DataFrame, confidence: float = 0.95) -> pd.DataFrame
         ``measured_density_per_m2`` and ``mean_ped_speed_m_per_s`` (the crowd the robot met,
         pedpy: mean over the runs; compare with the nominal ``density``).
     """
+    check_runs_frame(runs, ("scenario", "density", "method"))
+    CONFIDENCE.check(confidence)
     keys = ["scenario", "density", "method"]
     failed = (
         runs["status"].astype(str) == "error"
@@ -340,6 +362,8 @@ def worst_run(runs: pd.DataFrame, method: str) -> pd.Series:
     method
         A method label.
     """
+    check_runs_frame(runs, ("method", "status", "collided", "critical", "timeout",
+                            "min_centre_distance_m"))  # fmt: skip
     sub = runs[(runs["method"] == method) & (runs["status"].astype(str) != "error")]
     if sub.empty:
         raise InvalidParameterError(
@@ -361,6 +385,7 @@ def representative_run(runs: pd.DataFrame, method: str) -> pd.Series:
     method
         A method label.
     """
+    check_runs_frame(runs, ("method", "success", "arrival_time_s"))
     sub = runs[(runs["method"] == method) & (runs["success"] > 0)]
     if sub.empty:
         return worst_run(runs, method)
@@ -614,6 +639,7 @@ def crowd_study(
     """
     names, rho, seed_list = _check_grid(scenarios, densities, seeds)
     labels, coded = _check_labels(methods, gains)
+    CONFIDENCE.check(confidence)
     if crowd_options is not None:
         check_crowd_options(crowd_options, "crowd_options", _GRID_FIELDS)
     total = MAX_RUNS.check(len(names) * len(rho) * len(seed_list) * len(labels))

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import heapq
 import math
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -63,6 +64,14 @@ def compute_cost(c: float, b: float, g1: float, g2: float) -> float:
     >>> compute_cost(1.0, 1.0, 1.0, 0.0) == math.sqrt(2)
     True
     """
+    for name, v in (("c", c), ("b", b), ("g1", g1), ("g2", g2)):
+        if isinstance(v, bool) or not isinstance(v, int | float | np.number) or not v >= 0:
+            raise InvalidParameterError(name, v, "must be a number >= 0 (inf: blocked or unknown)")
+    return _compute_cost(float(c), float(b), float(g1), float(g2))
+
+
+def _compute_cost(c: float, b: float, g1: float, g2: float) -> float:
+    """:func:`compute_cost` on checked numbers (the inner loop of :func:`node_costs`)."""
     if min(c, b) == math.inf:
         return math.inf
     if g1 <= g2:
@@ -103,9 +112,37 @@ def _update(
             bi, bj = ci, (cj - 1 if cj == j else j)
         else:  # vertical edge: the cells left and right of it
             bi, bj = (ci - 1 if ci == i else i), cj
-        v = compute_cost(_cell(cost, ci, cj), _cell(cost, bi, bj), g[s1], g[s2])
+        v = _compute_cost(_cell(cost, ci, cj), _cell(cost, bi, bj), g[s1], g[s2])
         best = min(best, v)
     return best
+
+
+def _check_costs(
+    cell_cost: Any, goal: Any, stop: Any
+) -> tuple[Array, tuple[int, int], tuple[tuple[int, int], ...]]:
+    """The arguments of :func:`node_costs` checked: a grid within :data:`GRID_CELLS` of costs
+    >= 0 (inf: blocked) and nodes on it."""
+    try:
+        cost = np.asarray(cell_cost, dtype=float)
+    except (TypeError, ValueError):
+        cost = np.empty(0)
+    if cost.ndim != 2 or not cost.size or not (cost >= 0).all():
+        raise InvalidParameterError(
+            "cell_cost", getattr(cost, "shape", cell_cost), "must be an (nx, ny) grid of costs "
+            ">= 0 per cell size (inf: blocked)",
+        )  # fmt: skip
+    GRID_CELLS.check(cost.size, "cell_cost (cells)")
+    nodes = []
+    for name, node in (("goal", goal), *((f"stop[{i}]", n) for i, n in enumerate(stop))):
+        ok = isinstance(node, tuple | list | np.ndarray) and len(node) == 2
+        ok = ok and all(isinstance(v, int | np.integer) and not isinstance(v, bool) for v in node)
+        if not ok or not (0 <= node[0] <= cost.shape[0] and 0 <= node[1] <= cost.shape[1]):
+            raise InvalidParameterError(
+                name, node, f"must be a node (i, j) with 0 <= i <= {cost.shape[0]} and "
+                f"0 <= j <= {cost.shape[1]}",
+            )  # fmt: skip
+        nodes.append((int(node[0]), int(node[1])))
+    return cost, nodes[0], tuple(nodes[1:])
 
 
 def node_costs(
@@ -126,6 +163,7 @@ def node_costs(
         Nodes ``(i, j)`` whose costs are wanted: expansion stops once all are settled
         (empty: every reachable node is settled).
     """
+    cell_cost, goal, stop = _check_costs(cell_cost, goal, stop)
     g = np.full((cell_cost.shape[0] + 1, cell_cost.shape[1] + 1), math.inf)
     g[goal] = 0.0
     heap: list[tuple[float, tuple[int, int]]] = [(0.0, goal)]

@@ -31,7 +31,12 @@ from designlab.errors import InvalidParameterError
 from designlab.navigation.criteria import Criteria, criteria
 from designlab.navigation.dynamics import HOLONOMIC_FEEDFORWARD
 from designlab.navigation.methods import PLANNER
-from designlab.navigation.parameters import ARRIVAL_TOLERANCE, NonholonomicRobot
+from designlab.navigation.parameters import (
+    ARRIVAL_TOLERANCE,
+    DYNAMICS_STEP,
+    HolonomicRobot,
+    NonholonomicRobot,
+)
 from designlab.navigation.planners import errt, field_dstar
 from designlab.navigation.planners.parameters import ERRTSettings, FieldDStarSettings, VOSettings
 from designlab.navigation.planners.velocity_obstacle import choose_velocity
@@ -40,6 +45,7 @@ from designlab.navigation.scenarios import Rectangle, Scenario
 from designlab.params import check_size
 from designlab.progress import Progress, ProgressHook, report
 from designlab.results import Result, Status
+from designlab.validation import real_array
 
 __all__ = [
     "PLANNER_SETTINGS",
@@ -177,7 +183,19 @@ def wheel_energy(robot: Any, velocity: Array, dt: float = _STEP) -> float:
         The robot's velocity at every step, ``(n, 2)`` (m/s).
     dt
         The time step between the velocities (s; default the 10 ms simulation step).
+
+    Examples
+    --------
+    >>> from designlab.navigation import HolonomicRobot
+    >>> wheel_energy(HolonomicRobot(), np.zeros((5, 2)))
+    0.0
     """
+    if not isinstance(robot, HolonomicRobot | NonholonomicRobot):
+        raise InvalidParameterError("robot", robot, "must be a HolonomicRobot or NonholonomicRobot")
+    velocity = real_array("velocity", velocity, "m/s")
+    if velocity.ndim != 2 or velocity.shape[1] != 2:
+        raise InvalidParameterError("velocity", velocity.shape, "must have shape (n, 2)", "m/s")
+    dt = DYNAMICS_STEP.check(dt, "dt")
     s3 = math.sqrt(3.0) / 2.0
     rows = np.array([(-s3, -0.5), (s3, -0.5), (0.0, 1.0)]) / robot.wheel_radius
     w = velocity @ rows.T  # (n, 3) wheel speeds

@@ -27,8 +27,11 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from designlab.errors import InvalidParameterError
+from designlab.navigation.parameters import HolonomicRobot
 from designlab.navigation.planners.parameters import VOSettings
 from designlab.navigation.planners.world import Snapshot
+from designlab.params import params_of
 
 __all__ = [
     "candidate_velocities",
@@ -43,6 +46,8 @@ __all__ = [
 NLVO_STEP = 0.02
 
 Array = NDArray[np.float64]
+#: The speed limit of the candidates: the robot's (one declaration).
+_MAX_SPEED = params_of(HolonomicRobot)["max_speed"]
 
 
 def time_to_collision(
@@ -165,7 +170,15 @@ def candidate_velocities(max_speed: float, settings: VOSettings) -> Array:
         The robot's speed limit V_mr (m/s): the largest candidate speed.
     settings
         The numbers of speeds and headings (:class:`VOSettings`).
+
+    Examples
+    --------
+    >>> candidate_velocities(0.7, VOSettings(speeds=2, headings=4)).round(3).tolist()
+    [[0.0, 0.0], [0.7, 0.0], [0.0, 0.7], [-0.7, 0.0], [-0.0, -0.7]]
     """
+    max_speed = _MAX_SPEED.check(max_speed, "max_speed")
+    if not isinstance(settings, VOSettings):
+        raise InvalidParameterError("settings", settings, "must be a VOSettings")
     s = np.linspace(0.0, max_speed, settings.speeds)[1:]
     th = np.linspace(0.0, 2 * np.pi, settings.headings, endpoint=False)
     grid = (s[:, None, None] * np.stack([np.cos(th), np.sin(th)], axis=1)[None]).reshape(-1, 2)

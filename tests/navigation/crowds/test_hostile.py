@@ -203,3 +203,74 @@ def test_crowd_study_names_an_unknown_or_grid_crowd_option(options, key):
 def test_crowd_names_an_unknown_keyword():
     with pytest.raises(InvalidParameterError, match=r"'lenght'.*allowed: .*length"):
         nav.crowd("corridor_counterflow", 4, lenght=8.0)
+
+
+def test_crowd_study_checks_its_confidence_before_any_run():
+    """confidence=2 ran the whole study and then failed in the summary."""
+    for conf in (2.0, 0.0, math.nan, "0.9"):
+        with pytest.raises(InvalidParameterError, match="confidence"):
+            crowd_study(["bottleneck"], [0.1], [0], confidence=conf)
+
+
+def test_crowd_measures_name_a_bad_track():
+    from designlab.navigation.crowds import metrics as M
+
+    with pytest.raises(InvalidParameterError, match="robot"):
+        M.clearance([[math.nan, 0.0]], [[[1.0, 0.0]]])  # was inf, silently
+    with pytest.raises(InvalidParameterError, match="pedestrians"):
+        M.clearance([[0.0, 0.0]], [[[math.inf, 0.0]]])
+    assert M.clearance([[0.0, 0.0]], [[[3.0, 4.0], [math.nan, math.nan]]]).tolist() == [5.0]
+    with pytest.raises(InvalidParameterError, match="path"):
+        M.point_to_path([[0.0, 0.0]], [[0.0, 0.0], [math.nan, 1.0]])  # was nan, silently
+    with pytest.raises(InvalidParameterError, match="path"):
+        M.point_to_path([[0.0, 0.0]], np.zeros((0, 2)))
+
+
+@pytest.mark.parametrize("frame", ["runs", {"method": ["vff"]}])
+def test_run_tables_name_what_is_missing(frame):
+    import pandas as pd
+
+    from designlab.navigation.crowds.study import representative_run, summarise_runs, worst_run
+
+    runs = pd.DataFrame(frame) if isinstance(frame, dict) else frame
+    for call in (
+        lambda: summarise_runs(runs),
+        lambda: worst_run(runs, "vff"),
+        lambda: representative_run(runs, "vff"),
+    ):
+        with pytest.raises(InvalidParameterError, match="runs"):
+            call()
+
+
+def test_diagnosis_and_faced_crowd_need_a_crowd_run():
+    import pandas as pd
+
+    from designlab.navigation.crowds.diagnosis import force_breakdown, stall_summary
+    from designlab.navigation.crowds.faced import faced_by
+
+    for call in (lambda: force_breakdown("run"), lambda: faced_by("run")):
+        with pytest.raises(InvalidParameterError, match="result"):
+            call()
+    with pytest.raises(InvalidParameterError, match="frame"):
+        stall_summary(pd.DataFrame({"x": [1.0]}), 0.7)
+    c = nav.crowd("corridor_counterflow", 4, **SMALL)
+    frame = force_breakdown(nav.simulate(c, GAINS))
+    with pytest.raises(InvalidParameterError, match="max_speed"):
+        stall_summary(frame, math.nan)
+    assert 0.0 <= stall_summary(frame, 0.7)["stopped"] <= 1.0
+
+
+@pytest.mark.parametrize("horizon", [1e-300, 0.01, 0.059])
+def test_a_crowd_horizon_shorter_than_a_period_is_refused(horizon):
+    """horizon: 1e-300 gave a run of no period and a NaN measured density with status ok."""
+    with pytest.raises(InvalidParameterError, match="horizon"):
+        nav.crowd("corridor_counterflow", 4, length=10.0, horizon=horizon)
+    nav.crowd("corridor_counterflow", 4, length=10.0, horizon=0.06)
+
+
+def test_an_audit_that_never_applies_says_so():
+    """A run that never enters an active region has an undefined share (nan) and a warning."""
+    sc = nav.configuration(1).replace(obstacles=())
+    res = nav.simulate(sc, GAINS)
+    assert math.isnan(res.stability.share_satisfied)
+    assert any("never entered an active region" in w for w in res.stability.warnings)
