@@ -92,7 +92,7 @@ class TetherModesStudy(StudyBase):
     speed: LEADER_SPEED.annotation() = LEADER_SPEED.default  # type: ignore[valid-type]
     paths: list[PathSpec] = Field(default_factory=_default_paths, min_length=1, max_length=10)  # type: ignore[valid-type]
     modes: list[Literal["SideJoystick", "SideTracking", "FrontJoystick", "FrontVelJoystick"]] = (
-        Field(default_factory=lambda: list(_MODES), max_length=4)
+        Field(default_factory=lambda: list(_MODES), min_length=1, max_length=4)
     )
     side_offsets: list[_OFFSET.annotation()] = Field(  # type: ignore[valid-type]
         default_factory=lambda: [0.56, 0.42],
@@ -108,6 +108,7 @@ class TetherModesStudy(StudyBase):
             "FollowTheLeader",
             "FollowTheLeaderConstDistance",
         ],
+        min_length=1,
         max_length=3,
     )
     brake_walk: float = Field(
