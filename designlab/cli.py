@@ -138,8 +138,9 @@ def _write(
 ) -> bool:
     """Write the report (unless ``keep_current`` and it is up to date); whether it was written."""
     from designlab.report import current_report, write_report
+    from designlab.yamlio import read_text_file
 
-    text = study.read_text(encoding="utf-8")
+    text = read_text_file(study)  # read as the study was (it may have changed since: a clear error)
     record = current_report(result, output_dir, study_text=text) if keep_current else None
     kept = record is not None
     if record is not None:  # the report's own record: its warnings are not recomputed
@@ -256,9 +257,10 @@ def run(
     _check_executor_options(executor, scheduler, timeout)
     if not (worker_timeout > 0 and worker_timeout < 86400):
         _usage(f"--worker-timeout {worker_timeout!r} is not allowed: give seconds > 0 (< 86400)")
-    command = ["designlab", "run", str(study), "--output-dir", str(output_dir)]
-    if executor != "serial":
-        command += ["--executor", executor]
+    command = _command_line("run", study, output_dir, cache_dir, executor=(executor, "serial"),
+                            workers=(workers, None), scheduler=(scheduler, None),
+                            resume=(resume, False), timeout=(timeout, 5.0),
+                            worker_timeout=(worker_timeout, 60.0))  # fmt: skip
     keeps_store = False
     try:
         spec = load_study(study)
@@ -306,6 +308,22 @@ def run(
         raise typer.Exit(EXIT_INTERRUPTED) from None
 
 
+def _command_line(
+    name: str, study: Path, output_dir: Path, cache_dir: Path, **options: tuple[Any, Any]
+) -> list[str]:
+    """The command as run, for the report's provenance: every option given that is not the
+    default (``options``: name -> (value, default)), so that it reproduces the run."""
+    command = ["designlab", name, str(study), "--output-dir", str(output_dir)]
+    if cache_dir != DEFAULT_CACHE_DIR:
+        command += ["--cache-dir", str(cache_dir)]
+    for option, (value, default) in options.items():
+        flag = "--" + option.replace("_", "-")
+        if value == default:
+            continue
+        command += [flag] if isinstance(value, bool) else [flag, str(value)]
+    return command
+
+
 def _keeps_store(spec: Any) -> bool:
     """Whether a study's kind keeps finished points in a result store (the sweep kinds)."""
     from designlab.study.sweeps import SweepStudyBase
@@ -330,9 +348,10 @@ def report(
 ) -> None:
     """Rebuild a study's report from the result store, without computing any point."""
     from designlab.analysis.engine import CacheIncompleteError
+    from designlab.analysis.store import StoreError
     from designlab.study import RunContext, load_study, run_study
 
-    command = ["designlab", "report", str(study), "--output-dir", str(output_dir)]
+    command = _command_line("report", study, output_dir, cache_dir)
     try:
         spec = load_study(study)
         if not _keeps_store(spec):
@@ -345,9 +364,14 @@ def report(
                    output_dir, command)  # fmt: skip
             return
         store = _open_store(cache_dir, spec)
-        if not store.path.exists():
+        if not store.path.exists() and not store.path.is_symlink():
             raise CacheIncompleteError(
                 f"no result store {store.path}; run the study first (designlab run {study})"
+            )
+        if not store.path.is_symlink() and store.path.is_file() and store.path.stat().st_size == 0:
+            raise StoreError(
+                f"{store.path} is an empty file, not a designlab result store; move it away "
+                f"or choose another --cache-dir (`designlab report` never creates a store)"
             )
         try:
             result = run_study(spec, RunContext(store=store, cache_only=True))

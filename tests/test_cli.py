@@ -152,7 +152,8 @@ def test_sweep_run_report_and_index(write_study, tmp_path):
         in result.stdout
     )
     summary = (out / "cli_sweep" / "summary.md").read_text()
-    assert f"`designlab run {study} --output-dir {out}` with designlab" in summary
+    command = f"designlab run {study} --output-dir {out} --cache-dir {cache}"
+    assert f"`{command}` with designlab" in summary
     assert "### Local elasticities at the base design" in summary
     assert (out / "cli_sweep" / "tornado_a_h_max_g.png").is_file()
     index = (out / "index.md").read_text()
@@ -246,3 +247,74 @@ def test_index_md_directory_is_a_clear_report_error(tmp_path):
     (tmp_path / "index.md").mkdir()
     with pytest.raises(ReportError, match="is a directory"):
         write_index(tmp_path)
+
+
+def test_summary_names_every_option_of_the_run(write_study, tmp_path):
+    """The report's command line reproduces the run: -j 2, --executor, --cache-dir, --resume."""
+    study = write_study(SWEEP_STUDY, "sweep.yaml")
+    out, cache = tmp_path / "out", tmp_path / "cache"
+    args = ["run", str(study), "-o", str(out), "--cache-dir", str(cache), "-j", "2",
+            "-e", "processes", "--resume"]  # fmt: skip
+    result = runner.invoke(app, args)
+    assert result.exit_code == 0, result.output
+    summary = (out / "cli_sweep" / "summary.md").read_text()
+    assert (
+        f"`designlab run {study} --output-dir {out} --cache-dir {cache} --executor processes "
+        "--workers 2 --resume`" in summary
+    ), summary
+
+
+@pytest.mark.parametrize("umask", [0o077, 0o027, 0o002])
+def test_reports_follow_the_umask(write_study, tiny_study_text, tmp_path, umask):
+    import os
+    import stat
+
+    study = write_study(tiny_study_text, "tiny.yaml")
+    out = tmp_path / "out"
+    old = os.umask(umask)
+    try:
+        result = runner.invoke(app, ["run", str(study), "--output-dir", str(out)])
+    finally:
+        os.umask(old)
+    assert result.exit_code == 0, result.output
+    written = [p for p in (out / "tiny").rglob("*")] + [out / "tiny", out / "index.md"]
+    for path in written:
+        mode = stat.S_IMODE(path.stat().st_mode)
+        full = 0o777 if path.is_dir() else 0o666
+        assert mode == full & ~umask, (path, oct(mode))
+
+
+@pytest.mark.parametrize(
+    ("make", "message"),
+    [
+        ("fifo", "is a FIFO (named pipe), not a regular file"),
+        ("device", "is a character device, not a regular file"),
+        ("nul", "a NUL byte at character"),
+        ("digits", "a number written with 5,000 characters"),
+        ("duplicate", "key 'name' appears twice in the same mapping, on lines 3 and 4"),
+        ("syntax", "YAML syntax error"),
+    ],
+)
+def test_validate_and_run_refuse_hostile_files_clearly(tmp_path, make, message):
+    import os
+
+    path = tmp_path / "s.yaml"
+    head = "designlab: 1\nkind: impact_cases\nname: t\n"
+    if make == "fifo":
+        os.mkfifo(path)
+    elif make == "device":
+        path = "/dev/zero"
+    else:
+        text = {
+            "nul": head + "description: a\x00b\n",
+            "digits": head + "description: 1\nseed: " + "7" * 5000 + "\n",
+            "duplicate": head + "name: u\n",
+            "syntax": head + "cases: [\n",
+        }[make]
+        path.write_text(text, encoding="utf-8")
+    for command in (["validate", str(path)], ["run", str(path), "-o", str(tmp_path / "r")]):
+        result = runner.invoke(app, command)
+        assert result.exit_code == EXIT_STUDY_ERROR, result.output
+        assert result.exception is None or isinstance(result.exception, SystemExit)
+        assert f"error: {path}" in result.stderr and message in result.stderr, result.stderr
+    assert not (tmp_path / "r").exists()

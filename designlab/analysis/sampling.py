@@ -32,8 +32,10 @@ from numpy.typing import NDArray
 
 from designlab.analysis import lhs_kernel
 from designlab.analysis.points import PointSource, source_identity
+from designlab.errors import InvalidParameterError
 
 __all__ = [
+    "MAX_SALTELLI_SAMPLES",
     "GridPoints",
     "LatinHypercubePoints",
     "SobolPoints",
@@ -43,6 +45,11 @@ __all__ = [
 
 Bounds = Mapping[str, tuple[float, float]]
 Columns = dict[str, NDArray[np.float64]]
+
+#: The largest Saltelli base sample N: SALib's Sobol analysis bootstraps 100 resamples of
+#: N values in several arrays at once (about 4 kB per unit of N per metric), so N = 2**20
+#: needs over 4 GB where 2**16 needs about 300 MB.
+MAX_SALTELLI_SAMPLES = 1 << 16
 
 
 def list_points(values: Mapping[str, Sequence[float]]) -> Columns:
@@ -270,11 +277,26 @@ def saltelli(bounds: Bounds, samples: int, *, seed: int = 0) -> Columns:
     bounds
         Name -> (low, high).
     samples
-        Base sample size N (a power of two).
+        Base sample size N (a power of two, at most :data:`MAX_SALTELLI_SAMPLES`).
     seed
         Seed of the sample.
+
+    Examples
+    --------
+    >>> saltelli({"a": (0, 1), "b": (0, 1)}, 2**17)
+    Traceback (most recent call last):
+    ...
+    designlab.errors.InvalidParameterError: samples = 131072 is not allowed: must be a power
+    of two from 2 to 65536 ...
     """
     from SALib.sample import sobol as sobol_sample
+
+    n = samples if isinstance(samples, int | np.integer) and not isinstance(samples, bool) else 0
+    if not (2 <= n <= MAX_SALTELLI_SAMPLES and n & (n - 1) == 0):
+        raise InvalidParameterError(
+            "samples", samples, f"must be a power of two from 2 to {MAX_SALTELLI_SAMPLES} (the "
+            "Sobol analysis holds 100 bootstrap resamples of N values)",
+        )  # fmt: skip
 
     problem = {
         "num_vars": len(bounds),

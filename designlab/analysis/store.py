@@ -109,12 +109,17 @@ class StoreError(DesignlabError, OSError):
     """The result store cannot be opened, read or written (or belongs to another study)."""
 
 
-def _is_damage(exc: sqlite3.Error) -> bool:
-    """Whether SQLite says the file is damaged (as opposed to locked, read-only, full)."""
+def _is_damage(exc: BaseException) -> bool:
+    """Whether SQLite says the file is damaged (as opposed to locked, read-only, full).
+
+    Text that is not UTF-8 (random bytes over a table name or a meta value) is damage too.
+    """
+    if isinstance(exc, UnicodeDecodeError):
+        return True
     name = str(getattr(exc, "sqlite_errorname", ""))
     text = str(exc)
     return name.startswith(("SQLITE_CORRUPT", "SQLITE_NOTADB")) or (
-        "malformed" in text or "not a database" in text
+        "malformed" in text or "not a database" in text or "Could not decode to UTF-8" in text
     )
 
 
@@ -138,6 +143,60 @@ def _writable(path: Path) -> bool:
     if not os.access(parent, os.W_OK | os.X_OK):
         return False
     return not path.exists() or os.access(path, os.W_OK)
+
+
+#: The error raised when an index lookup returns the row of another key (random bytes over
+#: an index cell's row number): SQLite's own words, so that the store is repaired.
+_MISDIRECTED = "database disk image is malformed (an index entry points at another chunk's row)"
+
+
+def _check_rows(db: sqlite3.Connection, table: str, keys: dict[int, str]) -> None:
+    """Raise SQLite's "malformed" error unless the rows ``rowid -> key`` hold those keys.
+
+    A lookup by key reads the key from the index and the rest from the row the index
+    names: random bytes over an index cell's row number give another chunk's data under
+    the asked key, checksum intact. The keys are read again from the table itself.
+    """
+    if not keys:
+        return
+    marks = ",".join("?" * len(keys))
+    found = dict(db.execute(
+        f"SELECT rowid, key FROM {table} NOT INDEXED WHERE rowid IN ({marks})", list(keys)
+    ).fetchall())  # fmt: skip
+    if found != keys:
+        raise sqlite3.DatabaseError(_MISDIRECTED)
+
+
+def _check_structure(db: sqlite3.Connection) -> None:
+    """Raise SQLite's "malformed" error if an existing store is damaged where no query looked.
+
+    Random bytes over a page that the run's queries never walk (an index page, a leaf of
+    chunks already done) go unnoticed by SQLite: a chunk key missing from a damaged index
+    is then inserted a second time and ``PRAGMA integrity_check`` fails, though results
+    stay right. ``PRAGMA quick_check`` (every page's structure, one pass over the file) and
+    the keys and row numbers of each table read with and without its index (the part of
+    ``PRAGMA integrity_check`` that ``quick_check`` leaves out, for the two small indexes)
+    find that damage when the store is opened; the store is then repaired as for any
+    damage (:meth:`ChunkStore._repair`).
+    """
+    problems = [r[0] for r in db.execute("PRAGMA quick_check(5)").fetchall()]
+    if problems != ["ok"]:
+        raise sqlite3.DatabaseError(f"database disk image is malformed ({'; '.join(problems)})")
+    tables = {r[0] for r in db.execute("SELECT name FROM sqlite_master WHERE type='table'")}
+    for table in ("chunks", "summaries"):
+        if table not in tables:
+            continue
+        rows = sorted(db.execute(f"SELECT key, rowid FROM {table} NOT INDEXED").fetchall())
+        index = sorted(db.execute(
+            f"SELECT key, rowid FROM {table} INDEXED BY sqlite_autoindex_{table}_1 "
+            "WHERE key IS NOT NULL"
+        ).fetchall())  # fmt: skip
+        keys = [r[0] for r in rows]
+        if rows != index or len(set(keys)) != len(keys):
+            raise sqlite3.DatabaseError(
+                f"database disk image is malformed (the {table} index does not match its "
+                "rows, or a key is stored twice)"
+            )
 
 
 def _has_summaries(db: sqlite3.Connection) -> bool:
@@ -257,14 +316,28 @@ class ChunkStore:
             return self._db
         try:
             db = self._open()
-        except sqlite3.DatabaseError as exc:
+        except (sqlite3.DatabaseError, UnicodeDecodeError) as exc:
             if not _is_damage(exc):
                 raise self._error("open", exc) from exc
             db = self._repair(exc)
         self._db = db
         return db
 
+    def _check_path(self) -> None:
+        """Refuse a store path that is a symbolic link or not a regular file."""
+        if self.path.is_symlink():
+            raise StoreError(
+                f"{self.path} is a symbolic link; a result store must be a regular file "
+                "(give the directory it is in as --cache-dir, or move the link away)"
+            )
+        if self.path.exists() and not self.path.is_file():
+            raise StoreError(
+                f"{self.path} is not a regular file, so not a designlab result store; move it "
+                "away or choose another --cache-dir"
+            )
+
     def _open(self) -> sqlite3.Connection:
+        self._check_path()
         if self.path.exists() and not _writable(self.path):
             return self._open_read_only()
         try:
@@ -300,6 +373,8 @@ class ChunkStore:
             if db.execute("PRAGMA journal_mode").fetchone()[0] != "wal":
                 db.execute("PRAGMA journal_mode = WAL")
             self._check(db)
+            if not created:
+                _check_structure(db)
             db.execute(_SUMMARIES)
             db.execute("PRAGMA synchronous = NORMAL")
         except BaseException:
@@ -317,6 +392,7 @@ class ChunkStore:
                 db.execute("SELECT name FROM sqlite_master").fetchall()
                 self.read_only = True
                 self._check(db)
+                _check_structure(db)
             except sqlite3.OperationalError as exc:
                 db.close()
                 if extra or not _is_read_only(exc):
@@ -458,7 +534,7 @@ class ChunkStore:
             Path(str(self.path) + suffix).unlink(missing_ok=True)
         os.replace(tmp, self.path)
 
-    def _repair(self, exc: sqlite3.Error) -> sqlite3.Connection:
+    def _repair(self, exc: BaseException) -> sqlite3.Connection:
         """Keep every readable chunk of a damaged file; return a connection to the result."""
         self.close()
         meta, chunks = self._salvage()
@@ -495,13 +571,13 @@ class ChunkStore:
         """``op(connection)``; a damaged file is repaired once and ``op`` tried again."""
         try:
             return op(self._connect())
-        except sqlite3.DatabaseError as exc:
+        except (sqlite3.DatabaseError, UnicodeDecodeError) as exc:
             if not _is_damage(exc):
                 raise self._error(what, exc) from exc
             self._db = self._repair(exc)
         try:
             return op(self._db)
-        except sqlite3.DatabaseError as exc:
+        except (sqlite3.DatabaseError, UnicodeDecodeError) as exc:
             raise self._error(what, exc) from exc
 
     # -- life cycle -------------------------------------------------------------------
@@ -531,12 +607,17 @@ class ChunkStore:
         key
             The chunk key.
         """
-        row = self._run(
-            "read",
-            lambda db: db.execute(
-                "SELECT n, data, sha256 FROM chunks WHERE key = ?", (key,)
-            ).fetchone(),
-        )
+
+        def select(db: sqlite3.Connection) -> Any:
+            row = db.execute(
+                "SELECT rowid, n, data, sha256 FROM chunks WHERE key = ?", (key,)
+            ).fetchone()
+            if row is None:
+                return None
+            _check_rows(db, "chunks", {row[0]: key})
+            return row[1:]
+
+        row = self._run("read", select)
         if row is None:
             return "missing", None
         n, data, digest = row
@@ -639,12 +720,15 @@ class ChunkStore:
                 return
             for i in range(0, len(keys), _KEYS_PER_QUERY):
                 part = list(keys[i : i + _KEYS_PER_QUERY])
+                marks = ",".join("?" * len(part))
                 rows = db.execute(
-                    "SELECT c.key, c.n, c.data, c.sha256, s.n, s.summary FROM chunks c JOIN "
-                    f"summaries s ON s.key = c.key WHERE c.key IN ({','.join('?' * len(part))})",
+                    "SELECT c.rowid, s.rowid, c.key, c.n, c.data, c.sha256, s.n, s.summary "
+                    f"FROM chunks c JOIN summaries s ON s.key = c.key WHERE c.key IN ({marks})",
                     part,
                 ).fetchall()
-                for key, n, data, digest, sn, text in rows:
+                _check_rows(db, "chunks", {r[0]: r[2] for r in rows})
+                _check_rows(db, "summaries", {r[1]: r[2] for r in rows})
+                for _, _, key, n, data, digest, sn, text in rows:
                     if n == sn and isinstance(data, bytes) and _sha256(data) == digest:
                         out[key] = (int(n), json.loads(text))
 

@@ -50,6 +50,7 @@ __all__ = [
     "ReportError",
     "atomic_write_bytes",
     "atomic_write_text",
+    "current_umask",
     "report_directory",
 ]
 
@@ -72,6 +73,30 @@ def _fsync_dir(path: Path) -> None:
         pass
     finally:
         os.close(fd)
+
+
+def current_umask() -> int:
+    """The process's file mode creation mask (``umask``), read without changing it.
+
+    Temporary files and directories are created private (0600 / 0700); reports are then
+    given the mode a plain ``open()`` or ``mkdir`` would give them: 0666 or 0777 without
+    the bits of the user's umask (with umask 077 a report is readable by its owner only).
+
+    Examples
+    --------
+    >>> 0 <= current_umask() <= 0o777
+    True
+    """
+    try:
+        with open("/proc/self/status", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("Umask:"):
+                    return int(line.split()[1], 8)
+    except (OSError, ValueError, IndexError):
+        pass
+    mask = os.umask(0o022)  # no /proc: read it by setting it (and put it back at once)
+    os.umask(mask)
+    return mask
 
 
 def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:
@@ -100,7 +125,7 @@ def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:
             fh.write(data)
             fh.flush()
             os.fsync(fh.fileno())
-        os.chmod(tmp, 0o644)
+        os.chmod(tmp, 0o666 & ~current_umask())  # as open() would create it
         os.replace(tmp, target)
     except BaseException:
         with contextlib.suppress(FileNotFoundError):
@@ -234,7 +259,7 @@ def report_directory(final: str | os.PathLike[str]) -> Iterator[Path]:
         with _directory_lock(final.parent):
             _recover(final)
         tmp = Path(tempfile.mkdtemp(prefix=f".{final.name}.tmp-{os.getpid()}-", dir=final.parent))
-        os.chmod(tmp, 0o755)
+        os.chmod(tmp, 0o777 & ~current_umask())  # as mkdir would create it
     except OSError as exc:
         raise ReportError(f"cannot create the report directory {final}: {exc}") from exc
     try:

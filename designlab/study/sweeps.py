@@ -44,6 +44,7 @@ from typing import Annotated, Any, ClassVar, Generic, Literal, TypeVar
 
 from pydantic import BaseModel, Field, create_model, model_validator
 
+from designlab.analysis.sampling import MAX_SALTELLI_SAMPLES
 from designlab.params import Param
 from designlab.study.base import Finite as _Finite
 from designlab.study.base import Flag, Integer, StudyBase, did_you_mean
@@ -308,7 +309,7 @@ class OneAtATimeSpec(_Model):
 class SobolSpec(_Model):
     """Variance-based Sobol indices (SALib: Saltelli sampling, Sobol analysis)."""
 
-    samples: Annotated[Integer, Field(ge=2, le=1 << 20)] = Field(
+    samples: Annotated[Integer, Field(ge=2, le=MAX_SALTELLI_SAMPLES)] = Field(
         256, description="base sample N (a power of two); N (D + 2) model runs"
     )
     seed: Annotated[Integer, Field(ge=0)] = Field(0, description="seed of sampling and bootstrap")

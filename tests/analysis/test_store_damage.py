@@ -257,3 +257,110 @@ def test_a_sweep_above_its_kinds_cap_is_refused_when_validated():
     with pytest.raises(ValidationError, match=msg):
         Capped.model_validate(data)
     assert ImpactSweepStudy.model_validate(data).size() == "1001 points"
+
+
+def _sound(path: Path) -> None:
+    """SQLite's full check passes and no chunk key is stored twice."""
+    with sqlite3.connect(path) as db:
+        assert db.execute("PRAGMA integrity_check").fetchall() == [("ok",)]
+        keys = [r[0] for r in db.execute("SELECT key FROM chunks NOT INDEXED")]
+    assert len(keys) == len(set(keys)) == 120
+
+
+def test_200_random_bytes_on_any_page_leave_right_results_and_a_sound_store(tmp_path):
+    """200 random bytes at a seeded place of every page: even where no query of the run walks
+    (an index page, a finished leaf) the store is found damaged when opened and repaired, so
+    it ends with no repeated chunk row and a passing ``integrity_check``."""
+    orig = tmp_path / "orig.sqlite"
+    _build(orig)
+    pages = orig.stat().st_size // 4096
+    rng = random.Random(200)
+    for page in range(1, pages + 1):
+        path = tmp_path / f"p{page}.sqlite"
+        data = bytearray(orig.read_bytes())
+        at = (page - 1) * 4096 + rng.randrange(4096 - 200)
+        data[at : at + 200] = bytes(rng.randrange(256) for _ in range(200))
+        path.write_bytes(bytes(data))
+        with ChunkStore(path) as store:
+            run = run_points(POINTS, cubic, {"c": 1.0}, store=store, chunk_size=5, resume=True)
+            store.checkpoint()
+        assert run.frame["y"].tolist() == _want(), page
+        _sound(path)
+
+
+def _index_entry(path: Path, key: str) -> int:
+    """The file offset of ``key``'s entry in the chunk key index (the byte after is its rowid)."""
+    data = path.read_bytes()
+    with sqlite3.connect(path) as db:
+        rowid = db.execute("SELECT rowid FROM chunks NOT INDEXED WHERE key = ?", (key,)).fetchone()
+    hits = [i for i in range(len(data)) if data.startswith(key.encode(), i)]
+    entries = [i for i in hits if data[i + len(key)] == rowid[0]]  # (key, rowid): the index cell
+    assert len(entries) == 1, (hits, rowid)
+    return entries[0]
+
+
+def test_an_index_entry_naming_another_row_is_damage_not_another_chunks_result(tmp_path):
+    """The row number of one key's index entry changed to another chunk's: a lookup by key
+    would return the other chunk's data, checksum intact (a silent wrong result)."""
+    path = tmp_path / "s.sqlite"
+    _build(path)
+    with sqlite3.connect(path) as db:
+        (k29, r29), (_, r50) = db.execute(
+            "SELECT key, rowid FROM chunks NOT INDEXED WHERE rowid IN (30, 51) ORDER BY rowid"
+        ).fetchall()
+    at = _index_entry(path, k29) + len(k29)
+    data = bytearray(path.read_bytes())
+    assert data[at] == r29
+    data[at] = r50
+    path.write_bytes(bytes(data))
+    with sqlite3.connect(path) as db:  # what a plain lookup now gives: chunk 50's data
+        assert db.execute("SELECT rowid FROM chunks WHERE key = ?", (k29,)).fetchone() == (r50,)
+    with ChunkStore(path) as store:
+        run = run_points(POINTS, cubic, {"c": 1.0}, store=store, chunk_size=5, resume=True)
+        assert store.repairs and "damaged" in store.repairs[0]
+    assert run.frame["y"].tolist() == _want()
+    _sound(path)
+
+
+def test_an_index_key_changed_in_place_never_leads_to_a_second_row(tmp_path):
+    """One character of an index entry's key changed: a lookup of that key misses, and an
+    ``INSERT OR REPLACE`` would add a second row for it (a failing integrity_check)."""
+    path = tmp_path / "s.sqlite"
+    _build(path)
+    with sqlite3.connect(path) as db:
+        key = db.execute("SELECT key FROM chunks NOT INDEXED WHERE rowid = 30").fetchone()[0]
+    at = _index_entry(path, key) + len(key) - 1
+    data = bytearray(path.read_bytes())
+    data[at] = ord("0") if data[at] != ord("0") else ord("1")
+    path.write_bytes(bytes(data))
+    with ChunkStore(path) as store:
+        run = run_points(POINTS, cubic, {"c": 1.0}, store=store, chunk_size=5, resume=True)
+        store.checkpoint()
+    assert run.frame["y"].tolist() == _want()
+    _sound(path)
+
+
+def test_a_symlinked_or_empty_store_is_refused_not_turned_into_a_store(tmp_path):
+    runner = CliRunner()
+    study = tmp_path / "demo.yaml"
+    study.write_text(STUDY)
+    cache, elsewhere = tmp_path / "cache", tmp_path / "elsewhere"
+    cache.mkdir()
+    elsewhere.mkdir()
+    target = elsewhere / "notes.txt"
+    target.write_bytes(b"")
+    (cache / "demo.sqlite").symlink_to(target)
+    args = ["report", str(study), "-o", str(tmp_path / "out"), "--cache-dir", str(cache)]
+    result = runner.invoke(app, args)
+    assert result.exit_code == 1, result.output
+    assert "demo.sqlite is a symbolic link; a result store must be a regular file" in result.output
+    assert target.read_bytes() == b""  # not turned into a store
+    with pytest.raises(StoreError, match="is a symbolic link"):
+        ChunkStore(cache / "demo.sqlite").put_chunk("k", {"y": np.array([1.0])})
+    assert target.read_bytes() == b""
+    (cache / "demo.sqlite").unlink()
+    (cache / "demo.sqlite").write_bytes(b"")
+    result = runner.invoke(app, args)
+    assert result.exit_code == 1, result.output
+    assert "demo.sqlite is an empty file, not a designlab result store" in result.output
+    assert (cache / "demo.sqlite").read_bytes() == b""

@@ -310,6 +310,11 @@ def check_runs_frame(runs: Any, columns: Sequence[str]) -> None:
         )
 
 
+#: The columns of :func:`run_row` that the summary reads.
+_METRIC_COLUMNS = (*RATES, "arrival_time_s", "min_centre_distance_m", "personal_space_s",
+                   "ped_delay_mean_s", "ped_deviation_mean_m")  # fmt: skip
+
+
 def summarise_runs(runs: pd.DataFrame, confidence: float = 0.95) -> pd.DataFrame:
     """One row per scenario, density and method: rates with Wilson intervals and distributions.
 
@@ -341,6 +346,8 @@ def summarise_runs(runs: pd.DataFrame, confidence: float = 0.95) -> pd.DataFrame
         else pd.Series(False, index=runs.index)
     )
     rows = []
+    # a grid whose every run failed has no metric column: its rates are 0 of 0 runs
+    runs = runs.reindex(columns=[*runs.columns, *(c for c in _METRIC_COLUMNS if c not in runs)])
     for key, group in runs.groupby(keys, sort=False):
         ok = group[~failed.loc[group.index]]
         row = dict(zip(keys, key, strict=True))
