@@ -482,16 +482,17 @@ def _reproduction_section(result: NavigationGainsResult) -> list[str]:
     out = [
         "## Reproduction on another machine",
         "",
-        "The search is seeded, so the same machine and build give these numbers to the bit. "
+        "The search is seeded: the same machine and build give these numbers to the bit. "
         "Another CPU (or libm, compiler, numba build) changes the last bits of each closed-loop "
-        "run, and the search may then end at another gain set of equal merit. The tables "
-        f"reproduce within: H and H_mean of fixed gain sets {REPRO_H_FIXED:g}; the best H_mean "
-        f"of an optimisation {REPRO_H_OPTIMUM:g}; arrival times one dynamics step (1 ms); the "
-        "optimum's gains only within the near-optimal ranges below. Where H_mean is flat "
-        f"(gain sets within {NEAR_OPTIMAL_H_MEAN:g} of the best, every feasible gain set the "
-        "search evaluated), the digits of the optimum's gains depend on the last bit; the gains "
-        "table then shows the range (marked ~); near_optimal.csv has every range. Wall times "
-        "are not reproducible and are not in the report (run record).",
+        "run; the tables then reproduce within: H and H_mean of fixed gain sets "
+        f"{REPRO_H_FIXED:g}; the best H_mean of an optimisation {REPRO_H_OPTIMUM:g}; arrival "
+        "times one dynamics step (1 ms). The optimum's gains do not reproduce digit for digit: "
+        "H_mean is flat around them and the seeded search may end elsewhere in the flat region "
+        "(docs/navigation_gains.md, 'Reproduction'). For each optimum the gains table shows "
+        f"the range of the gain sets this run evaluated within {NEAR_OPTIMAL_H_MEAN:g} of its "
+        "best H_mean (marked ~; every range in near_optimal.csv, full digits of this run's "
+        "optimum in gains.csv); a run on another machine may end outside it, at an H_mean "
+        "within the tolerance above. Wall times are not in the report (run record).",
         "",
     ]
     if near.empty:

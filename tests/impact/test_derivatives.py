@@ -45,9 +45,20 @@ def test_gradients_match_central_differences(metric: str) -> None:
         assert g[j] == pytest.approx(fd, rel=1e-4, abs=1e-12 * max(1.0, abs(fd)))
 
 
+#: Relative accuracy of the lobe end t_imp: its Newton solve stops at a step below 1e-11 t
+#: (designlab/impact/kernel_lobe.py, ``lobe_end``); 10x that bounds the error of the last step.
+T_IMP_RTOL = 1e-10
+
+
 def test_elasticity_of_linear_metrics_in_velocity_is_one() -> None:
-    g = metric_gradients(np.vstack([P, P]), [0.4, 1.25], columns=dl.impact.PARAM_NAMES)
+    v = np.array([0.4, 1.25])
+    g = metric_gradients(np.vstack([P, P]), v, columns=dl.impact.PARAM_NAMES)
     for metric in ("peak_head_acceleration", "max_compression", "peak_force"):
         np.testing.assert_allclose(g.elasticities(metric)["v_c"], 1.0, rtol=1e-8)
-    np.testing.assert_allclose(g.gradients["impact_duration"][:, 8], 0.0, atol=1e-12)
+    # exactly 0 (t_imp does not depend on v_c); computed as -(da_h/dv)/(da_h/dt) at the
+    # computed t_imp, with da_h/dv = a_h(t_imp)/v, it is (t_exact - t_imp)/v to first order:
+    # the lobe end's error over v_c, not a rounding error of a few ulps
+    t_imp = dl.impact.impact_metrics(np.vstack([P, P]), v, columns=dl.impact.PARAM_NAMES)
+    bound = T_IMP_RTOL * t_imp.impact_duration / v
+    assert np.all(np.abs(g.gradients["impact_duration"][:, 8]) <= bound)
     assert set(g.to_frame()["variable"]) >= {"K_c", "C_c", "v_c"}
