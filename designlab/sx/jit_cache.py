@@ -11,7 +11,9 @@ this user, not writable by group or others, with the recorded hash. A file faili
 a check is removed with a warning, and numba compiles the function again and
 stores it afresh. Where numba's cache is not the one this module knows (another
 numba version), or its directory is not private, caching is turned off for the
-function (compiled in every process, said once).
+function (compiled in every process, said once). Processes compiling kernels at the
+same time take turns (:func:`_compile_once`): each kernel is compiled once, the others
+wait and load it.
 
 Examples
 --------
@@ -133,3 +135,24 @@ def verify_cache(dispatcher: Any) -> None:
         )
         return
     cache_file.__class__ = verified
+    _compile_once(dispatcher, Path(config.CACHE_DIR or path))
+
+
+def _compile_once(dispatcher: Any, root: Path) -> None:
+    """Processes compiling kernels take turns on a lock file of the cache (``root``).
+
+    A second process reaching a kernel that another is compiling waits, then loads
+    what the first stored instead of compiling it too. The lock is taken inside
+    numba's own compiler lock (one order for every thread) and is re-entrant, so a
+    kernel compiled while compiling its caller does not wait for itself.
+    """
+    from numba.core.compiler_lock import global_compiler_lock
+
+    compile_ = dispatcher.compile
+    shelf = Shelf(root)
+
+    def compile(sig: Any) -> Any:
+        with global_compiler_lock, shelf.locked():
+            return compile_(sig)
+
+    dispatcher.compile = compile

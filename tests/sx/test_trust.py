@@ -320,3 +320,44 @@ def test_a_cache_directory_not_ours_alone_is_not_used(
     assert list(shared.iterdir()) == []
     after = shared.stat()  # left as it was
     assert (after.st_uid, after.st_mode) == (before.st_uid, before.st_mode)
+
+
+CHILD = """
+import sys
+sys.path.insert(0, {src!r})
+import dl_tiny_kernel
+assert dl_tiny_kernel.tiny(3.0) == 7.0
+f = dl_tiny_kernel.tiny
+print(sum(f.stats.cache_hits.values()), sum(f.stats.cache_misses.values()))
+"""
+
+
+@needs_jit
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="flock is POSIX")
+def test_processes_starting_together_compile_a_kernel_once(tmp_path: Path) -> None:
+    """Two processes reach a kernel while a third holds the compile lock: when it is
+    released, one compiles and stores, the other waits and loads."""
+    import fcntl
+
+    src = tmp_path / "src"
+    src.mkdir()
+    (src / "dl_tiny_kernel.py").write_text(TINY)
+    cache = tmp_path / "numba"
+    cache.mkdir(mode=0o700)
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(cache)}
+    code = CHILD.format(src=str(src))
+    with open(cache / f"{MANIFEST}.lock", "a") as held:
+        fcntl.flock(held, fcntl.LOCK_EX)
+        procs = [
+            subprocess.Popen(
+                [sys.executable, "-c", code], env=env, stdout=subprocess.PIPE, text=True
+            )
+            for _ in range(2)
+        ]
+        try:
+            procs[0].wait(timeout=3)  # it cannot finish: it waits for the lock
+            raise AssertionError("a process compiled while another held the lock")
+        except subprocess.TimeoutExpired:
+            pass
+    outs = sorted(p.communicate(timeout=300)[0].split() for p in procs)
+    assert outs == [["0", "1"], ["1", "0"]]  # one compiled (a miss), the other loaded (a hit)
