@@ -15,6 +15,9 @@
     run took (kept with its report) or its kind's typical duration.
 ``designlab schema``
     Print the JSON Schema of study files.
+``designlab compile [--only STEP]``
+    Compile ahead the numba kernels and the navigation step (cached on disk), so
+    that no later run pays the compilation.
 ``designlab docs [--build]``
     Build and serve the documentation site (a source checkout with the docs extra).
 ``designlab --version``
@@ -380,6 +383,27 @@ def report(
         _write(result, study, output_dir, command)
     except DesignlabError as exc:
         _fail(exc)
+
+
+@app.command("compile")
+def compile_code(
+    only: Annotated[
+        list[str] | None,
+        typer.Option("--only", help="A step to run: impact, sampling or navigation (repeatable)."),
+    ] = None,
+) -> None:
+    """Compile ahead what designlab compiles on first use, so later runs only load it.
+
+    The numba kernels and the navigation step in C are compiled by the first call that
+    needs them and cached on disk; run this once after installing (each step says what
+    it compiles and how long it took; a step already in the cache only loads).
+    """
+    from designlab.sx.warm import compile_all
+
+    try:
+        compile_all(tuple(only) if only else None, say=typer.echo)
+    except ValueError as exc:
+        _usage(str(exc))
 
 
 @app.command()

@@ -21,9 +21,15 @@ only a few chunks in memory at a time.
     ``tcp://host:8786``) or, without an address, to a new
     :class:`distributed.LocalCluster` of ``workers`` single-threaded
     processes. An unreachable scheduler raises :class:`ExecutorError` after
-    ``timeout`` seconds; a scheduler lost during the run, or no worker alive
-    for ``worker_timeout`` seconds (default :data:`WORKER_TIMEOUT`), raises
-    :class:`WorkerLostError`.
+    ``timeout`` seconds; a scheduler lost during the run (its connection closed,
+    or no answer within ``worker_timeout`` seconds), or no sign of a live worker
+    for ``worker_timeout`` seconds (default :data:`WORKER_TIMEOUT`; a sign is a
+    finished task or a worker's heartbeat reaching the scheduler), raises
+    :class:`WorkerLostError`. Heartbeats matter where a killed worker's
+    connections stay open (a process it forked holds them): the scheduler then
+    keeps it in its list, but its heartbeats stop. A worker whose event loop is
+    blocked for longer (importing for many seconds on a busy machine) looks
+    lost too: keep ``worker_timeout`` well above that.
 
 Whatever the executor, the sweep engine stores every chunk as it comes back,
 so after a :class:`WorkerLostError` the finished chunks are in the result
@@ -76,6 +82,8 @@ WORKER_TIMEOUT = 60.0
 _ORPHANED = 70
 #: Seconds between checks of the Dask cluster while no task finishes.
 _POLL = 1.0
+#: Seconds without a worker's heartbeat (about one a second) before the run warns.
+_SILENT = 5.0
 #: Seconds to wait for a Dask client or cluster to close.
 _CLOSE_TIMEOUT = 10.0
 
@@ -316,8 +324,9 @@ class DaskExecutor(Executor):
     processes
         LocalCluster only: worker processes (``False``: threads in this process).
     worker_timeout
-        Seconds the run waits while no worker is alive (all lost) before
-        raising :class:`WorkerLostError`.
+        Seconds the run waits without a sign of a live worker (a finished task
+        or a heartbeat), or for the scheduler to answer, or for a finished
+        result, before raising :class:`WorkerLostError`.
     """
 
     name = "dask"
@@ -406,18 +415,18 @@ class DaskExecutor(Executor):
                 index[fut] = i
 
         top_up(self.window)
-        idle_since: float | None = None
+        watch = _Liveness()
         try:
             while index:
                 try:
                     done = wait_for(list(index), timeout=_POLL, return_when="FIRST_COMPLETED").done
                 except TimeoutError:
-                    idle_since = self._check_workers(idle_since)
+                    self._check_workers(watch)
                     continue
-                idle_since = None
+                watch.life()
                 for fut in sorted(done, key=lambda f: f.status != "finished"):  # results first
                     i = index.pop(fut)
-                    result = fut.result()
+                    result = self._result(fut)
                     top_up(1)
                     yield i, result
         except WorkerLostError:
@@ -435,32 +444,91 @@ class DaskExecutor(Executor):
 
     def _lost(self, exc: BaseException) -> WorkerLostError:
         where = f"the Dask scheduler at {self.scheduler}" if self.scheduler else "the Dask cluster"
+        if not isinstance(exc, TimeoutError) and self._scheduler_answers():
+            where = "a Dask worker"  # e.g. the one holding a finished result
         return WorkerLostError(
             f"lost {where} during the run ({type(exc).__name__}: "
             f"{(str(exc).strip().splitlines() or [''])[0]}); {_RESUME_HINT}"
         )
 
-    def _check_workers(self, idle_since: float | None) -> float | None:
-        """While no task finishes: ``None`` if a worker is alive, else since when none is."""
+    def _result(self, fut: Any) -> Any:
+        """The result of a finished task, fetched from its worker within ``worker_timeout``."""
         try:
-            alive = len(self._client.nthreads())
+            return fut.result(timeout=self.worker_timeout)
+        except TimeoutError:
+            where = f"the Dask scheduler at {self.scheduler}" if self.scheduler else "the scheduler"
+            raise WorkerLostError(
+                f"lost {where} or the Dask worker holding a finished result: the result did not "
+                f"come within {self.worker_timeout:g} s (--worker-timeout); {_RESUME_HINT}"
+            ) from None
+
+    def _scheduler_answers(self) -> bool:
+        client = self._client
+        try:
+            client.sync(
+                client.scheduler.identity, n_workers=0, callback_timeout=self.worker_timeout
+            )
+        except Exception:
+            return False
+        return True
+
+    def _check_workers(self, watch: _Liveness) -> None:
+        """While no task finishes: raise :class:`WorkerLostError` after ``worker_timeout``
+        seconds without a sign of life (a finished task or a worker's heartbeat).
+
+        The scheduler is asked with a time limit (a scheduler that stopped answering is
+        lost), and a worker counts as alive only while its heartbeats reach the scheduler:
+        a worker killed while another process holds its connection open (a process it
+        forked) stays in the scheduler's list, but its heartbeats stop.
+        """
+        client = self._client
+        try:
+            info = client.sync(
+                client.scheduler.identity, n_workers=-1, callback_timeout=self.worker_timeout
+            )
         except (OSError, TimeoutError) as exc:
             raise self._lost(exc) from exc
-        if alive:
-            return None
-        now = time.monotonic()
-        if idle_since is None:
+        except Exception as exc:
+            if type(exc).__name__ in ("CommClosedError", "CancelledError"):
+                raise self._lost(exc) from exc
+            raise
+        beats = {addr: w.get("last_seen") for addr, w in (info.get("workers") or {}).items()}
+        silent = watch.heartbeats(beats)
+        if not watch.warned and (not beats or silent >= min(_SILENT, self.worker_timeout)):
+            watch.warned = True
             logger.warning(
-                "no Dask worker is alive: waiting up to %g s for one (--worker-timeout)",
-                self.worker_timeout,
-            )
-            return now
-        if now - idle_since >= self.worker_timeout:
+                "no Dask worker is alive (%s): waiting up to %g s for one (--worker-timeout)",
+                "none is connected" if not beats else "no heartbeat", self.worker_timeout,
+            )  # fmt: skip
+        if silent >= self.worker_timeout:
             raise WorkerLostError(
                 f"no Dask worker has been alive for {self.worker_timeout:g} s (the last one "
                 f"was lost; --worker-timeout); {_RESUME_HINT} once workers are running"
             )
-        return idle_since
+
+
+class _Liveness:
+    """Signs of life of a Dask run: finished tasks and changes of workers' heartbeats."""
+
+    def __init__(self) -> None:
+        self.last = time.monotonic()
+        self.warned = False
+        self._beats: dict[str, Any] = {}
+
+    def life(self) -> None:
+        """A task finished."""
+        self.last = time.monotonic()
+        self.warned = False
+
+    def heartbeats(self, beats: dict[str, Any]) -> float:
+        """Record the workers' last heartbeats (the scheduler's ``last_seen``); return the
+        seconds since the last sign of life."""
+        now = time.monotonic()
+        if any(addr in self._beats and self._beats[addr] != beat for addr, beat in beats.items()):
+            self.last = now
+            self.warned = False
+        self._beats = beats
+        return now - self.last
 
 
 def make_executor(

@@ -9,13 +9,19 @@ A second process or run loads the stored file instead of compiling. Clear it wit
 :func:`clear_cache` or ``python -m designlab.sx clear``; deleting the directory is
 equally safe.
 
-Each entry is one file ``<key>.<content hash>.so``, written to a temporary name then
-renamed (atomic), so a reader never sees half a file; concurrent processes building
-the same key take turns on a lock file, and the later ones load what the first
-stored. An entry whose content no longer matches the hash in its name (a damaged or
-truncated file) is removed and rebuilt. Where the directory cannot be written, code
-is compiled to a temporary directory, loaded and the directory removed (nothing is
-cached; said once in the log).
+Each entry is one file ``<key>.<content hash>.so``, written 0600 to a temporary name
+then renamed (atomic), so a reader never sees half a file; concurrent processes
+building the same key take turns on a lock file, and the later ones load what the
+first stored. The cache trusts only itself (:mod:`designlab.sx.trust`): the directory
+is created 0700 and must be this user's alone (else a private temporary cache of the
+process is used, with a warning), and an entry is loaded only if it is this user's,
+not writable by group or others, and its bytes have the SHA-256 recorded in the
+directory's manifest when this designlab stored it; an entry failing a check (a
+damaged, truncated, planted or changed file) is removed and rebuilt, with a warning.
+The checked bytes are the ones loaded (copied to a private file of the process, so
+the entry cannot change between check and load). Where no directory can be written,
+code is compiled to a temporary directory, loaded and the directory removed (nothing
+is cached; said once in the log).
 
 Examples
 --------
@@ -26,6 +32,7 @@ True
 
 from __future__ import annotations
 
+import atexit
 import contextlib
 import ctypes
 import hashlib
@@ -37,18 +44,24 @@ import tempfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
+from designlab.sx.trust import Shelf, private_dir
+
 try:  # POSIX: processes building the same entry take turns
     import fcntl
 except ImportError:  # pragma: no cover - Windows: concurrent builds then both rename
     fcntl = None  # type: ignore[assignment]
 
-__all__ = ["ENV", "cache_dir", "cache_key", "clear_cache", "load_or_build"]
+__all__ = [
+    "ENV", "cache_dir", "cache_key", "clear_cache", "load_or_build", "private_cache_dir",
+    "private_cache_subdir",
+]  # fmt: skip
 
 #: The environment variable naming the cache directory.
 ENV = "DESIGNLAB_CACHE_DIR"
 _SUFFIX = ".so"
 _LOG = logging.getLogger("designlab.sx")
 _SAID: set[str] = set()
+_FALLBACK: Path | None = None
 
 
 def say_once(message: str, level: int = logging.WARNING) -> None:
@@ -94,20 +107,62 @@ def cache_key(*parts: str) -> str:
     return h.hexdigest()[:40]
 
 
-def _digest(path: Path) -> str:
-    return hashlib.sha256(path.read_bytes()).hexdigest()[:16]
-
-
-def _stored(root: Path, key: str) -> Path | None:
-    """The intact entry of ``key``, removing damaged ones."""
-    for path in sorted(root.glob(f"{key}.*{_SUFFIX}")):
+def _fallback() -> Path | None:
+    """A private temporary cache for this process (removed at exit), or ``None``."""
+    global _FALLBACK
+    if _FALLBACK is None:
         try:
-            if _digest(path) == path.name.split(".")[1]:
-                return path
-        except OSError:
-            continue
-        say_once(f"damaged compiled-code cache entry {path} removed; it is rebuilt")
-        path.unlink(missing_ok=True)
+            _FALLBACK = Path(tempfile.mkdtemp(prefix="designlab-cache-"))
+        except OSError as exc:
+            say_once(f"no private temporary cache directory ({exc}); compiling uncached")
+            return None
+        atexit.register(shutil.rmtree, _FALLBACK, ignore_errors=True)
+    return _FALLBACK
+
+
+def private_cache_dir() -> Path | None:
+    """:func:`cache_dir`, created 0700 and checked to be this user's alone.
+
+    A directory owned by another user, or that group or others may write (a
+    ``$DESIGNLAB_CACHE_DIR`` such as ``/tmp``), is not used: a private temporary
+    cache of this process replaces it, with a warning. The default directory
+    (``~/.cache/designlab``) of this user is made 0700 if it was not.
+
+    Returns
+    -------
+    Path or None
+        ``None`` where not even a temporary directory can be made.
+    """
+    root = cache_dir()
+    try:
+        return private_dir(root, tighten=not os.environ.get(ENV))
+    except OSError as exc:
+        say_once(
+            f"compile cache directory {root} is not used ({exc}): compiled code is cached in a "
+            "private temporary directory for this process only (give DESIGNLAB_CACHE_DIR a "
+            "directory of your own that only you can write)"
+        )
+    return _fallback()
+
+
+def private_cache_subdir(name: str) -> Path | None:
+    """``<private_cache_dir()>/name``, created 0700 and checked (or ``None``)."""
+    root = private_cache_dir()
+    if root is None:
+        return None
+    try:
+        return private_dir(root / name)
+    except OSError as exc:
+        say_once(f"compile cache directory {root / name} is not used ({exc}); compiling uncached")
+        return None
+
+
+def _stored(shelf: Shelf, key: str) -> bytes | None:
+    """The checked bytes of the entry of ``key`` (entries failing a check are removed)."""
+    for path in sorted(shelf.directory.glob(f"{key}.*{_SUFFIX}")):
+        data = shelf.load(path.name, "compiled-code")
+        if data is not None:
+            return data
     return None
 
 
@@ -117,25 +172,37 @@ def _turn(root: Path, key: str) -> Iterator[None]:
     if fcntl is None:  # pragma: no cover
         yield
         return
-    with open(root / f"{key}.lock", "a") as fh:
-        fcntl.flock(fh, fcntl.LOCK_EX)
-        try:
-            yield
-        finally:
-            fcntl.flock(fh, fcntl.LOCK_UN)
+    fd = os.open(root / f"{key}.lock", os.O_RDWR | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0), 0o600)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        os.close(fd)
 
 
-def _store(root: Path, key: str, build: Callable[[Path], None]) -> Path:
-    """Build the entry of ``key`` in a private directory of ``root`` and rename it in place."""
-    work = Path(tempfile.mkdtemp(prefix=".build-", dir=root))
+def _store(shelf: Shelf, key: str, build: Callable[[Path], None]) -> bytes:
+    """Build the entry of ``key`` in a private directory and store it (0600, recorded)."""
+    work = Path(tempfile.mkdtemp(prefix=".build-", dir=shelf.directory))
     try:
         tmp = work / f"entry{_SUFFIX}"
         build(tmp)
-        final = root / f"{key}.{_digest(tmp)}{_SUFFIX}"
-        os.replace(tmp, final)
-        return final
+        data = tmp.read_bytes()
     finally:
         shutil.rmtree(work, ignore_errors=True)
+    digest = hashlib.sha256(data).hexdigest()[:16]
+    shelf.write(f"{key}.{digest}{_SUFFIX}", data)
+    return data
+
+
+def _dlopen(directory: Path, data: bytes) -> ctypes.CDLL:
+    """Load the checked bytes ``data`` from a file of this process (nothing read twice)."""
+    fd, path = tempfile.mkstemp(prefix=".load-", suffix=_SUFFIX, dir=directory)
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+        return ctypes.CDLL(path)
+    finally:
+        os.unlink(path)  # the code stays mapped
 
 
 def _uncached(build: Callable[[Path], None]) -> ctypes.CDLL:
@@ -147,19 +214,6 @@ def _uncached(build: Callable[[Path], None]) -> ctypes.CDLL:
         return ctypes.CDLL(str(path))
     finally:
         shutil.rmtree(work, ignore_errors=True)
-
-
-def _writable_root() -> Path | None:
-    root = cache_dir() / "compiled"
-    try:
-        root.mkdir(parents=True, exist_ok=True)
-        probe = tempfile.mkstemp(prefix=".probe-", dir=root)
-        os.close(probe[0])
-        os.unlink(probe[1])
-    except OSError as exc:
-        say_once(f"compiled-code cache {root} cannot be written ({exc}); compiling uncached")
-        return None
-    return root
 
 
 def load_or_build(key: str, build: Callable[[Path], None]) -> ctypes.CDLL:
@@ -177,17 +231,19 @@ def load_or_build(key: str, build: Callable[[Path], None]) -> ctypes.CDLL:
     ctypes.CDLL
         The loaded library.
     """
-    root = _writable_root()
+    root = private_cache_subdir("compiled")
     if root is None:
         return _uncached(build)
+    shelf = Shelf(root)
     for _attempt in range(2):
-        path = _stored(root, key)
-        if path is None:
+        data = _stored(shelf, key)
+        if data is None:
             with _turn(root, key):
-                path = _stored(root, key) or _store(root, key, build)
+                data = _stored(shelf, key) or _store(shelf, key, build)
         try:
-            return ctypes.CDLL(str(path))
+            return _dlopen(root, data)
         except OSError as exc:  # stored but not loadable: rebuilt once
-            say_once(f"compiled-code cache entry {path} does not load ({exc}); it is rebuilt")
-            path.unlink(missing_ok=True)
+            say_once(f"compiled-code cache entry of {key} does not load ({exc}); it is rebuilt")
+            for path in root.glob(f"{key}.*{_SUFFIX}"):
+                shelf.discard(path.name)
     return _uncached(build)

@@ -8,8 +8,11 @@ built function (``casadi.Function.serialize``) under a key made of the caller's
 description of what it builds and a hash of the source files it is built from,
 in ``functions/`` of the designlab cache directory; a later process or run
 deserialises it (milliseconds). A change of any of those source files, of CasADi's
-version or of the description gives a new key. An entry that does not load is
-removed and rebuilt; where the directory cannot be written, nothing is cached.
+version or of the description gives a new key. A serialised function can name a
+library to load, so an entry is loaded only as this designlab stored it (owner, mode
+and recorded SHA-256, :mod:`designlab.sx.trust`); an entry failing a check or not
+loading is removed and rebuilt; where the directory cannot be written, nothing is
+cached.
 
 Examples
 --------
@@ -25,15 +28,14 @@ Examples
 from __future__ import annotations
 
 import hashlib
-import os
-import tempfile
 from collections.abc import Callable, Sequence
 from functools import cache
 from pathlib import Path
 
 import casadi as ca
 
-from designlab.sx.cache import cache_dir, cache_key, say_once
+from designlab.sx.cache import cache_key, private_cache_subdir, say_once
+from designlab.sx.trust import Shelf
 
 __all__ = ["cached_function", "source_hash"]
 
@@ -82,21 +84,20 @@ def cached_function(
     casadi.Function
     """
     key = cache_key("sx-function", ca.__version__, description, source_hash(tuple(sources)))
-    root = cache_dir() / "functions"
-    path = root / f"{key}{_SUFFIX}"
-    if path.is_file():
+    root = private_cache_subdir("functions")
+    name = f"{key}{_SUFFIX}"
+    shelf = None if root is None else Shelf(root)
+    data = None if shelf is None else shelf.load(name, "built-function")
+    if data is not None:
         try:
-            return ca.Function.deserialize(path.read_text())
-        except (OSError, RuntimeError) as exc:
-            say_once(f"cached function {path} does not load ({exc}); it is rebuilt")
-            path.unlink(missing_ok=True)
+            return ca.Function.deserialize(data.decode())
+        except (UnicodeDecodeError, RuntimeError) as exc:
+            say_once(f"cached function {root / name} does not load ({exc}); it is rebuilt")
+            shelf.discard(name)  # type: ignore[union-attr]
     f = build()
-    try:
-        root.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=".store-", dir=root)
-        with os.fdopen(fd, "w") as fh:
-            fh.write(f.serialize())
-        os.replace(tmp, path)
-    except OSError as exc:
-        say_once(f"function cache {root} cannot be written ({exc}); functions are rebuilt")
+    if shelf is not None:
+        try:
+            shelf.write(name, f.serialize().encode())
+        except OSError as exc:
+            say_once(f"function cache {root} cannot be written ({exc}); functions are rebuilt")
     return f

@@ -34,11 +34,14 @@ from __future__ import annotations
 import hashlib
 import logging
 import os
+import tempfile
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from designlab.sx.cache import cache_dir, say_once
+from designlab.sx.cache import private_cache_subdir, say_once
+from designlab.sx.jit_cache import verify_cache
+from designlab.sx.trust import private_dir
 
 __all__ = [
     "AVAILABLE", "KERNEL_MODULES", "NO_JIT_ENV", "jit_cache_dir", "kernel", "reason",
@@ -93,17 +96,29 @@ def sources_key(root: Path | None = None) -> str:
 
 
 def jit_cache_dir() -> str:
-    """Where numba stores compiled kernels.
+    """Where numba stores compiled kernels, checked to be this user's alone.
 
-    ``$NUMBA_CACHE_DIR``, else ``<cache_dir>/numba/<sources_key()>``.
+    ``$NUMBA_CACHE_DIR``, else ``<cache_dir>/numba/<sources_key()>``; a directory
+    owned by another user or writable by group or others is replaced by one in a
+    private temporary cache of the process, with a warning
+    (:func:`designlab.sx.cache.private_cache_dir`).
     """
-    return os.environ.get("NUMBA_CACHE_DIR") or str(cache_dir() / "numba" / sources_key())
+    given = os.environ.get("NUMBA_CACHE_DIR")
+    if given:
+        try:
+            return str(private_dir(Path(given), tighten=False))
+        except OSError as exc:
+            say_once(f"NUMBA_CACHE_DIR {given} is not used ({exc}); using designlab's cache")
+    root = private_cache_subdir("numba")
+    if root is None:
+        root = Path(tempfile.mkdtemp(prefix="designlab-numba-"))
+    return str(private_dir(root / sources_key()))
 
 
 def _load() -> tuple[Any, str]:
     if os.environ.get(NO_JIT_ENV):
         return None, f"{NO_JIT_ENV} is set"
-    os.environ.setdefault("NUMBA_CACHE_DIR", jit_cache_dir())
+    os.environ["NUMBA_CACHE_DIR"] = jit_cache_dir()
     try:
         import numba
     except ImportError as exc:  # pragma: no cover - numba is a declared dependency
@@ -166,7 +181,9 @@ def kernel(
     options: dict[str, Any] = {"inline": "always"} if inline else {}
     if borrows:
         options["_nrt"] = False
-    return _NUMBA.njit(cache=True, error_model="numpy", nogil=True, **options)(func)
+    dispatcher = _NUMBA.njit(cache=True, error_model="numpy", nogil=True, **options)(func)
+    verify_cache(dispatcher)
+    return dispatcher
 
 
 def say_no_jit(what: str) -> None:
