@@ -221,12 +221,17 @@ def check_conditioning(
     row = j if rows is None else int(rows[j])
     shown = ", ".join(f"{k}={x:.4g}" for k, x in zip(names, p[j], strict=True))
     worst = _most_extreme(p[j], names)
+    spread = (
+        f"its time scales span a ratio of {ratio[j]:.3g} (fastest to slowest mode, "
+        f"{TIME_SCALE_RATIO.doc})"
+        if np.isfinite(ratio[j])
+        else "its model coefficients are beyond double precision"
+    )
     raise InvalidParameterError(
         f"{label}[{row}]" if label == "params" else label,
         f"[{shown}]",
-        f"its time scales span a ratio of {ratio[j]:.3g} (fastest to slowest mode, "
-        f"{TIME_SCALE_RATIO.doc}); at most {TIME_SCALE_RATIO.le:g} is served to the "
-        f'declared accuracy (docs/impact.md, "Limits"){worst}',
+        f"{spread}; at most {TIME_SCALE_RATIO.le:g} is served to the declared accuracy in "
+        f'double precision (docs/impact.md, "Limits"){worst}',
     )
 
 

@@ -130,6 +130,7 @@ class MpImpact:
 
     def __init__(self, params, v: float, dps: int = DPS) -> None:
         self.dps = dps
+        self.head_mass = float(params[5])
         with mp.workdps(dps):
             a, b1, b0, c, e1, e0 = _system(params, len(params) == 10)
             v = mp.mpf(v)
@@ -279,13 +280,17 @@ class MpImpact:
         """Absolute tolerances of the metrics from their conditioning.
 
         ``rtol`` relative to each value, plus the rounding ``noise`` (relative to the sum of
-        the terms' magnitudes) of the modal sums: of a_h at the lobe end, divided by the slope
-        of a_h there (how far that noise moves the zero), and of each output at its maximum;
+        the terms' magnitudes) of the modal sums: of a_h at the lobe end (with the contact
+        force over M_h, of which a_h is the balance against the neck's forces), divided by the
+        slope of a_h there (how far that noise moves the zero), and of each output at its maximum;
         a maximum at the lobe end moves with it (its slope times the lobe end's tolerance).
         """
         t_imp = exact["t_imp"]
         slope = abs(self.value("head_acceleration", t_imp, 1))
-        noisy = noise * self.terms("head_acceleration", t_imp)
+        # a_h = (f_c - C_h v_h - K_h d_h) / M_h: near the lobe end a small balance of the
+        # contact force against the neck's, so its noise scales with the force too
+        scale = self.terms("head_acceleration", t_imp) + self.terms("force", t_imp) / self.head_mass
+        noisy = noise * scale
         tol_t = rtol * t_imp + (noisy / slope if slope > 0 else np.inf)
         out = {"t_imp": tol_t}
         for key, name in (

@@ -11,10 +11,12 @@ is either the named refusal or within the declared accuracy of a 50-digit evalua
 
 The declared accuracy (docs/impact.md, "Limits"): 1e-8 relative (the certified maxima's
 stopping rule) plus the rounding noise of a modal sum in double precision, 1e-12 of the sum
-of its terms' magnitudes, propagated through the slope of a_h at the lobe end (how far that
-noise moves the zero) and, for a maximum at the lobe end, through its own slope there. The
-time histories of ``simulate`` are held to the same noise for the reduced joint (closed-form
-coefficients) and to 1e-4 of the terms for the full joint (its eigen-decomposition).
+of its terms' magnitudes (for a_h at the lobe end, a balance of the contact force against the
+neck's, with the force's terms over M_h), propagated through the slope of a_h at the lobe end
+(how far that noise moves the zero) and, for a maximum at the lobe end, through its own slope
+there. The time histories of ``simulate`` are held to the same noise for the reduced joint
+(closed-form coefficients) and to 1e-4 of the terms for the full joint (its
+eigen-decomposition).
 """
 
 from __future__ import annotations
