@@ -124,7 +124,9 @@ class StudyError(DesignlabError, ValueError):
 
 
 def _as_float(name: str, value: Any, unit: str) -> float:
-    if isinstance(value, bool):
+    from designlab.params import is_complex  # params imports this module
+
+    if isinstance(value, bool) or is_complex(value):
         raise InvalidParameterError(name, value, "must be a real number", unit)
     try:
         out = float(value)

@@ -68,6 +68,7 @@ __all__ = [
     "Param",
     "check_size",
     "declared",
+    "is_complex",
     "numbers_only",
     "param",
     "parameter_table",
@@ -110,7 +111,34 @@ def numbers_only(value: Any) -> Any:
         raise ValueError("must be a number, not a boolean")
     if isinstance(value, (str, bytes)):
         raise ValueError(f"must be a number, not the text {value!r}")
+    if is_complex(value):
+        raise ValueError(f"must be a real number, not the complex {value!r}")
     return value
+
+
+def is_complex(value: Any) -> bool:
+    """Whether ``value`` is a complex number or an array of them (refused, never cast to real).
+
+    numpy converts ``np.complex128(3 + 1j)`` to the float 3.0 with only a warning; every
+    declaration refuses it instead (issue 41).
+
+    Parameters
+    ----------
+    value
+        The value given.
+
+    Examples
+    --------
+    >>> is_complex(np.complex64(3)), is_complex([1.0, 2j]), is_complex(3.0)
+    (True, True, False)
+    """
+    if isinstance(value, (complex, np.complexfloating)):
+        return True
+    if isinstance(value, np.ndarray):
+        return value.dtype.kind == "c"
+    if isinstance(value, (list, tuple)):
+        return any(is_complex(v) for v in value)
+    return False
 
 
 _refuse_text_and_bool = numbers_only

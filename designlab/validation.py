@@ -29,6 +29,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError, check_nonnegative, check_positive
+from designlab.params import is_complex
 
 __all__ = [
     "ParamsMixin",
@@ -140,6 +141,8 @@ def real_array(name: str, value: Any, unit: str = "") -> NDArray[np.float64]:
         isinstance(value, np.ndarray) and value.dtype == bool
     ):
         raise InvalidParameterError(name, value, "must be real numbers, not booleans", unit)
+    if is_complex(value):
+        raise InvalidParameterError(name, value, "must be real numbers, not complex", unit)
     try:
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError):

@@ -32,6 +32,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
+from functools import cache
 from typing import Any, ClassVar
 
 import numpy as np
@@ -40,6 +41,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from designlab.errors import InvalidParameterError, ModelError
 from designlab.impact import kernel, kernel_full
+from designlab.impact.conditioning import check_conditioning
 from designlab.impact.full_joint_model import FULL_PARAM_NAMES, full_joint_model, grid_rate
 from designlab.impact.metric_names import PARAMETERS
 from designlab.impact.modal import (
@@ -63,6 +65,7 @@ from designlab.impact.parameters import (
     check_closing_velocity,
 )
 from designlab.impact.state_space import modal_families
+from designlab.params import params_of
 from designlab.results import OK, Result, Status
 from designlab.sx.jit import say_no_jit
 from designlab.units import STANDARD_GRAVITY
@@ -175,8 +178,10 @@ def response_model(p: NDArray, constrained: bool) -> LinearImpactModel:
     return full_joint_model(constrained)
 
 
-def _check_params(p: NDArray) -> NDArray:
-    """Range checks of an ``(N, 8)`` parameter matrix ordered as :data:`PARAM_NAMES`."""
+def _check_params(p: NDArray, constrained: bool = False) -> NDArray:
+    """Range checks of an ``(N, 8)`` parameter matrix ordered as :data:`PARAM_NAMES` (or
+    ``(N, 10)``, full joint), and the conditioning of every design
+    (:func:`~designlab.impact.conditioning.check_conditioning`)."""
     if p.shape[0] == 0:
         raise InvalidParameterError("params", "0 designs", "needs at least one design")
     names = param_names(p.shape[-1])
@@ -188,21 +193,43 @@ def _check_params(p: NDArray) -> NDArray:
             f"C_mech[{j}] + C_cont[{j}]", 0.0, "must be > 0 for the full joint", "N s/m"
         )
     positive = np.array([name in _POSITIVE for name in names])
-    if np.all(np.isfinite(p)) and not np.any(np.where(positive, p <= 0, p < 0)):
+    upper = np.array([_upper(name) for name in names])
+    if (
+        np.all(np.isfinite(p))
+        and not np.any(np.where(positive, p <= 0, p < 0))
+        and not np.any(p > upper)
+    ):
+        check_conditioning(p, names, constrained=constrained)
         return p  # one pass over the batch; the loop below names the first bad value
     for i, name in enumerate(names):
         col = p[:, i]
         bad = ~np.isfinite(col) | ((col <= 0) if name in _POSITIVE else (col < 0))
+        bad |= col > upper[i]
         if np.any(bad):
             j = int(np.flatnonzero(bad)[0])
             allowed = "must be a finite number " + ("> 0" if name in _POSITIVE else ">= 0")
+            if np.isfinite(upper[i]):
+                allowed += f" and <= {upper[i]:g}"
             raise InvalidParameterError(
                 f"{name}[{j}]",
                 float(col[j]),
                 allowed,
                 (_FULL_UNITS.get(name) or PARAMETERS[name].unit),
             )
+    check_conditioning(p, names, constrained=constrained)
     return p
+
+
+@cache
+def _upper(name: str) -> float:
+    """The declared upper bound of a column (its model's declaration; inf where none)."""
+    from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
+
+    for cls in (HeadNeck, Foam, ContactDynamics):
+        for decl in params_of(cls).values():
+            if decl.symbol == name:
+                return float(decl.le) if decl.le is not None else np.inf
+    return np.inf
 
 
 def ramp_responses(
@@ -544,11 +571,12 @@ def metrics_of_matrix(
     -------
     ImpactMetrics
     """
-    p = _check_params(np.atleast_2d(real_array("params", p)))
+    p = np.atleast_2d(real_array("params", p))
     if p.ndim != 2 or p.shape[1] not in (len(PARAM_NAMES), 10):
         raise InvalidParameterError(
             "params", p.shape, f"must have shape (N, {len(PARAM_NAMES)}) (or (N, 10), full joint)"
         )
+    p = _check_params(p, _check_bool("constrained", constrained))
     v = np.atleast_1d(check_closing_velocity(impact_velocity)).ravel()
     if v.size == 0:
         raise InvalidParameterError(

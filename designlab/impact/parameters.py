@@ -57,11 +57,14 @@ __all__ = [
     "ROBOT_VELOCITY",
     "RTOL",
     "SEED",
+    "SIMULATION_DURATION",
+    "SIMULATION_SAMPLES",
     "STIFFNESS_RATIO",
     "STOP_TIME",
     "TABLE_3_2_HEADS",
     "TEST_HEAD",
     "THESIS_HEAD_RANGE",
+    "TIME_SCALE_RATIO",
     "USABLE_TOLERANCE",
     "VERDICT_TOLERANCE",
     "WORST_CASE_SAMPLES",
@@ -445,6 +448,27 @@ SEED = Param(None, "", "seed of the random cases", kind="integer", ge=0, le=2**3
 WORST_CASE_TOLERANCE = Param(
     None, "", "relative excess of a ratio over 1 tolerated (solver accuracy)", ge=0, lt=0.1,
     name="tolerance",
+)  # fmt: skip
+
+#: How many samples :func:`~designlab.impact.simulate` returns of each time history (six
+#: float arrays of this length; a million is 48 MB).
+SIMULATION_SAMPLES = Param(
+    None, "", "number of samples of the time histories", kind="integer", ge=2, le=1_000_000,
+    typical=(2001.0, 2001.0), name="samples",
+)  # fmt: skip
+#: Length of the time histories of :func:`~designlab.impact.simulate`.
+SIMULATION_DURATION = Param(
+    "t_end", "s", "length of the returned time histories", gt=0, le=1e3, optional=True,
+    none="twice the impact period (stop_time for the constrained impact)", name="duration",
+)  # fmt: skip
+
+#: The widest spread of time scales of one design that double precision serves: the ratio
+#: of its fastest to its slowest mode, estimated from the characteristic polynomial's
+#: coefficients (:func:`designlab.impact.conditioning.time_scale_ratio`; docs/impact.md,
+#: "Limits"). Beyond it the first lobe is a small difference of huge slow-mode terms.
+TIME_SCALE_RATIO = Param(
+    None, "", "estimated from the characteristic polynomial's coefficients", ge=1, le=1e4,
+    typical=(2.0, 100.0), name="time_scale_ratio",
 )  # fmt: skip
 
 # --- the series joint (3.4.6) and its reductions (docs/impact_joint.md) ----------

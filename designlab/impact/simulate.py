@@ -35,13 +35,14 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from designlab.errors import InvalidParameterError, check_finite, check_positive
-from designlab.impact.full_joint_model import full_joint_model, full_joint_params, grid_rate
+from designlab.errors import InvalidParameterError, check_finite
+from designlab.impact.conditioning import check_conditioning
+from designlab.impact.full_joint_model import full_joint_model, full_joint_params
 from designlab.impact.metrics import (
     STATUS_OK,
     STATUS_PEAK_AT_CONTACT,
     ImpactStatus,
-    metrics_from_responses,
+    metrics_of_matrix,
 )
 from designlab.impact.modal import ModalResponse, poles_of
 from designlab.impact.model import (
@@ -50,13 +51,20 @@ from designlab.impact.model import (
     printed_q2_correction,
     unconstrained_model,
 )
-from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck, check_closing_velocity
+from designlab.impact.parameters import (
+    SIMULATION_DURATION,
+    SIMULATION_SAMPLES,
+    STOP_TIME,
+    ContactDynamics,
+    Foam,
+    HeadNeck,
+    check_closing_velocity,
+)
 from designlab.impact.series_joint import FullJointContact
 from designlab.impact.state_space import modal_families
 from designlab.params import declared, param
 from designlab.results import Result
 from designlab.units import STANDARD_GRAVITY
-from designlab.validation import check_int
 
 __all__ = ["ImpactResponse", "VelocityProfile", "hic", "simulate"]
 
@@ -318,6 +326,9 @@ def _responses(
     if q2 == "printed" and head is not None:
         den = den.copy()
         den[:, 2] -= printed_q2_correction(p)
+    exact = _exact_ramp(p, q2) if head is not None else None
+    if exact is not None:
+        den = exact[0]
     poles = poles_of(den)
     zero = np.zeros((1, 1))
 
@@ -346,9 +357,25 @@ def _responses(
                 c = nm[:, 2, :]
             else:
                 c = padd(nm[:, 0, :], shift(nm[:, 1, :], 1))
+            if key == "ramp" and exact is not None and name in exact[1]:
+                c = exact[1][name]
             nums[name] = c if np.any(c) else zero
         families[key] = ModalResponse.family(nums, den, m, poles)
     return families
+
+
+def _exact_ramp(p: NDArray, q2: str) -> tuple[NDArray, dict[str, NDArray]]:
+    """The reduced model's characteristic polynomial and ramp numerators of the force, the
+    head acceleration and the compression in closed form (:mod:`designlab.impact.kernel_poles`,
+    the batch engine's): sums of products of the parameters, without the cancellations of the
+    symbolic Faddeev-LeVerrier coefficients, which for extreme (admitted) designs lose every
+    digit of the small terms."""
+    from designlab.impact.kernel_poles import coefficients
+
+    den, num = np.zeros(5), np.zeros((3, 6))
+    coefficients(*(float(x) for x in p[0]), q2 == "printed", den, num)
+    outputs = ("force", "head_acceleration", "compression")
+    return den[None, :], {k: num[None, i] for i, k in enumerate(outputs)}
 
 
 def _model_and_params(robot, foam, head):  # type: ignore[no-untyped-def]
@@ -444,6 +471,8 @@ def simulate(
     (True, 158.3)
     """
     v_c = _check_inputs(robot, foam, head, impact_velocity, profile, samples, q2)
+    duration = SIMULATION_DURATION.check(duration)
+    stop_time = STOP_TIME.check(stop_time)
     keys = ("ramp",) if profile is None else ("ramp", "accel", "a_d")
     families = _responses(robot, foam, head, q2, keys)
     evaluate = _superpose(families, max(v_c, 0.0), profile)
@@ -456,14 +485,14 @@ def simulate(
         )
 
     t_imp, metrics, status = _lobe_metrics(
-        families, evaluate, robot, foam, head, v_c, profile, stop_time
+        families, evaluate, robot, foam, head, v_c, profile, stop_time, q2
     )
     warnings, status = _response_warnings(status, t_imp, metrics, foam)
 
-    t_end = duration if duration is not None else (2.0 * t_imp if np.isfinite(t_imp) else 0.1)
-    t_end = check_positive("duration", t_end, "s")
-    t = np.linspace(0.0, t_end, int(samples))
-    y = evaluate(t)
+    t = np.linspace(0.0, _t_end(duration, t_imp), int(samples))
+    with np.errstate(all="ignore"):
+        y = evaluate(t)
+    _check_histories(robot, y)
 
     return ImpactResponse(
         robot=robot,
@@ -489,6 +518,33 @@ def simulate(
         q2=q2,
         _lobe={"evaluate": evaluate},
     )
+
+
+def _check_histories(robot: object, y: dict[str, NDArray]) -> None:
+    """Refuse, by name, a design whose time histories double precision could not evaluate.
+
+    The full joint's histories come from the eigen-decomposition of its state matrix; with a
+    transmission so stiff that the motor node's mode is about 1e12 times faster than the
+    slowest one, the decomposition breaks down (its metrics, from the closed form, do not).
+    """
+    if all(np.all(np.isfinite(v)) for v in y.values()):
+        return
+    raise InvalidParameterError(
+        "robot",
+        robot,
+        "gives time histories beyond double precision: the full joint's motor-node mode "
+        "(K_mech + K_cont) / (C_mech + C_cont) is too far from its slowest mode for the "
+        "eigen-decomposition of its state matrix; its metrics are given by impact_metrics "
+        '(docs/impact.md, "Limits")',
+    )
+
+
+def _t_end(duration: float | None, t_imp: float) -> float:
+    """The length of the time histories: ``duration`` or, by default, twice the impact
+    period (the constrained impact's is ``stop_time``; 0.1 s if the lobe did not close)."""
+    if duration is not None:
+        return duration
+    return 2.0 * t_imp if np.isfinite(t_imp) and t_imp > 0 else 0.1
 
 
 def _no_impact(
@@ -532,9 +588,11 @@ def _check_inputs(
         raise InvalidParameterError("q2", q2, "must be 'correct' or 'printed'")
     if q2 == "printed" and isinstance(robot, FullJointContact):
         raise InvalidParameterError("q2", q2, "the printed q2 belongs to the reduced joint")
-    check_int("samples", samples, minimum=2)
+    SIMULATION_SAMPLES.check(samples)
     if profile is not None and not isinstance(profile, VelocityProfile):
         raise InvalidParameterError("profile", profile, "must be a VelocityProfile or None")
+    model, p = _model_and_params(robot, foam, head)
+    check_conditioning(p, model.param_names, constrained=head is None, label="robot, foam and head")
     return v_c
 
 
@@ -547,6 +605,7 @@ def _lobe_metrics(
     v_c: float,
     profile: VelocityProfile | None,
     stop_time: float,
+    q2: str = "correct",
 ) -> tuple[float, dict[str, tuple[float, float]], str]:
     """Impact period, ``{output: (time, value)}`` of the maxima, and the design status.
 
@@ -555,15 +614,9 @@ def _lobe_metrics(
     """
     constrained = head is None
     p = _model_and_params(robot, foam, head)[1]
-    wanted = ("force", "compression") if constrained else _METRIC_OUTPUTS
-    base = metrics_from_responses(
-        {k: families["ramp"][k] for k in wanted},
-        p,
-        np.array([v_c]),
-        constrained=constrained,
-        stop_time=check_positive("stop_time", stop_time, "s"),
-        rate=grid_rate(families["ramp"]["force"].poles) if p.shape[1] > 8 else None,
-    )
+    # the batch engine (its closed-form coefficients are sums of positive terms): the same
+    # metrics as impact_metrics for the same design
+    base = metrics_of_matrix(p, v_c, constrained=constrained, q2=q2, stop_time=stop_time)
     status = str(base.design_status[0])
     t_imp = float(base.impact_duration[0])
     metrics = {

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 import warnings
 
 import jsonschema
@@ -397,3 +398,155 @@ def test_schema_and_constructor_agree_on_boundaries(cls, valid) -> None:
             except InvalidParameterError:
                 by_constructor = False
             assert by_schema == by_constructor, (cls.__name__, name, x, prop)
+
+
+# --- issue 41: declared domains the arithmetic can serve ------------------------------------
+
+_BASE = dict(zip(PARAM_NAMES, [9.6, 250, 2e4, 24.25e3, 71.9, 4.4, 46, 3e3], strict=True))
+
+
+def _design(**changes: float) -> list[float]:
+    return [changes.get(k, v) for k, v in _BASE.items()]
+
+
+def test_a_3e13_kg_manipulator_is_refused_where_it_was_silently_wrong() -> None:
+    """eps_max was 0.01987 m with status ok; 50 digits give 0.015092 m. Refused, by name."""
+    from designlab.impact.metrics import impact_metrics
+
+    with pytest.raises(InvalidParameterError) as err:
+        impact_metrics([_design(M_r=3e13)], 1.25, columns=PARAM_NAMES)
+    text = str(err.value)
+    assert "params[0]" in text and "M_r = 3e+13 kg" in text
+    assert "time scales span a ratio of 2.86e+06" in text and "at most 10000" in text
+
+
+@pytest.mark.parametrize("mass", [3e13, 1e17, 1e18])
+def test_simulate_refuses_what_it_cannot_serve_and_never_blames_duration(mass) -> None:
+    """From 1e17 kg simulate complained about a ``duration`` never passed, from 1e18 kg it
+    returned -7,268 g."""
+    robot = dl.impact.ContactDynamics(mass, 2e4, 250.0)
+    with pytest.raises(InvalidParameterError) as err:
+        dl.impact.simulate(robot, FOAM_1, HEAD_MIN, 1.25)
+    assert "robot, foam and head" in str(err.value) and "duration" not in str(err.value)
+    assert "M_r" in str(err.value)
+
+
+@pytest.mark.parametrize("column", ["K_h", "K_c", "C_h", "C_c"])
+def test_matrix_columns_have_their_models_declared_bounds(column) -> None:
+    """K_h = 1e20 in an (N, 8) row was accepted (HeadNeck refuses it); now the row's column
+    is checked against the same declaration."""
+    from designlab.impact.metrics import impact_metrics
+
+    decl = {"K_h": dl.impact.HeadNeck, "C_h": dl.impact.HeadNeck}.get(column, dl.impact.Foam)
+    field = {"K_h": "stiffness", "C_h": "damping", "K_c": "stiffness", "C_c": "damping"}[column]
+    upper = re.escape(f"{params_of(decl)[field].le:g}")
+    with pytest.raises(InvalidParameterError, match=rf"{column}\[0\].*<= {upper}"):
+        impact_metrics([_design(**{column: 1e20})], 1.25, columns=PARAM_NAMES)
+
+
+@pytest.mark.parametrize("index", [1, 3, 6, 8])  # C_mech, K_c, C_h, C_cont
+def test_full_joint_at_1e20_is_refused_not_negative(index) -> None:
+    """The full joint with C_mech, C_cont, K_c or C_h at 1e20 gave a negative duration and
+    peak."""
+    from designlab.impact.full_joint_model import full_joint_params
+    from designlab.impact.metrics import matrix_metrics
+
+    row = full_joint_params(GEARED, FOAM_1, HEAD_MIN)
+    row[index] = 1e20
+    with pytest.raises(InvalidParameterError, match=r"params\[0\]|\[0\] = 1e\+20"):
+        matrix_metrics(row[None, :], 1.25)
+
+
+@pytest.mark.parametrize("field", ["transmission_damping", "control_damping"])
+def test_simulate_full_joint_with_a_1e20_damping_is_refused(field) -> None:
+    arm = dataclasses.replace(GEARED, **{field: 1e20})
+    with pytest.raises(InvalidParameterError, match="time scales span"):
+        dl.impact.simulate(arm, FOAM_1, HEAD_MIN, 1.25)
+
+
+def test_speed_limit_of_a_1e14_kg_manipulator_is_refused_not_zero() -> None:
+    """It said 0 m/s where the answer is 0.375 m/s: double precision cannot serve the design,
+    and the refusal says which parameter is extreme."""
+    robot = dl.impact.ContactDynamics(mass=1e14, stiffness=2e4, damping=250)
+    with pytest.raises(InvalidParameterError, match=r"time scales span.*M_r = 1e\+14 kg"):
+        dl.codesign.speed_limit(robot, FOAM_1)
+
+
+def test_simulate_sample_count_is_bounded_by_its_declaration() -> None:
+    """``samples=10**9`` ended in MemoryError."""
+    from designlab.impact.parameters import SIMULATION_SAMPLES
+
+    with pytest.raises(InvalidParameterError, match=r"samples = 1000000000 .*<= 1e\+06"):
+        dl.impact.simulate(MANIPULATOR_1, FOAM_1, HEAD_MIN, 1.25, samples=10**9)
+    r = dl.impact.simulate(MANIPULATOR_1, FOAM_1, HEAD_MIN, 1.25, samples=SIMULATION_SAMPLES.ge)
+    assert r.t.size == 2
+    with pytest.raises(InvalidParameterError, match="duration"):
+        dl.impact.simulate(MANIPULATOR_1, FOAM_1, HEAD_MIN, 1.25, duration=-1.0)
+
+
+@pytest.mark.parametrize(
+    "value", [np.complex128(4.4 + 0j), np.complex64(4.4 + 1j), np.array([4.4 + 1j]), 4.4 + 0j]
+)
+def test_complex_numbers_are_refused_never_cast_to_real(value) -> None:
+    """numpy casts np.complex128(4.4) to 4.4 with only a warning: every check refuses it."""
+    from pydantic import TypeAdapter, ValidationError
+
+    from designlab.errors import check_finite, check_positive
+    from designlab.impact.metrics import impact_metrics
+    from designlab.validation import real_array
+
+    scalar = value if np.ndim(value) == 0 else value[0]
+    for check in (check_finite, check_positive, real_array):
+        with pytest.raises(InvalidParameterError, match="real"):
+            check("x", value)
+    with pytest.raises(InvalidParameterError, match=r"HeadNeck\.mass"):
+        dl.impact.HeadNeck(mass=scalar, stiffness=3e3, damping=46.0)
+    adapter = TypeAdapter(params_of(dl.impact.HeadNeck)["mass"].annotation())
+    with pytest.raises(ValidationError, match="real number"):
+        adapter.validate_python(scalar)
+    with pytest.raises(InvalidParameterError, match="impact_velocity"):
+        dl.impact.simulate(MANIPULATOR_1, FOAM_1, HEAD_MIN, scalar)
+    with pytest.raises(InvalidParameterError):
+        impact_metrics({**_BASE, "M_r": value}, 1.25)
+
+
+def _extremes():
+    """Each impact parameter at the ends of its declared range (1e20 where it has no upper
+    bound; 0 where 0 is allowed, else a millionth of its typical low)."""
+    decls = {d.symbol: d for c in (dl.impact.ContactDynamics, dl.impact.Foam, dl.impact.HeadNeck)
+             for d in params_of(c).values() if d.symbol in PARAM_NAMES}  # fmt: skip
+    out = []
+    for name in PARAM_NAMES:
+        d = decls[name]
+        out.append((name, d.le if d.le is not None else 1e20))
+        out.append((name, 0.0 if d.ge == 0 else 1e-6 * d.typical[0]))
+    return out
+
+
+@pytest.mark.parametrize(("name", "value"), _extremes())
+def test_each_parameter_at_its_extreme_is_right_or_refused(name, value) -> None:
+    """Siblings of the issue's cases: the named refusal, or the 50-digit answer."""
+    from mp_reference import MpImpact
+
+    from designlab.errors import ModelError
+    from designlab.impact.conditioning import time_scale_ratio
+    from designlab.impact.metrics import impact_metrics
+    from designlab.impact.parameters import TIME_SCALE_RATIO
+
+    p = _design(**{name: value})
+    try:
+        m = impact_metrics([p], 1.25, columns=PARAM_NAMES)
+    except InvalidParameterError as err:
+        assert "time scales span" in str(err)
+        assert time_scale_ratio(np.array([p]))[0] > TIME_SCALE_RATIO.le
+        return
+    except ModelError as err:
+        assert "no restoring stiffness" in str(err)
+        return
+    ref = MpImpact(p, 1.25)
+    exact = ref.metrics()
+    tol = ref.tolerances(exact, 1e-8, 1e-12)
+    got = {"t_imp": m.impact_duration[0], "a_max": m.peak_head_acceleration[0],
+           "eps_max": m.max_compression[0], "f_max": m.peak_force[0]}  # fmt: skip
+    for key, v in got.items():
+        assert abs(float(v) - exact[key]) <= tol[key], (key, v, exact[key])
