@@ -104,8 +104,10 @@ def test_bound_check_adds_a_wider_box_row(tmp_path: Path) -> None:
 
 
 def test_committed_gains_table_matches_the_simulator() -> None:
-    """The H values in reports/navigation_gains/gains.csv come back from today's simulator."""
+    """The H values in reports/navigation_gains/gains.csv come back from today's simulator,
+    on any machine within the tolerance the report states for fixed gain sets."""
     import designlab as dl
+    from designlab.navigation.tuning_results import REPRO_H_FIXED
 
     nav = dl.navigation
     g = pd.read_csv(ROOT / "reports" / "navigation_gains" / "gains.csv", keep_default_na=False)
@@ -114,7 +116,8 @@ def test_committed_gains_table_matches_the_simulator() -> None:
         block = g[(g["stabilising"] == mode) & (g["robust"] == "")]
         f = nav.evaluate_gains(sc, block[["k1", "b", "k3", "k5"]].to_numpy(), stabilising=mode)
         for n in ("H_ch6_config1", "H_ch6_config2", "H_ch6_config3", "H_mean"):
-            assert f[n].to_numpy() == pytest.approx(block[n].astype(float).to_numpy(), abs=2e-3)
+            want = block[n].astype(float).to_numpy()
+            assert f[n].to_numpy() == pytest.approx(want, abs=REPRO_H_FIXED)
         assert list(f["feasible"]) == [v in (True, "True") for v in block["feasible"]]
 
 
