@@ -1096,6 +1096,75 @@ def _metrics_call(row: list[Any], **kw: Any) -> Callable[[], Any]:
     return call
 
 
+#: Attacks on a 3-vector (a velocity or a normal).
+VECTOR_ATTACKS: list[tuple[str, Any]] = [
+    ("[nan]", [math.nan, 0.0, 0.0]), ("[inf]", [math.inf, 0.0, 0.0]),
+    ("[1e300]", [1e300, 0.0, 0.0]), ("zeros", [0.0, 0.0, 0.0]), ("2 values", [1.0, 0.0]),
+    ("text", "abc"), ("None", None), ("complex", [1 + 1j, 0.0, 0.0]), ("nested", [[1.0, 0.0, 0.0]]),
+]  # fmt: skip
+
+
+def _closing_given(r: Any, a: dict[str, Any]) -> str | None:
+    """v_c = (v_r - v_h) . n / |n| (Sec. 3.4), where the inputs are three finite numbers."""
+    try:
+        vr, vh, n = (np.asarray(a[k], dtype=float) for k in
+                     ("robot_velocity", "head_velocity", "normal"))  # fmt: skip
+    except (TypeError, ValueError):
+        return None
+    if not all(x.shape == (3,) and np.isfinite(x).all() for x in (vr, vh, n)):
+        return None
+    want = float(np.dot(vr - vh, n) / np.linalg.norm(n))
+    got = float(r.closing_speed)
+    if not math.isclose(got, want, rel_tol=1e-12, abs_tol=1e-300):
+        return f"closing speed {got!r}, (v_r - v_h) . n/|n| = {want!r}"
+    return None
+
+
+def impact_more_targets() -> list[Target]:
+    """The joint, link and plane helpers of the impact domain."""
+    import designlab.impact as im
+    from designlab.params import params_of
+
+    link = params_of(im.LinkImpact)
+    fj = Val(im.FullJointContact(**BASE_JOINT), text="FullJointContact(9.6, 2e5, 50.0, 2e4, 250.0)")
+    return [
+        Target("impact", "dl.impact.band_fit_sweep", im.band_fit_sweep,
+               {"robot": fj, "foam": Val(im.FOAM_1, text="FOAM_1"),
+                "head": Val(im.TEST_HEAD, text="TEST_HEAD"), "impact_velocity": Val(1.25),
+                "omega_max": Val([100.0, 1000.0], attacks=ARRAY_ATTACKS),
+                "stop_time": Val(0.05)}, ("robot", "foam", "head", "impact_velocity"),
+               finite_oracle(nonneg=("rms_ratio",)),
+               attack=("impact_velocity", "omega_max", "stop_time")),
+        Target("impact", "dl.impact.impact_point_sweep", im.impact_point_sweep,
+               {"inertia": Val(0.059, decl=link["inertia"]),
+                "joint_stiffness": Val(100.0, decl=link["joint_stiffness"]),
+                "joint_damping": Val(2.0, decl=link["joint_damping"]),
+                "joint_speed": Val(3.0, decl=link["joint_speed"]),
+                "lever_arms": Val([0.05, 0.1], attacks=ARRAY_ATTACKS)},
+               ("inertia", "joint_stiffness", "joint_damping", "joint_speed", "lever_arms"),
+               finite_oracle(nonneg=("mass", "stiffness", "damping", "velocity"))),
+        Target("impact", "dl.impact.closing_speed", im.closing_speed,
+               {"robot_velocity": Val([1.0, 0.0, 0.0], attacks=VECTOR_ATTACKS),
+                "head_velocity": Val([-0.5, 0.0, 0.0], attacks=VECTOR_ATTACKS),
+                "normal": Val([1.0, 0.0, 0.0], attacks=VECTOR_ATTACKS)},
+               ("robot_velocity", "head_velocity", "normal"),
+               finite_oracle(allow_nan=("gamma_r", "gamma_c")),  # NaN for a zero velocity
+               given=_closing_given),
+        Target("impact", "dl.impact.check_worst_case", _worst_case,
+               {"samples": Val(4), "seed": Val(0), "tolerance": Val(1e-6)}, (),
+               finite_oracle(), template="dl.impact.check_worst_case(dl.impact.foam_envelope("
+               "MANIPULATOR_1, 1.25, damping=[0.0, 60.0]), samples={samples}, seed={seed}, "
+               "tolerance={tolerance})"),
+    ]  # fmt: skip
+
+
+def _worst_case(samples: Any, seed: Any, tolerance: Any) -> Any:
+    import designlab.impact as im
+
+    env = im.foam_envelope(im.MANIPULATOR_1, 1.25, damping=[0.0, 60.0])
+    return im.check_worst_case(env, samples=samples, seed=seed, tolerance=tolerance)
+
+
 def impact_extra_cases() -> list[Case]:
     """The issue's reported impact cases and their siblings."""
     import designlab as dl
@@ -2150,7 +2219,8 @@ def _scenario_judge(words: tuple[str, ...]) -> Callable[[Any], tuple[str, str]]:
 def _impact_cases() -> list[Case]:
     import designlab.impact as im
 
-    cases = [c for t in impact_targets() for c in target_cases(t, [im.parameters])]
+    targets = impact_targets() + impact_more_targets()
+    cases = [c for t in targets for c in target_cases(t, [im.parameters])]
     return cases + impact_metrics_cases() + impact_extra_cases()
 
 
@@ -2240,7 +2310,8 @@ def _arguments(argv: Sequence[str] | None) -> argparse.Namespace:
     parser.add_argument("--domain", choices=sorted(DOMAINS), help="the domain to run")
     parser.add_argument("--timeout", type=float, default=20.0, help="seconds per case")
     parser.add_argument("--memory", type=float, default=6.0, help="GiB per worker")
-    parser.add_argument("--filter", default="", help="only cases whose name contains this")
+    parser.add_argument("--filter", default="", help="only cases whose name contains this "
+                        "(several: a|b)")  # fmt: skip
     parser.add_argument("--limit", type=int, default=0, help="at most this many cases")
     parser.add_argument("--json", help="write every row to this JSON file")
     parser.add_argument("--findings", help="append the non-clean cases (Markdown) to this file")
@@ -2261,7 +2332,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         rows = [r for f in args.merge for r in json.loads(Path(f).read_text())]
     else:
         make, warmup = DOMAINS[args.domain]
-        cases = [c for c in make() if args.filter in c.name]
+        wanted = args.filter.split("|")
+        cases = [c for c in make() if any(w in c.name for w in wanted)]
         if args.limit:
             cases = cases[: args.limit]
         start = time.monotonic()
