@@ -625,17 +625,22 @@ class Target:
         return f"{self.label}({', '.join(parts)})"
 
 
-def _decl_for(func: Callable[..., Any], name: str, extra: Sequence[Any]) -> Any:
-    """The module-level declaration of a function argument, found by its name."""
+def _decl_for(func: Callable[..., Any], name: str, extra: Sequence[Any], base: Any) -> Any:
+    """The module-level declaration of a function argument, found by its name.
+
+    Only a declaration of the base value's kind: an argument that is an array shares its
+    name with the declaration of its length (``gains``, ``speeds``), which is not its own.
+    """
     from designlab.params import Param
 
     mod = sys.modules.get(getattr(func, "__module__", ""), None)
     pools = [vars(mod)] if mod is not None else []
     pools += [vars(m) for m in extra]
+    scalar = base is None or isinstance(base, (int, float, str, bool))
     for pool in pools:
         found = [v for v in pool.values() if isinstance(v, Param) and v.name == name]
         if len(found) == 1:
-            return found[0]
+            return found[0] if scalar else None
     return None
 
 
@@ -656,7 +661,9 @@ def target_cases(t: Target, decl_modules: Sequence[Any] = ()) -> list[Case]:
                     path = f"{name}.{field}"
                     cases.append(_case(t, path, (field, path), label, v, expectation(decl, v)))
             continue
-        decl = spec.decl if spec.decl is not None else _decl_for(t.func, name, decl_modules)
+        decl = spec.decl
+        if decl is None:
+            decl = _decl_for(t.func, name, decl_modules, spec.value)
         decl = None if decl is UNDECLARED else decl
         attacks = spec.attacks if spec.attacks is not None else hostile_values(decl, spec.value)
         for label, v in attacks:
@@ -1538,6 +1545,66 @@ def navigation_targets() -> list[Target]:
     return out
 
 
+#: Attacks on an (n, 4) array of VFF gain sets.
+GAIN_SET_ATTACKS: list[tuple[str, Any]] = [
+    ("[[nan, ...]]", [[math.nan, 0.25, 20.0, 17.0]]), ("[[-1, ...]]", [[-1.0, 0.25, 20.0, 17.0]]),
+    ("[[1e300, ...]]", [[1e300, 0.25, 20.0, 17.0]]), ("[]", []),
+    ("flat 4", [3.0, 0.25, 20.0, 17.0]),
+    ("3 columns", [[3.0, 0.25, 20.0]]), ("text", "ab"), ("None", None),
+    ("10**5 sets", [[3.0, 0.25, 20.0, 17.0]] * 10**5),
+]  # fmt: skip
+
+
+def _walker(walk: Any) -> Any:
+    """A run with a person walking head-on toward the robot (``walk`` is attacked)."""
+    import designlab.navigation as nav
+
+    human = nav.Disc("h", 0.2, 2.1, 0.8, walk)
+    sc = nav.Scenario("hostile", start=(3.9, 0.6), goal=(0.0, 0.6), horizon=15.0,
+                      obstacles=(human,))  # fmt: skip
+    return nav.simulate(sc, nav.EXPERIMENT_GAINS)
+
+
+def _criteria_given(r: Any, a: dict[str, Any]) -> str | None:
+    h = [r.H_T, r.H_D, r.H_E, r.H]
+    if not all(isinstance(x, float) and math.isfinite(x) for x in h) and not _honest(r):
+        return f"criteria H_T, H_D, H_E, H = {h} (finite numbers) with status ok"
+    return None
+
+
+def navigation_more_targets() -> list[Target]:
+    """Batches, sensor noise, a walking person and the criteria of Sec. 6.3."""
+    import designlab.navigation as nav
+
+    sc = nav.Scenario("hostile", start=(3.9, 0.6), goal=(0.0, 0.6), horizon=15.0,
+                      obstacles=nav.configuration(1).obstacles)  # fmt: skip
+    oracle = _nav_oracle()
+    walk = {"start": (0.5, 0.6), "end": (3.5, 0.6), "speed": 1.0}
+    return [
+        Target("navigation", "dl.navigation.simulate_batch", nav.simulate_batch,
+               {"scenarios": Val([sc], text=f"[{SC_TEXT}]"),
+                "gains": Val([[3.0, 0.25, 20.0, 17.0]], attacks=GAIN_SET_ATTACKS)},
+               ("scenarios", "gains"), oracle, attack=("gains",)),
+        Target("navigation", "dl.navigation.simulate", nav.simulate,
+               {"scenario": Val(sc, text=SC_TEXT),
+                "gains": Val(nav.EXPERIMENT_GAINS, text="EXPERIMENT_GAINS"),
+                "noise": Obj(nav.SensorNoise, {})}, ("scenario", "gains"), oracle,
+               attack=("noise",), tag="[noise]"),
+        Target("navigation", "dl.navigation.simulate", _walker, {"walk": Obj(nav.Walk, walk)},
+               (), oracle, tag="[walker]",
+               template="dl.navigation.simulate(Scenario('hostile', start=(3.9, 0.6), "
+                        "goal=(0.0, 0.6), horizon=15.0, obstacles=(Disc('h', 0.2, 2.1, 0.8, "
+                        "{walk}),)), EXPERIMENT_GAINS)"),
+        Target("navigation", "dl.navigation.criteria", nav.criteria,
+               {"arrival_time": Val(10.0), "nominal_arrival_time": Val(8.0), "energy": Val(5.0),
+                "nominal_energy": Val(4.0), "surface_clearance": Val({"a": 0.5}, attacks=[
+                    ("nan", {"a": math.nan}), ("-1", {"a": -1.0}), ("{}", {}), ("text", "a")]),
+                "nominal_clearance": Val({"a": 0.4}, attacks=[
+                    ("0", {"a": 0.0}), ("other key", {"b": 0.4})])},
+               (), finite_oracle(), given=_criteria_given),
+    ]  # fmt: skip
+
+
 def _pair_cases() -> list[Case]:
     """start and goal of a scenario, the position of a stationary disc."""
     import designlab.navigation as nav
@@ -1608,7 +1675,8 @@ def navigation_cases() -> list[Case]:
     import designlab.navigation.planners as pl
 
     mods = [nav.parameters, pl.parameters]
-    out = [c for t in navigation_targets() for c in target_cases(t, mods)]
+    targets = navigation_targets() + navigation_more_targets()
+    out = [c for t in targets for c in target_cases(t, mods)]
     return out + _pair_cases() + navigation_extra_cases() + crowd_constructor_cases()
 
 
