@@ -1994,10 +1994,26 @@ def run_study_text(text: str, run: bool = True) -> Any:
 
 
 def _nonfinite_columns(result: Any) -> set[str]:
+    """The non-finite columns of a study's results: its table and its other tables."""
     frame = result.to_frame()
     cols = [c for c in frame.columns if not str(c).startswith(("ref_", "err_", "exp_"))]
     num = frame[cols].select_dtypes("number")
-    return {str(c) for c in num.columns if not np.isfinite(num[c].to_numpy(dtype=float)).all()}
+    out = {str(c) for c in num.columns if not np.isfinite(num[c].to_numpy(dtype=float)).all()}
+    import pandas as pd
+
+    for name in dir(result):
+        if name.startswith("_") or name == "study":
+            continue
+        try:
+            value = getattr(result, name)
+            if callable(value) and name.endswith("_frame") and name != "to_frame":
+                value = value()  # the kind's other tables (brake_frame, ...)
+        except Exception:  # a table that fails is the report writer's business
+            continue
+        if isinstance(value, pd.DataFrame):
+            out |= {f"{name}.{n.split('.', 1)[-1]}" for n, a in numbers_of(value)
+                    if not np.isfinite(a).all()}  # fmt: skip
+    return out
 
 
 _BASE_NONFINITE: dict[str, set[str]] = {}
@@ -2058,7 +2074,9 @@ def yaml_extra_cases() -> list[Case]:
     cbf = {**crowds, "methods": [{"method": "cbf"}]}
     code = STUDY_BASE["codesign"]
     sobol = {**code, "sensitivity": {"samples": 2**20}}
+    modes = {**STUDY_BASE["tether_modes"], "brake_walk": 1.0}
     rows = [
+        ("tether_modes", "brake_walk 1.0", modes, ("brake_walk",)),
         ("navigation_scenarios", "no obstacles", bare, ("obstacles",)),
         ("navigation_crowds", "masoud gains direction -1", masoud, ("direction",)),
         ("navigation_crowds", "cbf method", cbf, ("cbf",)),
