@@ -13,26 +13,31 @@ accepted
     a closed form or a 40-digit mpmath evaluation where one is at hand).
 traceback
     any other exception (``TypeError``, ``KeyError``, ``ZeroDivisionError``,
-    ``RecursionError``, ``MemoryError``, ...), or a worker that died.
+    ``RecursionError``, ``MemoryError``, ...), a worker that died, or a bare ``ValueError``
+    from the inside that names neither the parameter nor the value.
 hang
-    the case did not finish within the timeout (default 20 s).
+    the case did not finish within the timeout (20 s; 45 s for a CLI command).
 silent
     accepted, but the answer violates the oracle (NaN, inf or a negative value where that
-    is impossible, an arrival faster than the robot can drive, a value far from the
-    reference), or a value its own declaration refuses was accepted.
+    is impossible, an arrival faster than the robot can drive, a value far from a closed
+    form or from the 40-digit reference of the impact, reduced or full joint), or a value
+    its own declaration refuses was answered (outside its domain no answer is vouched for).
+    A NaN the target's base answer has too, or that its docs define, is not counted.
 unclear
-    a ``DesignlabError``/``ValueError`` whose message names neither the parameter nor the
-    value.
+    a ``DesignlabError`` (or a ``ValueError`` naming the parameter) whose message does not
+    name the parameter or the offending value.
 
-Run one domain per invocation (each takes one to four minutes of one core)::
+Run one domain per invocation (one to ten minutes of one core each; ``nice`` it)::
 
-    nice python benchmarks/hostile.py --domain impact
-    nice python benchmarks/hostile.py --domain navigation --timeout 20
-    nice python benchmarks/hostile.py --domain yaml --findings /tmp/findings.md
+    nice python benchmarks/hostile.py --domain impact --json impact.json
+    nice python benchmarks/hostile.py --domain navigation --filter "simulate_planner|crowd"
+    python benchmarks/hostile.py --merge impact.json yaml.json --findings notes.md
 
-Domains: impact, codesign, navigation, following, yaml, cli. The output is a table of the
-outcomes per domain and one line per non-clean case with a reproduction.
-``--findings FILE`` appends those lines as Markdown under a dated heading.
+Domains: impact, codesign, navigation, following, yaml (every leaf of a small study of each
+kind; the quick kinds also run and write their report), cli (hostile files and options, in
+a subprocess). The output is the table of outcomes per domain and, per kind of fault, the
+cases and one reproduction; ``--findings FILE`` appends them as Markdown under a dated
+heading, ``--merge`` tallies earlier ``--json`` runs without running anything.
 """
 
 from __future__ import annotations
