@@ -13,26 +13,31 @@ accepted
     a closed form or a 40-digit mpmath evaluation where one is at hand).
 traceback
     any other exception (``TypeError``, ``KeyError``, ``ZeroDivisionError``,
-    ``RecursionError``, ``MemoryError``, ...), or a worker that died.
+    ``RecursionError``, ``MemoryError``, ...), a worker that died, or a bare ``ValueError``
+    from the inside that names neither the parameter nor the value.
 hang
-    the case did not finish within the timeout (default 20 s).
+    the case did not finish within the timeout (20 s; 45 s for a CLI command).
 silent
     accepted, but the answer violates the oracle (NaN, inf or a negative value where that
-    is impossible, an arrival faster than the robot can drive, a value far from the
-    reference), or a value its own declaration refuses was accepted.
+    is impossible, an arrival faster than the robot can drive, a value far from a closed
+    form or from the 40-digit reference of the impact, reduced or full joint), or a value
+    its own declaration refuses was answered (outside its domain no answer is vouched for).
+    A NaN the target's base answer has too, or that its docs define, is not counted.
 unclear
-    a ``DesignlabError``/``ValueError`` whose message names neither the parameter nor the
-    value.
+    a ``DesignlabError`` (or a ``ValueError`` naming the parameter) whose message does not
+    name the parameter or the offending value.
 
-Run one domain per invocation (each takes one to four minutes of one core)::
+Run one domain per invocation (one to ten minutes of one core each; ``nice`` it)::
 
-    nice python benchmarks/hostile.py --domain impact
-    nice python benchmarks/hostile.py --domain navigation --timeout 20
-    nice python benchmarks/hostile.py --domain yaml --findings /tmp/findings.md
+    nice python benchmarks/hostile.py --domain impact --json impact.json
+    nice python benchmarks/hostile.py --domain navigation --filter "simulate_planner|crowd"
+    python benchmarks/hostile.py --merge impact.json yaml.json --findings notes.md
 
-Domains: impact, codesign, navigation, following, yaml, cli. The output is a table of the
-outcomes per domain and one line per non-clean case with a reproduction.
-``--findings FILE`` appends those lines as Markdown under a dated heading.
+Domains: impact, codesign, navigation, following, yaml (every leaf of a small study of each
+kind; the quick kinds also run and write their report), cli (hostile files and options, in
+a subprocess). The output is the table of outcomes per domain and, per kind of fault, the
+cases and one reproduction; ``--findings FILE`` appends them as Markdown under a dated
+heading, ``--merge`` tallies earlier ``--json`` runs without running anything.
 """
 
 from __future__ import annotations
@@ -625,17 +630,22 @@ class Target:
         return f"{self.label}({', '.join(parts)})"
 
 
-def _decl_for(func: Callable[..., Any], name: str, extra: Sequence[Any]) -> Any:
-    """The module-level declaration of a function argument, found by its name."""
+def _decl_for(func: Callable[..., Any], name: str, extra: Sequence[Any], base: Any) -> Any:
+    """The module-level declaration of a function argument, found by its name.
+
+    Only a declaration of the base value's kind: an argument that is an array shares its
+    name with the declaration of its length (``gains``, ``speeds``), which is not its own.
+    """
     from designlab.params import Param
 
     mod = sys.modules.get(getattr(func, "__module__", ""), None)
     pools = [vars(mod)] if mod is not None else []
     pools += [vars(m) for m in extra]
+    scalar = base is None or isinstance(base, (int, float, str, bool))
     for pool in pools:
         found = [v for v in pool.values() if isinstance(v, Param) and v.name == name]
         if len(found) == 1:
-            return found[0]
+            return found[0] if scalar else None
     return None
 
 
@@ -656,7 +666,9 @@ def target_cases(t: Target, decl_modules: Sequence[Any] = ()) -> list[Case]:
                     path = f"{name}.{field}"
                     cases.append(_case(t, path, (field, path), label, v, expectation(decl, v)))
             continue
-        decl = spec.decl if spec.decl is not None else _decl_for(t.func, name, decl_modules)
+        decl = spec.decl
+        if decl is None:
+            decl = _decl_for(t.func, name, decl_modules, spec.value)
         decl = None if decl is UNDECLARED else decl
         attacks = spec.attacks if spec.attacks is not None else hostile_values(decl, spec.value)
         for label, v in attacks:
@@ -1096,6 +1108,75 @@ def _metrics_call(row: list[Any], **kw: Any) -> Callable[[], Any]:
     return call
 
 
+#: Attacks on a 3-vector (a velocity or a normal).
+VECTOR_ATTACKS: list[tuple[str, Any]] = [
+    ("[nan]", [math.nan, 0.0, 0.0]), ("[inf]", [math.inf, 0.0, 0.0]),
+    ("[1e300]", [1e300, 0.0, 0.0]), ("zeros", [0.0, 0.0, 0.0]), ("2 values", [1.0, 0.0]),
+    ("text", "abc"), ("None", None), ("complex", [1 + 1j, 0.0, 0.0]), ("nested", [[1.0, 0.0, 0.0]]),
+]  # fmt: skip
+
+
+def _closing_given(r: Any, a: dict[str, Any]) -> str | None:
+    """v_c = (v_r - v_h) . n / |n| (Sec. 3.4), where the inputs are three finite numbers."""
+    try:
+        vr, vh, n = (np.asarray(a[k], dtype=float) for k in
+                     ("robot_velocity", "head_velocity", "normal"))  # fmt: skip
+    except (TypeError, ValueError):
+        return None
+    if not all(x.shape == (3,) and np.isfinite(x).all() for x in (vr, vh, n)):
+        return None
+    want = float(np.dot(vr - vh, n) / np.linalg.norm(n))
+    got = float(r.closing_speed)
+    if not math.isclose(got, want, rel_tol=1e-12, abs_tol=1e-300):
+        return f"closing speed {got!r}, (v_r - v_h) . n/|n| = {want!r}"
+    return None
+
+
+def impact_more_targets() -> list[Target]:
+    """The joint, link and plane helpers of the impact domain."""
+    import designlab.impact as im
+    from designlab.params import params_of
+
+    link = params_of(im.LinkImpact)
+    fj = Val(im.FullJointContact(**BASE_JOINT), text="FullJointContact(9.6, 2e5, 50.0, 2e4, 250.0)")
+    return [
+        Target("impact", "dl.impact.band_fit_sweep", im.band_fit_sweep,
+               {"robot": fj, "foam": Val(im.FOAM_1, text="FOAM_1"),
+                "head": Val(im.TEST_HEAD, text="TEST_HEAD"), "impact_velocity": Val(1.25),
+                "omega_max": Val([100.0, 1000.0], attacks=ARRAY_ATTACKS),
+                "stop_time": Val(0.05)}, ("robot", "foam", "head", "impact_velocity"),
+               finite_oracle(nonneg=("rms_ratio",)),
+               attack=("impact_velocity", "omega_max", "stop_time")),
+        Target("impact", "dl.impact.impact_point_sweep", im.impact_point_sweep,
+               {"inertia": Val(0.059, decl=link["inertia"]),
+                "joint_stiffness": Val(100.0, decl=link["joint_stiffness"]),
+                "joint_damping": Val(2.0, decl=link["joint_damping"]),
+                "joint_speed": Val(3.0, decl=link["joint_speed"]),
+                "lever_arms": Val([0.05, 0.1], attacks=ARRAY_ATTACKS)},
+               ("inertia", "joint_stiffness", "joint_damping", "joint_speed", "lever_arms"),
+               finite_oracle(nonneg=("mass", "stiffness", "damping", "velocity"))),
+        Target("impact", "dl.impact.closing_speed", im.closing_speed,
+               {"robot_velocity": Val([1.0, 0.0, 0.0], attacks=VECTOR_ATTACKS),
+                "head_velocity": Val([-0.5, 0.0, 0.0], attacks=VECTOR_ATTACKS),
+                "normal": Val([1.0, 0.0, 0.0], attacks=VECTOR_ATTACKS)},
+               ("robot_velocity", "head_velocity", "normal"),
+               finite_oracle(allow_nan=("gamma_r", "gamma_c")),  # NaN for a zero velocity
+               given=_closing_given),
+        Target("impact", "dl.impact.check_worst_case", _worst_case,
+               {"samples": Val(4), "seed": Val(0), "tolerance": Val(1e-6)}, (),
+               finite_oracle(), template="dl.impact.check_worst_case(dl.impact.foam_envelope("
+               "MANIPULATOR_1, 1.25, damping=[0.0, 60.0]), samples={samples}, seed={seed}, "
+               "tolerance={tolerance})"),
+    ]  # fmt: skip
+
+
+def _worst_case(samples: Any, seed: Any, tolerance: Any) -> Any:
+    import designlab.impact as im
+
+    env = im.foam_envelope(im.MANIPULATOR_1, 1.25, damping=[0.0, 60.0])
+    return im.check_worst_case(env, samples=samples, seed=seed, tolerance=tolerance)
+
+
 def impact_extra_cases() -> list[Case]:
     """The issue's reported impact cases and their siblings."""
     import designlab as dl
@@ -1469,6 +1550,66 @@ def navigation_targets() -> list[Target]:
     return out
 
 
+#: Attacks on an (n, 4) array of VFF gain sets.
+GAIN_SET_ATTACKS: list[tuple[str, Any]] = [
+    ("[[nan, ...]]", [[math.nan, 0.25, 20.0, 17.0]]), ("[[-1, ...]]", [[-1.0, 0.25, 20.0, 17.0]]),
+    ("[[1e300, ...]]", [[1e300, 0.25, 20.0, 17.0]]), ("[]", []),
+    ("flat 4", [3.0, 0.25, 20.0, 17.0]),
+    ("3 columns", [[3.0, 0.25, 20.0]]), ("text", "ab"), ("None", None),
+    ("10**5 sets", [[3.0, 0.25, 20.0, 17.0]] * 10**5),
+]  # fmt: skip
+
+
+def _walker(walk: Any) -> Any:
+    """A run with a person walking head-on toward the robot (``walk`` is attacked)."""
+    import designlab.navigation as nav
+
+    human = nav.Disc("h", 0.2, 2.1, 0.8, walk)
+    sc = nav.Scenario("hostile", start=(3.9, 0.6), goal=(0.0, 0.6), horizon=15.0,
+                      obstacles=(human,))  # fmt: skip
+    return nav.simulate(sc, nav.EXPERIMENT_GAINS)
+
+
+def _criteria_given(r: Any, a: dict[str, Any]) -> str | None:
+    h = [r.H_T, r.H_D, r.H_E, r.H]
+    if not all(isinstance(x, float) and math.isfinite(x) for x in h) and not _honest(r):
+        return f"criteria H_T, H_D, H_E, H = {h} (finite numbers) with status ok"
+    return None
+
+
+def navigation_more_targets() -> list[Target]:
+    """Batches, sensor noise, a walking person and the criteria of Sec. 6.3."""
+    import designlab.navigation as nav
+
+    sc = nav.Scenario("hostile", start=(3.9, 0.6), goal=(0.0, 0.6), horizon=15.0,
+                      obstacles=nav.configuration(1).obstacles)  # fmt: skip
+    oracle = _nav_oracle()
+    walk = {"start": (0.5, 0.6), "end": (3.5, 0.6), "speed": 1.0}
+    return [
+        Target("navigation", "dl.navigation.simulate_batch", nav.simulate_batch,
+               {"scenarios": Val([sc], text=f"[{SC_TEXT}]"),
+                "gains": Val([[3.0, 0.25, 20.0, 17.0]], attacks=GAIN_SET_ATTACKS)},
+               ("scenarios", "gains"), oracle, attack=("gains",)),
+        Target("navigation", "dl.navigation.simulate", nav.simulate,
+               {"scenario": Val(sc, text=SC_TEXT),
+                "gains": Val(nav.EXPERIMENT_GAINS, text="EXPERIMENT_GAINS"),
+                "noise": Obj(nav.SensorNoise, {})}, ("scenario", "gains"), oracle,
+               attack=("noise",), tag="[noise]"),
+        Target("navigation", "dl.navigation.simulate", _walker, {"walk": Obj(nav.Walk, walk)},
+               (), oracle, tag="[walker]",
+               template="dl.navigation.simulate(Scenario('hostile', start=(3.9, 0.6), "
+                        "goal=(0.0, 0.6), horizon=15.0, obstacles=(Disc('h', 0.2, 2.1, 0.8, "
+                        "{walk}),)), EXPERIMENT_GAINS)"),
+        Target("navigation", "dl.navigation.criteria", nav.criteria,
+               {"arrival_time": Val(10.0), "nominal_arrival_time": Val(8.0), "energy": Val(5.0),
+                "nominal_energy": Val(4.0), "surface_clearance": Val({"a": 0.5}, attacks=[
+                    ("nan", {"a": math.nan}), ("-1", {"a": -1.0}), ("{}", {}), ("text", "a")]),
+                "nominal_clearance": Val({"a": 0.4}, attacks=[
+                    ("0", {"a": 0.0}), ("other key", {"b": 0.4})])},
+               (), finite_oracle(), given=_criteria_given),
+    ]  # fmt: skip
+
+
 def _pair_cases() -> list[Case]:
     """start and goal of a scenario, the position of a stationary disc."""
     import designlab.navigation as nav
@@ -1539,7 +1680,8 @@ def navigation_cases() -> list[Case]:
     import designlab.navigation.planners as pl
 
     mods = [nav.parameters, pl.parameters]
-    out = [c for t in navigation_targets() for c in target_cases(t, mods)]
+    targets = navigation_targets() + navigation_more_targets()
+    out = [c for t in targets for c in target_cases(t, mods)]
     return out + _pair_cases() + navigation_extra_cases() + crowd_constructor_cases()
 
 
@@ -1795,7 +1937,7 @@ STUDY_BASE: dict[str, dict[str, Any]] = {
 #: Kinds whose small study runs (and writes its report) within a few seconds: an accepted
 #: hostile value in them is run through the report writer; the others are validated only.
 STUDY_RUN = {"impact_cases", "impact_sweep", "foam_envelope", "foam_design", "vff_sweep",
-             "follower_tuning", "navigation_planners", "navigation_regions",
+             "navigation_planners", "navigation_regions",
              "navigation_scenarios", "tether_step_size", "tether_snagging", "tether_modes",
              "tether_stability", "navigation_crowds", "navigation_account",
              "codesign"}  # fmt: skip
@@ -1803,8 +1945,10 @@ STUDY_RUN = {"impact_cases", "impact_sweep", "foam_envelope", "foam_design", "vf
 #: Leaves not attacked: flags that only switch on heavy but valid output.
 STUDY_SKIP = {"navigation_crowds": ("animations",)}
 
-#: Result columns that are NaN by definition in some valid runs (docs of the result).
-STUDY_NAN = ("lyapunov_share",)  # no sample in an active region: nan (navigation/lyapunov.py)
+#: Result columns that are NaN by definition in some valid runs (docs of the result): the
+#: shares of the Lyapunov audit are NaN without a sample in an active region
+#: (navigation/lyapunov.py).
+STUDY_NAN = ("lyapunov_share", "share_satisfied", "share_satisfied_hold", "share_V_rose_over_hold")
 
 #: The values put in place of a leaf of a study.
 YAML_ATTACKS: list[tuple[str, Any]] = [
@@ -1857,10 +2001,26 @@ def run_study_text(text: str, run: bool = True) -> Any:
 
 
 def _nonfinite_columns(result: Any) -> set[str]:
+    """The non-finite columns of a study's results: its table and its other tables."""
     frame = result.to_frame()
     cols = [c for c in frame.columns if not str(c).startswith(("ref_", "err_", "exp_"))]
     num = frame[cols].select_dtypes("number")
-    return {str(c) for c in num.columns if not np.isfinite(num[c].to_numpy(dtype=float)).all()}
+    out = {str(c) for c in num.columns if not np.isfinite(num[c].to_numpy(dtype=float)).all()}
+    import pandas as pd
+
+    for name in dir(result):
+        if name.startswith("_") or name == "study":
+            continue
+        try:
+            value = getattr(result, name)
+            if callable(value) and name.endswith("_frame") and name != "to_frame":
+                value = value()  # the kind's other tables (brake_frame, ...)
+        except Exception:  # a table that fails is the report writer's business
+            continue
+        if isinstance(value, pd.DataFrame):
+            out |= {f"{name}.{n.split('.', 1)[-1]}" for n, a in numbers_of(value)
+                    if not np.isfinite(a).all()}  # fmt: skip
+    return out
 
 
 _BASE_NONFINITE: dict[str, set[str]] = {}
@@ -1879,7 +2039,8 @@ def _study_oracle(kind: str) -> Callable[[Any], str | None]:
         if kind not in _BASE_NONFINITE:
             base = run_study_text(study_text(kind, STUDY_BASE[kind]))
             _BASE_NONFINITE[kind] = _nonfinite_columns(base)
-        new = sorted(_nonfinite_columns(result) - _BASE_NONFINITE[kind] - set(STUDY_NAN))
+        new = sorted(c for c in _nonfinite_columns(result) - _BASE_NONFINITE[kind]
+                     if c.split(".")[-1] not in STUDY_NAN)  # fmt: skip
         if new and not _honest(result):
             return f"non-finite {', '.join(new[:4])} (finite in the base study) with status ok"
         return None
@@ -1921,7 +2082,9 @@ def yaml_extra_cases() -> list[Case]:
     cbf = {**crowds, "methods": [{"method": "cbf"}]}
     code = STUDY_BASE["codesign"]
     sobol = {**code, "sensitivity": {"samples": 2**20}}
+    modes = {**STUDY_BASE["tether_modes"], "brake_walk": 1.0}
     rows = [
+        ("tether_modes", "brake_walk 1.0", modes, ("brake_walk",)),
         ("navigation_scenarios", "no obstacles", bare, ("obstacles",)),
         ("navigation_crowds", "masoud gains direction -1", masoud, ("direction",)),
         ("navigation_crowds", "cbf method", cbf, ("cbf",)),
@@ -2150,7 +2313,8 @@ def _scenario_judge(words: tuple[str, ...]) -> Callable[[Any], tuple[str, str]]:
 def _impact_cases() -> list[Case]:
     import designlab.impact as im
 
-    cases = [c for t in impact_targets() for c in target_cases(t, [im.parameters])]
+    targets = impact_targets() + impact_more_targets()
+    cases = [c for t in targets for c in target_cases(t, [im.parameters])]
     return cases + impact_metrics_cases() + impact_extra_cases()
 
 
@@ -2240,7 +2404,8 @@ def _arguments(argv: Sequence[str] | None) -> argparse.Namespace:
     parser.add_argument("--domain", choices=sorted(DOMAINS), help="the domain to run")
     parser.add_argument("--timeout", type=float, default=20.0, help="seconds per case")
     parser.add_argument("--memory", type=float, default=6.0, help="GiB per worker")
-    parser.add_argument("--filter", default="", help="only cases whose name contains this")
+    parser.add_argument("--filter", default="", help="only cases whose name contains this "
+                        "(several: a|b)")  # fmt: skip
     parser.add_argument("--limit", type=int, default=0, help="at most this many cases")
     parser.add_argument("--json", help="write every row to this JSON file")
     parser.add_argument("--findings", help="append the non-clean cases (Markdown) to this file")
@@ -2261,7 +2426,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         rows = [r for f in args.merge for r in json.loads(Path(f).read_text())]
     else:
         make, warmup = DOMAINS[args.domain]
-        cases = [c for c in make() if args.filter in c.name]
+        wanted = args.filter.split("|")
+        cases = [c for c in make() if any(w in c.name for w in wanted)]
         if args.limit:
             cases = cases[: args.limit]
         start = time.monotonic()
