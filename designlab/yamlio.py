@@ -104,9 +104,9 @@ class YamlError(DesignlabError, ValueError):
         self.file = file
         self.line = line
         self.path = path
-        where = f"{file}: " if file else ""
-        if line is not None:
-            where = f"{file}:{line}: " if file else f"line {line}: "
+        where = f"{file}: " if file else ""  # without a file, the message alone (see .line)
+        if line is not None and file:
+            where = f"{file}:{line}: "
         field = ".".join(str(p) for p in path)
         super().__init__(f"{where}{field + ': ' if field else ''}{message}")
 

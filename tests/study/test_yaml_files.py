@@ -108,8 +108,9 @@ def test_a_number_of_thousands_of_digits_is_a_clear_error(tmp_path: Path, digits
     f.write_text(STUDY.format(mass="9" * digits), encoding="utf-8")
     with pytest.raises(StudyError, match=rf"s.yaml:5: a number written with {digits:,} char"):
         load_study(f)
-    with pytest.raises(YamlError, match=r"^line 1: a number written"):
+    with pytest.raises(YamlError, match=r"^a number written") as info:
         load_yaml(f"a: {'1' * digits}.5\n")
+    assert info.value.line == 1
 
 
 def test_numbers_within_the_cap_still_load() -> None:
