@@ -30,8 +30,8 @@ Examples
 >>> load_yaml("a: 1\\nb: 2\\na: 3\\n", file="room.yaml")
 Traceback (most recent call last):
 ...
-designlab.yamlio.YamlError: room.yaml:3: a: key 'a' appears twice in the same mapping,
-    on lines 1 and 3
+designlab.yamlio.YamlError: room.yaml:3: key 'a' appears twice in the same mapping, on
+    lines 1 and 3
 """
 
 from __future__ import annotations
@@ -104,11 +104,10 @@ class YamlError(DesignlabError, ValueError):
         self.file = file
         self.line = line
         self.path = path
-        where = f"{file}: " if file else ""
-        if line is not None:
-            where = f"{file}:{line}: " if file else f"line {line}: "
-        field = ".".join(str(p) for p in path)
-        super().__init__(f"{where}{field + ': ' if field else ''}{message}")
+        where = f"{file}: " if file else ""  # without a file, the message alone (see .line)
+        if line is not None and file:
+            where = f"{file}:{line}: "
+        super().__init__(f"{where}{message}")
 
 
 def read_text_file(path: str | PathLike[str], *, max_bytes: int = MAX_BYTES) -> str:

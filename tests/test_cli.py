@@ -249,22 +249,22 @@ def test_index_md_directory_is_a_clear_report_error(tmp_path):
         write_index(tmp_path)
 
 
-def test_summary_names_every_option_of_the_run(write_study, tmp_path):
-    """The report's command line reproduces the run: -j 2, --executor, --cache-dir, --resume."""
-    study = write_study(SWEEP_STUDY, "sweep.yaml")
+def test_summary_names_every_option_of_the_run(write_study, tiny_study_text, tmp_path):
+    """The report's command line reproduces the run: -j 2, --cache-dir, --resume, timeouts."""
+    study = write_study(tiny_study_text, "tiny.yaml")
     out, cache = tmp_path / "out", tmp_path / "cache"
     args = ["run", str(study), "-o", str(out), "--cache-dir", str(cache), "-j", "2",
-            "-e", "processes", "--resume"]  # fmt: skip
+            "--resume", "--worker-timeout", "30"]  # fmt: skip
     result = runner.invoke(app, args)
     assert result.exit_code == 0, result.output
-    summary = (out / "cli_sweep" / "summary.md").read_text()
+    summary = (out / "tiny" / "summary.md").read_text()
     assert (
-        f"`designlab run {study} --output-dir {out} --cache-dir {cache} --executor processes "
-        "--workers 2 --resume`" in summary
+        f"`designlab run {study} --output-dir {out} --cache-dir {cache} --workers 2 --resume "
+        "--worker-timeout 30.0`" in summary
     ), summary
 
 
-@pytest.mark.parametrize("umask", [0o077, 0o027, 0o002])
+@pytest.mark.parametrize("umask", [0o077, 0o002])
 def test_reports_follow_the_umask(write_study, tiny_study_text, tmp_path, umask):
     import os
     import stat

@@ -316,10 +316,19 @@ def _message(err: dict[str, Any], path: YamlPath, model: type[BaseModel]) -> str
     msg: str = err["msg"]
     if msg.startswith("Value error, "):
         return msg[len("Value error, ") :]
-    value = err.get("input")
-    if isinstance(value, dict | list):
-        return msg
-    return f"{msg} (got {value!r})"
+    return f"{msg} (got {_shown(err.get('input'))})"
+
+
+def _shown(value: Any) -> str:
+    """A value for an error message: its repr, a list or mapping named as such, cut short."""
+    text = repr(value)
+    if len(text) > 60:
+        text = text[:57] + "..."
+    if isinstance(value, list):
+        return f"a list: {text}" if value else "an empty list []"
+    if isinstance(value, dict):
+        return f"a mapping: {text}" if value else "an empty mapping {}"
+    return text
 
 
 def _to_study_error(

@@ -18,7 +18,7 @@ import yaml
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from designlab.errors import DesignlabError, StudyError
+from designlab.errors import DesignlabError, InvalidParameterError, StudyError
 from designlab.study import parse_study, run_study, study_kinds
 
 #: One small valid study of each kind (the carriers of the hostile corpus).
@@ -86,8 +86,10 @@ BASE: dict[str, dict[str, Any]] = {
                           "crowd": {"length": 8.0, "horizon": 0.5}, "animations": False},
 }  # fmt: skip
 
-#: Kinds quick enough to run on every accepted example.
-RUN = {"impact_cases", "impact_sweep", "navigation_regions"}
+#: Kinds quick enough to run on every accepted example: what ``run`` refuses as input
+#: (a StudyError or an InvalidParameterError) ``validate`` must have refused.
+RUN = {"impact_cases", "impact_sweep", "navigation_regions", "foam_envelope", "tether_stability",
+       "vff_sweep"}  # fmt: skip
 
 VALUES = st.one_of(
     st.floats(allow_nan=True, allow_infinity=True),
@@ -155,7 +157,9 @@ def test_random_values_give_a_clear_error_or_a_finite_result(kind: str, data: An
     if kind in RUN:
         try:
             result = run_study(study)
-        except DesignlabError as exc:  # refused late: still a clear error, never a crash
+        except (StudyError, InvalidParameterError) as exc:  # bad input: validate's to refuse
+            pytest.fail(f"validate accepted what run refuses as input: {exc}\n{text}")
+        except DesignlabError as exc:  # a model or solver failure: still a clear error
             assert str(exc), exc
             return
         _finite_or_explained(result)

@@ -108,8 +108,9 @@ def test_a_number_of_thousands_of_digits_is_a_clear_error(tmp_path: Path, digits
     f.write_text(STUDY.format(mass="9" * digits), encoding="utf-8")
     with pytest.raises(StudyError, match=rf"s.yaml:5: a number written with {digits:,} char"):
         load_study(f)
-    with pytest.raises(YamlError, match=r"^line 1: a number written"):
+    with pytest.raises(YamlError, match=r"^a number written") as info:
         load_yaml(f"a: {'1' * digits}.5\n")
+    assert info.value.line == 1
 
 
 def test_numbers_within_the_cap_still_load() -> None:
@@ -165,3 +166,31 @@ def test_a_symlink_to_a_regular_file_is_read(tmp_path: Path) -> None:
     link = tmp_path / "link.yaml"
     link.symlink_to(f)
     assert load_study(link).name == "t"
+
+
+@pytest.mark.parametrize(
+    ("value", "shown"),
+    [("[1, 2]", "(got a list: [1, 2])"), ("{a: 1}", "(got a mapping: {'a': 1})"),
+     ("[]", "(got an empty list [])")],
+)  # fmt: skip
+def test_a_list_or_mapping_for_a_number_names_what_was_given(value: str, shown: str) -> None:
+    from designlab.study import parse_study
+
+    text = STUDY.format(mass=9.6).replace("impact_velocity: 1.25", f"impact_velocity: {value}")
+    with pytest.raises(StudyError) as info:
+        parse_study(text, file="s.yaml")
+    assert str(info.value).startswith("s.yaml:8: cases[0].impact_velocity: Input should be a valid")
+    assert shown in str(info.value)
+
+
+def test_a_density_no_area_can_hold_is_named_as_the_density() -> None:
+    from designlab.study import parse_study
+
+    text = (
+        "designlab: 1\nkind: navigation_crowds\nname: c\nscenarios: [corridor_counterflow]\n"
+        "densities: [0.1, 1.0e-300]\nseeds: [0]\nmethods: [{method: vff}]\n"
+        "crowd: {length: 8.0, horizon: 0.5}\n"
+    )
+    with pytest.raises(StudyError, match=r"^c.yaml:5: densities\[1\]: corridor_counterflow at "
+                       r"1e-300/m\^2: density = 1e-300 1/m\^2 is not allowed"):  # fmt: skip
+        parse_study(text, file="c.yaml")

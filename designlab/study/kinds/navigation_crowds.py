@@ -215,18 +215,21 @@ class NavigationCrowdsStudy(StudyBase):
         """The schema's checks, then one crowd per layout and density (a density the area
         cannot hold, a goal inside a wall, ... fail here, before any run)."""
         super().check()
-        sets = [(self.scenarios, self.densities, "crowd")]
+        sets: list[tuple[Any, Any, tuple[str, ...]]] = [(self.scenarios, self.densities, ())]
         if self.tuning is not None:
             t = self.tuning
             pairs = (("training", t.training), ("validation", t.validation))
-            sets += [(s.scenarios, s.densities, f"tuning.{n}") for n, s in pairs]
-        for layouts, densities, path in sets:
+            sets += [(s.scenarios, s.densities, ("tuning", n)) for n, s in pairs]
+        for layouts, densities, where in sets:
             for layout in layouts:
-                for rho in densities:
+                for j, rho in enumerate(densities):
                     try:
                         crowd(layout, density=rho, seed=0, **self.crowd.build())
                     except (DesignlabError, ValueError) as exc:
-                        raise StudyError(f"{layout} at {rho}/m^2: {exc}", path=(path,)) from None
+                        # a density the area cannot hold is the density's fault, else the crowd's
+                        name = str(getattr(exc, "name", ""))
+                        path = (*where, "densities", j) if "density" in name else ("crowd",)
+                        raise StudyError(f"{layout} at {rho}/m^2: {exc}", path=path) from None
 
     def runs(self) -> int:
         """Runs of the main grid."""

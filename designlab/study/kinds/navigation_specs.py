@@ -252,7 +252,8 @@ class _ScenarioBase(Model):
                 raise ValueError("give either configuration or start/goal/obstacles, not both")
             if isinstance(self.configuration, int) and not 1 <= self.configuration <= 4:
                 raise ValueError(
-                    "configuration must be 1-4, 'parallel', 'unpredictable' or 'multi'"
+                    f"configuration = {self.configuration!r} is not allowed: must be 1-4, "
+                    "'parallel', 'unpredictable' or 'multi'"
                 )
         elif self.start is None or self.goal is None or self.name is None:  # type: ignore[attr-defined]
             raise ValueError("give configuration, or name, start and goal (and obstacles)")
