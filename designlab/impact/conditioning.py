@@ -44,7 +44,12 @@ from designlab.params import Param, params_of
 #: A fastest root at least this many times faster than the others is a separate time scale.
 _SEPARATED = 10.0
 
-__all__ = ["characteristic_polynomial", "check_conditioning", "time_scale_ratio"]
+__all__ = [
+    "characteristic_polynomial",
+    "check_conditioning",
+    "check_eigen_route",
+    "time_scale_ratio",
+]
 
 
 def _mul(a: NDArray, b: NDArray) -> NDArray:
@@ -120,7 +125,9 @@ def characteristic_polynomial(p: NDArray, constrained: bool = False) -> NDArray:
         return _add(_mul(robot, head), _mul(z_c, _add(masses, n_j, _mul(z_h, d_j))))
 
 
-def time_scale_ratio(p: NDArray, constrained: bool = False) -> NDArray[np.float64]:
+def time_scale_ratio(
+    p: NDArray, constrained: bool = False, *, motor_node: bool = False
+) -> NDArray[np.float64]:
     """Estimated ratio of the fastest to the slowest pole modulus of each design.
 
     From the coefficients of :func:`characteristic_polynomial` (monic, descending
@@ -139,6 +146,9 @@ def time_scale_ratio(p: NDArray, constrained: bool = False) -> NDArray[np.float6
         ``(N, 8)`` or ``(N, 10)`` parameter rows (see :func:`characteristic_polynomial`).
     constrained
         The constrained impact.
+    motor_node
+        Count the full joint's motor-node mode even when it is far the fastest (the time
+        scales that an eigen-decomposition of the state matrix has to span).
 
     Returns
     -------
@@ -154,7 +164,7 @@ def time_scale_ratio(p: NDArray, constrained: bool = False) -> NDArray[np.float6
         # a_k = c[deg - k] / c[deg]:  log rho_max = max_k log(a_k) / k
         log_a = logc[:, deg - 1 :: -1] - lead  # a_1 .. a_deg
         log_max = np.max(log_a / k, axis=1)
-        if p.shape[1] == 10 and deg > 1:
+        if p.shape[1] == 10 and deg > 1 and not motor_node:
             # the full joint's massless motor node: a first-order mode that, for a stiff
             # transmission, is far faster than the rest and over long before the lobe's
             # maxima (designlab.impact.full_joint_model.grid_rate); it is a root of modulus
@@ -232,6 +242,45 @@ def check_conditioning(
         f"[{shown}]",
         f"{spread}; at most {TIME_SCALE_RATIO.le:g} is served to the declared accuracy in "
         f'double precision (docs/impact.md, "Limits"){worst}',
+    )
+
+
+def check_eigen_route(p: NDArray, rows: NDArray, constrained: bool = False) -> None:
+    """Refuse full-joint designs the eigen-decomposition of the state matrix cannot serve.
+
+    The compiled kernel evaluates a stiff transmission's motor-node mode exactly from the
+    closed form; a design it does not certify (nearly repeated or ill-conditioned poles)
+    is evaluated from the eigen-decomposition instead, whose slow eigenvalues carry an
+    absolute error of about the rounding error times the fastest (the motor node's), so there
+    the time scales counted with the motor node must not span more than
+    :data:`~designlab.impact.parameters.TIME_SCALE_RATIO` either.
+
+    Parameters
+    ----------
+    p
+        ``(N, 10)`` full-joint rows evaluated by the eigen-decomposition.
+    rows
+        Their row numbers in the caller's batch (named in the error).
+    constrained
+        The constrained impact.
+    """
+    from designlab.impact.full_joint_model import FULL_PARAM_NAMES
+    from designlab.impact.parameters import TIME_SCALE_RATIO
+
+    ratio = time_scale_ratio(p, constrained, motor_node=True)
+    bad = ~(ratio <= TIME_SCALE_RATIO.le)
+    if not np.any(bad):
+        return
+    j = int(np.flatnonzero(bad)[0])
+    shown = ", ".join(f"{k}={x:.4g}" for k, x in zip(FULL_PARAM_NAMES, p[j], strict=True))
+    raise InvalidParameterError(
+        f"params[{int(rows[j])}]",
+        f"[{shown}]",
+        "has poles the compiled kernel does not certify (nearly repeated or ill-conditioned), "
+        f"and with its motor-node mode its time scales span a ratio of {ratio[j]:.3g}, beyond "
+        f"the {TIME_SCALE_RATIO.le:g} the eigen-decomposition serves in double precision "
+        '(docs/impact.md, "Limits"): a softer transmission (K_mech) or more damping at the '
+        "motor node (C_mech + C_cont) is served",
     )
 
 

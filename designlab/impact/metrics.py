@@ -41,7 +41,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from designlab.errors import InvalidParameterError, ModelError
 from designlab.impact import kernel, kernel_full
-from designlab.impact.conditioning import check_conditioning
+from designlab.impact.conditioning import check_conditioning, check_eigen_route
 from designlab.impact.full_joint_model import FULL_PARAM_NAMES, full_joint_model, grid_rate
 from designlab.impact.metric_names import PARAMETERS
 from designlab.impact.modal import (
@@ -836,6 +836,8 @@ def _full_kernel(
         max_lobe_steps=max_lobe_steps, diagnostics=diagnostics,
     )  # fmt: skip
     back = np.flatnonzero(codes == kernel_full.FALLBACK)
+    if back.size and p.shape[1] == len(FULL_PARAM_NAMES):
+        check_eigen_route(p[back], back, constrained)
     if back.size:
         resp = ramp_responses(response_model(p, constrained), p[back], names, rows=back)
         poles = resp[names[0]].poles
