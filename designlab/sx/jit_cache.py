@@ -9,9 +9,11 @@ SHA-256 recorded in the directory's manifest, and read back (under the directory
 lock, the bytes checked being the bytes unpickled) only if it is a regular file of
 this user, not writable by group or others, with the recorded hash. A file failing
 a check is removed with a warning, and numba compiles the function again and
-stores it afresh. Where numba's cache is not the one this module knows (another
-numba version), or its directory is not private, caching is turned off for the
-function (compiled in every process, said once). Processes compiling kernels at the
+stores it afresh. A process that compiles a kernel missing from the cache says so once
+(:data:`COMPILING`), so a first call's minute is not a mystery. Where numba's cache is
+not the one this module knows (another numba version), or its directory is not
+private, caching is turned off for the function (compiled in every process, said
+once). Processes compiling kernels at the
 same time take turns (:func:`_compile_once`): each kernel is compiled once, the others
 wait and load it.
 
@@ -34,7 +36,14 @@ from typing import Any
 from designlab.sx.cache import say_once
 from designlab.sx.trust import Shelf, private_dir
 
-__all__ = ["verify_cache"]
+__all__ = ["COMPILING", "verify_cache"]
+
+#: Said once (a log warning) when a process compiles a kernel that was not in the cache.
+COMPILING = (
+    "compiling designlab's numeric kernels (numba) for their first use with this cache: this "
+    "can take a minute or more, once; later processes load them from the cache "
+    "(`designlab compile` compiles everything ahead)"
+)
 
 
 @functools.cache
@@ -60,7 +69,10 @@ def _verified_class() -> type | None:
 
         def load(self, key: Any) -> Any:
             with self._shelf().locked():
-                return super().load(key)
+                data = super().load(key)
+            if data is None:  # numba compiles it now
+                say_once(COMPILING)
+            return data
 
         def _load_index(self) -> dict[Any, Any]:
             data = self._shelf().load(self._index_name, "compiled-kernel index")

@@ -42,9 +42,10 @@ def _impact() -> None:
 
 
 def _sampling() -> None:
-    from designlab.analysis.sampling import LatinHypercubePoints
+    from designlab.analysis.sampling import COMPILED_FROM, LatinHypercubePoints
 
-    LatinHypercubePoints({"a": (0.0, 1.0), "b": (1.0, 2.0)}, 8, seed=1).columns()
+    box = {"a": (0.0, 1.0), "b": (1.0, 2.0)}
+    LatinHypercubePoints(box, COMPILED_FROM, seed=1).columns()  # the compiled path
 
 
 def _navigation() -> None:

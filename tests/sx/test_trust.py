@@ -218,11 +218,24 @@ def _hits(f) -> int:  # type: ignore[no-untyped-def]
 
 @needs_jit
 def test_kernel_cache_is_private_and_loads_what_it_stored(
-    tmp_path: Path, tiny_kernel, loose_umask
+    tmp_path: Path,
+    tiny_kernel,
+    loose_umask,
+    monkeypatch: pytest.MonkeyPatch,
+    caplog: pytest.LogCaptureFixture,
 ) -> None:
-    first = tiny_kernel()
-    assert _hits(first) == 0
-    assert _hits(tiny_kernel()) == 1  # a new dispatcher loads it from disk
+    from designlab.sx import cache as sx_cache
+    from designlab.sx.jit_cache import COMPILING
+
+    monkeypatch.setattr(sx_cache, "_SAID", set())
+    with caplog.at_level(logging.WARNING, logger="designlab.sx"):
+        first = tiny_kernel()
+    assert _hits(first) == 0 and [r.getMessage() for r in caplog.records] == [COMPILING]
+    caplog.clear()
+    monkeypatch.setattr(sx_cache, "_SAID", set())
+    with caplog.at_level(logging.WARNING, logger="designlab.sx"):
+        assert _hits(tiny_kernel()) == 1  # a new dispatcher loads it from disk
+    assert caplog.records == []  # loading says nothing
     modes = _modes(tmp_path / "numba")
     assert {m for p, m in modes.items() if Path(p).suffix in (".nbi", ".nbc")} == {"0o600"}
     assert {m for p, m in modes.items() if (tmp_path / "numba" / p).is_dir()} == {"0o700"}
