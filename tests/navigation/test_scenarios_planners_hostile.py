@@ -279,3 +279,36 @@ def test_vo_candidates_and_wheel_energy_check_their_arguments():
         wheel_energy(robot, np.array([[math.nan, 0.0]]))
     with pytest.raises(InvalidParameterError, match="robot"):
         wheel_energy("robot", np.zeros((3, 2)))
+
+
+def test_errt_settings_that_cannot_explore_are_refused():
+    """goal_bias=1.0 (or with waypoint_bias summing to 1) and margin=0 ran 196 s on a 15 s
+    scenario: the tree never explored, every plan spent max_nodes."""
+    from designlab.navigation.planners import ERRTSettings
+
+    for kw in (
+        {"goal_bias": 1.0},
+        {"waypoint_bias": 1.0},
+        {"goal_bias": 0.4, "waypoint_bias": 0.6},
+    ):
+        with pytest.raises(InvalidParameterError, match=r"ERRTSettings\.goal_bias"):
+            ERRTSettings(**kw)
+    with pytest.raises(InvalidParameterError, match=r"ERRTSettings\.margin"):
+        ERRTSettings(margin=0.0)
+    ERRTSettings(goal_bias=0.3, waypoint_bias=0.6)
+
+
+def test_field_dstar_on_a_scene_on_one_line_without_margin():
+    """margin=0 on a scene whose start, goal and obstacle lie on one line gave a grid of no
+    width (an error about cell_cost); the grid is one cell wide and the run says it did not
+    get around the obstacle."""
+    disc = Disc("c", 0.1, r2=0.8, r3=0.4, motion=Stationary((2.45, 0.6)))
+    sc = Scenario("line", (3.9, 0.6), (0.0, 0.6), horizon=3.0, obstacles=(disc,))
+    res = simulate_planner(sc, "field_dstar", FieldDStarSettings(margin=0.0))
+    assert not res.collided
+
+
+def test_field_dstar_grid_error_names_the_margin():
+    with pytest.raises(InvalidParameterError, match=r"margin = 50 m"):
+        s = FieldDStarSettings(cell=0.5, margin=50.0)
+        simulate_planner(nav.configuration(1), "field_dstar", s)
