@@ -686,6 +686,12 @@ class Scenario:
             )
         object.__setattr__(self, "obstacles", tuple(self.obstacles))
         OBSTACLES.check(len(self.obstacles), "Scenario.obstacles (how many)")
+        if self.horizon < self.sample_time:
+            raise InvalidParameterError(
+                "Scenario.horizon", self.horizon,
+                f"must hold at least one navigation period (sample_time = {self.sample_time} s)",
+                "s",
+            )  # fmt: skip
         if not isinstance(self.robot, HolonomicRobot | NonholonomicRobot):
             raise InvalidParameterError(
                 "Scenario.robot", self.robot, "must be a HolonomicRobot or NonholonomicRobot"

@@ -312,3 +312,12 @@ def test_field_dstar_grid_error_names_the_margin():
     with pytest.raises(InvalidParameterError, match=r"margin = 50 m"):
         s = FieldDStarSettings(cell=0.5, margin=50.0)
         simulate_planner(nav.configuration(1), "field_dstar", s)
+
+
+@pytest.mark.parametrize("horizon", [1e-300, 0.05])
+def test_a_scenario_horizon_shorter_than_a_period_is_refused(horizon):
+    """horizon: 1e-300 in a navigation_scenarios study failed in its report writer."""
+    with pytest.raises(InvalidParameterError, match=r"Scenario\.horizon"):
+        Scenario("x", (0.0, 0.0), (1.0, 0.0), horizon=horizon)
+    with pytest.raises(InvalidParameterError, match=r"Scenario\.horizon"):
+        nav.configuration(1).replace(horizon=horizon)
