@@ -321,3 +321,42 @@ def test_a_scenario_horizon_shorter_than_a_period_is_refused(horizon):
         Scenario("x", (0.0, 0.0), (1.0, 0.0), horizon=horizon)
     with pytest.raises(InvalidParameterError, match=r"Scenario\.horizon"):
         nav.configuration(1).replace(horizon=horizon)
+
+
+# ------------------------------------------------------------------------------ criteria
+BASE_RUN = {"arrival_time": 6.0, "nominal_arrival_time": 5.4, "energy": 2.0,
+            "nominal_energy": 1.0, "surface_clearance": {"c": 0.25},
+            "nominal_clearance": {"c": 0.5}}  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "name"),
+    [
+        ({"arrival_time": 0.0}, "arrival_time"),  # was a ZeroDivisionError
+        ({"arrival_time": None}, "arrival_time"),
+        ({"arrival_time": "6"}, "arrival_time"),
+        ({"arrival_time": math.nan}, "arrival_time"),
+        ({"nominal_arrival_time": math.inf}, "nominal_arrival_time"),  # H_T = inf, status ok
+        ({"nominal_arrival_time": math.nan}, "nominal_arrival_time"),
+        ({"energy": math.inf}, "energy"),
+        ({"nominal_energy": -1.0}, "nominal_energy"),
+        ({"nominal_energy": None}, "nominal_energy"),
+        ({"nominal_clearance": {"a": 0.5}}, "nominal_clearance"),  # was a KeyError
+        ({"nominal_clearance": {"c": 0.0}}, "nominal_clearance"),  # was a ZeroDivisionError
+        ({"surface_clearance": "c"}, "surface_clearance"),
+    ],
+)
+def test_criteria_refuse_what_is_not_a_run(kwargs, name):
+    from designlab.navigation.criteria import criteria
+
+    with pytest.raises(InvalidParameterError, match=name):
+        criteria(**{**BASE_RUN, **kwargs})
+
+
+def test_criteria_of_a_run_and_nominal_run_that_never_arrived():
+    from designlab.navigation.criteria import criteria
+
+    c = criteria(**{**BASE_RUN, "arrival_time": math.inf, "nominal_arrival_time": math.inf})
+    assert c.H_T == 0.0 and any("never arrived" in w for w in c.warnings)
+    c = criteria(**BASE_RUN)
+    assert c.H_T == 5.4 / 6.0 and c.H_D == 0.5 and c.H_E == 0.5
