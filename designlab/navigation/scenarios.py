@@ -197,7 +197,8 @@ class Walk:
             raise InvalidParameterError(
                 "Walk.ramp_time",
                 self.ramp_time,
-                f"must leave a cruise: speed * ramp_time <= walk length {self.length:.3f} m",
+                f"must leave a cruise: speed * ramp_time = {self.speed:g} m/s x "
+                f"{self.ramp_time:g} s <= walk length {self.length:.3f} m",
                 "s",
             )
 
