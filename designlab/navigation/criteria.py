@@ -20,6 +20,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
 import pandas as pd
 
 from designlab.errors import InvalidParameterError
@@ -112,6 +113,62 @@ def check_weights(weights: Any) -> tuple[float, float, float]:
     return (w[0], w[1], w[2])
 
 
+def _number(name: str, value: Any, unit: str) -> float:
+    if (
+        isinstance(value, bool | np.bool_)
+        or not isinstance(value, int | float | np.number)
+        or (isinstance(value, complex | np.complexfloating))
+    ):
+        raise InvalidParameterError(name, value, "must be a real number", unit)
+    return float(value)
+
+
+def _check_run_figures(
+    arrival_time: Any, nominal_arrival_time: Any, energy: Any, nominal_energy: Any
+) -> tuple[float, float, float, float]:
+    """T_arrive > 0 (inf: never arrived), T*_arrive > 0 (finite if T_arrive is), energies
+    finite >= 0."""
+    t = _number("arrival_time", arrival_time, "s")
+    if not t > 0:  # NaN too
+        raise InvalidParameterError("arrival_time", arrival_time, "must be > 0 (inf: never "
+                                    "arrived)", "s")  # fmt: skip
+    t0 = _number("nominal_arrival_time", nominal_arrival_time, "s")
+    if not t0 > 0 or (math.isinf(t0) and math.isfinite(t)):
+        raise InvalidParameterError(
+            "nominal_arrival_time", nominal_arrival_time, "must be > 0, and finite when the run "
+            "arrived (the obstacle-free run cannot take longer: inf only if neither arrived)", "s",
+        )  # fmt: skip
+    out = []
+    for name, v in (("energy", energy), ("nominal_energy", nominal_energy)):
+        e = _number(name, v, "")
+        if not (math.isfinite(e) and e >= 0):
+            raise InvalidParameterError(name, v, "must be finite and >= 0")
+        out.append(e)
+    return t, t0, out[0], out[1]
+
+
+def _check_clearances(surface: Any, nominal: Any) -> tuple[dict[str, float], dict[str, float]]:
+    """d_s,min and d*_s,min per obstacle: the same names, finite, the nominal ones > 0."""
+    for name, m in (("surface_clearance", surface), ("nominal_clearance", nominal)):
+        if not isinstance(m, Mapping):
+            raise InvalidParameterError(name, m, "must map obstacle names to distances (m)")
+    if set(surface) != set(nominal):
+        raise InvalidParameterError(
+            "nominal_clearance", sorted(map(str, nominal)),
+            f"must name the obstacles of surface_clearance {sorted(map(str, surface))}",
+        )  # fmt: skip
+    s = {k: _number(f"surface_clearance[{k!r}]", v, "m") for k, v in surface.items()}
+    n = {k: _number(f"nominal_clearance[{k!r}]", v, "m") for k, v in nominal.items()}
+    for k in s:
+        if not math.isfinite(s[k]):
+            raise InvalidParameterError(f"surface_clearance[{k!r}]", s[k], "must be finite", "m")
+        if not (math.isfinite(n[k]) and n[k] > 0):
+            raise InvalidParameterError(
+                f"nominal_clearance[{k!r}]", n[k], "must be finite and > 0", "m"
+            )
+    return s, n
+
+
 def criteria(
     *,
     arrival_time: float,
@@ -151,6 +208,10 @@ def criteria(
     (0.9, 0.5, 0.5, 0.633)
     """
     w = check_weights(weights)
+    arrival_time, nominal_arrival_time, energy, nominal_energy = _check_run_figures(
+        arrival_time, nominal_arrival_time, energy, nominal_energy
+    )
+    surface_clearance, nominal_clearance = _check_clearances(surface_clearance, nominal_clearance)
     warnings: list[str] = []
     h_t = 0.0 if not math.isfinite(arrival_time) else nominal_arrival_time / arrival_time
     if not math.isfinite(arrival_time):

@@ -286,7 +286,6 @@ def region_sizes(
     """
     ts = SAMPLE_TIME.check(sample_time)
     _check_kinds(obstacle, robot)
-    ADOPTED_R2.check(active_radius)
     v, a = robot.max_speed, robot.max_accel
     dt1 = t_a = v / a
     d_r1 = v * ts + 0.5 * a * dt1**2

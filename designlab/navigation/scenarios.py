@@ -197,7 +197,8 @@ class Walk:
             raise InvalidParameterError(
                 "Walk.ramp_time",
                 self.ramp_time,
-                f"must leave a cruise: speed * ramp_time <= walk length {self.length:.3f} m",
+                f"must leave a cruise: speed * ramp_time = {self.speed:g} m/s x "
+                f"{self.ramp_time:g} s <= walk length {self.length:.3f} m",
                 "s",
             )
 
@@ -569,6 +570,20 @@ class Rectangle:
 Obstacle = Disc | Rectangle
 
 
+def _contact_terms(o: Obstacle, robot_radius: float) -> str:
+    """The terms of an obstacle's contact distance, for error messages."""
+    if isinstance(o, Disc):
+        return f"radius {o.radius:g} m + robot radius {robot_radius:g} m"
+    return f"robot radius {robot_radius:g} m from the rectangle's contour"
+
+
+def _shape(o: Obstacle) -> str:
+    """An obstacle's name and size, for error messages."""
+    if isinstance(o, Disc):
+        return f"{o.name}: disc of radius {o.radius:g} m"
+    return f"{o.name}: rectangle {o.length:g} m x {o.width:g} m at {o.center}"
+
+
 def _overlap(a: Rectangle, b: Rectangle) -> bool:
     """Separating-axis test: True if the two rectangles intersect."""
     ca, cb = a.corners(), b.corners()
@@ -672,6 +687,12 @@ class Scenario:
             )
         object.__setattr__(self, "obstacles", tuple(self.obstacles))
         OBSTACLES.check(len(self.obstacles), "Scenario.obstacles (how many)")
+        if self.horizon < self.sample_time:
+            raise InvalidParameterError(
+                "Scenario.horizon", self.horizon,
+                f"must hold at least one navigation period (sample_time = {self.sample_time} s)",
+                "s",
+            )  # fmt: skip
         if not isinstance(self.robot, HolonomicRobot | NonholonomicRobot):
             raise InvalidParameterError(
                 "Scenario.robot", self.robot, "must be a HolonomicRobot or NonholonomicRobot"
@@ -702,15 +723,16 @@ class Scenario:
                     f"{type(o).__name__}.r2",
                     o.r2,
                     f"must exceed the contact distance {contact:.3f} m of {o.name!r} and the"
-                    " robot (an active region inside contact has no clearance to score, Sec. 5.6)",
+                    f" robot ({_contact_terms(o, self.robot.radius)}; an active region inside"
+                    " contact has no clearance to score, Sec. 5.6)",
                     "m",
                 )
             d_start = float(o.contour_distance(np.array([self.start]), 0.0)[0])
             if d_start <= o.collision_distance(self.robot.radius):
                 raise InvalidParameterError(
                     f"Scenario.obstacles[{o.name}]",
-                    o.name,
-                    f"overlaps the robot at the start (distance {d_start:.3f} m <= "
+                    _shape(o),
+                    f"overlaps the robot at the start {self.start} (distance {d_start:.3f} m <= "
                     f"{o.collision_distance(self.robot.radius):.3f} m)",
                 )
             if not o.motion.moving:

@@ -592,7 +592,9 @@ def _check_gain_array(gains: ArrayLike) -> Array:
         g = g[None, :]
     if g.ndim != 2 or g.shape[1] != 4 or g.shape[0] < 1:
         raise InvalidParameterError(
-            "gains", getattr(g, "shape", gains), "must be an (N, 4) array of (k1, b, k3, k5)"
+            "gains",
+            gains if np.size(g) <= 8 else f"shape {g.shape}",
+            f"must be an (N, 4) array of (k1, b, k3, k5), not shape {g.shape}",
         )
     GAIN_SETS.check(g.shape[0], "gains (number of gain sets)")
     bad = ~(np.isfinite(g) & (g > 0) & (g <= GAIN.le))  # the vectorised GAIN.within

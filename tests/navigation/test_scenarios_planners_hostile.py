@@ -279,3 +279,84 @@ def test_vo_candidates_and_wheel_energy_check_their_arguments():
         wheel_energy(robot, np.array([[math.nan, 0.0]]))
     with pytest.raises(InvalidParameterError, match="robot"):
         wheel_energy("robot", np.zeros((3, 2)))
+
+
+def test_errt_settings_that_cannot_explore_are_refused():
+    """goal_bias=1.0 (or with waypoint_bias summing to 1) and margin=0 ran 196 s on a 15 s
+    scenario: the tree never explored, every plan spent max_nodes."""
+    from designlab.navigation.planners import ERRTSettings
+
+    for kw in (
+        {"goal_bias": 1.0},
+        {"waypoint_bias": 1.0},
+        {"goal_bias": 0.4, "waypoint_bias": 0.6},
+    ):
+        with pytest.raises(InvalidParameterError, match=r"ERRTSettings\.goal_bias"):
+            ERRTSettings(**kw)
+    with pytest.raises(InvalidParameterError, match=r"ERRTSettings\.margin"):
+        ERRTSettings(margin=0.0)
+    ERRTSettings(goal_bias=0.3, waypoint_bias=0.6)
+
+
+def test_field_dstar_on_a_scene_on_one_line_without_margin():
+    """margin=0 on a scene whose start, goal and obstacle lie on one line gave a grid of no
+    width (an error about cell_cost); the grid is one cell wide and the run says it did not
+    get around the obstacle."""
+    disc = Disc("c", 0.1, r2=0.8, r3=0.4, motion=Stationary((2.45, 0.6)))
+    sc = Scenario("line", (3.9, 0.6), (0.0, 0.6), horizon=3.0, obstacles=(disc,))
+    res = simulate_planner(sc, "field_dstar", FieldDStarSettings(margin=0.0))
+    assert not res.collided
+
+
+def test_field_dstar_grid_error_names_the_margin():
+    with pytest.raises(InvalidParameterError, match=r"margin = 50 m"):
+        s = FieldDStarSettings(cell=0.5, margin=50.0)
+        simulate_planner(nav.configuration(1), "field_dstar", s)
+
+
+@pytest.mark.parametrize("horizon", [1e-300, 0.05])
+def test_a_scenario_horizon_shorter_than_a_period_is_refused(horizon):
+    """horizon: 1e-300 in a navigation_scenarios study failed in its report writer."""
+    with pytest.raises(InvalidParameterError, match=r"Scenario\.horizon"):
+        Scenario("x", (0.0, 0.0), (1.0, 0.0), horizon=horizon)
+    with pytest.raises(InvalidParameterError, match=r"Scenario\.horizon"):
+        nav.configuration(1).replace(horizon=horizon)
+
+
+# ------------------------------------------------------------------------------ criteria
+BASE_RUN = {"arrival_time": 6.0, "nominal_arrival_time": 5.4, "energy": 2.0,
+            "nominal_energy": 1.0, "surface_clearance": {"c": 0.25},
+            "nominal_clearance": {"c": 0.5}}  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "name"),
+    [
+        ({"arrival_time": 0.0}, "arrival_time"),  # was a ZeroDivisionError
+        ({"arrival_time": None}, "arrival_time"),
+        ({"arrival_time": "6"}, "arrival_time"),
+        ({"arrival_time": math.nan}, "arrival_time"),
+        ({"nominal_arrival_time": math.inf}, "nominal_arrival_time"),  # H_T = inf, status ok
+        ({"nominal_arrival_time": math.nan}, "nominal_arrival_time"),
+        ({"energy": math.inf}, "energy"),
+        ({"nominal_energy": -1.0}, "nominal_energy"),
+        ({"nominal_energy": None}, "nominal_energy"),
+        ({"nominal_clearance": {"a": 0.5}}, "nominal_clearance"),  # was a KeyError
+        ({"nominal_clearance": {"c": 0.0}}, "nominal_clearance"),  # was a ZeroDivisionError
+        ({"surface_clearance": "c"}, "surface_clearance"),
+    ],
+)
+def test_criteria_refuse_what_is_not_a_run(kwargs, name):
+    from designlab.navigation.criteria import criteria
+
+    with pytest.raises(InvalidParameterError, match=name):
+        criteria(**{**BASE_RUN, **kwargs})
+
+
+def test_criteria_of_a_run_and_nominal_run_that_never_arrived():
+    from designlab.navigation.criteria import criteria
+
+    c = criteria(**{**BASE_RUN, "arrival_time": math.inf, "nominal_arrival_time": math.inf})
+    assert c.H_T == 0.0 and any("never arrived" in w for w in c.warnings)
+    c = criteria(**BASE_RUN)
+    assert c.H_T == 5.4 / 6.0 and c.H_D == 0.5 and c.H_E == 0.5

@@ -40,6 +40,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import asdict, dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -218,6 +219,25 @@ def _pose(a: NDArray, k: int) -> tuple[float, float, float]:
     return (float(a[0, k]), float(a[1, k]), math.degrees(float(a[2, k])))
 
 
+def _check_walk(
+    walk_start: Any, walk_stop: Any, target_heading: Any, target_position: Any
+) -> tuple[float, float, float, float, float]:
+    """The walk's span (start <= stop, s), the target heading (rad) and position (m)."""
+    start, stop, heading = (
+        float(real_array(n, v, "s" if n != "target_heading" else "rad"))
+        for n, v in (("walk_start", walk_start), ("walk_stop", walk_stop),
+                     ("target_heading", target_heading))
+    )  # fmt: skip
+    if not start <= stop:
+        raise InvalidParameterError(
+            "walk_stop", walk_stop, f"must not be before walk_start = {start:g} s", "s"
+        )
+    tp = real_array("target_position", target_position, "m")
+    if tp.shape != (2,):
+        raise InvalidParameterError("target_position", target_position, "must be (x, y)", "m")
+    return start, stop, heading, float(tp[0]), float(tp[1])
+
+
 def accompany_metrics(
     time: NDArray,
     user_pose: NDArray,
@@ -262,21 +282,11 @@ def accompany_metrics(
         raise InvalidParameterError(
             "user_pose, robot_pose", (u.shape, r.shape), f"3 rows (x, y, psi) of {t.size} samples"
         )
-    walk_start, walk_stop, target_heading = (
-        float(real_array(n, v, "s" if n != "target_heading" else "rad"))
-        for n, v in (("walk_start", walk_start), ("walk_stop", walk_stop),
-                     ("target_heading", target_heading))
-    )  # fmt: skip
-    if not walk_start <= walk_stop:
-        raise InvalidParameterError(
-            "walk_stop", walk_stop, f"must not be before walk_start = {walk_start:g} s", "s"
-        )
-    tp = real_array("target_position", target_position, "m")
-    if tp.shape != (2,):
-        raise InvalidParameterError("target_position", target_position, "must be (x, y)", "m")
+    walk_start, walk_stop, target_heading, tx, ty = _check_walk(
+        walk_start, walk_stop, target_heading, target_position
+    )
     p_c, g = robot_in_user_frame(u, r)
     xc, yc = p_c[0], p_c[1]
-    tx, ty = float(tp[0]), float(tp[1])
     err = np.hypot(tx - xc, ty - yc)
     bearing = -np.arctan2(xc, yc)
     walking = (t >= walk_start) & (t <= walk_stop)

@@ -421,7 +421,10 @@ def _integrate(
     plan, walk_stop = _plan(moves, w)
     t_end = walk_stop + w.settle_time
     n = round(t_end * _DENSE_RATE) + 1
-    check_size("the walk's duration", t_end, 16.0 * n, what=f"{n} samples at 1 kHz")
+    check_size(
+        "the walk's duration (speed, distance, turn and settle_time)", t_end, 16.0 * n,
+        what=f"{n} samples at 1 kHz; a faster walk or a shorter one",
+    )  # fmt: skip
     t = np.linspace(0.0, t_end, n)
     vl, vf, om, env = _velocities(t, plan)
     dt = np.diff(t)

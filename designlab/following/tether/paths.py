@@ -542,7 +542,8 @@ def _polyline(name: str, xy: Any, *, limit: int) -> NDArray[np.float64]:
     except (TypeError, ValueError):
         raise InvalidParameterError(name, xy, "an (N, 2) array of numbers", "m") from None
     if pts.ndim != 2 or pts.shape[1] != 2:
-        raise InvalidParameterError(name, f"shape {pts.shape}", "shape (N, 2)", "m")
+        shown = pts.tolist() if pts.size <= 8 else f"shape {pts.shape}"
+        raise InvalidParameterError(name, shown, f"shape (N, 2), not {pts.shape}", "m")
     if not 2 <= pts.shape[0] <= limit:
         raise InvalidParameterError(
             name, f"{pts.shape[0]} point(s)", f"at least 2 and at most {limit} points", "m"

@@ -320,8 +320,8 @@ def _checked_request(
             raise InvalidParameterError(
                 f"{type(c).__name__}.desired_length",
                 c.desired_length,
-                f"must exceed half the robot length ({0.5 * robot.body_length:g} m): "
-                "the tether tip would be inside the robot",
+                f"must exceed half the robot length (FollowerRobot.body_length = "
+                f"{robot.body_length:g} m): the tether tip would be inside the robot",
                 "m",
             )
     if duration is None:

@@ -225,11 +225,14 @@ def check_grid(points: Array, plans: int, s: FieldDStarSettings) -> int:
     """
     lo, hi = points.min(axis=0), points.max(axis=0)
     cells = _cells(lo, hi, s)
-    extent = f"{hi[0] - lo[0] + 2 * s.margin:.3g} m x {hi[1] - lo[1] + 2 * s.margin:.3g} m"
+    extent = (
+        f"{hi[0] - lo[0] + 2 * s.margin:.3g} m x {hi[1] - lo[1] + 2 * s.margin:.3g} m "
+        f"(margin = {s.margin:g} m on each side)"
+    )
     if not GRID_CELLS.within(cells):
         raise InvalidParameterError(
             "FieldDStarSettings.cell", s.cell,
-            f"gives a grid of {cells} cells over the scene's {extent} (with the margin); at most "
+            f"gives a grid of {cells} cells over the scene's {extent}; at most "
             f"{GRID_CELLS.le:.0f} cells are allowed: a larger cell or a smaller margin "
             "(docs/navigation_planners.md)", "m",
         )  # fmt: skip
@@ -264,13 +267,15 @@ class Grid:
         pts = np.vstack([robot, goal, *world.centres] + [r.corners() for r in world.rectangles])
         self.h = s.cell
         self.origin = pts.min(axis=0) - s.margin
-        size = np.ceil((pts.max(axis=0) + s.margin - self.origin) / self.h).astype(int)
+        size = np.maximum(np.ceil((pts.max(axis=0) + s.margin - self.origin) / self.h), 1)
+        size = size.astype(int)  # a scene on one line with no margin: one cell wide
         check_grid(pts, 1, s)  # the robot may have left the box checked before the run
         centres = self.origin + (np.indices(size).reshape(2, -1).T + 0.5) * self.h
         blocked = world.clearance(centres) <= self.h / _SQRT2
         self.cost = np.where(blocked, math.inf, 1.0).reshape(size)
         goal_node = tuple(np.rint((goal - self.origin) / self.h).astype(int))
-        ci, cj = np.floor((robot - self.origin) / self.h).astype(int)
+        # the robot's cell (one on the grid's far edge, as with no margin, is the last one)
+        ci, cj = np.clip(np.floor((robot - self.origin) / self.h).astype(int), 0, size - 1)
         stop = ((ci, cj), (ci + 1, cj), (ci, cj + 1), (ci + 1, cj + 1))
         self.g = node_costs(self.cost, goal_node, stop) * self.h  # type: ignore[arg-type]
 

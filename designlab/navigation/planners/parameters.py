@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from designlab.errors import InvalidParameterError
 from designlab.params import Param, declared, param
 from designlab.validation import ParamsMixin
 
@@ -57,9 +58,19 @@ class ERRTSettings(ParamsMixin):
                              le=1, default=0.1)  # fmt: skip
     waypoint_bias: float = param("p_waypoint", "", doc="probability of extending to a cached "
                                  "waypoint of the last plan", ge=0, le=1, default=0.6)  # fmt: skip
-    margin: float = param(None, "m", doc="sampling box margin around the scene", ge=0, le=50.0,
+    margin: float = param(None, "m", doc="sampling box margin around the scene (> 0: the box of "
+                          "a scene on one line has no width without it)", gt=0, le=50.0,
                           default=1.5)  # fmt: skip
     seed: int = param(None, "", doc="random seed", kind="integer", ge=0, le=2**32 - 1, default=0)
+
+    def __post_init__(self) -> None:
+        if not self.goal_bias + self.waypoint_bias < 1.0:
+            raise InvalidParameterError(
+                "ERRTSettings.goal_bias", self.goal_bias,
+                f"plus waypoint_bias ({self.waypoint_bias:g}) must stay below 1: the tree must "
+                "also extend to random points to explore (a tree that only heads for the goal "
+                "never gets around an obstacle, and every plan spends max_nodes)",
+            )  # fmt: skip
 
 
 @declared
