@@ -398,7 +398,7 @@ def compile_code(
     needs them and cached on disk; run this once after installing (each step says what
     it compiles and how long it took; a step already in the cache only loads).
     """
-    from designlab.sx.warm import compile_all
+    from designlab.warm import compile_all
 
     try:
         compile_all(tuple(only) if only else None, say=typer.echo)

@@ -267,9 +267,9 @@ def scenario_from_dict(data: Mapping[str, Any]) -> Scenario:
 def load_scenario(path: str | Path) -> Scenario:
     """Read a scenario from a YAML file (the structure of :func:`scenario_from_dict`).
 
-    The file is read as a study is (:func:`designlab.study.yamlio.load_yaml_with_lines`): a
+    The file is read as a study is (:func:`designlab.yamlio.load_yaml`): a
     repeated key, a YAML syntax error or nesting deeper than
-    :data:`~designlab.study.yamlio.MAX_DEPTH` is refused with the file and the line; only a
+    :data:`~designlab.yamlio.MAX_DEPTH` is refused with the file and the line; only a
     regular file of at most :data:`MAX_FILE_BYTES` bytes of UTF-8 text without NUL bytes is
     read (in bounded chunks: a FIFO or a device is refused, never waited on).
 
@@ -303,14 +303,14 @@ def load_scenario(path: str | Path) -> Scenario:
     ...
     designlab.errors.StudyError: ...room.yaml:4: key 'name' appears twice ...
     """
-    from designlab.study.yamlio import YamlSyntaxError, load_yaml_with_lines
+    from designlab.yamlio import YamlError, load_yaml
 
     p = Path(path)
     text = read_text_bounded(p)
     try:
-        data, _ = load_yaml_with_lines(text)
-    except YamlSyntaxError as exc:
-        raise StudyError(str(exc), file=str(p), line=exc.line) from None
+        data, _ = load_yaml(text)
+    except YamlError as exc:
+        raise StudyError(exc.message, file=str(p), line=exc.line) from None
     return scenario_from_dict(data)
 
 

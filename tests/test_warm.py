@@ -5,7 +5,7 @@ from __future__ import annotations
 from typer.testing import CliRunner
 
 from designlab.cli import EXIT_STUDY_ERROR, app
-from designlab.sx.warm import STEPS
+from designlab.warm import STEPS
 
 runner = CliRunner()
 
