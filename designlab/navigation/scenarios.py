@@ -581,7 +581,7 @@ def _shape(o: Obstacle) -> str:
     """An obstacle's name and size, for error messages."""
     if isinstance(o, Disc):
         return f"{o.name}: disc of radius {o.radius:g} m"
-    return f"{o.name}: rectangle {o.length:g} m x {o.width:g} m at {o.center}"
+    return f"{o.name}: rectangle of length {o.length:g} m, width {o.width:g} m at {o.center}"
 
 
 def _overlap(a: Rectangle, b: Rectangle) -> bool:

@@ -422,7 +422,8 @@ def _integrate(
     t_end = walk_stop + w.settle_time
     n = round(t_end * _DENSE_RATE) + 1
     check_size(
-        "the walk's duration (speed, distance, turn and settle_time)", t_end, 16.0 * n,
+        f"the walk's duration (speed = {w.speed:g} m/s, distance = {w.distance:g} m, "
+        f"settle_time = {w.settle_time:g} s)", t_end, 16.0 * n,
         what=f"{n} samples at 1 kHz; a faster walk or a shorter one",
     )  # fmt: skip
     t = np.linspace(0.0, t_end, n)
