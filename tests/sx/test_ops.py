@@ -140,10 +140,17 @@ def test_random_expressions_equal_the_virtual_machine(data, xs) -> None:  # type
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         python = np.array([compile_sx(f)(p, q) for p, q in zip(a, b, strict=True)]).T
-        assert _same(python, want).all(), (python, want)
+        batch = compile_sx(f, batch=True)(a, b)
+        numpy = np.vstack([np.broadcast_to(v, a.shape) for v in batch])
+        if exact:
+            assert _same(python, want).all(), (python, want)
+        else:
+            # where math raises, the Python form recomputes the point with the numpy forms
+            # (pycode's ``_exact``); numpy's own elementary functions may differ from the C
+            # library in the last bits (SIMD builds, e.g. expm1 on AVX-512), so such a point
+            # equals the numpy forms bit for bit instead
+            assert (_same(python, want) | _same(python, numpy)).all(), (python, want, numpy)
         if exact:  # numpy's own elementary functions may differ in the last bits
-            batch = compile_sx(f, batch=True)(a, b)
-            numpy = np.vstack([np.broadcast_to(v, a.shape) for v in batch])
             replay = np.vstack(vectorize(f)(a[None, :], b[None, :]))
             assert _same(numpy, want).all(), (numpy, want)
             assert _same(replay, want).all(), (replay, want)
