@@ -146,7 +146,13 @@ def private_cache_dir() -> Path | None:
 
 
 def private_cache_subdir(name: str) -> Path | None:
-    """``<private_cache_dir()>/name``, created 0700 and checked (or ``None``)."""
+    """``<private_cache_dir()>/name``, created 0700 and checked (or ``None``).
+
+    Parameters
+    ----------
+    name
+        The subdirectory's name (one path component).
+    """
     root = private_cache_dir()
     if root is None:
         return None

@@ -72,6 +72,11 @@ def _uid() -> int | None:
 def untrusted_reason(st: os.stat_result) -> str:
     """``""`` if ``st`` is owned by this user and not writable by group or others, else why not.
 
+    Parameters
+    ----------
+    st
+        The ``os.stat`` (or ``os.lstat``/``os.fstat``) result of the file or directory.
+
     Examples
     --------
     >>> with tempfile.TemporaryDirectory() as tmp:

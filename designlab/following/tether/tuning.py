@@ -186,6 +186,9 @@ class TuningResult(Result):
         Gain sets simulated (per scenario).
     wall_time
         Seconds (for the run record; a report never shows it).
+    evaluated
+        Every gain set the search evaluated with its cost, one row each (what
+        :meth:`near_optimal` reads).
     status
         ``"ok"``, ``"not_converged"`` or ``"infeasible"`` (:class:`TuningStatus`).
     warnings
