@@ -32,7 +32,7 @@ from numpy.typing import NDArray
 
 from designlab.impact.kernel_exp import cexp
 from designlab.impact.kernel_lobe import STRIDE, lobe_end, maximum_on_nodes, node_count, scratch
-from designlab.impact.kernel_modal import NOISE, exponentials, fastest_rate, mag, real_product
+from designlab.impact.kernel_modal import exponentials, fastest_rate, noise, real_product
 from designlab.impact.kernel_poles import (
     LANES,
     bairstow_lanes,
@@ -159,12 +159,8 @@ def sampled_check(p, r, c, nk, outputs, lobe, count, step, row, ex):  # type: ig
                 y += real_product(r[o, k], ex[j, k] * half[k])
             if y > top:
                 return SUSPECT_MAXIMUM
-            if lobe and o == 1 and y < 0.0:
-                size = 0.0
-                for k in range(nk):
-                    size += mag(r[o, k]) * mag(ex[j, k] * half[k])
-                if y < -NOISE * size:
-                    return SUSPECT_LOBE
+            if lobe and o == 1 and y < 0.0 and y < -noise(p, r, c, o, nk, t):
+                return SUSPECT_LOBE
     return 0
 
 

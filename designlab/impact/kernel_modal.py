@@ -109,10 +109,20 @@ def triple(p, r, c, o, nk, t):  # type: ignore[no-untyped-def]
 
 @kernel(inline=True)
 def noise(p, r, c, o, nk, t):  # type: ignore[no-untyped-def]
-    """Rounding-noise level of ``y(t)``: NOISE times the sum of its terms' magnitudes."""
+    """Rounding-noise level of ``y(t)``: NOISE times the sum of its terms' magnitudes, each
+    residue counted at least as large as the largest one.
+
+    A residue's rounding error is absolute, of the order of the largest residue: a pole
+    next to a zero of the numerator (nearly repeated modes under a soft foam) has a
+    residue smaller than that error, and its term, the slowest, decides the sign of a
+    tail that in truth decays to zero from above (issue 34).
+    """
+    big = 0.0
+    for k in range(nk):
+        big = max(big, mag(r[o, k]))
     s = abs(c[o, 0] * t) + abs(c[o, 1])
     for k in range(nk):
-        s += mag(r[o, k]) * math.exp(p[k].real * t)
+        s += big * math.exp(p[k].real * t)
     return NOISE * s
 
 
