@@ -173,7 +173,24 @@ def kernel_vs_numpy(n: int, seed: int, per_ref: float) -> bool:
     print(f"  per design: kernel {fmt_t(per_fast)}, solve_ivp reference {fmt_t(per_ref)}: "
           f"{ratio_ref:,.0f}x   target >= {KERNEL_TARGET:,.0f}x   "
           f"{mark(ratio_ref >= KERNEL_TARGET)}")  # fmt: skip
+    self_check_cost(p)
     return beyond <= max(1, n // 1000) and diff < 1e-9
+
+
+def self_check_cost(p: np.ndarray) -> None:
+    """What the kernel's a-posteriori self-check costs (issue 34): the compiled kernel with
+    and without it on the same designs, interleaved, best of 5 each."""
+    opts = {"printed": False, "stop_time": 0.05, "max_lobe_steps": 4096, "diagnostics": False}
+    times = {True: np.inf, False: np.inf}
+    for _ in range(5):
+        for check in (True, False):
+            t0 = time.process_time()
+            kernel.reduced_metrics(p, (True, True, True), self_check=check, **opts)
+            times[check] = min(times[check], time.process_time() - t0)
+    print(
+        f"  self-check: kernel alone {fmt_t(times[True] / p.shape[0])} per design with it, "
+        f"{fmt_t(times[False] / p.shape[0])} without: x{times[True] / times[False]:.3f}"
+    )
 
 
 def thesis_designs() -> tuple[np.ndarray, list[str]]:

@@ -32,7 +32,7 @@ from numpy.typing import NDArray
 
 from designlab.impact.kernel_exp import cexp
 from designlab.impact.kernel_lobe import STRIDE, lobe_end, maximum_on_nodes, node_count, scratch
-from designlab.impact.kernel_modal import exponentials, fastest_rate
+from designlab.impact.kernel_modal import exponentials, fastest_rate, noise, real_product
 from designlab.impact.kernel_poles import (
     LANES,
     bairstow_lanes,
@@ -40,16 +40,23 @@ from designlab.impact.kernel_poles import (
     factor_roots,
     modal_solution,
     quartic_roots,
+    roots_certified,
     separate,
 )
 from designlab.sx.jit import AVAILABLE, kernel
 
 __all__ = [
+    "AUDIT_CELLS",
     "AVAILABLE",
     "COLUMNS",
     "MAX_POLES",
     "OVERFLOW",
     "STATUS_CODES",
+    "SUSPECT_LOBE",
+    "SUSPECT_MAXIMUM",
+    "SUSPECT_POLES",
+    "SUSPECT_REASONS",
+    "audit_metrics",
     "modal_metrics",
     "reduced_metrics",
 ]
@@ -60,6 +67,18 @@ COLUMNS = ("a_max", "eps_max", "f_max", "t_imp", "t_a", "t_eps", "t_f", "t_low")
 STATUS_CODES = ("ok", "no_impact", "peak_at_contact", "lobe_not_closed")
 #: status of a design whose model coefficients are not finite (overflow): the caller raises
 OVERFLOW = 4
+#: status of a design whose poles fail the a-posteriori check (residual, conjugate pairs)
+SUSPECT_POLES = 5
+#: status of a design whose first zero of a_h was not certified the first one
+SUSPECT_LOBE = 6
+#: status of a design whose maxima were not certified
+SUSPECT_MAXIMUM = 7
+#: what each SUSPECT_* code means (the caller evaluates such a design elsewhere)
+SUSPECT_REASONS = {
+    SUSPECT_POLES: "poles not certified (residual or conjugate pairs)",
+    SUSPECT_LOBE: "first zero of a_h not certified",
+    SUSPECT_MAXIMUM: "a maximum not certified",
+}
 #: most folded poles of a response the kernel takes (the full joint has 5 states)
 MAX_POLES = 5
 #: column of each output's maximum and its time: force, head acceleration, compression
@@ -67,15 +86,20 @@ _COL = ((2, 6), (0, 4), (1, 5))
 
 
 @kernel(borrows=True)
-def _design(p, r, c, nk, h, outputs, lobe, window, max_steps, diag, row, work):  # type: ignore[no-untyped-def]
-    """Metrics of one design from its folded modal solution; returns the status code."""
+def _design(p, r, c, nk, h, outputs, lobe, window, max_steps, diag, row, work, check=True):  # type: ignore[no-untyped-def]
+    """Metrics of one design from its folded modal solution; returns the status code
+    (:data:`STATUS_CODES`, or :data:`SUSPECT_LOBE` / :data:`SUSPECT_MAXIMUM` where the
+    search or its a-posteriori check (``check``, :func:`sampled_check`) could not
+    certify them: ``row`` is then NaN)."""
     for k in range(8):
         row[k] = np.nan
     step = 0.0
     if lobe:
-        t_imp, row[7], step = lobe_end(p, r, c, 1, nk, h, max_steps, diag, work)
+        t_imp, row[7], step, sure = lobe_end(p, r, c, 1, nk, h, max_steps, diag, work)
         if not np.isfinite(t_imp):
             return 3
+        if not sure:
+            return _suspect(row, SUSPECT_LOBE)
     else:
         t_imp = window
         h = min(h, window / 64.0)
@@ -91,15 +115,57 @@ def _design(p, r, c, nk, h, outputs, lobe, window, max_steps, diag, row, work): 
         exponentials(p, nk, t_imp, count, work[2])  # shared by the outputs
     for o in range(3):
         if outputs[o]:
-            t, y = maximum_on_nodes(p, r, c, o, nk, t_imp, count, step, work)
+            t, y, sure = maximum_on_nodes(p, r, c, o, nk, t_imp, count, step, work)
+            if not sure:
+                return _suspect(row, SUSPECT_MAXIMUM)
             row[_COL[o][0]], row[_COL[o][1]] = y, t
             if o == 1 and t <= 0.0:
                 status = 2
-    return status
+    if not check:
+        return status
+    bad = sampled_check(p, r, c, nk, outputs, lobe, count, step, row, work[2])
+    return status if bad == 0 else _suspect(row, bad)
+
+
+@kernel(inline=True)
+def _suspect(row, code):  # type: ignore[no-untyped-def]
+    """NaN metrics and the status ``code`` of a design the kernel does not certify."""
+    for k in range(8):
+        row[k] = np.nan
+    return code
+
+
+@kernel(borrows=True)
+def sampled_check(p, r, c, nk, outputs, lobe, count, step, row, ex):  # type: ignore[no-untyped-def]
+    """The a-posteriori check of a design's metrics on samples the search did not use.
+
+    At the midpoints ``(j + 1/2) step`` of the maxima's cells before ``t_imp``
+    (exponentials ``ex[j] exp(p step / 2)``, one complex product per pole) no output
+    may exceed its maximum by more than its certified 1e-8 (relative), and a_h may not
+    be provably negative before the lobe end. Returns 0, :data:`SUSPECT_MAXIMUM` or
+    :data:`SUSPECT_LOBE`.
+    """
+    half = ex[count + 1]  # a spare row of the nodes' exponentials
+    for k in range(nk):
+        half[k] = cexp(p[k] * (0.5 * step))
+    for o in range(3):
+        if not outputs[o]:
+            continue
+        top = row[_COL[o][0]] + 1e-8 * abs(row[_COL[o][0]])
+        for j in range(count - 1):
+            t = (j + 0.5) * step
+            y = c[o, 0] * t + c[o, 1]
+            for k in range(nk):
+                y += real_product(r[o, k], ex[j, k] * half[k])
+            if y > top:
+                return SUSPECT_MAXIMUM
+            if lobe and o == 1 and y < 0.0 and y < -noise(p, r, c, o, nk, t):
+                return SUSPECT_LOBE
+    return 0
 
 
 @kernel
-def _reduced_block(params, outputs, printed, stop_time, max_steps, diag, out, status):  # type: ignore[no-untyped-def]
+def _reduced_block(params, outputs, printed, stop_time, max_steps, diag, out, status, check):  # type: ignore[no-untyped-def]
     work = scratch()
     den = np.empty((LANES, 5))
     num = np.zeros((LANES, 3, 6))
@@ -117,7 +183,7 @@ def _reduced_block(params, outputs, printed, stop_time, max_steps, diag, out, st
                 u, v = _head_mode(params[i0 + k])
                 quartic_roots(den[k], u, v, roots[k])
         _lane_metrics(i0, m, outputs, stop_time, max_steps, diag, out, status,
-                      work, den, num, roots, p, r, c)  # fmt: skip
+                      work, den, num, roots, p, r, c, check)  # fmt: skip
 
 
 @kernel(inline=True)
@@ -151,8 +217,9 @@ def _lane_roots(params, i0, m, printed, den, num, guess, state, roots):  # type:
 
 @kernel(borrows=True)
 def _lane_metrics(i0, m, outputs, stop_time, max_steps, diag, out, status,
-                  work, den, num, roots, p, r, c):  # type: ignore[no-untyped-def]  # fmt: skip
-    """The metrics of designs ``i0 .. i0 + m`` from their poles, one by one."""
+                  work, den, num, roots, p, r, c, check):  # type: ignore[no-untyped-def]  # fmt: skip
+    """The metrics of designs ``i0 .. i0 + m`` from their poles, one by one (``check``: with
+    the a-posteriori checks of the poles and of the metrics)."""
     for k in range(m):
         i = i0 + k
         a = den[k]
@@ -160,14 +227,17 @@ def _lane_metrics(i0, m, outputs, stop_time, max_steps, diag, out, status,
             out[i, :] = np.nan
             status[i] = OVERFLOW
             continue
+        certified = not check or roots_certified(a, roots[k])  # before separate moves them
         separate(roots[k], 4)
         nk = modal_solution(a, num[k], roots[k], p, r, c, outputs)
-        if nk < 0:
+        if nk < 0 or not certified:
             out[i, :] = np.nan
-            status[i] = OVERFLOW
+            status[i] = OVERFLOW if nk < 0 else SUSPECT_POLES
             continue
         h = 0.4 / fastest_rate(p, nk)
-        status[i] = _design(p, r, c, nk, h, outputs, True, stop_time, max_steps, diag, out[i], work)
+        status[i] = _design(
+            p, r, c, nk, h, outputs, True, stop_time, max_steps, diag, out[i], work, check
+        )
 
 
 @kernel
@@ -188,6 +258,7 @@ def reduced_metrics(
     stop_time: float,
     max_lobe_steps: int,
     diagnostics: bool,
+    self_check: bool = True,
 ) -> tuple[NDArray[np.float64], NDArray[np.int8]]:
     """Unit-v_c first-lobe metrics of ``(N, 8)`` reduced, unconstrained designs.
 
@@ -203,20 +274,25 @@ def reduced_metrics(
         Use the thesis's printed q2 of (3.5.14).
     stop_time, max_lobe_steps, diagnostics
         As in :func:`designlab.impact.metrics.impact_metrics` (``lobe_diagnostics``).
+    self_check
+        Run the a-posteriori checks (:func:`.kernel_poles.roots_certified`,
+        :func:`sampled_check`); off only to measure what they cost
+        (benchmarks/impact.py).
 
     Returns
     -------
     tuple
         ``(N, 8)`` rows of :data:`COLUMNS` and ``(N,)`` status codes
-        (:data:`STATUS_CODES`, or :data:`OVERFLOW` where the model's coefficients are
-        not finite).
+        (:data:`STATUS_CODES`; :data:`OVERFLOW` where the model's coefficients are
+        not finite; ``SUSPECT_*`` where the design is not certified: the caller
+        evaluates it elsewhere, :data:`SUSPECT_REASONS`).
     """
     p = np.ascontiguousarray(params, dtype=np.float64)
     out = np.empty((p.shape[0], len(COLUMNS)))
     status = np.zeros(p.shape[0], dtype=np.int8)
     sel = np.array(outputs, dtype=np.bool_)
     _reduced_block(p, sel, bool(printed), float(stop_time), int(max_lobe_steps),
-                   bool(diagnostics), out, status)  # fmt: skip
+                   bool(diagnostics), out, status, bool(self_check))  # fmt: skip
     return out, status
 
 
@@ -269,3 +345,53 @@ def modal_metrics(
         sel, bool(lobe), float(window), int(max_lobe_steps), bool(diagnostics), out, status,
     )  # fmt: skip
     return out, status
+
+
+#: cells of the uniform grid over ``[0, t_imp]`` on which :func:`audit_metrics` samples
+AUDIT_CELLS = 2048
+
+
+@kernel
+def _audit_block(poles, res, poly, outputs, lobe, rows, codes):  # type: ignore[no-untyped-def]
+    work = scratch()
+    for i in range(poles.shape[0]):
+        if codes[i] != 0 and codes[i] != 2:
+            continue
+        t_imp = rows[i, 3]
+        nk = poles.shape[1]
+        exponentials(poles[i], nk, t_imp, AUDIT_CELLS, work[2])
+        check = sampled_check(poles[i], res[i], poly[i], nk, outputs, lobe, AUDIT_CELLS,
+                              t_imp / AUDIT_CELLS, rows[i], work[2])  # fmt: skip
+        if check != 0:
+            codes[i] = check
+
+
+def audit_metrics(
+    poles: NDArray[np.complex128],
+    residues: NDArray[np.complex128],
+    poly: NDArray[np.float64],
+    rows: NDArray[np.float64],
+    codes: NDArray[np.int8],
+    *,
+    lobe: bool,
+) -> NDArray[np.int8]:
+    """The a-posteriori check (:func:`sampled_check`) of metrics found by another path.
+
+    The folded modal solutions (as :func:`modal_metrics`) are sampled at the
+    midpoints of :data:`AUDIT_CELLS` cells over ``[0, t_imp]``: no output above its
+    maximum (beyond 1e-8 relative), a_h not provably negative before ``t_imp``.
+
+    Returns
+    -------
+    NDArray
+        The codes, :data:`SUSPECT_MAXIMUM` or :data:`SUSPECT_LOBE` where a check fails.
+    """
+    out = np.array(codes, dtype=np.int8)
+    sel = np.array([np.any(residues[:, o]) or np.any(poly[:, o]) for o in range(3)])
+    _audit_block(
+        np.ascontiguousarray(poles, dtype=np.complex128),
+        np.ascontiguousarray(residues, dtype=np.complex128),
+        np.ascontiguousarray(poly, dtype=np.float64),
+        sel, bool(lobe), np.ascontiguousarray(rows, dtype=np.float64), out,
+    )  # fmt: skip
+    return out

@@ -30,8 +30,8 @@ Examples
 >>> found, lo, hi, guess, low = march(p, r, c, 0, 1, 0.1, 4091, False, s[2])
 >>> bool(found and lo < np.pi / 2 <= hi)
 True
->>> t, y = maximum(p, r, c, 0, 1, np.pi / 2, 0.3, s)
->>> bool(abs(t - np.arctan(2) / 2) < 1e-12)
+>>> t, y, sure = maximum(p, r, c, 0, 1, np.pi / 2, 0.3, s)
+>>> bool(sure and abs(t - np.arctan(2) / 2) < 1e-12)
 True
 """
 
@@ -54,9 +54,10 @@ from designlab.impact.kernel_modal import (
     newton,
     noise,
     real_product,
+    separated,
     shape,
     stable,
-    value,
+    triple,
 )
 from designlab.sx.jit import kernel
 
@@ -73,6 +74,10 @@ STRIDE = 3
 #: EXACT_STEPS * 4.4e-16 of the terms (a tenth of :data:`.kernel_modal.NOISE`): the
 #: node that ends the march is then not re-evaluated
 EXACT_STEPS = 256
+#: a cell ``w`` with ``max|p_k| w`` above this is also tried with the stiff poles' decaying
+#: terms bounded by their size (:func:`.kernel_modal.separated`): no derivative bound
+#: certifies a cell that a pole 1e16 times faster crosses
+STIFF = 64.0
 #: most levels of splitting in the lobe-end certification
 LEVELS = 13
 MAX_CELLS = 4096
@@ -244,11 +249,16 @@ def _scales(p, r, o, nk, stack, n, steady):  # type: ignore[no-untyped-def]
 
 @kernel(borrows=True)
 def crossing(p, r, c, o, nk, hi, h, levels, work, marched):  # type: ignore[no-untyped-def]
-    """Bracket ``(lo, hi, count)`` of the first provable zero of output ``o`` in ``(0, hi]``.
+    """Bracket ``(lo, hi, count, sure)`` of the first provable zero of output ``o`` in ``(0, hi]``.
 
     :func:`designlab.impact.modal.certified_first_crossing`, depth first over
     cells of width <= h in time order: a local minimum between positive nodes is
-    solved by Newton on -y'; a cell that may dip to zero otherwise is split.
+    solved by Newton on -y' (the cell up to a minimum that is provably below zero
+    then holds the first zero); a cell that may dip to zero otherwise is split; a
+    cell from a positive to a provably negative end is the bracket once it holds
+    one zero only (y or y' monotone over it, :func:`_one_root`), else it is split
+    and its parts searched in time order. ``sure`` is False where a cell was not
+    settled within ``levels`` splits (the zero is then not certified the first).
     ``marched`` (> 0) is the number of steps of :func:`march` that ended at ``hi``:
     the nodes' exponentials are then already in ``work[2]``. ``count`` is the number of
     grid cells over ``[0, hi]`` (the grid stays in ``work[0]``).
@@ -266,6 +276,7 @@ def crossing(p, r, c, o, nk, hi, h, levels, work, marched):  # type: ignore[no-u
     grid(p, r, c, o, nk, hi, count, w, ex, nodes)
     lo_b = nodes[0][count - 1]
     hi_b = hi
+    sure = True
     for j in range(count):
         if steady and _positive_cell(nodes, j, hi_b, fastest):
             continue  # what the stack would conclude at once, without pushing the cell
@@ -276,30 +287,84 @@ def crossing(p, r, c, o, nk, hi, h, levels, work, marched):  # type: ignore[no-u
             dl, dr = stack[n, _DL], stack[n, _DR]
             if tl >= hi_b:
                 continue
-            if yl > 0 and tr < hi_b and _below(p, r, c, o, nk, tr, yr):
-                lo_b, hi_b = tl, tr
-            if not (yl > 0 and yr > 0):
-                continue
             w = tr - tl
-            if dl < 0 and dr >= 0:
-                g = tl + w * dl / (dl - dr)
-                tm, _ = newton(p, r, c, o, nk, tl, tr, 1, -1.0, 60, STATIONARY_RTOL, g)
-                if tm < hi_b and _below(p, r, c, o, nk, tm, value(p, r, c, o, nk, tm)):
-                    lo_b, hi_b = tl, tm
+            deep = stack[n, _LEVEL] >= levels
+            if yl > 0 and _below(p, r, c, o, nk, tr, yr):  # a sign change (tr <= hi_b)
+                lo_b, hi_b = tl, tr
+                m2, m3 = _scales(p, r, o, nk, stack, n, steady)
+                if not _one_root(dl, dr, stack[n, _QL], stack[n, _QR], w, m2, m3):
+                    if deep:
+                        sure = False
+                    else:
+                        n = _split(p, r, c, o, nk, stack, n)
+                continue
+            if not (yl > 0 and yr > 0):
+                if stack[n, _LEVEL] > 0:  # an end within the rounding noise inside a cell
+                    sure = False
+                continue
+            if dl < 0 and dr >= 0 and _dip(p, r, c, o, nk, stack, n, hi_b):
+                hi_b = stack[n, _TR]  # the cell now ends at a provably negative minimum
+                n += 1
+                continue
             m2, m3 = _scales(p, r, o, nk, stack, n, steady)
-            if stack[n, _LEVEL] >= levels or (dl * dr > 0 and abs(dl + dr) > m2 * w):
+            if dl * dr > 0 and abs(dl + dr) > m2 * w:
                 continue  # y monotone between positive ends
             if shape(stack[n, _QL], stack[n, _QR], m3, w) != 0:
                 continue  # y' monotone: its one minimum, if any, was solved above
             if _positive(yl, yr, dl, dr, w, m2, fastest * m3):
                 continue
-            n = _split(p, r, c, o, nk, stack, n)
-    return lo_b, hi_b, count
+            if fastest * w > STIFF and _positive_separated(p, r, c, o, nk, tl, tr):
+                continue  # positive once a stiff pole's decaying term is bounded by its size
+            if deep:
+                sure = False
+            else:
+                n = _split(p, r, c, o, nk, stack, n)
+    return lo_b, hi_b, count, sure
+
+
+@kernel(inline=True)
+def _positive_separated(p, r, c, o, nk, tl, tr):  # type: ignore[no-untyped-def]
+    """:func:`_positive` of the slow part of y minus the bound of its stiff terms
+    (:func:`.kernel_modal.separated`)."""
+    yl, yr, dl, dr, m2, m4, fast = separated(p, r, c, o, nk, tl, tr)
+    if not (yl - fast > 0 and yr - fast > 0):
+        return False
+    return _positive(yl - fast, yr - fast, dl, dr, tr - tl, m2, m4)
+
+
+@kernel(inline=True)
+def _dip(p, r, c, o, nk, stack, n, hi_b):  # type: ignore[no-untyped-def]
+    """Newton on -y' in the cell ``stack[n]`` (y' from - to +); where the minimum ``tm``
+    is provably below zero, the cell is cut at ``tm`` (it then holds the first zero).
+    Whether it was."""
+    tl, tr, dl, dr = stack[n, _TL], stack[n, _TR], stack[n, _DL], stack[n, _DR]
+    g = tl + (tr - tl) * dl / (dl - dr)
+    tm, _ = newton(p, r, c, o, nk, tl, tr, 1, -1.0, 60, STATIONARY_RTOL, g)
+    if not (tl < tm < hi_b):
+        return False
+    ym, dm, qm, am, bm = triple(p, r, c, o, nk, tm)
+    if not _below(p, r, c, o, nk, tm, ym):
+        return False
+    stack[n, _TR], stack[n, _YR], stack[n, _DR], stack[n, _QR] = tm, ym, dm, qm
+    stack[n, _M2R], stack[n, _M3R] = am, bm
+    stack[n, _LEVEL] += 1.0
+    return True
+
+
+@kernel(inline=True)
+def _one_root(dl, dr, ql, qr, w, m2, m3):  # type: ignore[no-untyped-def]
+    """Whether a cell from a positive to a negative end holds one zero only: y' keeps its
+    sign (``|y''| <= m2``) or y'' does (``|y'''| <= m3``: y' is monotone, so y rises
+    then falls, or falls then rises, and crosses zero once)."""
+    if dl * dr > 0 and abs(dl + dr) > m2 * w:
+        return True
+    return shape(ql, qr, m3, w) != 0
 
 
 @kernel(borrows=True)
 def lobe_end(p, r, c, o, nk, h, max_steps, diag, work):  # type: ignore[no-untyped-def]
-    """``(t_imp, t_low, step)`` of output ``o`` (a_h): NaN t_imp when no provable lobe end.
+    """``(t_imp, t_low, step, sure)`` of output ``o`` (a_h): NaN t_imp when no provable lobe
+    end; ``sure`` False where :func:`crossing` could not certify that it is the first zero.
 
     The march takes steps of ``STRIDE h`` (of ``h`` with ``diag``, so that the
     diagnostic's nodes are the numpy path's) up to the numpy path's horizon
@@ -312,10 +377,10 @@ def lobe_end(p, r, c, o, nk, h, max_steps, diag, work):  # type: ignore[no-untyp
     last = int(math.ceil(horizon / step))  # noqa: RUF046 (numba)
     found, _lo, hi, guess, t_low = march(p, r, c, o, nk, step, last, diag, work[2])
     if not found:
-        return np.nan, t_low, 0.0
+        return np.nan, t_low, 0.0, True
     marched = round(hi / step)
-    lo_c, hi_c, count = crossing(p, r, c, o, nk, hi, step, LEVELS, work, marched)
-    if hi_c < hi:
+    lo_c, hi_c, count, sure = crossing(p, r, c, o, nk, hi, step, LEVELS, work, marched)
+    if hi_c < hi or lo_c > work[0][0][count - 1]:
         g = 0.5 * (lo_c + hi_c)
     else:  # the last grid cell: Newton from its cubic Hermite root (values and slopes known)
         ts, ys, ds = work[0][0], work[0][1], work[0][2]
@@ -325,8 +390,8 @@ def lobe_end(p, r, c, o, nk, h, max_steps, diag, work):  # type: ignore[no-untyp
             g = guess
     t = newton(p, r, c, o, nk, lo_c, hi_c, 0, 1.0, 60, 1e-11, g)[0]
     if t > horizon:
-        return np.nan, t_low, 0.0
-    return t, t_low, (0.0 if diag or marched > MAX_CELLS else step)
+        return np.nan, t_low, 0.0, True
+    return t, t_low, (0.0 if diag or marched > MAX_CELLS else step), sure
 
 
 @kernel(inline=True)
@@ -365,7 +430,8 @@ def _hermite_root(tl, tr, dl, dr, ql, qr):  # type: ignore[no-untyped-def]
 
 @kernel(borrows=True)
 def maximum(p, r, c, o, nk, hi, w, work):  # type: ignore[no-untyped-def]
-    """``(t, y)`` maximum of output ``o`` over ``[0, hi]``, certified to 1e-8 (relative).
+    """``(t, y, sure)`` maximum of output ``o`` over ``[0, hi]``, certified to 1e-8 (relative)
+    where ``sure``.
 
     :func:`designlab.impact.modal.certified_maximum` depth first: cells of width
     <= w; every node and every stationary maximum (Newton on y') is a candidate.
@@ -384,9 +450,15 @@ def node_count(hi, w):  # type: ignore[no-untyped-def]
 @kernel(borrows=True)
 def maximum_on_nodes(p, r, c, o, nk, hi, count, w, work):  # type: ignore[no-untyped-def]
     """:func:`maximum` once the nodes' exponentials are in ``work`` (shared by the outputs):
-    nodes ``j w`` (j < count) and ``hi``."""
+    nodes ``j w`` (j < count) and ``hi``; ``(t, y, sure)``.
+
+    A cell where y' goes from + to - gets one Newton solve; it is settled by it only
+    where y' is monotone over the cell (one stationary point), else it goes through
+    the branch and bound like every other cell. ``sure`` is False where a cell was not
+    settled within 16 levels of splitting.
+    """
     nodes, stack, ex = work
-    ts, ys, ds, qs = nodes[0], nodes[1], nodes[2], nodes[3]
+    ts, ys, ds, qs, m3s = nodes[0], nodes[1], nodes[2], nodes[3], nodes[5]
     steady = stable(p, nk)
     fastest = fastest_rate(p, nk)
     grid(p, r, c, o, nk, hi, count, w, ex, nodes)
@@ -399,13 +471,19 @@ def maximum_on_nodes(p, r, c, o, nk, hi, count, w, work):  # type: ignore[no-unt
             t, y = _stationary(p, r, c, o, nk, ts[j], ts[j + 1], ds[j], ds[j + 1], qs[j], qs[j + 1])
             if y > by:
                 bt, by = t, y
+    sure = True
     for j in range(count):
-        if not (ds[j] > 0 and ds[j + 1] <= 0):
-            if steady and _bounded_cell(nodes, j, by, fastest):
-                continue  # what _refine would conclude at once, without pushing the cell
-            _push_grid(stack, nodes, j)
-            bt, by = _refine(p, r, c, o, nk, bt, by, stack, steady, fastest)
-    return bt, by
+        cw = ts[j + 1] - ts[j]
+        if ds[j] > 0 and ds[j + 1] <= 0:
+            m3 = m3s[j] if steady else jerk(p, r, o, nk, ts[j], ts[j + 1])
+            if shape(qs[j], qs[j + 1], m3, cw) != 0:
+                continue  # y' monotone: its one zero is the maximum solved above
+        elif steady and _bounded_cell(nodes, j, by, fastest):
+            continue  # what _refine would conclude at once, without pushing the cell
+        _push_grid(stack, nodes, j)
+        bt, by, ok = _refine(p, r, c, o, nk, bt, by, stack, steady, fastest)
+        sure = sure and ok
+    return bt, by, sure
 
 
 @kernel(inline=True)
@@ -451,9 +529,11 @@ def _positive(yl, yr, dl, dr, w, m2, m4):  # type: ignore[no-untyped-def]
 
 @kernel(inline=True)
 def _refine(p, r, c, o, nk, bt, by, stack, steady, fastest):  # type: ignore[no-untyped-def]
-    """Branch and bound inside the cell ``stack[0]`` (no +/- sign change of y' at its ends)."""
+    """Branch and bound inside the grid cell ``stack[0]`` (its ends and its stationary
+    point, if y' goes from + to - over it, are already candidates); ``(t, y, sure)``."""
     n = 1
     first = True
+    sure = True
     while n > 0:
         n -= 1
         tl, tr, yl, yr = stack[n, _TL], stack[n, _TR], stack[n, _YL], stack[n, _YR]
@@ -461,21 +541,28 @@ def _refine(p, r, c, o, nk, bt, by, stack, steady, fastest):  # type: ignore[no-
         if not first:
             if yl > by:
                 bt, by = tl, yl
-            if dl > 0 and dr <= 0:
+            if dl > 0 and dr <= 0:  # a candidate; the cell may hold more than one
                 ql, qr = stack[n, _QL], stack[n, _QR]
                 t, y = _stationary(p, r, c, o, nk, tl, tr, dl, dr, ql, qr)
                 if y > by:
                     bt, by = t, y
-                continue
         first = False
         w = tr - tl
-        if stack[n, _LEVEL] >= 16 or w <= 0:
+        if w <= 0:
             continue
         m2, m3 = _scales(p, r, o, nk, stack, n, steady)
         if dl * dr > 0 and abs(dl + dr) > m2 * w:
             continue  # y' keeps its sign: the maximum is at an end node
         if shape(stack[n, _QL], stack[n, _QR], m3, w) != 0:
-            continue  # y' monotone without a +/- change: the maximum is at an end node
-        if cell_bound(yl, yr, dl, dr, w, m2, fastest * m3) > by + 1e-8 * max(abs(by), 1e-300):
-            n = _split(p, r, c, o, nk, stack, n)
-    return bt, by
+            continue  # y' monotone: the maximum is at an end node or its one stationary point
+        top = by + 1e-8 * max(abs(by), 1e-300)
+        if cell_bound(yl, yr, dl, dr, w, m2, fastest * m3) > top:
+            if fastest * w > STIFF:  # a stiff pole's decaying term bounded by its size
+                sl, sr, s1, s2, s3, s4, fast = separated(p, r, c, o, nk, tl, tr)
+                if cell_bound(sl, sr, s1, s2, w, s3, s4) + fast <= top:
+                    continue
+            if stack[n, _LEVEL] >= 16:
+                sure = False
+            else:
+                n = _split(p, r, c, o, nk, stack, n)
+    return bt, by, sure

@@ -27,8 +27,8 @@ from designlab.sx.jit import kernel
 
 __all__ = [
     "NOISE", "cell_bound", "curvature", "derivatives", "exponentials", "fastest_rate", "grid",
-    "hermite_bound", "jerk", "mag", "newton", "noise", "pair", "real_product", "shape", "stable",
-    "triple", "value",
+    "hermite_bound", "jerk", "mag", "newton", "noise", "pair", "real_product", "separated",
+    "shape", "stable", "triple", "value",
 ]  # fmt: skip
 
 #: a value y(t) is provably negative when y < -NOISE * (sum of the magnitudes of its terms)
@@ -109,10 +109,20 @@ def triple(p, r, c, o, nk, t):  # type: ignore[no-untyped-def]
 
 @kernel(inline=True)
 def noise(p, r, c, o, nk, t):  # type: ignore[no-untyped-def]
-    """Rounding-noise level of ``y(t)``: NOISE times the sum of its terms' magnitudes."""
+    """Rounding-noise level of ``y(t)``: NOISE times the sum of its terms' magnitudes, each
+    residue counted at least as large as the largest one.
+
+    A residue's rounding error is absolute, of the order of the largest residue: a pole
+    next to a zero of the numerator (nearly repeated modes under a soft foam) has a
+    residue smaller than that error, and its term, the slowest, decides the sign of a
+    tail that in truth decays to zero from above (issue 34).
+    """
+    big = 0.0
+    for k in range(nk):
+        big = max(big, mag(r[o, k]))
     s = abs(c[o, 0] * t) + abs(c[o, 1])
     for k in range(nk):
-        s += mag(r[o, k]) * math.exp(p[k].real * t)
+        s += big * math.exp(p[k].real * t)
     return NOISE * s
 
 
@@ -365,3 +375,36 @@ def stable(p, nk):  # type: ignore[no-untyped-def]
         if p[k].real > 0:
             return False
     return True
+
+
+@kernel(inline=True)
+def separated(p, r, c, o, nk, tl, tr):  # type: ignore[no-untyped-def]
+    """Output ``o`` over ``[tl, tr]`` split into its slow part and a bound of the rest.
+
+    A stable pole with ``|p_k| (tr - tl) > 1`` decays within the cell: its term is
+    bounded by ``F = sum |r_k| exp(Re p_k tl)`` instead of by its derivatives (which a
+    stiff pole makes astronomically large). Returns the slow part's values and slopes
+    at both ends, bounds of its second and fourth derivatives over the cell, and ``F``:
+    ``y = y_slow + y_fast`` with ``|y_fast| <= F``.
+    """
+    w = tr - tl
+    yl = c[o, 0] * tl + c[o, 1]
+    yr = c[o, 0] * tr + c[o, 1]
+    dl = dr = c[o, 0]
+    m2 = m3 = fast = top = 0.0
+    for k in range(nk):
+        a = mag(p[k])
+        if p[k].real < 0 and a * w > 1.0:
+            fast += mag(r[o, k]) * math.exp(p[k].real * tl)
+            continue
+        el = r[o, k] * cexp(p[k] * tl)
+        er = r[o, k] * cexp(p[k] * tr)
+        yl += el.real
+        yr += er.real
+        dl += real_product(el, p[k])
+        dr += real_product(er, p[k])
+        g = mag(r[o, k]) * a * a * math.exp(max(p[k].real * tl, p[k].real * tr))
+        m2 += g
+        m3 += g * a
+        top = max(top, a)
+    return yl, yr, dl, dr, m2, top * m3, fast

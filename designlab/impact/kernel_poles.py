@@ -33,9 +33,12 @@ import numpy as np
 
 from designlab.sx.jit import kernel
 
-__all__ = ["coefficients", "modal_solution", "quartic_roots"]
+__all__ = ["RESIDUAL", "coefficients", "modal_solution", "quartic_roots", "roots_certified"]
 
 SEPARATION = 1e-6
+#: largest relative residual (backward error) of a root the a-posteriori check accepts:
+#: a root polished by Newton has a few ulps (2.2e-16 each); 1e-12 leaves 4,500 of them
+RESIDUAL = 1e-12
 #: designs whose quadratic factors are found side by side (:func:`bairstow_lanes`)
 LANES = 16
 
@@ -150,24 +153,59 @@ def _polish(a, x):  # type: ignore[no-untyped-def]
 
 @kernel
 def _companion_roots(a, roots):  # type: ignore[no-untyped-def]
-    """The roots of the monic quartic ``a`` as eigenvalues of its companion matrix."""
+    """The roots of the monic quartic ``a`` where Bairstow failed from the head's mode.
+
+    numpy's eigenvalues of the companion matrix give approximations whose real
+    roots carry imaginary parts of rounding size (either sign), so they are never
+    folded by that sign: they are paired into the two real quadratic factors that
+    fit them best (:func:`_partner`), Bairstow refines the first factor from there,
+    and :func:`factor_roots` takes the roots of both factors. Each factor has two
+    real roots or an exact conjugate pair, so the roots are always four, real ones
+    real, whatever the rounding of the eigenvalues.
+    """
     comp = np.zeros((4, 4), dtype=np.complex128)
     for k in range(4):
         comp[0, k] = -a[k + 1]
     for k in range(3):
         comp[k + 1, k] = 1.0
     ev = np.linalg.eigvals(comp)
+    j = _partner(ev)
+    u0 = -(ev[0] + ev[j]).real
+    v0 = (ev[0] * ev[j]).real
+    u, v, ok = _bairstow(a, u0, v0)
+    if not ok:  # keep the eigenvalues' factor (polished root by root below)
+        u, v = u0, v0
+    factor_roots(a, u, v, roots)
+
+
+@kernel(inline=True)
+def _partner(ev):  # type: ignore[no-untyped-def]
+    """Index ``j`` of the root that pairs with ``ev[0]`` among the four roots ``ev``: the
+    pairing whose two quadratic factors are closest to real (imaginary parts of their
+    sums and products, relative to the roots' size). Conjugates pair up, real roots
+    with real roots."""
+    big = 1e-300
     for k in range(4):
-        roots[k] = ev[k]
+        big = max(big, _square(ev[k]))
+    scale = math.sqrt(big)
+    best, bj = np.inf, 1
+    for j in range(1, 4):
+        k = 2 if j == 1 else 1  # the other two
+        m = 2 if j == 3 else 3
+        off = abs((ev[0] + ev[j]).imag) / scale + abs((ev[0] * ev[j]).imag) / big
+        off += abs((ev[k] + ev[m]).imag) / scale + abs((ev[k] * ev[m]).imag) / big
+        if off < best:
+            best, bj = off, j
+    return bj
 
 
 @kernel(inline=True)
 def quartic_roots(a, u0, v0, roots):  # type: ignore[no-untyped-def]
     """The four roots of the monic quartic ``a`` (descending) into ``roots``.
 
-    Bairstow from the factor guess ``s^2 + u0 s + v0`` (numpy's eigenvalues of the
-    companion matrix if it fails); real roots stay real, complex ones come in
-    exact conjugate pairs.
+    Bairstow from the factor guess ``s^2 + u0 s + v0`` (from the eigenvalues of the
+    companion matrix if it fails, :func:`_companion_roots`); real roots stay real,
+    complex ones come in exact conjugate pairs.
     """
     if not _factor_roots(a, u0, v0, roots):
         _companion_roots(a, roots)
@@ -290,3 +328,32 @@ def modal_solution(den, num, roots, p, r, c, outputs):  # type: ignore[no-untype
             rho1 = (num[o, 4] - den[3] * rho0) / den[4]
             c[o, 0], c[o, 1] = rho0, rho1
     return nk
+
+
+@kernel(inline=True)
+def roots_certified(a, roots):  # type: ignore[no-untyped-def]
+    """The a-posteriori check of the four roots of the monic quartic ``a``: each has a
+    relative residual ``|a(x)| / sum_k |a_k| |x|^k`` (its backward error) below
+    :data:`RESIDUAL`, and the complex ones come in exact conjugate pairs (so that the
+    fold of :func:`modal_solution` counts every root once: four with the degree)."""
+    for i in range(4):
+        x = roots[i]
+        if not (np.isfinite(x.real) and np.isfinite(x.imag)):
+            return False
+        f = a[0] * x + a[1]
+        size = abs(a[0])
+        ax = math.sqrt(_square(x))
+        size = size * ax + abs(a[1])
+        for k in range(2, 5):
+            f = f * x + a[k]
+            size = size * ax + abs(a[k])
+        if not _square(f) <= (RESIDUAL * size) ** 2:
+            return False
+        if x.imag != 0:
+            partners = 0
+            for j in range(4):
+                if roots[j].real == x.real and roots[j].imag == -x.imag:
+                    partners += 1
+            if partners != 1:
+                return False
+    return True

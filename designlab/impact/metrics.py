@@ -99,6 +99,11 @@ class ImpactStatus(Status):
         a_h peaks at t = 0+ (an overdamped pulse): the impact period is delicate.
     LOBE_NOT_CLOSED
         No end of the first lobe was found; the metrics are NaN.
+    UNCERTIFIED
+        Neither the compiled kernel nor the numpy path could certify the metrics
+        (their a-posteriori checks failed; the warnings give the reason); the
+        metrics are NaN, never a number presented as exact (docs/impact.md,
+        "Self-check").
     BOTTOMING
         eps_max exceeds the foam's linear depth lambda: the linear model is not
         valid (docs/impact.md, "Foam bottoming"; single impacts only).
@@ -108,6 +113,7 @@ class ImpactStatus(Status):
     NO_IMPACT = "no_impact"
     PEAK_AT_CONTACT = "peak_at_contact"
     LOBE_NOT_CLOSED = "lobe_not_closed"
+    UNCERTIFIED = "uncertified"
     BOTTOMING = "bottoming"
 
 
@@ -116,6 +122,7 @@ STATUS_OK = ImpactStatus.OK.value
 STATUS_NO_IMPACT = ImpactStatus.NO_IMPACT.value
 STATUS_PEAK_AT_CONTACT = ImpactStatus.PEAK_AT_CONTACT.value
 STATUS_LOBE_OPEN = ImpactStatus.LOBE_NOT_CLOSED.value
+STATUS_UNCERTIFIED = ImpactStatus.UNCERTIFIED.value
 
 
 #: fraction of the running a_h peak below which the lobe counts as "nearly over"
@@ -690,7 +697,16 @@ def _reduced_kernel(
     )
     if np.any(codes == kernel.OVERFLOW):
         _overflow(p, int(np.flatnonzero(codes == kernel.OVERFLOW)[0]))
-    return _from_kernel(p, v, names, rows, codes, False, diagnostics)
+    sus = np.flatnonzero(codes >= kernel.SUSPECT_POLES)
+    notes: tuple[str, ...] = ()
+    if sus.size:  # the kernel's self-check failed: the numpy path, checked again
+        resp = ramp_responses(response_model(p[sus], False), p[sus], names, q2=q2, rows=sus)
+        h = 0.4 / np.abs(resp[names[0]].poles).max(axis=1)
+        rows[sus], codes[sus], notes = _settle(
+            resp, h, codes[sus], False, stop_time, max_lobe_steps, diagnostics
+        )
+    m = _from_kernel(p, v, names, rows, codes, False, diagnostics)
+    return replace(m, warnings=(*m.warnings, *notes)) if notes else m
 
 
 def _eigen_ramp(
@@ -737,7 +753,12 @@ def _overflow(p: NDArray, j: int, rows: NDArray | None = None) -> None:
 
 #: the kernel's outputs, in its order
 _KERNEL_OUTPUTS = ("force", "head_acceleration", "compression")
-_KERNEL_STATUS = np.array(kernel.STATUS_CODES, dtype=str)  # fixed width: fast compares
+#: the kernel's status codes by number: 4 (overflow) raises, 5-7 are settled by
+#: :func:`_settle`, and :data:`UNCERTIFIED` is what it could not settle
+UNCERTIFIED = 8
+_KERNEL_STATUS = np.array(
+    [*kernel.STATUS_CODES, "overflow", *[STATUS_UNCERTIFIED] * 4], dtype=str
+)  # fixed width: fast compares
 
 
 def _from_kernel(
@@ -773,8 +794,17 @@ def _modal_kernel(
     part = _modal_rows(resp, h, constrained, stop_time, max_lobe_steps, diagnostics)
     if part is None:
         return None
+    rows, codes = part
+    sus = np.flatnonzero(codes >= kernel.SUSPECT_POLES)
+    notes: tuple[str, ...] = ()
+    if sus.size:
+        sub = {k: r.take(sus) for k, r in resp.items()}
+        rows[sus], codes[sus], notes = _settle(
+            sub, h[sus], codes[sus], constrained, stop_time, max_lobe_steps, diagnostics
+        )
     names = tuple(k for k in _KERNEL_OUTPUTS if k in resp)
-    return _from_kernel(p, v, names, *part, constrained, diagnostics)
+    m = _from_kernel(p, v, names, rows, codes, constrained, diagnostics)
+    return replace(m, warnings=(*m.warnings, *notes)) if notes else m
 
 
 def _modal_rows(
@@ -835,9 +865,10 @@ def _full_kernel(
         p, sel, constrained=constrained, stop_time=stop_time,  # type: ignore[arg-type]
         max_lobe_steps=max_lobe_steps, diagnostics=diagnostics,
     )  # fmt: skip
-    back = np.flatnonzero(codes == kernel_full.FALLBACK)
+    back = np.flatnonzero((codes == kernel_full.FALLBACK) | (codes >= kernel.SUSPECT_POLES))
     if back.size and p.shape[1] == len(FULL_PARAM_NAMES):
         check_eigen_route(p[back], back, constrained)
+    notes: tuple[str, ...] = ()
     if back.size:
         resp = ramp_responses(response_model(p, constrained), p[back], names, rows=back)
         poles = resp[names[0]].poles
@@ -846,7 +877,15 @@ def _full_kernel(
         if part is None:
             return None
         rows[back], codes[back] = part
+        sus = np.flatnonzero(codes[back] >= kernel.SUSPECT_POLES)
+        if sus.size:
+            sub = {k: r.take(sus) for k, r in resp.items()}
+            rows[back[sus]], codes[back[sus]], notes = _settle(
+                sub, h[sus], codes[back[sus]], constrained, stop_time, max_lobe_steps, diagnostics
+            )
     m = _from_kernel(p, v, names, rows, codes, constrained, diagnostics)
+    if notes:
+        m = replace(m, warnings=(*m.warnings, *notes))
     if back.size:
         note = (
             f"{back.size} design(s): poles nearly repeated or ill-conditioned; evaluated "
@@ -854,6 +893,82 @@ def _full_kernel(
         )
         m = replace(m, warnings=(*m.warnings, note))
     return m
+
+
+def _settle(
+    resp: dict[str, ModalResponse],
+    h: NDArray,
+    codes: NDArray,
+    constrained: bool,
+    stop_time: float,
+    max_lobe_steps: int,
+    diagnostics: bool,
+) -> tuple[NDArray, NDArray, tuple[str, ...]]:
+    """Rows and codes of designs the kernel did not certify (its ``SUSPECT_*`` ``codes``),
+    by the numpy modal path (:func:`_numpy_rows`), checked again by
+    :func:`designlab.impact.kernel.audit_metrics`; a design that fails that too is
+    :data:`UNCERTIFIED` (NaN rows). Also a note per reason for the warnings."""
+    rows, again = _numpy_rows(resp, h, constrained, stop_time, max_lobe_steps, diagnostics)
+    names = tuple(k for k in _KERNEL_OUTPUTS if k in resp)
+    res = np.zeros((h.size, 3, resp[names[0]].poles.shape[1]), dtype=complex)
+    poly = np.zeros((h.size, 3, 2))
+    for o, k in enumerate(_KERNEL_OUTPUTS):
+        if k in resp:
+            res[:, o] = resp[k].residues
+            poly[:, o, 2 - resp[k].poly.shape[1] :] = resp[k].poly
+    poles = resp[names[0]].poles
+    audit = kernel.audit_metrics(poles, res, poly, rows, again, lobe=not constrained)
+    bad = audit >= kernel.SUSPECT_POLES
+    rows[bad] = np.nan
+    notes = []
+    for code, why in kernel.SUSPECT_REASONS.items():
+        first = codes == code
+        if np.any(first):
+            lost = int(np.sum(first & bad))
+            notes.append(
+                f"{int(np.sum(first))} design(s): {why} by the compiled kernel; evaluated by "
+                f"the numpy modal path"
+                + (f", which could not certify {lost} either" if lost else "")
+            )
+    for code, why in kernel.SUSPECT_REASONS.items():
+        lost = int(np.sum(audit == code))
+        if lost:
+            notes.append(f"{lost} design(s) uncertified (metrics NaN): {why} by the numpy path")
+    return rows, np.where(bad, UNCERTIFIED, audit).astype(np.int8), tuple(notes)
+
+
+def _numpy_rows(
+    resp: dict[str, ModalResponse],
+    h: NDArray,
+    constrained: bool,
+    stop_time: float,
+    max_lobe_steps: int,
+    diagnostics: bool,
+) -> tuple[NDArray, NDArray]:
+    """The numpy path's unit-v_c rows (:data:`kernel.COLUMNS`) and status codes."""
+    n = h.size
+    names = tuple(k for k in _KERNEL_OUTPUTS if k in resp)
+    status = np.full(n, STATUS_OK, dtype=object)
+    t_low = np.full(n, np.nan)
+    if constrained:
+        h = np.minimum(h, stop_time / 64.0)
+        t_imp = np.full(n, float(stop_time))
+    else:
+        t_imp, found, t_low = _lobe_end(
+            resp["head_acceleration"], h, stop_time, max_lobe_steps, diagnostics
+        )
+        status[~found] = STATUS_LOBE_OPEN
+    out = _lobe_maxima(resp, names, t_imp, h, status)
+    col = {k: i for i, k in enumerate(kernel.COLUMNS)}
+    rows = np.full((n, len(kernel.COLUMNS)), np.nan)
+    pairs = {"force": ("t_f", "f_max"), "head_acceleration": ("t_a", "a_max")}
+    pairs["compression"] = ("t_eps", "eps_max")
+    for k in names:
+        rows[:, col[pairs[k][0]]], rows[:, col[pairs[k][1]]] = out[k]
+    rows[:, col["t_imp"]] = t_imp
+    rows[:, col["t_low"]] = t_low
+    codes = np.array([kernel.STATUS_CODES.index(s) for s in status], dtype=np.int8)
+    return rows, codes
 
 
 def metrics_from_responses(
@@ -1032,13 +1147,26 @@ def _scaled(
         design_status=status if status.dtype.kind == "U" else status.astype(str),
         constrained=constrained,
         lobe_tail=None if tail is None else np.where(none | constrained, np.nan, tail),
-        status=ImpactStatus.LOBE_NOT_CLOSED if np.any(status == STATUS_LOBE_OPEN) else OK,
+        status=_batch_status(status),
         warnings=_batch_warnings(status),
     )
 
 
+def _batch_status(status: NDArray) -> Status:
+    """The batch's status: uncertified before lobe_not_closed before ok."""
+    if np.any(status == STATUS_UNCERTIFIED):
+        return ImpactStatus.UNCERTIFIED
+    return ImpactStatus.LOBE_NOT_CLOSED if np.any(status == STATUS_LOBE_OPEN) else OK
+
+
 def _batch_warnings(status: NDArray) -> tuple[str, ...]:
     out = []
+    n_bad = int(np.sum(status == STATUS_UNCERTIFIED))
+    if n_bad:
+        out.append(
+            f"{n_bad} design(s) uncertified: the a-posteriori checks failed on both the "
+            'compiled and the numpy path; metrics are NaN (docs/impact.md, "Self-check")'
+        )
     n_open = int(np.sum(status == STATUS_LOBE_OPEN))
     if n_open:
         out.append(f"{n_open} design(s): the first impact lobe did not close; metrics are NaN")

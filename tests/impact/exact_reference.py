@@ -11,6 +11,7 @@ scalar search on its neighbouring grid cells.
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 
 import numpy as np
@@ -177,3 +178,165 @@ def exact_hic(model: ExactModel, t_imp: float, window: float, grid: int = 1201) 
                         options={"xatol": 1e-15})  # fmt: skip
     del v
     return max(best, float(-r.fun))
+
+
+class _MpFirstLobe:
+    """First zero of a_h (output 1) and maxima of a response ``value(o, t, d)`` at the
+    working precision of ``self.mp``, from a grid and bracketed solves."""
+
+    mp: object
+    rate: object  # the fastest pole's modulus (1/s)
+
+    def first_zero(self, t_hi: float, samples: int = 4000) -> float:
+        """First zero of a_h in ``(0, t_hi]``: a grid of at least ``samples`` cells, none wider
+        than a twelfth of the fastest resolved pole's period, and a bracketed solve of the
+        first sign change."""
+        mp = self.mp
+        fast = self.rate
+        n = max(samples, int(float(t_hi * fast) * 2.0) + 1)
+        ts = [mp.mpf(t_hi) * k / n for k in range(1, n + 1)]
+        prev = mp.mpf(0)
+        for t in ts:
+            y = self.value(1, t)
+            if y < 0:
+                return float(mp.findroot(lambda s: self.value(1, s), (prev, t), solver="anderson"))
+            prev = t
+        return float("nan")
+
+    def maximum(self, o: int, t_end: float, samples: int = 4000) -> float:
+        """Maximum of output ``o`` over ``[0, t_end]``: the ends and every zero of y' from +
+        to - on a grid as :meth:`first_zero`'s, each solved to ``dps`` digits."""
+        mp = self.mp
+        fast = self.rate
+        n = max(samples, int(float(t_end * fast) * 2.0) + 1)
+        ts = [mp.mpf(t_end) * k / n for k in range(n + 1)]
+        best = max(self.value(o, ts[0]), self.value(o, ts[-1]))
+        dprev = self.value(o, ts[0], 1)
+        for a, b in itertools.pairwise(ts):
+            db = self.value(o, b, 1)
+            if dprev > 0 >= db:
+                t = mp.findroot(lambda s: self.value(o, s, 1), (a, b), solver="anderson")
+                best = max(best, self.value(o, t))
+            dprev = db
+        return float(best)
+
+
+class MpImpact(_MpFirstLobe):
+    """The reduced model's exact ramp responses at ``dps`` digits (mpmath), for settling
+    disagreements (the fuzz harness, benchmarks/fuzz_kernel.py, and its CI slice).
+
+    The transfer functions of docs/impact.md, "The model", written out again here:
+    ``D = s^4 + q1 s^3 + q2 s^2 + q3 s + q4`` (the correct q2), responses to the unit
+    ramp ``N(s) / (s^2 D)`` expanded in partial fractions at the roots of ``D``
+    (:func:`mpmath.polyroots` at ``dps`` digits) plus ``c0 t + c1`` from the double pole
+    at 0. Outputs: 0 force, 1 head acceleration, 2 compression (v_c = 1 m/s).
+    """
+
+    def __init__(self, params, dps: int = 40) -> None:
+        import mpmath
+
+        self.mp = mp = mpmath.mp
+        mp.dps = dps
+        m_r, c_r, k_r, k_c, c_c, m_h, c_h, k_h = (mp.mpf(float(x)) for x in params)
+        mm = m_r * m_h
+        den = [mp.mpf(1), (c_r + c_c) / m_r + (c_c + c_h) / m_h,
+               (k_r + k_c) / m_r + (k_h + k_c) / m_h + (c_c * c_r + c_c * c_h + c_r * c_h) / mm,
+               (k_r * (c_c + c_h) + k_c * (c_r + c_h) + k_h * (c_c + c_r)) / mm,
+               (k_r * k_h + k_c * k_h + k_r * k_c) / mm]  # fmt: skip
+        zr = [mp.mpf(1), c_r / m_r, k_r / m_r]
+        zh = [mp.mpf(1), c_h / m_h, k_h / m_h]
+        zrzh = _mul(zr, zh)
+        nums = [_mul([c_c, k_c], zrzh), [x / m_h for x in _mul([c_c, k_c], zr)] + [0, 0], zrzh]
+        roots = mpmath.polyroots(den, maxsteps=400, extraprec=4 * dps)
+        dden = [den[i] * (4 - i) for i in range(4)]
+        self.poles = roots
+        self.rate = max(abs(z) for z in roots)
+        self.res = [[_horner(n, z) / (z * z * _horner(dden, z)) for z in roots] for n in nums]
+        self.poly = []
+        for n in nums:  # N / D = c0 + c1 s + ... at s = 0: the ramp's c0 t + c1
+            n0, n1 = n[-1], n[-2]
+            d0, d1 = den[-1], den[-2]
+            self.poly.append((n0 / d0, (n1 * d0 - n0 * d1) / (d0 * d0)))
+
+    def value(self, o: int, t, d: int = 0):  # type: ignore[no-untyped-def]
+        """Derivative ``d`` of output ``o`` at ``t``."""
+        mp = self.mp
+        t = mp.mpf(t)
+        c0, c1 = self.poly[o]
+        base = c0 * t + c1 if d == 0 else (c0 if d == 1 else 0)
+        return base + mp.re(
+            sum(r * p**d * mp.exp(p * t) for r, p in zip(self.res[o], self.poles, strict=True))
+        )
+
+
+class MpFullJoint(_MpFirstLobe):
+    """The full series joint's exact ramp responses at ``dps`` digits (mpmath), for the
+    fuzz harness: the state space x = [d_r, d_r', d_e, d_h, d_h'] written out by hand
+    (the massless motor node ``C d_e' = K_m (d_r - d_e) + C_m d_r' - K_q d_e``; Zeng
+    2011, eq. 3.4.6; docs/impact_joint.md), its eigen-solution plus the particular
+    solution ``alpha + beta t`` of the unit ramp. Parameters ordered M_r, C_mech,
+    K_mech, K_c, C_c, M_h, C_h, K_h, C_cont, K_cont; outputs as :class:`MpImpact`.
+    """
+
+    def __init__(self, q, dps: int = 40) -> None:
+        import mpmath
+
+        self.mp = mp = mpmath.mp
+        mp.dps = dps
+        m_r, c_m, k_m, k_c, c_c, m_h, c_h, k_h, c_q, k_q = (mp.mpf(float(x)) for x in q)
+        c_s = c_m + c_q
+        a, b1, b0 = mp.zeros(5, 5), mp.zeros(5, 1), mp.zeros(5, 1)
+        node = (k_m / c_s, c_m / c_s, -(k_m + k_q) / c_s)  # d_e' on d_r, d_r', d_e
+        f_t = (c_q * node[0], c_q * node[1], k_q + c_q * node[2])
+        a[0, 1] = 1
+        a[1, 0], a[1, 1], a[1, 2] = (-k_c - f_t[0]) / m_r, (-c_c - f_t[1]) / m_r, -f_t[2] / m_r
+        a[2, 0], a[2, 1], a[2, 2] = node
+        a[1, 3], a[1, 4], a[3, 4] = k_c / m_r, c_c / m_r, 1
+        a[4, 0], a[4, 1] = k_c / m_h, c_c / m_h
+        a[4, 3], a[4, 4] = -(k_c + k_h) / m_h, -(c_c + c_h) / m_h
+        b1[1], b0[1] = -k_c / m_r, -c_c / m_r
+        b1[4], b0[4] = k_c / m_h, c_c / m_h
+        inv = mp.inverse(a)
+        self.beta = -(inv * b1)
+        self.alpha = inv * (self.beta - b0)
+        self.lam, self.vec = mp.eig(a)
+        self.coef = mp.inverse(self.vec) * (-self.alpha)
+        self.k_c, self.c_c = k_c, c_c
+        # a real pole beyond 1e5 rad/s (a stiff motor node) decays within 1e-4 s and is
+        # not resolved, as in designlab.impact.full_joint_model.grid_rate
+        self.rate = max(abs(z) for z in self.lam if abs(z) < 1e5 or abs(mp.im(z)) > 0)
+
+    def _state(self, i: int, t, d: int):  # type: ignore[no-untyped-def]
+        """Derivative ``d`` of state ``i`` at ``t``."""
+        mp = self.mp
+        base = self.alpha[i] + self.beta[i] * t if d == 0 else (self.beta[i] if d == 1 else 0)
+        return mp.re(base + sum(self.vec[i, k] * self.coef[k] * self.lam[k] ** d
+                                * mp.exp(self.lam[k] * t) for k in range(5)))  # fmt: skip
+
+    def value(self, o: int, t, d: int = 0):  # type: ignore[no-untyped-def]
+        """Derivative ``d`` of output ``o`` at ``t``."""
+        t = self.mp.mpf(t)
+        if o == 1:
+            return self._state(4, t, d + 1)
+
+        def eps(e: int):  # type: ignore[no-untyped-def]
+            ramp = t if e == 0 else (1 if e == 1 else 0)
+            return self._state(0, t, e) - self._state(3, t, e) + ramp
+
+        return eps(d) if o == 2 else self.k_c * eps(d) + self.c_c * eps(d + 1)
+
+
+def _mul(a: list, b: list) -> list:
+    """Product of two polynomials (descending coefficients)."""
+    out = [0] * (len(a) + len(b) - 1)
+    for i, x in enumerate(a):
+        for j, y in enumerate(b):
+            out[i + j] += x * y
+    return out
+
+
+def _horner(coeffs: list, x):  # type: ignore[no-untyped-def]
+    acc = 0
+    for a in coeffs:
+        acc = acc * x + a
+    return acc

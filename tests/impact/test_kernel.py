@@ -16,6 +16,7 @@ import logging
 
 import numpy as np
 import pytest
+from exact_reference import MpImpact
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -309,3 +310,55 @@ def test_full_joint_beyond_double_precision_is_a_clear_error(
     rows[1, column] = value
     with pytest.raises(InvalidParameterError, match=r"params\[1\].*double precision"):
         impact_metrics(rows, 1.25, columns=FULL_PARAM_NAMES)
+
+
+#: issue 34: designs the kernel got wrong (M_r, C_r, K_r, K_c, C_c, M_h, C_h, K_h, v_c) and why
+ISSUE_34 = [
+    ("lobe end", [8.658908318989216, 174.3979567077293, 41773.79214017691, 16184.438705578137,
+                  66.11487040780031, 4.514554190739189, 104.20284530254587, 3164.9884446910655,
+                  1.25]),
+    ("fold", [8.713124403517563, 798.4033100952045, 7028.113703417098, 9789.38381486703,
+              291.03331822941584, 3.9856835309432066, 149.89005803780185, 1295.804333164117,
+              0.6065476020706178]),
+    ("fold", [22.58246202910529, 686.0884535558366, 5740.813935934313, 5822.063016502239,
+              217.2373777811793, 3.4233997506930454, 125.17470590328703, 1639.8230782271053,
+              1.2771443943253162]),
+    ("fold", [17.040558526351603, 609.8457063802979, 7424.290199289387, 9374.43938211004,
+              260.286925412722, 3.313873437923486, 109.73041478179469, 1950.4694452500826,
+              0.920669182895193]),
+    ("lobe end", [17.765726777628046, 294.22309062706483, 30495.451565219893, 5977.495191352845,
+                  122.06313215464503, 3.3138799073794343, 88.65118397413195, 1639.9050169721252,
+                  1.0302658663573179]),
+    ("maximum", [3.5596531292046265, 121.8622533853142, 30556.1586622481, 16069.551769579808,
+                 82.65284589622803, 5.700335916230939, 1.4275804589386043, 1031.9764423393385,
+                 0.22020270662479893]),
+    ("fold", [2.3775391696512695, 194.66486510062654, 5280.181141228382, 21066.276982316576,
+              282.79809793816764, 4.303953303027382, 135.40895213678823, 4687.030477332432,
+              1.049221762829555]),
+]  # fmt: skip
+
+
+@needs_jit
+@pytest.mark.parametrize(("defect", "design"), ISSUE_34, ids=[d for d, _ in ISSUE_34])
+def test_issue_34_designs_are_exact(defect: str, design: list[float]) -> None:
+    """The seven designs of issue 34 against a 40-digit evaluation (exact_reference.MpImpact).
+
+    Before the fix the kernel was off by 0.0015x-11.6x (real poles folded wrongly after
+    the companion-matrix fallback), 10-27 % (a lobe end that was the third zero of a_h
+    in its cell) and 5e-4 (a cell with three stationary points). Tolerance 1e-10
+    (relative): the Newton solves stop at steps of 1e-11 |t| (t_imp) and 1e-7 |t| at
+    a stationary point (the value's error is of its square), and the poles of these
+    designs are simple with relative condition numbers below 1e3 (times the 2.2e-16 of
+    a double: 2e-13).
+    """
+    p, v = np.array([design[:8]]), design[8]
+    m = metrics_of_matrix(p, v)
+    assert m.design_status[0] in ("ok", "peak_at_contact")
+    assert not any("numpy modal path" in w for w in m.warnings)  # the kernel certified it
+    ref = MpImpact(design[:8], dps=40)
+    t = ref.first_zero(1.05 * float(m.impact_duration[0]), samples=600)
+    assert abs(m.impact_duration[0] - t) <= 1e-10 * t
+    got = (m.peak_head_acceleration[0], m.max_compression[0], m.peak_force[0])
+    for o, value in ((1, got[0]), (2, got[1]), (0, got[2])):
+        exact = v * ref.maximum(o, t, samples=600)
+        assert abs(value - exact) <= 1e-10 * abs(exact), (defect, o, value, exact)

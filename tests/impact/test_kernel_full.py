@@ -323,13 +323,19 @@ def test_nearly_repeated_poles_fall_back_to_the_eigen_path() -> None:
 @needs_jit
 @pytest.mark.parametrize("c_sum", [1e-4, 1e-2])
 def test_stiff_motor_node_stays_exact(c_sum: float) -> None:
-    """C_mech + C_cont small: the node's pole -(K_mech + K_cont)/C is 1e9-1e12 rad/s."""
+    """C_mech + C_cont small: the node's pole -(K_mech + K_cont)/C is 1e9-1e12 rad/s.
+
+    The reference is the 50-digit evaluation (:func:`_check_exact`, 1e-13 relative: the
+    closed form's poles have relative condition numbers below 1e4 by the certificate,
+    so the metrics are within about 1e4 ulps), not the eigen path, which the project
+    documents as the inexact one for a stiff node (it differed by 2.3e-9 on an AMD
+    EPYC host; issue 34).
+    """
     q = np.array(ARM)
     q[1], q[8], q[2] = 0.0, c_sum, 1e3 * q[9]
     m = matrix_metrics(q, 1.0)
     assert m.warnings == () and m.design_status[0] == "ok"
     _check_exact(q, m, 0)
-    assert np.nanmax(_relative(_rows(m), _rows(_eigen_path(q[None, :], 1.0)))) < 1e-9
 
 
 @needs_jit
