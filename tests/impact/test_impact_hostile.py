@@ -427,8 +427,54 @@ def test_simulate_refuses_what_it_cannot_serve_and_never_blames_duration(mass) -
     robot = dl.impact.ContactDynamics(mass, 2e4, 250.0)
     with pytest.raises(InvalidParameterError) as err:
         dl.impact.simulate(robot, FOAM_1, HEAD_MIN, 1.25)
-    assert "robot, foam and head" in str(err.value) and "duration" not in str(err.value)
-    assert "M_r" in str(err.value)
+    assert err.value.name == "robot.mass" and err.value.value == mass
+    assert "duration" not in str(err.value) and "M_r" in str(err.value)
+
+
+_IMPACT_DEFAULTS = {"robot": MANIPULATOR_1, "foam": FOAM_1, "head": HEAD_MIN}
+
+
+@pytest.mark.parametrize(
+    ("where", "field", "value"),
+    [
+        ("robot", "damping", 1e300),
+        ("robot", "mass", 1e300),
+        ("foam", "damping", 1e6),
+        ("head", "mass", 1e-6),
+        ("head", "damping", 1e6),
+    ],
+)
+def test_the_conditioning_refusal_names_the_farthest_parameter_and_its_value(
+    where, field, value
+) -> None:
+    """It named ``robot, foam and head`` (or ``params[0]``) with all the values; now the
+    input farthest from its typical range is the parameter, as the caller spelled it."""
+    args = dict(_IMPACT_DEFAULTS)
+    args[where] = dataclasses.replace(args[where], **{field: value})
+    with pytest.raises(InvalidParameterError) as err:
+        dl.impact.simulate(args["robot"], args["foam"], args["head"], 1.25)
+    assert (err.value.name, err.value.value) == (f"{where}.{field}", value)
+    assert str(err.value).startswith(f"{where}.{field} = {value!r} ")
+    assert "at most 10000" in str(err.value)
+    if where == "head":
+        return
+    symbol = params_of(type(args[where]))[field].symbol
+    with pytest.raises(InvalidParameterError) as err:
+        dl.impact.max_safe_velocity(args["robot"], args["foam"])
+    assert (err.value.name, err.value.value) == (f"params[0].{symbol}", value)
+    assert field in str(err.value)  # the declaration's meaning: "foam damping C_c"
+
+
+@pytest.mark.parametrize(
+    ("field", "value"),
+    [("control_damping", 1e9), ("transmission_damping", 1e300), ("mass", 1e18),
+     ("mass", 1e-200), ("transmission_stiffness", 1e300)],
+)  # fmt: skip
+def test_the_full_joints_conditioning_refusal_names_the_robots_field(field, value) -> None:
+    arm = dataclasses.replace(GEARED, **{field: value})
+    with pytest.raises(InvalidParameterError) as err:
+        dl.impact.simulate(arm, FOAM_1, HEAD_MIN, 1.25)
+    assert (err.value.name, err.value.value) == (f"robot.{field}", value)
 
 
 @pytest.mark.parametrize("column", ["K_h", "K_c", "C_h", "C_c"])
