@@ -51,7 +51,13 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from designlab.errors import InvalidParameterError
-from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
+from designlab.impact.parameters import (
+    HEAD_VELOCITY,
+    ROBOT_VELOCITY,
+    ContactDynamics,
+    Foam,
+    HeadNeck,
+)
 from designlab.impact.peaks import first_peak
 from designlab.impact.series_joint import FullJointContact
 from designlab.impact.simulate import simulate
@@ -154,6 +160,30 @@ def _angle(v: NDArray[np.float64], n: NDArray[np.float64], sign: float) -> float
     return math.acos(max(-1.0, min(1.0, sign * float(v @ n) / speed)))
 
 
+def _closing_inputs(robot_velocity: Any, head_velocity: Any, normal: Any) -> tuple[NDArray, ...]:
+    """The checked vectors of :func:`closing_speed`: the one whose length differs from the
+    other two named; speeds within the declared bounds of v_r and v_h (Sec. 3.4)."""
+    given = {"robot_velocity": robot_velocity, "head_velocity": head_velocity, "normal": normal}
+    vecs = {k: _vector(k, v, "" if k == "normal" else "m/s") for k, v in given.items()}
+    sizes = [v.size for v in vecs.values()]
+    if len(set(sizes)) > 1:
+        odd = next(k for k, v in vecs.items() if sizes.count(v.size) == 1)
+        size = next(s for s in sizes if sizes.count(s) == 2)
+        raise InvalidParameterError(
+            odd, given[odd], f"must be a vector of length {size}, as the other two of "
+            "robot_velocity, head_velocity and normal", "" if odd == "normal" else "m/s",
+        )  # fmt: skip
+    for key, decl in (("robot_velocity", ROBOT_VELOCITY), ("head_velocity", HEAD_VELOCITY)):
+        with np.errstate(over="ignore"):
+            speed = float(np.linalg.norm(vecs[key]))
+        if not speed <= decl.le:  # also an overflow to inf
+            raise InvalidParameterError(
+                key, given[key], f"its magnitude ({speed:g} m/s) must be <= {decl.le:g} m/s "
+                f"(the declared bound of the {decl.doc}, {decl.symbol})", "m/s",
+            )  # fmt: skip
+    return vecs["robot_velocity"], vecs["head_velocity"], _unit_normal("normal", normal)
+
+
 def closing_speed(
     robot_velocity: ArrayLike, head_velocity: ArrayLike, normal: ArrayLike
 ) -> ClosingSpeed:
@@ -193,9 +223,7 @@ def closing_speed(
     >>> round(closing_speed((0.25, 0.0), (-0.5, 0.866), (1.0, 0.0)).closing_speed, 3)
     0.75
     """
-    v_r = _vector("robot_velocity", robot_velocity, "m/s")
-    v_h = _vector("head_velocity", head_velocity, "m/s", v_r.size)
-    n = _unit_normal("normal", normal, v_r.size)
+    v_r, v_h, n = _closing_inputs(robot_velocity, head_velocity, normal)
     v_c = float((v_r - v_h) @ n)
     return ClosingSpeed(
         closing_speed=v_c,
