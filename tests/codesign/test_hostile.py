@@ -433,3 +433,22 @@ def test_long_runs_report_progress_between_blocks() -> None:
     dl.codesign.fragility_curve(MANIPULATOR_1, FOAM_1, speeds=[1.0], samples=BLOCK + 10,
                                 progress=lambda p: steps.append(p.step))  # fmt: skip
     assert steps == [1, 2]
+
+
+@pytest.mark.parametrize(
+    ("where", "field", "value"),
+    [("robot", "damping", 1e6), ("foam", "damping", 1e6), ("robot", "damping", 1e300)],
+)
+def test_speed_limit_refuses_what_double_precision_cannot_serve_by_name(
+    where, field, value
+) -> None:
+    """A damping of 1e6 N s/m gave NaN metrics, then ``contact_limit = nan`` was refused;
+    now the robot's or the foam's parameter is named up front with its value."""
+    import dataclasses
+
+    args = {"robot": MANIPULATOR_1, "foam": FOAM_1}
+    args[where] = dataclasses.replace(args[where], **{field: value})
+    with pytest.raises(InvalidParameterError) as err:
+        dl.codesign.speed_limit(args["robot"], args["foam"])
+    assert (err.value.name, err.value.value) == (f"{where}.{field}", value)
+    assert "nan" not in str(err.value) and "at most 10000" in str(err.value)
