@@ -96,10 +96,11 @@ def _vector(name: str, value: Any, unit: str, size: int | None = None) -> NDArra
 
 def _unit_normal(name: str, value: Any, size: int | None = None) -> NDArray[np.float64]:
     n = _vector(name, value, "", size)
-    norm = float(np.linalg.norm(n))
-    if norm == 0.0:
+    scale = float(np.max(np.abs(n)))  # scaled first: a norm of 1e-300 or 1e300 is no 0 or inf
+    if scale == 0.0:
         raise InvalidParameterError(name, value, "must be a non-zero vector (the contact normal)")
-    return n / norm
+    n = n / scale
+    return n / float(np.linalg.norm(n))
 
 
 @dataclass(frozen=True)

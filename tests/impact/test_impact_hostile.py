@@ -667,3 +667,13 @@ def test_band_fit_sweep_names_the_grid_as_given(omega, shown) -> None:
     """``[]`` was shown as ``0``, ``[True, False]`` as ``0.0``."""
     with pytest.raises(InvalidParameterError, match=re.escape(shown)):
         dl.impact.band_fit_sweep(GEARED, FOAM_1, HEAD_MIN, 1.25, omega)
+
+
+@pytest.mark.parametrize("scale", [1e-300, 1e300])
+def test_a_normal_of_any_finite_length_is_normalised(scale) -> None:
+    """[1e-300, 0, 0] was refused as a zero vector (its norm underflowed); [1e300, 1e300, 0]
+    overflowed to inf. The answer is (v_r - v_h) . n / |n|: 1.5 and 1.5 cos 45 deg."""
+    c = dl.impact.closing_speed([1.0, 0.0, 0.0], [-0.5, 0.0, 0.0], [scale, 0.0, 0.0])
+    assert c.closing_speed == 1.5
+    c = dl.impact.closing_speed([1.0, 0.0, 0.0], [-0.5, 0.0, 0.0], [scale, scale, 0.0])
+    assert c.closing_speed == pytest.approx(1.5 / math.sqrt(2.0), rel=1e-15)
