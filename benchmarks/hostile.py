@@ -1125,6 +1125,7 @@ def _closing_given(r: Any, a: dict[str, Any]) -> str | None:
         return None
     if not all(x.shape == (3,) and np.isfinite(x).all() for x in (vr, vh, n)):
         return None
+    n = n / np.abs(n).max() if np.abs(n).max() > 0 else n  # |n| of 1e300 is no inf
     want = float(np.dot(vr - vh, n) / np.linalg.norm(n))
     got = float(r.closing_speed)
     if not math.isclose(got, want, rel_tol=1e-12, abs_tol=1e-300):
