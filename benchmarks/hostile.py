@@ -1125,6 +1125,7 @@ def _closing_given(r: Any, a: dict[str, Any]) -> str | None:
         return None
     if not all(x.shape == (3,) and np.isfinite(x).all() for x in (vr, vh, n)):
         return None
+    n = n / np.abs(n).max() if np.abs(n).max() > 0 else n  # |n| of 1e300 is no inf
     want = float(np.dot(vr - vh, n) / np.linalg.norm(n))
     got = float(r.closing_speed)
     if not math.isclose(got, want, rel_tol=1e-12, abs_tol=1e-300):
@@ -1651,13 +1652,13 @@ def navigation_extra_cases() -> list[Case]:
     rows = [
         ("Scenario with 2000 discs", many, ("obstacles",), "refuse"),
         ("crowd neighbours=1", run.format(", neighbours=1", ""), ("neighbours",), "either"),
-        ("crowd cbf_gains=nan", run.format("", ", method='vff_cbf', cbf_gains=(float('nan'), 4.0)"),
+        ("crowd cbf_gains=nan", run.format("", ", method='cbf', cbf_gains=(float('nan'), 4.0)"),
          ("cbf_gains",), "refuse"),
-        ("crowd cbf_gains=-4", run.format("", ", method='vff_cbf', cbf_gains=(-4.0, 4.0)"),
+        ("crowd cbf_gains=-4", run.format("", ", method='cbf', cbf_gains=(-4.0, 4.0)"),
          ("cbf_gains",), "refuse"),
-        ("crowd cbf_gains=1e300", run.format("", ", method='vff_cbf', cbf_gains=(1e300, 4.0)"),
+        ("crowd cbf_gains=1e300", run.format("", ", method='cbf', cbf_gains=(1e300, 4.0)"),
          ("cbf_gains",), "refuse"),
-        ("crowd cbf_gains=text", run.format("", ", method='vff_cbf', cbf_gains=('ab', 4.0)"),
+        ("crowd cbf_gains=text", run.format("", ", method='cbf', cbf_gains=('ab', 4.0)"),
          ("cbf_gains",), "refuse"),
         ("crowd lenght typo", crowd.format(", lenght=8"), ("lenght",), "refuse"),
         ("crowd pedestrians=10**6", crowd.format("").replace(" 4,", " 10**6,"),

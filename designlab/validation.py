@@ -125,6 +125,9 @@ def check_q2(q2: Any) -> str:
     return check_choice("q2", q2, ("correct", "printed"))
 
 
+_BOOLS = (bool, np.bool_)
+
+
 def real_array(name: str, value: Any, unit: str = "") -> NDArray[np.float64]:
     """``value`` as a float array of finite real numbers (booleans refused).
 
@@ -137,8 +140,10 @@ def real_array(name: str, value: Any, unit: str = "") -> NDArray[np.float64]:
     unit
         Its SI unit, for the error message.
     """
-    if isinstance(value, (bool, np.bool_)) or (
-        isinstance(value, np.ndarray) and value.dtype == bool
+    if (
+        isinstance(value, (bool, np.bool_))
+        or (isinstance(value, np.ndarray) and value.dtype == bool)
+        or (isinstance(value, (list, tuple)) and any(isinstance(x, _BOOLS) for x in value))
     ):
         raise InvalidParameterError(name, value, "must be real numbers, not booleans", unit)
     if is_complex(value):

@@ -31,6 +31,7 @@ __all__ = [
     "RISK_SAMPLES",
     "SEED",
     "SENSITIVITY_SAMPLES",
+    "SUBSET_SAMPLES",
 ]
 
 #: Time between the robot's detection of a person and the start of its braking: the
@@ -78,10 +79,23 @@ MAP_POINTS = Param(
     name="map_points",
 )  # fmt: skip
 
-#: Monte Carlo samples of an injury probability (each costs one impact-kernel call).
+#: Monte Carlo samples of an injury probability (each costs one impact-kernel call). The cap
+#: bounds a run: crude and importance sampling and a fragility curve draw 3e5-4e5 samples/s
+#: on one (shared) core, so 2e6 samples take about 6 s (interruptible between blocks of
+#: 262,144 samples); a larger crude reference pools runs of different seeds
+#: (benchmarks/codesign.py).
 RISK_SAMPLES = Param(
-    None, "", "Monte Carlo samples", kind="integer", ge=10, le=100_000_000, default=100_000,
-    name="samples",
+    None, "", "Monte Carlo samples (at the cap about 6 s)", kind="integer", ge=10,
+    le=2_000_000, default=100_000, name="samples",
+)  # fmt: skip
+
+#: Samples per level of subset simulation: at most 20 levels (MAX_LEVELS) of that many
+#: impact-kernel evaluations at about 2e5/s on one (shared) core, so about 10 s a run at the
+#: cap (18 levels, 9 s, measured for a probability below 1e-16; interruptible between
+#: Markov-chain steps).
+SUBSET_SAMPLES = Param(
+    None, "", "samples per level of subset simulation (at the cap about 10 s)",
+    kind="integer", ge=10, le=100_000, name="samples",
 )  # fmt: skip
 
 #: Estimator of an injury probability.

@@ -63,8 +63,11 @@ from designlab.impact import (
     HeadRange,
     LinkImpact,
 )
+from designlab.impact.conditioning import check_conditioning
+from designlab.impact.metrics import param_names
 from designlab.impact.parameters import HUMAN_SPEED
 from designlab.impact.problem import FoamProblem, make_problem
+from designlab.impact.simulate import input_labels
 from designlab.results import Result, Status
 
 __all__ = ["SpeedLimit", "SpeedLimitStatus", "speed_limit"]
@@ -256,6 +259,19 @@ def problem_for(
     return prob
 
 
+def _check_served(prob: FoamProblem, foam: Foam) -> None:
+    """Refuse up front, naming the robot's or the foam's parameter, a fixed robot and foam
+    whose impact with a head of the worst-head grid double precision cannot serve (a damping
+    of 1e6 N s/m gave NaN metrics and ``contact_limit = nan``; docs/impact.md, "Limits")."""
+    if isinstance(prob.robot, LinkImpact):
+        return  # its rows are effective values at each lever arm: refused there by column
+    k, c = np.array([foam.stiffness]), np.array([foam.damping])
+    for key in prob.keys():
+        params = prob.designs(key, k, c)[0]
+        check_conditioning(params, param_names(params.shape[1]),
+                           labels=input_labels(prob.robot, None))  # fmt: skip
+
+
 def _worst_head(prob: FoamProblem, key: Criterion, foam: Foam, lever: float) -> HeadNeck:
     """The head of the grid at which ``key`` is worst (for a link, at ``lever``)."""
     k, c = np.array([foam.stiffness]), np.array([foam.damping])
@@ -405,6 +421,7 @@ def speed_limit(
     prob = problem_for(robot, criteria, foam.linear_depth, head_range, human_speed, head_levels)
     if not isinstance(refine, (bool, np.bool_)):
         raise InvalidParameterError("refine", refine, "must be True or False")
+    _check_served(prob, foam)
     if isinstance(robot, LinkImpact):
         return _summarise_link(prob, foam, brake, _link_limits(prob, foam, bool(refine)))
     return _summarise_fixed(prob, foam, brake, _fixed_limits(prob, foam, bool(refine)))

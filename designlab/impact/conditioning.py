@@ -34,6 +34,7 @@ Examples
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 from numpy.typing import NDArray
@@ -189,21 +190,28 @@ def check_conditioning(
     constrained: bool = False,
     label: str = "params",
     rows: NDArray | None = None,
+    labels: Sequence[str | None] | None = None,
 ) -> None:
     """Refuse designs whose time scales span more than double precision serves.
+
+    The error names, as the parameter, the input of the first such design that is farthest
+    from its typical range, with its value; the other inputs, the ratio and the bound follow.
 
     Parameters
     ----------
     p
         ``(N, 8)`` or ``(N, 10)`` parameter rows, finite and in their declared ranges.
     names
-        The names of the columns (named in the error).
+        The names (symbols) of the columns.
     constrained
         The constrained impact.
     label
-        The name of the batch in the error (``"params"``), or of the single design.
+        The name of the batch (``"params"``: a column is named ``params[j].M_r``).
     rows
         The caller's row numbers of ``p`` (named in the error).
+    labels
+        The caller's names of the columns (``"robot.mass"``; ``None`` for a column the caller
+        did not give, never blamed), instead of ``label[j].<name>``.
 
     Raises
     ------
@@ -219,7 +227,7 @@ def check_conditioning(
     ...                    PARAM_NAMES)
     Traceback (most recent call last):
     ...
-    designlab.errors.InvalidParameterError: params[0] = ... is not allowed: its time scales ...
+    designlab.errors.InvalidParameterError: params[0].M_r = 30000000000000.0 kg is not allowed: ...
     """
     from designlab.impact.parameters import TIME_SCALE_RATIO
 
@@ -229,19 +237,33 @@ def check_conditioning(
         return
     j = int(np.flatnonzero(bad)[0])
     row = j if rows is None else int(rows[j])
-    shown = ", ".join(f"{k}={x:.4g}" for k, x in zip(names, p[j], strict=True))
-    worst = _most_extreme(p[j], names)
+    if labels is None:
+        labels = [f"{label}[{row}].{name}" for name in names]
+    i = _most_extreme(p[j], names, labels)
+    others = ", ".join(
+        f"{k}={x:.4g}" for m, (k, x) in enumerate(zip(names, p[j], strict=True)) if m != i
+    )
     spread = (
         f"its time scales span a ratio of {ratio[j]:.3g} (fastest to slowest mode, "
         f"{TIME_SCALE_RATIO.doc})"
         if np.isfinite(ratio[j])
         else "its model coefficients are beyond double precision"
     )
+    decl = _declarations()[names[i]]
+    scale = _typical().get(names[i])
+    why = (
+        f"; {names[i]} = {p[j, i]:.4g} {decl.unit} ({decl.doc}) is the input farthest from "
+        f"its typical range "
+        f"({scale.typical[0]:g}-{scale.typical[1]:g} {decl.unit})"
+        if scale is not None and scale.typical is not None
+        else ""
+    )
     raise InvalidParameterError(
-        f"{label}[{row}]" if label == "params" else label,
-        f"[{shown}]",
-        f"{spread}; at most {TIME_SCALE_RATIO.le:g} is served to the declared accuracy in "
-        f'double precision (docs/impact.md, "Limits"){worst}',
+        str(labels[i]),
+        float(p[j, i]),
+        f"with the other inputs [{others}] {spread}; at most {TIME_SCALE_RATIO.le:g} is served "
+        f'to the declared accuracy in double precision (docs/impact.md, "Limits"){why}',
+        decl.unit,
     )
 
 
@@ -284,33 +306,42 @@ def check_eigen_route(p: NDArray, rows: NDArray, constrained: bool = False) -> N
     )
 
 
+def _declarations() -> dict[str, Param]:
+    """The declaration of each column, by column name (the full joint's effective values are
+    declared on :class:`~designlab.impact.series_joint.FullJointContact` as ``C_mech/l^2``)."""
+    from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
+    from designlab.impact.series_joint import FullJointContact
+
+    return {
+        d.symbol.split("/")[0]: d
+        for cls in (ContactDynamics, Foam, HeadNeck, FullJointContact)
+        for d in params_of(cls).values()
+        if d.symbol
+    }
+
+
 def _typical() -> dict[str, Param]:
     """The declarations with a typical range, by column name (the full joint's controller
-    gains and transmission damping take the reduced joint's K_r and C_r as their scale)."""
-    from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
-
-    decls = {
-        d.symbol: d
-        for cls in (ContactDynamics, Foam, HeadNeck)
-        for d in params_of(cls).values()
-        if d.symbol and d.typical is not None
-    }
+    gains and transmission take the reduced joint's K_r and C_r as their scale)."""
+    decls = {k: d for k, d in _declarations().items() if d.typical is not None}
     decls.update(C_mech=decls["C_r"], C_cont=decls["C_r"], K_cont=decls["K_r"])
+    decls.update(K_mech=decls["K_r"])
     return decls
 
 
-def _most_extreme(row: NDArray, names: tuple[str, ...]) -> str:
-    """``"; the most extreme: M_r = 3e+13 kg (typical 9.6-49.4)"`` (empty if none is known)."""
+def _most_extreme(row: NDArray, names: tuple[str, ...], labels: Sequence[str | None]) -> int:
+    """The column of ``row`` farthest (in decades) from its typical range, among those the
+    caller gave (``labels[i]`` not ``None``) and > 0 (the first given one if none is)."""
     typical = _typical()
-    best, text = 0.0, ""
-    for name, x in zip(names, row, strict=True):
+    best, pick = -1.0, next(i for i, lab in enumerate(labels) if lab is not None)
+    for i, (name, x) in enumerate(zip(names, row, strict=True)):
         decl = typical.get(name)
-        if decl is None or decl.typical is None or decl.typical[0] <= 0 or x <= 0:
+        if labels[i] is None or decl is None or decl.typical is None or not x > 0:
+            continue
+        if decl.typical[0] <= 0:
             continue
         lo, hi = decl.typical
         decades = max(math.log10(lo / x), math.log10(x / hi), 0.0)
         if decades > best:
-            best = decades
-            unit = f" {decl.unit}" if decl.unit else ""
-            text = f"; the most extreme: {name} = {x:.4g}{unit} (typical {lo:g}-{hi:g})"
-    return text
+            best, pick = decades, i
+    return pick

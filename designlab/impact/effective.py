@@ -43,7 +43,8 @@ from designlab.errors import (
 )
 from designlab.impact.metrics import metrics_of_matrix
 from designlab.impact.model import param_vector
-from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
+from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck, LinkImpact
+from designlab.params import params_of
 from designlab.results import OK, Result
 from designlab.validation import frozen_array, real_array
 
@@ -617,13 +618,14 @@ def impact_point_sweep(
     Parameters
     ----------
     inertia
-        Joint inertia m_11 in kg m^2 (> 0).
+        Joint inertia m_11 in kg m^2 (declared on
+        :class:`~designlab.impact.parameters.LinkImpact`, as the next three).
     joint_stiffness
-        K_J in N m/rad (>= 0).
+        K_J in N m/rad.
     joint_damping
-        C_J in N m s/rad (>= 0).
+        C_J in N m s/rad.
     joint_speed
-        Desired joint speed theta_dot in rad/s.
+        Desired joint speed theta_dot in rad/s (>= 0).
     lever_arms
         Distances l from the joint axis to the impact point, m (each > 0).
 
@@ -637,18 +639,22 @@ def impact_point_sweep(
     >>> s.mass.round(3)
     array([5.9  , 1.475, 0.656, 0.369, 0.236])
     """
-    m = check_positive("inertia", inertia, _M_UNIT)
-    k = check_nonnegative("joint_stiffness", joint_stiffness, _K_UNIT)
-    c = check_nonnegative("joint_damping", joint_damping, _C_UNIT)
-    w = check_finite("joint_speed", joint_speed, "rad/s")
+    link = params_of(LinkImpact)  # the same bounds as a link's (Sec. 3.7.3)
+    m = link["inertia"].check(inertia, "inertia")
+    k = link["joint_stiffness"].check(joint_stiffness, "joint_stiffness")
+    c = link["joint_damping"].check(joint_damping, "joint_damping")
+    w = link["joint_speed"].check(joint_speed, "joint_speed")
     arms = np.atleast_1d(real_array("lever_arms", lever_arms, "m"))
     if arms.ndim != 1 or arms.size == 0:
         raise InvalidParameterError(
             "lever_arms", f"array of shape {arms.shape}", "must be a non-empty 1-D array", "m"
         )
-    if np.any(arms <= 0.0):
+    top = link["lever_arm_max"].le
+    bad = ~((arms > 0.0) & (arms <= top))
+    if np.any(bad):
+        i = int(np.flatnonzero(bad)[0])
         raise InvalidParameterError(
-            "lever_arms", float(arms[arms <= 0.0][0]), "every entry must be > 0", "m"
+            f"lever_arms[{i}]", float(arms[i]), f"every entry must be > 0 and <= {top:g}", "m"
         )
     l2 = arms**2
     return ImpactPointSweep(

@@ -170,8 +170,19 @@ def check_grid(decl: Param, count: Param, value: Any, name: str) -> NDArray[np.f
             size = len(value) if hasattr(value, "__len__") else 1
         except TypeError:
             size = 1
-    count.check(int(size), f"{name} (number of values)")
+    try:
+        count.check(int(size), f"{name} (number of values)")
+    except InvalidParameterError as err:
+        if size > 10:
+            raise
+        raise InvalidParameterError(  # a few values: shown as given
+            name, value, f"must have {count.allowed()} values, not {size}", decl.unit
+        ) from err
     check_size(name, f"{size} values", float(size))
+    if isinstance(value, (list, tuple)) or (isinstance(value, np.ndarray) and value.dtype == bool):
+        for i, x in enumerate(value if isinstance(value, (list, tuple)) else value.flat):
+            if isinstance(x, (bool, np.bool_)):
+                raise InvalidParameterError(f"{name}[{i}]", x, "must be a number, not a boolean")
     try:
         arr = np.atleast_1d(np.asarray(value, dtype=float))
     except (TypeError, ValueError):

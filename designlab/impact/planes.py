@@ -51,7 +51,13 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from designlab.errors import InvalidParameterError
-from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
+from designlab.impact.parameters import (
+    HEAD_VELOCITY,
+    ROBOT_VELOCITY,
+    ContactDynamics,
+    Foam,
+    HeadNeck,
+)
 from designlab.impact.peaks import first_peak
 from designlab.impact.series_joint import FullJointContact
 from designlab.impact.simulate import simulate
@@ -90,10 +96,11 @@ def _vector(name: str, value: Any, unit: str, size: int | None = None) -> NDArra
 
 def _unit_normal(name: str, value: Any, size: int | None = None) -> NDArray[np.float64]:
     n = _vector(name, value, "", size)
-    norm = float(np.linalg.norm(n))
-    if norm == 0.0:
+    scale = float(np.max(np.abs(n)))  # scaled first: a norm of 1e-300 or 1e300 is no 0 or inf
+    if scale == 0.0:
         raise InvalidParameterError(name, value, "must be a non-zero vector (the contact normal)")
-    return n / norm
+    n = n / scale
+    return n / float(np.linalg.norm(n))
 
 
 @dataclass(frozen=True)
@@ -154,6 +161,30 @@ def _angle(v: NDArray[np.float64], n: NDArray[np.float64], sign: float) -> float
     return math.acos(max(-1.0, min(1.0, sign * float(v @ n) / speed)))
 
 
+def _closing_inputs(robot_velocity: Any, head_velocity: Any, normal: Any) -> tuple[NDArray, ...]:
+    """The checked vectors of :func:`closing_speed`: the one whose length differs from the
+    other two named; speeds within the declared bounds of v_r and v_h (Sec. 3.4)."""
+    given = {"robot_velocity": robot_velocity, "head_velocity": head_velocity, "normal": normal}
+    vecs = {k: _vector(k, v, "" if k == "normal" else "m/s") for k, v in given.items()}
+    sizes = [v.size for v in vecs.values()]
+    if len(set(sizes)) > 1:
+        odd = next(k for k, v in vecs.items() if sizes.count(v.size) == 1)
+        size = next(s for s in sizes if sizes.count(s) == 2)
+        raise InvalidParameterError(
+            odd, given[odd], f"must be a vector of length {size}, as the other two of "
+            "robot_velocity, head_velocity and normal", "" if odd == "normal" else "m/s",
+        )  # fmt: skip
+    for key, decl in (("robot_velocity", ROBOT_VELOCITY), ("head_velocity", HEAD_VELOCITY)):
+        with np.errstate(over="ignore"):
+            speed = float(np.linalg.norm(vecs[key]))
+        if not speed <= decl.le:  # also an overflow to inf
+            raise InvalidParameterError(
+                key, given[key], f"its magnitude ({speed:g} m/s) must be <= {decl.le:g} m/s "
+                f"(the declared bound of the {decl.doc}, {decl.symbol})", "m/s",
+            )  # fmt: skip
+    return vecs["robot_velocity"], vecs["head_velocity"], _unit_normal("normal", normal)
+
+
 def closing_speed(
     robot_velocity: ArrayLike, head_velocity: ArrayLike, normal: ArrayLike
 ) -> ClosingSpeed:
@@ -193,9 +224,7 @@ def closing_speed(
     >>> round(closing_speed((0.25, 0.0), (-0.5, 0.866), (1.0, 0.0)).closing_speed, 3)
     0.75
     """
-    v_r = _vector("robot_velocity", robot_velocity, "m/s")
-    v_h = _vector("head_velocity", head_velocity, "m/s", v_r.size)
-    n = _unit_normal("normal", normal, v_r.size)
+    v_r, v_h, n = _closing_inputs(robot_velocity, head_velocity, normal)
     v_c = float((v_r - v_h) @ n)
     return ClosingSpeed(
         closing_speed=v_c,

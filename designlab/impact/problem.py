@@ -347,7 +347,7 @@ class FoamLanes(FoamProblem):
 
 
 def _closing_velocity(robot: object, impact_velocity: float | None) -> float:
-    """v_c of a fixed robot (checked; 1.25 m/s by default), NaN for a robot at joint level."""
+    """v_c of a fixed robot (checked; it must be given), NaN for a robot at joint level."""
     if isinstance(robot, LinkImpact):
         if impact_velocity is not None:
             raise InvalidParameterError(
@@ -358,7 +358,15 @@ def _closing_velocity(robot: object, impact_velocity: float | None) -> float:
             )
         return float("nan")
     if isinstance(robot, (ContactDynamics, FullJointContact)):
-        return IMPACT_VELOCITY.check(1.25 if impact_velocity is None else impact_velocity)
+        if impact_velocity is None:
+            raise InvalidParameterError(
+                "impact_velocity",
+                None,
+                f"must be given for a {type(robot).__name__} robot ({IMPACT_VELOCITY.allowed()} "
+                "m/s); None only for a LinkImpact, whose speed comes from the joint",
+                "m/s",
+            )
+        return IMPACT_VELOCITY.check(impact_velocity)
     raise InvalidParameterError(
         "robot", robot, "must be a ContactDynamics, a FullJointContact or a LinkImpact"
     )

@@ -567,6 +567,25 @@ def _no_impact(
     )  # fmt: skip
 
 
+def input_labels(robot: object, head: object) -> tuple[str | None, ...]:
+    """The names of simulate's inputs in the order of the model's parameter row (``None``
+    for the constrained head's placeholders): the names of a conditioning refusal.
+
+    Examples
+    --------
+    >>> import designlab as dl
+    >>> input_labels(dl.impact.MANIPULATOR_1, None)[:2]
+    ('robot.mass', 'robot.damping')
+    """
+    heads = (None,) * 3 if head is None else ("head.mass", "head.damping", "head.stiffness")
+    if isinstance(robot, FullJointContact):  # FULL_PARAM_NAMES
+        return ("robot.mass", "robot.transmission_damping", "robot.transmission_stiffness",
+                "foam.stiffness", "foam.damping", *heads,
+                "robot.control_damping", "robot.control_stiffness")  # fmt: skip
+    return ("robot.mass", "robot.damping", "robot.stiffness", "foam.stiffness", "foam.damping",
+            *heads)  # fmt: skip
+
+
 def _check_inputs(
     robot: object,
     foam: object,
@@ -592,7 +611,9 @@ def _check_inputs(
     if profile is not None and not isinstance(profile, VelocityProfile):
         raise InvalidParameterError("profile", profile, "must be a VelocityProfile or None")
     model, p = _model_and_params(robot, foam, head)
-    check_conditioning(p, model.param_names, constrained=head is None, label="robot, foam and head")
+    check_conditioning(
+        p, model.param_names, constrained=head is None, labels=input_labels(robot, head)
+    )
     return v_c
 
 

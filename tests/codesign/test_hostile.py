@@ -398,3 +398,57 @@ def test_design_sobol_names_a_metric_that_is_not_a_finite_number():
 def test_errors_show_the_value_given(call, name, shown):
     e = _raises(name, call)
     assert shown in str(e)
+
+
+# --- issue 41: sample counts that run in reasonable time ---------------------------------
+
+
+@pytest.mark.parametrize("samples", [10**8, 2_000_001])
+def test_sample_counts_beyond_the_declared_cap_are_refused(samples) -> None:
+    """``samples=1e8`` was admitted and ran far beyond 20 s; the cap is 2e6 (about 6 s)."""
+    from designlab.codesign.parameters import RISK_SAMPLES
+
+    assert RISK_SAMPLES.le == 2_000_000
+    with pytest.raises(InvalidParameterError, match=rf"samples = {samples} .*<= 2e\+06"):
+        dl.codesign.injury_probability(MANIPULATOR_1, FOAM_1, 1.0, samples=samples)
+    with pytest.raises(InvalidParameterError, match=rf"samples = {samples} .*<= 2e\+06"):
+        dl.codesign.fragility_curve(MANIPULATOR_1, FOAM_1, speeds=[0.5, 1.0], samples=samples)
+
+
+def test_subset_simulation_has_its_own_cap_per_level() -> None:
+    """Up to 20 levels of ``samples`` evaluations each: 1e5 per level is about 10 s."""
+    from designlab.codesign.parameters import SUBSET_SAMPLES
+
+    with pytest.raises(InvalidParameterError, match=r"samples \(per level .*\) = 100001"):
+        dl.codesign.injury_probability(
+            MANIPULATOR_1, FOAM_1, 1.0, samples=SUBSET_SAMPLES.le + 1, method="subset"
+        )
+
+
+def test_long_runs_report_progress_between_blocks() -> None:
+    """The blocks are Python-level steps: a progress callback (or Ctrl-C) acts between them."""
+    from designlab.codesign.risk import BLOCK
+
+    steps: list[int] = []
+    dl.codesign.fragility_curve(MANIPULATOR_1, FOAM_1, speeds=[1.0], samples=BLOCK + 10,
+                                progress=lambda p: steps.append(p.step))  # fmt: skip
+    assert steps == [1, 2]
+
+
+@pytest.mark.parametrize(
+    ("where", "field", "value"),
+    [("robot", "damping", 1e6), ("foam", "damping", 1e6), ("robot", "damping", 1e300)],
+)
+def test_speed_limit_refuses_what_double_precision_cannot_serve_by_name(
+    where, field, value
+) -> None:
+    """A damping of 1e6 N s/m gave NaN metrics, then ``contact_limit = nan`` was refused;
+    now the robot's or the foam's parameter is named up front with its value."""
+    import dataclasses
+
+    args = {"robot": MANIPULATOR_1, "foam": FOAM_1}
+    args[where] = dataclasses.replace(args[where], **{field: value})
+    with pytest.raises(InvalidParameterError) as err:
+        dl.codesign.speed_limit(args["robot"], args["foam"])
+    assert (err.value.name, err.value.value) == (f"{where}.{field}", value)
+    assert "nan" not in str(err.value) and "at most 10000" in str(err.value)

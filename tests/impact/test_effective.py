@@ -289,7 +289,7 @@ def test_impact_point_sweep_matches_single_joint():
 def test_impact_point_sweep_rejects_bad_arms():
     with pytest.raises(InvalidParameterError) as info:
         impact_point_sweep(0.059, 1.0, 1.0, 5.2, [0.1, 0.0])
-    assert info.value.name == "lever_arms"
+    assert (info.value.name, info.value.value) == ("lever_arms[1]", 0.0)
     with pytest.raises(InvalidParameterError):
         impact_point_sweep(0.059, 1.0, 1.0, 5.2, [])
 

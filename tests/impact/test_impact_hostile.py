@@ -427,8 +427,54 @@ def test_simulate_refuses_what_it_cannot_serve_and_never_blames_duration(mass) -
     robot = dl.impact.ContactDynamics(mass, 2e4, 250.0)
     with pytest.raises(InvalidParameterError) as err:
         dl.impact.simulate(robot, FOAM_1, HEAD_MIN, 1.25)
-    assert "robot, foam and head" in str(err.value) and "duration" not in str(err.value)
-    assert "M_r" in str(err.value)
+    assert err.value.name == "robot.mass" and err.value.value == mass
+    assert "duration" not in str(err.value) and "M_r" in str(err.value)
+
+
+_IMPACT_DEFAULTS = {"robot": MANIPULATOR_1, "foam": FOAM_1, "head": HEAD_MIN}
+
+
+@pytest.mark.parametrize(
+    ("where", "field", "value"),
+    [
+        ("robot", "damping", 1e300),
+        ("robot", "mass", 1e300),
+        ("foam", "damping", 1e6),
+        ("head", "mass", 1e-6),
+        ("head", "damping", 1e6),
+    ],
+)
+def test_the_conditioning_refusal_names_the_farthest_parameter_and_its_value(
+    where, field, value
+) -> None:
+    """It named ``robot, foam and head`` (or ``params[0]``) with all the values; now the
+    input farthest from its typical range is the parameter, as the caller spelled it."""
+    args = dict(_IMPACT_DEFAULTS)
+    args[where] = dataclasses.replace(args[where], **{field: value})
+    with pytest.raises(InvalidParameterError) as err:
+        dl.impact.simulate(args["robot"], args["foam"], args["head"], 1.25)
+    assert (err.value.name, err.value.value) == (f"{where}.{field}", value)
+    assert str(err.value).startswith(f"{where}.{field} = {value!r} ")
+    assert "at most 10000" in str(err.value)
+    if where == "head":
+        return
+    symbol = params_of(type(args[where]))[field].symbol
+    with pytest.raises(InvalidParameterError) as err:
+        dl.impact.max_safe_velocity(args["robot"], args["foam"])
+    assert (err.value.name, err.value.value) == (f"params[0].{symbol}", value)
+    assert field in str(err.value)  # the declaration's meaning: "foam damping C_c"
+
+
+@pytest.mark.parametrize(
+    ("field", "value"),
+    [("control_damping", 1e9), ("transmission_damping", 1e300), ("mass", 1e18),
+     ("mass", 1e-200), ("transmission_stiffness", 1e300)],
+)  # fmt: skip
+def test_the_full_joints_conditioning_refusal_names_the_robots_field(field, value) -> None:
+    arm = dataclasses.replace(GEARED, **{field: value})
+    with pytest.raises(InvalidParameterError) as err:
+        dl.impact.simulate(arm, FOAM_1, HEAD_MIN, 1.25)
+    assert (err.value.name, err.value.value) == (f"robot.{field}", value)
 
 
 @pytest.mark.parametrize("column", ["K_h", "K_c", "C_h", "C_c"])
@@ -550,3 +596,84 @@ def test_each_parameter_at_its_extreme_is_right_or_refused(name, value) -> None:
            "eps_max": m.max_compression[0], "f_max": m.peak_force[0]}  # fmt: skip
     for key, v in got.items():
         assert abs(float(v) - exact[key]) <= tol[key], (key, v, exact[key])
+
+
+# --- issue 41, the last silent and unclear impact answers ------------------------------------
+
+
+@pytest.mark.parametrize("which", ["robot_velocity", "head_velocity"])
+def test_closing_speed_refuses_speeds_beyond_their_declaration(which) -> None:
+    """[1e300, 0, 0] gave an infinite speed with status ok; the declared bound is 20 m/s."""
+    from designlab.impact.parameters import ROBOT_VELOCITY
+
+    args = {"robot_velocity": [1.0, 0.0, 0.0], "head_velocity": [-0.5, 0.0, 0.0]}
+    args[which] = [1e300, 0.0, 0.0]
+    with pytest.raises(InvalidParameterError, match=rf"{which} = \[1e\+300, 0\.0, 0\.0\] m/s"):
+        dl.impact.closing_speed(args["robot_velocity"], args["head_velocity"], [1.0, 0, 0])
+    args[which] = [ROBOT_VELOCITY.le, 0.0, 0.0]  # at the bound: answered
+    c = dl.impact.closing_speed(args["robot_velocity"], args["head_velocity"], [1.0, 0, 0])
+    assert math.isfinite(c.closing_speed)
+
+
+@pytest.mark.parametrize("odd", [0, 1, 2])
+def test_closing_speed_blames_the_vector_whose_length_differs(odd) -> None:
+    """A 2-vector robot_velocity was reported as a wrong head_velocity."""
+    names = ("robot_velocity", "head_velocity", "normal")
+    vectors = [[1.0, 0.0, 0.0], [-0.5, 0.0, 0.0], [1.0, 0.0, 0.0]]
+    vectors[odd] = vectors[odd][:2]
+    with pytest.raises(InvalidParameterError) as err:
+        dl.impact.closing_speed(*vectors)
+    assert (err.value.name, err.value.value) == (names[odd], vectors[odd])
+    assert "length 3" in str(err.value)
+
+
+def test_foam_envelope_needs_the_impact_velocity_of_a_fixed_robot() -> None:
+    """``impact_velocity=None`` silently meant 1.25 m/s; None is for a LinkImpact only."""
+    with pytest.raises(InvalidParameterError, match=r"impact_velocity = None .*LinkImpact"):
+        dl.impact.foam_envelope(MANIPULATOR_1, impact_velocity=None, damping=[0.0, 60.0])
+
+
+@pytest.mark.parametrize(
+    ("field", "value"),
+    [("inertia", 1e300), ("inertia", 2e4), ("inertia", "text"), ("joint_damping", 1e300),
+     ("joint_damping", "text"), ("joint_stiffness", 2e9), ("joint_speed", 1e300),
+     ("joint_speed", -1.0)],
+)  # fmt: skip
+def test_impact_point_sweep_checks_through_the_links_declarations(field, value) -> None:
+    """Values LinkImpact refuses (1e300, text, a negative speed) were answered."""
+    decl = params_of(dl.impact.LinkImpact)[field]
+    args = {"inertia": 0.059, "joint_stiffness": 100.0, "joint_damping": 2.0, "joint_speed": 3.0}
+    args[field] = value
+    with pytest.raises(InvalidParameterError) as err:
+        dl.impact.impact_point_sweep(**args, lever_arms=[0.05, 0.1])
+    assert (err.value.name, err.value.value) == (field, value)
+    assert f"<= {decl.le:g}" in str(err.value)
+
+
+@pytest.mark.parametrize(
+    ("arms", "shown"), [([True, False], "[True, False]"), ([0.1, 1e3], "lever_arms[1] = 1000.0")]
+)
+def test_impact_point_sweep_names_the_lever_arms_as_given(arms, shown) -> None:
+    with pytest.raises(InvalidParameterError, match=re.escape(shown)):
+        dl.impact.impact_point_sweep(0.059, 100.0, 2.0, 3.0, arms)
+
+
+@pytest.mark.parametrize(
+    ("omega", "shown"),
+    [([], "omega_max = []"), ([True, False], "omega_max[0] = True"),
+     (list(range(1, 1100)), "omega_max (number of values) = 1099")],
+)  # fmt: skip
+def test_band_fit_sweep_names_the_grid_as_given(omega, shown) -> None:
+    """``[]`` was shown as ``0``, ``[True, False]`` as ``0.0``."""
+    with pytest.raises(InvalidParameterError, match=re.escape(shown)):
+        dl.impact.band_fit_sweep(GEARED, FOAM_1, HEAD_MIN, 1.25, omega)
+
+
+@pytest.mark.parametrize("scale", [1e-300, 1e300])
+def test_a_normal_of_any_finite_length_is_normalised(scale) -> None:
+    """[1e-300, 0, 0] was refused as a zero vector (its norm underflowed); [1e300, 1e300, 0]
+    overflowed to inf. The answer is (v_r - v_h) . n / |n|: 1.5 and 1.5 cos 45 deg."""
+    c = dl.impact.closing_speed([1.0, 0.0, 0.0], [-0.5, 0.0, 0.0], [scale, 0.0, 0.0])
+    assert c.closing_speed == 1.5
+    c = dl.impact.closing_speed([1.0, 0.0, 0.0], [-0.5, 0.0, 0.0], [scale, scale, 0.0])
+    assert c.closing_speed == pytest.approx(1.5 / math.sqrt(2.0), rel=1e-15)
