@@ -381,6 +381,21 @@ def audit_metrics(
     midpoints of :data:`AUDIT_CELLS` cells over ``[0, t_imp]``: no output above its
     maximum (beyond 1e-8 relative), a_h not provably negative before ``t_imp``.
 
+    Parameters
+    ----------
+    poles
+        ``(N, K)`` folded poles (as :func:`modal_metrics`).
+    residues
+        ``(N, 3, K)`` residues of force, head acceleration, compression.
+    poly
+        ``(N, 3, 2)`` polynomial parts ``c0 t + c1``.
+    rows
+        ``(N, width)`` the metrics found by the other path (the kernel's row layout).
+    codes
+        ``(N,)`` their status codes (copied; the input is not changed).
+    lobe
+        Whether the metrics end at the first lobe's end (else a fixed window).
+
     Returns
     -------
     NDArray

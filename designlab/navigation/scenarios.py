@@ -707,16 +707,7 @@ class Scenario:
             raise InvalidParameterError(
                 "Scenario.obstacles", names, "obstacle names must be unique"
             )
-        if self.horizon < self.sample_time:  # not one step to simulate
-            raise InvalidParameterError(
-                "Scenario.horizon", self.horizon,
-                f"must be at least the sample time {self.sample_time} s", "s",
-            )  # fmt: skip
         for o in self.obstacles:
-            if not isinstance(o, Disc | Rectangle):
-                raise InvalidParameterError(
-                    "Scenario.obstacles", o, "must contain Disc or Rectangle objects"
-                )
             contact = o.collision_distance(self.robot.radius)
             if o.r2 <= contact:
                 raise InvalidParameterError(
