@@ -949,16 +949,9 @@ def _numpy_rows(
     n = h.size
     names = tuple(k for k in _KERNEL_OUTPUTS if k in resp)
     status = np.full(n, STATUS_OK, dtype=object)
-    t_low = np.full(n, np.nan)
-    if constrained:
-        h = np.minimum(h, stop_time / 64.0)
-        t_imp = np.full(n, float(stop_time))
-    else:
-        t_imp, found, t_low = _lobe_end(
-            resp["head_acceleration"], h, stop_time, max_lobe_steps, diagnostics
-        )
-        status[~found] = STATUS_LOBE_OPEN
-    out = _lobe_maxima(resp, names, t_imp, h, status)
+    out, t_imp, t_low = _window_maxima(
+        resp, names, h, status, constrained, stop_time, max_lobe_steps, diagnostics
+    )
     col = {k: i for i, k in enumerate(kernel.COLUMNS)}
     rows = np.full((n, len(kernel.COLUMNS)), np.nan)
     pairs = {"force": ("t_f", "f_max"), "head_acceleration": ("t_a", "a_max")}
@@ -1028,17 +1021,37 @@ def metrics_from_responses(
             return fast
     if not kernel.AVAILABLE:
         say_no_jit("impact metrics")
-    t_low = np.full(n, np.nan)
+    out, t_imp, t_low = _window_maxima(
+        resp, names, h, status, constrained, stop_time, max_lobe_steps, lobe_diagnostics
+    )
+    return _scaled(p, v, out, t_imp, t_low, status, constrained, lobe_diagnostics)
+
+
+def _window_maxima(
+    resp: dict[str, ModalResponse],
+    names: tuple[str, ...],
+    h: NDArray,
+    status: NDArray,
+    constrained: bool,
+    stop_time: float,
+    max_lobe_steps: int,
+    diagnostics: bool,
+) -> tuple[dict[str, tuple[NDArray, NDArray]], NDArray, NDArray]:
+    """The numpy path's window (the lobe, or ``[0, stop_time]`` constrained) and its maxima.
+
+    Marks ``status`` where the lobe does not close; returns the maxima of
+    :func:`_lobe_maxima`, ``t_imp`` and ``t_low`` (NaN without diagnostics or constrained).
+    """
+    t_low = np.full(h.size, np.nan)
     if constrained:
         h = np.minimum(h, stop_time / 64.0)
-        t_imp = np.full(n, float(stop_time))
+        t_imp = np.full(h.size, float(stop_time))
     else:
         t_imp, found, t_low = _lobe_end(
-            resp["head_acceleration"], h, stop_time, max_lobe_steps, lobe_diagnostics
+            resp["head_acceleration"], h, stop_time, max_lobe_steps, diagnostics
         )
         status[~found] = STATUS_LOBE_OPEN
-    out = _lobe_maxima(resp, names, t_imp, h, status)
-    return _scaled(p, v, out, t_imp, t_low, status, constrained, lobe_diagnostics)
+    return _lobe_maxima(resp, names, t_imp, h, status), t_imp, t_low
 
 
 def _lobe_end(
