@@ -134,3 +134,15 @@ def test_a_new_law_runs_in_the_engines_without_touching_them():
         tether.linear_analysis(FollowTheLeader()).damping_ratio, rel=0, abs=0
     )
     assert math.isfinite(new.tether_length[-1])
+
+
+def test_the_comparison_table_ratios_cover_every_law_behind():
+    """The summary's ratio columns: the reference law against every other law behind."""
+    from designlab.report.tether import _RATIO_LAWS, _REFERENCE
+
+    behind = LAWS.variants(placement="behind")
+    assert _REFERENCE is behind[0]
+    assert {_REFERENCE, *_RATIO_LAWS} == set(behind)
+    assert [law.measured for law in _RATIO_LAWS] == sorted(
+        (law.measured for law in _RATIO_LAWS), reverse=True
+    )
