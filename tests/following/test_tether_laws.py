@@ -146,3 +146,12 @@ def test_the_comparison_table_ratios_cover_every_law_behind():
     assert [law.measured for law in _RATIO_LAWS] == sorted(
         (law.measured for law in _RATIO_LAWS), reverse=True
     )
+
+
+def test_the_docs_table_of_the_laws_is_the_registry():
+    from pathlib import Path
+
+    from designlab.following.tether.laws.registry import TABLE_COLUMNS
+
+    docs = (Path(__file__).resolve().parents[2] / "docs" / "following.md").read_text()
+    assert LAWS.table(TABLE_COLUMNS) in docs
