@@ -126,7 +126,10 @@ class NavigationPlannersStudy(StudyBase):
     @model_validator(mode="after")
     def _something(self) -> NavigationPlannersStudy:
         if not self.planners and not self.methods:
-            raise ValueError("give at least one planner or method")
+            raise ValueError(
+                "planners = [] and methods = []: give at least one planner or method (a "
+                "planners entry such as {method: vo}, or a methods entry such as {method: vff})"
+            )
         return self
 
     def size(self) -> str:
