@@ -5,15 +5,18 @@ Ge & Cui 2002, and the CBF safety filter, alone or on the new VFF) is one object
 :class:`~designlab.navigation.methods.base.NavigationMethod` declared in its own module:
 its gains and defaults, how they become a row of the simulator's gain array, its
 capabilities (batched, stabilised, filtered, run among crowds) and its force, written in
-the terms of :mod:`designlab.navigation.field_terms`. :data:`METHODS` is the registry;
+the terms of :mod:`designlab.navigation.field_terms`. The Sec. 5.7 planners (velocity
+obstacles, ERRT, Field D*) stand behind the same face
+(:class:`~designlab.navigation.methods.base.Planner`): their settings and the velocity
+they command each period. :data:`METHODS` is the registry;
 engines, kinds and reports look a method up there and ask it, never its name. A new
 method is one module and one line below.
 
 Examples
 --------
 >>> from designlab.navigation.methods import METHODS, method_of
->>> METHODS.choices()
-('vff', 'masoud', 'ge_cui', 'cbf', 'vff_cbf')
+>>> METHODS.choices(force_field=True), METHODS.choices(planner=True)
+(('vff', 'masoud', 'ge_cui', 'cbf', 'vff_cbf'), ('vo', 'nlvo', 'errt', 'field_dstar'))
 >>> METHODS.choices(batched=True), METHODS.labels(filtered=True)
 (('vff', 'masoud', 'ge_cui'), {'cbf': 'CBF', 'vff_cbf': 'New VFF + CBF'})
 >>> m = method_of("masoud")
@@ -35,12 +38,15 @@ from designlab.navigation.methods.base import (
     TIE_SIDE,
     Filtered,
     NavigationMethod,
+    Planner,
 )
 from designlab.navigation.methods.cbf import CBF
+from designlab.navigation.methods.errt import ERRT
+from designlab.navigation.methods.field_dstar import FIELD_DSTAR
 from designlab.navigation.methods.ge_cui import GE_CUI
 from designlab.navigation.methods.masoud import MASOUD
 from designlab.navigation.methods.vff import VFF
-from designlab.params import Param
+from designlab.navigation.methods.vo import NLVO, VO
 from designlab.registry import Registry
 
 __all__ = [
@@ -51,6 +57,7 @@ __all__ = [
     "STABILISING",
     "TIE_SIDE",
     "NavigationMethod",
+    "Planner",
     "method_of",
 ]
 
@@ -64,6 +71,10 @@ METHODS: Registry[NavigationMethod] = Registry(
         GE_CUI,
         CBF,
         Filtered("vff_cbf", "New VFF + CBF", "the new VFF filtered by the CBF", nominal=VFF),
+        VO,
+        NLVO,
+        ERRT,
+        FIELD_DSTAR,
     ],
 )
 
@@ -75,12 +86,7 @@ CROWD_METHOD = METHODS.param("navigation method among a crowd", default=VFF.name
 #: The Sec. 5.7 planners (velocity obstacles linear and non-linear, ERRT, Field D*): they
 #: command a velocity, not a force, and are simulated by
 #: :func:`designlab.navigation.planners.simulate_planner`.
-PLANNER = Param(
-    doc="Sec. 5.7 planner",
-    kind="choice",
-    choices=("vo", "nlvo", "errt", "field_dstar"),
-    name="method",
-)
+PLANNER = METHODS.param("Sec. 5.7 planner", planner=True)
 
 
 def method_of(name: Any, **capabilities: Any) -> NavigationMethod:
@@ -95,10 +101,10 @@ def method_of(name: Any, **capabilities: Any) -> NavigationMethod:
     **capabilities
         Only the methods with these capabilities are allowed (``batched=True``).
     """
-    if isinstance(name, str) and name in PLANNER.choices:
+    if name in METHODS and METHODS.get(name).planner:
         raise InvalidParameterError(
             "method", name, "a Sec. 5.7 planner is not a force-field method nor batched: run "
             f"it with designlab.navigation.simulate(scenario, method={name!r}) (which calls "
             "designlab.navigation.planners.simulate_planner; docs/navigation_planners.md)",
         )  # fmt: skip
-    return METHODS.get(name, **capabilities)
+    return METHODS.get(name, force_field=True, **capabilities)

@@ -6,7 +6,8 @@ A method is one object registered by its public name in
 * its ``name``, report ``label`` and one-line ``doc``;
 * its gains (``gains_type``, ``used_gains``, the default, the row of the simulator's gain
   array, the gains of a row, the tie side it implies);
-* its capabilities: ``force_field`` (a virtual force, simulated by the engine),
+* its capabilities: ``force_field`` (a virtual force, simulated by the engine) or
+  ``planner`` (a Sec. 5.7 planner commanding a velocity, :class:`Planner`),
   ``batched`` (many gain sets at once), ``stabilised`` (the Lyapunov stabilising force
   F_L of (5.4.6) and its audit), ``filtered`` (one CBF QP per period corrects its
   force), ``crowds`` (simulated among pedestrians), ``baseline`` (a Sec. 2.2.4 baseline
@@ -19,6 +20,7 @@ Engines never test a method's name; they look the method up and ask it.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -34,6 +36,7 @@ __all__ = [
     "TIE_SIDE",
     "Filtered",
     "NavigationMethod",
+    "Planner",
 ]
 
 #: The columns of the simulator's gain array (k1, b, k3, k5).
@@ -227,3 +230,84 @@ class Filtered(NavigationMethod):
 
     def forces(self, items: list[Obs], s: Symbols) -> Forces:
         return self.nominal.forces(items, s)
+
+
+class Planner(NavigationMethod):
+    """A Sec. 5.7 planner: it commands a velocity each period (no force field, no gains).
+
+    :func:`designlab.navigation.planners.simulate_planner` runs it: the robot tracks the
+    commanded velocity at its acceleration limit (``docs/navigation_planners.md``).
+
+    Parameters
+    ----------
+    name, label, doc
+        As for :class:`NavigationMethod`.
+    """
+
+    gains_type = None
+    used_gains = ()
+    force_field = False
+    planner = True
+    batched = False
+    crowds = False
+    #: Its settings class (each default from its paper).
+    settings_type: Any = None
+    #: Whether it is randomised (runs differ by their settings' seed).
+    seeded = False
+
+    def default_gains(self) -> Any:
+        raise InvalidParameterError(
+            "gains", None, f"do not apply to {self.name!r}, a Sec. 5.7 planner: it takes settings"
+        )
+
+    def gains(self, gains: Any) -> Any:
+        return self.default_gains()
+
+    def settings(self, settings: Any) -> Any:
+        """The settings checked for this planner (its defaults if ``None``).
+
+        Parameters
+        ----------
+        settings
+            The settings given, or ``None``.
+        """
+        cls = self.settings_type
+        out = cls() if settings is None else settings
+        if not isinstance(out, cls):
+            raise InvalidParameterError("settings", settings, f"must be a {cls.__name__}")
+        return out
+
+    def check_run(self, scenario: Any, settings: Any, steps: int, step: float) -> None:
+        """Refuse a run too large for the planner before it starts (none is, by default).
+
+        Parameters
+        ----------
+        scenario
+            The scenario.
+        settings
+            The planner's settings.
+        steps
+            Dynamics steps of the run.
+        step
+            The dynamics step in s.
+        """
+
+    def commander(
+        self, scenario: Any, settings: Any, toward: Callable[[Any, Any], Any]
+    ) -> Callable[..., Any]:
+        """The planner as ``command(world, position, velocity) -> velocity``.
+
+        Parameters
+        ----------
+        scenario
+            The scenario (goal, robot limits, navigation period).
+        settings
+            The planner's settings.
+        toward
+            ``toward(position, waypoint) -> velocity``: toward a waypoint at the robot's
+            speed, braking to stop at the goal.
+        """
+        raise NotImplementedError(f"{type(self).__name__} does not define its commander")
+
+    def forces(self, items: list[Obs], s: Symbols) -> Forces:
+        raise InvalidParameterError("method", self.name, "is a Sec. 5.7 planner: no force field")

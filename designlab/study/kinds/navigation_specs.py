@@ -48,7 +48,6 @@ from designlab.navigation.parameters import (
     NonholonomicRobot,
     VFFGains,
 )
-from designlab.navigation.planners.simulate import PLANNER_SETTINGS
 from designlab.navigation.scenario_io import (
     OBSTACLE_KINDS,
     obstacle_from_dict,
@@ -421,11 +420,11 @@ class MethodSpec(Model):
     @property
     def planner(self) -> bool:
         """Whether the method is a Sec. 5.7 planner (simulated by ``simulate_planner``)."""
-        return self.method in PLANNER.choices
+        return METHODS.get(self.method).planner
 
     def planner_settings(self) -> Any:
         """The planner's settings object (its defaults for keys not given)."""
-        spec = spec_model(PLANNER_SETTINGS[self.method])
+        spec = spec_model(METHODS.get(self.method).settings_type)
         given = self.settings or {}
         unknown = sorted(set(given) - set(spec.model_fields))
         if unknown:
