@@ -290,7 +290,7 @@ def test_reports_follow_the_umask(write_study, tiny_study_text, tmp_path, umask)
         ("fifo", "is a FIFO (named pipe), not a regular file"),
         ("device", "is a character device, not a regular file"),
         ("nul", "a NUL byte at character"),
-        ("digits", "a number written with 5,000 characters"),
+        ("digits", "written with 5,000 characters"),
         ("duplicate", "key 'name' appears twice in the same mapping, on lines 3 and 4"),
         ("syntax", "YAML syntax error"),
     ],

@@ -171,9 +171,13 @@ class TetherModesStudy(StudyBase):
             )
         robot = self.robot.build()
         self.brake_robot(robot)
-        for lh in self.side_offsets:
+        for i, lh in enumerate(self.side_offsets):
             if lh <= 0.5 * robot.body_length:
-                raise ValueError(f"side offset {lh:g} m must exceed half the robot length")
+                raise ValueError(
+                    f"side_offsets[{i}] = {lh:g} m is not allowed: a side offset must exceed "
+                    f"half the robot length (robot.body_length / 2 = "
+                    f"{0.5 * robot.body_length:g} m)"
+                )
         names = [p.build().name for p in self.paths]
         if len(set(names)) != len(names):
             raise ValueError(f"path names must be unique (give `name:`), got {names}")
