@@ -135,3 +135,10 @@ def test_the_gains_of_a_row_round_trip_for_every_batched_method():
             row[i] for i, k in enumerate(("k1", "b", "k3", "k5")) if k in m.used_gains
         ]
     assert METHODS.get("masoud").gains_of_row(row, "-y").direction == -1
+
+
+def test_the_docs_table_of_the_methods_is_the_registry_s():
+    from designlab.navigation.methods import docs_table
+
+    page = (PACKAGE.parent / "docs" / "navigation.md").read_text(encoding="utf-8")
+    assert docs_table() in page
