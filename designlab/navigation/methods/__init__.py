@@ -57,8 +57,8 @@ __all__ = [
     "STABILISING",
     "TIE_SIDE",
     "NavigationMethod",
-    "docs_table",
     "Planner",
+    "docs_table",
     "method_of",
 ]
 
