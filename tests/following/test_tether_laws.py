@@ -134,3 +134,24 @@ def test_a_new_law_runs_in_the_engines_without_touching_them():
         tether.linear_analysis(FollowTheLeader()).damping_ratio, rel=0, abs=0
     )
     assert math.isfinite(new.tether_length[-1])
+
+
+def test_the_comparison_table_ratios_cover_every_law_behind():
+    """The summary's ratio columns: the reference law against every other law behind."""
+    from designlab.report.tether import _RATIO_LAWS, _REFERENCE
+
+    behind = LAWS.variants(placement="behind")
+    assert _REFERENCE is behind[0]
+    assert {_REFERENCE, *_RATIO_LAWS} == set(behind)
+    assert [law.measured for law in _RATIO_LAWS] == sorted(
+        (law.measured for law in _RATIO_LAWS), reverse=True
+    )
+
+
+def test_the_docs_table_of_the_laws_is_the_registry():
+    from pathlib import Path
+
+    from designlab.following.tether.laws.registry import TABLE_COLUMNS
+
+    docs = (Path(__file__).resolve().parents[2] / "docs" / "following.md").read_text()
+    assert LAWS.table(TABLE_COLUMNS) in docs

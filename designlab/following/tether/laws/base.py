@@ -10,6 +10,7 @@ class attribute        what it says
 ``name``               the public name (the ``type`` of a study file)
 ``label``, ``short``   the name in prose, the short name in report tables (``"FTL-CD"``)
 ``doc``                one line: what the law does, with its source
+``measured``           measured with people in Tables 3.2-3.3 (PJ, FTL-CD; Sec. 3.4)
 ``turn_claim``         what the thesis found on the inside and outside of turns (side modes)
 ``steadier_than``      the mode the thesis found this one holds its side offset steadier than
 ``placement``          where the robot walks: ``"behind"``, ``"side"``, ``"front"``, or
@@ -225,6 +226,7 @@ class TetherController:
     short: ClassVar[str] = ""
     doc: ClassVar[str] = ""
     placement: ClassVar[str] = "behind"
+    measured: ClassVar[bool] = False
     turn_claim: ClassVar[str] = ""
     steadier_than: ClassVar[str] = ""
     target_finder: ClassVar[TargetFinder] = TETHER_ANGLE

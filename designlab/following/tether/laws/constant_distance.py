@@ -66,6 +66,7 @@ class FollowTheLeaderConstDistance(TetherController):
     doc: ClassVar[str] = "steer to the recorded point l_d from the leader (Sec. 2.3.3, mode 21)"
     target_finder: ClassVar[TargetFinder] = CONSTANT_DISTANCE
     linear: ClassVar[bool] = True
+    measured: ClassVar[bool] = True
     GAINS: ClassVar[tuple[str, ...]] = ("speed_gain", "angle_gain", "turn_gain")
     BOUNDS: ClassVar[dict[str, tuple[float, float]]] = {
         "speed_gain": (0.1, 20.0),

@@ -62,6 +62,7 @@ class PseudoJoystick(TetherController):
     short: ClassVar[str] = "PJ"
     doc: ClassVar[str] = "drive along the tether (Sec. 2.3.1, App. C mode 10)"
     linear: ClassVar[bool] = True
+    measured: ClassVar[bool] = True
     GAINS: ClassVar[tuple[str, ...]] = ("speed_gain", "turn_gain")
     BOUNDS: ClassVar[dict[str, tuple[float, float]]] = {
         "speed_gain": (0.1, 20.0),

@@ -18,7 +18,7 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import fields
 from typing import Any
 
@@ -34,7 +34,7 @@ from designlab.following.tether.laws.side_joystick import SideJoystick
 from designlab.following.tether.laws.side_tracking import SideTracking
 from designlab.registry import Registry
 
-__all__ = ["LAWS", "controller_from_dict"]
+__all__ = ["LAWS", "TABLE_COLUMNS", "controller_from_dict"]
 
 #: The tether follower laws by name (their class names, the ``type`` of a study file).
 LAWS: Registry[type[TetherController]] = Registry(  # type: ignore[type-var]
@@ -51,6 +51,17 @@ LAWS: Registry[type[TetherController]] = Registry(  # type: ignore[type-var]
         BrakeMode,
     ],
 )
+
+
+#: The columns of the laws' table in ``docs/following.md`` (``LAWS.table(TABLE_COLUMNS)``).
+TABLE_COLUMNS: dict[str, Callable[[Any], Any]] = {
+    "short": lambda law: law.short,
+    "module": lambda law: f"`laws.{law.__module__.rsplit('.', 1)[1]}`",
+    "placement": lambda law: law.placement,
+    "steering target": lambda law: "its own" if law.stepwise else law.target_finder.name,
+    "stepwise": lambda law: law.stepwise,
+    "linear": lambda law: law.linear,
+}
 
 
 def controller_from_dict(spec: dict[str, Any]) -> TetherController:
