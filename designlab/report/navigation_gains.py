@@ -424,7 +424,7 @@ def _effort_section(result: NavigationGainsResult) -> list[str]:
         "",
         "The thesis's grid search and fmincon took one week (App. C.2). How long each "
         "optimisation took here depends on the machine and its load: the times are kept with "
-        "the run record (`.designlab-run.json`), not in the report.",
+        "the run record, kept outside the report (`designlab list` shows it).",
         "",
         "![convergence](convergence.png)",
         "",

@@ -673,8 +673,8 @@ _REPRODUCTION_TEXT = (
     "at another gain set: the tuned gains, costs and improvements are the result of this run, "
     "not digits to reproduce. Where the evaluated gain sets within {tol:g} (relative) of the "
     "best cost spread beyond the digits shown, the gains table gives their range (~low-high; "
-    "every range in near_optimal.csv). Wall times are in the run record "
-    "(`.designlab-run.json`), not in the report."
+    "every range in near_optimal.csv). Wall times are in the run record, "
+    "kept outside the report (`designlab list` shows it)."
 )
 
 

@@ -58,6 +58,7 @@ __all__ = [
     "TIE_SIDE",
     "NavigationMethod",
     "Planner",
+    "docs_table",
     "method_of",
 ]
 
@@ -87,6 +88,32 @@ CROWD_METHOD = METHODS.param("navigation method among a crowd", default=VFF.name
 #: command a velocity, not a force, and are simulated by
 #: :func:`designlab.navigation.planners.simulate_planner`.
 PLANNER = METHODS.param("Sec. 5.7 planner", planner=True)
+
+
+#: The capabilities the docs table lists, in its order.
+_SHOWN = ("batched", "stabilised", "filtered", "crowds", "baseline", "planner", "seeded")
+
+
+def _module_of(m: NavigationMethod) -> str:
+    if isinstance(m, Filtered):
+        return f"`Filtered(nominal={m.nominal.name})` in `methods`"
+    return f"`{type(m).__module__.replace('designlab.navigation.', '')}`"
+
+
+def docs_table() -> str:
+    """The table of the methods in ``docs/navigation.md`` (a test keeps the page equal to it).
+
+    Examples
+    --------
+    >>> print(docs_table().splitlines()[2])
+    | `vff` | New VFF | the new virtual force field (Zeng 2011, Sec. 5.4-5.5) | `methods.vff` | ...
+    """
+    return METHODS.table(
+        {
+            "module": _module_of,
+            "capabilities": lambda m: ", ".join(c for c in _SHOWN if getattr(m, c, False)),
+        }
+    )
 
 
 def method_of(name: Any, **capabilities: Any) -> NavigationMethod:

@@ -250,6 +250,7 @@ class Planner(NavigationMethod):
     planner = True
     batched = False
     crowds = False
+    gains_required = False  # type: ignore[assignment]
     #: Its settings class (each default from its paper).
     settings_type: Any = None
     #: Whether it is randomised (runs differ by their settings' seed).
