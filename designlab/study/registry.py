@@ -17,12 +17,13 @@ from __future__ import annotations
 
 import importlib
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Annotated, Any, Union
 
 from pydantic import Field, TypeAdapter
 
 from designlab.study.base import FORMAT_VERSION, StudyBase
+from designlab.study.reproduction import Reproduction
 
 __all__ = [
     "RENAMED_KINDS",
@@ -54,12 +55,17 @@ class StudyKind:
         Module (dotted name) that registers the report writer of the result
         type with :func:`designlab.report.register_writer`; imported only when
         a report is written.
+    reproduction
+        How far the report's tables may move on another machine (stated in the
+        report; :mod:`designlab.study.reproduction`). The default claims the
+        same numbers to the bit.
     """
 
     name: str
     schema: type[StudyBase]
     run: Callable[..., Any]
     report: str
+    reproduction: Reproduction = field(default_factory=Reproduction)
 
     def __post_init__(self) -> None:
         annotation = self.schema.model_fields["kind"].annotation

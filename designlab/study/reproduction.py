@@ -1,0 +1,148 @@
+"""How a study's report reproduces on another machine: one declaration per kind.
+
+A seeded study gives the same tables to the bit on the same machine and build. On
+another CPU (or libm, numpy or numba build) the last bits of floating-point sums and
+elementary functions differ, and what a study computes from them differs by as much as
+its computation amplifies them. Each kind declares how far its tables may move
+(:class:`Reproduction`, on :class:`~designlab.study.registry.StudyKind`); the report
+framework states it in every report ("Reproduction on another machine"), and
+``benchmarks/reproduce_reports.py`` reruns the committed studies as on a plain x86-64
+CPU and checks every number of every table against the declaration (docs/developers.md,
+"Reproduction on another machine").
+
+Examples
+--------
+>>> r = Reproduction(rtol=2e-8, why="the impact kernel certifies each metric to 1e-8")
+>>> r.close(1.0, 1.0 + 1e-8), r.close(1.0, 1.0 + 1e-7), r.close(1.0, 1.000001, digits=7)
+(True, False, True)
+>>> print(r.sentence(digits=7))  # doctest: +NORMALIZE_WHITESPACE
+The study is deterministic: the same machine and build give these tables to the bit. On
+another CPU (or libm, numpy or numba build) every number in its CSV tables reproduces
+within |a - b| <= 2e-08 max(|a|, |b|) (the impact kernel certifies each metric to 1e-8),
+give or take one unit in the last of the 7 significant digits printed; text cells are
+identical.
+"""
+
+from __future__ import annotations
+
+import fnmatch
+import math
+from dataclasses import dataclass
+
+__all__ = ["HEADING", "Reproduction"]
+
+#: The heading of the section every report carries (written by the report framework
+#: unless the kind's writer words its own, as the gain searches do).
+HEADING = "## Reproduction on another machine"
+
+
+@dataclass(frozen=True)
+class Reproduction:
+    """How far a kind's report tables may move on another machine.
+
+    A number ``b`` regenerated elsewhere matches the committed ``a`` when
+    ``|a - b| <= atol + rtol * max(|a|, |b|)``; two NaN cells match; text cells must
+    be identical. Columns matching one of ``exempt`` (``"file.csv:column"`` glob
+    patterns) are not compared: they hold what the report says does not reproduce
+    digit for digit (a flat optimum's arguments), and ``why`` says so.
+
+    Parameters
+    ----------
+    rtol, atol
+        Relative and absolute tolerance of every numeric cell.
+    why
+        Where the tolerance comes from (the computation's certificate or the
+        amplification measured), quoted in the report.
+    seeded
+        The study draws random numbers (from a seed in the study file).
+    exempt
+        ``file:column`` glob patterns of cells not compared.
+    flips
+        The largest fraction of a table's rows whose discrete outcome (a text or
+        yes/no cell: converged, collided, status) may change: a design on the edge
+        of a verdict can fall either side of it. Such rows are not compared further.
+    """
+
+    rtol: float = 0.0
+    atol: float = 0.0
+    why: str = ""
+    seeded: bool = False
+    exempt: tuple[str, ...] = ()
+    flips: float = 0.0
+
+    def __post_init__(self) -> None:
+        if not 0.0 <= self.flips <= 1.0:
+            raise ValueError(f"Reproduction.flips = {self.flips!r} must be within [0, 1]")
+        for name in ("rtol", "atol"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value >= 0.0):
+                raise ValueError(f"Reproduction.{name} = {value!r} must be finite and >= 0")
+
+    def close(self, a: float, b: float, digits: int | None = None) -> bool:
+        """Whether ``b`` reproduces ``a`` within the tolerances (NaN matches NaN).
+
+        Parameters
+        ----------
+        a, b
+            The committed and the regenerated value.
+        digits
+            Significant digits the values were printed with: a flip of the last
+            printed digit (one unit in it) is allowed on top of the tolerances.
+        """
+        if math.isnan(a) or math.isnan(b):
+            return math.isnan(a) and math.isnan(b)
+        if math.isinf(a) or math.isinf(b):
+            return a == b
+        big = max(abs(a), abs(b))
+        printed = 0.0
+        if digits is not None and big > 0.0:
+            printed = 10.0 ** (math.floor(math.log10(big)) - digits + 1) * (1 + 1e-9)
+        return abs(a - b) <= self.atol + self.rtol * big + printed
+
+    def exempts(self, file: str, column: str) -> bool:
+        """Whether ``file:column`` is one of the cells not compared."""
+        return any(fnmatch.fnmatchcase(f"{file}:{column}", p) for p in self.exempt)
+
+    def bound(self) -> str:
+        """The tolerance as a formula, e.g. ``|a - b| <= 1e-12 + 2e-08 max(|a|, |b|)``."""
+        if self.rtol == 0.0 and self.atol == 0.0:
+            return "a = b (to the bit)"
+        terms = []
+        if self.atol:
+            terms.append(f"{self.atol:g}")
+        if self.rtol:
+            terms.append(f"{self.rtol:g} max(|a|, |b|)")
+        return "|a - b| <= " + " + ".join(terms)
+
+    def sentence(self, digits: int | None = None) -> str:
+        """The report's statement (one paragraph).
+
+        Parameters
+        ----------
+        digits
+            Significant digits of the report's CSV numbers (a flip of the last one
+            is allowed, :meth:`close`).
+        """
+        what = "seeded" if self.seeded else "deterministic"
+        text = (
+            f"The study is {what}: the same machine and build give these tables to the bit. "
+            "On another CPU (or libm, numpy or numba build) every number in its CSV tables "
+            f"reproduces within {self.bound()}"
+        )
+        if self.why:
+            text += f" ({self.why})"
+        if digits is not None and self.bound() != "a = b (to the bit)":
+            text += (
+                f", give or take one unit in the last of the {digits} significant digits printed"
+            )
+        if self.flips:
+            text += (
+                f"; a row's verdict (a text or yes/no cell) may change in at most "
+                f"{self.flips:.2g} of a table's rows, on the edge of the verdict, and such "
+                "rows are not compared further; other text cells are identical"
+            )
+        else:
+            text += "; text cells are identical"
+        if self.exempt:
+            text += f", except {', '.join(self.exempt)}, which are not compared"
+        return text + "."
