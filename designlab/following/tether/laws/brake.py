@@ -25,16 +25,20 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
-from designlab.following.tether.controllers import PseudoJoystick, TetherController
-from designlab.following.tether.front import FrontJoystick, FrontVelJoystick
+from designlab.following.tether.laws.base import (
+    DESIRED_LENGTH,
+    StepwiseController,
+    TetherController,
+    checked_law,
+)
 from designlab.following.tether.parameters import FollowerRobot
-from designlab.following.tether.stepwise import ModeState, StepwiseController, start_state
+from designlab.following.tether.stepwise import ModeState, start_state
 from designlab.params import declared, param, params_of
 from designlab.validation import real_array
 
@@ -65,9 +69,7 @@ def brake_timeline(
     if lengths.ndim != 1:
         raise InvalidParameterError("tether_length", lengths.shape, "must be one value a period")
     decls = params_of(BrakeMode)
-    desired_length = params_of(PseudoJoystick)["desired_length"].check(
-        desired_length, "desired_length"
-    )
+    desired_length = DESIRED_LENGTH.check(desired_length, "desired_length")
     engage_margin = decls["engage_margin"].check(engage_margin, "engage_margin")
     release_margin = decls["release_margin"].check(release_margin, "release_margin")
     if not release_margin > engage_margin:
@@ -139,15 +141,22 @@ class BrakeMode(StepwiseController):
         default=0.05,
     )
 
+    label: ClassVar[str] = "Brake mode"
+    short: ClassVar[str] = "Brake"
+    doc: ClassVar[str] = "stop while the tether is short, around another mode (Sec. 4.4)"
+    placement: ClassVar[str] = "wrapper"
+    brakeable: ClassVar[bool] = False
+
     def __post_init__(self) -> None:
-        if not isinstance(self.mode, TetherController) or isinstance(self.mode, BrakeMode):
+        mode = checked_law(self.mode, "BrakeMode.mode", "a follower mode (not a BrakeMode)")
+        if mode.placement == self.placement:
             raise InvalidParameterError(
                 "BrakeMode.mode", self.mode, "a follower mode (not a BrakeMode)"
             )
-        if isinstance(self.mode, (FrontJoystick, FrontVelJoystick)):
+        if not mode.brakeable:
             raise InvalidParameterError(
                 "BrakeMode.mode",
-                type(self.mode).__name__,
+                mode.name,
                 "a mode that follows from behind or beside (a front mode's short tether is a push)",
             )
         if not self.release_margin > self.engage_margin:
@@ -166,7 +175,7 @@ class BrakeMode(StepwiseController):
     def as_dict(self) -> dict[str, Any]:
         """Fields as a plain dict, the wrapped mode as its own dict."""
         return {
-            "type": "BrakeMode",
+            "type": self.name,
             "mode": self.mode.as_dict(),
             "engage_margin": self.engage_margin,
             "release_margin": self.release_margin,
