@@ -79,7 +79,7 @@ def baseline(ctrl: Any, path: Any, speed: float, robot: Any) -> np.ndarray:
     y = path.points[0, 1] - ctrl.desired_length * math.sin(g)
     buf: list[tuple[float, float, float]] = []  # (x, y, s), oldest first
     out = np.empty((len(leader), 2))
-    target = type(ctrl).target
+    target = ctrl.target_finder.name  # "tether", "lookahead" or "constant_distance"
     window = getattr(ctrl, "buffer_size", 300) - 1
     for k, (tx, ty) in enumerate(leader):
         lm, th = (float(v) for v in sense(x, y, g, tx, ty, 0.0, 0.0, 0.0))

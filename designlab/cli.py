@@ -174,13 +174,13 @@ def _write(
 
 
 def _record_duration(directory: Path, seconds: float, executor: str) -> None:
-    """Keep the run's wall time with its report, for ``designlab list`` (best effort)."""
+    """Keep the run's wall time in its run record, for ``designlab list`` (best effort)."""
     from designlab.report.builder import record_run
 
     try:
         record_run(directory, seconds, executor=executor)
     except OSError as exc:  # the report is written; a missing record only costs a list line
-        logging.getLogger("designlab").info("run time not recorded in %s: %s", directory, exc)
+        logging.getLogger("designlab").info("run time of %s not recorded: %s", directory, exc)
 
 
 def _duration_text(spec: object, report: Path) -> str:
@@ -195,7 +195,7 @@ def _duration_text(spec: object, report: Path) -> str:
     seconds = recorded_run(report)
     if seconds is not None:
         parts.append(f"last run took {format_duration(seconds)}")
-    return "; ".join(parts) or "run time not measured yet (it is kept with the report after a run)"
+    return "; ".join(parts) or "run time not measured yet on this machine (kept after a run)"
 
 
 def _check_executor_options(executor: str, scheduler: str | None, timeout: float) -> None:

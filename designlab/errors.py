@@ -22,6 +22,7 @@ from typing import Any
 __all__ = [
     "DesignlabError",
     "InvalidParameterError",
+    "MissingExtraError",
     "ModelError",
     "SolverError",
     "StudyError",
@@ -57,6 +58,31 @@ class InvalidParameterError(DesignlabError, ValueError):
         self.unit = unit
         shown = f"{value!r} {unit}".rstrip()
         super().__init__(f"{name} = {shown} is not allowed: {allowed}")
+
+
+class MissingExtraError(DesignlabError, ImportError):
+    """A call needs an optional dependency that is not installed; names the extra to install.
+
+    Parameters
+    ----------
+    package
+        The missing package, e.g. ``"jupedsim"``.
+    extra
+        The designlab extra that installs it, e.g. ``"crowds"``.
+    needed_for
+        What needs it, e.g. ``"crowd simulations"``.
+    reason
+        Why it could not be imported (the ``ImportError``'s message).
+    """
+
+    def __init__(self, package: str, extra: str, needed_for: str, reason: str = "") -> None:
+        self.package = package
+        self.extra = extra
+        why = f" ({reason})" if reason else ""
+        super().__init__(
+            f"{needed_for} need {package}, which cannot be imported{why}: install designlab "
+            f"with the {extra!r} extra, pip install 'designlab[{extra}]'"
+        )
 
 
 class ModelError(DesignlabError, ValueError):

@@ -158,7 +158,7 @@ def read_text_file(path: str | PathLike[str], *, max_bytes: int = MAX_BYTES) -> 
     finally:
         os.close(fd)
     try:
-        return data.decode("utf-8")
+        text = data.decode("utf-8")
     except UnicodeDecodeError as exc:
         line = data.count(b"\n", 0, exc.start) + 1
         raise YamlError(
@@ -166,6 +166,15 @@ def read_text_file(path: str | PathLike[str], *, max_bytes: int = MAX_BYTES) -> 
             file=name,
             line=line,
         ) from None
+    nul = text.find("\0")
+    if nul >= 0:
+        raise YamlError(
+            f"a NUL byte at character {nul + 1:,}: a text file cannot contain NUL bytes (is "
+            "it a binary file?)",
+            file=name,
+            line=text.count("\n", 0, nul) + 1,
+        )
+    return text
 
 
 _KINDS = (
@@ -181,7 +190,7 @@ def _check_regular(st: os.stat_result, name: str) -> None:
     if stat.S_ISREG(st.st_mode):
         return
     what = next((text for test, text in _KINDS if test(st.st_mode)), "not a regular file")
-    raise YamlError(f"is {what}, not a regular file; give the path of a YAML file", file=name)
+    raise YamlError(f"is {what}, not a regular file; give the path of a text file", file=name)
 
 
 def _read_bounded(fd: int, name: str, max_bytes: int) -> bytes:
@@ -245,16 +254,21 @@ class _Loader(yaml.SafeLoader):
         return float(super().construct_yaml_float(node))
 
 
-def _check_number(node: yaml.ScalarNode) -> None:
+def _check_number(node: yaml.ScalarNode, path: YamlPath = ()) -> None:
+    """Refuse a number written with more than :data:`MAX_NUMBER_CHARS` characters, with its
+    place (``path``, named by the callers' errors: ``cases[0].impact_velocity``) if known."""
     text = str(node.value)
     if len(text) > MAX_NUMBER_CHARS:
         raise YamlError(
-            f"a number written with {len(text):,} characters; at most {MAX_NUMBER_CHARS} are "
-            "read (write a large or precise value in scientific notation, e.g. 1.5e300)",
+            f"the number {text[:12]}...{text[-4:]} is not allowed: it is written with "
+            f"{len(text):,} characters (digits); at most {MAX_NUMBER_CHARS} are read (write a "
+            "large or precise value in scientific notation, e.g. 1.5e300)",
             line=node.start_mark.line + 1,
+            path=path,
         )
 
 
+_NUMBER_TAGS = ("tag:yaml.org,2002:int", "tag:yaml.org,2002:float")
 _Loader.add_constructor("tag:yaml.org,2002:int", _Loader.construct_yaml_int)
 _Loader.add_constructor("tag:yaml.org,2002:float", _Loader.construct_yaml_float)
 _Loader.add_implicit_resolver(
@@ -341,6 +355,8 @@ def _record(loader: _Loader, node: yaml.Node, path: YamlPath, lines: dict[YamlPa
         for i, item in enumerate(node.value):
             lines[(*path, i)] = item.start_mark.line + 1
             _record(loader, item, (*path, i), lines)
+    elif isinstance(node, yaml.ScalarNode) and node.tag in _NUMBER_TAGS:
+        _check_number(node, path)  # here, where its path is known
 
 
 def _line_at(text: str, position: int) -> int:

@@ -91,6 +91,7 @@ def test_list(tmp_path, write_study, tiny_study_text, monkeypatch):
     assert runner.invoke(app, ["run", "studies/tiny.yaml"]).exit_code == 0
     result = runner.invoke(app, ["list"])
     assert "typically take " in result.stdout and "; last run took " in result.stdout
+    assert not list((tmp_path / "reports" / "tiny").glob(".designlab-run*"))
 
     (studies / "broken.yaml").write_text("designlab: 1\nkind: nope\nname: b\n")
     result = runner.invoke(app, ["list"])
@@ -290,7 +291,7 @@ def test_reports_follow_the_umask(write_study, tiny_study_text, tmp_path, umask)
         ("fifo", "is a FIFO (named pipe), not a regular file"),
         ("device", "is a character device, not a regular file"),
         ("nul", "a NUL byte at character"),
-        ("digits", "a number written with 5,000 characters"),
+        ("digits", "written with 5,000 characters"),
         ("duplicate", "key 'name' appears twice in the same mapping, on lines 3 and 4"),
         ("syntax", "YAML syntax error"),
     ],
@@ -318,3 +319,18 @@ def test_validate_and_run_refuse_hostile_files_clearly(tmp_path, make, message):
         assert result.exception is None or isinstance(result.exception, SystemExit)
         assert f"error: {path}" in result.stderr and message in result.stderr, result.stderr
     assert not (tmp_path / "r").exists()
+
+
+def test_run_records_stay_outside_the_report_and_on_their_host(tmp_path, monkeypatch):
+    """A run leaves no file of its own in the report; a record from another host is not shown."""
+    import platform
+
+    from designlab.report.builder import record_run, recorded_run, run_record_path
+
+    report = tmp_path / "reports" / "tiny"
+    report.mkdir(parents=True)
+    path = record_run(report, 83.2, executor="serial")
+    assert path is not None and report not in path.parents and list(report.iterdir()) == []
+    assert path == run_record_path(report) and recorded_run(report) == 83.2
+    monkeypatch.setattr(platform, "node", lambda: "another-machine")
+    assert recorded_run(report) is None

@@ -52,22 +52,24 @@ from designlab.codesign.parameters import (
     REACTION_TIME,
 )
 from designlab.codesign.worst_head import refine_link_worst, worst_heads
-from designlab.errors import InvalidParameterError
+from designlab.errors import InvalidParameterError, ModelError
 from designlab.impact import (
     THESIS_HEAD_RANGE,
     ContactDynamics,
     Criterion,
     Foam,
     FullJointContact,
+    FullJointLink,
     HeadNeck,
     HeadRange,
     LinkImpact,
 )
-from designlab.impact.conditioning import check_conditioning
+from designlab.impact.conditioning import check_conditioning, time_scale_ratio
 from designlab.impact.metrics import param_names
-from designlab.impact.parameters import HUMAN_SPEED
+from designlab.impact.parameters import HUMAN_SPEED, TIME_SCALE_RATIO
 from designlab.impact.problem import FoamProblem, make_problem
 from designlab.impact.simulate import input_labels
+from designlab.params import params_of
 from designlab.results import Result, Status
 
 __all__ = ["SpeedLimit", "SpeedLimitStatus", "speed_limit"]
@@ -264,12 +266,74 @@ def _check_served(prob: FoamProblem, foam: Foam) -> None:
     whose impact with a head of the worst-head grid double precision cannot serve (a damping
     of 1e6 N s/m gave NaN metrics and ``contact_limit = nan``; docs/impact.md, "Limits")."""
     if isinstance(prob.robot, LinkImpact):
-        return  # its rows are effective values at each lever arm: refused there by column
+        _check_link_served(prob, foam)
+        return
     k, c = np.array([foam.stiffness]), np.array([foam.damping])
     for key in prob.keys():
         params = prob.designs(key, k, c)[0]
         check_conditioning(params, param_names(params.shape[1]),
                            labels=input_labels(prob.robot, None))  # fmt: skip
+
+
+#: Lever arms (geometric, ends included) at which a link's conditioning is checked up front:
+#: the ratio of its time scales changes smoothly with the lever arm (every robot value
+#: scales as 1/l^2), and the search's lever grid has 17.
+_LINK_CHECK_LEVERS = 65
+
+
+def link_labels(robot: LinkImpact) -> tuple[str | None, ...]:
+    """The names of a link's inputs in the order of the model's row at a lever arm (``None``
+    for the worst-head grid's columns, never blamed): a conditioning refusal names them.
+
+    Examples
+    --------
+    >>> import designlab as dl
+    >>> link_labels(dl.impact.LinkImpact(1.0, 10.0, 1.0, 1.0, 0.1, 0.5))[:3]
+    ('robot.inertia', 'robot.joint_damping', 'robot.joint_stiffness')
+    """
+    foam = ("foam.stiffness", "foam.damping", None, None, None)
+    if isinstance(robot, FullJointLink):  # FULL_PARAM_NAMES
+        return ("robot.inertia", "robot.transmission_damping", "robot.transmission_stiffness",
+                *foam, "robot.joint_damping", "robot.joint_stiffness")  # fmt: skip
+    return ("robot.inertia", "robot.joint_damping", "robot.joint_stiffness", *foam)
+
+
+def _check_link_served(prob: FoamProblem, foam: Foam) -> None:
+    """Refuse a link whose effective manipulator, at some lever arm of its range, double
+    precision cannot serve with a head of the worst-head grid, naming the link's own
+    parameter (``robot.joint_damping``) and its value, not the effective ``C_J/l^2``."""
+    robot = prob.robot
+    assert isinstance(robot, LinkImpact)
+    levers = np.geomspace(robot.lever_arm_min, robot.lever_arm_max, _LINK_CHECK_LEVERS)
+    k, c = np.full(levers.size, foam.stiffness), np.full(levers.size, foam.damping)
+    for key in prob.keys():
+        params, _, nh = prob.designs(key, k, c, levers)
+        bad = ~(time_scale_ratio(params, prob.constrained) <= TIME_SCALE_RATIO.le)
+        if not np.any(bad):
+            continue
+        j = int(np.flatnonzero(bad)[0])
+        try:
+            check_conditioning(params[j : j + 1], param_names(params.shape[1]),
+                               constrained=prob.constrained, labels=link_labels(robot))  # fmt: skip
+        except InvalidParameterError as exc:
+            lever = float(levers[j // nh])
+            owner, field = exc.name.split(".", 1)
+            at = (
+                f"at the lever arm l = {lever:.4g} m (of robot.lever_arm_min = "
+                f"{robot.lever_arm_min:g} .. robot.lever_arm_max = {robot.lever_arm_max:g} m)"
+            )
+            if owner != "robot":
+                raise InvalidParameterError(exc.name, exc.value, f"{at}: {exc.allowed}",
+                                            exc.unit) from None  # fmt: skip
+            decl = params_of(type(robot))[field]
+            raise InvalidParameterError(
+                exc.name, getattr(robot, field),
+                f"{at} its effective value {decl.symbol}/l^2 = {exc.value:.4g} {exc.unit} "
+                f"(Sec. 3.4.3), {exc.allowed}; a larger robot.lever_arm_min or a smaller "
+                f"{exc.name} is served",
+                decl.unit,
+            ) from None  # fmt: skip
+        raise AssertionError("time_scale_ratio and check_conditioning disagree")  # pragma: no cover
 
 
 def _worst_head(prob: FoamProblem, key: Criterion, foam: Foam, lever: float) -> HeadNeck:
@@ -291,6 +355,8 @@ def _fixed_limits(
     for key in prob.keys():
         vals, heads = worst_heads(prob, key, k, c, refine)
         m1, head = float(vals[0]), heads[0]
+        if math.isnan(m1):
+            _refuse_open_lobe(prob, foam, key)
         v = math.inf if m1 <= 0 else (key.limit / m1) ** (1.0 / key.velocity_exponent)
         out[key.name] = (v, m1, head)
     return out
@@ -306,6 +372,24 @@ def _link_excess(
     return math.log(max(float(vals[0]), 1e-300) / key.limit), float(lev[0])
 
 
+def _refuse_open_lobe(prob: FoamProblem, foam: Foam, key: Criterion) -> None:
+    """Refuse, naming the robot's inputs, a robot and foam whose first impact lobe does not
+    end (metrics NaN, status ``lobe_not_closed``, docs/impact.md) for a head of the grid:
+    no speed limit can be derived from a metric the model cannot give."""
+    shown = ", ".join(
+        f"robot.{name} = {getattr(prob.robot, name):g}"
+        for name, d in params_of(type(prob.robot)).items()
+        if d.kind != "text" and isinstance(getattr(prob.robot, name), (int, float))
+    )
+    raise ModelError(
+        f"robot ({shown}) with foam.stiffness = {foam.stiffness:g} N/m and foam.damping = "
+        f"{foam.damping:g} N s/m: the first impact lobe does not end for a head of the "
+        f"worst-head grid (status lobe_not_closed, {key.name} is NaN; docs/impact.md, "
+        '"Metrics"), so no speed limit follows from it; served are the robots and foams '
+        "whose impact_metrics status is ok for every head of the head_range"
+    )
+
+
 def _link_joint_speed(prob: FoamProblem, key: Criterion, foam: Foam, top_speed: float) -> float:
     """The largest joint speed at which the grid's worst case of a link meets ``key``.
 
@@ -314,6 +398,8 @@ def _link_joint_speed(prob: FoamProblem, key: Criterion, foam: Foam, top_speed: 
     """
     at_rest, _ = _link_excess(prob, key, foam, 0.0)
     top, _ = _link_excess(prob, key, foam, top_speed)
+    if math.isnan(at_rest) or math.isnan(top):
+        _refuse_open_lobe(prob, foam, key)
     if at_rest > 0:
         return 0.0
     if top <= 0:

@@ -159,7 +159,7 @@ __all__ = [
 #: Modules of the former flat layout -> the modules that now hold their names.
 MOVED_MODULES: dict[str, tuple[str, ...]] = {
     "tether_model": ("tether.model", "tether.parameters"),
-    "tether_controllers": ("tether.controllers",),
+    "tether_controllers": ("tether",),
     "tether_simulate": ("tether.simulate", "tether.buffer", "tether.closed_loop"),
     "tether_linear": ("tether.linear",),
     "tether_metrics": ("tether.metrics",),

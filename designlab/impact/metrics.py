@@ -40,7 +40,7 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from designlab.errors import InvalidParameterError, ModelError
-from designlab.impact import kernel, kernel_full
+from designlab.impact import kernel, kernel_full, kernel_modal
 from designlab.impact.conditioning import check_conditioning, check_eigen_route
 from designlab.impact.full_joint_model import FULL_PARAM_NAMES, full_joint_model, grid_rate
 from designlab.impact.metric_names import PARAMETERS
@@ -917,7 +917,10 @@ def _settle(
             res[:, o] = resp[k].residues
             poly[:, o, 2 - resp[k].poly.shape[1] :] = resp[k].poly
     poles = resp[names[0]].poles
-    audit = kernel.audit_metrics(poles, res, poly, rows, again, lobe=not constrained)
+    if kernel.AVAILABLE:
+        audit = kernel.audit_metrics(poles, res, poly, rows, again, lobe=not constrained)
+    else:  # the same check, vectorised (the kernel's loops run slowly uncompiled)
+        audit = audit_metrics_numpy(poles, res, poly, rows, again, lobe=not constrained)
     bad = audit >= kernel.SUSPECT_POLES
     rows[bad] = np.nan
     notes = []
@@ -935,6 +938,96 @@ def _settle(
         if lost:
             notes.append(f"{lost} design(s) uncertified (metrics NaN): {why} by the numpy path")
     return rows, np.where(bad, UNCERTIFIED, audit).astype(np.int8), tuple(notes)
+
+
+#: designs per block of :func:`audit_metrics_numpy` (its samples take 2048 x 5 complex
+#: values per design)
+_AUDIT_BLOCK = 64
+
+
+def audit_metrics_numpy(
+    poles: NDArray[np.complex128],
+    residues: NDArray[np.complex128],
+    poly: NDArray[np.float64],
+    rows: NDArray[np.float64],
+    codes: NDArray[np.int8],
+    *,
+    lobe: bool,
+) -> NDArray[np.int8]:
+    """:func:`designlab.impact.kernel.audit_metrics` in numpy, for a process without numba.
+
+    The same a-posteriori check (``kernel.sampled_check``): at the midpoints
+    ``(j + 1/2) t_imp / AUDIT_CELLS`` (``j < AUDIT_CELLS - 1``) of the uniform cells over
+    ``[0, t_imp]``, no output may exceed its maximum by more than 1e-8 relative, and (for a
+    lobe) a_h may not be below minus its rounding-noise level (``kernel_modal.noise``).
+    Only designs with code 0 (ok) or 2 (peak at contact) are checked.
+
+    Parameters
+    ----------
+    poles, residues, poly, rows, codes, lobe
+        As :func:`designlab.impact.kernel.audit_metrics`.
+
+    Returns
+    -------
+    numpy.ndarray
+        The codes, ``kernel.SUSPECT_MAXIMUM`` or ``kernel.SUSPECT_LOBE`` where a check fails.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> poles = np.array([[-1.0 + 0j]]); poly = np.zeros((1, 3, 2))
+    >>> res = np.zeros((1, 3, 1), dtype=complex); res[0, 1, 0] = 1.0  # a_h = exp(-t)
+    >>> row = np.full((1, 8), np.nan); row[0, [0, 3, 4]] = 1.0, 2.0, 0.0
+    >>> audit_metrics_numpy(poles, res, poly, row, np.zeros(1, np.int8), lobe=True)
+    array([0], dtype=int8)
+    >>> row[0, 0] = 0.9  # a maximum below what the samples show
+    >>> audit_metrics_numpy(poles, res, poly, row, np.zeros(1, np.int8), lobe=True)
+    array([7], dtype=int8)
+    """
+    out = np.array(codes, dtype=np.int8)
+    todo = np.flatnonzero((out == 0) | (out == 2))
+    for start in range(0, todo.size, _AUDIT_BLOCK):
+        i = todo[start : start + _AUDIT_BLOCK]
+        out[i] = _audit_block_numpy(poles[i], residues[i], poly[i], rows[i], lobe)
+    return out
+
+
+def _audit_block_numpy(
+    poles: NDArray, res: NDArray, poly: NDArray, rows: NDArray, lobe: bool
+) -> NDArray[np.int8]:
+    """:func:`audit_metrics_numpy` of one block of designs (all to be checked)."""
+    col = {k: i for i, k in enumerate(kernel.COLUMNS)}
+    cells = kernel.AUDIT_CELLS - 1
+    w = rows[:, col["t_imp"]] / kernel.AUDIT_CELLS
+    t = (np.arange(cells) + 0.5)[None, :] * w[:, None]  # (n, cells)
+    ex = []  # exp(p_k t) per pole, (n, cells): by recurrence, as the kernel
+    with np.errstate(over="ignore", invalid="ignore"):
+        for k in range(poles.shape[1]):
+            z = np.exp(poles[:, k] * w)
+            e = np.cumprod(np.broadcast_to(z[:, None], t.shape), axis=1)
+            ex.append(e * np.exp(-0.5 * poles[:, k] * w)[:, None])
+    code = np.zeros(poles.shape[0], dtype=np.int8)
+    for o, top_col in enumerate(("f_max", "a_max", "eps_max")):
+        if not (np.any(res[:, o]) or np.any(poly[:, o])):
+            continue
+        y = poly[:, o, :1] * t + poly[:, o, 1:]
+        for k, e in enumerate(ex):  # Re(r e) = Re r Re e - Im r Im e
+            y += res[:, o, k].real[:, None] * e.real - res[:, o, k].imag[:, None] * e.imag
+        top = rows[:, col[top_col]]
+        over = y > (top + 1e-8 * np.abs(top))[:, None]
+        high = np.any(over, axis=1)
+        if lobe and o == 1:
+            big = np.abs(res[:, o]).max(axis=1)[:, None]
+            noise = np.abs(poly[:, o, :1] * t) + np.abs(poly[:, o, 1:])
+            for e in ex:
+                noise += big * np.abs(e)  # exp(Re p t) = |exp(p t)|
+            under = (y < 0.0) & (y < -kernel_modal.NOISE * noise)
+            # the kernel stops at the first failing sample: a negative a_h before any high one
+            first_high = np.where(high, np.argmax(over, axis=1), cells)
+            lobe_bad = np.any(under, axis=1) & (np.argmax(under, axis=1) < first_high)
+            code = np.where((code == 0) & lobe_bad, kernel.SUSPECT_LOBE, code)
+        code = np.where((code == 0) & high, kernel.SUSPECT_MAXIMUM, code)
+    return code.astype(np.int8)
 
 
 def _numpy_rows(
@@ -1021,6 +1114,13 @@ def metrics_from_responses(
             return fast
     if not kernel.AVAILABLE:
         say_no_jit("impact metrics")
+        if all(resp[k].poly.shape[1] <= 2 for k in names):  # checked as the kernel checks
+            zero = np.zeros(n, dtype=np.int8)
+            rows, codes, notes = _settle(
+                resp, h, zero, constrained, stop_time, max_lobe_steps, lobe_diagnostics
+            )
+            m = _from_kernel(p, v, names, rows, codes, constrained, lobe_diagnostics)
+            return replace(m, warnings=(*m.warnings, *notes)) if notes else m
     out, t_imp, t_low = _window_maxima(
         resp, names, h, status, constrained, stop_time, max_lobe_steps, lobe_diagnostics
     )

@@ -52,6 +52,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from designlab.navigation.methods import METHODS
 from designlab.navigation.noise import SensorNoise
 from designlab.navigation.parameters import (
     EXPERIMENT_GAINS,
@@ -208,7 +209,7 @@ CAUSES: tuple[Cause, ...] = (
     Cause(
         "gains",
         "Table 5.1 does not state its gains: the optimised set instead of the experiment set",
-        lambda s, q: s.which == "unpredictable" and s.method == "vff",
+        lambda s, q: s.which == "unpredictable" and METHODS.get(s.method).gains_required,
         lambda s: [replace(s, gains=OPTIMAL_GAINS)],
     ),
     Cause(
@@ -226,7 +227,7 @@ CAUSES: tuple[Cause, ...] = (
     Cause(
         "masoud_sense",
         "Masoud's rotational sense not stated: clockwise instead of counter-clockwise",
-        lambda s, q: s.method == "masoud",
+        lambda s, q: METHODS.get(s.method).fixed_sense,
         lambda s: [replace(s, gains=replace(s.gains, direction=-s.gains.direction))],
     ),
 )

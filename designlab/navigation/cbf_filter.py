@@ -15,13 +15,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from designlab.navigation.field import ObstacleGeometry, build_cbf_rows, build_field
+from designlab.navigation.methods import METHODS
 from designlab.navigation.parameters import HolonomicRobot, NonholonomicRobot
 from designlab.navigation.scenarios import Scenario
 
-__all__ = ["FILTERED", "CBFFilter"]
-
-#: The methods whose force the filter corrects, and the field that gives their nominal force.
-FILTERED = {"cbf": "cbf", "vff_cbf": "vff"}
+__all__ = ["CBFFilter"]
 
 Array = NDArray[np.float64]
 
@@ -40,15 +38,18 @@ class CBFFilter:
     k : tuple of float
         (k_0, k_1) of the constraint h'' + k_1 h' + k_0 h >= 0, in 1/s^2 and 1/s.
     nominal : str
-        The filtered method, a key of :data:`FILTERED`: ``"cbf"`` (the attractive PD field)
-        or ``"vff_cbf"`` (the new VFF).
+        The filtered method, one of :data:`~designlab.navigation.methods.METHODS` with
+        ``filtered``: ``"cbf"`` (the attractive PD field) or ``"vff_cbf"`` (the new VFF);
+        its field gives the nominal force.
     stabilising : bool
-        With ``"vff_cbf"``: the nominal force includes the stabilising force F_L.
+        With a stabilised method (``"vff_cbf"``): the nominal force includes the
+        stabilising force F_L.
     tie : int
         Detour side (+1 / -1) of the nominal field where its rules leave it open.
     period : float
         The navigation period T_s in s: the barrier is tightened by the sampled-data margin
-        ``a_max T_s^2 / 2`` (h = d - r3 - margin) with ``"vff_cbf"``, see :attr:`margin`.
+        ``a_max T_s^2 / 2`` (h = d - r3 - margin) for a method with ``sampled_margin``
+        (``"vff_cbf"``), see :attr:`margin`.
     """
 
     def __init__(
@@ -65,13 +66,14 @@ class CBFFilter:
         import osqp
         import scipy.sparse as sp
 
+        method = METHODS.get(nominal, parameter="nominal", filtered=True)
         self.rows = build_cbf_rows(geos, "critical")
-        self.field = build_field(geos, FILTERED[nominal])
+        self.field = build_field(geos, method.name)
         self.params = [robot.mass, float(tie), 1.0 if stabilising else 0.0, robot.max_accel]
         #: Sampled-data margin (m): how far the held acceleration can carry the robot from
         #: the path a continuously updated filter would command within one period.
         #: ``"cbf"`` keeps its earlier form (no margin), its reports unchanged.
-        self.margin = 0.5 * robot.max_accel * period**2 if nominal == "vff_cbf" else 0.0
+        self.margin = 0.5 * robot.max_accel * period**2 if method.sampled_margin else 0.0
         self.n = len(geos)
         self.k = np.asarray(k, dtype=float)
         amax = robot.max_accel

@@ -154,8 +154,9 @@ def _check_clearances(surface: Any, nominal: Any) -> tuple[dict[str, float], dic
             raise InvalidParameterError(name, m, "must map obstacle names to distances (m)")
     if set(surface) != set(nominal):
         raise InvalidParameterError(
-            "nominal_clearance", sorted(map(str, nominal)),
-            f"must name the obstacles of surface_clearance {sorted(map(str, surface))}",
+            "nominal_clearance", dict(nominal),
+            f"must name the same obstacles as surface_clearance = {dict(surface)!r} (obstacles "
+            f"{sorted(map(str, surface))} there, {sorted(map(str, nominal))} here)",
         )  # fmt: skip
     s = {k: _number(f"surface_clearance[{k!r}]", v, "m") for k, v in surface.items()}
     n = {k: _number(f"nominal_clearance[{k!r}]", v, "m") for k, v in nominal.items()}

@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
-from designlab.navigation.cbf_filter import FILTERED, CBFFilter
+from designlab.navigation.cbf_filter import CBFFilter
 from designlab.navigation.dynamics import build_hold, state_size
 from designlab.navigation.field import (
     NORM_EPS,
@@ -27,6 +27,7 @@ from designlab.navigation.field import (
     build_distance,
     build_field,
 )
+from designlab.navigation.methods import METHODS
 from designlab.navigation.noise import SensorNoise
 from designlab.navigation.parameters import (
     ARRIVAL_TOLERANCE,
@@ -368,7 +369,7 @@ def run(
     gains
         (N, 4) rows of (K1, b, K3, K5), simulated together.
     method
-        ``"vff"``, ``"masoud"``, ``"ge_cui"``, ``"cbf"`` or ``"vff_cbf"``.
+        A force-field method of :data:`~designlab.navigation.methods.METHODS`.
     stabilising
         Whether the Lyapunov stabilising force F_L of (5.4.6) is on.
     tie
@@ -385,7 +386,7 @@ def run(
         Compile the step to four members per pass (:mod:`designlab.sx`; CasADi's
         virtual machine where no C compiler exists, with the same results).
     cbf_gains
-        (k_0, k_1) of the CBF constraint (``method="cbf"``).
+        (k_0, k_1) of the CBF constraint (a ``filtered`` method: ``"cbf"``, ``"vff_cbf"``).
     noise
         Measurement noise of what the field sees (:class:`SensorNoise`; single runs only).
     """
@@ -393,7 +394,8 @@ def run(
     period = n_sub * dt
     gains = np.atleast_2d(np.asarray(gains, dtype=float))
     N = gains.shape[0]
-    if method in FILTERED and N != 1:
+    variant = METHODS.get(method, force_field=True)
+    if not variant.batched and N != 1:
         raise InvalidParameterError(
             "method", method, f"{method!r} solves one QP per step and is not batched"
         )
@@ -413,7 +415,7 @@ def run(
         )
     run = _SingleRun(scenario, gains, geos, method, n_sub, dt, tol, stabilising, tie, jit, record)
     run.cbf = None
-    if method in FILTERED:
+    if variant.filtered:
         run.cbf = CBFFilter(geos, scenario.robot, cbf_gains, nominal=method,
                             stabilising=stabilising, tie=tie, period=period)  # fmt: skip
     if noise is not None:

@@ -26,6 +26,7 @@ from numpy.typing import NDArray
 
 from designlab.navigation.engine import obstacle_tracks
 from designlab.navigation.field import ObstacleGeometry, build_field
+from designlab.navigation.methods import METHODS
 from designlab.navigation.scenarios import Scenario
 from designlab.results import Result
 
@@ -91,6 +92,7 @@ def hold_audit(
     stabilising: bool,
     tie: int,
     period: float,
+    method: str = "vff",
 ) -> HoldAudit:
     """Evaluate V at every dynamics step and check it over each held period.
 
@@ -108,13 +110,16 @@ def hold_audit(
         The detour tie-break side (+1/-1).
     period
         The navigation period T_s in s.
+    method
+        The method of the run: one with the Lyapunov function (``stabilised``, the new VFF
+        filtered or not), whose V is evaluated.
 
     Returns
     -------
     HoldAudit
     """
     geos = tuple(ObstacleGeometry.of(o) for o in scenario.obstacles)
-    fn = build_field(geos, "vff")
+    fn = build_field(geos, METHODS.get(method, stabilised=True).name)
     robot = scenario.robot
     params = np.array([robot.mass, float(tie), 1.0 if stabilising else 0.0, robot.max_accel])
     x, obs = _field_inputs(scenario, t, position, velocity)

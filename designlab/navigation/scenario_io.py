@@ -39,8 +39,6 @@ designlab.errors.InvalidParameterError: obstacles[0].kind = 'tree' is not allowe
 from __future__ import annotations
 
 import math
-import os
-import stat
 from collections.abc import Callable, Mapping
 from dataclasses import replace
 from pathlib import Path
@@ -70,7 +68,6 @@ __all__ = [
     "load_scenario",
     "mirrored",
     "obstacle_from_dict",
-    "read_text_bounded",
     "robot_from_dict",
     "scenario_from_dict",
     "with_limits",
@@ -285,10 +282,11 @@ def load_scenario(path: str | Path) -> Scenario:
     Raises
     ------
     StudyError
-        For a file that is not YAML text, repeats a key or nests too deeply (file and line).
+        For a file that is missing, not a regular file (a FIFO, a device), too large, not
+        UTF-8 text, not YAML, repeats a key or nests too deeply (with the file and line;
+        :func:`designlab.yamlio.load_yaml_file`).
     InvalidParameterError
-        For a file that is not a regular file or too large, and for the scenario's content
-        (as :func:`scenario_from_dict`).
+        For the scenario's content (as :func:`scenario_from_dict`).
 
     Examples
     --------
@@ -301,68 +299,16 @@ def load_scenario(path: str | Path) -> Scenario:
     >>> load_scenario(f)
     Traceback (most recent call last):
     ...
-    designlab.errors.StudyError: ...room.yaml:4: key 'name' appears twice ...
+    designlab.errors.StudyError: ...room.yaml:4: name: key 'name' appears twice ...
     """
-    from designlab.yamlio import YamlError, load_yaml
+    from designlab.yamlio import YamlError, load_yaml_file
 
     p = Path(path)
-    text = read_text_bounded(p)
     try:
-        data, _ = load_yaml(text)
+        data, _ = load_yaml_file(p, max_bytes=MAX_FILE_BYTES)
     except YamlError as exc:
-        raise StudyError(exc.message, file=str(p), line=exc.line) from None
+        raise StudyError(exc.message, file=str(p), line=exc.line, path=exc.path or None) from None
     return scenario_from_dict(data)
-
-
-def read_text_bounded(p: str | Path, max_bytes: int = MAX_FILE_BYTES) -> str:
-    """The UTF-8 text of a regular file of at most ``max_bytes`` bytes, read in bounded
-    chunks (opened without blocking: a FIFO or a device is refused, not waited on).
-
-    Parameters
-    ----------
-    p
-        The file.
-    max_bytes
-        The largest file read (default :data:`MAX_FILE_BYTES`).
-
-    Returns
-    -------
-    str
-
-    Raises
-    ------
-    InvalidParameterError
-        Naming ``path``: not a regular file, too large, a NUL byte, not UTF-8.
-    """
-    p = Path(p)
-    try:
-        fd = os.open(p, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
-    except OSError as exc:
-        raise InvalidParameterError("path", str(p), f"cannot be opened: {exc.strerror}") from None
-    if not stat.S_ISREG(os.fstat(fd).st_mode):
-        os.close(fd)
-        raise InvalidParameterError(
-            "path", str(p), "must be a regular file (not a FIFO, device or directory)"
-        )
-    with os.fdopen(fd, "rb") as f:
-        chunks, size = [], 0
-        while size <= max_bytes:
-            chunk = f.read(min(1 << 16, max_bytes + 1 - size))
-            if not chunk:
-                break
-            chunks.append(chunk)
-            size += len(chunk)
-    if size > max_bytes:
-        raise InvalidParameterError("path", str(p), f"must be at most {max_bytes} bytes")
-    raw = b"".join(chunks)
-    if b"\0" in raw:
-        raise InvalidParameterError("path", str(p), "must be text: it holds a NUL byte")
-    try:
-        return raw.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise InvalidParameterError(
-            "path", str(p), f"must be UTF-8 text (byte {exc.start} is not)"
-        ) from None
 
 
 def with_limits(

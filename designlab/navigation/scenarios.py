@@ -584,6 +584,13 @@ def _shape(o: Obstacle) -> str:
     return f"{o.name}: rectangle of length {o.length:g} m, width {o.width:g} m at {o.center}"
 
 
+def _where(o: Obstacle) -> str:
+    """Where a stationary obstacle is, as its declaration spells it, for error messages."""
+    if isinstance(o, Rectangle):
+        return f"center = {o.center}"
+    return f"position = {getattr(o.motion, 'position', getattr(o.motion, 'start', '?'))}"
+
+
 def _overlap(a: Rectangle, b: Rectangle) -> bool:
     """Separating-axis test: True if the two rectangles intersect."""
     ca, cb = a.corners(), b.corners()
@@ -732,8 +739,9 @@ class Scenario:
                     raise InvalidParameterError(
                         "Scenario.goal",
                         self.goal,
-                        f"lies inside the critical region of {o.name!r} "
-                        f"(distance {d_goal:.3f} m <= r3 = {o.r3} m)",
+                        f"lies inside the critical region of {o.name!r} (Scenario.obstacles"
+                        f"[{self.obstacles.index(o)}], {_where(o)}; distance {d_goal:.3f} m "
+                        f"<= r3 = {o.r3} m): move the goal or the obstacle, or shrink its r3",
                         "m",
                     )
 

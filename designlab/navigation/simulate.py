@@ -46,6 +46,7 @@ from designlab.navigation.crowds import CrowdResult, CrowdScenario, accepts_crow
 from designlab.navigation.hold_audit import HoldAudit, hold_audit
 from designlab.navigation.lyapunov import StabilityAudit, audit_run
 from designlab.navigation.methods import (
+    METHODS,
     PLANNER,
     STABILISING,
     TIE_SIDE,
@@ -184,7 +185,7 @@ class NavigationResult(Result):
 
         See :func:`designlab.navigation.hold_audit.hold_audit`.
         """
-        if self.method not in ("vff", "vff_cbf"):
+        if not METHODS.get(self.method).stabilised:
             raise InvalidParameterError(
                 "method", self.method, "the hold audit needs the new VFF's Lyapunov function"
             )
@@ -192,6 +193,7 @@ class NavigationResult(Result):
         return hold_audit(
             self.scenario, self.t, self.position, self.velocity, row,
             stabilising=self.stabilising == "lyapunov", tie=self.tie, period=self.period,
+            method=self.method,
         )  # fmt: skip
 
     @property
@@ -333,7 +335,7 @@ def simulate(
     row = strategy.gain_row(gains)
     kw: dict[str, Any] = dict(
         method=strategy.name,
-        stabilising=stabilising == "lyapunov" and strategy.STABILISED,
+        stabilising=stabilising == "lyapunov" and strategy.stabilised,
         tie=strategy.tie(gains, tie_side),
         arrival_tolerance=arrival_tolerance,
         dynamics_step=dynamics_step,
@@ -378,7 +380,7 @@ def _summarise_run(
     )
     pos, vel, heading = _trajectories(scenario, rec["X"])
     audit = None
-    if strategy.STABILISED:
+    if strategy.stabilised:
         robot = scenario.robot
         audit = audit_run(
             rec,
@@ -393,7 +395,7 @@ def _summarise_run(
     return NavigationResult(
         scenario=scenario,
         method=strategy.name,
-        stabilising=stabilising if strategy.STABILISED else "off",
+        stabilising=stabilising if strategy.stabilised else "off",
         gains=strategy.gains_dict(row),
         arrival_time=arrival,
         min_distance=min_distance,
@@ -673,7 +675,7 @@ def simulate_batch(
     STABILISING.check(stabilising)
     TIE_SIDE.check(tie_side)
     strategy = method_of(method)
-    if not strategy.BATCHED:
+    if not strategy.batched:
         raise InvalidParameterError("method", method, "is not batched: use simulate()")
     w = check_weights(weights)
     _check_flags(jit=jit)
@@ -681,8 +683,8 @@ def simulate_batch(
     g = _check_gain_array(gains)
     kw: dict[str, Any] = dict(
         method=strategy.name,
-        stabilising=stabilising == "lyapunov" and strategy.STABILISED,
-        tie=1 if tie_side == "+y" else -1,
+        stabilising=stabilising == "lyapunov" and strategy.stabilised,
+        tie=strategy.tie(None, tie_side),
         arrival_tolerance=arrival_tolerance,
         dynamics_step=dynamics_step,
         jit=jit,

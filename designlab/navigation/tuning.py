@@ -684,21 +684,13 @@ def _check_budget(max_evaluations: Any, popsize: int) -> int:
 
 
 def _check_method(method: Any) -> str:
-    """A batched method whose gains can be optimised (``"cbf"`` solves a QP per period)."""
-    strategy = method_of(method)
-    if not strategy.BATCHED:
-        raise InvalidParameterError("method", method, "must be 'vff', 'masoud' or 'ge_cui'")
-    return strategy.name
+    """A batched method whose gains can be optimised (a filtered one solves a QP per period)."""
+    return method_of(method, batched=True).name
 
 
 def _gains_of(method: str, row: Array, tie_side: str) -> VFFGains | MasoudGains | GeCuiGains:
     """The gains object of a decision vector (k1, b, k3, k5)."""
-    k1, b, k3, k5 = (float(v) for v in row)
-    if method == "masoud":
-        return MasoudGains(k1=k1, k3=k3, k5=k5, direction=1 if tie_side == "+y" else -1)
-    if method == "ge_cui":
-        return GeCuiGains(k1=k1, b=b, k3=k3, k5=k5)
-    return VFFGains(k1, b, k3, k5)
+    return method_of(method).gains_of_row(row, tie_side)
 
 
 def _other_mode_warnings(ev: _Evaluator, gains: VFFGains) -> list[str]:
@@ -764,9 +756,10 @@ def _optimum(
             warnings.append(
                 "the compass refinement stopped on its budget before its step fell below 1e-3"
             )
-        if ev.method == "vff":
+        strategy = method_of(ev.method)
+        if strategy.stabilised:  # the other stabilising mode is worth checking
             warnings.extend(_other_mode_warnings(ev, gains))
-        used = [n for n in GAIN_NAMES if not (ev.method == "masoud" and n == "b")]
+        used = [n for n in GAIN_NAMES if n in strategy.used_gains]
         at_bound = [
             n
             for j, n in enumerate(GAIN_NAMES)

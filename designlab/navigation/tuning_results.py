@@ -14,6 +14,7 @@ from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
 from designlab.navigation.criteria import EQUAL_WEIGHTS
+from designlab.navigation.methods import METHODS
 from designlab.navigation.parameters import GeCuiGains, MasoudGains, VFFGains
 from designlab.results import Result, Status
 
@@ -203,7 +204,7 @@ class GainOptimum(Result):
         rows = [
             (n, float(near[n].min()), float(near[n].max()), float(f[n].iloc[0]))
             for n in GAIN_NAMES
-            if not (self.method == "masoud" and n == "b")
+            if n in METHODS.get(self.method).used_gains
         ]
         out = pd.DataFrame(rows, columns=cols)
         out.attrs["sets"] = len(near)

@@ -40,6 +40,7 @@ from designlab.report.atomic import (
     atomic_write_text,
     report_directory,
 )
+from designlab.report.builder import move_run_record
 from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
 
 __all__ = [
@@ -160,6 +161,7 @@ def write_report(
             if isinstance(exc, ReportError):
                 raise
             raise ReportError(f"cannot write the report {final}: {exc}") from exc
+    move_run_record(tmp, final)  # the writer's timings, recorded for the staging directory
     if index:
         write_index(Path(output_dir))
     return final

@@ -670,7 +670,8 @@ def _controllers_section(result: AccompanyingResult) -> list[str]:
             f"simulated mean RMS error of the tuning tasks ({', '.join(s.tuning.tune_on)}) "
             "with the same Ms and Mt limits as penalties. `improvement_all_tasks` is "
             "1 - mean RMS / mean RMS of the default over every task of the study. The tuners' "
-            "wall times are in the run record (`.designlab-run.json`), not in the report.",
+            "wall times are in the run record, kept outside the report (`designlab list` "
+            "shows it).",
             "",
         ]
     return out

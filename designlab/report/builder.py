@@ -25,9 +25,11 @@ this report, and regenerate it with the same command.
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 import os
+import platform
 import re
 from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
@@ -41,16 +43,19 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 __all__ = [
-    "RUN_RECORD",
+    "RUNS_DIR",
     "STUDY_COPY",
     "copy_study",
     "figure_section",
     "format_duration",
+    "move_run_record",
     "provenance",
     "record_run",
     "record_timings",
     "recorded_run",
     "report_header",
+    "run_record",
+    "run_record_path",
     "slug",
     "warnings_section",
     "write_report",
@@ -302,12 +307,80 @@ def write_report(
     return written + copy_study(folder, study_text)
 
 
-#: Inside a report directory: how long the run that wrote it took (for ``designlab list``).
-RUN_RECORD = ".designlab-run.json"
+#: The run records' subdirectory of the user cache directory (:func:`run_record_path`).
+RUNS_DIR = "runs"
 
 
-def record_run(directory: str | os.PathLike[str], seconds: float, **extra: Any) -> Path:
-    """Keep the wall time of the run that wrote a report, next to it.
+def run_record_path(directory: str | os.PathLike[str]) -> Path | None:
+    """Where the run record of the report in ``directory`` is kept (``None``: nowhere).
+
+    A run record holds how long the run that wrote a report took, and its parts
+    (:func:`record_run`, :func:`record_timings`). Wall times belong to the machine and its
+    load, not to the report, so the record is kept outside the report and outside the
+    checkout: in ``runs/`` of the user cache directory (``$DESIGNLAB_CACHE_DIR``, else
+    ``~/.cache/designlab``; :func:`designlab.sx.cache.cache_dir`), one file per report
+    directory, named by a hash of its absolute path. Running a study therefore never
+    modifies a committed file other than the report's own, and ``designlab list`` shows only
+    runs of this machine.
+
+    Parameters
+    ----------
+    directory
+        The report directory.
+
+    Returns
+    -------
+    Path or None
+        ``None`` where no private cache directory can be made.
+    """
+    from designlab.sx.cache import private_cache_subdir
+
+    root = private_cache_subdir(RUNS_DIR)
+    if root is None:
+        return None
+    absolute = str(Path(directory).resolve())
+    return root / f"{hashlib.sha256(absolute.encode()).hexdigest()[:32]}.json"
+
+
+def run_record(directory: str | os.PathLike[str]) -> dict[str, Any]:
+    """The run record of the report in ``directory`` on this machine (``{}`` if none).
+
+    A record written on another host (a home directory shared between machines) is not
+    this machine's, so it reads as ``{}``.
+
+    Parameters
+    ----------
+    directory
+        The report directory.
+    """
+    path = run_record_path(directory)
+    try:
+        record = json.loads(path.read_text(encoding="utf-8")) if path else {}
+    except (OSError, ValueError):
+        return {}
+    if not isinstance(record, dict) or record.get("host") != platform.node():
+        return {}
+    return record
+
+
+def _write_run_record(directory: str | os.PathLike[str], record: dict[str, Any]) -> Path | None:
+    """Write a run record; drop this host's records of report directories that are gone."""
+    path = run_record_path(directory)
+    if path is None:
+        return None
+    for old in path.parent.glob("*.json"):
+        try:
+            gone = json.loads(old.read_text(encoding="utf-8"))
+            if gone.get("host") == platform.node() and not Path(gone["report"]).is_dir():
+                old.unlink()
+        except (OSError, ValueError, KeyError, TypeError, AttributeError):
+            continue
+    record = {**record, "host": platform.node(), "report": str(Path(directory).resolve())}
+    return atomic_write_text(path, json.dumps(record, sort_keys=True) + "\n")
+
+
+def record_run(directory: str | os.PathLike[str], seconds: float, **extra: Any) -> Path | None:
+    """Keep the wall time of the run that wrote a report in its run record.
 
     Parameters
     ----------
@@ -318,6 +391,11 @@ def record_run(directory: str | os.PathLike[str], seconds: float, **extra: Any) 
     **extra
         More facts to keep (``executor="serial"``).
 
+    Returns
+    -------
+    Path or None
+        The run record's file (:func:`run_record_path`), ``None`` if it could not be kept.
+
     Examples
     --------
     >>> import tempfile
@@ -326,22 +404,12 @@ def record_run(directory: str | os.PathLike[str], seconds: float, **extra: Any) 
     ...     recorded_run(d)
     83.2
     """
-    record = {**_timings_of(directory), "seconds": round(float(seconds), 1), **extra}
-    text = json.dumps(record, sort_keys=True) + "\n"
-    return atomic_write_text(Path(directory) / RUN_RECORD, text)
+    timings = run_record(directory).get("timings")
+    kept = {"timings": timings} if isinstance(timings, dict) else {}
+    return _write_run_record(directory, {**kept, "seconds": round(float(seconds), 1), **extra})
 
 
-def _timings_of(directory: str | os.PathLike[str]) -> dict[str, Any]:
-    """``{"timings": {...}}`` kept by :func:`record_timings`, or ``{}``."""
-    try:
-        old = json.loads((Path(directory) / RUN_RECORD).read_text(encoding="utf-8"))
-    except (OSError, ValueError):
-        return {}
-    timings = old.get("timings") if isinstance(old, dict) else None
-    return {"timings": timings} if isinstance(timings, dict) else {}
-
-
-def record_timings(directory: str | os.PathLike[str], timings: Mapping[str, float]) -> Path:
+def record_timings(directory: str | os.PathLike[str], timings: Mapping[str, float]) -> Path | None:
     """Keep the wall times of a run's parts in its run record, not in the report.
 
     Wall times depend on the machine and its load, so a report's tables and Markdown never
@@ -355,38 +423,57 @@ def record_timings(directory: str | os.PathLike[str], timings: Mapping[str, floa
     timings
         ``{part: seconds}``; replaces the timings recorded before.
 
+    Returns
+    -------
+    Path or None
+        The run record's file (:func:`run_record_path`), ``None`` if it could not be kept.
+
     Examples
     --------
     >>> import tempfile
     >>> with tempfile.TemporaryDirectory() as d:
     ...     _ = record_timings(d, {"optimise off": 52.31})
     ...     _ = record_run(d, 83.2, executor="serial")
-    ...     json.loads((Path(d) / RUN_RECORD).read_text())["timings"]
+    ...     run_record(d)["timings"]
     {'optimise off': 52.3}
     """
-    try:
-        old = json.loads((Path(directory) / RUN_RECORD).read_text(encoding="utf-8"))
-    except (OSError, ValueError):
-        old = {}
-    record = old if isinstance(old, dict) else {}
+    record = run_record(directory)
     record["timings"] = {str(k): round(float(v), 1) for k, v in timings.items()}
-    text = json.dumps(record, sort_keys=True) + "\n"
-    return atomic_write_text(Path(directory) / RUN_RECORD, text)
+    return _write_run_record(directory, record)
+
+
+def move_run_record(source: str | os.PathLike[str], target: str | os.PathLike[str]) -> None:
+    """Give the run record of ``source`` (a report's staging directory) to ``target``.
+
+    A report is written in a temporary directory that then replaces the report directory
+    (:func:`designlab.report.atomic.report_directory`); what its writer recorded
+    (:func:`record_timings`) belongs to the report directory. Without a record of ``source``
+    nothing changes.
+
+    Parameters
+    ----------
+    source, target
+        The staging and the report directory.
+    """
+    record = run_record(source)
+    path = run_record_path(source)
+    if not record or path is None:
+        return
+    _write_run_record(target, {k: v for k, v in record.items() if k not in ("host", "report")})
+    path.unlink(missing_ok=True)
 
 
 def recorded_run(directory: str | os.PathLike[str]) -> float | None:
-    """The wall time kept by :func:`record_run` (``None`` if none or unreadable).
+    """The wall time kept by :func:`record_run` on this machine (``None`` if none).
 
     Parameters
     ----------
     directory
         The report directory.
     """
-    try:
-        value = json.loads((Path(directory) / RUN_RECORD).read_text(encoding="utf-8"))["seconds"]
-    except (OSError, ValueError, KeyError, TypeError):
-        return None
-    return float(value) if isinstance(value, int | float) and math.isfinite(value) else None
+    value = run_record(directory).get("seconds")
+    ok = isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
+    return float(value) if ok else None
 
 
 def format_duration(seconds: float) -> str:

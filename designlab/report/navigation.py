@@ -32,6 +32,7 @@ from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from designlab.navigation.methods import METHODS
 from designlab.navigation.parameters import VFFGains
 from designlab.report import register_writer
 from designlab.report.builder import (
@@ -155,6 +156,12 @@ def distance_figure(runs: list[Any], title: str) -> Figure:
     return fig
 
 
+def _draws_vff_field(method: str) -> bool:
+    """Whether a run gets a force figure: the new VFF's own (stabilised, unfiltered) field."""
+    m = METHODS.variants(force_field=True, stabilised=True, filtered=False)
+    return method in {v.name for v in m}
+
+
 def _fmt(v: Any) -> Any:
     if isinstance(v, float) and math.isinf(v):
         return "never"
@@ -271,7 +278,7 @@ def write_navigation_report(
         energy = f"energy_{part}.png"
         makers[energy] = partial(energy_figure, runs, scen)
         extra[scen] = [energy]
-        vff = [r for r in runs if r.result.method == "vff"]
+        vff = [r for r in runs if _draws_vff_field(r.result.method)]
         if vff:
             force = f"force_{part}.png"
             g = VFFGains(**vff[0].result.gains)

@@ -12,6 +12,7 @@ import numpy as np
 import pandas as pd
 
 from designlab.navigation import Disc, GainOptimum, NavigationResult
+from designlab.navigation.methods import METHODS
 from designlab.navigation.tuning_results import (
     NEAR_OPTIMAL_H_MEAN,
     REPRO_H_FIXED,
@@ -423,7 +424,7 @@ def _effort_section(result: NavigationGainsResult) -> list[str]:
         "",
         "The thesis's grid search and fmincon took one week (App. C.2). How long each "
         "optimisation took here depends on the machine and its load: the times are kept with "
-        "the run record (`.designlab-run.json`), not in the report.",
+        "the run record, kept outside the report (`designlab list` shows it).",
         "",
         "![convergence](convergence.png)",
         "",
@@ -704,7 +705,8 @@ def _ranged_baselines(result: NavigationGainsResult, f: pd.DataFrame) -> pd.Data
     for i, row in f.iterrows():
         if row["gains"] != "designlab_optimum":
             continue
-        label = "off" if row["method"] == "vff" else f"baseline {row['method']}"
+        baseline = METHODS.get(row["method"]).baseline
+        label = f"baseline {row['method']}" if baseline else "off"
         for _, g in near[near["optimisation"] == label].iterrows():
             if g["gain"] in shown.columns and _flat(g["low"], g["high"]):
                 shown.loc[i, g["gain"]] = f"~{g['low']:.4g}-{g['high']:.4g}"

@@ -40,7 +40,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from designlab.following.tether import allan_tables, measured_ratio, normal_path_deviation
+from designlab.following.tether import LAWS, allan_tables, measured_ratio, normal_path_deviation
 from designlab.following.tether.reference import TABLES
 from designlab.report import register_writer
 from designlab.report.builder import (
@@ -97,6 +97,15 @@ floor {s.damping_floor:g} from the linear lateral loop at every speed; tether ra
 _COLOURS = ("tab:red", "tab:blue", "tab:green", "tab:orange", "tab:purple", "tab:brown")
 
 
+#: The law the others are compared with: the first that follows from behind (PJ).
+_REFERENCE = LAWS.variants(placement="behind")[0]
+#: The laws given as a ratio to it: those measured in Tables 3.2-3.3 first (FTL-CD), then the rest.
+_RATIO_LAWS = sorted(
+    (law for law in LAWS.variants(placement="behind") if law is not _REFERENCE),
+    key=lambda law: not law.measured,
+)
+
+
 def _pivot(frame: pd.DataFrame, controllers: list[str]) -> pd.DataFrame:
     rows = []
     for (path, ld), grp in frame.groupby(["path", "desired_length_m"], sort=False):
@@ -106,14 +115,12 @@ def _pivot(frame: pd.DataFrame, controllers: list[str]) -> pd.DataFrame:
             if c in by.index:
                 row[f"{c} mean/b"] = round(float(by.loc[c, "npd_mean_over_b"]), 3)
                 row[f"{c} std/b"] = round(float(by.loc[c, "npd_std_over_b"]), 3)
-        if "PJ" in by.index and "FTL-CD" in by.index:
-            row["PJ / FTL-CD"] = round(
-                float(by.loc["PJ", "npd_mean_m"] / by.loc["FTL-CD", "npd_mean_m"]), 2
-            )
-        if "PJ" in by.index and "FTL" in by.index:
-            row["PJ / FTL"] = round(
-                float(by.loc["PJ", "npd_mean_m"] / by.loc["FTL", "npd_mean_m"]), 2
-            )
+        ref = _REFERENCE.short
+        for other in _RATIO_LAWS:
+            if ref in by.index and other.short in by.index:
+                row[f"{ref} / {other.short}"] = round(
+                    float(by.loc[ref, "npd_mean_m"] / by.loc[other.short, "npd_mean_m"]), 2
+                )
         rows.append(row)
     out = pd.DataFrame(rows)
     if len(out):
@@ -194,7 +201,7 @@ def _length_trend_claim(table: pd.DataFrame, law: str) -> str:
 
 
 def ranking_claims(
-    frame: pd.DataFrame, metric: str = "npd_mean_m", reference: str = "PJ"
+    frame: pd.DataFrame, metric: str = "npd_mean_m", reference: str = _REFERENCE.short
 ) -> list[str]:
     """Ranking and trend sentences computed from a comparison table (never hand-written).
 
@@ -666,8 +673,8 @@ _REPRODUCTION_TEXT = (
     "at another gain set: the tuned gains, costs and improvements are the result of this run, "
     "not digits to reproduce. Where the evaluated gain sets within {tol:g} (relative) of the "
     "best cost spread beyond the digits shown, the gains table gives their range (~low-high; "
-    "every range in near_optimal.csv). Wall times are in the run record "
-    "(`.designlab-run.json`), not in the report."
+    "every range in near_optimal.csv). Wall times are in the run record, "
+    "kept outside the report (`designlab list` shows it)."
 )
 
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 from functools import partial
 from pathlib import Path
+from typing import Any
 
 import matplotlib
 
@@ -20,6 +21,7 @@ import matplotlib.pyplot as plt
 import pandas as pd
 from matplotlib.figure import Figure
 
+from designlab.following.tether import LAWS
 from designlab.report import register_writer
 from designlab.report.builder import report_header, slug, warnings_section, write_report
 from designlab.report.writers import markdown_table
@@ -89,25 +91,32 @@ def brake_figure(result: TetherModesResult) -> Figure:
     return fig
 
 
+def _steadier_claim(path: str, lh: float, law: Any, row: Any, other: Any, ref: Any) -> str:
+    """Whether ``law`` holds the side offset steadier than ``other``, as the thesis found."""
+    a, b = law.short, other.short
+    return (
+        f"- {path}, l_H {lh:g} m: spread of the side offset {row['npd_std_m']:.3f} m ({a}) "
+        f"against {ref['npd_std_m']:.3f} m ({b}), mean offset error "
+        f"{row['offset_error_mean_m']:+.3f} against {ref['offset_error_mean_m']:+.3f} m: "
+        + (
+            f"{a} holds the offset more constant, as the thesis says (Fig. 4.7)."
+            if row["npd_std_m"] < ref["npd_std_m"]
+            else f"{a} does not hold it more constant here."
+        )
+    )
+
+
 def _side_claims(frame: pd.DataFrame) -> list[str]:
     out = []
-    side = frame[frame["mode"].isin(["SideJoystick", "SideTracking"])]
+    side = frame[frame["mode"].isin(LAWS.choices(placement="side"))]
+    pairs = [(law, LAWS.get(law.steadier_than)) for law in LAWS.variants() if law.steadier_than]
     for (path, lh), g in side.groupby(["path", "side_offset_m"], sort=False):
-        if set(g["mode"]) != {"SideJoystick", "SideTracking"}:
-            continue
-        sj = g[g["mode"] == "SideJoystick"].iloc[0]
-        st = g[g["mode"] == "SideTracking"].iloc[0]
-        better = st["npd_std_m"] < sj["npd_std_m"]
-        out.append(
-            f"- {path}, l_H {lh:g} m: spread of the side offset {st['npd_std_m']:.3f} m (Tracking) "
-            f"against {sj['npd_std_m']:.3f} m (Joystick), mean offset error "
-            f"{st['offset_error_mean_m']:+.3f} against {sj['offset_error_mean_m']:+.3f} m: "
-            + (
-                "Tracking holds the offset more constant, as the thesis says (Fig. 4.7)."
-                if better
-                else "Tracking does not hold it more constant here."
-            )
-        )
+        by = g.set_index("mode")
+        for law, other in pairs:
+            if law.name in by.index and other.name in by.index:
+                out.append(
+                    _steadier_claim(path, lh, law, by.loc[law.name], other, by.loc[other.name])
+                )
     turns = side[side["offset_error_inside_turns_m"].notna()]
     for _, row in turns.iterrows():
         ins, outs = row["offset_error_inside_turns_m"], row["offset_error_outside_turns_m"]
@@ -115,11 +124,7 @@ def _side_claims(frame: pd.DataFrame) -> list[str]:
             f"- {row['path']}, {row['mode']}, l_H {row['side_offset_m']:g} m: mean |offset error| "
             f"{ins:.3f} m where the robot is inside the leader's turns, {outs:.3f} m outside: "
             + ("worse inside" if ins > outs else "not worse inside")
-            + (
-                " (the thesis: Side Joystick distorted on the inside, Fig. 4.5)."
-                if row["mode"] == "SideJoystick"
-                else " (the thesis: Side Tracking handles both, Fig. 4.7)."
-            )
+            + f" ({LAWS.get(row['mode']).turn_claim})."
         )
     for _, row in frame[frame["lost"]].iterrows():
         far = row["final_distance_m"]

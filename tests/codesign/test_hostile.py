@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -452,3 +453,36 @@ def test_speed_limit_refuses_what_double_precision_cannot_serve_by_name(
         dl.codesign.speed_limit(args["robot"], args["foam"])
     assert (err.value.name, err.value.value) == (f"{where}.{field}", value)
     assert "nan" not in str(err.value) and "at most 10000" in str(err.value)
+
+
+@pytest.mark.parametrize(
+    ("field", "value", "effective"),
+    [("joint_damping", 1e7, "C_J/l^2 = 1e+13"), ("joint_damping", 1e6, "C_J/l^2 = 1e+14")],
+)
+def test_speed_limit_of_a_link_names_the_links_own_parameter(field, value, effective) -> None:
+    """A link's conditioning refusal named ``params[0].C_r`` (the effective row of the
+    kernel batch); it names the link's own field with the value given, and the lever arm."""
+    base = {"inertia": 0.5, "joint_stiffness": 100.0, "joint_damping": 10.0,
+            "joint_speed": 3.0, "lever_arm_min": 0.001, "lever_arm_max": 0.5}  # fmt: skip
+    link = LinkImpact(**{**base, field: value})
+    if value == 1e6:
+        link = dataclasses.replace(link, lever_arm_min=1e-4)
+    with pytest.raises(InvalidParameterError) as err:
+        dl.codesign.speed_limit(link, FOAM_1)
+    assert (err.value.name, err.value.value) == (f"robot.{field}", value)
+    text = str(err.value)
+    assert "params[" not in text and f"l = {link.lever_arm_min:g} m" in text and effective in text
+    assert "at most 10000" in text
+
+
+def test_speed_limit_refuses_an_impact_lobe_that_does_not_end() -> None:
+    """A nearly undamped, very stiff robot: its metrics are NaN (``lobe_not_closed``); the
+    link's Brent search raised scipy's 'function value at x=0.0 is NaN' and a fixed robot
+    'contact_limit = nan'; both now name the robot's inputs and the status."""
+    fixed = dl.impact.ContactDynamics(mass=2.0, damping=40.0, stiffness=4e9)
+    link = LinkImpact(0.5, 1e9, 10.0, 3.0, 0.001, 0.5)
+    cases = ((fixed, "robot.stiffness = 4e+09"), (link, "robot.joint_stiffness = 1e+09"))
+    for robot, shown in cases:
+        with pytest.raises(dl.errors.ModelError) as err:
+            dl.codesign.speed_limit(robot, FOAM_1)
+        assert shown in str(err.value) and "lobe_not_closed" in str(err.value)

@@ -97,7 +97,7 @@ def test_a_walk_file_is_read_only_when_it_is_a_bounded_regular_file(tmp_path):
         os.mkfifo(fifo)
         with pytest.raises(InvalidParameterError, match="regular file"):
             acc.walking_task_from_csv(fifo, target_position=(0.0, 0.6))
-    with pytest.raises(InvalidParameterError, match="cannot be opened"):
+    with pytest.raises(InvalidParameterError, match="file not found"):
         acc.walking_task_from_csv(tmp_path / "missing.csv", target_position=(0.0, 0.6))
     nul = tmp_path / "nul.csv"
     nul.write_bytes(b"time_s,x_m,y_m,heading_rad\n0,0,0,0\x00\n")

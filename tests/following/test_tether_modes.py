@@ -204,7 +204,8 @@ def test_turn_errors_split_by_the_side_of_the_turn():
 @settings(max_examples=50, deadline=None)
 @given(st.floats(-5, 5), st.floats(-5, 5), angles, st.floats(0.1, 3.0), angles)
 def test_side_pose_sees_the_point_at_the_angle(px, py, heading, offset, angle):
-    from designlab.following.tether.side import lateral_offset, side_pose
+    from designlab.following.tether.laws.base import side_pose
+    from designlab.following.tether.metrics import lateral_offset
 
     x, y, g = side_pose((px, py), heading, offset, angle)
     assert math.hypot(px - x, py - y) == pytest.approx(offset)

@@ -125,7 +125,7 @@ ROOM = "name: room\nstart: [3, 0]\ngoal: [0, 0]\n"
 @pytest.mark.parametrize(
     ("text", "match"),
     [
-        (ROOM + "name: hall\n", r"room\.yaml:4: key 'name' appears twice"),
+        (ROOM + "name: hall\n", r"room\.yaml:4: name: key 'name' appears twice"),
         ("name: [room\n", r"room\.yaml:\d+: YAML syntax error"),
         ("name: " + "[" * 5000 + "]" * 5000 + "\n", r"room\.yaml:1: .*nests"),
         ("a: &a [1]\nb: *a\n" + ROOM, "is not a key here"),
@@ -147,7 +147,8 @@ def test_load_scenario_refuses_bad_yaml_with_the_file_and_line(tmp_path, text, m
     ],
 )
 def test_load_scenario_reads_only_bounded_text(tmp_path, data, match):
-    with pytest.raises(InvalidParameterError, match=match):
+    """The core reader (designlab.yamlio): the file and the line are named."""
+    with pytest.raises(StudyError, match=rf"room\.yaml:.*{match}"):
         io.load_scenario(_write(tmp_path, data))
 
 
@@ -157,9 +158,9 @@ def test_load_scenario_refuses_a_fifo_a_device_and_a_directory_without_waiting(t
     os.mkfifo(fifo)
     for path in (fifo, Path("/dev/zero"), tmp_path):
         if path.exists():
-            with pytest.raises(InvalidParameterError, match="regular file"):
+            with pytest.raises(StudyError, match="not a regular file"):
                 io.load_scenario(path)
-    with pytest.raises(InvalidParameterError, match="cannot be opened"):
+    with pytest.raises(StudyError, match=r"missing\.yaml: file not found"):
         io.load_scenario(tmp_path / "missing.yaml")
 
 
@@ -351,6 +352,16 @@ def test_criteria_refuse_what_is_not_a_run(kwargs, name):
 
     with pytest.raises(InvalidParameterError, match=name):
         criteria(**{**BASE_RUN, **kwargs})
+
+
+def test_criteria_name_both_clearance_mappings_when_their_obstacles_differ():
+    """``surface_clearance={}`` was refused naming only ``nominal_clearance``'s keys."""
+    from designlab.navigation.criteria import criteria
+
+    with pytest.raises(InvalidParameterError) as err:
+        criteria(**{**BASE_RUN, "surface_clearance": {}})
+    assert err.value.name == "nominal_clearance" and err.value.value == {"c": 0.5}
+    assert "surface_clearance = {}" in str(err.value)
 
 
 def test_criteria_of_a_run_and_nominal_run_that_never_arrived():

@@ -1,7 +1,8 @@
 """Reports that reproduce on another machine (issue 34, item 5).
 
 * No report carries a wall-clock time in its tables or Markdown: times depend on the machine
-  and its load, so they go to the run record (``.designlab-run.json``), never the report.
+  and its load, so they go to the run record (outside the report and the checkout;
+  ``designlab.report.builder.run_record_path``), never the report.
 * A seeded study regenerates its table on "another CPU" within the tolerances its report
   states: here a small ``navigation_gains`` study rerun in a subprocess whose compiled and
   library code paths are those of a plain x86-64 CPU (numba for a generic CPU, glibc's libm
@@ -10,7 +11,6 @@
 
 from __future__ import annotations
 
-import json
 import os
 import re
 import subprocess
@@ -26,7 +26,7 @@ from designlab.navigation.tuning_results import (
     REPRO_H_OPTIMUM,
 )
 from designlab.report import write_report
-from designlab.report.builder import RUN_RECORD
+from designlab.report.builder import run_record
 from designlab.study import parse_study, run_study
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -110,7 +110,8 @@ def _report(tmp: Path) -> Path:
 def test_a_report_keeps_its_times_in_the_run_record(tmp_path: Path) -> None:
     out = _report(tmp_path)
     assert wall_clock_columns(out) == []
-    timings = json.loads((out / RUN_RECORD).read_text())["timings"]
+    timings = run_record(out)["timings"]
+    assert not [p.name for p in out.iterdir() if p.name.startswith(".designlab-run")]
     assert set(timings) == {"optimise lyapunov"} and timings["optimise lyapunov"] >= 0.0
     assert "## Reproduction on another machine" in (out / "summary.md").read_text()
 

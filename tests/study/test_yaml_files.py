@@ -106,11 +106,14 @@ def test_a_nul_byte_is_a_clear_error_with_its_line(tmp_path: Path) -> None:
 def test_a_number_of_thousands_of_digits_is_a_clear_error(tmp_path: Path, digits: int) -> None:
     f = tmp_path / "s.yaml"
     f.write_text(STUDY.format(mass="9" * digits), encoding="utf-8")
-    with pytest.raises(StudyError, match=rf"s.yaml:5: a number written with {digits:,} char"):
+    head = r"s.yaml:5: cases\[0\].robot.mass: the number 999999999999\.\.\.9999 is"
+    with pytest.raises(StudyError, match=head) as err:
         load_study(f)
-    with pytest.raises(YamlError, match=r"^a number written") as info:
+    assert f"written with {digits:,} characters" in str(err.value)
+    raw = r"^the number 111111111111\.\.\.11\.5 is not allowed"
+    with pytest.raises(YamlError, match=raw) as info:
         load_yaml(f"a: {'1' * digits}.5\n")
-    assert info.value.line == 1
+    assert info.value.line == 1 and info.value.path == ("a",)
 
 
 def test_numbers_within_the_cap_still_load() -> None:

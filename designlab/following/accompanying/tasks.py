@@ -567,9 +567,13 @@ def walking_task(
 
 def _read_walk(p: Path) -> tuple[NDArray, NDArray, NDArray, NDArray]:
     """Time, x, y and heading (rad) of a recorded walk; errors name the file, line and column."""
-    from designlab.navigation.scenario_io import read_text_bounded
+    from designlab.yamlio import YamlError, read_text_file
 
-    text = read_text_bounded(p, _MAX_BYTES)  # a regular file, read in bounded chunks
+    try:  # a regular file, read in bounded chunks, UTF-8 without NUL bytes
+        text = read_text_file(p, max_bytes=_MAX_BYTES)
+    except YamlError as exc:
+        where = "" if exc.line is None else f" (line {exc.line})"
+        raise InvalidParameterError("path", str(p), f"{exc.message}{where}") from None
     try:
         frame = pd.read_csv(io.StringIO(text))
     except pd.errors.EmptyDataError:

@@ -10,7 +10,9 @@ module                     holds
 =========================  ==========================================================
 ``parameters``             :class:`FollowerRobot`, :data:`OXYDOG` and the declared
                            arguments of the simulation and the tuner
-``controllers``            the three control laws
+``laws``                   the control laws, one module each, and their registry
+                           :data:`LAWS` (PJ, FTL, FTL-CD; Ch. 4's side, front and
+                           Brake modes)
 ``paths``                  the leader paths and :class:`LeaderPath`
 ``model``                  kinematics, tether sensor and closed-loop step in CasADi
 ``buffer``                 the FTL path buffer and its target points
@@ -22,8 +24,6 @@ module                     holds
 ``tuning``                 :func:`tune` (differential evolution)
 ``evaluators``             the sweep engine's chunk evaluator
 ``reference``              Allan 2015 Tables 3.2 and 3.3
-``side``, ``front``        Ch. 4 side and front modes (``docs/tether_modes.md``)
-``brake``                  Brake mode and its selector (Sec. 4.4)
 ``stepwise``               the loop of the modes with memory
 ``odometry``               dead reckoning with wheel slip, the marker-to-tip offset
 ``snag``                   tether snagging on a corridor corner (Sec. 4.5)
@@ -43,16 +43,16 @@ True
 
 from __future__ import annotations
 
-from designlab.following.tether.brake import BrakeMode, brake_timeline
-from designlab.following.tether.controllers import (
-    CONTROLLERS,
-    FollowTheLeader,
-    FollowTheLeaderConstDistance,
-    PseudoJoystick,
-    TetherController,
-    controller_from_dict,
-)
-from designlab.following.tether.front import FrontJoystick, FrontVelJoystick
+from designlab.following.tether.laws.base import TetherController
+from designlab.following.tether.laws.brake import BrakeMode, brake_timeline
+from designlab.following.tether.laws.constant_distance import FollowTheLeaderConstDistance
+from designlab.following.tether.laws.follow_the_leader import FollowTheLeader
+from designlab.following.tether.laws.front_joystick import FrontJoystick
+from designlab.following.tether.laws.front_vel_joystick import FrontVelJoystick
+from designlab.following.tether.laws.pseudo_joystick import PseudoJoystick
+from designlab.following.tether.laws.registry import LAWS, controller_from_dict
+from designlab.following.tether.laws.side_joystick import SideJoystick
+from designlab.following.tether.laws.side_tracking import SideTracking
 from designlab.following.tether.linear import (
     LinearLoop,
     LinearLoopStatus,
@@ -87,7 +87,6 @@ from designlab.following.tether.paths import (
     straight_line,
 )
 from designlab.following.tether.reference import allan_tables, measured_ratio
-from designlab.following.tether.side import SideJoystick, SideTracking
 from designlab.following.tether.simulate import (
     FollowerBatch,
     FollowerRun,
@@ -98,7 +97,7 @@ from designlab.following.tether.simulate import (
 from designlab.following.tether.tuning import CostWeights, TuningResult, TuningStatus, tune
 
 __all__ = [
-    "CONTROLLERS",
+    "LAWS",
     "OXYDOG",
     "BrakeMode",
     "CostWeights",

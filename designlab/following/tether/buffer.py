@@ -36,6 +36,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 __all__ = [
+    "CONSTANT_DISTANCE",
+    "LOOKAHEAD",
+    "TETHER_ANGLE",
     "ConstantDistanceBatch",
     "ConstantDistanceTarget",
     "LookaheadBatch",
@@ -43,6 +46,7 @@ __all__ = [
     "MemberBuffers",
     "NoTarget",
     "SharedBufferTarget",
+    "TargetFinder",
     "record_shared",
 ]
 
@@ -285,8 +289,8 @@ class MemberBuffers:
 
     Parameters
     ----------
-    target
-        ``"lookahead"`` or ``"constant_distance"``.
+    finder
+        The law's target finder (:data:`LOOKAHEAD` or :data:`CONSTANT_DISTANCE`).
     n_members, n_steps
         Batch size and number of control periods.
     window
@@ -305,7 +309,7 @@ class MemberBuffers:
 
     def __init__(
         self,
-        target: str,
+        finder: TargetFinder,
         n_members: int,
         n_steps: int,
         window: int,
@@ -330,7 +334,7 @@ class MemberBuffers:
             self.cnt[:] = len(prefill)
         self.rows = np.arange(n_members)
         self.ar = np.arange(window)
-        self.window, self.min_step, self.lookahead = window, min_step, target == "lookahead"
+        self.window, self.min_step, self.finder = window, min_step, finder
         self.delta = per_member - 1e-12
         self.ld2 = per_member**2
         self.sense, self.tip, self.offsets = sense, tip, robot_offsets
@@ -361,18 +365,120 @@ class MemberBuffers:
         widx = np.maximum(widx, 0)
         wxs = self.bx[rows[:, None], widx]
         wys = self.by[rows[:, None], widx]
-        if self.lookahead:
-            d2 = np.where(valid, (wxs - x[:, None]) ** 2 + (wys - y[:, None]) ** 2, np.inf)
-            i0 = np.where(np.minimum(self.cnt, window) < 2, window - 1, np.argmin(d2, axis=1))
-            ws = self.bs[rows[:, None], widx]
-            ok = (
-                valid
-                & (ws - ws[rows, i0][:, None] >= self.delta[:, None])
-                & (ar[None, :] >= i0[:, None])
-            )
-            jj = np.where(ok.any(axis=1), np.argmax(ok, axis=1), window - 1)
-        else:
-            nx, ny = wxs[:, -1], wys[:, -1]
-            ok = valid & ((wxs - nx[:, None]) ** 2 + (wys - ny[:, None]) ** 2 >= self.ld2[:, None])
-            jj = np.where(ok.any(axis=1), window - 1 - np.argmax(ok[:, ::-1], axis=1), window - 1)
+        jj = self.finder.pick(self, x, y, wxs, wys, widx, valid)
         return wxs[rows, jj], wys[rows, jj]
+
+    def pick_lookahead(
+        self, x: NDArray, y: NDArray, wxs: NDArray, wys: NDArray, widx: NDArray, valid: NDArray
+    ) -> NDArray:
+        """FTL's rule: ``delta`` along the path beyond the nearest point (indices in the window)."""
+        rows, window, ar = self.rows, self.window, self.ar
+        d2 = np.where(valid, (wxs - x[:, None]) ** 2 + (wys - y[:, None]) ** 2, np.inf)
+        i0 = np.where(np.minimum(self.cnt, window) < 2, window - 1, np.argmin(d2, axis=1))
+        ws = self.bs[rows[:, None], widx]
+        ok = (
+            valid
+            & (ws - ws[rows, i0][:, None] >= self.delta[:, None])
+            & (ar[None, :] >= i0[:, None])
+        )
+        return np.where(ok.any(axis=1), np.argmax(ok, axis=1), window - 1)
+
+    def pick_constant_distance(
+        self, x: NDArray, y: NDArray, wxs: NDArray, wys: NDArray, widx: NDArray, valid: NDArray
+    ) -> NDArray:
+        """FTL-CD's rule: the newest point at least l_d from the newest (indices in the window)."""
+        window = self.window
+        nx, ny = wxs[:, -1], wys[:, -1]
+        ok = valid & ((wxs - nx[:, None]) ** 2 + (wys - ny[:, None]) ** 2 >= self.ld2[:, None])
+        return np.where(ok.any(axis=1), window - 1 - np.argmax(ok[:, ::-1], axis=1), window - 1)
+
+
+class TargetFinder:
+    """How a law obtains its steering angle: the tether angle itself (no recorded path).
+
+    A law names its finder (``target_finder``); the loops ask the finder, never the
+    law's name. :data:`TETHER_ANGLE` is this base; :data:`LOOKAHEAD` (FTL) and
+    :data:`CONSTANT_DISTANCE` (FTL-CD) record the tip and steer at a point of it.
+
+    Attributes
+    ----------
+    name
+        What the target is (for the docs).
+    records_path
+        Whether the law records the tether tip in an App. C path buffer.
+    """
+
+    name = "tether"
+    records_path = False
+
+    def distance(self, law: Any) -> float:
+        """The law's search distance in m (look-ahead or l_d; NaN without a path)."""
+        return math.nan
+
+    def single(self, shared: Any, window: int, distance: float) -> Any:
+        """The per-period finder of one noise-free run on a shared buffer."""
+        return NoTarget()
+
+    def batch(self, shared: Any, window: int, distances: NDArray) -> Any:
+        """The per-period finder of a batch on a shared buffer."""
+        return NoTarget(np.zeros(len(distances)))
+
+    def pick(self, buffers: MemberBuffers, *search: Any) -> NDArray:  # pragma: no cover
+        """The target indices in each member's window (:class:`MemberBuffers`)."""
+        raise NotImplementedError("the tether angle has no recorded path")
+
+    def point(self, recorder: Any, x: float, y: float, distance: float) -> tuple[float, float]:
+        """The target on a :class:`~designlab.following.tether.stepwise.TipRecorder`."""
+        raise NotImplementedError("the tether angle has no recorded path")  # pragma: no cover
+
+
+class _Lookahead(TargetFinder):
+    """FTL: ``lookahead`` along the recorded path beyond the point nearest the robot."""
+
+    name = "lookahead"
+    records_path = True
+
+    def distance(self, law: Any) -> float:
+        return float(law.lookahead)
+
+    def single(self, shared: Any, window: int, distance: float) -> Any:
+        return LookaheadTarget(shared, window, distance)
+
+    def batch(self, shared: Any, window: int, distances: NDArray) -> Any:
+        return LookaheadBatch(shared, window, distances)
+
+    def pick(self, buffers: MemberBuffers, *search: Any) -> NDArray:
+        return buffers.pick_lookahead(*search)
+
+    def point(self, recorder: Any, x: float, y: float, distance: float) -> tuple[float, float]:
+        return recorder.lookahead_point(x, y, distance)  # type: ignore[no-any-return]
+
+
+class _ConstantDistance(TargetFinder):
+    """FTL-CD: the newest recorded point at least l_d (Euclidean) from the newest."""
+
+    name = "constant_distance"
+    records_path = True
+
+    def distance(self, law: Any) -> float:
+        return float(law.desired_length)
+
+    def single(self, shared: Any, window: int, distance: float) -> Any:
+        return ConstantDistanceTarget(shared, window, distance)
+
+    def batch(self, shared: Any, window: int, distances: NDArray) -> Any:
+        return ConstantDistanceBatch(shared, window, distances)
+
+    def pick(self, buffers: MemberBuffers, *search: Any) -> NDArray:
+        return buffers.pick_constant_distance(*search)
+
+    def point(self, recorder: Any, x: float, y: float, distance: float) -> tuple[float, float]:
+        return recorder.const_distance_point(distance)  # type: ignore[no-any-return]
+
+
+#: Steer along the tether (Pseudo-Joystick, the joystick modes): no recorded path.
+TETHER_ANGLE = TargetFinder()
+#: FTL's target (App. C ``find_closest_point`` + ``find_lookahead_point``).
+LOOKAHEAD = _Lookahead()
+#: FTL-CD's target (App. C ``find_const_dist_target``).
+CONSTANT_DISTANCE = _ConstantDistance()

@@ -27,15 +27,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from designlab.following.tether.buffer import (
-    ConstantDistanceBatch,
-    ConstantDistanceTarget,
-    LookaheadBatch,
-    LookaheadTarget,
-    MemberBuffers,
-    NoTarget,
-)
-from designlab.following.tether.controllers import TetherController
+from designlab.following.tether.buffer import MemberBuffers, NoTarget
+from designlab.following.tether.laws.base import TetherController
 from designlab.following.tether.model import sensor_step, step_compiled, tip_step
 from designlab.following.tether.parameters import FollowerRobot
 
@@ -105,15 +98,6 @@ def _sensed(
     hist["th"] = np.asarray(th, dtype=float)
 
 
-def _single_target(c: TetherController, buf: Buffering) -> Any:
-    target = type(c).target
-    if target == "lookahead":
-        return LookaheadTarget(buf.shared, buf.window, c.lookahead)  # type: ignore[arg-type,attr-defined]
-    if target == "constant_distance":
-        return ConstantDistanceTarget(buf.shared, buf.window, c.desired_length)  # type: ignore[arg-type]
-    return NoTarget()
-
-
 def run_single(
     c: TetherController,
     leader: NDArray[np.float64],
@@ -138,10 +122,11 @@ def run_single(
     """
     offsets = robot.winch_offset_x != 0.0 or robot.winch_offset_y != 0.0
     law = type(c).law_function(c.law_key())
-    step = step_compiled(law, type(c).target != "tether", robot.limited, offsets, False, False)
+    finder = c.target_finder
+    step = step_compiled(law, finder.records_path, robot.limited, offsets, False, False)
     b, r, dt, wmax, astep, ox, oy = _robot_inputs(robot)
     params = c.law_values()
-    find = _single_target(c, buf) if buf is not None else NoTarget()
+    find = NoTarget() if buf is None else finder.single(buf.shared, buf.window, c.search_distance())
     x, y, g = pose
     wl = wr = 0.0
     out = np.empty((len(leader), 5))
@@ -181,19 +166,16 @@ def run_single(
 def _batch_target(
     controllers: tuple[TetherController, ...], buf: Buffering | None, n: int, robot: FollowerRobot
 ) -> Any:
-    target = type(controllers[0]).target
+    finder = controllers[0].target_finder
     nb = len(controllers)
-    if buf is None or target == "tether":
+    if buf is None or not finder.records_path:
         return NoTarget(np.zeros(nb))
-    per = np.array(
-        [c.lookahead if target == "lookahead" else c.desired_length for c in controllers]  # type: ignore[attr-defined]
-    )
+    per = np.array([c.search_distance() for c in controllers])
     if buf.shared is not None:
-        cls = LookaheadBatch if target == "lookahead" else ConstantDistanceBatch
-        return cls(buf.shared, buf.window, per)
+        return finder.batch(buf.shared, buf.window, per)
     offsets = (robot.winch_offset_x, robot.winch_offset_y, robot.tip_height)
     return MemberBuffers(
-        target,
+        finder,
         nb,
         n,
         buf.window,
@@ -235,7 +217,7 @@ def run_batch(
     offsets = not robot.planar
     law = type(c0).law_function(c0.law_key())
     step = step_compiled(
-        law, type(c0).target != "tether", robot.limited, offsets, robot.noisy, True
+        law, c0.target_finder.records_path, robot.limited, offsets, robot.noisy, True
     )
     b, r, dt, wmax, astep, ox, oy = _robot_inputs(robot)
     hh = robot.tip_height

@@ -26,13 +26,8 @@ from typing import Any
 
 import numpy as np
 
-from designlab.following.tether.controllers import (
-    FollowTheLeader,
-    FollowTheLeaderConstDistance,
-    PseudoJoystick,
-    TetherController,
-    controller_from_dict,
-)
+from designlab.following.tether.laws.base import TetherController
+from designlab.following.tether.laws.registry import LAWS, controller_from_dict
 from designlab.following.tether.linear import damping_ratio
 from designlab.following.tether.parameters import LEADER_SPEED, FollowerRobot
 from designlab.following.tether.path_deviation import normal_path_deviations
@@ -62,9 +57,7 @@ def _keys(cls: type, where: str, names: tuple[str, ...]) -> dict[str, tuple[str,
 
 #: Point key (the declaration's symbol) -> (what it sets, field name).
 POINT_KEYS: dict[str, tuple[str, str]] = {
-    **_keys(PseudoJoystick, "controller", ("desired_length", "speed_gain", "turn_gain")),
-    **_keys(FollowTheLeader, "controller", ("lookahead",)),
-    **_keys(FollowTheLeaderConstDistance, "controller", ("angle_gain",)),
+    **{k: v for law in LAWS for k, v in _keys(law, "controller", law.SWEEP_FIELDS).items()},
     str(LEADER_SPEED.symbol): ("leader", "speed"),
     **_keys(
         FollowerRobot,

@@ -40,12 +40,7 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
-from designlab.following.tether.controllers import (
-    FollowTheLeader,
-    FollowTheLeaderConstDistance,
-    PseudoJoystick,
-    TetherController,
-)
+from designlab.following.tether.laws.base import TetherController, checked_law
 from designlab.following.tether.parameters import DURATION, LEADER_SPEED, FollowerRobot
 from designlab.following.tether.paths import straight_line
 from designlab.following.tether.simulate import simulate
@@ -81,16 +76,7 @@ def effective_loop(
     wheel_track
         Wheel track b in m (the printed Pseudo-Joystick law uses it).
     """
-    c = controller
-    if isinstance(c, PseudoJoystick):
-        l_ss = c.desired_length + speed / c.speed_gain
-        k = 2.0 * speed / wheel_track if c.law == "printed" else c.turn_gain
-        return k, l_ss, l_ss
-    if isinstance(c, FollowTheLeader):
-        return c.turn_gain, c.lookahead, c.desired_length + speed / c.speed_gain
-    if isinstance(c, FollowTheLeaderConstDistance):
-        return c.turn_gain, speed / c.speed_gain, c.desired_length + speed / c.speed_gain
-    raise InvalidParameterError("controller", type(c).__name__, "a tether controller")
+    return checked_law(controller).effective_loop(speed, wheel_track)
 
 
 def damping_ratio(controller: TetherController, speed: float, wheel_track: float = 0.28) -> float:
@@ -246,8 +232,6 @@ def linear_analysis(
 
     speed = LEADER_SPEED.check(speed)
     robot = robot or FollowerRobot()
-    if not isinstance(controller, TetherController):
-        raise InvalidParameterError("controller", controller, "a tether controller")
     k, look, l_ss = effective_loop(controller, speed, robot.wheel_track)
     # plant: states (psi, e), input Omega; closed loop Omega = -K(psi + e/L)
     a = np.array([[0.0, 0.0], [speed, 0.0]])

@@ -31,7 +31,7 @@ from designlab.following.tether.path_deviation import PathDeviation, normal_path
 from designlab.following.tether.simulate import FollowerRun, FollowerStatus
 from designlab.results import Result
 
-__all__ = ["FollowerMetrics", "follower_metrics"]
+__all__ = ["FollowerMetrics", "follower_metrics", "lateral_offset"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -139,3 +139,18 @@ def follower_metrics(run: FollowerRun, **npd_options: Any) -> FollowerMetrics:
         status=FollowerStatus(str(npd.status)) if run.status == "ok" else run.status,
         warnings=tuple(warns) + run.warnings,
     )
+
+
+def lateral_offset(robot_xy: Any, leader_xy: Any, heading: Any) -> np.ndarray:
+    """Signed distance of the robot left of the leader's heading line, per period (m).
+
+    Parameters
+    ----------
+    robot_xy, leader_xy
+        Positions (N, 2) in m.
+    heading
+        Leader heading per period in rad, (N,).
+    """
+    d = np.asarray(robot_xy, float) - np.asarray(leader_xy, float)
+    h = np.asarray(heading, float)
+    return -np.sin(h) * d[:, 0] + np.cos(h) * d[:, 1]

@@ -44,7 +44,7 @@ from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
 from designlab.following.tether.buffer import MemberBuffers, NoTarget
-from designlab.following.tether.controllers import TetherController
+from designlab.following.tether.laws.base import TetherController, checked_law
 from designlab.following.tether.model import sensor_step, step_compiled, tip_step
 from designlab.following.tether.parameters import (
     LEADER_SPEED,
@@ -276,11 +276,9 @@ class _Setup:
 
 
 def _checked(controller: Any, path: Any, args: dict[str, Any]) -> _Setup:
-    if not isinstance(controller, TetherController):
-        raise InvalidParameterError("controller", controller, "a tether controller")
-    if type(controller).target == "stepwise":
+    if checked_law(controller).stepwise:
         raise InvalidParameterError(
-            "controller", type(controller).__name__, "a continuous law (not a stepwise mode)"
+            "controller", controller.name, "a continuous law (not a stepwise mode)"
         )
     robot = FollowerRobot() if args["robot"] is None else args["robot"]
     for name, obj, cls in (
@@ -300,13 +298,13 @@ def _checked(controller: Any, path: Any, args: dict[str, Any]) -> _Setup:
 
 
 def _finder(s: _Setup) -> Any:
-    c, target = s.controller, type(s.controller).target
-    if target not in ("lookahead", "constant_distance"):
+    c = s.controller
+    if not c.target_finder.records_path:
         return NoTarget(np.zeros(1))
-    per = np.array([c.lookahead if target == "lookahead" else c.desired_length])  # type: ignore[attr-defined]
+    per = np.array([c.search_distance()])
     r = s.robot
     return MemberBuffers(
-        target,
+        c.target_finder,
         1,
         s.n,
         c.buffer_size - 1,  # type: ignore[attr-defined]
@@ -323,7 +321,7 @@ def _loop(s: _Setup, tip: NDArray, rng: np.random.Generator) -> dict[str, NDArra
     """The control periods: law in the odometry frame, true and odometry poses on arcs."""
     c, r = s.controller, s.robot
     law = type(c).law_function(c.law_key())
-    step = step_compiled(law, type(c).target != "tether", r.limited, not r.planar, r.noisy, True)
+    step = step_compiled(law, c.target_finder.records_path, r.limited, not r.planar, r.noisy, True)
     dt = r.sample_time
     consts = (r.wheel_track, r.wheel_radius, dt, r.max_wheel_speed)
     consts += (r.max_wheel_acceleration * dt, r.winch_offset_x, r.winch_offset_y, r.tip_height)

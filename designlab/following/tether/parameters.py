@@ -2,7 +2,7 @@
 
 * :class:`FollowerRobot`: the differential-drive robot, its tether sensor and
   its control rate (the control laws declare their own gains in
-  :mod:`designlab.following.tether.controllers`, the leader paths theirs in
+  :mod:`designlab.following.tether.laws`, the leader paths theirs in
   :mod:`designlab.following.tether.paths`);
 * the arguments of the simulation and of the tuner that are not fields of a
   model (:data:`LEADER_SPEED`, :data:`DURATION`, :data:`POPSIZE`, ...), each a

@@ -35,7 +35,7 @@ from numpy.typing import NDArray
 from designlab.errors import InvalidParameterError
 from designlab.following.tether.buffer import record_shared
 from designlab.following.tether.closed_loop import Buffering, run_batch, run_single
-from designlab.following.tether.controllers import TetherController
+from designlab.following.tether.laws.base import TetherController, checked_law
 from designlab.following.tether.parameters import (
     DURATION,
     LEAD_IN,
@@ -62,7 +62,6 @@ __all__ = [
 MAX_LEADER_SPEED = LEADER_SPEED.le
 
 #: Targets of the laws that keep the FTL path buffer of the compiled loop.
-_BUFFERED = ("lookahead", "constant_distance")
 
 #: Arrays of float64 values a run keeps per member and control period (for the size check).
 _VALUES_PER_STEP = 16
@@ -260,22 +259,25 @@ class _Request:
 
 
 def _checked_controllers(controllers: Any) -> tuple[TetherController, ...]:
-    if isinstance(controllers, TetherController):
-        controllers = [controllers]
-    if isinstance(controllers, (str, bytes)) or not isinstance(controllers, Sequence):
+    if isinstance(controllers, (str, bytes)):
         raise InvalidParameterError("controllers", controllers, "a list of tether controllers")
+    if not isinstance(controllers, Sequence):  # one law given alone (checked below)
+        controllers = [controllers]
     controllers = tuple(controllers)
     if not controllers:
         raise InvalidParameterError("controllers", controllers, "at least one controller")
-    cls = type(controllers[0])
+    cls = type(checked_law(controllers[0], "controllers"))
     for c in controllers:
-        if type(c) is not cls or not isinstance(c, TetherController):
+        if type(c) is not cls:
             raise InvalidParameterError(
                 "controllers", type(c).__name__, f"all of one law ({cls.__name__})"
             )
     if len({c.law_key() for c in controllers}) > 1:
         raise InvalidParameterError("controllers", "mixed law variants", "one variant per batch")
-    if cls.target in _BUFFERED and len({(c.min_step, c.buffer_size) for c in controllers}) > 1:  # type: ignore[attr-defined]
+    buffers = (
+        {(c.min_step, c.buffer_size) for c in controllers} if cls.target_finder.records_path else ()
+    )  # type: ignore[attr-defined]
+    if len(buffers) > 1:
         raise InvalidParameterError(
             "controllers", "different min_step/buffer_size", "one value per batch"
         )
@@ -369,7 +371,7 @@ def _start(req: _Request) -> tuple[NDArray, NDArray, NDArray]:
 
 def _buffering(req: _Request, leader: NDArray) -> Buffering | None:
     """The path buffer of FTL/FTL-CD (``None`` for the other modes)."""
-    if req.law.target not in _BUFFERED:
+    if not req.law.target_finder.records_path:
         return None
     c0 = req.controllers[0]
     min_step, window = c0.min_step, c0.buffer_size - 1  # type: ignore[attr-defined]
@@ -491,7 +493,7 @@ def simulate_batch(
     leader = req.path.leader_positions(req.speed, req.robot.sample_time, req.duration)
     buf = _buffering(req, leader)
     x, y, g = _start(req)
-    if req.law.target == "stepwise":
+    if req.law.stepwise:
         hist = run_stepwise(req.controllers, leader, (x, y, g), req.robot, _rng(req.seed))
     elif len(req.controllers) == 1 and not req.robot.noisy and req.robot.tip_height == 0.0:
         pose = (float(x[0]), float(y[0]), float(g[0]))
@@ -554,10 +556,7 @@ def simulate(
     >>> sim.robot_xy.shape == sim.leader_xy.shape, str(sim.status)
     (True, 'ok')
     """
-    if not isinstance(controller, TetherController):
-        raise InvalidParameterError(
-            "controller", controller, "a tether controller (e.g. FollowTheLeader())"
-        )
+    checked_law(controller)
     batch = simulate_batch(
         [controller],
         path,

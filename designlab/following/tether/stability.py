@@ -38,7 +38,7 @@ from numpy.typing import NDArray
 from designlab.errors import InvalidParameterError
 from designlab.following.tether.buffer import record_shared
 from designlab.following.tether.closed_loop import Buffering, run_batch
-from designlab.following.tether.controllers import TetherController
+from designlab.following.tether.laws.base import TetherController, checked_law
 from designlab.following.tether.parameters import FollowerRobot
 from designlab.params import Param, check_size
 from designlab.results import Result, Status
@@ -203,12 +203,9 @@ def convergence_map(
     -------
     ConvergenceMap
     """
-    if not isinstance(controller, TetherController) or type(controller).target not in (
-        "tether",
-        "lookahead",
-        "constant_distance",
-    ):
-        raise InvalidParameterError("controller", controller, "a memoryless law (PJ, FTL, FTL-CD)")
+    memoryless = "a memoryless law (PJ, FTL, FTL-CD)"
+    if checked_law(controller, allowed=memoryless).stepwise:
+        raise InvalidParameterError("controller", controller, memoryless)
     ls = _grid(lengths, "lengths", 1e-6, 100.0)
     th = _grid(angles, "angles", -math.pi, math.pi)
     robot = FollowerRobot() if robot is None else robot
@@ -247,7 +244,7 @@ def _run(
     leader = np.zeros((n, 2))  # the leader at the origin; each robot l_0 away, heading 0
     pose = (-ll * np.cos(aa), -ll * np.sin(aa), np.zeros(nb))
     buf = None
-    if type(c).target != "tether":
+    if c.target_finder.records_path:
         shared = record_shared(leader, c.min_step, np.zeros((0, 2)))  # type: ignore[attr-defined]
         buf = Buffering(c.buffer_size - 1, c.min_step, np.zeros((0, 2)), shared)  # type: ignore[attr-defined]
     hist = run_batch((c,) * nb, leader, pose, robot, buf, np.random.default_rng(0))

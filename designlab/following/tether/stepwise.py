@@ -1,11 +1,10 @@
 """Follower modes with memory, run one control period at a time (Allan 2015 Ch. 4, App. C).
 
-The laws of :mod:`designlab.following.tether.controllers` and the joystick
-modes of :mod:`~designlab.following.tether.side` and
-:mod:`~designlab.following.tether.front` are pure functions of the tether
-reading, compiled once. Side Tracking (mode 31), FrontVelJoystick (mode 42) and
-Brake mode (Sec. 4.4) keep state between periods (a short tip buffer, sample
-buffers, the selected mode), so they are :class:`StepwiseController` objects:
+Most laws of :mod:`designlab.following.tether.laws` are pure functions of the
+tether reading, compiled once. Side Tracking (mode 31), FrontVelJoystick (mode
+42) and Brake mode (Sec. 4.4) keep state between periods (a short tip buffer,
+sample buffers, the selected mode), so they are stepwise laws
+(:class:`~designlab.following.tether.laws.base.StepwiseController`):
 ``start(robot)`` returns a fresh :class:`ModeState` whose ``command`` maps one
 tether reading to ``(V, Omega)``. :func:`run_stepwise` is the control-period
 loop the tether :func:`~designlab.following.tether.simulate` uses for them: the
@@ -28,19 +27,18 @@ Examples
 from __future__ import annotations
 
 import math
-from typing import Any, ClassVar, Protocol
+from typing import Any, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 
-from designlab.following.tether.controllers import TetherController
+from designlab.following.tether.laws.base import TetherController
 from designlab.following.tether.model import sensor_step, wrap_angle
 from designlab.following.tether.parameters import FollowerRobot
 
 __all__ = [
     "LawState",
     "ModeState",
-    "StepwiseController",
     "TipRecorder",
     "limited_command",
     "run_stepwise",
@@ -128,21 +126,12 @@ class ModeState(Protocol):
         ...  # pragma: no cover - protocol
 
 
-class StepwiseController(TetherController):
-    """A follower mode with memory: :meth:`start` gives the state of one run."""
-
-    target: ClassVar[str] = "stepwise"
-
-    def start(self, robot: FollowerRobot) -> ModeState:  # pragma: no cover - overridden
-        """A fresh state for one run on ``robot``."""
-        raise NotImplementedError
-
-
 class LawState:
     """One run of a memoryless law (PJ, FTL, FTL-CD, the joystick modes) inside another mode.
 
-    FTL and FTL-CD record the estimated tip (robot + ``l_m`` along ``theta_m``)
-    in their own App. C buffer and steer to its target.
+    A law whose target finder records the path (FTL, FTL-CD) records the
+    estimated tip (robot + ``l_m`` along ``theta_m``) in its own App. C buffer
+    and steers to the finder's target on it.
 
     Parameters
     ----------
@@ -155,9 +144,9 @@ class LawState:
     def __init__(self, law: TetherController, robot: FollowerRobot) -> None:
         self.law = law
         self.b = robot.wheel_track
-        self.kind = type(law).target
+        self.finder = law.target_finder
         self.rec = None
-        if self.kind in ("lookahead", "constant_distance"):
+        if self.finder.records_path:
             self.rec = TipRecorder(law.buffer_size, law.min_step)  # type: ignore[attr-defined]
 
     def command(
@@ -167,10 +156,7 @@ class LawState:
         if self.rec is None:
             return self.law.command(l_m, theta_m, self.b)
         self.rec.record(x + l_m * math.cos(g + theta_m), y + l_m * math.sin(g + theta_m))
-        if self.kind == "lookahead":
-            tx, ty = self.rec.lookahead_point(x, y, self.law.lookahead)  # type: ignore[attr-defined]
-        else:
-            tx, ty = self.rec.const_distance_point(self.law.desired_length)
+        tx, ty = self.finder.point(self.rec, x, y, self.law.search_distance())
         phi = wrap_angle(math.atan2(ty - y, tx - x) - g)
         return self.law.command(l_m, phi, self.b)
 
@@ -185,8 +171,8 @@ def start_state(mode: TetherController, robot: FollowerRobot) -> ModeState:
     robot
         The robot.
     """
-    if isinstance(mode, StepwiseController):
-        return mode.start(robot)
+    if mode.stepwise:
+        return mode.start(robot)  # type: ignore[attr-defined,no-any-return]
     return LawState(mode, robot)
 
 

@@ -58,7 +58,8 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
-from designlab.following.tether.controllers import CONTROLLERS, TetherController
+from designlab.following.tether.laws.base import TetherController, checked_law
+from designlab.following.tether.laws.registry import LAWS
 from designlab.following.tether.linear import damping_ratio
 from designlab.following.tether.overlap import overlapping_paths
 from designlab.following.tether.parameters import (
@@ -309,7 +310,7 @@ def scenario_costs(task: dict[str, Any]) -> dict[str, Any]:
         ``length``, ``smoothness``, ``penalty``, ``saturation`` (fraction of
         the run with a wheel at its limit).
     """
-    cls = CONTROLLERS[task["law"]]
+    cls = LAWS.get(task["law"])
     base = {k: v for k, v in task["base"].items() if k != "type"}
     ctrls = [cls(**{**base, **g}) for g in task["gains"]]
     robot = FollowerRobot(**task["robot"])
@@ -382,7 +383,7 @@ class _Setup:
         base, robot = self.base.as_dict(), self.robot.as_dict()
         return [
             {
-                "law": type(self.base).__name__,
+                "law": self.base.name,
                 "base": base,
                 "gains": gain_sets,
                 "path": p.points,
@@ -409,11 +410,8 @@ class _Setup:
 
 
 def _base_controller(controller: Any) -> TetherController:
-    if isinstance(controller, type) and issubclass(controller, TetherController):
-        return controller()
-    if isinstance(controller, TetherController):
-        return controller
-    raise InvalidParameterError("controller", controller, "a tether controller class or instance")
+    law = controller() if controller in LAWS.variants() else controller  # a class: its defaults
+    return checked_law(law, "controller", "a tether controller class or instance")
 
 
 def _search_box(
@@ -551,7 +549,7 @@ class _Objective:
                 total=self.total,
                 best=self.history[-1],
                 label=self.label,
-                note=type(self.setup.base).__name__,
+                note=self.setup.base.name,
             ),
         )
 

@@ -39,11 +39,11 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
-import pedpy
 from numpy.typing import ArrayLike, NDArray
 from shapely.geometry import LineString, Polygon
 
 from designlab.errors import InvalidParameterError
+from designlab.navigation.crowds.extra import pedpy
 from designlab.params import Param
 from designlab.results import Result, Status
 
@@ -271,7 +271,7 @@ def faced_crowds(runs: Sequence[tuple[ArrayLike, ArrayLike]], band: Polygon) -> 
     [1.2, 0.6]
     """
     thin = [_thinned(*_check_records(t, P), band.bounds) for t, P in runs]
-    area, h = pedpy.MeasurementArea(band), _half_width(band)
+    area, h = pedpy().MeasurementArea(band), _half_width(band)
     out: list[FacedCrowd | None] = [None] * len(thin)
     by_rate: dict[float, list[int]] = {}
     for k, th in enumerate(thin):
@@ -305,9 +305,7 @@ def _parts(rows: list[int]) -> list[list[int]]:
     return parts
 
 
-def _measured(
-    thin: list[_Thinned], rate: float, area: pedpy.MeasurementArea, h: float
-) -> list[FacedCrowd]:
+def _measured(thin: list[_Thinned], rate: float, area: Any, h: float) -> list[FacedCrowd]:
     """pedpy's measures of the runs ``thin`` (each with somebody), in one table."""
     frames = np.cumsum([0] + [th.t.size for th in thin])  # first frame of each run
     ids = np.cumsum([0] + [int(th.ped.max()) + 1 for th in thin])
@@ -317,13 +315,14 @@ def _measured(
         "frame": np.concatenate([th.frame + f for th, f in zip(thin, frames, strict=False)]),
         "x": xy[:, 0], "y": xy[:, 1],
     })  # fmt: skip
-    traj = pedpy.TrajectoryData(data=table, frame_rate=rate)
-    density = pedpy.compute_classic_density(traj_data=traj, measurement_area=area)
-    speed = pedpy.compute_individual_speed(
+    ped = pedpy()
+    traj = ped.TrajectoryData(data=table, frame_rate=rate)
+    density = ped.compute_classic_density(traj_data=traj, measurement_area=area)
+    speed = ped.compute_individual_speed(
         traj_data=traj, frame_step=SPEED_FRAMES,
-        speed_calculation=pedpy.SpeedCalculation.BORDER_SINGLE_SIDED,
+        speed_calculation=ped.SpeedCalculation.BORDER_SINGLE_SIDED,
     )  # fmt: skip
-    mean = pedpy.compute_mean_speed_per_frame(
+    mean = ped.compute_mean_speed_per_frame(
         traj_data=traj, individual_speed=speed, measurement_area=area
     )
     rho, v = np.zeros(frames[-1]), np.zeros(frames[-1])  # pedpy's frames: those with anyone in

@@ -25,7 +25,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-import jupedsim as jps
+from designlab.navigation.crowds.extra import jupedsim
 
 __all__ = ["MODELS", "PedestrianModel"]
 
@@ -44,13 +44,13 @@ class PedestrianModel:
 
     def simulation_model(self, seed: int) -> Any:
         """The JuPedSim model object."""
-        return jps.CollisionFreeSpeedModel()
+        return jupedsim().CollisionFreeSpeedModel()
 
     def agent(
         self, position: tuple[float, float], speed: float, radius: float, journey: int, stage: int
     ) -> Any:
         """The parameters of one agent (a pedestrian, or the robot with ``speed`` 0)."""
-        return jps.CollisionFreeSpeedModelAgentParameters(
+        return jupedsim().CollisionFreeSpeedModelAgentParameters(
             journey_id=journey, stage_id=stage, position=position, desired_speed=speed,
             radius=radius,
         )  # fmt: skip
@@ -70,12 +70,12 @@ class PedestrianModel:
 
 class _SocialForce(PedestrianModel):
     def simulation_model(self, seed: int) -> Any:
-        return jps.SocialForceModel()
+        return jupedsim().SocialForceModel()
 
     def agent(
         self, position: tuple[float, float], speed: float, radius: float, journey: int, stage: int
     ) -> Any:
-        return jps.SocialForceModelAgentParameters(
+        return jupedsim().SocialForceModelAgentParameters(
             journey_id=journey, stage_id=stage, position=position, desired_speed=speed,
             radius=radius,
         )  # fmt: skip
@@ -88,13 +88,13 @@ class _SocialForce(PedestrianModel):
 
 class _GeneralizedCentrifugalForce(PedestrianModel):
     def simulation_model(self, seed: int) -> Any:
-        return jps.GeneralizedCentrifugalForceModel()
+        return jupedsim().GeneralizedCentrifugalForceModel()
 
     def agent(
         self, position: tuple[float, float], speed: float, radius: float, journey: int, stage: int
     ) -> Any:
         # an ellipse: its semi-axes are set to the body radius (a disc at rest)
-        return jps.GeneralizedCentrifugalForceModelAgentParameters(
+        return jupedsim().GeneralizedCentrifugalForceModelAgentParameters(
             journey_id=journey, stage_id=stage, position=position, desired_speed=speed,
             a_min=radius, b_min=radius, b_max=radius,
         )  # fmt: skip
@@ -113,13 +113,13 @@ class _GeneralizedCentrifugalForce(PedestrianModel):
 
 class _AnticipationVelocity(PedestrianModel):
     def simulation_model(self, seed: int) -> Any:
-        return jps.AnticipationVelocityModel(rng_seed=seed)
+        return jupedsim().AnticipationVelocityModel(rng_seed=seed)
 
     def robot_agent(
         self, position: tuple[float, float], radius: float, journey: int, stage: int, dt: float
     ) -> Any:
         # no anticipation and a reaction within one step: the agent goes where it is steered
-        return jps.AnticipationVelocityModelAgentParameters(
+        return jupedsim().AnticipationVelocityModelAgentParameters(
             journey_id=journey, stage_id=stage, position=position, desired_speed=0.0,
             radius=radius, reaction_time=dt, anticipation_time=0.0,
         )  # fmt: skip
@@ -127,7 +127,7 @@ class _AnticipationVelocity(PedestrianModel):
     def agent(
         self, position: tuple[float, float], speed: float, radius: float, journey: int, stage: int
     ) -> Any:
-        return jps.AnticipationVelocityModelAgentParameters(
+        return jupedsim().AnticipationVelocityModelAgentParameters(
             journey_id=journey, stage_id=stage, position=position, desired_speed=speed,
             radius=radius,
         )  # fmt: skip

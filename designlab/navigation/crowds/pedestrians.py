@@ -28,13 +28,13 @@ import logging
 import threading
 from typing import Any
 
-import jupedsim as jps
 import numpy as np
 import shapely
 from numpy.typing import NDArray
 from shapely.geometry import Polygon, box
 
 from designlab.errors import InvalidParameterError
+from designlab.navigation.crowds.extra import jupedsim
 from designlab.navigation.crowds.models import MODELS
 from designlab.navigation.crowds.scenario import PLACEMENT_GAP, CrowdScenario
 
@@ -61,7 +61,7 @@ def _distribute(**kw: Any) -> Any:
     with _PLACEMENT_LOCK:
         state = np.random.get_state()  # noqa: NPY002 - the legacy generator JuPedSim uses
         try:
-            return jps.distribute_by_number(**kw)
+            return jupedsim().distribute_by_number(**kw)
         finally:
             np.random.set_state(state)  # noqa: NPY002
 
@@ -105,7 +105,7 @@ class PedestrianSim:
         self.rng = np.random.default_rng(crowd.seed)
         self.dt = crowd.pedestrian_step
         lay = crowd.geometry
-        self.sim = jps.Simulation(
+        self.sim = jupedsim().Simulation(
             model=self.model.simulation_model(crowd.seed), geometry=lay.area, dt=self.dt
         )
         self.index: dict[int, int] = {}  # JuPedSim id -> pedestrian index
@@ -129,7 +129,7 @@ class PedestrianSim:
     # ----------------------------------------------------------------- set-up
     def _journey(self, exit_polygon: Polygon) -> tuple[int, int]:
         stage = self.sim.add_exit_stage(exit_polygon)
-        return self.sim.add_journey(jps.JourneyDescription([stage])), stage
+        return self.sim.add_journey(jupedsim().JourneyDescription([stage])), stage
 
     def _add(self, position: tuple[float, float], speed: float, stream: int) -> int:
         journey, stage = self._journeys[stream]
@@ -150,7 +150,7 @@ class PedestrianSim:
             if standing:  # already at its destination: an agent that stands (steered to itself)
                 stage = self.sim.add_direct_steering_stage()
                 self._journeys.append(
-                    (self.sim.add_journey(jps.JourneyDescription([stage])), stage)
+                    (self.sim.add_journey(jupedsim().JourneyDescription([stage])), stage)
                 )
             else:
                 self._journeys.append(self._journey(box(b[0] - h, b[1] - h, b[0] + h, b[1] + h)))
@@ -186,7 +186,7 @@ class PedestrianSim:
 
     def _add_robot(self, position: tuple[float, float]) -> None:
         stage = self.sim.add_direct_steering_stage()
-        journey = self.sim.add_journey(jps.JourneyDescription([stage]))
+        journey = self.sim.add_journey(jupedsim().JourneyDescription([stage]))
         try:
             self.robot_id = self.sim.add_agent(
                 self.model.robot_agent(position, self.crowd.robot.radius, journey, stage, self.dt)

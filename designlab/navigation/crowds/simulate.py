@@ -41,7 +41,7 @@ from designlab.navigation.crowds.results import CrowdResult, CrowdStatus, Pedest
 from designlab.navigation.crowds.scenario import CrowdScenario
 from designlab.navigation.crowds.slots import crowd_step, fill_slots
 from designlab.navigation.field import ObstacleGeometry
-from designlab.navigation.methods import STABILISING, TIE_SIDE, method_of
+from designlab.navigation.methods import CROWD_METHOD, STABILISING, TIE_SIDE, method_of
 from designlab.navigation.parameters import (
     ARRIVAL_TOLERANCE,
     DYNAMICS_STEP,
@@ -69,12 +69,6 @@ Array = NDArray[np.float64]
 ORDER = Param(
     doc="lock-step order", kind="choice", choices=("robot_first", "pedestrians_first"), name="order"
 )
-#: The force-field methods a robot can run among a crowd (``"vff_cbf"`` and the Sec. 5.7
-#: planners are not simulated among pedestrians).
-CROWD_METHOD = Param(
-    doc="navigation method among a crowd", kind="choice",
-    choices=("vff", "masoud", "ge_cui", "cbf"), name="method",
-)  # fmt: skip
 #: Pedestrians that may enter a run per pedestrian initially in it (a cap of the records).
 _INFLOW_FACTOR = 8
 #: Whether runs use the compiled bookkeeping (:mod:`~designlab.navigation.crowds.bookkeeping`);
@@ -187,7 +181,7 @@ def _setup(crowd: Any, gains: Any, kw: dict[str, Any]) -> _Setup:
     STABILISING.check(kw["stabilising"])
     TIE_SIDE.check(kw["tie_side"])
     ORDER.check(kw["order"])
-    strategy = method_of(CROWD_METHOD.check(kw["method"]))
+    strategy = method_of(CROWD_METHOD.check(kw["method"]), crowds=True)
     row = strategy.gain_row(gains)
     cbf = check_cbf_gains(kw["cbf_gains"])
     tol = ARRIVAL_TOLERANCE.check(kw["arrival_tolerance"])
@@ -207,7 +201,7 @@ def _setup(crowd: Any, gains: Any, kw: dict[str, Any]) -> _Setup:
         "CrowdScenario.horizon", crowd.time_limit, (n_samples * per + 1) * cap * 2,
         what="the recorded pedestrian positions",
     )  # fmt: skip
-    stab = kw["stabilising"] if strategy.STABILISED else "off"
+    stab = kw["stabilising"] if strategy.stabilised else "off"
     return _Setup(
         crowd, strategy.name, row, stab, strategy.tie(gains, kw["tie_side"]), tol, dt, n_sub, per,
         cap, n_samples, kw["order"], cbf,
@@ -259,13 +253,14 @@ class _Run:
             robot.max_accel,
         )
         fixed = tuple(replace(g, r2_input=False) for g in self.geos)  # CBF reads r3 alone
-        self.cbf = CBFFilter(fixed, robot, s.cbf_gains) if s.method == "cbf" else None
+        filtered = method_of(s.method).filtered
+        self.cbf = CBFFilter(fixed, robot, s.cbf_gains, nominal=s.method) if filtered else None
         self.r2, self.r3 = c.pedestrian_regions()
         sized = c.region_sizing == "closing_speed"
         if sized:  # the walls' radii (fixed), then one per slot (the largest until filled)
             inp[6][:] = [g.r2 for g in self.geos]
         # CBF has no active region (its filter sees every pedestrian within the largest r2)
-        self.sizing = c.closing_speed_sizing() if sized and s.method != "cbf" else None
+        self.sizing = c.closing_speed_sizing() if sized and not filtered else None
         self.w2, self.w3 = c.wall_regions()
         self.ped = PedestrianSim(c, c.robot_start)
         self.frames = _Frames(s.n_ped, s.per_ped + 1)
@@ -662,7 +657,8 @@ def simulate_crowd(
     gains
         As for :func:`~designlab.navigation.simulate` (:class:`VFFGains` required for VFF).
     method
-        ``"vff"``, ``"masoud"``, ``"ge_cui"`` or ``"cbf"``.
+        A method of :data:`~designlab.navigation.methods.CROWD_METHOD` (``"vff"``,
+        ``"masoud"``, ``"ge_cui"`` or ``"cbf"``).
     stabilising
         ``"lyapunov"`` or ``"off"`` (VFF's stabilising force F_L).
     tie_side

@@ -12,7 +12,7 @@ and the robot's dynamics see K + walls obstacles. More than K pedestrians in the
 region at once is counted (``CrowdResult.slot_overflow``) and warned about: the farthest
 of them are then left out.
 
-Every method of :data:`~designlab.navigation.field.METHODS` (VFF with or without the
+Every method of :data:`~designlab.navigation.methods.METHODS` (VFF with or without the
 stabilising force, Masoud, Ge & Cui, CBF) is built on the same slots.
 
 Examples
@@ -116,7 +116,7 @@ def crowd_step(
     robot
         The robot.
     method
-        A method of :data:`~designlab.navigation.field.METHODS`.
+        A method of :data:`~designlab.navigation.methods.METHODS`.
     n_sub
         Dynamics steps per period.
     dt

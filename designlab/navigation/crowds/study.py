@@ -44,8 +44,8 @@ from designlab.navigation.crowds.metrics import (
 )
 from designlab.navigation.crowds.scenario import DENSITY, CrowdScenario, check_crowd_options, crowd
 from designlab.navigation.crowds.simulate import CROWD_METHOD, simulate_crowd, simulate_pedestrians
-from designlab.navigation.methods import STABILISING
-from designlab.navigation.parameters import OPTIMAL_GAINS, GeCuiGains, MasoudGains, VFFGains
+from designlab.navigation.methods import METHOD, METHODS, STABILISING
+from designlab.navigation.parameters import OPTIMAL_GAINS
 from designlab.params import Param
 from designlab.progress import Progress, ProgressHook, report
 from designlab.results import Result, Status
@@ -78,8 +78,11 @@ RATES = {
     "critical": "critical",
     "timeout": "timeout",
 }
-#: Gains classes by the ``type`` of their plain-data form.
-GAIN_TYPES: dict[str, type] = {"vff": VFFGains, "masoud": MasoudGains, "ge_cui": GeCuiGains}
+#: Gains classes by the ``type`` of their plain-data form: the unfiltered force-field methods
+#: of :data:`~designlab.navigation.methods.METHODS` (a filtered method takes its nominal's).
+GAIN_TYPES: dict[str, type] = {
+    m.name: m.gains_type for m in METHODS.variants(force_field=True, filtered=False)
+}
 
 
 class CrowdStudyStatus(Status):
@@ -120,6 +123,7 @@ def encode_gains(gains: Any) -> dict[str, Any] | None:
 
     Examples
     --------
+    >>> from designlab.navigation.parameters import VFFGains
     >>> encode_gains(VFFGains(4.3, 0.68, 20.3, 240.7))
     {'type': 'vff', 'k1': 4.3, 'b': 0.68, 'k3': 20.3, 'k5': 240.7}
     """
@@ -556,7 +560,7 @@ def _check_labels(methods: Any, gains: Any) -> tuple[list[str], dict[str, Any]]:
     unknown = sorted(set(table) - set(labels))
     if unknown:
         raise InvalidParameterError("gains", unknown, f"name labels not in methods {labels}")
-    default = {"vff": OPTIMAL_GAINS}
+    default = {METHOD.default: OPTIMAL_GAINS}  # the new VFF: the thesis's optimum
     return labels, {m: encode_gains(table.get(m, default.get(method_name(m)))) for m in labels}
 
 

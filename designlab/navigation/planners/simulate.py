@@ -28,27 +28,23 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
+from designlab.navigation import methods
 from designlab.navigation.criteria import Criteria, criteria
 from designlab.navigation.dynamics import HOLONOMIC_FEEDFORWARD
-from designlab.navigation.methods import PLANNER
 from designlab.navigation.parameters import (
     ARRIVAL_TOLERANCE,
     DYNAMICS_STEP,
     HolonomicRobot,
     NonholonomicRobot,
 )
-from designlab.navigation.planners import errt, field_dstar
-from designlab.navigation.planners.parameters import ERRTSettings, FieldDStarSettings, VOSettings
-from designlab.navigation.planners.velocity_obstacle import choose_velocity
 from designlab.navigation.planners.world import Snapshot
-from designlab.navigation.scenarios import Rectangle, Scenario
+from designlab.navigation.scenarios import Scenario
 from designlab.params import check_size
 from designlab.progress import Progress, ProgressHook, report
 from designlab.results import Result, Status
 from designlab.validation import real_array
 
 __all__ = [
-    "PLANNER_SETTINGS",
     "PlannerResult",
     "PlannerStatus",
     "simulate_planner",
@@ -56,13 +52,6 @@ __all__ = [
 ]
 
 Array = NDArray[np.float64]
-#: Settings class of each planner.
-PLANNER_SETTINGS: dict[str, type] = {
-    "vo": VOSettings,
-    "nlvo": VOSettings,
-    "errt": ERRTSettings,
-    "field_dstar": FieldDStarSettings,
-}
 _STEP = 0.01
 
 
@@ -205,9 +194,9 @@ def wheel_energy(robot: Any, velocity: Array, dt: float = _STEP) -> float:
     return float(np.sum(u[1:] ** 2) * dt)
 
 
-def _commander(scenario: Scenario, method: str, settings: Any) -> Callable[..., Array]:
+def _commander(scenario: Scenario, planner: Any, settings: Any) -> Callable[..., Array]:
     """The planner as ``command(world, position, velocity) -> velocity``."""
-    robot, goal, ts = scenario.robot, np.asarray(scenario.goal), scenario.sample_time
+    robot, goal = scenario.robot, np.asarray(scenario.goal)
 
     def toward(p: Array, target: Array) -> Array:
         e, dist = goal - p, float(np.hypot(*(goal - p)))
@@ -216,26 +205,7 @@ def _commander(scenario: Scenario, method: str, settings: Any) -> Callable[..., 
         speed = min(robot.max_speed, math.sqrt(2 * robot.max_accel * dist))
         return d / n * speed if n > 1e-12 else np.zeros(2) * e
 
-    if method in ("vo", "nlvo"):
-        return lambda w, p, v: choose_velocity(
-            w, p, v, goal, max_speed=robot.max_speed, max_accel=robot.max_accel, period=ts,
-            settings=settings, nonlinear=method == "nlvo",
-        )  # fmt: skip
-    if method == "errt":
-        rng = np.random.default_rng(settings.seed)
-        cache = [np.zeros((0, 2))]
-
-        def errt_command(w: Snapshot, p: Array, v: Array) -> Array:
-            path, cache[0] = errt.plan(w, p, goal, settings, rng, cache[0])
-            return toward(p, path[1])
-
-        return errt_command
-
-    def dstar_command(w: Snapshot, p: Array, v: Array) -> Array:
-        nxt = field_dstar.Grid(w, p, goal, settings).next_point(p)
-        return np.zeros(2) if nxt is None else toward(p, nxt)
-
-    return dstar_command
+    return planner.commander(scenario, settings, toward)
 
 
 def simulate_planner(
@@ -253,33 +223,33 @@ def simulate_planner(
     scenario
         A holonomic-robot scenario (a nonholonomic robot is simulated as holonomic).
     method
-        ``"vo"``, ``"nlvo"`` (the non-linear VO), ``"errt"`` or ``"field_dstar"``
-        (:data:`designlab.navigation.methods.PLANNER`).
+        ``"vo"``, ``"nlvo"`` (the non-linear VO), ``"errt"`` or ``"field_dstar"``: a
+        planner of :data:`designlab.navigation.methods.METHODS`
+        (:data:`~designlab.navigation.methods.PLANNER`).
     settings
-        :class:`VOSettings` (``"vo"``, ``"nlvo"``), :class:`ERRTSettings` or
-        :class:`FieldDStarSettings`
-        (default: their defaults).
+        The planner's ``settings_type``:
+        :class:`~designlab.navigation.planners.parameters.VOSettings` (``"vo"``,
+        ``"nlvo"``), :class:`~designlab.navigation.planners.parameters.ERRTSettings` or
+        :class:`~designlab.navigation.planners.parameters.FieldDStarSettings` (default:
+        their defaults).
     arrival_tolerance
         Arrival radius around the goal (m).
     progress
         Called after each navigation period.
     """
-    name = PLANNER.check(method)
-    cls = PLANNER_SETTINGS[name]
-    settings = cls() if settings is None else settings
-    if not isinstance(settings, cls):
-        raise InvalidParameterError("settings", settings, f"must be a {cls.__name__}")
+    planner = methods.METHODS.get(method, planner=True)
+    name = planner.name
+    settings = planner.settings(settings)
     if not isinstance(scenario, Scenario):
         raise InvalidParameterError("scenario", scenario, "must be a Scenario")
     tol = ARRIVAL_TOLERANCE.check(arrival_tolerance)
     n = round(scenario.horizon / _STEP)
     check_size("horizon", scenario.horizon, n * 4.0 * (1 + len(scenario.obstacles)))
-    if name == "field_dstar":
-        _check_dstar_grid(scenario, settings, n)
-    run = _run(scenario, name, settings, _commander(scenario, name, settings), n, tol,
+    planner.check_run(scenario, settings, n, _STEP)
+    run = _run(scenario, name, settings, _commander(scenario, planner, settings), n, tol,
                progress)  # fmt: skip
     free = scenario.without_obstacles()
-    nominal = _run(free, name, settings, _commander(free, name, settings), n, tol,
+    nominal = _run(free, name, settings, _commander(free, planner, settings), n, tol,
                    None)  # fmt: skip
     rho = scenario.robot.radius
     crit = criteria(
@@ -292,16 +262,6 @@ def simulate_planner(
         nominal_clearance={o.name: o.r2 - o.collision_distance(rho) for o in scenario.obstacles},
     )  # fmt: skip
     return replace(run, criteria=crit, warnings=run.warnings + _robot_warnings(scenario))
-
-
-def _check_dstar_grid(scenario: Scenario, settings: FieldDStarSettings, n: int) -> None:
-    """Field D*'s grids over the run (and its obstacle-free nominal run) bounded before it."""
-    hold = max(1, round(scenario.sample_time / _STEP))
-    t = np.arange(0, n + 1, hold) * _STEP
-    pts = [np.asarray([scenario.start, scenario.goal], dtype=float)]
-    for o in scenario.obstacles:
-        pts.append(o.corners() if isinstance(o, Rectangle) else o.state(t)[0])
-    field_dstar.check_grid(np.vstack(pts), 2 * t.size, settings)
 
 
 def _robot_warnings(scenario: Scenario) -> tuple[str, ...]:

@@ -49,16 +49,16 @@ from designlab.navigation.crowds.tuning import (
     optimise_crowd_gains,
     validate_gains,
 )
-from designlab.navigation.methods import STABILISING
+from designlab.navigation.methods import METHODS, STABILISING
 from designlab.navigation.tuning import DEFAULT_BOUNDS
 from designlab.progress import Progress
 from designlab.results import Result
 from designlab.study.base import Flag, Integer, Model, StudyBase
 from designlab.study.kinds.navigation_specs import (
-    _GAIN_SPECS,
     GainsSpec,
     GeCuiGainsSpec,
     MasoudGainsSpec,
+    _gains_spec,
     typed_gains,
 )
 from designlab.study.registry import StudyKind
@@ -84,7 +84,7 @@ class CrowdSpec(_CrowdFields):  # type: ignore[valid-type, misc]
 _Layout = Literal["corridor_counterflow", "crossing", "bottleneck", "open_plaza"]
 _Seed = Annotated[Integer, Field(ge=0, le=2**31 - 1)]
 _Density = DENSITY.annotation()
-_Method = Literal["vff", "cbf", "masoud", "ge_cui"]
+_Method = METHODS.literal(crowds=True)
 
 
 class CrowdMethodSpec(Model):
@@ -113,7 +113,7 @@ class CrowdMethodSpec(Model):
 
     @model_validator(mode="after")
     def _gains_of_the_method(self) -> CrowdMethodSpec:
-        if self.gains is not None and not isinstance(self.gains, _GAIN_SPECS[self.method]):
+        if self.gains is not None and not isinstance(self.gains, _gains_spec(self.method)):
             raise ValueError(f"method {self.label!r}: gains of the wrong kind for {self.method}")
         return self
 

@@ -33,7 +33,7 @@ from pydantic import AfterValidator, BeforeValidator, Field, model_validator
 from designlab import navigation as nav
 from designlab.navigation import tuning
 from designlab.navigation.criteria import EQUAL_WEIGHTS, check_weights
-from designlab.navigation.methods import method_of
+from designlab.navigation.methods import METHOD, METHODS, method_of
 from designlab.navigation.parameters import EXPERIMENT_GAINS, GAIN, OPTIMAL_GAINS
 from designlab.params import params_of
 from designlab.results import OK, Result
@@ -179,7 +179,7 @@ class NavigationGainsStudy(StudyBase):
         EQUAL_WEIGHTS,
         description="criterion weights (w_T, w_D, w_E) of H (5.6.6): non-negative, sum 1",
     )
-    baselines: list[Literal["masoud", "ge_cui"]] = Field(
+    baselines: list[METHODS.literal(baseline=True)] = Field(  # type: ignore[valid-type]
         default_factory=list,
         description="baselines whose gains are optimised too (App. C.2, Table C.1)",
     )
@@ -395,13 +395,14 @@ def _baseline_block(
     ours = {m: o.gains for m, o in found.items()}
     if "off" in optima and optima["off"].gains is not None:
         ours["vff"] = optima["off"].gains
-    for method in ("vff", *study.baselines):
+    for method in (METHOD.default, *study.baselines):
         cands = [("table_C1", TABLE_C1[method][0])]
         if ours.get(method) is not None:
             cands.append(("designlab_optimum", ours[method]))
         for label, g in cands:
-            row = method_of(method).gain_row(g)
-            row[1] = row[1] if method != "masoud" else 1.0  # b is not Masoud's
+            strategy = method_of(method)
+            row = strategy.gain_row(g)
+            row[1] = row[1] if "b" in strategy.used_gains else 1.0  # b is not Masoud's
             e = nav.evaluate_gains(scen, row[None, :], method=method, stabilising="off",
                                    weights=study.weights).to_frame()  # fmt: skip
             thesis_h = TABLE_C1[method][1] if label == "table_C1" else None
@@ -410,7 +411,8 @@ def _baseline_block(
                          "H_mean": float(e["H_mean"][0]), "feasible": bool(e["feasible"][0]),
                          "H_opt_table_C1": thesis_h})  # fmt: skip
     frame = pd.DataFrame(rows)
-    frame.loc[frame["method"] == "masoud", "b"] = float("nan")
+    no_b = [m for m in frame["method"].unique() if "b" not in method_of(m).used_gains]
+    frame.loc[frame["method"].isin(no_b), "b"] = float("nan")
     return frame, found
 
 

@@ -25,6 +25,7 @@ Examples
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import Annotated, Any, ClassVar, Literal
 
@@ -33,8 +34,7 @@ import pandas as pd
 from pydantic import Field, model_validator
 
 from designlab import navigation as nav
-from designlab.navigation.methods import PLANNER
-from designlab.navigation.planners.parameters import ERRTSettings, FieldDStarSettings, VOSettings
+from designlab.navigation.methods import METHODS, PLANNER
 from designlab.navigation.planners.simulate import PlannerResult, simulate_planner
 from designlab.navigation.scenario_io import mirrored
 from designlab.progress import Progress
@@ -47,12 +47,11 @@ from designlab.study.specs import spec_model
 
 __all__ = ["KIND", "NavigationPlannersResult", "NavigationPlannersStudy", "PlannerSpec", "run"]
 
-_SETTINGS = {
-    "vo": spec_model(VOSettings),
-    "nlvo": spec_model(VOSettings),
-    "errt": spec_model(ERRTSettings),
-    "field_dstar": spec_model(FieldDStarSettings),
-}
+
+@functools.cache
+def _settings_spec(method: str) -> type[Model]:
+    """The study spec of a planner's settings (built from its ``settings_type``)."""
+    return spec_model(METHODS.get(method, planner=True).settings_type)
 
 
 class PlannerSpec(Model):
@@ -66,21 +65,22 @@ class PlannerSpec(Model):
 
     @model_validator(mode="after")
     def _settings(self) -> PlannerSpec:
-        spec = _SETTINGS[self.method]
+        spec = _settings_spec(self.method)
         unknown = sorted(set(self.settings) - set(spec.model_fields))
         if unknown:
             raise ValueError(
                 f"settings {unknown} do not apply to {self.method} "
                 f"(its settings: {', '.join(spec.model_fields)})"
             )
-        if self.seeds > 1 and self.method != "errt":
-            raise ValueError(f"seeds apply to errt only, not to {self.method}")
+        if self.seeds > 1 and not METHODS.get(self.method).seeded:
+            seeded = ", ".join(m.name for m in METHODS.variants(planner=True, seeded=True))
+            raise ValueError(f"seeds apply to {seeded} only, not to {self.method}")
         self.build()
         return self
 
     def build(self) -> Any:
         """The settings object."""
-        return _SETTINGS[self.method].model_validate(self.settings).build()
+        return _settings_spec(self.method).model_validate(self.settings).build()
 
     def runs(self) -> list[tuple[str, Any]]:
         """``(label, settings)`` of each run (one per seed for errt)."""
@@ -126,7 +126,10 @@ class NavigationPlannersStudy(StudyBase):
     @model_validator(mode="after")
     def _something(self) -> NavigationPlannersStudy:
         if not self.planners and not self.methods:
-            raise ValueError("give at least one planner or method")
+            raise ValueError(
+                "planners = [] and methods = []: give at least one planner or method (a "
+                "planners entry such as {method: vo}, or a methods entry such as {method: vff})"
+            )
         return self
 
     def size(self) -> str:

@@ -37,7 +37,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import BeforeValidator, Field, ValidationError, create_model, model_validator
 
-from designlab.navigation.methods import METHOD, PLANNER, STABILISING, TIE_SIDE
+from designlab.navigation.methods import METHOD, METHODS, PLANNER, STABILISING, TIE_SIDE
 from designlab.navigation.parameters import (
     CBF_K0,
     CBF_K1,
@@ -48,7 +48,6 @@ from designlab.navigation.parameters import (
     NonholonomicRobot,
     VFFGains,
 )
-from designlab.navigation.planners.simulate import PLANNER_SETTINGS
 from designlab.navigation.scenario_io import (
     OBSTACLE_KINDS,
     obstacle_from_dict,
@@ -332,13 +331,19 @@ MasoudGainsSpec = _checked(spec_model(MasoudGains), "MasoudGainsSpec")
 #: Ge & Cui (2002) gains: attraction K1 (N/m) with ratio b (s), K3 and K5.
 GeCuiGainsSpec = _checked(spec_model(GeCuiGains), "GeCuiGainsSpec")
 
-_GAIN_SPECS: dict[str, type[Model]] = {
-    "vff": GainsSpec,
-    "cbf": GainsSpec,
-    "vff_cbf": GainsSpec,
-    "masoud": MasoudGainsSpec,
-    "ge_cui": GeCuiGainsSpec,
+#: The spec of each gains class (a method's ``gains_type`` picks its spec).
+_SPEC_OF_GAINS: dict[type, type[Model]] = {
+    VFFGains: GainsSpec,
+    MasoudGains: MasoudGainsSpec,
+    GeCuiGains: GeCuiGainsSpec,
 }
+
+
+def _gains_spec(method: str) -> type[Model] | None:
+    """The gains spec of a force-field method (``None`` for a planner or an unknown name)."""
+    if method not in METHODS or not METHODS.get(method).force_field:
+        return None
+    return _SPEC_OF_GAINS[METHODS.get(method).gains_type]
 
 
 def typed_gains(data: Any) -> Any:
@@ -356,8 +361,8 @@ def typed_gains(data: Any) -> Any:
     """
     if not (isinstance(data, dict) and isinstance(data.get("gains"), dict)):
         return data
-    method = str(data.get("method", "vff"))
-    spec = _GAIN_SPECS.get(method)
+    method = str(data.get("method", METHOD.default))
+    spec = _gains_spec(method)
     if spec is None:
         return data
     try:
@@ -415,11 +420,11 @@ class MethodSpec(Model):
     @property
     def planner(self) -> bool:
         """Whether the method is a Sec. 5.7 planner (simulated by ``simulate_planner``)."""
-        return self.method in PLANNER.choices
+        return METHODS.get(self.method).planner
 
     def planner_settings(self) -> Any:
         """The planner's settings object (its defaults for keys not given)."""
-        spec = spec_model(PLANNER_SETTINGS[self.method])
+        spec = spec_model(METHODS.get(self.method).settings_type)
         given = self.settings or {}
         unknown = sorted(set(given) - set(spec.model_fields))
         if unknown:
@@ -443,12 +448,15 @@ class MethodSpec(Model):
             return self
         if self.settings is not None:
             raise ValueError(f"method {self.label!r}: settings apply to the planners only")
-        if self.method in ("vff", "vff_cbf") and self.gains is None:
+        method = METHODS.get(self.method)
+        if method.gains_required and self.gains is None:
+            takes = ", ".join(method.used_gains)
             raise ValueError(
-                f"method {self.label!r}: the {self.method} method needs gains: {{k1, b, k3, k5}}"
+                f"method {self.label!r}: the {self.method} method needs gains: {{{takes}}}"
             )
-        if self.gains is not None and not isinstance(self.gains, _GAIN_SPECS[self.method]):
+        if self.gains is not None and not isinstance(self.gains, _gains_spec(self.method)):
             raise ValueError(f"method {self.label!r}: gains of the wrong kind for {self.method}")
-        if self.method not in ("cbf", "vff_cbf") and "cbf_gains" in self.model_fields_set:
-            raise ValueError(f"method {self.label!r}: cbf_gains apply to cbf and vff_cbf only")
+        if not method.filtered and "cbf_gains" in self.model_fields_set:
+            filtered = " and ".join(METHODS.choices(filtered=True))
+            raise ValueError(f"method {self.label!r}: cbf_gains apply to {filtered} only")
         return self

@@ -129,7 +129,10 @@ class NavigationDesign(Model):
     @classmethod
     def _configs(cls, v: list[Any]) -> list[Any]:
         if not v:
-            raise ValueError("give at least one scenario")
+            raise ValueError(
+                "scenarios = [] is empty: give at least one scenario (a configuration 1-4, "
+                "'parallel', 'unpredictable' or a scenario of your own)"
+            )
         for spec in v:
             if not isinstance(spec, tuple):
                 continue  # a user's scenario, checked by its spec

@@ -111,9 +111,7 @@ class TetherComparisonStudy(StudyBase):
     robot: FollowerRobotSpec = robot_field()  # type: ignore[valid-type]
     speed: LEADER_SPEED.annotation() = LEADER_SPEED.default  # type: ignore[valid-type]
     settle_time: SETTLE_TIME.annotation() = SETTLE_TIME.default  # type: ignore[valid-type]
-    controllers: list[ControllerSpec] = controllers_field(  # type: ignore[valid-type]
-        "PseudoJoystick", "FollowTheLeader", "FollowTheLeaderConstDistance", max_length=20
-    )
+    controllers: list[ControllerSpec] = controllers_field(max_length=20)  # type: ignore[valid-type]
     paths: list[PathSpec] = Field(min_length=1, max_length=50)  # type: ignore[valid-type]
     desired_lengths: list[_DESIRED_LENGTH.annotation()] | None = Field(  # type: ignore[valid-type]
         None,

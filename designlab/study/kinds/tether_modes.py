@@ -37,14 +37,11 @@ import pandas as pd
 from pydantic import Field, TypeAdapter, model_validator
 
 from designlab.following.tether import (
-    CONTROLLERS,
+    LAWS,
     BrakeMode,
     FollowerRobot,
     FollowerRun,
-    FrontJoystick,
-    FrontVelJoystick,
     SideJoystick,
-    SideTracking,
     brake_timeline,
     normal_path_deviation,
     simulate,
@@ -61,13 +58,10 @@ from designlab.study.runner import RunContext
 
 __all__ = ["KIND", "BrakeCase", "ModeCase", "TetherModesResult", "TetherModesStudy", "run"]
 
-_SIDE = ("SideJoystick", "SideTracking")
-_MODES = {
-    "SideJoystick": lambda lh: SideJoystick(desired_length=lh),
-    "SideTracking": lambda lh: SideTracking(offset_length=lh),
-    "FrontJoystick": lambda _: FrontJoystick(),
-    "FrontVelJoystick": lambda _: FrontVelJoystick(),
-}
+#: The modes of the study: every registered law that walks beside or ahead of the leader.
+MODES = LAWS.choices(placement="side") + LAWS.choices(placement="front")
+#: The laws Brake mode may wrap here: those that follow from behind.
+BRAKE_LAWS = LAWS.choices(placement="behind", brakeable=True)
 _OFFSET = params_of(SideJoystick)["desired_length"]
 _ENGAGE = params_of(BrakeMode)["engage_margin"]
 _RELEASE = params_of(BrakeMode)["release_margin"]
@@ -94,8 +88,8 @@ class TetherModesStudy(StudyBase):
     robot: FollowerRobotSpec = robot_field()  # type: ignore[valid-type]
     speed: LEADER_SPEED.annotation() = LEADER_SPEED.default  # type: ignore[valid-type]
     paths: list[PathSpec] = Field(default_factory=_default_paths, min_length=1, max_length=10)  # type: ignore[valid-type]
-    modes: list[Literal["SideJoystick", "SideTracking", "FrontJoystick", "FrontVelJoystick"]] = (
-        Field(default_factory=lambda: list(_MODES), min_length=1, max_length=4)
+    modes: list[Literal[MODES]] = Field(  # type: ignore[valid-type]
+        default_factory=lambda: list(MODES), min_length=1, max_length=len(MODES)
     )
     side_offsets: list[_OFFSET.annotation()] = Field(  # type: ignore[valid-type]
         default_factory=lambda: [0.56, 0.42],
@@ -103,16 +97,8 @@ class TetherModesStudy(StudyBase):
         max_length=6,
         description="l_H (m); the thesis's figures use 2.0 b and 1.5 b",
     )
-    brake_laws: list[
-        Literal["PseudoJoystick", "FollowTheLeader", "FollowTheLeaderConstDistance"]
-    ] = Field(
-        default_factory=lambda: [
-            "PseudoJoystick",
-            "FollowTheLeader",
-            "FollowTheLeaderConstDistance",
-        ],
-        min_length=1,
-        max_length=3,
+    brake_laws: list[Literal[BRAKE_LAWS]] = Field(  # type: ignore[valid-type]
+        default_factory=lambda: list(BRAKE_LAWS), min_length=1, max_length=len(BRAKE_LAWS)
     )
     brake_walk: float = Field(
         4.0, gt=0, le=100, description="leader's straight walk before it stops (m)"
@@ -137,8 +123,19 @@ class TetherModesStudy(StudyBase):
 
     def size(self) -> str:
         """Runs."""
-        n = sum(len(self.side_offsets) if m in _SIDE else 1 for m in self.modes) * len(self.paths)
+        n = sum(len(self.offsets(m)) for m in self.modes) * len(self.paths)
         return f"{n} mode runs, {2 * len(self.brake_laws)} brake runs"
+
+    def offsets(self, mode: str) -> list[float]:
+        """The side offsets l_H (m) a mode runs at (a front mode: NaN, its own l_d).
+
+        Parameters
+        ----------
+        mode
+            The mode's name.
+        """
+        side = LAWS.get(mode).placement == "side"
+        return [float(lh) for lh in self.side_offsets] if side else [math.nan]
 
     def mode_jobs(self) -> list[tuple[Any, str, float, Any]]:
         """Every (path, mode, offset, controller)."""
@@ -146,8 +143,11 @@ class TetherModesStudy(StudyBase):
         for ps in self.paths:
             path = ps.build()
             for m in self.modes:
-                offsets = self.side_offsets if m in _SIDE else [math.nan]
-                jobs += [(path, m, float(lh), _MODES[m](float(lh))) for lh in offsets]
+                law = LAWS.get(m)
+                jobs += [
+                    (path, m, lh, law.holding(lh) if math.isfinite(lh) else law())
+                    for lh in self.offsets(m)
+                ]
         return jobs
 
     def brake_robot(self, robot: FollowerRobot) -> FollowerRobot:
@@ -171,9 +171,13 @@ class TetherModesStudy(StudyBase):
             )
         robot = self.robot.build()
         self.brake_robot(robot)
-        for lh in self.side_offsets:
+        for i, lh in enumerate(self.side_offsets):
             if lh <= 0.5 * robot.body_length:
-                raise ValueError(f"side offset {lh:g} m must exceed half the robot length")
+                raise ValueError(
+                    f"side_offsets[{i}] = {lh:g} m is not allowed: a side offset must exceed "
+                    f"half the robot length (robot.body_length / 2 = "
+                    f"{0.5 * robot.body_length:g} m)"
+                )
         names = [p.build().name for p in self.paths]
         if len(set(names)) != len(names):
             raise ValueError(f"path names must be unique (give `name:`), got {names}")
@@ -352,7 +356,7 @@ def _brakes(study: TetherModesStudy, robot: FollowerRobot) -> list[BrakeCase]:
     stop = study.brake_walk / study.speed
     out = []
     for name in study.brake_laws:
-        law = CONTROLLERS[name]()
+        law = LAWS.get(name)()
         for on in (False, True):
             c = (
                 BrakeMode(

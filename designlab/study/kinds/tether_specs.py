@@ -6,9 +6,10 @@ Every field, unit, bound and default is the domain's declaration
 
 * :data:`FollowerRobotSpec`: ``DEFAULT`` (the App. C model: no wheel limits,
   100 Hz) or ``OXYDOG`` (Table 3.1's 1.0 m/s), optionally with fields replaced;
-* :data:`ControllerSpec`: a law (``PseudoJoystick``, ``FollowTheLeader``,
-  ``FollowTheLeaderConstDistance``) with optional gains (App. C defaults
-  otherwise) and a ``label``;
+* :data:`ControllerSpec`: a law that follows from behind (every one the
+  law registry :data:`designlab.following.tether.LAWS` holds with
+  ``placement="behind"``: PJ, FTL, FTL-CD) with optional gains (App. C
+  defaults otherwise) and a ``label``;
 * :data:`PathSpec`: a named leader path with its arguments, or points.
 
 Each spec builds its domain object while it is validated, so that
@@ -35,7 +36,7 @@ from pydantic import Field, TypeAdapter, create_model, model_validator
 
 from designlab.errors import DesignlabError
 from designlab.following.tether import (
-    CONTROLLERS,
+    LAWS,
     OXYDOG,
     FollowerRobot,
     LeaderPath,
@@ -56,12 +57,8 @@ __all__ = [
     "robot_field",
 ]
 
-#: Short names of the laws (the default labels).
-SHORT_NAMES = {
-    "PseudoJoystick": "PJ",
-    "FollowTheLeader": "FTL",
-    "FollowTheLeaderConstDistance": "FTL-CD",
-}
+#: The laws a ``controllers`` list may hold: those that follow from behind.
+BEHIND = {"placement": "behind"}
 
 
 def built(spec: Any) -> Any:
@@ -119,12 +116,12 @@ class _LawSpec(_Buildable):
         """
         fields = self.model_dump(exclude={"type", "label"})
         fields.update(changes)
-        return CONTROLLERS[self.type](**fields)  # type: ignore[attr-defined,no-any-return]
+        return LAWS.get(self.type)(**fields)  # type: ignore[attr-defined,no-any-return]
 
     @property
     def title(self) -> str:
-        """The label, or a short name of the law."""
-        return self.label or SHORT_NAMES[self.type]  # type: ignore[attr-defined]
+        """The label, or the law's short name."""
+        return self.label or LAWS.get(self.type).short  # type: ignore[attr-defined]
 
 
 def _law_spec(name: str, cls: type) -> Any:
@@ -137,9 +134,9 @@ def _law_spec(name: str, cls: type) -> Any:
     )
 
 
-#: One of the three laws with optional gains and a label (``type`` selects the law).
+#: A law that follows from behind, with optional gains and a label (``type`` selects the law).
 ControllerSpec = Annotated[
-    Union[tuple(_law_spec(n, c) for n, c in CONTROLLERS.items())],  # type: ignore[misc]  # noqa: UP007
+    Union[tuple(_law_spec(law.name, law) for law in LAWS.variants(**BEHIND))],  # type: ignore[misc]  # noqa: UP007
     Field(discriminator="type"),
 ]
 
@@ -223,13 +220,14 @@ def robot_field(preset: str = "DEFAULT") -> Any:
     return Field(default_factory=lambda: FollowerRobotSpec(preset=preset))
 
 
-def controllers_field(*laws: str, max_length: int) -> Any:
-    """The ``controllers`` list of a tether study kind: by default the named laws, thesis gains.
+def controllers_field(*laws: Any, max_length: int) -> Any:
+    """The ``controllers`` list of a tether study kind: by default the given laws, thesis gains.
 
     Parameters
     ----------
     *laws
-        The laws of the default list (``"PseudoJoystick"``, ...).
+        The law classes of the default list (default: every law that follows from behind,
+        in the registry's order).
     max_length
         The most laws a study may list.
 
@@ -237,12 +235,13 @@ def controllers_field(*laws: str, max_length: int) -> Any:
     --------
     >>> from designlab.study.base import Model
     >>> class Demo(Model):
-    ...     controllers: list[ControllerSpec] = controllers_field("PseudoJoystick", max_length=2)
+    ...     controllers: list[ControllerSpec] = controllers_field(max_length=3)
     >>> [c.title for c in Demo().controllers]
-    ['PJ']
+    ['PJ', 'FTL', 'FTL-CD']
     """
 
     def default() -> list[Any]:
-        return TypeAdapter(list[ControllerSpec]).validate_python([{"type": t} for t in laws])
+        chosen = laws or LAWS.variants(**BEHIND)
+        return TypeAdapter(list[ControllerSpec]).validate_python([{"type": t.name} for t in chosen])
 
     return Field(default_factory=default, min_length=1, max_length=max_length)

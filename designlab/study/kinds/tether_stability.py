@@ -31,6 +31,7 @@ import numpy as np
 import pandas as pd
 from pydantic import Field, model_validator
 
+from designlab.following.tether import FollowTheLeader, PseudoJoystick
 from designlab.following.tether.stability import (
     GRID_LENGTH,
     GRID_POINTS,
@@ -72,7 +73,7 @@ class TetherStabilityStudy(StudyBase):
     kind: Literal["tether_stability"]
     robot: FollowerRobotSpec = robot_field()  # type: ignore[valid-type]
     controllers: list[ControllerSpec] = controllers_field(  # type: ignore[valid-type]
-        "PseudoJoystick", "FollowTheLeader", max_length=8
+        PseudoJoystick, FollowTheLeader, max_length=8
     )
     lengths: LengthGrid = Field(default_factory=LengthGrid)
     angles: GRID_POINTS.annotation() = Field(  # type: ignore[valid-type]

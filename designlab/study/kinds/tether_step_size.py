@@ -32,6 +32,7 @@ import pandas as pd
 from pydantic import Field, TypeAdapter, model_validator
 
 from designlab.following.tether import (
+    LAWS,
     FollowerMetrics,
     FollowerRun,
     FollowTheLeader,
@@ -66,7 +67,7 @@ def _default_paths() -> list[Any]:
 
 
 def _default_controller() -> Any:
-    return TypeAdapter(ControllerSpec).validate_python({"type": "FollowTheLeader"})
+    return TypeAdapter(ControllerSpec).validate_python({"type": FollowTheLeader.name})
 
 
 class TetherStepSizeStudy(StudyBase):
@@ -99,7 +100,7 @@ class TetherStepSizeStudy(StudyBase):
 
     @model_validator(mode="after")
     def _runnable(self) -> TetherStepSizeStudy:
-        if self.controller.type not in ("FollowTheLeader", "FollowTheLeaderConstDistance"):
+        if not LAWS.get(self.controller.type).target_finder.records_path:
             raise ValueError(
                 f"controller.type = {self.controller.type!r}: the step size is FTL's or FTL-CD's "
                 "(a Pseudo-Joystick records no path)"

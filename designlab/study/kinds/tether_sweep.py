@@ -35,7 +35,7 @@ from typing import Any, ClassVar, Literal
 from pydantic import Field, model_validator
 
 from designlab.following.tether import (
-    CONTROLLERS,
+    LAWS,
     FollowerRobot,
     FollowTheLeader,
     FollowTheLeaderConstDistance,
@@ -117,7 +117,7 @@ class TetherSweepStudy(SweepStudyBase[TetherSweepParameters, TetherMetricName]):
         for block in (sens.one_at_a_time, sens.sobol) if sens is not None else ():
             if block is not None and block.parameters:
                 swept |= set(block.parameters)
-        fields = params_of(CONTROLLERS[self.base.controller.type])
+        fields = params_of(LAWS.get(self.base.controller.type))
         bad = {p for p in swept if p.startswith("controller.") and p[11:] not in fields}
         if bad:
             raise ValueError(f"{self.base.controller.type} has no {', '.join(sorted(bad))}")

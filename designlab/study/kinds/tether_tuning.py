@@ -32,7 +32,7 @@ import pandas as pd
 from pydantic import Field, model_validator
 
 from designlab.following.tether import (
-    CONTROLLERS,
+    LAWS,
     CostWeights,
     PseudoJoystick,
     TuningResult,
@@ -58,7 +58,8 @@ from designlab.study.specs import spec_model
 
 __all__ = ["KIND", "TetherTuningResult", "TetherTuningStudy", "run"]
 
-Law = Literal[tuple(CONTROLLERS)]  # type: ignore[valid-type]
+#: A law the tuner takes: one with a linear lateral loop (its damping floor).
+Law = LAWS.literal(linear=True)
 #: A tuner name (:data:`designlab.following.tether.tuning.TUNERS`).
 Tuner = Literal[tuple(TUNERS)]  # type: ignore[valid-type]
 
@@ -72,7 +73,7 @@ class TetherTuningStudy(StudyBase):
     """Tune the gains of tether-follower laws and measure the improvement on unseen paths."""
 
     kind: Literal["tether_tuning"]
-    laws: list[Law] = Field(min_length=1, max_length=3)
+    laws: list[Law] = Field(min_length=1, max_length=len(LAWS.choices(linear=True)))  # type: ignore[valid-type]
     desired_length: _DESIRED_LENGTH.annotation(optional=True) = Field(  # type: ignore[valid-type]
         None, description="l_d for every law, m (default: each law's own)"
     )

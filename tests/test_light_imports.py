@@ -1,0 +1,86 @@
+"""Importing designlab is light and changes nothing of the user's process (issue 39, item 2).
+
+* No module of designlab configures logging or changes the warnings filters when imported
+  (pedpy's ``logging.basicConfig`` made designlab's INFO lines appear in users' scripts).
+* The crowd layer's heavy dependencies (JuPedSim, pedpy and, through pedpy, pyplot) are
+  imported only when a crowd is simulated or measured (``designlab.navigation.crowds.extra``),
+  and a missing one is a clear error naming the ``crowds`` extra.
+
+Each check runs in a fresh interpreter: this process has imported everything already.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+HEAVY = ("jupedsim", "pedpy", "matplotlib.pyplot")
+
+_PROBE = """
+import json, logging, sys, warnings
+import numpy, casadi, scipy.signal  # each adds warnings filters of its own (not designlab)
+root = logging.getLogger()
+before = (list(root.handlers), root.level, list(warnings.filters))
+import importlib
+for name in sys.argv[1:]:
+    importlib.import_module(name)
+after = (list(root.handlers), root.level, list(warnings.filters))
+print(json.dumps({
+    "logging_unchanged": before[:2] == after[:2],
+    "filters_unchanged": before[2] == after[2],
+    "heavy": [m for m in HEAVY if m in sys.modules],
+}))
+""".replace("HEAVY", repr(HEAVY))
+
+
+def _probe(*modules: str, code: str = _PROBE) -> dict:
+    env = {
+        **os.environ,
+        "PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")]),
+    }
+    env.pop("MPLBACKEND", None)
+    done = subprocess.run(
+        [sys.executable, "-c", code, *modules], capture_output=True, text=True, env=env, timeout=300
+    )
+    assert done.returncode == 0, done.stderr
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+DOMAINS = ("designlab", "designlab.impact", "designlab.navigation", "designlab.following",
+           "designlab.codesign", "designlab.study", "designlab.cli")  # fmt: skip
+
+
+def test_importing_designlab_changes_no_logging_or_warnings_and_loads_no_crowd_deps() -> None:
+    """Every domain in one interpreter: what none of them does, each of them does not do."""
+    seen = _probe(*DOMAINS)
+    assert seen == {"logging_unchanged": True, "filters_unchanged": True, "heavy": []}
+
+
+def test_the_crowd_deps_load_on_use_without_configuring_logging() -> None:
+    code = _PROBE.replace(
+        "for name in sys.argv[1:]:\n    importlib.import_module(name)",
+        "from designlab.navigation.crowds import extra\nextra.pedpy(); extra.jupedsim()",
+    )
+    seen = _probe(code=code)
+    assert seen["logging_unchanged"] and seen["filters_unchanged"]
+    assert {"jupedsim", "pedpy"} <= set(seen["heavy"])
+
+
+def test_a_missing_crowd_dependency_names_the_extra() -> None:
+    code = """
+import json, sys
+sys.modules["jupedsim"] = None  # as if not installed: importing it raises ImportError
+import designlab as dl
+nav = dl.navigation
+try:
+    nav.simulate_pedestrians(nav.crowd("corridor_counterflow", pedestrians=4, seed=0, horizon=0.1))
+except dl.errors.MissingExtraError as exc:
+    print(json.dumps({"message": str(exc), "import_error": isinstance(exc, ImportError)}))
+"""
+    seen = _probe(code=code)
+    assert seen["import_error"]
+    assert "jupedsim" in seen["message"] and "pip install 'designlab[crowds]'" in seen["message"]
