@@ -17,13 +17,13 @@ from __future__ import annotations
 
 import importlib
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Annotated, Any, Union
 
 from pydantic import Field, TypeAdapter
 
 from designlab.study.base import FORMAT_VERSION, StudyBase
-from designlab.study.reproduction import Reproduction
+from designlab.study.reproduction import UNCHECKED, Reproduction
 
 __all__ = [
     "RENAMED_KINDS",
@@ -57,15 +57,15 @@ class StudyKind:
         a report is written.
     reproduction
         How far the report's tables may move on another machine (stated in the
-        report; :mod:`designlab.study.reproduction`). The default claims the
-        same numbers to the bit.
+        report; :mod:`designlab.study.reproduction`). The default,
+        ``UNCHECKED``, claims no tolerance and says so.
     """
 
     name: str
     schema: type[StudyBase]
     run: Callable[..., Any]
     report: str
-    reproduction: Reproduction = field(default_factory=Reproduction)
+    reproduction: Reproduction = UNCHECKED
 
     def __post_init__(self) -> None:
         annotation = self.schema.model_fields["kind"].annotation

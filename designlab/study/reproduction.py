@@ -16,8 +16,8 @@ Examples
 >>> r.close(1.0, 1.0 + 1e-8), r.close(1.0, 1.0 + 1e-7), r.close(1.0, 1.000001, digits=7)
 (True, False, True)
 >>> print(r.sentence(digits=7))  # doctest: +NORMALIZE_WHITESPACE
-The study is deterministic: the same machine and build give these tables to the bit. On
-another CPU (or libm, numpy or numba build) every number in its CSV tables reproduces
+The same study file (with its seeds) on the same machine and build gives these tables to
+the bit. On another CPU (or libm, numpy or numba build) every number in its CSV tables reproduces
 within |a - b| <= 2e-08 max(|a|, |b|) (the impact kernel certifies each metric to 1e-8),
 give or take one unit in the last of the 7 significant digits printed; text cells are
 identical.
@@ -29,7 +29,15 @@ import fnmatch
 import math
 from dataclasses import dataclass
 
-__all__ = ["HEADING", "Reproduction"]
+__all__ = [
+    "CERTIFIED_IMPACT",
+    "CLOSED_FORM",
+    "ENVELOPE",
+    "HEADING",
+    "METRIC_DIFFERENCES",
+    "UNCHECKED",
+    "Reproduction",
+]
 
 #: The heading of the section every report carries (written by the report framework
 #: unless the kind's writer words its own, as the gain searches do).
@@ -53,10 +61,11 @@ class Reproduction:
     why
         Where the tolerance comes from (the computation's certificate or the
         amplification measured), quoted in the report.
-    seeded
-        The study draws random numbers (from a seed in the study file).
     exempt
         ``file:column`` glob patterns of cells not compared.
+    checked
+        ``False``: how far the tables move on another machine has not been
+        measured yet (the report says so instead of claiming a tolerance).
     flips
         The largest fraction of a table's rows whose discrete outcome (a text or
         yes/no cell: converged, collided, status) may change: a design on the edge
@@ -66,9 +75,9 @@ class Reproduction:
     rtol: float = 0.0
     atol: float = 0.0
     why: str = ""
-    seeded: bool = False
     exempt: tuple[str, ...] = ()
     flips: float = 0.0
+    checked: bool = True
 
     def __post_init__(self) -> None:
         if not 0.0 <= self.flips <= 1.0:
@@ -123,10 +132,15 @@ class Reproduction:
             Significant digits of the report's CSV numbers (a flip of the last one
             is allowed, :meth:`close`).
         """
-        what = "seeded" if self.seeded else "deterministic"
+        if not self.checked:
+            return (
+                "The same study file (with its seeds) on the same machine and build gives "
+                "these tables to the bit. How far they move on another CPU (or libm, numpy or numba build) has "
+                "not been measured yet (docs/developers.md, 'Reproduction on another machine')."
+            )
         text = (
-            f"The study is {what}: the same machine and build give these tables to the bit. "
-            "On another CPU (or libm, numpy or numba build) every number in its CSV tables "
+            "The same study file (with its seeds) on the same machine and build gives these "
+            "tables to the bit. On another CPU (or libm, numpy or numba build) every number in its CSV tables "
             f"reproduces within {self.bound()}"
         )
         if self.why:
@@ -146,3 +160,46 @@ class Reproduction:
         if self.exempt:
             text += f", except {', '.join(self.exempt)}, which are not compared"
         return text + "."
+
+
+#: Kinds not yet rerun as on another machine: the report says so, claiming no tolerance.
+UNCHECKED = Reproduction(checked=False)
+
+#: Kinds whose numbers are impact metrics of the certified kernel (docs/impact.md).
+CERTIFIED_IMPACT = Reproduction(
+    rtol=2e-8,
+    atol=1e-12,
+    why=(
+        "each impact metric is certified to 1e-8 relative (docs/impact.md, 'Self-check'), "
+        "so two machines differ by at most twice that; a value that is rounding noise "
+        "around zero moves within 1e-12"
+    ),
+)
+
+#: Kinds that solve for the boundaries of the feasible foam region (docs/impact.md).
+ENVELOPE = Reproduction(
+    rtol=2e-6,
+    atol=1e-12,
+    why=(
+        "the region's boundaries are solved to 1e-6 relative (docs/impact.md, 'Foam "
+        "design'), and the search may stop on either side of that on another machine; "
+        "the metrics are certified to 1e-8"
+    ),
+)
+
+#: Kinds of closed-form expressions only.
+CLOSED_FORM = Reproduction(
+    rtol=1e-12,
+    atol=1e-12,
+    why="closed-form expressions: a few rounding errors each",
+)
+
+#: The reduced joint against the full joint: relative errors between certified metrics.
+METRIC_DIFFERENCES = Reproduction(
+    rtol=2e-8,
+    atol=2e-8,
+    why=(
+        "each impact metric is certified to 1e-8 relative (docs/impact.md, 'Self-check'); "
+        "a relative error between two of them moves by at most 2e-8"
+    ),
+)

@@ -34,17 +34,19 @@ def _main_md(directory: Path) -> Path:
 def test_each_committed_report_states_its_kinds_declaration(study: Path) -> None:
     spec = load_study(study)
     text = _main_md(ROOT / "reports" / spec.name).read_text(encoding="utf-8")
-    assert text.count(HEADING[3:]) == 1, "one statement, under the shared heading"
+    assert text.count(HEADING + "\n") <= 1, "one statement, under the shared heading"
     sentence = kind_of(spec.kind).reproduction.sentence(digits=csv_digits())
-    worded_by_writer = f"{HEADING}\n\n{sentence}" not in text
-    if worded_by_writer:  # the gain searches word their own (flat optima, near-optimal ranges)
+    if not text.endswith(f"{HEADING}\n\n{sentence}\n"):
+        # the gain searches word their own (flat optima, near-optimal ranges)
         assert spec.kind in {"navigation_gains", "tether_tuning"}, spec.kind
+        assert HEADING[3:] in text
 
 
 def test_every_kind_declares_a_reproduction() -> None:
     for name, kind in study_kinds().items():
         assert isinstance(kind.reproduction, Reproduction), name
-        assert kind.reproduction.why or kind.reproduction.bound() == "a = b (to the bit)", name
+        rule = kind.reproduction
+        assert rule.why or not rule.checked or rule.bound() == "a = b (to the bit)", name
 
 
 def test_a_written_report_ends_with_the_statement(tmp_path: Path) -> None:
