@@ -116,6 +116,8 @@ def compare_report(old: Path, new: Path, rule: Reproduction) -> dict:
         if not other.is_file():
             total["bad"].append(f"{csv.name}: missing")
             continue
+        if rule.exempts(csv.name, "*"):  # the whole table is not compared
+            continue
         read = {"keep_default_na": False, "dtype": str}
         got = compare_table(pd.read_csv(csv, **read), pd.read_csv(other, **read), csv.name, rule)
         total["tables"] += 1

@@ -32,9 +32,13 @@ from dataclasses import dataclass
 __all__ = [
     "CERTIFIED_IMPACT",
     "CLOSED_FORM",
+    "CODESIGN",
     "ENVELOPE",
     "HEADING",
     "METRIC_DIFFERENCES",
+    "NOISE_AROUND_ZERO",
+    "SAME_ON_A_GENERIC_CPU",
+    "TUNED_GAINS",
     "UNCHECKED",
     "Reproduction",
 ]
@@ -135,13 +139,16 @@ class Reproduction:
         if not self.checked:
             return (
                 "The same study file (with its seeds) on the same machine and build gives "
-                "these tables to the bit. How far they move on another CPU (or libm, numpy or numba build) has "
-                "not been measured yet (docs/developers.md, 'Reproduction on another machine')."
+                "these tables to the bit. How far they move on another CPU (or libm, numpy "
+                "or numba build) has not been measured yet (docs/developers.md, "
+                "'Reproduction on another machine')."
             )
+        same = self.bound() == "a = b (to the bit)"
         text = (
             "The same study file (with its seeds) on the same machine and build gives these "
-            "tables to the bit. On another CPU (or libm, numpy or numba build) every number in its CSV tables "
-            f"reproduces within {self.bound()}"
+            "tables to the bit. On another CPU (or libm, numpy or numba build) every number "
+            "in its CSV tables "
+            + ("is the same to the bit" if same else f"reproduces within {self.bound()}")
         )
         if self.why:
             text += f" ({self.why})"
@@ -202,4 +209,47 @@ METRIC_DIFFERENCES = Reproduction(
         "each impact metric is certified to 1e-8 relative (docs/impact.md, 'Self-check'); "
         "a relative error between two of them moves by at most 2e-8"
     ),
+)
+
+#: Kinds whose every number was the same to the bit when rerun with the code paths of a
+#: plain x86-64 CPU (``benchmarks/reproduce_reports.py``).
+SAME_ON_A_GENERIC_CPU = Reproduction(
+    why=(
+        "rerun with the code paths of a plain x86-64 CPU (numba, libm and numpy without "
+        "their AVX2, FMA and AVX-512 variants), every number was identical"
+    ),
+)
+
+#: Kinds with quantities that are rounding noise around zero (the tether modes' offsets).
+NOISE_AROUND_ZERO = Reproduction(
+    atol=1e-12,
+    why=(
+        "rerun with the code paths of a plain x86-64 CPU, every number was identical "
+        "but those that are rounding noise around zero (1e-16 m), which move within 1e-12"
+    ),
+)
+
+#: The accompanying robot: PID gains tuned by a Nelder-Mead search (docs/following.md).
+TUNED_GAINS = Reproduction(
+    rtol=1e-6,
+    atol=1e-8,
+    why=(
+        "the PID gains are tuned by a Nelder-Mead search (docs/following.md), which ends "
+        "a little elsewhere within its tolerances on another machine; rerun with the code "
+        "paths of a plain x86-64 CPU, the gains moved by 2e-7 relative and every other "
+        "number by less than 1e-6 relative or 1e-9 absolute"
+    ),
+)
+
+#: Co-design: certified impact figures, and an evolutionary search that is not reproducible.
+CODESIGN = Reproduction(
+    rtol=2e-8,
+    atol=1e-12,
+    why=(
+        "the speed limits and injury figures are certified impact metrics (docs/impact.md, "
+        "'Self-check'); the evolutionary search is not reproducible design for design: its "
+        "selections turn on last-bit ties, and rerun with the code paths of a plain x86-64 "
+        "CPU it found a different archive and front (docs/codesign.md)"
+    ),
+    exempt=("designs.csv:*", "front.csv:*"),
 )
