@@ -645,7 +645,7 @@ def simulate_batch(
         As in :func:`simulate`.
     jit
         Compile the batched step to machine code that evaluates four gain sets per pass
-        (:mod:`designlab.simd`, the system C compiler): a few seconds once per scenario
+        (:mod:`designlab.sx.lanes`, the system C compiler): a few seconds once per scenario
         structure, then 5-7x faster per holonomic member-period (about 2x for the
         nonholonomic robot) than CasADi's virtual machine, with results equal to it to
         the bit. Worth it for optimisations and large sweeps.

@@ -9,8 +9,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
+from designlab.analysis.store import open_store
 from designlab.report import write_report
-from designlab.report.store import open_store
 from designlab.study import RunContext, parse_study, points_table, run_study, sweep_runner
 from designlab.study.points_table import FrameTable, StoredTable
 
@@ -138,7 +138,7 @@ def test_a_streamed_sweep_on_worker_processes_writes_the_same_parquet(small_limi
 def test_a_streamed_sweep_never_draws_its_whole_sample(small_limits, tmp_path, monkeypatch):
     """Memory bounded by the chunk: the LHS is drawn a chunk or a block at a time, never whole."""
     from designlab.analysis import sampling
-    from designlab.impact import sweep as impact_sweep
+    from designlab.impact import evaluators as impact_sweep
 
     monkeypatch.setattr(impact_sweep.impact_metrics_chunk, "chunk_size", 40)
     drawn: list[int] = []

@@ -12,9 +12,9 @@ import time
 import numpy as np
 import pytest
 
-from designlab.analysis.sweep import CacheIncompleteError
+from designlab.analysis.engine import CacheIncompleteError
+from designlab.analysis.store import ChunkStore, open_store
 from designlab.errors import StudyError
-from designlab.report.store import ChunkStore, open_store
 from designlab.study import RunContext, load_study, parse_study, run_study
 
 SWEEP = """\
@@ -171,7 +171,7 @@ def test_two_runs_at_once_share_the_store(tmp_path):
         textwrap.dedent(f"""\
         import sys
         from designlab.study import RunContext, parse_study, run_study
-        from designlab.report.store import open_store
+        from designlab.analysis.store import open_store
         study = parse_study({SWEEP!r})
         with open_store(sys.argv[1], study.name) as store:
             r = run_study(study, RunContext(store=store, resume=True))
@@ -193,7 +193,7 @@ def test_two_runs_at_once_share_the_store(tmp_path):
 SLOW_RUNNER = """\
 import sys, time
 import numpy as np
-from designlab.impact.sweep import impact_metrics_chunk
+from designlab.impact.evaluators import impact_metrics_chunk
 from designlab.study.kinds.impact_sweep import ImpactSweepStudy
 
 
