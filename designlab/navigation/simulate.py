@@ -712,7 +712,8 @@ def _batch_scenario(
     surf = _surface(sc, raw.min_distance) if n_obs else np.zeros((N, 0))
     coll = (surf <= 0).any(axis=1) if n_obs else np.zeros(N, bool)
     dstar = np.array(list(_nominal_clearance(sc).values()))
-    h_t = np.where(np.isfinite(raw.arrival_time), nom.arrival_time / raw.arrival_time, 0.0)
+    with np.errstate(divide="ignore", invalid="ignore"):  # the ratio where not arrived: unused
+        h_t = np.where(np.isfinite(raw.arrival_time), nom.arrival_time / raw.arrival_time, 0.0)
     h_d = (
         np.minimum(1.0, np.maximum(surf, 0) / dstar[None, :]).mean(axis=1) if n_obs else np.ones(N)
     )

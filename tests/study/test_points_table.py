@@ -40,6 +40,7 @@ sensitivity:
     ),
     block=st.integers(1, 50),
 )
+@pytest.mark.slow
 def test_block_moments_equal_numpy_on_the_whole_column(values, block):
     frame = pd.DataFrame({"x": values, "status": "ok", "error": None})
     table = FrameTable(frame)
@@ -113,6 +114,7 @@ def test_a_streamed_sweep_equals_the_one_in_memory(small_limits, tmp_path):
     assert "use every 11th point (64 points, evenly spread)" in text
 
 
+@pytest.mark.slow
 def test_a_streamed_sweep_on_worker_processes_writes_the_same_parquet(small_limits, tmp_path):
     from designlab.analysis.executors import make_executor
 
@@ -155,6 +157,7 @@ def test_a_streamed_sweep_never_draws_its_whole_sample(small_limits, tmp_path, m
     assert sum(drawn) >= 2 * 700  # evaluated, then read back for the report
 
 
+@pytest.mark.slow
 def test_the_scan_subset_keeps_no_block_alive(monkeypatch):
     """The evenly spread subset copies its rows: no block outlives its turn in the pass."""
     import gc

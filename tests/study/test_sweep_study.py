@@ -163,6 +163,7 @@ def test_store_refuses_foreign_and_other_study_files(tmp_path):
         ChunkStore(tmp_path / "z.sqlite", study="b").get_chunk("k")
 
 
+@pytest.mark.slow
 def test_two_runs_at_once_share_the_store(tmp_path):
     """Two processes writing the same study's store at once: no corruption, same results."""
     script = tmp_path / "twice.py"
@@ -223,6 +224,7 @@ def _stored_points(path):
         return 0
 
 
+@pytest.mark.slow
 def test_killed_sweep_resumes_with_only_the_missing_points(tmp_path, write_study):
     study = write_study(
         SWEEP.replace("num: 6", "num: 40")
@@ -332,6 +334,7 @@ def test_foam_envelope_study_runs_and_explains(write_study):
     assert s["robot.mass"] / 100 == pytest.approx(el["robot.mass"], rel=0.05)
 
 
+@pytest.mark.slow
 def test_resume_of_a_finished_study_leaves_its_report_alone(tmp_path, write_study):
     """--resume with every point stored and an unchanged study: the report is kept as it is."""
     from typer.testing import CliRunner

@@ -39,6 +39,7 @@ from designlab.params import Param, params_of, sweepable
 from designlab.study.base import Model
 from designlab.study.kinds.impact_specs import DampingGrid, FoamSpec, RobotSpec
 from designlab.study.registry import StudyKind
+from designlab.study.reproduction import ENVELOPE
 from designlab.study.sweep_runner import run_sweep_study
 from designlab.study.sweeps import SweepStudyBase, parameter_model
 
@@ -139,4 +140,5 @@ KIND = StudyKind(
     schema=FoamEnvelopeStudy,
     run=run_sweep_study,
     report="designlab.report.sweep",
+    reproduction=ENVELOPE,
 )
