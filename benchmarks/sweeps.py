@@ -63,7 +63,7 @@ sweep:
 
 ENVELOPE_STUDY = """\
 designlab: 1
-kind: foam_envelope
+kind: foam_envelope_sweep
 name: bench_envelope
 base: {{robot: MANIPULATOR_1, foam: FOAM_1}}
 damping: {{low: 0, high: 200, num: 11}}

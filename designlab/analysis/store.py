@@ -29,9 +29,6 @@ IEEE doubles, strings as JSON) and zlib-compressed, with a SHA-256 checksum.
   transactions (``busy_timeout``); identical chunks have identical keys and
   contents, so the second write is a no-op.
 
-(This module was ``designlab.report.store``, which still re-exports its names
-for one release.)
-
 Examples
 --------
 >>> import tempfile, pathlib, numpy as np

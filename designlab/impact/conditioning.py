@@ -139,7 +139,9 @@ def time_scale_ratio(
     (a stiff transmission), is left out: it is a separate first-order transient, over
     before the first lobe's maxima, that the compiled kernel resolves exactly. A design
     with a pole at s = 0 (no restoring stiffness) gives 1: that case is refused elsewhere,
-    by name. Coefficients beyond double precision give ``inf``.
+    by name. Coefficients beyond double precision give ``inf``. Reduced unconstrained
+    designs take the compiled pass :func:`designlab.impact.kernel.time_scale_ratios` where
+    the compiled kernels are available (the same estimate, to a few rounding errors).
 
     Parameters
     ----------
@@ -156,6 +158,11 @@ def time_scale_ratio(
     numpy.ndarray
         ``(N,)`` ratios (>= 1).
     """
+    from designlab.impact import kernel
+
+    p = np.atleast_2d(np.asarray(p, dtype=float))
+    if kernel.AVAILABLE and p.shape[1] == 8 and not constrained:
+        return kernel.time_scale_ratios(p)  # the same estimate, compiled (the batch's hot path)
     c = characteristic_polynomial(p, constrained)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         logc = np.log(c)  # -inf for a zero coefficient

@@ -32,7 +32,7 @@ from numpy.typing import NDArray
 
 from designlab.impact.kernel_exp import cexp
 from designlab.impact.kernel_lobe import STRIDE, lobe_end, maximum_on_nodes, node_count, scratch
-from designlab.impact.kernel_modal import exponentials, fastest_rate, noise, real_product
+from designlab.impact.kernel_modal import exponentials, fastest_rate, noise
 from designlab.impact.kernel_poles import (
     LANES,
     bairstow_lanes,
@@ -59,6 +59,7 @@ __all__ = [
     "audit_metrics",
     "modal_metrics",
     "reduced_metrics",
+    "time_scale_ratios",
 ]
 
 #: columns of the kernel's output rows (unit v_c; outputs not asked for are NaN)
@@ -105,17 +106,20 @@ def _design(p, r, c, nk, h, outputs, lobe, window, max_steps, diag, row, work, c
         h = min(h, window / 64.0)
     row[3] = t_imp
     status = 0
+    first = 0
     if step > 0:  # the march's nodes before t_imp and their exponentials, then t_imp
         count = max(int(math.ceil(t_imp / step)), 1)  # noqa: RUF046 (numba)
         for k in range(nk):
             work[2][count, k] = cexp(p[k] * t_imp)
+        first = count  # the lobe end's grid of a_h holds the nodes before t_imp
     else:
         count = node_count(t_imp, STRIDE * h)
         step = t_imp / count
         exponentials(p, nk, t_imp, count, work[2])  # shared by the outputs
-    for o in range(3):
+    for o in (1, 0, 2):  # a_h first, while the lobe end's grid of it is in work
         if outputs[o]:
-            t, y, sure = maximum_on_nodes(p, r, c, o, nk, t_imp, count, step, work)
+            start = first if o == 1 else 0
+            t, y, sure = maximum_on_nodes(p, r, c, o, nk, t_imp, count, step, work, start)
             if not sure:
                 return _suspect(row, SUSPECT_MAXIMUM)
             row[_COL[o][0]], row[_COL[o][1]] = y, t
@@ -123,7 +127,7 @@ def _design(p, r, c, nk, h, outputs, lobe, window, max_steps, diag, row, work, c
                 status = 2
     if not check:
         return status
-    bad = sampled_check(p, r, c, nk, outputs, lobe, count, step, row, work[2])
+    bad = sampled_check(p, r, c, nk, outputs, lobe, count, step, row, work)
     return status if bad == 0 else _suspect(row, bad)
 
 
@@ -136,27 +140,31 @@ def _suspect(row, code):  # type: ignore[no-untyped-def]
 
 
 @kernel(borrows=True)
-def sampled_check(p, r, c, nk, outputs, lobe, count, step, row, ex):  # type: ignore[no-untyped-def]
+def sampled_check(p, r, c, nk, outputs, lobe, count, step, row, work):  # type: ignore[no-untyped-def]
     """The a-posteriori check of a design's metrics on samples the search did not use.
 
     At the midpoints ``(j + 1/2) step`` of the maxima's cells before ``t_imp``
-    (exponentials ``ex[j] exp(p step / 2)``, one complex product per pole) no output
-    may exceed its maximum by more than its certified 1e-8 (relative), and a_h may not
-    be provably negative before the lobe end. Returns 0, :data:`SUSPECT_MAXIMUM` or
-    :data:`SUSPECT_LOBE`.
+    (the nodes' exponentials ``work[2][j]`` times ``r_k exp(p_k step / 2)``, one real
+    product per pole) no output may exceed its maximum by more than its certified 1e-8
+    (relative), and a_h may not be provably negative before the lobe end. Returns 0,
+    :data:`SUSPECT_MAXIMUM` or :data:`SUSPECT_LOBE`.
     """
-    half = ex[count + 1]  # a spare row of the nodes' exponentials
+    ex, half = work[2], work[1]  # the stack (free here): exp(p_k step / 2), r_k times it
     for k in range(nk):
-        half[k] = cexp(p[k] * (0.5 * step))
+        z = cexp(p[k] * (0.5 * step))
+        half[k, 2], half[k, 3] = z.real, z.imag
     for o in range(3):
         if not outputs[o]:
             continue
+        for k in range(nk):
+            z = r[o, k] * complex(half[k, 2], half[k, 3])
+            half[k, 0], half[k, 1] = z.real, z.imag
         top = row[_COL[o][0]] + 1e-8 * abs(row[_COL[o][0]])
         for j in range(count - 1):
             t = (j + 0.5) * step
             y = c[o, 0] * t + c[o, 1]
             for k in range(nk):
-                y += real_product(r[o, k], ex[j, k] * half[k])
+                y += half[k, 0] * ex[j, k].real - half[k, 1] * ex[j, k].imag
             if y > top:
                 return SUSPECT_MAXIMUM
             if lobe and o == 1 and y < 0.0 and y < -noise(p, r, c, o, nk, t):
@@ -347,6 +355,66 @@ def modal_metrics(
     return out, status
 
 
+@kernel
+def _ratio_block(params, out):  # type: ignore[no-untyped-def]
+    den = np.empty(5)
+    num = np.empty((3, 6))
+    for i in range(params.shape[0]):
+        q = params[i]
+        coefficients(q[0], q[1], q[2], q[3], q[4], q[5], q[6], q[7], False, den, num)
+        out[i] = _spread(den)
+
+
+@kernel(inline=True)
+def _spread(a):  # type: ignore[no-untyped-def]
+    """:func:`~designlab.impact.conditioning.time_scale_ratio` of the monic quartic ``a``
+    (descending): ``max_k a_k^(1/k) / min_k (a_4 / a_(4-k))^(1/k)``, in logarithms."""
+    if not _finite(a):
+        return np.inf
+    if not a[4] > 0:
+        return 1.0  # a pole at s = 0: refused elsewhere, by name
+    last = math.log(a[4])
+    top = -np.inf
+    low = np.inf
+    for k in range(1, 5):
+        if a[k] > 0:
+            top = max(top, math.log(a[k]) / k)
+        if a[4 - k] > 0:
+            low = min(low, (last - math.log(a[4 - k])) / k)
+    return max(math.exp(top - low), 1.0)
+
+
+def time_scale_ratios(params: NDArray[np.float64]) -> NDArray[np.float64]:
+    """:func:`~designlab.impact.conditioning.time_scale_ratio` of ``(N, 8)`` reduced,
+    unconstrained designs, compiled (one pass, no temporaries).
+
+    From the monic characteristic polynomial of :func:`.kernel_poles.coefficients`
+    (the thesis's correct q2), the same estimate as the numpy function, to a few
+    rounding errors.
+
+    Parameters
+    ----------
+    params
+        ``(N, 8)`` rows ordered as :data:`~designlab.impact.model.PARAM_NAMES`.
+
+    Returns
+    -------
+    NDArray
+        ``(N,)`` ratios (>= 1; ``inf`` where the coefficients are not finite).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> p = np.array([[9.6, 250, 20e3, 24.25e3, 71.9, 4.4, 46, 3e3]])
+    >>> f"{time_scale_ratios(p)[0]:.3g}"
+    '3.03'
+    """
+    p = np.ascontiguousarray(params, dtype=np.float64)
+    out = np.empty(p.shape[0])
+    _ratio_block(p, out)
+    return out
+
+
 #: cells of the uniform grid over ``[0, t_imp]`` on which :func:`audit_metrics` samples
 AUDIT_CELLS = 2048
 
@@ -361,7 +429,7 @@ def _audit_block(poles, res, poly, outputs, lobe, rows, codes):  # type: ignore[
         nk = poles.shape[1]
         exponentials(poles[i], nk, t_imp, AUDIT_CELLS, work[2])
         check = sampled_check(poles[i], res[i], poly[i], nk, outputs, lobe, AUDIT_CELLS,
-                              t_imp / AUDIT_CELLS, rows[i], work[2])  # fmt: skip
+                              t_imp / AUDIT_CELLS, rows[i], work)  # fmt: skip
         if check != 0:
             codes[i] = check
 

@@ -448,9 +448,11 @@ def node_count(hi, w):  # type: ignore[no-untyped-def]
 
 
 @kernel(borrows=True)
-def maximum_on_nodes(p, r, c, o, nk, hi, count, w, work):  # type: ignore[no-untyped-def]
+def maximum_on_nodes(p, r, c, o, nk, hi, count, w, work, first=0):  # type: ignore[no-untyped-def]
     """:func:`maximum` once the nodes' exponentials are in ``work`` (shared by the outputs):
-    nodes ``j w`` (j < count) and ``hi``; ``(t, y, sure)``.
+    nodes ``j w`` (j < count) and ``hi``; ``(t, y, sure)``. ``first`` = ``count`` where the
+    nodes before ``count`` are already in ``work`` (:func:`crossing`'s grid of the same
+    output, :func:`.kernel_modal.grid`).
 
     A cell where y' goes from + to - gets one Newton solve; it is settled by it only
     where y' is monotone over the cell (one stationary point), else it goes through
@@ -461,7 +463,7 @@ def maximum_on_nodes(p, r, c, o, nk, hi, count, w, work):  # type: ignore[no-unt
     ts, ys, ds, qs, m3s = nodes[0], nodes[1], nodes[2], nodes[3], nodes[5]
     steady = stable(p, nk)
     fastest = fastest_rate(p, nk)
-    grid(p, r, c, o, nk, hi, count, w, ex, nodes)
+    grid(p, r, c, o, nk, hi, count, w, ex, nodes, first)
     bt, by = 0.0, -np.inf
     for j in range(count + 1):
         if ys[j] > by:
@@ -497,8 +499,18 @@ def _bounded_cell(nodes, j, by, fastest):  # type: ignore[no-untyped-def]
         return True
     if shape(qs[j], qs[j + 1], m3s[j], w) != 0:
         return True
-    bound = cell_bound(ys[j], ys[j + 1], dl, dr, w, m2, fastest * m3s[j])
-    return not bound > by + 1e-8 * max(abs(by), 1e-300)
+    top = by + 1e-8 * max(abs(by), 1e-300)
+    if _below_top(ys[j], ys[j + 1], w, m2, top):
+        return True
+    return not cell_bound(ys[j], ys[j + 1], dl, dr, w, m2, fastest * m3s[j]) > top
+
+
+@kernel(inline=True)
+def _below_top(yl, yr, w, m2, top):  # type: ignore[no-untyped-def]
+    """Whether the cheapest of :func:`.kernel_modal.cell_bound`'s terms,
+    ``max(yl, yr) + m2 w^2 / 8`` (cell_bound is never above it), is <= ``top``: the
+    cell is then settled without the full bound, with the same answer."""
+    return max(yl, yr) + m2 * w * w / 8.0 <= top
 
 
 @kernel(inline=True)
@@ -528,6 +540,13 @@ def _positive(yl, yr, dl, dr, w, m2, m4):  # type: ignore[no-untyped-def]
 
 
 @kernel(inline=True)
+def _holds(t, tl, w):  # type: ignore[no-untyped-def]
+    """Whether ``t`` lies inside the cell ``[tl, tl + w]``, farther than ``w / 1000`` from
+    its ends (far beyond the error of a stationary point from :func:`_stationary`)."""
+    return tl + 1e-3 * w < t < tl + (1.0 - 1e-3) * w
+
+
+@kernel(inline=True)
 def _refine(p, r, c, o, nk, bt, by, stack, steady, fastest):  # type: ignore[no-untyped-def]
     """Branch and bound inside the grid cell ``stack[0]`` (its ends and its stationary
     point, if y' goes from + to - over it, are already candidates); ``(t, y, sure)``."""
@@ -538,16 +557,20 @@ def _refine(p, r, c, o, nk, bt, by, stack, steady, fastest):  # type: ignore[no-
         n -= 1
         tl, tr, yl, yr = stack[n, _TL], stack[n, _TR], stack[n, _YL], stack[n, _YR]
         dl, dr = stack[n, _DL], stack[n, _DR]
+        w = tr - tl
         if not first:
             if yl > by:
                 bt, by = tl, yl
             if dl > 0 and dr <= 0:  # a candidate; the cell may hold more than one
                 ql, qr = stack[n, _QL], stack[n, _QR]
+                if _holds(bt, tl, w):  # a stationary point solved in the cell it was split from
+                    m3 = _scales(p, r, o, nk, stack, n, steady)[1]
+                    if shape(ql, qr, m3, w) != 0:
+                        continue  # y' monotone: its one zero is that point, bt
                 t, y = _stationary(p, r, c, o, nk, tl, tr, dl, dr, ql, qr)
                 if y > by:
                     bt, by = t, y
         first = False
-        w = tr - tl
         if w <= 0:
             continue
         m2, m3 = _scales(p, r, o, nk, stack, n, steady)
@@ -556,6 +579,8 @@ def _refine(p, r, c, o, nk, bt, by, stack, steady, fastest):  # type: ignore[no-
         if shape(stack[n, _QL], stack[n, _QR], m3, w) != 0:
             continue  # y' monotone: the maximum is at an end node or its one stationary point
         top = by + 1e-8 * max(abs(by), 1e-300)
+        if _below_top(yl, yr, w, m2, top):
+            continue
         if cell_bound(yl, yr, dl, dr, w, m2, fastest * m3) > top:
             if fastest * w > STIFF:  # a stiff pole's decaying term bounded by its size
                 sl, sr, s1, s2, s3, s4, fast = separated(p, r, c, o, nk, tl, tr)

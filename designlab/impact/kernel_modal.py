@@ -335,14 +335,16 @@ def exponentials(p, nk, hi, count, ex):  # type: ignore[no-untyped-def]
 
 
 @kernel(inline=True)
-def grid(p, r, c, o, nk, hi, count, w, ex, work):  # type: ignore[no-untyped-def]
+def grid(p, r, c, o, nk, hi, count, w, ex, work, first=0):  # type: ignore[no-untyped-def]
     """Nodes ``j w`` (j < count) and ``hi`` of output ``o`` into ``work``.
 
     Times, values, first and second derivatives and the scales of :func:`triple`
     from the exponentials ``ex`` (:func:`exponentials`); the last node is ``hi``.
+    ``first`` is 0, or ``count`` where ``work`` already holds the nodes before it (a
+    grid of the same output, step and exponentials up to there): the last node only.
     """
     ts, ys, ds, qs, m2s, m3s = work[0], work[1], work[2], work[3], work[4], work[5]
-    for j in range(count + 1):
+    for j in range(first, count + 1):
         ts[j] = j * w if j < count else hi
         ys[j] = c[o, 0] * ts[j] + c[o, 1]
         ds[j] = c[o, 0]
@@ -356,7 +358,7 @@ def grid(p, r, c, o, nk, hi, count, w, ex, work):  # type: ignore[no-untyped-def
         a = mag(pk)
         g = mag(rk) * a * a
         rho = mag(ex[1, k]) if count > 1 else 0.0  # |exp(p_k w)|: the nodes' moduli by recurrence
-        for j in range(count + 1):
+        for j in range(first, count + 1):
             x = ex[j, k]
             ys[j] += real_product(rk, x)
             ds[j] += real_product(rp, x)

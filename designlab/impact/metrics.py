@@ -759,6 +759,7 @@ UNCERTIFIED = 8
 _KERNEL_STATUS = np.array(
     [*kernel.STATUS_CODES, "overflow", *[STATUS_UNCERTIFIED] * 4], dtype=str
 )  # fixed width: fast compares
+_NO_IMPACT_CODE = kernel.STATUS_CODES.index(STATUS_NO_IMPACT)
 
 
 def _from_kernel(
@@ -775,9 +776,16 @@ def _from_kernel(
     pairs = {"force": ("t_f", "f_max"), "head_acceleration": ("t_a", "a_max")}
     pairs["compression"] = ("t_eps", "eps_max")
     out = {k: (rows[:, col[pairs[k][0]]], rows[:, col[pairs[k][1]]]) for k in names}
+    codes = np.where(v <= 0, _NO_IMPACT_CODE, codes)  # as _scaled marks them
     status = _KERNEL_STATUS[codes]
+    counts: dict[str, int] = {}
+    tally = np.bincount(codes, minlength=_KERNEL_STATUS.size)
+    for name, count in zip(_KERNEL_STATUS, tally, strict=True):
+        counts[str(name)] = counts.get(str(name), 0) + int(count)
     t_low = rows[:, col["t_low"]] if diagnostics else np.full(p.shape[0], np.nan)
-    return _scaled(p, v, out, rows[:, col["t_imp"]], t_low, status, constrained, diagnostics)
+    return _scaled(
+        p, v, out, rows[:, col["t_imp"]], t_low, status, constrained, diagnostics, counts
+    )
 
 
 def _modal_kernel(
@@ -1222,8 +1230,10 @@ def _scaled(
     status: NDArray,
     constrained: bool,
     lobe_diagnostics: bool,
+    counts: dict[str, int] | None = None,
 ) -> ImpactMetrics:
-    """The metrics at the designs' v_c (the model is linear in v_c; no impact for v_c <= 0)."""
+    """The metrics at the designs' v_c (the model is linear in v_c; no impact for v_c <= 0);
+    ``counts``: the number of designs of each status, where the caller has them."""
     n = p.shape[0]
     if constrained:
         t_a = a_max = np.zeros(n)
@@ -1246,6 +1256,8 @@ def _scaled(
         return np.where(none, 0.0, arr) if some else arr.copy()
 
     nan = np.full(n, np.nan)
+    if counts is None:
+        counts = _status_counts(status)
 
     return ImpactMetrics(
         params=p,
@@ -1260,30 +1272,36 @@ def _scaled(
         design_status=status if status.dtype.kind == "U" else status.astype(str),
         constrained=constrained,
         lobe_tail=None if tail is None else np.where(none | constrained, np.nan, tail),
-        status=_batch_status(status),
-        warnings=_batch_warnings(status),
+        status=_batch_status(counts),
+        warnings=_batch_warnings(counts),
     )
 
 
-def _batch_status(status: NDArray) -> Status:
+def _status_counts(status: NDArray) -> dict[str, int]:
+    """The number of designs of each status that the batch's status and warnings name."""
+    names = (STATUS_UNCERTIFIED, STATUS_LOBE_OPEN, STATUS_PEAK_AT_CONTACT)
+    return {k: int(np.count_nonzero(status == k)) for k in names}
+
+
+def _batch_status(counts: dict[str, int]) -> Status:
     """The batch's status: uncertified before lobe_not_closed before ok."""
-    if np.any(status == STATUS_UNCERTIFIED):
+    if counts.get(STATUS_UNCERTIFIED, 0):
         return ImpactStatus.UNCERTIFIED
-    return ImpactStatus.LOBE_NOT_CLOSED if np.any(status == STATUS_LOBE_OPEN) else OK
+    return ImpactStatus.LOBE_NOT_CLOSED if counts.get(STATUS_LOBE_OPEN, 0) else OK
 
 
-def _batch_warnings(status: NDArray) -> tuple[str, ...]:
+def _batch_warnings(counts: dict[str, int]) -> tuple[str, ...]:
     out = []
-    n_bad = int(np.sum(status == STATUS_UNCERTIFIED))
+    n_bad = counts.get(STATUS_UNCERTIFIED, 0)
     if n_bad:
         out.append(
             f"{n_bad} design(s) uncertified: the a-posteriori checks failed on both the "
             'compiled and the numpy path; metrics are NaN (docs/impact.md, "Self-check")'
         )
-    n_open = int(np.sum(status == STATUS_LOBE_OPEN))
+    n_open = counts.get(STATUS_LOBE_OPEN, 0)
     if n_open:
         out.append(f"{n_open} design(s): the first impact lobe did not close; metrics are NaN")
-    n_pac = int(np.sum(status == STATUS_PEAK_AT_CONTACT))
+    n_pac = counts.get(STATUS_PEAK_AT_CONTACT, 0)
     if n_pac:
         out.append(
             f"{n_pac} design(s): a_h peaks at contact (overdamped pulse, xi_c far above "

@@ -645,7 +645,7 @@ def simulate_batch(
         As in :func:`simulate`.
     jit
         Compile the batched step to machine code that evaluates four gain sets per pass
-        (:mod:`designlab.simd`, the system C compiler): a few seconds once per scenario
+        (:mod:`designlab.sx.lanes`, the system C compiler): a few seconds once per scenario
         structure, then 5-7x faster per holonomic member-period (about 2x for the
         nonholonomic robot) than CasADi's virtual machine, with results equal to it to
         the bit. Worth it for optimisations and large sweeps.
@@ -712,7 +712,8 @@ def _batch_scenario(
     surf = _surface(sc, raw.min_distance) if n_obs else np.zeros((N, 0))
     coll = (surf <= 0).any(axis=1) if n_obs else np.zeros(N, bool)
     dstar = np.array(list(_nominal_clearance(sc).values()))
-    h_t = np.where(np.isfinite(raw.arrival_time), nom.arrival_time / raw.arrival_time, 0.0)
+    with np.errstate(divide="ignore", invalid="ignore"):  # the ratio where not arrived: unused
+        h_t = np.where(np.isfinite(raw.arrival_time), nom.arrival_time / raw.arrival_time, 0.0)
     h_d = (
         np.minimum(1.0, np.maximum(surf, 0) / dstar[None, :]).mean(axis=1) if n_obs else np.ones(N)
     )

@@ -23,6 +23,7 @@ from typing import Annotated, Any, Union
 from pydantic import Field, TypeAdapter
 
 from designlab.study.base import FORMAT_VERSION, StudyBase
+from designlab.study.reproduction import UNCHECKED, Reproduction
 
 __all__ = [
     "RENAMED_KINDS",
@@ -54,12 +55,17 @@ class StudyKind:
         Module (dotted name) that registers the report writer of the result
         type with :func:`designlab.report.register_writer`; imported only when
         a report is written.
+    reproduction
+        How far the report's tables may move on another machine (stated in the
+        report; :mod:`designlab.study.reproduction`). The default,
+        ``UNCHECKED``, claims no tolerance and says so.
     """
 
     name: str
     schema: type[StudyBase]
     run: Callable[..., Any]
     report: str
+    reproduction: Reproduction = UNCHECKED
 
     def __post_init__(self) -> None:
         annotation = self.schema.model_fields["kind"].annotation

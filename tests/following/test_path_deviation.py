@@ -281,6 +281,7 @@ def _offset_slalom(offset: float) -> tuple[np.ndarray, np.ndarray]:
 
 
 @pytest.mark.parametrize("offset", [0.3, -0.3])
+@pytest.mark.slow
 def test_slalom_out_and_back_against_its_exact_offset(offset):
     """App. A by default: every normal hit counts, also on the other leg where the legs cross.
 
@@ -326,6 +327,7 @@ def test_max_hit_ratio_is_the_deprecated_name_of_the_opt_in_heuristic():
 @settings(max_examples=3, deadline=None)
 @given(offset=st.floats(0.05, 0.35), side=st.sampled_from([1.0, -1.0]))
 @example(offset=0.18889008608707497, side=1.0)  # an oblique hit beyond the plain sag bound
+@pytest.mark.slow
 def test_slalom_against_random_exact_offsets(offset, side):
     leader, robot = _offset_slalom(side * offset)
     d = fol.normal_path_deviation(leader, robot)

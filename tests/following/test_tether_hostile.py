@@ -143,8 +143,3 @@ def test_old_kind_names_still_read_with_a_warning():
         study = parse_study(text)
     assert study.kind == "tether_comparison"
     assert any(issubclass(w.category, DeprecationWarning) for w in caught)
-
-
-def test_old_module_paths_still_import_with_a_warning():
-    with pytest.warns(DeprecationWarning, match="tether.linear"):
-        from designlab.following.tether_linear import fit_damping  # noqa: F401

@@ -40,6 +40,7 @@ from designlab.params import Param, params_of, sweepable
 from designlab.study.base import Model
 from designlab.study.kinds.impact_specs import DampingGrid, FoamSpec, RobotSpec
 from designlab.study.registry import StudyKind
+from designlab.study.reproduction import ENVELOPE
 from designlab.study.sweep_runner import run_sweep_study
 from designlab.study.sweeps import SweepStudyBase, parameter_model
 
@@ -140,4 +141,5 @@ KIND = StudyKind(
     schema=FoamEnvelopeStudy,
     run=run_sweep_study,
     report="designlab.report.sweep",
+    reproduction=ENVELOPE,
 )

@@ -46,6 +46,7 @@ from designlab.results import Result
 from designlab.study.base import Model, StudyBase
 from designlab.study.kinds.navigation_specs import RobotSpec
 from designlab.study.registry import StudyKind
+from designlab.study.reproduction import CLOSED_FORM
 from designlab.study.runner import RunContext
 
 __all__ = ["KIND", "NavigationRegionsResult", "NavigationRegionsStudy", "ObstacleClassSpec", "run"]
@@ -182,4 +183,5 @@ KIND = StudyKind(
     schema=NavigationRegionsStudy,
     run=run,
     report="designlab.report.navigation_regions",
+    reproduction=CLOSED_FORM,
 )

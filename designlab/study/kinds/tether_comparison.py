@@ -212,7 +212,7 @@ class FollowerCase:
         return {
             "path": self.path,
             "controller": self.controller,
-            "law": type(c).__name__,
+            "law": c.name,
             "desired_length_m": c.desired_length,
             "speed_m_per_s": self.run.speed_leader,
             **{k: v for k, v in self.metrics.as_dict().items()},

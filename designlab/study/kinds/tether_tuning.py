@@ -166,15 +166,13 @@ class TetherTuningResult(Result):
 
     @property
     def warnings(self) -> tuple[str, ...]:  # type: ignore[override]
-        return tuple(
-            f"{type(r.controller).__name__}: {w}" for r in self.results for w in r.warnings
-        )
+        return tuple(f"{r.controller.name}: {w}" for r in self.results for w in r.warnings)
 
     def to_frame(self) -> pd.DataFrame:
         """One row per law and gain: default and tuned values, and the improvements."""
         rows = []
         for r in self.results:
-            law = type(r.controller).__name__
+            law = r.controller.name
             for k, v in r.controller.gains.items():
                 rows.append(
                     {
