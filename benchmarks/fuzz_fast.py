@@ -268,7 +268,8 @@ def _full_modes(q, constrained, lam, g, c):  # type: ignore[no-untyped-def]
     m_r, c_m, k_m, k_c, c_c, m_h, c_h, k_h, c_q, k_q = (
         q[0], q[1], q[2], q[3], q[4], q[5], q[6], q[7], q[8], q[9])  # fmt: skip
     c_s, k_s = c_m + c_q, k_m + k_q
-    zm, zq, ze, zc = np.array([c_m, k_m]), np.array([c_q, k_q]), np.array([c_s, k_s]), np.array([c_c, k_c])
+    zm, zq = np.array([c_m, k_m]), np.array([c_q, k_q])
+    ze, zc = np.array([c_s, k_s]), np.array([c_c, k_c])
     qr = _padd(_polymul(np.array([m_r, 0.0, 0.0]), ze), _polymul(zm, zq))
     n = 3 if constrained else 5
     lam[0] = -k_s / c_s  # the node's own pole
