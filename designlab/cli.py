@@ -359,10 +359,8 @@ def _keeps_store(spec: Any) -> bool:
 def _open_store(cache_dir: Path, spec: Any) -> Any:
     """The study's result store (opened on first use), bound to its name and kind."""
     from designlab.analysis.store import open_store
-    from designlab.study.registry import RENAMED_KINDS
 
-    former = [old for old, new in RENAMED_KINDS.items() if new == spec.kind]
-    return open_store(cache_dir, spec.name, spec.kind, kind_aliases=former)
+    return open_store(cache_dir, spec.name, spec.kind)
 
 
 @app.command()

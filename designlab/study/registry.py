@@ -26,7 +26,6 @@ from designlab.study.base import FORMAT_VERSION, StudyBase
 from designlab.study.reproduction import UNCHECKED, Reproduction
 
 __all__ = [
-    "RENAMED_KINDS",
     "StudyKind",
     "kind_of",
     "register_kind",
@@ -75,19 +74,6 @@ class StudyKind:
                 f"as kind {self.name!r}"
             )
 
-
-#: Old kind name -> new name. A study file with an old name is read as the new kind
-#: with a ``DeprecationWarning``, for one release after the rename.
-RENAMED_KINDS: dict[str, str] = {
-    "foam_envelope": "foam_envelope_sweep",
-    "vff_scenarios": "navigation_scenarios",
-    "vff_sweep": "navigation_sweep",
-    "vff_gains": "navigation_gains",
-    "vff_regions": "navigation_regions",
-    "follower_comparison": "tether_comparison",
-    "follower_tuning": "tether_tuning",
-    "follower_sweep": "tether_sweep",
-}
 
 _KINDS: dict[str, StudyKind] = {}
 _LOADED = False

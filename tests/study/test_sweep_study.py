@@ -309,7 +309,7 @@ def test_foam_envelope_study_runs_and_explains(write_study):
             textwrap.dedent(
                 """\
                 designlab: 1
-                kind: foam_envelope
+                kind: foam_envelope_sweep
                 name: env
                 base: {robot: MANIPULATOR_1, foam: FOAM_1, impact_velocity: 1.25, max_g: 10}
                 damping: {low: 0, high: 200, num: 5}

@@ -1,6 +1,5 @@
 """The ``foam_envelope_sweep`` study kind: how the feasible foam region moves with the design.
 
-(Called ``foam_envelope`` before; the old name is read with a DeprecationWarning.)
 Every point solves the foam envelope of Zeng 2011, Sec. 3.9
 (:func:`designlab.impact.foam_envelope`) over the damping grid and checks the
 base foam against it: the upper (safety) and lower (thickness) boundaries at

@@ -6,7 +6,6 @@ critical region r3 (the robot stops in time) and the active region r2 (it sidest
 in time) with :func:`designlab.navigation.sizing.size_regions` (Zeng 2011, Sec. 5.3,
 7.4, 7.5.5), and reports every intermediate quantity, the minimum and the adopted
 radii, and the ``r2``/``r3`` to put in a scenario (``docs/navigation_scenarios.md``).
-Also accepted under its first name, ``vff_regions``.
 
 Examples
 --------

@@ -9,8 +9,7 @@ deviation in wheel tracks next to the measured Tables 3.2/3.3. For every
 :func:`designlab.following.tether.linear_analysis`) and fits the damping ratio and
 natural frequency of a simulated lateral step of the full nonlinear loop
 (:func:`designlab.following.tether.lateral_step_response`), so that the
-report shows the linear prediction next to the simulation. The kind was
-called ``follower_comparison`` (still read, with a warning).
+report shows the linear prediction next to the simulation.
 
 Examples
 --------

@@ -5,8 +5,7 @@ tuning paths and speeds (seeded differential evolution, damping-ratio floor,
 tether range, the robot's wheel limits) and reports the improvement over the
 App. C defaults on validation paths it was not tuned on. The scenarios of a
 generation run through the study's executor (``designlab run --executor``); a
-progress bar shows the generation and the best cost. The kind was called
-``follower_tuning`` (still read, with a warning).
+progress bar shows the generation and the best cost.
 
 Examples
 --------
