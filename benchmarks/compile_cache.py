@@ -35,7 +35,7 @@ if sys.argv[1] == "navigation":
     f = sx.with_cse(engine.build_step(geos, sc.robot, "vff", 60, 1e-3, True, True))
     shared = engine._SHARED
 else:
-    from designlab.following.tether_model import step_function
+    from designlab.following.tether.model import step_function
     law = dl.following.FollowTheLeaderConstDistance.law_function("")
     f = step_function(law, True, True, True, True)
     shared = []

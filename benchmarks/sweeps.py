@@ -63,7 +63,7 @@ sweep:
 
 ENVELOPE_STUDY = """\
 designlab: 1
-kind: foam_envelope
+kind: foam_envelope_sweep
 name: bench_envelope
 base: {{robot: MANIPULATOR_1, foam: FOAM_1}}
 damping: {{low: 0, high: 200, num: 11}}
@@ -214,7 +214,7 @@ import json, resource, sys, time
 import numpy as np
 from designlab.analysis.sampling import LatinHypercubePoints
 from designlab.impact import FOAM_1, MANIPULATOR_1
-from designlab.impact.sweep import foam_envelope_chunk
+from designlab.impact.evaluators import foam_envelope_chunk
 n = int(sys.argv[1])
 box = {"robot.mass": (5.0, 50.0), "robot.stiffness": (10e3, 30e3),
        "impact_velocity": (0.5, 1.5), "max_g": (8.0, 12.0)}

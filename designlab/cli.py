@@ -12,7 +12,8 @@
     Check study files as ``run`` does before computing, without running them.
 ``designlab list``
     List the studies in ``./studies``, what each produces and how long its last
-    run took (kept with its report) or its kind's typical duration.
+    run on this machine took (its run record, kept in the user cache directory) and its
+    kind's typical duration.
 ``designlab schema``
     Print the JSON Schema of study files.
 ``designlab compile [--only STEP]``
@@ -67,9 +68,30 @@ EXIT_INTERRUPTED = 130
 #: Where sweep points are cached unless ``--cache-dir`` says otherwise.
 DEFAULT_CACHE_DIR = Path(".designlab-cache")
 
+#: ``designlab --help``'s end: examples and the exit codes (``\b``: click keeps the lines).
+EPILOG = f"""\b
+Examples:
+  designlab run studies/zeng_ch4_validation.yaml       # the default study -> reports/
+  designlab run studies/impact_sensitivity.yaml -e processes -j 2 --resume
+  designlab validate studies/*.yaml                    # check files without running them
+  designlab list                                       # the studies and their run times
+  designlab compile                                    # compile ahead (once per machine)
+  designlab run --help                                 # the options of one command
+
+\b
+Exit codes:
+  {EXIT_OK:<4} success (failed sweep points are listed in the report and as warnings)
+  {EXIT_DESIGNLAB_ERROR:<4} a designlab error other than a bad study (model, solver, report, cache)
+  {EXIT_STUDY_ERROR:<4} an invalid study file or parameter, or bad command-line usage
+  {EXIT_EXECUTOR_ERROR:<4} the executor cannot start or lost its workers (rerun with --resume)
+  {EXIT_CACHE_INCOMPLETE:<4} report: points missing from the cache
+  {EXIT_INTERRUPTED:<4} interrupted (a sweep's finished points stay cached: --resume)
+"""
+
 app = typer.Typer(
     name="designlab",
     help="Design studies for human-friendly robots: run YAML studies, write reports.",
+    epilog=EPILOG,
     add_completion=False,
     no_args_is_help=True,
     pretty_exceptions_enable=False,
@@ -337,10 +359,8 @@ def _keeps_store(spec: Any) -> bool:
 def _open_store(cache_dir: Path, spec: Any) -> Any:
     """The study's result store (opened on first use), bound to its name and kind."""
     from designlab.analysis.store import open_store
-    from designlab.study.registry import RENAMED_KINDS
 
-    former = [old for old, new in RENAMED_KINDS.items() if new == spec.kind]
-    return open_store(cache_dir, spec.name, spec.kind, kind_aliases=former)
+    return open_store(cache_dir, spec.name, spec.kind)
 
 
 @app.command()

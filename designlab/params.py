@@ -736,5 +736,5 @@ def check_size(name: str, value: Any, elements: float, *, what: str = "") -> Non
             name,
             value,
             f"would need {gib:.3g} GiB{detail}; at most {MAX_ELEMENTS * 8 / 2**30:g} GiB "
-            f"({MAX_ELEMENTS} values) are allowed (docs/limits.md)",
+            f"({MAX_ELEMENTS} values, designlab.params.MAX_ELEMENTS) are allowed",
         )

@@ -35,9 +35,12 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
+import numbers
 from enum import Enum
 from typing import Any
 
+import numpy as np
 import pandas as pd
 
 __all__ = ["OK", "Result", "Status", "check_result"]
@@ -89,6 +92,22 @@ class Result:
         """True when ``status`` is ``"ok"``."""
         return self.status == OK
 
+    def __repr__(self) -> str:
+        """One line: the class, status, number of warnings, each field in short.
+
+        Used by a result declared ``@dataclass(repr=False)`` (a dataclass's own repr prints
+        every array in full): numbers to 6 digits, arrays and tables by their shape, other
+        objects by their type unless their repr is short.
+        """
+        parts = [f"status={str(self.status)!r}"]
+        if self.warnings:
+            parts.append(f"warnings=<{len(self.warnings)}>")
+        fields = dataclasses.fields(self) if dataclasses.is_dataclass(self) else ()  # type: ignore[arg-type]
+        for f in fields:
+            if f.repr and f.name not in ("status", "warnings"):
+                parts.append(f"{f.name}={_short(getattr(self, f.name))}")
+        return f"{type(self).__name__}({', '.join(parts)})"
+
     def to_frame(self) -> pd.DataFrame:  # pragma: no cover - every subclass overrides it
         """The result's numbers as a DataFrame (column names carry units)."""
         raise NotImplementedError
@@ -116,6 +135,22 @@ class Result:
             if len(frame) > max_rows:
                 lines.append(f"... {len(frame) - max_rows} more rows")
         return "\n".join(lines)
+
+
+def _short(value: Any) -> str:
+    """``value`` for :meth:`Result.__repr__`: at most about 60 characters."""
+    if isinstance(value, bool | None | Enum):
+        return repr(value.value if isinstance(value, Enum) else value)
+    if isinstance(value, numbers.Real):
+        return f"{float(value):.6g}"
+    if isinstance(value, np.ndarray):
+        return f"<array {'x'.join(map(str, value.shape)) or 'scalar'}>"
+    if isinstance(value, pd.DataFrame | pd.Series):
+        return f"<{type(value).__name__} {len(value)} rows>"
+    if isinstance(value, tuple | list | dict) and len(value) > 3:
+        return f"<{type(value).__name__} of {len(value)}>"
+    text = repr(value)
+    return text if len(text) <= 60 and "\n" not in text else f"<{type(value).__name__}>"
 
 
 def check_result(obj: Any) -> None:

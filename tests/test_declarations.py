@@ -289,8 +289,6 @@ def restated_fields(module_name: str) -> list[str]:
             fields = _domain_fields(getattr(module, name, None))
             for field in sorted(annotated & fields):
                 found.append(f"{node.name}.{field} ({name})")
-    if "ParameterInfo(" in Path(module.__file__).read_text(encoding="utf-8"):
-        found.append("ParameterInfo(...) written by hand (use params.sweepable)")
     return found
 
 

@@ -166,7 +166,14 @@ def script_blocks(path: Path) -> list[Block]:
     return [b for b in blocks(path) if b.lang in ("python", "py") and ">>>" not in b.body]
 
 
-SCRIPT_PAGES = [p for p in PAGES if script_blocks(p)]
+#: Pages whose script blocks take over a CPU minute together (whole studies and fronts):
+#: marked slow, so the README's test command leaves them to ``.ci/run``'s slow step.
+SLOW_SCRIPT_PAGES = {"codesign.md", "following.md", "studies.md"}
+SCRIPT_PAGES = [
+    pytest.param(p, marks=pytest.mark.slow) if p.name in SLOW_SCRIPT_PAGES else p
+    for p in PAGES
+    if script_blocks(p)
+]
 
 
 @pytest.mark.parametrize("path", SCRIPT_PAGES, ids=page_id)

@@ -10,6 +10,5 @@
 * :mod:`~designlab.analysis.executors` - serial, process and Dask executors;
 * :mod:`~designlab.analysis.sensitivity` - elasticity, one-at-a-time, range and Sobol tables.
 
-``designlab.analysis.sweep`` and ``designlab.report.store`` are the former homes of the
-engine and the store; they re-export the old names for one release. See docs/sweeps.md.
+See docs/sweeps.md.
 """

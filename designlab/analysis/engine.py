@@ -38,8 +38,7 @@ The engine
 
 The store is :class:`designlab.analysis.store.ChunkStore`; chunk keys come from
 :mod:`designlab.analysis.keys`, the column helpers from
-:mod:`designlab.analysis.columns`. (This module was ``designlab.analysis.sweep``,
-which still re-exports its names for one release.)
+:mod:`designlab.analysis.columns`.
 
 Examples
 --------

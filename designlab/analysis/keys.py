@@ -80,7 +80,7 @@ def source_files(module_name: str) -> list[Path]:
     Parameters
     ----------
     module_name
-        A module's dotted name, e.g. ``"designlab.impact.sweep"``.
+        A module's dotted name, e.g. ``"designlab.impact.evaluators"``.
     """
     module = sys.modules.get(module_name) or importlib.import_module(module_name)
     parts = module_name.split(".")
@@ -121,7 +121,7 @@ def package_hash(module_name: str) -> str:
 def code_version(fn: Callable[..., Any]) -> str:
     """designlab's version and a hash of the source of the package holding ``fn``.
 
-    For an evaluator in ``designlab.impact.sweep`` the hash covers every module
+    For an evaluator in ``designlab.impact.evaluators`` the hash covers every module
     of ``designlab/impact/``; for one defined elsewhere (a user's module, a
     test), that module's file.
 

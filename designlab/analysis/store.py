@@ -29,9 +29,6 @@ IEEE doubles, strings as JSON) and zlib-compressed, with a SHA-256 checksum.
   transactions (``busy_timeout``); identical chunks have identical keys and
   contents, so the second write is a no-op.
 
-(This module was ``designlab.report.store``, which still re-exports its names
-for one release.)
-
 Examples
 --------
 >>> import tempfile, pathlib, numpy as np
@@ -59,7 +56,7 @@ import os
 import sqlite3
 import struct
 import zlib
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, TypeVar
 from urllib.parse import quote
@@ -281,9 +278,6 @@ class ChunkStore:
     kind
         The study kind, recorded in the store; a store written by a study of
         another kind (with the same name) is refused.
-    kind_aliases
-        Other names of the same kind (a kind's former names): a store recorded
-        under one of them is accepted and recorded under ``kind``.
 
     Attributes
     ----------
@@ -299,12 +293,10 @@ class ChunkStore:
         *,
         study: str | None = None,
         kind: str | None = None,
-        kind_aliases: Iterable[str] = (),
     ) -> None:
         self.path = Path(path)
         self.study = study
         self.kind = kind
-        self.kind_aliases = frozenset(kind_aliases)
         self.read_only = False
         self.repairs: list[str] = []
         self._db: sqlite3.Connection | None = None
@@ -439,7 +431,7 @@ class ChunkStore:
                 f"{self.study!r}; study names must be unique per cache directory"
             )
         recorded = meta.get("kind")
-        if self.kind is not None and recorded not in (None, self.kind, *self.kind_aliases):
+        if self.kind is not None and recorded not in (None, self.kind):
             raise StoreError(
                 f"{self.path} holds the results of a study {meta.get('study', self.study)!r} "
                 f"of kind {recorded!r}, not of kind {self.kind!r}: two studies of different "
@@ -780,8 +772,6 @@ def open_store(
     cache_dir: str | os.PathLike[str],
     study: str,
     kind: str | None = None,
-    *,
-    kind_aliases: Sequence[str] = (),
 ) -> ChunkStore:
     """The store of ``study`` under ``cache_dir``: ``<cache_dir>/<study>.sqlite``.
 
@@ -793,9 +783,5 @@ def open_store(
         The study name.
     kind
         The study's kind (recorded; a store of another kind is refused).
-    kind_aliases
-        Former names of the kind (see :class:`ChunkStore`).
     """
-    return ChunkStore(
-        Path(cache_dir) / f"{study}.sqlite", study=study, kind=kind, kind_aliases=kind_aliases
-    )
+    return ChunkStore(Path(cache_dir) / f"{study}.sqlite", study=study, kind=kind)

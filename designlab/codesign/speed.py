@@ -373,9 +373,9 @@ def _link_excess(
 
 
 def _refuse_open_lobe(prob: FoamProblem, foam: Foam, key: Criterion) -> None:
-    """Refuse, naming the robot's inputs, a robot and foam whose first impact lobe does not
-    end (metrics NaN, status ``lobe_not_closed``, docs/impact.md) for a head of the grid:
-    no speed limit can be derived from a metric the model cannot give."""
+    """Refuse, naming the robot's inputs, a robot and foam whose first impact lobe's end the
+    model does not find (metrics NaN, status ``lobe_not_closed``, docs/impact.md) for a head
+    of the grid: no speed limit can be derived from a metric the model cannot give."""
     shown = ", ".join(
         f"robot.{name} = {getattr(prob.robot, name):g}"
         for name, d in params_of(type(prob.robot)).items()
@@ -383,8 +383,9 @@ def _refuse_open_lobe(prob: FoamProblem, foam: Foam, key: Criterion) -> None:
     )
     raise ModelError(
         f"robot ({shown}) with foam.stiffness = {foam.stiffness:g} N/m and foam.damping = "
-        f"{foam.damping:g} N s/m: the first impact lobe does not end for a head of the "
-        f"worst-head grid (status lobe_not_closed, {key.name} is NaN; docs/impact.md, "
+        f"{foam.damping:g} N s/m: the impact model finds no end of the first impact lobe "
+        f"within its search for a head of the worst-head grid (status lobe_not_closed, "
+        f"{key.name} is NaN; docs/impact.md, "
         '"Metrics"), so no speed limit follows from it; served are the robots and foams '
         "whose impact_metrics status is ok for every head of the head_range"
     )

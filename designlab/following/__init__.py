@@ -14,10 +14,7 @@
 The flat names of the API contract keep working: ``fol.simulate``,
 ``fol.tune``, ``fol.linear_analysis`` (the tether follower's) and
 ``fol.accompany``, ``fol.tune_pid``, ``fol.loop_analysis`` (the accompanying
-robot's), with every other public name of both. The modules of the former flat
-layout (``designlab.following.tether_simulate``, ``...walking_tasks``, ...)
-still import, with a ``DeprecationWarning``, for one release. See
-``docs/following.md``.
+robot's), with every other public name of both. See ``docs/following.md``.
 
 Examples
 --------
@@ -34,12 +31,6 @@ True
 """
 
 from __future__ import annotations
-
-import importlib
-import sys
-import types
-import warnings
-from typing import Any
 
 from designlab.following import accompanying, tether
 from designlab.following.accompanying import (
@@ -155,69 +146,3 @@ __all__ = [
     "walking_task",
     "walking_task_from_csv",
 ]
-
-#: Modules of the former flat layout -> the modules that now hold their names.
-MOVED_MODULES: dict[str, tuple[str, ...]] = {
-    "tether_model": ("tether.model", "tether.parameters"),
-    "tether_controllers": ("tether",),
-    "tether_simulate": ("tether.simulate", "tether.buffer", "tether.closed_loop"),
-    "tether_linear": ("tether.linear",),
-    "tether_metrics": ("tether.metrics",),
-    "tether_reference": ("tether.reference",),
-    "tether_sweep": ("tether.evaluators",),
-    "tether_tuning": ("tether.tuning",),
-    "paths": ("tether.paths",),
-    "path_deviation": ("tether.path_deviation",),
-    "accompany_model": ("accompanying.parameters", "accompanying.model"),
-    "accompany_simulate": ("accompanying.simulate", "accompanying.model"),
-    "accompany_linear": ("accompanying.linear",),
-    "accompany_metrics": ("accompanying.metrics",),
-    "pid_tuning": ("accompanying.tuning",),
-    "user_frame": ("accompanying.user_frame",),
-    "user_frame_pid": ("accompanying.parameters", "accompanying.model"),
-    "walking_tasks": ("accompanying.tasks",),
-}
-
-
-class MovedModule(types.ModuleType):
-    """A module of the former flat layout: its names, looked up where they now live.
-
-    Parameters
-    ----------
-    name
-        The old module's full name.
-    targets
-        Full names of the modules that now hold its names.
-    """
-
-    def __init__(self, name: str, targets: tuple[str, ...]) -> None:
-        super().__init__(name, f"Moved to {', '.join(targets)} (deprecated).")
-        self._targets = targets
-
-    def __getattr__(self, attr: str) -> Any:
-        if attr.startswith("__"):
-            raise AttributeError(attr)
-        for target in self._targets:
-            module = importlib.import_module(target)
-            if hasattr(module, attr):
-                warnings.warn(
-                    f"{self.__name__} is deprecated: import {attr} from {target}",
-                    DeprecationWarning,
-                    stacklevel=2,
-                )
-                return getattr(module, attr)
-        raise AttributeError(f"module {self.__name__!r} has no attribute {attr!r}")
-
-
-for _old, _new in MOVED_MODULES.items():
-    sys.modules.setdefault(
-        f"{__name__}.{_old}",
-        MovedModule(f"{__name__}.{_old}", tuple(f"{__name__}.{n}" for n in _new)),
-    )
-del _old, _new
-
-
-def __getattr__(name: str) -> Any:
-    if name in MOVED_MODULES:
-        return sys.modules[f"{__name__}.{name}"]
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

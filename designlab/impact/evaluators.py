@@ -2,7 +2,7 @@
 
 Each evaluator is a plain module-level function
 ``(points: dict[str, ndarray], options: dict) -> dict[str, ndarray]`` that the
-sweep engine (:mod:`designlab.analysis.sweep`) sends to its workers by
+sweep engine (:mod:`designlab.analysis.engine`) sends to its workers by
 reference. Points are columns keyed ``M_r, C_r, K_r, K_c, C_c, lambda, M_h,
 C_h, K_h, v_c`` (SI units; ``max_g`` in g for the envelope).
 

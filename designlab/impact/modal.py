@@ -219,7 +219,8 @@ class ModalResponse:
                 for k in range(1, lag + 1):
                     if k < da.shape[1]:
                         acc -= da[:, k] * rho[:, lag - k]
-                rho[:, lag] = acc / da[:, 0]
+                with np.errstate(divide="ignore", invalid="ignore"):  # D(0) = 0: no restoring
+                    rho[:, lag] = acc / da[:, 0]  # stiffness, refused by the caller (ModelError)
             # rho_l s^l / s^m -> rho_l t^(m-1-l)/(m-1-l)!, descending powers of t
             poly = np.stack([rho[:, lag] / factorial(m - 1 - lag) for lag in range(m)], axis=1)
             out[name] = cls(p_f, r_f, poly)

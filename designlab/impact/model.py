@@ -71,7 +71,7 @@ INPUT_NAMES: tuple[str, ...] = ("s_c", "v_c", "a_d")
 
 
 def _evaluate(f: ca.Function, p: NDArray[np.float64]) -> list[NDArray[np.float64]]:
-    """Evaluate ``f`` for each row of ``p`` (:func:`designlab.symbolic.evaluate_batch`)."""
+    """Evaluate ``f`` for each row of ``p`` (:func:`designlab.sx.replay.evaluate_batch`)."""
     return evaluate_batch(f, p)
 
 
@@ -177,7 +177,7 @@ class LinearImpactModel:
 
         Returns ``den`` ``(N, n+1)`` and per output ``num`` ``(N, n+2)`` with
         ``Y(s) = v_c num(s) / (s^2 den(s))``. Evaluated with numpy on the whole
-        batch from the SX expression (:func:`designlab.symbolic.vectorize`).
+        batch from the SX expression (:func:`designlab.sx.replay.vectorize`).
         """
         p = np.atleast_2d(np.asarray(params, dtype=float))
         res = _evaluate(self.ramp_tf, p)

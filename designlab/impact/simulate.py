@@ -390,7 +390,7 @@ def _superpose(
     families: dict[str, dict[str, ModalResponse]],
     v_c: float,
     profile: VelocityProfile | None,
-):
+) -> _Superposition:
     """Return a function t -> {output: values} (and derivative) for the whole input."""
     terms: list[tuple[str, float, float]] = [("ramp", v_c, 0.0)]
     if profile is not None:
@@ -400,23 +400,36 @@ def _superpose(
             terms += [("a_d", a, 0.0), ("a_d", -a, d)]
         elif "a_ff" in families:  # full joint: the feed-forward acts at the motor
             terms += [("a_ff", a, 0.0), ("a_ff", -a, d)]
+    return _Superposition(families, tuple(terms))
 
-    def evaluate(t: NDArray, derivative: int = 0) -> dict[str, NDArray]:
+
+@dataclass(frozen=True, eq=False)
+class _Superposition:
+    """The response to the whole input, a sum of delayed modal responses (picklable, unlike a
+    closure, so an :class:`ImpactResponse` that keeps it can be pickled)."""
+
+    families: dict[str, dict[str, ModalResponse]]
+    terms: tuple[tuple[str, float, float], ...]
+
+    def __call__(self, t: NDArray, derivative: int = 0) -> dict[str, NDArray]:
         t = np.asarray(t, dtype=float)
         out = {name: np.zeros(t.shape) for name in _OUTPUTS}
-        for key, gain, delay in terms:
+        for key, gain, delay in self.terms:
             if gain == 0.0:
                 continue
             tau = t - delay
             on = tau >= 0 if delay > 0 else np.ones(t.shape, dtype=bool)
             if not np.any(on):
                 continue
-            vals = ModalResponse.evaluate_family(families[key], tau[on], derivative)
+            vals = ModalResponse.evaluate_family(self.families[key], tau[on], derivative)
             for name in _OUTPUTS:
                 out[name][on] += gain * vals[name][0]
         return out
 
-    return evaluate
+
+def _no_head_acceleration(t: NDArray) -> dict[str, NDArray]:
+    """The head acceleration of no impact: zero (a module-level function: picklable)."""
+    return {"head_acceleration": np.zeros_like(t)}
 
 
 def simulate(
@@ -563,7 +576,7 @@ def _no_impact(
         robot, foam, head, v_c, t, zeros, zeros, zeros, zeros, zeros,
         0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, ImpactStatus.NO_IMPACT,
         ("v_c <= 0: the head and the manipulator do not close in; no impact",),
-        None, q2, {"evaluate": lambda tt: {"head_acceleration": np.zeros_like(tt)}},
+        None, q2, {"evaluate": _no_head_acceleration},
     )  # fmt: skip
 
 

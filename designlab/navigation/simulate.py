@@ -47,7 +47,6 @@ from designlab.navigation.hold_audit import HoldAudit, hold_audit
 from designlab.navigation.lyapunov import StabilityAudit, audit_run
 from designlab.navigation.methods import (
     METHODS,
-    PLANNER,
     STABILISING,
     TIE_SIDE,
     NavigationMethod,
@@ -322,7 +321,7 @@ def simulate(
     ...
     designlab.errors.InvalidParameterError: method = 'bug' is not allowed: ...
     """
-    if isinstance(method, str) and method in PLANNER.choices:
+    if METHODS.get(method).planner:  # an unknown name is refused naming every method
         _check_planner_options(stabilising, force_every_step, noise)
         return simulate_planner(scenario, method, gains, arrival_tolerance=arrival_tolerance)
     STABILISING.check(stabilising)
@@ -645,7 +644,7 @@ def simulate_batch(
         As in :func:`simulate`.
     jit
         Compile the batched step to machine code that evaluates four gain sets per pass
-        (:mod:`designlab.simd`, the system C compiler): a few seconds once per scenario
+        (:mod:`designlab.sx.lanes`, the system C compiler): a few seconds once per scenario
         structure, then 5-7x faster per holonomic member-period (about 2x for the
         nonholonomic robot) than CasADi's virtual machine, with results equal to it to
         the bit. Worth it for optimisations and large sweeps.
@@ -712,7 +711,8 @@ def _batch_scenario(
     surf = _surface(sc, raw.min_distance) if n_obs else np.zeros((N, 0))
     coll = (surf <= 0).any(axis=1) if n_obs else np.zeros(N, bool)
     dstar = np.array(list(_nominal_clearance(sc).values()))
-    h_t = np.where(np.isfinite(raw.arrival_time), nom.arrival_time / raw.arrival_time, 0.0)
+    with np.errstate(divide="ignore", invalid="ignore"):  # the ratio where not arrived: unused
+        h_t = np.where(np.isfinite(raw.arrival_time), nom.arrival_time / raw.arrival_time, 0.0)
     h_d = (
         np.minimum(1.0, np.maximum(surf, 0) / dstar[None, :]).mean(axis=1) if n_obs else np.ones(N)
     )

@@ -41,7 +41,13 @@ from designlab.report.atomic import (
     report_directory,
 )
 from designlab.report.builder import move_run_record
-from designlab.report.writers import markdown_table, write_csv, write_markdown, write_png
+from designlab.report.writers import (
+    csv_digits,
+    markdown_table,
+    write_csv,
+    write_markdown,
+    write_png,
+)
 
 __all__ = [
     "ReportError",
@@ -154,6 +160,7 @@ def write_report(
     with report_directory(final) as tmp:
         try:
             writer(result, tmp, command=command, version=__version__, study_text=study_text)
+            state_reproduction(tmp, result)
             key = _report_key(result, study_text)
             if key:
                 _write_manifest(tmp, key, result)
@@ -165,6 +172,40 @@ def write_report(
     if index:
         write_index(Path(output_dir))
     return final
+
+
+def state_reproduction(directory: Path, result: Any) -> None:
+    """End the report's main Markdown page with how it reproduces on another machine.
+
+    The paragraph is the kind's declaration
+    (:attr:`designlab.study.registry.StudyKind.reproduction`, worded by
+    :meth:`designlab.study.reproduction.Reproduction.sentence`); a writer that words
+    its own section under the same heading (the gain searches: a flat optimum's
+    near-optimal ranges) is left as it is.
+
+    Parameters
+    ----------
+    directory
+        The report directory, with its main Markdown page written.
+    result
+        The study result (``result.study.kind`` names the kind).
+    """
+    from designlab.study.registry import kind_of
+    from designlab.study.reproduction import HEADING
+
+    main = _main_md(directory)
+    study = getattr(result, "study", None)
+    if main is None or study is None:
+        return
+    try:
+        rule = kind_of(study.kind).reproduction
+    except KeyError:
+        return
+    text = main.read_text(encoding="utf-8")
+    if HEADING[3:] in text:
+        return
+    sentence = rule.sentence(digits=csv_digits())
+    atomic_write_text(main, f"{text.rstrip()}\n\n{HEADING}\n\n{sentence}\n")
 
 
 #: Inside a report directory: what it was written from (results, study, code) and its files.

@@ -601,7 +601,7 @@ def _tuning_figure(r: Any) -> Figure:
         x, [f"{p}\n{v:g} m/s\n({s})" for s, p, v in keys.itertuples(index=False)], fontsize=6
     )
     ax1.set_ylabel("mean normal deviation / b")
-    ax1.set_title(f"{type(r.controller).__name__}: default vs tuned")
+    ax1.set_title(f"{r.controller.name}: default vs tuned")
     ax1.legend()
     ax2.plot(np.arange(1, len(r.history) + 1), r.history, "o-")
     ax2.set_xlabel("generation")
@@ -625,7 +625,7 @@ def _gains_table(result: TetherTuningResult) -> pd.DataFrame:
     for r in result.results:
         rows.append(
             {
-                "law": type(r.controller).__name__,
+                "law": r.controller.name,
                 **{f"default {k}": round(v, 3) for k, v in r.default.gains.items()},
                 **{f"tuned {k}": _tuned_text(r, k, v) for k, v in r.controller.gains.items()},
             }
@@ -654,7 +654,7 @@ def near_optimal_frame(result: TetherTuningResult) -> pd.DataFrame:
         near = r.near_optimal()
         frames.append(
             near.assign(
-                law=type(r.controller).__name__,
+                law=r.controller.name,
                 sets=near.attrs["sets"],
                 tolerance=NEAR_OPTIMAL_COST,
             )
@@ -691,7 +691,7 @@ def improvement_frame(result: TetherTuningResult) -> pd.DataFrame:
         sat = r.saturation or {}
         rows.append(
             {
-                "law": type(r.controller).__name__,
+                "law": r.controller.name,
                 "improvement_validation": r.improvement,
                 "improvement_validation_unpenalised": r.improvement_unpenalised,
                 "npd_improvement_validation": r.npd_improvement,
@@ -859,7 +859,7 @@ def write_tuning_report(
         As every report writer takes them (:func:`designlab.report.register_writer`).
     """
     scen = pd.concat(
-        [r.scenarios.assign(law=type(r.controller).__name__) for r in result.results],
+        [r.scenarios.assign(law=r.controller.name) for r in result.results],
         ignore_index=True,
     )
     lines = _tuning_intro(result, command, version)
@@ -875,14 +875,12 @@ def write_tuning_report(
     makers: dict[str, Callable[[], Figure]] = {}
     figures = {}
     for r in result.results:
-        name = f"tuning_{slug(type(r.controller).__name__)}.png"
+        name = f"tuning_{slug(r.controller.name)}.png"
         makers[name] = partial(_tuning_figure, r)
-        figures[type(r.controller).__name__] = name
+        figures[r.controller.name] = name
     lines += figure_section(figures)
     lines += warnings_section(result.warnings)
-    record_timings(
-        directory, {f"tune {type(r.controller).__name__}": r.wall_time for r in result.results}
-    )
+    record_timings(directory, {f"tune {r.controller.name}": r.wall_time for r in result.results})
     return write_report(
         directory,
         tables={

@@ -134,7 +134,7 @@ def step_size_markdown(
     lines += [
         "## Set-up",
         "",
-        f"- law: {st.controller.title} ({type(ctrl).__name__}, l_d {ctrl.desired_length:g} m, "
+        f"- law: {st.controller.title} ({ctrl.name}, l_d {ctrl.desired_length:g} m, "
         f"buffer {ctrl.buffer_size} points)",  # type: ignore[attr-defined]
         f"- leader speed {st.speed:g} m/s; the thesis's non-dimensional 0.02 and 0.8 are "
         "0.01 m and 0.4 m under the 0.5 m unit of Sec. 2.5 (docs/tether_modes.md)",

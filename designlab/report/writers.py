@@ -29,11 +29,22 @@ from designlab.report.atomic import atomic_write_bytes, atomic_write_text
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["markdown_table", "write_csv", "write_markdown", "write_png"]
+__all__ = ["csv_digits", "markdown_table", "write_csv", "write_markdown", "write_png"]
 
 #: Significant digits of floats in CSV files: enough for any comparison, and
 #: stable across platforms so regenerated reports diff cleanly.
 CSV_FLOAT_FORMAT = "%.7g"
+
+
+def csv_digits() -> int:
+    """Significant digits of the floats in CSV files (from :data:`CSV_FLOAT_FORMAT`).
+
+    Examples
+    --------
+    >>> csv_digits()
+    7
+    """
+    return int(CSV_FLOAT_FORMAT.strip("%g").lstrip("."))
 
 
 def write_csv(frame: pd.DataFrame, path: str | os.PathLike[str]) -> Path:

@@ -30,7 +30,6 @@ from __future__ import annotations
 
 import difflib
 import types
-import warnings
 from collections.abc import Hashable
 from os import PathLike
 from typing import Annotated, Any, Union, get_args, get_origin
@@ -39,7 +38,7 @@ from pydantic import BaseModel, ValidationError
 
 from designlab.errors import DesignlabError, StudyError
 from designlab.study.base import FORMAT_VERSION, StudyBase, did_you_mean, format_path
-from designlab.study.registry import RENAMED_KINDS, kind_of, study_kinds
+from designlab.study.registry import kind_of, study_kinds
 from designlab.yamlio import YamlError, YamlPath, load_yaml, read_text_file
 
 __all__ = ["format_path", "load_study", "parse_study"]
@@ -161,18 +160,8 @@ def _check_format(data: Any, lines: dict[YamlPath, int], file: str) -> None:
 
 
 def _kind_name(data: dict[str, Any], lines: dict[YamlPath, int], file: str) -> str:
-    """The registered kind the study names (an old name read with a DeprecationWarning)."""
+    """The registered kind the study names."""
     kind = data.get("kind")
-    if isinstance(kind, str) and kind in RENAMED_KINDS:
-        new = RENAMED_KINDS[kind]
-        where = f"{file}: " if file else ""
-        warnings.warn(
-            f"{where}kind {kind!r} is now called {new!r}; the old name is read for one "
-            "more release",
-            DeprecationWarning,
-            stacklevel=3,
-        )
-        kind = new
     if isinstance(kind, str) and _known(kind):
         return kind
     registry = study_kinds()

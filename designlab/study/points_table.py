@@ -146,7 +146,8 @@ class _Moments:
         if not len(x):
             return
         nb, mb = len(x), float(x.mean())
-        m2b = float(((x - mb) ** 2).sum())
+        with np.errstate(invalid="ignore"):  # inf - inf: the spread of an infinite column is nan
+            m2b = float(((x - mb) ** 2).sum())
         n = self.n + nb
         delta = mb - self.mean
         self.mean += delta * nb / n

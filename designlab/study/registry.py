@@ -23,9 +23,9 @@ from typing import Annotated, Any, Union
 from pydantic import Field, TypeAdapter
 
 from designlab.study.base import FORMAT_VERSION, StudyBase
+from designlab.study.reproduction import UNCHECKED, Reproduction
 
 __all__ = [
-    "RENAMED_KINDS",
     "StudyKind",
     "kind_of",
     "register_kind",
@@ -54,12 +54,17 @@ class StudyKind:
         Module (dotted name) that registers the report writer of the result
         type with :func:`designlab.report.register_writer`; imported only when
         a report is written.
+    reproduction
+        How far the report's tables may move on another machine (stated in the
+        report; :mod:`designlab.study.reproduction`). The default,
+        ``UNCHECKED``, claims no tolerance and says so.
     """
 
     name: str
     schema: type[StudyBase]
     run: Callable[..., Any]
     report: str
+    reproduction: Reproduction = UNCHECKED
 
     def __post_init__(self) -> None:
         annotation = self.schema.model_fields["kind"].annotation
@@ -69,19 +74,6 @@ class StudyKind:
                 f"as kind {self.name!r}"
             )
 
-
-#: Old kind name -> new name. A study file with an old name is read as the new kind
-#: with a ``DeprecationWarning``, for one release after the rename.
-RENAMED_KINDS: dict[str, str] = {
-    "foam_envelope": "foam_envelope_sweep",
-    "vff_scenarios": "navigation_scenarios",
-    "vff_sweep": "navigation_sweep",
-    "vff_gains": "navigation_gains",
-    "vff_regions": "navigation_regions",
-    "follower_comparison": "tether_comparison",
-    "follower_tuning": "tether_tuning",
-    "follower_sweep": "tether_sweep",
-}
 
 _KINDS: dict[str, StudyKind] = {}
 _LOADED = False

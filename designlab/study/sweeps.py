@@ -53,7 +53,6 @@ from designlab.study.base import Model as _Model
 __all__ = [
     "MAX_POINTS",
     "OneAtATimeSpec",
-    "ParameterInfo",
     "ParameterRange",
     "SensitivitySpec",
     "SobolSpec",
@@ -67,30 +66,6 @@ __all__ = [
 #: mistyped size, not a memory limit (a streamed sweep's memory does not grow with
 #: its points; its store takes about 50 bytes per point, docs/sweeps.md).
 MAX_POINTS = 10_000_000
-
-
-def ParameterInfo(
-    description: str,
-    unit: str,
-    gt: float | None = None,
-    ge: float | None = None,
-    le: float | None = None,
-) -> Param:
-    """Deprecated: declare the parameter on its domain model (:mod:`designlab.params`).
-
-    Returns a :class:`~designlab.params.Param` without a symbol, for code
-    written against the old class.
-
-    Parameters
-    ----------
-    description
-        What the parameter is.
-    unit
-        Its SI unit.
-    gt, ge, le
-        Exclusive lower, inclusive lower and inclusive upper bounds.
-    """
-    return Param(None, unit, description, gt=gt, ge=ge, le=le)
 
 
 def _allowed_with_unit(info: Param) -> str:

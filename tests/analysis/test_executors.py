@@ -21,7 +21,7 @@ from designlab.analysis.engine import run_points
 from designlab.analysis.executors import ExecutorError, make_executor
 from designlab.analysis.sampling import LatinHypercubePoints
 from designlab.analysis.store import ChunkStore
-from designlab.impact.sweep import impact_metrics_chunk
+from designlab.impact.evaluators import impact_metrics_chunk
 
 BASE = {"M_r": 9.6, "C_r": 250.0, "K_r": 20e3, "K_c": 24.25e3, "C_c": 71.9,
         "lambda": 0.02, "M_h": 4.4, "C_h": 46.0, "K_h": 3e3, "v_c": 1.25}  # fmt: skip

@@ -48,6 +48,7 @@ def test_bad_studies(extra, field):
         run_study(study)
 
 
+@pytest.mark.slow
 def test_run_and_report(tmp_path):
     result = run_study(parse_study(SMALL))
     check_result(result)

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import math
 import pickle
-import warnings
 
 import pytest
 
@@ -131,20 +130,3 @@ def test_tune_reports_every_generation():
     assert [p.step for p in seen] == list(range(1, len(res.history) + 1))
     assert all(p.label == "generation" and p.total == 2 for p in seen)
     assert [p.best for p in seen] == list(res.history)
-
-
-def test_old_kind_names_still_read_with_a_warning():
-    text = (
-        "designlab: 1\nkind: follower_comparison\nname: old\npaths: [{type: slalom}]\n"
-        "controllers: [{type: PseudoJoystick}]\n"
-    )
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        study = parse_study(text)
-    assert study.kind == "tether_comparison"
-    assert any(issubclass(w.category, DeprecationWarning) for w in caught)
-
-
-def test_old_module_paths_still_import_with_a_warning():
-    with pytest.warns(DeprecationWarning, match="tether.linear"):
-        from designlab.following.tether_linear import fit_damping  # noqa: F401

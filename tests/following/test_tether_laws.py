@@ -155,3 +155,52 @@ def test_the_docs_table_of_the_laws_is_the_registry():
 
     docs = (Path(__file__).resolve().parents[2] / "docs" / "following.md").read_text()
     assert LAWS.table(TABLE_COLUMNS) in docs
+
+
+_NEW_LAW_SCRIPT = """
+from dataclasses import dataclass
+from typing import ClassVar
+
+from designlab.following.tether import LAWS, FollowTheLeader
+from designlab.params import declared
+
+
+@declared
+@dataclass(frozen=True)
+class NewLaw(FollowTheLeader):
+    '''A law registered by one line, after the package's own.'''
+
+    label: ClassVar[str] = "a new law"
+    short: ClassVar[str] = "NEW"
+
+
+LAWS.register(NewLaw)
+
+from designlab.report.tether import comparison_markdown  # noqa: E402
+from designlab.study import parse_study, run_study  # noqa: E402
+
+study = parse_study('''
+designlab: 1
+kind: tether_comparison
+name: new_law
+paths: [{type: straight_line, length: 2.0}]
+desired_lengths: [1.0]
+''')
+result = run_study(study)
+print(result.to_frame()["controller"].tolist())
+table = comparison_markdown(result, figures={}).split("## Mean normal path deviation")[1]
+print(table.splitlines()[2])
+"""
+
+
+def test_a_registered_law_appears_in_the_comparison_report():
+    """One registry line: the comparison study runs the new law and its table has its columns."""
+    import subprocess
+    import sys
+
+    out = subprocess.run(
+        [sys.executable, "-c", _NEW_LAW_SCRIPT], capture_output=True, text=True, check=True
+    ).stdout.splitlines()
+    assert out[0] == str([law.short for law in LAWS.variants(placement="behind")] + ["NEW"])
+    header = out[1]
+    assert "NEW mean/b" in header and "PJ / NEW" in header and "FTL-CD mean/b" in header

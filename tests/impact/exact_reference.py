@@ -278,24 +278,27 @@ class MpFullJoint(_MpFirstLobe):
     K_mech, K_c, C_c, M_h, C_h, K_h, C_cont, K_cont; outputs as :class:`MpImpact`.
     """
 
-    def __init__(self, q, dps: int = 40) -> None:
+    def __init__(self, q, dps: int = 40, constrained: bool = False) -> None:
         import mpmath
 
         self.mp = mp = mpmath.mp
         mp.dps = dps
         m_r, c_m, k_m, k_c, c_c, m_h, c_h, k_h, c_q, k_q = (mp.mpf(float(x)) for x in q)
         c_s = c_m + c_q
-        a, b1, b0 = mp.zeros(5, 5), mp.zeros(5, 1), mp.zeros(5, 1)
+        n = 3 if constrained else 5  # the head against a wall: its two states dropped
+        a, b1, b0 = mp.zeros(n, n), mp.zeros(n, 1), mp.zeros(n, 1)
         node = (k_m / c_s, c_m / c_s, -(k_m + k_q) / c_s)  # d_e' on d_r, d_r', d_e
         f_t = (c_q * node[0], c_q * node[1], k_q + c_q * node[2])
         a[0, 1] = 1
         a[1, 0], a[1, 1], a[1, 2] = (-k_c - f_t[0]) / m_r, (-c_c - f_t[1]) / m_r, -f_t[2] / m_r
         a[2, 0], a[2, 1], a[2, 2] = node
-        a[1, 3], a[1, 4], a[3, 4] = k_c / m_r, c_c / m_r, 1
-        a[4, 0], a[4, 1] = k_c / m_h, c_c / m_h
-        a[4, 3], a[4, 4] = -(k_c + k_h) / m_h, -(c_c + c_h) / m_h
         b1[1], b0[1] = -k_c / m_r, -c_c / m_r
-        b1[4], b0[4] = k_c / m_h, c_c / m_h
+        if not constrained:
+            a[1, 3], a[1, 4], a[3, 4] = k_c / m_r, c_c / m_r, 1
+            a[4, 0], a[4, 1] = k_c / m_h, c_c / m_h
+            a[4, 3], a[4, 4] = -(k_c + k_h) / m_h, -(c_c + c_h) / m_h
+            b1[4], b0[4] = k_c / m_h, c_c / m_h
+        self.n = n
         inv = mp.inverse(a)
         self.beta = -(inv * b1)
         self.alpha = inv * (self.beta - b0)
@@ -311,19 +314,47 @@ class MpFullJoint(_MpFirstLobe):
         mp = self.mp
         base = self.alpha[i] + self.beta[i] * t if d == 0 else (self.beta[i] if d == 1 else 0)
         return mp.re(base + sum(self.vec[i, k] * self.coef[k] * self.lam[k] ** d
-                                * mp.exp(self.lam[k] * t) for k in range(5)))  # fmt: skip
+                                * mp.exp(self.lam[k] * t) for k in range(self.n)))  # fmt: skip
 
     def value(self, o: int, t, d: int = 0):  # type: ignore[no-untyped-def]
-        """Derivative ``d`` of output ``o`` at ``t``."""
+        """Derivative ``d`` of output ``o`` at ``t`` (a_h is 0 when constrained)."""
         t = self.mp.mpf(t)
         if o == 1:
-            return self._state(4, t, d + 1)
+            return self._state(4, t, d + 1) if self.n == 5 else self.mp.mpf(0)
 
         def eps(e: int):  # type: ignore[no-untyped-def]
             ramp = t if e == 0 else (1 if e == 1 else 0)
-            return self._state(0, t, e) - self._state(3, t, e) + ramp
+            head = self._state(3, t, e) if self.n == 5 else 0
+            return self._state(0, t, e) - head + ramp
 
         return eps(d) if o == 2 else self.k_c * eps(d) + self.c_c * eps(d + 1)
+
+
+class MpConstrained(MpImpact):
+    """The reduced model's constrained impact (the head against a wall; Zeng 2011, (3.6.1),
+    (3.9.2)) at ``dps`` digits, for the fuzz harness: ``D = z_r + z_c`` (z_r = M_r s^2 + C_r
+    s + K_r, z_c = C_c s + K_c), the force ``z_c z_r / (s^2 D)``, the compression ``z_r /
+    (s^2 D)``, a_h 0; its two roots from :func:`mpmath.polyroots`. Parameters as
+    :class:`MpImpact`'s (the head's ignored)."""
+
+    def __init__(self, params, dps: int = 40) -> None:
+        import mpmath
+
+        self.mp = mp = mpmath.mp
+        mp.dps = dps
+        m_r, c_r, k_r, k_c, c_c = (mp.mpf(float(x)) for x in params[:5])
+        den = [mp.mpf(1), (c_r + c_c) / m_r, (k_r + k_c) / m_r]
+        zr = [mp.mpf(1), c_r / m_r, k_r / m_r]
+        nums = [_mul([c_c, k_c], zr), [mp.mpf(0)], zr]
+        roots = mpmath.polyroots(den, maxsteps=400, extraprec=4 * dps)
+        dden = [2 * den[0], den[1]]
+        self.poles = roots
+        self.rate = max(abs(z) for z in roots)
+        self.res = [[_horner(n, z) / (z * z * _horner(dden, z)) for z in roots] for n in nums]
+        self.poly = []
+        for n in nums:
+            n0, n1 = n[-1], (n[-2] if len(n) > 1 else 0)
+            self.poly.append((n0 / den[-1], (n1 * den[-1] - n0 * den[-2]) / den[-1] ** 2))
 
 
 def _mul(a: list, b: list) -> list:

@@ -1,6 +1,6 @@
 """The batched envelope evaluator of sweeps equals the public API applied design by design.
 
-:func:`designlab.impact.sweep.foam_envelope_chunk` solves every design of a chunk
+:func:`designlab.impact.evaluators.foam_envelope_chunk` solves every design of a chunk
 in one root-finding; the reference here is a plain loop of the public
 :func:`~designlab.impact.foam_envelope` and :func:`~designlab.impact.foam_verdict`.
 """
@@ -12,7 +12,7 @@ import math
 import numpy as np
 import pytest
 
-from designlab.analysis.sweep import evaluate_chunk
+from designlab.analysis.engine import evaluate_chunk
 from designlab.impact import ContactDynamics, Foam, HeadAcceleration, foam_envelope, foam_verdict
 from designlab.impact.evaluators import foam_envelope_chunk
 

@@ -12,7 +12,6 @@ from __future__ import annotations
 import dataclasses
 import math
 import re
-import warnings
 
 import jsonschema
 import numpy as np
@@ -236,21 +235,18 @@ def test_foam_design_head_range_and_iso_rules_at_validate() -> None:
 
 def test_kind_names_say_what_they_do(repo_root) -> None:
     from designlab.study import load_study
-    from designlab.study.registry import RENAMED_KINDS, study_kinds
+    from designlab.study.registry import study_kinds
 
     study = load_study(repo_root / "studies" / "foam_design.yaml")
     assert study.kind == "foam_design" and study.name == "foam_design"
     assert not (repo_root / "studies" / "foam_envelope.yaml").exists()
-    assert RENAMED_KINDS["foam_envelope"] == "foam_envelope_sweep"
     assert "foam_envelope_sweep" in study_kinds() and "foam_envelope" not in study_kinds()
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        old = parse_study(
+    # the kind's first name (no release was made with it) is refused, naming the kind
+    with pytest.raises(StudyError, match=r"kind 'foam_envelope'.*foam_envelope_sweep"):
+        parse_study(
             "designlab: 1\nkind: foam_envelope\nname: old\nbase: {robot: MANIPULATOR_1, "
             "foam: FOAM_1}\n"
         )
-    assert old.kind == "foam_envelope_sweep"
-    assert any(issubclass(w.category, DeprecationWarning) for w in caught)
 
 
 # --- fuzz: every public impact constructor ------------------------------------------------

@@ -29,6 +29,7 @@ SLICE = {"thesis": 50_000, "wide": 50_000}
 
 
 @pytest.mark.skipif(not kernel.AVAILABLE, reason="compiled kernels unavailable")
+@pytest.mark.slow
 def test_hundred_thousand_designs_no_kernel_error() -> None:
     total = wrong = 0
     for family, n in SLICE.items():

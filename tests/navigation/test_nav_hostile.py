@@ -337,20 +337,6 @@ def test_a_ten_million_point_navigation_sweep_is_refused_by_validate() -> None:
     assert parse_study(text.replace("SAMPLES", "99999")).sweep.count() == 99_999
 
 
-@pytest.mark.parametrize("old", ["vff_scenarios", "vff_sweep", "vff_gains"])
-def test_the_old_kind_names_are_still_read(old: str) -> None:
-    texts = {
-        "vff_scenarios": SCEN,
-        "vff_sweep": "designlab: 1\nkind: navigation_sweep\nname: s\nbase: {gains: {k1: 3, "
-        "b: 0.25, k3: 20, k5: 17}}\nsweep: {method: grid, parameters: {gains.k1: {values: [3]}}}\n",
-        "vff_gains": "designlab: 1\nkind: navigation_gains\nname: g\n",
-    }
-    new = old.replace("vff_", "navigation_")
-    with pytest.warns(DeprecationWarning, match=old):
-        study = parse_study(texts[old].replace(f"kind: {new}", f"kind: {old}"))
-    assert study.kind == new
-
-
 @given(gap=st.floats(min_value=0.0, max_value=0.05))
 @settings(max_examples=20, deadline=None)
 def test_an_active_region_inside_contact_is_refused_naming_r2(gap: float) -> None:

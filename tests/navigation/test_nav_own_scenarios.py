@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import warnings
 
 import numpy as np
 import pytest
@@ -157,7 +156,7 @@ def test_an_adopted_r2_below_the_minimum_is_a_warning() -> None:
     assert any("below the minimum" in w for w in plan.warnings)
 
 
-def test_regions_study_and_its_old_name() -> None:
+def test_regions_study() -> None:
     text = """
 designlab: 1
 kind: {kind}
@@ -168,11 +167,6 @@ obstacles: [{{name: human, type: human}}]
     r = run_study(parse_study(text.format(kind="navigation_regions")))
     s = r.plan.sizes["human"]
     assert s.turn_time == pytest.approx(math.sqrt(math.pi / 70))  # (7.4.2)
-    with warnings.catch_warnings(record=True) as w:
-        warnings.simplefilter("always")
-        old = parse_study(text.format(kind="vff_regions"))
-    assert old.kind == "navigation_regions"
-    assert any(issubclass(x.category, DeprecationWarning) for x in w)
 
 
 def test_a_sweep_of_an_own_scenario_is_the_batch_of_that_scenario() -> None:

@@ -325,7 +325,7 @@ needs_cc = pytest.mark.skipif(
 @pytest.mark.parametrize("mode", ["lyapunov", "off"])
 def test_jit_compiled_batch_equals_the_virtual_machine(mode: str) -> None:
     # the gain optimiser's fast path: the same CasADi step compiled to four lanes per pass
-    # (designlab.simd); 7 members (the last pass is partly empty) who arrive at different
+    # (designlab.sx.lanes); 7 members (the last pass is partly empty) who arrive at different
     # times and leave the call
     gains = _spread_gains(7)
     sc = [nav.configuration(4)]

@@ -106,6 +106,7 @@ sensitivity:
 """
 
 
+@pytest.mark.slow
 def test_vff_sweep_runs_through_the_shared_machinery(tmp_path) -> None:  # type: ignore[no-untyped-def]
     study = parse_study(SWEEP)
     result = run_study(study)

@@ -12,7 +12,6 @@ from __future__ import annotations
 import importlib
 import itertools
 import pkgutil
-import warnings
 from pathlib import Path
 
 import pytest
@@ -33,7 +32,7 @@ SMALL_STUDIES: dict[str, str] = {
     "impact_velocity: 1.25}\nsweep:\n  method: grid\n  parameters:\n"
     "    foam.stiffness: {values: [2.0e+4, 4.0e+4]}\n    head.mass: {values: [3.0, 5.0]}\n"
     "sensitivity: {metrics: [a_h_max_g], one_at_a_time: {deltas_pct: [-10, 10]}}\n",
-    "foam_envelope": "base: {robot: MANIPULATOR_1, foam: FOAM_1}\n"
+    "foam_envelope_sweep": "base: {robot: MANIPULATOR_1, foam: FOAM_1}\n"
     "damping: {low: 0, high: 200, num: 5}\nsweep:\n  method: grid\n  parameters:\n"
     "    robot.mass: {values: [5.0, 20.0]}\n",
     "foam_design": "robots: [MANIPULATOR_1]\nfoams: [FOAM_1]\n"
@@ -42,15 +41,15 @@ SMALL_STUDIES: dict[str, str] = {
     "k_cont: 1500, c_cont: 30, lever_arm: 0.2}\nratios: {low: 0.1, high: 100, num: 4}\n",
     "zeng_ch3_claims": "readings:\n  - {name: b, impact_velocity: 0.25, feedforward: false}\n"
     "speed_ratios: [1.0]\n",
-    "follower_comparison": "paths: [{type: slalom}]\ncontrollers: [{type: PseudoJoystick}, "
+    "tether_comparison": "paths: [{type: slalom}]\ncontrollers: [{type: PseudoJoystick}, "
     "{type: FollowTheLeader}]\ndesired_lengths: [0.6]\n",
-    "follower_sweep": "base: {controller: {type: FollowTheLeader}, path: {type: slalom}}\n"
+    "tether_sweep": "base: {controller: {type: FollowTheLeader}, path: {type: slalom}}\n"
     "sweep:\n  method: grid\n  parameters:\n    controller.lookahead: {values: [0.1, 0.5]}\n"
     "    controller.desired_length: {values: [0.6, 1.0]}\n",
-    "vff_scenarios": "scenarios: [{configuration: 1}]\nmethods:\n  - {label: vff, gains: "
+    "navigation_scenarios": "scenarios: [{configuration: 1}]\nmethods:\n  - {label: vff, gains: "
     '{k1: 4.3, b: 0.68, k3: 20.3, k5: 240.7}, stabilising: "off"}\n',
-    "vff_sweep": "base: {gains: {k1: 4.3, b: 0.68, k3: 20.3, k5: 240.7}, scenarios: [[1, 6]], "
-    'stabilising: "off"}\nsweep:\n  method: grid\n  parameters:\n'
+    "navigation_sweep": "base: {gains: {k1: 4.3, b: 0.68, k3: 20.3, k5: 240.7}, "
+    'scenarios: [[1, 6]], stabilising: "off"}\nsweep:\n  method: grid\n  parameters:\n'
     "    gains.k1: {values: [3.0, 4.3]}\n    gains.k5: {values: [120.0, 240.0]}\n",
     "accompanying": "tasks: [forward, left_pivot]\n"
     "tuning: {tune_on: [forward], derivative_free: false}\n",
@@ -156,10 +155,10 @@ def _capture(monkeypatch: pytest.MonkeyPatch) -> list[tuple[str, Figure]]:
 
 
 def test_every_kind_has_a_small_study() -> None:
-    """Every study kind's figures are rendered here (old kind names count as their new ones)."""
-    from designlab.study.registry import RENAMED_KINDS, study_kinds
+    """Every study kind's figures are rendered here."""
+    from designlab.study.registry import study_kinds
 
-    covered = {RENAMED_KINDS.get(k, k) for k in SMALL_STUDIES} | set(FIGURELESS)
+    covered = set(SMALL_STUDIES) | set(FIGURELESS)
     assert set(study_kinds()) <= covered, sorted(set(study_kinds()) - covered)
 
 
@@ -184,9 +183,7 @@ def test_report_figures_have_readable_labels(
 ) -> None:
     figures = _capture(monkeypatch)
     text = f"designlab: 1\nkind: {kind}\nname: figs\n{SMALL_STUDIES[kind]}"
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", DeprecationWarning)  # old kind names
-        result = run_study(parse_study(text, file=f"{kind}.yaml"))
+    result = run_study(parse_study(text, file=f"{kind}.yaml"))
     designlab.report.write_report(result, tmp_path, index=False)
     assert figures, f"{kind}: the report has no figure"
     problems = [f"{name}: {p}" for name, fig in figures for p in layout_problems(fig)]

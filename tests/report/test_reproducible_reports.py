@@ -116,6 +116,7 @@ def test_a_report_keeps_its_times_in_the_run_record(tmp_path: Path) -> None:
     assert "## Reproduction on another machine" in (out / "summary.md").read_text()
 
 
+@pytest.mark.slow
 def test_a_seeded_study_reproduces_on_a_generic_cpu(tmp_path: Path) -> None:
     """The gains table of a seeded study, rerun as on another CPU, within the stated bounds."""
     here = _report(tmp_path / "here")

@@ -29,6 +29,7 @@ worst_case_samples: 8
 """
 
 
+@pytest.mark.slow
 def test_run_and_report(tmp_path: Path) -> None:
     result = run_study(parse_study(SMALL))
     v = result.verdicts()

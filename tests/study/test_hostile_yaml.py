@@ -22,7 +22,6 @@ import re
 import resource
 import subprocess
 import sys
-import warnings
 from pathlib import Path
 
 import pytest
@@ -46,9 +45,7 @@ def _expectations(path: Path) -> list[str]:
 
 
 def _validate(path: Path):
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", DeprecationWarning)  # old kind names
-        return runner.invoke(app, ["validate", str(path)])
+    return runner.invoke(app, ["validate", str(path)])
 
 
 def _limited() -> None:  # pragma: no cover - runs in the child
@@ -75,9 +72,7 @@ def test_the_corpus_covers_every_kind_and_attack() -> None:
     assert len(FILES) >= 80
     texts = {p.stem: p.read_text(encoding="utf-8") for p in FILES}
     kinds = {m for t in texts.values() for m in re.findall(r"^kind: (\w+)$", t, re.MULTILINE)}
-    from designlab.study.registry import RENAMED_KINDS
-
-    assert set(study_kinds()) <= {RENAMED_KINDS.get(k, k) for k in kinds}
+    assert set(study_kinds()) <= kinds
     attacks = " ".join(re.findall(r"^# hostile: (.*)$", " \n".join(texts.values()), re.M))
     for word in ("NaN", "inf", "huge", "typo", "bool", "empty", "traversal", "python", "laughs",
                  "duplicate", "5,000 nested", "unknown", "> max_range", "reversed"):  # fmt: skip

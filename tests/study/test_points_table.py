@@ -9,8 +9,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
+from designlab.analysis.store import open_store
 from designlab.report import write_report
-from designlab.report.store import open_store
 from designlab.study import RunContext, parse_study, points_table, run_study, sweep_runner
 from designlab.study.points_table import FrameTable, StoredTable
 
@@ -40,6 +40,7 @@ sensitivity:
     ),
     block=st.integers(1, 50),
 )
+@pytest.mark.slow
 def test_block_moments_equal_numpy_on_the_whole_column(values, block):
     frame = pd.DataFrame({"x": values, "status": "ok", "error": None})
     table = FrameTable(frame)
@@ -113,6 +114,7 @@ def test_a_streamed_sweep_equals_the_one_in_memory(small_limits, tmp_path):
     assert "use every 11th point (64 points, evenly spread)" in text
 
 
+@pytest.mark.slow
 def test_a_streamed_sweep_on_worker_processes_writes_the_same_parquet(small_limits, tmp_path):
     from designlab.analysis.executors import make_executor
 
@@ -136,7 +138,7 @@ def test_a_streamed_sweep_on_worker_processes_writes_the_same_parquet(small_limi
 def test_a_streamed_sweep_never_draws_its_whole_sample(small_limits, tmp_path, monkeypatch):
     """Memory bounded by the chunk: the LHS is drawn a chunk or a block at a time, never whole."""
     from designlab.analysis import sampling
-    from designlab.impact import sweep as impact_sweep
+    from designlab.impact import evaluators as impact_sweep
 
     monkeypatch.setattr(impact_sweep.impact_metrics_chunk, "chunk_size", 40)
     drawn: list[int] = []
@@ -155,6 +157,7 @@ def test_a_streamed_sweep_never_draws_its_whole_sample(small_limits, tmp_path, m
     assert sum(drawn) >= 2 * 700  # evaluated, then read back for the report
 
 
+@pytest.mark.slow
 def test_the_scan_subset_keeps_no_block_alive(monkeypatch):
     """The evenly spread subset copies its rows: no block outlives its turn in the pass."""
     import gc

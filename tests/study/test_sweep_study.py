@@ -12,9 +12,9 @@ import time
 import numpy as np
 import pytest
 
-from designlab.analysis.sweep import CacheIncompleteError
+from designlab.analysis.engine import CacheIncompleteError
+from designlab.analysis.store import ChunkStore, open_store
 from designlab.errors import StudyError
-from designlab.report.store import ChunkStore, open_store
 from designlab.study import RunContext, load_study, parse_study, run_study
 
 SWEEP = """\
@@ -163,6 +163,7 @@ def test_store_refuses_foreign_and_other_study_files(tmp_path):
         ChunkStore(tmp_path / "z.sqlite", study="b").get_chunk("k")
 
 
+@pytest.mark.slow
 def test_two_runs_at_once_share_the_store(tmp_path):
     """Two processes writing the same study's store at once: no corruption, same results."""
     script = tmp_path / "twice.py"
@@ -170,7 +171,7 @@ def test_two_runs_at_once_share_the_store(tmp_path):
         textwrap.dedent(f"""\
         import sys
         from designlab.study import RunContext, parse_study, run_study
-        from designlab.report.store import open_store
+        from designlab.analysis.store import open_store
         study = parse_study({SWEEP!r})
         with open_store(sys.argv[1], study.name) as store:
             r = run_study(study, RunContext(store=store, resume=True))
@@ -192,7 +193,7 @@ def test_two_runs_at_once_share_the_store(tmp_path):
 SLOW_RUNNER = """\
 import sys, time
 import numpy as np
-from designlab.impact.sweep import impact_metrics_chunk
+from designlab.impact.evaluators import impact_metrics_chunk
 from designlab.study.kinds.impact_sweep import ImpactSweepStudy
 
 
@@ -223,6 +224,7 @@ def _stored_points(path):
         return 0
 
 
+@pytest.mark.slow
 def test_killed_sweep_resumes_with_only_the_missing_points(tmp_path, write_study):
     study = write_study(
         SWEEP.replace("num: 6", "num: 40")
@@ -307,7 +309,7 @@ def test_foam_envelope_study_runs_and_explains(write_study):
             textwrap.dedent(
                 """\
                 designlab: 1
-                kind: foam_envelope
+                kind: foam_envelope_sweep
                 name: env
                 base: {robot: MANIPULATOR_1, foam: FOAM_1, impact_velocity: 1.25, max_g: 10}
                 damping: {low: 0, high: 200, num: 5}
@@ -332,6 +334,7 @@ def test_foam_envelope_study_runs_and_explains(write_study):
     assert s["robot.mass"] / 100 == pytest.approx(el["robot.mass"], rel=0.05)
 
 
+@pytest.mark.slow
 def test_resume_of_a_finished_study_leaves_its_report_alone(tmp_path, write_study):
     """--resume with every point stored and an unchanged study: the report is kept as it is."""
     from typer.testing import CliRunner

@@ -33,10 +33,9 @@ from test_fuzz_studies import BASE
 from designlab.errors import StudyError
 from designlab.report import write_report
 from designlab.study import parse_study, run_study, study_kinds
-from designlab.study.registry import RENAMED_KINDS
 
-#: The fuzz carriers by the kinds' current names.
-CARRIERS: dict[str, dict[str, Any]] = {RENAMED_KINDS.get(k, k): v for k, v in BASE.items()}
+#: The fuzz carriers, by kind.
+CARRIERS: dict[str, dict[str, Any]] = BASE
 
 #: Heavy kinds at the smallest sizes their schema allows (about a second each).
 SMALL: dict[str, dict[str, Any]] = {

@@ -93,6 +93,7 @@ def test_kernel_cache_is_keyed_by_every_kernel_module(tmp_path: Path) -> None:
 
 
 @pytest.mark.skipif(not jit.AVAILABLE, reason=f"no compiled kernels: {jit.reason()}")
+@pytest.mark.slow
 def test_kernel_cache_is_ours_when_numba_was_imported_first(_private_cache: Path) -> None:
     """A program that imports numba before designlab still gets the keyed cache (not
     numba's default next to the sources, keyed by each file's own time stamp only)."""

@@ -112,7 +112,7 @@ def _param_vector(run: _Run) -> NDArray[np.float64]:
     return p
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)  # Result's one-line repr, not 221 lines
 class AccompanyResult(Result):
     """One accompanying run: time series, metrics and the Table 1/2 quantities.
 

@@ -39,7 +39,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from designlab.errors import InvalidParameterError
-from designlab.symbolic import vectorize
+from designlab.sx.replay import vectorize
 from designlab.validation import real_array
 
 __all__ = [

@@ -1,7 +1,7 @@
 """Sweep evaluator of the tether follower: a chunk of designs at once.
 
 A plain module-level function ``(points, options) -> columns`` for the shared
-sweep engine (:mod:`designlab.analysis.sweep`). Points are columns keyed by
+sweep engine (:mod:`designlab.analysis.engine`). Points are columns keyed by
 the declarations' symbols, ``l_d, k_V, k_O, delta, K_a, v, w_max, dt, sigma_l,
 sigma_theta`` (:data:`POINT_KEYS`, SI units);
 the law, its fixed fields, the path and the rest of the robot are options.

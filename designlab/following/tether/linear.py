@@ -175,7 +175,7 @@ class LinearLoop(Result):
         return pd.DataFrame(
             [
                 {
-                    "law": type(self.controller).__name__,
+                    "law": self.controller.name,
                     "speed_m_per_s": self.speed,
                     "turn_gain_per_s": self.turn_gain,
                     "lookahead_m": self.lookahead,

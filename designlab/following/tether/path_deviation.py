@@ -29,7 +29,7 @@ distance (meant for a normal that crosses a corner and hits an unrelated part
 of the path, the failure App. A.6 describes). It is not App. A: where the
 paths cross or return on themselves it swaps valid hits for the distance to
 another leg and lowers the deviation (see ``docs/following.md`` for its
-measured effect). ``max_hit_ratio`` is its former name (deprecated).
+measured effect).
 
 Mean, standard deviation and maximum are reported in metres and in units of
 the wheel track (b = 0.28 m, as Tables 3.2/3.3). See ``docs/following.md``.
@@ -46,7 +46,6 @@ Examples
 from __future__ import annotations
 
 import math
-import warnings
 from dataclasses import dataclass
 from itertools import chain
 from typing import Any
@@ -64,7 +63,6 @@ from designlab.results import Result, Status
 __all__ = [
     "COMPARISON",
     "FAR_HIT_FALLBACK_RATIO",
-    "MAX_HIT_RATIO",
     "MAX_SEARCH",
     "MAX_SEGMENT",
     "MIN_SEGMENT",
@@ -113,8 +111,6 @@ FAR_HIT_FALLBACK_RATIO = Param(
     default=None,
     name="far_hit_fallback_ratio",
 )
-#: Former name of :data:`FAR_HIT_FALLBACK_RATIO` (deprecated; its default was 3).
-MAX_HIT_RATIO = FAR_HIT_FALLBACK_RATIO
 #: The comparison range of App. A step 5.
 COMPARISON = Param(
     kind="choice",
@@ -589,7 +585,6 @@ def normal_path_deviation(
     comparison: str = "ordered",
     intersections: bool = True,
     wheel_track: float = 0.28,
-    **deprecated: Any,
 ) -> PathDeviation:
     """Normal path deviation of ``robot_xy`` from ``leader_xy`` (Allan 2015 App. A).
 
@@ -614,9 +609,6 @@ def normal_path_deviation(
         Insert the path intersections as nodes (App. A step 4).
     wheel_track
         Normalising length b in m (0.28 m).
-    **deprecated
-        ``max_hit_ratio``: the former name of ``far_hit_fallback_ratio``
-        (a ``DeprecationWarning``; its default used to be 3).
 
     Returns
     -------
@@ -634,10 +626,6 @@ def normal_path_deviation(
     """
     p1 = _as_path("leader_xy", leader_xy)
     p2 = _as_path("robot_xy", robot_xy)
-    given = _renamed(
-        {"far_hit_fallback_ratio": far_hit_fallback_ratio, **deprecated},
-        explicit=far_hit_fallback_ratio is not None,
-    )
     st = _Settings.checked(
         min_segment=min_segment,
         max_segment=max_segment,
@@ -645,34 +633,9 @@ def normal_path_deviation(
         comparison=comparison,
         intersections=intersections,
         wheel_track=wheel_track,
-        **given,
+        far_hit_fallback_ratio=far_hit_fallback_ratio,
     )
     return _deviation(p1, p2, st)
-
-
-def _renamed(settings: dict[str, Any], explicit: bool) -> dict[str, Any]:
-    """Map the deprecated ``max_hit_ratio`` to ``far_hit_fallback_ratio``; refuse other names."""
-    settings = dict(settings)
-    if "max_hit_ratio" in settings:
-        if explicit:
-            raise InvalidParameterError(
-                "max_hit_ratio",
-                settings["max_hit_ratio"],
-                "not together with its new name far_hit_fallback_ratio",
-            )
-        warnings.warn(
-            "max_hit_ratio is deprecated: it is the opt-in heuristic far_hit_fallback_ratio "
-            "(not App. A; the default is now None, the App. A deviation)",
-            DeprecationWarning,
-            stacklevel=3,
-        )
-        settings["far_hit_fallback_ratio"] = settings.pop("max_hit_ratio")
-    unknown = sorted(set(settings) - {"far_hit_fallback_ratio"})
-    if unknown:
-        raise InvalidParameterError(
-            unknown[0], settings[unknown[0]], "a keyword of normal_path_deviation"
-        )
-    return settings
 
 
 def normal_path_deviations(
@@ -709,15 +672,6 @@ def normal_path_deviations(
         "intersections": True,
         "wheel_track": 0.28,
     }
-    settings = dict(settings)
-    if "max_hit_ratio" in settings:
-        ratio = settings.pop("far_hit_fallback_ratio", None)
-        settings.update(
-            _renamed(
-                {"far_hit_fallback_ratio": ratio, "max_hit_ratio": settings.pop("max_hit_ratio")},
-                explicit=ratio is not None,
-            )
-        )
     unknown = sorted(set(settings) - set(defaults))
     if unknown:
         raise InvalidParameterError(unknown[0], settings[unknown[0]], f"one of {sorted(defaults)}")

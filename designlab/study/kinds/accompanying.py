@@ -68,6 +68,7 @@ from designlab.progress import Progress
 from designlab.results import OK, Result
 from designlab.study.base import Flag, Model, StudyBase
 from designlab.study.registry import StudyKind
+from designlab.study.reproduction import TUNED_GAINS
 from designlab.study.runner import RunContext
 from designlab.study.specs import spec_model
 
@@ -505,4 +506,5 @@ KIND = StudyKind(
     schema=AccompanyingStudy,
     run=run,
     report="designlab.report.accompanying",
+    reproduction=TUNED_GAINS,
 )

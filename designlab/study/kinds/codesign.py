@@ -71,6 +71,7 @@ from designlab.study.kinds.impact_specs import DampingGrid, FoamSpec, RobotSpec
 from designlab.study.kinds.navigation_crowds import CrowdSpec
 from designlab.study.kinds.navigation_specs import ScenarioSpec
 from designlab.study.registry import StudyKind
+from designlab.study.reproduction import CODESIGN
 from designlab.study.runner import RunContext
 from designlab.study.specs import spec_model
 
@@ -505,4 +506,5 @@ KIND = StudyKind(
     schema=CodesignStudy,
     run=run,
     report="designlab.report.codesign",
+    reproduction=CODESIGN,
 )

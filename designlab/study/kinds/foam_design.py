@@ -73,6 +73,7 @@ from designlab.results import OK, Result
 from designlab.study.base import Flag, Model, StudyBase
 from designlab.study.kinds.impact_specs import DampingGrid, FoamSpec, RobotSpec
 from designlab.study.registry import StudyKind
+from designlab.study.reproduction import ENVELOPE
 from designlab.study.runner import RunContext
 from designlab.study.specs import spec_model
 
@@ -443,4 +444,5 @@ KIND = StudyKind(
     schema=FoamDesignStudy,
     run=run,
     report="designlab.report.envelope",
+    reproduction=ENVELOPE,
 )

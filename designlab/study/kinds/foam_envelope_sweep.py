@@ -1,6 +1,5 @@
 """The ``foam_envelope_sweep`` study kind: how the feasible foam region moves with the design.
 
-(Called ``foam_envelope`` before; the old name is read with a DeprecationWarning.)
 Every point solves the foam envelope of Zeng 2011, Sec. 3.9
 (:func:`designlab.impact.foam_envelope`) over the damping grid and checks the
 base foam against it: the upper (safety) and lower (thickness) boundaries at
@@ -40,6 +39,7 @@ from designlab.params import Param, params_of, sweepable
 from designlab.study.base import Model
 from designlab.study.kinds.impact_specs import DampingGrid, FoamSpec, RobotSpec
 from designlab.study.registry import StudyKind
+from designlab.study.reproduction import ENVELOPE
 from designlab.study.sweep_runner import run_sweep_study
 from designlab.study.sweeps import SweepStudyBase, parameter_model
 
@@ -140,4 +140,5 @@ KIND = StudyKind(
     schema=FoamEnvelopeStudy,
     run=run_sweep_study,
     report="designlab.report.sweep",
+    reproduction=ENVELOPE,
 )

@@ -47,6 +47,7 @@ from designlab.results import OK, Result
 from designlab.study.base import Integer, Model, Positive, StudyBase
 from designlab.study.kinds.impact_specs import FoamSpec, HeadSpec, RobotSpec
 from designlab.study.registry import StudyKind
+from designlab.study.reproduction import CERTIFIED_IMPACT
 from designlab.study.runner import RunContext
 
 __all__ = [
@@ -392,4 +393,5 @@ KIND = StudyKind(
     schema=ImpactCasesStudy,
     run=run,
     report="designlab.report.impact",
+    reproduction=CERTIFIED_IMPACT,
 )

@@ -40,6 +40,7 @@ from designlab.params import Param, sweepable
 from designlab.study.base import Model
 from designlab.study.kinds.impact_specs import FoamSpec, HeadSpec, RobotSpec
 from designlab.study.registry import StudyKind
+from designlab.study.reproduction import CERTIFIED_IMPACT
 from designlab.study.sweep_runner import run_sweep_study
 from designlab.study.sweeps import SweepStudyBase, parameter_model
 
@@ -116,4 +117,5 @@ KIND = StudyKind(
     schema=ImpactSweepStudy,
     run=run_sweep_study,
     report="designlab.report.sweep",
+    reproduction=CERTIFIED_IMPACT,
 )

@@ -50,6 +50,7 @@ from designlab.results import OK, Result
 from designlab.study.base import Grid, StudyBase
 from designlab.study.kinds.impact_specs import FoamSpec, HeadSpec
 from designlab.study.registry import StudyKind
+from designlab.study.reproduction import METRIC_DIFFERENCES
 from designlab.study.runner import RunContext
 from designlab.study.specs import spec_model
 
@@ -265,4 +266,5 @@ KIND = StudyKind(
     schema=JointReductionStudy,
     run=run,
     report="designlab.report.joint_reduction",
+    reproduction=METRIC_DIFFERENCES,
 )

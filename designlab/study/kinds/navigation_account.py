@@ -38,6 +38,7 @@ from designlab.navigation.account import (
 from designlab.results import OK, Result
 from designlab.study.base import Integer, StudyBase
 from designlab.study.registry import StudyKind
+from designlab.study.reproduction import SAME_ON_A_GENERIC_CPU
 from designlab.study.runner import RunContext
 
 __all__ = ["KIND", "NavigationAccountResult", "NavigationAccountStudy", "run"]
@@ -132,4 +133,5 @@ KIND = StudyKind(
     schema=NavigationAccountStudy,
     run=run,
     report="designlab.report.navigation_account",
+    reproduction=SAME_ON_A_GENERIC_CPU,
 )

@@ -577,8 +577,3 @@ KIND = StudyKind(
     run=run,
     report="designlab.report.navigation_gains",
 )
-
-
-#: Deprecated names (one release): the kind was called ``vff_gains``.
-VffGainsStudy = NavigationGainsStudy
-VffGainsResult = NavigationGainsResult

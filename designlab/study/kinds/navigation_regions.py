@@ -6,7 +6,6 @@ critical region r3 (the robot stops in time) and the active region r2 (it sidest
 in time) with :func:`designlab.navigation.sizing.size_regions` (Zeng 2011, Sec. 5.3,
 7.4, 7.5.5), and reports every intermediate quantity, the minimum and the adopted
 radii, and the ``r2``/``r3`` to put in a scenario (``docs/navigation_scenarios.md``).
-Also accepted under its first name, ``vff_regions``.
 
 Examples
 --------
@@ -46,6 +45,7 @@ from designlab.results import Result
 from designlab.study.base import Model, StudyBase
 from designlab.study.kinds.navigation_specs import RobotSpec
 from designlab.study.registry import StudyKind
+from designlab.study.reproduction import CLOSED_FORM
 from designlab.study.runner import RunContext
 
 __all__ = ["KIND", "NavigationRegionsResult", "NavigationRegionsStudy", "ObstacleClassSpec", "run"]
@@ -182,4 +182,5 @@ KIND = StudyKind(
     schema=NavigationRegionsStudy,
     run=run,
     report="designlab.report.navigation_regions",
+    reproduction=CLOSED_FORM,
 )

@@ -291,10 +291,3 @@ KIND = StudyKind(
     run=run,
     report="designlab.report.navigation",
 )
-
-
-#: Deprecated names (one release): the kind was called ``vff_scenarios``.
-VffScenariosStudy = NavigationScenariosStudy
-VffScenariosResult = NavigationScenariosResult
-VffRun = NavigationRun
-VffReference = NavigationReference

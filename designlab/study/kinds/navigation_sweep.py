@@ -39,6 +39,7 @@ from designlab.study.base import Flag, Integer, Model
 from designlab.study.kinds.navigation_gains import Weights
 from designlab.study.kinds.navigation_specs import GainsSpec, ScenarioSpec, Stabilising
 from designlab.study.registry import StudyKind
+from designlab.study.reproduction import SAME_ON_A_GENERIC_CPU
 from designlab.study.sweep_runner import run_sweep_study
 from designlab.study.sweeps import SensitivitySpec, SweepOf, SweepStudyBase, parameter_model
 
@@ -251,4 +252,5 @@ KIND = StudyKind(
     schema=NavigationSweepStudy,
     run=run_sweep_study,
     report="designlab.report.sweep",
+    reproduction=SAME_ON_A_GENERIC_CPU,
 )

@@ -9,8 +9,7 @@ deviation in wheel tracks next to the measured Tables 3.2/3.3. For every
 :func:`designlab.following.tether.linear_analysis`) and fits the damping ratio and
 natural frequency of a simulated lateral step of the full nonlinear loop
 (:func:`designlab.following.tether.lateral_step_response`), so that the
-report shows the linear prediction next to the simulation. The kind was
-called ``follower_comparison`` (still read, with a warning).
+report shows the linear prediction next to the simulation.
 
 Examples
 --------
@@ -212,7 +211,7 @@ class FollowerCase:
         return {
             "path": self.path,
             "controller": self.controller,
-            "law": type(c).__name__,
+            "law": c.name,
             "desired_length_m": c.desired_length,
             "speed_m_per_s": self.run.speed_leader,
             **{k: v for k, v in self.metrics.as_dict().items()},

@@ -54,6 +54,7 @@ from designlab.results import OK, Result
 from designlab.study.base import StudyBase
 from designlab.study.kinds.tether_specs import FollowerRobotSpec, PathSpec, robot_field
 from designlab.study.registry import StudyKind
+from designlab.study.reproduction import NOISE_AROUND_ZERO
 from designlab.study.runner import RunContext
 
 __all__ = ["KIND", "BrakeCase", "ModeCase", "TetherModesResult", "TetherModesStudy", "run"]
@@ -401,4 +402,5 @@ KIND = StudyKind(
     schema=TetherModesStudy,
     run=run,
     report="designlab.report.tether_modes",
+    reproduction=NOISE_AROUND_ZERO,
 )

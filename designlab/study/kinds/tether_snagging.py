@@ -41,6 +41,7 @@ from designlab.progress import Progress
 from designlab.results import OK, Result
 from designlab.study.base import Grid, StudyBase
 from designlab.study.registry import StudyKind
+from designlab.study.reproduction import SAME_ON_A_GENERIC_CPU
 from designlab.study.runner import RunContext
 from designlab.study.specs import spec_model
 
@@ -223,4 +224,5 @@ KIND = StudyKind(
     schema=TetherSnaggingStudy,
     run=run,
     report="designlab.report.tether_snagging",
+    reproduction=SAME_ON_A_GENERIC_CPU,
 )

@@ -7,8 +7,7 @@ control period and sensor noise. Each point is one closed-loop run on the
 base path (:func:`designlab.following.tether.evaluators.follower_metrics_chunk`). The
 sweepable parameters and their ranges are the domain's declarations
 (:func:`designlab.params.sweepable`). A sweep of more than :attr:`TetherSweepStudy.MAX_POINTS`
-points (each a closed-loop run of about 0.1 s) is refused. The kind was called
-``follower_sweep`` (still read, with a warning).
+points (each a closed-loop run of about 0.1 s) is refused.
 
 Examples
 --------

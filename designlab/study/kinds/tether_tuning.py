@@ -5,8 +5,7 @@ tuning paths and speeds (seeded differential evolution, damping-ratio floor,
 tether range, the robot's wheel limits) and reports the improvement over the
 App. C defaults on validation paths it was not tuned on. The scenarios of a
 generation run through the study's executor (``designlab run --executor``); a
-progress bar shows the generation and the best cost. The kind was called
-``follower_tuning`` (still read, with a warning).
+progress bar shows the generation and the best cost.
 
 Examples
 --------
@@ -166,15 +165,13 @@ class TetherTuningResult(Result):
 
     @property
     def warnings(self) -> tuple[str, ...]:  # type: ignore[override]
-        return tuple(
-            f"{type(r.controller).__name__}: {w}" for r in self.results for w in r.warnings
-        )
+        return tuple(f"{r.controller.name}: {w}" for r in self.results for w in r.warnings)
 
     def to_frame(self) -> pd.DataFrame:
         """One row per law and gain: default and tuned values, and the improvements."""
         rows = []
         for r in self.results:
-            law = type(r.controller).__name__
+            law = r.controller.name
             for k, v in r.controller.gains.items():
                 rows.append(
                     {

@@ -40,6 +40,7 @@ def _same(study, runs: pd.DataFrame) -> None:
     assert study.status == "ok" and len(runs) == 4
 
 
+@pytest.mark.slow
 def test_processes_give_the_serial_table(serial):
     with make_executor("processes", workers=2) as ex:
         _same(crowd_study(*GRID, crowd_options=OPTS, executor=ex), serial)
