@@ -4,12 +4,13 @@ It shares no code with ``designlab.impact`` (``kernel*.py``, ``modal.py``) and u
 algorithms, so that a defect of one is seen as a disagreement with the other
 (``benchmarks/fuzz_kernel.py``, issue 34):
 
-* **Poles.** Reduced model: the roots of the characteristic polynomial
+* **Poles.** The roots of the characteristic polynomial, reduced model
   ``D = P_r P_h + z_c (P_r + P_h)`` (``P_r = M_r s^2 + C_r s + K_r``, likewise ``P_h``;
-  ``z_c = C_c s + K_c``; constrained: ``D = P_r + z_c``) by the Aberth-Ehrlich
-  simultaneous iteration from a circle, never folded into conjugate pairs: every
-  term of the response is summed and the real part taken. Full joint: the
-  eigen-decomposition (LAPACK, complex) of the hand-written state matrix.
+  ``z_c = C_c s + K_c``; constrained: ``D = P_r + z_c``), full joint ``D = Q_r P_h +
+  z_c (P_h z_e + Q_r)`` (``Q_r = M_r s^2 z_e + z_m z_q``; constrained ``Q_r + z_c
+  z_e``), by the Aberth-Ehrlich simultaneous iteration (from the bodies' own modes,
+  or a circle), the full joint's polished by Newton on D's factors; never folded
+  into conjugate pairs: every term of the response is summed and the real part taken.
 * **Residues** by solving the linear system ``V c = x(0) - x_p(0)`` for the
   initial state (``V`` the eigenvectors, the particular solution ``x_p = alpha +
   beta t`` of the unit ramp), not by partial fractions. a_h is the second
@@ -228,52 +229,97 @@ def _constrained_modes(q, lam, g, c):  # type: ignore[no-untyped-def]
 
 
 @_jit
-def _full_matrix(q, constrained):  # type: ignore[no-untyped-def]
-    """State matrix and ramp inputs of the full joint, x = [d_r, d_r', d_e, d_h, d_h']
-    (the head's two states dropped when ``constrained``)."""
+def _padd(a, b):  # type: ignore[no-untyped-def]
+    """Sum of two polynomials (descending coefficients) of any lengths."""
+    out = np.zeros(max(a.size, b.size))
+    out[out.size - a.size :] += a
+    out[out.size - b.size :] += b
+    return out
+
+
+@_jit
+def _full_d(q, constrained, s):  # type: ignore[no-untyped-def]
+    """D and D' of the full joint at ``s`` from its factors (no expanded coefficients):
+    ``D = Q_r P_h + z_c (P_h z_e + Q_r)``, ``Q_r = M_r s^2 z_e + z_m z_q``; constrained
+    ``D = Q_r + z_c z_e``."""
     m_r, c_m, k_m, k_c, c_c, m_h, c_h, k_h, c_q, k_q = (
         q[0], q[1], q[2], q[3], q[4], q[5], q[6], q[7], q[8], q[9])  # fmt: skip
-    n = 3 if constrained else 5
-    a = np.zeros((n, n))
-    b1 = np.zeros(n)
-    b0 = np.zeros(n)
-    c_s = c_m + c_q
-    e0, e1, e2 = k_m / c_s, c_m / c_s, -(k_m + k_q) / c_s  # d_e' on d_r, d_r', d_e
-    a[0, 1] = 1.0
-    a[1, 0] = (-k_c - c_q * e0) / m_r
-    a[1, 1] = (-c_c - c_q * e1) / m_r
-    a[1, 2] = -(k_q + c_q * e2) / m_r
-    a[2, 0], a[2, 1], a[2, 2] = e0, e1, e2
-    b1[1], b0[1] = -k_c / m_r, -c_c / m_r
-    if not constrained:
-        a[1, 3], a[1, 4], a[3, 4] = k_c / m_r, c_c / m_r, 1.0
-        a[4, 0], a[4, 1] = k_c / m_h, c_c / m_h
-        a[4, 3], a[4, 4] = -(k_c + k_h) / m_h, -(c_c + c_h) / m_h
-        b1[4], b0[4] = k_c / m_h, c_c / m_h
-    return a, b1, b0
+    zm, zq, zc = c_m * s + k_m, c_q * s + k_q, c_c * s + k_c
+    ze = zm + zq
+    dze = c_m + c_q
+    qr = m_r * s * s * ze + zm * zq
+    dqr = 2.0 * m_r * s * ze + m_r * s * s * dze + c_m * zq + zm * c_q
+    if constrained:
+        return qr + zc * ze, dqr + c_c * ze + zc * dze
+    ph = (m_h * s + c_h) * s + k_h
+    dph = 2.0 * m_h * s + c_h
+    inner = ph * ze + qr
+    d_inner = dph * ze + ph * dze + dqr
+    return qr * ph + zc * inner, dqr * ph + qr * dph + c_c * inner + zc * d_inner
 
 
 @_jit
 def _full_modes(q, constrained, lam, g, c):  # type: ignore[no-untyped-def]
-    """As :func:`_reduced_modes` for the full joint (5 poles; 3 when ``constrained``)."""
-    a, b1, b0 = _full_matrix(q, constrained)
-    n = a.shape[0]
-    k_c, c_c = q[3], q[4]
-    beta = -np.linalg.solve(a, b1)
-    alpha = np.linalg.solve(a, beta - b0)
-    w, v = np.linalg.eig(a.astype(np.complex128))
-    coef = _solve(v.copy(), -alpha.astype(np.complex128))
-    h = 3 if not constrained else -1
+    """As :func:`_reduced_modes` for the full joint (5 poles; 3 when ``constrained``): the
+    roots of D by Aberth from the node's, the arm's and the head's own modes, polished
+    by Newton on D's factors; eigenvectors from the structure (massless node: ``z_e d_e
+    = z_m d_r``; head ``(P_h + z_c) d_h = z_c d_r``); the particular solution of the unit
+    ramp from the static equations of the three bodies."""
+    m_r, c_m, k_m, k_c, c_c, m_h, c_h, k_h, c_q, k_q = (
+        q[0], q[1], q[2], q[3], q[4], q[5], q[6], q[7], q[8], q[9])  # fmt: skip
+    c_s, k_s = c_m + c_q, k_m + k_q
+    zm, zq = np.array([c_m, k_m]), np.array([c_q, k_q])
+    ze, zc = np.array([c_s, k_s]), np.array([c_c, k_c])
+    qr = _padd(_polymul(np.array([m_r, 0.0, 0.0]), ze), _polymul(zm, zq))
+    n = 3 if constrained else 5
+    lam[0] = -k_s / c_s  # the node's own pole
+    _quadratic(m_r, c_c, k_c + k_m * k_q / k_s, lam, 1)
+    if constrained:
+        den = _padd(qr, _polymul(zc, ze))
+    else:
+        ph = np.array([m_h, c_h, k_h])
+        den = _padd(_polymul(qr, ph), _polymul(zc, _padd(_polymul(ph, ze), qr)))
+        _quadratic(m_h, c_h + c_c, k_h + k_c, lam, 3)
+    if not aberth(den, lam[:n], True):
+        return False
+    for k in range(n):  # polish on the factored D
+        for _ in range(2):
+            d, dd = _full_d(q, constrained, lam[k])
+            if dd != 0:
+                lam[k] -= d / dd
+    # the unit ramp's particular solution: d = a + b t of the arm, the node, the head
+    st = np.array([[k_m + k_c, -k_m, -k_c], [-k_m, k_s, 0.0], [-k_c, 0.0, k_h + k_c]])
+    m = 2 if constrained else 3
+    b = _solve(st[:m, :m].astype(np.complex128), np.array([-k_c + 0j, 0.0, k_c])[:m]).real
+    b_h = 0.0 if constrained else b[2]
+    rhs = np.array([-c_c - c_m * (b[0] - b[1]) - c_c * (b[0] - b_h) + 0j,
+                    c_m * b[0] - c_s * b[1], c_c - c_h * b_h + c_c * (b[0] - b_h)])  # fmt: skip
+    a = _solve(st[:m, :m].astype(np.complex128), rhs[:m]).real
+    a_h = 0.0 if constrained else a[2]
+    v = np.empty((n, n), dtype=np.complex128)
     for k in range(n):
-        lam[k] = w[k]
-        e = coef[k] * (v[0, k] - (v[h, k] if h >= 0 else 0.0))
+        s = lam[k]
+        e_s, m_s, c_s_ = c_s * s + k_s, c_m * s + k_m, c_c * s + k_c
+        if constrained:
+            dr, de, dh = e_s, m_s, 0j
+        else:
+            head = (m_h * s + c_h) * s + k_h + c_s_
+            dr, de, dh = head * e_s, head * m_s, c_s_ * e_s
+        sc = 1.0 / max(abs(dr), abs(s * dr), abs(de), abs(dh), abs(s * dh))
+        v[0, k], v[1, k], v[2, k] = dr * sc, s * dr * sc, de * sc
+        if not constrained:
+            v[3, k], v[4, k] = dh * sc, s * dh * sc
+    v0 = v.copy()
+    x0 = np.array([-a[0] + 0j, -b[0], -a[1], -a_h, -b_h])[:n]
+    coef = _solve(v, x0)
+    for k in range(n):
+        e = coef[k] * (v0[0, k] - (0.0 if constrained else v0[3, k]))
         g[2, k] = e
-        g[0, k] = (k_c + c_c * w[k]) * e
-        g[1, k] = coef[k] * v[h, k] * w[k] * w[k] if h >= 0 else 0.0
-    slope = beta[0] + 1.0 - (beta[h] if h >= 0 else 0.0)
-    const = alpha[0] - (alpha[h] if h >= 0 else 0.0)
-    c[2, 0], c[2, 1] = slope, const
-    c[0, 0], c[0, 1] = k_c * slope, k_c * const + c_c * slope
+        g[0, k] = (k_c + c_c * lam[k]) * e
+        g[1, k] = 0.0 if constrained else coef[k] * v0[3, k] * lam[k] * lam[k]
+    slope = b[0] - b_h + 1.0
+    c[2, 0], c[2, 1] = slope, a[0] - a_h
+    c[0, 0], c[0, 1] = k_c * slope, k_c * (a[0] - a_h) + c_c * slope
     c[1, 0] = c[1, 1] = 0.0
     return np.all(np.isfinite(coef))
 
@@ -427,7 +473,7 @@ def _sweep(lam, g, c, n, used, lobe, t_end, cand):  # type: ignore[no-untyped-de
     """Sample the outputs from 0 to ``t_end`` (to the first provably negative a_h when
     ``lobe``); returns ``(t_lo, t_hi, samples, t_last)``: the bracket of a_h's first sign
     change before that sample (NaN when none), the number of samples (-1: too many) and
-    the last sample before ``t_end``."""
+    the last sample but one before ``t_end`` (or before the bracket)."""
     off = _deactivation(lam, g, c, n, used)
     big = 0.0
     for k in range(n):
@@ -436,6 +482,7 @@ def _sweep(lam, g, c, n, used, lobe, t_end, cand):  # type: ignore[no-untyped-de
     prev2 = np.empty(3)
     tprev = tprev2 = 0.0
     first_lo = first_hi = np.nan
+    before = 0.0
     t0 = 0.0
     count = 0
     ex = np.empty(n, dtype=np.complex128)
@@ -477,12 +524,12 @@ def _sweep(lam, g, c, n, used, lobe, t_end, cand):  # type: ignore[no-untyped-de
                 a = prev[1]
                 if a <= 0:
                     if np.isnan(first_lo):
-                        first_lo, first_hi = tprev, t
+                        first_lo, first_hi, before = tprev, t, tprev2
                     lvl = 0.0
                     for k in range(n):
                         lvl += math.exp(lam[k].real * t)
                     if a < -NOISE * big * lvl:
-                        return first_lo, first_hi, count + 1, first_lo
+                        return first_lo, first_hi, count + 1, before
                 else:
                     first_lo = first_hi = np.nan
             for k in range(n):
@@ -526,7 +573,8 @@ def _metrics(lam, g, c, n, used, lobe, window, horizon, row):  # type: ignore[no
             if cand[o, m, 0] > -np.inf and cand[o, m, 2] <= t_imp:
                 cand[o, m, 3] = min(cand[o, m, 3], t_imp)
                 best = max(best, _refine_max(lam, g, c, n, o, cand[o, m]))
-        # the last cell: a maximum between the last sample and t_imp
+        # the last two cells: a maximum between the last sample but one and t_imp (the
+        # samples after t_imp do not count)
         if end[o, 1] < 0 < _value(lam, g, c, n, o, last)[1] and last < t_imp:
             t = _root(lam, g, c, n, o, 1, last, t_imp, 1e-10)
             best = max(best, _value(lam, g, c, n, o, t)[0])

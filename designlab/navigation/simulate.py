@@ -47,7 +47,6 @@ from designlab.navigation.hold_audit import HoldAudit, hold_audit
 from designlab.navigation.lyapunov import StabilityAudit, audit_run
 from designlab.navigation.methods import (
     METHODS,
-    PLANNER,
     STABILISING,
     TIE_SIDE,
     NavigationMethod,
@@ -322,7 +321,7 @@ def simulate(
     ...
     designlab.errors.InvalidParameterError: method = 'bug' is not allowed: ...
     """
-    if isinstance(method, str) and method in PLANNER.choices:
+    if METHODS.get(method).planner:  # an unknown name is refused naming every method
         _check_planner_options(stabilising, force_every_step, noise)
         return simulate_planner(scenario, method, gains, arrival_tolerance=arrival_tolerance)
     STABILISING.check(stabilising)
