@@ -38,6 +38,7 @@ import pandas as pd
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))  # this checkout's designlab
 
+from designlab.report.writers import csv_digits  # noqa: E402
 from designlab.study import load_study  # noqa: E402
 from designlab.study.registry import kind_of  # noqa: E402
 from designlab.study.reproduction import Reproduction  # noqa: E402
@@ -97,13 +98,14 @@ def compare_table(a: pd.DataFrame, b: pd.DataFrame, name: str, rule: Reproductio
         xa, ya = x.to_numpy(float)[~flipped], y.to_numpy(float)[~flipped]
         out["cells"] += len(xa)
         both = np.isfinite(xa) & np.isfinite(ya)
-        d = np.abs(xa - ya)[both]
+        d = np.abs(xa[both] - ya[both])
         if d.size:
             scale = np.maximum(np.abs(xa), np.abs(ya))[both]
             out["abs"] = max(out["abs"], float(d.max()))
             rel = np.divide(d, scale, out=np.zeros_like(d), where=scale > 0)
             out["rel"] = max(out["rel"], float(rel.max()))
-        bad = [i for i in range(len(xa)) if not rule.close(xa[i], ya[i])]
+        digits = None if rule.bound() == "a = b (to the bit)" else csv_digits()
+        bad = [i for i in range(len(xa)) if not rule.close(xa[i], ya[i], digits)]
         out["bad"] += [f"{name}:{col} row {i}: {xa[i]!r} -> {ya[i]!r}" for i in bad[:3]]
     return out
 

@@ -42,6 +42,7 @@ from designlab.results import OK, Result
 from designlab.study.base import Flag, Integer, Model, StudyBase
 from designlab.study.kinds.navigation_specs import MethodSpec, ScenarioSpec
 from designlab.study.registry import StudyKind
+from designlab.study.reproduction import SAME_ON_A_GENERIC_CPU
 from designlab.study.runner import RunContext
 from designlab.study.specs import spec_model
 
@@ -250,4 +251,5 @@ KIND = StudyKind(
     schema=NavigationPlannersStudy,
     run=run,
     report="designlab.report.navigation_planners",
+    reproduction=SAME_ON_A_GENERIC_CPU,
 )

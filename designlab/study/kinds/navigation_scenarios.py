@@ -42,6 +42,7 @@ from designlab.study.base import Model, Number, Positive, StudyBase
 from designlab.study.kinds.navigation_gains import Weights
 from designlab.study.kinds.navigation_specs import MethodSpec, ScenarioSpec
 from designlab.study.registry import StudyKind
+from designlab.study.reproduction import SAME_ON_A_GENERIC_CPU
 from designlab.study.runner import RunContext
 
 __all__ = [
@@ -290,4 +291,5 @@ KIND = StudyKind(
     schema=NavigationScenariosStudy,
     run=run,
     report="designlab.report.navigation",
+    reproduction=SAME_ON_A_GENERIC_CPU,
 )

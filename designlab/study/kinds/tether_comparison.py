@@ -63,6 +63,7 @@ from designlab.study.kinds.tether_specs import (
     robot_field,
 )
 from designlab.study.registry import StudyKind
+from designlab.study.reproduction import SAME_ON_A_GENERIC_CPU
 from designlab.study.runner import RunContext
 from designlab.study.specs import spec_model
 
@@ -384,4 +385,5 @@ KIND = StudyKind(
     schema=TetherComparisonStudy,
     run=run,
     report="designlab.report.tether",
+    reproduction=SAME_ON_A_GENERIC_CPU,
 )

@@ -50,6 +50,7 @@ from designlab.params import Param, params_of, sweepable
 from designlab.study.base import Model
 from designlab.study.kinds.tether_specs import ControllerSpec, FollowerRobotSpec, PathSpec
 from designlab.study.registry import StudyKind
+from designlab.study.reproduction import SAME_ON_A_GENERIC_CPU
 from designlab.study.sweep_runner import run_sweep_study
 from designlab.study.sweeps import SweepStudyBase, parameter_model
 
@@ -149,4 +150,5 @@ KIND = StudyKind(
     schema=TetherSweepStudy,
     run=run_sweep_study,
     report="designlab.report.sweep",
+    reproduction=SAME_ON_A_GENERIC_CPU,
 )
