@@ -33,6 +33,7 @@ __all__ = [
     "CERTIFIED_IMPACT",
     "CLOSED_FORM",
     "CODESIGN",
+    "CONVERGENCE_MAP",
     "ENVELOPE",
     "HEADING",
     "METRIC_DIFFERENCES",
@@ -252,4 +253,16 @@ CODESIGN = Reproduction(
         "CPU it found a different archive and front (docs/codesign.md)"
     ),
     exempt=("designs.csv:*", "front.csv:*"),
+)
+
+#: The tether stability map: a convergence verdict per grid point (docs/following.md).
+CONVERGENCE_MAP = Reproduction(
+    atol=1e-12,
+    flips=1e-3,
+    why=(
+        "a grid point's verdict is whether the follower settles within the simulated time; "
+        "one on that edge can fall either side: rerun with the code paths of a plain "
+        "x86-64 CPU, 2 of 58,390 rows changed verdict, and every other number was "
+        "identical but rounding noise around zero, within 1e-15"
+    ),
 )

@@ -54,6 +54,7 @@ from designlab.study.kinds.tether_specs import (
     robot_field,
 )
 from designlab.study.registry import StudyKind
+from designlab.study.reproduction import CONVERGENCE_MAP
 from designlab.study.runner import RunContext
 
 __all__ = ["KIND", "LengthGrid", "TetherStabilityResult", "TetherStabilityStudy", "run"]
@@ -191,4 +192,5 @@ KIND = StudyKind(
     schema=TetherStabilityStudy,
     run=run,
     report="designlab.report.tether_stability",
+    reproduction=CONVERGENCE_MAP,
 )

@@ -51,6 +51,7 @@ from designlab.study.kinds.tether_specs import (
     robot_field,
 )
 from designlab.study.registry import StudyKind
+from designlab.study.reproduction import SAME_ON_A_GENERIC_CPU
 from designlab.study.runner import RunContext
 
 __all__ = ["KIND", "StepSizeCase", "TetherStepSizeResult", "TetherStepSizeStudy", "run"]
@@ -208,4 +209,5 @@ KIND = StudyKind(
     schema=TetherStepSizeStudy,
     run=run,
     report="designlab.report.tether_step_size",
+    reproduction=SAME_ON_A_GENERIC_CPU,
 )
