@@ -65,7 +65,7 @@ def main() -> None:
         opt = nav.optimise_gains(sc, stabilising=mode, seed=args.seed)
         ref = nav.evaluate_gains(
             sc, [EXPERIMENT, THESIS, tuple(opt.gains.as_array())], stabilising=mode
-        )
+        ).frame
         per = opt.wall_time / opt.evaluations
         g = opt.gains
         print(f"\nstabilising={mode}: status {opt.status}")

@@ -139,7 +139,7 @@ def _suspect(row, code):  # type: ignore[no-untyped-def]
     return code
 
 
-@kernel(borrows=True)
+@kernel(inline=True)
 def sampled_check(p, r, c, nk, outputs, lobe, count, step, row, work):  # type: ignore[no-untyped-def]
     """The a-posteriori check of a design's metrics on samples the search did not use.
 
@@ -373,15 +373,19 @@ def _spread(a):  # type: ignore[no-untyped-def]
         return np.inf
     if not a[4] > 0:
         return 1.0  # a pole at s = 0: refused elsewhere, by name
-    last = math.log(a[4])
+    logs = (0.0, _log(a[1]), _log(a[2]), _log(a[3]), math.log(a[4]))  # -inf for a zero
     top = -np.inf
     low = np.inf
     for k in range(1, 5):
-        if a[k] > 0:
-            top = max(top, math.log(a[k]) / k)
-        if a[4 - k] > 0:
-            low = min(low, (last - math.log(a[4 - k])) / k)
+        top = max(top, logs[k] / k)
+        low = min(low, (logs[4] - logs[4 - k]) / k)  # +inf for a zero a_(4-k)
     return max(math.exp(top - low), 1.0)
+
+
+@kernel(inline=True)
+def _log(x):  # type: ignore[no-untyped-def]
+    """``log x`` of ``x >= 0`` (``-inf`` for 0)."""
+    return math.log(x) if x > 0 else -np.inf
 
 
 def time_scale_ratios(params: NDArray[np.float64]) -> NDArray[np.float64]:

@@ -447,7 +447,7 @@ def node_count(hi, w):  # type: ignore[no-untyped-def]
     return min(max(int(math.ceil(hi / w)), 1), MAX_CELLS)  # noqa: RUF046 (numba)
 
 
-@kernel(borrows=True)
+@kernel(inline=True)  # three calls per design: inlined, the kernel is 4-7 % faster
 def maximum_on_nodes(p, r, c, o, nk, hi, count, w, work, first=0):  # type: ignore[no-untyped-def]
     """:func:`maximum` once the nodes' exponentials are in ``work`` (shared by the outputs):
     nodes ``j w`` (j < count) and ``hi``; ``(t, y, sure)``. ``first`` = ``count`` where the

@@ -269,7 +269,7 @@ def evaluate_gains(
     --------
     >>> from designlab.navigation import configuration, VFFGains
     >>> e = evaluate_gains([configuration(1)], VFFGains(4.3, 0.68, 20.3, 240.7), stabilising="off")
-    >>> str(e.status), round(float(e.to_frame()["H_mean"][0]), 3), bool(e["feasible"][0])
+    >>> str(e.status), round(float(e.frame["H_mean"][0]), 3), bool(e.frame["feasible"][0])
     ('ok', 0.695, True)
     """
     g = _gain_matrix(gains)

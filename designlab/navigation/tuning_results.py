@@ -73,13 +73,6 @@ class GainEvaluation(Result):
         """The table (a copy)."""
         return self.frame.copy()
 
-    def __getitem__(self, key: Any) -> Any:
-        """Column access, as on the DataFrame this function returned before (one release)."""
-        return self.frame[key]
-
-    def __len__(self) -> int:
-        return len(self.frame)
-
 
 class OptimumStatus(Status):
     """Status of :func:`optimise_gains` (and :func:`evaluate_gains`).

@@ -38,7 +38,7 @@ def test_tiny_run_is_reproducible_and_consistent(tiny):
     assert list(a.history["phase"][:2]) == ["cma", "cma"]
     assert a.history["best_H_mean"].dropna().is_monotonic_increasing
     # the reported objective is the simulator's H of the reported gains, and that point is feasible
-    f = nav.evaluate_gains([nav.configuration(1)], a.gains, stabilising="off")
+    f = nav.evaluate_gains([nav.configuration(1)], a.gains, stabilising="off").frame
     assert bool(f["feasible"][0])
     assert math.isclose(a.objective, float(f["H_mean"][0]), rel_tol=1e-12)
     lo = np.array([DEFAULT_BOUNDS[n][0] for n in ("k1", "b", "k3", "k5")])
@@ -54,7 +54,7 @@ def test_a_violating_candidate_is_infeasible_not_scored():
     # (Zeng 2011, App. C.3) yet its H is well above zero: it must not count.
     f = nav.evaluate_gains(
         [nav.configuration(2)], [[4.3, 0.68, 1e-6, 240.7], THESIS.as_array()], stabilising="off"
-    )
+    ).frame
     assert not f["feasible"][0] and not f["critical_free"][0] and f["H_mean"][0] > 0.3
     assert f["feasible"][1]
 
@@ -91,8 +91,8 @@ def test_random_walks_draws_and_worst_case():
     ]
     assert rw.expand(nav.configuration(3)) == [nav.configuration(3)]  # nothing walks
     sc = [nav.configuration(2)]
-    mean = nav.evaluate_gains(sc, THESIS, stabilising="off", robust=rw, robust_mode="mean")
-    worst = nav.evaluate_gains(sc, THESIS, stabilising="off", robust=rw, robust_mode="worst")
+    mean = nav.evaluate_gains(sc, THESIS, stabilising="off", robust=rw, robust_mode="mean").frame
+    worst = nav.evaluate_gains(sc, THESIS, stabilising="off", robust=rw, robust_mode="worst").frame
     assert worst["H_mean"][0] <= mean["H_mean"][0]
 
 
@@ -149,7 +149,7 @@ def test_arrival_times_and_margins_match_single_runs():
     # T_arrive and the margin to the critical region, written out from single simulate() runs
     sc = [nav.configuration(1), nav.configuration(3)]
     gains = [THESIS, nav.VFFGains(3.0, 0.25, 20.0, 17.0)]
-    f = nav.evaluate_gains(sc, gains, stabilising="off")
+    f = nav.evaluate_gains(sc, gains, stabilising="off").frame
     for j, g in enumerate(gains):
         for s in sc:
             run = nav.simulate(s, g, stabilising="off")
@@ -160,7 +160,9 @@ def test_arrival_times_and_margins_match_single_runs():
 
 
 def test_margin_is_negative_when_the_critical_region_is_entered():
-    f = nav.evaluate_gains([nav.configuration(2)], [[4.3, 0.68, 1e-6, 240.7]], stabilising="off")
+    f = nav.evaluate_gains(
+        [nav.configuration(2)], [[4.3, 0.68, 1e-6, 240.7]], stabilising="off"
+    ).frame
     assert not f["critical_free"][0] and f["critical_margin_m_ch6_config2"][0] < 0
 
 
@@ -228,8 +230,8 @@ def test_a_clearance_margin_tightens_feasibility():
     run = nav.simulate(sc[0], g, stabilising="off")
     gap = min(run.min_distance[o.name] - o.r3 for o in sc[0].obstacles)
     assert 0 < gap < 0.5
-    below = nav.evaluate_gains(sc, g, stabilising="off", critical_margin=gap * 0.9)
-    above = nav.evaluate_gains(sc, g, stabilising="off", critical_margin=gap * 1.1)
+    below = nav.evaluate_gains(sc, g, stabilising="off", critical_margin=gap * 0.9).frame
+    above = nav.evaluate_gains(sc, g, stabilising="off", critical_margin=gap * 1.1).frame
     assert bool(below["feasible"][0]) and not bool(above["feasible"][0])
     assert not bool(above["critical_free"][0]) and bool(above["arrived_all"][0])
     # the optimiser then only returns points that keep the clearance
@@ -238,7 +240,7 @@ def test_a_clearance_margin_tightens_feasibility():
         critical_margin=0.1,
     )  # fmt: skip
     assert opt.critical_margin == 0.1 and opt.gains is not None
-    f = nav.evaluate_gains(sc, opt.gains, stabilising="off")
+    f = nav.evaluate_gains(sc, opt.gains, stabilising="off").frame
     assert f["critical_margin_m_ch6_config1"][0] >= 0.1
 
 

@@ -114,7 +114,9 @@ def test_committed_gains_table_matches_the_simulator() -> None:
     sc = [nav.configuration(i) for i in (1, 2, 3)]
     for mode in ("off", "lyapunov"):
         block = g[(g["stabilising"] == mode) & (g["robust"] == "")]
-        f = nav.evaluate_gains(sc, block[["k1", "b", "k3", "k5"]].to_numpy(), stabilising=mode)
+        f = nav.evaluate_gains(
+            sc, block[["k1", "b", "k3", "k5"]].to_numpy(), stabilising=mode
+        ).frame
         for n in ("H_ch6_config1", "H_ch6_config2", "H_ch6_config3", "H_mean"):
             want = block[n].astype(float).to_numpy()
             assert f[n].to_numpy() == pytest.approx(want, abs=REPRO_H_FIXED)
