@@ -6,7 +6,7 @@ head range, for all foams in one batch of the impact kernel, then the closing sp
 each allows, ``(limit / metric) ** (1/e)``, the smallest of them, and the robot's
 share ``v_c - v_h`` (with the braking model, the robot speed whose contact speed is that).
 With ``refine=True`` (the default) each foam's worst head is polished off the grid by the
-same local search as :func:`~designlab.codesign.speed_limit`
+same multi-start local search as :func:`~designlab.codesign.speed_limit`
 (:func:`designlab.codesign.worst_head.refine_heads`), so the map's limit of a foam is the
 speed limit of that foam: any head in the range, not only the grid's.
 

@@ -32,7 +32,17 @@ from numpy.typing import NDArray
 
 from designlab.impact.kernel_exp import cexp
 from designlab.impact.kernel_lobe import STRIDE, lobe_end, maximum_on_nodes, node_count, scratch
-from designlab.impact.kernel_modal import exponentials, fastest_rate, noise
+from designlab.impact.kernel_modal import (
+    ERR_COLUMNS,
+    NOISE,
+    crossing_error,
+    exponentials,
+    fastest_rate,
+    mag,
+    noise,
+    residue_errors,
+    term_errors,
+)
 from designlab.impact.kernel_poles import (
     LANES,
     bairstow_lanes,
@@ -82,6 +92,12 @@ SUSPECT_REASONS = {
 }
 #: most folded poles of a response the kernel takes (the full joint has 5 states)
 MAX_POLES = 5
+#: largest share of a maximum the residues' and poles' error bounds may take
+#: (:func:`.kernel_modal.term_errors`; the search's own tolerance is 1e-8)
+TERM_ERROR = 1e-9
+#: largest relative error of t_imp the rounding noise may cause (its noise level over the
+#: slope of a_h there, :func:`.kernel_modal.crossing_error`; Newton's own is 1e-11)
+TIMP_ERROR = 1e-10
 #: column of each output's maximum and its time: force, head acceleration, compression
 _COL = ((2, 6), (0, 4), (1, 5))
 
@@ -97,10 +113,10 @@ def _design(p, r, c, nk, h, outputs, lobe, window, max_steps, diag, row, work, c
     step = 0.0
     if lobe:
         t_imp, row[7], step, sure = lobe_end(p, r, c, 1, nk, h, max_steps, diag, work)
-        if not np.isfinite(t_imp):
-            return 3
         if not sure:
             return _suspect(row, SUSPECT_LOBE)
+        if not np.isfinite(t_imp):
+            return 3
     else:
         t_imp = window
         h = min(h, window / 64.0)
@@ -146,9 +162,15 @@ def sampled_check(p, r, c, nk, outputs, lobe, count, step, row, work):  # type: 
     At the midpoints ``(j + 1/2) step`` of the maxima's cells before ``t_imp``
     (the nodes' exponentials ``work[2][j]`` times ``r_k exp(p_k step / 2)``, one real
     product per pole) no output may exceed its maximum by more than its certified 1e-8
-    (relative), and a_h may not be provably negative before the lobe end. Returns 0,
-    :data:`SUSPECT_MAXIMUM` or :data:`SUSPECT_LOBE`.
+    (relative), a_h must be provably positive (above its rounding noise) before the lobe
+    end, the noise may move the lobe end by at most :data:`TIMP_ERROR` (relative); the
+    error bounds of the residues and poles (:func:`.kernel_modal.term_errors`) may take
+    at most :data:`TERM_ERROR` of each maximum (the last three where ``c`` carries those
+    bounds). Returns 0, :data:`SUSPECT_MAXIMUM` or :data:`SUSPECT_LOBE`.
     """
+    bounds = c.shape[1] >= ERR_COLUMNS  # the terms' error bounds are known
+    if lobe and bounds and crossing_error(p, r, c, 1, nk, row[3]) > TIMP_ERROR * row[3]:
+        return SUSPECT_LOBE  # the noise may move the lobe end by more than its tolerance
     ex, half = work[2], work[1]  # the stack (free here): exp(p_k step / 2), r_k times it
     for k in range(nk):
         z = cexp(p[k] * (0.5 * step))
@@ -160,6 +182,7 @@ def sampled_check(p, r, c, nk, outputs, lobe, count, step, row, work):  # type: 
             z = r[o, k] * complex(half[k, 2], half[k, 3])
             half[k, 0], half[k, 1] = z.real, z.imag
         top = row[_COL[o][0]] + 1e-8 * abs(row[_COL[o][0]])
+        low = _noise_ceiling(r, c, o, nk, row[3]) if lobe and o == 1 and bounds else -np.inf
         for j in range(count - 1):
             t = (j + 0.5) * step
             y = c[o, 0] * t + c[o, 1]
@@ -167,9 +190,23 @@ def sampled_check(p, r, c, nk, outputs, lobe, count, step, row, work):  # type: 
                 y += half[k, 0] * ex[j, k].real - half[k, 1] * ex[j, k].imag
             if y > top:
                 return SUSPECT_MAXIMUM
-            if lobe and o == 1 and y < 0.0 and y < -noise(p, r, c, o, nk, t):
-                return SUSPECT_LOBE
+            if y <= low and y <= noise(p, r, c, o, nk, t):
+                return SUSPECT_LOBE  # a_h not provably positive before the lobe end
+        if term_errors(c, o, nk, row[3]) > TERM_ERROR * abs(row[_COL[o][0]]):
+            return SUSPECT_MAXIMUM  # the residues' and poles' errors alone exceed the tolerance
     return 0
+
+
+@kernel(inline=True)
+def _noise_ceiling(r, c, o, nk, t):  # type: ignore[no-untyped-def]
+    """An upper bound of :func:`.kernel_modal.noise` over ``[0, t]`` (stable poles) without
+    exponentials: the sampled check evaluates the noise only below it."""
+    s = abs(c[o, 0] * t) + abs(c[o, 1])
+    big = 0.0
+    for k in range(nk):
+        s += mag(r[o, k])
+        big = max(big, mag(r[o, k]))
+    return NOISE * (s + nk * big) + term_errors(c, o, nk, t)
 
 
 @kernel
@@ -182,7 +219,7 @@ def _reduced_block(params, outputs, printed, stop_time, max_steps, diag, out, st
     roots = np.empty((LANES, 4), dtype=np.complex128)
     p = np.zeros(4, dtype=np.complex128)
     r = np.zeros((3, 4), dtype=np.complex128)
-    c = np.zeros((3, 2))
+    c = np.zeros((3, ERR_COLUMNS))  # c0 t + c1 and the error bounds of the terms
     for i0 in range(0, params.shape[0], LANES):
         m = min(LANES, params.shape[0] - i0)
         _lane_roots(params, i0, m, printed, den, num, guess, state, roots)
@@ -238,6 +275,8 @@ def _lane_metrics(i0, m, outputs, stop_time, max_steps, diag, out, status,
         certified = not check or roots_certified(a, roots[k])  # before separate moves them
         separate(roots[k], 4)
         nk = modal_solution(a, num[k], roots[k], p, r, c, outputs)
+        if nk >= 0 and not residue_errors(a, 4, num[k], roots[k], r, c, outputs):
+            certified = False  # poles too close for a bound of the residues' errors
         if nk < 0 or not certified:
             out[i, :] = np.nan
             status[i] = OVERFLOW if nk < 0 else SUSPECT_POLES

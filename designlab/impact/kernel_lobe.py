@@ -377,7 +377,15 @@ def lobe_end(p, r, c, o, nk, h, max_steps, diag, work):  # type: ignore[no-untyp
     last = int(math.ceil(horizon / step))  # noqa: RUF046 (numba)
     found, _lo, hi, guess, t_low = march(p, r, c, o, nk, step, last, diag, work[2])
     if not found:
-        return np.nan, t_low, 0.0, True
+        # no node provably <= 0: a dip between the nodes may still end the lobe (a narrow
+        # undershoot of a very overdamped design, issue 34): the same certification over
+        # the whole horizon; where it cannot tell, the design is not certified
+        end = last * step
+        lo_c, hi_c, count, sure = crossing(p, r, c, o, nk, end, step, LEVELS, work, 0)
+        if not hi_c < end:
+            return np.nan, t_low, 0.0, sure
+        t = newton(p, r, c, o, nk, lo_c, hi_c, 0, 1.0, 60, 1e-11, 0.5 * (lo_c + hi_c))[0]
+        return t, t_low, 0.0, sure
     marched = round(hi / step)
     lo_c, hi_c, count, sure = crossing(p, r, c, o, nk, hi, step, LEVELS, work, marched)
     if hi_c < hi or lo_c > work[0][0][count - 1]:

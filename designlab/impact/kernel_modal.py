@@ -26,13 +26,23 @@ from designlab.impact.kernel_exp import cexp
 from designlab.sx.jit import kernel
 
 __all__ = [
-    "NOISE", "cell_bound", "curvature", "derivatives", "exponentials", "fastest_rate", "grid",
-    "hermite_bound", "jerk", "mag", "newton", "noise", "pair", "real_product", "separated",
-    "shape", "stable", "triple", "value",
+    "ERR_COLUMNS", "MAX_TERMS", "NOISE", "ROUNDING", "cell_bound", "crossing_error", "curvature",
+    "derivatives", "exponentials", "fastest_rate", "grid",
+    "hermite_bound", "jerk", "mag", "newton", "noise", "pair", "real_product", "residue_errors",
+    "separated", "shape", "stable", "term_errors", "triple", "value",
 ]  # fmt: skip
 
 #: a value y(t) is provably negative when y < -NOISE * (sum of the magnitudes of its terms)
+#: minus the error bounds of its residues and poles carried to t (:func:`noise`)
 NOISE = 1e-12
+#: relative rounding of the model's coefficients and of a Horner evaluation at a pole
+#: (16 units of 1.1e-16: each coefficient is a sum of products of a few parameters, and
+#: Horner's rule over degree 5 adds at most 10)
+ROUNDING = 16 * 2.0**-53
+#: most folded poles whose error bounds a polynomial part ``c`` (3, ERR_COLUMNS) carries
+MAX_TERMS = 5
+#: columns of ``c``: ``c0 t + c1``, the residues' error bounds, the poles' (times |r_k|)
+ERR_COLUMNS = 2 + 2 * MAX_TERMS
 #: Newton stops without a further exponential when the Halley step ``s`` has
 #: ``|s| max|p_k|`` <= TAYLOR_STEP and the root of the local Taylor polynomial near it
 #: (:func:`_taylor_root`) is provably within TAYLOR_ERROR / max|p_k| of the true root
@@ -109,21 +119,151 @@ def triple(p, r, c, o, nk, t):  # type: ignore[no-untyped-def]
 
 @kernel(inline=True)
 def noise(p, r, c, o, nk, t):  # type: ignore[no-untyped-def]
-    """Rounding-noise level of ``y(t)``: NOISE times the sum of its terms' magnitudes, each
-    residue counted at least as large as the largest one.
+    """Rounding-noise level of ``y(t)``: NOISE times the sum of its terms' magnitudes plus
+    the error bounds of the residues and poles (:func:`residue_errors`) carried to ``t``.
 
-    A residue's rounding error is absolute, of the order of the largest residue: a pole
-    next to a zero of the numerator (nearly repeated modes under a soft foam) has a
-    residue smaller than that error, and its term, the slowest, decides the sign of a
-    tail that in truth decays to zero from above (issue 34).
+    A residue's rounding error is absolute: a pole next to a zero of the numerator
+    (nearly repeated modes under a soft foam) has a residue smaller than that error, and
+    its term, the slowest, decides the sign of a tail that in truth decays to zero from
+    above (issue 34). Where ``c`` carries no bounds (``c.shape[1] == 2``: responses
+    built elsewhere) every residue is counted at least as large as the largest one.
     """
+    s = abs(c[o, 0] * t) + abs(c[o, 1])
+    if c.shape[1] >= ERR_COLUMNS:
+        extra = 0.0
+        for k in range(nk):
+            e = math.exp(p[k].real * t)
+            s += mag(r[o, k]) * e
+            extra += (c[o, 2 + k] + c[o, 2 + MAX_TERMS + k] * t) * e
+        return NOISE * s + extra
     big = 0.0
     for k in range(nk):
         big = max(big, mag(r[o, k]))
-    s = abs(c[o, 0] * t) + abs(c[o, 1])
     for k in range(nk):
         s += big * math.exp(p[k].real * t)
     return NOISE * s
+
+
+@kernel(inline=True)
+def crossing_error(p, r, c, o, nk, t):  # type: ignore[no-untyped-def]
+    """How far the rounding noise (:func:`noise`) can move a zero of ``y`` at ``t``: the
+    noise level over ``|y'(t)|`` (inf where the slope is zero)."""
+    bounds = c.shape[1] >= ERR_COLUMNS
+    dy = c[o, 0]
+    s = abs(c[o, 0] * t) + abs(c[o, 1])
+    terms = extra = big = 0.0
+    for k in range(nk):
+        e = cexp(p[k] * t)
+        g = mag(e)
+        a = mag(r[o, k])
+        dy += real_product(r[o, k] * p[k], e)
+        terms += a * g
+        big = max(big, a)
+        extra += g * (c[o, 2 + k] + c[o, 2 + MAX_TERMS + k] * t if bounds else 1.0)
+    if bounds:
+        return (NOISE * (s + terms) + extra) / abs(dy)
+    return NOISE * (s + big * extra) / abs(dy)
+
+
+@kernel(inline=True)
+def term_errors(c, o, nk, t):  # type: ignore[no-untyped-def]
+    """Bound of the residues' and poles' error in ``y`` anywhere on ``[0, t]`` (stable poles;
+    0 where ``c`` carries no bounds): ``sum_k c[o, 2 + k] + c[o, 2 + MAX_TERMS + k] t``."""
+    if c.shape[1] < ERR_COLUMNS:
+        return 0.0
+    s = 0.0
+    for k in range(nk):
+        s += c[o, 2 + k] + c[o, 2 + MAX_TERMS + k] * t
+    return s
+
+
+@kernel(inline=True)
+def _root_error(den, n, roots, j):  # type: ignore[no-untyped-def]
+    """First-order bound of the distance of ``roots[j]`` to a root of the exact ``D``.
+
+    Its residual ``|D(x)|`` plus ``ROUNDING`` times ``sum_k |d_k| |x|^k`` (the
+    coefficients' own rounding and Horner's), over ``|D'(x)| = prod_k |x - x_k|``.
+    """
+    x = roots[j]
+    ax = mag(x)
+    f = complex(den[0], 0.0)
+    size = abs(den[0])
+    for k in range(1, n + 1):
+        f = f * x + den[k]
+        size = size * ax + abs(den[k])
+    dp = 1.0 + 0j
+    for k in range(n):
+        if k != j:
+            dp = dp * (x - roots[k])
+    return (mag(f) + ROUNDING * size) / mag(dp)
+
+
+@kernel(inline=True)
+def _pick(j, d0, d1, d2, d3, d4):  # type: ignore[no-untyped-def]
+    """The ``j``-th of five values."""
+    if j == 0:
+        return d0
+    if j == 1:
+        return d1
+    if j == 2:
+        return d2
+    return d3 if j == 3 else d4
+
+
+@kernel(borrows=True)
+def residue_errors(den, n, num, roots, r, c, outputs):  # type: ignore[no-untyped-def]
+    """Bounds of the folded residues' errors into ``c[o, 2 + k]`` and of their poles' errors
+    (times ``|r_k|``) into ``c[o, 2 + MAX_TERMS + k]``; False where the poles are too close
+    for a first-order bound (the caller does not certify the design).
+
+    ``r[o, k] = w N_o(p_k) / (p_k^2 prod_(j != k) (p_k - p_j))`` (:mod:`.kernel_poles`) with
+    the ``n`` roots ``roots`` of the monic ``den`` and ``num[o]`` of degree ``n + 1``. With
+    ``delta_j`` the roots' error bounds (:func:`_root_error`) and ``sep_k = sum_(j != k)
+    (delta_k + delta_j) / |p_k - p_j|`` (at most 0.1: the poles' separation), the error of
+    ``r[o, k]`` is at most twice ``w (ROUNDING S(|p_k|) + |N_o'(p_k)| delta_k) / |p_k^2
+    D'(p_k)| + |r[o, k]| (sep_k + 2 delta_k / |p_k| + ROUNDING)``, ``S`` the sum of the
+    numerator's terms' magnitudes; a residue next to a zero of its numerator (nearly repeated modes
+    under a soft foam, issue 34) is then known to be no better than this absolute error.
+    """
+    d0 = _root_error(den, n, roots, 0)  # at most 5 roots: registers, not an array
+    d1 = _root_error(den, n, roots, 1) if n > 1 else 0.0
+    d2 = _root_error(den, n, roots, 2) if n > 2 else 0.0
+    d3 = _root_error(den, n, roots, 3) if n > 3 else 0.0
+    d4 = _root_error(den, n, roots, 4) if n > 4 else 0.0
+    nk = 0
+    for i in range(n):
+        x = roots[i]
+        if x.imag < 0:
+            continue
+        w = 2.0 if x.imag > 0 else 1.0
+        ax = mag(x)
+        di = _pick(i, d0, d1, d2, d3, d4)
+        sep = 0.0
+        dp = x * x
+        for j in range(n):
+            if j != i:
+                dp = dp * (x - roots[j])
+                sep += (di + _pick(j, d0, d1, d2, d3, d4)) / mag(x - roots[j])
+        if not sep <= 0.1:
+            return False
+        scale = w / mag(dp)
+        for o in range(3):
+            c[o, 2 + nk] = c[o, 2 + MAX_TERMS + nk] = 0.0
+            if outputs[o]:
+                sn = abs(num[o, 0])
+                f = complex(num[o, 0], 0.0)
+                df = 0j
+                for k in range(1, n + 2):
+                    df = df * x + f
+                    f = f * x + num[o, k]
+                    sn = sn * ax + abs(num[o, k])
+                a = mag(r[o, nk])
+                slope = mag(df) + ROUNDING * sn / ax  # |N'(x)| and its own rounding
+                err = scale * (ROUNDING * sn + slope * di) + a * (sep + 2.0 * di / ax)
+                c[o, 2 + nk] = 2.0 * (err + a * ROUNDING)
+                c[o, 2 + MAX_TERMS + nk] = 2.0 * a * di
+        nk += 1
+    return True
 
 
 @kernel(inline=True)

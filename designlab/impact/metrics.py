@@ -43,6 +43,7 @@ from designlab.errors import InvalidParameterError, ModelError
 from designlab.impact import kernel, kernel_full, kernel_modal
 from designlab.impact.conditioning import check_conditioning, check_eigen_route
 from designlab.impact.full_joint_model import FULL_PARAM_NAMES, full_joint_model, grid_rate
+from designlab.impact.kernel_modal import ERR_COLUMNS, MAX_TERMS
 from designlab.impact.metric_names import PARAMETERS
 from designlab.impact.modal import (
     ModalResponse,
@@ -275,7 +276,9 @@ def ramp_responses(
             )
         return _eigen_ramp(model, params, outputs, rows)
     den, num = model.ramp_coefficients(params)
-    if check_q2(q2) == "printed" and model.name == "unconstrained":
+    if model.name == "unconstrained" and params.shape[1] == 8:
+        den, num = _closed_form(params, check_q2(q2) == "printed", den, num)
+    elif check_q2(q2) == "printed" and model.name == "unconstrained":
         den = den.copy()
         den[:, 2] -= printed_q2_correction(params)
     _check_finite(params, den, rows)
@@ -286,6 +289,26 @@ def ramp_responses(
             "at least two of K_r, K_c, K_h must be positive"
         )
     return ModalResponse.family({name: num[name] for name in outputs}, den, 2)
+
+
+def _closed_form(
+    params: NDArray, printed: bool, den: NDArray, num: dict[str, NDArray]
+) -> tuple[NDArray, dict[str, NDArray]]:
+    """The reduced model's coefficients in closed form, as the kernel's
+    (:func:`designlab.impact.kernel_poles.coefficients`, sums of products exact to a few
+    ulps), for the outputs it has; the symbolic evaluation's carry rounding of 1e-11 and
+    spurious terms where they cancel, which the residues' error bounds do not cover."""
+    from designlab.impact import kernel_poles
+
+    build = getattr(kernel_poles.coefficients, "py_func", kernel_poles.coefficients)
+    d = np.empty((5, params.shape[0]))
+    n = np.zeros((3, 6, params.shape[0]))
+    build(*params.T, printed, d, n)
+    num = dict(num)
+    for o, name in enumerate(("force", "head_acceleration", "compression")):
+        if name in num and num[name].shape[1] == 6:
+            num[name] = n[o].T.copy()
+    return d.T.copy(), num
 
 
 @dataclass(frozen=True)
@@ -420,6 +443,10 @@ def _march(
             vals[k] = v
         if lobe is not None:
             stop = (vals[lobe] <= 0) & (t > 0)
+            near = np.flatnonzero(stop.any(axis=1))
+            if near.size:  # provably <= 0 only below the rounding noise (issue 34)
+                level = resp[lobe].take(act[near]).noise(t[near])
+                stop[near] &= vals[lobe][near] < -level
         else:
             stop = t >= horizon[act, None]
         hit = stop.any(axis=1)
@@ -918,18 +945,26 @@ def _settle(
     :data:`UNCERTIFIED` (NaN rows). Also a note per reason for the warnings."""
     rows, again = _numpy_rows(resp, h, constrained, stop_time, max_lobe_steps, diagnostics)
     names = tuple(k for k in _KERNEL_OUTPUTS if k in resp)
-    res = np.zeros((h.size, 3, resp[names[0]].poles.shape[1]), dtype=complex)
-    poly = np.zeros((h.size, 3, 2))
+    nk = resp[names[0]].poles.shape[1]
+    res = np.zeros((h.size, 3, nk), dtype=complex)
+    bounded = nk <= MAX_TERMS and all(resp[k].errors is not None for k in names)
+    poly = np.zeros((h.size, 3, ERR_COLUMNS if bounded else 2))  # c0, c1, the error bounds
     for o, k in enumerate(_KERNEL_OUTPUTS):
         if k in resp:
             res[:, o] = resp[k].residues
-            poly[:, o, 2 - resp[k].poly.shape[1] :] = resp[k].poly
+            poly[:, o, 2 - resp[k].poly.shape[1] : 2] = resp[k].poly
+            if bounded:
+                poly[:, o, 2 : 2 + nk] = resp[k].errors[:, :, 0]
+                poly[:, o, 2 + MAX_TERMS : 2 + MAX_TERMS + nk] = resp[k].errors[:, :, 1]
     poles = resp[names[0]].poles
     if kernel.AVAILABLE:
         audit = kernel.audit_metrics(poles, res, poly, rows, again, lobe=not constrained)
     else:  # the same check, vectorised (the kernel's loops run slowly uncompiled)
         audit = audit_metrics_numpy(poles, res, poly, rows, again, lobe=not constrained)
-    bad = audit >= kernel.SUSPECT_POLES
+    # the kernel found a provable zero of a_h it could not certify: "not closed" contradicts it
+    bad = (audit >= kernel.SUSPECT_POLES) | (
+        (codes == kernel.SUSPECT_LOBE) & (audit == kernel.STATUS_CODES.index(STATUS_LOBE_OPEN))
+    )
     rows[bad] = np.nan
     notes = []
     for code, why in kernel.SUSPECT_REASONS.items():
@@ -1019,7 +1054,7 @@ def _audit_block_numpy(
     for o, top_col in enumerate(("f_max", "a_max", "eps_max")):
         if not (np.any(res[:, o]) or np.any(poly[:, o])):
             continue
-        y = poly[:, o, :1] * t + poly[:, o, 1:]
+        y = poly[:, o, :1] * t + poly[:, o, 1:2]  # c0 t + c1 (error bounds follow)
         for k, e in enumerate(ex):  # Re(r e) = Re r Re e - Im r Im e
             y += res[:, o, k].real[:, None] * e.real - res[:, o, k].imag[:, None] * e.imag
         top = rows[:, col[top_col]]

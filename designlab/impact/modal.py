@@ -32,6 +32,8 @@ from math import factorial
 import numpy as np
 from numpy.typing import NDArray
 
+from designlab.impact.kernel_modal import NOISE, ROUNDING
+
 __all__ = [
     "ModalResponse",
     "certified_first_crossing",
@@ -40,6 +42,7 @@ __all__ = [
     "fold_conjugates",
     "fold_plan",
     "poles_of",
+    "residue_error_bounds",
 ]
 
 _SEPARATION = 1e-6
@@ -78,6 +81,57 @@ def poles_of(den: NDArray[np.float64]) -> NDArray[np.complex128]:
                 poles[close, i] = mid - d
                 poles[close, j] = mid + d
     return poles
+
+
+def residue_error_bounds(
+    den: NDArray[np.float64],
+    num: NDArray[np.float64],
+    poles: NDArray[np.complex128],
+    residues: NDArray[np.complex128],
+    m: int,
+) -> NDArray[np.float64]:
+    """Bounds of the residues' errors and of their poles' errors, ``(N, n, 2)``.
+
+    The bound of :func:`designlab.impact.kernel_modal.residue_errors`, vectorised
+    over designs and poles (residues ``N(p_i) / (p_i^m D'(p_i))`` of ``N / (s^m D)``):
+    column 0 the error of ``r_i``, column 1 ``|r_i|`` times the error of ``p_i``
+    (how far its term drifts per unit time); inf where the poles are too close for a
+    first-order bound.
+
+    Parameters
+    ----------
+    den
+        ``(N, n+1)`` monic denominators, descending.
+    num
+        ``(N, k)`` numerators, descending.
+    poles
+        ``(N, n)`` roots of ``den`` (unfolded).
+    residues
+        ``(N, n)`` their residues.
+    m
+        Order of the pole at the origin.
+    """
+    n = poles.shape[1]
+    ax = np.abs(poles)
+    diff = poles[:, :, None] - poles[:, None, :]
+    idx = np.arange(n)
+    diff[:, idx, idx] = 1.0
+    dprime = np.abs(diff.prod(axis=2))
+    size_d = _polyval(np.abs(den), ax)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        delta = (np.abs(_polyval(den, poles)) + ROUNDING * size_d) / dprime
+        gap = np.abs(diff)
+        gap[:, idx, idx] = np.inf
+        sep = ((delta[:, :, None] + delta[:, None, :]) / gap).sum(axis=2)
+        size_n = _polyval(np.abs(num), ax)
+        dnum = num[:, :-1] * np.arange(num.shape[1] - 1, 0, -1)[None, :]
+        slope = np.abs(_polyval(dnum, poles)) + ROUNDING * size_n / ax
+        a = np.abs(residues)
+        scale = 1.0 / (ax**m * dprime)
+        err = scale * (ROUNDING * size_n + slope * delta) + a * (sep + m * delta / ax)
+        out = np.stack([2.0 * (err + a * ROUNDING), 2.0 * a * delta], axis=2)
+    out[~(sep <= 0.1)] = np.inf
+    return out
 
 
 def fold_plan(poles: NDArray[np.complex128]) -> tuple[NDArray, NDArray, NDArray, int]:
@@ -159,6 +213,10 @@ class ModalResponse:
     poles: NDArray[np.complex128]
     residues: NDArray[np.complex128]
     poly: NDArray[np.float64]
+    #: ``(N, n, 2)`` bounds of each residue's error and of its pole's error times
+    #: ``|r_i|`` (:func:`residue_error_bounds`; inf where the poles are too close for
+    #: them), or None where unknown (responses built elsewhere)
+    errors: NDArray[np.float64] | None = None
 
     @classmethod
     def from_polynomials(
@@ -208,8 +266,13 @@ class ModalResponse:
             num = np.atleast_2d(np.asarray(num, dtype=float))
             if n:
                 residues = _polyval(num, poles) * scale
+                err = residue_error_bounds(den, num, poles, residues, m)
+                _, e0 = fold_conjugates(poles, err[..., 0].astype(complex), plan)
+                _, e1 = fold_conjugates(poles, err[..., 1].astype(complex), plan)
+                errors = np.stack([e0.real, e1.real], axis=2)
             else:
                 residues = np.zeros((num.shape[0], 0), dtype=complex)
+                errors = np.zeros((num.shape[0], 0, 2))
             p_f, r_f = fold_conjugates(poles, residues, plan)
             # Taylor coefficients of N/D at s = 0 (ascending), first m of them
             na = num[:, ::-1]
@@ -223,7 +286,7 @@ class ModalResponse:
                     rho[:, lag] = acc / da[:, 0]  # stiffness, refused by the caller (ModelError)
             # rho_l s^l / s^m -> rho_l t^(m-1-l)/(m-1-l)!, descending powers of t
             poly = np.stack([rho[:, lag] / factorial(m - 1 - lag) for lag in range(m)], axis=1)
-            out[name] = cls(p_f, r_f, poly)
+            out[name] = cls(p_f, r_f, poly, errors)
         return out
 
     @property
@@ -233,7 +296,28 @@ class ModalResponse:
 
     def take(self, index: NDArray) -> ModalResponse:
         """Sub-batch."""
-        return ModalResponse(self.poles[index], self.residues[index], self.poly[index])
+        errors = None if self.errors is None else self.errors[index]
+        return ModalResponse(self.poles[index], self.residues[index], self.poly[index], errors)
+
+    def noise(self, t: NDArray) -> NDArray[np.float64]:
+        """Rounding-noise level of ``y`` at ``t`` (``(N,)`` or ``(N, T)``): as the kernel's
+        (:func:`designlab.impact.kernel_modal.noise`), ``NOISE`` times the sum of the
+        terms' magnitudes plus the residues' and poles' error bounds carried to ``t``
+        (without bounds, every residue counted as large as the largest)."""
+        t = np.asarray(t, dtype=float)
+        flat = t.ndim == 1
+        tt = t[:, None] if flat else t
+        g = np.exp(self.poles.real[:, :, None] * tt[:, None, :])
+        a = np.abs(self.residues)
+        if self.errors is None:
+            a = np.broadcast_to(a.max(axis=1, initial=0.0)[:, None], a.shape)
+            extra = 0.0
+        else:
+            e = self.errors
+            extra = ((e[:, :, 0, None] + e[:, :, 1, None] * tt[:, None, :]) * g).sum(axis=1)
+        out = NOISE * ((a[:, :, None] * g).sum(axis=1) + np.abs(_poly_part(self.poly, tt, 0)))
+        out = out + extra
+        return out[:, 0] if flat else out
 
     @staticmethod
     def evaluate_family(
@@ -582,10 +666,12 @@ def certified_maximum(
     and curvature bound (:func:`_curvature_bound`) allow a value above the best
     one found by more than ``rtol`` (relative) is split into ``parts`` cells,
     ``levels`` times at most; every cell where ``y'`` changes from + to - is
-    solved by safeguarded Newton on ``y'``. The window ends count. The result is
-    never below the best sampled value; it is within ``rtol`` of the exact
-    maximum unless more than ``cap`` cells of a response stay open at a level
-    (a loose bound: only the ``cap`` most promising are kept).
+    also solved by safeguarded Newton on ``y'`` (and split like the others while
+    its bound allows a better value: it may hold three stationary points). The
+    window ends count. The result is never below the best sampled value; it is
+    within ``rtol`` of the exact maximum unless more than ``cap`` cells of a
+    response stay open at a level (a loose bound: only the ``cap`` most promising
+    are kept).
 
     Parameters
     ----------
@@ -648,7 +734,9 @@ def certified_maximum(
         width = cells.tr - cells.tl
         bound = _cell_bound(cells, _curvature_bound(resp.take(cells.row), cells.tl, cells.tr))
         tol = rtol * np.maximum(np.abs(best_y[cells.row]), 1e-300)
-        open_ = np.flatnonzero((bound > best_y[cells.row] + tol) & ~sign & (width > 0))
+        # a cell with y' from + to - stays in the search too: its Newton solve found one
+        # stationary point, and it may hold three (issue 34)
+        open_ = np.flatnonzero((bound > best_y[cells.row] + tol) & (width > 0))
         if open_.size == 0:
             break
         cells = cells.take(open_)
@@ -719,8 +807,12 @@ def certified_first_crossing(
         cells = cells.take(np.flatnonzero(live))
         if cells.row.size == 0:
             break
-        # a crossing between nodes already sampled (after a split)
+        # a crossing between nodes already sampled (after a split): provably <= 0 only
+        # below the rounding noise (issue 34)
         cross = (cells.yl > 0) & (cells.yr <= 0)
+        if np.any(cross):
+            k = np.flatnonzero(cross)
+            cross[k] = cells.yr[k] < -resp.take(cells.row[k]).noise(cells.tr[k])
         found(cells.row[cross], cells.tl[cross], cells.tr[cross])
         # local minima between nodes
         dip = (cells.dl < 0) & (cells.dr >= 0) & (cells.yl > 0) & (cells.yr > 0)
@@ -731,7 +823,7 @@ def certified_first_crossing(
             neg = ModalResponse(sub.poles, -sub.residues, -sub.poly)
             tm = _safeguarded_newton(neg, s.tl, s.tr, 1, 60, 1e-13)
             (ym,) = point_values(sub, tm, (0,))
-            below = ym <= 0
+            below = (ym <= 0) & (ym < -sub.noise(tm))
             if np.any(below):
                 # the crossing is in [tl, tm]: y(tl) > 0 >= y(tm)
                 rows_b = s.row[below]

@@ -459,6 +459,22 @@ def near_optimal_frame(
     pandas.DataFrame
         ``optimisation``, ``gain``, ``low``, ``high``, ``optimum``, ``sets`` (gain sets
         within the tolerance), ``H_mean_best``, ``tolerance`` (``near_optimal.csv``).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> o = GainOptimum(None, 0.55054, ("c1",), np.array([0.55]), pd.DataFrame(), 3, 3, 0.0,
+    ...                 "off", "", 0, {}, 0, feasible=pd.DataFrame(
+    ...                     {"k1": [8.3, 7.8, 3.0], "b": [0.05] * 3, "k3": [16.0] * 3,
+    ...                      "k5": [29.0] * 3, "H_mean": [0.55054, 0.55049, 0.4]}))
+    >>> result = SimpleNamespace(optima={}, baseline_optima={"off": o})  # a study result
+    >>> frame = near_optimal_frame(result, 1e-4)
+    >>> print(frame[["optimisation", "gain", "low", "high", "sets"]].to_string(index=False))
+    optimisation gain  low  high  sets
+    baseline off   k1 7.80  8.30     2
+    baseline off    b 0.05  0.05     2
+    baseline off   k3 16.00 16.00     2
+    baseline off   k5 29.00 29.00     2
     """
     rows = []
     for label, o in _all_optima(result).items():

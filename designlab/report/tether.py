@@ -646,6 +646,24 @@ def near_optimal_frame(result: TetherTuningResult) -> pd.DataFrame:
     pandas.DataFrame
         ``law``, ``gain``, ``low``, ``high``, ``tuned``, ``sets``, ``tolerance``
         (``near_optimal.csv``).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> import pandas as pd
+    >>> from designlab.following.tether.controllers import FollowTheLeader
+    >>> from designlab.following.tether.tuning import TuningResult
+    >>> evaluated = pd.DataFrame({"speed_gain": [1.2, 1.1], "turn_gain": [2.9, 3.1],
+    ...                           "lookahead": [0.45, 0.44], "cost": [0.50000, 0.50004]})
+    >>> r = TuningResult(FollowTheLeader(speed_gain=1.2, turn_gain=2.9, lookahead=0.45),
+    ...                  FollowTheLeader(), 0.5, 0.6, 0.17, 0.17, 0.1, {}, pd.DataFrame(), {},
+    ...                  (0.5,), 2, 0.0, evaluated=evaluated)
+    >>> frame = near_optimal_frame(SimpleNamespace(results=[r]))  # a tether_tuning result
+    >>> print(frame.to_string(index=False))
+                law       gain  low  high  tuned  sets  tolerance
+    FollowTheLeader speed_gain 1.10  1.20   1.20     2     0.0001
+    FollowTheLeader  turn_gain 2.90  3.10   2.90     2     0.0001
+    FollowTheLeader  lookahead 0.44  0.45   0.45     2     0.0001
     """
     from designlab.following.tether.tuning import NEAR_OPTIMAL_COST
 

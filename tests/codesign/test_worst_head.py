@@ -53,9 +53,15 @@ foams = st.tuples(st.floats(5e3, 8e4), st.floats(10.0, 450.0), st.floats(0.005, 
 @given(foam=foams, robot=st.sampled_from([MANIPULATOR_1,
                                           ContactDynamics(9.57, 30.7e3, 221.3)]))  # fmt: skip
 @example(foam=(10175.0, 116.0, 0.015625), robot=MANIPULATOR_1)  # a 9.2e-6 miss, found by CI
+# peak force: two local maxima; the search from the grid's worst head (a corner) missed the
+# edge maximum by 1e-3 (h41) and 7e-2 relative, before it started from the lattice's maxima
+@example(foam=(13720.0, 137.0, 0.015625), robot=ContactDynamics(9.57, 30.7e3, 221.3))
+@example(foam=(36892.14686368067, 282.89391888676624, 0.0298774126308831),
+         robot=ContactDynamics(9.57, 30.7e3, 221.3))  # fmt: skip
 def test_no_head_of_a_dense_grid_is_worse_and_the_map_agrees(foam, robot) -> None:
-    """The refined worst head is a local search (docs/codesign.md): a dense lattice plus random
-    heads may beat it, by at most 1e-5 relative (9.2e-6 found for the example: peak force)."""
+    """The refined worst head is a multi-start local search (docs/codesign.md): a dense lattice
+    plus random heads may beat it by a maximum narrower than its lattice's spacing; allowed
+    1e-5 relative (9.2e-6 found for the first example: peak force)."""
     k, c, lam = foam
     f = Foam(k, c, lam)
     s = dl.codesign.speed_limit(robot, f, CRITERIA, human_speed=0.5)

@@ -236,6 +236,25 @@ class TuningResult(Result):
         pandas.DataFrame
             ``gain``, ``low``, ``high``, ``tuned`` per gain; ``attrs["sets"]``: how many
             evaluated gain sets lie within the tolerance (0 if none was recorded).
+
+        Examples
+        --------
+        >>> import pandas as pd
+        >>> from designlab.following.tether.controllers import FollowTheLeader
+        >>> tuned = FollowTheLeader(speed_gain=1.2, turn_gain=2.9, lookahead=0.45)
+        >>> evaluated = pd.DataFrame({"speed_gain": [1.2, 1.1, 2.0], "turn_gain": [2.9, 3.1, 1.0],
+        ...                           "lookahead": [0.45, 0.44, 0.9],
+        ...                           "cost": [0.50000, 0.50004, 0.7]})
+        >>> r = TuningResult(tuned, FollowTheLeader(), 0.5, 0.6, 0.17, 0.17, 0.1, {},
+        ...                  pd.DataFrame(), {}, (0.5,), 3, 0.0, evaluated=evaluated)
+        >>> near = r.near_optimal(1e-4)   # costs within 1e-4 (relative) of the best
+        >>> near.attrs["sets"]
+        2
+        >>> print(near.to_string(index=False))
+              gain  low  high  tuned
+        speed_gain 1.10  1.20   1.20
+         turn_gain 2.90  3.10   2.90
+         lookahead 0.44  0.45   0.45
         """
         if not (isinstance(tolerance, int | float) and math.isfinite(tolerance)) or tolerance < 0:
             raise InvalidParameterError("tolerance", tolerance, "must be a finite number >= 0")
