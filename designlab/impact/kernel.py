@@ -183,6 +183,7 @@ def sampled_check(p, r, c, nk, outputs, lobe, count, step, row, work):  # type: 
             half[k, 0], half[k, 1] = z.real, z.imag
         top = row[_COL[o][0]] + 1e-8 * abs(row[_COL[o][0]])
         low = _noise_ceiling(r, c, o, nk, row[3]) if lobe and o == 1 and bounds else -np.inf
+        unbounded = lobe and o == 1 and not bounds
         for j in range(count - 1):
             t = (j + 0.5) * step
             y = c[o, 0] * t + c[o, 1]
@@ -192,6 +193,8 @@ def sampled_check(p, r, c, nk, outputs, lobe, count, step, row, work):  # type: 
                 return SUSPECT_MAXIMUM
             if y <= low and y <= noise(p, r, c, o, nk, t):
                 return SUSPECT_LOBE  # a_h not provably positive before the lobe end
+            if unbounded and y < 0.0 and y < -noise(p, r, c, o, nk, t):
+                return SUSPECT_LOBE  # without error bounds: a_h provably negative before it
         if term_errors(c, o, nk, row[3]) > TERM_ERROR * abs(row[_COL[o][0]]):
             return SUSPECT_MAXIMUM  # the residues' and poles' errors alone exceed the tolerance
     return 0

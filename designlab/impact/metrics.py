@@ -1062,7 +1062,7 @@ def _audit_block_numpy(
         high = np.any(over, axis=1)
         if lobe and o == 1:
             big = np.abs(res[:, o]).max(axis=1)[:, None]
-            noise = np.abs(poly[:, o, :1] * t) + np.abs(poly[:, o, 1:])
+            noise = np.abs(poly[:, o, :1] * t) + np.abs(poly[:, o, 1:2])
             for e in ex:
                 noise += big * np.abs(e)  # exp(Re p t) = |exp(p t)|
             under = (y < 0.0) & (y < -kernel_modal.NOISE * noise)

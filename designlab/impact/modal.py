@@ -267,9 +267,11 @@ class ModalResponse:
             if n:
                 residues = _polyval(num, poles) * scale
                 err = residue_error_bounds(den, num, poles, residues, m)
-                _, e0 = fold_conjugates(poles, err[..., 0].astype(complex), plan)
-                _, e1 = fold_conjugates(poles, err[..., 1].astype(complex), plan)
+                with np.errstate(invalid="ignore"):  # an unbounded error (inf) times 0
+                    _, e0 = fold_conjugates(poles, err[..., 0].astype(complex), plan)
+                    _, e1 = fold_conjugates(poles, err[..., 1].astype(complex), plan)
                 errors = np.stack([e0.real, e1.real], axis=2)
+                errors[np.isnan(errors)] = np.inf  # unbounded stays unbounded, never NaN
             else:
                 residues = np.zeros((num.shape[0], 0), dtype=complex)
                 errors = np.zeros((num.shape[0], 0, 2))
