@@ -62,6 +62,7 @@ from designlab.study.kinds.navigation_specs import (
     typed_gains,
 )
 from designlab.study.registry import StudyKind
+from designlab.study.reproduction import CROWD_TUNING
 from designlab.study.runner import RunContext
 from designlab.study.specs import spec_model
 
@@ -359,6 +360,7 @@ KIND = StudyKind(
     schema=NavigationCrowdsStudy,
     run=run,
     report="designlab.report.navigation_crowds",
+    reproduction=CROWD_TUNING,
 )
 
 __all__ += ["LAYOUTS", "CrowdSetSpec", "CrowdSpec", "TuningSpec"]

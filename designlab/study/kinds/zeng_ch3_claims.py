@@ -59,7 +59,7 @@ from designlab.params import Param, params_of
 from designlab.results import OK, Result
 from designlab.study.base import Model, StudyBase
 from designlab.study.registry import StudyKind
-from designlab.study.reproduction import CERTIFIED_IMPACT
+from designlab.study.reproduction import CH3_CLAIMS
 from designlab.study.runner import RunContext
 from designlab.units import STANDARD_GRAVITY
 
@@ -312,5 +312,5 @@ KIND = StudyKind(
     schema=Ch3ClaimsStudy,
     run=run,
     report="designlab.report.zeng_ch3_claims",
-    reproduction=CERTIFIED_IMPACT,
+    reproduction=CH3_CLAIMS,
 )
