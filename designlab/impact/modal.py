@@ -208,14 +208,15 @@ class ModalResponse:
         (unused slots have a zero residue).
     poly
         ``(N, m)`` real coefficients of the polynomial part in descending powers of t.
+    errors
+        ``(N, n, 2)`` bounds of each residue's error and of its pole's error times
+        ``|r_i|`` (:func:`residue_error_bounds`; inf where the poles are too close for
+        them), or None where unknown (responses built elsewhere).
     """
 
     poles: NDArray[np.complex128]
     residues: NDArray[np.complex128]
     poly: NDArray[np.float64]
-    #: ``(N, n, 2)`` bounds of each residue's error and of its pole's error times
-    #: ``|r_i|`` (:func:`residue_error_bounds`; inf where the poles are too close for
-    #: them), or None where unknown (responses built elsewhere)
     errors: NDArray[np.float64] | None = None
 
     @classmethod

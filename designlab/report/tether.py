@@ -651,7 +651,7 @@ def near_optimal_frame(result: TetherTuningResult) -> pd.DataFrame:
     --------
     >>> from types import SimpleNamespace
     >>> import pandas as pd
-    >>> from designlab.following.tether.controllers import FollowTheLeader
+    >>> from designlab.following.tether import FollowTheLeader
     >>> from designlab.following.tether.tuning import TuningResult
     >>> evaluated = pd.DataFrame({"speed_gain": [1.2, 1.1], "turn_gain": [2.9, 3.1],
     ...                           "lookahead": [0.45, 0.44], "cost": [0.50000, 0.50004]})

@@ -240,7 +240,7 @@ class TuningResult(Result):
         Examples
         --------
         >>> import pandas as pd
-        >>> from designlab.following.tether.controllers import FollowTheLeader
+        >>> from designlab.following.tether import FollowTheLeader
         >>> tuned = FollowTheLeader(speed_gain=1.2, turn_gain=2.9, lookahead=0.45)
         >>> evaluated = pd.DataFrame({"speed_gain": [1.2, 1.1, 2.0], "turn_gain": [2.9, 3.1, 1.0],
         ...                           "lookahead": [0.45, 0.44, 0.9],
