@@ -269,6 +269,36 @@ class MpImpact(_MpFirstLobe):
         )
 
 
+def full_joint_state_space(q, constrained: bool = False):  # type: ignore[no-untyped-def]
+    """``A``, ``b1``, ``b0`` (x' = A x + b1 t + b0 under the unit ramp) of the full series
+    joint at mpmath's current precision, and K_c, C_c.
+
+    Written out here, x = [d_r, d_r', d_e, d_h, d_h'] (against a wall: the head's two
+    states dropped), with the massless motor node C d_e' = K_m (d_r - d_e) + C_m d_r' -
+    K_q d_e and the ramp input s_c = t, v_c = 1: an evaluator independent of the package's
+    model. Parameters ordered M_r, C_mech, K_mech, K_c, C_c, M_h, C_h, K_h, C_cont, K_cont.
+    """
+    import mpmath
+
+    mp = mpmath.mp
+    m_r, c_m, k_m, k_c, c_c, m_h, c_h, k_h, c_q, k_q = (mp.mpf(float(x)) for x in q)
+    c_s = c_m + c_q
+    n = 3 if constrained else 5  # the head against a wall: its two states dropped
+    a, b1, b0 = mp.zeros(n, n), mp.zeros(n, 1), mp.zeros(n, 1)
+    node = (k_m / c_s, c_m / c_s, -(k_m + k_q) / c_s)  # d_e' on d_r, d_r', d_e
+    f_t = (c_q * node[0], c_q * node[1], k_q + c_q * node[2])
+    a[0, 1] = 1
+    a[1, 0], a[1, 1], a[1, 2] = (-k_c - f_t[0]) / m_r, (-c_c - f_t[1]) / m_r, -f_t[2] / m_r
+    a[2, 0], a[2, 1], a[2, 2] = node
+    b1[1], b0[1] = -k_c / m_r, -c_c / m_r
+    if not constrained:
+        a[1, 3], a[1, 4], a[3, 4] = k_c / m_r, c_c / m_r, 1
+        a[4, 0], a[4, 1] = k_c / m_h, c_c / m_h
+        a[4, 3], a[4, 4] = -(k_c + k_h) / m_h, -(c_c + c_h) / m_h
+        b1[4], b0[4] = k_c / m_h, c_c / m_h
+    return a, b1, b0, k_c, c_c
+
+
 class MpFullJoint(_MpFirstLobe):
     """The full series joint's exact ramp responses at ``dps`` digits (mpmath), for the
     fuzz harness: the state space x = [d_r, d_r', d_e, d_h, d_h'] written out by hand
@@ -283,21 +313,8 @@ class MpFullJoint(_MpFirstLobe):
 
         self.mp = mp = mpmath.mp
         mp.dps = dps
-        m_r, c_m, k_m, k_c, c_c, m_h, c_h, k_h, c_q, k_q = (mp.mpf(float(x)) for x in q)
-        c_s = c_m + c_q
-        n = 3 if constrained else 5  # the head against a wall: its two states dropped
-        a, b1, b0 = mp.zeros(n, n), mp.zeros(n, 1), mp.zeros(n, 1)
-        node = (k_m / c_s, c_m / c_s, -(k_m + k_q) / c_s)  # d_e' on d_r, d_r', d_e
-        f_t = (c_q * node[0], c_q * node[1], k_q + c_q * node[2])
-        a[0, 1] = 1
-        a[1, 0], a[1, 1], a[1, 2] = (-k_c - f_t[0]) / m_r, (-c_c - f_t[1]) / m_r, -f_t[2] / m_r
-        a[2, 0], a[2, 1], a[2, 2] = node
-        b1[1], b0[1] = -k_c / m_r, -c_c / m_r
-        if not constrained:
-            a[1, 3], a[1, 4], a[3, 4] = k_c / m_r, c_c / m_r, 1
-            a[4, 0], a[4, 1] = k_c / m_h, c_c / m_h
-            a[4, 3], a[4, 4] = -(k_c + k_h) / m_h, -(c_c + c_h) / m_h
-            b1[4], b0[4] = k_c / m_h, c_c / m_h
+        a, b1, b0, k_c, c_c = full_joint_state_space(q, constrained)
+        n = a.rows
         self.n = n
         inv = mp.inverse(a)
         self.beta = -(inv * b1)

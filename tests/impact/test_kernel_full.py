@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from exact_reference import full_joint_state_space
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
@@ -76,9 +77,8 @@ def _state_space(q, constrained: bool = False, dps: int = 50):  # type: ignore[n
     """``A``, ``b1``, ``b0`` (x' = A x + b1 t + b0 under the unit ramp) to ``dps`` digits
     (and K_c, C_c). Ten parameters: the full joint; eight: the reduced model, constrained.
 
-    The state space of the full joint written out here, x = [d_r, d_r', d_e, d_h, d_h'],
-    with the massless motor node C d_e' = K_m (d_r - d_e) + C_m d_r' - K_q d_e and the
-    ramp input s_c = t, v_c = 1 (an independent evaluator, not the package's model).
+    The full joint's is written out once, in ``exact_reference.full_joint_state_space``
+    (an independent evaluator, not the package's model), which the fuzz referee uses too.
     """
     mp = mpmath.mp
     mp.dps = dps
@@ -86,22 +86,7 @@ def _state_space(q, constrained: bool = False, dps: int = 50):  # type: ignore[n
         m_r, c_r, k_r, k_c, c_c = (mp.mpf(float(x)) for x in q[:5])
         a = mp.matrix([[0, 1], [-(k_r + k_c) / m_r, -(c_r + c_c) / m_r]])
         return a, mp.matrix([0, -k_c / m_r]), mp.matrix([0, -c_c / m_r]), k_c, c_c
-    m_r, c_m, k_m, k_c, c_c, m_h, c_h, k_h, c_q, k_q = (mp.mpf(float(x)) for x in q)
-    c_s = c_m + c_q
-    n = 3 if constrained else 5
-    a, b1, b0 = mp.zeros(n, n), mp.zeros(n, 1), mp.zeros(n, 1)
-    node = (k_m / c_s, c_m / c_s, -(k_m + k_q) / c_s)  # d_e' on d_r, d_r', d_e
-    f_t = (c_q * node[0], c_q * node[1], k_q + c_q * node[2])
-    a[0, 1] = 1
-    a[1, 0], a[1, 1], a[1, 2] = (-k_c - f_t[0]) / m_r, (-c_c - f_t[1]) / m_r, -f_t[2] / m_r
-    a[2, 0], a[2, 1], a[2, 2] = node
-    b1[1], b0[1] = -k_c / m_r, -c_c / m_r
-    if not constrained:
-        a[1, 3], a[1, 4], a[3, 4] = k_c / m_r, c_c / m_r, 1
-        a[4, 0], a[4, 1] = k_c / m_h, c_c / m_h
-        a[4, 3], a[4, 4] = -(k_c + k_h) / m_h, -(c_c + c_h) / m_h
-        b1[4], b0[4] = k_c / m_h, c_c / m_h
-    return a, b1, b0, k_c, c_c
+    return full_joint_state_space(q, constrained)
 
 
 def _exact(q, constrained: bool = False, dps: int = 50):  # type: ignore[no-untyped-def]
