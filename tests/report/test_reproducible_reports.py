@@ -30,6 +30,9 @@ from designlab.report.builder import run_record
 from designlab.study import parse_study, run_study
 
 ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "benchmarks"))
+#: a plain x86-64 CPU: the one declaration, in the benchmark that checks every report
+GENERIC_CPU = pytest.importorskip("reproduce_reports").GENERIC_CPU
 REPORTS = ROOT / "reports"
 
 #: Column names and Markdown table headers that are wall-clock times of the run itself
@@ -84,13 +87,6 @@ refine: false
 sensitivity: false
 """
 
-#: A plain x86-64 CPU for the code that dispatches on the host's instruction set: numba's
-#: kernels, glibc's libm (its FMA/AVX2 variants of exp, sin, pow...), numpy's SIMD loops.
-GENERIC_CPU = {
-    "NUMBA_CPU_NAME": "generic",
-    "GLIBC_TUNABLES": "glibc.cpu.hwcaps=-AVX2,-FMA,-AVX512F,-AVX512DQ,-AVX512VL",
-    "NPY_DISABLE_CPU_FEATURES": "X86_V3 X86_V4 AVX512_ICL AVX512_SPR",
-}
 
 _RERUN = """
 import sys
