@@ -50,6 +50,7 @@ def test_values_aggregates_and_ratio_from_a_table_written_in_the_test(reports):
     assert ev('report("r/t.csv", "x", agg="range", fmt=".2f")') == "-0.25 to 0.50"
     assert ev('report("r/t.csv", "x", a=["u", "w"], agg="max", scale=100, fmt=".1f")') == "12.5"
     assert ev('report("r/t.csv", "x", b=1, agg="count")') == "2"
+    assert ev('report("r/t.csv", "x", b=3, agg="count")') == "0"
     assert ev('ratio("r/t.csv", "x", num={"a": "v"}, den={"a": "u"}, fmt=".1f")') == "4.0"
     assert ev('report("r/t.csv", "x", a="u", fmt=".3f", shown="0.125")') == "0.125"
 

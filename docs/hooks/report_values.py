@@ -12,7 +12,7 @@ second a column; every other keyword that is not one of the options below select
 ``agg``
     ``"one"`` (default: exactly one row must match), ``"min"``, ``"max"``, ``"mean"``,
     ``"range"`` (``lo-hi``, or one number when both show the same; ``lo to hi`` when ``lo``
-    is negative), ``"count"`` (how many rows match; the column is not read).
+    is negative), ``"count"`` (how many rows match, possibly none; the column is not read).
 ``fmt``
     a format spec for the number (``".3f"``, ``".1%"``; default ``"g"``).
 ``scale``
@@ -76,7 +76,7 @@ def _table(path: str, reports: Path):
     return pd.read_csv(file)
 
 
-def _select(frame, path: str, where: dict[str, Any]):
+def _select(frame, path: str, where: dict[str, Any], *, allow_empty: bool = False):
     mask = None
     for column, wanted in where.items():
         if column not in frame.columns:
@@ -88,7 +88,7 @@ def _select(frame, path: str, where: dict[str, Any]):
         hit = col.isin(values) | col.astype(str).isin([str(v) for v in values])
         mask = hit if mask is None else mask & hit
     rows = frame if mask is None else frame[mask]
-    if rows.empty:
+    if rows.empty and not allow_empty:
         raise ReportValueError(f"no row of reports/{path} matches {where}")
     return rows
 
@@ -116,7 +116,7 @@ def report_value(path: str, column: str, /, *, _reports: Path = REPORTS, **kw: A
     scale = float(kw.pop("scale", 1.0))
     if agg not in AGGREGATES:
         raise ReportValueError(f"agg={agg!r}; allowed: {AGGREGATES}")
-    rows = _select(_table(path, _reports), path, kw)
+    rows = _select(_table(path, _reports), path, kw, allow_empty=agg == "count")
     if agg == "count":
         return str(len(rows))
     values = _column(rows, path, column) * scale
