@@ -28,6 +28,7 @@ from matplotlib.figure import Figure
 from designlab.navigation.crowds.animation import animate
 from designlab.navigation.crowds.diagnosis import force_breakdown, stall_summary
 from designlab.navigation.crowds.scenario import crowd
+from designlab.navigation.methods import METHODS
 from designlab.report import register_writer
 from designlab.report.builder import ReportParts, figure_section
 from designlab.report.writers import markdown_table
@@ -129,9 +130,7 @@ def _density(r: Any) -> str:
 
 
 def _outcome(r: Any) -> str:
-    if r.collided:
-        return "collision"
-    return f"arrived at {r.arrival_time:.1f} s" if math.isfinite(r.arrival_time) else "timeout"
+    return f"{r.outcome} at {r.outcome_time:.1f} s"
 
 
 def _ci(row: pd.Series, rate: str) -> str:
@@ -153,8 +152,10 @@ def rates_table(summary: pd.DataFrame) -> pd.DataFrame:
         row = {"layout": r["scenario"], "density (1/m^2)": f"{r['density']:g}",
                "method": r["method"], "runs": int(r["runs"])}  # fmt: skip
         for rate, name in (("success", "success"), ("collision", "collision"),
-                           ("critical", "critical entry"), ("timeout", "timeout")):  # fmt: skip
-            row[name] = _ci(r, rate)
+                           ("timeout", "timeout"), ("left_area", "left area"),
+                           ("simulator_failed", "simulator failed"),
+                           ("critical", "critical entry")):  # fmt: skip
+            row[name] = _ci(r, rate) if f"{rate}_rate" in r else "n/a"
         row["time to goal (s)"] = _num(r["time_to_goal_mean_s"])
         row["clearance min / p5 / median (m)"] = " / ".join(_num(r[c]) for c in clear)
         row["personal space (s)"] = _num(r["personal_space_mean_s"])
@@ -267,7 +268,10 @@ def navigation_crowds_markdown(result: NavigationCrowdsResult,
         f"{_SIZING[c.region_sizing]}. Rates are counted over runs; "
         f"intervals are {st.confidence:.0%} Wilson intervals. Personal space: "
         f"{st.personal_space:g} m around a pedestrian's centre (Hall's personal distance). "
-        "Outcomes are exclusive: collision, else success (arrived), else timeout.", "",
+        "Outcomes are exclusive, each run's first event: success (arrived), collision, "
+        "left area (the robot left the walkable area), simulator failed (JuPedSim stopped), "
+        "else timeout; every run that left the area, failed or whose pedestrians did not "
+        "see the robot where it was is listed under Warnings.", "",
         "## Rates, times and clearances", "",
         markdown_table(rates_table(summary)), "",
         "## Findings (computed from the table above)", "",
@@ -319,6 +323,8 @@ def stall_table(result: NavigationCrowdsResult) -> pd.DataFrame:
     """
     rows = []
     for (kind, label), r in result.tracks.items():
+        if not METHODS.get(r.method).force_field:  # a velocity command: no field to split
+            continue
         s = stall_summary(force_breakdown(r), r.crowd.robot.max_speed)
         rows.append({"run": kind, "method": label, "layout": r.crowd.layout,
                      "density": r.crowd.density, "seed": r.crowd.seed, "outcome": _outcome(r),
