@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from designlab.impact.contact import CONTACTS, HuntCrossleyFoam, contact_of
 from designlab.impact.criteria import (
     ISO_TS_15066_QUASI_STATIC_FORCE,
     ISO_TS_15066_TRANSIENT_FACTOR,
@@ -89,6 +90,7 @@ from designlab.impact.verdict import (
 from designlab.impact.worst_case import WorstCaseCheck, check_worst_case
 
 __all__ = [
+    "CONTACTS",
     "FOAM_1",
     "FOAM_2",
     "FOAM_2_MEASURED",
@@ -120,6 +122,7 @@ __all__ = [
     "HeadInjuryCriterion",
     "HeadNeck",
     "HeadRange",
+    "HuntCrossleyFoam",
     "ImpactForce",
     "ImpactMetrics",
     "ImpactPlane",
@@ -142,6 +145,7 @@ __all__ = [
     "combined_impact",
     "compare_joint_reductions",
     "constrained_model",
+    "contact_of",
     "effective_contact",
     "first_peak",
     "fit_joint_band",

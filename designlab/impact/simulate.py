@@ -544,9 +544,7 @@ def _integrated(
     """:func:`simulate` of a non-linear contact: the general response path, integrated."""
     if v_c <= 0:
         return _no_impact(robot, foam, head, v_c, duration, samples, "correct")  # type: ignore[arg-type]
-    lobe, evaluate = contact.integrate(
-        robot, foam, head, v_c, t_end=duration, stop_time=stop_time
-    )
+    lobe, evaluate = contact.integrate(robot, foam, head, v_c, t_end=duration, stop_time=stop_time)
     metrics = {
         "head_acceleration": (lobe.time_of_peak_acceleration, lobe.peak_head_acceleration),
         "compression": (lobe.time_of_max_compression, lobe.max_compression),

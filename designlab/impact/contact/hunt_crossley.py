@@ -45,7 +45,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
-from designlab.impact.contact.base import HEAD_COLUMNS, ContactModel, reduced_joint_values
+from designlab.impact.contact.base import (
+    HEAD_COLUMNS,
+    ContactModel,
+    reduced_joint_labels,
+    reduced_joint_values,
+)
 from designlab.impact.general import (
     GENERAL_RTOL,
     ForceLaw,
@@ -168,9 +173,8 @@ class HuntCrossley(ContactModel):
     def _robot_values(self, robot: Any, levers: NDArray | None) -> Mapping[str, Any]:
         return reduced_joint_values(robot, levers)
 
-    def _labels(self) -> Mapping[str, str]:
-        return {"M_r": "robot.mass", "C_r": "robot.damping", "K_r": "robot.stiffness",
-                "K_c": "foam.stiffness", "C_c": "foam.damping",
+    def _labels(self, along_link: bool) -> Mapping[str, str]:
+        return {**reduced_joint_labels(along_link), "K_c": "foam.stiffness", "C_c": "foam.damping",
                 "x_d": "foam.densification_depth", "n_d": "foam.stiffening",
                 "p_c": "foam.damping_exponent"}  # fmt: skip
 

@@ -53,11 +53,13 @@ class SeriesJointContact(ContactModel):
                 "K_mech": robot.transmission_stiffness, "C_cont": robot.control_damping,
                 "K_cont": robot.control_stiffness}  # fmt: skip
 
-    def _labels(self) -> Mapping[str, str]:
-        return {"M_r": "robot.mass", "C_mech": "robot.transmission_damping",
-                "K_mech": "robot.transmission_stiffness", "K_c": "foam.stiffness",
-                "C_c": "foam.damping", "C_cont": "robot.control_damping",
-                "K_cont": "robot.control_stiffness"}  # fmt: skip
+    def _labels(self, along_link: bool) -> Mapping[str, str]:
+        control = ("joint_damping", "joint_stiffness") if along_link else (
+            "control_damping", "control_stiffness")  # fmt: skip
+        return {"M_r": "robot.inertia" if along_link else "robot.mass",
+                "C_mech": "robot.transmission_damping", "K_mech": "robot.transmission_stiffness",
+                "K_c": "foam.stiffness", "C_c": "foam.damping",
+                "C_cont": f"robot.{control[0]}", "K_cont": f"robot.{control[1]}"}  # fmt: skip
 
     def model(self, constrained: bool) -> LinearImpactModel:
         """The full-joint model (:mod:`designlab.impact.full_joint_model`)."""
