@@ -551,8 +551,18 @@ def _integrated(
         "force": (lobe.time_of_peak_force, lobe.peak_force),
     }
     t_imp = lobe.impact_duration
-    warnings, status = _response_warnings(lobe.status, t_imp, metrics, foam, contact)  # type: ignore[arg-type]
-    t = np.linspace(0.0, _t_end(duration, t_imp), int(samples))
+    if lobe.status == "bottoming":
+        status, warnings = (
+            lobe.status,
+            [
+                f"the foam is crushed at t = {lobe.time_of_max_compression:.4g} s: eps reached its "
+                "densification depth, the force and a_h are beyond any limit (the histories end "
+                "there)"
+            ],
+        )
+    else:
+        warnings, status = _response_warnings(lobe.status, t_imp, metrics, foam, contact)  # type: ignore[arg-type]
+    t = np.linspace(0.0, min(_t_end(duration, t_imp), evaluate.end), int(samples))
     y = evaluate(t)
     return ImpactResponse(
         robot, foam, head, v_c, t, y["force"], y["head_acceleration"], y["compression"],  # type: ignore[arg-type]

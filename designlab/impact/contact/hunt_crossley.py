@@ -224,7 +224,10 @@ class HuntCrossley(ContactModel):
             law = self.force_law(*(float(col[c][i]) for c in _LAW))
             robot = tuple(float(col[c][i]) for c in self.robot_columns)
             head = None if constrained else tuple(float(col[c][i]) for c in HEAD_COLUMNS)
-            lobes.append(first_lobe(law, robot, head, float(v[i]), stop_time=stop_time, rtol=rtol))
+            lobes.append(
+                first_lobe(law, robot, head, float(v[i]), stop_time=stop_time, rtol=rtol,
+                           crush_depth=float(col["x_d"][i]))
+            )  # fmt: skip
         return _batch(p, v, lobes, constrained, rtol)
 
     def valid_depth(self, foam: Any) -> float:
@@ -251,10 +254,13 @@ class HuntCrossley(ContactModel):
         neck = None if head is None else tuple(float(self.column(row, c)[0]) for c in HEAD_COLUMNS)
         stop_time = float(options.get("stop_time", 0.05))
         rtol = GENERAL_RTOL.check(options.get("rtol", GENERAL_RTOL.default))
-        lobe = first_lobe(law, arm, neck, impact_velocity, stop_time=stop_time, rtol=rtol)
+        x_d = foam.densification_depth
+        lobe = first_lobe(
+            law, arm, neck, impact_velocity, stop_time=stop_time, rtol=rtol, crush_depth=x_d
+        )
         t_imp = lobe.impact_duration
         t_end = options.get("t_end") or (2.0 * t_imp if np.isfinite(t_imp) and t_imp > 0 else 0.1)
-        return lobe, histories(law, arm, neck, impact_velocity, t_end, rtol=rtol)
+        return lobe, histories(law, arm, neck, impact_velocity, t_end, rtol=rtol, crush_depth=x_d)
 
     def values(
         self,
@@ -281,7 +287,13 @@ def _batch(p: NDArray, v: NDArray, lobes: list, constrained: bool, rtol: float) 
 
     status = np.array([lobe.status for lobe in lobes])
     open_ = int(np.sum(status == GeneralStatus.LOBE_NOT_CLOSED.value))
+    crushed = int(np.sum(status == "bottoming"))
     warnings = [integrator_note(rtol)]
+    if crushed:
+        warnings.append(
+            f"{crushed} design(s) crushed the foam (eps reached its densification depth x_d): "
+            "their peak force and a_h are infinite, beyond any limit"
+        )
     if open_:
         warnings.append(f"{open_} design(s) did not close their first lobe; their metrics are NaN")
     return ImpactMetrics(
