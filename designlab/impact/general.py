@@ -43,6 +43,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from designlab.impact.parameters import STOP_TIME
 from designlab.params import Param
 from designlab.results import Status
 
@@ -217,8 +218,8 @@ def first_lobe(
     head: tuple[float, float, float] | None,
     impact_velocity: float,
     *,
-    stop_time: float = 0.05,
-    rtol: float = 1e-12,
+    stop_time: float = STOP_TIME.default,
+    rtol: float = GENERAL_RTOL.default,
     crush_depth: float | None = None,
 ) -> Lobe:
     """First-lobe metrics of one impact with a (non-linear) contact force law, integrated.
@@ -312,7 +313,7 @@ def histories(
     impact_velocity: float,
     t_end: float,
     *,
-    rtol: float = 1e-12,
+    rtol: float = GENERAL_RTOL.default,
     crush_depth: float | None = None,
 ) -> Histories:
     """The time histories of one impact over ``[0, t_end]`` (arguments as :func:`first_lobe`).

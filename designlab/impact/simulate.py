@@ -438,7 +438,7 @@ def simulate(
     duration: float | None = None,
     samples: int = 2001,
     q2: str = "correct",
-    stop_time: float = 0.05,
+    stop_time: float = STOP_TIME.default,
 ) -> ImpactResponse:
     """Simulate the impact of a foam-covered manipulator on a head (Zeng 2011, Sec. 3.5).
 

@@ -32,6 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
+from designlab.impact.parameters import STOP_TIME
 
 __all__ = [
     "HEAD_COLUMNS",
@@ -257,7 +258,7 @@ class ContactModel:
         impact_velocity: NDArray,
         *,
         constrained: bool = False,
-        stop_time: float = 0.05,
+        stop_time: float = STOP_TIME.default,
     ) -> NDArray[np.float64]:
         """The metric of criterion ``key`` for rows (the exact kernel's path by default)."""
         return key.values(rows, impact_velocity, constrained=constrained, stop_time=stop_time)

@@ -269,7 +269,7 @@ class HuntCrossley(ContactModel):
         impact_velocity: NDArray,
         *,
         constrained: bool = False,
-        stop_time: float = 0.05,
+        stop_time: float = STOP_TIME.default,
     ) -> NDArray[np.float64]:
         """The metric of criterion ``key`` by the general path (HIC is not available)."""
         if key.metric not in ("head_acceleration", "force", "compression"):
