@@ -449,7 +449,7 @@ def simulate(
         (:class:`ContactDynamics`) or the full series joint of (3.4.6)
         (:class:`~designlab.impact.full_joint.FullJointContact`).
     foam
-        Foam covering.
+        Foam covering: a linear :class:`Foam`, or a non-linear one (docs/impact_contact.md).
     head
         Head on its neck; ``None`` for the constrained impact (head against a
         wall, (3.6.1)/(3.9.4)).
@@ -487,14 +487,12 @@ def simulate(
     keys = ("ramp",) if profile is None else ("ramp", "accel", "a_d")
     families = _responses(robot, foam, head, q2, keys)
     evaluate = _superpose(families, max(v_c, 0.0), profile)
-
     if v_c <= 0 and profile is None:
         return _no_impact(robot, foam, head, v_c, duration, samples, q2)
     if v_c <= 0:
         raise InvalidParameterError(
             "impact_velocity", v_c, "must be > 0 when a velocity profile is given", "m/s"
         )
-
     t_imp, metrics, status = _lobe_metrics(
         families, evaluate, robot, foam, head, v_c, profile, stop_time, q2
     )
