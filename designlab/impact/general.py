@@ -292,11 +292,19 @@ class Histories:
     Outputs: ``force``, ``head_acceleration``, ``compression``, ``head_velocity``,
     ``robot_deflection`` (the names of :func:`~designlab.impact.simulate`), at times within
     the integrated span.
+
+    Attributes
+    ----------
+    impact
+        The equations of the impact (force law, manipulator, head, v_c).
+    dense
+        The integrator's dense output, ``t -> state``.
+    end
+        The end of the integrated span, s.
     """
 
     impact: _Impact
     dense: Any
-    #: the end of the integrated span, s
     end: float
 
     def __call__(self, t: NDArray, derivative: int = 0) -> dict[str, NDArray]:

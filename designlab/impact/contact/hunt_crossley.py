@@ -168,7 +168,15 @@ def _force_law(k: float, c: float, x_d: float, n: float, p: float) -> ForceLaw:
 
 @dataclass(frozen=True)
 class HuntCrossley(ContactModel):
-    """The reduced joint with the non-linear foam (see the module text)."""
+    """The reduced joint with the non-linear foam (see the module text).
+
+    Attributes
+    ----------
+    name, label, doc, robots, foam, columns, robot_columns, foam_columns, equations
+        As in :class:`~designlab.impact.contact.base.ContactModel`.
+    linear, batched, gradients, profiles, printed_q2, response_form
+        Its capabilities, as in :class:`~designlab.impact.contact.base.ContactModel`.
+    """
 
     def _robot_values(self, robot: Any, levers: NDArray | None) -> Mapping[str, Any]:
         return reduced_joint_values(robot, levers)
@@ -224,9 +232,10 @@ class HuntCrossley(ContactModel):
             law = self.force_law(*(float(col[c][i]) for c in _LAW))
             robot = tuple(float(col[c][i]) for c in self.robot_columns)
             head = None if constrained else tuple(float(col[c][i]) for c in HEAD_COLUMNS)
+            crush = float(col["x_d"][i]) if col["n_d"][i] > 0 else None  # n = 0: no densification
             lobes.append(
                 first_lobe(law, robot, head, float(v[i]), stop_time=stop_time, rtol=rtol,
-                           crush_depth=float(col["x_d"][i]))
+                           crush_depth=crush)
             )  # fmt: skip
         return _batch(p, v, lobes, constrained, rtol)
 
@@ -254,7 +263,7 @@ class HuntCrossley(ContactModel):
         neck = None if head is None else tuple(float(self.column(row, c)[0]) for c in HEAD_COLUMNS)
         stop_time = float(options.get("stop_time", 0.05))
         rtol = GENERAL_RTOL.check(options.get("rtol", GENERAL_RTOL.default))
-        x_d = foam.densification_depth
+        x_d = foam.densification_depth if foam.stiffening > 0 else None  # n = 0: never crushed
         lobe = first_lobe(
             law, arm, neck, impact_velocity, stop_time=stop_time, rtol=rtol, crush_depth=x_d
         )

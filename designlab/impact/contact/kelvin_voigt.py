@@ -42,7 +42,15 @@ __all__ = ["KELVIN_VOIGT", "KelvinVoigt"]
 
 @dataclass(frozen=True)
 class KelvinVoigt(ContactModel):
-    """The reduced joint with a linear foam (see the module text)."""
+    """The reduced joint with a linear foam (see the module text).
+
+    Attributes
+    ----------
+    name, label, doc, robots, foam, columns, robot_columns, foam_columns, equations
+        As in :class:`~designlab.impact.contact.base.ContactModel`.
+    linear, batched, gradients, profiles, printed_q2, response_form
+        Its capabilities, as in :class:`~designlab.impact.contact.base.ContactModel`.
+    """
 
     def _robot_values(self, robot: Any, levers: NDArray | None) -> Mapping[str, Any]:
         return reduced_joint_values(robot, levers)

@@ -37,7 +37,15 @@ __all__ = ["SERIES_JOINT", "SeriesJointContact"]
 
 @dataclass(frozen=True)
 class SeriesJointContact(ContactModel):
-    """The full series joint with a linear foam (see the module text)."""
+    """The full series joint with a linear foam (see the module text).
+
+    Attributes
+    ----------
+    name, label, doc, robots, foam, columns, robot_columns, foam_columns, equations
+        As in :class:`~designlab.impact.contact.base.ContactModel`.
+    linear, batched, gradients, profiles, printed_q2, response_form
+        Its capabilities, as in :class:`~designlab.impact.contact.base.ContactModel`.
+    """
 
     def _robot_values(self, robot: Any, levers: NDArray | None) -> Mapping[str, Any]:
         if robot.along_link:
