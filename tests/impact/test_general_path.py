@@ -115,3 +115,15 @@ def test_hic_and_profiles_are_refused_by_name() -> None:
                                 criteria=[dl.impact.HeadInjuryCriterion()])  # fmt: skip
     with pytest.raises(InvalidParameterError, match="damping_exponent"):
         dl.impact.HuntCrossleyFoam(24.25e3, 71.9, densification_depth=0.02, damping_exponent=0.5)
+
+
+def test_a_sweep_chunk_with_the_foam_shape_columns_takes_the_general_path() -> None:
+    from designlab.impact.evaluators import impact_metrics_chunk
+
+    p = _designs(3, seed=7)
+    points = dict(zip(HC.columns, _linear_rows(p).T, strict=True))
+    points["v_c"] = np.array([0.5, 1.0, 1.5])
+    linear = impact_metrics_chunk({k: points[k] for k in (*PARAM_NAMES, "v_c")}, {})
+    general = impact_metrics_chunk(points, {})
+    np.testing.assert_allclose(general["a_h_max_g"], linear["a_h_max_g"], rtol=1e-8)
+    np.testing.assert_allclose(general["eps_max_m"], linear["eps_max_m"], rtol=1e-8)
