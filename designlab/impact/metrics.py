@@ -561,6 +561,13 @@ def impact_metrics(
     an array needs explicit column names (columns=...) ...
     """
     keys = columns if columns is not None else getattr(params, "keys", lambda: ())()
+    from designlab.impact.contact import contact_for_columns  # its models call this module
+
+    contact = contact_for_columns(keys)
+    if contact is not None and not contact.linear:  # the general path (integrated)
+        p = named_columns("params", params, contact.columns, columns=columns)
+        return contact.metrics(p, impact_velocity, constrained=constrained, q2=q2,
+                               stop_time=stop_time)  # fmt: skip
     p = named_columns("params", params, param_names(keys=list(keys)), columns=columns)
     return metrics_of_matrix(
         p,
