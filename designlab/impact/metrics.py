@@ -1183,7 +1183,40 @@ def _audit_block_numpy(
             lobe_bad = np.any(under, axis=1) & (np.argmax(under, axis=1) < first_high)
             code = np.where((code == 0) & lobe_bad, kernel.SUSPECT_LOBE, code)
         code = np.where((code == 0) & high, kernel.SUSPECT_MAXIMUM, code)
+    if poly.shape[2] >= ERR_COLUMNS:  # the residues' and poles' error bounds are known
+        code = np.where(code == 0, _bounds_check(poles, res, poly, rows, lobe), code)
     return code.astype(np.int8)
+
+
+def _bounds_check(
+    poles: NDArray, res: NDArray, poly: NDArray, rows: NDArray, lobe: bool
+) -> NDArray[np.int8]:
+    """The kernel's checks of the error bounds (``kernel.sampled_check``): the rounding noise
+    (:func:`.kernel_modal.noise`) may move the lobe end by at most ``kernel.TIMP_ERROR``
+    (relative), the residues' and poles' errors may take at most ``kernel.TERM_ERROR`` of
+    each maximum; 0 or the ``SUSPECT_*`` code of each design."""
+    nk = poles.shape[1]
+    t_imp = rows[:, kernel.COLUMNS.index("t_imp")]
+    code = np.zeros(poles.shape[0], dtype=np.int8)
+    with np.errstate(over="ignore", invalid="ignore"):
+        e = np.exp(poles * t_imp[:, None])
+        for o, (top_col, _) in enumerate(_MAXIMA):
+            if not (np.any(res[:, o]) or np.any(poly[:, o])):
+                continue
+            err0, err1 = poly[:, o, 2 : 2 + nk], poly[:, o, 2 + MAX_TERMS : 2 + MAX_TERMS + nk]
+            if lobe and o == 1:
+                c0, c1 = poly[:, o, 0], poly[:, o, 1]
+                size = np.abs(c0 * t_imp) + np.abs(c1) + (np.abs(res[:, o]) * np.abs(e)).sum(1)
+                extra = ((err0 + err1 * t_imp[:, None]) * np.abs(e)).sum(axis=1)
+                slope = c0 + (res[:, o] * poles * e).real.sum(axis=1)
+                moved = kernel_modal.NOISE * size + extra > kernel.TIMP_ERROR * t_imp * np.abs(
+                    slope
+                )
+                code = np.where((code == 0) & moved, kernel.SUSPECT_LOBE, code)
+            top = np.abs(rows[:, kernel.COLUMNS.index(top_col)])
+            big = (err0 + err1 * t_imp[:, None]).sum(axis=1) > kernel.TERM_ERROR * top
+            code = np.where((code == 0) & big, kernel.SUSPECT_MAXIMUM, code)
+    return code
 
 
 def _values_at(
