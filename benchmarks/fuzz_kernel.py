@@ -177,15 +177,12 @@ def designs(family: str, seed: int, chunk_index: int, chunk: int) -> np.ndarray:
 
 def by_kernel(p: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
     """The kernel's unit-v_c rows ``(a_max, eps_max, f_max, t_imp)``, status codes and the
-    number of self-check fallbacks (as :func:`designlab.impact.metrics_of_matrix`)."""
+    number of self-check fallbacks (as :func:`designlab.impact.metrics_of_matrix`: the
+    refused designs from 50-digit poles and residues, then the numpy path)."""
     rows, codes = kernel.reduced_metrics(p, (True, True, True), printed=False, stop_time=WINDOW,
                                          max_lobe_steps=MAX_STEPS, diagnostics=False)  # fmt: skip
     sus = np.flatnonzero(codes >= kernel.SUSPECT_POLES)
-    if sus.size:
-        resp = _m.ramp_responses(_m.response_model(p[sus], False), p[sus], NAMES)
-        h = 0.4 / np.abs(resp[NAMES[0]].poles).max(axis=1)
-        rows[sus], codes[sus], _ = _m._settle(resp, h, codes[sus], False, WINDOW, MAX_STEPS,
-                                              False)  # fmt: skip
+    _m.settle_suspects(p, NAMES, "correct", rows, codes, WINDOW, MAX_STEPS, False)
     return rows[:, :4], codes, int(sus.size)
 
 

@@ -726,22 +726,41 @@ def _reduced_kernel(
     )
     if np.any(codes == kernel.OVERFLOW):
         _overflow(p, int(np.flatnonzero(codes == kernel.OVERFLOW)[0]))
-    sus = np.flatnonzero(codes >= kernel.SUSPECT_POLES)
-    notes: tuple[str, ...] = ()
-    if sus.size:  # the kernel's self-check failed: extended precision, then the numpy path
-        rows[sus], codes[sus], notes = _settle_precise(
-            p[sus], names, printed, codes[sus], stop_time, max_lobe_steps, diagnostics
-        )
-        left = sus[codes[sus] >= kernel.SUSPECT_POLES]
-        if left.size:
-            resp = ramp_responses(response_model(p[left], False), p[left], names, q2=q2, rows=left)
-            h = 0.4 / np.abs(resp[names[0]].poles).max(axis=1)
-            rows[left], codes[left], more = _settle(
-                resp, h, codes[left], False, stop_time, max_lobe_steps, diagnostics
-            )
-            notes = (*notes, *more)
+    notes = settle_suspects(p, names, q2, rows, codes, stop_time, max_lobe_steps, diagnostics)
     m = _from_kernel(p, v, names, rows, codes, False, diagnostics)
     return replace(m, warnings=(*m.warnings, *notes)) if notes else m
+
+
+def settle_suspects(
+    p: NDArray,
+    names: tuple[str, ...],
+    q2: str,
+    rows: NDArray,
+    codes: NDArray,
+    stop_time: float,
+    max_lobe_steps: int,
+    diagnostics: bool,
+) -> tuple[str, ...]:
+    """Settle in place the reduced designs whose kernel ``codes`` are ``SUSPECT_*`` (the
+    self-check refused them): from 50-digit poles and residues (:func:`_settle_precise`),
+    then those still refused by the numpy path (:func:`_settle`); a design neither
+    certifies is :data:`UNCERTIFIED` with NaN ``rows``. Returns the warnings' notes."""
+    sus = np.flatnonzero(codes >= kernel.SUSPECT_POLES)
+    if not sus.size:
+        return ()
+    printed = check_q2(q2) == "printed"
+    rows[sus], codes[sus], notes = _settle_precise(
+        p[sus], names, printed, codes[sus], stop_time, max_lobe_steps, diagnostics
+    )
+    left = sus[codes[sus] >= kernel.SUSPECT_POLES]
+    if left.size:
+        resp = ramp_responses(response_model(p[left], False), p[left], names, q2=q2, rows=left)
+        h = 0.4 / np.abs(resp[names[0]].poles).max(axis=1)
+        rows[left], codes[left], more = _settle(
+            resp, h, codes[left], False, stop_time, max_lobe_steps, diagnostics
+        )
+        notes = (*notes, *more)
+    return notes
 
 
 def _reduced_numpy(
