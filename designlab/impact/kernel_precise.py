@@ -7,12 +7,12 @@ foam, or nearly double real poles, they exceed the share of a maximum the self-c
 allows although the true errors are 100-200 times smaller, and the design would end
 ``uncertified``. Here the same closed-form transfer functions
 (:func:`.kernel_poles.coefficients`, Zeng 2011 (3.5.11), (3.5.14), (3.9.2)) are
-evaluated in 50-digit decimal arithmetic (the standard library's :mod:`decimal`):
+evaluated in 40-digit decimal arithmetic (the standard library's :mod:`decimal`):
 the poles refined from numpy's roots by the Weierstrass (Durand-Kerner) iteration
 and enclosed in the disks ``|z - z_j| <= 4 |W_j|`` (``W_j = D(z_j) / prod_(k != j)
 (z_j - z_k)``; the union of the disks holds every root and a disk apart from the
 others exactly one, Carstensen 1991), a pole real where its disk is the only one
-meeting its mirror image, the residues and the polynomial part at 50 digits. Rounded
+meeting its mirror image, the residues and the polynomial part at 40 digits. Rounded
 to double precision, each residue and pole is then exact to about one rounding of
 its own size, and the error bounds handed to the kernel's searches say so. A design
 whose disks overlap (poles equal to about 1e-20 of their size) is not certified here.
@@ -34,6 +34,7 @@ True
 from __future__ import annotations
 
 import decimal
+import math
 from collections.abc import Sequence
 
 import numpy as np
@@ -44,7 +45,12 @@ from designlab.impact.modal import ModalResponse
 __all__ = ["DIGITS", "precise_responses"]
 
 #: decimal digits of the evaluation
-DIGITS = 50
+DIGITS = 40
+#: a generous bound of the decimal evaluation's relative rounding (1e5 units of the last digit)
+_EPS = 10.0 ** (5 - DIGITS)
+#: the Weierstrass iteration stops once every root's disk is this small (relative): far
+#: below the one rounding of a double that the result carries
+_CONVERGED = 1e-30
 #: most Weierstrass iterations from numpy's roots (a simple root converges quadratically)
 _ITERATIONS = 60
 #: the outputs, in the kernel's order (force, head acceleration, compression)
@@ -77,8 +83,8 @@ class _C:
         return _C((self.re * o.re + self.im * o.im) / d, (self.im * o.re - self.re * o.im) / d)
 
     def abs(self) -> float:
-        """``|z|`` (as a float: only bounds use it)."""
-        return float((self.re * self.re + self.im * self.im).sqrt())
+        """``|z|`` (as a float, to about one rounding: only bounds use it)."""
+        return math.hypot(float(self.re), float(self.im))
 
     def to_complex(self) -> complex:
         return complex(float(self.re), float(self.im))
@@ -86,16 +92,17 @@ class _C:
 
 def _horner(coef: Sequence[decimal.Decimal], x: _C) -> tuple[_C, _C]:
     """``P(x)`` and ``P'(x)`` of the real coefficients ``coef`` (descending)."""
-    f, df = _C(coef[0]), _C(_D(0))
+    f, df = _C(coef[0]), _C(_ZERO)
     for a in coef[1:]:
         df = df * x + f
-        f = f * x + _C(a)
+        f = f * x
+        f.re += a
     return f, df
 
 
 def _coefficients(q: Sequence[float], printed: bool) -> tuple[list, list]:
     """The monic denominator (5,) and the numerators (3 x 6, descending) of
-    :func:`.kernel_poles.coefficients`, exact to 50 digits from the design ``q``."""
+    :func:`.kernel_poles.coefficients`, exact to 40 digits from the design ``q``."""
     m_r, c_r, k_r, k_c, c_c, m_h, c_h, k_h = (_D(float(x)) for x in q)
     mm = m_r * m_h
     cc = c_c * c_r + c_c * c_h + (0 if printed else c_r * c_h)
@@ -134,10 +141,10 @@ def _roots(den: list, start: NDArray[np.complex128]) -> tuple[list[_C], list[flo
                 return None
             w.append(_horner(den, z[j])[0] / prod)
             ax = z[j].abs()
-            noise = 1e-47 * sum(c * ax ** (4 - k) for k, c in enumerate(size)) / prod.abs()
+            noise = _EPS * sum(c * ax ** (4 - k) for k, c in enumerate(size)) / prod.abs()
             radius[j] = 5.0 * (4.0 * w[j].abs() + noise)
         z = [zj - wj for zj, wj in zip(z, w, strict=True)]
-        if max(radius) <= 1e-40 * max(x.abs() for x in z):
+        if max(radius) <= _CONVERGED * max(x.abs() for x in z):
             break
     for j in range(4):
         for k in range(j + 1, 4):
@@ -198,7 +205,7 @@ def _design(q: Sequence[float], printed: bool, start: NDArray[np.complex128], ou
                 size = sum(abs(float(c)) * ax**k for k, c in enumerate(reversed(nums[o])))
                 slope = df.abs() * w / dp.abs()
                 # the decimal evaluation, the root's enclosure, then one rounding of r
-                e = 1e-45 * size * w / dp.abs() + slope * radius[j] + a * (sep + 2 * radius[j] / ax)
+                e = _EPS * size * w / dp.abs() + slope * radius[j] + a * (sep + 2 * radius[j] / ax)
                 err[o, slot, 0] = 2.0 * (e + 2.0 * a * _UNIT)
                 err[o, slot, 1] = 2.0 * a * delta
         for o in range(3):
@@ -212,7 +219,7 @@ def _design(q: Sequence[float], printed: bool, start: NDArray[np.complex128], ou
 def precise_responses(
     params: NDArray[np.float64], *, printed: bool, names: Sequence[str]
 ) -> tuple[dict[str, ModalResponse], NDArray[np.bool_]]:
-    """The unit-ramp responses of reduced, unconstrained designs from 50-digit poles and
+    """The unit-ramp responses of reduced, unconstrained designs from 40-digit poles and
     residues, with error bounds of about one rounding.
 
     Parameters

@@ -761,7 +761,7 @@ def settle_suspects(
     diagnostics: bool,
 ) -> tuple[str, ...]:
     """Settle in place the reduced designs whose kernel ``codes`` are ``SUSPECT_*`` (the
-    self-check refused them): from 50-digit poles and residues (:func:`_settle_precise`),
+    self-check refused them): from 40-digit poles and residues (:func:`_settle_precise`),
     then those still refused by the numpy path (:func:`_settle`); a design neither
     certifies is :data:`UNCERTIFIED` with NaN ``rows``. Returns the warnings' notes."""
     sus = np.flatnonzero(codes >= kernel.SUSPECT_POLES)
@@ -793,7 +793,7 @@ def _reduced_numpy(
 ) -> ImpactMetrics:
     """:func:`metrics_of_matrix` of reduced unconstrained designs without numba: the numpy
     modal path checked as the kernel checks it (:func:`_settle`), the designs it does not
-    certify again from their 50-digit modal solutions (:func:`_settle_precise`)."""
+    certify again from their 40-digit modal solutions (:func:`_settle_precise`)."""
     say_no_jit("impact metrics")
     resp = ramp_responses(response_model(p, False), p, names, q2=q2)
     h = 0.4 / np.abs(resp[names[0]].poles).max(axis=1)
@@ -821,7 +821,7 @@ def _settle_precise(
     diagnostics: bool,
 ) -> tuple[NDArray, NDArray, tuple[str, ...]]:
     """Rows and codes of reduced, unconstrained designs the kernel (or the numpy path) did not
-    certify (``codes``), from their 50-digit modal solutions (:mod:`.kernel_precise`) with
+    certify (``codes``), from their 40-digit modal solutions (:mod:`.kernel_precise`) with
     error bounds of about one rounding, searched and checked again by the kernel (by
     :func:`_settle` without numba). Designs still not certified keep a ``SUSPECT_*`` code
     (:data:`UNCERTIFIED` without numba). Also a note for the warnings."""
@@ -845,7 +845,7 @@ def _settle_precise(
             )
     done = int(np.sum(out < kernel.SUSPECT_POLES))
     note = (
-        f"{n} design(s) not certified in double precision were evaluated from 50-digit poles "
+        f"{n} design(s) not certified in double precision were evaluated from 40-digit poles "
         f'and residues (docs/impact.md, "Self-check"): {done} certified'
     )
     return rows, out, (note,)

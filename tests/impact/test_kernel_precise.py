@@ -1,7 +1,7 @@
-"""Designs the double-precision self-checks refuse get a certified number from 50-digit poles
+"""Designs the double-precision self-checks refuse get a certified number from 40-digit poles
 and residues (:mod:`designlab.impact.kernel_precise`; issue 34, availability).
 
-* The 50-digit residues and poles, rounded to doubles, are within their stated error bounds
+* The 40-digit residues and poles, rounded to doubles, are within their stated error bounds
   of a 60-digit mpmath evaluation (:class:`exact_reference.MpImpact`), and those bounds are
   a few roundings of the largest residue (the double-precision bounds were 100-200 times
   the true errors on these designs).
