@@ -62,9 +62,9 @@ evaluator, mpmath), disagreements, kernel wrong, evaluator wrong, uncertified,
 self-check fallbacks (reduced: designs the self-check sent to the numpy path;
 full joint and constrained: designs the certificate sent to the eigen or numpy
 path). ``--markdown FILE`` writes that table with the date, the CPU and the
-command. With ``--state FILE`` the tallies are saved after every round and a killed run,
-started again with the same arguments, continues at its next chunk (the markdown is
-rewritten after every round too). The exit status is 1 if the kernel was wrong on any
+command. With ``--state FILE`` the tallies are saved after every family's chunk and a killed
+run, started again with the same arguments, continues where it stopped (the markdown
+is rewritten each time too). The exit status is 1 if the kernel was wrong on any
 design.
 """
 
@@ -398,10 +398,22 @@ def _resume(
         "when": datetime.datetime.now(datetime.UTC).strftime("%d %B %Y, %H:%M UTC"),
         "first_chunk": args.start_chunk,
         "next_chunk": args.start_chunk,
+        "done": [],
         "load_start": os.getloadavg()[0],
         "wall": 0.0,
     }
     return state, {f: {**dict.fromkeys(COUNTS, 0), "wrong": []} for f in families}
+
+
+def _save(args: argparse.Namespace, state: dict, tallies: dict) -> None:
+    """Write the state (``--state``, whole, then renamed: a kill leaves the last one) and
+    the markdown table (``--markdown``)."""
+    if args.state:
+        tmp = Path(args.state + ".tmp")
+        tmp.write_text(json.dumps({**state, "tallies": tallies}))
+        tmp.replace(args.state)
+    if args.markdown:
+        _markdown(args.markdown, state, tallies)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -430,19 +442,17 @@ def main(argv: list[str] | None = None) -> int:
         k = state["next_chunk"]
         for f in families:
             left = n - tallies[f]["designs"]
-            if left > 0:
+            if left > 0 and f not in state["done"]:
                 p = designs(f, args.seed, k, args.chunk)[:left]
                 tallies[f]["wrong"] += run_chunk(f, p, args.evaluator, tallies[f],
                                                  lambda s: print(s, flush=True))  # fmt: skip
-        state["next_chunk"], state["wall"] = k + 1, wall0 + time.time() - start
+            state["done"].append(f)
+            state["wall"] = wall0 + time.time() - start
+            _save(args, state, tallies)  # after every family's chunk: a kill loses at most one
+        state["next_chunk"], state["done"] = k + 1, []
+        _save(args, state, tallies)
         print(f"chunk {k} done: {sum(t['designs'] for t in tallies.values()):,} designs, "
               f"{state['wall']:.0f} s", flush=True)  # fmt: skip
-        if args.state:  # written whole, then renamed: a kill leaves the last round's tally
-            tmp = Path(args.state + ".tmp")
-            tmp.write_text(json.dumps({**state, "tallies": tallies}))
-            tmp.replace(args.state)
-        if args.markdown:
-            _markdown(args.markdown, state, tallies)
     print("\n".join(table(tallies)))
     wrong = sum(t["kernel_wrong"] for t in tallies.values())
     if args.markdown:
