@@ -365,7 +365,7 @@ def _markdown(path: str, state: dict, tallies: dict) -> int:
     a = state["args"]
     head = [
         f"Fuzz run of {state['when']}: `python benchmarks/fuzz_kernel.py {state['command']}` "
-        f"(chunks {state['first_chunk']}-{state['next_chunk'] - 1} of {a['chunk']:,} designs, "
+        f"({_chunks(state, len(tallies))}, chunks of {a['chunk']:,} designs, "
         f"seed {a['seed']}, evaluator `{a['evaluator']}`), one process on {_cpu()}, load "
         f"average {state['load_start']:.1f} at the start and {os.getloadavg()[0]:.1f} at the "
         f"end, {state['wall']:.0f} s wall time. CPU seconds are this process's.",
@@ -377,6 +377,16 @@ def _markdown(path: str, state: dict, tallies: dict) -> int:
             tail.append(f"- {f}: {q}: kernel {row}, mpmath {truth}")
     Path(path).write_text("\n".join(head + lines + tail) + "\n")
     return wrong
+
+
+def _chunks(state: dict, families: int) -> str:
+    """The chunks a run covered, e.g. ``0-4`` or ``0-4 and chunk 5 for 3 of the 12 families``."""
+    first, k, done = state["first_chunk"], state["next_chunk"], state.get("done", [])
+    whole = f"{first}-{k - 1}" if k > first else ""
+    if not done:
+        return whole
+    part = f"chunk {k} for {len(done)} of the {families} families"
+    return f"{whole} and {part}" if whole else part
 
 
 def _resume(
@@ -428,7 +438,10 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--families", default=",".join(ALL_FAMILIES))
     ap.add_argument("--evaluator", choices=("fast", "numpy"), default="fast")
     ap.add_argument("--markdown", help="write the tally table to this file (after every round)")
-    ap.add_argument("--state", help="save the tallies here after every round; resume from it")
+    ap.add_argument("--state", help="save the tallies here after every chunk; resume from it")
+    ap.add_argument(
+        "--report", action="store_true", help="only write --markdown from --state (no run)"
+    )
     args = ap.parse_args(argv)
     families = args.families.split(",")
     for f in families:
@@ -438,6 +451,8 @@ def main(argv: list[str] | None = None) -> int:
     state, tallies = _resume(args.state, args, families, sys.argv[1:] if argv is None else argv)
     n = int(args.designs)
     wall0 = state["wall"]
+    if args.report:
+        return 1 if _markdown(args.markdown, state, tallies) else 0
     while time.time() - start < args.seconds and any(tallies[f]["designs"] < n for f in families):
         k = state["next_chunk"]
         for f in families:
