@@ -100,6 +100,15 @@ def _horner(coef: Sequence[decimal.Decimal], x: _C) -> tuple[_C, _C]:
     return f, df
 
 
+def _value(coef: Sequence[decimal.Decimal], x: _C) -> _C:
+    """``P(x)`` of the real coefficients ``coef`` (descending)."""
+    f = _C(coef[0])
+    for a in coef[1:]:
+        f = f * x
+        f.re += a
+    return f
+
+
 def _coefficients(q: Sequence[float], printed: bool) -> tuple[list, list]:
     """The monic denominator (5,) and the numerators (3 x 6, descending) of
     :func:`.kernel_poles.coefficients`, exact to 40 digits from the design ``q``."""
@@ -139,7 +148,7 @@ def _roots(den: list, start: NDArray[np.complex128]) -> tuple[list[_C], list[flo
                     prod = prod * (z[j] - z[k])
             if prod.re == 0 and prod.im == 0:
                 return None
-            w.append(_horner(den, z[j])[0] / prod)
+            w.append(_value(den, z[j]) / prod)
             ax = z[j].abs()
             noise = _EPS * sum(c * ax ** (4 - k) for k, c in enumerate(size)) / prod.abs()
             radius[j] = 5.0 * (4.0 * w[j].abs() + noise)
