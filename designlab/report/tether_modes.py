@@ -30,6 +30,15 @@ from designlab.study.kinds.tether_modes import ModeCase, TetherModesResult
 __all__ = ["brake_figure", "modes_figure", "modes_markdown", "write_modes_report"]
 
 
+#: Why a cell of the side and front table can be empty.
+_WHY_MISSING = {
+    "side_offset_m": "not a side mode",
+    "offset_error_mean_m": "not a side mode",
+    "offset_error_inside_turns_m": "no turn, or not a side mode",
+    "offset_error_outside_turns_m": "no turn, or not a side mode",
+}
+
+
 def modes_figure(cases: list[ModeCase]) -> Figure:
     """Leader and robot paths of one path, one panel per mode (offsets overlaid).
 
@@ -179,7 +188,7 @@ def modes_markdown(
         "normal deviation from the leader's path is the side offset (its target is l_H); the "
         "maximum is dominated by the ends of the comparison range.",
         "",
-        markdown_table(frame[cols], floatfmt=".4g"),
+        markdown_table(frame[cols], floatfmt=".4g", missing=_WHY_MISSING),
         "",
         "Against the thesis (computed from the table):",
         "",
