@@ -25,6 +25,7 @@ from designlab.report.builder import (
     warnings_section,
     write_report,
 )
+from designlab.report.figure_style import start_and_goal
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.navigation_gains import WIDER, NavigationGainsResult
 
@@ -187,6 +188,7 @@ def trajectory_figure(result: NavigationGainsResult, mode: str) -> Figure:
                 continue
             if first:
                 _draw_scenario(ax, res)
+                start_and_goal(ax, res.scenario.start, res.scenario.goal)
                 first = False
             g = res.gains
             ax.plot(

@@ -598,6 +598,7 @@ def _tuning_figure(r: Any) -> Figure:
     ax1.set_xticks(
         x, [f"{p}\n{v:g} m/s\n({s})" for s, p, v in keys.itertuples(index=False)], fontsize=6
     )
+    ax1.set_xlabel("leader path, leader speed (scenario set)")
     ax1.set_ylabel("mean normal deviation / b")
     ax1.set_title(f"{r.controller.name}: default vs tuned")
     ax1.legend()

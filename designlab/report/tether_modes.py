@@ -24,6 +24,7 @@ from matplotlib.figure import Figure
 from designlab.following.tether import LAWS
 from designlab.report import register_writer
 from designlab.report.builder import report_header, slug, warnings_section, write_report
+from designlab.report.figure_style import method_colour
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.tether_modes import ModeCase, TetherModesResult
 
@@ -66,6 +67,8 @@ def modes_figure(cases: list[ModeCase]) -> Figure:
         ax.set_xlim(x0, x1)
         ax.set_ylim(y0, y1)
         ax.set_aspect("equal")
+        ax.set_xlabel("x (m)")
+        ax.set_ylabel("y (m)")
         ax.set_title(f"{cases[0].path}: {m}", fontsize=10)
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=7)
@@ -87,9 +90,9 @@ def brake_figure(result: TetherModesResult) -> Figure:
     for ax, law in zip(axes[0], laws, strict=True):
         for b in (b for b in result.brakes if b.law == law):
             r = b.run
-            ax.plot(
-                r.t, r.heading - r.heading[0], lw=0.9, label="Brake mode" if b.brake else "without"
-            )
+            ax.plot(r.t, r.heading - r.heading[0], lw=0.9,
+                    color=method_colour("BrakeMode") if b.brake else "0.45",
+                    label="Brake mode" if b.brake else "without")  # fmt: skip
         ax.axvline(result.brakes[0].stop_time, color="gray", ls=":", lw=0.8)
         ax.set_title(law, fontsize=10)
         ax.set_xlabel("time (s); dotted: the leader stops")

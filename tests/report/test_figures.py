@@ -13,6 +13,7 @@ import importlib
 import itertools
 import pkgutil
 from pathlib import Path
+from typing import Any
 
 import pytest
 from matplotlib.figure import Figure
@@ -237,15 +238,33 @@ def legend_problems(fig: Figure, kind: str) -> list[str]:
     return problems
 
 
+def _labelled_by_neighbour(ax: Any, name: str, axes: list[Any]) -> bool:
+    """The axis's label stands on the panel below (x) or to the left (y) of the same column
+    or row: one label for a column of panels."""
+    box = ax.get_position()
+    for other in axes:
+        b = other.get_position()
+        if name == "x" and other.get_xlabel().strip() and abs(b.x0 - box.x0) < 1e-3:
+            if b.y0 < box.y0:
+                return True
+        if name == "y" and other.get_ylabel().strip() and abs(b.y0 - box.y0) < 1e-3:
+            if b.x0 < box.x0:
+                return True
+    return False
+
+
 def label_problems(fig: Figure) -> list[str]:
-    """An axis showing tick labels without an axis label (colour bars excepted)."""
+    """An axis showing tick labels without an axis label on it or on its column's (x) or
+    row's (y) outer panel; colour bars excepted."""
     fig.canvas.draw()
     problems = []
+    axes = [ax for ax in fig.axes if ax.get_label() != "<colorbar>"]
     for i, ax in enumerate(fig.axes):
         if ax.get_label() == "<colorbar>" or not ax.get_visible() or not ax.axison:
             continue
         for name, axis in (("x", ax.xaxis), ("y", ax.yaxis)):
             shown = [t for t in axis.get_ticklabels() if t.get_visible() and t.get_text().strip()]
             if shown and not axis.label.get_text().strip():
-                problems.append(f"ax{i} ({ax.get_title()!r}): {name} ticks without a label")
+                if not _labelled_by_neighbour(ax, name, axes):
+                    problems.append(f"ax{i} ({ax.get_title()!r}): {name} ticks without a label")
     return problems
