@@ -345,10 +345,10 @@ def injury_probability(
     heads: Any = None,
     criterion: Criterion | None = None,
     points: Any = None,
-    samples: int = 100_000,
-    method: str = "importance",
-    confidence: float = 0.95,
-    seed: int = 0,
+    samples: int = RISK_SAMPLES.default,
+    method: str = RISK_METHOD.default,
+    confidence: float = CONFIDENCE.default,
+    seed: int = SEED.default,
     progress: ProgressHook | None = None,
 ) -> InjuryRisk:
     """P(criterion exceeded | contact) over heads, closing speeds and impact points.

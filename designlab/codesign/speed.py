@@ -449,10 +449,10 @@ def speed_limit(
     *,
     head_range: HeadRange | None = None,
     human_speed: float = 1.0,
-    reaction_time: float = 0.0,
-    deceleration: float = 10.0,
-    detection_distance: float = 0.0,
-    head_levels: int = 3,
+    reaction_time: float = REACTION_TIME.default,
+    deceleration: float = DECELERATION.default,
+    detection_distance: float = DETECTION_DISTANCE.default,
+    head_levels: int = HEAD_LEVELS.default,
     refine: bool = True,
 ) -> SpeedLimit:
     """The largest robot speed for which any contact meets every criterion.

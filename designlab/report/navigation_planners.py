@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import math
 from functools import partial
-from pathlib import Path
 
 import matplotlib
 
@@ -19,7 +18,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from designlab.report import register_writer
-from designlab.report.builder import report_header, warnings_section, write_report
+from designlab.report.builder import ReportParts
 from designlab.report.figure_style import method_colour, start_and_goal
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.navigation_planners import NavigationPlannersResult
@@ -27,7 +26,7 @@ from designlab.study.kinds.navigation_planners import NavigationPlannersResult
 __all__ = [
     "navigation_planners_figure",
     "navigation_planners_markdown",
-    "write_navigation_planners_report",
+    "navigation_planners_report",
 ]
 
 _THESIS = (
@@ -109,19 +108,13 @@ def _findings(result: NavigationPlannersResult) -> list[str]:
     return [*out, ""]
 
 
-def navigation_planners_markdown(
-    result: NavigationPlannersResult, *, command: str | None = None, version: str | None = None
-) -> str:
-    """The Markdown summary.
+def navigation_planners_markdown(result: NavigationPlannersResult) -> str:
+    """The body of the Markdown summary (the framework adds header and warnings).
 
     Parameters
     ----------
     result
         A ``navigation_planners`` result.
-    command
-        The command line that produced the result.
-    version
-        The designlab version.
 
     Examples
     --------
@@ -138,19 +131,12 @@ def navigation_planners_markdown(
     >>> "no method collides" in navigation_planners_markdown(r)
     True
     """
-    st = result.study
-    out = report_header(
-        f"Sec. 5.7 planners and force fields: {st.name}",
-        st.description,
-        command=command,
-        version=version,
-    )
     frame = result.to_frame()
     shown = frame.copy()
     for c in shown.columns:
         if shown[c].dtype.kind == "f":
             shown[c] = [_fmt(x) if not math.isfinite(x) else f"{x:.3f}" for x in shown[c]]
-    out += [
+    out = [
         "## The thesis",
         "",
         _THESIS,
@@ -167,32 +153,23 @@ def navigation_planners_markdown(
         "",
     ]
     out += _findings(result)
-    out += warnings_section(result.warnings, none="None.")
-    out += ["## Figure", "", "![robot paths](planners_paths.png)", ""]
     return "\n".join(out)
 
 
 @register_writer(NavigationPlannersResult)
-def write_navigation_planners_report(
-    result: NavigationPlannersResult,
-    directory: Path,
-    *,
-    command: str | None = None,
-    version: str | None = None,
-    study_text: str | None = None,
-) -> list[Path]:
-    """Write ``summary.md``, ``planners.csv``, ``planners_paths.png`` and ``study.yaml``.
+def navigation_planners_report(result: NavigationPlannersResult) -> ReportParts:
+    """The report's parts: ``planners.csv``, ``planners_paths.png`` and the summary's body.
 
     Parameters
     ----------
-    result, directory, command, version, study_text
-        As every report writer takes them (:func:`designlab.report.register_writer`).
+    result
+        A ``navigation_planners`` result.
     """
-    text = navigation_planners_markdown(result, command=command, version=version)
-    return write_report(
-        directory,
+    return ReportParts(
+        title=f"Sec. 5.7 planners and force fields: {result.study.name}",
+        body=[navigation_planners_markdown(result)],
         tables={"planners.csv": result.to_frame()},
         figures={"planners_paths.png": partial(navigation_planners_figure, result)},
-        pages={"summary.md": text},
-        study_text=study_text,
+        no_warnings="None.",
+        closing=["## Figure", "", "![robot paths](planners_paths.png)", ""],
     )
