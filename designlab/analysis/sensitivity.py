@@ -377,6 +377,7 @@ def tornado_figure(table: SensitivityTable, metric: str, *, title: str | None = 
         for p, a, b in zip(rows["parameter"], rows["low"], rows["high"], strict=True)
     ]
     ax.set_yticks(y, labels)
+    ax.set_ylabel("parameter")
     ax.set_xlabel(metric)
     ax.set_title(title or f"Tornado: {metric} (base {base:.4g})")
     ax.legend(loc="best", fontsize="small")

@@ -125,7 +125,7 @@ GENERATIONS = Param(
     None, "", "NSGA-II generations (the first is the random start)", kind="integer", ge=1,
     le=1000, name="generations",
 )  # fmt: skip
-SEED = Param(None, "", "seed of the search", kind="integer", ge=0, le=2**32 - 1, name="seed")
+SEED = ARG.seed.but(doc="seed of the search")
 
 
 # ------------------------------------------------------------------ the design space

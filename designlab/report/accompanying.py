@@ -642,7 +642,9 @@ def _controllers_section(result: AccompanyingResult) -> list[str]:
     s = result.study
     tuning = result.tuning_frame()
     cols = [c for c in _CONTROLLER_COLUMNS if c in tuning.columns]
-    out = ["## Controllers", "", markdown_table(tuning[cols], floatfmt=".4g"), ""]
+    untuned = {c: "not tuned" for c in ("status", "iterations", "simulations",
+                                          "improvement_all_tasks") if c in cols}  # fmt: skip
+    out = ["## Controllers", "", markdown_table(tuning[cols], floatfmt=".4g", missing=untuned), ""]
     found = tuning_claims(tuning, result.to_frame())
     if found:
         out += claims(found, lead="Computed from the tables:")

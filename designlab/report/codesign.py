@@ -183,6 +183,7 @@ def contacts_figure(contacts: ContactSpeeds) -> Figure:
         ax.bar(x + (k - 1) * 0.27, values, width=0.27, label=label)
     names = [f"{s}\n{o}" for s, o in zip(contacts.scenario, contacts.obstacle, strict=True)]
     ax.set_xticks(x, names, fontsize=7)
+    ax.set_xlabel("encounter (scenario, obstacle)")
     ax.set_ylabel("speed (m/s)")
     ax.set_title("Closing speeds of the thesis design's encounters")
     ax.legend(fontsize=8)

@@ -35,6 +35,7 @@ from designlab.navigation.methods import METHODS
 from designlab.navigation.parameters import VFFGains
 from designlab.report import register_writer
 from designlab.report.builder import ReportParts, figure_section, slug
+from designlab.report.figure_style import MethodStyles, start_and_goal
 from designlab.report.navigation_figures import energy_figure, force_figure
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.navigation_scenarios import NavigationScenariosResult
@@ -97,11 +98,11 @@ def trajectory_figure(runs: list[Any], title: str) -> Figure:
                 ax.plot(track[:, 0], track[:, 1], ":", color="0.3", lw=1)
                 ax.annotate(o.name, tuple(p1), fontsize=8, color="0.3")
         ax.annotate(o.name, tuple(p0), fontsize=8, color="0.2", ha="center")
+    style = MethodStyles()
     for run in runs:
         r = run.result
-        ax.plot(r.position[:, 0], r.position[:, 1], lw=1.5, label=run.method)
-    ax.plot(*sc.start, "ko", ms=4)
-    ax.plot(*sc.goal, "k*", ms=9)
+        ax.plot(r.position[:, 0], r.position[:, 1], lw=1.5, label=run.method, **style(run.method))
+    start_and_goal(ax, sc.start, sc.goal)
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
@@ -132,9 +133,10 @@ def distance_figure(runs: list[Any], title: str) -> Figure:
             ax.text(0.5, 0.5, "no obstacles", ha="center", transform=ax.transAxes)
             continue
         o = sc.obstacles[i]
+        style = MethodStyles()
         for run in runs:
             r = run.result
-            ax.plot(r.t, r.distance[i], lw=1.2, label=run.method)
+            ax.plot(r.t, r.distance[i], lw=1.2, label=run.method, **style(run.method))
         ax.axhline(o.r3, color="r", lw=0.8, label="r3")
         ax.axhline(
             o.collision_distance(sc.robot.radius), color="k", lw=0.8, ls=":", label="contact"
@@ -198,7 +200,8 @@ def navigation_markdown(result: NavigationScenariosResult) -> str:
         table = sub[cols].copy()
         table = table.drop(columns=[c for c in ("ref_T_arrive_s",) if table[c].isna().all()])
         table = table.map(_fmt)
-        out += [markdown_table(table, floatfmt=".3g"), ""]
+        ref = {c: "not in the thesis" for c in table.columns if c.startswith("ref_")}
+        out += [markdown_table(table, floatfmt=".3g", missing=ref), ""]
     stab = result.stability_frame()
     out += [
         "## Lyapunov audit of the new-VFF runs",
@@ -214,7 +217,11 @@ def navigation_markdown(result: NavigationScenariosResult) -> str:
         '(`docs/navigation.md`, "Audit over the held periods").',
         "",
     ]
-    out += [markdown_table(stab, floatfmt=".3g") if len(stab) else "No new-VFF runs.", ""]
+    never = {c: "did not occur" for c in stab.columns if c.startswith("time_")}
+    out += [
+        markdown_table(stab, floatfmt=".3g", missing=never) if len(stab) else "No new-VFF runs.",
+        "",
+    ]
     return "\n".join(out)
 
 

@@ -31,6 +31,7 @@ from designlab.navigation.crowds.scenario import crowd
 from designlab.navigation.methods import METHODS
 from designlab.report import register_writer
 from designlab.report.builder import ReportParts, figure_section
+from designlab.report.figure_style import method_colour, start_and_goal
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.navigation_crowds import NavigationCrowdsResult
 
@@ -81,7 +82,8 @@ def rates_figure(summary: pd.DataFrame) -> Figure:
                 x = g["density"].to_numpy() * (1 + 0.02 * k)  # offset so the bars do not hide
                 y = g[f"{rate}_rate"].to_numpy()
                 err = [y - g[f"{rate}_low"].to_numpy(), g[f"{rate}_high"].to_numpy() - y]
-                ax.errorbar(x, y, yerr=err, marker="o", capsize=3, label=method)
+                ax.errorbar(x, y, yerr=err, marker="o", capsize=3, label=method,
+                            color=method_colour(method))  # fmt: skip
             ax.set_ylim(-0.05, 1.05)
             ax.grid(alpha=0.3)
             if j == 0:
@@ -110,13 +112,17 @@ def trajectories_figure(result: NavigationCrowdsResult) -> Figure:
             ax.fill(poly[:, 0], poly[:, 1], color="0.6")
         p = r.pedestrian_positions
         for i in range(p.shape[1]):
-            ax.plot(p[:, i, 0], p[:, i, 1], color="tab:orange", lw=0.6, alpha=0.5)
-        ax.plot(r.robot_positions[:, 0], r.robot_positions[:, 1], color="tab:blue", lw=2)
-        ax.plot(*r.crowd.robot_goal, "x", color="green", ms=9, mew=2)
+            ax.plot(p[:, i, 0], p[:, i, 1], color="0.55", lw=0.6, alpha=0.5,
+                    label="pedestrians" if i == 0 else None)  # fmt: skip
+        ax.plot(r.robot_positions[:, 0], r.robot_positions[:, 1], lw=2,
+                color=method_colour(r.method), label=f"robot ({label})")  # fmt: skip
+        start_and_goal(ax, r.crowd.robot_start, r.crowd.robot_goal)
         ax.set_aspect("equal")
+        ax.set_xlabel("x (m)")
+        ax.set_ylabel("y (m)")
+        ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
         ax.set_title(f"{label}: {r.crowd.layout}, {_density(r)}, seed {r.crowd.seed}, "
                      f"{_outcome(r)}", fontsize=9)  # fmt: skip
-    axes[-1, 0].set_xlabel("x (m)")
     fig.tight_layout()
     return fig
 

@@ -19,6 +19,7 @@ from designlab.navigation.tuning_results import (
 )
 from designlab.report import register_writer
 from designlab.report.builder import ReportParts
+from designlab.report.figure_style import start_and_goal
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.navigation_gains import WIDER, NavigationGainsResult
 
@@ -181,6 +182,7 @@ def trajectory_figure(result: NavigationGainsResult, mode: str) -> Figure:
                 continue
             if first:
                 _draw_scenario(ax, res)
+                start_and_goal(ax, res.scenario.start, res.scenario.goal)
                 first = False
             g = res.gains
             ax.plot(

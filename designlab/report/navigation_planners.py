@@ -19,6 +19,7 @@ from matplotlib.figure import Figure
 
 from designlab.report import register_writer
 from designlab.report.builder import ReportParts
+from designlab.report.figure_style import method_colour, start_and_goal
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.navigation_planners import NavigationPlannersResult
 
@@ -57,16 +58,15 @@ def navigation_planners_figure(result: NavigationPlannersResult) -> Figure:
             ax.plot(p[:, 0], p[:, 1], "k:", lw=1.2)
             ax.add_patch(plt.Circle(tuple(p[0]), getattr(o, "radius", 0.0), fill=False,
                                     color="gray"))  # fmt: skip
-        for label, r in runs:
-            style = "--" if r.collided else "-"
-            ax.plot(r.position[:, 0], r.position[:, 1], style, lw=1.5,
+        for label, r in runs:  # the method's colour; dashed: the run collides
+            ax.plot(r.position[:, 0], r.position[:, 1], "--" if r.collided else "-", lw=1.5,
+                    color=method_colour(r.method),
                     label=f"{label}{' (collides)' if r.collided else ''}")  # fmt: skip
         paths = np.vstack([r.position for _, r in runs] + [np.array([sc.start, sc.goal])])
         lo, hi = paths.min(axis=0) - 1.0, paths.max(axis=0) + 1.0
         ax.set_xlim(lo[0], hi[0])
         ax.set_ylim(lo[1], hi[1])
-        ax.plot(*sc.start, "ks")
-        ax.plot(*sc.goal, "k*", ms=10)
+        start_and_goal(ax, sc.start, sc.goal)
         ax.set_aspect("equal")
         ax.set_title(name, fontsize=10)
         ax.set_xlabel("x (m)")

@@ -43,6 +43,7 @@ from designlab.following.tether import LAWS, allan_tables, measured_ratio, norma
 from designlab.following.tether.reference import TABLES
 from designlab.report import register_writer
 from designlab.report.builder import ReportParts, claims, figure_section, slug
+from designlab.report.figure_style import method_colour
 from designlab.report.tether_errors import error_section
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.tether_comparison import STEP_OFFSET, TetherComparisonResult
@@ -85,8 +86,6 @@ floor {s.damping_floor:g} from the linear lateral loop at every speed; tether ra
 {lo:g}-{hi:g} m; at most {sat:g} % of a run with a wheel at its speed limit; cost weights {w}
 (`docs/following.md`).
 """
-
-_COLOURS = ("tab:red", "tab:blue", "tab:green", "tab:orange", "tab:purple", "tab:brown")
 
 
 #: The law the others are compared with: the first that follows from behind (PJ).
@@ -483,7 +482,6 @@ def _linear_section(linear: pd.DataFrame, speed: float) -> list[str]:
 def _comparison_figures(result: TetherComparisonResult, path: str) -> tuple[Figure, Figure]:
     cases = [c for c in result.cases if c.path == path]
     lengths = sorted({c.run.controller.desired_length for c in cases})
-    titles = list(dict.fromkeys(c.controller for c in cases))
     ncol = len(lengths)
     traj = Figure(figsize=(4.2 * ncol, 4.2), layout="constrained")
     prof = Figure(figsize=(4.2 * ncol, 3.2), layout="constrained")
@@ -499,7 +497,7 @@ def _comparison_figures(result: TetherComparisonResult, path: str) -> tuple[Figu
         if len(obs):
             ax_t.plot(obs[:, 0], obs[:, 1], "k^", ms=8, label="cones")
         for c in sel:
-            col = _COLOURS[titles.index(c.controller) % len(_COLOURS)]
+            col = method_colour(c.controller)
             ax_t.plot(
                 c.run.robot_xy[:, 0], c.run.robot_xy[:, 1], color=col, lw=1.2, label=c.controller
             )
@@ -568,6 +566,7 @@ def _tuning_figure(r: Any) -> Figure:
     ax1.set_xticks(
         x, [f"{p}\n{v:g} m/s\n({s})" for s, p, v in keys.itertuples(index=False)], fontsize=6
     )
+    ax1.set_xlabel("leader path, leader speed (scenario set)")
     ax1.set_ylabel("mean normal deviation / b")
     ax1.set_title(f"{r.controller.name}: default vs tuned")
     ax1.legend()
@@ -827,7 +826,9 @@ def tuning_report(result: TetherTuningResult) -> ReportParts:
     lines = _tuning_intro(result)
     from designlab.following.tether.tuning import NEAR_OPTIMAL_COST
 
-    lines += ["## Gains", "", markdown_table(_gains_table(result)), ""]
+    gains = _gains_table(result)
+    not_its = {c: "not a gain of this law" for c in gains.columns if c != "law"}
+    lines += ["## Gains", "", markdown_table(gains, missing=not_its), ""]
     lines += [_REPRODUCTION_TEXT.format(tol=NEAR_OPTIMAL_COST), ""]
     lines += ["## Improvement over the thesis defaults", ""]
     improvement = improvement_frame(result)

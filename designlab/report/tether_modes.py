@@ -23,10 +23,20 @@ from matplotlib.figure import Figure
 from designlab.following.tether import LAWS
 from designlab.report import register_writer
 from designlab.report.builder import ReportParts, slug
+from designlab.report.figure_style import method_colour
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.tether_modes import ModeCase, TetherModesResult
 
 __all__ = ["brake_figure", "modes_figure", "modes_markdown", "modes_report"]
+
+
+#: Why a cell of the side and front table can be empty.
+_WHY_MISSING = {
+    "side_offset_m": "not a side mode",
+    "offset_error_mean_m": "not a side mode",
+    "offset_error_inside_turns_m": "no turn, or not a side mode",
+    "offset_error_outside_turns_m": "no turn, or not a side mode",
+}
 
 
 def modes_figure(cases: list[ModeCase]) -> Figure:
@@ -56,6 +66,8 @@ def modes_figure(cases: list[ModeCase]) -> Figure:
         ax.set_xlim(x0, x1)
         ax.set_ylim(y0, y1)
         ax.set_aspect("equal")
+        ax.set_xlabel("x (m)")
+        ax.set_ylabel("y (m)")
         ax.set_title(f"{cases[0].path}: {m}", fontsize=10)
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=7)
@@ -77,9 +89,9 @@ def brake_figure(result: TetherModesResult) -> Figure:
     for ax, law in zip(axes[0], laws, strict=True):
         for b in (b for b in result.brakes if b.law == law):
             r = b.run
-            ax.plot(
-                r.t, r.heading - r.heading[0], lw=0.9, label="Brake mode" if b.brake else "without"
-            )
+            ax.plot(r.t, r.heading - r.heading[0], lw=0.9,
+                    color=method_colour("BrakeMode") if b.brake else "0.45",
+                    label="Brake mode" if b.brake else "without")  # fmt: skip
         ax.axvline(result.brakes[0].stop_time, color="gray", ls=":", lw=0.8)
         ax.set_title(law, fontsize=10)
         ax.set_xlabel("time (s); dotted: the leader stops")
@@ -173,7 +185,7 @@ def modes_markdown(result: TetherModesResult) -> str:
         "normal deviation from the leader's path is the side offset (its target is l_H); the "
         "maximum is dominated by the ends of the comparison range.",
         "",
-        markdown_table(frame[cols], floatfmt=".4g"),
+        markdown_table(frame[cols], floatfmt=".4g", missing=_WHY_MISSING),
         "",
         "Against the thesis (computed from the table):",
         "",

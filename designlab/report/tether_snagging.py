@@ -74,6 +74,8 @@ def paths_figure(result: TetherSnaggingResult) -> Figure:
         ax.set_xlim(-3.0, 2.0)
         ax.set_ylim(-2.0, 3.0)
         ax.set_aspect("equal")
+        ax.set_xlabel("x (m)")
+        ax.set_ylabel("y (m)")
         ax.set_title(f"gap {r.scenario.gap:g} m: d_col {r.d_col:.2f} w", fontsize=10)
         ax.grid(True, alpha=0.3)
     axes[0][0].legend(fontsize=7, loc="upper left")

@@ -50,8 +50,10 @@ def step_size_figure(cases: list[StepSizeCase]) -> Figure:
         axes[2].plot(s, r.speed, lw=1.0, label=lab)
     axes[0].set_aspect("equal")
     axes[0].set_title(f"{cases[0].path}: paths", fontsize=10)
-    axes[1].set_title("tether length l_m (m)", fontsize=10)
-    axes[2].set_title("robot speed V_r (m/s)", fontsize=10)
+    axes[0].set_xlabel("x (m)")
+    axes[0].set_ylabel("y (m)")
+    axes[1].set_ylabel("tether length l_m (m)")
+    axes[2].set_ylabel("robot speed V_r (m/s)")
     for ax in axes[1:]:
         ax.set_xlabel("robot distance (m)")
     for ax in axes:
