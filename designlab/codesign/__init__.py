@@ -57,46 +57,53 @@ Examples
 
 from __future__ import annotations
 
-from designlab.codesign.braking import contact_speed, max_robot_speed, stopping_distance
-from designlab.codesign.contacts import (
-    ContactSpeeds,
-    ContactStatus,
-    contact_speeds,
-    navigation_contacts,
-)
-from designlab.codesign.crowd_encounters import CrowdEncounters
-from designlab.codesign.fragility import FragilityCurve, fragility_curve
-from designlab.codesign.front import (
-    OBJECTIVES,
-    THESIS_DESIGN,
-    Design,
-    DesignScore,
-    DesignSpace,
-    FrontStatus,
-    ParetoFront,
-    evaluate_design,
-    knee_point,
-    nondominated,
-    nsga2,
-    pareto,
-    preference_pick,
-)
-from designlab.codesign.limits import FoamLimits, foam_limits
-from designlab.codesign.population import ClosingSpeeds, HeadPopulation
-from designlab.codesign.risk import InjuryRisk, RiskStatus, injury_probability
-from designlab.codesign.robot import (
-    BUMPER_BASE,
-    THESIS_ROBOT,
-    RobotDescription,
-    people_names,
-    sized_scenario,
-)
-from designlab.codesign.sensitivity import design_sobol, front_sensitivity
-from designlab.codesign.speed import SpeedLimit, SpeedLimitStatus, speed_limit
-from designlab.codesign.speed_map import SpeedLimitMap, speed_limit_map
+from typing import TYPE_CHECKING
 
-#: P(criterion exceeded | contact) under its honest name (the same function).
-exceedance_probability = injury_probability
+from designlab._lazy import attach as _attach
+
+if TYPE_CHECKING:  # the public names, imported on first use (designlab._lazy)
+    from designlab.codesign.braking import contact_speed, max_robot_speed, stopping_distance
+    from designlab.codesign.contacts import (
+        ContactSpeeds,
+        ContactStatus,
+        contact_speeds,
+        navigation_contacts,
+    )
+    from designlab.codesign.crowd_encounters import CrowdEncounters
+    from designlab.codesign.fragility import FragilityCurve, fragility_curve
+    from designlab.codesign.limits import FoamLimits, foam_limits
+    from designlab.codesign.front import (
+        OBJECTIVES,
+        THESIS_DESIGN,
+        Design,
+        DesignScore,
+        DesignSpace,
+        FrontStatus,
+        ParetoFront,
+        evaluate_design,
+        knee_point,
+        nondominated,
+        nsga2,
+        pareto,
+        preference_pick,
+    )
+    from designlab.codesign.population import ClosingSpeeds, HeadPopulation
+    from designlab.codesign.risk import (
+        InjuryRisk,
+        RiskStatus,
+        exceedance_probability,
+        injury_probability,
+    )
+    from designlab.codesign.robot import (
+        BUMPER_BASE,
+        THESIS_ROBOT,
+        RobotDescription,
+        people_names,
+        sized_scenario,
+    )
+    from designlab.codesign.sensitivity import design_sobol, front_sensitivity
+    from designlab.codesign.speed import SpeedLimit, SpeedLimitStatus, speed_limit
+    from designlab.codesign.speed_map import SpeedLimitMap, speed_limit_map
 
 __all__ = [
     "BUMPER_BASE",
@@ -143,3 +150,5 @@ __all__ = [
     "speed_limit_map",
     "stopping_distance",
 ]
+
+_attach(__name__)

@@ -30,8 +30,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from designlab.impact.criteria import Criterion
-from designlab.impact.metrics import ImpactStatus, metrics_of_matrix
-from designlab.impact.parameters import LinkImpact
+from designlab.impact.metrics import ImpactStatus
 from designlab.impact.problem import FoamLanes, FoamProblem
 from designlab.results import Status
 
@@ -248,7 +247,7 @@ def flag_boundary_designs(
     delicate = np.zeros(damping.size, dtype=bool)
     worst_l = np.full(damping.size, np.nan)
     first = prob.criteria[0] if prob.criteria else None
-    if first is not None and np.any(np.isfinite(kmax)) and isinstance(prob.robot, LinkImpact):
+    if first is not None and np.any(np.isfinite(kmax)) and prob.robot.along_link:
         ok = np.isfinite(kmax)
         _, worst_l[ok] = prob.worst(first, kmax[ok], damping[ok])
     if prob.constrained:
@@ -259,7 +258,7 @@ def flag_boundary_designs(
             continue
         _, lev = prob.worst(key, kb[ok], damping[ok])
         params, v, nh = prob.designs(key, kb[ok], damping[ok], lev)
-        m = metrics_of_matrix(params, v, with_force=False, lobe_diagnostics=True)
+        m = prob.contact.metrics(params, v, with_force=False, lobe_diagnostics=True)
         pac = (m.design_status == ImpactStatus.PEAK_AT_CONTACT).reshape(-1, nh).any(axis=1)
         if key is first:
             overdamped[ok] |= pac

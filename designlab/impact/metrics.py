@@ -32,7 +32,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
-from functools import cache
+from functools import cache, partial
 from typing import Any, ClassVar
 
 import numpy as np
@@ -44,6 +44,7 @@ from designlab.impact import kernel, kernel_full, kernel_modal
 from designlab.impact.conditioning import check_conditioning, check_eigen_route
 from designlab.impact.full_joint_model import FULL_PARAM_NAMES, full_joint_model, grid_rate
 from designlab.impact.kernel_modal import ERR_COLUMNS, MAX_TERMS
+from designlab.impact.kernel_poles import LANES
 from designlab.impact.metric_names import PARAMETERS
 from designlab.impact.modal import (
     ModalResponse,
@@ -71,6 +72,7 @@ from designlab.results import OK, Result, Status
 from designlab.sx.jit import say_no_jit
 from designlab.units import STANDARD_GRAVITY
 from designlab.validation import check_q2, named_columns, real_array
+from designlab.workers import WORKERS, map_row_blocks
 
 __all__ = [
     "STATUS_OK",
@@ -503,6 +505,7 @@ def impact_metrics(
     with_force: bool = True,
     lobe_diagnostics: bool = False,
     with_compression: bool = True,
+    workers: int | None = None,
 ) -> ImpactMetrics:
     """First-lobe metrics for a batch of designs (vectorised; the sweep engine).
 
@@ -535,6 +538,9 @@ def impact_metrics(
     lobe_diagnostics
         Also measure how long a_h lingers near zero before the lobe ends
         (``lobe_tail``, :attr:`ImpactMetrics.delicate_lobe`).
+    workers
+        Threads sharing the batch (:data:`designlab.workers.WORKERS`; ``None``: every
+        core). The results do not depend on it, to the bit (docs/sweeps.md, "Cores").
 
     Returns
     -------
@@ -566,6 +572,7 @@ def impact_metrics(
         with_force=_check_bool("with_force", with_force),
         lobe_diagnostics=_check_bool("lobe_diagnostics", lobe_diagnostics),
         with_compression=_check_bool("with_compression", with_compression),
+        workers=workers,
     )
 
 
@@ -586,6 +593,7 @@ def metrics_of_matrix(
     with_force: bool = True,
     lobe_diagnostics: bool = False,
     with_compression: bool = True,
+    workers: int | None = None,
 ) -> ImpactMetrics:
     """:func:`impact_metrics` of an ``(N, 8)`` matrix ordered as :data:`PARAM_NAMES`.
 
@@ -598,13 +606,14 @@ def metrics_of_matrix(
         ``(N, 8)`` (or ``(N, 10)``, full joint) parameter rows.
     impact_velocity, constrained, q2, stop_time, max_lobe_steps, with_force
         As in :func:`impact_metrics`.
-    lobe_diagnostics, with_compression
+    lobe_diagnostics, with_compression, workers
         As in :func:`impact_metrics`.
 
     Returns
     -------
     ImpactMetrics
     """
+    WORKERS.check(workers)
     p = np.atleast_2d(real_array("params", p))
     if p.ndim != 2 or p.shape[1] not in (len(PARAM_NAMES), 10):
         raise InvalidParameterError(
@@ -636,10 +645,14 @@ def metrics_of_matrix(
     if with_force or constrained:
         names = ("force", *names)
     if kernel.AVAILABLE and model.name == "unconstrained":
-        return _reduced_kernel(p, v, names, q2, stop_time, max_lobe_steps, lobe_diagnostics)
+        return _reduced_kernel(
+            p, v, names, q2, stop_time, max_lobe_steps, lobe_diagnostics, workers
+        )
     closed = model.name.startswith("full_joint") or model.name == "constrained"
     if kernel.AVAILABLE and closed and check_q2(q2) == "correct":
-        full = _full_kernel(p, v, names, constrained, stop_time, max_lobe_steps, lobe_diagnostics)
+        full = _full_kernel(
+            p, v, names, constrained, stop_time, max_lobe_steps, lobe_diagnostics, workers
+        )
         if full is not None:
             return full
     resp = ramp_responses(model, p, names, q2=q2)
@@ -704,8 +717,10 @@ def _reduced_kernel(
     stop_time: float,
     max_lobe_steps: int,
     diagnostics: bool,
+    workers: int | None = None,
 ) -> ImpactMetrics:
-    """:func:`metrics_of_matrix` of reduced unconstrained designs by the compiled kernel."""
+    """:func:`metrics_of_matrix` of reduced unconstrained designs by the compiled kernel
+    (in ``workers`` threads, :func:`designlab.workers.map_row_blocks`)."""
     printed = check_q2(q2) == "printed"
     q4 = p[:, 2] * p[:, 7] + p[:, 3] * p[:, 7] + p[:, 2] * p[:, 3]
     if np.any(q4 <= 0):
@@ -714,13 +729,18 @@ def _reduced_kernel(
             f"design {j}: the model has a pole at s = 0 (no restoring stiffness): "
             "at least two of K_r, K_c, K_h must be positive"
         )
-    rows, codes = kernel.reduced_metrics(
+    rows, codes = map_row_blocks(
+        partial(
+            kernel.reduced_metrics,
+            outputs=tuple(k in names for k in _KERNEL_OUTPUTS),
+            printed=printed,
+            stop_time=stop_time,
+            max_lobe_steps=max_lobe_steps,
+            diagnostics=diagnostics,
+        ),
         p,
-        tuple(k in names for k in _KERNEL_OUTPUTS),  # type: ignore[arg-type]
-        printed=printed,
-        stop_time=stop_time,
-        max_lobe_steps=max_lobe_steps,
-        diagnostics=diagnostics,
+        workers=workers,
+        align=LANES,
     )
     if np.any(codes == kernel.OVERFLOW):
         _overflow(p, int(np.flatnonzero(codes == kernel.OVERFLOW)[0]))
@@ -887,6 +907,7 @@ def _full_kernel(
     stop_time: float,
     max_lobe_steps: int,
     diagnostics: bool,
+    workers: int | None = None,
 ) -> ImpactMetrics | None:
     """:func:`metrics_of_matrix` of full-joint rows (or reduced, constrained) by the compiled
     kernel (:mod:`.kernel_full`).
@@ -896,9 +917,10 @@ def _full_kernel(
     eigen-decomposition for the full joint), and a warning counts them.
     """
     sel = tuple(k in names for k in _KERNEL_OUTPUTS)
-    rows, codes = kernel_full.full_metrics(
-        p, sel, constrained=constrained, stop_time=stop_time,  # type: ignore[arg-type]
-        max_lobe_steps=max_lobe_steps, diagnostics=diagnostics,
+    rows, codes = map_row_blocks(
+        partial(kernel_full.full_metrics, outputs=sel, constrained=constrained,
+                stop_time=stop_time, max_lobe_steps=max_lobe_steps, diagnostics=diagnostics),
+        p, workers=workers,
     )  # fmt: skip
     back = np.flatnonzero((codes == kernel_full.FALLBACK) | (codes >= kernel.SUSPECT_POLES))
     if back.size and p.shape[1] == len(FULL_PARAM_NAMES):

@@ -19,7 +19,7 @@ import dataclasses
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -247,6 +247,9 @@ class ContactDynamics(ParamsMixin):
         default=None,
     )
     name: str = param(kind="text", default="", doc="optional label used in reports")
+
+    #: a fixed manipulator: struck at one point, at a given v_c
+    along_link: ClassVar[bool] = False
 
 
 @declared
@@ -588,6 +591,9 @@ class LinkImpact(ParamsMixin):
         "l_max", "m", doc="farthest impact point along the link (>= lever_arm_min)", gt=0, le=100
     )
     name: str = param(kind="text", default="", doc="optional label used in reports")
+
+    #: struck anywhere along its link: its v_c comes from the joint speed (3.4.11)
+    along_link: ClassVar[bool] = True
 
     def __post_init__(self) -> None:
         if self.lever_arm_max < self.lever_arm_min:
