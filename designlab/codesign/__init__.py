@@ -71,7 +71,6 @@ if TYPE_CHECKING:  # the public names, imported on first use (designlab._lazy)
     )
     from designlab.codesign.crowd_encounters import CrowdEncounters
     from designlab.codesign.fragility import FragilityCurve, fragility_curve
-    from designlab.codesign.limits import FoamLimits, foam_limits
     from designlab.codesign.front import (
         OBJECTIVES,
         THESIS_DESIGN,
@@ -87,6 +86,7 @@ if TYPE_CHECKING:  # the public names, imported on first use (designlab._lazy)
         pareto,
         preference_pick,
     )
+    from designlab.codesign.limits import FoamLimits, foam_limits
     from designlab.codesign.population import ClosingSpeeds, HeadPopulation
     from designlab.codesign.risk import (
         InjuryRisk,
