@@ -763,8 +763,21 @@ def design_limits(
     )  # fmt: skip
 
 
-def _runs(design: Design, items: tuple[Scenario, ...], robot: Any, walker: float) -> list[Any]:
-    """The design's navigation runs: its speed limit, gains and regions sized for it."""
+def design_runs(design: Design, items: Sequence[Scenario], robot: Any, walker: float) -> list[Any]:
+    """The design's navigation runs: its speed limit, gains and regions sized for it.
+
+    Parameters
+    ----------
+    design
+        The design.
+    items
+        The scenarios.
+    robot
+        A :class:`~designlab.codesign.RobotDescription` (its footprint and limits) or an
+        impact model (the scenarios' robot is kept).
+    walker
+        The people's largest speed the regions are sized for, m/s.
+    """
     out = []
     for sc in items:
         if isinstance(robot, RobotDescription):
@@ -846,7 +859,7 @@ def evaluate_design(
         raise InvalidParameterError("crowds", crowds, "must be a CrowdEncounters or None")
     items = _check_scenarios(scenarios)
     lim = design_limits([design], robot, heads, walker) if limits is None else limits
-    runs = _runs(design, items, robot, walker)
+    runs = design_runs(design, items, robot, walker)
     capped = [min(r.arrival_time, sc.horizon) for r, sc in zip(runs, items, strict=True)]
     people = sorted({n for sc in items for n in people_names(sc)})
     # people only: a still disc (a pole) is not a person
@@ -857,8 +870,8 @@ def evaluate_design(
     def risk_over(c: ContactSpeeds) -> float:
         if criterion is None:
             return math.nan
-        if not len(c):
-            return 0.0  # nobody met: no contact
+        if not len(c) or not (np.asarray(c.samples) > 0).any():
+            return 0.0  # nobody met, or met at rest: no contact
         return injury_probability(
             contact, design.foam, closing_speed=c, heads=heads, criterion=criterion,
             samples=risk_samples, seed=seed,
@@ -1289,10 +1302,12 @@ def pareto(
     _check_scoring(robot, heads, measure, risk_samples, seed)
     refs = _check_references(reference)
 
-    risk = risk_criterion(names, criterion)
     encounters = crowd_encounters(names, crowds, measure)
     walker = HUMAN_SPEED.check(human_speed, "human_speed")
     bound = RISK_BOUND.check(risk_bound)
+    risk = risk_criterion(names, criterion)
+    if risk is None and bound < 1.0:  # a stated bound needs the probability it bounds
+        risk = risk_criterion(("exceedance_probability",), criterion)
     batch: dict[bytes, FoamLimits] = {}
 
     def prepare(X: Array) -> None:
