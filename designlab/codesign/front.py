@@ -858,6 +858,27 @@ def evaluate_design(
     if crowds is not None and not isinstance(crowds, CrowdEncounters):
         raise InvalidParameterError("crowds", crowds, "must be a CrowdEncounters or None")
     items = _check_scenarios(scenarios)
+    return _score(design, items, robot, heads, measure, criterion, risk_samples, seed, crowds,
+                  walker, bound, limits)  # fmt: skip
+
+
+def _exceedance(contact: ContactDynamics, foam: Foam, c: ContactSpeeds | None, heads: HeadRange,
+                criterion: Criterion | None, samples: int, seed: int) -> float:  # fmt: skip
+    """P(criterion exceeded | contact) over encounters ``c`` (nan: not asked; 0: no contact)."""
+    if criterion is None or c is None:
+        return math.nan
+    if not len(c) or not (np.asarray(c.samples) > 0).any():
+        return 0.0  # nobody met, or met at rest: no contact
+    return float(injury_probability(contact, foam, closing_speed=c, heads=heads,
+                                    criterion=criterion, samples=samples,
+                                    seed=seed).probability)  # fmt: skip
+
+
+def _score(design: Design, items: tuple[Scenario, ...], robot: Any, heads: HeadRange,
+           measure: str, criterion: Criterion | None, risk_samples: int, seed: int,
+           crowds: CrowdEncounters | None, walker: float, bound: float,
+           limits: FoamLimits | None) -> DesignScore:  # fmt: skip
+    """The checked body of :func:`evaluate_design`."""
     lim = design_limits([design], robot, heads, walker) if limits is None else limits
     runs = design_runs(design, items, robot, walker)
     capped = [min(r.arrival_time, sc.horizon) for r, sc in zip(runs, items, strict=True)]
@@ -867,15 +888,8 @@ def evaluate_design(
     v = float(contacts.samples.max()) if len(contacts) else 0.0
     contact = contact_of(robot)
 
-    def risk_over(c: ContactSpeeds) -> float:
-        if criterion is None:
-            return math.nan
-        if not len(c) or not (np.asarray(c.samples) > 0).any():
-            return 0.0  # nobody met, or met at rest: no contact
-        return injury_probability(
-            contact, design.foam, closing_speed=c, heads=heads, criterion=criterion,
-            samples=risk_samples, seed=seed,
-        ).probability  # fmt: skip
+    def risk_over(c: ContactSpeeds | None) -> float:
+        return _exceedance(contact, design.foam, c, heads, criterion, risk_samples, seed)
 
     crowd = None if crowds is None else crowds.of(design.speed, design.gains)
     worst = max(v, design.speed + walker)
@@ -891,7 +905,7 @@ def evaluate_design(
         injury_probability=float(risk_over(contacts)),
         capped_arrival_time=float(np.mean(capped)),
         crowd_contacts=crowd,
-        crowd_injury_probability=math.nan if crowd is None else float(risk_over(crowd)),
+        crowd_injury_probability=risk_over(crowd),
         speed_limit=float(lim.max_speed[0]),
         risk_bound=bound,
     )
@@ -1308,35 +1322,45 @@ def pareto(
     risk = risk_criterion(names, criterion)
     if risk is None and bound < 1.0:  # a stated bound needs the probability it bounds
         risk = risk_criterion(("exceedance_probability",), criterion)
-    batch: dict[bytes, FoamLimits] = {}
-
-    def prepare(X: Array) -> None:
-        batch.clear()
-        lim = design_limits([Design.from_vector(x) for x in X], robot, heads, walker)
-        for i, x in enumerate(X):
-            batch[np.asarray(x, float).tobytes()] = lim.row(i)
-
-    def score(x: Array) -> DesignScore:
-        return evaluate_design(
-            Design.from_vector(x), items, robot=robot, heads=heads, measure=measure,
-            criterion=risk, risk_samples=risk_samples, seed=seed, crowds=encounters,
-            human_speed=walker, risk_bound=bound,
-            limits=batch.get(np.asarray(x, float).tobytes()),
-        )  # fmt: skip
-
-    def evaluate(x: Array) -> tuple[Array, Array]:
-        s = score(x)
-        f = np.array([OBJECTIVES[o].of(s) for o in names])
-        return np.where(np.isfinite(f), f, _PENALTY), s.constraints
-
+    scorer = _Scorer(names, items, dict(robot=robot, heads=heads, measure=measure,
+                     criterion=risk, risk_samples=risk_samples, seed=seed, crowds=encounters,
+                     human_speed=walker, risk_bound=bound))  # fmt: skip
     inside = [d.vector() for d in refs.values()
               if ((d.vector() >= box.lower) & (d.vector() <= box.upper)).all()]  # fmt: skip
     initial = np.array(inside[:population]) if seed_references and inside else None
-    out = nsga2(evaluate, box.lower, box.upper, n_obj=len(names), n_constr=len(CONSTRAINTS),
+    out = nsga2(scorer.evaluate, box.lower, box.upper, n_obj=len(names), n_constr=len(CONSTRAINTS),
                 population=population, generations=generations, seed=seed,
-                progress=progress, initial=initial, prepare=prepare)  # fmt: skip
-    scored = {label: score(d.vector()) for label, d in refs.items()}
+                progress=progress, initial=initial, prepare=scorer.prepare)  # fmt: skip
+    scored = {label: scorer.score(d.vector()) for label, d in refs.items()}
     return _front(out, names, scored, seed)
+
+
+class _Scorer:
+    """A search's design scores: the foam limits of each generation computed at once."""
+
+    def __init__(self, names: tuple[str, ...], items: tuple[Scenario, ...],
+                 kw: dict[str, Any]) -> None:  # fmt: skip
+        self.names, self.items, self.kw = names, items, kw
+        self.batch: dict[bytes, FoamLimits] = {}
+
+    def prepare(self, X: Array) -> None:
+        """The foam limits of a generation's designs, in one lock-step search."""
+        self.batch.clear()
+        designs = [Design.from_vector(x) for x in X]
+        lim = design_limits(designs, self.kw["robot"], self.kw["heads"], self.kw["human_speed"])
+        for i, x in enumerate(X):
+            self.batch[np.asarray(x, float).tobytes()] = lim.row(i)
+
+    def score(self, x: Array) -> DesignScore:
+        """The design of vector ``x`` scored (its limits from the batch when there)."""
+        limits = self.batch.get(np.asarray(x, float).tobytes())
+        return evaluate_design(Design.from_vector(x), self.items, limits=limits, **self.kw)
+
+    def evaluate(self, x: Array) -> tuple[Array, Array]:
+        """Objectives (a non-finite one penalised) and constraints of ``x``."""
+        s = self.score(x)
+        f = np.array([OBJECTIVES[o].of(s) for o in self.names])
+        return np.where(np.isfinite(f), f, _PENALTY), s.constraints
 
 
 def risk_criterion(names: Sequence[str], criterion: Any) -> Criterion | None:
