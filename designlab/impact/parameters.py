@@ -25,7 +25,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError, check_nonnegative, check_positive
-from designlab.params import Param, check_size, declared, param, params_of
+from designlab.params import ARG, Param, check_size, declared, param, params_of
 from designlab.validation import ParamsMixin, real_array
 
 __all__ = [
@@ -400,7 +400,7 @@ HEAD_SPEED = Param("v_h", "m/s", "head speed toward the link", gt=0, le=20, name
 #: which the thesis recommends stopping the manipulator (Sec. 3.6), 0.05 s.
 STOP_TIME = Param(
     "t_stop", "s", "window of the constrained impact's metrics", gt=0, le=1.0,
-    typical=(0.05, 0.05), name="stop_time",
+    typical=(0.05, 0.05), default=0.05, name="stop_time",
 )  # fmt: skip
 
 #: The HIC window t2 - t1 (docs/impact.md, "HIC"): 0.015 s (HIC15) or 0.036 s (HIC36).
@@ -456,7 +456,7 @@ WORST_CASE_SAMPLES = Param(
     typical=(0.0, 64.0), name="samples",
 )  # fmt: skip
 #: Seed of the random cases of the worst-case check.
-SEED = Param(None, "", "seed of the random cases", kind="integer", ge=0, le=2**32 - 1, name="seed")
+SEED = ARG.seed.but(doc="seed of the random cases")
 #: Relative excess of a metric over its limit that the worst-case check tolerates
 #: (the solver's accuracy).
 WORST_CASE_TOLERANCE = Param(

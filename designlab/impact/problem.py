@@ -313,7 +313,7 @@ class FoamLanes(FoamProblem):
         ``log`` of each constraint's limit, per lane.
     robot, impact_velocity, human_speed, criteria, max_compression, head_range
         As in :class:`FoamProblem` (the first problem's).
-    constrained, stop_time, head_levels, lever_grid, golden_iterations
+    constrained, stop_time, head_levels, lever_grid, golden_iterations, foam
         As in :class:`FoamProblem`.
     """
 

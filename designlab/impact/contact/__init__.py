@@ -76,6 +76,13 @@ def contact_of(robot: object, foam: object | None = None) -> ContactModel:
     InvalidParameterError
         No registered model serves the robot (naming the robot classes that are served),
         or none serves this foam with it.
+
+    Examples
+    --------
+    >>> import designlab as dl
+    >>> arm = dl.impact.FullJointContact.from_joint(0.059, 2e3, 2.0, 1.5e3, 30.0, lever_arm=0.2)
+    >>> contact_of(arm).name, contact_of(dl.impact.MANIPULATOR_2, None).label
+    ('series_joint', 'Reduced joint, linear foam')
     """
     robots = [m for m in CONTACTS if type(robot) in m.robots]
     if not robots:
@@ -103,6 +110,11 @@ def contact_for_columns(columns: object) -> ContactModel | None:
     Returns
     -------
     ContactModel or None
+
+    Examples
+    --------
+    >>> contact_for_columns(["M_r", "C_r", "K_r", "K_c", "C_c", "M_h", "C_h", "K_h"]).name
+    'kelvin_voigt'
     """
     names = set(columns)  # type: ignore[call-overload]
     return next((m for m in CONTACTS if set(m.columns) == names), None)

@@ -229,7 +229,7 @@ class FrontSpec(Model):
     )
     population: _Population = 16  # type: ignore[valid-type]
     generations: _Generations = 8  # type: ignore[valid-type]
-    seed: _Seed = 0  # type: ignore[valid-type]
+    seed: _Seed = SEED.default  # type: ignore[valid-type]
     compare_seeds: list[_Seed] = Field(  # type: ignore[valid-type]
         default_factory=list, max_length=4,
         description="further seeds whose fronts are compared with the first's",
@@ -262,7 +262,7 @@ class SensitivitySpec(Model):
     """
 
     samples: _SobolN = SENSITIVITY_SAMPLES.default  # type: ignore[valid-type]
-    seed: _Seed = 0  # type: ignore[valid-type]
+    seed: _Seed = SEED.default  # type: ignore[valid-type]
 
     @model_validator(mode="after")
     def _power_of_two(self) -> SensitivitySpec:
