@@ -47,17 +47,8 @@ from matplotlib.figure import Figure
 from designlab.analysis.sensitivity import SensitivityTable
 from designlab.codesign import OBJECTIVES, ContactSpeeds, ParetoFront, SpeedLimitMap
 from designlab.report import register_writer
-<<<<<<< HEAD
-from designlab.report.builder import (
-    figure_section,
-    report_header,
-    warnings_section,
-    write_report,
-)
-from designlab.report.codesign_answer import answer_lines, convergence_lines, iso_lines
-=======
 from designlab.report.builder import ReportParts, figure_section
->>>>>>> main
+from designlab.report.codesign_answer import answer_lines, convergence_lines, iso_lines
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.codesign import CodesignResult
 
@@ -391,7 +382,6 @@ def sensitivity_section(result: CodesignResult) -> list[str]:
     ]
 
 
-<<<<<<< HEAD
 def seeds_frame(result: CodesignResult) -> pd.DataFrame:
     """Per seed: designs evaluated, feasible, on the front, final hypervolume and its change.
 
@@ -442,14 +432,8 @@ def _convergence_section(result: CodesignResult) -> list[str]:
     ]
 
 
-def codesign_markdown(
-    result: CodesignResult, *, command: str | None = None, version: str | None = None
-) -> str:
-    """The Markdown summary.
-=======
 def codesign_markdown(result: CodesignResult) -> str:
     """The body of the Markdown summary (the framework adds header and warnings).
->>>>>>> main
 
     Parameters
     ----------
@@ -458,13 +442,9 @@ def codesign_markdown(result: CodesignResult) -> str:
     """
     study, front = result.study, result.front
     contacts = result.contacts.to_frame()
-<<<<<<< HEAD
-    out = report_header(study.name, study.description, command=command, version=version)
-    out += answer_lines(result)
-=======
->>>>>>> main
     objectives = ", ".join(f"{o} ({OBJECTIVES[o].doc})" for o in front.objectives)
     out = [
+        *answer_lines(result),
         "## Speed-limit map",
         "",
         "The largest robot speed at which a contact with any head of the range meets every "
