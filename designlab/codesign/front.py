@@ -1252,30 +1252,22 @@ def pareto(
     human_speed: float = 1.0,
     risk_bound: float = 1.0,
     seed_references: bool = True,
+    executor: Any = None,
 ) -> ParetoFront:
     """The Pareto front of foam, speed limit and VFF gains over navigation scenarios.
 
     Parameters
     ----------
-    scenarios
-        Navigation scenarios every design is simulated in (their robot's speed limit is
-        the design's).
+    scenarios, robot, heads, measure
+        As in :func:`evaluate_design`.
     space
         The box searched (:class:`DesignSpace`; default its defaults).
     objectives
         Two or more names of :data:`OBJECTIVES` (all minimised).
-    robot
-        The effective robot body at the contact point (impact model).
-    heads
-        The head-neck range whose worst head sets the thickness the foam needs (and over
-        which the injury probability is taken).
-    measure
-        Which closing speed of the encounters counts (:func:`contact_speeds`).
-    criterion
-        The injury criterion of the ``injury_probability`` objective (default
-        :class:`~designlab.impact.HeadAcceleration` of 10 g).
-    risk_samples
-        Monte Carlo samples of each design's injury probability (the search's seed).
+    criterion, risk_samples
+        The criterion of the exceedance probability (default
+        :class:`~designlab.impact.HeadAcceleration` of 10 g) and its Monte Carlo samples
+        per design (the search's seed).
     population, generations
         NSGA-II population size and generations (population x generations designs,
         each a set of navigation runs; at most :data:`MAX_EVALUATIONS`).
@@ -1295,6 +1287,10 @@ def pareto(
         the stated bound on P(criterion exceeded | contact)).
     seed_references
         Place the reference designs that lie in the box in the first population.
+    executor
+        An executor of :func:`designlab.analysis.executors.make_executor` (``processes``,
+        ``dask``) that scores each generation's designs; ``None``: in this process. The
+        front is the same.
 
     Returns
     -------
@@ -1315,19 +1311,16 @@ def pareto(
     items = _check_scenarios(scenarios)
     _check_scoring(robot, heads, measure, risk_samples, seed)
     refs = _check_references(reference)
-
     encounters = crowd_encounters(names, crowds, measure)
     walker = HUMAN_SPEED.check(human_speed, "human_speed")
     bound = RISK_BOUND.check(risk_bound)
-    risk = risk_criterion(names, criterion)
-    if risk is None and bound < 1.0:  # a stated bound needs the probability it bounds
-        risk = risk_criterion(("exceedance_probability",), criterion)
+    # a stated bound needs the probability it bounds
+    risk = risk_criterion(names if bound == 1.0 else (*names, "exceedance_probability"),
+                          criterion)  # fmt: skip
     scorer = _Scorer(names, items, dict(robot=robot, heads=heads, measure=measure,
                      criterion=risk, risk_samples=risk_samples, seed=seed, crowds=encounters,
-                     human_speed=walker, risk_bound=bound))  # fmt: skip
-    inside = [d.vector() for d in refs.values()
-              if ((d.vector() >= box.lower) & (d.vector() <= box.upper)).all()]  # fmt: skip
-    initial = np.array(inside[:population]) if seed_references and inside else None
+                     human_speed=walker, risk_bound=bound), executor)  # fmt: skip
+    initial = _initial(refs, box, population) if seed_references else None
     out = nsga2(scorer.evaluate, box.lower, box.upper, n_obj=len(names), n_constr=len(CONSTRAINTS),
                 population=population, generations=generations, seed=seed,
                 progress=progress, initial=initial, prepare=scorer.prepare)  # fmt: skip
@@ -1335,21 +1328,41 @@ def pareto(
     return _front(out, names, scored, seed)
 
 
+def _evaluate_task(task: tuple[Any, ...]) -> tuple[Array, Array]:
+    """One design's objectives and constraints in a worker (a top-level, picklable task)."""
+    names, items, kw, x, limits = task
+    s = evaluate_design(Design.from_vector(x), items, limits=limits, **kw)
+    f = np.array([OBJECTIVES[o].of(s) for o in names])
+    return np.where(np.isfinite(f), f, _PENALTY), s.constraints
+
+
 class _Scorer:
-    """A search's design scores: the foam limits of each generation computed at once."""
+    """A search's design scores: the foam limits of each generation computed at once, the
+    designs then scored in this process or by an executor's workers (the same answers:
+    every design's score is deterministic)."""
 
     def __init__(self, names: tuple[str, ...], items: tuple[Scenario, ...],
-                 kw: dict[str, Any]) -> None:  # fmt: skip
+                 kw: dict[str, Any], executor: Any = None) -> None:  # fmt: skip
         self.names, self.items, self.kw = names, items, kw
+        self.executor = executor
         self.batch: dict[bytes, FoamLimits] = {}
+        self.done: dict[bytes, tuple[Array, Array]] = {}
 
     def prepare(self, X: Array) -> None:
-        """The foam limits of a generation's designs, in one lock-step search."""
+        """The foam limits of a generation's designs, in one lock-step search (and, with an
+        executor, their scores)."""
         self.batch.clear()
+        self.done.clear()
         designs = [Design.from_vector(x) for x in X]
         lim = design_limits(designs, self.kw["robot"], self.kw["heads"], self.kw["human_speed"])
-        for i, x in enumerate(X):
-            self.batch[np.asarray(x, float).tobytes()] = lim.row(i)
+        keys = [np.asarray(x, float).tobytes() for x in X]
+        for i, key in enumerate(keys):
+            self.batch[key] = lim.row(i)
+        if self.executor is not None:
+            tasks = [(self.names, self.items, self.kw, np.asarray(x, float), self.batch[k])
+                     for x, k in zip(X, keys, strict=True)]  # fmt: skip
+            for i, out in self.executor.map_unordered(_evaluate_task, tasks):
+                self.done[keys[i]] = out
 
     def score(self, x: Array) -> DesignScore:
         """The design of vector ``x`` scored (its limits from the batch when there)."""
@@ -1358,6 +1371,9 @@ class _Scorer:
 
     def evaluate(self, x: Array) -> tuple[Array, Array]:
         """Objectives (a non-finite one penalised) and constraints of ``x``."""
+        key = np.asarray(x, float).tobytes()
+        if key in self.done:
+            return self.done[key]
         s = self.score(x)
         f = np.array([OBJECTIVES[o].of(s) for o in self.names])
         return np.where(np.isfinite(f), f, _PENALTY), s.constraints
@@ -1411,6 +1427,13 @@ def crowd_encounters(names: Sequence[str], crowds: Any, measure: str) -> CrowdEn
             "crowds", None, "is needed by the objective crowd_injury_probability"
         )
     return crowds if isinstance(crowds, CrowdEncounters) else CrowdEncounters(crowds, measure)
+
+
+def _initial(refs: dict[str, Design], box: DesignSpace, population: int) -> Array | None:
+    """The reference designs that lie in the box (at most a population), or ``None``."""
+    inside = [d.vector() for d in refs.values()
+              if ((d.vector() >= box.lower) & (d.vector() <= box.upper)).all()]  # fmt: skip
+    return np.array(inside[:population]) if inside else None
 
 
 def _check_references(reference: Any) -> dict[str, Design]:

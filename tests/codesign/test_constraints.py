@@ -130,3 +130,19 @@ def test_the_thesis_design_is_on_the_front_when_nothing_dominates_it() -> None:
                    space=DesignSpace(thickness_min=0.03, thickness_max=0.06))  # fmt: skip
     # every searched foam is thicker than the thesis's 25.4 mm: nothing can dominate it
     assert front.reference_dominated_by == 0 and front.reference_distance == 0.0
+
+
+@pytest.mark.parametrize("name", ["processes", "dask"])
+def test_an_executor_gives_the_serial_front(name: str) -> None:
+    from designlab.analysis.executors import make_executor
+
+    kw = dict(objectives=("arrival_time", "foam_thickness"), population=4, generations=2,
+              seed=5, robot=THESIS_ROBOT)  # fmt: skip
+    serial = pareto([nav.configuration(2)], **kw)
+    opts = {"processes": False} if name == "dask" else {}
+    with make_executor(name, workers=2, **opts) as ex:
+        other = pareto([nav.configuration(2)], executor=ex, **kw)
+    np.testing.assert_array_equal(other.X, serial.X)
+    np.testing.assert_array_equal(other.F, serial.F)
+    np.testing.assert_array_equal(other.G, serial.G)
+    assert other.to_frame().equals(serial.to_frame())

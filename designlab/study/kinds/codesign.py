@@ -612,7 +612,7 @@ def run(study: CodesignStudy, context: RunContext) -> CodesignResult:
             fronts.append(pareto(
                 scenarios, space=f.space.build(), objectives=tuple(f.objectives),
                 robot=platform, population=f.population, generations=f.generations, seed=seed,
-                progress=hook, **kw,
+                progress=hook, executor=context.executor, **kw,
             ))  # fmt: skip
     cpu = time.process_time() - cpu
     front = fronts[0]
