@@ -57,33 +57,38 @@ Examples
 
 from __future__ import annotations
 
-from designlab.codesign.braking import contact_speed, max_robot_speed, stopping_distance
-from designlab.codesign.contacts import (
-    ContactSpeeds,
-    ContactStatus,
-    contact_speeds,
-    navigation_contacts,
-)
-from designlab.codesign.crowd_encounters import CrowdEncounters
-from designlab.codesign.fragility import FragilityCurve, fragility_curve
-from designlab.codesign.front import (
-    OBJECTIVES,
-    THESIS_DESIGN,
-    Design,
-    DesignScore,
-    DesignSpace,
-    FrontStatus,
-    ParetoFront,
-    evaluate_design,
-    nondominated,
-    nsga2,
-    pareto,
-)
-from designlab.codesign.population import ClosingSpeeds, HeadPopulation
-from designlab.codesign.risk import InjuryRisk, RiskStatus, injury_probability
-from designlab.codesign.sensitivity import design_sobol, front_sensitivity
-from designlab.codesign.speed import SpeedLimit, SpeedLimitStatus, speed_limit
-from designlab.codesign.speed_map import SpeedLimitMap, speed_limit_map
+from typing import TYPE_CHECKING
+
+from designlab._lazy import attach as _attach
+
+if TYPE_CHECKING:  # the public names, imported on first use (designlab._lazy)
+    from designlab.codesign.braking import contact_speed, max_robot_speed, stopping_distance
+    from designlab.codesign.contacts import (
+        ContactSpeeds,
+        ContactStatus,
+        contact_speeds,
+        navigation_contacts,
+    )
+    from designlab.codesign.crowd_encounters import CrowdEncounters
+    from designlab.codesign.fragility import FragilityCurve, fragility_curve
+    from designlab.codesign.front import (
+        OBJECTIVES,
+        THESIS_DESIGN,
+        Design,
+        DesignScore,
+        DesignSpace,
+        FrontStatus,
+        ParetoFront,
+        evaluate_design,
+        nondominated,
+        nsga2,
+        pareto,
+    )
+    from designlab.codesign.population import ClosingSpeeds, HeadPopulation
+    from designlab.codesign.risk import InjuryRisk, RiskStatus, injury_probability
+    from designlab.codesign.sensitivity import design_sobol, front_sensitivity
+    from designlab.codesign.speed import SpeedLimit, SpeedLimitStatus, speed_limit
+    from designlab.codesign.speed_map import SpeedLimitMap, speed_limit_map
 
 __all__ = [
     "OBJECTIVES",
@@ -120,3 +125,5 @@ __all__ = [
     "speed_limit_map",
     "stopping_distance",
 ]
+
+_attach(__name__)

@@ -75,7 +75,7 @@ from designlab.navigation import (
     VFFGains,
     simulate,
 )
-from designlab.params import Param, check_size, declared, params_of
+from designlab.params import ARG, Param, check_size, declared, params_of
 from designlab.progress import Progress, ProgressHook, report
 from designlab.results import Result, Status
 from designlab.validation import real_array
@@ -125,7 +125,7 @@ GENERATIONS = Param(
     None, "", "NSGA-II generations (the first is the random start)", kind="integer", ge=1,
     le=1000, name="generations",
 )  # fmt: skip
-SEED = Param(None, "", "seed of the search", kind="integer", ge=0, le=2**32 - 1, name="seed")
+SEED = ARG.seed.but(doc="seed of the search")
 
 
 # ------------------------------------------------------------------ the design space
@@ -432,7 +432,7 @@ def nsga2(
     n_constr: int = 0,
     population: int = 16,
     generations: int = 8,
-    seed: int = 0,
+    seed: int = ARG.seed.default,
     progress: ProgressHook | None = None,
 ) -> SearchOutcome:
     """Minimise several objectives in a box with pymoo's NSGA-II; keep every evaluation.
@@ -658,7 +658,7 @@ def evaluate_design(
     measure: str = "relative",
     criterion: Criterion | None = None,
     risk_samples: int = 20_000,
-    seed: int = 0,
+    seed: int = ARG.seed.default,
     crowds: CrowdEncounters | None = None,
 ) -> DesignScore:
     """Simulate the scenarios with the design's speed limit and gains and score it.
@@ -920,7 +920,7 @@ def pareto(
     risk_samples: int = 20_000,
     population: int = 16,
     generations: int = 8,
-    seed: int = 0,
+    seed: int = ARG.seed.default,
     reference: Design | Mapping[str, Design] | None = None,
     progress: ProgressHook | None = None,
     crowds: CrowdScenario | Sequence[CrowdScenario] | CrowdEncounters | None = None,

@@ -19,13 +19,13 @@ import dataclasses
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError, check_nonnegative, check_positive
-from designlab.params import Param, check_size, declared, param, params_of
+from designlab.params import ARG, Param, check_size, declared, param, params_of
 from designlab.validation import ParamsMixin, real_array
 
 __all__ = [
@@ -248,6 +248,9 @@ class ContactDynamics(ParamsMixin):
     )
     name: str = param(kind="text", default="", doc="optional label used in reports")
 
+    #: a fixed manipulator: struck at one point, at a given v_c
+    along_link: ClassVar[bool] = False
+
 
 @declared
 @dataclass(frozen=True)
@@ -397,7 +400,7 @@ HEAD_SPEED = Param("v_h", "m/s", "head speed toward the link", gt=0, le=20, name
 #: which the thesis recommends stopping the manipulator (Sec. 3.6), 0.05 s.
 STOP_TIME = Param(
     "t_stop", "s", "window of the constrained impact's metrics", gt=0, le=1.0,
-    typical=(0.05, 0.05), name="stop_time",
+    typical=(0.05, 0.05), default=0.05, name="stop_time",
 )  # fmt: skip
 
 #: The HIC window t2 - t1 (docs/impact.md, "HIC"): 0.015 s (HIC15) or 0.036 s (HIC36).
@@ -453,7 +456,7 @@ WORST_CASE_SAMPLES = Param(
     typical=(0.0, 64.0), name="samples",
 )  # fmt: skip
 #: Seed of the random cases of the worst-case check.
-SEED = Param(None, "", "seed of the random cases", kind="integer", ge=0, le=2**32 - 1, name="seed")
+SEED = ARG.seed.but(doc="seed of the random cases")
 #: Relative excess of a metric over its limit that the worst-case check tolerates
 #: (the solver's accuracy).
 WORST_CASE_TOLERANCE = Param(
@@ -588,6 +591,9 @@ class LinkImpact(ParamsMixin):
         "l_max", "m", doc="farthest impact point along the link (>= lever_arm_min)", gt=0, le=100
     )
     name: str = param(kind="text", default="", doc="optional label used in reports")
+
+    #: struck anywhere along its link: its v_c comes from the joint speed (3.4.11)
+    along_link: ClassVar[bool] = True
 
     def __post_init__(self) -> None:
         if self.lever_arm_max < self.lever_arm_min:

@@ -35,7 +35,6 @@ Files written into the report directory:
 from __future__ import annotations
 
 from collections.abc import Callable
-from pathlib import Path
 
 import matplotlib
 
@@ -48,17 +47,13 @@ from matplotlib.figure import Figure
 from designlab.analysis.sensitivity import SensitivityTable
 from designlab.codesign import OBJECTIVES, ContactSpeeds, ParetoFront, SpeedLimitMap
 from designlab.report import register_writer
-from designlab.report.builder import (
-    figure_section,
-    report_header,
-    warnings_section,
-    write_report,
-)
+from designlab.report.builder import ReportParts, figure_section
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.codesign import CodesignResult
 
 __all__ = [
     "codesign_markdown",
+    "codesign_report",
     "contacts_figure",
     "crowd_risk_section",
     "front_claims",
@@ -67,7 +62,6 @@ __all__ = [
     "sensitivity_figure",
     "sensitivity_section",
     "speed_map_figure",
-    "write_codesign_report",
 ]
 
 _LABELS = {
@@ -189,6 +183,7 @@ def contacts_figure(contacts: ContactSpeeds) -> Figure:
         ax.bar(x + (k - 1) * 0.27, values, width=0.27, label=label)
     names = [f"{s}\n{o}" for s, o in zip(contacts.scenario, contacts.obstacle, strict=True)]
     ax.set_xticks(x, names, fontsize=7)
+    ax.set_xlabel("encounter (scenario, obstacle)")
     ax.set_ylabel("speed (m/s)")
     ax.set_title("Closing speeds of the thesis design's encounters")
     ax.legend(fontsize=8)
@@ -387,25 +382,18 @@ def sensitivity_section(result: CodesignResult) -> list[str]:
     ]
 
 
-def codesign_markdown(
-    result: CodesignResult, *, command: str | None = None, version: str | None = None
-) -> str:
-    """The Markdown summary.
+def codesign_markdown(result: CodesignResult) -> str:
+    """The body of the Markdown summary (the framework adds header and warnings).
 
     Parameters
     ----------
     result
         A ``codesign`` result.
-    command
-        The command line that produced the result.
-    version
-        The designlab version.
     """
     study, front = result.study, result.front
     contacts = result.contacts.to_frame()
-    out = report_header(study.name, study.description, command=command, version=version)
     objectives = ", ".join(f"{o} ({OBJECTIVES[o].doc})" for o in front.objectives)
-    out += [
+    out = [
         "## Speed-limit map",
         "",
         "The largest robot speed at which a contact with any head of the range meets every "
@@ -452,36 +440,17 @@ def codesign_markdown(
     if result.sensitivity is not None:
         figures["Sobol indices"] = "sensitivity.png"
     out += figure_section(figures)
-    out += warnings_section(result.warnings)
     return "\n".join(out)
 
 
 @register_writer(CodesignResult)
-def write_codesign_report(
-    result: CodesignResult,
-    directory: Path,
-    *,
-    command: str | None = None,
-    version: str | None = None,
-    study_text: str | None = None,
-) -> list[Path]:
-    """Write the CSV tables, the figures, summary.md (and study.yaml).
+def codesign_report(result: CodesignResult) -> ReportParts:
+    """The report's parts: the CSV tables, the figures and summary.md's body.
 
     Parameters
     ----------
     result
         A ``codesign`` result.
-    directory
-        A fresh directory to fill.
-    command, version
-        Quoted in the summary.
-    study_text
-        The study file's text, copied to ``study.yaml`` if given.
-
-    Returns
-    -------
-    list of pathlib.Path
-        The files written.
     """
     front = result.front
     tables = {
@@ -502,6 +471,4 @@ def write_codesign_report(
     if sens is not None:
         tables["sensitivity.csv"] = sens.to_frame()
         figures["sensitivity.png"] = lambda: sensitivity_figure(sens)
-    text = codesign_markdown(result, command=command, version=version)
-    return write_report(directory, tables=tables, figures=figures,
-                        pages={"summary.md": text}, study_text=study_text)  # fmt: skip
+    return ReportParts(body=[codesign_markdown(result)], tables=tables, figures=figures)

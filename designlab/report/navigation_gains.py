@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import math
 from functools import partial
-from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -19,12 +18,8 @@ from designlab.navigation.tuning_results import (
     REPRO_H_OPTIMUM,
 )
 from designlab.report import register_writer
-from designlab.report.builder import (
-    record_timings,
-    report_header,
-    warnings_section,
-    write_report,
-)
+from designlab.report.builder import ReportParts
+from designlab.report.figure_style import start_and_goal
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.navigation_gains import WIDER, NavigationGainsResult
 
@@ -34,9 +29,9 @@ if TYPE_CHECKING:
 __all__ = [
     "convergence_figure",
     "navigation_gains_markdown",
+    "navigation_gains_report",
     "near_optimal_frame",
     "trajectory_figure",
-    "write_navigation_gains_report",
 ]
 
 _COLOURS = {"off": "tab:blue", "lyapunov": "tab:red", "robust": "tab:green", "wider": "tab:purple"}
@@ -187,6 +182,7 @@ def trajectory_figure(result: NavigationGainsResult, mode: str) -> Figure:
                 continue
             if first:
                 _draw_scenario(ax, res)
+                start_and_goal(ax, res.scenario.start, res.scenario.goal)
                 first = False
             g = res.gains
             ax.plot(
@@ -230,25 +226,16 @@ def _fmt(x: object, spec: str = ".4f") -> str:
     return str(x)
 
 
-def navigation_gains_markdown(
-    result: NavigationGainsResult, *, command: str | None = None, version: str | None = None
-) -> str:
-    """The Markdown summary.
+def navigation_gains_markdown(result: NavigationGainsResult) -> str:
+    """The body of the Markdown summary (the framework adds header and warnings).
 
     Parameters
     ----------
     result
         The study result.
-    command
-        The command that produced it, quoted at the end.
-    version
-        designlab's version, quoted at the end.
     """
     st = result.study
-    out = report_header(
-        f"Optimal VFF gains: {st.name}", st.description, command=command, version=version
-    )
-    out += like_for_like_lines(result)
+    out = like_for_like_lines(result)
     out += _problem_section(result)
     out += _gains_section(result)
     for mode in st.modes:
@@ -259,7 +246,6 @@ def navigation_gains_markdown(
     out += _appendix_c_section(result)
     out += _global_section(result)
     out += _baseline_section(result)
-    out += warnings_section(result.warnings)
     return "\n".join(out)
 
 
@@ -865,20 +851,14 @@ def _ranged_baselines(result: NavigationGainsResult, f: pd.DataFrame) -> pd.Data
 
 
 @register_writer(NavigationGainsResult)
-def write_navigation_gains_report(
-    result: NavigationGainsResult,
-    directory: Path,
-    *,
-    command: str | None = None,
-    version: str | None = None,
-    study_text: str | None = None,
-) -> list[Path]:
-    """Write summary.md, gains.csv, history.csv, the figures and the sensitivity CSVs.
+def navigation_gains_report(result: NavigationGainsResult) -> ReportParts:
+    """The report's parts: gains.csv, history.csv, the figures, the sensitivity CSVs and
+    the summary's body.
 
     Parameters
     ----------
-    result, directory, command, version, study_text
-        As every report writer takes them (:func:`designlab.report.register_writer`).
+    result
+        The study result.
     """
     tables = {
         "gains.csv": result.comparison,
@@ -901,13 +881,10 @@ def write_navigation_gains_report(
     figures = {"convergence.png": partial(convergence_figure, result)}
     for mode in result.study.modes:
         figures[f"trajectories_{mode}.png"] = partial(trajectory_figure, result, mode)
-    record_timings(
-        directory, {f"optimise {k}": o.wall_time for k, o in _all_optima(result).items()}
-    )
-    return write_report(
-        directory,
+    return ReportParts(
+        title=f"Optimal VFF gains: {result.study.name}",
+        body=[navigation_gains_markdown(result)],
         tables=tables,
         figures=figures,
-        pages={"summary.md": navigation_gains_markdown(result, command=command, version=version)},
-        study_text=study_text,
+        timings={f"optimise {k}": o.wall_time for k, o in _all_optima(result).items()},
     )

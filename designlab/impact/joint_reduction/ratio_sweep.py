@@ -29,6 +29,7 @@ from designlab.impact.joint_reduction.evaluation import (
 from designlab.impact.parameters import (
     RATIO_POINTS,
     STIFFNESS_RATIO,
+    STOP_TIME,
     USABLE_TOLERANCE,
     Foam,
     HeadNeck,
@@ -235,7 +236,7 @@ def joint_reduction_sweep(
     ratios: ArrayLike,
     *,
     omega_max: float | None = None,
-    stop_time: float = 0.05,
+    stop_time: float = STOP_TIME.default,
 ) -> JointReductionSweep:
     """Errors of the Taylor and band-fit reductions over K_mech/K_cont.
 

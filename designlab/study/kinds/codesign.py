@@ -208,7 +208,7 @@ class FrontSpec(Model):
     )
     population: _Population = 16  # type: ignore[valid-type]
     generations: _Generations = 8  # type: ignore[valid-type]
-    seed: _Seed = 0  # type: ignore[valid-type]
+    seed: _Seed = SEED.default  # type: ignore[valid-type]
 
 
 class SensitivitySpec(Model):
@@ -219,7 +219,7 @@ class SensitivitySpec(Model):
     """
 
     samples: _SobolN = SENSITIVITY_SAMPLES.default  # type: ignore[valid-type]
-    seed: _Seed = 0  # type: ignore[valid-type]
+    seed: _Seed = SEED.default  # type: ignore[valid-type]
 
     @model_validator(mode="after")
     def _power_of_two(self) -> SensitivitySpec:

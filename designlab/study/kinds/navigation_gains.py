@@ -144,7 +144,7 @@ class NavigationGainsStudy(StudyBase):
         description="stabilising-force modes",
     )
     bounds: GainBounds = Field(default_factory=GainBounds)
-    seed: _Seed = 0
+    seed: _Seed = tuning.SEED.default
     popsize: _Popsize = 16
     max_evaluations: _Budget = 1600
     refine: Flag = True
