@@ -17,6 +17,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[1]
 HEAVY = ("jupedsim", "pedpy", "matplotlib.pyplot")
 
@@ -84,3 +86,67 @@ except dl.errors.MissingExtraError as exc:
     seen = _probe(code=code)
     assert seen["import_error"]
     assert "jupedsim" in seen["message"] and "pip install 'designlab[crowds]'" in seen["message"]
+
+
+#: Libraries a package import must not load: each costs 0.1-1 CPU s, and a call loads the
+#: ones it needs (issue 39, item 2: ``import designlab`` and each domain under 0.5 CPU s).
+NOT_ON_IMPORT = ("numpy", "scipy", "pandas", "matplotlib", "numba", "casadi", "pydantic",
+                 "yaml", "jupedsim", "pedpy", "tqdm", "control")  # fmt: skip
+
+_LOADED = """
+import json, sys, importlib
+importlib.import_module(sys.argv[1])
+print(json.dumps(sorted(m for m in sys.modules if m.split(".")[0] in NAMES)))
+"""
+
+
+def _loaded_after(code: str, *args: str) -> set[str]:
+    env = {
+        **os.environ,
+        "PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")]),
+    }
+    done = subprocess.run(
+        [sys.executable, "-c", code, *args], capture_output=True, text=True, env=env, timeout=300
+    )
+    assert done.returncode == 0, done.stderr
+    return set(json.loads(done.stdout.strip().splitlines()[-1]))
+
+
+@pytest.mark.parametrize("package", DOMAINS[:5])
+def test_a_package_import_loads_no_numeric_library(package: str) -> None:
+    code = _LOADED.replace("NAMES", repr((*NOT_ON_IMPORT, "designlab")))
+    loaded = _loaded_after(code, package)
+    assert not {m.split(".")[0] for m in loaded} - {"designlab"}
+    # only the package itself and the core it is made of: no module of a domain is run
+    assert {m for m in loaded if m.count(".") and not m.endswith("__init__")} <= {
+        "designlab._lazy", "designlab._version", package,
+        *(f"designlab.{d}" for d in ("impact", "navigation", "following", "codesign")),
+    }  # fmt: skip
+
+
+def test_a_name_is_imported_with_its_module_only() -> None:
+    """``dl.impact.simulate`` loads the impact model and not the other domains or plotting."""
+    code = """
+import json, sys
+import designlab as dl
+dl.impact.simulate, dl.impact.FOAM_1
+print(json.dumps(sorted(sys.modules)))
+"""
+    loaded = _loaded_after(code)
+    assert not {m for m in loaded if m.split(".")[0] in ("matplotlib", "jupedsim", "pedpy")}
+    others = ("designlab.navigation", "designlab.following", "designlab.codesign")
+    assert not [m for m in loaded if m.startswith(others)]
+    assert {"designlab.impact.simulate", "designlab.impact.parameters"} <= loaded
+
+
+def test_a_function_named_as_its_module_stays_the_function() -> None:
+    """``designlab.navigation.criteria`` (module) imported first: the name is still the function."""
+    code = """
+import json, sys
+import designlab.navigation.criteria, designlab.impact.simulate
+import designlab as dl
+from designlab.navigation import criteria
+print(json.dumps([callable(dl.navigation.criteria), callable(dl.impact.simulate),
+                  callable(criteria), dl.navigation.engine.__name__]))
+"""
+    assert _loaded_after(code) == {True, "designlab.navigation.engine"}

@@ -60,6 +60,7 @@ from designlab.impact.parameters import (
     DAMPING_GRID,
     DAMPING_POINTS,
     RTOL,
+    STOP_TIME,
     THESIS_HEAD_RANGE,
     ContactDynamics,
     HeadRange,
@@ -432,7 +433,8 @@ def foam_envelope(
     stiffness_bounds: tuple[float, float] = (1e2, 1e7),
     rtol: float = 1e-6,
     human_speed: float = 1.0,
-    stop_time: float = 0.05,
+    stop_time: float = STOP_TIME.default,
+    foam: object | None = None,
 ) -> FoamEnvelope:
     """Feasible region of foam stiffness and damping (Zeng 2011, Sec. 3.9).
 
@@ -466,6 +468,12 @@ def foam_envelope(
         Head speed toward the robot for a ``LinkImpact``, m/s.
     stop_time
         Window of the constrained impact's metrics, s.
+    foam
+        ``None`` (default): the linear foam of (3.5.1). A foam of a non-linear law
+        (:class:`~designlab.impact.contact.HuntCrossleyFoam`): the region is in its own
+        K_c and C_c, its other parameters kept, solved by the general response path
+        (:mod:`designlab.impact.general`; slower, integrator results). The K_c and C_c of
+        ``foam`` itself are not used.
 
     Returns
     -------
@@ -488,6 +496,7 @@ def foam_envelope(
         rtol=rtol,
         human_speed=human_speed,
         stop_time=stop_time,
+        foam=foam,
     )[0]
 
 
@@ -523,6 +532,6 @@ def foam_envelopes(
     )
     lo, hi = check_pair(_FOAM["stiffness"], s["stiffness_bounds"], "stiffness_bounds")
     rtol = RTOL.check(s["rtol"])
-    setting = (s["head_range"], s["constrained"], s["human_speed"], s["stop_time"])
+    setting = (s["head_range"], s["constrained"], s["human_speed"], s["stop_time"], s["foam"])
     problems = [make_problem(r, v, crit, lam, *setting) for r, v, crit, lam in designs]
     return solve_envelopes(problems, [c] * len(problems), (lo, hi), rtol)

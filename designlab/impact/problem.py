@@ -30,20 +30,18 @@ import numpy as np
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
+from designlab.impact.contact import ContactModel, contact_of
 from designlab.impact.criteria import CompressionLimit, Criterion, HeadAcceleration
-from designlab.impact.full_joint_model import full_joint_params
 from designlab.impact.parameters import (
     HUMAN_SPEED,
     IMPACT_VELOCITY,
     MAX_COMPRESSION,
     STOP_TIME,
     ContactDynamics,
-    Foam,
     HeadNeck,
     HeadRange,
     LinkImpact,
 )
-from designlab.impact.series_joint import FullJointContact, FullJointLink
 
 __all__ = ["FoamLanes", "FoamProblem", "head_rows", "make_problem", "same_but_limits"]
 
@@ -96,6 +94,9 @@ class FoamProblem:
         Lever arms of the grid search of the worst impact point.
     golden_iterations
         Golden-section iterations polishing it.
+    foam
+        The foam whose stiffness and damping are varied, for a non-linear law (its other
+        parameters are kept); ``None``: the linear foam.
     """
 
     robot: ContactDynamics | LinkImpact
@@ -109,6 +110,12 @@ class FoamProblem:
     head_levels: int = 3
     lever_grid: int = 17
     golden_iterations: int = 24
+    foam: object | None = None
+
+    @property
+    def contact(self) -> ContactModel:
+        """The contact model of the robot and the foam (:mod:`designlab.impact.contact`)."""
+        return contact_of(self.robot) if self.foam is None else contact_of(self.robot, self.foam)
 
     @property
     def compression(self) -> CompressionLimit:
@@ -123,21 +130,13 @@ class FoamProblem:
         return head_rows([key.conservative_head])
 
     def robot_rows(self, levers: NDArray | None) -> tuple[NDArray, NDArray]:
-        """``(n_l, 3)`` [M_r, C_r, K_r] and ``(n_l,)`` v_c for lever arms (or the one robot)."""
-        if isinstance(self.robot, LinkImpact):
-            lr = self.robot
-            l2 = np.asarray(levers, dtype=float) ** 2
-            rows = np.column_stack(
-                [lr.inertia / l2, lr.joint_damping / l2, lr.joint_stiffness / l2]
-            )
-            if isinstance(lr, FullJointLink):  # the full series joint: 5 robot columns
-                rows = lr.effective_rows(np.sqrt(l2))
-            return rows, lr.joint_speed * np.sqrt(l2) + self.human_speed
-        r = self.robot
-        if isinstance(r, FullJointContact):  # full series joint: 5 robot columns
-            p = full_joint_params(r, Foam(1.0, 0.0), None)
-            return p[None, [0, 1, 2, 8, 9]], np.array([self.impact_velocity])
-        return np.array([[r.mass, r.damping, r.stiffness]]), np.array([self.impact_velocity])
+        """Robot rows (the contact model's ``robot_columns``) and v_c for lever arms (or the
+        one robot)."""
+        rows = self.contact.robot_row(self.robot, levers)
+        if self.robot.along_link:
+            levers = np.asarray(levers, dtype=float)
+            return rows, self.robot.speed(levers) + self.human_speed
+        return rows, np.array([self.impact_velocity])
 
     def designs(
         self, key: Criterion, k: NDArray, c: NDArray, levers: NDArray | None = None
@@ -147,7 +146,7 @@ class FoamProblem:
         Returns ``(N * n_heads, 8)`` parameters, their velocities and ``n_heads``;
         rows ``i * n_heads ... (i + 1) * n_heads - 1`` belong to foam ``i``.
         """
-        if isinstance(self.robot, LinkImpact):
+        if self.robot.along_link:
             rows, v = self.robot_rows(levers)
         else:
             c, rows, v = self._lane_inputs(c)
@@ -171,15 +170,21 @@ class FoamProblem:
     ) -> tuple[NDArray, NDArray, int]:
         heads = self.heads_for(key)
         n, nh = k.size, heads.shape[0]
-        params = np.column_stack([rows[:, :3], k, c])
-        extra = np.repeat(rows[:, 3:], nh, axis=0)  # full-joint controller columns, if any
-        full = np.column_stack([np.repeat(params, nh, axis=0), np.tile(heads, (n, 1)), extra])
+        full = self.contact.assemble(
+            np.repeat(rows, nh, axis=0),
+            np.repeat(k, nh),
+            np.repeat(c, nh),
+            np.tile(heads, (n, 1)),
+            self.foam,
+        )
         return full, np.repeat(v, nh), nh
 
     def _values(self, key: Criterion, k: NDArray, c: NDArray, rows: NDArray, v: NDArray) -> NDArray:
         """Metric for designs ``i`` x robot rows ``j`` (paired arrays, all length n)."""
         full, vv, nh = self._expand(key, k, c, rows, v)
-        vals = key.values(full, vv, constrained=self.constrained, stop_time=self.stop_time)
+        vals = self.contact.values(
+            key, full, vv, constrained=self.constrained, stop_time=self.stop_time
+        )
         return vals.reshape(k.size, nh).max(axis=1)
 
     def worst(self, key: Criterion, k: NDArray, c: NDArray) -> tuple[NDArray, NDArray]:
@@ -189,7 +194,7 @@ class FoamProblem:
         """
         k = np.asarray(k, dtype=float).ravel()
         c = np.asarray(c, dtype=float).ravel()
-        if not isinstance(self.robot, LinkImpact):
+        if not self.robot.along_link:
             return self._values(key, k, *self._lane_inputs(c)), np.full(k.size, np.nan)
         lr = self.robot
         grid = np.geomspace(lr.lever_arm_min, lr.lever_arm_max, self.lever_grid)
@@ -267,9 +272,11 @@ def same_but_limits(a: FoamProblem, b: FoamProblem) -> bool:
     -------
     bool
     """
-    if isinstance(b.robot, LinkImpact) or len(a.criteria) != len(b.criteria):
+    if b.robot.along_link or len(a.criteria) != len(b.criteria):
         return False
-    setting = ("head_range", "constrained", "stop_time", "head_levels")
+    if a.contact is not b.contact:
+        return False
+    setting = ("head_range", "constrained", "stop_time", "head_levels", "foam")
     if any(getattr(a, s) != getattr(b, s) for s in setting):
         return False
     return all(
@@ -306,7 +313,7 @@ class FoamLanes(FoamProblem):
         ``log`` of each constraint's limit, per lane.
     robot, impact_velocity, human_speed, criteria, max_compression, head_range
         As in :class:`FoamProblem` (the first problem's).
-    constrained, stop_time, head_levels, lever_grid, golden_iterations
+    constrained, stop_time, head_levels, lever_grid, golden_iterations, foam
         As in :class:`FoamProblem`.
     """
 
@@ -348,7 +355,8 @@ class FoamLanes(FoamProblem):
 
 def _closing_velocity(robot: object, impact_velocity: float | None) -> float:
     """v_c of a fixed robot (checked; it must be given), NaN for a robot at joint level."""
-    if isinstance(robot, LinkImpact):
+    contact_of(robot)  # a robot that no contact model serves is refused, naming those served
+    if robot.along_link:  # type: ignore[attr-defined]
         if impact_velocity is not None:
             raise InvalidParameterError(
                 "impact_velocity",
@@ -357,19 +365,15 @@ def _closing_velocity(robot: object, impact_velocity: float | None) -> float:
                 "m/s",
             )
         return float("nan")
-    if isinstance(robot, (ContactDynamics, FullJointContact)):
-        if impact_velocity is None:
-            raise InvalidParameterError(
-                "impact_velocity",
-                None,
-                f"must be given for a {type(robot).__name__} robot ({IMPACT_VELOCITY.allowed()} "
-                "m/s); None only for a LinkImpact, whose speed comes from the joint",
-                "m/s",
-            )
-        return IMPACT_VELOCITY.check(impact_velocity)
-    raise InvalidParameterError(
-        "robot", robot, "must be a ContactDynamics, a FullJointContact or a LinkImpact"
-    )
+    if impact_velocity is None:
+        raise InvalidParameterError(
+            "impact_velocity",
+            None,
+            f"must be given for a {type(robot).__name__} robot ({IMPACT_VELOCITY.allowed()} "
+            "m/s); None only for a LinkImpact, whose speed comes from the joint",
+            "m/s",
+        )
+    return IMPACT_VELOCITY.check(impact_velocity)
 
 
 def _criteria(criteria: Sequence[Criterion] | None, constrained: bool) -> tuple[Criterion, ...]:
@@ -406,6 +410,7 @@ def make_problem(
     constrained: bool,
     human_speed: float,
     stop_time: float,
+    foam: object | None = None,
 ) -> FoamProblem:
     """The worst-case problem of a foam design, every argument checked.
 
@@ -428,6 +433,9 @@ def make_problem(
         Head speed toward a ``LinkImpact`` robot, m/s.
     stop_time
         Window of the constrained impact's metrics, s.
+    foam
+        The foam whose stiffness and damping are varied, for a non-linear law
+        (:class:`~designlab.impact.contact.HuntCrossleyFoam`); ``None``: the linear foam.
 
     Returns
     -------
@@ -442,6 +450,9 @@ def make_problem(
         raise InvalidParameterError("head_range", head_range, "must be a HeadRange or None")
     crit = _criteria(criteria, bool(constrained))
     lam = MAX_COMPRESSION.check(max_compression)
+    if foam is not None:
+        contact_of(robot, foam)  # a foam this robot's contact models cannot take is refused
     return FoamProblem(
-        robot, v, human_speed, crit, lam, head_range, bool(constrained), float(stop_time)
-    )
+        robot, v, human_speed, crit, lam, head_range, bool(constrained), float(stop_time),
+        foam=foam,
+    )  # fmt: skip

@@ -22,7 +22,7 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -89,6 +89,9 @@ class FullJointContact(ParamsMixin):
     control_damping: float = param("C_cont/l^2", "N s/m", doc="effective control damping", ge=0)
     lever_arm: float | None = as_field(_CONTACT["lever_arm"], default=None)
     name: str = param(kind="text", default="", doc="optional label used in reports")
+
+    #: a fixed manipulator: struck at one point, at a given v_c
+    along_link: ClassVar[bool] = False
 
     def __post_init__(self) -> None:
         _damped(

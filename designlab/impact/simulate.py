@@ -37,7 +37,8 @@ from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError, check_finite
 from designlab.impact.conditioning import check_conditioning
-from designlab.impact.full_joint_model import full_joint_model, full_joint_params
+from designlab.impact.contact import ContactModel, contact_of
+from designlab.impact.general import GENERAL_RTOL, GeneralStatus, integrator_note
 from designlab.impact.metrics import (
     STATUS_OK,
     STATUS_PEAK_AT_CONTACT,
@@ -45,13 +46,9 @@ from designlab.impact.metrics import (
     metrics_of_matrix,
 )
 from designlab.impact.modal import ModalResponse, poles_of
-from designlab.impact.model import (
-    constrained_model,
-    param_vector,
-    printed_q2_correction,
-    unconstrained_model,
-)
+from designlab.impact.model import printed_q2_correction
 from designlab.impact.parameters import (
+    HIC_WINDOW,
     SIMULATION_DURATION,
     SIMULATION_SAMPLES,
     STOP_TIME,
@@ -104,7 +101,7 @@ class VelocityProfile:
         return self.acceleration * self.duration
 
 
-def hic(t: NDArray, head_acceleration: NDArray, window: float = 0.015) -> float:
+def hic(t: NDArray, head_acceleration: NDArray, window: float = HIC_WINDOW.default) -> float:
     """Head Injury Criterion by the standard definition (docs/impact.md, "HIC").
 
     ``HIC = max (t2 - t1) [ (1/(t2 - t1)) int_{t1}^{t2} a dt ]^2.5`` over
@@ -239,15 +236,16 @@ class ImpactResponse(Result):
 
     @property
     def bottoming(self) -> bool:
-        """Whether the foam is compressed beyond its linear depth lambda (I7)."""
-        return bool(self.max_compression > self.foam.linear_depth)
+        """Whether the foam is compressed beyond the depth where its law holds (I7): the
+        linear depth lambda of a linear foam."""
+        return bool(self.max_compression > contact_of(self.robot, self.foam).valid_depth(self.foam))
 
     @property
     def constrained(self) -> bool:
         """Whether the head was against a wall (K_h -> infinity)."""
         return self.head is None
 
-    def hic(self, window: float = 0.015, samples: int = 3001) -> float:
+    def hic(self, window: float = HIC_WINDOW.default, samples: int = 3001) -> float:
         """HIC over the first impact lobe (HIC15 by default, 0.036 for HIC36).
 
         The head acceleration is re-sampled exactly on ``samples`` points of
@@ -318,8 +316,9 @@ def _responses(
     its state space and adds the ``a_ff`` step: a desired acceleration
     compensated by feed-forward at the motor.
     """
+    contact = contact_of(robot, foam)
     model, p = _model_and_params(robot, foam, head)
-    if isinstance(robot, FullJointContact):
+    if contact.response_form == "state_space":  # with the feed-forward input at the motor
         fams = (*keys, "a_ff") if "a_d" in keys else keys
         return modal_families(model, p, _OUTPUTS, fams)
     den, num = model.tf_coefficients(p)
@@ -379,11 +378,9 @@ def _exact_ramp(p: NDArray, q2: str) -> tuple[NDArray, dict[str, NDArray]]:
 
 
 def _model_and_params(robot, foam, head):  # type: ignore[no-untyped-def]
-    """The linear model and its ``(1, n_p)`` parameters for a reduced or full-joint robot."""
-    if isinstance(robot, FullJointContact):
-        return full_joint_model(head is None), full_joint_params(robot, foam, head)[None, :]
-    model = constrained_model() if head is None else unconstrained_model()
-    return model, param_vector(robot, foam, head)[None, :]
+    """The linear model and its ``(1, n_p)`` parameters (the contact model's)."""
+    contact = contact_of(robot, foam)
+    return contact.model(head is None), contact.row(robot, foam, head)[None, :]
 
 
 def _superpose(
@@ -442,7 +439,7 @@ def simulate(
     duration: float | None = None,
     samples: int = 2001,
     q2: str = "correct",
-    stop_time: float = 0.05,
+    stop_time: float = STOP_TIME.default,
 ) -> ImpactResponse:
     """Simulate the impact of a foam-covered manipulator on a head (Zeng 2011, Sec. 3.5).
 
@@ -453,7 +450,7 @@ def simulate(
         (:class:`ContactDynamics`) or the full series joint of (3.4.6)
         (:class:`~designlab.impact.full_joint.FullJointContact`).
     foam
-        Foam covering.
+        Foam covering: a linear :class:`Foam`, or a non-linear one (docs/impact_contact.md).
     head
         Head on its neck; ``None`` for the constrained impact (head against a
         wall, (3.6.1)/(3.9.4)).
@@ -483,24 +480,24 @@ def simulate(
     >>> r.constrained, round(r.peak_force, 1)
     (True, 158.3)
     """
-    v_c = _check_inputs(robot, foam, head, impact_velocity, profile, samples, q2)
+    v_c, contact = _check_inputs(robot, foam, head, impact_velocity, profile, samples, q2)
     duration = SIMULATION_DURATION.check(duration)
     stop_time = STOP_TIME.check(stop_time)
+    if not contact.linear:
+        return _integrated(contact, robot, foam, head, v_c, duration, samples, stop_time)
     keys = ("ramp",) if profile is None else ("ramp", "accel", "a_d")
     families = _responses(robot, foam, head, q2, keys)
     evaluate = _superpose(families, max(v_c, 0.0), profile)
-
     if v_c <= 0 and profile is None:
         return _no_impact(robot, foam, head, v_c, duration, samples, q2)
     if v_c <= 0:
         raise InvalidParameterError(
             "impact_velocity", v_c, "must be > 0 when a velocity profile is given", "m/s"
         )
-
     t_imp, metrics, status = _lobe_metrics(
         families, evaluate, robot, foam, head, v_c, profile, stop_time, q2
     )
-    warnings, status = _response_warnings(status, t_imp, metrics, foam)
+    warnings, status = _response_warnings(status, t_imp, metrics, foam, contact)
 
     t = np.linspace(0.0, _t_end(duration, t_imp), int(samples))
     with np.errstate(all="ignore"):
@@ -531,6 +528,50 @@ def simulate(
         q2=q2,
         _lobe={"evaluate": evaluate},
     )
+
+
+def _integrated(
+    contact: ContactModel,
+    robot: ContactDynamics,
+    foam: object,
+    head: HeadNeck | None,
+    v_c: float,
+    duration: float | None,
+    samples: int,
+    stop_time: float,
+) -> ImpactResponse:
+    """:func:`simulate` of a non-linear contact: the general response path, integrated."""
+    if v_c <= 0:
+        return _no_impact(robot, foam, head, v_c, duration, samples, "correct")  # type: ignore[arg-type]
+    lobe, evaluate = contact.integrate(robot, foam, head, v_c, t_end=duration, stop_time=stop_time)
+    metrics = {
+        "head_acceleration": (lobe.time_of_peak_acceleration, lobe.peak_head_acceleration),
+        "compression": (lobe.time_of_max_compression, lobe.max_compression),
+        "force": (lobe.time_of_peak_force, lobe.peak_force),
+    }
+    t_imp = lobe.impact_duration
+    if lobe.status == "bottoming":
+        status, warnings = (
+            lobe.status,
+            [
+                f"the foam is crushed at t = {lobe.time_of_max_compression:.4g} s: eps reached its "
+                "densification depth, the force and a_h are beyond any limit (the histories end "
+                "there)"
+            ],
+        )
+    else:
+        warnings, status = _response_warnings(lobe.status, t_imp, metrics, foam, contact)  # type: ignore[arg-type]
+    t = np.linspace(0.0, min(_t_end(duration, t_imp), evaluate.end), int(samples))
+    y = evaluate(t)
+    return ImpactResponse(
+        robot, foam, head, v_c, t, y["force"], y["head_acceleration"], y["compression"],  # type: ignore[arg-type]
+        y["head_velocity"], y["robot_deflection"], lobe.peak_head_acceleration,
+        lobe.max_compression, lobe.peak_force, t_imp, lobe.time_of_peak_acceleration,
+        lobe.time_of_max_compression, lobe.time_of_peak_force,
+        GeneralStatus.INTEGRATED if status == STATUS_OK else ImpactStatus(status),
+        (*warnings, integrator_note(GENERAL_RTOL.default)), None, "correct",
+        {"evaluate": evaluate},
+    )  # fmt: skip
 
 
 def _check_histories(robot: object, y: dict[str, NDArray]) -> None:
@@ -590,13 +631,7 @@ def input_labels(robot: object, head: object) -> tuple[str | None, ...]:
     >>> input_labels(dl.impact.MANIPULATOR_1, None)[:2]
     ('robot.mass', 'robot.damping')
     """
-    heads = (None,) * 3 if head is None else ("head.mass", "head.damping", "head.stiffness")
-    if isinstance(robot, FullJointContact):  # FULL_PARAM_NAMES
-        return ("robot.mass", "robot.transmission_damping", "robot.transmission_stiffness",
-                "foam.stiffness", "foam.damping", *heads,
-                "robot.control_damping", "robot.control_stiffness")  # fmt: skip
-    return ("robot.mass", "robot.damping", "robot.stiffness", "foam.stiffness", "foam.damping",
-            *heads)  # fmt: skip
+    return contact_of(robot).input_labels(head)
 
 
 def _check_inputs(
@@ -608,26 +643,32 @@ def _check_inputs(
     samples: object,
     q2: object,
 ) -> float:
-    """Validate the arguments of :func:`simulate`; returns v_c."""
-    if not isinstance(robot, (ContactDynamics, FullJointContact)):
-        raise InvalidParameterError("robot", robot, "must be a ContactDynamics or FullJointContact")
-    if not isinstance(foam, Foam):
-        raise InvalidParameterError("foam", foam, "must be a Foam")
+    """Validate the arguments of :func:`simulate`; returns v_c and the contact model."""
+    contact = contact_of(robot, foam)
+    if robot.along_link:  # type: ignore[attr-defined]
+        raise InvalidParameterError(
+            "robot", robot, "must be a manipulator at one impact point (robot.contact(l))"
+        )
     if head is not None and not isinstance(head, HeadNeck):
         raise InvalidParameterError("head", head, "must be a HeadNeck or None")
     v_c = check_closing_velocity(check_finite("impact_velocity", impact_velocity, "m/s"))
     if q2 not in ("correct", "printed"):
         raise InvalidParameterError("q2", q2, "must be 'correct' or 'printed'")
-    if q2 == "printed" and isinstance(robot, FullJointContact):
+    if q2 == "printed" and not contact.printed_q2:
         raise InvalidParameterError("q2", q2, "the printed q2 belongs to the reduced joint")
     SIMULATION_SAMPLES.check(samples)
     if profile is not None and not isinstance(profile, VelocityProfile):
         raise InvalidParameterError("profile", profile, "must be a VelocityProfile or None")
-    model, p = _model_and_params(robot, foam, head)
-    check_conditioning(
-        p, model.param_names, constrained=head is None, labels=input_labels(robot, head)
-    )
-    return v_c
+    if profile is not None and not contact.profiles:
+        raise InvalidParameterError(
+            "profile", profile, f"is not available with the {contact.label} contact"
+        )
+    if contact.linear:
+        model, p = _model_and_params(robot, foam, head)
+        check_conditioning(
+            p, model.param_names, constrained=head is None, labels=contact.input_labels(head)
+        )
+    return v_c, contact
 
 
 def _lobe_metrics(
@@ -667,7 +708,11 @@ def _lobe_metrics(
 
 
 def _response_warnings(
-    status: str, t_imp: float, metrics: dict[str, tuple[float, float]], foam: Foam
+    status: str,
+    t_imp: float,
+    metrics: dict[str, tuple[float, float]],
+    foam: Foam,
+    contact: ContactModel,
 ) -> tuple[list[str], str]:
     """Warnings of one response, and its status (``bottoming`` if the foam bottoms out)."""
     warnings: list[str] = []
@@ -678,7 +723,7 @@ def _response_warnings(
         )
     if not np.isfinite(t_imp):
         warnings.append("the first impact lobe did not close; metrics are NaN")
-    if metrics["compression"][1] > foam.linear_depth:
+    if metrics["compression"][1] > contact.valid_depth(foam):
         warnings.append(
             f"eps_max = {metrics['compression'][1]:.4g} m exceeds the foam's linear depth "
             f"lambda = {foam.linear_depth:.4g} m: the foam bottoms out and the linear model "

@@ -46,14 +46,12 @@ from designlab.errors import InvalidParameterError
 from designlab.impact.boundaries import solve_boundaries
 from designlab.impact.criteria import Criterion
 from designlab.impact.envelope import FoamEnvelope
-from designlab.impact.metrics import metrics_of_matrix, param_names
 from designlab.impact.parameters import (
     SEED,
     THESIS_HEAD_RANGE,
     WORST_CASE_SAMPLES,
     WORST_CASE_TOLERANCE,
     HeadRange,
-    LinkImpact,
 )
 from designlab.impact.problem import FoamProblem
 from designlab.results import Result, Status
@@ -174,7 +172,7 @@ def _robot_cases(
 ) -> tuple[NDArray, NDArray, NDArray]:
     """Deterministic robot rows per boundary point: ``(n, n_r, 3)``, ``(n, n_r)`` v_c, levers."""
     n = k.size
-    if isinstance(prob.robot, LinkImpact):
+    if prob.robot.along_link:
         _, worst_l = prob.worst(key, k, c)
         lr = prob.robot
         levers = np.column_stack(
@@ -194,7 +192,7 @@ def _evaluate(
     prob: FoamProblem, key: Criterion, params: NDArray, v: NDArray
 ) -> tuple[NDArray, NDArray]:
     """Ratio metric / limit and the delicate-lobe flag of each case."""
-    m = metrics_of_matrix(
+    m = prob.contact.metrics(
         params,
         v,
         constrained=prob.constrained,
@@ -217,7 +215,7 @@ def _corner_ratio(
     kk = np.repeat(k, nr * nh)
     cc = np.repeat(c, nr * nh)
     hh = np.tile(heads, (n * nr, 1))
-    params = np.column_stack([robot[:, :3], kk, cc, hh, robot[:, 3:]])  # full joint: +2
+    params = prob.contact.assemble(robot, kk, cc, hh, prob.foam)
     ratio, delicate = _evaluate(prob, key, params, vv)
     ratio = ratio.reshape(n, nr * nh)
     j = np.nanargmax(np.where(np.isfinite(ratio), ratio, -np.inf), axis=1)
@@ -242,7 +240,7 @@ def _sampled_ratio(
     n = k.size * samples
     heads = np.tile([1.0, 0.0, 0.0], (n, 1)) if prob.constrained else head_range.sample(n, rng)
     frac = rng.random(n)
-    if isinstance(prob.robot, LinkImpact):
+    if prob.robot.along_link:
         lr = prob.robot
         lev = lr.lever_arm_min + (lr.lever_arm_max - lr.lever_arm_min) * rng.random(n)
         rows, vmax = prob.robot_rows(lev)
@@ -250,9 +248,9 @@ def _sampled_ratio(
         rows, vmax = prob.robot_rows(None)
         rows, vmax = np.repeat(rows, n, axis=0), np.repeat(vmax, n)
     v = vmax * np.where(frac < 0.25, 1.0, frac)
-    params = np.column_stack(
-        [rows[:, :3], np.repeat(k, samples), np.repeat(c, samples), heads, rows[:, 3:]]
-    )  # full joint: +2 controller columns
+    params = prob.contact.assemble(
+        rows, np.repeat(k, samples), np.repeat(c, samples), heads, prob.foam
+    )
     ratio, delicate = _evaluate(prob, key, params, v)
     r = np.where(np.isfinite(ratio), ratio, -np.inf).reshape(k.size, samples)
     j = r.argmax(axis=1)
@@ -330,7 +328,7 @@ def _check_constraint(
         flag = flag | d_s
     ratio_all[ok], corner_all[ok], flag_all[ok] = ratio, r_c, flag
     j = int(np.argmax(ratio))
-    names = (*param_names(case.shape[1] - 1), "v_c")
+    names = (*prob.contact.columns, "v_c")
     worst = dict(zip(names, case[j].tolist(), strict=True))
     onset_c, onset_xi = _onset(prob, env, key, heads, ratio_all, tolerance)
     return ratio_all, corner_all, flag_all, worst, onset_c, onset_xi
@@ -369,7 +367,7 @@ def check_worst_case(
     env: FoamEnvelope,
     head_range: HeadRange = THESIS_HEAD_RANGE,
     samples: int = 64,
-    seed: int = 0,
+    seed: int = SEED.default,
     tolerance: float = 1e-6,
 ) -> WorstCaseCheck:
     """Check the envelope's worst case at every boundary point (see the module text).

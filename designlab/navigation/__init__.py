@@ -2,50 +2,60 @@
 
 from __future__ import annotations
 
-from designlab.navigation.criteria import Criteria, criteria
-from designlab.navigation.crowds import (
-    CrowdResult,
-    CrowdScenario,
-    CrowdStatus,
-    PedestrianRun,
-    crowd,
-    simulate_pedestrians,
-)
-from designlab.navigation.lyapunov import StabilityAudit, omega_closed_form, omega_printed
-from designlab.navigation.merge import merge_critical_regions
-from designlab.navigation.noise import SensorNoise
-from designlab.navigation.parameters import (
-    EXPERIMENT_GAINS,
-    OPTIMAL_GAINS,
-    CircularObstacle,
-    GeCuiGains,
-    HolonomicRobot,
-    Human,
-    MasoudGains,
-    NonholonomicRobot,
-    ObstacleRobot,
-    RectangularObstacle,
-    VFFGains,
-)
-from designlab.navigation.regions import RegionSizes, region_sizes
-from designlab.navigation.scenarios import (
-    ConstantVelocity,
-    Disc,
-    Rectangle,
-    SampledPath,
-    Scenario,
-    Stationary,
-    Walk,
-    configuration,
-)
-from designlab.navigation.sensitivity import (
-    GainGlobalSensitivity,
-    GainSensitivity,
-    gain_global_sensitivity,
-    gain_sensitivity,
-)
-from designlab.navigation.simulate import BatchResult, NavigationResult, simulate, simulate_batch
-from designlab.navigation.tuning import GainOptimum, RandomWalks, evaluate_gains, optimise_gains
+from typing import TYPE_CHECKING
+
+from designlab._lazy import attach as _attach
+
+if TYPE_CHECKING:  # the public names, imported on first use (designlab._lazy)
+    from designlab.navigation.criteria import Criteria, criteria
+    from designlab.navigation.crowds import (
+        CrowdResult,
+        CrowdScenario,
+        CrowdStatus,
+        PedestrianRun,
+        crowd,
+        simulate_pedestrians,
+    )
+    from designlab.navigation.lyapunov import StabilityAudit, omega_closed_form, omega_printed
+    from designlab.navigation.merge import merge_critical_regions
+    from designlab.navigation.noise import SensorNoise
+    from designlab.navigation.parameters import (
+        EXPERIMENT_GAINS,
+        OPTIMAL_GAINS,
+        CircularObstacle,
+        GeCuiGains,
+        HolonomicRobot,
+        Human,
+        MasoudGains,
+        NonholonomicRobot,
+        ObstacleRobot,
+        RectangularObstacle,
+        VFFGains,
+    )
+    from designlab.navigation.regions import RegionSizes, region_sizes
+    from designlab.navigation.scenarios import (
+        ConstantVelocity,
+        Disc,
+        Rectangle,
+        SampledPath,
+        Scenario,
+        Stationary,
+        Walk,
+        configuration,
+    )
+    from designlab.navigation.sensitivity import (
+        GainGlobalSensitivity,
+        GainSensitivity,
+        gain_global_sensitivity,
+        gain_sensitivity,
+    )
+    from designlab.navigation.simulate import (
+        BatchResult,
+        NavigationResult,
+        simulate,
+        simulate_batch,
+    )
+    from designlab.navigation.tuning import GainOptimum, RandomWalks, evaluate_gains, optimise_gains
 
 __all__ = [
     "EXPERIMENT_GAINS",
@@ -95,3 +105,5 @@ __all__ = [
     "simulate_batch",
     "simulate_pedestrians",
 ]
+
+_attach(__name__)

@@ -2,7 +2,9 @@
 
 Files: ``summary.md`` (the thesis's numbers beside the simulated ones: first
 snagging gap, collision limits, the fit (4.6), detection points; the
-compensation), ``snagging.csv`` (one row per gap), ``snagging_paths.png`` (the
+compensation), ``snagging.csv`` (one row per gap), ``limits.csv`` (the limits and
+the fit per follower), ``features.csv`` (the prominence of each detection feature),
+``snagging_paths.png`` (the
 distorted tracked path of Fig. 4.17 and the robot's path at the detail gaps),
 ``snagging_limits.png`` (d_col against the gap with the thesis's fit) and
 ``snagging_detection.png`` (the change of beta_path against the leader's
@@ -13,7 +15,6 @@ from __future__ import annotations
 
 import math
 from functools import partial
-from pathlib import Path
 
 import matplotlib
 
@@ -23,13 +24,13 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from designlab.following.tether.snag import SNAG_FIT
+from designlab.following.tether.snag import SNAG_FIT, snag_limits
 from designlab.report import register_writer
-from designlab.report.builder import report_header, warnings_section, write_report
+from designlab.report.builder import ReportParts
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.tether_snagging import NEAR, TetherSnaggingResult
 
-__all__ = ["snagging_markdown", "write_snagging_report"]
+__all__ = ["fit_by_gaps", "snagging_markdown", "snagging_report"]
 
 #: The thesis's numbers (Allan 2015 Sec. 4.5.3-4.5.5), in units of w = 1 m.
 THESIS = {
@@ -73,6 +74,8 @@ def paths_figure(result: TetherSnaggingResult) -> Figure:
         ax.set_xlim(-3.0, 2.0)
         ax.set_ylim(-2.0, 3.0)
         ax.set_aspect("equal")
+        ax.set_xlabel("x (m)")
+        ax.set_ylabel("y (m)")
         ax.set_title(f"gap {r.scenario.gap:g} m: d_col {r.d_col:.2f} w", fontsize=10)
         ax.grid(True, alpha=0.3)
     axes[0][0].legend(fontsize=7, loc="upper left")
@@ -128,41 +131,100 @@ def _f(x: float) -> str:
     return "—" if not math.isfinite(x) else f"{x:.3f}"
 
 
-def _comparison(result: TetherSnaggingResult) -> pd.DataFrame:
-    lim = result.limits()
-    f = result.to_frame()
-    at_275 = f[np.isclose(f["gap_over_w"], 2.75)]
-    at_1 = f[np.isclose(f["gap_over_w"], 1.0)]["snagged"].any()
+#: How the report names each follower (``SnagScenario.follower``).
+FOLLOWER_LABELS = {
+    "constant_speed": "constant v_F (Table 4.1; the thesis's follower)",
+    "gap": "gap-keeping (ours)",
+}
+#: The gaps (/w) the thesis's text names for the collision study (Sec. 4.5.4).
+THESIS_GAPS = (1.75, 2.0, 2.25, 2.5, 2.75)
+
+
+def _column(result: TetherSnaggingResult, follower: str) -> list[str]:
+    lim = result.limits(follower)
+    grid, _ = result.runs_of(follower)
+    by_gap = {round(r.scenario.gap / r.scenario.width, 6): r for r in grid}
+    at_1, at_275 = by_gap.get(1.0), by_gap.get(2.75)
     geo = _f(lim["geometric_snag_gap_over_w"])
-    rows = [
-        ("no snagging at 1 w", "none", "snagged" if at_1 else "none"),
-        (
-            "first snagging gap (/w)",
-            f"about {THESIS['first_snag']:g} (4.9)",
-            f"{_f(lim['first_snag_gap_over_w'])} on the grid; {geo} = 1 + pi/4 by geometry",
-        ),
-        (
-            "collisions start above (/w), r_col = half the vehicle length",
-            f"{THESIS['collision']:g} (4.8: {np.polyval(SNAG_FIT, lim['r_col_over_w']):.3f})",
-            _f(lim["collision_gap_over_w"]),
-        ),
-        (
-            "robot centre reaches the wall, d_col = 0 (/w)",
-            f"{SNAG_FIT[2]:g} (4.6)",
-            _f(lim["wall_gap_over_w"]),
-        ),
-        (
-            "collision at 2.75 w",
-            "in every case",
-            str(at_275["status"].iloc[0]) if len(at_275) else "not on the grid",
-        ),
-    ]
+    fit = "—"
     if "fit_a" in lim:
-        fit = f"{lim['fit_a']:.3f}, {lim['fit_b']:.3f}, {lim['fit_c']:.3f}"
-        rows.append(
-            ("fit (4.6) a, b, c", "-0.664, -1.4, 2.565", f"{fit} (rms {lim['fit_rms']:.4f})")
+        fit = (
+            f"{lim['fit_a']:.3f}, {lim['fit_b']:.3f}, {lim['fit_c']:.3f} (rms {lim['fit_rms']:.4f})"
         )
-    return pd.DataFrame(rows, columns=["quantity", "Allan 2015", "here"])
+    span = "—"
+    if "span_recorded_m" in lim:
+        span = f"{lim['span_recorded_m']:.2f} (at {lim['span_gap_m']:g} m)"
+    return [
+        "not on the grid" if at_1 is None else ("snagged" if at_1.snagged.any() else "none"),
+        f"{_f(lim['first_snag_gap_over_w'])} on the grid; {geo} = 1 + pi/4 by geometry",
+        _f(lim["collision_gap_over_w"]),
+        _f(lim["wall_gap_over_w"]),
+        "not on the grid" if at_275 is None else str(at_275.status),
+        fit,
+        span,
+    ]
+
+
+def _comparison(result: TetherSnaggingResult) -> pd.DataFrame:
+    rcol = result.limits()["r_col_over_w"]
+    table = pd.DataFrame(
+        {
+            "quantity": [
+                "no snagging at 1 w",
+                "first snagging gap (/w)",
+                "collisions start above (/w), r_col = half the vehicle length",
+                "robot centre reaches the wall, d_col = 0 (/w)",
+                "collision at 2.75 w",
+                "fit (4.6) a, b, c",
+                "string wrapped along the recorded path, without the release jump (m)",
+            ],
+            "Allan 2015": [
+                "none",
+                f"about {THESIS['first_snag']:g} (4.9)",
+                f"{THESIS['collision']:g} (4.8: {np.polyval(SNAG_FIT, rcol):.3f})",
+                f"{SNAG_FIT[2]:g} (4.6)",
+                "in every case",
+                "-0.664, -1.4, 2.565",
+                f"{THESIS['unsnag_at_5m'] - THESIS['snag_at_5m']:.2f} (at 5 m)",
+            ],
+        }
+    )
+    for follower in result.followers:
+        table[FOLLOWER_LABELS[follower]] = _column(result, follower)
+    return table
+
+
+def fit_by_gaps(result: TetherSnaggingResult) -> pd.DataFrame:
+    """The fit (4.6) of the main follower over different sets of fitted gaps.
+
+    The thesis does not say which gaps it fitted; its text names 1.75-2.75 w in steps of
+    0.25 w. The curvature ``a`` depends on that choice, the slope and the constant little.
+
+    Parameters
+    ----------
+    result
+        The study's result (its main follower's grid runs are fitted).
+    """
+    grid, _ = result.runs_of(result.follower)
+    g = np.array([r.scenario.gap / r.scenario.width for r in grid])
+    d = np.array([r.d_col for r in grid])
+    snag = np.array([bool(r.snagged.any()) for r in grid])
+    named = np.isin(np.round(g, 6), THESIS_GAPS)
+    sets = {
+        "snagged, inside the corridor (the fit above)": snag & (d >= 0.0),
+        "every snagged run": snag,
+        "the gaps the thesis names, 1.75-2.75 w by 0.25 w": named,
+        "the gaps the thesis names, snagged and inside": named & snag & (d >= 0.0),
+    }
+    rows = []
+    for label, mask in sets.items():
+        if mask.sum() < 3 or np.unique(d[mask]).size < 3:
+            continue
+        fit = snag_limits(d[mask], g[mask], result.limits()["r_col_over_w"])
+        abc = {k: fit[k] for k in "abc"}
+        rows.append({"fitted gaps": label, "runs": int(mask.sum()), **abc,
+                     "gap_limit (4.8)": fit["gap_limit"]})  # fmt: skip
+    return pd.DataFrame(rows)
 
 
 def _span_text(span: tuple[float, float] | None) -> str:
@@ -180,7 +242,9 @@ def _axis_claim(result: TetherSnaggingResult) -> str:
     (a, b), (ra, rb) = r.snag_span, r.snag_span_recorded  # type: ignore[misc]
     return (
         f"At g_F = {r.scenario.gap:g} m the string stays wrapped for {rb - ra:.2f} m along the "
-        f"recorded path ({ra:.2f} to {rb:.2f} m) and {b - a:.2f} m along the leader's true path "
+        f"recorded path ({ra:.2f} to {rb:.2f} m, up to the last point recorded while wrapped: "
+        "the estimated tip's jump back to the leader at the release is not path) and "
+        f"{b - a:.2f} m along the leader's true path "
         f"(thesis: {THESIS['unsnag_at_5m'] - THESIS['snag_at_5m']:.2f} m at 5 m)."
     )
 
@@ -206,23 +270,18 @@ def _detection_table(result: TetherSnaggingResult) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def snagging_markdown(
-    result: TetherSnaggingResult, *, command: str | None = None, version: str | None = None
-) -> str:
-    """The summary.
+def snagging_markdown(result: TetherSnaggingResult) -> str:
+    """The body of the summary (the framework adds header and warnings).
 
     Parameters
     ----------
     result
         The study's result.
-    command, version
-        For the provenance sentence.
     """
     st = result.study
     sc = st.scenario.build()
     comp = result.to_frame()
-    lines = report_header(st.name, st.description, command=command, version=version)
-    lines += [
+    lines = [
         "## Set-up (Table 4.1)",
         "",
         f"- corridor width w {sc.width:g} m, one left turn on an arc of radius w/2 about the inner "
@@ -230,14 +289,26 @@ def snagging_markdown(
         f"{sc.exit:g} m after the turn (not given in the thesis)",
         f"- follower step {sc.step:g} m, time step {sc.sample_time:g} s, vehicle length "
         f"{sc.vehicle_length:g} m (r_col = {sc.collision_radius:g} m)",
-        "- the robot keeps the gap along the recorded path (ideal path follower); the tether wraps "
-        "the inner vertex when the straight line is blocked (docs/tether_modes.md)",
+        f"- follower: {FOLLOWER_LABELS[sc.follower]}: "
+        + (
+            f"the robot drives along the recorded path at v_F = {sc.speed:g} m/s, starting "
+            "g_F behind its newest point, never past it"
+            if sc.follower == "constant_speed"
+            else "the robot keeps g_F behind the newest recorded point"
+        )
+        + "; the tether wraps the inner vertex when the straight line is blocked "
+        "(docs/tether_modes.md)",
         f"- gaps {st.gaps.low:g} to {st.gaps.high:g} m ({st.gaps.num} runs), each without and "
         "with the compensation",
         "",
         "## Against the thesis (Sec. 4.5.3-4.5.4)",
         "",
         markdown_table(_comparison(result), disable_numparse=True),
+        "",
+        "The fit's curvature depends on which gaps are fitted, which the thesis does not say "
+        "(its slope and constant little):",
+        "",
+        markdown_table(fit_by_gaps(result), floatfmt=".3f"),
         "",
         "## Detection (Sec. 4.5.5)",
         "",
@@ -268,26 +339,18 @@ def snagging_markdown(
         f"{comp['compensated_d_col_over_w'].min():.3f} w "
         f"(without: {comp['d_col_over_w'].min():.3f} w).",
         "",
-        *warnings_section(result.warnings, none="No compensated run collides."),
     ]
     return "\n".join(lines)
 
 
 @register_writer(TetherSnaggingResult)
-def write_snagging_report(
-    result: TetherSnaggingResult,
-    directory: Path,
-    *,
-    command: str | None = None,
-    version: str | None = None,
-    study_text: str | None = None,
-) -> list[Path]:
-    """Write summary.md, snagging.csv, three PNGs (and study.yaml).
+def snagging_report(result: TetherSnaggingResult) -> ReportParts:
+    """The report's parts: summary.md, snagging.csv, limits.csv, features.csv, three PNGs.
 
     Parameters
     ----------
-    result, directory, command, version, study_text
-        As every report writer takes them (:func:`designlab.report.register_writer`).
+    result
+        The study's result.
     """
     makers = {"paths": paths_figure, "limits": limits_figure, "detection": detection_figure}
     figures = {
@@ -295,10 +358,13 @@ def write_snagging_report(
         for name, make in makers.items()
         if name == "limits" or result.detail
     }
-    return write_report(
-        directory,
-        tables={"snagging.csv": result.to_frame()},
+    return ReportParts(
+        body=[snagging_markdown(result)],
+        no_warnings="No compensated run collides.",
+        tables={
+            "snagging.csv": result.to_frame(),
+            "limits.csv": result.limits_frame(),
+            "features.csv": result.feature_prominence(),
+        },
         figures=figures,
-        pages={"summary.md": snagging_markdown(result, command=command, version=version)},
-        study_text=study_text,
     )

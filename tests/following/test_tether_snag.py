@@ -87,7 +87,9 @@ def test_snag_starts_where_the_chord_touches_the_vertex(gap):
 def test_distortion_grows_with_the_gap_and_compensation_removes_it():
     d = [simulate_snag(SnagScenario(gap=g)).d_col for g in (1.8, 2.0, 2.25, 2.5)]
     assert all(a > b for a, b in itertools.pairwise(d))
-    fixed = simulate_snag(SnagScenario(gap=2.5, compensate=True))
+    # the gap-keeping robot (ours) ends g_F behind the leader; the thesis's constant-speed
+    # robot (the default) drives on to the newest recorded point
+    fixed = simulate_snag(SnagScenario(gap=2.5, compensate=True, follower="gap"))
     assert fixed.d_col == pytest.approx(0.5, abs=0.01)  # the straight join after the unsnag
     assert len(fixed.detections) == 2  # snag and unsnag
     end = fixed.robot_xy[-1]
@@ -138,10 +140,23 @@ def test_snagging_study_report_and_limits(tmp_path):
     prom = result.feature_prominence()
     assert len(prom) == 3 and (prom["ratio"] == prom["near_max"] / prom["elsewhere_max"]).all()
     assert prom.set_index("feature")["ratio"]["d beta_path / d s_L (4.12)"] > 1.0
+    assert result.followers == ("constant_speed", "gap")
+    table = result.limits_frame().set_index("follower")
+    assert table.loc["constant_speed", "collision_gap_over_w"] == lim["collision_gap_over_w"]
+    ours = result.limits("gap")
+    assert ours["collision_gap_over_w"] < lim["collision_gap_over_w"]  # it speeds up in the snag
     out = write_report(result, tmp_path, index=False)
-    assert {"snagging.csv", "snagging_paths.png", "snagging_limits.png", "summary.md"} <= {
-        p.name for p in out.iterdir()
-    }
+    assert {
+        "snagging.csv",
+        "limits.csv",
+        "snagging_paths.png",
+        "snagging_limits.png",
+        "summary.md",
+    } <= {p.name for p in out.iterdir()}
+    text = (out / "summary.md").read_text()
+    assert (
+        "constant v_F (Table 4.1; the thesis's follower)" in text and "gap-keeping (ours)" in text
+    )
 
 
 @pytest.mark.parametrize(
@@ -153,6 +168,8 @@ def test_snagging_study_report_and_limits(tmp_path):
         "scenario: {width: .nan}",
         "scenario: {gap: 2.0}",
         "detail_gaps: [1, 2, 3, 4, 5, 6, 7]",
+        "compare_followers: [slow]",
+        "scenario: {follower: slow}",
     ],
 )
 def test_snagging_study_refuses(body):

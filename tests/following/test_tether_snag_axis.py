@@ -1,4 +1,4 @@
-"""Snagging on the recorded-path axis and the follower's speed limit (Allan 2015 Sec. 4.5.5)."""
+"""Snagging on the recorded-path axis and the followers (Allan 2015 Sec. 4.5.5, Table 4.1)."""
 
 from __future__ import annotations
 
@@ -29,20 +29,37 @@ def test_the_snag_lengthens_the_recorded_path(gap):
     assert np.all(np.diff(run.tracked_s) >= 0)
 
 
-def test_on_the_recorded_path_the_thesis_span_at_5_m_is_bracketed():
-    """Allan 2015 at g_F = 5 m: snag at 7.91 m, unsnag at 14.95 m (7.04 m apart). A follower
-    that keeps its gap and one limited to the leader's speed bracket it on the recorded axis."""
-    keeps = simulate_snag(SnagScenario(gap=5.0)).snag_span_recorded
-    slow = simulate_snag(SnagScenario(gap=5.0, max_speed=0.4)).snag_span_recorded
-    assert keeps[1] - keeps[0] < 7.04 < slow[1] - slow[0]
-    assert keeps[0] == pytest.approx(7.91, abs=0.1)
+def test_the_constant_speed_robot_drives_v_f_along_the_recorded_path():
+    """Table 4.1's follower: v_F dt of recorded path per step, whatever the snag does."""
+    sc = SnagScenario(gap=2.5)
+    assert sc.follower == "constant_speed"
+    run = simulate_snag(sc)
+    step = np.hypot(*np.diff(run.robot_xy, axis=0).T)
+    # on a straight stretch of the recorded path the chord is the arc: exactly v_F dt
+    assert step.max() == pytest.approx(sc.speed * sc.sample_time, rel=1e-9)
+    assert step.max() <= sc.speed * sc.sample_time * (1 + 1e-12)
+    # while the string is wrapped the gap-keeping robot drives faster than v_F
+    ours = simulate_snag(SnagScenario(gap=2.5, follower="gap"))
+    fast = np.hypot(*np.diff(ours.robot_xy, axis=0).T).max()
+    assert fast > 1.5 * sc.speed * sc.sample_time
+
+
+def test_the_release_is_measured_without_the_tips_jump():
+    """At the release the estimated tip jumps back to the leader: one long recorded segment,
+    not path; the recorded span ends at the last point recorded while wrapped."""
+    run = simulate_snag(SnagScenario(gap=5.0, follower="gap"))
+    seg = np.diff(run.tracked_s)
+    jump = int(np.argmax(seg))
+    assert seg[jump] > 1.0  # about 2.2 m at 5 m
+    assert run.tracked_s_leader[jump + 1] >= run.snag_span[1] - 1e-9
+    assert run.snag_span_recorded[1] == pytest.approx(run.tracked_s[jump])
 
 
 def test_max_speed_limits_the_advance_and_none_keeps_the_gap():
-    base = simulate_snag(SnagScenario(gap=2.0))
-    same = simulate_snag(SnagScenario(gap=2.0, max_speed=None))
+    base = simulate_snag(SnagScenario(gap=2.0, follower="gap"))
+    same = simulate_snag(SnagScenario(gap=2.0, follower="gap", max_speed=None))
     np.testing.assert_array_equal(base.robot_xy, same.robot_xy)
-    capped = simulate_snag(SnagScenario(gap=2.0, max_speed=0.3))
+    capped = simulate_snag(SnagScenario(gap=2.0, follower="gap", max_speed=0.3))
     step = np.hypot(*np.diff(capped.robot_xy, axis=0).T)
     assert step.max() <= 0.3 * capped.scenario.sample_time + 1e-9
 

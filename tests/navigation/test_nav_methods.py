@@ -62,9 +62,12 @@ def test_every_choice_of_a_method_is_the_registry_s():
 
     assert METHOD.choices == ("vff", "masoud", "ge_cui", "cbf", "vff_cbf")
     assert PLANNER.choices == ("vo", "nlvo", "errt", "field_dstar")
-    assert METHODS.choices() == METHOD.choices + PLANNER.choices
-    assert CROWD_METHOD.choices == ("vff", "masoud", "ge_cui", "cbf")  # vff_cbf: refused
-    assert typing.get_args(MethodSpec.model_fields["method"].annotation) == METHODS.choices()
+    crowd_baselines = ("orca", "social_force")  # velocity commands among crowds (issue 35)
+    assert METHODS.choices() == METHOD.choices + PLANNER.choices + crowd_baselines
+    assert CROWD_METHOD.choices == ("vff", "masoud", "ge_cui", "cbf", *crowd_baselines)
+    assert typing.get_args(MethodSpec.model_fields["method"].annotation) == (
+        METHOD.choices + PLANNER.choices
+    )
     assert typing.get_args(CrowdMethodSpec.model_fields["method"].annotation) == (
         CROWD_METHOD.choices
     )
@@ -87,6 +90,8 @@ def test_the_capabilities_of_each_method():
         "nlvo": (False, False, False, False, False, False),
         "errt": (False, False, False, False, False, False),
         "field_dstar": (False, False, False, False, False, False),
+        "orca": (False, False, False, False, True, False),
+        "social_force": (False, False, False, False, True, False),
     }
     assert [m.name for m in METHODS.variants(planner=True, seeded=True)] == ["errt"]
 
@@ -102,7 +107,9 @@ def test_vff_cbf_runs_its_filter_every_period_and_crowds_refuse_it():
     plain = engine.run(sc, row, method="vff", stabilising=True, tie=1, record=True)
     assert set(plain.record["qp_status"]) == {""}
     c = nav.crowd("corridor_counterflow", 4, length=10.0, seed=1, horizon=1.0)
-    with pytest.raises(InvalidParameterError, match=r"\['vff', 'masoud', 'ge_cui', 'cbf'\]"):
+    with pytest.raises(
+        InvalidParameterError, match=r"\['vff', 'masoud', 'ge_cui', 'cbf', 'orca', 'social_force'\]"
+    ):
         nav.simulate(c, nav.EXPERIMENT_GAINS, method="vff_cbf")
 
 

@@ -29,44 +29,49 @@ True
 
 from __future__ import annotations
 
-from designlab.following.accompanying.extras import MotionFilter, SensorMount, TargetAdaptation
-from designlab.following.accompanying.linear import LoopAnalysis, LoopStatus, loop_analysis
-from designlab.following.accompanying.metrics import AccompanyMetrics, accompany_metrics
-from designlab.following.accompanying.model import mecanum_matrix
-from designlab.following.accompanying.parameters import (
-    AXES,
-    LIMIT_MODES,
-    MecanumPlatform,
-    StringPotSensor,
-    UserFramePID,
-)
-from designlab.following.accompanying.simulate import (
-    AccompanyResult,
-    AccompanyStatus,
-    accompany,
-    simulate,
-)
-from designlab.following.accompanying.tasks import (
-    PAPER_TEST_NAMES,
-    TASK_NAMES,
-    WalkingTask,
-    paper_table1,
-    paper_table2,
-    walking_task,
-    walking_task_from_csv,
-)
-from designlab.following.accompanying.tuning import (
-    TUNERS,
-    PIDTuningResult,
-    PIDTuningStatus,
-    tune,
-    tune_pid,
-)
-from designlab.following.accompanying.user_frame import (
-    robot_frame_error,
-    robot_in_user_frame,
-    string_pot_readings,
-)
+from typing import TYPE_CHECKING
+
+from designlab._lazy import attach as _attach
+
+if TYPE_CHECKING:  # the public names, imported on first use (designlab._lazy)
+    from designlab.following.accompanying.extras import MotionFilter, SensorMount, TargetAdaptation
+    from designlab.following.accompanying.linear import LoopAnalysis, LoopStatus, loop_analysis
+    from designlab.following.accompanying.metrics import AccompanyMetrics, accompany_metrics
+    from designlab.following.accompanying.model import mecanum_matrix
+    from designlab.following.accompanying.parameters import (
+        AXES,
+        LIMIT_MODES,
+        MecanumPlatform,
+        StringPotSensor,
+        UserFramePID,
+    )
+    from designlab.following.accompanying.simulate import (
+        AccompanyResult,
+        AccompanyStatus,
+        accompany,
+        simulate,
+    )
+    from designlab.following.accompanying.tasks import (
+        PAPER_TEST_NAMES,
+        TASK_NAMES,
+        WalkingTask,
+        paper_table1,
+        paper_table2,
+        walking_task,
+        walking_task_from_csv,
+    )
+    from designlab.following.accompanying.tuning import (
+        TUNERS,
+        PIDTuningResult,
+        PIDTuningStatus,
+        tune,
+        tune_pid,
+    )
+    from designlab.following.accompanying.user_frame import (
+        robot_frame_error,
+        robot_in_user_frame,
+        string_pot_readings,
+    )
 
 __all__ = [
     "AXES",
@@ -103,3 +108,5 @@ __all__ = [
     "walking_task",
     "walking_task_from_csv",
 ]
+
+_attach(__name__)

@@ -43,58 +43,63 @@ True
 
 from __future__ import annotations
 
-from designlab.following.tether.laws.base import TetherController
-from designlab.following.tether.laws.brake import BrakeMode, brake_timeline
-from designlab.following.tether.laws.constant_distance import FollowTheLeaderConstDistance
-from designlab.following.tether.laws.follow_the_leader import FollowTheLeader
-from designlab.following.tether.laws.front_joystick import FrontJoystick
-from designlab.following.tether.laws.front_vel_joystick import FrontVelJoystick
-from designlab.following.tether.laws.pseudo_joystick import PseudoJoystick
-from designlab.following.tether.laws.registry import LAWS, controller_from_dict
-from designlab.following.tether.laws.side_joystick import SideJoystick
-from designlab.following.tether.laws.side_tracking import SideTracking
-from designlab.following.tether.linear import (
-    LinearLoop,
-    LinearLoopStatus,
-    fit_damping,
-    lateral_step_response,
-    linear_analysis,
-)
-from designlab.following.tether.metrics import FollowerMetrics, follower_metrics
-from designlab.following.tether.odometry import (
-    ErrorRun,
-    MarkerOffset,
-    WheelSlip,
-    simulate_with_errors,
-)
-from designlab.following.tether.parameters import OXYDOG, FollowerRobot
-from designlab.following.tether.path_deviation import (
-    DeviationStatus,
-    PathDeviation,
-    normal_path_deviation,
-    normal_path_deviations,
-)
-from designlab.following.tether.paths import (
-    LeaderPath,
-    circle,
-    corridor_corner,
-    figure_eight,
-    from_array,
-    from_csv,
-    make_path,
-    slalom,
-    square_s,
-    straight_line,
-)
-from designlab.following.tether.reference import allan_tables, measured_ratio
-from designlab.following.tether.simulate import (
-    FollowerBatch,
-    FollowerRun,
-    FollowerStatus,
-    simulate,
-    simulate_batch,
-)
-from designlab.following.tether.tuning import CostWeights, TuningResult, TuningStatus, tune
+from typing import TYPE_CHECKING
+
+from designlab._lazy import attach as _attach
+
+if TYPE_CHECKING:  # the public names, imported on first use (designlab._lazy)
+    from designlab.following.tether.laws.base import TetherController
+    from designlab.following.tether.laws.brake import BrakeMode, brake_timeline
+    from designlab.following.tether.laws.constant_distance import FollowTheLeaderConstDistance
+    from designlab.following.tether.laws.follow_the_leader import FollowTheLeader
+    from designlab.following.tether.laws.front_joystick import FrontJoystick
+    from designlab.following.tether.laws.front_vel_joystick import FrontVelJoystick
+    from designlab.following.tether.laws.pseudo_joystick import PseudoJoystick
+    from designlab.following.tether.laws.registry import LAWS, controller_from_dict
+    from designlab.following.tether.laws.side_joystick import SideJoystick
+    from designlab.following.tether.laws.side_tracking import SideTracking
+    from designlab.following.tether.linear import (
+        LinearLoop,
+        LinearLoopStatus,
+        fit_damping,
+        lateral_step_response,
+        linear_analysis,
+    )
+    from designlab.following.tether.metrics import FollowerMetrics, follower_metrics
+    from designlab.following.tether.odometry import (
+        ErrorRun,
+        MarkerOffset,
+        WheelSlip,
+        simulate_with_errors,
+    )
+    from designlab.following.tether.parameters import OXYDOG, FollowerRobot
+    from designlab.following.tether.path_deviation import (
+        DeviationStatus,
+        PathDeviation,
+        normal_path_deviation,
+        normal_path_deviations,
+    )
+    from designlab.following.tether.paths import (
+        LeaderPath,
+        circle,
+        corridor_corner,
+        figure_eight,
+        from_array,
+        from_csv,
+        make_path,
+        slalom,
+        square_s,
+        straight_line,
+    )
+    from designlab.following.tether.reference import allan_tables, measured_ratio
+    from designlab.following.tether.simulate import (
+        FollowerBatch,
+        FollowerRun,
+        FollowerStatus,
+        simulate,
+        simulate_batch,
+    )
+    from designlab.following.tether.tuning import CostWeights, TuningResult, TuningStatus, tune
 
 __all__ = [
     "LAWS",
@@ -148,3 +153,5 @@ __all__ = [
     "straight_line",
     "tune",
 ]
+
+_attach(__name__)

@@ -4,9 +4,13 @@ The kinematic simulation of Sec. 4.5: a corridor of width ``w`` with one 90 degr
 left turn; the leader walks the centre line at ``v_F`` and turns on an arc of
 radius ``w/2`` about the inner corner vertex (Table 4.1). The follower records
 the tether tip it estimates (robot + ``l_m`` along ``theta_m``, eq. 2.14) every
-``step`` metres and an ideal path follower keeps the robot on that recorded path
-``gap`` metres (along the path) behind its newest point, facing along it. The
-gap is measured along the trajectory, as in the thesis.
+``step`` metres, and the robot drives along that recorded path, facing along it.
+The default follower (``follower="constant_speed"``) is Table 4.1's: it starts
+``gap`` metres (along the path) behind the newest point and advances at the target
+following speed ``v_F``, never past the newest point. The project's gap-keeping
+follower (``follower="gap"``, ours) keeps exactly ``gap`` behind the newest point;
+the snag lengthens the recorded path, so it speeds up through the snag. The gap is
+measured along the trajectory, as in the thesis.
 
 **Snag point model.** The tether is a taut string from the winch (the robot
 centre) to the leader. When the straight line between them would pass through
@@ -166,10 +170,20 @@ class SnagScenario:
     compensate: bool = param(
         kind="flag", doc="apply the snag compensation (Sec. 4.5.5)", default=False
     )
+    follower: str = param(
+        doc=(
+            "the robot's advance along the recorded path: 'constant_speed' (Table 4.1's target "
+            "following speed v_F, the thesis's follower) or 'gap' (ours: it keeps g_F behind the "
+            "newest recorded point)"
+        ),
+        kind="choice",
+        choices=("constant_speed", "gap"),
+        default="constant_speed",
+    )
     max_speed: float | None = param(
         "v_max",
         "m/s",
-        doc="fastest advance of the robot along the recorded path (None: it keeps the gap)",
+        doc="fastest advance of the gap-keeping robot along the recorded path (None: no limit)",
         gt=0,
         le=50,
         optional=True,
@@ -361,8 +375,12 @@ class SnagRun(Result):
         span = self.snag_span
         if span is None:
             return None
-        s = np.interp(span, self.tracked_s_leader, self.tracked_s)
-        return float(s[0]), float(s[1])
+        start = float(np.interp(span[0], self.tracked_s_leader, self.tracked_s))
+        # the release without the tip's jump back to the leader: the last point recorded
+        # while the string was wrapped (the jump is one long segment, not path walked)
+        before = np.flatnonzero(self.tracked_s_leader < span[1])
+        end = float(self.tracked_s[before[-1]]) if len(before) else start
+        return start, max(start, end)
 
     def feature_rates(self) -> pd.DataFrame:
         """Eqs. 4.10-4.12 per recorded point: d theta/ds_L, dL/ds_L, d beta_path/ds_L."""
@@ -451,6 +469,8 @@ def _prefill(sc: SnagScenario) -> NDArray[np.float64]:
 
 def _steps(sc: SnagScenario) -> int:
     total = sc.approach + 0.25 * math.pi * sc.width + sc.exit + sc.gap + 2.0
+    if sc.follower == "constant_speed":  # the snag lengthens the path the robot drives at v_F
+        total += 2.0 * sc.gap
     n = math.floor(total / sc.speed / sc.sample_time) + 1
     check_size("SnagScenario", sc, 12.0 * (n + total / sc.step), what=f"{n} steps")
     return n
@@ -489,6 +509,8 @@ def simulate_snag(scenario: SnagScenario) -> SnagRun:
         track.observe(x + lm * math.cos(direction), y + lm * math.sin(direction), float(s_lead[k]))
         if sc.compensate and track.snag_flag:
             s_robot = min(s_robot + rate, track.s[track.valid_end - 1])
+        elif sc.follower == "constant_speed":  # v_F along the path, never past its newest point
+            s_robot = min(s_robot + sc.speed * sc.sample_time, track.s[-1])
         else:
             new = max(track.s[-1] - sc.gap, s_robot)
             if sc.max_speed is not None:

@@ -43,18 +43,23 @@ Examples
 
 from __future__ import annotations
 
-from designlab.navigation.crowds.layouts import LAYOUTS
-from designlab.navigation.crowds.models import MODELS
-from designlab.navigation.crowds.scenario import DENSITY, CrowdScenario, crowd
-from designlab.navigation.crowds.simulate import (
-    ORDER,
-    CrowdResult,
-    CrowdStatus,
-    PedestrianRun,
-    accepts_crowds,
-    simulate_crowd,
-    simulate_pedestrians,
-)
+from typing import TYPE_CHECKING
+
+from designlab._lazy import attach as _attach
+
+if TYPE_CHECKING:  # the public names, imported on first use (designlab._lazy)
+    from designlab.navigation.crowds.layouts import LAYOUTS
+    from designlab.navigation.crowds.models import MODELS
+    from designlab.navigation.crowds.scenario import DENSITY, CrowdScenario, crowd
+    from designlab.navigation.crowds.simulate import (
+        ORDER,
+        CrowdResult,
+        CrowdStatus,
+        PedestrianRun,
+        accepts_crowds,
+        simulate_crowd,
+        simulate_pedestrians,
+    )
 
 __all__ = [
     "DENSITY",
@@ -70,3 +75,5 @@ __all__ = [
     "simulate_crowd",
     "simulate_pedestrians",
 ]
+
+_attach(__name__)

@@ -428,3 +428,63 @@ def faced_by_runs(
         for k, f in zip(ks, faced_crowds(runs, band), strict=True):
             out[k] = f
     return [f for f in out if f is not None]
+
+
+def voronoi_density(
+    times: ArrayLike, pedestrian_positions: ArrayLike, band: Polygon, walkable: Polygon,
+    frame_rate: float = 1.0,
+) -> float:  # fmt: skip
+    """pedpy's Voronoi density in ``band``, averaged over the frames (persons/m^2).
+
+    Each pedestrian's Voronoi cell in the walkable area (pedpy
+    ``compute_individual_voronoi_polygons``, no cut-off) counts with the share of it inside
+    the band (``compute_voronoi_density``: sum of |cell ^ band| / |cell| over |band|). The
+    records are thinned to ``frame_rate`` frames per second first (the cells cost far more
+    than the classic count).
+
+    Parameters
+    ----------
+    times
+        ``(T,)`` s.
+    pedestrian_positions
+        ``(T, N, 2)`` m, NaN where absent.
+    band
+        The measurement area (convex, in the walkable area).
+    walkable
+        The walkable area.
+    frame_rate
+        Frames per second kept.
+
+    Examples
+    --------
+    >>> from shapely.geometry import box
+    >>> P = np.array([[[1.0, 1.0], [3.5, 1.0]]] * 3)     # cells split at x = 2.25
+    >>> round(voronoi_density([0.0, 1.0, 2.0], P, box(0, 0, 2, 2), box(0, 0, 4, 2)), 9)
+    0.222222222
+    """
+    t, P = _check_records(times, pedestrian_positions)
+    dt = float(np.median(np.diff(t))) if t.size > 1 else 1.0
+    stride = max(1, round(1.0 / (frame_rate * dt)))
+    Q = P[::stride]
+    T, N = Q.shape[:2]
+    frame, ped_id = np.repeat(np.arange(T), N), np.tile(np.arange(N), T)
+    xy = Q.reshape(T * N, 2)
+    keep = np.isfinite(xy).all(axis=1)
+    if not keep.any():
+        return 0.0
+    ped = pedpy()
+    table = pd.DataFrame({"id": ped_id[keep], "frame": frame[keep],
+                          "x": xy[keep, 0], "y": xy[keep, 1]})  # fmt: skip
+    traj = ped.TrajectoryData(data=table, frame_rate=1.0 / (stride * dt))
+    cells = ped.compute_individual_voronoi_polygons(
+        traj_data=traj, walkable_area=ped.WalkableArea(walkable)
+    )
+    rho, _ = ped.compute_voronoi_density(
+        individual_voronoi_data=cells, measurement_area=ped.MeasurementArea(band)
+    )
+    per = np.zeros(T)
+    per[rho["frame"].to_numpy()] = rho["density"].to_numpy()
+    return float(per.mean())
+
+
+__all__ += ["voronoi_density"]

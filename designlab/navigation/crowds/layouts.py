@@ -4,19 +4,25 @@ Every layout is axis-aligned and built from its ``length`` L (along x) and ``wid
 (across), with its lower-left corner at the origin:
 
 ``corridor_counterflow``
-    A corridor [0, L] x [0, W] between two walls; half the pedestrians walk +x, half -x.
-    The robot goes from (1.5, W/2) to (L - 1.5, W/2).
+    A corridor [0, L] x [0, W] between two walls, closed at its ends; half the pedestrians
+    walk +x, half -x. The robot goes from (1.5, W/2) to (L - 1.5, W/2).
 ``crossing``
     Two corridors of width W crossing at right angles in a square of side L (a plus
-    shape; the four corner blocks are the walls); one stream walks -x (against the
-    robot), one +y (across its path). The robot goes from (1.5, L/2) to (L - 1.5, L/2).
+    shape; the four corner blocks and the four arms' ends are the walls); one stream walks
+    -x (against the robot), one +y (across its path). The robot goes from (1.5, L/2) to
+    (L - 1.5, L/2).
 ``bottleneck``
-    The corridor with a 1 m long constriction of width ``bottleneck_width`` at x = L/2
+    The closed corridor with a 1 m long constriction of width ``bottleneck_width`` at x = L/2
     (two blocks against the walls); every pedestrian walks +x through it and the robot
     comes the other way, from (L - 1.5, W/2) to (1.5, W/2).
 ``open_plaza``
     A walled plaza [0, L] x [0, W] crossed by four streams (+x, -x, +y, -y); the robot
     crosses it diagonally from (1.5, 1.5) to (L - 1.5, W - 1.5).
+
+The arena is sealed: every layout's walkable area is closed by walls, its ends too (the
+robot cannot leave it through an end; a run whose robot leaves the area all the same ends
+there with the outcome ``left_area``). Pedestrians leave through their exit strips, inside
+the area, as if through a door the robot cannot take.
 
 Pedestrians are placed over the whole walkable area at t = 0 (outside the robot's
 clearance disc and the exits); a pedestrian reaching its exit strip (0.4 m deep, at the
@@ -27,7 +33,7 @@ Examples
 --------
 >>> lay = build_layout("corridor_counterflow", length=30.0, width=4.0)
 >>> lay.area.area, len(lay.walls), lay.start, lay.goal
-(120.0, 2, (1.5, 2.0), (28.5, 2.0))
+(120.0, 4, (1.5, 2.0), (28.5, 2.0))
 """
 
 from __future__ import annotations
@@ -102,6 +108,12 @@ def _long_walls(L: float, W: float) -> tuple:
     return (((-t, -t), (L + t, 0.0)), ((-t, W), (L + t, W + t)))
 
 
+def _end_walls(L: float, y0: float, y1: float) -> tuple:
+    """The walls closing the ends x = 0 and x = L of a corridor spanning [y0, y1]."""
+    t = WALL_THICKNESS
+    return (((-t, y0), (0.0, y1)), ((L, y0), (L + t, y1)))
+
+
 def _x_streams(L: float, W: float, y0: float = 0.0) -> tuple[Stream, Stream]:
     """A +x and a -x stream along [0, L] x [y0, y0 + W]."""
     east = Stream(_strip(0.0, y0, SPAWN_DEPTH, y0 + W), _strip(L - EXIT_DEPTH, y0, L, y0 + W), 0.5)
@@ -114,7 +126,7 @@ def corridor_counterflow(length: float, width: float, bottleneck_width: float = 
     L, W = length, width
     return Layout(
         box(0.0, 0.0, L, W),
-        _long_walls(L, W),
+        (*_long_walls(L, W), *_end_walls(L, 0.0, W)),
         _x_streams(L, W),
         (END_MARGIN, W / 2),
         (L - END_MARGIN, W / 2),
@@ -123,7 +135,7 @@ def corridor_counterflow(length: float, width: float, bottleneck_width: float = 
 
 def crossing(length: float, width: float, bottleneck_width: float = 0.0) -> Layout:
     """Two corridors crossing at right angles; the robot meets one stream and crosses the other."""
-    L, W = length, width
+    L, W, t = length, width, WALL_THICKNESS
     c0, c1 = L / 2 - W / 2, L / 2 + W / 2
     area = unary_union([box(0.0, c0, L, c1), box(c0, 0.0, c1, L)])
     walls = (
@@ -131,6 +143,9 @@ def crossing(length: float, width: float, bottleneck_width: float = 0.0) -> Layo
         ((c1, 0.0), (L, c0)),
         ((0.0, c1), (c0, L)),
         ((c1, c1), (L, L)),
+        *_end_walls(L, c0 - t, c1 + t),  # over the corners too: no gap at an arm's end
+        ((c0 - t, -t), (c1 + t, 0.0)),
+        ((c0 - t, L), (c1 + t, L + t)),
     )
     _east, west = _x_streams(L, W, c0)
     north = Stream(_strip(c0, 0.0, c1, SPAWN_DEPTH), _strip(c0, L - EXIT_DEPTH, c1, L), 0.5)
@@ -146,6 +161,7 @@ def bottleneck(length: float, width: float, bottleneck_width: float = 1.2) -> La
     area = box(0.0, 0.0, L, W).difference(unary_union([lower, upper]))
     walls = (
         *_long_walls(L, W),
+        *_end_walls(L, 0.0, W),
         ((x0, 0.0), (x1, (W - b) / 2)),
         ((x0, (W + b) / 2), (x1, W)),
     )
@@ -161,12 +177,8 @@ def bottleneck(length: float, width: float, bottleneck_width: float = 1.2) -> La
 
 def open_plaza(length: float, width: float, bottleneck_width: float = 0.0) -> Layout:
     """A walled plaza crossed by four streams; the robot crosses it diagonally."""
-    L, W, t = length, width, WALL_THICKNESS
-    walls = (
-        *_long_walls(L, W),
-        ((-t, 0.0), (0.0, W)),
-        ((L, 0.0), (L + t, W)),
-    )
+    L, W = length, width
+    walls = (*_long_walls(L, W), *_end_walls(L, 0.0, W))
     east, west = _x_streams(L, W)
     north = Stream(_strip(0.0, 0.0, L, SPAWN_DEPTH), _strip(0.0, W - EXIT_DEPTH, L, W), 0.25)
     south = Stream(_strip(0.0, W - SPAWN_DEPTH, L, W), _strip(0.0, 0.0, L, EXIT_DEPTH), 0.25)

@@ -7,6 +7,13 @@ that reaches its exit leaves, and a new one enters its stream's spawn strip (at 
 spot at least 2 rho_p + 0.1 m from every agent; if none is free it tries again at the next
 step). Pedestrians get consecutive indices in the order they enter (``ids``).
 
+Every pedestrian has an identity (:attr:`PedestrianSim.keys`) that does not depend on when it
+enters: pedestrian i of the initial crowd is i, the k-th replacement of stream s is
+N + k S + s (N pedestrians, S streams). Its desired speed is drawn in advance from a
+generator of that stream alone (seeded by the crowd's seed and s), and its entry position
+from another one, so replacement k of stream s is the same person (the same desired speed
+and destination) with the robot and without it, whichever pedestrians leave first.
+
 Velocities and accelerations are not states of every JuPedSim model, so the robot's field
 sees backward differences of the positions over the last pedestrian step (zero before a
 pedestrian has moved): at time t_k they use positions up to t_k only, never later ones.
@@ -111,7 +118,12 @@ class PedestrianSim:
         self.index: dict[int, int] = {}  # JuPedSim id -> pedestrian index
         self.stream_of: list[int] = []
         self.speeds: list[float] = []  # desired speed of each pedestrian, m/s
-        self.waiting: list[int] = []  # streams whose replacement has not entered yet
+        self.waiting: list[tuple[int, int, float]] = []  # (stream, k, speed) not entered yet
+        self.keys: list[int] = []  # identity of each pedestrian (see the module's text)
+        n_streams = len(crowd.geometry.streams)
+        self._queued = [0] * n_streams  # replacements queued per stream
+        self._speed_rng = [np.random.default_rng([crowd.seed, 1, s]) for s in range(n_streams)]
+        self._spot_rng = [np.random.default_rng([crowd.seed, 2, s]) for s in range(n_streams)]
         self.steps = 0
         self._leaving: list[int] = []
         self.parked: dict[int, tuple[float, float]] = {}  # given pedestrians at their destination
@@ -131,12 +143,15 @@ class PedestrianSim:
         stage = self.sim.add_exit_stage(exit_polygon)
         return self.sim.add_journey(jupedsim().JourneyDescription([stage])), stage
 
-    def _add(self, position: tuple[float, float], speed: float, stream: int) -> int:
+    def _add(
+        self, position: tuple[float, float], speed: float, stream: int, key: int | None = None
+    ) -> int:
         journey, stage = self._journeys[stream]
         jid = self.sim.add_agent(
             self.model.agent(position, float(speed), self.crowd.pedestrian_radius, journey, stage)
         )
         self.index[jid] = len(self.stream_of)
+        self.keys.append(len(self.stream_of) if key is None else key)
         self._order = None  # the agents changed: read everything next time
         self.stream_of.append(stream)
         self.speeds.append(float(speed))
@@ -256,7 +271,15 @@ class PedestrianSim:
         for jid in [j for j in self.index if j not in alive and j not in self._leaving]:
             i = self.index.pop(jid)
             if not self.crowd.paths:
-                self.waiting.append(self.stream_of[i])
+                self._queue(self.stream_of[i])
+
+    def _queue(self, stream: int) -> None:
+        """Queue the next replacement of ``stream`` (its identity and desired speed drawn now)."""
+        k = self._queued[stream]
+        self._queued[stream] += 1
+        key = self.crowd.pedestrians + k * len(self._queued) + stream
+        speed = float(desired_speeds(self.crowd, self._speed_rng[stream], 1)[0])
+        self.waiting.append((stream, key, speed))
 
     def _agents(self) -> Any:
         """The agents, read through JuPedSim's native simulation where it is exposed (twice as
@@ -293,7 +316,8 @@ class PedestrianSim:
         # JuPedSim lists the agents that reached their exit; they go at the next step
         self._leaving = [j for j in self.sim.removed_agents() if j in self.index]
         if not self.crowd.paths:
-            self.waiting.extend(self.stream_of[self.index[j]] for j in self._leaving)
+            for j in self._leaving:
+                self._queue(self.stream_of[self.index[j]])
         else:  # a given pedestrian stops at its destination and stands there
             for j in self._leaving:
                 i = self.index[j]
@@ -308,26 +332,28 @@ class PedestrianSim:
         r = c.pedestrian_radius
         gap = 2 * r + PLACEMENT_GAP
         streams = c.geometry.streams
-        still: list[int] = []
-        for s in self.waiting:
+        still: list[tuple[int, int, float]] = []
+        for item in self.waiting:
+            s, key, speed = item
+            rng = self._spot_rng[s]
             spawn = streams[s].spawn
             x0, y0, x1, y1 = spawn.bounds
             placed = False
             for _ in range(_SPAWN_TRIES):
                 p = (
-                    float(self.rng.uniform(x0 + r + 0.05, x1 - r - 0.05)),
-                    float(self.rng.uniform(y0 + r + 0.05, y1 - r - 0.05)),
+                    float(rng.uniform(x0 + r + 0.05, x1 - r - 0.05)),
+                    float(rng.uniform(y0 + r + 0.05, y1 - r - 0.05)),
                 )
                 if next(iter(self.sim.agents_in_range(p, gap)), None) is not None:
                     continue
                 try:
-                    self._add(p, desired_speeds(c, self.rng, 1)[0], s)
+                    self._add(p, speed, s, key)
                 except RuntimeError:
                     continue
                 placed = True
                 break
             if not placed:
-                still.append(s)
+                still.append(item)
         self.waiting = still
 
     def state_at(self) -> dict[str, Any]:

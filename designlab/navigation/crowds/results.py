@@ -47,7 +47,9 @@ class PedestrianRun(Result):
     pedestrian_positions
         ``(T, N, 2)`` positions in m; NaN where a pedestrian is not in the simulation.
     pedestrian_ids
-        ``(N,)`` the pedestrians' indices (in the order they entered).
+        ``(N,)`` the pedestrians' identities, in the order they entered (the same person has
+        the same identity with and without the robot:
+        :mod:`~designlab.navigation.crowds.pedestrians`).
     desired_speeds
         ``(N,)`` their desired speeds, m/s.
     status
@@ -132,7 +134,8 @@ class CrowdResult(Result):
     pedestrian_positions
         ``(T, N, 2)`` in m; NaN where a pedestrian is not in the simulation.
     pedestrian_ids
-        ``(N,)`` the pedestrians' indices.
+        ``(N,)`` the pedestrians' identities (the same person has the same identity with and
+        without the robot: :mod:`~designlab.navigation.crowds.pedestrians`).
     nearest_distance
         ``(T,)`` centre distance to the nearest pedestrian, m (inf when there is none).
     desired_speeds
@@ -146,6 +149,18 @@ class CrowdResult(Result):
         critical regions (Sec. 6.4.3: no path between them stays outside both; the thesis
         merges such obstacles, which for pedestrians would change from period to period, so
         their fields are summed and the critical-region rule applies to each).
+    outcome
+        One of ``arrived``, ``collision``, ``timeout``, ``left_area``, ``simulator_failed``:
+        the run's first event (a contact with a pedestrian or wall, the robot leaving the
+        walkable area, JuPedSim stopping, the arrival), ``timeout`` if none
+        (:data:`~designlab.navigation.crowds.simulate.OUTCOMES`).
+    outcome_time
+        When it happened, s (a contact: the end of its navigation period; a timeout: the
+        time limit).
+    coupling_exceeded
+        Whether ``robot_agent_offset`` exceeded
+        :data:`~designlab.navigation.crowds.simulate.AGENT_OFFSET_BOUND` (the pedestrians
+        then did not see the robot where it was).
     pedestrian_seconds, robot_seconds
         CPU time spent in JuPedSim (stepping and reading the pedestrians) and on the robot's
         side (slots, compiled step, CBF, distances and records), s.
@@ -175,6 +190,9 @@ class CrowdResult(Result):
     status: str = CrowdStatus.OK
     warnings: tuple[str, ...] = ()
     critical_overlaps: int = 0
+    outcome: str = "timeout"
+    outcome_time: float = math.nan
+    coupling_exceeded: bool = False
     pedestrian_seconds: float = field(default=0.0, repr=False, compare=False)
     robot_seconds: float = field(default=0.0, repr=False, compare=False)
 
@@ -215,6 +233,9 @@ class CrowdResult(Result):
             "entered_critical": self.entered_critical, "collided": self.collided,
             "critical_time_s": self.critical_time, "L_energy_J_per_ohm": self.energy,
             "slot_overflow": self.slot_overflow, "critical_overlaps": self.critical_overlaps,
+            "outcome": self.outcome, "outcome_time_s": self.outcome_time,
+            "robot_agent_offset_m": self.robot_agent_offset,
+            "coupling_exceeded": self.coupling_exceeded,
             "measured_density_per_m2": met.measured_density_per_m2,
             "mean_ped_speed_m_per_s": met.mean_ped_speed_m_per_s, "status": str(self.status),
         }  # fmt: skip

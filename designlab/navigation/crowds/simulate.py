@@ -40,8 +40,9 @@ from designlab.navigation.crowds.pedestrians import PedestrianSim
 from designlab.navigation.crowds.results import CrowdResult, CrowdStatus, PedestrianRun
 from designlab.navigation.crowds.scenario import CrowdScenario
 from designlab.navigation.crowds.slots import crowd_step, fill_slots
+from designlab.navigation.dynamics import HOLONOMIC_FEEDFORWARD
 from designlab.navigation.field import ObstacleGeometry
-from designlab.navigation.methods import CROWD_METHOD, STABILISING, TIE_SIDE, method_of
+from designlab.navigation.methods import CROWD_METHOD, METHODS, STABILISING, TIE_SIDE
 from designlab.navigation.parameters import (
     ARRIVAL_TOLERANCE,
     DYNAMICS_STEP,
@@ -52,8 +53,10 @@ from designlab.params import Param, check_size
 from designlab.sx.jit import AVAILABLE, say_no_jit
 
 __all__ = [
+    "AGENT_OFFSET_BOUND",
     "CROWD_METHOD",
     "ORDER",
+    "OUTCOMES",
     "CrowdResult",
     "CrowdStatus",
     "PedestrianRun",
@@ -69,6 +72,13 @@ Array = NDArray[np.float64]
 ORDER = Param(
     doc="lock-step order", kind="choice", choices=("robot_first", "pedestrians_first"), name="order"
 )
+#: Largest distance between the robot and its JuPedSim agent for which a run's pedestrians
+#: count as seeing the robot where it is, m; a run beyond it is flagged
+#: (``CrowdResult.coupling_exceeded``, a warning) and studies count it apart.
+AGENT_OFFSET_BOUND = 0.02
+#: Outcomes of a run, exclusive: the first of its events (a collision, the robot leaving the
+#: walkable area, the pedestrian simulator failing, the arrival), ``timeout`` if none.
+OUTCOMES = ("arrived", "collision", "timeout", "left_area", "simulator_failed")
 #: Pedestrians that may enter a run per pedestrian initially in it (a cap of the records).
 _INFLOW_FACTOR = 8
 #: Whether runs use the compiled bookkeeping (:mod:`~designlab.navigation.crowds.bookkeeping`);
@@ -173,6 +183,7 @@ class _Setup:
     n_samples: int
     order: str
     cbf_gains: tuple[float, float]
+    settings: Any = None  # a velocity-commanding method's settings (None: a force field)
 
 
 def _setup(crowd: Any, gains: Any, kw: dict[str, Any]) -> _Setup:
@@ -181,8 +192,14 @@ def _setup(crowd: Any, gains: Any, kw: dict[str, Any]) -> _Setup:
     STABILISING.check(kw["stabilising"])
     TIE_SIDE.check(kw["tie_side"])
     ORDER.check(kw["order"])
-    strategy = method_of(CROWD_METHOD.check(kw["method"]), crowds=True)
+    strategy = METHODS.get(CROWD_METHOD.check(kw["method"]), crowds=True)
     row = strategy.gain_row(gains)
+    settings = None if strategy.force_field else strategy.gains(gains)
+    if settings is not None and not isinstance(crowd.robot, HolonomicRobot):
+        raise InvalidParameterError(
+            "method", strategy.name, "commands a velocity in any direction: it needs a "
+            "HolonomicRobot (CrowdScenario.robot)",
+        )  # fmt: skip
     cbf = check_cbf_gains(kw["cbf_gains"])
     tol = ARRIVAL_TOLERANCE.check(kw["arrival_tolerance"])
     dt = DYNAMICS_STEP.check(kw["dynamics_step"])
@@ -204,7 +221,7 @@ def _setup(crowd: Any, gains: Any, kw: dict[str, Any]) -> _Setup:
     stab = kw["stabilising"] if strategy.stabilised else "off"
     return _Setup(
         crowd, strategy.name, row, stab, strategy.tie(gains, kw["tie_side"]), tol, dt, n_sub, per,
-        cap, n_samples, kw["order"], cbf,
+        cap, n_samples, kw["order"], cbf, settings,
     )  # fmt: skip
 
 
@@ -220,7 +237,11 @@ class _Run:
             + (c.pedestrian_geometry(),) * c.neighbours
         )
         robot = c.robot
-        self.step = _Step(crowd_step(self.geos, robot, s.method, s.n_sub, s.dt))
+        strategy = METHODS.get(s.method)
+        # a velocity-commanding method: the step's buffers hold the state (its field unused)
+        field = s.method if strategy.force_field else "cbf"
+        self.step = _Step(crowd_step(self.geos, robot, field, s.n_sub, s.dt))
+        self.command = None if strategy.force_field else strategy.controller(c, s.settings)
         inp = self.step.inp
         x0 = (
             np.array([*c.robot_start, 0.0, 0.0])
@@ -253,14 +274,16 @@ class _Run:
             robot.max_accel,
         )
         fixed = tuple(replace(g, r2_input=False) for g in self.geos)  # CBF reads r3 alone
-        filtered = method_of(s.method).filtered
+        filtered = strategy.filtered
         self.cbf = CBFFilter(fixed, robot, s.cbf_gains, nominal=s.method) if filtered else None
         self.r2, self.r3 = c.pedestrian_regions()
         sized = c.region_sizing == "closing_speed"
         if sized:  # the walls' radii (fixed), then one per slot (the largest until filled)
             inp[6][:] = [g.r2 for g in self.geos]
         # CBF has no active region (its filter sees every pedestrian within the largest r2)
-        self.sizing = c.closing_speed_sizing() if sized and not filtered else None
+        self.sizing = (
+            c.closing_speed_sizing() if sized and not filtered and strategy.force_field else None
+        )
         self.w2, self.w3 = c.wall_regions()
         self.ped = PedestrianSim(c, c.robot_start)
         self.frames = _Frames(s.n_ped, s.per_ped + 1)
@@ -293,6 +316,8 @@ class _Run:
         self.goal = np.asarray(c.robot_goal)
         self.reach = self.r2 + (robot.max_speed + c.max_desired_speed) * s.n_sub * s.dt
         self.left_area = 0.0  # when the robot was first outside the walkable area (0: never)
+        self.collision_time = math.inf  # end of the first period with a contact
+        self.failure_time = math.inf
         ids, P = self.ped.positions()
         self._push(ids, P)
         self._measure_start(x0[:2], P)
@@ -341,6 +366,8 @@ class _Run:
         accelerations differenced: the slots are the same as from every pedestrian's.
         """
         s, inp = self.s, self.step.inp
+        if self.command is not None:
+            return self._command_period(sensed)
         x, y = inp[0][0], inp[0][1]
         if self.compiled and self.sizing is None:  # closing-speed radii: _sized_slots
             n, overlap = fill_candidates(
@@ -373,6 +400,23 @@ class _Run:
             dx, dy = zip(*((a[0] - b[0], a[1] - b[1]) for a, b in combinations(Q, 2)), strict=True)
             self.overlaps += int((np.hypot(dx, dy) < 2 * self.r3).any())
         return self._step_robot()
+
+    def _command_period(self, sensed: Array) -> Array:
+        """The robot of a velocity-commanding method over one period: the method's velocity
+        from every pedestrian in the simulation (positions and backward-difference
+        velocities at t_k), tracked at the acceleration limit (:func:`_track`)."""
+        s, x = self.s, self.step.inp[0]
+        P, V, _ = _derivatives(sensed, self.ped_dt)
+        here = ~np.isnan(P[:, 0])
+        P, V = P[here], V[here]
+        p = x[0:2].copy()
+        cmd = self.command(p, x[2:4].copy(), P, V)
+        X, power = _track(x, cmd, s.crowd.robot, s.n_sub, s.dt)
+        self.step.out[1][:] = power
+        near = P.shape[0] and float(np.min(np.hypot(*(P - p).T))) <= self.r3
+        wall = bool(self.walls) and _wall_distance(self.wall_frames, p[None, :]) <= self.w3
+        self.crit_time += float(bool(near) or wall) * s.n_sub * s.dt
+        return X
 
     def _sized_slots(self, F: Array, d2: Array) -> int:
         """Fill the slots with the pedestrians of ``F`` ``(3, n, 2)`` (those within the largest
@@ -419,6 +463,7 @@ class _Run:
                 self.ped.step(target)
             except RuntimeError as exc:
                 self.failure = f"JuPedSim stopped at t = {self.ped.time:.2f} s: {exc}"
+                self.failure_time = self.ped.time
                 return False
             ids, P = self.ped.positions()
             self._push(ids, P)
@@ -512,6 +557,33 @@ class _Run:
             self.dmin = min(self.dmin, m)
 
 
+def _track(x0: Array, cmd: Array, robot: Any, n: int, dt: float) -> tuple[Array, Array]:
+    """A holonomic robot tracking the velocity ``cmd`` (capped at V_mr) for ``n`` steps of
+    ``dt`` at its acceleration limit a_mr, as the planners' robot
+    (:mod:`designlab.navigation.planners.simulate`): the velocity moves straight towards the
+    command by a_mr dt per step, the position by the new velocity times dt. Returns the
+    states ``(4, n)`` at the end of each step and the omni-wheel feed-forward copper loss per
+    ohm of each step (App. D, as :func:`~designlab.navigation.planners.simulate.wheel_energy`).
+    """
+    c = np.asarray(cmd, dtype=float)
+    sp = float(np.hypot(*c))
+    if sp > robot.max_speed:
+        c = c * (robot.max_speed / sp)
+    v0, p0 = x0[2:4].copy(), x0[0:2].copy()
+    dv = c - v0
+    gap = float(np.hypot(*dv))
+    k = np.arange(1, n + 1)
+    frac = np.minimum(k * robot.max_accel * dt / gap, 1.0) if gap > 0 else np.ones(n)
+    v = v0[None, :] + frac[:, None] * dv[None, :]
+    p = p0[None, :] + np.cumsum(v, axis=0) * dt
+    s3 = math.sqrt(3.0) / 2.0
+    rows = np.array([(-s3, -0.5), (s3, -0.5), (0.0, 1.0)]) / robot.wheel_radius
+    w = np.vstack([v0[None, :], v]) @ rows.T
+    ff = np.asarray(HOLONOMIC_FEEDFORWARD)
+    u = ff[:, 0] * np.diff(w, axis=0) / dt + ff[:, 1] * w[1:] + ff[:, 2] * np.sign(w[1:])
+    return np.vstack([p.T, v.T]), (u**2).sum(axis=1)
+
+
 def _wall_distance_point(walls: list[tuple[float, ...]], x: float, y: float) -> float:
     """The contour distance from one point to the nearest wall (plain floats: a few walls)."""
     best = math.inf
@@ -534,6 +606,25 @@ def _wall_distance(walls: Array, pts: Array) -> float:
     return float(np.hypot(dx, dy).min())
 
 
+def _outside(run: _Run, k: int, X: Array) -> bool:
+    """Whether the robot leaves the walkable area during period ``k`` (``X``: its states);
+    if so the run's ``left_area`` is the first dynamics step outside (the run ends there,
+    before the pedestrians are stepped with a robot outside their area)."""
+    inside = shapely.contains_xy(run.area, X[0], X[1])
+    if inside.all():
+        return False
+    run.left_area = (k * run.s.n_sub + int(np.argmin(inside)) + 1) * run.s.dt
+    return True
+
+
+def _contact(run: _Run, k: int) -> None:
+    """Record the end of the first period with a contact (pedestrian or wall)."""
+    c = run.s.crowd
+    touching = run.dmin <= c.robot.radius + c.pedestrian_radius or run.wmin <= c.robot.radius
+    if touching and not math.isfinite(run.collision_time):
+        run.collision_time = (k + 1) * run.s.n_sub * run.s.dt
+
+
 def _loop(run: _Run) -> int:
     s = run.s
     k_done = 0
@@ -543,6 +634,8 @@ def _loop(run: _Run) -> int:
         sensed = run.sense()  # the pedestrians at t_k, whichever side moves first
         if s.order == "robot_first":
             X = run.robot_period(sensed)
+            if _outside(run, k, X):
+                break
             t1 = clock()
             ok = run.pedestrians_period(X)
             t2 = clock()
@@ -551,11 +644,14 @@ def _loop(run: _Run) -> int:
             t1 = clock()
             X = run.robot_period(sensed) if ok else None
             t2 = clock()
+            if X is not None and _outside(run, k, X):
+                break
         run.ped_time += t2 - t1 if s.order == "robot_first" else t1 - t0
         if not ok or X is None:
             break
         k_done = k + 1
         arrived = run.measure(k, X)
+        _contact(run, k)
         np.copyto(run.step.inp[0], X[:, -1])
         run.total_time += clock() - t0
         if arrived:
@@ -588,9 +684,21 @@ def _records(run: _Run, k_done: int) -> dict[str, Any]:
     )
     return {
         "times": idx * s.dt, "robot_positions": pos, "robot_velocities": vel,
-        "pedestrian_positions": P, "pedestrian_ids": np.arange(n, dtype=np.int64),
+        "pedestrian_positions": P, "pedestrian_ids": np.asarray(run.ped.keys[:n], np.int64),
         "nearest_distance": nearest,
     }  # fmt: skip
+
+
+def _event(run: _Run) -> tuple[str, float]:
+    """The run's outcome (:data:`OUTCOMES`: its first event) and that event's time, s."""
+    events = [
+        ("collision", run.collision_time),
+        ("left_area", run.left_area or math.inf),
+        ("simulator_failed", run.failure_time if run.failure else math.inf),
+        ("arrived", run.arrival),
+    ]
+    name, t = min(events, key=lambda e: e[1])  # a tie: the order above (contact first)
+    return (name, t) if math.isfinite(t) else ("timeout", run.s.crowd.time_limit)
 
 
 def _outcome(run: _Run) -> dict[str, Any]:
@@ -599,7 +707,8 @@ def _outcome(run: _Run) -> dict[str, Any]:
     surf = run.dmin - rho - c.pedestrian_radius
     crit = run.dmin <= run.r3 or run.wmin <= run.w3
     coll = surf <= 0 or run.wmin <= rho
-    warnings = []
+    outcome, at = _event(run)
+    warnings = [f"outcome {outcome} at t = {at:.2f} s"] if outcome != "arrived" else []
     if run.failure:
         warnings.append(run.failure)
         status = CrowdStatus.PEDESTRIAN_SIMULATOR_FAILED
@@ -607,7 +716,6 @@ def _outcome(run: _Run) -> dict[str, Any]:
         status = CrowdStatus.OK
     else:
         status = CrowdStatus.NOT_ARRIVED
-        warnings.append(f"the robot did not reach the goal within {c.time_limit:g} s")
     if surf <= 0:
         warnings.append(f"collision with a pedestrian: surface distance {surf:.3f} m")
     elif run.dmin <= run.r3:
@@ -615,24 +723,25 @@ def _outcome(run: _Run) -> dict[str, Any]:
     if run.wmin <= rho:
         warnings.append(f"collision with a wall: distance {run.wmin:.3f} m")
     if run.left_area:
-        warnings.append(
-            f"the robot left the walkable area by t = {run.left_area:.2f} s (pushed out)"
-        )
+        warnings.append(f"the robot left the walkable area at t = {run.left_area:.2f} s")
     if run.overflow:
         warnings.append(
             f"in {run.overflow} periods more than {c.neighbours} pedestrians were in the active "
             "region: the farthest were left out of the field (raise neighbours)"
         )
-    if run.agent_offset > 0.05:
+    exceeded = run.agent_offset > AGENT_OFFSET_BOUND
+    if exceeded:
         warnings.append(
-            f"JuPedSim held the robot's agent up to {run.agent_offset:.3f} m from the robot"
+            f"JuPedSim held the robot's agent up to {run.agent_offset:.3f} m from the robot "
+            f"(bound {AGENT_OFFSET_BOUND} m): the pedestrians did not see the robot where it was"
         )
     return {
         "arrival_time": run.arrival, "min_distance": run.dmin, "min_surface_distance": surf,
         "min_wall_distance": run.wmin, "entered_critical": bool(crit), "collided": bool(coll),
         "critical_time": run.crit_time, "energy": run.energy, "slot_overflow": run.overflow,
         "robot_agent_offset": run.agent_offset, "critical_overlaps": run.overlaps,
-        "status": status, "warnings": tuple(warnings),
+        "status": status, "warnings": tuple(warnings), "outcome": outcome, "outcome_time": at,
+        "coupling_exceeded": bool(exceeded),
     }  # fmt: skip
 
 
@@ -640,10 +749,10 @@ def simulate_crowd(
     crowd: CrowdScenario,
     gains: Any = None,
     *,
-    method: str = "vff",
+    method: str = CROWD_METHOD.default,
     stabilising: str = "lyapunov",
     tie_side: str = "+y",
-    arrival_tolerance: float = 0.15,
+    arrival_tolerance: float = ARRIVAL_TOLERANCE.default,
     dynamics_step: float = 1e-3,
     cbf_gains: tuple[float, float] = (4.0, 4.0),
     order: str = "robot_first",
@@ -657,8 +766,9 @@ def simulate_crowd(
     gains
         As for :func:`~designlab.navigation.simulate` (:class:`VFFGains` required for VFF).
     method
-        A method of :data:`~designlab.navigation.methods.CROWD_METHOD` (``"vff"``,
-        ``"masoud"``, ``"ge_cui"`` or ``"cbf"``).
+        A method of :data:`~designlab.navigation.methods.CROWD_METHOD`: a force field
+        (``"vff"``, ``"masoud"``, ``"ge_cui"``, ``"cbf"``) or a baseline commanding a velocity
+        (``"orca"``, ``"social_force"``: a holonomic robot; ``gains`` are then its settings).
     stabilising
         ``"lyapunov"`` or ``"off"`` (VFF's stabilising force F_L).
     tie_side
@@ -692,7 +802,7 @@ def simulate_crowd(
     ))  # fmt: skip
     run = _Run(s)
     k_done = _loop(run)
-    strategy = method_of(s.method)
+    strategy = METHODS.get(s.method)
     return CrowdResult(
         crowd=crowd, method=s.method, stabilising=s.stabilising,
         gains=strategy.gains_dict(s.row), **_outcome(run), **_records(run, k_done),
@@ -752,8 +862,9 @@ def simulate_pedestrians(crowd: CrowdScenario) -> PedestrianRun:
     P = np.full((len(frames), n, 2), np.nan)
     for t, (ids, Pt) in enumerate(frames):
         P[t, ids] = Pt
+    keys = np.asarray(ped.keys[:n], np.int64)
     return PedestrianRun(
-        crowd, np.arange(len(frames)) * crowd.pedestrian_step, P, np.arange(n, dtype=np.int64),
+        crowd, np.arange(len(frames)) * crowd.pedestrian_step, P, keys,
         _speeds(ped), CrowdStatus.PEDESTRIAN_SIMULATOR_FAILED if failure else CrowdStatus.OK,
         (failure,) if failure else (),
     )  # fmt: skip

@@ -13,9 +13,13 @@ or ``"<method>:<tag>"`` to compare gain sets of one method (``"vff:thesis"``,
 default: :data:`~designlab.navigation.OPTIMAL_GAINS` for ``vff``, the experiment gains for
 the attractive part of ``cbf``, Table C.1 for the baselines).
 
-Outcomes of a run are exclusive: ``collision`` (the robot touched a pedestrian or wall),
-else ``success`` (it arrived), else ``timeout``. ``critical`` (it entered a critical region)
-is counted separately: a successful run may have entered one.
+Outcomes of a run are exclusive, its first event
+(:data:`~designlab.navigation.crowds.simulate.OUTCOMES`): ``success`` (it arrived),
+``collision`` (it touched a pedestrian or wall), ``left_area`` (it left the walkable area),
+``simulator_failed`` (JuPedSim stopped), else ``timeout``. ``critical`` (it entered a
+critical region) and ``coupling_exceeded`` (the pedestrians did not see the robot where it
+was: :data:`~designlab.navigation.crowds.simulate.AGENT_OFFSET_BOUND`) are counted
+separately.
 """
 
 from __future__ import annotations
@@ -46,7 +50,7 @@ from designlab.navigation.crowds.scenario import DENSITY, CrowdScenario, check_c
 from designlab.navigation.crowds.simulate import CROWD_METHOD, simulate_crowd, simulate_pedestrians
 from designlab.navigation.methods import METHOD, METHODS, STABILISING
 from designlab.navigation.parameters import OPTIMAL_GAINS
-from designlab.params import Param
+from designlab.params import ARG, Param
 from designlab.progress import Progress, ProgressHook, report
 from designlab.results import Result, Status
 
@@ -55,6 +59,7 @@ __all__ = [
     "RATES",
     "CrowdStudy",
     "CrowdStudyStatus",
+    "abnormal_runs",
     "decode_gains",
     "encode_gains",
     "method_name",
@@ -66,7 +71,16 @@ __all__ = [
 logger = logging.getLogger(__name__)
 
 #: Exclusive outcomes of a run (see the module text).
-OUTCOMES = ("success", "collision", "timeout")
+OUTCOMES = ("success", "collision", "timeout", "left_area", "simulator_failed")
+#: A crowd run's outcome (:data:`~designlab.navigation.crowds.simulate.OUTCOMES`) by its
+#: name in a study.
+_OUTCOME_OF_RUN = {
+    "arrived": "success",
+    "collision": "collision",
+    "timeout": "timeout",
+    "left_area": "left_area",
+    "simulator_failed": "simulator_failed",
+}
 #: Runs of a study chunk whose crowd met is measured in one pedpy call
 #: (:func:`~designlab.navigation.crowds.faced.faced_by_runs`: pedpy's per-call cost, about
 #: 20 ms, is paid once for them; the records of that many runs are held until then).
@@ -75,8 +89,11 @@ FACED_BATCH = 16
 RATES = {
     "success": "success",
     "collided": "collision",
-    "critical": "critical",
     "timeout": "timeout",
+    "left_area": "left_area",
+    "simulator_failed": "simulator_failed",
+    "critical": "critical",
+    "coupling_exceeded": "coupling_exceeded",
 }
 #: Gains classes by the ``type`` of their plain-data form: the unfiltered force-field methods
 #: of :data:`~designlab.navigation.methods.METHODS` (a filtered method takes its nominal's).
@@ -161,7 +178,7 @@ def decode_gains(data: Mapping[str, Any] | None) -> Any:
     return cls(**fields)
 
 
-def run_row(result: Any, pedestrians: Any = None, *, personal_space: float = 1.2,
+def run_row(result: Any, pedestrians: Any = None, *, personal_space: float = PERSONAL_SPACE.default,
             robot_radius: float = 0.0, faced: bool = True) -> dict[str, Any]:  # fmt: skip
     """The metrics of one crowd run, as one row.
 
@@ -184,7 +201,9 @@ def run_row(result: Any, pedestrians: Any = None, *, personal_space: float = 1.2
     Returns
     -------
     dict
-        ``outcome``, ``success``, ``collided``, ``critical``, ``timeout`` (0/1),
+        ``outcome`` (see the module text); ``success``, ``collided``, ``timeout``,
+        ``left_area``, ``simulator_failed`` (the outcome, 0/1), ``critical``,
+        ``coupling_exceeded`` (0/1), ``outcome_time_s``,
         ``arrival_time_s``, ``min_distance_m`` (the run's own), ``min_centre_distance_m``
         (robot to nearest pedestrian centre), ``personal_space_s``, ``ped_delay_mean_s``,
         ``ped_delay_max_s``, ``ped_beyond_window``, ``ped_deviation_mean_m``,
@@ -196,13 +215,16 @@ def run_row(result: Any, pedestrians: Any = None, *, personal_space: float = 1.2
     t = np.asarray(result.times, dtype=float)
     robot, peds = result.robot_positions, result.pedestrian_positions
     collided, arrived = bool(result.collided), bool(np.isfinite(result.arrival_time))
-    outcome = "collision" if collided else ("success" if arrived else "timeout")
+    outcome = _OUTCOME_OF_RUN.get(
+        getattr(result, "outcome", ""),
+        "collision" if collided else ("success" if arrived else "timeout"),
+    )
     row: dict[str, Any] = {
         "outcome": outcome,
-        "success": float(outcome == "success"),
-        "collided": float(collided),
+        **{("collided" if o == "collision" else o): float(outcome == o) for o in OUTCOMES},
         "critical": float(bool(result.entered_critical)),
-        "timeout": float(outcome == "timeout"),
+        "coupling_exceeded": float(bool(getattr(result, "coupling_exceeded", False))),
+        "outcome_time_s": float(getattr(result, "outcome_time", math.nan)),
         "arrival_time_s": float(result.arrival_time),
         "min_distance_m": float(np.min(result.min_distance)),
         "min_centre_distance_m": float(np.min(clearance(robot, peds))),
@@ -319,7 +341,7 @@ _METRIC_COLUMNS = (*RATES, "arrival_time_s", "min_centre_distance_m", "personal_
                    "ped_delay_mean_s", "ped_deviation_mean_m")  # fmt: skip
 
 
-def summarise_runs(runs: pd.DataFrame, confidence: float = 0.95) -> pd.DataFrame:
+def summarise_runs(runs: pd.DataFrame, confidence: float = CONFIDENCE.default) -> pd.DataFrame:
     """One row per scenario, density and method: rates with Wilson intervals and distributions.
 
     Parameters
@@ -458,10 +480,11 @@ _GRID_FIELDS = ("layout", "pedestrians", "density", "seed")
 MAX_RUNS = Param("runs", "", "runs of a crowd study (scenarios x densities x seeds x methods)",
                  kind="integer", ge=1, le=100_000, name="runs")  # fmt: skip
 #: Seeds accepted (JuPedSim's and numpy's seeds are 32-bit).
-SEED = Param("seed", "", "seed of a crowd", kind="integer", ge=0, le=2**31 - 1, name="seeds")
+SEED = ARG.seed.but(symbol="seed", doc="seed of a crowd", le=2**31 - 1, name="seeds")
 #: Columns of a run row besides the point keys (for the chunk evaluator's result).
 RUN_COLUMNS = (
-    "outcome", "success", "collided", "critical", "timeout", "arrival_time_s", "min_distance_m",
+    "outcome", "success", "collided", "critical", "timeout", "left_area", "simulator_failed",
+    "coupling_exceeded", "outcome_time_s", "arrival_time_s", "min_distance_m",
     "min_centre_distance_m", "personal_space_s", "ped_delay_mean_s", "ped_delay_max_s",
     "ped_beyond_window", "ped_deviation_mean_m", "ped_deviation_max_m", "run_status",
     "measured_density_per_m2", "mean_ped_speed_m_per_s",
@@ -599,8 +622,8 @@ def crowd_study(
     gains: Mapping[str, Any] | None = None,
     stabilising: str | Mapping[str, str] = "lyapunov",
     crowd_options: Mapping[str, Any] | None = None,
-    personal_space: float = 1.2,
-    confidence: float = 0.95,
+    personal_space: float = PERSONAL_SPACE.default,
+    confidence: float = CONFIDENCE.default,
     executor: Any = None,
     store: Any = None,
     resume: bool = False,
@@ -691,12 +714,45 @@ def _named(frame: pd.DataFrame, names: list[str], labels: list[str]) -> pd.DataF
     return out
 
 
+def abnormal_runs(runs: pd.DataFrame) -> list[str]:
+    """One line per run that did not end normally: the robot left the walkable area, the
+    pedestrian simulator failed, or the pedestrians did not see the robot where it was.
+
+    Parameters
+    ----------
+    runs
+        The runs frame of a :class:`CrowdStudy` (a frame without the columns: none).
+
+    Examples
+    --------
+    >>> runs = pd.DataFrame({"scenario": ["crossing"], "density": [0.5], "seed": [3],
+    ...     "method": ["vff"], "outcome": ["left_area"], "outcome_time_s": [4.2],
+    ...     "coupling_exceeded": [0.0]})
+    >>> abnormal_runs(runs)
+    ['crossing 0.5/m^2 seed 3 vff: the robot left the walkable area at t = 4.20 s']
+    """
+    if "outcome" not in runs or "outcome_time_s" not in runs:
+        return []
+    causes = {"left_area": "the robot left the walkable area",
+              "simulator_failed": "the pedestrian simulator (JuPedSim) failed"}  # fmt: skip
+    out = []
+    for _, r in runs.iterrows():
+        cell = f"{r['scenario']} {r['density']:g}/m^2 seed {int(r['seed'])} {r['method']}"
+        if r["outcome"] in causes:
+            out.append(f"{cell}: {causes[r['outcome']]} at t = {r['outcome_time_s']:.2f} s")
+        if r.get("coupling_exceeded", 0) > 0:
+            out.append(f"{cell}: the robot's JuPedSim agent was more than the bound away from "
+                       "the robot (the pedestrians did not see it where it was)")  # fmt: skip
+    return out
+
+
 def _study(runs: pd.DataFrame, options: dict[str, Any], confidence: float) -> CrowdStudy:
     failed = int((runs["status"].astype(str) == "error").sum())
     warnings = []
     if failed:
         first = runs.loc[runs["status"].astype(str) == "error", "error"].iloc[0]
         warnings.append(f"{failed} of {len(runs)} runs raised (first: {first})")
+    warnings += abnormal_runs(runs)
     status = CrowdStudyStatus.FAILED_RUNS if failed else CrowdStudyStatus.OK
     return CrowdStudy(runs=runs, settings={"options": options}, confidence=confidence,
                       status=status, warnings=tuple(warnings))  # fmt: skip

@@ -45,6 +45,8 @@ from designlab.navigation.methods.errt import ERRT
 from designlab.navigation.methods.field_dstar import FIELD_DSTAR
 from designlab.navigation.methods.ge_cui import GE_CUI
 from designlab.navigation.methods.masoud import MASOUD
+from designlab.navigation.methods.orca import ORCA
+from designlab.navigation.methods.social_force import SOCIAL_FORCE
 from designlab.navigation.methods.vff import VFF
 from designlab.navigation.methods.vo import NLVO, VO
 from designlab.registry import Registry
@@ -76,12 +78,15 @@ METHODS: Registry[NavigationMethod] = Registry(
         NLVO,
         ERRT,
         FIELD_DSTAR,
+        ORCA,
+        SOCIAL_FORCE,
     ],
 )
 
 #: The ``method`` argument of a force-field run: one of :data:`METHODS`.
 METHOD = METHODS.param("navigation method", default=VFF.name, force_field=True)
-#: The force-field methods a robot can run among a crowd (the others are refused).
+#: The methods a robot can run among a crowd: the force fields, and the field's crowd
+#: baselines commanding a velocity (ORCA, social force); the others are refused.
 CROWD_METHOD = METHODS.param("navigation method among a crowd", default=VFF.name, crowds=True)
 
 #: The Sec. 5.7 planners (velocity obstacles linear and non-linear, ERRT, Field D*): they

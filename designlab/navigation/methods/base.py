@@ -34,9 +34,11 @@ __all__ = [
     "GAIN_COLUMNS",
     "STABILISING",
     "TIE_SIDE",
+    "CrowdController",
     "Filtered",
     "NavigationMethod",
     "Planner",
+    "goal_velocity",
 ]
 
 #: The columns of the simulator's gain array (k1, b, k3, k5).
@@ -312,3 +314,81 @@ class Planner(NavigationMethod):
 
     def forces(self, items: list[Obs], s: Symbols) -> Forces:
         raise InvalidParameterError("method", self.name, "is a Sec. 5.7 planner: no force field")
+
+
+class CrowdController(NavigationMethod):
+    """A robot controller among crowds from the field's baselines: it commands a velocity
+    each navigation period from the pedestrians' positions and velocities (no force field,
+    no gains: settings, each default from its source).
+
+    :func:`designlab.navigation.crowds.simulate_crowd` runs it: the robot (holonomic) tracks
+    the commanded velocity at its acceleration and speed limits (``docs/navigation_crowds.md``).
+
+    Parameters
+    ----------
+    name, label, doc
+        As for :class:`NavigationMethod`.
+    """
+
+    used_gains = ()
+    force_field = False
+    batched = False
+    crowds = True
+    #: Its settings class (each default from its source), given as ``gains``.
+    gains_type: Any = None
+
+    def default_gains(self) -> Any:
+        return self.gains_type()
+
+    def gain_row(self, gains: Any) -> np.ndarray:
+        self.gains(gains)  # checked; the settings go to the controller, not the field
+        return np.zeros(len(GAIN_COLUMNS))
+
+    def gains_dict(self, row: np.ndarray) -> dict[str, float]:
+        return {}
+
+    def controller(self, crowd: Any, settings: Any) -> Callable[..., np.ndarray]:
+        """The controller of one run as ``command(p, v, P, V) -> velocity``.
+
+        Parameters
+        ----------
+        crowd
+            The crowd scenario (its robot, goal, walls, pedestrian radius, sample time).
+        settings
+            The method's settings (checked).
+
+        Returns
+        -------
+        callable
+            ``command(p, v, P, V)``: the robot's position and velocity ``(2,)``, the
+            pedestrians' positions and velocities ``(n, 2)`` -> the commanded velocity.
+        """
+        raise NotImplementedError(f"{type(self).__name__} does not define its controller")
+
+    def forces(self, items: list[Obs], s: Symbols) -> Forces:
+        raise InvalidParameterError("method", self.name, "commands a velocity: no force field")
+
+
+def goal_velocity(
+    p: np.ndarray, goal: np.ndarray, max_speed: float, max_accel: float
+) -> np.ndarray:
+    """The preferred velocity: straight to the goal at the speed limit, slowing to stop at it
+    (speed min(V_mr, sqrt(2 a_mr d)) at distance d).
+
+    Parameters
+    ----------
+    p, goal
+        The robot's position and goal ``(2,)``, m.
+    max_speed, max_accel
+        V_mr (m/s) and a_mr (m/s^2).
+
+    Examples
+    --------
+    >>> goal_velocity(np.zeros(2), np.array([3.0, 4.0]), 0.7, 1.0).tolist()
+    [0.42, 0.56]
+    """
+    e = goal - p
+    d = float(np.hypot(*e))
+    if d <= 1e-12:
+        return np.zeros(2)
+    return e / d * min(max_speed, (2.0 * max_accel * d) ** 0.5)

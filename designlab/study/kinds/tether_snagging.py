@@ -82,9 +82,20 @@ class TetherSnaggingStudy(StudyBase):
         description="gaps shown in the figures and the detection table (the thesis: 5 m)",
     )
 
+    compare_followers: list[Literal["constant_speed", "gap"]] = Field(
+        default_factory=lambda: ["gap"],
+        max_length=2,
+        description=(
+            "other followers run over the same gaps (without the compensation) for the "
+            "comparison with the thesis: 'gap' is the project's gap-keeping robot"
+        ),
+    )
+
     PRODUCES: ClassVar[tuple[str, ...]] = (
         "summary.md",
         "snagging.csv",
+        "limits.csv",
+        "features.csv",
         "snagging_*.png",
         "study.yaml",
     )
@@ -92,7 +103,8 @@ class TetherSnaggingStudy(StudyBase):
 
     def size(self) -> str:
         """Runs."""
-        return f"{2 * (self.gaps.num + len(self.detail_gaps))} runs"
+        n = self.gaps.num + len(self.detail_gaps)
+        return f"{(2 + len(self.compare_followers)) * n} runs"
 
 
 @dataclass(frozen=True)
@@ -107,6 +119,9 @@ class TetherSnaggingResult(Result):
         Runs at every grid gap without and with the compensation.
     detail, detail_compensated
         Runs at the detail gaps.
+    others
+        Per follower of ``compare_followers``: its runs at the grid gaps, then at the detail
+        gaps (without the compensation).
     """
 
     study: TetherSnaggingStudy
@@ -114,6 +129,7 @@ class TetherSnaggingResult(Result):
     compensated: tuple[SnagRun, ...]
     detail: tuple[SnagRun, ...]
     detail_compensated: tuple[SnagRun, ...]
+    others: dict[str, tuple[SnagRun, ...]] = dataclasses.field(default_factory=dict)
 
     status: ClassVar[str] = OK
 
@@ -163,9 +179,29 @@ class TetherSnaggingResult(Result):
                              "elsewhere_max": rest, "ratio": top / rest})  # fmt: skip
         return pd.DataFrame(rows)
 
-    def limits(self) -> dict[str, float]:
+    @property
+    def follower(self) -> str:
+        """The follower of the main runs (the scenario's)."""
+        return str(self.study.scenario.build().follower)
+
+    def runs_of(self, follower: str) -> tuple[tuple[SnagRun, ...], tuple[SnagRun, ...]]:
+        """The grid runs and the detail runs of a follower (without the compensation)."""
+        if follower == self.follower:
+            return self.plain, self.detail
+        if follower not in self.others:
+            raise KeyError(f"follower {follower!r} was not run; run: {self.followers}")
+        runs, n = self.others[follower], self.study.gaps.num
+        return runs[:n], runs[n:]
+
+    @property
+    def followers(self) -> tuple[str, ...]:
+        """The main follower, then the compared ones."""
+        return (self.follower, *(f for f in self.others if f != self.follower))
+
+    def limits(self, follower: str | None = None) -> dict[str, float]:
         """First snagging gap, collision limits and the fit (4.6), all over w."""
-        f = self.to_frame()
+        grid, detail = self.runs_of(follower or self.follower)
+        f = _frame(grid)
         sc = self.study.scenario.build()
         w, rcol = sc.width, sc.collision_radius / sc.width
         snag = f[f["snagged"]]
@@ -181,7 +217,28 @@ class TetherSnaggingResult(Result):
             out.update({f"fit_{k}": v for k, v in snag_limits(
                 inside["d_col_over_w"].to_numpy(), inside["gap_over_w"].to_numpy(), rcol
             ).items()})  # fmt: skip
+        spans = [(r.scenario.gap, r.snag_span_recorded) for r in detail if r.snag_span]
+        if spans:
+            gap, (a, b) = max(spans, key=lambda s: s[0])  # type: ignore[misc]
+            out.update({"span_gap_m": gap, "span_recorded_m": b - a})
         return out
+
+    def limits_frame(self) -> pd.DataFrame:
+        """:meth:`limits` of every follower run, one row each (``limits.csv``)."""
+        return pd.DataFrame([{"follower": f, **self.limits(f)} for f in self.followers])
+
+
+def _frame(runs: tuple[SnagRun, ...]) -> pd.DataFrame:
+    return pd.DataFrame(
+        [
+            {
+                "gap_over_w": r.scenario.gap / r.scenario.width,
+                "snagged": bool(r.snagged.any()),
+                "d_col_over_w": r.d_col,
+            }
+            for r in runs
+        ]
+    )
 
 
 def _crossing(frame: pd.DataFrame, level: float) -> float:
@@ -213,9 +270,20 @@ def run(study: TetherSnaggingStudy, context: RunContext) -> TetherSnaggingResult
             plain.append(simulate_snag(sc))
             comp.append(simulate_snag(dataclasses.replace(sc, compensate=True)))
             hook(Progress(i + 1, len(jobs), label="gap", note=f"{g:g} m"))
+    others = {}
+    for follower in dict.fromkeys(study.compare_followers):
+        if follower == base.follower:
+            continue
+        with context.bar(f"{study.kind}: {follower} follower", total=len(jobs)) as hook:
+            runs = []
+            for i, g in enumerate(jobs):
+                runs.append(simulate_snag(dataclasses.replace(base, gap=float(g),
+                                                              follower=follower)))  # fmt: skip
+                hook(Progress(i + 1, len(jobs), label="gap", note=f"{g:g} m"))
+        others[follower] = tuple(runs)
     n = study.gaps.num
     return TetherSnaggingResult(
-        study, tuple(plain[:n]), tuple(comp[:n]), tuple(plain[n:]), tuple(comp[n:])
+        study, tuple(plain[:n]), tuple(comp[:n]), tuple(plain[n:]), tuple(comp[n:]), others
     )
 
 

@@ -1,0 +1,333 @@
+"""A non-linear foam: Hunt-Crossley damping and a densification (stiffening) spring.
+
+The reduced joint (3.4.9) and the head on its neck (3.5.3) as in the thesis, with the
+linear foam law (3.5.1) replaced by, for a compression eps (eps+ = max(eps, 0))::
+
+    f_c = K_c eps (1 - eps+ / x_d)^(-n)  +  C_c (eps+ / x_d)^p eps_dot
+
+* the spring stiffens as the cells collapse and the foam densifies: its stress rises
+  without bound as the compression approaches the densification depth x_d (Gibson &
+  Ashby, *Cellular Solids*, 2nd ed. 1997, Sec. 5.3, the densification strain
+  eps_D ~ 1 - 1.4 rho*/rho_s); ``n`` sets how sharply (n = 0: a linear spring);
+* the damping is Hunt & Crossley's (1975, "Coefficient of restitution interpreted as
+  damping in vibroimpact", J. Appl. Mech. 42(2)): proportional to a power p of the
+  indentation, so the force starts at zero on contact and the damper does not pull the
+  head back at separation (p = 0: the linear damper). C_c is the damping at eps = x_d,
+  so it keeps the unit N s/m; p must be 0 or at least 1 (the force's rate is then finite
+  at contact).
+
+With n = p = 0 the law is the Kelvin-Voigt foam of (3.5.1). Not linear: its metrics come
+from the general response path (:mod:`designlab.impact.general`: an adaptive integrator
+with event location), one design at a time; they are integrator results with stated
+tolerances, not certified (status ``"integrated"``). A compression can never reach x_d;
+the compression limit of an envelope (lambda) stays the designer's.
+
+Examples
+--------
+>>> from designlab.impact import HEAD_MIN, MANIPULATOR_1
+>>> foam = HuntCrossleyFoam(24.25e3, 71.9, densification_depth=0.02, stiffening=1.0,
+...                         damping_exponent=1.0)
+>>> HUNT_CROSSLEY.row(MANIPULATOR_1, foam, HEAD_MIN).tolist()[-3:]
+[0.02, 1.0, 1.0]
+>>> f, _, _ = HUNT_CROSSLEY.force_law(foam.stiffness, foam.damping, 0.02, 1.0, 1.0)(
+...     np.array([0.01]), np.array([1.0]))
+>>> round(float(f[0]), 2)                # 24.25e3 * 0.01 / 0.5 + 71.9 * 0.5
+520.95
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from designlab.errors import InvalidParameterError
+from designlab.impact.contact.base import (
+    HEAD_COLUMNS,
+    ContactModel,
+    reduced_joint_labels,
+    reduced_joint_values,
+)
+from designlab.impact.general import (
+    GENERAL_RTOL,
+    ForceLaw,
+    GeneralStatus,
+    Histories,
+    Lobe,
+    first_lobe,
+    histories,
+    integrator_note,
+)
+from designlab.impact.metrics import ImpactMetrics
+from designlab.impact.model import PARAM_NAMES
+from designlab.impact.parameters import (
+    STOP_TIME,
+    ContactDynamics,
+    Foam,
+    LinkImpact,
+    as_field,
+    check_closing_velocity,
+)
+from designlab.params import declared, param, params_of
+from designlab.validation import ParamsMixin, real_array
+
+__all__ = ["HUNT_CROSSLEY", "HuntCrossley", "HuntCrossleyFoam"]
+
+_FOAM = params_of(Foam)
+#: the columns of the force law, in the order of :meth:`HuntCrossley.force_law`
+_LAW = ("K_c", "C_c", "x_d", "n_d", "p_c")
+
+
+@declared
+@dataclass(frozen=True)
+class HuntCrossleyFoam(ParamsMixin):
+    """A foam with Hunt-Crossley damping and a densification spring (see the module text).
+
+    Examples
+    --------
+    >>> HuntCrossleyFoam(24.25e3, 71.9, densification_depth=0.02).stiffening
+    1.0
+    >>> HuntCrossleyFoam(24.25e3, 71.9, densification_depth=0.03, thickness=0.0254)
+    Traceback (most recent call last):
+    ...
+    designlab.errors.InvalidParameterError: HuntCrossleyFoam.densification_depth = 0.03 m ...
+    """
+
+    stiffness: float = as_field(_FOAM["stiffness"])
+    damping: float = param(
+        "C_c", "N s/m", doc="foam damping at eps = x_d", ge=0, le=1e10, typical=(43.8, 113.6)
+    )
+    densification_depth: float = param(
+        "x_d", "m", doc="densification depth: the compression at which the spring locks up",
+        gt=0, le=1, typical=(0.015, 0.025),
+    )  # fmt: skip
+    stiffening: float = param(
+        "n", "", doc="densification exponent (0: a linear spring)", ge=0, le=10, default=1.0,
+        typical=(0.0, 2.0),
+    )  # fmt: skip
+    damping_exponent: float = param(
+        "p", "", doc="Hunt-Crossley damping exponent (0: a linear damper; else >= 1)", ge=0,
+        le=3, default=1.0, typical=(0.0, 1.5),
+    )  # fmt: skip
+    thickness: float | None = param(
+        "T_u", "m", doc="uncompressed thickness (>= densification_depth)", gt=0, le=1,
+        optional=True, none="the densification depth scaled as the Ch. 4 foam, x 0.0254/0.02",
+        default=None,
+    )  # fmt: skip
+    name: str = param(kind="text", default="", doc="optional label used in reports")
+
+    def __post_init__(self) -> None:
+        if 0.0 < self.damping_exponent < 1.0:
+            raise InvalidParameterError(
+                "HuntCrossleyFoam.damping_exponent", self.damping_exponent, "must be 0 or >= 1"
+            )
+        if self.thickness is None:
+            object.__setattr__(self, "thickness", self.densification_depth * 0.0254 / 0.02)
+        elif self.thickness < self.densification_depth:
+            raise InvalidParameterError(
+                "HuntCrossleyFoam.densification_depth",
+                self.densification_depth,
+                f"must be <= HuntCrossleyFoam.thickness = {self.thickness} m",
+                "m",
+            )
+
+
+def _force_law(k: float, c: float, x_d: float, n: float, p: float) -> ForceLaw:
+    """``f_c(eps, eps_dot)`` and its partial derivatives (see the module text).
+
+    A scalar (one state of the integrator) is served by plain float arithmetic, an array
+    (the samples of the histories) by numpy; both by the same formulas.
+    """
+
+    def scalar(x: float, xd: float) -> tuple[float, float, float]:
+        xp = min(max(x / x_d, 0.0), 1.0 - 1e-15)
+        spring = (1.0 - xp) ** -n
+        d_spring = n / x_d * (1.0 - xp) ** (-n - 1.0) if x > 0 else 0.0
+        damp = xp**p if p > 0 else 1.0
+        d_damp = p / x_d * xp ** (p - 1.0) if p > 0 and x > 0 else 0.0
+        return (
+            k * x * spring + c * damp * xd,
+            k * (spring + x * d_spring) + c * d_damp * xd,
+            c * damp,
+        )
+
+    def law(x: NDArray, xd: NDArray) -> tuple[NDArray, NDArray, NDArray]:
+        if np.ndim(x) == 0:
+            return scalar(float(x), float(xd))  # type: ignore[return-value]
+        f = [
+            scalar(a, b)
+            for a, b in zip(np.ravel(x), np.ravel(np.broadcast_to(xd, np.shape(x))), strict=True)
+        ]
+        return tuple(np.reshape([r[i] for r in f], np.shape(x)) for i in range(3))  # type: ignore[return-value]
+
+    return law
+
+
+@dataclass(frozen=True)
+class HuntCrossley(ContactModel):
+    """The reduced joint with the non-linear foam (see the module text).
+
+    Attributes
+    ----------
+    name, label, doc, robots, foam, columns, robot_columns, foam_columns, equations
+        As in :class:`~designlab.impact.contact.base.ContactModel`.
+    linear, batched, gradients, profiles, printed_q2, response_form
+        Its capabilities, as in :class:`~designlab.impact.contact.base.ContactModel`.
+    """
+
+    def _robot_values(self, robot: Any, levers: NDArray | None) -> Mapping[str, Any]:
+        return reduced_joint_values(robot, levers)
+
+    def _labels(self, along_link: bool) -> Mapping[str, str]:
+        return {**reduced_joint_labels(along_link), "K_c": "foam.stiffness", "C_c": "foam.damping",
+                "x_d": "foam.densification_depth", "n_d": "foam.stiffening",
+                "p_c": "foam.damping_exponent"}  # fmt: skip
+
+    def foam_values(self, foam: Any) -> dict[str, float]:
+        """x_d, n and p of the foam (its shape, kept while K_c and C_c vary)."""
+        if type(foam) is not self.foam:
+            raise InvalidParameterError("foam", foam, "must be a HuntCrossleyFoam")
+        return {"x_d": foam.densification_depth, "n_d": foam.stiffening,
+                "p_c": foam.damping_exponent}  # fmt: skip
+
+    def force_law(self, k: float, c: float, x_d: float, n: float, p: float) -> ForceLaw:
+        """The force law of one design (``K_c, C_c, x_d, n, p``)."""
+        return _force_law(k, c, x_d, n, p)
+
+    def metrics(self, rows: NDArray, impact_velocity: Any, **options: Any) -> ImpactMetrics:
+        """First-lobe metrics of rows by the general response path (integrated, not certified).
+
+        Parameters
+        ----------
+        rows
+            ``(N, 11)`` parameter rows of :attr:`columns` (or one row).
+        impact_velocity
+            v_c, m/s: a scalar or ``(N,)``.
+        **options
+            ``constrained``, ``stop_time``, ``rtol`` (:data:`~designlab.impact.general.
+            GENERAL_RTOL`); the linear kernels' other options (``with_force``, ...) are
+            accepted and have nothing to save here; ``q2`` must be ``"correct"``.
+        """
+        p = np.atleast_2d(real_array("params", rows))
+        if p.shape[1] != len(self.columns):
+            raise InvalidParameterError(
+                "params", p.shape, f"must have shape (N, {len(self.columns)})"
+            )
+        if options.get("q2", "correct") != "correct":
+            raise InvalidParameterError(
+                "q2", options["q2"], "the printed q2 belongs to the reduced linear model"
+            )
+        constrained = bool(options.get("constrained", False))
+        stop_time = STOP_TIME.check(options.get("stop_time", 0.05))
+        rtol = GENERAL_RTOL.check(options.get("rtol", GENERAL_RTOL.default))
+        v = np.atleast_1d(check_closing_velocity(impact_velocity)).ravel()
+        n = max(p.shape[0], v.size)
+        p, v = np.broadcast_to(p, (n, p.shape[1])), np.broadcast_to(v, (n,))
+        col = {c: self.column(p, c) for c in self.columns}
+        lobes = []
+        for i in range(n):
+            law = self.force_law(*(float(col[c][i]) for c in _LAW))
+            robot = tuple(float(col[c][i]) for c in self.robot_columns)
+            head = None if constrained else tuple(float(col[c][i]) for c in HEAD_COLUMNS)
+            crush = float(col["x_d"][i]) if col["n_d"][i] > 0 else None  # n = 0: no densification
+            lobes.append(
+                first_lobe(law, robot, head, float(v[i]), stop_time=stop_time, rtol=rtol,
+                           crush_depth=crush)
+            )  # fmt: skip
+        return _batch(p, v, lobes, constrained, rtol)
+
+    def valid_depth(self, foam: Any) -> float:
+        """The densification depth x_d: the law's compression can never reach it."""
+        return float(foam.densification_depth)
+
+    def integrate(
+        self, robot: Any, foam: Any, head: Any, impact_velocity: float, **options: Any
+    ) -> tuple[Lobe, Histories]:
+        """First-lobe metrics and time histories (over ``t_end``) of one impact, integrated.
+
+        Parameters
+        ----------
+        robot, foam, head
+            The impact (``head=None``: constrained).
+        impact_velocity
+            v_c > 0, m/s.
+        **options
+            ``t_end`` (s; default twice the impact period), ``stop_time``, ``rtol``.
+        """
+        row = self.row(robot, foam, head)
+        law = self.force_law(*(float(self.column(row, c)[0]) for c in _LAW))
+        arm = tuple(float(self.column(row, c)[0]) for c in self.robot_columns)
+        neck = None if head is None else tuple(float(self.column(row, c)[0]) for c in HEAD_COLUMNS)
+        stop_time = float(options.get("stop_time", 0.05))
+        rtol = GENERAL_RTOL.check(options.get("rtol", GENERAL_RTOL.default))
+        x_d = foam.densification_depth if foam.stiffening > 0 else None  # n = 0: never crushed
+        lobe = first_lobe(
+            law, arm, neck, impact_velocity, stop_time=stop_time, rtol=rtol, crush_depth=x_d
+        )
+        t_imp = lobe.impact_duration
+        t_end = options.get("t_end") or (2.0 * t_imp if np.isfinite(t_imp) and t_imp > 0 else 0.1)
+        return lobe, histories(law, arm, neck, impact_velocity, t_end, rtol=rtol, crush_depth=x_d)
+
+    def values(
+        self,
+        key: Any,
+        rows: NDArray,
+        impact_velocity: NDArray,
+        *,
+        constrained: bool = False,
+        stop_time: float = STOP_TIME.default,
+    ) -> NDArray[np.float64]:
+        """The metric of criterion ``key`` by the general path (HIC is not available)."""
+        if key.metric not in ("head_acceleration", "force", "compression"):
+            raise InvalidParameterError(
+                "criteria", key.name, f"the {self.label} contact serves a_h,max, the peak force "
+                "and eps_max (HIC needs the closed-form response of a linear contact)",
+            )  # fmt: skip
+        m = self.metrics(rows, impact_velocity, constrained=constrained, stop_time=stop_time)
+        return key.from_metrics(m)
+
+
+def _batch(p: NDArray, v: NDArray, lobes: list, constrained: bool, rtol: float) -> ImpactMetrics:
+    def arr(name: str) -> NDArray[np.float64]:
+        return np.array([getattr(lobe, name) for lobe in lobes], dtype=float)
+
+    status = np.array([lobe.status for lobe in lobes])
+    open_ = int(np.sum(status == GeneralStatus.LOBE_NOT_CLOSED.value))
+    crushed = int(np.sum(status == "bottoming"))
+    warnings = [integrator_note(rtol)]
+    if crushed:
+        warnings.append(
+            f"{crushed} design(s) crushed the foam (eps reached its densification depth x_d): "
+            "their peak force and a_h are infinite, beyond any limit"
+        )
+    if open_:
+        warnings.append(f"{open_} design(s) did not close their first lobe; their metrics are NaN")
+    return ImpactMetrics(
+        np.array(p), np.array(v), arr("peak_head_acceleration"), arr("max_compression"),
+        arr("peak_force"), arr("impact_duration"), arr("time_of_peak_acceleration"),
+        arr("time_of_max_compression"), arr("time_of_peak_force"), status,
+        constrained=constrained,
+        status=GeneralStatus.LOBE_NOT_CLOSED if open_ else GeneralStatus.INTEGRATED,
+        warnings=tuple(warnings),
+    )  # fmt: skip
+
+
+HUNT_CROSSLEY = HuntCrossley(
+    name="hunt_crossley",
+    label="Reduced joint, stiffening foam",
+    doc="Hunt-Crossley damping and a densification spring; general path (integrated)",
+    robots=(ContactDynamics, LinkImpact),
+    foam=HuntCrossleyFoam,
+    columns=(*PARAM_NAMES, "x_d", "n_d", "p_c"),
+    robot_columns=("M_r", "C_r", "K_r"),
+    foam_columns=("x_d", "n_d", "p_c"),
+    equations="f_c = K_c eps (1 - eps+/x_d)^-n + C_c (eps+/x_d)^p eps_dot",
+    linear=False,
+    batched=False,
+    gradients=False,
+    profiles=False,
+    response_form="",
+)
