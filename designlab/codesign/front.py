@@ -978,6 +978,9 @@ class ParetoFront(Result):
         The seed of the search.
     status, warnings
         See :class:`FrontStatus`.
+    hypervolume
+        The hypervolume of the feasible designs found up to each generation
+        (:func:`hypervolume_trace`).
     """
 
     objectives: tuple[str, ...]

@@ -76,6 +76,8 @@ class FoamLimits(Result):
         The constraint that sets each foam's limit.
     human_speed
         The walker's speed toward the robot the limit assumes (m/s).
+    compression_key
+        The name under which :attr:`unit_metric` holds the compression (m per m/s).
     """
 
     stiffness: Array = field(repr=False)
