@@ -16,8 +16,12 @@ The class is then wrapped by :func:`declared`, and from that one declaration com
 
 A parameter that is an argument of a function rather than a field of a model
 (the closing velocity of an impact, say) is a module-level :class:`Param`
-checked with :meth:`Param.check`. Changing a bound or a default is a one-line
-edit of the declaration.
+checked with :meth:`Param.check`; the functions taking it read their default
+from it (``stop_time: float = STOP_TIME.default``). The arguments shared across
+the domains (the seed of random numbers, the confidence level of an interval)
+are declared once here, in :data:`ARG`. Changing a bound or a default is a
+one-line edit of the declaration; ``tests/test_declarations.py`` fails where a
+signature restates a declared default.
 
 Caps are part of a declaration: every real parameter has an upper bound where
 a larger value would only exhaust memory or time (the caps are stated in the
@@ -55,7 +59,7 @@ import math
 import numbers
 import re
 import textwrap
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from typing import Annotated, Any, Literal
 
 import numpy as np
@@ -64,7 +68,9 @@ from pydantic import BeforeValidator, Field
 from designlab.errors import InvalidParameterError
 
 __all__ = [
+    "ARG",
     "MAX_ELEMENTS",
+    "Arguments",
     "Param",
     "check_size",
     "declared",
@@ -400,6 +406,37 @@ class Param:
             k: float(b) for k, (_, b) in zip(keys, self._bounds(), strict=True) if b is not None
         }
 
+    def but(self, **changes: Any) -> Param:
+        """The same declaration with ``changes`` (a use that differs in what it says).
+
+        Examples
+        --------
+        >>> ARG.seed.but(optional=True, none="fresh randomness").optional
+        True
+        """
+        return dataclasses.replace(self, **changes)
+
+    def field(self, **changes: Any) -> Any:
+        """A :func:`declared` dataclass field carrying this declaration (and its default).
+
+        Parameters
+        ----------
+        **changes
+            As :meth:`but` (``doc="seed of the placement"``).
+
+        Examples
+        --------
+        >>> from designlab.navigation.noise import SensorNoise  # seed: ARG.seed.field(doc=...)
+        >>> seed = params_of(SensorNoise)["seed"]
+        >>> seed.qualname, seed.default, seed.doc, seed.le == ARG.seed.le
+        ('SensorNoise.seed', 0, 'seed of the generator', True)
+        """
+        decl = self.but(**changes)
+        skip = {"symbol", "name", "owner", "default"}
+        kwargs = {f.name: getattr(decl, f.name) for f in dataclasses.fields(Param)}
+        kwargs = {k: v for k, v in kwargs.items() if k not in skip}
+        return param(decl.symbol, default=decl.default, **kwargs)
+
     def doc_entry(self, type_name: str) -> str:
         """The numpydoc entry of this parameter (name, type, meaning, unit, range)."""
         unit = f" in {self.unit}" if self.unit else ""
@@ -706,6 +743,57 @@ def parameter_table(cls: type | Sequence[Param]) -> Any:
             }
         )
     return pd.DataFrame(rows)
+
+
+class Arguments:
+    """Arguments that functions of several domains share, each declared once (:data:`ARG`).
+
+    A function taking one reads its default from the declaration and checks the value
+    with it; a use that says more (a seed that may be ``None``) derives its own with
+    :meth:`Param.but`, and a dataclass field takes it with :meth:`Param.field`.
+
+    Parameters
+    ----------
+    *decls
+        The declarations, each with its ``name``.
+
+    Examples
+    --------
+    >>> def draw(n: int, *, seed: int = ARG.seed.default) -> int:
+    ...     return ARG.seed.check(seed)
+    >>> draw(3), ARG.confidence.default, "seed" in ARG
+    (0, 0.95, True)
+    >>> ARG.workers
+    Traceback (most recent call last):
+    ...
+    AttributeError: no shared argument 'workers' is declared in designlab.params.ARG
+    """
+
+    def __init__(self, *decls: Param) -> None:
+        self._decls = {d.name: d for d in decls}
+
+    def __getattr__(self, name: str) -> Param:
+        try:
+            return self.__dict__["_decls"][name]  # type: ignore[no-any-return]
+        except KeyError:
+            raise AttributeError(
+                f"no shared argument {name!r} is declared in designlab.params.ARG"
+            ) from None
+
+    def __iter__(self) -> Iterator[Param]:
+        return iter(self._decls.values())
+
+    def __contains__(self, name: object) -> bool:
+        return name in self._decls
+
+
+#: The arguments shared across the domains (``ARG.seed``, ``ARG.confidence``).
+ARG = Arguments(
+    Param(None, "", "seed of the random numbers (the same seed gives the same result)",
+          kind="integer", ge=0, le=2**32 - 1, default=0, name="seed"),
+    Param(None, "", "confidence level of an interval", gt=0, lt=1, default=0.95,
+          name="confidence"),
+)  # fmt: skip
 
 
 def check_size(name: str, value: Any, elements: float, *, what: str = "") -> None:

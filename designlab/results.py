@@ -112,6 +112,23 @@ class Result:
         """The result's numbers as a DataFrame (column names carry units)."""
         raise NotImplementedError
 
+    def plot(self, ax: Any = None, **kwargs: Any) -> Any:
+        """Draw the result on ``ax`` (a new figure's axes if ``None``); return the axes.
+
+        The main results draw themselves (:mod:`designlab.plots` lists them and what each
+        draws); another raises :class:`NotImplementedError`.
+
+        Parameters
+        ----------
+        ax
+            A :class:`matplotlib.axes.Axes`.
+        **kwargs
+            Options of the drawing and line properties (:func:`designlab.plots.plot`).
+        """
+        from designlab.plots import plot
+
+        return plot(self, ax=ax, **kwargs)
+
     def summary(self, max_rows: int = 10) -> str:
         """A short text: the status, the warnings and the first rows of :meth:`to_frame`.
 

@@ -28,6 +28,7 @@ from designlab.study.registry import study_json_schema
 ROOT = Path(__file__).resolve().parent.parent
 DOCS = ROOT / "docs"
 REPORTS = ROOT / "reports"
+EXAMPLES = ROOT / "examples"
 #: Pages placed by hand in the navigation; every other ``docs/*.md`` is a guide.
 USING_PAGES = {"python.md": "From Python", "studies.md": "Studies", "cli.md": "Command line"}
 FIXED_PAGES = ("index.md", "getting-started.md", *USING_PAGES, "developers.md")
@@ -461,7 +462,7 @@ def write_gallery() -> list[str]:
         _, page = gallery_page(report, study)
         with mkdocs_gen_files.open(f"gallery/{report.name}/index.md", "w") as fd:
             fd.write("\n".join(page))
-        what = first_sentence(study.get("description", "")) or report.name
+        what = " ".join(str(study.get("description", "")).split()) or report.name
         counts = (len(list(report.glob("*.png"))), len(list(report.glob("*.csv"))))
         section = gallery_section(str(study.get("kind", "")))
         sections.setdefault(section, []).append((report.name, what, *counts))
@@ -490,6 +491,42 @@ def write_gallery() -> list[str]:
     return nav
 
 
+# --------------------------------------------------------------------------- examples
+def example_page(script: Path) -> tuple[str, str, list[str]]:
+    """The title, the description and the Markdown page of one example script."""
+    import ast
+
+    source = script.read_text(encoding="utf-8")
+    tree = ast.parse(source)
+    doc = ast.get_docstring(tree) or script.stem
+    title, _, text = doc.partition("\n\n")
+    body = source.splitlines()[tree.body[0].end_lineno :]  # the code after the docstring
+    shown = script.relative_to(ROOT).as_posix()
+    page = [f"# {title.strip()}", "", text.strip(), "", f"The script `{shown}` (run it with "
+            f"`python {shown}`; the tests run every example):", "", "```python",
+            *"\n".join(body).strip().splitlines(), "```", ""]  # fmt: skip
+    return title.strip(), " ".join(text.split()), page
+
+
+def write_examples() -> list[str]:
+    """One page per script of ``examples/`` and an index (a new script appears on its own)."""
+    index = ["# Examples", "", "Short scripts, one question each, that draw what they compute "
+             "(`result.plot()`); every one of them runs in the tests.", "",
+             "| example | what it shows |", "|---|---|"]  # fmt: skip
+    nav = ["* [Overview](index.md)"]
+    for script in sorted(EXAMPLES.glob("*.py")):
+        title, what, page = example_page(script)
+        with mkdocs_gen_files.open(f"examples/{script.stem}.md", "w") as fd:
+            fd.write("\n".join(page))
+        index.append(f"| [{title}]({script.stem}.md) | {cell(what)} |")
+        nav.append(f"* [{title}]({script.stem}.md)")
+    with mkdocs_gen_files.open("examples/index.md", "w") as fd:
+        fd.write("\n".join(index) + "\n")
+    with mkdocs_gen_files.open("examples/SUMMARY.md", "w") as fd:
+        fd.write("\n".join(nav) + "\n")
+    return nav
+
+
 # --------------------------------------------------------------------------- navigation
 def guide_pages() -> list[Path]:
     """Every ``docs/*.md`` that is not a fixed page, in ``GUIDE_ORDER`` then by name."""
@@ -510,6 +547,7 @@ def write_nav() -> None:
         "    * [Command line](reference/cli.md)",
         "    * [Parameters](reference/parameters.md)",
         "    * [API](reference/api/)",
+        "* [Examples](examples/)",
         "* [Report gallery](gallery/)",
         "* [Developers](developers.md)",
     ]
@@ -524,6 +562,7 @@ def main() -> None:
     write_cli()
     write_parameters()
     write_gallery()
+    write_examples()
     write_nav()
 
 

@@ -29,7 +29,7 @@ import pytest
 
 import designlab
 from designlab.errors import InvalidParameterError
-from designlab.params import Param, params_of
+from designlab.params import ARG, Param, params_of
 from designlab.study.specs import spec_model
 
 _MISSING: Any = dataclasses.MISSING
@@ -303,3 +303,91 @@ def test_kind_modules_do_not_restate_domain_fields(module_name: str) -> None:
     if found and module_name in UNCONVERTED:
         pytest.xfail(f"{UNCONVERTED[module_name]}: restates {', '.join(found)}")
     assert not found, f"{module_name} restates domain fields: {', '.join(found)}"
+
+
+# --- signatures read argument defaults from their declarations ----------------------
+
+PACKAGE = Path(designlab.__file__).parent
+
+
+def _argument_defaults() -> dict[str, list[Any]]:
+    """Argument name -> the defaults declared for it: the standalone declarations (module-level
+    :class:`~designlab.params.Param` objects with a default) and :data:`designlab.params.ARG`."""
+    found: dict[str, list[Any]] = {}
+    seen: set[int] = set()
+    decls = [v for mod in MODULES for v in vars(mod).values() if isinstance(v, Param)]
+    for decl in [*decls, *ARG]:
+        if decl.name and decl.default is not None and id(decl) not in seen:
+            seen.add(id(decl))
+            found.setdefault(decl.name, []).append(decl.default)
+    return found
+
+
+def _same(literal: Any, declared: Any) -> bool:
+    if isinstance(literal, bool) or isinstance(declared, bool):
+        return type(literal) is type(declared) and literal == declared
+    if isinstance(literal, str) or isinstance(declared, str):
+        return literal == declared
+    return (
+        isinstance(literal, int | float)
+        and isinstance(declared, int | float)
+        and (literal == declared)
+    )
+
+
+def restated_defaults(sources: dict[str, str], declared: dict[str, list[Any]]) -> list[str]:
+    """``file:line name=value`` for each function argument whose default is a literal equal to
+    a default declared for an argument of the same name."""
+    found = []
+    for where, text in sources.items():
+        for fn in ast.walk(ast.parse(text)):
+            if not isinstance(fn, ast.FunctionDef | ast.AsyncFunctionDef):
+                continue
+            a = fn.args
+            positional = [*a.posonlyargs, *a.args]
+            with_default = positional[len(positional) - len(a.defaults) :]
+            pairs = list(zip(with_default, a.defaults, strict=True))
+            kw = zip(a.kwonlyargs, a.kw_defaults, strict=True)
+            pairs += [(x, d) for x, d in kw if d is not None]
+            for arg, default in pairs:
+                if not isinstance(default, ast.Constant) or default.value is None:
+                    continue
+                if any(_same(default.value, d) for d in declared.get(arg.arg, ())):
+                    found.append(f"{where}:{default.lineno} {arg.arg}={default.value!r}")
+    return found
+
+
+def test_no_signature_restates_a_declared_default() -> None:
+    """``seed: int = 0`` where ``seed`` is declared restates its default: read it from the
+    declaration (``seed: int = ARG.seed.default``, ``stop_time: float = STOP_TIME.default``)."""
+    sources = {
+        str(p.relative_to(PACKAGE.parent)): p.read_text(encoding="utf-8")
+        for p in sorted(PACKAGE.rglob("*.py"))
+    }
+    assert restated_defaults(sources, _argument_defaults()) == []
+
+
+def test_a_restated_default_is_found() -> None:
+    declared = _argument_defaults()
+    text = (
+        "def f(n, seed: int = 0, *, confidence=0.95, stop_time=0.05, other=0.95):\n"
+        "    return ARG.seed.default\n"
+        "def g(seed=ARG.seed.default, confidence=0.9, stop_time=None): ...\n"
+    )
+    assert restated_defaults({"x.py": text}, declared) == [
+        "x.py:1 seed=0",
+        "x.py:1 confidence=0.95",
+        "x.py:1 stop_time=0.05",
+    ]
+
+
+def test_every_seed_is_the_shared_declaration() -> None:
+    """A seed is declared once (``ARG.seed``); a use only narrows what it says (its meaning,
+    ``None`` allowed, JuPedSim's 31-bit seeds), never the kind, lower bound or default."""
+    seeds = [v for mod in MODULES for v in vars(mod).values() if isinstance(v, Param)]
+    seeds += [d for cls in DECLARED.values() for d in params_of(cls).values()]
+    seeds = [d for d in seeds if d.name in ("seed", "seeds")]
+    assert len(seeds) > 5
+    for decl in seeds:
+        same = (decl.kind, decl.ge, decl.default) == ("integer", 0, ARG.seed.default)
+        assert same and decl.le <= ARG.seed.le, decl.qualname

@@ -33,6 +33,7 @@ from numpy.typing import NDArray
 from designlab.analysis import lhs_kernel
 from designlab.analysis.points import PointSource, source_identity
 from designlab.errors import InvalidParameterError
+from designlab.params import ARG
 
 __all__ = [
     "MAX_SALTELLI_SAMPLES",
@@ -172,7 +173,12 @@ class LatinHypercubePoints(_Box):
     code_modules = ("designlab.analysis.lhs_kernel",)
 
     def __init__(
-        self, bounds: Bounds, samples: int, *, seed: int = 0, log: Mapping[str, bool] | None = None
+        self,
+        bounds: Bounds,
+        samples: int,
+        *,
+        seed: int = ARG.seed.default,
+        log: Mapping[str, bool] | None = None,
     ) -> None:
         super().__init__(bounds, samples, log)
         self._seed = int(seed)
@@ -238,7 +244,12 @@ class SobolPoints(_Box):
     """
 
     def __init__(
-        self, bounds: Bounds, samples: int, *, seed: int = 0, log: Mapping[str, bool] | None = None
+        self,
+        bounds: Bounds,
+        samples: int,
+        *,
+        seed: int = ARG.seed.default,
+        log: Mapping[str, bool] | None = None,
     ) -> None:
         from scipy.stats import qmc
 
@@ -266,7 +277,7 @@ class SobolPoints(_Box):
             return self._engine.random(stop - start)
 
 
-def saltelli(bounds: Bounds, samples: int, *, seed: int = 0) -> Columns:
+def saltelli(bounds: Bounds, samples: int, *, seed: int = ARG.seed.default) -> Columns:
     """SALib's Saltelli sample for first- and total-order Sobol indices.
 
     ``samples * (D + 2)`` points (D parameters), in the order

@@ -38,6 +38,7 @@ import pandas as pd
 from numpy.typing import ArrayLike
 
 from designlab.analysis.sampling import saltelli
+from designlab.params import ARG
 
 __all__ = [
     "MetricFunction",
@@ -251,7 +252,7 @@ def sobol_table(
     bounds: Sequence[tuple[float, float]],
     outputs: Mapping[str, ArrayLike],
     *,
-    seed: int = 0,
+    seed: int = ARG.seed.default,
     descriptions: Mapping[str, str] | None = None,
 ) -> SensitivityTable:
     """First-order (S1) and total (ST) Sobol indices with 95 % confidence half-widths.
@@ -376,6 +377,7 @@ def tornado_figure(table: SensitivityTable, metric: str, *, title: str | None = 
         for p, a, b in zip(rows["parameter"], rows["low"], rows["high"], strict=True)
     ]
     ax.set_yticks(y, labels)
+    ax.set_ylabel("parameter")
     ax.set_xlabel(metric)
     ax.set_title(title or f"Tornado: {metric} (base {base:.4g})")
     ax.legend(loc="best", fontsize="small")
@@ -515,7 +517,7 @@ def sobol_indices(
     bounds: Mapping[str, tuple[float, float]],
     samples: int = 256,
     *,
-    seed: int = 0,
+    seed: int = ARG.seed.default,
     descriptions: Mapping[str, str] | None = None,
 ) -> SensitivityTable:
     """First-order and total Sobol indices of any metric over a box (SALib).

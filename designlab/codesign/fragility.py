@@ -141,8 +141,8 @@ def fragility_curve(
     criterion: Criterion | None = None,
     points: Any = None,
     samples: int = 10_000,
-    confidence: float = 0.95,
-    seed: int = 0,
+    confidence: float = CONFIDENCE.default,
+    seed: int = SEED.default,
     progress: ProgressHook | None = None,
 ) -> FragilityCurve:
     """P(criterion exceeded | contact at closing speed v) for each ``v`` of ``speeds``.

@@ -15,7 +15,7 @@ Examples
 
 from __future__ import annotations
 
-from designlab.params import Param
+from designlab.params import ARG, Param
 
 __all__ = [
     "BRAKING_SPEED",
@@ -106,13 +106,10 @@ RISK_METHOD = Param(
 )  # fmt: skip
 
 #: Two-sided confidence level of the probability's interval.
-CONFIDENCE = Param(
-    None, "", "confidence level of the interval", gt=0.5, lt=1, default=0.95, name="confidence"
-)
+CONFIDENCE = ARG.confidence.but(doc="confidence level of the interval", gt=0.5)
 
 #: Seed of the random samples.
-SEED = Param(None, "", "seed of the random samples", kind="integer", ge=0, le=2**32 - 1,
-             default=0, name="seed")  # fmt: skip
+SEED = ARG.seed.but(doc="seed of the random samples")
 
 #: Closing speeds of a fragility curve (each a point of the curve).
 CURVE_POINTS = Param(

@@ -62,6 +62,7 @@ from designlab.impact import (
     HeadRange,
 )
 from designlab.navigation import CrowdScenario, Scenario
+from designlab.params import ARG
 from designlab.progress import Progress, ProgressHook, report
 
 __all__ = ["DESCRIPTIONS", "design_sobol", "front_sensitivity", "sensitivity_metrics"]
@@ -88,8 +89,8 @@ def design_sobol(
     metric: Callable[[Design], Mapping[str, float]],
     space: DesignSpace,
     *,
-    samples: int = 16,
-    seed: int = 0,
+    samples: int = SENSITIVITY_SAMPLES.default,
+    seed: int = ARG.seed.default,
     progress: ProgressHook | None = None,
 ) -> SensitivityTable:
     """Sobol indices of any function of a design over the free variables of a space.
@@ -198,8 +199,8 @@ def front_sensitivity(
     measure: str = "relative",
     criterion: Criterion | None = None,
     risk_samples: int = 20_000,
-    samples: int = 16,
-    seed: int = 0,
+    samples: int = SENSITIVITY_SAMPLES.default,
+    seed: int = ARG.seed.default,
     progress: ProgressHook | None = None,
     crowds: CrowdScenario | Sequence[CrowdScenario] | CrowdEncounters | None = None,
 ) -> SensitivityTable:

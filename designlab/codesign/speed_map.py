@@ -28,7 +28,13 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from designlab.codesign.parameters import MAP_POINTS
+from designlab.codesign.parameters import (
+    DECELERATION,
+    DETECTION_DISTANCE,
+    HEAD_LEVELS,
+    MAP_POINTS,
+    REACTION_TIME,
+)
 from designlab.codesign.speed import Braking, SpeedLimitStatus, problem_for
 from designlab.codesign.worst_head import grid_worst_heads, refine_heads
 from designlab.errors import InvalidParameterError
@@ -150,10 +156,10 @@ def speed_limit_map(
     linear_depth: float = 0.02,
     head_range: HeadRange | None = None,
     human_speed: float = 1.0,
-    reaction_time: float = 0.0,
-    deceleration: float = 10.0,
-    detection_distance: float = 0.0,
-    head_levels: int = 3,
+    reaction_time: float = REACTION_TIME.default,
+    deceleration: float = DECELERATION.default,
+    detection_distance: float = DETECTION_DISTANCE.default,
+    head_levels: int = HEAD_LEVELS.default,
     refine: bool = True,
 ) -> SpeedLimitMap:
     """The robot's speed limit over a grid of foams (K_c x C_c).

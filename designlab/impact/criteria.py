@@ -46,6 +46,7 @@ from designlab.impact.parameters import (
     HIC_SAMPLES,
     HIC_WINDOW,
     MAX_COMPRESSION,
+    STOP_TIME,
     HeadNeck,
     as_field,
 )
@@ -144,7 +145,7 @@ class Criterion:
         impact_velocity: NDArray[np.float64],
         *,
         constrained: bool = False,
-        stop_time: float = 0.05,
+        stop_time: float = STOP_TIME.default,
     ) -> NDArray[np.float64]:
         """The metric for a batch of designs (``(N, 8)`` params, ``(N,)`` v_c), SI.
 
@@ -442,7 +443,7 @@ class HeadInjuryCriterion(Criterion):
         impact_velocity: NDArray[np.float64],
         *,
         constrained: bool = False,
-        stop_time: float = 0.05,
+        stop_time: float = STOP_TIME.default,
     ) -> NDArray[np.float64]:
         if constrained:
             return np.zeros(np.atleast_2d(params).shape[0])

@@ -60,6 +60,7 @@ from designlab.impact.parameters import (
     DAMPING_GRID,
     DAMPING_POINTS,
     RTOL,
+    STOP_TIME,
     THESIS_HEAD_RANGE,
     ContactDynamics,
     HeadRange,
@@ -432,7 +433,7 @@ def foam_envelope(
     stiffness_bounds: tuple[float, float] = (1e2, 1e7),
     rtol: float = 1e-6,
     human_speed: float = 1.0,
-    stop_time: float = 0.05,
+    stop_time: float = STOP_TIME.default,
     foam: object | None = None,
 ) -> FoamEnvelope:
     """Feasible region of foam stiffness and damping (Zeng 2011, Sec. 3.9).
@@ -495,6 +496,7 @@ def foam_envelope(
         rtol=rtol,
         human_speed=human_speed,
         stop_time=stop_time,
+        foam=foam,
     )[0]
 
 

@@ -367,7 +367,7 @@ def check_worst_case(
     env: FoamEnvelope,
     head_range: HeadRange = THESIS_HEAD_RANGE,
     samples: int = 64,
-    seed: int = 0,
+    seed: int = SEED.default,
     tolerance: float = 1e-6,
 ) -> WorstCaseCheck:
     """Check the envelope's worst case at every boundary point (see the module text).

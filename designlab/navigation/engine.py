@@ -27,7 +27,7 @@ from designlab.navigation.field import (
     build_distance,
     build_field,
 )
-from designlab.navigation.methods import METHODS
+from designlab.navigation.methods import METHOD, METHODS
 from designlab.navigation.noise import SensorNoise
 from designlab.navigation.parameters import (
     ARRIVAL_TOLERANCE,
@@ -349,10 +349,10 @@ def run(
     scenario: Scenario,
     gains: Array,
     *,
-    method: str = "vff",
+    method: str = METHOD.default,
     stabilising: bool = True,
     tie: int = 1,
-    arrival_tolerance: float = 0.15,
+    arrival_tolerance: float = ARRIVAL_TOLERANCE.default,
     dynamics_step: float = 1e-3,
     force_every_step: bool = False,
     record: bool = False,

@@ -53,13 +53,15 @@ from designlab.navigation.field_terms import (
     norm,
     reference_point,
 )
-from designlab.navigation.methods import METHODS
+from designlab.navigation.methods import METHOD, METHODS
 
 __all__ = ["NORM_EPS", "ObstacleGeometry", "build_cbf_rows", "build_distance", "build_field"]
 
 
 @lru_cache(maxsize=64)
-def build_field(geometries: tuple[ObstacleGeometry, ...], method: str = "vff") -> ca.Function:
+def build_field(
+    geometries: tuple[ObstacleGeometry, ...], method: str = METHOD.default
+) -> ca.Function:
     """The force field for a set of obstacles as a ``casadi.Function``.
 
     Parameters

@@ -31,7 +31,7 @@ from numpy.typing import ArrayLike, NDArray
 from designlab.errors import InvalidParameterError
 from designlab.navigation.engine import obstacle_tracks
 from designlab.navigation.field import ObstacleGeometry, build_field
-from designlab.navigation.methods import method_of
+from designlab.navigation.methods import METHOD, method_of
 from designlab.navigation.scenarios import Scenario
 from designlab.params import check_size
 from designlab.results import Result
@@ -87,7 +87,7 @@ def force_map(
     *,
     t: float = 0.0,
     part: str = "total",
-    method: str = "vff",
+    method: str = METHOD.default,
     tie_side: str = "+y",
 ) -> ForceMap:
     """The field of ``method`` at rest over the grid ``x`` x ``y`` with the obstacles at ``t``.

@@ -26,7 +26,7 @@ from numpy.typing import NDArray
 
 from designlab.navigation.engine import obstacle_tracks
 from designlab.navigation.field import ObstacleGeometry, build_field
-from designlab.navigation.methods import METHODS
+from designlab.navigation.methods import METHOD, METHODS
 from designlab.navigation.scenarios import Scenario
 from designlab.results import Result
 
@@ -92,7 +92,7 @@ def hold_audit(
     stabilising: bool,
     tie: int,
     period: float,
-    method: str = "vff",
+    method: str = METHOD.default,
 ) -> HoldAudit:
     """Evaluate V at every dynamics step and check it over each held period.
 

@@ -33,7 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from designlab.params import declared, param
+from designlab.params import ARG, declared, param
 from designlab.validation import ParamsMixin
 
 __all__ = ["SensorNoise"]
@@ -58,7 +58,7 @@ class SensorNoise(ParamsMixin):
         "sigma_v", "m/s", doc="standard deviation of a moving obstacle's measured velocity, "
         "per axis", ge=0, le=5.0, default=0.1, typical=(0.0, 0.3),
     )  # fmt: skip
-    seed: int = param(doc="seed of the generator", kind="integer", ge=0, le=2**32 - 1, default=0)
+    seed: int = ARG.seed.field(doc="seed of the generator")
 
     def generator(self) -> np.random.Generator:
         """A fresh generator for one run."""

@@ -79,7 +79,7 @@ SAMPLE_TIME = Param(
 #: "Arrival"; 0.15 m).
 ARRIVAL_TOLERANCE = Param(
     "tol", "m", "arrival radius around the goal (first passage)", gt=0, le=1.0,
-    typical=(0.05, 0.15), name="arrival_tolerance",
+    typical=(0.05, 0.15), default=0.15, name="arrival_tolerance",
 )  # fmt: skip
 #: Integration step of the robot dynamics inside a navigation period (1 ms); it must
 #: divide T_s into at most :data:`MAX_SUBSTEPS` steps.

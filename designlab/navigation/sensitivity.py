@@ -47,9 +47,10 @@ from designlab.analysis.sensitivity import (
 )
 from designlab.errors import InvalidParameterError
 from designlab.navigation.methods import STABILISING
-from designlab.navigation.parameters import GAIN_SETS, OPTIMAL_GAINS, VFFGains
+from designlab.navigation.parameters import ARRIVAL_TOLERANCE, GAIN_SETS, OPTIMAL_GAINS, VFFGains
 from designlab.navigation.scenarios import Scenario, configuration
 from designlab.navigation.simulate import NavigationResult, simulate, simulate_batch
+from designlab.params import ARG
 from designlab.results import OK, Result
 
 __all__ = [
@@ -500,7 +501,7 @@ def gain_sensitivity(
     deltas_pct: Sequence[float] = APPENDIX_C_DELTAS,
     parameters: Sequence[str] = _GAINS,
     stabilising: str = "off",
-    arrival_tolerance: float = 0.15,
+    arrival_tolerance: float = ARRIVAL_TOLERANCE.default,
 ) -> GainSensitivity:
     """The Appendix-C tables: each gain changed alone by ``deltas_pct`` around ``base``.
 
@@ -669,10 +670,10 @@ def gain_global_sensitivity(
     *,
     spread_pct: float = 50.0,
     samples: int = 128,
-    seed: int = 0,
+    seed: int = ARG.seed.default,
     relative_step: float = 0.02,
     stabilising: str = "off",
-    arrival_tolerance: float = 0.15,
+    arrival_tolerance: float = ARRIVAL_TOLERANCE.default,
 ) -> GainGlobalSensitivity:
     """Elasticities at ``base`` and Sobol indices over a box around it, of H and the safety margin.
 

@@ -46,6 +46,7 @@ from designlab.navigation.crowds import CrowdResult, CrowdScenario, accepts_crow
 from designlab.navigation.hold_audit import HoldAudit, hold_audit
 from designlab.navigation.lyapunov import StabilityAudit, audit_run
 from designlab.navigation.methods import (
+    METHOD,
     METHODS,
     STABILISING,
     TIE_SIDE,
@@ -54,6 +55,7 @@ from designlab.navigation.methods import (
 )
 from designlab.navigation.noise import SensorNoise
 from designlab.navigation.parameters import (
+    ARRIVAL_TOLERANCE,
     GAIN,
     GAIN_SETS,
     GeCuiGains,
@@ -251,8 +253,8 @@ def simulate(
     gains: VFFGains | MasoudGains | GeCuiGains | Any = None,
     *,
     stabilising: str = "lyapunov",
-    method: str = "vff",
-    arrival_tolerance: float = 0.15,
+    method: str = METHOD.default,
+    arrival_tolerance: float = ARRIVAL_TOLERANCE.default,
     dynamics_step: float = 1e-3,
     force_every_step: bool = False,
     tie_side: str = "+y",
@@ -624,11 +626,11 @@ def simulate_batch(
     gains: ArrayLike,
     *,
     stabilising: str = "lyapunov",
-    arrival_tolerance: float = 0.15,
+    arrival_tolerance: float = ARRIVAL_TOLERANCE.default,
     dynamics_step: float = 1e-3,
     tie_side: str = "+y",
     jit: bool = False,
-    method: str = "vff",
+    method: str = METHOD.default,
     weights: tuple[float, float, float] = EQUAL_WEIGHTS,
 ) -> BatchResult:
     """Simulate every gain set on every scenario, vectorised over the gain sets.

@@ -55,8 +55,14 @@ from numpy.typing import NDArray
 from designlab.errors import InvalidParameterError
 from designlab.navigation.criteria import EQUAL_WEIGHTS, check_weights
 from designlab.navigation.crowds.tuning import crowd_sets
-from designlab.navigation.methods import STABILISING, TIE_SIDE, method_of
-from designlab.navigation.parameters import GAIN, GeCuiGains, MasoudGains, VFFGains
+from designlab.navigation.methods import METHOD, STABILISING, TIE_SIDE, method_of
+from designlab.navigation.parameters import (
+    ARRIVAL_TOLERANCE,
+    GAIN,
+    GeCuiGains,
+    MasoudGains,
+    VFFGains,
+)
 from designlab.navigation.scenarios import Scenario
 from designlab.navigation.simulate import simulate_batch
 from designlab.navigation.tuning_results import (
@@ -66,7 +72,7 @@ from designlab.navigation.tuning_results import (
     OptimumStatus,
 )
 from designlab.navigation.walks import RandomWalks
-from designlab.params import Param
+from designlab.params import ARG, Param
 from designlab.progress import Progress, ProgressHook, report
 
 __all__ = [
@@ -150,7 +156,7 @@ class _Evaluator:
         chunks: int,
         critical_margin: float = 0.0,
         jit: bool = False,
-        method: str = "vff",
+        method: str = METHOD.default,
         weights: tuple[float, float, float] = EQUAL_WEIGHTS,
         tie_side: str = "+y",
     ) -> None:
@@ -238,9 +244,9 @@ def evaluate_gains(
     stabilising: str = "lyapunov",
     robust: RandomWalks | None = None,
     robust_mode: str = "mean",
-    arrival_tolerance: float = 0.15,
+    arrival_tolerance: float = ARRIVAL_TOLERANCE.default,
     critical_margin: float = 0.0,
-    method: str = "vff",
+    method: str = METHOD.default,
     weights: tuple[float, float, float] = EQUAL_WEIGHTS,
 ) -> GainEvaluation:
     """Score gain sets as :func:`optimise_gains` does: H per scenario, H_mean and feasibility.
@@ -389,7 +395,7 @@ MAX_EVALUATIONS = Param(None, "", "budget of gain sets of the CMA-ES stage", kin
 REFINE_EVALUATIONS = Param(None, "", "budget of gain sets of the compass refinement",
                            kind="integer", ge=0, le=100_000, name="refine_evaluations")  # fmt: skip
 #: Seed of the search (the same seed gives the same result).
-SEED = Param(None, "", "seed", kind="integer", ge=0, le=2**32 - 1, name="seed")
+SEED = ARG.seed.but(doc="seed")
 #: Initial CMA-ES step in normalised log units (the box is [0, 1]^4).
 SIGMA0 = Param(None, "", "initial CMA-ES step (normalised log units)", gt=0, le=0.5,
                name="sigma0")  # fmt: skip
@@ -550,7 +556,7 @@ def optimise_gains(
     *,
     bounds: Mapping[str, tuple[float, float]] | None = None,
     stabilising: str = "lyapunov",
-    seed: int = 0,
+    seed: int = SEED.default,
     x0: VFFGains | None = None,
     sigma0: float = 0.25,
     popsize: int = 16,
@@ -559,14 +565,14 @@ def optimise_gains(
     refine_evaluations: int = 400,
     robust: RandomWalks | None = None,
     robust_mode: str = "mean",
-    arrival_tolerance: float = 0.15,
+    arrival_tolerance: float = ARRIVAL_TOLERANCE.default,
     critical_margin: float = 0.0,
     executor: Any = None,
     chunks: int = 1,
     jit: bool = False,
     callback: Callable[[dict[str, Any]], None] | None = None,
     progress: ProgressHook | None = None,
-    method: str = "vff",
+    method: str = METHOD.default,
     weights: tuple[float, float, float] = EQUAL_WEIGHTS,
     tie_side: str = "+y",
 ) -> GainOptimum:

@@ -17,7 +17,7 @@ import numpy as np
 
 from designlab.errors import InvalidParameterError
 from designlab.navigation.scenarios import Disc, Scenario, Walk
-from designlab.params import declared, param
+from designlab.params import ARG, declared, param
 
 __all__ = ["RandomWalks"]
 
@@ -55,7 +55,7 @@ class RandomWalks:
         unit="m", doc="range of the offset of the whole walk to the left of its direction",
         kind="object", default=(-0.1, 0.1),
     )  # fmt: skip
-    seed: int = param(doc="seed of the draws", kind="integer", ge=0, le=2**32 - 1, default=0)
+    seed: int = ARG.seed.field(doc="seed of the draws")
 
     def __post_init__(self) -> None:
         for name, unit, lo_min in (

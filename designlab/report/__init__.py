@@ -40,7 +40,7 @@ from designlab.report.atomic import (
     atomic_write_text,
     report_directory,
 )
-from designlab.report.builder import move_run_record
+from designlab.report.builder import ReportParts, move_run_record, write_parts
 from designlab.report.writers import (
     csv_digits,
     markdown_table,
@@ -51,6 +51,7 @@ from designlab.report.writers import (
 
 __all__ = [
     "ReportError",
+    "ReportParts",
     "atomic_write_bytes",
     "atomic_write_text",
     "current_report",
@@ -65,8 +66,8 @@ __all__ = [
 ]
 
 
-#: A report writer: ``writer(result, directory, *, command, version, study_text)``.
-Writer = Callable[..., Any]
+#: A report writer: ``writer(result) -> ReportParts``.
+Writer = Callable[[Any], ReportParts]
 
 _WRITERS: dict[type, Writer] = {}
 
@@ -74,13 +75,10 @@ _WRITERS: dict[type, Writer] = {}
 def register_writer(result_type: type) -> Callable[[Writer], Writer]:
     """Decorator: register the report writer of a result type.
 
-    A writer is called ``writer(result, directory, *, command, version, study_text)`` and
-    returns the files it wrote (a list of :class:`pathlib.Path`), usually through
-    :func:`designlab.report.builder.write_report`. ``result`` is the study's result;
-    ``directory`` a fresh report directory to fill (made atomic by the caller); ``command``
-    and ``version`` the command line and designlab version quoted in the report's provenance
-    sentence (``None``: not quoted); ``study_text`` the study file's text, copied to
-    ``study.yaml`` (``None``: no copy).
+    A writer is called ``writer(result)`` with the study's result and returns its
+    :class:`~designlab.report.builder.ReportParts`: its tables, figures and the body of its
+    main page. The framework (:func:`write_report`) adds the rest: the page's header and
+    provenance, its warnings, the copy of the study, the reproduction section and the index.
 
     Parameters
     ----------
@@ -159,7 +157,10 @@ def write_report(
     final = Path(output_dir) / result.study.name
     with report_directory(final) as tmp:
         try:
-            writer(result, tmp, command=command, version=__version__, study_text=study_text)
+            parts = writer(result)
+            write_parts(
+                tmp, result, parts, command=command, version=__version__, study_text=study_text
+            )
             state_reproduction(tmp, result)
             key = _report_key(result, study_text)
             if key:

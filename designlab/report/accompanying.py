@@ -34,7 +34,6 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from functools import partial
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -49,18 +48,13 @@ from designlab.following.accompanying import (
 )
 from designlab.report import register_writer
 from designlab.report.accompanying_extras import extras_frame, extras_section
-from designlab.report.builder import (
-    figure_section,
-    record_timings,
-    report_header,
-    warnings_section,
-    write_report,
-)
+from designlab.report.builder import ReportParts, claims, figure_section
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.accompanying import AccompanyingResult
 
 __all__ = [
     "BASELINE_FACTORS",
+    "accompanying_report",
     "baseline_claim",
     "baseline_sensitivity",
     "bode_figure",
@@ -72,7 +66,6 @@ __all__ = [
     "table2_frame",
     "trajectory_figure",
     "tuning_claims",
-    "write_accompanying_report",
 ]
 
 _COLORS = {"default": "tab:red", "tuned": "tab:blue", "derivative_free": "tab:green"}
@@ -630,11 +623,9 @@ _SIGN_TEXT = (
 )
 
 
-def _header(result: AccompanyingResult, command: str | None, version: str | None) -> list[str]:
+def _model(result: AccompanyingResult) -> list[str]:
     s = result.study
-    out = report_header(s.name, s.description, command=command, version=version)
     return [
-        *out,
         "Model (Wu et al. 2021; `docs/following.md`): mecanum platform with a first-order "
         f"lag (tau = {s.platform.time_constant} s) and speed/acceleration saturation "
         f"({s.platform.max_speed} m/s, {s.platform.max_acceleration} m/s^2, "
@@ -651,10 +642,12 @@ def _controllers_section(result: AccompanyingResult) -> list[str]:
     s = result.study
     tuning = result.tuning_frame()
     cols = [c for c in _CONTROLLER_COLUMNS if c in tuning.columns]
-    out = ["## Controllers", "", markdown_table(tuning[cols], floatfmt=".4g"), ""]
-    claims = tuning_claims(tuning, result.to_frame())
-    if claims:
-        out += ["Computed from the tables:", "", *[f"- {c}" for c in claims], ""]
+    untuned = {c: "not tuned" for c in ("status", "iterations", "simulations",
+                                          "improvement_all_tasks") if c in cols}  # fmt: skip
+    out = ["## Controllers", "", markdown_table(tuning[cols], floatfmt=".4g", missing=untuned), ""]
+    found = tuning_claims(tuning, result.to_frame())
+    if found:
+        out += claims(found, lead="Computed from the tables:")
     out += [
         "`default` is the project's choice of baseline (K_p, K_i, K_d from the study file), "
         "not the paper's: Wu et al. 2021 report no gains. The improvements above are measured "
@@ -709,13 +702,10 @@ def _tables_section(result: AccompanyingResult) -> list[str]:
 
 def _markdown(
     result: AccompanyingResult,
-    figures: list[str],
-    command: str | None,
-    version: str | None,
     sensitivity: pd.DataFrame | None = None,
     extras: pd.DataFrame | None = None,
 ) -> str:
-    out = _header(result, command, version) + _controllers_section(result)
+    out = _model(result) + _controllers_section(result)
     if sensitivity is not None and len(sensitivity):
         out += [
             "## Sensitivity of the improvement to the baseline PID",
@@ -728,35 +718,27 @@ def _markdown(
     out += _tables_section(result)
     if extras is not None:
         out += extras_section(result, extras)
-    out += warnings_section(result.warnings, none="None.")
-    out += figure_section([(f, f) for f in figures], spaced=False)
     return "\n".join(out)
 
 
 @register_writer(AccompanyingResult)
-def write_accompanying_report(
-    result: AccompanyingResult,
-    directory: Path,
-    *,
-    command: str | None = None,
-    version: str | None = None,
-    study_text: str | None = None,
-) -> list[Path]:
-    """Write every file of the report into ``directory`` (which must exist).
+def accompanying_report(result: AccompanyingResult) -> ReportParts:
+    """The report's parts: the tables and figures listed in the module notes, the summary's body.
 
     Parameters
     ----------
-    result, directory, command, version, study_text
-        As every report writer takes them (:func:`designlab.report.register_writer`).
+    result
+        An ``accompanying`` result.
     """
     margins = pd.concat(
         [la.to_frame().assign(controller=label) for label, la in result.loops.items()],
         ignore_index=True,
     )
     tuning = result.tuning_frame()
+    timings: dict[str, float] = {}
     if "elapsed_s" in tuning.columns:  # a wall time: to the run record, never the report
         elapsed = tuning.set_index("method")["elapsed_s"].dropna()
-        record_timings(directory, {f"tune {m}": float(v) for m, v in elapsed.items()})
+        timings = {f"tune {m}": float(v) for m, v in elapsed.items()}
         tuning = tuning.drop(columns="elapsed_s")
     tables = {
         "metrics.csv": result.to_frame(),
@@ -782,7 +764,11 @@ def write_accompanying_report(
     extras = extras_frame(result) if result.extras else None
     if extras is not None:
         tables["extras.csv"] = extras
-    text = _markdown(result, list(figures), command, version, sensitivity, extras)
-    return write_report(
-        directory, tables=tables, figures=figures, pages={"summary.md": text}, study_text=study_text
+    return ReportParts(
+        body=[_markdown(result, sensitivity, extras)],
+        tables=tables,
+        figures=figures,
+        timings=timings,
+        no_warnings="None.",
+        closing=figure_section([(f, f) for f in figures], spaced=False),
     )

@@ -23,6 +23,7 @@ import numpy as np
 import pandas as pd
 
 from designlab.following.accompanying import AccompanyResult
+from designlab.report.builder import claims
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.accompanying import AccompanyingResult
 
@@ -152,10 +153,7 @@ def extras_section(result: AccompanyingResult, table: pd.DataFrame) -> list[str]
         "are those of the sensor point against the fixed target (an adapted target moves "
         "away from it on purpose).",
         "",
-        "Computed from the table:",
-        "",
-        *[f"- {c}" for c in extras_claims(table, (m.offset_x, m.offset_y))],
-        "",
+        *claims(extras_claims(table, (m.offset_x, m.offset_y))),
         markdown_table(table, floatfmt=".4g"),
         "",
     ]

@@ -1,14 +1,15 @@
-"""What every report shares: its header, its provenance line and the copy of its study.
+"""What every report shares: the ceremony around what a writer computes.
 
-Every report writer opens its main Markdown file with :func:`report_header`
-(the title, the study's description and one provenance sentence: the command
-and designlab version that produced it, and that the file is generated), lists
-its figures with :func:`figure_section`, ends its sections with
-:func:`warnings_section` where it lists warnings, and copies the study file
-next to the report with :func:`copy_study`. :func:`write_report` writes a
-report's files in the order every writer uses (tables, figures, Markdown pages,
-the study's copy). The wording lives here once, so every report says it the
-same way.
+A report writer returns its :class:`ReportParts`: its tables, figures and the body of
+its main Markdown page (and perhaps further pages). The framework adds the rest, the
+same way for every report (:func:`write_parts`): the page's header
+(:func:`report_header`: the title, the study's description and one provenance
+sentence naming the command and designlab version that produced it), the
+``## Warnings`` section (:func:`warnings_section`), the copy of the study file
+(:func:`copy_study`), and it writes the files in the order every report uses
+(:func:`write_report`: tables, figures, pages, the study's copy).
+:func:`designlab.report.write_report` then adds the reproduction section and the index.
+The wording lives here once, so every report says it the same way.
 
 Examples
 --------
@@ -31,7 +32,8 @@ import math
 import os
 import platform
 import re
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -45,9 +47,12 @@ if TYPE_CHECKING:
 __all__ = [
     "RUNS_DIR",
     "STUDY_COPY",
+    "ReportParts",
+    "claims",
     "copy_study",
     "figure_section",
     "format_duration",
+    "main_page",
     "move_run_record",
     "provenance",
     "record_run",
@@ -58,6 +63,7 @@ __all__ = [
     "run_record_path",
     "slug",
     "warnings_section",
+    "write_parts",
     "write_report",
 ]
 
@@ -160,6 +166,24 @@ def warnings_section(warnings: Iterable[str], *, none: str | None = None) -> lis
     if not items:
         return [] if none is None else ["## Warnings", "", none, ""]
     return ["## Warnings", "", *[f"- {w}" for w in items], ""]
+
+
+def claims(found: Iterable[str], *, lead: str = "Computed from the table:") -> list[str]:
+    """The sentences a report computes from its table, one bullet each, after ``lead``.
+
+    Parameters
+    ----------
+    found
+        The sentences.
+    lead
+        The line before them.
+
+    Examples
+    --------
+    >>> claims(["PJ < FTL"])
+    ['Computed from the table:', '', '- PJ < FTL', '']
+    """
+    return [lead, "", *[f"- {c}" for c in found], ""]
 
 
 def figure_section(
@@ -305,6 +329,153 @@ def write_report(
             plt.close(fig)
     written += [write_markdown(text, folder / name) for name, text in (pages or {}).items()]
     return written + copy_study(folder, study_text)
+
+
+@dataclass(frozen=True)
+class ReportParts:
+    """What a report writer returns: what its study computed, without the ceremony.
+
+    The framework (:func:`write_parts`) makes the main page ``page`` of
+    :func:`report_header`, ``body``, :func:`warnings_section` and ``closing``, and
+    writes it with ``tables``, ``figures``, ``pages`` and the study's copy.
+
+    Parameters
+    ----------
+    body
+        Markdown lines of the main page between its header and its warnings.
+    tables
+        File name -> table (CSV).
+    figures
+        File name -> function making the figure (PNG).
+    closing
+        Markdown lines after the warnings (usually the figures' section).
+    title
+        The page's title (``None``: the study's name).
+    page
+        The main page's file name.
+    pages
+        File name -> Markdown text of further pages.
+    warnings
+        The warnings listed (``None``: the result's ``warnings``).
+    no_warnings
+        The sentence shown when there are none (``None``: no section then).
+    files
+        File name -> function writing that file at the path it is given (what is
+        neither a table, a figure nor a page: animations, a Parquet table).
+    timings
+        Wall times of the run's parts, kept in the run record, not in the report
+        (:func:`record_timings`).
+    cached
+        The study keeps its points in a result store (see :func:`provenance`).
+    """
+
+    body: Sequence[str] = ()
+    tables: Mapping[str, pd.DataFrame] = field(default_factory=dict)
+    figures: Mapping[str, Callable[[], Figure]] = field(default_factory=dict)
+    closing: Sequence[str] = ()
+    title: str | None = None
+    page: str = "summary.md"
+    pages: Mapping[str, str] = field(default_factory=dict)
+    warnings: Sequence[str] | None = None
+    no_warnings: str | None = None
+    files: Mapping[str, Callable[[Path], Any]] = field(default_factory=dict)
+    timings: Mapping[str, float] = field(default_factory=dict)
+    cached: bool = False
+
+
+def main_page(
+    result: Any,
+    parts: ReportParts,
+    *,
+    command: str | None = None,
+    version: str | None = None,
+) -> str:
+    """The main Markdown page of a report: header, body, warnings, closing lines.
+
+    Parameters
+    ----------
+    result
+        The study result (its ``study`` gives the name and description; its
+        ``warnings`` the warnings unless ``parts`` lists its own).
+    parts
+        What the writer returned.
+    command, version
+        See :func:`provenance`.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> r = NS(study=NS(name="demo", description="Asks X."), warnings=["w"])
+    >>> print(main_page(r, ReportParts(body=["## Result", "", "42", ""])))
+    # demo
+    <BLANKLINE>
+    Asks X.
+    <BLANKLINE>
+    Produced by designlab. Generated file: edit the study, not this report, and regenerate it.
+    <BLANKLINE>
+    ## Result
+    <BLANKLINE>
+    42
+    <BLANKLINE>
+    ## Warnings
+    <BLANKLINE>
+    - w
+    <BLANKLINE>
+    """
+    study = result.study
+    title = study.name if parts.title is None else parts.title
+    warnings = getattr(result, "warnings", ()) if parts.warnings is None else parts.warnings
+    out = report_header(
+        title, study.description or "", command=command, version=version, cached=parts.cached
+    )
+    out += [*parts.body, *warnings_section(warnings, none=parts.no_warnings), *parts.closing]
+    return "\n".join(out)
+
+
+def write_parts(
+    directory: str | os.PathLike[str],
+    result: Any,
+    parts: ReportParts,
+    *,
+    command: str | None = None,
+    version: str | None = None,
+    study_text: str | None = None,
+) -> list[Path]:
+    """Write a report's files from its writer's parts (:func:`main_page`, :func:`write_report`).
+
+    Parameters
+    ----------
+    directory
+        The report directory (it exists).
+    result
+        The study result.
+    parts
+        What the writer returned.
+    command, version
+        See :func:`provenance`.
+    study_text
+        The study file's text (``None``: not copied).
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written.
+    """
+    folder = Path(directory)
+    page = main_page(result, parts, command=command, version=version)
+    written = write_report(
+        folder,
+        tables=parts.tables,
+        figures=parts.figures,
+        pages={parts.page: page, **parts.pages},
+        study_text=study_text,
+    )
+    for name, make in parts.files.items():
+        make(folder / name)
+        written.append(folder / name)
+    if parts.timings:
+        record_timings(folder, parts.timings)
+    return written
 
 
 #: The run records' subdirectory of the user cache directory (:func:`run_record_path`).

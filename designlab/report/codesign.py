@@ -35,7 +35,6 @@ Files written into the report directory:
 from __future__ import annotations
 
 from collections.abc import Callable
-from pathlib import Path
 
 import matplotlib
 
@@ -48,17 +47,14 @@ from matplotlib.figure import Figure
 from designlab.analysis.sensitivity import SensitivityTable
 from designlab.codesign import OBJECTIVES, ContactSpeeds, ParetoFront, SpeedLimitMap
 from designlab.report import register_writer
-from designlab.report.builder import (
-    figure_section,
-    report_header,
-    warnings_section,
-    write_report,
-)
+from designlab.report.builder import ReportParts, figure_section
+from designlab.report.codesign_answer import answer_lines, convergence_lines, iso_lines
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.codesign import CodesignResult
 
 __all__ = [
     "codesign_markdown",
+    "codesign_report",
     "contacts_figure",
     "crowd_risk_section",
     "front_claims",
@@ -67,7 +63,6 @@ __all__ = [
     "sensitivity_figure",
     "sensitivity_section",
     "speed_map_figure",
-    "write_codesign_report",
 ]
 
 _LABELS = {
@@ -189,6 +184,7 @@ def contacts_figure(contacts: ContactSpeeds) -> Figure:
         ax.bar(x + (k - 1) * 0.27, values, width=0.27, label=label)
     names = [f"{s}\n{o}" for s, o in zip(contacts.scenario, contacts.obstacle, strict=True)]
     ax.set_xticks(x, names, fontsize=7)
+    ax.set_xlabel("encounter (scenario, obstacle)")
     ax.set_ylabel("speed (m/s)")
     ax.set_title("Closing speeds of the thesis design's encounters")
     ax.legend(fontsize=8)
@@ -267,13 +263,12 @@ def front_claims(front: ParetoFront) -> list[str]:
             f"The design '{r['label']}' (K_c = {r['K_c_N_per_m']:.4g} N/m, T_u = "
             f"{r['T_u_m']:.4g} m, V_mr = {r['V_mr_m_per_s']:.3g} m/s, k1 = {r['k1']:.3g}, "
             f"b = {r['b']:.3g}, k3 = {r['k3']:.3g}, k5 = {r['k5']:.4g}) is {verdict}; "
-            f"{int(r['dominated_by'])} front designs dominate it, and its normalised "
-            f"distance from the front is {r['distance_to_front']:.3f}."
+            f"{int(r['dominated_by'])} front designs dominate it"
             + (
-                " Being feasible and dominated by no design found, it lies on or beyond the "
-                "front the search reached (a larger search may find designs near it)."
+                ": feasible and dominated by no design found, it is on the front."
                 if bool(r["feasible"]) and int(r["dominated_by"]) == 0
-                else ""
+                else f", and its normalised distance from the front is "
+                f"{r['distance_to_front']:.3f}."
             ),
         ]
     return [*out, ""]
@@ -387,25 +382,69 @@ def sensitivity_section(result: CodesignResult) -> list[str]:
     ]
 
 
-def codesign_markdown(
-    result: CodesignResult, *, command: str | None = None, version: str | None = None
-) -> str:
-    """The Markdown summary.
+def seeds_frame(result: CodesignResult) -> pd.DataFrame:
+    """Per seed: designs evaluated, feasible, on the front, final hypervolume and its change.
 
     Parameters
     ----------
     result
         A ``codesign`` result.
-    command
-        The command line that produced the result.
-    version
-        The designlab version.
+    """
+    rows = []
+    for fr in (result.front, *result.seed_fronts):
+        hv = fr.hypervolume
+        rows.append({"seed": fr.seed, "designs": len(fr.X), "feasible": int(fr.feasible.sum()),
+                     "on_front": int(fr.front.sum()),
+                     "hypervolume": float(hv[-1]) if len(hv) else float("nan"),
+                     "hv_change_last_generations": fr.hypervolume_change})  # fmt: skip
+    return pd.DataFrame(rows)
+
+
+def hypervolume_frame(result: CodesignResult) -> pd.DataFrame:
+    """The hypervolume trace of each seed, one row per generation.
+
+    Parameters
+    ----------
+    result
+        A ``codesign`` result.
+    """
+    frame = pd.DataFrame({"generation": np.arange(1, len(result.front.hypervolume) + 1)})
+    for fr in (result.front, *result.seed_fronts):
+        frame[f"seed_{fr.seed}"] = pd.Series(fr.hypervolume)
+    return frame
+
+
+def _convergence_section(result: CodesignResult) -> list[str]:
+    seeds = seeds_frame(result)
+    n = int(seeds["designs"].sum())
+    rate = n / result.cpu_seconds if result.cpu_seconds > 0 else float("nan")
+    return [
+        "## Convergence",
+        "",
+        *convergence_lines(result.front),
+        f"{n} designs evaluated over {len(seeds)} seeds in {result.cpu_seconds:.4g} CPU s "
+        f"({rate:.3g} designs per CPU second). Hypervolume of the feasible designs found up to "
+        "each generation, objectives normalised over them, reference point 1.1 "
+        "(`hypervolume.csv`, `seeds.csv`):",
+        "",
+        markdown_table(seeds, floatfmt=".4g", index=False),
+        "",
+    ]
+
+
+def codesign_markdown(result: CodesignResult) -> str:
+    """The body of the Markdown summary (the framework adds header and warnings).
+
+    Parameters
+    ----------
+    result
+        A ``codesign`` result.
     """
     study, front = result.study, result.front
     contacts = result.contacts.to_frame()
-    out = report_header(study.name, study.description, command=command, version=version)
     objectives = ", ".join(f"{o} ({OBJECTIVES[o].doc})" for o in front.objectives)
-    out += [
+    out = [
+        *answer_lines(result),
         "## Speed-limit map",
         "",
         "The largest robot speed at which a contact with any head of the range meets every "
@@ -431,8 +470,12 @@ def codesign_markdown(
         "## Pareto front",
         "",
         f"Objectives, all minimised: {objectives}. Hard constraints: no collision, no "
-        "critical-region entry, arrival in every scenario, no foam bottoming at the largest "
-        "closing speed met.",
+        "critical-region entry (every region at least the minimum for the design's speed, "
+        "Sec. 5.3), arrival in every scenario, no foam bottoming at the larger of the closing "
+        "speed met and V_mr + the walker's speed (worst head found off the grid), V_mr at most "
+        f"the speed limit of the design's foam for a walker at {study.front.human_speed:g} m/s, "
+        f"and P(criterion exceeded | contact) <= {study.front.risk_bound:g}. NSGA-II (pymoo), "
+        "the thesis's designs in the first population.",
         "",
         *front_claims(front),
         markdown_table(front.to_frame(), floatfmt=".4g", index=False),
@@ -442,6 +485,8 @@ def codesign_markdown(
         markdown_table(front.reference_frame(), floatfmt=".4g", index=False),
         "",
         *sensitivity_section(result),
+        *iso_lines(result),
+        *_convergence_section(result),
     ]
     figures = {
         "speed-limit map": "speed_map.png",
@@ -452,36 +497,17 @@ def codesign_markdown(
     if result.sensitivity is not None:
         figures["Sobol indices"] = "sensitivity.png"
     out += figure_section(figures)
-    out += warnings_section(result.warnings)
     return "\n".join(out)
 
 
 @register_writer(CodesignResult)
-def write_codesign_report(
-    result: CodesignResult,
-    directory: Path,
-    *,
-    command: str | None = None,
-    version: str | None = None,
-    study_text: str | None = None,
-) -> list[Path]:
-    """Write the CSV tables, the figures, summary.md (and study.yaml).
+def codesign_report(result: CodesignResult) -> ReportParts:
+    """The report's parts: the CSV tables, the figures and summary.md's body.
 
     Parameters
     ----------
     result
         A ``codesign`` result.
-    directory
-        A fresh directory to fill.
-    command, version
-        Quoted in the summary.
-    study_text
-        The study file's text, copied to ``study.yaml`` if given.
-
-    Returns
-    -------
-    list of pathlib.Path
-        The files written.
     """
     front = result.front
     tables = {
@@ -491,7 +517,11 @@ def write_codesign_report(
         "front.csv": front.to_frame(),
         "designs.csv": front.designs_frame(),
         "reference.csv": front.reference_frame(),
+        "seeds.csv": seeds_frame(result),
+        "hypervolume.csv": hypervolume_frame(result),
     }
+    if result.iso is not None:
+        tables["iso.csv"] = result.iso.reset_index()
     figures: dict[str, Callable[[], Figure]] = {
         "speed_map.png": lambda: speed_map_figure(result.speed_map, front),
         "risk.png": lambda: risk_figure(result.risk),
@@ -502,6 +532,4 @@ def write_codesign_report(
     if sens is not None:
         tables["sensitivity.csv"] = sens.to_frame()
         figures["sensitivity.png"] = lambda: sensitivity_figure(sens)
-    text = codesign_markdown(result, command=command, version=version)
-    return write_report(directory, tables=tables, figures=figures,
-                        pages={"summary.md": text}, study_text=study_text)  # fmt: skip
+    return ReportParts(body=[codesign_markdown(result)], tables=tables, figures=figures)

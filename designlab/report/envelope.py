@@ -10,16 +10,7 @@ solved here.
 Examples
 --------
 >>> from designlab.study import parse_study, run_study
->>> result = run_study(parse_study('''
-... designlab: 1
-... kind: foam_design
-... name: demo
-... robots: [MANIPULATOR_1]
-... foams: [FOAM_3]
-... damping: {low: 20, high: 100, num: 5}
-... optimal: false
-... worst_case_check: false
-... '''))
+>>> result = run_study(parse_study(_EXAMPLE))
 >>> text = envelope_markdown(result)
 >>> "exceeds the upper (safety) boundary by 1.0 %" in text
 True
@@ -29,7 +20,6 @@ from __future__ import annotations
 
 import math
 from functools import partial
-from pathlib import Path
 
 import matplotlib
 
@@ -42,11 +32,23 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
 from designlab.report import register_writer
-from designlab.report.builder import figure_section, report_header, write_report
+from designlab.report.builder import ReportParts, figure_section
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.foam_design import FoamDesignResult, RobotDesign
 
-__all__ = ["envelope_figure", "envelope_markdown", "write_envelope_report"]
+__all__ = ["envelope_figure", "envelope_markdown", "envelope_report"]
+
+#: The small study of the examples.
+_EXAMPLE = """
+designlab: 1
+kind: foam_design
+name: demo
+robots: [MANIPULATOR_1]
+foams: [FOAM_3]
+damping: {low: 20, high: 100, num: 5}
+optimal: false
+worst_case_check: false
+"""
 
 _MARKERS = ("o", "s", "^", "D", "v", "P", "X")
 _VERDICT_FILL = {"feasible": "black", "on the boundary": "tab:orange", "not feasible": "white"}
@@ -134,16 +136,7 @@ def envelope_figure(result: FoamDesignResult) -> Figure:
     Examples
     --------
     >>> from designlab.study import parse_study, run_study
-    >>> r = run_study(parse_study('''
-    ... designlab: 1
-    ... kind: foam_design
-    ... name: demo
-    ... robots: [MANIPULATOR_1]
-    ... damping: {low: 20, high: 100, num: 3}
-    ... optimal: false
-    ... worst_case_check: false
-    ... '''))
-    >>> len(envelope_figure(r).axes)
+    >>> len(envelope_figure(run_study(parse_study(_EXAMPLE))).axes)
     1
     """
     n = len(result.designs)
@@ -389,32 +382,24 @@ def _worst_case_section(result: FoamDesignResult) -> list[str]:
     return out
 
 
-def _warnings_section(result: FoamDesignResult) -> list[str]:
-    notes = [
+def _warnings(result: FoamDesignResult) -> list[str]:
+    """The envelopes' and optimal designs' warnings, each prefixed with its design."""
+    return [
         f"{d.label}: {x}"
         for d in result.designs
         for part in (d.envelope, d.optimal)
         if part is not None
         for x in part.warnings
     ]
-    if not notes:
-        return []
-    return ["## Warnings", ""] + [f"- {w}" for w in notes] + [""]
 
 
-def envelope_markdown(
-    result: FoamDesignResult, *, command: str | None = None, version: str | None = None
-) -> str:
-    """The Markdown summary of a ``foam_design`` study.
+def envelope_markdown(result: FoamDesignResult) -> str:
+    """The body of the Markdown summary of a ``foam_design`` study.
 
     Parameters
     ----------
     result
         The computed study (verdicts, envelopes and checks included).
-    command
-        The command line that produced it, quoted at the end.
-    version
-        The designlab version, quoted at the end.
 
     Returns
     -------
@@ -423,71 +408,40 @@ def envelope_markdown(
     Examples
     --------
     >>> from designlab.study import parse_study, run_study
-    >>> r = run_study(parse_study('''
-    ... designlab: 1
-    ... kind: foam_design
-    ... name: demo
-    ... robots: [MANIPULATOR_1]
-    ... foams: [FOAM_1]
-    ... damping: {low: 20, high: 100, num: 3}
-    ... optimal: false
-    ... worst_case_check: false
-    ... '''))
-    >>> envelope_markdown(r, version="1.0").splitlines()[0]
-    '# Foam covering design: demo'
+    >>> envelope_markdown(run_study(parse_study(_EXAMPLE))).splitlines()[0]
+    '## Inputs'
     """
-    st = result.study
-    out = report_header(
-        f"Foam covering design: {st.name}", st.description, command=command, version=version
-    )
-    out += _inputs_section(result)
+    out = _inputs_section(result)
     out += _verdicts_section(result)
     out += _thesis_section(result)
     out += _optimal_section(result)
     out += _boundaries_section(result)
     out += _worst_case_section(result)
-    out += _warnings_section(result)
-    out += figure_section({"feasible foam region": "envelope.png"}, title="Figure")
     return "\n".join(out)
 
 
 @register_writer(FoamDesignResult)
-def write_envelope_report(
-    result: FoamDesignResult,
-    directory: Path,
-    *,
-    command: str | None = None,
-    version: str | None = None,
-    study_text: str | None = None,
-) -> list[Path]:
-    """Write envelope.csv, verdicts.csv, envelope.png, envelope.md (and study.yaml).
+def envelope_report(result: FoamDesignResult) -> ReportParts:
+    """The report's parts: envelope.csv, verdicts.csv, envelope.png and envelope.md's body.
 
     Parameters
     ----------
-    result, directory, command, version, study_text
-        As every report writer takes them (:func:`designlab.report.register_writer`).
+    result
+        The computed study.
 
     Examples
     --------
-    >>> import tempfile, pathlib
     >>> from designlab.study import parse_study, run_study
-    >>> r = run_study(parse_study('''
-    ... designlab: 1
-    ... kind: foam_design
-    ... name: demo
-    ... robots: [MANIPULATOR_1]
-    ... damping: {low: 20, high: 100, num: 3}
-    ... optimal: false
-    ... worst_case_check: false
-    ... '''))
-    >>> with tempfile.TemporaryDirectory() as tmp:
-    ...     sorted(p.name for p in write_envelope_report(r, pathlib.Path(tmp)))
+    >>> parts = envelope_report(run_study(parse_study(_EXAMPLE)))
+    >>> sorted([*parts.tables, *parts.figures, parts.page])
     ['envelope.csv', 'envelope.md', 'envelope.png', 'verdicts.csv']
     """
-    return write_report(
-        directory,
+    return ReportParts(
+        title=f"Foam covering design: {result.study.name}",
+        page="envelope.md",
+        body=[envelope_markdown(result)],
         tables={"envelope.csv": result.envelope_frame(), "verdicts.csv": result.verdicts()},
         figures={"envelope.png": partial(envelope_figure, result)},
-        pages={"envelope.md": envelope_markdown(result, command=command, version=version)},
-        study_text=study_text,
+        warnings=_warnings(result),
+        closing=figure_section({"feasible foam region": "envelope.png"}, title="Figure"),
     )

@@ -6,8 +6,8 @@ Files written into the report directory:
     One row per case: model metrics, reference and experimental values,
     errors (see :meth:`designlab.study.kinds.impact_cases.ImpactCasesResult.to_frame`).
 ``summary.md``
-    Inputs, model vs reference and vs experiment tables, warnings, the
-    command and designlab version that produced the report, the figures.
+    Inputs, model vs reference and vs experiment tables, warnings, the figures
+    (the report framework adds the header, provenance and reproduction).
 ``time_histories[_<group>].png``
     Force, head acceleration and foam compression against time, one figure
     per case group.
@@ -20,7 +20,6 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from functools import partial
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -28,18 +27,12 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from designlab.report import register_writer
-from designlab.report.builder import (
-    figure_section,
-    report_header,
-    slug,
-    warnings_section,
-    write_report,
-)
+from designlab.report.builder import ReportParts, figure_section, slug
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.impact_cases import ImpactCaseResult, ImpactCasesResult
 from designlab.units import STANDARD_GRAVITY
 
-__all__ = ["impact_figure", "impact_markdown", "write_impact_report"]
+__all__ = ["impact_figure", "impact_markdown", "impact_report"]
 
 #: A two-case study used by the examples below.
 _EXAMPLE = """
@@ -297,42 +290,28 @@ def _tolerance_text(result: ImpactCasesResult) -> str:
     return "\n".join(lines)
 
 
-def impact_markdown(
-    result: ImpactCasesResult,
-    *,
-    figures: dict[str, str],
-    command: str | None = None,
-    version: str | None = None,
-) -> str:
-    """The Markdown summary of an ``impact_cases`` study.
+def impact_markdown(result: ImpactCasesResult) -> str:
+    """The body of the Markdown summary of an ``impact_cases`` study.
 
     Parameters
     ----------
     result
         The study result.
-    figures
-        PNG file name of each case group (see :func:`figure_names`).
-    command
-        The command that produced the report (recorded for reproduction).
-    version
-        designlab version.
 
     Returns
     -------
     str
+        Markdown (the report framework adds the header and the warnings).
 
     Examples
     --------
     >>> from designlab.study import parse_study, run_study
     >>> r = run_study(parse_study(_EXAMPLE))
-    >>> text = impact_markdown(r, figures={"": "time_histories.png"})
-    >>> "## Model vs reference simulation" in text
+    >>> "## Model vs reference simulation" in impact_markdown(r)
     True
     """
-    study = result.study
     frame = result.to_frame()
-    out = report_header(study.name, study.description, command=command, version=version)
-    out += [
+    out = [
         "Model: linear coupled manipulator-foam-head impact (Zeng 2011, Sec. 3.5); "
         'metrics over the first impact lobe (docs/impact.md, "Metrics"); g is standard '
         "gravity, 9.80665 m/s^2. "
@@ -372,39 +351,24 @@ def impact_markdown(
     if ref_table is None and exp_table is None:
         cols = ["case", "v_c_m_per_s", "a_h_max_g", "t_imp_s", "eps_max_m", "peak_force_N", "hic15"]
         out += ["## Results", "", markdown_table(frame[cols], floatfmt=".4g"), ""]
-    out += warnings_section(result.warnings, none="None: every case has status `ok`.")
-    shown = [(group or "all cases", name) for group, name in figures.items()]
-    out += figure_section(shown, title="Time histories")
     return "\n".join(out)
 
 
 @register_writer(ImpactCasesResult)
-def write_impact_report(
-    result: ImpactCasesResult,
-    directory: Path,
-    *,
-    command: str | None = None,
-    version: str | None = None,
-    study_text: str | None = None,
-) -> list[Path]:
-    """Write every file of the report into ``directory`` (which must exist).
-
-    Call it inside :func:`designlab.report.atomic.report_directory`;
-    :func:`designlab.report.write_report` does.
+def impact_report(result: ImpactCasesResult) -> ReportParts:
+    """The report's parts: ``metrics.csv``, the summary's body, the time histories.
 
     Parameters
     ----------
-    result, directory, command, version, study_text
-        As every report writer takes them (:func:`designlab.report.register_writer`).
+    result
+        The study result.
 
     Examples
     --------
-    >>> import tempfile, pathlib
     >>> from designlab.study import parse_study, run_study
-    >>> r = run_study(parse_study(_EXAMPLE))
-    >>> with tempfile.TemporaryDirectory() as tmp:
-    ...     sorted(p.name for p in write_impact_report(r, pathlib.Path(tmp)))
-    ['metrics.csv', 'summary.md', 'time_histories.png']
+    >>> parts = impact_report(run_study(parse_study(_EXAMPLE)))
+    >>> list(parts.tables), list(parts.figures)
+    (['metrics.csv'], ['time_histories.png'])
     """
     names = figure_names(result)
     groups = _groups(result)
@@ -414,11 +378,11 @@ def write_impact_report(
         )
         for group, name in names.items()
     }
-    text = impact_markdown(result, figures=names, command=command, version=version)
-    return write_report(
-        directory,
+    shown = [(group or "all cases", name) for group, name in names.items()]
+    return ReportParts(
+        body=[impact_markdown(result)],
         tables={"metrics.csv": result.to_frame()},
         figures=figures,
-        pages={"summary.md": text},
-        study_text=study_text,
+        no_warnings="None: every case has status `ok`.",
+        closing=figure_section(shown, title="Time histories"),
     )

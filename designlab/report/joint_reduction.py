@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import math
 from functools import partial
-from pathlib import Path
 
 import matplotlib
 
@@ -24,16 +23,11 @@ from matplotlib.figure import Figure
 
 from designlab.impact.joint_reduction import default_band
 from designlab.report import register_writer
-from designlab.report.builder import (
-    figure_section,
-    report_header,
-    warnings_section,
-    write_report,
-)
+from designlab.report.builder import ReportParts, figure_section
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.joint_reduction import JointReductionResult
 
-__all__ = ["joint_reduction_figure", "joint_reduction_markdown", "write_joint_reduction_report"]
+__all__ = ["joint_reduction_figure", "joint_reduction_markdown", "joint_reduction_report"]
 
 #: The small study of the examples below.
 _EXAMPLE = """
@@ -190,24 +184,18 @@ def _fastest_mode(j) -> float:  # type: ignore[no-untyped-def]
     return default_band(j.robot, j.nominal.foam, j.nominal.head)
 
 
-def joint_reduction_markdown(
-    result: JointReductionResult, *, command: str | None = None, version: str | None = None
-) -> str:
-    """The Markdown summary.
+def joint_reduction_markdown(result: JointReductionResult) -> str:
+    """The body of the Markdown summary (the framework adds header and warnings).
 
     Parameters
     ----------
     result
         The study's result.
-    command
-        The command line that produced it, quoted at the end.
-    version
-        designlab's version, quoted at the end.
 
     Returns
     -------
     str
-        The text of ``summary.md``.
+        The body of ``summary.md``.
 
     Examples
     --------
@@ -216,14 +204,7 @@ def joint_reduction_markdown(
     >>> "## Where the reduction is conservative" in joint_reduction_markdown(result)
     True
     """
-    st = result.study
-    out = report_header(
-        f"Reduced joint vs full series joint: {st.name}",
-        st.description,
-        command=command,
-        version=version,
-    )
-    out += _inputs_section(result)
+    out = _inputs_section(result)
     out += [
         "## Each joint as given",
         "",
@@ -243,8 +224,6 @@ def joint_reduction_markdown(
             markdown_table(_sweep_table(result, i), index=False, disable_numparse=True),
             "",
         ]
-    out += warnings_section(result.warnings)
-    out += figure_section({"error of the reduced joint": "joint_reduction.png"}, title="Figure")
     return "\n".join(out)
 
 
@@ -355,34 +334,27 @@ def _conservative_section(result: JointReductionResult) -> list[str]:
 
 
 @register_writer(JointReductionResult)
-def write_joint_reduction_report(
-    result: JointReductionResult,
-    directory: Path,
-    *,
-    command: str | None = None,
-    version: str | None = None,
-    study_text: str | None = None,
-) -> list[Path]:
-    """Write summary.md, joint_reduction.csv/.png, nominal.csv (and study.yaml).
+def joint_reduction_report(result: JointReductionResult) -> ReportParts:
+    """The report's parts: joint_reduction.csv/.png, nominal.csv and the summary's body.
 
     Parameters
     ----------
-    result, directory, command, version, study_text
-        As every report writer takes them (:func:`designlab.report.register_writer`).
+    result
+        The study's result.
 
     Examples
     --------
     >>> from designlab.study import parse_study, run_study
-    >>> result = run_study(parse_study(_EXAMPLE))
-    >>> import tempfile, pathlib
-    >>> with tempfile.TemporaryDirectory() as d:
-    ...     sorted(p.name for p in write_joint_reduction_report(result, pathlib.Path(d)))
-    ['joint_reduction.csv', 'joint_reduction.png', 'nominal.csv', 'summary.md']
+    >>> parts = joint_reduction_report(run_study(parse_study(_EXAMPLE)))
+    >>> sorted([*parts.tables, *parts.figures])
+    ['joint_reduction.csv', 'joint_reduction.png', 'nominal.csv']
     """
-    return write_report(
-        directory,
+    return ReportParts(
+        title=f"Reduced joint vs full series joint: {result.study.name}",
+        body=[joint_reduction_markdown(result)],
         tables={"joint_reduction.csv": result.to_frame(), "nominal.csv": result.nominal_frame()},
         figures={"joint_reduction.png": partial(joint_reduction_figure, result)},
-        pages={"summary.md": joint_reduction_markdown(result, command=command, version=version)},
-        study_text=study_text,
+        closing=figure_section(
+            {"error of the reduced joint": "joint_reduction.png"}, title="Figure"
+        ),
     )

@@ -29,19 +29,13 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from functools import partial
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from designlab.navigation.methods import METHODS
 from designlab.navigation.parameters import VFFGains
 from designlab.report import register_writer
-from designlab.report.builder import (
-    figure_section,
-    report_header,
-    slug,
-    warnings_section,
-    write_report,
-)
+from designlab.report.builder import ReportParts, figure_section, slug
+from designlab.report.figure_style import MethodStyles, start_and_goal
 from designlab.report.navigation_figures import energy_figure, force_figure
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.navigation_scenarios import NavigationScenariosResult
@@ -49,7 +43,7 @@ from designlab.study.kinds.navigation_scenarios import NavigationScenariosResult
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["distance_figure", "navigation_markdown", "trajectory_figure", "write_navigation_report"]
+__all__ = ["distance_figure", "navigation_markdown", "navigation_report", "trajectory_figure"]
 
 
 def _region_patch(o: Any, r: float, **kw: Any) -> Any:
@@ -104,11 +98,11 @@ def trajectory_figure(runs: list[Any], title: str) -> Figure:
                 ax.plot(track[:, 0], track[:, 1], ":", color="0.3", lw=1)
                 ax.annotate(o.name, tuple(p1), fontsize=8, color="0.3")
         ax.annotate(o.name, tuple(p0), fontsize=8, color="0.2", ha="center")
+    style = MethodStyles()
     for run in runs:
         r = run.result
-        ax.plot(r.position[:, 0], r.position[:, 1], lw=1.5, label=run.method)
-    ax.plot(*sc.start, "ko", ms=4)
-    ax.plot(*sc.goal, "k*", ms=9)
+        ax.plot(r.position[:, 0], r.position[:, 1], lw=1.5, label=run.method, **style(run.method))
+    start_and_goal(ax, sc.start, sc.goal)
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
@@ -139,9 +133,10 @@ def distance_figure(runs: list[Any], title: str) -> Figure:
             ax.text(0.5, 0.5, "no obstacles", ha="center", transform=ax.transAxes)
             continue
         o = sc.obstacles[i]
+        style = MethodStyles()
         for run in runs:
             r = run.result
-            ax.plot(r.t, r.distance[i], lw=1.2, label=run.method)
+            ax.plot(r.t, r.distance[i], lw=1.2, label=run.method, **style(run.method))
         ax.axhline(o.r3, color="r", lw=0.8, label="r3")
         ax.axhline(
             o.collision_distance(sc.robot.radius), color="k", lw=0.8, ls=":", label="contact"
@@ -168,33 +163,17 @@ def _fmt(v: Any) -> Any:
     return v
 
 
-def navigation_markdown(
-    result: NavigationScenariosResult,
-    *,
-    figures: dict[str, tuple[str, str]],
-    command: str | None,
-    version: str | None,
-    extra: dict[str, list[str]] | None = None,
-) -> str:
-    """The Markdown summary.
+def navigation_markdown(result: NavigationScenariosResult) -> str:
+    """The body of the Markdown summary (the framework adds header and warnings).
 
     Parameters
     ----------
     result
         A ``navigation_scenarios`` result.
-    figures
-        Caption -> (file name, description) of the figures.
-    command
-        The command line that produced the result.
-    version
-        The designlab version.
-    extra
-        Scenario -> further figure files (energy over time, the static field).
     """
     study = result.study
     frame = result.to_frame()
-    out = report_header(study.name, study.description, command=command, version=version)
-    out += [
+    out = [
         "Model: VFF navigation among humans (Zeng 2011, Ch. 5-7; `docs/navigation.md`): "
         "force recomputed every T_s = 0.06 s and held, 1 ms dynamics, speed 0.7 m/s and "
         "acceleration 10 m/s^2 norm-clipped, arrival at the first passage within "
@@ -221,7 +200,8 @@ def navigation_markdown(
         table = sub[cols].copy()
         table = table.drop(columns=[c for c in ("ref_T_arrive_s",) if table[c].isna().all()])
         table = table.map(_fmt)
-        out += [markdown_table(table, floatfmt=".3g"), ""]
+        ref = {c: "not in the thesis" for c in table.columns if c.startswith("ref_")}
+        out += [markdown_table(table, floatfmt=".3g", missing=ref), ""]
     stab = result.stability_frame()
     out += [
         "## Lyapunov audit of the new-VFF runs",
@@ -237,31 +217,32 @@ def navigation_markdown(
         '(`docs/navigation.md`, "Audit over the held periods").',
         "",
     ]
-    out += [markdown_table(stab, floatfmt=".3g") if len(stab) else "No new-VFF runs.", ""]
-    out += warnings_section(result.warnings, none="None.")
-    out += ["## Figures", ""]
-    for scen, (traj, dist) in figures.items():
-        shown = [(f"{scen} paths", traj), (f"{scen} distances", dist)]
-        shown += [(f"{scen} {name.split('_')[0]}", name) for name in (extra or {}).get(scen, [])]
-        out += figure_section(shown, title=scen, level=3)
+    never = {c: "did not occur" for c in stab.columns if c.startswith("time_")}
+    out += [
+        markdown_table(stab, floatfmt=".3g", missing=never) if len(stab) else "No new-VFF runs.",
+        "",
+    ]
     return "\n".join(out)
 
 
+def _figures_section(figures: dict[str, tuple[str, str]], extra: dict[str, list[str]]) -> list[str]:
+    """The figures of each scenario: paths, distances, then ``extra`` (energy, field)."""
+    out = ["## Figures", ""]
+    for scen, (traj, dist) in figures.items():
+        shown = [(f"{scen} paths", traj), (f"{scen} distances", dist)]
+        shown += [(f"{scen} {name.split('_')[0]}", name) for name in extra.get(scen, [])]
+        out += figure_section(shown, title=scen, level=3)
+    return out
+
+
 @register_writer(NavigationScenariosResult)
-def write_navigation_report(
-    result: NavigationScenariosResult,
-    directory: Path,
-    *,
-    command: str | None = None,
-    version: str | None = None,
-    study_text: str | None = None,
-) -> list[Path]:
-    """Write every file of the report into ``directory`` (which must exist).
+def navigation_report(result: NavigationScenariosResult) -> ReportParts:
+    """The report's parts: results.csv, stability.csv, the figures and the summary's body.
 
     Parameters
     ----------
-    result, directory, command, version, study_text
-        As every report writer takes them (:func:`designlab.report.register_writer`).
+    result
+        A ``navigation_scenarios`` result.
     """
     by_scen: dict[str, list[Any]] = {}
     for r in result.runs:
@@ -286,13 +267,10 @@ def write_navigation_report(
                 force_figure, vff[0].result.scenario, g, f"{scen}, {vff[0].method}"
             )
             extra[scen].append(force)
-    text = navigation_markdown(
-        result, figures=figures, command=command, version=version, extra=extra
-    )
-    return write_report(
-        directory,
+    return ReportParts(
+        body=[navigation_markdown(result)],
         tables={"results.csv": result.to_frame(), "stability.csv": result.stability_frame()},
         figures=makers,
-        pages={"summary.md": text},
-        study_text=study_text,
+        no_warnings="None.",
+        closing=_figures_section(figures, extra),
     )

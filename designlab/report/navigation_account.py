@@ -15,9 +15,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from designlab.navigation.account import account_markdown
+from designlab.navigation.account import CAUSES, account_markdown
 from designlab.report import register_writer
-from designlab.report.builder import report_header, write_report
+from designlab.report.builder import ReportParts
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.navigation_account import NavigationAccountResult
 
@@ -25,9 +25,9 @@ __all__ = [
     "BEGIN",
     "END",
     "account_summary",
+    "navigation_account_report",
     "regenerate_docs",
     "update_docs",
-    "write_navigation_account_report",
 ]
 
 #: The markers around the generated table in ``docs/navigation.md``.
@@ -57,25 +57,24 @@ def update_docs(text: str, result: NavigationAccountResult) -> str:
     return text[: i + len(BEGIN)] + "\n" + account_markdown(result.account) + "\n" + text[j:]
 
 
-def account_summary(
-    result: NavigationAccountResult, *, command: str | None = None, version: str | None = None
-) -> str:
-    """The Markdown summary.
+def account_summary(result: NavigationAccountResult) -> str:
+    """The body of the Markdown summary (the framework adds header and warnings).
 
     Parameters
     ----------
     result
         A ``navigation_account`` result.
-    command
-        The command line that produced the result.
-    version
-        The designlab version.
     """
-    study, acc = result.study, result.account
+    acc = result.account
     f = acc.frame
-    out = report_header(study.name, study.description, command=command, version=version)
     causes = f.loc[~f["within"], "cause"].value_counts()
-    out += [
+    unexplained = f["cause"].str.endswith("not found")
+    unexplained_rows = [
+        f"Table {r['table']} {r['method']} ({r['sim_or_exp']}, config {r['configuration']}) "
+        f"{r['quantity']}"
+        for _, r in f[unexplained].iterrows()
+    ]
+    out = [
         f"Agreement band: {acc.time_band:.0%} in arrival time, {acc.distance_band} m in "
         "distance (stabilising force off, tolerance 0.15 m, `docs/navigation.md`). "
         f"{int(f['within'].sum())} of {len(f)} quantities lie inside it. Outside it, by "
@@ -87,6 +86,17 @@ def account_summary(
         "Experiment rows are compared with the simulation, the vision noise being one "
         "candidate (the motors are not modelled). H and energy are not compared (the motor "
         "data are unknown).",
+        "",
+        "Every quantity outside the band is run against every candidate cause that changes "
+        "its run (a walk cause needs a walking human, `start` Ch. 6 Configurations 3-4, "
+        "`noise` an experiment row, the gain causes Table 5.1, `masoud_sense` Masoud):",
+        "",
+        *[f"- `{c.name}`: {c.description}" for c in CAUSES],
+        "",
+        f"No cause found after every applicable candidate: {int(unexplained.sum())} of "
+        f"{int((~f['within']).sum())} quantities outside the band"
+        + (": " + "; ".join(unexplained_rows) if len(unexplained_rows) else "")
+        + ".",
         "",
         account_markdown(acc),
         "",
@@ -116,27 +126,18 @@ def _noise_section(result: NavigationAccountResult) -> list[str]:
 
 
 @register_writer(NavigationAccountResult)
-def write_navigation_account_report(
-    result: NavigationAccountResult,
-    directory: Path,
-    *,
-    command: str | None = None,
-    version: str | None = None,
-    study_text: str | None = None,
-) -> list[Path]:
-    """Write every file of the report into ``directory`` (which must exist).
+def navigation_account_report(result: NavigationAccountResult) -> ReportParts:
+    """The report's parts: account.csv, noise.csv (if any) and the summary's body.
 
     Parameters
     ----------
-    result, directory, command, version, study_text
-        As every report writer takes them (:func:`designlab.report.register_writer`).
+    result
+        A ``navigation_account`` result.
     """
     tables = {"noise.csv": result.noise} if len(result.noise) else {}
-    return write_report(
-        directory,
+    return ReportParts(
+        body=[account_summary(result)],
         tables={**tables, "account.csv": result.to_frame()},
-        pages={"summary.md": account_summary(result, command=command, version=version)},
-        study_text=study_text,
     )
 
 

@@ -12,6 +12,8 @@ matplotlib's PillowWriter), and with tuning ``tuning_history.csv`` and ``gains_v
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -29,21 +31,17 @@ from designlab.navigation.crowds.diagnosis import force_breakdown, stall_summary
 from designlab.navigation.crowds.scenario import crowd
 from designlab.navigation.methods import METHODS
 from designlab.report import register_writer
-from designlab.report.builder import (
-    figure_section,
-    report_header,
-    warnings_section,
-    write_report,
-)
+from designlab.report.builder import ReportParts, figure_section
+from designlab.report.figure_style import method_colour, start_and_goal
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.navigation_crowds import NavigationCrowdsResult
 
 __all__ = [
     "navigation_crowds_markdown",
+    "navigation_crowds_report",
     "rates_figure",
     "trajectories_figure",
     "wall_polygons",
-    "write_navigation_crowds_report",
 ]
 
 _RATES = (("success", "success rate"), ("collision", "collision rate"),
@@ -85,7 +83,8 @@ def rates_figure(summary: pd.DataFrame) -> Figure:
                 x = g["density"].to_numpy() * (1 + 0.02 * k)  # offset so the bars do not hide
                 y = g[f"{rate}_rate"].to_numpy()
                 err = [y - g[f"{rate}_low"].to_numpy(), g[f"{rate}_high"].to_numpy() - y]
-                ax.errorbar(x, y, yerr=err, marker="o", capsize=3, label=method)
+                ax.errorbar(x, y, yerr=err, marker="o", capsize=3, label=method,
+                            color=method_colour(method))  # fmt: skip
             ax.set_ylim(-0.05, 1.05)
             ax.grid(alpha=0.3)
             if j == 0:
@@ -114,13 +113,17 @@ def trajectories_figure(result: NavigationCrowdsResult) -> Figure:
             ax.fill(poly[:, 0], poly[:, 1], color="0.6")
         p = r.pedestrian_positions
         for i in range(p.shape[1]):
-            ax.plot(p[:, i, 0], p[:, i, 1], color="tab:orange", lw=0.6, alpha=0.5)
-        ax.plot(r.robot_positions[:, 0], r.robot_positions[:, 1], color="tab:blue", lw=2)
-        ax.plot(*r.crowd.robot_goal, "x", color="green", ms=9, mew=2)
+            ax.plot(p[:, i, 0], p[:, i, 1], color="0.55", lw=0.6, alpha=0.5,
+                    label="pedestrians" if i == 0 else None)  # fmt: skip
+        ax.plot(r.robot_positions[:, 0], r.robot_positions[:, 1], lw=2,
+                color=method_colour(r.method), label=f"robot ({label})")  # fmt: skip
+        start_and_goal(ax, r.crowd.robot_start, r.crowd.robot_goal)
         ax.set_aspect("equal")
+        ax.set_xlabel("x (m)")
+        ax.set_ylabel("y (m)")
+        ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
         ax.set_title(f"{label}: {r.crowd.layout}, {_density(r)}, seed {r.crowd.seed}, "
                      f"{_outcome(r)}", fontsize=9)  # fmt: skip
-    axes[-1, 0].set_xlabel("x (m)")
     fig.tight_layout()
     return fig
 
@@ -299,26 +302,24 @@ def _feasibility(history: pd.DataFrame, coll: float, crit: float) -> list[str]:
     ]
 
 
-def navigation_crowds_markdown(result: NavigationCrowdsResult, *, command: str | None = None,
-                               version: str | None = None,
+def navigation_crowds_markdown(result: NavigationCrowdsResult,
                                stalls: pd.DataFrame | None = None) -> str:  # fmt: skip
-    """The report's text: sizes, rates with intervals, findings, gains, figures.
+    """The body of the report's text: sizes, rates with intervals, findings, gains.
+
+    The report framework adds the header and the warnings; :func:`navigation_crowds_report`
+    the figures.
 
     Parameters
     ----------
     result
         A ``navigation_crowds`` result.
-    command, version
-        The command line and the designlab version (provenance).
     stalls
         :func:`stall_table` of the result if already computed.
     """
     st = result.study
     summary = result.to_frame()
-    out = report_header(f"Navigation among crowds: {st.name}", st.description, command=command,
-                        version=version)  # fmt: skip
     c = st.crowd
-    out += [
+    out = [
         "## What was simulated", "",
         f"{st.size()}: layouts {st.scenarios}, densities {st.densities} persons/m^2, "
         f"seeds {st.seeds}, methods {[m.label for m in st.methods]} (VFF stabilising force: "
@@ -340,15 +341,18 @@ def navigation_crowds_markdown(result: NavigationCrowdsResult, *, command: str |
     out += decision_lines(result)
     out += _stall_lines(stall_table(result) if stalls is None else stalls)
     out += _tuning_lines(result)
-    out += warnings_section(result.warnings, none="None.")
+    return "\n".join(out)
+
+
+def _figures_section(result: NavigationCrowdsResult) -> list[str]:
+    """The figures and the animations written (:func:`_gifs`)."""
     figs = [("rates against density", "rates_vs_density.png"),
             ("representative runs", "trajectories.png")]  # fmt: skip
-    if st.animations:
+    if result.study.animations:
         shown = {f"animation_worst_{k[1].replace(':', '_')}.gif" for k in result.tracks}
         shown.add("animation_representative.gif")
         figs += [(f"animation: {n}", f) for n, f in _animations(result) if f in shown]
-    out += figure_section(figs, title="Figures and animations")
-    return "\n".join(out)
+    return figure_section(figs, title="Figures and animations")
 
 
 _SIZING = {
@@ -426,47 +430,33 @@ def _animations(result: NavigationCrowdsResult) -> list[tuple[str, str]]:
     return out
 
 
-def _write_gifs(result: NavigationCrowdsResult, directory: Path) -> list[Path]:
-    written = []
+def _gifs(result: NavigationCrowdsResult) -> dict[str, Callable[[Path], Path]]:
+    """File name -> function writing the animation there, for each run tracked."""
+    makers: dict[str, Callable[[Path], Path]] = {}
+    if not result.study.animations:
+        return makers
     labels = [m.label for m in result.study.methods]
     keys = [("representative", labels[0])] + [("worst", m) for m in labels]
     for (caption, name), key in zip(_animations(result), keys, strict=True):
         r = result.tracks.get(key)
         if r is None:  # every run of the method failed (said in the warnings)
             continue
-        written.append(animate(r.times, r.robot_positions, r.pedestrian_positions,
-                               directory / name, goal=r.crowd.robot_goal,
-                               walls=wall_polygons(r.crowd),
+        makers[name] = partial(animate, r.times, r.robot_positions, r.pedestrian_positions,
+                               goal=r.crowd.robot_goal, walls=wall_polygons(r.crowd),
                                robot_radius=r.crowd.robot.radius,
                                person_radius=r.crowd.pedestrian_radius,
-                               title=f"{caption}: {_outcome(r)}", max_frames=80))  # fmt: skip
-    return written
+                               title=f"{caption}: {_outcome(r)}", max_frames=80)  # fmt: skip
+    return makers
 
 
 @register_writer(NavigationCrowdsResult)
-def write_navigation_crowds_report(
-    result: NavigationCrowdsResult,
-    directory: Path,
-    *,
-    command: str | None = None,
-    version: str | None = None,
-    study_text: str | None = None,
-) -> list[Path]:
-    """Write the files listed in the module text (through
-    :func:`~designlab.report.builder.write_report`; the GIFs first).
+def navigation_crowds_report(result: NavigationCrowdsResult) -> ReportParts:
+    """The report's parts: the files listed in the module text and the summary's body.
 
     Parameters
     ----------
     result
         A ``navigation_crowds`` result.
-    directory
-        The (new, empty) report directory.
-    command
-        The command line that produced the result.
-    version
-        The designlab version.
-    study_text
-        The study file's text, copied as ``study.yaml``.
     """
     summary = result.to_frame()
     stalls = stall_table(result)
@@ -474,11 +464,13 @@ def write_navigation_crowds_report(
     if result.tuning is not None and result.validation is not None:
         tables["tuning_history.csv"] = result.tuning.to_frame()
         tables["gains_validation.csv"] = result.validation.to_frame()
-    gifs = _write_gifs(result, Path(directory)) if result.study.animations else []
-    text = navigation_crowds_markdown(result, command=command, version=version, stalls=stalls)
-    return gifs + write_report(
-        directory, tables=tables,
+    return ReportParts(
+        title=f"Navigation among crowds: {result.study.name}",
+        body=[navigation_crowds_markdown(result, stalls=stalls)],
+        tables=tables,
         figures={"rates_vs_density.png": lambda: rates_figure(summary),
                  "trajectories.png": lambda: trajectories_figure(result)},
-        pages={"summary.md": text}, study_text=study_text,
+        files=_gifs(result),
+        no_warnings="None.",
+        closing=_figures_section(result),
     )  # fmt: skip

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from designlab.navigation.force_map import force_map
+from designlab.report.figure_style import MethodStyles, start_and_goal
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -36,9 +37,10 @@ def energy_figure(runs: list[Any], title: str) -> Figure:
 
     fig = Figure(figsize=(7.5, 3.4))
     ax = fig.add_subplot(1, 1, 1)
+    style = MethodStyles()
     for run in runs:
         r = run.result
-        (line,) = ax.plot(r.t, r.energy_trace(), lw=1.2, label=run.method)
+        (line,) = ax.plot(r.t, r.energy_trace(), lw=1.2, label=run.method, **style(run.method))
         if math.isfinite(r.arrival_time):
             k = min(int(np.searchsorted(r.t, r.arrival_time)), r.t.size - 1)
             ax.plot(r.t[k], r.energy_trace()[k], "o", color=line.get_color(), ms=4)
@@ -100,11 +102,12 @@ def force_figure(scenario: Any, gains: Any, title: str, *, t: float = 0.0) -> Fi
         im = ax.pcolormesh(m.x, m.y, z, shading="auto", cmap="viridis", vmin=-1, vmax=2.5)
         fig.colorbar(im, ax=ax, shrink=0.85)
         _regions(ax, scenario, t)
-        ax.plot(*scenario.start, "wo", ms=4)
-        ax.plot(*scenario.goal, "w*", ms=9)
+        start_and_goal(ax, scenario.start, scenario.goal, colour="w")
         ax.set_aspect("equal")
         ax.set_title(label, fontsize=8)
         ax.set_xlabel("x (m)")
+        ax.set_ylabel("y (m)")
+        ax.legend(fontsize=7, loc="upper left")
     mx, my, mf = total.minimum
     if math.isfinite(mf):
         axes[0].plot(mx, my, "rx", ms=8)

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import math
 from functools import partial
-from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -19,12 +18,8 @@ from designlab.navigation.tuning_results import (
     REPRO_H_OPTIMUM,
 )
 from designlab.report import register_writer
-from designlab.report.builder import (
-    record_timings,
-    report_header,
-    warnings_section,
-    write_report,
-)
+from designlab.report.builder import ReportParts
+from designlab.report.figure_style import start_and_goal
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.navigation_gains import WIDER, NavigationGainsResult
 
@@ -34,9 +29,9 @@ if TYPE_CHECKING:
 __all__ = [
     "convergence_figure",
     "navigation_gains_markdown",
+    "navigation_gains_report",
     "near_optimal_frame",
     "trajectory_figure",
-    "write_navigation_gains_report",
 ]
 
 _COLOURS = {"off": "tab:blue", "lyapunov": "tab:red", "robust": "tab:green", "wider": "tab:purple"}
@@ -187,6 +182,7 @@ def trajectory_figure(result: NavigationGainsResult, mode: str) -> Figure:
                 continue
             if first:
                 _draw_scenario(ax, res)
+                start_and_goal(ax, res.scenario.start, res.scenario.goal)
                 first = False
             g = res.gains
             ax.plot(
@@ -230,24 +226,16 @@ def _fmt(x: object, spec: str = ".4f") -> str:
     return str(x)
 
 
-def navigation_gains_markdown(
-    result: NavigationGainsResult, *, command: str | None = None, version: str | None = None
-) -> str:
-    """The Markdown summary.
+def navigation_gains_markdown(result: NavigationGainsResult) -> str:
+    """The body of the Markdown summary (the framework adds header and warnings).
 
     Parameters
     ----------
     result
         The study result.
-    command
-        The command that produced it, quoted at the end.
-    version
-        designlab's version, quoted at the end.
     """
     st = result.study
-    out = report_header(
-        f"Optimal VFF gains: {st.name}", st.description, command=command, version=version
-    )
+    out = like_for_like_lines(result)
     out += _problem_section(result)
     out += _gains_section(result)
     for mode in st.modes:
@@ -258,7 +246,6 @@ def navigation_gains_markdown(
     out += _appendix_c_section(result)
     out += _global_section(result)
     out += _baseline_section(result)
-    out += warnings_section(result.warnings)
     return "\n".join(out)
 
 
@@ -437,8 +424,142 @@ def _effort_section(result: NavigationGainsResult) -> list[str]:
 def _all_optima(result: NavigationGainsResult) -> dict[str, GainOptimum]:
     """Every optimisation of the study by its label (the baselines' too)."""
     found = {_optimisation_label(result, m): o for m, o in result.optima.items()}
-    found.update({f"baseline {m}": o for m, o in result.baseline_optima.items()})
+    found.update({like_for_like_label(m): o for m, o in result.baseline_optima.items()})
     return found
+
+
+def like_for_like_label(method: str) -> str:
+    """The label of a method's optimisation on the comparison configurations.
+
+    Parameters
+    ----------
+    method
+        A navigation method's registry name.
+
+    Examples
+    --------
+    >>> like_for_like_label("masoud"), like_for_like_label("vff")
+    ('baseline masoud', 'vff like for like')
+    """
+    own = method in METHODS.choices() and not METHODS.get(method).baseline
+    return f"{method} like for like" if own else f"baseline {method}"
+
+
+#: Table C.1's H_opt per method (App. C.2), for the ranking sentence.
+TABLE_C1_H = {"vff": 0.69, "masoud": 0.66, "ge_cui": 0.52}
+
+
+def _half_budget_best(opt: GainOptimum) -> float:
+    """The best H_mean an optimisation had after half of its evaluations (nan: no history)."""
+    h = opt.history
+    if h is None or h.empty or "evaluations" not in h:
+        return math.nan
+    half = h[h["evaluations"] <= 0.5 * float(h["evaluations"].max())]
+    return float(half["best_H_mean"].max()) if len(half) else math.nan
+
+
+def _method_optimum(result: NavigationGainsResult, method: str) -> GainOptimum | None:
+    """The optimisation behind a method's like-for-like optimum."""
+    return result.baseline_optima.get(method) or result.optima.get("off")
+
+
+def _ranked(scores: dict[str, float]) -> list[str]:
+    return sorted(scores, key=lambda m: -scores[m] if math.isfinite(scores[m]) else math.inf)
+
+
+def _thesis_sentence(order: list[str], name: dict[str, str]) -> str:
+    """Table C.1's order, and whether the like-for-like order keeps it."""
+    thesis = _ranked({m: TABLE_C1_H[m] for m in order if m in TABLE_C1_H})
+    text = "Table C.1 (App. C.2): " + " > ".join(f"{name[m]} {TABLE_C1_H[m]:g}" for m in thesis)
+    ours = [m for m in order if m in TABLE_C1_H]
+    if ours == thesis:
+        return text + ". The thesis's order holds here."
+    swaps = [
+        f"{name[a]} ranks above {name[b]}"
+        for i, a in enumerate(ours)
+        for b in ours[i + 1 :]
+        if thesis.index(a) > thesis.index(b)
+    ]
+    return text + ". **The thesis's order is reversed here**: " + ", ".join(swaps) + "."
+
+
+def like_for_like_lines(result: NavigationGainsResult) -> list[str]:
+    """The ranking of the methods optimised by the same search on the same configurations,
+    against Table C.1's, with the evidence on the search budget (the report's first lines).
+
+    Parameters
+    ----------
+    result
+        The study result (its ``baselines`` table and optimisations).
+    """
+    f = result.baselines
+    if f.empty:
+        return []
+    opt = f[f["gains"] == "designlab_optimum"].set_index("method")
+    methods = list(f["method"].unique())
+    score = {
+        m: float(opt.loc[m, "H_mean"])
+        if m in opt.index and bool(opt.loc[m, "feasible"])
+        else -math.inf
+        for m in methods
+    }
+    order = _ranked(score)
+    name = {m: METHODS.get(m).label for m in methods}
+    shown = [
+        f"{name[m]} {score[m]:.3f}" if math.isfinite(score[m]) else f"{name[m]} (none feasible)"
+        for m in order
+    ]
+    configs = ", ".join(map(str, result.study.baseline_configurations))
+    lines = [
+        "**Ranking like for like** (every method's gains optimised by the same seeded search "
+        f"on Configurations {configs}, stabilising force off; H_mean of each optimum): "
+        + " > ".join(shown)
+        + ".",
+        "",
+        _thesis_sentence(order, name),
+        "",
+    ]
+    runs = {m: o for m in methods if (o := _method_optimum(result, m)) is not None}
+    half = {m: _half_budget_best(o) for m, o in runs.items()}
+    budget = "; ".join(
+        f"{name[m]}: {o.evaluations} gain sets, {o.status}, "
+        + (
+            f"best H_mean {o.objective:.4f} (after half of them {half[m]:.4f})"
+            if math.isfinite(o.objective)
+            else "no feasible gain set"
+        )
+        for m, o in runs.items()
+    )
+    if runs:
+        again = _ranked(half) == [m for m in order if m in half]
+        lines += [
+            f"Search budget: {budget}. After half of each budget the optima give "
+            f"{'the same' if again else 'a different'} ranking.",
+            "",
+        ]
+    return lines + _wider_box_line(result, score, name)
+
+
+def _wider_box_line(
+    result: NavigationGainsResult, score: dict[str, float], name: dict[str, str]
+) -> list[str]:
+    """The new VFF optimised again in the wider box (the bound check), if the study did."""
+    wide = result.optima.get(f"off{WIDER}")
+    if wide is None or "vff" not in score or not math.isfinite(wide.objective):
+        return []
+    st = result.study
+    if st.scenarios or sorted(st.configurations) != sorted(st.baseline_configurations):
+        return []  # the wider box's optimum is then not on the comparison configurations
+    ranked = _ranked({**score, "vff": wide.objective})
+    on = sorted(result.optima["off"].on_bounds())
+    return [
+        f"Bound check: the new VFF's optimum lies on the bound of {on}; optimised again in "
+        f"a box widened tenfold there{_box_change(result, 'off' + WIDER)} it reaches H_mean "
+        f"{wide.objective:.4f}, and the ranking is then "
+        + " > ".join(name[m] for m in ranked)
+        + ".",
+        "",
+    ]
 
 
 def near_optimal_frame(
@@ -721,8 +842,8 @@ def _ranged_baselines(result: NavigationGainsResult, f: pd.DataFrame) -> pd.Data
     for i, row in f.iterrows():
         if row["gains"] != "designlab_optimum":
             continue
-        baseline = METHODS.get(row["method"]).baseline
-        label = f"baseline {row['method']}" if baseline else "off"
+        method = row["method"]
+        label = like_for_like_label(method) if method in result.baseline_optima else "off"
         for _, g in near[near["optimisation"] == label].iterrows():
             if g["gain"] in shown.columns and _flat(g["low"], g["high"]):
                 shown.loc[i, g["gain"]] = f"~{g['low']:.4g}-{g['high']:.4g}"
@@ -730,20 +851,14 @@ def _ranged_baselines(result: NavigationGainsResult, f: pd.DataFrame) -> pd.Data
 
 
 @register_writer(NavigationGainsResult)
-def write_navigation_gains_report(
-    result: NavigationGainsResult,
-    directory: Path,
-    *,
-    command: str | None = None,
-    version: str | None = None,
-    study_text: str | None = None,
-) -> list[Path]:
-    """Write summary.md, gains.csv, history.csv, the figures and the sensitivity CSVs.
+def navigation_gains_report(result: NavigationGainsResult) -> ReportParts:
+    """The report's parts: gains.csv, history.csv, the figures, the sensitivity CSVs and
+    the summary's body.
 
     Parameters
     ----------
-    result, directory, command, version, study_text
-        As every report writer takes them (:func:`designlab.report.register_writer`).
+    result
+        The study result.
     """
     tables = {
         "gains.csv": result.comparison,
@@ -766,13 +881,10 @@ def write_navigation_gains_report(
     figures = {"convergence.png": partial(convergence_figure, result)}
     for mode in result.study.modes:
         figures[f"trajectories_{mode}.png"] = partial(trajectory_figure, result, mode)
-    record_timings(
-        directory, {f"optimise {k}": o.wall_time for k, o in _all_optima(result).items()}
-    )
-    return write_report(
-        directory,
+    return ReportParts(
+        title=f"Optimal VFF gains: {result.study.name}",
+        body=[navigation_gains_markdown(result)],
         tables=tables,
         figures=figures,
-        pages={"summary.md": navigation_gains_markdown(result, command=command, version=version)},
-        study_text=study_text,
+        timings={f"optimise {k}": o.wall_time for k, o in _all_optima(result).items()},
     )

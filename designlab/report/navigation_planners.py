@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import math
 from functools import partial
-from pathlib import Path
 
 import matplotlib
 
@@ -19,14 +18,15 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from designlab.report import register_writer
-from designlab.report.builder import report_header, warnings_section, write_report
+from designlab.report.builder import ReportParts
+from designlab.report.figure_style import method_colour, start_and_goal
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.navigation_planners import NavigationPlannersResult
 
 __all__ = [
     "navigation_planners_figure",
     "navigation_planners_markdown",
-    "write_navigation_planners_report",
+    "navigation_planners_report",
 ]
 
 _THESIS = (
@@ -58,16 +58,15 @@ def navigation_planners_figure(result: NavigationPlannersResult) -> Figure:
             ax.plot(p[:, 0], p[:, 1], "k:", lw=1.2)
             ax.add_patch(plt.Circle(tuple(p[0]), getattr(o, "radius", 0.0), fill=False,
                                     color="gray"))  # fmt: skip
-        for label, r in runs:
-            style = "--" if r.collided else "-"
-            ax.plot(r.position[:, 0], r.position[:, 1], style, lw=1.5,
+        for label, r in runs:  # the method's colour; dashed: the run collides
+            ax.plot(r.position[:, 0], r.position[:, 1], "--" if r.collided else "-", lw=1.5,
+                    color=method_colour(r.method),
                     label=f"{label}{' (collides)' if r.collided else ''}")  # fmt: skip
         paths = np.vstack([r.position for _, r in runs] + [np.array([sc.start, sc.goal])])
         lo, hi = paths.min(axis=0) - 1.0, paths.max(axis=0) + 1.0
         ax.set_xlim(lo[0], hi[0])
         ax.set_ylim(lo[1], hi[1])
-        ax.plot(*sc.start, "ks")
-        ax.plot(*sc.goal, "k*", ms=10)
+        start_and_goal(ax, sc.start, sc.goal)
         ax.set_aspect("equal")
         ax.set_title(name, fontsize=10)
         ax.set_xlabel("x (m)")
@@ -109,19 +108,13 @@ def _findings(result: NavigationPlannersResult) -> list[str]:
     return [*out, ""]
 
 
-def navigation_planners_markdown(
-    result: NavigationPlannersResult, *, command: str | None = None, version: str | None = None
-) -> str:
-    """The Markdown summary.
+def navigation_planners_markdown(result: NavigationPlannersResult) -> str:
+    """The body of the Markdown summary (the framework adds header and warnings).
 
     Parameters
     ----------
     result
         A ``navigation_planners`` result.
-    command
-        The command line that produced the result.
-    version
-        The designlab version.
 
     Examples
     --------
@@ -138,19 +131,12 @@ def navigation_planners_markdown(
     >>> "no method collides" in navigation_planners_markdown(r)
     True
     """
-    st = result.study
-    out = report_header(
-        f"Sec. 5.7 planners and force fields: {st.name}",
-        st.description,
-        command=command,
-        version=version,
-    )
     frame = result.to_frame()
     shown = frame.copy()
     for c in shown.columns:
         if shown[c].dtype.kind == "f":
             shown[c] = [_fmt(x) if not math.isfinite(x) else f"{x:.3f}" for x in shown[c]]
-    out += [
+    out = [
         "## The thesis",
         "",
         _THESIS,
@@ -167,32 +153,23 @@ def navigation_planners_markdown(
         "",
     ]
     out += _findings(result)
-    out += warnings_section(result.warnings, none="None.")
-    out += ["## Figure", "", "![robot paths](planners_paths.png)", ""]
     return "\n".join(out)
 
 
 @register_writer(NavigationPlannersResult)
-def write_navigation_planners_report(
-    result: NavigationPlannersResult,
-    directory: Path,
-    *,
-    command: str | None = None,
-    version: str | None = None,
-    study_text: str | None = None,
-) -> list[Path]:
-    """Write ``summary.md``, ``planners.csv``, ``planners_paths.png`` and ``study.yaml``.
+def navigation_planners_report(result: NavigationPlannersResult) -> ReportParts:
+    """The report's parts: ``planners.csv``, ``planners_paths.png`` and the summary's body.
 
     Parameters
     ----------
-    result, directory, command, version, study_text
-        As every report writer takes them (:func:`designlab.report.register_writer`).
+    result
+        A ``navigation_planners`` result.
     """
-    text = navigation_planners_markdown(result, command=command, version=version)
-    return write_report(
-        directory,
+    return ReportParts(
+        title=f"Sec. 5.7 planners and force fields: {result.study.name}",
+        body=[navigation_planners_markdown(result)],
         tables={"planners.csv": result.to_frame()},
         figures={"planners_paths.png": partial(navigation_planners_figure, result)},
-        pages={"summary.md": text},
-        study_text=study_text,
+        no_warnings="None.",
+        closing=["## Figure", "", "![robot paths](planners_paths.png)", ""],
     )

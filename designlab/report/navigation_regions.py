@@ -7,18 +7,16 @@ equation and value, the radii to adopt and a scenario snippet) and ``regions.csv
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import pandas as pd
 import yaml
 
 from designlab.navigation.regions import RegionSizes
 from designlab.report import register_writer
-from designlab.report.builder import report_header, warnings_section, write_report
+from designlab.report.builder import ReportParts
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.navigation_regions import NavigationRegionsResult
 
-__all__ = ["navigation_regions_markdown", "write_navigation_regions_report"]
+__all__ = ["navigation_regions_markdown", "navigation_regions_report"]
 
 #: Quantity -> (symbol, equation in Zeng 2011, unit).
 _ROWS = {
@@ -67,19 +65,13 @@ def _inputs(result: NavigationRegionsResult) -> list[str]:
     ]
 
 
-def navigation_regions_markdown(
-    result: NavigationRegionsResult, *, command: str | None = None, version: str | None = None
-) -> str:
-    """The Markdown summary.
+def navigation_regions_markdown(result: NavigationRegionsResult) -> str:
+    """The body of the Markdown summary (the framework adds header and warnings).
 
     Parameters
     ----------
     result
         A ``navigation_regions`` result.
-    command
-        The command line that produced the result.
-    version
-        The designlab version.
 
     Examples
     --------
@@ -93,11 +85,8 @@ def navigation_regions_markdown(
     >>> "δ_r1" in navigation_regions_markdown(r)
     True
     """
-    st, plan = result.study, result.plan
-    out = report_header(
-        f"Region sizes: {st.name}", st.description, command=command, version=version
-    )
-    out += _inputs(result)
+    plan = result.plan
+    out = _inputs(result)
     out += [
         "## Radii",
         "",
@@ -134,30 +123,22 @@ def navigation_regions_markdown(
         "```",
         "",
     ]
-    out += warnings_section(plan.warnings, none="None.")
     return "\n".join(out)
 
 
 @register_writer(NavigationRegionsResult)
-def write_navigation_regions_report(
-    result: NavigationRegionsResult,
-    directory: Path,
-    *,
-    command: str | None = None,
-    version: str | None = None,
-    study_text: str | None = None,
-) -> list[Path]:
-    """Write ``summary.md``, ``regions.csv`` and ``study.yaml``.
+def navigation_regions_report(result: NavigationRegionsResult) -> ReportParts:
+    """The report's parts: ``regions.csv`` and the summary's body.
 
     Parameters
     ----------
-    result, directory, command, version, study_text
-        As every report writer takes them (:func:`designlab.report.register_writer`).
+    result
+        A ``navigation_regions`` result.
     """
-    text = navigation_regions_markdown(result, command=command, version=version)
-    return write_report(
-        directory,
+    return ReportParts(
+        title=f"Region sizes: {result.study.name}",
+        body=[navigation_regions_markdown(result)],
         tables={"regions.csv": result.to_frame()},
-        pages={"summary.md": text},
-        study_text=study_text,
+        warnings=result.plan.warnings,
+        no_warnings="None.",
     )

@@ -32,17 +32,12 @@ from matplotlib.figure import Figure
 from designlab.analysis.sensitivity import tornado_figure
 from designlab.report import register_writer
 from designlab.report.atomic import atomic_write_text
-from designlab.report.builder import (
-    figure_section,
-    report_header,
-    warnings_section,
-    write_report,
-)
+from designlab.report.builder import ReportParts, figure_section
 from designlab.report.writers import markdown_table, write_csv
 from designlab.study.points_table import FrameTable, PointsTable
 from designlab.study.sweep_runner import SweepStudyResult, unit_slug
 
-__all__ = ["sweep_markdown", "write_sweep_report"]
+__all__ = ["sweep_markdown", "sweep_report"]
 
 _TITLES = {
     "elasticity": "Local elasticities at the base design (CasADi automatic differentiation)",
@@ -111,18 +106,14 @@ def _arrow_schema(table: PointsTable, head: pd.DataFrame) -> Any:
     return pa.schema(fields)
 
 
-def _write_table(result: Any, directory: Path) -> list[Path]:
-    """``results.csv``; for a large sweep ``results.parquet`` and ``results_summary.csv``."""
-    table: PointsTable = result.table
-    if len(table) <= LARGE_SWEEP:
-        return [write_csv(table.frame(), directory / "results.csv")]
+def _write_large_table(table: PointsTable, path: Path) -> list[Path]:
+    """A large sweep's ``results.parquet`` at ``path`` and ``results_summary.csv`` beside it."""
     import pyarrow as pa
     import pyarrow.parquet as pq
 
     # Written block by block in the same pass over the table (read from the result store
     # for a streamed sweep) as its scan: the report never holds the whole table, and the
     # report directory is swapped into place atomically, so no partial file shows.
-    path = directory / "results.parquet"
     schema = _arrow_schema(table, next(iter(table.blocks(1))))
     text = {f.name for f in schema if f.type == pa.string()}
 
@@ -151,7 +142,7 @@ def _write_table(result: Any, directory: Path) -> list[Path]:
     exact = table.frame() if isinstance(table, FrameTable) else None
     return [
         path,
-        write_csv(scan.summary_frame(quantiles=exact), directory / "results_summary.csv"),
+        write_csv(scan.summary_frame(quantiles=exact), path.parent / "results_summary.csv"),
     ]
 
 
@@ -323,14 +314,9 @@ def _fmt(x: Any) -> str:
     return "–" if not np.isfinite(v) else f"{v:.4g}"
 
 
-def sweep_markdown(
-    result: Any,
-    *,
-    figures: dict[str, str],
-    command: str | None = None,
-    version: str | None = None,
-) -> str:
-    """The Markdown summary of a sweep study.
+def sweep_markdown(result: Any, *, figures: dict[str, str]) -> str:
+    """The body of the Markdown summary of a sweep study (the framework adds header and
+    warnings).
 
     Parameters
     ----------
@@ -338,17 +324,9 @@ def sweep_markdown(
         A :class:`~designlab.study.sweep_runner.SweepStudyResult`.
     figures
         Caption -> PNG file name of the figures to show.
-    command
-        The command line that produced the result.
-    version
-        The designlab version.
     """
-    study = result.study
-    out = report_header(
-        study.name, study.description, command=command, version=version, cached=True
-    )
     st = result.stats
-    out += [
+    out = [
         f"Points: {st.get('points', 0)} evaluated ({st.get('computed', 0)} computed, "
         f"{st.get('cached', 0)} from the cache; {st.get('failed', 0)} failed).",
         "",
@@ -367,30 +345,30 @@ def sweep_markdown(
                             markdown_table(wide, floatfmt=".4g"), ""]  # fmt: skip
     if figures:
         out += figure_section(figures)
-    out += warnings_section(result.warnings, none="None: every point has status `ok`.")
     return "\n".join(out)
 
 
 @register_writer(SweepStudyResult)
-def write_sweep_report(
-    result: Any,
-    directory: Path,
-    *,
-    command: str | None = None,
-    version: str | None = None,
-    study_text: str | None = None,
-) -> list[Path]:
-    """Write every file of a sweep report into ``directory`` (which must exist).
+def sweep_report(result: Any) -> ReportParts:
+    """The parts of a sweep report: its points table, sensitivity tables, figures and body.
+
+    ``results.csv``; for a large sweep ``results.parquet`` and ``results_summary.csv``.
 
     Parameters
     ----------
-    result, directory, command, version, study_text
-        As every report writer takes them (:func:`designlab.report.register_writer`).
+    result
+        A :class:`~designlab.study.sweep_runner.SweepStudyResult`.
     """
-    written = _write_table(result, directory) if len(result.table) else []
+    table: PointsTable = result.table
+    tables: dict[str, pd.DataFrame] = {}
+    files: dict[str, Callable[[Path], Any]] = {}
+    if 0 < len(table) <= LARGE_SWEEP:
+        tables["results.csv"] = table.frame()
+    elif len(table):
+        files["results.parquet"] = partial(_write_large_table, table)
     # indexed by parameter, unlike write_csv's tables: written as pandas prints them
-    for kind, table in result.sensitivity.items():
-        written.append(atomic_write_text(directory / f"sensitivity_{kind}.csv", table.to_csv()))
+    for kind, sens in result.sensitivity.items():
+        files[f"sensitivity_{kind}.csv"] = partial(_write_text, sens.to_csv())
     makers: dict[str, Callable[[], Figure]] = {}
     figures: dict[str, str] = {}
     rng = result.sensitivity.get("range")
@@ -402,10 +380,18 @@ def write_sweep_report(
     if scatter is not None:
         makers["sweep.png"] = lambda: scatter
         figures["sweep: metrics against the swept parameters"] = "sweep.png"
-    text = sweep_markdown(result, figures=figures, command=command, version=version)
-    return written + write_report(
-        directory, figures=makers, pages={"summary.md": text}, study_text=study_text
+    return ReportParts(
+        body=[sweep_markdown(result, figures=figures)],
+        tables=tables,
+        figures=makers,
+        files=files,
+        no_warnings="None: every point has status `ok`.",
+        cached=True,
     )
+
+
+def _write_text(text: str, path: Path) -> Path:
+    return atomic_write_text(path, text)
 
 
 def _tornado(rng: Any, study: Any, metric: str) -> Figure:

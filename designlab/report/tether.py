@@ -33,7 +33,6 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from functools import partial
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -43,14 +42,8 @@ from matplotlib.figure import Figure
 from designlab.following.tether import LAWS, allan_tables, measured_ratio, normal_path_deviation
 from designlab.following.tether.reference import TABLES
 from designlab.report import register_writer
-from designlab.report.builder import (
-    figure_section,
-    record_timings,
-    report_header,
-    slug,
-    warnings_section,
-    write_report,
-)
+from designlab.report.builder import ReportParts, claims, figure_section, slug
+from designlab.report.figure_style import method_colour
 from designlab.report.tether_errors import error_section
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.tether_comparison import STEP_OFFSET, TetherComparisonResult
@@ -58,14 +51,14 @@ from designlab.study.kinds.tether_tuning import TetherTuningResult
 
 __all__ = [
     "comparison_markdown",
+    "comparison_report",
     "heuristic_claim",
     "heuristic_frame",
     "improvement_frame",
     "ranking_claims",
     "ranking_column",
     "tuning_claims",
-    "write_comparison_report",
-    "write_tuning_report",
+    "tuning_report",
 ]
 
 _DISCUSSION = """
@@ -90,11 +83,10 @@ Status: **{status}**. Tuning paths: {paths}; validation paths (sharing no stretc
 speeds {speeds} m/s. Seeded differential evolution (seed {s.seed}, population {s.popsize} x
 gains, {s.maxiter} generations), the thesis defaults in the initial population; damping-ratio
 floor {s.damping_floor:g} from the linear lateral loop at every speed; tether range
-{lo:g}-{hi:g} m; at most {sat:g} % of a run with a wheel at its speed limit; cost weights {w}
+{lo:g}-{hi:g} m; at most {sat:g} % of a run with a wheel at its speed limit (a hard constraint
+on the tuning paths); cost weights {w}
 (`docs/following.md`).
 """
-
-_COLOURS = ("tab:red", "tab:blue", "tab:green", "tab:orange", "tab:purple", "tab:brown")
 
 
 #: The law the others are compared with: the first that follows from behind (PJ).
@@ -321,16 +313,10 @@ def heuristic_claim(table: pd.DataFrame, ratio: float = 3.0) -> str:
     )
 
 
-def _comparison_header(
-    result: TetherComparisonResult,
-    frame: pd.DataFrame,
-    command: str | None = None,
-    version: str | None = None,
-) -> list[str]:
+def _comparison_header(result: TetherComparisonResult, frame: pd.DataFrame) -> list[str]:
     study = result.study
     robot = result.cases[0].run.robot if result.cases else None
     controllers = [c.title for c in study.controllers]
-    lines = report_header(study.name, study.description, command=command, version=version)
     robot_text = (
         f"robot b = {robot.wheel_track:g} m, r = {robot.wheel_radius:g} m, control period "
         f"{robot.sample_time:g} s, wheel limit {robot.max_wheel_speed:g} rad/s. "
@@ -338,7 +324,6 @@ def _comparison_header(
         else ""
     )
     return [
-        *lines,
         f"Status: **{result.status}**. Leader speed {study.speed:g} m/s; "
         + robot_text
         + "Normal path deviation (NPD) as Allan 2015 App. A with the project's settings "
@@ -395,11 +380,10 @@ def comparison_markdown(
     result: TetherComparisonResult,
     *,
     figures: dict[str, tuple[str, str]],
-    command: str | None = None,
-    version: str | None = None,
     heuristic: pd.DataFrame | None = None,
 ) -> str:
-    """The summary of a ``tether_comparison`` study (Markdown).
+    """The body of the summary of a ``tether_comparison`` study (Markdown; the report
+    framework adds the header and the warnings).
 
     Parameters
     ----------
@@ -407,17 +391,13 @@ def comparison_markdown(
         A follower comparison result.
     figures
         Caption -> (file name, description) of the figures to show.
-    command
-        The command line that produced the result.
-    version
-        The designlab version.
     heuristic
         The table of :func:`heuristic_frame` (its effect is stated), or None.
     """
     study = result.study
     frame = result.to_frame()
     controllers = [c.title for c in study.controllers]
-    lines = _comparison_header(result, frame, command, version) + _measured_tables()
+    lines = _comparison_header(result, frame) + _measured_tables()
     if len(frame) and frame["controller"].nunique() > 1:
         reference = controllers[0]
         lines += [
@@ -447,7 +427,6 @@ def comparison_markdown(
         for path, (traj, prof) in figures.items()
         for caption, name in ((f"trajectories on {path}", traj), (f"NPD profiles on {path}", prof))
     )
-    lines += warnings_section(result.warnings)
     return "\n".join(lines)
 
 
@@ -504,7 +483,6 @@ def _linear_section(linear: pd.DataFrame, speed: float) -> list[str]:
 def _comparison_figures(result: TetherComparisonResult, path: str) -> tuple[Figure, Figure]:
     cases = [c for c in result.cases if c.path == path]
     lengths = sorted({c.run.controller.desired_length for c in cases})
-    titles = list(dict.fromkeys(c.controller for c in cases))
     ncol = len(lengths)
     traj = Figure(figsize=(4.2 * ncol, 4.2), layout="constrained")
     prof = Figure(figsize=(4.2 * ncol, 3.2), layout="constrained")
@@ -520,7 +498,7 @@ def _comparison_figures(result: TetherComparisonResult, path: str) -> tuple[Figu
         if len(obs):
             ax_t.plot(obs[:, 0], obs[:, 1], "k^", ms=8, label="cones")
         for c in sel:
-            col = _COLOURS[titles.index(c.controller) % len(_COLOURS)]
+            col = method_colour(c.controller)
             ax_t.plot(
                 c.run.robot_xy[:, 0], c.run.robot_xy[:, 1], color=col, lw=1.2, label=c.controller
             )
@@ -541,20 +519,13 @@ def _comparison_figures(result: TetherComparisonResult, path: str) -> tuple[Figu
 
 
 @register_writer(TetherComparisonResult)
-def write_comparison_report(
-    result: TetherComparisonResult,
-    directory: Path,
-    *,
-    command: str | None = None,
-    version: str | None = None,
-    study_text: str | None = None,
-) -> list[Path]:
-    """Write the ``tether_comparison`` report into ``directory`` (see the module notes).
+def comparison_report(result: TetherComparisonResult) -> ReportParts:
+    """The parts of the ``tether_comparison`` report (see the module notes).
 
     Parameters
     ----------
-    result, directory, command, version, study_text
-        As every report writer takes them (:func:`designlab.report.register_writer`).
+    result
+        A follower comparison result.
     """
     tables = {"metrics.csv": result.to_frame()}
     if result.linear is not None:
@@ -576,12 +547,8 @@ def write_comparison_report(
     tables["npd_heuristic.csv"] = heuristic
     if result.errors is not None:
         tables["error_sources.csv"] = result.errors
-    text = comparison_markdown(
-        result, figures=figures, command=command, version=version, heuristic=heuristic
-    )
-    return write_report(
-        directory, tables=tables, figures=makers, pages={"summary.md": text}, study_text=study_text
-    )
+    text = comparison_markdown(result, figures=figures, heuristic=heuristic)
+    return ReportParts(body=[text], tables=tables, figures=makers)
 
 
 def _tuning_figure(r: Any) -> Figure:
@@ -600,6 +567,7 @@ def _tuning_figure(r: Any) -> Figure:
     ax1.set_xticks(
         x, [f"{p}\n{v:g} m/s\n({s})" for s, p, v in keys.itertuples(index=False)], fontsize=6
     )
+    ax1.set_xlabel("leader path, leader speed (scenario set)")
     ax1.set_ylabel("mean normal deviation / b")
     ax1.set_title(f"{r.controller.name}: default vs tuned")
     ax1.legend()
@@ -735,6 +703,11 @@ def _improvement_table(frame: pd.DataFrame) -> pd.DataFrame:
     def pct(col: str) -> list[str]:
         return [f"{100 * v:.1f} %" for v in frame[col]]
 
+    def pair(col: str, show: Callable[[Any, Any], str] = "{}/{}".format) -> list[str]:
+        """``default/tuned`` of ``col``'s two columns (``col_default``, ``col_tuned``)."""
+        both = zip(frame[f"{col}_default"], frame[f"{col}_tuned"], strict=True)
+        return [show(a, b) for a, b in both]
+
     return pd.DataFrame(
         {
             "law": frame["law"],
@@ -742,30 +715,11 @@ def _improvement_table(frame: pd.DataFrame) -> pd.DataFrame:
             "without penalties": pct("improvement_validation_unpenalised"),
             "NPD improvement, unseen paths": pct("npd_improvement_validation"),
             "cost improvement, tuning paths": pct("improvement_tuning"),
-            "violations default/tuned (tuning)": [
-                f"{a}/{b}"
-                for a, b in zip(
-                    frame["violations_tuning_default"],
-                    frame["violations_tuning_tuned"],
-                    strict=True,
-                )
-            ],
-            "violations default/tuned (unseen)": [
-                f"{a}/{b}"
-                for a, b in zip(
-                    frame["violations_validation_default"],
-                    frame["violations_validation_tuned"],
-                    strict=True,
-                )
-            ],
-            "max time at wheel limit default/tuned (unseen)": [
-                f"{100 * a:.1f} % / {100 * b:.1f} %"
-                for a, b in zip(
-                    frame["max_saturation_validation_default"],
-                    frame["max_saturation_validation_tuned"],
-                    strict=True,
-                )
-            ],
+            "violations default/tuned (tuning)": pair("violations_tuning"),
+            "violations default/tuned (unseen)": pair("violations_validation"),
+            "max time at wheel limit default/tuned (unseen)": pair(
+                "max_saturation_validation", lambda a, b: f"{100 * a:.1f} % / {100 * b:.1f} %"
+            ),
             "min damping ratio (tuned)": frame["min_damping_ratio"].round(3),
             "gain sets": frame["gain_sets"],
             "status": frame["status"],
@@ -790,19 +744,26 @@ def tuning_claims(frame: pd.DataFrame) -> list[str]:
     ...     "max_saturation_validation_tuned": [0.08], "saturation_bound": [0.05]})
     >>> print(tuning_claims(f)[0])  # doctest: +NORMALIZE_WHITESPACE
     FTL: on the unseen paths the tuned gains are worse than the defaults by 10.0 % of the
-    full cost (penalties included; +20.0 % without them, +5.0 % in mean NPD);
+    full cost with the penalties and better by 20.0 % without them (+5.0 % in mean NPD); the
+    two disagree: the penalties decide the sign, charged to the tuned gains;
     constraint-violating scenarios 1 -> 3; the largest time at the wheel limit 0.0 % -> 8.0 %
     of a run (bound 5 %).
     """
     out = []
     for _, r in frame.iterrows():
-        verdict = "better" if r["improvement_validation"] > 0 else "worse"
+        full, bare = r["improvement_validation"], r["improvement_validation_unpenalised"]
+        text = (
+            f"{r['law']}: on the unseen paths the tuned gains are {_verdict(full)} than the "
+            f"defaults by {100 * abs(full):.1f} % of the full cost with the penalties and "
+            f"{_verdict(bare)} by {100 * abs(bare):.1f} % without them "
+            f"({100 * r['npd_improvement_validation']:+.1f} % in mean NPD)"
+        )
+        if (full > 0) != (bare > 0):
+            text += "; the two disagree: the penalties decide the sign, " + (
+                "charged to the default gains" if full > 0 else "charged to the tuned gains"
+            )
         out.append(
-            f"{r['law']}: on the unseen paths the tuned gains are {verdict} than the defaults "
-            f"by {100 * abs(r['improvement_validation']):.1f} % of the full cost (penalties "
-            f"included; {100 * r['improvement_validation_unpenalised']:+.1f} % without them, "
-            f"{100 * r['npd_improvement_validation']:+.1f} % in mean NPD); "
-            "constraint-violating scenarios "
+            f"{text}; constraint-violating scenarios "
             f"{r['violations_validation_default']} -> {r['violations_validation_tuned']}; the "
             "largest time at the wheel limit "
             f"{100 * r['max_saturation_validation_default']:.1f} % -> "
@@ -812,18 +773,26 @@ def tuning_claims(frame: pd.DataFrame) -> list[str]:
     return out
 
 
+def _verdict(improvement: float) -> str:
+    return "better" if improvement > 0 else "worse"
+
+
 _IMPROVEMENT_TEXT = (
     "Cost improvement: 1 - J_tuned/J_default on the validation paths, which share no stretch "
-    "with the tuning paths (checked geometrically, in place and after normalising position, "
-    "heading, size and mirroring), with J the full cost: the weighted deviation, tether-length "
-    "and smoothness cost plus the constraint penalties (the headline); the figure without the "
-    "penalties is beside it. NPD improvement: 1 - mean NPD tuned/default. A violation is a "
+    "with the tuning paths (checked geometrically: in place, after normalising position, "
+    "heading, size and mirroring, and window by window anywhere along both paths), with J "
+    "the full cost: the weighted deviation, tether-length and smoothness cost plus the "
+    "constraint penalties; the figure without the penalties is beside it, and the headline "
+    "above gives both. NPD improvement: 1 - mean NPD tuned/default. A violation is a "
     "scenario whose penalty exceeds 0.001: the tether left its range (10 x the excess / l_d) "
     "or a wheel ran at its speed limit for more than the bound of the run (10 x the excess "
     "fraction); the penalty and wheel_saturation columns below give the sizes. Status "
     "`not_converged` means that differential evolution used all its generations; the tuned "
-    "cost on the tuning paths is still never above the defaults' (they are in the initial "
-    "population)."
+    "cost on the tuning paths is still never above the defaults' when the defaults keep the "
+    "wheel-limit bound (they are in the initial population). The wheel-limit bound is a hard "
+    "constraint of the search on the tuning paths (a set beyond it ranks below every set "
+    "within it; `infeasible` if none was found) and is measured, not imposed, on the unseen "
+    "paths."
 )
 _SCENARIO_COLUMNS = [
     "law",
@@ -841,11 +810,8 @@ _SCENARIO_COLUMNS = [
 ]
 
 
-def _tuning_intro(
-    result: TetherTuningResult, command: str | None = None, version: str | None = None
-) -> list[str]:
+def _tuning_intro(result: TetherTuningResult) -> list[str]:
     study = result.study
-    lines = report_header(study.name, study.description, command=command, version=version)
     text = _TUNING_INTRO.format(
         status=result.status,
         paths=", ".join(p.build().name for p in study.paths),
@@ -857,38 +823,34 @@ def _tuning_intro(
         w=study.weights.model_dump(),
         sat=100 * (result.results[0].max_saturation if result.results else math.nan),
     )
-    return [*lines, " ".join(text.split()), ""]
+    return [" ".join(text.split()), ""]
 
 
 @register_writer(TetherTuningResult)
-def write_tuning_report(
-    result: TetherTuningResult,
-    directory: Path,
-    *,
-    command: str | None = None,
-    version: str | None = None,
-    study_text: str | None = None,
-) -> list[Path]:
-    """Write the ``tether_tuning`` report into ``directory`` (see the module notes).
+def tuning_report(result: TetherTuningResult) -> ReportParts:
+    """The parts of the ``tether_tuning`` report (see the module notes).
 
     Parameters
     ----------
-    result, directory, command, version, study_text
-        As every report writer takes them (:func:`designlab.report.register_writer`).
+    result
+        A tether tuning result.
     """
     scen = pd.concat(
         [r.scenarios.assign(law=r.controller.name) for r in result.results],
         ignore_index=True,
     )
-    lines = _tuning_intro(result, command, version)
+    lines = _tuning_intro(result)
     from designlab.following.tether.tuning import NEAR_OPTIMAL_COST
 
-    lines += ["## Gains", "", markdown_table(_gains_table(result)), ""]
+    improvement = improvement_frame(result)
+    lead = "Headline, on the unseen paths (with and without the penalties; the table below):"
+    lines += claims(tuning_claims(improvement), lead=lead)
+    gains = _gains_table(result)
+    not_its = {c: "not a gain of this law" for c in gains.columns if c != "law"}
+    lines += ["## Gains", "", markdown_table(gains, missing=not_its), ""]
     lines += [_REPRODUCTION_TEXT.format(tol=NEAR_OPTIMAL_COST), ""]
     lines += ["## Improvement over the thesis defaults", ""]
-    improvement = improvement_frame(result)
     lines += [markdown_table(_improvement_table(improvement)), "", _IMPROVEMENT_TEXT, ""]
-    lines += ["Computed from the table:", "", *[f"- {c}" for c in tuning_claims(improvement)], ""]
     lines += ["## Per scenario", "", markdown_table(scen[_SCENARIO_COLUMNS].round(3)), ""]
     makers: dict[str, Callable[[], Figure]] = {}
     figures = {}
@@ -897,10 +859,9 @@ def write_tuning_report(
         makers[name] = partial(_tuning_figure, r)
         figures[r.controller.name] = name
     lines += figure_section(figures)
-    lines += warnings_section(result.warnings)
-    record_timings(directory, {f"tune {r.controller.name}": r.wall_time for r in result.results})
-    return write_report(
-        directory,
+    return ReportParts(
+        body=lines,
+        timings={f"tune {r.controller.name}": r.wall_time for r in result.results},
         tables={
             "gains.csv": result.to_frame(),
             "scenarios.csv": scen,
@@ -908,6 +869,4 @@ def write_tuning_report(
             "near_optimal.csv": near_optimal_frame(result),
         },
         figures=makers,
-        pages={"summary.md": "\n".join(lines)},
-        study_text=study_text,
     )

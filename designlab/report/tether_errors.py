@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import pandas as pd
 
+from designlab.report.builder import claims
 from designlab.report.writers import markdown_table
 
 __all__ = ["error_claims", "error_section"]
@@ -83,10 +84,7 @@ def error_section(table: pd.DataFrame | None, study: object) -> list[str]:
         "The slip and offset values are the project's assumptions: the thesis names the "
         "sources without sizes (`docs/following.md`).",
         "",
-        "Computed from the table:",
-        "",
-        *[f"- {c}" for c in error_claims(table, reference)],
-        "",
+        *claims(error_claims(table, reference)),
         markdown_table(table, floatfmt=".4g"),
         "",
     ]

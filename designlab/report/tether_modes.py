@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import math
 from functools import partial
-from pathlib import Path
 from typing import Any
 
 import matplotlib
@@ -23,11 +22,21 @@ from matplotlib.figure import Figure
 
 from designlab.following.tether import LAWS
 from designlab.report import register_writer
-from designlab.report.builder import report_header, slug, warnings_section, write_report
+from designlab.report.builder import ReportParts, slug
+from designlab.report.figure_style import method_colour
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.tether_modes import ModeCase, TetherModesResult
 
-__all__ = ["brake_figure", "modes_figure", "modes_markdown", "write_modes_report"]
+__all__ = ["brake_figure", "modes_figure", "modes_markdown", "modes_report"]
+
+
+#: Why a cell of the side and front table can be empty.
+_WHY_MISSING = {
+    "side_offset_m": "not a side mode",
+    "offset_error_mean_m": "not a side mode",
+    "offset_error_inside_turns_m": "no turn, or not a side mode",
+    "offset_error_outside_turns_m": "no turn, or not a side mode",
+}
 
 
 def modes_figure(cases: list[ModeCase]) -> Figure:
@@ -57,6 +66,8 @@ def modes_figure(cases: list[ModeCase]) -> Figure:
         ax.set_xlim(x0, x1)
         ax.set_ylim(y0, y1)
         ax.set_aspect("equal")
+        ax.set_xlabel("x (m)")
+        ax.set_ylabel("y (m)")
         ax.set_title(f"{cases[0].path}: {m}", fontsize=10)
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=7)
@@ -78,9 +89,9 @@ def brake_figure(result: TetherModesResult) -> Figure:
     for ax, law in zip(axes[0], laws, strict=True):
         for b in (b for b in result.brakes if b.law == law):
             r = b.run
-            ax.plot(
-                r.t, r.heading - r.heading[0], lw=0.9, label="Brake mode" if b.brake else "without"
-            )
+            ax.plot(r.t, r.heading - r.heading[0], lw=0.9,
+                    color=method_colour("BrakeMode") if b.brake else "0.45",
+                    label="Brake mode" if b.brake else "without")  # fmt: skip
         ax.axvline(result.brakes[0].stop_time, color="gray", ls=":", lw=0.8)
         ax.set_title(law, fontsize=10)
         ax.set_xlabel("time (s); dotted: the leader stops")
@@ -151,17 +162,13 @@ def _brake_claims(frame: pd.DataFrame) -> list[str]:
     return out
 
 
-def modes_markdown(
-    result: TetherModesResult, *, command: str | None = None, version: str | None = None
-) -> str:
-    """The summary.
+def modes_markdown(result: TetherModesResult) -> str:
+    """The body of the summary (the framework adds header and warnings).
 
     Parameters
     ----------
     result
         The study's result.
-    command, version
-        For the provenance sentence.
     """
     st = result.study
     frame, brakes = result.to_frame(), result.brake_frame()
@@ -170,8 +177,7 @@ def modes_markdown(
         *("offset_error_inside_turns_m", "offset_error_outside_turns_m"),
         *("tether_min_m", "tether_max_m", "final_distance_m", "lost", "path_length_ratio"),
     ]
-    lines = report_header(st.name, st.description, command=command, version=version)
-    lines += [
+    lines = [
         "## Side and front following (Sec. 4.2-4.3)",
         "",
         f"Leader speed {st.speed:g} m/s; App. C gains; the side modes start abreast on the "
@@ -179,7 +185,7 @@ def modes_markdown(
         "normal deviation from the leader's path is the side offset (its target is l_H); the "
         "maximum is dominated by the ends of the comparison range.",
         "",
-        markdown_table(frame[cols], floatfmt=".4g"),
+        markdown_table(frame[cols], floatfmt=".4g", missing=_WHY_MISSING),
         "",
         "Against the thesis (computed from the table):",
         "",
@@ -200,26 +206,18 @@ def modes_markdown(
         "The thesis's other Brake function, raising the motor gains to hold on slopes, is not "
         "modelled: a kinematic robot holds still at zero command.",
         "",
-        *warnings_section(result.warnings, none="No warnings."),
     ]
     return "\n".join(lines)
 
 
 @register_writer(TetherModesResult)
-def write_modes_report(
-    result: TetherModesResult,
-    directory: Path,
-    *,
-    command: str | None = None,
-    version: str | None = None,
-    study_text: str | None = None,
-) -> list[Path]:
-    """Write summary.md, modes.csv, brake.csv and the figures (and study.yaml).
+def modes_report(result: TetherModesResult) -> ReportParts:
+    """The report's parts: summary.md, modes.csv, brake.csv and the figures.
 
     Parameters
     ----------
-    result, directory, command, version, study_text
-        As every report writer takes them (:func:`designlab.report.register_writer`).
+    result
+        The study's result.
     """
     by_path: dict[str, list[ModeCase]] = {}
     for c in result.cases:
@@ -227,10 +225,9 @@ def write_modes_report(
     figures = {f"modes_{slug(p)}.png": partial(modes_figure, cases) for p, cases in by_path.items()}
     if result.brakes:
         figures["brake.png"] = partial(brake_figure, result)
-    return write_report(
-        directory,
+    return ReportParts(
+        body=[modes_markdown(result)],
+        no_warnings="No warnings.",
         tables={"modes.csv": result.to_frame(), "brake.csv": result.brake_frame()},
         figures=figures,
-        pages={"summary.md": modes_markdown(result, command=command, version=version)},
-        study_text=study_text,
     )

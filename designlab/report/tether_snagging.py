@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import math
 from functools import partial
-from pathlib import Path
 
 import matplotlib
 
@@ -27,11 +26,11 @@ from matplotlib.figure import Figure
 
 from designlab.following.tether.snag import SNAG_FIT, snag_limits
 from designlab.report import register_writer
-from designlab.report.builder import report_header, warnings_section, write_report
+from designlab.report.builder import ReportParts
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.tether_snagging import NEAR, TetherSnaggingResult
 
-__all__ = ["fit_by_gaps", "snagging_markdown", "write_snagging_report"]
+__all__ = ["fit_by_gaps", "snagging_markdown", "snagging_report"]
 
 #: The thesis's numbers (Allan 2015 Sec. 4.5.3-4.5.5), in units of w = 1 m.
 THESIS = {
@@ -75,6 +74,8 @@ def paths_figure(result: TetherSnaggingResult) -> Figure:
         ax.set_xlim(-3.0, 2.0)
         ax.set_ylim(-2.0, 3.0)
         ax.set_aspect("equal")
+        ax.set_xlabel("x (m)")
+        ax.set_ylabel("y (m)")
         ax.set_title(f"gap {r.scenario.gap:g} m: d_col {r.d_col:.2f} w", fontsize=10)
         ax.grid(True, alpha=0.3)
     axes[0][0].legend(fontsize=7, loc="upper left")
@@ -269,23 +270,18 @@ def _detection_table(result: TetherSnaggingResult) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def snagging_markdown(
-    result: TetherSnaggingResult, *, command: str | None = None, version: str | None = None
-) -> str:
-    """The summary.
+def snagging_markdown(result: TetherSnaggingResult) -> str:
+    """The body of the summary (the framework adds header and warnings).
 
     Parameters
     ----------
     result
         The study's result.
-    command, version
-        For the provenance sentence.
     """
     st = result.study
     sc = st.scenario.build()
     comp = result.to_frame()
-    lines = report_header(st.name, st.description, command=command, version=version)
-    lines += [
+    lines = [
         "## Set-up (Table 4.1)",
         "",
         f"- corridor width w {sc.width:g} m, one left turn on an arc of radius w/2 about the inner "
@@ -343,26 +339,18 @@ def snagging_markdown(
         f"{comp['compensated_d_col_over_w'].min():.3f} w "
         f"(without: {comp['d_col_over_w'].min():.3f} w).",
         "",
-        *warnings_section(result.warnings, none="No compensated run collides."),
     ]
     return "\n".join(lines)
 
 
 @register_writer(TetherSnaggingResult)
-def write_snagging_report(
-    result: TetherSnaggingResult,
-    directory: Path,
-    *,
-    command: str | None = None,
-    version: str | None = None,
-    study_text: str | None = None,
-) -> list[Path]:
-    """Write summary.md, snagging.csv, limits.csv, features.csv, three PNGs (and study.yaml).
+def snagging_report(result: TetherSnaggingResult) -> ReportParts:
+    """The report's parts: summary.md, snagging.csv, limits.csv, features.csv, three PNGs.
 
     Parameters
     ----------
-    result, directory, command, version, study_text
-        As every report writer takes them (:func:`designlab.report.register_writer`).
+    result
+        The study's result.
     """
     makers = {"paths": paths_figure, "limits": limits_figure, "detection": detection_figure}
     figures = {
@@ -370,14 +358,13 @@ def write_snagging_report(
         for name, make in makers.items()
         if name == "limits" or result.detail
     }
-    return write_report(
-        directory,
+    return ReportParts(
+        body=[snagging_markdown(result)],
+        no_warnings="No compensated run collides.",
         tables={
             "snagging.csv": result.to_frame(),
             "limits.csv": result.limits_frame(),
             "features.csv": result.feature_prominence(),
         },
         figures=figures,
-        pages={"summary.md": snagging_markdown(result, command=command, version=version)},
-        study_text=study_text,
     )

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import math
 from functools import partial
-from pathlib import Path
 
 import matplotlib
 
@@ -23,11 +22,11 @@ from matplotlib.figure import Figure
 
 from designlab.following.tether.stability import ConvergenceMap
 from designlab.report import register_writer
-from designlab.report.builder import report_header, slug, warnings_section, write_report
+from designlab.report.builder import ReportParts, slug
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.tether_stability import TetherStabilityResult
 
-__all__ = ["convergence_figure", "stability_markdown", "write_stability_report"]
+__all__ = ["convergence_figure", "stability_markdown", "stability_report"]
 
 
 def convergence_figure(title: str, m: ConvergenceMap) -> Figure:
@@ -108,22 +107,17 @@ def _claim(result: TetherStabilityResult) -> list[str]:
     return [*out, ""]
 
 
-def stability_markdown(
-    result: TetherStabilityResult, *, command: str | None = None, version: str | None = None
-) -> str:
-    """The summary.
+def stability_markdown(result: TetherStabilityResult) -> str:
+    """The body of the summary (the framework adds header and warnings).
 
     Parameters
     ----------
     result
         The study's result.
-    command, version
-        For the provenance sentence.
     """
     st = result.study
     robot = st.robot.build()
-    lines = report_header(st.name, st.description, command=command, version=version)
-    lines += [
+    lines = [
         "## Set-up",
         "",
         "The thesis's grid, tolerance and leader motion are not stated (docs/tether_modes.md). "
@@ -148,35 +142,26 @@ def stability_markdown(
         ),
         "",
         *_claim(result),
-        *warnings_section(result.warnings, none="Every grid point of every law converged."),
     ]
     return "\n".join(lines)
 
 
 @register_writer(TetherStabilityResult)
-def write_stability_report(
-    result: TetherStabilityResult,
-    directory: Path,
-    *,
-    command: str | None = None,
-    version: str | None = None,
-    study_text: str | None = None,
-) -> list[Path]:
-    """Write summary.md, convergence.csv, one PNG per law (and study.yaml).
+def stability_report(result: TetherStabilityResult) -> ReportParts:
+    """The report's parts: summary.md, convergence.csv, one PNG per law.
 
     Parameters
     ----------
-    result, directory, command, version, study_text
-        As every report writer takes them (:func:`designlab.report.register_writer`).
+    result
+        The study's result.
     """
     figures = {
         f"convergence_{slug(title, 'law')}.png": partial(convergence_figure, title, m)
         for title, m in zip(result.titles, result.maps, strict=True)
     }
-    return write_report(
-        directory,
+    return ReportParts(
+        body=[stability_markdown(result)],
+        no_warnings="Every grid point of every law converged.",
         tables={"convergence.csv": result.to_frame()},
         figures=figures,
-        pages={"summary.md": stability_markdown(result, command=command, version=version)},
-        study_text=study_text,
     )

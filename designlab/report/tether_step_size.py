@@ -9,7 +9,6 @@ robot's distance).
 from __future__ import annotations
 
 from functools import partial
-from pathlib import Path
 
 import matplotlib
 
@@ -20,11 +19,11 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from designlab.report import register_writer
-from designlab.report.builder import report_header, slug, warnings_section, write_report
+from designlab.report.builder import ReportParts, slug
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.tether_step_size import TRANSIENT, StepSizeCase, TetherStepSizeResult
 
-__all__ = ["step_size_claims", "step_size_figure", "step_size_markdown", "write_step_size_report"]
+__all__ = ["step_size_claims", "step_size_figure", "step_size_markdown", "step_size_report"]
 
 #: Relative change of the speed's standard deviation below which the effect on V_r is
 #: called negligible (the thesis's word; the project's number).
@@ -51,8 +50,10 @@ def step_size_figure(cases: list[StepSizeCase]) -> Figure:
         axes[2].plot(s, r.speed, lw=1.0, label=lab)
     axes[0].set_aspect("equal")
     axes[0].set_title(f"{cases[0].path}: paths", fontsize=10)
-    axes[1].set_title("tether length l_m (m)", fontsize=10)
-    axes[2].set_title("robot speed V_r (m/s)", fontsize=10)
+    axes[0].set_xlabel("x (m)")
+    axes[0].set_ylabel("y (m)")
+    axes[1].set_ylabel("tether length l_m (m)")
+    axes[2].set_ylabel("robot speed V_r (m/s)")
     for ax in axes[1:]:
         ax.set_xlabel("robot distance (m)")
     for ax in axes:
@@ -101,17 +102,13 @@ def step_size_claims(frame: pd.DataFrame) -> list[str]:
     return out
 
 
-def step_size_markdown(
-    result: TetherStepSizeResult, *, command: str | None = None, version: str | None = None
-) -> str:
-    """The summary.
+def step_size_markdown(result: TetherStepSizeResult) -> str:
+    """The body of the summary (the framework adds header and warnings).
 
     Parameters
     ----------
     result
         The study's result.
-    command, version
-        For the provenance sentence.
     """
     st = result.study
     frame = result.to_frame()
@@ -130,8 +127,7 @@ def step_size_markdown(
     }
     table = frame[[c for c in cols if c in frame.columns]].rename(columns=cols)
     ctrl = st.controller.build()
-    lines = report_header(st.name, st.description, command=command, version=version)
-    lines += [
+    lines = [
         "## Set-up",
         "",
         f"- law: {st.controller.title} ({ctrl.name}, l_d {ctrl.desired_length:g} m, "
@@ -154,26 +150,18 @@ def step_size_markdown(
         "",
         *step_size_claims(frame),
         "",
-        *warnings_section(result.warnings, none="No warnings."),
     ]
     return "\n".join(lines)
 
 
 @register_writer(TetherStepSizeResult)
-def write_step_size_report(
-    result: TetherStepSizeResult,
-    directory: Path,
-    *,
-    command: str | None = None,
-    version: str | None = None,
-    study_text: str | None = None,
-) -> list[Path]:
-    """Write summary.md, step_size.csv, one PNG per path (and study.yaml).
+def step_size_report(result: TetherStepSizeResult) -> ReportParts:
+    """The report's parts: summary.md, step_size.csv, one PNG per path.
 
     Parameters
     ----------
-    result, directory, command, version, study_text
-        As every report writer takes them (:func:`designlab.report.register_writer`).
+    result
+        The study's result.
     """
     by_path: dict[str, list[StepSizeCase]] = {}
     for c in result.cases:
@@ -181,10 +169,9 @@ def write_step_size_report(
     figures = {
         f"step_size_{slug(p)}.png": partial(step_size_figure, cases) for p, cases in by_path.items()
     }
-    return write_report(
-        directory,
+    return ReportParts(
+        body=[step_size_markdown(result)],
+        no_warnings="No warnings.",
         tables={"step_size.csv": result.to_frame()},
         figures=figures,
-        pages={"summary.md": step_size_markdown(result, command=command, version=version)},
-        study_text=study_text,
     )

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import io
 import os
+from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -97,15 +98,40 @@ def write_png(fig: Figure, path: str | os.PathLike[str], *, dpi: int = 110) -> P
     return atomic_write_bytes(path, buf.getvalue())
 
 
-def markdown_table(frame: pd.DataFrame, **kwargs: Any) -> str:
+def markdown_table(
+    frame: pd.DataFrame, *, missing: Mapping[str, str] | None = None, **kwargs: Any
+) -> str:
     """A GitHub-style Markdown table of ``frame`` (no index), via tabulate.
+
+    A missing value (NaN, None) is written ``n/a (reason)`` with the reason of its column
+    in ``missing``, else ``n/a``: never ``nan``.
 
     Parameters
     ----------
     frame
         The table.
+    missing
+        Column -> why a value of that column can be missing (``"not in the thesis"``).
     **kwargs
         Passed to :meth:`pandas.DataFrame.to_markdown` (e.g. ``floatfmt``).
+
+    Examples
+    --------
+    >>> t = pd.DataFrame({"law": ["PJ", "FTL"], "lookahead_m": [float("nan"), 0.5]})
+    >>> print(markdown_table(t, missing={"lookahead_m": "not a parameter of the law"}))
+    | law   |                        lookahead_m |
+    |:------|-----------------------------------:|
+    | PJ    | n/a (not a parameter of the law)   |
+    | FTL   |                                0.5 |
     """
     kwargs.setdefault("index", False)
+    reasons = dict(missing or {})
+    unknown = sorted(set(reasons) - {str(c) for c in frame.columns})
+    if unknown:
+        raise ValueError(f"missing: reasons given for columns not in the table: {unknown}")
+    if frame.isna().to_numpy().any():
+        kwargs["missingval"] = ([""] if kwargs["index"] else []) + [
+            f"n/a ({reasons[str(c)]})" if str(c) in reasons else "n/a" for c in frame.columns
+        ]
+        frame = frame.astype(object).where(frame.notna(), None)
     return str(frame.to_markdown(**kwargs))

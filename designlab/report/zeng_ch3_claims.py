@@ -10,7 +10,6 @@ local maximum and first-lobe maximum marked).
 from __future__ import annotations
 
 from functools import partial
-from pathlib import Path
 
 import matplotlib
 
@@ -20,16 +19,11 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from designlab.report import register_writer
-from designlab.report.builder import (
-    figure_section,
-    report_header,
-    warnings_section,
-    write_report,
-)
+from designlab.report.builder import ReportParts, figure_section
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.zeng_ch3_claims import Ch3ClaimsResult
 
-__all__ = ["ch3_claims_figure", "ch3_claims_markdown", "write_ch3_claims_report"]
+__all__ = ["ch3_claims_figure", "ch3_claims_markdown", "ch3_claims_report"]
 
 #: The small study of the examples below.
 _EXAMPLE = """
@@ -101,17 +95,13 @@ def _fmt(df: pd.DataFrame, digits: dict[str, str]) -> pd.DataFrame:
     return out
 
 
-def ch3_claims_markdown(
-    result: Ch3ClaimsResult, *, command: str | None = None, version: str | None = None
-) -> str:
-    """The summary page.
+def ch3_claims_markdown(result: Ch3ClaimsResult) -> str:
+    """The body of the summary page (the framework adds header and warnings).
 
     Parameters
     ----------
     result
         The study's result.
-    command, version
-        Quoted at the end.
 
     Returns
     -------
@@ -125,14 +115,7 @@ def ch3_claims_markdown(
     >>> "## Fig. 3.16" in ch3_claims_markdown(result)
     True
     """
-    s = result.study
-    out = report_header(
-        f"Zeng 2011 Ch. 3 statements, recomputed: {s.name}",
-        s.description,
-        command=command,
-        version=version,
-    )
-    out += [
+    out = [
         "Each section recomputes one statement of Zeng 2011 Ch. 3 with designlab's impact "
         "model and says what the model and the text support (`docs/impact_joint.md`, Sec. 5).",
         "",
@@ -148,8 +131,6 @@ def ch3_claims_markdown(
         "not a thesis joint.",
         "",
     ]
-    out += warnings_section(result.warnings)
-    out += figure_section({"Fig. 3.16 and Sec. 3.8": "zeng_ch3_claims.png"}, title="Figure")
     return "\n".join(out)
 
 
@@ -266,32 +247,26 @@ def _table_3_1(result: Ch3ClaimsResult) -> list[str]:
 
 
 @register_writer(Ch3ClaimsResult)
-def write_ch3_claims_report(
-    result: Ch3ClaimsResult,
-    directory: Path,
-    *,
-    command: str | None = None,
-    version: str | None = None,
-    study_text: str | None = None,
-) -> list[Path]:
-    """Write summary.md, the four CSVs, the figure (and study.yaml).
+def ch3_claims_report(result: Ch3ClaimsResult) -> ReportParts:
+    """The report's parts: summary.md, the four CSVs, the figure.
 
     Parameters
     ----------
-    result, directory, command, version, study_text
-        As every report writer takes them (:func:`designlab.report.register_writer`).
+    result
+        The study's result.
 
     Examples
     --------
     >>> from designlab.study import parse_study, run_study
     >>> result = run_study(parse_study(_EXAMPLE))
-    >>> import tempfile, pathlib
-    >>> with tempfile.TemporaryDirectory() as d:
-    ...     len(write_ch3_claims_report(result, pathlib.Path(d)))
-    6
+    >>> parts = ch3_claims_report(result)
+    >>> len(parts.tables), len(parts.figures)
+    (4, 1)
     """
-    return write_report(
-        directory,
+    return ReportParts(
+        body=[ch3_claims_markdown(result)],
+        title=f"Zeng 2011 Ch. 3 statements, recomputed: {result.study.name}",
+        closing=figure_section({"Fig. 3.16 and Sec. 3.8": "zeng_ch3_claims.png"}, title="Figure"),
         tables={
             "sec_3_8.csv": result.profiles_frame(),
             "fig_3_16.csv": result.worst_frame(),
@@ -299,6 +274,4 @@ def write_ch3_claims_report(
             "table_3_1.csv": result.table_3_1_frame(),
         },
         figures={"zeng_ch3_claims.png": partial(ch3_claims_figure, result)},
-        pages={"summary.md": ch3_claims_markdown(result, command=command, version=version)},
-        study_text=study_text,
     )

@@ -28,10 +28,34 @@ from typing import Any, ClassVar
 
 from pydantic import Field, create_model, field_validator, model_validator
 
+from designlab.errors import DesignlabError
 from designlab.params import params_of
 from designlab.study.base import Model, did_you_mean
 
-__all__ = ["ComponentSpec", "spec_model"]
+__all__ = ["Buildable", "ComponentSpec", "built", "spec_model"]
+
+
+def built(spec: Any) -> Any:
+    """``spec.build()``, with a domain error turned into a validation error (for validators).
+
+    Parameters
+    ----------
+    spec
+        A spec with ``build()``.
+    """
+    try:
+        return spec.build()
+    except (DesignlabError, TypeError) as exc:
+        raise ValueError(str(exc)) from None
+
+
+class Buildable(Model):
+    """A spec whose domain object is built (and so checked) while it is validated."""
+
+    @model_validator(mode="after")
+    def _buildable(self) -> Buildable:
+        built(self)
+        return self
 
 
 class ComponentSpec(Model):

@@ -5,7 +5,7 @@ Usage::
     python docs/tools/screenshots.py OUT_DIR [--site SITE_DIR] [--chromium PATH]
 
 The site (``mkdocs build --strict``, built into a temporary directory when ``--site`` is not
-given) is served on localhost; three pages (the home page, an API page, a gallery page) are
+given) is served on localhost; four pages (the home page, a guide, an API page, a gallery page) are
 opened in headless Chromium through Playwright (``executable_path``: no browser download)
 at 1280 x 2000 and saved as ``OUT_DIR/<page>.png``, with a search for "foam stiffness" on the
 home page saved as ``search.png``. Look at them: that is what a reader sees. The DOM of each
@@ -13,7 +13,8 @@ page is checked and ``OUT_DIR/report.json`` holds what was found; the exit code 
 check fails:
 
 * the maths is MathML (``<math>`` elements, no TeX left in the page);
-* every link of the navigation resolves (HTTP 200 from the served site);
+* every link of the navigation and of the pages' text resolves (HTTP 200 from the served
+  site);
 * every image loads, and no page scrolls sideways as a whole;
 * the search index is built and a search returns results;
 * no script error in the console.
@@ -43,6 +44,7 @@ from typing import Any
 ROOT = Path(__file__).resolve().parents[2]
 PAGES = {
     "home": "",
+    "guide": "impact/",
     "api": "reference/api/designlab/impact/model/",
     "gallery": "gallery/zeng_ch4_validation/",
 }
@@ -126,6 +128,8 @@ DOM_FACTS = """() => ({
       .filter(e => !e.querySelector("math")).map(e => e.textContent.slice(0, 60)),
   nav: [...new Set([...document.querySelectorAll("nav.md-nav a.md-nav__link[href]")]
       .map(a => a.href.split("#")[0]))],
+  links: [...new Set([...document.querySelectorAll("article a[href]")]
+      .map(a => a.href.split("#")[0]).filter(h => h.startsWith(location.origin)))],
   images: [...document.querySelectorAll("article img")].map(i => ({
       src: i.getAttribute("src"), loaded: i.complete && i.naturalWidth > 0,
       width: i.getBoundingClientRect().width,
@@ -192,6 +196,11 @@ def problems_of(report: dict[str, Any]) -> list[str]:
     found += [
         f"navigation link {url}: HTTP {code}" for url, code in report["nav"].items() if code != 200
     ]
+    found += [
+        f"link in a page {url}: HTTP {code}"
+        for url, code in report.get("links", {}).items()
+        if code != 200
+    ]
     if not report["search_index"]["docs"]:
         found.append("search index empty")
     if report["search"]["results"] == 0:
@@ -217,6 +226,8 @@ def render(site: Path, out: Path, chromium: str) -> dict[str, Any]:
             browser.close()
         links = sorted({url for facts in report["pages"].values() for url in facts.pop("nav")})
         report["nav"] = {url: status(url) for url in links if url.startswith(base)}
+        content = sorted({url for facts in report["pages"].values() for url in facts.pop("links")})
+        report["links"] = {url: status(url) for url in content if url.startswith(base)}
         with urllib.request.urlopen(base + "search/search_index.json", timeout=30) as response:
             index = json.load(response)
         report["search_index"] = {"docs": len(index.get("docs", [])), "config": index.get("config")}

@@ -1,4 +1,4 @@
-"""Every report writer opens, signs and copies its study through one builder."""
+"""The report framework owns the ceremony: every writer returns its parts, nothing more."""
 
 from __future__ import annotations
 
@@ -32,6 +32,41 @@ def test_no_writer_words_its_own_provenance_or_study_copy(path: Path) -> None:
     code_strings = [s for s in strings if s not in docstrings]
     assert not [s for s in code_strings if "Produced by" in s or "Generated file" in s]
     assert "study.yaml" not in code_strings
+
+
+#: What the framework does for every report (:func:`designlab.report.builder.write_parts`).
+CEREMONY = {"report_header", "warnings_section", "copy_study", "write_report", "record_timings"}
+
+
+@pytest.mark.parametrize("path", WRITERS, ids=lambda p: p.stem)
+def test_no_writer_does_the_ceremony_or_sees_the_command(path: Path) -> None:
+    """A writer returns ReportParts: it neither writes a header, warnings, the study's copy
+    or files itself, nor is handed the command line, version, study text or directory."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    used = {n.id for n in ast.walk(tree) if isinstance(n, ast.Name)}
+    used |= {a.name for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) for a in n.names}
+    assert not used & CEREMONY
+    params = {
+        a.arg
+        for n in ast.walk(tree)
+        if isinstance(n, ast.FunctionDef)
+        for a in [*n.args.args, *n.args.kwonlyargs]
+    }
+    assert not params & {"command", "version", "study_text", "directory"}
+
+
+def test_main_page_orders_header_body_warnings_closing() -> None:
+    from types import SimpleNamespace
+
+    from designlab.report.builder import ReportParts, main_page
+
+    result = SimpleNamespace(study=SimpleNamespace(name="s", description=""), warnings=["w1"])
+    parts = ReportParts(body=["B"], closing=["C"], title="T")
+    lines = main_page(result, parts, command="c", version="1").splitlines()
+    assert lines == ["# T", "", provenance("c", "1"), "", "B", "## Warnings", "", "- w1", "", "C"]
+    quiet = ReportParts(body=["B"], warnings=[], no_warnings="None.")
+    assert main_page(result, quiet).splitlines()[-4:] == ["B", "## Warnings", "", "None."]
+    assert main_page(result, ReportParts(body=["B"], warnings=[])).splitlines()[-1] == "B"
 
 
 @pytest.mark.parametrize("command", [None, "designlab run s.yaml"])

@@ -13,6 +13,7 @@ import importlib
 import itertools
 import pkgutil
 from pathlib import Path
+from typing import Any
 
 import pytest
 from matplotlib.figure import Figure
@@ -177,6 +178,7 @@ def test_figureless_kinds_declare_no_figure(kind: str) -> None:
     assert ".png" not in produces, f"{kind} produces figures: give it a small study above"
 
 
+@pytest.mark.slow  # 20 small studies run and drawn: minutes; .ci/run's slow step runs it
 @pytest.mark.parametrize("kind", sorted(SMALL_STUDIES))
 def test_report_figures_have_readable_labels(
     kind: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
@@ -187,4 +189,83 @@ def test_report_figures_have_readable_labels(
     designlab.report.write_report(result, tmp_path, index=False)
     assert figures, f"{kind}: the report has no figure"
     problems = [f"{name}: {p}" for name, fig in figures for p in layout_problems(fig)]
+    problems += [f"{name}: {p}" for name, fig in figures for p in legend_problems(fig, kind)]
+    problems += [f"{name}: {p}" for name, fig in figures for p in label_problems(fig)]
     assert not problems, "\n".join(problems)
+
+
+def _legend_entries(ax: object) -> list[tuple[str, str | None]]:
+    """``(text, colour)`` of each entry of the axes' legend (colour None: a patch or image)."""
+    from matplotlib.colors import to_hex
+
+    legend = ax.get_legend()  # type: ignore[attr-defined]
+    if legend is None:
+        return []
+    out = []
+    for handle, text in zip(legend.legend_handles, legend.get_texts(), strict=True):
+        get = getattr(handle, "get_color", None)
+        colour = get() if get else None
+        out.append((text.get_text(), to_hex(colour) if isinstance(colour, str | tuple) else None))
+    return out
+
+
+def legend_problems(fig: Figure, kind: str) -> list[str]:
+    """A method drawn in a colour not its own, two methods in one colour, or a path plot of a
+    navigation report without start and goal in its legend."""
+    from designlab.report.figure_style import method_colour, method_key
+
+    problems = []
+    for i, ax in enumerate(fig.axes):
+        entries = _legend_entries(ax)
+        by_colour: dict[str, set] = {}
+        for text, colour in entries:
+            key = method_key(text.removeprefix("robot (").removesuffix(")"))
+            if key is None or colour is None:
+                continue
+            if colour != method_colour(text.removeprefix("robot (").removesuffix(")")):
+                problems.append(f"ax{i}: {text!r} drawn in {colour}, not its palette colour")
+            by_colour.setdefault(colour, set()).add(key)
+        problems += [
+            f"ax{i}: methods {sorted(k)} share {c}" for c, k in by_colour.items() if len(k) > 1
+        ]
+        texts = {t for t, _ in entries}
+        if (
+            kind.startswith("navigation")
+            and ax.get_xlabel() == "x (m)"
+            and ax.get_ylabel() == "y (m)"
+        ):
+            problems += [f"ax{i}: no {w!r} in the legend of a path plot" for w in ("start", "goal")
+                         if w not in texts]  # fmt: skip
+    return problems
+
+
+def _labelled_by_neighbour(ax: Any, name: str, axes: list[Any]) -> bool:
+    """The axis's label stands on the panel below (x) or to the left (y) of the same column
+    or row: one label for a column of panels."""
+    box = ax.get_position()
+    for other in axes:
+        b = other.get_position()
+        if name == "x" and other.get_xlabel().strip() and abs(b.x0 - box.x0) < 1e-3:
+            if b.y0 < box.y0:
+                return True
+        if name == "y" and other.get_ylabel().strip() and abs(b.y0 - box.y0) < 1e-3:
+            if b.x0 < box.x0:
+                return True
+    return False
+
+
+def label_problems(fig: Figure) -> list[str]:
+    """An axis showing tick labels without an axis label on it or on its column's (x) or
+    row's (y) outer panel; colour bars excepted."""
+    fig.canvas.draw()
+    problems = []
+    axes = [ax for ax in fig.axes if ax.get_label() != "<colorbar>"]
+    for i, ax in enumerate(fig.axes):
+        if ax.get_label() == "<colorbar>" or not ax.get_visible() or not ax.axison:
+            continue
+        for name, axis in (("x", ax.xaxis), ("y", ax.yaxis)):
+            shown = [t for t in axis.get_ticklabels() if t.get_visible() and t.get_text().strip()]
+            if shown and not axis.label.get_text().strip():
+                if not _labelled_by_neighbour(ax, name, axes):
+                    problems.append(f"ax{i} ({ax.get_title()!r}): {name} ticks without a label")
+    return problems

@@ -92,7 +92,7 @@ def _never(*args: Any, **kwargs: Any) -> None:  # pragma: no cover - restored be
 # restore the real sweep writer (importing it re-registers it), then register ours by kind
 import designlab.report.sweep as _sweep_writer  # noqa: E402
 
-register_writer(SweepStudyResult)(_sweep_writer.write_sweep_report)
+register_writer(SweepStudyResult)(_sweep_writer.sweep_report)
 
 OSC_YAML = """\
 designlab: 1

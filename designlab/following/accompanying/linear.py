@@ -340,7 +340,7 @@ def loop_analysis(
     platform: MecanumPlatform | None = None,
     sensor: StringPotSensor | None = None,
     *,
-    n_frequencies: int = 2000,
+    n_frequencies: int = N_FREQUENCIES.default,
 ) -> LoopAnalysis:
     """Margins, Ms and Mt of the lateral, forward and heading loops.
 

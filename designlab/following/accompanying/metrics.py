@@ -247,9 +247,9 @@ def accompany_metrics(
     walk_start: float,
     walk_stop: float,
     *,
-    settle_window: float = 10.0,
-    settle_band: float = 0.02,
-    max_lag: float = 3.0,
+    settle_window: float = SETTLE_WINDOW.default,
+    settle_band: float = SETTLE_BAND.default,
+    max_lag: float = MAX_LAG.default,
 ) -> AccompanyMetrics:
     """Compute :class:`AccompanyMetrics` from world poses of user and robot.
 

@@ -48,7 +48,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from designlab.errors import InvalidParameterError
 from designlab.following.accompanying.model import mecanum_matrix
-from designlab.params import Param, declared, param
+from designlab.params import ARG, Param, declared, param
 from designlab.validation import ParamsMixin
 
 __all__ = [
@@ -551,18 +551,7 @@ INITIAL_OFFSET = _arg(
     None, "m", "initial offset of the robot from its target", "initial_offset", ge=-5, le=5
 )
 #: Seed of the sensor noise.
-SEED = _arg(
-    None,
-    "",
-    "seed of the sensor noise",
-    "seed",
-    kind="integer",
-    ge=0,
-    le=2**32 - 1,
-    optional=True,
-    none="fresh randomness",
-    default=0,
-)
+SEED = ARG.seed.but(doc="seed of the sensor noise", optional=True, none="fresh randomness")
 #: Error band of the settling time.
 SETTLE_BAND = _arg(
     None, "m", "error band of the settling time", "settle_band", gt=0, le=1, default=0.02

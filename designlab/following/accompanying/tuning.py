@@ -200,14 +200,14 @@ def convex_concave_pid(
     sample_time: float,
     derivative_filter_time: float,
     *,
-    ms_max: float = 1.6,
-    mt_max: float = 1.3,
-    kd_max: float = 5.0,
+    ms_max: float = MS_MAX.default,
+    mt_max: float = MT_MAX.default,
+    kd_max: float = KD_MAX.default,
     max_noise_gain: float | None = None,
     delay: int = 0,
-    n_frequencies: int = 300,
-    max_iterations: int = 60,
-    tolerance: float = 1e-5,
+    n_frequencies: int = CONVEX_FREQUENCIES.default,
+    max_iterations: int = MAX_ITERATIONS.default,
+    tolerance: float = TOLERANCE.default,
     progress: ProgressHook | None = None,
 ) -> ConvexConcaveSolution:
     """Maximise K_i of one axis subject to Ms and Mt (Hast et al. 2013), by cvxpy.
@@ -476,7 +476,7 @@ class SimulationTuner:
 
     name: ClassVar[str] = "simulation"
 
-    def __init__(self, max_evaluations: int = 150) -> None:
+    def __init__(self, max_evaluations: int = MAX_EVALUATIONS.default) -> None:
         self.max_evaluations = MAX_EVALUATIONS.check(max_evaluations)
 
     @classmethod
@@ -741,12 +741,12 @@ def tune(
     baseline: UserFramePID | None = None,
     platform: MecanumPlatform | None = None,
     sensor: StringPotSensor | None = None,
-    ms_max: float = 1.6,
-    mt_max: float = 1.3,
-    derivative_filter_time: float = 0.05,
-    kd_max: float = 5.0,
+    ms_max: float = MS_MAX.default,
+    mt_max: float = MT_MAX.default,
+    derivative_filter_time: float = _TF.default,
+    kd_max: float = KD_MAX.default,
     max_noise_gain: float | None = None,
-    max_evaluations: int = 150,
+    max_evaluations: int = MAX_EVALUATIONS.default,
     progress: ProgressHook | None = None,
 ) -> PIDTuningResult:
     """Tune the three PIDs; verify with python-control margins and by simulating ``tasks``.

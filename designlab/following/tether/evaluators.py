@@ -33,7 +33,7 @@ from designlab.following.tether.parameters import LEADER_SPEED, FollowerRobot
 from designlab.following.tether.path_deviation import normal_path_deviations
 from designlab.following.tether.paths import LeaderPath
 from designlab.following.tether.simulate import simulate_batch
-from designlab.params import params_of
+from designlab.params import ARG, params_of
 
 __all__ = ["FOLLOWER_METRICS", "POINT_KEYS", "follower_metrics_chunk", "sweep_options"]
 
@@ -71,7 +71,7 @@ def sweep_options(
     controller: TetherController,
     path: LeaderPath,
     robot: FollowerRobot | None = None,
-    seed: int = 0,
+    seed: int = ARG.seed.default,
 ) -> dict[str, Any]:
     """Plain (picklable) options of :func:`follower_metrics_chunk`.
 

@@ -41,7 +41,7 @@ from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
 from designlab.following.tether.laws.base import TetherController, checked_law
-from designlab.following.tether.parameters import DURATION, LEADER_SPEED, FollowerRobot
+from designlab.following.tether.parameters import DURATION, LEADER_SPEED, WHEEL_TRACK, FollowerRobot
 from designlab.following.tether.paths import straight_line
 from designlab.following.tether.simulate import simulate
 from designlab.params import Param
@@ -61,7 +61,7 @@ __all__ = [
 
 
 def effective_loop(
-    controller: TetherController, speed: float, wheel_track: float = 0.28
+    controller: TetherController, speed: float, wheel_track: float = WHEEL_TRACK.default
 ) -> tuple[Any, Any, Any]:
     """Turn gain K (1/s), effective look-ahead L (m) and steady tether length (m).
 
@@ -79,7 +79,9 @@ def effective_loop(
     return checked_law(controller).effective_loop(speed, wheel_track)
 
 
-def damping_ratio(controller: TetherController, speed: float, wheel_track: float = 0.28) -> float:
+def damping_ratio(
+    controller: TetherController, speed: float, wheel_track: float = WHEEL_TRACK.default
+) -> float:
     """Damping ratio ``sqrt(K L / v)/2`` of the lateral loop (see the module notes)."""
     k, look, _ = effective_loop(controller, speed, wheel_track)
     return 0.5 * math.sqrt(k * look / speed)
@@ -210,7 +212,9 @@ def _sampled_poles(a: NDArray, b: NDArray, kx: NDArray, dt: float) -> NDArray[np
 
 
 def linear_analysis(
-    controller: TetherController, speed: float = 0.5, robot: FollowerRobot | None = None
+    controller: TetherController,
+    speed: float = LEADER_SPEED.default,
+    robot: FollowerRobot | None = None,
 ) -> LinearLoop:
     """Linearise the lateral-error loop of ``controller`` at leader speed ``speed``.
 
@@ -274,8 +278,8 @@ def linear_analysis(
 
 def lateral_step_response(
     controller: TetherController,
-    offset: float = 0.05,
-    speed: float = 0.5,
+    offset: float = STEP_OFFSET.default,
+    speed: float = LEADER_SPEED.default,
     duration: float = 12.0,
     robot: FollowerRobot | None = None,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:

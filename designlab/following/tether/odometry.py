@@ -359,13 +359,13 @@ def _loop(s: _Setup, tip: NDArray, rng: np.random.Generator) -> dict[str, NDArra
 def simulate_with_errors(
     controller: TetherController,
     path: LeaderPath | str | dict[str, Any],
-    speed: float = 0.5,
+    speed: float = LEADER_SPEED.default,
     robot: FollowerRobot | None = None,
     *,
     slip: WheelSlip | None = None,
     marker: MarkerOffset | None = None,
-    settle_time: float = 5.0,
-    seed: int | None = 0,
+    settle_time: float = SETTLE_TIME.default,
+    seed: int | None = SEED.default,
 ) -> ErrorRun:
     """Simulate a tether follower with dead reckoning, wheel slip and a marker offset.
 

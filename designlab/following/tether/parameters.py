@@ -35,7 +35,7 @@ from typing import Annotated, Any
 
 from pydantic import AfterValidator, BeforeValidator, Field, WithJsonSchema
 
-from designlab.params import Param, declared, param
+from designlab.params import ARG, Param, declared, param, params_of
 from designlab.validation import ParamsMixin
 
 __all__ = [
@@ -51,6 +51,7 @@ __all__ = [
     "SETTLE_TIME",
     "TETHER_LIMIT",
     "TOLERANCE",
+    "WHEEL_TRACK",
     "FollowerRobot",
     "LimitParam",
     "limit",
@@ -267,6 +268,9 @@ class FollowerRobot(ParamsMixin):
         return self.winch_offset_x == 0.0 and self.winch_offset_y == 0.0 and self.tip_height == 0.0
 
 
+#: The wheel track's declaration, for the functions that take it as an argument.
+WHEEL_TRACK = params_of(FollowerRobot)["wheel_track"]
+
 #: OxyDog hardware (Allan 2015 Table 3.1): b = 0.28 m, r = 0.125 m, 1.0 m/s top speed.
 OXYDOG = FollowerRobot(max_wheel_speed=1.0 / 0.125)
 
@@ -288,18 +292,7 @@ LEAD_IN = Param(
     "s_0", "m", "straight approach walked before t = 0", ge=0, le=100, default=0.0, name="lead_in"
 )
 #: Seed of the sensor noise and of the optimiser.
-SEED = Param(
-    None,
-    "",
-    "seed of the random numbers",
-    kind="integer",
-    ge=0,
-    le=2**32 - 1,
-    optional=True,
-    none="fresh randomness",
-    default=0,
-    name="seed",
-)
+SEED = ARG.seed.but(optional=True, none="fresh randomness")
 
 # --- arguments of the tuner (declared once) ------------------------------------------------
 

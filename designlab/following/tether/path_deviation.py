@@ -56,8 +56,8 @@ from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
 from designlab.errors import InvalidParameterError
-from designlab.following.tether.parameters import FollowerRobot
-from designlab.params import Param, check_size, params_of
+from designlab.following.tether.parameters import WHEEL_TRACK
+from designlab.params import Param, check_size
 from designlab.results import Result, Status
 
 __all__ = [
@@ -119,7 +119,6 @@ COMPARISON = Param(
     default="ordered",
     name="comparison",
 )
-_WHEEL_TRACK = params_of(FollowerRobot)["wheel_track"]
 #: The most nodes of a path compared.
 _MAX_NODES = 1_000_000
 
@@ -266,7 +265,7 @@ def _as_path(name: str, xy: Any) -> NDArray[np.float64]:
 
 
 def resegment(
-    points: Any, min_segment: float = 0.01, max_segment: float = 0.05
+    points: Any, min_segment: float = MIN_SEGMENT.default, max_segment: float = MAX_SEGMENT.default
 ) -> NDArray[np.float64]:
     """Re-segment a polyline as App. A (Figs. A.3, A.4): merge short, split long segments.
 
@@ -490,7 +489,7 @@ class _Settings:
             far_hit_fallback_ratio=FAR_HIT_FALLBACK_RATIO.check(given["far_hit_fallback_ratio"]),
             comparison=COMPARISON.check(given["comparison"]),
             intersections=bool(given["intersections"]),
-            wheel_track=_WHEEL_TRACK.check(given["wheel_track"], "wheel_track"),
+            wheel_track=WHEEL_TRACK.check(given["wheel_track"], "wheel_track"),
         )
         if out.max_segment < out.min_segment:
             raise InvalidParameterError(
@@ -578,13 +577,13 @@ def normal_path_deviation(
     leader_xy: Any,
     robot_xy: Any,
     *,
-    min_segment: float = 0.01,
-    max_segment: float = 0.05,
-    max_search: float = 2.0,
+    min_segment: float = MIN_SEGMENT.default,
+    max_segment: float = MAX_SEGMENT.default,
+    max_search: float = MAX_SEARCH.default,
     far_hit_fallback_ratio: float | None = None,
-    comparison: str = "ordered",
+    comparison: str = COMPARISON.default,
     intersections: bool = True,
-    wheel_track: float = 0.28,
+    wheel_track: float = WHEEL_TRACK.default,
 ) -> PathDeviation:
     """Normal path deviation of ``robot_xy`` from ``leader_xy`` (Allan 2015 App. A).
 

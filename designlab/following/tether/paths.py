@@ -33,7 +33,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
-from designlab.params import Param, check_size, declared, param
+from designlab.params import ARG, Param, check_size, declared, param
 
 __all__ = [
     "PATHS",
@@ -481,7 +481,9 @@ def circle(radius: float = 2.0, turns: float = 1.0, points_per_turn: int = 720) 
     )
 
 
-def smooth_walk(seed: int = 0, length: float = 12.0, max_curvature: float = 1.0) -> LeaderPath:
+def smooth_walk(
+    seed: int = ARG.seed.default, length: float = 12.0, max_curvature: float = 1.0
+) -> LeaderPath:
     """A random smooth walk: seeded straight pieces and arcs, |curvature| <= ``max_curvature``.
 
     Pieces of 1-3 m, each straight (one in three) or an arc of curvature drawn

@@ -445,13 +445,13 @@ def _batch_result(req: _Request, leader: NDArray, hist: dict[str, NDArray]) -> F
 def simulate_batch(
     controllers: Sequence[TetherController],
     path: LeaderPath | str | dict[str, Any],
-    speed: float = 0.5,
+    speed: float = LEADER_SPEED.default,
     robot: FollowerRobot | None = None,
     duration: float | None = None,
-    settle_time: float = 5.0,
-    lead_in: float = 0.0,
+    settle_time: float = SETTLE_TIME.default,
+    lead_in: float = LEAD_IN.default,
     initial_pose: tuple[float, float, float] | None = None,
-    seed: int | None = 0,
+    seed: int | None = SEED.default,
 ) -> FollowerBatch:
     """Simulate several gain sets of one control law on one path at once.
 
@@ -510,13 +510,13 @@ def _rng(seed: int | None) -> np.random.Generator:
 def simulate(
     controller: TetherController,
     path: LeaderPath | str | dict[str, Any],
-    speed: float = 0.5,
+    speed: float = LEADER_SPEED.default,
     robot: FollowerRobot | None = None,
     duration: float | None = None,
-    settle_time: float = 5.0,
-    lead_in: float = 0.0,
+    settle_time: float = SETTLE_TIME.default,
+    lead_in: float = LEAD_IN.default,
     initial_pose: tuple[float, float, float] | None = None,
-    seed: int | None = 0,
+    seed: int | None = SEED.default,
 ) -> FollowerRun:
     """Simulate one tether follower behind a leader walking ``path`` at ``speed``.
 

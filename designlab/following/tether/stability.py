@@ -173,11 +173,11 @@ def convergence_map(
     lengths: Sequence[float],
     angles: Sequence[float],
     robot: FollowerRobot | None = None,
-    max_time: float = 30.0,
-    hold: float = 1.0,
-    tol_angle: float = 0.01,
-    tol_speed: float = 0.01,
-    tol_length: float = 0.01,
+    max_time: float = MAX_TIME.default,
+    hold: float = HOLD.default,
+    tol_angle: float = TOL_ANGLE.default,
+    tol_speed: float = TOL_SPEED.default,
+    tol_length: float = TOL_LENGTH.default,
 ) -> ConvergenceMap:
     """Convergence time from every ``(l_0, theta_0)`` of a grid toward a static leader.
 

@@ -30,7 +30,14 @@ from designlab.impact.joint_reduction.evaluation import (
     relative_errors,
 )
 from designlab.impact.model import param_vector
-from designlab.impact.parameters import BAND_POINTS, OMEGA_MAX, Foam, HeadNeck, check_grid
+from designlab.impact.parameters import (
+    BAND_POINTS,
+    OMEGA_MAX,
+    STOP_TIME,
+    Foam,
+    HeadNeck,
+    check_grid,
+)
 from designlab.impact.series_joint import FullJointContact
 
 __all__ = ["BandFitSweep", "band_fit_sweep"]
@@ -111,7 +118,7 @@ def band_fit_sweep(
     impact_velocity: float,
     omega_max: ArrayLike,
     *,
-    stop_time: float = 0.05,
+    stop_time: float = STOP_TIME.default,
 ) -> BandFitSweep:
     """How the band fit's errors on the impact metrics follow its band, against the Taylor's.
 

@@ -24,7 +24,7 @@ from designlab.impact.joint_reduction.evaluation import (
     JointReductionStatus,
     ReductionResult,
 )
-from designlab.impact.parameters import ContactDynamics, Foam, HeadNeck
+from designlab.impact.parameters import STOP_TIME, ContactDynamics, Foam, HeadNeck
 from designlab.impact.series_joint import FullJointContact
 
 __all__ = ["JointReductionComparison", "compare_joint_reductions"]
@@ -163,7 +163,7 @@ def compare_joint_reductions(
     impact_velocity: float,
     *,
     omega_max: float | None = None,
-    stop_time: float = 0.05,
+    stop_time: float = STOP_TIME.default,
 ) -> JointReductionComparison:
     """Error of the reduced joint on the safety metrics, against the full joint (3.4.6).
 

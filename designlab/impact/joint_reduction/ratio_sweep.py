@@ -29,6 +29,7 @@ from designlab.impact.joint_reduction.evaluation import (
 from designlab.impact.parameters import (
     RATIO_POINTS,
     STIFFNESS_RATIO,
+    STOP_TIME,
     USABLE_TOLERANCE,
     Foam,
     HeadNeck,
@@ -145,7 +146,7 @@ class JointReductionSweep(ReductionResult):
     def usable_intervals(
         self,
         reduction: str,
-        tolerance: float = 0.01,
+        tolerance: float = USABLE_TOLERANCE.default,
         metrics: Sequence[str] = ("a_h_max", "eps_max", "f_c_max"),
     ) -> list[tuple[float, float]]:
         """Ratio intervals where ``reduction`` may stand in for the full joint on ``metrics``.
@@ -235,7 +236,7 @@ def joint_reduction_sweep(
     ratios: ArrayLike,
     *,
     omega_max: float | None = None,
-    stop_time: float = 0.05,
+    stop_time: float = STOP_TIME.default,
 ) -> JointReductionSweep:
     """Errors of the Taylor and band-fit reductions over K_mech/K_cont.
 

@@ -88,7 +88,7 @@ def animate(
     robot_radius: float = 0.3,
     person_radius: float = 0.25,
     title: str = "",
-    max_frames: int = 120,
+    max_frames: int = MAX_FRAMES.default,
     fps: int = 10,
 ) -> Path:
     """Write a GIF of a run: the robot (blue, with its trail), the people (orange), walls.

@@ -33,7 +33,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from designlab.errors import InvalidParameterError
-from designlab.params import Param
+from designlab.params import ARG, Param
 from designlab.validation import real_array
 
 __all__ = [
@@ -54,8 +54,7 @@ __all__ = [
 Array = NDArray[np.float64]
 
 #: Confidence level of the rate intervals.
-CONFIDENCE = Param("confidence", "", "confidence level of a Wilson interval", gt=0, lt=1,
-                   default=0.95, name="confidence")  # fmt: skip
+CONFIDENCE = ARG.confidence.but(symbol="confidence", doc="confidence level of a Wilson interval")
 #: Tail level of CVaR: the mean of the worst ``1 - alpha`` of the runs.
 CVAR_ALPHA = Param("alpha", "", "CVaR level (the worst 1 - alpha of the runs are averaged)",
                    ge=0, lt=1, default=0.8, name="alpha")  # fmt: skip
@@ -65,7 +64,9 @@ PERSONAL_SPACE = Param("r_ps", "m", "personal-space radius around a pedestrian's
                        gt=0, le=10, default=1.2, name="personal_space")  # fmt: skip
 
 
-def wilson_interval(successes: int, trials: int, confidence: float = 0.95) -> tuple[float, float]:
+def wilson_interval(
+    successes: int, trials: int, confidence: float = CONFIDENCE.default
+) -> tuple[float, float]:
     """The Wilson score interval of a rate ``successes / trials``.
 
     Parameters
@@ -105,7 +106,7 @@ def _count(value: Any, name: str) -> int:
     return int(value)
 
 
-def cvar(costs: ArrayLike, alpha: float = 0.8) -> float:
+def cvar(costs: ArrayLike, alpha: float = CVAR_ALPHA.default) -> float:
     """Conditional value at risk of equally likely costs: the mean of the worst ``1 - alpha``.
 
     The tail holds ``m = (1 - alpha) n`` runs; when ``m`` is fractional the run at its edge

@@ -66,7 +66,7 @@ from designlab.navigation.parameters import (
 )
 from designlab.navigation.regions import region_sizes
 from designlab.navigation.scenarios import MAX_HORIZON, Rectangle, Scenario
-from designlab.params import Param, declared, param
+from designlab.params import ARG, Param, declared, param
 
 __all__ = ["DENSITY", "CrowdScenario", "check_crowd_options", "crowd"]
 
@@ -123,9 +123,7 @@ class CrowdScenario:
         "W", "m", doc="corridor / arm / plaza width", gt=0.5, le=100.0, default=4.0
     )
     length: float = param("L", "m", doc="layout length", gt=4.0, le=200.0, default=30.0)
-    seed: int = param(
-        doc="random seed of placement and speeds", kind="integer", ge=0, le=2**32 - 1, default=0
-    )
+    seed: int = ARG.seed.field(doc="random seed of placement and speeds")
     model: str = param(
         doc="JuPedSim model", kind="choice", choices=tuple(MODELS), default="collision_free_speed"
     )
@@ -494,7 +492,7 @@ def crowd(
     density: float | None = None,
     width: float = 4.0,
     length: float = 30.0,
-    seed: int = 0,
+    seed: int = ARG.seed.default,
     model: str = "collision_free_speed",
     react_to_robot: bool = False,
     **options: Any,

@@ -56,7 +56,7 @@ from designlab.navigation.crowds.scenario import DENSITY, CrowdScenario, check_c
 from designlab.navigation.crowds.simulate import CROWD_METHOD, simulate_crowd, simulate_pedestrians
 from designlab.navigation.methods import METHOD, METHODS, STABILISING
 from designlab.navigation.parameters import OPTIMAL_GAINS
-from designlab.params import Param
+from designlab.params import ARG, Param
 from designlab.progress import Progress, ProgressHook, report
 from designlab.results import Result, Status
 
@@ -184,7 +184,7 @@ def decode_gains(data: Mapping[str, Any] | None) -> Any:
     return cls(**fields)
 
 
-def run_row(result: Any, pedestrians: Any = None, *, personal_space: float = 1.2,
+def run_row(result: Any, pedestrians: Any = None, *, personal_space: float = PERSONAL_SPACE.default,
             robot_radius: float = 0.0, faced: bool = True) -> dict[str, Any]:  # fmt: skip
     """The metrics of one crowd run, as one row.
 
@@ -376,7 +376,7 @@ _METRIC_COLUMNS = (*RATES, "arrival_time_s", "min_centre_distance_m", "personal_
                    "ped_delay_mean_s", "ped_deviation_mean_m")  # fmt: skip
 
 
-def summarise_runs(runs: pd.DataFrame, confidence: float = 0.95) -> pd.DataFrame:
+def summarise_runs(runs: pd.DataFrame, confidence: float = CONFIDENCE.default) -> pd.DataFrame:
     """One row per scenario, density and method: rates with Wilson intervals and distributions.
 
     Parameters
@@ -515,7 +515,7 @@ _GRID_FIELDS = ("layout", "pedestrians", "density", "seed")
 MAX_RUNS = Param("runs", "", "runs of a crowd study (scenarios x densities x seeds x methods)",
                  kind="integer", ge=1, le=100_000, name="runs")  # fmt: skip
 #: Seeds accepted (JuPedSim's and numpy's seeds are 32-bit).
-SEED = Param("seed", "", "seed of a crowd", kind="integer", ge=0, le=2**31 - 1, name="seeds")
+SEED = ARG.seed.but(symbol="seed", doc="seed of a crowd", le=2**31 - 1, name="seeds")
 #: Columns of a run row besides the point keys (for the chunk evaluator's result).
 #: Frames per second of the Voronoi density (its cells cost about a run each at 1 frame/s).
 VORONOI_FRAME_RATE = 0.5
@@ -672,8 +672,8 @@ def crowd_study(
     gains: Mapping[str, Any] | None = None,
     stabilising: str | Mapping[str, str] = "lyapunov",
     crowd_options: Mapping[str, Any] | None = None,
-    personal_space: float = 1.2,
-    confidence: float = 0.95,
+    personal_space: float = PERSONAL_SPACE.default,
+    confidence: float = CONFIDENCE.default,
     executor: Any = None,
     store: Any = None,
     resume: bool = False,

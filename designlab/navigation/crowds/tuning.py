@@ -38,7 +38,7 @@ from designlab.navigation.crowds.study import (
     crowd_study,
 )
 from designlab.navigation.parameters import VFFGains
-from designlab.params import Param
+from designlab.params import ARG, Param
 from designlab.progress import Progress, ProgressHook, report
 from designlab.results import Result, Status
 
@@ -67,7 +67,7 @@ GENERATIONS = Param(
 )
 #: Candidates per CMA-ES generation.
 POPULATION = Param(None, "", "candidates per CMA-ES generation", kind="integer", ge=4, le=64,
-                   name="popsize")  # fmt: skip
+                   default=6, name="popsize")  # fmt: skip
 GAIN_KEYS = ("k1", "b", "k3", "k5")
 
 
@@ -267,13 +267,13 @@ def optimise_crowd_gains(
     training: CrowdSet,
     *,
     bounds: Mapping[str, tuple[float, float]],
-    robust: str = "mean",
-    alpha: float = 0.8,
+    robust: str = ROBUST.default,
+    alpha: float = CVAR_ALPHA.default,
     x0: VFFGains | None = None,
     sigma0: float = 0.25,
-    popsize: int = 6,
+    popsize: int = POPULATION.default,
     generations: int = 4,
-    seed: int = 0,
+    seed: int = ARG.seed.default,
     stabilising: str = "lyapunov",
     executor: Any = None,
     store: Any = None,

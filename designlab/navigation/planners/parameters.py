@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from designlab.errors import InvalidParameterError
-from designlab.params import Param, declared, param
+from designlab.params import ARG, Param, declared, param
 from designlab.validation import ParamsMixin
 
 __all__ = ["GRID_CELLS", "PLANNED_CELLS", "ERRTSettings", "FieldDStarSettings", "VOSettings"]
@@ -63,7 +63,7 @@ class ERRTSettings(ParamsMixin):
     margin: float = param(None, "m", doc="sampling box margin around the scene (> 0: the box of "
                           "a scene on one line has no width without it)", gt=0, le=50.0,
                           default=1.5)  # fmt: skip
-    seed: int = param(None, "", doc="random seed", kind="integer", ge=0, le=2**32 - 1, default=0)
+    seed: int = ARG.seed.field(doc="random seed")
 
     def __post_init__(self) -> None:
         if not self.goal_bias + self.waypoint_bias < 1.0:

@@ -213,7 +213,7 @@ def simulate_planner(
     method: str,
     settings: Any = None,
     *,
-    arrival_tolerance: float = 0.15,
+    arrival_tolerance: float = ARRIVAL_TOLERANCE.default,
     progress: ProgressHook | None = None,
 ) -> PlannerResult:
     """Simulate one scenario with a Sec. 5.7 planner.

@@ -70,7 +70,7 @@ from designlab.study.base import Flag, Model, StudyBase
 from designlab.study.registry import StudyKind
 from designlab.study.reproduction import TUNED_GAINS
 from designlab.study.runner import RunContext
-from designlab.study.specs import spec_model
+from designlab.study.specs import Buildable, spec_model
 
 __all__ = [
     "KIND",
@@ -86,22 +86,6 @@ TaskName = Literal[TASK_NAMES]  # type: ignore[valid-type]
 
 #: The settled error is taken 10 s after the user stops: the walk must stand that long.
 MIN_SETTLE_TIME = 10.0
-
-
-def _built(spec: Any) -> Any:
-    try:
-        return spec.build()
-    except (DesignlabError, TypeError) as exc:
-        raise ValueError(str(exc)) from None
-
-
-class _Buildable(Model):
-    """A spec whose domain object is built (and so checked) while it is validated."""
-
-    @model_validator(mode="after")
-    def _buildable(self) -> _Buildable:
-        _built(self)
-        return self
 
 
 def _of_params(name: str, doc: str, decls: dict[str, Param], base: type[Model]) -> Any:
@@ -153,7 +137,7 @@ WalkingSpec = _of_params(
 
 
 def _buildable_spec(cls: type, name: str) -> Any:
-    return create_model(name, __base__=(spec_model(cls, name=f"{name}Fields"), _Buildable))
+    return create_model(name, __base__=(spec_model(cls, name=f"{name}Fields"), Buildable))
 
 
 #: The mecanum platform (:class:`designlab.following.MecanumPlatform`), SI units.
@@ -168,7 +152,7 @@ MountSpec = create_model(
     "MountSpec",
     __base__=(
         spec_model(SensorMount, name="MountSpecFields", exclude=("compensate",)),
-        _Buildable,
+        Buildable,
     ),
 )
 #: Target-distance adaptation (:class:`TargetAdaptation`).
@@ -246,7 +230,7 @@ class AccompanyingStudy(StudyBase):
     extras: ExtrasSpec | None = Field(  # type: ignore[valid-type]
         None, description="the Sec. 6 options (sensor offset, target adaptation, motion filter)"
     )
-    seed: SEED.annotation(optional=False) = 0  # type: ignore[valid-type]
+    seed: SEED.annotation(optional=False) = SEED.default  # type: ignore[valid-type]
 
     PRODUCES: ClassVar[tuple[str, ...]] = (
         "summary.md",

@@ -41,6 +41,7 @@ from designlab.navigation.crowds.layouts import LAYOUTS
 from designlab.navigation.crowds.metrics import CONFIDENCE, CVAR_ALPHA, PERSONAL_SPACE
 from designlab.navigation.crowds.scenario import DENSITY, CrowdScenario, crowd
 from designlab.navigation.crowds.study import MAX_RUNS, CrowdStudy, crowd_study, simulate_run
+from designlab.navigation.crowds.study import SEED as CROWD_SEED
 from designlab.navigation.crowds.tuning import (
     RATE,
     CrowdGainOptimum,
@@ -83,7 +84,7 @@ class CrowdSpec(_CrowdFields):  # type: ignore[valid-type, misc]
 
 
 _Layout = Literal["corridor_counterflow", "crossing", "bottleneck", "open_plaza"]
-_Seed = Annotated[Integer, Field(ge=0, le=2**31 - 1)]
+_Seed = CROWD_SEED.annotation()
 _Density = DENSITY.annotation()
 _Method = METHODS.literal(crowds=True)
 
@@ -142,7 +143,7 @@ class TuningSpec(Model):
     )
     popsize: Annotated[Integer, Field(ge=4, le=64)] = 6
     generations: Annotated[Integer, Field(ge=1, le=100)] = 4
-    seed: _Seed = 0
+    seed: _Seed = CROWD_SEED.default
     stabilising: STABILISING.annotation() | None = Field(  # type: ignore[valid-type]
         None, description="VFF's stabilising force while tuning and validating (default: the "
         "study's)",

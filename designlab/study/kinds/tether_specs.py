@@ -32,9 +32,8 @@ from __future__ import annotations
 
 from typing import Annotated, Any, Literal, Union
 
-from pydantic import Field, TypeAdapter, create_model, model_validator
+from pydantic import Field, TypeAdapter, create_model
 
-from designlab.errors import DesignlabError
 from designlab.following.tether import (
     LAWS,
     OXYDOG,
@@ -45,8 +44,8 @@ from designlab.following.tether import (
 )
 from designlab.following.tether.paths import PATHS, SHAPE_PARAMETERS
 from designlab.params import params_of
-from designlab.study.base import Finite, Model
-from designlab.study.specs import spec_model
+from designlab.study.base import Finite
+from designlab.study.specs import Buildable, built, spec_model
 
 __all__ = [
     "ControllerSpec",
@@ -61,29 +60,6 @@ __all__ = [
 BEHIND = {"placement": "behind"}
 
 
-def built(spec: Any) -> Any:
-    """``spec.build()``, with a domain error turned into a validation error (for validators).
-
-    Parameters
-    ----------
-    spec
-        A spec with ``build()``.
-    """
-    try:
-        return spec.build()
-    except (DesignlabError, TypeError) as exc:
-        raise ValueError(str(exc)) from None
-
-
-class _Buildable(Model):
-    """A spec whose domain object is built (and so checked) while it is validated."""
-
-    @model_validator(mode="after")
-    def _buildable(self) -> _Buildable:
-        built(self)
-        return self
-
-
 #: The differential-drive follower (:class:`designlab.following.tether.FollowerRobot`):
 #: a preset (``DEFAULT``: App. C, no wheel limits, 100 Hz; ``OXYDOG``: 1.0 m/s) and/or fields.
 FollowerRobotSpec = create_model(
@@ -95,13 +71,13 @@ FollowerRobotSpec = create_model(
             presets={"DEFAULT": FollowerRobot(), "OXYDOG": OXYDOG},
             what="follower robot",
         ),
-        _Buildable,
+        Buildable,
     ),
     __doc__="The differential-drive follower: a preset (DEFAULT, OXYDOG) and/or fields, SI units.",
 )
 
 
-class _LawSpec(_Buildable):
+class _LawSpec(Buildable):
     """What every law's spec adds to the law's declared fields: its type and a label."""
 
     label: str | None = Field(None, min_length=1, max_length=40, description="name in reports")
@@ -141,7 +117,7 @@ ControllerSpec = Annotated[
 ]
 
 
-class _PathBuild(_Buildable):
+class _PathBuild(Buildable):
     """What every path spec does: build the path, renamed when the spec gives a name."""
 
     def build(self) -> LeaderPath:

@@ -52,7 +52,7 @@ import casadi as ca
 
 from designlab.errors import InvalidParameterError
 from designlab.following.tether.buffer import TETHER_ANGLE, TargetFinder
-from designlab.following.tether.parameters import FollowerRobot
+from designlab.following.tether.parameters import WHEEL_TRACK, FollowerRobot
 from designlab.following.tether_codegen import compile_sx
 from designlab.params import Param, param
 
@@ -304,7 +304,9 @@ class TetherController:
             "controller", self.name, "a law with a linear lateral loop (PJ, FTL, FTL-CD)"
         )
 
-    def command(self, l_m: float, phi: float, wheel_track: float = 0.28) -> tuple[float, float]:
+    def command(
+        self, l_m: float, phi: float, wheel_track: float = WHEEL_TRACK.default
+    ) -> tuple[float, float]:
         """The commanded forward speed (m/s) and yaw rate (rad/s) for one reading.
 
         Parameters
