@@ -5,7 +5,8 @@ Run from the repository root::
     python benchmarks/fuzz_kernel.py --designs 1e6              # 1e6 designs per family
     python benchmarks/fuzz_kernel.py --designs 1e8 --seconds 3000 --markdown fuzz.md
     python benchmarks/fuzz_kernel.py --families full_wide,full_stiff --evaluator numpy
-    python benchmarks/fuzz_kernel.py --designs 4e6 --start-chunk 30   # resume at chunk 30
+    python benchmarks/fuzz_kernel.py --designs 4e6 --start-chunk 30   # start at chunk 30
+    python benchmarks/fuzz_kernel.py --designs 1e8 --state run.json --markdown run.md  # resumable
 
 Designs are drawn (seeded per family and chunk) from families of valid designs of the
 reduced model (docs/impact.md, "Self-check"):
@@ -58,16 +59,21 @@ is drawn from ``numpy.random.default_rng([seed, family, k, chunk])``, so a run c
 be split or resumed (``--start-chunk``). Printed: every disagreement and its
 verdict, then a table per family: designs, CPU seconds (this process: kernel,
 evaluator, mpmath), disagreements, kernel wrong, evaluator wrong, uncertified,
-self-check fallbacks (reduced: designs the self-check sent to the numpy path;
+self-check fallbacks (reduced: designs the self-check sent to the 40-digit evaluation
+and, if refused there too, the numpy path;
 full joint and constrained: designs the certificate sent to the eigen or numpy
 path). ``--markdown FILE`` writes that table with the date, the CPU and the
-command. The exit status is 1 if the kernel was wrong on any design.
+command. With ``--state FILE`` the tallies are saved after every family's chunk and a killed
+run, started again with the same arguments, continues where it stopped (the markdown
+is rewritten each time too). The exit status is 1 if the kernel was wrong on any
+design.
 """
 
 from __future__ import annotations
 
 import argparse
 import datetime
+import json
 import os
 import platform
 import sys
@@ -172,15 +178,12 @@ def designs(family: str, seed: int, chunk_index: int, chunk: int) -> np.ndarray:
 
 def by_kernel(p: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
     """The kernel's unit-v_c rows ``(a_max, eps_max, f_max, t_imp)``, status codes and the
-    number of self-check fallbacks (as :func:`designlab.impact.metrics_of_matrix`)."""
+    number of self-check fallbacks (as :func:`designlab.impact.metrics_of_matrix`: the
+    refused designs from 50-digit poles and residues, then the numpy path)."""
     rows, codes = kernel.reduced_metrics(p, (True, True, True), printed=False, stop_time=WINDOW,
                                          max_lobe_steps=MAX_STEPS, diagnostics=False)  # fmt: skip
     sus = np.flatnonzero(codes >= kernel.SUSPECT_POLES)
-    if sus.size:
-        resp = _m.ramp_responses(_m.response_model(p[sus], False), p[sus], NAMES)
-        h = 0.4 / np.abs(resp[NAMES[0]].poles).max(axis=1)
-        rows[sus], codes[sus], _ = _m._settle(resp, h, codes[sus], False, WINDOW, MAX_STEPS,
-                                              False)  # fmt: skip
+    _m.settle_suspects(p, NAMES, "correct", rows, codes, WINDOW, MAX_STEPS, False)
     return rows[:, :4], codes, int(sus.size)
 
 
@@ -355,6 +358,75 @@ def _cpu() -> str:
     return platform.processor() or platform.machine()
 
 
+def _markdown(path: str, state: dict, tallies: dict) -> int:
+    """Write the tally table of a run (``state``: its arguments, chunks, times) to ``path``;
+    returns how many designs the kernel got wrong."""
+    lines = table(tallies)
+    wrong = sum(t["kernel_wrong"] for t in tallies.values())
+    a = state["args"]
+    head = [
+        f"Fuzz run of {state['when']}: `python benchmarks/fuzz_kernel.py {state['command']}` "
+        f"({_chunks(state, len(tallies))}, chunks of {a['chunk']:,} designs, "
+        f"seed {a['seed']}, evaluator `{a['evaluator']}`), one process on {_cpu()}, load "
+        f"average {state['load_start']:.1f} at the start and {os.getloadavg()[0]:.1f} at the "
+        f"end, {state['wall']:.0f} s wall time. CPU seconds are this process's.",
+        "",
+    ]
+    tail = ["", f"Designs the kernel got wrong: {wrong}."]
+    for f, t in tallies.items():
+        for q, row, truth in t["wrong"]:
+            tail.append(f"- {f}: {q}: kernel {row}, mpmath {truth}")
+    Path(path).write_text("\n".join(head + lines + tail) + "\n")
+    return wrong
+
+
+def _chunks(state: dict, families: int) -> str:
+    """The chunks a run covered, e.g. ``0-4`` or ``0-4 and chunk 5 for 3 of the 12 families``."""
+    first, k, done = state["first_chunk"], state["next_chunk"], state.get("done", [])
+    whole = f"{first}-{k - 1}" if k > first else ""
+    if not done:
+        return whole
+    part = f"chunk {k} for {len(done)} of the {families} families"
+    return f"{whole} and {part}" if whole else part
+
+
+def _resume(
+    path: str | None, args: argparse.Namespace, families: list[str], argv: list[str]
+) -> tuple[dict, dict]:
+    """The run's state and tallies: read from ``path`` where a run with the same seed, chunk
+    size, evaluator and families saved them (a resumed run continues at its next chunk),
+    else new."""
+    keys = ("seed", "chunk", "evaluator", "designs")
+    if path and Path(path).exists():
+        state = json.loads(Path(path).read_text())
+        same = all(state["args"][k] == getattr(args, k) for k in keys)
+        if not same or list(state["tallies"]) != families:
+            raise SystemExit(f"--state {path}: saved by a run with other arguments")
+        return state, state.pop("tallies")
+    state = {
+        "args": {k: getattr(args, k) for k in keys},
+        "command": " ".join(argv),
+        "when": datetime.datetime.now(datetime.UTC).strftime("%d %B %Y, %H:%M UTC"),
+        "first_chunk": args.start_chunk,
+        "next_chunk": args.start_chunk,
+        "done": [],
+        "load_start": os.getloadavg()[0],
+        "wall": 0.0,
+    }
+    return state, {f: {**dict.fromkeys(COUNTS, 0), "wrong": []} for f in families}
+
+
+def _save(args: argparse.Namespace, state: dict, tallies: dict) -> None:
+    """Write the state (``--state``, whole, then renamed: a kill leaves the last one) and
+    the markdown table (``--markdown``)."""
+    if args.state:
+        tmp = Path(args.state + ".tmp")
+        tmp.write_text(json.dumps({**state, "tallies": tallies}))
+        tmp.replace(args.state)
+    if args.markdown:
+        _markdown(args.markdown, state, tallies)
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--designs", type=float, default=1e5, help="designs per family (at most)")
@@ -366,45 +438,41 @@ def main(argv: list[str] | None = None) -> int:
     )
     ap.add_argument("--families", default=",".join(ALL_FAMILIES))
     ap.add_argument("--evaluator", choices=("fast", "numpy"), default="fast")
-    ap.add_argument("--markdown", help="write the tally table to this file")
+    ap.add_argument("--markdown", help="write the tally table to this file (after every round)")
+    ap.add_argument("--state", help="save the tallies here after every chunk; resume from it")
+    ap.add_argument(
+        "--report", action="store_true", help="only write --markdown from --state (no run)"
+    )
     args = ap.parse_args(argv)
     families = args.families.split(",")
     for f in families:
         if f not in ALL_FAMILIES:
             ap.error(f"--families: unknown family {f!r}; known: {', '.join(ALL_FAMILIES)}")
-    start, load0 = time.time(), os.getloadavg()[0]
+    start = time.time()
+    state, tallies = _resume(args.state, args, families, sys.argv[1:] if argv is None else argv)
     n = int(args.designs)
-    tallies = {f: {**dict.fromkeys(COUNTS, 0), "wrong": []} for f in families}
-    k = args.start_chunk
+    wall0 = state["wall"]
+    if args.report:
+        return 1 if _markdown(args.markdown, state, tallies) else 0
     while time.time() - start < args.seconds and any(tallies[f]["designs"] < n for f in families):
+        k = state["next_chunk"]
         for f in families:
             left = n - tallies[f]["designs"]
-            if left > 0:
+            if left > 0 and f not in state["done"]:
                 p = designs(f, args.seed, k, args.chunk)[:left]
                 tallies[f]["wrong"] += run_chunk(f, p, args.evaluator, tallies[f],
                                                  lambda s: print(s, flush=True))  # fmt: skip
+            state["done"].append(f)
+            state["wall"] = wall0 + time.time() - start
+            _save(args, state, tallies)  # after every family's chunk: a kill loses at most one
+        state["next_chunk"], state["done"] = k + 1, []
+        _save(args, state, tallies)
         print(f"chunk {k} done: {sum(t['designs'] for t in tallies.values()):,} designs, "
-              f"{time.time() - start:.0f} s", flush=True)  # fmt: skip
-        k += 1
-    lines = table(tallies)
+              f"{state['wall']:.0f} s", flush=True)  # fmt: skip
+    print("\n".join(table(tallies)))
     wrong = sum(t["kernel_wrong"] for t in tallies.values())
-    print("\n".join(lines))
     if args.markdown:
-        when = datetime.datetime.now(datetime.UTC).strftime("%d %B %Y, %H:%M UTC")
-        head = [
-            f"Fuzz run of {when}: `python benchmarks/fuzz_kernel.py "
-            f"{' '.join(argv if argv is not None else sys.argv[1:])}` (chunks "
-            f"{args.start_chunk}-{k - 1} of {args.chunk:,} designs, seed {args.seed}, "
-            f"evaluator `{args.evaluator}`), one process on {_cpu()}, load average "
-            f"{load0:.1f} at the start and {os.getloadavg()[0]:.1f} at the end, "
-            f"{time.time() - start:.0f} s wall time. CPU seconds are this process's.",
-            "",
-        ]
-        tail = ["", f"Designs the kernel got wrong: {wrong}."]
-        for f, t in tallies.items():
-            for q, row, truth in t["wrong"]:
-                tail.append(f"- {f}: {q}: kernel {row}, mpmath {truth}")
-        Path(args.markdown).write_text("\n".join(head + lines + tail) + "\n")
+        _markdown(args.markdown, state, tallies)
     return 1 if wrong else 0
 
 

@@ -6,6 +6,7 @@ Run from the repository root::
     python benchmarks/reproduce_reports.py                       # all but the gain searches
     python benchmarks/reproduce_reports.py --all                 # all of them (about 2 h)
     python benchmarks/reproduce_reports.py --native foam_design  # this CPU, to the bit
+    python benchmarks/reproduce_reports.py --record accompanying # and keep its figures
 
 Each study of ``studies/`` is run again (``designlab run``) in a subprocess whose
 compiled and library code paths are those of a plain x86-64 CPU: numba compiles for a
@@ -17,7 +18,11 @@ report is then compared with the committed one under the tolerances its kind dec
 report states them): same columns and rows, text cells identical, every number within
 ``atol + rtol max(|a|, |b|)``. Printed per study: tables, numeric cells, the largest
 absolute and relative difference, the declared bound and the verdict. With ``--native``
-the rerun uses this CPU and the claim checked is "to the bit".
+the rerun uses this CPU and the claim checked is "to the bit". With ``--record`` the figures
+of each rerun (per column: largest absolute and relative difference, first row that
+differs; rows whose verdict changed) are written to ``designlab/data/reproduction.json``,
+from which the reports' statements quote what was measured (no measured number is typed
+into them); ``--reruns DIR`` compares reruns already made there instead of running.
 
 The exit status is 1 if a study does not reproduce within its declaration or fails to run.
 """
@@ -25,6 +30,7 @@ The exit status is 1 if a study does not reproduce within its declaration or fai
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import subprocess
 import sys
@@ -52,6 +58,10 @@ GENERIC_CPU = {
 }
 
 
+#: The figures of the reruns (``--record``), which the reports' statements quote
+#: (:class:`designlab.study.reproduction.Reproduction`, ``measured``)
+RECORD = ROOT / "designlab" / "data" / "reproduction.json"
+
 #: Kinds whose runs are long optimisations (about an hour together on a quiet 2-core
 #: machine); their reports word their own statement (flat optima). Left out unless named
 #: or ``--all``.
@@ -75,9 +85,38 @@ def _numeric(s: pd.Series) -> pd.Series | None:
     return values if (values.notna() | blank).all() else None
 
 
+def column_figures(a: pd.DataFrame, b: pd.DataFrame, name: str) -> dict:
+    """Per numeric column ``file:column`` of two tables of the same shape: the largest
+    absolute and relative difference, leaving out rows whose verdict (a text cell)
+    changed, and the first row (from 1) where they differ (None where they do not);
+    exempt columns included (what the statements quote)."""
+    out = {}
+    numeric = {c: (_numeric(a[c]), _numeric(b[c])) for c in a.columns}
+    flipped = np.zeros(len(a), bool)
+    for col, (x, y) in numeric.items():
+        if x is None or y is None:
+            flipped |= (a[col].astype(str) != b[col].astype(str)).to_numpy()
+    for col, (x, y) in numeric.items():
+        if x is None or y is None:
+            continue
+        xa, ya = x.to_numpy(float), y.to_numpy(float)
+        same = (xa == ya) | (np.isnan(xa) & np.isnan(ya))
+        both = np.isfinite(xa) & np.isfinite(ya) & ~flipped
+        d = np.abs(xa[both] - ya[both])
+        scale = np.maximum(np.abs(xa), np.abs(ya))[both]
+        rel = np.divide(d, scale, out=np.zeros_like(d), where=scale > 0)
+        first = int(np.argmin(same)) + 1 if not same.all() else None
+        out[f"{name}:{col}"] = {
+            "abs": float(d.max()) if d.size else 0.0,
+            "rel": float(rel.max()) if rel.size else 0.0,
+            "first": first,
+        }
+    return out
+
+
 def compare_table(a: pd.DataFrame, b: pd.DataFrame, name: str, rule: Reproduction) -> dict:
     """Largest differences of table ``b`` from ``a`` and the cells outside ``rule``."""
-    out = {"cells": 0, "abs": 0.0, "rel": 0.0, "bad": [], "flips": 0}
+    out = {"cells": 0, "abs": 0.0, "rel": 0.0, "bad": [], "flips": 0, "rows": len(a)}
     if list(a.columns) != list(b.columns) or len(a) != len(b):
         out["bad"].append(f"{name}: shape {a.shape} -> {b.shape} or columns differ")
         return out
@@ -111,18 +150,24 @@ def compare_table(a: pd.DataFrame, b: pd.DataFrame, name: str, rule: Reproductio
 
 
 def compare_report(old: Path, new: Path, rule: Reproduction) -> dict:
-    """Compare every CSV table of the committed report ``old`` with ``new``."""
-    total = {"tables": 0, "cells": 0, "abs": 0.0, "rel": 0.0, "bad": [], "flips": 0}
+    """Compare every CSV table of the committed report ``old`` with ``new``; also the
+    figures of every column (:func:`column_figures`) under ``"columns"``."""
+    total = {"tables": 0, "cells": 0, "abs": 0.0, "rel": 0.0, "bad": [], "flips": 0, "rows": 0}
+    total["columns"] = {}
     for csv in sorted(old.glob("*.csv")):
         other = new / csv.name
         if not other.is_file():
             total["bad"].append(f"{csv.name}: missing")
             continue
+        read = {"keep_default_na": False, "dtype": str}
+        a, b = pd.read_csv(csv, **read), pd.read_csv(other, **read)
+        if a.shape == b.shape and list(a.columns) == list(b.columns):
+            total["columns"].update(column_figures(a, b, csv.name))
         if rule.exempts(csv.name, "*"):  # the whole table is not compared
             continue
-        read = {"keep_default_na": False, "dtype": str}
-        got = compare_table(pd.read_csv(csv, **read), pd.read_csv(other, **read), csv.name, rule)
+        got = compare_table(a, b, csv.name, rule)
         total["tables"] += 1
+        total["rows"] += got["rows"]
         total["cells"] += got["cells"]
         total["flips"] += got["flips"]
         total["abs"], total["rel"] = max(total["abs"], got["abs"]), max(total["rel"], got["rel"])
@@ -145,8 +190,11 @@ def main() -> int:
     ap.add_argument("studies", nargs="*", help="study names (default: all but LONG_KINDS)")
     ap.add_argument("--all", action="store_true", help="every study of studies/")
     ap.add_argument("--native", action="store_true", help="rerun on this CPU (to the bit)")
+    ap.add_argument("--reruns", help="compare the reruns already in this directory (no run)")
+    ap.add_argument("--record", action="store_true", help=f"write the figures to {RECORD}")
     args = ap.parse_args()
-    work = Path(tempfile.mkdtemp(prefix="designlab-repro-"))
+    work = Path(args.reruns) if args.reruns else Path(tempfile.mkdtemp(prefix="designlab-repro-"))
+    record = json.loads(RECORD.read_text()) if RECORD.is_file() else {}
     failed = 0
     head = ("study", "tables", "cells", "flips", "max |a-b|", "max rel")
     print("{:28} {:>6} {:>7} {:>5} {:>10} {:>9}  verdict".format(*head))
@@ -155,12 +203,14 @@ def main() -> int:
         kind = kind_of(load_study(study).kind)
         rule = Reproduction() if args.native else kind.reproduction
         start = time.perf_counter()
-        code, err = _rerun(study, work, work / "cache", args.native)
+        code, err = (0, "") if args.reruns else _rerun(study, work, work / "cache", args.native)
         if code != 0:
             failed += 1
             print(f"{name:28} run failed ({code}): {err.strip().splitlines()[-1:]}")
             continue
         got = compare_report(ROOT / "reports" / name, work / name, rule)
+        if args.record and not args.native:
+            record[name] = _figures(got, work / name)
         ok = not got["bad"]
         failed += not ok
         verdict = "within " + rule.bound() if ok else f"OUTSIDE {rule.bound()}"
@@ -170,7 +220,17 @@ def main() -> int:
         for line in got["bad"][:6]:
             print(f"    {line}")
     print(f"(reruns in {work}; {'this CPU' if args.native else 'a generic x86-64 CPU'})")
+    if args.record and not args.native:
+        RECORD.write_text(json.dumps(record, indent=1, sort_keys=True) + "\n")
+        print(f"figures written to {RECORD.relative_to(ROOT)}")
     return 1 if failed else 0
+
+
+def _figures(got: dict, rerun: Path) -> dict:
+    """What :data:`RECORD` keeps of a study's comparison (the statements quote it)."""
+    when = time.strftime("%Y-%m-%d", time.gmtime(rerun.stat().st_mtime))
+    keep = ("tables", "cells", "rows", "flips", "abs", "rel", "columns")
+    return {"rerun": when, "cpu": "generic x86-64", **{k: got[k] for k in keep}}
 
 
 if __name__ == "__main__":

@@ -426,14 +426,10 @@ class Param:
 
         Examples
         --------
-        >>> from dataclasses import dataclass
-        >>> @declared
-        ... @dataclass(frozen=True)
-        ... class Draws:
-        ...     '''Random draws.'''
-        ...     seed: int = ARG.seed.field()
-        >>> Draws().seed, params_of(Draws)["seed"].qualname
-        (0, 'Draws.seed')
+        >>> from designlab.navigation.noise import SensorNoise  # seed: ARG.seed.field(doc=...)
+        >>> seed = params_of(SensorNoise)["seed"]
+        >>> seed.qualname, seed.default, seed.doc, seed.le == ARG.seed.le
+        ('SensorNoise.seed', 0, 'seed of the generator', True)
         """
         decl = self.but(**changes)
         skip = {"symbol", "name", "owner", "default"}

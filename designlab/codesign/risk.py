@@ -93,6 +93,7 @@ __all__ = [
     "InjuryRisk",
     "RiskStatus",
     "ThresholdModel",
+    "exceedance_probability",
     "injury_probability",
 ]
 
@@ -313,15 +314,16 @@ class ThresholdModel:
         numpy.ndarray
         """
         n = heads.shape[0]
-        prob = make_problem(self.robot, None if isinstance(self.robot, LinkImpact) else 1.0,
+        prob = make_problem(self.robot, None if self.robot.along_link else 1.0,
                             None, 1.0, None, False, 0.0, 0.05)  # fmt: skip
         if self.points is None:
             rows, _ = prob.robot_rows(None)
             rows = np.repeat(rows, n, axis=0)
         else:
             rows, _ = prob.robot_rows(_levers(self.points, n, rng) if levers is None else levers)
-        foam = np.tile([self.foam.stiffness, self.foam.damping], (n, 1))
-        params = np.column_stack([rows[:, :3], foam, heads, rows[:, 3:]])
+        params = prob.contact.assemble(
+            rows, np.full(n, self.foam.stiffness), np.full(n, self.foam.damping), heads
+        )
         if np.all(params == params[0]):  # one design (a fixed head and point): one kernel call
             m1 = np.repeat(self.criterion.values(params[:1], np.ones(1)), n)
         else:
@@ -472,3 +474,9 @@ def _summarise(p: float, interval: tuple[float, float], se: float, tally: _Tally
         failed_samples=tally.positive, unresolved_samples=unresolved, seed=seed,
         status=status, warnings=tuple(warnings),
     )  # fmt: skip
+
+
+#: P(criterion exceeded | contact) under its honest name: the same function as
+#: :func:`injury_probability` (whose name is kept; issue 36.3). An injury risk from cited
+#: curves is :func:`designlab.codesign.injury.head_injury_risk`.
+exceedance_probability = injury_probability

@@ -59,16 +59,14 @@ from designlab.impact import (
     Criterion,
     Foam,
     FullJointContact,
-    FullJointLink,
     HeadNeck,
     HeadRange,
     LinkImpact,
 )
 from designlab.impact.conditioning import check_conditioning, time_scale_ratio
-from designlab.impact.metrics import param_names
+from designlab.impact.contact import contact_of
 from designlab.impact.parameters import HUMAN_SPEED, TIME_SCALE_RATIO
 from designlab.impact.problem import FoamProblem, make_problem
-from designlab.impact.simulate import input_labels
 from designlab.params import params_of
 from designlab.results import Result, Status
 
@@ -222,12 +220,13 @@ def check_robot_foam(robot: object, foam: object) -> None:
     foam
         The object given as the foam.
     """
-    if not isinstance(robot, (ContactDynamics, FullJointContact, LinkImpact)):
+    contact = contact_of(robot, foam)
+    if not contact.linear:
         raise InvalidParameterError(
-            "robot", robot, "must be a ContactDynamics, a FullJointContact or a LinkImpact"
-        )
-    if not isinstance(foam, Foam):
-        raise InvalidParameterError("foam", foam, "must be a Foam")
+            "foam", foam, f"the co-design's speed limits scale the metrics with v_c, which only a "
+            f"linear contact allows; the {contact.label} contact is served by the impact "
+            "package's envelope and simulate",
+        )  # fmt: skip
 
 
 def problem_for(
@@ -255,7 +254,7 @@ def problem_for(
     """
     if head_range is None:
         head_range = THESIS_HEAD_RANGE
-    v = None if isinstance(robot, LinkImpact) else 1.0
+    v = None if robot.along_link else 1.0
     prob = make_problem(robot, v, criteria, max_compression, head_range, False, human_speed, 0.05)
     prob.head_levels = HEAD_LEVELS.check(head_levels)
     return prob
@@ -265,14 +264,14 @@ def _check_served(prob: FoamProblem, foam: Foam) -> None:
     """Refuse up front, naming the robot's or the foam's parameter, a fixed robot and foam
     whose impact with a head of the worst-head grid double precision cannot serve (a damping
     of 1e6 N s/m gave NaN metrics and ``contact_limit = nan``; docs/impact.md, "Limits")."""
-    if isinstance(prob.robot, LinkImpact):
+    if prob.robot.along_link:
         _check_link_served(prob, foam)
         return
     k, c = np.array([foam.stiffness]), np.array([foam.damping])
     for key in prob.keys():
         params = prob.designs(key, k, c)[0]
-        check_conditioning(params, param_names(params.shape[1]),
-                           labels=input_labels(prob.robot, None))  # fmt: skip
+        check_conditioning(params, prob.contact.columns,
+                           labels=prob.contact.input_labels(None))  # fmt: skip
 
 
 #: Lever arms (geometric, ends included) at which a link's conditioning is checked up front:
@@ -291,11 +290,7 @@ def link_labels(robot: LinkImpact) -> tuple[str | None, ...]:
     >>> link_labels(dl.impact.LinkImpact(1.0, 10.0, 1.0, 1.0, 0.1, 0.5))[:3]
     ('robot.inertia', 'robot.joint_damping', 'robot.joint_stiffness')
     """
-    foam = ("foam.stiffness", "foam.damping", None, None, None)
-    if isinstance(robot, FullJointLink):  # FULL_PARAM_NAMES
-        return ("robot.inertia", "robot.transmission_damping", "robot.transmission_stiffness",
-                *foam, "robot.joint_damping", "robot.joint_stiffness")  # fmt: skip
-    return ("robot.inertia", "robot.joint_damping", "robot.joint_stiffness", *foam)
+    return contact_of(robot).input_labels(None, along_link=True)
 
 
 def _check_link_served(prob: FoamProblem, foam: Foam) -> None:
@@ -303,7 +298,6 @@ def _check_link_served(prob: FoamProblem, foam: Foam) -> None:
     precision cannot serve with a head of the worst-head grid, naming the link's own
     parameter (``robot.joint_damping``) and its value, not the effective ``C_J/l^2``."""
     robot = prob.robot
-    assert isinstance(robot, LinkImpact)
     levers = np.geomspace(robot.lever_arm_min, robot.lever_arm_max, _LINK_CHECK_LEVERS)
     k, c = np.full(levers.size, foam.stiffness), np.full(levers.size, foam.damping)
     for key in prob.keys():
@@ -313,7 +307,7 @@ def _check_link_served(prob: FoamProblem, foam: Foam) -> None:
             continue
         j = int(np.flatnonzero(bad)[0])
         try:
-            check_conditioning(params[j : j + 1], param_names(params.shape[1]),
+            check_conditioning(params[j : j + 1], prob.contact.columns,
                                constrained=prob.constrained, labels=link_labels(robot))  # fmt: skip
         except InvalidParameterError as exc:
             lever = float(levers[j // nh])
@@ -341,9 +335,8 @@ def _worst_head(prob: FoamProblem, key: Criterion, foam: Foam, lever: float) -> 
     k, c = np.array([foam.stiffness]), np.array([foam.damping])
     levers = None if math.isnan(lever) else np.array([lever])
     params, vv, _ = prob.designs(key, k, c, levers)
-    j = int(np.argmax(key.values(params, vv)))
-    return HeadNeck(mass=float(params[j, 5]), stiffness=float(params[j, 7]),
-                    damping=float(params[j, 6]))  # fmt: skip
+    j = int(np.argmax(prob.contact.values(key, params, vv)))
+    return HeadNeck(**prob.contact.head_values(params[j]))
 
 
 def _fixed_limits(
@@ -509,7 +502,7 @@ def speed_limit(
     if not isinstance(refine, (bool, np.bool_)):
         raise InvalidParameterError("refine", refine, "must be True or False")
     _check_served(prob, foam)
-    if isinstance(robot, LinkImpact):
+    if robot.along_link:
         return _summarise_link(prob, foam, brake, _link_limits(prob, foam, bool(refine)))
     return _summarise_fixed(prob, foam, brake, _fixed_limits(prob, foam, bool(refine)))
 

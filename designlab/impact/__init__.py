@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING
 from designlab._lazy import attach as _attach
 
 if TYPE_CHECKING:  # the public names, imported on first use (designlab._lazy)
+    from designlab.impact.contact import CONTACTS, HuntCrossleyFoam, contact_of
     from designlab.impact.criteria import (
         ISO_TS_15066_QUASI_STATIC_FORCE,
         ISO_TS_15066_TRANSIENT_FACTOR,
@@ -94,6 +95,7 @@ if TYPE_CHECKING:  # the public names, imported on first use (designlab._lazy)
     from designlab.impact.worst_case import WorstCaseCheck, check_worst_case
 
 __all__ = [
+    "CONTACTS",
     "FOAM_1",
     "FOAM_2",
     "FOAM_2_MEASURED",
@@ -125,6 +127,7 @@ __all__ = [
     "HeadInjuryCriterion",
     "HeadNeck",
     "HeadRange",
+    "HuntCrossleyFoam",
     "ImpactForce",
     "ImpactMetrics",
     "ImpactPlane",
@@ -147,6 +150,7 @@ __all__ = [
     "combined_impact",
     "compare_joint_reductions",
     "constrained_model",
+    "contact_of",
     "effective_contact",
     "first_peak",
     "fit_joint_band",

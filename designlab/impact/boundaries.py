@@ -150,8 +150,11 @@ def boundary(
     Returns
     -------
     tuple
-        The boundary K_c (NaN where not bounded), its :class:`BoundaryStatus` and
-        whether the constraint changes sign more than once.
+        The boundary K_c (NaN where not bounded), its :class:`BoundaryStatus`, whether
+        the constraint changes sign more than once, and the floor of a criterion violated
+        at the soft end and met further up (a foam so soft that it is crushed: a
+        densifying foam's, :mod:`designlab.impact.contact.hunt_crossley`), K_c below which
+        it is violated again (NaN where the soft end meets it).
     """
     n, ns = c.size, u_grid.size
     ex = prob.log_excess(key, np.tile(u_grid, n), np.repeat(c, ns)).reshape(n, ns)
@@ -161,10 +164,12 @@ def boundary(
     upper = key.boundary == "upper"
     status = np.full(n, BoundaryStatus.BOUNDED, dtype=object)
     k_out = np.full(n, np.nan)
+    floor = np.full(n, np.nan)
     if upper:
         status[~viol.any(axis=1)] = BoundaryStatus.UNBOUNDED
-        status[viol[:, 0]] = BoundaryStatus.NO_SOLUTION
-        # first feasible -> violated transition
+        status[viol.all(axis=1)] = BoundaryStatus.NO_SOLUTION
+        floor = _floor(prob, key, c, u_grid, ex, tol)
+        # first feasible -> violated transition (above the floor)
         trans = (~viol[:, :-1]) & viol[:, 1:]
     else:
         status[~viol.any(axis=1)] = BoundaryStatus.UNBOUNDED
@@ -181,7 +186,23 @@ def boundary(
         fa, fb = ex[idx, j], ex[idx, j + 1]
         u = illinois(lambda x, cc: prob.log_excess(key, x, cc), a, b, fa, fb, c[idx], tol)
         k_out[idx] = np.exp(u)
-    return k_out, status.astype(str), n_changes > 1
+    return k_out, status.astype(str), n_changes > 1, floor
+
+
+def _floor(
+    prob: FoamProblem, key: Criterion, c: NDArray, u_grid: NDArray, ex: NDArray, tol: float
+) -> NDArray[np.float64]:
+    """K_c of the first violated -> met transition of lanes violated at the soft end."""
+    viol = ex > 0
+    floor = np.full(c.size, np.nan)
+    idx = np.flatnonzero(viol[:, 0] & ~viol.all(axis=1))
+    if idx.size:
+        j = (~viol[idx]).argmax(axis=1) - 1
+        a, b = u_grid[j], u_grid[j + 1]
+        fa, fb = ex[idx, j], ex[idx, j + 1]
+        u = illinois(lambda x, cc: prob.log_excess(key, x, cc), a, b, fa, fb, c[idx], tol)
+        floor[idx] = np.exp(u)
+    return floor
 
 
 def upper_bounds(
@@ -203,13 +224,16 @@ def upper_bounds(
     Returns
     -------
     tuple
-        Per criterion its bound and status, the smallest bound and the multiple-root flags.
+        Per criterion its bound and status, the smallest bound, the multiple-root flags
+        and the largest floor of the criteria (NaN where none has one; see :func:`boundary`).
     """
     upper: dict[str, NDArray] = {}
     upper_status: dict[str, NDArray] = {}
     multiple = np.zeros(damping.size, dtype=bool)
+    floor = np.full(damping.size, np.nan)
     for crit in prob.criteria:
-        k, st, mult = boundary(prob, crit, damping, u_grid, tol)
+        k, st, mult, low = boundary(prob, crit, damping, u_grid, tol)
+        floor = np.fmax(floor, low)
         upper[crit.name] = k
         upper_status[crit.name] = st
         multiple |= mult
@@ -219,7 +243,7 @@ def upper_bounds(
         bounded = upper_status[name] == BoundaryStatus.BOUNDED
         kmax = np.where(bounded, np.minimum(kmax, upper[name]), kmax)
         any_bounded |= bounded
-    return upper, upper_status, np.where(any_bounded, kmax, np.nan), multiple
+    return upper, upper_status, np.where(any_bounded, kmax, np.nan), multiple, floor
 
 
 def flag_boundary_designs(
@@ -338,10 +362,14 @@ def solve_boundaries(
         lanes = np.arange(prob.damping.size, dtype=float)
     u_grid = np.linspace(math.log(bounds[0]), math.log(bounds[1]), n_scan)
     tol = math.log1p(rtol)
-    upper, upper_status, kmax, multiple = upper_bounds(prob, lanes, u_grid, tol)
-    kmin, lower_status, mult = boundary(prob, prob.compression, lanes, u_grid, tol)
+    upper, upper_status, kmax, multiple, floor = upper_bounds(prob, lanes, u_grid, tol)
+    kmin, lower_status, mult, _ = boundary(prob, prob.compression, lanes, u_grid, tol)
     multiple = multiple | mult
     kmin = np.where(lower_status == BoundaryStatus.BOUNDED, kmin, np.nan)
+    # a criterion violated by too soft a foam (crushed) raises the lower boundary
+    raised = np.isfinite(floor) & ~(kmin >= floor)
+    kmin = np.where(raised, floor, kmin)
+    lower_status = np.where(raised, BoundaryStatus.BOUNDED, lower_status).astype(str)
     overdamped, delicate, worst_l = flag_boundary_designs(prob, lanes, kmax, kmin)
     out = []
     stop = 0

@@ -496,6 +496,7 @@ def foam_envelope(
         rtol=rtol,
         human_speed=human_speed,
         stop_time=stop_time,
+        foam=foam,
     )[0]
 
 

@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from designlab.impact.contact import CONTACTS
 from designlab.impact.criteria import HeadAcceleration
 from designlab.impact.derivatives import VARIABLE_NAMES, metric_gradients
 from designlab.impact.envelope import FoamEnvelope, foam_envelopes
@@ -60,7 +61,10 @@ ENVELOPE_METRICS: dict[str, str] = {c: info.label for c, info in ENVELOPE_COLUMN
 
 
 def _params(points: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
-    return {k: np.asarray(points[k], dtype=float) for k in PARAM_NAMES}
+    """The model's columns: the linear model's, or a non-linear contact model's whole row
+    when the points carry it (its foam shape columns; docs/impact_contact.md)."""
+    wider = [m.columns for m in CONTACTS.variants(linear=False) if set(m.columns) <= set(points)]
+    return {k: np.asarray(points[k], dtype=float) for k in (wider[0] if wider else PARAM_NAMES)}
 
 
 def impact_metrics_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) -> dict[str, Any]:

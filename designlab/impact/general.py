@@ -71,6 +71,9 @@ ForceLaw = Callable[[NDArray, NDArray], tuple[NDArray, NDArray, NDArray]]
 METHOD = "DOP853"
 #: absolute tolerance, as a fraction of the impact's length v_c T0 and speed v_c
 _ATOL_SCALE = 1e-3
+#: the fraction of the crush depth left when a densifying foam counts as crushed (its spring
+#: has then stiffened 1e4-fold for n = 1)
+CRUSHED = 1e-4
 #: lobe-end search horizon, in contact time scales T0 = pi sqrt(mu / K_c)
 _HORIZON = 400.0
 
@@ -184,7 +187,7 @@ def _time_scale(force: ForceLaw, robot: tuple, head: tuple | None, v: float) -> 
     return math.pi * math.sqrt(mu / k0) if k0 > 0.0 else 1.0
 
 
-def _events(imp: _Impact, constrained: bool) -> list[Callable]:
+def _events(imp: _Impact, constrained: bool, crush_depth: float | None) -> list[Callable]:
     def event(key: str) -> Callable:
         def g(t: float, y: NDArray) -> float:
             return float(imp.outputs(t, y)[key])
@@ -197,6 +200,15 @@ def _events(imp: _Impact, constrained: bool) -> list[Callable]:
         lobe_end, peak = event("head_acceleration"), event("head_jerk")
         lobe_end.terminal = True  # type: ignore[attr-defined]
         evs = [lobe_end, peak, *evs]
+    if crush_depth is not None:
+        depth = crush_depth * (1.0 - CRUSHED)
+
+        def crushed(t: float, y: NDArray) -> float:
+            return depth - float(imp.outputs(t, y)["compression"])
+
+        crushed.terminal = True  # type: ignore[attr-defined]
+        crushed.direction = -1.0  # type: ignore[attr-defined]
+        evs = [*evs, crushed]
     return evs
 
 
@@ -208,6 +220,7 @@ def first_lobe(
     *,
     stop_time: float = STOP_TIME.default,
     rtol: float = GENERAL_RTOL.default,
+    crush_depth: float | None = None,
 ) -> Lobe:
     """First-lobe metrics of one impact with a (non-linear) contact force law, integrated.
 
@@ -225,6 +238,11 @@ def first_lobe(
         Window of the constrained impact, s.
     rtol
         Relative tolerance of the integrator (:data:`GENERAL_RTOL`).
+    crush_depth
+        The compression the law cannot pass (a densifying foam's x_d), m, or ``None``.
+        Reaching ``(1 - CRUSHED)`` of it ends the integration: the foam is crushed, the
+        status is ``"bottoming"``, the force and a_h are infinite (beyond any limit) and
+        eps_max is ``crush_depth``.
 
     Returns
     -------
@@ -236,9 +254,12 @@ def first_lobe(
     imp = _Impact(force, robot, head, v)
     constrained = head is None
     horizon = stop_time if constrained else _HORIZON * _time_scale(force, robot, head, v)
-    sol = _solve(imp, horizon, rtol, _events(imp, constrained))
+    sol = _solve(imp, horizon, rtol, _events(imp, constrained, crush_depth))
     if sol.status == -1:
         return _open_lobe()
+    if crush_depth is not None and sol.t_events[-1].size:
+        t_c, inf = float(sol.t_events[-1][0]), float("inf")
+        return Lobe(inf, crush_depth, inf, float("nan"), t_c, t_c, t_c, "bottoming")
     if constrained:
         t_end = float(stop_time)
         times = {"compression": sol.t_events[0], "force": sol.t_events[1]}
@@ -271,10 +292,20 @@ class Histories:
     Outputs: ``force``, ``head_acceleration``, ``compression``, ``head_velocity``,
     ``robot_deflection`` (the names of :func:`~designlab.impact.simulate`), at times within
     the integrated span.
+
+    Attributes
+    ----------
+    impact
+        The equations of the impact (force law, manipulator, head, v_c).
+    dense
+        The integrator's dense output, ``t -> state``.
+    end
+        The end of the integrated span, s.
     """
 
     impact: _Impact
     dense: Any
+    end: float
 
     def __call__(self, t: NDArray, derivative: int = 0) -> dict[str, NDArray]:
         t = np.atleast_1d(np.asarray(t, dtype=float))
@@ -291,13 +322,14 @@ def histories(
     t_end: float,
     *,
     rtol: float = GENERAL_RTOL.default,
+    crush_depth: float | None = None,
 ) -> Histories:
     """The time histories of one impact over ``[0, t_end]`` (arguments as :func:`first_lobe`).
 
     Parameters
     ----------
-    force, robot, head, impact_velocity, rtol
-        As for :func:`first_lobe` (v_c > 0).
+    force, robot, head, impact_velocity, rtol, crush_depth
+        As for :func:`first_lobe` (v_c > 0); the histories end where the foam is crushed.
     t_end
         End of the histories, s.
 
@@ -306,7 +338,9 @@ def histories(
     Histories
     """
     imp = _Impact(force, robot, head, float(impact_velocity))
-    return Histories(imp, _solve(imp, float(t_end), rtol, None).sol)
+    events = _events(imp, True, crush_depth)[2:] if crush_depth is not None else None
+    sol = _solve(imp, float(t_end), rtol, events)
+    return Histories(imp, sol.sol, float(sol.t[-1]))
 
 
 def _open_lobe() -> Lobe:

@@ -40,7 +40,7 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from designlab.errors import InvalidParameterError, ModelError
-from designlab.impact import kernel, kernel_full, kernel_modal
+from designlab.impact import kernel, kernel_full, kernel_modal, kernel_precise
 from designlab.impact.conditioning import check_conditioning, check_eigen_route
 from designlab.impact.full_joint_model import FULL_PARAM_NAMES, full_joint_model, grid_rate
 from designlab.impact.kernel_modal import ERR_COLUMNS, MAX_TERMS
@@ -501,7 +501,7 @@ def impact_metrics(
     constrained: bool = False,
     q2: str = "correct",
     stop_time: float = STOP_TIME.default,
-    max_lobe_steps: int = 4096,
+    max_lobe_steps: int = MAX_LOBE_STEPS.default,
     with_force: bool = True,
     lobe_diagnostics: bool = False,
     with_compression: bool = True,
@@ -561,6 +561,13 @@ def impact_metrics(
     an array needs explicit column names (columns=...) ...
     """
     keys = columns if columns is not None else getattr(params, "keys", lambda: ())()
+    from designlab.impact.contact import contact_for_columns  # its models call this module
+
+    contact = contact_for_columns(keys)
+    if contact is not None and not contact.linear:  # the general path (integrated)
+        p = named_columns("params", params, contact.columns, columns=columns)
+        return contact.metrics(p, impact_velocity, constrained=constrained, q2=q2,
+                               stop_time=stop_time)  # fmt: skip
     p = named_columns("params", params, param_names(keys=list(keys)), columns=columns)
     return metrics_of_matrix(
         p,
@@ -589,7 +596,7 @@ def metrics_of_matrix(
     constrained: bool = False,
     q2: str = "correct",
     stop_time: float = STOP_TIME.default,
-    max_lobe_steps: int = 4096,
+    max_lobe_steps: int = MAX_LOBE_STEPS.default,
     with_force: bool = True,
     lobe_diagnostics: bool = False,
     with_compression: bool = True,
@@ -648,6 +655,8 @@ def metrics_of_matrix(
         return _reduced_kernel(
             p, v, names, q2, stop_time, max_lobe_steps, lobe_diagnostics, workers
         )
+    if model.name == "unconstrained":
+        return _reduced_numpy(p, v, names, q2, stop_time, max_lobe_steps, lobe_diagnostics)
     closed = model.name.startswith("full_joint") or model.name == "constrained"
     if kernel.AVAILABLE and closed and check_q2(q2) == "correct":
         full = _full_kernel(
@@ -721,7 +730,6 @@ def _reduced_kernel(
 ) -> ImpactMetrics:
     """:func:`metrics_of_matrix` of reduced unconstrained designs by the compiled kernel
     (in ``workers`` threads, :func:`designlab.workers.map_row_blocks`)."""
-    printed = check_q2(q2) == "printed"
     q4 = p[:, 2] * p[:, 7] + p[:, 3] * p[:, 7] + p[:, 2] * p[:, 3]
     if np.any(q4 <= 0):
         j = int(np.flatnonzero(q4 <= 0)[0])
@@ -733,7 +741,7 @@ def _reduced_kernel(
         partial(
             kernel.reduced_metrics,
             outputs=tuple(k in names for k in _KERNEL_OUTPUTS),
-            printed=printed,
+            printed=check_q2(q2) == "printed",
             stop_time=stop_time,
             max_lobe_steps=max_lobe_steps,
             diagnostics=diagnostics,
@@ -744,16 +752,127 @@ def _reduced_kernel(
     )
     if np.any(codes == kernel.OVERFLOW):
         _overflow(p, int(np.flatnonzero(codes == kernel.OVERFLOW)[0]))
-    sus = np.flatnonzero(codes >= kernel.SUSPECT_POLES)
-    notes: tuple[str, ...] = ()
-    if sus.size:  # the kernel's self-check failed: the numpy path, checked again
-        resp = ramp_responses(response_model(p[sus], False), p[sus], names, q2=q2, rows=sus)
-        h = 0.4 / np.abs(resp[names[0]].poles).max(axis=1)
-        rows[sus], codes[sus], notes = _settle(
-            resp, h, codes[sus], False, stop_time, max_lobe_steps, diagnostics
-        )
+    notes = settle_suspects(p, names, q2, rows, codes, stop_time, max_lobe_steps, diagnostics)
     m = _from_kernel(p, v, names, rows, codes, False, diagnostics)
     return replace(m, warnings=(*m.warnings, *notes)) if notes else m
+
+
+def settle_suspects(
+    p: NDArray,
+    names: tuple[str, ...],
+    q2: str,
+    rows: NDArray,
+    codes: NDArray,
+    stop_time: float,
+    max_lobe_steps: int,
+    diagnostics: bool,
+) -> tuple[str, ...]:
+    """Settle in place the reduced designs whose kernel ``codes`` are ``SUSPECT_*`` (the
+    self-check refused them): from 40-digit poles and residues (:func:`_settle_precise`),
+    then those still refused by the numpy path (:func:`_settle`); a design neither
+    certifies is :data:`UNCERTIFIED` with NaN ``rows``. Returns the warnings' notes."""
+    sus = np.flatnonzero(codes >= kernel.SUSPECT_POLES)
+    if not sus.size:
+        return ()
+    printed = check_q2(q2) == "printed"
+    rows[sus], codes[sus], notes = _settle_precise(
+        p[sus], names, printed, codes[sus], stop_time, max_lobe_steps, diagnostics
+    )
+    left = sus[codes[sus] >= kernel.SUSPECT_POLES]
+    if left.size:
+        resp = ramp_responses(response_model(p[left], False), p[left], names, q2=q2, rows=left)
+        h = 0.4 / np.abs(resp[names[0]].poles).max(axis=1)
+        rows[left], codes[left], more = _settle(
+            resp, h, codes[left], False, stop_time, max_lobe_steps, diagnostics
+        )
+        notes = (*notes, *more)
+    return notes
+
+
+def _reduced_numpy(
+    p: NDArray,
+    v: NDArray,
+    names: tuple[str, ...],
+    q2: str,
+    stop_time: float,
+    max_lobe_steps: int,
+    diagnostics: bool,
+) -> ImpactMetrics:
+    """:func:`metrics_of_matrix` of reduced unconstrained designs without numba: the numpy
+    modal path checked as the kernel checks it (:func:`_settle`), the designs it does not
+    certify again from their 40-digit modal solutions (:func:`_settle_precise`)."""
+    say_no_jit("impact metrics")
+    resp = ramp_responses(response_model(p, False), p, names, q2=q2)
+    h = 0.4 / np.abs(resp[names[0]].poles).max(axis=1)
+    zero = np.zeros(p.shape[0], dtype=np.int8)
+    rows, codes, notes = _settle(resp, h, zero, False, stop_time, max_lobe_steps, diagnostics)
+    bad = np.flatnonzero(codes >= kernel.SUSPECT_POLES)
+    if bad.size:
+        printed = check_q2(q2) == "printed"
+        rows[bad], again, more = _settle_precise(
+            p[bad], names, printed, codes[bad], stop_time, max_lobe_steps, diagnostics
+        )
+        codes[bad] = np.where(again >= kernel.SUSPECT_POLES, UNCERTIFIED, again)
+        notes = more  # the numpy path's notes counted these designs uncertified
+    m = _from_kernel(p, v, names, rows, codes, False, diagnostics)
+    return replace(m, warnings=(*m.warnings, *notes)) if notes else m
+
+
+def _settle_precise(
+    p: NDArray,
+    names: tuple[str, ...],
+    printed: bool,
+    codes: NDArray,
+    stop_time: float,
+    max_lobe_steps: int,
+    diagnostics: bool,
+) -> tuple[NDArray, NDArray, tuple[str, ...]]:
+    """Rows and codes of reduced, unconstrained designs the kernel (or the numpy path) did not
+    certify (``codes``), from their 40-digit modal solutions (:mod:`.kernel_precise`) with
+    error bounds of about one rounding, searched and checked again by the kernel (by
+    :func:`_settle` without numba). Designs still not certified keep a ``SUSPECT_*`` code
+    (:data:`UNCERTIFIED` without numba). Also a note for the warnings."""
+    resp, ok = kernel_precise.precise_responses(p, printed=printed, names=names)
+    n = p.shape[0]
+    rows = np.full((n, len(kernel.COLUMNS)), np.nan)
+    out = np.where(ok, codes, kernel.SUSPECT_POLES).astype(np.int8)
+    i = np.flatnonzero(ok)
+    if i.size:
+        sub = {k: r.take(i) for k, r in resp.items()}
+        h = 0.4 / np.abs(sub[names[0]].poles).max(axis=1)
+        if kernel.AVAILABLE:
+            res, poly = _kernel_arrays(sub, bounded=True)
+            rows[i], out[i] = kernel.modal_metrics(
+                sub[names[0]].poles, res, poly, h, lobe=True, window=stop_time,
+                max_lobe_steps=max_lobe_steps, diagnostics=diagnostics,
+            )  # fmt: skip
+        else:
+            rows[i], out[i], _ = _settle(
+                sub, h, np.zeros(i.size, np.int8), False, stop_time, max_lobe_steps, diagnostics
+            )
+    done = int(np.sum(out < kernel.SUSPECT_POLES))
+    note = (
+        f"{n} design(s) not certified in double precision were evaluated from 40-digit poles "
+        f'and residues (docs/impact.md, "Self-check"): {done} certified'
+    )
+    return rows, out, (note,)
+
+
+def _kernel_arrays(resp: dict[str, ModalResponse], bounded: bool) -> tuple[NDArray, NDArray]:
+    """The kernel's residues ``(N, 3, K)`` and polynomial parts ``(N, 3, 2)`` of ``resp``, or
+    ``(N, 3, ERR_COLUMNS)`` with the residues' and poles' error bounds (``bounded``)."""
+    names = tuple(k for k in _KERNEL_OUTPUTS if k in resp)
+    n, nk = resp[names[0]].poles.shape
+    res = np.zeros((n, 3, nk), dtype=complex)
+    poly = np.zeros((n, 3, ERR_COLUMNS if bounded else 2))  # c0, c1, the error bounds
+    for o, k in enumerate(_KERNEL_OUTPUTS):
+        if k in resp:
+            res[:, o] = resp[k].residues
+            poly[:, o, 2 - resp[k].poly.shape[1] : 2] = resp[k].poly
+            if bounded:
+                poly[:, o, 2 : 2 + nk] = resp[k].errors[:, :, 0]
+                poly[:, o, 2 + MAX_TERMS : 2 + MAX_TERMS + nk] = resp[k].errors[:, :, 1]
+    return res, poly
 
 
 def _eigen_ramp(
@@ -968,16 +1087,8 @@ def _settle(
     rows, again = _numpy_rows(resp, h, constrained, stop_time, max_lobe_steps, diagnostics)
     names = tuple(k for k in _KERNEL_OUTPUTS if k in resp)
     nk = resp[names[0]].poles.shape[1]
-    res = np.zeros((h.size, 3, nk), dtype=complex)
     bounded = nk <= MAX_TERMS and all(resp[k].errors is not None for k in names)
-    poly = np.zeros((h.size, 3, ERR_COLUMNS if bounded else 2))  # c0, c1, the error bounds
-    for o, k in enumerate(_KERNEL_OUTPUTS):
-        if k in resp:
-            res[:, o] = resp[k].residues
-            poly[:, o, 2 - resp[k].poly.shape[1] : 2] = resp[k].poly
-            if bounded:
-                poly[:, o, 2 : 2 + nk] = resp[k].errors[:, :, 0]
-                poly[:, o, 2 + MAX_TERMS : 2 + MAX_TERMS + nk] = resp[k].errors[:, :, 1]
+    res, poly = _kernel_arrays(resp, bounded)
     poles = resp[names[0]].poles
     if kernel.AVAILABLE:
         audit = kernel.audit_metrics(poles, res, poly, rows, again, lobe=not constrained)
@@ -1022,10 +1133,13 @@ def audit_metrics_numpy(
     """:func:`designlab.impact.kernel.audit_metrics` in numpy, for a process without numba.
 
     The same a-posteriori check (``kernel.sampled_check``): at the midpoints
-    ``(j + 1/2) t_imp / AUDIT_CELLS`` (``j < AUDIT_CELLS - 1``) of the uniform cells over
-    ``[0, t_imp]``, no output may exceed its maximum by more than 1e-8 relative, and (for a
-    lobe) a_h may not be below minus its rounding-noise level (``kernel_modal.noise``).
-    Only designs with code 0 (ok) or 2 (peak at contact) are checked.
+    ``(j + 1/2) t_imp / n`` (``j < n - 1``) of ``n`` uniform cells over ``[0, t_imp]``,
+    no output may exceed its maximum by more than 1e-8 relative, and (for a lobe) a_h
+    may not be below minus its rounding-noise level (``kernel_modal.noise``); no output may
+    exceed its maximum at ``t_imp`` either (the window's end counts). The cells are as
+    wide as the numpy path's grid step ``0.4 / max|p_k|`` (the kernel's search samples
+    every third: :data:`designlab.impact.kernel_lobe.STRIDE`), at least 16 and at most
+    ``AUDIT_CELLS``. Only designs with code 0 (ok) or 2 (peak at contact) are checked.
 
     Parameters
     ----------
@@ -1051,21 +1165,36 @@ def audit_metrics_numpy(
     """
     out = np.array(codes, dtype=np.int8)
     todo = np.flatnonzero((out == 0) | (out == 2))
+    t_imp = rows[todo, kernel.COLUMNS.index("t_imp")]
+    with np.errstate(invalid="ignore", over="ignore"):
+        cells = np.ceil(t_imp * np.abs(poles[todo]).max(axis=1) / 0.4)
+    cells = np.clip(np.nan_to_num(cells, nan=kernel.AUDIT_CELLS), 16, kernel.AUDIT_CELLS)
+    order = np.argsort(cells, kind="stable")  # blocks of similar sizes
+    todo, cells = todo[order], cells[order].astype(np.int64)
     for start in range(0, todo.size, _AUDIT_BLOCK):
         i = todo[start : start + _AUDIT_BLOCK]
-        block = _audit_block_numpy(poles[i], residues[i], poly[i], rows[i], lobe)
+        n = cells[start : start + _AUDIT_BLOCK]
+        block = _audit_block_numpy(poles[i], residues[i], poly[i], rows[i], lobe, n)
         out[i] = np.where(block == 0, out[i], block)  # a passed design keeps its code (0 or 2)
     return out
 
 
+#: each kernel output's maximum and its time (columns of :data:`kernel.COLUMNS`)
+_MAXIMA = (("f_max", "t_f"), ("a_max", "t_a"), ("eps_max", "t_eps"))
+
+
 def _audit_block_numpy(
-    poles: NDArray, res: NDArray, poly: NDArray, rows: NDArray, lobe: bool
+    poles: NDArray, res: NDArray, poly: NDArray, rows: NDArray, lobe: bool, n: NDArray
 ) -> NDArray[np.int8]:
-    """:func:`audit_metrics_numpy` of one block of designs (all to be checked)."""
+    """:func:`audit_metrics_numpy` of one block of designs (all to be checked; ``n`` cells
+    each)."""
     col = {k: i for i, k in enumerate(kernel.COLUMNS)}
-    cells = kernel.AUDIT_CELLS - 1
-    w = rows[:, col["t_imp"]] / kernel.AUDIT_CELLS
-    t = (np.arange(cells) + 0.5)[None, :] * w[:, None]  # (n, cells)
+    cells = int(n.max()) - 1
+    t_imp = rows[:, col["t_imp"]]
+    w = t_imp / n
+    j = np.arange(cells)[None, :]
+    t = (j + 0.5) * w[:, None]  # (n, cells): a design's samples beyond its own are left out
+    mine = j < (n - 1)[:, None]
     ex = []  # exp(p_k t) per pole, (n, cells): by recurrence, as the kernel
     with np.errstate(over="ignore", invalid="ignore"):
         for k in range(poles.shape[1]):
@@ -1073,27 +1202,79 @@ def _audit_block_numpy(
             e = np.cumprod(np.broadcast_to(z[:, None], t.shape), axis=1)
             ex.append(e * np.exp(-0.5 * poles[:, k] * w)[:, None])
     code = np.zeros(poles.shape[0], dtype=np.int8)
-    for o, top_col in enumerate(("f_max", "a_max", "eps_max")):
+    for o, (top_col, t_col) in enumerate(
+        (("f_max", "t_f"), ("a_max", "t_a"), ("eps_max", "t_eps"))
+    ):
         if not (np.any(res[:, o]) or np.any(poly[:, o])):
             continue
         y = poly[:, o, :1] * t + poly[:, o, 1:2]  # c0 t + c1 (error bounds follow)
         for k, e in enumerate(ex):  # Re(r e) = Re r Re e - Im r Im e
             y += res[:, o, k].real[:, None] * e.real - res[:, o, k].imag[:, None] * e.imag
         top = rows[:, col[top_col]]
-        over = y > (top + 1e-8 * np.abs(top))[:, None]
-        high = np.any(over, axis=1)
+        end, size = _values_at(poles, res[:, o], poly[:, o], t_imp)  # the window's end counts
+        at, size = _values_at(poles, res[:, o], poly[:, o], rows[:, col[t_col]])
+        with np.errstate(invalid="ignore"):
+            over = (y > (top + 1e-8 * np.abs(top))[:, None]) & mine
+            high = np.any(over, axis=1) | (end > top + 1e-8 * np.abs(top))
+            # the maximum is the value at its own time (to the search's 1e-8 and rounding)
+            high |= np.abs(at - top) > 1e-8 * np.abs(top) + kernel_modal.NOISE * size
         if lobe and o == 1:
             big = np.abs(res[:, o]).max(axis=1)[:, None]
             noise = np.abs(poly[:, o, :1] * t) + np.abs(poly[:, o, 1:2])
             for e in ex:
                 noise += big * np.abs(e)  # exp(Re p t) = |exp(p t)|
-            under = (y < 0.0) & (y < -kernel_modal.NOISE * noise)
+            with np.errstate(invalid="ignore"):
+                under = (y < 0.0) & (y < -kernel_modal.NOISE * noise) & mine
             # the kernel stops at the first failing sample: a negative a_h before any high one
             first_high = np.where(high, np.argmax(over, axis=1), cells)
             lobe_bad = np.any(under, axis=1) & (np.argmax(under, axis=1) < first_high)
             code = np.where((code == 0) & lobe_bad, kernel.SUSPECT_LOBE, code)
         code = np.where((code == 0) & high, kernel.SUSPECT_MAXIMUM, code)
+    if poly.shape[2] >= ERR_COLUMNS:  # the residues' and poles' error bounds are known
+        code = np.where(code == 0, _bounds_check(poles, res, poly, rows, lobe), code)
     return code.astype(np.int8)
+
+
+def _bounds_check(
+    poles: NDArray, res: NDArray, poly: NDArray, rows: NDArray, lobe: bool
+) -> NDArray[np.int8]:
+    """The kernel's checks of the error bounds (``kernel.sampled_check``): the rounding noise
+    (:func:`.kernel_modal.noise`) may move the lobe end by at most ``kernel.TIMP_ERROR``
+    (relative), the residues' and poles' errors may take at most ``kernel.TERM_ERROR`` of
+    each maximum; 0 or the ``SUSPECT_*`` code of each design."""
+    nk = poles.shape[1]
+    t_imp = rows[:, kernel.COLUMNS.index("t_imp")]
+    code = np.zeros(poles.shape[0], dtype=np.int8)
+    with np.errstate(over="ignore", invalid="ignore"):
+        e = np.exp(poles * t_imp[:, None])
+        for o, (top_col, _) in enumerate(_MAXIMA):
+            if not (np.any(res[:, o]) or np.any(poly[:, o])):
+                continue
+            err0, err1 = poly[:, o, 2 : 2 + nk], poly[:, o, 2 + MAX_TERMS : 2 + MAX_TERMS + nk]
+            if lobe and o == 1:
+                c0, c1 = poly[:, o, 0], poly[:, o, 1]
+                size = np.abs(c0 * t_imp) + np.abs(c1) + (np.abs(res[:, o]) * np.abs(e)).sum(1)
+                extra = ((err0 + err1 * t_imp[:, None]) * np.abs(e)).sum(axis=1)
+                slope = c0 + (res[:, o] * poles * e).real.sum(axis=1)
+                moved = kernel_modal.NOISE * size + extra > kernel.TIMP_ERROR * t_imp * np.abs(
+                    slope
+                )
+                code = np.where((code == 0) & moved, kernel.SUSPECT_LOBE, code)
+            top = np.abs(rows[:, kernel.COLUMNS.index(top_col)])
+            big = (err0 + err1 * t_imp[:, None]).sum(axis=1) > kernel.TERM_ERROR * top
+            code = np.where((code == 0) & big, kernel.SUSPECT_MAXIMUM, code)
+    return code
+
+
+def _values_at(
+    poles: NDArray, res: NDArray, poly: NDArray, t: NDArray
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``y(t)`` of one output of each design (``res`` ``(n, K)``, ``poly`` ``(n, >= 2)`` with
+    ``c0, c1`` first) and the sum of its terms' magnitudes there."""
+    e = np.exp(poles * t[:, None])
+    y = poly[:, 0] * t + poly[:, 1] + (res * e).real.sum(axis=1)
+    size = np.abs(poly[:, 0] * t) + np.abs(poly[:, 1]) + np.abs(res * e).sum(axis=1)
+    return y, size
 
 
 def _numpy_rows(
@@ -1130,7 +1311,7 @@ def metrics_from_responses(
     *,
     constrained: bool = False,
     stop_time: float = STOP_TIME.default,
-    max_lobe_steps: int = 4096,
+    max_lobe_steps: int = MAX_LOBE_STEPS.default,
     lobe_diagnostics: bool = False,
     rate: NDArray[np.float64] | None = None,
 ) -> ImpactMetrics:
@@ -1368,7 +1549,9 @@ def _batch_warnings(counts: dict[str, int]) -> tuple[str, ...]:
     return tuple(out)
 
 
-def hic_batch(metrics: ImpactMetrics, window: float = 0.015, samples: int = 400) -> NDArray:
+def hic_batch(
+    metrics: ImpactMetrics, window: float = HIC_WINDOW.default, samples: int = 400
+) -> NDArray:
     """HIC (standard definition; docs/impact.md, "HIC") over the first lobe of each design.
 
     The head's velocity relative to the torso is the exact integral of a_h, so

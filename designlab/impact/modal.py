@@ -726,20 +726,23 @@ def certified_maximum(
     offer(cells.row, cells.tr, cells.yr)
     for level in range(levels + 1):
         # stationary maxima inside cells
-        sign = (cells.dl > 0) & (cells.dr <= 0)
-        if np.any(sign):
-            s = cells.take(np.flatnonzero(sign))
-            ts = _safeguarded_newton(resp.take(s.row), s.tl, s.tr, 1, 60, 1e-13)
-            (ys,) = point_values(resp.take(s.row), ts, (0,))
+        sign = np.flatnonzero((cells.dl > 0) & (cells.dr <= 0))
+        concave = np.zeros(cells.row.size, dtype=bool)
+        if sign.size:
+            s = cells.take(sign)
+            sub = resp.take(s.row)
+            ts = _safeguarded_newton(sub, s.tl, s.tr, 1, 60, 1e-13)
+            (ys,) = point_values(sub, ts, (0,))
             offer(s.row, ts, ys)
+            concave[sign] = _concave(sub, s.tl, s.tr)
         if level == levels or cells.row.size == 0:
             break
         width = cells.tr - cells.tl
         bound = _cell_bound(cells, _curvature_bound(resp.take(cells.row), cells.tl, cells.tr))
         tol = rtol * np.maximum(np.abs(best_y[cells.row]), 1e-300)
-        # a cell with y' from + to - stays in the search too: its Newton solve found one
-        # stationary point, and it may hold three (issue 34)
-        open_ = np.flatnonzero((bound > best_y[cells.row] + tol) & (width > 0))
+        # a cell with y' from + to - stays in the search too unless y'' < 0 all over it: its
+        # Newton solve found one stationary point, and it may hold three (issue 34)
+        open_ = np.flatnonzero((bound > best_y[cells.row] + tol) & (width > 0) & ~concave)
         if open_.size == 0:
             break
         cells = cells.take(open_)
@@ -748,6 +751,26 @@ def certified_maximum(
         cells, rows, ti, yi = cells.split(resp, parts)
         offer(rows, ti, yi)
     return best_t, best_y
+
+
+def _concave(resp: ModalResponse, tl: NDArray, tr: NDArray) -> NDArray[np.bool_]:
+    """Whether ``y'' < 0`` all over each cell ``[tl, tr]`` (then ``y'`` has one zero there).
+
+    ``y''`` is below both ``y''(tl) + m3 (t - tl)`` and ``y''(tr) + m3 (tr - t)`` with
+    ``m3`` a bound of ``|y'''|`` (a polynomial part of degree <= 2 adds none), so it is
+    at most ``(y''(tl) + y''(tr) + m3 w) / 2``; that sum must be below minus the rounding
+    of the two values (1e-12 of the curvature scale, twice).
+    """
+    if resp.poly.shape[1] > 3:  # pragma: no cover - the impact responses have m <= 3
+        return np.zeros(tl.shape, dtype=bool)
+    ddl, ddr = point_values(resp, tl, (2,))[0], point_values(resp, tr, (2,))[0]
+    mag = np.abs(resp.residues) * np.abs(resp.poles) ** 2
+    re = resp.poles.real
+    with np.errstate(over="ignore", invalid="ignore"):
+        grow = np.exp(np.maximum(re * tl[:, None], re * tr[:, None]))
+        m2 = (mag * grow).sum(axis=1)
+        m3 = (mag * np.abs(resp.poles) * grow).sum(axis=1)
+        return ddl + ddr + m3 * (tr - tl) + 2e-12 * m2 < 0
 
 
 def certified_first_crossing(

@@ -45,6 +45,7 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
+from designlab.impact.contact import contact_of
 from designlab.impact.criteria import Criterion
 from designlab.impact.derivatives import metric_gradients
 from designlab.impact.model import PARAM_NAMES
@@ -59,7 +60,6 @@ from designlab.impact.parameters import (
     check_pair,
 )
 from designlab.impact.problem import FoamProblem, make_problem
-from designlab.impact.series_joint import FullJointLink
 from designlab.params import Param, params_of
 from designlab.results import Result, Status
 
@@ -122,6 +122,10 @@ _METRIC_ATTR = {
 }
 
 
+#: the positions of K_c and C_c in the reduced joint's row (the only one with gradients)
+_FOAM_COLUMNS = (PARAM_NAMES.index("K_c"), PARAM_NAMES.index("C_c"))
+
+
 def _worst_design(
     prob: FoamProblem, key: Criterion, k: float, c: float
 ) -> tuple[NDArray, float, float]:
@@ -138,7 +142,7 @@ def _gradient_kc(prob: FoamProblem, key: Criterion, k: float, c: float) -> tuple
     p, v, val = _worst_design(prob, key, k, c)
     if key.metric == "hic":
         grads = []
-        for j, x in ((3, k), (4, c)):
+        for j, x in zip(_FOAM_COLUMNS, (k, c), strict=True):
             h = max(abs(x), 1.0) * 1e-6
             up, dn = p.copy(), p.copy()
             up[j] += h
@@ -150,7 +154,7 @@ def _gradient_kc(prob: FoamProblem, key: Criterion, k: float, c: float) -> tuple
     g = metric_gradients(
         np.atleast_2d(p), v, columns=PARAM_NAMES, constrained=prob.constrained
     ).gradients[_METRIC_ATTR[key.metric]][0]
-    return val, g[[3, 4]]
+    return val, g[list(_FOAM_COLUMNS)]
 
 
 class _Margins(ca.Callback):
@@ -442,7 +446,7 @@ class _Settings:
 
 
 def _check_robot(robot: object) -> None:
-    if not isinstance(robot, (ContactDynamics, LinkImpact)) or isinstance(robot, FullJointLink):
+    if not contact_of(robot).gradients:
         raise InvalidParameterError(
             "robot",
             robot,
@@ -538,7 +542,7 @@ def _summarise(
             f"no foam meets every constraint at this velocity (best margin {margin:+.3f}); "
             f"the region reopens at {factor:.3f} x the speeds"
         )
-    v0 = prob.impact_velocity if isinstance(prob.robot, ContactDynamics) else float("nan")
+    v0 = float("nan") if prob.robot.along_link else prob.impact_velocity
     return OptimalFoam(
         stiffness=math.exp(xs[0]),
         damping=float(xs[1]),

@@ -115,7 +115,7 @@ class FoamProblem:
     @property
     def contact(self) -> ContactModel:
         """The contact model of the robot and the foam (:mod:`designlab.impact.contact`)."""
-        return contact_of(self.robot, self.foam)
+        return contact_of(self.robot) if self.foam is None else contact_of(self.robot, self.foam)
 
     @property
     def compression(self) -> CompressionLimit:
@@ -313,7 +313,7 @@ class FoamLanes(FoamProblem):
         ``log`` of each constraint's limit, per lane.
     robot, impact_velocity, human_speed, criteria, max_compression, head_range
         As in :class:`FoamProblem` (the first problem's).
-    constrained, stop_time, head_levels, lever_grid, golden_iterations
+    constrained, stop_time, head_levels, lever_grid, golden_iterations, foam
         As in :class:`FoamProblem`.
     """
 

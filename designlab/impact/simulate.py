@@ -48,6 +48,7 @@ from designlab.impact.metrics import (
 from designlab.impact.modal import ModalResponse, poles_of
 from designlab.impact.model import printed_q2_correction
 from designlab.impact.parameters import (
+    HIC_WINDOW,
     SIMULATION_DURATION,
     SIMULATION_SAMPLES,
     STOP_TIME,
@@ -100,7 +101,7 @@ class VelocityProfile:
         return self.acceleration * self.duration
 
 
-def hic(t: NDArray, head_acceleration: NDArray, window: float = 0.015) -> float:
+def hic(t: NDArray, head_acceleration: NDArray, window: float = HIC_WINDOW.default) -> float:
     """Head Injury Criterion by the standard definition (docs/impact.md, "HIC").
 
     ``HIC = max (t2 - t1) [ (1/(t2 - t1)) int_{t1}^{t2} a dt ]^2.5`` over
@@ -244,7 +245,7 @@ class ImpactResponse(Result):
         """Whether the head was against a wall (K_h -> infinity)."""
         return self.head is None
 
-    def hic(self, window: float = 0.015, samples: int = 3001) -> float:
+    def hic(self, window: float = HIC_WINDOW.default, samples: int = 3001) -> float:
         """HIC over the first impact lobe (HIC15 by default, 0.036 for HIC36).
 
         The head acceleration is re-sampled exactly on ``samples`` points of
@@ -449,7 +450,7 @@ def simulate(
         (:class:`ContactDynamics`) or the full series joint of (3.4.6)
         (:class:`~designlab.impact.full_joint.FullJointContact`).
     foam
-        Foam covering.
+        Foam covering: a linear :class:`Foam`, or a non-linear one (docs/impact_contact.md).
     head
         Head on its neck; ``None`` for the constrained impact (head against a
         wall, (3.6.1)/(3.9.4)).
@@ -487,14 +488,12 @@ def simulate(
     keys = ("ramp",) if profile is None else ("ramp", "accel", "a_d")
     families = _responses(robot, foam, head, q2, keys)
     evaluate = _superpose(families, max(v_c, 0.0), profile)
-
     if v_c <= 0 and profile is None:
         return _no_impact(robot, foam, head, v_c, duration, samples, q2)
     if v_c <= 0:
         raise InvalidParameterError(
             "impact_velocity", v_c, "must be > 0 when a velocity profile is given", "m/s"
         )
-
     t_imp, metrics, status = _lobe_metrics(
         families, evaluate, robot, foam, head, v_c, profile, stop_time, q2
     )
@@ -551,8 +550,18 @@ def _integrated(
         "force": (lobe.time_of_peak_force, lobe.peak_force),
     }
     t_imp = lobe.impact_duration
-    warnings, status = _response_warnings(lobe.status, t_imp, metrics, foam, contact)  # type: ignore[arg-type]
-    t = np.linspace(0.0, _t_end(duration, t_imp), int(samples))
+    if lobe.status == "bottoming":
+        status, warnings = (
+            lobe.status,
+            [
+                f"the foam is crushed at t = {lobe.time_of_max_compression:.4g} s: eps reached its "
+                "densification depth, the force and a_h are beyond any limit (the histories end "
+                "there)"
+            ],
+        )
+    else:
+        warnings, status = _response_warnings(lobe.status, t_imp, metrics, foam, contact)  # type: ignore[arg-type]
+    t = np.linspace(0.0, min(_t_end(duration, t_imp), evaluate.end), int(samples))
     y = evaluate(t)
     return ImpactResponse(
         robot, foam, head, v_c, t, y["force"], y["head_acceleration"], y["compression"],  # type: ignore[arg-type]

@@ -26,8 +26,11 @@ identical.
 from __future__ import annotations
 
 import fnmatch
+import functools
+import json
 import math
 from dataclasses import dataclass
+from importlib import resources
 
 __all__ = [
     "CERTIFIED_IMPACT",
@@ -77,6 +80,15 @@ class Reproduction:
         The largest fraction of a table's rows whose discrete outcome (a text or
         yes/no cell: converged, collided, status) may change: a design on the edge
         of a verdict can fall either side of it. Such rows are not compared further.
+    measured
+        The study (report name) whose rerun ``benchmarks/reproduce_reports.py --record``
+        measured the figures ``why`` quotes (``designlab/data/reproduction.json``).
+    figures
+        ``(field, statistic, "file:column" glob)`` of each ``{field}`` in ``why``:
+        ``abs`` / ``rel`` the largest absolute / relative difference of those columns,
+        ``first`` the first row (counted from 1) where one differs, ``flips`` and
+        ``rows`` the rows whose verdict changed and all rows. No measured number is
+        typed into ``why``.
     """
 
     rtol: float = 0.0
@@ -85,6 +97,8 @@ class Reproduction:
     exempt: tuple[str, ...] = ()
     flips: float = 0.0
     checked: bool = True
+    measured: str = ""
+    figures: tuple[tuple[str, str, str], ...] = ()
 
     def __post_init__(self) -> None:
         if not 0.0 <= self.flips <= 1.0:
@@ -130,6 +144,18 @@ class Reproduction:
             terms.append(f"{self.rtol:g} max(|a|, |b|)")
         return "|a - b| <= " + " + ".join(terms)
 
+    def explanation(self) -> str:
+        """``why`` with its figures filled in from the recorded rerun (:attr:`measured`)."""
+        if not self.figures:
+            return self.why
+        record = measured_figures().get(self.measured)
+        if record is None:
+            raise ValueError(
+                f"Reproduction: no recorded rerun of {self.measured!r} in {_FIGURES} "
+                "(benchmarks/reproduce_reports.py --record)"
+            )
+        return self.why.format(**{f: _figure(record, stat, cols) for f, stat, cols in self.figures})
+
     def sentence(self, digits: int | None = None) -> str:
         """The report's statement (one paragraph).
 
@@ -154,7 +180,7 @@ class Reproduction:
             + ("is the same to the bit" if same else f"reproduces within {self.bound()}")
         )
         if self.why:
-            text += f" ({self.why})"
+            text += f" ({self.explanation()})"
         if digits is not None and self.bound() != "a = b (to the bit)":
             text += (
                 f", give or take one unit in the last of the {digits} significant digits printed"
@@ -170,6 +196,32 @@ class Reproduction:
         if self.exempt:
             text += f", except {', '.join(self.exempt)}, which are not compared"
         return text + "."
+
+
+#: The figures measured by reruns as on a plain x86-64 CPU (written by
+#: ``benchmarks/reproduce_reports.py --record``; read by :meth:`Reproduction.explanation`)
+_FIGURES = "reproduction.json"
+
+
+@functools.cache
+def measured_figures() -> dict[str, dict]:
+    """The recorded reruns: report name -> ``{"rows", "flips", "columns": {"file:column":
+    {"abs", "rel", "first"}}, ...}`` (``designlab/data/reproduction.json``)."""
+    text = resources.files("designlab.data").joinpath(_FIGURES).read_text(encoding="utf-8")
+    return dict(json.loads(text))
+
+
+def _figure(record: dict, stat: str, columns: str) -> str:
+    """One figure of a recorded rerun, printed as the statements print it."""
+    if stat in ("flips", "rows"):
+        return f"{int(record[stat]):,}"
+    cols = [v for k, v in record["columns"].items() if fnmatch.fnmatchcase(k, columns)]
+    if not cols:
+        raise ValueError(f"Reproduction: no recorded column matches {columns!r}")
+    if stat == "first":
+        return f"{min(int(c['first']) for c in cols if c['first'] is not None):,}"
+    mantissa, exponent = f"{max(float(c[stat]) for c in cols):.0e}".split("e")
+    return f"{mantissa}e{int(exponent)}"
 
 
 #: Kinds not yet rerun as on another machine: the report says so, claiming no tolerance.
@@ -228,8 +280,11 @@ NOISE_AROUND_ZERO = Reproduction(
     atol=1e-12,
     why=(
         "rerun with the code paths of a plain x86-64 CPU, every number was identical "
-        "but those that are rounding noise around zero (1e-16 m), which move within 1e-12"
+        "but those that are rounding noise around zero, which moved by {noise} m; they "
+        "move within 1e-12"
     ),
+    measured="tether_modes",
+    figures=(("noise", "abs", "*"),),
 )
 
 #: The accompanying robot: PID gains tuned by a Nelder-Mead search (docs/following.md).
@@ -239,9 +294,10 @@ TUNED_GAINS = Reproduction(
     why=(
         "the PID gains are tuned by a Nelder-Mead search (docs/following.md), which ends "
         "a little elsewhere within its tolerances on another machine; rerun with the code "
-        "paths of a plain x86-64 CPU, the gains moved by 2e-7 relative and every other "
-        "number by less than 1e-6 relative or 1e-9 absolute"
+        "paths of a plain x86-64 CPU, the gains moved by {gains} relative"
     ),
+    measured="accompanying",
+    figures=(("gains", "rel", "margins.csv:k[pid]"),),
 )
 
 #: Co-design: certified impact figures, and an evolutionary search that is not reproducible.
@@ -264,9 +320,11 @@ CONVERGENCE_MAP = Reproduction(
     why=(
         "a grid point's verdict is whether the follower settles within the simulated time; "
         "one on that edge can fall either side: rerun with the code paths of a plain "
-        "x86-64 CPU, 2 of 58,390 rows changed verdict, and every other number was "
-        "identical but rounding noise around zero, within 1e-15"
+        "x86-64 CPU, {flips} of {rows} rows changed verdict, and every other number was "
+        "identical but rounding noise around zero, which moved by {noise}"
     ),
+    measured="tether_stability",
+    figures=(("flips", "flips", ""), ("rows", "rows", ""), ("noise", "abs", "*")),
 )
 
 #: Crowd runs with gains tuned by a seeded search (docs/navigation_crowds.md).
@@ -275,9 +333,15 @@ CROWD_TUNING = Reproduction(
         "rerun with the code paths of a plain x86-64 CPU, every number of the runs' tables "
         "was identical; the gain search's history is not reproducible evaluation for "
         "evaluation: its proposals turn on last-bit ties, and there it took another path "
-        "from its 25th evaluation on"
+        "from evaluation {first} on (an evaluated outcome differed from evaluation "
+        "{outcome} on)"
     ),
     exempt=("tuning_history.csv:*",),
+    measured="vff_crowds",
+    figures=(
+        ("first", "first", "tuning_history.csv:k[135]"),
+        ("outcome", "first", "tuning_history.csv:*"),
+    ),
 )
 
 #: The Ch. 3 claims: certified metrics, and the lever arm where a maximum is reached.
@@ -288,7 +352,9 @@ CH3_CLAIMS = Reproduction(
         "each impact metric is certified to 1e-8 relative (docs/impact.md, 'Self-check'); "
         "the lever arm at which a maximum over the arm is reached is not: a smooth maximum "
         "is flat, so its argument is known only to about the square root of that (it "
-        "moved by 6e-7 relative on a plain x86-64 CPU)"
+        "moved by {lever} relative on a plain x86-64 CPU)"
     ),
     exempt=("fig_3_16.csv:worst_l_m",),
+    measured="zeng_ch3_claims",
+    figures=(("lever", "rel", "fig_3_16.csv:worst_l_m"),),
 )

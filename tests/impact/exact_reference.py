@@ -198,8 +198,12 @@ class _MpFirstLobe:
         prev = mp.mpf(0)
         for t in ts:
             y = self.value(1, t)
-            if y < 0:
-                return float(mp.findroot(lambda s: self.value(1, s), (prev, t), solver="anderson"))
+            if y < 0:  # scaled: findroot's tolerance is absolute, and a slow tail's a_h tiny
+                scale = max(abs(self.value(1, prev)), abs(y))
+                root = mp.findroot(
+                    lambda s, k=scale: self.value(1, s) / k, (prev, t), solver="anderson"
+                )
+                return float(root)
             prev = t
         return float("nan")
 
@@ -215,7 +219,10 @@ class _MpFirstLobe:
         for a, b in itertools.pairwise(ts):
             db = self.value(o, b, 1)
             if dprev > 0 >= db:
-                t = mp.findroot(lambda s: self.value(o, s, 1), (a, b), solver="anderson")
+                scale = max(abs(dprev), abs(db))  # as first_zero's
+                t = mp.findroot(
+                    lambda s, k=scale: self.value(o, s, 1) / k, (a, b), solver="anderson"
+                )
                 best = max(best, self.value(o, t))
             dprev = db
         return float(best)

@@ -34,7 +34,12 @@ from numpy.typing import NDArray
 from designlab.errors import InvalidParameterError
 from designlab.impact.parameters import STOP_TIME
 
-__all__ = ["HEAD_COLUMNS", "ContactModel", "reduced_joint_values"]
+__all__ = [
+    "HEAD_COLUMNS",
+    "ContactModel",
+    "reduced_joint_labels",
+    "reduced_joint_values",
+]
 
 #: The head-neck columns of every parameter row, in the order of ``head_rows``.
 HEAD_COLUMNS: tuple[str, ...] = ("M_h", "C_h", "K_h")
@@ -56,6 +61,20 @@ def reduced_joint_values(robot: Any, levers: NDArray | None) -> dict[str, Any]:
         return {"M_r": robot.inertia / l2, "C_r": robot.joint_damping / l2,
                 "K_r": robot.joint_stiffness / l2}  # fmt: skip
     return {"M_r": robot.mass, "C_r": robot.damping, "K_r": robot.stiffness}
+
+
+def reduced_joint_labels(along_link: bool) -> dict[str, str]:
+    """The arguments behind M_r, C_r, K_r: a fixed manipulator's, or a link's joint values.
+
+    Parameters
+    ----------
+    along_link
+        The robot is a link (``robot.inertia``, ``robot.joint_damping``, ...).
+    """
+    if along_link:
+        return {"M_r": "robot.inertia", "C_r": "robot.joint_damping",
+                "K_r": "robot.joint_stiffness"}  # fmt: skip
+    return {"M_r": "robot.mass", "C_r": "robot.damping", "K_r": "robot.stiffness"}
 
 
 @dataclass(frozen=True)
@@ -188,14 +207,24 @@ class ContactModel:
         m, c, k = (float(self.column(row, n)[0]) for n in HEAD_COLUMNS)
         return {"mass": m, "damping": c, "stiffness": k}
 
-    def input_labels(self, head: object | None) -> tuple[str | None, ...]:
-        """The argument behind each column (``robot.mass``, ...; ``None``: constrained head)."""
-        labels = dict(self._labels())
+    def input_labels(
+        self, head: object | None, *, along_link: bool = False
+    ) -> tuple[str | None, ...]:
+        """The argument behind each column (``robot.mass``, ...; ``None``: no head given).
+
+        Parameters
+        ----------
+        head
+            The head (``None``: the constrained head, or the columns of a head grid).
+        along_link
+            The robot is a link: its columns come from its joint values (``robot.inertia``).
+        """
+        labels = dict(self._labels(along_link))
         for c, attr in zip(HEAD_COLUMNS, ("mass", "damping", "stiffness"), strict=True):
             labels[c] = None if head is None else f"head.{attr}"
         return tuple(labels[c] for c in self.columns)
 
-    def _labels(self) -> Mapping[str, str]:
+    def _labels(self, along_link: bool) -> Mapping[str, str]:
         raise NotImplementedError  # pragma: no cover - every variant implements it
 
     # ---------------------------------------------------------------- responses

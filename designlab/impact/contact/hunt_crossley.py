@@ -45,7 +45,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
-from designlab.impact.contact.base import HEAD_COLUMNS, ContactModel, reduced_joint_values
+from designlab.impact.contact.base import (
+    HEAD_COLUMNS,
+    ContactModel,
+    reduced_joint_labels,
+    reduced_joint_values,
+)
 from designlab.impact.general import (
     GENERAL_RTOL,
     ForceLaw,
@@ -163,14 +168,21 @@ def _force_law(k: float, c: float, x_d: float, n: float, p: float) -> ForceLaw:
 
 @dataclass(frozen=True)
 class HuntCrossley(ContactModel):
-    """The reduced joint with the non-linear foam (see the module text)."""
+    """The reduced joint with the non-linear foam (see the module text).
+
+    Attributes
+    ----------
+    name, label, doc, robots, foam, columns, robot_columns, foam_columns, equations
+        As in :class:`~designlab.impact.contact.base.ContactModel`.
+    linear, batched, gradients, profiles, printed_q2, response_form
+        Its capabilities, as in :class:`~designlab.impact.contact.base.ContactModel`.
+    """
 
     def _robot_values(self, robot: Any, levers: NDArray | None) -> Mapping[str, Any]:
         return reduced_joint_values(robot, levers)
 
-    def _labels(self) -> Mapping[str, str]:
-        return {"M_r": "robot.mass", "C_r": "robot.damping", "K_r": "robot.stiffness",
-                "K_c": "foam.stiffness", "C_c": "foam.damping",
+    def _labels(self, along_link: bool) -> Mapping[str, str]:
+        return {**reduced_joint_labels(along_link), "K_c": "foam.stiffness", "C_c": "foam.damping",
                 "x_d": "foam.densification_depth", "n_d": "foam.stiffening",
                 "p_c": "foam.damping_exponent"}  # fmt: skip
 
@@ -220,7 +232,11 @@ class HuntCrossley(ContactModel):
             law = self.force_law(*(float(col[c][i]) for c in _LAW))
             robot = tuple(float(col[c][i]) for c in self.robot_columns)
             head = None if constrained else tuple(float(col[c][i]) for c in HEAD_COLUMNS)
-            lobes.append(first_lobe(law, robot, head, float(v[i]), stop_time=stop_time, rtol=rtol))
+            crush = float(col["x_d"][i]) if col["n_d"][i] > 0 else None  # n = 0: no densification
+            lobes.append(
+                first_lobe(law, robot, head, float(v[i]), stop_time=stop_time, rtol=rtol,
+                           crush_depth=crush)
+            )  # fmt: skip
         return _batch(p, v, lobes, constrained, rtol)
 
     def valid_depth(self, foam: Any) -> float:
@@ -247,10 +263,13 @@ class HuntCrossley(ContactModel):
         neck = None if head is None else tuple(float(self.column(row, c)[0]) for c in HEAD_COLUMNS)
         stop_time = float(options.get("stop_time", 0.05))
         rtol = GENERAL_RTOL.check(options.get("rtol", GENERAL_RTOL.default))
-        lobe = first_lobe(law, arm, neck, impact_velocity, stop_time=stop_time, rtol=rtol)
+        x_d = foam.densification_depth if foam.stiffening > 0 else None  # n = 0: never crushed
+        lobe = first_lobe(
+            law, arm, neck, impact_velocity, stop_time=stop_time, rtol=rtol, crush_depth=x_d
+        )
         t_imp = lobe.impact_duration
         t_end = options.get("t_end") or (2.0 * t_imp if np.isfinite(t_imp) and t_imp > 0 else 0.1)
-        return lobe, histories(law, arm, neck, impact_velocity, t_end, rtol=rtol)
+        return lobe, histories(law, arm, neck, impact_velocity, t_end, rtol=rtol, crush_depth=x_d)
 
     def values(
         self,
@@ -277,7 +296,13 @@ def _batch(p: NDArray, v: NDArray, lobes: list, constrained: bool, rtol: float) 
 
     status = np.array([lobe.status for lobe in lobes])
     open_ = int(np.sum(status == GeneralStatus.LOBE_NOT_CLOSED.value))
+    crushed = int(np.sum(status == "bottoming"))
     warnings = [integrator_note(rtol)]
+    if crushed:
+        warnings.append(
+            f"{crushed} design(s) crushed the foam (eps reached its densification depth x_d): "
+            "their peak force and a_h are infinite, beyond any limit"
+        )
     if open_:
         warnings.append(f"{open_} design(s) did not close their first lobe; their metrics are NaN")
     return ImpactMetrics(

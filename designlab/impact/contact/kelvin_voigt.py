@@ -23,7 +23,11 @@ from typing import Any
 
 from numpy.typing import NDArray
 
-from designlab.impact.contact.base import ContactModel, reduced_joint_values
+from designlab.impact.contact.base import (
+    ContactModel,
+    reduced_joint_labels,
+    reduced_joint_values,
+)
 from designlab.impact.metrics import ImpactMetrics, metrics_of_matrix
 from designlab.impact.model import (
     PARAM_NAMES,
@@ -38,14 +42,21 @@ __all__ = ["KELVIN_VOIGT", "KelvinVoigt"]
 
 @dataclass(frozen=True)
 class KelvinVoigt(ContactModel):
-    """The reduced joint with a linear foam (see the module text)."""
+    """The reduced joint with a linear foam (see the module text).
+
+    Attributes
+    ----------
+    name, label, doc, robots, foam, columns, robot_columns, foam_columns, equations
+        As in :class:`~designlab.impact.contact.base.ContactModel`.
+    linear, batched, gradients, profiles, printed_q2, response_form
+        Its capabilities, as in :class:`~designlab.impact.contact.base.ContactModel`.
+    """
 
     def _robot_values(self, robot: Any, levers: NDArray | None) -> Mapping[str, Any]:
         return reduced_joint_values(robot, levers)
 
-    def _labels(self) -> Mapping[str, str]:
-        return {"M_r": "robot.mass", "C_r": "robot.damping", "K_r": "robot.stiffness",
-                "K_c": "foam.stiffness", "C_c": "foam.damping"}  # fmt: skip
+    def _labels(self, along_link: bool) -> Mapping[str, str]:
+        return {**reduced_joint_labels(along_link), "K_c": "foam.stiffness", "C_c": "foam.damping"}
 
     def model(self, constrained: bool) -> LinearImpactModel:
         """The model of Sec. 3.5 (3.5.11), or the constrained one (3.6.1)/(3.9.4)."""

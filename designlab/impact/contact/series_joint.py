@@ -37,7 +37,15 @@ __all__ = ["SERIES_JOINT", "SeriesJointContact"]
 
 @dataclass(frozen=True)
 class SeriesJointContact(ContactModel):
-    """The full series joint with a linear foam (see the module text)."""
+    """The full series joint with a linear foam (see the module text).
+
+    Attributes
+    ----------
+    name, label, doc, robots, foam, columns, robot_columns, foam_columns, equations
+        As in :class:`~designlab.impact.contact.base.ContactModel`.
+    linear, batched, gradients, profiles, printed_q2, response_form
+        Its capabilities, as in :class:`~designlab.impact.contact.base.ContactModel`.
+    """
 
     def _robot_values(self, robot: Any, levers: NDArray | None) -> Mapping[str, Any]:
         if robot.along_link:
@@ -53,11 +61,13 @@ class SeriesJointContact(ContactModel):
                 "K_mech": robot.transmission_stiffness, "C_cont": robot.control_damping,
                 "K_cont": robot.control_stiffness}  # fmt: skip
 
-    def _labels(self) -> Mapping[str, str]:
-        return {"M_r": "robot.mass", "C_mech": "robot.transmission_damping",
-                "K_mech": "robot.transmission_stiffness", "K_c": "foam.stiffness",
-                "C_c": "foam.damping", "C_cont": "robot.control_damping",
-                "K_cont": "robot.control_stiffness"}  # fmt: skip
+    def _labels(self, along_link: bool) -> Mapping[str, str]:
+        control = ("joint_damping", "joint_stiffness") if along_link else (
+            "control_damping", "control_stiffness")  # fmt: skip
+        return {"M_r": "robot.inertia" if along_link else "robot.mass",
+                "C_mech": "robot.transmission_damping", "K_mech": "robot.transmission_stiffness",
+                "K_c": "foam.stiffness", "C_c": "foam.damping",
+                "C_cont": f"robot.{control[0]}", "K_cont": f"robot.{control[1]}"}  # fmt: skip
 
     def model(self, constrained: bool) -> LinearImpactModel:
         """The full-joint model (:mod:`designlab.impact.full_joint_model`)."""

@@ -230,7 +230,7 @@ class AccompanyingStudy(StudyBase):
     extras: ExtrasSpec | None = Field(  # type: ignore[valid-type]
         None, description="the Sec. 6 options (sensor offset, target adaptation, motion filter)"
     )
-    seed: SEED.annotation(optional=False) = 0  # type: ignore[valid-type]
+    seed: SEED.annotation(optional=False) = SEED.default  # type: ignore[valid-type]
 
     PRODUCES: ClassVar[tuple[str, ...]] = (
         "summary.md",

@@ -91,7 +91,7 @@ class ErrorSourcesSpec(Model):
         default_factory=lambda: SlipSpec(left_slip=0.02, noise_std=0.02)
     )
     marker: MarkerSpec = Field(default_factory=lambda: MarkerSpec(left=0.15))  # type: ignore[valid-type]
-    seed: SEED.annotation(optional=False) = 0  # type: ignore[valid-type]
+    seed: SEED.annotation(optional=False) = SEED.default  # type: ignore[valid-type]
 
     def variants(self) -> dict[str, dict[str, Any]]:
         """Variant (:data:`ERROR_VARIANTS`) -> keyword arguments of ``simulate_with_errors``."""

@@ -86,7 +86,7 @@ class TetherDesign(Model):
     robot: FollowerRobotSpec = Field(  # type: ignore[valid-type]
         default_factory=lambda: FollowerRobotSpec(preset="DEFAULT")
     )
-    seed: SEED.annotation(optional=False) = 0  # type: ignore[valid-type]
+    seed: SEED.annotation(optional=False) = SEED.default  # type: ignore[valid-type]
 
 
 class TetherSweepStudy(SweepStudyBase[TetherSweepParameters, TetherMetricName]):  # type: ignore[valid-type]

@@ -86,7 +86,7 @@ class TetherTuningStudy(StudyBase):
     method: Tuner = Field(  # type: ignore[valid-type]
         "differential_evolution", description="the search (designlab.following.tether.TUNERS)"
     )
-    seed: SEED.annotation(optional=False) = 0  # type: ignore[valid-type]
+    seed: SEED.annotation(optional=False) = SEED.default  # type: ignore[valid-type]
     popsize: POPSIZE.annotation() = POPSIZE.default  # type: ignore[valid-type]
     maxiter: MAXITER.annotation() = MAXITER.default  # type: ignore[valid-type]
 

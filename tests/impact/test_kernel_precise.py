@@ -1,0 +1,97 @@
+"""Designs the double-precision self-checks refuse get a certified number from 40-digit poles
+and residues (:mod:`designlab.impact.kernel_precise`; issue 34, availability).
+
+* The 40-digit residues and poles, rounded to doubles, are within their stated error bounds
+  of a 60-digit mpmath evaluation (:class:`exact_reference.MpImpact`), and those bounds are
+  a few roundings of the largest residue (the double-precision bounds were 100-200 times
+  the true errors on these designs).
+* Through :func:`designlab.impact.metrics.metrics_of_matrix` (compiled kernel, and the numpy
+  path without numba) the designs the kernel's self-check refused are certified and right
+  against mpmath (t_imp 1e-9, maxima 1e-8 relative, the fuzz harness's tolerances), or
+  say they are not (``lobe_not_closed`` only where mpmath finds no zero).
+
+The designs are from ``benchmarks/fuzz_kernel.py`` (seed 34): nearly repeated modes under a
+soft foam (``repeated``), nearly double real poles (``critical``), and very overdamped.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from exact_reference import MpImpact
+from test_kernel_noise import DIP, NO_ZERO, TAIL_ZERO
+
+from designlab.impact import kernel
+from designlab.impact.kernel_precise import precise_responses
+from designlab.impact.metrics import metrics_of_matrix
+
+pytest.importorskip("mpmath")
+
+#: ``critical`` family: a_h peaks at contact and decays to a slow, ill-conditioned zero
+#: (2.88 s, 2.15 s); ``repeated`` family: its lobe end rests on nearly repeated modes
+REFUSED = [
+    [13.553214942952549, 1117.780994518635, 23048.747829766417, 7643.599397051438,
+     193.58461289372792, 3.468240446401344, 285.4941927443985, 5868.043527589054],
+    [18.925271623516785, 1548.9185598071354, 31668.70673257235, 5475.88072740696,
+     131.46187486495566, 4.616418898684659, 360.79191509806054, 7047.312944982827],
+    [17.123017883538264, 802.617960715414, 9338.884600440797, 17.017221632978533,
+     0.2307464234034718, 3.170389617715161, 148.6076617422799, 1729.1287657149483],
+    TAIL_ZERO,
+]  # fmt: skip
+NAMES = ("force", "head_acceleration", "compression")
+
+
+def test_fifty_digit_residues_and_poles_within_their_bounds() -> None:
+    designs = [*REFUSED, *NO_ZERO, *DIP]
+    resp, ok = precise_responses(np.array(designs), printed=False, names=NAMES)
+    assert ok.all()
+    for i, design in enumerate(designs):
+        ref = MpImpact(design, dps=60)
+        for o, name in enumerate(NAMES):
+            r = resp[name]
+            big = np.abs(r.residues[i]).max()
+            for k in range(4):
+                if r.residues[i, k] == 0:  # an unused slot
+                    continue
+                j = int(np.argmin([abs(complex(z) - r.poles[i, k]) for z in ref.poles]))
+                exact = (2.0 if r.poles[i, k].imag > 0 else 1.0) * complex(ref.res[o][j])
+                assert abs(r.residues[i, k] - exact) <= r.errors[i, k, 0], (i, name, k)
+                assert r.errors[i, k, 0] <= 8 * 2.0**-53 * big, (i, name, k)
+                pole_error = abs(r.poles[i, k] - complex(ref.poles[j]))
+                assert pole_error * abs(r.residues[i, k]) <= r.errors[i, k, 1], (i, name, k)
+
+
+def test_poles_not_isolated_are_said_so() -> None:
+    """A double pole (the arm's and the head's own modes equal and a foam of zero stiffness
+    and damping) has no residues: the design is not certified here."""
+    q = np.array([[4.0, 40.0, 4e3, 0.0, 0.0, 4.0, 40.0, 4e3]])
+    resp, ok = precise_responses(q, printed=False, names=NAMES)
+    assert not ok[0] and np.isnan(resp["force"].residues[0]).all()
+
+
+def _right(design: list[float], row: np.ndarray, status: str) -> None:
+    ref = MpImpact(design, dps=40)
+    if status == "lobe_not_closed":
+        assert np.all(np.isnan(row)) and np.isnan(ref.first_zero(30.0, samples=3000))
+        return
+    assert status in ("ok", "peak_at_contact"), status
+    t = ref.first_zero(1.05 * row[3], samples=600)
+    assert abs(row[3] - t) <= 1e-9 * t, (row[3], t)
+    for o, value in ((1, row[0]), (2, row[1]), (0, row[2])):
+        exact = ref.maximum(o, t, samples=600)
+        assert abs(value - exact) <= 1e-8 * abs(exact), (o, value, exact)
+
+
+@pytest.mark.parametrize("compiled", [True, False], ids=["kernel", "numpy"])
+def test_refused_designs_are_certified_and_right(compiled: bool, monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    if compiled and not kernel.AVAILABLE:
+        pytest.skip("compiled kernels unavailable")
+    with monkeypatch.context() as mp:
+        if not compiled:
+            mp.setattr(kernel, "AVAILABLE", False)
+        m = metrics_of_matrix(np.array(REFUSED), 1.0)
+    rows = np.stack(
+        [m.peak_head_acceleration, m.max_compression, m.peak_force, m.impact_duration], axis=1
+    )
+    for i, design in enumerate(REFUSED):
+        _right(design, rows[i], str(m.design_status[i]))
