@@ -108,8 +108,8 @@ def impact_metrics_one(
     params: Sequence[float] | Mapping[str, float],
     impact_velocity: float,
     *,
-    stop_time: float = 0.05,
-    max_lobe_steps: int = 4096,
+    stop_time: float = STOP_TIME.default,
+    max_lobe_steps: int = MAX_LOBE_STEPS.default,
 ) -> ImpactPoint:
     """First-lobe metrics of one reduced, unconstrained design (the scalar fast path).
 

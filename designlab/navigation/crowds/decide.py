@@ -32,6 +32,7 @@ from scipy.stats import binomtest, norm
 
 from designlab.errors import InvalidParameterError
 from designlab.navigation.crowds.metrics import wilson_interval
+from designlab.params import ARG
 
 __all__ = ["decision_findings", "mcnemar", "minimum_detectable_difference", "time_limit_curve"]
 
@@ -102,7 +103,9 @@ def mcnemar(runs: pd.DataFrame, outcome: str = "success") -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def time_limit_curve(runs: pd.DataFrame, factors: Any, confidence: float = 0.95) -> pd.DataFrame:
+def time_limit_curve(
+    runs: pd.DataFrame, factors: Any, confidence: float = ARG.confidence.default
+) -> pd.DataFrame:
     """Success rates (with Wilson intervals) had the time limit been ``k`` x the free-run time.
 
     Parameters
