@@ -12,6 +12,11 @@ apply to the row, each as a run that removes it:
   [3.99, 0.6] instead of Configuration 1's [3.9, 0.6]);
 * ``walk``: the synthetic walk that replaces the unpublished measured one (cruise speed
   0.8-1.2 m/s, ramps of 0.5-1.5 s: the thesis's walk averaged 1.0 m/s and varied);
+* ``walk_start``: the walk's start and timing, not given (the human 0.5-1 m ahead of or
+  behind its start at t = 0, or starting 0.5-1 s late);
+* ``walk_noise``: the simulated rows replay the measured walk, whose velocity varied by
+  about +-0.8 m/s: velocity noise of 0.2-0.4 m/s (three seeds each) on what the field sees,
+  for every row with a walking human, simulated or experiment;
 * ``gains``: Table 5.1 does not state its gains (the optimised set instead of the
   experiment set);
 * ``noise``: for experiment rows, the vision noise (:class:`SensorNoise` defaults, five
@@ -61,7 +66,7 @@ from designlab.navigation.parameters import (
     HolonomicRobot,
     MasoudGains,
 )
-from designlab.navigation.scenarios import configuration
+from designlab.navigation.scenarios import Walk, configuration
 from designlab.navigation.simulate import simulate
 from designlab.params import Param
 from designlab.progress import Progress, ProgressHook, report
@@ -123,8 +128,15 @@ class RunSetup:
     experiment : bool
         The thesis row is an experiment (``exp``): the vision-noise cause applies.
     noise_seed : int or None
-        Seed of the :class:`SensorNoise` (default noise levels) on what the field sees;
-        ``None``: exact measurements.
+        Seed of the :class:`SensorNoise` on what the field sees; ``None``: exact measurements.
+    noise_velocity_sd : float or None
+        The noise's velocity standard deviation in m/s (``None``: the :class:`SensorNoise`
+        default); the measured walk the thesis replays varied by about +-0.8 m/s.
+    human_head_start : float
+        Metres along its walk the human has already covered at t = 0 (negative: it starts
+        that far behind its start point); the thesis does not give the walk's start.
+    human_delay : float
+        Seconds the human waits before walking (the walk's timing against the robot's).
     """
 
     which: str
@@ -138,6 +150,9 @@ class RunSetup:
     human_ramp_time: float = 0.5
     experiment: bool = False
     noise_seed: int | None = None
+    noise_velocity_sd: float | None = None
+    human_head_start: float = 0.0
+    human_delay: float = 0.0
 
     def run(self) -> dict[str, float]:
         """The arrival time and the minimum distances (thesis column names)."""
@@ -147,7 +162,12 @@ class RunSetup:
                            human_ramp_time=self.human_ramp_time)  # fmt: skip
         if self.start is not None:
             sc = sc.replace(start=self.start)
-        noise = None if self.noise_seed is None else SensorNoise(seed=self.noise_seed)
+        if self.human_head_start or self.human_delay:
+            sc = sc.replace(obstacles=tuple(self._shifted(o) for o in sc.obstacles))
+        noise = None
+        if self.noise_seed is not None:
+            sd = {} if self.noise_velocity_sd is None else {"velocity_sd": self.noise_velocity_sd}
+            noise = SensorNoise(seed=self.noise_seed, **sd)
         res = simulate(sc, self.gains, method=self.method, stabilising="off",
                        arrival_tolerance=self.tolerance, noise=noise)  # fmt: skip
         out = {"T_arrive_s": res.arrival_time}
@@ -155,6 +175,17 @@ class RunSetup:
             if name in res.min_distance:
                 out[col] = res.min_distance[name]
         return out
+
+    def _shifted(self, obstacle: Any) -> Any:
+        """A walking obstacle with the walk's start moved along it and delayed."""
+        walk = getattr(obstacle, "motion", None)
+        if not isinstance(walk, Walk):
+            return obstacle
+        a, b = np.asarray(walk.start, float), np.asarray(walk.end, float)
+        start = a + self.human_head_start * (b - a) / np.linalg.norm(b - a)
+        moved = replace(walk, start=(float(start[0]), float(start[1])),
+                        start_time=walk.start_time + self.human_delay)  # fmt: skip
+        return replace(obstacle, motion=moved)
 
 
 @dataclass(frozen=True)
@@ -204,6 +235,25 @@ CAUSES: tuple[Cause, ...] = (
             for v in (0.8, 1.0, 1.2)
             for r in (0.5, 1.5)
             if (v, r) != (s.human_speed, s.human_ramp_time)
+        ],
+    ),
+    Cause(
+        "walk_start",
+        "the walk's start and timing not given: the human 0.5-1 m ahead or behind along its "
+        "walk at t = 0, or starting 0.5-1 s late",
+        lambda s, q: _walking(s),
+        lambda s: (
+            [replace(s, human_head_start=d) for d in (-1.0, -0.5, 0.5, 1.0)]
+            + [replace(s, human_delay=d) for d in (0.5, 1.0)]
+        ),
+    ),
+    Cause(
+        "walk_noise",
+        "the measured walk the simulations replay (velocity varying by about +-0.8 m/s): "
+        "velocity noise 0.2-0.4 m/s, seeds 0-2",
+        lambda s, q: _walking(s),
+        lambda s: [
+            replace(s, noise_seed=k, noise_velocity_sd=v) for v in (0.2, 0.3, 0.4) for k in range(3)
         ],
     ),
     Cause(

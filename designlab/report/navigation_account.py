@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from designlab.navigation.account import account_markdown
+from designlab.navigation.account import CAUSES, account_markdown
 from designlab.report import register_writer
 from designlab.report.builder import ReportParts
 from designlab.report.writers import markdown_table
@@ -68,6 +68,12 @@ def account_summary(result: NavigationAccountResult) -> str:
     acc = result.account
     f = acc.frame
     causes = f.loc[~f["within"], "cause"].value_counts()
+    unexplained = f["cause"].str.endswith("not found")
+    unexplained_rows = [
+        f"Table {r['table']} {r['method']} ({r['sim_or_exp']}, config {r['configuration']}) "
+        f"{r['quantity']}"
+        for _, r in f[unexplained].iterrows()
+    ]
     out = [
         f"Agreement band: {acc.time_band:.0%} in arrival time, {acc.distance_band} m in "
         "distance (stabilising force off, tolerance 0.15 m, `docs/navigation.md`). "
@@ -80,6 +86,17 @@ def account_summary(result: NavigationAccountResult) -> str:
         "Experiment rows are compared with the simulation, the vision noise being one "
         "candidate (the motors are not modelled). H and energy are not compared (the motor "
         "data are unknown).",
+        "",
+        "Every quantity outside the band is run against every candidate cause that changes "
+        "its run (a walk cause needs a walking human, `start` Ch. 6 Configurations 3-4, "
+        "`noise` an experiment row, the gain causes Table 5.1, `masoud_sense` Masoud):",
+        "",
+        *[f"- `{c.name}`: {c.description}" for c in CAUSES],
+        "",
+        f"No cause found after every applicable candidate: {int(unexplained.sum())} of "
+        f"{int((~f['within']).sum())} quantities outside the band"
+        + (": " + "; ".join(unexplained_rows) if len(unexplained_rows) else "")
+        + ".",
         "",
         account_markdown(acc),
         "",

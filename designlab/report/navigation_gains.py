@@ -235,7 +235,8 @@ def navigation_gains_markdown(result: NavigationGainsResult) -> str:
         The study result.
     """
     st = result.study
-    out = _problem_section(result)
+    out = like_for_like_lines(result)
+    out += _problem_section(result)
     out += _gains_section(result)
     for mode in st.modes:
         out += _mode_line(result, mode)
@@ -423,8 +424,142 @@ def _effort_section(result: NavigationGainsResult) -> list[str]:
 def _all_optima(result: NavigationGainsResult) -> dict[str, GainOptimum]:
     """Every optimisation of the study by its label (the baselines' too)."""
     found = {_optimisation_label(result, m): o for m, o in result.optima.items()}
-    found.update({f"baseline {m}": o for m, o in result.baseline_optima.items()})
+    found.update({like_for_like_label(m): o for m, o in result.baseline_optima.items()})
     return found
+
+
+def like_for_like_label(method: str) -> str:
+    """The label of a method's optimisation on the comparison configurations.
+
+    Parameters
+    ----------
+    method
+        A navigation method's registry name.
+
+    Examples
+    --------
+    >>> like_for_like_label("masoud"), like_for_like_label("vff")
+    ('baseline masoud', 'vff like for like')
+    """
+    own = method in METHODS.choices() and not METHODS.get(method).baseline
+    return f"{method} like for like" if own else f"baseline {method}"
+
+
+#: Table C.1's H_opt per method (App. C.2), for the ranking sentence.
+TABLE_C1_H = {"vff": 0.69, "masoud": 0.66, "ge_cui": 0.52}
+
+
+def _half_budget_best(opt: GainOptimum) -> float:
+    """The best H_mean an optimisation had after half of its evaluations (nan: no history)."""
+    h = opt.history
+    if h is None or h.empty or "evaluations" not in h:
+        return math.nan
+    half = h[h["evaluations"] <= 0.5 * float(h["evaluations"].max())]
+    return float(half["best_H_mean"].max()) if len(half) else math.nan
+
+
+def _method_optimum(result: NavigationGainsResult, method: str) -> GainOptimum | None:
+    """The optimisation behind a method's like-for-like optimum."""
+    return result.baseline_optima.get(method) or result.optima.get("off")
+
+
+def _ranked(scores: dict[str, float]) -> list[str]:
+    return sorted(scores, key=lambda m: -scores[m] if math.isfinite(scores[m]) else math.inf)
+
+
+def _thesis_sentence(order: list[str], name: dict[str, str]) -> str:
+    """Table C.1's order, and whether the like-for-like order keeps it."""
+    thesis = _ranked({m: TABLE_C1_H[m] for m in order if m in TABLE_C1_H})
+    text = "Table C.1 (App. C.2): " + " > ".join(f"{name[m]} {TABLE_C1_H[m]:g}" for m in thesis)
+    ours = [m for m in order if m in TABLE_C1_H]
+    if ours == thesis:
+        return text + ". The thesis's order holds here."
+    swaps = [
+        f"{name[a]} ranks above {name[b]}"
+        for i, a in enumerate(ours)
+        for b in ours[i + 1 :]
+        if thesis.index(a) > thesis.index(b)
+    ]
+    return text + ". **The thesis's order is reversed here**: " + ", ".join(swaps) + "."
+
+
+def like_for_like_lines(result: NavigationGainsResult) -> list[str]:
+    """The ranking of the methods optimised by the same search on the same configurations,
+    against Table C.1's, with the evidence on the search budget (the report's first lines).
+
+    Parameters
+    ----------
+    result
+        The study result (its ``baselines`` table and optimisations).
+    """
+    f = result.baselines
+    if f.empty:
+        return []
+    opt = f[f["gains"] == "designlab_optimum"].set_index("method")
+    methods = list(f["method"].unique())
+    score = {
+        m: float(opt.loc[m, "H_mean"])
+        if m in opt.index and bool(opt.loc[m, "feasible"])
+        else -math.inf
+        for m in methods
+    }
+    order = _ranked(score)
+    name = {m: METHODS.get(m).label for m in methods}
+    shown = [
+        f"{name[m]} {score[m]:.3f}" if math.isfinite(score[m]) else f"{name[m]} (none feasible)"
+        for m in order
+    ]
+    configs = ", ".join(map(str, result.study.baseline_configurations))
+    lines = [
+        "**Ranking like for like** (every method's gains optimised by the same seeded search "
+        f"on Configurations {configs}, stabilising force off; H_mean of each optimum): "
+        + " > ".join(shown)
+        + ".",
+        "",
+        _thesis_sentence(order, name),
+        "",
+    ]
+    runs = {m: o for m in methods if (o := _method_optimum(result, m)) is not None}
+    half = {m: _half_budget_best(o) for m, o in runs.items()}
+    budget = "; ".join(
+        f"{name[m]}: {o.evaluations} gain sets, {o.status}, "
+        + (
+            f"best H_mean {o.objective:.4f} (after half of them {half[m]:.4f})"
+            if math.isfinite(o.objective)
+            else "no feasible gain set"
+        )
+        for m, o in runs.items()
+    )
+    if runs:
+        again = _ranked(half) == [m for m in order if m in half]
+        lines += [
+            f"Search budget: {budget}. After half of each budget the optima give "
+            f"{'the same' if again else 'a different'} ranking.",
+            "",
+        ]
+    return lines + _wider_box_line(result, score, name)
+
+
+def _wider_box_line(
+    result: NavigationGainsResult, score: dict[str, float], name: dict[str, str]
+) -> list[str]:
+    """The new VFF optimised again in the wider box (the bound check), if the study did."""
+    wide = result.optima.get(f"off{WIDER}")
+    if wide is None or "vff" not in score or not math.isfinite(wide.objective):
+        return []
+    st = result.study
+    if st.scenarios or sorted(st.configurations) != sorted(st.baseline_configurations):
+        return []  # the wider box's optimum is then not on the comparison configurations
+    ranked = _ranked({**score, "vff": wide.objective})
+    on = sorted(result.optima["off"].on_bounds())
+    return [
+        f"Bound check: the new VFF's optimum lies on the bound of {on}; optimised again in "
+        f"a box widened tenfold there{_box_change(result, 'off' + WIDER)} it reaches H_mean "
+        f"{wide.objective:.4f}, and the ranking is then "
+        + " > ".join(name[m] for m in ranked)
+        + ".",
+        "",
+    ]
 
 
 def near_optimal_frame(
@@ -707,8 +842,8 @@ def _ranged_baselines(result: NavigationGainsResult, f: pd.DataFrame) -> pd.Data
     for i, row in f.iterrows():
         if row["gains"] != "designlab_optimum":
             continue
-        baseline = METHODS.get(row["method"]).baseline
-        label = f"baseline {row['method']}" if baseline else "off"
+        method = row["method"]
+        label = like_for_like_label(method) if method in result.baseline_optima else "off"
         for _, g in near[near["optimisation"] == label].iterrows():
             if g["gain"] in shown.columns and _flat(g["low"], g["high"]):
                 shown.loc[i, g["gain"]] = f"~{g['low']:.4g}-{g['high']:.4g}"

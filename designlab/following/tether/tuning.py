@@ -21,12 +21,16 @@ The cost of a gain set is the mean over the scenarios of
 weighted by ``weights``, plus the penalties of three constraints: the tether
 stays in ``tether_range`` (10 x the excess / l_d), a wheel runs at its speed
 limit for at most ``max_saturation`` of the run (default 5 %; 10 x the excess
-fraction), and the run does not fail. A fourth constraint is checked on the
-model: the damping ratio of the linearised lateral loop
+fraction), and the run does not fail. The wheel-limit bound is also a hard
+constraint of the search (:func:`wheel_limit_barrier`): a gain set that exceeds
+it on any tuning scenario ranks below every set that does not, so the tuned
+gains keep it on the tuning paths whenever any evaluated set does (otherwise the
+status is ``infeasible``); on unseen paths it is measured, not imposed. A fourth
+constraint is checked on the model: the damping ratio of the linearised lateral loop
 (:mod:`~designlab.following.tether.linear`) must be at least ``damping_floor``
 at every tuning speed, so that tuned gains do not weave. The thesis defaults are
 part of the initial population, so the tuned cost on the tuning scenarios is
-never worse than theirs.
+never worse than theirs when the defaults keep the wheel-limit bound.
 
 The improvement is reported on validation paths that share no stretch with
 the tuning paths (:mod:`~designlab.following.tether.overlap`; by default the
@@ -94,6 +98,7 @@ __all__ = [
     "NEAR_OPTIMAL_COST",
     "TUNERS",
     "VALIDATION_WALK_SEEDS",
+    "WHEEL_LIMIT_INFEASIBLE",
     "CostWeights",
     "DifferentialEvolutionTuner",
     "NelderMeadTuner",
@@ -102,6 +107,7 @@ __all__ = [
     "default_validation",
     "scenario_costs",
     "tune",
+    "wheel_limit_barrier",
 ]
 
 logger = logging.getLogger(__name__)
@@ -428,6 +434,36 @@ class _Setup:
         return pen
 
 
+#: Added by the search to a gain set that holds a wheel at its speed limit for more than
+#: ``max_saturation`` of any tuning scenario: more than any feasible set's cost, so that the
+#: wheel-limit bound is a hard constraint (feasible sets always rank first).
+WHEEL_LIMIT_INFEASIBLE = 100.0
+
+
+def wheel_limit_barrier(parts: Sequence[dict[str, Any]], bound: float) -> NDArray[np.float64]:
+    """The search's hard wheel-limit constraint, per gain set.
+
+    0 where every tuning scenario keeps a wheel at its limit for at most ``bound`` of the
+    run; otherwise :data:`WHEEL_LIMIT_INFEASIBLE` plus 10 x the largest excess (so that the
+    search is drawn toward the feasible sets). The reported costs keep the soft penalty only.
+
+    Parameters
+    ----------
+    parts
+        :func:`scenario_costs` results, one per tuning scenario (their ``saturation``).
+    bound
+        The largest allowed fraction of a run at the wheel limit.
+
+    Examples
+    --------
+    >>> wheel_limit_barrier([{"saturation": np.array([0.01, 0.07])}], 0.05).tolist()
+    [0.0, 100.2]
+    """
+    sat = np.max([np.asarray(p["saturation"], dtype=float) for p in parts], axis=0)
+    excess = sat - bound
+    return np.where(excess > 0.0, WHEEL_LIMIT_INFEASIBLE + 10.0 * excess, 0.0)
+
+
 def _base_controller(controller: Any) -> TetherController:
     law = controller() if controller in LAWS.variants() else controller  # a class: its defaults
     return checked_law(law, "controller", "a tether controller class or instance")
@@ -556,6 +592,7 @@ class _Objective:
         self.evaluations += len(gain_sets)
         parts = self.run(self.setup.tasks(gain_sets, self.setup.paths))
         cost = np.mean([p["cost"] for p in parts], axis=0) + self.setup.damping_penalty(gain_sets)
+        cost = cost + wheel_limit_barrier(parts, self.setup.max_saturation)
         self.evaluated.append((gain_sets, np.atleast_1d(np.asarray(cost, dtype=float))))
         return cost
 
@@ -769,7 +806,12 @@ def _violations(table: pd.DataFrame) -> dict[str, dict[str, int]]:
 
 
 def _status(
-    result: Any, zetas: dict[float, float], floor: float, improvement: float, setup: _Setup
+    result: Any,
+    zetas: dict[float, float],
+    floor: float,
+    improvement: float,
+    setup: _Setup,
+    tuning_saturation: float = 0.0,
 ) -> tuple:
     warns = [
         f"validation path {v} shares a stretch with tuning path {t} "
@@ -784,6 +826,13 @@ def _status(
     if min(zetas.values()) < floor - 1e-9:
         status = TuningStatus.INFEASIBLE
         warns.append(f"the tuned gains violate the damping floor {floor:g}")
+    if tuning_saturation > setup.max_saturation:
+        status = TuningStatus.INFEASIBLE
+        warns.append(
+            f"no gain set found keeps a wheel at its limit for at most "
+            f"{100 * setup.max_saturation:g} % of every tuning run (tuned: "
+            f"{100 * tuning_saturation:.1f} %)"
+        )
     if not math.isfinite(improvement):
         warns.append("no validation paths: the improvement is not measured")
     elif improvement < 0:
@@ -843,8 +892,6 @@ def _summary(
         table, "validation", "default", "npd_mean_m"
     )
     zetas = {v: damping_ratio(tuned, v, setup.robot.wheel_track) for v in setup.speeds}
-    status, warns = _status(result, zetas, setup.damping_floor, improvement, setup)
-    warns += _validation_warnings(table, setup.max_saturation)
     saturation = {
         set_name: {
             who: float(
@@ -856,6 +903,10 @@ def _summary(
         }
         for set_name in ("tuning", "validation")
     }
+    status, warns = _status(
+        result, zetas, setup.damping_floor, improvement, setup, saturation["tuning"]["tuned"]
+    )
+    warns += _validation_warnings(table, setup.max_saturation)
     return TuningResult(
         controller=tuned,
         default=setup.base,

@@ -290,7 +290,11 @@ class NavigationGainsResult(Result):
     @property
     def warnings(self) -> tuple[str, ...]:  # type: ignore[override]
         out = [f"{m}: {w}" for m, o in self.optima.items() for w in o.warnings]
-        out += [f"baseline {m}: {w}" for m, o in self.baseline_optima.items() for w in o.warnings]
+        out += [
+            f"{'baseline ' if m != 'vff' else 'like for like '}{m}: {w}"
+            for m, o in self.baseline_optima.items()
+            for w in o.warnings
+        ]
         out += [f"sensitivity {k}: {w}" for k, s in self.sensitivities.items() for w in s.warnings]
         out += [
             f"global sensitivity {k}: {w}"
@@ -393,8 +397,16 @@ def _baseline_block(
     for method in study.baselines:
         found[method] = _optimise(study, context, scen, method, method=method, stabilising="off")
     ours = {m: o.gains for m, o in found.items()}
-    if "off" in optima and optima["off"].gains is not None:
-        ours["vff"] = optima["off"].gains
+    same = not study.scenarios and sorted(study.configurations) == sorted(
+        study.baseline_configurations
+    )
+    if same and "off" in optima:
+        vff = optima["off"]
+    else:  # like for like: the new VFF optimised on the baselines' configurations too
+        vff = _optimise(study, context, scen, METHOD.default, stabilising="off")
+        found[METHOD.default] = vff
+    if vff.gains is not None:
+        ours[METHOD.default] = vff.gains
     for method in (METHOD.default, *study.baselines):
         cands = [("table_C1", TABLE_C1[method][0])]
         if ours.get(method) is not None:
