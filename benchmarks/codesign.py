@@ -23,6 +23,10 @@ What is measured, in one process:
    seeded runs at 2000 samples per level against importance sampling at 1e5, the scatter
    over the seeds against the stated c.o.v., and the evaluations per run
    (``--subset-only`` runs this part alone).
+6. The front's cost (``--front-only`` runs this part alone): ``foam_limits`` of 40 foams
+   in one lock-step search against 40 calls of ``speed_limit`` (the same answers; CPU
+   ratio), and a ``pareto`` search of the committed study's shape (Configurations 2 and 4,
+   THESIS_ROBOT, population 40) for ``--generations`` generations: designs per CPU second.
 """
 
 from __future__ import annotations
@@ -176,12 +180,47 @@ def subset_check(runs: int = 20) -> None:
     )
 
 
+def front_cost(generations: int) -> None:
+    rng = np.random.default_rng(1)
+    k, c = rng.uniform(5e3, 8e4, 40), rng.uniform(10.0, 200.0, 40)
+    t = rng.uniform(0.01, 0.06, 40)
+    lam = t * 0.02 / 0.0254
+    cd.speed_limit(ROBOT, FOAM)  # load the compiled kernel
+    t0 = time.process_time()
+    lim = cd.foam_limits(ROBOT, k, c, lam, t)
+    batch = time.process_time() - t0
+    t0 = time.process_time()
+    one = [cd.speed_limit(ROBOT, dl.impact.Foam(a, b, linear_depth=d, thickness=e)).max_speed
+           for a, b, d, e in zip(k, c, lam, t, strict=True)]  # fmt: skip
+    single = time.process_time() - t0
+    same = np.allclose(lim.max_speed, one, rtol=1e-12, atol=0.0)
+    print(f"foam_limits, 40 foams: {batch:.2f} CPU s in one search, {single:.2f} CPU s one by "
+          f"one (ratio {single / batch:.2f}); same limits: {same}")  # fmt: skip
+    nav = dl.navigation
+    t0 = time.process_time()
+    front = cd.pareto([nav.configuration(2), nav.configuration(4)], robot=cd.THESIS_ROBOT,
+                      objectives=("arrival_time", "foam_thickness", "closing_speed"),
+                      population=40, generations=generations, risk_bound=0.01,
+                      risk_samples=20_000, seed=0)  # fmt: skip
+    cpu = time.process_time() - t0
+    print(
+        f"pareto, 40 x {generations} designs: {cpu:.1f} CPU s, "
+        f"{len(front.X) / cpu:.2f} designs per CPU second; 2,000 designs would take "
+        f"{2000 / (len(front.X) / cpu) / 60:.1f} CPU min"
+    )
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--samples", type=int, default=1_000_000)
     ap.add_argument("--reference", type=int, default=10_000_000)
     ap.add_argument("--subset-only", action="store_true")
+    ap.add_argument("--front-only", action="store_true")
+    ap.add_argument("--generations", type=int, default=2)
     args = ap.parse_args(argv)
+    if args.front_only:
+        front_cost(args.generations)
+        return 0
     if args.subset_only:
         subset_check()
         return 0
@@ -191,6 +230,7 @@ def main(argv: list[str] | None = None) -> int:
     ok = against_reference(args.reference, speeds)
     small(args.reference)
     subset_check()
+    front_cost(args.generations)
     print("importance sampling agrees with crude Monte Carlo:", "yes" if ok else "NO")
     return 0 if ok else 1
 

@@ -59,7 +59,8 @@ is drawn from ``numpy.random.default_rng([seed, family, k, chunk])``, so a run c
 be split or resumed (``--start-chunk``). Printed: every disagreement and its
 verdict, then a table per family: designs, CPU seconds (this process: kernel,
 evaluator, mpmath), disagreements, kernel wrong, evaluator wrong, uncertified,
-self-check fallbacks (reduced: designs the self-check sent to the numpy path;
+self-check fallbacks (reduced: designs the self-check sent to the 40-digit evaluation
+and, if refused there too, the numpy path;
 full joint and constrained: designs the certificate sent to the eigen or numpy
 path). ``--markdown FILE`` writes that table with the date, the CPU and the
 command. With ``--state FILE`` the tallies are saved after every family's chunk and a killed

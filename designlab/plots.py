@@ -1,8 +1,8 @@
-"""``result.plot()``: the main results draw themselves on matplotlib axes (issue 39).
+"""``result.plot()``: the main results draw themselves on matplotlib axes.
 
-Like python-control's responses and pymoo's results, a result has a :meth:`plot
-<designlab.results.Result.plot>` that draws it on ``ax`` (a new figure's axes when none
-is given) and returns the axes, for the caller to restyle, save or show:
+Like python-control's responses and pymoo's results, a result has a
+:meth:`~designlab.results.Result.plot` that draws it on ``ax`` (a new figure's axes when
+none is given) and returns the axes, for the caller to restyle, save or show:
 
 =====================================  ===================================================
 result                                 drawn
@@ -201,7 +201,7 @@ def plot(result: Any, ax: Axes | None = None, **kwargs: Any) -> Axes:
     Raises
     ------
     NotImplementedError
-        For a result with no drawing (use its :meth:`to_frame`).
+        For a result with no drawing (use its :meth:`~designlab.results.Result.to_frame`).
     """
     for cls in type(result).__mro__:
         if cls.__name__ in PLOTS:

@@ -328,3 +328,35 @@ def test_gallery_sections_follow_the_kind() -> None:
     assert gen_pages.gallery_section("codesign") == "Co-design"
     assert gen_pages.gallery_section("my_own_kind") == "Other studies"
     assert gen_pages.first_sentence("Does it work? It does.") == "Does it work?"
+
+
+@pytest.mark.slow
+def test_gallery_descriptions_are_whole(site: Path) -> None:
+    """Each report's description stands whole in the gallery's index (issue 39: 17 of 25 were
+    cut at an abbreviation such as "Zeng 2011 Ch." or "Wu et al.")."""
+    import yaml
+
+    index = re.sub(r"<[^>]+>", "", html.unescape((site / "gallery/index.html").read_text("utf-8")))
+    index = " ".join(index.split())
+    for study in sorted((ROOT / "reports").glob("*/study.yaml")):
+        description = yaml.safe_load(study.read_text(encoding="utf-8")).get("description")
+        if description:
+            assert " ".join(str(description).split()) in index, study.parent.name
+
+
+@pytest.mark.slow
+def test_every_example_has_a_page(site: Path) -> None:
+    """The examples gallery: a page per script of ``examples/`` with its code, and an index."""
+    index = (site / "examples/index.html").read_text(encoding="utf-8")
+    for script in sorted((ROOT / "examples").glob("*.py")):
+        page = site / "examples" / script.stem / "index.html"
+        assert page.is_file() and f'href="{script.stem}/"' in index, script.name
+        assert "import designlab as dl" in html.unescape(
+            re.sub(r"<[^>]+>", "", page.read_text(encoding="utf-8"))
+        )
+
+
+@pytest.mark.slow
+def test_no_navigation_file_is_a_page(site: Path) -> None:
+    """literate-nav's SUMMARY.md files make the navigation, not pages of the site."""
+    assert not [p for p in site.rglob("SUMMARY/index.html")], "a SUMMARY page was built"

@@ -80,19 +80,36 @@ if TYPE_CHECKING:  # the public names, imported on first use (designlab._lazy)
         FrontStatus,
         ParetoFront,
         evaluate_design,
+        knee_point,
         nondominated,
         nsga2,
         pareto,
+        preference_pick,
     )
+    from designlab.codesign.limits import FoamLimits, foam_limits
     from designlab.codesign.population import ClosingSpeeds, HeadPopulation
-    from designlab.codesign.risk import InjuryRisk, RiskStatus, injury_probability
+    from designlab.codesign.risk import (
+        InjuryRisk,
+        RiskStatus,
+        exceedance_probability,
+        injury_probability,
+    )
+    from designlab.codesign.robot import (
+        BUMPER_BASE,
+        THESIS_ROBOT,
+        RobotDescription,
+        people_names,
+        sized_scenario,
+    )
     from designlab.codesign.sensitivity import design_sobol, front_sensitivity
     from designlab.codesign.speed import SpeedLimit, SpeedLimitStatus, speed_limit
     from designlab.codesign.speed_map import SpeedLimitMap, speed_limit_map
 
 __all__ = [
+    "BUMPER_BASE",
     "OBJECTIVES",
     "THESIS_DESIGN",
+    "THESIS_ROBOT",
     "ClosingSpeeds",
     "ContactSpeeds",
     "ContactStatus",
@@ -100,12 +117,14 @@ __all__ = [
     "Design",
     "DesignScore",
     "DesignSpace",
+    "FoamLimits",
     "FragilityCurve",
     "FrontStatus",
     "HeadPopulation",
     "InjuryRisk",
     "ParetoFront",
     "RiskStatus",
+    "RobotDescription",
     "SpeedLimit",
     "SpeedLimitMap",
     "SpeedLimitStatus",
@@ -113,14 +132,20 @@ __all__ = [
     "contact_speeds",
     "design_sobol",
     "evaluate_design",
+    "exceedance_probability",
+    "foam_limits",
     "fragility_curve",
     "front_sensitivity",
     "injury_probability",
+    "knee_point",
     "max_robot_speed",
     "navigation_contacts",
     "nondominated",
     "nsga2",
     "pareto",
+    "people_names",
+    "preference_pick",
+    "sized_scenario",
     "speed_limit",
     "speed_limit_map",
     "stopping_distance",

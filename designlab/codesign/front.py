@@ -52,8 +52,10 @@ from pymoo.optimize import minimize
 
 from designlab.codesign.contacts import MEASURES, ContactSpeeds, contact_speeds
 from designlab.codesign.crowd_encounters import CrowdEncounters
+from designlab.codesign.limits import FoamLimits, foam_limits
 from designlab.codesign.parameters import RISK_SAMPLES
 from designlab.codesign.risk import injury_probability
+from designlab.codesign.robot import RobotDescription, people_names, sized_scenario
 from designlab.errors import InvalidParameterError
 from designlab.impact import (
     FOAM_1,
@@ -64,8 +66,8 @@ from designlab.impact import (
     Foam,
     HeadAcceleration,
     HeadRange,
-    min_foam_thickness,
 )
+from designlab.impact.parameters import HUMAN_SPEED
 from designlab.navigation import (
     EXPERIMENT_GAINS,
     OPTIMAL_GAINS,
@@ -352,9 +354,11 @@ class _Archived(Problem):  # type: ignore[misc]
 
     def __init__(self, evaluate: Callable[[Array], tuple[Array, Array]], lower: Array,
                  upper: Array, n_obj: int, n_constr: int, total: int,
-                 progress: ProgressHook | None) -> None:  # fmt: skip
+                 progress: ProgressHook | None,
+                 prepare: Callable[[Array], None] | None = None) -> None:  # fmt: skip
         super().__init__(n_var=lower.size, n_obj=n_obj, n_ieq_constr=n_constr, xl=lower, xu=upper)
         self.evaluate_row = evaluate
+        self.prepare = prepare
         self.rows: list[tuple[Array, Array, Array, int]] = []
         self.batch = 0
         self.total = total
@@ -362,6 +366,8 @@ class _Archived(Problem):  # type: ignore[misc]
 
     def _evaluate(self, x: Array, out: dict[str, Any], *args: Any, **kwargs: Any) -> None:
         self.batch += 1
+        if self.prepare is not None:
+            self.prepare(x)
         F, G = zip(*(self.evaluate_row(row) for row in x), strict=True)
         out["F"], out["G"] = np.array(F), np.array(G)
         self.rows += [(r, f, g, self.batch) for r, f, g in zip(x, F, G, strict=True)]
@@ -434,6 +440,8 @@ def nsga2(
     generations: int = 8,
     seed: int = ARG.seed.default,
     progress: ProgressHook | None = None,
+    initial: ArrayLike | None = None,
+    prepare: Callable[[Array], None] | None = None,
 ) -> SearchOutcome:
     """Minimise several objectives in a box with pymoo's NSGA-II; keep every evaluation.
 
@@ -452,6 +460,12 @@ def nsga2(
         Seed of the search (the same seed gives the same designs).
     progress
         Called after each generation (:mod:`designlab.progress`).
+    initial
+        Points ``(k, n_var)`` (k <= population, inside the box) placed in the first
+        population; the rest of it is drawn uniformly (seeded).
+    prepare
+        Called with each generation's points ``(n, n_var)`` before they are evaluated one
+        by one (e.g. to compute something for the whole batch at once).
 
     Returns
     -------
@@ -488,8 +502,16 @@ def nsga2(
         x[free] = z
         return evaluate(x)
 
-    problem = _Archived(on_free, lo[free], hi[free], n_obj, n_constr, gens, progress)
-    minimize(problem, NSGA2(pop_size=pop), ("n_gen", gens), seed=SEED.check(seed), verbose=False)
+    def expand(Z: Array) -> Array:
+        X = np.tile(lo, (len(Z), 1))
+        X[:, free] = Z
+        return X
+
+    hook = None if prepare is None else (lambda Z: prepare(expand(np.atleast_2d(Z))))
+    problem = _Archived(on_free, lo[free], hi[free], n_obj, n_constr, gens, progress, hook)
+    start = _first_population(initial, lo, hi, pop, SEED.check(seed))[:, free]
+    minimize(problem, NSGA2(pop_size=pop, sampling=start), ("n_gen", gens), seed=seed,
+             verbose=False)  # fmt: skip
     X = np.tile(lo, (len(problem.rows), 1))
     X[:, free] = np.array([r[0] for r in problem.rows]).reshape(len(problem.rows), -1)
     return SearchOutcome(
@@ -498,6 +520,27 @@ def nsga2(
         G=np.array([r[2] for r in problem.rows], dtype=float).reshape(len(X), n_constr),
         generations=np.array([r[3] for r in problem.rows], dtype=int),
     )
+
+
+def _first_population(initial: ArrayLike | None, lo: Array, hi: Array, pop: int,
+                      seed: int) -> Array:  # fmt: skip
+    """The first population: the ``initial`` points, then uniform draws (seeded)."""
+    rng = np.random.default_rng(seed)
+    X = lo + rng.random((pop, lo.size)) * (hi - lo)
+    if initial is None:
+        return X
+    given = np.atleast_2d(real_array("initial", initial))
+    if given.shape[1] != lo.size or len(given) > pop:
+        raise InvalidParameterError(
+            "initial", given.shape, f"must be at most {pop} rows of {lo.size} values"
+        )
+    outside = (given < lo) | (given > hi)
+    if outside.any():
+        i, j = np.argwhere(outside)[0]
+        raise InvalidParameterError(f"initial[{i}][{j}]", float(given[i, j]),
+                                    f"must lie in [{lo[j]:g}, {hi[j]:g}]")  # fmt: skip
+    X[: len(given)] = given
+    return X
 
 
 # ------------------------------------------------------- scoring one design
@@ -520,7 +563,9 @@ class DesignScore:
     closing_speed
         The largest closing speed met (m/s).
     required_thickness
-        The thickness T_u the foam needs not to bottom out at that speed (m).
+        The thickness T_u the foam needs not to bottom out at the larger of that speed and
+        the worst contact of its speed limit, V_mr + the walker's speed, for the worst
+        head of the range found off the grid (:func:`~designlab.codesign.foam_limits`; m).
     injury_probability
         P(criterion exceeded | contact) at the encounters' closing speeds (``nan`` when
         not asked for).
@@ -532,6 +577,11 @@ class DesignScore:
     crowd_injury_probability
         P(criterion exceeded | contact) over them (``nan`` without crowds or criterion; 0
         when it met nobody).
+    speed_limit
+        The robot speed the design's foam allows for the stated walker speed
+        (:func:`~designlab.codesign.speed_limit`, m/s).
+    risk_bound
+        The stated upper bound on P(criterion exceeded | contact).
     """
 
     design: Design
@@ -546,16 +596,33 @@ class DesignScore:
     capped_arrival_time: float = math.nan
     crowd_contacts: ContactSpeeds | None = field(default=None, repr=False)
     crowd_injury_probability: float = math.nan
+    speed_limit: float = math.inf
+    risk_bound: float = 1.0
+
+    @property
+    def exceedance_probability(self) -> float:
+        """P(criterion exceeded | contact): :attr:`injury_probability` under its honest name."""
+        return self.injury_probability
 
     @property
     def constraints(self) -> Array:
-        """G <= 0 when feasible: collisions, critical entries, non-arrivals, bottoming (m)."""
+        """G <= 0 when feasible, in the order of :data:`CONSTRAINTS`.
+
+        Collisions, critical-region entries, non-arrivals, the foam's thickness shortfall
+        (m), the speed limit V_mr above what the foam allows (m/s;
+        :func:`~designlab.codesign.speed_limit`), and the exceedance probability above the
+        stated bound (both probabilities, when asked for).
+        """
+        risk = [p for p in (self.injury_probability, self.crowd_injury_probability)
+                if not math.isnan(p)]  # fmt: skip
         return np.array(
             [
                 self.collisions,
                 self.critical_entries,
                 self.not_arrived,
                 self.required_thickness - self.design.foam.thickness,
+                self.design.speed - self.speed_limit,
+                (max(risk) if risk else 0.0) - self.risk_bound,
             ],
             dtype=float,
         )
@@ -567,7 +634,14 @@ class DesignScore:
 
 
 #: The hard constraints, in the order of :attr:`DesignScore.constraints`.
-CONSTRAINTS = ("collisions", "critical_entries", "not_arrived", "thickness_shortfall_m")
+CONSTRAINTS = (
+    "collisions",
+    "critical_entries",
+    "not_arrived",
+    "thickness_shortfall_m",
+    "speed_over_limit_m_per_s",
+    "risk_over_bound",
+)
 
 
 @dataclass(frozen=True)
@@ -602,7 +676,10 @@ OBJECTIVES: dict[str, Objective] = {
         Objective("foam_thickness", "m", "foam thickness T_u", lambda s: s.design.foam.thickness),
         Objective("closing_speed", "m_per_s", "largest closing speed met",
                   lambda s: s.closing_speed),
-        Objective("injury_probability", "", "P(criterion exceeded | contact)",
+        Objective("exceedance_probability", "", "P(criterion exceeded | contact)",
+                  lambda s: s.injury_probability),
+        Objective("injury_probability", "",
+                  "P(criterion exceeded | contact) (the former name of exceedance_probability)",
                   lambda s: s.injury_probability),
         Objective("crowd_injury_probability", "",
                   "P(criterion exceeded | contact) over the design's crowd encounters",
@@ -630,8 +707,10 @@ def _check_scenarios(scenarios: Any) -> tuple[Scenario, ...]:
 
 def _check_scoring(robot: Any, heads: Any, measure: Any, risk_samples: Any, seed: Any) -> None:
     """The impact side of a design's score, checked before any run."""
-    if not isinstance(robot, ContactDynamics):
-        raise InvalidParameterError("robot", robot, "must be an impact ContactDynamics")
+    if not isinstance(robot, ContactDynamics | RobotDescription):
+        raise InvalidParameterError(
+            "robot", robot, "must be an impact ContactDynamics or a RobotDescription"
+        )
     if not isinstance(heads, HeadRange):
         raise InvalidParameterError("heads", heads, "must be an impact HeadRange")
     if not isinstance(measure, str) or measure not in MEASURES:
@@ -640,26 +719,89 @@ def _check_scoring(robot: Any, heads: Any, measure: Any, risk_samples: Any, seed
     SEED.check(seed)
 
 
-def _required_thickness(
-    robot: ContactDynamics, foam: Foam, speed: float, heads: HeadRange
-) -> float:
-    """T_u the foam needs so that the worst head does not bottom it out at ``speed``."""
-    if not speed > 0.0:
-        return 0.0
-    return min_foam_thickness(robot, foam, speed, head_range=heads).thickness
+#: The stated upper bound on P(criterion exceeded | contact) of a design (1: no bound).
+RISK_BOUND = Param(
+    None, "", "upper bound on P(criterion exceeded | contact) of a feasible design", ge=0,
+    le=1, default=1.0, name="risk_bound",
+)  # fmt: skip
+
+
+def contact_of(robot: ContactDynamics | RobotDescription) -> ContactDynamics:
+    """The impact model of the part that touches people.
+
+    Parameters
+    ----------
+    robot
+        A :class:`~designlab.impact.ContactDynamics` or a
+        :class:`~designlab.codesign.RobotDescription`.
+    """
+    return robot.contact if isinstance(robot, RobotDescription) else robot
+
+
+def design_limits(
+    designs: Sequence[Design], robot: ContactDynamics | RobotDescription, heads: HeadRange,
+    human_speed: float,
+) -> FoamLimits:  # fmt: skip
+    """The speed limit and thickness needs of the designs' foams (one lock-step search).
+
+    Parameters
+    ----------
+    designs
+        The designs.
+    robot, heads, human_speed
+        As in :func:`evaluate_design`.
+
+    Returns
+    -------
+    FoamLimits
+    """
+    f = [d.foam for d in designs]
+    return foam_limits(
+        contact_of(robot), [x.stiffness for x in f], [x.damping for x in f],
+        [x.linear_depth for x in f], [x.thickness for x in f], head_range=heads,
+        human_speed=human_speed,
+    )  # fmt: skip
+
+
+def design_runs(design: Design, items: Sequence[Scenario], robot: Any, walker: float) -> list[Any]:
+    """The design's navigation runs: its speed limit, gains and regions sized for it.
+
+    Parameters
+    ----------
+    design
+        The design.
+    items
+        The scenarios.
+    robot
+        A :class:`~designlab.codesign.RobotDescription` (its footprint and limits) or an
+        impact model (the scenarios' robot is kept).
+    walker
+        The people's largest speed the regions are sized for, m/s.
+    """
+    out = []
+    for sc in items:
+        if isinstance(robot, RobotDescription):
+            nav_robot = robot.navigation_robot(design.speed)
+        else:
+            nav_robot = dataclasses.replace(sc.robot, max_speed=design.speed)
+        out.append(simulate(sized_scenario(sc, nav_robot, walker), design.gains))
+    return out
 
 
 def evaluate_design(
     design: Design,
     scenarios: Scenario | Sequence[Scenario],
     *,
-    robot: ContactDynamics = MANIPULATOR_1,
+    robot: ContactDynamics | RobotDescription = MANIPULATOR_1,
     heads: HeadRange = THESIS_HEAD_RANGE,
     measure: str = "relative",
     criterion: Criterion | None = None,
     risk_samples: int = 20_000,
     seed: int = ARG.seed.default,
     crowds: CrowdEncounters | None = None,
+    human_speed: float = 1.0,
+    risk_bound: float = RISK_BOUND.default,
+    limits: FoamLimits | None = None,
 ) -> DesignScore:
     """Simulate the scenarios with the design's speed limit and gains and score it.
 
@@ -668,22 +810,34 @@ def evaluate_design(
     design
         The :class:`Design`.
     scenarios
-        Navigation scenarios (their robot's speed limit is replaced by the design's).
+        Navigation scenarios (their robot's speed limit is replaced by the design's, and
+        every region grows to at least the minimum for it:
+        :func:`~designlab.codesign.sized_scenario`).
     robot
-        The effective manipulator/robot body at the contact point (impact model).
+        The robot (:class:`~designlab.codesign.RobotDescription`: navigation takes its
+        footprint and limits, impact its touching part), or only the impact model of the
+        touching part (navigation keeps the scenarios' robot).
     heads
-        The head-neck range whose worst head sets the foam thickness needed.
+        The head-neck range whose worst head (off the grid) sets the speed limit and the
+        foam thickness needed.
     measure
         Which closing speed of the encounters counts (:func:`contact_speeds`).
     criterion
-        The injury criterion of :attr:`DesignScore.injury_probability`; ``None``: the
-        probability is not computed.
+        The criterion of :attr:`DesignScore.injury_probability`; ``None``: not computed.
     risk_samples, seed
         Monte Carlo samples and seed of :func:`designlab.codesign.injury_probability`.
     crowds
         Crowd encounters of the design's gains and speed limit
         (:class:`~designlab.codesign.CrowdEncounters`), for
         :attr:`DesignScore.crowd_injury_probability`; ``None``: no crowd runs.
+    human_speed
+        The walker's speed toward the robot the speed limit assumes, and the people's
+        largest speed the regions are sized for (m/s).
+    risk_bound
+        The stated upper bound on P(criterion exceeded | contact) (a hard constraint).
+    limits
+        The design's foam limits when already computed (one row of
+        :func:`design_limits`); ``None``: computed here.
 
     Returns
     -------
@@ -693,35 +847,52 @@ def evaluate_design(
     --------
     >>> import designlab.navigation as nav
     >>> s = evaluate_design(THESIS_DESIGN, [nav.configuration(2)])
-    >>> s.feasible, round(s.arrival_time, 2), round(s.closing_speed, 2)
-    (True, 12.2, 0.39)
+    >>> s.feasible, round(s.arrival_time, 2), round(s.speed_limit, 3)
+    (True, 12.12, 0.807)
     """
     if not isinstance(design, Design):
         raise InvalidParameterError("design", design, "must be a Design")
     _check_scoring(robot, heads, measure, risk_samples, seed)
+    walker = HUMAN_SPEED.check(human_speed, "human_speed")
+    bound = RISK_BOUND.check(risk_bound)
     if crowds is not None and not isinstance(crowds, CrowdEncounters):
         raise InvalidParameterError("crowds", crowds, "must be a CrowdEncounters or None")
     items = _check_scenarios(scenarios)
-    runs = [
-        simulate(sc.with_robot(dataclasses.replace(sc.robot, max_speed=design.speed)),
-                 design.gains)
-        for sc in items
-    ]  # fmt: skip
-    capped = [min(r.arrival_time, sc.horizon) for r, sc in zip(runs, items, strict=True)]
-    contacts = contact_speeds(runs, measure=measure)
-    v = float(contacts.samples.max()) if len(contacts) else 0.0
+    return _score(design, items, robot, heads, measure, criterion, risk_samples, seed, crowds,
+                  walker, bound, limits)  # fmt: skip
 
-    def risk_over(c: ContactSpeeds) -> float:
-        if criterion is None:
-            return math.nan
-        if not len(c):
-            return 0.0  # nobody met: no contact
-        return injury_probability(
-            robot, design.foam, closing_speed=c, heads=heads, criterion=criterion,
-            samples=risk_samples, seed=seed,
-        ).probability  # fmt: skip
+
+def _exceedance(contact: ContactDynamics, foam: Foam, c: ContactSpeeds | None, heads: HeadRange,
+                criterion: Criterion | None, samples: int, seed: int) -> float:  # fmt: skip
+    """P(criterion exceeded | contact) over encounters ``c`` (nan: not asked; 0: no contact)."""
+    if criterion is None or c is None:
+        return math.nan
+    if not len(c) or not (np.asarray(c.samples) > 0).any():
+        return 0.0  # nobody met, or met at rest: no contact
+    return float(injury_probability(contact, foam, closing_speed=c, heads=heads,
+                                    criterion=criterion, samples=samples,
+                                    seed=seed).probability)  # fmt: skip
+
+
+def _score(design: Design, items: tuple[Scenario, ...], robot: Any, heads: HeadRange,
+           measure: str, criterion: Criterion | None, risk_samples: int, seed: int,
+           crowds: CrowdEncounters | None, walker: float, bound: float,
+           limits: FoamLimits | None) -> DesignScore:  # fmt: skip
+    """The checked body of :func:`evaluate_design`."""
+    lim = design_limits([design], robot, heads, walker) if limits is None else limits
+    runs = design_runs(design, items, robot, walker)
+    capped = [min(r.arrival_time, sc.horizon) for r, sc in zip(runs, items, strict=True)]
+    people = sorted({n for sc in items for n in people_names(sc)})
+    # people only: a still disc (a pole) is not a person
+    contacts = contact_speeds(runs if people else [], measure=measure, obstacles=people or None)
+    v = float(contacts.samples.max()) if len(contacts) else 0.0
+    contact = contact_of(robot)
+
+    def risk_over(c: ContactSpeeds | None) -> float:
+        return _exceedance(contact, design.foam, c, heads, criterion, risk_samples, seed)
 
     crowd = None if crowds is None else crowds.of(design.speed, design.gains)
+    worst = max(v, design.speed + walker)
     return DesignScore(
         design=design,
         arrival_time=float(np.mean([r.arrival_time for r in runs])),
@@ -730,11 +901,13 @@ def evaluate_design(
         not_arrived=sum(not r.arrived for r in runs),
         contacts=contacts,
         closing_speed=v,
-        required_thickness=_required_thickness(robot, design.foam, v, heads),
+        required_thickness=float(lim.required_thickness(worst)[0]),
         injury_probability=float(risk_over(contacts)),
         capped_arrival_time=float(np.mean(capped)),
         crowd_contacts=crowd,
-        crowd_injury_probability=math.nan if crowd is None else float(risk_over(crowd)),
+        crowd_injury_probability=risk_over(crowd),
+        speed_limit=float(lim.max_speed[0]),
+        risk_bound=bound,
     )
 
 
@@ -805,6 +978,9 @@ class ParetoFront(Result):
         The seed of the search.
     status, warnings
         See :class:`FrontStatus`.
+    hypervolume
+        The hypervolume of the feasible designs found up to each generation
+        (:func:`hypervolume_trace`).
     """
 
     objectives: tuple[str, ...]
@@ -818,6 +994,35 @@ class ParetoFront(Result):
     seed: int = 0
     status: str = FrontStatus.OK
     warnings: tuple[str, ...] = ()
+    hypervolume: Array = field(default_factory=lambda: np.zeros(0), repr=False)
+
+    @property
+    def hypervolume_change(self) -> float:
+        """Relative change of the hypervolume over the last :data:`HV_WINDOW` generations."""
+        return hypervolume_change(self.hypervolume)
+
+    @property
+    def converged(self) -> bool:
+        """Whether the hypervolume changed less than :data:`HV_TOLERANCE` over the last
+        :data:`HV_WINDOW` generations."""
+        return self.hypervolume_change < HV_TOLERANCE
+
+    def knee(self) -> int:
+        """The knee of the front: the row of :meth:`to_frame` farthest below the hyperplane
+        through its extreme points, in objectives normalised over the front (Das 1999;
+        :func:`knee_point`)."""
+        return knee_point(self.to_frame()[self.columns].to_numpy())
+
+    def pick(self, weights: Sequence[float]) -> int:
+        """The row of :meth:`to_frame` that minimises the weighted sum of the objectives
+        normalised over the front (a stated preference: ``weights`` per objective).
+
+        Parameters
+        ----------
+        weights
+            One non-negative weight per objective, not all zero.
+        """
+        return preference_pick(self.to_frame()[self.columns].to_numpy(), weights)
 
     @property
     def reference(self) -> DesignScore | None:
@@ -881,16 +1086,139 @@ class ParetoFront(Result):
         return pd.DataFrame(rows)
 
 
-def _reference_position(front_F: Array, ref: Array) -> tuple[float, int]:
-    """Normalised distance from ``ref`` to the nearest front point, and how many dominate it."""
+def _reference_position(front_F: Array, ref: Array, feasible: bool = True) -> tuple[float, int]:
+    """Normalised distance from ``ref`` to the nearest front point, and how many dominate it
+    (0 for a feasible point nothing dominates: it is on the front)."""
     if front_F.size == 0 or not np.isfinite(ref).all():
-        return math.inf, 0
+        return (0.0 if feasible and front_F.size == 0 else math.inf), 0
     both = np.vstack([front_F, ref])
     span = np.ptp(both, axis=0)
     span[span == 0.0] = 1.0
     dist = float(np.min(np.linalg.norm((front_F - ref) / span, axis=1)))
     dominating = (front_F <= ref).all(axis=1) & (front_F < ref).any(axis=1)
+    if feasible and not dominating.any():
+        return 0.0, 0
     return dist, int(dominating.sum())
+
+
+#: Generations over which the hypervolume's change is measured, and the largest relative
+#: change of a converged search.
+HV_WINDOW = 5
+HV_TOLERANCE = 0.01
+
+
+def _normalised(F: Array) -> Array:
+    """``F`` scaled to [0, 1] per objective over its own rows (a constant column: 0)."""
+    lo, span = F.min(axis=0), np.ptp(F, axis=0)
+    return (F - lo) / np.where(span > 0, span, 1.0)
+
+
+def hypervolume_trace(
+    F: Array, feasible: NDArray[np.bool_], generations: NDArray[np.int_]
+) -> Array:
+    """Hypervolume of the feasible designs evaluated up to each generation.
+
+    Objectives are normalised to [0, 1] over every feasible design evaluated, and the
+    reference point is 1.1 in each (pymoo's exact hypervolume).
+
+    Parameters
+    ----------
+    F, feasible, generations
+        The search's objectives, feasibility and generation of each design.
+
+    Returns
+    -------
+    numpy.ndarray
+        One value per generation (0 before the first feasible design).
+
+    Examples
+    --------
+    >>> F = np.array([[0.0, 1.0], [1.0, 0.0], [0.5, 0.5]])
+    >>> hypervolume_trace(F, np.ones(3, bool), np.array([1, 1, 2])).round(4).tolist()
+    [0.21, 0.46]
+    """
+    from pymoo.indicators.hv import HV
+
+    gens = int(generations.max()) if generations.size else 0
+    out = np.zeros(gens)
+    if not feasible.any():
+        return out
+    Z = np.full(F.shape, np.inf)
+    Z[feasible] = _normalised(F[feasible])
+    hv = HV(ref_point=np.full(F.shape[1], 1.1))
+    for g in range(1, gens + 1):
+        rows = feasible & (generations <= g)
+        if rows.any():
+            P = Z[rows]
+            out[g - 1] = float(hv(P[nondominated(P)]))
+    return out
+
+
+def hypervolume_change(trace: Array, window: int = HV_WINDOW) -> float:
+    """``(HV[-1] - HV[-1 - window]) / HV[-1]`` (inf with too short a trace or no volume).
+
+    Examples
+    --------
+    >>> hypervolume_change(np.array([0.5, 0.9, 0.99, 1.0, 1.0, 1.0, 1.0]), window=3)
+    0.0
+    """
+    if len(trace) <= window or not trace[-1] > 0:
+        return math.inf
+    return float((trace[-1] - trace[-1 - window]) / trace[-1])
+
+
+def _convergence_note(trace: Array) -> tuple[str, ...]:
+    change = hypervolume_change(trace)
+    if change < HV_TOLERANCE:
+        return ()
+    if not math.isfinite(change):
+        return (f"convergence not measured: {len(trace)} generations with a feasible front "
+                f"(needs more than {HV_WINDOW}); run more generations",)  # fmt: skip
+    return (f"not converged: the hypervolume changed {change:.1%} over the last {HV_WINDOW} "
+            f"generations (converged: < {HV_TOLERANCE:.0%}); run more generations",)  # fmt: skip
+
+
+def knee_point(F: ArrayLike) -> int:
+    """The knee of a front: the point farthest on the ideal side of the hyperplane through
+    the front's extreme points (objectives normalised over the front; Das 1999, "On
+    characterizing the knee of the Pareto curve", Struct. Optim. 18).
+
+    With a degenerate hyperplane (fewer distinct extremes than objectives) the point
+    nearest the ideal point in the normalised objectives.
+
+    Examples
+    --------
+    >>> knee_point([[0.0, 1.0], [1.0, 0.0], [0.5, 0.45], [0.2, 0.2]])
+    3
+    """
+    A = real_array("F", F)
+    if A.ndim != 2 or len(A) == 0:
+        raise InvalidParameterError("F", A.shape, "must be a non-empty (n, m) front")
+    Z = _normalised(A)
+    m = Z.shape[1]
+    ext = Z[np.argmin(Z, axis=0)]  # one extreme point per objective
+    try:
+        w = np.linalg.solve(ext, np.ones(m))  # hyperplane w . z = 1 through the extremes
+    except np.linalg.LinAlgError:
+        return int(np.argmin(np.linalg.norm(Z, axis=1)))
+    return int(np.argmax((1.0 - Z @ w) / np.linalg.norm(w)))
+
+
+def preference_pick(F: ArrayLike, weights: Sequence[float]) -> int:
+    """The point minimising ``sum(w_j z_j)`` of the objectives normalised over the front.
+
+    Examples
+    --------
+    >>> preference_pick([[0.0, 1.0], [1.0, 0.0], [0.4, 0.4]], [1.0, 3.0])
+    1
+    """
+    A = real_array("F", F)
+    w = real_array("weights", weights)
+    if w.shape != (A.shape[1],) or (w < 0).any() or not w.sum() > 0:
+        raise InvalidParameterError(
+            "weights", weights, f"must be {A.shape[1]} non-negative weights, not all zero"
+        )
+    return int(np.argmin(_normalised(A) @ w))
 
 
 def _check_objectives(objectives: Any) -> tuple[str, ...]:
@@ -924,30 +1252,25 @@ def pareto(
     reference: Design | Mapping[str, Design] | None = None,
     progress: ProgressHook | None = None,
     crowds: CrowdScenario | Sequence[CrowdScenario] | CrowdEncounters | None = None,
+    human_speed: float = 1.0,
+    risk_bound: float = RISK_BOUND.default,
+    seed_references: bool = True,
+    executor: Any = None,
 ) -> ParetoFront:
     """The Pareto front of foam, speed limit and VFF gains over navigation scenarios.
 
     Parameters
     ----------
-    scenarios
-        Navigation scenarios every design is simulated in (their robot's speed limit is
-        the design's).
+    scenarios, robot, heads, measure
+        As in :func:`evaluate_design`.
     space
         The box searched (:class:`DesignSpace`; default its defaults).
     objectives
         Two or more names of :data:`OBJECTIVES` (all minimised).
-    robot
-        The effective robot body at the contact point (impact model).
-    heads
-        The head-neck range whose worst head sets the thickness the foam needs (and over
-        which the injury probability is taken).
-    measure
-        Which closing speed of the encounters counts (:func:`contact_speeds`).
-    criterion
-        The injury criterion of the ``injury_probability`` objective (default
-        :class:`~designlab.impact.HeadAcceleration` of 10 g).
-    risk_samples
-        Monte Carlo samples of each design's injury probability (the search's seed).
+    criterion, risk_samples
+        The criterion of the exceedance probability (default
+        :class:`~designlab.impact.HeadAcceleration` of 10 g) and its Monte Carlo samples
+        per design (the search's seed).
     population, generations
         NSGA-II population size and generations (population x generations designs,
         each a set of navigation runs; at most :data:`MAX_EVALUATIONS`).
@@ -962,6 +1285,15 @@ def pareto(
         Crowd scenarios each design also drives through with its own gains and speed limit
         (:class:`~designlab.codesign.CrowdEncounters`, runs cached per gains and speed),
         needed by the objective ``crowd_injury_probability`` and only run for it.
+    human_speed, risk_bound
+        As in :func:`evaluate_design` (the walker speed of the speed-limit constraint and
+        the stated bound on P(criterion exceeded | contact)).
+    seed_references
+        Place the reference designs that lie in the box in the first population.
+    executor
+        An executor of :func:`designlab.analysis.executors.make_executor` (``processes``,
+        ``dask``) that scores each generation's designs; ``None``: in this process. The
+        front is the same.
 
     Returns
     -------
@@ -982,26 +1314,72 @@ def pareto(
     items = _check_scenarios(scenarios)
     _check_scoring(robot, heads, measure, risk_samples, seed)
     refs = _check_references(reference)
-
-    risk = risk_criterion(names, criterion)
     encounters = crowd_encounters(names, crowds, measure)
-
-    def score(x: Array) -> DesignScore:
-        return evaluate_design(
-            Design.from_vector(x), items, robot=robot, heads=heads, measure=measure,
-            criterion=risk, risk_samples=risk_samples, seed=seed, crowds=encounters,
-        )  # fmt: skip
-
-    def evaluate(x: Array) -> tuple[Array, Array]:
-        s = score(x)
-        f = np.array([OBJECTIVES[o].of(s) for o in names])
-        return np.where(np.isfinite(f), f, _PENALTY), s.constraints
-
-    out = nsga2(evaluate, box.lower, box.upper, n_obj=len(names), n_constr=len(CONSTRAINTS),
+    walker = HUMAN_SPEED.check(human_speed, "human_speed")
+    bound = RISK_BOUND.check(risk_bound)
+    # a stated bound needs the probability it bounds
+    risk = risk_criterion(names if bound == 1.0 else (*names, "exceedance_probability"),
+                          criterion)  # fmt: skip
+    scorer = _Scorer(names, items, dict(robot=robot, heads=heads, measure=measure,
+                     criterion=risk, risk_samples=risk_samples, seed=seed, crowds=encounters,
+                     human_speed=walker, risk_bound=bound), executor)  # fmt: skip
+    initial = _initial(refs, box, population) if seed_references else None
+    out = nsga2(scorer.evaluate, box.lower, box.upper, n_obj=len(names), n_constr=len(CONSTRAINTS),
                 population=population, generations=generations, seed=seed,
-                progress=progress)  # fmt: skip
-    scored = {label: score(d.vector()) for label, d in refs.items()}
+                progress=progress, initial=initial, prepare=scorer.prepare)  # fmt: skip
+    scored = {label: scorer.score(d.vector()) for label, d in refs.items()}
     return _front(out, names, scored, seed)
+
+
+def _evaluate_task(task: tuple[Any, ...]) -> tuple[Array, Array]:
+    """One design's objectives and constraints in a worker (a top-level, picklable task)."""
+    names, items, kw, x, limits = task
+    s = evaluate_design(Design.from_vector(x), items, limits=limits, **kw)
+    f = np.array([OBJECTIVES[o].of(s) for o in names])
+    return np.where(np.isfinite(f), f, _PENALTY), s.constraints
+
+
+class _Scorer:
+    """A search's design scores: the foam limits of each generation computed at once, the
+    designs then scored in this process or by an executor's workers (the same answers:
+    every design's score is deterministic)."""
+
+    def __init__(self, names: tuple[str, ...], items: tuple[Scenario, ...],
+                 kw: dict[str, Any], executor: Any = None) -> None:  # fmt: skip
+        self.names, self.items, self.kw = names, items, kw
+        self.executor = executor
+        self.batch: dict[bytes, FoamLimits] = {}
+        self.done: dict[bytes, tuple[Array, Array]] = {}
+
+    def prepare(self, X: Array) -> None:
+        """The foam limits of a generation's designs, in one lock-step search (and, with an
+        executor, their scores)."""
+        self.batch.clear()
+        self.done.clear()
+        designs = [Design.from_vector(x) for x in X]
+        lim = design_limits(designs, self.kw["robot"], self.kw["heads"], self.kw["human_speed"])
+        keys = [np.asarray(x, float).tobytes() for x in X]
+        for i, key in enumerate(keys):
+            self.batch[key] = lim.row(i)
+        if self.executor is not None:
+            tasks = [(self.names, self.items, self.kw, np.asarray(x, float), self.batch[k])
+                     for x, k in zip(X, keys, strict=True)]  # fmt: skip
+            for i, out in self.executor.map_unordered(_evaluate_task, tasks):
+                self.done[keys[i]] = out
+
+    def score(self, x: Array) -> DesignScore:
+        """The design of vector ``x`` scored (its limits from the batch when there)."""
+        limits = self.batch.get(np.asarray(x, float).tobytes())
+        return evaluate_design(Design.from_vector(x), self.items, limits=limits, **self.kw)
+
+    def evaluate(self, x: Array) -> tuple[Array, Array]:
+        """Objectives (a non-finite one penalised) and constraints of ``x``."""
+        key = np.asarray(x, float).tobytes()
+        if key in self.done:
+            return self.done[key]
+        s = self.score(x)
+        f = np.array([OBJECTIVES[o].of(s) for o in self.names])
+        return np.where(np.isfinite(f), f, _PENALTY), s.constraints
 
 
 def risk_criterion(names: Sequence[str], criterion: Any) -> Criterion | None:
@@ -1016,7 +1394,9 @@ def risk_criterion(names: Sequence[str], criterion: Any) -> Criterion | None:
     """
     if criterion is not None and not isinstance(criterion, Criterion):
         raise InvalidParameterError("criterion", criterion, "must be an impact Criterion or None")
-    if not {"injury_probability", "crowd_injury_probability"} & set(names):
+    if not {"injury_probability", "exceedance_probability", "crowd_injury_probability"} & set(
+        names
+    ):
         return None
     return HeadAcceleration(10.0) if criterion is None else criterion
 
@@ -1052,6 +1432,13 @@ def crowd_encounters(names: Sequence[str], crowds: Any, measure: str) -> CrowdEn
     return crowds if isinstance(crowds, CrowdEncounters) else CrowdEncounters(crowds, measure)
 
 
+def _initial(refs: dict[str, Design], box: DesignSpace, population: int) -> Array | None:
+    """The reference designs that lie in the box (at most a population), or ``None``."""
+    inside = [d.vector() for d in refs.values()
+              if ((d.vector() >= box.lower) & (d.vector() <= box.upper)).all()]  # fmt: skip
+    return np.array(inside[:population]) if inside else None
+
+
 def _check_references(reference: Any) -> dict[str, Design]:
     if reference is None:
         return dict(THESIS_DESIGNS)
@@ -1077,8 +1464,9 @@ def _front(
     points = []
     for label, ref in refs.items():
         ref_f = np.array([OBJECTIVES[o].of(ref) for o in names])
-        dist, dominated = _reference_position(out.F[front], ref_f)
+        dist, dominated = _reference_position(out.F[front], ref_f, ref.feasible)
         points.append(ReferencePoint(label, ref, ref_f, dist, dominated))
+    trace = hypervolume_trace(out.F, feasible, out.generations)
     warnings = []
     if not feasible.any():
         warnings.append(
@@ -1093,5 +1481,5 @@ def _front(
         objectives=names, X=out.X, F=out.F, G=out.G, generations=out.generations,
         feasible=feasible, front=front, references=tuple(points), seed=seed,
         status=FrontStatus.OK if feasible.any() else FrontStatus.NO_FEASIBLE,
-        warnings=tuple(warnings),
+        warnings=(*warnings, *_convergence_note(trace)), hypervolume=trace,
     )  # fmt: skip

@@ -93,6 +93,7 @@ __all__ = [
     "InjuryRisk",
     "RiskStatus",
     "ThresholdModel",
+    "exceedance_probability",
     "injury_probability",
 ]
 
@@ -473,3 +474,9 @@ def _summarise(p: float, interval: tuple[float, float], se: float, tally: _Tally
         failed_samples=tally.positive, unresolved_samples=unresolved, seed=seed,
         status=status, warnings=tuple(warnings),
     )  # fmt: skip
+
+
+#: P(criterion exceeded | contact) under its honest name: the same function as
+#: :func:`injury_probability` (whose name is kept; issue 36.3). An injury risk from cited
+#: curves is :func:`designlab.codesign.injury.head_injury_risk`.
+exceedance_probability = injury_probability

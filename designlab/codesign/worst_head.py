@@ -251,8 +251,6 @@ def refine_heads(
     lo, hi = _box(prob)
     span = hi - lo
     rows, _ = prob.robot_rows(None)
-    fixed = np.column_stack([np.tile(rows[0, :3], (k.size, 1)), k, c])
-    extra = rows[0, 3:]
     unit = np.where(span > 0, 1.0 / np.where(span > 0, span, 1.0), 0.0)
     f0 = np.asarray(f0, dtype=float)
     x0 = (np.array([[h.mass, h.damping, h.stiffness] for h in heads]) - lo) * unit
@@ -260,9 +258,10 @@ def refine_heads(
     def values(foam: NDArray[np.int_], z: Array) -> Array:
         m, t, _ = z.shape
         flat = z.reshape(m * t, 3)
-        foams = np.repeat(fixed[foam], t, axis=0)
-        p = np.column_stack([foams, lo + flat * span, np.tile(extra, (m * t, 1))])
-        out = key.values(p, np.ones(m * t))
+        at = np.repeat(foam, t)
+        kk, cc = np.asarray(k, dtype=float)[at], np.asarray(c, dtype=float)[at]
+        p = prob.contact.assemble(np.repeat(rows, m * t, axis=0), kk, cc, lo + flat * span)
+        out = prob.contact.values(key, p, np.ones(m * t))
         return np.where(np.isfinite(out), out, 0.0).reshape(m, t)
 
     lattice = _lattice(3)
@@ -300,10 +299,10 @@ def grid_worst_heads(
         ``(metrics, heads)``, one per foam.
     """
     params, vv, nh = prob.designs(key, np.asarray(k, float), np.asarray(c, float))
-    vals = key.values(params, vv).reshape(-1, nh)
+    vals = prob.contact.values(key, params, vv).reshape(-1, nh)
     j = np.argmax(vals, axis=1)
     rows = params.reshape(-1, nh, params.shape[1])[np.arange(len(j)), j]
-    heads = [HeadNeck(mass=float(r[5]), stiffness=float(r[7]), damping=float(r[6])) for r in rows]
+    heads = [HeadNeck(**prob.contact.head_values(r)) for r in rows]
     return vals[np.arange(len(j)), j], heads
 
 
@@ -367,14 +366,16 @@ def refine_link_worst(
     lr = prob.robot
     lo = np.concatenate([[lr.lever_arm_min], lo_h])
     span = np.concatenate([[lr.lever_arm_max], hi_h]) - lo
-    kc = np.array([foam.stiffness, foam.damping])
 
     def values(_: NDArray[np.int_], u: Array) -> Array:
         m, t, _d = u.shape
         z = lo + u.reshape(m * t, 4) * span
         rows, v = prob.robot_rows(z[:, 0])
-        p = np.column_stack([rows[:, :3], np.tile(kc, (len(z), 1)), z[:, 1:], rows[:, 3:]])
-        out = key.values(p, v)
+        n = len(z)
+        p = prob.contact.assemble(
+            rows, np.full(n, foam.stiffness), np.full(n, foam.damping), z[:, 1:]
+        )
+        out = prob.contact.values(key, p, v)
         return np.where(np.isfinite(out), out, 0.0).reshape(m, t)
 
     heads = prob.heads_for(key)

@@ -501,7 +501,7 @@ def impact_metrics(
     constrained: bool = False,
     q2: str = "correct",
     stop_time: float = STOP_TIME.default,
-    max_lobe_steps: int = 4096,
+    max_lobe_steps: int = MAX_LOBE_STEPS.default,
     with_force: bool = True,
     lobe_diagnostics: bool = False,
     with_compression: bool = True,
@@ -596,7 +596,7 @@ def metrics_of_matrix(
     constrained: bool = False,
     q2: str = "correct",
     stop_time: float = STOP_TIME.default,
-    max_lobe_steps: int = 4096,
+    max_lobe_steps: int = MAX_LOBE_STEPS.default,
     with_force: bool = True,
     lobe_diagnostics: bool = False,
     with_compression: bool = True,
@@ -1311,7 +1311,7 @@ def metrics_from_responses(
     *,
     constrained: bool = False,
     stop_time: float = STOP_TIME.default,
-    max_lobe_steps: int = 4096,
+    max_lobe_steps: int = MAX_LOBE_STEPS.default,
     lobe_diagnostics: bool = False,
     rate: NDArray[np.float64] | None = None,
 ) -> ImpactMetrics:
@@ -1549,7 +1549,9 @@ def _batch_warnings(counts: dict[str, int]) -> tuple[str, ...]:
     return tuple(out)
 
 
-def hic_batch(metrics: ImpactMetrics, window: float = 0.015, samples: int = 400) -> NDArray:
+def hic_batch(
+    metrics: ImpactMetrics, window: float = HIC_WINDOW.default, samples: int = 400
+) -> NDArray:
     """HIC (standard definition; docs/impact.md, "HIC") over the first lobe of each design.
 
     The head's velocity relative to the torso is the exact integral of a_h, so

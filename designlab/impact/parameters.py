@@ -406,7 +406,7 @@ STOP_TIME = Param(
 #: The HIC window t2 - t1 (docs/impact.md, "HIC"): 0.015 s (HIC15) or 0.036 s (HIC36).
 HIC_WINDOW = Param(
     "T_HIC", "s", "longest HIC window t2 - t1", gt=0, le=0.036, typical=(0.015, 0.036),
-    name="window",
+    default=0.015, name="window",
 )  # fmt: skip
 
 #: A value of the C_c grid of a foam envelope (Sec. 3.9).
@@ -433,7 +433,7 @@ MAX_COMPRESSION = dataclasses.replace(
 #: Grid steps after which the search for the end of the first lobe gives up.
 MAX_LOBE_STEPS = Param(
     None, "", "grid steps of the search for the end of the first lobe", kind="integer",
-    ge=1, le=1_000_000, name="max_lobe_steps",
+    ge=1, le=1_000_000, default=4096, name="max_lobe_steps",
 )  # fmt: skip
 
 #: Grid points over the first lobe of the HIC window search.
@@ -446,7 +446,7 @@ HIC_SAMPLES = Param(
 #: boundary" (:func:`~designlab.impact.verdict.foam_verdict`).
 VERDICT_TOLERANCE = Param(
     None, "", "relative distance in K_c within which a foam is on the boundary", ge=0, lt=0.5,
-    typical=(0.01, 0.01), name="tolerance",
+    typical=(0.01, 0.01), default=0.01, name="tolerance",
 )  # fmt: skip
 
 #: Random cases per boundary point of the worst-case check, after its deterministic corners.
@@ -517,7 +517,8 @@ BAND_POINTS = Param(None, "", "number of bands", kind="integer", ge=1, le=1001, 
 #: for the full joint (relative; 0.01 = 1 %).
 USABLE_TOLERANCE = Param(
     None, "", "largest accepted underestimate of a harm metric where a reduction is still "
-    "usable (relative; 0.01 = 1 %)", ge=0, lt=1, typical=(0.005, 0.05), name="tolerance",
+    "usable (relative; 0.01 = 1 %)", ge=0, lt=1, typical=(0.005, 0.05), default=0.01,
+    name="tolerance",
 )  # fmt: skip
 
 

@@ -115,7 +115,7 @@ class FoamProblem:
     @property
     def contact(self) -> ContactModel:
         """The contact model of the robot and the foam (:mod:`designlab.impact.contact`)."""
-        return contact_of(self.robot, self.foam)
+        return contact_of(self.robot) if self.foam is None else contact_of(self.robot, self.foam)
 
     @property
     def compression(self) -> CompressionLimit:

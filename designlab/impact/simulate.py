@@ -48,6 +48,7 @@ from designlab.impact.metrics import (
 from designlab.impact.modal import ModalResponse, poles_of
 from designlab.impact.model import printed_q2_correction
 from designlab.impact.parameters import (
+    HIC_WINDOW,
     SIMULATION_DURATION,
     SIMULATION_SAMPLES,
     STOP_TIME,
@@ -100,7 +101,7 @@ class VelocityProfile:
         return self.acceleration * self.duration
 
 
-def hic(t: NDArray, head_acceleration: NDArray, window: float = 0.015) -> float:
+def hic(t: NDArray, head_acceleration: NDArray, window: float = HIC_WINDOW.default) -> float:
     """Head Injury Criterion by the standard definition (docs/impact.md, "HIC").
 
     ``HIC = max (t2 - t1) [ (1/(t2 - t1)) int_{t1}^{t2} a dt ]^2.5`` over
@@ -244,7 +245,7 @@ class ImpactResponse(Result):
         """Whether the head was against a wall (K_h -> infinity)."""
         return self.head is None
 
-    def hic(self, window: float = 0.015, samples: int = 3001) -> float:
+    def hic(self, window: float = HIC_WINDOW.default, samples: int = 3001) -> float:
         """HIC over the first impact lobe (HIC15 by default, 0.036 for HIC36).
 
         The head acceleration is re-sampled exactly on ``samples`` points of

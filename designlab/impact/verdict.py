@@ -217,7 +217,9 @@ def _judge(
     )
 
 
-def foam_verdict(env: FoamEnvelope, foam: Foam, *, tolerance: float = 0.01) -> FoamVerdict:
+def foam_verdict(
+    env: FoamEnvelope, foam: Foam, *, tolerance: float = VERDICT_TOLERANCE.default
+) -> FoamVerdict:
     """Three-way verdict of ``foam`` against the envelope ``env`` (see the module text).
 
     Parameters
@@ -246,7 +248,9 @@ def foam_verdict(env: FoamEnvelope, foam: Foam, *, tolerance: float = 0.01) -> F
 
 
 def foam_verdicts(
-    envs: Sequence[FoamEnvelope], foams: Sequence[Foam], tolerance: float = 0.01
+    envs: Sequence[FoamEnvelope],
+    foams: Sequence[Foam],
+    tolerance: float = VERDICT_TOLERANCE.default,
 ) -> list[FoamVerdict]:
     """:func:`foam_verdict` of ``foams[i]`` against ``envs[i]``, solved together.
 

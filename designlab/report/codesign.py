@@ -48,6 +48,7 @@ from designlab.analysis.sensitivity import SensitivityTable
 from designlab.codesign import OBJECTIVES, ContactSpeeds, ParetoFront, SpeedLimitMap
 from designlab.report import register_writer
 from designlab.report.builder import ReportParts, figure_section
+from designlab.report.codesign_answer import answer_lines, convergence_lines, iso_lines
 from designlab.report.writers import markdown_table
 from designlab.study.kinds.codesign import CodesignResult
 
@@ -262,13 +263,12 @@ def front_claims(front: ParetoFront) -> list[str]:
             f"The design '{r['label']}' (K_c = {r['K_c_N_per_m']:.4g} N/m, T_u = "
             f"{r['T_u_m']:.4g} m, V_mr = {r['V_mr_m_per_s']:.3g} m/s, k1 = {r['k1']:.3g}, "
             f"b = {r['b']:.3g}, k3 = {r['k3']:.3g}, k5 = {r['k5']:.4g}) is {verdict}; "
-            f"{int(r['dominated_by'])} front designs dominate it, and its normalised "
-            f"distance from the front is {r['distance_to_front']:.3f}."
+            f"{int(r['dominated_by'])} front designs dominate it"
             + (
-                " Being feasible and dominated by no design found, it lies on or beyond the "
-                "front the search reached (a larger search may find designs near it)."
+                ": feasible and dominated by no design found, it is on the front."
                 if bool(r["feasible"]) and int(r["dominated_by"]) == 0
-                else ""
+                else f", and its normalised distance from the front is "
+                f"{r['distance_to_front']:.3f}."
             ),
         ]
     return [*out, ""]
@@ -382,6 +382,56 @@ def sensitivity_section(result: CodesignResult) -> list[str]:
     ]
 
 
+def seeds_frame(result: CodesignResult) -> pd.DataFrame:
+    """Per seed: designs evaluated, feasible, on the front, final hypervolume and its change.
+
+    Parameters
+    ----------
+    result
+        A ``codesign`` result.
+    """
+    rows = []
+    for fr in (result.front, *result.seed_fronts):
+        hv = fr.hypervolume
+        rows.append({"seed": fr.seed, "designs": len(fr.X), "feasible": int(fr.feasible.sum()),
+                     "on_front": int(fr.front.sum()),
+                     "hypervolume": float(hv[-1]) if len(hv) else float("nan"),
+                     "hv_change_last_generations": fr.hypervolume_change})  # fmt: skip
+    return pd.DataFrame(rows)
+
+
+def hypervolume_frame(result: CodesignResult) -> pd.DataFrame:
+    """The hypervolume trace of each seed, one row per generation.
+
+    Parameters
+    ----------
+    result
+        A ``codesign`` result.
+    """
+    frame = pd.DataFrame({"generation": np.arange(1, len(result.front.hypervolume) + 1)})
+    for fr in (result.front, *result.seed_fronts):
+        frame[f"seed_{fr.seed}"] = pd.Series(fr.hypervolume)
+    return frame
+
+
+def _convergence_section(result: CodesignResult) -> list[str]:
+    seeds = seeds_frame(result)
+    n = int(seeds["designs"].sum())
+    rate = n / result.cpu_seconds if result.cpu_seconds > 0 else float("nan")
+    return [
+        "## Convergence",
+        "",
+        *convergence_lines(result.front),
+        f"{n} designs evaluated over {len(seeds)} seeds in {result.cpu_seconds:.4g} CPU s "
+        f"({rate:.3g} designs per CPU second). Hypervolume of the feasible designs found up to "
+        "each generation, objectives normalised over them, reference point 1.1 "
+        "(`hypervolume.csv`, `seeds.csv`):",
+        "",
+        markdown_table(seeds, floatfmt=".4g", index=False),
+        "",
+    ]
+
+
 def codesign_markdown(result: CodesignResult) -> str:
     """The body of the Markdown summary (the framework adds header and warnings).
 
@@ -394,6 +444,7 @@ def codesign_markdown(result: CodesignResult) -> str:
     contacts = result.contacts.to_frame()
     objectives = ", ".join(f"{o} ({OBJECTIVES[o].doc})" for o in front.objectives)
     out = [
+        *answer_lines(result),
         "## Speed-limit map",
         "",
         "The largest robot speed at which a contact with any head of the range meets every "
@@ -419,8 +470,12 @@ def codesign_markdown(result: CodesignResult) -> str:
         "## Pareto front",
         "",
         f"Objectives, all minimised: {objectives}. Hard constraints: no collision, no "
-        "critical-region entry, arrival in every scenario, no foam bottoming at the largest "
-        "closing speed met.",
+        "critical-region entry (every region at least the minimum for the design's speed, "
+        "Sec. 5.3), arrival in every scenario, no foam bottoming at the larger of the closing "
+        "speed met and V_mr + the walker's speed (worst head found off the grid), V_mr at most "
+        f"the speed limit of the design's foam for a walker at {study.front.human_speed:g} m/s, "
+        f"and P(criterion exceeded | contact) <= {study.front.risk_bound:g}. NSGA-II (pymoo), "
+        "the thesis's designs in the first population.",
         "",
         *front_claims(front),
         markdown_table(front.to_frame(), floatfmt=".4g", index=False),
@@ -430,6 +485,8 @@ def codesign_markdown(result: CodesignResult) -> str:
         markdown_table(front.reference_frame(), floatfmt=".4g", index=False),
         "",
         *sensitivity_section(result),
+        *iso_lines(result),
+        *_convergence_section(result),
     ]
     figures = {
         "speed-limit map": "speed_map.png",
@@ -460,7 +517,11 @@ def codesign_report(result: CodesignResult) -> ReportParts:
         "front.csv": front.to_frame(),
         "designs.csv": front.designs_frame(),
         "reference.csv": front.reference_frame(),
+        "seeds.csv": seeds_frame(result),
+        "hypervolume.csv": hypervolume_frame(result),
     }
+    if result.iso is not None:
+        tables["iso.csv"] = result.iso.reset_index()
     figures: dict[str, Callable[[], Figure]] = {
         "speed_map.png": lambda: speed_map_figure(result.speed_map, front),
         "risk.png": lambda: risk_figure(result.risk),

@@ -1,7 +1,7 @@
 """One palette for the reports' figures: a colour per method, start and goal markers.
 
 A navigation method (:data:`designlab.navigation.methods.METHODS`) or a tether law
-(:data:`designlab.following.tether.laws.LAWS`) has one colour, the same in every figure
+(:data:`designlab.following.tether.laws.registry.LAWS`) has one colour, the same in every figure
 of every report: the registry's order picks it from :data:`PALETTE` (nine distinct
 colours, the grey of obstacles and walls left out), so two methods of one family never
 share a colour. Two runs of one method in one figure (the new VFF with and without its

@@ -24,6 +24,8 @@ front:
   population: 4
   generations: 2
   seed: 3
+  compare_seeds: [4]
+  risk_bound: 0.5
 speed_map: {stiffness: {low: 1.0e+4, high: 6.0e+4, num: 4}, damping: {num: 3}}
 risk: {foams: [FOAM_1, FOAM_3], speeds: {low: 0.5, high: 3.5, num: 4}, samples: 2000}
 sensitivity: {samples: 2, seed: 1}
@@ -105,3 +107,25 @@ def test_sensitivity_table_and_claims(report: Path) -> None:
         zero = rows[(rows["ST"] == 0) & (rows["ST_conf"] == 0)]["parameter"]
         assert "K_c" in set(zero) and "C_c" in set(zero)
         assert "S_T = 0 exactly (changing it alone never changed the metric in the sample)" in text
+
+
+def test_the_report_opens_with_the_designers_answer_from_its_tables(report: Path) -> None:
+    text = (report / "summary.md").read_text()
+    first = text.split("## Speed-limit map")[0]
+    front = pd.read_csv(report / "front.csv")
+    seeds = pd.read_csv(report / "seeds.csv")
+    assert seeds["seed"].tolist() == [3, 4] and (seeds["designs"] == 8).all()
+    assert len(pd.read_csv(report / "hypervolume.csv")) == 2
+    if front.empty:
+        assert "nothing can be signed" in first
+        return
+    # the pick under equal weights: the smallest sum of the objectives normalised over the front
+    cols = ["arrival_time_s", "closing_speed_m_per_s"]
+    z = (front[cols] - front[cols].min()) / (front[cols].max() - front[cols].min()).replace(0, 1)
+    d = front.iloc[int(np.argmin(z.sum(axis=1).to_numpy()))]
+    assert f"speed limit V_mr = {d['V_mr_m_per_s']:.3g} m/s" in first
+    assert f"T_u = {1e3 * d['T_u_m']:.3g} mm" in first
+    assert "**Risk:**" in first and "**Binding constraint:**" in first
+    assert "Seed 4's search picks" in first or "Seed 4 found no feasible design" in first
+    iso = pd.read_csv(report / "iso.csv")
+    assert len(iso) == 12 and "## ISO/TS 15066 beside the Zeng model" in text

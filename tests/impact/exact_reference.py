@@ -330,8 +330,9 @@ class MpFullJoint(_MpFirstLobe):
         self.coef = mp.inverse(self.vec) * (-self.alpha)
         self.k_c, self.c_c = k_c, c_c
         # a real pole beyond 1e5 rad/s (a stiff motor node) decays within 1e-4 s and is
-        # not resolved, as in designlab.impact.full_joint_model.grid_rate
-        self.rate = max(abs(z) for z in self.lam if abs(z) < 1e5 or abs(mp.im(z)) > 0)
+        # not resolved, as in designlab.impact.full_joint_model.grid_rate; mp.eig leaves it
+        # an imaginary part of rounding size (1e-38), which does not make it oscillate
+        self.rate = max(abs(z) for z in self.lam if abs(z) < 1e5 or abs(mp.im(z)) > 1e-20 * abs(z))
 
     def _state(self, i: int, t, d: int):  # type: ignore[no-untyped-def]
         """Derivative ``d`` of state ``i`` at ``t``."""

@@ -127,3 +127,21 @@ def test_a_sweep_chunk_with_the_foam_shape_columns_takes_the_general_path() -> N
     general = impact_metrics_chunk(points, {})
     np.testing.assert_allclose(general["a_h_max_g"], linear["a_h_max_g"], rtol=1e-8)
     np.testing.assert_allclose(general["eps_max_m"], linear["eps_max_m"], rtol=1e-8)
+
+
+def test_the_envelope_of_a_stiffening_foam_is_in_its_own_parameters_and_checked() -> None:
+    """The upper boundary is where the worst head (HEAD_MIN, Sec. 3.9) reaches 10 g with
+    the stiffening law at that K_c; the worst-case check's corners include that head, so its
+    ratio there is 1 (to the boundary's rtol), never below."""
+    foam = dl.impact.HuntCrossleyFoam(20e3, 60.0, densification_depth=0.03, thickness=0.04)
+    env = dl.impact.foam_envelope(dl.impact.MANIPULATOR_1, 1.25, [60.0], max_compression=0.025,
+                                  foam=foam, rtol=1e-6)  # fmt: skip
+    k_max = float(env.stiffness_max[0])
+    at = dl.impact.simulate(dl.impact.MANIPULATOR_1, foam.replace(stiffness=k_max),
+                            dl.impact.HEAD_MIN, 1.25)  # fmt: skip
+    assert at.peak_head_acceleration_g == pytest.approx(10.0, rel=1e-5)
+    linear = dl.impact.foam_envelope(dl.impact.MANIPULATOR_1, 1.25, [60.0], max_compression=0.025)
+    assert k_max < 0.6 * float(linear.stiffness_max[0])  # the stiffening law caps K_c
+    check = dl.impact.check_worst_case(env, samples=0)
+    ratio = check.to_frame()
+    assert ratio.filter(like="ratio").max().max() >= 1.0 - 1e-5

@@ -362,3 +362,25 @@ def test_issue_34_designs_are_exact(defect: str, design: list[float]) -> None:
     for o, value in ((1, got[0]), (2, got[1]), (0, got[2])):
         exact = v * ref.maximum(o, t, samples=600)
         assert abs(value - exact) <= 1e-10 * abs(exact), (defect, o, value, exact)
+
+
+@pytest.mark.parametrize(("defect", "design"), ISSUE_34, ids=[d for d, _ in ISSUE_34])
+def test_issue_34_designs_on_the_numpy_path(
+    monkeypatch: pytest.MonkeyPatch, defect: str, design: list[float]
+) -> None:
+    """The same seven designs by the numpy path (no numba): its branch and bound closes a
+    +/- cell after its Newton solve only where y'' < 0 all over it (one stationary point),
+    so the cell of the "maximum" design with three stationary points stays in the search.
+    Tolerances: the numpy path's certified 1e-8 (maxima) and 1e-9 (t_imp), relative."""
+    p, v = np.array([design[:8]]), design[8]
+    with monkeypatch.context() as mp:
+        mp.setattr(kernel, "AVAILABLE", False)
+        m = metrics_of_matrix(p, v)
+    assert m.design_status[0] in ("ok", "peak_at_contact")
+    ref = MpImpact(design[:8], dps=40)
+    t = ref.first_zero(1.05 * float(m.impact_duration[0]), samples=600)
+    assert abs(m.impact_duration[0] - t) <= 1e-9 * t
+    got = (m.peak_head_acceleration[0], m.max_compression[0], m.peak_force[0])
+    for o, value in ((1, got[0]), (2, got[1]), (0, got[2])):
+        exact = v * ref.maximum(o, t, samples=600)
+        assert abs(value - exact) <= 1e-8 * abs(exact), (defect, o, value, exact)

@@ -178,6 +178,7 @@ def test_figureless_kinds_declare_no_figure(kind: str) -> None:
     assert ".png" not in produces, f"{kind} produces figures: give it a small study above"
 
 
+@pytest.mark.slow  # 20 small studies run and drawn: minutes; .ci/run's slow step runs it
 @pytest.mark.parametrize("kind", sorted(SMALL_STUDIES))
 def test_report_figures_have_readable_labels(
     kind: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch

@@ -56,16 +56,20 @@ CONTACTS: Registry[ContactModel] = Registry(
 )
 
 
-def contact_of(robot: object, foam: object | None = None) -> ContactModel:
-    """The contact model of a manipulator and a foam (``None``: the linear foam).
+#: ``contact_of(robot)``: the foam is not known yet (the robot's linear-foam model)
+_UNKNOWN = object()
+
+
+def contact_of(robot: object, foam: object = _UNKNOWN) -> ContactModel:
+    """The contact model of a manipulator and a foam (omitted: the linear foam).
 
     Parameters
     ----------
     robot
         The manipulator (fixed, or struck along a link).
     foam
-        The foam, or ``None`` where only the manipulator is known yet (an envelope
-        varies the foam's stiffness and damping).
+        The foam; omitted where only the manipulator is known yet (an envelope varies
+        the foam's stiffness and damping), which gives the robot's linear-foam model.
 
     Returns
     -------
@@ -81,14 +85,18 @@ def contact_of(robot: object, foam: object | None = None) -> ContactModel:
     --------
     >>> import designlab as dl
     >>> arm = dl.impact.FullJointContact.from_joint(0.059, 2e3, 2.0, 1.5e3, 30.0, lever_arm=0.2)
-    >>> contact_of(arm).name, contact_of(dl.impact.MANIPULATOR_2, None).label
+    >>> contact_of(arm).name, contact_of(dl.impact.MANIPULATOR_2).label
     ('series_joint', 'Reduced joint, linear foam')
+    >>> contact_of(arm, None)
+    Traceback (most recent call last):
+    ...
+    designlab.errors.InvalidParameterError: foam = None is not allowed: must be one of ['Foam'] ...
     """
     robots = [m for m in CONTACTS if type(robot) in m.robots]
     if not robots:
         served = sorted({cls.__name__ for m in CONTACTS for cls in m.robots})
         raise InvalidParameterError("robot", robot, f"must be one of {served}")
-    if foam is None:
+    if foam is _UNKNOWN:
         return robots[0]
     for m in robots:
         if type(foam) is m.foam:

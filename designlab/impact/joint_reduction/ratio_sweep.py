@@ -146,7 +146,7 @@ class JointReductionSweep(ReductionResult):
     def usable_intervals(
         self,
         reduction: str,
-        tolerance: float = 0.01,
+        tolerance: float = USABLE_TOLERANCE.default,
         metrics: Sequence[str] = ("a_h_max", "eps_max", "f_c_max"),
     ) -> list[tuple[float, float]]:
         """Ratio intervals where ``reduction`` may stand in for the full joint on ``metrics``.

@@ -33,6 +33,9 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
+import math
+import time
 from dataclasses import dataclass, field
 from typing import Any, ClassVar, Literal
 
@@ -55,13 +58,25 @@ from designlab.codesign import (
     pareto,
     speed_limit_map,
 )
+from designlab.codesign.assessment import Exposure, exposure, iso_comparison
 from designlab.codesign.contacts import MEASURES
-from designlab.codesign.front import GENERATIONS, MAX_EVALUATIONS, POPULATION, SEED
+from designlab.codesign.front import (
+    GENERATIONS,
+    MAX_EVALUATIONS,
+    POPULATION,
+    RISK_BOUND,
+    SEED,
+    Design,
+    design_runs,
+)
+from designlab.codesign.injury import head_injury_risk, hic_curves
 from designlab.codesign.parameters import MAP_POINTS, RISK_SAMPLES, SENSITIVITY_SAMPLES
+from designlab.codesign.robot import BUMPER_BASE, THESIS_ROBOT, RobotDescription
 from designlab.codesign.sensitivity import front_sensitivity
+from designlab.codesign.speed import speed_limit
 from designlab.errors import StudyError
-from designlab.impact import Foam
-from designlab.impact.parameters import IMPACT_VELOCITY
+from designlab.impact import ContactDynamics, Foam, HeadInjuryCriterion
+from designlab.impact.parameters import HUMAN_SPEED, IMPACT_VELOCITY
 from designlab.params import params_of
 from designlab.progress import Progress, ProgressHook, report
 from designlab.results import Result, Status
@@ -93,6 +108,11 @@ _SobolN = SENSITIVITY_SAMPLES.annotation()
 _CROWD = params_of(nav.CrowdScenario)
 _Pedestrians = _CROWD["pedestrians"].annotation()
 _CrowdSeed = _CROWD["seed"].annotation()
+_HumanSpeed = HUMAN_SPEED.annotation()
+_RiskBound = RISK_BOUND.annotation()
+
+#: The robot descriptions a study can name (:mod:`designlab.codesign.robot`).
+PLATFORMS = {"THESIS_ROBOT": THESIS_ROBOT, "BUMPER_BASE": BUMPER_BASE}
 
 #: The design space of the front: the bounds are the domains' declarations.
 DesignSpaceSpec = spec_model(DesignSpace, name="DesignSpaceSpec")
@@ -198,7 +218,8 @@ class RiskSpec(Model):
 
 
 class FrontSpec(Model):
-    """The Pareto search: the space, the objectives and NSGA-II's budget."""
+    """The Pareto search: the space, the objectives, the constraints' statements and
+    NSGA-II's budget (seeded with the thesis's designs; more seeds compared)."""
 
     space: DesignSpaceSpec = Field(default_factory=DesignSpaceSpec)  # type: ignore[valid-type]
     objectives: list[_Objective] = Field(  # type: ignore[valid-type]
@@ -209,6 +230,28 @@ class FrontSpec(Model):
     population: _Population = 16  # type: ignore[valid-type]
     generations: _Generations = 8  # type: ignore[valid-type]
     seed: _Seed = SEED.default  # type: ignore[valid-type]
+    compare_seeds: list[_Seed] = Field(  # type: ignore[valid-type]
+        default_factory=list, max_length=4,
+        description="further seeds whose fronts are compared with the first's",
+    )  # fmt: skip
+    human_speed: _HumanSpeed = Field(  # type: ignore[valid-type]
+        1.0, description="the walker's speed of the speed-limit constraint and the regions"
+    )
+    risk_bound: _RiskBound = Field(  # type: ignore[valid-type]
+        1.0, description="stated upper bound on P(criterion exceeded | contact) (1: none)"
+    )
+    preference: list[float] | None = Field(
+        None, description="weights of the objectives (normalised over the front) of the pick; "
+        "default: equal",
+    )  # fmt: skip
+
+    @model_validator(mode="after")
+    def _weights(self) -> FrontSpec:
+        w = self.preference
+        if w is not None and (len(w) != len(self.objectives) or min(w) < 0 or not sum(w) > 0):
+            raise ValueError(f"preference must be {len(self.objectives)} non-negative weights, "
+                             "not all zero")  # fmt: skip
+        return self
 
 
 class SensitivitySpec(Model):
@@ -236,6 +279,10 @@ class CodesignStudy(StudyBase):
         default_factory=lambda: RobotSpec.model_validate("MANIPULATOR_1"),
         description="the robot body at the contact point (impact model)",
     )
+    platform: Literal["THESIS_ROBOT", "BUMPER_BASE"] = Field(
+        "THESIS_ROBOT", description="the robot description navigation, impact and co-design "
+        "read (its touching part's impact model is `robot`; docs/codesign.md)",
+    )  # fmt: skip
     head_range: HeadRangeSpec | None = Field(  # type: ignore[valid-type]
         None, description="head-neck ranges (default: the thesis's, Sec. 3.6)"
     )
@@ -266,6 +313,9 @@ class CodesignStudy(StudyBase):
         "designs.csv",
         "reference.csv",
         "sensitivity.csv",
+        "seeds.csv",
+        "hypervolume.csv",
+        "iso.csv",
         "*.png",
         "study.yaml",
     )
@@ -274,10 +324,10 @@ class CodesignStudy(StudyBase):
         """The search budget within its cap, and every spec built."""
         super().check()
         f = self.front
-        n = f.population * f.generations
+        n = f.population * f.generations * (1 + len(f.compare_seeds))
         if n > MAX_EVALUATIONS:
             raise StudyError(
-                f"front.population x front.generations = {n} designs is above the cap "
+                f"front.population x front.generations x seeds = {n} designs is above the cap "
                 f"{MAX_EVALUATIONS}",
                 path=("front", "generations"),
             )
@@ -342,6 +392,21 @@ class CodesignResult(Result):
     sensitivity
         With ``sensitivity``: the Sobol indices of the front's objectives
         (:func:`designlab.codesign.front_sensitivity`).
+    platform
+        The robot description navigation, impact and co-design read.
+    seed_fronts
+        The fronts of ``front.compare_seeds``.
+    iso
+        ISO/TS 15066 beside the Zeng speed limit for the picked design's foam
+        (:func:`designlab.codesign.assessment.iso_comparison`).
+    exposure
+        Contacts with people per hour of the picked design's runs
+        (:func:`designlab.codesign.assessment.exposure`).
+    head_risk
+        The picked design's worst head contact (at V_mr + the walker's speed): its HIC15
+        and the cited curves' risks (:func:`designlab.codesign.injury.head_injury_risk`).
+    cpu_seconds
+        CPU time of the searches (every seed), s.
     status, warnings
         The front's status; the warnings of the contacts and the front.
     """
@@ -355,6 +420,12 @@ class CodesignResult(Result):
     warnings: tuple[str, ...] = ()
     crowd_risk: pd.DataFrame | None = field(default=None, repr=False)
     sensitivity: SensitivityTable | None = field(default=None, repr=False)
+    platform: RobotDescription | None = field(default=None, repr=False)
+    seed_fronts: tuple[ParetoFront, ...] = field(default=(), repr=False)
+    iso: pd.DataFrame | None = field(default=None, repr=False)
+    exposure: Exposure | None = field(default=None, repr=False)
+    head_risk: dict[str, float] = field(default_factory=dict, repr=False)
+    cpu_seconds: float = math.nan
 
     def to_frame(self) -> pd.DataFrame:
         """The front's non-dominated designs."""
@@ -444,6 +515,65 @@ def crowd_risk(study: CodesignStudy, robot: Any, heads: Any) -> pd.DataFrame | N
     return pd.DataFrame(rows)
 
 
+def platform_of(study: CodesignStudy) -> RobotDescription:
+    """The study's robot description with its touching part's impact model.
+
+    Parameters
+    ----------
+    study
+        The study (``platform`` and ``robot``).
+    """
+    contact = study.robot.build()
+    if not isinstance(contact, ContactDynamics):
+        raise StudyError("robot: a co-design robot's touching part must be a fixed contact "
+                         "(ContactDynamics)", path=("robot",))  # fmt: skip
+    return dataclasses.replace(PLATFORMS[study.platform], contact=contact)
+
+
+def pick_of(front: ParetoFront, preference: list[float] | None) -> int | None:
+    """The row of ``front.to_frame()`` the stated preference picks (equal weights by default).
+
+    Parameters
+    ----------
+    front
+        The front.
+    preference
+        Weights per objective.
+    """
+    if not front.front.any():
+        return None
+    w = preference if preference is not None else [1.0] * len(front.objectives)
+    return front.pick(w)
+
+
+def head_risk_of(robot: RobotDescription, design: Design, walker: float) -> dict[str, float]:
+    """The worst head contact of a design (v_c = V_mr + walker): HIC15 and the cited risks.
+
+    Parameters
+    ----------
+    robot, design, walker
+        The robot, the design and the walker's speed (m/s).
+    """
+    crit = HeadInjuryCriterion(650.0)
+    s = speed_limit(robot.contact, design.foam, [crit], human_speed=walker)
+    v = design.speed + walker
+    hic = s.unit_metric[crit.name] * v**crit.velocity_exponent
+    out = {"closing_speed_m_per_s": v, "hic15": hic}
+    out.update({name: head_injury_risk(hic, name) for name in hic_curves()})
+    return out
+
+
+def _assess(study: CodesignStudy, platform: RobotDescription, front: ParetoFront,
+            scenarios: list[nav.Scenario]) -> tuple[Any, Any, dict[str, float]]:  # fmt: skip
+    """ISO/TS 15066 table, exposure and head risk of the picked design (else the thesis's)."""
+    row = pick_of(front, study.front.preference)
+    design = front.designs()[row] if row is not None else front.references[0].score.design
+    walker = study.front.human_speed
+    runs = design_runs(design, scenarios, platform, walker)
+    return (iso_comparison(platform, design.foam, walker), exposure(runs),
+            head_risk_of(platform, design, walker))  # fmt: skip
+
+
 def run(study: CodesignStudy, context: RunContext) -> CodesignResult:
     """Collect the contact speeds and search the front, with progress bars.
 
@@ -455,7 +585,8 @@ def run(study: CodesignStudy, context: RunContext) -> CodesignResult:
         How to run it (progress bars).
     """
     scenarios = _scenarios(study)
-    robot = study.robot.build()
+    platform = platform_of(study)
+    robot = platform.contact
     heads = None if study.head_range is None else study.head_range.build()
     kw: dict[str, Any] = {"measure": study.measure, "risk_samples": study.risk.samples}
     if study.risk.criterion is not None:
@@ -473,11 +604,18 @@ def run(study: CodesignStudy, context: RunContext) -> CodesignResult:
     with context.bar(f"{study.kind}: risk curves", len(study.risk.foams)) as hook:
         risk = risk_curves(study, robot, heads, hook)
     f = study.front
-    with context.bar(f"{study.kind}: Pareto front", f.generations) as hook:
-        front = pareto(
-            scenarios, space=f.space.build(), objectives=tuple(f.objectives), robot=robot,
-            population=f.population, generations=f.generations, seed=f.seed, progress=hook, **kw,
-        )  # fmt: skip
+    kw.update(human_speed=f.human_speed, risk_bound=f.risk_bound)
+    cpu = time.process_time()
+    fronts = []
+    for seed in (f.seed, *f.compare_seeds):
+        with context.bar(f"{study.kind}: Pareto front (seed {seed})", f.generations) as hook:
+            fronts.append(pareto(
+                scenarios, space=f.space.build(), objectives=tuple(f.objectives),
+                robot=platform, population=f.population, generations=f.generations, seed=seed,
+                progress=hook, executor=context.executor, **kw,
+            ))  # fmt: skip
+    cpu = time.process_time() - cpu
+    front = fronts[0]
     assert front.reference is not None  # the thesis's design is always placed
     sens = None
     if study.sensitivity is not None:
@@ -485,9 +623,10 @@ def run(study: CodesignStudy, context: RunContext) -> CodesignResult:
         with context.bar(f"{study.kind}: sensitivity", None) as hook:
             sens = front_sensitivity(
                 scenarios, space=f.space.build(), objectives=tuple(f.objectives), robot=robot,
-                samples=s.samples, seed=s.seed, progress=hook, **kw,
+                samples=s.samples, seed=s.seed, progress=hook, **_sobol_kw(kw),
             )  # fmt: skip
     contacts = front.reference.contacts
+    iso, expo, head = _assess(study, platform, front, scenarios)
     return CodesignResult(
         study,
         contacts,
@@ -498,7 +637,18 @@ def run(study: CodesignStudy, context: RunContext) -> CodesignResult:
         warnings=(*smap.warnings, *contacts.warnings, *front.warnings),
         crowd_risk=crowd_risk(study, robot, heads),
         sensitivity=sens,
+        platform=platform,
+        seed_fronts=tuple(fronts[1:]),
+        iso=iso,
+        exposure=expo,
+        head_risk=head,
+        cpu_seconds=cpu,
     )
+
+
+def _sobol_kw(kw: dict[str, Any]) -> dict[str, Any]:
+    """The front's keywords that :func:`~designlab.codesign.front_sensitivity` takes."""
+    return {k: v for k, v in kw.items() if k not in ("human_speed", "risk_bound")}
 
 
 KIND = StudyKind(

@@ -6,21 +6,16 @@ A list of impacts (manipulator, foam, head, closing speed), each simulated with
 
 Examples
 --------
+A case with a reference value is compared with it (``a_h_max_g`` against the table):
+
 >>> from designlab.study import parse_study, run_study
->>> study = parse_study('''
-... designlab: 1
-... kind: impact_cases
-... name: demo
-... cases:
-...   - robot: MANIPULATOR_1
-...     foam: {preset: FOAM_1, linear_depth: 0.025}
-...     head: TEST_HEAD
-...     impact_velocity: 0.4
-... ''')
->>> study.cases[0].foam.build().linear_depth
-0.025
->>> run_study(study).status
-'ok'
+>>> result = run_study(parse_study('''
+... {designlab: 1, kind: impact_cases, name: table_4_1, cases: [
+...   {robot: MANIPULATOR_1, foam: {preset: FOAM_1, linear_depth: 0.025}, head: TEST_HEAD,
+...    impact_velocity: 0.4, reference: {source: Zeng 2011 Table 4.1, a_h_max_g: 2.1}}]}
+... '''))
+>>> result.status, result.study.cases[0].foam.build().linear_depth
+('ok', 0.025)
 """
 
 from __future__ import annotations
