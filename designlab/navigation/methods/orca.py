@@ -71,19 +71,20 @@ class ORCAMethod(CrowdController):
         s, robot = settings, crowd.robot
         goal = np.asarray(crowd.robot_goal, dtype=float)
         radius = robot.radius + s.safety_space
-        sim = rvo.RVOSimulator(crowd.sample_time, s.neighbor_dist, s.max_neighbors,
-                               s.time_horizon, s.time_horizon_obst, radius,
-                               robot.max_speed)  # fmt: skip
+        walls = []
         for w in crowd.walls():  # RVO2 obstacles: counter-clockwise corners
             c = w.corners()
-            ccw = c if _area(c) > 0 else c[::-1]
-            sim.add_obstacle([tuple(map(float, q)) for q in ccw])
-        sim.process_obstacles()
+            walls.append([tuple(map(float, q)) for q in (c if _area(c) > 0 else c[::-1])])
         rho_p = crowd.pedestrian_radius
         args = (s.neighbor_dist, s.max_neighbors, s.time_horizon, s.time_horizon_obst)
 
         def command(p: np.ndarray, v: np.ndarray, P: np.ndarray, V: np.ndarray) -> np.ndarray:
-            sim.clear_agents()
+            # a new simulator every period: RVO2 keeps no state of the last one (reusing one
+            # with clear_agents gave runs that depended on the process's history)
+            sim = rvo.RVOSimulator(crowd.sample_time, *args, radius, robot.max_speed)
+            for w in walls:
+                sim.add_obstacle(w)
+            sim.process_obstacles()
             me = sim.add_agent((float(p[0]), float(p[1])), *args, radius, robot.max_speed,
                                (float(v[0]), float(v[1])))  # fmt: skip
             pref = goal_velocity(p, goal, robot.max_speed, robot.max_accel)
