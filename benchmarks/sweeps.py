@@ -98,12 +98,45 @@ for s in range(0, n, step):
     m = impact_metrics({"M_r": r.mass, "C_r": r.damping, "K_r": r.stiffness,
                         "K_c": cols["foam.stiffness"][s:e], "C_c": cols["foam.damping"][s:e],
                         "M_h": cols["head.mass"][s:e], "C_h": h.damping, "K_h": h.stiffness},
-                       1.25)
+                       1.25, workers=1)
     total += float(np.nansum(m.peak_head_acceleration_g))
 wall = time.perf_counter() - t0
 cpu = time.process_time() - c0
 rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 print(json.dumps({"wall": wall, "cpu": cpu, "rss_mb": rss, "check": total}))
+"""
+
+#: where a run's CPU time goes: (label, module path suffix, function) whose cumulative time
+#: is the share (the rest: imports, numba's cache load, the CLI, the study's loading)
+PHASES = (
+    ("kernel (impact_metrics)", "designlab/analysis/engine.py", "evaluate_chunk"),
+    ("sample drawing", "designlab/analysis/engine.py", "_draw"),
+    ("result store", "designlab/analysis/store.py", "put_chunk"),
+    ("engine bookkeeping", "designlab/analysis/engine.py", "_keep"),
+    ("report: table (Parquet)", "designlab/report/sweep.py", "_write_table"),
+    ("report: figure", "designlab/report/sweep.py", "_scatter_figure"),
+    ("report: figure to PNG", "designlab/report/writers.py", "write_png"),
+    ("report: all", "designlab/report/__init__.py", "write_report"),
+)
+
+SHARES = """\
+import cProfile, json, pstats, sys, time
+from designlab.cli import app
+phases = json.loads(sys.argv[1])
+prof = cProfile.Profile(time.process_time)
+c0 = time.process_time()
+prof.enable()
+try:
+    app(sys.argv[2:], prog_name="designlab", standalone_mode=False)
+finally:
+    prof.disable()
+    cpu = time.process_time() - c0
+    stats = pstats.Stats(prof).stats
+    got = {}
+    for label, path, name in phases:
+        got[label] = sum(v[3] for (f, _, fn), v in stats.items()
+                         if fn == name and f.endswith(path))
+    print("BENCH " + json.dumps({"cpu": cpu, "phases": got}), file=sys.stderr)
 """
 
 CLI = """\
@@ -148,6 +181,7 @@ def impact_sweep(n: int, tmp: Path, memory: bool = True) -> None:
     resume = _bench(CLI, *args, "--resume")
     rebuild = _bench(CLI, "report", str(study), "-o", str(out), "--cache-dir", str(cache))
     size = _store_bytes(cache)
+    shares = _shares(args, tmp)
     files = sorted(p.name for p in (out / "bench_sweep").iterdir())
     print(
         f"impact_sweep, {n:,} points (LHS over M_h, K_c, C_c), one core "
@@ -179,8 +213,36 @@ def impact_sweep(n: int, tmp: Path, memory: bool = True) -> None:
         "(target < 100)"
     )
     print(f"  report files: {', '.join(files)}")
+    _print_shares(shares, kernel)
     if n >= 10_000 and memory:
         _memory_scaling(n, tmp)
+
+
+def _shares(args: list[str], tmp: Path) -> dict[str, object]:
+    """The run again (a fresh store), under a CPU-time profiler: each phase's cumulative time."""
+    again = [*args]
+    again[again.index("--cache-dir") + 1] = str(tmp / "cache_shares")
+    again[again.index("-o") + 1] = str(tmp / "reports_shares")
+    return _bench(SHARES, json.dumps(PHASES), *again)  # type: ignore[return-value]
+
+
+def _print_shares(shares: dict[str, object], kernel: dict[str, float]) -> None:
+    """Each phase's share of the profiled run, and its ratio to the bare kernel."""
+    total = float(shares["cpu"])  # type: ignore[arg-type]
+    phases: dict[str, float] = shares["phases"]  # type: ignore[assignment]
+    print(f"  where the run's CPU time goes (a second run under cProfile, {total:.2f} CPU s; "
+          "the profiler inflates Python-heavy phases):")  # fmt: skip
+    named = 0.0
+    for label, t in phases.items():
+        print(f"    {label:28s} {t:7.2f} s  {100 * t / total:5.1f} %  "
+              f"{t / kernel['cpu']:5.2f}x the bare kernel")  # fmt: skip
+        if label != "report: all" and not label.startswith("report: "):
+            named += t
+    named += phases.get("report: all", 0.0)
+    rest = total - named
+    label = "rest (imports, numba load, CLI)"
+    print(f"    {label:28s} {rest:7.2f} s  {100 * rest / total:5.1f} %  "
+          f"{rest / kernel['cpu']:5.2f}x the bare kernel")  # fmt: skip
 
 
 def _memory_scaling(n: int, tmp: Path) -> None:

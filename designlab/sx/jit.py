@@ -61,6 +61,7 @@ KERNEL_MODULES = (
     "impact/kernel_lobe.py",
     "impact/kernel_modal.py",
     "impact/kernel_poles.py",
+    "impact/kernel_single.py",
     "navigation/crowds/bookkeeping.py",
     "sx/jit.py",
 )
