@@ -113,7 +113,7 @@ PHASES = (
     ("sample drawing", "designlab/analysis/engine.py", "_draw"),
     ("result store", "designlab/analysis/store.py", "put_chunk"),
     ("engine bookkeeping", "designlab/analysis/engine.py", "_keep"),
-    ("report: table (Parquet)", "designlab/report/sweep.py", "_write_table"),
+    ("report: table (Parquet)", "designlab/report/sweep.py", "_write_large_table"),
     ("report: figure", "designlab/report/sweep.py", "_scatter_figure"),
     ("report: figure to PNG", "designlab/report/writers.py", "write_png"),
     ("report: all", "designlab/report/__init__.py", "write_report"),

@@ -21,7 +21,7 @@ Examples
 ...                     "M_h": 4.4, "C_h": 0.0, "K_h": 4e3}, 1.25)
 Traceback (most recent call last):
 ...
-designlab.errors.InvalidParameterError: params[0].K_c = -1.0 N/m is not allowed: ...
+designlab.errors.InvalidParameterError: K_c[0] = -1.0 N/m is not allowed: ...
 """
 
 from __future__ import annotations
@@ -81,7 +81,7 @@ _RANGES = tuple(
     for name in PARAM_NAMES
 )
 _STATUS = tuple(str(s) for s in _KERNEL_STATUS)
-_DEFAULTS = (0.05, 4096)
+_DEFAULTS = (STOP_TIME.default, MAX_LOBE_STEPS.default)
 
 
 def _plain(values: Sequence[float]) -> bool:
