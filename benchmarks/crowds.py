@@ -75,6 +75,13 @@ pedpy's ~20 ms fixed cost, still give 47-54 %). From 50 pedestrians on a study's
 measured one per pedpy call (more rows per call cost more per row), yet the benchmark's
 study loop costs 20-60 % more per run than one run alone; not yet explained (the records
 of 16 runs held in memory?).
+
+``--methods`` instead measures what a run of each method costs in the deciding studies'
+cells (``studies/pending/crowds_decide_*.yaml``: 4 m x 12 m sealed layouts, pedestrians
+avoiding the robot, the limit 4 x the free-run time), the run's metrics included, and prints
+CPU seconds per run and runs per CPU second per method and density::
+
+    python benchmarks/crowds.py --methods --densities 0.25 1.0 --seeds 0 1
 """
 
 from __future__ import annotations
@@ -133,6 +140,30 @@ def measure(
     }
 
 
+#: The methods of the deciding studies (``studies/pending/crowds_decide_*.yaml``).
+DECIDE_METHODS = ("vff", "cbf", "masoud", "ge_cui", "orca", "social_force")
+
+
+def measure_methods(layout: str, densities: list[float], seeds: list[int],
+                    model: str) -> list[dict[str, float]]:  # fmt: skip
+    """CPU seconds of one run (simulation and its study row) per method and density."""
+    rows = []
+    for rho in densities:
+        for m in DECIDE_METHODS:
+            cpu = []
+            for seed in seeds:
+                c = nav.crowd(layout, density=rho, width=4.0, length=12.0, seed=seed, model=model,
+                              react_to_robot=True, region_sizing="closing_speed",
+                              horizon_factor=4.0)  # fmt: skip
+                t0 = time.process_time()
+                res = nav.simulate(c, nav.OPTIMAL_GAINS if m == "vff" else None, method=m)
+                run_row(res, robot_radius=c.robot.radius, faced=False)
+                cpu.append(time.process_time() - t0)
+            mean = sum(cpu) / len(cpu)
+            rows.append({"density": rho, "method": m, "cpu_s": mean, "runs_per_cpu_s": 1 / mean})
+    return rows
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--horizon", type=float, default=20.0, help="simulated seconds per run")
@@ -141,7 +172,20 @@ def main() -> None:
     ap.add_argument("--repeats", type=int, default=3, help="runs per size (the best counts)")
     ap.add_argument("--study-runs", type=int, default=FACED_BATCH,
                     help="runs whose crowd met is measured in one pedpy call")  # fmt: skip
+    ap.add_argument("--methods", action="store_true", help="CPU per run of each method")
+    ap.add_argument("--layout", default="corridor_counterflow")
+    ap.add_argument("--model", default="collision_free_speed")
+    ap.add_argument("--densities", type=float, nargs="+", default=[0.25, 0.5, 1.0])
+    ap.add_argument("--seeds", type=int, nargs="+", default=[0, 1])
     args = ap.parse_args()
+    if args.methods:
+        nav.simulate(nav.crowd(args.layout, 4, width=4.0, length=12.0, horizon=0.12),
+                     nav.OPTIMAL_GAINS)  # fmt: skip
+        print(f"{'density':>8} {'method':>13} {'CPU s / run':>12} {'runs / CPU s':>13}")
+        for r in measure_methods(args.layout, args.densities, args.seeds, args.model):
+            print(f"{r['density']:>8g} {r['method']:>13} {r['cpu_s']:>12.2f} "
+                  f"{r['runs_per_cpu_s']:>13.2f}")  # fmt: skip
+        return
     print(
         f"{'N':>4} {'JuPedSim alone':>15} {'coupled':>9} {'ped side s':>11} {'robot side s':>13} "
         f"{'robot/ped':>10} {'metrics s':>10} {'(robot+metrics)/ped':>20} "

@@ -140,6 +140,12 @@ def cell(text: Any) -> str:
     return str(text).replace("|", "\\|").replace("\n", " ")
 
 
+def plain_cell(text: Any) -> str:
+    """Plain text (a study's description) in a table cell: a star stays a star ("Masoud*, Ge &
+    Cui*" was set in italics)."""
+    return cell(str(text).replace("\\", "\\\\").replace("*", "\\*"))
+
+
 def unit_text(description: str) -> str:
     """The unit a parameter description states (``"foam stiffness K_c, N/m; allowed ..."``)."""
     match = re.match(r"^[^;]*?,\s*([^,;]+?)\s*(;|$)", description)
@@ -481,7 +487,7 @@ def write_gallery() -> list[str]:
         index.append("|---|---|---|---|")
         nav.append(f"* {title}")
         for name, what, pngs, csvs in sections[title]:
-            index.append(f"| [{name}]({name}/index.md) | {cell(what)} | {pngs} | {csvs} |")
+            index.append(f"| [{name}]({name}/index.md) | {plain_cell(what)} | {pngs} | {csvs} |")
             nav.append(f"    * [{name}]({name}/index.md)")
         index.append("")
     with mkdocs_gen_files.open("gallery/index.md", "w") as fd:
@@ -518,7 +524,7 @@ def write_examples() -> list[str]:
         title, what, page = example_page(script)
         with mkdocs_gen_files.open(f"examples/{script.stem}.md", "w") as fd:
             fd.write("\n".join(page))
-        index.append(f"| [{title}]({script.stem}.md) | {cell(what)} |")
+        index.append(f"| [{title}]({script.stem}.md) | {plain_cell(what)} |")
         nav.append(f"* [{title}]({script.stem}.md)")
     with mkdocs_gen_files.open("examples/index.md", "w") as fd:
         fd.write("\n".join(index) + "\n")

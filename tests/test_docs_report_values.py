@@ -91,3 +91,20 @@ def test_a_page_follows_a_regenerated_report(tmp_path):
     (tmp_path / "tether_modes" / "brake.csv").write_text(text.replace("9.500073", "7.25"))
     assert before == "9.5"
     assert rv.expand(ref, "p", tmp_path) == "7.2"
+
+
+def test_the_hook_stops_the_build_on_a_planted_wrong_number():
+    """mkdocs calls on_page_markdown; a wrong number becomes a PluginError (build fails)."""
+    from types import SimpleNamespace
+
+    from mkdocs.exceptions import PluginError
+
+    page = SimpleNamespace(file=SimpleNamespace(src_uri="planted.md"))
+    wrong = (
+        '{{ report("tether_modes/brake.csv", "turned_after_stop_rad", fmt=".2g", '
+        'law="PseudoJoystick", brake=False, shown="9.4") }}'
+    )
+    with pytest.raises(PluginError, match=r"planted\.md"):
+        rv.on_page_markdown(wrong, page)
+    right = wrong.replace('shown="9.4"', 'shown="9.5"')
+    assert rv.on_page_markdown(right, page) == "9.5"

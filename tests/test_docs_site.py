@@ -354,3 +354,9 @@ def test_every_example_has_a_page(site: Path) -> None:
         assert "import designlab as dl" in html.unescape(
             re.sub(r"<[^>]+>", "", page.read_text(encoding="utf-8"))
         )
+
+
+@pytest.mark.slow
+def test_no_navigation_file_is_a_page(site: Path) -> None:
+    """literate-nav's SUMMARY.md files make the navigation, not pages of the site."""
+    assert not [p for p in site.rglob("SUMMARY/index.html")], "a SUMMARY page was built"

@@ -800,7 +800,7 @@ def evaluate_design(
     seed: int = ARG.seed.default,
     crowds: CrowdEncounters | None = None,
     human_speed: float = 1.0,
-    risk_bound: float = 1.0,
+    risk_bound: float = RISK_BOUND.default,
     limits: FoamLimits | None = None,
 ) -> DesignScore:
     """Simulate the scenarios with the design's speed limit and gains and score it.
@@ -978,6 +978,9 @@ class ParetoFront(Result):
         The seed of the search.
     status, warnings
         See :class:`FrontStatus`.
+    hypervolume
+        The hypervolume of the feasible designs found up to each generation
+        (:func:`hypervolume_trace`).
     """
 
     objectives: tuple[str, ...]
@@ -1250,7 +1253,7 @@ def pareto(
     progress: ProgressHook | None = None,
     crowds: CrowdScenario | Sequence[CrowdScenario] | CrowdEncounters | None = None,
     human_speed: float = 1.0,
-    risk_bound: float = 1.0,
+    risk_bound: float = RISK_BOUND.default,
     seed_references: bool = True,
     executor: Any = None,
 ) -> ParetoFront:

@@ -253,7 +253,19 @@ def head_injury_risk(hic: float, curve: str = "prasad_mertz_ais3") -> float:
 
 @dataclass(frozen=True)
 class StatureGroup:
-    """A normal stature distribution with its share of the population (m)."""
+    """A normal stature distribution with its share of the population.
+
+    Attributes
+    ----------
+    name
+        The group (``"men"``, ``"women"``).
+    share
+        Its share of the population.
+    mean, sd
+        Mean and standard deviation of the stature, m.
+    source
+        The citation.
+    """
 
     name: str
     share: float

@@ -33,6 +33,12 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
+from designlab.codesign.parameters import (
+    DECELERATION,
+    DETECTION_DISTANCE,
+    HEAD_LEVELS,
+    REACTION_TIME,
+)
 from designlab.codesign.speed import Braking, problem_for
 from designlab.codesign.worst_head import worst_heads
 from designlab.errors import InvalidParameterError
@@ -70,6 +76,8 @@ class FoamLimits(Result):
         The constraint that sets each foam's limit.
     human_speed
         The walker's speed toward the robot the limit assumes (m/s).
+    compression_key
+        The name under which :attr:`unit_metric` holds the compression (m per m/s).
     """
 
     stiffness: Array = field(repr=False)
@@ -167,10 +175,10 @@ def foam_limits(
     criteria: Sequence[Criterion] | None = None,
     head_range: HeadRange | None = None,
     human_speed: float = 1.0,
-    reaction_time: float = 0.0,
-    deceleration: float = 10.0,
-    detection_distance: float = 0.0,
-    head_levels: int = 3,
+    reaction_time: float = REACTION_TIME.default,
+    deceleration: float = DECELERATION.default,
+    detection_distance: float = DETECTION_DISTANCE.default,
+    head_levels: int = HEAD_LEVELS.default,
 ) -> FoamLimits:
     """The speed limit of each foam and its worst compression per m/s of closing speed.
 

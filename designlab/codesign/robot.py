@@ -19,7 +19,7 @@ The thesis's robot (:data:`THESIS_ROBOT`) is the Ch. 5-7 holonomic base (0.2 m r
 10 m/s^2) carrying the Ch. 3 manipulator (MANIPULATOR_1, effective mass 9.6 kg) whose link
 meets a standing adult's head. A mobile base whose bumper is the touching part
 (:data:`BUMPER_BASE`) meets shins, knees, thighs and hands instead
-(:mod:`designlab.codesign.body`).
+(:func:`designlab.codesign.injury.region_shares`).
 
 Examples
 --------
@@ -65,21 +65,14 @@ CONTACT_PART = Param(
 class RobotDescription:
     """The robot of a co-design: footprint, mass, limits and the part that touches people.
 
+    The navigation radius and limits are the navigation robot's declarations (a design's
+    own speed limit replaces ``max_speed``); the touching part's effective mass cannot
+    exceed ``mass``.
+
     Attributes
     ----------
-    name
-        Its label in reports.
-    radius, max_speed, max_accel
-        The navigation disc radius (m), speed limit V_mr (m/s; a design's own speed
-        limit replaces it) and acceleration limit a_mr (m/s^2).
-    mass
-        The robot's physical mass (kg); the touching part's effective mass cannot exceed it.
     contact
         The impact model of the touching part (effective mass, stiffness, damping).
-    part
-        ``"manipulator_link"`` or ``"bumper"``.
-    contact_low, contact_high
-        Height above the floor of the touching part's lowest and highest point (m).
     """
 
     name: str = param(kind="text", doc="label in reports", min_length=1, max_length=80)

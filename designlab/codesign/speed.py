@@ -220,6 +220,8 @@ def check_robot_foam(robot: object, foam: object) -> None:
     foam
         The object given as the foam.
     """
+    if foam is None:  # contact_of reads None as "the linear foam, not known yet"
+        raise InvalidParameterError("foam", foam, "must be a foam (e.g. dl.impact.FOAM_1)")
     contact = contact_of(robot, foam)
     if not contact.linear:
         raise InvalidParameterError(

@@ -26,6 +26,7 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from designlab.navigation.crowds.animation import animate
+from designlab.navigation.crowds.decide import decision_findings, mcnemar, time_limit_curve
 from designlab.navigation.crowds.diagnosis import force_breakdown, stall_summary
 from designlab.navigation.crowds.scenario import crowd
 from designlab.navigation.methods import METHODS
@@ -167,8 +168,62 @@ def rates_table(summary: pd.DataFrame) -> pd.DataFrame:
         row["personal space (s)"] = _num(r["personal_space_mean_s"])
         row["ped. delay (s)"] = _num(r["ped_delay_mean_s"])
         row["ped. deviation (m)"] = _num(r["ped_deviation_mean_m"])
+        row.update(_field_cells(r))
         rows.append(row)
     return pd.DataFrame(rows)
+
+
+def _field_cells(r: pd.Series) -> dict[str, str]:
+    """The field's metrics of a summary row as shown (n/a where a store lacks them)."""
+    g = r.get
+    return {
+        "SPL": _num(g("spl", math.nan)),
+        "path (m)": _num(g("path_length_m_mean", math.nan)),
+        "jerk (m/s^3)": _num(g("jerk_mean_mean", math.nan)),
+        "discomfort share": _num(g("discomfort_share_mean", math.nan)),
+        "personal-space share": _num(g("intrusion_share_mean", math.nan)),
+        "min TTC (s)": _num(g("ttc_min_s_mean", math.nan)),
+        "frozen": _num(g("frozen_mean", math.nan)),
+        "collisions robot / ped.": f"{_int(g('collisions_by_robot'))} / "
+        f"{_int(g('collisions_by_pedestrian'))}",
+        "density classic / Voronoi": f"{_num(g('measured_density_per_m2', math.nan))} / "
+        f"{_num(g('voronoi_density_per_m2', math.nan))}",
+    }
+
+
+def _int(x: Any) -> str:
+    return "n/a" if x is None or not math.isfinite(float(x)) else str(int(x))
+
+
+def decision_lines(result: NavigationCrowdsResult) -> list[str]:
+    """The tests between methods on paired crowds and the success rate against the time limit,
+    computed from the runs (:mod:`~designlab.navigation.crowds.decide`).
+
+    Parameters
+    ----------
+    result
+        A ``navigation_crowds`` result.
+    """
+    runs, st = result.crowds.runs, result.study
+    if "success" not in runs or len(st.methods) < 2:
+        return []
+    out = ["## Decisions (exact McNemar tests on paired crowds, computed from the runs)", "",
+           *decision_findings(mcnemar(runs), len(st.seeds)), ""]  # fmt: skip
+    if st.crowd.horizon is None and {"free_run_s", "time_limit_s"} <= set(runs):
+        top = st.crowd.horizon_factor
+        ks = [k for k in (1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 7.5, 10.0) if k < top] + [top]
+        curve = time_limit_curve(runs, ks, st.confidence)
+        curve["rate"] = [f"{a:.2f} [{lo:.2f}, {hi:.2f}]" for a, lo, hi in
+                         zip(curve.success_rate, curve.success_low, curve.success_high,
+                             strict=True)]  # fmt: skip
+        wide = curve.pivot_table(index=["scenario", "density", "method"], columns="factor",
+                                 values="rate", aggfunc="first", sort=False)  # fmt: skip
+        wide.columns = [f"{k:g} x T_free" for k in wide.columns]
+        out += ["## Success against the time limit", "",
+                "The success rate had the limit been k times the robot's free-run time (from "
+                "the runs' arrival times: a run counts if it arrived within the limit).", "",
+                markdown_table(wide.reset_index()), ""]  # fmt: skip
+    return out
 
 
 def _num(x: float) -> str:
@@ -283,6 +338,7 @@ def navigation_crowds_markdown(result: NavigationCrowdsResult,
         "## Findings (computed from the table above)", "",
         *findings(summary), "",
     ]  # fmt: skip
+    out += decision_lines(result)
     out += _stall_lines(stall_table(result) if stalls is None else stalls)
     out += _tuning_lines(result)
     return "\n".join(out)

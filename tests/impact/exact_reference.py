@@ -190,21 +190,30 @@ class _MpFirstLobe:
     def first_zero(self, t_hi: float, samples: int = 4000) -> float:
         """First zero of a_h in ``(0, t_hi]``: a grid of at least ``samples`` cells, none wider
         than a twelfth of the fastest resolved pole's period, and a bracketed solve of the
-        first sign change."""
+        first sign change. A cell with a_h > 0 at both ends whose slope goes from - to + holds
+        a minimum, solved for: a dip below zero between two samples ends the lobe there."""
         mp = self.mp
         fast = self.rate
         n = max(samples, int(float(t_hi * fast) * 2.0) + 1)
         ts = [mp.mpf(t_hi) * k / n for k in range(1, n + 1)]
-        prev = mp.mpf(0)
+        prev, dprev = mp.mpf(0), self.value(1, 0, 1)
         for t in ts:
-            y = self.value(1, t)
+            y, dy = self.value(1, t), self.value(1, t, 1)
+            end = t
+            if y >= 0 and dprev < 0 < dy:  # a minimum inside: a dip between the samples?
+                scale = max(abs(dprev), abs(dy))
+                low = mp.findroot(
+                    lambda s, k=scale: self.value(1, s, 1) / k, (prev, t), solver="anderson"
+                )
+                if self.value(1, low) < 0:
+                    y, end = self.value(1, low), low
             if y < 0:  # scaled: findroot's tolerance is absolute, and a slow tail's a_h tiny
                 scale = max(abs(self.value(1, prev)), abs(y))
                 root = mp.findroot(
-                    lambda s, k=scale: self.value(1, s) / k, (prev, t), solver="anderson"
+                    lambda s, k=scale: self.value(1, s) / k, (prev, end), solver="anderson"
                 )
                 return float(root)
-            prev = t
+            prev, dprev = t, dy
         return float("nan")
 
     def maximum(self, o: int, t_end: float, samples: int = 4000) -> float:
@@ -330,8 +339,9 @@ class MpFullJoint(_MpFirstLobe):
         self.coef = mp.inverse(self.vec) * (-self.alpha)
         self.k_c, self.c_c = k_c, c_c
         # a real pole beyond 1e5 rad/s (a stiff motor node) decays within 1e-4 s and is
-        # not resolved, as in designlab.impact.full_joint_model.grid_rate
-        self.rate = max(abs(z) for z in self.lam if abs(z) < 1e5 or abs(mp.im(z)) > 0)
+        # not resolved, as in designlab.impact.full_joint_model.grid_rate; mp.eig leaves it
+        # an imaginary part of rounding size (1e-38), which does not make it oscillate
+        self.rate = max(abs(z) for z in self.lam if abs(z) < 1e5 or abs(mp.im(z)) > 1e-20 * abs(z))
 
     def _state(self, i: int, t, d: int):  # type: ignore[no-untyped-def]
         """Derivative ``d`` of state ``i`` at ``t``."""

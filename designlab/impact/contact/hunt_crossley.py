@@ -207,9 +207,10 @@ class HuntCrossley(ContactModel):
         impact_velocity
             v_c, m/s: a scalar or ``(N,)``.
         **options
-            ``constrained``, ``stop_time``, ``rtol`` (:data:`~designlab.impact.general.
-            GENERAL_RTOL`); the linear kernels' other options (``with_force``, ...) are
-            accepted and have nothing to save here; ``q2`` must be ``"correct"``.
+            ``constrained``, ``stop_time``, ``rtol``
+            (:data:`~designlab.impact.general.GENERAL_RTOL`); the linear kernels' other options
+            (``with_force``, ...) are accepted and have nothing to save here; ``q2`` must
+            be ``"correct"``.
         """
         p = np.atleast_2d(real_array("params", rows))
         if p.shape[1] != len(self.columns):

@@ -35,7 +35,13 @@ import pandas as pd
 
 from designlab.analysis.engine import run_points
 from designlab.errors import InvalidParameterError
-from designlab.navigation.crowds.faced import faced_by, faced_by_runs
+from designlab.navigation.crowds.faced import (
+    faced_by,
+    faced_by_runs,
+    measurement_band,
+    voronoi_density,
+)
+from designlab.navigation.crowds.field_metrics import run_measures, spl
 from designlab.navigation.crowds.layouts import LAYOUTS
 from designlab.navigation.crowds.metrics import (
     CONFIDENCE,
@@ -232,6 +238,10 @@ def run_row(result: Any, pedestrians: Any = None, *, personal_space: float = PER
         "run_status": str(result.status),
     }
     row.update(_caused(t, peds, pedestrians, getattr(result, "pedestrian_ids", None)))
+    if getattr(result, "crowd", None) is not None:
+        row.update(run_measures(result, personal_space))
+        row["free_run_s"] = float(result.crowd.free_run_time)
+        row["time_limit_s"] = float(result.crowd.time_limit)
     if faced:
         row.update(_faced(result))
     return row
@@ -305,7 +315,32 @@ def _distribution_columns(group: pd.DataFrame) -> dict[str, float]:
         "ped_deviation_mean_m": float(group["ped_deviation_mean_m"].mean()),
         "measured_density_per_m2": _mean(group, "measured_density_per_m2"),
         "mean_ped_speed_m_per_s": _mean(group, "mean_ped_speed_m_per_s"),
+        **_field_columns(group),
     }
+
+
+def _field_columns(group: pd.DataFrame) -> dict[str, float]:
+    """The field's metrics over a cell's runs (NaN where a store lacks them)."""
+    out = {f"{c}_mean": _mean(group, c) for c in _FIELD_MEANS}
+    if {"success", "shortest_m", "path_length_m"} <= set(group):
+        g = group[np.isfinite(group["path_length_m"].to_numpy(dtype=float))]
+        out["spl"] = (
+            float(spl(g["success"], g["shortest_m"], g["path_length_m"])) if len(g) else math.nan
+        )
+    else:
+        out["spl"] = math.nan
+    for who in ("robot", "pedestrian"):
+        col = group.get("collision_by")
+        out[f"collisions_by_{who}"] = float((col == who).sum()) if col is not None else math.nan
+        col = group.get("critical_by")
+        out[f"critical_by_{who}"] = float((col == who).sum()) if col is not None else math.nan
+    out["voronoi_density_per_m2"] = _mean(group, "voronoi_density_per_m2")
+    return out
+
+
+#: Run columns averaged per cell (``<column>_mean``).
+_FIELD_MEANS = ("path_length_m", "accel_mean", "jerk_mean", "discomfort_share",
+                "intrusion_share", "ttc_min_s", "frozen")  # fmt: skip
 
 
 def _mean(group: pd.DataFrame, column: str) -> float:
@@ -482,9 +517,14 @@ MAX_RUNS = Param("runs", "", "runs of a crowd study (scenarios x densities x see
 #: Seeds accepted (JuPedSim's and numpy's seeds are 32-bit).
 SEED = ARG.seed.but(symbol="seed", doc="seed of a crowd", le=2**31 - 1, name="seeds")
 #: Columns of a run row besides the point keys (for the chunk evaluator's result).
+#: Frames per second of the Voronoi density (its cells cost about a run each at 1 frame/s).
+VORONOI_FRAME_RATE = 0.5
 RUN_COLUMNS = (
     "outcome", "success", "collided", "critical", "timeout", "left_area", "simulator_failed",
-    "coupling_exceeded", "outcome_time_s", "arrival_time_s", "min_distance_m",
+    "coupling_exceeded", "outcome_time_s", "free_run_s", "time_limit_s", "path_length_m",
+    "shortest_m", "accel_mean", "accel_max", "jerk_mean", "jerk_max", "discomfort_share",
+    "intrusion_share", "ttc_min_s", "frozen", "collision_by", "critical_by",
+    "voronoi_density_per_m2", "arrival_time_s", "min_distance_m",
     "min_centre_distance_m", "personal_space_s", "ped_delay_mean_s", "ped_delay_max_s",
     "ped_beyond_window", "ped_deviation_mean_m", "ped_deviation_max_m", "run_status",
     "measured_density_per_m2", "mean_ped_speed_m_per_s",
@@ -555,6 +595,7 @@ def crowd_runs_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) -> 
             alone[key] = simulate_pedestrians(res.crowd)
         row = run_row(res, alone.get(key), personal_space=float(options.get("personal_space", 1.2)),
                       robot_radius=float(res.crowd.robot.radius), faced=False)  # fmt: skip
+        row["voronoi_density_per_m2"] = _voronoi(res) if int(points["method"][i]) == 0 else np.nan
         if not reacts:
             row.update(ped_delay_mean_s=0.0, ped_delay_max_s=0.0, ped_beyond_window=0.0,
                        ped_deviation_mean_m=0.0, ped_deviation_max_m=0.0)  # fmt: skip
@@ -569,6 +610,15 @@ def crowd_runs_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) -> 
     cols: dict[str, Any] = {k: np.asarray(v) for k, v in out.items()}
     cols["status"] = np.full(n, "ok", dtype=object)
     return cols
+
+
+def _voronoi(res: Any) -> float:
+    """pedpy's Voronoi density in the band along the robot's path (the first method's run
+    of each crowd only: it costs about a run; :data:`VORONOI_FRAME_RATE`)."""
+    c = res.crowd
+    band = measurement_band(c.robot_start, c.robot_goal, c.geometry.area)
+    return voronoi_density(res.times, res.pedestrian_positions, band, c.geometry.area,
+                           VORONOI_FRAME_RATE)  # fmt: skip
 
 
 def _check_labels(methods: Any, gains: Any) -> tuple[list[str], dict[str, Any]]:

@@ -6,8 +6,12 @@ Each navigation period the robot's new velocity is ORCA's for the pedestrians as
 (positions and backward-difference velocities) and the walls (RVO2 obstacles): the velocity
 nearest the preferred one (to the goal at the speed limit, slowing to stop at it) outside
 every pedestrian's and wall's ORCA half-plane. The settings default to CrowdNav's ORCA
-(Chen et al. 2019): neighbour distance 10 m, 10 neighbours, time horizons 5 s; the
-pedestrians are assumed to take half the avoidance (ORCA's reciprocity), whatever they do.
+(Chen et al. 2019): neighbour distance 10 m, 10 neighbours, time horizons 5 s, and the
+robot's disc grown by a safety space of 1 cm (ORCA's velocities keep the discs apart
+exactly at contact, where rounding decides). The pedestrians are assumed to take half the
+avoidance (ORCA's reciprocity), whatever they do. ORCA's linear programs switch between
+constraints discontinuously: runs agree to the bit on one machine, but a last-bit
+difference (another CPU's libm) can change a path.
 
 Examples
 --------
@@ -46,6 +50,8 @@ class ORCASettings:
                                 default=5.0)  # fmt: skip
     time_horizon_obst: float = param("tau_O", "s", doc="time horizon for walls", gt=0, le=60.0,
                                      default=5.0)  # fmt: skip
+    safety_space: float = param("s_O", "m", doc="added to the robot's radius", ge=0, le=1.0,
+                                default=0.01)  # fmt: skip
 
 
 def _pyrvo() -> Any:
@@ -64,20 +70,22 @@ class ORCAMethod(CrowdController):
         rvo = _pyrvo()
         s, robot = settings, crowd.robot
         goal = np.asarray(crowd.robot_goal, dtype=float)
-        sim = rvo.RVOSimulator(crowd.sample_time, s.neighbor_dist, s.max_neighbors,
-                               s.time_horizon, s.time_horizon_obst, robot.radius,
-                               robot.max_speed)  # fmt: skip
+        radius = robot.radius + s.safety_space
+        walls = []
         for w in crowd.walls():  # RVO2 obstacles: counter-clockwise corners
             c = w.corners()
-            ccw = c if _area(c) > 0 else c[::-1]
-            sim.add_obstacle([tuple(map(float, q)) for q in ccw])
-        sim.process_obstacles()
+            walls.append([tuple(map(float, q)) for q in (c if _area(c) > 0 else c[::-1])])
         rho_p = crowd.pedestrian_radius
         args = (s.neighbor_dist, s.max_neighbors, s.time_horizon, s.time_horizon_obst)
 
         def command(p: np.ndarray, v: np.ndarray, P: np.ndarray, V: np.ndarray) -> np.ndarray:
-            sim.clear_agents()
-            me = sim.add_agent((float(p[0]), float(p[1])), *args, robot.radius, robot.max_speed,
+            # a new simulator every period: RVO2 keeps no state of the last one (reusing one
+            # with clear_agents gave runs that depended on the process's history)
+            sim = rvo.RVOSimulator(crowd.sample_time, *args, radius, robot.max_speed)
+            for w in walls:
+                sim.add_obstacle(w)
+            sim.process_obstacles()
+            me = sim.add_agent((float(p[0]), float(p[1])), *args, radius, robot.max_speed,
                                (float(v[0]), float(v[1])))  # fmt: skip
             pref = goal_velocity(p, goal, robot.max_speed, robot.max_accel)
             sim.set_agent_pref_velocity(me, (float(pref[0]), float(pref[1])))

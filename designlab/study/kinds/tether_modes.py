@@ -378,10 +378,8 @@ def run(study: TetherModesStudy, context: RunContext) -> TetherModesResult:
 
     Parameters
     ----------
-    study
-        The study.
-    context
-        How to run it (its progress bar).
+    study, context
+        The study, and how to run it (its progress bar: a step a mode run, one for Brake).
     """
     robot = study.robot.build()
     jobs = study.mode_jobs()

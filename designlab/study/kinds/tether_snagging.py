@@ -256,10 +256,8 @@ def run(study: TetherSnaggingStudy, context: RunContext) -> TetherSnaggingResult
 
     Parameters
     ----------
-    study
-        The study.
-    context
-        How to run it (its progress bar).
+    study, context
+        The study, and how to run it (its progress bar: one step a gap).
     """
     base = study.scenario.build()
     jobs: list[Any] = [*study.gaps.values(), *study.detail_gaps]

@@ -161,10 +161,8 @@ def run(study: TetherStabilityStudy, context: RunContext) -> TetherStabilityResu
 
     Parameters
     ----------
-    study
-        The study.
-    context
-        How to run it (its progress bar).
+    study, context
+        The study, and how to run it (its progress bar: one step a law).
     """
     robot = study.robot.build()
     maps = []

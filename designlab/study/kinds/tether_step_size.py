@@ -186,10 +186,8 @@ def run(study: TetherStepSizeStudy, context: RunContext) -> TetherStepSizeResult
 
     Parameters
     ----------
-    study
-        The study.
-    context
-        How to run it (its progress bar).
+    study, context
+        The study, and how to run it (its progress bar: one step a (path, step) run).
     """
     robot = study.robot.build()
     base = study.controller.build()

@@ -10,6 +10,7 @@ import pytest
 
 import designlab as dl
 from designlab.errors import InvalidParameterError
+from designlab.navigation.crowds import field_metrics as fm
 from designlab.navigation.crowds.simulate import _track
 from designlab.navigation.methods.orca import ORCASettings
 from designlab.navigation.methods.social_force import SocialForceSettings, repulsion
@@ -28,8 +29,9 @@ def test_a_free_corridor_is_driven_straight_at_the_limits(method):
     c = _empty()
     res = nav.simulate(c, method=method)
     assert res.outcome == "arrived" and res.method == method and res.gains == {}
-    # straight along y = 1.5 (the walls' and standing pedestrian's pushes are below 1e-3 m)
-    assert np.abs(res.robot_positions[:, 1] - 1.5).max() < 1e-3
+    # nearly straight (a 6 m task; ORCA may swerve round the standing pedestrian)
+    assert res.robot_positions[-1, 0] > 7.3
+    assert np.hypot(*np.diff(res.robot_positions, axis=0).T).sum() < 1.2 * 6.0
     # never faster than V_mr, never accelerating beyond a_mr (differences of the records)
     speed = np.hypot(*res.robot_velocities.T)
     assert speed.max() <= c.robot.max_speed + 1e-12
@@ -37,12 +39,17 @@ def test_a_free_corridor_is_driven_straight_at_the_limits(method):
     assert acc.max() <= c.robot.max_accel * (1 + 1e-9)
 
 
-def test_orca_avoids_a_pedestrian_walking_at_the_robot():
+def test_orca_freezes_before_a_person_standing_on_its_path():
+    # ORCA's symmetric deadlock: a person standing on the straight path, the goal behind:
+    # the robot stops short of the person (never touching: the safety space holds) and
+    # never turns, exactly (every input is symmetric about y = 1.5)
     c = nav.crowd("corridor_counterflow", 1, width=3.0, length=9.0, seed=0,
-                  paths=(((7.0, 1.5), (0.6, 1.5)),), start=(1.5, 1.5), goal=(7.5, 1.5),
-                  desired_speed=1.0, desired_speed_sd=0.0, horizon=15.0)  # fmt: skip
+                  paths=(((4.5, 1.5), (4.5, 1.5)),), start=(1.5, 1.5), goal=(7.5, 1.5),
+                  horizon=12.0, react_to_robot=True)  # fmt: skip
     res = nav.simulate(c, method="orca")
-    assert res.outcome == "arrived" and res.min_surface_distance > 0
+    assert res.outcome == "timeout" and res.min_surface_distance > 0
+    assert np.all(res.robot_positions[:, 1] == 1.5)
+    assert np.hypot(*res.robot_velocities[-1]) < fm.FREEZE_SPEED  # creeping to a stop
 
 
 def test_track_reaches_the_command_at_the_acceleration_limit():
