@@ -30,7 +30,8 @@ import sys
 from collections.abc import Mapping, Sequence
 from typing import NamedTuple
 
-from designlab.impact.kernel_single import FINAL, one_design
+from designlab.impact.kernel import STATUS_CODES
+from designlab.impact.kernel_single import one_design
 from designlab.impact.metrics import (
     _KERNEL_STATUS,
     _POSITIVE,
@@ -80,6 +81,9 @@ _RANGES = tuple(
     (5e-324 if name in _POSITIVE else 0.0, min(_upper(name), sys.float_info.max))
     for name in PARAM_NAMES
 )
+#: the kernel's codes that are a design's final status as they come (the batch settles
+#: every other: lobe_not_closed at 40 digits, the SUSPECT_* codes, :func:`.metrics.settle_suspects`)
+_FAST_CODES = (STATUS_CODES.index("ok"), STATUS_CODES.index("peak_at_contact"))
 _STATUS = tuple(str(s) for s in _KERNEL_STATUS)
 _DEFAULTS = (STOP_TIME.default, MAX_LOBE_STEPS.default)
 
@@ -155,7 +159,7 @@ def impact_metrics_one(
     code, a, e, f, t_imp, t_a, t_e, t_f = one_design(
         *values, float(stop_time), int(max_lobe_steps), TIME_SCALE_RATIO.le
     )
-    if code >= FINAL:
+    if code not in _FAST_CODES:  # settled (or refused) by the batch path
         return _batch(values, v, stop_time, max_lobe_steps)
     return ImpactPoint(a * v, e * v, f * v, t_imp, t_a, t_e, t_f, _STATUS[code])
 

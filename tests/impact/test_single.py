@@ -47,6 +47,12 @@ def test_a_mapping_and_options_go_the_same_way() -> None:
     assert one.status == "ok" and one.peak_head_acceleration_g == pytest.approx(6.568, abs=5e-4)
 
 
+def test_a_design_the_batch_settles_goes_through_the_batch() -> None:
+    """A lobe not closed within the search is tried again by the batch (at 40 digits)."""
+    one = impact_metrics_one(BASE, 1.25, max_lobe_steps=3)
+    assert _same(one, _batch_row(BASE, 1.25, max_lobe_steps=3))
+
+
 @pytest.mark.parametrize(
     ("column", "value"),
     [(0, -1.0), (3, 0.0), (4, math.nan), (5, math.inf), (1, -0.5), (0, 3e13)],
