@@ -11,7 +11,7 @@ import numpy as np
 import pandas as pd
 
 from designlab.navigation import Disc, GainOptimum, NavigationResult
-from designlab.navigation.methods import METHODS
+from designlab.navigation.methods import METHOD, METHODS
 from designlab.navigation.tuning_results import (
     NEAR_OPTIMAL_H_MEAN,
     REPRO_H_FIXED,
@@ -545,12 +545,12 @@ def _wider_box_line(
 ) -> list[str]:
     """The new VFF optimised again in the wider box (the bound check), if the study did."""
     wide = result.optima.get(f"off{WIDER}")
-    if wide is None or "vff" not in score or not math.isfinite(wide.objective):
+    if wide is None or METHOD.default not in score or not math.isfinite(wide.objective):
         return []
     st = result.study
     if st.scenarios or sorted(st.configurations) != sorted(st.baseline_configurations):
         return []  # the wider box's optimum is then not on the comparison configurations
-    ranked = _ranked({**score, "vff": wide.objective})
+    ranked = _ranked({**score, METHOD.default: wide.objective})
     on = sorted(result.optima["off"].on_bounds())
     return [
         f"Bound check: the new VFF's optimum lies on the bound of {on}; optimised again in "

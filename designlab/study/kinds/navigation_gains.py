@@ -291,7 +291,7 @@ class NavigationGainsResult(Result):
     def warnings(self) -> tuple[str, ...]:  # type: ignore[override]
         out = [f"{m}: {w}" for m, o in self.optima.items() for w in o.warnings]
         out += [
-            f"{'baseline ' if m != 'vff' else 'like for like '}{m}: {w}"
+            f"{'baseline ' if m != METHOD.default else 'like for like '}{m}: {w}"
             for m, o in self.baseline_optima.items()
             for w in o.warnings
         ]
