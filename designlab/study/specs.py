@@ -23,6 +23,7 @@ Examples
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Sequence
 from typing import Any, ClassVar
 
@@ -175,8 +176,10 @@ def spec_model(
     summary = (cls.__doc__ or "").strip().splitlines()[0] if cls.__doc__ else ""
     model_doc = doc or f"{summary} (:class:`{cls.__module__}.{cls.__name__}`), SI units."
     base: type[Model] = ComponentSpec if presets is not None else _PlainSpec
+    # The caller's module: a spec bound there under its own name pickles with its results.
+    module = sys._getframe(1).f_globals.get("__name__", __name__)
     model = create_model(  # type: ignore[call-overload]
-        name or f"{cls.__name__}Spec", __base__=base, __doc__=model_doc, **fields
+        name or f"{cls.__name__}Spec", __base__=base, __doc__=model_doc, __module__=module, **fields
     )
     model.BUILDS = cls
     if presets is not None:

@@ -101,13 +101,17 @@ class _LawSpec(Buildable):
 
 
 def _law_spec(name: str, cls: type) -> Any:
+    """The law's spec, bound in this module under its own name (so that it pickles)."""
     fields = spec_model(cls, name=f"{name}Fields")
-    return create_model(
+    model = create_model(
         f"{name}Spec",
         __base__=(_LawSpec, fields),
         __doc__=f"The {name} law with its gains (App. C defaults), SI units.",
+        __module__=__name__,
         type=(Literal[name], Field(description="the control law")),  # type: ignore[valid-type]
     )
+    globals()[model.__name__] = model
+    return model
 
 
 #: A law that follows from behind, with optional gains and a label (``type`` selects the law).
