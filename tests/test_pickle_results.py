@@ -45,7 +45,7 @@ def _examples_results(modules: set[str]) -> dict[type, Any]:
 
     matplotlib.use("Agg")
     seen: dict[type, Any] = {}
-    original = Result.__new__
+    own_new = Result.__dict__.get("__new__")  # None: inherited from object (restored by deleting)
 
     def recording_new(cls: type, *args: Any, **kwargs: Any) -> Any:
         obj = object.__new__(cls)
@@ -59,7 +59,9 @@ def _examples_results(modules: set[str]) -> dict[type, Any]:
             for test in doctest.DocTestFinder().find(importlib.import_module(name)):
                 runner.run(test, out=lambda _: None)
     finally:
-        Result.__new__ = original  # type: ignore[method-assign]
+        # Neither deleting the patch nor assigning object.__new__ back restores CPython's slot
+        # (object.__new__ then refuses the constructor's arguments): a plain __new__ does.
+        Result.__new__ = own_new or _plain_new  # type: ignore[method-assign,assignment]
     return seen
 
 
@@ -80,6 +82,10 @@ KNOWN: dict[str, str] = {
     "NavigationGainsResult": _NO_EXAMPLE, "TetherTuningResult": _NO_EXAMPLE,
     "SweepStudyResult": _NO_EXAMPLE,
 }  # fmt: skip
+
+
+def _plain_new(cls: type, *args: Any, **kwargs: Any) -> Any:
+    return object.__new__(cls)
 
 
 @pytest.fixture(scope="module")
