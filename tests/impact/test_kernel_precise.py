@@ -1,10 +1,11 @@
-"""Designs the double-precision self-checks refuse get a certified number from 40-digit poles
-and residues (:mod:`designlab.impact.kernel_precise`; issue 34, availability).
+"""Designs the double-precision self-checks refuse get a certified number from extended-precision
+poles and residues (:mod:`designlab.impact.kernel_precise`, compiled first in double-double,
+:mod:`designlab.impact.kernel_dd`; issue 34, availability).
 
-* The 40-digit residues and poles, rounded to doubles, are within their stated error bounds
-  of a 60-digit mpmath evaluation (:class:`exact_reference.MpImpact`), and those bounds are
-  a few roundings of the largest residue (the double-precision bounds were 100-200 times
-  the true errors on these designs).
+* The double-double and the 40-digit residues and poles, rounded to doubles, are within
+  their stated error bounds of a 60-digit mpmath evaluation
+  (:class:`exact_reference.MpImpact`), and those bounds are a few roundings of the largest
+  residue (the double-precision bounds were 100-200 times the true errors on these designs).
 * Through :func:`designlab.impact.metrics.metrics_of_matrix` (compiled kernel, and the numpy
   path without numba) the designs the kernel's self-check refused are certified and right
   against mpmath (t_imp 1e-9, maxima 1e-8 relative, the fuzz harness's tolerances), or
@@ -41,9 +42,17 @@ REFUSED = [
 NAMES = ("force", "head_acceleration", "compression")
 
 
-def test_fifty_digit_residues_and_poles_within_their_bounds() -> None:
+@pytest.mark.parametrize("compiled", [True, False], ids=["double-double", "decimal"])
+def test_extended_residues_and_poles_within_their_bounds(compiled: bool, monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    """Compiled, the double-double evaluation (:mod:`designlab.impact.kernel_dd`) certifies
+    these designs; without numba, the 40-digit decimal one: both within their bounds."""
+    if compiled and not kernel.AVAILABLE:
+        pytest.skip("compiled kernels unavailable")
     designs = [*REFUSED, *NO_ZERO, *DIP]
-    resp, ok = precise_responses(np.array(designs), printed=False, names=NAMES)
+    with monkeypatch.context() as mp:
+        if not compiled:
+            mp.setattr(kernel, "AVAILABLE", False)
+        resp, ok = precise_responses(np.array(designs), printed=False, names=NAMES)
     assert ok.all()
     for i, design in enumerate(designs):
         ref = MpImpact(design, dps=60)
