@@ -138,3 +138,27 @@ def test_a_zero_found_is_never_reported_open() -> None:
         row = np.array([m.peak_head_acceleration[0], m.max_compression[0], m.peak_force[0],
                         m.impact_duration[0]])  # fmt: skip
         _right(SLOW_TAIL, row, status)
+
+
+#: ``overdamped`` family (seed 34, chunk 0): a_h stays far above its rounding noise up to
+#: the kernel's horizon (0.396 s) and has no zero before it (mpmath)
+CLEAR_OPEN = [9.313257360973925, 7596.021347565244, 33014.84853269372, 37230.66336509716,
+              12063.641109689115, 5.390881504543701, 2592.3257797151527,
+              7790.412720226426]  # fmt: skip
+_KW = {"printed": False, "stop_time": 0.05, "max_lobe_steps": 4096, "diagnostics": False}
+
+
+@pytest.mark.skipif(not kernel.AVAILABLE, reason="compiled kernels unavailable")
+def test_open_lobe_retried_in_more_digits_only_near_the_noise() -> None:
+    """An open lobe is final in double precision where a_h stays above 256 times its noise
+    level (``lobe_not_closed`` at once, right against mpmath); one whose a_h came near it
+    (the zero at 8.94 s below double precision's noise, ``SLOW_TAIL``) is ``LOBE_NOISE``, which
+    the caller retries in extended precision (issue 34: 35 % of very overdamped designs
+    went to the 1 ms decimal evaluation for nothing)."""
+    _, codes = kernel.reduced_metrics(np.array([CLEAR_OPEN, SLOW_TAIL]), (True, True, True), **_KW)
+    assert codes.tolist() == [kernel.STATUS_CODES.index("lobe_not_closed"), kernel.LOBE_NOISE]
+    ref = MpImpact(CLEAR_OPEN, dps=40)
+    horizon = ((4096 // 12) * 12 + 11) * 0.4 / max(abs(complex(z)) for z in ref.poles)
+    assert np.isnan(ref.first_zero(horizon, samples=256))
+    m = metrics_of_matrix(np.array([CLEAR_OPEN]), 1.0)
+    assert str(m.design_status[0]) == "lobe_not_closed"
