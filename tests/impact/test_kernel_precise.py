@@ -162,3 +162,26 @@ def test_open_lobe_retried_in_more_digits_only_near_the_noise() -> None:
     assert np.isnan(ref.first_zero(horizon, samples=256))
     m = metrics_of_matrix(np.array([CLEAR_OPEN]), 1.0)
     assert str(m.design_status[0]) == "lobe_not_closed"
+
+
+#: found by the session-13 fuzz run (docs/impact_fuzz.md), not fixed yet: a ``critical``
+#: design whose a_h peaks at contact and decays to a zero at 13.59 s, certified by the
+#: double-precision kernel 1.3e-8 late, and a ``repeated`` one whose open lobe, retried in
+#: extended precision (double-double and 40-digit decimal alike), closes 3.8e-6 late at
+#: 61.5 s
+SLOW_ZERO_WRONG = [
+    [18.539635936486, 1502.0680580965673, 30379.802893991986, 9174.21694597467,
+     237.53848811465656, 3.847835480387547, 306.3697639550259, 6093.093822282955],
+    [7.495401199279103, 251.90170658378025, 1898.5171342975864, 15.933656845035044,
+     0.057587380550083285, 4.21613053580163, 141.69361304509823, 1067.9076209322204],
+]  # fmt: skip
+
+
+@pytest.mark.skipif(not kernel.AVAILABLE, reason="compiled kernels unavailable")
+@pytest.mark.parametrize("design", SLOW_ZERO_WRONG, ids=["critical", "repeated"])
+@pytest.mark.xfail(strict=True, reason="issue 34: a zero of a_h after 10 s not certified to 1e-9")
+def test_slow_zero_found_by_the_fuzz(design: list[float]) -> None:
+    m = metrics_of_matrix(np.array([design]), 1.0)
+    row = np.array([m.peak_head_acceleration[0], m.max_compression[0], m.peak_force[0],
+                    m.impact_duration[0]])  # fmt: skip
+    _right(design, row, str(m.design_status[0]))
