@@ -1723,7 +1723,30 @@ def navigation_cases() -> list[Case]:
     mods = [nav.parameters, pl.parameters]
     targets = navigation_targets() + navigation_more_targets()
     out = [c for t in targets for c in target_cases(t, mods)]
-    return out + _pair_cases() + navigation_extra_cases() + crowd_constructor_cases()
+    return (out + _pair_cases() + navigation_extra_cases() + crowd_constructor_cases()
+            + crowd_baseline_cases())  # fmt: skip
+
+
+def crowd_baseline_cases() -> list[Case]:
+    """Every declared field of the field's crowd baselines' settings (ORCA through RVO2, the
+    social-force robot), constructed (the declarations refuse; a run is slow), and a short
+    crowd run of each with its defaults."""
+    from designlab.navigation.methods.orca import ORCASettings
+    from designlab.navigation.methods.social_force import SocialForceSettings
+    from designlab.params import params_of
+
+    out: list[Case] = []
+    for cls, path in ((ORCASettings, "orca"), (SocialForceSettings, "social_force")):
+        decls = params_of(cls)
+        args = {n: Val(getattr(cls(), n), decl=d) for n, d in decls.items()}
+        t = Target("navigation", f"dl.navigation.methods.{path}.{cls.__name__}", cls, args)
+        out += target_cases(t)
+    crowd = "dl.navigation.crowd('corridor_counterflow', 4, length=8.0, horizon=0.5)"
+    for m in ("orca", "social_force"):
+        e = f"dl.navigation.simulate({crowd}, method={m!r})"
+        out.append(simple_case("navigation", f"crowd run {m}", _eval(e), e, names=("method",),
+                               expect="accept", oracle=_nav_oracle()))  # fmt: skip
+    return out
 
 
 def crowd_constructor_cases() -> list[Case]:
@@ -1968,6 +1991,7 @@ STUDY_BASE: dict[str, dict[str, Any]] = {
                  "risk": {"foams": ["FOAM_1"], "speeds": {"num": 3}, "samples": 1000}},
     "navigation_crowds": {"scenarios": ["corridor_counterflow"], "densities": [0.1],
                           "seeds": [0], "methods": [{"method": "vff"}],
+                          "models": ["collision_free_speed"],
                           "crowd": {"length": 8.0, "horizon": 0.5}, "animations": False},
 }  # fmt: skip
 
