@@ -212,6 +212,9 @@ SOURCE_COLUMN = re.compile(r"thesis|paper|reference|published|source|target|^ref
 CITATION = re.compile(
     r"(?:Secs?|Sections?|Figs?|Figures?|Tables?|eqs?|Eqs?|App|Ch|Chapters?)\.?\s*$"
 )
+#: A block of sentences generated from a report's table, which its own test checks
+#: (``tests/following/test_report_claims.py`` and the studies' tests).
+CLAIMS = re.compile(r"<!-- claims:[\w-]+ -->.*?<!-- /claims -->", re.S)
 #: Tables longer than this (time histories) are not searched.
 MAX_ROWS = 2000
 
@@ -249,7 +252,8 @@ def typed_report_numbers(
     """The numbers a page types by hand that a committed report it names also gives.
 
     A number counts when it has at least 3 significant digits, is written outside a
-    ``{{ report(...) }}``/``{{ ratio(...) }}``, and equals, at the decimals the page shows,
+    ``{{ report(...) }}``/``{{ ratio(...) }}`` and outside a generated ``<!-- claims:... -->``
+    block, is no section, figure or table number, and equals, at the decimals the page shows,
     a non-integer cell of a CSV of a report the page names (``reports/<name>`` or the bare
     study name), outside the columns holding the sources' own figures. Returns the number's
     text -> the ``"<report>/<file>:<column>"`` cells it matches. Used by
@@ -257,7 +261,7 @@ def typed_report_numbers(
     listed there with the reason it does not.
     """
     cache = {} if cache is None else cache
-    text = PATTERN.sub(" ", markdown)
+    text = CLAIMS.sub(" ", PATTERN.sub(" ", markdown))
     names = sorted(
         p.name
         for p in reports.iterdir()
