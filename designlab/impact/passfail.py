@@ -143,6 +143,8 @@ def _decide(p, r, c, nk, thr, horizon, ez):  # type: ignore[no-untyped-def]
     base = 2.0 * noise(p, r, c, 1, nk, 0.0) + _REFRESH * _STEP_ROUNDING * (a0 + w * a1)
     if yl - base > hi:
         return EXCEEDS  # a_h at contact, the first lobe's start, above the limit
+    if abs(c[1, 0]) * horizon + abs(c[1, 1]) + a0 + base < lo:
+        return _lobe_closes(p, r, c, nk, w, last, base, ez)  # below the limit for all t >= 0
     for j in range(1, last + 1):
         tr = j * w
         yr, dr = c[1, 0] * tr + c[1, 1], c[1, 0]
@@ -173,6 +175,23 @@ def _decide(p, r, c, nk, thr, horizon, ez):  # type: ignore[no-untyped-def]
         if not (below or positive):
             return UNDECIDED  # neither side can be shown any more
         yl, dl = yr, dr
+    return UNDECIDED
+
+
+@compiled(inline=True)
+def _lobe_closes(p, r, c, nk, w, last, base, ez):  # type: ignore[no-untyped-def]
+    """:data:`WITHIN` if a node ``j w`` (j <= last) is provably below zero (the first lobe
+    ends before it, within the lobe search's horizon), else :data:`UNDECIDED`; ``ez`` as
+    :func:`_decide` left it."""
+    for j in range(1, last + 1):
+        tr = j * w
+        yr = c[1, 0] * tr + c[1, 1]
+        for k in range(nk):
+            e = cexp(p[k] * tr) if j % _REFRESH == 0 else ez[0, k] * ez[1, k]
+            ez[0, k] = e
+            yr += real_product(r[1, k], e)
+        if yr + base + 2.0 * term_errors(c, 1, nk, tr) < 0.0:
+            return WITHIN
     return UNDECIDED
 
 
