@@ -229,6 +229,12 @@ def criteria(
     k = 0 if any(v <= 0.0 for v in surface_clearance.values()) else 1
     if k == 0:
         warnings.append("collision: k = 0, H = 0")
+    for name, ratio, what in (("H_T", h_t, "arrived sooner"), ("H_E", h_e, "used less energy")):
+        if ratio > 1.0:
+            warnings.append(
+                f"{name} = {ratio:.3f} > 1: the run {what} than its obstacle-free nominal run, "
+                "which (5.6.1)/(5.6.5) do not cap; H can exceed 1 (docs/navigation.md, Criteria)"
+            )
     w1, w2, w3 = w
     h = k * (w1 * h_t + w2 * h_d + w3 * h_e)
     return Criteria(

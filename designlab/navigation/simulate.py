@@ -43,6 +43,7 @@ from designlab.errors import InvalidParameterError
 from designlab.navigation import engine
 from designlab.navigation.criteria import EQUAL_WEIGHTS, Criteria, check_weights, criteria
 from designlab.navigation.crowds import CrowdResult, CrowdScenario, accepts_crowds
+from designlab.navigation.dynamics import attraction_loop_radius
 from designlab.navigation.hold_audit import HoldAudit, hold_audit
 from designlab.navigation.lyapunov import StabilityAudit, audit_run
 from designlab.navigation.methods import (
@@ -347,7 +348,29 @@ def simulate(
     raw = engine.run(scenario, row[None, :], record=True, noise=noise, **kw)
     nominal = engine.run(scenario.without_obstacles(), row[None, :], record=False, **kw)
     res = _summarise_run(scenario, strategy, row, stabilising, raw, nominal, w)
-    return replace(res, tie=int(kw["tie"]))
+    return _flag_chatter(replace(res, tie=int(kw["tie"])), strategy, row, kw)
+
+
+def _flag_chatter(
+    res: NavigationResult, strategy: NavigationMethod, row: Array, kw: dict[str, Any]
+) -> NavigationResult:
+    """``res``, warned if the sampled PD attraction is unstable (``attraction_loop_radius``)."""
+    if strategy.gains_type is not VFFGains:
+        return res
+    dt = float(kw["dynamics_step"])
+    period = dt if kw["force_every_step"] else res.scenario.sample_time
+    k1, b, m = float(row[0]), float(row[1]), res.scenario.robot.mass
+    rho = attraction_loop_radius(k1, b, m, period, dt)
+    if rho < 1.0:
+        return res
+    note = (
+        f"the attraction loop sampled every {period} s is unstable at K1 = {k1:g}, b = {b:g} "
+        f"(spectral radius {rho:.3f} >= 1; stable iff b > (T - dt)/2 and K2 T/m + K1 T dt/(2 m) "
+        f"< 2, here {b * k1 * period / m + k1 * period * dt / (2 * m):.3f}): the robot chatters "
+        "at its acceleration limit near the goal, in the nominal run too, so H_T and H_E "
+        "can exceed 1 (docs/navigation.md, Criteria)"
+    )
+    return replace(res, warnings=(*res.warnings, note))
 
 
 def _summarise_run(
