@@ -411,10 +411,7 @@ def worst_impact_point(
     >>> round(w.lever_arm, 3), round(w.change_at_zero_pct, 2)
     (0.008, -0.19)
     """
-    m, k, c, ratio, v_h, lo, hi, l_ref, n = _worst_point_inputs(
-        inertia, joint_stiffness, joint_damping, speed_ratio, foam, head, head_speed,
-        lever_range, reference_lever_arm, samples,
-    )  # fmt: skip
+    m, k, c, ratio, v_h, lo, hi, l_ref, n = _worst_point_inputs(dict(locals()))
 
     def a_h(levers: NDArray[np.float64]) -> NDArray[np.float64]:
         sweep = impact_point_sweep(m, k, c, ratio * v_h, levers)
@@ -442,33 +439,26 @@ def worst_impact_point(
 
 
 def _worst_point_inputs(
-    inertia: float,
-    joint_stiffness: float,
-    joint_damping: float,
-    speed_ratio: float,
-    foam: Foam,
-    head: HeadNeck,
-    head_speed: float,
-    lever_range: tuple[float, float],
-    reference_lever_arm: float,
-    samples: int,
+    args: dict[str, Any],
 ) -> tuple[float, float, float, float, float, float, float, float, int]:
-    """The checked arguments of :func:`worst_impact_point`, each against its declaration."""
-    if not isinstance(foam, Foam):
-        raise InvalidParameterError("foam", foam, "must be a Foam")
-    if not isinstance(head, HeadNeck):
-        raise InvalidParameterError("head", head, "must be a HeadNeck (the head moves)")
-    lo, hi = check_pair(_LINK["lever_arm_min"], lever_range, "lever_range")
+    """The checked arguments of :func:`worst_impact_point` (``args``: its arguments by name),
+    each against its declaration."""
+    if not isinstance(args["foam"], Foam):
+        raise InvalidParameterError("foam", args["foam"], "must be a Foam")
+    if not isinstance(args["head"], HeadNeck):
+        raise InvalidParameterError("head", args["head"], "must be a HeadNeck (the head moves)")
+    lo, hi = check_pair(_LINK["lever_arm_min"], args["lever_range"], "lever_range")
+    m, k, c = (_LINK[n].check(args[n], n) for n in ("inertia", "joint_stiffness", "joint_damping"))
     return (
-        _LINK["inertia"].check(inertia, "inertia"),
-        _LINK["joint_stiffness"].check(joint_stiffness, "joint_stiffness"),
-        _LINK["joint_damping"].check(joint_damping, "joint_damping"),
-        SPEED_RATIO.check(speed_ratio),
-        HEAD_SPEED.check(head_speed),
+        m,
+        k,
+        c,
+        SPEED_RATIO.check(args["speed_ratio"]),
+        HEAD_SPEED.check(args["head_speed"]),
         lo,
         hi,
-        REFERENCE_LEVER_ARM.check(reference_lever_arm),
-        LEVER_SAMPLES.check(samples),
+        REFERENCE_LEVER_ARM.check(args["reference_lever_arm"]),
+        LEVER_SAMPLES.check(args["samples"]),
     )
 
 
