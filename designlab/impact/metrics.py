@@ -772,11 +772,12 @@ def settle_suspects(
     then those still refused by the numpy path (:func:`_settle`); a design neither
     certifies is :data:`UNCERTIFIED` with NaN ``rows``. Returns the warnings' notes.
 
-    A design whose lobe end was not found (``lobe_not_closed``: a_h not provably below
-    its rounding noise within the search) is tried at 40 digits too, where the noise
-    level is that of one rounding of each term: a lobe end certified there is taken, else
-    the status stays."""
-    open_ = np.flatnonzero(codes == _LOBE_OPEN_CODE)
+    A design whose lobe end was not found while a_h came near its rounding noise
+    (:data:`kernel.LOBE_NOISE`) is tried at 40 digits too, where the noise level is that
+    of one rounding of each term: a lobe end certified there is taken, else the status is
+    ``lobe_not_closed``."""
+    open_ = np.flatnonzero(codes == kernel.LOBE_NOISE)
+    codes[open_] = _LOBE_OPEN_CODE
     printed = check_q2(q2) == "printed"
     notes: tuple[str, ...] = ()
     if open_.size:
