@@ -788,8 +788,8 @@ def settle_suspects(
         rows[open_[done]], codes[open_[done]] = got[done], again[done]
         if np.any(done):
             notes = (
-                f"{int(done.sum())} design(s): a_h's lobe end found from 40-digit poles and "
-                "residues where double precision could not tell it from rounding noise",
+                f"{int(done.sum())} design(s): a_h's lobe end found from extended-precision "
+                "poles and residues where double precision could not tell it from rounding noise",
             )
     sus = np.flatnonzero(codes >= kernel.SUSPECT_POLES)
     if not sus.size:
@@ -876,8 +876,8 @@ def _settle_precise(
             )
     done = int(np.sum(out < kernel.SUSPECT_POLES))
     note = (
-        f"{n} design(s) not certified in double precision were evaluated from 40-digit poles "
-        f'and residues (docs/impact.md, "Self-check"): {done} certified'
+        f"{n} design(s) not certified in double precision were evaluated from extended-precision "
+        f'poles and residues (docs/impact.md, "Self-check"): {done} certified'
     )
     return rows, out, (note,)
 
