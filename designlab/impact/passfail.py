@@ -25,8 +25,10 @@ decide, so its decisions are the full kernel's:
 
 The margin, :data:`MARGIN` of the limit, is far above the kernel's certified tolerance
 (1e-8 relative), so a design the bounds decide is on the same side of the limit in the
-kernel's numbers. A design the full kernel cannot certify (NaN maximum) counts as
-exceeding, as :func:`designlab.codesign.injury_probability` counts it.
+kernel's numbers: the decisions are the full kernel's wherever it gives a maximum. Where
+it gives none (an ``uncertified`` design, NaN) a decision of the bounds is still a
+certified one and stands; a design neither decides counts as exceeding
+(:attr:`Decisions.unresolved`), as :func:`designlab.codesign.injury_probability` counts it.
 
 Examples
 --------
@@ -106,7 +108,7 @@ class Decisions(NamedTuple):
     by_bounds
         ``(N,)`` bool: decided from the bounds (else by the full kernel).
     unresolved
-        ``(N,)`` bool: the full kernel gave no maximum (counted as exceeding).
+        ``(N,)`` bool: neither the bounds nor the full kernel decided (counted as exceeding).
     """
 
     exceeds: NDArray[np.bool_]
