@@ -1329,8 +1329,8 @@ def pareto(
         Place the reference designs that lie in the box in the first population.
     executor
         An executor of :func:`designlab.analysis.executors.make_executor` (``processes``,
-        ``dask``) that scores each generation's designs; ``None``: in this process. The
-        front is the same.
+        ``dask``) that scores each generation's designs, two chunks per worker, each with
+        its foam limits; ``None``: in this process. The front is the same.
 
     Returns
     -------
@@ -1370,21 +1370,27 @@ def pareto(
                                worker_cpu_seconds=scorer.worker_cpu)  # fmt: skip
 
 
-def _evaluate_task(task: tuple[Any, ...]) -> tuple[tuple[Array, Array], float, int]:
-    """One design's objectives and constraints in a worker (a top-level, picklable task),
-    the worker's CPU time for it (s) and the worker's process id."""
-    names, items, kw, x, limits = task
+def _evaluate_task(task: tuple[Any, ...]) -> tuple[list[tuple[Array, Array]], float, int]:
+    """A chunk of a generation's designs scored in a worker (a top-level, picklable task):
+    their foam limits in one lock-step search, then each design; with the worker's CPU time
+    (s) and process id."""
+    names, items, kw, X = task
     cpu = time.process_time()
-    s = evaluate_design(Design.from_vector(x), items, limits=limits, **kw)
-    f = np.array([OBJECTIVES[o].of(s) for o in names])
-    out = (np.where(np.isfinite(f), f, _PENALTY), s.constraints)
+    designs = [Design.from_vector(x) for x in X]
+    lim = design_limits(designs, kw["robot"], kw["heads"], kw["human_speed"])
+    out = []
+    for i, d in enumerate(designs):
+        s = evaluate_design(d, items, limits=lim.row(i), **kw)
+        f = np.array([OBJECTIVES[o].of(s) for o in names])
+        out.append((np.where(np.isfinite(f), f, _PENALTY), s.constraints))
     return out, time.process_time() - cpu, os.getpid()
 
 
 class _Scorer:
     """A search's design scores: the foam limits of each generation computed at once, the
-    designs then scored in this process or by an executor's workers (the same answers:
-    every design's score is deterministic)."""
+    designs then scored in this process; with an executor, the generation is split into
+    chunks (two per worker), each scored by a worker, limits included (a foam's limits do
+    not depend on the other foams of its lock-step search, so the scores are the same)."""
 
     def __init__(self, names: tuple[str, ...], items: tuple[Scenario, ...],
                  kw: dict[str, Any], executor: Any = None) -> None:  # fmt: skip
@@ -1395,21 +1401,24 @@ class _Scorer:
         self.worker_cpu = 0.0
 
     def prepare(self, X: Array) -> None:
-        """The foam limits of a generation's designs, in one lock-step search (and, with an
-        executor, their scores)."""
+        """The foam limits of a generation's designs, in one lock-step search (with an
+        executor: the generation's scores, chunk by chunk in its workers)."""
         self.batch.clear()
         self.done.clear()
+        keys = [np.asarray(x, float).tobytes() for x in X]
+        if self.executor is not None:
+            parts = np.array_split(np.arange(len(X)), max(1, 2 * int(self.executor.workers)))
+            parts = [p for p in parts if p.size]
+            tasks = [(self.names, self.items, self.kw, np.asarray(X, float)[p]) for p in parts]
+            for j, (outs, cpu, pid) in self.executor.map_unordered(_evaluate_task, tasks):
+                for i, out in zip(parts[j], outs, strict=True):
+                    self.done[keys[i]] = out
+                self.worker_cpu += cpu if pid != os.getpid() else 0.0  # another process's
+            return
         designs = [Design.from_vector(x) for x in X]
         lim = design_limits(designs, self.kw["robot"], self.kw["heads"], self.kw["human_speed"])
-        keys = [np.asarray(x, float).tobytes() for x in X]
         for i, key in enumerate(keys):
             self.batch[key] = lim.row(i)
-        if self.executor is not None:
-            tasks = [(self.names, self.items, self.kw, np.asarray(x, float), self.batch[k])
-                     for x, k in zip(X, keys, strict=True)]  # fmt: skip
-            for i, (out, cpu, pid) in self.executor.map_unordered(_evaluate_task, tasks):
-                self.done[keys[i]] = out
-                self.worker_cpu += cpu if pid != os.getpid() else 0.0  # another process's
 
     def score(self, x: Array) -> DesignScore:
         """The design of vector ``x`` scored (its limits from the batch when there)."""
