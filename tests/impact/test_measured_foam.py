@@ -192,6 +192,7 @@ def test_a_sweep_chunk_and_simulate_take_the_measured_foam() -> None:
         ({"thickness": float("nan")}, "thickness"),
         ({"damping": -1.0}, "damping"),
         ({"stiffness": float("inf")}, "stiffness"),
+        ({"thickness": 1e-12}, "thickness = 1e-12 m .* stiffness"),
     ],
 )
 def test_hostile_curves_and_fields_are_refused_by_name(kw: dict, match: str) -> None:

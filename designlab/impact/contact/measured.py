@@ -58,7 +58,7 @@ from designlab.impact.contact.integrated import IntegratedContact
 from designlab.impact.general import ForceLaw
 from designlab.impact.model import PARAM_NAMES
 from designlab.impact.parameters import ContactDynamics, LinkImpact
-from designlab.params import declared, param
+from designlab.params import declared, param, params_of
 from designlab.validation import ParamsMixin
 
 __all__ = ["MAX_POINTS", "STRESS_STRAIN", "StressStrain", "StressStrainFoam"]
@@ -175,6 +175,14 @@ class StressStrainFoam(ParamsMixin):
         object.__setattr__(self, "stress", s)
         if self.stiffness is None:
             own = self.area * _curve_of(e, s).slope0 / self.thickness
+            top = params_of(StressStrainFoam)["stiffness"].le
+            if not own <= top:  # the curve's stiffness is checked as a given one would be
+                raise InvalidParameterError(
+                    "StressStrainFoam.thickness", self.thickness, f"gives the contact stiffness "
+                    f"A sigma'(0) / T = {own:.4g} N/m with area = {self.area:g} m^2, beyond "
+                    f"{top:g} N/m: a thicker foam, a smaller area or a softer curve is served",
+                    "m",
+                )  # fmt: skip
             object.__setattr__(self, "stiffness", own)
         else:
             _curve_of(e, s)
