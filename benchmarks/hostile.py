@@ -986,8 +986,8 @@ BASE_FOAM = {"stiffness": 24.25e3, "damping": 71.9}
 #: a foam given by its compression curve (designlab.impact.contact.measured), crushed at 36 mm
 BASE_CURVE_FOAM = {"strain": (0.1, 0.3, 0.6, 0.9), "stress": (20e3, 50e3, 120e3, 600e3),
                    "area": 0.01, "thickness": 0.04, "damping": 71.9}  # fmt: skip
-#: a stiffening foam (designlab.impact.contact.hunt_crossley)
-BASE_HC_FOAM = {**BASE_FOAM, "densification_depth": 0.03, "thickness": 0.04}
+#: the non-linear foam (Hunt-Crossley damping, densification): its own fields are attacked
+BASE_HC_FOAM = {"stiffness": 24.25e3, "damping": 71.9, "densification_depth": 0.02}
 BASE_HEAD = {"mass": 4.4, "stiffness": 4e3, "damping": 0.0}
 BASE_JOINT = {
     "mass": 9.6,
@@ -1051,7 +1051,7 @@ def impact_targets() -> list[Target]:
                tag="[stress-strain]"),
         Target("impact", "dl.impact.simulate", im.simulate,
                {**sim_args, "foam": Obj(im.HuntCrossleyFoam, BASE_HC_FOAM, ladder=True)},
-               ("robot", "foam", "head", "impact_velocity"), None, attack=("foam",),
+               ("robot", "foam", "head", "impact_velocity"), nonneg, attack=("foam",),
                tag="[hunt-crossley]"),
         Target("impact", "dl.impact.foam_envelope", im.foam_envelope,
                {"robot": Obj(im.ContactDynamics, BASE_ROBOT), "impact_velocity": Val(1.25),

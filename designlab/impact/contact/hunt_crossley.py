@@ -45,7 +45,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
-from designlab.impact.contact.base import reduced_joint_labels, reduced_joint_values
+from designlab.impact.contact.base import LINEAR_FOAM, REDUCED_JOINT
 from designlab.impact.contact.integrated import IntegratedContact
 from designlab.impact.general import ForceLaw
 from designlab.impact.model import PARAM_NAMES
@@ -147,30 +147,8 @@ def _force_law(k: float, c: float, x_d: float, n: float, p: float) -> ForceLaw:
 
 @dataclass(frozen=True)
 class HuntCrossley(IntegratedContact):
-    """The reduced joint with the non-linear foam (see the module text).
-
-    Attributes
-    ----------
-    name, label, doc, robots, foam, columns, robot_columns, foam_columns, equations
-        As in :class:`~designlab.impact.contact.base.ContactModel`.
-    linear, batched, gradients, profiles, printed_q2, response_form
-        Its capabilities, as in :class:`~designlab.impact.contact.base.ContactModel`.
-    """
-
-    def _robot_values(self, robot: Any, levers: NDArray | None) -> Mapping[str, Any]:
-        return reduced_joint_values(robot, levers)
-
-    def _labels(self, along_link: bool) -> Mapping[str, str]:
-        return {**reduced_joint_labels(along_link), "K_c": "foam.stiffness", "C_c": "foam.damping",
-                "x_d": "foam.densification_depth", "n_d": "foam.stiffening",
-                "p_c": "foam.damping_exponent"}  # fmt: skip
-
-    def foam_values(self, foam: Any) -> dict[str, float]:
-        """x_d, n and p of the foam (its shape, kept while K_c and C_c vary)."""
-        if type(foam) is not self.foam:
-            raise InvalidParameterError("foam", foam, "must be a HuntCrossleyFoam")
-        return {"x_d": foam.densification_depth, "n_d": foam.stiffening,
-                "p_c": foam.damping_exponent}  # fmt: skip
+    """The reduced joint with the non-linear foam (see the module text); its fields are
+    those of :class:`~designlab.impact.contact.base.ContactModel`."""
 
     def force_law(self, k: float, c: float, x_d: float, n: float, p: float) -> ForceLaw:
         """The force law of one design (``K_c, C_c, x_d, n, p``)."""
@@ -196,8 +174,13 @@ HUNT_CROSSLEY = HuntCrossley(
     robots=(ContactDynamics, LinkImpact),
     foam=HuntCrossleyFoam,
     columns=(*PARAM_NAMES, "x_d", "n_d", "p_c"),
-    robot_columns=("M_r", "C_r", "K_r"),
-    foam_columns=("x_d", "n_d", "p_c"),
+    robot_attributes=REDUCED_JOINT,
+    foam_attributes=(
+        *LINEAR_FOAM,
+        ("x_d", "densification_depth"),
+        ("n_d", "stiffening"),
+        ("p_c", "damping_exponent"),
+    ),
     equations="f_c = K_c eps (1 - eps+/x_d)^-n + C_c (eps+/x_d)^p eps_dot",
     linear=False,
     batched=False,

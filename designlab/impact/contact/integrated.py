@@ -38,11 +38,11 @@ from designlab.impact.general import (
     ForceLaw,
     GeneralStatus,
     Histories,
-    Lobe,
     first_lobe,
     histories,
     integrator_note,
 )
+from designlab.impact.metric_names import ImpactPoint
 from designlab.impact.metrics import ImpactMetrics, hic_of_velocity
 from designlab.impact.model import PARAM_NAMES
 from designlab.impact.parameters import STOP_TIME, check_closing_velocity
@@ -78,12 +78,7 @@ class IntegratedContact(ContactModel):
     ``linear=False`` (no closed form), ``batched=False`` (one design per integration) and
     ``gradients=False`` (no exact gradients; finite differences instead).
 
-    Attributes
-    ----------
-    name, label, doc, robots, foam, columns, robot_columns, foam_columns, equations
-        As in :class:`~designlab.impact.contact.base.ContactModel`.
-    linear, batched, gradients, profiles, printed_q2, response_form
-        Its capabilities, as in :class:`~designlab.impact.contact.base.ContactModel`.
+    Its fields are those of :class:`~designlab.impact.contact.base.ContactModel`.
     """
 
     def force_law_of(self, values: Mapping[str, float]) -> ForceLaw:
@@ -160,6 +155,7 @@ class IntegratedContact(ContactModel):
             )
         p, v = self._rows(rows, impact_velocity)
         constrained = bool(options.get("constrained", False))
+        self.check_rows(p, constrained)
         self.check_time_scales(p, constrained)
         stop_time = STOP_TIME.check(options.get("stop_time", STOP_TIME.default))
         rtol = GENERAL_RTOL.check(options.get("rtol", GENERAL_RTOL.default))
@@ -173,7 +169,7 @@ class IntegratedContact(ContactModel):
         return self._batch(p, v, lobes, constrained, rtol)
 
     def _batch(
-        self, p: NDArray, v: NDArray, lobes: list[Lobe], constrained: bool, rtol: float
+        self, p: NDArray, v: NDArray, lobes: list[ImpactPoint], constrained: bool, rtol: float
     ) -> ImpactMetrics:
         def arr(name: str) -> NDArray[np.float64]:
             return np.array([getattr(lobe, name) for lobe in lobes], dtype=float)
@@ -292,7 +288,7 @@ class IntegratedContact(ContactModel):
     # ---------------------------------------------------------------- one impact
     def integrate(
         self, robot: Any, foam: Any, head: Any, impact_velocity: float, **options: Any
-    ) -> tuple[Lobe, Histories]:
+    ) -> tuple[ImpactPoint, Histories]:
         """First-lobe metrics and time histories (over ``t_end``) of one impact, integrated.
 
         Parameters

@@ -53,7 +53,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
-from designlab.impact.contact.base import reduced_joint_labels, reduced_joint_values
+from designlab.impact.contact.base import LINEAR_FOAM, REDUCED_JOINT
 from designlab.impact.contact.integrated import IntegratedContact
 from designlab.impact.general import ForceLaw
 from designlab.impact.model import PARAM_NAMES
@@ -240,23 +240,8 @@ def _force_law(k: float, c: float, thickness: float, curve: _Curve) -> ForceLaw:
 class StressStrain(IntegratedContact):
     """The reduced joint with a measured-curve foam (see the module text).
 
-    Attributes
-    ----------
-    name, label, doc, robots, foam, columns, robot_columns, foam_columns, equations
-        As in :class:`~designlab.impact.contact.base.ContactModel`.
-    linear, batched, gradients, profiles, printed_q2, response_form
-        Its capabilities, as in :class:`~designlab.impact.contact.base.ContactModel`.
+    Its fields are those of :class:`~designlab.impact.contact.base.ContactModel`.
     """
-
-    def _robot_values(self, robot: Any, levers: NDArray | None) -> Mapping[str, Any]:
-        return reduced_joint_values(robot, levers)
-
-    def _labels(self, along_link: bool) -> Mapping[str, str]:
-        labels = {**reduced_joint_labels(along_link), "K_c": "foam.stiffness",
-                  "C_c": "foam.damping", "T_u": "foam.thickness"}  # fmt: skip
-        labels.update({c: "foam.strain" for c in _STRAINS})
-        labels.update({c: "foam.stress" for c in _STRESSES})
-        return labels
 
     def foam_values(self, foam: Any) -> dict[str, float]:
         """T_u and the curve, padded to :data:`MAX_POINTS` with its last point."""
@@ -299,8 +284,13 @@ STRESS_STRAIN = StressStrain(
     robots=(ContactDynamics, LinkImpact),
     foam=StressStrainFoam,
     columns=(*PARAM_NAMES, "T_u", *_STRAINS, *_STRESSES),
-    robot_columns=("M_r", "C_r", "K_r"),
-    foam_columns=("T_u", *_STRAINS, *_STRESSES),
+    robot_attributes=REDUCED_JOINT,
+    foam_attributes=(
+        *LINEAR_FOAM,
+        ("T_u", "thickness"),
+        *((c, "strain") for c in _STRAINS),
+        *((c, "stress") for c in _STRESSES),
+    ),
     equations="f_c = K_c T sigma(eps/T) / sigma'(0) + C_c eps_dot (sigma: PCHIP of the curve)",
     linear=False,
     batched=False,
