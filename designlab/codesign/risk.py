@@ -290,7 +290,7 @@ class ThresholdModel:
         -------
         ThresholdModel
         """
-        check_robot_foam(robot, foam)
+        check_robot_foam(robot, foam, scaling=True)
         crit = _check_criterion(HeadAcceleration(10.0) if criterion is None else criterion)
         return cls(robot, foam, crit, lever_sampler(robot, points))  # type: ignore[arg-type]
 
