@@ -31,6 +31,12 @@ Anything wrong (a file, a column or a row that is not there, a ``shown`` that di
 argument that is not a literal) is an error naming the page and the expression, so
 ``mkdocs build`` fails. ``expand`` is also what ``tests/test_docs_report_values.py`` runs
 over every page, so the test suite fails too.
+
+:func:`typed_report_numbers` finds the numbers a page still types by hand that equal a cell
+of a report it names; ``tests/test_docs_report_numbers.py`` fails on any that is neither
+written through the hook nor listed with its reason in ``tests/data/docs_report_numbers.csv``,
+and on a listed one whose report no longer gives it (``python docs/hooks/report_values.py``
+prints the current candidates).
 """
 
 from __future__ import annotations
