@@ -42,6 +42,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
+from numpy.typing import NDArray
 from scipy.optimize import brentq
 
 from designlab.codesign.braking import max_robot_speed, stopping_distance
@@ -65,6 +66,7 @@ from designlab.impact import (
 )
 from designlab.impact.conditioning import check_conditioning, time_scale_ratio
 from designlab.impact.contact import contact_of
+from designlab.impact.criteria import CompressionLimit
 from designlab.impact.parameters import HUMAN_SPEED, TIME_SCALE_RATIO
 from designlab.impact.problem import FoamProblem, make_problem
 from designlab.params import params_of
@@ -341,19 +343,83 @@ def _worst_head(prob: FoamProblem, key: Criterion, foam: Foam, lever: float) -> 
     return HeadNeck(**prob.contact.head_values(params[j]))
 
 
+def allowed_closing_speeds(
+    prob: FoamProblem, k: NDArray[np.float64], c: NDArray[np.float64],
+    depth: NDArray[np.float64], refine: bool,
+) -> list[tuple[Criterion, NDArray[np.float64], list[HeadNeck], NDArray[np.float64]]]:  # fmt: skip
+    """Per constraint of a fixed robot, for foams ``(k[i], c[i])`` in one lock-step search:
+    the worst metric at v_c = 1 m/s, its head, and the closing speed allowed.
+
+    Every metric scales as ``v_c ** e``, so the closing speed allowed is
+    ``(limit / metric(1 m/s)) ** (1/e)`` (infinite where the metric is 0 or NaN); the
+    compression limit is each foam's own linear depth ``depth[i]``.
+
+    Parameters
+    ----------
+    prob
+        The worst-case problem (:func:`problem_for`).
+    k, c, depth
+        Foam stiffnesses, dampings and linear depths, paired.
+    refine
+        Polish the worst heads off the grid (:func:`~designlab.codesign.worst_head.worst_heads`).
+
+    Returns
+    -------
+    list
+        ``(criterion, metric, heads, v_c allowed)`` per constraint.
+    """
+    out = []
+    for key in prob.keys():
+        vals, heads = worst_heads(prob, key, k, c, refine)
+        vals = np.asarray(vals, dtype=float)
+        limit = depth if isinstance(key, CompressionLimit) else key.limit
+        pos = vals > 0
+        v = np.full(vals.shape, math.inf)
+        v[pos] = (np.broadcast_to(limit, vals.shape)[pos] / vals[pos]) ** (
+            1.0 / key.velocity_exponent
+        )
+        out.append((key, vals, heads, v))
+    return out
+
+
+def setup(
+    robot: ContactDynamics | FullJointContact | LinkImpact, criteria: Sequence[Criterion] | None,
+    depth: float, head_range: HeadRange | None, human_speed: float, reaction_time: float,
+    deceleration: float, detection_distance: float, head_levels: int,
+) -> tuple[FoamProblem, float, Braking]:  # fmt: skip
+    """The checked walker speed, braking and worst-case problem of a speed limit.
+
+    Parameters
+    ----------
+    robot, criteria, head_range, human_speed, reaction_time, deceleration
+        As in :func:`speed_limit`.
+    detection_distance, head_levels
+        As in :func:`speed_limit`.
+    depth
+        The foam's linear depth lambda, m.
+
+    Returns
+    -------
+    tuple
+        ``(problem, human_speed, braking)``.
+    """
+    v_h = HUMAN_SPEED.check(human_speed)
+    brake = Braking.check(reaction_time, deceleration, detection_distance)
+    return problem_for(robot, criteria, depth, head_range, v_h, head_levels), v_h, brake
+
+
 def _fixed_limits(
     prob: FoamProblem, foam: Foam, refine: bool
 ) -> dict[str, tuple[float, float, HeadNeck]]:
     """Per constraint of a fixed robot: (v_c allowed, metric at 1 m/s, worst head)."""
     k, c = np.array([foam.stiffness]), np.array([foam.damping])
     out = {}
-    for key in prob.keys():
-        vals, heads = worst_heads(prob, key, k, c, refine)
-        m1, head = float(vals[0]), heads[0]
-        if math.isnan(m1):
+    for key, vals, heads, v in allowed_closing_speeds(
+        prob, k, c, np.array([foam.linear_depth]), refine
+    ):
+        if math.isnan(vals[0]):
             _refuse_open_lobe(prob, foam, key)
-        v = math.inf if m1 <= 0 else (key.limit / m1) ** (1.0 / key.velocity_exponent)
-        out[key.name] = (v, m1, head)
+        out[key.name] = (float(v[0]), float(vals[0]), heads[0])
     return out
 
 
@@ -498,9 +564,10 @@ def speed_limit(
     ('eps_max <= 20 mm', 1.807)
     """
     check_robot_foam(robot, foam)
-    human_speed = HUMAN_SPEED.check(human_speed)
-    brake = Braking.check(reaction_time, deceleration, detection_distance)
-    prob = problem_for(robot, criteria, foam.linear_depth, head_range, human_speed, head_levels)
+    prob, _, brake = setup(
+        robot, criteria, foam.linear_depth, head_range, human_speed, reaction_time,
+        deceleration, detection_distance, head_levels,
+    )  # fmt: skip
     if not isinstance(refine, (bool, np.bool_)):
         raise InvalidParameterError("refine", refine, "must be True or False")
     _check_served(prob, foam)

@@ -772,11 +772,12 @@ def settle_suspects(
     then those still refused by the numpy path (:func:`_settle`); a design neither
     certifies is :data:`UNCERTIFIED` with NaN ``rows``. Returns the warnings' notes.
 
-    A design whose lobe end was not found (``lobe_not_closed``: a_h not provably below
-    its rounding noise within the search) is tried at 40 digits too, where the noise
-    level is that of one rounding of each term: a lobe end certified there is taken, else
-    the status stays."""
-    open_ = np.flatnonzero(codes == _LOBE_OPEN_CODE)
+    A design whose lobe end was not found while a_h came near its rounding noise
+    (:data:`kernel.LOBE_NOISE`) is tried at 40 digits too, where the noise level is that
+    of one rounding of each term: a lobe end certified there is taken, else the status is
+    ``lobe_not_closed``."""
+    open_ = np.flatnonzero(codes == kernel.LOBE_NOISE)
+    codes[open_] = _LOBE_OPEN_CODE
     printed = check_q2(q2) == "printed"
     notes: tuple[str, ...] = ()
     if open_.size:
@@ -787,8 +788,8 @@ def settle_suspects(
         rows[open_[done]], codes[open_[done]] = got[done], again[done]
         if np.any(done):
             notes = (
-                f"{int(done.sum())} design(s): a_h's lobe end found from 40-digit poles and "
-                "residues where double precision could not tell it from rounding noise",
+                f"{int(done.sum())} design(s): a_h's lobe end found from extended-precision "
+                "poles and residues where double precision could not tell it from rounding noise",
             )
     sus = np.flatnonzero(codes >= kernel.SUSPECT_POLES)
     if not sus.size:
@@ -875,8 +876,8 @@ def _settle_precise(
             )
     done = int(np.sum(out < kernel.SUSPECT_POLES))
     note = (
-        f"{n} design(s) not certified in double precision were evaluated from 40-digit poles "
-        f'and residues (docs/impact.md, "Self-check"): {done} certified'
+        f"{n} design(s) not certified in double precision were evaluated from extended-precision "
+        f'poles and residues (docs/impact.md, "Self-check"): {done} certified'
     )
     return rows, out, (note,)
 

@@ -37,7 +37,6 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -47,20 +46,20 @@ from numpy.typing import NDArray
 from designlab.errors import InvalidParameterError
 from designlab.impact.contact.base import (
     HEAD_COLUMNS,
+    LINEAR_FOAM,
+    REDUCED_JOINT,
     ContactModel,
-    reduced_joint_labels,
-    reduced_joint_values,
 )
 from designlab.impact.general import (
     GENERAL_RTOL,
     ForceLaw,
     GeneralStatus,
     Histories,
-    Lobe,
     first_lobe,
     histories,
     integrator_note,
 )
+from designlab.impact.metric_names import ImpactPoint
 from designlab.impact.metrics import ImpactMetrics
 from designlab.impact.model import PARAM_NAMES
 from designlab.impact.parameters import (
@@ -168,30 +167,8 @@ def _force_law(k: float, c: float, x_d: float, n: float, p: float) -> ForceLaw:
 
 @dataclass(frozen=True)
 class HuntCrossley(ContactModel):
-    """The reduced joint with the non-linear foam (see the module text).
-
-    Attributes
-    ----------
-    name, label, doc, robots, foam, columns, robot_columns, foam_columns, equations
-        As in :class:`~designlab.impact.contact.base.ContactModel`.
-    linear, batched, gradients, profiles, printed_q2, response_form
-        Its capabilities, as in :class:`~designlab.impact.contact.base.ContactModel`.
-    """
-
-    def _robot_values(self, robot: Any, levers: NDArray | None) -> Mapping[str, Any]:
-        return reduced_joint_values(robot, levers)
-
-    def _labels(self, along_link: bool) -> Mapping[str, str]:
-        return {**reduced_joint_labels(along_link), "K_c": "foam.stiffness", "C_c": "foam.damping",
-                "x_d": "foam.densification_depth", "n_d": "foam.stiffening",
-                "p_c": "foam.damping_exponent"}  # fmt: skip
-
-    def foam_values(self, foam: Any) -> dict[str, float]:
-        """x_d, n and p of the foam (its shape, kept while K_c and C_c vary)."""
-        if type(foam) is not self.foam:
-            raise InvalidParameterError("foam", foam, "must be a HuntCrossleyFoam")
-        return {"x_d": foam.densification_depth, "n_d": foam.stiffening,
-                "p_c": foam.damping_exponent}  # fmt: skip
+    """The reduced joint with the non-linear foam (see the module text); its fields are
+    those of :class:`~designlab.impact.contact.base.ContactModel`."""
 
     def force_law(self, k: float, c: float, x_d: float, n: float, p: float) -> ForceLaw:
         """The force law of one design (``K_c, C_c, x_d, n, p``)."""
@@ -222,6 +199,7 @@ class HuntCrossley(ContactModel):
                 "q2", options["q2"], "the printed q2 belongs to the reduced linear model"
             )
         constrained = bool(options.get("constrained", False))
+        self.check_rows(p, constrained)
         stop_time = STOP_TIME.check(options.get("stop_time", 0.05))
         rtol = GENERAL_RTOL.check(options.get("rtol", GENERAL_RTOL.default))
         v = np.atleast_1d(check_closing_velocity(impact_velocity)).ravel()
@@ -246,7 +224,7 @@ class HuntCrossley(ContactModel):
 
     def integrate(
         self, robot: Any, foam: Any, head: Any, impact_velocity: float, **options: Any
-    ) -> tuple[Lobe, Histories]:
+    ) -> tuple[ImpactPoint, Histories]:
         """First-lobe metrics and time histories (over ``t_end``) of one impact, integrated.
 
         Parameters
@@ -271,24 +249,6 @@ class HuntCrossley(ContactModel):
         t_imp = lobe.impact_duration
         t_end = options.get("t_end") or (2.0 * t_imp if np.isfinite(t_imp) and t_imp > 0 else 0.1)
         return lobe, histories(law, arm, neck, impact_velocity, t_end, rtol=rtol, crush_depth=x_d)
-
-    def values(
-        self,
-        key: Any,
-        rows: NDArray,
-        impact_velocity: NDArray,
-        *,
-        constrained: bool = False,
-        stop_time: float = STOP_TIME.default,
-    ) -> NDArray[np.float64]:
-        """The metric of criterion ``key`` by the general path (HIC is not available)."""
-        if key.metric not in ("head_acceleration", "force", "compression"):
-            raise InvalidParameterError(
-                "criteria", key.name, f"the {self.label} contact serves a_h,max, the peak force "
-                "and eps_max (HIC needs the closed-form response of a linear contact)",
-            )  # fmt: skip
-        m = self.metrics(rows, impact_velocity, constrained=constrained, stop_time=stop_time)
-        return key.from_metrics(m)
 
 
 def _batch(p: NDArray, v: NDArray, lobes: list, constrained: bool, rtol: float) -> ImpactMetrics:
@@ -323,8 +283,13 @@ HUNT_CROSSLEY = HuntCrossley(
     robots=(ContactDynamics, LinkImpact),
     foam=HuntCrossleyFoam,
     columns=(*PARAM_NAMES, "x_d", "n_d", "p_c"),
-    robot_columns=("M_r", "C_r", "K_r"),
-    foam_columns=("x_d", "n_d", "p_c"),
+    robot_attributes=REDUCED_JOINT,
+    foam_attributes=(
+        *LINEAR_FOAM,
+        ("x_d", "densification_depth"),
+        ("n_d", "stiffening"),
+        ("p_c", "damping_exponent"),
+    ),
     equations="f_c = K_c eps (1 - eps+/x_d)^-n + C_c (eps+/x_d)^p eps_dot",
     linear=False,
     batched=False,
