@@ -983,6 +983,11 @@ def _metric_row(result: Any, i: int) -> dict[str, float] | None:
 
 BASE_ROBOT = {"mass": 9.6, "stiffness": 20e3, "damping": 250.0}
 BASE_FOAM = {"stiffness": 24.25e3, "damping": 71.9}
+#: a foam given by its compression curve (designlab.impact.contact.measured), crushed at 36 mm
+BASE_CURVE_FOAM = {"strain": (0.1, 0.3, 0.6, 0.9), "stress": (20e3, 50e3, 120e3, 600e3),
+                   "area": 0.01, "thickness": 0.04, "damping": 71.9}  # fmt: skip
+#: the non-linear foam (Hunt-Crossley damping, densification): its own fields are attacked
+BASE_HC_FOAM = {"stiffness": 24.25e3, "damping": 71.9, "densification_depth": 0.02}
 BASE_HEAD = {"mass": 4.4, "stiffness": 4e3, "damping": 0.0}
 BASE_JOINT = {
     "mass": 9.6,
@@ -1040,6 +1045,14 @@ def impact_targets() -> list[Target]:
                ("robot", "foam", "head", "impact_velocity"),
                all_of(nonneg, reference_oracle(_response_params)), attack=("robot",),
                tag="[full-joint]"),
+        Target("impact", "dl.impact.simulate", im.simulate,
+               {**sim_args, "foam": Obj(im.StressStrainFoam, BASE_CURVE_FOAM, ladder=True)},
+               ("robot", "foam", "head", "impact_velocity"), None, attack=("foam",),
+               tag="[stress-strain]"),
+        Target("impact", "dl.impact.simulate", im.simulate,
+               {**sim_args, "foam": Obj(im.HuntCrossleyFoam, BASE_HC_FOAM, ladder=True)},
+               ("robot", "foam", "head", "impact_velocity"), nonneg, attack=("foam",),
+               tag="[hunt-crossley]"),
         Target("impact", "dl.impact.foam_envelope", im.foam_envelope,
                {"robot": Obj(im.ContactDynamics, BASE_ROBOT), "impact_velocity": Val(1.25),
                 "damping": Val([0.0, 60.0, 120.0]), "max_compression": Val(0.02),
@@ -1723,7 +1736,30 @@ def navigation_cases() -> list[Case]:
     mods = [nav.parameters, pl.parameters]
     targets = navigation_targets() + navigation_more_targets()
     out = [c for t in targets for c in target_cases(t, mods)]
-    return out + _pair_cases() + navigation_extra_cases() + crowd_constructor_cases()
+    return (out + _pair_cases() + navigation_extra_cases() + crowd_constructor_cases()
+            + crowd_baseline_cases())  # fmt: skip
+
+
+def crowd_baseline_cases() -> list[Case]:
+    """Every declared field of the field's crowd baselines' settings (ORCA through RVO2, the
+    social-force robot), constructed (the declarations refuse; a run is slow), and a short
+    crowd run of each with its defaults."""
+    from designlab.navigation.methods.orca import ORCASettings
+    from designlab.navigation.methods.social_force import SocialForceSettings
+    from designlab.params import params_of
+
+    out: list[Case] = []
+    for cls, path in ((ORCASettings, "orca"), (SocialForceSettings, "social_force")):
+        decls = params_of(cls)
+        args = {n: Val(getattr(cls(), n), decl=d) for n, d in decls.items()}
+        t = Target("navigation", f"dl.navigation.methods.{path}.{cls.__name__}", cls, args)
+        out += target_cases(t)
+    crowd = "dl.navigation.crowd('corridor_counterflow', 4, length=8.0, horizon=0.5)"
+    for m in ("orca", "social_force"):
+        e = f"dl.navigation.simulate({crowd}, method={m!r})"
+        out.append(simple_case("navigation", f"crowd run {m}", _eval(e), e, names=("method",),
+                               expect="accept", oracle=_nav_oracle()))  # fmt: skip
+    return out
 
 
 def crowd_constructor_cases() -> list[Case]:
@@ -1968,6 +2004,7 @@ STUDY_BASE: dict[str, dict[str, Any]] = {
                  "risk": {"foams": ["FOAM_1"], "speeds": {"num": 3}, "samples": 1000}},
     "navigation_crowds": {"scenarios": ["corridor_counterflow"], "densities": [0.1],
                           "seeds": [0], "methods": [{"method": "vff"}],
+                          "models": ["collision_free_speed"],
                           "crowd": {"length": 8.0, "horizon": 0.5}, "animations": False},
 }  # fmt: skip
 

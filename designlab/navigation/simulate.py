@@ -41,7 +41,13 @@ from numpy.typing import ArrayLike, NDArray
 
 from designlab.errors import InvalidParameterError
 from designlab.navigation import engine
-from designlab.navigation.criteria import EQUAL_WEIGHTS, Criteria, check_weights, criteria
+from designlab.navigation.criteria import (
+    EQUAL_WEIGHTS,
+    UNDEFINED,
+    Criteria,
+    check_weights,
+    criteria,
+)
 from designlab.navigation.crowds import CrowdResult, CrowdScenario, accepts_crowds
 from designlab.navigation.dynamics import attraction_loop_radius
 from designlab.navigation.hold_audit import HoldAudit, hold_audit
@@ -416,6 +422,8 @@ def _summarise_run(
             holonomic=isinstance(robot, HolonomicRobot),
         )
     warnings = _run_warnings(scenario, arrival, min_distance, min_surface, crit, coll, rec)
+    if crit_res.status == UNDEFINED:
+        warnings = (*warnings, *(w for w in crit_res.warnings if "nominal run never" in w))
     return NavigationResult(
         scenario=scenario,
         method=strategy.name,
@@ -515,7 +523,8 @@ class BatchResult(Result):
     energy, nominal_energy
         L_energy and L*_energy per ohm (A^2 s).
     H, H_T, H_D, H_E
-        Sec. 5.6 criteria, ``(S, N)``.
+        Sec. 5.6 criteria, ``(S, N)``; H_T, H_E and H are NaN where a run arrived and its
+        nominal run did not (``criteria.UNDEFINED``).
     status
         Status of the batch (``"ok"``; see :class:`designlab.results.Result`).
     warnings
@@ -742,6 +751,9 @@ def _batch_scenario(
         np.minimum(1.0, np.maximum(surf, 0) / dstar[None, :]).mean(axis=1) if n_obs else np.ones(N)
     )
     h_e = np.where(raw.energy > 0, nom.energy / np.where(raw.energy > 0, raw.energy, 1.0), 1.0)
+    # arrived while the nominal run did not: H_T, H_E undefined (criteria's UNDEFINED status)
+    undefined = np.isfinite(raw.arrival_time) & np.isinf(nom.arrival_time)
+    h_t, h_e = np.where(undefined, np.nan, h_t), np.where(undefined, np.nan, h_e)
     k = (~coll).astype(float)
     return {
         "T": raw.arrival_time,
@@ -774,6 +786,12 @@ def _batch_result(scenarios: list[Scenario], g: Array, rows: list[dict[str, Arra
     n_not = int(np.isinf(T).sum())
     if n_not:
         warnings.append(f"{n_not} of {S * N} runs did not arrive within their horizon")
+    n_undef = int((np.isfinite(T) & np.isinf(stack("T0"))).sum())
+    if n_undef:
+        warnings.append(
+            f"{n_undef} of {S * N} runs arrived while their obstacle-free nominal run did not: "
+            "their H_T, H_E and H are undefined (NaN; docs/navigation.md, Criteria)"
+        )
     return BatchResult(
         tuple(s.name for s in scenarios),
         tuple(s.obstacle_names for s in scenarios),

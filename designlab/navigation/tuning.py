@@ -224,7 +224,8 @@ class _Evaluator:
         P = gains.shape[0]
         self.evaluations += P
         self.simulations += P * len(self.flat)
-        arrived_run = np.isfinite(raw["arrival_time"])  # (R, P)
+        # a run whose H is undefined (its nominal run never arrived) counts as not arrived
+        arrived_run = np.isfinite(raw["arrival_time"]) & ~np.isnan(raw["H"])  # (R, P)
         safe_run = ~raw["entered_critical"]
         depth = np.zeros(raw["H"].shape)
         margin_run = np.full(raw["H"].shape, math.inf)

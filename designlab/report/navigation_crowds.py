@@ -230,7 +230,7 @@ def decision_lines(result: NavigationCrowdsResult) -> list[str]:
     return out
 
 
-def test_table(result: NavigationCrowdsResult) -> pd.DataFrame:
+def mcnemar_table(result: NavigationCrowdsResult) -> pd.DataFrame:
     """Every exact McNemar test of success between two methods on paired crowds, with its
     Holm-adjusted p-value over the whole table (empty with fewer than two methods).
 
@@ -482,7 +482,7 @@ def navigation_crowds_report(result: NavigationCrowdsResult) -> ReportParts:
     summary = result.to_frame()
     stalls = stall_table(result)
     tables = {"rates.csv": summary, "runs.csv": result.crowds.runs, "stalls.csv": stalls}
-    tests = test_table(result)
+    tests = mcnemar_table(result)
     if not tests.empty:
         tables["mcnemar.csv"] = tests
     if result.tuning is not None and result.validation is not None:
