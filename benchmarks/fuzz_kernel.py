@@ -59,8 +59,9 @@ is drawn from ``numpy.random.default_rng([seed, family, k, chunk])``, so a run c
 be split or resumed (``--start-chunk``). Printed: every disagreement and its
 verdict, then a table per family: designs, CPU seconds (this process: kernel,
 evaluator, mpmath), disagreements, kernel wrong, evaluator wrong, uncertified,
-self-check fallbacks (reduced: designs the self-check sent to the 40-digit evaluation
-and, if refused there too, the numpy path;
+self-check fallbacks (reduced: designs the self-check sent to the extended-precision
+evaluation, double-double then 40-digit decimal, and, if refused there too, the numpy
+path, with the open lobes whose a_h came near its rounding noise, retried there;
 full joint and constrained: designs the certificate sent to the eigen or numpy
 path). ``--markdown FILE`` writes that table with the date, the CPU and the
 command. With ``--state FILE`` the tallies are saved after every family's chunk and a killed
@@ -179,7 +180,8 @@ def designs(family: str, seed: int, chunk_index: int, chunk: int) -> np.ndarray:
 def by_kernel(p: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
     """The kernel's unit-v_c rows ``(a_max, eps_max, f_max, t_imp)``, status codes and the
     number of self-check fallbacks (as :func:`designlab.impact.metrics_of_matrix`: the
-    refused designs from 50-digit poles and residues, then the numpy path)."""
+    refused designs, and the open lobes that came near a_h's noise level, from
+    extended-precision poles and residues, then the numpy path)."""
     rows, codes = kernel.reduced_metrics(p, (True, True, True), printed=False, stop_time=WINDOW,
                                          max_lobe_steps=MAX_STEPS, diagnostics=False)  # fmt: skip
     sus = np.flatnonzero(codes >= kernel.SUSPECT_POLES)

@@ -176,33 +176,38 @@ def sampled_check(p, r, c, nk, outputs, lobe, count, step, row, work):  # type: 
     bounds). Returns 0, :data:`SUSPECT_MAXIMUM` or :data:`SUSPECT_LOBE`.
     """
     bounds = c.shape[1] >= ERR_COLUMNS  # the terms' error bounds are known
-    if lobe and bounds and crossing_error(p, r, c, 1, nk, row[3]) > TIMP_ERROR * row[3]:
+    ex, half = work[2], work[1]  # exp(p_k t_j) (ex[count]: at t_imp); the stack is free
+    moved = crossing_error(p, r, c, 1, nk, row[3], ex[count]) if lobe and bounds else 0.0
+    if moved > TIMP_ERROR * row[3]:
         return SUSPECT_LOBE  # the noise may move the lobe end by more than its tolerance
-    ex, half = work[2], work[1]  # the stack (free here): exp(p_k step / 2), r_k times it
-    for k in range(nk):
+    for k in range(nk):  # r_k exp(p_k step / 2) of the three outputs, side by side
         z = cexp(p[k] * (0.5 * step))
-        half[k, 2], half[k, 3] = z.real, z.imag
-    for o in range(3):
-        if not outputs[o]:
-            continue
+        for o in range(3):
+            w = r[o, k] * z
+            half[k, 2 * o], half[k, 2 * o + 1] = w.real, w.imag
+    top0 = row[2] + 1e-8 * abs(row[2])  # force, head acceleration, compression (_COL)
+    top1 = row[0] + 1e-8 * abs(row[0])
+    top2 = row[1] + 1e-8 * abs(row[1])
+    low = _noise_ceiling(r, c, 1, nk, row[3]) if lobe and outputs[1] and bounds else -np.inf
+    unbounded = lobe and outputs[1] and not bounds
+    for j in range(count - 1):  # one pass over the midpoints for every output
+        t = (j + 0.5) * step
+        y0 = c[0, 0] * t + c[0, 1]
+        y1 = c[1, 0] * t + c[1, 1]
+        y2 = c[2, 0] * t + c[2, 1]
         for k in range(nk):
-            z = r[o, k] * complex(half[k, 2], half[k, 3])
-            half[k, 0], half[k, 1] = z.real, z.imag
-        top = row[_COL[o][0]] + 1e-8 * abs(row[_COL[o][0]])
-        low = _noise_ceiling(r, c, o, nk, row[3]) if lobe and o == 1 and bounds else -np.inf
-        unbounded = lobe and o == 1 and not bounds
-        for j in range(count - 1):
-            t = (j + 0.5) * step
-            y = c[o, 0] * t + c[o, 1]
-            for k in range(nk):
-                y += half[k, 0] * ex[j, k].real - half[k, 1] * ex[j, k].imag
-            if y > top:
-                return SUSPECT_MAXIMUM
-            if y <= low and y <= noise(p, r, c, o, nk, t):
-                return SUSPECT_LOBE  # a_h not provably positive before the lobe end
-            if unbounded and y < 0.0 and y < -noise(p, r, c, o, nk, t):
-                return SUSPECT_LOBE  # without error bounds: a_h provably negative before it
-        if term_errors(c, o, nk, row[3]) > TERM_ERROR * abs(row[_COL[o][0]]):
+            er, ei = ex[j, k].real, ex[j, k].imag
+            y0 += half[k, 0] * er - half[k, 1] * ei
+            y1 += half[k, 2] * er - half[k, 3] * ei
+            y2 += half[k, 4] * er - half[k, 5] * ei
+        if (outputs[0] and y0 > top0) or (outputs[1] and y1 > top1) or (outputs[2] and y2 > top2):
+            return SUSPECT_MAXIMUM
+        if y1 <= low and y1 <= noise(p, r, c, 1, nk, t):
+            return SUSPECT_LOBE  # a_h not provably positive before the lobe end
+        if unbounded and y1 < 0.0 and y1 < -noise(p, r, c, 1, nk, t):
+            return SUSPECT_LOBE  # without error bounds: a_h provably negative before it
+    for o in range(3):
+        if outputs[o] and term_errors(c, o, nk, row[3]) > TERM_ERROR * abs(row[_COL[o][0]]):
             return SUSPECT_MAXIMUM  # the residues' and poles' errors alone exceed the tolerance
     return 0
 

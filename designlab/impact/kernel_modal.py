@@ -145,15 +145,16 @@ def noise(p, r, c, o, nk, t):  # type: ignore[no-untyped-def]
 
 
 @kernel(inline=True)
-def crossing_error(p, r, c, o, nk, t):  # type: ignore[no-untyped-def]
+def crossing_error(p, r, c, o, nk, t, ex):  # type: ignore[no-untyped-def]
     """How far the rounding noise (:func:`noise`) can move a zero of ``y`` at ``t``: the
-    noise level over ``|y'(t)|`` (inf where the slope is zero)."""
+    noise level over ``|y'(t)|`` (inf where the slope is zero); ``ex[k]`` is
+    ``exp(p_k t)`` (the grid's last node, :func:`exponentials`)."""
     bounds = c.shape[1] >= ERR_COLUMNS
     dy = c[o, 0]
     s = abs(c[o, 0] * t) + abs(c[o, 1])
     terms = extra = big = 0.0
     for k in range(nk):
-        e = cexp(p[k] * t)
+        e = ex[k]
         g = mag(e)
         a = mag(r[o, k])
         dy += real_product(r[o, k] * p[k], e)
