@@ -983,6 +983,11 @@ def _metric_row(result: Any, i: int) -> dict[str, float] | None:
 
 BASE_ROBOT = {"mass": 9.6, "stiffness": 20e3, "damping": 250.0}
 BASE_FOAM = {"stiffness": 24.25e3, "damping": 71.9}
+#: a foam given by its compression curve (designlab.impact.contact.measured), crushed at 36 mm
+BASE_CURVE_FOAM = {"strain": (0.1, 0.3, 0.6, 0.9), "stress": (20e3, 50e3, 120e3, 600e3),
+                   "area": 0.01, "thickness": 0.04, "damping": 71.9}  # fmt: skip
+#: the non-linear foam (Hunt-Crossley damping, densification): its own fields are attacked
+BASE_HC_FOAM = {"stiffness": 24.25e3, "damping": 71.9, "densification_depth": 0.02}
 BASE_HEAD = {"mass": 4.4, "stiffness": 4e3, "damping": 0.0}
 BASE_JOINT = {
     "mass": 9.6,
@@ -1040,6 +1045,14 @@ def impact_targets() -> list[Target]:
                ("robot", "foam", "head", "impact_velocity"),
                all_of(nonneg, reference_oracle(_response_params)), attack=("robot",),
                tag="[full-joint]"),
+        Target("impact", "dl.impact.simulate", im.simulate,
+               {**sim_args, "foam": Obj(im.StressStrainFoam, BASE_CURVE_FOAM, ladder=True)},
+               ("robot", "foam", "head", "impact_velocity"), None, attack=("foam",),
+               tag="[stress-strain]"),
+        Target("impact", "dl.impact.simulate", im.simulate,
+               {**sim_args, "foam": Obj(im.HuntCrossleyFoam, BASE_HC_FOAM, ladder=True)},
+               ("robot", "foam", "head", "impact_velocity"), nonneg, attack=("foam",),
+               tag="[hunt-crossley]"),
         Target("impact", "dl.impact.foam_envelope", im.foam_envelope,
                {"robot": Obj(im.ContactDynamics, BASE_ROBOT), "impact_velocity": Val(1.25),
                 "damping": Val([0.0, 60.0, 120.0]), "max_compression": Val(0.02),

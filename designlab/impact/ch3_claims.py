@@ -36,7 +36,7 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 import pandas as pd
@@ -143,18 +143,27 @@ def _check_types(robot: Any, foam: Any, head: Any) -> None:
 # --- Sec. 3.8: acceleration profiles -------------------------------------------------------
 
 
-def _first_status(*responses: ImpactResponse) -> str:
-    """``"ok"``, or the first status of ``responses`` that is not."""
-    return next((str(r.status) for r in responses if r.status != OK), OK)
+class _TwoImpacts(Result):
+    """A result made of two impacts (the fields named in ``_impacts``): their status and
+    warnings are its own."""
 
+    _impacts: ClassVar[tuple[str, str]]
 
-def _all_warnings(*responses: ImpactResponse) -> tuple[str, ...]:
-    """The warnings of ``responses``, each once, in order."""
-    return tuple(dict.fromkeys(w for r in responses for w in r.warnings))
+    @property
+    def status(self) -> str:  # type: ignore[override]
+        """``"ok"``, or the first status of the two impacts that is not."""
+        responses = [getattr(self, name) for name in self._impacts]
+        return next((str(r.status) for r in responses if r.status != OK), OK)
+
+    @property
+    def warnings(self) -> tuple[str, ...]:  # type: ignore[override]
+        """The two impacts' warnings, each once, in order."""
+        responses = [getattr(self, name) for name in self._impacts]
+        return tuple(dict.fromkeys(w for r in responses for w in r.warnings))
 
 
 @dataclass(frozen=True)
-class ProfileChange(Result):
+class ProfileChange(_TwoImpacts):
     """Change of the impact metrics when the manipulator accelerates (Sec. 3.8).
 
     Attributes
@@ -177,16 +186,7 @@ class ProfileChange(Result):
     feedforward: bool
     force_first_peak: tuple[float, float]
     force_first_peak_time: tuple[float, float]
-
-    @property
-    def status(self) -> str:
-        """``"ok"``, or the first status of the two impacts that is not."""
-        return _first_status(self.base, self.profiled)
-
-    @property
-    def warnings(self) -> tuple[str, ...]:  # type: ignore[override]
-        """The two impacts' warnings."""
-        return _all_warnings(self.base, self.profiled)
+    _impacts: ClassVar[tuple[str, str]] = ("base", "profiled")
 
     @property
     def a_h_max_pct(self) -> float:
@@ -497,7 +497,7 @@ def _polish_worst(
 
 
 @dataclass(frozen=True)
-class Q2Effect(Result):
+class Q2Effect(_TwoImpacts):
     """The impact with the correct and with the printed q2 of (3.5.14) (docs/impact.md, "q2").
 
     Attributes
@@ -508,16 +508,7 @@ class Q2Effect(Result):
 
     correct: ImpactResponse = field(repr=False)
     printed: ImpactResponse = field(repr=False)
-
-    @property
-    def status(self) -> str:
-        """``"ok"``, or the first status of the two impacts that is not."""
-        return _first_status(self.correct, self.printed)
-
-    @property
-    def warnings(self) -> tuple[str, ...]:  # type: ignore[override]
-        """The two impacts' warnings."""
-        return _all_warnings(self.correct, self.printed)
+    _impacts: ClassVar[tuple[str, str]] = ("correct", "printed")
 
     def to_frame(self) -> pd.DataFrame:
         """One row per metric: correct and printed values and the change in %."""

@@ -59,6 +59,7 @@ __all__ = [
     "AUDIT_CELLS",
     "AVAILABLE",
     "COLUMNS",
+    "LOBE_NOISE",
     "MAX_POLES",
     "OVERFLOW",
     "STATUS_CODES",
@@ -84,6 +85,10 @@ SUSPECT_POLES = 5
 SUSPECT_LOBE = 6
 #: status of a design whose maxima were not certified
 SUSPECT_MAXIMUM = 7
+#: status of a design whose lobe did not close within the horizon while a_h came within
+#: :data:`.kernel_lobe.CLEAR` times its rounding noise (a zero may hide there): the caller
+#: tries it in more digits, else it is ``lobe_not_closed`` (never left in a result)
+LOBE_NOISE = 9
 #: what each SUSPECT_* code means (the caller evaluates such a design elsewhere)
 SUSPECT_REASONS = {
     SUSPECT_POLES: "poles not certified (residual or conjugate pairs)",
@@ -115,6 +120,8 @@ def _design(p, r, c, nk, h, outputs, lobe, window, max_steps, diag, row, work, c
         t_imp, row[7], step, sure = lobe_end(p, r, c, 1, nk, h, max_steps, diag, work)
         if not sure:
             return _suspect(row, SUSPECT_LOBE)
+        if t_imp == -np.inf:
+            return LOBE_NOISE
         if not np.isfinite(t_imp):
             return 3
     else:
@@ -294,10 +301,11 @@ def _lane_metrics(i0, m, outputs, stop_time, max_steps, diag, out, status,
 def _modal_block(poles, res, poly, h, outputs, lobe, window, max_steps, diag, out, status):  # type: ignore[no-untyped-def]
     work = scratch()
     for i in range(poles.shape[0]):
-        status[i] = _design(
+        code = _design(
             poles[i], res[i], poly[i], poles.shape[1], h[i], outputs, lobe, window,
             max_steps, diag, out[i], work,
         )  # fmt: skip
+        status[i] = 3 if code == LOBE_NOISE else code  # these callers do not retry it
 
 
 def reduced_metrics(

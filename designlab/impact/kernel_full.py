@@ -58,7 +58,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from designlab.impact.kernel import _design
+from designlab.impact.kernel import LOBE_NOISE, _design
 from designlab.impact.kernel_lobe import scratch
 from designlab.impact.kernel_poles import quartic_roots
 from designlab.sx.jit import kernel
@@ -435,9 +435,10 @@ def _full_block(params, constrained, outputs, stop_time, max_steps, diag, out, s
             for k in range(nk):
                 fast = max(fast, abs(p[k]))
             h = 0.4 / fast
-        status[i] = _design(
+        code = _design(
             p, r, c, nk, h, outputs, not constrained, stop_time, max_steps, diag, out[i], work
         )
+        status[i] = 3 if code == LOBE_NOISE else code  # not retried in more digits here
 
 
 def full_metrics(

@@ -43,6 +43,9 @@ import numpy as np
 
 from designlab.impact.kernel_exp import cexp
 from designlab.impact.kernel_modal import (
+    ERR_COLUMNS,
+    MAX_TERMS,
+    NOISE,
     cell_bound,
     curvature,
     exponentials,
@@ -82,6 +85,10 @@ STIFF = 64.0
 LEVELS = 13
 MAX_CELLS = 4096
 _STACK = 200
+#: an open lobe is final where a_h stays above this many times its rounding noise at every
+#: node of the horizon; nearer, a zero may hide in the noise and the caller evaluates the
+#: design in more digits (:func:`lobe_end`)
+CLEAR = 256.0
 
 #: columns of a cell on the stack: times, values, slopes, second derivatives at both
 #: ends, level, curvature and jerk scales at both ends
@@ -382,8 +389,9 @@ def lobe_end(p, r, c, o, nk, h, max_steps, diag, work):  # type: ignore[no-untyp
         # the whole horizon; where it cannot tell, the design is not certified
         end = last * step
         lo_c, hi_c, count, sure = crossing(p, r, c, o, nk, end, step, LEVELS, work, 0)
-        if not hi_c < end:
-            return np.nan, t_low, 0.0, sure
+        if not hi_c < end:  # open; -inf: a_h came near its noise level (a zero may hide there)
+            clear = sure and _clear(p, r, c, o, nk, count, work)
+            return (np.nan if clear else -np.inf), t_low, 0.0, sure
         t = newton(p, r, c, o, nk, lo_c, hi_c, 0, 1.0, 60, 1e-11, 0.5 * (lo_c + hi_c))[0]
         return t, t_low, 0.0, sure
     marched = round(hi / step)
@@ -400,6 +408,31 @@ def lobe_end(p, r, c, o, nk, h, max_steps, diag, work):  # type: ignore[no-untyp
     if t > horizon:
         return np.nan, t_low, 0.0, True
     return t, t_low, (0.0 if diag or marched > MAX_CELLS else step), sure
+
+
+@kernel(inline=True)
+def _clear(p, r, c, o, nk, count, work):  # type: ignore[no-untyped-def]
+    """Whether output ``o`` is above :data:`CLEAR` times its rounding noise
+    (:func:`.kernel_modal.noise`) at every node after 0 of the grid :func:`crossing` left in
+    ``work`` (``count`` cells; the moduli of its exponentials give ``exp(Re p_k t)``): an
+    open lobe that no evaluation in more digits can close (issue 34)."""
+    ts, ys, ex = work[0][0], work[0][1], work[2]
+    bounds = c.shape[1] >= ERR_COLUMNS
+    big = 0.0
+    for k in range(nk):
+        big = max(big, mag(r[o, k]))
+    for j in range(1, count + 1):
+        t = ts[j]
+        s = abs(c[o, 0] * t) + abs(c[o, 1])
+        extra = 0.0
+        for k in range(nk):
+            e = mag(ex[j, k])
+            s += (mag(r[o, k]) if bounds else big) * e
+            if bounds:
+                extra += (c[o, 2 + k] + c[o, 2 + MAX_TERMS + k] * t) * e
+        if not ys[j] > CLEAR * (NOISE * s + extra):
+            return False
+    return True
 
 
 @kernel(inline=True)

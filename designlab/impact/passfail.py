@@ -25,8 +25,10 @@ decide, so its decisions are the full kernel's:
 
 The margin, :data:`MARGIN` of the limit, is far above the kernel's certified tolerance
 (1e-8 relative), so a design the bounds decide is on the same side of the limit in the
-kernel's numbers. A design the full kernel cannot certify (NaN maximum) counts as
-exceeding, as :func:`designlab.codesign.injury_probability` counts it.
+kernel's numbers: the decisions are the full kernel's wherever it gives a maximum. Where
+it gives none (an ``uncertified`` design, NaN) a decision of the bounds is still a
+certified one and stands; a design neither decides counts as exceeding
+(:attr:`Decisions.unresolved`), as :func:`designlab.codesign.injury_probability` counts it.
 
 Examples
 --------
@@ -77,7 +79,7 @@ from designlab.units import STANDARD_GRAVITY
 from designlab.validation import real_array
 from designlab.workers import WORKERS, map_row_blocks
 
-__all__ = ["MARGIN", "Decisions", "decisions_of_metrics", "head_acceleration_exceeds"]
+__all__ = ["A_H_ONLY", "MARGIN", "Decisions", "decisions_of_metrics", "head_acceleration_exceeds"]
 
 #: relative margin around the limit inside which the bounds leave the design to the full
 #: kernel (100 times the kernel's certified tolerance of 1e-8)
@@ -85,6 +87,9 @@ MARGIN = 1e-6
 #: cell width over the kernel's grid step 0.4 / fastest rate (wider cells: fewer nodes,
 #: looser bounds; 2 measured fastest in benchmarks/passfail.py)
 CELL = 2.0
+#: the full kernel's options for a_h alone (what :meth:`.criteria.Criterion.values` asks of
+#: it for a head-acceleration limit): the reference of the decisions
+A_H_ONLY = {"with_force": False, "with_compression": False}
 #: codes of the compiled decision
 EXCEEDS, WITHIN, UNDECIDED = 1, 0, -1
 #: relative rounding of one step of the exponentials' recurrence (a complex product)
@@ -103,7 +108,7 @@ class Decisions(NamedTuple):
     by_bounds
         ``(N,)`` bool: decided from the bounds (else by the full kernel).
     unresolved
-        ``(N,)`` bool: the full kernel gave no maximum (counted as exceeding).
+        ``(N,)`` bool: neither the bounds nor the full kernel decided (counted as exceeding).
     """
 
     exceeds: NDArray[np.bool_]
@@ -275,7 +280,8 @@ def head_acceleration_exceeds(
     """Whether each design's first-lobe a_h,max exceeds ``limit_g``, without its maximum.
 
     The decisions of :func:`~designlab.impact.metrics.metrics_of_matrix` (reduced,
-    unconstrained model, the thesis's correct q2) compared with the limit
+    unconstrained model, the thesis's correct q2, a_h alone: :data:`A_H_ONLY`) compared
+    with the limit
     (:func:`decisions_of_metrics`), at a fraction of its cost where the bounds decide
     (module text).
 
@@ -338,7 +344,7 @@ def head_acceleration_exceeds(
     unresolved = np.zeros(p.shape[0], dtype=bool)
     rest = np.flatnonzero(codes == UNDECIDED)
     if rest.size:
-        m = metrics_of_matrix(p[rest], v[rest], max_lobe_steps=steps, workers=workers)
+        m = metrics_of_matrix(p[rest], v[rest], max_lobe_steps=steps, workers=workers, **A_H_ONLY)
         peak = m.peak_head_acceleration_g
         exceeds[rest] = decisions_of_metrics(peak, limit)
         unresolved[rest] = ~np.isfinite(peak)

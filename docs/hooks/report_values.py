@@ -31,6 +31,12 @@ Anything wrong (a file, a column or a row that is not there, a ``shown`` that di
 argument that is not a literal) is an error naming the page and the expression, so
 ``mkdocs build`` fails. ``expand`` is also what ``tests/test_docs_report_values.py`` runs
 over every page, so the test suite fails too.
+
+:func:`typed_report_numbers` finds the numbers a page still types by hand that equal a cell
+of a report it names; ``tests/test_docs_report_numbers.py`` fails on any that is neither
+written through the hook nor listed with its reason in ``tests/data/docs_report_numbers.csv``,
+and on a listed one whose report no longer gives it (``python docs/hooks/report_values.py``
+prints the current candidates).
 """
 
 from __future__ import annotations
@@ -212,11 +218,17 @@ SOURCE_COLUMN = re.compile(r"thesis|paper|reference|published|source|target|^ref
 CITATION = re.compile(
     r"(?:Secs?|Sections?|Figs?|Figures?|Tables?|eqs?|Eqs?|App|Ch|Chapters?)\.?\s*$"
 )
-#: A block of sentences generated from a report's table, which its own test checks
-#: (``tests/following/test_report_claims.py`` and the studies' tests).
-CLAIMS = re.compile(r"<!-- claims:[\w-]+ -->.*?<!-- /claims -->", re.S)
-#: Tables longer than this (time histories) are not searched.
-MAX_ROWS = 2000
+#: A block generated from a report's table, which its own test checks: the claims
+#: (``tests/following/test_report_claims.py`` and the studies' tests) and the navigation
+#: account's table (``tests/navigation/test_nav_account.py``).
+CLAIMS = re.compile(
+    r"<!-- claims:[\w-]+ -->.*?<!-- /claims -->"
+    r"|<!-- account table: generated, do not edit -->.*?<!-- end of account table -->",
+    re.S,
+)
+#: Tables longer than this (time histories, sensitivity sweeps) are not searched: a page quotes
+#: their summaries, and their thousands of cells match unrelated numbers by chance.
+MAX_ROWS = 300
 
 
 def _report_cells(name: str, reports: Path) -> dict[str, set[str]]:
@@ -231,7 +243,7 @@ def _report_cells(name: str, reports: Path) -> dict[str, set[str]]:
             frame = pd.read_csv(file)
         except (ValueError, OSError, pd.errors.ParserError):
             continue
-        if len(frame) > MAX_ROWS:  # a time history: a page quotes its summaries, not its samples
+        if len(frame) > MAX_ROWS:
             continue
         for column in frame.select_dtypes("number").columns:
             if SOURCE_COLUMN.search(str(column)):

@@ -155,7 +155,7 @@ def test_tail_zero_is_not_presented_as_exact() -> None:
     precision, and the design is evaluated from 40-digit residues: right (issue 34)."""
     m = metrics_of_matrix(np.array([TAIL_ZERO]), 1.0)
     assert _check(TAIL_ZERO, m) == "ok"
-    assert any("40-digit" in w for w in m.warnings), m.warnings
+    assert any("extended-precision" in w for w in m.warnings), m.warnings
 
 
 @needs_jit

@@ -1,10 +1,11 @@
-"""Designs the double-precision self-checks refuse get a certified number from 40-digit poles
-and residues (:mod:`designlab.impact.kernel_precise`; issue 34, availability).
+"""Designs the double-precision self-checks refuse get a certified number from extended-precision
+poles and residues (:mod:`designlab.impact.kernel_precise`, compiled first in double-double,
+:mod:`designlab.impact.kernel_dd`; issue 34, availability).
 
-* The 40-digit residues and poles, rounded to doubles, are within their stated error bounds
-  of a 60-digit mpmath evaluation (:class:`exact_reference.MpImpact`), and those bounds are
-  a few roundings of the largest residue (the double-precision bounds were 100-200 times
-  the true errors on these designs).
+* The double-double and the 40-digit residues and poles, rounded to doubles, are within
+  their stated error bounds of a 60-digit mpmath evaluation
+  (:class:`exact_reference.MpImpact`), and those bounds are a few roundings of the largest
+  residue (the double-precision bounds were 100-200 times the true errors on these designs).
 * Through :func:`designlab.impact.metrics.metrics_of_matrix` (compiled kernel, and the numpy
   path without numba) the designs the kernel's self-check refused are certified and right
   against mpmath (t_imp 1e-9, maxima 1e-8 relative, the fuzz harness's tolerances), or
@@ -41,9 +42,17 @@ REFUSED = [
 NAMES = ("force", "head_acceleration", "compression")
 
 
-def test_fifty_digit_residues_and_poles_within_their_bounds() -> None:
+@pytest.mark.parametrize("compiled", [True, False], ids=["double-double", "decimal"])
+def test_extended_residues_and_poles_within_their_bounds(compiled: bool, monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    """Compiled, the double-double evaluation (:mod:`designlab.impact.kernel_dd`) certifies
+    these designs; without numba, the 40-digit decimal one: both within their bounds."""
+    if compiled and not kernel.AVAILABLE:
+        pytest.skip("compiled kernels unavailable")
     designs = [*REFUSED, *NO_ZERO, *DIP]
-    resp, ok = precise_responses(np.array(designs), printed=False, names=NAMES)
+    with monkeypatch.context() as mp:
+        if not compiled:
+            mp.setattr(kernel, "AVAILABLE", False)
+        resp, ok = precise_responses(np.array(designs), printed=False, names=NAMES)
     assert ok.all()
     for i, design in enumerate(designs):
         ref = MpImpact(design, dps=60)
@@ -129,3 +138,27 @@ def test_a_zero_found_is_never_reported_open() -> None:
         row = np.array([m.peak_head_acceleration[0], m.max_compression[0], m.peak_force[0],
                         m.impact_duration[0]])  # fmt: skip
         _right(SLOW_TAIL, row, status)
+
+
+#: ``overdamped`` family (seed 34, chunk 0): a_h stays far above its rounding noise up to
+#: the kernel's horizon (0.396 s) and has no zero before it (mpmath)
+CLEAR_OPEN = [9.313257360973925, 7596.021347565244, 33014.84853269372, 37230.66336509716,
+              12063.641109689115, 5.390881504543701, 2592.3257797151527,
+              7790.412720226426]  # fmt: skip
+_KW = {"printed": False, "stop_time": 0.05, "max_lobe_steps": 4096, "diagnostics": False}
+
+
+@pytest.mark.skipif(not kernel.AVAILABLE, reason="compiled kernels unavailable")
+def test_open_lobe_retried_in_more_digits_only_near_the_noise() -> None:
+    """An open lobe is final in double precision where a_h stays above 256 times its noise
+    level (``lobe_not_closed`` at once, right against mpmath); one whose a_h came near it
+    (the zero at 8.94 s below double precision's noise, ``SLOW_TAIL``) is ``LOBE_NOISE``, which
+    the caller retries in extended precision (issue 34: 35 % of very overdamped designs
+    went to the 1 ms decimal evaluation for nothing)."""
+    _, codes = kernel.reduced_metrics(np.array([CLEAR_OPEN, SLOW_TAIL]), (True, True, True), **_KW)
+    assert codes.tolist() == [kernel.STATUS_CODES.index("lobe_not_closed"), kernel.LOBE_NOISE]
+    ref = MpImpact(CLEAR_OPEN, dps=40)
+    horizon = ((4096 // 12) * 12 + 11) * 0.4 / max(abs(complex(z)) for z in ref.poles)
+    assert np.isnan(ref.first_zero(horizon, samples=256))
+    m = metrics_of_matrix(np.array([CLEAR_OPEN]), 1.0)
+    assert str(m.design_status[0]) == "lobe_not_closed"

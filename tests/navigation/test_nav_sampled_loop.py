@@ -81,3 +81,35 @@ def test_simulate_warns_for_the_finding() -> None:
     assert res.criteria.H_E > 1 and any("H_E =" in w for w in res.criteria.warnings)
     ok = simulate(configuration(2), VFFGains(4.3, 0.68, 20.3, 240.7), stabilising="off")
     assert not any("spectral radius" in w for w in ok.warnings)
+
+
+def test_simulate_and_batch_report_undefined_criteria_when_only_the_nominal_run_fails(
+    monkeypatch,
+):
+    """The nominal (obstacle-free) run made to miss the goal, the obstacle run unchanged:
+    simulate returns H NaN with status 'undefined' and the warning (it raised before: the
+    navigation_gains study crashed in its settling check); the batch gives NaN and counts it."""
+    import importlib
+    from dataclasses import replace
+
+    from designlab.navigation import simulate, simulate_batch
+
+    engine = importlib.import_module("designlab.navigation.simulate").engine
+    real = engine.run
+
+    def nominal_never_arrives(scenario, gains, **kw):
+        raw = real(scenario, gains, **kw)
+        if not scenario.obstacles:
+            raw = replace(raw, arrival_time=np.full_like(raw.arrival_time, np.inf))
+        return raw
+
+    monkeypatch.setattr(engine, "run", nominal_never_arrives)
+    sc = configuration(1)
+    res = simulate(sc, VFFGains(3, 0.25, 20, 17), stabilising="off")
+    c = res.criteria
+    assert math.isfinite(res.arrival_time) and c.status == "undefined"
+    assert math.isnan(c.H) and math.isnan(c.H_T) and math.isnan(c.H_E) and 0 < c.H_D <= 1
+    assert any("nominal run never arrived" in w for w in res.warnings)
+    batch = simulate_batch([sc], np.array([[3, 0.25, 20, 17]]), stabilising="off")
+    assert np.isnan(batch.H[0, 0]) and np.isnan(batch.H_T[0, 0]) and np.isnan(batch.H_E[0, 0])
+    assert any("nominal run did not" in w for w in batch.warnings)

@@ -835,7 +835,8 @@ def abnormal_runs(runs: pd.DataFrame) -> list[str]:
               "simulator_failed": "the pedestrian simulator (JuPedSim) failed"}  # fmt: skip
     out = []
     for _, r in runs.iterrows():
-        cell = f"{r['scenario']} {r['density']:g}/m^2 seed {int(r['seed'])} {r['method']}"
+        among = f" among {r['model']} pedestrians" if "model" in r else ""
+        cell = f"{r['scenario']} {r['density']:g}/m^2{among} seed {int(r['seed'])} {r['method']}"
         if r["outcome"] in causes:
             out.append(f"{cell}: {causes[r['outcome']]} at t = {r['outcome_time_s']:.2f} s")
         if r.get("coupling_exceeded", 0) > 0:

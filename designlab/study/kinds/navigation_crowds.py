@@ -210,6 +210,9 @@ class NavigationCrowdsStudy(StudyBase):
     #: at load 13-18 on two shared cores)
     TYPICAL_DURATION: ClassVar[float] = 300
     MAX_POINTS: ClassVar[int] = int(MAX_RUNS.le)  # type: ignore[arg-type]
+    #: Its runs go through the sweep engine: finished crowds are kept in the result store
+    #: (``--cache-dir``), so an interrupted ``designlab run --resume`` computes only the rest.
+    KEEPS_STORE: ClassVar[bool] = True
 
     @model_validator(mode="after")
     def _grid(self) -> NavigationCrowdsStudy:

@@ -167,3 +167,19 @@ def test_the_compiled_path_deviation_is_the_polyline_distance():
     assert farthest_from_path(pts[:2], path) == 2.0
     # a repeated vertex (a zero-length segment) is a point
     assert farthest_from_path(np.array([[0.0, 1.0]]), np.array([[0.0, 0.0], [0.0, 0.0]])) == 1.0
+
+
+def test_a_warning_names_the_pedestrian_model_of_its_run():
+    from designlab.navigation.crowds.study import abnormal_runs
+
+    runs = pd.DataFrame({"scenario": ["crossing"] * 2, "density": [0.5] * 2, "seed": [3, 3],
+                         "method": ["vff"] * 2, "model": ["collision_free_speed", "social_force"],
+                         "outcome": ["success", "left_area"], "outcome_time_s": [9.0, 4.2],
+                         "coupling_exceeded": [1.0, 0.0]})  # fmt: skip
+    assert abnormal_runs(runs) == [
+        "crossing 0.5/m^2 among collision_free_speed pedestrians seed 3 vff: the robot's "
+        "JuPedSim agent was more than the bound away from the robot (the pedestrians did not "
+        "see it where it was)",
+        "crossing 0.5/m^2 among social_force pedestrians seed 3 vff: the robot left the "
+        "walkable area at t = 4.20 s",
+    ]
