@@ -546,5 +546,5 @@ def _sensor_pose_np(robot: NDArray, offset: tuple[float, float]) -> list[NDArray
     ]
 
 
-#: :func:`simulate` under its name in the package's API (``designlab.following.accompany``).
 accompany = simulate
+"""The name of :func:`simulate` in the package's API: ``designlab.following.accompany``."""
