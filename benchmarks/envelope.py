@@ -19,11 +19,11 @@ Targets (issue 22): at least 100x faster than the baseline.
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 import time
 
 import numpy as np
+from _machine import machine  # benchmarks/_machine.py
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, minimize_scalar
 
@@ -97,18 +97,6 @@ def baseline_envelope(damping: np.ndarray, v: float) -> tuple[np.ndarray, np.nda
         kmax.append(np.exp(brentq(upper, np.log(1e4), np.log(2e5), xtol=1e-7)))
         kmin.append(np.exp(brentq(lower, np.log(2e3), np.log(1e5), xtol=1e-7)))
     return np.array(kmin), np.array(kmax)
-
-
-def machine() -> str:
-    """CPU model, logical CPUs and load average."""
-    model = "unknown CPU"
-    try:
-        with open("/proc/cpuinfo") as fh:
-            model = next(ln.split(":", 1)[1].strip() for ln in fh if ln.startswith("model name"))
-    except (OSError, StopIteration):  # pragma: no cover - not Linux
-        pass
-    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
-    return f"{model}, {os.cpu_count()} logical CPUs, load average {load:.1f}"
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -983,6 +983,11 @@ def _metric_row(result: Any, i: int) -> dict[str, float] | None:
 
 BASE_ROBOT = {"mass": 9.6, "stiffness": 20e3, "damping": 250.0}
 BASE_FOAM = {"stiffness": 24.25e3, "damping": 71.9}
+#: a foam given by its compression curve (designlab.impact.contact.measured), crushed at 36 mm
+BASE_CURVE_FOAM = {"strain": (0.1, 0.3, 0.6, 0.9), "stress": (20e3, 50e3, 120e3, 600e3),
+                   "area": 0.01, "thickness": 0.04, "damping": 71.9}  # fmt: skip
+#: the non-linear foam (Hunt-Crossley damping, densification): its own fields are attacked
+BASE_HC_FOAM = {"stiffness": 24.25e3, "damping": 71.9, "densification_depth": 0.02}
 BASE_HEAD = {"mass": 4.4, "stiffness": 4e3, "damping": 0.0}
 BASE_JOINT = {
     "mass": 9.6,
@@ -1040,6 +1045,14 @@ def impact_targets() -> list[Target]:
                ("robot", "foam", "head", "impact_velocity"),
                all_of(nonneg, reference_oracle(_response_params)), attack=("robot",),
                tag="[full-joint]"),
+        Target("impact", "dl.impact.simulate", im.simulate,
+               {**sim_args, "foam": Obj(im.StressStrainFoam, BASE_CURVE_FOAM, ladder=True)},
+               ("robot", "foam", "head", "impact_velocity"), None, attack=("foam",),
+               tag="[stress-strain]"),
+        Target("impact", "dl.impact.simulate", im.simulate,
+               {**sim_args, "foam": Obj(im.HuntCrossleyFoam, BASE_HC_FOAM, ladder=True)},
+               ("robot", "foam", "head", "impact_velocity"), nonneg, attack=("foam",),
+               tag="[hunt-crossley]"),
         Target("impact", "dl.impact.foam_envelope", im.foam_envelope,
                {"robot": Obj(im.ContactDynamics, BASE_ROBOT), "impact_velocity": Val(1.25),
                 "damping": Val([0.0, 60.0, 120.0]), "max_compression": Val(0.02),
@@ -1334,7 +1347,39 @@ def codesign_targets() -> list[Target]:
                                                     "grid_closing_speed")),
                attack=("K_c", "C_c", "linear_depth")),
         Target("codesign", "dl.codesign.DesignSpace", cd.DesignSpace, {}, ()),
+        Target("codesign", "dl.codesign.RobotDescription", cd.RobotDescription, {}, ()),
+        Target("codesign", "dl.codesign.assessment.iso_comparison", iso_comparison,
+               {"robot": Obj(cd.RobotDescription, {"name": "robot"}),
+                "foam": Obj(im.Foam, BASE_FOAM), "human_speed": Val(1.0)},
+               ("robot", "foam"),
+               all_of(finite_oracle(nonneg=ISO_COLUMNS, allow_nan=("zeng_robot_speed_m_per_s",)),
+                      _iso_closed_form)),
     ]  # fmt: skip
+
+
+#: Columns of :func:`designlab.codesign.assessment.iso_comparison` that are never negative.
+ISO_COLUMNS = ("share", "m_H_kg", "k_N_per_m", "F_T_N", "mu_kg", "iso_closing_speed_m_per_s",
+               "iso_robot_speed_m_per_s", "zeng_robot_speed_m_per_s")  # fmt: skip
+
+
+def iso_comparison(robot: Any, foam: Any, human_speed: Any = 1.0) -> Any:
+    """iso_comparison (imported on first use, like the other targets' functions)."""
+    from designlab.codesign.assessment import iso_comparison as compare
+
+    return compare(robot, foam, human_speed)
+
+
+def _iso_closed_form(r: Any) -> str | None:
+    """Each region's permissible speed is F_T / sqrt(mu k) (ISO/TS 15066 Annex A.3) with
+    mu = (1/m_H + 1/m_R)^-1 <= m_H, and the shares a probability split."""
+    if not hasattr(r, "columns"):
+        return f"answer {type(r).__name__} is no table"
+    want = r["F_T_N"] / np.sqrt(r["mu_kg"] * r["k_N_per_m"])
+    if not np.allclose(r["iso_closing_speed_m_per_s"], want, rtol=1e-12, atol=0):
+        return "iso_closing_speed_m_per_s is not F_T / sqrt(mu k)"
+    if (r["mu_kg"] > r["m_H_kg"] * (1 + 1e-12)).any() or r["share"].sum() > 1 + 1e-9:
+        return "mu above the body region's mass, or shares summing above 1"
+    return None
 
 
 #: Attacks on an argument that is an array of values.
@@ -1363,6 +1408,14 @@ def codesign_cases() -> list[Case]:
     for t in codesign_targets():
         if t.label.endswith("DesignSpace"):
             t.args = {n: Val(d.default, decl=d) for n, d in params_of(cd.DesignSpace).items()}
+        if t.label.endswith("RobotDescription"):
+            t.args = {n: Val("robot" if n == "name" else d.default, decl=d)
+                      for n, d in params_of(cd.RobotDescription).items()}  # fmt: skip
+            t.args["contact"] = Val(im.MANIPULATOR_1, decl=UNDECLARED, attacks=[
+                ("None", None), ("text", "link"), ("a foam", im.FOAM_1),
+                ("heavier than the robot", im.ContactDynamics(mass=50.0, stiffness=20e3,
+                                                              damping=250.0)),
+            ])  # fmt: skip
         out += target_cases(t, [cd.parameters, im.parameters])
     out.append(simple_case("codesign", "dl.codesign.DesignSpace min above max",
                            _eval("dl.codesign.DesignSpace(stiffness_min=8e4, stiffness_max=5e3)"),
@@ -1683,7 +1736,30 @@ def navigation_cases() -> list[Case]:
     mods = [nav.parameters, pl.parameters]
     targets = navigation_targets() + navigation_more_targets()
     out = [c for t in targets for c in target_cases(t, mods)]
-    return out + _pair_cases() + navigation_extra_cases() + crowd_constructor_cases()
+    return (out + _pair_cases() + navigation_extra_cases() + crowd_constructor_cases()
+            + crowd_baseline_cases())  # fmt: skip
+
+
+def crowd_baseline_cases() -> list[Case]:
+    """Every declared field of the field's crowd baselines' settings (ORCA through RVO2, the
+    social-force robot), constructed (the declarations refuse; a run is slow), and a short
+    crowd run of each with its defaults."""
+    from designlab.navigation.methods.orca import ORCASettings
+    from designlab.navigation.methods.social_force import SocialForceSettings
+    from designlab.params import params_of
+
+    out: list[Case] = []
+    for cls, path in ((ORCASettings, "orca"), (SocialForceSettings, "social_force")):
+        decls = params_of(cls)
+        args = {n: Val(getattr(cls(), n), decl=d) for n, d in decls.items()}
+        t = Target("navigation", f"dl.navigation.methods.{path}.{cls.__name__}", cls, args)
+        out += target_cases(t)
+    crowd = "dl.navigation.crowd('corridor_counterflow', 4, length=8.0, horizon=0.5)"
+    for m in ("orca", "social_force"):
+        e = f"dl.navigation.simulate({crowd}, method={m!r})"
+        out.append(simple_case("navigation", f"crowd run {m}", _eval(e), e, names=("method",),
+                               expect="accept", oracle=_nav_oracle()))  # fmt: skip
+    return out
 
 
 def crowd_constructor_cases() -> list[Case]:
@@ -1928,6 +2004,7 @@ STUDY_BASE: dict[str, dict[str, Any]] = {
                  "risk": {"foams": ["FOAM_1"], "speeds": {"num": 3}, "samples": 1000}},
     "navigation_crowds": {"scenarios": ["corridor_counterflow"], "densities": [0.1],
                           "seeds": [0], "methods": [{"method": "vff"}],
+                          "models": ["collision_free_speed"],
                           "crowd": {"length": 8.0, "horizon": 0.5}, "animations": False},
 }  # fmt: skip
 

@@ -61,6 +61,7 @@ import sys  # noqa: E402
 import time  # noqa: E402
 
 import numpy as np  # noqa: E402
+from _machine import machine  # noqa: E402  (benchmarks/_machine.py)
 from scipy.integrate import solve_ivp  # noqa: E402
 from scipy.optimize import minimize_scalar  # noqa: E402
 
@@ -116,18 +117,6 @@ def wide_designs(n: int, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarr
     """``(n, 8)`` designs over the issue's wide ranges and their v_c (0.2-2 m/s)."""
     p = np.stack([rng.uniform(*WIDE[k], n) for k in PARAM_NAMES], axis=1)
     return p, rng.uniform(0.2, 2.0, n)
-
-
-def machine() -> str:
-    """CPU model, cores and load average (speed figures are ratios on this machine)."""
-    model = "unknown CPU"
-    try:
-        with open("/proc/cpuinfo") as fh:
-            model = next(ln.split(":", 1)[1].strip() for ln in fh if ln.startswith("model name"))
-    except (OSError, StopIteration):  # pragma: no cover - not Linux
-        pass
-    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
-    return f"{model}, {os.cpu_count()} logical CPUs, load average {load:.1f}"
 
 
 def kernel_vs_numpy(n: int, seed: int, per_ref: float) -> bool:

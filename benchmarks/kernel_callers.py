@@ -20,13 +20,13 @@ on a shared machine wall clocks are not comparable), after one warm-up.
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 import time
 from collections.abc import Callable
 from typing import Any
 
 import numpy as np
+from _machine import machine  # benchmarks/_machine.py
 
 import designlab as dl
 from designlab.analysis.sampling import saltelli
@@ -37,18 +37,6 @@ from designlab.impact.evaluators import impact_metrics_chunk
 WIDE = {"M_r": (2.0, 20.0), "C_r": (0.0, 800.0), "K_r": (5e3, 5e4), "K_c": (5e3, 8e4),
         "C_c": (0.0, 300.0), "M_h": (3.0, 6.0), "C_h": (0.0, 150.0), "K_h": (1e3, 1e4),
         "v_c": (0.2, 2.0)}  # fmt: skip
-
-
-def machine() -> str:
-    """CPU model, logical CPUs and load average."""
-    model = "unknown CPU"
-    try:
-        with open("/proc/cpuinfo") as fh:
-            model = next(ln.split(":", 1)[1].strip() for ln in fh if ln.startswith("model name"))
-    except (OSError, StopIteration):  # pragma: no cover - not Linux
-        pass
-    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
-    return f"{model}, {os.cpu_count()} logical CPUs, load average {load:.1f}"
 
 
 def cpu(fn: Callable[[], Any]) -> float:

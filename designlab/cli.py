@@ -350,10 +350,11 @@ def _command_line(
 
 
 def _keeps_store(spec: Any) -> bool:
-    """Whether a study's kind keeps finished points in a result store (the sweep kinds)."""
+    """Whether a study's kind keeps finished points in a result store (the sweep kinds, and
+    a kind that says so with ``KEEPS_STORE``: the crowd studies' runs)."""
     from designlab.study.sweeps import SweepStudyBase
 
-    return isinstance(spec, SweepStudyBase)
+    return isinstance(spec, SweepStudyBase) or bool(getattr(spec, "KEEPS_STORE", False))
 
 
 def _open_store(cache_dir: Path, spec: Any) -> Any:
@@ -379,7 +380,7 @@ def report(
         spec = load_study(study)
         if not _keeps_store(spec):
             typer.echo(
-                f"kind {spec.kind} keeps no result store (only sweep kinds do): recomputing "
+                f"kind {spec.kind} keeps no result store: recomputing "
                 "the report, as `designlab run` does",
                 err=True,
             )

@@ -55,6 +55,19 @@ def test_values_aggregates_and_ratio_from_a_table_written_in_the_test(reports):
     assert ev('report("r/t.csv", "x", a="u", fmt=".3f", shown="0.125")') == "0.125"
 
 
+def test_an_empty_cell_selects_with_none(tmp_path):
+    (tmp_path / "r").mkdir()
+    (tmp_path / "r" / "t.csv").write_text("a,robust,x\nu,,0.5\nu,mean,0.75\n")
+    assert rv.evaluate('report("r/t.csv", "x", a="u", robust=None)', tmp_path) == "0.5"
+    assert rv.evaluate('report("r/t.csv", "x", a="u", robust="mean")', tmp_path) == "0.75"
+
+
+def test_several_columns_aggregate_together(reports):
+    assert rv.evaluate('report("r/t.csv", ["b", "x"], a="w", agg="min")', reports) == "-0.25"
+    assert rv.evaluate('report("r/t.csv", ["b", "x"], agg="max")', reports) == "2"
+    assert rv.evaluate('report("r/t.csv", "x", a=["u", "w"], agg="absmax")', reports) == "0.25"
+
+
 def test_a_planted_wrong_number_fails(reports):
     with pytest.raises(rv.ReportValueError, match=r"shows '0\.126' but the report gives '0\.125'"):
         rv.expand('a {{ report("r/t.csv", "x", a="u", fmt=".3f", shown="0.126") }} b', "p", reports)

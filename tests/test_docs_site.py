@@ -21,6 +21,7 @@ import re
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -223,6 +224,27 @@ def test_griffe_extension_shows_declared_defaults() -> None:
         "thickness": "None",
         "name": "''",
     }
+    # a field reusing a module-level declaration: as_field(K_MECH), as_field(C_MECH, default=0.0)
+    module = griffe.load("designlab.impact.series_joint", extensions=extensions)
+    defaults = {p.name: p.default for p in module["FullJointLink"].parameters}
+    assert defaults["transmission_stiffness"] is None
+    assert defaults["transmission_damping"] == "0.0"
+    assert not any("as_field" in str(d) for d in defaults.values())
+
+
+def test_griffe_extension_reads_comment_docstrings() -> None:
+    """A constant documented by ``#:`` lines has them as its docstring (so an API entry)."""
+    griffe = pytest.importorskip("griffe")
+    hook = load_hook("griffe_params")
+    module = griffe.load(
+        "designlab.codesign.front", extensions=griffe.load_extensions(hook.CommentDocstrings())
+    )
+    doc = module["THESIS_DESIGNS"].docstring
+    assert doc is not None and doc.value.startswith("The thesis's designs placed against a front")
+    model = griffe.load(
+        "designlab.impact.model", extensions=griffe.load_extensions(hook.CommentDocstrings())
+    )
+    assert model["INPUT_NAMES"].docstring is None  # no comment above it: nothing invented
 
 
 BAD_DOCSTRING = '''
@@ -360,3 +382,86 @@ def test_every_example_has_a_page(site: Path) -> None:
 def test_no_navigation_file_is_a_page(site: Path) -> None:
     """literate-nav's SUMMARY.md files make the navigation, not pages of the site."""
     assert not [p for p in site.rglob("SUMMARY/index.html")], "a SUMMARY page was built"
+
+
+#: How the README and the guides name designlab's modules in their code (``nav = dl.navigation``).
+_ALIAS = re.compile(r"\b([a-z_]+) = (?:dl|designlab)\.([\w.]+)\s*$", re.M)
+_IMPORT_AS = re.compile(r"import (designlab[\w.]*) as (\w+)")
+_FROM_IMPORT = re.compile(r"^\s*(?:>>> )?from (designlab[\w.]*) import ([\w, ]+)$", re.M)
+
+
+def used_names() -> dict[str, str]:
+    """Every ``designlab...`` name the README and the guides write: full path -> first page.
+
+    ``dl.impact.simulate``, ``fol.accompany`` (with ``fol = dl.following`` on the page),
+    ``from designlab.x import a, b as c`` and ``designlab.x.y`` written out (not a file's
+    path: ``benchmarks/full_joint.py``).
+    """
+    found: dict[str, str] = {}
+    for page in [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]:
+        text = page.read_text(encoding="utf-8")
+        aliases = {"dl": "designlab", "designlab": "designlab"}
+        aliases |= {m[2]: m[1] for m in _IMPORT_AS.finditer(text)}
+        aliases |= {m[1]: f"designlab.{m[2]}" for m in _ALIAS.finditer(text)}
+        for m in _FROM_IMPORT.finditer(text):
+            for item in m[2].split(","):
+                name, _, alias = item.strip().partition(" as ")
+                if name:
+                    found.setdefault(f"{m[1]}.{name}", page.name)
+                    aliases[alias or name] = f"{m[1]}.{name}"
+        prefix = "|".join(re.escape(a) for a in aliases)
+        for m in re.finditer(rf"(?<![\w./])({prefix})((?:\.[A-Za-z_]\w*)+)", text):
+            found.setdefault(aliases[m[1]] + m[2], page.name)
+    return found
+
+
+def _module_and_name(path: str) -> tuple[Any, str] | None:
+    """The module a dotted name is an attribute of, and the name (``None``: a module itself,
+    or an attribute of a class or object, documented on its class's entry)."""
+    parts = path.split(".")
+    for cut in range(len(parts), 0, -1):
+        module = _module(".".join(parts[:cut]))
+        if module is None:
+            continue
+        return (module, parts[cut]) if cut == len(parts) - 1 else None
+    return None
+
+
+def _module(name: str) -> Any:
+    """The module ``name`` (``None`` if it is not one: a class's path)."""
+    import importlib
+
+    try:
+        return importlib.import_module(name)
+    except ImportError:
+        return None
+
+
+@pytest.mark.slow
+def test_every_name_the_guides_use_has_an_api_entry(site: Path) -> None:
+    """``fol.accompany`` and every other name of the README and the guides has an entry (an
+    anchor ``<module>.<name>`` on a module's API page) under the name the text uses."""
+
+    anchors: dict[str, set[str]] = {}  # name -> modules whose page holds <module>.<name>
+    for page in (site / "reference/api").rglob("index.html"):
+        for anchor in re.findall(r'id="(designlab(?:\.\w+)+)"', page.read_text(encoding="utf-8")):
+            module, _, name = anchor.rpartition(".")
+            anchors.setdefault(name, set()).add(module)
+    missing, unknown = [], []
+    for path, page in sorted(used_names().items()):
+        found = _module_and_name(path)
+        if found is None:
+            continue
+        module, name = found
+        if not hasattr(module, name):
+            if not name.startswith("_"):
+                unknown.append(f"{path} ({page})")
+            continue
+        obj = getattr(module, name)
+        if isinstance(obj, type(module)):
+            continue  # a module: its own page
+        holders = anchors.get(name, set())
+        if not any(getattr(_module(m), name, None) is obj for m in holders):
+            missing.append(f"{path} ({page})")
+    assert not unknown, f"names the pages use that designlab does not have: {unknown}"
+    assert not missing, f"names the pages use without an API entry: {missing}"

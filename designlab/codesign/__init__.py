@@ -74,6 +74,7 @@ if TYPE_CHECKING:  # the public names, imported on first use (designlab._lazy)
     from designlab.codesign.front import (
         OBJECTIVES,
         THESIS_DESIGN,
+        THESIS_DESIGNS,
         Design,
         DesignScore,
         DesignSpace,
@@ -109,6 +110,7 @@ __all__ = [
     "BUMPER_BASE",
     "OBJECTIVES",
     "THESIS_DESIGN",
+    "THESIS_DESIGNS",
     "THESIS_ROBOT",
     "ClosingSpeeds",
     "ContactSpeeds",

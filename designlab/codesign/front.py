@@ -39,6 +39,8 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
+import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
@@ -115,6 +117,12 @@ VARIABLES: tuple[tuple[str, str], ...] = (
     ("k3", ""),
     ("k5", ""),
 )
+
+#: Decimals of the speed limit V_mr a search evaluates (0.01 m/s, a controller's setting):
+#: the speed and the regions sized for it are constants of the compiled navigation step, so
+#: designs sharing V_mr share one compiled step instead of building one each (that build
+#: was about 85 % of a design's navigation cost).
+SPEED_DECIMALS = 2
 
 #: Cap on the designs one search may evaluate (population x generations): each is a set
 #: of navigation runs.
@@ -195,6 +203,20 @@ class DesignSpace:
     k5_max: float = _bound(VFFGains, "k5", "max", 300.0)
 
     NAMES: ClassVar[tuple[str, ...]] = tuple(p[0] for p in _PAIRS)
+
+    def snap(self, X: ArrayLike) -> Array:
+        """Designs ``(n, 8)`` with V_mr rounded to :data:`SPEED_DECIMALS` decimals (in the box).
+
+        Examples
+        --------
+        >>> DesignSpace().snap([[2e4, 50, 0.02, 0.7049, 3, 0.3, 20, 20]])[0, 3]
+        np.float64(0.7)
+        """
+        out = np.array(X, dtype=float, ndmin=2)
+        i = self.NAMES.index("speed")
+        v = np.round(out[:, i], SPEED_DECIMALS)
+        out[:, i] = np.clip(v, self.speed_min, self.speed_max)
+        return out
 
     def __post_init__(self) -> None:
         for name in self.NAMES:
@@ -355,10 +377,12 @@ class _Archived(Problem):  # type: ignore[misc]
     def __init__(self, evaluate: Callable[[Array], tuple[Array, Array]], lower: Array,
                  upper: Array, n_obj: int, n_constr: int, total: int,
                  progress: ProgressHook | None,
-                 prepare: Callable[[Array], None] | None = None) -> None:  # fmt: skip
+                 prepare: Callable[[Array], None] | None = None,
+                 snap: Callable[[Array], Array] | None = None) -> None:  # fmt: skip
         super().__init__(n_var=lower.size, n_obj=n_obj, n_ieq_constr=n_constr, xl=lower, xu=upper)
         self.evaluate_row = evaluate
         self.prepare = prepare
+        self.snap = snap
         self.rows: list[tuple[Array, Array, Array, int]] = []
         self.batch = 0
         self.total = total
@@ -366,6 +390,8 @@ class _Archived(Problem):  # type: ignore[misc]
 
     def _evaluate(self, x: Array, out: dict[str, Any], *args: Any, **kwargs: Any) -> None:
         self.batch += 1
+        if self.snap is not None:  # the points evaluated and archived are the snapped ones
+            x = self.snap(np.atleast_2d(x))
         if self.prepare is not None:
             self.prepare(x)
         F, G = zip(*(self.evaluate_row(row) for row in x), strict=True)
@@ -442,6 +468,7 @@ def nsga2(
     progress: ProgressHook | None = None,
     initial: ArrayLike | None = None,
     prepare: Callable[[Array], None] | None = None,
+    snap: Callable[[Array], Array] | None = None,
 ) -> SearchOutcome:
     """Minimise several objectives in a box with pymoo's NSGA-II; keep every evaluation.
 
@@ -466,6 +493,10 @@ def nsga2(
     prepare
         Called with each generation's points ``(n, n_var)`` before they are evaluated one
         by one (e.g. to compute something for the whole batch at once).
+    snap
+        Maps a generation's points ``(n, n_var)`` to the points evaluated (e.g. a variable
+        rounded to its resolution, staying in the box); the outcome holds the snapped
+        points. ``None``: evaluated as drawn.
 
     Returns
     -------
@@ -508,7 +539,9 @@ def nsga2(
         return X
 
     hook = None if prepare is None else (lambda Z: prepare(expand(np.atleast_2d(Z))))
-    problem = _Archived(on_free, lo[free], hi[free], n_obj, n_constr, gens, progress, hook)
+    snapped = None if snap is None else (lambda Z: np.asarray(snap(expand(Z)))[:, free])
+    problem = _Archived(on_free, lo[free], hi[free], n_obj, n_constr, gens, progress, hook,
+                        snapped)  # fmt: skip
     start = _first_population(initial, lo, hi, pop, SEED.check(seed))[:, free]
     minimize(problem, NSGA2(pop_size=pop, sampling=start), ("n_gen", gens), seed=seed,
              verbose=False)  # fmt: skip
@@ -981,6 +1014,9 @@ class ParetoFront(Result):
     hypervolume
         The hypervolume of the feasible designs found up to each generation
         (:func:`hypervolume_trace`).
+    worker_cpu_seconds
+        CPU time the executor's workers spent scoring designs (s; 0 in this process alone:
+        add it to this process's CPU time for the search's whole cost).
     """
 
     objectives: tuple[str, ...]
@@ -995,6 +1031,7 @@ class ParetoFront(Result):
     status: str = FrontStatus.OK
     warnings: tuple[str, ...] = ()
     hypervolume: Array = field(default_factory=lambda: np.zeros(0), repr=False)
+    worker_cpu_seconds: float = 0.0
 
     @property
     def hypervolume_change(self) -> float:
@@ -1292,8 +1329,8 @@ def pareto(
         Place the reference designs that lie in the box in the first population.
     executor
         An executor of :func:`designlab.analysis.executors.make_executor` (``processes``,
-        ``dask``) that scores each generation's designs; ``None``: in this process. The
-        front is the same.
+        ``dask``) that scores each generation's designs, two chunks per worker, each with
+        its foam limits; ``None``: in this process. The front is the same.
 
     Returns
     -------
@@ -1326,23 +1363,34 @@ def pareto(
     initial = _initial(refs, box, population) if seed_references else None
     out = nsga2(scorer.evaluate, box.lower, box.upper, n_obj=len(names), n_constr=len(CONSTRAINTS),
                 population=population, generations=generations, seed=seed,
-                progress=progress, initial=initial, prepare=scorer.prepare)  # fmt: skip
+                progress=progress, initial=initial, prepare=scorer.prepare,
+                snap=box.snap)  # fmt: skip
     scored = {label: scorer.score(d.vector()) for label, d in refs.items()}
-    return _front(out, names, scored, seed)
+    return dataclasses.replace(_front(out, names, scored, seed),
+                               worker_cpu_seconds=scorer.worker_cpu)  # fmt: skip
 
 
-def _evaluate_task(task: tuple[Any, ...]) -> tuple[Array, Array]:
-    """One design's objectives and constraints in a worker (a top-level, picklable task)."""
-    names, items, kw, x, limits = task
-    s = evaluate_design(Design.from_vector(x), items, limits=limits, **kw)
-    f = np.array([OBJECTIVES[o].of(s) for o in names])
-    return np.where(np.isfinite(f), f, _PENALTY), s.constraints
+def _evaluate_task(task: tuple[Any, ...]) -> tuple[list[tuple[Array, Array]], float, int]:
+    """A chunk of a generation's designs scored in a worker (a top-level, picklable task):
+    their foam limits in one lock-step search, then each design; with the worker's CPU time
+    (s) and process id."""
+    names, items, kw, X = task
+    cpu = time.process_time()
+    designs = [Design.from_vector(x) for x in X]
+    lim = design_limits(designs, kw["robot"], kw["heads"], kw["human_speed"])
+    out = []
+    for i, d in enumerate(designs):
+        s = evaluate_design(d, items, limits=lim.row(i), **kw)
+        f = np.array([OBJECTIVES[o].of(s) for o in names])
+        out.append((np.where(np.isfinite(f), f, _PENALTY), s.constraints))
+    return out, time.process_time() - cpu, os.getpid()
 
 
 class _Scorer:
     """A search's design scores: the foam limits of each generation computed at once, the
-    designs then scored in this process or by an executor's workers (the same answers:
-    every design's score is deterministic)."""
+    designs then scored in this process; with an executor, the generation is split into
+    chunks (two per worker), each scored by a worker, limits included (a foam's limits do
+    not depend on the other foams of its lock-step search, so the scores are the same)."""
 
     def __init__(self, names: tuple[str, ...], items: tuple[Scenario, ...],
                  kw: dict[str, Any], executor: Any = None) -> None:  # fmt: skip
@@ -1350,22 +1398,27 @@ class _Scorer:
         self.executor = executor
         self.batch: dict[bytes, FoamLimits] = {}
         self.done: dict[bytes, tuple[Array, Array]] = {}
+        self.worker_cpu = 0.0
 
     def prepare(self, X: Array) -> None:
-        """The foam limits of a generation's designs, in one lock-step search (and, with an
-        executor, their scores)."""
+        """The foam limits of a generation's designs, in one lock-step search (with an
+        executor: the generation's scores, chunk by chunk in its workers)."""
         self.batch.clear()
         self.done.clear()
+        keys = [np.asarray(x, float).tobytes() for x in X]
+        if self.executor is not None:
+            parts = np.array_split(np.arange(len(X)), max(1, 2 * int(self.executor.workers)))
+            parts = [p for p in parts if p.size]
+            tasks = [(self.names, self.items, self.kw, np.asarray(X, float)[p]) for p in parts]
+            for j, (outs, cpu, pid) in self.executor.map_unordered(_evaluate_task, tasks):
+                for i, out in zip(parts[j], outs, strict=True):
+                    self.done[keys[i]] = out
+                self.worker_cpu += cpu if pid != os.getpid() else 0.0  # another process's
+            return
         designs = [Design.from_vector(x) for x in X]
         lim = design_limits(designs, self.kw["robot"], self.kw["heads"], self.kw["human_speed"])
-        keys = [np.asarray(x, float).tobytes() for x in X]
         for i, key in enumerate(keys):
             self.batch[key] = lim.row(i)
-        if self.executor is not None:
-            tasks = [(self.names, self.items, self.kw, np.asarray(x, float), self.batch[k])
-                     for x, k in zip(X, keys, strict=True)]  # fmt: skip
-            for i, out in self.executor.map_unordered(_evaluate_task, tasks):
-                self.done[keys[i]] = out
 
     def score(self, x: Array) -> DesignScore:
         """The design of vector ``x`` scored (its limits from the batch when there)."""

@@ -10,8 +10,13 @@ Three cited sources, each kept as a data file in ``designlab/data`` with its cit
   robot a mass m_R; the contact force is F = v sqrt(mu k) with mu = (1/m_H + 1/m_R)^-1,
   so the permissible relative speed is v = F_max / sqrt(mu k).
 * ``hic_injury_risk_curves.csv``: head-injury risk from HIC: the Prasad-Mertz (1985)
-  AIS3+ curve, P = Phi((ln HIC - mu) / sigma), and the NHTSA logistic AIS2+ and AIS3+
-  curves, P = 1 / (1 + exp(a + b / HIC - c HIC)) (:func:`head_injury_risk`). They were
+  AIS3+ curve, P = Phi((ln HIC - mu) / sigma) (mu = 7.45231, sigma = 0.73998: the HIC15
+  form of Eppinger et al. 1999, Sec. 2), and the NHTSA (1995) logistic AIS2+ and AIS3+
+  curves, P = 1 / (1 + exp(a + b / HIC - c HIC)) (:func:`head_injury_risk`). The primary
+  documents could not be checked here: the coefficients are taken from secondary sources
+  that reproduce them and agree with each other (the robot-safety literature after
+  Haddadin et al. 2007-2009 and public injury-risk code; the file's ``source`` column says
+  so per curve). They were
   fitted to adult heads in vehicle crashes (HIC in the hundreds to thousands): a gentle
   foam contact's HIC of a few units lies far below their data, and a risk below
   :data:`CURVE_FLOOR` is reported as "below the curve's data", not as a number.

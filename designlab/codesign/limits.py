@@ -5,10 +5,11 @@ part of designlab reports: its speed limit V_mr may not exceed what
 :func:`~designlab.codesign.speed_limit` allows for its foam (for the walker speed the
 study states), and its thickness must hold the worst head's compression at the closing
 speed it can meet. :func:`foam_limits` gives both for many foams (paired stiffness,
-damping and linear depth) in one lock-step search of the worst heads, with the same
-off-grid refinement as :func:`~designlab.codesign.speed_limit`
-(:func:`~designlab.codesign.worst_head.refine_heads`): one foam gives exactly
-``speed_limit``'s answer.
+damping and linear depth) in one lock-step search of the worst heads: it is
+:func:`~designlab.codesign.speed_limit`'s own setup and per-constraint closing speeds
+(:func:`~designlab.codesign.speed.setup`,
+:func:`~designlab.codesign.speed.allowed_closing_speeds`, with the off-grid refinement)
+over many foams, so one foam gives exactly ``speed_limit``'s answer.
 
 Both metrics of the linear model scale with the closing speed (velocity exponent 1):
 the worst compression at v_c is v_c times the worst compression at 1 m/s, so the
@@ -39,12 +40,10 @@ from designlab.codesign.parameters import (
     HEAD_LEVELS,
     REACTION_TIME,
 )
-from designlab.codesign.speed import Braking, problem_for
-from designlab.codesign.worst_head import worst_heads
+from designlab.codesign.speed import allowed_closing_speeds, setup
 from designlab.errors import InvalidParameterError
 from designlab.impact import ContactDynamics, Criterion, Foam, FullJointContact, HeadRange
 from designlab.impact.criteria import CompressionLimit
-from designlab.impact.parameters import HUMAN_SPEED
 from designlab.params import params_of
 from designlab.results import Result
 from designlab.validation import real_array
@@ -199,21 +198,18 @@ def foam_limits(
     if not isinstance(robot, (ContactDynamics, FullJointContact)):
         raise InvalidParameterError("robot", robot, "must be a ContactDynamics or FullJointContact")
     k, c, lam, t = _foams(stiffness, damping, linear_depth, thickness)
-    v_h = HUMAN_SPEED.check(human_speed)
-    brake = Braking.check(reaction_time, deceleration, detection_distance)
-    prob = problem_for(robot, criteria, float(lam[0]), head_range, v_h, head_levels)
+    prob, v_h, brake = setup(
+        robot, criteria, float(lam[0]), head_range, human_speed, reaction_time, deceleration,
+        detection_distance, head_levels,
+    )  # fmt: skip
     unit: dict[str, Array] = {}
     allowed = []
     comp = ""
-    for key in prob.keys():
-        vals = np.asarray(worst_heads(prob, key, k, c, True)[0], dtype=float)
-        limit = lam if isinstance(key, CompressionLimit) else key.limit
+    for key, vals, _, v in allowed_closing_speeds(prob, k, c, lam, True):
         if isinstance(key, CompressionLimit):
             comp = key.name if np.all(lam == lam[0]) else "eps_max <= linear depth"
-        with np.errstate(divide="ignore"):
-            v = (limit / vals) ** (1.0 / key.velocity_exponent)
         unit[comp if isinstance(key, CompressionLimit) else key.name] = vals
-        allowed.append(np.where(vals > 0, v, np.inf))
+        allowed.append(v)
     stack = np.stack(allowed)
     v_c = stack.min(axis=0)
     names = list(unit)

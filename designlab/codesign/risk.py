@@ -83,6 +83,7 @@ from designlab.impact import (
     HeadAcceleration,
     LinkImpact,
 )
+from designlab.impact.parameters import IMPACT_VELOCITY
 from designlab.impact.problem import make_problem
 from designlab.progress import Progress, ProgressHook, report
 from designlab.results import Result, Status
@@ -289,7 +290,7 @@ class ThresholdModel:
         -------
         ThresholdModel
         """
-        check_robot_foam(robot, foam)
+        check_robot_foam(robot, foam, scaling=True)
         crit = _check_criterion(HeadAcceleration(10.0) if criterion is None else criterion)
         return cls(robot, foam, crit, lever_sampler(robot, points))  # type: ignore[arg-type]
 
@@ -313,6 +314,43 @@ class ThresholdModel:
         -------
         numpy.ndarray
         """
+        return self.threshold_speeds(self.rows(heads, rng, levers))
+
+    def threshold_speeds(self, params: NDArray) -> NDArray[np.float64]:
+        """The threshold closing speeds ``v*`` of a block of model rows (:meth:`rows`).
+
+        Parameters
+        ----------
+        params
+            The rows.
+
+        Returns
+        -------
+        numpy.ndarray
+        """
+        n = params.shape[0]
+        if np.all(params == params[0]):  # one design (a fixed head and point): one kernel call
+            m1 = np.repeat(self.criterion.values(params[:1], np.ones(1)), n)
+        else:
+            m1 = self.criterion.values(params, np.ones(n))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            v = (self.criterion.limit / m1) ** (1.0 / self.criterion.velocity_exponent)
+        return np.where(np.isfinite(m1), v, 0.0)
+
+    def rows(
+        self, heads: NDArray, rng: np.random.Generator, levers: NDArray | None = None
+    ) -> NDArray[np.float64]:
+        """The model's parameter rows of a block of ``(n, 3)`` heads (as :meth:`thresholds`).
+
+        Parameters
+        ----------
+        heads, rng, levers
+            As in :meth:`thresholds` (``rng`` draws the impact points of a link).
+
+        Returns
+        -------
+        numpy.ndarray
+        """
         n = heads.shape[0]
         prob = make_problem(self.robot, None if self.robot.along_link else 1.0,
                             None, 1.0, None, False, 0.0, 0.05)  # fmt: skip
@@ -321,16 +359,9 @@ class ThresholdModel:
             rows = np.repeat(rows, n, axis=0)
         else:
             rows, _ = prob.robot_rows(_levers(self.points, n, rng) if levers is None else levers)
-        params = prob.contact.assemble(
+        return prob.contact.assemble(
             rows, np.full(n, self.foam.stiffness), np.full(n, self.foam.damping), heads
         )
-        if np.all(params == params[0]):  # one design (a fixed head and point): one kernel call
-            m1 = np.repeat(self.criterion.values(params[:1], np.ones(1)), n)
-        else:
-            m1 = self.criterion.values(params, np.ones(n))
-        with np.errstate(divide="ignore", invalid="ignore"):
-            v = (self.criterion.limit / m1) ** (1.0 / self.criterion.velocity_exponent)
-        return np.where(np.isfinite(m1), v, 0.0)
 
 
 def _levers(points: Any, n: int, rng: np.random.Generator) -> NDArray[np.float64]:
@@ -408,12 +439,42 @@ def injury_probability(
     blocks = math.ceil(n / BLOCK)
     for b in range(blocks):
         size = min(BLOCK, n - b * BLOCK)
-        v_star = design.thresholds(population.sample(size, rng), rng)
-        unresolved += int(np.count_nonzero(v_star == 0.0))
-        estimator.add(tally, v_star, speeds, rng)
+        heads = population.sample(size, rng)
+        if method == "crude" and isinstance(crit, HeadAcceleration):
+            unresolved += _crude_block(design, heads, speeds, rng, tally)
+        else:
+            v_star = design.thresholds(heads, rng)
+            unresolved += int(np.count_nonzero(v_star == 0.0))
+            estimator.add(tally, v_star, speeds, rng)
         report(progress, Progress(step=b + 1, total=blocks, label="samples"))
     p, interval, se = estimator.finish(tally, level)
     return _summarise(p, interval, se, tally, method, level, crit, speeds, unresolved, seed)
+
+
+def _crude_block(design: ThresholdModel, heads: NDArray, speeds: ClosingSpeeds,
+                 rng: np.random.Generator, tally: _Tally) -> int:  # fmt: skip
+    """A crude block against a head-acceleration limit: each sample's pass/fail
+    (:func:`designlab.impact.passfail.head_acceleration_exceeds`, the full kernel's
+    decisions without its maxima; docs/impact.md, "Pass/fail"), the same draws as
+    :meth:`ThresholdModel.thresholds` and :class:`CrudeEstimator` make. One design (a fixed
+    head and point) keeps its one kernel call. Returns the unresolved samples."""
+    from designlab.impact.passfail import head_acceleration_exceeds
+
+    params = design.rows(heads, rng)
+    if params.shape[1] != 8 or np.all(params == params[0]):
+        v_star = design.threshold_speeds(params)
+        ESTIMATORS["crude"].add(tally, v_star, speeds, rng)
+        return int(np.count_nonzero(v_star == 0.0))
+    v = speeds.sample(heads.shape[0], rng)
+    fast = v <= IMPACT_VELOCITY.le  # the model's range of v_c; beyond it, v* as before
+    d = head_acceleration_exceeds(params[fast], v[fast], design.criterion.max_g)  # type: ignore[attr-defined]
+    v_star = design.threshold_speeds(params[~fast]) if not fast.all() else np.zeros(0)
+    hits = int(np.count_nonzero(d.exceeds)) + int(np.count_nonzero(v[~fast] > v_star))
+    tally.n += heads.shape[0]
+    tally.total += hits
+    tally.squares += hits
+    tally.positive += hits
+    return int(np.count_nonzero(d.unresolved)) + int(np.count_nonzero(v_star == 0.0))
 
 
 def _subset(design: ThresholdModel, speeds: ClosingSpeeds, population: HeadPopulation, n: int,

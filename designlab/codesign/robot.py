@@ -94,8 +94,9 @@ class RobotDescription:
             )
         if self.contact.mass > self.mass:
             raise InvalidParameterError(
-                "RobotDescription.contact", self.contact.mass,
-                f"effective mass must be <= the robot's mass {self.mass:g} kg", "kg",
+                "RobotDescription.contact", self.contact,
+                f"has an effective mass {self.contact.mass:g} kg: it must be <= the robot's "
+                f"mass {self.mass:g} kg",
             )  # fmt: skip
         if self.contact_low > self.contact_high:
             raise InvalidParameterError(

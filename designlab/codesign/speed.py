@@ -39,9 +39,11 @@ import dataclasses
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import pandas as pd
+from numpy.typing import NDArray
 from scipy.optimize import brentq
 
 from designlab.codesign.braking import max_robot_speed, stopping_distance
@@ -64,7 +66,9 @@ from designlab.impact import (
     LinkImpact,
 )
 from designlab.impact.conditioning import check_conditioning, time_scale_ratio
-from designlab.impact.contact import contact_of
+from designlab.impact.contact import CONTACTS, ContactModel, contact_of
+from designlab.impact.criteria import CompressionLimit
+from designlab.impact.general import CRUSHED
 from designlab.impact.parameters import HUMAN_SPEED, TIME_SCALE_RATIO
 from designlab.impact.problem import FoamProblem, make_problem
 from designlab.params import params_of
@@ -210,8 +214,12 @@ class Braking:
         )
 
 
-def check_robot_foam(robot: object, foam: object) -> None:
-    """The robot (fixed, full joint or a link) and the foam of a co-design answer.
+def check_robot_foam(robot: object, foam: object, *, scaling: bool = False) -> ContactModel:
+    """The contact model of the robot (fixed, full joint or a link) and the foam of a co-design
+    answer; a pair whose speed limit is not served is refused by the model's capabilities.
+
+    A linear contact's metrics scale as a power of v_c (its speed limits are closed form); an
+    integrated (non-linear) one's are found on the general path, for a fixed robot.
 
     Parameters
     ----------
@@ -219,16 +227,31 @@ def check_robot_foam(robot: object, foam: object) -> None:
         The object given as the robot.
     foam
         The object given as the foam.
+    scaling
+        The caller scales the metrics with v_c (a linear contact's closed form) and has no
+        integrated path: a non-linear contact is refused.
+
+    Returns
+    -------
+    ContactModel
     """
     if foam is None:  # contact_of reads None as "the linear foam, not known yet"
         raise InvalidParameterError("foam", foam, "must be a foam (e.g. dl.impact.FOAM_1)")
     contact = contact_of(robot, foam)
-    if not contact.linear:
+    if not contact.linear and scaling:
         raise InvalidParameterError(
-            "foam", foam, f"the co-design's speed limits scale the metrics with v_c, which only a "
-            f"linear contact allows; the {contact.label} contact is served by the impact "
+            "foam", type(foam).__name__, f"this answer scales the metrics with v_c, which only "
+            f"a linear contact {list(CONTACTS.choices(linear=True))} allows; the "
+            f"{contact.name} contact ({contact.label}) is served by speed_limit, the impact "
             "package's envelope and simulate",
         )  # fmt: skip
+    if not contact.linear and robot.along_link:  # type: ignore[attr-defined]
+        raise InvalidParameterError(
+            "robot", type(robot).__name__, f"a robot struck along its link is served with a "
+            f"linear contact {list(CONTACTS.choices(linear=True))}; the {contact.name} contact "
+            f"({contact.label}) serves a fixed robot (ContactDynamics)",
+        )  # fmt: skip
+    return contact
 
 
 def problem_for(
@@ -238,6 +261,7 @@ def problem_for(
     head_range: HeadRange | None,
     human_speed: float,
     head_levels: int,
+    foam: object | None = None,
 ) -> FoamProblem:
     """The impact package's worst-case problem at v_c = 1 m/s (a link: at its joint speed).
 
@@ -249,6 +273,8 @@ def problem_for(
         lambda, m.
     head_levels
         Values per head-neck parameter of the worst-head grid.
+    foam
+        A non-linear foam (its law's other parameters kept), or ``None``: the linear foam.
 
     Returns
     -------
@@ -257,7 +283,9 @@ def problem_for(
     if head_range is None:
         head_range = THESIS_HEAD_RANGE
     v = None if robot.along_link else 1.0
-    prob = make_problem(robot, v, criteria, max_compression, head_range, False, human_speed, 0.05)
+    prob = make_problem(
+        robot, v, criteria, max_compression, head_range, False, human_speed, 0.05, foam
+    )
     prob.head_levels = HEAD_LEVELS.check(head_levels)
     return prob
 
@@ -341,19 +369,133 @@ def _worst_head(prob: FoamProblem, key: Criterion, foam: Foam, lever: float) -> 
     return HeadNeck(**prob.contact.head_values(params[j]))
 
 
+def allowed_closing_speeds(
+    prob: FoamProblem, k: NDArray[np.float64], c: NDArray[np.float64],
+    depth: NDArray[np.float64], refine: bool,
+) -> list[tuple[Criterion, NDArray[np.float64], list[HeadNeck], NDArray[np.float64]]]:  # fmt: skip
+    """Per constraint of a fixed robot, for foams ``(k[i], c[i])`` in one lock-step search:
+    the worst metric at v_c = 1 m/s, its head, and the closing speed allowed.
+
+    Every metric scales as ``v_c ** e``, so the closing speed allowed is
+    ``(limit / metric(1 m/s)) ** (1/e)`` (infinite where the metric is 0 or NaN); the
+    compression limit is each foam's own linear depth ``depth[i]``.
+
+    Parameters
+    ----------
+    prob
+        The worst-case problem (:func:`problem_for`).
+    k, c, depth
+        Foam stiffnesses, dampings and linear depths, paired.
+    refine
+        Polish the worst heads off the grid (:func:`~designlab.codesign.worst_head.worst_heads`).
+
+    Returns
+    -------
+    list
+        ``(criterion, metric, heads, v_c allowed)`` per constraint.
+    """
+    out = []
+    for key in prob.keys():
+        vals, heads = worst_heads(prob, key, k, c, refine)
+        vals = np.asarray(vals, dtype=float)
+        limit = depth if isinstance(key, CompressionLimit) else key.limit
+        pos = vals > 0
+        v = np.full(vals.shape, math.inf)
+        v[pos] = (np.broadcast_to(limit, vals.shape)[pos] / vals[pos]) ** (
+            1.0 / key.velocity_exponent
+        )
+        out.append((key, vals, heads, v))
+    return out
+
+
+def setup(
+    robot: ContactDynamics | FullJointContact | LinkImpact, criteria: Sequence[Criterion] | None,
+    depth: float, head_range: HeadRange | None, human_speed: float, reaction_time: float,
+    deceleration: float, detection_distance: float, head_levels: int, foam: object | None = None,
+) -> tuple[FoamProblem, float, Braking]:  # fmt: skip
+    """The checked walker speed, braking and worst-case problem of a speed limit.
+
+    Parameters
+    ----------
+    robot, criteria, head_range, human_speed, reaction_time, deceleration
+        As in :func:`speed_limit`.
+    detection_distance, head_levels
+        As in :func:`speed_limit`.
+    depth
+        The foam's linear depth lambda, m (a non-linear law's: the depth it is valid to).
+    foam
+        A non-linear foam (its law kept, :func:`problem_for`), or ``None``: the linear foam.
+
+    Returns
+    -------
+    tuple
+        ``(problem, human_speed, braking)``.
+    """
+    v_h = HUMAN_SPEED.check(human_speed)
+    brake = Braking.check(reaction_time, deceleration, detection_distance)
+    return problem_for(robot, criteria, depth, head_range, v_h, head_levels, foam), v_h, brake
+
+
 def _fixed_limits(
     prob: FoamProblem, foam: Foam, refine: bool
 ) -> dict[str, tuple[float, float, HeadNeck]]:
     """Per constraint of a fixed robot: (v_c allowed, metric at 1 m/s, worst head)."""
     k, c = np.array([foam.stiffness]), np.array([foam.damping])
     out = {}
-    for key in prob.keys():
-        vals, heads = worst_heads(prob, key, k, c, refine)
-        m1, head = float(vals[0]), heads[0]
-        if math.isnan(m1):
+    for key, vals, heads, v in allowed_closing_speeds(
+        prob, k, c, np.array([foam.linear_depth]), refine
+    ):
+        if math.isnan(vals[0]):
             _refuse_open_lobe(prob, foam, key)
-        v = math.inf if m1 <= 0 else (key.limit / m1) ** (1.0 / key.velocity_exponent)
-        out[key.name] = (v, m1, head)
+        out[key.name] = (float(v[0]), float(vals[0]), heads[0])
+    return out
+
+
+def integrated_limits(prob: FoamProblem, foam: object) -> dict[str, tuple[float, float, HeadNeck]]:
+    """Per constraint of a fixed robot with an integrated (non-linear) contact: (v_c allowed,
+    metric at 1 m/s, worst head at that v_c).
+
+    The metrics of a non-linear law do not scale with v_c, so the allowed v_c is the root
+    (Brent, to 1e-6 relative) of ``log(worst metric / limit)`` over ``(0, 20]`` m/s, the
+    worst taken over the head grid at each v_c (no off-grid polish); the metric is taken to
+    rise with v_c, as an impact's a_h, force and compression do.
+
+    Parameters
+    ----------
+    prob
+        The problem (:func:`problem_for` with the foam).
+    foam
+        The non-linear foam.
+
+    Returns
+    -------
+    dict
+    """
+    k, c = np.array([foam.stiffness]), np.array([foam.damping])  # type: ignore[attr-defined]
+    out = {}
+    for key in prob.keys():
+        params, _, _ = prob.designs(key, k, c)
+
+        def worst(v: float, key: Criterion = key, params: NDArray = params) -> tuple[float, int]:
+            vals = prob.contact.values(key, params, np.full(len(params), v))
+            if np.any(np.isnan(vals)):
+                _refuse_open_lobe(prob, foam, key)  # type: ignore[arg-type]
+            j = int(np.argmax(vals))
+            return float(vals[j]), j
+
+        def excess(v: float, key: Criterion = key, worst: Any = worst) -> float:
+            return float(np.clip(np.log(max(worst(v)[0], 1e-300) / key.limit), -50.0, 50.0))
+
+        m1 = worst(1.0)[0]
+        lo, top = 1e-3, _MAX_CLOSING_SPEED
+        if excess(lo) > 0:
+            v = 0.0
+        elif excess(top) <= 0:
+            v = math.inf
+        else:
+            v = float(brentq(excess, lo, top, xtol=1e-9, rtol=1e-6))
+        j = worst(v if math.isfinite(v) and v > 0 else 1.0)[1]
+        out[key.name] = (v, m1, HeadNeck(**prob.contact.head_values(params[j])))
     return out
 
 
@@ -460,7 +602,12 @@ def speed_limit(
         :class:`~designlab.impact.FullJointContact`), or a
         :class:`~designlab.impact.LinkImpact` struck anywhere along its link.
     foam
-        The foam covering; its linear depth is the thickness limit.
+        The foam covering; its linear depth is the thickness limit. A non-linear foam
+        (:class:`~designlab.impact.HuntCrossleyFoam`,
+        :class:`~designlab.impact.StressStrainFoam`) takes the general response path: the
+        depth its law holds to (less :data:`~designlab.impact.general.CRUSHED`: a crushed
+        foam exceeds it) is the limit, each criterion's v_c a root on the head grid
+        (:func:`integrated_limits`; a fixed robot only).
     criteria
         Safety criteria (default: a_h,max <= 10 g); the foam's thickness limit is always
         added. For ISO/TS 15066 transient contact with the head, state the factor:
@@ -497,12 +644,18 @@ def speed_limit(
     >>> s.limiting_criterion, round(s.max_speed, 3)
     ('eps_max <= 20 mm', 1.807)
     """
-    check_robot_foam(robot, foam)
-    human_speed = HUMAN_SPEED.check(human_speed)
-    brake = Braking.check(reaction_time, deceleration, detection_distance)
-    prob = problem_for(robot, criteria, foam.linear_depth, head_range, human_speed, head_levels)
+    contact = check_robot_foam(robot, foam)
+    # a non-linear law (the general path) is held to the depth it is valid to; a crushed
+    # foam exceeds it
+    depth = foam.linear_depth if contact.linear else contact.valid_depth(foam) * (1 - CRUSHED)
+    prob, _, brake = setup(
+        robot, criteria, depth, head_range, human_speed, reaction_time,
+        deceleration, detection_distance, head_levels, None if contact.linear else foam,
+    )  # fmt: skip
     if not isinstance(refine, (bool, np.bool_)):
         raise InvalidParameterError("refine", refine, "must be True or False")
+    if not contact.linear:  # no scaling with v_c: a root per criterion
+        return _summarise_fixed(prob, foam, brake, integrated_limits(prob, foam))
     _check_served(prob, foam)
     if robot.along_link:
         return _summarise_link(prob, foam, brake, _link_limits(prob, foam, bool(refine)))

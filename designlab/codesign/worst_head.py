@@ -24,7 +24,8 @@ each: the speed limit of one foam (:func:`~designlab.codesign.speed_limit`, thro
 :func:`worst_heads`) and the map over many (:func:`~designlab.codesign.speed_limit_map`)
 both call it, so they agree exactly. For a link struck anywhere,
 :func:`refine_link_worst` searches the impact point and the head together at a joint
-speed (from the best head of the grid only).
+speed, with the same multi-start (:func:`multi_start`: the grid's worst case and the best
+local maxima of a lattice over the impact point and the head).
 
 Examples
 --------
@@ -57,6 +58,7 @@ __all__ = [
     "STEP_TOLERANCE",
     "compass_search",
     "grid_worst_heads",
+    "multi_start",
     "refine_heads",
     "refine_link_worst",
     "refine_worst_head",
@@ -334,13 +336,59 @@ def worst_heads(
     return refine_heads(prob, key, k, c, heads, vals)
 
 
+def multi_start(values: Callable[[Array], Array], x0: Array, f0: float) -> tuple[Array, float, int]:
+    """Maximise ``values`` over the unit d-box from ``x0`` and the best lattice local maxima.
+
+    The lattice of :data:`LATTICE_LEVELS` values per axis (corners, edges and faces of the
+    box included) is evaluated in one call; the pattern search (:func:`compass_search`)
+    climbs from ``x0`` and from each of the best :data:`STARTS` local maxima of the lattice,
+    in lock-step, and the best point is kept. The result is never below ``f0`` nor any
+    lattice value: a separate maximum whose basin holds a lattice point is found even when
+    a single start at ``x0`` would climb the wrong hill.
+
+    Parameters
+    ----------
+    values
+        ``values(z)``: ``z`` is ``(..., d)`` points of the unit box; returns ``z.shape[:-1]``
+        finite values.
+    x0, f0
+        The start ``(d,)`` and its value.
+
+    Returns
+    -------
+    tuple
+        ``(x, f, starts)``: the best point, its value and the number of starts climbed.
+
+    Examples
+    --------
+    >>> hill = lambda z: 1.0 - ((z - 0.2) ** 2).sum(axis=-1)        # a hill at the start
+    >>> peak = lambda z: 3.0 - 10.0 * np.sqrt(((z - 0.7) ** 2).sum(axis=-1))
+    >>> f = lambda z: np.maximum(hill(z), peak(z))
+    >>> x, fx, n = multi_start(f, np.full(2, 0.2), 1.0)
+    >>> np.round(x, 6).tolist(), round(fx, 6)
+    ([0.7, 0.7], 3.0)
+    """
+    x0 = np.asarray(x0, dtype=float)
+    d = x0.size
+    lattice = _lattice(d)
+    on = np.asarray(values(lattice), dtype=float)[None]
+    _, point = _lattice_starts(on, d)
+    start = np.vstack([x0[None], lattice[point]])
+    f_start = np.concatenate([[float(f0)], on[0, point]])
+    x, f = compass_search(lambda _, z: values(z), start, f_start)
+    j = int(np.argmax(f))
+    return x[j], float(f[j]), len(start)
+
+
 def refine_link_worst(
     prob: FoamProblem, key: Criterion, foam: Foam, lever: float, metric: float
 ) -> tuple[float, float, HeadNeck | None]:
     """The worst metric of a link at its joint speed over the impact point and the head.
 
-    Starts at the worst lever arm of the grid search with each head of the grid and
-    polishes the best start over ``(lever arm, M_h, C_h, K_h)`` with the bounded search.
+    A multi-start search over ``(lever arm, M_h, C_h, K_h)`` (:func:`multi_start`): from
+    the grid's worst lever arm with the grid's worst head, and from the best local maxima
+    of a :data:`LATTICE_LEVELS` ** 4 lattice of the box, so a worst case in another basin
+    than the grid's (a head inside the range at another impact point) is found.
 
     Parameters
     ----------
@@ -367,24 +415,23 @@ def refine_link_worst(
     lo = np.concatenate([[lr.lever_arm_min], lo_h])
     span = np.concatenate([[lr.lever_arm_max], hi_h]) - lo
 
-    def values(_: NDArray[np.int_], u: Array) -> Array:
-        m, t, _d = u.shape
-        z = lo + u.reshape(m * t, 4) * span
+    def values(u: Array) -> Array:
+        z = lo + u.reshape(-1, 4) * span
         rows, v = prob.robot_rows(z[:, 0])
         n = len(z)
         p = prob.contact.assemble(
             rows, np.full(n, foam.stiffness), np.full(n, foam.damping), z[:, 1:]
         )
         out = prob.contact.values(key, p, v)
-        return np.where(np.isfinite(out), out, 0.0).reshape(m, t)
+        return np.where(np.isfinite(out), out, 0.0).reshape(u.shape[:-1])
 
     heads = prob.heads_for(key)
     unit = np.where(span > 0, 1.0 / np.where(span > 0, span, 1.0), 0.0)
     starts = (np.column_stack([np.full(len(heads), lever), heads]) - lo) * unit
-    f_starts = values(np.zeros(1, dtype=int), starts[None])[0]
+    f_starts = values(starts)
     j = int(np.argmax(f_starts))
-    x, f = compass_search(values, starts[j : j + 1], f_starts[j : j + 1])
-    if not f[0] > metric:
+    x, f, _ = multi_start(values, starts[j], float(f_starts[j]))
+    if not f > metric:
         return metric, lever, None
-    z = lo + x[0] * span
-    return float(f[0]), float(z[0]), _head(z[1:])
+    z = lo + x * span
+    return f, float(z[0]), _head(z[1:])

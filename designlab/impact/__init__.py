@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 from designlab._lazy import attach as _attach
 
 if TYPE_CHECKING:  # the public names, imported on first use (designlab._lazy)
-    from designlab.impact.contact import CONTACTS, HuntCrossleyFoam, contact_of
+    from designlab.impact.contact import CONTACTS, HuntCrossleyFoam, StressStrainFoam, contact_of
     from designlab.impact.criteria import (
         ISO_TS_15066_QUASI_STATIC_FORCE,
         ISO_TS_15066_TRANSIENT_FACTOR,
@@ -142,6 +142,7 @@ __all__ = [
     "OptimalFoam",
     "SafeVelocity",
     "SeriesJoint",
+    "StressStrainFoam",
     "VelocityProfile",
     "WorstCaseCheck",
     "band_fit_sweep",

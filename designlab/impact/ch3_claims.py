@@ -36,7 +36,7 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 import pandas as pd
@@ -143,18 +143,27 @@ def _check_types(robot: Any, foam: Any, head: Any) -> None:
 # --- Sec. 3.8: acceleration profiles -------------------------------------------------------
 
 
-def _first_status(*responses: ImpactResponse) -> str:
-    """``"ok"``, or the first status of ``responses`` that is not."""
-    return next((str(r.status) for r in responses if r.status != OK), OK)
+class _TwoImpacts(Result):
+    """A result made of two impacts (the fields named in ``_impacts``): their status and
+    warnings are its own."""
 
+    _impacts: ClassVar[tuple[str, str]]
 
-def _all_warnings(*responses: ImpactResponse) -> tuple[str, ...]:
-    """The warnings of ``responses``, each once, in order."""
-    return tuple(dict.fromkeys(w for r in responses for w in r.warnings))
+    @property
+    def status(self) -> str:  # type: ignore[override]
+        """``"ok"``, or the first status of the two impacts that is not."""
+        responses = [getattr(self, name) for name in self._impacts]
+        return next((str(r.status) for r in responses if r.status != OK), OK)
+
+    @property
+    def warnings(self) -> tuple[str, ...]:  # type: ignore[override]
+        """The two impacts' warnings, each once, in order."""
+        responses = [getattr(self, name) for name in self._impacts]
+        return tuple(dict.fromkeys(w for r in responses for w in r.warnings))
 
 
 @dataclass(frozen=True)
-class ProfileChange(Result):
+class ProfileChange(_TwoImpacts):
     """Change of the impact metrics when the manipulator accelerates (Sec. 3.8).
 
     Attributes
@@ -177,16 +186,7 @@ class ProfileChange(Result):
     feedforward: bool
     force_first_peak: tuple[float, float]
     force_first_peak_time: tuple[float, float]
-
-    @property
-    def status(self) -> str:
-        """``"ok"``, or the first status of the two impacts that is not."""
-        return _first_status(self.base, self.profiled)
-
-    @property
-    def warnings(self) -> tuple[str, ...]:  # type: ignore[override]
-        """The two impacts' warnings."""
-        return _all_warnings(self.base, self.profiled)
+    _impacts: ClassVar[tuple[str, str]] = ("base", "profiled")
 
     @property
     def a_h_max_pct(self) -> float:
@@ -411,10 +411,7 @@ def worst_impact_point(
     >>> round(w.lever_arm, 3), round(w.change_at_zero_pct, 2)
     (0.008, -0.19)
     """
-    m, k, c, ratio, v_h, lo, hi, l_ref, n = _worst_point_inputs(
-        inertia, joint_stiffness, joint_damping, speed_ratio, foam, head, head_speed,
-        lever_range, reference_lever_arm, samples,
-    )  # fmt: skip
+    m, k, c, ratio, v_h, lo, hi, l_ref, n = _worst_point_inputs(dict(locals()))
 
     def a_h(levers: NDArray[np.float64]) -> NDArray[np.float64]:
         sweep = impact_point_sweep(m, k, c, ratio * v_h, levers)
@@ -442,33 +439,26 @@ def worst_impact_point(
 
 
 def _worst_point_inputs(
-    inertia: float,
-    joint_stiffness: float,
-    joint_damping: float,
-    speed_ratio: float,
-    foam: Foam,
-    head: HeadNeck,
-    head_speed: float,
-    lever_range: tuple[float, float],
-    reference_lever_arm: float,
-    samples: int,
+    args: dict[str, Any],
 ) -> tuple[float, float, float, float, float, float, float, float, int]:
-    """The checked arguments of :func:`worst_impact_point`, each against its declaration."""
-    if not isinstance(foam, Foam):
-        raise InvalidParameterError("foam", foam, "must be a Foam")
-    if not isinstance(head, HeadNeck):
-        raise InvalidParameterError("head", head, "must be a HeadNeck (the head moves)")
-    lo, hi = check_pair(_LINK["lever_arm_min"], lever_range, "lever_range")
+    """The checked arguments of :func:`worst_impact_point` (``args``: its arguments by name),
+    each against its declaration."""
+    if not isinstance(args["foam"], Foam):
+        raise InvalidParameterError("foam", args["foam"], "must be a Foam")
+    if not isinstance(args["head"], HeadNeck):
+        raise InvalidParameterError("head", args["head"], "must be a HeadNeck (the head moves)")
+    lo, hi = check_pair(_LINK["lever_arm_min"], args["lever_range"], "lever_range")
+    m, k, c = (_LINK[n].check(args[n], n) for n in ("inertia", "joint_stiffness", "joint_damping"))
     return (
-        _LINK["inertia"].check(inertia, "inertia"),
-        _LINK["joint_stiffness"].check(joint_stiffness, "joint_stiffness"),
-        _LINK["joint_damping"].check(joint_damping, "joint_damping"),
-        SPEED_RATIO.check(speed_ratio),
-        HEAD_SPEED.check(head_speed),
+        m,
+        k,
+        c,
+        SPEED_RATIO.check(args["speed_ratio"]),
+        HEAD_SPEED.check(args["head_speed"]),
         lo,
         hi,
-        REFERENCE_LEVER_ARM.check(reference_lever_arm),
-        LEVER_SAMPLES.check(samples),
+        REFERENCE_LEVER_ARM.check(args["reference_lever_arm"]),
+        LEVER_SAMPLES.check(args["samples"]),
     )
 
 
@@ -497,7 +487,7 @@ def _polish_worst(
 
 
 @dataclass(frozen=True)
-class Q2Effect(Result):
+class Q2Effect(_TwoImpacts):
     """The impact with the correct and with the printed q2 of (3.5.14) (docs/impact.md, "q2").
 
     Attributes
@@ -508,16 +498,7 @@ class Q2Effect(Result):
 
     correct: ImpactResponse = field(repr=False)
     printed: ImpactResponse = field(repr=False)
-
-    @property
-    def status(self) -> str:
-        """``"ok"``, or the first status of the two impacts that is not."""
-        return _first_status(self.correct, self.printed)
-
-    @property
-    def warnings(self) -> tuple[str, ...]:  # type: ignore[override]
-        """The two impacts' warnings."""
-        return _all_warnings(self.correct, self.printed)
+    _impacts: ClassVar[tuple[str, str]] = ("correct", "printed")
 
     def to_frame(self) -> pd.DataFrame:
         """One row per metric: correct and printed values and the change in %."""

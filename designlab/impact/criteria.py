@@ -108,7 +108,9 @@ class Criterion:
     """Base class: a limit on one first-lobe metric of the impact.
 
     Subclasses set ``metric`` (``"head_acceleration"``, ``"force"`` or ``"hic"``),
-    ``limit`` (SI) and ``conservative_head``.
+    ``limit`` (SI) and ``conservative_head``, the head-neck set that maximises the metric
+    (Sec. 3.9): the minimum set (Sec. 3.6) for a_h and HIC, the maximum for the force and
+    the compression (Sec. 3.6, 3.9.2).
     """
 
     metric: ClassVar[str] = ""
@@ -118,15 +120,12 @@ class Criterion:
     #: ``"upper"``: the criterion bounds the foam stiffness from above (safety);
     #: ``"lower"``: from below (the thickness constraint)
     boundary: ClassVar[str] = "upper"
+    #: the head-neck set that maximises this metric (Sec. 3.9)
+    conservative_head: ClassVar[HeadNeck]
 
     @property
     def limit(self) -> float:  # pragma: no cover - overridden
         """The limit in SI units."""
-        raise NotImplementedError
-
-    @property
-    def conservative_head(self) -> HeadNeck:  # pragma: no cover - overridden
-        """Head-neck set that maximises this metric (Sec. 3.9)."""
         raise NotImplementedError
 
     @property
@@ -193,16 +192,12 @@ class HeadAcceleration(Criterion):
     )  # fmt: skip
     metric: ClassVar[str] = "head_acceleration"
     unit: ClassVar[str] = "g"
+    conservative_head: ClassVar[HeadNeck] = HEAD_MIN
 
     @property
     def limit(self) -> float:
         """Limit in m/s^2."""
         return self.max_g * STANDARD_GRAVITY
-
-    @property
-    def conservative_head(self) -> HeadNeck:
-        """The minimum head-neck set (Sec. 3.6)."""
-        return HEAD_MIN
 
     @property
     def name(self) -> str:
@@ -218,17 +213,13 @@ class ForceCriterion(Criterion):
 
     metric: ClassVar[str] = "force"
     unit: ClassVar[str] = "N"
+    conservative_head: ClassVar[HeadNeck] = HEAD_MAX
     max_force: float
 
     @property
     def limit(self) -> float:
         """Limit in N."""
         return self.max_force
-
-    @property
-    def conservative_head(self) -> HeadNeck:
-        """The maximum head-neck set (Sec. 3.6)."""
-        return HEAD_MAX
 
     @property
     def name(self) -> str:
@@ -381,17 +372,13 @@ class CompressionLimit(Criterion):
     max_compression: float = as_field(MAX_COMPRESSION, default=0.02)
     metric: ClassVar[str] = "compression"
     unit: ClassVar[str] = "m"
+    conservative_head: ClassVar[HeadNeck] = HEAD_MAX
     boundary: ClassVar[str] = "lower"
 
     @property
     def limit(self) -> float:
         """Limit (lambda) in m."""
         return self.max_compression
-
-    @property
-    def conservative_head(self) -> HeadNeck:
-        """The maximum head-neck set (Sec. 3.9.2)."""
-        return HEAD_MAX
 
     @property
     def name(self) -> str:
@@ -421,16 +408,12 @@ class HeadInjuryCriterion(Criterion):
     metric: ClassVar[str] = "hic"
     velocity_exponent: ClassVar[float] = 2.5
     unit: ClassVar[str] = ""
+    conservative_head: ClassVar[HeadNeck] = HEAD_MIN
 
     @property
     def limit(self) -> float:
         """Limit (dimensionless HIC)."""
         return self.max_hic
-
-    @property
-    def conservative_head(self) -> HeadNeck:
-        """The minimum head-neck set, as for the head acceleration."""
-        return HEAD_MIN
 
     @property
     def name(self) -> str:

@@ -31,6 +31,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from functools import cache
+from typing import Any
 
 import casadi as ca
 import numpy as np
@@ -127,12 +128,21 @@ class MetricGradients(Result):
         The :class:`~designlab.impact.metrics.ImpactMetrics` they belong to.
     gradients
         Per metric name (``peak_head_acceleration``, ``max_compression``,
-        ``peak_force``, ``impact_duration``), an ``(N, 9)`` array of partial
-        derivatives in SI units.
+        ``peak_force``, ``impact_duration``), an ``(N, len(variables))`` array of
+        partial derivatives in SI units.
+    variables
+        The differentiation variables: the contact model's columns and v_c
+        (:data:`VARIABLE_NAMES` for the linear reduced model).
+    method
+        ``"exact"`` (automatic differentiation of the closed form) or
+        ``"finite_differences"`` (central differences of integrated metrics, a non-linear
+        contact's: :mod:`designlab.impact.contact.integrated`).
     """
 
     metrics: ImpactMetrics
     gradients: dict[str, NDArray[np.float64]]
+    variables: tuple[str, ...] = VARIABLE_NAMES
+    method: str = "exact"
 
     @property
     def status(self) -> str:  # type: ignore[override]
@@ -141,8 +151,14 @@ class MetricGradients(Result):
 
     @property
     def warnings(self) -> tuple[str, ...]:  # type: ignore[override]
-        """The warnings of the metrics the gradients belong to."""
-        return self.metrics.warnings
+        """The warnings of the metrics the gradients belong to (and how they were obtained)."""
+        if self.method == "exact":
+            return self.metrics.warnings
+        note = (
+            "gradients by central finite differences of the integrated metrics (relative "
+            "step 1e-5): about 1e-6 relative, not exact"
+        )
+        return (*self.metrics.warnings, note)
 
     def elasticities(self, metric: str) -> dict[str, NDArray[np.float64]]:
         """``d ln(metric) / d ln(x)`` for every variable ``x`` (NaN where the metric is 0)."""
@@ -151,14 +167,14 @@ class MetricGradients(Result):
         x = np.column_stack([self.metrics.params, self.metrics.impact_velocity])
         with np.errstate(divide="ignore", invalid="ignore"):
             e = g * x / values[:, None]
-        return {name: e[:, k] for k, name in enumerate(VARIABLE_NAMES)}
+        return {name: e[:, k] for k, name in enumerate(self.variables)}
 
     def to_frame(self) -> pd.DataFrame:
         """Long table: design, metric, variable, derivative and elasticity."""
         rows = []
         for metric, g in self.gradients.items():
             el = self.elasticities(metric)
-            for k, name in enumerate(VARIABLE_NAMES):
+            for k, name in enumerate(self.variables):
                 for i in range(g.shape[0]):
                     rows.append((i, metric, name, g[i, k], el[name][i]))
         return pd.DataFrame(
@@ -177,14 +193,20 @@ def metric_gradients(
     constrained: bool = False,
     metrics: ImpactMetrics | None = None,
 ) -> MetricGradients:
-    """Exact gradients of a_h,max, eps_max, peak force and impact period.
+    """Gradients of a_h,max, eps_max, peak force and impact period.
+
+    Exact (automatic differentiation) for a contact model with the ``gradients``
+    capability (the linear reduced model); central finite differences of the integrated
+    metrics for a non-linear one (``linear=False``: its columns given), stated in the
+    result's ``method`` and warnings; any other model is refused, naming it.
 
     Parameters
     ----------
     params
         The model parameters by name (a mapping or a DataFrame with the keys
-        :data:`~designlab.impact.model.PARAM_NAMES`), or an ``(N, 8)`` array
-        with ``columns``, as for :func:`~designlab.impact.metrics.impact_metrics`.
+        :data:`~designlab.impact.model.PARAM_NAMES`, or a non-linear contact model's
+        columns), or an array with ``columns``, as for
+        :func:`~designlab.impact.metrics.impact_metrics`.
     impact_velocity
         v_c, m/s.
     columns
@@ -198,6 +220,9 @@ def metric_gradients(
     -------
     MetricGradients
     """
+    contact = _contact_of(params, columns, metrics)
+    if contact is not None and not contact.gradients:
+        return _other_gradients(contact, params, impact_velocity, columns, constrained)
     if metrics is None:
         matrix = named_columns("params", params, PARAM_NAMES, columns=columns)
         metrics = metrics_of_matrix(matrix, impact_velocity, constrained=constrained)
@@ -250,3 +275,35 @@ def metric_gradients(
     for g in grads.values():
         g[none] = 0.0
     return MetricGradients(m, grads)
+
+
+def _contact_of(
+    params: object, columns: Sequence[str] | None, metrics: ImpactMetrics | None
+) -> Any:
+    """The contact model of the inputs (``None``: the linear reduced model's columns)."""
+    from designlab.impact.contact import CONTACTS, contact_for_columns
+
+    if metrics is not None:
+        return CONTACTS.get(metrics.contact) if metrics.contact else None
+    keys = columns if columns is not None else getattr(params, "keys", lambda: ())()
+    model = contact_for_columns(keys)
+    return None if model is None or set(model.columns) == set(PARAM_NAMES) else model
+
+
+def _other_gradients(
+    contact: Any, params: object, v: ArrayLike, columns: Sequence[str] | None, constrained: bool
+) -> MetricGradients:
+    """Finite differences of an integrated model's metrics; any other model refused."""
+    from designlab.errors import InvalidParameterError
+    from designlab.impact.contact import CONTACTS
+
+    if contact.linear:
+        exact = CONTACTS.choices(gradients=True)
+        integrated = CONTACTS.choices(linear=False)
+        raise InvalidParameterError(
+            "params", f"the {contact.name} contact's columns", f"have no gradients: exact "
+            f"gradients serve {list(exact)}, finite differences the integrated {list(integrated)}",
+        )  # fmt: skip
+    matrix = named_columns("params", params, contact.columns, columns=columns)
+    m, grads = contact.finite_difference_gradients(matrix, v, constrained=constrained)
+    return MetricGradients(m, grads, (*contact.columns, "v_c"), "finite_differences")

@@ -25,10 +25,8 @@ N m/rad and N m s/rad.
 Examples
 --------
 >>> import designlab as dl
->>> arm = dl.impact.FullJointContact.from_joint(0.059, 2e3, 2.0, 1.5e3, 30.0, lever_arm=0.2)
->>> cmp = dl.impact.compare_joint_reductions(arm, dl.impact.FOAM_1, dl.impact.HEAD_MIN, 1.25)
->>> round(100 * cmp.relative_error("taylor", "a_h_max"), 1)
-12.5
+>>> dl.impact.full_joint.FULL_PARAM_NAMES[-2:], dl.impact.full_joint.REDUCTIONS
+(('C_cont', 'K_cont'), ('taylor', 'band_fit'))
 """
 
 from __future__ import annotations

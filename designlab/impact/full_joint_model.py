@@ -40,7 +40,7 @@ import casadi as ca
 import numpy as np
 from numpy.typing import NDArray
 
-from designlab.impact.model import INPUT_NAMES, LinearImpactModel, derive_model
+from designlab.impact.model import INPUT_NAMES, OUTPUT_NAMES, LinearImpactModel, derive_model
 from designlab.impact.parameters import Foam, HeadNeck
 from designlab.impact.series_joint import FullJointContact
 
@@ -99,15 +99,7 @@ def _build(constrained: bool) -> LinearImpactModel:
     else:
         a_h = (f_c - c_h * d_h_dot - k_h * d_h) / m_h  # (3.5.3)
         xdot = ca.vertcat(d_r_dot, d_r_ddot, d_e_dot, d_h_dot, a_h)
-    output_names = (
-        "force",
-        "head_acceleration",
-        "compression",
-        "compression_rate",
-        "head_velocity",
-        "robot_deflection",
-        "transmission_force",
-    )
+    output_names = (*OUTPUT_NAMES, "transmission_force")  # the reduced model's, and f_t
     y = ca.vertcat(f_c, a_h, compression, compression_rate, d_h_dot, d_r, f_t)
     name = "full_joint_" + ("constrained" if constrained else "unconstrained")
     return derive_model(

@@ -43,6 +43,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from designlab.impact.metric_names import ImpactPoint
 from designlab.impact.parameters import STOP_TIME
 from designlab.params import Param
 from designlab.results import Status
@@ -52,7 +53,6 @@ __all__ = [
     "ForceLaw",
     "GeneralStatus",
     "Histories",
-    "Lobe",
     "first_lobe",
     "histories",
     "integrator_note",
@@ -111,31 +111,6 @@ def integrator_note(rtol: float) -> str:
         f"{_ATOL_SCALE:.0e} x rtol of the impact's length and speed, events located on the "
         "dense output): accurate to about the tolerance, not certified"
     )
-
-
-@dataclass(frozen=True)
-class Lobe:
-    """First-lobe metrics of one impact (SI), as the linear kernels report them.
-
-    Attributes
-    ----------
-    peak_head_acceleration, max_compression, peak_force, impact_duration
-        m/s^2, m, N, s (the constrained impact: a_h = 0, the window ``stop_time``).
-    time_of_peak_acceleration, time_of_max_compression, time_of_peak_force
-        s.
-    status
-        ``"ok"``, ``"peak_at_contact"`` (a_h peaks at t = 0+), ``"lobe_not_closed"``
-        or ``"no_impact"`` (v_c <= 0).
-    """
-
-    peak_head_acceleration: float
-    max_compression: float
-    peak_force: float
-    impact_duration: float
-    time_of_peak_acceleration: float
-    time_of_max_compression: float
-    time_of_peak_force: float
-    status: str
 
 
 class _Impact:
@@ -221,7 +196,7 @@ def first_lobe(
     stop_time: float = STOP_TIME.default,
     rtol: float = GENERAL_RTOL.default,
     crush_depth: float | None = None,
-) -> Lobe:
+) -> ImpactPoint:
     """First-lobe metrics of one impact with a (non-linear) contact force law, integrated.
 
     Parameters
@@ -246,11 +221,11 @@ def first_lobe(
 
     Returns
     -------
-    Lobe
+    ImpactPoint
     """
     v = float(impact_velocity)
     if v <= 0.0:
-        return Lobe(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, "no_impact")
+        return ImpactPoint(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, "no_impact")
     imp = _Impact(force, robot, head, v)
     constrained = head is None
     horizon = stop_time if constrained else _HORIZON * _time_scale(force, robot, head, v)
@@ -259,7 +234,7 @@ def first_lobe(
         return _open_lobe()
     if crush_depth is not None and sol.t_events[-1].size:
         t_c, inf = float(sol.t_events[-1][0]), float("inf")
-        return Lobe(inf, crush_depth, inf, float("nan"), t_c, t_c, t_c, "bottoming")
+        return ImpactPoint(inf, crush_depth, inf, float("nan"), t_c, t_c, t_c, "bottoming")
     if constrained:
         t_end = float(stop_time)
         times = {"compression": sol.t_events[0], "force": sol.t_events[1]}
@@ -343,12 +318,14 @@ def histories(
     return Histories(imp, sol.sol, float(sol.t[-1]))
 
 
-def _open_lobe() -> Lobe:
+def _open_lobe() -> ImpactPoint:
     nan = float("nan")
-    return Lobe(nan, nan, nan, nan, nan, nan, nan, "lobe_not_closed")
+    return ImpactPoint(nan, nan, nan, nan, nan, nan, nan, "lobe_not_closed")
 
 
-def _maxima(imp: _Impact, dense: Callable, times: dict, t_end: float, constrained: bool) -> Lobe:
+def _maxima(
+    imp: _Impact, dense: Callable, times: dict, t_end: float, constrained: bool
+) -> ImpactPoint:
     """The largest value of each output over ``[0+, t_end]``: its falling-rate zeros and ends."""
     out: dict[str, tuple[float, float]] = {"head_acceleration": (0.0, 0.0)}
     for key, ts in times.items():
@@ -361,4 +338,4 @@ def _maxima(imp: _Impact, dense: Callable, times: dict, t_end: float, constraine
     if not constrained and out["head_acceleration"][0] == 0.0:
         status = "peak_at_contact"
     (ta, a), (tx, x), (tf, f) = (out[k] for k in ("head_acceleration", "compression", "force"))
-    return Lobe(a, x, f, t_end, ta, tx, tf, status)
+    return ImpactPoint(a, x, f, t_end, ta, tx, tf, status)

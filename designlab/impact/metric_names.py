@@ -19,6 +19,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from types import MappingProxyType
+from typing import NamedTuple
+
+from designlab.units import STANDARD_GRAVITY
 
 __all__ = [
     "ENVELOPE_COLUMNS",
@@ -26,6 +29,7 @@ __all__ = [
     "METRICS",
     "PARAMETERS",
     "ColumnInfo",
+    "ImpactPoint",
     "label",
 ]
 
@@ -121,3 +125,40 @@ def label(column: str) -> str:
     """
     info = PARAMETERS.get(column) or METRICS.get(column) or ENVELOPE_COLUMNS.get(column)
     return info.label if info is not None else column
+
+
+class ImpactPoint(NamedTuple):
+    """First-lobe metrics of one design (SI units; the fields of
+    :class:`~designlab.impact.metrics.ImpactMetrics` as floats): what the one-design fast
+    path (:mod:`designlab.impact.single`) and the general path
+    (:mod:`designlab.impact.general`) return.
+
+    Attributes
+    ----------
+    peak_head_acceleration, max_compression, peak_force, impact_duration
+        m/s^2, m, N, s (the constrained impact: a_h = 0, the window ``stop_time``).
+    time_of_peak_acceleration, time_of_max_compression, time_of_peak_force
+        s.
+    status
+        The design's status (:class:`~designlab.impact.metrics.ImpactStatus` value; the
+        general path's also ``"bottoming"``).
+
+    Examples
+    --------
+    >>> ImpactPoint(9.80665, 0.01, 100.0, 0.05, 0.01, 0.02, 0.02, "ok").peak_head_acceleration_g
+    1.0
+    """
+
+    peak_head_acceleration: float
+    max_compression: float
+    peak_force: float
+    impact_duration: float
+    time_of_peak_acceleration: float
+    time_of_max_compression: float
+    time_of_peak_force: float
+    status: str
+
+    @property
+    def peak_head_acceleration_g(self) -> float:
+        """a_h,max in g (standard gravity)."""
+        return self.peak_head_acceleration / STANDARD_GRAVITY

@@ -79,6 +79,7 @@ __all__ = [
     "ImpactMetrics",
     "ImpactStatus",
     "hic_batch",
+    "hic_of_velocity",
     "impact_metrics",
     "matrix_metrics",
     "metrics_from_responses",
@@ -340,6 +341,10 @@ class ImpactMetrics(Result):
     lobe_tail
         Fraction of the impact period during which a_h has already fallen below
         5 % of its peak (sampled on the search grid). See :attr:`delicate_lobe`.
+    contact
+        The registry name of the contact model whose general response path computed the
+        batch (:mod:`designlab.impact.contact.integrated`; its rows are that model's
+        columns); ``""`` for a linear kernel's batch.
     """
 
     params: NDArray[np.float64]
@@ -356,6 +361,7 @@ class ImpactMetrics(Result):
     lobe_tail: NDArray[np.float64] | None = None
     status: str = OK
     warnings: tuple[str, ...] = ()
+    contact: str = ""
 
     #: a lobe that lingers below LOW_FRACTION of its peak for more than this
     #: fraction of the impact period is "delicate"
@@ -1607,6 +1613,10 @@ def hic_batch(
         raise InvalidParameterError("metrics", metrics, "must be an ImpactMetrics")
     window = HIC_WINDOW.check(window)
     samples = HIC_SAMPLES.check(samples)
+    if metrics.contact:  # a general-path batch: its model integrates the head velocity
+        from designlab.impact.contact import CONTACTS  # its models call this module
+
+        return CONTACTS.get(metrics.contact).hic(metrics, window, samples)
     n = len(metrics)
     out = np.zeros(n)
     t_imp = metrics.impact_duration
@@ -1616,17 +1626,49 @@ def hic_batch(
     resp = ramp_responses(
         response_model(metrics.params, False), metrics.params[idx], ("head_velocity",)
     )
-    vel = resp["head_velocity"]
-    scale = metrics.impact_velocity[idx]
-    t_end = t_imp[idx]
+    out[idx] = hic_of_velocity(
+        resp["head_velocity"], metrics.impact_velocity[idx], t_imp[idx], window, samples
+    )
+    return out
+
+
+def hic_of_velocity(
+    vel: Any, scale: NDArray, t_end: NDArray, window: float, samples: int
+) -> NDArray[np.float64]:
+    """HIC of designs from their head velocity over ``[0, t_end]`` (:func:`hic_batch`'s search).
+
+    The mean acceleration over ``[t1, t2]`` is ``(v(t2) - v(t1)) / (t2 - t1)``; the
+    windows with ``t2 - t1 <= window`` are searched on ``samples`` points of each
+    ``[0, t_end]``, and the best one is refined by zooming grids around it.
+
+    Parameters
+    ----------
+    vel
+        The head velocity: ``vel.evaluate(t)`` gives, for ``(n, k)`` times, the ``(n, k)``
+        velocities (in m/s once multiplied by ``scale``): a linear model's exact response,
+        or an integrated one's dense output.
+    scale
+        ``(n,)`` factors of the velocities (v_c for a unit-speed linear response).
+    t_end
+        ``(n,)`` ends of the first lobes, s (finite and positive).
+    window, samples
+        Longest HIC window (s) and grid points, as checked by :func:`hic_batch`.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(n,)`` HIC values.
+    """
+    t_end = np.asarray(t_end, dtype=float)
+    n = t_end.size
     rel = np.linspace(0.0, 1.0, samples)
     t = t_end[:, None] * rel[None, :]
     v = vel.evaluate(t) * scale[:, None]
     dt = t_end / (samples - 1)
-    best = np.zeros(idx.size)
-    arg = np.zeros((idx.size, 2))
+    best = np.zeros(n)
+    arg = np.zeros((n, 2))
     max_lag = int(min(samples - 1, np.ceil(window / dt.min())))
-    rows = np.arange(idx.size)
+    rows = np.arange(n)
     for lag in range(1, max_lag + 1):
         dur = lag * dt
         ok = dur <= window * (1 + 1e-12)
@@ -1640,12 +1682,11 @@ def hic_batch(
         best = np.where(better, val, best)
         arg[better, 0] = t[better, j[better]]
         arg[better, 1] = t[better, j[better] + lag]
-    out[idx] = _zoom_hic(vel, scale, t_end, window, best, arg, dt)
-    return out
+    return _zoom_hic(vel, scale, t_end, window, best, arg, dt)
 
 
 def _zoom_hic(
-    vel: ModalResponse,
+    vel: Any,
     scale: NDArray,
     t_end: NDArray,
     window: float,

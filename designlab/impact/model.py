@@ -67,6 +67,7 @@ __all__ = [
 ]
 
 PARAM_NAMES: tuple[str, ...] = ("M_r", "C_r", "K_r", "K_c", "C_c", "M_h", "C_h", "K_h")
+"""The symbols of the model's parameter vector, in order (:func:`param_vector`)."""
 INPUT_NAMES: tuple[str, ...] = ("s_c", "v_c", "a_d")
 
 

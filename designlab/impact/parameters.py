@@ -38,8 +38,10 @@ __all__ = [
     "FOAM_2",
     "FOAM_2_MEASURED",
     "FOAM_3",
+    "FOAM_PRESETS",
     "HEAD_MAX",
     "HEAD_MIN",
+    "HEAD_PRESETS",
     "HEAD_SPEED",
     "HEAD_VELOCITY",
     "HIC_SAMPLES",
@@ -54,6 +56,7 @@ __all__ = [
     "MAX_LOBE_STEPS",
     "OMEGA_MAX",
     "RATIO_POINTS",
+    "ROBOT_PRESETS",
     "ROBOT_VELOCITY",
     "RTOL",
     "SEED",
@@ -548,6 +551,19 @@ HEAD_MAX = HeadNeck(5.3, 5.0e3, 130.2, name="maximum head-neck")
 #: Ch. 4 head apparatus: 4.4 kg head, 4 kN/m neck springs, no damper
 #: (docs/impact.md, "Unstated inputs").
 TEST_HEAD = HeadNeck(4.4, 4.0e3, 0.0, name="Ch. 4 test head")
+
+#: The presets by the name a study file gives them (the names of the constants above).
+ROBOT_PRESETS: dict[str, ContactDynamics] = {
+    "MANIPULATOR_1": MANIPULATOR_1, "MANIPULATOR_2": MANIPULATOR_2,
+}  # fmt: skip
+#: The foam presets by name (see :data:`ROBOT_PRESETS`).
+FOAM_PRESETS: dict[str, Foam] = {
+    "FOAM_1": FOAM_1, "FOAM_2": FOAM_2, "FOAM_2_MEASURED": FOAM_2_MEASURED, "FOAM_3": FOAM_3,
+}  # fmt: skip
+#: The head-neck presets by name (see :data:`ROBOT_PRESETS`).
+HEAD_PRESETS: dict[str, HeadNeck] = {
+    "HEAD_MIN": HEAD_MIN, "HEAD_MAX": HEAD_MAX, "TEST_HEAD": TEST_HEAD,
+}  # fmt: skip
 
 #: Table 3.2 simulations 1-4 as (manipulator, head) pairs.
 TABLE_3_2_HEADS: dict[int, tuple[ContactDynamics, HeadNeck]] = {

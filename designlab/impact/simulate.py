@@ -37,7 +37,7 @@ from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError, check_finite
 from designlab.impact.conditioning import check_conditioning
-from designlab.impact.contact import ContactModel, contact_of
+from designlab.impact.contact import CONTACTS, ContactModel, contact_of
 from designlab.impact.general import GENERAL_RTOL, GeneralStatus, integrator_note
 from designlab.impact.metrics import (
     STATUS_OK,
@@ -661,8 +661,9 @@ def _check_inputs(
         raise InvalidParameterError("profile", profile, "must be a VelocityProfile or None")
     if profile is not None and not contact.profiles:
         raise InvalidParameterError(
-            "profile", profile, f"is not available with the {contact.label} contact"
-        )
+            "profile", profile, f"is not available with the {contact.name} contact "
+            f"({contact.label}); velocity profiles serve {list(CONTACTS.choices(profiles=True))}",
+        )  # fmt: skip
     if contact.linear:
         model, p = _model_and_params(robot, foam, head)
         check_conditioning(

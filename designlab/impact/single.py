@@ -28,10 +28,10 @@ from __future__ import annotations
 
 import sys
 from collections.abc import Mapping, Sequence
-from typing import NamedTuple
 
 from designlab.impact.kernel import STATUS_CODES
 from designlab.impact.kernel_single import one_design
+from designlab.impact.metric_names import ImpactPoint
 from designlab.impact.metrics import (
     _KERNEL_STATUS,
     _POSITIVE,
@@ -41,38 +41,8 @@ from designlab.impact.metrics import (
 )
 from designlab.impact.model import PARAM_NAMES
 from designlab.impact.parameters import IMPACT_VELOCITY, MAX_LOBE_STEPS, STOP_TIME, TIME_SCALE_RATIO
-from designlab.units import STANDARD_GRAVITY
 
 __all__ = ["ImpactPoint", "impact_metrics_one"]
-
-
-class ImpactPoint(NamedTuple):
-    """First-lobe metrics of one design (SI units; the fields of
-    :class:`~designlab.impact.metrics.ImpactMetrics` as floats).
-
-    Attributes
-    ----------
-    peak_head_acceleration, max_compression, peak_force, impact_duration
-        m/s^2, m, N, s.
-    time_of_peak_acceleration, time_of_max_compression, time_of_peak_force
-        s.
-    status
-        The design's status (:class:`~designlab.impact.metrics.ImpactStatus` value).
-    """
-
-    peak_head_acceleration: float
-    max_compression: float
-    peak_force: float
-    impact_duration: float
-    time_of_peak_acceleration: float
-    time_of_max_compression: float
-    time_of_peak_force: float
-    status: str
-
-    @property
-    def peak_head_acceleration_g(self) -> float:
-        """a_h,max in g (standard gravity)."""
-        return self.peak_head_acceleration / STANDARD_GRAVITY
 
 
 #: each parameter's smallest and largest allowed value (> 0 is >= the smallest double; no

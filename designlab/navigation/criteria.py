@@ -26,7 +26,7 @@ import pandas as pd
 from designlab.errors import InvalidParameterError
 from designlab.results import OK, Result
 
-__all__ = ["EQUAL_WEIGHTS", "Criteria", "check_weights", "criteria"]
+__all__ = ["EQUAL_WEIGHTS", "UNDEFINED", "Criteria", "check_weights", "criteria"]
 
 
 @dataclass(frozen=True)
@@ -45,7 +45,8 @@ class Criteria(Result):
         L_energy and L*_energy as the integral of the squared feed-forward wheel
         currents (A^2 s = J per ohm of winding resistance).
     status
-        ``"ok"``, or why a criterion could not be computed (e.g. the robot never arrived).
+        ``"ok"``, or :data:`UNDEFINED` when the run arrived and its nominal run did not
+        (H_T, H_E and H are then NaN; the warnings say why).
     warnings
         What a user should know about the scores.
     """
@@ -80,6 +81,16 @@ class Criteria(Result):
             ]
         )
 
+
+#: ``Criteria.status`` when the run arrived but its obstacle-free nominal run did not: T* = inf,
+#: so H_T = T*/T (5.6.1) and H_E = L*/L (5.6.5) are undefined and H is NaN.
+UNDEFINED = "undefined"
+
+_UNDEFINED_NOTE = (
+    "the obstacle-free nominal run never arrived (T* = inf) while the run did (T = {t:.3f} s): "
+    "H_T = T*/T and H_E = L*/L are undefined and H is NaN (an unstable sampled attraction loop "
+    "or an arrival tolerance the nominal run never meets; docs/navigation.md, Criteria)"
+)
 
 #: The equal weights of the thesis's H (5.6.6).
 EQUAL_WEIGHTS = (1 / 3, 1 / 3, 1 / 3)
@@ -126,17 +137,17 @@ def _number(name: str, value: Any, unit: str) -> float:
 def _check_run_figures(
     arrival_time: Any, nominal_arrival_time: Any, energy: Any, nominal_energy: Any
 ) -> tuple[float, float, float, float]:
-    """T_arrive > 0 (inf: never arrived), T*_arrive > 0 (finite if T_arrive is), energies
-    finite >= 0."""
+    """T_arrive > 0 (inf: never arrived), T*_arrive > 0 (inf: the nominal run never arrived),
+    energies finite >= 0."""
     t = _number("arrival_time", arrival_time, "s")
     if not t > 0:  # NaN too
         raise InvalidParameterError("arrival_time", arrival_time, "must be > 0 (inf: never "
                                     "arrived)", "s")  # fmt: skip
     t0 = _number("nominal_arrival_time", nominal_arrival_time, "s")
-    if not t0 > 0 or (math.isinf(t0) and math.isfinite(t)):
+    if not t0 > 0:  # NaN too
         raise InvalidParameterError(
-            "nominal_arrival_time", nominal_arrival_time, "must be > 0, and finite when the run "
-            "arrived (the obstacle-free run cannot take longer: inf only if neither arrived)", "s",
+            "nominal_arrival_time", nominal_arrival_time, "must be > 0 (inf: the obstacle-free "
+            "run never arrived)", "s",
         )  # fmt: skip
     out = []
     for name, v in (("energy", energy), ("nominal_energy", nominal_energy)):
@@ -185,7 +196,9 @@ def criteria(
     Parameters
     ----------
     arrival_time, nominal_arrival_time
-        T_arrive and T*_arrive in s (``inf`` if never arrived: H_T = 0).
+        T_arrive and T*_arrive in s (``inf`` if never arrived). A run that never arrived has
+        H_T = 0; a run that arrived while its nominal run did not has H_T, H_E and H undefined
+        (NaN, status :data:`UNDEFINED`, a warning naming the cause).
     energy, nominal_energy
         L_energy and L*_energy (same units).
     surface_clearance
@@ -207,6 +220,11 @@ def criteria(
     ...              nominal_clearance={"circle": 0.5})
     >>> round(c.H_T, 3), c.H_D, c.H_E, round(c.H, 3)
     (0.9, 0.5, 0.5, 0.633)
+    >>> c = criteria(arrival_time=6.0, nominal_arrival_time=float("inf"), energy=2.0,
+    ...              nominal_energy=9.0, surface_clearance={"circle": 0.25},
+    ...              nominal_clearance={"circle": 0.5})
+    >>> c.status, c.H_T, c.H_D, c.H
+    ('undefined', nan, 0.5, nan)
     """
     w = check_weights(weights)
     arrival_time, nominal_arrival_time, energy, nominal_energy = _check_run_figures(
@@ -229,6 +247,17 @@ def criteria(
     k = 0 if any(v <= 0.0 for v in surface_clearance.values()) else 1
     if k == 0:
         warnings.append("collision: k = 0, H = 0")
+    for name, ratio, what in (("H_T", h_t, "arrived sooner"), ("H_E", h_e, "used less energy")):
+        if ratio > 1.0:
+            warnings.append(
+                f"{name} = {ratio:.3f} > 1: the run {what} than its obstacle-free nominal run, "
+                "which (5.6.1)/(5.6.5) do not cap; H can exceed 1 (docs/navigation.md, Criteria)"
+            )
+    status = OK
+    if math.isfinite(arrival_time) and math.isinf(nominal_arrival_time):
+        h_t = h_e = math.nan
+        status = UNDEFINED
+        warnings.append(_UNDEFINED_NOTE.format(t=arrival_time))
     w1, w2, w3 = w
     h = k * (w1 * h_t + w2 * h_d + w3 * h_e)
     return Criteria(
@@ -241,5 +270,6 @@ def criteria(
         float(nominal_arrival_time),
         float(energy),
         float(nominal_energy),
+        status=status,
         warnings=tuple(warnings),
     )

@@ -37,7 +37,13 @@ import casadi as ca
 from designlab.errors import InvalidParameterError, check_positive
 from designlab.navigation.parameters import HolonomicRobot, NonholonomicRobot
 
-__all__ = ["HOLONOMIC_FEEDFORWARD", "NONHOLONOMIC_FEEDFORWARD", "build_hold", "state_size"]
+__all__ = [
+    "HOLONOMIC_FEEDFORWARD",
+    "NONHOLONOMIC_FEEDFORWARD",
+    "attraction_loop_radius",
+    "build_hold",
+    "state_size",
+]
 
 #: (J/K, B/K, tau/K) in V s^2, V s, V of the three omni wheels, Table D.2 / (D.3.2).
 HOLONOMIC_FEEDFORWARD = ((0.0073, 0.0019, 0.19), (0.0074, 0.0020, 0.22), (0.0065, 0.0024, 0.18))
@@ -54,6 +60,54 @@ def state_size(robot: HolonomicRobot | NonholonomicRobot) -> int:
         A holonomic or nonholonomic robot.
     """
     return 4 if isinstance(robot, HolonomicRobot) else 5
+
+
+def attraction_loop_radius(
+    k1: float, b: float, mass: float, period: float = 0.06, dt: float = 1e-3
+) -> float:
+    """Spectral radius of the sampled free-space loop: the PD attraction held for a period.
+
+    In C1 the force F = K1 E - K2 V (K2 = b K1) is held for ``period`` while the point mass
+    is integrated with :func:`build_hold`'s semi-implicit Euler step ``dt`` (``docs/navigation.md``,
+    "Timing"). Per axis, away from the limits, (e, v) -> A (e, v) once per period with
+    alpha = K1/m, beta = K2/m, T = period, c = T (T + dt)/2 and
+    A = [[1 - alpha c, beta c - T], [alpha T, 1 - beta T]]. By Jury's test the loop is stable
+    (radius < 1) iff b > (T - dt)/2 and K2 T/m + K1 T dt/(2 m) < 2; beyond that the robot
+    chatters at its acceleration limit near the goal, which the continuous-time stability
+    proof (Zeng 2011, Sec. 5.5) does not see.
+
+    Parameters
+    ----------
+    k1, b
+        Attraction gain K1 (N/m) and gain ratio b (s).
+    mass
+        Robot mass m_mr (kg).
+    period
+        Force update period (s): T_s, or ``dt`` when the force is recomputed every step.
+    dt
+        Integration step (s).
+
+    Returns
+    -------
+    float
+        The largest eigenvalue modulus of A (>= 1: the sampled loop is unstable).
+
+    Examples
+    --------
+    >>> round(attraction_loop_radius(4.3, 0.68, 4.4), 4)  # the thesis's optimum
+    0.9807
+    >>> attraction_loop_radius(143, 1.10, 4.4) > 1  # K2 T_s/m = 2.145
+    True
+    """
+    alpha, beta = k1 / mass, b * k1 / mass
+    T, c = period, period * (period + dt) / 2.0
+    tr = 2.0 - alpha * c - beta * T
+    det = 1.0 - beta * T - alpha * c + alpha * T * T
+    disc = tr * tr / 4.0 - det
+    if disc >= 0:
+        r = math.sqrt(disc)
+        return max(abs(tr / 2.0 + r), abs(tr / 2.0 - r))
+    return math.sqrt(det)
 
 
 def _clip_norm(v: ca.SX, limit: float) -> ca.SX:

@@ -41,8 +41,15 @@ from numpy.typing import ArrayLike, NDArray
 
 from designlab.errors import InvalidParameterError
 from designlab.navigation import engine
-from designlab.navigation.criteria import EQUAL_WEIGHTS, Criteria, check_weights, criteria
+from designlab.navigation.criteria import (
+    EQUAL_WEIGHTS,
+    UNDEFINED,
+    Criteria,
+    check_weights,
+    criteria,
+)
 from designlab.navigation.crowds import CrowdResult, CrowdScenario, accepts_crowds
+from designlab.navigation.dynamics import attraction_loop_radius
 from designlab.navigation.hold_audit import HoldAudit, hold_audit
 from designlab.navigation.lyapunov import StabilityAudit, audit_run
 from designlab.navigation.methods import (
@@ -347,7 +354,29 @@ def simulate(
     raw = engine.run(scenario, row[None, :], record=True, noise=noise, **kw)
     nominal = engine.run(scenario.without_obstacles(), row[None, :], record=False, **kw)
     res = _summarise_run(scenario, strategy, row, stabilising, raw, nominal, w)
-    return replace(res, tie=int(kw["tie"]))
+    return _flag_chatter(replace(res, tie=int(kw["tie"])), strategy, row, kw)
+
+
+def _flag_chatter(
+    res: NavigationResult, strategy: NavigationMethod, row: Array, kw: dict[str, Any]
+) -> NavigationResult:
+    """``res``, warned if the sampled PD attraction is unstable (``attraction_loop_radius``)."""
+    if strategy.gains_type is not VFFGains:
+        return res
+    dt = float(kw["dynamics_step"])
+    period = dt if kw["force_every_step"] else res.scenario.sample_time
+    k1, b, m = float(row[0]), float(row[1]), res.scenario.robot.mass
+    rho = attraction_loop_radius(k1, b, m, period, dt)
+    if rho < 1.0:
+        return res
+    note = (
+        f"the attraction loop sampled every {period} s is unstable at K1 = {k1:g}, b = {b:g} "
+        f"(spectral radius {rho:.3f} >= 1; stable iff b > (T - dt)/2 and K2 T/m + K1 T dt/(2 m) "
+        f"< 2, here {b * k1 * period / m + k1 * period * dt / (2 * m):.3f}): the robot chatters "
+        "at its acceleration limit near the goal, in the nominal run too, so H_T and H_E "
+        "can exceed 1 (docs/navigation.md, Criteria)"
+    )
+    return replace(res, warnings=(*res.warnings, note))
 
 
 def _summarise_run(
@@ -393,6 +422,8 @@ def _summarise_run(
             holonomic=isinstance(robot, HolonomicRobot),
         )
     warnings = _run_warnings(scenario, arrival, min_distance, min_surface, crit, coll, rec)
+    if crit_res.status == UNDEFINED:
+        warnings = (*warnings, *(w for w in crit_res.warnings if "nominal run never" in w))
     return NavigationResult(
         scenario=scenario,
         method=strategy.name,
@@ -492,7 +523,8 @@ class BatchResult(Result):
     energy, nominal_energy
         L_energy and L*_energy per ohm (A^2 s).
     H, H_T, H_D, H_E
-        Sec. 5.6 criteria, ``(S, N)``.
+        Sec. 5.6 criteria, ``(S, N)``; H_T, H_E and H are NaN where a run arrived and its
+        nominal run did not (``criteria.UNDEFINED``).
     status
         Status of the batch (``"ok"``; see :class:`designlab.results.Result`).
     warnings
@@ -719,6 +751,9 @@ def _batch_scenario(
         np.minimum(1.0, np.maximum(surf, 0) / dstar[None, :]).mean(axis=1) if n_obs else np.ones(N)
     )
     h_e = np.where(raw.energy > 0, nom.energy / np.where(raw.energy > 0, raw.energy, 1.0), 1.0)
+    # arrived while the nominal run did not: H_T, H_E undefined (criteria's UNDEFINED status)
+    undefined = np.isfinite(raw.arrival_time) & np.isinf(nom.arrival_time)
+    h_t, h_e = np.where(undefined, np.nan, h_t), np.where(undefined, np.nan, h_e)
     k = (~coll).astype(float)
     return {
         "T": raw.arrival_time,
@@ -751,6 +786,12 @@ def _batch_result(scenarios: list[Scenario], g: Array, rows: list[dict[str, Arra
     n_not = int(np.isinf(T).sum())
     if n_not:
         warnings.append(f"{n_not} of {S * N} runs did not arrive within their horizon")
+    n_undef = int((np.isfinite(T) & np.isinf(stack("T0"))).sum())
+    if n_undef:
+        warnings.append(
+            f"{n_undef} of {S * N} runs arrived while their obstacle-free nominal run did not: "
+            "their H_T, H_E and H are undefined (NaN; docs/navigation.md, Criteria)"
+        )
     return BatchResult(
         tuple(s.name for s in scenarios),
         tuple(s.obstacle_names for s in scenarios),

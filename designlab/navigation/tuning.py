@@ -11,9 +11,12 @@ App. C; ``docs/navigation_gains.md``):
 * objective: the mean over the scenarios of the total criterion H (5.6.6);
 * hard constraints: in every scenario (and every randomised walk) the robot
   arrives within the horizon and never enters a critical region (which also
-  rules out collisions). A violating candidate is *infeasible*: it is ranked
-  below every feasible one by its violation, its H is never reported as an
-  objective value, and the optimum is always a feasible point.
+  rules out collisions), and for the new VFF's PD attraction the loop sampled
+  every T_s is stable (``dynamics.attraction_loop_radius`` < 1: otherwise the
+  robot chatters near the goal and T*, L* no longer normalise H). A violating
+  candidate is *infeasible*: it is ranked below every feasible one by its
+  violation, its H is never reported as an objective value, and the optimum is
+  always a feasible point.
 
 The global stage is CMA-ES (Hansen's ``cma`` package) with box bounds; each
 generation is simulated as one batch through
@@ -55,6 +58,7 @@ from numpy.typing import NDArray
 from designlab.errors import InvalidParameterError
 from designlab.navigation.criteria import EQUAL_WEIGHTS, check_weights
 from designlab.navigation.crowds.tuning import crowd_sets
+from designlab.navigation.dynamics import attraction_loop_radius
 from designlab.navigation.methods import METHOD, STABILISING, TIE_SIDE, method_of
 from designlab.navigation.parameters import (
     ARRIVAL_TOLERANCE,
@@ -168,6 +172,8 @@ class _Evaluator:
         self.flat = [s for g in self.groups for s in g]
         self.owner = np.concatenate([[i] * len(g) for i, g in enumerate(self.groups)]).astype(int)
         self.r3 = [np.array([o.r3 for o in s.obstacles]) for s in self.flat]
+        pd_attraction = method_of(method).gains_type is VFFGains
+        self.loops = [(s.robot.mass, s.sample_time) for s in scenarios] if pd_attraction else []
         self.stabilising = stabilising
         self.mode = robust_mode
         self.tol = arrival_tolerance
@@ -199,13 +205,27 @@ class _Evaluator:
             for k in done[0]
         }
 
+    def loop_excess(self, gains: Array) -> Array:
+        """How far each gain set's sampled attraction loop is from stable (0: stable).
+
+        A radius >= 1 (:func:`~designlab.navigation.dynamics.attraction_loop_radius`) makes
+        the robot chatter at its acceleration limit near the goal, in the nominal run too, so
+        T* and L* stop normalising H_T and H_E (H can exceed 1): such gains are infeasible.
+        """
+        out = np.zeros(gains.shape[0])
+        for mass, ts in set(self.loops):
+            rho = np.array([attraction_loop_radius(g[0], g[1], mass, ts) for g in gains])
+            out = np.maximum(out, np.where(rho >= 1.0, rho, 0.0))
+        return out
+
     def __call__(self, gains: Array) -> _Evaluation:
         gains = np.atleast_2d(gains)
         raw = self._simulate(gains)
         P = gains.shape[0]
         self.evaluations += P
         self.simulations += P * len(self.flat)
-        arrived_run = np.isfinite(raw["arrival_time"])  # (R, P)
+        # a run whose H is undefined (its nominal run never arrived) counts as not arrived
+        arrived_run = np.isfinite(raw["arrival_time"]) & ~np.isnan(raw["H"])  # (R, P)
         safe_run = ~raw["entered_critical"]
         depth = np.zeros(raw["H"].shape)
         margin_run = np.full(raw["H"].shape, math.inf)
@@ -230,8 +250,11 @@ class _Evaluator:
             H[s] = raw["H"][m].min(axis=0) if self.mode == "worst" else raw["H"][m].mean(axis=0)
             arrived[s] = arrived_run[m].all(axis=0)
             safe[s] = safe_run[m].all(axis=0)
-        violation = (~arrived_run).sum(axis=0) + (~safe_run).sum(axis=0) + depth.sum(axis=0)
-        feasible = arrived.all(axis=0) & safe.all(axis=0)
+        chatter = self.loop_excess(gains)
+        violation = (
+            (~arrived_run).sum(axis=0) + (~safe_run).sum(axis=0) + depth.sum(axis=0) + chatter
+        )
+        feasible = arrived.all(axis=0) & safe.all(axis=0) & (chatter == 0)
         return _Evaluation(
             H.mean(axis=0), H, feasible, violation.astype(float), arrived, safe, T, margin
         )
@@ -304,7 +327,10 @@ def evaluate_gains(
         for s, sce in enumerate(sc):
             frame[f"{q}_{sce.name}"] = arr[s]
     bad = np.flatnonzero(~e.feasible).tolist()
-    warnings = (f"gain sets {bad} do not arrive or enter a critical region",) if bad else ()
+    warnings = (
+        (f"gain sets {bad} do not arrive, enter a critical region or have an unstable sampled "
+         "attraction loop (dynamics.attraction_loop_radius >= 1)",) if bad else ()
+    )  # fmt: skip
     status = OptimumStatus.OK if e.feasible.any() else OptimumStatus.INFEASIBLE
     return GainEvaluation(frame, status, warnings)
 

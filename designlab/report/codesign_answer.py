@@ -110,21 +110,24 @@ def _risk_sentences(result: CodesignResult, d: pd.Series) -> list[str]:
     e, head = result.exposure, result.head_risk
     out = []
     if e is not None:
+        crowd = (f", {60 * e.crowd_hours:.3g} min of them in crowds" if e.crowd_hours > 0
+                 else "")  # fmt: skip
         out.append(
             f"**Risk:** {e.contacts} contacts with people in {60 * e.hours:.3g} min "
-            f"({1e3 * e.km:.3g} m) of the design's simulated runs: at most "
-            f"{e.per_hour_upper:.3g} contacts per hour (one-sided 95 % Poisson bound; more runs "
-            "narrow it)."
+            f"({1e3 * e.km:.3g} m) of the design's simulated runs{crowd}: at most "
+            f"{e.per_hour_upper:.3g} contacts per hour and {e.per_km_upper:.3g} per km "
+            "(one-sided 95 % Poisson bounds; more runs narrow them), each at its closing speed "
+            "after braking."
         )
     if head:
         pm = head["prasad_mertz_ais3"]
-        per_hour = e.per_hour_upper * pm if e is not None else math.nan
+        per_hour = e.risk_per_hour_upper if e is not None else math.nan
         out.append(
             f"A head contact at the worst closing speed ({head['closing_speed_m_per_s']:.3g} "
             f"m/s = V_mr + the walker) has HIC15 = {head['hic15']:.3g}: AIS3+ risk "
             f"{_risk_text(pm)} (Prasad and Mertz 1985), AIS2+ "
-            f"{_risk_text(head['nhtsa_ais2'])} (NHTSA logistic curve; both fitted to adult "
-            "heads in vehicle crashes), so "
+            f"{_risk_text(head['nhtsa_ais2'])} (NHTSA 1995 logistic curve, coefficients from "
+            "secondary sources; both fitted to adult heads in vehicle crashes), so "
             + (
                 "the AIS3+ risk per hour of operation is below the curves' data too."
                 if pm < CURVE_FLOOR

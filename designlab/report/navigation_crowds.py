@@ -26,7 +26,7 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from designlab.navigation.crowds.animation import animate
-from designlab.navigation.crowds.decide import decision_findings, mcnemar, time_limit_curve
+from designlab.navigation.crowds.decide import decision_findings, holm, mcnemar, time_limit_curve
 from designlab.navigation.crowds.diagnosis import force_breakdown, stall_summary
 from designlab.navigation.crowds.scenario import crowd
 from designlab.navigation.methods import METHODS
@@ -71,11 +71,12 @@ def rates_figure(summary: pd.DataFrame) -> Figure:
     summary
         The study's summary (:meth:`~designlab.navigation.crowds.study.CrowdStudy.to_frame`).
     """
-    layouts = list(dict.fromkeys(summary["scenario"]))
-    fig, axes = plt.subplots(len(_RATES), len(layouts), figsize=(4.2 * len(layouts), 7.5),
+    model = summary["model"] if "model" in summary else pd.Series("", index=summary.index)
+    cells = list(dict.fromkeys(zip(model, summary["scenario"], strict=True)))
+    fig, axes = plt.subplots(len(_RATES), len(cells), figsize=(4.2 * len(cells), 7.5),
                              squeeze=False, sharex=True, sharey=True)  # fmt: skip
-    for j, layout in enumerate(layouts):
-        sub = summary[summary["scenario"] == layout]
+    for j, (ped, layout) in enumerate(cells):
+        sub = summary[(model == ped) & (summary["scenario"] == layout)]
         for i, (rate, name) in enumerate(_RATES):
             ax = axes[i, j]
             for k, (method, g) in enumerate(sub.groupby("method", sort=False)):
@@ -90,7 +91,7 @@ def rates_figure(summary: pd.DataFrame) -> Figure:
             if j == 0:
                 ax.set_ylabel(name)
             if i == 0:
-                ax.set_title(layout)
+                ax.set_title(f"{layout}\n{ped}" if ped else layout, fontsize=9)
             if i == len(_RATES) - 1:
                 ax.set_xlabel("density (persons/m^2)")
     axes[0, 0].legend(fontsize=8)
@@ -156,7 +157,8 @@ def rates_table(summary: pd.DataFrame) -> pd.DataFrame:
     rows = []
     clear = ("clearance_min_m", "clearance_p05_m", "clearance_median_m")
     for _, r in summary.iterrows():
-        row = {"layout": r["scenario"], "density (1/m^2)": f"{r['density']:g}",
+        row = {"pedestrians": r["model"]} if "model" in r else {}
+        row |= {"layout": r["scenario"], "density (1/m^2)": f"{r['density']:g}",
                "method": r["method"], "runs": int(r["runs"])}  # fmt: skip
         for rate, name in (("success", "success"), ("collision", "collision"),
                            ("timeout", "timeout"), ("left_area", "left area"),
@@ -208,7 +210,9 @@ def decision_lines(result: NavigationCrowdsResult) -> list[str]:
     if "success" not in runs or len(st.methods) < 2:
         return []
     out = ["## Decisions (exact McNemar tests on paired crowds, computed from the runs)", "",
-           *decision_findings(mcnemar(runs), len(st.seeds)), ""]  # fmt: skip
+           *decision_findings(mcnemar(runs), len(st.seeds)), "",
+           "Every test, with its Holm-adjusted p-value: mcnemar.csv.", ""]  # fmt: skip
+    keys = [k for k in ("model", "scenario", "density") if k in runs]
     if st.crowd.horizon is None and {"free_run_s", "time_limit_s"} <= set(runs):
         top = st.crowd.horizon_factor
         ks = [k for k in (1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 7.5, 10.0) if k < top] + [top]
@@ -216,7 +220,7 @@ def decision_lines(result: NavigationCrowdsResult) -> list[str]:
         curve["rate"] = [f"{a:.2f} [{lo:.2f}, {hi:.2f}]" for a, lo, hi in
                          zip(curve.success_rate, curve.success_low, curve.success_high,
                              strict=True)]  # fmt: skip
-        wide = curve.pivot_table(index=["scenario", "density", "method"], columns="factor",
+        wide = curve.pivot_table(index=[*keys, "method"], columns="factor",
                                  values="rate", aggfunc="first", sort=False)  # fmt: skip
         wide.columns = [f"{k:g} x T_free" for k in wide.columns]
         out += ["## Success against the time limit", "",
@@ -224,6 +228,22 @@ def decision_lines(result: NavigationCrowdsResult) -> list[str]:
                 "the runs' arrival times: a run counts if it arrived within the limit).", "",
                 markdown_table(wide.reset_index()), ""]  # fmt: skip
     return out
+
+
+def mcnemar_table(result: NavigationCrowdsResult) -> pd.DataFrame:
+    """Every exact McNemar test of success between two methods on paired crowds, with its
+    Holm-adjusted p-value over the whole table (empty with fewer than two methods).
+
+    Parameters
+    ----------
+    result
+        A ``navigation_crowds`` result.
+    """
+    runs = result.crowds.runs
+    if "success" not in runs or len(result.study.methods) < 2:
+        return pd.DataFrame()
+    tests = mcnemar(runs)
+    return tests.assign(p_holm=holm(tests["p_value"])) if not tests.empty else tests
 
 
 def _num(x: float) -> str:
@@ -247,7 +267,8 @@ def findings(summary: pd.DataFrame) -> list[str]:
         out.append(f"- {method}: {int(r.s)} of {int(r.runs)} runs arrived, {int(r.c)} collided, "
                    f"{int(r.k)} entered a critical region.")  # fmt: skip
     worst = summary.sort_values(["collision_rate", "success_rate"], ascending=[False, True]).iloc[0]
-    out.append(f"- Hardest cell: {worst['method']} in {worst['scenario']} at "
+    among = f" among {worst['model']} pedestrians" if "model" in worst else ""
+    out.append(f"- Hardest cell: {worst['method']}{among} in {worst['scenario']} at "
                f"{worst['density']:g}/m^2 (success {_ci(worst, 'success')}, collision "
                f"{_ci(worst, 'collision')}).")  # fmt: skip
     return out
@@ -323,7 +344,7 @@ def navigation_crowds_markdown(result: NavigationCrowdsResult,
         "## What was simulated", "",
         f"{st.size()}: layouts {st.scenarios}, densities {st.densities} persons/m^2, "
         f"seeds {st.seeds}, methods {[m.label for m in st.methods]} (VFF stabilising force: "
-        f"{st.stabilising}). Pedestrians: JuPedSim's {c.model}, "
+        f"{st.stabilising}). Pedestrians: JuPedSim's {' and '.join(st.models or [c.model])}, "
         f"{'avoiding' if c.react_to_robot else 'ignoring'} the robot, {c.width:g} m x "
         f"{c.length:g} m layouts, {_limits(st)}; pedestrians' regions sized "
         f"{_SIZING[c.region_sizing]}. Rates are counted over runs; "
@@ -461,6 +482,9 @@ def navigation_crowds_report(result: NavigationCrowdsResult) -> ReportParts:
     summary = result.to_frame()
     stalls = stall_table(result)
     tables = {"rates.csv": summary, "runs.csv": result.crowds.runs, "stalls.csv": stalls}
+    tests = mcnemar_table(result)
+    if not tests.empty:
+        tables["mcnemar.csv"] = tests
     if result.tuning is not None and result.validation is not None:
         tables["tuning_history.csv"] = result.tuning.to_frame()
         tables["gains_validation.csv"] = result.validation.to_frame()

@@ -99,6 +99,19 @@ class SweepStudyResult(Result):
         chunks recomputed, failed; chunks; the executor; and ``digest``, a
         hash of every evaluated point with the evaluator's code version (equal
         digests, equal results).
+
+    Examples
+    --------
+    >>> from designlab.study import parse_study, run_study
+    >>> r = run_study(parse_study('''
+    ... designlab: 1
+    ... kind: impact_sweep
+    ... name: demo
+    ... base: {robot: MANIPULATOR_1, foam: FOAM_1, head: HEAD_MIN, impact_velocity: 1.25}
+    ... sweep: {method: grid, parameters: {foam.stiffness: {low: 10e3, high: 60e3, num: 3}}}
+    ... '''))
+    >>> type(r).__name__, r.status, len(r.to_frame())
+    ('SweepStudyResult', 'ok', 3)
     """
 
     study: SweepStudyBase

@@ -39,6 +39,7 @@ Value error, -1 N/m is out of range for foam stiffness K_c: allowed > 0 N/m
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Callable
 from typing import Annotated, Any, ClassVar, Generic, Literal, TypeVar
 
@@ -157,18 +158,24 @@ def parameter_model(name: str, parameters: dict[str, Param]) -> type[BaseModel]:
     parameters
         Dotted path -> :class:`~designlab.params.Param`.
     """
+    # The caller's module (a kind's, which binds the model under ``name``): the models are
+    # created there, and each range model bound there under its name, so that they pickle.
+    module = sys._getframe(1).f_globals.get("__name__", __name__)
     fields: dict[str, Any] = {}
     for path, info in parameters.items():
         bounded = Annotated[_Finite, Field(json_schema_extra=info.json_bounds())]  # type: ignore[arg-type]
         rng = create_model(  # type: ignore[call-overload]
             f"{name}_{path.replace('.', '_')}",
             __base__=ParameterRange,
+            __module__=module,
             __doc__=f"{info.description}, {info.unit}; allowed {_allowed_with_unit(info)}",
             values=(list[bounded] | None, Field(None, min_length=1, description="explicit values")),
             low=(bounded | None, Field(None, description="lower bound of the range")),
             high=(bounded | None, Field(None, description="upper bound of the range")),
         )
         rng.INFO = info
+        if module in sys.modules:
+            setattr(sys.modules[module], rng.__name__, rng)
         fields[path.replace(".", "__")] = (
             rng | None,
             Field(None, alias=path, description=f"{info.description}, {info.unit}"),
@@ -190,6 +197,7 @@ def parameter_model(name: str, parameters: dict[str, Param]) -> type[BaseModel]:
     model = create_model(  # type: ignore[call-overload]
         name,
         __base__=_Model,
+        __module__=module,
         __validators__={"_at_least_one": model_validator(mode="after")(_at_least_one)},
         **fields,
     )
@@ -306,13 +314,31 @@ ParametersT = TypeVar("ParametersT", bound=BaseModel)
 MetricT = TypeVar("MetricT")
 
 
-class SweepOf(SweepSpec, Generic[ParametersT]):
+def _parametrized(origin: Any, args: tuple[Any, ...]) -> Any:
+    """A blank instance of ``origin[args]`` (pydantic returns the same class each time)."""
+    cls = origin[args if len(args) > 1 else args[0]]
+    return cls.__new__(cls)
+
+
+class _PicklableGeneric(BaseModel):
+    """Pickled as its generic origin and arguments: a parametrized model such as
+    ``SweepOf[ImpactSweepParameters]`` is made inside another class's parametrization,
+    so pickle cannot find it by name (a sweep study's result would not pickle)."""
+
+    def __reduce__(self) -> Any:
+        meta = type(self).__pydantic_generic_metadata__
+        if meta["origin"] is None:
+            return super().__reduce__()
+        return _parametrized, (meta["origin"], meta["args"]), self.__getstate__()
+
+
+class SweepOf(SweepSpec, _PicklableGeneric, Generic[ParametersT]):
     """The ``sweep`` block of a kind whose parameters model is ``ParametersT``."""
 
     parameters: ParametersT
 
 
-class SensitivitySpec(_Model, Generic[MetricT]):
+class SensitivitySpec(_Model, _PicklableGeneric, Generic[MetricT]):
     """The ``sensitivity`` block: which tables to compute, for which metrics."""
 
     metrics: list[MetricT] | None = Field(

@@ -12,6 +12,10 @@ import pytest
 from designlab.report import write_report
 from designlab.study import parse_study, run_study
 
+# a whole study and its report (24 CPU s of one process at a load of 15): a long validation,
+# run by .ci/run's second step (-m slow), not by the README's test command
+pytestmark = pytest.mark.slow
+
 SMALL = """
 designlab: 1
 kind: codesign

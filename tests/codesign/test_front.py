@@ -203,3 +203,30 @@ def test_hostile_bounds_name_their_field(case: tuple[str, str, object]) -> None:
         return
     assert np.isfinite(space.lower).all() and np.isfinite(space.upper).all()
     assert (space.lower <= space.upper).all()
+
+
+def test_a_snapped_search_evaluates_and_keeps_only_snapped_points() -> None:
+    # f(x) = ((x0 - 0.123)^2, (x0 - 0.5)^2) with x0 evaluated on a 0.01 grid: every point kept
+    # is on the grid, and the grid point nearest 0.123 (0.12) is found
+    from designlab.codesign.front import nsga2
+
+    seen = []
+
+    def f(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        seen.append(float(x[0]))
+        return np.array([(x[0] - 0.123) ** 2, (x[0] - 0.5) ** 2]), np.zeros(0)
+
+    out = nsga2(f, [0.0, 0.0], [1.0, 1.0], n_obj=2, population=12, generations=6, seed=3,
+                snap=lambda X: np.c_[np.round(X[:, 0], 2), X[:, 1]])  # fmt: skip
+    assert all(v == round(v, 2) for v in seen)
+    assert np.array_equal(out.X[:, 0], np.round(out.X[:, 0], 2))
+    assert out.X[np.argmin(out.F[:, 0]), 0] == 0.12
+
+
+def test_the_design_space_snaps_the_speed_limit_to_a_hundredth_inside_the_box() -> None:
+    box = dl.codesign.DesignSpace(speed_min=0.304, speed_max=1.5)
+    X = np.array([[2e4, 50.0, 0.02, 0.3041, 3.0, 0.3, 20.0, 20.0],
+                  [2e4, 50.0, 0.02, 0.7049, 3.0, 0.3, 20.0, 20.0]])  # fmt: skip
+    got = box.snap(X)
+    assert got[:, 3].tolist() == [0.304, 0.7]  # 0.30 would leave the box: clipped to its end
+    assert np.array_equal(np.delete(got, 3, axis=1), np.delete(X, 3, axis=1))

@@ -486,3 +486,63 @@ def test_speed_limit_refuses_an_impact_lobe_that_does_not_end() -> None:
         with pytest.raises(dl.errors.ModelError) as err:
             dl.codesign.speed_limit(robot, FOAM_1)
         assert shown in str(err.value) and "lobe_not_closed" in str(err.value)
+
+
+# --- the robot description and the ISO/TS 15066 comparison (issue 36.1, 36.4) -----------
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "name"),
+    [
+        ({"radius": math.nan}, "radius"), ({"radius": -0.2}, "radius"),
+        ({"radius": math.inf}, "radius"), ({"max_speed": 1e9}, "max_speed"),
+        ({"max_speed": "fast"}, "max_speed"), ({"max_accel": -1.0}, "max_accel"),
+        ({"mass": math.nan}, "mass"), ({"mass": 0.0}, "mass"), ({"mass": 1e300}, "mass"),
+        ({"mass": True}, "mass"), ({"part": "elbow"}, "part"),
+        ({"contact_low": -0.1}, "contact_low"), ({"contact_high": math.inf}, "contact_high"),
+        ({"contact_low": 1.0, "contact_high": 0.5}, "contact_low"),
+        ({"contact": None}, "contact"), ({"contact": FOAM_1}, "contact"),
+        ({"contact": dataclasses.replace(MANIPULATOR_1, mass=50.0)}, "contact"),
+    ],
+)  # fmt: skip
+def test_robot_description_refuses_hostile_fields_by_name(kwargs, name):
+    err = _raises(name, cd.RobotDescription, "robot", **kwargs)
+    shown = next(iter(kwargs.values())) if len(kwargs) == 1 else 1.0
+    if isinstance(shown, float) and math.isfinite(shown):
+        assert f"{shown:g}" in str(err) or repr(shown) in str(err)
+
+
+def test_robot_description_refuses_a_name_that_is_no_text():
+    _raises("name", cd.RobotDescription, 3.0)
+    _raises("name", cd.RobotDescription, "")
+
+
+@pytest.mark.parametrize(
+    ("args", "name"),
+    [
+        (("robot", FOAM_1), "robot"), ((MANIPULATOR_1, FOAM_1), "robot"),
+        ((cd.THESIS_ROBOT, FOAM_1, math.nan), "human_speed"),
+        ((cd.THESIS_ROBOT, FOAM_1, -1.0), "human_speed"),
+        ((cd.THESIS_ROBOT, FOAM_1, math.inf), "human_speed"),
+        ((cd.THESIS_ROBOT, FOAM_1, "1"), "human_speed"),
+        ((cd.THESIS_ROBOT, None), "foam"), ((cd.THESIS_ROBOT, "FOAM_1"), "foam"),
+    ],
+)  # fmt: skip
+def test_iso_comparison_refuses_hostile_inputs_by_name(args, name):
+    from designlab.codesign.assessment import iso_comparison
+
+    _raises(name, iso_comparison, *args)
+
+
+def test_iso_comparison_of_a_bumper_is_the_closed_form_per_region():
+    # ISO/TS 15066 Annex A.3: v = F_T / sqrt(mu k), mu = (1/m_H + 1/m_R)^-1, for the 20 kg base
+    from designlab.codesign.assessment import iso_comparison
+
+    t = iso_comparison(cd.BUMPER_BASE, FOAM_1, human_speed=0.5)
+    for name, r in t.iterrows():
+        mu = 1.0 / (1.0 / r["m_H_kg"] + 1.0 / 20.0)
+        assert r["iso_closing_speed_m_per_s"] == pytest.approx(
+            r["F_T_N"] / math.sqrt(mu * r["k_N_per_m"]), rel=1e-14
+        ), name
+        assert r["iso_robot_speed_m_per_s"] == max(r["iso_closing_speed_m_per_s"] - 0.5, 0.0)
+    assert t.loc["lower_leg", "share"] > 0.5  # a bumper at 0.1-0.5 m meets shins

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 import mpmath as mp
+import numpy as np
 import pytest
 
 import designlab as dl
@@ -97,3 +98,67 @@ def test_exposure_counts_people_only_with_a_poisson_bound() -> None:
     e = exposure(runs)
     assert e.contacts == 0 and e.per_hour == 0.0
     assert e.per_hour_upper * e.hours == pytest.approx(-math.log(0.05), rel=1e-12)
+
+
+def test_exposure_of_known_contacts_matches_the_poisson_closed_form() -> None:
+    # 2 contacts at 0.5 and 1.0 m/s in 1 h and 1 km, harm(v) = v / 10: 0.15 harms per hour;
+    # the 95 % upper bound lambda solves P(N <= 2 | lambda) = 0.05 (mpmath, independently)
+    from designlab.codesign.assessment import _exposure
+
+    e = _exposure([0.5, 1.0], 3600.0, 1000.0, 0.0, lambda v: v / 10.0, 2.0)
+    lam = mp.findroot(lambda x: mp.exp(-x) * (1 + x + x**2 / 2) - mp.mpf("0.05"), 6.3)
+    assert e.contacts == 2 and e.per_hour == 2.0 and e.per_km == 2.0
+    assert e.per_hour_upper == pytest.approx(float(lam), rel=1e-10)
+    assert e.risk_per_hour == pytest.approx(0.15, rel=1e-15)
+    assert e.risk_per_hour_upper == pytest.approx(float(lam) * 0.2, rel=1e-10)  # harm(2 m/s)
+
+
+def test_closing_speed_after_braking_is_the_braked_robot_plus_the_person() -> None:
+    # the run's robot speed v, v_h = 1 m/s, no reaction, a = 2 m/s^2, detected at 0.2 m: the
+    # gap closes when (v + 1) t - t^2 = 0.2, the robot then at v - 2 t
+    from designlab.codesign.assessment import _closing_after_braking
+    from designlab.codesign.speed import Braking
+
+    c = dl.codesign.contact_speeds(
+        dl.navigation.simulate(dl.navigation.configuration(2), dl.navigation.EXPERIMENT_GAINS)
+    )
+    brake = Braking.check(0.0, 2.0, 0.2)
+    i = 0
+    v_r, v_o = float(c.robot_speed[i]), float(c.obstacle_speed[i])
+    got = _closing_after_braking(c, i, brake, 1.0)
+    t = (v_r + 1.0 - math.sqrt((v_r + 1.0) ** 2 - 2 * 2.0 * 0.2)) / 2.0
+    assert 0 < t < v_r / 2.0  # still moving at contact
+    assert got == pytest.approx(v_r - 2.0 * t + v_o, rel=1e-12)
+    # no detection distance: the run's own closing speed
+    assert _closing_after_braking(c, i, Braking.check(0.0, 5.0, 0.0), 1.0) == c.relative_speed[i]
+
+
+def test_exposure_counts_crowd_pedestrians_as_people() -> None:
+    nav = dl.navigation
+    crowd = nav.crowd("corridor_counterflow", pedestrians=30, width=2.0, length=12.0, seed=1,
+                      horizon=4.0)  # fmt: skip
+    run = nav.simulate(crowd, nav.EXPERIMENT_GAINS)
+    e = exposure([run], harm=lambda v: 0.5)
+    # independently: pedestrians whose centre came within the two radii of the robot's
+    P = run.pedestrian_positions[: len(run.times)]
+    d = np.linalg.norm(P - run.robot_positions[:, None, :], axis=2)
+    end = np.searchsorted(run.times, run.arrival_time, side="right") if run.arrived else None
+    touched = int((np.nanmin(d[:end], axis=0) <= crowd.robot.radius + crowd.pedestrian_radius)
+                  .sum())  # fmt: skip
+    assert e.contacts == touched
+    assert e.crowd_hours == e.hours == pytest.approx(float(run.times[-1]) / 3600.0, rel=1e-12)
+    assert e.risk_per_hour == pytest.approx(0.5 * touched / e.hours, rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("kw", "name"),
+    [({"harm": 3.0}, "harm"), ({"worst_speed": math.nan}, "worst_speed"),
+     ({"worst_speed": -1.0}, "worst_speed"), ({"human_speed": math.inf}, "human_speed"),
+     ({"detection_distance": -1.0}, "detection_distance")],
+)  # fmt: skip
+def test_exposure_refuses_hostile_inputs_by_name(kw, name) -> None:
+    run = dl.navigation.simulate(dl.navigation.configuration(2), dl.navigation.EXPERIMENT_GAINS)
+    with pytest.raises(DesignlabError, match=name):
+        exposure([run], **kw)
+    with pytest.raises(DesignlabError, match="runs"):
+        exposure(["not a run"])

@@ -220,3 +220,30 @@ def test_importance_standard_error_is_stable(w, n, seed):
     p, _, se = est.finish(tally, 0.95)
     assert p == pytest.approx(ws.mean(), rel=1e-9)
     assert se == pytest.approx(ws.std(ddof=1) / np.sqrt(n), rel=1e-6, abs=1e-15 * w)
+
+
+@pytest.mark.parametrize("robot", ["manipulator", "link"])
+def test_crude_pass_fail_counts_the_threshold_speeds_exceedances(robot):
+    """Crude sampling against a head-acceleration limit decides each sample by pass/fail
+    (designlab.impact.passfail): the same count as drawing the same samples' threshold
+    speeds v* from the full kernel and comparing (issue 40.5; the kernel is certified,
+    so the counts must be equal)."""
+    from designlab.codesign.population import ClosingSpeeds, HeadPopulation
+    from designlab.codesign.risk import ThresholdModel
+
+    arm = MANIPULATOR_1
+    if robot == "link":
+        arm = LinkImpact.from_contact(MANIPULATOR_1, joint_speed=1.0, lever_arm_min=0.02,
+                                      lever_arm_max=0.078)  # fmt: skip
+    dist = stats.uniform(1.0, 21.0)  # 1-22 m/s: beyond the model's 20 m/s, v* as before
+    got = dl.codesign.injury_probability(arm, FOAM_1, dist, heads=THESIS_HEAD_RANGE,
+                                         criterion=HeadAcceleration(10), samples=30_000,
+                                         method="crude", seed=11)  # fmt: skip
+    rng = np.random.default_rng(11)
+    design = ThresholdModel.of(arm, FOAM_1, HeadAcceleration(10), None)
+    heads = HeadPopulation.of(THESIS_HEAD_RANGE).sample(30_000, rng)
+    v_star = design.thresholds(heads, rng)
+    hits = int(np.count_nonzero(ClosingSpeeds.of(dist).sample(30_000, rng) > v_star))
+    assert got.failed_samples == hits
+    assert 0 < hits < 30_000
+    assert got.probability == hits / 30_000

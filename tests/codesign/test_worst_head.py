@@ -13,7 +13,7 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 import designlab as dl
-from designlab.codesign.worst_head import compass_search
+from designlab.codesign.worst_head import compass_search, multi_start
 from designlab.impact import (
     FOAM_1,
     MANIPULATOR_1,
@@ -136,6 +136,29 @@ def test_compass_search_finds_a_concave_maximum_inside_or_on_the_box(centre, sta
     x, fx = compass_search(f, x0, f(None, x0[None])[0])
     assert np.abs(x[0] - np.clip(c, 0.0, 1.0)).max() < 1e-8
     assert fx[0] >= f(None, x0[None])[0][0]
+
+
+@settings(max_examples=20, deadline=None)
+@given(st.lists(st.floats(0.6, 0.95), min_size=4, max_size=4),
+       st.lists(st.floats(0.0, 0.2), min_size=4, max_size=4))  # fmt: skip
+def test_multi_start_finds_a_planted_worst_case_a_single_start_misses(peak, hill) -> None:
+    # f = max(hill, cone): a broad hill of height 1 around the start and a narrow cone of
+    # height 3 at ``b`` (|b - a| >= 0.8: no first step of the pattern, at most 0.5 long,
+    # reaches where the cone beats the hill). The exact answer is (b, 3); a single start at
+    # the hill's top a stays there
+    b, a = np.array(peak), np.array(hill)
+
+    def f(z: np.ndarray) -> np.ndarray:
+        hill_z = 1.0 - ((z - a) ** 2).sum(axis=-1)
+        cone = 3.0 - 10.0 * np.sqrt(((z - b) ** 2).sum(axis=-1))
+        return np.maximum(hill_z, cone)
+
+    _, f1 = compass_search(lambda _, z: f(z), a[None], np.array([1.0]))
+    assert f1[0] == pytest.approx(1.0, abs=1e-12)  # one start stays on the hill
+    x, fx, starts = multi_start(f, a, 1.0)
+    assert starts > 1
+    assert fx == pytest.approx(3.0, abs=1e-7)
+    assert np.abs(x - b).max() < 1e-7
 
 
 def test_a_link_struck_at_one_point_is_the_fixed_robot_there() -> None:

@@ -20,7 +20,7 @@ from designlab.following.tether.model import (
     step_function,
     tip_step,
 )
-from designlab.following.tether_codegen import compile_sx
+from designlab.sx.pycode import compile_sx
 
 fol = dl.following
 B, R = 0.28, 0.125

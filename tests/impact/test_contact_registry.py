@@ -16,7 +16,7 @@ ROOT = Path(dl.__file__).parent
 #: the robot and contact (foam) classes a variant is chosen by
 VARIANT_CLASSES = {
     "ContactDynamics", "LinkImpact", "FullJointContact", "FullJointLink", "SeriesJoint",
-    "Foam", "HuntCrossleyFoam",
+    "Foam", "HuntCrossleyFoam", "StressStrainFoam",
 }  # fmt: skip
 
 
@@ -88,9 +88,11 @@ def test_rows_are_built_by_name_in_each_models_order() -> None:
 
 
 def test_the_registry_derives_choices_and_capabilities() -> None:
-    assert CONTACTS.choices(linear=False) == ("hunt_crossley",)
+    assert CONTACTS.choices(linear=False) == ("hunt_crossley", "stress_strain")
     assert CONTACTS.choices(gradients=True) == ("kelvin_voigt",)
-    assert CONTACTS.json_schema()["enum"] == ["kelvin_voigt", "series_joint", "hunt_crossley"]
+    assert CONTACTS.json_schema()["enum"] == [
+        "kelvin_voigt", "series_joint", "hunt_crossley", "stress_strain"
+    ]  # fmt: skip
 
 
 def test_a_link_rows_scale_as_one_over_l_squared() -> None:

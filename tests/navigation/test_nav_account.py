@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 import pytest
 
@@ -88,6 +90,28 @@ def test_docs_table_is_the_generated_one() -> None:
     assert table.count("\n| ") - 1 == len(thesis_account_rows_expected())  # minus the header
 
 
+def test_docs_table_is_the_committed_report() -> None:
+    """Every line of the docs table is the committed report's (reports/navigation_account):
+    a regenerated report with a stale docs table fails here."""
+    from designlab.navigation.account import AccountResult
+
+    text = (ROOT / "docs" / "navigation.md").read_text()
+    table = text[text.index(BEGIN) + len(BEGIN) : text.index(END)].strip()
+    frame = pd.read_csv(ROOT / "reports" / "navigation_account" / "account.csv")
+    for column in ("cause", "tried", "note"):
+        frame[column] = frame[column].fillna("")
+    want = account_markdown(AccountResult(frame)).splitlines()
+    got = table.splitlines()
+    assert len(got) == len(want)
+    number = re.compile(r"[-+]?\d+\.?\d*(?:e[-+]?\d+)?")
+    for a, b in zip(got, want, strict=True):
+        # the CSV keeps 7 significant digits: a 3-digit rounding may differ in its last digit
+        assert number.sub("#", a) == number.sub("#", b), (a, b)
+        x = [float(v) for v in number.findall(a)]
+        y = [float(v) for v in number.findall(b)]
+        assert np.allclose(x, y, rtol=6e-3, atol=1e-12), (a, b)
+
+
 def thesis_account_rows_expected() -> list[tuple[str, str]]:
     """(row, quantity) pairs with a thesis value: one line each in the docs table."""
     rows = thesis_rows()
@@ -132,17 +156,28 @@ def test_thesis_text_is_named_when_the_text_gives_our_value() -> None:
     assert d["cause"] == "thesis text" and d["cause_value"] == 0.49
 
 
-def test_noise_explains_an_experiment_row_with_a_seeded_noisy_run() -> None:
+def test_a_seeded_cause_counts_by_its_median_not_its_luckiest_seed() -> None:
+    """Table 6.2's New VFF experiment arrives in 7.4 s; one vision-noise seed of ten gives
+    an arrival inside the 7 % band, their median does not: no cause (issue 37: a cause must
+    be demonstrated, not drawn)."""
+    from designlab.navigation.account import CAUSE_SEEDS as SEEDS
+
     acc = thesis_account(tables=("6.2",), methods=("New VFF",))
     f = acc.frame
     t = f[f["sim_or_exp"] == "exp"].set_index("quantity").loc["T_arrive_s"]
-    assert t["cause"] == "noise" and abs(t["cause_value"] / 7.4 - 1) <= 0.07
     runs = [
         nav.simulate(nav.configuration(1), nav.EXPERIMENT_GAINS, stabilising="off",
                      noise=nav.SensorNoise(seed=k)).arrival_time
-        for k in range(5)
+        for k in range(SEEDS)
     ]  # fmt: skip
-    assert t["cause_value"] in runs
+    inside = sum(abs(x / 7.4 - 1) <= 0.07 for x in runs)
+    median = float(np.median(runs))
+    assert inside >= 1 and abs(median / 7.4 - 1) > 0.07
+    assert t["cause"] == "experiment: not found"
+    assert (
+        f"noise: {min(runs):.3g}-{max(runs):.3g} (median {median:.3g}, {inside}/{SEEDS} "
+        in (t["tried"])
+    )
 
 
 def test_the_walk_start_and_timing_move_the_human_only() -> None:

@@ -337,7 +337,7 @@ BASE_RUN = {"arrival_time": 6.0, "nominal_arrival_time": 5.4, "energy": 2.0,
         ({"arrival_time": None}, "arrival_time"),
         ({"arrival_time": "6"}, "arrival_time"),
         ({"arrival_time": math.nan}, "arrival_time"),
-        ({"nominal_arrival_time": math.inf}, "nominal_arrival_time"),  # H_T = inf, status ok
+        ({"nominal_arrival_time": 0.0}, "nominal_arrival_time"),
         ({"nominal_arrival_time": math.nan}, "nominal_arrival_time"),
         ({"energy": math.inf}, "energy"),
         ({"nominal_energy": -1.0}, "nominal_energy"),
@@ -371,3 +371,14 @@ def test_criteria_of_a_run_and_nominal_run_that_never_arrived():
     assert c.H_T == 0.0 and any("never arrived" in w for w in c.warnings)
     c = criteria(**BASE_RUN)
     assert c.H_T == 5.4 / 6.0 and c.H_D == 0.5 and c.H_E == 0.5
+
+
+def test_criteria_undefined_when_only_the_nominal_run_never_arrived():
+    """T* = inf with T finite raised (a sensitivity run at arrival_tolerance 1e-9 crashed the
+    navigation_gains study); H_T = inf was the value before that. Now H_T, H_E, H are NaN."""
+    from designlab.navigation.criteria import UNDEFINED, criteria
+
+    c = criteria(**{**BASE_RUN, "nominal_arrival_time": math.inf})
+    assert c.status == UNDEFINED and not c.ok
+    assert math.isnan(c.H_T) and math.isnan(c.H_E) and math.isnan(c.H) and c.H_D == 0.5
+    assert any("nominal run never arrived" in w and "T = 6.000 s" in w for w in c.warnings)

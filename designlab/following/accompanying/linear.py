@@ -50,6 +50,7 @@ from designlab.following.accompanying.parameters import (
     MecanumPlatform,
     StringPotSensor,
     UserFramePID,
+    loop_parts,
 )
 from designlab.results import Result, Status
 
@@ -366,16 +367,7 @@ def loop_analysis(
     (True, True)
     """
     n_frequencies = N_FREQUENCIES.check(n_frequencies)
-    controller = UserFramePID() if controller is None else controller
-    platform = MecanumPlatform() if platform is None else platform
-    sensor = StringPotSensor() if sensor is None else sensor
-    for name, obj, cls in (
-        ("controller", controller, UserFramePID),
-        ("platform", platform, MecanumPlatform),
-        ("sensor", sensor, StringPotSensor),
-    ):
-        if not isinstance(obj, cls):
-            raise InvalidParameterError(name, type(obj).__name__, f"must be a {cls.__name__}")
+    controller, platform, sensor = loop_parts(controller, platform, sensor)
     omega = frequency_grid(sensor.period, n_frequencies, 1e-3)
     rows, loops, tfs, warnings = [], {}, {}, []
     done: dict[tuple[float, ...], tuple[dict[str, Any], NDArray, Any]] = {}

@@ -87,6 +87,7 @@ __all__ = [
     "MecanumPlatform",
     "StringPotSensor",
     "UserFramePID",
+    "loop_parts",
 ]
 
 #: How the linear speed and acceleration limits act: on the norm of (V_x, V_y)
@@ -627,3 +628,41 @@ TOLERANCE = _arg(
     le=1,
     default=1e-5,
 )
+
+
+def loop_parts(
+    controller: object, platform: object, sensor: object
+) -> tuple[UserFramePID, MecanumPlatform, StringPotSensor]:
+    """The loop's controller, platform and sensor: each given one checked, the defaults for
+    ``None``; anything else is refused by name.
+
+    Parameters
+    ----------
+    controller, platform, sensor
+        A :class:`UserFramePID`, :class:`MecanumPlatform` and :class:`StringPotSensor`,
+        or ``None`` (the default one).
+
+    Returns
+    -------
+    tuple
+
+    Examples
+    --------
+    >>> loop_parts(None, None, None)[1] == MecanumPlatform()
+    True
+    >>> loop_parts("pid", None, None)
+    Traceback (most recent call last):
+    ...
+    designlab.errors.InvalidParameterError: controller = 'str' is not allowed: ...
+    """
+    parts = []
+    for name, obj, cls in (
+        ("controller", controller, UserFramePID),
+        ("platform", platform, MecanumPlatform),
+        ("sensor", sensor, StringPotSensor),
+    ):
+        obj = cls() if obj is None else obj
+        if not isinstance(obj, cls):
+            raise InvalidParameterError(name, type(obj).__name__, f"must be a {cls.__name__}")
+        parts.append(obj)
+    return parts[0], parts[1], parts[2]

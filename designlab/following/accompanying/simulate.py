@@ -41,6 +41,7 @@ from designlab.following.accompanying.parameters import (
     MecanumPlatform,
     StringPotSensor,
     UserFramePID,
+    loop_parts,
 )
 from designlab.following.accompanying.tasks import WalkingTask
 from designlab.following.accompanying.user_frame import (
@@ -263,13 +264,8 @@ def _checked(task: Any, controller: Any, platform: Any, sensor: Any, **args: Any
     """Validate every argument of :func:`simulate` and the size of the run."""
     if not isinstance(task, WalkingTask):
         raise InvalidParameterError("task", type(task).__name__, "must be a WalkingTask")
-    controller = UserFramePID() if controller is None else controller
-    platform = MecanumPlatform() if platform is None else platform
-    sensor = StringPotSensor() if sensor is None else sensor
+    controller, platform, sensor = loop_parts(controller, platform, sensor)
     for name, obj, cls in (
-        ("controller", controller, UserFramePID),
-        ("platform", platform, MecanumPlatform),
-        ("sensor", sensor, StringPotSensor),
         ("mount", args["mount"], (SensorMount, type(None))),
         ("adaptation", args["adaptation"], (TargetAdaptation, type(None))),
         ("motion_filter", args["motion_filter"], (MotionFilter, type(None))),
@@ -550,5 +546,5 @@ def _sensor_pose_np(robot: NDArray, offset: tuple[float, float]) -> list[NDArray
     ]
 
 
-#: :func:`simulate` under its name in the package's API (``designlab.following.accompany``).
 accompany = simulate
+"""The name of :func:`simulate` in the package's API: ``designlab.following.accompany``."""

@@ -834,5 +834,5 @@ def tune(
     )
 
 
-#: :func:`tune` under its name in the package's API (``designlab.following.tune_pid``).
 tune_pid = tune
+"""The name of :func:`tune` in the package's API: ``designlab.following.tune_pid``."""

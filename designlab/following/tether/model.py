@@ -14,7 +14,7 @@ tether length ``l_m`` (3-D, as the V-REP sensor of App. C) and the angle
 
 The physics is written once in CasADi symbols (:func:`kinematics_function`,
 :func:`sensor_function`, :func:`tip_function`) and compiled to numpy/float
-code for the closed-loop simulation (:mod:`designlab.following.tether_codegen`).
+code for the closed-loop simulation (:func:`designlab.sx.pycode.compile_sx`).
 The robot's parameters are :class:`designlab.following.tether.FollowerRobot`.
 
 Examples
@@ -33,7 +33,7 @@ from typing import Any
 
 import casadi as ca
 
-from designlab.following.tether_codegen import compile_sx
+from designlab.sx.pycode import compile_sx
 
 __all__ = [
     "STEP_INPUTS",

@@ -11,7 +11,12 @@ capabilities:
   linear foam; exact kernel;
 * :mod:`~designlab.impact.contact.hunt_crossley`: the reduced joint and a non-linear foam
   (Hunt-Crossley damping, densification spring); the general response path
-  (:mod:`designlab.impact.general`).
+  (:mod:`designlab.impact.general`);
+* :mod:`~designlab.impact.contact.measured`: the reduced joint and a foam given by its
+  measured stress-strain curve (PCHIP) and a linear damper; the general response path.
+
+The integrated models share :mod:`~designlab.impact.contact.integrated` (metrics, HIC,
+finite-difference gradients of the general path).
 
 :data:`CONTACTS` is the registry; :func:`contact_of` finds the model of a (robot, foam)
 pair. Engines ask the model, never the classes. A new contact model is one module and one
@@ -20,8 +25,10 @@ line below.
 Examples
 --------
 >>> import designlab as dl
->>> CONTACTS.choices(), CONTACTS.choices(linear=True)
-(('kelvin_voigt', 'series_joint', 'hunt_crossley'), ('kelvin_voigt', 'series_joint'))
+>>> CONTACTS.choices()
+('kelvin_voigt', 'series_joint', 'hunt_crossley', 'stress_strain')
+>>> CONTACTS.choices(linear=True)
+('kelvin_voigt', 'series_joint')
 >>> contact_of(dl.impact.MANIPULATOR_1, dl.impact.FOAM_1).name
 'kelvin_voigt'
 >>> contact_of(dl.impact.MANIPULATOR_1, "foam")
@@ -36,6 +43,7 @@ from designlab.errors import InvalidParameterError
 from designlab.impact.contact.base import HEAD_COLUMNS, ContactModel
 from designlab.impact.contact.hunt_crossley import HUNT_CROSSLEY, HuntCrossleyFoam
 from designlab.impact.contact.kelvin_voigt import KELVIN_VOIGT
+from designlab.impact.contact.measured import STRESS_STRAIN, StressStrainFoam
 from designlab.impact.contact.series_joint import SERIES_JOINT
 from designlab.registry import Registry
 
@@ -44,6 +52,7 @@ __all__ = [
     "HEAD_COLUMNS",
     "ContactModel",
     "HuntCrossleyFoam",
+    "StressStrainFoam",
     "contact_for_columns",
     "contact_of",
 ]
@@ -52,7 +61,7 @@ __all__ = [
 CONTACTS: Registry[ContactModel] = Registry(
     "contact",
     "impact contact models",
-    [KELVIN_VOIGT, SERIES_JOINT, HUNT_CROSSLEY],
+    [KELVIN_VOIGT, SERIES_JOINT, HUNT_CROSSLEY, STRESS_STRAIN],
 )
 
 

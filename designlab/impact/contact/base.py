@@ -3,12 +3,14 @@
 A contact model is one way of writing the manipulator-foam-head impact (Zeng 2011,
 Sec. 3.4-3.5): the manipulator's model (the reduced joint of (3.4.9) or the full series
 joint of (3.4.6)) and the foam's force law (the linear Kelvin-Voigt spring and damper of
-(3.5.1), or a non-linear law). Each variant is one object of a subclass of
-:class:`ContactModel`, declared in its own module with
+(3.5.1), or a non-linear law). Each variant is one :class:`ContactModel` (a linear one
+with an exact kernel), or one object of a subclass (a non-linear one, which brings its
+force law), declared in its own module with
 
-* the parameter classes it serves (``robots``, ``foam``) and the names of its parameter
-  row (``columns``): the row is built, and read, by name here and nowhere else outside
-  the kernels;
+* the parameter classes it serves (``robots``, ``foam``), the names of its parameter row
+  (``columns``) and the attributes each column is read from (``robot_attributes``,
+  ``foam_attributes``): the row is built, labelled and read by name here and nowhere
+  else outside the kernels;
 * its equations (``equations``, one line for the docs) and how its first-lobe metrics are
   computed (:meth:`ContactModel.metrics`: an exact kernel, or the general response path
   of :mod:`designlab.impact.general`);
@@ -24,7 +26,7 @@ co-design callers) look the variant of a (robot, foam) pair up in
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
@@ -32,49 +34,33 @@ import numpy as np
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
-from designlab.impact.parameters import STOP_TIME
+from designlab.impact.metrics import metrics_of_matrix
+from designlab.impact.parameters import STOP_TIME, HeadNeck
+from designlab.params import params_of
 
 __all__ = [
     "HEAD_COLUMNS",
+    "LINEAR_FOAM",
+    "REDUCED_JOINT",
     "ContactModel",
-    "reduced_joint_labels",
-    "reduced_joint_values",
 ]
 
 #: The head-neck columns of every parameter row, in the order of ``head_rows``.
 HEAD_COLUMNS: tuple[str, ...] = ("M_h", "C_h", "K_h")
+#: The :class:`~designlab.impact.parameters.HeadNeck` fields of :data:`HEAD_COLUMNS`.
+_HEAD_FIELDS = ("mass", "damping", "stiffness")
 
 
-def reduced_joint_values(robot: Any, levers: NDArray | None) -> dict[str, Any]:
-    """M_r, C_r, K_r of the reduced joint: a fixed manipulator, or a link at ``levers`` (3.4.17).
+#: The reduced joint's manipulator columns (3.4.9): (column, a fixed manipulator's attribute,
+#: a link's attribute; a link's value is divided by its lever arm squared, (3.4.17)).
+REDUCED_JOINT: tuple[tuple[str, str, str], ...] = (
+    ("M_r", "mass", "inertia"),
+    ("C_r", "damping", "joint_damping"),
+    ("K_r", "stiffness", "joint_stiffness"),
+)
 
-    Parameters
-    ----------
-    robot
-        A :class:`~designlab.impact.parameters.ContactDynamics` or a
-        :class:`~designlab.impact.parameters.LinkImpact` (``robot.along_link``).
-    levers
-        Lever arms, m (a link only).
-    """
-    if robot.along_link:
-        l2 = np.asarray(levers, dtype=float) ** 2
-        return {"M_r": robot.inertia / l2, "C_r": robot.joint_damping / l2,
-                "K_r": robot.joint_stiffness / l2}  # fmt: skip
-    return {"M_r": robot.mass, "C_r": robot.damping, "K_r": robot.stiffness}
-
-
-def reduced_joint_labels(along_link: bool) -> dict[str, str]:
-    """The arguments behind M_r, C_r, K_r: a fixed manipulator's, or a link's joint values.
-
-    Parameters
-    ----------
-    along_link
-        The robot is a link (``robot.inertia``, ``robot.joint_damping``, ...).
-    """
-    if along_link:
-        return {"M_r": "robot.inertia", "C_r": "robot.joint_damping",
-                "K_r": "robot.joint_stiffness"}  # fmt: skip
-    return {"M_r": "robot.mass", "C_r": "robot.damping", "K_r": "robot.stiffness"}
+#: The linear foam's columns (3.5.1): (column, the foam's attribute).
+LINEAR_FOAM: tuple[tuple[str, str], ...] = (("K_c", "stiffness"), ("C_c", "damping"))
 
 
 @dataclass(frozen=True)
@@ -91,10 +77,17 @@ class ContactModel:
         The foam class it serves.
     columns
         Names of its parameter row, in order.
-    robot_columns
-        Names of the manipulator's columns (a subset of ``columns``).
-    foam_columns
-        Names of the foam's columns beyond K_c and C_c (its fixed shape).
+    robot_attributes
+        The manipulator's columns (a subset of ``columns``) as ``(column, a fixed
+        manipulator's attribute, a link's attribute)``; a link's value is divided by its
+        lever arm squared (3.4.17). :data:`REDUCED_JOINT` for the reduced joint.
+    foam_attributes
+        The foam's columns as ``(column, attribute)``: :data:`LINEAR_FOAM` (K_c, C_c)
+        and, for a non-linear law, its shape columns after them.
+    linear_model
+        ``linear_model(constrained)``: the linear model
+        (:class:`~designlab.impact.model.LinearImpactModel`) of a linear contact; ``None``
+        for a non-linear one.
     equations
         The force law or state space, one line.
     linear, batched, gradients, profiles
@@ -114,8 +107,9 @@ class ContactModel:
     robots: tuple[type, ...]
     foam: type
     columns: tuple[str, ...]
-    robot_columns: tuple[str, ...]
-    foam_columns: tuple[str, ...] = ()
+    robot_attributes: tuple[tuple[str, str, str], ...]
+    foam_attributes: tuple[tuple[str, str], ...] = LINEAR_FOAM
+    linear_model: Callable[[bool], Any] | None = None
     equations: str = ""
     linear: bool = True
     batched: bool = True
@@ -128,6 +122,16 @@ class ContactModel:
     NO_HEAD: ClassVar[tuple[float, float, float]] = (1.0, 0.0, 0.0)
 
     # ---------------------------------------------------------------- rows
+    @property
+    def robot_columns(self) -> tuple[str, ...]:
+        """Names of the manipulator's columns (a subset of :attr:`columns`)."""
+        return tuple(c for c, _, _ in self.robot_attributes)
+
+    @property
+    def foam_columns(self) -> tuple[str, ...]:
+        """Names of the foam's columns beyond K_c and C_c (its fixed shape)."""
+        return tuple(c for c, _ in self.foam_attributes if c not in ("K_c", "C_c"))
+
     def serves(self, robot: object, foam: object | None) -> bool:
         """Whether this model is the one of ``robot`` (its exact class) and ``foam``."""
         return type(robot) in self.robots and (foam is None or type(foam) is self.foam)
@@ -142,15 +146,19 @@ class ContactModel:
         levers
             Lever arms (m) of a robot struck along its link; ignored for a fixed robot.
         """
-        values = self._robot_values(robot, levers)
-        return np.column_stack([np.atleast_1d(values[c]) for c in self.robot_columns])
-
-    def _robot_values(self, robot: Any, levers: NDArray | None) -> Mapping[str, Any]:
-        raise NotImplementedError  # pragma: no cover - every variant implements it
+        if robot.along_link:
+            l2 = np.asarray(levers, dtype=float) ** 2
+            values = [getattr(robot, link) / l2 for _, _, link in self.robot_attributes]
+        else:
+            values = [getattr(robot, fixed) for _, fixed, _ in self.robot_attributes]
+        return np.column_stack([np.atleast_1d(v) for v in values])
 
     def foam_values(self, foam: Any) -> dict[str, float]:
         """The foam's shape columns (beyond K_c and C_c) by name."""
-        return {}
+        shape = [(c, a) for c, a in self.foam_attributes if c in self.foam_columns]
+        if shape and type(foam) is not self.foam:
+            raise InvalidParameterError("foam", foam, f"must be a {self.foam.__name__}")
+        return {c: getattr(foam, a) for c, a in shape}
 
     def assemble(
         self,
@@ -202,10 +210,33 @@ class ContactModel:
         """The column ``name`` of parameter rows (``(n, len(columns))``)."""
         return np.atleast_2d(rows)[:, self.columns.index(name)]
 
+    def check_rows(self, rows: NDArray, constrained: bool) -> None:
+        """Refuse a row entry outside its declaration (the robot's, foam's or head's field
+        the column is read from), naming the column and the design: ``M_r[3] = -1.0 kg``.
+
+        Parameters
+        ----------
+        rows
+            ``(n, len(columns))`` parameter rows.
+        constrained
+            The head is constrained: its placeholder columns are not checked.
+        """
+        robot, foam = params_of(self.robots[0]), params_of(self.foam)
+        decls = {c: robot[fixed] for c, fixed, _ in self.robot_attributes}
+        decls.update({c: foam[a] for c, a in self.foam_attributes})
+        if not constrained:
+            head = params_of(HeadNeck)
+            decls.update({c: head[a] for c, a in zip(HEAD_COLUMNS, _HEAD_FIELDS, strict=True)})
+        for c, decl in decls.items():
+            for j, x in enumerate(self.column(rows, c)):
+                decl.check(float(x), f"{c}[{j}]")
+
     def head_values(self, row: NDArray) -> dict[str, float]:
         """``{"mass", "damping", "stiffness"}`` of the head of one parameter row."""
-        m, c, k = (float(self.column(row, n)[0]) for n in HEAD_COLUMNS)
-        return {"mass": m, "damping": c, "stiffness": k}
+        return {
+            a: float(self.column(row, c)[0])
+            for c, a in zip(HEAD_COLUMNS, _HEAD_FIELDS, strict=True)
+        }
 
     def input_labels(
         self, head: object | None, *, along_link: bool = False
@@ -219,21 +250,23 @@ class ContactModel:
         along_link
             The robot is a link: its columns come from its joint values (``robot.inertia``).
         """
-        labels = dict(self._labels(along_link))
-        for c, attr in zip(HEAD_COLUMNS, ("mass", "damping", "stiffness"), strict=True):
+        labels: dict[str, str | None] = {
+            c: f"robot.{link if along_link else fixed}" for c, fixed, link in self.robot_attributes
+        }
+        labels.update({c: f"foam.{a}" for c, a in self.foam_attributes})
+        for c, attr in zip(HEAD_COLUMNS, _HEAD_FIELDS, strict=True):
             labels[c] = None if head is None else f"head.{attr}"
         return tuple(labels[c] for c in self.columns)
-
-    def _labels(self, along_link: bool) -> Mapping[str, str]:
-        raise NotImplementedError  # pragma: no cover - every variant implements it
 
     # ---------------------------------------------------------------- responses
     def model(self, constrained: bool) -> Any:
         """The linear model (:class:`~designlab.impact.model.LinearImpactModel`) of a
         linear contact; the constrained one (head against a wall) if ``constrained``."""
-        raise InvalidParameterError(
-            "contact", self.name, "has no linear model: its responses are integrated"
-        )
+        if self.linear_model is None:
+            raise InvalidParameterError(
+                "contact", self.name, "has no linear model: its responses are integrated"
+            )
+        return self.linear_model(constrained)
 
     def valid_depth(self, foam: Any) -> float:
         """The compression beyond which the foam's law is not valid (bottoming), m."""
@@ -248,8 +281,10 @@ class ContactModel:
         )
 
     def metrics(self, rows: NDArray, impact_velocity: Any, **options: Any) -> Any:
-        """First-lobe metrics (:class:`~designlab.impact.metrics.ImpactMetrics`) of rows."""
-        raise NotImplementedError  # pragma: no cover - every variant implements it
+        """First-lobe metrics (:class:`~designlab.impact.metrics.ImpactMetrics`) of rows:
+        the exact kernel of a linear model (:func:`~designlab.impact.metrics.metrics_of_matrix`).
+        """
+        return metrics_of_matrix(rows, impact_velocity, **options)
 
     def values(
         self,
@@ -260,8 +295,18 @@ class ContactModel:
         constrained: bool = False,
         stop_time: float = STOP_TIME.default,
     ) -> NDArray[np.float64]:
-        """The metric of criterion ``key`` for rows (the exact kernel's path by default)."""
-        return key.values(rows, impact_velocity, constrained=constrained, stop_time=stop_time)
+        """The metric of criterion ``key`` for rows: the exact kernel's path of a linear model;
+        of a non-linear one, its first-lobe metrics (:meth:`metrics`, the general path), which
+        serve a_h,max, the peak force and eps_max (HIC needs a linear model's closed form)."""
+        if self.linear:
+            return key.values(rows, impact_velocity, constrained=constrained, stop_time=stop_time)
+        if key.metric not in ("head_acceleration", "force", "compression"):
+            raise InvalidParameterError(
+                "criteria", key.name, f"the {self.label} contact serves a_h,max, the peak force "
+                "and eps_max (HIC needs the closed-form response of a linear contact)",
+            )  # fmt: skip
+        m = self.metrics(rows, impact_velocity, constrained=constrained, stop_time=stop_time)
+        return key.from_metrics(m)
 
     def check_foam(self, foam: Any, robot: Any) -> None:
         """Refuse a foam this model cannot take with ``robot`` (``foam`` must be :attr:`foam`)."""

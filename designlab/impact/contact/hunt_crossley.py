@@ -45,34 +45,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
-from designlab.impact.contact.base import (
-    HEAD_COLUMNS,
-    ContactModel,
-    reduced_joint_labels,
-    reduced_joint_values,
-)
-from designlab.impact.general import (
-    GENERAL_RTOL,
-    ForceLaw,
-    GeneralStatus,
-    Histories,
-    Lobe,
-    first_lobe,
-    histories,
-    integrator_note,
-)
-from designlab.impact.metrics import ImpactMetrics
+from designlab.impact.contact.base import LINEAR_FOAM, REDUCED_JOINT
+from designlab.impact.contact.integrated import IntegratedContact
+from designlab.impact.general import ForceLaw
 from designlab.impact.model import PARAM_NAMES
-from designlab.impact.parameters import (
-    STOP_TIME,
-    ContactDynamics,
-    Foam,
-    LinkImpact,
-    as_field,
-    check_closing_velocity,
-)
+from designlab.impact.parameters import ContactDynamics, Foam, LinkImpact, as_field
 from designlab.params import declared, param, params_of
-from designlab.validation import ParamsMixin, real_array
+from designlab.validation import ParamsMixin
 
 __all__ = ["HUNT_CROSSLEY", "HuntCrossley", "HuntCrossleyFoam"]
 
@@ -167,153 +146,33 @@ def _force_law(k: float, c: float, x_d: float, n: float, p: float) -> ForceLaw:
 
 
 @dataclass(frozen=True)
-class HuntCrossley(ContactModel):
+class HuntCrossley(IntegratedContact):
     """The reduced joint with the non-linear foam (see the module text).
 
     Attributes
     ----------
-    name, label, doc, robots, foam, columns, robot_columns, foam_columns, equations
+    name, label, doc, robots, foam, columns, robot_attributes, foam_attributes
         As in :class:`~designlab.impact.contact.base.ContactModel`.
-    linear, batched, gradients, profiles, printed_q2, response_form
-        Its capabilities, as in :class:`~designlab.impact.contact.base.ContactModel`.
+    linear_model, equations, linear, batched, gradients, profiles, printed_q2, response_form
+        As in :class:`~designlab.impact.contact.base.ContactModel` (``linear_model`` is
+        ``None``: the responses are integrated).
     """
-
-    def _robot_values(self, robot: Any, levers: NDArray | None) -> Mapping[str, Any]:
-        return reduced_joint_values(robot, levers)
-
-    def _labels(self, along_link: bool) -> Mapping[str, str]:
-        return {**reduced_joint_labels(along_link), "K_c": "foam.stiffness", "C_c": "foam.damping",
-                "x_d": "foam.densification_depth", "n_d": "foam.stiffening",
-                "p_c": "foam.damping_exponent"}  # fmt: skip
-
-    def foam_values(self, foam: Any) -> dict[str, float]:
-        """x_d, n and p of the foam (its shape, kept while K_c and C_c vary)."""
-        if type(foam) is not self.foam:
-            raise InvalidParameterError("foam", foam, "must be a HuntCrossleyFoam")
-        return {"x_d": foam.densification_depth, "n_d": foam.stiffening,
-                "p_c": foam.damping_exponent}  # fmt: skip
 
     def force_law(self, k: float, c: float, x_d: float, n: float, p: float) -> ForceLaw:
         """The force law of one design (``K_c, C_c, x_d, n, p``)."""
         return _force_law(k, c, x_d, n, p)
 
-    def metrics(self, rows: NDArray, impact_velocity: Any, **options: Any) -> ImpactMetrics:
-        """First-lobe metrics of rows by the general response path (integrated, not certified).
+    def force_law_of(self, values: Mapping[str, float]) -> ForceLaw:
+        """The force law of one design from its row by name (K_c, C_c, x_d, n, p)."""
+        return _force_law(*(values[c] for c in _LAW))
 
-        Parameters
-        ----------
-        rows
-            ``(N, 11)`` parameter rows of :attr:`columns` (or one row).
-        impact_velocity
-            v_c, m/s: a scalar or ``(N,)``.
-        **options
-            ``constrained``, ``stop_time``, ``rtol``
-            (:data:`~designlab.impact.general.GENERAL_RTOL`); the linear kernels' other options
-            (``with_force``, ...) are accepted and have nothing to save here; ``q2`` must
-            be ``"correct"``.
-        """
-        p = np.atleast_2d(real_array("params", rows))
-        if p.shape[1] != len(self.columns):
-            raise InvalidParameterError(
-                "params", p.shape, f"must have shape (N, {len(self.columns)})"
-            )
-        if options.get("q2", "correct") != "correct":
-            raise InvalidParameterError(
-                "q2", options["q2"], "the printed q2 belongs to the reduced linear model"
-            )
-        constrained = bool(options.get("constrained", False))
-        stop_time = STOP_TIME.check(options.get("stop_time", 0.05))
-        rtol = GENERAL_RTOL.check(options.get("rtol", GENERAL_RTOL.default))
-        v = np.atleast_1d(check_closing_velocity(impact_velocity)).ravel()
-        n = max(p.shape[0], v.size)
-        p, v = np.broadcast_to(p, (n, p.shape[1])), np.broadcast_to(v, (n,))
-        col = {c: self.column(p, c) for c in self.columns}
-        lobes = []
-        for i in range(n):
-            law = self.force_law(*(float(col[c][i]) for c in _LAW))
-            robot = tuple(float(col[c][i]) for c in self.robot_columns)
-            head = None if constrained else tuple(float(col[c][i]) for c in HEAD_COLUMNS)
-            crush = float(col["x_d"][i]) if col["n_d"][i] > 0 else None  # n = 0: no densification
-            lobes.append(
-                first_lobe(law, robot, head, float(v[i]), stop_time=stop_time, rtol=rtol,
-                           crush_depth=crush)
-            )  # fmt: skip
-        return _batch(p, v, lobes, constrained, rtol)
+    def crush_depth_of(self, values: Mapping[str, float]) -> float | None:
+        """x_d, where the spring locks up; ``None`` for a linear spring (n = 0)."""
+        return values["x_d"] if values["n_d"] > 0 else None
 
     def valid_depth(self, foam: Any) -> float:
         """The densification depth x_d: the law's compression can never reach it."""
         return float(foam.densification_depth)
-
-    def integrate(
-        self, robot: Any, foam: Any, head: Any, impact_velocity: float, **options: Any
-    ) -> tuple[Lobe, Histories]:
-        """First-lobe metrics and time histories (over ``t_end``) of one impact, integrated.
-
-        Parameters
-        ----------
-        robot, foam, head
-            The impact (``head=None``: constrained).
-        impact_velocity
-            v_c > 0, m/s.
-        **options
-            ``t_end`` (s; default twice the impact period), ``stop_time``, ``rtol``.
-        """
-        row = self.row(robot, foam, head)
-        law = self.force_law(*(float(self.column(row, c)[0]) for c in _LAW))
-        arm = tuple(float(self.column(row, c)[0]) for c in self.robot_columns)
-        neck = None if head is None else tuple(float(self.column(row, c)[0]) for c in HEAD_COLUMNS)
-        stop_time = float(options.get("stop_time", 0.05))
-        rtol = GENERAL_RTOL.check(options.get("rtol", GENERAL_RTOL.default))
-        x_d = foam.densification_depth if foam.stiffening > 0 else None  # n = 0: never crushed
-        lobe = first_lobe(
-            law, arm, neck, impact_velocity, stop_time=stop_time, rtol=rtol, crush_depth=x_d
-        )
-        t_imp = lobe.impact_duration
-        t_end = options.get("t_end") or (2.0 * t_imp if np.isfinite(t_imp) and t_imp > 0 else 0.1)
-        return lobe, histories(law, arm, neck, impact_velocity, t_end, rtol=rtol, crush_depth=x_d)
-
-    def values(
-        self,
-        key: Any,
-        rows: NDArray,
-        impact_velocity: NDArray,
-        *,
-        constrained: bool = False,
-        stop_time: float = STOP_TIME.default,
-    ) -> NDArray[np.float64]:
-        """The metric of criterion ``key`` by the general path (HIC is not available)."""
-        if key.metric not in ("head_acceleration", "force", "compression"):
-            raise InvalidParameterError(
-                "criteria", key.name, f"the {self.label} contact serves a_h,max, the peak force "
-                "and eps_max (HIC needs the closed-form response of a linear contact)",
-            )  # fmt: skip
-        m = self.metrics(rows, impact_velocity, constrained=constrained, stop_time=stop_time)
-        return key.from_metrics(m)
-
-
-def _batch(p: NDArray, v: NDArray, lobes: list, constrained: bool, rtol: float) -> ImpactMetrics:
-    def arr(name: str) -> NDArray[np.float64]:
-        return np.array([getattr(lobe, name) for lobe in lobes], dtype=float)
-
-    status = np.array([lobe.status for lobe in lobes])
-    open_ = int(np.sum(status == GeneralStatus.LOBE_NOT_CLOSED.value))
-    crushed = int(np.sum(status == "bottoming"))
-    warnings = [integrator_note(rtol)]
-    if crushed:
-        warnings.append(
-            f"{crushed} design(s) crushed the foam (eps reached its densification depth x_d): "
-            "their peak force and a_h are infinite, beyond any limit"
-        )
-    if open_:
-        warnings.append(f"{open_} design(s) did not close their first lobe; their metrics are NaN")
-    return ImpactMetrics(
-        np.array(p), np.array(v), arr("peak_head_acceleration"), arr("max_compression"),
-        arr("peak_force"), arr("impact_duration"), arr("time_of_peak_acceleration"),
-        arr("time_of_max_compression"), arr("time_of_peak_force"), status,
-        constrained=constrained,
-        status=GeneralStatus.LOBE_NOT_CLOSED if open_ else GeneralStatus.INTEGRATED,
-        warnings=tuple(warnings),
-    )  # fmt: skip
 
 
 HUNT_CROSSLEY = HuntCrossley(
@@ -323,8 +182,13 @@ HUNT_CROSSLEY = HuntCrossley(
     robots=(ContactDynamics, LinkImpact),
     foam=HuntCrossleyFoam,
     columns=(*PARAM_NAMES, "x_d", "n_d", "p_c"),
-    robot_columns=("M_r", "C_r", "K_r"),
-    foam_columns=("x_d", "n_d", "p_c"),
+    robot_attributes=REDUCED_JOINT,
+    foam_attributes=(
+        *LINEAR_FOAM,
+        ("x_d", "densification_depth"),
+        ("n_d", "stiffening"),
+        ("p_c", "damping_exponent"),
+    ),
     equations="f_c = K_c eps (1 - eps+/x_d)^-n + C_c (eps+/x_d)^p eps_dot",
     linear=False,
     batched=False,

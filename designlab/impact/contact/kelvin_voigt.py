@@ -17,18 +17,7 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from dataclasses import dataclass
-from typing import Any
-
-from numpy.typing import NDArray
-
-from designlab.impact.contact.base import (
-    ContactModel,
-    reduced_joint_labels,
-    reduced_joint_values,
-)
-from designlab.impact.metrics import ImpactMetrics, metrics_of_matrix
+from designlab.impact.contact.base import REDUCED_JOINT, ContactModel
 from designlab.impact.model import (
     PARAM_NAMES,
     LinearImpactModel,
@@ -37,44 +26,29 @@ from designlab.impact.model import (
 )
 from designlab.impact.parameters import ContactDynamics, Foam, LinkImpact
 
-__all__ = ["KELVIN_VOIGT", "KelvinVoigt"]
+__all__ = ["KELVIN_VOIGT"]
 
 
-@dataclass(frozen=True)
-class KelvinVoigt(ContactModel):
-    """The reduced joint with a linear foam (see the module text).
+def reduced_joint_model(constrained: bool) -> LinearImpactModel:
+    """The model of Sec. 3.5 (3.5.11), or the constrained one (3.6.1)/(3.9.4).
 
-    Attributes
-    ----------
-    name, label, doc, robots, foam, columns, robot_columns, foam_columns, equations
-        As in :class:`~designlab.impact.contact.base.ContactModel`.
-    linear, batched, gradients, profiles, printed_q2, response_form
-        Its capabilities, as in :class:`~designlab.impact.contact.base.ContactModel`.
+    Examples
+    --------
+    >>> reduced_joint_model(False).n_states, reduced_joint_model(True).n_states
+    (4, 2)
     """
-
-    def _robot_values(self, robot: Any, levers: NDArray | None) -> Mapping[str, Any]:
-        return reduced_joint_values(robot, levers)
-
-    def _labels(self, along_link: bool) -> Mapping[str, str]:
-        return {**reduced_joint_labels(along_link), "K_c": "foam.stiffness", "C_c": "foam.damping"}
-
-    def model(self, constrained: bool) -> LinearImpactModel:
-        """The model of Sec. 3.5 (3.5.11), or the constrained one (3.6.1)/(3.9.4)."""
-        return constrained_model() if constrained else unconstrained_model()
-
-    def metrics(self, rows: NDArray, impact_velocity: Any, **options: Any) -> ImpactMetrics:
-        """The exact kernel's metrics (:func:`~designlab.impact.metrics.metrics_of_matrix`)."""
-        return metrics_of_matrix(rows, impact_velocity, **options)
+    return constrained_model() if constrained else unconstrained_model()
 
 
-KELVIN_VOIGT = KelvinVoigt(
+KELVIN_VOIGT = ContactModel(
     name="kelvin_voigt",
     label="Reduced joint, linear foam",
     doc="the thesis's model: reduced joint (3.4.9), Kelvin-Voigt foam (3.5.1); exact kernel",
     robots=(ContactDynamics, LinkImpact),
     foam=Foam,
     columns=PARAM_NAMES,
-    robot_columns=("M_r", "C_r", "K_r"),
+    robot_attributes=REDUCED_JOINT,
+    linear_model=reduced_joint_model,
     equations="f_c = K_c eps + C_c eps_dot",
     linear=True,
     batched=True,

@@ -34,7 +34,31 @@ from designlab.errors import InvalidParameterError
 from designlab.navigation.crowds.metrics import wilson_interval
 from designlab.params import ARG
 
-__all__ = ["decision_findings", "mcnemar", "minimum_detectable_difference", "time_limit_curve"]
+__all__ = [
+    "cell_keys",
+    "decision_findings",
+    "holm",
+    "mcnemar",
+    "minimum_detectable_difference",
+    "time_limit_curve",
+]
+
+
+def cell_keys(runs: pd.DataFrame) -> list[str]:
+    """The columns naming a cell of a study's runs: ``model`` (the pedestrian model, when the
+    runs have it), ``scenario`` and ``density``.
+
+    Parameters
+    ----------
+    runs
+        A study's runs.
+
+    Examples
+    --------
+    >>> cell_keys(pd.DataFrame(columns=["scenario", "density", "model", "seed"]))
+    ['model', 'scenario', 'density']
+    """
+    return [k for k in ("model", "scenario", "density") if k in runs.columns or k != "model"]
 
 
 def minimum_detectable_difference(n: int, alpha: float = 0.05, power: float = 0.8) -> float:
@@ -58,7 +82,8 @@ def minimum_detectable_difference(n: int, alpha: float = 0.05, power: float = 0.
 
 
 def mcnemar(runs: pd.DataFrame, outcome: str = "success") -> pd.DataFrame:
-    """Exact McNemar tests of ``outcome`` between every two methods, per layout and density.
+    """Exact McNemar tests of ``outcome`` between every two methods, per cell
+    (:func:`cell_keys`: pedestrian model, layout and density).
 
     Parameters
     ----------
@@ -71,7 +96,7 @@ def mcnemar(runs: pd.DataFrame, outcome: str = "success") -> pd.DataFrame:
     Returns
     -------
     DataFrame
-        ``scenario``, ``density``, ``a``, ``b``, ``pairs`` (crowds both ran), ``a_rate``,
+        The cell's keys, ``a``, ``b``, ``pairs`` (crowds both ran), ``a_rate``,
         ``b_rate``, ``a_only``, ``b_only`` (discordant pairs), ``p_value`` (exact,
         two-sided; 1 without discordant pairs).
 
@@ -88,7 +113,8 @@ def mcnemar(runs: pd.DataFrame, outcome: str = "success") -> pd.DataFrame:
         raise InvalidParameterError("runs", type(runs).__name__, f"must have columns {need}")
     ok = runs[runs["status"].astype(str) != "error"] if "status" in runs else runs
     rows = []
-    for (scen, dens), g in ok.groupby(["scenario", "density"], sort=False):
+    keys = cell_keys(ok)
+    for cell, g in ok.groupby(keys, sort=False):
         wide = g.pivot_table(index="seed", columns="method", values=outcome, aggfunc="first")
         methods = [m for m in dict.fromkeys(g["method"]) if m in wide.columns]
         for a, b in combinations(methods, 2):
@@ -96,7 +122,7 @@ def mcnemar(runs: pd.DataFrame, outcome: str = "success") -> pd.DataFrame:
             x, y = both[a].to_numpy() > 0, both[b].to_numpy() > 0
             na, nb = int((x & ~y).sum()), int((~x & y).sum())
             p = binomtest(na, na + nb, 0.5).pvalue if na + nb else 1.0
-            rows.append({"scenario": scen, "density": dens, "a": a, "b": b,
+            rows.append(dict(zip(keys, cell, strict=True)) | {"a": a, "b": b,
                          "pairs": len(both), "a_rate": float(x.mean()) if len(both) else math.nan,
                          "b_rate": float(y.mean()) if len(both) else math.nan,
                          "a_only": na, "b_only": nb, "p_value": float(p)})  # fmt: skip
@@ -121,7 +147,7 @@ def time_limit_curve(
     Returns
     -------
     DataFrame
-        ``scenario``, ``density``, ``method``, ``factor``, ``runs``, ``success_rate``,
+        The cell's keys (:func:`cell_keys`), ``method``, ``factor``, ``runs``, ``success_rate``,
         ``success_low``, ``success_high``.
 
     Examples
@@ -138,53 +164,96 @@ def time_limit_curve(
     if any(k <= 0 or k > limit + 1e-9 for k in ks):
         raise InvalidParameterError("factors", ks, f"must be in (0, {limit:.3g}] (the runs' limit)")
     rows = []
-    for key, g in ok.groupby(["scenario", "density", "method"], sort=False):
+    keys = [*cell_keys(ok), "method"]
+    for key, g in ok.groupby(keys, sort=False):
         for k in ks:
             arrived = (g["success"] > 0) & (g["arrival_time_s"] <= k * g["free_run_s"])
             n, s = len(g), int(arrived.sum())
             lo, hi = wilson_interval(s, n, confidence)
-            rows.append(dict(zip(("scenario", "density", "method"), key, strict=True))
+            rows.append(dict(zip(keys, key, strict=True))
                         | {"factor": k, "runs": n, "success_rate": s / n if n else math.nan,
                            "success_low": lo, "success_high": hi})  # fmt: skip
     return pd.DataFrame(rows)
 
 
-def decision_findings(tests: pd.DataFrame, n: int, alpha: float = 0.05) -> list[str]:
-    """Sentences from :func:`mcnemar`'s table, each with its p-value; then the minimum
-    detectable difference for ``n`` paired crowds per cell.
+def holm(p_values: Any) -> np.ndarray:
+    """Holm's step-down adjusted p-values (family-wise error over all the tests given).
+
+    Parameters
+    ----------
+    p_values
+        The raw p-values, in [0, 1].
+
+    Examples
+    --------
+    >>> holm([0.01, 0.04, 0.03]).tolist()
+    [0.03, 0.06, 0.06]
+    """
+    p = np.asarray(p_values, dtype=float).ravel()
+    if p.size and not (np.all(p >= 0) and np.all(p <= 1)):
+        raise InvalidParameterError("p_values", p.tolist(), "must be in [0, 1]")
+    order = np.argsort(p, kind="stable")
+    steps = (p.size - np.arange(p.size)) * p[order]
+    adj = np.empty_like(p)
+    adj[order] = np.minimum(np.maximum.accumulate(steps), 1.0)
+    return adj
+
+
+def _sentence(r: pd.Series, alpha: float) -> str:
+    among = f" among {r['model']} pedestrians" if "model" in r else ""
+    head = (f"- {r['scenario']} at {r['density']:g}/m^2{among}: {r['a']} arrived in "
+            f"{r['a_rate']:.0%} of {int(r['pairs'])} paired crowds, {r['b']} in "
+            f"{r['b_rate']:.0%}; ").replace("%", " %")  # fmt: skip
+    tail = (f"({int(r['a_only'])} vs {int(r['b_only'])} discordant crowds, exact McNemar "
+            f"p = {r['p_value']:.2g}, Holm-adjusted {r['p_holm']:.2g}).")  # fmt: skip
+    if r["p_holm"] < alpha:
+        more = r["a"] if r["a_only"] > r["b_only"] else r["b"]
+        return f"{head}{more} more often {tail}"
+    return f"{head}no difference shown {tail}"
+
+
+def decision_findings(tests: pd.DataFrame, n: int, alpha: float = 0.05,
+                      shown: int = 60) -> list[str]:  # fmt: skip
+    """Sentences from :func:`mcnemar`'s table, each with its p-value and its Holm-adjusted
+    p-value over the whole table (a difference is called at ``alpha`` after Holm); then the
+    minimum detectable difference for ``n`` paired crowds per cell.
 
     Parameters
     ----------
     tests
         :func:`mcnemar`'s table.
     n
-        Crowds per cell.
+        Crowds per cell (the smallest, if cells differ).
     alpha
-        The level a difference is called significant at (Holm's correction is not
-        applied: every p-value is given).
+        The family-wise level a difference is called significant at.
+    shown
+        Sentences at most: the differences shown first (smallest p first), then the tests
+        with the most discordant crowds; the rest are counted (every test is in the table).
 
     Examples
     --------
     >>> t = pd.DataFrame([{"scenario": "x", "density": 1.0, "a": "p", "b": "q", "pairs": 100,
     ...     "a_rate": 0.6, "b_rate": 0.3, "a_only": 35, "b_only": 5, "p_value": 1e-6}])
-    >>> print(decision_findings(t, 100)[0][-64:])
-    more often (35 vs 5 discordant crowds, exact McNemar p = 1e-06).
+    >>> print(decision_findings(t, 100)[0][-86:])
+    more often (35 vs 5 discordant crowds, exact McNemar p = 1e-06, Holm-adjusted 1e-06).
     """
-    out = []
-    for _, r in tests.iterrows():
-        head = (f"- {r['scenario']} at {r['density']:g}/m^2: {r['a']} arrived in "
-                f"{r['a_rate']:.0%} of {int(r['pairs'])} paired crowds, {r['b']} in "
-                f"{r['b_rate']:.0%}; ").replace("%", " %")  # fmt: skip
-        if r["p_value"] < alpha:
-            more = r["a"] if r["a_only"] > r["b_only"] else r["b"]
-            out.append(f"{head}{more} more often ({int(r['a_only'])} vs {int(r['b_only'])} "
-                       f"discordant crowds, exact McNemar p = {r['p_value']:.2g}).")  # fmt: skip
-        else:
-            out.append(f"{head}no difference shown ({int(r['a_only'])} vs "
-                       f"{int(r['b_only'])} discordant crowds, exact McNemar "
-                       f"p = {r['p_value']:.2g}).")  # fmt: skip
+    if tests.empty:
+        return ["- No two methods met the same crowds: nothing to test."]
+    t = tests.assign(p_holm=holm(tests["p_value"]), discordant=tests["a_only"] + tests["b_only"])
+    called = t["p_holm"] < alpha
+    order = t.assign(called=~called).sort_values(
+        ["called", "p_value", "discordant"], ascending=[True, True, False], kind="stable"
+    )
+    out = [_sentence(r, alpha) for _, r in order.head(int(shown)).iterrows()]
+    if len(order) > shown:
+        out.append(f"- {len(order) - int(shown)} more tests not listed here, none of them a "
+                   "difference shown" if int(called.sum()) <= shown else
+                   f"- {len(order) - int(shown)} more tests not listed here")  # fmt: skip
+    out.append(f"- {int(called.sum())} of {len(t)} pairwise tests show a difference at "
+               f"family-wise level {alpha:g} (Holm over all of them).")  # fmt: skip
     mdd = minimum_detectable_difference(max(int(n), 1), alpha)
-    out.append(f"- With {n} crowds per cell, a difference of success rates below {mdd:.2f} "
-               f"(two-sided level {alpha:g}, 80 % power, worst case p = 1/2) can go "
-               "undetected.")  # fmt: skip
+    size = f"below {mdd:.2f}" if mdd < 1 else "of any size"
+    out.append(f"- With {n} crowds per cell, a difference of success rates {size} "
+               f"(two-sided level {alpha:g}, 80 % power, worst case p = 1/2, independent-arm "
+               "approximation) can go undetected.")  # fmt: skip
     return out

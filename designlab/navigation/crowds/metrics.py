@@ -33,7 +33,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from designlab.errors import InvalidParameterError
+from designlab.navigation.crowds.bookkeeping import farthest_from_path
 from designlab.params import ARG, Param
+from designlab.sx.jit import AVAILABLE as COMPILED
 from designlab.validation import real_array
 
 __all__ = [
@@ -379,6 +381,13 @@ def _thin(points: Array) -> Array:
     return points[np.linspace(0, len(points) - 1, PATH_VERTICES).round().astype(int)]
 
 
+def _farthest(pa: Array, pb: Array) -> float:
+    """``point_to_path(pa, pb).max()``, compiled when numba is there and ``pb`` is a path."""
+    if COMPILED and len(pb) > 1:
+        return float(farthest_from_path(np.ascontiguousarray(pa), np.ascontiguousarray(pb)))
+    return float(point_to_path(pa, pb).max())
+
+
 def path_deviation(
     times: ArrayLike, with_robot: ArrayLike, without_robot: ArrayLike
 ) -> dict[str, float]:
@@ -414,7 +423,7 @@ def path_deviation(
         pa = _thin(a[:, i][~np.isnan(a[:, i]).any(axis=1)])
         pb = _thin(b[:, i][~np.isnan(b[:, i]).any(axis=1)])
         if len(pa) and len(pb):
-            worst.append(float(point_to_path(pa, pb).max()))
+            worst.append(_farthest(pa, pb))
     w = np.asarray(worst)
     return {
         "mean_m": float(w.mean()) if w.size else math.nan,

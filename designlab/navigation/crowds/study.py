@@ -35,6 +35,7 @@ import pandas as pd
 
 from designlab.analysis.engine import run_points
 from designlab.errors import InvalidParameterError
+from designlab.navigation.crowds.decide import cell_keys
 from designlab.navigation.crowds.faced import (
     faced_by,
     faced_by_runs,
@@ -56,7 +57,7 @@ from designlab.navigation.crowds.scenario import DENSITY, CrowdScenario, check_c
 from designlab.navigation.crowds.simulate import CROWD_METHOD, simulate_crowd, simulate_pedestrians
 from designlab.navigation.methods import METHOD, METHODS, STABILISING
 from designlab.navigation.parameters import OPTIMAL_GAINS
-from designlab.params import ARG, Param
+from designlab.params import ARG, Param, params_of
 from designlab.progress import Progress, ProgressHook, report
 from designlab.results import Result, Status
 
@@ -377,7 +378,8 @@ _METRIC_COLUMNS = (*RATES, "arrival_time_s", "min_centre_distance_m", "personal_
 
 
 def summarise_runs(runs: pd.DataFrame, confidence: float = CONFIDENCE.default) -> pd.DataFrame:
-    """One row per scenario, density and method: rates with Wilson intervals and distributions.
+    """One row per cell (pedestrian model when the runs have it, scenario, density) and method:
+    rates with Wilson intervals and distributions.
 
     Parameters
     ----------
@@ -400,7 +402,7 @@ def summarise_runs(runs: pd.DataFrame, confidence: float = CONFIDENCE.default) -
     """
     check_runs_frame(runs, ("scenario", "density", "method"))
     CONFIDENCE.check(confidence)
-    keys = ["scenario", "density", "method"]
+    keys = [*cell_keys(runs), "method"]
     failed = (
         runs["status"].astype(str) == "error"
         if "status" in runs
@@ -514,6 +516,8 @@ _GRID_FIELDS = ("layout", "pedestrians", "density", "seed")
 #: Runs of one study at most (each is a pedestrian simulation of up to a minute).
 MAX_RUNS = Param("runs", "", "runs of a crowd study (scenarios x densities x seeds x methods)",
                  kind="integer", ge=1, le=100_000, name="runs")  # fmt: skip
+#: A pedestrian model of a study's grid (the crowd's own declaration).
+MODEL = params_of(CrowdScenario)["model"].but(name="models")
 #: Seeds accepted (JuPedSim's and numpy's seeds are 32-bit).
 SEED = ARG.seed.but(symbol="seed", doc="seed of a crowd", le=2**31 - 1, name="seeds")
 #: Columns of a run row besides the point keys (for the chunk evaluator's result).
@@ -531,9 +535,11 @@ RUN_COLUMNS = (
 )  # fmt: skip
 
 
-def crowd_of(options: Mapping[str, Any], scenario: str, density: float, seed: int) -> CrowdScenario:
+def crowd_of(options: Mapping[str, Any], scenario: str, density: float, seed: int,
+             model: str | None = None) -> CrowdScenario:  # fmt: skip
     """The crowd of one run: ``options["crowd"]`` (keywords of
-    :func:`~designlab.navigation.crowd`) with the run's layout, density and seed.
+    :func:`~designlab.navigation.crowd`) with the run's layout, density, seed and pedestrian
+    model.
 
     Parameters
     ----------
@@ -541,12 +547,17 @@ def crowd_of(options: Mapping[str, Any], scenario: str, density: float, seed: in
         The study's evaluator options.
     scenario, density, seed
         Layout name, persons/m^2 and seed.
+    model
+        JuPedSim model of the run (``None``: the crowd options').
     """
-    return crowd(scenario, density=float(density), seed=int(seed), **dict(options.get("crowd", {})))
+    kw = dict(options.get("crowd", {}))
+    if model is not None:
+        kw["model"] = str(model)
+    return crowd(scenario, density=float(density), seed=int(seed), **kw)
 
 
 def simulate_run(options: Mapping[str, Any], scenario: str, density: float, seed: int,
-                 label: str) -> Any:  # fmt: skip
+                 label: str, model: str | None = None) -> Any:  # fmt: skip
     """Simulate one run of a study again (runs are deterministic: the same result).
 
     Parameters
@@ -555,6 +566,8 @@ def simulate_run(options: Mapping[str, Any], scenario: str, density: float, seed
         The study's evaluator options (:attr:`CrowdStudy.settings` ``["options"]``).
     scenario, density, seed, label
         The run: layout, persons/m^2, seed and method label.
+    model
+        Its pedestrian model (``None``: the crowd options').
 
     Returns
     -------
@@ -563,7 +576,7 @@ def simulate_run(options: Mapping[str, Any], scenario: str, density: float, seed
     gains = decode_gains(dict(options.get("gains", {})).get(label))
     stab = options.get("stabilising", "lyapunov")  # one setting, or label -> setting
     stab = dict(stab).get(label, "lyapunov") if isinstance(stab, Mapping) else stab
-    return simulate_crowd(crowd_of(options, scenario, density, seed), gains,
+    return simulate_crowd(crowd_of(options, scenario, density, seed, model), gains,
                           method=method_name(label), stabilising=str(stab))  # fmt: skip
 
 
@@ -574,7 +587,8 @@ def crowd_runs_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) -> 
     ----------
     points
         Columns ``scenario`` (index into ``options["scenarios"]``), ``density`` (1/m^2),
-        ``seed`` and ``method`` (index into ``options["methods"]``).
+        ``seed``, ``method`` (index into ``options["methods"]``) and optionally ``model``
+        (index into ``options["models"]``: the pedestrian model).
     options
         ``scenarios``, ``methods`` (labels), ``gains`` (label -> plain gains),
         ``crowd`` (keywords of :func:`~designlab.navigation.crowd`), ``stabilising``,
@@ -584,13 +598,15 @@ def crowd_runs_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) -> 
     """
     n = np.asarray(points["seed"]).size
     out: dict[str, list[Any]] = {k: [] for k in RUN_COLUMNS}
-    alone: dict[tuple[int, float, int], Any] = {}
+    alone: dict[tuple[int, float, int, str | None], Any] = {}
     reacts = bool(dict(options.get("crowd", {})).get("react_to_robot", False))
     pending: list[tuple[Any, dict[str, Any]]] = []  # runs whose crowd met is still to measure
+    models = points.get("model")
     for i in range(n):
-        key = (int(points["scenario"][i]), float(points["density"][i]), int(points["seed"][i]))
+        mi = None if models is None else options["models"][int(models[i])]
+        key = (int(points["scenario"][i]), float(points["density"][i]), int(points["seed"][i]), mi)
         scenario, label = options["scenarios"][key[0]], options["methods"][int(points["method"][i])]
-        res = simulate_run(options, scenario, key[1], key[2], label)
+        res = simulate_run(options, scenario, key[1], key[2], label, mi)
         if reacts and key not in alone:
             alone[key] = simulate_pedestrians(res.crowd)
         row = run_row(res, alone.get(key), personal_space=float(options.get("personal_space", 1.2)),
@@ -652,10 +668,15 @@ def _check_grid(
     return names, rho, seed_list
 
 
-def _points(n_scen: int, density: float, seeds: list[int], n_methods: int) -> dict[str, np.ndarray]:
-    """The runs of one layout and density: seed-major, so a chunk of ``n_methods`` is a crowd."""
+def _points(n_scen: int, density: float, seeds: list[int], n_methods: int,
+            model: int | None = None) -> dict[str, np.ndarray]:  # fmt: skip
+    """The runs of one layout and density (and pedestrian model, an index into the options'
+    ``models``; ``None``: the crowd options'): seed-major, so a chunk of ``n_methods`` is a
+    crowd."""
     seed_col = np.repeat(np.asarray(seeds, dtype=float), n_methods)
+    extra = {} if model is None else {"model": np.full(seed_col.size, float(model))}
     return {
+        **extra,
         "scenario": np.full(seed_col.size, float(n_scen)),
         "density": np.full(seed_col.size, density),
         "seed": seed_col,
@@ -679,6 +700,7 @@ def crowd_study(
     resume: bool = False,
     cache_only: bool = False,
     progress: ProgressHook | None = None,
+    models: Sequence[str] | None = None,
 ) -> CrowdStudy:
     """Simulate every layout x density x seed x method and measure each run.
 
@@ -709,6 +731,9 @@ def crowd_study(
         Dask), a chunk store, reuse stored chunks, compute nothing not stored.
     progress
         A :data:`designlab.progress.ProgressHook`: runs done after each layout and density.
+    models
+        JuPedSim models to run every crowd with (an outer axis of the grid, each crowd the
+        same placement and streams under each; ``None``: the crowd options' model alone).
 
     Returns
     -------
@@ -723,27 +748,49 @@ def crowd_study(
     """
     names, rho, seed_list = _check_grid(scenarios, densities, seeds)
     labels, coded = _check_labels(methods, gains)
+    model_list = _check_models(models)
     CONFIDENCE.check(confidence)
     if crowd_options is not None:
         check_crowd_options(crowd_options, "crowd_options", _GRID_FIELDS)
-    total = MAX_RUNS.check(len(names) * len(rho) * len(seed_list) * len(labels))
+    per_model = len(names) * len(rho) * len(seed_list) * len(labels)
+    total = MAX_RUNS.check(per_model * max(len(model_list), 1))
     options = {
         "scenarios": names, "methods": labels, "gains": coded,
         "crowd": dict(crowd_options or {}), "stabilising": _stabilising(stabilising, labels),
         "personal_space": PERSONAL_SPACE.check(personal_space),
     }  # fmt: skip
+    if model_list:
+        options["models"] = model_list
     crowd_of(options, names[0], rho[0], seed_list[0])  # bad crowd options fail before any run
     frames, done = [], 0
-    for si, name in enumerate(names):
-        for d in rho:
-            pts = _points(si, d, seed_list, len(labels))
-            run = run_points(pts, crowd_runs_chunk, options, executor=executor, store=store,
-                             resume=resume, cache_only=cache_only, chunk_size=len(labels),
-                             desc=f"crowds {name} {d:g}")  # fmt: skip
-            frames.append(_named(pd.concat([pd.DataFrame(pts), run.frame], axis=1), names, labels))
-            done += len(seed_list) * len(labels)
-            report(progress, Progress(done, total, label="runs", note=f"{name} {d:g}/m^2"))
+    for mi, model in enumerate(model_list or [None]):
+        for si, name in enumerate(names):
+            for d in rho:
+                pts = _points(si, d, seed_list, len(labels), None if model is None else mi)
+                run = run_points(pts, crowd_runs_chunk, options, executor=executor, store=store,
+                                 resume=resume, cache_only=cache_only, chunk_size=len(labels),
+                                 desc=f"crowds {model or ''} {name} {d:g}")  # fmt: skip
+                frame = pd.concat([pd.DataFrame(pts), run.frame], axis=1)
+                frames.append(_named(frame, names, labels, model or _model_of(options)))
+                done += len(seed_list) * len(labels)
+                note = f"{model + ' ' if model else ''}{name} {d:g}/m^2"
+                report(progress, Progress(done, total, label="runs", note=note))
     return _study(pd.concat(frames, ignore_index=True), options, confidence)
+
+
+def _check_models(models: Any) -> list[str]:
+    """The pedestrian models of a grid checked (``None``: none, the crowd options' model)."""
+    if models is None:
+        return []
+    names = [models] if isinstance(models, str) else list(models)
+    if not names or len(set(names)) != len(names):
+        raise InvalidParameterError("models", models, "must be non-empty with no repeats")
+    return [str(MODEL.check(m)) for m in names]
+
+
+def _model_of(options: Mapping[str, Any]) -> str:
+    """The pedestrian model of the crowd options (the crowd's default when not given)."""
+    return str(dict(options.get("crowd", {})).get("model", MODEL.default))
 
 
 def _stabilising(value: Any, labels: list[str]) -> str | dict[str, str]:
@@ -756,8 +803,9 @@ def _stabilising(value: Any, labels: list[str]) -> str | dict[str, str]:
     return {str(k): str(STABILISING.check(v)) for k, v in value.items()}
 
 
-def _named(frame: pd.DataFrame, names: list[str], labels: list[str]) -> pd.DataFrame:
+def _named(frame: pd.DataFrame, names: list[str], labels: list[str], model: str) -> pd.DataFrame:
     out = frame.copy()
+    out["model"] = model
     out["scenario"] = [names[int(i)] for i in frame["scenario"]]
     out["method"] = [labels[int(i)] for i in frame["method"]]
     out["seed"] = frame["seed"].astype(int)
@@ -787,7 +835,8 @@ def abnormal_runs(runs: pd.DataFrame) -> list[str]:
               "simulator_failed": "the pedestrian simulator (JuPedSim) failed"}  # fmt: skip
     out = []
     for _, r in runs.iterrows():
-        cell = f"{r['scenario']} {r['density']:g}/m^2 seed {int(r['seed'])} {r['method']}"
+        among = f" among {r['model']} pedestrians" if "model" in r else ""
+        cell = f"{r['scenario']} {r['density']:g}/m^2{among} seed {int(r['seed'])} {r['method']}"
         if r["outcome"] in causes:
             out.append(f"{cell}: {causes[r['outcome']]} at t = {r['outcome_time_s']:.2f} s")
         if r.get("coupling_exceeded", 0) > 0:

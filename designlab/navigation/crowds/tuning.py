@@ -310,6 +310,14 @@ def optimise_crowd_gains(
     Returns
     -------
     CrowdGainOptimum
+
+    Examples
+    --------
+    >>> from designlab.navigation.tuning import DEFAULT_BOUNDS
+    >>> train = CrowdSet(("corridor_counterflow",), (0.1,), (0,), {"length": 8.0, "horizon": 1.0})
+    >>> opt = optimise_crowd_gains(train, bounds=DEFAULT_BOUNDS, popsize=4, generations=1)
+    >>> str(opt.status), opt.evaluations
+    ('ok', 4)
     """
     import cma
 

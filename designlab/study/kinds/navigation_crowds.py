@@ -40,7 +40,13 @@ from designlab.errors import DesignlabError, StudyError
 from designlab.navigation.crowds.layouts import LAYOUTS
 from designlab.navigation.crowds.metrics import CONFIDENCE, CVAR_ALPHA, PERSONAL_SPACE
 from designlab.navigation.crowds.scenario import DENSITY, CrowdScenario, crowd
-from designlab.navigation.crowds.study import MAX_RUNS, CrowdStudy, crowd_study, simulate_run
+from designlab.navigation.crowds.study import (
+    MAX_RUNS,
+    MODEL,
+    CrowdStudy,
+    crowd_study,
+    simulate_run,
+)
 from designlab.navigation.crowds.study import SEED as CROWD_SEED
 from designlab.navigation.crowds.tuning import (
     RATE,
@@ -87,6 +93,7 @@ _Layout = Literal["corridor_counterflow", "crossing", "bottleneck", "open_plaza"
 _Seed = CROWD_SEED.annotation()
 _Density = DENSITY.annotation()
 _Method = METHODS.literal(crowds=True)
+_Model = MODEL.annotation()
 
 
 class CrowdMethodSpec(Model):
@@ -184,6 +191,10 @@ class NavigationCrowdsStudy(StudyBase):
     densities: list[_Density] = Field(min_length=1, max_length=10)  # type: ignore[valid-type]
     seeds: list[_Seed] = Field(min_length=1, max_length=1000)
     methods: list[CrowdMethodSpec] = Field(min_length=1, max_length=8)
+    models: list[_Model] | None = Field(  # type: ignore[valid-type]
+        None, min_length=1, max_length=4,
+        description="JuPedSim models: every crowd of the grid under each (default: crowd.model)",
+    )  # fmt: skip
     stabilising: STABILISING.annotation() = "lyapunov"  # type: ignore[valid-type]
     crowd: CrowdSpec = Field(default_factory=CrowdSpec)  # type: ignore[valid-type]
     personal_space: PERSONAL_SPACE.annotation() = 1.2  # type: ignore[valid-type]
@@ -199,11 +210,14 @@ class NavigationCrowdsStudy(StudyBase):
     #: at load 13-18 on two shared cores)
     TYPICAL_DURATION: ClassVar[float] = 300
     MAX_POINTS: ClassVar[int] = int(MAX_RUNS.le)  # type: ignore[arg-type]
+    #: Its runs go through the sweep engine: finished crowds are kept in the result store
+    #: (``--cache-dir``), so an interrupted ``designlab run --resume`` computes only the rest.
+    KEEPS_STORE: ClassVar[bool] = True
 
     @model_validator(mode="after")
     def _grid(self) -> NavigationCrowdsStudy:
-        for name in ("scenarios", "densities", "seeds"):
-            vals = getattr(self, name)
+        for name in ("scenarios", "densities", "seeds", "models"):
+            vals = getattr(self, name) or []
             if len(set(vals)) != len(vals):
                 raise ValueError(f"{name} must not repeat a value (got {vals})")
         labels = [m.label for m in self.methods]
@@ -235,7 +249,8 @@ class NavigationCrowdsStudy(StudyBase):
 
     def runs(self) -> int:
         """Runs of the main grid."""
-        return len(self.scenarios) * len(self.densities) * len(self.seeds) * len(self.methods)
+        grid = len(self.scenarios) * len(self.densities) * len(self.seeds) * len(self.methods)
+        return grid * len(self.models or [None])
 
     def size(self) -> str:
         """Runs of the grid, and of the tuning if any."""
@@ -307,7 +322,8 @@ def _tracks(study: NavigationCrowdsStudy, crowds: CrowdStudy) -> dict[tuple[str,
         for kind, row in (("representative", crowds.representative(m.label)),
                           ("worst", crowds.worst(m.label))):  # fmt: skip
             where = (str(row["scenario"]), float(row["density"]), int(row["seed"]))
-            out[(kind, m.label)] = simulate_run(options, *where, m.label)
+            model = str(row["model"]) if "models" in options else None
+            out[(kind, m.label)] = simulate_run(options, *where, m.label, model)
     return out
 
 
@@ -347,7 +363,7 @@ def run(study: NavigationCrowdsStudy, context: RunContext) -> NavigationCrowdsRe
         crowds = crowd_study(study.scenarios, study.densities, study.seeds,
                              [m.label for m in study.methods], gains=_gains(study),
                              executor=context.executor, store=context.store, resume=context.resume,
-                             cache_only=context.cache_only, progress=hook,
+                             cache_only=context.cache_only, progress=hook, models=study.models,
                              **_grid_options(study))  # fmt: skip
     opt, val = _tune(study, context)
     with context.bar("navigation_crowds: runs shown", 2 * len(study.methods)) as hook:

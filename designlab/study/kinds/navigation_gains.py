@@ -266,6 +266,26 @@ class NavigationGainsResult(Result):
         ``baseline_configurations`` (stabilising force off).
     baseline_optima
         ``{method: GainOptimum}`` of the baselines.
+
+    Examples
+    --------
+    A search cut short (8 evaluations) is ``not_converged``, and says so:
+
+    >>> from designlab.study import parse_study, run_study
+    >>> r = run_study(parse_study('''
+    ... designlab: 1
+    ... kind: navigation_gains
+    ... name: demo
+    ... modes: [off]
+    ... configurations: [1]
+    ... validation: []
+    ... popsize: 4
+    ... max_evaluations: 8
+    ... refine: false
+    ... sensitivity: false
+    ... '''))
+    >>> type(r).__name__, r.status, list(r.optima)
+    ('NavigationGainsResult', 'not_converged', ['off'])
     """
 
     study: NavigationGainsStudy

@@ -149,18 +149,22 @@ _PathSpec = create_model(
 
 
 def _shape_spec(shape: str) -> Any:
+    """The spec of a named path shape, bound in this module under its name (so that it pickles)."""
     fields = {
         n: (d.annotation(), d.default) for n, d in SHAPE_PARAMETERS[shape].items()
     }  # every argument has a default (None for an optional one)
     camel = "".join(w.capitalize() for w in shape.split("_"))
-    return create_model(
+    model = create_model(
         f"{camel}PathSpec",
         __base__=_PathSpec,
         __doc__=f"The {shape} leader path (:func:`designlab.following.tether.paths.{shape}`), SI"
         " units.",
+        __module__=__name__,
         type=(Literal[shape], Field(description="the path shape")),  # type: ignore[valid-type]
         **fields,
     )
+    globals()[model.__name__] = model  # bound under its own name, so that it pickles
+    return model
 
 
 class PointsPathSpec(_PathSpec):

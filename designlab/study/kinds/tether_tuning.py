@@ -151,6 +151,25 @@ class TetherTuningResult(Result):
         The study.
     results
         One tuning result per law.
+
+    Examples
+    --------
+    One generation of two candidates is ``not_converged``, and says so:
+
+    >>> from designlab.study import parse_study, run_study
+    >>> r = run_study(parse_study('''
+    ... designlab: 1
+    ... kind: tether_tuning
+    ... name: demo
+    ... laws: [FollowTheLeader]
+    ... paths: [{type: figure_eight, a: 2.0}]
+    ... speeds: [0.5]
+    ... validation_paths: [{type: slalom}]
+    ... popsize: 2
+    ... maxiter: 1
+    ... '''))
+    >>> type(r).__name__, r.status, len(r.results)
+    ('TetherTuningResult', 'not_converged', 1)
     """
 
     study: TetherTuningStudy

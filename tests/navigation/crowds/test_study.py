@@ -243,3 +243,38 @@ def test_stabilising_per_method_label() -> None:
     for bad in ({"vff:on": "off"}, {"vff:off": "sometimes"}):
         with pytest.raises(DesignlabError, match="stabilising"):
             crowd_study(**args, stabilising=bad)
+
+
+def test_an_interrupted_crowd_study_resumes_from_its_store(tmp_path, monkeypatch) -> None:
+    """`designlab run` keeps a crowd study's finished crowds in the result store, so a rerun
+    with --resume (and `designlab report`) computes none of them again."""
+    from typer.testing import CliRunner
+
+    import designlab.navigation.crowds.study as crowd_mod
+    from designlab.cli import app
+
+    study = tmp_path / "tiny_crowds.yaml"
+    study.write_text("designlab: 1\nkind: navigation_crowds\nname: tiny_crowds\n"
+                     "scenarios: [corridor_counterflow]\ndensities: [0.1]\nseeds: [0]\n"
+                     "methods: [{method: vff}]\ncrowd: {length: 8.0, horizon: 0.5}\n"
+                     "animations: false\n")  # fmt: skip
+    cache, out = tmp_path / "cache", tmp_path / "reports"
+    args = ["run", str(study), "-o", str(out), "--cache-dir", str(cache)]
+    first = CliRunner().invoke(app, args)
+    assert first.exit_code == 0, first.output
+    assert (cache / "tiny_crowds.sqlite").is_file()
+    calls = []
+    real = crowd_mod.simulate_run
+
+    def counted(*a, **k):
+        calls.append(a)
+        return real(*a, **k)
+
+    monkeypatch.setattr(crowd_mod, "simulate_run", counted)  # the grid's runs go through it
+    again = CliRunner().invoke(app, [*args, "--resume"])
+    assert again.exit_code == 0, again.output
+    assert calls == []  # the crowd came from the store
+    fresh = CliRunner().invoke(app, ["run", str(study), "-o", str(out), "--cache-dir",
+                                     str(tmp_path / "other")])  # fmt: skip
+    assert fresh.exit_code == 0, fresh.output
+    assert len(calls) == 1  # without the store, the run is simulated (the counter counts)

@@ -53,8 +53,8 @@ import casadi as ca
 from designlab.errors import InvalidParameterError
 from designlab.following.tether.buffer import TETHER_ANGLE, TargetFinder
 from designlab.following.tether.parameters import WHEEL_TRACK, FollowerRobot
-from designlab.following.tether_codegen import compile_sx
 from designlab.params import Param, param
+from designlab.sx.pycode import compile_sx
 
 __all__ = [
     "DESIRED_LENGTH",
