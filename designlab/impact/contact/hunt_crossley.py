@@ -147,8 +147,17 @@ def _force_law(k: float, c: float, x_d: float, n: float, p: float) -> ForceLaw:
 
 @dataclass(frozen=True)
 class HuntCrossley(IntegratedContact):
-    """The reduced joint with the non-linear foam (see the module text); its fields are
-    those of :class:`~designlab.impact.contact.base.ContactModel`."""
+    """The reduced joint with the non-linear foam (see the module text).
+
+    Attributes
+    ----------
+    name, label, doc, robots, foam, columns, robot_attributes, foam_attributes
+        As in :class:`~designlab.impact.contact.base.ContactModel`.
+    linear_model, equations
+        As there (no linear model: ``None``).
+    linear, batched, gradients, profiles, printed_q2, response_form
+        Its capabilities, as in :class:`~designlab.impact.contact.base.ContactModel`.
+    """
 
     def force_law(self, k: float, c: float, x_d: float, n: float, p: float) -> ForceLaw:
         """The force law of one design (``K_c, C_c, x_d, n, p``)."""

@@ -78,7 +78,14 @@ class IntegratedContact(ContactModel):
     ``linear=False`` (no closed form), ``batched=False`` (one design per integration) and
     ``gradients=False`` (no exact gradients; finite differences instead).
 
-    Its fields are those of :class:`~designlab.impact.contact.base.ContactModel`.
+    Attributes
+    ----------
+    name, label, doc, robots, foam, columns, robot_attributes, foam_attributes
+        As in :class:`~designlab.impact.contact.base.ContactModel`.
+    linear_model, equations
+        As there (no linear model: ``None``).
+    linear, batched, gradients, profiles, printed_q2, response_form
+        Its capabilities, as in :class:`~designlab.impact.contact.base.ContactModel`.
     """
 
     def force_law_of(self, values: Mapping[str, float]) -> ForceLaw:

@@ -240,7 +240,14 @@ def _force_law(k: float, c: float, thickness: float, curve: _Curve) -> ForceLaw:
 class StressStrain(IntegratedContact):
     """The reduced joint with a measured-curve foam (see the module text).
 
-    Its fields are those of :class:`~designlab.impact.contact.base.ContactModel`.
+    Attributes
+    ----------
+    name, label, doc, robots, foam, columns, robot_attributes, foam_attributes
+        As in :class:`~designlab.impact.contact.base.ContactModel`.
+    linear_model, equations
+        As there (no linear model: ``None``).
+    linear, batched, gradients, profiles, printed_q2, response_form
+        Its capabilities, as in :class:`~designlab.impact.contact.base.ContactModel`.
     """
 
     def foam_values(self, foam: Any) -> dict[str, float]:
