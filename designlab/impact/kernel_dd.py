@@ -360,7 +360,20 @@ def _dd_block(params, printed, starts, poles, res, poly, err, ok):  # type: igno
 def starts(params: NDArray[np.float64], printed: bool) -> NDArray[np.complex128]:
     """Double-precision roots ``(N, 4)`` of the designs' characteristic quartics (the
     eigenvalues of their companion matrices; NaN where the coefficients are not finite):
-    the Weierstrass iteration's starts."""
+    the Weierstrass iteration's starts.
+
+    Parameters
+    ----------
+    params : ndarray, shape (N, 8)
+        Reduced unconstrained designs, columns M_r, C_r, K_r, K_c, C_c, M_h, C_h, K_h (SI).
+    printed : bool
+        Use the thesis's printed q2 of (3.5.14) (no C_r C_h term) instead of the derived one.
+
+    Returns
+    -------
+    ndarray, shape (N, 4), complex
+        The roots, NaN for designs whose coefficients are not finite.
+    """
     m_r, c_r, k_r, k_c, c_c, m_h, c_h, k_h = np.asarray(params, dtype=np.float64).T
     cc = c_c * c_r + c_c * c_h + (0.0 if printed else c_r * c_h)
     mm = m_r * m_h
@@ -385,7 +398,22 @@ def dd_responses(
     compression), polynomial parts ``(N, 3, 2)``, error bounds ``(N, 3, 4, 2)`` and a mask
     of the designs certified here, of reduced unconstrained designs ``params`` ``(N, 8)``
     (the thesis's printed q2 of (3.5.14) where ``printed``) from the starts ``(N, 4)`` of
-    the Weierstrass iteration (by default :func:`starts`)."""
+    the Weierstrass iteration (by default :func:`starts`).
+
+    Parameters
+    ----------
+    params : ndarray, shape (N, 8)
+        Reduced unconstrained designs, columns M_r, C_r, K_r, K_c, C_c, M_h, C_h, K_h (SI).
+    printed : bool
+        Use the thesis's printed q2 of (3.5.14) instead of the derived one.
+    start : ndarray, shape (N, 4), complex, optional
+        Starting roots of the Weierstrass iteration; by default :func:`starts`.
+
+    Returns
+    -------
+    tuple
+        Poles, residues, polynomial parts, error bounds and the certified mask, as above.
+    """
     p = np.ascontiguousarray(params, dtype=np.float64)
     n = p.shape[0]
     start = starts(p, printed) if start is None else start
