@@ -56,6 +56,7 @@ NO_JIT_ENV = "DESIGNLAB_NO_JIT"
 KERNEL_MODULES = (
     "analysis/lhs_kernel.py",
     "impact/kernel.py",
+    "impact/kernel_dd.py",
     "impact/kernel_exp.py",
     "impact/kernel_full.py",
     "impact/kernel_lobe.py",

@@ -144,6 +144,10 @@ class StressStrainFoam(ParamsMixin):
 
     Examples
     --------
+    >>> foam = StressStrainFoam(strain=(0.05, 0.3, 0.6), stress=(5e3, 2e4, 8e4), area=0.01,
+    ...                         thickness=0.04, damping=60.0)
+    >>> round(foam.crush_depth, 3)   # m: the law is not extrapolated past the last strain
+    0.024
     >>> StressStrainFoam(strain=(0.1, 0.05), stress=(1e3, 2e3), area=0.01, thickness=0.04,
     ...                  damping=60.0)
     Traceback (most recent call last):
