@@ -420,8 +420,10 @@ WALL_GOAL_MIN = 20.0
 
 
 def search_frame(result: CodesignResult) -> pd.DataFrame:
-    """One row: designs evaluated (every seed), their CPU time, the rate, and the wall time a
-    quiet 2-core machine would take with both cores scoring (CPU time / 2).
+    """One row: designs evaluated (every seed), seeds, and the largest hypervolume change over
+    the last generations. The search's CPU time and rate are machine-dependent: they are
+    stated in the summary's prose and the run record, never in a table (docs/developers.md,
+    "Reproduction on another machine").
 
     Parameters
     ----------
@@ -429,11 +431,8 @@ def search_frame(result: CodesignResult) -> pd.DataFrame:
         A ``codesign`` result.
     """
     seeds = seeds_frame(result)
-    n, cpu = int(seeds["designs"].sum()), float(result.cpu_seconds)
-    rate = n / cpu if cpu > 0 else float("nan")
     return pd.DataFrame([{
-        "designs": n, "seeds": len(seeds), "cpu_s": cpu, "designs_per_cpu_s": rate,
-        "quiet_2_core_wall_min": cpu / 2.0 / 60.0, "wall_goal_min": WALL_GOAL_MIN,
+        "designs": int(seeds["designs"].sum()), "seeds": len(seeds),
         "max_hv_change_last_generations": float(seeds["hv_change_last_generations"].max()),
     }])  # fmt: skip
 
@@ -456,9 +455,8 @@ def exposure_frame(result: CodesignResult) -> pd.DataFrame | None:
 
 def _convergence_section(result: CodesignResult) -> list[str]:
     seeds = seeds_frame(result)
-    search = search_frame(result).iloc[0]
-    n, rate, wall = int(search["designs"]), search["designs_per_cpu_s"], search[
-        "quiet_2_core_wall_min"]  # fmt: skip
+    n, cpu = int(search_frame(result).iloc[0]["designs"]), float(result.cpu_seconds)
+    rate, wall = (n / cpu if cpu > 0 else float("nan")), cpu / 2.0 / 60.0
     met = "meets" if wall <= WALL_GOAL_MIN else "misses"
     return [
         "## Convergence",
@@ -467,7 +465,7 @@ def _convergence_section(result: CodesignResult) -> list[str]:
         f"{n} designs evaluated over {len(seeds)} seeds in {result.cpu_seconds:.4g} CPU s "
         f"({rate:.3g} designs per CPU second; on a quiet 2-core machine with both cores "
         f"scoring, `-e processes`, about {wall:.3g} min of wall time, which {met} the "
-        f"{WALL_GOAL_MIN:g}-minute goal; `search.csv`). Hypervolume of the feasible designs "
+        f"{WALL_GOAL_MIN:g}-minute goal). Hypervolume of the feasible designs "
         "found up to each generation, objectives normalised over them, reference point 1.1 "
         "(`hypervolume.csv`, `seeds.csv`):",
         "",
