@@ -15,7 +15,8 @@ apply to the row, each as a run that removes it:
 * ``walk_start``: the walk's start and timing, not given (the human 0.5-1 m ahead of or
   behind its start at t = 0, or starting 0.5-1 s late);
 * ``walk_noise``: the simulated rows replay the measured walk, whose velocity varied by
-  about +-0.8 m/s: velocity noise of 0.2-0.4 m/s (:data:`CAUSE_SEEDS` seeds each) on what the
+  about +-0.8 m/s: velocity noise of 0.2-0.8 m/s (:data:`WALK_NOISE_SD`, :data:`CAUSE_SEEDS`
+  seeds each) on what the
   field sees, for every row with a walking human, simulated or experiment;
 * ``walk_start_noise``: the walk's start or timing (as ``walk_start``) and that noise
   (0.3 m/s) together;
@@ -212,6 +213,10 @@ def _walking(s: RunSetup) -> bool:
 
 #: Seeds per setting of a seeded cause (``walk_noise``, ``walk_start_noise``, ``noise``).
 CAUSE_SEEDS = 10
+#: Velocity noise standard deviations (m/s) of ``walk_noise``: up to the thesis's
+#: amplitude, the measured walk's velocity varying by about +-0.8 m/s (at 0.8 m/s that
+#: variation is one standard deviation).
+WALK_NOISE_SD = (0.2, 0.3, 0.4, 0.6, 0.8)
 
 
 def _walk_starts(s: RunSetup) -> list[RunSetup]:
@@ -266,11 +271,12 @@ CAUSES: tuple[Cause, ...] = (
     Cause(
         "walk_noise",
         "the measured walk the simulations replay (velocity varying by about +-0.8 m/s): "
-        f"velocity noise 0.2-0.4 m/s, seeds 0-{CAUSE_SEEDS - 1} (a setting counts by its median)",
+        f"velocity noise {WALK_NOISE_SD[0]:g}-{WALK_NOISE_SD[-1]:g} m/s, seeds "
+        f"0-{CAUSE_SEEDS - 1} (a setting counts by its median)",
         lambda s, q: _walking(s),
         lambda s: [
             replace(s, noise_seed=k, noise_velocity_sd=v)
-            for v in (0.2, 0.3, 0.4)
+            for v in WALK_NOISE_SD
             for k in range(CAUSE_SEEDS)
         ],
         seeded=True,

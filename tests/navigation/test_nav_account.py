@@ -204,11 +204,13 @@ def test_the_walk_start_and_timing_move_the_human_only() -> None:
 
 def test_every_walking_row_is_tried_against_the_walks_noise_and_start() -> None:
     """Simulated rows with a walking human are tried against the measured walk's velocity
-    noise (0.2-0.4 m/s) and the walk's start and timing, with the values each gave."""
-    from designlab.navigation.account import CAUSES
+    noise (up to the thesis's amplitude, +-0.8 m/s) and the walk's start and timing, with the
+    values each gave."""
+    from designlab.navigation.account import CAUSES, WALK_NOISE_SD
 
     names = [c.name for c in CAUSES]
     assert {"walk_start", "walk_noise"} <= set(names)
+    assert max(WALK_NOISE_SD) >= 0.8
     acc = thesis_account(tables=("6.3",), methods=("New VFF*",))
     f = acc.frame.set_index("quantity")
     for q in ("T_arrive_s", "d_h_min_m"):
