@@ -14,6 +14,9 @@ apply to the row, each as a run that removes it:
   0.8-1.2 m/s, ramps of 0.5-1.5 s: the thesis's walk averaged 1.0 m/s and varied);
 * ``walk_start``: the walk's start and timing, not given (the human 0.5-1 m ahead of or
   behind its start at t = 0, or starting 0.5-1 s late);
+* ``walk_timing``: the human's timing, wider (Configuration 4's human meets the robot only
+  after the rectangle, and the thesis gives no timing): 1.5-4 s late, or 1.5-2 m ahead of
+  or behind its start (:data:`WIDE_DELAYS`, :data:`WIDE_HEAD_STARTS`);
 * ``walk_noise``: the simulated rows replay the measured walk, whose velocity varied by
   about +-0.8 m/s: velocity noise of 0.2-0.8 m/s (:data:`WALK_NOISE_SD`, :data:`CAUSE_SEEDS`
   seeds each) on what the
@@ -226,6 +229,18 @@ def _walk_starts(s: RunSetup) -> list[RunSetup]:
     ]
 
 
+#: The wider timing of ``walk_timing``: delays (s) and head starts (m, negative: behind).
+WIDE_DELAYS = (1.5, 2.0, 3.0, 4.0)
+WIDE_HEAD_STARTS = (-2.0, -1.5, 1.5, 2.0)
+
+
+def _wide_timings(s: RunSetup) -> list[RunSetup]:
+    """The walk 1.5-4 s late or 1.5-2 m along it either way (Config 4's human timing)."""
+    return [replace(s, human_delay=d) for d in WIDE_DELAYS] + [
+        replace(s, human_head_start=d) for d in WIDE_HEAD_STARTS
+    ]
+
+
 #: Gains fitted to Table 5.1's baseline rows (Sec. 5.7; the thesis states none): with them
 #: the law gives Masoud (1.8 m, 14.0 s) and Ge & Cui (1.1 m, 10.5 s) within the bands. The
 #: Table C.1 gains attract harder: Masoud's counter-clockwise detour then runs the robot
@@ -267,6 +282,14 @@ CAUSES: tuple[Cause, ...] = (
         "walk at t = 0, or starting 0.5-1 s late",
         lambda s, q: _walking(s),
         lambda s: _walk_starts(s),
+    ),
+    Cause(
+        "walk_timing",
+        "the human's timing against the robot, wider (Config 4's human shares the robot's "
+        "path only after the rectangle; the thesis gives no timing): 1.5-4 s late or 1.5-2 m "
+        "ahead or behind along its walk",
+        lambda s, q: _walking(s),
+        lambda s: _wide_timings(s),
     ),
     Cause(
         "walk_noise",

@@ -272,10 +272,13 @@ def _detection_table(result: TetherSnaggingResult) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def _thesis_limits() -> dict[str, float]:
-    """The thesis's first snag (4.9), collision limit (4.8 with r_col = 0.2 w) and wall (4.6)."""
-    a, b, c = SNAG_FIT
-    return {"first_snag": THESIS["first_snag"], "collision": a * 0.04 + b * 0.2 + c, "wall": c}
+def _thesis_limits(r_col: float) -> dict[str, float]:
+    """The thesis's first snag (4.9), collision limit (4.8 at ``r_col``, over w) and wall (4.6)."""
+    return {
+        "first_snag": THESIS["first_snag"],
+        "collision": float(np.polyval(SNAG_FIT, r_col)),
+        "wall": SNAG_FIT[2],
+    }
 
 
 def causes_section(result: TetherSnaggingResult) -> list[str]:
@@ -289,7 +292,8 @@ def causes_section(result: TetherSnaggingResult) -> list[str]:
     f = result.causes
     if f.empty:
         return []
-    th = _thesis_limits()
+    sc = result.study.scenario.build()
+    th = _thesis_limits(sc.collision_radius / sc.width)
     shown = pd.DataFrame({"cause": f["cause"]})
     worst = []
     for q, col in (("first_snag", None), ("collision", "collision_gap_over_w"),
@@ -301,6 +305,11 @@ def causes_section(result: TetherSnaggingResult) -> list[str]:
             for r, e in zip(run, exact, strict=True)
         ]
         worst.append((run - th[q]).abs())
+    if "span_recorded_m" in f:
+        thesis_span = THESIS["unsnag_at_5m"] - THESIS["snag_at_5m"]
+        shown[f"span at {f['span_gap_m'].iloc[0]:g} m (m; thesis {thesis_span:.2f} at 5 m)"] = f[
+            "span_recorded_m"
+        ].map(lambda v: f"{v:.2f}")
     shown["largest difference to the thesis (/w)"] = (
         pd.concat(worst, axis=1).max(axis=1).map(lambda v: f"{v:.3f}")
     )

@@ -170,7 +170,8 @@ class TetherSnaggingResult(Result):
     causes
         One row per cause run (``causes.csv``): its changes, the constant-speed follower's
         collision and wall limits found by bisection (``*_gap_over_w``) and in closed form
-        (``*_closed_form``), the first snag in closed form, all over w.
+        (``*_closed_form``), the first snag in closed form, all over w; and the string's
+        wrapped span along the recorded path at the largest detail gap (``span_recorded_m``).
     """
 
     study: TetherSnaggingStudy
@@ -351,6 +352,15 @@ def _bisect(sc: SnagScenario, level: float, lo: float, hi: float) -> float:
     return 0.5 * (lo + hi)
 
 
+def _span(sc: SnagScenario, study: TetherSnaggingStudy) -> dict[str, float]:
+    """The string's wrapped span along the recorded path at the largest detail gap (m)."""
+    if not study.detail_gaps:
+        return {}
+    gap = max(study.detail_gaps)
+    span = simulate_snag(dataclasses.replace(sc, gap=gap)).snag_span_recorded
+    return {"span_gap_m": gap, "span_recorded_m": np.nan if span is None else span[1] - span[0]}
+
+
 def _causes(study: TetherSnaggingStudy, context: RunContext) -> pd.DataFrame:
     """The constant-speed follower's limits under each candidate cause (causes.csv)."""
     base = dataclasses.replace(study.scenario.build(), follower="constant_speed")
@@ -369,7 +379,7 @@ def _causes(study: TetherSnaggingStudy, context: RunContext) -> pd.DataFrame:
                          "collision_gap_over_w": _bisect(sc, rcol, lo, lo + 1.5),
                          "collision_closed_form": exact["collision"],
                          "wall_gap_over_w": _bisect(sc, 0.0, lo, lo + 1.5),
-                         "wall_closed_form": exact["wall"]})  # fmt: skip
+                         "wall_closed_form": exact["wall"], **_span(sc, study)})  # fmt: skip
             hook(Progress(i + 1, len(study.causes), label="cause", note=cause.label))
     return pd.DataFrame(rows)
 
