@@ -290,7 +290,7 @@ class AccompanyingStudy(StudyBase):
         "study.yaml",
     )
     #: s: CPU time of studies/accompanying.yaml run serially (fresh store), measured.
-    TYPICAL_DURATION: ClassVar[float] = 20
+    TYPICAL_DURATION: ClassVar[float] = 23
 
     def size(self) -> str:
         """The number of tasks and controllers."""
