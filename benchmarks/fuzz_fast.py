@@ -54,6 +54,9 @@ CANDIDATES = 3
 #: a_h provably negative: below minus this times its largest residue times sum e^(Re p t)
 NOISE = 1e-12
 GAVE_UP = -1
+#: P_r(p) of a pole is taken from the identity of :func:`_head_residues` where evaluated
+#: directly it is below this fraction of its terms (the bodies' common mode)
+CANCELLED = 1e-6
 
 
 @_jit
@@ -195,6 +198,7 @@ def _reduced_modes(q, lam, g, c):  # type: ignore[no-untyped-def]
         e = coef[k] * (v0[0, k] - v0[2, k])
         g[2, k] = e
         g[0, k] = (k_c + c_c * lam[k]) * e
+        g[1, k] = coef[k] * v0[2, k] * lam[k] * lam[k]
     _head_residues(q, lam, g)
     slope = b_r - b_h + 1.0
     c[2, 0], c[2, 1] = slope, a_r - a_h
@@ -226,7 +230,10 @@ def _minus_product(a, alpha, b):  # type: ignore[no-untyped-def]
 @_jit
 def _head_residues(q, lam, g):  # type: ignore[no-untyped-def]
     """a_h's residues ``z_c(p) P_r(p) / D'(p)`` into ``g[1]`` (the unit ramp's a_h is
-    ``z_c P_r / D``), with ``P_r(p)`` free of cancellation.
+    ``z_c P_r / D``), with ``P_r(p)`` free of cancellation, at the poles where P_r(p)
+    evaluated directly loses more than :data:`CANCELLED` of its terms (elsewhere the
+    residues of the initial state's linear system stay: consistent with the poles' own
+    errors, they keep a nearly double pole's zero of a_h to 1e-12).
 
     Near the bodies' common mode (the arm's own mode equal to the head's, ``repeated``
     family) P_r(p) is a tiny difference of large terms; evaluated directly, or through
@@ -256,6 +263,10 @@ def _head_residues(q, lam, g):  # type: ignore[no-untyped-def]
         if qq != 0 and abs(cc / qq - direct) < abs(u - direct):
             u = cc / qq
         pr = alpha * u + eps
+        size = abs(m_r * s * s) + abs(c_r * s) + k_r
+        if abs((m_r * s + c_r) * s + k_r) >= CANCELLED * size:  # no cancellation
+            g[3, k] = 0.0
+            continue
         dpr, dph = 2.0 * m_r * s + c_r, 2.0 * m_h * s + c_h
         t1, t2, t3, t4 = dpr * u, pr * dph, c_c * (pr + u), zc * (dpr + dph)
         dd = t1 + t2 + t3 + t4
