@@ -45,7 +45,7 @@ from designlab.codesign.parameters import (
     REACTION_TIME,
 )
 from designlab.codesign.robot import RobotDescription, people_names
-from designlab.codesign.speed import Braking, speed_limit
+from designlab.codesign.speed import Braking, SafetyCase, speed_limit
 from designlab.errors import InvalidParameterError
 from designlab.impact import Foam
 from designlab.impact.parameters import HUMAN_SPEED, IMPACT_VELOCITY
@@ -77,7 +77,7 @@ def iso_comparison(robot: RobotDescription, foam: Foam, human_speed: float = 1.0
         raise InvalidParameterError("robot", robot, "must be a RobotDescription")
     v_h = HUMAN_SPEED.check(human_speed, "human_speed")
     m_r = robot.contact.mass
-    zeng = speed_limit(robot.contact, foam, human_speed=v_h).max_speed
+    zeng = speed_limit(robot.contact, foam, SafetyCase(human_speed=v_h)).max_speed
     shares = _shares(robot.contact_low, robot.contact_high)
     rows = []
     for name, r in body_regions().items():
