@@ -6,7 +6,8 @@ tables, why the runs shown are slow, the gains for crowds and their validation),
 :func:`~designlab.navigation.crowds.diagnosis.stall_summary` of each run shown),
 ``rates_vs_density.png``, ``trajectories.png`` (the representative run of each method),
 ``animation_representative.gif`` and ``animation_worst_<method>.gif`` (GIFs through
-matplotlib's PillowWriter), and with tuning ``tuning_history.csv`` and ``gains_validation.csv``.
+matplotlib's PillowWriter), and with tuning ``tuning_history.csv``, ``gains_validation.csv``
+(one row per validation step) and ``validation_runs.csv``.
 """
 
 from __future__ import annotations
@@ -28,6 +29,7 @@ from matplotlib.figure import Figure
 from designlab.navigation.crowds.animation import animate
 from designlab.navigation.crowds.decide import decision_findings, holm, mcnemar, time_limit_curve
 from designlab.navigation.crowds.diagnosis import force_breakdown, stall_summary
+from designlab.navigation.crowds.metrics import wilson_interval
 from designlab.navigation.crowds.scenario import crowd
 from designlab.navigation.methods import METHODS
 from designlab.report import register_writer
@@ -41,6 +43,8 @@ __all__ = [
     "navigation_crowds_report",
     "rates_figure",
     "trajectories_figure",
+    "validation_findings",
+    "validation_table",
     "wall_polygons",
 ]
 
@@ -280,47 +284,124 @@ def _tuning_lines(result: NavigationCrowdsResult) -> list[str]:
         return []
     t = result.study.tuning
     g = opt.gains
+    edges = ", ".join(opt.at_bounds) if opt.at_bounds else "none (every gain inside the box)"
     out = [
         "## Gains for crowds", "",
         f"CMA-ES over log-gains in the thesis's box, {t.popsize} candidates x {t.generations} "
-        f"generations = {opt.evaluations} gain sets, each on "
-        f"{len(t.training.scenarios)} layout(s) x "
-        f"{len(t.training.densities)} density(ies) x {len(t.training.seeds)} seed(s) "
-        f"(training densities {t.training.densities}, seeds {t.training.seeds}); cost: "
-        f"{opt.robust}{f' (alpha {opt.alpha:g})' if opt.robust == 'cvar' else ''} of the arrival "
-        "times (twice the time limit for a run that did not arrive); rates kept: collision <= "
+        f"generations = {opt.evaluations} gain sets, each on the same {opt.runs} training "
+        f"crowds ({t.training.scenarios}, densities {t.training.densities}, seeds "
+        f"{t.training.seeds}). Fitness: the {opt.robust}"
+        f"{f' (alpha {opt.alpha:g})' if opt.robust == 'cvar' else ''} of the runs' time costs "
+        "(the arrival time; for a run that did not arrive, its time limit plus the distance "
+        "left at the free-run speed) plus "
+        f"{opt.penalty:.1f} s per unit of mean violation (a run's violation: the share of it "
+        "spent inside critical regions plus the clearance deficit max(0, 0.2 m - s_min) / "
+        "0.2 m, s_min its smallest surface distance to a pedestrian; 1 at touching, more with "
+        "a collision's depth). Rates required of the optimum: collision <= "
         f"{opt.collision_bound:g}, critical entry <= {opt.critical_bound:g}. "
         f"Status: {opt.status}.", "",
-        f"{'Optimum' if opt.status == 'ok' else 'Least-violating gains (not an optimum)'}: "
+        f"{'Optimum' if opt.status == 'ok' else 'Fittest gains (not keeping the rates)'}: "
         f"K1 = {g.k1:.3g}, b = {g.b:.3g}, K3 = {g.k3:.3g}, K5 = {g.k5:.3g} "
-        f"(cost {opt.cost:.2f} s, training collision rate {opt.collision_rate:.2f}, critical "
-        f"{opt.critical_rate:.2f}).", "",
+        f"(fitness {opt.fitness:.2f} s: time cost {opt.cost:.2f} s, mean violation "
+        f"{opt.violation:.3f}; over its {opt.runs} training crowds success "
+        f"{_count_ci(opt.success_rate, opt.runs)}, collision "
+        f"{_count_ci(opt.collision_rate, opt.runs)}, critical entry "
+        f"{_count_ci(opt.critical_rate, opt.runs)}). Gains on a bound of the box: {edges}.", "",
         *_feasibility(opt.history, opt.collision_bound, opt.critical_bound), "",
-        f"Validation on crowds sharing no seed and no density with the training set (densities "
-        f"{t.validation.densities}, seeds {t.validation.seeds}):", "",
-        markdown_table(rates_table(val.to_frame())), "",
-        *findings(val.to_frame()), "",
+        "Validation on held-out crowds, one factor changed at a time (each step adds one change "
+        f"to the one before; seeds {_seeds(t.validation.seeds)}, never a training seed), "
+        f"{val.candidate} against {val.reference} on the same crowds. Cost: the penalised "
+        "cost of a run (time cost + the penalty x its violation), in s; difference: "
+        f"{val.candidate} minus {val.reference}, with its {result.study.confidence:.0%} t "
+        "interval; p-values: exact McNemar (success) and Wilcoxon signed-rank (cost).", "",
+        markdown_table(validation_table(val.to_frame())), "",
+        *validation_findings(val.to_frame()), "",
     ]  # fmt: skip
     return out
 
 
 def _feasibility(history: pd.DataFrame, coll: float, crit: float) -> list[str]:
-    """How many candidates kept each rate, from the search's history."""
+    """How many candidates kept each rate and how far the fitness spread, from the history."""
     n = len(history)
     keep_c = int((history["collision_rate"] <= coll).sum())
     keep_k = int((history["critical_rate"] <= crit).sum())
-    both = int(history["feasible"].sum())
-    cheap = history.sort_values("cost_s", kind="stable").iloc[0]
+    distinct = history["fitness"].round(9).nunique()
     return [
         f"Of the {n} candidates, {keep_c} kept the collision rate, {keep_k} the critical-entry "
-        f"rate and {both} both; lowest rates reached: collision "
-        f"{history['collision_rate'].min():.2f}, critical entry "
-        f"{history['critical_rate'].min():.2f}; costs from {history['cost_s'].min():.1f} to "
-        f"{history['cost_s'].max():.1f} s. The cheapest candidate (K1 = {cheap['k1']:.3g}, "
-        f"b = {cheap['b']:.3g}, K3 = {cheap['k3']:.3g}, K5 = {cheap['k5']:.3g}, cost "
-        f"{cheap['cost_s']:.1f} s) had collision rate {cheap['collision_rate']:.2f} and "
-        f"critical-entry rate {cheap['critical_rate']:.2f}."
+        f"rate and {int(history['feasible'].sum())} both; {distinct} of the {n} fitness values "
+        f"are distinct (from {history['fitness'].min():.1f} to {history['fitness'].max():.1f} "
+        f"s; time costs {history['cost_s'].min():.1f} to {history['cost_s'].max():.1f} s, mean "
+        f"violations {history['violation'].min():.3f} to {history['violation'].max():.3f})."
     ]
+
+
+def _seeds(seeds: list[int]) -> str:
+    s = sorted(seeds)
+    if s == list(range(s[0], s[-1] + 1)):
+        return f"{s[0]}-{s[-1]}"
+    return ", ".join(str(x) for x in s)
+
+
+def _count_ci(rate: float, n: int) -> str:
+    k = round(rate * n)
+    lo, hi = wilson_interval(k, n)
+    return f"{k}/{n} [{lo:.2f}, {hi:.2f}]"
+
+
+def validation_table(frame: pd.DataFrame) -> pd.DataFrame:
+    """The validation steps for the report: counts with Wilson intervals, costs, differences.
+
+    Parameters
+    ----------
+    frame
+        :meth:`~designlab.navigation.crowds.tuning.GainValidation.to_frame`.
+    """
+    rows = []
+    for _, r in frame.iterrows():
+        n = int(r["pairs"])
+        rows.append({
+            "step": r["step"], "layouts": r["scenarios"], "density": r["densities"],
+            "crowds": n,
+            "success (tuned)": f"{int(r.a_success)}/{n} [{r.a_success_low:.2f}, "
+                               f"{r.a_success_high:.2f}]",
+            "success (reference)": f"{int(r.b_success)}/{n} [{r.b_success_low:.2f}, "
+                                   f"{r.b_success_high:.2f}]",
+            "McNemar p": f"{r.mcnemar_p:.3g}",
+            "collisions": f"{int(r.a_collisions)} / {int(r.b_collisions)}",
+            "cost (tuned) s": f"{r.a_cost_s:.1f}", "cost (reference) s": f"{r.b_cost_s:.1f}",
+            "difference s": f"{r.difference_s:.1f} [{r.difference_low_s:.1f}, "
+                            f"{r.difference_high_s:.1f}]",
+            "Wilcoxon p": f"{r.wilcoxon_p:.3g}",
+        })  # fmt: skip
+    return pd.DataFrame(rows)
+
+
+def validation_findings(frame: pd.DataFrame) -> list[str]:
+    """One sentence per validation step, written from its row.
+
+    Parameters
+    ----------
+    frame
+        :meth:`~designlab.navigation.crowds.tuning.GainValidation.to_frame`.
+    """
+    what = {"seeds": "new seeds (training layouts and densities)",
+            "density": "a new density as well", "layout": "a new layout as well"}  # fmt: skip
+    out = []
+    for _, r in frame.iterrows():
+        d, lo, hi = r.difference_s, r.difference_low_s, r.difference_high_s
+        head = f"- {r['step']} ({what.get(r['step'], r['step'])}, {int(r.pairs)} crowds): "
+        if r.decided:
+            better = r.candidate if d < 0 else r.reference
+            cost = (f"{better} costs less by {abs(d):.1f} s (interval {lo:.1f} to {hi:.1f} s, "
+                    f"narrower than the difference; Wilcoxon p = {r.wilcoxon_p:.2g})")  # fmt: skip
+        else:
+            cost = (f"no difference in cost is shown ({d:.1f} s, interval {lo:.1f} to {hi:.1f} s "
+                    f"includes 0; Wilcoxon p = {r.wilcoxon_p:.2g})")  # fmt: skip
+        shown = ", a difference" if r.mcnemar_p < 0.05 else ", no difference shown"
+        succ = (f"; success {int(r.a_success)} vs {int(r.b_success)} of {int(r.pairs)} "
+                f"(McNemar p = {r.mcnemar_p:.2g}{shown}).")  # fmt: skip
+        out.append(head + cost + succ)
+    return out
 
 
 def navigation_crowds_markdown(result: NavigationCrowdsResult,
@@ -488,6 +569,7 @@ def navigation_crowds_report(result: NavigationCrowdsResult) -> ReportParts:
     if result.tuning is not None and result.validation is not None:
         tables["tuning_history.csv"] = result.tuning.to_frame()
         tables["gains_validation.csv"] = result.validation.to_frame()
+        tables["validation_runs.csv"] = result.validation.runs
     return ReportParts(
         title=f"Navigation among crowds: {result.study.name}",
         body=[navigation_crowds_markdown(result, stalls=stalls)],

@@ -51,6 +51,7 @@ from designlab.navigation.parameters import (
     check_cbf_gains,
 )
 from designlab.params import Param, check_size
+from designlab.sx.functions import BufferedFunction
 from designlab.sx.jit import AVAILABLE, say_no_jit
 
 __all__ = [
@@ -148,21 +149,14 @@ def _slot_rows(F: Array, d2: list[float], dt: float) -> list[list[float]]:
     return rows
 
 
-class _Step:
+class _Step(BufferedFunction):
     """The compiled period step on preallocated buffers."""
 
     def __init__(self, f: ca.Function) -> None:
-        self.f = f
-        self._buf, self._trigger = f.buffer()
-        self.inp = [np.zeros(f.nnz_in(i)) for i in range(f.n_in())]
-        self.out = [np.zeros(f.nnz_out(i)) for i in range(f.n_out())]
-        for i, a in enumerate(self.inp):
-            self._buf.set_arg(i, memoryview(a))
-        for i, a in enumerate(self.out):
-            self._buf.set_res(i, memoryview(a))
+        super().__init__(f)
         self.nx = f.size1_out(0)
 
-    def __call__(self) -> Array:
+    def __call__(self) -> Array:  # type: ignore[override]
         self._trigger()
         return self.out[0].reshape((-1, self.nx)).T.copy()  # (nx, n_sub)
 

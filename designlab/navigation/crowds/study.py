@@ -217,7 +217,8 @@ def run_row(result: Any, pedestrians: Any = None, *, personal_space: float = PER
         ``ped_deviation_max_m``, ``run_status``; ``measured_density_per_m2`` and
         ``mean_ped_speed_m_per_s``: the density and speed of the pedestrians the robot met
         (pedpy, in the band along its path: :func:`~designlab.navigation.crowds.faced.faced_by`;
-        NaN for a result without its ``crowd``).
+        NaN for a result without its ``crowd``); ``critical_time_s``,
+        ``min_surface_distance_m`` and ``goal_distance_m`` (at the run's end) for the tuning.
     """
     t = np.asarray(result.times, dtype=float)
     robot, peds = result.robot_positions, result.pedestrian_positions
@@ -243,9 +244,23 @@ def run_row(result: Any, pedestrians: Any = None, *, personal_space: float = PER
         row.update(run_measures(result, personal_space))
         row["free_run_s"] = float(result.crowd.free_run_time)
         row["time_limit_s"] = float(result.crowd.time_limit)
+        row.update(_violation_measures(result))
     if faced:
         row.update(_faced(result))
     return row
+
+
+def _violation_measures(result: Any) -> dict[str, float]:
+    """What the crowd gain tuning penalises (:mod:`~designlab.navigation.crowds.tuning`): the
+    time inside critical regions, the smallest surface distance to a pedestrian (<= 0: a
+    collision, its depth) and the distance left to the goal when the run ended."""
+    goal = np.asarray(result.crowd.robot_goal, dtype=float)
+    last = np.asarray(result.robot_positions, dtype=float)[-1]
+    return {
+        "critical_time_s": float(getattr(result, "critical_time", math.nan)),
+        "min_surface_distance_m": float(getattr(result, "min_surface_distance", math.nan)),
+        "goal_distance_m": float(np.hypot(*(goal - last))),
+    }
 
 
 def _faced(result: Any) -> dict[str, float]:
@@ -531,7 +546,8 @@ RUN_COLUMNS = (
     "voronoi_density_per_m2", "arrival_time_s", "min_distance_m",
     "min_centre_distance_m", "personal_space_s", "ped_delay_mean_s", "ped_delay_max_s",
     "ped_beyond_window", "ped_deviation_mean_m", "ped_deviation_max_m", "run_status",
-    "measured_density_per_m2", "mean_ped_speed_m_per_s",
+    "measured_density_per_m2", "mean_ped_speed_m_per_s", "critical_time_s",
+    "min_surface_distance_m", "goal_distance_m",
 )  # fmt: skip
 
 
@@ -600,6 +616,7 @@ def crowd_runs_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) -> 
     out: dict[str, list[Any]] = {k: [] for k in RUN_COLUMNS}
     alone: dict[tuple[int, float, int, str | None], Any] = {}
     reacts = bool(dict(options.get("crowd", {})).get("react_to_robot", False))
+    measured = bool(options.get("measures", True))
     pending: list[tuple[Any, dict[str, Any]]] = []  # runs whose crowd met is still to measure
     models = points.get("model")
     for i in range(n):
@@ -607,19 +624,21 @@ def crowd_runs_chunk(points: dict[str, np.ndarray], options: dict[str, Any]) -> 
         key = (int(points["scenario"][i]), float(points["density"][i]), int(points["seed"][i]), mi)
         scenario, label = options["scenarios"][key[0]], options["methods"][int(points["method"][i])]
         res = simulate_run(options, scenario, key[1], key[2], label, mi)
-        if reacts and key not in alone:
+        if reacts and measured and key not in alone:
             alone[key] = simulate_pedestrians(res.crowd)
         row = run_row(res, alone.get(key), personal_space=float(options.get("personal_space", 1.2)),
                       robot_radius=float(res.crowd.robot.radius), faced=False)  # fmt: skip
-        row["voronoi_density_per_m2"] = _voronoi(res) if int(points["method"][i]) == 0 else np.nan
+        first = measured and int(points["method"][i]) == 0
+        row["voronoi_density_per_m2"] = _voronoi(res) if first else np.nan
         if not reacts:
             row.update(ped_delay_mean_s=0.0, ped_delay_max_s=0.0, ped_beyond_window=0.0,
                        ped_deviation_mean_m=0.0, ped_deviation_max_m=0.0)  # fmt: skip
         pending.append((res, row))
         if len(pending) == FACED_BATCH or i == n - 1:
-            for (_, done), f in zip(pending, faced_by_runs([r for r, _ in pending]), strict=True):
-                done.update(measured_density_per_m2=f.measured_density_per_m2,
-                            mean_ped_speed_m_per_s=f.mean_ped_speed_m_per_s)  # fmt: skip
+            met = faced_by_runs([r for r, _ in pending]) if measured else [None] * len(pending)
+            for (_, done), f in zip(pending, met, strict=True):
+                names = ("measured_density_per_m2", "mean_ped_speed_m_per_s")
+                done.update({k: getattr(f, k, np.nan) for k in names})
                 for k in RUN_COLUMNS:
                     out[k].append(done[k])
             pending = []
@@ -701,6 +720,7 @@ def crowd_study(
     cache_only: bool = False,
     progress: ProgressHook | None = None,
     models: Sequence[str] | None = None,
+    measures: bool = True,
 ) -> CrowdStudy:
     """Simulate every layout x density x seed x method and measure each run.
 
@@ -734,6 +754,10 @@ def crowd_study(
     models
         JuPedSim models to run every crowd with (an outer axis of the grid, each crowd the
         same placement and streams under each; ``None``: the crowd options' model alone).
+    measures
+        ``False``: leave out what costs a simulation or pedpy's measures beside each run (the
+        robot-free run for the pedestrians' delay and deviation, the Voronoi density, the
+        crowd the robot met; those columns are NaN), as the gain tuning does.
 
     Returns
     -------
@@ -761,6 +785,8 @@ def crowd_study(
     }  # fmt: skip
     if model_list:
         options["models"] = model_list
+    if not measures:  # only when asked: the stored chunks of measured studies keep their key
+        options["measures"] = False
     crowd_of(options, names[0], rho[0], seed_list[0])  # bad crowd options fail before any run
     frames, done = [], 0
     for mi, model in enumerate(model_list or [None]):

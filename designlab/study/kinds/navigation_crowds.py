@@ -4,10 +4,12 @@ Every layout x density x seed x method is simulated
 (:func:`designlab.navigation.crowds.study.crowd_study`, through the run's executor and result
 store) and summarised with Wilson
 intervals; optionally VFF's gains are optimised over a training set of crowds
-(:func:`designlab.navigation.crowds.tuning.optimise_crowd_gains`, robust mean or CVaR) and
-validated on crowds sharing no seed and no density with it, beside the gains to compare
-(the thesis's, the Configurations 1-3 optimum). The representative and the worst run of each
-method are simulated again (runs are deterministic) for the report's plots and animations
+(:func:`designlab.navigation.crowds.tuning.optimise_crowd_gains`: robust mean or CVaR of the
+time to goal plus a continuous penalty on the amount of violation) and validated on held-out
+crowds one factor at a time (new seeds; then a new density; then a new layout) against the
+gains to compare (the thesis's, the Configurations 1-3 optimum). The representative and the
+worst run of each method are simulated again (runs are deterministic) for the report's plots
+and animations
 (``docs/navigation_crowds.md``).
 
 Examples
@@ -49,12 +51,14 @@ from designlab.navigation.crowds.study import (
 )
 from designlab.navigation.crowds.study import SEED as CROWD_SEED
 from designlab.navigation.crowds.tuning import (
+    PENALTY,
     RATE,
     CrowdGainOptimum,
     CrowdSet,
-    check_disjoint,
+    GainValidation,
     optimise_crowd_gains,
     validate_gains,
+    validation_steps,
 )
 from designlab.navigation.methods import METHODS, STABILISING
 from designlab.navigation.tuning import DEFAULT_BOUNDS
@@ -135,11 +139,22 @@ class CrowdSetSpec(Model):
     seeds: list[_Seed] = Field(min_length=1, max_length=200)
 
 
+class ValidationSpec(Model):
+    """Held-out crowds, one factor changed at a time
+    (:func:`~designlab.navigation.crowds.tuning.validation_steps`): the training layouts and
+    densities with ``seeds``; then at ``density``; then also in ``scenario``."""
+
+    seeds: list[_Seed] = Field(min_length=2, max_length=200)
+    density: _Density  # type: ignore[valid-type]
+    scenario: _Layout
+
+
 class TuningSpec(Model):
-    """Optimise VFF's gains over ``training``; validate on ``validation`` (disjoint)."""
+    """Optimise VFF's gains over ``training``; validate one factor at a time (seeds, then
+    density, then layout) against the first gains of ``compare``."""
 
     training: CrowdSetSpec
-    validation: CrowdSetSpec
+    validation: ValidationSpec
     robust: Literal["mean", "cvar"] = "mean"
     alpha: CVAR_ALPHA.annotation() = 0.8  # type: ignore[valid-type]
     collision_rate: RATE.annotation() | None = Field(  # type: ignore[valid-type]
@@ -151,17 +166,25 @@ class TuningSpec(Model):
     popsize: Annotated[Integer, Field(ge=4, le=64)] = 6
     generations: Annotated[Integer, Field(ge=1, le=100)] = 4
     seed: _Seed = CROWD_SEED.default
+    penalty: PENALTY.annotation() | None = Field(  # type: ignore[valid-type]
+        None, description="seconds of fitness per unit of mean violation (default: the time limit)"
+    )
     stabilising: STABILISING.annotation() | None = Field(  # type: ignore[valid-type]
         None, description="VFF's stabilising force while tuning and validating (default: the "
         "study's)",
     )  # fmt: skip
     compare: dict[str, GainsSpec] = Field(  # type: ignore[valid-type]
-        default_factory=dict, max_length=6, description="tag -> gains validated beside the optimum"
-    )
+        min_length=1, max_length=6,
+        description="tag -> gains validated beside the optimum (the first is the reference)",
+    )  # fmt: skip
 
     @model_validator(mode="after")
     def _disjoint(self) -> TuningSpec:
-        check_disjoint(crowd_set(self, self.training, {}), crowd_set(self, self.validation, {}))
+        v = self.validation
+        validation_steps(crowd_set(self, self.training, {}), v.seeds, v.density, v.scenario)
+        if {"crowd_optimum", "crowd_least_violating"} & set(self.compare):
+            raise ValueError("compare: the tags crowd_optimum and crowd_least_violating are the "
+                             "optimum's")  # fmt: skip
         return self
 
 
@@ -234,8 +257,9 @@ class NavigationCrowdsStudy(StudyBase):
         sets: list[tuple[Any, Any, tuple[str, ...]]] = [(self.scenarios, self.densities, ())]
         if self.tuning is not None:
             t = self.tuning
-            pairs = (("training", t.training), ("validation", t.validation))
-            sets += [(s.scenarios, s.densities, ("tuning", n)) for n, s in pairs]
+            v = t.validation
+            sets += [(t.training.scenarios, t.training.densities, ("tuning", "training")),
+                     ([v.scenario], [v.density], ("tuning", "validation"))]  # fmt: skip
         for layouts, densities, where in sets:
             for layout in layouts:
                 for j, rho in enumerate(densities):
@@ -258,7 +282,10 @@ class NavigationCrowdsStudy(StudyBase):
         if self.tuning is not None:
             t = self.tuning
             per = len(t.training.scenarios) * len(t.training.densities) * len(t.training.seeds)
-            text += f" + {t.popsize * t.generations * per} tuning runs"
+            held = len(t.validation.seeds) * (1 + len(t.compare))
+            text += (f" + {t.popsize * t.generations * per} tuning runs + "
+                     f"{held * (len(t.training.scenarios) * len(t.training.densities) + 2)} "
+                     "validation runs")  # fmt: skip
         return text
 
 
@@ -275,15 +302,15 @@ class NavigationCrowdsResult(Result):
     tracks
         ``(kind, label) -> CrowdResult`` for ``kind`` ``"representative"`` and ``"worst"``.
     tuning, validation
-        The crowd gain optimum and the validation study of the optimum beside the gains to
-        compare (``None`` without ``tuning``).
+        The crowd gain optimum and its :class:`~designlab.navigation.crowds.tuning.
+        GainValidation` beside the gains to compare (``None`` without ``tuning``).
     """
 
     study: NavigationCrowdsStudy
     crowds: CrowdStudy
     tracks: dict[tuple[str, str], Any] = field(default_factory=dict, repr=False)
     tuning: CrowdGainOptimum | None = None
-    validation: CrowdStudy | None = None
+    validation: GainValidation | None = None
 
     @property
     def status(self) -> str:  # type: ignore[override]
@@ -331,20 +358,22 @@ def _tune(study: NavigationCrowdsStudy, context: RunContext) -> tuple[Any, Any]:
     t = study.tuning
     if t is None:
         return None, None
-    crowd = study.crowd.model_dump()
-    training, validation = crowd_set(t, t.training, crowd), crowd_set(t, t.validation, crowd)
+    training = crowd_set(t, t.training, study.crowd.model_dump())
+    v = t.validation
+    steps = validation_steps(training, v.seeds, v.density, v.scenario)
     stab = t.stabilising or study.stabilising
     with context.bar("navigation_crowds: tune", t.generations) as hook:
         opt = optimise_crowd_gains(training, bounds=DEFAULT_BOUNDS, robust=t.robust, alpha=t.alpha,
                                    popsize=t.popsize, generations=t.generations, seed=t.seed,
-                                   stabilising=stab, executor=context.executor,
-                                   store=context.store, progress=hook)  # fmt: skip
+                                   penalty=t.penalty, stabilising=stab,
+                                   executor=context.executor, store=context.store,
+                                   progress=hook)  # fmt: skip
     tag = "crowd_optimum" if opt.status == "ok" else "crowd_least_violating"  # said as it is
     candidates = {tag: opt.gains, **{k: g.build() for k, g in t.compare.items()}}
     val = validate_gains(
-        candidates, validation, training, stabilising=stab,
-        executor=context.executor, store=context.store, personal_space=study.personal_space,
-        confidence=study.confidence,
+        candidates, steps, training, reference=next(iter(t.compare)), penalty=opt.penalty,
+        stabilising=stab, executor=context.executor, store=context.store, measures=False,
+        personal_space=study.personal_space, confidence=study.confidence,
     )  # fmt: skip
     return opt, val
 
@@ -380,4 +409,4 @@ KIND = StudyKind(
     reproduction=CROWD_TUNING,
 )
 
-__all__ += ["LAYOUTS", "CrowdSetSpec", "CrowdSpec", "TuningSpec"]
+__all__ += ["LAYOUTS", "CrowdSetSpec", "CrowdSpec", "TuningSpec", "ValidationSpec"]
