@@ -62,7 +62,7 @@ def timed(fn, *args, **kwargs):
 
 def speed_limits() -> None:
     cd.speed_limit(ROBOT, FOAM)  # load the compiled kernel
-    s, dt = timed(cd.speed_limit, ROBOT, FOAM, CRITERIA, human_speed=1.0)
+    s, dt = timed(cd.speed_limit, ROBOT, FOAM, cd.SafetyCase(CRITERIA, human_speed=1.0))
     print(f"speed_limit (4 criteria + thickness, 27 heads): {dt * 1e3:.0f} ms")
     print(s.to_frame().to_string(index=False))
     print(f"  limit {s.max_speed:.3f} m/s robot ({s.closing_speed:.3f} m/s closing), "

@@ -983,6 +983,9 @@ def _metric_row(result: Any, i: int) -> dict[str, float] | None:
 
 BASE_ROBOT = {"mass": 9.6, "stiffness": 20e3, "damping": 250.0}
 BASE_FOAM = {"stiffness": 24.25e3, "damping": 71.9}
+#: the declared fields of a speed limit's dl.codesign.SafetyCase (its defaults)
+BASE_CASE = {"human_speed": 1.0, "reaction_time": 0.0, "deceleration": 10.0,
+             "detection_distance": 0.0, "head_levels": 3}  # fmt: skip
 #: a foam given by its compression curve (designlab.impact.contact.measured), crushed at 36 mm
 BASE_CURVE_FOAM = {"strain": (0.1, 0.3, 0.6, 0.9), "stress": (20e3, 50e3, 120e3, 600e3),
                    "area": 0.01, "thickness": 0.04, "damping": 71.9}  # fmt: skip
@@ -1323,9 +1326,8 @@ def codesign_targets() -> list[Target]:
                {"contact_limit": Val(1.5), **braking}, ("contact_limit",),
                given=_max_speed_given),
         Target("codesign", "dl.codesign.speed_limit", _speed_limit,
-               {**robot_foam, "human_speed": Val(1.0), "reaction_time": Val(0.0),
-                "deceleration": Val(10.0), "detection_distance": Val(0.0),
-                "head_levels": Val(3), "refine": Val(True, attacks=list(FLAG_ATTACKS))},
+               {**robot_foam, "case": Obj(cd.SafetyCase, BASE_CASE, only=tuple(BASE_CASE)),
+                "refine": Val(True, attacks=list(FLAG_ATTACKS))},
                ("robot", "foam"),
                all_of(finite_oracle(nonneg=("max_speed", "closing_speed"),
                                     allow_nan=limit_nan), _speed_limit_reference)),

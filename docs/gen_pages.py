@@ -88,11 +88,28 @@ def resolve(schema: dict[str, Any], node: dict[str, Any]) -> dict[str, Any]:
     return node
 
 
+def model_title(name: str) -> str:
+    """A readable heading for a ``$defs`` name (the anchor keeps the name itself).
+
+    pydantic names a model that two modules define by its module path
+    (``designlab__study__kinds__accompanying__TuningSpec``) and a generic model by its
+    parameters (``SensitivitySpec_Literal__a_h_max_g____eps_max_m___``): shown as
+    ``TuningSpec (accompanying)`` and ``SensitivitySpec (a_h_max_g, eps_max_m)``.
+    """
+    if name.startswith("designlab__"):
+        parts = name.split("__")
+        return f"{parts[-1]} ({parts[-2]})"
+    match = re.match(r"^([A-Za-z0-9]+)_Literal__(.+?)_*$", name)
+    if match:
+        return f"{match.group(1)} ({', '.join(match.group(2).split('____'))})"
+    return name
+
+
 def type_text(node: dict[str, Any]) -> str:
     """A short type description: refs link to their section, unions join with ``|``."""
     if "$ref" in node:
         name = node["$ref"].rsplit("/", 1)[-1]
-        return f"[{name}](#{name.lower()})"
+        return f"[{model_title(name)}](#{name.lower()})"
     for key in ("anyOf", "oneOf"):
         if key in node:
             return " \\| ".join(type_text(sub) for sub in node[key])
@@ -179,7 +196,7 @@ def model_table(schema: dict[str, Any], model: dict[str, Any]) -> tuple[str, lis
 def model_section(schema: dict[str, Any], name: str, level: str) -> tuple[str, list[str]]:
     """A heading, the description and the field table(s) of one ``$defs`` entry."""
     model = schema["$defs"][name]
-    lines = [f"{level} {name}", ""]
+    lines = [f"{level} {model_title(name)}", ""]
     if model.get("description"):
         lines += [model["description"], ""]
     refs: list[str] = []
@@ -225,7 +242,8 @@ def write_studies() -> None:
             continue
         seen.add(name)
         text, refs = model_section(schema, name, "###")
-        out += [text.replace(f"### {name}", f"### {name} {{#{name.lower()}}}", 1)]
+        title = model_title(name)
+        out += [text.replace(f"### {title}", f"### {title} {{#{name.lower()}}}", 1)]
         nested += refs
     with mkdocs_gen_files.open("reference/studies.md", "w") as fd:
         fd.write("\n".join(out) + "\n")

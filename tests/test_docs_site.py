@@ -352,6 +352,25 @@ def test_gallery_sections_follow_the_kind() -> None:
     assert gen_pages.first_sentence("Does it work? It does.") == "Does it work?"
 
 
+def test_study_reference_headings_are_readable() -> None:
+    """pydantic's ``$defs`` names (module paths, generic parameters) are not headings."""
+    pytest.importorskip("mkdocs_gen_files")
+    from designlab.study.registry import study_json_schema
+
+    spec = importlib.util.spec_from_file_location("gen_pages", ROOT / "docs/gen_pages.py")
+    gen_pages = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(gen_pages)  # imported, it writes nothing
+    title = gen_pages.model_title
+    assert title("designlab__study__kinds__accompanying__TuningSpec") == "TuningSpec (accompanying)"
+    assert title("SensitivitySpec_Literal__a_h_max_g____eps_max_m___") == (
+        "SensitivitySpec (a_h_max_g, eps_max_m)"
+    )
+    assert title("RobotSpec") == "RobotSpec"
+    titles = [title(name) for name in study_json_schema()["$defs"]]
+    assert not [t for t in titles if "__" in t or "Literal" in t], titles
+    assert len(set(titles)) == len(titles)  # still one heading per model
+
+
 @pytest.mark.slow
 def test_gallery_descriptions_are_whole(site: Path) -> None:
     """Each report's description stands whole in the gallery's index (issue 39: 17 of 25 were

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import hashlib
 import importlib
+import importlib.util
 import json
 import sys
 from abc import ABC, abstractmethod
@@ -98,8 +99,12 @@ class PointSource(ABC):
 @cache
 def _module_hash(name: str) -> str:
     """A hash of a module's source file (cached per process)."""
-    module = sys.modules.get(name) or importlib.import_module(name)
-    path = getattr(module, "__file__", None)
+    module = sys.modules.get(name)
+    if module is not None:
+        path = getattr(module, "__file__", None)
+    else:  # found, not imported (a compiled sampler's module would start numba)
+        spec = importlib.util.find_spec(name)
+        path = spec.origin if spec is not None and spec.has_location else None
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()[:16] if path else "no file"
 
 

@@ -30,7 +30,6 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from designlab.analysis import lhs_kernel
 from designlab.analysis.points import PointSource, source_identity
 from designlab.errors import InvalidParameterError
 from designlab.params import ARG
@@ -211,11 +210,15 @@ class LatinHypercubePoints(_Box):
         return x
 
     def _unit(self, start: int, stop: int) -> NDArray[np.float64]:
-        if lhs_kernel.AVAILABLE and stop - start >= COMPILED_FROM:  # the same points, bit for bit
-            cols = np.empty((len(self.names), stop - start))
-            for j, keys in enumerate(self._keys):
-                lhs_kernel.lhs_column(start, keys, self._half, self._mask, self._n, cols[j])
-            return cols.T
+        if stop - start >= COMPILED_FROM:  # the same points, bit for bit
+            # numba imported here, not with the module: a resumed run draws a few points
+            from designlab.analysis import lhs_kernel
+
+            if lhs_kernel.AVAILABLE:
+                cols = np.empty((len(self.names), stop - start))
+                for j, keys in enumerate(self._keys):
+                    lhs_kernel.lhs_column(start, keys, self._half, self._mask, self._n, cols[j])
+                return cols.T
         i = np.arange(start, stop, dtype=np.uint64)
         unit = np.empty((i.size, len(self.names)))
         for j, keys in enumerate(self._keys):

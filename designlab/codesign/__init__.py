@@ -7,15 +7,16 @@ domain imports it (an import-linter contract in ``pyproject.toml``). See
 The API (stable: names are added, never renamed)::
 
     cd = dl.codesign
-    speed = cd.speed_limit(robot, foam, criteria=[...], head_range=dl.impact.THESIS_HEAD_RANGE,
-                           human_speed=1.0, reaction_time=0.0, deceleration=10.0,
-                           detection_distance=0.0, head_levels=3)
+    case = cd.SafetyCase(criteria=[...], head_range=dl.impact.THESIS_HEAD_RANGE,
+                         human_speed=1.0, reaction_time=0.0, deceleration=10.0,
+                         detection_distance=0.0, head_levels=3)   # every field optional
+    speed = cd.speed_limit(robot, foam, case, refine=True)
     # -> cd.SpeedLimit: max_speed (robot, m/s), closing_speed, robot_speed / head_speed
     #    (the Sec. 3.4 split), joint_speed (a LinkImpact), limiting_criterion,
     #    per_criterion, worst_heads, worst_lever_arm, unit_metric, stopping_distance,
     #    status, warnings, to_frame()
-    smap = cd.speed_limit_map(robot, K_c=[...], C_c=[...], criteria=..., linear_depth=0.02,
-                              head_range=..., human_speed=1.0, ...)
+    smap = cd.speed_limit_map(robot, K_c=[...], C_c=[...], linear_depth=0.02, case=case,
+                              refine=True)
     # -> cd.SpeedLimitMap: stiffness, damping, max_speed[i, j], closing_speed[i, j],
     #    limiting[i, j] (index into criteria), per_criterion, grid_closing_speed (the head
     #    grid's alone; refine=True searches off it), to_frame() (one row per foam)
@@ -103,7 +104,7 @@ if TYPE_CHECKING:  # the public names, imported on first use (designlab._lazy)
         sized_scenario,
     )
     from designlab.codesign.sensitivity import design_sobol, front_sensitivity
-    from designlab.codesign.speed import SpeedLimit, SpeedLimitStatus, speed_limit
+    from designlab.codesign.speed import SafetyCase, SpeedLimit, SpeedLimitStatus, speed_limit
     from designlab.codesign.speed_map import SpeedLimitMap, speed_limit_map
 
 __all__ = [
@@ -127,6 +128,7 @@ __all__ = [
     "ParetoFront",
     "RiskStatus",
     "RobotDescription",
+    "SafetyCase",
     "SpeedLimit",
     "SpeedLimitMap",
     "SpeedLimitStatus",

@@ -58,6 +58,7 @@ from designlab.codesign.limits import FoamLimits, foam_limits
 from designlab.codesign.parameters import RISK_SAMPLES
 from designlab.codesign.risk import injury_probability
 from designlab.codesign.robot import RobotDescription, people_names, sized_scenario
+from designlab.codesign.speed import SafetyCase
 from designlab.errors import InvalidParameterError
 from designlab.impact import (
     FOAM_1,
@@ -791,8 +792,8 @@ def design_limits(
     f = [d.foam for d in designs]
     return foam_limits(
         contact_of(robot), [x.stiffness for x in f], [x.damping for x in f],
-        [x.linear_depth for x in f], [x.thickness for x in f], head_range=heads,
-        human_speed=human_speed,
+        [x.linear_depth for x in f], [x.thickness for x in f],
+        SafetyCase(head_range=heads, human_speed=human_speed),
     )  # fmt: skip
 
 
@@ -1027,7 +1028,7 @@ class ParetoFront(Result):
     feasible: NDArray[np.bool_] = field(repr=False)
     front: NDArray[np.bool_] = field(repr=False)
     references: tuple[ReferencePoint, ...] = field(repr=False)
-    seed: int = 0
+    seed: int = ARG.seed.default
     status: str = FrontStatus.OK
     warnings: tuple[str, ...] = ()
     hypervolume: Array = field(default_factory=lambda: np.zeros(0), repr=False)

@@ -7,7 +7,7 @@ study states), and its thickness must hold the worst head's compression at the c
 speed it can meet. :func:`foam_limits` gives both for many foams (paired stiffness,
 damping and linear depth) in one lock-step search of the worst heads: it is
 :func:`~designlab.codesign.speed_limit`'s own setup and per-constraint closing speeds
-(:func:`~designlab.codesign.speed.setup`,
+(:func:`~designlab.codesign.speed.problem_for`,
 :func:`~designlab.codesign.speed.allowed_closing_speeds`, with the off-grid refinement)
 over many foams, so one foam gives exactly ``speed_limit``'s answer.
 
@@ -27,22 +27,15 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
-from designlab.codesign.parameters import (
-    DECELERATION,
-    DETECTION_DISTANCE,
-    HEAD_LEVELS,
-    REACTION_TIME,
-)
-from designlab.codesign.speed import allowed_closing_speeds, setup
+from designlab.codesign.speed import SafetyCase, allowed_closing_speeds, problem_for
 from designlab.errors import InvalidParameterError
-from designlab.impact import ContactDynamics, Criterion, Foam, FullJointContact, HeadRange
+from designlab.impact import ContactDynamics, Foam, FullJointContact
 from designlab.impact.criteria import CompressionLimit
 from designlab.params import params_of
 from designlab.results import Result
@@ -170,14 +163,7 @@ def foam_limits(
     damping: ArrayLike,
     linear_depth: ArrayLike,
     thickness: ArrayLike,
-    *,
-    criteria: Sequence[Criterion] | None = None,
-    head_range: HeadRange | None = None,
-    human_speed: float = 1.0,
-    reaction_time: float = REACTION_TIME.default,
-    deceleration: float = DECELERATION.default,
-    detection_distance: float = DETECTION_DISTANCE.default,
-    head_levels: int = HEAD_LEVELS.default,
+    case: SafetyCase | None = None,
 ) -> FoamLimits:
     """The speed limit of each foam and its worst compression per m/s of closing speed.
 
@@ -187,9 +173,10 @@ def foam_limits(
         The effective robot at the contact point (a fixed point).
     stiffness, damping, linear_depth, thickness
         The foams, paired (N/m, N s/m, m, m).
-    criteria, head_range, human_speed, reaction_time, deceleration, detection_distance, head_levels
-        As in :func:`~designlab.codesign.speed_limit` (the worst heads are always refined
-        off the grid).
+    case
+        The criteria, people, braking and worst-head grid
+        (:class:`~designlab.codesign.SafetyCase`; ``None``: its defaults); the worst heads
+        are always refined off the grid.
 
     Returns
     -------
@@ -198,10 +185,8 @@ def foam_limits(
     if not isinstance(robot, (ContactDynamics, FullJointContact)):
         raise InvalidParameterError("robot", robot, "must be a ContactDynamics or FullJointContact")
     k, c, lam, t = _foams(stiffness, damping, linear_depth, thickness)
-    prob, v_h, brake = setup(
-        robot, criteria, float(lam[0]), head_range, human_speed, reaction_time, deceleration,
-        detection_distance, head_levels,
-    )  # fmt: skip
+    case = SafetyCase.of(case)
+    prob, v_h, brake = problem_for(robot, case, float(lam[0])), case.human_speed, case.braking
     unit: dict[str, Array] = {}
     allowed = []
     comp = ""

@@ -71,10 +71,10 @@ from designlab.impact.criteria import CompressionLimit
 from designlab.impact.general import CRUSHED
 from designlab.impact.parameters import HUMAN_SPEED, TIME_SCALE_RATIO
 from designlab.impact.problem import FoamProblem, make_problem
-from designlab.params import params_of
+from designlab.params import declared, param, params_of
 from designlab.results import Result, Status
 
-__all__ = ["SpeedLimit", "SpeedLimitStatus", "speed_limit"]
+__all__ = ["SafetyCase", "SpeedLimit", "SpeedLimitStatus", "speed_limit"]
 
 #: Largest closing speed the impact model takes, m/s (its declaration's cap).
 _MAX_CLOSING_SPEED = 20.0
@@ -214,6 +214,66 @@ class Braking:
         )
 
 
+@declared
+@dataclass(frozen=True)
+class SafetyCase:
+    """What a speed limit answers for: the criteria, the people and the robot's braking.
+
+    One declaration of the conditions shared by :func:`speed_limit`,
+    :func:`~designlab.codesign.speed_limit_map` and :func:`~designlab.codesign.foam_limits`:
+    the criteria every contact must meet (the foam's thickness limit is always added), the
+    head-neck range and the head's speed toward the robot (Zeng 2011, Sec. 3.4), the
+    robot's braking (:mod:`designlab.codesign.braking`) and how finely the worst head is
+    sought.
+
+    Examples
+    --------
+    >>> import designlab as dl
+    >>> case = dl.codesign.SafetyCase(criteria=[dl.impact.HeadAcceleration(10)],
+    ...                               human_speed=0.0)
+    >>> case.human_speed, case.head_levels, case.braking.deceleration
+    (0.0, 3, 10.0)
+    """
+
+    criteria: Sequence[Criterion] | None = param(
+        kind="object", optional=True, default=None,
+        doc="safety criteria (the foam's thickness limit is always added)",
+        none="a_h,max <= 10 g",
+    )  # fmt: skip
+    head_range: HeadRange | None = param(  # noqa: RUF009 (a declaration)
+        kind="object", optional=True, default=None,
+        doc="head-neck range whose worst head sets the limit",
+        none="the thesis's ranges (Sec. 3.5)",
+    )  # fmt: skip
+    human_speed: float = HUMAN_SPEED.field(default=1.0)
+    reaction_time: float = REACTION_TIME.field()
+    deceleration: float = DECELERATION.field()
+    detection_distance: float = DETECTION_DISTANCE.field()
+    head_levels: int = HEAD_LEVELS.field()
+
+    @property
+    def braking(self) -> Braking:
+        """The robot's braking model."""
+        return Braking(self.reaction_time, self.deceleration, self.detection_distance)
+
+    @classmethod
+    def of(cls, case: object) -> SafetyCase:
+        """``case`` itself, or the default case for ``None``; anything else is refused.
+
+        Parameters
+        ----------
+        case
+            The object given as the case.
+        """
+        if case is None:
+            return cls()
+        if not isinstance(case, SafetyCase):
+            raise InvalidParameterError(
+                "case", case, "must be a dl.codesign.SafetyCase (or None: the default case)"
+            )
+        return case
+
+
 def check_robot_foam(robot: object, foam: object, *, scaling: bool = False) -> ContactModel:
     """The contact model of the robot (fixed, full joint or a link) and the foam of a co-design
     answer; a pair whose speed limit is not served is refused by the model's capabilities.
@@ -256,23 +316,20 @@ def check_robot_foam(robot: object, foam: object, *, scaling: bool = False) -> C
 
 def problem_for(
     robot: ContactDynamics | FullJointContact | LinkImpact,
-    criteria: Sequence[Criterion] | None,
+    case: SafetyCase,
     max_compression: float,
-    head_range: HeadRange | None,
-    human_speed: float,
-    head_levels: int,
     foam: object | None = None,
 ) -> FoamProblem:
     """The impact package's worst-case problem at v_c = 1 m/s (a link: at its joint speed).
 
     Parameters
     ----------
-    robot, criteria, head_range, human_speed
+    robot
         As in :func:`speed_limit`.
+    case
+        The criteria, head range, walker's speed and worst-head grid (:class:`SafetyCase`).
     max_compression
         lambda, m.
-    head_levels
-        Values per head-neck parameter of the worst-head grid.
     foam
         A non-linear foam (its law's other parameters kept), or ``None``: the linear foam.
 
@@ -280,13 +337,12 @@ def problem_for(
     -------
     FoamProblem
     """
-    if head_range is None:
-        head_range = THESIS_HEAD_RANGE
+    head_range = THESIS_HEAD_RANGE if case.head_range is None else case.head_range
     v = None if robot.along_link else 1.0
     prob = make_problem(
-        robot, v, criteria, max_compression, head_range, False, human_speed, 0.05, foam
+        robot, v, case.criteria, max_compression, head_range, False, case.human_speed, 0.05, foam
     )
-    prob.head_levels = HEAD_LEVELS.check(head_levels)
+    prob.head_levels = case.head_levels
     return prob
 
 
@@ -406,34 +462,6 @@ def allowed_closing_speeds(
         )
         out.append((key, vals, heads, v))
     return out
-
-
-def setup(
-    robot: ContactDynamics | FullJointContact | LinkImpact, criteria: Sequence[Criterion] | None,
-    depth: float, head_range: HeadRange | None, human_speed: float, reaction_time: float,
-    deceleration: float, detection_distance: float, head_levels: int, foam: object | None = None,
-) -> tuple[FoamProblem, float, Braking]:  # fmt: skip
-    """The checked walker speed, braking and worst-case problem of a speed limit.
-
-    Parameters
-    ----------
-    robot, criteria, head_range, human_speed, reaction_time, deceleration
-        As in :func:`speed_limit`.
-    detection_distance, head_levels
-        As in :func:`speed_limit`.
-    depth
-        The foam's linear depth lambda, m (a non-linear law's: the depth it is valid to).
-    foam
-        A non-linear foam (its law kept, :func:`problem_for`), or ``None``: the linear foam.
-
-    Returns
-    -------
-    tuple
-        ``(problem, human_speed, braking)``.
-    """
-    v_h = HUMAN_SPEED.check(human_speed)
-    brake = Braking.check(reaction_time, deceleration, detection_distance)
-    return problem_for(robot, criteria, depth, head_range, v_h, head_levels, foam), v_h, brake
 
 
 def _fixed_limits(
@@ -582,14 +610,8 @@ def _link_limits(
 def speed_limit(
     robot: ContactDynamics | FullJointContact | LinkImpact,
     foam: Foam,
-    criteria: Sequence[Criterion] | None = None,
+    case: SafetyCase | None = None,
     *,
-    head_range: HeadRange | None = None,
-    human_speed: float = 1.0,
-    reaction_time: float = REACTION_TIME.default,
-    deceleration: float = DECELERATION.default,
-    detection_distance: float = DETECTION_DISTANCE.default,
-    head_levels: int = HEAD_LEVELS.default,
     refine: bool = True,
 ) -> SpeedLimit:
     """The largest robot speed for which any contact meets every criterion.
@@ -608,24 +630,12 @@ def speed_limit(
         depth its law holds to (less :data:`~designlab.impact.general.CRUSHED`: a crushed
         foam exceeds it) is the limit, each criterion's v_c a root on the head grid
         (:func:`integrated_limits`; a fixed robot only).
-    criteria
-        Safety criteria (default: a_h,max <= 10 g); the foam's thickness limit is always
-        added. For ISO/TS 15066 transient contact with the head, state the factor:
+    case
+        The criteria, the head-neck range and the head's speed toward the robot, the
+        robot's braking and the worst-head grid (:class:`SafetyCase`; ``None``: its
+        defaults, a_h,max <= 10 g for the thesis's heads walking at 1 m/s, no warning).
+        For ISO/TS 15066 transient contact with the head, state the factor:
         ``IsoTransientForce("skull_forehead", transient_factor=2.0)``.
-    head_range
-        The head-neck range (default: the thesis's ranges, Sec. 3.5); the worst head is
-        sought on a grid of ``head_levels`` values per parameter.
-    human_speed
-        The head's speed toward the robot, m/s (Sec. 3.4; the thesis: 1 m/s).
-    reaction_time
-        Time the robot keeps its speed after detecting the person, s.
-    deceleration
-        The robot's braking deceleration, m/s^2.
-    detection_distance
-        Separation at which the robot detects the person, m (0: contact without warning,
-        the robot meets the person at its full speed).
-    head_levels
-        Values per head-neck parameter of the worst-head grid (3: 27 heads).
     refine
         Polish each criterion's worst head off the grid with a bounded local search
         (:mod:`designlab.codesign.worst_head`; for a link, the head and the impact point
@@ -639,19 +649,18 @@ def speed_limit(
     --------
     >>> import designlab as dl
     >>> crit = [dl.impact.HeadAcceleration(10), dl.impact.HeadInjuryCriterion(650)]
-    >>> s = dl.codesign.speed_limit(dl.impact.MANIPULATOR_1, dl.impact.FOAM_1, crit,
-    ...                             human_speed=0.0)
+    >>> case = dl.codesign.SafetyCase(criteria=crit, human_speed=0.0)
+    >>> s = dl.codesign.speed_limit(dl.impact.MANIPULATOR_1, dl.impact.FOAM_1, case)
     >>> s.limiting_criterion, round(s.max_speed, 3)
     ('eps_max <= 20 mm', 1.807)
     """
     contact = check_robot_foam(robot, foam)
+    case = SafetyCase.of(case)
     # a non-linear law (the general path) is held to the depth it is valid to; a crushed
     # foam exceeds it
     depth = foam.linear_depth if contact.linear else contact.valid_depth(foam) * (1 - CRUSHED)
-    prob, _, brake = setup(
-        robot, criteria, depth, head_range, human_speed, reaction_time,
-        deceleration, detection_distance, head_levels, None if contact.linear else foam,
-    )  # fmt: skip
+    prob = problem_for(robot, case, depth, None if contact.linear else foam)
+    brake = case.braking
     if not isinstance(refine, (bool, np.bool_)):
         raise InvalidParameterError("refine", refine, "must be True or False")
     if not contact.linear:  # no scaling with v_c: a root per criterion

@@ -29,17 +29,12 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from designlab.codesign.parameters import (
-    DECELERATION,
-    DETECTION_DISTANCE,
-    HEAD_LEVELS,
     MAP_POINTS,
-    REACTION_TIME,
 )
-from designlab.codesign.speed import Braking, SpeedLimitStatus, problem_for
+from designlab.codesign.speed import SafetyCase, SpeedLimitStatus, problem_for
 from designlab.codesign.worst_head import grid_worst_heads, refine_heads
 from designlab.errors import InvalidParameterError
-from designlab.impact import ContactDynamics, Criterion, Foam, FullJointContact, HeadRange
-from designlab.impact.parameters import HUMAN_SPEED
+from designlab.impact import ContactDynamics, Criterion, Foam, FullJointContact
 from designlab.params import params_of
 from designlab.results import Result
 
@@ -152,14 +147,8 @@ def speed_limit_map(
     *,
     K_c: Sequence[float] | NDArray,
     C_c: Sequence[float] | NDArray,
-    criteria: Sequence[Criterion] | None = None,
     linear_depth: float = 0.02,
-    head_range: HeadRange | None = None,
-    human_speed: float = 1.0,
-    reaction_time: float = REACTION_TIME.default,
-    deceleration: float = DECELERATION.default,
-    detection_distance: float = DETECTION_DISTANCE.default,
-    head_levels: int = HEAD_LEVELS.default,
+    case: SafetyCase | None = None,
     refine: bool = True,
 ) -> SpeedLimitMap:
     """The robot's speed limit over a grid of foams (K_c x C_c).
@@ -173,11 +162,12 @@ def speed_limit_map(
         Foam stiffnesses, N/m (at most 400).
     C_c
         Foam dampings, N s/m (at most 400).
-    criteria, head_range, human_speed, reaction_time, deceleration, detection_distance
-        As in :func:`~designlab.codesign.speed_limit`.
     linear_depth
         The foams' linear depth lambda, m (the thickness limit eps_max <= lambda).
-    head_levels, refine
+    case
+        The criteria, people, braking and worst-head grid
+        (:class:`~designlab.codesign.SafetyCase`; ``None``: its defaults).
+    refine
         As in :func:`~designlab.codesign.speed_limit` (``refine=False``: the grid's worst
         heads only, one kernel batch, about 20 times faster on a 40 x 40 grid).
 
@@ -192,11 +182,11 @@ def speed_limit_map(
     ks = _axis(_FOAM["stiffness"], K_c, "K_c")
     cs = _axis(_FOAM["damping"], C_c, "C_c")
     lam = _FOAM["linear_depth"].check(linear_depth, "linear_depth")
-    v_h = HUMAN_SPEED.check(human_speed)
-    brake = Braking.check(reaction_time, deceleration, detection_distance)
+    case = SafetyCase.of(case)
+    v_h, brake = case.human_speed, case.braking
     if not isinstance(refine, (bool, np.bool_)):
         raise InvalidParameterError("refine", refine, "must be True or False")
-    prob = problem_for(robot, criteria, lam, head_range, v_h, head_levels)
+    prob = problem_for(robot, case, lam)
     kk, cc = np.meshgrid(ks, cs, indexing="ij")
     per: dict[str, NDArray[np.float64]] = {}
     on_grid: dict[str, NDArray[np.float64]] = {}

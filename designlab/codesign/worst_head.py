@@ -30,8 +30,8 @@ local maxima of a lattice over the impact point and the head).
 Examples
 --------
 >>> import designlab as dl
->>> from designlab.codesign.speed import problem_for
->>> prob = problem_for(dl.impact.MANIPULATOR_1, None, 0.02, None, 0.0, 3)
+>>> from designlab.codesign.speed import SafetyCase, problem_for
+>>> prob = problem_for(dl.impact.MANIPULATOR_1, SafetyCase(human_speed=0.0), 0.02)
 >>> key = prob.keys()[0]
 >>> m, head = refine_worst_head(prob, key, dl.impact.FOAM_1, dl.impact.HEAD_MIN, 48.0)
 >>> head.mass, bool(m >= 48.0)

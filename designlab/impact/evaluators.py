@@ -22,18 +22,22 @@ Examples
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from designlab.impact.contact import CONTACTS
-from designlab.impact.criteria import HeadAcceleration
-from designlab.impact.derivatives import VARIABLE_NAMES, metric_gradients
-from designlab.impact.envelope import FoamEnvelope, foam_envelopes
 from designlab.impact.metric_names import ENVELOPE_COLUMNS, METRICS
-from designlab.impact.metrics import PARAM_NAMES, impact_metrics
+from designlab.impact.model import PARAM_NAMES
 from designlab.impact.parameters import HEAD_MAX, HEAD_MIN, ContactDynamics, Foam
-from designlab.impact.verdict import FoamVerdict, foam_verdicts
+
+if TYPE_CHECKING:
+    from designlab.impact.envelope import FoamEnvelope
+    from designlab.impact.verdict import FoamVerdict
+
+# The engines (the compiled kernel, CasADi, the envelope solver) are imported by the
+# evaluators that use them, not here: a study kind that names an evaluator, a resumed run
+# that reads every point from the store and a report rebuilt from it import none of them
+# (numba and the kernel modules alone are about a second of a process's start).
 
 __all__ = [
     "ENVELOPE_METRICS",
@@ -63,6 +67,8 @@ ENVELOPE_METRICS: dict[str, str] = {c: info.label for c, info in ENVELOPE_COLUMN
 def _params(points: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
     """The model's columns: the linear model's, or a non-linear contact model's whole row
     when the points carry it (its foam shape columns; docs/impact_contact.md)."""
+    from designlab.impact.contact import CONTACTS
+
     wider = [m.columns for m in CONTACTS.variants(linear=False) if set(m.columns) <= set(points)]
     return {k: np.asarray(points[k], dtype=float) for k in (wider[0] if wider else PARAM_NAMES)}
 
@@ -78,6 +84,8 @@ def impact_metrics_chunk(points: dict[str, np.ndarray], options: dict[str, Any])
     options
         Unused (no shared settings).
     """
+    from designlab.impact.metrics import impact_metrics
+
     m = impact_metrics(_params(points), np.asarray(points["v_c"], dtype=float))
     eps = np.asarray(m.max_compression, dtype=float)
     depth = np.asarray(points.get("lambda", np.full(len(eps), np.inf)), dtype=float)
@@ -108,6 +116,8 @@ def impact_elasticities_chunk(
     options
         Unused.
     """
+    from designlab.impact.derivatives import VARIABLE_NAMES, metric_gradients
+
     g = metric_gradients(_params(points), np.asarray(points["v_c"], dtype=float))
     out: dict[str, Any] = {"status": np.asarray(g.metrics.design_status, dtype=object)}
     for column, attr in _METRIC_ATTR.items():
@@ -122,6 +132,9 @@ impact_elasticities_chunk.chunk_size = 256  # type: ignore[attr-defined]
 
 def _envelopes(rows: list[dict[str, float]], damping: list[float]) -> list[FoamEnvelope]:
     """:func:`designlab.impact.foam_envelope` of every design, solved together."""
+    from designlab.impact.criteria import HeadAcceleration
+    from designlab.impact.envelope import foam_envelopes
+
     designs = [
         (
             ContactDynamics(mass=pt["M_r"], stiffness=pt["K_r"], damping=pt["C_r"]),
@@ -136,6 +149,8 @@ def _envelopes(rows: list[dict[str, float]], damping: list[float]) -> list[FoamE
 
 def _verdicts(envs: list[FoamEnvelope], rows: list[dict[str, float]]) -> list[FoamVerdict]:
     """Each foam's verdict against its envelope, solved at the foam's own damping (together)."""
+    from designlab.impact.verdict import foam_verdicts
+
     foams = [Foam(pt["K_c"], pt["C_c"], linear_depth=pt["lambda"]) for pt in rows]
     return foam_verdicts(envs, foams)
 
@@ -230,6 +245,8 @@ def envelope_elasticities_chunk(
     options
         Unused (the boundaries are solved at the point's own damping).
     """
+    from designlab.impact.derivatives import metric_gradients
+
     rows = _rows(points)
     out: dict[str, Any] = {}
     for i, pt in enumerate(rows):

@@ -31,15 +31,25 @@ import numpy as np
 from numpy.typing import NDArray
 
 from designlab.impact.kernel_exp import cexp
-from designlab.impact.kernel_lobe import STRIDE, lobe_end, maximum_on_nodes, node_count, scratch
+from designlab.impact.kernel_lobe import (
+    EXACT_STEPS,
+    STRIDE,
+    lobe_end,
+    maximum_on_nodes,
+    node_count,
+    scratch,
+    tail_shift,
+)
 from designlab.impact.kernel_modal import (
     ERR_COLUMNS,
     NOISE,
+    UNDERFLOW,
     crossing_error,
     exponentials,
     fastest_rate,
     mag,
     noise,
+    real_product,
     residue_errors,
     term_errors,
 )
@@ -116,8 +126,16 @@ def _design(p, r, c, nk, h, outputs, lobe, window, max_steps, diag, row, work, c
     for k in range(8):
         row[k] = np.nan
     step = 0.0
+    lp = p  # the poles of the lobe-end search: shifted by sigma in a slow tail
+    sigma = tail_shift(p, c, 1, nk, h, max_steps, diag) if lobe else 0.0
+    if sigma != 0.0:  # exp(-sigma t) a_h(t): the same zeros, no subnormal numbers
+        lp = work[3][0]
+        for k in range(nk):
+            lp[k] = p[k] - sigma
     if lobe:
-        t_imp, row[7], step, sure = lobe_end(p, r, c, 1, nk, h, max_steps, diag, work)
+        t_imp, row[7], step, sure = lobe_end(lp, r, c, 1, nk, h, max_steps, diag, work)
+        if sigma != 0.0:
+            step = 0.0  # the grid's exponentials are the shifted poles'
         if not sure:
             return _suspect(row, SUSPECT_LOBE)
         if t_imp == -np.inf:
@@ -150,7 +168,7 @@ def _design(p, r, c, nk, h, outputs, lobe, window, max_steps, diag, row, work, c
                 status = 2
     if not check:
         return status
-    bad = sampled_check(p, r, c, nk, outputs, lobe, count, step, row, work)
+    bad = sampled_check(p, r, c, nk, outputs, lobe, count, step, row, work, sigma)
     return status if bad == 0 else _suspect(row, bad)
 
 
@@ -163,7 +181,7 @@ def _suspect(row, code):  # type: ignore[no-untyped-def]
 
 
 @kernel(inline=True)
-def sampled_check(p, r, c, nk, outputs, lobe, count, step, row, work):  # type: ignore[no-untyped-def]
+def sampled_check(p, r, c, nk, outputs, lobe, count, step, row, work, sigma=0.0):  # type: ignore[no-untyped-def]
     """The a-posteriori check of a design's metrics on samples the search did not use.
 
     At the midpoints ``(j + 1/2) step`` of the maxima's cells before ``t_imp``
@@ -173,13 +191,18 @@ def sampled_check(p, r, c, nk, outputs, lobe, count, step, row, work):  # type: 
     end, the noise may move the lobe end by at most :data:`TIMP_ERROR` (relative); the
     error bounds of the residues and poles (:func:`.kernel_modal.term_errors`) may take
     at most :data:`TERM_ERROR` of each maximum (the last three where ``c`` carries those
-    bounds). Returns 0, :data:`SUSPECT_MAXIMUM` or :data:`SUSPECT_LOBE`.
+    bounds). With ``sigma`` (:func:`.kernel_lobe.tail_shift`) the tests of a_h's sign and
+    of the lobe end are those of ``exp(-sigma t) a_h(t)`` (:func:`_tail_suspect`).
+    Returns 0, :data:`SUSPECT_MAXIMUM` or :data:`SUSPECT_LOBE`.
     """
     bounds = c.shape[1] >= ERR_COLUMNS  # the terms' error bounds are known
     ex, half = work[2], work[1]  # exp(p_k t_j) (ex[count]: at t_imp); the stack is free
-    moved = crossing_error(p, r, c, 1, nk, row[3], ex[count]) if lobe and bounds else 0.0
-    if moved > TIMP_ERROR * row[3]:
-        return SUSPECT_LOBE  # the noise may move the lobe end by more than its tolerance
+    if lobe and sigma != 0.0:
+        if _tail_suspect(work[3], r, c, nk, count, step, row[3], bounds):
+            return SUSPECT_LOBE
+    elif lobe and bounds:
+        if crossing_error(p, r, c, 1, nk, row[3], ex[count]) > TIMP_ERROR * row[3]:
+            return SUSPECT_LOBE  # the noise may move the lobe end by more than its tolerance
     for k in range(nk):  # r_k exp(p_k step / 2) of the three outputs, side by side
         z = cexp(p[k] * (0.5 * step))
         for o in range(3):
@@ -188,8 +211,9 @@ def sampled_check(p, r, c, nk, outputs, lobe, count, step, row, work):  # type: 
     top0 = row[2] + 1e-8 * abs(row[2])  # force, head acceleration, compression (_COL)
     top1 = row[0] + 1e-8 * abs(row[0])
     top2 = row[1] + 1e-8 * abs(row[1])
-    low = _noise_ceiling(r, c, 1, nk, row[3]) if lobe and outputs[1] and bounds else -np.inf
-    unbounded = lobe and outputs[1] and not bounds
+    signed = lobe and outputs[1] and sigma == 0.0  # a_h's sign (else _tail_suspect's)
+    low = _noise_ceiling(r, c, 1, nk, row[3]) if signed and bounds else -np.inf
+    unbounded = signed and not bounds
     for j in range(count - 1):  # one pass over the midpoints for every output
         t = (j + 0.5) * step
         y0 = c[0, 0] * t + c[0, 1]
@@ -213,6 +237,36 @@ def sampled_check(p, r, c, nk, outputs, lobe, count, step, row, work):  # type: 
 
 
 @kernel(inline=True)
+def _tail_suspect(shifted, r, c, nk, count, step, t_imp, bounds):  # type: ignore[no-untyped-def]
+    """:func:`sampled_check`'s a_h tests on ``exp(-sigma t) a_h(t)`` (its poles in
+    ``shifted[0]``; ``shifted[1:3]`` scratch): whether the noise may move the lobe end
+    ``t_imp`` by more than :data:`TIMP_ERROR`, or a_h is not provably positive (with error
+    bounds; without them, provably negative) at a midpoint before it. The exponentials by
+    recurrence, evaluated afresh every :data:`.kernel_lobe.EXACT_STEPS` midpoints (their
+    error then below a tenth of :data:`.kernel_modal.NOISE`)."""
+    lp, e, z = shifted[0], shifted[1], shifted[2]
+    for k in range(nk):
+        e[k] = cexp(lp[k] * t_imp)
+        z[k] = cexp(lp[k] * step)
+    if bounds and crossing_error(lp, r, c, 1, nk, t_imp, e) > TIMP_ERROR * t_imp:
+        return True
+    low = _noise_ceiling(r, c, 1, nk, t_imp) if bounds else -np.inf
+    for j in range(count - 1):
+        t = (j + 0.5) * step
+        y = 0.0
+        for k in range(nk):
+            if j % EXACT_STEPS == 0:
+                e[k] = cexp(lp[k] * t)
+            y += real_product(r[1, k], e[k])
+            e[k] = e[k] * z[k]
+        if bounds and y <= low and y <= noise(lp, r, c, 1, nk, t):
+            return True
+        if not bounds and y < 0.0 and y < -noise(lp, r, c, 1, nk, t):
+            return True
+    return False
+
+
+@kernel(inline=True)
 def _noise_ceiling(r, c, o, nk, t):  # type: ignore[no-untyped-def]
     """An upper bound of :func:`.kernel_modal.noise` over ``[0, t]`` (stable poles) without
     exponentials: the sampled check evaluates the noise only below it."""
@@ -221,7 +275,7 @@ def _noise_ceiling(r, c, o, nk, t):  # type: ignore[no-untyped-def]
     for k in range(nk):
         s += mag(r[o, k])
         big = max(big, mag(r[o, k]))
-    return NOISE * (s + nk * big) + term_errors(c, o, nk, t)
+    return NOISE * (s + nk * big) + term_errors(c, o, nk, t) + nk * UNDERFLOW
 
 
 @kernel

@@ -46,6 +46,7 @@ from designlab.impact.kernel_modal import (
     ERR_COLUMNS,
     MAX_TERMS,
     NOISE,
+    UNDERFLOW,
     cell_bound,
     curvature,
     exponentials,
@@ -64,7 +65,10 @@ from designlab.impact.kernel_modal import (
 )
 from designlab.sx.jit import kernel
 
-__all__ = ["crossing", "lobe_end", "march", "maximum", "maximum_on_nodes", "node_count", "scratch"]
+__all__ = [
+    "crossing", "lobe_end", "march", "maximum", "maximum_on_nodes", "node_count", "scratch",
+    "tail_shift",
+]  # fmt: skip
 
 LOW_FRACTION = 0.05
 #: Newton on y' stops after a step below this (relative): the quadratic convergence leaves
@@ -89,6 +93,11 @@ _STACK = 200
 #: node of the horizon; nearer, a zero may hide in the noise and the caller evaluates the
 #: design in more digits (:func:`lobe_end`)
 CLEAR = 256.0
+#: the lobe end is searched on ``exp(-sigma t) y(t)`` (``sigma`` the slowest pole's real
+#: part; the same zeros where y has no polynomial part, as a_h) where ``exp(sigma t)``
+#: falls below ``exp(-TAIL)`` (1e-217) within the horizon (:func:`tail_shift`): a zero
+#: deep in a slow tail is then not lost among subnormal numbers (issue 34)
+TAIL = 500.0
 
 #: columns of a cell on the stack: times, values, slopes, second derivatives at both
 #: ends, level, curvature and jerk scales at both ends
@@ -97,11 +106,39 @@ _TL, _TR, _YL, _YR, _DL, _DR, _QL, _QR, _LEVEL, _M2L, _M3L, _M2R, _M3R = range(1
 
 @kernel
 def scratch():  # type: ignore[no-untyped-def]
-    """Work arrays of one block: six node arrays (:func:`.kernel_modal.grid`), the stack
-    and the nodes' exponentials (:func:`.kernel_modal.exponentials`, at most 5 poles)."""
+    """Work arrays of one block: six node arrays (:func:`.kernel_modal.grid`), the stack,
+    the nodes' exponentials (:func:`.kernel_modal.exponentials`, at most 5 poles) and the
+    shifted poles of a slow tail's lobe end and their exponentials (:func:`tail_shift`)."""
     n = MAX_CELLS + 2
     nodes = (np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n))
-    return nodes, np.empty((_STACK, 13)), np.empty((n, 5), dtype=np.complex128)
+    shifted = np.empty((3, 5), dtype=np.complex128)
+    return nodes, np.empty((_STACK, 13)), np.empty((n, 5), dtype=np.complex128), shifted
+
+
+@kernel(inline=True)
+def tail_shift(p, c, o, nk, h, max_steps, diag):  # type: ignore[no-untyped-def]
+    """``sigma``, the slowest pole's real part, where the lobe end of output ``o`` is to be
+    searched on ``exp(-sigma t) y(t)`` (poles ``p_k - sigma``), else 0.
+
+    Where y has no polynomial part (a_h) the two have the same zeros, and the scaled
+    one's slowest term keeps its size: without it a zero deep in a slow tail (nearly
+    repeated modes, 61.5 s, terms of 1e-320) is sought among subnormal numbers, whose
+    rounding is absolute (:data:`.kernel_modal.UNDERFLOW`). Shifted where
+    ``exp(sigma horizon) < exp(-TAIL)``, never with ``diag`` (whose low-fraction time is
+    the unscaled response's). The shift's rounding, at most 2^-53 ``|p_k - sigma|`` per
+    pole, moves a term by at most 2^-53 ``|p_k - sigma| t`` of itself: with the grid step
+    ``h = 0.4 / max|p_k|`` and ``t`` within the horizon of about 4,100 steps, at most
+    2^-53 * 2 * 1,640 = 3.6e-13, below :data:`.kernel_modal.NOISE`.
+    """
+    if diag or c[o, 0] != 0.0 or c[o, 1] != 0.0:
+        return 0.0
+    sigma = -np.inf
+    for k in range(nk):
+        sigma = max(sigma, p[k].real)
+    horizon = ((max_steps // 12) * 12 + 11) * h
+    if sigma < 0.0 and sigma * horizon < -TAIL:
+        return sigma
+    return 0.0
 
 
 @kernel(borrows=True)
@@ -270,7 +307,7 @@ def crossing(p, r, c, o, nk, hi, h, levels, work, marched):  # type: ignore[no-u
     the nodes' exponentials are then already in ``work[2]``. ``count`` is the number of
     grid cells over ``[0, hi]`` (the grid stays in ``work[0]``).
     """
-    nodes, stack, ex = work
+    nodes, stack, ex = work[0], work[1], work[2]
     steady = stable(p, nk)
     fastest = fastest_rate(p, nk)
     if 0 < marched <= MAX_CELLS:
@@ -430,7 +467,7 @@ def _clear(p, r, c, o, nk, count, work):  # type: ignore[no-untyped-def]
             s += (mag(r[o, k]) if bounds else big) * e
             if bounds:
                 extra += (c[o, 2 + k] + c[o, 2 + MAX_TERMS + k] * t) * e
-        if not ys[j] > CLEAR * (NOISE * s + extra):
+        if not ys[j] > CLEAR * (NOISE * s + extra + nk * UNDERFLOW):
             return False
     return True
 
@@ -500,7 +537,7 @@ def maximum_on_nodes(p, r, c, o, nk, hi, count, w, work, first=0):  # type: igno
     the branch and bound like every other cell. ``sure`` is False where a cell was not
     settled within 16 levels of splitting.
     """
-    nodes, stack, ex = work
+    nodes, stack, ex = work[0], work[1], work[2]
     ts, ys, ds, qs, m3s = nodes[0], nodes[1], nodes[2], nodes[3], nodes[5]
     steady = stable(p, nk)
     fastest = fastest_rate(p, nk)

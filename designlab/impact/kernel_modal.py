@@ -26,7 +26,8 @@ from designlab.impact.kernel_exp import cexp
 from designlab.sx.jit import kernel
 
 __all__ = [
-    "ERR_COLUMNS", "MAX_TERMS", "NOISE", "ROUNDING", "cell_bound", "crossing_error", "curvature",
+    "ERR_COLUMNS", "MAX_TERMS", "NOISE", "ROUNDING", "UNDERFLOW", "cell_bound", "crossing_error",
+    "curvature",
     "derivatives", "exponentials", "fastest_rate", "grid",
     "hermite_bound", "jerk", "mag", "newton", "noise", "pair", "real_product", "residue_errors",
     "separated", "shape", "stable", "term_errors", "triple", "value",
@@ -50,6 +51,12 @@ ERR_COLUMNS = 2 + 2 * MAX_TERMS
 #: within 1e-2 of the tolerance
 TAYLOR_STEP = 5e-3
 TAYLOR_ERROR = 1e-8
+#: absolute error of one term ``Re r_k exp(p_k t)`` evaluated where its parts are subnormal
+#: numbers (below 2.2e-308): each of its few roundings (exponential, cosine, product, sum)
+#: loses up to half the smallest subnormal, 2^-1075, whatever the term's size
+UNDERFLOW = 16 * 2.0**-1074
+#: ``|z|^2`` at or above this: the squares' underflow is below 1e-20 of it (:func:`mag`)
+_SQUARES_NORMAL = 1e-290
 #: reciprocals of the Taylor coefficients' factorials (multiplications instead of divisions)
 _I6 = 1.0 / 6.0
 _I24 = 1.0 / 24.0
@@ -59,8 +66,14 @@ _I384 = 1.0 / 384.0
 
 @kernel(inline=True)
 def mag(z):  # type: ignore[no-untyped-def]
-    """``|z|`` without hypot's overflow care (the moduli here are far from overflow)."""
-    return math.sqrt(z.real * z.real + z.imag * z.imag)
+    """``|z|``: without hypot's care where the squares are normal numbers (the moduli here
+    are far from overflow); by hypot where they underflow (``|z|`` below 1e-150: the
+    exponentials of a slow tail, whose moduli enter the noise and derivative bounds; their
+    squares flushed to zero made those bounds zero, issue 34)."""
+    s = z.real * z.real + z.imag * z.imag
+    if s >= _SQUARES_NORMAL:
+        return math.sqrt(s)
+    return math.hypot(z.real, z.imag)
 
 
 @kernel(inline=True)
@@ -127,6 +140,7 @@ def noise(p, r, c, o, nk, t):  # type: ignore[no-untyped-def]
     its term, the slowest, decides the sign of a tail that in truth decays to zero from
     above (issue 34). Where ``c`` carries no bounds (``c.shape[1] == 2``: responses
     built elsewhere) every residue is counted at least as large as the largest one.
+    Each term adds :data:`UNDERFLOW` (the absolute error of a term in subnormal numbers).
     """
     s = abs(c[o, 0] * t) + abs(c[o, 1])
     if c.shape[1] >= ERR_COLUMNS:
@@ -135,13 +149,13 @@ def noise(p, r, c, o, nk, t):  # type: ignore[no-untyped-def]
             e = math.exp(p[k].real * t)
             s += mag(r[o, k]) * e
             extra += (c[o, 2 + k] + c[o, 2 + MAX_TERMS + k] * t) * e
-        return NOISE * s + extra
+        return NOISE * s + extra + nk * UNDERFLOW
     big = 0.0
     for k in range(nk):
         big = max(big, mag(r[o, k]))
     for k in range(nk):
         s += big * math.exp(p[k].real * t)
-    return NOISE * s
+    return NOISE * s + nk * UNDERFLOW
 
 
 @kernel(inline=True)
@@ -162,8 +176,8 @@ def crossing_error(p, r, c, o, nk, t, ex):  # type: ignore[no-untyped-def]
         big = max(big, a)
         extra += g * (c[o, 2 + k] + c[o, 2 + MAX_TERMS + k] * t if bounds else 1.0)
     if bounds:
-        return (NOISE * (s + terms) + extra) / abs(dy)
-    return NOISE * (s + big * extra) / abs(dy)
+        return (NOISE * (s + terms) + extra + nk * UNDERFLOW) / abs(dy)
+    return (NOISE * (s + big * extra) + nk * UNDERFLOW) / abs(dy)
 
 
 @kernel(inline=True)

@@ -797,6 +797,16 @@ def settle_suspects(
                 f"{int(done.sum())} design(s): a_h's lobe end found from extended-precision "
                 "poles and residues where double precision could not tell it from rounding noise",
             )
+        # a zero of a_h found there but not certified: the lobe may close, so "not closed"
+        # would be a claim; these are uncertified (issue 34: one closes at 61.5 s)
+        refused = again >= kernel.SUSPECT_LOBE
+        codes[open_[refused]] = UNCERTIFIED
+        if np.any(refused):
+            notes = (
+                *notes,
+                f"{int(refused.sum())} design(s) uncertified: a_h came within its rounding "
+                "noise and a zero found in extended precision could not be certified",
+            )
     sus = np.flatnonzero(codes >= kernel.SUSPECT_POLES)
     if not sus.size:
         return notes
@@ -858,7 +868,35 @@ def _settle_precise(
     error bounds of about one rounding, searched and checked again by the kernel (by
     :func:`_settle` without numba). Designs still not certified keep a ``SUSPECT_*`` code
     (:data:`UNCERTIFIED` without numba). Also a note for the warnings."""
-    resp, ok = kernel_precise.precise_responses(p, printed=printed, names=names)
+    rows, out = _precise_rows(p, names, printed, codes, stop_time, max_lobe_steps, diagnostics)
+    again = np.flatnonzero(out >= kernel.SUSPECT_POLES)
+    if kernel.AVAILABLE and again.size:  # refused from double-double: 40-digit decimal
+        rows[again], out[again] = _precise_rows(
+            p[again], names, printed, codes[again], stop_time, max_lobe_steps, diagnostics,
+            compiled=False,
+        )  # fmt: skip
+    n = p.shape[0]
+    done = int(np.sum(out < kernel.SUSPECT_POLES))
+    note = (
+        f"{n} design(s) not certified in double precision were evaluated from extended-precision "
+        f'poles and residues (docs/impact.md, "Self-check"): {done} certified'
+    )
+    return rows, out, (note,)
+
+
+def _precise_rows(
+    p: NDArray,
+    names: tuple[str, ...],
+    printed: bool,
+    codes: NDArray,
+    stop_time: float,
+    max_lobe_steps: int,
+    diagnostics: bool,
+    compiled: bool = True,
+) -> tuple[NDArray, NDArray]:
+    """:func:`_settle_precise`'s rows and codes from one extended-precision evaluation
+    (``compiled``: double-double first, :func:`.kernel_precise.precise_responses`)."""
+    resp, ok = kernel_precise.precise_responses(p, printed=printed, names=names, compiled=compiled)
     n = p.shape[0]
     rows = np.full((n, len(kernel.COLUMNS)), np.nan)
     out = np.where(ok, codes, kernel.SUSPECT_POLES).astype(np.int8)
@@ -880,12 +918,7 @@ def _settle_precise(
             rows[i], out[i], _ = _settle(
                 sub, h, codes[i], False, stop_time, max_lobe_steps, diagnostics
             )
-    done = int(np.sum(out < kernel.SUSPECT_POLES))
-    note = (
-        f"{n} design(s) not certified in double precision were evaluated from extended-precision "
-        f'poles and residues (docs/impact.md, "Self-check"): {done} certified'
-    )
-    return rows, out, (note,)
+    return rows, out
 
 
 def _kernel_arrays(resp: dict[str, ModalResponse], bounded: bool) -> tuple[NDArray, NDArray]:

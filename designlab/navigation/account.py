@@ -14,8 +14,12 @@ apply to the row, each as a run that removes it:
   0.8-1.2 m/s, ramps of 0.5-1.5 s: the thesis's walk averaged 1.0 m/s and varied);
 * ``walk_start``: the walk's start and timing, not given (the human 0.5-1 m ahead of or
   behind its start at t = 0, or starting 0.5-1 s late);
+* ``walk_timing``: the human's timing, wider (Configuration 4's human meets the robot only
+  after the rectangle, and the thesis gives no timing): 1.5-4 s late, or 1.5-2 m ahead of
+  or behind its start (:data:`WIDE_DELAYS`, :data:`WIDE_HEAD_STARTS`);
 * ``walk_noise``: the simulated rows replay the measured walk, whose velocity varied by
-  about +-0.8 m/s: velocity noise of 0.2-0.4 m/s (:data:`CAUSE_SEEDS` seeds each) on what the
+  about +-0.8 m/s: velocity noise of 0.2-0.8 m/s (:data:`WALK_NOISE_SD`, :data:`CAUSE_SEEDS`
+  seeds each) on what the
   field sees, for every row with a walking human, simulated or experiment;
 * ``walk_start_noise``: the walk's start or timing (as ``walk_start``) and that noise
   (0.3 m/s) together;
@@ -212,12 +216,28 @@ def _walking(s: RunSetup) -> bool:
 
 #: Seeds per setting of a seeded cause (``walk_noise``, ``walk_start_noise``, ``noise``).
 CAUSE_SEEDS = 10
+#: Velocity noise standard deviations (m/s) of ``walk_noise``: up to the thesis's
+#: amplitude, the measured walk's velocity varying by about +-0.8 m/s (at 0.8 m/s that
+#: variation is one standard deviation).
+WALK_NOISE_SD = (0.2, 0.3, 0.4, 0.6, 0.8)
 
 
 def _walk_starts(s: RunSetup) -> list[RunSetup]:
     """The walk's start moved 0.5-1 m along it either way, or delayed 0.5-1 s."""
     return [replace(s, human_head_start=d) for d in (-1.0, -0.5, 0.5, 1.0)] + [
         replace(s, human_delay=d) for d in (0.5, 1.0)
+    ]
+
+
+#: The wider timing of ``walk_timing``: delays (s) and head starts (m, negative: behind).
+WIDE_DELAYS = (1.5, 2.0, 3.0, 4.0)
+WIDE_HEAD_STARTS = (-2.0, -1.5, 1.5, 2.0)
+
+
+def _wide_timings(s: RunSetup) -> list[RunSetup]:
+    """The walk 1.5-4 s late or 1.5-2 m along it either way (Config 4's human timing)."""
+    return [replace(s, human_delay=d) for d in WIDE_DELAYS] + [
+        replace(s, human_head_start=d) for d in WIDE_HEAD_STARTS
     ]
 
 
@@ -264,13 +284,22 @@ CAUSES: tuple[Cause, ...] = (
         lambda s: _walk_starts(s),
     ),
     Cause(
+        "walk_timing",
+        "the human's timing against the robot, wider (Config 4's human shares the robot's "
+        "path only after the rectangle; the thesis gives no timing): 1.5-4 s late or 1.5-2 m "
+        "ahead or behind along its walk",
+        lambda s, q: _walking(s),
+        lambda s: _wide_timings(s),
+    ),
+    Cause(
         "walk_noise",
         "the measured walk the simulations replay (velocity varying by about +-0.8 m/s): "
-        f"velocity noise 0.2-0.4 m/s, seeds 0-{CAUSE_SEEDS - 1} (a setting counts by its median)",
+        f"velocity noise {WALK_NOISE_SD[0]:g}-{WALK_NOISE_SD[-1]:g} m/s, seeds "
+        f"0-{CAUSE_SEEDS - 1} (a setting counts by its median)",
         lambda s, q: _walking(s),
         lambda s: [
             replace(s, noise_seed=k, noise_velocity_sd=v)
-            for v in (0.2, 0.3, 0.4)
+            for v in WALK_NOISE_SD
             for k in range(CAUSE_SEEDS)
         ],
         seeded=True,

@@ -40,7 +40,7 @@ from designlab.navigation.recovery import critical_response
 from designlab.navigation.scenarios import Scenario
 from designlab.params import check_size
 from designlab.sx import CompiledLanes, try_compile_lanes, with_cse
-from designlab.sx.functions import cached_function
+from designlab.sx.functions import BufferedFunction, cached_function
 
 Array = NDArray[np.float64]
 
@@ -199,33 +199,6 @@ def _lane_step(
     return try_compile_lanes(f, _SHARED)
 
 
-class _Buffered:
-    """A casadi.Function evaluated through its buffer interface on preallocated numpy arrays."""
-
-    def __init__(self, f: ca.Function) -> None:
-        self.f = f
-        self._buf, self._trigger = f.buffer()
-        self.inp = [np.zeros(f.nnz_in(i)) for i in range(f.n_in())]
-        self.out = [np.zeros(f.nnz_out(i)) for i in range(f.n_out())]
-        for i, a in enumerate(self.inp):
-            self._buf.set_arg(i, memoryview(a))
-        for i, a in enumerate(self.out):
-            self._buf.set_res(i, memoryview(a))
-        self.shape_in = [(f.size1_in(i), f.size2_in(i)) for i in range(f.n_in())]
-        self.shape_out = [(f.size1_out(i), f.size2_out(i)) for i in range(f.n_out())]
-
-    def view_in(self, i: int) -> Array:
-        r, c = self.shape_in[i]
-        return self.inp[i].reshape((c, r)).T  # column-major view
-
-    def view_out(self, i: int) -> Array:
-        r, c = self.shape_out[i]
-        return self.out[i].reshape((c, r)).T
-
-    def __call__(self) -> None:
-        self._trigger()
-
-
 def _step_call(
     geometries: tuple[ObstacleGeometry, ...],
     robot: HolonomicRobot | NonholonomicRobot,
@@ -236,7 +209,7 @@ def _step_call(
     jit: bool,
     lean: bool,
     stabilising: bool,
-) -> _Buffered:
+) -> BufferedFunction:
     """The step for ``n`` members: with ``jit``, a lean step compiled to four lanes (where a C
     compiler exists), else CasADi's (mapped) function on its virtual machine (the same results;
     a recorded run's full step is not compiled: it runs once, compiling it costs far more)."""
@@ -244,12 +217,12 @@ def _step_call(
         lanes = _lane_step(geometries, robot, method, n_sub, dt, stabilising)
         if lanes is not None:
             return _Lanes(lanes, n)
-    return _Buffered(
+    return BufferedFunction(
         _compiled(geometries, robot, method, n_sub, dt, n, lean, stabilising if lean else None)
     )
 
 
-class _Lanes(_Buffered):
+class _Lanes(BufferedFunction):
     """A lane-compiled lean step bound to ``n`` members: the arrays and views of the
     function mapped over ``n`` members (member after member), evaluated four at a time."""
 
@@ -653,7 +626,7 @@ def _run_batch(
     N, n_obs, period = gains.shape[0], len(geos), n_sub * dt
     params = (robot.mass, float(tie), 1.0 if stabilising else 0.0, robot.max_accel)
 
-    def call(n: int) -> _Buffered:
+    def call(n: int) -> BufferedFunction:
         f = _step_call(geos, robot, method, n_sub, dt, n, jit, True, bool(stabilising))
         f.view_in(1)[:, 0] = scenario.goal
         f.view_in(4)[:, 0] = params
@@ -711,14 +684,14 @@ def _run_batch(
     return RawRun(arrival, dmin, energy, crit_time, k_done * period, None)
 
 
-def _close_period(f: _Buffered, dm: Array, en: Array, dt: float) -> None:
+def _close_period(f: BufferedFunction, dm: Array, en: Array, dt: float) -> None:
     """Take the call's last period into the running minima and energies (in place)."""
     np.minimum(dm, f.view_out(2).T, out=dm)
     en += np.multiply(f.out[3], dt, out=np.empty(en.shape[0]))
 
 
 def _batch_periods(
-    f: _Buffered,
+    f: BufferedFunction,
     tracks: _Tracks,
     k_done: int,
     n_samples: int,
@@ -791,7 +764,7 @@ class _ArrivalPeriod:
 
     def __init__(
         self,
-        lean: _Buffered,
+        lean: BufferedFunction,
         geos: tuple[ObstacleGeometry, ...],
         robot: HolonomicRobot | NonholonomicRobot,
         method: str,
@@ -800,7 +773,7 @@ class _ArrivalPeriod:
         tol: float,
     ) -> None:
         self.lean = lean
-        self.full = _Buffered(_compiled(geos, robot, method, n_sub, dt, 1, False))
+        self.full = BufferedFunction(_compiled(geos, robot, method, n_sub, dt, 1, False))
         self.nx = state_size(robot)
         self.tol = tol
         self.n_obs = len(geos)

@@ -17,6 +17,9 @@ Files written into the report directory:
 ``baseline_sensitivity.csv``
     The tuned PIDs' improvement against the default PID scaled by
     :data:`BASELINE_FACTORS` (the default is the project's choice).
+``noise.csv``
+    With the study's ``noise``: each PID (and one tuned with each limit on |C S|) without
+    and with sensor noise: mean RMS error and command rate.
 ``trajectories_<controller>.png``
     User and robot paths in the world, one panel per task.
 ``errors.png``
@@ -718,7 +721,51 @@ def _markdown(
     out += _tables_section(result)
     if extras is not None:
         out += extras_section(result, extras)
+    out += _noise_section(result)
     return "\n".join(out)
+
+
+def _noise_section(result: AccompanyingResult) -> list[str]:
+    """The noise table: each PID without and with sensor noise (noise.csv)."""
+    f = result.noise
+    if f.empty:
+        return []
+    nz = result.study.noise
+    shown = pd.DataFrame(
+        {
+            "PID": f["controller"],
+            "K_p (1/s)": f["kp_1_s"].map(lambda v: f"{v:.3g}"),
+            "K_i (1/s^2)": f["ki_1_s2"].map(lambda v: f"{v:.3g}"),
+            "K_d": f["kd"].map(lambda v: f"{v:.2g}"),
+            "max abs(C S) (1/s)": f["noise_gain_1_s"].map(lambda v: f"{v:.3g}"),
+            "RMS error, clean (mm)": (1e3 * f["rms_clean_m"]).map(lambda v: f"{v:.1f}"),
+            "RMS error, noisy (mm)": (1e3 * f["rms_noisy_m"]).map(lambda v: f"{v:.1f}"),
+            "command rate, noisy (m/s^2)": f["command_rate_m_s2"].map(lambda v: f"{v:.2g}"),
+        }
+    )
+    bad = f[~f.get("tuning_status", pd.Series("", index=f.index)).isin(["", "ok"])]
+    failed = (
+        "Tunings that did not end ok: "
+        + "; ".join(f"{c} ({st})" for c, st in bad[["controller", "tuning_status"]].values)
+        + "."
+        if len(bad)
+        else "Every tuning with a limit ended ok."
+    )
+    return [
+        "## Sensor noise and the noise-gain limit",
+        "",
+        f"White noise of {1e3 * nz.distance_noise:g} mm on the raw distance and "
+        f"{1e3 * nz.angle_noise:g} mrad on the raw angles (seed {result.study.seed}); each "
+        "PID tuned again on the same tasks with the noise-sensitivity limit |C S| <= k_s "
+        "(Hast et al. 2013, linearised as a cone constraint). Means over the tasks; the "
+        "command rate is the RMS of |d(V_x, V_y)/dt| with noise, against the platform's "
+        f"{result.study.platform.max_acceleration:g} m/s^2 acceleration limit (noise.csv).",
+        "",
+        markdown_table(shown, index=False),
+        "",
+        failed,
+        "",
+    ]
 
 
 @register_writer(AccompanyingResult)
@@ -764,6 +811,8 @@ def accompanying_report(result: AccompanyingResult) -> ReportParts:
     extras = extras_frame(result) if result.extras else None
     if extras is not None:
         tables["extras.csv"] = extras
+    if not result.noise.empty:
+        tables["noise.csv"] = result.noise
     return ReportParts(
         body=[_markdown(result, sensitivity, extras)],
         tables=tables,

@@ -190,8 +190,8 @@ def _field_cells(r: pd.Series) -> dict[str, str]:
         "personal-space share": _num(g("intrusion_share_mean", math.nan)),
         "min TTC (s)": _num(g("ttc_min_s_mean", math.nan)),
         "frozen": _num(g("frozen_mean", math.nan)),
-        "collisions robot / ped.": f"{_int(g('collisions_by_robot'))} / "
-        f"{_int(g('collisions_by_pedestrian'))}",
+        "collisions robot / ped. / wall": f"{_int(g('collisions_by_robot'))} / "
+        f"{_int(g('collisions_by_pedestrian'))} / {_int(g('collisions_by_wall'))}",
         "density classic / Voronoi": f"{_num(g('measured_density_per_m2', math.nan))} / "
         f"{_num(g('voronoi_density_per_m2', math.nan))}",
     }

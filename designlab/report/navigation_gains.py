@@ -21,7 +21,8 @@ from designlab.report import register_writer
 from designlab.report.builder import ReportParts
 from designlab.report.figure_style import start_and_goal
 from designlab.report.writers import markdown_table
-from designlab.study.kinds.navigation_gains import WIDER, NavigationGainsResult
+from designlab.results import OK
+from designlab.study.kinds.navigation_gains import TABLE_C1, WIDER, NavigationGainsResult
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -242,6 +243,7 @@ def navigation_gains_markdown(result: NavigationGainsResult) -> str:
         out += _mode_line(result, mode)
     out += _effort_section(result)
     out += _reproduction_section(result)
+    out += _repeatability_section(result)
     out += _sensitivity_section(result)
     out += _appendix_c_section(result)
     out += _global_section(result)
@@ -445,8 +447,8 @@ def like_for_like_label(method: str) -> str:
     return f"{method} like for like" if own else f"baseline {method}"
 
 
-#: Table C.1's H_opt per method (App. C.2), for the ranking sentence.
-TABLE_C1_H = {"vff": 0.69, "masoud": 0.66, "ge_cui": 0.52}
+#: Table C.1's H_opt per method (App. C.2), for the ranking sentence (the kind's table).
+TABLE_C1_H = {method: h for method, (_, h) in TABLE_C1.items()}
 
 
 def _half_budget_best(opt: GainOptimum) -> float:
@@ -652,6 +654,34 @@ def _reproduction_section(result: NavigationGainsResult) -> list[str]:
         table.append(row)
     out += [markdown_table(pd.DataFrame(table).fillna("—"), index=False), ""]
     return out
+
+
+def _repeatability_section(result: NavigationGainsResult) -> list[str]:
+    """Each mode's optimum over the seeds of ``repeat_seeds`` (repeatability.csv)."""
+    rep = result.repeatability
+    if rep.empty:
+        return []
+    out = [
+        "## Repeatability over seeds",
+        "",
+        "Each mode optimised again with other seeds, the same budget and box "
+        "(repeatability.csv; the first seed is the optimum above). The spread of the gains "
+        "against that of H_mean shows how flat the optimum is.",
+        "",
+    ]
+    table = []
+    for mode, grp in rep.groupby("stabilising", sort=False):
+        row: dict[str, object] = {
+            "stabilising": mode,
+            "seeds": ", ".join(str(int(s)) for s in grp["seed"]),
+        }
+        for g in ("k1", "b", "k3", "k5", "H_mean"):
+            lo, hi = grp[g].min(), grp[g].max()
+            name = g.upper() if g.startswith("k") else g
+            row[name] = f"{lo:.4g} - {hi:.4g}" if f"{lo:.4g}" != f"{hi:.4g}" else f"{lo:.4g}"
+        row["not ok"] = int((grp["status"] != OK).sum())
+        table.append(row)
+    return [*out, markdown_table(pd.DataFrame(table), index=False), ""]
 
 
 def _ranged_gains(result: NavigationGainsResult, main: pd.DataFrame) -> pd.DataFrame:
@@ -875,6 +905,8 @@ def navigation_gains_report(result: NavigationGainsResult) -> ReportParts:
     if not result.baselines.empty:
         tables["baseline_gains.csv"] = result.baselines
     tables["near_optimal.csv"] = near_optimal_frame(result)
+    if not result.repeatability.empty:
+        tables["repeatability.csv"] = result.repeatability
     if not result.appendix_c.empty:
         tables["appendix_c_comparison.csv"] = result.appendix_c
         tables["appendix_c_outcomes.csv"] = result.appendix_c_outcomes

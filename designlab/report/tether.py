@@ -552,23 +552,26 @@ def comparison_report(result: TetherComparisonResult) -> ReportParts:
 
 
 def _tuning_figure(r: Any) -> Figure:
-    fig = Figure(figsize=(11, 3.8), layout="constrained")
-    ax1, ax2 = fig.subplots(1, 2, width_ratios=[3, 1])
     tab = r.scenarios
     keys = tab[tab["controller"] == "default"][["set", "path", "speed_m_per_s"]].reset_index(
         drop=True
     )
-    x = np.arange(len(keys))
+    # one horizontal bar pair per scenario, labelled on one line: readable for any number
+    # of scenarios (the figure grows with them)
+    fig = Figure(figsize=(11, max(3.8, 1.4 + 0.3 * len(keys))), layout="constrained")
+    ax1, ax2 = fig.subplots(1, 2, width_ratios=[3, 1])
+    y = np.arange(len(keys))
     for j, who in enumerate(("default", "tuned")):
         vals = tab[tab["controller"] == who]["npd_mean_over_b"].to_numpy()
-        ax1.bar(
-            x + (j - 0.5) * 0.38, vals, width=0.38, label=who, color=("tab:gray", "tab:blue")[j]
+        ax1.barh(
+            y + (j - 0.5) * 0.38, vals, height=0.38, label=who, color=("tab:gray", "tab:blue")[j]
         )
-    ax1.set_xticks(
-        x, [f"{p}\n{v:g} m/s\n({s})" for s, p, v in keys.itertuples(index=False)], fontsize=6
+    ax1.set_yticks(
+        y, [f"{p}, {v:g} m/s ({s})" for s, p, v in keys.itertuples(index=False)], fontsize=7
     )
-    ax1.set_xlabel("leader path, leader speed (scenario set)")
-    ax1.set_ylabel("mean normal deviation / b")
+    ax1.invert_yaxis()  # the scenarios in the order of the table, top down
+    ax1.set_ylabel("leader path, leader speed (scenario set)")
+    ax1.set_xlabel("mean normal deviation / b")
     ax1.set_title(f"{r.controller.name}: default vs tuned")
     ax1.legend()
     ax2.plot(np.arange(1, len(r.history) + 1), r.history, "o-")

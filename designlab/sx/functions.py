@@ -33,11 +33,13 @@ from functools import cache
 from pathlib import Path
 
 import casadi as ca
+import numpy as np
+from numpy.typing import NDArray
 
 from designlab.sx.cache import cache_key, private_cache_subdir, say_once
 from designlab.sx.trust import Shelf
 
-__all__ = ["cached_function", "source_hash"]
+__all__ = ["BufferedFunction", "cached_function", "source_hash"]
 
 _SUFFIX = ".casadi"
 
@@ -101,3 +103,63 @@ def cached_function(
         except OSError as exc:
             say_once(f"function cache {root} cannot be written ({exc}); functions are rebuilt")
     return f
+
+
+class BufferedFunction:
+    """A casadi.Function evaluated through its buffer interface on preallocated numpy arrays.
+
+    ``inp[i]`` and ``out[i]`` are the flat (column-major) arrays of input and output ``i``;
+    write the inputs, call, read the outputs: no allocation per call.
+
+    Parameters
+    ----------
+    f
+        The function.
+
+    Examples
+    --------
+    >>> import casadi as ca
+    >>> x = ca.SX.sym("x", 2)
+    >>> g = BufferedFunction(ca.Function("g", [x], [ca.vertcat(x[0] + x[1], x[0] * x[1])]))
+    >>> g.inp[0][:] = (2.0, 3.0)
+    >>> g()
+    >>> g.out[0].tolist(), g.view_out(0).shape
+    ([5.0, 6.0], (2, 1))
+    """
+
+    def __init__(self, f: ca.Function) -> None:
+        self.f = f
+        self._buf, self._trigger = f.buffer()
+        self.inp = [np.zeros(f.nnz_in(i)) for i in range(f.n_in())]
+        self.out = [np.zeros(f.nnz_out(i)) for i in range(f.n_out())]
+        for i, a in enumerate(self.inp):
+            self._buf.set_arg(i, memoryview(a))
+        for i, a in enumerate(self.out):
+            self._buf.set_res(i, memoryview(a))
+        self.shape_in = [(f.size1_in(i), f.size2_in(i)) for i in range(f.n_in())]
+        self.shape_out = [(f.size1_out(i), f.size2_out(i)) for i in range(f.n_out())]
+
+    def view_in(self, i: int) -> NDArray[np.float64]:
+        """Input ``i`` as its matrix (a column-major view of :attr:`inp`).
+
+        Parameters
+        ----------
+        i
+            Index of the input.
+        """
+        r, c = self.shape_in[i]
+        return self.inp[i].reshape((c, r)).T
+
+    def view_out(self, i: int) -> NDArray[np.float64]:
+        """Output ``i`` as its matrix (a column-major view of :attr:`out`).
+
+        Parameters
+        ----------
+        i
+            Index of the output.
+        """
+        r, c = self.shape_out[i]
+        return self.out[i].reshape((c, r)).T
+
+    def __call__(self) -> None:
+        self._trigger()

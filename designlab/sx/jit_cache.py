@@ -27,16 +27,25 @@ True
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import io
+import os
 import pickle
+import re
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 from designlab.sx.cache import say_once
 from designlab.sx.trust import Shelf, private_dir
 
-__all__ = ["COMPILING", "verify_cache"]
+try:
+    import fcntl
+except ImportError:  # pragma: no cover - not POSIX: no lock, numba's own behaviour
+    fcntl = None  # type: ignore[assignment]
+
+__all__ = ["COMPILING", "compile_lock", "verify_cache"]
 
 #: Said once (a log warning) when a process compiles a kernel that was not in the cache.
 COMPILING = (
@@ -150,21 +159,71 @@ def verify_cache(dispatcher: Any) -> None:
     _compile_once(dispatcher, Path(config.CACHE_DIR or path))
 
 
+#: lock files of kernels this process is compiling (re-entrant; guarded by numba's
+#: compiler lock, which every compile holds first)
+_HELD: dict[str, int] = {}
+
+
+@contextlib.contextmanager
+def _kernel_lock(path: Path) -> Iterator[None]:
+    """Hold the exclusive lock of ``path`` (re-entrant in this process)."""
+    key = str(path)
+    if _HELD.get(key) or fcntl is None:
+        _HELD[key] = _HELD.get(key, 0) + 1
+        try:
+            yield
+        finally:
+            _HELD[key] -= 1
+        return
+    fd = os.open(path, os.O_RDWR | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0), 0o600)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        _HELD[key] = 1
+        try:
+            yield
+        finally:
+            _HELD[key] = 0
+    finally:
+        os.close(fd)  # releases the lock
+
+
+def compile_lock(root: Path, func: Any) -> Path:
+    """The lock file in the cache ``root`` that processes compiling ``func`` take turns on.
+
+    Parameters
+    ----------
+    root
+        numba's cache directory.
+    func
+        The Python function of a kernel.
+
+    Returns
+    -------
+    pathlib.Path
+        ``root/.compile-<module>.<qualified name>.lock``.
+    """
+    name = re.sub(r"[^A-Za-z0-9_.-]", "_", f"{func.__module__}.{func.__qualname__}")
+    return Path(root) / f".compile-{name}.lock"
+
+
 def _compile_once(dispatcher: Any, root: Path) -> None:
-    """Processes compiling kernels take turns on a lock file of the cache (``root``).
+    """Processes compiling a kernel take turns on its lock file in the cache (``root``).
 
     A second process reaching a kernel that another is compiling waits, then loads
-    what the first stored instead of compiling it too. The lock is taken inside
-    numba's own compiler lock (one order for every thread) and is re-entrant, so a
-    kernel compiled while compiling its caller does not wait for itself.
+    what the first stored instead of compiling it too; a process reaching another
+    kernel goes on (one lock per kernel: two workers compile two kernels side by
+    side). A kernel's lock is taken inside numba's own compiler lock (one order for
+    every thread) and is re-entrant; a kernel compiled while compiling its caller takes
+    its own lock after its caller's, so locks are always taken down the call graph
+    (no two processes wait for each other).
     """
     from numba.core.compiler_lock import global_compiler_lock
 
     compile_ = dispatcher.compile
-    shelf = Shelf(root)
+    lock = compile_lock(root, dispatcher.py_func)
 
     def compile(sig: Any) -> Any:
-        with global_compiler_lock, shelf.locked():
+        with global_compiler_lock, _kernel_lock(lock):
             return compile_(sig)
 
     dispatcher.compile = compile

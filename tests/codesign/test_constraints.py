@@ -12,6 +12,7 @@ from designlab.codesign import (
     THESIS_ROBOT,
     Design,
     DesignSpace,
+    SafetyCase,
     foam_limits,
     knee_point,
     nsga2,
@@ -29,10 +30,10 @@ ROBOT = dl.impact.MANIPULATOR_1
 def test_foam_limits_are_the_speed_limit_of_each_foam() -> None:
     k, c, t = [9.0e3, 24250.0, 61.0e3], [160.0, 71.9, 20.0], [0.03, 0.0254, 0.012]
     lam = [x * 0.02 / 0.0254 for x in t]
-    lim = foam_limits(ROBOT, k, c, lam, t, human_speed=1.0)
+    lim = foam_limits(ROBOT, k, c, lam, t, SafetyCase(human_speed=1.0))
     for i in range(3):
         foam = dl.impact.Foam(k[i], c[i], linear_depth=lam[i], thickness=t[i])
-        s = speed_limit(ROBOT, foam, human_speed=1.0)
+        s = speed_limit(ROBOT, foam, SafetyCase(human_speed=1.0))
         assert lim.max_speed[i] == pytest.approx(s.max_speed, rel=1e-12, abs=1e-15)
         assert lim.closing_speed[i] == pytest.approx(s.closing_speed, rel=1e-12)
         eps1 = s.unit_metric[f"eps_max <= {lam[i] * 1e3:g} mm"]
@@ -47,7 +48,7 @@ def test_required_thickness_of_a_fixed_head_is_the_impact_packages() -> None:
                               damping=(head.damping,) * 2)  # fmt: skip
     foam = dl.impact.FOAM_1
     lim = foam_limits(ROBOT, [foam.stiffness], [foam.damping], [foam.linear_depth],
-                      [foam.thickness], head_range=one)  # fmt: skip
+                      [foam.thickness], SafetyCase(head_range=one))  # fmt: skip
     want = dl.impact.min_foam_thickness(ROBOT, foam, 1.7, head_range=one).thickness
     assert lim.required_thickness(1.7)[0] == pytest.approx(want, rel=1e-9)
 
@@ -85,7 +86,7 @@ def test_no_front_design_breaks_a_limit_another_part_reports() -> None:
     G = front.G[~front.feasible]
     assert (G.max(axis=1) > 0).all()  # every infeasible design names a broken limit
     for d in front.designs():
-        s = speed_limit(THESIS_ROBOT.contact, d.foam, human_speed=1.0)
+        s = speed_limit(THESIS_ROBOT.contact, d.foam, SafetyCase(human_speed=1.0))
         assert d.speed <= s.max_speed  # the project's own speed limit
         eps1 = s.unit_metric[f"eps_max <= {d.foam.linear_depth * 1e3:g} mm"]
         need = eps1 * (d.speed + 1.0) * d.foam.thickness / d.foam.linear_depth

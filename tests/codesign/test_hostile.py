@@ -49,7 +49,15 @@ def _raises(name, fn, *args, **kwargs):
     ],
 )
 def test_speed_limit_bad_settings(kwargs, name):
-    _raises(name, cd.speed_limit, MANIPULATOR_1, FOAM_1, **kwargs)
+    # a bound is refused when the case is declared, a criterion or range when it is used
+    _raises(name, lambda: cd.speed_limit(MANIPULATOR_1, FOAM_1, cd.SafetyCase(**kwargs)))
+
+
+@pytest.mark.parametrize("case", ["ISO", {"human_speed": 1.0}, 1.0, [HeadAcceleration(10)]])
+def test_the_case_is_a_safety_case(case):
+    _raises("case", cd.speed_limit, MANIPULATOR_1, FOAM_1, case)
+    _raises("case", cd.speed_limit_map, MANIPULATOR_1, K_c=[1e4], C_c=[50.0], case=case)
+    _raises("case", cd.foam_limits, MANIPULATOR_1, [1e4], [50.0], [0.02], [0.03], case)
 
 
 def test_speed_limit_bad_robot_and_foam():
@@ -77,7 +85,7 @@ def test_contradictory_bounds():
         ({"K_c": np.linspace(1e3, 1e5, 401), "C_c": [1.0]}, "len(K_c)"),
         ({"K_c": "soft", "C_c": [1.0]}, "K_c"),
         ({"K_c": [1e4], "C_c": [1.0], "linear_depth": 0.0}, "linear_depth"),
-        ({"K_c": [1e4], "C_c": [1.0], "human_speed": math.nan}, "human_speed"),
+        ({"K_c": [1e4], "C_c": [1.0], "case": "v_h = 1"}, "case"),
     ],
 )
 def test_map_bad_input(kwargs, name):

@@ -15,6 +15,7 @@ from hypothesis import strategies as st
 from scipy import stats
 
 import designlab as dl
+from designlab.codesign import SafetyCase
 from designlab.impact import (
     FOAM_1,
     HEAD_MIN,
@@ -31,7 +32,9 @@ from designlab.impact import (
 def _threshold(head, key):
     one = HeadRange(mass=(head.mass,) * 2, stiffness=(head.stiffness,) * 2,
                     damping=(head.damping,) * 2)  # fmt: skip
-    s = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, [key], head_range=one, human_speed=0.0)
+    s = dl.codesign.speed_limit(
+        MANIPULATOR_1, FOAM_1, SafetyCase([key], head_range=one, human_speed=0.0)
+    )
     return s.per_criterion[key.name]
 
 
@@ -77,8 +80,8 @@ def test_crude_and_importance_agree_over_the_thesis_range():
     assert abs(imp.probability - crude.probability) < 5 * se
     assert imp.standard_error < crude.standard_error / 3  # the point of importance sampling
     # bounded by the best and the worst head of the range (uniform heads)
-    lo = dist.sf(dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, human_speed=0.0,
-                                         criteria=[HeadAcceleration(10)]).per_criterion[
+    lo = dist.sf(dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, SafetyCase(
+        criteria=[HeadAcceleration(10)], human_speed=0.0)).per_criterion[
         HeadAcceleration(10).name])  # fmt: skip
     assert imp.probability <= lo + 1e-12
     assert list(imp.to_frame().columns)[:3] == ["criterion", "method", "probability"]
@@ -152,7 +155,9 @@ def test_fragility_is_the_threshold_cdf_and_matches_injury_probability():
     assert np.all(np.diff(curve.probability) >= 0)
     assert np.all(curve.low <= curve.probability) and np.all(curve.probability <= curve.high)
     # below the worst head's threshold no head exceeds: the speed limit's answer
-    s = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, [HeadAcceleration(10)], human_speed=0.0)
+    s = dl.codesign.speed_limit(
+        MANIPULATOR_1, FOAM_1, SafetyCase([HeadAcceleration(10)], human_speed=0.0)
+    )
     assert curve.thresholds.min() >= s.per_criterion[HeadAcceleration(10).name] * (1 - 1e-9)
     assert len(curve.to_frame()) == 4
 

@@ -18,6 +18,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import designlab as dl
+from designlab.codesign import SafetyCase
 from designlab.codesign.braking import contact_speed, max_robot_speed, stopping_distance
 from designlab.impact import (
     FOAM_1,
@@ -95,7 +96,9 @@ def test_limit_is_limit_over_unit_metric_at_worst_head(d):
     robot = ContactDynamics(mass=d["m_r"], stiffness=d["k_r"], damping=d["c_r"])
     foam = Foam.from_damping_ratio(d["k_c"], d["xi"])
     criteria = [HeadAcceleration(10), ImpactForce(660), HeadInjuryCriterion(650)]
-    s = dl.codesign.speed_limit(robot, foam, criteria, human_speed=d["v_h"], refine=False)
+    s = dl.codesign.speed_limit(
+        robot, foam, SafetyCase(criteria, human_speed=d["v_h"]), refine=False
+    )
     per = _expected(robot, foam, criteria, THESIS_HEAD_RANGE, 3)
     assert set(per) == set(s.per_criterion)
     for name, v in per.items():
@@ -111,7 +114,7 @@ def test_limit_is_limit_over_unit_metric_at_worst_head(d):
 def test_metric_at_the_limit_equals_the_limit_at_the_worst_head():
     """At the limit the worst head's metric, simulated in the time domain, is the limit."""
     crit = [HeadAcceleration(10)]
-    s = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, crit, human_speed=0.0)
+    s = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, SafetyCase(crit, human_speed=0.0))
     name = crit[0].name
     head = s.worst_heads[name]
     v = s.per_criterion[name]
@@ -122,7 +125,7 @@ def test_metric_at_the_limit_equals_the_limit_at_the_worst_head():
 
 def test_hic_scales_as_power_two_and_a_half():
     key = HeadInjuryCriterion(650)
-    s = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, [key], human_speed=0.0)
+    s = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, SafetyCase([key], human_speed=0.0))
     v = s.per_criterion[key.name]
     m1 = s.unit_metric[key.name]
     assert v == pytest.approx((650 / m1) ** 0.4, rel=1e-12)
@@ -134,19 +137,19 @@ def test_hic_scales_as_power_two_and_a_half():
 
 def test_head_levels_and_a_narrow_range():
     one = HeadRange(mass=(4.4, 4.4), stiffness=(3e3, 3e3), damping=(46.0, 46.0))
-    s = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, head_range=one, human_speed=0.0)
+    s = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, SafetyCase(head_range=one, human_speed=0.0))
     assert s.worst_heads[HeadAcceleration(10).name].mass == 4.4
     expected = _expected(MANIPULATOR_1, FOAM_1, [HeadAcceleration(10)], one, 2)
     assert s.per_criterion == pytest.approx(expected, rel=1e-9)
-    fine = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, head_levels=5, refine=False)
-    coarse = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, head_levels=2, refine=False)
+    fine = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, SafetyCase(head_levels=5), refine=False)
+    coarse = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, SafetyCase(head_levels=2), refine=False)
     # a finer grid contains the corners: it can only find a worse head
     assert fine.closing_speed <= coarse.closing_speed * (1 + 1e-12)
 
 
 def test_iso_transient_factor_is_stated_and_limits():
     iso = IsoTransientForce("skull_forehead", transient_factor=2.0)
-    s = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, [iso], human_speed=0.0)
+    s = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, SafetyCase([iso], human_speed=0.0))
     assert s.limiting_criterion == iso.name and "260 N" in iso.name
     assert s.per_criterion[iso.name] == pytest.approx(260.0 / s.unit_metric[iso.name], rel=1e-12)
     frame = s.to_frame()
@@ -156,7 +159,7 @@ def test_iso_transient_factor_is_stated_and_limits():
 
 def test_unsafe_at_rest():
     iso = IsoTransientForce("skull_forehead", transient_factor=1.0)  # 130 N
-    s = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, [iso], human_speed=1.0)
+    s = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, SafetyCase([iso], human_speed=1.0))
     assert s.status == "unsafe_at_rest" and s.max_speed == 0.0 and s.warnings
 
 
@@ -165,8 +168,8 @@ def test_refined_worst_head_beats_the_grid_and_random_heads():
     robot = ContactDynamics(mass=9.57, stiffness=30.7e3, damping=221.3)
     foam = Foam(52.4e3, 450.3, 0.02)
     key = CompressionLimit(0.02)
-    grid = dl.codesign.speed_limit(robot, foam, human_speed=0.0, refine=False)
-    best = dl.codesign.speed_limit(robot, foam, human_speed=0.0)
+    grid = dl.codesign.speed_limit(robot, foam, SafetyCase(human_speed=0.0), refine=False)
+    best = dl.codesign.speed_limit(robot, foam, SafetyCase(human_speed=0.0))
     assert best.unit_metric[key.name] > grid.unit_metric[key.name] * (1 + 1e-4)
     assert best.per_criterion[key.name] < grid.per_criterion[key.name]
     heads = THESIS_HEAD_RANGE.sample(2000, np.random.default_rng(0))
@@ -213,8 +216,8 @@ def test_braking_without_warning_is_the_contact_limit():
 
 def test_speed_limit_with_detection_distance():
     s0 = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1)
-    s = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, reaction_time=0.06, deceleration=5.0,
-                                detection_distance=0.5)  # fmt: skip
+    s = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, SafetyCase(
+        reaction_time=0.06, deceleration=5.0, detection_distance=0.5))  # fmt: skip
     assert s.robot_speed == pytest.approx(s0.robot_speed)
     assert s.max_speed > s0.max_speed
     cs = contact_speed(s.max_speed, 1.0, 0.06, 5.0, 0.5)
@@ -238,7 +241,7 @@ def _link_metric(link, lever, head, v_c, attr):
 def test_link_limit_meets_the_limit_at_the_worst_point():
     link = LinkImpact.from_contact(MANIPULATOR_1, joint_speed=1.0, lever_arm_min=0.02,
                                    lever_arm_max=0.078)  # fmt: skip
-    s = dl.codesign.speed_limit(link, FOAM_1, [HeadAcceleration(10)], human_speed=1.0)
+    s = dl.codesign.speed_limit(link, FOAM_1, SafetyCase([HeadAcceleration(10)], human_speed=1.0))
     name = s.limiting_criterion
     assert name == "eps_max <= 20 mm"
     omega, lever = s.joint_speed, s.worst_lever_arm[name]
@@ -262,14 +265,16 @@ def test_link_limit_meets_the_limit_at_the_worst_point():
 def test_map_equals_speed_limit_per_foam():
     ks, cs = np.array([12e3, 30e3, 70e3]), np.array([20.0, 90.0])
     crit = [HeadAcceleration(10), ImpactForce(660)]
-    m = dl.codesign.speed_limit_map(MANIPULATOR_1, K_c=ks, C_c=cs, criteria=crit,
-                                    linear_depth=0.02, human_speed=0.5)  # fmt: skip
+    m = dl.codesign.speed_limit_map(MANIPULATOR_1, K_c=ks, C_c=cs, linear_depth=0.02,
+                                    case=SafetyCase(crit, human_speed=0.5))  # fmt: skip
     assert m.max_speed.shape == (3, 2)
     frame = m.to_frame()
     assert len(frame) == 6
     for i, k in enumerate(ks):
         for j, c in enumerate(cs):
-            s = dl.codesign.speed_limit(MANIPULATOR_1, Foam(k, c, 0.02), crit, human_speed=0.5)
+            s = dl.codesign.speed_limit(
+                MANIPULATOR_1, Foam(k, c, 0.02), SafetyCase(crit, human_speed=0.5)
+            )
             assert m.max_speed[i, j] == pytest.approx(s.max_speed, rel=1e-9, abs=1e-12)
             assert m.criteria[m.limiting[i, j]] == s.limiting_criterion
     # a stiffer foam at the same damping is never faster-safe for the head acceleration
@@ -279,8 +284,10 @@ def test_map_equals_speed_limit_per_foam():
 
 
 def test_reaction_time_without_detection_distance_is_stated():
-    s = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, reaction_time=0.1)
+    s = dl.codesign.speed_limit(MANIPULATOR_1, FOAM_1, SafetyCase(reaction_time=0.1))
     assert s.max_speed == pytest.approx(s.robot_speed)
     assert any("reaction_time has no effect" in w for w in s.warnings)
-    m = dl.codesign.speed_limit_map(MANIPULATOR_1, K_c=[2e4], C_c=[50.0], reaction_time=0.1)
+    m = dl.codesign.speed_limit_map(
+        MANIPULATOR_1, K_c=[2e4], C_c=[50.0], case=SafetyCase(reaction_time=0.1)
+    )
     assert any("reaction_time has no effect" in w for w in m.warnings)

@@ -13,6 +13,7 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 import designlab as dl
+from designlab.codesign import SafetyCase
 from designlab.codesign.worst_head import compass_search, multi_start
 from designlab.impact import (
     FOAM_1,
@@ -64,9 +65,9 @@ def test_no_head_of_a_dense_grid_is_worse_and_the_map_agrees(foam, robot) -> Non
     1e-5 relative (9.2e-6 found for the first example: peak force)."""
     k, c, lam = foam
     f = Foam(k, c, lam)
-    s = dl.codesign.speed_limit(robot, f, CRITERIA, human_speed=0.5)
-    m = dl.codesign.speed_limit_map(robot, K_c=[k, 6e4], C_c=[c], criteria=CRITERIA,
-                                    linear_depth=lam, human_speed=0.5)  # fmt: skip
+    s = dl.codesign.speed_limit(robot, f, SafetyCase(CRITERIA, human_speed=0.5))
+    m = dl.codesign.speed_limit_map(robot, K_c=[k, 6e4], C_c=[c], linear_depth=lam,
+                                    case=SafetyCase(CRITERIA, human_speed=0.5))  # fmt: skip
     assert m.max_speed[0, 0] == pytest.approx(s.max_speed, rel=1e-12, abs=1e-15)
     assert m.closing_speed[0, 0] == pytest.approx(s.closing_speed, rel=1e-12)
     for name, v in s.per_criterion.items():
@@ -89,7 +90,7 @@ def test_the_map_is_refined_off_the_grid() -> None:
     # the strongly damped robot and foam of the speed-limit tests: the worst compression
     # lies inside the range, so the refined map allows less than the grid's
     robot = ContactDynamics(mass=9.57, stiffness=30.7e3, damping=221.3)
-    kw = {"K_c": [52.4e3], "C_c": [450.3], "human_speed": 0.0}
+    kw = {"K_c": [52.4e3], "C_c": [450.3], "case": SafetyCase(human_speed=0.0)}
     grid = dl.codesign.speed_limit_map(robot, refine=False, **kw)
     best = dl.codesign.speed_limit_map(robot, **kw)
     name = dl.impact.CompressionLimit(0.02).name
@@ -100,7 +101,7 @@ def test_link_at_its_joint_speed_meets_every_limit_at_any_point_and_head() -> No
     link = LinkImpact.from_contact(MANIPULATOR_1, joint_speed=1.0, lever_arm_min=0.02,
                                    lever_arm_max=0.078)  # fmt: skip
     crit = [HeadAcceleration(10)]
-    s = dl.codesign.speed_limit(link, FOAM_1, crit, human_speed=1.0)
+    s = dl.codesign.speed_limit(link, FOAM_1, SafetyCase(crit, human_speed=1.0))
     omega = s.joint_speed
     heads = _dense_heads(9, 300, seed=1)
     levers = np.linspace(0.02, 0.078, 25)
@@ -169,9 +170,9 @@ def test_a_link_struck_at_one_point_is_the_fixed_robot_there() -> None:
                                    lever_arm_max=0.45)  # fmt: skip
     foam = Foam(52.4e3, 450.3, 0.02)
     crit = [HeadAcceleration(10)]
-    fixed = dl.codesign.speed_limit(robot, foam, crit, human_speed=0.0)
-    grid = dl.codesign.speed_limit(link, foam, crit, human_speed=0.0, refine=False)
-    best = dl.codesign.speed_limit(link, foam, crit, human_speed=0.0)
+    fixed = dl.codesign.speed_limit(robot, foam, SafetyCase(crit, human_speed=0.0))
+    grid = dl.codesign.speed_limit(link, foam, SafetyCase(crit, human_speed=0.0), refine=False)
+    best = dl.codesign.speed_limit(link, foam, SafetyCase(crit, human_speed=0.0))
     for name, v in fixed.per_criterion.items():
         assert best.per_criterion[name] == pytest.approx(v, rel=1e-9)
     name = dl.impact.CompressionLimit(0.02).name

@@ -225,8 +225,10 @@ def test_the_speed_limit_of_a_linear_curve_is_the_closed_form_one() -> None:
     curve = _foam(strain=e, stress=tuple(1e5 * np.array(e)), damping=71.9)
     depth = 0.04 * 0.9 * (1.0 - 1e-4)  # the crushed margin (designlab.impact.general.CRUSHED)
     linear = dl.impact.Foam(curve.stiffness, 71.9, linear_depth=depth, thickness=0.04)
-    a = dl.codesign.speed_limit(ARM, curve, head_levels=2, human_speed=0.0)
-    b = dl.codesign.speed_limit(ARM, linear, head_levels=2, human_speed=0.0, refine=False)
+    a = dl.codesign.speed_limit(ARM, curve, dl.codesign.SafetyCase(head_levels=2, human_speed=0.0))
+    b = dl.codesign.speed_limit(
+        ARM, linear, dl.codesign.SafetyCase(head_levels=2, human_speed=0.0), refine=False
+    )
     assert list(a.per_criterion) == list(b.per_criterion)
     for name, v in b.per_criterion.items():
         assert a.per_criterion[name] == pytest.approx(v, rel=1e-5), name

@@ -204,13 +204,45 @@ def test_the_walk_start_and_timing_move_the_human_only() -> None:
 
 def test_every_walking_row_is_tried_against_the_walks_noise_and_start() -> None:
     """Simulated rows with a walking human are tried against the measured walk's velocity
-    noise (0.2-0.4 m/s) and the walk's start and timing, with the values each gave."""
-    from designlab.navigation.account import CAUSES
+    noise (up to the thesis's amplitude, +-0.8 m/s) and the walk's start and timing, with the
+    values each gave."""
+    from designlab.navigation.account import CAUSES, WALK_NOISE_SD
 
     names = [c.name for c in CAUSES]
     assert {"walk_start", "walk_noise"} <= set(names)
+    assert max(WALK_NOISE_SD) >= 0.8
     acc = thesis_account(tables=("6.3",), methods=("New VFF*",))
     f = acc.frame.set_index("quantity")
     for q in ("T_arrive_s", "d_h_min_m"):
         if not f.loc[q, "within"]:
             assert "walk_start: " in f.loc[q, "tried"] and "walk_noise: " in f.loc[q, "tried"]
+
+
+def test_the_wider_timing_delays_or_moves_the_walk_and_nothing_else() -> None:
+    """The ``walk_timing`` cause (issue 37: Config 4's human timing): 1.5-4 s late or 1.5-2 m
+    along the walk; a 3 s-late run equals an independent run with the walk started 3 s later,
+    and it applies only where a human walks."""
+    from designlab.navigation.account import (
+        CAUSES,
+        WIDE_DELAYS,
+        WIDE_HEAD_STARTS,
+        RunSetup,
+        _wide_timings,
+    )
+
+    cause = next(c for c in CAUSES if c.name == "walk_timing")
+    setup = RunSetup("4", 6, "vff", nav.OPTIMAL_GAINS, True)
+    runs = _wide_timings(setup)
+    assert [r.human_delay for r in runs[: len(WIDE_DELAYS)]] == list(WIDE_DELAYS)
+    assert [r.human_head_start for r in runs[len(WIDE_DELAYS) :]] == list(WIDE_HEAD_STARTS)
+    assert cause.applies(setup, "d_h_min_m")
+    assert not cause.applies(RunSetup("3", 6, "vff", nav.OPTIMAL_GAINS, True), "d_h_min_m")
+    sc = nav.configuration(4, robot=nav.HolonomicRobot())
+    late = RunSetup("4", 6, "vff", nav.OPTIMAL_GAINS, True, human_delay=3.0)
+    moved = sc.replace(obstacles=tuple(late._shifted(o) for o in sc.obstacles))
+    human = next(o for o in moved.obstacles if o.name == "human")
+    original = next(o for o in sc.obstacles if o.name == "human")
+    assert human.motion.start_time == original.motion.start_time + 3.0
+    assert human.motion.start == original.motion.start
+    ref = nav.simulate(moved, nav.OPTIMAL_GAINS, stabilising="off")
+    assert late.run()["d_h_min_m"] == ref.min_distance["human"]

@@ -269,3 +269,30 @@ def label_problems(fig: Figure) -> list[str]:
                 if not _labelled_by_neighbour(ax, name, axes):
                     problems.append(f"ax{i} ({ax.get_title()!r}): {name} ticks without a label")
     return problems
+
+
+def test_tuning_figure_reads_with_as_many_scenarios_as_the_committed_study() -> None:
+    """The committed tether_tuning study has 21 scenarios per law (its small study above, 2)."""
+    from types import SimpleNamespace
+
+    import pandas as pd
+
+    from designlab.report.tether import _tuning_figure
+
+    paths = ["figure_eight_a4", "slalom", "square_s", "corridor_corner", "circle_r1.5"]
+    paths += ["random_walk_s101", "random_walk_s102"]
+    rows = [
+        {"set": "tuning" if i < 2 else "validation", "path": p, "speed_m_per_s": v,
+         "controller": who, "npd_mean_over_b": 0.5 + 0.1 * i + (who == "default")}
+        for i, p in enumerate(paths) for v in (0.3, 0.5, 0.8) for who in ("default", "tuned")
+    ]  # fmt: skip
+    r = SimpleNamespace(
+        scenarios=pd.DataFrame(rows),
+        history=[0.6] * 3 + [0.5] * 17,
+        controller=SimpleNamespace(name="PseudoJoystick"),
+    )
+    fig = _tuning_figure(r)
+    assert layout_problems(fig) == []
+    ax = fig.axes[0]
+    labels = [t.get_text() for t in [*ax.get_xticklabels(), *ax.get_yticklabels()]]
+    assert sum("m/s" in text for text in labels) == 21  # every scenario labelled

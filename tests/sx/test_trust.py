@@ -348,9 +348,12 @@ print(sum(f.stats.cache_hits.values()), sum(f.stats.cache_misses.values()))
 @needs_jit
 @pytest.mark.skipif(not hasattr(os, "fork"), reason="flock is POSIX")
 def test_processes_starting_together_compile_a_kernel_once(tmp_path: Path) -> None:
-    """Two processes reach a kernel while a third holds the compile lock: when it is
+    """Two processes reach a kernel while a third holds its compile lock: when it is
     released, one compiles and stores, the other waits and loads."""
     import fcntl
+    from types import SimpleNamespace
+
+    from designlab.sx.jit_cache import compile_lock
 
     src = tmp_path / "src"
     src.mkdir()
@@ -359,7 +362,8 @@ def test_processes_starting_together_compile_a_kernel_once(tmp_path: Path) -> No
     cache.mkdir(mode=0o700)
     env = {**os.environ, "NUMBA_CACHE_DIR": str(cache)}
     code = CHILD.format(src=str(src))
-    with open(cache / f"{MANIFEST}.lock", "a") as held:
+    tiny = SimpleNamespace(__module__="dl_tiny_kernel", __qualname__="tiny")
+    with open(compile_lock(cache, tiny), "a") as held:
         fcntl.flock(held, fcntl.LOCK_EX)
         procs = [
             subprocess.Popen(
@@ -372,5 +376,14 @@ def test_processes_starting_together_compile_a_kernel_once(tmp_path: Path) -> No
             raise AssertionError("a process compiled while another held the lock")
         except subprocess.TimeoutExpired:
             pass
+        # one lock per kernel: another kernel compiles meanwhile, without waiting
+        (src / "dl_other_kernel.py").write_text(TINY.replace("tiny", "other"))
+        other = CHILD.format(src=str(src)).replace("tiny", "other")
+        done = subprocess.run(
+            [sys.executable, "-c", other],
+            env=env, capture_output=True, text=True, timeout=300,
+        )  # fmt: skip
+        assert done.stdout.split() == ["0", "1"], done.stderr
+        assert all(p.poll() is None for p in procs)  # still waiting for tiny's lock
     outs = sorted(p.communicate(timeout=300)[0].split() for p in procs)
     assert outs == [["0", "1"], ["1", "0"]]  # one compiled (a miss), the other loaded (a hit)

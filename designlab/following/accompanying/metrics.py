@@ -51,7 +51,14 @@ from designlab.following.accompanying.user_frame import robot_in_user_frame
 from designlab.params import Param
 from designlab.validation import real_array
 
-__all__ = ["MAX_LAG", "SETTLE_WINDOW", "AccompanyMetrics", "accompany_metrics", "path_length"]
+__all__ = [
+    "MAX_LAG",
+    "SETTLE_WINDOW",
+    "AccompanyMetrics",
+    "accompany_metrics",
+    "command_rate",
+    "path_length",
+]
 
 #: Time after the stop at which the Table 2 stop pose and the settled error are taken.
 SETTLE_WINDOW = Param(
@@ -164,6 +171,35 @@ def path_length(x: NDArray, y: NDArray) -> float:
     7.0
     """
     return float(np.sum(np.hypot(np.diff(x), np.diff(y))))
+
+
+def command_rate(time: NDArray, command: NDArray) -> float:
+    """RMS over a run of the rate of change of the planar velocity command, m/s^2.
+
+    ``|d(V_x, V_y)/dt|`` between consecutive control periods: what sensor noise passed to
+    the command asks of the platform, to compare with its acceleration limit (a norm
+    limit on the same vector).
+
+    Parameters
+    ----------
+    time
+        Control instants in s, (n + 1,) or (n,), evenly spaced.
+    command
+        (V_x, V_y, omega_z) commands per control period, (3, n), m/s and rad/s.
+
+    Examples
+    --------
+    >>> t = np.arange(5) * 0.02
+    >>> cmd = np.vstack([np.array([0.0, 0.02, 0.04, 0.06]), np.zeros(4), np.zeros(4)])
+    >>> round(command_rate(t, cmd), 12)
+    1.0
+    """
+    t = np.asarray(time, dtype=float)
+    c = np.asarray(command, dtype=float)
+    if c.ndim != 2 or c.shape[0] < 2 or c.shape[1] < 2 or t.ndim != 1 or len(t) < 2:
+        raise InvalidParameterError("command", c.shape, "(3, n) commands with n >= 2 and times")
+    dv = np.diff(c[:2], axis=1)
+    return float(np.sqrt(np.mean(np.sum(dv * dv, axis=0))) / (t[1] - t[0]))
 
 
 def _circ_mean_sd(a: NDArray) -> tuple[float, float]:

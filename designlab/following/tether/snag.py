@@ -180,6 +180,30 @@ class SnagScenario:
         choices=("constant_speed", "gap"),
         default="constant_speed",
     )
+    winch_offset: float = param(
+        "e_w",
+        "m",
+        doc=(
+            "the winch (the tether's robot end) along the robot's heading from its centre, "
+            "negative behind it (A7: not given; zero in the thesis's code)"
+        ),
+        ge=-5,
+        le=5,
+        default=0.0,
+    )
+    tether_height: float = param(
+        "h",
+        "m",
+        doc=(
+            "height of the tether's leader end above the winch; the measured l_m is then the "
+            "3-D string length (A7: the thesis ignores it; 0: planar). The estimate is then at "
+            "least h from the robot, so near the stopped leader at the run's end it wanders: "
+            "d_col may come from there at small gaps"
+        ),
+        ge=0,
+        le=5,
+        default=0.0,
+    )
     max_speed: float | None = param(
         "v_max",
         "m/s",
@@ -504,9 +528,14 @@ def simulate_snag(scenario: SnagScenario) -> SnagRun:
     rate = sc.speed * sc.sample_time
     for k in range(n):
         x, y, g = track.point_at(s_robot)
-        lm, direction, snag[k] = _string(x, y, leader[k, 0], leader[k, 1])
+        wx, wy = x + sc.winch_offset * math.cos(g), y + sc.winch_offset * math.sin(g)
+        lm, direction, snag[k] = _string(wx, wy, leader[k, 0], leader[k, 1])
+        if sc.tether_height:
+            lm = math.hypot(lm, sc.tether_height)  # a vertical edge: the unfolded 3-D length
         out[k] = (x, y, g, lm, math.atan2(math.sin(direction - g), math.cos(direction - g)))
-        track.observe(x + lm * math.cos(direction), y + lm * math.sin(direction), float(s_lead[k]))
+        track.observe(
+            wx + lm * math.cos(direction), wy + lm * math.sin(direction), float(s_lead[k])
+        )
         if sc.compensate and track.snag_flag:
             s_robot = min(s_robot + rate, track.s[track.valid_end - 1])
         elif sc.follower == "constant_speed":  # v_F along the path, never past its newest point

@@ -20,7 +20,8 @@ any run. The definitions are the ones of the crowd-navigation literature:
   :data:`FREEZE_TIME` or longer away from its goal (the freezing-robot problem, Trautman &
   Krause 2010);
 * :func:`attribute_contact` -- who caused a contact or a critical-region entry: the robot
-  when its velocity towards the person is positive at that sample, else the person.
+  when its velocity towards the person is positive at that instant, else the person; a wall
+  contact is the wall's (:func:`first_entry`).
 
 Examples
 --------
@@ -332,23 +333,67 @@ def attribute_contact(robot: ArrayLike, velocity: ArrayLike, person: ArrayLike) 
     return "robot" if float(np.dot(np.asarray(velocity, dtype=float), d)) > 0 else "pedestrian"
 
 
+def wall_distances(walls: ArrayLike, pts: ArrayLike) -> Array:
+    """Per point, the contour distance to the nearest wall, m (inf without walls).
+
+    Parameters
+    ----------
+    walls
+        One row per wall ``(n_w, 6)``: centre x and y (m), cos and sin of its angle, half
+        length and half width (m) -- a rectangle.
+    pts
+        Points ``(n, 2)``, m.
+
+    Examples
+    --------
+    >>> wall_distances([[0.0, 0.0, 1.0, 0.0, 2.0, 0.1]], [[0.0, 1.1], [3.0, 0.1]]).tolist()
+    [1.0, 1.0]
+    """
+    w = np.asarray(walls, dtype=float).reshape(-1, 6)
+    p = np.asarray(pts, dtype=float).reshape(-1, 2)
+    if not w.shape[0]:
+        return np.full(p.shape[0], np.inf)
+    rx = p[None, :, 0] - w[:, 0:1]
+    ry = p[None, :, 1] - w[:, 1:2]
+    c, s = w[:, 2:3], w[:, 3:4]
+    dx = np.maximum(np.abs(c * rx + s * ry) - w[:, 4:5], 0.0)
+    dy = np.maximum(np.abs(-s * rx + c * ry) - w[:, 5:6], 0.0)
+    return np.hypot(dx, dy).min(axis=0)
+
+
 def first_entry(times: ArrayLike, robot: ArrayLike, velocity: ArrayLike,
-                pedestrians: ArrayLike, radius: float) -> tuple[float, str]:  # fmt: skip
-    """The first sample with a pedestrian's centre within ``radius`` of the robot's, and
-    who caused it (:func:`attribute_contact`); ``(inf, "none")`` if never.
+                pedestrians: ArrayLike, radius: float, walls: ArrayLike = (),
+                wall_radius: float = -math.inf) -> tuple[float, str]:  # fmt: skip
+    """The first sample with a pedestrian's centre within ``radius`` of the robot's (or a
+    wall's contour within ``wall_radius``), and who caused it: ``"robot"`` or
+    ``"pedestrian"`` (:func:`attribute_contact`) or ``"wall"``; ``(inf, "none")`` if never.
+
+    It sees only the samples it is given: a contact that starts and ends between two of them
+    is missed. The crowd simulator therefore calls it on every dynamics step of a navigation
+    period (pedestrians interpolated within their steps) as soon as the period's running
+    minimum shows an entry, and a run's ``collision_by`` and ``critical_by`` come from there
+    (:class:`~designlab.navigation.crowds.results.CrowdResult`), not from the recorded samples.
 
     Parameters
     ----------
     times, robot, velocity, pedestrians
-        The run's records.
+        The run's records (or a period's dynamics steps).
     radius
         The centre distance: rho_r + rho_p for a contact, r3 for a critical entry, m.
+    walls
+        The walls as rows of :func:`wall_distances` (none: no wall is checked).
+    wall_radius
+        The contour distance to a wall: rho_r for a contact, the walls' r3 for a critical
+        entry, m.
 
     Examples
     --------
     >>> P = np.array([[[2.0, 0.0]], [[1.0, 0.0]], [[0.5, 0.0]]])
     >>> first_entry([0.0, 1.0, 2.0], np.zeros((3, 2)), np.zeros((3, 2)), P, 1.0)
     (1.0, 'pedestrian')
+    >>> wall = [[0.0, -1.2, 1.0, 0.0, 5.0, 0.1]]         # a wall's face at y = -1.1
+    >>> first_entry([0.0, 1.0, 2.0], np.zeros((3, 2)), np.zeros((3, 2)), P, 0.4, wall, 1.1)
+    (0.0, 'wall')
     """
     p, v = _track("robot", robot), _track("velocity", velocity)
     t = np.asarray(times, dtype=float)
@@ -356,11 +401,16 @@ def first_entry(times: ArrayLike, robot: ArrayLike, velocity: ArrayLike,
     P = _peds(pedestrians, p.shape[0])
     d = np.hypot(P[..., 0] - p[:, None, 0], P[..., 1] - p[:, None, 1])
     d = np.where(np.isnan(d), np.inf, d)
-    hit = np.argwhere(d <= radius)
-    if not hit.size:
-        return math.inf, "none"
-    k, i = hit[0]
-    return float(t[k]), attribute_contact(p[k], v[k], P[k, i])
+    near = d <= radius
+    k_ped = int(np.argmax(near.any(axis=1))) if near.any() else p.shape[0]
+    wall = wall_distances(walls, p) <= wall_radius
+    k_wall = int(np.argmax(wall)) if wall.any() else p.shape[0]
+    if k_ped < min(k_wall, p.shape[0]) or (k_ped == k_wall < p.shape[0]):  # a tie: the person
+        i = int(np.argmin(d[k_ped]))
+        return float(t[k_ped]), attribute_contact(p[k_ped], v[k_ped], P[k_ped, i])
+    if k_wall < p.shape[0]:
+        return float(t[k_wall]), "wall"
+    return math.inf, "none"
 
 
 def run_measures(result: Any, personal_space: float) -> dict[str, Any]:
@@ -379,7 +429,8 @@ def run_measures(result: Any, personal_space: float) -> dict[str, Any]:
         ``path_length_m``, ``shortest_m``, ``accel_mean``, ``accel_max``, ``jerk_mean``,
         ``jerk_max``, ``discomfort_share``, ``intrusion_share``, ``ttc_min_s``, ``frozen``
         (0/1), ``collision_by`` and ``critical_by`` (``"robot"``, ``"pedestrian"``,
-        ``"none"``).
+        ``"wall"``, ``"none"``: the run's own, attributed at the dynamics step of the first
+        contact or critical entry).
     """
     c = result.crowd
     t, p, v = result.times, result.robot_positions, result.robot_velocities
@@ -400,9 +451,9 @@ def run_measures(result: Any, personal_space: float) -> dict[str, Any]:
                                          contact))  # fmt: skip
     row["ttc_min_s"] = ttc
     row["frozen"] = float(freezing(t, v, p, c.robot_goal, 0.15))
-    row["collision_by"] = first_entry(t, p, v, P, contact)[1]
-    row["critical_by"] = first_entry(t, p, v, P, c.pedestrian_regions()[1])[1]
+    row["collision_by"] = result.collision_by  # attributed at the contact's dynamics step
+    row["critical_by"] = result.critical_by
     return row
 
 
-__all__ += ["first_entry", "run_measures"]
+__all__ += ["first_entry", "run_measures", "wall_distances"]

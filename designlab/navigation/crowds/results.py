@@ -155,12 +155,17 @@ class CrowdResult(Result):
         walkable area, JuPedSim stopping, the arrival), ``timeout`` if none
         (:data:`~designlab.navigation.crowds.simulate.OUTCOMES`).
     outcome_time
-        When it happened, s (a contact: the end of its navigation period; a timeout: the
-        time limit).
+        When it happened, s (a contact: its dynamics step; a timeout: the time limit).
     coupling_exceeded
         Whether ``robot_agent_offset`` exceeded
         :data:`~designlab.navigation.crowds.simulate.AGENT_OFFSET_BOUND` (the pedestrians
         then did not see the robot where it was).
+    collision_by, critical_by
+        Who caused the first contact and the first critical-region entry: ``"robot"`` (its
+        velocity towards the person positive at that instant), ``"pedestrian"``, ``"wall"``
+        or ``"none"`` (no such event), found at the event's own dynamics step
+        (:func:`~designlab.navigation.crowds.field_metrics.first_entry` on the period's
+        steps, pedestrians interpolated within theirs), not at the recorded samples.
     pedestrian_seconds, robot_seconds
         CPU time spent in JuPedSim (stepping and reading the pedestrians) and on the robot's
         side (slots, compiled step, CBF, distances and records), s.
@@ -193,6 +198,8 @@ class CrowdResult(Result):
     outcome: str = "timeout"
     outcome_time: float = math.nan
     coupling_exceeded: bool = False
+    collision_by: str = "none"
+    critical_by: str = "none"
     pedestrian_seconds: float = field(default=0.0, repr=False, compare=False)
     robot_seconds: float = field(default=0.0, repr=False, compare=False)
 
@@ -235,7 +242,8 @@ class CrowdResult(Result):
             "slot_overflow": self.slot_overflow, "critical_overlaps": self.critical_overlaps,
             "outcome": self.outcome, "outcome_time_s": self.outcome_time,
             "robot_agent_offset_m": self.robot_agent_offset,
-            "coupling_exceeded": self.coupling_exceeded,
+            "coupling_exceeded": self.coupling_exceeded, "collision_by": self.collision_by,
+            "critical_by": self.critical_by,
             "measured_density_per_m2": met.measured_density_per_m2,
             "mean_ped_speed_m_per_s": met.mean_ped_speed_m_per_s, "status": str(self.status),
         }  # fmt: skip

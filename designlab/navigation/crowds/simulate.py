@@ -36,6 +36,7 @@ from designlab.errors import InvalidParameterError
 from designlab.navigation.cbf_filter import CBFFilter
 from designlab.navigation.criteria import EQUAL_WEIGHTS
 from designlab.navigation.crowds.bookkeeping import area_edges, fill_candidates, period_measures
+from designlab.navigation.crowds.field_metrics import first_entry, wall_distances
 from designlab.navigation.crowds.pedestrians import PedestrianSim
 from designlab.navigation.crowds.results import CrowdResult, CrowdStatus, PedestrianRun
 from designlab.navigation.crowds.scenario import CrowdScenario
@@ -50,6 +51,7 @@ from designlab.navigation.parameters import (
     check_cbf_gains,
 )
 from designlab.params import Param, check_size
+from designlab.sx.functions import BufferedFunction
 from designlab.sx.jit import AVAILABLE, say_no_jit
 
 __all__ = [
@@ -147,21 +149,14 @@ def _slot_rows(F: Array, d2: list[float], dt: float) -> list[list[float]]:
     return rows
 
 
-class _Step:
+class _Step(BufferedFunction):
     """The compiled period step on preallocated buffers."""
 
     def __init__(self, f: ca.Function) -> None:
-        self.f = f
-        self._buf, self._trigger = f.buffer()
-        self.inp = [np.zeros(f.nnz_in(i)) for i in range(f.n_in())]
-        self.out = [np.zeros(f.nnz_out(i)) for i in range(f.n_out())]
-        for i, a in enumerate(self.inp):
-            self._buf.set_arg(i, memoryview(a))
-        for i, a in enumerate(self.out):
-            self._buf.set_res(i, memoryview(a))
+        super().__init__(f)
         self.nx = f.size1_out(0)
 
-    def __call__(self) -> Array:
+    def __call__(self) -> Array:  # type: ignore[override]
         self._trigger()
         return self.out[0].reshape((-1, self.nx)).T.copy()  # (nx, n_sub)
 
@@ -316,11 +311,13 @@ class _Run:
         self.goal = np.asarray(c.robot_goal)
         self.reach = self.r2 + (robot.max_speed + c.max_desired_speed) * s.n_sub * s.dt
         self.left_area = 0.0  # when the robot was first outside the walkable area (0: never)
-        self.collision_time = math.inf  # end of the first period with a contact
+        self.collision_time = math.inf  # the dynamics step of the first contact
+        self.collision_by = self.critical_by = "none"  # who caused them (first_entry)
         self.failure_time = math.inf
         ids, P = self.ped.positions()
         self._push(ids, P)
         self._measure_start(x0[:2], P)
+        _attribute(self, np.zeros(1), x0[None, :2], np.zeros((1, 2)), P[None])
         self._compiled_setup()
 
     def _compiled_setup(self) -> None:
@@ -598,12 +595,7 @@ def _wall_distance_point(walls: list[tuple[float, ...]], x: float, y: float) -> 
 def _wall_distance(walls: Array, pts: Array) -> float:
     """Smallest contour distance from ``pts`` ``(n, 2)`` to the walls (rows: centre, cos,
     sin, half length, half width), as :meth:`Rectangle.contour_distance` for all at once."""
-    rx = pts[None, :, 0] - walls[:, 0:1]
-    ry = pts[None, :, 1] - walls[:, 1:2]
-    c, s = walls[:, 2:3], walls[:, 3:4]
-    dx = np.maximum(np.abs(c * rx + s * ry) - walls[:, 4:5], 0.0)
-    dy = np.maximum(np.abs(-s * rx + c * ry) - walls[:, 5:6], 0.0)
-    return float(np.hypot(dx, dy).min())
+    return float(wall_distances(walls, pts).min())
 
 
 def _outside(run: _Run, k: int, X: Array) -> bool:
@@ -617,12 +609,48 @@ def _outside(run: _Run, k: int, X: Array) -> bool:
     return True
 
 
-def _contact(run: _Run, k: int) -> None:
-    """Record the end of the first period with a contact (pedestrian or wall)."""
+def _attribute(run: _Run, times: Array, pts: Array, vel: Array, Ps: Array) -> None:
+    """Time and cause of the first contact and the first critical entry, once the running
+    minima show them: :func:`~designlab.navigation.crowds.field_metrics.first_entry` on the
+    steps given (``times`` ``(n,)``, the robot's positions and velocities ``(n, 2)``, the
+    pedestrians ``(n, N, 2)``), so a contact between two recorded samples is attributed."""
     c = run.s.crowd
-    touching = run.dmin <= c.robot.radius + c.pedestrian_radius or run.wmin <= c.robot.radius
-    if touching and not math.isfinite(run.collision_time):
-        run.collision_time = (k + 1) * run.s.n_sub * run.s.dt
+    rho = c.robot.radius
+    if run.collision_by == "none" and (run.dmin <= rho + c.pedestrian_radius or run.wmin <= rho):
+        t, run.collision_by = _entry(run, times, pts, vel, Ps, rho + c.pedestrian_radius, rho)
+        run.collision_time = t
+    if run.critical_by == "none" and (run.dmin <= run.r3 or run.wmin <= run.w3):
+        run.critical_by = _entry(run, times, pts, vel, Ps, run.r3, run.w3)[1]
+
+
+def _entry(run: _Run, times: Array, pts: Array, vel: Array, Ps: Array, radius: float,
+           wall_radius: float) -> tuple[float, str]:  # fmt: skip
+    """:func:`first_entry` on the steps; the running minima and these steps' distances are
+    the same numbers, so it finds the entry (a last-digit difference of the compiled
+    interpolation is taken up by a relative 1e-12 on the radii)."""
+    slack = 1.0 + 1e-12
+    return first_entry(times, pts, vel, Ps, radius * slack, run.wall_frames, wall_radius * slack)
+
+
+def _contact(run: _Run, k: int, X: Array) -> None:
+    """Attribute the first contact and critical entry if period ``k`` (robot states ``X``)
+    holds them, at their own dynamics step (pedestrians interpolated within their steps)."""
+    c, s = run.s.crowd, run.s
+    rho = c.robot.radius
+    new_contact = run.collision_by == "none" and (
+        run.dmin <= rho + c.pedestrian_radius or run.wmin <= rho
+    )
+    new_critical = run.critical_by == "none" and (run.dmin <= run.r3 or run.wmin <= run.w3)
+    if not (new_contact or new_critical):
+        return
+    F = run.frames.last(s.per_ped + 1)  # the period's pedestrian steps
+    Ps = (F[:-1, None] + run.frac * (F[1:] - F[:-1])[:, None]).reshape(-1, F.shape[1], 2)
+    if isinstance(c.robot, HolonomicRobot):
+        vel = X[2:4].T
+    else:
+        vel = (X[3] * np.stack([np.cos(X[2]), np.sin(X[2])])).T
+    times = (k * s.n_sub + np.arange(1, s.n_sub + 1)) * s.dt
+    _attribute(run, times, X[0:2].T, vel, Ps)
 
 
 def _loop(run: _Run) -> int:
@@ -651,7 +679,7 @@ def _loop(run: _Run) -> int:
             break
         k_done = k + 1
         arrived = run.measure(k, X)
-        _contact(run, k)
+        _contact(run, k, X)
         np.copyto(run.step.inp[0], X[:, -1])
         run.total_time += clock() - t0
         if arrived:
@@ -741,7 +769,8 @@ def _outcome(run: _Run) -> dict[str, Any]:
         "critical_time": run.crit_time, "energy": run.energy, "slot_overflow": run.overflow,
         "robot_agent_offset": run.agent_offset, "critical_overlaps": run.overlaps,
         "status": status, "warnings": tuple(warnings), "outcome": outcome, "outcome_time": at,
-        "coupling_exceeded": bool(exceeded),
+        "coupling_exceeded": bool(exceeded), "collision_by": run.collision_by,
+        "critical_by": run.critical_by,
     }  # fmt: skip
 
 

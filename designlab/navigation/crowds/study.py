@@ -345,7 +345,7 @@ def _field_columns(group: pd.DataFrame) -> dict[str, float]:
         )
     else:
         out["spl"] = math.nan
-    for who in ("robot", "pedestrian"):
+    for who in ("robot", "pedestrian", "wall"):
         col = group.get("collision_by")
         out[f"collisions_by_{who}"] = float((col == who).sum()) if col is not None else math.nan
         col = group.get("critical_by")

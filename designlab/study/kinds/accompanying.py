@@ -27,10 +27,12 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 from dataclasses import dataclass, field
 from typing import Any, ClassVar, Literal
 
+import numpy as np
 import pandas as pd
 from pydantic import Field, create_model, model_validator
 
@@ -51,6 +53,7 @@ from designlab.following.accompanying import (
     tune,
     walking_task,
 )
+from designlab.following.accompanying.metrics import command_rate
 from designlab.following.accompanying.parameters import (
     MAX_EVALUATIONS,
     MAX_NOISE_GAIN,
@@ -63,7 +66,7 @@ from designlab.following.accompanying.parameters import (
     SWAY_YAW,
     WALKING_SPEED,
 )
-from designlab.params import Param
+from designlab.params import Param, params_of
 from designlab.progress import Progress
 from designlab.results import OK, Result
 from designlab.study.base import Flag, Model, StudyBase
@@ -217,6 +220,38 @@ TuningSpec = _of_params(
 )
 
 
+_SENSOR = params_of(StringPotSensor)
+_WINDOW = _SENSOR["median_window"].annotation(optional=False)
+
+
+class _NoiseFields(Model):
+    max_noise_gains: list[MAX_NOISE_GAIN.annotation(optional=False)] = Field(  # type: ignore[valid-type]
+        default_factory=lambda: [20.0, 10.0, 5.0],
+        min_length=1,
+        max_length=10,
+        description="limits of |C S| (1/s) the PID is tuned again with, one tuning each",
+    )
+    median_windows: list[_WINDOW] = Field(  # type: ignore[valid-type]
+        default_factory=lambda: [5],
+        max_length=5,
+        description="median windows (raw samples) run with the tuned PID's gains and noise",
+    )
+
+
+#: Sensor noise and the noise-gain limits of the noise table (``noise.csv``): the study's
+#: PID, the tuned PID and a PID tuned with each limit, simulated on every task without and
+#: with white noise on the raw string-pot samples.
+NoiseSpec = _of_params(
+    "NoiseSpec",
+    "White noise on the raw samples and the |C S| limits tuned with (noise.csv).",
+    {
+        "distance_noise": _SENSOR["distance_noise"].but(default=0.005),
+        "angle_noise": _SENSOR["angle_noise"].but(default=0.005),
+    },
+    _NoiseFields,
+)
+
+
 class AccompanyingStudy(StudyBase):
     """Simulate the accompanying robot on walking tasks with the default and tuned PID."""
 
@@ -230,6 +265,11 @@ class AccompanyingStudy(StudyBase):
     extras: ExtrasSpec | None = Field(  # type: ignore[valid-type]
         None, description="the Sec. 6 options (sensor offset, target adaptation, motion filter)"
     )
+    noise: NoiseSpec | None = Field(  # type: ignore[valid-type]
+        None,
+        description="the noise table: PIDs tuned with limits on |C S|, run with sensor noise "
+        "(needs tuning)",
+    )
     seed: SEED.annotation(optional=False) = SEED.default  # type: ignore[valid-type]
 
     PRODUCES: ClassVar[tuple[str, ...]] = (
@@ -239,6 +279,7 @@ class AccompanyingStudy(StudyBase):
         "table2.csv",
         "tuning.csv",
         "extras.csv",
+        "noise.csv",
         "margins.csv",
         "baseline_sensitivity.csv",
         "trajectories_*.png",
@@ -249,7 +290,7 @@ class AccompanyingStudy(StudyBase):
         "study.yaml",
     )
     #: s: CPU time of studies/accompanying.yaml run serially (fresh store), measured.
-    TYPICAL_DURATION: ClassVar[float] = 20
+    TYPICAL_DURATION: ClassVar[float] = 23
 
     def size(self) -> str:
         """The number of tasks and controllers."""
@@ -264,6 +305,8 @@ class AccompanyingStudy(StudyBase):
     def _runnable(self) -> AccompanyingStudy:
         if len(set(self.tasks)) != len(self.tasks):
             raise ValueError("a task is listed twice")
+        if self.noise is not None and self.tuning is None:
+            raise ValueError("noise needs tuning: its rows are PIDs tuned with |C S| limits")
         names = set(self.tasks) | set(self.tuning.tune_on if self.tuning is not None else ())
         names |= set(self.extras.tasks if self.extras is not None else ())
         for name in sorted(names):
@@ -319,6 +362,13 @@ class AccompanyingResult(Result):
     extras
         Option (:data:`EXTRA_OPTIONS`) -> task -> :class:`AccompanyResult`
         (empty without the study's ``extras``).
+    noise
+        The noise table (``noise.csv``; empty without the study's ``noise``): one row per
+        PID (``controller``, ``max_noise_gain_1_s``, gains, ``noise_gain_1_s`` = max |C S|
+        over the axes), the mean over the tasks of the RMS error without
+        (``rms_clean_m``) and with (``rms_noisy_m``) sensor noise and of the command's
+        rate of change with noise (``command_rate_m_s2``, :func:`command_rate`), and the
+        status of each k_s row's tuning (``tuning_status``).
     """
 
     study: AccompanyingStudy
@@ -326,6 +376,7 @@ class AccompanyingResult(Result):
     tunings: dict[str, PIDTuningResult]
     loops: dict[str, LoopAnalysis]
     extras: dict[str, dict[str, AccompanyResult]] = field(default_factory=dict)
+    noise: pd.DataFrame = field(default_factory=pd.DataFrame, repr=False)
 
     @property
     def status(self) -> str:
@@ -458,7 +509,61 @@ def run(study: AccompanyingStudy, context: RunContext) -> AccompanyingResult:
                 hook(Progress(step, total, label="run", note=f"{label} {name}"))
     loops = {label: loop_analysis(c, platform, sensor) for label, c in controllers.items()}
     extras = _extras(study, controllers["default"], context)
-    return AccompanyingResult(study, runs, tunings, loops, extras)
+    noise = _noise_table(study, controllers, runs, context)
+    return AccompanyingResult(study, runs, tunings, loops, extras, noise)
+
+
+def _noise_table(
+    study: AccompanyingStudy,
+    controllers: dict[str, UserFramePID],
+    runs: dict[str, dict[str, AccompanyResult]],
+    context: RunContext,
+) -> pd.DataFrame:
+    """The study's and the tuned PIDs and one tuned with each |C S| limit, with noise."""
+    if study.noise is None or study.tuning is None:
+        return pd.DataFrame()
+    nz, t = study.noise, study.tuning
+    platform, sensor = study.platform.build(), study.sensor.build()
+    noisy = study.sensor.model_copy(
+        update={"distance_noise": nz.distance_noise, "angle_noise": nz.angle_noise}
+    ).build()
+    base = controllers["default"]
+    pids: list[tuple[str, float | None, UserFramePID]] = [
+        ("default", None, base),
+        ("tuned", t.max_noise_gain, controllers["tuned"]),
+    ]
+    tune_tasks = [study.build_task(n) for n in t.tune_on]
+    status: dict[str, str] = {}  # the tuning's status of each k_s row (a solver says so)
+    for ks in nz.max_noise_gains:
+        with context.bar(f"{study.kind}: tuning with |C S| <= {ks:g}") as hook:
+            r = tune(tune_tasks, method="convex", baseline=base, platform=platform,
+                     sensor=sensor, ms_max=t.ms_max, mt_max=t.mt_max,
+                     derivative_filter_time=base.derivative_filter_time,
+                     max_noise_gain=ks, progress=hook)  # fmt: skip
+        pids.append((f"tuned, k_s = {ks:g} 1/s", ks, r.controller))
+        status[pids[-1][0]] = str(r.status)
+    runs_of = [(label, ks, c, sensor.median_window) for label, ks, c in pids]
+    runs_of += [(f"tuned, median of {m}", t.max_noise_gain, controllers["tuned"], m)
+                for m in nz.median_windows]  # fmt: skip
+    rows = []
+    for label, ks, c, window in runs_of:
+        row = {"controller": label, "max_noise_gain_1_s": ks, "kp_1_s": c.kp, "ki_1_s2": c.ki,
+               "kd": c.kd, "median_window": window,
+               "noise_gain_1_s": float(loop_analysis(c, platform, sensor).to_frame()[
+                   "noise_gain_1_s"].max())}  # fmt: skip
+        if window == sensor.median_window:
+            clean = [runs[label][n] if label in runs else
+                     simulate(study.build_task(n), c, platform=platform, sensor=sensor)
+                     for n in study.tasks]  # fmt: skip
+            row["rms_clean_m"] = float(np.mean([r.rms_error for r in clean]))
+        noisy_w = dataclasses.replace(noisy, median_window=window)
+        dirty = [simulate(study.build_task(n), c, platform=platform, sensor=noisy_w,
+                          seed=study.seed) for n in study.tasks]  # fmt: skip
+        row["rms_noisy_m"] = float(np.mean([r.rms_error for r in dirty]))
+        row["command_rate_m_s2"] = float(np.mean([command_rate(r.time, r.command) for r in dirty]))
+        row["tuning_status"] = status.get(label, "")
+        rows.append(row)
+    return pd.DataFrame(rows)
 
 
 def _extras(

@@ -73,7 +73,7 @@ from designlab.codesign.injury import head_injury_risk, hic_curves
 from designlab.codesign.parameters import MAP_POINTS, RISK_SAMPLES, SENSITIVITY_SAMPLES
 from designlab.codesign.robot import BUMPER_BASE, THESIS_ROBOT, RobotDescription
 from designlab.codesign.sensitivity import front_sensitivity
-from designlab.codesign.speed import speed_limit
+from designlab.codesign.speed import SafetyCase, speed_limit
 from designlab.errors import StudyError
 from designlab.impact import ContactDynamics, Foam, HeadInjuryCriterion
 from designlab.impact.parameters import HUMAN_SPEED, IMPACT_VELOCITY
@@ -555,7 +555,7 @@ def head_risk_of(robot: RobotDescription, design: Design, walker: float) -> dict
         The robot, the design and the walker's speed (m/s).
     """
     crit = HeadInjuryCriterion(650.0)
-    s = speed_limit(robot.contact, design.foam, [crit], human_speed=walker)
+    s = speed_limit(robot.contact, design.foam, SafetyCase(criteria=[crit], human_speed=walker))
     v = design.speed + walker
     hic = s.unit_metric[crit.name] * v**crit.velocity_exponent
     out = {"closing_speed_m_per_s": v, "hic15": hic}
@@ -616,8 +616,10 @@ def run(study: CodesignStudy, context: RunContext) -> CodesignResult:
     sm = study.speed_map
     smap = speed_limit_map(
         robot, K_c=sm.stiffness.values(), C_c=sm.damping.values(),
-        criteria=None if sm.criteria is None else [c.build() for c in sm.criteria],
-        **({} if heads is None else {"head_range": heads}),
+        case=SafetyCase(
+            criteria=None if sm.criteria is None else [c.build() for c in sm.criteria],
+            head_range=heads,
+        ),
     )  # fmt: skip
     with context.bar(f"{study.kind}: risk curves", len(study.risk.foams)) as hook:
         risk = risk_curves(study, robot, heads, hook)

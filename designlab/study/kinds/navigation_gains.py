@@ -145,6 +145,12 @@ class NavigationGainsStudy(StudyBase):
     )
     bounds: GainBounds = Field(default_factory=GainBounds)
     seed: _Seed = tuning.SEED.default
+    repeat_seeds: list[_Seed] = Field(
+        default_factory=list,
+        max_length=16,
+        description="further seeds of each mode's optimisation, for its repeatability "
+        "(repeatability.csv; the study's seed is the first row)",
+    )
     popsize: _Popsize = 16
     max_evaluations: _Budget = 1600
     refine: Flag = True
@@ -200,6 +206,7 @@ class NavigationGainsStudy(StudyBase):
         "appendix_c_comparison.csv",
         "appendix_c_outcomes.csv",
         "baseline_gains.csv",
+        "repeatability.csv",
         "trajectories_*.png",
         "study.yaml",
     )
@@ -214,6 +221,10 @@ class NavigationGainsStudy(StudyBase):
             raise ValueError("configurations must not repeat")
         if len(set(self.modes)) != len(self.modes):
             raise ValueError("modes must not repeat")
+        if self.seed in self.repeat_seeds or len(set(self.repeat_seeds)) != len(self.repeat_seeds):
+            raise ValueError(
+                f"repeat_seeds = {self.repeat_seeds} must not repeat nor hold seed = {self.seed}"
+            )
         if self.max_evaluations < self.popsize:
             raise ValueError(
                 f"max_evaluations = {self.max_evaluations} must be >= popsize = {self.popsize}"
@@ -226,7 +237,7 @@ class NavigationGainsStudy(StudyBase):
         return self
 
     def size(self) -> str:
-        runs = len(self.modes) * (1 + (self.robust is not None))
+        runs = len(self.modes) * (1 + (self.robust is not None) + len(self.repeat_seeds))
         return (
             f"{runs} optimisation(s) of up to {self.max_evaluations} gain sets x "
             f"{len(self.configurations) + len(self.scenarios)} configs"
@@ -266,6 +277,10 @@ class NavigationGainsResult(Result):
         ``baseline_configurations`` (stabilising force off).
     baseline_optima
         ``{method: GainOptimum}`` of the baselines.
+    repeatability
+        Each mode's optimisation with the study's seed and each of ``repeat_seeds``
+        (``repeatability.csv``): ``stabilising``, ``seed``, the gains, ``H_mean``,
+        ``evaluations`` and ``status``.
 
     Examples
     --------
@@ -300,6 +315,7 @@ class NavigationGainsResult(Result):
     appendix_c_outcomes: pd.DataFrame = field(default_factory=pd.DataFrame, repr=False)
     baselines: pd.DataFrame = field(default_factory=pd.DataFrame, repr=False)
     baseline_optima: dict[str, nav.GainOptimum] = field(default_factory=dict, repr=False)
+    repeatability: pd.DataFrame = field(default_factory=pd.DataFrame, repr=False)
 
     @property
     def status(self) -> str:
@@ -393,8 +409,31 @@ def run(study: NavigationGainsStudy, context: RunContext) -> NavigationGainsResu
     base_frame, base_optima = _baseline_block(study, context, optima)
     return NavigationGainsResult(
         study, optima, comp, sens, _runs(study, optima), glob, appc, appc_out,
-        base_frame, base_optima,
+        base_frame, base_optima, _repeatability(study, context, scen, optima),
     )  # fmt: skip
+
+
+def _repeatability(
+    study: NavigationGainsStudy,
+    context: RunContext,
+    scen: list[Any],
+    optima: dict[str, nav.GainOptimum],
+) -> pd.DataFrame:
+    """Each mode's optimisation again with every seed of ``repeat_seeds``: one row per run."""
+    if not study.repeat_seeds:
+        return pd.DataFrame()
+    rows = []
+    for mode in study.modes:
+        runs = [(study.seed, optima[mode])]
+        for s in study.repeat_seeds:
+            runs.append((s, _optimise(study, context, scen, f"{mode}, seed {s}",
+                                      stabilising=mode, seed=s)))  # fmt: skip
+        for s, o in runs:
+            rows.append({"stabilising": mode, "seed": s,
+                         **{k: getattr(o.gains, k, float("nan")) for k in ("k1", "b", "k3", "k5")},
+                         "H_mean": o.objective, "evaluations": o.evaluations,
+                         "status": str(getattr(o.status, "value", o.status))})  # fmt: skip
+    return pd.DataFrame(rows)
 
 
 #: Table C.1's gains and H_opt of the baselines.

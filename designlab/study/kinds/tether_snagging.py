@@ -36,10 +36,11 @@ from designlab.following.tether.snag import (
     simulate_snag,
     snag_limits,
 )
+from designlab.following.tether.snag_geometry import constant_speed_limits
 from designlab.params import params_of
 from designlab.progress import Progress
 from designlab.results import OK, Result
-from designlab.study.base import Grid, StudyBase
+from designlab.study.base import Grid, Model, StudyBase
 from designlab.study.registry import StudyKind
 from designlab.study.reproduction import SAME_ON_A_GENERIC_CPU
 from designlab.study.runner import RunContext
@@ -60,6 +61,42 @@ FEATURES = {
 
 #: The corridor and the follower (Table 4.1); the gap and the compensation are set per run.
 SnagScenarioSpec = spec_model(SnagScenario, exclude=("gap", "compensate"))
+
+
+_SC = params_of(SnagScenario)
+#: The settings a cause run may change (each bounded as the scenario's field).
+CAUSE_FIELDS = ("sample_time", "step", "approach", "exit", "winch_offset", "tether_height")
+_O_SAMPLE_TIME = _SC["sample_time"].annotation(optional=True)
+_O_STEP = _SC["step"].annotation(optional=True)
+_O_APPROACH = _SC["approach"].annotation(optional=True)
+_O_EXIT = _SC["exit"].annotation(optional=True)
+_O_WINCH_OFFSET = _SC["winch_offset"].annotation(optional=True)
+_O_TETHER_HEIGHT = _SC["tether_height"].annotation(optional=True)
+
+
+class CauseRun(Model):
+    """One candidate cause of a difference to the thesis: the scenario with these changes.
+
+    The constant-speed follower's collision and wall limits are found by bisection on the
+    gap (to ``CAUSE_TOLERANCE`` w) and set beside the closed form
+    (:func:`designlab.following.tether.snag_geometry.constant_speed_limits`).
+    """
+
+    label: str = Field(min_length=1, max_length=80, description="what the run changes")
+    sample_time: _O_SAMPLE_TIME = None  # type: ignore[valid-type]
+    step: _O_STEP = None  # type: ignore[valid-type]
+    approach: _O_APPROACH = None  # type: ignore[valid-type]
+    exit: _O_EXIT = None  # type: ignore[valid-type]
+    winch_offset: _O_WINCH_OFFSET = None  # type: ignore[valid-type]
+    tether_height: _O_TETHER_HEIGHT = None  # type: ignore[valid-type]
+
+    def changes(self) -> dict[str, float]:
+        """The scenario fields this run sets."""
+        return {k: getattr(self, k) for k in CAUSE_FIELDS if getattr(self, k) is not None}
+
+
+#: Bisection tolerance of the cause runs' limits (over w).
+CAUSE_TOLERANCE = 2e-4
 
 
 class GapGrid(Grid):
@@ -91,15 +128,23 @@ class TetherSnaggingStudy(StudyBase):
         ),
     )
 
+    causes: list[CauseRun] = Field(
+        default_factory=list,
+        max_length=12,
+        description="candidate causes of the difference to the thesis's limits: the "
+        "constant-speed follower's limits with each change (causes.csv)",
+    )
+
     PRODUCES: ClassVar[tuple[str, ...]] = (
         "summary.md",
         "snagging.csv",
         "limits.csv",
+        "causes.csv",
         "features.csv",
         "snagging_*.png",
         "study.yaml",
     )
-    TYPICAL_DURATION: ClassVar[float] = 17  # s, the committed study, serial, this machine
+    TYPICAL_DURATION: ClassVar[float] = 26  # s, the committed study, serial, this machine
 
     def size(self) -> str:
         """Runs."""
@@ -122,6 +167,11 @@ class TetherSnaggingResult(Result):
     others
         Per follower of ``compare_followers``: its runs at the grid gaps, then at the detail
         gaps (without the compensation).
+    causes
+        One row per cause run (``causes.csv``): its changes, the constant-speed follower's
+        collision and wall limits found by bisection (``*_gap_over_w``) and in closed form
+        (``*_closed_form``), the first snag in closed form, all over w; and the string's
+        wrapped span along the recorded path at the largest detail gap (``span_recorded_m``).
     """
 
     study: TetherSnaggingStudy
@@ -130,6 +180,7 @@ class TetherSnaggingResult(Result):
     detail: tuple[SnagRun, ...]
     detail_compensated: tuple[SnagRun, ...]
     others: dict[str, tuple[SnagRun, ...]] = dataclasses.field(default_factory=dict)
+    causes: pd.DataFrame = dataclasses.field(default_factory=pd.DataFrame, repr=False)
 
     status: ClassVar[str] = OK
 
@@ -281,8 +332,56 @@ def run(study: TetherSnaggingStudy, context: RunContext) -> TetherSnaggingResult
         others[follower] = tuple(runs)
     n = study.gaps.num
     return TetherSnaggingResult(
-        study, tuple(plain[:n]), tuple(comp[:n]), tuple(plain[n:]), tuple(comp[n:]), others
-    )
+        study, tuple(plain[:n]), tuple(comp[:n]), tuple(plain[n:]), tuple(comp[n:]), others,
+        _causes(study, context),
+    )  # fmt: skip
+
+
+def _bisect(sc: SnagScenario, level: float, lo: float, hi: float) -> float:
+    """The gap (/w) at which the run's d_col falls to ``level`` (d_col decreases with it)."""
+    w = sc.width
+
+    def d_col(g: float) -> float:
+        return simulate_snag(dataclasses.replace(sc, gap=g * w)).d_col
+
+    if d_col(lo) < level or d_col(hi) >= level:
+        return float("nan")
+    while hi - lo > CAUSE_TOLERANCE:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if d_col(mid) >= level else (lo, mid)
+    return 0.5 * (lo + hi)
+
+
+def _span(sc: SnagScenario, study: TetherSnaggingStudy) -> dict[str, float]:
+    """The string's wrapped span along the recorded path at the largest detail gap (m)."""
+    if not study.detail_gaps:
+        return {}
+    gap = max(study.detail_gaps)
+    span = simulate_snag(dataclasses.replace(sc, gap=gap)).snag_span_recorded
+    return {"span_gap_m": gap, "span_recorded_m": np.nan if span is None else span[1] - span[0]}
+
+
+def _causes(study: TetherSnaggingStudy, context: RunContext) -> pd.DataFrame:
+    """The constant-speed follower's limits under each candidate cause (causes.csv)."""
+    base = dataclasses.replace(study.scenario.build(), follower="constant_speed")
+    rows = []
+    with context.bar(f"{study.kind}: causes", total=len(study.causes)) as hook:
+        for i, cause in enumerate(study.causes):
+            sc = dataclasses.replace(base, **cause.changes())
+            w, rcol = sc.width, sc.collision_radius / sc.width
+            exact = constant_speed_limits(rcol, sc.winch_offset / w, sc.tether_height / w)
+            lo = exact["first_snag"] + 0.05
+            rows.append({"cause": cause.label, "sample_time_s": sc.sample_time,
+                         "step_m": sc.step, "approach_m": sc.approach, "exit_m": sc.exit,
+                         "winch_offset_over_w": sc.winch_offset / w,
+                         "tether_height_over_w": sc.tether_height / w,
+                         "first_snag_closed_form": exact["first_snag"],
+                         "collision_gap_over_w": _bisect(sc, rcol, lo, lo + 1.5),
+                         "collision_closed_form": exact["collision"],
+                         "wall_gap_over_w": _bisect(sc, 0.0, lo, lo + 1.5),
+                         "wall_closed_form": exact["wall"], **_span(sc, study)})  # fmt: skip
+            hook(Progress(i + 1, len(study.causes), label="cause", note=cause.label))
+    return pd.DataFrame(rows)
 
 
 KIND = StudyKind(

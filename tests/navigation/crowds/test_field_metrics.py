@@ -92,3 +92,57 @@ def test_classic_and_voronoi_density_of_a_hand_built_crowd():
     assert voronoi_density(t, P, band, box(0, 0, 4, 2), frame_rate=10.0) == pytest.approx(
         (4 / 4.5) / 4, abs=1e-12
     )
+
+
+def test_a_wall_contact_is_the_walls_and_a_tie_goes_to_the_person():
+    wall = [[0.0, -1.2, 1.0, 0.0, 5.0, 0.1]]  # its face at y = -1.1
+    robot = np.array([[0.0, 0.0], [0.0, -0.5], [0.0, -0.9]])
+    P = np.full((3, 1, 2), np.nan)
+    t, v = [0.0, 1.0, 2.0], np.tile([0.0, -0.4], (3, 1))
+    # the robot's disc (0.3 m) touches the wall's face at the last sample, 0.2 m away
+    assert fm.first_entry(t, robot, v, P, 0.5, wall, 0.3) == (2.0, "wall")
+    assert fm.first_entry(t, robot, v, P, 0.5, wall, 0.1) == (math.inf, "none")
+    P[2, 0] = [0.0, -1.2]  # a person there at the same sample: the person's
+    assert fm.first_entry(t, robot, v, P, 0.5, wall, 0.3) == (2.0, "robot")
+    assert fm.wall_distances(wall, robot).tolist() == pytest.approx([1.1, 0.6, 0.2], abs=1e-15)
+
+
+def _grazing_period(robot_velocity):
+    """One navigation period (20 dynamics steps of 1 ms, 2 pedestrian steps of 10 ms) in
+    which a person passes the robot's disc (contact 0.5 m) at 0.4999 m, touching it only
+    for about 10 ms between two pedestrian steps: no recorded sample shows the contact."""
+    from types import SimpleNamespace
+
+    from designlab.navigation.crowds.simulate import _contact, _Frames
+    from designlab.navigation.parameters import HolonomicRobot
+
+    x = np.array([-0.0105 - 0.021, -0.0105, 0.0105])  # frames 10 ms apart at 2.1 m/s
+    frames = _Frames(1, 3)
+    for xi in x:
+        frames.push(np.array([0]), np.array([[xi, 0.4999]]), 1)
+    robot = HolonomicRobot(radius=0.3)
+    X = np.zeros((4, 20))
+    X[2:4] = np.asarray(robot_velocity, dtype=float)[:, None]  # held at 0 (hand-built)
+    run = SimpleNamespace(
+        s=SimpleNamespace(crowd=SimpleNamespace(robot=robot, pedestrian_radius=0.2), per_ped=2,
+                          n_sub=20, dt=1e-3),
+        frames=frames, frac=(np.arange(1, 11) / 10)[None, :, None, None], dmin=0.4999,
+        wmin=math.inf, r3=0.45, w3=0.1, collision_by="none", critical_by="none",
+        collision_time=math.inf, wall_frames=np.zeros((0, 6)),
+    )  # fmt: skip
+    return run, X, frames, _contact
+
+
+@pytest.mark.parametrize(("velocity", "who"), [((0.0, 0.3), "robot"), ((0.0, -0.3), "pedestrian")])
+def test_a_contact_between_two_recorded_samples_is_attributed_at_its_own_step(velocity, who):
+    run, X, frames, contact = _grazing_period(velocity)
+    F = frames.last(3)
+    d = np.hypot(F[:, 0, 0], F[:, 0, 1])
+    assert (d > 0.5).all()  # the pedestrian steps (the records) never show it
+    recorded = fm.first_entry([0.0, 0.01, 0.02], np.zeros((3, 2)), X[2:4, [0, 9, 19]].T, F, 0.5)
+    assert recorded == (math.inf, "none")
+    contact(run, 0, X)
+    assert run.collision_by == who and run.critical_by == "none"
+    # the first dynamics step with the interpolated centre within 0.5 m: x = -0.0105 +
+    # 2.1 (t - 0.01) crosses -sqrt(0.5^2 - 0.4999^2) = -0.0099995 at t = 0.01024 s, step 11
+    assert run.collision_time == pytest.approx(0.011, abs=1e-15)
