@@ -17,7 +17,17 @@ from collections import Counter
 from pathlib import Path
 from typing import Any
 
+import pytest
+
 CPU_LOG = os.environ.get("DESIGNLAB_TEST_CPU_LOG")
+
+#: Module examples run in the slow step only (``-m slow``), with why. Each compiles a second
+#: copy of a compiled kernel for the argument types of a call from Python (the library calls
+#: it from other kernels, with other types), about a CPU minute on a cold cache; the kernels
+#: themselves run in the README's command through the tests of their callers.
+SLOW_EXAMPLES = {
+    "designlab.impact.kernel_lobe": "march and maximum called from Python: 61 CPU s cold",
+}
 _started: dict[str, tuple[float, float]] = {}
 _runs_tests = [True]  # False in pytest-xdist's controller (the workers run the tests)
 
@@ -31,6 +41,13 @@ def _cpu() -> float:
     own = resource.getrusage(resource.RUSAGE_SELF)
     children = resource.getrusage(resource.RUSAGE_CHILDREN)
     return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
+
+
+@pytest.hookimpl(tryfirst=True)  # before -m "not slow" deselects
+def pytest_collection_modifyitems(items: list[Any]) -> None:
+    for item in items:
+        if item.nodeid.rsplit("::", 1)[-1] in SLOW_EXAMPLES:
+            item.add_marker(pytest.mark.slow)
 
 
 def pytest_runtest_logstart(nodeid: str, location: Any) -> None:

@@ -7,7 +7,7 @@ scalar arguments costs far less to enter than one with arrays).
 
 Examples
 --------
->>> code, a_max, *rest = one_design(9.6, 250, 20e3, 24.25e3, 71.9, 4.4, 0.0, 4e3, 0.05, 4096, 1e4)
+>>> code, a_max, *rest = one_design(9.6, 250.0, 20e3, 24.25e3, 71.9, 4.4, 0.0, 4e3, 0.05, 4096, 1e4)
 >>> code, round(a_max * 1.25 / 9.80665, 3)
 (0, 6.568)
 """
@@ -60,6 +60,11 @@ def one_design(m_r, c_r, k_r, k_c, c_c, m_h, c_h, k_h, stop_time, max_steps, bou
         status[0] = REFUSED
     else:
         outputs = np.ones(3, dtype=np.bool_)
-        _reduced_block(p, outputs, False, stop_time, max_steps, False, out, status, True)
+        # the flags (printed, diag, check) read from an array: typed bool, not as the
+        # literals False/True, so the block compiled for the batch path serves this call
+        # too (literal flags compile a second copy of the whole block: tens of CPU seconds)
+        flags = np.zeros(3, dtype=np.bool_)
+        flags[2] = True
+        _reduced_block(p, outputs, flags[0], stop_time, max_steps, flags[1], out, status, flags[2])
     r = out[0]
     return int(status[0]), r[0], r[1], r[2], r[3], r[4], r[5], r[6]
