@@ -54,6 +54,9 @@ CANDIDATES = 3
 #: a_h provably negative: below minus this times its largest residue times sum e^(Re p t)
 NOISE = 1e-12
 GAVE_UP = -1
+#: P_r(p) of a pole is taken from the identity of :func:`_head_residues` where evaluated
+#: directly it is below this fraction of its terms (the bodies' common mode)
+CANCELLED = 1e-6
 
 
 @_jit
@@ -196,11 +199,82 @@ def _reduced_modes(q, lam, g, c):  # type: ignore[no-untyped-def]
         g[2, k] = e
         g[0, k] = (k_c + c_c * lam[k]) * e
         g[1, k] = coef[k] * v0[2, k] * lam[k] * lam[k]
+    _head_residues(q, lam, g)
     slope = b_r - b_h + 1.0
     c[2, 0], c[2, 1] = slope, a_r - a_h
     c[0, 0], c[0, 1] = k_c * slope, k_c * (a_r - a_h) + c_c * slope
     c[1, 0] = c[1, 1] = 0.0
     return np.all(np.isfinite(coef))
+
+
+@_jit
+def _two_product(a, b):  # type: ignore[no-untyped-def]
+    """``a b = hi + lo`` exactly (Dekker's splitting; no fused multiply-add needed)."""
+    hi = a * b
+    t = 134217729.0 * a
+    ah = t - (t - a)
+    al = a - ah
+    t = 134217729.0 * b
+    bh = t - (t - b)
+    bl = b - bh
+    return hi, ((ah * bh - hi) + ah * bl + al * bh) + al * bl
+
+
+@_jit
+def _minus_product(a, alpha, b):  # type: ignore[no-untyped-def]
+    """``a - alpha b`` with one rounding of the result (the product kept exactly)."""
+    hi, lo = _two_product(alpha, b)
+    return (a - hi) - lo
+
+
+@_jit
+def _head_residues(q, lam, g):  # type: ignore[no-untyped-def]
+    """a_h's residues ``z_c(p) P_r(p) / D'(p)`` into ``g[1]`` (the unit ramp's a_h is
+    ``z_c P_r / D``), with ``P_r(p)`` free of cancellation, at the poles where P_r(p)
+    evaluated directly loses more than :data:`CANCELLED` of its terms (elsewhere the
+    residues of the initial state's linear system stay: consistent with the poles' own
+    errors, they keep a nearly double pole's zero of a_h to 1e-12).
+
+    Near the bodies' common mode (the arm's own mode equal to the head's, ``repeated``
+    family) P_r(p) is a tiny difference of large terms; evaluated directly, or through
+    the linear system of the initial state, its absolute error (1e-13 of a_h's scale)
+    swamped the true residue (1e-15) and the evaluator found no lobe end (issue 34). With
+    ``alpha = M_r / M_h``, ``eps(s) = P_r(s) - alpha P_h(s)`` (its coefficients exact
+    differences) and ``u = P_h(p)``, ``D(p) = 0`` reads ``alpha u^2 + ((1 + alpha) z_c +
+    eps) u + eps z_c = 0``: u is its root nearest the direct P_h(p), the small one by
+    the stable formula, and ``P_r(p) = alpha u + eps(p)``. ``g[3, k]`` gets the residue's
+    size times its first-order condition number (the weight of its term in a_h's noise
+    level, :func:`_sweep`)."""
+    m_r, c_r, k_r, k_c, c_c, m_h, c_h, k_h = q[0], q[1], q[2], q[3], q[4], q[5], q[6], q[7]
+    alpha = m_r / m_h
+    e2 = _minus_product(m_r, alpha, m_h)
+    e1 = _minus_product(c_r, alpha, c_h)
+    e0 = _minus_product(k_r, alpha, k_h)
+    for k in range(4):
+        s = lam[k]
+        zc = c_c * s + k_c
+        direct = (m_h * s + c_h) * s + k_h
+        eps = (e2 * s + e1) * s + e0
+        b = (1.0 + alpha) * zc + eps
+        cc = eps * zc
+        d = cmath.sqrt(b * b - 4.0 * alpha * cc)
+        qq = -0.5 * (b + d) if (b.conjugate() * d).real >= 0 else -0.5 * (b - d)
+        u = qq / alpha
+        if qq != 0 and abs(cc / qq - direct) < abs(u - direct):
+            u = cc / qq
+        pr = alpha * u + eps
+        size = abs(m_r * s * s) + abs(c_r * s) + k_r
+        if abs((m_r * s + c_r) * s + k_r) >= CANCELLED * size:  # no cancellation
+            g[3, k] = 0.0
+            continue
+        dpr, dph = 2.0 * m_r * s + c_r, 2.0 * m_h * s + c_h
+        t1, t2, t3, t4 = dpr * u, pr * dph, c_c * (pr + u), zc * (dpr + dph)
+        dd = t1 + t2 + t3 + t4
+        g[1, k] = zc * pr / dd
+        # first-order condition of the residue: each factor's terms over its value
+        cond = (abs(c_c * s) + abs(k_c)) / abs(zc) + (abs(alpha * u) + abs(eps)) / abs(pr)
+        cond += (abs(t1) + abs(t2) + abs(t3) + abs(t4)) / abs(dd)
+        g[3, k] = abs(g[1, k]) * cond
 
 
 @_jit
@@ -487,6 +561,18 @@ def _push(cand, o, y, lo, mid, hi, y_lo, y_hi):  # type: ignore[no-untyped-def]
 
 
 @_jit
+def _level(lam, g, n, big, sigma, t):  # type: ignore[no-untyped-def]
+    """a_h's rounding level (over :data:`NOISE`) at ``t``, scaled by ``exp(-sigma t)``: each
+    term's weight ``g[3, k]`` (reduced model, :func:`_head_residues`) or, without weights,
+    the largest residue, times ``exp((Re p_k - sigma) t)``."""
+    lvl = 0.0
+    for k in range(n):
+        w = g[3, k].real if g[3, k].real > 0 else big
+        lvl += w * math.exp((lam[k].real - sigma) * t)
+    return lvl
+
+
+@_jit
 def _sweep(lam, g, c, n, used, lobe, t_end, cand):  # type: ignore[no-untyped-def]
     """Sample the outputs from 0 to ``t_end`` (to the first provably negative a_h when
     ``lobe``); returns ``(t_lo, t_hi, samples, t_last)``: the bracket of a_h's first sign
@@ -550,10 +636,7 @@ def _sweep(lam, g, c, n, used, lobe, t_end, cand):  # type: ignore[no-untyped-de
                 if a <= 0:
                     if np.isnan(first_lo):
                         first_lo, first_hi, before = tprev, t, tprev2
-                    lvl = 0.0
-                    for k in range(n):
-                        lvl += math.exp((lam[k].real - sigma) * t)
-                    if a < -NOISE * big * lvl:
+                    if a < -NOISE * _level(lam, g, n, big, sigma, t):
                         return first_lo, first_hi, count + 1, before
                 else:
                     first_lo = first_hi = np.nan
@@ -648,7 +731,7 @@ def _grid_rate(lam, n, full):  # type: ignore[no-untyped-def]
 def _evaluate(params, kind, window, max_steps, rows, status):  # type: ignore[no-untyped-def]
     """kind 0: reduced, 1: reduced constrained, 2: full joint, 3: full constrained."""
     lam = np.zeros(5, dtype=np.complex128)
-    g = np.zeros((3, 5), dtype=np.complex128)
+    g = np.zeros((4, 5), dtype=np.complex128)  # row 3: a_h's noise weights (reduced)
     c = np.zeros((3, 2))
     lobe = kind == 0 or kind == 2
     used = np.array([True, lobe, True])

@@ -39,6 +39,11 @@ def _impact() -> None:
     foam = dl.impact.Foam(stiffness=24.25e3, damping=71.9, linear_depth=0.02)
     head = dl.impact.HeadNeck(mass=4.4, stiffness=4e3, damping=0.0)
     dl.impact.simulate(robot, foam, head, impact_velocity=1.25)
+    from designlab.impact.passfail import head_acceleration_exceeds
+    from designlab.impact.single import impact_metrics_one
+
+    impact_metrics_one(p8[0].tolist(), 1.25)  # the scalar fast path (its own compiled entry)
+    head_acceleration_exceeds(p8, 1.25, 10.0)  # the pass/fail path
 
 
 def _sampling() -> None:
@@ -62,7 +67,12 @@ def _navigation() -> None:
 
 #: ``(name, what is compiled and why, the call that compiles it)``, in order.
 STEPS: tuple[tuple[str, str, Callable[[], None]], ...] = (
-    ("impact", "the impact kernels (impact_metrics, the full joint, simulate; numba)", _impact),
+    (
+        "impact",
+        "the impact kernels (impact_metrics and its scalar path, the full joint, simulate, "
+        "pass/fail; numba)",
+        _impact,
+    ),
     ("sampling", "the Latin hypercube sampler of sweeps (numba)", _sampling),
     ("navigation", "the navigation step of configurations 1-4 (C, 4 members a pass)", _navigation),
 )

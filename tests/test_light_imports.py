@@ -150,3 +150,27 @@ print(json.dumps([callable(dl.navigation.criteria), callable(dl.impact.simulate)
                   callable(criteria), dl.navigation.engine.__name__]))
 """
     assert _loaded_after(code) == {True, "designlab.navigation.engine"}
+
+
+_ENGINES = """
+import importlib, json, sys
+for name in sys.argv[1:]:
+    importlib.import_module(name)
+print(json.dumps(sorted(m for m in ("numba", "matplotlib.pyplot", "designlab.impact.kernel",
+                                    "designlab.analysis.lhs_kernel") if m in sys.modules)))
+"""
+
+
+def test_a_sweep_kind_and_its_report_load_no_compiled_engine() -> None:
+    """Loading the impact sweep kind (what a resumed run and a rebuilt report do) and its report
+    writer imports neither numba, the impact kernel, the compiled sampler nor pyplot (issue
+    40.1): the evaluators and the sampler import them when they compute."""
+    env = {
+        **os.environ,
+        "PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")]),
+    }
+    names = ("designlab.study.kinds.impact_sweep", "designlab.report.sweep", "designlab.cli")
+    done = subprocess.run([sys.executable, "-c", _ENGINES, *names], capture_output=True,
+                          text=True, env=env, timeout=300)  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    assert json.loads(done.stdout.strip().splitlines()[-1]) == []

@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
+import importlib
 from dataclasses import dataclass
+from pathlib import Path
 
 import pytest
+import tomllib
 from pydantic import TypeAdapter, ValidationError
 
 from designlab.errors import InvalidParameterError
@@ -76,3 +79,38 @@ def test_docs_table_has_one_row_per_variant_and_extra_columns() -> None:
         "| `a` | A | first | yes |",
         "| `b` | B |  | no |",
     ]
+
+
+# --- the import contracts list every variant module of each family --------------------
+
+_FAMILIES = {
+    "designlab.navigation.methods": "navigation method",
+    "designlab.impact.contact": "impact contact model",
+    "designlab.following.tether.laws": "tether law",
+}
+#: Modules of a family's folder that are not variants (shared base, registry, integrator).
+_NOT_VARIANTS = {"__init__", "base", "registry", "integrated"}
+
+
+def _contracts() -> list[dict]:
+    root = Path(__file__).resolve().parents[1]
+    config = tomllib.loads((root / "pyproject.toml").read_text(encoding="utf-8"))
+    return config["tool"]["importlinter"]["contracts"]
+
+
+@pytest.mark.parametrize("package", sorted(_FAMILIES))
+def test_each_variant_module_is_in_its_familys_contracts(package: str) -> None:
+    """A new variant module is listed in its family's independence contract and in the list
+    the engines may not import (pyproject.toml); otherwise import-linter cannot keep it alone."""
+    folder = Path(importlib.import_module(package).__file__).parent
+    variants = {f"{package}.{p.stem}" for p in folder.glob("*.py") if p.stem not in _NOT_VARIANTS}
+    listed = [
+        set(c.get("modules", c.get("forbidden_modules", ())))
+        for c in _contracts()
+        if any(
+            m.startswith(package + ".") for m in c.get("modules", c.get("forbidden_modules", ()))
+        )
+    ]
+    assert len(listed) == 2, f"{_FAMILIES[package]}: an independence and a forbidden contract"
+    for modules in listed:
+        assert modules == variants, sorted(modules ^ variants)

@@ -26,6 +26,7 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
@@ -109,6 +110,10 @@ class Exposure:
         Contacts per hour and the one-sided 95 % Poisson upper bound.
     per_km, per_km_upper
         The same per km.
+    runs
+        The runs counted (scenario and crowd runs).
+    per_hour_lower, per_km_lower
+        The one-sided 95 % Poisson lower bounds per hour and per km (0 without a contact).
     closing_speeds
         The closing speed of each contact after braking (m/s).
     crowd_hours
@@ -130,6 +135,9 @@ class Exposure:
     crowd_hours: float = 0.0
     risk_per_hour: float = math.nan
     risk_per_hour_upper: float = math.nan
+    runs: int = 0
+    per_hour_lower: float = 0.0
+    per_km_lower: float = 0.0
 
 
 def _run_extent(run: NavigationResult | CrowdResult) -> tuple[float, float]:
@@ -222,7 +230,8 @@ def exposure(
             continue
         c = contact_speeds(r, obstacles=people)
         speeds += [_closing_after_braking(c, i, brake, v_h) for i in np.flatnonzero(c.contact)]
-    return _exposure(speeds, seconds, metres, crowd_s, harm, worst_speed)
+    return dataclasses.replace(_exposure(speeds, seconds, metres, crowd_s, harm, worst_speed),
+                               runs=len(items))  # fmt: skip
 
 
 def _exposure(speeds: list[float], seconds: float, metres: float, crowd_s: float,
@@ -232,7 +241,8 @@ def _exposure(speeds: list[float], seconds: float, metres: float, crowd_s: float
         raise InvalidParameterError("runs", seconds, "must cover some time and distance")
     n = len(speeds)
     hours, km = seconds / 3600.0, metres / 1000.0
-    upper = stats.chi2.ppf(0.95, 2 * (n + 1)) / 2.0  # one-sided 95 % Poisson bound
+    upper = stats.chi2.ppf(0.95, 2 * (n + 1)) / 2.0  # one-sided 95 % Poisson bounds
+    lower = stats.chi2.ppf(0.05, 2 * n) / 2.0 if n > 0 else 0.0
     risk = risk_upper = math.nan
     if harm is not None:
         hs = [float(harm(v)) for v in speeds]
@@ -242,4 +252,5 @@ def _exposure(speeds: list[float], seconds: float, metres: float, crowd_s: float
         contacts=n, hours=hours, km=km, per_hour=n / hours, per_hour_upper=float(upper / hours),
         per_km=n / km, per_km_upper=float(upper / km), closing_speeds=tuple(speeds),
         crowd_hours=crowd_s / 3600.0, risk_per_hour=risk, risk_per_hour_upper=risk_upper,
+        per_hour_lower=float(lower / hours), per_km_lower=float(lower / km),
     )  # fmt: skip

@@ -1028,7 +1028,7 @@ class ParetoFront(Result):
     feasible: NDArray[np.bool_] = field(repr=False)
     front: NDArray[np.bool_] = field(repr=False)
     references: tuple[ReferencePoint, ...] = field(repr=False)
-    seed: int = 0
+    seed: int = ARG.seed.default
     status: str = FrontStatus.OK
     warnings: tuple[str, ...] = ()
     hypervolume: Array = field(default_factory=lambda: np.zeros(0), repr=False)

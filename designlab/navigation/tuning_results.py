@@ -14,7 +14,7 @@ from numpy.typing import NDArray
 
 from designlab.errors import InvalidParameterError
 from designlab.navigation.criteria import EQUAL_WEIGHTS
-from designlab.navigation.methods import METHODS
+from designlab.navigation.methods import METHOD, METHODS
 from designlab.navigation.parameters import GeCuiGains, MasoudGains, VFFGains
 from designlab.results import Result, Status
 
@@ -148,7 +148,7 @@ class GainOptimum(Result):
     critical_margin: float = 0.0
     status: str = OptimumStatus.OK
     warnings: tuple[str, ...] = ()
-    method: str = "vff"
+    method: str = METHOD.default
     weights: tuple[float, float, float] = EQUAL_WEIGHTS
     feasible: pd.DataFrame = field(
         default_factory=lambda: pd.DataFrame(columns=[*GAIN_NAMES, "H_mean"], dtype=float),

@@ -743,6 +743,14 @@ def _noise_section(result: AccompanyingResult) -> list[str]:
             "command rate, noisy (m/s^2)": f["command_rate_m_s2"].map(lambda v: f"{v:.2g}"),
         }
     )
+    bad = f[~f.get("tuning_status", pd.Series("", index=f.index)).isin(["", "ok"])]
+    failed = (
+        "Tunings that did not end ok: "
+        + "; ".join(f"{c} ({st})" for c, st in bad[["controller", "tuning_status"]].values)
+        + "."
+        if len(bad)
+        else "Every tuning with a limit ended ok."
+    )
     return [
         "## Sensor noise and the noise-gain limit",
         "",
@@ -754,6 +762,8 @@ def _noise_section(result: AccompanyingResult) -> list[str]:
         f"{result.study.platform.max_acceleration:g} m/s^2 acceleration limit (noise.csv).",
         "",
         markdown_table(shown, index=False),
+        "",
+        failed,
         "",
     ]
 

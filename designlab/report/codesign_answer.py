@@ -113,11 +113,11 @@ def _risk_sentences(result: CodesignResult, d: pd.Series) -> list[str]:
         crowd = (f", {60 * e.crowd_hours:.3g} min of them in crowds" if e.crowd_hours > 0
                  else "")  # fmt: skip
         out.append(
-            f"**Risk:** {e.contacts} contacts with people in {60 * e.hours:.3g} min "
-            f"({1e3 * e.km:.3g} m) of the design's simulated runs{crowd}: at most "
-            f"{e.per_hour_upper:.3g} contacts per hour and {e.per_km_upper:.3g} per km "
-            "(one-sided 95 % Poisson bounds; more runs narrow them), each at its closing speed "
-            "after braking."
+            f"**Risk:** {e.contacts} contacts with people in {e.runs} simulated runs of the "
+            f"design ({60 * e.hours:.3g} min, {1e3 * e.km:.3g} m{crowd}): {e.per_hour:.3g} "
+            f"contacts per hour ({e.per_hour_lower:.3g} to {e.per_hour_upper:.3g}) and "
+            f"{e.per_km:.3g} per km ({e.per_km_lower:.3g} to {e.per_km_upper:.3g}; one-sided "
+            "95 % Poisson bounds), each at its closing speed after braking."
         )
     if head:
         pm = head["prasad_mertz_ais3"]

@@ -22,7 +22,7 @@ from designlab.report.builder import ReportParts
 from designlab.report.figure_style import start_and_goal
 from designlab.report.writers import markdown_table
 from designlab.results import OK
-from designlab.study.kinds.navigation_gains import WIDER, NavigationGainsResult
+from designlab.study.kinds.navigation_gains import TABLE_C1, WIDER, NavigationGainsResult
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -447,8 +447,8 @@ def like_for_like_label(method: str) -> str:
     return f"{method} like for like" if own else f"baseline {method}"
 
 
-#: Table C.1's H_opt per method (App. C.2), for the ranking sentence.
-TABLE_C1_H = {"vff": 0.69, "masoud": 0.66, "ge_cui": 0.52}
+#: Table C.1's H_opt per method (App. C.2), for the ranking sentence (the kind's table).
+TABLE_C1_H = {method: h for method, (_, h) in TABLE_C1.items()}
 
 
 def _half_budget_best(opt: GainOptimum) -> float:

@@ -96,7 +96,7 @@ def test_iso_beside_zeng_names_what_binds() -> None:
 def test_exposure_counts_people_only_with_a_poisson_bound() -> None:
     runs = [dl.navigation.simulate(dl.navigation.configuration(4), dl.navigation.EXPERIMENT_GAINS)]
     e = exposure(runs)
-    assert e.contacts == 0 and e.per_hour == 0.0
+    assert e.contacts == 0 and e.per_hour == 0.0 and e.per_hour_lower == 0.0 and e.runs == 1
     assert e.per_hour_upper * e.hours == pytest.approx(-math.log(0.05), rel=1e-12)
 
 
@@ -111,6 +111,10 @@ def test_exposure_of_known_contacts_matches_the_poisson_closed_form() -> None:
     assert e.per_hour_upper == pytest.approx(float(lam), rel=1e-10)
     assert e.risk_per_hour == pytest.approx(0.15, rel=1e-15)
     assert e.risk_per_hour_upper == pytest.approx(float(lam) * 0.2, rel=1e-10)  # harm(2 m/s)
+    # the 95 % lower bound solves P(N >= 2 | lambda) = 0.05
+    low = mp.findroot(lambda x: 1 - mp.exp(-x) * (1 + x) - mp.mpf("0.05"), 0.35)
+    assert e.per_hour_lower == pytest.approx(float(low), rel=1e-10)
+    assert e.per_km_lower == pytest.approx(float(low), rel=1e-10)
 
 
 def test_closing_speed_after_braking_is_the_braked_robot_plus_the_person() -> None:

@@ -196,7 +196,9 @@ class SnagScenario:
         "m",
         doc=(
             "height of the tether's leader end above the winch; the measured l_m is then the "
-            "3-D string length (A7: the thesis ignores it; 0: planar)"
+            "3-D string length (A7: the thesis ignores it; 0: planar). The estimate is then at "
+            "least h from the robot, so near the stopped leader at the run's end it wanders: "
+            "d_col may come from there at small gaps"
         ),
         ge=0,
         le=5,

@@ -14,7 +14,10 @@ estimated tip (winch + ``l_m`` along the first segment, eq. 2.14) lies at
 
 (``h``: the tether's height difference, 0 in a planar model). The robot later drives
 through these points, so its least distance to the outer wall is ``d_col = 1 - max x_tip``
-(at most 1/2, the centre line). The first snag needs ``g_F - e >= 1 + pi/4``.
+(at most 1/2, the centre line). The first snag needs ``g_F - e >= 1 + pi/4``. With
+``h > 0`` the estimate also overshoots a little where the string is straight (by about
+``h^2 / 2 l``, and by at least ``h`` near a stopped leader); that part is not in the closed
+form, which holds at the collision and wall limits (the hump of the wrapped part).
 
 The kinematic simulation (:func:`designlab.following.tether.snag.simulate_snag`) converges
 to these values, so the time step, the follower's step, the straight lengths and the

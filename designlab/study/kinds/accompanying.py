@@ -290,7 +290,7 @@ class AccompanyingStudy(StudyBase):
         "study.yaml",
     )
     #: s: CPU time of studies/accompanying.yaml run serially (fresh store), measured.
-    TYPICAL_DURATION: ClassVar[float] = 20
+    TYPICAL_DURATION: ClassVar[float] = 23
 
     def size(self) -> str:
         """The number of tasks and controllers."""
@@ -367,7 +367,8 @@ class AccompanyingResult(Result):
         PID (``controller``, ``max_noise_gain_1_s``, gains, ``noise_gain_1_s`` = max |C S|
         over the axes), the mean over the tasks of the RMS error without
         (``rms_clean_m``) and with (``rms_noisy_m``) sensor noise and of the command's
-        rate of change with noise (``command_rate_m_s2``, :func:`command_rate`).
+        rate of change with noise (``command_rate_m_s2``, :func:`command_rate`), and the
+        status of each k_s row's tuning (``tuning_status``).
     """
 
     study: AccompanyingStudy
@@ -532,6 +533,7 @@ def _noise_table(
         ("tuned", t.max_noise_gain, controllers["tuned"]),
     ]
     tune_tasks = [study.build_task(n) for n in t.tune_on]
+    status: dict[str, str] = {}  # the tuning's status of each k_s row (a solver says so)
     for ks in nz.max_noise_gains:
         with context.bar(f"{study.kind}: tuning with |C S| <= {ks:g}") as hook:
             r = tune(tune_tasks, method="convex", baseline=base, platform=platform,
@@ -539,6 +541,7 @@ def _noise_table(
                      derivative_filter_time=base.derivative_filter_time,
                      max_noise_gain=ks, progress=hook)  # fmt: skip
         pids.append((f"tuned, k_s = {ks:g} 1/s", ks, r.controller))
+        status[pids[-1][0]] = str(r.status)
     runs_of = [(label, ks, c, sensor.median_window) for label, ks, c in pids]
     runs_of += [(f"tuned, median of {m}", t.max_noise_gain, controllers["tuned"], m)
                 for m in nz.median_windows]  # fmt: skip
@@ -558,6 +561,7 @@ def _noise_table(
                           seed=study.seed) for n in study.tasks]  # fmt: skip
         row["rms_noisy_m"] = float(np.mean([r.rms_error for r in dirty]))
         row["command_rate_m_s2"] = float(np.mean([command_rate(r.time, r.command) for r in dirty]))
+        row["tuning_status"] = status.get(label, "")
         rows.append(row)
     return pd.DataFrame(rows)
 

@@ -144,7 +144,7 @@ class TetherSnaggingStudy(StudyBase):
         "snagging_*.png",
         "study.yaml",
     )
-    TYPICAL_DURATION: ClassVar[float] = 17  # s, the committed study, serial, this machine
+    TYPICAL_DURATION: ClassVar[float] = 26  # s, the committed study, serial, this machine
 
     def size(self) -> str:
         """Runs."""
