@@ -24,7 +24,6 @@ __all__ = [
     "CURVE_POINTS",
     "DECELERATION",
     "DETECTION_DISTANCE",
-    "HEAD_LEVELS",
     "MAP_POINTS",
     "REACTION_TIME",
     "RISK_METHOD",
@@ -66,12 +65,6 @@ BRAKING_SPEED = Param(
 CONTACT_LIMIT = Param(
     "u", "m/s", "largest robot speed allowed at contact", ge=0, le=20, name="contact_limit"
 )
-
-#: Values per parameter of the head-range grid on which the worst head is sought.
-HEAD_LEVELS = Param(
-    None, "", "values per head-neck parameter of the worst-head grid", kind="integer", ge=2,
-    le=9, default=3, name="head_levels",
-)  # fmt: skip
 
 #: Points per axis of a speed-limit map (the map has their product).
 MAP_POINTS = Param(

@@ -50,7 +50,6 @@ from designlab.codesign.braking import max_robot_speed, stopping_distance
 from designlab.codesign.parameters import (
     DECELERATION,
     DETECTION_DISTANCE,
-    HEAD_LEVELS,
     REACTION_TIME,
 )
 from designlab.codesign.worst_head import refine_link_worst, worst_heads
@@ -69,7 +68,7 @@ from designlab.impact.conditioning import check_conditioning, time_scale_ratio
 from designlab.impact.contact import CONTACTS, ContactModel, contact_of
 from designlab.impact.criteria import CompressionLimit
 from designlab.impact.general import CRUSHED
-from designlab.impact.parameters import HUMAN_SPEED, TIME_SCALE_RATIO
+from designlab.impact.parameters import HEAD_LEVELS, HUMAN_SPEED, TIME_SCALE_RATIO
 from designlab.impact.problem import FoamProblem, make_problem
 from designlab.params import declared, param, params_of
 from designlab.results import Result, Status

@@ -402,9 +402,13 @@ def newton(p, r, c, o, nk, lo, hi, order, sign, iterations, rtol, guess):  # typ
             lo = t
         else:
             hi = t
-        s = -2.0 * f * g / (2.0 * g * g - f * q)
-        if not np.isfinite(s) or s * g * f > 0:
-            s = -f / g
+        # Halley's step -2 f g / (2 g^2 - f q) over g^2: no product of two values of y's
+        # size, whose squares underflow in a slow tail (|y| < 1e-154; issue 34: a zero at
+        # 32.3 s solved 7.7e-8 late from subnormal products)
+        ratio = f / g
+        s = -2.0 * ratio / (2.0 - ratio * (q / g))
+        if not np.isfinite(s) or s * ratio > 0:
+            s = -ratio
         tol = rtol * abs(t) + 1e-300
         a = abs(s)
         done = a <= tol or hi - lo <= tol or f == 0

@@ -39,6 +39,7 @@ __all__ = [
     "FOAM_2_MEASURED",
     "FOAM_3",
     "FOAM_PRESETS",
+    "HEAD_LEVELS",
     "HEAD_MAX",
     "HEAD_MIN",
     "HEAD_PRESETS",
@@ -384,6 +385,12 @@ def check_closing_velocity(value: Any, name: str = "impact_velocity") -> Any:
 HUMAN_SPEED = Param(
     "v_h", "m/s", "head speed toward the robot", ge=0, le=20, typical=(0.0, 1.0),
     name="human_speed",
+)  # fmt: skip
+
+#: Values per parameter of the head-range grid on which the worst head is sought.
+HEAD_LEVELS = Param(
+    None, "", "values per head-neck parameter of the worst-head grid", kind="integer", ge=2,
+    le=9, default=3, name="head_levels",
 )  # fmt: skip
 
 #: The manipulator's speed at contact along the contact normal, v_r(0) (Sec. 3.4).

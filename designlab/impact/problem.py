@@ -33,6 +33,7 @@ from designlab.errors import InvalidParameterError
 from designlab.impact.contact import ContactModel, contact_of
 from designlab.impact.criteria import CompressionLimit, Criterion, HeadAcceleration
 from designlab.impact.parameters import (
+    HEAD_LEVELS,
     HUMAN_SPEED,
     IMPACT_VELOCITY,
     MAX_COMPRESSION,
@@ -107,7 +108,7 @@ class FoamProblem:
     head_range: HeadRange | None
     constrained: bool
     stop_time: float
-    head_levels: int = 3
+    head_levels: int = HEAD_LEVELS.default
     lever_grid: int = 17
     golden_iterations: int = 24
     foam: object | None = None

@@ -326,13 +326,20 @@ def _feasibility(history: pd.DataFrame, coll: float, crit: float) -> list[str]:
     keep_c = int((history["collision_rate"] <= coll).sum())
     keep_k = int((history["critical_rate"] <= crit).sum())
     distinct = history["fitness"].round(9).nunique()
+    gens = int(history["generation"].max())
+    best = history.loc[history["fitness"].idxmin()]
+    last = history[history["generation"] == gens]["fitness"].min()
     return [
         f"Of the {n} candidates, {keep_c} kept the collision rate, {keep_k} the critical-entry "
         f"rate and {int(history['feasible'].sum())} both; {distinct} of the {n} fitness values "
         f"are distinct (from {history['fitness'].min():.1f} to {history['fitness'].max():.1f} "
         f"s; time costs {history['cost_s'].min():.1f} to {history['cost_s'].max():.1f} s, mean "
-        f"violations {history['violation'].min():.3f} to {history['violation'].max():.3f})."
-    ]
+        f"violations {history['violation'].min():.3f} to {history['violation'].max():.3f}). "
+        f"The fittest candidate came in generation {int(best['generation'])} of {gens}; the "
+        f"fittest of generation {gens} scored {last:.1f} s"
+        + (" (the search had not converged: more generations may find better gains)."
+           if gens > 1 and last > best["fitness"] else ".")
+    ]  # fmt: skip
 
 
 def _seeds(seeds: list[int]) -> str:

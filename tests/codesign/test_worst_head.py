@@ -50,6 +50,9 @@ def _metrics(robot: dict, foam: Foam, heads: np.ndarray, v: np.ndarray | float):
 foams = st.tuples(st.floats(5e3, 8e4), st.floats(10.0, 450.0), st.floats(0.005, 0.03))
 
 
+# 8 foams and 3 found by CI against a dense head lattice: 12 CPU s, the slow step; the README's
+# command checks one of the three (below) and the map and search through the lighter tests
+@pytest.mark.slow
 @settings(max_examples=8, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(foam=foams, robot=st.sampled_from([MANIPULATOR_1,
                                           ContactDynamics(9.57, 30.7e3, 221.3)]))  # fmt: skip
@@ -63,6 +66,17 @@ def test_no_head_of_a_dense_grid_is_worse_and_the_map_agrees(foam, robot) -> Non
     """The refined worst head is a multi-start local search (docs/codesign.md): a dense lattice
     plus random heads may beat it by a maximum narrower than its lattice's spacing; allowed
     1e-5 relative (9.2e-6 found for the first example: peak force)."""
+    _no_head_of_a_dense_grid_is_worse(foam, robot)
+
+
+def test_the_edge_maximum_found_by_ci_is_the_worst_head() -> None:
+    """The README's command: the second example above (two local maxima of the peak force)."""
+    _no_head_of_a_dense_grid_is_worse(
+        (13720.0, 137.0, 0.015625), ContactDynamics(9.57, 30.7e3, 221.3)
+    )
+
+
+def _no_head_of_a_dense_grid_is_worse(foam, robot) -> None:
     k, c, lam = foam
     f = Foam(k, c, lam)
     s = dl.codesign.speed_limit(robot, f, SafetyCase(CRITERIA, human_speed=0.5))

@@ -202,6 +202,23 @@ def test_slow_zero_refused_in_double_precision() -> None:
     assert codes.tolist() == [kernel.SUSPECT_LOBE]
 
 
+#: found by the session-14 fuzz run (docs/impact_fuzz.md): a ``repeated`` design whose lobe
+#: end at 32.3 s was certified 7.7e-8 late (t_imp 32.27836586 s, mpmath 32.27836834 s):
+#: Newton's Halley step multiplied two values of a_h's size (1e-160), whose products are
+#: subnormal
+LATE_COMMON_MODE = [19.395512242980107, 849.8506756878778, 6654.904318505256,
+                    71.68387025043981, 0.1150812090761347, 3.1668264419275425,
+                    138.76042858483632, 1086.5877992971268]  # fmt: skip
+
+
+@pytest.mark.skipif(not kernel.AVAILABLE, reason="compiled kernels unavailable")
+def test_late_common_mode_zero_found_by_the_fuzz() -> None:
+    m = metrics_of_matrix(np.array([LATE_COMMON_MODE]), 1.0)
+    row = np.array([m.peak_head_acceleration[0], m.max_compression[0], m.peak_force[0],
+                    m.impact_duration[0]])  # fmt: skip
+    _right(LATE_COMMON_MODE, row, str(m.design_status[0]))
+
+
 def test_moduli_of_tiny_exponentials_are_not_zero() -> None:
     """The moduli of the slow tail's exponentials (the noise and derivative bounds) keep
     their size where their squares underflow (issue 34: they were flushed to zero)."""

@@ -219,7 +219,7 @@ class TuningResult(Result):
     warnings: tuple[str, ...] = ()
     improvement_unpenalised: float = math.nan
     saturation: dict[str, dict[str, float]] | None = None
-    max_saturation: float = 0.05
+    max_saturation: float = MAX_SATURATION.default
     evaluated: pd.DataFrame = field(default_factory=pd.DataFrame, repr=False)
 
     def to_frame(self) -> pd.DataFrame:

@@ -497,7 +497,7 @@ class CrowdStudy(Result):
 
     runs: pd.DataFrame = field(repr=False)
     settings: dict[str, Any] = field(default_factory=dict)
-    confidence: float = 0.95
+    confidence: float = ARG.confidence.default
     status: str = CrowdStudyStatus.OK
     warnings: tuple[str, ...] = ()
 

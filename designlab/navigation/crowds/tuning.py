@@ -453,6 +453,8 @@ def optimise_crowd_gains(
     stabilising: str = "lyapunov",
     executor: Any = None,
     store: Any = None,
+    resume: bool = False,
+    cache_only: bool = False,
     progress: ProgressHook | None = None,
 ) -> CrowdGainOptimum:
     """Optimise VFF's gains over a :class:`CrowdSet` with CMA-ES (robust over its runs).
@@ -480,9 +482,10 @@ def optimise_crowd_gains(
         limit; :func:`score_runs`).
     stabilising
         VFF's stabilising force, ``"lyapunov"`` or ``"off"``.
-    executor, store
+    executor, store, resume, cache_only
         As for :func:`~designlab.navigation.crowds.study.crowd_study` (each generation is one
-        study: its runs go through the executor in parallel).
+        study: its runs go through the executor in parallel; with ``resume`` the runs already
+        in the store are read back, so a rebuilt report computes nothing).
     progress
         A :data:`designlab.progress.ProgressHook`: generations done, best feasible cost.
 
@@ -510,7 +513,8 @@ def optimise_crowd_gains(
     u0 = _start(x0, box)
     es = cma.CMAEvolutionStrategy(u0.tolist(), float(sigma0), {"bounds": [0.0, 1.0], "popsize": pop,
                                   "seed": int(seed) + 1, "verbose": -9})  # fmt: skip
-    kw = {"stabilising": stabilising, "executor": executor, "store": store, "measures": False}
+    kw = {"stabilising": stabilising, "executor": executor, "store": store, "measures": False,
+          "resume": resume, "cache_only": cache_only}  # fmt: skip
     rows: list[dict[str, Any]] = []
     t0 = time.perf_counter()
     for g in range(gens):
@@ -747,7 +751,8 @@ def validate_gains(candidates: Mapping[str, VFFGains], steps: Sequence[tuple[str
 
 #: Keywords of ``navigation.optimise_gains`` that a crowd set uses (the others are refused).
 CROWD_KEYWORDS = ("bounds", "robust", "alpha", "x0", "sigma0", "popsize", "generations", "seed",
-                  "penalty", "stabilising", "executor", "store", "progress")  # fmt: skip
+                  "penalty", "stabilising", "executor", "store", "resume", "cache_only",
+                  "progress")  # fmt: skip
 
 
 def crowd_sets(default_bounds: Mapping[str, tuple[float, float]]) -> Callable[[Callable], Callable]:

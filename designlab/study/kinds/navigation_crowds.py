@@ -367,12 +367,14 @@ def _tune(study: NavigationCrowdsStudy, context: RunContext) -> tuple[Any, Any]:
                                    popsize=t.popsize, generations=t.generations, seed=t.seed,
                                    penalty=t.penalty, stabilising=stab,
                                    executor=context.executor, store=context.store,
+                                   resume=context.resume, cache_only=context.cache_only,
                                    progress=hook)  # fmt: skip
     tag = "crowd_optimum" if opt.status == "ok" else "crowd_least_violating"  # said as it is
     candidates = {tag: opt.gains, **{k: g.build() for k, g in t.compare.items()}}
     val = validate_gains(
         candidates, steps, training, reference=next(iter(t.compare)), penalty=opt.penalty,
         stabilising=stab, executor=context.executor, store=context.store, measures=False,
+        resume=context.resume, cache_only=context.cache_only,
         personal_space=study.personal_space, confidence=study.confidence,
     )  # fmt: skip
     return opt, val

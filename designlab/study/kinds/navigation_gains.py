@@ -211,7 +211,7 @@ class NavigationGainsStudy(StudyBase):
         "study.yaml",
     )
     #: s: CPU time of studies/navigation_gains.yaml run serially (fresh store), measured.
-    TYPICAL_DURATION: ClassVar[float] = 125
+    TYPICAL_DURATION: ClassVar[float] = 143
 
     @model_validator(mode="after")
     def _check(self) -> NavigationGainsStudy:

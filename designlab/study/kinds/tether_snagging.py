@@ -27,7 +27,7 @@ from typing import Any, ClassVar, Literal
 
 import numpy as np
 import pandas as pd
-from pydantic import Field
+from pydantic import Field, model_validator
 
 from designlab.following.tether.snag import (
     SnagRun,
@@ -134,22 +134,40 @@ class TetherSnaggingStudy(StudyBase):
         description="candidate causes of the difference to the thesis's limits: the "
         "constant-speed follower's limits with each change (causes.csv)",
     )
+    fit_causes: list[str] = Field(
+        default_factory=list,
+        max_length=4,
+        description="labels of cause runs whose constant-speed follower is also run over "
+        "the grid gaps, for the fit (4.6) over each set of fitted gaps (fits.csv)",
+    )
+
+    @model_validator(mode="after")
+    def _known_fit_causes(self) -> TetherSnaggingStudy:
+        labels = [c.label for c in self.causes]
+        for label in self.fit_causes:
+            if label not in labels:
+                raise ValueError(
+                    f"fit_causes: {label!r} is not the label of a cause run; causes: {labels}"
+                )
+        return self
 
     PRODUCES: ClassVar[tuple[str, ...]] = (
         "summary.md",
         "snagging.csv",
         "limits.csv",
         "causes.csv",
+        "fits.csv",
         "features.csv",
         "snagging_*.png",
         "study.yaml",
     )
-    TYPICAL_DURATION: ClassVar[float] = 26  # s, the committed study, serial, this machine
+    TYPICAL_DURATION: ClassVar[float] = 27  # s, the committed study, serial, this machine
 
     def size(self) -> str:
         """Runs."""
         n = self.gaps.num + len(self.detail_gaps)
-        return f"{(2 + len(self.compare_followers)) * n} runs"
+        fits = len(self.fit_causes) * self.gaps.num
+        return f"{(2 + len(self.compare_followers)) * n + fits} runs"
 
 
 @dataclass(frozen=True)
@@ -172,6 +190,9 @@ class TetherSnaggingResult(Result):
         collision and wall limits found by bisection (``*_gap_over_w``) and in closed form
         (``*_closed_form``), the first snag in closed form, all over w; and the string's
         wrapped span along the recorded path at the largest detail gap (``span_recorded_m``).
+    cause_grids
+        Per label of ``fit_causes``: the constant-speed follower's runs at the grid gaps with
+        that cause's changes (without the compensation), fitted in ``fits.csv``.
     """
 
     study: TetherSnaggingStudy
@@ -181,6 +202,7 @@ class TetherSnaggingResult(Result):
     detail_compensated: tuple[SnagRun, ...]
     others: dict[str, tuple[SnagRun, ...]] = dataclasses.field(default_factory=dict)
     causes: pd.DataFrame = dataclasses.field(default_factory=pd.DataFrame, repr=False)
+    cause_grids: dict[str, tuple[SnagRun, ...]] = dataclasses.field(default_factory=dict)
 
     status: ClassVar[str] = OK
 
@@ -333,7 +355,7 @@ def run(study: TetherSnaggingStudy, context: RunContext) -> TetherSnaggingResult
     n = study.gaps.num
     return TetherSnaggingResult(
         study, tuple(plain[:n]), tuple(comp[:n]), tuple(plain[n:]), tuple(comp[n:]), others,
-        _causes(study, context),
+        _causes(study, context), _cause_grids(study, context),
     )  # fmt: skip
 
 
@@ -382,6 +404,23 @@ def _causes(study: TetherSnaggingStudy, context: RunContext) -> pd.DataFrame:
                          "wall_closed_form": exact["wall"], **_span(sc, study)})  # fmt: skip
             hook(Progress(i + 1, len(study.causes), label="cause", note=cause.label))
     return pd.DataFrame(rows)
+
+
+def _cause_grids(study: TetherSnaggingStudy, context: RunContext) -> dict[str, tuple[SnagRun, ...]]:
+    """The constant-speed follower over the grid gaps under each cause of ``fit_causes``."""
+    base = dataclasses.replace(study.scenario.build(), follower="constant_speed")
+    causes = {c.label: c for c in study.causes}
+    out = {}
+    for label in study.fit_causes:
+        sc = dataclasses.replace(base, **causes[label].changes())
+        gaps = study.gaps.values()
+        with context.bar(f"{study.kind}: fit, {label}", total=len(gaps)) as hook:
+            runs = []
+            for i, g in enumerate(gaps):
+                runs.append(simulate_snag(dataclasses.replace(sc, gap=float(g))))
+                hook(Progress(i + 1, len(gaps), label="gap", note=f"{g:g} m"))
+        out[label] = tuple(runs)
+    return out
 
 
 KIND = StudyKind(
