@@ -302,8 +302,9 @@ class NavigationCrowdsResult(Result):
     tracks
         ``(kind, label) -> CrowdResult`` for ``kind`` ``"representative"`` and ``"worst"``.
     tuning, validation
-        The crowd gain optimum and its :class:`~designlab.navigation.crowds.tuning.
-        GainValidation` beside the gains to compare (``None`` without ``tuning``).
+        The crowd gain optimum and its validation
+        (:class:`~designlab.navigation.crowds.tuning.GainValidation`) beside the gains to
+        compare (``None`` without ``tuning``).
     """
 
     study: NavigationCrowdsStudy
