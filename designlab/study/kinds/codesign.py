@@ -188,7 +188,7 @@ class CrowdEncountersSpec(Model):
     )
     pedestrians: _Pedestrians = Field(20, description="pedestrians in each crowd")  # type: ignore[valid-type]
     seeds: list[_CrowdSeed] = Field(  # type: ignore[valid-type]
-        default_factory=lambda: [0], min_length=1, max_length=16, description="one run per seed"
+        default_factory=lambda: [0], min_length=1, max_length=64, description="one run per seed"
     )
     options: CrowdSpec = Field(  # type: ignore[valid-type]
         default_factory=CrowdSpec, description="the other crowd options"
